@@ -1,0 +1,302 @@
+#include "BladeMesher.h"
+
+#include <plantmorph/DataContract.h>
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesh_vertex_base_2.h>
+#include <CGAL/Delaunay_mesher_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_2_algorithms.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <set>
+#include <sstream>
+#include <utility>
+
+namespace plantmorph
+{
+namespace
+{
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+struct VertexInfo
+{
+  int id = -1; ///< index into the outline's points; -1 for Steiner points
+};
+using VertexBase =
+  CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, Kernel, CGAL::Delaunay_mesh_vertex_base_2<Kernel>>;
+using FaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
+using DataStructure = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
+using Triangulation = CGAL::Constrained_Delaunay_triangulation_2<Kernel, DataStructure, CGAL::Exact_predicates_tag>;
+using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Triangulation>;
+using Mesher = CGAL::Delaunay_mesher_2<Triangulation, Criteria>;
+using Point = Kernel::Point_2;
+using VertexHandle = Triangulation::Vertex_handle;
+
+std::vector<Point> LoopPoints(const std::vector<Eigen::Vector2d>& points, const std::vector<int>& loop)
+{
+  std::vector<Point> result;
+  result.reserve(loop.size());
+  for (int id : loop)
+    result.emplace_back(points[id].x(), points[id].y());
+  return result;
+}
+
+std::pair<int, int> EdgeKey(int a, int b)
+{
+  return { std::min(a, b), std::max(a, b) };
+}
+} // namespace
+
+double PolygonArea(const std::vector<Eigen::Vector2d>& points, const std::vector<int>& loop)
+{
+  double twice = 0.0;
+  for (std::size_t i = 0; i < loop.size(); ++i)
+  {
+    const Eigen::Vector2d& a = points[loop[i]];
+    const Eigen::Vector2d& b = points[loop[(i + 1) % loop.size()]];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * twice;
+}
+
+std::string ValidateBladeOutline(const BladeOutline& outline)
+{
+  const std::size_t n = outline.points.size();
+  if (outline.uv.size() != n || outline.region.size() != n)
+    return "outline: points, LeafUV and Region differ in length";
+  if (outline.boundary.size() < 3)
+    return "outline: the boundary needs at least 3 distinct points";
+  if (outline.midvein.size() < 2)
+    return "outline: the midvein needs at least 2 points";
+  for (const Eigen::Vector2d& p : outline.points)
+  {
+    if (!p.allFinite())
+      return "outline: a sample is not finite (NaN or infinite coordinates)";
+  }
+  for (int id : outline.boundary)
+  {
+    if (id < 0 || static_cast<std::size_t>(id) >= n)
+      return "outline: boundary refers to a point that does not exist";
+  }
+  for (int id : outline.midvein)
+  {
+    if (id < 0 || static_cast<std::size_t>(id) >= n)
+      return "outline: midvein refers to a point that does not exist";
+  }
+
+  // The midvein splits the outline into two half blades; each half and the whole must be simple polygons, and both
+  // halves counter-clockwise, so the midvein lies inside the blade and crosses no margin.
+  const auto startIt = std::find(outline.boundary.begin(), outline.boundary.end(), outline.midvein.front());
+  const auto endIt = std::find(outline.boundary.begin(), outline.boundary.end(), outline.midvein.back());
+  if (startIt == outline.boundary.end() || endIt == outline.boundary.end() || startIt == endIt)
+    return "outline: the midvein must start and end at two different outline points";
+  const std::size_t start = static_cast<std::size_t>(startIt - outline.boundary.begin());
+  const std::size_t end = static_cast<std::size_t>(endIt - outline.boundary.begin());
+
+  auto isSimple = [&](const std::vector<int>& loop) {
+    std::vector<Point> polygon = LoopPoints(outline.points, loop);
+    return CGAL::is_simple_2(polygon.begin(), polygon.end(), Kernel());
+  };
+  if (!isSimple(outline.boundary))
+    return "outline: the margin crosses itself (the parameters fold the leaf); choose smaller amplitudes";
+
+  const std::size_t m = outline.boundary.size();
+  // Half 1: boundary from the midvein's start to its end (counter-clockwise), then back down the midvein.
+  std::vector<int> first, second;
+  for (std::size_t i = start; i != end; i = (i + 1) % m)
+    first.push_back(outline.boundary[i]);
+  first.insert(first.end(), outline.midvein.rbegin(), outline.midvein.rend() - 1);
+  // Half 2: up the midvein, then the boundary from its end back to its start.
+  second.assign(outline.midvein.begin(), outline.midvein.end() - 1);
+  for (std::size_t i = end; i != start; i = (i + 1) % m)
+    second.push_back(outline.boundary[i]);
+  for (const std::vector<int>* half : { &first, &second })
+  {
+    if (half->size() < 3 || !isSimple(*half) || PolygonArea(outline.points, *half) <= 0.0)
+      return "outline: the midvein leaves the blade or crosses a margin (the parameters fold the leaf)";
+  }
+  if (PolygonArea(outline.points, outline.boundary) <= 0.0)
+    return "outline: the boundary must run counter-clockwise";
+  return {};
+}
+
+std::string MeshBlade(
+  const BladeOutline& outline, const BladeMeshOptions& options, const UVSolver& solveUV, BladeMesh& mesh)
+{
+  mesh = BladeMesh();
+  std::string error = ValidateBladeOutline(outline);
+  if (!error.empty())
+    return error;
+  if (options.quality && !(options.maxEdgeLength > 0.0 && std::isfinite(options.maxEdgeLength)))
+    return "MeshQuality: the maximum edge length must be a positive number";
+  auto keepGoing = [&](double fraction) { return !options.progress || options.progress(fraction); };
+
+  Triangulation cdt;
+  std::vector<VertexHandle> handles(outline.points.size());
+  for (std::size_t i = 0; i < outline.points.size(); ++i)
+  {
+    handles[i] = cdt.insert(Point(outline.points[i].x(), outline.points[i].y()));
+    if (handles[i]->info().id >= 0 && handles[i]->info().id != static_cast<int>(i))
+      return "outline: two samples coincide";
+    handles[i]->info().id = static_cast<int>(i);
+  }
+  std::set<std::pair<int, int>> midveinEdges;
+  const std::size_t m = outline.boundary.size();
+  for (std::size_t i = 0; i < m; ++i)
+    cdt.insert_constraint(handles[outline.boundary[i]], handles[outline.boundary[(i + 1) % m]]);
+  for (std::size_t i = 0; i + 1 < outline.midvein.size(); ++i)
+  {
+    cdt.insert_constraint(handles[outline.midvein[i]], handles[outline.midvein[i + 1]]);
+    midveinEdges.insert(EdgeKey(outline.midvein[i], outline.midvein[i + 1]));
+  }
+  if (cdt.number_of_vertices() != outline.points.size())
+    return "outline: a constraint crossed another (the outline is not simple)";
+
+  Mesher mesher(cdt, Criteria(options.shapeBound, options.quality ? options.maxEdgeLength : 0.0));
+  mesher.init(); // marks the faces inside the outline (no seeds: bounded components)
+  if (options.quality)
+  {
+    // Expected vertex count of the refined mesh: area / (area per vertex ~ 0.43 h^2), for the progress bar.
+    const double area = PolygonArea(outline.points, outline.boundary);
+    const double expected = std::max(1.0, area / (0.43 * options.maxEdgeLength * options.maxEdgeLength));
+    std::size_t steps = 0;
+    while (!mesher.is_refinement_done())
+    {
+      mesher.step_by_step_refine_mesh();
+      if (++steps % 4096 == 0)
+      {
+        if (cdt.number_of_vertices() > options.maxVertices)
+        {
+          std::ostringstream message;
+          message << "MeshQuality: refinement needs more than " << options.maxVertices
+                  << " vertices; lower Resolution or use paper mode";
+          return message.str();
+        }
+        if (!keepGoing(0.8 * std::min(1.0, cdt.number_of_vertices() / expected)))
+          return "aborted";
+      }
+    }
+  }
+
+  // Number the vertices: the outline's first (same ids), Steiner points after.
+  mesh.points = outline.points;
+  mesh.uv = outline.uv;
+  mesh.region = outline.region;
+  std::vector<VertexHandle> steiner;
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v)
+  {
+    if (v->info().id < 0)
+    {
+      v->info().id = static_cast<int>(mesh.points.size());
+      mesh.points.emplace_back(v->point().x(), v->point().y());
+      mesh.uv.emplace_back(0.0, 0.0);
+      mesh.region.push_back(RegionBlade);
+      steiner.push_back(v);
+    }
+  }
+  std::vector<char> known(mesh.points.size(), 0);
+  std::fill(known.begin(), known.begin() + static_cast<std::ptrdiff_t>(outline.points.size()), 1);
+
+  // Steiner points on constraints: walk the constraint both ways to the outline samples around them.
+  for (const VertexHandle& v : steiner)
+  {
+    std::vector<VertexHandle> ends;
+    auto edge = cdt.incident_edges(v), done = edge;
+    do
+    {
+      if (!cdt.is_infinite(edge) && cdt.is_constrained(*edge))
+      {
+        VertexHandle previous = v;
+        VertexHandle current = edge->first->vertex(cdt.ccw(edge->second));
+        if (current == v)
+          current = edge->first->vertex(cdt.cw(edge->second));
+        while (current->info().id >= static_cast<int>(outline.points.size()))
+        {
+          // A Steiner vertex on the constraint has exactly two constrained edges: continue along the other one.
+          VertexHandle next = previous;
+          auto e = cdt.incident_edges(current), eDone = e;
+          do
+          {
+            if (!cdt.is_infinite(e) && cdt.is_constrained(*e))
+            {
+              VertexHandle a = e->first->vertex(cdt.ccw(e->second));
+              VertexHandle b = e->first->vertex(cdt.cw(e->second));
+              VertexHandle other = a == current ? b : a;
+              if (other != previous)
+                next = other;
+            }
+          } while (++e != eDone);
+          previous = current;
+          current = next;
+        }
+        ends.push_back(current);
+      }
+    } while (++edge != done);
+    if (ends.size() != 2)
+      continue; // interior point
+    const int a = ends[0]->info().id, b = ends[1]->info().id;
+    const Eigen::Vector2d& pa = outline.points[a];
+    const Eigen::Vector2d& pb = outline.points[b];
+    const Eigen::Vector2d p(v->point().x(), v->point().y());
+    const double t = std::clamp((p - pa).dot(pb - pa) / (pb - pa).squaredNorm(), 0.0, 1.0);
+    const int id = v->info().id;
+    mesh.uv[id] = (1.0 - t) * outline.uv[a] + t * outline.uv[b];
+    mesh.region[id] = midveinEdges.count(EdgeKey(a, b)) ? RegionMidvein : RegionMargin;
+    known[id] = 1;
+  }
+
+  // Interior Steiner points, breadth first from the known ones: guess = mean LeafUV of known neighbours.
+  std::deque<VertexHandle> queue;
+  for (const VertexHandle& v : steiner)
+  {
+    if (!known[v->info().id])
+      queue.push_back(v);
+  }
+  std::size_t stalled = 0;
+  while (!queue.empty())
+  {
+    VertexHandle v = queue.front();
+    queue.pop_front();
+    Eigen::Vector2d sum(0.0, 0.0);
+    int count = 0;
+    auto neighbour = cdt.incident_vertices(v), done = neighbour;
+    do
+    {
+      if (!cdt.is_infinite(neighbour) && known[neighbour->info().id])
+      {
+        sum += mesh.uv[neighbour->info().id];
+        ++count;
+      }
+    } while (++neighbour != done);
+    if (count == 0)
+    {
+      queue.push_back(v); // try again once a neighbour is known
+      if (++stalled > queue.size())
+        return "meshing: an interior point is not connected to the outline";
+      continue;
+    }
+    stalled = 0;
+    const int id = v->info().id;
+    const Eigen::Vector2d p(v->point().x(), v->point().y());
+    mesh.uv[id] = solveUV ? solveUV(p, sum / count) : Eigen::Vector2d(sum / count);
+    known[id] = 1;
+  }
+  if (!keepGoing(0.9))
+    return "aborted";
+
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
+  {
+    if (f->is_in_domain())
+      mesh.triangles.push_back({ f->vertex(0)->info().id, f->vertex(1)->info().id, f->vertex(2)->info().id });
+  }
+  if (mesh.triangles.empty())
+    return "meshing: the outline encloses no area";
+  return {};
+}
+
+} // namespace plantmorph

@@ -1,0 +1,76 @@
+#include "LeafGeometry.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace plantmorph
+{
+
+std::vector<Eigen::Vector2d> BoundingBoxTextureCoordinates(const std::vector<Eigen::Vector2d>& points)
+{
+  std::vector<Eigen::Vector2d> tcoords(points.size(), Eigen::Vector2d::Zero());
+  if (points.empty())
+    return tcoords;
+  Eigen::Vector2d low = points.front(), high = points.front();
+  for (const Eigen::Vector2d& p : points)
+  {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  const Eigen::Vector2d extent = high - low;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    for (int k = 0; k < 2; ++k)
+      tcoords[i][k] = extent[k] > 0.0 ? (points[i][k] - low[k]) / extent[k] : 0.0;
+  }
+  return tcoords;
+}
+
+double CurveLength(const std::function<Eigen::Vector2d(double)>& curve, double a, double b, int samples)
+{
+  double length = 0.0;
+  Eigen::Vector2d previous = curve(a);
+  for (int i = 1; i <= samples; ++i)
+  {
+    const Eigen::Vector2d p = curve(a + (b - a) * i / samples);
+    length += (p - previous).norm();
+    previous = p;
+  }
+  return length;
+}
+
+std::vector<double> SampleByArcLength(
+  const std::function<Eigen::Vector2d(double)>& curve, double a, double b, int pieces)
+{
+  if (pieces < 1)
+    return { a };
+  const int n = pieces;
+  // Cumulative chord length on a dense polyline, fine enough for the wiggliest preset margin.
+  const int dense = std::max(4096, 16 * n);
+  std::vector<double> length(dense + 1, 0.0);
+  Eigen::Vector2d previous = curve(a);
+  for (int i = 1; i <= dense; ++i)
+  {
+    const Eigen::Vector2d p = curve(a + (b - a) * i / dense);
+    length[i] = length[i - 1] + (p - previous).norm();
+    previous = p;
+  }
+  if (!(length.back() > 0.0))
+    return { a };
+  std::vector<double> parameters(n + 1);
+  parameters.front() = a;
+  parameters.back() = b;
+  int j = 0;
+  for (int k = 1; k < n; ++k)
+  {
+    const double target = length.back() * k / n;
+    while (length[j + 1] < target)
+      ++j;
+    const double piece = length[j + 1] - length[j];
+    const double f = piece > 0.0 ? (target - length[j]) / piece : 0.0;
+    parameters[k] = a + (b - a) * (j + f) / dense;
+  }
+  return parameters;
+}
+
+} // namespace plantmorph

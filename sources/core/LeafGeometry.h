@@ -1,0 +1,48 @@
+// What every LeafOutlineSource model produces, before it becomes vtkPolyData: a flat blade mesh (z = 0) with
+// LeafUV, Region and TCoords, and the outline polylines as point ids into the blade's points.
+#pragma once
+
+#include "BladeMesher.h"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+namespace plantmorph
+{
+
+struct LeafGeometry
+{
+  BladeMesh blade;
+  std::vector<Eigen::Vector2d> tcoords; ///< paper 003 eq. (6): bounding-box normalised x, y of the flat blade
+  std::vector<int> leftMargin;          ///< base to apex, through u < 0
+  std::vector<int> rightMargin;         ///< base to apex, through u > 0
+  std::vector<int> midvein;             ///< base to apex
+  std::size_t uvInversionFailures = 0;  ///< interior points whose LeafUV fell back to the neighbours' mean
+};
+
+struct LeafMeshSettings
+{
+  int resolution = 60; ///< segments along the midvein; the margins are sampled at the same spacing
+  bool quality = true; ///< CGAL Delaunay refinement (min angle ~20.7 deg, max edge = the midvein spacing)
+  std::size_t maxVertices = 20000000;
+  std::function<bool(double)> progress; ///< fraction in [0, 1]; false aborts
+};
+
+inline constexpr int MinResolution = 2;
+inline constexpr int MaxResolution = 4000;
+
+/// TCoords of eq. (6) for the given points.
+std::vector<Eigen::Vector2d> BoundingBoxTextureCoordinates(const std::vector<Eigen::Vector2d>& points);
+
+/// Length of the curve over [a, b], as a polyline of `samples` pieces.
+double CurveLength(const std::function<Eigen::Vector2d(double)>& curve, double a, double b, int samples = 4096);
+
+/// Parameters t0 = a < t1 < ... < tn = b that cut the curve into `pieces` pieces of equal arc length
+/// (to the accuracy of a dense polyline); {a} when pieces < 1 or the curve has no length.
+std::vector<double> SampleByArcLength(
+  const std::function<Eigen::Vector2d(double)>& curve, double a, double b, int pieces);
+
+} // namespace plantmorph

@@ -1,0 +1,156 @@
+/**
+ * @class   vtkLeafOutlineSource
+ * @brief   A leaf blade and its outline from the published outline models (spec 01).
+ *
+ * Output port 0, **Blade**: the flat triangulated blade (XY plane, base at the origin, midvein along +Y, normals
+ * +Z) with point arrays `LeafUV` (double x2, the point's (u, v) on the canonical leaf), `TCoords` (float x2,
+ * paper 003 eq. (6), the active texture coordinates), `Region` (int: 1 midvein, 4 margin, 0 elsewhere),
+ * `Normals` (active normals), and cell array `Region` (0). Output port 1, **Outline**: three polylines, left margin,
+ * right margin and midvein, each from the base to the apex, with cell `Region` 4, 4, 1 and the same point arrays.
+ * Both outputs carry the parameters as field data (`PlantMorph.Model`, `PlantMorph.Preset`, `PlantMorph.Terms`...),
+ * so a saved file says how it was made.
+ *
+ * Model A, the deformed rectangle (paper 000 eq. (1)), is the only model so far: the rectangle u in [-0.5, 0.5],
+ * v in [0, 1] mapped by a sum of sinusoid terms (see plantmorph::DeformedRectangleModel for the term rows). A
+ * `Preset` other than Custom supplies the terms and the width; `Length` always sets the size. The blade is meshed
+ * with CGAL's constrained Delaunay triangulation with the midvein as a constraint (`MeshQuality` 0: the paper's
+ * plain triangulation of the samples; 1: Delaunay refinement to a 20.7 degree minimum angle and an edge no longer
+ * than the midvein spacing). The midvein's two end points (base and apex) are Region 1: the vein owns them.
+ *
+ * The source generates the whole leaf as piece 0 and leaves other pieces empty, so it appears once under MPI.
+ * Bad parameters produce an error naming the property and its accepted range, and empty outputs.
+ */
+#ifndef vtkLeafOutlineSource_h
+#define vtkLeafOutlineSource_h
+
+#include "PlantMorphSourcesModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <vector> // for the term list
+
+class PLANTMORPHSOURCES_EXPORT vtkLeafOutlineSource : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkLeafOutlineSource* New();
+  vtkTypeMacro(vtkLeafOutlineSource, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum ModelType
+  {
+    DEFORMED_RECTANGLE = 0
+  };
+
+  ///@{
+  /**
+   * Outline model. Only DEFORMED_RECTANGLE (0) exists so far.
+   */
+  vtkSetMacro(Model, int);
+  vtkGetMacro(Model, int);
+  ///@}
+
+  ///@{
+  /**
+   * Preset (plantmorph::DeformedRectanglePreset): 0 Custom (Width and Terms as given), 1 Ginkgo (eq. (1)),
+   * 2 Entire, 3 Serrate, 4 Lobed, 5 Parted (Fig. 1), 6 acute base/acute apex, 7 rounded/acuminate,
+   * 8 cordate/rounded, 9 acuminate/emarginate (Fig. 2). Default: Ginkgo.
+   */
+  vtkSetMacro(Preset, int);
+  vtkGetMacro(Preset, int);
+  ///@}
+
+  ///@{
+  /**
+   * b_y: height of the initial rectangle, in model units (cm for the presets). Range (0, 1e6]. Default 5.
+   */
+  vtkSetMacro(Length, double);
+  vtkGetMacro(Length, double);
+  ///@}
+
+  ///@{
+  /**
+   * a_x: width of the initial rectangle (Custom preset only; presets fix their own proportion). Range [0, 1e6].
+   * Default 5.5 (the ginkgo fan's 1.1 * Length).
+   */
+  vtkSetMacro(Width, double);
+  vtkGetMacro(Width, double);
+  ///@}
+
+  ///@{
+  /**
+   * Sinusoid terms (Custom preset only), rows of seven numbers [Target (0 x, 1 y), Scale (0 Width, 1 Length),
+   * Amplitude, Multiplier (0: 1, 1: u, 2: v, 3: u*v), Frequency, Variable (0 u, 1 v), Phase (radians)], each adding
+   * Amplitude * Scale * Multiplier * sin(Frequency * pi * Variable + Phase) to x or y.
+   */
+  void ClearTerms();
+  void AddTerm(double target, double scale, double amplitude, double multiplier, double frequency, double variable,
+    double phase);
+  int GetNumberOfTerms() const { return static_cast<int>(this->Terms.size() / 7); }
+  ///@}
+
+  ///@{
+  /**
+   * Bending: adds Bending * Length * v^2 to x, bending the midvein sideways. Range [-10, 10]. Default 0.
+   */
+  vtkSetMacro(Bending, double);
+  vtkGetMacro(Bending, double);
+  ///@}
+
+  ///@{
+  /**
+   * Asymmetry: widens the right half by (1 + Asymmetry) and narrows the left by (1 - Asymmetry), smoothly, keeping
+   * the midvein. Range (-1, 1). Default 0.
+   */
+  vtkSetMacro(Asymmetry, double);
+  vtkGetMacro(Asymmetry, double);
+  ///@}
+
+  ///@{
+  /**
+   * Number of segments along the midvein; the margins are sampled at the same spacing, and quality mode keeps
+   * every edge no longer than it. Range [2, 4000]. Default 60.
+   */
+  vtkSetMacro(Resolution, int);
+  vtkGetMacro(Resolution, int);
+  ///@}
+
+  ///@{
+  /**
+   * 0: paper mode, the plain constrained Delaunay triangulation of the samples. 1 (default): quality mode, CGAL
+   * Delaunay refinement (minimum angle about 20.7 degrees, maximum edge = the midvein spacing).
+   */
+  vtkSetMacro(MeshQuality, int);
+  vtkGetMacro(MeshQuality, int);
+  ///@}
+
+  ///@{
+  /**
+   * Most vertices quality refinement may create before it stops with an error (a memory guard). Default 2e7.
+   */
+  vtkSetMacro(MaxVertices, int);
+  vtkGetMacro(MaxVertices, int);
+  ///@}
+
+protected:
+  vtkLeafOutlineSource();
+  ~vtkLeafOutlineSource() override = default;
+
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Model = DEFORMED_RECTANGLE;
+  int Preset = 1;
+  double Length = 5.0;
+  double Width = 5.5;
+  std::vector<double> Terms;
+  double Bending = 0.0;
+  double Asymmetry = 0.0;
+  int Resolution = 60;
+  int MeshQuality = 1;
+  int MaxVertices = 20000000;
+
+private:
+  vtkLeafOutlineSource(const vtkLeafOutlineSource&) = delete;
+  void operator=(const vtkLeafOutlineSource&) = delete;
+};
+
+#endif
