@@ -14,8 +14,9 @@
  * v in [0, 1] mapped by a sum of sinusoid terms (see plantmorph::DeformedRectangleModel for the term rows). A
  * `Preset` other than Custom supplies the terms and the width; `Length` always sets the size. The blade is meshed
  * with CGAL's constrained Delaunay triangulation with the midvein as a constraint (`MeshQuality` 0: the paper's
- * plain triangulation of the samples; 1: Delaunay refinement to a 20.7 degree minimum angle and an edge no longer
- * than the midvein spacing). The midvein's two end points (base and apex) are Region 1: the vein owns them.
+ * plain triangulation of the samples; 1: Delaunay refinement of the interior to a 20.7 degree minimum angle and
+ * edges about the midvein spacing, never splitting margin or midvein). The midvein's two end points (base and
+ * apex) are Region 1: the vein owns them.
  *
  * The source generates the whole leaf as piece 0 and leaves other pieces empty, so it appears once under MPI.
  * Bad parameters produce an error naming the property and its accepted range, and empty outputs.
@@ -116,7 +117,9 @@ public:
   ///@{
   /**
    * 0: paper mode, the plain constrained Delaunay triangulation of the samples. 1 (default): quality mode, CGAL
-   * Delaunay refinement (minimum angle about 20.7 degrees, maximum edge = the midvein spacing).
+   * Delaunay refinement of the interior (minimum angle about 20.7 degrees, edges up to the midvein spacing, up to
+   * 1.5 times that next to the outline). Margin and midvein are never split: their vertices are exactly the
+   * samples in both modes, so the Outline port is exactly the blade's boundary and feature line.
    */
   vtkSetMacro(MeshQuality, int);
   vtkGetMacro(MeshQuality, int);

@@ -6,7 +6,7 @@
 #include <CGAL/Delaunay_mesh_face_base_2.h>
 #include <CGAL/Delaunay_mesh_size_criteria_2.h>
 #include <CGAL/Delaunay_mesh_vertex_base_2.h>
-#include <CGAL/Delaunay_mesher_2.h>
+#include <CGAL/Delaunay_mesher_no_edge_refinement_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_2_algorithms.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
@@ -14,9 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <set>
 #include <sstream>
-#include <utility>
 
 namespace plantmorph
 {
@@ -33,7 +31,7 @@ using FaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
 using DataStructure = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
 using Triangulation = CGAL::Constrained_Delaunay_triangulation_2<Kernel, DataStructure, CGAL::Exact_predicates_tag>;
 using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Triangulation>;
-using Mesher = CGAL::Delaunay_mesher_2<Triangulation, Criteria>;
+using Mesher = CGAL::Delaunay_mesher_no_edge_refinement_2<Triangulation, Criteria>;
 using Point = Kernel::Point_2;
 using VertexHandle = Triangulation::Vertex_handle;
 
@@ -46,10 +44,6 @@ std::vector<Point> LoopPoints(const std::vector<Eigen::Vector2d>& points, const 
   return result;
 }
 
-std::pair<int, int> EdgeKey(int a, int b)
-{
-  return { std::min(a, b), std::max(a, b) };
-}
 } // namespace
 
 double PolygonArea(const std::vector<Eigen::Vector2d>& points, const std::vector<int>& loop)
@@ -145,15 +139,11 @@ std::string MeshBlade(
       return "outline: two samples coincide";
     handles[i]->info().id = static_cast<int>(i);
   }
-  std::set<std::pair<int, int>> midveinEdges;
   const std::size_t m = outline.boundary.size();
   for (std::size_t i = 0; i < m; ++i)
     cdt.insert_constraint(handles[outline.boundary[i]], handles[outline.boundary[(i + 1) % m]]);
   for (std::size_t i = 0; i + 1 < outline.midvein.size(); ++i)
-  {
     cdt.insert_constraint(handles[outline.midvein[i]], handles[outline.midvein[i + 1]]);
-    midveinEdges.insert(EdgeKey(outline.midvein[i], outline.midvein[i + 1]));
-  }
   if (cdt.number_of_vertices() != outline.points.size())
     return "outline: a constraint crossed another (the outline is not simple)";
 
@@ -202,61 +192,20 @@ std::string MeshBlade(
   std::vector<char> known(mesh.points.size(), 0);
   std::fill(known.begin(), known.begin() + static_cast<std::ptrdiff_t>(outline.points.size()), 1);
 
-  // Steiner points on constraints: walk the constraint both ways to the outline samples around them.
+  // The mesher never splits a constraint, so every Steiner point is interior: margin and midvein keep exactly
+  // their samples (and their exact LeafUV).
   for (const VertexHandle& v : steiner)
   {
-    std::vector<VertexHandle> ends;
     auto edge = cdt.incident_edges(v), done = edge;
     do
     {
       if (!cdt.is_infinite(edge) && cdt.is_constrained(*edge))
-      {
-        VertexHandle previous = v;
-        VertexHandle current = edge->first->vertex(cdt.ccw(edge->second));
-        if (current == v)
-          current = edge->first->vertex(cdt.cw(edge->second));
-        while (current->info().id >= static_cast<int>(outline.points.size()))
-        {
-          // A Steiner vertex on the constraint has exactly two constrained edges: continue along the other one.
-          VertexHandle next = previous;
-          auto e = cdt.incident_edges(current), eDone = e;
-          do
-          {
-            if (!cdt.is_infinite(e) && cdt.is_constrained(*e))
-            {
-              VertexHandle a = e->first->vertex(cdt.ccw(e->second));
-              VertexHandle b = e->first->vertex(cdt.cw(e->second));
-              VertexHandle other = a == current ? b : a;
-              if (other != previous)
-                next = other;
-            }
-          } while (++e != eDone);
-          previous = current;
-          current = next;
-        }
-        ends.push_back(current);
-      }
+        return "meshing: a refinement point fell on the outline or the midvein";
     } while (++edge != done);
-    if (ends.size() != 2)
-      continue; // interior point
-    const int a = ends[0]->info().id, b = ends[1]->info().id;
-    const Eigen::Vector2d& pa = outline.points[a];
-    const Eigen::Vector2d& pb = outline.points[b];
-    const Eigen::Vector2d p(v->point().x(), v->point().y());
-    const double t = std::clamp((p - pa).dot(pb - pa) / (pb - pa).squaredNorm(), 0.0, 1.0);
-    const int id = v->info().id;
-    mesh.uv[id] = (1.0 - t) * outline.uv[a] + t * outline.uv[b];
-    mesh.region[id] = midveinEdges.count(EdgeKey(a, b)) ? RegionMidvein : RegionMargin;
-    known[id] = 1;
   }
 
   // Interior Steiner points, breadth first from the known ones: guess = mean LeafUV of known neighbours.
-  std::deque<VertexHandle> queue;
-  for (const VertexHandle& v : steiner)
-  {
-    if (!known[v->info().id])
-      queue.push_back(v);
-  }
+  std::deque<VertexHandle> queue(steiner.begin(), steiner.end());
   std::size_t stalled = 0;
   while (!queue.empty())
   {

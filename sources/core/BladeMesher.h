@@ -7,10 +7,11 @@
 // concave outlines get no triangle outside them.
 //
 // Paper mode: the plain constrained Delaunay triangulation of the samples. Quality mode: CGAL's Delaunay mesher
-// refines it to a minimum angle of about 20.7 degrees (B = 0.125) and a maximum edge length. Steiner points that the
-// mesher puts on the outline or the midvein take their `LeafUV` by linear interpolation between the two samples
-// they lie between, and their region from the constraint; interior Steiner points take their `LeafUV` from a
-// caller-supplied solver (Model A inverts its map) seeded with the mean of already-known neighbours.
+// without edge refinement (Delaunay_mesher_no_edge_refinement_2) refines the interior to a minimum angle of about
+// 20.7 degrees (B = 0.125) and a maximum edge length. It never splits the outline or the midvein: the caller
+// samples them at the target spacing already, so margin and midvein vertices are exactly the samples, with their
+// exact LeafUV, in both modes. Interior Steiner points take their `LeafUV` from a caller-supplied solver (Model A
+// inverts its map) seeded with the mean LeafUV of already-known neighbours.
 //
 // Plain C++ (CGAL, Eigen), no VTK.
 #pragma once

@@ -86,10 +86,10 @@ std::vector<double> FlattenTerms(const std::vector<SinusoidTerm>& terms)
 std::string Validate(const DeformedRectangleParameters& p)
 {
   std::ostringstream message;
-  if (!std::isfinite(p.width) || p.width < 0.0 || p.width > 1e6)
-    message << "Width (a_x) = " << p.width << " is outside the accepted range [0, 1e6]";
-  else if (!std::isfinite(p.length) || p.length <= 0.0 || p.length > 1e6)
+  if (!std::isfinite(p.length) || p.length <= 0.0 || p.length > 1e6)
     message << "Length (b_y) = " << p.length << " is outside the accepted range (0, 1e6]";
+  else if (!std::isfinite(p.width) || p.width < 0.0 || p.width > 1e6)
+    message << "Width (a_x) = " << p.width << " is outside the accepted range [0, 1e6]";
   else if (!std::isfinite(p.bending) || std::abs(p.bending) > 10.0)
     message << "Bending = " << p.bending << " is outside the accepted range [-10, 10]";
   else if (!std::isfinite(p.asymmetry) || std::abs(p.asymmetry) >= 1.0)

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# The main job: set up and build if needed, then run the example pipeline(s) in pvbatch, writing .vtp files and PNG
+# renders into output/ (or the folder given as the first argument).
+set -euo pipefail
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/setup.sh"
+OUTPUT="$(mkdir -p "${1:-$PLANTMORPH_ROOT/output}" && cd "${1:-$PLANTMORPH_ROOT/output}" && pwd)"
+# pvbatch renders only with an X server: use the one we have, or a virtual one.
+RUN=(xvfb-run -a -s "-screen 0 1920x1080x24")
+[ -n "${DISPLAY:-}" ] && RUN=()
+for example in "$PLANTMORPH_ROOT"/examples/main_*.py; do
+  echo "run: $(basename "$example")"
+  "${RUN[@]}" pvbatch "$example" --plugin "$PLANTMORPH_PLUGIN" --output "$OUTPUT"
+done
+echo "run: results written to $OUTPUT"
+ls -1 "$OUTPUT"

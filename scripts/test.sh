@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# All tests: set up and build if needed, then ctest (GoogleTest unit tests, pvpython pipeline and state-file tests,
+# the MPI test). Then the C++ tests again in an AddressSanitizer + UBSan build (build-asan/); skip that with
+# PLANTMORPH_SKIP_SANITIZERS=1.
+set -euo pipefail
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/setup.sh"
+cd "$PLANTMORPH_BUILD"
+ctest --output-on-failure -j2 --timeout 900
+if [ "${PLANTMORPH_SKIP_SANITIZERS:-0}" != "1" ]; then
+  ASAN_BUILD="$PLANTMORPH_ROOT/build-asan"
+  mkdir -p "$ASAN_BUILD"
+  plantmorph_build "$ASAN_BUILD" -DPLANTMORPH_SANITIZE=ON -DPLANTMORPH_BUILD_BENCHMARKS=OFF \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  cd "$ASAN_BUILD"
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j2 -L unit --timeout 900
+fi

@@ -1,0 +1,204 @@
+// The VTK layer: vtkLeafOutlineSource's outputs follow the data contract, pieces other than 0 stay empty, and bad
+// properties give an error naming the property, with empty outputs.
+#include "vtkLeafOutlineSource.h"
+
+#include <plantmorph/DataContract.h>
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkStringArray.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+namespace
+{
+/// Collects the error messages an algorithm reports.
+class ErrorCatcher : public vtkCommand
+{
+public:
+  static ErrorCatcher* New() { return new ErrorCatcher; }
+  void Execute(vtkObject*, unsigned long, void* data) override
+  {
+    this->Messages += static_cast<const char*>(data);
+  }
+  std::string Messages;
+};
+
+TEST(vtkLeafOutlineSource, BladeCarriesTheContractArrays)
+{
+  vtkNew<vtkLeafOutlineSource> source;
+  source->Update();
+  vtkPolyData* blade = source->GetOutput(0);
+  ASSERT_GT(blade->GetNumberOfPolys(), 100);
+  EXPECT_EQ(blade->GetNumberOfCells(), blade->GetNumberOfPolys());
+
+  auto* uv = vtkDoubleArray::SafeDownCast(blade->GetPointData()->GetArray(plantmorph::arrays::LeafUV));
+  ASSERT_NE(uv, nullptr);
+  EXPECT_EQ(uv->GetNumberOfComponents(), 2);
+  double range[2];
+  uv->GetRange(range, 0);
+  EXPECT_GE(range[0], -0.5);
+  EXPECT_LE(range[1], 0.5);
+  uv->GetRange(range, 1);
+  EXPECT_GE(range[0], 0.0);
+  EXPECT_LE(range[1], 1.0);
+
+  vtkDataArray* tcoords = blade->GetPointData()->GetTCoords();
+  ASSERT_NE(tcoords, nullptr);
+  EXPECT_STREQ(tcoords->GetName(), plantmorph::arrays::TCoords);
+  EXPECT_TRUE(vtkFloatArray::SafeDownCast(tcoords));
+  tcoords->GetRange(range, 0);
+  EXPECT_EQ(range[0], 0.0);
+  EXPECT_EQ(range[1], 1.0);
+
+  auto* region = vtkIntArray::SafeDownCast(blade->GetPointData()->GetArray(plantmorph::arrays::Region));
+  ASSERT_NE(region, nullptr);
+  region->GetRange(range);
+  EXPECT_EQ(range[0], plantmorph::RegionBlade);
+  EXPECT_EQ(range[1], plantmorph::RegionMargin);
+  ASSERT_TRUE(vtkIntArray::SafeDownCast(blade->GetCellData()->GetArray(plantmorph::arrays::Region)));
+
+  vtkDataArray* normals = blade->GetPointData()->GetNormals();
+  ASSERT_NE(normals, nullptr);
+  EXPECT_EQ(normals->GetTuple3(0)[2], 1.0);
+
+  double bounds[6];
+  blade->GetBounds(bounds);
+  EXPECT_EQ(bounds[4], 0.0);
+  EXPECT_EQ(bounds[5], 0.0);
+  EXPECT_NEAR(bounds[2], 0.0, 1e-12); // the fan's base is the lowest point, at the origin
+
+  auto* model = vtkStringArray::SafeDownCast(blade->GetFieldData()->GetAbstractArray("PlantMorph.Model"));
+  ASSERT_NE(model, nullptr);
+  EXPECT_EQ(model->GetValue(0), "DeformedRectangle");
+  auto* terms = vtkDoubleArray::SafeDownCast(blade->GetFieldData()->GetArray("PlantMorph.Terms"));
+  ASSERT_NE(terms, nullptr);
+  EXPECT_EQ(terms->GetNumberOfComponents(), 7);
+  EXPECT_EQ(terms->GetNumberOfTuples(), 3); // eq. (1) has three sinusoid terms
+}
+
+TEST(vtkLeafOutlineSource, OutlineHasLeftRightAndMidveinPolylines)
+{
+  vtkNew<vtkLeafOutlineSource> source;
+  source->SetResolution(25);
+  source->Update();
+  vtkPolyData* outline = source->GetOutput(1);
+  ASSERT_EQ(outline->GetNumberOfLines(), 3);
+  auto* region = vtkIntArray::SafeDownCast(outline->GetCellData()->GetArray(plantmorph::arrays::Region));
+  ASSERT_NE(region, nullptr);
+  EXPECT_EQ(region->GetValue(0), plantmorph::RegionMargin);
+  EXPECT_EQ(region->GetValue(1), plantmorph::RegionMargin);
+  EXPECT_EQ(region->GetValue(2), plantmorph::RegionMidvein);
+  vtkNew<vtkIdList> ids;
+  outline->GetCellPoints(2, ids);
+  EXPECT_EQ(ids->GetNumberOfIds(), 26); // Resolution segments
+  // All three run from the base to the apex.
+  vtkNew<vtkIdList> left, right;
+  outline->GetCellPoints(0, left);
+  outline->GetCellPoints(1, right);
+  EXPECT_EQ(left->GetId(0), ids->GetId(0));
+  EXPECT_EQ(right->GetId(0), ids->GetId(0));
+  EXPECT_EQ(left->GetId(left->GetNumberOfIds() - 1), ids->GetId(25));
+  EXPECT_EQ(right->GetId(right->GetNumberOfIds() - 1), ids->GetId(25));
+  // The outline's points are the blade's first points, same coordinates.
+  vtkPolyData* blade = source->GetOutput(0);
+  for (vtkIdType i = 0; i < outline->GetNumberOfPoints(); ++i)
+  {
+    double a[3], b[3];
+    outline->GetPoint(i, a);
+    blade->GetPoint(i, b);
+    ASSERT_EQ(a[0], b[0]);
+    ASSERT_EQ(a[1], b[1]);
+  }
+}
+
+TEST(vtkLeafOutlineSource, OnlyPieceZeroMakesTheLeaf)
+{
+  vtkNew<vtkLeafOutlineSource> source;
+  source->UpdatePiece(0, 2, 0);
+  const vtkIdType cells = source->GetOutput(0)->GetNumberOfCells();
+  EXPECT_GT(cells, 0);
+  source->UpdatePiece(1, 2, 0);
+  EXPECT_EQ(source->GetOutput(0)->GetNumberOfCells(), 0);
+  EXPECT_EQ(source->GetOutput(1)->GetNumberOfCells(), 0);
+}
+
+TEST(vtkLeafOutlineSource, CustomTermsOfEquationOneEqualTheGinkgoPreset)
+{
+  vtkNew<vtkLeafOutlineSource> preset;
+  preset->Update();
+  vtkNew<vtkLeafOutlineSource> custom;
+  custom->SetPreset(0);
+  custom->SetWidth(5.5);
+  custom->SetLength(5.0);
+  custom->AddTerm(0, 1, 1.1, 1, 1, 1, -M_PI / 2);
+  custom->AddTerm(1, 1, 0.05, 2, 11, 0, -1.5);
+  custom->AddTerm(1, 1, -0.6, 2, 1, 0, -M_PI / 2);
+  custom->Update();
+  vtkPolyData* a = preset->GetOutput();
+  vtkPolyData* b = custom->GetOutput();
+  ASSERT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints());
+  ASSERT_EQ(a->GetNumberOfCells(), b->GetNumberOfCells());
+  for (vtkIdType i = 0; i < a->GetNumberOfPoints(); ++i)
+  {
+    double p[3], q[3];
+    a->GetPoint(i, p);
+    b->GetPoint(i, q);
+    ASSERT_NEAR(p[0], q[0], 1e-12);
+    ASSERT_NEAR(p[1], q[1], 1e-12);
+  }
+}
+
+struct BadCase
+{
+  const char* expected;
+  void (*apply)(vtkLeafOutlineSource*);
+};
+
+TEST(vtkLeafOutlineSource, BadPropertiesGiveAMessageAndEmptyOutputs)
+{
+  const BadCase cases[] = {
+    { "Resolution = 1 is outside the accepted range [2, 4000]", [](vtkLeafOutlineSource* s) { s->SetResolution(1); } },
+    { "Length (b_y) = nan", [](vtkLeafOutlineSource* s) { s->SetLength(std::nan("")); } },
+    { "Preset = 42 is outside the accepted range [0, 9]", [](vtkLeafOutlineSource* s) { s->SetPreset(42); } },
+    { "Model = 3 is not available", [](vtkLeafOutlineSource* s) { s->SetModel(3); } },
+    { "MeshQuality = 2", [](vtkLeafOutlineSource* s) { s->SetMeshQuality(2); } },
+    { "Asymmetry = 1.5", [](vtkLeafOutlineSource* s) { s->SetAsymmetry(1.5); } },
+    { "Terms: row 0, Multiplier = 7",
+      [](vtkLeafOutlineSource* s) {
+        s->SetPreset(0);
+        s->AddTerm(0, 0, 1, 7, 1, 1, 0);
+      } },
+    { "fold",
+      [](vtkLeafOutlineSource* s) {
+        s->SetPreset(0);
+        s->AddTerm(0, 0, -3, 1, 1, 1, 0);
+      } },
+  };
+  for (const BadCase& bad : cases)
+  {
+    vtkNew<vtkLeafOutlineSource> source;
+    vtkNew<ErrorCatcher> catcher;
+    source->AddObserver(vtkCommand::ErrorEvent, catcher);
+    bad.apply(source);
+    source->Update();
+    EXPECT_NE(catcher->Messages.find(bad.expected), std::string::npos)
+      << "expected '" << bad.expected << "', got '" << catcher->Messages << "'";
+    EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
+    EXPECT_EQ(source->GetOutput(1)->GetNumberOfPoints(), 0);
+  }
+}
+
+} // namespace
