@@ -1,0 +1,71 @@
+"""pvpython: a LeafOutlineSource pipeline saved as a state file loads in a fresh pvpython with the same properties
+and bit-identical output."""
+import json
+import os
+import subprocess
+import sys
+
+from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
+
+arguments = parse_arguments([("--pvpython", dict(required=True)), ("--load", dict(default=None))])
+
+from paraview.simple import *  # noqa: E402,F401,F403
+from paraview import servermanager  # noqa: E402
+
+load_plugin(arguments.plugin, globals())
+state = os.path.join(arguments.work, "leaf_outline.pvsm")
+expected_file = os.path.join(arguments.work, "leaf_outline_state_expected.json")
+
+
+def property_value(source, name):
+    """A property's value as plain JSON data (enumerations as their label, vectors as lists)."""
+    value = source.GetPropertyValue(name)
+    if hasattr(value, "GetData"):
+        value = value.GetData()
+    return list(value) if isinstance(value, (list, tuple)) or hasattr(value, "__len__") and not isinstance(
+        value, str) else value
+
+
+def describe(source):
+    source.UpdatePipeline()
+    blade = servermanager.Fetch(source)
+    outline = servermanager.Fetch(PassArrays(Input=OutputPort(source, 1)))
+    return {
+        "properties": {name: property_value(source, name) for name in ("Preset", "Length", "Width", "Terms", "Resolution", "MeshQuality", "Asymmetry",
+                                    "Bending")},
+        "blade": fingerprint(blade),
+        "outline": fingerprint(outline),
+        "points": blade.GetNumberOfPoints(),
+    }
+
+
+if arguments.load is None:
+    # First process: a custom leaf with every kind of property changed, saved as a state file.
+    leaf = LeafOutlineSource(registrationName="Leaf", Preset="Custom", Length=4.0, Width=3.0, Resolution=33,
+                             MeshQuality="Quality", Asymmetry=0.2, Bending=0.15,
+                             Terms=[0, 0, -1, 1, 0, 1, 1.5707963267948966, 0, 0, 1, 1, 1, 1, 0,
+                                    1, 1, 0.1, 2, 1, 1, 0])
+    expected = describe(leaf)
+    Show(leaf)
+    SaveState(state)
+    with open(expected_file, "w") as f:
+        json.dump(expected, f)
+    result = subprocess.run([arguments.pvpython, os.path.abspath(__file__), "--plugin", arguments.plugin,
+                             "--work", arguments.work, "--pvpython", arguments.pvpython, "--load", state])
+    sys.exit(result.returncode)
+
+# Second process: a fresh pvpython loads the state and compares.
+checks = Checks()
+LoadState(arguments.load)
+leaf = FindSource("Leaf")
+checks.check(leaf is not None, "the state file holds the source 'Leaf'")
+with open(expected_file) as f:
+    expected = json.load(f)
+actual = describe(leaf)
+for name, value in expected["properties"].items():
+    checks.check(actual["properties"][name] == value,
+                 "property %s: %r after loading, %r before" % (name, actual["properties"][name], value))
+checks.check(actual["points"] == expected["points"] and actual["points"] > 0, "same number of points")
+checks.check(actual["blade"] == expected["blade"], "blade bit-identical after the round trip")
+checks.check(actual["outline"] == expected["outline"], "outline bit-identical after the round trip")
+checks.finish()

@@ -1,0 +1,65 @@
+"""Helpers shared by the pvpython tests: argument parsing, plugin loading, and fingerprints of outputs."""
+import argparse
+import hashlib
+import os
+import sys
+
+
+def parse_arguments(extra=None):
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--plugin", required=True, help="path to PlantMorph.so")
+    parser.add_argument("--work", required=True, help="folder for files the test writes")
+    for name, kwargs in (extra or []):
+        parser.add_argument(name, **kwargs)
+    arguments = parser.parse_args()
+    os.makedirs(arguments.work, exist_ok=True)
+    return arguments
+
+
+def load_plugin(path, namespace):
+    from paraview.simple import LoadPlugin
+    if not os.path.exists(path):
+        sys.exit("plugin not found: %s (build first)" % path)
+    LoadPlugin(path, remote=False, ns=namespace)
+
+
+def fingerprint(dataset):
+    """A SHA-256 of points, LeafUV and cell connectivity: equal fingerprints mean bit-identical outputs."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    digest = hashlib.sha256()
+    if dataset.GetNumberOfPoints():
+        digest.update(vtk_to_numpy(dataset.GetPoints().GetData()).tobytes())
+        digest.update(vtk_to_numpy(dataset.GetPointData().GetArray("LeafUV")).tobytes())
+    for cells in (dataset.GetPolys(), dataset.GetLines()):
+        if cells.GetNumberOfCells():
+            digest.update(vtk_to_numpy(cells.GetConnectivityArray()).tobytes())
+            digest.update(vtk_to_numpy(cells.GetOffsetsArray()).tobytes())
+    return digest.hexdigest()
+
+
+class Checks:
+    """Counts failed checks so a test reports them all, then exits non-zero if any failed."""
+
+    def __init__(self):
+        self.failures = 0
+        self.count = 0
+
+    def check(self, condition, message):
+        self.count += 1
+        if not condition:
+            self.failures += 1
+            print("FAIL:", message)
+
+    def finish(self):
+        """Reports the count and exits non-zero if any check failed. Under MPI (pvbatch on several ranks) success
+        returns normally, so pvbatch finalizes MPI, and failure aborts the MPI job: sys.exit or an exception on
+        rank 0 would leave the other ranks waiting forever."""
+        print("%d checks, %d failed" % (self.count, self.failures))
+        if not self.failures:
+            return
+        from paraview import servermanager
+        if servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions() > 1:
+            sys.stdout.flush()
+            from mpi4py import MPI
+            MPI.COMM_WORLD.Abort(1)
+        sys.exit(1)
