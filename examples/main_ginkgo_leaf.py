@@ -1,0 +1,27 @@
+"""The ginkgo leaf of paper 000, eq. (1): LeafOutlineSource's blade and outline, written as .vtp files and rendered.
+
+    xvfb-run -a pvbatch examples/main_ginkgo_leaf.py --plugin build/.../PlantMorph.so --output output/
+"""
+import os
+
+from plantmorph_example import save_png, save_vtp, start, white_view
+
+arguments = start(__doc__)
+from paraview.simple import *  # noqa: E402,F401,F403
+
+leaf = LeafOutlineSource(registrationName="GinkgoLeaf", Preset="Ginkgo", Length=5.0, Resolution=60,
+                         MeshQuality="Quality")
+save_vtp(leaf, os.path.join(arguments.output, "ginkgo_blade.vtp"), port=0)
+save_vtp(leaf, os.path.join(arguments.output, "ginkgo_outline.vtp"), port=1)
+
+view = white_view(1000, 800)
+blade = Show(OutputPort(leaf, 0), view)
+blade.Representation = "Surface With Edges"
+blade.ColorArrayName = ["POINTS", ""]
+blade.DiffuseColor = [0.55, 0.75, 0.25]
+blade.AmbientColor = [0.55, 0.75, 0.25]
+blade.EdgeColor = [0.35, 0.5, 0.15]
+outline = Show(Tube(Input=OutputPort(leaf, 1), Radius=0.02), view)
+outline.ColorArrayName = ["POINTS", ""]
+outline.DiffuseColor = [0.2, 0.35, 0.1]
+save_png(view, os.path.join(arguments.output, "ginkgo_leaf.png"))

@@ -1,0 +1,46 @@
+"""What every PlantMorph example script shares: its arguments, loading the plugin, a white render view, and
+writing .vtp files that this ParaView can read back."""
+import argparse
+import os
+
+from paraview.simple import (CreateRenderView, LoadPlugin, Render, ResetCamera, SaveData, SaveScreenshot)
+
+
+def start(description):
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--plugin", required=True, help="path to PlantMorph.so")
+    parser.add_argument("--output", required=True, help="folder for the .vtp files and PNG renders")
+    arguments = parser.parse_args()
+    os.makedirs(arguments.output, exist_ok=True)
+    import __main__
+    LoadPlugin(arguments.plugin, remote=False, ns=vars(__main__))
+    return arguments
+
+
+def white_view(width, height):
+    view = CreateRenderView()
+    view.ViewSize = [width, height]
+    view.OrientationAxesVisibility = 0
+    if hasattr(view, "UseColorPaletteForBackground"):
+        view.UseColorPaletteForBackground = 0
+    view.Background = [1.0, 1.0, 1.0]
+    return view
+
+
+def save_vtp(proxy, path, port=0):
+    """Inline binary: Debian's ParaView 5.11 cannot read back appended-mode XML files (see README)."""
+    from paraview.simple import OutputPort
+    SaveData(path, proxy=OutputPort(proxy, port), DataMode="Binary")
+    print("wrote", path)
+
+
+def save_png(view, path, top_down=True):
+    if top_down:
+        view.CameraPosition = [0, 0, 1]
+        view.CameraFocalPoint = [0, 0, 0]
+        view.CameraViewUp = [0, 1, 0]
+        view.CameraParallelProjection = 1
+    ResetCamera(view)
+    Render(view)
+    SaveScreenshot(path, view, ImageResolution=list(view.ViewSize))
+    print("wrote", path)
