@@ -9,6 +9,9 @@
 #include <CGAL/Delaunay_mesher_no_edge_refinement_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_2_algorithms.h>
+#include <CGAL/Spatial_sort_traits_adapter_2.h>
+#include <CGAL/property_map.h>
+#include <CGAL/spatial_sort.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
@@ -130,14 +133,28 @@ std::string MeshBlade(
     return "MeshQuality: the maximum edge length must be a positive number";
   auto keepGoing = [&](double fraction) { return !options.progress || options.progress(fraction); };
 
+  // Insert the samples in spatial-sort order with a face hint: in their order along the outline, incremental
+  // Delaunay insertion is at its quadratic worst.
   Triangulation cdt;
-  std::vector<VertexHandle> handles(outline.points.size());
+  std::vector<std::size_t> order(outline.points.size());
+  std::vector<Point> points;
+  points.reserve(outline.points.size());
   for (std::size_t i = 0; i < outline.points.size(); ++i)
   {
-    handles[i] = cdt.insert(Point(outline.points[i].x(), outline.points[i].y()));
-    if (handles[i]->info().id >= 0 && handles[i]->info().id != static_cast<int>(i))
+    order[i] = i;
+    points.emplace_back(outline.points[i].x(), outline.points[i].y());
+  }
+  using SortTraits = CGAL::Spatial_sort_traits_adapter_2<Kernel, CGAL::Pointer_property_map<Point>::type>;
+  CGAL::spatial_sort(order.begin(), order.end(), SortTraits(CGAL::make_property_map(points)));
+  std::vector<VertexHandle> handles(outline.points.size());
+  Triangulation::Face_handle hint;
+  for (std::size_t i : order)
+  {
+    handles[i] = cdt.insert(points[i], hint);
+    if (handles[i]->info().id >= 0)
       return "outline: two samples coincide";
     handles[i]->info().id = static_cast<int>(i);
+    hint = handles[i]->face();
   }
   const std::size_t m = outline.boundary.size();
   for (std::size_t i = 0; i < m; ++i)
@@ -148,7 +165,10 @@ std::string MeshBlade(
     return "outline: a constraint crossed another (the outline is not simple)";
 
   Mesher mesher(cdt, Criteria(options.shapeBound, options.quality ? options.maxEdgeLength : 0.0));
-  mesher.init(); // marks the faces inside the outline (no seeds: bounded components)
+  // CGAL 5.5 leaves the mesher's seeds_mark uninitialised (UBSan: "load of value 32 ... for type 'bool'");
+  // clear_seeds() sets it before init() reads it. No seeds: the domain is every bounded face, inside the outline.
+  mesher.clear_seeds();
+  mesher.init();
   if (options.quality)
   {
     // Expected vertex count of the refined mesh: area / (area per vertex ~ 0.43 h^2), for the progress bar.
@@ -204,12 +224,31 @@ std::string MeshBlade(
     } while (++edge != done);
   }
 
-  // Interior Steiner points, breadth first from the known ones: guess = mean LeafUV of known neighbours.
-  std::deque<VertexHandle> queue(steiner.begin(), steiner.end());
-  std::size_t stalled = 0;
+  // Interior Steiner points, breadth first from the outline: each is solved once, when it is reached, with the
+  // mean LeafUV of its already-known neighbours as the guess.
+  std::vector<char> queued(mesh.points.size(), 0);
+  std::deque<VertexHandle> queue;
+  auto enqueueUnknownNeighbours = [&](const VertexHandle& v) {
+    auto neighbour = cdt.incident_vertices(v), done = neighbour;
+    do
+    {
+      if (!cdt.is_infinite(neighbour))
+      {
+        const int id = neighbour->info().id;
+        if (!known[id] && !queued[id])
+        {
+          queued[id] = 1;
+          queue.push_back(neighbour);
+        }
+      }
+    } while (++neighbour != done);
+  };
+  for (std::size_t i = 0; i < outline.points.size(); ++i)
+    enqueueUnknownNeighbours(handles[i]);
+  std::size_t solved = 0;
   while (!queue.empty())
   {
-    VertexHandle v = queue.front();
+    const VertexHandle v = queue.front();
     queue.pop_front();
     Eigen::Vector2d sum(0.0, 0.0);
     int count = 0;
@@ -222,19 +261,17 @@ std::string MeshBlade(
         ++count;
       }
     } while (++neighbour != done);
-    if (count == 0)
-    {
-      queue.push_back(v); // try again once a neighbour is known
-      if (++stalled > queue.size())
-        return "meshing: an interior point is not connected to the outline";
-      continue;
-    }
-    stalled = 0;
     const int id = v->info().id;
     const Eigen::Vector2d p(v->point().x(), v->point().y());
-    mesh.uv[id] = solveUV ? solveUV(p, sum / count) : Eigen::Vector2d(sum / count);
+    const Eigen::Vector2d guess = sum / count; // count >= 1: v was queued by a known neighbour
+    mesh.uv[id] = solveUV ? solveUV(p, guess) : guess;
     known[id] = 1;
+    ++solved;
+    enqueueUnknownNeighbours(v);
   }
+  if (solved != steiner.size())
+    return "meshing: an interior point is not connected to the outline";
+
   if (!keepGoing(0.9))
     return "aborted";
 

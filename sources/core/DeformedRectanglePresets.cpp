@@ -151,30 +151,11 @@ DeformedRectangleParameters MakeDeformedRectanglePreset(DeformedRectanglePreset 
 
 std::string PresetName(DeformedRectanglePreset preset)
 {
-  switch (preset)
-  {
-    case DeformedRectanglePreset::Custom:
-      return "Custom";
-    case DeformedRectanglePreset::Ginkgo:
-      return "Ginkgo";
-    case DeformedRectanglePreset::Entire:
-      return "Entire";
-    case DeformedRectanglePreset::Serrate:
-      return "Serrate";
-    case DeformedRectanglePreset::Lobed:
-      return "Lobed";
-    case DeformedRectanglePreset::Parted:
-      return "Parted";
-    case DeformedRectanglePreset::AcuteBaseAcuteApex:
-      return "AcuteBaseAcuteApex";
-    case DeformedRectanglePreset::RoundedBaseAcuminateApex:
-      return "RoundedBaseAcuminateApex";
-    case DeformedRectanglePreset::CordateBaseRoundedApex:
-      return "CordateBaseRoundedApex";
-    case DeformedRectanglePreset::AcuminateBaseEmarginateApex:
-      return "AcuminateBaseEmarginateApex";
-  }
-  return "Unknown";
+  static const char* const names[DeformedRectanglePresetCount] = { "Custom", "Ginkgo", "Entire", "Serrate", "Lobed",
+    "Parted", "AcuteBaseAcuteApex", "RoundedBaseAcuminateApex", "CordateBaseRoundedApex",
+    "AcuminateBaseEmarginateApex" };
+  const int index = static_cast<int>(preset);
+  return index >= 0 && index < DeformedRectanglePresetCount ? names[index] : "Unknown";
 }
 
 } // namespace plantmorph
