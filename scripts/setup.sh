@@ -43,13 +43,13 @@ plantmorph_install_packages() {
 plantmorph_build() {
   local dir="$1"
   shift
-  cmake -S "$PLANTMORPH_ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >"$dir.configure.log" 2>&1 ||
-    { cat "$dir.configure.log"; echo "setup: configuring failed (log above)"; return 1; }
+  mkdir -p "$dir"
+  cmake -S "$PLANTMORPH_ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >"$dir/configure.log" 2>&1 ||
+    { cat "$dir/configure.log"; echo "setup: configuring failed (log above)"; return 1; }
   cmake --build "$dir" -j"$(nproc)"
 }
 
 plantmorph_install_packages
-mkdir -p "$PLANTMORPH_BUILD"
 plantmorph_build "$PLANTMORPH_BUILD"
 PLANTMORPH_PLUGIN="$PLANTMORPH_BUILD/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so"
 export PLANTMORPH_ROOT PLANTMORPH_BUILD PLANTMORPH_PLUGIN

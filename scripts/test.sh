@@ -8,7 +8,6 @@ cd "$PLANTMORPH_BUILD"
 ctest --output-on-failure -j2 --timeout 900
 if [ "${PLANTMORPH_SKIP_SANITIZERS:-0}" != "1" ]; then
   ASAN_BUILD="$PLANTMORPH_ROOT/build-asan"
-  mkdir -p "$ASAN_BUILD"
   plantmorph_build "$ASAN_BUILD" -DPLANTMORPH_SANITIZE=ON -DPLANTMORPH_BUILD_BENCHMARKS=OFF \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo
   cd "$ASAN_BUILD"
