@@ -46,7 +46,7 @@ void AddFieldString(vtkFieldData* fd, const char* name, const std::string& value
   fd->AddArray(a);
 }
 
-/// Point arrays for the first `count` points of the leaf: coordinates (z = 0), LeafUV, TCoords, Region, Normals.
+/// Point arrays for the first `count` points of the leaf: coordinates, LeafUV, TCoords, Region, Normals.
 void FillPoints(const LeafGeometry& leaf, vtkIdType count, vtkPolyData* output)
 {
   const plantmorph::BladeMesh& blade = leaf.blade;
@@ -70,12 +70,14 @@ void FillPoints(const LeafGeometry& leaf, vtkIdType count, vtkPolyData* output)
   normals->SetNumberOfTuples(count);
   for (vtkIdType i = 0; i < count; ++i)
   {
-    points->SetPoint(i, blade.points[i].x(), blade.points[i].y(), 0.0);
+    points->SetPoint(i, blade.points[i].x(), blade.points[i].y(), leaf.z.empty() ? 0.0 : leaf.z[i]);
     uv->SetTypedTuple(i, blade.uv[i].data());
     const float t[2] = { static_cast<float>(leaf.tcoords[i].x()), static_cast<float>(leaf.tcoords[i].y()) };
     tcoords->SetTypedTuple(i, t);
     region->SetValue(i, blade.region[i]);
-    const float n[3] = { 0.0f, 0.0f, 1.0f };
+    const Eigen::Vector3d normal = leaf.normals.empty() ? Eigen::Vector3d::UnitZ() : leaf.normals[i];
+    const float n[3] = { static_cast<float>(normal.x()), static_cast<float>(normal.y()),
+      static_cast<float>(normal.z()) };
     normals->SetTypedTuple(i, n);
   }
   output->SetPoints(points);

@@ -1,5 +1,7 @@
 #include "LeafGeometry.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 
@@ -24,6 +26,25 @@ std::vector<Eigen::Vector2d> BoundingBoxTextureCoordinates(const std::vector<Eig
       tcoords[i][k] = extent[k] > 0.0 ? (points[i][k] - low[k]) / extent[k] : 0.0;
   }
   return tcoords;
+}
+
+std::vector<Eigen::Vector3d> VertexNormals(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles)
+{
+  std::vector<Eigen::Vector3d> normals(points.size(), Eigen::Vector3d::Zero());
+  for (const auto& t : triangles)
+  {
+    // The cross product's length is twice the area: summing it weights each face by its area.
+    const Eigen::Vector3d n = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+    for (int id : t)
+      normals[id] += n;
+  }
+  for (Eigen::Vector3d& n : normals)
+  {
+    const double length = n.norm();
+    n = length > 0.0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::UnitZ();
+  }
+  return normals;
 }
 
 double CurveLength(const std::function<Eigen::Vector2d(double)>& curve, double a, double b, int samples)

@@ -1,10 +1,12 @@
-// What every LeafOutlineSource model produces, before it becomes vtkPolyData: a flat blade mesh (z = 0) with
-// LeafUV, Region and TCoords, and the outline polylines as point ids into the blade's points.
+// What every LeafOutlineSource model produces, before it becomes vtkPolyData: a blade mesh with LeafUV, Region and
+// TCoords (flat, z = 0, unless `z` is filled), and the outline polylines as point ids into the blade's points.
 #pragma once
 
 #include "BladeMesher.h"
 
 #include <Eigen/Core>
+
+#include <array>
 
 #include <cstddef>
 #include <functional>
@@ -21,7 +23,13 @@ struct LeafGeometry
   std::vector<int> rightMargin;         ///< base to apex, through u > 0
   std::vector<int> midvein;             ///< base to apex
   std::size_t uvInversionFailures = 0;  ///< interior points whose LeafUV fell back to the neighbours' mean
+  std::vector<double> z;                ///< height of every blade point; empty for a flat blade (z = 0)
+  std::vector<Eigen::Vector3d> normals; ///< unit normal of every blade point; empty for a flat blade (+Z)
 };
+
+/// Area-weighted vertex normals of a triangle mesh given by 3-D points (zero-area neighbourhoods get +Z).
+std::vector<Eigen::Vector3d> VertexNormals(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles);
 
 struct LeafMeshSettings
 {
