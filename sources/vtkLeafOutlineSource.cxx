@@ -2,6 +2,7 @@
 
 #include "DeformedRectangleLeaf.h"
 #include "DeformedRectanglePresets.h"
+#include "SpaceCurvePresets.h"
 
 #include <plantmorph/DataContract.h>
 
@@ -141,55 +142,14 @@ int vtkLeafOutlineSource::RequestData(
     return 1;
   }
 
-  if (this->Model != DEFORMED_RECTANGLE)
-  {
-    vtkErrorMacro("Model = " << this->Model << " is not available; accepted: 0 (deformed rectangle)");
-    return 1;
-  }
-  if (this->Preset < 0 || this->Preset >= plantmorph::DeformedRectanglePresetCount)
-  {
-    vtkErrorMacro("Preset = " << this->Preset << " is outside the accepted range [0, "
-                              << plantmorph::DeformedRectanglePresetCount - 1 << "]");
-    return 1;
-  }
-  if (this->MeshQuality != 0 && this->MeshQuality != 1)
-  {
-    vtkErrorMacro("MeshQuality = " << this->MeshQuality << " is not 0 (paper) or 1 (quality)");
-    return 1;
-  }
   if (this->MaxVertices < 3)
   {
     vtkErrorMacro("MaxVertices = " << this->MaxVertices << " must be at least 3");
     return 1;
   }
-
-  const auto preset = static_cast<plantmorph::DeformedRectanglePreset>(this->Preset);
-  plantmorph::DeformedRectangleParameters parameters =
-    plantmorph::MakeDeformedRectanglePreset(preset, this->Length);
-  if (preset == plantmorph::DeformedRectanglePreset::Custom)
-  {
-    parameters.width = this->Width;
-    const std::string termError = plantmorph::ParseTerms(this->Terms, parameters.terms);
-    if (!termError.empty())
-    {
-      vtkErrorMacro(<< termError);
-      return 1;
-    }
-  }
-  parameters.bending = this->Bending;
-  parameters.asymmetry = this->Asymmetry;
-
-  plantmorph::LeafMeshSettings settings;
-  settings.resolution = this->Resolution;
-  settings.quality = this->MeshQuality == 1;
-  settings.maxVertices = static_cast<std::size_t>(this->MaxVertices);
-  settings.progress = [this](double fraction) {
-    this->UpdateProgress(fraction);
-    return !this->GetAbortExecute();
-  };
-
+  vtkNew<vtkFieldData> parameters;
   LeafGeometry leaf;
-  const std::string error = plantmorph::BuildDeformedRectangleLeaf(parameters, settings, leaf);
+  const std::string error = this->BuildLeaf(leaf, parameters);
   if (!error.empty())
   {
     if (error != "aborted")
@@ -245,7 +205,65 @@ int vtkLeafOutlineSource::RequestData(
   // Parameters as field data on both outputs.
   for (vtkPolyData* output : { blade, outline })
   {
-    vtkFieldData* fd = output->GetFieldData();
+    for (int a = 0; a < parameters->GetNumberOfArrays(); ++a)
+    {
+      output->GetFieldData()->AddArray(parameters->GetAbstractArray(a));
+    }
+  }
+  if (leaf.uvInversionFailures > 0)
+  {
+    vtkWarningMacro(<< leaf.uvInversionFailures
+                    << " interior points got an approximate LeafUV (the map could not be inverted there)");
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd)
+{
+  auto progress = [this](double fraction) {
+    this->UpdateProgress(fraction);
+    return !this->GetAbortExecute();
+  };
+  std::ostringstream message;
+  if (this->Model == DEFORMED_RECTANGLE)
+  {
+    if (this->Preset < 0 || this->Preset >= plantmorph::DeformedRectanglePresetCount)
+    {
+      message << "Preset = " << this->Preset << " is outside the accepted range [0, "
+              << plantmorph::DeformedRectanglePresetCount - 1 << "]";
+      return message.str();
+    }
+    if (this->MeshQuality != 0 && this->MeshQuality != 1)
+    {
+      message << "MeshQuality = " << this->MeshQuality << " is not 0 (paper) or 1 (quality)";
+      return message.str();
+    }
+    const auto preset = static_cast<plantmorph::DeformedRectanglePreset>(this->Preset);
+    plantmorph::DeformedRectangleParameters parameters =
+      plantmorph::MakeDeformedRectanglePreset(preset, this->Length);
+    if (preset == plantmorph::DeformedRectanglePreset::Custom)
+    {
+      parameters.width = this->Width;
+      const std::string termError = plantmorph::ParseTerms(this->Terms, parameters.terms);
+      if (!termError.empty())
+      {
+        return termError;
+      }
+    }
+    parameters.bending = this->Bending;
+    parameters.asymmetry = this->Asymmetry;
+    plantmorph::LeafMeshSettings settings;
+    settings.resolution = this->Resolution;
+    settings.quality = this->MeshQuality == 1;
+    settings.maxVertices = static_cast<std::size_t>(this->MaxVertices);
+    settings.progress = progress;
+    const std::string error = plantmorph::BuildDeformedRectangleLeaf(parameters, settings, leaf);
+    if (!error.empty())
+    {
+      return error;
+    }
     AddFieldString(fd, "PlantMorph.Model", "DeformedRectangle");
     AddFieldString(fd, "PlantMorph.Preset", plantmorph::PresetName(preset));
     AddFieldValue(fd, "PlantMorph.Length", parameters.length);
@@ -261,14 +279,93 @@ int vtkLeafOutlineSource::RequestData(
     terms->SetNumberOfTuples(static_cast<vtkIdType>(parameters.terms.size()));
     std::copy(flat.begin(), flat.end(), terms->GetPointer(0));
     fd->AddArray(terms);
+    return {};
   }
-  if (leaf.uvInversionFailures > 0)
+  if (this->Model == SPACE_CURVE)
   {
-    vtkWarningMacro(<< leaf.uvInversionFailures
-                    << " interior points got an approximate LeafUV (the map could not be inverted there)");
+    if (this->SpaceCurvePreset < 0 || this->SpaceCurvePreset >= plantmorph::SpaceCurvePresetCount)
+    {
+      message << "SpaceCurvePreset = " << this->SpaceCurvePreset << " is outside the accepted range [0, "
+              << plantmorph::SpaceCurvePresetCount - 1 << "]";
+      return message.str();
+    }
+    if (this->IntegrationMethod != 0 && this->IntegrationMethod != 1)
+    {
+      message << "IntegrationMethod = " << this->IntegrationMethod << " is not 0 (RK4) or 1 (RK45)";
+      return message.str();
+    }
+    const auto preset = static_cast<plantmorph::SpaceCurvePreset>(this->SpaceCurvePreset);
+    plantmorph::SpaceCurveParameters parameters = plantmorph::MakeSpaceCurvePreset(preset, this->CurveLength);
+    if (preset == plantmorph::SpaceCurvePreset::Custom)
+    {
+      plantmorph::CurvatureFamily& k = parameters.curvature;
+      k.type = static_cast<plantmorph::CurvatureFamily::Type>(this->CurvatureFunction);
+      k.mu = this->CurvatureMu;
+      k.lambda = this->CurvatureLambda;
+      k.n1 = this->CurvatureN1;
+      k.n2 = this->CurvatureN2;
+      k.b1 = this->CurvatureB1;
+      k.u3 = this->CurvatureU3;
+      k.beta = this->CurvatureBeta;
+      k.alpha4 = this->CurvatureAlpha4;
+      k.lambda2 = this->CurvatureLambda2;
+      plantmorph::CurvatureFamily& t = parameters.torsion;
+      t.type = static_cast<plantmorph::CurvatureFamily::Type>(this->TorsionFunction);
+      t.mu = this->TorsionEta;
+      t.lambda = this->TorsionLambda;
+      t.n1 = this->TorsionN1;
+      t.n2 = this->TorsionN2;
+      parameters.midveinStretchZ = this->MidveinStretchZ;
+      parameters.midveinStretchXY = this->MidveinStretchXY;
+    }
+    parameters.opening = this->Opening;
+    parameters.initialAngle = this->InitialAngle;
+    parameters.method = static_cast<plantmorph::FrenetMethod>(this->IntegrationMethod);
+    plantmorph::SpaceCurveMeshSettings settings;
+    settings.resolution = this->Resolution;
+    settings.columns = this->StripColumns;
+    progress(0.1);
+    const std::string error = plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf);
+    if (!error.empty())
+    {
+      return error;
+    }
+    AddFieldString(fd, "PlantMorph.Model", "SpaceCurve");
+    AddFieldString(fd, "PlantMorph.Preset", plantmorph::SpaceCurvePresetName(preset));
+    AddFieldValue(fd, "PlantMorph.CurveLength", parameters.length);
+    for (const auto& family : { std::make_pair("PlantMorph.Curvature", &parameters.curvature),
+           std::make_pair("PlantMorph.Torsion", &parameters.torsion) })
+    {
+      const plantmorph::CurvatureFamily& f = *family.second;
+      vtkNew<vtkDoubleArray> values;
+      values->SetName(family.first);
+      values->SetNumberOfComponents(10);
+      values->SetComponentName(0, "Function");
+      values->SetComponentName(1, "Mu");
+      values->SetComponentName(2, "Lambda");
+      values->SetComponentName(3, "N1");
+      values->SetComponentName(4, "N2");
+      values->SetComponentName(5, "B1");
+      values->SetComponentName(6, "U3");
+      values->SetComponentName(7, "Beta");
+      values->SetComponentName(8, "Alpha4");
+      values->SetComponentName(9, "Lambda2");
+      const double tuple[10] = { static_cast<double>(f.type), f.mu, f.lambda, f.n1, f.n2, f.b1, f.u3, f.beta,
+        f.alpha4, f.lambda2 };
+      values->InsertNextTuple(tuple);
+      fd->AddArray(values);
+    }
+    AddFieldValue(fd, "PlantMorph.Opening", parameters.opening);
+    AddFieldValue(fd, "PlantMorph.MidveinStretchZ", parameters.midveinStretchZ);
+    AddFieldValue(fd, "PlantMorph.MidveinStretchXY", parameters.midveinStretchXY);
+    AddFieldValue(fd, "PlantMorph.InitialAngle", parameters.initialAngle);
+    AddFieldValue(fd, "PlantMorph.IntegrationMethod", this->IntegrationMethod);
+    AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
+    AddFieldValue(fd, "PlantMorph.StripColumns", this->StripColumns);
+    return {};
   }
-  this->UpdateProgress(1.0);
-  return 1;
+  message << "Model = " << this->Model << " is not available; accepted: 0 (deformed rectangle), 1 (space curve)";
+  return message.str();
 }
 
 //------------------------------------------------------------------------------
@@ -285,4 +382,14 @@ void vtkLeafOutlineSource::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Resolution: " << this->Resolution << "\n";
   os << indent << "MeshQuality: " << this->MeshQuality << "\n";
   os << indent << "MaxVertices: " << this->MaxVertices << "\n";
+  os << indent << "SpaceCurvePreset: " << this->SpaceCurvePreset << "\n";
+  os << indent << "CurveLength: " << this->CurveLength << "\n";
+  os << indent << "CurvatureFunction: " << this->CurvatureFunction << " Mu " << this->CurvatureMu << " Lambda "
+     << this->CurvatureLambda << "\n";
+  os << indent << "TorsionFunction: " << this->TorsionFunction << " Eta " << this->TorsionEta << " Lambda "
+     << this->TorsionLambda << "\n";
+  os << indent << "Opening: " << this->Opening << "\n";
+  os << indent << "MidveinStretch: Z " << this->MidveinStretchZ << " XY " << this->MidveinStretchXY << "\n";
+  os << indent << "IntegrationMethod: " << this->IntegrationMethod << "\n";
+  os << indent << "StripColumns: " << this->StripColumns << "\n";
 }

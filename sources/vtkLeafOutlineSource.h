@@ -10,13 +10,18 @@
  * Both outputs carry the parameters as field data (`PlantMorph.Model`, `PlantMorph.Preset`, `PlantMorph.Terms`...),
  * so a saved file says how it was made.
  *
- * Model A, the deformed rectangle (paper 000 eq. (1)), is the only model so far: the rectangle u in [-0.5, 0.5],
+ * Model A, the deformed rectangle (paper 000 eq. (1)): the rectangle u in [-0.5, 0.5],
  * v in [0, 1] mapped by a sum of sinusoid terms (see plantmorph::DeformedRectangleModel for the term rows). A
  * `Preset` other than Custom supplies the terms and the width; `Length` always sets the size. The blade is meshed
  * with CGAL's constrained Delaunay triangulation with the midvein as a constraint (`MeshQuality` 0: the paper's
  * plain triangulation of the samples; 1: Delaunay refinement of the interior to a 20.7 degree minimum angle and
  * edges about the midvein spacing, never splitting margin or midvein). The midvein's two end points (base and
  * apex) are Region 1: the vein owns them.
+ *
+ * Model B, the space curve (paper 002): a half-margin integrated from the Frenet-Serret equations with the chosen
+ * curvature and torsion functions, mirrored in the symmetry plane (Opening), the midvein from its projection, and
+ * quad strips from margin to midvein split into triangles (see plantmorph::BuildSpaceCurveLeaf). With torsion or
+ * Opening the blade is 3-D; its normals are area-weighted vertex normals.
  *
  * The source generates the whole leaf as piece 0 and leaves other pieces empty, so it appears once under MPI.
  * Bad parameters produce an error naming the property and its accepted range, and empty outputs.
@@ -27,7 +32,14 @@
 #include "PlantMorphSourcesModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <string> // for error messages
 #include <vector> // for the term list
+
+class vtkFieldData;
+namespace plantmorph
+{
+struct LeafGeometry;
+}
 
 class PLANTMORPHSOURCES_EXPORT vtkLeafOutlineSource : public vtkPolyDataAlgorithm
 {
@@ -38,12 +50,14 @@ public:
 
   enum ModelType
   {
-    DEFORMED_RECTANGLE = 0
+    DEFORMED_RECTANGLE = 0,
+    SPACE_CURVE = 1
   };
 
   ///@{
   /**
-   * Outline model. Only DEFORMED_RECTANGLE (0) exists so far.
+   * Outline model: DEFORMED_RECTANGLE (0, paper 000; properties Preset ... Asymmetry) or SPACE_CURVE (1, paper
+   * 002; properties SpaceCurvePreset ... StripColumns). Default: deformed rectangle.
    */
   vtkSetMacro(Model, int);
   vtkGetMacro(Model, int);
@@ -133,6 +147,62 @@ public:
   vtkGetMacro(MaxVertices, int);
   ///@}
 
+  ///@{
+  /**
+   * Space-curve model (paper 002). SpaceCurvePreset: 0 Custom (the Curvature*, Torsion* and Midvein* properties),
+   * 1-6 paper 002 Figs. 1-6 (plantmorph::SpaceCurvePreset); a preset sets the curvature, torsion and midvein
+   * stretches, and CurveLength, Opening, InitialAngle, IntegrationMethod, Resolution and StripColumns still apply.
+   * CurveLength is the half-margin's arc length S; the Mu/Eta properties are peak times S, so changing S alone
+   * grows a similar leaf. See plantmorph::CurvatureFamily for the families and their parameters.
+   */
+  vtkSetMacro(SpaceCurvePreset, int);
+  vtkGetMacro(SpaceCurvePreset, int);
+  vtkSetMacro(CurveLength, double);
+  vtkGetMacro(CurveLength, double);
+  vtkSetMacro(CurvatureFunction, int);
+  vtkGetMacro(CurvatureFunction, int);
+  vtkSetMacro(CurvatureMu, double);
+  vtkGetMacro(CurvatureMu, double);
+  vtkSetMacro(CurvatureLambda, double);
+  vtkGetMacro(CurvatureLambda, double);
+  vtkSetMacro(CurvatureN1, double);
+  vtkGetMacro(CurvatureN1, double);
+  vtkSetMacro(CurvatureN2, double);
+  vtkGetMacro(CurvatureN2, double);
+  vtkSetMacro(CurvatureB1, double);
+  vtkGetMacro(CurvatureB1, double);
+  vtkSetMacro(CurvatureU3, double);
+  vtkGetMacro(CurvatureU3, double);
+  vtkSetMacro(CurvatureBeta, double);
+  vtkGetMacro(CurvatureBeta, double);
+  vtkSetMacro(CurvatureAlpha4, double);
+  vtkGetMacro(CurvatureAlpha4, double);
+  vtkSetMacro(CurvatureLambda2, double);
+  vtkGetMacro(CurvatureLambda2, double);
+  vtkSetMacro(TorsionFunction, int);
+  vtkGetMacro(TorsionFunction, int);
+  vtkSetMacro(TorsionEta, double);
+  vtkGetMacro(TorsionEta, double);
+  vtkSetMacro(TorsionLambda, double);
+  vtkGetMacro(TorsionLambda, double);
+  vtkSetMacro(TorsionN1, double);
+  vtkGetMacro(TorsionN1, double);
+  vtkSetMacro(TorsionN2, double);
+  vtkGetMacro(TorsionN2, double);
+  vtkSetMacro(Opening, double);
+  vtkGetMacro(Opening, double);
+  vtkSetMacro(MidveinStretchZ, double);
+  vtkGetMacro(MidveinStretchZ, double);
+  vtkSetMacro(MidveinStretchXY, double);
+  vtkGetMacro(MidveinStretchXY, double);
+  vtkSetMacro(InitialAngle, double);
+  vtkGetMacro(InitialAngle, double);
+  vtkSetMacro(IntegrationMethod, int);
+  vtkGetMacro(IntegrationMethod, int);
+  vtkSetMacro(StripColumns, int);
+  vtkGetMacro(StripColumns, int);
+  ///@}
+
 protected:
   vtkLeafOutlineSource();
   ~vtkLeafOutlineSource() override = default;
@@ -151,7 +221,35 @@ protected:
   int MeshQuality = 1;
   int MaxVertices = 20000000;
 
+  // Space-curve model, defaults: paper 002 Fig. 1.
+  int SpaceCurvePreset = 1;
+  double CurveLength = 5.0;
+  int CurvatureFunction = 1;
+  double CurvatureMu = 2.0;
+  double CurvatureLambda = 0.7;
+  double CurvatureN1 = 1.0;
+  double CurvatureN2 = 1.0;
+  double CurvatureB1 = 0.001;
+  double CurvatureU3 = 0.001;
+  double CurvatureBeta = 2.0;
+  double CurvatureAlpha4 = 0.3;
+  double CurvatureLambda2 = 0.5;
+  int TorsionFunction = 1;
+  double TorsionEta = 0.0;
+  double TorsionLambda = 0.7;
+  double TorsionN1 = 1.0;
+  double TorsionN2 = 1.0;
+  double Opening = 0.0;
+  double MidveinStretchZ = 1.0;
+  double MidveinStretchXY = 0.0;
+  double InitialAngle = -45.0;
+  int IntegrationMethod = 1;
+  int StripColumns = 6;
+
 private:
+  /// Builds the chosen model's leaf and describes its parameters as field data; returns an error message or "".
+  std::string BuildLeaf(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters);
+
   vtkLeafOutlineSource(const vtkLeafOutlineSource&) = delete;
   void operator=(const vtkLeafOutlineSource&) = delete;
 };

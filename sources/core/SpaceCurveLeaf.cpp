@@ -119,21 +119,19 @@ std::string BuildSpaceCurveLeaf(
     return "Opening: no symmetry plane through the chord makes that angle with +Z; move Opening towards 0";
 
   // Both half-margins and the midvein, sample by sample.
+  // Midvein sample i sits at i/n of the way along the chord (so it never folds back, even where a hooked margin
+  // does) and takes the shape of the margin's projection onto the symmetry plane: that projection's offset from the
+  // chord, stretched.
   std::vector<Eigen::Vector3d> own(n + 1), mirrored(n + 1), midvein(n + 1);
-  double previousT = -1.0;
   for (int i = 0; i <= n; ++i)
   {
     const Eigen::Vector3d r = frames[i].position;
     own[i] = r;
     mirrored[i] = r - 2.0 * (r - base).dot(g) * g;
     const Eigen::Vector3d projected = r - (r - base).dot(g) * g;
-    const double t = (projected - base).dot(c) / chordLength;
-    if (i > 0 && i < n && !(t > previousT))
-      return "Curvature: the midvein would fold back (the margin turns away from the chord); lower CurvatureMu";
-    previousT = t;
-    const Eigen::Vector3d onChord = base + t * chord;
-    const Eigen::Vector3d offset = projected - onChord;
-    midvein[i] = onChord + p.midveinStretchXY * Eigen::Vector3d(offset.x(), offset.y(), 0.0) +
+    const Eigen::Vector3d offset = projected - (base + (projected - base).dot(c) * c);
+    midvein[i] = base + (static_cast<double>(i) / n) * chord +
+      p.midveinStretchXY * Eigen::Vector3d(offset.x(), offset.y(), 0.0) +
       p.midveinStretchZ * Eigen::Vector3d(0.0, 0.0, offset.z());
   }
   midvein.front() = base;
@@ -228,6 +226,20 @@ std::string BuildSpaceCurveLeaf(
   leaf.rightMargin.push_back(apexId);
   leaf.midvein.push_back(apexId);
 
+  // A flat leaf whose margin hooks back across its own strip would fold: refuse it rather than output overlaps.
+  const bool flat = p.torsion.mu == 0.0 && p.opening == 0.0;
+  for (const auto& t : blade.triangles)
+  {
+    if (!flat)
+      break;
+    const Eigen::Vector3d e1 = points[t[1]] - points[t[0]], e2 = points[t[2]] - points[t[0]];
+    if (!(e1.x() * e2.y() - e1.y() * e2.x() > 0.0))
+    {
+      leaf = LeafGeometry();
+      return "Curvature: the margin hooks back across the blade, so the strips would overlap; lower CurvatureMu or "
+             "move CurvatureLambda away from 1";
+    }
+  }
   for (const Eigen::Vector3d& x : points)
   {
     if (!x.allFinite())

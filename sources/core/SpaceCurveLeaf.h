@@ -11,7 +11,10 @@
 //
 // Midvein: each margin sample is projected orthogonally onto the symmetry plane (eq. (3)); the projection's offset
 // from the chord is split into a vertical part, scaled by `midveinStretchZ`, and a horizontal part, scaled by
-// `midveinStretchXY` (eq. (2); 0 puts the midvein on the chord in plan view). Both end points are the margins'.
+// `midveinStretchXY` (eq. (2); 0 puts the midvein on the chord in plan view). Midvein sample i is that offset
+// added to the point i/Resolution of the way along the chord (not to the projection's own place along it), so
+// the midvein advances monotonically even where a strongly bent margin hooks back. Both end points are the
+// margins'. A flat leaf whose strips would fold (a margin hooking back across them) is refused with a message.
 //
 // Surface: rows of samples at equal arc length s_i = i*S/Resolution on both margins and the midvein (row 0 is the
 // base, the last row the apex, single vertices); each row holds `columns` points from the left margin to the

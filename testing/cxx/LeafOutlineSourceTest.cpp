@@ -15,10 +15,12 @@
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
 #include "vtkStringArray.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -201,4 +203,79 @@ TEST(vtkLeafOutlineSource, BadPropertiesGiveAMessageAndEmptyOutputs)
   }
 }
 
+} // namespace
+
+namespace
+{
+vtkSmartPointer<vtkPolyData> SpaceCurveBlade(int preset, double length)
+{
+  vtkNew<vtkLeafOutlineSource> source;
+  source->SetModel(vtkLeafOutlineSource::SPACE_CURVE);
+  source->SetSpaceCurvePreset(preset);
+  source->SetCurveLength(length);
+  source->SetResolution(30);
+  source->Update();
+  vtkSmartPointer<vtkPolyData> blade = source->GetOutput(0);
+  return blade;
+}
+
+TEST(vtkLeafOutlineSource, SpaceCurveModelGrowsSimilarLeavesThroughThePipeline)
+{
+  for (int preset : { 1, 5 })
+  {
+    vtkSmartPointer<vtkPolyData> small = SpaceCurveBlade(preset, 2.0);
+    vtkSmartPointer<vtkPolyData> large = SpaceCurveBlade(preset, 6.0);
+    ASSERT_GT(small->GetNumberOfPolys(), 100);
+    ASSERT_EQ(small->GetNumberOfPoints(), large->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < small->GetNumberOfPoints(); ++i)
+    {
+      double a[3], b[3];
+      small->GetPoint(i, a);
+      large->GetPoint(i, b);
+      for (int k = 0; k < 3; ++k)
+        ASSERT_NEAR(3.0 * a[k], b[k], 1e-9);
+    }
+    auto* model = vtkStringArray::SafeDownCast(small->GetFieldData()->GetAbstractArray("PlantMorph.Model"));
+    ASSERT_NE(model, nullptr);
+    EXPECT_EQ(model->GetValue(0), "SpaceCurve");
+    auto* curvature = vtkDoubleArray::SafeDownCast(small->GetFieldData()->GetArray("PlantMorph.Curvature"));
+    ASSERT_NE(curvature, nullptr);
+    EXPECT_EQ(curvature->GetComponent(0, 1), preset == 1 ? 2.0 : 5.0); // paper 002's mu
+    ASSERT_NE(small->GetPointData()->GetArray(plantmorph::arrays::LeafUV), nullptr);
+    ASSERT_NE(small->GetPointData()->GetTCoords(), nullptr);
+  }
+  // Fig. 5 has torsion: a 3-D blade whose normals are not all +Z.
+  vtkSmartPointer<vtkPolyData> twisted = SpaceCurveBlade(5, 5.0);
+  double bounds[6];
+  twisted->GetBounds(bounds);
+  EXPECT_GT(bounds[5] - bounds[4], 0.2);
+  double lowest = 1.0;
+  for (vtkIdType i = 0; i < twisted->GetNumberOfPoints(); ++i)
+    lowest = std::min(lowest, twisted->GetPointData()->GetNormals()->GetTuple3(i)[2]);
+  EXPECT_LT(lowest, 0.99);
+}
+
+TEST(vtkLeafOutlineSource, SpaceCurveBadPropertiesGiveAMessage)
+{
+  vtkNew<vtkLeafOutlineSource> source;
+  vtkNew<ErrorCatcher> catcher;
+  source->AddObserver(vtkCommand::ErrorEvent, catcher);
+  source->SetModel(vtkLeafOutlineSource::SPACE_CURVE);
+  source->SetSpaceCurvePreset(0);
+  source->SetCurvatureLambda(2.0);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("CurvatureLambda = 2 is outside the accepted range [0, 1]"), std::string::npos)
+    << catcher->Messages;
+  EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
+  catcher->Messages.clear();
+  source->SetCurvatureLambda(0.5);
+  source->SetOpening(1.0);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("Opening = 1"), std::string::npos) << catcher->Messages;
+  catcher->Messages.clear();
+  source->SetOpening(0.0);
+  source->SetSpaceCurvePreset(9);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("SpaceCurvePreset = 9"), std::string::npos) << catcher->Messages;
+}
 } // namespace

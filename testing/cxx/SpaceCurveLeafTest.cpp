@@ -229,3 +229,23 @@ TEST(SpaceCurveLeaf, BadInputGivesAMessageAndNoLeaf)
 
 } // namespace
 } // namespace plantmorph
+
+#include "SpaceCurvePresets.h"
+
+namespace plantmorph
+{
+namespace
+{
+TEST(SpaceCurveLeaf, EveryPaperFigurePresetBuildsAManifoldBlade)
+{
+  for (int k = 1; k < SpaceCurvePresetCount; ++k)
+  {
+    const auto preset = static_cast<SpaceCurvePreset>(k);
+    SCOPED_TRACE(SpaceCurvePresetName(preset));
+    const LeafGeometry leaf = Build(MakeSpaceCurvePreset(preset, 5.0));
+    ASSERT_FALSE(leaf.blade.triangles.empty());
+    ExpectManifoldDisk(leaf);
+  }
+}
+} // namespace
+} // namespace plantmorph

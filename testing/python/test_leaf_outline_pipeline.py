@@ -55,6 +55,24 @@ for preset in range(1, 10):
         checks.check(regions == [4, 4, 1], name + ": outline regions %s" % regions)
         Delete(pass_through)
 
+# Space-curve model (paper 002): every figure preset yields a blade and an outline; Figs. 5 and 6 are 3-D.
+space = LeafOutlineSource(Model="Space curve", Resolution=30)
+for figure in range(1, 7):
+    space.SpaceCurvePreset = "Paper 002 Fig. %d" % figure
+    space.UpdatePipeline()
+    blade = servermanager.Fetch(space)
+    name = "paper 002 Fig. %d" % figure
+    checks.check(blade.GetNumberOfPolys() > 100, name + ": blade has triangles")
+    checks.check(blade.GetFieldData().GetAbstractArray("PlantMorph.Model").GetValue(0) == "SpaceCurve",
+                 name + ": model in field data")
+    uv = vtk_to_numpy(blade.GetPointData().GetArray("LeafUV"))
+    checks.check(uv[:, 0].min() == -0.5 and uv[:, 0].max() == 0.5 and uv[:, 1].min() == 0 and uv[:, 1].max() == 1,
+                 name + ": LeafUV spans the canonical leaf")
+    depth = blade.GetBounds()[5] - blade.GetBounds()[4]
+    checks.check((depth > 0.1) == (figure >= 5), name + ": 3-D exactly when it has torsion (depth %g)" % depth)
+    outline = servermanager.Fetch(PassArrays(Input=OutputPort(space, 1)))
+    checks.check(outline.GetNumberOfLines() == 3, name + ": outline has 3 polylines")
+
 # Custom terms through the property, as in the GUI's table: eq. (1) rows give the ginkgo leaf bit for bit.
 leaf.Preset = "Ginkgo"
 leaf.MeshQuality = "Quality"

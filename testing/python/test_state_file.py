@@ -26,13 +26,19 @@ def property_value(source, name):
         value, str) else value
 
 
-def describe(source):
+SPACE_PROPERTIES = ("Model", "SpaceCurvePreset", "CurveLength", "CurvatureFunction", "CurvatureMu",
+                    "CurvatureLambda", "CurvatureN1", "TorsionEta", "Opening", "MidveinStretchZ", "Resolution",
+                    "StripColumns")
+DEFORMED_RECTANGLE_PROPERTIES = ("Preset", "Length", "Width", "Terms", "Resolution", "MeshQuality", "Asymmetry",
+                                 "Bending")
+
+
+def describe(source, properties=DEFORMED_RECTANGLE_PROPERTIES):
     source.UpdatePipeline()
     blade = servermanager.Fetch(source)
     outline = servermanager.Fetch(PassArrays(Input=OutputPort(source, 1)))
     return {
-        "properties": {name: property_value(source, name) for name in ("Preset", "Length", "Width", "Terms", "Resolution", "MeshQuality", "Asymmetry",
-                                    "Bending")},
+        "properties": {name: property_value(source, name) for name in properties},
         "blade": fingerprint(blade),
         "outline": fingerprint(outline),
         "points": blade.GetNumberOfPoints(),
@@ -45,8 +51,14 @@ if arguments.load is None:
                              MeshQuality="Quality", Asymmetry=0.2, Bending=0.15,
                              Terms=[0, 0, -1, 1, 0, 1, 1.5707963267948966, 0, 0, 1, 1, 1, 1, 0,
                                     1, 1, 0.1, 2, 1, 1, 0])
+    space = LeafOutlineSource(registrationName="SpaceLeaf", Model="Space curve", SpaceCurvePreset="Custom",
+                              CurveLength=4.5, CurvatureFunction="Power", CurvatureMu=3.0, CurvatureLambda=0.6,
+                              CurvatureN1=2.0, TorsionEta=2.5, Opening=0.2, MidveinStretchZ=0.5, Resolution=25,
+                              StripColumns=3)
     expected = describe(leaf)
+    expected["space"] = describe(space, SPACE_PROPERTIES)
     Show(leaf)
+    Show(space)
     SaveState(state)
     with open(expected_file, "w") as f:
         json.dump(expected, f)
@@ -68,4 +80,14 @@ for name, value in expected["properties"].items():
 checks.check(actual["points"] == expected["points"] and actual["points"] > 0, "same number of points")
 checks.check(actual["blade"] == expected["blade"], "blade bit-identical after the round trip")
 checks.check(actual["outline"] == expected["outline"], "outline bit-identical after the round trip")
+space = FindSource("SpaceLeaf")
+checks.check(space is not None, "the state file holds the source 'SpaceLeaf'")
+actual_space = describe(space, SPACE_PROPERTIES)
+for name, value in expected["space"]["properties"].items():
+    checks.check(actual_space["properties"][name] == value,
+                 "space-curve property %s: %r after loading, %r before" % (name, actual_space["properties"][name],
+                                                                           value))
+checks.check(actual_space["points"] == expected["space"]["points"] and actual_space["points"] > 0,
+             "space-curve leaf: same number of points")
+checks.check(actual_space["blade"] == expected["space"]["blade"], "space-curve blade bit-identical after the round trip")
 checks.finish()

@@ -1,0 +1,64 @@
+#include "SpaceCurvePresets.h"
+
+namespace plantmorph
+{
+
+SpaceCurveParameters MakeSpaceCurvePreset(SpaceCurvePreset preset, double length)
+{
+  SpaceCurveParameters p;
+  p.length = length;
+  CurvatureFamily& k = p.curvature;
+  switch (preset)
+  {
+    case SpaceCurvePreset::Custom:
+    case SpaceCurvePreset::Figure1:
+      k.type = CurvatureFamily::Triangular;
+      k.mu = 2.0;
+      k.lambda = 0.7;
+      break;
+    case SpaceCurvePreset::Figure2:
+      k.type = CurvatureFamily::Triangular;
+      k.mu = 6.0;
+      k.lambda = 0.9;
+      break;
+    case SpaceCurvePreset::Figure3:
+      k.type = CurvatureFamily::Exponential;
+      k.mu = 30.0;
+      k.lambda = 0.0;
+      k.u3 = 0.001;
+      break;
+    case SpaceCurvePreset::Figure4:
+      // The paper prints no numbers for Fig. 4. Chosen by looking at a sweep of mu, beta and alpha4: a broad first
+      // triangle, then a second one of peak h/beta that turns the margin back into a notch at the apex. The
+      // positive u4 of eq. (8) shows the notch; a negative one (beta < 0) gives a pointed tip instead.
+      k.type = CurvatureFamily::NotchedApex;
+      k.mu = 7.0;
+      k.lambda = 0.5;
+      k.beta = 1.2;
+      k.alpha4 = 0.4;
+      k.lambda2 = 0.5;
+      break;
+    case SpaceCurvePreset::Figure5:
+    case SpaceCurvePreset::Figure6:
+      k.type = CurvatureFamily::Triangular;
+      k.mu = 5.0;
+      k.lambda = 0.95;
+      p.torsion = k;
+      p.torsion.mu = 4.0;
+      // Fig. 5: the midvein is the chord ("the line through the start and end points"); Fig. 6: projected.
+      p.midveinStretchZ = preset == SpaceCurvePreset::Figure5 ? 0.0 : 1.0;
+      p.midveinStretchXY = 0.0;
+      break;
+  }
+  return p;
+}
+
+std::string SpaceCurvePresetName(SpaceCurvePreset preset)
+{
+  static const char* const names[SpaceCurvePresetCount] = { "Custom", "Paper002Figure1", "Paper002Figure2",
+    "Paper002Figure3", "Paper002Figure4", "Paper002Figure5", "Paper002Figure6" };
+  const int index = static_cast<int>(preset);
+  return index >= 0 && index < SpaceCurvePresetCount ? names[index] : "Unknown";
+}
+
+} // namespace plantmorph
