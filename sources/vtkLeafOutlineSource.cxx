@@ -118,9 +118,27 @@ void vtkLeafOutlineSource::AddTerm(double target, double scale, double amplitude
 int vtkLeafOutlineSource::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
+  const bool growing = this->Growth != 0 && this->ValidateGrowth().empty();
+  std::vector<double> times;
+  for (int k = 0; growing && k < this->GrowthTimeSteps; ++k)
+  {
+    times.push_back(static_cast<double>(k) / (this->GrowthTimeSteps - 1));
+  }
   for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
   {
-    outputVector->GetInformationObject(port)->Set(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST(), 1);
+    vtkInformation* info = outputVector->GetInformationObject(port);
+    info->Set(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST(), 1);
+    if (growing)
+    {
+      const double range[2] = { 0.0, 1.0 };
+      info->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), static_cast<int>(times.size()));
+      info->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+    }
+    else
+    {
+      info->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
+      info->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
+    }
   }
   return 1;
 }
@@ -147,9 +165,27 @@ int vtkLeafOutlineSource::RequestData(
     vtkErrorMacro("MaxVertices = " << this->MaxVertices << " must be at least 3");
     return 1;
   }
+  // Growth: the requested time (clamped to [0, 1]) sets the size.
+  double scale = 1.0;
+  double time = 0.0;
+  if (this->Growth)
+  {
+    const std::string growthError = this->ValidateGrowth();
+    if (!growthError.empty())
+    {
+      vtkErrorMacro(<< growthError);
+      return 1;
+    }
+    vtkInformation* info = outputVector->GetInformationObject(0);
+    if (info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+    {
+      time = std::clamp(info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()), 0.0, 1.0);
+    }
+    scale = this->GrowthInitialScale + (1.0 - this->GrowthInitialScale) * time;
+  }
   vtkNew<vtkFieldData> parameters;
   LeafGeometry leaf;
-  const std::string error = this->BuildLeaf(leaf, parameters);
+  const std::string error = this->BuildLeaf(leaf, parameters, scale);
   if (!error.empty())
   {
     if (error != "aborted")
@@ -202,9 +238,18 @@ int vtkLeafOutlineSource::RequestData(
   outline->SetLines(lines);
   outline->GetCellData()->AddArray(lineRegion);
 
-  // Parameters as field data on both outputs.
+  if (this->Growth)
+  {
+    AddFieldValue(parameters, "PlantMorph.GrowthFraction", time);
+    AddFieldValue(parameters, "PlantMorph.GrowthScale", scale);
+  }
+  // Parameters as field data on both outputs, and the time they show.
   for (vtkPolyData* output : { blade, outline })
   {
+    if (this->Growth)
+    {
+      output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), time);
+    }
     for (int a = 0; a < parameters->GetNumberOfArrays(); ++a)
     {
       output->GetFieldData()->AddArray(parameters->GetAbstractArray(a));
@@ -220,7 +265,22 @@ int vtkLeafOutlineSource::RequestData(
 }
 
 //------------------------------------------------------------------------------
-std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd)
+std::string vtkLeafOutlineSource::ValidateGrowth() const
+{
+  std::ostringstream message;
+  if (this->GrowthTimeSteps < 2 || this->GrowthTimeSteps > 10000)
+  {
+    message << "GrowthTimeSteps = " << this->GrowthTimeSteps << " is outside the accepted range [2, 10000]";
+  }
+  else if (!(this->GrowthInitialScale > 0.0 && this->GrowthInitialScale <= 1.0))
+  {
+    message << "GrowthInitialScale = " << this->GrowthInitialScale << " is outside the accepted range (0, 1]";
+  }
+  return message.str();
+}
+
+//------------------------------------------------------------------------------
+std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd, double scale)
 {
   auto progress = [this](double fraction) {
     this->UpdateProgress(fraction);
@@ -242,10 +302,10 @@ std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd
     }
     const auto preset = static_cast<plantmorph::DeformedRectanglePreset>(this->Preset);
     plantmorph::DeformedRectangleParameters parameters =
-      plantmorph::MakeDeformedRectanglePreset(preset, this->Length);
+      plantmorph::MakeDeformedRectanglePreset(preset, scale * this->Length);
     if (preset == plantmorph::DeformedRectanglePreset::Custom)
     {
-      parameters.width = this->Width;
+      parameters.width = scale * this->Width;
       const std::string termError = plantmorph::ParseTerms(this->Terms, parameters.terms);
       if (!termError.empty())
       {
@@ -295,7 +355,8 @@ std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd
       return message.str();
     }
     const auto preset = static_cast<plantmorph::SpaceCurvePreset>(this->SpaceCurvePreset);
-    plantmorph::SpaceCurveParameters parameters = plantmorph::MakeSpaceCurvePreset(preset, this->CurveLength);
+    plantmorph::SpaceCurveParameters parameters =
+      plantmorph::MakeSpaceCurvePreset(preset, scale * this->CurveLength);
     if (preset == plantmorph::SpaceCurvePreset::Custom)
     {
       plantmorph::CurvatureFamily& k = parameters.curvature;
@@ -392,4 +453,6 @@ void vtkLeafOutlineSource::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MidveinStretch: Z " << this->MidveinStretchZ << " XY " << this->MidveinStretchXY << "\n";
   os << indent << "IntegrationMethod: " << this->IntegrationMethod << "\n";
   os << indent << "StripColumns: " << this->StripColumns << "\n";
+  os << indent << "Growth: " << this->Growth << " (" << this->GrowthTimeSteps << " steps from scale "
+     << this->GrowthInitialScale << ")\n";
 }

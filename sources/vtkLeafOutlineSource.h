@@ -203,6 +203,24 @@ public:
   vtkGetMacro(StripColumns, int);
   ///@}
 
+  ///@{
+  /**
+   * Growth over time. With Growth on, the source advertises GrowthTimeSteps time values from 0 to 1 (the growth
+   * fraction; ParaView's animation plays them) and at time t outputs the leaf scaled by
+   * s = GrowthInitialScale + (1 - GrowthInitialScale) * t: deformed rectangle: Length (and Width for the Custom
+   * preset) times s, the shape fixed (a similar leaf); space curve: CurveLength times s with Mu and Eta held, the
+   * paper's similarity (except the exponential family with its fixed U3, which turns as it grows). Requests
+   * between or beyond the time values are clamped to [0, 1]. Defaults: off, 11 steps, initial scale 0.2.
+   */
+  vtkSetMacro(Growth, int);
+  vtkGetMacro(Growth, int);
+  vtkBooleanMacro(Growth, int);
+  vtkSetMacro(GrowthTimeSteps, int);
+  vtkGetMacro(GrowthTimeSteps, int);
+  vtkSetMacro(GrowthInitialScale, double);
+  vtkGetMacro(GrowthInitialScale, double);
+  ///@}
+
 protected:
   vtkLeafOutlineSource();
   ~vtkLeafOutlineSource() override = default;
@@ -246,9 +264,15 @@ protected:
   int IntegrationMethod = 1;
   int StripColumns = 6;
 
+  int Growth = 0;
+  int GrowthTimeSteps = 11;
+  double GrowthInitialScale = 0.2;
+
 private:
   /// Builds the chosen model's leaf and describes its parameters as field data; returns an error message or "".
-  std::string BuildLeaf(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters);
+  std::string BuildLeaf(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale);
+  /// Empty when the growth properties are valid, else the message.
+  std::string ValidateGrowth() const;
 
   vtkLeafOutlineSource(const vtkLeafOutlineSource&) = delete;
   void operator=(const vtkLeafOutlineSource&) = delete;

@@ -279,3 +279,70 @@ TEST(vtkLeafOutlineSource, SpaceCurveBadPropertiesGiveAMessage)
   EXPECT_NE(catcher->Messages.find("SpaceCurvePreset = 9"), std::string::npos) << catcher->Messages;
 }
 } // namespace
+
+#include "vtkInformation.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+
+namespace
+{
+TEST(vtkLeafOutlineSource, GrowthAdvertisesTimeStepsAndScalesTheLeaf)
+{
+  for (int model : { vtkLeafOutlineSource::DEFORMED_RECTANGLE, vtkLeafOutlineSource::SPACE_CURVE })
+  {
+    vtkNew<vtkLeafOutlineSource> growing;
+    growing->SetModel(model);
+    growing->SetMeshQuality(0);
+    growing->SetResolution(30);
+    growing->GrowthOn();
+    growing->SetGrowthTimeSteps(6);
+    growing->SetGrowthInitialScale(0.25);
+    growing->UpdateInformation();
+    vtkInformation* info = growing->GetOutputInformation(0);
+    ASSERT_TRUE(info->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
+    ASSERT_EQ(info->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()), 6);
+    EXPECT_EQ(info->Get(vtkStreamingDemandDrivenPipeline::TIME_STEPS())[5], 1.0);
+
+    // At time 0.4 the leaf is the static leaf of size 0.25 + 0.75 * 0.4 = 0.55 of the full one.
+    growing->UpdateTimeStep(0.4);
+    vtkPolyData* grown = growing->GetOutput(0);
+    vtkNew<vtkLeafOutlineSource> fixed;
+    fixed->SetModel(model);
+    fixed->SetMeshQuality(0);
+    fixed->SetResolution(30);
+    fixed->SetLength(0.55 * 5.0);
+    fixed->SetCurveLength(0.55 * 5.0);
+    fixed->Update();
+    ASSERT_EQ(grown->GetNumberOfPoints(), fixed->GetOutput(0)->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < grown->GetNumberOfPoints(); ++i)
+    {
+      double a[3], b[3];
+      grown->GetPoint(i, a);
+      fixed->GetOutput(0)->GetPoint(i, b);
+      ASSERT_NEAR(a[0], b[0], 1e-12);
+      ASSERT_NEAR(a[1], b[1], 1e-12);
+    }
+    EXPECT_EQ(grown->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()), 0.4);
+    // Times beyond the range are clamped to it.
+    growing->UpdateTimeStep(7.0);
+    double bounds[6];
+    growing->GetOutput(0)->GetBounds(bounds);
+    growing->UpdateTimeStep(1.0);
+    double full[6];
+    growing->GetOutput(0)->GetBounds(full);
+    EXPECT_EQ(bounds[3], full[3]);
+  }
+}
+
+TEST(vtkLeafOutlineSource, BadGrowthPropertiesGiveAMessage)
+{
+  vtkNew<vtkLeafOutlineSource> source;
+  vtkNew<ErrorCatcher> catcher;
+  source->AddObserver(vtkCommand::ErrorEvent, catcher);
+  source->GrowthOn();
+  source->SetGrowthInitialScale(0.0);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("GrowthInitialScale = 0 is outside the accepted range (0, 1]"), std::string::npos)
+    << catcher->Messages;
+  EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
+}
+} // namespace
