@@ -1,0 +1,272 @@
+#include "BSplineLeaf.h"
+
+#include <plantmorph/CubicBSpline.h>
+#include <plantmorph/DataContract.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace plantmorph
+{
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+/// Right-margin control points of a preset, as (x / width, y / length), base and apex excluded.
+std::vector<Eigen::Vector2d> RightMarginShape(BSplinePreset preset, int count)
+{
+  switch (preset)
+  {
+    case BSplinePreset::Cucumber:
+      // Cordate base with a basal lobe below the petiole, an angular lateral lobe, shallow upper lobes.
+      return { { 0.15, -0.10 }, { 0.33, -0.09 }, { 0.46, 0.02 }, { 0.50, 0.20 }, { 0.44, 0.36 }, { 0.36, 0.46 },
+        { 0.33, 0.62 }, { 0.22, 0.78 }, { 0.10, 0.91 } };
+    case BSplinePreset::PinOak:
+      // Deep sinuses (x ~ 0.1 of the width) between lobes reaching 0.4-0.5 of it. Every tip and sinus has a
+      // shoulder point on each side: an interpolating spline through a bare zigzag makes small loops there.
+      return { { 0.08, 0.06 }, { 0.25, 0.08 }, { 0.40, 0.14 }, { 0.30, 0.20 }, { 0.12, 0.26 }, { 0.20, 0.32 },
+        { 0.40, 0.36 }, { 0.50, 0.40 }, { 0.36, 0.47 }, { 0.13, 0.52 }, { 0.22, 0.58 }, { 0.42, 0.66 },
+        { 0.30, 0.71 }, { 0.10, 0.76 }, { 0.16, 0.84 }, { 0.12, 0.92 } };
+    case BSplinePreset::Custom:
+    case BSplinePreset::Elliptic:
+      break;
+  }
+  std::vector<Eigen::Vector2d> shape;
+  for (int k = 1; k <= count; ++k)
+  {
+    const double t = static_cast<double>(k) / (count + 1);
+    shape.emplace_back(0.5 * std::pow(std::sin(Pi * t), 0.9), t);
+  }
+  return shape;
+}
+
+/// Winding number test (the polygon is closed implicitly).
+bool Inside(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p)
+{
+  int winding = 0;
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+  {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+    const double cross = (b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y());
+    if (a.y() <= p.y() && b.y() > p.y() && cross > 0)
+      ++winding;
+    else if (a.y() > p.y() && b.y() <= p.y() && cross < 0)
+      --winding;
+  }
+  return winding != 0;
+}
+
+/// Samples of a curve at (about) `spacing`, with their LeafUV (u fixed, v = arc-length fraction).
+std::string SampleCurve(const CubicBSpline2d& curve, double spacing, double u, std::vector<Eigen::Vector2d>& points,
+  std::vector<Eigen::Vector2d>& uv)
+{
+  CubicBSpline2d::PointList samples;
+  std::vector<double> parameters;
+  const std::string error = curve.SampleAtSpacing(spacing, samples, &parameters);
+  if (!error.empty())
+    return error;
+  points.assign(samples.begin(), samples.end());
+  uv.clear();
+  for (double t : parameters)
+    uv.emplace_back(u, std::clamp(curve.ArcLength(t) / curve.Length(), 0.0, 1.0));
+  uv.front().y() = 0.0;
+  uv.back().y() = 1.0;
+  return {};
+}
+
+std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& settings, LeafGeometry& leaf)
+{
+  if (settings.resolution < MinResolution || settings.resolution > MaxResolution)
+  {
+    std::ostringstream message;
+    message << "Resolution = " << settings.resolution << " is outside the accepted range [2, 4000]";
+    return message.str();
+  }
+  CubicBSpline2d midvein;
+  std::string error = CubicBSpline2d::Interpolate(p.midvein, midvein);
+  if (!error.empty())
+    return "MidveinPoints: " + error;
+  const Eigen::Vector2d base = p.midvein.front(), apex = p.midvein.back();
+
+  // Margins run from the base to the apex: add them where the user's points stop short.
+  CubicBSpline2d margins[2];
+  const std::vector<Eigen::Vector2d>* given[2] = { &p.leftMargin, &p.rightMargin };
+  const char* names[2] = { "LeftMarginPoints", "RightMarginPoints" };
+  const double tolerance = 1e-9 * std::max(1.0, (apex - base).norm());
+  for (int side = 0; side < 2; ++side)
+  {
+    std::vector<Eigen::Vector2d> points = *given[side];
+    if (points.empty() || (points.front() - base).norm() > tolerance)
+      points.insert(points.begin(), base);
+    else
+      points.front() = base;
+    if ((points.back() - apex).norm() > tolerance)
+      points.push_back(apex);
+    else
+      points.back() = apex;
+    if (points.size() < 3)
+      return std::string(names[side]) + ": needs at least one control point besides the base and the apex";
+    error = CubicBSpline2d::Interpolate(points, margins[side]);
+    if (!error.empty())
+      return std::string(names[side]) + ": " + error;
+  }
+
+  // Samples: the midvein in exactly Resolution pieces, the margins at the same spacing.
+  const double spacing = midvein.Length() / settings.resolution;
+  std::vector<Eigen::Vector2d> midveinPoints, midveinUV, sidePoints[2], sideUV[2];
+  {
+    const std::vector<double> t = midvein.EqualArcLengthParameters(settings.resolution + 1);
+    for (std::size_t i = 0; i < t.size(); ++i)
+    {
+      midveinPoints.push_back(midvein.Evaluate(t[i]));
+      midveinUV.emplace_back(0.0, static_cast<double>(i) / settings.resolution);
+    }
+    midveinPoints.front() = base;
+    midveinPoints.back() = apex;
+  }
+  for (int side = 0; side < 2; ++side)
+  {
+    error = SampleCurve(margins[side], spacing, side == 0 ? -0.5 : 0.5, sidePoints[side], sideUV[side]);
+    if (!error.empty())
+      return std::string(names[side]) + ": " + error;
+  }
+  if (settings.progress && !settings.progress(0.05))
+    return "aborted";
+
+  BladeOutline outline;
+  auto add = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& uv, int region) {
+    outline.points.push_back(x);
+    outline.uv.push_back(uv);
+    outline.region.push_back(region);
+    return static_cast<int>(outline.points.size() - 1);
+  };
+  for (std::size_t i = 0; i < midveinPoints.size(); ++i)
+    leaf.midvein.push_back(add(midveinPoints[i], midveinUV[i], RegionMidvein));
+  const int baseId = leaf.midvein.front(), apexId = leaf.midvein.back();
+  for (int side = 1; side >= 0; --side)
+  {
+    std::vector<int>& margin = side == 0 ? leaf.leftMargin : leaf.rightMargin;
+    margin.push_back(baseId);
+    for (std::size_t i = 1; i + 1 < sidePoints[side].size(); ++i)
+      margin.push_back(add(sidePoints[side][i], sideUV[side][i], RegionMargin));
+    margin.push_back(apexId);
+  }
+  outline.boundary.assign(leaf.rightMargin.begin(), leaf.rightMargin.end() - 1);
+  outline.boundary.insert(outline.boundary.end(), leaf.leftMargin.rbegin(), leaf.leftMargin.rend() - 1);
+  outline.midvein = leaf.midvein;
+
+  // LeafUV of interior points: mean-value coordinates over the half blade that holds them.
+  std::vector<Eigen::Vector2d> halfPolygon[2], halfUV[2];
+  for (int side = 0; side < 2; ++side)
+  {
+    // Left half: up the midvein, down the left margin; right half: up the right margin, down the midvein.
+    std::vector<int> loop;
+    if (side == 0)
+    {
+      loop.assign(leaf.midvein.begin(), leaf.midvein.end() - 1);
+      loop.insert(loop.end(), leaf.leftMargin.rbegin(), leaf.leftMargin.rend() - 1);
+    }
+    else
+    {
+      loop.assign(leaf.rightMargin.begin(), leaf.rightMargin.end() - 1);
+      loop.insert(loop.end(), leaf.midvein.rbegin(), leaf.midvein.rend() - 1);
+    }
+    for (int id : loop)
+    {
+      halfPolygon[side].push_back(outline.points[id]);
+      halfUV[side].push_back(outline.uv[id]);
+    }
+  }
+  auto solveUV = [&](const Eigen::Vector2d& x, const Eigen::Vector2d&) {
+    const int side = Inside(halfPolygon[0], x) ? 0 : 1;
+    Eigen::Vector2d uv = MeanValueInterpolate(halfPolygon[side], halfUV[side], x);
+    uv.x() = side == 0 ? std::clamp(uv.x(), -0.5, 0.0) : std::clamp(uv.x(), 0.0, 0.5);
+    uv.y() = std::clamp(uv.y(), 0.0, 1.0);
+    return uv;
+  };
+
+  BladeMeshOptions options;
+  options.quality = settings.quality;
+  options.maxEdgeLength = spacing;
+  options.maxVertices = settings.maxVertices;
+  if (settings.progress)
+    options.progress = [&](double f) { return settings.progress(0.05 + 0.85 * f); };
+  error = MeshBlade(outline, options, solveUV, leaf.blade);
+  if (!error.empty())
+    return error.rfind("outline:", 0) == 0 ? "MidveinPoints/LeftMarginPoints/RightMarginPoints: " + error : error;
+  leaf.tcoords = BoundingBoxTextureCoordinates(leaf.blade.points);
+  return {};
+}
+} // namespace
+
+BSplineLeafParameters MakeBSplinePreset(BSplinePreset preset, double length, double width, int count)
+{
+  BSplineLeafParameters p;
+  const int midveinPoints = std::max(2, count);
+  for (int k = 0; k < midveinPoints; ++k)
+    p.midvein.emplace_back(0.0, length * k / (midveinPoints - 1));
+  for (const Eigen::Vector2d& s : RightMarginShape(preset, std::max(1, count)))
+  {
+    p.rightMargin.emplace_back(width * s.x(), length * s.y());
+    p.leftMargin.emplace_back(-width * s.x(), length * s.y());
+  }
+  return p;
+}
+
+std::string BSplinePresetName(BSplinePreset preset)
+{
+  static const char* const names[BSplinePresetCount] = { "Custom", "Elliptic", "Cucumber", "PinOak" };
+  const int index = static_cast<int>(preset);
+  return index >= 0 && index < BSplinePresetCount ? names[index] : "Unknown";
+}
+
+Eigen::Vector2d MeanValueInterpolate(const std::vector<Eigen::Vector2d>& polygon,
+  const std::vector<Eigen::Vector2d>& values, const Eigen::Vector2d& x)
+{
+  const std::size_t n = polygon.size();
+  std::vector<Eigen::Vector2d> s(n);
+  std::vector<double> r(n), halfTangent(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    s[i] = polygon[i] - x;
+    r[i] = s[i].norm();
+    if (r[i] < 1e-14)
+      return values[i];
+  }
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::size_t j = (i + 1) % n;
+    const double area = s[i].x() * s[j].y() - s[i].y() * s[j].x(); // twice the signed area
+    const double dot = s[i].dot(s[j]);
+    if (std::abs(area) < 1e-14 * r[i] * r[j] && dot < 0.0)
+    {
+      // On the edge: linear interpolation along it.
+      const double t = r[i] / (r[i] + r[j]);
+      return (1.0 - t) * values[i] + t * values[j];
+    }
+    halfTangent[i] = area / (r[i] * r[j] + dot); // tan(alpha_i / 2)
+  }
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  double total = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double w = (halfTangent[(i + n - 1) % n] + halfTangent[i]) / r[i];
+    sum += w * values[i];
+    total += w;
+  }
+  return sum / total;
+}
+
+std::string BuildBSplineLeaf(
+  const BSplineLeafParameters& parameters, const LeafMeshSettings& settings, LeafGeometry& leaf)
+{
+  leaf = LeafGeometry();
+  const std::string error = BuildLeaf(parameters, settings, leaf);
+  if (!error.empty())
+    leaf = LeafGeometry();
+  return error;
+}
+
+} // namespace plantmorph
