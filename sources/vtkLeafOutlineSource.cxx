@@ -2,6 +2,7 @@
 
 #include "DeformedRectangleLeaf.h"
 #include "DeformedRectanglePresets.h"
+#include "BSplineLeaf.h"
 #include "SpaceCurvePresets.h"
 
 #include <plantmorph/DataContract.h>
@@ -23,6 +24,7 @@
 #include "vtkStringArray.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 vtkStandardNewMacro(vtkLeafOutlineSource);
@@ -112,6 +114,75 @@ void vtkLeafOutlineSource::AddTerm(double target, double scale, double amplitude
 {
   this->Terms.insert(this->Terms.end(), { target, scale, amplitude, multiplier, frequency, variable, phase });
   this->Modified();
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+void AddPoint(std::vector<double>& list, double x, double y, double z, vtkObject* owner)
+{
+  list.insert(list.end(), { x, y, z });
+  owner->Modified();
+}
+
+void ClearPoints(std::vector<double>& list, vtkObject* owner)
+{
+  if (!list.empty())
+  {
+    list.clear();
+    owner->Modified();
+  }
+}
+
+/// x, y of xyz triples, scaled about `origin`.
+std::vector<Eigen::Vector2d> PlanarPoints(
+  const std::vector<double>& xyz, double scale, const Eigen::Vector2d& origin)
+{
+  std::vector<Eigen::Vector2d> points;
+  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3)
+  {
+    points.push_back(origin + scale * (Eigen::Vector2d(xyz[i], xyz[i + 1]) - origin));
+  }
+  return points;
+}
+
+void AddPointList(vtkFieldData* fd, const char* name, const std::vector<Eigen::Vector2d>& points)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(3);
+  for (const Eigen::Vector2d& p : points)
+  {
+    const double xyz[3] = { p.x(), p.y(), 0.0 };
+    a->InsertNextTuple(xyz);
+  }
+  fd->AddArray(a);
+}
+} // namespace
+
+void vtkLeafOutlineSource::ClearMidveinPoints()
+{
+  ClearPoints(this->MidveinPoints, this);
+}
+void vtkLeafOutlineSource::AddMidveinPoint(double x, double y, double z)
+{
+  AddPoint(this->MidveinPoints, x, y, z, this);
+}
+void vtkLeafOutlineSource::ClearLeftMarginPoints()
+{
+  ClearPoints(this->LeftMarginPoints, this);
+}
+void vtkLeafOutlineSource::AddLeftMarginPoint(double x, double y, double z)
+{
+  AddPoint(this->LeftMarginPoints, x, y, z, this);
+}
+void vtkLeafOutlineSource::ClearRightMarginPoints()
+{
+  ClearPoints(this->RightMarginPoints, this);
+}
+void vtkLeafOutlineSource::AddRightMarginPoint(double x, double y, double z)
+{
+  AddPoint(this->RightMarginPoints, x, y, z, this);
 }
 
 //------------------------------------------------------------------------------
@@ -425,7 +496,71 @@ std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd
     AddFieldValue(fd, "PlantMorph.StripColumns", this->StripColumns);
     return {};
   }
-  message << "Model = " << this->Model << " is not available; accepted: 0 (deformed rectangle), 1 (space curve)";
+  if (this->Model == B_SPLINE)
+  {
+    if (this->BSplinePreset < 0 || this->BSplinePreset >= plantmorph::BSplinePresetCount)
+    {
+      message << "BSplinePreset = " << this->BSplinePreset << " is outside the accepted range [0, "
+              << plantmorph::BSplinePresetCount - 1 << "]";
+      return message.str();
+    }
+    if (this->MeshQuality != 0 && this->MeshQuality != 1)
+    {
+      message << "MeshQuality = " << this->MeshQuality << " is not 0 (paper) or 1 (quality)";
+      return message.str();
+    }
+    const auto preset = static_cast<plantmorph::BSplinePreset>(this->BSplinePreset);
+    plantmorph::BSplineLeafParameters parameters;
+    if (preset == plantmorph::BSplinePreset::Custom)
+    {
+      const Eigen::Vector2d base = this->MidveinPoints.size() >= 3
+        ? Eigen::Vector2d(this->MidveinPoints[0], this->MidveinPoints[1])
+        : Eigen::Vector2d::Zero();
+      parameters.midvein = PlanarPoints(this->MidveinPoints, scale, base);
+      parameters.leftMargin = PlanarPoints(this->LeftMarginPoints, scale, base);
+      parameters.rightMargin = PlanarPoints(this->RightMarginPoints, scale, base);
+    }
+    else
+    {
+      if (!(std::isfinite(this->BladeLength) && this->BladeLength > 0 && this->BladeLength <= 1e6))
+      {
+        message << "BladeLength = " << this->BladeLength << " is outside the accepted range (0, 1e6]";
+        return message.str();
+      }
+      if (!(std::isfinite(this->BladeWidth) && this->BladeWidth > 0 && this->BladeWidth <= 1e6))
+      {
+        message << "BladeWidth = " << this->BladeWidth << " is outside the accepted range (0, 1e6]";
+        return message.str();
+      }
+      if (this->ControlPointCount < 3 || this->ControlPointCount > 1000)
+      {
+        message << "ControlPointCount = " << this->ControlPointCount << " is outside the accepted range [3, 1000]";
+        return message.str();
+      }
+      parameters = plantmorph::MakeBSplinePreset(
+        preset, scale * this->BladeLength, scale * this->BladeWidth, this->ControlPointCount);
+    }
+    plantmorph::LeafMeshSettings settings;
+    settings.resolution = this->Resolution;
+    settings.quality = this->MeshQuality == 1;
+    settings.maxVertices = static_cast<std::size_t>(this->MaxVertices);
+    settings.progress = progress;
+    const std::string error = plantmorph::BuildBSplineLeaf(parameters, settings, leaf);
+    if (!error.empty())
+    {
+      return error;
+    }
+    AddFieldString(fd, "PlantMorph.Model", "BSpline");
+    AddFieldString(fd, "PlantMorph.Preset", plantmorph::BSplinePresetName(preset));
+    AddPointList(fd, "PlantMorph.MidveinPoints", parameters.midvein);
+    AddPointList(fd, "PlantMorph.LeftMarginPoints", parameters.leftMargin);
+    AddPointList(fd, "PlantMorph.RightMarginPoints", parameters.rightMargin);
+    AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
+    AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
+    return {};
+  }
+  message << "Model = " << this->Model
+          << " is not available; accepted: 0 (deformed rectangle), 1 (space curve), 2 (B-spline)";
   return message.str();
 }
 

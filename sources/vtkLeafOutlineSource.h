@@ -51,13 +51,15 @@ public:
   enum ModelType
   {
     DEFORMED_RECTANGLE = 0,
-    SPACE_CURVE = 1
+    SPACE_CURVE = 1,
+    B_SPLINE = 2
   };
 
   ///@{
   /**
-   * Outline model: DEFORMED_RECTANGLE (0, paper 000; properties Preset ... Asymmetry) or SPACE_CURVE (1, paper
-   * 002; properties SpaceCurvePreset ... StripColumns). Default: deformed rectangle.
+   * Outline model: DEFORMED_RECTANGLE (0, paper 000; properties Preset ... Asymmetry), SPACE_CURVE (1, paper
+   * 002; properties SpaceCurvePreset ... StripColumns) or B_SPLINE (2, paper 003; properties BSplinePreset ...
+   * RightMarginPoints). Default: deformed rectangle.
    */
   vtkSetMacro(Model, int);
   vtkGetMacro(Model, int);
@@ -205,11 +207,37 @@ public:
 
   ///@{
   /**
+   * B-spline model (paper 003). BSplinePreset: 0 Custom (MidveinPoints, LeftMarginPoints, RightMarginPoints),
+   * 1 Elliptic (ControlPointCount points per margin), 2 Cucumber, 3 Pin oak (plantmorph::BSplinePreset), the
+   * presets sized by BladeLength (along +Y) and BladeWidth. Control points are x, y, z triples; the curves pass
+   * through them; margins that do not start at the midvein's first point (the base) or end at its last (the apex)
+   * get them added. This version meshes in the XY plane: z is ignored. MeshQuality applies as for the deformed
+   * rectangle.
+   */
+  vtkSetMacro(BSplinePreset, int);
+  vtkGetMacro(BSplinePreset, int);
+  vtkSetMacro(BladeLength, double);
+  vtkGetMacro(BladeLength, double);
+  vtkSetMacro(BladeWidth, double);
+  vtkGetMacro(BladeWidth, double);
+  vtkSetMacro(ControlPointCount, int);
+  vtkGetMacro(ControlPointCount, int);
+  void ClearMidveinPoints();
+  void AddMidveinPoint(double x, double y, double z);
+  void ClearLeftMarginPoints();
+  void AddLeftMarginPoint(double x, double y, double z);
+  void ClearRightMarginPoints();
+  void AddRightMarginPoint(double x, double y, double z);
+  ///@}
+
+  ///@{
+  /**
    * Growth over time. With Growth on, the source advertises GrowthTimeSteps time values from 0 to 1 (the growth
    * fraction; ParaView's animation plays them) and at time t outputs the leaf scaled by
    * s = GrowthInitialScale + (1 - GrowthInitialScale) * t: deformed rectangle: Length (and Width for the Custom
    * preset) times s, the shape fixed (a similar leaf); space curve: CurveLength times s with Mu and Eta held, the
-   * paper's similarity (except the exponential family with its fixed U3, which turns as it grows). Requests
+   * paper's similarity (except the exponential family with its fixed U3, which turns as it grows); B-spline: the
+   * control points scaled about the base (presets: BladeLength and BladeWidth scaled). Requests
    * between or beyond the time values are clamped to [0, 1]. Defaults: off, 11 steps, initial scale 0.2.
    */
   vtkSetMacro(Growth, int);
@@ -263,6 +291,14 @@ protected:
   double InitialAngle = -45.0;
   int IntegrationMethod = 1;
   int StripColumns = 6;
+
+  int BSplinePreset = 2;
+  double BladeLength = 8.0;
+  double BladeWidth = 7.0;
+  int ControlPointCount = 7;
+  std::vector<double> MidveinPoints;
+  std::vector<double> LeftMarginPoints;
+  std::vector<double> RightMarginPoints;
 
   int Growth = 0;
   int GrowthTimeSteps = 11;

@@ -346,3 +346,70 @@ TEST(vtkLeafOutlineSource, BadGrowthPropertiesGiveAMessage)
   EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
 }
 } // namespace
+
+namespace
+{
+TEST(vtkLeafOutlineSource, BSplineModelFromControlPointsAndGrowingAboutTheBase)
+{
+  vtkNew<vtkLeafOutlineSource> source;
+  source->SetModel(vtkLeafOutlineSource::B_SPLINE);
+  source->SetBSplinePreset(0);
+  source->SetResolution(30);
+  source->SetMeshQuality(0);
+  for (double y : { 0.0, 3.0, 6.0 })
+    source->AddMidveinPoint(1.0, 2.0 + y, 0.0); // base at (1, 2)
+  source->AddLeftMarginPoint(-1.0, 4.0, 0.0);
+  source->AddLeftMarginPoint(-0.5, 6.5, 0.0);
+  source->AddRightMarginPoint(3.0, 4.5, 0.0);
+  source->Update();
+  vtkPolyData* blade = source->GetOutput(0);
+  ASSERT_GT(blade->GetNumberOfPolys(), 20);
+  double bounds[6];
+  blade->GetBounds(bounds);
+  EXPECT_NEAR(bounds[2], 2.0, 1e-12); // the base is the lowest point here
+  EXPECT_NEAR(bounds[3], 8.0, 1e-12); // the apex the highest
+  auto* model = vtkStringArray::SafeDownCast(blade->GetFieldData()->GetAbstractArray("PlantMorph.Model"));
+  ASSERT_NE(model, nullptr);
+  EXPECT_EQ(model->GetValue(0), "BSpline");
+  auto* midvein = vtkDoubleArray::SafeDownCast(blade->GetFieldData()->GetArray("PlantMorph.MidveinPoints"));
+  ASSERT_NE(midvein, nullptr);
+  EXPECT_EQ(midvein->GetNumberOfTuples(), 3);
+
+  // Growing: at time 0 every point is the full leaf's point scaled by 0.5 about the base (1, 2).
+  source->GrowthOn();
+  source->SetGrowthInitialScale(0.5);
+  source->UpdateTimeStep(1.0);
+  vtkNew<vtkPolyData> full;
+  full->DeepCopy(source->GetOutput(0));
+  source->UpdateTimeStep(0.0);
+  vtkPolyData* young = source->GetOutput(0);
+  ASSERT_EQ(young->GetNumberOfPoints(), full->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < young->GetNumberOfPoints(); ++i)
+  {
+    double a[3], b[3];
+    young->GetPoint(i, a);
+    full->GetPoint(i, b);
+    ASSERT_NEAR(a[0], 1.0 + 0.5 * (b[0] - 1.0), 1e-9);
+    ASSERT_NEAR(a[1], 2.0 + 0.5 * (b[1] - 2.0), 1e-9);
+  }
+}
+
+TEST(vtkLeafOutlineSource, BSplineBadControlPointsGiveAMessage)
+{
+  vtkNew<vtkLeafOutlineSource> source;
+  vtkNew<ErrorCatcher> catcher;
+  source->AddObserver(vtkCommand::ErrorEvent, catcher);
+  source->SetModel(vtkLeafOutlineSource::B_SPLINE);
+  source->SetBSplinePreset(0);
+  source->AddMidveinPoint(0, 0, 0);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("MidveinPoints: control points: need at least 2, got 1"), std::string::npos)
+    << catcher->Messages;
+  EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
+  catcher->Messages.clear();
+  source->SetBSplinePreset(1);
+  source->SetBladeWidth(-1.0);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("BladeWidth = -1"), std::string::npos) << catcher->Messages;
+}
+} // namespace

@@ -73,6 +73,24 @@ for figure in range(1, 7):
     outline = servermanager.Fetch(PassArrays(Input=OutputPort(space, 1)))
     checks.check(outline.GetNumberOfLines() == 3, name + ": outline has 3 polylines")
 
+# B-spline model (paper 003): every preset, and control points typed in.
+spline = LeafOutlineSource(Model="B-spline", Resolution=30)
+for preset in ("Elliptic", "Cucumber", "Pin oak"):
+    spline.BSplinePreset = preset
+    spline.UpdatePipeline()
+    blade = servermanager.Fetch(spline)
+    checks.check(blade.GetNumberOfPolys() > 100, "B-spline %s: blade has triangles" % preset)
+    checks.check(blade.GetFieldData().GetAbstractArray("PlantMorph.Model").GetValue(0) == "BSpline",
+                 "B-spline %s: model in field data" % preset)
+spline.BSplinePreset = "Custom"
+spline.MidveinPoints = [0, 0, 0, 0, 5, 0]
+spline.LeftMarginPoints = [-2, 2.5, 0]
+spline.RightMarginPoints = [2, 2, 0, 1.5, 4, 0]
+spline.UpdatePipeline()
+blade = servermanager.Fetch(spline)
+checks.check(blade.GetNumberOfPolys() > 50 and abs(blade.GetBounds()[3] - 5.0) < 1e-12,
+             "B-spline custom control points: blade up to the apex")
+
 # Custom terms through the property, as in the GUI's table: eq. (1) rows give the ginkgo leaf bit for bit.
 leaf.Preset = "Ginkgo"
 leaf.MeshQuality = "Quality"

@@ -29,6 +29,8 @@ def property_value(source, name):
 SPACE_PROPERTIES = ("Model", "SpaceCurvePreset", "CurveLength", "CurvatureFunction", "CurvatureMu",
                     "CurvatureLambda", "CurvatureN1", "TorsionEta", "Opening", "MidveinStretchZ", "Resolution",
                     "StripColumns")
+SPLINE_PROPERTIES = ("Model", "BSplinePreset", "MidveinPoints", "LeftMarginPoints", "RightMarginPoints", "Resolution",
+                     "MeshQuality")
 DEFORMED_RECTANGLE_PROPERTIES = ("Preset", "Length", "Width", "Terms", "Resolution", "MeshQuality", "Asymmetry",
                                  "Bending")
 
@@ -61,8 +63,12 @@ if arguments.load is None:
                               StripColumns=3)
     growing = LeafOutlineSource(registrationName="GrowingLeaf", Model="Space curve",
                                 SpaceCurvePreset="Paper 002 Fig. 5", Growth=1, GrowthTimeSteps=9, Resolution=20)
+    spline = LeafOutlineSource(registrationName="SplineLeaf", Model="B-spline", BSplinePreset="Custom",
+                               MidveinPoints=[0, 0, 0, 0.3, 3, 0, 0, 6, 0], LeftMarginPoints=[-2, 2, 0, -1.5, 4.5, 0],
+                               RightMarginPoints=[2.2, 2.5, 0], Resolution=28, MeshQuality="Quality")
     expected = describe(leaf)
     expected["space"] = describe(space, SPACE_PROPERTIES)
+    expected["spline"] = describe(spline, SPLINE_PROPERTIES)
     # A growing leaf saved at a non-zero animation time comes back at that time. Nothing is shown: with a view,
     # setting the scene's time renders, and pvpython aborts at a render without an X server.
     scene = GetAnimationScene()
@@ -100,6 +106,13 @@ for name, value in expected["space"]["properties"].items():
 checks.check(actual_space["points"] == expected["space"]["points"] and actual_space["points"] > 0,
              "space-curve leaf: same number of points")
 checks.check(actual_space["blade"] == expected["space"]["blade"], "space-curve blade bit-identical after the round trip")
+spline = FindSource("SplineLeaf")
+actual_spline = describe(spline, SPLINE_PROPERTIES)
+for name, value in expected["spline"]["properties"].items():
+    checks.check(actual_spline["properties"][name] == value,
+                 "B-spline property %s: %r after loading, %r before" % (name, actual_spline["properties"][name], value))
+checks.check(actual_spline["blade"] == expected["spline"]["blade"] and actual_spline["points"] > 0,
+             "B-spline blade bit-identical after the round trip")
 growing = FindSource("GrowingLeaf")
 time = GetAnimationScene().AnimationTime
 checks.check(abs(time - 0.625) < 1e-12, "animation time restored from the state file: %r" % time)
