@@ -4,7 +4,7 @@
 """
 import os
 
-from plantmorph_example import save_png, save_vtp, start, white_view
+from plantmorph_example import save_png, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -15,13 +15,7 @@ save_vtp(leaf, os.path.join(arguments.output, "ginkgo_blade.vtp"), port=0)
 save_vtp(leaf, os.path.join(arguments.output, "ginkgo_outline.vtp"), port=1)
 
 view = white_view(1000, 800)
-blade = Show(OutputPort(leaf, 0), view)
-blade.Representation = "Surface With Edges"
-blade.ColorArrayName = ["POINTS", ""]
-blade.DiffuseColor = [0.55, 0.75, 0.25]
-blade.AmbientColor = [0.55, 0.75, 0.25]
-blade.EdgeColor = [0.35, 0.5, 0.15]
-outline = Show(Tube(Input=OutputPort(leaf, 1), Radius=0.02), view)
-outline.ColorArrayName = ["POINTS", ""]
-outline.DiffuseColor = [0.2, 0.35, 0.1]
+show_solid(OutputPort(leaf, 0), view, [0.55, 0.75, 0.25], Representation="Surface With Edges",
+           EdgeColor=[0.35, 0.5, 0.15])
+show_solid(Tube(Input=OutputPort(leaf, 1), Radius=0.02), view, [0.2, 0.35, 0.1])
 save_png(view, os.path.join(arguments.output, "ginkgo_leaf.png"))

@@ -5,7 +5,7 @@ rounded/acuminate, cordate/rounded, acuminate/emarginate) of the deformed-rectan
 """
 import os
 
-from plantmorph_example import save_png, save_vtp, start, white_view
+from plantmorph_example import caption, save_png, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -23,22 +23,10 @@ for row, (figure, presets) in enumerate(ROWS):
         save_vtp(leaf, os.path.join(arguments.output, "shape_%s.vtp" % name))
         placed = Transform(Input=leaf)
         placed.Transform.Translate = [column * 5.0, -row * 8.5, 0.0]
-        display = Show(placed, view)
-        display.ColorArrayName = ["POINTS", ""]
-        display.DiffuseColor = [0.45, 0.7, 0.25]
-        display.AmbientColor = [0.45, 0.7, 0.25]
+        show_solid(placed, view, [0.45, 0.7, 0.25])
         outline = Transform(Input=OutputPort(leaf, 1))
         outline.Transform.Translate = [column * 5.0, -row * 8.5, 0.01]
-        lines = Show(outline, view)
-        lines.ColorArrayName = ["POINTS", ""]
-        lines.DiffuseColor = [0.15, 0.3, 0.1]
-        lines.LineWidth = 2.0
-        # The caption under the leaf, in world coordinates so it stays with it.
-        caption = Transform(Input=a3DText(Text="%s%s  %s" % (figure, "abcd"[column], preset)))
-        caption.Transform.Translate = [column * 5.0 - 2.0, -row * 8.5 - 1.6, 0.0]
-        caption.Transform.Scale = [0.16, 0.16, 1.0]
-        text = Show(caption, view)
-        text.ColorArrayName = ["POINTS", ""]
-        text.DiffuseColor = [0.1, 0.1, 0.1]
-        text.AmbientColor = [0.1, 0.1, 0.1]
+        show_solid(outline, view, [0.15, 0.3, 0.1], LineWidth=2.0)
+        caption(view, "%s%s  %s" % (figure, "abcd"[column], preset), [column * 5.0 - 2.0, -row * 8.5 - 1.6, 0.0],
+                0.16)
 save_png(view, os.path.join(arguments.output, "paper000_leaf_shapes.png"))

@@ -6,7 +6,7 @@ and eta are held fixed), Fig. 3's exponential curvature with fixed u3 turns as i
 """
 import os
 
-from plantmorph_example import save_png, save_vtp, start, white_view
+from plantmorph_example import caption, save_png, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -20,22 +20,12 @@ for figure in range(1, 7):
                                  CurveLength=length, Resolution=60, StripColumns=6)
         if length == LENGTHS[-1]:
             save_vtp(leaf, os.path.join(arguments.output, "paper002_figure%d.vtp" % figure))
+        offset = [column * 16.0 + k * 4.2, -row * 11.0]
         placed = Transform(Input=leaf)
-        placed.Transform.Translate = [column * 16.0 + k * 4.2, -row * 11.0, 0.0]
-        display = Show(placed, view)
-        display.ColorArrayName = ["POINTS", ""]
-        display.DiffuseColor = [0.45, 0.7, 0.25]
-        display.AmbientColor = [0.45, 0.7, 0.25]
-        edges = Show(Transform(Input=OutputPort(leaf, 1), Transform="Transform"), view)
-        edges.ColorArrayName = ["POINTS", ""]
-        edges.DiffuseColor = [0.15, 0.3, 0.1]
-        edges.LineWidth = 2.0
-        GetActiveSource().Transform.Translate = [column * 16.0 + k * 4.2, -row * 11.0, 0.05]
-    caption = Transform(Input=a3DText(Text="Paper 002 Fig. %d   S = 2, 3.5, 5" % figure))
-    caption.Transform.Translate = [column * 16.0 - 1.5, -row * 11.0 - 1.8, 0.0]
-    caption.Transform.Scale = [0.45, 0.45, 1.0]
-    text = Show(caption, view)
-    text.ColorArrayName = ["POINTS", ""]
-    text.DiffuseColor = [0.1, 0.1, 0.1]
-    text.AmbientColor = [0.1, 0.1, 0.1]
+        placed.Transform.Translate = offset + [0.0]
+        show_solid(placed, view, [0.45, 0.7, 0.25])
+        outline = Transform(Input=OutputPort(leaf, 1))
+        outline.Transform.Translate = offset + [0.05]
+        show_solid(outline, view, [0.15, 0.3, 0.1], LineWidth=2.0)
+    caption(view, "Paper 002 Fig. %d   S = 2, 3.5, 5" % figure, [column * 16.0 - 1.5, -row * 11.0 - 1.8, 0.0], 0.45)
 save_png(view, os.path.join(arguments.output, "paper002_space_curve_leaves.png"))

@@ -6,7 +6,7 @@ a custom leaf from control points typed in (as a user would trace them over a ph
 """
 import os
 
-from plantmorph_example import save_png, save_vtp, start, white_view
+from plantmorph_example import caption, save_png, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -26,23 +26,9 @@ for column, (name, properties) in enumerate(LEAVES):
     save_vtp(leaf, os.path.join(arguments.output, "paper003_%s.vtp" % name))
     placed = Transform(Input=leaf)
     placed.Transform.Translate = [column * 9.0, 0.0, 0.0]
-    display = Show(placed, view)
-    display.Representation = "Surface With Edges"
-    display.ColorArrayName = ["POINTS", ""]
-    display.DiffuseColor = [0.45, 0.7, 0.25]
-    display.AmbientColor = [0.45, 0.7, 0.25]
-    display.EdgeColor = [0.3, 0.5, 0.15]
-    lines = Transform(Input=OutputPort(leaf, 1))
-    lines.Transform.Translate = [column * 9.0, 0.0, 0.02]
-    edges = Show(lines, view)
-    edges.ColorArrayName = ["POINTS", ""]
-    edges.DiffuseColor = [0.1, 0.25, 0.05]
-    edges.LineWidth = 2.0
-    caption = Transform(Input=a3DText(Text=name.replace("_", " ")))
-    caption.Transform.Translate = [column * 9.0 - 1.5, -1.8, 0.0]
-    caption.Transform.Scale = [0.6, 0.6, 1.0]
-    text = Show(caption, view)
-    text.ColorArrayName = ["POINTS", ""]
-    text.DiffuseColor = [0.1, 0.1, 0.1]
-    text.AmbientColor = [0.1, 0.1, 0.1]
+    show_solid(placed, view, [0.45, 0.7, 0.25], Representation="Surface With Edges", EdgeColor=[0.3, 0.5, 0.15])
+    outline = Transform(Input=OutputPort(leaf, 1))
+    outline.Transform.Translate = [column * 9.0, 0.0, 0.02]
+    show_solid(outline, view, [0.1, 0.25, 0.05], LineWidth=2.0)
+    caption(view, name.replace("_", " "), [column * 9.0 - 1.5, -1.8, 0.0], 0.6)
 save_png(view, os.path.join(arguments.output, "paper003_bspline_leaves.png"))

@@ -27,6 +27,27 @@ def white_view(width, height):
     return view
 
 
+def show_solid(proxy, view, color, **properties):
+    """Shows a proxy in one solid colour (no array colouring), with extra representation properties."""
+    from paraview.simple import Show
+    display = Show(proxy, view)
+    display.ColorArrayName = ["POINTS", ""]
+    display.DiffuseColor = color
+    display.AmbientColor = color
+    for name, value in properties.items():
+        setattr(display, name, value)
+    return display
+
+
+def caption(view, text, position, scale):
+    """Dark 3-D text in the XY plane at `position` (world coordinates), so a caption stays with its leaf."""
+    from paraview.simple import Transform, a3DText
+    placed = Transform(Input=a3DText(Text=text))
+    placed.Transform.Translate = position
+    placed.Transform.Scale = [scale, scale, 1.0]
+    return show_solid(placed, view, [0.1, 0.1, 0.1])
+
+
 def save_vtp(proxy, path, port=0):
     """Inline binary: Debian's ParaView 5.11 cannot read back appended-mode XML files (see README)."""
     from paraview.simple import OutputPort

@@ -351,6 +351,25 @@ std::string vtkLeafOutlineSource::ValidateGrowth() const
 }
 
 //------------------------------------------------------------------------------
+std::string vtkLeafOutlineSource::MeshSettings(plantmorph::LeafMeshSettings& settings)
+{
+  if (this->MeshQuality != 0 && this->MeshQuality != 1)
+  {
+    std::ostringstream message;
+    message << "MeshQuality = " << this->MeshQuality << " is not 0 (paper) or 1 (quality)";
+    return message.str();
+  }
+  settings.resolution = this->Resolution;
+  settings.quality = this->MeshQuality == 1;
+  settings.maxVertices = static_cast<std::size_t>(this->MaxVertices);
+  settings.progress = [this](double fraction) {
+    this->UpdateProgress(fraction);
+    return !this->GetAbortExecute();
+  };
+  return {};
+}
+
+//------------------------------------------------------------------------------
 std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd, double scale)
 {
   auto progress = [this](double fraction) {
@@ -364,11 +383,6 @@ std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd
     {
       message << "Preset = " << this->Preset << " is outside the accepted range [0, "
               << plantmorph::DeformedRectanglePresetCount - 1 << "]";
-      return message.str();
-    }
-    if (this->MeshQuality != 0 && this->MeshQuality != 1)
-    {
-      message << "MeshQuality = " << this->MeshQuality << " is not 0 (paper) or 1 (quality)";
       return message.str();
     }
     const auto preset = static_cast<plantmorph::DeformedRectanglePreset>(this->Preset);
@@ -386,10 +400,11 @@ std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd
     parameters.bending = this->Bending;
     parameters.asymmetry = this->Asymmetry;
     plantmorph::LeafMeshSettings settings;
-    settings.resolution = this->Resolution;
-    settings.quality = this->MeshQuality == 1;
-    settings.maxVertices = static_cast<std::size_t>(this->MaxVertices);
-    settings.progress = progress;
+    const std::string settingsError = this->MeshSettings(settings);
+    if (!settingsError.empty())
+    {
+      return settingsError;
+    }
     const std::string error = plantmorph::BuildDeformedRectangleLeaf(parameters, settings, leaf);
     if (!error.empty())
     {
@@ -504,11 +519,6 @@ std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd
               << plantmorph::BSplinePresetCount - 1 << "]";
       return message.str();
     }
-    if (this->MeshQuality != 0 && this->MeshQuality != 1)
-    {
-      message << "MeshQuality = " << this->MeshQuality << " is not 0 (paper) or 1 (quality)";
-      return message.str();
-    }
     const auto preset = static_cast<plantmorph::BSplinePreset>(this->BSplinePreset);
     plantmorph::BSplineLeafParameters parameters;
     if (preset == plantmorph::BSplinePreset::Custom)
@@ -541,10 +551,11 @@ std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd
         preset, scale * this->BladeLength, scale * this->BladeWidth, this->ControlPointCount);
     }
     plantmorph::LeafMeshSettings settings;
-    settings.resolution = this->Resolution;
-    settings.quality = this->MeshQuality == 1;
-    settings.maxVertices = static_cast<std::size_t>(this->MaxVertices);
-    settings.progress = progress;
+    const std::string settingsError = this->MeshSettings(settings);
+    if (!settingsError.empty())
+    {
+      return settingsError;
+    }
     const std::string error = plantmorph::BuildBSplineLeaf(parameters, settings, leaf);
     if (!error.empty())
     {

@@ -39,6 +39,7 @@ class vtkFieldData;
 namespace plantmorph
 {
 struct LeafGeometry;
+struct LeafMeshSettings;
 }
 
 class PLANTMORPHSOURCES_EXPORT vtkLeafOutlineSource : public vtkPolyDataAlgorithm
@@ -307,6 +308,8 @@ protected:
 private:
   /// Builds the chosen model's leaf and describes its parameters as field data; returns an error message or "".
   std::string BuildLeaf(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale);
+  /// Mesh settings of the CGAL-meshed models (Resolution, MeshQuality, MaxVertices, progress and abort).
+  std::string MeshSettings(plantmorph::LeafMeshSettings& settings);
   /// Empty when the growth properties are valid, else the message.
   std::string ValidateGrowth() const;
 

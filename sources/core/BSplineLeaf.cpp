@@ -187,12 +187,7 @@ std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& se
     return uv;
   };
 
-  BladeMeshOptions options;
-  options.quality = settings.quality;
-  options.maxEdgeLength = spacing;
-  options.maxVertices = settings.maxVertices;
-  if (settings.progress)
-    options.progress = [&](double f) { return settings.progress(0.05 + 0.85 * f); };
+  const BladeMeshOptions options = MeshOptionsFor(settings, spacing);
   error = MeshBlade(outline, options, solveUV, leaf.blade);
   if (!error.empty())
     return error.rfind("outline:", 0) == 0 ? "MidveinPoints/LeftMarginPoints/RightMarginPoints: " + error : error;
@@ -262,11 +257,7 @@ Eigen::Vector2d MeanValueInterpolate(const std::vector<Eigen::Vector2d>& polygon
 std::string BuildBSplineLeaf(
   const BSplineLeafParameters& parameters, const LeafMeshSettings& settings, LeafGeometry& leaf)
 {
-  leaf = LeafGeometry();
-  const std::string error = BuildLeaf(parameters, settings, leaf);
-  if (!error.empty())
-    leaf = LeafGeometry();
-  return error;
+  return BuildAllOrNothing(leaf, [&] { return BuildLeaf(parameters, settings, leaf); });
 }
 
 } // namespace plantmorph

@@ -115,12 +115,7 @@ std::string BuildLeaf(
   outline.boundary.insert(outline.boundary.end(), leaf.leftMargin.rbegin(), leaf.leftMargin.rend() - 1);
   outline.midvein = leaf.midvein;
 
-  BladeMeshOptions options;
-  options.quality = settings.quality;
-  options.maxEdgeLength = spacing;
-  options.maxVertices = settings.maxVertices;
-  if (settings.progress)
-    options.progress = [&](double f) { return settings.progress(0.05 + 0.85 * f); };
+  const BladeMeshOptions options = MeshOptionsFor(settings, spacing);
   std::size_t failures = 0;
   auto solveUV = [&](const Eigen::Vector2d& xy, const Eigen::Vector2d& guess) {
     Eigen::Vector2d uv;
@@ -141,11 +136,7 @@ std::string BuildLeaf(
 std::string BuildDeformedRectangleLeaf(
   const DeformedRectangleParameters& parameters, const LeafMeshSettings& settings, LeafGeometry& leaf)
 {
-  leaf = LeafGeometry();
-  const std::string error = BuildLeaf(parameters, settings, leaf);
-  if (!error.empty())
-    leaf = LeafGeometry();
-  return error;
+  return BuildAllOrNothing(leaf, [&] { return BuildLeaf(parameters, settings, leaf); });
 }
 
 } // namespace plantmorph

@@ -28,6 +28,20 @@ std::vector<Eigen::Vector2d> BoundingBoxTextureCoordinates(const std::vector<Eig
   return tcoords;
 }
 
+BladeMeshOptions MeshOptionsFor(const LeafMeshSettings& settings, double spacing)
+{
+  BladeMeshOptions options;
+  options.quality = settings.quality;
+  options.maxEdgeLength = spacing;
+  options.maxVertices = settings.maxVertices;
+  if (settings.progress)
+  {
+    const std::function<bool(double)> progress = settings.progress;
+    options.progress = [progress](double f) { return progress(0.05 + 0.85 * f); };
+  }
+  return options;
+}
+
 std::vector<Eigen::Vector3d> VertexNormals(
   const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles)
 {

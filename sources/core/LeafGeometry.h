@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace plantmorph
@@ -41,6 +42,22 @@ struct LeafMeshSettings
 
 inline constexpr int MinResolution = 2;
 inline constexpr int MaxResolution = 4000;
+
+/// The mesher options for these settings: the meshing mode, edges of `spacing` (the midvein spacing), the vertex
+/// budget, and the settings' progress mapped onto [0.05, 0.9] (sampling before, output after).
+BladeMeshOptions MeshOptionsFor(const LeafMeshSettings& settings, double spacing);
+
+/// Runs `build` (returning an error message or "") on an emptied `leaf`, and empties it again if it failed: a
+/// model's builder either fills the whole leaf or leaves nothing.
+template <typename Build>
+std::string BuildAllOrNothing(LeafGeometry& leaf, Build&& build)
+{
+  leaf = LeafGeometry();
+  std::string error = build();
+  if (!error.empty())
+    leaf = LeafGeometry();
+  return error;
+}
 
 /// TCoords of eq. (6) for the given points.
 std::vector<Eigen::Vector2d> BoundingBoxTextureCoordinates(const std::vector<Eigen::Vector2d>& points);
