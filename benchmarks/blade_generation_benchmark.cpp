@@ -11,6 +11,10 @@
 //                        for BM_BladeQuality.
 //   BM_CgalCdtSameBoundary     CGAL alone: spatially sorted CDT of the same outline + domain marking. A lower bound
 //                        for BM_BladePaper.
+//   BM_SpaceCurveIntegration   Model B's outline: Frenet-Serret integration of a half-margin (paper 002 Fig. 5),
+//                        R + 1 samples, RK45 at 1e-10.
+//   BM_SpaceCurveLeaf    Model B's whole leaf (Fig. 5): integration, mirror, midvein, strips, normals.
+//   BM_BSplineLeafQuality      Model C's whole leaf (pin oak, quality mode).
 //
 // Counters:
 //   triangles     triangles of the blade (in the domain, for the CGAL families)
@@ -32,10 +36,12 @@
 // single-threaded and a shared 2-core machine inflates wall time; both columns are printed. Small sizes repeat for
 // at least 0.2 s of CPU time; sizes slower than that run once (one iteration is then the whole measurement).
 
+#include "BSplineLeaf.h"
 #include "DeformedRectangleLeaf.h"
 #include "DeformedRectangleModel.h"
 #include "DeformedRectanglePresets.h"
 #include "LeafGeometry.h"
+#include "SpaceCurvePresets.h"
 
 #include <benchmark/benchmark.h>
 
@@ -278,6 +284,88 @@ void BM_CgalCdtSameBoundary(benchmark::State& state)
   RunCgal(state, false);
 }
 
+// ---- Models B and C ------------------------------------------------------------------------------------------------
+
+/// Model B's outline alone: the Frenet-Serret integration of one half-margin (paper 002 Fig. 5, with torsion) at
+/// R + 1 samples, RK45 to 1e-10.
+void BM_SpaceCurveIntegration(benchmark::State& state)
+{
+  const plantmorph::SpaceCurveParameters parameters =
+    plantmorph::MakeSpaceCurvePreset(plantmorph::SpaceCurvePreset::Figure5, 5.0);
+  std::size_t samples = 0;
+  for (auto _ : state)
+  {
+    std::vector<plantmorph::FrenetFrame> frames;
+    std::string error = plantmorph::IntegrateHalfMargin(parameters, static_cast<int>(state.range(0)), frames);
+    benchmark::DoNotOptimize(frames.data());
+    if (!error.empty())
+    {
+      state.SkipWithError(error.c_str());
+      break;
+    }
+    samples = frames.size();
+  }
+  state.counters["samples"] = static_cast<double>(samples);
+  state.counters["samples_per_s"] =
+    benchmark::Counter(static_cast<double>(samples), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+/// Model B's whole leaf: integration, mirror, midvein, strips of 6 columns a half, normals.
+void BM_SpaceCurveLeaf(benchmark::State& state)
+{
+  const plantmorph::SpaceCurveParameters parameters =
+    plantmorph::MakeSpaceCurvePreset(plantmorph::SpaceCurvePreset::Figure5, 5.0);
+  plantmorph::SpaceCurveMeshSettings settings;
+  settings.resolution = static_cast<int>(state.range(0));
+  std::size_t triangles = 0;
+  double outputBytes = 0.0;
+  PeakMemoryProbe memory;
+  memory.Start();
+  for (auto _ : state)
+  {
+    plantmorph::LeafGeometry leaf;
+    std::string error = plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf);
+    benchmark::DoNotOptimize(leaf.blade.triangles.data());
+    if (!error.empty())
+    {
+      state.SkipWithError(error.c_str());
+      break;
+    }
+    triangles = leaf.blade.triangles.size();
+    outputBytes = OutputBytes(leaf.blade);
+  }
+  memory.Report(state, outputBytes);
+  ReportTriangles(state, triangles);
+}
+
+/// Model C's whole leaf (pin oak preset, quality mode): spline interpolation, sampling, CGAL meshing, MVC LeafUV.
+void BM_BSplineLeafQuality(benchmark::State& state)
+{
+  const plantmorph::BSplineLeafParameters parameters =
+    plantmorph::MakeBSplinePreset(plantmorph::BSplinePreset::PinOak, 8.0, 7.0, 7);
+  plantmorph::LeafMeshSettings settings;
+  settings.resolution = static_cast<int>(state.range(0));
+  std::size_t triangles = 0;
+  double outputBytes = 0.0;
+  PeakMemoryProbe memory;
+  memory.Start();
+  for (auto _ : state)
+  {
+    plantmorph::LeafGeometry leaf;
+    std::string error = plantmorph::BuildBSplineLeaf(parameters, settings, leaf);
+    benchmark::DoNotOptimize(leaf.blade.triangles.data());
+    if (!error.empty())
+    {
+      state.SkipWithError(error.c_str());
+      break;
+    }
+    triangles = leaf.blade.triangles.size();
+    outputBytes = OutputBytes(leaf.blade);
+  }
+  memory.Report(state, outputBytes);
+  ReportTriangles(state, triangles);
+}
+
 void Register(const char* name, void (*function)(benchmark::State&), const std::vector<int64_t>& resolutions)
 {
   benchmark::internal::Benchmark* b = benchmark::RegisterBenchmark(name, function);
@@ -296,6 +384,9 @@ int main(int argc, char** argv)
   Register("BM_CgalRefineSameBoundary", BM_CgalRefineSameBoundary, Resolutions);
   Register("BM_BladePaper", BM_BladePaper, paperResolutions);
   Register("BM_CgalCdtSameBoundary", BM_CgalCdtSameBoundary, paperResolutions);
+  Register("BM_SpaceCurveIntegration", BM_SpaceCurveIntegration, { 64, 256, 1024, 4000 });
+  Register("BM_SpaceCurveLeaf", BM_SpaceCurveLeaf, { 64, 256, 1024, 4000 });
+  Register("BM_BSplineLeafQuality", BM_BSplineLeafQuality, { 16, 32, 64, 128, 256, 512 });
 
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv))
