@@ -14,6 +14,7 @@
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkIdList.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -94,7 +95,7 @@ void FillPoints(const LeafGeometry& leaf, vtkIdType count, vtkPolyData* output)
 //------------------------------------------------------------------------------
 vtkLeafOutlineSource::vtkLeafOutlineSource()
 {
-  this->SetNumberOfInputPorts(0);
+  this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(2);
 }
 
@@ -146,6 +147,86 @@ std::vector<Eigen::Vector2d> PlanarPoints(
   return points;
 }
 
+/// The B-spline model's control points from polylines (see the class documentation), scaled about the base.
+std::string ControlPointsFromPolylines(vtkPolyData* input, double scale, plantmorph::BSplineLeafParameters& p)
+{
+  std::vector<std::vector<Eigen::Vector2d>> lines;
+  std::vector<int> regions;
+  vtkDataArray* region = input->GetCellData()->GetArray(plantmorph::arrays::Region);
+  vtkCellArray* cells = input->GetLines();
+  vtkNew<vtkIdList> ids;
+  const vtkIdType firstLine = input->GetNumberOfVerts(); // lines follow vertices in cell order
+  cells->InitTraversal();
+  for (vtkIdType k = 0; cells->GetNextCell(ids); ++k)
+  {
+    std::vector<Eigen::Vector2d> line;
+    for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
+    {
+      const double* x = input->GetPoint(ids->GetId(i));
+      line.emplace_back(x[0], x[1]);
+    }
+    lines.push_back(line);
+    regions.push_back(region ? static_cast<int>(region->GetTuple1(firstLine + k)) : -1);
+  }
+  std::vector<Eigen::Vector2d> margins[2];
+  if (region)
+  {
+    int found = 0;
+    for (std::size_t k = 0; k < lines.size(); ++k)
+    {
+      if (regions[k] == plantmorph::RegionMidvein && p.midvein.empty())
+        p.midvein = lines[k];
+      else if (regions[k] == plantmorph::RegionMargin && found < 2)
+        margins[found++] = lines[k];
+    }
+    if (p.midvein.empty() || found < 2)
+      return "needs one polyline with Region 1 (midvein) and two with Region 4 (margins)";
+  }
+  else
+  {
+    if (lines.size() != 3)
+    {
+      std::ostringstream message;
+      message << "without a Region cell array it needs exactly 3 polylines (left margin, right margin, midvein), got "
+              << lines.size();
+      return message.str();
+    }
+    margins[0] = lines[0];
+    margins[1] = lines[1];
+    p.midvein = lines[2];
+  }
+  if (p.midvein.size() < 2)
+    return "the midvein polyline needs at least 2 points";
+  const Eigen::Vector2d base = p.midvein.front(), apex = p.midvein.back();
+  for (std::vector<Eigen::Vector2d>& margin : margins)
+  {
+    if (!margin.empty() && (margin.front() - base).norm() > (margin.back() - base).norm())
+      std::reverse(margin.begin(), margin.end());
+  }
+  if (region)
+  {
+    // Left is the margin on the left of the base-to-apex direction (positive cross product), on average.
+    auto side = [&](const std::vector<Eigen::Vector2d>& margin) {
+      double sum = 0.0;
+      const Eigen::Vector2d d = apex - base;
+      for (const Eigen::Vector2d& x : margin)
+        sum += d.x() * (x.y() - base.y()) - d.y() * (x.x() - base.x());
+      return sum;
+    };
+    if (side(margins[0]) < side(margins[1]))
+      std::swap(margins[0], margins[1]);
+  }
+  auto scaled = [&](std::vector<Eigen::Vector2d> points) {
+    for (Eigen::Vector2d& x : points)
+      x = base + scale * (x - base);
+    return points;
+  };
+  p.midvein = scaled(p.midvein);
+  p.leftMargin = scaled(margins[0]);
+  p.rightMargin = scaled(margins[1]);
+  return {};
+}
+
 void AddPointList(vtkFieldData* fd, const char* name, const std::vector<Eigen::Vector2d>& points)
 {
   vtkNew<vtkDoubleArray> a;
@@ -186,6 +267,14 @@ void vtkLeafOutlineSource::AddRightMarginPoint(double x, double y, double z)
 }
 
 //------------------------------------------------------------------------------
+int vtkLeafOutlineSource::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 int vtkLeafOutlineSource::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
@@ -216,7 +305,7 @@ int vtkLeafOutlineSource::RequestInformation(
 
 //------------------------------------------------------------------------------
 int vtkLeafOutlineSource::RequestData(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* blade = vtkPolyData::GetData(outputVector, 0);
   vtkPolyData* outline = vtkPolyData::GetData(outputVector, 1);
@@ -256,7 +345,10 @@ int vtkLeafOutlineSource::RequestData(
   }
   vtkNew<vtkFieldData> parameters;
   LeafGeometry leaf;
-  const std::string error = this->BuildLeaf(leaf, parameters, scale);
+  vtkPolyData* controlPoints = inputVector[0]->GetNumberOfInformationObjects() > 0
+    ? vtkPolyData::GetData(inputVector[0], 0)
+    : nullptr;
+  const std::string error = this->BuildLeaf(leaf, parameters, scale, controlPoints);
   if (!error.empty())
   {
     if (error != "aborted")
@@ -370,7 +462,8 @@ std::string vtkLeafOutlineSource::MeshSettings(plantmorph::LeafMeshSettings& set
 }
 
 //------------------------------------------------------------------------------
-std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd, double scale)
+std::string vtkLeafOutlineSource::BuildLeaf(
+  LeafGeometry& leaf, vtkFieldData* fd, double scale, vtkPolyData* controlPoints)
 {
   auto progress = [this](double fraction) {
     this->UpdateProgress(fraction);
@@ -513,15 +606,30 @@ std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd
   }
   if (this->Model == B_SPLINE)
   {
-    if (this->BSplinePreset < 0 || this->BSplinePreset >= plantmorph::BSplinePresetCount)
+    // One past the algorithm's presets: the control points come from the input port.
+    const int fromInput = plantmorph::BSplinePresetCount;
+    if (this->BSplinePreset < 0 || this->BSplinePreset > fromInput)
     {
-      message << "BSplinePreset = " << this->BSplinePreset << " is outside the accepted range [0, "
-              << plantmorph::BSplinePresetCount - 1 << "]";
+      message << "BSplinePreset = " << this->BSplinePreset << " is outside the accepted range [0, " << fromInput
+              << "]";
       return message.str();
     }
     const auto preset = static_cast<plantmorph::BSplinePreset>(this->BSplinePreset);
     plantmorph::BSplineLeafParameters parameters;
-    if (preset == plantmorph::BSplinePreset::Custom)
+    std::string source = this->BSplinePreset == fromInput ? "ControlPointsInput" : plantmorph::BSplinePresetName(preset);
+    if (this->BSplinePreset == fromInput)
+    {
+      if (!controlPoints || controlPoints->GetNumberOfLines() == 0)
+      {
+        return "BSplinePreset 'ControlPoints input' needs polylines connected to the ControlPoints input";
+      }
+      const std::string inputError = ControlPointsFromPolylines(controlPoints, scale, parameters);
+      if (!inputError.empty())
+      {
+        return "ControlPoints input: " + inputError;
+      }
+    }
+    else if (preset == plantmorph::BSplinePreset::Custom)
     {
       const Eigen::Vector2d base = this->MidveinPoints.size() >= 3
         ? Eigen::Vector2d(this->MidveinPoints[0], this->MidveinPoints[1])
@@ -562,7 +670,7 @@ std::string vtkLeafOutlineSource::BuildLeaf(LeafGeometry& leaf, vtkFieldData* fd
       return error;
     }
     AddFieldString(fd, "PlantMorph.Model", "BSpline");
-    AddFieldString(fd, "PlantMorph.Preset", plantmorph::BSplinePresetName(preset));
+    AddFieldString(fd, "PlantMorph.Preset", source);
     AddPointList(fd, "PlantMorph.MidveinPoints", parameters.midvein);
     AddPointList(fd, "PlantMorph.LeftMarginPoints", parameters.leftMargin);
     AddPointList(fd, "PlantMorph.RightMarginPoints", parameters.rightMargin);

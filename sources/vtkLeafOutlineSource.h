@@ -36,6 +36,7 @@
 #include <vector> // for the term list
 
 class vtkFieldData;
+class vtkPolyData;
 namespace plantmorph
 {
 struct LeafGeometry;
@@ -209,11 +210,21 @@ public:
   ///@{
   /**
    * B-spline model (paper 003). BSplinePreset: 0 Custom (MidveinPoints, LeftMarginPoints, RightMarginPoints),
-   * 1 Elliptic (ControlPointCount points per margin), 2 Cucumber, 3 Pin oak (plantmorph::BSplinePreset), the
+   * 1 Elliptic (ControlPointCount points per margin), 2 Cucumber, 3 Pin oak (plantmorph::BSplinePreset), 4 the
+   * ControlPoints input's polylines; the
    * presets sized by BladeLength (along +Y) and BladeWidth. Control points are x, y, z triples; the curves pass
    * through them; margins that do not start at the midvein's first point (the base) or end at its last (the apex)
    * get them added. This version meshes in the XY plane: z is ignored. MeshQuality applies as for the deformed
    * rectangle.
+   *
+   * Input port 0 (optional, "ControlPoints"), used only when BSplinePreset is 4 ("ControlPoints input"; the
+   * spec puts the input first, but pvpython and the GUI connect the active pipeline object to a new source's
+   * input on their own, so using it only on request keeps a preset from silently turning into someone else's
+   * polylines): polylines, either labelled by a cell array `Region` (the first Region 1 cell is the
+   * midvein, the first two Region 4 cells the margins, told left from right by their side of the midvein) or,
+   * unlabelled, exactly three polylines in the order the Outline port writes them: left margin, right margin,
+   * midvein. A margin drawn from the apex to the base is reversed. So a traced set of polylines, or another
+   * LeafOutlineSource's Outline, drives the leaf.
    */
   vtkSetMacro(BSplinePreset, int);
   vtkGetMacro(BSplinePreset, int);
@@ -254,6 +265,7 @@ protected:
   vtkLeafOutlineSource();
   ~vtkLeafOutlineSource() override = default;
 
+  int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
@@ -307,7 +319,8 @@ protected:
 
 private:
   /// Builds the chosen model's leaf and describes its parameters as field data; returns an error message or "".
-  std::string BuildLeaf(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale);
+  std::string BuildLeaf(
+    plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale, vtkPolyData* controlPoints);
   /// Mesh settings of the CGAL-meshed models (Resolution, MeshQuality, MaxVertices, progress and abort).
   std::string MeshSettings(plantmorph::LeafMeshSettings& settings);
   /// Empty when the growth properties are valid, else the message.

@@ -413,3 +413,158 @@ TEST(vtkLeafOutlineSource, BSplineBadControlPointsGiveAMessage)
   EXPECT_NE(catcher->Messages.find("BladeWidth = -1"), std::string::npos) << catcher->Messages;
 }
 } // namespace
+
+namespace
+{
+/// Three polylines (left margin, right margin, midvein), optionally labelled with a cell Region array.
+vtkSmartPointer<vtkPolyData> TracedPolylines(bool labelled, bool reverseLeft)
+{
+  const double left[][2] = { { -2, 2 }, { -1.5, 4.5 } }, right[][2] = { { 2.2, 2.5 } },
+               midvein[][2] = { { 0, 0 }, { 0.3, 3 }, { 0, 6 } };
+  auto polydata = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble(); // float would round 0.3 and 2.2, and the curves would differ
+  vtkNew<vtkCellArray> lines;
+  auto addLine = [&](const double(*xy)[2], int n, bool reverse) {
+    lines->InsertNextCell(n);
+    for (int i = 0; i < n; ++i)
+    {
+      const int k = reverse ? n - 1 - i : i;
+      lines->InsertCellPoint(points->InsertNextPoint(xy[k][0], xy[k][1], 0.0));
+    }
+  };
+  // Labelled: the midvein first, to show that the order does not matter then.
+  if (labelled)
+    addLine(midvein, 3, false);
+  addLine(left, 2, reverseLeft);
+  addLine(right, 1, false);
+  if (!labelled)
+    addLine(midvein, 3, false);
+  polydata->SetPoints(points);
+  polydata->SetLines(lines);
+  if (labelled)
+  {
+    vtkNew<vtkIntArray> region;
+    region->SetName(plantmorph::arrays::Region);
+    for (int r : { 1, 4, 4 })
+      region->InsertNextValue(r);
+    polydata->GetCellData()->AddArray(region);
+  }
+  return polydata;
+}
+
+TEST(vtkLeafOutlineSource, BSplineControlPointsFromTheInputPort)
+{
+  // The same control points as properties: the reference.
+  vtkNew<vtkLeafOutlineSource> typed;
+  typed->SetModel(vtkLeafOutlineSource::B_SPLINE);
+  typed->SetBSplinePreset(0);
+  typed->SetResolution(25);
+  const double midvein[3][2] = { { 0, 0 }, { 0.3, 3 }, { 0, 6 } };
+  for (const auto& p : midvein)
+    typed->AddMidveinPoint(p[0], p[1], 0);
+  typed->AddLeftMarginPoint(-2, 2, 0);
+  typed->AddLeftMarginPoint(-1.5, 4.5, 0);
+  typed->AddRightMarginPoint(2.2, 2.5, 0);
+  typed->Update();
+  const vtkIdType expected = typed->GetOutput(0)->GetNumberOfPoints();
+  ASSERT_GT(expected, 20);
+
+  for (bool labelled : { false, true })
+  {
+    for (bool reverse : { false, true })
+    {
+      vtkNew<vtkLeafOutlineSource> traced;
+      traced->SetModel(vtkLeafOutlineSource::B_SPLINE);
+      traced->SetBSplinePreset(4); // the ControlPoints input
+      traced->SetResolution(25);
+      traced->SetInputData(TracedPolylines(labelled, reverse));
+      traced->Update();
+      vtkPolyData* blade = traced->GetOutput(0);
+      ASSERT_EQ(blade->GetNumberOfPoints(), expected) << "labelled " << labelled << " reversed " << reverse;
+      for (vtkIdType i = 0; i < expected; ++i)
+      {
+        double a[3], b[3];
+        blade->GetPoint(i, a);
+        typed->GetOutput(0)->GetPoint(i, b);
+        ASSERT_EQ(a[0], b[0]);
+        ASSERT_EQ(a[1], b[1]);
+      }
+    }
+  }
+}
+
+TEST(vtkLeafOutlineSource, AnOutlineDrivesAnotherLeaf)
+{
+  vtkNew<vtkLeafOutlineSource> first;
+  first->SetModel(vtkLeafOutlineSource::B_SPLINE);
+  first->SetBSplinePreset(3); // pin oak
+  first->SetResolution(60);
+  vtkNew<vtkLeafOutlineSource> second;
+  second->SetModel(vtkLeafOutlineSource::B_SPLINE);
+  second->SetBSplinePreset(4);
+  second->SetResolution(60);
+  second->SetInputConnection(first->GetOutputPort(1));
+  second->Update();
+  double a[6], b[6];
+  first->GetOutput(0)->GetBounds(a);
+  second->GetOutput(0)->GetBounds(b);
+  for (int k = 0; k < 4; ++k)
+    EXPECT_NEAR(a[k], b[k], 1e-3 * 8.0) << "bound " << k; // a spline through the samples of a spline
+}
+
+TEST(vtkLeafOutlineSource, BadControlPointsInputGivesAMessage)
+{
+  vtkNew<vtkPolyData> two;
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> lines;
+  for (int k = 0; k < 2; ++k)
+  {
+    lines->InsertNextCell(2);
+    lines->InsertCellPoint(points->InsertNextPoint(k, 0, 0));
+    lines->InsertCellPoint(points->InsertNextPoint(k, 1, 0));
+  }
+  two->SetPoints(points);
+  two->SetLines(lines);
+  vtkNew<vtkLeafOutlineSource> source;
+  vtkNew<ErrorCatcher> catcher;
+  source->AddObserver(vtkCommand::ErrorEvent, catcher);
+  source->SetModel(vtkLeafOutlineSource::B_SPLINE);
+  source->SetBSplinePreset(4);
+  source->SetInputData(two);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("ControlPoints input: without a Region cell array it needs exactly 3 polylines"),
+    std::string::npos)
+    << catcher->Messages;
+  EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
+}
+} // namespace
+
+namespace
+{
+TEST(vtkLeafOutlineSource, AConnectedInputIsIgnoredUnlessAskedFor)
+{
+  // pvpython and the GUI connect the active object to a new source's input: a preset must not use it.
+  vtkNew<vtkLeafOutlineSource> preset;
+  preset->SetModel(vtkLeafOutlineSource::B_SPLINE);
+  preset->SetBSplinePreset(3);
+  preset->SetResolution(20);
+  preset->Update();
+  vtkNew<vtkLeafOutlineSource> connected;
+  connected->SetModel(vtkLeafOutlineSource::B_SPLINE);
+  connected->SetBSplinePreset(3);
+  connected->SetResolution(20);
+  connected->SetInputData(TracedPolylines(false, false));
+  connected->Update();
+  EXPECT_EQ(connected->GetOutput(0)->GetNumberOfPoints(), preset->GetOutput(0)->GetNumberOfPoints());
+  // Asking for the input with nothing connected is an error, not a silent preset.
+  vtkNew<vtkLeafOutlineSource> unconnected;
+  vtkNew<ErrorCatcher> catcher;
+  unconnected->AddObserver(vtkCommand::ErrorEvent, catcher);
+  unconnected->SetModel(vtkLeafOutlineSource::B_SPLINE);
+  unconnected->SetBSplinePreset(4);
+  unconnected->Update();
+  EXPECT_NE(catcher->Messages.find("needs polylines connected to the ControlPoints input"), std::string::npos)
+    << catcher->Messages;
+}
+} // namespace

@@ -91,6 +91,21 @@ blade = servermanager.Fetch(spline)
 checks.check(blade.GetNumberOfPolys() > 50 and abs(blade.GetBounds()[3] - 5.0) < 1e-12,
              "B-spline custom control points: blade up to the apex")
 
+# The tracing recipe (docs/tracing-a-leaf-photo.md): three Poly Line sources appended in the order left margin,
+# right margin, midvein drive the B-spline model through the ControlPoints input (BSplinePreset "ControlPoints input").
+left = PolyLineSource(Points=[0, 0, 0, -2, 2, 0, -1.5, 4.5, 0, 0, 6, 0])
+right = PolyLineSource(Points=[0, 0, 0, 2.2, 2.5, 0, 0, 6, 0])
+midvein = PolyLineSource(Points=[0, 0, 0, 0.3, 3, 0, 0, 6, 0])
+traced = LeafOutlineSource(ControlPoints=AppendGeometry(Input=[left, right, midvein]), Model="B-spline",
+                           BSplinePreset="ControlPoints input", Resolution=30)
+traced.UpdatePipeline()
+blade = servermanager.Fetch(traced)
+checks.check(blade.GetFieldData().GetAbstractArray("PlantMorph.Preset").GetValue(0) == "ControlPointsInput",
+             "traced polylines drive the leaf")
+bounds = blade.GetBounds()
+checks.check(abs(bounds[3] - 6.0) < 1e-6 and bounds[0] < -1.9 and bounds[1] > 2.1,
+             "traced leaf spans the traced points: bounds %s" % (bounds,))
+
 # Custom terms through the property, as in the GUI's table: eq. (1) rows give the ginkgo leaf bit for bit.
 leaf.Preset = "Ginkgo"
 leaf.MeshQuality = "Quality"
