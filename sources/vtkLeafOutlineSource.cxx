@@ -135,14 +135,14 @@ void ClearPoints(std::vector<double>& list, vtkObject* owner)
   }
 }
 
-/// x, y of xyz triples, scaled about `origin`.
-std::vector<Eigen::Vector2d> PlanarPoints(
-  const std::vector<double>& xyz, double scale, const Eigen::Vector2d& origin)
+/// Points of xyz triples, scaled about `origin`.
+std::vector<Eigen::Vector3d> ScaledPoints(
+  const std::vector<double>& xyz, double scale, const Eigen::Vector3d& origin)
 {
-  std::vector<Eigen::Vector2d> points;
+  std::vector<Eigen::Vector3d> points;
   for (std::size_t i = 0; i + 2 < xyz.size(); i += 3)
   {
-    points.push_back(origin + scale * (Eigen::Vector2d(xyz[i], xyz[i + 1]) - origin));
+    points.push_back(origin + scale * (Eigen::Vector3d(xyz[i], xyz[i + 1], xyz[i + 2]) - origin));
   }
   return points;
 }
@@ -150,7 +150,7 @@ std::vector<Eigen::Vector2d> PlanarPoints(
 /// The B-spline model's control points from polylines (see the class documentation), scaled about the base.
 std::string ControlPointsFromPolylines(vtkPolyData* input, double scale, plantmorph::BSplineLeafParameters& p)
 {
-  std::vector<std::vector<Eigen::Vector2d>> lines;
+  std::vector<std::vector<Eigen::Vector3d>> lines;
   std::vector<int> regions;
   vtkDataArray* region = input->GetCellData()->GetArray(plantmorph::arrays::Region);
   vtkCellArray* cells = input->GetLines();
@@ -159,16 +159,16 @@ std::string ControlPointsFromPolylines(vtkPolyData* input, double scale, plantmo
   cells->InitTraversal();
   for (vtkIdType k = 0; cells->GetNextCell(ids); ++k)
   {
-    std::vector<Eigen::Vector2d> line;
+    std::vector<Eigen::Vector3d> line;
     for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
     {
       const double* x = input->GetPoint(ids->GetId(i));
-      line.emplace_back(x[0], x[1]);
+      line.emplace_back(x[0], x[1], x[2]);
     }
     lines.push_back(line);
     regions.push_back(region ? static_cast<int>(region->GetTuple1(firstLine + k)) : -1);
   }
-  std::vector<Eigen::Vector2d> margins[2];
+  std::vector<Eigen::Vector3d> margins[2];
   if (region)
   {
     int found = 0;
@@ -197,27 +197,27 @@ std::string ControlPointsFromPolylines(vtkPolyData* input, double scale, plantmo
   }
   if (p.midvein.size() < 2)
     return "the midvein polyline needs at least 2 points";
-  const Eigen::Vector2d base = p.midvein.front(), apex = p.midvein.back();
-  for (std::vector<Eigen::Vector2d>& margin : margins)
+  const Eigen::Vector3d base = p.midvein.front(), apex = p.midvein.back();
+  for (std::vector<Eigen::Vector3d>& margin : margins)
   {
     if (!margin.empty() && (margin.front() - base).norm() > (margin.back() - base).norm())
       std::reverse(margin.begin(), margin.end());
   }
   if (region)
   {
-    // Left is the margin on the left of the base-to-apex direction (positive cross product), on average.
-    auto side = [&](const std::vector<Eigen::Vector2d>& margin) {
+    // Left is the margin on the left of the base-to-apex direction seen from +Z (positive cross product).
+    auto side = [&](const std::vector<Eigen::Vector3d>& margin) {
       double sum = 0.0;
-      const Eigen::Vector2d d = apex - base;
-      for (const Eigen::Vector2d& x : margin)
+      const Eigen::Vector3d d = apex - base;
+      for (const Eigen::Vector3d& x : margin)
         sum += d.x() * (x.y() - base.y()) - d.y() * (x.x() - base.x());
       return sum;
     };
     if (side(margins[0]) < side(margins[1]))
       std::swap(margins[0], margins[1]);
   }
-  auto scaled = [&](std::vector<Eigen::Vector2d> points) {
-    for (Eigen::Vector2d& x : points)
+  auto scaled = [&](std::vector<Eigen::Vector3d> points) {
+    for (Eigen::Vector3d& x : points)
       x = base + scale * (x - base);
     return points;
   };
@@ -227,15 +227,14 @@ std::string ControlPointsFromPolylines(vtkPolyData* input, double scale, plantmo
   return {};
 }
 
-void AddPointList(vtkFieldData* fd, const char* name, const std::vector<Eigen::Vector2d>& points)
+void AddPointList(vtkFieldData* fd, const char* name, const std::vector<Eigen::Vector3d>& points)
 {
   vtkNew<vtkDoubleArray> a;
   a->SetName(name);
   a->SetNumberOfComponents(3);
-  for (const Eigen::Vector2d& p : points)
+  for (const Eigen::Vector3d& p : points)
   {
-    const double xyz[3] = { p.x(), p.y(), 0.0 };
-    a->InsertNextTuple(xyz);
+    a->InsertNextTuple(p.data());
   }
   fd->AddArray(a);
 }
@@ -631,12 +630,12 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     }
     else if (preset == plantmorph::BSplinePreset::Custom)
     {
-      const Eigen::Vector2d base = this->MidveinPoints.size() >= 3
-        ? Eigen::Vector2d(this->MidveinPoints[0], this->MidveinPoints[1])
-        : Eigen::Vector2d::Zero();
-      parameters.midvein = PlanarPoints(this->MidveinPoints, scale, base);
-      parameters.leftMargin = PlanarPoints(this->LeftMarginPoints, scale, base);
-      parameters.rightMargin = PlanarPoints(this->RightMarginPoints, scale, base);
+      const Eigen::Vector3d base = this->MidveinPoints.size() >= 3
+        ? Eigen::Vector3d(this->MidveinPoints[0], this->MidveinPoints[1], this->MidveinPoints[2])
+        : Eigen::Vector3d::Zero();
+      parameters.midvein = ScaledPoints(this->MidveinPoints, scale, base);
+      parameters.leftMargin = ScaledPoints(this->LeftMarginPoints, scale, base);
+      parameters.rightMargin = ScaledPoints(this->RightMarginPoints, scale, base);
     }
     else
     {

@@ -214,8 +214,8 @@ public:
    * ControlPoints input's polylines; the
    * presets sized by BladeLength (along +Y) and BladeWidth. Control points are x, y, z triples; the curves pass
    * through them; margins that do not start at the midvein's first point (the base) or end at its last (the apex)
-   * get them added. This version meshes in the XY plane: z is ignored. MeshQuality applies as for the deformed
-   * rectangle.
+   * get them added. Curves out of a plane are meshed in their least-squares plane and the blade lifted onto
+   * them (see plantmorph::BuildBSplineLeaf). MeshQuality applies as for the deformed rectangle.
    *
    * Input port 0 (optional, "ControlPoints"), used only when BSplinePreset is 4 ("ControlPoints input"; the
    * spec puts the input first, but pvpython and the GUI connect the active pipeline object to a new source's

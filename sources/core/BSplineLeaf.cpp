@@ -3,6 +3,9 @@
 #include <plantmorph/CubicBSpline.h>
 #include <plantmorph/DataContract.h>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -59,10 +62,10 @@ bool Inside(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& 
 }
 
 /// Samples of a curve at (about) `spacing`, with their LeafUV (u fixed, v = arc-length fraction).
-std::string SampleCurve(const CubicBSpline2d& curve, double spacing, double u, std::vector<Eigen::Vector2d>& points,
+std::string SampleCurve(const CubicBSpline3d& curve, double spacing, double u, std::vector<Eigen::Vector3d>& points,
   std::vector<Eigen::Vector2d>& uv)
 {
-  CubicBSpline2d::PointList samples;
+  CubicBSpline3d::PointList samples;
   std::vector<double> parameters;
   const std::string error = curve.SampleAtSpacing(spacing, samples, &parameters);
   if (!error.empty())
@@ -76,6 +79,46 @@ std::string SampleCurve(const CubicBSpline2d& curve, double spacing, double u, s
   return {};
 }
 
+/// The plane the blade is meshed in: origin, axes e1, e2 and normal n (right-handed).
+struct MeshPlane
+{
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d e1 = Eigen::Vector3d::UnitX(), e2 = Eigen::Vector3d::UnitY(), n = Eigen::Vector3d::UnitZ();
+  Eigen::Vector2d Flat(const Eigen::Vector3d& x) const { return { (x - origin).dot(e1), (x - origin).dot(e2) }; }
+  double Height(const Eigen::Vector3d& x) const { return (x - origin).dot(n); }
+};
+
+/// Exactly XY when every point has the same z; otherwise the least-squares plane, normal towards +Z, e2 along the
+/// base-to-apex direction.
+MeshPlane PlaneOf(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& base, const Eigen::Vector3d& apex)
+{
+  MeshPlane plane;
+  bool flat = true;
+  for (const Eigen::Vector3d& x : points)
+    flat = flat && x.z() == points.front().z();
+  if (flat)
+    return plane;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& x : points)
+    centroid += x;
+  centroid /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& x : points)
+    covariance += (x - centroid) * (x - centroid).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  Eigen::Vector3d n = solver.eigenvectors().col(0); // smallest eigenvalue first
+  if (n.z() < 0.0)
+    n = -n;
+  Eigen::Vector3d e2 = (apex - base) - (apex - base).dot(n) * n;
+  if (!(e2.norm() > 0.0))
+    return plane;
+  plane.origin = centroid;
+  plane.n = n;
+  plane.e2 = e2.normalized();
+  plane.e1 = plane.e2.cross(n);
+  return plane;
+}
+
 std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& settings, LeafGeometry& leaf)
 {
   if (settings.resolution < MinResolution || settings.resolution > MaxResolution)
@@ -84,20 +127,20 @@ std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& se
     message << "Resolution = " << settings.resolution << " is outside the accepted range [2, 4000]";
     return message.str();
   }
-  CubicBSpline2d midvein;
-  std::string error = CubicBSpline2d::Interpolate(p.midvein, midvein);
+  CubicBSpline3d midvein;
+  std::string error = CubicBSpline3d::Interpolate(p.midvein, midvein);
   if (!error.empty())
     return "MidveinPoints: " + error;
-  const Eigen::Vector2d base = p.midvein.front(), apex = p.midvein.back();
+  const Eigen::Vector3d base = p.midvein.front(), apex = p.midvein.back();
 
   // Margins run from the base to the apex: add them where the user's points stop short.
-  CubicBSpline2d margins[2];
-  const std::vector<Eigen::Vector2d>* given[2] = { &p.leftMargin, &p.rightMargin };
+  CubicBSpline3d margins[2];
+  const std::vector<Eigen::Vector3d>* given[2] = { &p.leftMargin, &p.rightMargin };
   const char* names[2] = { "LeftMarginPoints", "RightMarginPoints" };
   const double tolerance = 1e-9 * std::max(1.0, (apex - base).norm());
   for (int side = 0; side < 2; ++side)
   {
-    std::vector<Eigen::Vector2d> points = *given[side];
+    std::vector<Eigen::Vector3d> points = *given[side];
     if (points.empty() || (points.front() - base).norm() > tolerance)
       points.insert(points.begin(), base);
     else
@@ -108,14 +151,15 @@ std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& se
       points.back() = apex;
     if (points.size() < 3)
       return std::string(names[side]) + ": needs at least one control point besides the base and the apex";
-    error = CubicBSpline2d::Interpolate(points, margins[side]);
+    error = CubicBSpline3d::Interpolate(points, margins[side]);
     if (!error.empty())
       return std::string(names[side]) + ": " + error;
   }
 
   // Samples: the midvein in exactly Resolution pieces, the margins at the same spacing.
   const double spacing = midvein.Length() / settings.resolution;
-  std::vector<Eigen::Vector2d> midveinPoints, midveinUV, sidePoints[2], sideUV[2];
+  std::vector<Eigen::Vector3d> midveinPoints, sidePoints[2];
+  std::vector<Eigen::Vector2d> midveinUV, sideUV[2];
   {
     const std::vector<double> t = midvein.EqualArcLengthParameters(settings.resolution + 1);
     for (std::size_t i = 0; i < t.size(); ++i)
@@ -135,9 +179,16 @@ std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& se
   if (settings.progress && !settings.progress(0.05))
     return "aborted";
 
+  std::vector<Eigen::Vector3d> samples = midveinPoints;
+  samples.insert(samples.end(), sidePoints[0].begin(), sidePoints[0].end());
+  samples.insert(samples.end(), sidePoints[1].begin(), sidePoints[1].end());
+  const MeshPlane plane = PlaneOf(samples, base, apex);
+  std::vector<Eigen::Vector3d> outline3d; // the outline's exact 3-D samples, by outline point id
+
   BladeOutline outline;
-  auto add = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& uv, int region) {
-    outline.points.push_back(x);
+  auto add = [&](const Eigen::Vector3d& x, const Eigen::Vector2d& uv, int region) {
+    outline3d.push_back(x);
+    outline.points.push_back(plane.Flat(x));
     outline.uv.push_back(uv);
     outline.region.push_back(region);
     return static_cast<int>(outline.points.size() - 1);
@@ -158,7 +209,7 @@ std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& se
   outline.midvein = leaf.midvein;
 
   // LeafUV of interior points: mean-value coordinates over the half blade that holds them.
-  std::vector<Eigen::Vector2d> halfPolygon[2], halfUV[2];
+  std::vector<Eigen::Vector2d> halfPolygon[2], halfUV[2], halfHeightValues[2];
   for (int side = 0; side < 2; ++side)
   {
     // Left half: up the midvein, down the left margin; right half: up the right margin, down the midvein.
@@ -177,6 +228,7 @@ std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& se
     {
       halfPolygon[side].push_back(outline.points[id]);
       halfUV[side].push_back(outline.uv[id]);
+      halfHeightValues[side].emplace_back(plane.Height(outline3d[id]), 0.0);
     }
   }
   auto solveUV = [&](const Eigen::Vector2d& x, const Eigen::Vector2d&) {
@@ -191,7 +243,34 @@ std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& se
   error = MeshBlade(outline, options, solveUV, leaf.blade);
   if (!error.empty())
     return error.rfind("outline:", 0) == 0 ? "MidveinPoints/LeftMarginPoints/RightMarginPoints: " + error : error;
+  // Eq. (6) on the flat blade, then back to 3-D: outline vertices are their samples, interior ones are lifted off
+  // the plane by the mean-value interpolation of the outline's heights.
   leaf.tcoords = BoundingBoxTextureCoordinates(leaf.blade.points);
+  std::vector<Eigen::Vector3d> world(leaf.blade.points.size());
+  const std::size_t outlineCount = outline3d.size();
+  bool flat = true;
+  for (std::size_t i = 0; i < world.size(); ++i)
+  {
+    if (i < outlineCount)
+      world[i] = outline3d[i];
+    else
+    {
+      const Eigen::Vector2d& q = leaf.blade.points[i];
+      const int side = Inside(halfPolygon[0], q) ? 0 : 1;
+      const double h = MeanValueInterpolate(halfPolygon[side], halfHeightValues[side], q).x();
+      world[i] = plane.origin + q.x() * plane.e1 + q.y() * plane.e2 + h * plane.n;
+    }
+    flat = flat && world[i].z() == 0.0;
+  }
+  if (!flat)
+  {
+    for (std::size_t i = 0; i < world.size(); ++i)
+    {
+      leaf.blade.points[i] = world[i].head<2>();
+      leaf.z.push_back(world[i].z());
+    }
+    leaf.normals = VertexNormals(world, leaf.blade.triangles);
+  }
   return {};
 }
 } // namespace
@@ -201,11 +280,11 @@ BSplineLeafParameters MakeBSplinePreset(BSplinePreset preset, double length, dou
   BSplineLeafParameters p;
   const int midveinPoints = std::max(2, count);
   for (int k = 0; k < midveinPoints; ++k)
-    p.midvein.emplace_back(0.0, length * k / (midveinPoints - 1));
+    p.midvein.emplace_back(0.0, length * k / (midveinPoints - 1), 0.0);
   for (const Eigen::Vector2d& s : RightMarginShape(preset, std::max(1, count)))
   {
-    p.rightMargin.emplace_back(width * s.x(), length * s.y());
-    p.leftMargin.emplace_back(-width * s.x(), length * s.y());
+    p.rightMargin.emplace_back(width * s.x(), length * s.y(), 0.0);
+    p.leftMargin.emplace_back(-width * s.x(), length * s.y(), 0.0);
   }
   return p;
 }

@@ -11,8 +11,10 @@
 // 0 (midvein) or 0.5 (right margin); an interior point takes the mean-value-coordinate interpolation of the
 // LeafUV of the boundary of the half blade it lies in (a convex combination, clamped to the canonical ranges).
 //
-// This version meshes in the XY plane: control points' z is ignored (documented in the VTK class). Lifting 3-D
-// curves through a least-squares plane is still to come.
+// 3-D curves: the samples are meshed in their least-squares plane (normal towards +Z, second axis along the
+// base-to-apex direction; exactly the XY plane when every control point has the same z), outline vertices keep
+// their exact 3-D samples, and interior points are lifted off the plane by the mean-value interpolation of the
+// outline's heights over their half blade. TCoords are those of the flat blade in that plane (eq. (6)).
 #pragma once
 
 #include "LeafGeometry.h"
@@ -27,9 +29,9 @@ namespace plantmorph
 
 struct BSplineLeafParameters
 {
-  std::vector<Eigen::Vector2d> midvein;     ///< base to apex, at least 2 points
-  std::vector<Eigen::Vector2d> leftMargin;  ///< base to apex, through x < 0 for a leaf along +Y
-  std::vector<Eigen::Vector2d> rightMargin; ///< base to apex, through x > 0
+  std::vector<Eigen::Vector3d> midvein;     ///< base to apex, at least 2 points
+  std::vector<Eigen::Vector3d> leftMargin;  ///< base to apex, through x < 0 for a leaf along +Y
+  std::vector<Eigen::Vector3d> rightMargin; ///< base to apex, through x > 0
 };
 
 /// Parametric initialiser and presets (control points for a leaf along +Y with its base at the origin).

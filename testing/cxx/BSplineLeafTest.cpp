@@ -89,8 +89,8 @@ TEST_P(EveryBSplinePreset, MarginsPassThroughTheirControlPoints)
     std::vector<Eigen::Vector2d> line;
     for (int id : side == 0 ? leaf.leftMargin : leaf.rightMargin)
       line.push_back(leaf.blade.points[id]);
-    for (const Eigen::Vector2d& c : side == 0 ? p.leftMargin : p.rightMargin)
-      EXPECT_LT(DistanceToPolyline(c, line), 2e-3) << "control point " << c.transpose(); // chord sagitta at R = 200
+    for (const Eigen::Vector3d& c : side == 0 ? p.leftMargin : p.rightMargin)
+      EXPECT_LT(DistanceToPolyline(c.head<2>(), line), 2e-3) << "control point " << c.transpose(); // sagitta, R = 200
   }
 }
 
@@ -189,5 +189,71 @@ TEST(BSplineLeaf, BadControlPointsGiveAMessageAndNoLeaf)
   EXPECT_NE(message(p).find("outline:"), std::string::npos) << message(p);
 }
 
+} // namespace
+} // namespace plantmorph
+
+namespace plantmorph
+{
+namespace
+{
+std::vector<Eigen::Vector3d> Positions(const LeafGeometry& leaf)
+{
+  std::vector<Eigen::Vector3d> x;
+  for (std::size_t i = 0; i < leaf.blade.points.size(); ++i)
+    x.emplace_back(leaf.blade.points[i].x(), leaf.blade.points[i].y(), leaf.z.empty() ? 0.0 : leaf.z[i]);
+  return x;
+}
+
+TEST(BSplineLeaf, PointsInATiltedPlaneGiveABladeInThatPlane)
+{
+  BSplineLeafParameters p = MakeBSplinePreset(BSplinePreset::Cucumber, 8.0, 7.0, 7);
+  for (std::vector<Eigen::Vector3d>* curve : { &p.midvein, &p.leftMargin, &p.rightMargin })
+    for (Eigen::Vector3d& x : *curve)
+      x.z() = 0.5 * x.y() + 0.2 * x.x() + 1.0;
+  const LeafGeometry leaf = Build(p, true);
+  ASSERT_FALSE(leaf.z.empty());
+  for (const Eigen::Vector3d& x : Positions(leaf))
+    ASSERT_NEAR(x.z(), 0.5 * x.y() + 0.2 * x.x() + 1.0, 1e-9);
+  const Eigen::Vector3d normal = Eigen::Vector3d(-0.2, -0.5, 1.0).normalized();
+  for (const Eigen::Vector3d& n : leaf.normals)
+    ASSERT_GT(n.dot(normal), 1.0 - 1e-9);
+}
+
+TEST(BSplineLeaf, CurvedControlPointsGiveACurledManifoldBlade)
+{
+  // A blade curled across: every control point on the cylinder z = 0.12 x^2.
+  BSplineLeafParameters p = MakeBSplinePreset(BSplinePreset::Elliptic, 8.0, 6.0, 7);
+  for (std::vector<Eigen::Vector3d>* curve : { &p.leftMargin, &p.rightMargin })
+    for (Eigen::Vector3d& x : *curve)
+      x.z() = 0.12 * x.x() * x.x();
+  const LeafGeometry leaf = Build(p, true);
+  const std::vector<Eigen::Vector3d> x = Positions(leaf);
+  ASSERT_FALSE(leaf.z.empty());
+  for (const auto& [edge, count] : EdgeUse(leaf.blade.triangles))
+    ASSERT_LE(count, 2);
+  ASSERT_EQ(BoundaryLoops(leaf.blade.triangles).size(), 1u);
+  // Outline vertices are the curves' samples: the margins' heights come from their control points; interior
+  // points are lifted between them.
+  double high = 0.0;
+  for (int id : leaf.rightMargin)
+    high = std::max(high, x[id].z());
+  EXPECT_GT(high, 0.12 * 2.9 * 2.9 * 0.9);
+  for (std::size_t i = 0; i < x.size(); ++i)
+  {
+    EXPECT_GE(x[i].z(), -1e-9);
+    EXPECT_LE(x[i].z(), high + 1e-9);
+  }
+  for (const Eigen::Vector3d& n : leaf.normals)
+    EXPECT_GT(n.z(), 0.5); // the blade faces up
+  // TCoords are the flat blade's: still spanning [0, 1].
+  double lowT = 1, highT = 0;
+  for (const Eigen::Vector2d& t : leaf.tcoords)
+  {
+    lowT = std::min(lowT, t.x());
+    highT = std::max(highT, t.x());
+  }
+  EXPECT_EQ(lowT, 0.0);
+  EXPECT_EQ(highT, 1.0);
+}
 } // namespace
 } // namespace plantmorph
