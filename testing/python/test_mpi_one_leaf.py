@@ -13,27 +13,40 @@ from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 import numpy  # noqa: E402
 
 load_plugin(arguments.plugin, globals())
-reference = os.path.join(arguments.work, "mpi_reference_leaf.vtp")
-leaf = LeafOutlineSource(Preset=4, Resolution=45)
-leaf.UpdatePipeline()
+# One leaf per model: each must appear once, not once per rank, and equal its serial self.
+LEAVES = {
+    "deformed_rectangle": dict(Preset=4, Resolution=45),
+    "space_curve": dict(Model="Space curve", SpaceCurvePreset="Paper 002 Fig. 5", Resolution=40),
+    "b_spline": dict(Model="B-spline", BSplinePreset="Pin oak", Resolution=40),
+}
+leaves = {name: LeafOutlineSource(**properties) for name, properties in LEAVES.items()}
+
+
+def reference(name):
+    return os.path.join(arguments.work, "mpi_reference_%s.vtp" % name)
+
 
 if arguments.write_reference:
-    # Inline binary: Debian's ParaView 5.11 cannot read back appended-mode .vtp files (see README).
-    SaveData(reference, proxy=leaf, DataMode="Binary")
-    print("reference leaf written to", reference)
+    for name, leaf in leaves.items():
+        # Inline binary: Debian's ParaView 5.11 cannot read back appended-mode .vtp files (see README).
+        SaveData(reference(name), proxy=leaf, DataMode="Binary")
+        print("reference leaf written to", reference(name))
     raise SystemExit(0)
 
 checks = Checks()
 ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
 checks.check(ranks == arguments.ranks, "running on %d ranks (expected %d)" % (ranks, arguments.ranks))
-serial = servermanager.Fetch(XMLPolyDataReader(FileName=[reference]))
-info = leaf.GetDataInformation()
-checks.check(info.GetNumberOfPoints() == serial.GetNumberOfPoints(),
-             "points over all ranks: %d, serial: %d" % (info.GetNumberOfPoints(), serial.GetNumberOfPoints()))
-checks.check(info.GetNumberOfCells() == serial.GetNumberOfCells(),
-             "cells over all ranks: %d, serial: %d" % (info.GetNumberOfCells(), serial.GetNumberOfCells()))
-gathered = servermanager.Fetch(leaf)
-points = vtk_to_numpy(gathered.GetPoints().GetData())
-checks.check(len(numpy.unique(points, axis=0)) == len(points), "no point appears twice (no duplicated leaf)")
-checks.check(fingerprint(gathered) == fingerprint(serial), "gathered leaf bit-identical to the serial one")
+for name, leaf in leaves.items():
+    leaf.UpdatePipeline()
+    serial = servermanager.Fetch(XMLPolyDataReader(FileName=[reference(name)]))
+    info = leaf.GetDataInformation()
+    checks.check(info.GetNumberOfPoints() == serial.GetNumberOfPoints(),
+                 "%s: points over all ranks %d, serial %d" % (name, info.GetNumberOfPoints(),
+                                                              serial.GetNumberOfPoints()))
+    checks.check(info.GetNumberOfCells() == serial.GetNumberOfCells(),
+                 "%s: cells over all ranks %d, serial %d" % (name, info.GetNumberOfCells(), serial.GetNumberOfCells()))
+    gathered = servermanager.Fetch(leaf)
+    points = vtk_to_numpy(gathered.GetPoints().GetData())
+    checks.check(len(numpy.unique(points, axis=0)) == len(points), "%s: no point appears twice" % name)
+    checks.check(fingerprint(gathered) == fingerprint(serial), "%s: gathered leaf bit-identical to the serial one" % name)
 checks.finish()
