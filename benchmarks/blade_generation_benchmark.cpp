@@ -147,14 +147,10 @@ double OutputBytes(const plantmorph::BladeMesh& blade)
 
 // ---- the plugin's blade generation -------------------------------------------------------------------------------
 
-void RunBlade(benchmark::State& state, bool quality)
+/// Times `build(leaf)` (which returns an error message or "") and reports triangles, rates and peak memory.
+template <typename Build>
+void MeasureLeaf(benchmark::State& state, Build&& build)
 {
-  const plantmorph::DeformedRectangleParameters parameters =
-    plantmorph::MakeDeformedRectanglePreset(plantmorph::DeformedRectanglePreset::Ginkgo, GinkgoLength);
-  plantmorph::LeafMeshSettings settings;
-  settings.resolution = static_cast<int>(state.range(0));
-  settings.quality = quality;
-
   std::size_t triangles = 0;
   double outputBytes = 0.0;
   PeakMemoryProbe memory;
@@ -162,7 +158,7 @@ void RunBlade(benchmark::State& state, bool quality)
   for (auto _ : state)
   {
     plantmorph::LeafGeometry leaf;
-    std::string error = plantmorph::BuildDeformedRectangleLeaf(parameters, settings, leaf);
+    std::string error = build(leaf);
     benchmark::DoNotOptimize(error);
     benchmark::DoNotOptimize(leaf.blade.triangles.data());
     benchmark::ClobberMemory();
@@ -176,6 +172,17 @@ void RunBlade(benchmark::State& state, bool quality)
   }
   memory.Report(state, outputBytes);
   ReportTriangles(state, triangles);
+}
+
+void RunBlade(benchmark::State& state, bool quality)
+{
+  const plantmorph::DeformedRectangleParameters parameters =
+    plantmorph::MakeDeformedRectanglePreset(plantmorph::DeformedRectanglePreset::Ginkgo, GinkgoLength);
+  plantmorph::LeafMeshSettings settings;
+  settings.resolution = static_cast<int>(state.range(0));
+  settings.quality = quality;
+  MeasureLeaf(state,
+    [&](plantmorph::LeafGeometry& leaf) { return plantmorph::BuildDeformedRectangleLeaf(parameters, settings, leaf); });
 }
 
 void BM_BladeQuality(benchmark::State& state)
@@ -317,25 +324,8 @@ void BM_SpaceCurveLeaf(benchmark::State& state)
     plantmorph::MakeSpaceCurvePreset(plantmorph::SpaceCurvePreset::Figure5, 5.0);
   plantmorph::SpaceCurveMeshSettings settings;
   settings.resolution = static_cast<int>(state.range(0));
-  std::size_t triangles = 0;
-  double outputBytes = 0.0;
-  PeakMemoryProbe memory;
-  memory.Start();
-  for (auto _ : state)
-  {
-    plantmorph::LeafGeometry leaf;
-    std::string error = plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf);
-    benchmark::DoNotOptimize(leaf.blade.triangles.data());
-    if (!error.empty())
-    {
-      state.SkipWithError(error.c_str());
-      break;
-    }
-    triangles = leaf.blade.triangles.size();
-    outputBytes = OutputBytes(leaf.blade);
-  }
-  memory.Report(state, outputBytes);
-  ReportTriangles(state, triangles);
+  MeasureLeaf(
+    state, [&](plantmorph::LeafGeometry& leaf) { return plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf); });
 }
 
 /// Model C's whole leaf (pin oak preset, quality mode): spline interpolation, sampling, CGAL meshing, MVC LeafUV.
@@ -345,25 +335,8 @@ void BM_BSplineLeafQuality(benchmark::State& state)
     plantmorph::MakeBSplinePreset(plantmorph::BSplinePreset::PinOak, 8.0, 7.0, 7);
   plantmorph::LeafMeshSettings settings;
   settings.resolution = static_cast<int>(state.range(0));
-  std::size_t triangles = 0;
-  double outputBytes = 0.0;
-  PeakMemoryProbe memory;
-  memory.Start();
-  for (auto _ : state)
-  {
-    plantmorph::LeafGeometry leaf;
-    std::string error = plantmorph::BuildBSplineLeaf(parameters, settings, leaf);
-    benchmark::DoNotOptimize(leaf.blade.triangles.data());
-    if (!error.empty())
-    {
-      state.SkipWithError(error.c_str());
-      break;
-    }
-    triangles = leaf.blade.triangles.size();
-    outputBytes = OutputBytes(leaf.blade);
-  }
-  memory.Report(state, outputBytes);
-  ReportTriangles(state, triangles);
+  MeasureLeaf(
+    state, [&](plantmorph::LeafGeometry& leaf) { return plantmorph::BuildBSplineLeaf(parameters, settings, leaf); });
 }
 
 void Register(const char* name, void (*function)(benchmark::State&), const std::vector<int64_t>& resolutions)

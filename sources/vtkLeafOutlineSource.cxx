@@ -464,10 +464,6 @@ std::string vtkLeafOutlineSource::MeshSettings(plantmorph::LeafMeshSettings& set
 std::string vtkLeafOutlineSource::BuildLeaf(
   LeafGeometry& leaf, vtkFieldData* fd, double scale, vtkPolyData* controlPoints)
 {
-  auto progress = [this](double fraction) {
-    this->UpdateProgress(fraction);
-    return !this->GetAbortExecute();
-  };
   std::ostringstream message;
   if (this->Model == DEFORMED_RECTANGLE)
   {
@@ -563,7 +559,7 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     plantmorph::SpaceCurveMeshSettings settings;
     settings.resolution = this->Resolution;
     settings.columns = this->StripColumns;
-    progress(0.1);
+    this->UpdateProgress(0.1);
     const std::string error = plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf);
     if (!error.empty())
     {

@@ -121,14 +121,11 @@ MeshPlane PlaneOf(const std::vector<Eigen::Vector3d>& points, const Eigen::Vecto
 
 std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& settings, LeafGeometry& leaf)
 {
-  if (settings.resolution < MinResolution || settings.resolution > MaxResolution)
-  {
-    std::ostringstream message;
-    message << "Resolution = " << settings.resolution << " is outside the accepted range [2, 4000]";
-    return message.str();
-  }
+  std::string error = ValidateResolution(settings.resolution);
+  if (!error.empty())
+    return error;
   CubicBSpline3d midvein;
-  std::string error = CubicBSpline3d::Interpolate(p.midvein, midvein);
+  error = CubicBSpline3d::Interpolate(p.midvein, midvein);
   if (!error.empty())
     return "MidveinPoints: " + error;
   const Eigen::Vector3d base = p.midvein.front(), apex = p.midvein.back();

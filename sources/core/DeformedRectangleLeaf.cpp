@@ -58,13 +58,9 @@ std::string BuildLeaf(
   std::string error = Validate(parameters);
   if (!error.empty())
     return error;
-  if (settings.resolution < MinResolution || settings.resolution > MaxResolution)
-  {
-    std::ostringstream message;
-    message << "Resolution = " << settings.resolution << " is outside the accepted range [" << MinResolution << ", "
-            << MaxResolution << "]";
-    return message.str();
-  }
+  error = ValidateResolution(settings.resolution);
+  if (!error.empty())
+    return error;
   const DeformedRectangleModel model(parameters);
   const double tolerance = 1e-9 * model.Size();
 

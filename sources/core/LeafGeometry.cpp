@@ -28,6 +28,14 @@ std::vector<Eigen::Vector2d> BoundingBoxTextureCoordinates(const std::vector<Eig
   return tcoords;
 }
 
+std::string ValidateResolution(int resolution)
+{
+  if (resolution >= MinResolution && resolution <= MaxResolution)
+    return {};
+  return "Resolution = " + std::to_string(resolution) + " is outside the accepted range [" +
+    std::to_string(MinResolution) + ", " + std::to_string(MaxResolution) + "]";
+}
+
 BladeMeshOptions MeshOptionsFor(const LeafMeshSettings& settings, double spacing)
 {
   BladeMeshOptions options;

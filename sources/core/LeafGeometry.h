@@ -43,6 +43,9 @@ struct LeafMeshSettings
 inline constexpr int MinResolution = 2;
 inline constexpr int MaxResolution = 4000;
 
+/// Empty when `resolution` is in [MinResolution, MaxResolution], else the message naming Resolution and its range.
+std::string ValidateResolution(int resolution);
+
 /// The mesher options for these settings: the meshing mode, edges of `spacing` (the midvein spacing), the vertex
 /// budget, and the settings' progress mapped onto [0.05, 0.9] (sampling before, output after).
 BladeMeshOptions MeshOptionsFor(const LeafMeshSettings& settings, double spacing);

@@ -40,9 +40,7 @@ std::string ValidateParameters(const SpaceCurveParameters& p, const SpaceCurveMe
     !(e = Check(std::isfinite(p.initialAngle) && std::abs(p.initialAngle) <= 360, "InitialAngle", p.initialAngle,
         "[-360, 360] degrees"))
        .empty() ||
-    !(e = Check(m.resolution >= MinResolution && m.resolution <= MaxResolution, "Resolution", m.resolution,
-        "[2, 4000]"))
-       .empty() ||
+    !(e = ValidateResolution(m.resolution)).empty() ||
     !(e = Check(m.columns >= 1 && m.columns <= MaxStripColumns, "StripColumns", m.columns, "[1, 200]")).empty())
     return e;
   return {};
