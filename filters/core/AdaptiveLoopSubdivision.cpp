@@ -1,0 +1,780 @@
+#include "AdaptiveLoopSubdivision.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <utility>
+
+namespace plantmorph
+{
+
+void SerialFor(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body)
+{
+  if (n > 0)
+    body(0, n);
+}
+
+namespace
+{
+
+constexpr double Pi = 3.14159265358979323846;
+constexpr int MaxReportedIds = 10;
+
+/// Every level's connectivity: vertex -> corners, the edge table, and triangle -> edges.
+struct EdgeTable
+{
+  std::vector<int> vertexCornerOffsets; ///< nV + 1
+  std::vector<int> vertexCorners;       ///< corner ids (3 t + c), ascending per vertex
+  std::vector<int> edgeOffsets;         ///< nV + 1: edges (v, w), w > v, of vertex v
+  std::vector<int> edgeOther;           ///< w of every edge, ascending per v
+  std::vector<int> edgeUses;            ///< number of triangles using the edge
+  std::vector<int> edgeTriangles;       ///< 2 per edge, -1 when absent
+  std::vector<int> edgeOpposite;        ///< the opposite vertex in each of those triangles
+  std::vector<int> triangleEdges;       ///< 3 per triangle: local edge c is (tri[c], tri[c + 1])
+  std::vector<unsigned char> edgeSameDirection; ///< both triangles run along the edge the same way (misoriented)
+
+  std::size_t NumberOfEdges() const { return this->edgeOther.size(); }
+
+  int EdgeOf(int a, int b) const
+  {
+    if (a > b)
+      std::swap(a, b);
+    const auto first = this->edgeOther.begin() + this->edgeOffsets[a];
+    const auto last = this->edgeOther.begin() + this->edgeOffsets[a + 1];
+    const auto it = std::lower_bound(first, last, b);
+    return (it != last && *it == b) ? static_cast<int>(it - this->edgeOther.begin()) : -1;
+  }
+};
+
+/// Neighbours of v with larger id (larger = true) or all of them, sorted and unique, into `out`.
+void GatherNeighbours(
+  const std::vector<int>& tri, const EdgeTable& table, int v, bool largerOnly, std::vector<int>& out)
+{
+  out.clear();
+  for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)
+  {
+    const int corner = table.vertexCorners[i];
+    const int base = corner - corner % 3;
+    const int c = corner - base;
+    const int next = tri[base + (c + 1) % 3];
+    const int prev = tri[base + (c + 2) % 3];
+    if (!largerOnly || next > v)
+      out.push_back(next);
+    if (!largerOnly || prev > v)
+      out.push_back(prev);
+  }
+  // Small lists: insertion sort beats std::sort here.
+  for (std::size_t i = 1; i < out.size(); ++i)
+  {
+    const int x = out[i];
+    std::size_t j = i;
+    while (j > 0 && out[j - 1] > x)
+    {
+      out[j] = out[j - 1];
+      --j;
+    }
+    out[j] = x;
+  }
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+void ExclusiveScan(std::vector<int>& counts)
+{
+  int sum = 0;
+  for (int& c : counts)
+  {
+    const int x = c;
+    c = sum;
+    sum += x;
+  }
+}
+
+void BuildEdgeTable(const std::vector<int>& tri, std::size_t nV, const ParallelForFunction& parallelFor,
+  EdgeTable& table)
+{
+  const std::size_t nCorners = tri.size();
+  const std::size_t nT = nCorners / 3;
+  // Vertex -> corners by counting sort (ascending corner ids per vertex: deterministic).
+  table.vertexCornerOffsets.assign(nV + 1, 0);
+  for (std::size_t i = 0; i < nCorners; ++i)
+    ++table.vertexCornerOffsets[tri[i] + 1];
+  for (std::size_t v = 0; v < nV; ++v)
+    table.vertexCornerOffsets[v + 1] += table.vertexCornerOffsets[v];
+  table.vertexCorners.resize(nCorners);
+  {
+    std::vector<int> fill(table.vertexCornerOffsets.begin(), table.vertexCornerOffsets.end() - 1);
+    for (std::size_t i = 0; i < nCorners; ++i)
+      table.vertexCorners[fill[tri[i]]++] = static_cast<int>(i);
+  }
+
+  // Edges bucketed by their smaller vertex: count, scan, fill.
+  table.edgeOffsets.assign(nV + 1, 0);
+  parallelFor(nV, [&](std::size_t begin, std::size_t end) {
+    std::vector<int> nbrs;
+    nbrs.reserve(32);
+    for (std::size_t v = begin; v < end; ++v)
+    {
+      GatherNeighbours(tri, table, static_cast<int>(v), true, nbrs);
+      table.edgeOffsets[v] = static_cast<int>(nbrs.size());
+    }
+  });
+  ExclusiveScan(table.edgeOffsets);
+  const std::size_t nE = static_cast<std::size_t>(table.edgeOffsets[nV]);
+  table.edgeOther.resize(nE);
+  table.edgeUses.assign(nE, 0);
+  table.edgeTriangles.assign(2 * nE, -1);
+  table.edgeOpposite.assign(2 * nE, -1);
+  table.edgeSameDirection.assign(nE, 0);
+  table.triangleEdges.assign(3 * nT, -1);
+  parallelFor(nV, [&](std::size_t begin, std::size_t end) {
+    std::vector<int> nbrs;
+    nbrs.reserve(32);
+    for (std::size_t vv = begin; vv < end; ++vv)
+    {
+      const int v = static_cast<int>(vv);
+      GatherNeighbours(tri, table, v, true, nbrs);
+      const int first = table.edgeOffsets[v];
+      std::copy(nbrs.begin(), nbrs.end(), table.edgeOther.begin() + first);
+      for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)
+      {
+        const int corner = table.vertexCorners[i];
+        const int base = corner - corner % 3;
+        const int c = corner - base;
+        const int t = base / 3;
+        const int next = tri[base + (c + 1) % 3];
+        const int prev = tri[base + (c + 2) % 3];
+        // (v, next) is local edge c, run from v; (prev, v) is local edge c + 2, run towards v.
+        for (int side = 0; side < 2; ++side)
+        {
+          const int w = side == 0 ? next : prev;
+          if (w <= v)
+            continue;
+          const int e = first +
+            static_cast<int>(std::lower_bound(nbrs.begin(), nbrs.end(), w) - nbrs.begin());
+          const int slot = table.edgeUses[e]++;
+          if (slot < 2)
+          {
+            table.edgeTriangles[2 * e + slot] = t;
+            table.edgeOpposite[2 * e + slot] = side == 0 ? prev : next;
+            // Remember the direction of the first use in the flag; compare with the second.
+            if (slot == 0)
+              table.edgeSameDirection[e] = static_cast<unsigned char>(side);
+            else
+              table.edgeSameDirection[e] = static_cast<unsigned char>(table.edgeSameDirection[e] == side);
+          }
+          table.triangleEdges[base + (side == 0 ? c : (c + 2) % 3)] = e;
+        }
+      }
+    }
+  });
+  // Edges used once: the flag held the direction, not a comparison.
+  parallelFor(nE, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e)
+      if (table.edgeUses[e] != 2)
+        table.edgeSameDirection[e] = 0;
+  });
+}
+
+std::string IdList(const std::vector<std::string>& items, std::size_t total)
+{
+  std::ostringstream out;
+  for (std::size_t i = 0; i < items.size(); ++i)
+    out << (i ? ", " : "") << items[i];
+  if (total > items.size())
+    out << " and " << (total - items.size()) << " more";
+  return out.str();
+}
+
+/// Checks ids, degenerate triangles and NaN; "" when fine.
+std::string ValidateInput(const AdaptiveLoopMesh& mesh)
+{
+  if (mesh.points.size() % 3 != 0)
+    return "points must hold x, y, z triples";
+  if (mesh.triangles.size() % 3 != 0)
+    return "triangles must hold three point ids each";
+  const std::size_t nV = mesh.NumberOfPoints();
+  if (nV >= static_cast<std::size_t>(std::numeric_limits<int>::max() / 2))
+    return "too many points for 32-bit ids";
+  if (mesh.attributeComponents < 0 ||
+    mesh.attributes.size() != static_cast<std::size_t>(mesh.attributeComponents) * nV)
+    return "attributes must hold attributeComponents values per point";
+  if (!mesh.region.empty() && mesh.region.size() != nV)
+    return "region must be empty or hold one value per point";
+  for (std::size_t i = 0; i < mesh.points.size(); ++i)
+    if (!std::isfinite(mesh.points[i]))
+    {
+      std::ostringstream out;
+      out << "point " << i / 3 << " has a non-finite coordinate (NaN or infinity)";
+      return out.str();
+    }
+  for (std::size_t t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const int a = mesh.triangles[3 * t], b = mesh.triangles[3 * t + 1], c = mesh.triangles[3 * t + 2];
+    const int n = static_cast<int>(nV);
+    if (a < 0 || b < 0 || c < 0 || a >= n || b >= n || c >= n)
+    {
+      std::ostringstream out;
+      out << "triangle " << t << " (" << a << ", " << b << ", " << c << ") uses a point id outside [0, " << n
+          << ")";
+      return out.str();
+    }
+    if (a == b || b == c || c == a)
+    {
+      std::ostringstream out;
+      out << "triangle " << t << " (" << a << ", " << b << ", " << c << ") repeats a point id (degenerate)";
+      return out.str();
+    }
+  }
+  for (const auto& e : mesh.featureEdges)
+    if (e[0] < 0 || e[1] < 0 || static_cast<std::size_t>(e[0]) >= nV || static_cast<std::size_t>(e[1]) >= nV)
+      return "a feature edge uses a point id outside the points";
+  return "";
+}
+
+/// Non-manifold edges (three or more triangles); "" when manifold.
+std::string CheckManifoldEdges(std::size_t nV, const EdgeTable& table)
+{
+  std::vector<std::string> items;
+  std::size_t count = 0;
+  for (std::size_t v = 0; v < nV; ++v)
+    for (int e = table.edgeOffsets[v]; e < table.edgeOffsets[v + 1]; ++e)
+      if (table.edgeUses[e] > 2)
+      {
+        if (items.size() < MaxReportedIds)
+        {
+          std::ostringstream out;
+          out << "edge (" << v << ", " << table.edgeOther[e] << ") in " << table.edgeUses[e] << " triangles";
+          items.push_back(out.str());
+        }
+        ++count;
+      }
+  if (count)
+    return "non-manifold input: " + IdList(items, count) +
+      " (every edge must belong to one or two triangles; split the surface or remove the extra triangles)";
+
+  return "";
+}
+
+/// Number of triangles in the fan around v reached from its first triangle by crossing shared edges.
+int CountFan(const std::vector<int>& tri, const EdgeTable& table, int v)
+{
+  const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
+  if (k == 0)
+    return 0;
+  const int startCorner = table.vertexCorners[table.vertexCornerOffsets[v]];
+  const int startTriangle = startCorner / 3;
+  int visited = 1;
+  for (int way = 0; way < 2; ++way)
+  {
+    int t = startTriangle;
+    int c = startCorner % 3;
+    int e = table.triangleEdges[3 * t + (way == 0 ? c : (c + 2) % 3)];
+    for (int step = 0; step < k; ++step)
+    {
+      if (table.edgeUses[e] != 2)
+        break;
+      const int other = table.edgeTriangles[2 * e] == t ? table.edgeTriangles[2 * e + 1] : table.edgeTriangles[2 * e];
+      if (other == startTriangle)
+        return visited; // closed fan
+      t = other;
+      c = tri[3 * t] == v ? 0 : (tri[3 * t + 1] == v ? 1 : 2);
+      const int e1 = table.triangleEdges[3 * t + c];
+      const int e2 = table.triangleEdges[3 * t + (c + 2) % 3];
+      e = e1 == e ? e2 : e1;
+      ++visited;
+    }
+  }
+  return visited;
+}
+
+std::string CheckManifoldVertices(const std::vector<int>& tri, std::size_t nV, const EdgeTable& table,
+  const ParallelForFunction& parallelFor)
+{
+  std::vector<unsigned char> bad(nV, 0);
+  parallelFor(nV, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v)
+    {
+      const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
+      if (k > 1 && CountFan(tri, table, static_cast<int>(v)) != k)
+        bad[v] = 1;
+    }
+  });
+  std::vector<std::string> items;
+  std::size_t count = 0;
+  for (std::size_t v = 0; v < nV; ++v)
+    if (bad[v])
+    {
+      if (items.size() < MaxReportedIds)
+        items.push_back(std::to_string(v));
+      ++count;
+    }
+  if (!count)
+    return "";
+  return "non-manifold input: point" + std::string(count > 1 ? "s " : " ") + IdList(items, count) +
+    (count > 1 ? " join" : " joins") +
+    " several separate fans of triangles (a pinched vertex); split them into separate points";
+}
+
+double LoopBeta(int n)
+{
+  if (n == 3)
+    return 3.0 / 16.0;
+  const double c = 0.375 + 0.25 * std::cos(2.0 * Pi / n);
+  return (0.625 - c * c) / n;
+}
+
+int OddRegion(int ra, int rb, bool boundary)
+{
+  if (boundary)
+  {
+    if (ra == 4 || rb == 4)
+      return 4;
+    return ra == rb ? ra : 0;
+  }
+  return (ra == rb && ra != 4) ? ra : 0;
+}
+
+/// Applies one stencil (ids, weights) to positions and attributes of output point `out`.
+struct StencilWriter
+{
+  const double* points;
+  const double* attributes;
+  int components;
+  double* outPoints;
+  double* outAttributes;
+
+  void Copy(std::size_t out, int v) const
+  {
+    for (int j = 0; j < 3; ++j)
+      outPoints[3 * out + j] = points[3 * static_cast<std::size_t>(v) + j];
+    for (int j = 0; j < components; ++j)
+      outAttributes[components * out + j] = attributes[static_cast<std::size_t>(components) * v + j];
+  }
+
+  void Apply(std::size_t out, const int* ids, const double* weights, int n) const
+  {
+    for (int j = 0; j < 3; ++j)
+    {
+      double s = 0.0;
+      for (int i = 0; i < n; ++i)
+        s += weights[i] * points[3 * static_cast<std::size_t>(ids[i]) + j];
+      outPoints[3 * out + j] = s;
+    }
+    for (int j = 0; j < components; ++j)
+    {
+      double s = 0.0;
+      for (int i = 0; i < n; ++i)
+        s += weights[i] * attributes[static_cast<std::size_t>(components) * ids[i] + j];
+      outAttributes[components * out + j] = s;
+    }
+  }
+};
+
+double Distance2(const double* p, int a, int b)
+{
+  double s = 0.0;
+  for (int j = 0; j < 3; ++j)
+  {
+    const double d = p[3 * static_cast<std::size_t>(a) + j] - p[3 * static_cast<std::size_t>(b) + j];
+    s += d * d;
+  }
+  return s;
+}
+
+} // namespace
+
+std::string ValidateAdaptiveLoopSettings(const AdaptiveLoopSettings& s)
+{
+  std::ostringstream out;
+  if (!(s.edgeAngleThreshold >= 0.0 && s.edgeAngleThreshold <= 180.0))
+    out << "EdgeAngleThreshold = " << s.edgeAngleThreshold << " must be in [0, 180] degrees";
+  else if (!(s.flatnessThreshold >= 0.0 && s.flatnessThreshold <= 1.0))
+    out << "FlatnessThreshold = " << s.flatnessThreshold << " must be in [0, 1]";
+  else if (s.maximumLevel < 0 || s.maximumLevel > MaxAdaptiveLoopLevel)
+    out << "MaximumLevel = " << s.maximumLevel << " must be in [0, " << MaxAdaptiveLoopLevel << "]";
+  else if (static_cast<int>(s.featureRule) < 0 || static_cast<int>(s.featureRule) > 2)
+    out << "FeatureRule = " << static_cast<int>(s.featureRule) << " must be 0 (Fixed), 1 (Loop) or 2 (Refine)";
+  else if (s.maximumTriangles < 1 || s.maximumTriangles > MaxAdaptiveLoopTriangles)
+    out << "MaximumTriangles = " << s.maximumTriangles << " must be in [1, " << MaxAdaptiveLoopTriangles << "]";
+  return out.str();
+}
+
+AdaptiveLoopResult AdaptiveLoopSubdivide(const AdaptiveLoopMesh& input, const AdaptiveLoopSettings& settings)
+{
+  AdaptiveLoopResult result;
+  const auto fail = [&result](std::string message) {
+    result.mesh = AdaptiveLoopMesh();
+    result.error = std::move(message);
+    result.trianglesPerLevel.clear();
+    result.pointsPerLevel.clear();
+    result.levels = 0;
+    return result;
+  };
+  if (std::string error = ValidateAdaptiveLoopSettings(settings); !error.empty())
+    return fail(error);
+  if (std::string error = ValidateInput(input); !error.empty())
+    return fail(error);
+
+  const ParallelForFunction parallelFor = settings.parallelFor ? settings.parallelFor : ParallelForFunction(SerialFor);
+  const auto report = [&settings](double fraction) {
+    return !settings.progress || settings.progress(fraction);
+  };
+
+  AdaptiveLoopMesh mesh = input;
+  mesh.origin.resize(mesh.NumberOfTriangles());
+  std::iota(mesh.origin.begin(), mesh.origin.end(), 0);
+  result.trianglesPerLevel.push_back(mesh.NumberOfTriangles());
+  result.pointsPerLevel.push_back(mesh.NumberOfPoints());
+
+  const int D = mesh.attributeComponents;
+  const bool haveRegion = !mesh.region.empty();
+  const double lambda = settings.flatnessThreshold;
+  const bool splitAll = settings.edgeAngleThreshold >= 180.0;
+  // dihedral < T  <=>  angle between normals > 180 - T  <=>  cos(angle) < cos(180 - T)
+  const double cosLimit = std::cos((180.0 - settings.edgeAngleThreshold) * Pi / 180.0);
+  const FeatureRule rule = settings.featureRule;
+
+  // Progress: level L costs about 4^L of level 0.
+  double totalWork = 0.0;
+  for (int l = 0; l < settings.maximumLevel; ++l)
+    totalWork += std::pow(4.0, l);
+  double doneWork = 0.0;
+
+  // The input's edge table, checked for manifoldness whatever the level count.
+  EdgeTable table;
+  BuildEdgeTable(mesh.triangles, mesh.NumberOfPoints(), parallelFor, table);
+  if (std::string error = CheckManifoldEdges(mesh.NumberOfPoints(), table); !error.empty())
+    return fail(error);
+  if (std::string error = CheckManifoldVertices(mesh.triangles, mesh.NumberOfPoints(), table, parallelFor);
+      !error.empty())
+    return fail(error);
+
+  for (int level = 0; level < settings.maximumLevel; ++level)
+  {
+    const double levelWork = std::pow(4.0, level);
+    const auto progressAt = [&](double phase) {
+      return report((doneWork + phase * levelWork) / std::max(totalWork, 1.0));
+    };
+    if (!progressAt(0.0))
+    {
+      result = AdaptiveLoopResult();
+      result.aborted = true;
+      return result;
+    }
+    const std::size_t nV = mesh.NumberOfPoints();
+    const std::size_t nT = mesh.NumberOfTriangles();
+    const std::vector<int>& tri = mesh.triangles;
+    const double* P = mesh.points.data();
+
+    if (level > 0)
+      BuildEdgeTable(tri, nV, parallelFor, table);
+    const std::size_t nE = table.NumberOfEdges();
+    if (!progressAt(0.3))
+    {
+      result = AdaptiveLoopResult();
+      result.aborted = true;
+      return result;
+    }
+
+    // Unit triangle normals.
+    std::vector<double> normals(3 * nT);
+    parallelFor(nT, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t t = begin; t < end; ++t)
+      {
+        const double* a = P + 3 * static_cast<std::size_t>(tri[3 * t]);
+        const double* b = P + 3 * static_cast<std::size_t>(tri[3 * t + 1]);
+        const double* c = P + 3 * static_cast<std::size_t>(tri[3 * t + 2]);
+        const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+        const double w[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+        double n[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0] };
+        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int j = 0; j < 3; ++j)
+          normals[3 * t + j] = len > 0.0 ? n[j] / len : 0.0;
+      }
+    });
+
+    // Feature edges: boundary, midvein, user-marked.
+    std::vector<unsigned char> marked(nE, 0);
+    for (const auto& fe : mesh.featureEdges)
+    {
+      const int e = table.EdgeOf(fe[0], fe[1]);
+      if (e >= 0)
+        marked[e] = 1;
+    }
+    std::vector<int> edgeFirst(nE); // smaller vertex of every edge
+    std::vector<unsigned char> feature(nE, 0);
+    std::vector<int> oddId(nE, 0); // 1/0 split flags, then the output point ids
+    parallelFor(nV, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t v = begin; v < end; ++v)
+        for (int e = table.edgeOffsets[v]; e < table.edgeOffsets[v + 1]; ++e)
+          edgeFirst[e] = static_cast<int>(v);
+    });
+    parallelFor(nE, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e)
+      {
+        const int a = edgeFirst[e], b = table.edgeOther[e];
+        const bool isFeature = table.edgeUses[e] == 1 || marked[e] ||
+          (settings.midveinIsFeature && haveRegion && mesh.region[a] == 1 && mesh.region[b] == 1);
+        feature[e] = isFeature;
+        bool split;
+        if (isFeature)
+          split = rule != FeatureRule::Fixed;
+        else if (splitAll)
+          split = true;
+        else
+        {
+          const double* n0 = normals.data() + 3 * static_cast<std::size_t>(table.edgeTriangles[2 * e]);
+          const double* n1 = normals.data() + 3 * static_cast<std::size_t>(table.edgeTriangles[2 * e + 1]);
+          double dot = n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2];
+          if (table.edgeSameDirection[e])
+            dot = -dot; // inconsistently oriented neighbours: compare as if oriented alike
+          split = dot < cosLimit;
+        }
+        oddId[e] = split ? 1 : 0;
+      }
+    });
+    int nSplit = 0;
+    for (std::size_t e = 0; e < nE; ++e)
+    {
+      const int s = oddId[e];
+      oddId[e] = s ? static_cast<int>(nV) + nSplit : -1;
+      nSplit += s;
+    }
+    if (nSplit == 0)
+      break; // nothing would change but smoothing: the run has converged
+
+    // Children per triangle and the output size.
+    std::vector<int> childOffsets(nT + 1, 0);
+    parallelFor(nT, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t t = begin; t < end; ++t)
+      {
+        int n = 1;
+        for (int c = 0; c < 3; ++c)
+          n += oddId[table.triangleEdges[3 * t + c]] >= 0 ? 1 : 0;
+        childOffsets[t] = n;
+      }
+    });
+    std::size_t nTout = 0;
+    for (std::size_t t = 0; t < nT; ++t)
+    {
+      const int n = childOffsets[t];
+      childOffsets[t] = static_cast<int>(nTout);
+      nTout += static_cast<std::size_t>(n);
+      if (nTout > settings.maximumTriangles)
+      {
+        std::ostringstream out;
+        out << "level " << level + 1 << " would make more than MaximumTriangles = " << settings.maximumTriangles
+            << " triangles (accepted range [1, " << MaxAdaptiveLoopTriangles
+            << "]); lower MaximumLevel or raise MaximumTriangles";
+        return fail(out.str());
+      }
+    }
+    childOffsets[nT] = static_cast<int>(nTout);
+    const std::size_t nVout = nV + static_cast<std::size_t>(nSplit);
+
+    // Feature vertices: their feature-edge count and first two feature neighbours (serial, in edge order).
+    std::vector<int> featureCount(nV, 0);
+    std::vector<int> featureNbr(2 * nV, -1);
+    for (std::size_t e = 0; e < nE; ++e)
+      if (feature[e])
+      {
+        const int a = edgeFirst[e], b = table.edgeOther[e];
+        if (featureCount[a] < 2)
+          featureNbr[2 * a + featureCount[a]] = b;
+        if (featureCount[b] < 2)
+          featureNbr[2 * b + featureCount[b]] = a;
+        ++featureCount[a];
+        ++featureCount[b];
+      }
+    if (!progressAt(0.5))
+    {
+      result = AdaptiveLoopResult();
+      result.aborted = true;
+      return result;
+    }
+
+    AdaptiveLoopMesh next;
+    next.attributeComponents = D;
+    next.points.resize(3 * nVout);
+    next.attributes.resize(static_cast<std::size_t>(D) * nVout);
+    if (haveRegion)
+      next.region.resize(nVout);
+    const StencilWriter writer{ P, mesh.attributes.data(), D, next.points.data(), next.attributes.data() };
+
+    // Even points.
+    parallelFor(nV, [&](std::size_t begin, std::size_t end) {
+      std::vector<int> ids;
+      std::vector<double> weights;
+      std::vector<int> nbrs;
+      nbrs.reserve(32);
+      for (std::size_t vv = begin; vv < end; ++vv)
+      {
+        const int v = static_cast<int>(vv);
+        if (haveRegion)
+          next.region[vv] = mesh.region[vv];
+        const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
+        const int f = featureCount[vv];
+        if (k == 0 || (f > 0 && (rule != FeatureRule::Loop || f != 2)))
+        {
+          writer.Copy(vv, v);
+          continue;
+        }
+        if (f == 2)
+        {
+          const int crease[3] = { v, featureNbr[2 * vv], featureNbr[2 * vv + 1] };
+          const double creaseWeights[3] = { 0.75, 0.125, 0.125 };
+          writer.Apply(vv, crease, creaseWeights, 3);
+          continue;
+        }
+        if (lambda < 1.0)
+        {
+          double s[3] = { 0.0, 0.0, 0.0 };
+          for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)
+          {
+            const double* n = normals.data() + 3 * static_cast<std::size_t>(table.vertexCorners[i] / 3);
+            s[0] += n[0];
+            s[1] += n[1];
+            s[2] += n[2];
+          }
+          const double flatness = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / k;
+          if (flatness > lambda)
+          {
+            writer.Copy(vv, v);
+            continue;
+          }
+        }
+        GatherNeighbours(tri, table, v, false, nbrs);
+        const int n = static_cast<int>(nbrs.size());
+        const double beta = LoopBeta(n);
+        ids.assign(1, v);
+        weights.assign(1, 1.0 - n * beta);
+        for (int w : nbrs)
+        {
+          ids.push_back(w);
+          weights.push_back(beta);
+        }
+        writer.Apply(vv, ids.data(), weights.data(), n + 1);
+      }
+    });
+
+    // Odd points.
+    parallelFor(nE, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e)
+      {
+        const int id = oddId[e];
+        if (id < 0)
+          continue;
+        const int a = edgeFirst[e], b = table.edgeOther[e];
+        if (feature[e])
+        {
+          const int ids[2] = { a, b };
+          const double w[2] = { 0.5, 0.5 };
+          writer.Apply(static_cast<std::size_t>(id), ids, w, 2);
+        }
+        else
+        {
+          const int ids[4] = { a, b, table.edgeOpposite[2 * e], table.edgeOpposite[2 * e + 1] };
+          const double w[4] = { 0.375, 0.375, 0.125, 0.125 };
+          writer.Apply(static_cast<std::size_t>(id), ids, w, 4);
+        }
+        if (haveRegion)
+          next.region[id] = OddRegion(mesh.region[a], mesh.region[b], table.edgeUses[e] == 1);
+      }
+    });
+    if (!progressAt(0.75))
+    {
+      result = AdaptiveLoopResult();
+      result.aborted = true;
+      return result;
+    }
+
+    // Children.
+    next.triangles.resize(3 * nTout);
+    next.origin.resize(nTout);
+    const double* Q = next.points.data();
+    parallelFor(nT, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t t = begin; t < end; ++t)
+      {
+        const int v[3] = { tri[3 * t], tri[3 * t + 1], tri[3 * t + 2] };
+        const int m[3] = { oddId[table.triangleEdges[3 * t]], oddId[table.triangleEdges[3 * t + 1]],
+          oddId[table.triangleEdges[3 * t + 2]] };
+        int* out = next.triangles.data() + 3 * static_cast<std::size_t>(childOffsets[t]);
+        const int nChildren = childOffsets[t + 1] - childOffsets[t];
+        const auto put = [&out](int a, int b, int c) {
+          out[0] = a;
+          out[1] = b;
+          out[2] = c;
+          out += 3;
+        };
+        const int splitCount = nChildren - 1;
+        if (splitCount == 0)
+          put(v[0], v[1], v[2]);
+        else if (splitCount == 3)
+        {
+          put(v[0], m[0], m[2]);
+          put(m[0], v[1], m[1]);
+          put(m[2], m[1], v[2]);
+          put(m[0], m[1], m[2]);
+        }
+        else if (splitCount == 1)
+        {
+          const int c = m[0] >= 0 ? 0 : (m[1] >= 0 ? 1 : 2);
+          const int a = v[c], b = v[(c + 1) % 3], o = v[(c + 2) % 3];
+          put(a, m[c], o);
+          put(m[c], b, o);
+        }
+        else
+        {
+          const int c = m[0] < 0 ? 0 : (m[1] < 0 ? 1 : 2); // the unsplit edge (a, b)
+          const int a = v[c], b = v[(c + 1) % 3], o = v[(c + 2) % 3];
+          const int m1 = m[(c + 1) % 3], m2 = m[(c + 2) % 3]; // on (b, o) and (o, a)
+          put(m1, o, m2);
+          if (Distance2(Q, a, m1) <= Distance2(Q, b, m2))
+          {
+            put(a, b, m1);
+            put(a, m1, m2);
+          }
+          else
+          {
+            put(a, b, m2);
+            put(b, m1, m2);
+          }
+        }
+        for (int i = childOffsets[t]; i < childOffsets[t + 1]; ++i)
+          next.origin[i] = mesh.origin[t];
+      }
+    });
+
+    // User-marked feature edges follow their halves.
+    for (std::size_t e = 0; e < nE; ++e)
+      if (marked[e])
+      {
+        const int a = edgeFirst[e], b = table.edgeOther[e];
+        if (oddId[e] >= 0)
+        {
+          next.featureEdges.push_back({ a, oddId[e] });
+          next.featureEdges.push_back({ oddId[e], b });
+        }
+        else
+          next.featureEdges.push_back({ a, b });
+      }
+
+    mesh = std::move(next);
+    ++result.levels;
+    result.trianglesPerLevel.push_back(mesh.NumberOfTriangles());
+    result.pointsPerLevel.push_back(mesh.NumberOfPoints());
+    doneWork += levelWork;
+  }
+  if (!report(1.0))
+  {
+    result = AdaptiveLoopResult();
+    result.aborted = true;
+    return result;
+  }
+  result.mesh = std::move(mesh);
+  return result;
+}
+
+} // namespace plantmorph

@@ -1,0 +1,110 @@
+// Adaptive Loop subdivision of a triangle surface (paper 003, sec. 2.3; spec 03, AdaptiveLoopFilter), on flat
+// arrays. Plain C++17, no VTK: vtkAdaptiveLoopFilter is the thin VTK layer over this.
+//
+// One level, on the current mesh:
+//  1. Edge table: every undirected edge (a, b), a < b, with its one or two triangles and their opposite vertices,
+//     built by bucketing the triangles' vertex pairs by their smaller vertex (a counting sort over a vertex ->
+//     triangle table), never by per-edge neighbour queries. An edge in three or more triangles, or a vertex whose
+//     triangles form more than one fan, is a non-manifold input and an error naming the point ids.
+//  2. Feature edges: boundary edges (one triangle), edges whose both ends have region 1 (the midvein) when
+//     `midveinIsFeature`, and the user's `featureEdges`.
+//  3. Odd points. An interior non-feature edge (v1, v2) with triangles (v1, v2, v3), (v1, v2, v4) gets the point
+//     (3 v1 + 3 v2 + v3 + v4) / 8 when its dihedral angle is below `edgeAngleThreshold` degrees (180 = flat;
+//     a threshold of 180 splits every interior edge, flat ones too). Feature edges: FeatureRule::Fixed never
+//     splits them; Loop and Refine split them at the midpoint.
+//  4. Even points. Interior (non-feature) vertex v with k incident triangles of unit normals N_i: N_v = normalised
+//     sum of the N_i (eq. (1)), flatness S_v = (1/k) sum N_i . N_v = |sum N_i| / k (eq. (2)). S_v > lambda
+//     (`flatnessThreshold`) keeps v in place; otherwise v' = (1 - n beta) v + beta sum(neighbours), n its number of
+//     neighbours, beta = 3/16 for n = 3 and (1/n)(5/8 - (3/8 + 1/4 cos(2 pi / n))^2) for n > 3. lambda >= 1 moves
+//     every interior vertex (S_v can round to 1 + 1e-16). Vertices on feature edges: Fixed and Refine keep them;
+//     Loop moves a vertex with exactly two feature edges to 1/8, 3/4, 1/8 of its two feature neighbours and keeps
+//     corners (one or three and more feature edges) in place. The crease rule ignores flatness.
+//  5. Split every triangle by the number of its split edges: 0 stays, 1 into 2, 2 into 3 (the quad cut along its
+//     shorter diagonal, measured on the new positions; a tie takes the diagonal from the unsplit edge's first
+//     vertex), 3 into 4. An edge is split for both of its triangles, so there are no T-junctions. Orientation is kept.
+//  Levels repeat up to `maximumLevel`; a level that would insert no point is not applied and ends the run.
+//
+// Point data: every output point is a weighted sum of current points (its stencil); the same weights are applied to
+// the positions and to every component of `attributes`, so any point array follows the surface. Region (integer)
+// is not interpolated: an even point keeps its region; an odd point on a boundary edge gets 4 (margin) if either
+// end is 4, else the ends' common region, else 0; an odd point on an interior edge gets the ends' common region
+// unless it is 4 (an interior chord between two margin points lies in the blade), else 0 (blade).
+// Cell data: every output triangle records the input triangle it lies in (`origin`).
+//
+// Output is deterministic: the same input gives bit-identical output whatever the parallel-for runs on, because
+// every result is written by exactly one loop index and sums are taken in a fixed order.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+
+/// How feature edges (boundary, midvein, user-marked) are treated.
+enum class FeatureRule : int
+{
+  Fixed = 0,  ///< the paper: feature edges never split, feature points never move
+  Loop = 1,   ///< Loop's crease rules: midpoints on feature edges, 1/8 3/4 1/8 along feature curves, corners stay
+  Refine = 2, ///< feature edges split at their midpoints, feature points stay: the curves gain samples, not shape
+};
+
+/// Runs body(begin, end) over sub-ranges covering [0, n), possibly concurrently; each index in exactly one range.
+using ParallelForFunction =
+  std::function<void(std::size_t n, const std::function<void(std::size_t begin, std::size_t end)>& body)>;
+
+/// The default: one call body(0, n) on the calling thread.
+void SerialFor(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body);
+
+struct AdaptiveLoopSettings
+{
+  double edgeAngleThreshold = 170.0; ///< degrees in [0, 180]: split interior edges whose dihedral angle is below
+  double flatnessThreshold = 0.999;  ///< lambda in [0, 1]: keep vertices flatter than it (1: move all)
+  int maximumLevel = 2;              ///< levels in [0, MaxAdaptiveLoopLevel]
+  FeatureRule featureRule = FeatureRule::Fixed;
+  bool midveinIsFeature = true;         ///< edges whose two ends have region 1 are feature edges
+  std::size_t maximumTriangles = 50000000; ///< a level that would make more is refused with an error (memory guard)
+  ParallelForFunction parallelFor;      ///< empty: serial
+  std::function<bool(double)> progress; ///< fraction in [0, 1]; returning false aborts (result.aborted, empty mesh)
+};
+
+inline constexpr int MaxAdaptiveLoopLevel = 10;
+inline constexpr std::size_t MaxAdaptiveLoopTriangles = 500000000; ///< ids stay within int
+
+/// A triangle surface on flat arrays.
+struct AdaptiveLoopMesh
+{
+  std::vector<double> points;        ///< x, y, z of every point
+  std::vector<int> triangles;        ///< three point ids per triangle
+  int attributeComponents = 0;       ///< values per point in `attributes`
+  std::vector<double> attributes;    ///< per point, interleaved; interpolated with the position stencils
+  std::vector<int> region;           ///< per point, or empty; see the Region rule above
+  std::vector<std::array<int, 2>> featureEdges; ///< user-marked feature edges (point pairs, any order)
+  std::vector<int> origin; ///< output only: per triangle, the input triangle it lies in
+
+  std::size_t NumberOfPoints() const { return this->points.size() / 3; }
+  std::size_t NumberOfTriangles() const { return this->triangles.size() / 3; }
+};
+
+struct AdaptiveLoopResult
+{
+  AdaptiveLoopMesh mesh;                    ///< empty on error or abort
+  std::vector<std::size_t> trianglesPerLevel; ///< [0] the input's, then one entry per applied level
+  std::vector<std::size_t> pointsPerLevel;    ///< same, points
+  int levels = 0;                           ///< levels applied
+  std::string error;                        ///< non-empty: the input or settings were refused; mesh is empty
+  bool aborted = false;
+};
+
+/// Empty when the settings are valid, else a message naming the setting and its accepted range.
+std::string ValidateAdaptiveLoopSettings(const AdaptiveLoopSettings& settings);
+
+/// Subdivides `input`. Errors (bad settings, NaN coordinates, ids out of range, degenerate or non-manifold
+/// triangles, too many triangles) leave result.mesh empty with result.error set; nothing is half made.
+AdaptiveLoopResult AdaptiveLoopSubdivide(const AdaptiveLoopMesh& input, const AdaptiveLoopSettings& settings);
+
+} // namespace plantmorph

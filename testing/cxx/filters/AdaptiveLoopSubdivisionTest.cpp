@@ -1,0 +1,609 @@
+// AdaptiveLoopSubdivide (filters/core) on flat arrays: the oracle (with adaptivity off it is plain Loop subdivision,
+// checked against a brute-force reference written here with std::map edges), conformity after random adaptive
+// levels, flat regions left alone, the Fixed rule keeping margin and midvein bit-identical, point data following the
+// position stencils, the Region rule, and the refusals (non-manifold, bad settings, budget, abort).
+#include "AdaptiveLoopSubdivision.h"
+#include "DeformedRectangleLeaf.h"
+#include "DeformedRectanglePresets.h"
+#include "MeshInvariants.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+#include <thread>
+
+namespace plantmorph
+{
+namespace
+{
+
+using Tri = std::array<int, 3>;
+
+// ---------------------------------------------------------------------------------------------------------------
+// Meshes
+
+AdaptiveLoopMesh Icosahedron(bool perturb)
+{
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  AdaptiveLoopMesh mesh;
+  mesh.points = { -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1,
+    -t, 0, -1, -t, 0, 1 };
+  mesh.triangles = { 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
+    3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1 };
+  if (perturb)
+  {
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+    for (double& x : mesh.points)
+      x += jitter(random);
+  }
+  return mesh;
+}
+
+/// The ginkgo blade of LeafOutlineSource (quality mode), lifted by a bump so it is curved; region = the blade's.
+AdaptiveLoopMesh Blade(int resolution = 16, double bump = 0.6)
+{
+  LeafMeshSettings settings;
+  settings.resolution = resolution;
+  LeafGeometry leaf;
+  const std::string error =
+    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings, leaf);
+  EXPECT_EQ(error, "");
+  AdaptiveLoopMesh mesh;
+  for (const auto& p : leaf.blade.points)
+  {
+    mesh.points.push_back(p.x());
+    mesh.points.push_back(p.y());
+    mesh.points.push_back(bump * std::sin(0.8 * p.x()) * std::cos(0.5 * p.y()) + 0.05 * p.x() * p.x());
+  }
+  for (const auto& t : leaf.blade.triangles)
+    mesh.triangles.insert(mesh.triangles.end(), t.begin(), t.end());
+  mesh.region = leaf.blade.region;
+  mesh.attributeComponents = 2;
+  for (const auto& uv : leaf.blade.uv)
+  {
+    mesh.attributes.push_back(uv.x());
+    mesh.attributes.push_back(uv.y());
+  }
+  return mesh;
+}
+
+/// A flat n x n grid in z = 0 over [0, 1]^2, triangles counter-clockwise.
+AdaptiveLoopMesh Grid(int n)
+{
+  AdaptiveLoopMesh mesh;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+    {
+      mesh.points.push_back(static_cast<double>(i) / n);
+      mesh.points.push_back(static_cast<double>(j) / n);
+      mesh.points.push_back(0.0);
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+    {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      mesh.triangles.insert(mesh.triangles.end(), { a, b, d, a, d, c });
+    }
+  return mesh;
+}
+
+AdaptiveLoopSettings PlainLoop(int levels)
+{
+  AdaptiveLoopSettings s;
+  s.edgeAngleThreshold = 180.0;
+  s.flatnessThreshold = 1.0;
+  s.featureRule = FeatureRule::Loop;
+  s.midveinIsFeature = false;
+  s.maximumLevel = levels;
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The brute-force reference: one level of plain Loop with crease rules on the boundary, written independently.
+// Odd points are numbered after the even ones in the order of std::map<(min, max)>.
+
+AdaptiveLoopMesh ReferenceLoopLevel(const AdaptiveLoopMesh& in)
+{
+  const int nV = static_cast<int>(in.NumberOfPoints());
+  std::map<std::pair<int, int>, std::vector<int>> opposite;
+  std::vector<std::set<int>> neighbours(nV);
+  for (std::size_t t = 0; t < in.NumberOfTriangles(); ++t)
+    for (int c = 0; c < 3; ++c)
+    {
+      const int a = in.triangles[3 * t + c], b = in.triangles[3 * t + (c + 1) % 3],
+                o = in.triangles[3 * t + (c + 2) % 3];
+      opposite[{ std::min(a, b), std::max(a, b) }].push_back(o);
+      neighbours[a].insert(b);
+      neighbours[b].insert(a);
+    }
+  std::vector<std::vector<int>> boundaryNeighbours(nV);
+  for (const auto& [edge, opp] : opposite)
+    if (opp.size() == 1)
+    {
+      boundaryNeighbours[edge.first].push_back(edge.second);
+      boundaryNeighbours[edge.second].push_back(edge.first);
+    }
+  AdaptiveLoopMesh out;
+  const auto P = [&in](int i, int j) { return in.points[3 * i + j]; };
+  for (int v = 0; v < nV; ++v)
+    for (int j = 0; j < 3; ++j)
+    {
+      double x;
+      const auto& bn = boundaryNeighbours[v];
+      if (neighbours[v].empty())
+        x = P(v, j);
+      else if (bn.size() == 2)
+        x = 0.75 * P(v, j) + 0.125 * (P(bn[0], j) + P(bn[1], j));
+      else if (!bn.empty())
+        x = P(v, j);
+      else
+      {
+        const int n = static_cast<int>(neighbours[v].size());
+        const double beta = n == 3 ? 3.0 / 16.0
+                                   : (5.0 / 8.0 - std::pow(3.0 / 8.0 + std::cos(2.0 * M_PI / n) / 4.0, 2)) / n;
+        double sum = 0.0;
+        for (int w : neighbours[v])
+          sum += P(w, j);
+        x = (1.0 - n * beta) * P(v, j) + beta * sum;
+      }
+      out.points.push_back(x);
+    }
+  std::map<std::pair<int, int>, int> oddId;
+  for (const auto& [edge, opp] : opposite)
+  {
+    oddId[edge] = static_cast<int>(out.points.size() / 3);
+    for (int j = 0; j < 3; ++j)
+      out.points.push_back(opp.size() == 1 ? 0.5 * (P(edge.first, j) + P(edge.second, j))
+                                           : 0.375 * (P(edge.first, j) + P(edge.second, j)) +
+                             0.125 * (P(opp[0], j) + P(opp[1], j)));
+  }
+  for (std::size_t t = 0; t < in.NumberOfTriangles(); ++t)
+  {
+    const int* v = in.triangles.data() + 3 * t;
+    int m[3];
+    for (int c = 0; c < 3; ++c)
+      m[c] = oddId.at({ std::min(v[c], v[(c + 1) % 3]), std::max(v[c], v[(c + 1) % 3]) });
+    out.triangles.insert(out.triangles.end(),
+      { v[0], m[0], m[2], m[0], v[1], m[1], m[2], m[1], v[2], m[0], m[1], m[2] });
+  }
+  return out;
+}
+
+/// Triangles with their smallest id first (orientation kept), sorted.
+std::vector<Tri> CanonicalTriangles(const std::vector<int>& triangles)
+{
+  std::vector<Tri> out;
+  for (std::size_t i = 0; i < triangles.size(); i += 3)
+  {
+    Tri t{ triangles[i], triangles[i + 1], triangles[i + 2] };
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    out.push_back(t);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+testing::Triangles AsTriangles(const std::vector<int>& triangles)
+{
+  testing::Triangles out;
+  for (std::size_t i = 0; i < triangles.size(); i += 3)
+    out.push_back({ triangles[i], triangles[i + 1], triangles[i + 2] });
+  return out;
+}
+
+double MaxDifference(const std::vector<double>& a, const std::vector<double>& b)
+{
+  EXPECT_EQ(a.size(), b.size());
+  double d = 0.0;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    d = std::max(d, std::abs(a[i] - b[i]));
+  return d;
+}
+
+void ExpectOracle(const AdaptiveLoopMesh& input, int levels)
+{
+  AdaptiveLoopMesh reference = input;
+  reference.attributes.clear();
+  reference.attributeComponents = 0;
+  for (int level = 1; level <= levels; ++level)
+  {
+    reference = ReferenceLoopLevel(reference);
+    const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, PlainLoop(level));
+    ASSERT_EQ(result.error, "");
+    ASSERT_EQ(result.levels, level);
+    ASSERT_EQ(result.mesh.NumberOfPoints(), reference.NumberOfPoints()) << "level " << level;
+    EXPECT_LT(MaxDifference(result.mesh.points, reference.points), 1e-12) << "level " << level;
+    EXPECT_EQ(CanonicalTriangles(result.mesh.triangles), CanonicalTriangles(reference.triangles))
+      << "level " << level;
+    ASSERT_EQ(result.trianglesPerLevel.size(), static_cast<std::size_t>(level + 1));
+    for (int l = 0; l <= level; ++l)
+      EXPECT_EQ(result.trianglesPerLevel[l], input.NumberOfTriangles() << (2 * l));
+  }
+}
+
+/// Interior edges in two triangles, boundary edges in one, Euler characteristic and boundary loops kept.
+void ExpectConforming(const AdaptiveLoopMesh& input, const AdaptiveLoopMesh& output, const std::string& what)
+{
+  const auto inUse = testing::EdgeUse(AsTriangles(input.triangles));
+  const auto outUse = testing::EdgeUse(AsTriangles(output.triangles));
+  for (const auto& [edge, count] : outUse)
+    ASSERT_TRUE(count == 1 || count == 2) << what << ": edge " << edge.first << "-" << edge.second << " in "
+                                          << count << " triangles";
+  const auto euler = [](std::size_t v, std::size_t e, std::size_t f) {
+    return static_cast<long>(v) - static_cast<long>(e) + static_cast<long>(f);
+  };
+  EXPECT_EQ(euler(input.NumberOfPoints(), inUse.size(), input.NumberOfTriangles()),
+    euler(output.NumberOfPoints(), outUse.size(), output.NumberOfTriangles()))
+    << what;
+  EXPECT_EQ(testing::BoundaryLoops(AsTriangles(input.triangles)).size(),
+    testing::BoundaryLoops(AsTriangles(output.triangles)).size())
+    << what;
+  // Every point is used (an odd point used by one side only would be a T-junction).
+  std::vector<int> used(output.NumberOfPoints(), 0);
+  for (int v : output.triangles)
+    used[v] = 1;
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0) << what;
+  // Orientation kept: a directed edge appears at most once.
+  std::set<std::pair<int, int>> directed;
+  for (std::size_t i = 0; i < output.triangles.size(); i += 3)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_TRUE(directed.insert({ output.triangles[i + c], output.triangles[i + (c + 1) % 3] }).second) << what;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+
+TEST(AdaptiveLoopSubdivision, OracleClosedMeshIsPlainLoop)
+{
+  ExpectOracle(Icosahedron(true), 4);
+}
+
+TEST(AdaptiveLoopSubdivision, OracleOpenMeshIsPlainLoopWithBoundaryRules)
+{
+  ExpectOracle(Blade(12), 3);
+}
+
+TEST(AdaptiveLoopSubdivision, ConformingAfterRandomAdaptiveLevels)
+{
+  std::mt19937_64 random(20261121);
+  std::uniform_real_distribution<double> angle(90.0, 180.0), flatness(0.9, 1.0);
+  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10) };
+  for (int trial = 0; trial < 24; ++trial)
+  {
+    const AdaptiveLoopMesh& input = meshes[trial % 2];
+    AdaptiveLoopSettings s;
+    s.edgeAngleThreshold = angle(random);
+    s.flatnessThreshold = flatness(random);
+    s.featureRule = static_cast<FeatureRule>(trial % 3);
+    s.maximumLevel = 1 + trial % 4;
+    const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+    ASSERT_EQ(result.error, "");
+    const std::string what = "trial " + std::to_string(trial) + " angle " + std::to_string(s.edgeAngleThreshold);
+    ExpectConforming(input, result.mesh, what);
+    EXPECT_EQ(result.trianglesPerLevel.back(), result.mesh.NumberOfTriangles());
+    EXPECT_EQ(result.mesh.origin.size(), result.mesh.NumberOfTriangles());
+  }
+}
+
+TEST(AdaptiveLoopSubdivision, AdaptiveSplitsOnlySomeEdgesAndMakesTwoAndThreeWaySplits)
+{
+  AdaptiveLoopSettings s;
+  s.edgeAngleThreshold = 177.0;
+  s.flatnessThreshold = 0.995;
+  s.maximumLevel = 1;
+  const AdaptiveLoopMesh input = Blade(16);
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+  ASSERT_EQ(result.error, "");
+  const std::size_t n = input.NumberOfTriangles(), m = result.mesh.NumberOfTriangles();
+  EXPECT_GT(m, n);
+  EXPECT_LT(m, 4 * n);
+  // Children per parent: some parents have 2 or 3 children (the 1-to-2 and 1-to-3 splits).
+  std::vector<int> children(n, 0);
+  for (int o : result.mesh.origin)
+    ++children[o];
+  EXPECT_GT(std::count(children.begin(), children.end(), 2), 0);
+  EXPECT_GT(std::count(children.begin(), children.end(), 3), 0);
+  EXPECT_GT(std::count(children.begin(), children.end(), 4), 0);
+  ExpectConforming(input, result.mesh, "one adaptive level");
+}
+
+TEST(AdaptiveLoopSubdivision, FlatMeshIsLeftUntouched)
+{
+  AdaptiveLoopMesh input = Grid(8);
+  AdaptiveLoopSettings s; // adaptive defaults, Fixed
+  s.maximumLevel = 3;
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+  ASSERT_EQ(result.error, "");
+  EXPECT_EQ(result.levels, 0);
+  EXPECT_EQ(result.mesh.points, input.points);
+  EXPECT_EQ(result.mesh.triangles, input.triangles);
+  EXPECT_EQ(result.trianglesPerLevel, std::vector<std::size_t>{ input.NumberOfTriangles() });
+}
+
+TEST(AdaptiveLoopSubdivision, FlatPartOfABentMeshIsLeftUntouched)
+{
+  // A 16 x 16 grid folded along x = 0.75: only triangles next to the fold bend.
+  AdaptiveLoopMesh input = Grid(16);
+  for (std::size_t i = 0; i < input.NumberOfPoints(); ++i)
+    if (input.points[3 * i] > 0.75)
+      input.points[3 * i + 2] = 0.5 * (input.points[3 * i] - 0.75);
+  AdaptiveLoopSettings s;
+  s.edgeAngleThreshold = 179.0;
+  s.flatnessThreshold = 0.9999;
+  s.maximumLevel = 1;
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+  ASSERT_EQ(result.error, "");
+  ASSERT_EQ(result.levels, 1);
+  EXPECT_GT(result.mesh.NumberOfTriangles(), input.NumberOfTriangles());
+  // Points at least two grid steps from the fold keep their place bit for bit; their triangles are not split.
+  const auto farFromFold = [&input](int v) { return std::abs(input.points[3 * v] - 0.75) > 2.0 / 16.0 + 1e-12; };
+  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
+    if (farFromFold(static_cast<int>(v)))
+    {
+      for (int j = 0; j < 3; ++j)
+        ASSERT_EQ(result.mesh.points[3 * v + j], input.points[3 * v + j]) << "point " << v;
+    }
+  const auto outTriangles = CanonicalTriangles(result.mesh.triangles);
+  for (const Tri& t : CanonicalTriangles(input.triangles))
+    if (farFromFold(t[0]) && farFromFold(t[1]) && farFromFold(t[2]))
+    {
+      EXPECT_TRUE(std::binary_search(outTriangles.begin(), outTriangles.end(), t));
+    }
+  ExpectConforming(input, result.mesh, "fold");
+}
+
+TEST(AdaptiveLoopSubdivision, FixedRuleKeepsMarginAndMidveinBitIdentical)
+{
+  const AdaptiveLoopMesh input = Blade(16);
+  AdaptiveLoopSettings s;
+  s.edgeAngleThreshold = 180.0;
+  s.flatnessThreshold = 1.0;
+  s.featureRule = FeatureRule::Fixed;
+  s.maximumLevel = 3;
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+  ASSERT_EQ(result.error, "");
+  ASSERT_EQ(result.levels, 3);
+  std::size_t featurePoints = 0;
+  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
+    if (input.region[v] == 1 || input.region[v] == 4)
+    {
+      ++featurePoints;
+      for (int j = 0; j < 3; ++j)
+        ASSERT_EQ(result.mesh.points[3 * v + j], input.points[3 * v + j]) << "point " << v;
+    }
+  ASSERT_GT(featurePoints, 20u);
+  // No new point on the margin or the midvein: the boundary is the input's polygon, the midvein its polyline.
+  const auto loopsIn = testing::BoundaryLoops(AsTriangles(input.triangles));
+  const auto loopsOut = testing::BoundaryLoops(AsTriangles(result.mesh.triangles));
+  ASSERT_EQ(loopsOut.size(), 1u);
+  EXPECT_EQ(loopsOut[0].size(), loopsIn[0].size());
+  const std::size_t midveinIn = std::count(input.region.begin(), input.region.end(), 1);
+  const std::size_t midveinOut = std::count(result.mesh.region.begin(), result.mesh.region.end(), 1);
+  EXPECT_EQ(midveinOut, midveinIn);
+  EXPECT_GT(result.mesh.NumberOfTriangles(), 20 * input.NumberOfTriangles());
+}
+
+TEST(AdaptiveLoopSubdivision, RefineRuleSamplesFeatureCurvesWithoutMovingThem)
+{
+  const AdaptiveLoopMesh input = Blade(12);
+  AdaptiveLoopSettings s = PlainLoop(2);
+  s.featureRule = FeatureRule::Refine;
+  s.midveinIsFeature = true;
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+  ASSERT_EQ(result.error, "");
+  // Input margin and midvein points stay; the boundary has 4 times the points; every new margin point lies on the
+  // input boundary polygon (x, y and z).
+  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
+    if (input.region[v] == 1 || input.region[v] == 4)
+    {
+      for (int j = 0; j < 3; ++j)
+        ASSERT_EQ(result.mesh.points[3 * v + j], input.points[3 * v + j]);
+    }
+  const auto loopsIn = testing::BoundaryLoops(AsTriangles(input.triangles));
+  const auto loopsOut = testing::BoundaryLoops(AsTriangles(result.mesh.triangles));
+  ASSERT_EQ(loopsOut.size(), 1u);
+  EXPECT_EQ(loopsOut[0].size(), 4 * loopsIn[0].size());
+  const std::size_t midveinIn = std::count(input.region.begin(), input.region.end(), 1);
+  const std::size_t midveinOut = std::count(result.mesh.region.begin(), result.mesh.region.end(), 1);
+  EXPECT_EQ(midveinOut, 4 * (midveinIn - 1) + 1);
+}
+
+TEST(AdaptiveLoopSubdivision, AttributesFollowThePositionStencils)
+{
+  AdaptiveLoopMesh input = Blade(12);
+  // Attribute = the position itself, plus the old LeafUV: after any adaptive run it must equal the output positions.
+  input.attributeComponents = 5;
+  std::vector<double> attributes;
+  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
+  {
+    attributes.insert(attributes.end(), input.points.begin() + 3 * v, input.points.begin() + 3 * v + 3);
+    attributes.insert(attributes.end(), input.attributes.begin() + 2 * v, input.attributes.begin() + 2 * v + 2);
+  }
+  input.attributes = attributes;
+  for (const FeatureRule rule : { FeatureRule::Fixed, FeatureRule::Loop, FeatureRule::Refine })
+  {
+    AdaptiveLoopSettings s;
+    s.featureRule = rule;
+    s.edgeAngleThreshold = 175.0;
+    s.flatnessThreshold = 0.999;
+    s.maximumLevel = 3;
+    const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+    ASSERT_EQ(result.error, "");
+    ASSERT_EQ(result.mesh.attributes.size(), 5 * result.mesh.NumberOfPoints());
+    for (std::size_t v = 0; v < result.mesh.NumberOfPoints(); ++v)
+    {
+      for (int j = 0; j < 3; ++j)
+        ASSERT_EQ(result.mesh.attributes[5 * v + j], result.mesh.points[3 * v + j]);
+      // LeafUV stays in the canonical leaf's range (convex weights on a disk, up to Loop's small overshoot).
+      EXPECT_GE(result.mesh.attributes[5 * v + 3], -0.5 - 1e-9);
+      EXPECT_LE(result.mesh.attributes[5 * v + 3], 0.5 + 1e-9);
+    }
+  }
+}
+
+TEST(AdaptiveLoopSubdivision, RegionRule)
+{
+  const AdaptiveLoopMesh input = Blade(12);
+  AdaptiveLoopSettings s = PlainLoop(2);
+  s.featureRule = FeatureRule::Refine;
+  s.midveinIsFeature = true;
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+  ASSERT_EQ(result.error, "");
+  const auto& out = result.mesh;
+  ASSERT_EQ(out.region.size(), out.NumberOfPoints());
+  // Boundary points are margin (4) or midvein ends (1); interior points are blade (0) or midvein (1), and a
+  // midvein point sits between two midvein neighbours on the midvein's line (Refine keeps it straight).
+  std::set<int> boundary;
+  for (const auto& loop : testing::BoundaryLoops(AsTriangles(out.triangles)))
+    boundary.insert(loop.begin(), loop.end());
+  for (std::size_t v = 0; v < out.NumberOfPoints(); ++v)
+  {
+    const int r = out.region[v];
+    if (boundary.count(static_cast<int>(v)))
+    {
+      EXPECT_TRUE(r == 4 || r == 1) << v;
+    }
+    else
+    {
+      EXPECT_TRUE(r == 0 || r == 1) << v << " region " << r;
+    }
+    if (v < input.NumberOfPoints())
+    {
+      EXPECT_EQ(r, input.region[v]); // even points keep theirs
+    }
+  }
+  EXPECT_GT(std::count(out.region.begin(), out.region.end(), 1), std::count(input.region.begin(), input.region.end(), 1));
+}
+
+TEST(AdaptiveLoopSubdivision, NonManifoldEdgeIsRefusedWithItsIds)
+{
+  AdaptiveLoopMesh mesh;
+  mesh.points = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1 };
+  mesh.triangles = { 0, 1, 2, 1, 0, 3, 0, 1, 4 };
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(mesh, PlainLoop(2));
+  EXPECT_NE(result.error.find("non-manifold"), std::string::npos) << result.error;
+  EXPECT_NE(result.error.find("edge (0, 1) in 3 triangles"), std::string::npos) << result.error;
+  EXPECT_TRUE(result.mesh.points.empty());
+  EXPECT_TRUE(result.mesh.triangles.empty());
+}
+
+TEST(AdaptiveLoopSubdivision, NonManifoldVertexIsRefusedWithItsId)
+{
+  // Two triangles touching only at point 2 (a bow tie), and two closed pyramids sharing their apex (point 0).
+  AdaptiveLoopMesh bowtie;
+  bowtie.points = { 0, 0, 0, 1, 0, 0, 0.5, 0.5, 0, 1, 1, 0, 0, 1, 0 };
+  bowtie.triangles = { 0, 1, 2, 2, 3, 4 };
+  AdaptiveLoopResult result = AdaptiveLoopSubdivide(bowtie, PlainLoop(1));
+  EXPECT_NE(result.error.find("point 2 joins"), std::string::npos) << result.error;
+  EXPECT_TRUE(result.mesh.points.empty());
+
+  AdaptiveLoopMesh pinched;
+  pinched.points = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 1, -1, 0, 0, 0, -1, 0, -1, -1, -1 };
+  pinched.triangles = { 0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2, 0, 4, 5, 0, 5, 6, 0, 6, 4, 4, 6, 5 };
+  result = AdaptiveLoopSubdivide(pinched, PlainLoop(1));
+  EXPECT_NE(result.error.find("point 0 joins"), std::string::npos) << result.error;
+  EXPECT_TRUE(result.mesh.triangles.empty());
+}
+
+TEST(AdaptiveLoopSubdivision, BadSettingsAndInputAreRefusedByName)
+{
+  const AdaptiveLoopMesh mesh = Icosahedron(false);
+  AdaptiveLoopSettings s = PlainLoop(1);
+  s.edgeAngleThreshold = std::nan("");
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("EdgeAngleThreshold = nan must be in [0, 180]"),
+    std::string::npos);
+  s = PlainLoop(1);
+  s.flatnessThreshold = 1.5;
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("FlatnessThreshold"), std::string::npos);
+  s = PlainLoop(MaxAdaptiveLoopLevel + 1);
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("MaximumLevel = 11 must be in [0, 10]"), std::string::npos);
+
+  AdaptiveLoopMesh nan = mesh;
+  nan.points[7] = std::nan("");
+  const AdaptiveLoopResult r = AdaptiveLoopSubdivide(nan, PlainLoop(1));
+  EXPECT_NE(r.error.find("point 2 has a non-finite coordinate"), std::string::npos) << r.error;
+  EXPECT_TRUE(r.mesh.points.empty());
+
+  AdaptiveLoopMesh degenerate = mesh;
+  degenerate.triangles[1] = degenerate.triangles[0];
+  EXPECT_NE(AdaptiveLoopSubdivide(degenerate, PlainLoop(1)).error.find("degenerate"), std::string::npos);
+}
+
+TEST(AdaptiveLoopSubdivision, TriangleBudgetIsAnErrorNotAHalfMesh)
+{
+  AdaptiveLoopSettings s = PlainLoop(3);
+  s.maximumTriangles = 20 * 16 * 4 - 1; // level 3 makes 20 * 64
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(Icosahedron(false), s);
+  EXPECT_NE(result.error.find("MaximumTriangles"), std::string::npos) << result.error;
+  EXPECT_TRUE(result.mesh.triangles.empty());
+  EXPECT_TRUE(result.trianglesPerLevel.empty());
+}
+
+TEST(AdaptiveLoopSubdivision, AbortLeavesNothing)
+{
+  AdaptiveLoopSettings s = PlainLoop(3);
+  int calls = 0;
+  s.progress = [&calls](double fraction) {
+    EXPECT_GE(fraction, 0.0);
+    EXPECT_LE(fraction, 1.0);
+    return ++calls < 4;
+  };
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(Icosahedron(false), s);
+  EXPECT_TRUE(result.aborted);
+  EXPECT_EQ(result.error, "");
+  EXPECT_TRUE(result.mesh.points.empty());
+}
+
+TEST(AdaptiveLoopSubdivision, ThreadedRunIsBitIdenticalToSerial)
+{
+  AdaptiveLoopSettings s;
+  s.edgeAngleThreshold = 176.0;
+  s.flatnessThreshold = 0.998;
+  s.featureRule = FeatureRule::Loop;
+  s.maximumLevel = 4;
+  const AdaptiveLoopMesh input = Blade(20);
+  const AdaptiveLoopResult serial = AdaptiveLoopSubdivide(input, s);
+  s.parallelFor = [](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
+    std::vector<std::thread> threads;
+    const std::size_t parts = 3;
+    for (std::size_t p = 0; p < parts; ++p)
+      threads.emplace_back([&, p] { body(n * p / parts, n * (p + 1) / parts); });
+    for (auto& t : threads)
+      t.join();
+  };
+  const AdaptiveLoopResult threaded = AdaptiveLoopSubdivide(input, s);
+  ASSERT_EQ(serial.error, "");
+  EXPECT_EQ(serial.mesh.points, threaded.mesh.points);
+  EXPECT_EQ(serial.mesh.triangles, threaded.mesh.triangles);
+  EXPECT_EQ(serial.mesh.attributes, threaded.mesh.attributes);
+  EXPECT_EQ(serial.mesh.region, threaded.mesh.region);
+  EXPECT_EQ(serial.mesh.origin, threaded.mesh.origin);
+}
+
+TEST(AdaptiveLoopSubdivision, UserMarkedFeatureEdgesStayUnderFixed)
+{
+  AdaptiveLoopMesh input = Icosahedron(true);
+  input.featureEdges = { { 0, 11 }, { 11, 5 }, { 5, 0 } };
+  AdaptiveLoopSettings s = PlainLoop(2);
+  s.featureRule = FeatureRule::Fixed;
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+  ASSERT_EQ(result.error, "");
+  for (int v : { 0, 11, 5 })
+  {
+    for (int j = 0; j < 3; ++j)
+      EXPECT_EQ(result.mesh.points[3 * v + j], input.points[3 * v + j]);
+  }
+  // The marked edges are still edges of the output (never split).
+  const auto use = testing::EdgeUse(AsTriangles(result.mesh.triangles));
+  EXPECT_EQ(use.count({ 0, 11 }), 1u);
+  EXPECT_EQ(use.count({ 5, 11 }), 1u);
+  EXPECT_EQ(use.count({ 0, 5 }), 1u);
+  ExpectConforming(input, result.mesh, "marked");
+}
+
+} // namespace
+} // namespace plantmorph
