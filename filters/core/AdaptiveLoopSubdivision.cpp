@@ -401,7 +401,7 @@ std::string ValidateAdaptiveLoopSettings(const AdaptiveLoopSettings& s)
   return out.str();
 }
 
-AdaptiveLoopResult AdaptiveLoopSubdivide(const AdaptiveLoopMesh& input, const AdaptiveLoopSettings& settings)
+AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveLoopSettings& settings)
 {
   AdaptiveLoopResult result;
   const auto fail = [&result](std::string message) {
@@ -422,7 +422,7 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(const AdaptiveLoopMesh& input, const Ad
     return !settings.progress || settings.progress(fraction);
   };
 
-  AdaptiveLoopMesh mesh = input;
+  AdaptiveLoopMesh mesh = std::move(input);
   mesh.origin.resize(mesh.NumberOfTriangles());
   std::iota(mesh.origin.begin(), mesh.origin.end(), 0);
   result.trianglesPerLevel.push_back(mesh.NumberOfTriangles());

@@ -105,6 +105,7 @@ std::string ValidateAdaptiveLoopSettings(const AdaptiveLoopSettings& settings);
 
 /// Subdivides `input`. Errors (bad settings, NaN coordinates, ids out of range, degenerate or non-manifold
 /// triangles, too many triangles) leave result.mesh empty with result.error set; nothing is half made.
-AdaptiveLoopResult AdaptiveLoopSubdivide(const AdaptiveLoopMesh& input, const AdaptiveLoopSettings& settings);
+/// Takes `input` by value: pass std::move(mesh) when it is no longer needed, to save a copy.
+AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveLoopSettings& settings);
 
 } // namespace plantmorph
