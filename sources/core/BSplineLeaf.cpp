@@ -44,23 +44,6 @@ std::vector<Eigen::Vector2d> RightMarginShape(BSplinePreset preset, int count)
   return shape;
 }
 
-/// Winding number test (the polygon is closed implicitly).
-bool Inside(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p)
-{
-  int winding = 0;
-  for (std::size_t i = 0; i < polygon.size(); ++i)
-  {
-    const Eigen::Vector2d& a = polygon[i];
-    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
-    const double cross = (b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y());
-    if (a.y() <= p.y() && b.y() > p.y() && cross > 0)
-      ++winding;
-    else if (a.y() > p.y() && b.y() <= p.y() && cross < 0)
-      --winding;
-  }
-  return winding != 0;
-}
-
 /// Samples of a curve at (about) `spacing`, with their LeafUV (u fixed, v = arc-length fraction).
 std::string SampleCurve(const CubicBSpline3d& curve, double spacing, double u, std::vector<Eigen::Vector3d>& points,
   std::vector<Eigen::Vector2d>& uv)
@@ -229,7 +212,7 @@ std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& se
     }
   }
   auto solveUV = [&](const Eigen::Vector2d& x, const Eigen::Vector2d&) {
-    const int side = Inside(halfPolygon[0], x) ? 0 : 1;
+    const int side = InsidePolygon(halfPolygon[0], x) ? 0 : 1;
     Eigen::Vector2d uv = MeanValueInterpolate(halfPolygon[side], halfUV[side], x);
     uv.x() = side == 0 ? std::clamp(uv.x(), -0.5, 0.0) : std::clamp(uv.x(), 0.0, 0.5);
     uv.y() = std::clamp(uv.y(), 0.0, 1.0);
@@ -253,7 +236,7 @@ std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& se
     else
     {
       const Eigen::Vector2d& q = leaf.blade.points[i];
-      const int side = Inside(halfPolygon[0], q) ? 0 : 1;
+      const int side = InsidePolygon(halfPolygon[0], q) ? 0 : 1;
       const double h = MeanValueInterpolate(halfPolygon[side], halfHeightValues[side], q).x();
       world[i] = plane.origin + q.x() * plane.e1 + q.y() * plane.e2 + h * plane.n;
     }
@@ -291,43 +274,6 @@ std::string BSplinePresetName(BSplinePreset preset)
   static const char* const names[BSplinePresetCount] = { "Custom", "Elliptic", "Cucumber", "PinOak" };
   const int index = static_cast<int>(preset);
   return index >= 0 && index < BSplinePresetCount ? names[index] : "Unknown";
-}
-
-Eigen::Vector2d MeanValueInterpolate(const std::vector<Eigen::Vector2d>& polygon,
-  const std::vector<Eigen::Vector2d>& values, const Eigen::Vector2d& x)
-{
-  const std::size_t n = polygon.size();
-  std::vector<Eigen::Vector2d> s(n);
-  std::vector<double> r(n), halfTangent(n);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    s[i] = polygon[i] - x;
-    r[i] = s[i].norm();
-    if (r[i] < 1e-14)
-      return values[i];
-  }
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const std::size_t j = (i + 1) % n;
-    const double area = s[i].x() * s[j].y() - s[i].y() * s[j].x(); // twice the signed area
-    const double dot = s[i].dot(s[j]);
-    if (std::abs(area) < 1e-14 * r[i] * r[j] && dot < 0.0)
-    {
-      // On the edge: linear interpolation along it.
-      const double t = r[i] / (r[i] + r[j]);
-      return (1.0 - t) * values[i] + t * values[j];
-    }
-    halfTangent[i] = area / (r[i] * r[j] + dot); // tan(alpha_i / 2)
-  }
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  double total = 0.0;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const double w = (halfTangent[(i + n - 1) % n] + halfTangent[i]) / r[i];
-    sum += w * values[i];
-    total += w;
-  }
-  return sum / total;
 }
 
 std::string BuildBSplineLeaf(

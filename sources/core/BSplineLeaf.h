@@ -53,8 +53,4 @@ std::string BSplinePresetName(BSplinePreset preset);
 std::string BuildBSplineLeaf(
   const BSplineLeafParameters& parameters, const LeafMeshSettings& settings, LeafGeometry& leaf);
 
-/// Mean-value coordinates interpolation at x of values given at the vertices of a closed polygon (x inside it).
-Eigen::Vector2d MeanValueInterpolate(const std::vector<Eigen::Vector2d>& polygon,
-  const std::vector<Eigen::Vector2d>& values, const Eigen::Vector2d& x);
-
 } // namespace plantmorph

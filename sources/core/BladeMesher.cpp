@@ -119,6 +119,34 @@ std::string ValidateBladeOutline(const BladeOutline& outline)
   }
   if (PolygonArea(outline.points, outline.boundary) <= 0.0)
     return "outline: the boundary must run counter-clockwise";
+
+  // Further veins: ends on the boundary, everything else strictly inside it.
+  const std::vector<Point> polygon = LoopPoints(outline.points, outline.boundary);
+  auto strictlyInside = [&](const Eigen::Vector2d& p) {
+    return CGAL::bounded_side_2(polygon.begin(), polygon.end(), Point(p.x(), p.y()), Kernel()) ==
+      CGAL::ON_BOUNDED_SIDE;
+  };
+  for (const std::vector<int>& vein : outline.veins)
+  {
+    if (vein.size() < 2)
+      return "outline: a vein needs at least 2 points";
+    for (int id : vein)
+    {
+      if (id < 0 || static_cast<std::size_t>(id) >= n)
+        return "outline: a vein refers to a point that does not exist";
+    }
+    const auto onBoundary = [&](int id) {
+      return std::find(outline.boundary.begin(), outline.boundary.end(), id) != outline.boundary.end();
+    };
+    if (!onBoundary(vein.front()) || !onBoundary(vein.back()) || vein.front() == vein.back())
+      return "outline: a vein must start and end at two different outline points";
+    for (std::size_t i = 0; i + 1 < vein.size(); ++i)
+    {
+      if ((i > 0 && !strictlyInside(outline.points[vein[i]])) ||
+        !strictlyInside(0.5 * (outline.points[vein[i]] + outline.points[vein[i + 1]])))
+        return "outline: a vein leaves the blade";
+    }
+  }
   return {};
 }
 
@@ -161,8 +189,13 @@ std::string MeshBlade(
     cdt.insert_constraint(handles[outline.boundary[i]], handles[outline.boundary[(i + 1) % m]]);
   for (std::size_t i = 0; i + 1 < outline.midvein.size(); ++i)
     cdt.insert_constraint(handles[outline.midvein[i]], handles[outline.midvein[i + 1]]);
+  for (const std::vector<int>& vein : outline.veins)
+  {
+    for (std::size_t i = 0; i + 1 < vein.size(); ++i)
+      cdt.insert_constraint(handles[vein[i]], handles[vein[i + 1]]);
+  }
   if (cdt.number_of_vertices() != outline.points.size())
-    return "outline: a constraint crossed another (the outline is not simple)";
+    return "outline: a constraint crossed another (the outline is not simple, or two veins cross)";
 
   Mesher mesher(cdt, Criteria(options.shapeBound, options.quality ? options.maxEdgeLength : 0.0));
   // CGAL 5.5 leaves the mesher's seeds_mark uninitialised (UBSan: "load of value 32 ... for type 'bool'");

@@ -34,6 +34,10 @@ struct BladeOutline
   std::vector<int> region;         ///< Region of every point (RegionMargin, RegionMidvein, ...)
   std::vector<int> boundary;       ///< closed loop of point ids, counter-clockwise, first not repeated at the end
   std::vector<int> midvein;        ///< polyline of point ids, base to apex; its ends are on the boundary
+  /// Further interior feature lines (a palmate leaf's lobe midveins): polylines of point ids whose two ends are
+  /// outline points and whose other points and segments lie strictly inside the outline. Constraints like the
+  /// midvein: they are never split and no triangle crosses them.
+  std::vector<std::vector<int>> veins;
 };
 
 struct BladeMeshOptions
@@ -57,8 +61,9 @@ struct BladeMesh
 /// Computes the LeafUV of an interior Steiner point at `xy`, from a guess (the mean LeafUV of its known neighbours).
 using UVSolver = std::function<Eigen::Vector2d(const Eigen::Vector2d& xy, const Eigen::Vector2d& guess)>;
 
-/// Checks that the outline is a simple polygon, counter-clockwise, and that the midvein runs inside it from
-/// boundary to boundary. Empty string: valid.
+/// Checks that the outline is a simple polygon, counter-clockwise, that the midvein runs inside it from boundary to
+/// boundary, and that every further vein runs inside it between two boundary points. Crossings between the
+/// midvein and the veins are found when they are inserted (MeshBlade). Empty string: valid.
 std::string ValidateBladeOutline(const BladeOutline& outline);
 
 /// Meshes the blade. Returns an empty string on success; otherwise a message (the mesh is then empty).

@@ -116,4 +116,57 @@ std::vector<double> SampleByArcLength(
   return parameters;
 }
 
+bool InsidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p)
+{
+  int winding = 0;
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+  {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+    const double cross = (b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y());
+    if (a.y() <= p.y() && b.y() > p.y() && cross > 0)
+      ++winding;
+    else if (a.y() > p.y() && b.y() <= p.y() && cross < 0)
+      --winding;
+  }
+  return winding != 0;
+}
+
+Eigen::Vector2d MeanValueInterpolate(const std::vector<Eigen::Vector2d>& polygon,
+  const std::vector<Eigen::Vector2d>& values, const Eigen::Vector2d& x)
+{
+  const std::size_t n = polygon.size();
+  std::vector<Eigen::Vector2d> s(n);
+  std::vector<double> r(n), halfTangent(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    s[i] = polygon[i] - x;
+    r[i] = s[i].norm();
+    if (r[i] < 1e-14)
+      return values[i];
+  }
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::size_t j = (i + 1) % n;
+    const double area = s[i].x() * s[j].y() - s[i].y() * s[j].x(); // twice the signed area
+    const double dot = s[i].dot(s[j]);
+    if (std::abs(area) < 1e-14 * r[i] * r[j] && dot < 0.0)
+    {
+      // On the edge: linear interpolation along it.
+      const double t = r[i] / (r[i] + r[j]);
+      return (1.0 - t) * values[i] + t * values[j];
+    }
+    halfTangent[i] = area / (r[i] * r[j] + dot); // tan(alpha_i / 2)
+  }
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  double total = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double w = (halfTangent[(i + n - 1) % n] + halfTangent[i]) / r[i];
+    sum += w * values[i];
+    total += w;
+  }
+  return sum / total;
+}
+
 } // namespace plantmorph

@@ -23,6 +23,7 @@ struct LeafGeometry
   std::vector<int> leftMargin;          ///< base to apex, through u < 0
   std::vector<int> rightMargin;         ///< base to apex, through u > 0
   std::vector<int> midvein;             ///< base to apex
+  std::vector<std::vector<int>> lobeMidveins; ///< palmate leaves: each lateral lobe's midvein, base to its tip
   std::size_t uvInversionFailures = 0;  ///< interior points whose LeafUV fell back to the neighbours' mean
   std::vector<double> z;                ///< height of every blade point; empty for a flat blade (z = 0)
   std::vector<Eigen::Vector3d> normals; ///< unit normal of every blade point; empty for a flat blade (+Z)
@@ -72,5 +73,14 @@ double CurveLength(const std::function<Eigen::Vector2d(double)>& curve, double a
 /// (to the accuracy of a dense polyline); {a} when pieces < 1 or the curve has no length.
 std::vector<double> SampleByArcLength(
   const std::function<Eigen::Vector2d(double)>& curve, double a, double b, int pieces);
+
+/// Winding-number test: is p inside the closed polygon (first point not repeated)? Points on an edge may go either
+/// way.
+bool InsidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p);
+
+/// Mean-value coordinates interpolation at x of values given at the vertices of a closed polygon (x inside it;
+/// exact at vertices, linear along edges). In a non-convex polygon the weights may be negative: callers clamp.
+Eigen::Vector2d MeanValueInterpolate(const std::vector<Eigen::Vector2d>& polygon,
+  const std::vector<Eigen::Vector2d>& values, const Eigen::Vector2d& x);
 
 } // namespace plantmorph
