@@ -378,16 +378,20 @@ int vtkLeafOutlineSource::RequestData(
 
   // Port 1: the outline polylines. Their points are the blade's first points (the mesher keeps the outline's).
   vtkIdType outlinePoints = 0;
-  for (const std::vector<int>* line : { &leaf.leftMargin, &leaf.rightMargin, &leaf.midvein })
+  std::vector<std::pair<const std::vector<int>*, int>> polylines = { { &leaf.leftMargin, plantmorph::RegionMargin },
+    { &leaf.rightMargin, plantmorph::RegionMargin }, { &leaf.midvein, plantmorph::RegionMidvein } };
+  for (const std::vector<int>& lobeMidvein : leaf.lobeMidveins)
   {
-    outlinePoints = std::max<vtkIdType>(outlinePoints, *std::max_element(line->begin(), line->end()) + 1);
+    polylines.emplace_back(&lobeMidvein, plantmorph::RegionMidvein);
+  }
+  for (const auto& line : polylines)
+  {
+    outlinePoints = std::max<vtkIdType>(outlinePoints, *std::max_element(line.first->begin(), line.first->end()) + 1);
   }
   FillPoints(leaf, outlinePoints, outline);
   vtkNew<vtkCellArray> lines;
   vtkNew<vtkIntArray> lineRegion;
   lineRegion->SetName(plantmorph::arrays::Region);
-  const std::pair<const std::vector<int>*, int> polylines[3] = { { &leaf.leftMargin, plantmorph::RegionMargin },
-    { &leaf.rightMargin, plantmorph::RegionMargin }, { &leaf.midvein, plantmorph::RegionMidvein } };
   for (const auto& line : polylines)
   {
     lines->InsertNextCell(static_cast<vtkIdType>(line.first->size()));
@@ -552,6 +556,10 @@ std::string vtkLeafOutlineSource::BuildLeaf(
       t.n2 = this->TorsionN2;
       parameters.midveinStretchZ = this->MidveinStretchZ;
       parameters.midveinStretchXY = this->MidveinStretchXY;
+      parameters.lobes = this->Lobes;
+      parameters.lobeStart = this->LobeStart;
+      parameters.lobeAngle = this->LobeAngle;
+      parameters.lobeScale = this->LobeScale;
     }
     parameters.opening = this->Opening;
     parameters.initialAngle = this->InitialAngle;
@@ -559,6 +567,15 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     plantmorph::SpaceCurveMeshSettings settings;
     settings.resolution = this->Resolution;
     settings.columns = this->StripColumns;
+    plantmorph::LeafMeshSettings meshSettings;
+    const std::string settingsError = this->MeshSettings(meshSettings);
+    if (!settingsError.empty())
+    {
+      return settingsError;
+    }
+    settings.quality = meshSettings.quality;
+    settings.maxVertices = meshSettings.maxVertices;
+    settings.progress = meshSettings.progress;
     this->UpdateProgress(0.1);
     const std::string error = plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf);
     if (!error.empty())
@@ -597,6 +614,14 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     AddFieldValue(fd, "PlantMorph.IntegrationMethod", this->IntegrationMethod);
     AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
     AddFieldValue(fd, "PlantMorph.StripColumns", this->StripColumns);
+    AddFieldValue(fd, "PlantMorph.Lobes", parameters.lobes);
+    if (parameters.lobes > 1)
+    {
+      AddFieldValue(fd, "PlantMorph.LobeStart", parameters.lobeStart);
+      AddFieldValue(fd, "PlantMorph.LobeAngle", parameters.lobeAngle);
+      AddFieldValue(fd, "PlantMorph.LobeScale", parameters.lobeScale);
+      AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
+    }
     return {};
   }
   if (this->Model == B_SPLINE)
@@ -702,6 +727,8 @@ void vtkLeafOutlineSource::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MidveinStretch: Z " << this->MidveinStretchZ << " XY " << this->MidveinStretchXY << "\n";
   os << indent << "IntegrationMethod: " << this->IntegrationMethod << "\n";
   os << indent << "StripColumns: " << this->StripColumns << "\n";
+  os << indent << "Lobes: " << this->Lobes << " (start " << this->LobeStart << ", angle " << this->LobeAngle
+     << ", scale " << this->LobeScale << ")\n";
   os << indent << "Growth: " << this->Growth << " (" << this->GrowthTimeSteps << " steps from scale "
      << this->GrowthInitialScale << ")\n";
 }

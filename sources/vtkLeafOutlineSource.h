@@ -6,7 +6,8 @@
  * +Z) with point arrays `LeafUV` (double x2, the point's (u, v) on the canonical leaf), `TCoords` (float x2,
  * paper 003 eq. (6), the active texture coordinates), `Region` (int: 1 midvein, 4 margin, 0 elsewhere),
  * `Normals` (active normals), and cell array `Region` (0). Output port 1, **Outline**: three polylines, left margin,
- * right margin and midvein, each from the base to the apex, with cell `Region` 4, 4, 1 and the same point arrays.
+ * right margin and midvein, each from the base to the apex, with cell `Region` 4, 4, 1 and the same point arrays
+ * (palmate leaves: then each further lobe's midvein, base to its tip, `Region` 1).
  * Both outputs carry the parameters as field data (`PlantMorph.Model`, `PlantMorph.Preset`, `PlantMorph.Terms`...),
  * so a saved file says how it was made.
  *
@@ -21,7 +22,9 @@
  * Model B, the space curve (paper 002): a half-margin integrated from the Frenet-Serret equations with the chosen
  * curvature and torsion functions, mirrored in the symmetry plane (Opening), the midvein from its projection, and
  * quad strips from margin to midvein split into triangles (see plantmorph::BuildSpaceCurveLeaf). With torsion or
- * Opening the blade is 3-D; its normals are area-weighted vertex normals.
+ * Opening the blade is 3-D; its normals are area-weighted vertex normals. `Lobes` 3 or 5 builds the palmate leaf of
+ * paper 002 Fig. 8: the union of lobes, each a scaled and turned copy starting on the previous lobe's margin, meshed
+ * as one blade by CGAL with every lobe's midvein as a feature line (see plantmorph::BuildPalmateLeaf).
  *
  * The source generates the whole leaf as piece 0 and leaves other pieces empty, so it appears once under MPI.
  * Bad parameters produce an error naming the property and its accepted range, and empty outputs.
@@ -154,7 +157,7 @@ public:
   ///@{
   /**
    * Space-curve model (paper 002). SpaceCurvePreset: 0 Custom (the Curvature*, Torsion* and Midvein* properties),
-   * 1-6 paper 002 Figs. 1-6 (plantmorph::SpaceCurvePreset); a preset sets the curvature, torsion and midvein
+   * 1-6 paper 002 Figs. 1-6, 7 and 8 Fig. 8's palmate 3- and 5-lobed leaves (plantmorph::SpaceCurvePreset); a preset sets the curvature, torsion and midvein
    * stretches, and CurveLength, Opening, InitialAngle, IntegrationMethod, Resolution and StripColumns still apply.
    * CurveLength is the half-margin's arc length S; the Mu/Eta properties are peak times S, so changing S alone
    * grows a similar leaf. See plantmorph::CurvatureFamily for the families and their parameters.
@@ -205,6 +208,25 @@ public:
   vtkGetMacro(IntegrationMethod, int);
   vtkSetMacro(StripColumns, int);
   vtkGetMacro(StripColumns, int);
+  ///@}
+
+  ///@{
+  /**
+   * Palmate leaves of the space-curve model (paper 002 sec. 4, Fig. 8; plantmorph::BuildPalmateLeaf). Lobes: 1 (a
+   * simple leaf), 3 or 5. With Custom curvature these apply; the Fig. 8 presets set them. LobeStart (0, 1): where a
+   * lobe starts on the previous lobe's half-margin, as an arc-length fraction. LobeAngle (0, 90] degrees: how much
+   * further out a lobe's initial tangent turns. LobeScale (0, 1.5]: a lobe's size relative to the previous one.
+   * Palmate blades are flat (TorsionEta 0, Opening 0) and meshed with CGAL (MeshQuality applies, not
+   * StripColumns); every lobe's midvein is a Region 1 feature line and a polyline of the Outline port.
+   */
+  vtkSetMacro(Lobes, int);
+  vtkGetMacro(Lobes, int);
+  vtkSetMacro(LobeStart, double);
+  vtkGetMacro(LobeStart, double);
+  vtkSetMacro(LobeAngle, double);
+  vtkGetMacro(LobeAngle, double);
+  vtkSetMacro(LobeScale, double);
+  vtkGetMacro(LobeScale, double);
   ///@}
 
   ///@{
@@ -304,6 +326,10 @@ protected:
   double InitialAngle = -45.0;
   int IntegrationMethod = 1;
   int StripColumns = 6;
+  int Lobes = 1;
+  double LobeStart = 0.2;
+  double LobeAngle = 45.0;
+  double LobeScale = 0.85;
 
   int BSplinePreset = 2;
   double BladeLength = 8.0;

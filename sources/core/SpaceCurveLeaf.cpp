@@ -1,5 +1,7 @@
 #include "SpaceCurveLeaf.h"
 
+#include "PalmateLeaf.h"
+
 #include <plantmorph/DataContract.h>
 
 #include <Eigen/Geometry>
@@ -22,7 +24,9 @@ std::string Check(bool ok, const char* property, double value, const char* range
   return message.str();
 }
 
-std::string ValidateParameters(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m)
+} // namespace
+
+std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m)
 {
   std::string e;
   if (!(e = Check(std::isfinite(p.length) && p.length > 0 && p.length <= 1e6, "CurveLength", p.length,
@@ -41,10 +45,28 @@ std::string ValidateParameters(const SpaceCurveParameters& p, const SpaceCurveMe
         "[-360, 360] degrees"))
        .empty() ||
     !(e = ValidateResolution(m.resolution)).empty() ||
-    !(e = Check(m.columns >= 1 && m.columns <= MaxStripColumns, "StripColumns", m.columns, "[1, 200]")).empty())
+    !(e = Check(m.columns >= 1 && m.columns <= MaxStripColumns, "StripColumns", m.columns, "[1, 200]")).empty() ||
+    !(e = Check(p.lobes == 1 || p.lobes == 3 || p.lobes == 5, "Lobes", p.lobes, "{1, 3, 5}")).empty())
     return e;
+  if (p.lobes == 1)
+    return {};
+  if (!(e = Check(std::isfinite(p.lobeStart) && p.lobeStart > 0 && p.lobeStart < 1, "LobeStart", p.lobeStart,
+          "(0, 1)"))
+         .empty() ||
+    !(e = Check(std::isfinite(p.lobeAngle) && p.lobeAngle > 0 && p.lobeAngle <= 90, "LobeAngle", p.lobeAngle,
+        "(0, 90] degrees"))
+       .empty() ||
+    !(e = Check(std::isfinite(p.lobeScale) && p.lobeScale > 0 && p.lobeScale <= 1.5, "LobeScale", p.lobeScale,
+        "(0, 1.5]"))
+       .empty())
+    return e;
+  if (p.torsion.mu != 0.0 || p.opening != 0.0)
+    return "Lobes: palmate leaves are flat (paper 002 sec. 4); set TorsionEta and Opening to 0";
   return {};
 }
+
+namespace
+{
 
 /// The unit normal g of the symmetry plane: g.c = 0, g_z = opening, |g| = 1, and g.t0 > 0 (eq. (9)).
 bool SymmetryNormal(const Eigen::Vector3d& c, double opening, const Eigen::Vector3d& t0, Eigen::Vector3d& g)
@@ -96,8 +118,10 @@ std::string IntegrateHalfMargin(
 std::string BuildSpaceCurveLeaf(
   const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m, LeafGeometry& leaf)
 {
+  if (p.lobes != 1)
+    return BuildPalmateLeaf(p, m, leaf);
   leaf = LeafGeometry();
-  std::string error = ValidateParameters(p, m);
+  std::string error = ValidateSpaceCurveParameters(p, m);
   if (!error.empty())
     return error;
   const int n = m.resolution;

@@ -29,6 +29,8 @@
 #include <plantmorph/CurvatureFamily.h>
 #include <plantmorph/FrenetSerret.h>
 
+#include <cstddef>
+#include <functional>
 #include <string>
 
 namespace plantmorph
@@ -47,6 +49,12 @@ struct SpaceCurveParameters
   double tolerance = 1e-10; ///< RK45 tolerance (relative to the length)
   int rk4StepsPerSample = 4;
 
+  // Palmate leaves (paper 002 sec. 4, Fig. 8; see PalmateLeaf.h). lobes = 1 is the simple leaf above.
+  int lobes = 1;            ///< 1, 3 or 5
+  double lobeStart = 0.2;   ///< arc-length fraction of the previous lobe's half-margin where a lobe starts, (0, 1)
+  double lobeAngle = 45.0;  ///< degrees by which a lobe's initial tangent turns away from the previous one's, (0, 90]
+  double lobeScale = 0.85;  ///< a lobe's size relative to the previous lobe's, (0, 1.5]
+
   SpaceCurveParameters()
   {
     torsion.mu = 0.0;
@@ -57,13 +65,22 @@ struct SpaceCurveMeshSettings
 {
   int resolution = 60; ///< rows (arc-length samples) from base to apex
   int columns = 6;     ///< points per half row, margin to midvein
+  /// Palmate leaves only (meshed with CGAL, as Model C): paper mode (false) or quality refinement, vertex budget,
+  /// progress.
+  bool quality = true;
+  std::size_t maxVertices = 20000000;
+  std::function<bool(double)> progress;
 };
 
 inline constexpr int MaxStripColumns = 200;
 
 /// Empty on success; otherwise a message naming the parameter and its accepted range, and `leaf` is empty.
+/// lobes > 1 builds the palmate leaf (BuildPalmateLeaf).
 std::string BuildSpaceCurveLeaf(
   const SpaceCurveParameters& parameters, const SpaceCurveMeshSettings& settings, LeafGeometry& leaf);
+
+/// Empty when the parameters and settings are in range; otherwise the message naming the property and its range.
+std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& parameters, const SpaceCurveMeshSettings& settings);
 
 /// The half-margin alone (frames at the arc lengths i*S/pieces), for tests and the palmate lobes.
 std::string IntegrateHalfMargin(

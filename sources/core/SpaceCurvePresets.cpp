@@ -49,6 +49,20 @@ SpaceCurveParameters MakeSpaceCurvePreset(SpaceCurvePreset preset, double length
       p.midveinStretchZ = preset == SpaceCurvePreset::Figure5 ? 0.0 : 1.0;
       p.midveinStretchXY = 0.0;
       break;
+    case SpaceCurvePreset::Figure8ThreeLobes:
+    case SpaceCurvePreset::Figure8FiveLobes:
+      // Fig. 8 prints no numbers. Each lobe is a broad "incomplete elliptic" leaf (a triangular curvature peaking
+      // mid-margin, turning the margin by mu/2 = 1.5 rad); the next lobe starts a fifth of the way up the previous
+      // one's margin, turned 45 (40 for five lobes) degrees further out and 0.85 times its size: deep sinuses,
+      // lobes radiating from the base, as the paper's description ("3 or 5 lobes, deep notches") asks.
+      k.type = CurvatureFamily::Triangular;
+      k.mu = 3.0;
+      k.lambda = 0.5;
+      p.lobes = preset == SpaceCurvePreset::Figure8ThreeLobes ? 3 : 5;
+      p.lobeStart = 0.2;
+      p.lobeAngle = preset == SpaceCurvePreset::Figure8ThreeLobes ? 45.0 : 40.0;
+      p.lobeScale = 0.85;
+      break;
   }
   return p;
 }
@@ -56,7 +70,8 @@ SpaceCurveParameters MakeSpaceCurvePreset(SpaceCurvePreset preset, double length
 std::string SpaceCurvePresetName(SpaceCurvePreset preset)
 {
   static const char* const names[SpaceCurvePresetCount] = { "Custom", "Paper002Figure1", "Paper002Figure2",
-    "Paper002Figure3", "Paper002Figure4", "Paper002Figure5", "Paper002Figure6" };
+    "Paper002Figure3", "Paper002Figure4", "Paper002Figure5", "Paper002Figure6", "Paper002Figure8ThreeLobes",
+    "Paper002Figure8FiveLobes" };
   const int index = static_cast<int>(preset);
   return index >= 0 && index < SpaceCurvePresetCount ? names[index] : "Unknown";
 }

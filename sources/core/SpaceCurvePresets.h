@@ -18,9 +18,11 @@ enum class SpaceCurvePreset : int
   Figure4 = 4, ///< notched apex ("duck tongue", eq. (8))
   Figure5 = 5, ///< 3-D: curvature mu = 5 and torsion eta = 4, lambda = 0.95; the midvein is the chord
   Figure6 = 6, ///< Fig. 5 with the midvein projected from the margins onto the symmetry plane
+  Figure8ThreeLobes = 7, ///< palmate, 3 lobes (Fig. 8; numbers chosen, the paper prints none)
+  Figure8FiveLobes = 8,  ///< palmate, 5 lobes (Fig. 8; numbers chosen, the paper prints none)
 };
 
-inline constexpr int SpaceCurvePresetCount = 7;
+inline constexpr int SpaceCurvePresetCount = 9;
 
 /// The preset's parameters for a half-margin of arc length `length` (Custom: the default parameters).
 SpaceCurveParameters MakeSpaceCurvePreset(SpaceCurvePreset preset, double length);

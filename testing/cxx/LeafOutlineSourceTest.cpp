@@ -11,6 +11,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIdList.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -277,6 +278,59 @@ TEST(vtkLeafOutlineSource, SpaceCurveBadPropertiesGiveAMessage)
   source->SetSpaceCurvePreset(9);
   source->Update();
   EXPECT_NE(catcher->Messages.find("SpaceCurvePreset = 9"), std::string::npos) << catcher->Messages;
+  catcher->Messages.clear();
+  source->SetSpaceCurvePreset(0);
+  source->SetLobes(4);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("Lobes = 4 is outside the accepted range {1, 3, 5}"), std::string::npos)
+    << catcher->Messages;
+  EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
+  EXPECT_EQ(source->GetOutput(1)->GetNumberOfPoints(), 0);
+}
+
+TEST(vtkLeafOutlineSource, PalmateLeafHasEveryLobeMidveinOnTheOutlinePort)
+{
+  for (int preset : { 7, 8 })
+  {
+    vtkNew<vtkLeafOutlineSource> source;
+    source->SetModel(vtkLeafOutlineSource::SPACE_CURVE);
+    source->SetSpaceCurvePreset(preset);
+    source->SetResolution(30);
+    source->Update();
+    vtkPolyData* blade = source->GetOutput(0);
+    vtkPolyData* outline = source->GetOutput(1);
+    const int lobes = preset == 7 ? 3 : 5;
+    ASSERT_GT(blade->GetNumberOfPolys(), 500);
+    ASSERT_EQ(outline->GetNumberOfLines(), 2 + lobes);
+    auto* lineRegion = vtkIntArray::SafeDownCast(outline->GetCellData()->GetArray(plantmorph::arrays::Region));
+    auto* pointRegion = vtkIntArray::SafeDownCast(blade->GetPointData()->GetArray(plantmorph::arrays::Region));
+    ASSERT_NE(lineRegion, nullptr);
+    ASSERT_NE(pointRegion, nullptr);
+    for (vtkIdType line = 0; line < outline->GetNumberOfLines(); ++line)
+    {
+      EXPECT_EQ(lineRegion->GetValue(line), line < 2 ? plantmorph::RegionMargin : plantmorph::RegionMidvein);
+      vtkNew<vtkIdList> ids;
+      outline->GetCellPoints(line, ids);
+      // Every polyline runs from the base (the origin) and its points are the blade's points with the same ids.
+      double base[3];
+      outline->GetPoint(ids->GetId(0), base);
+      EXPECT_EQ(base[0], 0.0);
+      EXPECT_EQ(base[1], 0.0);
+      int tips = 0; // a margin passes the tips of the lateral lobes on its side (Region 1: the midveins own them)
+      for (vtkIdType k = 1; k + 1 < ids->GetNumberOfIds(); ++k)
+      {
+        double a[3], b[3];
+        outline->GetPoint(ids->GetId(k), a);
+        blade->GetPoint(ids->GetId(k), b);
+        EXPECT_EQ(a[0], b[0]);
+        EXPECT_EQ(a[1], b[1]);
+        const int region = pointRegion->GetValue(ids->GetId(k));
+        tips += line < 2 && region == plantmorph::RegionMidvein;
+        EXPECT_EQ(region == plantmorph::RegionMidvein, line >= 2 || region != plantmorph::RegionMargin);
+      }
+      EXPECT_EQ(tips, line < 2 ? (lobes - 1) / 2 : 0);
+    }
+  }
 }
 } // namespace
 

@@ -73,9 +73,16 @@ void ExpectManifoldDisk(const LeafGeometry& leaf)
   std::size_t margin = 0;
   for (int r : leaf.blade.region)
     margin += r == RegionMargin;
-  EXPECT_EQ(loops[0].size(), margin + 2);
+  // (Palmate leaves: plus every further lobe's tip.)
+  EXPECT_EQ(loops[0].size(), margin + 2 + leaf.lobeMidveins.size());
   for (int id : loops[0])
-    EXPECT_TRUE(leaf.blade.region[id] == RegionMargin || id == leaf.midvein.front() || id == leaf.midvein.back());
+  {
+    bool lobeTip = false;
+    for (const std::vector<int>& lobe : leaf.lobeMidveins)
+      lobeTip = lobeTip || id == lobe.back();
+    EXPECT_TRUE(leaf.blade.region[id] == RegionMargin || id == leaf.midvein.front() || id == leaf.midvein.back() ||
+      lobeTip);
+  }
 }
 
 TEST(SpaceCurveLeaf, FlatLeafIsAMirrorSymmetricManifoldFacingUp)

@@ -73,6 +73,46 @@ for figure in range(1, 7):
     outline = servermanager.Fetch(PassArrays(Input=OutputPort(space, 1)))
     checks.check(outline.GetNumberOfLines() == 3, name + ": outline has 3 polylines")
 
+# Palmate leaves (paper 002 Fig. 8): the presets, and custom lobes from the properties. The Outline port carries every
+# lobe's midvein after the margins and lobe 1's midvein.
+for lobes in (3, 5):
+    space.SpaceCurvePreset = "Paper 002 Fig. 8, %d lobes" % lobes
+    space.MeshQuality = "Quality"
+    space.UpdatePipeline()
+    blade = servermanager.Fetch(space)
+    name = "paper 002 Fig. 8, %d lobes" % lobes
+    checks.check(blade.GetNumberOfPolys() > 500, name + ": blade has triangles")
+    checks.check(blade.GetFieldData().GetArray("PlantMorph.Lobes").GetValue(0) == lobes, name + ": lobes in field data")
+    uv = vtk_to_numpy(blade.GetPointData().GetArray("LeafUV"))
+    checks.check(uv[:, 0].min() >= -0.5 and uv[:, 0].max() <= 0.5 and uv[:, 1].min() == 0 and uv[:, 1].max() == 1,
+                 name + ": LeafUV in range")
+    bounds = blade.GetBounds()
+    checks.check(abs(bounds[0] + bounds[1]) < 1e-9 and bounds[1] - bounds[0] > bounds[3] - bounds[2],
+                 name + ": symmetric and broader than long")
+    outline = servermanager.Fetch(PassArrays(Input=OutputPort(space, 1)))
+    regions = vtk_to_numpy(outline.GetCellData().GetArray("Region")).tolist()
+    checks.check(regions == [4, 4] + [1] * lobes, name + ": outline regions %s" % regions)
+space.SpaceCurvePreset = "Custom"
+space.CurvatureFunction = "Triangular"
+space.CurvatureMu = 3.0
+space.CurvatureLambda = 0.5
+space.Lobes = 3
+space.LobeStart = 0.3
+space.LobeAngle = 35.0
+space.LobeScale = 0.7
+space.UpdatePipeline()
+blade = servermanager.Fetch(space)
+checks.check(blade.GetNumberOfPolys() > 500 and blade.GetFieldData().GetArray("PlantMorph.LobeAngle").GetValue(0) == 35.0,
+             "custom palmate leaf from the Lobe properties")
+space.LobeAngle = 95.0
+space.UpdatePipeline()
+checks.check(servermanager.Fetch(space).GetNumberOfPoints() == 0, "LobeAngle 95: error, empty blade")
+space.LobeAngle = 35.0
+space.TorsionEta = 2.0
+space.UpdatePipeline()
+checks.check(servermanager.Fetch(space).GetNumberOfPoints() == 0, "palmate with torsion: error, empty blade")
+Delete(space)
+
 # B-spline model (paper 003): every preset, and control points typed in.
 spline = LeafOutlineSource(Model="B-spline", Resolution=30)
 for preset in ("Elliptic", "Cucumber", "Pin oak"):

@@ -31,6 +31,8 @@ SPACE_PROPERTIES = ("Model", "SpaceCurvePreset", "CurveLength", "CurvatureFuncti
                     "StripColumns")
 SPLINE_PROPERTIES = ("Model", "BSplinePreset", "MidveinPoints", "LeftMarginPoints", "RightMarginPoints", "Resolution",
                      "MeshQuality")
+PALMATE_PROPERTIES = ("Model", "SpaceCurvePreset", "CurvatureMu", "CurvatureLambda", "Lobes", "LobeStart", "LobeAngle",
+                      "LobeScale", "MeshQuality", "Resolution")
 DEFORMED_RECTANGLE_PROPERTIES = ("Preset", "Length", "Width", "Terms", "Resolution", "MeshQuality", "Asymmetry",
                                  "Bending")
 
@@ -66,7 +68,11 @@ if arguments.load is None:
     spline = LeafOutlineSource(registrationName="SplineLeaf", Model="B-spline", BSplinePreset="Custom",
                                MidveinPoints=[0, 0, 0, 0.3, 3, 0, 0, 6, 0], LeftMarginPoints=[-2, 2, 0, -1.5, 4.5, 0],
                                RightMarginPoints=[2.2, 2.5, 0], Resolution=28, MeshQuality="Quality")
+    palmate = LeafOutlineSource(registrationName="PalmateLeaf", Model="Space curve", SpaceCurvePreset="Custom",
+                                CurvatureMu=3.0, CurvatureLambda=0.5, Lobes=5, LobeStart=0.25, LobeAngle=38.0,
+                                LobeScale=0.8, MeshQuality="Paper", Resolution=24)
     expected = describe(leaf)
+    expected["palmate"] = describe(palmate, PALMATE_PROPERTIES)
     expected["space"] = describe(space, SPACE_PROPERTIES)
     expected["spline"] = describe(spline, SPLINE_PROPERTIES)
     # A growing leaf saved at a non-zero animation time comes back at that time. Nothing is shown: with a view,
@@ -113,6 +119,14 @@ for name, value in expected["spline"]["properties"].items():
                  "B-spline property %s: %r after loading, %r before" % (name, actual_spline["properties"][name], value))
 checks.check(actual_spline["blade"] == expected["spline"]["blade"] and actual_spline["points"] > 0,
              "B-spline blade bit-identical after the round trip")
+palmate = FindSource("PalmateLeaf")
+actual_palmate = describe(palmate, PALMATE_PROPERTIES)
+for name, value in expected["palmate"]["properties"].items():
+    checks.check(actual_palmate["properties"][name] == value,
+                 "palmate property %s: %r after loading, %r before" % (name, actual_palmate["properties"][name], value))
+checks.check(actual_palmate["blade"] == expected["palmate"]["blade"] and actual_palmate["points"] > 0
+             and actual_palmate["outline"] == expected["palmate"]["outline"],
+             "palmate blade and outline bit-identical after the round trip")
 growing = FindSource("GrowingLeaf")
 time = GetAnimationScene().AnimationTime
 checks.check(abs(time - 0.625) < 1e-12, "animation time restored from the state file: %r" % time)

@@ -1,0 +1,505 @@
+#include "PalmateLeaf.h"
+
+#include <plantmorph/DataContract.h>
+
+#include <CGAL/Boolean_set_operations_2.h>
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Polygon_2.h>
+#include <CGAL/Polygon_with_holes_2.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <map>
+
+namespace plantmorph
+{
+namespace
+{
+using ExactKernel = CGAL::Exact_predicates_exact_constructions_kernel;
+using ExactPolygon = CGAL::Polygon_2<ExactKernel>;
+using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<ExactKernel>;
+
+/// One lobe in the leaf's final frame (base at the origin, lobe 1's chord along +Y).
+struct Lobe
+{
+  std::vector<Eigen::Vector2d> margin; ///< the integrated half-margin, start to tip
+  std::vector<Eigen::Vector2d> mirror; ///< the other half, start to tip
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();
+  Eigen::Vector2d tip = Eigen::Vector2d::Zero();
+};
+
+/// What an outline vertex was before the union: a sample, the base, a lobe's start, or a lobe's tip.
+struct VertexRole
+{
+  bool base = false;
+  bool start = false;
+  int tip = -1; ///< index of the lobe whose tip this is
+};
+
+using Key = std::pair<double, double>;
+Key KeyOf(const Eigen::Vector2d& x)
+{
+  return { x.x(), x.y() };
+}
+
+Eigen::Vector2d MirrorInAxis(const Eigen::Vector2d& x)
+{
+  return { -x.x(), x.y() };
+}
+
+/// The point at `fraction` of the length of the polyline `path`.
+Eigen::Vector2d AlongPath(const std::vector<Eigen::Vector2d>& path, double fraction)
+{
+  double total = 0.0;
+  for (std::size_t i = 0; i + 1 < path.size(); ++i)
+    total += (path[i + 1] - path[i]).norm();
+  double target = std::clamp(fraction, 0.0, 1.0) * total;
+  for (std::size_t i = 0; i + 1 < path.size(); ++i)
+  {
+    const double piece = (path[i + 1] - path[i]).norm();
+    if (target <= piece || i + 2 == path.size())
+      return piece > 0.0 ? Eigen::Vector2d(path[i] + std::min(1.0, target / piece) * (path[i + 1] - path[i]))
+                         : path[i + 1];
+    target -= piece;
+  }
+  return path.back();
+}
+
+std::string LobeName(int level)
+{
+  return "lobe " + std::to_string(level + 1);
+}
+
+std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m, LeafGeometry& leaf)
+{
+  std::string error = ValidateSpaceCurveParameters(p, m);
+  if (!error.empty())
+    return error;
+  if (p.lobes != 3 && p.lobes != 5)
+    return "Lobes = " + std::to_string(p.lobes) + " is outside the accepted range {3, 5} for a palmate leaf";
+  const int n = m.resolution;
+  const double spacing = p.length / n;
+  const int levels = (p.lobes + 1) / 2;
+
+  // Lobe 1 in the paper's frame, then the rotation that takes its chord to +Y.
+  std::vector<FrenetFrame> frames;
+  error = IntegrateHalfMargin(p, n, frames);
+  if (!error.empty())
+    return "Curvature: " + error;
+  const Eigen::Vector3d base = frames.front().position;
+  const Eigen::Vector3d chord = frames.back().position - base;
+  const double chordLength = chord.norm();
+  if (!(chordLength > 1e-9 * p.length))
+    return "Curvature: the half-margin closes on itself (its end is its start); lower CurvatureMu";
+  const Eigen::Matrix3d rotation =
+    Eigen::Quaterniond::FromTwoVectors(chord / chordLength, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  auto flat = [&](const Eigen::Vector3d& x) {
+    const Eigen::Vector3d y = rotation * x;
+    return Eigen::Vector2d(y.x(), y.y());
+  };
+
+  std::vector<Lobe> lobes(levels);
+  for (const FrenetFrame& f : frames)
+    lobes[0].margin.push_back(flat(f.position - base));
+  lobes[0].margin.front() = Eigen::Vector2d::Zero();
+  lobes[0].tip = Eigen::Vector2d(0.0, chordLength);
+  lobes[0].margin.back() = lobes[0].tip;
+
+  double angle = p.initialAngle;
+  for (int k = 1; k < levels; ++k)
+  {
+    // The start: on the previous lobe's half-margin at the arc-length fraction lobeStart (its samples are at equal
+    // arc length), a sample if one is within 0.3 of the spacing, else a new sample of that margin.
+    std::vector<Eigen::Vector2d>& previous = lobes[k - 1].margin;
+    const int pieces = static_cast<int>(previous.size()) - 1;
+    const double position = p.lobeStart * pieces;
+    const long nearest = std::lround(position);
+    Eigen::Vector2d start;
+    if (std::abs(position - static_cast<double>(nearest)) <= 0.3 && nearest >= 1 && nearest < pieces)
+      start = previous[static_cast<std::size_t>(nearest)];
+    else
+    {
+      const int i = std::min(pieces - 1, static_cast<int>(std::floor(position)));
+      const double t = position - i;
+      start = (1.0 - t) * previous[i] + t * previous[i + 1];
+      previous.insert(previous.begin() + i + 1, start);
+    }
+
+    angle -= p.lobeAngle;
+    const double scale = std::pow(p.lobeScale, k);
+    SpaceCurveParameters q = p;
+    q.length = p.length * scale;
+    q.initialAngle = angle;
+    q.lobes = 1;
+    const int lobePieces = std::max(4, static_cast<int>(std::lround(n * scale)));
+    error = IntegrateHalfMargin(q, lobePieces, frames);
+    if (!error.empty())
+      return "Curvature (" + LobeName(k) + "): " + error;
+    Lobe& lobe = lobes[k];
+    lobe.start = start;
+    for (const FrenetFrame& f : frames)
+      lobe.margin.push_back(start + flat(f.position - frames.front().position));
+    lobe.margin.front() = start;
+    lobe.tip = lobe.margin.back();
+  }
+
+  // Second halves: lobe 1's mirrored in the leaf's axis (x = 0), the others in their own chords.
+  for (int k = 0; k < levels; ++k)
+  {
+    Lobe& lobe = lobes[k];
+    const Eigen::Vector2d axis = lobe.tip - lobe.start;
+    if (!(axis.norm() > 1e-9 * p.length))
+      return "Curvature (" + LobeName(k) + "): the half-margin closes on itself; lower CurvatureMu";
+    const Eigen::Vector2d direction = axis.normalized();
+    for (const Eigen::Vector2d& x : lobe.margin)
+    {
+      const Eigen::Vector2d d = x - lobe.start;
+      lobe.mirror.push_back(k == 0 ? MirrorInAxis(x) : Eigen::Vector2d(lobe.start + 2.0 * d.dot(direction) * direction - d));
+    }
+    lobe.mirror.front() = lobe.start;
+    lobe.mirror.back() = lobe.tip;
+  }
+
+  // Lobe polygons: lobe 1, then each further lobe on its own side and mirrored on the other. Roles of their vertices.
+  std::map<Key, VertexRole> roles;
+  std::vector<ExactPolygon> polygons;
+  std::vector<Eigen::Vector2d> tips;
+  roles[KeyOf(Eigen::Vector2d::Zero())].base = true;
+  for (int k = 0; k < levels; ++k)
+  {
+    for (int copy = 0; copy < (k == 0 ? 1 : 2); ++copy)
+    {
+      const Lobe& lobe = lobes[k];
+      auto place = [&](const Eigen::Vector2d& x) { return copy == 0 ? x : MirrorInAxis(x); };
+      std::vector<Eigen::Vector2d> loop;
+      for (const Eigen::Vector2d& x : lobe.margin)
+        loop.push_back(place(x));
+      for (std::size_t i = lobe.mirror.size() - 2; i >= 1; --i)
+        loop.push_back(place(lobe.mirror[i]));
+      ExactPolygon polygon;
+      for (const Eigen::Vector2d& x : loop)
+      {
+        polygon.push_back(ExactKernel::Point_2(x.x(), x.y()));
+        roles[KeyOf(x)];
+      }
+      if (!polygon.is_simple())
+        return "Curvature (" + LobeName(k) + "): the lobe's two halves cross; lower CurvatureMu";
+      if (polygon.orientation() == CGAL::CLOCKWISE)
+        polygon.reverse_orientation();
+      polygons.push_back(polygon);
+      const int tipIndex = static_cast<int>(tips.size());
+      tips.push_back(place(lobe.tip));
+      roles[KeyOf(tips.back())].tip = tipIndex;
+      if (k > 0)
+        roles[KeyOf(place(lobe.start))].start = true;
+    }
+  }
+
+  std::vector<ExactPolygonWithHoles> unions;
+  CGAL::join(polygons.begin(), polygons.end(), std::back_inserter(unions));
+  if (unions.size() != 1)
+    return "LobeStart/LobeAngle: the lobes do not join into one blade";
+  if (unions.front().number_of_holes() > 0)
+    return "LobeAngle/LobeScale: the lobes enclose a hole; lower LobeAngle";
+
+  // The union's outline, counter-clockwise, from the base; crossings of lobe margins are new vertices.
+  struct OutlineVertex
+  {
+    Eigen::Vector2d x;
+    VertexRole role;
+    bool crossing = false;
+  };
+  std::vector<OutlineVertex> vertices;
+  for (auto v = unions.front().outer_boundary().vertices_begin(); v != unions.front().outer_boundary().vertices_end();
+       ++v)
+  {
+    OutlineVertex vertex;
+    // From the exact value (rounded towards zero, so mirror-image crossings round to mirror-image doubles; the
+    // lazy kernel's approximation need not).
+    vertex.x = Eigen::Vector2d(CGAL::to_double(CGAL::exact(v->x())), CGAL::to_double(CGAL::exact(v->y())));
+    const auto known = roles.find(KeyOf(vertex.x));
+    if (known != roles.end())
+      vertex.role = known->second;
+    else
+      vertex.crossing = true;
+    vertices.push_back(vertex);
+  }
+  {
+    std::map<Key, int> seen;
+    for (const OutlineVertex& v : vertices)
+    {
+      if (++seen[KeyOf(v.x)] > 1)
+        return "LobeAngle: a lobe meets the previous one at its start point only; lower LobeAngle or raise LobeStart";
+    }
+  }
+  const auto baseIt =
+    std::find_if(vertices.begin(), vertices.end(), [](const OutlineVertex& v) { return v.role.base; });
+  if (baseIt == vertices.end())
+    return "LobeAngle/LobeStart: a lobe covers the leaf's base; lower LobeAngle or raise LobeStart";
+  std::rotate(vertices.begin(), baseIt, vertices.end());
+
+  // No slivers: drop plain samples closer than 0.3 of the spacing to a neighbouring crossing or lobe start.
+  {
+    std::vector<OutlineVertex> kept;
+    const std::size_t count = vertices.size();
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      const OutlineVertex& v = vertices[i];
+      const bool plain = !v.crossing && !v.role.base && !v.role.start && v.role.tip < 0;
+      bool crowded = false;
+      for (const std::size_t j : { (i + count - 1) % count, (i + 1) % count })
+      {
+        const OutlineVertex& w = vertices[j];
+        crowded = crowded || ((w.crossing || w.role.start) && (w.x - v.x).norm() < 0.3 * spacing);
+      }
+      if (!(plain && crowded))
+        kept.push_back(v);
+    }
+    vertices.swap(kept);
+  }
+
+  // Where the lobes' tips are along the outline: from the base counter-clockwise, the rightmost first.
+  const int lobeCount = static_cast<int>(tips.size());
+  std::vector<int> tipPosition(lobeCount, -1);
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+  {
+    if (vertices[i].role.tip >= 0)
+      tipPosition[vertices[i].role.tip] = static_cast<int>(i);
+  }
+  for (int k = 0; k < lobeCount; ++k)
+  {
+    if (tipPosition[k] < 0)
+      return "LobeAngle/LobeScale: the tip of a lobe lies inside another lobe; lower LobeScale or raise LobeAngle";
+  }
+  std::vector<int> order(lobeCount); // lobes by the position of their tips, right to left
+  for (int k = 0; k < lobeCount; ++k)
+    order[k] = k;
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return tipPosition[a] < tipPosition[b]; });
+  std::vector<double> tipU(lobeCount);
+  for (int j = 0; j < lobeCount; ++j)
+    tipU[order[j]] = (0.5 * (lobeCount - 1) - j) / lobeCount;
+
+  // Outline vertices with their LeafUV, piece by piece along the canonical rectangle's edges.
+  BladeOutline outline;
+  const int count = static_cast<int>(vertices.size());
+  outline.points.resize(count);
+  outline.uv.resize(count);
+  outline.region.resize(count);
+  for (int i = 0; i < count; ++i)
+  {
+    outline.points[i] = vertices[i].x;
+    outline.region[i] = vertices[i].role.base || vertices[i].role.tip >= 0 ? RegionMidvein : RegionMargin;
+    outline.boundary.push_back(i);
+  }
+  outline.uv[0] = Eigen::Vector2d::Zero();
+  for (int j = 0; j <= lobeCount; ++j)
+  {
+    const int from = j == 0 ? 0 : tipPosition[order[j - 1]];
+    const int to = j == lobeCount ? count : tipPosition[order[j]];
+    std::vector<Eigen::Vector2d> path;
+    if (j == 0)
+      path = { { 0.5, 0.0 }, { 0.5, 1.0 }, { tipU[order[0]], 1.0 } };
+    else if (j == lobeCount)
+      path = { { tipU[order[j - 1]], 1.0 }, { -0.5, 1.0 }, { -0.5, 0.0 } };
+    else
+      path = { { tipU[order[j - 1]], 1.0 }, { tipU[order[j]], 1.0 } };
+    std::vector<double> length(1, 0.0);
+    for (int i = from; i < to; ++i)
+      length.push_back(length.back() + (outline.points[(i + 1) % count] - outline.points[i]).norm());
+    for (int i = from + 1; i < to; ++i)
+      outline.uv[i] = AlongPath(path, length[i - from] / length.back());
+    if (j < lobeCount)
+      outline.uv[to] = Eigen::Vector2d(tipU[order[j]], 1.0);
+  }
+
+  // Midveins from the base to each tip, at the margin spacing (lobe 1's in Resolution pieces): straight where the
+  // straight line stays inside the blade; otherwise bent once, at a point two spacings into the lobe from its start
+  // along the bisector of the lobe's axis and its inner (mirrored) half-margin, i.e. on the side of the previous
+  // lobe, where the straight line from the base can reach the lobe.
+  std::vector<Eigen::Vector2d> boundaryPolygon(outline.points.begin(), outline.points.end());
+  auto staysInside = [&](const std::vector<Eigen::Vector2d>& path) {
+    for (std::size_t i = 0; i + 1 < path.size(); ++i)
+    {
+      const int steps = std::max(2, static_cast<int>(std::ceil(4.0 * (path[i + 1] - path[i]).norm() / spacing)));
+      for (int s = (i == 0 ? 1 : 0); s < steps; ++s)
+      {
+        if (!InsidePolygon(boundaryPolygon, path[i] + (static_cast<double>(s) / steps) * (path[i + 1] - path[i])))
+          return false;
+      }
+    }
+    return true;
+  };
+  // The bend of each further lobe (own side; mirror it for the other).
+  std::vector<Eigen::Vector2d> bends(levels, Eigen::Vector2d::Zero());
+  for (int level = 1; level < levels; ++level)
+  {
+    const Lobe& lobe = lobes[level];
+    const Eigen::Vector2d axis = (lobe.tip - lobe.start).normalized();
+    const Eigen::Vector2d inner = (lobe.mirror[1] - lobe.start).normalized();
+    const double depth = std::min(2.0 * spacing, 0.1 * (lobe.tip - lobe.start).norm());
+    bends[level] = lobe.start + depth * (axis + inner).normalized();
+  }
+  // Each further level's midvein (own side; the mirrored side is its mirror image): straight from the base to the
+  // tip if that stays inside the blade; else bent at this lobe's bend, or also at the previous lobes' bends (a
+  // lobe that starts on another lobe takes its midvein through that lobe's base). first[level] is the first bend
+  // used, level + 1 for none. Lobes whose midveins share bends share the stretch up to them, so no two cross.
+  auto pathOf = [&](int level, int firstBend, const Eigen::Vector2d& tip) {
+    std::vector<Eigen::Vector2d> path = { Eigen::Vector2d::Zero() };
+    for (int l = firstBend; l <= level; ++l)
+      path.push_back(bends[l]);
+    path.push_back(tip);
+    return path;
+  };
+  std::vector<int> first(levels, 1);
+  for (int level = levels - 1; level >= 1; --level)
+  {
+    const Eigen::Vector2d tip = outline.points[tipPosition[2 * level - 1]];
+    first[level] = level + 1;
+    while (first[level] > 1 && !staysInside(pathOf(level, first[level], tip)))
+      --first[level];
+  }
+  for (int level = 1; level < levels; ++level)
+  {
+    for (int outer = level + 1; outer < levels; ++outer)
+    {
+      if (first[outer] <= level)
+        first[level] = std::min(first[level], first[outer]);
+    }
+  }
+  std::map<Key, int> midveinPointIds; // shared stretches share their samples
+  std::vector<std::vector<int>> midveins(lobeCount);
+  for (int k = 0; k < lobeCount; ++k)
+  {
+    const Eigen::Vector2d tip = outline.points[tipPosition[k]];
+    const int level = (k + 1) / 2;
+    const bool mirrored = k > 0 && k % 2 == 0; // lobes are listed as: lobe 1, then each level's own side and mirror
+    std::vector<Eigen::Vector2d> path =
+      k == 0 ? std::vector<Eigen::Vector2d>{ Eigen::Vector2d::Zero(), tip } : pathOf(level, first[level], tip);
+    if (mirrored)
+    {
+      for (std::size_t i = 1; i + 1 < path.size(); ++i)
+        path[i] = MirrorInAxis(path[i]);
+    }
+    const std::size_t firstNewPoint = outline.points.size();
+    midveins[k].push_back(0);
+    for (std::size_t piece = 0; piece + 1 < path.size(); ++piece)
+    {
+      const Eigen::Vector2d a = path[piece], b = path[piece + 1];
+      const int pieces = k == 0 ? n : std::max(1, static_cast<int>(std::lround((b - a).norm() / spacing)));
+      for (int i = 1; i <= pieces; ++i)
+      {
+        if (piece + 2 == path.size() && i == pieces)
+          break; // the tip is an outline vertex already
+        const Eigen::Vector2d x = a + (static_cast<double>(i) / pieces) * (b - a);
+        const auto known = midveinPointIds.find(KeyOf(x));
+        if (known != midveinPointIds.end())
+        {
+          midveins[k].push_back(known->second);
+          continue;
+        }
+        midveins[k].push_back(static_cast<int>(outline.points.size()));
+        midveinPointIds[KeyOf(x)] = midveins[k].back();
+        outline.points.push_back(x);
+        outline.uv.emplace_back(tipU[k], 0.0);
+        outline.region.push_back(RegionMidvein);
+      }
+    }
+    midveins[k].push_back(tipPosition[k]);
+    // v: arc-length fraction along the midvein.
+    double total = 0.0;
+    for (std::size_t i = 1; i < midveins[k].size(); ++i)
+      total += (outline.points[midveins[k][i]] - outline.points[midveins[k][i - 1]]).norm();
+    double along = 0.0;
+    for (std::size_t i = 1; i + 1 < midveins[k].size(); ++i)
+    {
+      along += (outline.points[midveins[k][i]] - outline.points[midveins[k][i - 1]]).norm();
+      if (static_cast<std::size_t>(midveins[k][i]) >= firstNewPoint) // shared samples keep the first lobe's LeafUV
+        outline.uv[midveins[k][i]].y() = along / total;
+    }
+  }
+  outline.midvein = midveins[0];
+  outline.veins.assign(midveins.begin() + 1, midveins.end());
+
+  // Sectors between neighbouring midveins (and the outer two, between a midvein and the margin down to the base):
+  // their polygons and boundary LeafUV, for the interior points' mean-value interpolation.
+  struct Sector
+  {
+    std::vector<Eigen::Vector2d> polygon, uv;
+    double uLow = 0.0, uHigh = 0.0;
+  };
+  std::vector<Sector> sectors(lobeCount + 1);
+  for (int j = 0; j <= lobeCount; ++j)
+  {
+    std::vector<int> loop;
+    if (j > 0)
+      loop.assign(midveins[order[j - 1]].begin(), midveins[order[j - 1]].end() - 1);
+    const int from = j == 0 ? 0 : tipPosition[order[j - 1]];
+    const int to = j == lobeCount ? count : tipPosition[order[j]];
+    for (int i = from; i < to; ++i)
+      loop.push_back(i);
+    if (j < lobeCount)
+      loop.insert(loop.end(), midveins[order[j]].rbegin(), midveins[order[j]].rend() - 1);
+    Sector& sector = sectors[j];
+    sector.uLow = j == lobeCount ? -0.5 : tipU[order[j]];
+    sector.uHigh = j == 0 ? 0.5 : tipU[order[j - 1]];
+    for (int id : loop)
+    {
+      sector.polygon.push_back(outline.points[id]);
+      sector.uv.push_back(outline.uv[id]);
+    }
+  }
+  auto solveUV = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& guess) {
+    for (const Sector& sector : sectors)
+    {
+      if (InsidePolygon(sector.polygon, x))
+      {
+        Eigen::Vector2d uv = MeanValueInterpolate(sector.polygon, sector.uv, x);
+        return Eigen::Vector2d(std::clamp(uv.x(), sector.uLow, sector.uHigh), std::clamp(uv.y(), 0.0, 1.0));
+      }
+    }
+    return guess;
+  };
+
+  BladeMeshOptions options;
+  options.quality = m.quality;
+  options.maxEdgeLength = spacing;
+  options.maxVertices = m.maxVertices;
+  if (m.progress)
+  {
+    const std::function<bool(double)> progress = m.progress;
+    options.progress = [progress](double f) { return progress(0.05 + 0.85 * f); };
+  }
+  if (m.progress && !m.progress(0.05))
+    return "aborted";
+  error = MeshBlade(outline, options, solveUV, leaf.blade);
+  if (!error.empty())
+  {
+    if (error.rfind("outline:", 0) == 0)
+      return "LobeStart/LobeAngle/LobeScale: " + error +
+        " (every lobe's midvein must run inside the blade from the base to its tip; lower LobeAngle or raise "
+        "Resolution)";
+    return error;
+  }
+
+  leaf.midvein = midveins[0];
+  leaf.lobeMidveins.assign(midveins.begin() + 1, midveins.end());
+  const int apex = tipPosition[0];
+  leaf.rightMargin.assign(outline.boundary.begin(), outline.boundary.begin() + apex + 1);
+  leaf.leftMargin.push_back(0);
+  for (int i = count - 1; i >= apex; --i)
+    leaf.leftMargin.push_back(i);
+  leaf.tcoords = BoundingBoxTextureCoordinates(leaf.blade.points);
+  return {};
+}
+} // namespace
+
+std::string BuildPalmateLeaf(const SpaceCurveParameters& parameters, const SpaceCurveMeshSettings& settings,
+  LeafGeometry& leaf)
+{
+  return BuildAllOrNothing(leaf, [&] { return Build(parameters, settings, leaf); });
+}
+
+} // namespace plantmorph

@@ -1,0 +1,267 @@
+// Palmate leaves (paper 002 sec. 4, Fig. 8): the lobes' union is one manifold blade that tiles its outline exactly
+// (no overlapping triangles where the lobes overlap), every lobe's midvein is a feature line from the base to its
+// tip, the leaf is mirror-symmetric, grows as an exact similarity, and bad lobe parameters are refused.
+#include "MeshInvariants.h"
+#include "PalmateLeaf.h"
+#include "SpaceCurvePresets.h"
+
+#include <plantmorph/DataContract.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace plantmorph
+{
+namespace
+{
+using testing::BoundaryLoops;
+using testing::EdgeUse;
+using testing::InsideOrOn;
+using testing::SignedArea;
+
+LeafGeometry Build(const SpaceCurveParameters& p, bool quality, int resolution = 40)
+{
+  SpaceCurveMeshSettings settings;
+  settings.resolution = resolution;
+  settings.quality = quality;
+  LeafGeometry leaf;
+  EXPECT_EQ(BuildSpaceCurveLeaf(p, settings, leaf), "");
+  return leaf;
+}
+
+/// The outline as a closed polygon: right margin from the base to lobe 1's tip, then the left margin back down.
+std::vector<Eigen::Vector2d> OutlinePolygon(const LeafGeometry& leaf)
+{
+  std::vector<Eigen::Vector2d> polygon;
+  for (int id : leaf.rightMargin)
+    polygon.push_back(leaf.blade.points[id]);
+  for (std::size_t i = leaf.leftMargin.size() - 2; i >= 1; --i)
+    polygon.push_back(leaf.blade.points[leaf.leftMargin[i]]);
+  return polygon;
+}
+
+double Area(const std::vector<Eigen::Vector2d>& polygon)
+{
+  double twice = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+  {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * twice;
+}
+
+struct Case
+{
+  SpaceCurvePreset preset;
+  bool quality;
+};
+
+class EveryPalmatePreset : public ::testing::TestWithParam<Case>
+{
+};
+
+TEST_P(EveryPalmatePreset, BladeIsOneManifoldDiskThatTilesTheLobesUnion)
+{
+  const SpaceCurveParameters p = MakeSpaceCurvePreset(GetParam().preset, 5.0);
+  const LeafGeometry leaf = Build(p, GetParam().quality);
+  ASSERT_FALSE(leaf.blade.triangles.empty());
+  ASSERT_EQ(leaf.lobeMidveins.size(), static_cast<std::size_t>(p.lobes - 1));
+
+  // Manifold disk: every edge in one or two triangles, one boundary loop, Euler characteristic 1.
+  const auto use = EdgeUse(leaf.blade.triangles);
+  for (const auto& [edge, count] : use)
+    ASSERT_LE(count, 2);
+  const auto loops = BoundaryLoops(leaf.blade.triangles);
+  ASSERT_EQ(loops.size(), 1u);
+  EXPECT_EQ(static_cast<long>(leaf.blade.points.size()) - static_cast<long>(use.size()) +
+      static_cast<long>(leaf.blade.triangles.size()),
+    1L);
+
+  // The boundary loop is exactly the two margins (which meet at the base and lobe 1's tip).
+  const std::set<int> boundary(loops[0].begin(), loops[0].end());
+  std::set<int> margins(leaf.leftMargin.begin(), leaf.leftMargin.end());
+  margins.insert(leaf.rightMargin.begin(), leaf.rightMargin.end());
+  EXPECT_EQ(boundary, margins);
+
+  // No overlapping triangles: all counter-clockwise, inside the outline, and their areas add up to its area.
+  const std::vector<Eigen::Vector2d> polygon = OutlinePolygon(leaf);
+  std::vector<Eigen::Vector2d> closed = polygon;
+  closed.push_back(polygon.front());
+  double total = 0.0;
+  for (const auto& t : leaf.blade.triangles)
+  {
+    const double area = SignedArea(leaf.blade.points, t);
+    ASSERT_GT(area, 0.0);
+    total += area;
+    const Eigen::Vector2d centroid = (leaf.blade.points[t[0]] + leaf.blade.points[t[1]] + leaf.blade.points[t[2]]) / 3.0;
+    ASSERT_TRUE(InsideOrOn(centroid, closed, 1e-12));
+  }
+  EXPECT_NEAR(total, Area(polygon), 1e-9 * Area(polygon));
+
+  // The lobes add to lobe 1: the palmate blade is much larger than the simple leaf with the same curvature.
+  SpaceCurveParameters simple = p;
+  simple.lobes = 1;
+  const LeafGeometry single = Build(simple, GetParam().quality);
+  EXPECT_GT(Area(polygon), 1.5 * Area(OutlinePolygon(single)));
+}
+
+TEST_P(EveryPalmatePreset, EveryLobeMidveinIsAFeatureLineFromTheBaseToItsTip)
+{
+  const SpaceCurveParameters p = MakeSpaceCurvePreset(GetParam().preset, 5.0);
+  const LeafGeometry leaf = Build(p, GetParam().quality);
+  ASSERT_FALSE(leaf.blade.triangles.empty());
+  const auto use = EdgeUse(leaf.blade.triangles);
+  const auto loops = BoundaryLoops(leaf.blade.triangles);
+  ASSERT_EQ(loops.size(), 1u);
+  const std::set<int> boundary(loops[0].begin(), loops[0].end());
+  std::vector<std::vector<int>> midveins = leaf.lobeMidveins;
+  midveins.insert(midveins.begin(), leaf.midvein);
+  std::set<int> tips;
+  for (const std::vector<int>& midvein : midveins)
+  {
+    ASSERT_GE(midvein.size(), 3u);
+    EXPECT_EQ(midvein.front(), leaf.midvein.front()); // all from the base
+    EXPECT_EQ(leaf.blade.points[midvein.front()], Eigen::Vector2d::Zero());
+    EXPECT_TRUE(boundary.count(midvein.back())); // to a tip on the outline
+    tips.insert(midvein.back());
+    const double u = leaf.blade.uv[midvein[midvein.size() - 2]].x(); // its own stretch (the first may be shared)
+    for (std::size_t i = 0; i + 1 < midvein.size(); ++i)
+    {
+      // Each piece is a mesh edge between two triangles: the midvein is interior and no triangle crosses it.
+      const auto edge = std::minmax(midvein[i], midvein[i + 1]);
+      ASSERT_TRUE(use.count(edge));
+      EXPECT_EQ(use.at(edge), 2);
+      if (i > 0)
+      {
+        EXPECT_FALSE(boundary.count(midvein[i]));
+        EXPECT_EQ(leaf.blade.region[midvein[i]], RegionMidvein);
+      }
+      EXPECT_LE(leaf.blade.uv[midvein[i]].y(), leaf.blade.uv[midvein[i + 1]].y());
+    }
+    // Lobe 1's midvein is u = 0, straight up +Y; the others are lines u = constant (shared bends excepted).
+    if (&midvein == &midveins.front())
+    {
+      for (int id : midvein)
+      {
+        EXPECT_EQ(leaf.blade.points[id].x(), 0.0);
+        EXPECT_EQ(leaf.blade.uv[id].x(), 0.0);
+      }
+    }
+    else
+      EXPECT_EQ(leaf.blade.uv[midvein.back()].x(), u);
+    EXPECT_EQ(leaf.blade.uv[midvein.back()].y(), 1.0);
+  }
+  EXPECT_EQ(tips.size(), midveins.size());
+
+  // LeafUV in range everywhere; Region 4 exactly on the outline except the base and the tips.
+  for (std::size_t i = 0; i < leaf.blade.points.size(); ++i)
+  {
+    const Eigen::Vector2d& uv = leaf.blade.uv[i];
+    ASSERT_TRUE(uv.x() >= -0.5 && uv.x() <= 0.5 && uv.y() >= 0.0 && uv.y() <= 1.0) << "point " << i;
+    const bool onOutline = boundary.count(static_cast<int>(i)) > 0;
+    const bool special = static_cast<int>(i) == leaf.midvein.front() || tips.count(static_cast<int>(i)) > 0;
+    EXPECT_EQ(leaf.blade.region[i] == RegionMargin, onOutline && !special) << "point " << i;
+  }
+}
+
+TEST_P(EveryPalmatePreset, LeafIsMirrorSymmetricAndBitIdenticalOnRerun)
+{
+  const SpaceCurveParameters p = MakeSpaceCurvePreset(GetParam().preset, 5.0);
+  const LeafGeometry leaf = Build(p, GetParam().quality);
+  const LeafGeometry again = Build(p, GetParam().quality);
+  ASSERT_EQ(leaf.blade.points, again.blade.points);
+  ASSERT_EQ(leaf.blade.uv, again.blade.uv);
+  ASSERT_EQ(leaf.blade.triangles, again.blade.triangles);
+  // The outline (margins and midveins) is exactly symmetric in the Y axis, with mirrored LeafUV u.
+  ASSERT_EQ(leaf.leftMargin.size(), leaf.rightMargin.size());
+  for (std::size_t i = 0; i < leaf.leftMargin.size(); ++i)
+  {
+    const Eigen::Vector2d& l = leaf.blade.points[leaf.leftMargin[i]];
+    const Eigen::Vector2d& r = leaf.blade.points[leaf.rightMargin[i]];
+    EXPECT_EQ(l.x(), -r.x());
+    EXPECT_EQ(l.y(), r.y());
+    EXPECT_NEAR(leaf.blade.uv[leaf.leftMargin[i]].x(), -leaf.blade.uv[leaf.rightMargin[i]].x(), 1e-12);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(PalmateLeaf, EveryPalmatePreset,
+  ::testing::Values(Case{ SpaceCurvePreset::Figure8ThreeLobes, true }, Case{ SpaceCurvePreset::Figure8ThreeLobes, false },
+    Case{ SpaceCurvePreset::Figure8FiveLobes, true }, Case{ SpaceCurvePreset::Figure8FiveLobes, false }),
+  [](const ::testing::TestParamInfo<Case>& info) {
+    return SpaceCurvePresetName(info.param.preset) + (info.param.quality ? "Quality" : "Paper");
+  });
+
+TEST(PalmateLeaf, GrowingAtFixedMuIsAnExactSimilarity)
+{
+  // Paper 002's similarity holds lobe by lobe: doubling S doubles every outline sample (to rounding).
+  for (const SpaceCurvePreset preset : { SpaceCurvePreset::Figure8ThreeLobes, SpaceCurvePreset::Figure8FiveLobes })
+  {
+    const LeafGeometry small = Build(MakeSpaceCurvePreset(preset, 2.5), false);
+    const LeafGeometry large = Build(MakeSpaceCurvePreset(preset, 5.0), false);
+    ASSERT_EQ(small.rightMargin.size(), large.rightMargin.size());
+    for (std::size_t i = 0; i < small.rightMargin.size(); ++i)
+    {
+      const Eigen::Vector2d a = 2.0 * small.blade.points[small.rightMargin[i]];
+      const Eigen::Vector2d b = large.blade.points[large.rightMargin[i]];
+      EXPECT_LT((a - b).norm(), 1e-9 * 5.0);
+    }
+  }
+}
+
+TEST(PalmateLeaf, MoreLobesCoverMore)
+{
+  const double three = Area(OutlinePolygon(Build(MakeSpaceCurvePreset(SpaceCurvePreset::Figure8ThreeLobes, 5.0), false)));
+  SpaceCurveParameters p = MakeSpaceCurvePreset(SpaceCurvePreset::Figure8ThreeLobes, 5.0);
+  p.lobes = 5;
+  const double five = Area(OutlinePolygon(Build(p, false)));
+  EXPECT_GT(five, three * 1.1);
+}
+
+TEST(PalmateLeaf, BadLobeParametersGiveAMessageNamingThePropertyAndNoLeaf)
+{
+  const SpaceCurveParameters good = MakeSpaceCurvePreset(SpaceCurvePreset::Figure8ThreeLobes, 5.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Bad
+  {
+    const char* property;
+    void (*change)(SpaceCurveParameters&, double);
+    double value;
+  };
+  const Bad cases[] = {
+    { "Lobes", [](SpaceCurveParameters& p, double v) { p.lobes = static_cast<int>(v); }, 2 },
+    { "Lobes", [](SpaceCurveParameters& p, double v) { p.lobes = static_cast<int>(v); }, 7 },
+    { "LobeStart", [](SpaceCurveParameters& p, double v) { p.lobeStart = v; }, 0.0 },
+    { "LobeStart", [](SpaceCurveParameters& p, double v) { p.lobeStart = v; }, 1.0 },
+    { "LobeStart", [](SpaceCurveParameters& p, double v) { p.lobeStart = v; }, nan },
+    { "LobeAngle", [](SpaceCurveParameters& p, double v) { p.lobeAngle = v; }, 0.0 },
+    { "LobeAngle", [](SpaceCurveParameters& p, double v) { p.lobeAngle = v; }, 120.0 },
+    { "LobeScale", [](SpaceCurveParameters& p, double v) { p.lobeScale = v; }, 0.0 },
+    { "LobeScale", [](SpaceCurveParameters& p, double v) { p.lobeScale = v; }, nan },
+    { "Lobes", [](SpaceCurveParameters& p, double v) { p.torsion.mu = v; }, 4.0 }, // palmate leaves are flat
+    { "Lobes", [](SpaceCurveParameters& p, double v) { p.opening = v; }, 0.5 },
+    // Lobes turned so far out that they hang from lobe 1 by their start point only.
+    { "LobeAngle", [](SpaceCurveParameters& p, double v) { p.lobeAngle = v; p.curvature.mu = 2.0; }, 60.0 },
+  };
+  for (const Bad& bad : cases)
+  {
+    SCOPED_TRACE(std::string(bad.property) + " " + std::to_string(bad.value));
+    SpaceCurveParameters p = good;
+    bad.change(p, bad.value);
+    SpaceCurveMeshSettings settings;
+    settings.resolution = 30;
+    LeafGeometry leaf;
+    const std::string error = BuildSpaceCurveLeaf(p, settings, leaf);
+    EXPECT_NE(error.find(bad.property), std::string::npos) << error;
+    EXPECT_TRUE(leaf.blade.points.empty() && leaf.blade.triangles.empty() && leaf.midvein.empty() &&
+      leaf.lobeMidveins.empty());
+  }
+}
+
+} // namespace
+} // namespace plantmorph
