@@ -14,6 +14,7 @@
 //   BM_SpaceCurveIntegration   Model B's outline: Frenet-Serret integration of a half-margin (paper 002 Fig. 5),
 //                        R + 1 samples, RK45 at 1e-10.
 //   BM_SpaceCurveLeaf    Model B's whole leaf (Fig. 5): integration, mirror, midvein, strips, normals.
+//   BM_PalmateLeafQuality      Model B's palmate leaf (Fig. 8, 5 lobes, quality mode).
 //   BM_BSplineLeafQuality      Model C's whole leaf (pin oak, quality mode).
 //
 // Counters:
@@ -328,6 +329,18 @@ void BM_SpaceCurveLeaf(benchmark::State& state)
     state, [&](plantmorph::LeafGeometry& leaf) { return plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf); });
 }
 
+/// Palmate leaf (paper 002 Fig. 8, 5 lobes, quality mode): five lobes integrated, their union (CGAL Boolean
+/// operations, exact), CGAL meshing with the lobes' midveins as constraints, mean-value LeafUV per sector.
+void BM_PalmateLeafQuality(benchmark::State& state)
+{
+  const plantmorph::SpaceCurveParameters parameters =
+    plantmorph::MakeSpaceCurvePreset(plantmorph::SpaceCurvePreset::Figure8FiveLobes, 5.0);
+  plantmorph::SpaceCurveMeshSettings settings;
+  settings.resolution = static_cast<int>(state.range(0));
+  MeasureLeaf(
+    state, [&](plantmorph::LeafGeometry& leaf) { return plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf); });
+}
+
 /// Model C's whole leaf (pin oak preset, quality mode): spline interpolation, sampling, CGAL meshing, MVC LeafUV.
 void BM_BSplineLeafQuality(benchmark::State& state)
 {
@@ -359,6 +372,7 @@ int main(int argc, char** argv)
   Register("BM_CgalCdtSameBoundary", BM_CgalCdtSameBoundary, paperResolutions);
   Register("BM_SpaceCurveIntegration", BM_SpaceCurveIntegration, { 64, 256, 1024, 4000 });
   Register("BM_SpaceCurveLeaf", BM_SpaceCurveLeaf, { 64, 256, 1024, 4000 });
+  Register("BM_PalmateLeafQuality", BM_PalmateLeafQuality, { 16, 32, 64, 128, 256 });
   Register("BM_BSplineLeafQuality", BM_BSplineLeafQuality, { 16, 32, 64, 128, 256, 512 });
 
   benchmark::Initialize(&argc, argv);
