@@ -554,6 +554,11 @@ std::string vtkLeafOutlineSource::BuildLeaf(
       t.lambda = this->TorsionLambda;
       t.n1 = this->TorsionN1;
       t.n2 = this->TorsionN2;
+      t.b1 = this->TorsionB1;
+      t.u3 = this->TorsionU3;
+      t.beta = this->TorsionBeta;
+      t.alpha4 = this->TorsionAlpha4;
+      t.lambda2 = this->TorsionLambda2;
       parameters.midveinStretchZ = this->MidveinStretchZ;
       parameters.midveinStretchXY = this->MidveinStretchXY;
       parameters.lobes = this->Lobes;

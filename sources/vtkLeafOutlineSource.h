@@ -196,6 +196,16 @@ public:
   vtkGetMacro(TorsionN1, double);
   vtkSetMacro(TorsionN2, double);
   vtkGetMacro(TorsionN2, double);
+  vtkSetMacro(TorsionB1, double);
+  vtkGetMacro(TorsionB1, double);
+  vtkSetMacro(TorsionU3, double);
+  vtkGetMacro(TorsionU3, double);
+  vtkSetMacro(TorsionBeta, double);
+  vtkGetMacro(TorsionBeta, double);
+  vtkSetMacro(TorsionAlpha4, double);
+  vtkGetMacro(TorsionAlpha4, double);
+  vtkSetMacro(TorsionLambda2, double);
+  vtkGetMacro(TorsionLambda2, double);
   vtkSetMacro(Opening, double);
   vtkGetMacro(Opening, double);
   vtkSetMacro(MidveinStretchZ, double);
@@ -320,6 +330,11 @@ protected:
   double TorsionLambda = 0.7;
   double TorsionN1 = 1.0;
   double TorsionN2 = 1.0;
+  double TorsionB1 = 0.001;
+  double TorsionU3 = 0.001;
+  double TorsionBeta = 2.0;
+  double TorsionAlpha4 = 0.3;
+  double TorsionLambda2 = 0.5;
   double Opening = 0.0;
   double MidveinStretchZ = 1.0;
   double MidveinStretchXY = 0.0;

@@ -288,6 +288,38 @@ TEST(vtkLeafOutlineSource, SpaceCurveBadPropertiesGiveAMessage)
   EXPECT_EQ(source->GetOutput(1)->GetNumberOfPoints(), 0);
 }
 
+TEST(vtkLeafOutlineSource, TorsionShapeParametersReachTheModel)
+{
+  vtkNew<vtkLeafOutlineSource> source;
+  vtkNew<ErrorCatcher> catcher;
+  source->AddObserver(vtkCommand::ErrorEvent, catcher);
+  source->SetModel(vtkLeafOutlineSource::SPACE_CURVE);
+  source->SetSpaceCurvePreset(0);
+  source->SetResolution(30);
+  source->SetTorsionFunction(3); // exponential
+  source->SetTorsionEta(2.0);
+  source->SetTorsionB1(0.05);
+  source->SetTorsionU3(0.4);
+  source->Update();
+  ASSERT_EQ(catcher->Messages, "");
+  auto* torsion = vtkDoubleArray::SafeDownCast(source->GetOutput(0)->GetFieldData()->GetArray("PlantMorph.Torsion"));
+  ASSERT_NE(torsion, nullptr);
+  EXPECT_EQ(torsion->GetComponent(0, 5), 0.05);
+  EXPECT_EQ(torsion->GetComponent(0, 6), 0.4);
+  double before[6];
+  source->GetOutput(0)->GetBounds(before);
+  source->SetTorsionU3(0.01);
+  source->Update();
+  double after[6];
+  source->GetOutput(0)->GetBounds(after);
+  EXPECT_GT(std::abs(after[5] - before[5]) + std::abs(after[4] - before[4]), 1e-3); // another twist, another leaf
+  source->SetTorsionFunction(4); // notched apex
+  source->SetTorsionAlpha4(1.5);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("Alpha4 = 1.5"), std::string::npos) << catcher->Messages;
+  EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
+}
+
 TEST(vtkLeafOutlineSource, PalmateLeafHasEveryLobeMidveinOnTheOutlinePort)
 {
   for (int preset : { 7, 8 })
