@@ -413,27 +413,25 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
   vtkDataArray* inNormals = inPD->GetNormals();
   for (std::size_t a = 0; a < attributeArrays.size(); ++a)
   {
-    vtkSmartPointer<vtkDataArray> array =
-      Scatter(attributeArrays[a], out.attributes, out.attributeComponents, attributeOffsets[a], nOutPoints);
-    if (attributeArrays[a] == inNormals && array->GetNumberOfComponents() == 3)
+    if (attributeArrays[a] == inNormals && inNormals->GetNumberOfComponents() == 3)
     {
+      const int stride = out.attributeComponents, offset = attributeOffsets[a];
       vtkSMPTools::For(0, nOutPoints, [&](vtkIdType b, vtkIdType e) {
         for (vtkIdType i = b; i < e; ++i)
         {
-          double n[3];
-          array->GetTuple(i, n);
+          double* n = out.attributes.data() + static_cast<std::size_t>(stride) * i + offset;
           const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
           if (len > 0.0)
           {
             n[0] /= len;
             n[1] /= len;
             n[2] /= len;
-            array->SetTuple(i, n);
           }
         }
       });
     }
-    outPD->AddArray(array);
+    outPD->AddArray(
+      Scatter(attributeArrays[a], out.attributes, out.attributeComponents, attributeOffsets[a], nOutPoints));
   }
   std::vector<double>().swap(out.attributes);
   if (regionArray)

@@ -478,9 +478,10 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
       return result;
     }
 
-    // Unit triangle normals.
-    std::vector<double> normals(3 * nT);
-    parallelFor(nT, [&](std::size_t begin, std::size_t end) {
+    // Unit triangle normals (not needed when every edge splits and every vertex moves).
+    const bool needNormals = !splitAll || lambda < 1.0;
+    std::vector<double> normals(needNormals ? 3 * nT : 0);
+    parallelFor(needNormals ? nT : 0, [&](std::size_t begin, std::size_t end) {
       for (std::size_t t = begin; t < end; ++t)
       {
         const double* a = P + 3 * static_cast<std::size_t>(tri[3 * t]);
