@@ -32,8 +32,11 @@ void RangeError(std::ostringstream& message, const char* name, double value, con
 
 /// The bend of one coordinate pair (a along the bending direction, b the height) by a circle of curvature kappa
 /// tangent to the a axis: arc length `s` from the bend's axis, height `h` above the reference surface. Adds the
-/// displacement to (a, b) and transforms the normal's (na, nb) with the inverse transpose of the Jacobian.
-void Bend(double s, double kappa, double h, double& a, double& b, double* na, double* nb)
+/// displacement to (a, b). The normal (na, nb, nc; nc along the bend's axis) is multiplied by the cofactor matrix
+/// of the Jacobian J = Rot(phi) * diag(1 - h*kappa, 1, 1), i.e. Rot(phi) * diag(1, 1 - h*kappa, 1 - h*kappa): the
+/// inverse transpose up to the factor det J, so it stays defined (and keeps the faces' orientation) where a point
+/// lies beyond the centre of curvature and the bend turns the surface inside out (1 - h*kappa <= 0).
+void Bend(double s, double kappa, double h, double& a, double& b, double* na, double* nb, double* nc)
 {
   const double phi = kappa * s;
   const double sinPhi = std::sin(phi);
@@ -43,10 +46,11 @@ void Bend(double s, double kappa, double h, double& a, double& b, double* na, do
   if (na)
   {
     const double stretch = 1.0 - h * kappa; // the Jacobian's scale along the bent direction at height h
-    const double ta = stretch > 1e-12 ? *na / stretch : *na;
-    const double tb = *nb;
+    const double ta = *na;
+    const double tb = stretch * *nb;
     *na = cosPhi * ta - sinPhi * tb;
     *nb = sinPhi * ta + cosPhi * tb;
+    *nc *= stretch;
   }
 }
 } // namespace
@@ -176,8 +180,8 @@ void LeafCurl::Map(std::size_t index, const double in[3], double out[3], double 
     if (d != 0.0 && width > 0.0)
     {
       const double h = in[2] - this->MidveinZ[index];
-      Bend(d, this->LongitudinalRadians / width, h, out[0], out[2], normal ? normal : nullptr,
-        normal ? normal + 2 : nullptr);
+      Bend(d, this->LongitudinalRadians / width, h, out[0], out[2], normal, normal ? normal + 2 : nullptr,
+        normal ? normal + 1 : nullptr);
     }
   }
   if (this->Transverse)
@@ -188,7 +192,7 @@ void LeafCurl::Map(std::size_t index, const double in[3], double out[3], double 
     {
       const double h = out[2] - this->CenterZ;
       Bend(e, this->TransverseRadians / length, h, out[1], out[2], normal ? normal + 1 : nullptr,
-        normal ? normal + 2 : nullptr);
+        normal ? normal + 2 : nullptr, normal);
     }
   }
   if (normal)

@@ -31,8 +31,13 @@
 // (the spec asks for the combination anyway): then the transverse bend stretches or compresses the rolled halves
 // by the factor (1 - h * angle / L).
 //
-// Normals (optional): transformed with the bend's Jacobian (inverse transpose), i.e. rotated by phi (psi) and, off
-// the reference surface, rescaled along the bending direction, then normalised. Exact for a flat blade.
+// Combined curls can fold: where a rolled half rises above the mid-line by more than the transverse radius
+// L / TransverseAngle (large angles on both), the transverse bend passes the centre of curvature and turns that part
+// inside out. Nothing stops it (the user asked for it); the normals stay consistent with the faces there.
+//
+// Normals (optional): transformed with the cofactor matrix of each bend's Jacobian (the inverse transpose up to the
+// determinant), i.e. rotated by phi (psi) and, off the reference surface, rescaled across the bending direction,
+// then normalised. Exact for a flat blade; consistent with the faces' orientation even where a combined curl folds.
 //
 // Angle 0 skips its curl: both angles 0 give bit-identical points and normals.
 #pragma once

@@ -320,6 +320,38 @@ TEST(LeafCurl, NormalsFollowTheCurledSurface)
   }
 }
 
+TEST(LeafCurl, NormalsAreTheSurfacesNormalsEvenWhereACombinedCurlFolds)
+{
+  // A small blade (midvein x = 0, 0 <= y <= 5, margins at |x| = 2.75) and one probe point, curled 160 and 70 degrees:
+  // the rolled halves rise above the transverse radius near the apex and that part turns inside out. The mapped
+  // normal must still be the normal of the mapped surface, (dP/dx x dP/dy) / |...|, by central differences.
+  LeafCurlParameters p;
+  p.longitudinalAngle = 160.0;
+  p.transverseAngle = 70.0;
+  const double uv[] = { 0, 0, 0, 1, 0.5, 0.5, -0.5, 0.5, 0.3, 0.9 };
+  const auto map = [&](double x, double y, double* normal) {
+    const double xyz[] = { 0, 0, 0, 0, 5, 0, 2.75, 2.5, 0, -2.75, 2.5, 0, x, y, 0 };
+    LeafCurl curl;
+    EXPECT_EQ(curl.Setup(p, 5, xyz, uv), "");
+    Eigen::Vector3d out;
+    curl.Map(4, xyz + 12, out.data(), normal);
+    return out;
+  };
+  int folded = 0;
+  for (const auto& [x, y] : { std::pair{ 1.0, 4.8 }, { 2.5, 4.8 }, { -2.5, 4.9 }, { 2.5, 0.3 }, { -1.5, 1.0 } })
+  {
+    double normal[3] = { 0.0, 0.0, 1.0 };
+    map(x, y, normal);
+    const double step = 1e-6;
+    const Eigen::Vector3d dx = (map(x + step, y, nullptr) - map(x - step, y, nullptr)) / (2 * step);
+    const Eigen::Vector3d dy = (map(x, y + step, nullptr) - map(x, y - step, nullptr)) / (2 * step);
+    const Eigen::Vector3d surface = dx.cross(dy).normalized();
+    EXPECT_GT(surface.dot(Eigen::Vector3d(normal[0], normal[1], normal[2])), 1.0 - 1e-8) << x << ", " << y;
+    folded += normal[2] < 0.0 && y > 2.5 ? 1 : 0;
+  }
+  EXPECT_GT(folded, 0) << "the probe should include a folded point";
+}
+
 TEST(LeafCurl, ReliefRidesAlongTheBentNormal)
 {
   // A non-flat input: the flat blade lifted by a bump h(x, y) along +Z. The curled bumpy blade is the curled flat
