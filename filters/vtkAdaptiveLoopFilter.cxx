@@ -162,11 +162,16 @@ int vtkAdaptiveLoopFilter::RequestData(
     vtkErrorMacro(<< "NumberOfThreads = " << this->NumberOfThreads << " must be in [0, 256] (0: all cores)");
     return 1;
   }
+  // Small outputs run serially: starting threads costs more than the work (about 1 ms against 0.4 ms for 1e4
+  // output triangles on the benchmark machine).
+  const double estimate = static_cast<double>(input->GetNumberOfPolys() + input->GetNumberOfStrips()) *
+    std::pow(4.0, std::clamp(this->MaximumLevel, 0, 10));
+  const int threads = estimate < 2e5 ? 1 : this->NumberOfThreads;
   const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
-  const std::string backend = (current == "Sequential" && this->NumberOfThreads != 1) ? "STDThread" : current;
+  const std::string backend = threads == 1 ? "Sequential" : (current == "Sequential" ? "STDThread" : current);
   int status = 1;
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ this->NumberOfThreads, backend, false },
-    [&]() { status = this->Execute(input, output); });
+  vtkSMPTools::LocalScope(
+    vtkSMPTools::Config{ threads, backend, false }, [&]() { status = this->Execute(input, output); });
   if (status != 1)
   {
     output->Initialize(); // never half an output

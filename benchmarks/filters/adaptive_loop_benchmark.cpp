@@ -120,11 +120,15 @@ double Bytes(vtkPolyData* data)
 vtkSmartPointer<vtkPolyData> SphereFor(int exponent, int levels)
 {
   const double inputTriangles = std::pow(10.0, exponent) / std::pow(4.0, levels);
-  // vtkSphereSource(r, r) makes 2 r (r - 2) + 2 r = 2 r (r - 1) triangles.
+  // vtkSphereSource(theta, phi) makes 2 theta (phi - 1) triangles. Its poles have valence theta: keep that at most
+  // 128, because vtkLoopSubdivisionFilter (VTK 9.2) smashes its stack at a pole of valence 354 (fixed-size stencil
+  // arrays), and lengthen the sphere in phi instead.
   const int r = std::max(4, static_cast<int>(std::lround(0.5 + std::sqrt(0.25 + inputTriangles / 2.0))));
+  const int theta = std::min(r, 128);
+  const int phi = std::max(4, static_cast<int>(std::lround(inputTriangles / (2.0 * theta) + 1.0)));
   vtkNew<vtkSphereSource> sphere;
-  sphere->SetThetaResolution(r);
-  sphere->SetPhiResolution(r);
+  sphere->SetThetaResolution(theta);
+  sphere->SetPhiResolution(phi);
   sphere->Update();
   auto out = vtkSmartPointer<vtkPolyData>::New();
   out->DeepCopy(sphere->GetOutput());
