@@ -1,0 +1,292 @@
+#include "RigidRegistration.h"
+
+#include <plantmorph/RandomStream.h>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <vector>
+
+namespace plantmorph
+{
+
+//------------------------------------------------------------------------------
+std::string ValidateRegistrationSettings(const RegistrationSettings& settings)
+{
+  std::ostringstream message;
+  if (settings.maximumIterations < 1 || settings.maximumIterations > 10000)
+  {
+    message << "RegistrationIterations = " << settings.maximumIterations << " must be in [1, 10000]";
+  }
+  else if (!(settings.tolerance > 0.0 && settings.tolerance < 1.0))
+  {
+    message << "RegistrationTolerance = " << settings.tolerance << " must be in (0, 1)";
+  }
+  else if (settings.maximumLandmarks < 3)
+  {
+    message << "RegistrationLandmarks = " << settings.maximumLandmarks << " must be at least 3";
+  }
+  else if (std::isnan(settings.rejectDistance))
+  {
+    message << "the registration's rejection distance is NaN";
+  }
+  return message.str();
+}
+
+//------------------------------------------------------------------------------
+bool FitSimilarity(const double* source, const double* target, std::size_t count, bool withScale, double matrix[16])
+{
+  if (count < 3)
+  {
+    return false;
+  }
+  const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> src(source, 3, static_cast<Eigen::Index>(count));
+  const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> dst(target, 3, static_cast<Eigen::Index>(count));
+  const Eigen::Vector3d mean = src.rowwise().mean();
+  if ((src.colwise() - mean).squaredNorm() <= 0.0)
+  {
+    return false;
+  }
+  const Eigen::Matrix4d m = Eigen::umeyama(src, dst, withScale);
+  if (!m.allFinite())
+  {
+    return false;
+  }
+  for (int r = 0; r < 4; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      matrix[4 * r + c] = m(r, c);
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void ApplyTransform(const double m[16], const double* in, double* out, std::size_t count)
+{
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const double x = in[3 * i];
+    const double y = in[3 * i + 1];
+    const double z = in[3 * i + 2];
+    out[3 * i] = m[0] * x + m[1] * y + m[2] * z + m[3];
+    out[3 * i + 1] = m[4] * x + m[5] * y + m[6] * z + m[7];
+    out[3 * i + 2] = m[8] * x + m[9] * y + m[10] * z + m[11];
+  }
+}
+
+//------------------------------------------------------------------------------
+RegistrationResult RegisterPoints(const double* points, std::size_t count, const PointSurfaceDistance& reference,
+  const RegistrationSettings& settings, const ParallelFor& parallelFor)
+{
+  RegistrationResult result;
+  result.error = ValidateRegistrationSettings(settings);
+  if (!result.error.empty())
+  {
+    return result;
+  }
+  if (reference.IsEmpty())
+  {
+    result.error = "registration: the reference is empty";
+    return result;
+  }
+  if (count < 3)
+  {
+    result.error = "registration needs at least 3 measured points";
+    return result;
+  }
+
+  // Landmarks: all points, or a seeded random subset (partial Fisher-Yates), kept in input order.
+  std::vector<std::size_t> chosen;
+  if (count <= settings.maximumLandmarks)
+  {
+    chosen.resize(count);
+    std::iota(chosen.begin(), chosen.end(), std::size_t{ 0 });
+  }
+  else
+  {
+    std::vector<std::size_t> all(count);
+    std::iota(all.begin(), all.end(), std::size_t{ 0 });
+    RandomStream random(settings.seed, 0x1C9);
+    for (std::size_t i = 0; i < settings.maximumLandmarks; ++i)
+    {
+      const auto j = static_cast<std::size_t>(
+        random.Integer(static_cast<std::int64_t>(i), static_cast<std::int64_t>(count - 1)));
+      std::swap(all[i], all[j]);
+    }
+    chosen.assign(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(settings.maximumLandmarks));
+    std::sort(chosen.begin(), chosen.end());
+  }
+  const std::size_t n = chosen.size();
+  result.landmarks = n;
+  std::vector<double> original(3 * n);
+  double lo[3] = { points[3 * chosen[0]], points[3 * chosen[0] + 1], points[3 * chosen[0] + 2] };
+  double hi[3] = { lo[0], lo[1], lo[2] };
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const double x = points[3 * chosen[i] + k];
+      if (!std::isfinite(x))
+      {
+        result.error = "registration: a measured point has a non-finite coordinate";
+        return result;
+      }
+      original[3 * i + k] = x;
+      lo[k] = std::min(lo[k], x);
+      hi[k] = std::max(hi[k], x);
+    }
+  }
+  const double diagonal =
+    std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  const double stepLimit = settings.tolerance * std::max(diagonal, 1e-300);
+
+  std::vector<double> moved(3 * n);
+  std::vector<double> closest(3 * n);
+  std::vector<double> distance(n);
+  std::vector<std::int64_t> primitive(n);
+  std::vector<double> fitSource;
+  std::vector<double> fitTarget;
+  std::vector<double> next(3 * n);
+  double matrix[16];
+  std::copy(result.matrix, result.matrix + 16, matrix);
+  const bool pointToPlane = reference.IsSurface();
+  for (int iteration = 1; iteration <= settings.maximumIterations; ++iteration)
+  {
+    ApplyTransform(matrix, original.data(), moved.data(), n);
+    reference.QueryMany(
+      moved.data(), n, distance.data(), nullptr, closest.data(), primitive.data(), parallelFor);
+    double fitted[16];
+    std::size_t pairs = 0;
+    bool solved = false;
+    if (pointToPlane)
+    {
+      // Linearised point-to-plane step about the moved landmarks' centroid g:
+      //   x' = g + (1 + s) R(w) (x - g) + t,  residual n . (x' - c), unknowns (w, t[, s]).
+      Eigen::Vector3d g = Eigen::Vector3d::Zero();
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        g += Eigen::Vector3d(moved[3 * i], moved[3 * i + 1], moved[3 * i + 2]);
+      }
+      g /= static_cast<double>(n);
+      Eigen::Matrix<double, 7, 7> a = Eigen::Matrix<double, 7, 7>::Zero();
+      Eigen::Matrix<double, 7, 1> b = Eigen::Matrix<double, 7, 1>::Zero();
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        if (settings.rejectDistance >= 0.0 && distance[i] > settings.rejectDistance)
+        {
+          continue;
+        }
+        double normal[3];
+        reference.GetTriangleNormal(primitive[i], normal);
+        const Eigen::Vector3d nn(normal[0], normal[1], normal[2]);
+        const Eigen::Vector3d x = Eigen::Vector3d(moved[3 * i], moved[3 * i + 1], moved[3 * i + 2]) - g;
+        const Eigen::Vector3d c = Eigen::Vector3d(closest[3 * i], closest[3 * i + 1], closest[3 * i + 2]) - g;
+        Eigen::Matrix<double, 7, 1> j;
+        j << x.cross(nn), nn, settings.withScale ? nn.dot(x) : 0.0;
+        const double r = nn.dot(x - c);
+        a += j * j.transpose();
+        b -= j * r;
+        ++pairs;
+      }
+      if (pairs >= 3)
+      {
+        // A tiny ridge keeps directions the surface does not constrain (sliding on a plane) at zero.
+        const double ridge = 1e-12 * std::max(a.trace(), 1e-300);
+        for (int k = 0; k < 7; ++k)
+        {
+          a(k, k) += ridge;
+        }
+        const Eigen::Matrix<double, 7, 1> step = a.ldlt().solve(b);
+        if (step.allFinite())
+        {
+          const Eigen::Vector3d w = step.head<3>();
+          const double angle = w.norm();
+          const Eigen::Matrix3d rotation =
+            angle > 0.0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+          const double s = settings.withScale ? 1.0 + step(6) : 1.0;
+          Eigen::Matrix4d delta = Eigen::Matrix4d::Identity();
+          delta.topLeftCorner<3, 3>() = s * rotation;
+          delta.topRightCorner<3, 1>() = g - s * rotation * g + step.segment<3>(3);
+          const Eigen::Matrix4d current = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(matrix);
+          Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> composed(fitted);
+          composed = delta * current;
+          solved = s > 0.0;
+        }
+      }
+    }
+    else
+    {
+      fitSource.clear();
+      fitTarget.clear();
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        if (settings.rejectDistance >= 0.0 && distance[i] > settings.rejectDistance)
+        {
+          continue;
+        }
+        fitSource.insert(fitSource.end(), original.begin() + 3 * i, original.begin() + 3 * i + 3);
+        fitTarget.insert(fitTarget.end(), closest.begin() + 3 * i, closest.begin() + 3 * i + 3);
+      }
+      pairs = fitSource.size() / 3;
+      solved = FitSimilarity(fitSource.data(), fitTarget.data(), pairs, settings.withScale, fitted);
+    }
+    if (!solved)
+    {
+      std::ostringstream message;
+      message << "registration failed at iteration " << iteration << ": " << pairs
+              << " landmark pairs within the rejection distance (at least 3 distinct points are needed)";
+      result.error = message.str();
+      return result;
+    }
+    result.iterations = iteration;
+    ApplyTransform(fitted, original.data(), next.data(), n);
+    double step2 = 0.0;
+    for (std::size_t i = 0; i < 3 * n; i += 3)
+    {
+      const double dx = next[i] - moved[i];
+      const double dy = next[i + 1] - moved[i + 1];
+      const double dz = next[i + 2] - moved[i + 2];
+      step2 = std::max(step2, dx * dx + dy * dy + dz * dz);
+    }
+    std::copy(fitted, fitted + 16, matrix);
+    if (std::sqrt(step2) <= stepLimit)
+    {
+      result.converged = true;
+      break;
+    }
+  }
+  if (!settings.withScale)
+  {
+    // Re-orthonormalise the composed rotation (rounding of many compositions), keeping the translation.
+    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> m(matrix);
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m.topLeftCorner<3, 3>(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+    m.topLeftCorner<3, 3>() = svd.matrixU() * svd.matrixV().transpose();
+  }
+  std::copy(matrix, matrix + 16, result.matrix);
+  result.scale = std::cbrt(Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(matrix)
+                             .topLeftCorner<3, 3>()
+                             .determinant());
+  // Final RMS of the kept pairs under the final transform.
+  ApplyTransform(matrix, original.data(), moved.data(), n);
+  reference.QueryMany(moved.data(), n, distance.data(), nullptr, nullptr, nullptr, parallelFor);
+  double sum = 0.0;
+  std::size_t kept = 0;
+  for (double d : distance)
+  {
+    if (settings.rejectDistance < 0.0 || d <= settings.rejectDistance)
+    {
+      sum += d * d;
+      ++kept;
+    }
+  }
+  result.rms = kept ? std::sqrt(sum / static_cast<double>(kept)) : 0.0;
+  return result;
+}
+
+} // namespace plantmorph
