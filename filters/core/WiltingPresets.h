@@ -1,0 +1,31 @@
+// WiltingSimulator presets (spec 04; paper 001 sec. 3): materials and loads for the paper's three leaves.
+//   Cucumber: droop with the margin curling down (loads on the voxels' bottom nodes), calibrated against the
+//             paper's measured tip trajectory (examples/calibrate_wilting.py; benchmarks/README.md "wilting").
+//   Tomato:   the margin curls up (loads on the top nodes), less droop.
+//   Watermelon: a lobed leaf (feed it a palmate LeafOutlineSource blade); droop, lobes curling down.
+// The paper's fitted triples (mass, stiffness, damping) print as veins "1000, 20000, 500", margin "5000, 8000,
+// 500", rest "8000, 10000, 500" without units or decimal points; the presets keep their stiffness ratios
+// (veins 2, margin 0.8, blade 1) and use densities and dashpots in g, cm, s that give a leaf of a few grams.
+#pragma once
+
+#include "WiltingSimulation.h"
+
+#include <string>
+
+namespace plantmorph
+{
+
+enum class WiltingPreset : int
+{
+  Custom = 0,
+  Cucumber = 1,
+  Tomato = 2,
+  Watermelon = 3
+};
+inline constexpr int WiltingPresetCount = 4;
+
+std::string WiltingPresetName(WiltingPreset preset);
+/// Sets the preset's materials, loads, profile and damping in `parameters` (Custom leaves them alone).
+void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& parameters);
+
+} // namespace plantmorph

@@ -1,0 +1,420 @@
+#include "WiltingSimulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace plantmorph
+{
+
+int WiltingMaterialOf(int region)
+{
+  switch (region)
+  {
+    case 1:
+    case 2:
+    case 3:
+      return WiltingVein;
+    case 4:
+      return WiltingMargin;
+    case 5:
+      return WiltingPetiole;
+    default:
+      return WiltingBlade;
+  }
+}
+
+std::string ValidateWilting(const WiltingParameters& p)
+{
+  std::ostringstream message;
+  static const char* names[WiltingMaterialCount] = { "Blade", "Vein", "Margin", "Petiole" };
+  if (!(p.voxelSize >= 0.0) || !std::isfinite(p.voxelSize))
+  {
+    message << "VoxelSize must be >= 0 and finite (0: use Resolution) (got " << p.voxelSize << ")";
+  }
+  else if (p.voxelSize == 0.0 && (p.resolution < 1 || p.resolution > 1000))
+  {
+    message << "Resolution must be in [1, 1000] (got " << p.resolution << ")";
+  }
+  else if (!(p.gravity >= 0.0) || !std::isfinite(p.gravity))
+  {
+    message << "Gravity must be >= 0 and finite (got " << p.gravity << ")";
+  }
+  else if (!std::isfinite(p.droopForce) || !std::isfinite(p.contractionForce))
+  {
+    message << "DroopForce and ContractionForce must be finite";
+  }
+  else if (!(p.loadTime > 0.0) || !std::isfinite(p.loadTime))
+  {
+    message << "LoadTime must be > 0 and finite (got " << p.loadTime << ")";
+  }
+  else if (!(p.anchorRadius >= 0.0) || !std::isfinite(p.anchorRadius))
+  {
+    message << "AnchorRadius must be >= 0 and finite (got " << p.anchorRadius << ")";
+  }
+  else if (!(p.duration > 0.0 && p.duration <= 1e4))
+  {
+    message << "Duration must be in (0, 10000] s (got " << p.duration << ")";
+  }
+  else if (!(p.frameInterval > 0.0) || !std::isfinite(p.frameInterval))
+  {
+    message << "FrameInterval must be > 0 and finite (got " << p.frameInterval << ")";
+  }
+  else
+  {
+    for (int m = 0; m < WiltingMaterialCount; ++m)
+    {
+      const WiltingMaterial& material = p.materials[static_cast<std::size_t>(m)];
+      if (!(material.density > 0.0) || !std::isfinite(material.density) || !(material.stiffness > 0.0) ||
+        !std::isfinite(material.stiffness) || !(material.damping >= 0.0) || !std::isfinite(material.damping))
+      {
+        message << names[m] << "Density and " << names[m] << "Stiffness must be > 0 and " << names[m]
+                << "Damping >= 0, all finite (got " << material.density << ", " << material.stiffness << ", "
+                << material.damping << ")";
+        break;
+      }
+    }
+  }
+  if (message.str().empty())
+  {
+    const std::string newmark = ValidateNewmark(p.newmark);
+    if (!newmark.empty())
+    {
+      return newmark;
+    }
+    if (p.duration / p.newmark.timeStep > 1e7)
+    {
+      message << "Duration / TimeStep must be at most 1e7 steps";
+    }
+  }
+  return message.str();
+}
+
+double WiltingLoadFactor(WiltingLoadProfile profile, double t, double loadTime)
+{
+  if (profile == WiltingLoadProfile::Constant)
+  {
+    return 1.0;
+  }
+  const double s = std::clamp(t / loadTime, 0.0, 1.0);
+  if (profile == WiltingLoadProfile::Ramp)
+  {
+    return s;
+  }
+  const auto logistic = [](double x) { return 1.0 / (1.0 + std::exp(-12.0 * (x - 0.5))); };
+  return (logistic(s) - logistic(0.0)) / (logistic(1.0) - logistic(0.0));
+}
+
+std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingParameters& parameters)
+{
+  this->Voxels = VoxelGrid();
+  this->Springs = MassSpringSystem();
+  this->Embed = WiltingEmbedding();
+  this->FrameList.clear();
+  this->WasAborted = false;
+  this->FrameCount = 0;
+  const std::string invalid = ValidateWilting(parameters);
+  if (!invalid.empty())
+  {
+    return invalid;
+  }
+  this->Params = parameters;
+  this->Points = input.points;
+  if (!input.leafUV.empty() && input.leafUV.size() != input.points.size())
+  {
+    return "the LeafUV array does not have one value per point";
+  }
+  VoxelizeOptions options;
+  options.voxelSize = parameters.voxelSize;
+  options.resolution = parameters.resolution;
+  options.maxVoxels = parameters.maxVoxels;
+  std::string error = Voxelize(input.points, input.triangles, input.regions, options, this->Voxels);
+  if (!error.empty())
+  {
+    return error;
+  }
+  const VoxelGrid& grid = this->Voxels;
+  const double h = grid.h;
+  // Nodes with lumped masses.
+  for (const Eigen::Vector3d& x : grid.nodes)
+  {
+    this->Springs.AddNode(x, 0.0);
+  }
+  for (std::size_t v = 0; v < grid.voxels.size(); ++v)
+  {
+    const WiltingMaterial& material =
+      parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))];
+    const double mass = material.density * h * h * h;
+    const std::array<int, 8>& c = grid.corners[v];
+    for (int node : c)
+    {
+      this->Springs.AddMass(node, mass / 8.0);
+    }
+    for (int a = 0; a < 8; ++a)
+    {
+      for (int b = a + 1; b < 8; ++b)
+      {
+        this->Springs.AddSpring(c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], material.stiffness,
+          material.damping);
+      }
+    }
+    this->Springs.AddHexahedron(c);
+  }
+  // Anchors.
+  std::vector<std::size_t> anchors;
+  if (!input.regions.empty())
+  {
+    for (std::size_t p = 0; p < input.points.size(); ++p)
+    {
+      if (input.regions[p] == 5)
+      {
+        anchors.push_back(p);
+      }
+    }
+  }
+  std::size_t base = 0;
+  for (std::size_t p = 1; p < input.points.size(); ++p)
+  {
+    const bool lower = input.leafUV.empty()
+      ? input.points[p][1] < input.points[base][1]
+      : (input.leafUV[p][1] < input.leafUV[base][1] ||
+          (input.leafUV[p][1] == input.leafUV[base][1] && std::abs(input.leafUV[p][0]) < std::abs(input.leafUV[base][0])));
+    if (lower)
+    {
+      base = p;
+    }
+  }
+  if (anchors.empty())
+  {
+    anchors.push_back(base);
+  }
+  std::size_t fixedCount = 0;
+  for (std::size_t n = 0; n < grid.nodes.size(); ++n)
+  {
+    for (std::size_t p : anchors)
+    {
+      if ((grid.nodes[n] - input.points[p]).norm() <= parameters.anchorRadius)
+      {
+        this->Springs.SetFixed(static_cast<int>(n), true);
+        ++fixedCount;
+        break;
+      }
+    }
+  }
+  error = this->Embed.Bind(grid, input.points, parameters.tricubic);
+  if (!error.empty())
+  {
+    return error;
+  }
+  if (fixedCount == 0)
+  {
+    for (int node : grid.corners[static_cast<std::size_t>(this->Embed.Voxels()[anchors[0]])])
+    {
+      this->Springs.SetFixed(node, true);
+    }
+  }
+  error = this->Springs.Finalize();
+  if (!error.empty())
+  {
+    return error;
+  }
+  // Tip: the largest LeafUV v (closest to the midvein), else the point farthest from the base.
+  std::size_t tip = 0;
+  for (std::size_t p = 1; p < input.points.size(); ++p)
+  {
+    const bool higher = input.leafUV.empty()
+      ? (input.points[p] - input.points[base]).squaredNorm() > (input.points[tip] - input.points[base]).squaredNorm()
+      : (input.leafUV[p][1] > input.leafUV[tip][1] ||
+          (input.leafUV[p][1] == input.leafUV[tip][1] && std::abs(input.leafUV[p][0]) < std::abs(input.leafUV[tip][0])));
+    if (higher)
+    {
+      tip = p;
+    }
+  }
+  this->Tip = static_cast<int>(tip);
+  // Forces at full load.
+  const std::size_t n = grid.nodes.size();
+  this->GravityForce.assign(3 * n, 0.0);
+  this->LoadForce.assign(3 * n, 0.0);
+  const std::vector<double>& masses = this->Springs.Masses();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    this->GravityForce[3 * i + 2] = -masses[i] * parameters.gravity;
+  }
+  const double midX = input.points[base][0];
+  const bool top = parameters.contractionSide == WiltingContractionSide::Top;
+  for (std::size_t v = 0; v < grid.voxels.size(); ++v)
+  {
+    const std::array<int, 8>& c = grid.corners[v];
+    const double centreX = grid.origin[0] + h * (grid.voxels[v][0] + 0.5);
+    const double offset = centreX - midX;
+    const double towards = std::abs(offset) <= 0.5 * h ? 0.0 : (offset > 0.0 ? -1.0 : 1.0);
+    for (int corner = top ? 4 : 0; corner < (top ? 8 : 4); ++corner)
+    {
+      const std::size_t node = static_cast<std::size_t>(c[static_cast<std::size_t>(corner)]);
+      this->LoadForce[3 * node + 0] += 0.25 * parameters.contractionForce * towards;
+      this->LoadForce[3 * node + 2] -= 0.25 * parameters.droopForce;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (this->Springs.IsFixed(i))
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        this->GravityForce[3 * i + static_cast<std::size_t>(c)] = 0.0;
+        this->LoadForce[3 * i + static_cast<std::size_t>(c)] = 0.0;
+      }
+    }
+  }
+  error = this->Newmark.Setup(this->Springs, parameters.newmark);
+  if (!error.empty())
+  {
+    return error;
+  }
+  this->StepsPerFrame =
+    std::max(1, static_cast<int>(std::lround(parameters.frameInterval / parameters.newmark.timeStep)));
+  const double frameTime = this->StepsPerFrame * parameters.newmark.timeStep;
+  this->FrameCount = 1 + static_cast<int>(std::floor(parameters.duration / frameTime + 1e-9));
+  return std::string();
+}
+
+std::vector<double> WiltingSimulation::FrameTimes() const
+{
+  std::vector<double> times;
+  for (int f = 0; f < this->FrameCount; ++f)
+  {
+    times.push_back(f * this->StepsPerFrame * this->Params.newmark.timeStep);
+  }
+  return times;
+}
+
+void WiltingSimulation::ExternalForce(double t, std::vector<double>& force) const
+{
+  const double factor = WiltingLoadFactor(this->Params.loadProfile, t, this->Params.loadTime);
+  force.resize(this->GravityForce.size());
+  for (std::size_t k = 0; k < force.size(); ++k)
+  {
+    force[k] = this->GravityForce[k] + factor * this->LoadForce[k];
+  }
+}
+
+std::vector<Eigen::Vector3d> WiltingSimulation::PointPositions(std::size_t f) const
+{
+  std::vector<double> d(3 * this->Points.size());
+  this->Embed.Interpolate(this->FrameList[f].q.data(), d.data());
+  std::vector<Eigen::Vector3d> x(this->Points.size());
+  for (std::size_t p = 0; p < x.size(); ++p)
+  {
+    x[p] = this->Points[p] + Eigen::Vector3d(d[3 * p], d[3 * p + 1], d[3 * p + 2]);
+  }
+  return x;
+}
+
+std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
+{
+  this->FrameList.clear();
+  this->WasAborted = false;
+  this->Newmark.Reset();
+  {
+    // From rest (R = 0, v = 0) with the consistent acceleration M^-1 f(0): second order from the first step.
+    std::vector<double> f0;
+    this->ExternalForce(0.0, f0);
+    std::vector<double> a0(f0.size(), 0.0);
+    for (std::size_t i = 0; i < this->Springs.NodeCount(); ++i)
+    {
+      for (std::size_t c = 0; c < 3 && !this->Springs.IsFixed(i); ++c)
+      {
+        a0[3 * i + c] = f0[3 * i + c] / this->Springs.Masses()[i];
+      }
+    }
+    this->Newmark.SetState(std::vector<double>(f0.size(), 0.0), std::vector<double>(f0.size(), 0.0), a0, 0.0);
+  }
+  const Eigen::Vector3d g(0.0, 0.0, -this->Params.gravity);
+  const double gravity0 = this->Springs.GravityEnergy(this->Newmark.Displacement().data(), g);
+  const std::vector<double> zero(this->GravityForce.size(), 0.0);
+  // The tip's displacement weights, to record the trajectory without interpolating every point.
+  const auto record = [&](double time) {
+    WiltingFrame frame;
+    frame.time = time;
+    frame.q = this->Newmark.Displacement();
+    frame.v = this->Newmark.Velocity();
+    frame.kinetic = this->Springs.KineticEnergy(frame.v.data());
+    frame.spring = this->Springs.SpringEnergy(frame.q.data());
+    frame.gravity = this->Springs.GravityEnergy(frame.q.data(), g) - gravity0;
+    std::vector<double> d(3 * this->Points.size());
+    this->Embed.Interpolate(frame.q.data(), d.data());
+    const std::size_t t = static_cast<std::size_t>(this->Tip);
+    frame.tip = this->Points[t] + Eigen::Vector3d(d[3 * t], d[3 * t + 1], d[3 * t + 2]);
+    this->FrameList.push_back(std::move(frame));
+  };
+  record(0.0);
+  // Work bound for the energy guard: what the loads and gravity could have supplied.
+  double work = 0.0;
+  double gravityBound = 0.0;
+  for (std::size_t i = 0; i < this->Springs.NodeCount(); ++i)
+  {
+    gravityBound += this->Springs.Masses()[i] * this->Params.gravity;
+  }
+  std::vector<double> force;
+  std::vector<double> previousForce;
+  this->ExternalForce(0.0, previousForce);
+  const int totalSteps = (this->FrameCount - 1) * this->StepsPerFrame;
+  const double dt = this->Params.newmark.timeStep;
+  for (int step = 1; step <= totalSteps; ++step)
+  {
+    const double time = step * dt;
+    this->ExternalForce(time, force);
+    const std::vector<double> before = this->Newmark.Displacement();
+    const std::string error = this->Newmark.Step(force);
+    std::ostringstream message;
+    if (!error.empty())
+    {
+      message << "the simulation blew up at step " << step << " (t = " << time << " s): " << error
+              << "; reduce TimeStep or raise the stiffness or damping";
+      return message.str();
+    }
+    const std::vector<double>& q = this->Newmark.Displacement();
+    double maxDisplacement = 0.0;
+    for (std::size_t k = 0; k < q.size(); ++k)
+    {
+      const double dq = q[k] - before[k];
+      // Work of the droop and contraction loads (trapezoid), gravity excluded: it is in the energy.
+      work += 0.5 * ((force[k] - this->GravityForce[k]) + (previousForce[k] - this->GravityForce[k])) * dq;
+      maxDisplacement = std::max(maxDisplacement, std::abs(q[k]));
+    }
+    previousForce = force;
+    const double jacobian = this->Springs.MinimumRelativeJacobian(q.data());
+    if (!(jacobian > 0.0))
+    {
+      message << "the simulation blew up at step " << step << " (t = " << time
+              << " s): a voxel turned inside out (corner Jacobian " << jacobian
+              << "); reduce TimeStep or the loads, or raise the stiffness";
+      return message.str();
+    }
+    if (step % this->StepsPerFrame == 0)
+    {
+      record(time);
+      const WiltingFrame& frame = this->FrameList.back();
+      const double energy = frame.kinetic + frame.spring + frame.gravity;
+      const double scale = std::max(1e-12, gravityBound * (maxDisplacement + this->Voxels.h));
+      if (energy > 2.0 * std::max(0.0, work) + scale)
+      {
+        message << "the simulation blew up at step " << step << " (t = " << time << " s): its energy (" << energy
+                << ") grew beyond the work of the loads (" << work
+                << "); reduce TimeStep, or raise the damping";
+        return message.str();
+      }
+    }
+    if (progress && (step % 16 == 0 || step == totalSteps) &&
+      !progress(static_cast<double>(step) / static_cast<double>(totalSteps)))
+    {
+      this->WasAborted = true;
+      return std::string();
+    }
+  }
+  return std::string();
+}
+
+} // namespace plantmorph

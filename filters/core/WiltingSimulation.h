@@ -1,0 +1,158 @@
+// WiltingSimulator's algorithm (spec 04; paper 001): the voxel mass-spring leaf, its loads, the implicit Newmark run
+// and the frames it keeps. Plain C++17 + Eigen, no VTK; vtkWiltingSimulator is a thin layer over it.
+//
+// Model (choices where the spec is silent are marked *):
+// - Voxels: WiltingVoxelizer (exact triangle-box tests), VoxelSize or Resolution cubes along the longest side.
+// - Springs: the 28 node pairs of each voxel (12 edges, 12 face diagonals, 4 body diagonals) with the voxel's
+//   region stiffness k and dashpot c; * a pair shared by neighbouring voxels is one spring whose k and c are the
+//   sums of the voxels' (a face shared by two voxels is as stiff as the two voxels' halves of material behind it).
+// - Materials per region class (blade 0, veins 1-3, margin 4, petiole 5): Density (mass per unit voxel volume;
+//   * the voxel's mass is Density h^3, lumped 1/8 to each corner), Stiffness (k of each spring, force per unit
+//   length) and Damping (c of each spring's dashpot).
+// - Anchors: * the input points with Region 5 (petiole), or else the blade's base (the point with the smallest
+//   LeafUV v, or the smallest y without LeafUV); every node within AnchorRadius of one is fixed (at least the
+//   nodes of the base point's voxel).
+// - Loads at time t (all scaled by LoadFactor(t) except gravity): gravity m g (0, 0, -1) per node; droop: a pull
+//   DroopForce (0, 0, -1) per voxel; contraction: ContractionForce per voxel towards the midvein plane x = x_base
+//   (* the plane through the base along +Y; voxels whose centre is within h/2 of it get none), each voxel's loads
+//   split over its four bottom (ContractionSide Bottom: the margin curls down, cucumber) or top (Top: curls up,
+//   tomato) nodes. * Loads are dead loads (fixed directions).
+// - LoadProfile: Constant 1 (the paper), Ramp min(1, t/LoadTime), Sigmoid: the logistic 1/(1 + exp(-12 (t/T -
+//   1/2))) rescaled to go from 0 at t = 0 to 1 at t = T = LoadTime (slow start, then faster: the measured wilting).
+// - Integration: NewmarkIntegrator (Rayleigh damping, Newton, compression clamp, Cholesky or CG).
+// - Blow-up guard: a non-finite value, an inverted voxel (a corner Jacobian <= 0, relative to rest), or mechanical
+//   energy (kinetic + spring + gravity, from rest) above twice the work the droop and contraction loads have done
+//   plus the work gravity can do stops the run with a message naming the step; the frames so far are kept.
+// - Frames: the state every FrameInterval (rounded to whole steps) from 0 to Duration.
+#pragma once
+
+#include "MassSpringSystem.h"
+#include "NewmarkIntegrator.h"
+#include "WiltingEmbedding.h"
+#include "WiltingVoxelizer.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+
+enum class WiltingLoadProfile : int
+{
+  Constant = 0,
+  Ramp = 1,
+  Sigmoid = 2
+};
+
+enum class WiltingContractionSide : int
+{
+  Bottom = 0,
+  Top = 1
+};
+
+/// Region classes with their own material.
+enum WiltingMaterialClass : int
+{
+  WiltingBlade = 0,
+  WiltingVein = 1,
+  WiltingMargin = 2,
+  WiltingPetiole = 3
+};
+inline constexpr int WiltingMaterialCount = 4;
+/// The material class of a Region value.
+int WiltingMaterialOf(int region);
+
+struct WiltingMaterial
+{
+  double density = 0.05;    ///< mass per unit voxel volume (g/cm^3 with the presets' cm)
+  double stiffness = 2000.0; ///< spring constant (dyn/cm)
+  double damping = 0.0;     ///< spring dashpot (g/s)
+};
+
+struct WiltingParameters
+{
+  double voxelSize = 0.0; ///< > 0: cube edge; 0: from resolution
+  int resolution = 20;    ///< cubes along the longest side when voxelSize is 0
+  std::array<WiltingMaterial, WiltingMaterialCount> materials{};
+  double gravity = 981.0; ///< downward (-Z) acceleration, model units / s^2
+  double droopForce = 0.0;
+  double contractionForce = 0.0;
+  WiltingContractionSide contractionSide = WiltingContractionSide::Bottom;
+  WiltingLoadProfile loadProfile = WiltingLoadProfile::Sigmoid;
+  double loadTime = 5.0;     ///< ramp / sigmoid duration (s)
+  double anchorRadius = 1.0; ///< model units
+  double duration = 10.0;    ///< simulated seconds
+  double frameInterval = 0.1;
+  bool tricubic = false;
+  NewmarkParameters newmark; ///< time step, damping, Newton, solver, threads
+  std::size_t maxVoxels = 2000000;
+};
+
+/// Empty when usable; otherwise a message naming the property and its range.
+std::string ValidateWilting(const WiltingParameters& parameters);
+
+/// The load factor in [0, 1] at time t.
+double WiltingLoadFactor(WiltingLoadProfile profile, double t, double loadTime);
+
+struct WiltingInput
+{
+  std::vector<Eigen::Vector3d> points;     ///< every input point (surface and lines)
+  std::vector<std::array<int, 3>> triangles; ///< the surface, voxelised
+  std::vector<int> regions;                ///< one per point, or empty
+  std::vector<Eigen::Vector2d> leafUV;     ///< one per point, or empty
+};
+
+struct WiltingFrame
+{
+  double time = 0.0;
+  std::vector<double> q; ///< node displacements
+  std::vector<double> v; ///< node velocities
+  double kinetic = 0.0, spring = 0.0, gravity = 0.0;
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero(); ///< the tip point's position
+};
+
+class WiltingSimulation
+{
+public:
+  /// Voxelises, builds the mass-spring system, binds the points. Empty on success, else a message.
+  std::string Setup(const WiltingInput& input, const WiltingParameters& parameters);
+  /// Simulates from rest to Duration. `progress(fraction)` may return false to abort (then Aborted() is true and
+  /// the frames so far are kept). Returns an empty string, or the blow-up guard's message.
+  std::string Run(const std::function<bool(double)>& progress = nullptr);
+  bool Aborted() const { return this->WasAborted; }
+
+  const std::vector<WiltingFrame>& Frames() const { return this->FrameList; }
+  /// The frame times the run will produce (known after Setup).
+  std::vector<double> FrameTimes() const;
+  const VoxelGrid& Grid() const { return this->Voxels; }
+  const MassSpringSystem& System() const { return this->Springs; }
+  const WiltingEmbedding& Embedding() const { return this->Embed; }
+  const NewmarkIntegrator& Integrator() const { return this->Newmark; }
+  int TipPoint() const { return this->Tip; }
+  const std::vector<Eigen::Vector3d>& InputPoints() const { return this->Points; }
+  /// The positions of the input points at frame `f`.
+  std::vector<Eigen::Vector3d> PointPositions(std::size_t f) const;
+  /// The external force (3 per node) at time t.
+  void ExternalForce(double t, std::vector<double>& force) const;
+
+private:
+  WiltingParameters Params;
+  VoxelGrid Voxels;
+  MassSpringSystem Springs;
+  WiltingEmbedding Embed;
+  NewmarkIntegrator Newmark;
+  std::vector<Eigen::Vector3d> Points;
+  std::vector<double> GravityForce; // per node
+  std::vector<double> LoadForce;    // per node, droop + contraction at full load
+  int Tip = 0;
+  int StepsPerFrame = 1;
+  int FrameCount = 1;
+  std::vector<WiltingFrame> FrameList;
+  bool WasAborted = false;
+};
+
+} // namespace plantmorph

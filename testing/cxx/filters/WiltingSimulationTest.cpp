@@ -1,0 +1,308 @@
+// WiltingSimulator's algorithm layer: voxeliser (exact triangle-box test), embedding exactness, a drooping leaf
+// with its anchors fixed, loads, determinism and bad input (spec 04 "What tests must show").
+#include "WiltingEmbedding.h"
+#include "WiltingPresets.h"
+#include "WiltingSimulation.h"
+#include "WiltingVoxelizer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace
+{
+using namespace plantmorph;
+
+/// A flat rectangular blade [-w/2, w/2] x [0, l] in z = 0, triangulated on an nx x ny grid, with LeafUV and a
+/// midvein Region along x = 0 and margin Region on the sides.
+WiltingInput Rectangle(double w, double l, int nx, int ny)
+{
+  WiltingInput in;
+  for (int j = 0; j <= ny; ++j)
+  {
+    for (int i = 0; i <= nx; ++i)
+    {
+      const double u = static_cast<double>(i) / nx - 0.5;
+      const double v = static_cast<double>(j) / ny;
+      in.points.emplace_back(u * w, v * l, 0.0);
+      in.leafUV.emplace_back(u, v);
+      in.regions.push_back(i == nx / 2 ? 1 : (i == 0 || i == nx ? 4 : 0));
+    }
+  }
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      const int a = j * (nx + 1) + i;
+      in.triangles.push_back({ a, a + 1, a + nx + 2 });
+      in.triangles.push_back({ a, a + nx + 2, a + nx + 1 });
+    }
+  }
+  return in;
+}
+
+TEST(WiltingVoxelizer, TriangleBoxOverlapAgreesWithSampling)
+{
+  // Random triangles against the unit box: an overlap found by sampling points of the triangle must be reported.
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> coordinate(-1.0, 2.0);
+  const Eigen::Vector3d low(0, 0, 0);
+  const Eigen::Vector3d high(1, 1, 1);
+  int overlaps = 0;
+  for (int trial = 0; trial < 2000; ++trial)
+  {
+    const Eigen::Vector3d a(coordinate(random), coordinate(random), coordinate(random));
+    const Eigen::Vector3d b(coordinate(random), coordinate(random), coordinate(random));
+    const Eigen::Vector3d c(coordinate(random), coordinate(random), coordinate(random));
+    bool sampled = false;
+    const int n = 60;
+    for (int i = 0; i <= n && !sampled; ++i)
+    {
+      for (int j = 0; i + j <= n && !sampled; ++j)
+      {
+        const Eigen::Vector3d p = a + (b - a) * i / n + (c - a) * j / n;
+        sampled = (p.array() >= low.array()).all() && (p.array() <= high.array()).all();
+      }
+    }
+    const bool exact = TriangleBoxOverlap(a, b, c, low, high);
+    if (sampled)
+    {
+      EXPECT_TRUE(exact) << "trial " << trial;
+    }
+    overlaps += exact ? 1 : 0;
+  }
+  EXPECT_GT(overlaps, 100);
+  // Separated only by the triangle's plane (the 13th axis), and only by an edge axis.
+  EXPECT_FALSE(TriangleBoxOverlap(Eigen::Vector3d(3.1, 0, 0), Eigen::Vector3d(0, 3.1, 0), Eigen::Vector3d(0, 0, 3.1),
+    low, high));
+  EXPECT_TRUE(TriangleBoxOverlap(Eigen::Vector3d(2.9, 0, 0), Eigen::Vector3d(0, 2.9, 0), Eigen::Vector3d(0, 0, 2.9),
+    low, high));
+  EXPECT_TRUE(TriangleBoxOverlap(Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(3, 0, 0), Eigen::Vector3d(3, 3, 0), low,
+    high)) << "touching an edge counts";
+}
+
+TEST(WiltingVoxelizer, FlatLeafIsOneLayerWithSharedNodes)
+{
+  const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
+  VoxelGrid grid;
+  VoxelizeOptions options;
+  options.resolution = 10;
+  ASSERT_EQ(Voxelize(in.points, in.triangles, in.regions, options, grid), "");
+  EXPECT_EQ(grid.dims[2], 1);
+  EXPECT_EQ(grid.voxels.size(), 4u * 10u) << "4 x 10 cells of edge 1 cover the 4 x 10 rectangle";
+  EXPECT_EQ(grid.nodes.size(), 2u * 5u * 11u) << "shared corners are shared nodes";
+  // The midvein column's voxels carry the vein Region, the side columns the margin.
+  int veins = 0;
+  int margins = 0;
+  for (int r : grid.regions)
+  {
+    veins += r == 1 ? 1 : 0;
+    margins += r == 4 ? 1 : 0;
+  }
+  EXPECT_EQ(veins, 20) << "the midvein x = 0 lies on the face between two columns: both are vein voxels";
+  EXPECT_EQ(margins, 20);
+}
+
+TEST(WiltingEmbedding, ExactAtRestAndForAffineMotion)
+{
+  WiltingInput in = Rectangle(4.0, 10.0, 7, 19);
+  in.points.emplace_back(0.3, 5.1, 0.4); // a point off the surface, inside a voxel
+  in.points.emplace_back(0.3, 5.1, 3.0); // outside every voxel: extrapolated
+  VoxelGrid grid;
+  VoxelizeOptions options;
+  options.resolution = 10;
+  std::vector<int> regions = in.regions;
+  regions.resize(in.points.size(), 0);
+  ASSERT_EQ(Voxelize(in.points, in.triangles, regions, options, grid), "");
+  for (bool tricubic : { false, true })
+  {
+    WiltingEmbedding embedding;
+    ASSERT_EQ(embedding.Bind(grid, in.points, tricubic), "");
+    std::vector<double> rest(3 * grid.nodes.size());
+    for (std::size_t n = 0; n < grid.nodes.size(); ++n)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        rest[3 * n + static_cast<std::size_t>(c)] = grid.nodes[n][c];
+      }
+    }
+    std::vector<double> x(3 * in.points.size());
+    embedding.InterpolateField(rest.data(), 3, x.data());
+    for (std::size_t p = 0; p < in.points.size(); ++p)
+    {
+      EXPECT_LT((Eigen::Vector3d(x[3 * p], x[3 * p + 1], x[3 * p + 2]) - in.points[p]).norm(), 1e-12)
+        << "point " << p << (tricubic ? " tricubic" : " trilinear");
+    }
+    // An affine motion of the nodes moves every point by the same affine map.
+    Eigen::Matrix3d a;
+    a << 0.9, 0.1, 0.0, -0.2, 1.1, 0.3, 0.05, 0.0, 0.8;
+    const Eigen::Vector3d shift(0.5, -1.0, 2.0);
+    std::vector<double> moved(rest.size());
+    for (std::size_t n = 0; n < grid.nodes.size(); ++n)
+    {
+      const Eigen::Vector3d y = a * grid.nodes[n] + shift - grid.nodes[n];
+      for (int c = 0; c < 3; ++c)
+      {
+        moved[3 * n + static_cast<std::size_t>(c)] = y[c];
+      }
+    }
+    embedding.Interpolate(moved.data(), x.data());
+    for (std::size_t p = 0; p < in.points.size(); ++p)
+    {
+      const Eigen::Vector3d expected = a * in.points[p] + shift - in.points[p];
+      EXPECT_LT((Eigen::Vector3d(x[3 * p], x[3 * p + 1], x[3 * p + 2]) - expected).norm(), 1e-12);
+    }
+  }
+}
+
+WiltingParameters DroopOnly()
+{
+  WiltingParameters p;
+  p.resolution = 10;
+  p.gravity = 0.0;
+  p.droopForce = 3.0;
+  p.contractionForce = 0.0;
+  p.loadProfile = WiltingLoadProfile::Ramp;
+  p.loadTime = 2.0;
+  p.duration = 2.0;
+  p.frameInterval = 0.05;
+  p.anchorRadius = 1.5;
+  p.newmark.timeStep = 1.0 / 120.0;
+  p.newmark.rayleighMass = 20.0; // overdamped: a monotone droop
+  p.newmark.maxIterations = 3;
+  p.newmark.newtonTolerance = 1e-10;
+  p.newmark.cgTolerance = 1e-10;
+  return p;
+}
+
+TEST(WiltingSimulation, DroopIsMonotoneAndAnchorsStayFixed)
+{
+  const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
+  WiltingSimulation simulation;
+  ASSERT_EQ(simulation.Setup(in, DroopOnly()), "");
+  ASSERT_EQ(simulation.Run(), "");
+  const std::vector<WiltingFrame>& frames = simulation.Frames();
+  ASSERT_EQ(frames.size(), 41u);
+  EXPECT_EQ(simulation.TipPoint(), 20 * 9 + 4) << "the tip is the apex of the midvein";
+  std::size_t fixed = 0;
+  for (std::size_t n = 0; n < simulation.System().NodeCount(); ++n)
+  {
+    fixed += simulation.System().IsFixed(n) ? 1 : 0;
+  }
+  EXPECT_GT(fixed, 0u);
+  for (std::size_t f = 1; f < frames.size(); ++f)
+  {
+    EXPECT_LT(frames[f].tip[2], frames[f - 1].tip[2]) << "frame " << f;
+    for (std::size_t n = 0; n < simulation.System().NodeCount(); ++n)
+    {
+      if (simulation.System().IsFixed(n))
+      {
+        ASSERT_EQ(frames[f].q[3 * n], 0.0);
+        ASSERT_EQ(frames[f].q[3 * n + 1], 0.0);
+        ASSERT_EQ(frames[f].q[3 * n + 2], 0.0);
+      }
+    }
+  }
+  EXPECT_LT(frames.back().tip[2], -0.5) << "it drooped";
+  // At t = 0 the embedded leaf is the input, exactly.
+  const std::vector<Eigen::Vector3d> x0 = simulation.PointPositions(0);
+  for (std::size_t p = 0; p < in.points.size(); ++p)
+  {
+    EXPECT_LT((x0[p] - in.points[p]).norm(), 1e-12);
+  }
+}
+
+TEST(WiltingSimulation, ContractionSideChoosesTheCurl)
+{
+  // Contraction on the bottom nodes curls the margins down relative to the midvein; on the top nodes, up.
+  const WiltingInput in = Rectangle(6.0, 6.0, 12, 12);
+  double marginMinusMid[2] = { 0.0, 0.0 };
+  for (int side = 0; side < 2; ++side)
+  {
+    WiltingParameters p = DroopOnly();
+    p.resolution = 12;
+    p.droopForce = 0.0;
+    p.contractionForce = 4.0;
+    p.contractionSide = side == 0 ? WiltingContractionSide::Bottom : WiltingContractionSide::Top;
+    p.voxelSize = 0.5;
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    ASSERT_EQ(simulation.Run(), "");
+    const std::vector<Eigen::Vector3d> x = simulation.PointPositions(simulation.Frames().size() - 1);
+    const std::size_t apexMargin = 12 * 13 + 0;
+    const std::size_t apexMid = 12 * 13 + 6;
+    marginMinusMid[side] = x[apexMargin][2] - x[apexMid][2];
+  }
+  EXPECT_LT(marginMinusMid[0], -1e-3) << "bottom: margin down";
+  EXPECT_GT(marginMinusMid[1], 1e-3) << "top: margin up";
+}
+
+TEST(WiltingSimulation, DeterministicAcrossRunsAndThreads)
+{
+  const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
+  WiltingParameters p = DroopOnly();
+  ApplyWiltingPreset(WiltingPreset::Cucumber, p);
+  p.duration = 0.5;
+  std::vector<double> reference;
+  for (int threads : { 1, 2, 1 })
+  {
+    p.newmark.threads = threads;
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    ASSERT_EQ(simulation.Run(), "");
+    if (reference.empty())
+    {
+      reference = simulation.Frames().back().q;
+      EXPECT_GT(std::abs(simulation.Frames().back().tip[2]), 1e-3);
+    }
+    else
+    {
+      EXPECT_EQ(simulation.Frames().back().q, reference) << threads << " threads";
+    }
+  }
+}
+
+TEST(WiltingSimulation, LoadProfiles)
+{
+  EXPECT_EQ(WiltingLoadFactor(WiltingLoadProfile::Constant, 0.0, 4.0), 1.0);
+  EXPECT_EQ(WiltingLoadFactor(WiltingLoadProfile::Ramp, 1.0, 4.0), 0.25);
+  EXPECT_EQ(WiltingLoadFactor(WiltingLoadProfile::Ramp, 9.0, 4.0), 1.0);
+  EXPECT_NEAR(WiltingLoadFactor(WiltingLoadProfile::Sigmoid, 0.0, 4.0), 0.0, 1e-15);
+  EXPECT_NEAR(WiltingLoadFactor(WiltingLoadProfile::Sigmoid, 2.0, 4.0), 0.5, 1e-12);
+  EXPECT_NEAR(WiltingLoadFactor(WiltingLoadProfile::Sigmoid, 4.0, 4.0), 1.0, 1e-15);
+  EXPECT_LT(WiltingLoadFactor(WiltingLoadProfile::Sigmoid, 1.0, 4.0), 0.25) << "slow start";
+}
+
+TEST(WiltingSimulation, BadInputAndBlowUp)
+{
+  const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
+  WiltingSimulation simulation;
+  WiltingParameters p = DroopOnly();
+  p.resolution = 0;
+  EXPECT_NE(simulation.Setup(in, p).find("Resolution"), std::string::npos);
+  p = DroopOnly();
+  p.newmark.timeStep = std::nan("");
+  EXPECT_NE(simulation.Setup(in, p).find("TimeStep"), std::string::npos);
+  p = DroopOnly();
+  p.materials[WiltingVein].stiffness = -1.0;
+  EXPECT_NE(simulation.Setup(in, p).find("VeinStiffness"), std::string::npos);
+  WiltingInput empty = in;
+  empty.triangles.clear();
+  EXPECT_NE(simulation.Setup(empty, DroopOnly()).find("triangles"), std::string::npos);
+  WiltingInput nan = in;
+  nan.points[3][0] = std::nan("");
+  EXPECT_NE(simulation.Setup(nan, DroopOnly()).find("non-finite"), std::string::npos);
+  // A huge load on soft springs with a large step: the guard stops the run and keeps the frames before it.
+  p = DroopOnly();
+  p.droopForce = 1e7;
+  p.loadProfile = WiltingLoadProfile::Constant;
+  p.newmark.rayleighMass = 0.0;
+  p.newmark.maxIterations = 1;
+  ASSERT_EQ(simulation.Setup(in, p), "");
+  const std::string error = simulation.Run();
+  EXPECT_NE(error.find("blew up at step"), std::string::npos) << error;
+  EXPECT_GE(simulation.Frames().size(), 1u);
+}
+
+} // namespace
