@@ -10,12 +10,6 @@
 namespace plantmorph
 {
 
-void SerialFor(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body)
-{
-  if (n > 0)
-    body(0, n);
-}
-
 namespace
 {
 

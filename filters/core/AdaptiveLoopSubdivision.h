@@ -35,6 +35,8 @@
 // every result is written by exactly one loop index and sums are taken in a fixed order.
 #pragma once
 
+#include <plantmorph/ParallelFor.h>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -53,12 +55,9 @@ enum class FeatureRule : int
   Refine = 2, ///< feature edges split at their midpoints, feature points stay: the curves gain samples, not shape
 };
 
-/// Runs body(begin, end) over sub-ranges covering [0, n), possibly concurrently; each index in exactly one range.
-using ParallelForFunction =
-  std::function<void(std::size_t n, const std::function<void(std::size_t begin, std::size_t end)>& body)>;
-
-/// The default: one call body(0, n) on the calling thread.
-void SerialFor(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body);
+/// Runs body(begin, end) over sub-ranges covering [0, n), possibly concurrently (plantmorph/ParallelFor.h; the
+/// default SerialFor runs body(0, n) on the calling thread).
+using ParallelForFunction = ParallelFor;
 
 struct AdaptiveLoopSettings
 {
