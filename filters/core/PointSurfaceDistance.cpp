@@ -161,14 +161,6 @@ bool AllFinite(const double* values, std::size_t count)
 }
 } // namespace
 
-//------------------------------------------------------------------------------
-void SerialFor(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body)
-{
-  if (count > 0)
-  {
-    body(0, count);
-  }
-}
 
 //------------------------------------------------------------------------------
 void ClosestPointOnTriangle(const double p[3], const double a[3], const double b[3], const double c[3],

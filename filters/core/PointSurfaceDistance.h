@@ -39,6 +39,8 @@
 // threads queries with vtkSMPTools; each query only reads the structure.
 #pragma once
 
+#include <plantmorph/ParallelFor.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -48,12 +50,7 @@
 namespace plantmorph
 {
 
-/// Runs body(begin, end) over sub-ranges covering [0, count), possibly in parallel.
-using ParallelFor =
-  std::function<void(std::size_t count, const std::function<void(std::size_t begin, std::size_t end)>& body)>;
-
-/// A ParallelFor that calls body(0, count) once, on this thread.
-void SerialFor(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
+// ParallelFor and SerialFor (the default, serial) come from plantmorph/ParallelFor.h, shared by every algorithm.
 
 /// Which feature of a triangle holds its closest point.
 enum class TriangleFeature : std::uint8_t
