@@ -35,7 +35,6 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
   p.newmark.rayleighStiffness = 0.01;
   p.loadProfile = WiltingLoadProfile::Sigmoid;
   p.loadTime = 8.0;
-  p.duration = 10.0;
   switch (preset)
   {
     case WiltingPreset::Cucumber:

@@ -1,0 +1,434 @@
+#include "vtkWiltingSimulator.h"
+
+#include "WiltingPresets.h"
+#include "WiltingSimulation.h"
+
+#include <plantmorph/DataContract.h>
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkCellType.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTable.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkWiltingSimulator);
+
+struct vtkWiltingSimulator::Cache
+{
+  plantmorph::WiltingSimulation simulation;
+  vtkMTimeType inputTime = 0;
+  vtkMTimeType selfTime = 0;
+  bool valid = false;
+};
+
+namespace
+{
+plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
+{
+  plantmorph::WiltingParameters p;
+  p.voxelSize = f->GetVoxelSize();
+  p.resolution = f->GetResolution();
+  p.maxVoxels = static_cast<std::size_t>(std::max(1, f->GetMaximumVoxels()));
+  const double* materials[4] = { f->GetBladeMaterial(), f->GetVeinMaterial(), f->GetMarginMaterial(),
+    f->GetPetioleMaterial() };
+  for (std::size_t m = 0; m < 4; ++m)
+  {
+    p.materials[m] = { materials[m][0], materials[m][1], materials[m][2] };
+  }
+  p.gravity = f->GetGravity();
+  p.droopForce = f->GetDroopForce();
+  p.contractionForce = f->GetContractionForce();
+  p.contractionSide = f->GetContractionSide() == vtkWiltingSimulator::SIDE_TOP ? plantmorph::WiltingContractionSide::Top
+                                                                               : plantmorph::WiltingContractionSide::Bottom;
+  p.loadProfile = static_cast<plantmorph::WiltingLoadProfile>(std::clamp(f->GetLoadProfile(), 0, 2));
+  p.loadTime = f->GetLoadTime();
+  p.anchorRadius = f->GetAnchorRadius();
+  p.duration = f->GetDuration();
+  p.frameInterval = f->GetFrameInterval();
+  p.tricubic = f->GetTricubic();
+  p.newmark.timeStep = f->GetTimeStep();
+  p.newmark.rayleighMass = f->GetRayleighAlpha();
+  p.newmark.rayleighStiffness = f->GetRayleighBeta();
+  p.newmark.maxIterations = f->GetNewtonIterations();
+  p.newmark.compressionClamp = f->GetCompressionClamp();
+  p.newmark.solver = static_cast<plantmorph::NewmarkSolver>(std::clamp(f->GetSolver(), 0, 2));
+  p.newmark.threads = f->GetThreads();
+  p.newmark.newtonTolerance = 1e-8;
+  p.newmark.cgTolerance = 1e-8;
+  if (f->GetPreset() >= 1 && f->GetPreset() < plantmorph::WiltingPresetCount)
+  {
+    plantmorph::ApplyWiltingPreset(static_cast<plantmorph::WiltingPreset>(f->GetPreset()), p);
+  }
+  return p;
+}
+
+std::string CheckEnumerations(vtkWiltingSimulator* f)
+{
+  if (f->GetPreset() < 0 || f->GetPreset() >= plantmorph::WiltingPresetCount)
+  {
+    return "Preset must be 0 (Custom), 1 (Cucumber), 2 (Tomato) or 3 (Watermelon), got " +
+      std::to_string(f->GetPreset());
+  }
+  if (f->GetLoadProfile() < 0 || f->GetLoadProfile() > 2)
+  {
+    return "LoadProfile must be 0 (Constant), 1 (Ramp) or 2 (Sigmoid), got " + std::to_string(f->GetLoadProfile());
+  }
+  if (f->GetContractionSide() < 0 || f->GetContractionSide() > 1)
+  {
+    return "ContractionSide must be 0 (Bottom) or 1 (Top), got " + std::to_string(f->GetContractionSide());
+  }
+  if (f->GetSolver() < 0 || f->GetSolver() > 2)
+  {
+    return "Solver must be 0 (Auto), 1 (Cholesky) or 2 (CG), got " + std::to_string(f->GetSolver());
+  }
+  if (f->GetThreads() < 0 || f->GetThreads() > 256)
+  {
+    return "Threads must be in [0, 256], got " + std::to_string(f->GetThreads());
+  }
+  if (f->GetMaximumVoxels() < 1)
+  {
+    return "MaximumVoxels must be >= 1";
+  }
+  return std::string();
+}
+
+std::vector<double> FrameTimes(const plantmorph::WiltingParameters& p)
+{
+  std::vector<double> times;
+  if (!plantmorph::ValidateWilting(p).empty())
+  {
+    return times;
+  }
+  const int spf = std::max(1, static_cast<int>(std::lround(p.frameInterval / p.newmark.timeStep)));
+  const double frame = spf * p.newmark.timeStep;
+  const int count = 1 + static_cast<int>(std::floor(p.duration / frame + 1e-9));
+  for (int k = 0; k < count; ++k)
+  {
+    times.push_back(k * spf * p.newmark.timeStep);
+  }
+  return times;
+}
+
+vtkSmartPointer<vtkDoubleArray> Vector3Array(const char* name, vtkIdType count)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(3);
+  a->SetNumberOfTuples(count);
+  return a;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkWiltingSimulator::vtkWiltingSimulator()
+  : Cached(new Cache)
+{
+  this->SetNumberOfOutputPorts(3);
+}
+
+vtkWiltingSimulator::~vtkWiltingSimulator() = default;
+
+//------------------------------------------------------------------------------
+void vtkWiltingSimulator::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Preset: " << this->Preset << "\n";
+  os << indent << "VoxelSize: " << this->VoxelSize << "\n";
+  os << indent << "Resolution: " << this->Resolution << "\n";
+  os << indent << "Duration: " << this->Duration << "\n";
+  os << indent << "TimeStep: " << this->TimeStep << "\n";
+  os << indent << "FrameInterval: " << this->FrameInterval << "\n";
+  os << indent << "DroopForce: " << this->DroopForce << "\n";
+  os << indent << "ContractionForce: " << this->ContractionForce << "\n";
+  os << indent << "Solver: " << this->Solver << "\n";
+}
+
+//------------------------------------------------------------------------------
+int vtkWiltingSimulator::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+  {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkUnstructuredGrid");
+    return 1;
+  }
+  if (port == 2)
+  {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
+    return 1;
+  }
+  return this->Superclass::FillOutputPortInformation(port, info);
+}
+
+//------------------------------------------------------------------------------
+int vtkWiltingSimulator::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  const std::vector<double> times =
+    CheckEnumerations(this).empty() ? FrameTimes(ParametersOf(this)) : std::vector<double>();
+  for (int port = 0; port < 3; ++port)
+  {
+    vtkInformation* info = outputVector->GetInformationObject(port);
+    if (times.empty())
+    {
+      info->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
+      info->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
+      continue;
+    }
+    info->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), static_cast<int>(times.size()));
+    const double range[2] = { times.front(), times.back() };
+    info->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkWiltingSimulator::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // The whole simulation starts from the input's one state: do not pass our time upstream.
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo)
+  {
+    inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkWiltingSimulator::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkUnstructuredGrid* voxels = vtkUnstructuredGrid::GetData(outputVector, 1);
+  vtkTable* table = vtkTable::GetData(outputVector, 2);
+  output->Initialize();
+  voxels->Initialize();
+  table->Initialize();
+  if (!input || input->GetNumberOfPoints() == 0)
+  {
+    return 1; // an empty piece: nothing to wilt
+  }
+  std::string error = CheckEnumerations(this);
+  const plantmorph::WiltingParameters parameters = ParametersOf(this);
+  if (error.empty())
+  {
+    error = plantmorph::ValidateWilting(parameters);
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    this->Cached->valid = false;
+    return 1;
+  }
+  Cache& cache = *this->Cached;
+  const vtkIdType pointCount = input->GetNumberOfPoints();
+  if (!cache.valid || cache.inputTime != input->GetMTime() || cache.selfTime != this->GetMTime())
+  {
+    plantmorph::WiltingInput in;
+    in.points.resize(static_cast<std::size_t>(pointCount));
+    for (vtkIdType i = 0; i < pointCount; ++i)
+    {
+      input->GetPoint(i, in.points[static_cast<std::size_t>(i)].data());
+    }
+    auto polys = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+    for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
+    {
+      vtkIdType size = 0;
+      const vtkIdType* ids = nullptr;
+      polys->GetCurrentCell(size, ids);
+      for (vtkIdType k = 1; k + 1 < size; ++k)
+      {
+        in.triangles.push_back({ static_cast<int>(ids[0]), static_cast<int>(ids[k]), static_cast<int>(ids[k + 1]) });
+      }
+    }
+    vtkDataArray* region = input->GetPointData()->GetArray(plantmorph::arrays::Region);
+    if (region && region->GetNumberOfComponents() == 1)
+    {
+      in.regions.resize(static_cast<std::size_t>(pointCount));
+      for (vtkIdType i = 0; i < pointCount; ++i)
+      {
+        in.regions[static_cast<std::size_t>(i)] = static_cast<int>(region->GetComponent(i, 0));
+      }
+    }
+    vtkDataArray* uv = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
+    if (uv && uv->GetNumberOfComponents() == 2)
+    {
+      in.leafUV.resize(static_cast<std::size_t>(pointCount));
+      for (vtkIdType i = 0; i < pointCount; ++i)
+      {
+        in.leafUV[static_cast<std::size_t>(i)] = Eigen::Vector2d(uv->GetComponent(i, 0), uv->GetComponent(i, 1));
+      }
+    }
+    cache.valid = false;
+    error = cache.simulation.Setup(in, parameters);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< error);
+      return 1;
+    }
+    ++this->SimulationCount;
+    error = cache.simulation.Run([this](double fraction) {
+      this->UpdateProgress(fraction);
+      return !this->GetAbortExecute();
+    });
+    if (cache.simulation.Aborted())
+    {
+      return 1; // the cache stays invalid: the next request simulates again
+    }
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< error << " (the frames before it are kept)");
+    }
+    cache.valid = true;
+    cache.inputTime = input->GetMTime();
+    cache.selfTime = this->GetMTime();
+  }
+  const plantmorph::WiltingSimulation& simulation = cache.simulation;
+  const std::vector<plantmorph::WiltingFrame>& frames = simulation.Frames();
+  if (frames.empty())
+  {
+    return 1;
+  }
+  // The requested time, between two frames.
+  double time = 0.0;
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  {
+    time = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+  }
+  std::size_t lower = 0;
+  while (lower + 1 < frames.size() && frames[lower + 1].time <= time)
+  {
+    ++lower;
+  }
+  const std::size_t upper = std::min(lower + 1, frames.size() - 1);
+  double w = 0.0;
+  if (upper != lower && frames[upper].time > frames[lower].time)
+  {
+    w = std::clamp((time - frames[lower].time) / (frames[upper].time - frames[lower].time), 0.0, 1.0);
+  }
+  const std::size_t nodeCount = simulation.System().NodeCount();
+  std::vector<double> q(3 * nodeCount);
+  std::vector<double> v(3 * nodeCount);
+  for (std::size_t k = 0; k < q.size(); ++k)
+  {
+    q[k] = (1.0 - w) * frames[lower].q[k] + w * frames[upper].q[k];
+    v[k] = (1.0 - w) * frames[lower].v[k] + w * frames[upper].v[k];
+  }
+  const double frameTime = (1.0 - w) * frames[lower].time + w * frames[upper].time;
+  // Port 0: the moved input.
+  std::vector<double> d(3 * static_cast<std::size_t>(pointCount));
+  simulation.Embedding().Interpolate(q.data(), d.data());
+  output->ShallowCopy(input);
+  vtkNew<vtkPoints> points;
+  points->SetDataType(input->GetPoints()->GetDataType());
+  points->SetNumberOfPoints(pointCount);
+  auto displacement = Vector3Array("Displacement", pointCount);
+  const std::vector<Eigen::Vector3d>& rest = simulation.InputPoints();
+  for (vtkIdType i = 0; i < pointCount; ++i)
+  {
+    const double* di = d.data() + 3 * i;
+    const Eigen::Vector3d& x = rest[static_cast<std::size_t>(i)];
+    // At t = 0 the displacement is exactly 0, so the points are the input's.
+    points->SetPoint(i, x[0] + di[0], x[1] + di[1], x[2] + di[2]);
+    displacement->SetTuple(i, di);
+  }
+  output->SetPoints(points);
+  output->GetPointData()->AddArray(displacement);
+  output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frameTime);
+  {
+    // Field data: how many simulations this filter has run (scrubbing must not raise it) and the frame time.
+    vtkNew<vtkIntArray> runs;
+    runs->SetName("WiltingSimulator.SimulationCount");
+    runs->InsertNextValue(this->SimulationCount);
+    output->GetFieldData()->AddArray(runs);
+    vtkNew<vtkDoubleArray> served;
+    served->SetName("WiltingSimulator.FrameTime");
+    served->InsertNextValue(frameTime);
+    output->GetFieldData()->AddArray(served);
+  }
+  // Port 1: the voxel model.
+  const plantmorph::VoxelGrid& grid = simulation.Grid();
+  vtkNew<vtkPoints> nodes;
+  nodes->SetDataType(VTK_DOUBLE);
+  nodes->SetNumberOfPoints(static_cast<vtkIdType>(nodeCount));
+  auto nodeDisplacement = Vector3Array("Displacement", static_cast<vtkIdType>(nodeCount));
+  auto nodeVelocity = Vector3Array("Velocity", static_cast<vtkIdType>(nodeCount));
+  vtkNew<vtkUnsignedCharArray> fixed;
+  fixed->SetName("Fixed");
+  fixed->SetNumberOfTuples(static_cast<vtkIdType>(nodeCount));
+  vtkNew<vtkDoubleArray> mass;
+  mass->SetName("Mass");
+  mass->SetNumberOfTuples(static_cast<vtkIdType>(nodeCount));
+  for (std::size_t n = 0; n < nodeCount; ++n)
+  {
+    const Eigen::Vector3d& x = grid.nodes[n];
+    nodes->SetPoint(static_cast<vtkIdType>(n), x[0] + q[3 * n], x[1] + q[3 * n + 1], x[2] + q[3 * n + 2]);
+    nodeDisplacement->SetTuple(static_cast<vtkIdType>(n), q.data() + 3 * n);
+    nodeVelocity->SetTuple(static_cast<vtkIdType>(n), v.data() + 3 * n);
+    fixed->SetValue(static_cast<vtkIdType>(n), simulation.System().IsFixed(n) ? 1 : 0);
+    mass->SetValue(static_cast<vtkIdType>(n), simulation.System().Masses()[n]);
+  }
+  voxels->SetPoints(nodes);
+  voxels->Allocate(static_cast<vtkIdType>(grid.corners.size()));
+  vtkNew<vtkIntArray> cellRegion;
+  cellRegion->SetName(plantmorph::arrays::Region);
+  for (std::size_t c = 0; c < grid.corners.size(); ++c)
+  {
+    vtkIdType ids[8];
+    for (int k = 0; k < 8; ++k)
+    {
+      ids[k] = grid.corners[c][static_cast<std::size_t>(k)];
+    }
+    voxels->InsertNextCell(VTK_HEXAHEDRON, 8, ids);
+    cellRegion->InsertNextValue(grid.regions[c]);
+  }
+  voxels->GetPointData()->AddArray(nodeDisplacement);
+  voxels->GetPointData()->AddArray(nodeVelocity);
+  voxels->GetPointData()->AddArray(fixed);
+  voxels->GetPointData()->AddArray(mass);
+  voxels->GetCellData()->AddArray(cellRegion);
+  vtkUnstructuredGrid::GetData(outputVector, 1)->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frameTime);
+  // Port 2: every frame's tip and energies.
+  const char* names[7] = { "Time", "TipX", "TipY", "TipZ", "Kinetic", "Spring", "Gravity" };
+  for (const char* name : names)
+  {
+    vtkNew<vtkDoubleArray> column;
+    column->SetName(name);
+    column->SetNumberOfTuples(static_cast<vtkIdType>(frames.size()));
+    table->AddColumn(column);
+  }
+  for (std::size_t f = 0; f < frames.size(); ++f)
+  {
+    const plantmorph::WiltingFrame& frame = frames[f];
+    const double row[7] = { frame.time, frame.tip[0], frame.tip[1], frame.tip[2], frame.kinetic, frame.spring,
+      frame.gravity };
+    for (int c = 0; c < 7; ++c)
+    {
+      vtkDoubleArray::SafeDownCast(table->GetColumn(c))->SetValue(static_cast<vtkIdType>(f), row[c]);
+    }
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
