@@ -1,0 +1,935 @@
+#include "VenationGrowth.h"
+
+#include <plantmorph/RandomStream.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <sstream>
+
+namespace plantmorph
+{
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+Eigen::Vector2d Rotate(const Eigen::Vector2d& d, double degrees)
+{
+  const double a = degrees * Pi / 180.0;
+  return { std::cos(a) * d.x() - std::sin(a) * d.y(), std::sin(a) * d.x() + std::cos(a) * d.y() };
+}
+
+Eigen::Vector2d Left(const Eigen::Vector2d& d)
+{
+  return { -d.y(), d.x() };
+}
+
+std::string Range(const char* property, double value, const char* range)
+{
+  std::ostringstream message;
+  message << property << " = " << value << " is outside the accepted range " << range;
+  return message.str();
+}
+
+/// The random streams, one per phase, so changing one phase's parameters leaves the others' draws alone.
+enum Stream : std::uint64_t
+{
+  StreamSecondary = 1,
+  StreamTertiary = 2,
+  StreamVeinlet = 3,
+};
+
+class Grower
+{
+public:
+  Grower(const VenationBlade& blade, const BladeLocator& locator, const VenationParameters& p,
+    const std::function<bool(double)>& progress)
+    : Blade(blade)
+    , Locator(locator)
+    , P(p)
+    , Progress(progress)
+    , Graph(locator.Lower() - Eigen::Vector2d::Constant(1e-6), locator.Upper() + Eigen::Vector2d::Constant(1e-6),
+        CellSize(locator, p))
+  {
+  }
+
+  std::string Run(VenationResult& result);
+
+private:
+  static double CellSize(const BladeLocator& locator, const VenationParameters& p)
+  {
+    const Eigen::Vector2d extent = locator.Upper() - locator.Lower();
+    const double size = std::max(extent.x(), extent.y());
+    const double detail = p.tertiary ? p.areoleSize : p.secondarySpacing * 0.5;
+    return std::max(detail * size, 2.0 * locator.EdgeLength());
+  }
+
+  bool Inside(const Eigen::Vector2d& x) const { return this->Locator.Locate(x, 1e-9 * this->Length).triangle >= 0; }
+  bool KeepGoing(double fraction) const { return !this->Progress || this->Progress(fraction); }
+
+  int NodeAt(const Eigen::Vector2d& x);
+  void AddMargin();
+  /// Traces the primary u = const from the base; returns its node path.
+  std::vector<int> TracePrimary(double u, int vein);
+  /// Grows a curve (points after the start) from node `from`; returns the last node and whether it stopped on a
+  /// vein or the margin. `stopAfter` samples at most (all when negative).
+  VeinGraph::Step GrowCurve(int from, const std::vector<Eigen::Vector2d>& points, int vein, double snap);
+  std::string GrowSecondaries();
+  std::string GrowTertiaries();
+  void GrowVeinlets();
+  void GrowPalmate();
+  void Finish(VenationResult& result);
+
+  const VenationBlade& Blade;
+  const BladeLocator& Locator;
+  const VenationParameters& P;
+  const std::function<bool(double)>& Progress;
+  VeinGraph Graph;
+  double Length = 1.0;  ///< leaf length L
+  double Width = 1.0;   ///< blade width across the axis
+  double Step = 0.01;   ///< sampling step of traced curves
+  double Snap = 1e-9;   ///< tertiary snap distance
+  Eigen::Vector2d Base = Eigen::Vector2d::Zero(), Apex = Eigen::Vector2d::Zero(), Axis = Eigen::Vector2d::UnitY();
+  int BaseNode = -1;
+  std::vector<int> Midvein;          ///< node path of the midvein (pinnate patterns)
+  std::vector<double> JunctionAngles;
+};
+
+int Grower::NodeAt(const Eigen::Vector2d& x)
+{
+  const double tolerance = 1e-9 * this->Length;
+  const auto& nodes = this->Graph.Nodes();
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+  {
+    if ((nodes[i] - x).norm() <= tolerance)
+      return static_cast<int>(i);
+  }
+  const auto& edges = this->Graph.Edges();
+  for (std::size_t e = 0; e < edges.size(); ++e)
+  {
+    const Eigen::Vector2d a = nodes[edges[e].a], b = nodes[edges[e].b];
+    const Eigen::Vector2d d = b - a;
+    const double t = std::clamp((x - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+    if ((a + t * d - x).norm() <= tolerance)
+      return this->Graph.SplitEdge(static_cast<int>(e), a + t * d);
+  }
+  return this->Graph.AddNode(x);
+}
+
+void Grower::AddMargin()
+{
+  const int margin = this->Graph.AddVein(VeinOrderMargin);
+  for (const std::vector<int>& loop : this->Locator.BoundaryLoops())
+  {
+    std::vector<int> nodes;
+    for (int v : loop)
+      nodes.push_back(this->Graph.AddNode(this->Blade.points[v]));
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      this->Graph.AddEdge(nodes[i], nodes[(i + 1) % nodes.size()], margin);
+  }
+}
+
+VeinGraph::Step Grower::GrowCurve(int from, const std::vector<Eigen::Vector2d>& points, int vein, double snap)
+{
+  VeinGraph::Step step;
+  step.node = from;
+  for (const Eigen::Vector2d& x : points)
+  {
+    if ((x - this->Graph.Nodes()[step.node]).norm() <= 1e-9 * this->Length)
+      continue;
+    step = this->Graph.Grow(step.node, x, vein, snap);
+    if (step.stopped)
+      break;
+  }
+  return step;
+}
+
+std::vector<int> Grower::TracePrimary(double u, int vein)
+{
+  const int pieces = std::max(8, static_cast<int>(std::ceil(this->Length / this->Step)));
+  std::vector<int> path = { this->BaseNode };
+  for (int k = 1; k <= pieces; ++k)
+  {
+    const Eigen::Vector2d x = this->Locator.PointAtUV(Eigen::Vector2d(u, static_cast<double>(k) / pieces));
+    if ((x - this->Graph.Nodes()[path.back()]).norm() <= 1e-9 * this->Length)
+      continue;
+    const VeinGraph::Step step = this->Graph.Grow(path.back(), x, vein, 1e-7 * this->Length);
+    if (step.node != path.back())
+      path.push_back(step.node);
+    if (step.stopped)
+      break;
+  }
+  return path;
+}
+
+std::string Grower::GrowSecondaries()
+{
+  RandomStream random(this->P.seed, StreamSecondary);
+  const VenationPattern pattern = this->P.pattern;
+  const auto& nodes = this->Graph.Nodes();
+  // Arc length along the midvein path.
+  std::vector<double> arc(1, 0.0);
+  for (std::size_t i = 1; i < this->Midvein.size(); ++i)
+    arc.push_back(arc.back() + (nodes[this->Midvein[i]] - nodes[this->Midvein[i - 1]]).norm());
+  const double total = arc.back();
+  if (!(total > 0.0))
+    return {};
+  const double spacing = this->P.secondarySpacing * this->Length;
+
+  struct Branch
+  {
+    double at = 0.0; ///< arc length along the midvein
+    int side = 0;    ///< 0 left, 1 right
+  };
+  std::vector<Branch> branches;
+  for (int side = 0; side < 2; ++side)
+  {
+    for (double s = spacing; s < total - 0.5 * spacing; s += spacing)
+    {
+      const double at = s + random.Uniform(0.0, 0.5 * spacing);
+      if (at < total - 0.5 * spacing)
+        branches.push_back({ at, side });
+    }
+  }
+  std::stable_sort(branches.begin(), branches.end(), [](const Branch& a, const Branch& b) { return a.at < b.at; });
+
+  // Branch nodes on the midvein, in order from the base (the path gains the new nodes as it goes).
+  struct Secondary
+  {
+    int node = -1;
+    int side = 0;
+    double v = 0.0;
+    Eigen::Vector2d tangent, outward;
+    int fork = -1; ///< the node where it forked (or stopped short of the margin), -1 if it met a vein first
+    double exit = 0.0;
+  };
+  std::vector<Secondary> secondaries;
+  {
+    std::vector<int> path = this->Midvein;
+    std::size_t segment = 0;
+    double start = 0.0; // arc length at path[segment]
+    for (const Branch& branch : branches)
+    {
+      while (segment + 1 < path.size() &&
+        start + (nodes[path[segment + 1]] - nodes[path[segment]]).norm() < branch.at)
+      {
+        start += (nodes[path[segment + 1]] - nodes[path[segment]]).norm();
+        ++segment;
+      }
+      if (segment + 1 >= path.size())
+        break;
+      const Eigen::Vector2d a = nodes[path[segment]], b = nodes[path[segment + 1]];
+      const double piece = (b - a).norm();
+      const Eigen::Vector2d tangent = (b - a) / piece;
+      const Eigen::Vector2d x = a + std::min(piece, branch.at - start) * tangent;
+      int node;
+      if ((x - a).norm() <= 1e-9 * this->Length)
+        node = path[segment];
+      else if ((x - b).norm() <= 1e-9 * this->Length)
+        node = path[segment + 1];
+      else
+      {
+        node = this->Graph.SplitEdge(this->Graph.FindEdge(path[segment], path[segment + 1]), x);
+        path.insert(path.begin() + static_cast<std::ptrdiff_t>(segment) + 1, node);
+        start += (x - a).norm();
+        ++segment;
+      }
+      Secondary secondary;
+      secondary.node = node;
+      secondary.side = branch.side;
+      secondary.v = branch.at / total;
+      secondary.tangent = tangent;
+      secondary.outward = branch.side == 0 ? Left(tangent) : Eigen::Vector2d(-Left(tangent));
+      secondaries.push_back(secondary);
+    }
+    this->Midvein = path;
+  }
+
+  const double w = this->Width;
+  const double sMax = 4.0 * w + this->Length;
+  const bool forks = pattern != VenationPattern::Craspedodromous;
+  const double forkAt = pattern == VenationPattern::Reticulodromous ? 0.5 : this->P.forkFraction;
+  for (Secondary& secondary : secondaries)
+  {
+    const double theta = this->P.divergenceAngle + (this->P.divergenceAngleApex - this->P.divergenceAngle) * secondary.v;
+    const double slope = 1.0 / std::tan(theta * Pi / 180.0);
+    const double k = this->P.curvatureBase + (this->P.curvatureApex - this->P.curvatureBase) * secondary.v;
+    const Eigen::Vector2d origin = nodes[secondary.node];
+    auto at = [&](double s) {
+      return Eigen::Vector2d(origin + s * secondary.outward + (s * slope + k * s * s / w) * secondary.tangent);
+    };
+    // Where it would leave the blade.
+    double exit = 0.0;
+    for (double s = this->Step; s <= sMax && this->Inside(at(s)); s += this->Step)
+      exit = s;
+    secondary.exit = exit;
+    const int vein = this->Graph.AddVein(VeinOrderSecondary);
+    const double forkS = forks ? forkAt * exit : sMax;
+    const int toFork = std::max(1, static_cast<int>(std::ceil(forkS / this->Step)));
+    const double ds = forks ? std::max(forkS, 1e-12 * this->Length) / toFork : this->Step;
+    // A short first piece, so the vein leaves the midvein at the divergence angle itself rather than along the
+    // chord of a curved step.
+    std::vector<Eigen::Vector2d> first = { at(0.125 * ds) };
+    for (int j = 1; j <= toFork && (forks || j * ds <= sMax); ++j)
+      first.push_back(at(j * ds));
+    if (!forks)
+    {
+      for (double s = (toFork + 1) * ds; s <= sMax + ds; s += ds)
+        first.push_back(at(s));
+    }
+    VeinGraph::Step step = this->GrowCurve(secondary.node, first, vein, 1e-7 * this->Length);
+    if (step.stopped || !forks)
+      continue; // met the margin or a vein
+    secondary.fork = step.node;
+    const bool continues = pattern == VenationPattern::Semicraspedodromous || pattern == VenationPattern::Cladodromous;
+    if (continues)
+    {
+      std::vector<Eigen::Vector2d> rest;
+      for (double s = (toFork + 1) * ds; s <= sMax + ds; s += ds)
+        rest.push_back(at(s));
+      this->GrowCurve(step.node, rest, vein, 1e-7 * this->Length);
+    }
+    if (pattern == VenationPattern::Cladodromous)
+    {
+      // Eq. (3): the branch turns towards the base, y = y_f - c*sqrt(w*x), to the margin.
+      const Eigen::Vector2d fork = nodes[secondary.fork];
+      std::vector<Eigen::Vector2d> branch;
+      for (double x = this->Step; x <= sMax; x += this->Step)
+        branch.push_back(fork + x * secondary.outward - this->P.branchCurvature * std::sqrt(w * x) * secondary.tangent);
+      this->GrowCurve(secondary.fork, branch, this->Graph.AddVein(VeinOrderSecondary), 1e-7 * this->Length);
+    }
+  }
+  if (!this->KeepGoing(0.35))
+    return "aborted";
+
+  // Loops (eq. (4)) from each fork to the fork of the next secondary above on the same side.
+  const bool loops = pattern == VenationPattern::Brochidodromous || pattern == VenationPattern::Semicraspedodromous ||
+    pattern == VenationPattern::Eucamptodromous;
+  for (int side = 0; side < 2 && loops; ++side)
+  {
+    std::vector<const Secondary*> list;
+    for (const Secondary& s : secondaries)
+    {
+      if (s.side == side)
+        list.push_back(&s);
+    }
+    for (std::size_t i = 0; i < list.size(); ++i)
+    {
+      const Secondary& low = *list[i];
+      if (low.fork < 0)
+        continue;
+      const Eigen::Vector2d from = nodes[low.fork];
+      const Secondary* high = nullptr;
+      for (std::size_t j = i + 1; j < list.size() && !high; ++j)
+        high = list[j]->fork >= 0 ? list[j] : nullptr;
+      if (!high)
+      {
+        // The topmost: on to the margin (brochidodromous) as the paper's last arch does.
+        if (pattern == VenationPattern::Brochidodromous)
+        {
+          std::vector<Eigen::Vector2d> rest;
+          for (double t = this->Step; t <= 4.0 * this->Length; t += this->Step)
+            rest.push_back(from + t * (low.tangent + 0.3 * low.outward).normalized());
+          this->GrowCurve(low.fork, rest, this->Graph.AddVein(VeinOrderSecondary), 1e-7 * this->Length);
+        }
+        continue;
+      }
+      const Eigen::Vector2d to = nodes[high->fork];
+      const Eigen::Vector2d d = to - from;
+      const double dy = d.dot(low.tangent), dx = d.dot(low.outward);
+      const int pieces = std::max(4, static_cast<int>(std::ceil(d.norm() / this->Step)));
+      const bool free = pattern == VenationPattern::Eucamptodromous;
+      std::vector<Eigen::Vector2d> curve;
+      for (int j = 1; j <= (free ? pieces / 2 : pieces); ++j)
+      {
+        const double t = static_cast<double>(j) / pieces;
+        curve.push_back(from + t * dy * low.tangent + t * t * t * dx * low.outward);
+      }
+      const int loopVein = this->Graph.AddVein(VeinOrderSecondary);
+      if (free)
+        this->GrowCurve(low.fork, curve, loopVein, 1e-7 * this->Length);
+      else
+      {
+        curve.pop_back(); // the last point is the upper fork itself: joined to its node, not a copy of it
+        const VeinGraph::Step step = this->GrowCurve(low.fork, curve, loopVein, 1e-7 * this->Length);
+        if (!step.stopped)
+          this->Graph.Connect(step.node, high->fork, loopVein, 1e-7 * this->Length);
+      }
+    }
+  }
+  return {};
+}
+
+std::string Grower::GrowTertiaries()
+{
+  RandomStream random(this->P.seed, StreamTertiary);
+  const double areole = this->P.areoleSize * this->Length;
+  const double expected = this->Locator.Area() / (areole * areole);
+  if (3.0 * expected > static_cast<double>(this->P.maxSegments))
+  {
+    std::ostringstream message;
+    message << "AreoleSize = " << this->P.areoleSize << " would need about " << static_cast<long long>(3.0 * expected)
+            << " vein segments, more than MaxSegments = " << this->P.maxSegments << "; raise AreoleSize";
+    return message.str();
+  }
+  const std::size_t budget =
+    std::min<std::size_t>(this->P.maxSegments, static_cast<std::size_t>(40.0 * expected) + 100);
+  this->Snap = 0.15 * areole;
+
+  struct Front
+  {
+    int node;
+    Eigen::Vector2d direction;
+    int vein;
+  };
+  std::deque<Front> fronts;
+
+  // Seeds on the secondaries (on the primaries when there are none), every three areoles, alternate sides.
+  std::vector<int> hosts; // every secondary (loops and branches too), or every primary when there are none
+  for (int order : { VeinOrderSecondary, VeinOrderPrimary })
+  {
+    for (std::size_t v = 0; v < this->Graph.Veins().size(); ++v)
+    {
+      if (this->Graph.Order(static_cast<int>(v)) == order)
+        hosts.push_back(static_cast<int>(v));
+    }
+    if (!hosts.empty())
+      break;
+  }
+  const std::vector<std::vector<int>> paths = this->Graph.VeinPaths();
+  for (int host : hosts)
+  {
+    std::vector<int> path = paths[host];
+    const auto& nodes = this->Graph.Nodes();
+    double carried = areole * random.Uniform(0.5, 1.5);
+    for (std::size_t i = 0; i + 1 < path.size(); ++i)
+    {
+      const Eigen::Vector2d a = nodes[path[i]], b = nodes[path[i + 1]];
+      const double piece = (b - a).norm();
+      if (carried >= piece || piece <= 0.0)
+      {
+        carried -= piece;
+        continue;
+      }
+      const Eigen::Vector2d along = (b - a) / piece;
+      const Eigen::Vector2d x = a + carried * along;
+      const int edge = this->Graph.FindEdge(path[i], path[i + 1]);
+      if (edge < 0)
+        break;
+      const int node = this->Graph.SplitEdge(edge, x);
+      path.insert(path.begin() + static_cast<std::ptrdiff_t>(i) + 1, node);
+      carried = areole * random.Uniform(1.5, 2.5);
+      // A first edge to each side, away from the vein.
+      for (const Eigen::Vector2d& normal : { Left(along), Eigen::Vector2d(-Left(along)) })
+      {
+        const Eigen::Vector2d direction = Rotate(normal, random.Uniform(-20.0, 20.0));
+        const int vein = this->Graph.AddVein(VeinOrderTertiary);
+        const VeinGraph::Step step = this->Graph.Grow(
+          node, this->Graph.Nodes()[node] + areole * random.Uniform(0.6, 1.4) * direction, vein, this->Snap);
+        if (!step.stopped)
+          fronts.push_back({ step.node, direction, vein });
+      }
+    }
+  }
+
+  std::size_t grown = 0;
+  const double minimum = this->P.minJunctionAngle;
+  while (!fronts.empty() && grown < budget)
+  {
+    const Front front = fronts.front();
+    fronts.pop_front();
+    // Junction: the incoming edge (reversed) and two new edges, angles alpha, beta, gamma around the node.
+    double alpha = 120.0, beta = 120.0;
+    for (int attempt = 0; attempt < 32; ++attempt)
+    {
+      const double a = random.Normal(120.0, this->P.junctionAngleDeviation);
+      const double b = random.Normal(120.0, this->P.junctionAngleDeviation);
+      if (a >= minimum && b >= minimum && 360.0 - a - b >= minimum)
+      {
+        alpha = a;
+        beta = b;
+        break;
+      }
+    }
+    const Eigen::Vector2d back = -front.direction;
+    const Eigen::Vector2d first = Rotate(back, alpha), second = Rotate(back, alpha + beta);
+    this->JunctionAngles.push_back(alpha);
+    this->JunctionAngles.push_back(beta);
+    this->JunctionAngles.push_back(360.0 - alpha - beta);
+    const Eigen::Vector2d origin = this->Graph.Nodes()[front.node];
+    for (int branch = 0; branch < 2; ++branch)
+    {
+      const Eigen::Vector2d direction = branch == 0 ? first : second;
+      const int vein = branch == 0 ? front.vein : this->Graph.AddVein(VeinOrderTertiary);
+      const VeinGraph::Step step =
+        this->Graph.Grow(front.node, origin + areole * random.Uniform(0.6, 1.4) * direction, vein, this->Snap);
+      ++grown;
+      if (!step.stopped)
+        fronts.push_back({ step.node, direction, vein });
+    }
+    if (grown % 4096 == 0 && !this->KeepGoing(0.4 + 0.4 * std::min(1.0, grown / (3.0 * expected))))
+      return "aborted";
+  }
+  // Out of budget: every remaining front runs straight on until it meets a vein or the margin.
+  const double reach = 2.0 * (this->Locator.Upper() - this->Locator.Lower()).norm();
+  for (const Front& front : fronts)
+    this->Graph.Grow(front.node, this->Graph.Nodes()[front.node] + reach * front.direction, front.vein, this->Snap);
+  return {};
+}
+
+void Grower::GrowVeinlets()
+{
+  RandomStream random(this->P.seed, StreamVeinlet);
+  const double length = this->P.veinletLength * this->P.areoleSize * this->Length;
+  const std::vector<VeinGraph::Face> faces = this->Graph.Faces();
+  for (const VeinGraph::Face& face : faces)
+  {
+    if (face.touchesMargin || face.area < 4.0 * length * length || face.nodes.size() < 3)
+      continue;
+    const std::size_t i = static_cast<std::size_t>(random.Integer(0, static_cast<std::int64_t>(face.nodes.size()) - 1));
+    const int a = face.nodes[i], b = face.nodes[(i + 1) % face.nodes.size()];
+    const int edge = this->Graph.FindEdge(a, b);
+    if (edge < 0)
+      continue;
+    const Eigen::Vector2d pa = this->Graph.Nodes()[a], pb = this->Graph.Nodes()[b];
+    if ((pb - pa).norm() < 0.5 * length)
+      continue;
+    int node = this->Graph.SplitEdge(edge, 0.5 * (pa + pb));
+    Eigen::Vector2d direction = Left((pb - pa).normalized()); // the face lies on the left of its CCW edges
+    const int vein = this->Graph.AddVein(VeinOrderVeinlet);
+    const int pieces = static_cast<int>(random.Integer(1, 3));
+    for (int k = 0; k < pieces; ++k)
+    {
+      const Eigen::Vector2d target = this->Graph.Nodes()[node] + length * random.Uniform(0.6, 1.0) * direction;
+      if (this->Graph.FirstCrossing(node, target, 0.25 * length) <= 1.0)
+        break; // a veinlet ends free, short of anything
+      node = this->Graph.Grow(node, target, vein, 0.0).node;
+      direction = Rotate(direction, random.Normal(0.0, 25.0));
+    }
+  }
+}
+
+void Grower::GrowPalmate()
+{
+  // End points evenly along the canonical leaf's far edge v = 1 (a fan's distal margin, a palmate blade's lobe tips
+  // and the sinuses between them; a pointed leaf's apex).
+  const int groups = this->P.palmateVeins;
+  const int levels = this->P.forkLevels;
+  const int count = groups << levels;
+  std::vector<Eigen::Vector2d> ends(count);
+  for (int j = 0; j < count; ++j)
+    ends[j] = Eigen::Vector2d(-0.5 + (j + 0.5) / count, 1.0);
+  // Fork growth fractions: level d forks at forkTime[d].
+  std::vector<double> forkTime(levels + 2, 1.0);
+  forkTime[0] = 0.0;
+  for (int d = 1; d <= levels; ++d)
+    forkTime[d] = this->P.forkSize + (d - 1) * (1.0 - this->P.forkSize) / levels;
+  auto mean = [&](int first, int size) {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    for (int j = first; j < first + size; ++j)
+      sum += ends[j];
+    return Eigen::Vector2d(sum / size);
+  };
+  // The parameter of the group [first, first + size) at depth d and growth g.
+  std::function<Eigen::Vector2d(int, int, int, double)> parameter = [&](int d, int first, int size, double g) {
+    if (d == 0)
+      return mean(first, size);
+    const int parentSize = 2 * size;
+    const int parentFirst = (first / parentSize) * parentSize;
+    const Eigen::Vector2d parent = parameter(d - 1, parentFirst, parentSize, g);
+    if (g <= forkTime[d])
+      return parent;
+    const double f = (g - forkTime[d]) / (1.0 - forkTime[d]);
+    return Eigen::Vector2d(parent + f * (mean(first, size) - mean(parentFirst, parentSize)));
+  };
+  std::function<void(int, int, int, int)> grow = [&](int d, int first, int size, int from) {
+    const double g0 = forkTime[d], g1 = d == levels ? 1.0 : forkTime[d + 1];
+    const int pieces = std::max(2, static_cast<int>(std::ceil(2.0 * (g1 - g0) * this->Length / this->Step)));
+    std::vector<Eigen::Vector2d> points;
+    for (int k = 1; k <= pieces; ++k)
+    {
+      const double g = g0 + (g1 - g0) * k / pieces;
+      points.push_back(this->Locator.PointAtUV(g * parameter(d, first, size, g)));
+    }
+    const int vein = this->Graph.AddVein(d == 0 ? VeinOrderPrimary : VeinOrderSecondary);
+    const VeinGraph::Step step = this->GrowCurve(from, points, vein, 1e-7 * this->Length);
+    if (d == levels || (step.stopped && step.hitVein == 0))
+      return;
+    grow(d + 1, first, size / 2, step.node);
+    grow(d + 1, first + size / 2, size / 2, step.node);
+  };
+  for (int r = 0; r < groups; ++r)
+    grow(0, r << levels, 1 << levels, this->BaseNode);
+}
+
+std::string Grower::Run(VenationResult& result)
+{
+  // Leaf frame: base, apex, length along the midvein u = 0, width across the base-apex axis.
+  this->Base = this->Locator.PointAtUV(Eigen::Vector2d(0.0, 0.0));
+  this->Apex = this->Locator.PointAtUV(Eigen::Vector2d(0.0, 1.0));
+  double length = 0.0;
+  Eigen::Vector2d previous = this->Base;
+  for (int k = 1; k <= 512; ++k)
+  {
+    const Eigen::Vector2d x = this->Locator.PointAtUV(Eigen::Vector2d(0.0, k / 512.0));
+    length += (x - previous).norm();
+    previous = x;
+  }
+  if (!(length > 0.0))
+    return "LeafUV: the blade's midvein (u = 0 from v = 0 to 1) has no length";
+  this->Length = length;
+  this->Axis = (this->Apex - this->Base).norm() > 0.0 ? Eigen::Vector2d((this->Apex - this->Base).normalized())
+                                                        : Eigen::Vector2d::UnitY();
+  double low = 0.0, high = 0.0;
+  for (const Eigen::Vector2d& x : this->Blade.points)
+  {
+    const double across = (x - this->Base).dot(Left(this->Axis));
+    low = std::min(low, across);
+    high = std::max(high, across);
+  }
+  this->Width = std::max(high - low, 1e-6 * length);
+  this->Step = std::clamp(this->Locator.EdgeLength(), length / 400.0, length / 40.0);
+  if (this->P.tertiary)
+    this->Step = std::min(this->Step, 0.5 * this->P.areoleSize * length);
+
+  this->AddMargin();
+  this->BaseNode = this->NodeAt(this->Base);
+  if (!this->KeepGoing(0.05))
+    return "aborted";
+
+  const VenationPattern pattern = this->P.pattern;
+  if (pattern == VenationPattern::Palmate)
+    this->GrowPalmate();
+  else
+  {
+    std::vector<double> primaries = { 0.0 };
+    if (pattern == VenationPattern::Arcuate || pattern == VenationPattern::Parallel)
+    {
+      primaries.clear();
+      const bool parallel = pattern == VenationPattern::Parallel;
+      const int n = parallel ? this->P.parallelVeins : this->P.primaries;
+      const double spread = parallel ? this->P.parallelSpread : this->P.primarySpread;
+      for (int i = 0; i < n; ++i)
+        primaries.push_back(n == 1 ? 0.0 : spread * (2.0 * i / (n - 1) - 1.0));
+      // The midvein (or the one nearest it) first, so the others join it rather than the reverse.
+      std::stable_sort(primaries.begin(), primaries.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+    }
+    for (double u : primaries)
+    {
+      const int vein = this->Graph.AddVein(VeinOrderPrimary);
+      std::vector<int> path = this->TracePrimary(u, vein);
+      if (u == 0.0)
+        this->Midvein = path;
+    }
+    if (this->Midvein.size() < 2)
+      return "LeafUV: no midvein could be traced along u = 0 (is LeafUV the canonical leaf's (u, v)?)";
+    if (pattern != VenationPattern::Arcuate && pattern != VenationPattern::Parallel)
+    {
+      const std::string error = this->GrowSecondaries();
+      if (!error.empty())
+        return error;
+    }
+  }
+  if (!this->KeepGoing(0.4))
+    return "aborted";
+  if (this->P.tertiary)
+  {
+    const std::string error = this->GrowTertiaries();
+    if (!error.empty())
+      return error;
+  }
+  if (!this->KeepGoing(0.85))
+    return "aborted";
+  if (this->P.veinlets && this->P.tertiary)
+    this->GrowVeinlets();
+  this->Finish(result);
+  return {};
+}
+
+void Grower::Finish(VenationResult& result)
+{
+  result = VenationResult();
+  result.leafLength = this->Length;
+  result.junctionAngles = this->JunctionAngles;
+  const auto& nodes = this->Graph.Nodes();
+  const std::vector<std::vector<int>> paths = this->Graph.VeinPaths();
+  std::vector<int> id(nodes.size(), -1);
+  const double widest = this->P.primaryWidth * this->Length;
+  VenationStatistics& stats = result.statistics;
+  for (std::size_t vein = 0; vein < paths.size(); ++vein)
+  {
+    const int order = this->Graph.Order(static_cast<int>(vein));
+    if (order == VeinOrderMargin || paths[vein].size() < 2)
+      continue;
+    VenationResult::Polyline line;
+    line.order = order;
+    double total = 0.0;
+    for (std::size_t i = 1; i < paths[vein].size(); ++i)
+      total += (nodes[paths[vein][i]] - nodes[paths[vein][i - 1]]).norm();
+    stats.length[order] += total;
+    stats.segments += paths[vein].size() - 1;
+    double along = 0.0;
+    for (std::size_t i = 0; i < paths[vein].size(); ++i)
+    {
+      const int n = paths[vein][i];
+      if (i > 0)
+        along += (nodes[n] - nodes[paths[vein][i - 1]]).norm();
+      const double f = total > 0.0 ? along / total : 0.0;
+      double width = widest * this->P.veinletWidthRatio;
+      if (order == VeinOrderPrimary)
+        width = widest * (1.0 - (1.0 - this->P.primaryTaper) * f);
+      else if (order == VeinOrderSecondary)
+        width = widest * this->P.secondaryWidthRatio * (1.0 - 0.5 * f);
+      else if (order == VeinOrderTertiary)
+        width = widest * this->P.tertiaryWidthRatio;
+      if (id[n] < 0)
+      {
+        id[n] = static_cast<int>(result.nodes.size());
+        result.nodes.push_back(nodes[n]);
+        result.width.push_back(width);
+        result.order.push_back(order);
+      }
+      else
+      {
+        result.width[id[n]] = std::max(result.width[id[n]], width);
+        result.order[id[n]] = std::min(result.order[id[n]], order);
+      }
+      line.nodes.push_back(id[n]);
+    }
+    result.veins.push_back(line);
+  }
+  for (const Eigen::Vector2d& x : result.nodes)
+  {
+    BladeLocation at = this->Locator.Locate(x, 1e-7 * this->Length);
+    if (at.triangle < 0)
+      at = this->Locator.Locate(x, 1e-3 * this->Length);
+    result.location.push_back(at);
+  }
+  stats.bladeArea = this->Locator.Area();
+  double total = 0.0;
+  for (int o = 1; o < 5; ++o)
+    total += stats.length[o];
+  stats.density = total / stats.bladeArea;
+  const std::vector<int> degree = this->Graph.VeinDegrees();
+  const std::vector<char> margin = this->Graph.OnMargin();
+  for (std::size_t n = 0; n < nodes.size(); ++n)
+  {
+    stats.branchPoints += degree[n] >= 3;
+    stats.freeEnds += degree[n] == 1 && !margin[n];
+  }
+  double sum = 0.0, sumSquares = 0.0;
+  for (const VeinGraph::Face& face : this->Graph.Faces())
+  {
+    if (face.touchesMargin)
+      continue;
+    ++stats.areoles;
+    sum += face.area;
+    sumSquares += face.area * face.area;
+  }
+  if (stats.areoles > 0)
+  {
+    stats.areoleAreaMean = sum / stats.areoles;
+    stats.areoleAreaStd = std::sqrt(std::max(0.0, sumSquares / stats.areoles - stats.areoleAreaMean * stats.areoleAreaMean));
+  }
+}
+
+} // namespace
+
+VenationParameters MakeVenationPreset(VenationPreset preset)
+{
+  VenationParameters p;
+  switch (preset)
+  {
+    case VenationPreset::Custom:
+      break;
+    case VenationPreset::PaperMulberry:
+      p.pattern = VenationPattern::Brochidodromous;
+      p.divergenceAngle = 45.0;
+      p.divergenceAngleApex = 70.0;
+      p.secondarySpacing = 0.11;
+      p.forkFraction = 0.75;
+      p.tertiary = true;
+      p.areoleSize = 0.045;
+      break;
+    case VenationPreset::Ginkgo:
+      p.pattern = VenationPattern::Palmate;
+      p.palmateVeins = 4;
+      p.forkLevels = 2;
+      p.forkSize = 0.25;
+      p.tertiary = false;
+      p.primaryWidth = 0.008;
+      p.primaryTaper = 0.6;
+      p.secondaryWidthRatio = 0.8;
+      break;
+    case VenationPreset::Poplar:
+      p.pattern = VenationPattern::Semicraspedodromous;
+      p.divergenceAngle = 50.0;
+      p.divergenceAngleApex = 60.0;
+      p.secondarySpacing = 0.12;
+      p.forkFraction = 0.7;
+      p.tertiary = true;
+      p.areoleSize = 0.035;
+      p.veinlets = true;
+      break;
+  }
+  return p;
+}
+
+std::string VenationPresetName(VenationPreset preset)
+{
+  static const char* const names[VenationPresetCount] = { "Custom", "PaperMulberry", "Ginkgo", "Poplar" };
+  const int i = static_cast<int>(preset);
+  return i >= 0 && i < VenationPresetCount ? names[i] : "Unknown";
+}
+
+std::string VenationPatternName(VenationPattern pattern)
+{
+  static const char* const names[VenationPatternCount] = { "Craspedodromous", "Semicraspedodromous",
+    "Brochidodromous", "Eucamptodromous", "Reticulodromous", "Cladodromous", "Arcuate", "Parallel", "Palmate" };
+  const int i = static_cast<int>(pattern);
+  return i >= 0 && i < VenationPatternCount ? names[i] : "Unknown";
+}
+
+std::string ValidateVenationParameters(const VenationParameters& p)
+{
+  auto in = [](double x, double low, double high) { return std::isfinite(x) && x >= low && x <= high; };
+  const int pattern = static_cast<int>(p.pattern);
+  if (pattern < 0 || pattern >= VenationPatternCount)
+    return Range("Pattern", pattern, "[0, 8]");
+  if (p.primaries < 1 || p.primaries > 51)
+    return Range("PrimaryCount", p.primaries, "[1, 51]");
+  if (!in(p.primarySpread, 0.0, 0.49))
+    return Range("PrimarySpread", p.primarySpread, "[0, 0.49]");
+  if (p.parallelVeins < 1 || p.parallelVeins > 101)
+    return Range("ParallelVeins", p.parallelVeins, "[1, 101]");
+  if (!in(p.parallelSpread, 0.0, 0.49))
+    return Range("ParallelSpread", p.parallelSpread, "[0, 0.49]");
+  if (!in(p.secondarySpacing, 0.005, 1.0))
+    return Range("SecondarySpacing", p.secondarySpacing, "[0.005, 1] leaf lengths");
+  if (!in(p.divergenceAngle, 5.0, 90.0))
+    return Range("DivergenceAngle", p.divergenceAngle, "[5, 90] degrees");
+  if (!in(p.divergenceAngleApex, 5.0, 90.0))
+    return Range("DivergenceAngleApex", p.divergenceAngleApex, "[5, 90] degrees");
+  if (!in(p.curvatureBase, 0.0, 50.0) || !in(p.curvatureApex, 0.0, 50.0))
+    return Range("SecondaryCurvature", !in(p.curvatureBase, 0.0, 50.0) ? p.curvatureBase : p.curvatureApex, "[0, 50]");
+  if (!in(p.forkFraction, 0.05, 0.98))
+    return Range("ForkFraction", p.forkFraction, "[0.05, 0.98]");
+  if (!in(p.branchCurvature, 0.0, 10.0))
+    return Range("BranchCurvature", p.branchCurvature, "[0, 10]");
+  if (!in(p.areoleSize, 0.001, 0.5))
+    return Range("AreoleSize", p.areoleSize, "[0.001, 0.5] leaf lengths");
+  if (!in(p.minJunctionAngle, 0.0, 110.0))
+    return Range("MinJunctionAngle", p.minJunctionAngle, "[0, 110] degrees");
+  if (!in(p.junctionAngleDeviation, 0.0, 60.0))
+    return Range("JunctionAngleDeviation", p.junctionAngleDeviation, "[0, 60] degrees");
+  if (!in(p.veinletLength, 0.05, 2.0))
+    return Range("VeinletLength", p.veinletLength, "[0.05, 2] areole sizes");
+  if (p.palmateVeins < 1 || p.palmateVeins > 64)
+    return Range("PalmateVeins", p.palmateVeins, "[1, 64]");
+  if (p.forkLevels < 0 || p.forkLevels > 5)
+    return Range("ForkLevels", p.forkLevels, "[0, 5]");
+  if (!in(p.forkSize, 0.01, 0.99))
+    return Range("ForkSize", p.forkSize, "[0.01, 0.99]");
+  if (!in(p.primaryWidth, 0.0, 0.2))
+    return Range("PrimaryWidth", p.primaryWidth, "[0, 0.2] leaf lengths");
+  if (!in(p.primaryTaper, 0.0, 1.0))
+    return Range("PrimaryTaper", p.primaryTaper, "[0, 1]");
+  for (const double ratio : { p.secondaryWidthRatio, p.tertiaryWidthRatio, p.veinletWidthRatio })
+  {
+    if (!in(ratio, 0.0, 1.0))
+      return Range("VeinWidthRatio", ratio, "[0, 1]");
+  }
+  if (p.maxSegments < 100)
+    return Range("MaxSegments", static_cast<double>(p.maxSegments), "[100, ...)");
+  return {};
+}
+
+std::string GrowVenation(const VenationBlade& blade, const VenationParameters& parameters, VenationResult& result,
+  const std::function<bool(double)>& progress)
+{
+  result = VenationResult();
+  std::string error = ValidateVenationParameters(parameters);
+  if (!error.empty())
+    return error;
+  BladeLocator locator;
+  error = locator.Build(blade);
+  if (!error.empty())
+    return "Input: " + error;
+  Grower grower(blade, locator, parameters, progress);
+  error = grower.Run(result);
+  if (!error.empty())
+    result = VenationResult();
+  return error;
+}
+
+std::vector<double> VeinReliefHeights(const VenationBlade& blade, const VenationResult& veins, double depth)
+{
+  std::vector<double> height(blade.points.size(), 0.0);
+  if (depth == 0.0 || veins.nodes.empty())
+    return height;
+  double widest = 0.0;
+  for (double w : veins.width)
+    widest = std::max(widest, w);
+  if (!(widest > 0.0))
+    return height;
+  // A grid of vein segments with cells of the widest vein's width: each point looks at its own cell's neighbours.
+  Eigen::Vector2d low = veins.nodes.front(), high = low;
+  for (const Eigen::Vector2d& x : veins.nodes)
+  {
+    low = low.cwiseMin(x);
+    high = high.cwiseMax(x);
+  }
+  low -= Eigen::Vector2d::Constant(widest);
+  high += Eigen::Vector2d::Constant(widest);
+  const double cell = std::max(widest, std::sqrt((high - low).prod() / 4.0e6));
+  const int nx = std::max(1, static_cast<int>(std::ceil((high.x() - low.x()) / cell)));
+  const int ny = std::max(1, static_cast<int>(std::ceil((high.y() - low.y()) / cell)));
+  std::vector<std::vector<std::array<int, 2>>> grid(static_cast<std::size_t>(nx) * ny);
+  auto cellOf = [&](const Eigen::Vector2d& x) {
+    return std::array<int, 2>{ std::clamp(static_cast<int>((x.x() - low.x()) / cell), 0, nx - 1),
+      std::clamp(static_cast<int>((x.y() - low.y()) / cell), 0, ny - 1) };
+  };
+  for (const auto& line : veins.veins)
+  {
+    for (std::size_t i = 0; i + 1 < line.nodes.size(); ++i)
+    {
+      const int a = line.nodes[i], b = line.nodes[i + 1];
+      const auto c0 = cellOf(veins.nodes[a].cwiseMin(veins.nodes[b]));
+      const auto c1 = cellOf(veins.nodes[a].cwiseMax(veins.nodes[b]));
+      for (int y = c0[1]; y <= c1[1]; ++y)
+      {
+        for (int x = c0[0]; x <= c1[0]; ++x)
+          grid[static_cast<std::size_t>(y) * nx + x].push_back({ a, b });
+      }
+    }
+  }
+  for (std::size_t i = 0; i < blade.points.size(); ++i)
+  {
+    const Eigen::Vector2d& p = blade.points[i];
+    const auto c = cellOf(p);
+    double best = 0.0;
+    for (int y = std::max(0, c[1] - 1); y <= std::min(ny - 1, c[1] + 1); ++y)
+    {
+      for (int x = std::max(0, c[0] - 1); x <= std::min(nx - 1, c[0] + 1); ++x)
+      {
+        for (const auto& [a, b] : grid[static_cast<std::size_t>(y) * nx + x])
+        {
+          const Eigen::Vector2d d = veins.nodes[b] - veins.nodes[a];
+          const double t = std::clamp((p - veins.nodes[a]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+          const double distance = (veins.nodes[a] + t * d - p).norm();
+          const double w = (1.0 - t) * veins.width[a] + t * veins.width[b];
+          if (w > 0.0 && distance < w)
+          {
+            const double r = distance / w;
+            best = std::max(best, (w / widest) * (1.0 - r * r) * (1.0 - r * r));
+          }
+        }
+      }
+    }
+    height[i] = depth * best;
+  }
+  return height;
+}
+
+} // namespace plantmorph
