@@ -1,0 +1,406 @@
+#include "vtkVenationFilter.h"
+
+#include "VenationGrowth.h"
+
+#include <plantmorph/DataContract.h>
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIdList.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStringArray.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <string>
+
+vtkStandardNewMacro(vtkVenationFilter);
+
+namespace
+{
+void AddValue(vtkFieldData* fd, const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name);
+  array->InsertNextValue(value);
+  fd->AddArray(array);
+}
+
+void AddString(vtkFieldData* fd, const char* name, const std::string& value)
+{
+  vtkNew<vtkStringArray> array;
+  array->SetName(name);
+  array->InsertNextValue(value);
+  fd->AddArray(array);
+}
+
+/// The 2-D plane the veins grow in: the blade's own plane when it is flat, else LeafUV scaled by the blade's mean
+/// stretch along u and v.
+std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& points,
+  const std::vector<Eigen::Vector2d>& uv, const std::vector<std::array<int, 3>>& triangles, bool& flat)
+{
+  std::vector<Eigen::Vector2d> plane(points.size());
+  bool level = true;
+  for (const Eigen::Vector3d& x : points)
+    level = level && x.z() == points.front().z();
+  flat = true;
+  if (level)
+  {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      plane[i] = points[i].head<2>();
+    return plane;
+  }
+  Eigen::Vector3d low = points.front(), high = points.front(), centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& x : points)
+  {
+    low = low.cwiseMin(x);
+    high = high.cwiseMax(x);
+    centroid += x;
+  }
+  centroid /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& x : points)
+    covariance += (x - centroid) * (x - centroid).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  Eigen::Vector3d normal = solver.eigenvectors().col(0);
+  if (normal.z() < 0.0)
+    normal = -normal;
+  double deviation = 0.0;
+  for (const Eigen::Vector3d& x : points)
+    deviation = std::max(deviation, std::abs((x - centroid).dot(normal)));
+  if (deviation <= 1e-6 * (high - low).norm())
+  {
+    const Eigen::Vector3d e1 = solver.eigenvectors().col(2);
+    const Eigen::Vector3d e2 = normal.cross(e1);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      plane[i] = Eigen::Vector2d((points[i] - centroid).dot(e1), (points[i] - centroid).dot(e2));
+    return plane;
+  }
+  // Curved: |dP|^2 ~ a du^2 + b dv^2 over the edges, least squares for a and b.
+  flat = false;
+  Eigen::Matrix2d normalMatrix = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+  for (const auto& t : triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int i = t[k], j = t[(k + 1) % 3];
+      const Eigen::Vector2d row((uv[i].x() - uv[j].x()) * (uv[i].x() - uv[j].x()),
+        (uv[i].y() - uv[j].y()) * (uv[i].y() - uv[j].y()));
+      normalMatrix += row * row.transpose();
+      rhs += row * (points[i] - points[j]).squaredNorm();
+    }
+  }
+  Eigen::Vector2d ab = normalMatrix.ldlt().solve(rhs);
+  const double fallback = (high - low).norm();
+  const double su = ab.x() > 0.0 && std::isfinite(ab.x()) ? std::sqrt(ab.x()) : fallback;
+  const double sv = ab.y() > 0.0 && std::isfinite(ab.y()) ? std::sqrt(ab.y()) : fallback;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    plane[i] = Eigen::Vector2d(su * uv[i].x(), sv * uv[i].y());
+  return plane;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkVenationFilter::vtkVenationFilter()
+{
+  this->SetNumberOfOutputPorts(2);
+}
+
+//------------------------------------------------------------------------------
+int vtkVenationFilter::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* veins = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* bladeOut = vtkPolyData::GetData(outputVector, 1);
+  if (!input || !veins || !bladeOut)
+  {
+    return 0;
+  }
+  veins->Initialize();
+  bladeOut->Initialize();
+  if (input->GetNumberOfPoints() == 0)
+  {
+    return 1; // another piece's empty share: nothing to grow, no error
+  }
+  auto fail = [&](const std::string& message) {
+    vtkErrorMacro(<< message);
+    veins->Initialize();
+    bladeOut->Initialize();
+    return 1;
+  };
+
+  // Parameters: a preset, or the properties.
+  std::ostringstream message;
+  if (this->Preset < 0 || this->Preset >= plantmorph::VenationPresetCount)
+  {
+    message << "Preset = " << this->Preset << " is outside the accepted range [0, "
+            << plantmorph::VenationPresetCount - 1 << "]";
+    return fail(message.str());
+  }
+  if (!std::isfinite(this->EmbossDepth) || std::abs(this->EmbossDepth) > 1e3)
+  {
+    message << "EmbossDepth = " << this->EmbossDepth << " is outside the accepted range [-1e3, 1e3]";
+    return fail(message.str());
+  }
+  if (this->MaxSegments < 100 || this->MaxSegments > 100000000)
+  {
+    message << "MaxSegments = " << this->MaxSegments << " is outside the accepted range [100, 1e8]";
+    return fail(message.str());
+  }
+  const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
+  plantmorph::VenationParameters p = plantmorph::MakeVenationPreset(preset);
+  if (preset == plantmorph::VenationPreset::Custom)
+  {
+    p.pattern = static_cast<plantmorph::VenationPattern>(this->Pattern);
+    p.primaries = this->PrimaryCount;
+    p.primarySpread = this->PrimarySpread;
+    p.parallelVeins = this->ParallelVeins;
+    p.parallelSpread = this->ParallelSpread;
+    p.secondarySpacing = this->SecondarySpacing;
+    p.divergenceAngle = this->DivergenceAngle;
+    p.divergenceAngleApex = this->DivergenceAngleApex;
+    p.curvatureBase = this->SecondaryCurvatureBase;
+    p.curvatureApex = this->SecondaryCurvatureApex;
+    p.forkFraction = this->ForkFraction;
+    p.branchCurvature = this->BranchCurvature;
+    p.tertiary = this->Tertiary;
+    p.areoleSize = this->AreoleSize;
+    p.minJunctionAngle = this->MinJunctionAngle;
+    p.junctionAngleDeviation = this->JunctionAngleDeviation;
+    p.veinlets = this->Veinlets;
+    p.veinletLength = this->VeinletLength;
+    p.palmateVeins = this->PalmateVeins;
+    p.forkLevels = this->ForkLevels;
+    p.forkSize = this->ForkSize;
+    p.primaryWidth = this->PrimaryWidth;
+    p.primaryTaper = this->PrimaryTaper;
+    p.secondaryWidthRatio = this->SecondaryWidthRatio;
+    p.tertiaryWidthRatio = this->TertiaryWidthRatio;
+    p.veinletWidthRatio = this->VeinletWidthRatio;
+  }
+  p.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
+  p.maxSegments = static_cast<std::size_t>(this->MaxSegments);
+
+  // The blade: points, LeafUV, triangles.
+  vtkDataArray* uvArray = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
+  if (!uvArray || uvArray->GetNumberOfComponents() != 2)
+  {
+    return fail("Input: the blade needs the point array LeafUV with 2 components (LeafOutlineSource's blades have "
+                "it)");
+  }
+  const vtkIdType n = input->GetNumberOfPoints();
+  std::vector<Eigen::Vector3d> points(static_cast<std::size_t>(n));
+  std::vector<Eigen::Vector2d> uv(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    input->GetPoint(i, points[i].data());
+    uv[i] = Eigen::Vector2d(uvArray->GetComponent(i, 0), uvArray->GetComponent(i, 1));
+  }
+  std::vector<std::array<int, 3>> triangles;
+  {
+    vtkCellArray* polys = input->GetPolys();
+    vtkNew<vtkIdList> ids;
+    vtkIdType cell = 0;
+    for (polys->InitTraversal(); polys->GetNextCell(ids); ++cell)
+    {
+      if (ids->GetNumberOfIds() != 3)
+      {
+        message << "Input: polygon " << cell << " has " << ids->GetNumberOfIds()
+                << " points; the blade must be triangles (apply Triangulate first)";
+        return fail(message.str());
+      }
+      triangles.push_back({ static_cast<int>(ids->GetId(0)), static_cast<int>(ids->GetId(1)),
+        static_cast<int>(ids->GetId(2)) });
+    }
+  }
+  if (input->GetNumberOfStrips() > 0)
+  {
+    return fail("Input: the blade has triangle strips; apply Triangulate first");
+  }
+  if (triangles.empty())
+  {
+    return fail("Input: the blade has no triangles");
+  }
+  bool flat = true;
+  plantmorph::VenationBlade blade{ WorkingPlane(points, uv, triangles, flat), uv, triangles };
+
+  plantmorph::VenationResult result;
+  const std::string error = plantmorph::GrowVenation(blade, p, result, [this](double fraction) {
+    this->UpdateProgress(0.95 * fraction);
+    return !this->GetAbortExecute();
+  });
+  if (!error.empty())
+  {
+    return fail(error);
+  }
+
+  // Port 0: the veins on the surface.
+  const std::size_t count = result.nodes.size();
+  vtkNew<vtkPoints> veinPoints;
+  veinPoints->SetDataType(input->GetPoints()->GetDataType());
+  veinPoints->SetNumberOfPoints(static_cast<vtkIdType>(count));
+  vtkNew<vtkDoubleArray> width, veinUV;
+  width->SetName(plantmorph::arrays::VeinWidth);
+  width->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  veinUV->SetName(plantmorph::arrays::LeafUV);
+  veinUV->SetNumberOfComponents(2);
+  veinUV->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  vtkNew<vtkIntArray> pointRegion;
+  pointRegion->SetName(plantmorph::arrays::Region);
+  pointRegion->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  vtkDataArray* tcoords = input->GetPointData()->GetTCoords();
+  vtkNew<vtkFloatArray> veinTCoords;
+  if (tcoords && tcoords->GetNumberOfComponents() == 2)
+  {
+    veinTCoords->SetName(tcoords->GetName() ? tcoords->GetName() : plantmorph::arrays::TCoords);
+    veinTCoords->SetNumberOfComponents(2);
+    veinTCoords->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  }
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const plantmorph::BladeLocation& at = result.location[i];
+    if (at.triangle < 0)
+    {
+      return fail("internal: a vein point fell outside the blade");
+    }
+    const auto& t = triangles[at.triangle];
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    Eigen::Vector2d w = Eigen::Vector2d::Zero(), tc = Eigen::Vector2d::Zero();
+    for (int k = 0; k < 3; ++k)
+    {
+      x += at.weights[k] * points[t[k]];
+      w += at.weights[k] * uv[t[k]];
+      if (veinTCoords->GetNumberOfTuples() > 0)
+        tc += at.weights[k] * Eigen::Vector2d(tcoords->GetComponent(t[k], 0), tcoords->GetComponent(t[k], 1));
+    }
+    veinPoints->SetPoint(static_cast<vtkIdType>(i), x.data());
+    width->SetValue(static_cast<vtkIdType>(i), result.width[i]);
+    veinUV->SetTuple2(static_cast<vtkIdType>(i), w.x(), w.y());
+    pointRegion->SetValue(static_cast<vtkIdType>(i), std::min<int>(result.order[i], plantmorph::RegionTertiaryVein));
+    if (veinTCoords->GetNumberOfTuples() > 0)
+      veinTCoords->SetTuple2(static_cast<vtkIdType>(i), tc.x(), tc.y());
+  }
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIntArray> veinOrder, cellRegion;
+  veinOrder->SetName(plantmorph::arrays::VeinOrder);
+  cellRegion->SetName(plantmorph::arrays::Region);
+  for (const auto& line : result.veins)
+  {
+    lines->InsertNextCell(static_cast<vtkIdType>(line.nodes.size()));
+    for (int id : line.nodes)
+      lines->InsertCellPoint(id);
+    veinOrder->InsertNextValue(line.order);
+    cellRegion->InsertNextValue(std::min<int>(line.order, plantmorph::RegionTertiaryVein));
+  }
+  veins->SetPoints(veinPoints);
+  veins->SetLines(lines);
+  veins->GetPointData()->AddArray(width);
+  veins->GetPointData()->SetActiveScalars(plantmorph::arrays::VeinWidth);
+  veins->GetPointData()->AddArray(pointRegion);
+  veins->GetPointData()->AddArray(veinUV);
+  if (veinTCoords->GetNumberOfTuples() > 0)
+    veins->GetPointData()->SetTCoords(veinTCoords);
+  veins->GetCellData()->AddArray(veinOrder);
+  veins->GetCellData()->AddArray(cellRegion);
+
+  vtkFieldData* fd = veins->GetFieldData();
+  const plantmorph::VenationStatistics& s = result.statistics;
+  vtkNew<vtkDoubleArray> lengths;
+  lengths->SetName("PlantMorph.VeinLength");
+  lengths->SetNumberOfComponents(4);
+  lengths->SetComponentName(0, "Primary");
+  lengths->SetComponentName(1, "Secondary");
+  lengths->SetComponentName(2, "Tertiary");
+  lengths->SetComponentName(3, "Veinlet");
+  lengths->InsertNextTuple4(s.length[1], s.length[2], s.length[3], s.length[4]);
+  fd->AddArray(lengths);
+  AddValue(fd, "PlantMorph.VeinDensity", s.density);
+  AddValue(fd, "PlantMorph.BladeArea", s.bladeArea);
+  AddValue(fd, "PlantMorph.AreoleCount", static_cast<double>(s.areoles));
+  AddValue(fd, "PlantMorph.AreoleAreaMean", s.areoleAreaMean);
+  AddValue(fd, "PlantMorph.AreoleAreaStd", s.areoleAreaStd);
+  AddValue(fd, "PlantMorph.BranchPoints", static_cast<double>(s.branchPoints));
+  AddValue(fd, "PlantMorph.FreeEnds", static_cast<double>(s.freeEnds));
+  AddValue(fd, "PlantMorph.VeinSegments", static_cast<double>(s.segments));
+  AddValue(fd, "PlantMorph.Seed", this->Seed);
+  AddValue(fd, "PlantMorph.LeafLength", result.leafLength);
+  AddString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
+  AddString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
+  AddString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
+
+  // Port 1: the blade, raised over the veins when asked.
+  bladeOut->ShallowCopy(input);
+  if (this->EmbossDepth != 0.0)
+  {
+    const std::vector<double> heights = plantmorph::VeinReliefHeights(blade, result, this->EmbossDepth);
+    std::vector<Eigen::Vector3d> normals(points.size(), Eigen::Vector3d::Zero());
+    vtkDataArray* given = input->GetPointData()->GetNormals();
+    if (given && given->GetNumberOfComponents() == 3)
+    {
+      for (vtkIdType i = 0; i < n; ++i)
+        given->GetTuple(i, normals[i].data());
+    }
+    else
+    {
+      for (const auto& t : triangles)
+      {
+        const Eigen::Vector3d face = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+        for (int k = 0; k < 3; ++k)
+          normals[t[k]] += face;
+      }
+    }
+    vtkNew<vtkPoints> raised;
+    raised->SetDataType(input->GetPoints()->GetDataType());
+    raised->SetNumberOfPoints(n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      const double length = normals[i].norm();
+      const Eigen::Vector3d up = length > 0.0 ? Eigen::Vector3d(normals[i] / length) : Eigen::Vector3d::UnitZ();
+      const Eigen::Vector3d x = points[i] + heights[i] * up;
+      raised->SetPoint(i, x.data());
+    }
+    bladeOut->SetPoints(raised);
+  }
+  AddValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", this->EmbossDepth);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkVenationFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Preset: " << this->Preset << "\n";
+  os << indent << "Pattern: " << this->Pattern << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "SecondarySpacing: " << this->SecondarySpacing << "\n";
+  os << indent << "DivergenceAngle: " << this->DivergenceAngle << " .. " << this->DivergenceAngleApex << "\n";
+  os << indent << "Tertiary: " << this->Tertiary << " (AreoleSize " << this->AreoleSize << ")\n";
+  os << indent << "Veinlets: " << this->Veinlets << "\n";
+  os << indent << "PalmateVeins: " << this->PalmateVeins << " (ForkLevels " << this->ForkLevels << ")\n";
+  os << indent << "EmbossDepth: " << this->EmbossDepth << "\n";
+  os << indent << "MaxSegments: " << this->MaxSegments << "\n";
+}
