@@ -67,8 +67,9 @@ struct NewmarkParameters
   int threads = 1;                ///< <= 0: all hardware threads
 };
 
-/// Free nodes up to this count use Cholesky under NewmarkSolver::Auto (measured: benchmarks/README.md).
-inline constexpr std::size_t AutoCholeskyMaxNodes = 3000;
+/// Free nodes up to this count use Cholesky under NewmarkSolver::Auto: CG won at every measured size (1k, 10k, 100k
+/// nodes, benchmarks/README.md "wilting"); only tiny models keep the exact direct solve.
+inline constexpr std::size_t AutoCholeskyMaxNodes = 200;
 
 /// Empty when the parameters are usable; otherwise a message naming the parameter and its range.
 std::string ValidateNewmark(const NewmarkParameters& parameters);
