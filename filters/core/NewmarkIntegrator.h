@@ -20,9 +20,10 @@
 // more iterations converge to the fully implicit average-acceleration step, which conserves the energy of a linear
 // system exactly.
 //
-// The system matrix is kept in the springs' own layout: a 3x3 block per spring (the (a, b) off-diagonal block is
-// minus it) and a 3x3 block per node, assembled in two passes that never write the same memory from two threads
-// (per spring, then per node gathering its springs in a fixed order): deterministic bit for bit, no atomics.
+// The system matrix is kept in the springs' own layout: per spring s I + t n n^T (the (a, b) off-diagonal block is
+// minus it) and a 3x3 diagonal block per node. Springs are cut into 16 fixed spatial slabs; the slabs' springs are
+// assembled (and multiplied) in parallel, touching disjoint nodes, then the springs joining two slabs serially:
+// every sum is taken in the same order on any thread count (bit-identical results), no atomics.
 // Two linear solvers:
 //   - ConjugateGradient: block-Jacobi (3x3 per node) preconditioned CG, warm-started from the previous step's
 //     increment, stopped when r^T P^-1 r <= CGTolerance^2 b^T P^-1 b (VegaFEM's Jacobi CG test with x0 = 0),
