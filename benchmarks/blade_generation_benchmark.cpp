@@ -44,6 +44,8 @@
 #include "LeafGeometry.h"
 #include "SpaceCurvePresets.h"
 
+#include "PeakMemory.h"
+
 #include <benchmark/benchmark.h>
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -75,61 +77,7 @@ const std::vector<int64_t> Resolutions = { 16, 23, 32, 45, 64, 91, 128, 181, 256
 // Paper mode is cheap, so it also runs up to the property's maximum (4000).
 const std::vector<int64_t> PaperOnlyResolutions = { 1024, 2048, 4000 };
 
-// ---- memory ------------------------------------------------------------------------------------------------------
-
-/// A field of /proc/self/status in bytes ("VmRSS", "VmHWM"); -1 if unavailable.
-long long StatusBytes(const std::string& key)
-{
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-  {
-    if (line.compare(0, key.size() + 1, key + ":") == 0)
-    {
-      std::istringstream fields(line.substr(key.size() + 1));
-      long long kiB = -1;
-      fields >> kiB;
-      return kiB < 0 ? -1 : kiB * 1024;
-    }
-  }
-  return -1;
-}
-
-class PeakMemoryProbe
-{
-public:
-  /// Untimed: trims the heap, records the baseline resident set and resets VmHWM to it.
-  void Start()
-  {
-    malloc_trim(0);
-    this->Baseline = StatusBytes("VmRSS");
-    std::ofstream clearRefs("/proc/self/clear_refs");
-    clearRefs << "5";
-    clearRefs.flush();
-    this->Reset = static_cast<bool>(clearRefs);
-  }
-
-  void Report(benchmark::State& state, double outputBytes) const
-  {
-    const long long hwm = StatusBytes("VmHWM");
-    const double peak = (hwm >= 0 && this->Baseline >= 0) ? static_cast<double>(hwm - this->Baseline) : 0.0;
-    state.counters["vm_hwm"] = benchmark::Counter(static_cast<double>(hwm), benchmark::Counter::kDefaults,
-      benchmark::Counter::OneK::kIs1024);
-    state.counters["peak_bytes"] =
-      benchmark::Counter(peak, benchmark::Counter::kDefaults, benchmark::Counter::OneK::kIs1024);
-    state.counters["peak_reset"] = this->Reset ? 1.0 : 0.0;
-    if (outputBytes > 0.0)
-    {
-      state.counters["out_bytes"] =
-        benchmark::Counter(outputBytes, benchmark::Counter::kDefaults, benchmark::Counter::OneK::kIs1024);
-      state.counters["peak_ratio"] = peak / outputBytes;
-    }
-  }
-
-private:
-  long long Baseline = -1;
-  bool Reset = false;
-};
+using plantmorph_benchmarks::PeakMemoryProbe;
 
 void ReportTriangles(benchmark::State& state, std::size_t triangles)
 {
@@ -171,7 +119,7 @@ void MeasureLeaf(benchmark::State& state, Build&& build)
     triangles = leaf.blade.triangles.size();
     outputBytes = OutputBytes(leaf.blade);
   }
-  memory.Report(state, outputBytes);
+  memory.Report(state, 0.0, outputBytes);
   ReportTriangles(state, triangles);
 }
 

@@ -32,6 +32,8 @@
 #include "vtkSphereSource.h"
 #include "vtkStaticCellLocator.h"
 
+#include "PeakMemory.h"
+
 #include <benchmark/benchmark.h>
 
 #include <CGAL/Simple_cartesian.h>
@@ -57,51 +59,7 @@ using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 
 // ---- memory (as in blade_generation_benchmark) --------------------------------------------------------------------
 
-long long StatusBytes(const std::string& key)
-{
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.compare(0, key.size() + 1, key + ":") == 0)
-    {
-      std::istringstream fields(line.substr(key.size() + 1));
-      long long kiB = -1;
-      fields >> kiB;
-      return kiB < 0 ? -1 : kiB * 1024;
-    }
-  return -1;
-}
-
-class PeakMemoryProbe
-{
-public:
-  void Start()
-  {
-    malloc_trim(0);
-    this->Baseline = StatusBytes("VmRSS");
-    std::ofstream clearRefs("/proc/self/clear_refs");
-    clearRefs << "5";
-    clearRefs.flush();
-    this->Reset = static_cast<bool>(clearRefs);
-  }
-  void Report(benchmark::State& state, double inBytes, double outBytes) const
-  {
-    const long long hwm = StatusBytes("VmHWM");
-    const double peak = (hwm >= 0 && this->Baseline >= 0) ? static_cast<double>(hwm - this->Baseline) : 0.0;
-    const auto bytes = [](double b) {
-      return benchmark::Counter(b, benchmark::Counter::kDefaults, benchmark::Counter::OneK::kIs1024);
-    };
-    state.counters["peak_bytes"] = bytes(peak);
-    state.counters["in_bytes"] = bytes(inBytes);
-    state.counters["out_bytes"] = bytes(outBytes);
-    state.counters["peak_ratio"] = (inBytes + outBytes) > 0 ? peak / (inBytes + outBytes) : 0.0;
-    state.counters["peak_reset"] = this->Reset ? 1.0 : 0.0;
-  }
-
-private:
-  long long Baseline = -1;
-  bool Reset = false;
-};
+using plantmorph_benchmarks::PeakMemoryProbe;
 
 void ReportTriangles(benchmark::State& state, double triangles)
 {

@@ -240,6 +240,7 @@ std::vector<std::vector<int>> VeinGraph::VeinPaths() const
   for (std::size_t e = 0; e < this->EdgeList.size(); ++e)
     edgesOf[this->EdgeList[e].vein].push_back(static_cast<int>(e));
   std::vector<std::vector<int>> paths(this->VeinList.size());
+  std::vector<char> used(this->EdgeList.size(), 0); // each edge belongs to one vein: walked once in all
   for (std::size_t v = 0; v < edgesOf.size(); ++v)
   {
     if (edgesOf[v].empty())
@@ -260,7 +261,6 @@ std::vector<std::vector<int>> VeinGraph::VeinPaths() const
       }
     }
     // Walk from the start; a closed loop comes back to it.
-    std::vector<char> used(this->EdgeList.size(), 0);
     std::vector<int>& path = paths[v];
     path.push_back(start);
     int node = start;

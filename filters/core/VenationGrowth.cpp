@@ -62,7 +62,7 @@ private:
     const Eigen::Vector2d extent = locator.Upper() - locator.Lower();
     const double size = std::max(extent.x(), extent.y());
     const double detail = p.tertiary ? p.areoleSize : p.secondarySpacing * 0.5;
-    return std::max(detail * size, 2.0 * locator.EdgeLength());
+    return p.gridCellScale * detail * size;
   }
 
   bool Inside(const Eigen::Vector2d& x) const { return this->Locator.Locate(x, 1e-9 * this->Length).triangle >= 0; }
@@ -840,6 +840,8 @@ std::string ValidateVenationParameters(const VenationParameters& p)
     if (!in(ratio, 0.0, 1.0))
       return Range("VeinWidthRatio", ratio, "[0, 1]");
   }
+  if (!(p.gridCellScale > 0.0) || !std::isfinite(p.gridCellScale))
+    return Range("gridCellScale", p.gridCellScale, "(0, inf)");
   if (p.maxSegments < 100)
     return Range("MaxSegments", static_cast<double>(p.maxSegments), "[100, ...)");
   return {};

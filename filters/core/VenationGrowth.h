@@ -105,6 +105,9 @@ struct VenationParameters
   double tertiaryWidthRatio = 0.2;
   double veinletWidthRatio = 0.12;
   std::size_t maxSegments = 2000000; ///< refuse (with a message) networks that would need more edges
+  /// Benchmarks only: the vein graph's grid cells as a multiple of their default size (about one areole); a huge
+  /// value puts every edge in one cell, so every crossing test looks at every edge (brute force).
+  double gridCellScale = 1.0;
 };
 
 /// Presets of paper 000's figures.
