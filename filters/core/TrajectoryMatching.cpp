@@ -62,8 +62,8 @@ double AngleBetween(const double a[3], const double b[3])
 }
 
 //------------------------------------------------------------------------------
-TrajectoryComparison CompareTrajectories(
-  const double* measured, std::size_t n, const double* simulated, std::size_t m)
+TrajectoryComparison CompareTrajectories(const double* measured, std::size_t n, const double* simulated,
+  std::size_t m, std::size_t maximumMonotonePairs)
 {
   TrajectoryComparison result;
   if (n == 0 || m == 0)
@@ -106,7 +106,7 @@ TrajectoryComparison CompareTrajectories(
   Summarise(result.closest, measured, n, simulated);
 
   // Time-monotone: cost[i][j] = d(i, j) + min_{k < j} cost[i-1][k]; sample i can only use j in [i, m - n + i].
-  if (m >= n)
+  if (m >= n && static_cast<double>(n) * static_cast<double>(m) <= static_cast<double>(maximumMonotonePairs))
   {
     result.hasMonotone = true;
     const double inf = std::numeric_limits<double>::infinity();

@@ -1,0 +1,609 @@
+#include "vtkCloudComparisonFilter.h"
+
+#include "CloudStatistics.h"
+#include "PointSurfaceDistance.h"
+#include "RigidRegistration.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellType.h"
+#include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolygon.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTable.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkCloudComparisonFilter);
+
+namespace
+{
+/// The points of a point set as flat doubles (read in parallel; GetPoint into a local buffer is thread-safe).
+std::vector<double> FlatPoints(vtkPointSet* data)
+{
+  const vtkIdType n = data->GetNumberOfPoints();
+  std::vector<double> xyz(3 * static_cast<std::size_t>(n));
+  vtkPoints* points = data->GetPoints();
+  if (n == 0 || !points)
+  {
+    return xyz;
+  }
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      points->GetPoint(i, xyz.data() + 3 * i);
+    }
+  });
+  return xyz;
+}
+
+/// Appends the triangles of one polygon (n >= 3 point ids): fan for triangles and quads, ear cutting above.
+void AppendPolygon(vtkIdType n, const vtkIdType* ids, vtkPoints* points, vtkPolygon* polygon, vtkIdList* triangleIds,
+  vtkPoints* scratch, std::vector<std::int64_t>& triangles)
+{
+  if (n < 3)
+  {
+    return;
+  }
+  if (n <= 4)
+  {
+    for (vtkIdType k = 1; k + 1 < n; ++k)
+    {
+      triangles.insert(triangles.end(), { ids[0], ids[k], ids[k + 1] });
+    }
+    return;
+  }
+  polygon->PointIds->SetNumberOfIds(n);
+  polygon->Points->SetNumberOfPoints(n);
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    polygon->PointIds->SetId(k, ids[k]);
+    polygon->Points->SetPoint(k, points->GetPoint(ids[k]));
+  }
+  triangleIds->Reset();
+  if (polygon->Triangulate(0, triangleIds, scratch) && triangleIds->GetNumberOfIds() >= 3)
+  {
+    for (vtkIdType k = 0; k + 2 < triangleIds->GetNumberOfIds(); k += 3)
+    {
+      triangles.insert(triangles.end(), { triangleIds->GetId(k), triangleIds->GetId(k + 1), triangleIds->GetId(k + 2) });
+    }
+    return;
+  }
+  for (vtkIdType k = 1; k + 1 < n; ++k) // degenerate polygon: a fan still covers it
+  {
+    triangles.insert(triangles.end(), { ids[0], ids[k], ids[k + 1] });
+  }
+}
+
+void AppendStrip(vtkIdType n, const vtkIdType* ids, std::vector<std::int64_t>& triangles)
+{
+  for (vtkIdType k = 0; k + 2 < n; ++k)
+  {
+    if (k % 2 == 0)
+    {
+      triangles.insert(triangles.end(), { ids[k], ids[k + 1], ids[k + 2] });
+    }
+    else
+    {
+      triangles.insert(triangles.end(), { ids[k + 1], ids[k], ids[k + 2] });
+    }
+  }
+}
+
+/// The 2-D cells of a point set as triangles (empty: treat it as a point cloud).
+std::vector<std::int64_t> Triangles(vtkPointSet* data)
+{
+  std::vector<std::int64_t> triangles;
+  vtkNew<vtkPolygon> polygon;
+  vtkNew<vtkIdList> triangleIds;
+  vtkNew<vtkPoints> scratch;
+  vtkPoints* points = data->GetPoints();
+  if (auto* poly = vtkPolyData::SafeDownCast(data))
+  {
+    if (poly->GetPolys())
+    {
+      triangles.reserve(3 * static_cast<std::size_t>(poly->GetNumberOfPolys()));
+      auto it = vtk::TakeSmartPointer(poly->GetPolys()->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdType n = 0;
+        const vtkIdType* ids = nullptr;
+        it->GetCurrentCell(n, ids);
+        AppendPolygon(n, ids, points, polygon, triangleIds, scratch, triangles);
+      }
+    }
+    if (poly->GetStrips())
+    {
+      auto it = vtk::TakeSmartPointer(poly->GetStrips()->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdType n = 0;
+        const vtkIdType* ids = nullptr;
+        it->GetCurrentCell(n, ids);
+        AppendStrip(n, ids, triangles);
+      }
+    }
+    return triangles;
+  }
+  vtkNew<vtkIdList> cellIds;
+  for (vtkIdType c = 0; c < data->GetNumberOfCells(); ++c)
+  {
+    const int type = data->GetCellType(c);
+    if (type != VTK_TRIANGLE && type != VTK_QUAD && type != VTK_POLYGON && type != VTK_TRIANGLE_STRIP &&
+      type != VTK_PIXEL)
+    {
+      continue;
+    }
+    data->GetCellPoints(c, cellIds);
+    const vtkIdType n = cellIds->GetNumberOfIds();
+    const vtkIdType* ids = cellIds->GetPointer(0);
+    if (type == VTK_TRIANGLE_STRIP)
+    {
+      AppendStrip(n, ids, triangles);
+    }
+    else if (type == VTK_PIXEL && n == 4)
+    {
+      const vtkIdType quad[4] = { ids[0], ids[1], ids[3], ids[2] };
+      AppendPolygon(4, quad, points, polygon, triangleIds, scratch, triangles);
+    }
+    else
+    {
+      AppendPolygon(n, ids, points, polygon, triangleIds, scratch, triangles);
+    }
+  }
+  return triangles;
+}
+
+void AddValue(vtkFieldData* fd, const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfTuples(1);
+  a->SetValue(0, value);
+  fd->AddArray(a);
+}
+
+void AddColumn(vtkTable* table, vtkFieldData* fd, const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> column;
+  column->SetName(name);
+  column->SetNumberOfTuples(1);
+  column->SetValue(0, value);
+  table->AddColumn(column);
+  if (fd)
+  {
+    AddValue(fd, name, value);
+  }
+}
+
+/// Builds the distance structure over a point set: a surface if it has 2-D cells, else its points.
+std::string BuildStructure(vtkPointSet* data, const std::vector<double>& xyz, plantmorph::PointSurfaceDistance& out)
+{
+  const std::vector<std::int64_t> triangles = Triangles(data);
+  if (!triangles.empty())
+  {
+    return out.BuildSurface(xyz.data(), xyz.size() / 3, triangles.data(), triangles.size() / 3);
+  }
+  return out.BuildCloud(xyz.data(), xyz.size() / 3);
+}
+
+plantmorph::ParallelFor SMPFor()
+{
+  return [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    vtkSMPTools::For(0, static_cast<vtkIdType>(count), 2048, [&](vtkIdType begin, vtkIdType end) {
+      body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end));
+    });
+  };
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkCloudComparisonFilter::vtkCloudComparisonFilter()
+{
+  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfOutputPorts(3);
+}
+
+//------------------------------------------------------------------------------
+void vtkCloudComparisonFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Scale: " << this->Scale << "\n";
+  os << indent << "Registration: " << this->Registration << "\n";
+  os << indent << "RegistrationIterations: " << this->RegistrationIterations << "\n";
+  os << indent << "RegistrationTolerance: " << this->RegistrationTolerance << "\n";
+  os << indent << "RegistrationLandmarks: " << this->RegistrationLandmarks << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "UseMaximumDistance: " << this->UseMaximumDistance << "\n";
+  os << indent << "MaximumDistance: " << this->MaximumDistance << "\n";
+  os << indent << "Symmetric: " << this->Symmetric << "\n";
+  os << indent << "HistogramBins: " << this->HistogramBins << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}
+
+//------------------------------------------------------------------------------
+int vtkCloudComparisonFilter::FillInputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  (void)port;
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkCloudComparisonFilter::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkPolyData" : "vtkTable");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkCloudComparisonFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPointSet* measured = vtkPointSet::GetData(inputVector[0], 0);
+  vtkPointSet* reference = vtkPointSet::GetData(inputVector[1], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkTable* histogram = vtkTable::GetData(outputVector, 1);
+  vtkTable* statistics = vtkTable::GetData(outputVector, 2);
+  output->Initialize();
+  histogram->Initialize();
+  statistics->Initialize();
+  if (!measured)
+  {
+    return 1;
+  }
+  if (this->NumberOfThreads < 0 || this->NumberOfThreads > 256)
+  {
+    vtkErrorMacro(<< "NumberOfThreads = " << this->NumberOfThreads << " must be in [0, 256] (0: all cores)");
+    return 1;
+  }
+  const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
+  const std::string backend = (current == "Sequential" && this->NumberOfThreads != 1) ? "STDThread" : current;
+  int status = 1;
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ this->NumberOfThreads, backend, false },
+    [&]() { status = this->Execute(measured, reference, output, histogram, statistics); });
+  if (status != 1)
+  {
+    output->Initialize(); // never half an output
+    histogram->Initialize();
+    statistics->Initialize();
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkCloudComparisonFilter::Execute(
+  vtkPointSet* measured, vtkPointSet* reference, vtkPolyData* output, vtkTable* histogram, vtkTable* statistics)
+{
+  using namespace plantmorph;
+  if (!std::isfinite(this->Scale) || this->Scale <= 0.0)
+  {
+    vtkErrorMacro(<< "Scale = " << this->Scale << " must be finite and > 0 (e.g. 0.1 for a scan in mm against a "
+                                                   "model in cm)");
+    return 0;
+  }
+  if (this->UseMaximumDistance && (!std::isfinite(this->MaximumDistance) || this->MaximumDistance < 0.0))
+  {
+    vtkErrorMacro(<< "MaximumDistance = " << this->MaximumDistance << " must be finite and >= 0");
+    return 0;
+  }
+  if (this->HistogramBins < 1 || this->HistogramBins > 100000)
+  {
+    vtkErrorMacro(<< "HistogramBins = " << this->HistogramBins << " must be in [1, 100000]");
+    return 0;
+  }
+  if (this->Registration < REGISTRATION_NONE || this->Registration > REGISTRATION_RIGID_SCALE)
+  {
+    vtkErrorMacro(<< "Registration = " << this->Registration
+                  << " must be 0 (none), 1 (rigid) or 2 (rigid + uniform scale)");
+    return 0;
+  }
+  RegistrationSettings registration;
+  registration.withScale = this->Registration == REGISTRATION_RIGID_SCALE;
+  registration.maximumIterations = this->RegistrationIterations;
+  registration.tolerance = this->RegistrationTolerance;
+  registration.maximumLandmarks =
+    this->RegistrationLandmarks < 3 || this->RegistrationLandmarks > 100000000 ? 0 : this->RegistrationLandmarks;
+  registration.rejectDistance = this->UseMaximumDistance ? this->MaximumDistance : -1.0;
+  registration.seed = static_cast<std::uint64_t>(static_cast<std::int64_t>(this->Seed));
+  if (this->Registration != REGISTRATION_NONE)
+  {
+    if (registration.maximumLandmarks == 0)
+    {
+      vtkErrorMacro(<< "RegistrationLandmarks = " << this->RegistrationLandmarks << " must be in [3, 100000000]");
+      return 0;
+    }
+    if (const std::string error = ValidateRegistrationSettings(registration); !error.empty())
+    {
+      vtkErrorMacro(<< error);
+      return 0;
+    }
+  }
+  if (!reference || reference->GetNumberOfPoints() == 0)
+  {
+    vtkErrorMacro(<< "the Reference input (port 1) is missing or has no point: connect a surface (polygons) or a "
+                     "point set to compare the Measured points with");
+    return 0;
+  }
+  const vtkIdType count = measured->GetNumberOfPoints();
+  if (count == 0)
+  {
+    return 1; // an empty piece is not an error
+  }
+
+  // The measured points, scaled, as flat doubles; every coordinate must be finite.
+  std::vector<double> xyz = FlatPoints(measured);
+  for (std::size_t i = 0; i < xyz.size(); ++i)
+  {
+    if (!std::isfinite(xyz[i]))
+    {
+      vtkErrorMacro(<< "the Measured input's point " << i / 3 << " has a non-finite coordinate (NaN or infinite)");
+      return 0;
+    }
+  }
+  double transform[16] = { this->Scale, 0, 0, 0, 0, this->Scale, 0, 0, 0, 0, this->Scale, 0, 0, 0, 0, 1 };
+  if (this->Scale != 1.0)
+  {
+    ApplyTransform(transform, xyz.data(), xyz.data(), static_cast<std::size_t>(count));
+  }
+  this->UpdateProgress(0.05);
+
+  // The reference structure.
+  const std::vector<double> referenceXYZ = FlatPoints(reference);
+  PointSurfaceDistance referenceDistance;
+  if (const std::string error = BuildStructure(reference, referenceXYZ, referenceDistance); !error.empty())
+  {
+    vtkErrorMacro(<< "Reference input: " << error);
+    return 0;
+  }
+  this->UpdateProgress(0.15);
+  if (this->GetAbortExecute())
+  {
+    return 0;
+  }
+  const ParallelFor parallelFor = SMPFor();
+
+  // Registration.
+  RegistrationResult registered;
+  if (this->Registration != REGISTRATION_NONE)
+  {
+    registered = RegisterPoints(
+      xyz.data(), static_cast<std::size_t>(count), referenceDistance, registration, parallelFor);
+    if (!registered.error.empty())
+    {
+      vtkErrorMacro(<< "Registration: " << registered.error);
+      return 0;
+    }
+    ApplyTransform(registered.matrix, xyz.data(), xyz.data(), static_cast<std::size_t>(count));
+    double total[16];
+    for (int r = 0; r < 4; ++r)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        total[4 * r + c] = 0.0;
+        for (int k = 0; k < 4; ++k)
+        {
+          total[4 * r + c] += registered.matrix[4 * r + k] * transform[4 * k + c];
+        }
+      }
+    }
+    std::copy(total, total + 16, transform);
+  }
+  this->UpdateProgress(0.3);
+  if (this->GetAbortExecute())
+  {
+    return 0;
+  }
+
+  // Distances, in blocks with progress and abort.
+  const bool surface = referenceDistance.IsSurface();
+  vtkNew<vtkDoubleArray> distance;
+  distance->SetName("Distance");
+  distance->SetNumberOfTuples(count);
+  vtkNew<vtkDoubleArray> signedDistance;
+  signedDistance->SetName("SignedDistance");
+  if (surface)
+  {
+    signedDistance->SetNumberOfTuples(count);
+  }
+  vtkNew<vtkDoubleArray> closest;
+  closest->SetName("ClosestPoint");
+  closest->SetNumberOfComponents(3);
+  closest->SetNumberOfTuples(count);
+  const vtkIdType block = std::max<vtkIdType>(1 << 16, count / 20);
+  for (vtkIdType start = 0; start < count; start += block)
+  {
+    const vtkIdType stop = std::min(count, start + block);
+    referenceDistance.QueryMany(xyz.data() + 3 * start, static_cast<std::size_t>(stop - start),
+      distance->GetPointer(start), surface ? signedDistance->GetPointer(start) : nullptr,
+      closest->GetPointer(3 * start), nullptr, parallelFor);
+    this->UpdateProgress(0.3 + 0.6 * static_cast<double>(stop) / static_cast<double>(count));
+    if (this->GetAbortExecute())
+    {
+      return 0;
+    }
+  }
+
+  // Reverse direction: the reference's points against the measured data (as a surface if it has polygons).
+  const double cutOff = this->UseMaximumDistance ? this->MaximumDistance : -1.0;
+  std::vector<double> reverse;
+  if (this->Symmetric)
+  {
+    PointSurfaceDistance measuredDistance;
+    if (const std::string error = BuildStructure(measured, xyz, measuredDistance); !error.empty())
+    {
+      vtkErrorMacro(<< "Measured input (reverse direction): " << error);
+      return 0;
+    }
+    reverse.resize(referenceXYZ.size() / 3);
+    measuredDistance.QueryMany(
+      referenceXYZ.data(), reverse.size(), reverse.data(), nullptr, nullptr, nullptr, parallelFor);
+  }
+  this->UpdateProgress(0.95);
+
+  // Output 0: the measured points with the distance arrays.
+  if (auto* poly = vtkPolyData::SafeDownCast(measured))
+  {
+    output->ShallowCopy(poly);
+  }
+  else
+  {
+    output->SetPoints(measured->GetPoints());
+    output->GetPointData()->ShallowCopy(measured->GetPointData());
+    output->GetFieldData()->ShallowCopy(measured->GetFieldData());
+  }
+  if (output->GetNumberOfCells() == 0)
+  {
+    vtkNew<vtkIdTypeArray> offsets;
+    vtkNew<vtkIdTypeArray> connectivity;
+    offsets->SetNumberOfTuples(count + 1);
+    connectivity->SetNumberOfTuples(count);
+    vtkSMPTools::For(0, count + 1, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        offsets->SetValue(i, i);
+        if (i < count)
+        {
+          connectivity->SetValue(i, i);
+        }
+      }
+    });
+    vtkNew<vtkCellArray> verts;
+    verts->SetData(offsets, connectivity);
+    output->SetVerts(verts);
+  }
+  if (this->Scale != 1.0 || this->Registration != REGISTRATION_NONE)
+  {
+    vtkNew<vtkDoubleArray> coordinates;
+    coordinates->SetNumberOfComponents(3);
+    coordinates->SetNumberOfTuples(count);
+    std::copy(xyz.begin(), xyz.end(), coordinates->GetPointer(0));
+    vtkNew<vtkPoints> points;
+    points->SetData(coordinates);
+    output->SetPoints(points);
+  }
+  vtkPointData* pd = output->GetPointData();
+  pd->AddArray(distance);
+  pd->SetActiveScalars("Distance");
+  if (surface)
+  {
+    pd->AddArray(signedDistance);
+  }
+  else
+  {
+    pd->RemoveArray("SignedDistance"); // a stale one from an earlier comparison would mislead
+  }
+  pd->AddArray(closest);
+  if (this->UseMaximumDistance)
+  {
+    vtkNew<vtkUnsignedCharArray> outlier;
+    outlier->SetName("Outlier");
+    outlier->SetNumberOfTuples(count);
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      outlier->SetValue(i, distance->GetValue(i) > this->MaximumDistance ? 1 : 0);
+    }
+    pd->AddArray(outlier);
+  }
+  else
+  {
+    pd->RemoveArray("Outlier");
+  }
+  vtkFieldData* fd = output->GetFieldData();
+  {
+    vtkNew<vtkDoubleArray> matrix;
+    matrix->SetName("PlantMorph.MeasuredTransform");
+    matrix->SetNumberOfComponents(16);
+    matrix->SetNumberOfTuples(1);
+    matrix->SetTypedTuple(0, transform);
+    fd->AddArray(matrix);
+  }
+  if (this->Registration != REGISTRATION_NONE)
+  {
+    AddValue(fd, "PlantMorph.RegistrationScale", registered.scale);
+    AddValue(fd, "PlantMorph.RegistrationIterations", registered.iterations);
+    AddValue(fd, "PlantMorph.RegistrationConverged", registered.converged ? 1.0 : 0.0);
+    AddValue(fd, "PlantMorph.RegistrationRMS", registered.rms);
+  }
+
+  // Output 2 (and field data): statistics.
+  const DistanceStatistics s =
+    ComputeDistanceStatistics(distance->GetPointer(0), static_cast<std::size_t>(count), cutOff);
+  AddColumn(statistics, fd, "Count", static_cast<double>(s.count));
+  AddColumn(statistics, fd, "Outliers", static_cast<double>(s.outliers));
+  AddColumn(statistics, fd, "Minimum", s.minimum);
+  AddColumn(statistics, fd, "Maximum", s.maximum);
+  AddColumn(statistics, fd, "Mean", s.mean);
+  AddColumn(statistics, fd, "StandardDeviation", s.standardDeviation);
+  AddColumn(statistics, fd, "RMS", s.rms);
+  AddColumn(statistics, fd, "Percentile50", s.p50);
+  AddColumn(statistics, fd, "Percentile68", s.p68);
+  AddColumn(statistics, fd, "Percentile75", s.p75);
+  AddColumn(statistics, fd, "Percentile95", s.p95);
+  AddColumn(statistics, fd, "Percentile99", s.p99);
+  AddColumn(statistics, fd, "Hausdorff", s.maximum);
+  AddColumn(statistics, fd, "ReferenceIsSurface", surface ? 1.0 : 0.0);
+  if (this->Symmetric)
+  {
+    const DistanceStatistics r = ComputeDistanceStatistics(reverse.data(), reverse.size(), cutOff);
+    AddColumn(statistics, fd, "ReverseCount", static_cast<double>(r.count));
+    AddColumn(statistics, fd, "ReverseMean", r.mean);
+    AddColumn(statistics, fd, "ReverseHausdorff", r.maximum);
+    AddColumn(statistics, fd, "SymmetricHausdorff", std::max(s.maximum, r.maximum));
+    AddColumn(statistics, fd, "Chamfer", 0.5 * (s.mean + r.mean));
+  }
+
+  // Output 1: histogram.
+  const DistanceHistogram h = ComputeDistanceHistogram(distance->GetPointer(0), static_cast<std::size_t>(count),
+    static_cast<std::size_t>(this->HistogramBins), cutOff);
+  const vtkIdType bins = static_cast<vtkIdType>(h.count.size());
+  vtkNew<vtkDoubleArray> centers;
+  centers->SetName("bin_extents");
+  vtkNew<vtkIdTypeArray> values;
+  values->SetName("bin_values");
+  vtkNew<vtkDoubleArray> starts;
+  starts->SetName("BinStart");
+  vtkNew<vtkDoubleArray> ends;
+  ends->SetName("BinEnd");
+  vtkNew<vtkDoubleArray> fraction;
+  fraction->SetName("Fraction");
+  for (vtkDataArray* a : { static_cast<vtkDataArray*>(centers), static_cast<vtkDataArray*>(values),
+         static_cast<vtkDataArray*>(starts), static_cast<vtkDataArray*>(ends), static_cast<vtkDataArray*>(fraction) })
+  {
+    a->SetNumberOfTuples(bins);
+  }
+  for (vtkIdType b = 0; b < bins; ++b)
+  {
+    centers->SetValue(b, h.binCenter[b]);
+    values->SetValue(b, static_cast<vtkIdType>(h.count[b]));
+    starts->SetValue(b, h.binStart[b]);
+    ends->SetValue(b, h.binEnd[b]);
+    fraction->SetValue(b, s.count ? static_cast<double>(h.count[b]) / static_cast<double>(s.count) : 0.0);
+  }
+  histogram->AddColumn(centers);
+  histogram->AddColumn(values);
+  histogram->AddColumn(starts);
+  histogram->AddColumn(ends);
+  histogram->AddColumn(fraction);
+  this->UpdateProgress(1.0);
+  return 1;
+}

@@ -1,0 +1,293 @@
+#include "vtkTrajectoryComparisonFilter.h"
+
+#include "TrajectoryMatching.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkTable.h"
+
+#include <sstream>
+#include <vector>
+
+vtkStandardNewMacro(vtkTrajectoryComparisonFilter);
+
+namespace
+{
+constexpr double MaxMonotonePairs = 2e7;
+
+struct Trajectory
+{
+  std::vector<double> xyz;
+  std::vector<double> time; ///< empty when there is none
+};
+
+/// Reads x, y, z (and time) from a table's columns or a point set's points. Empty string or an error.
+std::string ReadTrajectory(
+  vtkDataObject* data, const std::string columns[3], const std::string& timeName, const char* port, Trajectory& out)
+{
+  std::ostringstream message;
+  if (auto* points = vtkPointSet::SafeDownCast(data))
+  {
+    const vtkIdType n = points->GetNumberOfPoints();
+    out.xyz.resize(3 * static_cast<std::size_t>(n));
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      points->GetPoint(i, out.xyz.data() + 3 * i);
+    }
+    vtkDataArray* time = timeName.empty() ? nullptr : points->GetPointData()->GetArray(timeName.c_str());
+    if (time && time->GetNumberOfComponents() == 1)
+    {
+      out.time.resize(static_cast<std::size_t>(n));
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        out.time[i] = time->GetComponent(i, 0);
+      }
+    }
+    return {};
+  }
+  auto* table = vtkTable::SafeDownCast(data);
+  if (!table)
+  {
+    message << "the " << port << " input is missing or is neither a table nor a point set";
+    return message.str();
+  }
+  vtkDataArray* xyz[3] = { nullptr, nullptr, nullptr };
+  for (int k = 0; k < 3; ++k)
+  {
+    vtkAbstractArray* column = table->GetColumnByName(columns[k].c_str());
+    xyz[k] = vtkDataArray::SafeDownCast(column);
+    if (!xyz[k] || xyz[k]->GetNumberOfComponents() != 1)
+    {
+      message << port << "Columns: the " << port << " table has no numeric column '" << columns[k]
+              << "' (its columns:";
+      for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
+      {
+        message << " '" << (table->GetColumnName(c) ? table->GetColumnName(c) : "") << "'";
+      }
+      message << ")";
+      return message.str();
+    }
+  }
+  const vtkIdType n = table->GetNumberOfRows();
+  out.xyz.resize(3 * static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      out.xyz[3 * i + k] = xyz[k]->GetComponent(i, 0);
+    }
+  }
+  vtkDataArray* time =
+    timeName.empty() ? nullptr : vtkDataArray::SafeDownCast(table->GetColumnByName(timeName.c_str()));
+  if (time && time->GetNumberOfComponents() == 1)
+  {
+    out.time.resize(static_cast<std::size_t>(n));
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      out.time[i] = time->GetComponent(i, 0);
+    }
+  }
+  return {};
+}
+
+vtkDoubleArray* NewColumn(vtkTable* table, const std::string& name, vtkIdType rows)
+{
+  vtkNew<vtkDoubleArray> column;
+  column->SetName(name.c_str());
+  column->SetNumberOfTuples(rows);
+  table->AddColumn(column);
+  return column;
+}
+
+void WriteMatch(vtkTable* table, const std::string& prefix, const plantmorph::TrajectoryMatch& match,
+  const Trajectory& simulated)
+{
+  const auto rows = static_cast<vtkIdType>(match.distance.size());
+  vtkNew<vtkIdTypeArray> index;
+  index->SetName((prefix + "Index").c_str());
+  index->SetNumberOfTuples(rows);
+  table->AddColumn(index);
+  vtkDoubleArray* time = simulated.time.empty() ? nullptr : NewColumn(table, prefix + "Time", rows);
+  vtkDoubleArray* x = NewColumn(table, prefix + "X", rows);
+  vtkDoubleArray* y = NewColumn(table, prefix + "Y", rows);
+  vtkDoubleArray* z = NewColumn(table, prefix + "Z", rows);
+  vtkDoubleArray* d = NewColumn(table, prefix + "Distance", rows);
+  vtkDoubleArray* dx = NewColumn(table, prefix + "DX", rows);
+  vtkDoubleArray* dy = NewColumn(table, prefix + "DY", rows);
+  vtkDoubleArray* dz = NewColumn(table, prefix + "DZ", rows);
+  for (vtkIdType i = 0; i < rows; ++i)
+  {
+    const std::size_t j = match.simulatedIndex[i];
+    index->SetValue(i, static_cast<vtkIdType>(j));
+    if (time)
+    {
+      time->SetValue(i, simulated.time[j]);
+    }
+    x->SetValue(i, simulated.xyz[3 * j]);
+    y->SetValue(i, simulated.xyz[3 * j + 1]);
+    z->SetValue(i, simulated.xyz[3 * j + 2]);
+    d->SetValue(i, match.distance[i]);
+    dx->SetValue(i, match.delta[3 * i]);
+    dy->SetValue(i, match.delta[3 * i + 1]);
+    dz->SetValue(i, match.delta[3 * i + 2]);
+  }
+}
+
+void AddSummary(vtkTable* summary, vtkFieldData* fd, const std::string& name, double value)
+{
+  NewColumn(summary, name, 1)->SetValue(0, value);
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name.c_str());
+  a->SetNumberOfTuples(1);
+  a->SetValue(0, value);
+  fd->AddArray(a);
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkTrajectoryComparisonFilter::vtkTrajectoryComparisonFilter()
+{
+  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfOutputPorts(2);
+}
+
+//------------------------------------------------------------------------------
+void vtkTrajectoryComparisonFilter::SetMeasuredColumns(const char* x, const char* y, const char* z)
+{
+  const char* names[3] = { x, y, z };
+  for (int k = 0; k < 3; ++k)
+  {
+    this->MeasuredColumns[k] = names[k] ? names[k] : "";
+  }
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkTrajectoryComparisonFilter::SetSimulatedColumns(const char* x, const char* y, const char* z)
+{
+  const char* names[3] = { x, y, z };
+  for (int k = 0; k < 3; ++k)
+  {
+    this->SimulatedColumns[k] = names[k] ? names[k] : "";
+  }
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkTrajectoryComparisonFilter::SetTimeColumn(const char* name)
+{
+  const std::string value = name ? name : "";
+  if (value != this->TimeColumn)
+  {
+    this->TimeColumn = value;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkTrajectoryComparisonFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "MeasuredColumns: " << this->MeasuredColumns[0] << " " << this->MeasuredColumns[1] << " "
+     << this->MeasuredColumns[2] << "\n";
+  os << indent << "SimulatedColumns: " << this->SimulatedColumns[0] << " " << this->SimulatedColumns[1] << " "
+     << this->SimulatedColumns[2] << "\n";
+  os << indent << "TimeColumn: " << this->TimeColumn << "\n";
+}
+
+//------------------------------------------------------------------------------
+int vtkTrajectoryComparisonFilter::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Remove(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE());
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkTable");
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkTrajectoryComparisonFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkTable* samples = vtkTable::GetData(outputVector, 0);
+  vtkTable* summary = vtkTable::GetData(outputVector, 1);
+  samples->Initialize();
+  summary->Initialize();
+  vtkDataObject* measuredData = vtkDataObject::GetData(inputVector[0], 0);
+  vtkDataObject* simulatedData = vtkDataObject::GetData(inputVector[1], 0);
+
+  Trajectory measured;
+  Trajectory simulated;
+  std::string error = ReadTrajectory(measuredData, this->MeasuredColumns, this->TimeColumn, "Measured", measured);
+  if (error.empty())
+  {
+    error = ReadTrajectory(simulatedData, this->SimulatedColumns, this->TimeColumn, "Simulated", simulated);
+  }
+  const std::size_t n = measured.xyz.size() / 3;
+  const std::size_t m = simulated.xyz.size() / 3;
+  plantmorph::TrajectoryComparison comparison;
+  if (error.empty())
+  {
+    comparison = plantmorph::CompareTrajectories(
+      measured.xyz.data(), n, simulated.xyz.data(), m, static_cast<std::size_t>(MaxMonotonePairs));
+    error = comparison.error;
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    samples->Initialize();
+    summary->Initialize();
+    return 1;
+  }
+  if (!comparison.hasMonotone)
+  {
+    vtkWarningMacro(<< "time-monotone matching skipped: it needs at least as many simulated samples (" << m
+                    << ") as measured ones (" << n << ") and at most " << MaxMonotonePairs << " pairs");
+  }
+  this->UpdateProgress(0.8);
+
+  const auto rows = static_cast<vtkIdType>(n);
+  vtkNew<vtkIdTypeArray> sample;
+  sample->SetName("Sample");
+  sample->SetNumberOfTuples(rows);
+  samples->AddColumn(sample);
+  vtkDoubleArray* mx = NewColumn(samples, "MeasuredX", rows);
+  vtkDoubleArray* my = NewColumn(samples, "MeasuredY", rows);
+  vtkDoubleArray* mz = NewColumn(samples, "MeasuredZ", rows);
+  vtkDoubleArray* mt = measured.time.empty() ? nullptr : NewColumn(samples, "MeasuredTime", rows);
+  for (vtkIdType i = 0; i < rows; ++i)
+  {
+    sample->SetValue(i, i);
+    mx->SetValue(i, measured.xyz[3 * i]);
+    my->SetValue(i, measured.xyz[3 * i + 1]);
+    mz->SetValue(i, measured.xyz[3 * i + 2]);
+    if (mt)
+    {
+      mt->SetValue(i, measured.time[i]);
+    }
+  }
+  WriteMatch(samples, "Closest", comparison.closest, simulated);
+  vtkFieldData* fd = samples->GetFieldData();
+  AddSummary(summary, fd, "MeasuredSamples", static_cast<double>(n));
+  AddSummary(summary, fd, "SimulatedSamples", static_cast<double>(m));
+  AddSummary(summary, fd, "ClosestMeanDistance", comparison.closest.meanDistance);
+  AddSummary(summary, fd, "ClosestMaxDistance", comparison.closest.maxDistance);
+  AddSummary(summary, fd, "ClosestDirectionAngle", comparison.closest.directionAngle);
+  if (comparison.hasMonotone)
+  {
+    WriteMatch(samples, "Monotone", comparison.monotone, simulated);
+    AddSummary(summary, fd, "MonotoneMeanDistance", comparison.monotone.meanDistance);
+    AddSummary(summary, fd, "MonotoneMaxDistance", comparison.monotone.maxDistance);
+    AddSummary(summary, fd, "MonotoneDirectionAngle", comparison.monotone.directionAngle);
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
