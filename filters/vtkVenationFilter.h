@@ -6,7 +6,8 @@
  * surface with the canonical leaf's (u, v) will do). Output port 0, **Veins**: the vein network as polylines lying
  * on the blade, with cell arrays `VeinOrder` (1 primary, 2 secondary, 3 tertiary, 4 free-ending veinlet) and
  * `Region` (1 primary, 2 secondary, 3 tertiary and veinlets), point arrays `VeinWidth` (model units, the active
- * scalars, ready for ParaView's Tube filter with "Vary Radius: By Scalar"), `Region` (the lowest order through the
+ * scalars; for tubes as wide as the veins give ParaView's Tube filter VeinWidth / 2 (a Calculator) with "Vary
+ * Radius: By Absolute Scalar", which takes the scalar as the radius), `Region` (the lowest order through the
  * point), and the blade's `LeafUV` and `TCoords` interpolated; a junction is one point shared by the veins that
  * meet there. Output port 1, **Blade**: the input passed through, its points raised along the normals over the
  * veins when EmbossDepth is not 0 (paper Fig. 10b's relief; it needs a blade fine enough to show a vein's width).

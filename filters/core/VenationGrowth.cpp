@@ -419,7 +419,7 @@ std::string Grower::GrowTertiaries()
         break;
       const int node = this->Graph.SplitEdge(edge, x);
       path.insert(path.begin() + static_cast<std::ptrdiff_t>(i) + 1, node);
-      carried = areole * random.Uniform(1.5, 2.5);
+      carried = areole * random.Uniform(1.0, 2.0);
       // A first edge to each side, away from the vein.
       for (const Eigen::Vector2d& normal : { Left(along), Eigen::Vector2d(-Left(along)) })
       {

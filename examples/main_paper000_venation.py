@@ -1,0 +1,81 @@
+"""Paper 000, sec. 3: venation (VenationFilter) on LeafOutlineSource blades.
+
+- paper000_venation_figures.png: the paper's three figures from the presets: paper mulberry (Fig. 10, pinnate
+  brochidodromous, secondaries at 45-70 degrees, reticulate tertiaries), ginkgo (Fig. 11, palmate veins by leaf
+  growth, forking dichotomously) and poplar (Fig. 12, semicraspedodromous with reticulate tertiaries and free-ending
+  veinlets), veins drawn as tubes of their VeinWidth;
+- paper000_venation_patterns.png: the nine venation types of Fig. 3 on one ovate blade;
+- paper000_mulberry_embossed.png: the paper mulberry blade with its veins embossed (Fig. 10b's relief), lit from
+  the side.
+Each figure's veins and blade are written as .vtp files.
+
+    xvfb-run -a pvbatch examples/main_paper000_venation.py --plugin build/.../PlantMorph.so --output output/
+"""
+import os
+
+from plantmorph_example import caption, save_png, save_vtp, show_solid, start, white_view
+
+arguments = start(__doc__)
+from paraview.simple import *  # noqa: E402,F401,F403
+
+BLADE = [0.72, 0.86, 0.45]
+VEIN = [0.18, 0.38, 0.08]
+
+
+def show_leaf(leaf, venation, view, offset, tube_scale=1.0):
+    """The blade and its veins as tubes of their width, moved by `offset`."""
+    blade = Transform(Input=OutputPort(leaf, 0))
+    blade.Transform.Translate = offset + [0.0]
+    show_solid(blade, view, BLADE)
+    # Tube's "By Absolute Scalar" takes the scalar as the radius: half the vein's width.
+    radius = Calculator(Input=OutputPort(venation, 0), ResultArrayName="VeinRadius",
+                        Function="VeinWidth * %g" % (0.5 * tube_scale))
+    tubes = Tube(Input=radius)
+    tubes.Scalars = ["POINTS", "VeinRadius"]
+    tubes.VaryRadius = "By Absolute Scalar"
+    tubes.NumberofSides = 6
+    placed = Transform(Input=tubes)
+    placed.Transform.Translate = offset + [0.02]
+    show_solid(placed, view, VEIN)
+
+
+# The paper's figures.
+view = white_view(1800, 800)
+figures = [("mulberry", dict(Preset="Entire", Length=9.0), "Paper mulberry (paper 000 Fig. 10)", "Paper mulberry, Fig. 10"),
+           ("ginkgo", dict(Preset="Ginkgo", Length=5.0), "Ginkgo (paper 000 Fig. 11)", "Ginkgo, Fig. 11"),
+           ("poplar", dict(Preset="Acute base, acute apex", Length=9.0), "Poplar (paper 000 Fig. 12)", "Poplar, Fig. 12")]
+for k, (name, shape, preset, title) in enumerate(figures):
+    leaf = LeafOutlineSource(Resolution=100, MeshQuality="Quality", **shape)
+    venation = VenationFilter(Input=OutputPort(leaf, 0), Preset=preset, Seed=1)
+    save_vtp(venation, os.path.join(arguments.output, "paper000_%s_veins.vtp" % name), port=0)
+    save_vtp(leaf, os.path.join(arguments.output, "paper000_%s_blade.vtp" % name), port=0)
+    offset = [k * 10.0, 0.0]
+    show_leaf(leaf, venation, view, offset)
+    caption(view, title, [offset[0] - 2.5, -1.2, 0.0], 0.4)
+save_png(view, os.path.join(arguments.output, "paper000_venation_figures.png"))
+
+# Fig. 3: the nine types on one blade.
+view = white_view(1500, 1600)
+leaf = LeafOutlineSource(Preset="Entire", Length=5.0, Resolution=80, MeshQuality="Quality")
+PATTERNS = ["Craspedodromous", "Semicraspedodromous", "Brochidodromous", "Eucamptodromous", "Reticulodromous",
+            "Cladodromous", "Arcuate (acrodromous)", "Parallel", "Palmate (actinodromous)"]
+for k, pattern in enumerate(PATTERNS):
+    venation = VenationFilter(Input=OutputPort(leaf, 0), Preset="Custom", Pattern=pattern, Seed=2,
+                              Tertiary=int(pattern not in ("Parallel", "Palmate (actinodromous)")))
+    offset = [(k % 3) * 4.5, -(k // 3) * 6.8]
+    show_leaf(leaf, venation, view, offset, tube_scale=0.8)
+    caption(view, pattern.split(" ")[0], [offset[0] - 1.6, offset[1] - 0.8, 0.0], 0.25)
+save_png(view, os.path.join(arguments.output, "paper000_venation_patterns.png"))
+
+# Fig. 10b: relief. A fine blade raised over its veins, seen at an angle with a side light.
+view = white_view(1000, 900)
+fine = LeafOutlineSource(Preset="Entire", Length=5.0, Resolution=300, MeshQuality="Quality")
+embossed = VenationFilter(Input=OutputPort(fine, 0), Preset="Paper mulberry (paper 000 Fig. 10)", Seed=1,
+                          EmbossDepth=0.06)
+normals = GenerateSurfaceNormals(Input=OutputPort(embossed, 1))
+save_vtp(embossed, os.path.join(arguments.output, "paper000_mulberry_embossed.vtp"), port=1)
+show_solid(normals, view, BLADE, Specular=0.2)
+view.CameraPosition = [4.0, -4.0, 6.0]
+view.CameraFocalPoint = [0.0, 2.5, 0.0]
+view.CameraViewUp = [0.0, 0.0, 1.0]
+save_png(view, os.path.join(arguments.output, "paper000_mulberry_embossed.png"), top_down=False)
