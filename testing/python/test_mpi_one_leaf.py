@@ -1,4 +1,5 @@
-"""pvbatch under MPI: LeafOutlineSource yields one leaf, not one per rank, equal to the serial one.
+"""pvbatch under MPI: LeafOutlineSource yields one leaf, not one per rank, equal to the serial one, and
+VenationFilter grows its veins once on it, equal to the serial veins.
 
 Run once serially with --write-reference (pvpython), then as `mpirun -np 2 pvbatch ... --ranks 2`."""
 import os
@@ -20,6 +21,8 @@ LEAVES = {
     "b_spline": dict(Model="B-spline", BSplinePreset="Pin oak", Resolution=40),
 }
 leaves = {name: LeafOutlineSource(**properties) for name, properties in LEAVES.items()}
+# Filters downstream of a source: they run where the leaf is and nowhere else.
+leaves["venation"] = VenationFilter(Input=leaves["deformed_rectangle"], Preset="Poplar (paper 000 Fig. 12)", Seed=4)
 
 
 def reference(name):
