@@ -5,6 +5,8 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace plantmorph
 {
@@ -592,10 +594,57 @@ DistanceQueryResult PointSurfaceDistance::Query(const double p[3], std::int64_t 
 void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, double* distance,
   double* signedDistance, double* closest, std::int64_t* primitive, const ParallelFor& parallelFor) const
 {
+  // Queries run in Morton (Z-curve) order of the points, so consecutive queries are near each other and each one
+  // starts from its predecessor's nearest primitive as a tight first bound. Results go to the input order.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> order;
+  const bool sorted = count >= 4096 && count < std::numeric_limits<std::uint32_t>::max();
+  if (sorted)
+  {
+    double lo[3] = { Infinity, Infinity, Infinity };
+    double hi[3] = { -Infinity, -Infinity, -Infinity };
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const double x = points[3 * i + k];
+        if (std::isfinite(x))
+        {
+          lo[k] = std::min(lo[k], x);
+          hi[k] = std::max(hi[k], x);
+        }
+      }
+    }
+    const auto spread = [](std::uint64_t v) { // 21 bits -> every third bit
+      v &= 0x1fffff;
+      v = (v | v << 32) & 0x1f00000000ffffULL;
+      v = (v | v << 16) & 0x1f0000ff0000ffULL;
+      v = (v | v << 8) & 0x100f00f00f00f00fULL;
+      v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+      v = (v | v << 2) & 0x1249249249249249ULL;
+      return v;
+    };
+    order.resize(count);
+    parallelFor(count, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        std::uint64_t code = 0;
+        for (int k = 0; k < 3; ++k)
+        {
+          const double extent = hi[k] - lo[k];
+          const double x = points[3 * i + k];
+          const double t = extent > 0.0 && std::isfinite(x) ? (x - lo[k]) / extent : 0.0;
+          code |= spread(static_cast<std::uint64_t>(std::clamp(t, 0.0, 1.0) * 2097151.0)) << k;
+        }
+        order[i] = { code, static_cast<std::uint32_t>(i) };
+      }
+    });
+    std::sort(order.begin(), order.end());
+  }
   parallelFor(count, [&](std::size_t begin, std::size_t end) {
     std::int64_t hint = -1;
-    for (std::size_t i = begin; i < end; ++i)
+    for (std::size_t s = begin; s < end; ++s)
     {
+      const std::size_t i = sorted ? order[s].second : s;
       const DistanceQueryResult r = this->Query(points + 3 * i, hint);
       hint = r.primitive;
       if (distance)
