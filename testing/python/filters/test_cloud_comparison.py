@@ -57,6 +57,14 @@ beet_expected = numpy.loadtxt(sugarbeet_file, delimiter=",")
 checks.check(beet.GetNumberOfPoints() == beet_expected.shape[0] and beet.GetPointData().GetNormals() is None,
              "sugar beet: x, y, z only (%d points)" % beet.GetNumberOfPoints())
 
+# The documented CSV recipe (CSV Reader + Table To Points) gives the same points, which the filter accepts.
+recipe = TableToPoints(Input=CSVReader(FileName=soybean_file, HaveHeaders=0), XColumn="Field 0", YColumn="Field 1",
+                       ZColumn="Field 2")
+recipe_points = vtk_to_numpy(servermanager.Fetch(recipe).GetPoints().GetData())
+checks.check(numpy.array_equal(recipe_points, points), "CSV recipe: the same points as the reader")
+checks.check(stat(CloudComparisonFilter(Input=recipe, Reference=reader), "Maximum") == 0.0,
+             "CSV recipe: at distance 0 from the reader's cloud")
+
 # --- Cloud Comparison Filter on the real scan: against a subsampled, moved copy (point-cloud reference).
 subset = MaskPoints(Input=reader, OnRatio=3, GenerateVertices=1, SingleVertexPerCell=1, RandomSampling=0,
                     MaximumNumberofPoints=10 ** 6)
