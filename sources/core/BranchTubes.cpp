@@ -1,0 +1,204 @@
+#include "BranchTubes.h"
+
+#include <plantmorph/RotationMinimizingFrames.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace plantmorph
+{
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+struct Cleaned
+{
+  std::vector<Eigen::Vector3d> centre;
+  std::vector<double> radii;
+  bool apex = false;
+};
+
+Cleaned Clean(const TubeInput& input)
+{
+  Cleaned c;
+  for (std::size_t k = 0; k < input.centre.size(); ++k)
+  {
+    if (!c.centre.empty() && input.centre[k] == c.centre.back())
+    {
+      c.radii.back() = input.radii[k]; // keep the later radius (the end's)
+      continue;
+    }
+    c.centre.push_back(input.centre[k]);
+    c.radii.push_back(input.radii[k]);
+  }
+  c.apex = !c.radii.empty() && !(c.radii.back() > 0.0);
+  return c;
+}
+
+std::int64_t PointCount(const Cleaned& c, int sides)
+{
+  const std::int64_t rings = static_cast<std::int64_t>(c.centre.size()) - (c.apex ? 1 : 0);
+  return 1 + rings * sides + 1; // base centre, rings, end centre or apex
+}
+
+std::int64_t TriangleCount(const Cleaned& c, int sides)
+{
+  const std::int64_t n = static_cast<std::int64_t>(c.centre.size());
+  return sides + 2 * sides * (c.apex ? n - 2 : n - 1) + sides;
+}
+} // namespace
+
+std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel)
+{
+  mesh = TubeMesh();
+  if (sides < 3 || sides > 256)
+  {
+    return "Sides = " + std::to_string(sides) + " is out of range [3, 256]";
+  }
+  std::vector<Cleaned> cleaned(tubes.size());
+  mesh.pointOffsets.assign(tubes.size() + 1, 0);
+  mesh.triangleOffsets.assign(tubes.size() + 1, 0);
+  for (std::size_t t = 0; t < tubes.size(); ++t)
+  {
+    if (tubes[t].radii.size() != tubes[t].centre.size())
+    {
+      return "tube " + std::to_string(t) + ": one radius per centre point is needed";
+    }
+    for (std::size_t k = 0; k < tubes[t].centre.size(); ++k)
+    {
+      if (!tubes[t].centre[k].allFinite() || !std::isfinite(tubes[t].radii[k]) || tubes[t].radii[k] < 0.0)
+      {
+        return "tube " + std::to_string(t) + ": point " + std::to_string(k) + " or its radius is not finite";
+      }
+    }
+    cleaned[t] = Clean(tubes[t]);
+    if (cleaned[t].centre.size() < 2)
+    {
+      return "tube " + std::to_string(t) + " has fewer than 2 distinct centre points";
+    }
+    for (std::size_t k = 0; k + 1 < cleaned[t].radii.size(); ++k)
+    {
+      if (!(cleaned[t].radii[k] > 0.0))
+      {
+        return "tube " + std::to_string(t) + ": radius 0 before its end";
+      }
+    }
+    mesh.pointOffsets[t + 1] = mesh.pointOffsets[t] + PointCount(cleaned[t], sides);
+    mesh.triangleOffsets[t + 1] = mesh.triangleOffsets[t] + TriangleCount(cleaned[t], sides);
+  }
+  if (mesh.pointOffsets.back() > std::numeric_limits<std::int32_t>::max())
+  {
+    return "the tubes would have more than 2^31 - 1 points";
+  }
+  const std::size_t points = static_cast<std::size_t>(mesh.pointOffsets.back());
+  mesh.points.resize(3 * points);
+  mesh.normals.resize(3 * points);
+  mesh.tcoords.resize(2 * points);
+  mesh.triangles.resize(3 * static_cast<std::size_t>(mesh.triangleOffsets.back()));
+
+  std::vector<double> cosines(static_cast<std::size_t>(sides)), sines(static_cast<std::size_t>(sides)),
+    around(static_cast<std::size_t>(sides));
+  for (int j = 0; j < sides; ++j)
+  {
+    const double a = 2.0 * Pi * j / sides;
+    cosines[static_cast<std::size_t>(j)] = std::cos(a);
+    sines[static_cast<std::size_t>(j)] = std::sin(a);
+    around[static_cast<std::size_t>(j)] = 1.0 - std::abs(1.0 - 2.0 * j / sides);
+  }
+
+  parallel(tubes.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+    {
+      const Cleaned& c = cleaned[t];
+      const std::size_t n = c.centre.size();
+      const std::vector<Eigen::Vector3d> tangents = PolylineTangents(c.centre);
+      std::vector<double> arc(n, 0.0);
+      for (std::size_t k = 1; k < n; ++k)
+      {
+        arc[k] = arc[k - 1] + (c.centre[k] - c.centre[k - 1]).norm();
+      }
+      const double total = arc.back();
+      std::int64_t p = mesh.pointOffsets[t];
+      const auto put = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& normal, double u, double v) {
+        const std::size_t i = static_cast<std::size_t>(p);
+        mesh.points[3 * i] = x.x(), mesh.points[3 * i + 1] = x.y(), mesh.points[3 * i + 2] = x.z();
+        mesh.normals[3 * i] = static_cast<float>(normal.x());
+        mesh.normals[3 * i + 1] = static_cast<float>(normal.y());
+        mesh.normals[3 * i + 2] = static_cast<float>(normal.z());
+        mesh.tcoords[2 * i] = static_cast<float>(u);
+        mesh.tcoords[2 * i + 1] = static_cast<float>(v);
+        return p++;
+      };
+      const std::int64_t baseCentre = put(c.centre[0], -tangents[0], 0.5, 0.0);
+      const std::size_t rings = c.apex ? n - 1 : n;
+      const std::int64_t firstRing = p;
+      // Ring 0: a circle around the first segment, vertex 0 towards the given normal.
+      std::vector<Eigen::Vector3d> radial(static_cast<std::size_t>(sides)); // unit, across the current segment
+      const Eigen::Vector3d n0 = PerpendicularTo(tangents[0], tubes[t].normal);
+      const Eigen::Vector3d b0 = n0.cross(tangents[0]);
+      for (int j = 0; j < sides; ++j)
+      {
+        const std::size_t js = static_cast<std::size_t>(j);
+        radial[js] = cosines[js] * n0 + sines[js] * b0;
+        put(c.centre[0] + c.radii[0] * radial[js], radial[js], around[js], 0.0);
+      }
+      // Ring k: ring k - 1's cross-section directions carried along segment k - 1 (a translation: no twist, the
+      // exact rotation-minimising transport of a polyline) onto the bisector plane at point k, i.e. the
+      // intersection of segment k - 1's cylinder with that plane, which is also segment k's cylinder's.
+      const double minimumCos = std::cos(85.0 * Pi / 180.0);
+      for (std::size_t k = 1; k < rings; ++k)
+      {
+        const Eigen::Vector3d d = (c.centre[k] - c.centre[k - 1]).normalized();
+        const Eigen::Vector3d& plane = tangents[k];
+        const double denominator = std::max(d.dot(plane), minimumCos);
+        const Eigen::Vector3d out =
+          k + 1 < n ? Eigen::Vector3d((c.centre[k + 1] - c.centre[k]).normalized()) : d;
+        for (int j = 0; j < sides; ++j)
+        {
+          const std::size_t js = static_cast<std::size_t>(j);
+          Eigen::Vector3d w = radial[js] - radial[js].dot(d) * d;
+          w.normalize();
+          const Eigen::Vector3d offset = c.radii[k] * (w - (w.dot(plane) / denominator) * d);
+          put(c.centre[k] + offset, w, around[js], total > 0.0 ? arc[k] / total : 0.0);
+          // Across the next segment: the same offset direction without its component along it.
+          Eigen::Vector3d next = offset - offset.dot(out) * out;
+          radial[js] = next.norm() > 0.0 ? Eigen::Vector3d(next.normalized()) : w;
+        }
+      }
+      const std::int64_t last = put(c.centre[n - 1], tangents[n - 1], 0.5, 1.0);
+      std::size_t q = 3 * static_cast<std::size_t>(mesh.triangleOffsets[t]);
+      const auto tri = [&](std::int64_t a, std::int64_t b, std::int64_t d) {
+        mesh.triangles[q++] = static_cast<std::int32_t>(a);
+        mesh.triangles[q++] = static_cast<std::int32_t>(b);
+        mesh.triangles[q++] = static_cast<std::int32_t>(d);
+      };
+      const auto ring = [&](std::size_t k, int j) { return firstRing + static_cast<std::int64_t>(k) * sides + (j % sides); };
+      for (int j = 0; j < sides; ++j)
+      {
+        tri(baseCentre, ring(0, j), ring(0, j + 1));
+      }
+      for (std::size_t k = 0; k + 1 < rings; ++k)
+      {
+        for (int j = 0; j < sides; ++j)
+        {
+          tri(ring(k, j), ring(k + 1, j), ring(k, j + 1));
+          tri(ring(k, j + 1), ring(k + 1, j), ring(k + 1, j + 1));
+        }
+      }
+      for (int j = 0; j < sides; ++j)
+      {
+        if (c.apex)
+          tri(ring(rings - 1, j), last, ring(rings - 1, j + 1));
+        else
+          tri(last, ring(rings - 1, j + 1), ring(rings - 1, j));
+      }
+    }
+  });
+  return {};
+}
+
+} // namespace plantmorph

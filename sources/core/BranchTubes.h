@@ -1,0 +1,62 @@
+// Watertight branch tubes (spec 05 "Branch geometry"). Plain C++ (Eigen), no VTK.
+//
+// Each branch is one closed tube along its centre line: `sides` vertices per ring, one ring per centre point, shared
+// by the two segments meeting there. A ring at an interior point lies in the bisector (mitre) plane of the two
+// segments and is the exact intersection of that plane with both segments' cylinders (an ellipse, semi-axes r and
+// r / cos(bend/2)), so consecutive segments meet without gap or overlap. The rings' angular origin is transported
+// without twist: ring k's cross-section directions are carried along segment k - 1 unchanged (the exact
+// rotation-minimising transport of a polyline; common/RotationMinimizingFrames.h's double reflection is its
+// smooth-curve counterpart), so each segment is an exact prism or frustum cut by two planes, and a tube of constant
+// radius has volume (ring polygon area) x (centre-line length). The base is closed by a fan to its
+// centre; the end by a fan to its centre (end radius > 0, sympodial) or to a single apex point (end radius 0,
+// monopodial). Every edge is in exactly two triangles, triangles face outwards.
+//
+// TCoords: v runs along the tube from 0 at its base to 1 at its end (by arc length); u runs around it,
+// u = 1 - |1 - 2j/sides| for ring vertex j (0 at the frame's normal, 1 opposite, back to 0): a mirrored wrap needs
+// no seam, so the points are shared and the surface stays closed. Cap centres get u = 0.5. Normals: the ring
+// direction (radial) for ring vertices, -/+ the tangent for the cap centres and the apex.
+//
+// Bends: ring k's mitre ellipse reaches r_k tan(bend_k / 2) along the centre line on the inner side; while
+// consecutive ones do not cross (each segment longer than r_k tan(bend_k/2) + r_{k+1} tan(bend_{k+1}/2)) the tube
+// does not self-intersect; bends above 170 degrees are clamped to 170 in the ring's stretch.
+#pragma once
+
+#include <plantmorph/ParallelFor.h>
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+
+struct TubeInput
+{
+  std::vector<Eigen::Vector3d> centre; ///< at least 2 points; coincident consecutive points are removed
+  std::vector<double> radii;           ///< one per centre point, > 0 except possibly the last
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitX(); ///< where ring vertex 0 points at the base
+};
+
+struct TubeMesh
+{
+  std::vector<double> points;   ///< x, y, z
+  std::vector<float> normals;   ///< x, y, z per point
+  std::vector<float> tcoords;   ///< u, v per point
+  std::vector<std::int32_t> triangles; ///< three point ids each
+  /// Tube t owns points [pointOffsets[t], pointOffsets[t + 1]) and triangles likewise; size tubes + 1.
+  std::vector<std::int64_t> pointOffsets;
+  std::vector<std::int64_t> triangleOffsets;
+  std::size_t PointCount() const { return this->points.size() / 3; }
+  std::size_t TriangleCount() const { return this->triangles.size() / 3; }
+};
+
+/// Builds all tubes (in parallel through `parallel` when given: offsets are computed first, so the result does
+/// not depend on how the range is cut). Returns an empty string or a message (sides out of [3, 256], a tube with
+/// fewer than 2 distinct points, a non-finite point or radius, more than 2^31 - 1 points).
+std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh,
+  const ParallelFor& parallel = SerialFor);
+
+} // namespace plantmorph

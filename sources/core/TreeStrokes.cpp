@@ -1,0 +1,537 @@
+#include "TreeStrokes.h"
+
+#include <plantmorph/BezierCurve.h>
+#include <plantmorph/RandomStream.h>
+#include <plantmorph/RotationMinimizingFrames.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+namespace plantmorph
+{
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+constexpr double Degree = Pi / 180.0;
+
+std::string StrokeError(std::size_t k, const std::string& what)
+{
+  std::ostringstream out;
+  out << "Strokes input, stroke " << k << ": " << what;
+  return out.str();
+}
+} // namespace
+
+double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double& mu)
+{
+  const Eigen::Vector2d ab = b - a, ap = p - a, bp = p - b;
+  if (ap.dot(ab) <= 0.0)
+  {
+    mu = 0.0;
+    return ap.norm();
+  }
+  if (bp.dot(-ab) <= 0.0)
+  {
+    mu = 1.0;
+    return bp.norm();
+  }
+  mu = ap.dot(ab) / ab.squaredNorm();
+  const double along = ap.dot(ab) / ab.norm();
+  return std::sqrt(std::max(0.0, ap.squaredNorm() - along * along));
+}
+
+double SignedSegmentAngle(const Eigen::Vector2d& a, const Eigen::Vector2d& b)
+{
+  const double c = std::clamp(a.dot(b) / (a.norm() * b.norm()), -1.0, 1.0);
+  const double angle = std::acos(c) * 180.0 / Pi;
+  const double crossZ = b.x() * a.y() - b.y() * a.x(); // (b x a).e_z
+  return crossZ > 0.0 ? angle : -angle;
+}
+
+double LiftedLength(const std::vector<Eigen::Vector2d>& q, double theta)
+{
+  const double c = std::cos(theta);
+  double total = 0.0;
+  for (std::size_t i = 0; i + 1 < q.size(); ++i)
+  {
+    const double dx = q[i + 1].x() - q[i].x(), dy = q[i + 1].y() - q[i].y();
+    total += std::sqrt(dx * dx / (c * c) + dy * dy);
+  }
+  return total;
+}
+
+std::string AddStrokes(
+  const TreeSettings& s, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree)
+{
+  if (strokes.empty())
+  {
+    return "Strokes input: no strokes (Mode Strokes and 'Template and strokes' need polylines on the Strokes input "
+           "or a StrokeFile)";
+  }
+  for (std::size_t k = 0; k < strokes.size(); ++k)
+  {
+    const auto& stroke = strokes[k];
+    if (stroke.size() < 2)
+    {
+      return StrokeError(k, "has " + std::to_string(stroke.size()) + " point(s); a stroke needs at least 2");
+    }
+    double length = 0.0;
+    for (std::size_t i = 0; i < stroke.size(); ++i)
+    {
+      if (!std::isfinite(stroke[i].x()) || !std::isfinite(stroke[i].y()))
+      {
+        return StrokeError(k, "point " + std::to_string(i) + " is not finite (NaN or infinite x or y)");
+      }
+      if (i > 0)
+      {
+        length += (stroke[i].head<2>() - stroke[i - 1].head<2>()).norm();
+      }
+    }
+    if (!(length > 0.0) || !std::isfinite(length))
+    {
+      return StrokeError(k, "has zero length in the image plane (all its points coincide)");
+    }
+  }
+
+  const int levels = s.strokesOnly ? 0 : s.strokeSubtreeDepth;
+  const long long base = s.mode == TreeMode::TemplateAndStrokes ? SubtreeSize(s.childCount, s.depth) : 0;
+  const long long block = SubtreeSize(s.childCount, levels);
+  if (static_cast<double>(base) + static_cast<double>(block) * static_cast<double>(strokes.size()) > 2.0e9)
+  {
+    return "Strokes input: too many strokes for 32-bit BranchIds with this ChildCount and StrokeSubtreeDepth";
+  }
+  const double ratio = s.StrokeRatio();
+  std::vector<std::size_t> strokeBranches;
+  tree.strokes.assign(strokes.size(), StrokeReport());
+
+  for (std::size_t k = 0; k < strokes.size(); ++k)
+  {
+    StrokeReport& report = tree.strokes[k];
+    const int id = static_cast<int>(base + static_cast<long long>(k) * block);
+    report.branchId = id;
+    if (s.deletedBranches.count(id))
+    {
+      report.branchId = -1;
+      continue;
+    }
+    const auto& stroke = strokes[k];
+    std::vector<Eigen::Vector2d> controls;
+    for (int index : StrokeControlIndices(static_cast<int>(stroke.size()), s.strokeControlPoints))
+    {
+      controls.push_back(stroke[static_cast<std::size_t>(index)].head<2>());
+    }
+    const Eigen::Vector2d p = controls[0];
+
+    // Eq. (2): the nearest existing branch segment in the image plane; exact ties by the seeded generator.
+    struct Candidate
+    {
+      std::size_t branch, segment;
+      double mu;
+    };
+    std::vector<Candidate> nearest;
+    double best = std::numeric_limits<double>::infinity();
+    const double tolerance = 1e-12 * (1.0 + p.norm());
+    for (std::size_t bi = 0; bi < tree.branches.size(); ++bi)
+    {
+      const TreeBranch& b = tree.branches[bi];
+      for (std::size_t j = 0; j + 1 < b.centre.size(); ++j)
+      {
+        double mu = 0.0;
+        const double d = PointSegmentDistance(p, b.centre[j].head<2>(), b.centre[j + 1].head<2>(), mu);
+        if (d < best - tolerance)
+        {
+          best = d;
+          nearest.clear();
+        }
+        if (d <= best + tolerance)
+        {
+          nearest.push_back({ bi, j, mu });
+        }
+      }
+    }
+
+    TreeBranch branch;
+    branch.id = id;
+    branch.strokeIndex = static_cast<int>(k);
+    branch.level = levels;
+    branch.straight = false;
+    Eigen::Vector3d c3(p.x(), p.y(), 0.0);
+    const TreeBranch* parent = nullptr;
+    double parentRadiusAtC = 0.0;
+    if (!nearest.empty())
+    {
+      std::size_t pick = 0;
+      if (nearest.size() > 1)
+      {
+        RandomStream random(s.seed, 0x5354524F4B45ull + k);
+        pick = static_cast<std::size_t>(random.Integer(0, static_cast<std::int64_t>(nearest.size()) - 1));
+      }
+      const Candidate chosen = nearest[pick];
+      TreeBranch& host = tree.branches[chosen.branch];
+      report.parentId = host.id;
+      report.distance = best;
+      const Eigen::Vector3d a = host.centre[chosen.segment], b = host.centre[chosen.segment + 1];
+      const double ra = host.radii[chosen.segment], rb = host.radii[chosen.segment + 1];
+      double mu = chosen.mu;
+      if (mu < 1e-9 || mu > 1.0 - 1e-9)
+      {
+        mu = mu < 0.5 ? 0.0 : 1.0;
+        c3 = mu == 0.0 ? a : b;
+        parentRadiusAtC = mu == 0.0 ? ra : rb;
+      }
+      else
+      {
+        // C = lambda*A + (1 - lambda)*B, inserted into the parent's centre line.
+        const double lambda = 1.0 - mu;
+        c3 = lambda * a + (1.0 - lambda) * b;
+        parentRadiusAtC = lambda * ra + (1.0 - lambda) * rb;
+        host.centre.insert(host.centre.begin() + static_cast<std::ptrdiff_t>(chosen.segment) + 1, c3);
+        host.radii.insert(host.radii.begin() + static_cast<std::ptrdiff_t>(chosen.segment) + 1, parentRadiusAtC);
+      }
+      report.lambda = 1.0 - mu;
+      parent = &host;
+    }
+    // Arc-length position of C on the parent.
+    if (parent)
+    {
+      double along = 0.0, total = 0.0;
+      bool found = false;
+      for (std::size_t j = 0; j + 1 < parent->centre.size(); ++j)
+      {
+        if (!found && parent->centre[j] == c3)
+        {
+          along = total;
+          found = true;
+        }
+        total += (parent->centre[j + 1] - parent->centre[j]).norm();
+      }
+      if (!found)
+      {
+        along = total;
+      }
+      branch.position = total > 0.0 ? along / total : 0.0;
+      branch.parentId = parent->id;
+      branch.depth = parent->depth + 1;
+    }
+    controls[0] = c3.head<2>();
+    const std::vector<Eigen::Vector2d> q = SampleBezier<2>(controls, s.segmentsPerBranch);
+    report.planarLength = LiftedLength(q, 0.0);
+
+    // Plane angle: theta* from the length rule, then the phyllotaxis candidate.
+    double phi = 0.0;
+    if (parent)
+    {
+      const double target = ratio * parent->length;
+      report.targetLength = target;
+      double thetaStar = 0.0;
+      bool anyDx = false;
+      for (std::size_t i = 0; i + 1 < q.size(); ++i)
+      {
+        anyDx = anyDx || q[i + 1].x() != q[i].x();
+      }
+      if (anyDx && target > report.planarLength)
+      {
+        double low = 0.0, high = Pi / 2.0;
+        for (int iteration = 0; iteration < 200 && high - low > 1e-15; ++iteration)
+        {
+          const double mid = 0.5 * (low + high);
+          (LiftedLength(q, mid) < target ? low : high) = mid;
+        }
+        thetaStar = 0.5 * (low + high) / Degree;
+      }
+      report.recommendedTheta = thetaStar;
+      const bool toMinusX = q.back().x() - q.front().x() < 0.0;
+      std::vector<std::pair<double, double>> candidates; // (theta, phi) in degrees
+      for (int i = 1; i <= s.phyllotaxisB; ++i)
+      {
+        const double angle = PhyllotaxisAngle(i, s.phyllotaxisA, s.phyllotaxisB);
+        const int quadrant = std::min(3, static_cast<int>(angle / 90.0));
+        const bool allowed = toMinusX ? (quadrant == 1 || quadrant == 2) : (quadrant == 0 || quadrant == 3);
+        const double theta = quadrant == 0 ? angle : quadrant == 1 ? 180.0 - angle : quadrant == 2 ? angle - 180.0
+                                                                                                  : 360.0 - angle;
+        if (allowed && theta < 90.0 - 1e-12)
+        {
+          candidates.emplace_back(theta, angle);
+        }
+      }
+      std::sort(candidates.begin(), candidates.end());
+      double theta = 0.0;
+      phi = toMinusX ? 180.0 : 0.0;
+      const std::pair<double, double>* below = nullptr;
+      const std::pair<double, double>* above = nullptr;
+      const std::pair<double, double>* equal = nullptr;
+      for (const auto& candidate : candidates)
+      {
+        if (std::abs(candidate.first - thetaStar) <= 1e-9)
+        {
+          equal = equal ? equal : &candidate;
+        }
+        else if (candidate.first < thetaStar)
+        {
+          below = &candidate;
+        }
+        else if (!above)
+        {
+          above = &candidate;
+        }
+      }
+      const auto error = [&](const std::pair<double, double>* c) {
+        return std::abs((LiftedLength(q, c->first * Degree) - target) / target);
+      };
+      const std::pair<double, double>* choice = equal;
+      if (!choice)
+      {
+        choice = !below ? above : !above ? below : (error(above) < error(below) ? above : below);
+      }
+      if (choice)
+      {
+        theta = choice->first;
+        phi = choice->second;
+      }
+      report.theta = theta;
+      report.rotation = phi;
+    }
+    const double slope = parent ? std::tan(phi * Degree) : 0.0;
+    branch.centre.resize(q.size());
+    for (std::size_t i = 0; i < q.size(); ++i)
+    {
+      const double dx = q[i].x() - c3.x(), dy = q[i].y() - c3.y();
+      branch.centre[i] = Eigen::Vector3d(c3.x() + dx, c3.y() + dy, c3.z() + dx * slope);
+    }
+    branch.centre[0] = c3;
+    std::vector<double> s3(q.size(), 0.0);
+    for (std::size_t i = 1; i < q.size(); ++i)
+    {
+      s3[i] = s3[i - 1] + (branch.centre[i] - branch.centre[i - 1]).norm();
+    }
+    branch.length = s3.back();
+    if (!parent)
+    {
+      branch.radius = s.radius;
+    }
+    else if (s.type == TreeType::Monopodial)
+    {
+      branch.radius = parent->radius * (1.0 - 0.618 * branch.position);
+    }
+    else
+    {
+      branch.radius = parentRadiusAtC;
+    }
+    const auto found = s.overrides.find(id);
+    if (found != s.overrides.end() && !std::isnan(found->second.radius))
+    {
+      branch.radius = found->second.radius;
+    }
+    branch.radiusEnd = s.type == TreeType::Monopodial ? 0.0 : branch.radius / std::sqrt(double(s.childCount));
+    branch.radii.resize(q.size());
+    for (std::size_t i = 0; i < q.size(); ++i)
+    {
+      const double f = branch.length > 0.0 ? s3[i] / branch.length : 0.0;
+      branch.radii[i] = branch.radius + f * (branch.radiusEnd - branch.radius);
+    }
+    const Eigen::Vector3d y = PolylineTangents(branch.centre)[0];
+    const Eigen::Vector3d z = PerpendicularTo(y, Eigen::Vector3d::UnitZ());
+    branch.frame.col(1) = y;
+    branch.frame.col(2) = z;
+    branch.frame.col(0) = y.cross(z);
+    branch.rotation = phi;
+    if (parent)
+    {
+      Eigen::Vector3d point;
+      Eigen::Matrix3d parentFrame;
+      double radius = 0.0;
+      BranchFrameAt(*parent, branch.position, point, parentFrame, radius);
+      branch.angle = std::acos(std::clamp(y.dot(parentFrame.col(1)), -1.0, 1.0)) / Degree;
+    }
+    branch.tubeRoot = branch.centre[0];
+    tree.branches.push_back(std::move(branch));
+    strokeBranches.push_back(tree.branches.size() - 1);
+  }
+  for (std::size_t index : strokeBranches)
+  {
+    GrowTemplateChildren(s, index, tree);
+  }
+  return {};
+}
+
+std::string ParseStrokeCsv(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes)
+{
+  strokes.clear();
+  std::map<std::string, std::size_t> order;
+  std::istringstream lines(text);
+  std::string line;
+  int number = 0;
+  while (std::getline(lines, line))
+  {
+    ++number;
+    std::replace(line.begin(), line.end(), ';', ',');
+    std::replace(line.begin(), line.end(), '\t', ',');
+    if (line.find_first_not_of(" \r,") == std::string::npos || line[line.find_first_not_of(" ")] == '#')
+    {
+      continue;
+    }
+    std::vector<std::string> fields;
+    std::istringstream row(line);
+    std::string field;
+    while (std::getline(row, field, ','))
+    {
+      const auto first = field.find_first_not_of(" \r\"");
+      const auto last = field.find_last_not_of(" \r\"");
+      fields.push_back(first == std::string::npos ? std::string() : field.substr(first, last - first + 1));
+    }
+    if (fields.size() < 3)
+    {
+      return "StrokeFile: line " + std::to_string(number) + " has fewer than 3 fields (stroke_id, x, y)";
+    }
+    char* end = nullptr;
+    const double x = std::strtod(fields[1].c_str(), &end);
+    const bool xOk = end && *end == '\0' && !fields[1].empty();
+    const double y = std::strtod(fields[2].c_str(), &end);
+    const bool yOk = end && *end == '\0' && !fields[2].empty();
+    if (!xOk || !yOk)
+    {
+      if (strokes.empty() && order.empty())
+      {
+        continue; // a header line
+      }
+      return "StrokeFile: line " + std::to_string(number) + ": x and y must be numbers";
+    }
+    auto [it, inserted] = order.emplace(fields[0], strokes.size());
+    if (inserted)
+    {
+      strokes.emplace_back();
+    }
+    strokes[it->second].emplace_back(x, y, 0.0);
+  }
+  return {};
+}
+
+std::string ParseStrokeSvg(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes)
+{
+  strokes.clear();
+  const std::regex element(R"(<\s*(polyline|path)\b([^>]*)>)", std::regex::icase);
+  const std::regex pointsAttribute(R"(\bpoints\s*=\s*["']([^"']*)["'])", std::regex::icase);
+  const std::regex pathAttribute(R"(\bd\s*=\s*["']([^"']*)["'])", std::regex::icase);
+  const std::regex token(R"([MmLlHhVvCcSsQqTtZz]|[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), element); it != std::sregex_iterator(); ++it)
+  {
+    const std::string name = (*it)[1].str();
+    const std::string attributes = (*it)[2].str();
+    std::smatch value;
+    const bool isPolyline = std::tolower(static_cast<unsigned char>(name[1])) == 'o';
+    if (!std::regex_search(attributes, value, isPolyline ? pointsAttribute : pathAttribute))
+    {
+      continue;
+    }
+    const std::string data = value[1].str();
+    std::vector<std::string> tokens;
+    for (auto t = std::sregex_iterator(data.begin(), data.end(), token); t != std::sregex_iterator(); ++t)
+    {
+      tokens.push_back(t->str());
+    }
+    std::vector<Eigen::Vector3d> stroke;
+    if (isPolyline)
+    {
+      for (std::size_t i = 0; i + 1 < tokens.size(); i += 2)
+      {
+        stroke.emplace_back(std::stod(tokens[i]), -std::stod(tokens[i + 1]), 0.0);
+      }
+    }
+    else
+    {
+      char command = 'M';
+      double x = 0.0, y = 0.0;
+      std::size_t i = 0;
+      const auto number = [&](std::size_t j) { return j < tokens.size() ? std::stod(tokens[j]) : 0.0; };
+      const auto isCommand = [&](std::size_t j) { return std::isalpha(static_cast<unsigned char>(tokens[j][0])); };
+      while (i < tokens.size())
+      {
+        if (isCommand(i))
+        {
+          command = tokens[i][0];
+          ++i;
+          if ((command == 'M' || command == 'm') && !stroke.empty())
+          {
+            strokes.push_back(stroke); // a new subpath starts a new stroke
+            stroke.clear();
+          }
+          if (command == 'Z' || command == 'z')
+          {
+            if (!stroke.empty())
+              stroke.push_back(stroke.front());
+            continue;
+          }
+        }
+        const bool relative = std::islower(static_cast<unsigned char>(command));
+        const char upper = static_cast<char>(std::toupper(static_cast<unsigned char>(command)));
+        const int count = upper == 'H' || upper == 'V' ? 1 : upper == 'C' ? 6 : (upper == 'S' || upper == 'Q') ? 4 : 2;
+        if (i + static_cast<std::size_t>(count) > tokens.size())
+        {
+          return "StrokeFile: an SVG path's '" + std::string(1, command) + "' command lacks numbers";
+        }
+        for (int j = 0; j < count; ++j)
+        {
+          if (isCommand(i + static_cast<std::size_t>(j)))
+            return "StrokeFile: an SVG path's '" + std::string(1, command) + "' command lacks numbers";
+        }
+        if (upper == 'H')
+          x = relative ? x + number(i) : number(i);
+        else if (upper == 'V')
+          y = relative ? y + number(i) : number(i);
+        else
+        {
+          const double ex = number(i + static_cast<std::size_t>(count) - 2);
+          const double ey = number(i + static_cast<std::size_t>(count) - 1);
+          x = relative ? x + ex : ex;
+          y = relative ? y + ey : ey;
+        }
+        i += static_cast<std::size_t>(count);
+        stroke.emplace_back(x, -y, 0.0);
+        if (upper == 'M')
+        {
+          command = relative ? 'l' : 'L'; // implicit lineto after moveto
+        }
+      }
+    }
+    strokes.push_back(stroke);
+  }
+  if (strokes.empty())
+  {
+    return "StrokeFile: no <polyline points=...> or <path d=...> element in the SVG file";
+  }
+  return {};
+}
+
+std::string ReadStrokeFile(const std::string& path, std::vector<std::vector<Eigen::Vector3d>>& strokes)
+{
+  strokes.clear();
+  std::ifstream file(path, std::ios::binary);
+  if (!file)
+  {
+    return "StrokeFile: cannot open '" + path + "'";
+  }
+  std::ostringstream content;
+  content << file.rdbuf();
+  std::string extension = path.size() >= 4 ? path.substr(path.size() - 4) : std::string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".svg")
+  {
+    return ParseStrokeSvg(content.str(), strokes);
+  }
+  if (extension == ".csv" || extension == ".txt")
+  {
+    return ParseStrokeCsv(content.str(), strokes);
+  }
+  return "StrokeFile: '" + path + "' is neither .csv (stroke_id, x, y) nor .svg";
+}
+
+} // namespace plantmorph

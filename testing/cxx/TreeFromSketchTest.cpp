@@ -1,0 +1,720 @@
+// TreeFromSketchSource's algorithm layer (spec 05, paper 004): template counts and formulas, stable ids, overrides,
+// watertight tubes (closed, manifold, oriented, exact volumes, mitre rings on both cylinders), strokes (projection,
+// eq. (3), angle choice, attachment, ties), leaves, determinism, bad input.
+#include "BranchTubes.h"
+#include "TreeLeaves.h"
+#include "TreeStrokes.h"
+#include "TreeTemplate.h"
+
+#include <plantmorph/BezierCurve.h>
+
+#include <Eigen/Geometry>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <set>
+
+using namespace plantmorph;
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+constexpr double Degree = Pi / 180.0;
+
+TreeSettings Preset(int preset)
+{
+  TreeSettings s;
+  ApplyTreePreset(preset, s);
+  s.leaves = false;
+  return s;
+}
+
+std::map<int, const TreeBranch*> ById(const Tree& tree)
+{
+  std::map<int, const TreeBranch*> m;
+  for (const auto& b : tree.branches)
+  {
+    m[b.id] = &b;
+  }
+  return m;
+}
+
+std::vector<TubeInput> TubesOf(const Tree& tree)
+{
+  std::vector<TubeInput> tubes;
+  for (const auto& b : tree.branches)
+  {
+    TubeInput t;
+    if (b.tubeRoot != b.centre[0])
+    {
+      t.centre.push_back(b.tubeRoot);
+      t.radii.push_back(b.radius);
+    }
+    t.centre.insert(t.centre.end(), b.centre.begin(), b.centre.end());
+    t.radii.insert(t.radii.end(), b.radii.begin(), b.radii.end());
+    t.normal = b.frame.col(0);
+    tubes.push_back(t);
+  }
+  return tubes;
+}
+
+/// Every undirected edge in exactly two triangles, every directed edge once (consistent orientation), and per tube
+/// V - E + F = 2 (a sphere). Returns the number of failures.
+int ClosedManifoldFailures(const TubeMesh& mesh)
+{
+  int failures = 0;
+  for (std::size_t t = 0; t + 1 < mesh.pointOffsets.size(); ++t)
+  {
+    std::map<std::pair<int, int>, int> directed;
+    for (auto f = mesh.triangleOffsets[t]; f < mesh.triangleOffsets[t + 1]; ++f)
+    {
+      const int* v = &mesh.triangles[3 * std::size_t(f)];
+      for (int e = 0; e < 3; ++e)
+      {
+        directed[{ v[e], v[(e + 1) % 3] }]++;
+        if (v[e] < mesh.pointOffsets[t] || v[e] >= mesh.pointOffsets[t + 1])
+          ++failures;
+      }
+    }
+    std::set<std::pair<int, int>> undirected;
+    for (const auto& [edge, count] : directed)
+    {
+      if (count != 1 || directed.count({ edge.second, edge.first }) != 1)
+        ++failures;
+      undirected.insert({ std::min(edge.first, edge.second), std::max(edge.first, edge.second) });
+    }
+    const long long V = mesh.pointOffsets[t + 1] - mesh.pointOffsets[t];
+    const long long F = mesh.triangleOffsets[t + 1] - mesh.triangleOffsets[t];
+    if (V - static_cast<long long>(undirected.size()) + F != 2)
+      ++failures;
+  }
+  return failures;
+}
+
+/// Signed volume of tube t by the divergence theorem.
+double Volume(const TubeMesh& mesh, std::size_t t)
+{
+  double volume = 0.0;
+  const auto P = [&](int i) {
+    return Eigen::Vector3d(mesh.points[3 * std::size_t(i)], mesh.points[3 * std::size_t(i) + 1],
+      mesh.points[3 * std::size_t(i) + 2]);
+  };
+  for (auto f = mesh.triangleOffsets[t]; f < mesh.triangleOffsets[t + 1]; ++f)
+  {
+    const int* v = &mesh.triangles[3 * std::size_t(f)];
+    volume += P(v[0]).dot(P(v[1]).cross(P(v[2]))) / 6.0;
+  }
+  return volume;
+}
+
+double PolygonArea(int sides, double r)
+{
+  return 0.5 * sides * r * r * std::sin(2.0 * Pi / sides);
+}
+
+double Frac(double x)
+{
+  return x - std::floor(x);
+}
+} // namespace
+
+TEST(TreeTemplate, BranchCountsOfTable1EqualTheClosedForm)
+{
+  const long long expected[] = { 0, 1 + 8 + 64 + 512 + 4096, (2187 - 1) / 2, 1 + 10 + 100 + 1000 + 10000 };
+  EXPECT_EQ(expected[1], 4681);
+  for (int preset = 1; preset <= 3; ++preset)
+  {
+    Tree tree;
+    ASSERT_EQ(BuildTree(Preset(preset), {}, tree), "");
+    EXPECT_EQ(static_cast<long long>(tree.branches.size()), expected[preset]) << TreePresetName(preset);
+    EXPECT_EQ(SubtreeSize(Preset(preset).childCount, Preset(preset).depth), expected[preset]);
+    EXPECT_EQ(tree.SegmentCount(), expected[preset] * 4);
+    // Ids are 0..N-1, each once, parents listed before children, depths consecutive.
+    std::set<int> seen;
+    for (const auto& b : tree.branches)
+    {
+      EXPECT_TRUE(b.parentId < 0 || seen.count(b.parentId)) << b.id;
+      seen.insert(b.id);
+    }
+    EXPECT_EQ(*seen.rbegin(), expected[preset] - 1);
+    EXPECT_EQ(static_cast<long long>(seen.size()), expected[preset]);
+  }
+}
+
+TEST(TreeTemplate, EveryChildFollowsTheFormulas)
+{
+  for (int preset = 1; preset <= 3; ++preset)
+  {
+    const TreeSettings s = Preset(preset);
+    Tree tree;
+    ASSERT_EQ(BuildTree(s, {}, tree), "");
+    const auto byId = ById(tree);
+    const bool mono = s.type == TreeType::Monopodial;
+    const TreeBranch& trunk = *byId.at(0);
+    EXPECT_DOUBLE_EQ(trunk.length, s.length);
+    EXPECT_DOUBLE_EQ(trunk.radius, s.radius);
+    EXPECT_DOUBLE_EQ(trunk.radiusEnd, mono ? 0.0 : s.radius / std::sqrt(3.0));
+    int checked = 0;
+    for (const auto& b : tree.branches)
+    {
+      EXPECT_EQ(b.centre.size(), 5u); // DIVID = 4 segments
+      EXPECT_NEAR((b.centre.back() - b.centre.front()).norm(), b.length, 1e-12 * b.length + 1e-15);
+      if (b.parentId < 0)
+        continue;
+      const TreeBranch& p = *byId.at(b.parentId);
+      const int i = b.childIndex;
+      const double pos = (1.0 - s.ratio) + i * s.ratio / s.childCount;
+      EXPECT_DOUBLE_EQ(b.position, pos);
+      const double twig = b.level == 0 ? 1.2 : 1.0;
+      const double length = mono ? p.length * (1.0 - 0.618 * pos) : p.length * 0.8;
+      // Twigs are 1.2 times longer; undo it on the parent when the parent itself was a twig (never: it has children).
+      EXPECT_NEAR(b.length, length * twig, 1e-12 * b.length);
+      const double radius = mono ? p.radius * (1.0 - 0.618 * pos) : p.radius + pos * (p.radiusEnd - p.radius);
+      EXPECT_NEAR(b.radius, radius, 1e-15);
+      EXPECT_NEAR(b.radiusEnd, mono ? 0.0 : radius / std::sqrt(3.0), 1e-15);
+      EXPECT_EQ(b.depth, p.depth + 1);
+      // Divergence: the angle between the branch and its parent's axis.
+      const Eigen::Vector3d d = (b.centre.back() - b.centre.front()).normalized();
+      const Eigen::Vector3d py = p.frame.col(1);
+      EXPECT_NEAR(std::acos(std::clamp(d.dot(py), -1.0, 1.0)) / Degree, mono ? 34.4 : 55.6, 1e-9);
+      // Rotation about the parent: the direction's part across the parent is (-cos rot, sin rot) in (x, z).
+      const double rotation = std::atan2(d.dot(p.frame.col(2)), -d.dot(p.frame.col(0))) / Degree;
+      const double expected = Frac(double(i) * s.phyllotaxisA / s.phyllotaxisB) * 360.0;
+      const double difference = std::remainder(rotation - expected, 360.0);
+      EXPECT_NEAR(difference, 0.0, 1e-9) << b.id;
+      // It starts on its parent's surface at pos: distance to the parent's axis = the parent's radius there.
+      const Eigen::Vector3d axisPoint = p.centre.front() + pos * (p.centre.back() - p.centre.front());
+      const Eigen::Vector3d offset = b.centre.front() - axisPoint;
+      EXPECT_NEAR(offset.dot(py), 0.0, 1e-12);
+      EXPECT_NEAR(offset.norm(), p.radius + pos * (p.radiusEnd - p.radius), 1e-12);
+      ++checked;
+    }
+    EXPECT_EQ(checked, static_cast<int>(tree.branches.size()) - 1);
+  }
+}
+
+TEST(TreeTemplate, PhyllotaxisAngleIsExactFraction)
+{
+  for (int b = 1; b < 20; ++b)
+    for (int a = 1; a < 20; ++a)
+      for (int i = 0; i < 30; ++i)
+        EXPECT_NEAR(PhyllotaxisAngle(i, a, b), Frac(double(i) * a / b) * 360.0, 1e-9);
+}
+
+TEST(TreeTemplate, IdsAreStableUnderDeletionAndOverridesSurvive)
+{
+  TreeSettings s = Preset(1);
+  Tree full;
+  ASSERT_EQ(BuildTree(s, {}, full), "");
+  // Branch 2 is the trunk's first child's first child (preorder): it has 1 + 8 + 64 = 73 branches below and with it.
+  s.deletedBranches = { 2 };
+  s.overrides[600].length = 3.0;
+  s.overrides[600].angle = 80.0;
+  Tree edited;
+  ASSERT_EQ(BuildTree(s, {}, edited), "");
+  EXPECT_EQ(edited.branches.size(), full.branches.size() - 73);
+  const auto before = ById(full), after = ById(edited);
+  const TreeBranch* two = before.at(2);
+  for (const auto& [id, b] : before)
+  {
+    bool inDeleted = false;
+    for (int a = id; a >= 0; a = before.at(a)->parentId)
+      inDeleted = inDeleted || a == 2;
+    EXPECT_EQ(after.count(id) == 0, inDeleted) << id;
+    const bool underOverride = [&] {
+      for (int a = id; a >= 0; a = before.at(a)->parentId)
+        if (a == 600)
+          return true;
+      return false;
+    }();
+    if (!inDeleted && !underOverride)
+    {
+      // Same id, same branch: bit-identical geometry.
+      EXPECT_EQ(after.at(id)->centre, b->centre) << id;
+    }
+  }
+  (void)two;
+  EXPECT_DOUBLE_EQ(after.at(600)->length, 3.0);
+  EXPECT_DOUBLE_EQ(after.at(600)->angle, 80.0);
+  // Children derive from the overridden length.
+  for (const auto& b : edited.branches)
+  {
+    if (b.parentId == 600)
+    {
+      EXPECT_NEAR(b.length, 3.0 * (1.0 - 0.618 * b.position) * (b.level == 0 ? 1.2 : 1.0), 1e-12);
+    }
+  }
+  // Deleting the trunk leaves nothing.
+  s.deletedBranches = { 0 };
+  ASSERT_EQ(BuildTree(s, {}, edited), "");
+  EXPECT_TRUE(edited.branches.empty());
+}
+
+TEST(BranchTubes, TemplateTreeSurfaceIsClosedManifoldAndOutward)
+{
+  for (int preset = 1; preset <= 2; ++preset)
+  {
+    TreeSettings s = Preset(preset);
+    s.depth = preset == 1 ? 2 : 4;
+    Tree tree;
+    ASSERT_EQ(BuildTree(s, {}, tree), "");
+    TubeMesh mesh;
+    ASSERT_EQ(BuildTubes(TubesOf(tree), s.sides, mesh), "");
+    EXPECT_EQ(ClosedManifoldFailures(mesh), 0);
+    for (std::size_t t = 0; t < tree.branches.size(); ++t)
+    {
+      // A straight tapering tube is a frustum of a hexagonal pyramid: V = A(r0) h (1 + q + q^2) / 3, q = r1 / r0.
+      // (Plus the hidden root piece of constant radius.)
+      const TreeBranch& b = tree.branches[t];
+      const double q = b.radiusEnd / b.radius;
+      const double root = (b.centre[0] - b.tubeRoot).norm();
+      const double expected =
+        PolygonArea(6, b.radius) * (b.length * (1.0 + q + q * q) / 3.0 + root);
+      EXPECT_NEAR(Volume(mesh, t), expected, 1e-9 * expected) << b.id;
+    }
+  }
+}
+
+TEST(BranchTubes, BentTubeRingsLieOnBothCylindersAndVolumeIsExact)
+{
+  // A polyline with bends of 30, 60 and 90 degrees in different planes; constant radius.
+  const double r = 0.3;
+  std::vector<Eigen::Vector3d> c = { { 0, 0, 0 } };
+  for (const Eigen::Vector3d& d : { Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(std::sin(30 * Degree), std::cos(30 * Degree), 0),
+         Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 0, 1) })
+    c.push_back(c.back() + 2.0 * d);
+  TubeInput input{ c, std::vector<double>(c.size(), r), Eigen::Vector3d::UnitX() };
+  TubeMesh mesh;
+  ASSERT_EQ(BuildTubes({ input }, 8, mesh), "");
+  EXPECT_EQ(ClosedManifoldFailures(mesh), 0);
+  double length = 0.0;
+  for (std::size_t k = 1; k < c.size(); ++k)
+    length += (c[k] - c[k - 1]).norm();
+  // Mitre joints neither add nor remove volume: V = polygon area * centre-line length, exactly.
+  EXPECT_NEAR(Volume(mesh, 0), PolygonArea(8, r) * length, 1e-12 * length);
+  // Every ring vertex at an interior point is at distance r from both segments' axes (no gap, no overlap).
+  const auto lineDistance = [](const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const Eigen::Vector3d d = (b - a).normalized();
+    return ((p - a) - (p - a).dot(d) * d).norm();
+  };
+  for (std::size_t k = 1; k + 1 < c.size(); ++k)
+  {
+    for (int j = 0; j < 8; ++j)
+    {
+      const std::size_t i = 1 + k * 8 + std::size_t(j);
+      const Eigen::Vector3d p(mesh.points[3 * i], mesh.points[3 * i + 1], mesh.points[3 * i + 2]);
+      EXPECT_NEAR(lineDistance(p, c[k - 1], c[k]), r, 1e-12);
+      EXPECT_NEAR(lineDistance(p, c[k], c[k + 1]), r, 1e-12);
+    }
+  }
+  // Rings do not cross: each ring's vertices lie strictly ahead of the previous ring's mitre plane.
+  const auto tangents = [&](std::size_t k) {
+    if (k == 0)
+      return Eigen::Vector3d((c[1] - c[0]).normalized());
+    if (k + 1 == c.size())
+      return Eigen::Vector3d((c[k] - c[k - 1]).normalized());
+    return Eigen::Vector3d(((c[k] - c[k - 1]).normalized() + (c[k + 1] - c[k]).normalized()).normalized());
+  };
+  for (std::size_t k = 0; k + 1 < c.size(); ++k)
+    for (int j = 0; j < 8; ++j)
+    {
+      const std::size_t i = 1 + (k + 1) * 8 + std::size_t(j);
+      const Eigen::Vector3d p(mesh.points[3 * i], mesh.points[3 * i + 1], mesh.points[3 * i + 2]);
+      EXPECT_GT((p - c[k]).dot(tangents(k)), 0.0);
+    }
+}
+
+TEST(BranchTubes, RejectsBadTubes)
+{
+  TubeMesh mesh;
+  EXPECT_NE(BuildTubes({ TubeInput{ { { 0, 0, 0 }, { 0, 0, 0 } }, { 1, 1 }, Eigen::Vector3d::UnitX() } }, 6, mesh), "");
+  EXPECT_NE(BuildTubes({ TubeInput{ { { 0, 0, 0 }, { 0, NAN, 0 } }, { 1, 1 }, Eigen::Vector3d::UnitX() } }, 6, mesh), "");
+  EXPECT_NE(BuildTubes({ TubeInput{ { { 0, 0, 0 }, { 0, 1, 0 } }, { 1, 1 }, Eigen::Vector3d::UnitX() } }, 2, mesh), "");
+  EXPECT_EQ(mesh.PointCount(), 0u);
+}
+
+namespace
+{
+TreeSettings StrokeSettings()
+{
+  TreeSettings s;
+  s.mode = TreeMode::Strokes;
+  s.strokesOnly = true;
+  s.leaves = false;
+  s.segmentsPerBranch = 16;
+  return s;
+}
+
+std::vector<Eigen::Vector3d> Line(std::initializer_list<std::pair<double, double>> points)
+{
+  std::vector<Eigen::Vector3d> line;
+  for (const auto& [x, y] : points)
+    line.emplace_back(x, y, 0.0);
+  return line;
+}
+
+std::vector<std::vector<Eigen::Vector3d>> SampleStrokes()
+{
+  return { Line({ { 0, 0 }, { 0.2, 3 }, { -0.1, 6 }, { 0.1, 9 }, { 0, 12 } }),
+    Line({ { 0.3, 6 }, { 1.5, 7.5 }, { 3, 8.2 }, { 4, 10 } }),
+    Line({ { -0.2, 4 }, { -1, 5 }, { -2.5, 5.5 }, { -3.5, 7 }, { -4, 8 } }),
+    Line({ { 2.0, 7.8 }, { 2.2, 9 }, { 2.1, 10.5 } }) };
+}
+} // namespace
+
+TEST(TreeStrokes, LiftedBranchesProjectOntoTheirStrokesWithEq3Lengths)
+{
+  const TreeSettings s = StrokeSettings();
+  const auto strokes = SampleStrokes();
+  Tree tree;
+  ASSERT_EQ(BuildTree(s, strokes, tree), "");
+  ASSERT_EQ(tree.branches.size(), strokes.size());
+  ASSERT_EQ(tree.strokes.size(), strokes.size());
+  const auto byId = ById(tree);
+  for (std::size_t k = 0; k < strokes.size(); ++k)
+  {
+    const StrokeReport& r = tree.strokes[k];
+    const TreeBranch& b = *byId.at(r.branchId);
+    // The smoothed stroke: control points by the index rule, the first replaced by the attachment point C.
+    std::vector<Eigen::Vector2d> controls;
+    for (int i : StrokeControlIndices(int(strokes[k].size()), s.strokeControlPoints))
+      controls.push_back(strokes[k][std::size_t(i)].head<2>());
+    controls[0] = b.centre[0].head<2>();
+    const auto q = SampleBezier<2>(controls, s.segmentsPerBranch);
+    // Every sample lifts to a centre point straight above it; the other centre points are attachment points of
+    // later strokes, inserted on the segments (checked below).
+    std::size_t matched = 0;
+    for (const auto& point : b.centre)
+    {
+      const auto exact = std::find_if(q.begin(), q.end(),
+        [&](const Eigen::Vector2d& sample) { return (point.head<2>() - sample).norm() < 1e-9; });
+      matched += exact != q.end();
+    }
+    EXPECT_EQ(matched, q.size()) << k;
+    for (std::size_t i = 0; i < b.centre.size(); ++i)
+    {
+      // Every centre point projects onto the smoothed stroke.
+      double best = 1e300;
+      for (std::size_t m = 0; m + 1 < q.size(); ++m)
+      {
+        // |AP - mu AB| with mu clamped: no cancellation (eq. (2)'s sqrt(AP^2 - (AP.AB)^2/AB^2) loses digits).
+        const Eigen::Vector2d ab = q[m + 1] - q[m], ap = b.centre[i].head<2>() - q[m];
+        const double mu = std::clamp(ap.dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+        best = std::min(best, (ap - mu * ab).norm());
+      }
+      EXPECT_LT(best, 1e-9) << k << " " << i;
+    }
+    double eq3 = 0.0;
+    // Length: eq. (3) per segment with the chosen theta, |l2|^2 = |l1 x l3|^2 / cos^2 + (l3.l1)^2, l1 = e_y.
+    for (std::size_t i = 0; i + 1 < q.size(); ++i)
+    {
+      const Eigen::Vector3d l3(q[i + 1].x() - q[i].x(), q[i + 1].y() - q[i].y(), 0.0);
+      const Eigen::Vector3d l1 = Eigen::Vector3d::UnitY();
+      const double c = std::cos(r.theta * Degree);
+      eq3 += std::sqrt(l1.cross(l3).squaredNorm() / (c * c) + std::pow(l3.dot(l1), 2));
+    }
+    EXPECT_NEAR(b.length, eq3, 1e-9 * eq3);
+    // The lifted branch lies in the plane through C's vertical turned by theta: z - zC = (x - xC) tan(phi).
+    for (const auto& p : b.centre)
+      EXPECT_NEAR(p.z() - b.centre[0].z(), (p.x() - b.centre[0].x()) * std::tan(r.rotation * Degree), 1e-9);
+    if (k == 0)
+    {
+      EXPECT_EQ(r.parentId, -1);
+      EXPECT_EQ(b.depth, 0);
+      continue;
+    }
+    // Attachment: C is a vertex of the parent's centre line.
+    const TreeBranch& p = *byId.at(r.parentId);
+    bool onParent = false;
+    for (const auto& x : p.centre)
+      onParent = onParent || x == b.centre[0];
+    EXPECT_TRUE(onParent) << k;
+  }
+  EXPECT_EQ(tree.strokes[1].parentId, 0);
+  EXPECT_EQ(tree.strokes[2].parentId, 0);
+  EXPECT_EQ(tree.strokes[3].parentId, tree.strokes[1].branchId); // (2, 7.8) is nearest stroke 1
+}
+
+TEST(TreeStrokes, ChosenAngleIsAPhyllotaxisAngleFromTheRightQuadrantsAndBestOfItsNeighbours)
+{
+  for (int a = 1; a <= 5; ++a)
+  {
+    for (int bb : { 3, 5, 8, 13 })
+    {
+      TreeSettings s = StrokeSettings();
+      s.phyllotaxisA = a;
+      s.phyllotaxisB = bb;
+      Tree tree;
+      ASSERT_EQ(BuildTree(s, SampleStrokes(), tree), "");
+      const auto byId = ById(tree);
+      for (std::size_t k = 1; k < tree.strokes.size(); ++k)
+      {
+        const StrokeReport& r = tree.strokes[k];
+        const TreeBranch& b = *byId.at(r.branchId);
+        const bool minusX = b.centre.back().x() < b.centre.front().x();
+        // Candidates by brute force.
+        std::vector<std::pair<double, double>> candidates;
+        for (int i = 1; i <= bb; ++i)
+        {
+          const double phi = Frac(double(i) * a / bb) * 360.0;
+          const int quadrant = int(phi / 90.0);
+          const double theta = quadrant == 0 ? phi : quadrant == 1 ? 180 - phi : quadrant == 2 ? phi - 180 : 360 - phi;
+          if ((minusX ? (quadrant == 1 || quadrant == 2) : (quadrant == 0 || quadrant == 3)) && theta < 90.0 - 1e-9)
+            candidates.push_back({ theta, phi });
+        }
+        if (candidates.empty())
+        {
+          EXPECT_EQ(r.theta, 0.0);
+          continue;
+        }
+        bool isCandidate = false;
+        for (const auto& c : candidates)
+          isCandidate = isCandidate || (std::abs(c.second - r.rotation) < 1e-9 && std::abs(c.first - r.theta) < 1e-9);
+        EXPECT_TRUE(isCandidate) << a << "/" << bb << " stroke " << k << " phi " << r.rotation;
+        // theta* solves |l2| = L* (or is 0 when the stroke is already long enough).
+        const double planar = r.planarLength;
+        const double length = [&] {
+          std::vector<Eigen::Vector2d> q;
+          for (const auto& p : b.centre)
+            q.push_back(p.head<2>());
+          return LiftedLength(q, r.recommendedTheta * Degree);
+        }();
+        if (r.targetLength <= planar)
+        {
+          EXPECT_EQ(r.recommendedTheta, 0.0);
+        }
+        else
+        {
+          EXPECT_NEAR(length, r.targetLength, 1e-9 * r.targetLength);
+        }
+        // Best of the nearest candidates either side of theta* by relative length error.
+        std::vector<Eigen::Vector2d> q;
+        for (const auto& p : b.centre)
+          q.push_back(p.head<2>());
+        const auto err = [&](double theta) {
+          return std::abs(LiftedLength(q, theta * Degree) - r.targetLength) / r.targetLength;
+        };
+        double below = -1, above = 1e9;
+        for (const auto& c : candidates)
+        {
+          if (c.first <= r.recommendedTheta && c.first > below)
+            below = c.first;
+          if (c.first >= r.recommendedTheta && c.first < above)
+            above = c.first;
+        }
+        double best = below < 0 ? above : above > 1e8 ? below : (err(above) < err(below) ? above : below);
+        if (std::abs(below - r.recommendedTheta) <= 1e-9)
+          best = below;
+        EXPECT_NEAR(r.theta, best, 1e-9) << a << "/" << bb << " stroke " << k;
+      }
+    }
+  }
+  // Target length follows epsilon: 0.6 of the parent monopodial, 0.8 sympodial.
+  TreeSettings s = StrokeSettings();
+  Tree tree;
+  ASSERT_EQ(BuildTree(s, SampleStrokes(), tree), "");
+  EXPECT_NEAR(tree.strokes[1].targetLength, 0.6 * tree.branches[0].length, 1e-12);
+  s.type = TreeType::Sympodial;
+  ASSERT_EQ(BuildTree(s, SampleStrokes(), tree), "");
+  EXPECT_NEAR(tree.strokes[1].targetLength, 0.8 * tree.branches[0].length, 1e-12);
+}
+
+TEST(TreeStrokes, Eq2DistanceAndEq1Angle)
+{
+  double mu = 0;
+  EXPECT_DOUBLE_EQ(PointSegmentDistance({ -3, 4 }, { 0, 0 }, { 10, 0 }, mu), 5.0);
+  EXPECT_EQ(mu, 0.0);
+  EXPECT_DOUBLE_EQ(PointSegmentDistance({ 13, 4 }, { 0, 0 }, { 10, 0 }, mu), 5.0);
+  EXPECT_EQ(mu, 1.0);
+  EXPECT_DOUBLE_EQ(PointSegmentDistance({ 4, -3 }, { 0, 0 }, { 10, 0 }, mu), 3.0);
+  EXPECT_DOUBLE_EQ(mu, 0.4);
+  EXPECT_NEAR(SignedSegmentAngle({ 0, 1 }, { 1, 1 }), 45.0, 1e-12);  // turning right: (b x a).z > 0
+  EXPECT_NEAR(SignedSegmentAngle({ 0, 1 }, { -1, 1 }), -45.0, 1e-12);
+}
+
+TEST(TreeStrokes, TemplateSubtreesGrowOnStrokeBranchesAndInsertedPointsSplitParents)
+{
+  TreeSettings s = StrokeSettings();
+  s.strokesOnly = false;
+  s.strokeSubtreeDepth = 2;
+  s.childCount = 3;
+  Tree tree;
+  ASSERT_EQ(BuildTree(s, SampleStrokes(), tree), "");
+  EXPECT_EQ(tree.branches.size(), SampleStrokes().size() * SubtreeSize(3, 2));
+  // Stroke k has id k * 13.
+  for (std::size_t k = 0; k < tree.strokes.size(); ++k)
+    EXPECT_EQ(tree.strokes[k].branchId, int(k) * 13);
+  // The trunk got two attachment points inserted (strokes 1 and 2 attach inside segments).
+  const auto byId = ById(tree);
+  EXPECT_EQ(byId.at(0)->centre.size(), std::size_t(s.segmentsPerBranch + 1 + 2));
+  TubeMesh mesh;
+  ASSERT_EQ(BuildTubes(TubesOf(tree), 6, mesh), "");
+  EXPECT_EQ(ClosedManifoldFailures(mesh), 0);
+}
+
+TEST(TreeStrokes, TiesAreBrokenByTheSeedReproducibly)
+{
+  // Strokes 1 and 2 start at the trunk's tip: stroke 2 is at distance 0 from both the trunk and stroke 1.
+  const std::vector<std::vector<Eigen::Vector3d>> strokes = { Line({ { 0, 0 }, { 0, 10 } }),
+    Line({ { 0, 10 }, { 3, 13 } }), Line({ { 0, 10 }, { -3, 12 } }) };
+  std::set<int> parents;
+  for (std::uint64_t seed = 0; seed < 32; ++seed)
+  {
+    TreeSettings s = StrokeSettings();
+    s.seed = seed;
+    Tree a, b;
+    ASSERT_EQ(BuildTree(s, strokes, a), "");
+    ASSERT_EQ(BuildTree(s, strokes, b), "");
+    EXPECT_EQ(a.strokes[2].parentId, b.strokes[2].parentId);
+    EXPECT_EQ(a.strokes[2].distance, 0.0);
+    parents.insert(a.strokes[2].parentId);
+  }
+  EXPECT_EQ(parents, (std::set<int>{ 0, 1 }));
+}
+
+TEST(TreeStrokes, BadStrokesGiveErrorsNamingTheInput)
+{
+  TreeSettings s = StrokeSettings();
+  Tree tree;
+  EXPECT_NE(BuildTree(s, {}, tree).find("Strokes input"), std::string::npos);
+  auto strokes = SampleStrokes();
+  strokes[2] = Line({ { 1, 1 } });
+  std::string error = BuildTree(s, strokes, tree);
+  EXPECT_NE(error.find("stroke 2"), std::string::npos) << error;
+  EXPECT_TRUE(tree.branches.empty());
+  strokes[2] = Line({ { 1, 1 }, { NAN, 2 } });
+  error = BuildTree(s, strokes, tree);
+  EXPECT_NE(error.find("not finite"), std::string::npos) << error;
+  strokes[2] = {};
+  EXPECT_NE(BuildTree(s, strokes, tree), "");
+  strokes[2] = Line({ { 1, 1 }, { 1, 1 } });
+  EXPECT_NE(BuildTree(s, strokes, tree).find("zero length"), std::string::npos);
+}
+
+TEST(TreeStrokes, ParsesCsvAndSvg)
+{
+  std::vector<std::vector<Eigen::Vector3d>> strokes;
+  ASSERT_EQ(ParseStrokeCsv("stroke_id,x,y\n7,0,0\n7,0,1\n3,0.5,0.5\n7,0.1,2\n3,1,1\n", strokes), "");
+  ASSERT_EQ(strokes.size(), 2u);
+  EXPECT_EQ(strokes[0].size(), 3u);
+  EXPECT_EQ(strokes[0][2], Eigen::Vector3d(0.1, 2, 0));
+  EXPECT_EQ(strokes[1][1], Eigen::Vector3d(1, 1, 0));
+  EXPECT_NE(ParseStrokeCsv("id,x,y\n1,0,0\n1,abc,2\n", strokes), "");
+  ASSERT_EQ(ParseStrokeSvg("<svg><polyline points=\"0,0 1,-2 3,-4\"/><path d=\"M 1 1 L 2 2 l 1 0 M 5 5 h 2\"/>"
+                           "</svg>",
+              strokes),
+    "");
+  ASSERT_EQ(strokes.size(), 3u);
+  EXPECT_EQ(strokes[0][1], Eigen::Vector3d(1, 2, 0)); // y flipped
+  EXPECT_EQ(strokes[1].size(), 3u);
+  EXPECT_EQ(strokes[1][2], Eigen::Vector3d(3, -2, 0));
+  EXPECT_EQ(strokes[2][1], Eigen::Vector3d(7, -5, 0));
+}
+
+TEST(TreeLeaves, LeavesSitOnTwigSurfacesWithPhyllotaxis)
+{
+  TreeSettings s = Preset(2);
+  s.depth = 3;
+  s.leaves = true;
+  s.leafCount = 5;
+  Tree tree;
+  ASSERT_EQ(BuildTree(s, {}, tree), "");
+  const auto byId = ById(tree);
+  long long twigs = 0;
+  for (const auto& b : tree.branches)
+    twigs += b.level == 0;
+  EXPECT_EQ(twigs, 27);
+  ASSERT_EQ(static_cast<long long>(tree.leaves.size()), twigs * 5);
+  for (std::size_t n = 0; n < tree.leaves.size(); ++n)
+  {
+    const TreeLeaf& leaf = tree.leaves[n];
+    const TreeBranch& twig = *byId.at(leaf.branchId);
+    EXPECT_EQ(twig.level, 0);
+    const int j = int(n % 5) + 1;
+    const double pos = (1.0 - s.leafRatio) + j * s.leafRatio / 5;
+    const Eigen::Vector3d axis = twig.centre.front() + pos * (twig.centre.back() - twig.centre.front());
+    const Eigen::Vector3d offset = leaf.origin - axis;
+    EXPECT_NEAR(offset.dot(twig.frame.col(1)), 0.0, 1e-12);
+    EXPECT_NEAR(offset.norm(), twig.radius + pos * (twig.radiusEnd - twig.radius), 1e-12);
+    EXPECT_LT((leaf.axes.transpose() * leaf.axes - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+    EXPECT_NEAR(std::acos(leaf.axes.col(1).dot(twig.frame.col(1))) / Degree, s.leafAngle, 1e-9);
+  }
+  // Willow: every twig becomes the pendulous Bezier curve, scaled by its length.
+  s.leafType = LeafType::Willow;
+  Tree willow;
+  ASSERT_EQ(BuildTree(s, {}, willow), "");
+  const auto willowById = ById(willow);
+  for (const auto& b : willow.branches)
+  {
+    if (b.level != 0)
+      continue;
+    const TreeBranch& straight = *byId.at(b.id);
+    EXPECT_EQ(b.centre.front(), straight.centre.front());
+    const Eigen::Vector3d drop = b.centre.back() - b.centre.front();
+    EXPECT_NEAR(drop.y(), -0.8 * straight.length, 1e-12);
+    EXPECT_NEAR(Eigen::Vector2d(drop.x(), drop.z()).norm(), 0.1 * straight.length, 1e-12);
+  }
+  (void)willowById;
+  s.leafType = LeafType::Sympodial;
+  Tree whorl;
+  ASSERT_EQ(BuildTree(s, {}, whorl), "");
+  for (const auto& leaf : whorl.leaves)
+  {
+    const TreeBranch& twig = *byId.at(leaf.branchId);
+    EXPECT_NEAR(((leaf.origin - twig.centre.back()).norm()), twig.radiusEnd, 1e-12);
+  }
+}
+
+TEST(TreeFromSketch, SameSettingsAndStrokesGiveBitIdenticalTrees)
+{
+  TreeSettings s = StrokeSettings();
+  s.mode = TreeMode::TemplateAndStrokes;
+  s.depth = 2;
+  s.strokesOnly = false;
+  s.leaves = true;
+  s.seed = 42;
+  Tree a, b;
+  ASSERT_EQ(BuildTree(s, SampleStrokes(), a), "");
+  ASSERT_EQ(BuildTree(s, SampleStrokes(), b), "");
+  ASSERT_EQ(a.branches.size(), b.branches.size());
+  for (std::size_t i = 0; i < a.branches.size(); ++i)
+  {
+    ASSERT_EQ(a.branches[i].centre.size(), b.branches[i].centre.size());
+    EXPECT_EQ(0, std::memcmp(a.branches[i].centre.data(), b.branches[i].centre.data(),
+                   a.branches[i].centre.size() * sizeof(Eigen::Vector3d)));
+  }
+  TubeMesh ma, mb;
+  ASSERT_EQ(BuildTubes(TubesOf(a), 6, ma), "");
+  // Parallel build (uneven chunks) gives the same bytes as the serial one.
+  ASSERT_EQ(BuildTubes(TubesOf(b), 6, mb,
+              [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+                for (std::size_t begin = 0; begin < count; begin += 7)
+                  body(begin, std::min(count, begin + 7));
+              }),
+    "");
+  EXPECT_EQ(ma.points, mb.points);
+  EXPECT_EQ(ma.triangles, mb.triangles);
+  EXPECT_EQ(a.leaves.size(), b.leaves.size());
+}
+
+TEST(TreeFromSketch, BadSettingsNameTheProperty)
+{
+  Tree tree;
+  TreeSettings s;
+  s.length = -1;
+  EXPECT_NE(BuildTree(s, {}, tree).find("Length"), std::string::npos);
+  s = TreeSettings();
+  s.ratio = NAN;
+  EXPECT_NE(BuildTree(s, {}, tree).find("Ratio"), std::string::npos);
+  s = TreeSettings();
+  s.depth = 8; // 8^9 branches
+  EXPECT_NE(BuildTree(s, {}, tree).find("MaxSegments"), std::string::npos);
+  EXPECT_TRUE(tree.branches.empty());
+  s = TreeSettings();
+  s.overrides[3].radius = -2;
+  EXPECT_NE(BuildTree(s, {}, tree).find("BranchOverrides"), std::string::npos);
+}
