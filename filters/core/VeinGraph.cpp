@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 namespace plantmorph
 {
@@ -26,13 +25,13 @@ VeinGraph::VeinGraph(const Eigen::Vector2d& lower, const Eigen::Vector2d& upper,
   this->Upper = upper;
   this->Width = std::max(1, static_cast<int>(std::ceil(extent.x() / size)));
   this->Height = std::max(1, static_cast<int>(std::ceil(extent.y() / size)));
-  this->Grid.resize(static_cast<std::size_t>(this->Width) * this->Height);
+  this->CellHead.assign(static_cast<std::size_t>(this->Width) * this->Height, -1);
 }
 
 int VeinGraph::AddNode(const Eigen::Vector2d& point)
 {
   this->NodeList.push_back(point);
-  this->Incident.emplace_back();
+  this->FirstEdge.push_back(-1);
   return static_cast<int>(this->NodeList.size() - 1);
 }
 
@@ -52,8 +51,10 @@ int VeinGraph::AddEdge(int a, int b, int vein)
   edge.vein = vein;
   this->EdgeList.push_back(edge);
   const int id = static_cast<int>(this->EdgeList.size() - 1);
-  this->Incident[a].push_back(id);
-  this->Incident[b].push_back(id);
+  this->NextEdge.push_back(this->FirstEdge[a]);
+  this->NextEdge.push_back(this->FirstEdge[b]);
+  this->FirstEdge[a] = id;
+  this->FirstEdge[b] = id;
   this->Visit.push_back(0);
   this->Register(id);
   return id;
@@ -82,7 +83,12 @@ void VeinGraph::Register(int edge)
   for (int y = r.y0; y <= r.y1; ++y)
   {
     for (int x = r.x0; x <= r.x1; ++x)
-      this->Grid[static_cast<std::size_t>(y) * this->Width + x].push_back(edge);
+    {
+      const std::size_t cell = static_cast<std::size_t>(y) * this->Width + x;
+      this->EntryEdge.push_back(edge);
+      this->EntryNext.push_back(this->CellHead[cell]);
+      this->CellHead[cell] = static_cast<int>(this->EntryEdge.size() - 1);
+    }
   }
 }
 
@@ -101,8 +107,10 @@ int VeinGraph::Crossing(const Eigen::Vector2d& p, const Eigen::Vector2d& q, int 
   {
     for (int x = range.x0; x <= range.x1; ++x)
     {
-      for (int id : this->Grid[static_cast<std::size_t>(y) * this->Width + x])
+      for (int entry = this->CellHead[static_cast<std::size_t>(y) * this->Width + x]; entry >= 0;
+           entry = this->EntryNext[entry])
       {
+        const int id = this->EntryEdge[entry];
         if (this->Visit[id] == this->Stamp)
           continue;
         this->Visit[id] = this->Stamp;
@@ -146,7 +154,7 @@ double VeinGraph::FirstCrossing(int from, const Eigen::Vector2d& to, double snap
 
 int VeinGraph::FindEdge(int a, int b) const
 {
-  for (int e : this->Incident[a])
+  for (int e = this->FirstEdge[a]; e >= 0; e = this->NextEdge[2 * e + (this->EdgeList[e].a == a ? 0 : 1)])
   {
     if ((this->EdgeList[e].a == a && this->EdgeList[e].b == b) || (this->EdgeList[e].a == b && this->EdgeList[e].b == a))
       return e;
@@ -157,16 +165,36 @@ int VeinGraph::FindEdge(int a, int b) const
 int VeinGraph::SplitEdge(int edge, const Eigen::Vector2d& point)
 {
   const int node = this->AddNode(point);
+  const int b = this->EdgeList[edge].b;
+  // The edge keeps its end a and ends at the new node; a new edge of the same vein goes from the node to b.
+  // At b, the new edge takes the old one's place in b's list.
   Edge second = this->EdgeList[edge];
   second.a = node;
-  const int b = this->EdgeList[edge].b;
-  this->EdgeList[edge].b = node;
   this->EdgeList.push_back(second);
   const int id = static_cast<int>(this->EdgeList.size() - 1);
+  this->NextEdge.push_back(-1);                    // slot at its end a (the node), linked below
+  this->NextEdge.push_back(this->NextEdge[2 * edge + 1]); // slot at its end b: the old edge's successor there
   this->Visit.push_back(0);
-  std::replace(this->Incident[b].begin(), this->Incident[b].end(), edge, id);
-  this->Incident[node].push_back(edge);
-  this->Incident[node].push_back(id);
+  if (this->FirstEdge[b] == edge)
+    this->FirstEdge[b] = id;
+  else
+  {
+    for (int e = this->FirstEdge[b]; e >= 0;)
+    {
+      const int slot = 2 * e + (this->EdgeList[e].a == b ? 0 : 1);
+      if (this->NextEdge[slot] == edge)
+      {
+        this->NextEdge[slot] = id;
+        break;
+      }
+      e = this->NextEdge[slot];
+    }
+  }
+  this->EdgeList[edge].b = node;
+  // The node's list: the old edge (at its end b) and the new one (at its end a).
+  this->FirstEdge[node] = edge;
+  this->NextEdge[2 * edge + 1] = id;
+  this->NextEdge[2 * id] = -1;
   this->Register(id);
   return node;
 }
@@ -226,7 +254,7 @@ VeinGraph::Step VeinGraph::Connect(int from, int to, int vein, double snap)
   step.node = to;
   step.stopped = true;
   step.hitVein = -1;
-  for (int e : this->Incident[to])
+  for (int e = this->FirstEdge[to]; e >= 0; e = this->NextEdge[2 * e + (this->EdgeList[e].a == to ? 0 : 1)])
   {
     if (this->EdgeList[e].vein != vein)
       step.hitVein = this->EdgeList[e].vein;
@@ -236,40 +264,50 @@ VeinGraph::Step VeinGraph::Connect(int from, int to, int vein, double snap)
 
 std::vector<std::vector<int>> VeinGraph::VeinPaths() const
 {
-  std::vector<std::vector<int>> edgesOf(this->VeinList.size());
-  for (std::size_t e = 0; e < this->EdgeList.size(); ++e)
-    edgesOf[this->EdgeList[e].vein].push_back(static_cast<int>(e));
-  std::vector<std::vector<int>> paths(this->VeinList.size());
-  std::vector<char> used(this->EdgeList.size(), 0); // each edge belongs to one vein: walked once in all
-  for (std::size_t v = 0; v < edgesOf.size(); ++v)
+  // Edges grouped by vein (counting sort), then each vein walked along the incidence lists from an end.
+  const std::size_t veins = this->VeinList.size();
+  std::vector<int> start(veins + 1, 0);
+  for (const Edge& e : this->EdgeList)
+    ++start[e.vein + 1];
+  for (std::size_t v = 0; v < veins; ++v)
+    start[v + 1] += start[v];
+  std::vector<int> byVein(this->EdgeList.size());
   {
-    if (edgesOf[v].empty())
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t e = 0; e < this->EdgeList.size(); ++e)
+      byVein[fill[this->EdgeList[e].vein]++] = static_cast<int>(e);
+  }
+  std::vector<std::vector<int>> paths(veins);
+  std::vector<char> used(this->EdgeList.size(), 0); // each edge belongs to one vein: walked once in all
+  std::vector<int> degree(this->NodeList.size(), 0); // within the vein being walked; reset after it
+  auto nextAt = [&](int e, int node) { return this->NextEdge[2 * e + (this->EdgeList[e].a == node ? 0 : 1)]; };
+  for (std::size_t v = 0; v < veins; ++v)
+  {
+    if (start[v] == start[v + 1])
       continue;
-    std::map<int, std::vector<int>> next; // node -> edges of this vein at it
-    for (int e : edgesOf[v])
+    for (int k = start[v]; k < start[v + 1]; ++k)
     {
-      next[this->EdgeList[e].a].push_back(e);
-      next[this->EdgeList[e].b].push_back(e);
+      ++degree[this->EdgeList[byVein[k]].a];
+      ++degree[this->EdgeList[byVein[k]].b];
     }
-    int start = this->EdgeList[edgesOf[v].front()].a;
-    for (const auto& [node, edges] : next)
+    int first = this->EdgeList[byVein[start[v]]].a;
+    for (int k = start[v]; k < start[v + 1]; ++k)
     {
-      if (edges.size() == 1)
+      for (const int n : { this->EdgeList[byVein[k]].a, this->EdgeList[byVein[k]].b })
       {
-        start = node;
-        break;
+        if (degree[n] == 1 && (degree[first] != 1 || n < first))
+          first = n;
       }
     }
-    // Walk from the start; a closed loop comes back to it.
     std::vector<int>& path = paths[v];
-    path.push_back(start);
-    int node = start;
+    path.push_back(first);
+    int node = first;
     while (true)
     {
       int taken = -1;
-      for (int e : next[node])
+      for (int e = this->FirstEdge[node]; e >= 0; e = nextAt(e, node))
       {
-        if (!used[e])
+        if (!used[e] && this->EdgeList[e].vein == static_cast<int>(v))
         {
           taken = e;
           break;
@@ -281,6 +319,8 @@ std::vector<std::vector<int>> VeinGraph::VeinPaths() const
       node = this->EdgeList[taken].a == node ? this->EdgeList[taken].b : this->EdgeList[taken].a;
       path.push_back(node);
     }
+    for (int k = start[v]; k < start[v + 1]; ++k)
+      degree[this->EdgeList[byVein[k]].a] = degree[this->EdgeList[byVein[k]].b] = 0;
   }
   return paths;
 }
@@ -310,39 +350,51 @@ std::vector<char> VeinGraph::OnMargin() const
   return margin;
 }
 
-std::vector<VeinGraph::Face> VeinGraph::Faces() const
+std::vector<VeinGraph::Face> VeinGraph::Faces(bool withNodes) const
 {
-  // Half-edge 2e goes a -> b, 2e + 1 goes b -> a. Around each node its half-edges out, by angle.
+  // Half-edge 2e goes a -> b, 2e + 1 goes b -> a. Around each node its half-edges out, by angle, in one flat
+  // array (CSR: node n's are around[first[n]] .. around[first[n + 1] - 1]).
   const std::size_t nodes = this->NodeList.size();
-  std::vector<std::vector<int>> around(nodes);
   auto origin = [&](int h) { return h % 2 == 0 ? this->EdgeList[h / 2].a : this->EdgeList[h / 2].b; };
   auto target = [&](int h) { return h % 2 == 0 ? this->EdgeList[h / 2].b : this->EdgeList[h / 2].a; };
-  for (std::size_t e = 0; e < this->EdgeList.size(); ++e)
+  std::vector<int> first(nodes + 1, 0);
+  for (const Edge& e : this->EdgeList)
   {
-    if (this->EdgeList[e].a == this->EdgeList[e].b)
-      continue;
-    around[this->EdgeList[e].a].push_back(static_cast<int>(2 * e));
-    around[this->EdgeList[e].b].push_back(static_cast<int>(2 * e + 1));
+    if (e.a != e.b)
+    {
+      ++first[e.a + 1];
+      ++first[e.b + 1];
+    }
+  }
+  for (std::size_t n = 0; n < nodes; ++n)
+    first[n + 1] += first[n];
+  std::vector<int> around(static_cast<std::size_t>(first[nodes]));
+  {
+    std::vector<int> fill(first.begin(), first.end() - 1);
+    for (std::size_t e = 0; e < this->EdgeList.size(); ++e)
+    {
+      if (this->EdgeList[e].a == this->EdgeList[e].b)
+        continue;
+      around[fill[this->EdgeList[e].a]++] = static_cast<int>(2 * e);
+      around[fill[this->EdgeList[e].b]++] = static_cast<int>(2 * e + 1);
+    }
   }
   std::vector<int> position(2 * this->EdgeList.size(), -1);
+  std::vector<std::pair<double, int>> sorted;
   for (std::size_t n = 0; n < nodes; ++n)
   {
-    std::vector<int>& list = around[n];
-    std::vector<double> angle(list.size());
-    std::vector<int> order(list.size());
-    for (std::size_t k = 0; k < list.size(); ++k)
+    sorted.clear();
+    for (int k = first[n]; k < first[n + 1]; ++k)
     {
-      const Eigen::Vector2d d = this->NodeList[target(list[k])] - this->NodeList[n];
-      angle[k] = std::atan2(d.y(), d.x());
-      order[k] = static_cast<int>(k);
+      const Eigen::Vector2d d = this->NodeList[target(around[k])] - this->NodeList[n];
+      sorted.emplace_back(std::atan2(d.y(), d.x()), around[k]);
     }
-    std::sort(order.begin(), order.end(), [&](int x, int y) { return angle[x] < angle[y] || (angle[x] == angle[y] && list[x] < list[y]); });
-    std::vector<int> sorted(list.size());
-    for (std::size_t k = 0; k < list.size(); ++k)
-      sorted[k] = list[order[k]];
-    list = sorted;
-    for (std::size_t k = 0; k < list.size(); ++k)
-      position[list[k]] = static_cast<int>(k);
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 0; k < sorted.size(); ++k)
+    {
+      around[first[n] + static_cast<int>(k)] = sorted[k].second;
+      position[sorted[k].second] = static_cast<int>(k);
+    }
   }
   // The face to the left of u -> v continues with v -> w, w the neighbour of v just clockwise of u.
   std::vector<char> seen(position.size(), 0);
@@ -357,15 +409,16 @@ std::vector<VeinGraph::Face> VeinGraph::Faces() const
     while (!seen[h])
     {
       seen[h] = 1;
-      face.nodes.push_back(origin(h));
+      if (withNodes)
+        face.nodes.push_back(origin(h));
       face.touchesMargin = face.touchesMargin || this->VeinList[this->EdgeList[h / 2].vein].order == VeinOrderMargin;
       const Eigen::Vector2d& a = this->NodeList[origin(h)];
       const Eigen::Vector2d& b = this->NodeList[target(h)];
       twice += a.x() * b.y() - a.y() * b.x();
       const int twin = h ^ 1;
-      const std::vector<int>& list = around[target(h)];
-      const int k = position[twin];
-      h = list[(k + static_cast<int>(list.size()) - 1) % static_cast<int>(list.size())];
+      const int at = target(h);
+      const int count = first[at + 1] - first[at];
+      h = around[first[at] + (position[twin] + count - 1) % count];
     }
     face.area = 0.5 * twice;
     if (face.area > 0.0)

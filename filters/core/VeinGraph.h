@@ -101,8 +101,9 @@ public:
   /// Whether each node lies on a margin edge.
   std::vector<char> OnMargin() const;
 
-  /// The bounded faces of the planar graph (area > 0), each with whether a margin edge bounds it.
-  std::vector<Face> Faces() const;
+  /// The bounded faces of the planar graph (area > 0), each with whether a margin edge bounds it; without their
+  /// node loops when `withNodes` is false (areas only, much less memory).
+  std::vector<Face> Faces(bool withNodes = true) const;
 
 private:
   struct CellRange
@@ -118,12 +119,17 @@ private:
   std::vector<Eigen::Vector2d> NodeList;
   std::vector<Edge> EdgeList;
   std::vector<Vein> VeinList;
-  std::vector<std::vector<int>> Incident; ///< edges at each node
+  // Incidence as linked lists in flat arrays: FirstEdge[node] starts the list, NextEdge[2e] continues it at edge
+  // e's end a, NextEdge[2e + 1] at its end b (no vector per node).
+  std::vector<int> FirstEdge;
+  std::vector<int> NextEdge;
   Eigen::Vector2d Lower, Upper;
   double CellSize;
   int Width, Height;
-  std::vector<std::vector<int>> Grid; ///< edge ids per cell
-  mutable std::vector<int> Visit;     ///< query stamp per edge, so an edge in several cells is tested once
+  // The grid: CellHead[cell] starts a list of entries; entry k holds edge EntryEdge[k], next entry EntryNext[k].
+  std::vector<int> CellHead;
+  std::vector<int> EntryEdge, EntryNext;
+  mutable std::vector<int> Visit; ///< query stamp per edge, so an edge in several cells is tested once
   mutable int Stamp = 0;
 };
 

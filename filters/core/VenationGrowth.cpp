@@ -719,7 +719,7 @@ void Grower::Finish(VenationResult& result)
     stats.freeEnds += degree[n] == 1 && !margin[n];
   }
   double sum = 0.0, sumSquares = 0.0;
-  for (const VeinGraph::Face& face : this->Graph.Faces())
+  for (const VeinGraph::Face& face : this->Graph.Faces(false))
   {
     if (face.touchesMargin)
       continue;
