@@ -1,0 +1,553 @@
+#include "vtkTreeFromSketchSource.h"
+
+#include "BranchTubes.h"
+#include "TreeStrokes.h"
+#include "TreeTemplate.h"
+
+#include <plantmorph/DataContract.h>
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPTools.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+vtkStandardNewMacro(vtkTreeFromSketchSource);
+
+namespace
+{
+void AddFieldValue(vtkFieldData* fd, const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  fd->AddArray(a);
+}
+
+void AddFieldString(vtkFieldData* fd, const char* name, const std::string& value)
+{
+  vtkNew<vtkStringArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  fd->AddArray(a);
+}
+
+vtkSmartPointer<vtkIntArray> IntArray(const char* name, vtkIdType count)
+{
+  auto a = vtkSmartPointer<vtkIntArray>::New();
+  a->SetName(name);
+  a->SetNumberOfTuples(count);
+  return a;
+}
+
+void SMPFor(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body)
+{
+  vtkSMPTools::For(0, static_cast<vtkIdType>(count),
+    [&](vtkIdType begin, vtkIdType end) { body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end)); });
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkTreeFromSketchSource::vtkTreeFromSketchSource()
+{
+  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfOutputPorts(3);
+}
+
+void vtkTreeFromSketchSource::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Mode: " << this->Mode << "\n"
+     << indent << "Preset: " << this->Preset << "\n"
+     << indent << "TreeType: " << this->TreeType << "\n"
+     << indent << "Length: " << this->Length << "\n"
+     << indent << "Radius: " << this->Radius << "\n"
+     << indent << "Depth: " << this->Depth << "\n"
+     << indent << "Phyllotaxis: " << this->PhyllotaxisA << "/" << this->PhyllotaxisB << "\n"
+     << indent << "ChildCount: " << this->ChildCount << "\n"
+     << indent << "Ratio: " << this->Ratio << "\n"
+     << indent << "SegmentsPerBranch: " << this->SegmentsPerBranch << "\n"
+     << indent << "Sides: " << this->Sides << "\n"
+     << indent << "StrokeFile: " << this->StrokeFile << "\n"
+     << indent << "Leaves: " << this->Leaves << " type " << this->LeafType << " count " << this->LeafCount << "\n"
+     << indent << "Seed: " << this->Seed << "\n"
+     << indent << "DeletedBranches: " << this->DeletedBranches.size() << "\n"
+     << indent << "BranchOverrides: " << this->BranchOverrides.size() / 6 << "\n";
+}
+
+void vtkTreeFromSketchSource::SetStrokeFile(const char* path)
+{
+  const std::string value = path ? path : "";
+  if (value != this->StrokeFile)
+  {
+    this->StrokeFile = value;
+    this->Modified();
+  }
+}
+
+void vtkTreeFromSketchSource::ClearDeletedBranches()
+{
+  if (!this->DeletedBranches.empty())
+  {
+    this->DeletedBranches.clear();
+    this->Modified();
+  }
+}
+
+void vtkTreeFromSketchSource::AddDeletedBranch(int id)
+{
+  this->DeletedBranches.push_back(id);
+  this->Modified();
+}
+
+void vtkTreeFromSketchSource::ClearBranchOverrides()
+{
+  if (!this->BranchOverrides.empty())
+  {
+    this->BranchOverrides.clear();
+    this->Modified();
+  }
+}
+
+void vtkTreeFromSketchSource::AddBranchOverride(
+  double id, double length, double radius, double u, double angle, double rotation)
+{
+  this->BranchOverrides.insert(this->BranchOverrides.end(), { id, length, radius, u, angle, rotation });
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+int vtkTreeFromSketchSource::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+int vtkTreeFromSketchSource::RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* out)
+{
+  for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
+  {
+    out->GetInformationObject(port)->Set(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST(), 1);
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkTreeFromSketchSource::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* branchesOut = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* skeletonOut = vtkPolyData::GetData(outputVector, 1);
+  vtkPolyData* leavesOut = vtkPolyData::GetData(outputVector, 2);
+  branchesOut->Initialize();
+  skeletonOut->Initialize();
+  leavesOut->Initialize();
+  const int piece =
+    outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+  if (piece > 0)
+  {
+    return 1;
+  }
+
+  // Properties -> settings.
+  plantmorph::TreeSettings s;
+  if (this->Preset < 0 || this->Preset >= plantmorph::TreePresetCount)
+  {
+    vtkErrorMacro("Preset = " << this->Preset << " is out of range [0, 3] (0 Custom, 1-3 Table 1)");
+    return 1;
+  }
+  s.mode = static_cast<plantmorph::TreeMode>(this->Mode);
+  s.type = static_cast<plantmorph::TreeType>(this->TreeType);
+  s.length = this->Length;
+  s.radius = this->Radius;
+  s.depth = this->Depth;
+  s.phyllotaxisA = this->PhyllotaxisA;
+  s.phyllotaxisB = this->PhyllotaxisB;
+  s.childCount = this->ChildCount;
+  s.ratio = this->Ratio;
+  plantmorph::ApplyTreePreset(this->Preset, s);
+  s.lengthScale = this->LengthScale;
+  s.monopodialAngle = this->MonopodialAngle;
+  s.sympodialAngle = this->SympodialAngle;
+  s.segmentsPerBranch = this->SegmentsPerBranch;
+  s.twigScale = this->TwigScale;
+  s.sides = this->Sides;
+  s.maxSegments = this->MaxSegments;
+  s.strokeControlPoints = this->StrokeControlPoints;
+  s.strokeLengthRatio = this->StrokeLengthRatio;
+  s.strokesOnly = this->StrokesOnly != 0;
+  s.strokeSubtreeDepth = this->StrokeSubtreeDepth;
+  s.leaves = this->Leaves != 0;
+  s.leafType = static_cast<plantmorph::LeafType>(this->LeafType);
+  s.leafCount = this->LeafCount;
+  s.leafRatio = this->LeafRatio;
+  s.leafScale = this->LeafScale;
+  s.leafAngle = this->LeafAngle;
+  s.seed = static_cast<std::uint64_t>(static_cast<std::int64_t>(this->Seed));
+  s.deletedBranches.insert(this->DeletedBranches.begin(), this->DeletedBranches.end());
+  for (std::size_t r = 0; r + 6 <= this->BranchOverrides.size(); r += 6)
+  {
+    const double id = this->BranchOverrides[r];
+    if (!std::isfinite(id) || id < 0 || id > std::numeric_limits<int>::max() || id != std::floor(id))
+    {
+      vtkErrorMacro("BranchOverrides row " << r / 6 << ": BranchId = " << id
+                                           << " must be a whole number in [0, 2147483647]");
+      return 1;
+    }
+    plantmorph::BranchOverride& o = s.overrides[static_cast<int>(id)];
+    o.length = this->BranchOverrides[r + 1];
+    o.radius = this->BranchOverrides[r + 2];
+    o.u = this->BranchOverrides[r + 3];
+    o.angle = this->BranchOverrides[r + 4];
+    o.rotation = this->BranchOverrides[r + 5];
+  }
+
+  // Strokes: the input's lines, else the file.
+  std::vector<std::vector<Eigen::Vector3d>> strokes;
+  vtkPolyData* strokeInput = vtkPolyData::GetData(inputVector[0], 0);
+  if (s.mode != plantmorph::TreeMode::Template)
+  {
+    if (strokeInput)
+    {
+      vtkCellArray* lines = strokeInput->GetLines();
+      vtkNew<vtkIdList> ids;
+      for (lines->InitTraversal(); lines->GetNextCell(ids);)
+      {
+        std::vector<Eigen::Vector3d> stroke;
+        for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+        {
+          double p[3];
+          strokeInput->GetPoint(ids->GetId(k), p);
+          stroke.emplace_back(p[0], p[1], 0.0);
+        }
+        strokes.push_back(std::move(stroke));
+      }
+    }
+    else if (!this->StrokeFile.empty())
+    {
+      const std::string error = plantmorph::ReadStrokeFile(this->StrokeFile, strokes);
+      if (!error.empty())
+      {
+        vtkErrorMacro(<< error);
+        return 1;
+      }
+    }
+  }
+  this->UpdateProgress(0.05);
+
+  plantmorph::Tree tree;
+  std::string error = plantmorph::BuildTree(s, strokes, tree);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 1;
+  }
+  this->UpdateProgress(0.3);
+  if (this->GetAbortExecute())
+  {
+    return 1;
+  }
+
+  // Branch surfaces.
+  std::vector<plantmorph::TubeInput> tubes(tree.branches.size());
+  for (std::size_t t = 0; t < tree.branches.size(); ++t)
+  {
+    const plantmorph::TreeBranch& b = tree.branches[t];
+    plantmorph::TubeInput& tube = tubes[t];
+    if (b.tubeRoot != b.centre[0])
+    {
+      tube.centre.push_back(b.tubeRoot);
+      tube.radii.push_back(b.radius);
+    }
+    tube.centre.insert(tube.centre.end(), b.centre.begin(), b.centre.end());
+    tube.radii.insert(tube.radii.end(), b.radii.begin(), b.radii.end());
+    tube.normal = b.frame.col(0);
+  }
+  plantmorph::TubeMesh mesh;
+  error = plantmorph::BuildTubes(tubes, s.sides, mesh, SMPFor);
+  tubes.clear();
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 1;
+  }
+  this->UpdateProgress(0.6);
+
+  // Leaf geometry input: validated before anything is written.
+  vtkPolyData* leafInput = vtkPolyData::GetData(inputVector[1], 0);
+  double leafLength = 0.0, leafMinY = 0.0;
+  if (s.leaves && leafInput)
+  {
+    if (leafInput->GetNumberOfPolys() == 0 || leafInput->GetNumberOfPoints() == 0)
+    {
+      vtkErrorMacro("Leaf input has no polygons: connect a leaf mesh (e.g. LeafOutlineSource's Blade) or "
+                    "disconnect it for textured quads");
+      return 1;
+    }
+    double bounds[6];
+    leafInput->GetBounds(bounds);
+    leafMinY = bounds[2];
+    leafLength = bounds[3] - bounds[2];
+    if (!(leafLength > 0.0) || !std::isfinite(leafLength))
+    {
+      vtkErrorMacro("Leaf input has no extent along +Y (its length must be positive and finite)");
+      return 1;
+    }
+    const double total = static_cast<double>(tree.leaves.size()) * leafInput->GetNumberOfPoints();
+    if (total > static_cast<double>(s.maxSegments) * 8.0)
+    {
+      vtkErrorMacro("the leaves would have " << total << " points, more than 8 * MaxSegments = "
+                                              << 8.0 * static_cast<double>(s.maxSegments)
+                                              << " (lower LeafCount or use a coarser Leaf input)");
+      return 1;
+    }
+  }
+
+  vtkNew<vtkFieldData> parameters;
+  AddFieldString(parameters, "PlantMorph.Model", "TreeFromSketch");
+  AddFieldString(parameters, "PlantMorph.TreePreset", plantmorph::TreePresetName(this->Preset));
+  AddFieldValue(parameters, "PlantMorph.Mode", this->Mode);
+  AddFieldValue(parameters, "PlantMorph.TreeType", static_cast<int>(s.type));
+  AddFieldValue(parameters, "PlantMorph.Length", s.length);
+  AddFieldValue(parameters, "PlantMorph.Radius", s.radius);
+  AddFieldValue(parameters, "PlantMorph.Depth", s.depth);
+  AddFieldValue(parameters, "PlantMorph.PhyllotaxisA", s.phyllotaxisA);
+  AddFieldValue(parameters, "PlantMorph.PhyllotaxisB", s.phyllotaxisB);
+  AddFieldValue(parameters, "PlantMorph.ChildCount", s.childCount);
+  AddFieldValue(parameters, "PlantMorph.Ratio", s.ratio);
+  AddFieldValue(parameters, "PlantMorph.SegmentsPerBranch", s.segmentsPerBranch);
+  AddFieldValue(parameters, "PlantMorph.Seed", this->Seed);
+  AddFieldValue(parameters, "PlantMorph.BranchCount", static_cast<double>(tree.branches.size()));
+  AddFieldValue(parameters, "PlantMorph.SegmentCount", static_cast<double>(tree.SegmentCount()));
+  AddFieldValue(parameters, "PlantMorph.LeafCount", static_cast<double>(tree.leaves.size()));
+  AddFieldValue(parameters, "PlantMorph.StrokeCount", static_cast<double>(strokes.size()));
+  {
+    vtkNew<vtkDoubleArray> report;
+    report->SetName("PlantMorph.Strokes");
+    report->SetNumberOfComponents(6);
+    report->SetComponentName(0, "BranchId");
+    report->SetComponentName(1, "ParentId");
+    report->SetComponentName(2, "Lambda");
+    report->SetComponentName(3, "RecommendedTheta");
+    report->SetComponentName(4, "Theta");
+    report->SetComponentName(5, "RotationAngle");
+    for (const plantmorph::StrokeReport& r : tree.strokes)
+    {
+      const double row[6] = { double(r.branchId), double(r.parentId), r.lambda, r.recommendedTheta, r.theta,
+        r.rotation };
+      report->InsertNextTuple(row);
+    }
+    parameters->AddArray(report);
+  }
+
+  // Port 0.
+  {
+    const vtkIdType np = static_cast<vtkIdType>(mesh.PointCount());
+    const vtkIdType nt = static_cast<vtkIdType>(mesh.TriangleCount());
+    vtkNew<vtkDoubleArray> coordinates;
+    coordinates->SetNumberOfComponents(3);
+    coordinates->SetNumberOfTuples(np);
+    std::copy(mesh.points.begin(), mesh.points.end(), coordinates->GetPointer(0));
+    vtkNew<vtkPoints> points;
+    points->SetData(coordinates);
+    vtkNew<vtkFloatArray> normals;
+    normals->SetName(plantmorph::arrays::Normals);
+    normals->SetNumberOfComponents(3);
+    normals->SetNumberOfTuples(np);
+    std::copy(mesh.normals.begin(), mesh.normals.end(), normals->GetPointer(0));
+    vtkNew<vtkFloatArray> tcoords;
+    tcoords->SetName(plantmorph::arrays::TCoords);
+    tcoords->SetNumberOfComponents(2);
+    tcoords->SetNumberOfTuples(np);
+    std::copy(mesh.tcoords.begin(), mesh.tcoords.end(), tcoords->GetPointer(0));
+    vtkNew<vtkIdTypeArray> offsets, connectivity;
+    offsets->SetNumberOfTuples(nt + 1);
+    connectivity->SetNumberOfTuples(3 * nt);
+    vtkIdType* o = offsets->GetPointer(0);
+    vtkIdType* c = connectivity->GetPointer(0);
+    vtkSMPTools::For(0, nt + 1, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        o[i] = 3 * i;
+        if (i < nt)
+        {
+          c[3 * i] = mesh.triangles[3 * static_cast<std::size_t>(i)];
+          c[3 * i + 1] = mesh.triangles[3 * static_cast<std::size_t>(i) + 1];
+          c[3 * i + 2] = mesh.triangles[3 * static_cast<std::size_t>(i) + 2];
+        }
+      }
+    });
+    vtkNew<vtkCellArray> polys;
+    polys->SetData(offsets, connectivity);
+    auto branchId = IntArray("BranchId", nt), parentId = IntArray("ParentId", nt), depth = IntArray("Depth", nt);
+    SMPFor(tree.branches.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t t = begin; t < end; ++t)
+      {
+        const plantmorph::TreeBranch& b = tree.branches[t];
+        for (auto f = mesh.triangleOffsets[t]; f < mesh.triangleOffsets[t + 1]; ++f)
+        {
+          branchId->SetValue(f, b.id);
+          parentId->SetValue(f, b.parentId);
+          depth->SetValue(f, b.depth);
+        }
+      }
+    });
+    branchesOut->SetPoints(points);
+    branchesOut->SetPolys(polys);
+    branchesOut->GetPointData()->SetNormals(normals);
+    branchesOut->GetPointData()->SetTCoords(tcoords);
+    branchesOut->GetCellData()->AddArray(branchId);
+    branchesOut->GetCellData()->AddArray(parentId);
+    branchesOut->GetCellData()->AddArray(depth);
+  }
+  mesh = plantmorph::TubeMesh();
+  this->UpdateProgress(0.8);
+
+  // Port 1.
+  {
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    vtkNew<vtkDoubleArray> radius;
+    radius->SetName("Radius");
+    vtkNew<vtkCellArray> lines;
+    const vtkIdType nb = static_cast<vtkIdType>(tree.branches.size());
+    auto branchId = IntArray("BranchId", nb), parentId = IntArray("ParentId", nb), depth = IntArray("Depth", nb);
+    vtkIdType next = 0;
+    for (vtkIdType t = 0; t < nb; ++t)
+    {
+      const plantmorph::TreeBranch& b = tree.branches[static_cast<std::size_t>(t)];
+      lines->InsertNextCell(static_cast<vtkIdType>(b.centre.size()));
+      for (std::size_t k = 0; k < b.centre.size(); ++k)
+      {
+        points->InsertNextPoint(b.centre[k].data());
+        radius->InsertNextValue(b.radii[k]);
+        lines->InsertCellPoint(next++);
+      }
+      branchId->SetValue(t, b.id);
+      parentId->SetValue(t, b.parentId);
+      depth->SetValue(t, b.depth);
+    }
+    skeletonOut->SetPoints(points);
+    skeletonOut->SetLines(lines);
+    skeletonOut->GetPointData()->AddArray(radius);
+    skeletonOut->GetPointData()->SetActiveScalars("Radius");
+    skeletonOut->GetCellData()->AddArray(branchId);
+    skeletonOut->GetCellData()->AddArray(parentId);
+    skeletonOut->GetCellData()->AddArray(depth);
+  }
+
+  // Port 2.
+  if (s.leaves && !tree.leaves.empty())
+  {
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    vtkNew<vtkFloatArray> tcoords;
+    tcoords->SetName(plantmorph::arrays::TCoords);
+    tcoords->SetNumberOfComponents(2);
+    vtkNew<vtkFloatArray> normals;
+    normals->SetName(plantmorph::arrays::Normals);
+    normals->SetNumberOfComponents(3);
+    vtkNew<vtkCellArray> polys;
+    vtkNew<vtkIntArray> branchId;
+    branchId->SetName("BranchId");
+    const double scale = leafInput ? s.leafScale / leafLength : s.leafScale;
+    vtkDataArray* leafTCoords = leafInput ? leafInput->GetPointData()->GetTCoords() : nullptr;
+    if (leafInput && !leafTCoords)
+    {
+      leafTCoords = leafInput->GetPointData()->GetArray(plantmorph::arrays::TCoords);
+    }
+    vtkDataArray* leafNormals = leafInput ? leafInput->GetPointData()->GetNormals() : nullptr;
+    vtkNew<vtkIdList> ids;
+    for (const plantmorph::TreeLeaf& leaf : tree.leaves)
+    {
+      const vtkIdType first = points->GetNumberOfPoints();
+      const Eigen::Vector3d n = leaf.axes.col(2);
+      if (!leafInput)
+      {
+        const double half = 0.5 * scale;
+        const Eigen::Vector3d x = leaf.axes.col(0), y = leaf.axes.col(1);
+        const Eigen::Vector3d corners[4] = { leaf.origin - half * x, leaf.origin + half * x,
+          leaf.origin + half * x + scale * y, leaf.origin - half * x + scale * y };
+        const float uv[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
+        polys->InsertNextCell(4);
+        for (int k = 0; k < 4; ++k)
+        {
+          points->InsertNextPoint(corners[k].data());
+          tcoords->InsertNextTuple2(uv[k][0], uv[k][1]);
+          normals->InsertNextTuple3(n.x(), n.y(), n.z());
+          polys->InsertCellPoint(first + k);
+        }
+        branchId->InsertNextValue(leaf.branchId);
+        continue;
+      }
+      for (vtkIdType k = 0; k < leafInput->GetNumberOfPoints(); ++k)
+      {
+        double p[3];
+        leafInput->GetPoint(k, p);
+        const Eigen::Vector3d local(p[0], p[1] - leafMinY, p[2]);
+        const Eigen::Vector3d world = leaf.origin + leaf.axes * (scale * local);
+        points->InsertNextPoint(world.data());
+        if (leafTCoords && leafTCoords->GetNumberOfComponents() >= 2)
+        {
+          tcoords->InsertNextTuple2(leafTCoords->GetComponent(k, 0), leafTCoords->GetComponent(k, 1));
+        }
+        else
+        {
+          tcoords->InsertNextTuple2(0.5 + local.x() / leafLength, local.y() / leafLength);
+        }
+        Eigen::Vector3d normal = n;
+        if (leafNormals && leafNormals->GetNumberOfComponents() == 3)
+        {
+          normal = leaf.axes * Eigen::Vector3d(leafNormals->GetComponent(k, 0), leafNormals->GetComponent(k, 1),
+                                 leafNormals->GetComponent(k, 2));
+        }
+        normals->InsertNextTuple3(normal.x(), normal.y(), normal.z());
+      }
+      vtkCellArray* cells = leafInput->GetPolys();
+      for (cells->InitTraversal(); cells->GetNextCell(ids);)
+      {
+        polys->InsertNextCell(ids->GetNumberOfIds());
+        for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+        {
+          polys->InsertCellPoint(first + ids->GetId(k));
+        }
+        branchId->InsertNextValue(leaf.branchId);
+      }
+    }
+    leavesOut->SetPoints(points);
+    leavesOut->SetPolys(polys);
+    leavesOut->GetPointData()->SetTCoords(tcoords);
+    leavesOut->GetPointData()->SetNormals(normals);
+    leavesOut->GetCellData()->AddArray(branchId);
+  }
+
+  for (vtkPolyData* output : { branchesOut, skeletonOut, leavesOut })
+  {
+    for (int a = 0; a < parameters->GetNumberOfArrays(); ++a)
+    {
+      output->GetFieldData()->AddArray(parameters->GetAbstractArray(a));
+    }
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}

@@ -1,0 +1,291 @@
+// vtkTreeFromSketchSource (spec 05): outputs and arrays, closed manifold branch surface, strokes from the input port
+// and from a CSV file, leaf instances, one piece under MPI, determinism, and errors with empty outputs.
+#include "vtkTreeFromSketchSource.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdList.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+
+namespace
+{
+class TreeErrorCatcher : public vtkCommand
+{
+public:
+  static TreeErrorCatcher* New() { return new TreeErrorCatcher; }
+  void Execute(vtkObject*, unsigned long, void* data) override
+  {
+    this->Messages += static_cast<const char*>(data);
+  }
+  std::string Messages;
+};
+
+vtkPolyData* Output(vtkTreeFromSketchSource* s, int port)
+{
+  return vtkPolyData::SafeDownCast(s->GetOutputDataObject(port));
+}
+
+vtkSmartPointer<vtkPolyData> Strokes(const std::vector<std::vector<std::pair<double, double>>>& lines)
+{
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble(); // the CSV path reads doubles: compare like with like
+  vtkNew<vtkCellArray> cells;
+  for (const auto& line : lines)
+  {
+    cells->InsertNextCell(static_cast<vtkIdType>(line.size()));
+    for (const auto& [x, y] : line)
+      cells->InsertCellPoint(points->InsertNextPoint(x, y, 0.0));
+  }
+  data->SetPoints(points);
+  data->SetLines(cells);
+  return data;
+}
+
+const std::vector<std::vector<std::pair<double, double>>> SampleLines = {
+  { { 0, 0 }, { 0.2, 3 }, { -0.1, 6 }, { 0.1, 9 }, { 0, 12 } },
+  { { 0.3, 6 }, { 1.5, 7.5 }, { 3, 8.2 }, { 4, 10 } },
+  { { -0.2, 4 }, { -1, 5 }, { -2.5, 5.5 }, { -3.5, 7 }, { -4, 8 } },
+};
+} // namespace
+
+TEST(TreeFromSketchSource, Table1PresetGivesEveryBranchAsAClosedTubeWithArrays)
+{
+  vtkNew<vtkTreeFromSketchSource> source; // Preset 1 by default
+  source->Update();
+  vtkPolyData* branches = Output(source, 0);
+  vtkPolyData* skeleton = Output(source, 1);
+  vtkPolyData* leaves = Output(source, 2);
+  EXPECT_EQ(skeleton->GetNumberOfLines(), 4681);
+  auto* branchId = vtkIntArray::SafeDownCast(branches->GetCellData()->GetArray("BranchId"));
+  ASSERT_NE(branchId, nullptr);
+  ASSERT_NE(branches->GetCellData()->GetArray("ParentId"), nullptr);
+  ASSERT_NE(branches->GetCellData()->GetArray("Depth"), nullptr);
+  EXPECT_EQ(branchId->GetNumberOfTuples(), branches->GetNumberOfCells());
+  std::set<int> ids;
+  for (vtkIdType c = 0; c < branchId->GetNumberOfTuples(); ++c)
+    ids.insert(branchId->GetValue(c));
+  EXPECT_EQ(ids.size(), 4681u);
+  EXPECT_EQ(*ids.rbegin(), 4680);
+  double depthRange[2];
+  branches->GetCellData()->GetArray("Depth")->GetRange(depthRange);
+  EXPECT_EQ(depthRange[0], 0.0);
+  EXPECT_EQ(depthRange[1], 4.0);
+  ASSERT_NE(branches->GetPointData()->GetTCoords(), nullptr);
+  EXPECT_STREQ(branches->GetPointData()->GetTCoords()->GetName(), "TCoords");
+  ASSERT_NE(branches->GetPointData()->GetNormals(), nullptr);
+  ASSERT_NE(skeleton->GetPointData()->GetArray("Radius"), nullptr);
+  // Leaves: 8^4 twigs x 6 quads.
+  EXPECT_EQ(leaves->GetNumberOfPolys(), 4096 * 6);
+  ASSERT_NE(leaves->GetPointData()->GetTCoords(), nullptr);
+  auto* model = vtkStringArray::SafeDownCast(branches->GetFieldData()->GetAbstractArray("PlantMorph.Model"));
+  ASSERT_NE(model, nullptr);
+  EXPECT_EQ(model->GetValue(0), "TreeFromSketch");
+  // Closed manifold: every edge of the surface in exactly two triangles, once in each direction.
+  std::map<std::pair<vtkIdType, vtkIdType>, int> directed;
+  vtkNew<vtkIdList> cell;
+  vtkCellArray* polys = branches->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(cell);)
+  {
+    ASSERT_EQ(cell->GetNumberOfIds(), 3);
+    for (int e = 0; e < 3; ++e)
+      directed[{ cell->GetId(e), cell->GetId((e + 1) % 3) }]++;
+  }
+  int bad = 0;
+  for (const auto& [edge, count] : directed)
+    bad += count != 1 || directed.count({ edge.second, edge.first }) != 1;
+  EXPECT_EQ(bad, 0);
+}
+
+TEST(TreeFromSketchSource, PiecesAboveZeroAreEmpty)
+{
+  vtkNew<vtkTreeFromSketchSource> source;
+  source->SetPreset(2);
+  source->UpdatePiece(1, 2, 0);
+  EXPECT_EQ(Output(source, 0)->GetNumberOfPoints(), 0);
+  EXPECT_EQ(Output(source, 2)->GetNumberOfPoints(), 0);
+  source->UpdatePiece(0, 2, 0);
+  EXPECT_EQ(Output(source, 1)->GetNumberOfLines(), 1093);
+}
+
+TEST(TreeFromSketchSource, StrokesFromThePortAndFromACsvFileGiveTheSameTree)
+{
+  vtkNew<vtkTreeFromSketchSource> source;
+  source->SetMode(1);
+  source->SetStrokesOnly(1);
+  source->SetSegmentsPerBranch(12);
+  auto strokes = Strokes(SampleLines);
+  source->SetInputData(0, strokes);
+  source->Update();
+  vtkPolyData* skeleton = Output(source, 1);
+  ASSERT_EQ(skeleton->GetNumberOfLines(), 3);
+  // Each branch ends straight above its stroke's last point (a Bezier curve ends at its last control point).
+  vtkNew<vtkIdList> cell;
+  vtkCellArray* lines = skeleton->GetLines();
+  int k = 0;
+  for (lines->InitTraversal(); lines->GetNextCell(cell); ++k)
+  {
+    double p[3];
+    skeleton->GetPoint(cell->GetId(cell->GetNumberOfIds() - 1), p);
+    EXPECT_NEAR(p[0], SampleLines[std::size_t(k)].back().first, 1e-9);
+    EXPECT_NEAR(p[1], SampleLines[std::size_t(k)].back().second, 1e-9);
+  }
+  // Strokes 1 and 2 leave the image plane (theta > 0), on opposite depth sides or not, but not at z = 0.
+  double bounds[6];
+  skeleton->GetBounds(bounds);
+  EXPECT_GT(bounds[5] - bounds[4], 0.1);
+  EXPECT_EQ(Output(source, 0)->GetCellData()->GetArray("BranchId")->GetRange()[1], 2.0);
+
+  const std::string path = testing::TempDir() + "tree_strokes.csv";
+  {
+    std::ofstream csv(path);
+    csv << "stroke_id,x,y\n";
+    for (std::size_t s = 0; s < SampleLines.size(); ++s)
+      for (const auto& [x, y] : SampleLines[s])
+        csv << s << "," << x << "," << y << "\n";
+  }
+  vtkNew<vtkTreeFromSketchSource> fromFile;
+  fromFile->SetMode(1);
+  fromFile->SetStrokesOnly(1);
+  fromFile->SetSegmentsPerBranch(12);
+  fromFile->SetStrokeFile(path.c_str());
+  fromFile->Update();
+  vtkPolyData* other = Output(fromFile, 1);
+  ASSERT_EQ(other->GetNumberOfPoints(), skeleton->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < other->GetNumberOfPoints(); ++i)
+  {
+    double a[3], b[3];
+    skeleton->GetPoint(i, a);
+    other->GetPoint(i, b);
+    EXPECT_EQ(a[0], b[0]);
+    EXPECT_EQ(a[1], b[1]);
+    EXPECT_EQ(a[2], b[2]);
+  }
+  std::remove(path.c_str());
+}
+
+TEST(TreeFromSketchSource, LeafInputIsInstancedAtEveryLeafScaledToLeafScale)
+{
+  vtkNew<vtkPolyData> leaf;
+  vtkNew<vtkPoints> points;
+  points->InsertNextPoint(-0.5, 0, 0);
+  points->InsertNextPoint(0.5, 0, 0);
+  points->InsertNextPoint(0, 2, 0);
+  vtkNew<vtkCellArray> triangle;
+  const vtkIdType ids[3] = { 0, 1, 2 };
+  triangle->InsertNextCell(3, ids);
+  leaf->SetPoints(points);
+  leaf->SetPolys(triangle);
+  vtkNew<vtkTreeFromSketchSource> source;
+  source->SetPreset(0); // Custom: Table 1's sympodial tree with depth 3 (3^3 twigs)
+  source->SetTreeType(1);
+  source->SetDepth(3);
+  source->SetChildCount(3);
+  source->SetRatio(0.0);
+  source->SetLength(5.0);
+  source->SetPhyllotaxisA(1);
+  source->SetPhyllotaxisB(3);
+  source->SetLeafCount(4);
+  source->SetLeafScale(0.5);
+  source->SetInputData(1, leaf);
+  source->Update();
+  vtkPolyData* leaves = Output(source, 2);
+  EXPECT_EQ(leaves->GetNumberOfPolys(), 27 * 4);
+  EXPECT_EQ(leaves->GetNumberOfPoints(), 27 * 4 * 3);
+  // Each copy is LeafScale long: base midpoint to tip.
+  for (vtkIdType l = 0; l < 27 * 4; ++l)
+  {
+    double a[3], b[3], tip[3];
+    leaves->GetPoint(3 * l, a);
+    leaves->GetPoint(3 * l + 1, b);
+    leaves->GetPoint(3 * l + 2, tip);
+    const double length = std::sqrt(std::pow(tip[0] - 0.5 * (a[0] + b[0]), 2) +
+      std::pow(tip[1] - 0.5 * (a[1] + b[1]), 2) + std::pow(tip[2] - 0.5 * (a[2] + b[2]), 2));
+    EXPECT_NEAR(length, 0.5, 1e-12);
+  }
+}
+
+TEST(TreeFromSketchSource, SameSettingsGiveBitIdenticalOutputs)
+{
+  const auto build = [](vtkTreeFromSketchSource* s) {
+    s->SetMode(2);
+    s->SetPreset(2);
+    s->SetDepth(3);
+    s->SetSeed(7);
+    s->AddDeletedBranch(5);
+    s->AddBranchOverride(2, 3.0, NAN, NAN, 20.0, NAN);
+    s->SetInputData(0, Strokes(SampleLines));
+    s->Update();
+  };
+  vtkNew<vtkTreeFromSketchSource> a, b;
+  build(a);
+  build(b);
+  for (int port = 0; port < 3; ++port)
+  {
+    vtkDataArray* pa = Output(a, port)->GetPoints()->GetData();
+    vtkDataArray* pb = Output(b, port)->GetPoints()->GetData();
+    ASSERT_EQ(pa->GetNumberOfValues(), pb->GetNumberOfValues());
+    ASSERT_GT(pa->GetNumberOfValues(), 0);
+    for (vtkIdType i = 0; i < pa->GetNumberOfValues(); ++i)
+      ASSERT_EQ(pa->GetVariantValue(i).ToDouble(), pb->GetVariantValue(i).ToDouble());
+  }
+}
+
+TEST(TreeFromSketchSource, BadInputGivesAnErrorNamingItAndEmptyOutputs)
+{
+  struct Case
+  {
+    std::string expected;
+    std::function<void(vtkTreeFromSketchSource*)> apply;
+  };
+  const std::vector<Case> cases = {
+    { "Length", [](vtkTreeFromSketchSource* s) { s->SetPreset(0), s->SetLength(-1); } },
+    { "Ratio", [](vtkTreeFromSketchSource* s) { s->SetPreset(0), s->SetRatio(NAN); } },
+    { "Sides", [](vtkTreeFromSketchSource* s) { s->SetSides(2); } },
+    { "MaxSegments", [](vtkTreeFromSketchSource* s) { s->SetMaxSegments(1000); } },
+    { "Preset", [](vtkTreeFromSketchSource* s) { s->SetPreset(9); } },
+    { "Strokes input", [](vtkTreeFromSketchSource* s) { s->SetMode(1); } },
+    { "stroke 1", [](vtkTreeFromSketchSource* s) {
+       s->SetMode(1);
+       s->SetInputData(0, Strokes({ { { 0, 0 }, { 0, 1 } }, { { 1, 1 } } }));
+     } },
+    { "not finite", [](vtkTreeFromSketchSource* s) {
+       s->SetMode(1);
+       s->SetInputData(0, Strokes({ { { 0, 0 }, { 0, NAN } } }));
+     } },
+    { "StrokeFile", [](vtkTreeFromSketchSource* s) {
+       s->SetMode(1);
+       s->SetStrokeFile("/nonexistent/strokes.csv");
+     } },
+    { "BranchOverrides", [](vtkTreeFromSketchSource* s) { s->AddBranchOverride(-3, 1, 1, 0.5, 10, 10); } },
+  };
+  for (const Case& c : cases)
+  {
+    vtkNew<vtkTreeFromSketchSource> source;
+    vtkNew<TreeErrorCatcher> catcher;
+    source->AddObserver(vtkCommand::ErrorEvent, catcher);
+    c.apply(source);
+    source->Update();
+    EXPECT_NE(catcher->Messages.find(c.expected), std::string::npos) << c.expected << ": " << catcher->Messages;
+    for (int port = 0; port < 3; ++port)
+      EXPECT_EQ(Output(source, port)->GetNumberOfPoints(), 0) << c.expected;
+  }
+}
