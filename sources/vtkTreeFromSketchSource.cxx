@@ -214,12 +214,15 @@ int vtkTreeFromSketchSource::RequestData(
                                            << " must be a whole number in [0, 2147483647]");
       return 1;
     }
+    // NaN or <= -1000 keeps: ParaView 5.11 state files do not keep NaN (it loads as 0), so -1000 is the
+    // spelling that survives a save and a load.
+    const auto keep = [](double v) { return v <= -1000.0 ? std::numeric_limits<double>::quiet_NaN() : v; };
     plantmorph::BranchOverride& o = s.overrides[static_cast<int>(id)];
-    o.length = this->BranchOverrides[r + 1];
-    o.radius = this->BranchOverrides[r + 2];
-    o.u = this->BranchOverrides[r + 3];
-    o.angle = this->BranchOverrides[r + 4];
-    o.rotation = this->BranchOverrides[r + 5];
+    o.length = keep(this->BranchOverrides[r + 1]);
+    o.radius = keep(this->BranchOverrides[r + 2]);
+    o.u = keep(this->BranchOverrides[r + 3]);
+    o.angle = keep(this->BranchOverrides[r + 4]);
+    o.rotation = keep(this->BranchOverrides[r + 5]);
   }
 
   // Strokes: the input's lines, else the file.

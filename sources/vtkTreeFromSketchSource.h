@@ -23,7 +23,7 @@
  * merged into the template tree). See plantmorph::BuildTree, plantmorph::AddStrokes (TreeStrokes.h),
  * plantmorph::PlaceLeaves and plantmorph::BuildTubes for every formula and for the choices made where the paper is
  * silent. Editing: `DeletedBranches` (ids; the branch and its subtree go) and `BranchOverrides` (rows of id,
- * length, radius, u, angle, rotation_angle; NaN keeps). Branch ids are preorder numbers of the unedited template,
+ * length, radius, u, angle, rotation_angle; NaN or -1000 keeps). Branch ids are preorder numbers of the unedited template,
  * so they stay valid under edits of other branches and in saved state files.
  *
  * The tree is made once as piece 0 (other pieces are empty, so it appears once under MPI). Bad parameters, bad
@@ -142,7 +142,8 @@ public:
   /// Branch ids to delete with their subtrees.
   void ClearDeletedBranches();
   void AddDeletedBranch(int id);
-  /// Rows of six: BranchId, length, radius, u, angle, rotation_angle (NaN keeps the computed value).
+  /// Rows of six: BranchId, length, radius, u, angle, rotation_angle; NaN or any value <= -1000 keeps the computed
+  /// value (write -1000 in scripts you save as state files: ParaView 5.11 state files turn NaN into 0).
   void ClearBranchOverrides();
   void AddBranchOverride(double id, double length, double radius, double u, double angle, double rotation);
 

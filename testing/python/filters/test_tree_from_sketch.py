@@ -1,0 +1,173 @@
+"""pvpython: TreeFromSketchSource as users run it. The proxy is in the PlantMorph menu with its documented defaults;
+Table 1's presets give the closed-form branch counts with the contract arrays; strokes drawn as Poly Line sources
+and appended in order become lifted branches that project back onto them; a CSV stroke file gives the same tree;
+a LeafOutlineSource blade is instanced at every leaf; bad values give empty outputs; and a tree with deleted
+branches and overrides, saved as a state file, loads in a fresh pvpython with the same properties and
+bit-identical outputs.
+
+    pvpython test_tree_from_sketch.py --plugin PlantMorph.so --work DIR
+"""
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+from plantmorph_testing import Checks, load_plugin, parse_arguments
+
+arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
+
+from paraview.simple import *  # noqa: E402,F401,F403
+from paraview import servermanager  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+import numpy  # noqa: E402
+
+load_plugin(arguments.plugin, globals())
+state = os.path.join(arguments.work, "tree_from_sketch.pvsm")
+expected_file = os.path.join(arguments.work, "tree_from_sketch_state_expected.json")
+EDIT_PROPERTIES = ("Preset", "Depth", "DeletedBranches", "BranchOverrides", "Seed", "LeafType")
+
+
+def fetch(proxy, port=0):
+    proxy.UpdatePipeline()
+    return servermanager.Fetch(proxy, None, None, port)
+
+
+def tree_fingerprint(data):
+    """SHA-256 of points, connectivity and BranchId: equal means bit-identical."""
+    digest = hashlib.sha256()
+    if data.GetNumberOfPoints():
+        digest.update(vtk_to_numpy(data.GetPoints().GetData()).tobytes())
+    for cells in (data.GetPolys(), data.GetLines()):
+        if cells.GetNumberOfCells():
+            digest.update(vtk_to_numpy(cells.GetConnectivityArray()).tobytes())
+            digest.update(vtk_to_numpy(cells.GetOffsetsArray()).tobytes())
+    ids = data.GetCellData().GetArray("BranchId")
+    if ids is not None:
+        digest.update(vtk_to_numpy(ids).tobytes())
+    return digest.hexdigest()
+
+
+def describe(tree):
+    return {"properties": {name: list(tree.GetPropertyValue(name)) if hasattr(tree.GetPropertyValue(name), "__len__")
+                           else tree.GetPropertyValue(name) for name in EDIT_PROPERTIES},
+            "fingerprints": [tree_fingerprint(fetch(tree, port)) for port in range(3)],
+            "cells": fetch(tree, 0).GetNumberOfCells()}
+
+
+checks = Checks()
+
+if arguments.load is not None:
+    LoadState(arguments.load)
+    tree = FindSource("EditedTree")
+    checks.check(tree is not None, "the state file holds the source 'EditedTree'")
+    with open(expected_file) as f:
+        expected = json.load(f)
+    actual = json.loads(json.dumps(describe(tree)))
+    for name, value in expected["properties"].items():
+        got = actual["properties"][name]
+        checks.check(got == value, "property %s: %r after loading, %r before" % (name, got, value))
+    checks.check(actual["cells"] == expected["cells"] and actual["cells"] > 0, "same number of cells")
+    checks.check(actual["fingerprints"] == expected["fingerprints"], "all three outputs bit-identical after loading")
+    checks.finish()
+    sys.exit(0)
+
+# The proxy: pvpython name, menu, label, defaults.
+SetActiveSource(None)
+tree = TreeFromSketchSource(registrationName="Tree")
+hints = tree.SMProxy.GetHints()
+menu = hints.FindNestedElementByName("ShowInMenu") if hints else None
+checks.check(menu is not None and menu.GetAttribute("category") == "PlantMorph", "in the PlantMorph menu")
+checks.check(tree.SMProxy.GetXMLLabel() == "Tree From Sketch Source", "label 'Tree From Sketch Source'")
+checks.check((tree.Mode, tree.Preset, tree.SegmentsPerBranch, tree.Sides) ==
+             ("Template", "Table 1 left: monopodial 3/8", 4, 6), "defaults: %r" %
+             ((tree.Mode, tree.Preset, tree.SegmentsPerBranch, tree.Sides),))
+
+# Table 1: closed-form branch counts, arrays on every output.
+for preset, count in (("Table 1 left: monopodial 3/8", 4681), ("Table 1 middle: sympodial 1/3", 1093),
+                      ("Table 1 right: monopodial 5/8", 11111)):
+    tree.Preset = preset
+    branches, skeleton = fetch(tree, 0), fetch(tree, 1)
+    ids = vtk_to_numpy(branches.GetCellData().GetArray("BranchId"))
+    checks.check(len(numpy.unique(ids)) == count, "%s: %d branches, got %d" % (preset, count, len(numpy.unique(ids))))
+    checks.check(skeleton.GetNumberOfLines() == count, "%s: one skeleton polyline a branch" % preset)
+    checks.check(branches.GetPointData().GetTCoords() is not None and
+                 branches.GetPointData().GetTCoords().GetName() == "TCoords", "%s: active TCoords" % preset)
+    depth = vtk_to_numpy(branches.GetCellData().GetArray("Depth"))
+    checks.check(depth.min() == 0 and depth.max() == (6 if "sympodial" in preset else 4), "%s: Depth 0..depth" % preset)
+    checks.check(skeleton.GetPointData().GetArray("Radius") is not None, "%s: skeleton Radius" % preset)
+    model = branches.GetFieldData().GetAbstractArray("PlantMorph.Model")
+    checks.check(model is not None and model.GetValue(0) == "TreeFromSketch", "%s: field data" % preset)
+Delete(tree)
+
+# Strokes: three Poly Line sources appended in drawing order.
+lines = [[0, 0, 0, 0.2, 3, 0, -0.1, 6, 0, 0.1, 9, 0, 0, 12, 0],
+         [0.3, 6, 0, 1.5, 7.5, 0, 3, 8.2, 0, 4, 10, 0],
+         [-0.2, 4, 0, -1, 5, 0, -2.5, 5.5, 0, -3.5, 7, 0, -4, 8, 0]]
+polylines = [PolyLineSource(registrationName="Stroke%d" % k, Points=points) for k, points in enumerate(lines)]
+strokes = AppendGeometry(registrationName="Strokes", Input=polylines)
+SetActiveSource(None)
+sketched = TreeFromSketchSource(registrationName="Sketched", Strokes=strokes, Mode="Strokes", StrokesOnly=1,
+                                SegmentsPerBranch=12)
+skeleton = fetch(sketched, 1)
+checks.check(skeleton.GetNumberOfLines() == 3, "three strokes, three branches: %d" % skeleton.GetNumberOfLines())
+points = vtk_to_numpy(skeleton.GetPoints().GetData())
+offsets = vtk_to_numpy(skeleton.GetLines().GetOffsetsArray())
+connectivity = vtk_to_numpy(skeleton.GetLines().GetConnectivityArray())
+for k in range(3):
+    last = points[connectivity[offsets[k + 1] - 1]]
+    checks.check(numpy.allclose(last[:2], lines[k][-3:-1], atol=1e-6),
+                 "branch %d ends above its stroke's end: %r" % (k, last))
+checks.check(numpy.ptp(points[:, 2]) > 0.1, "strokes 1 and 2 are lifted out of the image plane")
+csv = os.path.join(arguments.work, "tree_strokes.csv")
+with open(csv, "w") as f:
+    f.write("stroke_id,x,y\n")
+    for k, line in enumerate(lines):
+        for i in range(0, len(line), 3):
+            f.write("%d,%r,%r\n" % (k, line[i], line[i + 1]))
+SetActiveSource(None)
+from_file = TreeFromSketchSource(registrationName="FromFile", Mode="Strokes", StrokesOnly=1, SegmentsPerBranch=12,
+                                 StrokeFile=csv)
+file_points = vtk_to_numpy(fetch(from_file, 1).GetPoints().GetData())
+checks.check(file_points.shape == points.shape and numpy.allclose(file_points, points, atol=1e-5),
+             "the CSV stroke file gives the same skeleton as the drawn strokes (float Poly Line points)")
+
+# Leaf instances of a LeafOutlineSource blade.
+SetActiveSource(None)
+blade = LeafOutlineSource(registrationName="Blade", Preset="Ginkgo", Length=5.0, Resolution=20)
+SetActiveSource(None)
+leafy = TreeFromSketchSource(registrationName="Leafy", Leaf=blade, Preset="Table 1 middle: sympodial 1/3",
+                             LeafCount=2)
+leaves = fetch(leafy, 2)
+blade_data = fetch(blade, 0)
+checks.check(leaves.GetNumberOfPolys() == 729 * 2 * blade_data.GetNumberOfPolys(),
+             "one blade per leaf: %d polys" % leaves.GetNumberOfPolys())
+
+# Bad values: empty outputs.
+SetActiveSource(None)
+bad = TreeFromSketchSource(registrationName="Bad", Preset="Custom", Length=-1.0)
+checks.check(fetch(bad, 0).GetNumberOfPoints() == 0 and fetch(bad, 2).GetNumberOfPoints() == 0,
+             "Length = -1 gives empty outputs")
+Delete(bad)
+
+# State file: deletions and overrides survive a save and a load in a fresh pvpython.
+SetActiveSource(None)
+edited = TreeFromSketchSource(registrationName="EditedTree", Preset="Table 1 middle: sympodial 1/3", Depth=4,
+                              DeletedBranches=[2, 700], Seed=5, LeafType="Willow",
+                              BranchOverrides=[1, 3.5, -1000, -1000, 70.0, -1000,
+                                               364, -1000, 0.2, 0.5, -1000, 100.0])
+before = describe(edited)
+checks.check(before["cells"] > 0, "edited tree is not empty")
+plain = describe(TreeFromSketchSource(registrationName="Plain", Preset="Table 1 middle: sympodial 1/3"))
+checks.check(plain["fingerprints"][0] != before["fingerprints"][0], "the edits change the tree")
+with open(expected_file, "w") as f:
+    json.dump(before, f)
+SaveState(state)
+pvpython = arguments.pvpython or shutil.which("pvpython") or "pvpython"
+run = subprocess.run([pvpython, os.path.abspath(__file__),
+                      "--plugin", arguments.plugin, "--work", arguments.work, "--load", state],
+                     capture_output=True, text=True, timeout=300)
+print(run.stdout[-2000:], run.stderr[-2000:])
+checks.check(run.returncode == 0, "the fresh pvpython found the same tree after loading the state")
+checks.finish()
