@@ -463,15 +463,12 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
     return guess;
   };
 
-  BladeMeshOptions options;
-  options.quality = m.quality;
-  options.maxEdgeLength = spacing;
-  options.maxVertices = m.maxVertices;
-  if (m.progress)
-  {
-    const std::function<bool(double)> progress = m.progress;
-    options.progress = [progress](double f) { return progress(0.05 + 0.85 * f); };
-  }
+  LeafMeshSettings meshSettings;
+  meshSettings.resolution = n;
+  meshSettings.quality = m.quality;
+  meshSettings.maxVertices = m.maxVertices;
+  meshSettings.progress = m.progress;
+  const BladeMeshOptions options = MeshOptionsFor(meshSettings, spacing);
   if (m.progress && !m.progress(0.05))
     return "aborted";
   error = MeshBlade(outline, options, solveUV, leaf.blade);
