@@ -1,0 +1,135 @@
+// TreeFromSketchSource benchmark (spec 05): segments per second and bytes per segment from 10^3 to 10^6 skeleton
+// segments, for the algorithm layer (template growth + watertight tubes, serial) and for the whole VTK source
+// (template, tubes through vtkSMPTools, arrays, skeleton, no leaves).
+//
+// Sizes: Table 1's left template (monopodial 3/8, 8 children) at depth 2..5 with SegmentsPerBranch chosen to reach
+// about 10^3, 10^4, 10^5 and 10^6 segments (the exact count is reported as `segments`), 6 sides.
+//
+//   tree_benchmark --benchmark_counters_tabular=true
+#include "BranchTubes.h"
+#include "TreeTemplate.h"
+
+#include "vtkTreeFromSketchSource.h"
+
+#include "vtkCellArray.h"
+#include "vtkNew.h"
+#include "vtkPolyData.h"
+
+#include "PeakMemory.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+using plantmorph_benchmarks::PeakMemoryProbe;
+
+namespace
+{
+struct Size
+{
+  int depth;
+  int segmentsPerBranch;
+};
+
+/// 10^(3 + index) segments: depth 2 (73 branches) x 14, depth 3 (585) x 17, depth 4 (4681) x 21, depth 5 (37449) x 27.
+Size SizeFor(int index)
+{
+  const Size sizes[] = { { 2, 14 }, { 3, 17 }, { 4, 21 }, { 5, 27 } };
+  return sizes[index];
+}
+
+plantmorph::TreeSettings Settings(int index)
+{
+  plantmorph::TreeSettings s;
+  plantmorph::ApplyTreePreset(1, s);
+  s.depth = SizeFor(index).depth;
+  s.segmentsPerBranch = SizeFor(index).segmentsPerBranch;
+  s.leaves = false;
+  return s;
+}
+
+double MeshBytes(const plantmorph::TubeMesh& m)
+{
+  return static_cast<double>(m.points.size() * sizeof(double) + m.normals.size() * sizeof(float) +
+    m.tcoords.size() * sizeof(float) + m.triangles.size() * sizeof(std::int32_t) +
+    (m.pointOffsets.size() + m.triangleOffsets.size()) * sizeof(std::int64_t));
+}
+
+void BM_TreeCore(benchmark::State& state)
+{
+  const plantmorph::TreeSettings s = Settings(static_cast<int>(state.range(0)));
+  double segments = 0.0, bytes = 0.0, triangles = 0.0;
+  PeakMemoryProbe memory;
+  memory.Start();
+  for (auto _ : state)
+  {
+    plantmorph::Tree tree;
+    if (!plantmorph::BuildTree(s, {}, tree).empty())
+    {
+      state.SkipWithError("BuildTree failed");
+      return;
+    }
+    std::vector<plantmorph::TubeInput> tubes(tree.branches.size());
+    for (std::size_t t = 0; t < tree.branches.size(); ++t)
+    {
+      const plantmorph::TreeBranch& b = tree.branches[t];
+      if (b.tubeRoot != b.centre[0])
+      {
+        tubes[t].centre.push_back(b.tubeRoot);
+        tubes[t].radii.push_back(b.radius);
+      }
+      tubes[t].centre.insert(tubes[t].centre.end(), b.centre.begin(), b.centre.end());
+      tubes[t].radii.insert(tubes[t].radii.end(), b.radii.begin(), b.radii.end());
+      tubes[t].normal = b.frame.col(0);
+    }
+    plantmorph::TubeMesh mesh;
+    if (!plantmorph::BuildTubes(tubes, s.sides, mesh).empty())
+    {
+      state.SkipWithError("BuildTubes failed");
+      return;
+    }
+    segments = static_cast<double>(tree.SegmentCount());
+    bytes = MeshBytes(mesh);
+    triangles = static_cast<double>(mesh.TriangleCount());
+    benchmark::DoNotOptimize(mesh.points.data());
+  }
+  memory.Report(state, 0.0, bytes);
+  state.counters["segments"] = segments;
+  state.counters["triangles"] = triangles;
+  state.counters["seg_per_s"] = benchmark::Counter(segments, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["mesh_B_per_seg"] = bytes / segments;
+  state.counters["peak_B_per_seg"] = memory.Peak() / segments;
+}
+
+void BM_TreeSource(benchmark::State& state)
+{
+  const Size size = SizeFor(static_cast<int>(state.range(0)));
+  double segments = 0.0, bytes = 0.0;
+  PeakMemoryProbe memory;
+  memory.Start();
+  for (auto _ : state)
+  {
+    vtkNew<vtkTreeFromSketchSource> source;
+    source->SetPreset(0); // Custom: the class defaults are Table 1's left template, Depth varies
+    source->SetDepth(size.depth);
+    source->SetSegmentsPerBranch(size.segmentsPerBranch);
+    source->SetLeaves(0);
+    source->Update();
+    vtkPolyData* branches = vtkPolyData::SafeDownCast(source->GetOutputDataObject(0));
+    vtkPolyData* skeleton = vtkPolyData::SafeDownCast(source->GetOutputDataObject(1));
+    segments = static_cast<double>(skeleton->GetNumberOfPoints() - skeleton->GetNumberOfLines());
+    bytes = static_cast<double>(branches->GetActualMemorySize() + skeleton->GetActualMemorySize()) * 1024.0;
+    benchmark::DoNotOptimize(branches->GetNumberOfCells());
+  }
+  memory.Report(state, 0.0, bytes);
+  state.counters["segments"] = segments;
+  state.counters["seg_per_s"] = benchmark::Counter(segments, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["out_B_per_seg"] = bytes / segments;
+  state.counters["peak_B_per_seg"] = memory.Peak() / segments;
+}
+} // namespace
+
+BENCHMARK(BM_TreeCore)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TreeSource)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+BENCHMARK_MAIN();
