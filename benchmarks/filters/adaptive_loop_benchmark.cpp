@@ -9,8 +9,11 @@
 //   BM_Uniform_CGAL_Loop                     CGAL 5.5 Subdivision_method_3::Loop_subdivision on a Surface_mesh
 //                                            (positions only; the mesh is built from the sphere untimed)
 // Adaptive mode on a bent ginkgo blade (LeafOutlineSource, Fixed feature rule): the deviation of uniform level L
-// from the level-4 uniform surface, and the adaptive settings (swept untimed, once) that reach that deviation with
-// the fewest triangles:
+// from the level-4 uniform surface (exact point-to-triangle distances both ways, see Deviation below), and the
+// adaptive settings (searched untimed, once: levels, bisection on the threshold angle, flatness rule; 288 runs,
+// about 6 minutes on a loaded 2-core machine) with the fewest triangles within that deviation.
+// PLANTMORPH_BLADE_SWEEP_LOG=1 prints every evaluated setting (levels, alpha = 180 - EdgeAngleThreshold,
+// 1 - FlatnessThreshold, triangles, deviations) to stderr, i.e. the adaptive triangles-versus-deviation curve:
 //   BM_Blade_Uniform/levels:L, BM_Blade_Adaptive/levels:L
 //
 // Counters: triangles (output), tri_per_s (output triangles per wall second: the filters are threaded), in_bytes /
@@ -18,6 +21,7 @@
 // (VmHWM above the resident set before the runs, reset with `echo 5 > /proc/self/clear_refs`, as
 // blade_generation_benchmark does), peak_ratio = peak_bytes / (in_bytes + out_bytes).
 #include "AdaptiveLoopSubdivision.h"
+#include "PointSurfaceDistance.h"
 #include "vtkAdaptiveLoopFilter.h"
 #include "vtkLeafOutlineSource.h"
 
@@ -30,7 +34,6 @@
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
-#include "vtkStaticCellLocator.h"
 
 #include "PeakMemory.h"
 
@@ -43,11 +46,15 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstdint>
 #include <fstream>
 #include <functional>
 #include <map>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -277,7 +284,7 @@ BENCHMARK(BM_Uniform_CGAL_Loop)->Apply([](benchmark::internal::Benchmark* b) { U
 
 constexpr int ReferenceLevel = 4;
 
-/// The ginkgo blade (quality mesh, Resolution 24), bent into a curved surface.
+/// The ginkgo blade (quality mesh, Resolution 24, 2,340 triangles), bent into a curved surface.
 vtkSmartPointer<vtkPolyData> BentBlade()
 {
   vtkNew<vtkLeafOutlineSource> source;
@@ -310,83 +317,142 @@ void Apply(vtkAdaptiveLoopFilter* f, const BladeSetting& s)
   f->SetFeatureRule(vtkAdaptiveLoopFilter::FIXED);
 }
 
-/// Largest distance from the reference surface's points to `mesh`, and from `mesh`'s points to the reference.
-double Deviation(vtkPolyData* mesh, vtkPolyData* reference, vtkStaticCellLocator* referenceLocator)
+/// A triangle surface on flat arrays, and its exact point-to-surface distance structure (BVH).
+struct Surface
 {
-  vtkNew<vtkStaticCellLocator> locator;
-  locator->SetDataSet(mesh);
-  locator->BuildLocator();
-  double worst = 0.0;
-  double closest[3], d2;
-  vtkIdType cell;
-  int sub;
-  for (vtkIdType i = 0; i < reference->GetNumberOfPoints(); ++i)
+  std::vector<double> points;
+  std::vector<std::int64_t> triangles;
+  plantmorph::PointSurfaceDistance distance;
+
+  explicit Surface(vtkPolyData* data)
   {
-    double p[3];
-    reference->GetPoint(i, p);
-    locator->FindClosestPoint(p, closest, cell, sub, d2);
-    worst = std::max(worst, d2);
+    const vtkIdType n = data->GetNumberOfPoints();
+    this->points.resize(3 * static_cast<std::size_t>(n));
+    for (vtkIdType i = 0; i < n; ++i)
+      data->GetPoint(i, this->points.data() + 3 * i);
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < data->GetNumberOfCells(); ++c)
+    {
+      data->GetCellPoints(c, ids);
+      for (int k = 0; k < 3; ++k)
+        this->triangles.push_back(ids->GetId(k));
+    }
+    const std::string error = this->distance.BuildSurface(
+      this->points.data(), static_cast<std::size_t>(n), this->triangles.data(), this->triangles.size() / 3);
+    if (!error.empty())
+      throw std::runtime_error("blade study: " + error);
   }
-  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
+
+  std::size_t NumberOfPoints() const { return this->points.size() / 3; }
+
+  /// The largest exact distance from `other`'s points to this surface.
+  double MaxDistanceFrom(const Surface& other) const
   {
-    double p[3];
-    mesh->GetPoint(i, p);
-    referenceLocator->FindClosestPoint(p, closest, cell, sub, d2);
-    worst = std::max(worst, d2);
+    std::vector<double> d(other.NumberOfPoints());
+    this->distance.QueryMany(other.points.data(), d.size(), d.data(), nullptr, nullptr, nullptr);
+    return d.empty() ? 0.0 : *std::max_element(d.begin(), d.end());
   }
-  return std::sqrt(worst);
+};
+
+/// Deviation of a mesh from the reference (uniform level-4) surface S: both one-sided maxima of exact
+/// point-to-triangle distances, from the mesh's points to S ("to") and from S's points to the mesh ("from", which
+/// sees the chords of triangles left too large). The study's deviation is the larger of the two: a vertex-sampled
+/// Hausdorff distance (S is 16x finer than any compared mesh's input and its vertices sample it densely).
+struct Deviation
+{
+  double to = 0.0;
+  double from = 0.0;
+  double Max() const { return std::max(this->to, this->from); }
+};
+
+Deviation Measure(vtkPolyData* mesh, const Surface& reference)
+{
+  const Surface surface(mesh);
+  return { reference.MaxDistanceFrom(surface), surface.MaxDistanceFrom(reference) };
 }
 
 struct BladeStudy
 {
   vtkSmartPointer<vtkPolyData> blade;
-  std::map<int, double> uniformDeviation;       // by level
+  std::map<int, Deviation> uniformDeviation;    // by level
   std::map<int, vtkIdType> uniformTriangles;    // by level
   std::map<int, BladeSetting> adaptive;         // cheapest setting within the uniform deviation, by level
-  std::map<int, double> adaptiveDeviation;
+  std::map<int, Deviation> adaptiveDeviation;
   std::map<int, vtkIdType> adaptiveTriangles;
+  int evaluations = 0;
+  double seconds = 0.0;
 };
 
-/// Untimed, once: the reference, the uniform deviations, and a sweep of adaptive settings.
+// The sweep: for every target level L, adaptive runs of L .. min(L + 2, ReferenceLevel) levels, and for each a
+// bisection on the threshold angle alpha = 180 - EdgeAngleThreshold (an edge splits where its triangles' normals
+// differ by more than alpha) in log10(alpha) over [AlphaLow, AlphaHigh] degrees, AngleSteps halvings (resolution
+// 3.7% in alpha): the triangle count falls as alpha grows, the deviation rises. FlatnessThreshold is either 1
+// (every vertex moves) or tied to alpha, lambda = cos(c * alpha) for c in FlatnessFactors: a vertex whose
+// triangles' normals all lie within about c * alpha of its normal keeps its place, the vertex twin of the edge
+// rule (a vertex that keeps moving on an unrefined neighbourhood is smoothed again at every level and drifts from
+// the uniform surface). Every evaluated setting within the target competes for the fewest triangles.
+constexpr double AlphaLow = 1e-3;
+constexpr double AlphaHigh = 10.0;
+constexpr int AngleSteps = 8;
+constexpr double FlatnessFactors[] = { 0.0, 0.5, 1.0, 2.0 }; // 0: lambda = 1
+
+/// Untimed, once: the reference, the uniform deviations, and the adaptive search.
 const BladeStudy& Study()
 {
   static const BladeStudy study = [] {
+    const auto started = std::chrono::steady_clock::now();
     BladeStudy s;
     s.blade = BentBlade();
-    const vtkSmartPointer<vtkPolyData> reference =
-      RunFilter(s.blade, [](vtkAdaptiveLoopFilter* f) { Apply(f, BladeSetting{ 180.0, 1.0, ReferenceLevel }); });
-    vtkNew<vtkStaticCellLocator> referenceLocator;
-    referenceLocator->SetDataSet(reference);
-    referenceLocator->BuildLocator();
+    const Surface reference(
+      RunFilter(s.blade, [](vtkAdaptiveLoopFilter* f) { Apply(f, BladeSetting{ 180.0, 1.0, ReferenceLevel }); }));
     for (int level = 1; level < ReferenceLevel; ++level)
     {
       const auto uniform =
         RunFilter(s.blade, [level](vtkAdaptiveLoopFilter* f) { Apply(f, BladeSetting{ 180.0, 1.0, level }); });
-      s.uniformDeviation[level] = Deviation(uniform, reference, referenceLocator);
+      s.uniformDeviation[level] = Measure(uniform, reference);
       s.uniformTriangles[level] = uniform->GetNumberOfCells();
     }
     for (int level = 1; level < ReferenceLevel; ++level)
     {
+      const double target = s.uniformDeviation[level].Max();
       vtkIdType best = -1;
-      for (int levels = level; levels <= ReferenceLevel; ++levels)
-        for (const double angle : { 170.0, 174.0, 176.0, 177.0, 178.0, 178.5, 179.0, 179.5 })
-          for (const double flatness : { 0.99, 0.995, 0.998, 0.999, 0.9995, 0.9998, 1.0 })
+      const auto evaluate = [&](const BladeSetting& setting) {
+        const auto out = RunFilter(s.blade, [&setting](vtkAdaptiveLoopFilter* f) { Apply(f, setting); });
+        const vtkIdType n = out->GetNumberOfCells();
+        const Deviation deviation = Measure(out, reference);
+        ++s.evaluations;
+        const bool within = deviation.Max() <= target;
+        if (std::getenv("PLANTMORPH_BLADE_SWEEP_LOG"))
+          std::fprintf(stderr, "target L%d %.4g: levels %d alpha %.5f 1-flatness %.3g -> %lld triangles, to %.4g from %.4g%s\n",
+            level, target, setting.levels, 180.0 - setting.angle, 1.0 - setting.flatness, static_cast<long long>(n), deviation.to,
+            deviation.from, within ? " within" : "");
+        if (within && (best < 0 || n < best))
+        {
+          best = n;
+          s.adaptive[level] = setting;
+          s.adaptiveDeviation[level] = deviation;
+          s.adaptiveTriangles[level] = n;
+        }
+        return within;
+      };
+      for (int levels = level; levels <= std::min(level + 2, ReferenceLevel); ++levels)
+        for (const double factor : FlatnessFactors)
+        {
+          const auto setting = [levels, factor](double alpha) {
+            const double flatness = factor > 0.0 ? std::cos(factor * alpha * 3.14159265358979323846 / 180.0) : 1.0;
+            return BladeSetting{ 180.0 - alpha, flatness, levels };
+          };
+          double low = std::log10(AlphaLow), high = std::log10(AlphaHigh); // low: within, high: not (assumed)
+          if (!evaluate(setting(AlphaLow)))
+            continue; // even the finest threshold misses the target with these levels and this flatness rule
+          for (int step = 0; step < AngleSteps; ++step)
           {
-            const BladeSetting setting{ angle, flatness, levels };
-            const auto out = RunFilter(s.blade, [&setting](vtkAdaptiveLoopFilter* f) { Apply(f, setting); });
-            const vtkIdType n = out->GetNumberOfCells();
-            if (best >= 0 && n >= best)
-              continue;
-            const double deviation = Deviation(out, reference, referenceLocator);
-            if (deviation <= s.uniformDeviation[level])
-            {
-              best = n;
-              s.adaptive[level] = setting;
-              s.adaptiveDeviation[level] = deviation;
-              s.adaptiveTriangles[level] = n;
-            }
+            const double mid = 0.5 * (low + high);
+            (evaluate(setting(std::pow(10.0, mid))) ? low : high) = mid;
           }
+        }
     }
+    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return s;
   }();
   return study;
@@ -404,7 +470,9 @@ void BM_Blade_Uniform(benchmark::State& state)
     triangles = static_cast<double>(out->GetNumberOfCells());
   }
   ReportTriangles(state, triangles);
-  state.counters["deviation"] = study.uniformDeviation.at(level);
+  state.counters["deviation"] = study.uniformDeviation.at(level).Max();
+  state.counters["deviation_to"] = study.uniformDeviation.at(level).to;
+  state.counters["deviation_from"] = study.uniformDeviation.at(level).from;
   state.counters["input_triangles"] = static_cast<double>(study.blade->GetNumberOfCells());
 }
 
@@ -425,12 +493,17 @@ void BM_Blade_Adaptive(benchmark::State& state)
     triangles = static_cast<double>(out->GetNumberOfCells());
   }
   ReportTriangles(state, triangles);
-  state.counters["deviation"] = study.adaptiveDeviation.at(level);
-  state.counters["uniform_deviation"] = study.uniformDeviation.at(level);
+  state.counters["deviation"] = study.adaptiveDeviation.at(level).Max();
+  state.counters["deviation_to"] = study.adaptiveDeviation.at(level).to;
+  state.counters["deviation_from"] = study.adaptiveDeviation.at(level).from;
+  state.counters["uniform_deviation"] = study.uniformDeviation.at(level).Max();
   state.counters["triangle_ratio"] = triangles / static_cast<double>(study.uniformTriangles.at(level));
   state.counters["angle"] = setting.angle;
-  state.counters["flatness"] = setting.flatness;
+  state.counters["alpha"] = 180.0 - setting.angle;
+  state.counters["flatness_1m"] = 1.0 - setting.flatness;
   state.counters["levels"] = setting.levels;
+  state.counters["sweep_runs"] = study.evaluations;
+  state.counters["sweep_s"] = study.seconds;
 }
 
 BENCHMARK(BM_Blade_Uniform)->ArgName("levels")->DenseRange(1, ReferenceLevel - 1)->Unit(benchmark::kMillisecond)->UseRealTime();
