@@ -423,9 +423,10 @@ const BladeStudy& Study()
         ++s.evaluations;
         const bool within = deviation.Max() <= target;
         if (std::getenv("PLANTMORPH_BLADE_SWEEP_LOG"))
-          std::fprintf(stderr, "target L%d %.4g: levels %d alpha %.5f 1-flatness %.3g -> %lld triangles, to %.4g from %.4g%s\n",
-            level, target, setting.levels, 180.0 - setting.angle, 1.0 - setting.flatness, static_cast<long long>(n), deviation.to,
-            deviation.from, within ? " within" : "");
+          std::fprintf(stderr,
+            "target L%d %.4g: levels %d alpha %.5f 1-flatness %.3g -> %lld triangles, to %.4g from %.4g%s\n", level,
+            target, setting.levels, 180.0 - setting.angle, 1.0 - setting.flatness, static_cast<long long>(n),
+            deviation.to, deviation.from, within ? " within" : "");
         if (within && (best < 0 || n < best))
         {
           best = n;
