@@ -280,8 +280,8 @@ checks.check(numpy.array_equal(vtk_to_numpy(curled.GetCellData().GetArray("Regio
 checks.check(per_level(curled, "AdaptiveLoop.TrianglesPerLevel") == expected_triangles,
              "curl: AdaptiveLoop.TrianglesPerLevel field data passed on")
 
-# Both curls: transverse after longitudinal; still no stretch beyond the bend of a rolled half (the core's
-# documented (1 - h angle / L) factor), midvein points move only along the blade's length (y, z).
+# Both curls (transverse after longitudinal, the state file below saves this setting): the transverse bend moves
+# midvein points only along the blade's length (y, z), never across it.
 curl.TransverseAngle = 40.0
 curl.TransverseCenter = 0.45
 both = numpy_points(fetch(curl))
