@@ -14,7 +14,6 @@ int WiltingMaterialOf(int region)
   {
     case 1:
     case 2:
-    case 3:
       return WiltingVein;
     case 4:
       return WiltingMargin;
@@ -48,6 +47,10 @@ std::string ValidateWilting(const WiltingParameters& p)
   else if (!(p.loadTime > 0.0) || !std::isfinite(p.loadTime))
   {
     message << "LoadTime must be > 0 and finite (got " << p.loadTime << ")";
+  }
+  else if (!(p.contractionTime >= 0.0) || !std::isfinite(p.contractionTime))
+  {
+    message << "ContractionTime must be >= 0 and finite (0: LoadTime) (got " << p.contractionTime << ")";
   }
   else if (!(p.anchorRadius >= 0.0) || !std::isfinite(p.anchorRadius))
   {
@@ -237,23 +240,36 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   const std::size_t n = grid.nodes.size();
   this->GravityForce.assign(3 * n, 0.0);
   this->LoadForce.assign(3 * n, 0.0);
+  this->ContractionLoad.assign(3 * n, 0.0);
   const std::vector<double>& masses = this->Springs.Masses();
   for (std::size_t i = 0; i < n; ++i)
   {
     this->GravityForce[3 * i + 2] = -masses[i] * parameters.gravity;
   }
   const double midX = input.points[base][0];
+  const double baseY = input.points[base][1];
   const bool top = parameters.contractionSide == WiltingContractionSide::Top;
   for (std::size_t v = 0; v < grid.voxels.size(); ++v)
   {
     const std::array<int, 8>& c = grid.corners[v];
     const double centreX = grid.origin[0] + h * (grid.voxels[v][0] + 0.5);
-    const double offset = centreX - midX;
-    const double towards = std::abs(offset) <= 0.5 * h ? 0.0 : (offset > 0.0 ? -1.0 : 1.0);
+    const double centreY = grid.origin[1] + h * (grid.voxels[v][1] + 0.5);
+    Eigen::Vector2d towards = Eigen::Vector2d::Zero();
+    if (parameters.contractionTarget == WiltingContractionTarget::Base)
+    {
+      const Eigen::Vector2d offset(centreX - midX, centreY - baseY);
+      towards = offset.norm() <= 0.5 * h ? Eigen::Vector2d::Zero() : Eigen::Vector2d(-offset / offset.norm());
+    }
+    else
+    {
+      const double offset = centreX - midX;
+      towards[0] = std::abs(offset) <= 0.5 * h ? 0.0 : (offset > 0.0 ? -1.0 : 1.0);
+    }
     for (int corner = top ? 4 : 0; corner < (top ? 8 : 4); ++corner)
     {
       const std::size_t node = static_cast<std::size_t>(c[static_cast<std::size_t>(corner)]);
-      this->LoadForce[3 * node + 0] += 0.25 * parameters.contractionForce * towards;
+      this->ContractionLoad[3 * node + 0] += 0.25 * parameters.contractionForce * towards[0];
+      this->ContractionLoad[3 * node + 1] += 0.25 * parameters.contractionForce * towards[1];
       this->LoadForce[3 * node + 2] -= 0.25 * parameters.droopForce;
     }
   }
@@ -265,6 +281,7 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
       {
         this->GravityForce[3 * i + static_cast<std::size_t>(c)] = 0.0;
         this->LoadForce[3 * i + static_cast<std::size_t>(c)] = 0.0;
+        this->ContractionLoad[3 * i + static_cast<std::size_t>(c)] = 0.0;
       }
     }
   }
@@ -293,10 +310,12 @@ std::vector<double> WiltingSimulation::FrameTimes() const
 void WiltingSimulation::ExternalForce(double t, std::vector<double>& force) const
 {
   const double factor = WiltingLoadFactor(this->Params.loadProfile, t, this->Params.loadTime);
+  const double contraction = WiltingLoadFactor(this->Params.loadProfile, t,
+    this->Params.contractionTime > 0.0 ? this->Params.contractionTime : this->Params.loadTime);
   force.resize(this->GravityForce.size());
   for (std::size_t k = 0; k < force.size(); ++k)
   {
-    force[k] = this->GravityForce[k] + factor * this->LoadForce[k];
+    force[k] = this->GravityForce[k] + factor * this->LoadForce[k] + contraction * this->ContractionLoad[k];
   }
 }
 

@@ -6,19 +6,22 @@
 // - Springs: the 28 node pairs of each voxel (12 edges, 12 face diagonals, 4 body diagonals) with the voxel's
 //   region stiffness k and dashpot c; * a pair shared by neighbouring voxels is one spring whose k and c are the
 //   sums of the voxels' (a face shared by two voxels is as stiff as the two voxels' halves of material behind it).
-// - Materials per region class (blade 0, veins 1-3, margin 4, petiole 5): Density (mass per unit voxel volume;
-//   * the voxel's mass is Density h^3, lumped 1/8 to each corner), Stiffness (k of each spring, force per unit
-//   length) and Damping (c of each spring's dashpot).
+// - Materials per region class (blade 0 and * tertiary veins 3, finer than a voxel; veins 1-2; margin 4; petiole 5):
+//   Density (mass per unit voxel volume; * the voxel's mass is Density h^3, lumped 1/8 to each corner), Stiffness
+//   (k of each spring, force per unit length) and Damping (c of each spring's dashpot).
 // - Anchors: * the input points with Region 5 (petiole), or else the blade's base (the point with the smallest
 //   LeafUV v, or the smallest y without LeafUV); every node within AnchorRadius of one is fixed (at least the
 //   nodes of the base point's voxel).
 // - Loads at time t (all scaled by LoadFactor(t) except gravity): gravity m g (0, 0, -1) per node; droop: a pull
 //   DroopForce (0, 0, -1) per voxel; contraction: ContractionForce per voxel towards the midvein plane x = x_base
-//   (* the plane through the base along +Y; voxels whose centre is within h/2 of it get none), each voxel's loads
-//   split over its four bottom (ContractionSide Bottom: the margin curls down, cucumber) or top (Top: curls up,
+//   (* the plane through the base along +Y; voxels whose centre is within h/2 of it get none), or with
+//   ContractionTarget Base towards the base point in the XY plane (voxels within h/2 of it get none), each voxel's
+//   loads split over its four bottom (ContractionSide Bottom: the margin curls down, cucumber) or top (Top: curls up,
 //   tomato) nodes. * Loads are dead loads (fixed directions).
 // - LoadProfile: Constant 1 (the paper), Ramp min(1, t/LoadTime), Sigmoid: the logistic 1/(1 + exp(-12 (t/T -
 //   1/2))) rescaled to go from 0 at t = 0 to 1 at t = T = LoadTime (slow start, then faster: the measured wilting).
+//   The contraction follows the same profile over its own ContractionTime (0: LoadTime): * the paper sees the
+//   margins change first, and the cucumber fit wants the curl earlier than the droop.
 // - Integration: NewmarkIntegrator (Rayleigh damping, Newton, compression clamp, Cholesky or CG).
 // - Blow-up guard: a non-finite value, an inverted voxel (a corner Jacobian <= 0, relative to rest), or mechanical
 //   energy (kinetic + spring + gravity, from rest) above twice the work the droop and contraction loads have done
@@ -54,6 +57,15 @@ enum class WiltingContractionSide : int
   Top = 1
 };
 
+/// Where the contraction pulls: towards the midvein plane (the paper's lateral contraction: the margins curl), or
+/// towards the base (* the lamina shrinking on one side in every in-plane direction: the margins and the apex curl,
+/// which shortens the leaf; the cucumber fit needs it, benchmarks/README.md "wilting calibration").
+enum class WiltingContractionTarget : int
+{
+  Midvein = 0,
+  Base = 1
+};
+
 /// Region classes with their own material.
 enum WiltingMaterialClass : int
 {
@@ -82,8 +94,11 @@ struct WiltingParameters
   double droopForce = 0.0;
   double contractionForce = 0.0;
   WiltingContractionSide contractionSide = WiltingContractionSide::Bottom;
+  WiltingContractionTarget contractionTarget = WiltingContractionTarget::Midvein;
   WiltingLoadProfile loadProfile = WiltingLoadProfile::Sigmoid;
   double loadTime = 5.0;     ///< ramp / sigmoid duration (s)
+  /// The contraction's own ramp / sigmoid duration (s); 0: loadTime. * The paper sees the margins change first.
+  double contractionTime = 0.0;
   double anchorRadius = 1.0; ///< model units
   double duration = 10.0;    ///< simulated seconds
   double frameInterval = 0.1;
@@ -147,7 +162,8 @@ private:
   NewmarkIntegrator Newmark;
   std::vector<Eigen::Vector3d> Points;
   std::vector<double> GravityForce; // per node
-  std::vector<double> LoadForce;    // per node, droop + contraction at full load
+  std::vector<double> LoadForce;    // per node, droop at full load
+  std::vector<double> ContractionLoad; // per node, contraction at full load
   int Tip = 0;
   int StepsPerFrame = 1;
   int FrameCount = 1;

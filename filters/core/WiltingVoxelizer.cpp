@@ -66,9 +66,9 @@ int RegionPriority(int region)
       return 4;
     case 2:
       return 3;
-    case 3:
-      return 2;
     case 4:
+      return 2;
+    case 3:
       return 1;
     default:
       return 0;

@@ -25,8 +25,9 @@ namespace plantmorph
 bool TriangleBoxOverlap(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
   const Eigen::Vector3d& low, const Eigen::Vector3d& high);
 
-/// Region significance used to label voxels (higher wins): petiole 5, midvein 4, secondary 3, tertiary 2, margin 1,
-/// blade 0.
+/// Region significance used to label voxels (higher wins): petiole 5, midvein 4, secondary 3, margin 2, tertiary 1,
+/// blade 0. Tertiary veins and veinlets are much finer than a voxel and keep the blade's material
+/// (WiltingMaterialOf), so they rank below the margin: a reticulate network must not turn every voxel into vein.
 int RegionPriority(int region);
 
 struct VoxelGrid

@@ -238,6 +238,64 @@ TEST(WiltingSimulation, ContractionSideChoosesTheCurl)
   EXPECT_GT(marginMinusMid[1], 1e-3) << "top: margin up";
 }
 
+TEST(WiltingSimulation, ContractionHasItsOwnTimeAndTarget)
+{
+  // Ramp profile, LoadTime 8 s: the droop is at 1/8 at t = 1 s. With ContractionTime 2 s the contraction is at 1/2
+  // then, exactly what it is at t = 4 s when it shares LoadTime (ContractionTime 0).
+  const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
+  WiltingParameters p = DroopOnly();
+  p.voxelSize = 1.0;
+  p.gravity = 0.0;
+  p.loadProfile = WiltingLoadProfile::Ramp;
+  p.loadTime = 8.0;
+  p.droopForce = 0.0;
+  p.contractionForce = 3.0;
+  p.contractionTarget = WiltingContractionTarget::Base;
+  std::vector<double> own, shared, droop;
+  {
+    p.contractionTime = 2.0;
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    simulation.ExternalForce(1.0, own);
+  }
+  {
+    p.contractionTime = 0.0;
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    simulation.ExternalForce(4.0, shared);
+  }
+  ASSERT_EQ(own.size(), shared.size());
+  double towardsBase = 0.0, vertical = 0.0;
+  for (std::size_t k = 0; k < own.size(); ++k)
+  {
+    EXPECT_EQ(own[k], shared[k]);
+    towardsBase += k % 3 == 1 ? own[k] : 0.0; // every voxel pulls towards the base at y = 0: -y
+    vertical += k % 3 == 2 ? std::abs(own[k]) : 0.0;
+  }
+  EXPECT_LT(towardsBase, -1.0);
+  EXPECT_EQ(vertical, 0.0);
+  // The droop is unaffected by ContractionTime: at t = 1 s it is 1/8 of DroopForce per voxel whatever it is.
+  p.contractionForce = 0.0;
+  p.droopForce = 8.0;
+  for (double contractionTime : { 0.0, 2.0 })
+  {
+    p.contractionTime = contractionTime;
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    simulation.ExternalForce(1.0, droop);
+    double total = 0.0;
+    for (std::size_t k = 2; k < droop.size(); k += 3)
+    {
+      total += droop[k];
+    }
+    // 40 voxels of 1 cm, their anchored nodes' share removed: between 30 and 40 voxels' worth of 1 dyn each.
+    EXPECT_LT(total, -30.0 * 1.0);
+    EXPECT_GT(total, -40.0 * 1.0 - 1e-9);
+  }
+  p.contractionTime = -1.0;
+  EXPECT_NE(ValidateWilting(p).find("ContractionTime"), std::string::npos);
+}
+
 TEST(WiltingSimulation, DeterministicAcrossRunsAndThreads)
 {
   const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
