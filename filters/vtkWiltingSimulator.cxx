@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,8 @@ struct vtkWiltingSimulator::Cache
 {
   plantmorph::WiltingSimulation simulation;
   vtkMTimeType inputTime = 0;
+  vtkMTimeType veinsTime = 0;
+  vtkIdType veinPoints = 0;
   vtkMTimeType selfTime = 0;
   bool valid = false;
 };
@@ -60,8 +63,12 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
   p.contractionForce = f->GetContractionForce();
   p.contractionSide = f->GetContractionSide() == vtkWiltingSimulator::SIDE_TOP ? plantmorph::WiltingContractionSide::Top
                                                                                : plantmorph::WiltingContractionSide::Bottom;
+  p.contractionTarget = f->GetContractionTarget() == vtkWiltingSimulator::TARGET_BASE
+    ? plantmorph::WiltingContractionTarget::Base
+    : plantmorph::WiltingContractionTarget::Midvein;
   p.loadProfile = static_cast<plantmorph::WiltingLoadProfile>(std::clamp(f->GetLoadProfile(), 0, 2));
   p.loadTime = f->GetLoadTime();
+  p.contractionTime = f->GetContractionTime();
   p.anchorRadius = f->GetAnchorRadius();
   p.duration = f->GetDuration();
   p.frameInterval = f->GetFrameInterval();
@@ -96,6 +103,10 @@ std::string CheckEnumerations(vtkWiltingSimulator* f)
   if (f->GetContractionSide() < 0 || f->GetContractionSide() > 1)
   {
     return "ContractionSide must be 0 (Bottom) or 1 (Top), got " + std::to_string(f->GetContractionSide());
+  }
+  if (f->GetContractionTarget() < 0 || f->GetContractionTarget() > 1)
+  {
+    return "ContractionTarget must be 0 (Midvein) or 1 (Base), got " + std::to_string(f->GetContractionTarget());
   }
   if (f->GetSolver() < 0 || f->GetSolver() > 2)
   {
@@ -143,7 +154,8 @@ vtkSmartPointer<vtkDoubleArray> Vector3Array(const char* name, vtkIdType count)
 vtkWiltingSimulator::vtkWiltingSimulator()
   : Cached(new Cache)
 {
-  this->SetNumberOfOutputPorts(3);
+  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfOutputPorts(4);
 }
 
 vtkWiltingSimulator::~vtkWiltingSimulator() = default;
@@ -161,6 +173,30 @@ void vtkWiltingSimulator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DroopForce: " << this->DroopForce << "\n";
   os << indent << "ContractionForce: " << this->ContractionForce << "\n";
   os << indent << "Solver: " << this->Solver << "\n";
+}
+
+//------------------------------------------------------------------------------
+int vtkWiltingSimulator::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+    return 1;
+  }
+  return this->Superclass::FillInputPortInformation(port, info);
+}
+
+//------------------------------------------------------------------------------
+void vtkWiltingSimulator::SetVeinsConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(1, output);
+}
+
+//------------------------------------------------------------------------------
+void vtkWiltingSimulator::SetVeinsData(vtkPolyData* veins)
+{
+  this->SetInputData(1, veins);
 }
 
 //------------------------------------------------------------------------------
@@ -185,7 +221,7 @@ int vtkWiltingSimulator::RequestInformation(
 {
   const std::vector<double> times =
     CheckEnumerations(this).empty() ? FrameTimes(ParametersOf(this)) : std::vector<double>();
-  for (int port = 0; port < 3; ++port)
+  for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
   {
     vtkInformation* info = outputVector->GetInformationObject(port);
     if (times.empty())
@@ -205,11 +241,14 @@ int vtkWiltingSimulator::RequestInformation(
 int vtkWiltingSimulator::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  // The whole simulation starts from the input's one state: do not pass our time upstream.
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo)
+  // The whole simulation starts from the inputs' one state: do not pass our time upstream.
+  for (int port = 0; port < 2; ++port)
   {
-    inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    vtkInformation* inInfo = inputVector[port]->GetInformationObject(0);
+    if (inInfo)
+    {
+      inInfo->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    }
   }
   return 1;
 }
@@ -219,12 +258,15 @@ int vtkWiltingSimulator::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* veins = vtkPolyData::GetData(inputVector[1], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   vtkUnstructuredGrid* voxels = vtkUnstructuredGrid::GetData(outputVector, 1);
   vtkTable* table = vtkTable::GetData(outputVector, 2);
+  vtkPolyData* movedVeins = vtkPolyData::GetData(outputVector, 3);
   output->Initialize();
   voxels->Initialize();
   table->Initialize();
+  movedVeins->Initialize();
   if (!input || input->GetNumberOfPoints() == 0)
   {
     return 1; // an empty piece: nothing to wilt
@@ -243,13 +285,23 @@ int vtkWiltingSimulator::RequestData(
   }
   Cache& cache = *this->Cached;
   const vtkIdType pointCount = input->GetNumberOfPoints();
-  if (!cache.valid || cache.inputTime != input->GetMTime() || cache.selfTime != this->GetMTime())
+  const vtkIdType veinCount = veins ? veins->GetNumberOfPoints() : 0;
+  const vtkMTimeType veinsTime = veins ? veins->GetMTime() : 0;
+  if (!cache.valid || cache.inputTime != input->GetMTime() || cache.selfTime != this->GetMTime() ||
+    cache.veinsTime != veinsTime || cache.veinPoints != veinCount)
   {
+    // The simulation's points: the surface's, then the veins' (they mark vein voxels through their Region and
+    // follow the voxels like every surface point; they are not voxelised themselves).
     plantmorph::WiltingInput in;
-    in.points.resize(static_cast<std::size_t>(pointCount));
+    const std::size_t total = static_cast<std::size_t>(pointCount + veinCount);
+    in.points.resize(total);
     for (vtkIdType i = 0; i < pointCount; ++i)
     {
       input->GetPoint(i, in.points[static_cast<std::size_t>(i)].data());
+    }
+    for (vtkIdType i = 0; i < veinCount; ++i)
+    {
+      veins->GetPoint(i, in.points[static_cast<std::size_t>(pointCount + i)].data());
     }
     auto polys = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
     for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
@@ -262,19 +314,29 @@ int vtkWiltingSimulator::RequestData(
         in.triangles.push_back({ static_cast<int>(ids[0]), static_cast<int>(ids[k]), static_cast<int>(ids[k + 1]) });
       }
     }
+    // Region: a point without one (either dataset may lack the array) counts as blade.
     vtkDataArray* region = input->GetPointData()->GetArray(plantmorph::arrays::Region);
-    if (region && region->GetNumberOfComponents() == 1)
+    vtkDataArray* veinRegion = veins ? veins->GetPointData()->GetArray(plantmorph::arrays::Region) : nullptr;
+    region = region && region->GetNumberOfComponents() == 1 ? region : nullptr;
+    veinRegion = veinRegion && veinRegion->GetNumberOfComponents() == 1 ? veinRegion : nullptr;
+    if (region || veinRegion)
     {
-      in.regions.resize(static_cast<std::size_t>(pointCount));
-      for (vtkIdType i = 0; i < pointCount; ++i)
+      in.regions.assign(total, plantmorph::RegionBlade);
+      for (vtkIdType i = 0; region && i < pointCount; ++i)
       {
         in.regions[static_cast<std::size_t>(i)] = static_cast<int>(region->GetComponent(i, 0));
       }
+      for (vtkIdType i = 0; veinRegion && i < veinCount; ++i)
+      {
+        in.regions[static_cast<std::size_t>(pointCount + i)] = static_cast<int>(veinRegion->GetComponent(i, 0));
+      }
     }
+    // LeafUV picks the base and the tip among the surface's points; vein points get NaN (never picked).
     vtkDataArray* uv = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
     if (uv && uv->GetNumberOfComponents() == 2)
     {
-      in.leafUV.resize(static_cast<std::size_t>(pointCount));
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      in.leafUV.assign(total, Eigen::Vector2d(nan, nan));
       for (vtkIdType i = 0; i < pointCount; ++i)
       {
         in.leafUV[static_cast<std::size_t>(i)] = Eigen::Vector2d(uv->GetComponent(i, 0), uv->GetComponent(i, 1));
@@ -302,6 +364,8 @@ int vtkWiltingSimulator::RequestData(
     }
     cache.valid = true;
     cache.inputTime = input->GetMTime();
+    cache.veinsTime = veinsTime;
+    cache.veinPoints = veinCount;
     cache.selfTime = this->GetMTime();
   }
   const plantmorph::WiltingSimulation& simulation = cache.simulation;
@@ -337,8 +401,8 @@ int vtkWiltingSimulator::RequestData(
     v[k] = (1.0 - w) * frames[lower].v[k] + w * frames[upper].v[k];
   }
   const double frameTime = (1.0 - w) * frames[lower].time + w * frames[upper].time;
-  // Port 0: the moved input.
-  std::vector<double> d(3 * static_cast<std::size_t>(pointCount));
+  // Port 0: the moved input (the first pointCount of the simulation's points; the veins' follow).
+  std::vector<double> d(3 * static_cast<std::size_t>(pointCount + veinCount));
   simulation.Embedding().Interpolate(q.data(), d.data());
   output->ShallowCopy(input);
   vtkNew<vtkPoints> points;
@@ -357,6 +421,26 @@ int vtkWiltingSimulator::RequestData(
   output->SetPoints(points);
   output->GetPointData()->AddArray(displacement);
   output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frameTime);
+  // Port 3: the moved veins, every array kept, plus Displacement.
+  if (veins && veinCount > 0)
+  {
+    movedVeins->ShallowCopy(veins);
+    vtkNew<vtkPoints> veinPoints;
+    veinPoints->SetDataType(veins->GetPoints()->GetDataType());
+    veinPoints->SetNumberOfPoints(veinCount);
+    auto veinDisplacement = Vector3Array("Displacement", veinCount);
+    for (vtkIdType i = 0; i < veinCount; ++i)
+    {
+      const std::size_t k = static_cast<std::size_t>(pointCount + i);
+      const double* di = d.data() + 3 * k;
+      const Eigen::Vector3d& x = rest[k];
+      veinPoints->SetPoint(i, x[0] + di[0], x[1] + di[1], x[2] + di[2]);
+      veinDisplacement->SetTuple(i, di);
+    }
+    movedVeins->SetPoints(veinPoints);
+    movedVeins->GetPointData()->AddArray(veinDisplacement);
+  }
+  movedVeins->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frameTime);
   {
     // Field data: how many simulations this filter has run (scrubbing must not raise it) and the frame time.
     vtkNew<vtkIntArray> runs;

@@ -22,13 +22,22 @@
  * frames), so scrubbing the animation never re-simulates. The input is taken at its own (only) state: the
  * filter removes the update time from its upstream request.
  *
+ * Input port 1, optional (`Veins`; SetVeinsConnection): polylines on the surface, e.g. VenationFilter's port 0
+ * (feed its port 1, the blade, to port 0). Their points are not voxelised; they mark the voxels they lie in with
+ * their `Region` (primary and secondary veins make vein voxels; tertiary veins and veinlets, finer than a voxel,
+ * keep the blade's material) and follow the voxels like the surface's points (spec 04: every input point, surface
+ * and veins, follows the voxels). A single input holding both polygons and lines works too: its lines are
+ * carried along on port 0.
+ *
  * Outputs:
  * - port 0: the input with every point moved (points keep the input's precision) and every array passed through
  *   (TCoords stays the active texture coordinates), plus the point array `Displacement`;
  * - port 1: the voxel model, a vtkUnstructuredGrid of hexahedra, point arrays `Displacement`, `Velocity`, `Fixed`,
  *   `Mass`, cell array `Region`;
  * - port 2: a vtkTable of every frame: `Time`, `TipX`, `TipY`, `TipZ` (the tip: largest LeafUV v, else the point
- *   farthest from the base) and the energies `Kinetic`, `Spring`, `Gravity` (relative to rest).
+ *   farthest from the base) and the energies `Kinetic`, `Spring`, `Gravity` (relative to rest);
+ * - port 3: the veins (input port 1) moved with the leaf, every array kept, plus `Displacement`; empty without
+ *   veins.
  *
  * Field data on port 0: `WiltingSimulator.SimulationCount` (simulations run so far: scrubbing does not raise it)
  * and `WiltingSimulator.FrameTime` (the time served).
@@ -78,6 +87,11 @@ public:
     SIDE_BOTTOM = 0,
     SIDE_TOP = 1
   };
+  enum Targets
+  {
+    TARGET_MIDVEIN = 0,
+    TARGET_BASE = 1
+  };
   enum Solvers
   {
     SOLVER_AUTO = 0,
@@ -125,10 +139,16 @@ public:
   vtkGetMacro(ContractionForce, double);
   vtkSetMacro(ContractionSide, int);
   vtkGetMacro(ContractionSide, int);
+  /** Contraction towards the midvein plane (0, the paper's) or towards the base (1: margins and apex curl). */
+  vtkSetMacro(ContractionTarget, int);
+  vtkGetMacro(ContractionTarget, int);
   vtkSetMacro(LoadProfile, int);
   vtkGetMacro(LoadProfile, int);
   vtkSetMacro(LoadTime, double);
   vtkGetMacro(LoadTime, double);
+  /** The contraction's own ramp/sigmoid duration (s); 0 (default): LoadTime. */
+  vtkSetMacro(ContractionTime, double);
+  vtkGetMacro(ContractionTime, double);
   ///@}
 
   ///@{
@@ -172,6 +192,10 @@ public:
   vtkBooleanMacro(Tricubic, bool);
   ///@}
 
+  /** The optional veins (input port 1). */
+  void SetVeinsConnection(vtkAlgorithmOutput* output);
+  void SetVeinsData(vtkPolyData* veins);
+
   /** Number of simulations run so far (the cache's test hook: scrubbing must not raise it). */
   vtkGetMacro(SimulationCount, int);
 
@@ -179,6 +203,7 @@ protected:
   vtkWiltingSimulator();
   ~vtkWiltingSimulator() override;
 
+  int FillInputPortInformation(int port, vtkInformation* info) override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -196,8 +221,10 @@ protected:
   double DroopForce = 2.0;
   double ContractionForce = 1.0;
   int ContractionSide = SIDE_BOTTOM;
+  int ContractionTarget = TARGET_MIDVEIN;
   int LoadProfile = PROFILE_SIGMOID;
   double LoadTime = 8.0;
+  double ContractionTime = 0.0;
   double AnchorRadius = 1.0;
   double Duration = 10.0;
   double TimeStep = 1.0 / 120.0;
