@@ -8,7 +8,7 @@ exactly: every branch projects onto its stroke) and, next to it, the same tree t
 depth the phyllotaxis rule gave each stroke branch, each with a two-level template subtree and leaves.
 In the GUI the strokes are drawn over a photograph with the Poly Line widget (docs/tracing-a-tree-photo.md).
 
-    xvfb-run -a pvbatch examples/tree_from_sketch.py --plugin build/.../PlantMorph.so --output output/
+    xvfb-run -a pvbatch examples/main_tree_from_sketch.py --plugin build/.../PlantMorph.so --output output/
 """
 import os
 
