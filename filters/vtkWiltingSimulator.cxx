@@ -255,7 +255,7 @@ int vtkWiltingSimulator::RequestUpdateExtent(
 
 //------------------------------------------------------------------------------
 int vtkWiltingSimulator::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
   vtkPolyData* veins = vtkPolyData::GetData(inputVector[1], 0);
@@ -374,9 +374,21 @@ int vtkWiltingSimulator::RequestData(
   {
     return 1;
   }
-  // The requested time, between two frames.
+  // The requested time, between two frames: the time asked of the port that asked (a request through the veins'
+  // or the voxels' port leaves port 0's time stale), else port 0's.
   double time = 0.0;
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int port = request && request->Has(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT())
+    ? request->Get(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT())
+    : 0;
+  if (port < 0 || port >= outputVector->GetNumberOfInformationObjects())
+  {
+    port = 0;
+  }
+  vtkInformation* outInfo = outputVector->GetInformationObject(port);
+  if (!outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  {
+    outInfo = outputVector->GetInformationObject(0);
+  }
   if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
   {
     time = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
