@@ -44,7 +44,10 @@
  *
  * Presets: with Preset other than Custom the materials, loads, load profile and Rayleigh damping come from the
  * preset (plantmorph::ApplyWiltingPreset: Cucumber, Tomato, Watermelon) and the corresponding properties are
- * ignored (Duration, TimeStep and the rest are always the properties'); with Custom they are used as set.
+ * ignored (Duration, TimeStep and the rest are always the properties'); with Custom they are used as set. The
+ * Cucumber preset was fitted to paper 001's measured tip trajectory (docs/wilting-calibration.md) at this filter's
+ * defaults (Resolution 14, AnchorRadius 3, TimeStep 1/60 s, one Newton iteration) on a 20.1 x 22.1 cm leaf; at
+ * other voxel sizes its stiffness and loads are rescaled (WiltingParameters::referenceVoxelSize), approximately.
  *
  * Errors (a vtkErrorMacro naming the property and its accepted range, and empty outputs, never a crash): any
  * property out of range or not finite, an input without triangles, a non-finite coordinate, a model larger than
@@ -109,7 +112,7 @@ public:
   /** Voxel edge in model units; 0 uses Resolution. Range [0, inf). Default 0. */
   vtkSetMacro(VoxelSize, double);
   vtkGetMacro(VoxelSize, double);
-  /** Voxels along the bounding box's longest side when VoxelSize is 0. Range [1, 1000]. Default 20. */
+  /** Voxels along the bounding box's longest side when VoxelSize is 0. Range [1, 1000]. Default 14. */
   vtkSetMacro(Resolution, int);
   vtkGetMacro(Resolution, int);
   /** Most voxels allowed (a larger model is an error). Default 2000000. */
@@ -152,13 +155,13 @@ public:
   ///@}
 
   ///@{
-  /** Nodes within this distance of the petiole (or the base) are fixed. Default 1. */
+  /** Nodes within this distance of the petiole (or the base) are fixed. Default 3. */
   vtkSetMacro(AnchorRadius, double);
   vtkGetMacro(AnchorRadius, double);
   ///@}
 
   ///@{
-  /** Simulated time, time step and frame spacing (seconds). Defaults 10, 1/120, 0.1. */
+  /** Simulated time, time step and frame spacing (seconds). Defaults 10, 1/60, 0.1. */
   vtkSetMacro(Duration, double);
   vtkGetMacro(Duration, double);
   vtkSetMacro(TimeStep, double);
@@ -176,7 +179,7 @@ public:
   ///@}
 
   ///@{
-  /** Newton iterations per step [1, 100] (default 2); compression clamp (default on); solver (0 Auto, 1
+  /** Newton iterations per step [1, 100] (default 1); compression clamp (default on); solver (0 Auto, 1
    * Cholesky, 2 CG); threads (0 all); tricubic embedding (default off). */
   vtkSetMacro(NewtonIterations, int);
   vtkGetMacro(NewtonIterations, int);
@@ -211,7 +214,7 @@ protected:
 
   int Preset = PRESET_CUCUMBER;
   double VoxelSize = 0.0;
-  int Resolution = 20;
+  int Resolution = 14;
   int MaximumVoxels = 2000000;
   double BladeMaterial[3] = { 0.02, 1000.0, 0.0 };
   double VeinMaterial[3] = { 0.04, 2000.0, 0.0 };
@@ -225,13 +228,13 @@ protected:
   int LoadProfile = PROFILE_SIGMOID;
   double LoadTime = 8.0;
   double ContractionTime = 0.0;
-  double AnchorRadius = 1.0;
+  double AnchorRadius = 3.0;
   double Duration = 10.0;
-  double TimeStep = 1.0 / 120.0;
+  double TimeStep = 1.0 / 60.0;
   double FrameInterval = 0.1;
   double RayleighAlpha = 2.0;
   double RayleighBeta = 0.01;
-  int NewtonIterations = 2;
+  int NewtonIterations = 1;
   bool CompressionClamp = true;
   int Solver = SOLVER_AUTO;
   int Threads = 0;

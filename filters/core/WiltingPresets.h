@@ -1,11 +1,13 @@
 // WiltingSimulator presets (spec 04; paper 001 sec. 3): materials and loads for the paper's three leaves.
-//   Cucumber: droop with the margin curling down (loads on the voxels' bottom nodes), calibrated against the
-//             paper's measured tip trajectory (examples/calibrate_wilting.py; benchmarks/README.md "wilting").
+//   Cucumber: droop with the margin and apex curling down (contraction towards the base on the voxels' bottom
+//             nodes, earlier than the droop), fitted to the paper's measured tip trajectory on a leaf of the
+//             measured size (examples/calibrate_wilting.py; docs/wilting-calibration.md): valid at the settings it
+//             was fitted at (Resolution 14 on a 20 cm leaf, AnchorRadius 3, TimeStep 1/60 s, one Newton iteration).
 //   Tomato:   the margin curls up (loads on the top nodes), less droop.
 //   Watermelon: a lobed leaf (feed it a palmate LeafOutlineSource blade); droop, lobes curling down.
 // The paper's fitted triples (mass, stiffness, damping) print as veins "1000, 20000, 500", margin "5000, 8000,
-// 500", rest "8000, 10000, 500" without units or decimal points; the presets keep their stiffness ratios
-// (veins 2, margin 0.8, blade 1) and use densities and dashpots in g, cm, s that give a leaf of a few grams.
+// 500", rest "8000, 10000, 500" without units or decimal points; Tomato and Watermelon keep their stiffness ratios
+// (veins 2, margin 0.8, blade 1) with densities in g, cm, s (not fitted: no measurements); the Cucumber's are fitted.
 #pragma once
 
 #include "WiltingSimulation.h"

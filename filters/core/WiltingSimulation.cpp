@@ -48,6 +48,10 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << "LoadTime must be > 0 and finite (got " << p.loadTime << ")";
   }
+  else if (!(p.referenceVoxelSize >= 0.0) || !std::isfinite(p.referenceVoxelSize))
+  {
+    message << "the reference voxel size must be >= 0 and finite (got " << p.referenceVoxelSize << ")";
+  }
   else if (!(p.contractionTime >= 0.0) || !std::isfinite(p.contractionTime))
   {
     message << "ContractionTime must be >= 0 and finite (0: LoadTime) (got " << p.contractionTime << ")";
@@ -139,6 +143,9 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   }
   const VoxelGrid& grid = this->Voxels;
   const double h = grid.h;
+  const double ratio = parameters.referenceVoxelSize > 0.0 ? h / parameters.referenceVoxelSize : 1.0;
+  const double springScale = ratio;
+  const double loadScale = ratio * ratio * ratio;
   // Nodes with lumped masses.
   for (const Eigen::Vector3d& x : grid.nodes)
   {
@@ -148,6 +155,8 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   {
     const WiltingMaterial& material =
       parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))];
+    const double stiffness = material.stiffness * springScale;
+    const double damping = material.damping * springScale;
     const double mass = material.density * h * h * h;
     const std::array<int, 8>& c = grid.corners[v];
     for (int node : c)
@@ -158,8 +167,8 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
     {
       for (int b = a + 1; b < 8; ++b)
       {
-        this->Springs.AddSpring(c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], material.stiffness,
-          material.damping);
+        this->Springs.AddSpring(
+          c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], stiffness, damping);
       }
     }
     this->Springs.AddHexahedron(c);
@@ -268,9 +277,9 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
     for (int corner = top ? 4 : 0; corner < (top ? 8 : 4); ++corner)
     {
       const std::size_t node = static_cast<std::size_t>(c[static_cast<std::size_t>(corner)]);
-      this->ContractionLoad[3 * node + 0] += 0.25 * parameters.contractionForce * towards[0];
-      this->ContractionLoad[3 * node + 1] += 0.25 * parameters.contractionForce * towards[1];
-      this->LoadForce[3 * node + 2] -= 0.25 * parameters.droopForce;
+      this->ContractionLoad[3 * node + 0] += 0.25 * loadScale * parameters.contractionForce * towards[0];
+      this->ContractionLoad[3 * node + 1] += 0.25 * loadScale * parameters.contractionForce * towards[1];
+      this->LoadForce[3 * node + 2] -= 0.25 * loadScale * parameters.droopForce;
     }
   }
   for (std::size_t i = 0; i < n; ++i)

@@ -93,6 +93,11 @@ struct WiltingParameters
   double gravity = 981.0; ///< downward (-Z) acceleration, model units / s^2
   double droopForce = 0.0;
   double contractionForce = 0.0;
+  /// > 0: the materials' stiffness and damping and the droop and contraction loads were given for voxels of this
+  /// edge (a preset's fit); Setup scales them to the actual edge h, stiffness by h/h0 (a spring lattice's modulus
+  /// is k/h) and loads by (h/h0)^3 (loads per volume, like gravity), so a fit carries over to other resolutions
+  /// approximately. 0: used as given.
+  double referenceVoxelSize = 0.0;
   WiltingContractionSide contractionSide = WiltingContractionSide::Bottom;
   WiltingContractionTarget contractionTarget = WiltingContractionTarget::Midvein;
   WiltingLoadProfile loadProfile = WiltingLoadProfile::Sigmoid;

@@ -33,13 +33,16 @@ def digest(data):
 
 
 if arguments.load is None:
-    leaf = LeafOutlineSource(registrationName="Leaf", Model="B-spline", BSplinePreset="Cucumber", Resolution=24)
+    # The cucumber leaf of paper 001's size, which the Cucumber preset was fitted on.
+    leaf = LeafOutlineSource(registrationName="Leaf", Model="B-spline", BSplinePreset="Cucumber", BladeLength=20.1,
+                             BladeWidth=22.1, Resolution=24)
     wilt = WiltingSimulator(registrationName="Wilt", Input=leaf)
     checks.check(wilt.GetXMLLabel() == "Wilting Simulator", "label: %s" % wilt.GetXMLLabel())
-    checks.check(wilt.Preset == "Cucumber" and wilt.Resolution == 20 and wilt.CompressionClamp == 1,
-                 "defaults: Cucumber preset, Resolution 20, clamp on")
+    checks.check(wilt.Preset == "Cucumber" and wilt.Resolution == 14 and wilt.CompressionClamp == 1 and
+                 wilt.AnchorRadius == 3.0 and wilt.NewtonIterations == 1 and abs(wilt.TimeStep - 1.0 / 60.0) < 1e-15,
+                 "defaults: the Cucumber preset at the settings it was fitted at, clamp on")
     wilt.Duration = 3.0
-    wilt.Resolution = 12
+    wilt.Resolution = 13
     wilt.UpdatePipelineInformation()
     times = list(wilt.TimestepValues)
     checks.check(len(times) == 31 and abs(times[-1] - 3.0) < 1e-9, "31 frames advertised up to 3 s: %d" % len(times))
