@@ -217,6 +217,9 @@ def nelder_mead(f, x0, step, budget):
 
 
 def report(track, title):
+    if not track:
+        print("\n%s: the simulation blew up before Duration (see the error above); nothing to compare" % title)
+        return
     yaw = best_yaw(track)
     print("\n%s" % title)
     for label, t in (("raw (yaw 0)", track), ("turned by the best yaw %.2f deg" % yaw, turned(track, yaw))):
