@@ -10,7 +10,7 @@ benchmarks/README.md "wilting calibration"). Writes:
   measured tip positions (red spheres) and the simulated tip trajectory (dark line);
 - wilting_cucumber_leaf_<t>.vtp and wilting_cucumber_veins_<t>.vtp: the wilted leaf and veins at those times.
 
-    xvfb-run -a pvbatch examples/wilting_cucumber.py --plugin build/.../PlantMorph.so --output output/
+    xvfb-run -a pvbatch examples/main_wilting_cucumber.py --plugin build/.../PlantMorph.so --output output/
 """
 import csv
 import os
