@@ -6,18 +6,16 @@ source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/setup.sh"
 OUTPUT="$(mkdir -p "${1:-$PLANTMORPH_ROOT/output}" && cd "${1:-$PLANTMORPH_ROOT/output}" && pwd)"
 # pvbatch renders only with an X server: use the one we have, or one virtual server for all the examples (one
 # xvfb-run per example races with other X clients starting on the machine: "bad X server connection").
-run_examples() {
-  for example in "$PLANTMORPH_ROOT"/examples/main_*.py; do
-    echo "run: $(basename "$example")"
-    pvbatch "$example" --plugin "$PLANTMORPH_PLUGIN" --output "$OUTPUT"
-  done
-}
+EXAMPLES='set -euo pipefail
+for example in "$PLANTMORPH_ROOT"/examples/main_*.py; do
+  echo "run: $(basename "$example")"
+  pvbatch "$example" --plugin "$PLANTMORPH_PLUGIN" --output "$OUTPUT"
+done'
+export PLANTMORPH_ROOT PLANTMORPH_PLUGIN OUTPUT
 if [ -n "${DISPLAY:-}" ]; then
-  run_examples
+  bash -c "$EXAMPLES"
 else
-  export -f run_examples
-  export PLANTMORPH_ROOT PLANTMORPH_PLUGIN OUTPUT
-  xvfb-run -a -s "-screen 0 1920x1080x24" bash -euo pipefail -c run_examples
+  xvfb-run -a -s "-screen 0 1920x1080x24" bash -c "$EXAMPLES"
 fi
 echo "run: results written to $OUTPUT"
 ls -1 "$OUTPUT"
