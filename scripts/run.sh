@@ -6,10 +6,16 @@ source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/setup.sh"
 OUTPUT="$(mkdir -p "${1:-$PLANTMORPH_ROOT/output}" && cd "${1:-$PLANTMORPH_ROOT/output}" && pwd)"
 # pvbatch renders only with an X server: use the one we have, or one virtual server for all the examples (one
 # xvfb-run per example races with other X clients starting on the machine: "bad X server connection").
-EXAMPLES='set -euo pipefail
+# On this kind of machine a render window's connection to Xvfb now and then fails ("bad X server connection",
+# pvbatch aborts at once); an example that aborts is run again, up to three times.
+EXAMPLES='set -uo pipefail
 for example in "$PLANTMORPH_ROOT"/examples/main_*.py; do
-  echo "run: $(basename "$example")"
-  pvbatch "$example" --plugin "$PLANTMORPH_PLUGIN" --output "$OUTPUT"
+  for attempt in 1 2 3; do
+    echo "run: $(basename "$example")"
+    pvbatch "$example" --plugin "$PLANTMORPH_PLUGIN" --output "$OUTPUT" && break
+    [ "$attempt" = 3 ] && exit 1
+    echo "run: $(basename "$example") failed, running it again"
+  done
 done'
 export PLANTMORPH_ROOT PLANTMORPH_PLUGIN OUTPUT
 if [ -n "${DISPLAY:-}" ]; then
