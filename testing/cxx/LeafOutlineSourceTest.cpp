@@ -1,5 +1,6 @@
 // The VTK layer: vtkLeafOutlineSource's outputs follow the data contract, pieces other than 0 stay empty, and bad
 // properties give an error naming the property, with empty outputs.
+#include "VtkErrorCatcher.h"
 #include "vtkLeafOutlineSource.h"
 
 #include <plantmorph/DataContract.h>
@@ -28,16 +29,7 @@
 namespace
 {
 /// Collects the error messages an algorithm reports.
-class ErrorCatcher : public vtkCommand
-{
-public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
-  void Execute(vtkObject*, unsigned long, void* data) override
-  {
-    this->Messages += static_cast<const char*>(data);
-  }
-  std::string Messages;
-};
+using plantmorph::testing::ErrorCatcher;
 
 TEST(vtkLeafOutlineSource, BladeCarriesTheContractArrays)
 {

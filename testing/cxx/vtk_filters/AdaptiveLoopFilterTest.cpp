@@ -3,6 +3,7 @@
 // data) on a closed sphere and an open leaf blade, several levels. Then: arrays, precision and field data on a
 // LeafOutlineSource blade; Fixed keeps margin and midvein bit-identical; cell data inherited through triangulated
 // quads; errors (non-manifold with ids, bad properties, refused polygons) give a message and an empty output.
+#include "VtkErrorCatcher.h"
 #include "vtkAdaptiveLoopFilter.h"
 #include "vtkLeafOutlineSource.h"
 
@@ -40,13 +41,7 @@
 
 namespace
 {
-class ErrorCatcher : public vtkCommand
-{
-public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
-  void Execute(vtkObject*, unsigned long, void* data) override { this->Messages += static_cast<const char*>(data); }
-  std::string Messages;
-};
+using plantmorph::testing::ErrorCatcher;
 
 /// The ginkgo blade of LeafOutlineSource, lifted into a curved surface (points in `precision`).
 vtkSmartPointer<vtkPolyData> CurvedBlade(int resolution = 24, int precision = VTK_DOUBLE)

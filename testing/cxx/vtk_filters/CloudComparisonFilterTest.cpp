@@ -4,6 +4,7 @@
 // is at distance 0; a quad plane offset by +t / -t gives SignedDistance +t / -t; Hausdorff and Chamfer are
 // symmetric under swapping the inputs; histogram counts add up to Count; the cut-off counts outliers; ICP recovers a
 // known rigid transform; bad input gives an error naming the property and three empty outputs.
+#include "VtkErrorCatcher.h"
 #include "vtkCloudComparisonFilter.h"
 #include "vtkLeafOutlineSource.h"
 
@@ -39,13 +40,7 @@
 
 namespace
 {
-class ErrorCatcher : public vtkCommand
-{
-public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
-  void Execute(vtkObject*, unsigned long, void* data) override { this->Messages += static_cast<const char*>(data); }
-  std::string Messages;
-};
+using plantmorph::testing::ErrorCatcher;
 
 vtkSmartPointer<vtkPolyData> SphereSurface(int resolution = 40)
 {

@@ -1,6 +1,7 @@
 // The VTK layer of LeafCurlFilter: on a real LeafOutlineSource blade it moves the points exactly as the core does,
 // keeps their precision, passes every other array through (TCoords still the active texture coordinates), turns
 // the normals with the surface, and refuses bad properties or input with an error naming them and an empty output.
+#include "VtkErrorCatcher.h"
 #include "vtkLeafCurlFilter.h"
 #include "vtkLeafOutlineSource.h"
 
@@ -33,13 +34,7 @@
 
 namespace
 {
-class ErrorCatcher : public vtkCommand
-{
-public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
-  void Execute(vtkObject*, unsigned long, void* data) override { this->Messages += static_cast<const char*>(data); }
-  std::string Messages;
-};
+using plantmorph::testing::ErrorCatcher;
 
 vtkSmartPointer<vtkPolyData> Blade(int port = 0)
 {

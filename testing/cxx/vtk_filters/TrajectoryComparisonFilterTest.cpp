@@ -1,6 +1,7 @@
 // The VTK layer of TrajectoryComparisonFilter: paper 001 Table 1 from tables (columns by name) and from point sets
 // gives 1.76, 0.69, 2.52, 1.89, 2.92 cm and 6.1 degrees in the outputs and field data; times are carried; a missing
 // column is an error naming the property and the available columns, with empty outputs.
+#include "VtkErrorCatcher.h"
 #include "vtkTrajectoryComparisonFilter.h"
 
 #include "vtkCommand.h"
@@ -22,13 +23,7 @@
 
 namespace
 {
-class ErrorCatcher : public vtkCommand
-{
-public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
-  void Execute(vtkObject*, unsigned long, void* data) override { this->Messages += static_cast<const char*>(data); }
-  std::string Messages;
-};
+using plantmorph::testing::ErrorCatcher;
 
 const double Measured[5][3] = { { 0.46, 19.58, -2.13 }, { -1.26, 18.51, -3.43 }, { -1.30, 13.45, -9.87 },
   { 0.10, 8.90, -14.10 }, { 0.60, 4.20, -18.40 } };

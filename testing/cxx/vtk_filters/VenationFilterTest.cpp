@@ -1,6 +1,7 @@
 // vtkVenationFilter in a VTK pipeline: the veins of LeafOutlineSource's blades carry the data contract's arrays and
 // statistics, lie on the surface (flat or 3-D blades), emboss the blade when asked, repeat bit for bit, and bad
 // input gives a message and empty outputs.
+#include "VtkErrorCatcher.h"
 #include "vtkLeafOutlineSource.h"
 #include "vtkVenationFilter.h"
 
@@ -25,17 +26,7 @@
 
 namespace
 {
-class ErrorCatcher : public vtkCommand
-{
-public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
-  void Execute(vtkObject*, unsigned long, void* data) override
-  {
-    if (data)
-      this->Messages += static_cast<const char*>(data);
-  }
-  std::string Messages;
-};
+using plantmorph::testing::ErrorCatcher;
 
 double FieldValue(vtkPolyData* data, const char* name, int component = 0)
 {

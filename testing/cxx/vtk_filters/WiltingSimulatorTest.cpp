@@ -4,6 +4,7 @@
 // the optional veins input (vein points follow the voxels exactly as the surface points at the same place, and their
 // Region makes vein voxels), the contraction towards the base (the tip comes back and curls down), and errors
 // (a message naming the property, empty outputs on every port).
+#include "VtkErrorCatcher.h"
 #include "vtkWiltingSimulator.h"
 
 #include <plantmorph/DataContract.h>
@@ -35,13 +36,7 @@
 
 namespace
 {
-class ErrorCatcher : public vtkCommand
-{
-public:
-  static ErrorCatcher* New() { return new ErrorCatcher; }
-  void Execute(vtkObject*, unsigned long, void* data) override { this->Messages += static_cast<const char*>(data); }
-  std::string Messages;
-};
+using plantmorph::testing::ErrorCatcher;
 
 /// The plate x in [-2, 2], y in [0, 10], z = 0, triangulated, with LeafUV (x/4, y/10), Region (4 on the long
 /// edges, else 0), its plane TCoords (active) and an array "Extra" = 7 x + y.
