@@ -1,5 +1,6 @@
 #include "vtkCloudComparisonFilter.h"
 
+#include "PlantMorphFieldData.h"
 #include "CloudStatistics.h"
 #include "PointSurfaceDistance.h"
 #include "RigidRegistration.h"
@@ -32,6 +33,8 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+
+using plantmorph::AddFieldValue;
 
 vtkStandardNewMacro(vtkCloudComparisonFilter);
 
@@ -173,15 +176,6 @@ std::vector<std::int64_t> Triangles(vtkPointSet* data)
   return triangles;
 }
 
-void AddValue(vtkFieldData* fd, const char* name, double value)
-{
-  vtkNew<vtkDoubleArray> a;
-  a->SetName(name);
-  a->SetNumberOfTuples(1);
-  a->SetValue(0, value);
-  fd->AddArray(a);
-}
-
 void AddColumn(vtkTable* table, vtkFieldData* fd, const char* name, double value)
 {
   vtkNew<vtkDoubleArray> column;
@@ -191,7 +185,7 @@ void AddColumn(vtkTable* table, vtkFieldData* fd, const char* name, double value
   table->AddColumn(column);
   if (fd)
   {
-    AddValue(fd, name, value);
+    AddFieldValue(fd, name, value);
   }
 }
 
@@ -539,10 +533,10 @@ int vtkCloudComparisonFilter::Execute(
   }
   if (this->Registration != REGISTRATION_NONE)
   {
-    AddValue(fd, "PlantMorph.RegistrationScale", registered.scale);
-    AddValue(fd, "PlantMorph.RegistrationIterations", registered.iterations);
-    AddValue(fd, "PlantMorph.RegistrationConverged", registered.converged ? 1.0 : 0.0);
-    AddValue(fd, "PlantMorph.RegistrationRMS", registered.rms);
+    AddFieldValue(fd, "PlantMorph.RegistrationScale", registered.scale);
+    AddFieldValue(fd, "PlantMorph.RegistrationIterations", registered.iterations);
+    AddFieldValue(fd, "PlantMorph.RegistrationConverged", registered.converged ? 1.0 : 0.0);
+    AddFieldValue(fd, "PlantMorph.RegistrationRMS", registered.rms);
   }
 
   // Output 2 (and field data): statistics.

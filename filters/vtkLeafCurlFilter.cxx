@@ -1,5 +1,6 @@
 #include "vtkLeafCurlFilter.h"
 
+#include "PlantMorphFieldData.h"
 #include "LeafCurl.h"
 
 #include <plantmorph/DataContract.h>
@@ -25,19 +26,12 @@
 #include <string>
 #include <vector>
 
+using plantmorph::AddFieldValue;
+
 vtkStandardNewMacro(vtkLeafCurlFilter);
 
 namespace
 {
-void AddFieldValue(vtkFieldData* fd, const char* name, double value)
-{
-  vtkNew<vtkDoubleArray> a;
-  a->SetName(name);
-  a->SetNumberOfTuples(1);
-  a->SetValue(0, value);
-  fd->AddArray(a);
-}
-
 /// Recomputes the cell normals of the polygons (triangles, quads, polygons) from the curled points.
 void RecomputePolygonNormals(vtkPolyData* output, vtkDataArray* cellNormals)
 {

@@ -1,5 +1,6 @@
 #include "vtkVenationFilter.h"
 
+#include "PlantMorphFieldData.h"
 #include "VenationGrowth.h"
 
 #include <plantmorph/DataContract.h>
@@ -29,26 +30,13 @@
 #include <sstream>
 #include <string>
 
+using plantmorph::AddFieldString;
+using plantmorph::AddFieldValue;
+
 vtkStandardNewMacro(vtkVenationFilter);
 
 namespace
 {
-void AddValue(vtkFieldData* fd, const char* name, double value)
-{
-  vtkNew<vtkDoubleArray> array;
-  array->SetName(name);
-  array->InsertNextValue(value);
-  fd->AddArray(array);
-}
-
-void AddString(vtkFieldData* fd, const char* name, const std::string& value)
-{
-  vtkNew<vtkStringArray> array;
-  array->SetName(name);
-  array->InsertNextValue(value);
-  fd->AddArray(array);
-}
-
 /// The 2-D plane the veins grow in: the blade's own plane when it is flat, else LeafUV scaled by the blade's mean
 /// stretch along u and v.
 std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& points,
@@ -337,19 +325,19 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   lengths->SetComponentName(3, "Veinlet");
   lengths->InsertNextTuple4(s.length[1], s.length[2], s.length[3], s.length[4]);
   fd->AddArray(lengths);
-  AddValue(fd, "PlantMorph.VeinDensity", s.density);
-  AddValue(fd, "PlantMorph.BladeArea", s.bladeArea);
-  AddValue(fd, "PlantMorph.AreoleCount", static_cast<double>(s.areoles));
-  AddValue(fd, "PlantMorph.AreoleAreaMean", s.areoleAreaMean);
-  AddValue(fd, "PlantMorph.AreoleAreaStd", s.areoleAreaStd);
-  AddValue(fd, "PlantMorph.BranchPoints", static_cast<double>(s.branchPoints));
-  AddValue(fd, "PlantMorph.FreeEnds", static_cast<double>(s.freeEnds));
-  AddValue(fd, "PlantMorph.VeinSegments", static_cast<double>(s.segments));
-  AddValue(fd, "PlantMorph.Seed", this->Seed);
-  AddValue(fd, "PlantMorph.LeafLength", result.leafLength);
-  AddString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
-  AddString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
-  AddString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
+  AddFieldValue(fd, "PlantMorph.VeinDensity", s.density);
+  AddFieldValue(fd, "PlantMorph.BladeArea", s.bladeArea);
+  AddFieldValue(fd, "PlantMorph.AreoleCount", static_cast<double>(s.areoles));
+  AddFieldValue(fd, "PlantMorph.AreoleAreaMean", s.areoleAreaMean);
+  AddFieldValue(fd, "PlantMorph.AreoleAreaStd", s.areoleAreaStd);
+  AddFieldValue(fd, "PlantMorph.BranchPoints", static_cast<double>(s.branchPoints));
+  AddFieldValue(fd, "PlantMorph.FreeEnds", static_cast<double>(s.freeEnds));
+  AddFieldValue(fd, "PlantMorph.VeinSegments", static_cast<double>(s.segments));
+  AddFieldValue(fd, "PlantMorph.Seed", this->Seed);
+  AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
+  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
+  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
+  AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
 
   // Port 1: the blade, raised over the veins when asked.
   bladeOut->ShallowCopy(input);
@@ -384,7 +372,7 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
     }
     bladeOut->SetPoints(raised);
   }
-  AddValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", this->EmbossDepth);
+  AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", this->EmbossDepth);
   this->UpdateProgress(1.0);
   return 1;
 }

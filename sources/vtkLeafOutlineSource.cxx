@@ -1,5 +1,6 @@
 #include "vtkLeafOutlineSource.h"
 
+#include "PlantMorphFieldData.h"
 #include "DeformedRectangleLeaf.h"
 #include "DeformedRectanglePresets.h"
 #include "BSplineLeaf.h"
@@ -28,27 +29,14 @@
 #include <cmath>
 #include <sstream>
 
+using plantmorph::AddFieldString;
+using plantmorph::AddFieldValue;
+
 vtkStandardNewMacro(vtkLeafOutlineSource);
 
 namespace
 {
 using plantmorph::LeafGeometry;
-
-void AddFieldValue(vtkFieldData* fd, const char* name, double value)
-{
-  vtkNew<vtkDoubleArray> a;
-  a->SetName(name);
-  a->InsertNextValue(value);
-  fd->AddArray(a);
-}
-
-void AddFieldString(vtkFieldData* fd, const char* name, const std::string& value)
-{
-  vtkNew<vtkStringArray> a;
-  a->SetName(name);
-  a->InsertNextValue(value);
-  fd->AddArray(a);
-}
 
 /// Point arrays for the first `count` points of the leaf: coordinates, LeafUV, TCoords, Region, Normals.
 void FillPoints(const LeafGeometry& leaf, vtkIdType count, vtkPolyData* output)

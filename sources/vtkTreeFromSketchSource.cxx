@@ -1,5 +1,6 @@
 #include "vtkTreeFromSketchSource.h"
 
+#include "PlantMorphFieldData.h"
 #include "BranchTubes.h"
 #include "TreeStrokes.h"
 #include "TreeTemplate.h"
@@ -31,26 +32,13 @@
 #include <functional>
 #include <limits>
 
+using plantmorph::AddFieldString;
+using plantmorph::AddFieldValue;
+
 vtkStandardNewMacro(vtkTreeFromSketchSource);
 
 namespace
 {
-void AddFieldValue(vtkFieldData* fd, const char* name, double value)
-{
-  vtkNew<vtkDoubleArray> a;
-  a->SetName(name);
-  a->InsertNextValue(value);
-  fd->AddArray(a);
-}
-
-void AddFieldString(vtkFieldData* fd, const char* name, const std::string& value)
-{
-  vtkNew<vtkStringArray> a;
-  a->SetName(name);
-  a->InsertNextValue(value);
-  fd->AddArray(a);
-}
-
 vtkSmartPointer<vtkIntArray> IntArray(const char* name, vtkIdType count)
 {
   auto a = vtkSmartPointer<vtkIntArray>::New();
