@@ -11,6 +11,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkUnsignedCharArray.h"
@@ -143,6 +144,13 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
   vtkTable* table = vtkTable::GetData(outputVector, 1);
   output->Initialize();
   table->Initialize();
+  // The file is read whole by piece 0; under MPI the other ranks stay empty, so no point appears twice.
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) &&
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) > 0)
+  {
+    return 1;
+  }
   if (!this->FileName || !*this->FileName)
   {
     vtkErrorMacro(<< "FileName is not set: give a leaf point-cloud text file (x, y, z [, nx, ny, nz [, r, g, b]])");

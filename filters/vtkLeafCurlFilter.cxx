@@ -1,6 +1,7 @@
 #include "vtkLeafCurlFilter.h"
 
 #include "PlantMorphFieldData.h"
+#include "PlantMorphWholeInput.h"
 #include "LeafCurl.h"
 
 #include <plantmorph/DataContract.h>
@@ -85,6 +86,9 @@ int vtkLeafCurlFilter::RequestData(
     vtkErrorMacro(<< parameterError);
     return 1;
   }
+  // Under MPI the blade curls once, on rank 0, whole (gathered there if it was split over ranks).
+  const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
+  input = wholeBlade.Get();
   const vtkIdType count = input->GetNumberOfPoints();
   if (count == 0)
   {

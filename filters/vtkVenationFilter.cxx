@@ -1,6 +1,7 @@
 #include "vtkVenationFilter.h"
 
 #include "PlantMorphFieldData.h"
+#include "PlantMorphWholeInput.h"
 #include "VenationGrowth.h"
 
 #include <plantmorph/DataContract.h>
@@ -129,9 +130,12 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   }
   veins->Initialize();
   bladeOut->Initialize();
+  // Under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split over ranks).
+  const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
+  input = wholeBlade.Get();
   if (input->GetNumberOfPoints() == 0)
   {
-    return 1; // another piece's empty share: nothing to grow, no error
+    return 1; // another rank: the blade is on rank 0, nothing to grow here, no error
   }
   auto fail = [&](const std::string& message) {
     vtkErrorMacro(<< message);

@@ -63,3 +63,38 @@ class Checks:
             from mpi4py import MPI
             MPI.COMM_WORLD.Abort(1)
         sys.exit(1)
+
+
+def fingerprint_all(dataset):
+    """A SHA-256 of everything a source or filter computes: points, every point and cell array (by name), every cell
+    array's connectivity, and for tables every column. Field data is left out (it holds parameters, not results)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    digest = hashlib.sha256()
+
+    def add_array(array):
+        digest.update(str(array.GetName()).encode())
+        if array.IsA("vtkDataArray"):
+            digest.update(vtk_to_numpy(array).tobytes())
+        else:
+            digest.update("\x1f".join(str(array.GetVariantValue(i)) for i in range(array.GetNumberOfValues()))
+                          .encode())
+
+    def add_arrays(attributes):
+        arrays = [attributes.GetAbstractArray(i) for i in range(attributes.GetNumberOfArrays())]
+        for array in sorted(arrays, key=lambda a: str(a.GetName())):
+            add_array(array)
+
+    if dataset.IsA("vtkTable"):
+        add_arrays(dataset.GetRowData())
+        return digest.hexdigest()
+    if dataset.GetNumberOfPoints():
+        digest.update(vtk_to_numpy(dataset.GetPoints().GetData()).tobytes())
+    add_arrays(dataset.GetPointData())
+    add_arrays(dataset.GetCellData())
+    if dataset.IsA("vtkPolyData"):
+        # As 64-bit ids: a cell array may store 32-bit ids, and MPI transfers come back as 64-bit ones.
+        for cells in (dataset.GetVerts(), dataset.GetLines(), dataset.GetPolys(), dataset.GetStrips()):
+            if cells.GetNumberOfCells():
+                digest.update(vtk_to_numpy(cells.GetConnectivityArray()).astype("int64").tobytes())
+                digest.update(vtk_to_numpy(cells.GetOffsetsArray()).astype("int64").tobytes())
+    return digest.hexdigest()
