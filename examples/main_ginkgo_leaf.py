@@ -4,7 +4,7 @@
 """
 import os
 
-from plantmorph_example import save_png, save_vtp, show_solid, start, white_view
+from plantmorph_example import save_png, save_state, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -19,3 +19,4 @@ show_solid(OutputPort(leaf, 0), view, [0.55, 0.75, 0.25], Representation="Surfac
            EdgeColor=[0.35, 0.5, 0.15])
 show_solid(Tube(Input=OutputPort(leaf, 1), Radius=0.02), view, [0.2, 0.35, 0.1])
 save_png(view, os.path.join(arguments.output, "ginkgo_leaf.png"))
+save_state(arguments, "ginkgo_leaf")

@@ -5,7 +5,7 @@ rounded/acuminate, cordate/rounded, acuminate/emarginate) of the deformed-rectan
 """
 import os
 
-from plantmorph_example import caption, save_png, save_vtp, show_solid, start, white_view
+from plantmorph_example import caption, save_png, save_state, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -30,3 +30,4 @@ for row, (figure, presets) in enumerate(ROWS):
         caption(view, "%s%s  %s" % (figure, "abcd"[column], preset), [column * 5.0 - 2.0, -row * 8.5 - 1.6, 0.0],
                 0.16)
 save_png(view, os.path.join(arguments.output, "paper000_leaf_shapes.png"))
+save_state(arguments, "paper000_leaf_shapes")

@@ -13,7 +13,7 @@ Each figure's veins and blade are written as .vtp files.
 """
 import os
 
-from plantmorph_example import caption, save_png, save_vtp, show_solid, start, white_view
+from plantmorph_example import caption, save_png, save_state, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -79,3 +79,4 @@ view.CameraPosition = [4.0, -4.0, 6.0]
 view.CameraFocalPoint = [0.0, 2.5, 0.0]
 view.CameraViewUp = [0.0, 0.0, 1.0]
 save_png(view, os.path.join(arguments.output, "paper000_mulberry_embossed.png"), top_down=False)
+save_state(arguments, "paper000_venation")

@@ -6,7 +6,7 @@ whole leaf does. Each lobe's midvein is drawn in dark green.
 """
 import os
 
-from plantmorph_example import caption, save_png, save_vtp, show_solid, start, white_view
+from plantmorph_example import caption, save_png, save_state, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -34,3 +34,4 @@ for row, lobes in enumerate((3, 5)):
         show_solid(outline, view, [0.1, 0.3, 0.05], LineWidth=2.0)
     caption(view, "Paper 002 Fig. 8, %d lobes   S = 1.5, 2.5, 3.5" % lobes, [0.0, -row * 6.5 - 1.0, 0.0], 0.35)
 save_png(view, os.path.join(arguments.output, "paper002_palmate_leaves.png"))
+save_state(arguments, "paper002_palmate_leaves")

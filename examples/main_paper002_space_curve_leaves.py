@@ -6,7 +6,7 @@ and eta are held fixed), Fig. 3's exponential curvature with fixed u3 turns as i
 """
 import os
 
-from plantmorph_example import caption, save_png, save_vtp, show_solid, start, white_view
+from plantmorph_example import caption, save_png, save_state, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -29,3 +29,4 @@ for figure in range(1, 7):
         show_solid(outline, view, [0.15, 0.3, 0.1], LineWidth=2.0)
     caption(view, "Paper 002 Fig. %d   S = 2, 3.5, 5" % figure, [column * 16.0 - 1.5, -row * 11.0 - 1.8, 0.0], 0.45)
 save_png(view, os.path.join(arguments.output, "paper002_space_curve_leaves.png"))
+save_state(arguments, "paper002_space_curve_leaves")

@@ -6,7 +6,7 @@ a custom leaf from control points typed in (as a user would trace them over a ph
 """
 import os
 
-from plantmorph_example import caption, save_png, save_vtp, show_solid, start, white_view
+from plantmorph_example import caption, save_png, save_state, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -32,3 +32,4 @@ for column, (name, properties) in enumerate(LEAVES):
     show_solid(outline, view, [0.1, 0.25, 0.05], LineWidth=2.0)
     caption(view, name.replace("_", " "), [column * 9.0 - 1.5, -1.8, 0.0], 0.6)
 save_png(view, os.path.join(arguments.output, "paper003_bspline_leaves.png"))
+save_state(arguments, "paper003_bspline_leaves")

@@ -15,7 +15,7 @@ benchmarks/README.md "wilting calibration"). Writes:
 import csv
 import os
 
-from plantmorph_example import save_vtp, show_solid, start, white_view
+from plantmorph_example import rendering, save_state, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -71,6 +71,8 @@ for k, t in enumerate(TIMES):
 
 def save(view, path, focal, position, scale):
     """A parallel projection of the given half-height (ParaView's ResetCamera would fit the bounding sphere)."""
+    if not rendering():
+        return
     Render(view)  # the first render resets the camera: set ours after it
     view.CameraFocalPoint = focal
     view.CameraPosition = position
@@ -106,3 +108,4 @@ track = [[table.GetColumnByName(c).GetValue(i) for c in ("TipX", "TipY", "TipZ")
 path = PolyLineSource(Points=[v for p in track for v in p])
 show_solid(Tube(Input=path, Radius=0.12), view, [0.1, 0.1, 0.1])
 save(view, os.path.join(arguments.output, "wilting_cucumber_side.png"), [0.0, 8.0, -8.0], [80.0, 8.0, -8.0], 15.0)
+save_state(arguments, "wilting_cucumber")

@@ -1,5 +1,5 @@
-"""What every PlantMorph example script shares: its arguments, loading the plugin, a white render view, and
-writing .vtp files that this ParaView can read back."""
+"""What every PlantMorph example script shares: its arguments, loading the plugin, a white render view, writing .vtp
+files that this ParaView can read back, and saving the pipeline as a ParaView state file (.pvsm) next to them."""
 import argparse
 import os
 
@@ -9,12 +9,35 @@ from paraview.simple import (CreateRenderView, LoadPlugin, Render, ResetCamera, 
 def start(description):
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--plugin", required=True, help="path to PlantMorph.so")
-    parser.add_argument("--output", required=True, help="folder for the .vtp files and PNG renders")
+    parser.add_argument("--output", required=True, help="folder for the .vtp files, PNG renders and the state file")
+    parser.add_argument("--no-render", action="store_true",
+                        help="build the pipeline, write the .vtp files and the state file, but render nothing (no X "
+                             "server needed: the state-file tests use this)")
     arguments = parser.parse_args()
     os.makedirs(arguments.output, exist_ok=True)
+    global RENDER
+    RENDER = not arguments.no_render
     import __main__
     LoadPlugin(arguments.plugin, remote=False, ns=vars(__main__))
     return arguments
+
+
+RENDER = True
+
+
+def rendering():
+    """False under --no-render: scripts skip their Render() and SaveScreenshot() calls then."""
+    return RENDER
+
+
+def save_state(arguments, name):
+    """Saves the whole pipeline, views included, as <output>/<name>.pvsm: File > Load State in ParaView (after loading
+    the plugin) rebuilds the figure. examples/states/ holds these files as shipped (scripts/update_example_states.sh
+    writes them; the ctest example_state.* tests check they still give the scripts' data)."""
+    from paraview.simple import SaveState
+    path = os.path.join(arguments.output, name + ".pvsm")
+    SaveState(path)
+    print("wrote", path)
 
 
 def white_view(width, height):
@@ -56,6 +79,8 @@ def save_vtp(proxy, path, port=0):
 
 
 def save_png(view, path, top_down=True):
+    if not RENDER:
+        return
     if top_down:
         view.CameraPosition = [0, 0, 1]
         view.CameraFocalPoint = [0, 0, 0]

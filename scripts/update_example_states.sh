@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Regenerates the shipped state files examples/states/<name>.pvsm: runs the main job (every examples/main_*.py,
+# rendered, so each state keeps its figure's cameras) into a scratch folder and copies the .pvsm files it saved.
+# Run after changing an example; the ctest python.example_state.* tests fail while a state file is stale.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+SCRATCH="$(mktemp -d)"
+trap 'rm -rf "$SCRATCH"' EXIT
+bash "$ROOT/scripts/run.sh" "$SCRATCH"
+mkdir -p "$ROOT/examples/states"
+cp "$SCRATCH"/*.pvsm "$ROOT/examples/states/"
+ls -l "$ROOT/examples/states"
