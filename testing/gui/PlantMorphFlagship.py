@@ -1,0 +1,98 @@
+"""ParaView macro for the GUI test (testing/gui/run_gui_test.py installs it in the test's own Macros folder).
+
+The menus have built LeafOutlineSource1 -> AdaptiveLoopFilter1 -> VenationFilter1 and TreeFromSketchSource1. This
+does what a user does in the Change Input dialog and the Properties panel: a WiltingSimulator on the venation's blade
+(port 1) with its veins (port 0) on the Veins input, the subdivided blade as the tree's leaf, the animation at the
+end of the wilting, a fixed camera. Then it writes what it found to $PLANTMORPH_GUI_CHECK (JSON) for the test."""
+import json
+import os
+
+from paraview import servermanager
+from paraview.simple import (FindSource, GetActiveViewOrCreate, GetAnimationScene, GetSources, Hide, OutputPort,
+                             Render, SetActiveSource, Show, Transform, Tube, WiltingSimulator)
+
+view = GetActiveViewOrCreate("RenderView")
+leaf = FindSource("LeafOutlineSource1")
+loop = FindSource("AdaptiveLoopFilter1")
+venation = FindSource("VenationFilter1")
+tree = FindSource("TreeFromSketchSource1")
+# What a user sets in the Properties panel: a coarse 3-D leaf (paper 002's space curve; a flat blade is left as it
+# is by the adaptive rules), two Loop levels, a small custom tree with two leaves per twig.
+leaf.Model = "Space curve"
+leaf.SpaceCurvePreset = "Paper 002 Fig. 5"
+leaf.Resolution = 16
+loop.MaximumLevel = 2
+tree.Preset = "Custom"
+tree.Depth = 3
+tree.ChildCount = 3
+tree.LeafCount = 2
+wilt = WiltingSimulator(registrationName="WiltingSimulator1", Input=OutputPort(venation, 1),
+                        Veins=OutputPort(venation, 0), Resolution=10, Duration=1.0, FrameInterval=0.25)
+tree.Leaf = OutputPort(loop, 0)
+tree.LeafScale = 1.0
+scene = GetAnimationScene()
+scene.UpdateAnimationUsingDataTimeSteps()
+scene.AnimationTime = 1.0
+
+for proxy in (leaf, loop, venation, tree):
+    for port in range(proxy.SMProxy.GetNumberOfOutputPorts()):
+        Hide(OutputPort(proxy, port), view)
+
+
+def solid(proxy, color, port=0):
+    display = Show(OutputPort(proxy, port), view)
+    display.ColorArrayName = ["POINTS", ""]
+    display.DiffuseColor = color
+    display.AmbientColor = color
+    return display
+
+
+solid(wilt, [0.55, 0.75, 0.25])
+solid(Tube(Input=OutputPort(wilt, 3), Radius=0.03, NumberofSides=6), [0.2, 0.35, 0.1])
+bounds = wilt.GetDataInformation().GetBounds()
+placed = {}
+for port, color in ((0, [0.45, 0.32, 0.2]), (2, [0.35, 0.62, 0.22])):
+    moved = Transform(Input=OutputPort(tree, port))
+    moved.Transform.Translate = [bounds[1] + 2.0, 0.0, 0.0]
+    moved.Transform.Scale = [0.25, 0.25, 0.25]
+    moved.Transform.Rotate = [90.0, 0.0, 0.0]  # the tree grows along +y; wilting hangs along -z: stand it up
+    placed[port] = moved
+    solid(moved, color)
+view.OrientationAxesVisibility = 0
+if hasattr(view, "UseColorPaletteForBackground"):
+    view.UseColorPaletteForBackground = 0
+view.Background = [1.0, 1.0, 1.0]
+view.CameraPosition = [-20.0, -30.0, 15.0]
+view.CameraFocalPoint = [0.0, 0.0, 0.0]
+view.CameraViewUp = [0.0, 0.0, 1.0]
+view.ResetCamera()
+SetActiveSource(wilt)
+Render(view)
+
+
+def describe(proxy):
+    ports = []
+    for port in range(proxy.SMProxy.GetNumberOfOutputPorts()):
+        info = OutputPort(proxy, port).GetDataInformation()
+        if info.GetDataSetTypeAsString() == "vtkTable":
+            ports.append([info.GetNumberOfRows(), info.GetNumberOfRows()])
+        else:
+            ports.append([info.GetNumberOfPoints(), info.GetNumberOfCells()])
+    inputs = []
+    for name in ("Input", "Veins", "Leaf", "Strokes"):
+        prop = proxy.SMProxy.GetProperty(name)
+        for i in range(prop.GetNumberOfProxies() if prop is not None else 0):
+            source = servermanager.ProxyManager().GetProxyName("sources", prop.GetProxy(i))
+            inputs.append("%s=%s:%d" % (name, source, prop.GetOutputPortForConnection(i)))
+    return {"label": proxy.GetXMLLabel(), "ports": ports, "inputs": inputs}
+
+
+check = {
+    "sources": sorted(name for name, _ in GetSources().keys()),
+    "pipeline": {name: describe(proxy) for name, proxy in (("leaf", leaf), ("loop", loop), ("venation", venation),
+                                                           ("wilt", wilt), ("tree", tree))},
+    "time": scene.AnimationTime,
+    "wilt_times": list(wilt.TimestepValues),
+}
+with open(os.environ.get("PLANTMORPH_GUI_CHECK", "plantmorph_gui_check.json"), "w") as f:
+    json.dump(check, f, indent=1)

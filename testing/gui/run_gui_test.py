@@ -1,0 +1,88 @@
+"""The GUI test: the real ParaView GUI (under Xvfb) loads PlantMorph, flagship_pipeline.xml clicks the flagship
+pipeline together through the PlantMorph menus and the Properties panel's Apply, the PlantMorphFlagship macro wires
+the second inputs and frames the scene, and ParaView's test utility compares the render view with
+testing/baselines/gui_flagship.png. Then the pipeline the macro found is checked: every proxy made from its menu,
+connected as built, with data on every port, the wilting leaf at the end of its time steps.
+
+    python3 run_gui_test.py --paraview paraview --plugin-dir build/lib/paraview-5.11/plugins/PlantMorph \
+        --baseline testing/baselines/gui_flagship.png --work build/testing/gui-work
+
+A missing baseline makes the test fail and ParaView writes the image it got into --work (same name): look at it,
+copy it to the baseline and commit it if it is right. On failure ParaView writes the difference image there too."""
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+parser = argparse.ArgumentParser()
+parser.add_argument("--paraview", required=True)
+parser.add_argument("--plugin-dir", required=True, help="folder holding PlantMorph.so")
+parser.add_argument("--baseline", required=True)
+parser.add_argument("--work", required=True)
+parser.add_argument("--threshold", default="15", help="ParaView's image-difference threshold")
+arguments = parser.parse_args()
+
+# A home of its own: no user settings, and the macro in ParaView's Macros folder.
+home = os.path.join(arguments.work, "home")
+shutil.rmtree(home, ignore_errors=True)
+macros = os.path.join(home, ".config", "ParaView", "Macros")
+os.makedirs(macros)
+shutil.copy(os.path.join(HERE, "PlantMorphFlagship.py"), macros)
+check_file = os.path.join(arguments.work, "gui_check.json")
+environment = dict(os.environ, HOME=home, PLANTMORPH_GUI_CHECK=check_file, XDG_RUNTIME_DIR=home)
+command = ["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", arguments.paraview, "--dr",
+           "--plugin-search-paths=" + arguments.plugin_dir, "--plugins=PlantMorph",
+           "--test-script=" + os.path.join(HERE, "flagship_pipeline.xml"), "--test-baseline=" + arguments.baseline,
+           "--test-threshold=" + arguments.threshold, "--test-directory=" + arguments.work, "--exit"]
+print(" ".join(command))
+# On this kind of machine an X connection to Xvfb now and then fails at once ("bad X server connection"); such a run
+# says nothing about PlantMorph, so it is run again, up to three times.
+for attempt in range(3):
+    if os.path.exists(check_file):
+        os.remove(check_file)
+    run = subprocess.run(command, env=environment, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=600)
+    log = run.stdout.decode(errors="replace")
+    if "X server" not in log and "cannot open display" not in log.lower():
+        break
+    print("attempt %d: X connection failed, running again" % (attempt + 1))
+print(log[-6000:])
+
+failures = []
+
+
+def check(condition, message):
+    print(("ok: " if condition else "FAIL: ") + message)
+    if not condition:
+        failures.append(message)
+
+
+check(run.returncode == 0, "ParaView exited with 0 (playback and image comparison passed): %d" % run.returncode)
+check("Success =  true" in log or "Success = true" in log, "the menu playback succeeded")
+check(os.path.exists(check_file), "the macro ran and wrote %s" % check_file)
+if os.path.exists(check_file):
+    with open(check_file) as f:
+        found = json.load(f)
+    pipeline = found["pipeline"]
+    for name in ("LeafOutlineSource1", "AdaptiveLoopFilter1", "VenationFilter1", "TreeFromSketchSource1",
+                 "WiltingSimulator1"):
+        check(name in found["sources"], "%s in the pipeline browser" % name)
+    check(pipeline["loop"]["inputs"] == ["Input=LeafOutlineSource1:0"], "Adaptive Loop on the leaf: %s" %
+          pipeline["loop"]["inputs"])
+    check(pipeline["venation"]["inputs"] == ["Input=AdaptiveLoopFilter1:0"], "Venation on the subdivided leaf: %s" %
+          pipeline["venation"]["inputs"])
+    check(pipeline["wilt"]["inputs"] == ["Input=VenationFilter1:1", "Veins=VenationFilter1:0"],
+          "Wilting on the venation's blade and veins: %s" % pipeline["wilt"]["inputs"])
+    check(pipeline["tree"]["inputs"] == ["Leaf=AdaptiveLoopFilter1:0"], "the tree's leaf is the subdivided leaf: %s"
+          % pipeline["tree"]["inputs"])
+    for name, description in pipeline.items():
+        check(all(points > 0 for points, _ in description["ports"]), "%s (%s): data on every port %s" % (
+            name, description["label"], description["ports"]))
+    leaf_cells = pipeline["leaf"]["ports"][0][1]
+    check(pipeline["loop"]["ports"][0][1] > leaf_cells, "the Loop filter subdivided the blade: %d -> %d triangles" % (
+        leaf_cells, pipeline["loop"]["ports"][0][1]))
+    check(len(found["wilt_times"]) > 1 and found["time"] == found["wilt_times"][-1],
+          "the animation is at the wilting's last time step %s of %s" % (found["time"], found["wilt_times"]))
+sys.exit(1 if failures else 0)
