@@ -69,19 +69,7 @@ void BM_TreeCore(benchmark::State& state)
       state.SkipWithError("BuildTree failed");
       return;
     }
-    std::vector<plantmorph::TubeInput> tubes(tree.branches.size());
-    for (std::size_t t = 0; t < tree.branches.size(); ++t)
-    {
-      const plantmorph::TreeBranch& b = tree.branches[t];
-      if (b.tubeRoot != b.centre[0])
-      {
-        tubes[t].centre.push_back(b.tubeRoot);
-        tubes[t].radii.push_back(b.radius);
-      }
-      tubes[t].centre.insert(tubes[t].centre.end(), b.centre.begin(), b.centre.end());
-      tubes[t].radii.insert(tubes[t].radii.end(), b.radii.begin(), b.radii.end());
-      tubes[t].normal = b.frame.col(0);
-    }
+    const std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree); // joints seated
     plantmorph::TubeMesh mesh;
     if (!plantmorph::BuildTubes(tubes, s.sides, mesh).empty())
     {
