@@ -52,8 +52,25 @@ std::int64_t TriangleCount(const Cleaned& c, int sides)
 }
 } // namespace
 
+namespace
+{
+using TriangleRanges = std::vector<std::pair<std::int64_t, std::int64_t>>;
+
+double LastCrossingIn(const TubeMesh& mesh, const TriangleRanges& ranges, const Eigen::Vector3d& p,
+  const Eigen::Vector3d& e, double tMin, double tMax, bool* leaving);
+} // namespace
+
 double LastCrossing(const TubeMesh& mesh, std::size_t tube, const Eigen::Vector3d& p, const Eigen::Vector3d& e,
   double tMax, bool* leaving)
+{
+  return LastCrossingIn(mesh, { { mesh.triangleOffsets[tube], mesh.triangleOffsets[tube + 1] } }, p, e,
+    -std::numeric_limits<double>::infinity(), tMax, leaving);
+}
+
+namespace
+{
+double LastCrossingIn(const TubeMesh& mesh, const TriangleRanges& ranges, const Eigen::Vector3d& p,
+  const Eigen::Vector3d& e, double tMin, double tMax, bool* leaving)
 {
   double best = std::numeric_limits<double>::quiet_NaN();
   bool bestLeaving = false;
@@ -67,7 +84,8 @@ double LastCrossing(const TubeMesh& mesh, std::size_t tube, const Eigen::Vector3
     const std::size_t k = 3 * static_cast<std::size_t>(i);
     return Eigen::Vector3d(mesh.points[k], mesh.points[k + 1], mesh.points[k + 2]);
   };
-  for (std::int64_t f = mesh.triangleOffsets[tube]; f < mesh.triangleOffsets[tube + 1]; ++f)
+  for (const auto& [first, last] : ranges)
+  for (std::int64_t f = first; f < last; ++f)
   {
     const std::int32_t* v = &mesh.triangles[3 * static_cast<std::size_t>(f)];
     const Eigen::Vector3d a = P(v[0]), b = P(v[1]), c = P(v[2]);
@@ -103,7 +121,7 @@ double LastCrossing(const TubeMesh& mesh, std::size_t tube, const Eigen::Vector3
       continue;
     }
     const double t = inv * e2.dot(q);
-    if (t < tMax && !(t <= best))
+    if (t < tMax && t >= tMin && !(t <= best))
     {
       best = t;
       bestLeaving = e.dot(e1.cross(e2)) > 0.0;
@@ -115,6 +133,7 @@ double LastCrossing(const TubeMesh& mesh, std::size_t tube, const Eigen::Vector3
   }
   return best;
 }
+} // namespace
 
 std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel,
   JointReport* joints)
@@ -309,17 +328,56 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
         const std::size_t rings = cleaned[t].centre.size() - (apex ? 1 : 0);
         const std::int64_t apexPoint = mesh.pointOffsets[t + 1] - 1;
         std::array<std::int64_t, 4>& count = counts[t];
+        // Crossings are looked for from `back` behind the base ring (4 (child + parent radius): past the parent's
+        // far side) to ring 1, among the parent's triangles that window can reach: those of the parent's segments
+        // passing within (child radius + the window's length + the segment's ring reach) of the child's base. A segment's triangles lie within max radius / cos(85 / 2 deg) < 1.36 radii of it (mitre clamp).
+        const Cleaned& host = cleaned[parent];
+        const double back = 4.0 * (cleaned[t].radii[0] + *std::max_element(host.radii.begin(), host.radii.end()));
+        double reach = 0.0;
+        for (int j = 0; j < sides; ++j)
+        {
+          const Eigen::Vector3d next = rings >= 2 ? P(firstRing + sides + j) : P(apexPoint);
+          reach = std::max(reach,
+            std::max(back, (next - P(firstRing + j)).norm()) + (P(firstRing + j) - P(baseCentre)).norm());
+        }
+        const std::size_t hostRings = host.centre.size() - (host.apex ? 1 : 0);
+        const std::int64_t hostTriangles = mesh.triangleOffsets[parent];
+        TriangleRanges ranges;
+        for (std::size_t k = 0; k + 1 < host.centre.size(); ++k)
+        {
+          const Eigen::Vector3d a = host.centre[k], d = host.centre[k + 1] - host.centre[k];
+          const double along = std::clamp((P(baseCentre) - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+          const double distance = (P(baseCentre) - a - along * d).norm();
+          // (+ the first segment's length for k = 0: the parent's own base ring may have slid back that far.)
+          const double slid = k == 0 ? d.norm() : 0.0;
+          if (distance > reach + slid + 1.36 * std::max(host.radii[k], host.radii[k + 1]) + 1e-9 * (1.0 + reach))
+          {
+            continue;
+          }
+          if (k == 0)
+            ranges.emplace_back(hostTriangles, hostTriangles + sides); // base cap
+          if (k + 1 < hostRings)
+          {
+            const std::int64_t first = hostTriangles + sides + 2 * sides * static_cast<std::int64_t>(k);
+            ranges.emplace_back(first, first + 2 * sides);
+          }
+          if (k + 2 == host.centre.size()) // end cap or apex fan
+          {
+            const std::int64_t first = hostTriangles + sides + 2 * sides * static_cast<std::int64_t>(hostRings - 1);
+            ranges.emplace_back(first, first + sides);
+          }
+        }
         for (int j = 0; j < sides; ++j)
         {
           const Eigen::Vector3d v = P(firstRing + j);
           const Eigen::Vector3d next = rings >= 2 ? P(firstRing + sides + j) : P(apexPoint);
           const Eigen::Vector3d e = next - v;
           bool leaving = false;
-          const double crossing = LastCrossing(mesh, parent, v, e, 1.0, &leaving);
+          const double crossing = LastCrossingIn(mesh, ranges, v, e, -back / e.norm(), 1.0, &leaving);
           if (std::isnan(crossing))
           {
             // The line misses the parent (a child wider than its parent there): slide to where the line comes
-            // closest to the parent's centre line (within one edge length back), so the child's wall reaches back beside the parent, not past it.
+            // closest to the parent's centre line (within the window), so the child's wall reaches back beside the parent, not past it.
             double along = 0.0, closest = std::numeric_limits<double>::infinity();
             const Cleaned& host = cleaned[parent];
             for (std::size_t k = 0; k + 1 < host.centre.size(); ++k)
@@ -336,7 +394,7 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
                 closest = gap, along = tParam;
               }
             }
-            Set(firstRing + j, v + std::clamp(along, -1.0, 0.95) * e);
+            Set(firstRing + j, v + std::clamp(along, -back / e.norm(), 0.95) * e);
             ++count[1];
           }
           else if (!leaving)
@@ -358,7 +416,7 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
         const Eigen::Vector3d centre = P(baseCentre);
         const Eigen::Vector3d axis = cleaned[t].centre[1] - cleaned[t].centre[0];
         bool leaving = false;
-        const double crossing = LastCrossing(mesh, parent, centre, axis, 0.95, &leaving);
+        const double crossing = LastCrossingIn(mesh, ranges, centre, axis, -back / axis.norm(), 0.95, &leaving);
         if (!std::isnan(crossing) && leaving)
         {
           Set(baseCentre, centre + crossing * axis);

@@ -19,15 +19,15 @@
 // Joints (a tube with a `parent`): the tube's base ring is seated on the parent tube's faceted surface. Ring-0
 // vertex j slides along its own lateral edge (the line through it and ring-1 vertex j, so the first segment stays
 // the same prism or frustum, its side faces planar) to the last point where that line leaves the parent tube's
-// triangles before ring 1 (at most 0.95 of the way there); the base cap's centre slides along the axis likewise.
+// triangles before ring 1 (at most 0.95 of the way there; looking back at most 4 (child + parent radius)); the base
+// cap's centre slides along the axis likewise.
 // So the child's wall starts exactly on the parent's surface: neither buried in the parent nor floating off it.
 // What remains (the parent surface is not cut, no Boolean union): the child's base cap lies inside the parent (a
 // lens between it and the parent's surface patch inside the ring is inside both tubes). A ring vertex whose line
 // meets the parent nowhere before ring 1 cannot touch it: this happens where the child is wider than its parent
 // there (always so in the monopodial template, whose child radius r(1 - 0.618 pos) exceeds the parent's linear taper
 // r(1 - pos)) and at sympodial forks, where part of a child's base hangs past the parent's end cap. Such a vertex
-// slides to the point of its line closest to the parent's centre line (from one edge length back to 0.95 of the
-// way to ring 1), so the
+// slides to the point of its line closest to the parent's centre line (within that window), so the
 // child's wall reaches down beside the parent and its base cap shows there as a ledge outside the parent (no hole:
 // every tube is closed); `missed` counts them. `clamped` counts those whose exit lies beyond 0.95 of the way to
 // ring 1 (they stay inside the parent, at 0.95), `buried` those whose ring-1 vertex is itself inside the parent (a
