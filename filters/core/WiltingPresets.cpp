@@ -55,6 +55,8 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
   p.loadProfile = WiltingLoadProfile::Sigmoid;
   p.loadTime = 8.0;
   p.contractionTime = 0.0;
+  p.droopAsymmetry = 0.0;
+  p.contractionAsymmetry = 0.0;
   p.referenceVoxelSize = 0.0;
   switch (preset)
   {
