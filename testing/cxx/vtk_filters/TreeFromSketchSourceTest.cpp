@@ -370,7 +370,16 @@ TEST(TreeFromSketchSource, SecondTreeOnTheMergePortKeepsItsShapeAndGetsIdsAfterT
     ++checked;
   }
   EXPECT_EQ(checked, secondSkeleton->GetNumberOfCells());
-  // Deleting a merged branch by its id removes it with its subtree; the surface stays one closed tube a branch.
+  // The joint report covers every child's base ring (the second trunk has none): 6 vertices a child.
+  vtkDataArray* joints = skeleton->GetFieldData()->GetArray("PlantMorph.JointRingVertices");
+  ASSERT_NE(joints, nullptr);
+  ASSERT_EQ(joints->GetNumberOfComponents(), 4);
+  double ringVertices = 0.0;
+  for (int c = 0; c < 4; ++c)
+    ringVertices += joints->GetComponent(0, c);
+  EXPECT_EQ(ringVertices, 6.0 * double(skeleton->GetNumberOfCells() - 2));
+  EXPECT_GT(joints->GetComponent(0, 0), 0.0);
+  // Deleting a merged branch by its id removes it with its subtree.
   merged->AddDeletedBranch(int(base) + 1);
   merged->Update();
   EXPECT_EQ(Output(merged, 1)->GetNumberOfCells(), own + secondSkeleton->GetNumberOfCells() - (1 + 3 + 9 + 27 + 81 + 243));
