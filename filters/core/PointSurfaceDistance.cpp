@@ -347,11 +347,11 @@ void PointSurfaceDistance::BuildSlabs(const std::vector<std::uint32_t>& nodeRang
       for (std::size_t t = first; t < last; ++t)
       {
         const Triangle& tri = this->Triangles[t];
-        for (int corner = 0; corner < 3; ++corner)
+        const double a[3] = { tri.a[0] - o[0], tri.a[1] - o[1], tri.a[2] - o[2] };
+        const double vertices[3][3] = { { a[0], a[1], a[2] }, { a[0] + tri.ab[0], a[1] + tri.ab[1], a[2] + tri.ab[2] },
+          { a[0] + tri.ac[0], a[1] + tri.ac[1], a[2] + tri.ac[2] } };
+        for (const auto& v : vertices)
         {
-          const double* e = corner == 0 ? nullptr : (corner == 1 ? tri.ab : tri.ac);
-          const double v[3] = { tri.a[0] + (e ? e[0] : 0.0) - o[0], tri.a[1] + (e ? e[1] : 0.0) - o[1],
-            tri.a[2] + (e ? e[2] : 0.0) - o[2] };
           const double axial = Dot(n, v);
           double side[3];
           Cross(n, v, side);
