@@ -835,7 +835,7 @@ TEST(BranchTubes, ChildBaseRingsSitOnTheParentSurfaceNeitherBuriedNorFloating)
     EXPECT_EQ(check.insideParent, 0) << preset;
     EXPECT_EQ(check.capOutside, 0) << preset;
     EXPECT_GT(joints.seated, children) << preset;
-    std::printf("preset %d depth 2: ring vertices seated %lld, missed %lld; widest ledge %.3f child radii\n",
+    std::printf("preset %d depth 2: ring vertices seated %lld, missed %lld; widest ledge %.9f child radii\n",
       preset, static_cast<long long>(joints.seated), static_cast<long long>(joints.missed), check.widestLedge);
   }
 }
