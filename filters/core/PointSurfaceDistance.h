@@ -49,7 +49,7 @@
 // the tests check against brute force and against SetSlabBounds(false).)
 //
 // QueryMany (4096 points or more) visits the points in Morton (Z-curve) order of their coordinates (a 30-bit code,
-// radix sorted; 8 bytes per point for the order) and starts each query from the previous one's nearest primitive
+// radix sorted; 16 bytes per point while sorting) and starts each query from the previous one's nearest primitive
 // as its first bound, which makes any cloud spatially coherent; the result does not depend on it (only the
 // starting bound changes, not the minimum), and results are written in input order.
 //
