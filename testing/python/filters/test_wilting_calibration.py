@@ -6,7 +6,7 @@ The pipeline of examples/calibrate_wilting.py --evaluate-preset: the cucumber bl
 AnchorRadius 3, TimeStep 1/60 s, one Newton iteration, 10 s in frames of 0.1 s). Checked: the per-sample
 time-monotone and closest-sample errors and the direction difference are the documented ones (to 0.02 cm and 0.2
 deg: the solver may change the last digits), and the goals the preset meets stay met: mean below the paper's
-1.96 cm, direction below 3 deg, and the samples documented as better than the paper's stay better. About 10-20 s."""
+1.96 cm, direction below 3 deg, and the samples documented as better than the paper's stay better. 10-50 s (load)."""
 import csv
 import math
 import os
