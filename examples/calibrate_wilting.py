@@ -1,7 +1,8 @@
 """Fits WiltingSimulator's load and material parameters to a measured leaf-tip trajectory (paper 001 Table 1).
 
     pvpython examples/calibrate_wilting.py --plugin build/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so \
-        [--csv ../shared/data/cucumber-wilting-tip.csv] [--evaluations 120] [--no-yaw] [--evaluate-preset]
+        [--csv ../shared/data/cucumber-wilting-tip.csv] [--fit NAME,NAME,...] [--evaluations 120] [--yaw] \
+        [--leave-one-out] [--evaluate-preset] [--set NAME=VALUE,...]
 
 The CSV has columns sample, measured_x, measured_y, measured_z (cm, origin at the petiole-blade junction, samples in
 time order, no time stamps); optional paper_sim_x/y/z columns are reported for comparison.
@@ -13,15 +14,21 @@ Cucumber preset was fitted at (SETTINGS below: Resolution 14, AnchorRadius 3, Ti
 iteration, 10 s). A mass-spring model depends on its voxel size: at another Resolution the same preset droops
 differently, so rerun this script there.
 
-Fitted (log-parameters; Nelder-Mead, restarted from the best point with a smaller simplex): DroopForce,
-ContractionForce (towards the base on the voxels' bottom nodes: the margins and apex curl down), blade stiffness,
-vein stiffness, margin stiffness, LoadTime (the droop's sigmoid) and ContractionTime (the contraction's: the
-margins may curl before the leaf droops, as the paper observed) and the Rayleigh mass damping alpha (how
-quasi-static the fall is). The objective is the mean time-monotone tip error: each measurement matched to one
-simulated frame, frames increasing (dynamic programming). With yaw on (the default) the simulated track is also
-turned about the vertical axis through the petiole by the angle that fits best (searched in [-10, 10] deg): the
-digitiser's y axis and the leaf's midvein need not be parallel, and a symmetric model cannot move its tip sideways
-(measured x wanders from -1.3 to 0.6 cm). Both the raw (yaw 0) and the turned results are printed.
+The parameters (PARAMETERS below, each a physical property of the filter): DroopForce, ContractionForce (towards the
+base on the voxels' bottom nodes: the margins and apex curl down), blade, vein and margin stiffness, LoadTime (the
+droop's sigmoid), ContractionTime (the contraction's: the margins may curl before the leaf droops, as the paper
+observed), RayleighAlpha (how quasi-static the fall is), and DroopAsymmetry and ContractionAsymmetry (how much more
+the +x half of the leaf droops or contracts than the -x half: a real leaf is not symmetric, and a symmetric model
+keeps its tip at x = 0 while the measured tip wanders sideways). `--fit` picks which are fitted (the others keep
+their START value, the Cucumber preset's); log-parameters for the positive ones. Nelder-Mead, then restarted from
+the best point with a smaller simplex. The objective is the mean time-monotone tip error: each measurement matched
+to one simulated frame, frames increasing (dynamic programming). With `--yaw` the simulated track is also turned
+about the vertical axis through the petiole by the angle that fits best (searched in [-10, 10] deg; off by default:
+the asymmetry knobs replace it).
+
+`--leave-one-out` then refits the fitted parameters five times, each time without one sample (from the best point,
+a quarter of the budget each), and reports the left-out sample's error: how well the model predicts a measurement
+it was not fitted to, the overfitting check of a fit of several parameters to five points.
 
 Reported: per sample the time-monotone error and the paper's closest-sample error (each measurement to its nearest
 frame at any time), their means, and the angle between the (sample 5 - sample 1) directions of measurement and
@@ -37,11 +44,18 @@ parser.add_argument("--plugin", required=True)
 parser.add_argument("--csv", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared",
                                                   "data", "cucumber-wilting-tip.csv"))
 parser.add_argument("--evaluations", type=int, default=120, help="simulations the fit may run")
+parser.add_argument("--fit", default=None, help="comma-separated names of the parameters to fit (default: all)")
+parser.add_argument("--set", default="", help="NAME=VALUE,...: start values other than START")
 parser.add_argument("--length", type=float, default=20.1, help="leaf length (cm), BladeLength")
 parser.add_argument("--width", type=float, default=22.1, help="leaf width (cm), BladeWidth")
-parser.add_argument("--no-yaw", action="store_true", help="do not turn the simulated track about the vertical")
+parser.add_argument("--yaw", action="store_true", help="also turn the simulated track about the vertical")
+parser.add_argument("--leave-one-out", action="store_true",
+                    help="after the fit (or from START with --evaluate), refit without each sample")
+parser.add_argument("--loo-evaluations", type=int, default=None,
+                    help="simulations per leave-one-out refit (default: a quarter of --evaluations)")
 parser.add_argument("--evaluate-preset", action="store_true",
                     help="no fit: run the Cucumber preset at SETTINGS and print its table")
+parser.add_argument("--evaluate", action="store_true", help="no fit: run START (with --set) and print its table")
 arguments = parser.parse_args()
 
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -52,6 +66,34 @@ LoadPlugin(arguments.plugin, remote=False, ns=globals())
 # The settings the Cucumber preset was fitted at (everything the preset does not set).
 SETTINGS = dict(Resolution=14, AnchorRadius=3.0, Duration=10.0, FrameInterval=0.1, TimeStep=1.0 / 60.0,
                 NewtonIterations=1, Threads=1)
+
+# name, start value (the Cucumber preset's, filters/core/WiltingPresets.cpp), positive (fitted as a logarithm),
+# Nelder-Mead step relative to the --step of the log-parameters.
+PARAMETERS = (
+    ("DroopForce", 12300.0, True, 1.0),
+    ("ContractionForce", 4210.0, True, 1.0),
+    ("BladeStiffness", 91600.0, True, 1.0),
+    ("VeinStiffness", 399000.0, True, 1.0),
+    ("MarginStiffness", 99000.0, True, 1.0),
+    ("LoadTime", 16.1, True, 1.0),
+    ("ContractionTime", 2.66, True, 1.0),
+    ("RayleighAlpha", 1.16, True, 1.0),
+    ("DroopAsymmetry", 0.0, False, 0.5),
+    ("ContractionAsymmetry", 0.0, False, 0.5),
+)
+NAMES = [p[0] for p in PARAMETERS]
+START = {p[0]: p[1] for p in PARAMETERS}
+POSITIVE = {p[0]: p[2] for p in PARAMETERS}
+STEP = {p[0]: p[3] for p in PARAMETERS}
+for item in filter(None, arguments.set.split(",")):
+    name, value = item.split("=")
+    if name not in START:
+        parser.error("--set: unknown parameter %s (known: %s)" % (name, ", ".join(NAMES)))
+    START[name] = float(value)
+FITTED = NAMES if arguments.fit is None else arguments.fit.split(",")
+for name in FITTED:
+    if name not in START:
+        parser.error("--fit: unknown parameter %s (known: %s)" % (name, ", ".join(NAMES)))
 
 measured, paper = [], []
 with open(arguments.csv) as f:
@@ -75,17 +117,17 @@ def angle(a0, a1, b0, b1):
     return math.degrees(math.acos(max(-1.0, min(1.0, c))))
 
 
-def closest(track):
+def closest(track, targets):
     """The paper's choice: each measurement's nearest simulated sample, at any time."""
-    return [min(range(len(track)), key=lambda i: distance(track[i], m)) for m in measured]
+    return [min(range(len(track)), key=lambda i: distance(track[i], m)) for m in targets]
 
 
-def monotone(track):
+def monotone(track, targets):
     """Frames i_1 <= ... <= i_n minimising the summed distance (dynamic programming)."""
     n = len(track)
-    cost = [distance(track[i], measured[0]) for i in range(n)]
+    cost = [distance(track[i], targets[0]) for i in range(n)]
     back = []
-    for m in measured[1:]:
+    for m in targets[1:]:
         best, arg, new, choice = float("inf"), 0, [], []
         for i in range(n):
             if cost[i] < best:
@@ -107,27 +149,27 @@ def turned(track, degrees):
     return [(c * x - s * y, s * x + c * y, z) for x, y, z in track]
 
 
-def monotone_error(track):
-    picks = monotone(track)
-    return sum(distance(track[i], m) for i, m in zip(picks, measured)) / len(measured)
+def monotone_error(track, targets):
+    picks = monotone(track, targets)
+    return sum(distance(track[i], m) for i, m in zip(picks, targets)) / len(targets)
 
 
-def best_yaw(track):
-    if arguments.no_yaw:
+def best_yaw(track, targets):
+    if not arguments.yaw:
         return 0.0
     lo, hi = -10.0, 10.0  # golden-section search of the monotone error over the yaw angle
     g = (math.sqrt(5.0) - 1.0) / 2.0
     a, b = hi - g * (hi - lo), lo + g * (hi - lo)
-    fa, fb = monotone_error(turned(track, a)), monotone_error(turned(track, b))
+    fa, fb = monotone_error(turned(track, a), targets), monotone_error(turned(track, b), targets)
     for _ in range(30):
         if fa < fb:
             hi, b, fb = b, a, fa
             a = hi - g * (hi - lo)
-            fa = monotone_error(turned(track, a))
+            fa = monotone_error(turned(track, a), targets)
         else:
             lo, a, fa = a, b, fb
             b = lo + g * (hi - lo)
-            fb = monotone_error(turned(track, b))
+            fb = monotone_error(turned(track, b), targets)
     return 0.5 * (lo + hi)
 
 
@@ -137,24 +179,32 @@ veins = VenationFilter(Input=leaf, Preset="Custom", Pattern="Palmate (actinodrom
 wilt = WiltingSimulator(Input=OutputPort(veins, 1), Veins=OutputPort(veins, 0), Preset="Custom",
                         LoadProfile="Sigmoid", ContractionSide="Bottom", ContractionTarget="Base",
                         RayleighBeta=0.01, **SETTINGS)
-NAMES = ("DroopForce", "ContractionForce", "BladeStiffness", "VeinStiffness", "MarginStiffness", "LoadTime",
-         "ContractionTime", "RayleighAlpha")
-# Starting point: the loads are tens of times the leaf's weight per voxel (0.02 g/cm^3 * (1.6 cm)^3 * 981 = 80 dyn)
-# and the springs stiff enough that gravity alone sags the tip about 1 cm, as the first measurement shows.
-START = (9.4e3, 3.4e3, 7.4e4, 2.9e5, 9.9e4, 10.6, 3.6, 2.0)
 
 
-def configure(x):
-    droop, contraction, blade, vein, margin, load_time, contraction_time, alpha = (math.exp(v) for v in x)
-    wilt.RayleighAlpha = alpha
-    wilt.LoadTime = load_time
-    wilt.ContractionTime = contraction_time
-    wilt.DroopForce = droop
-    wilt.ContractionForce = contraction
-    wilt.BladeMaterial = [0.02, blade, 0.0]
-    wilt.MarginMaterial = [0.02, margin, 0.0]
-    wilt.VeinMaterial = [0.02, vein, 0.0]
-    wilt.PetioleMaterial = [0.02, 5.0 * vein, 0.0]
+def values_of(x):
+    """The full parameter set: START with the fitted ones from the optimiser's vector x."""
+    values = dict(START)
+    for name, v in zip(FITTED, x):
+        values[name] = math.exp(v) if POSITIVE[name] else v
+    return values
+
+
+def vector_of(values):
+    return [math.log(values[n]) if POSITIVE[n] else values[n] for n in FITTED]
+
+
+def configure(values):
+    wilt.RayleighAlpha = values["RayleighAlpha"]
+    wilt.LoadTime = values["LoadTime"]
+    wilt.ContractionTime = values["ContractionTime"]
+    wilt.DroopForce = values["DroopForce"]
+    wilt.ContractionForce = values["ContractionForce"]
+    wilt.DroopAsymmetry = values["DroopAsymmetry"]
+    wilt.ContractionAsymmetry = values["ContractionAsymmetry"]
+    wilt.BladeMaterial = [0.02, values["BladeStiffness"], 0.0]
+    wilt.MarginMaterial = [0.02, values["MarginStiffness"], 0.0]
+    wilt.VeinMaterial = [0.02, values["VeinStiffness"], 0.0]
+    wilt.PetioleMaterial = [0.02, 5.0 * values["VeinStiffness"], 0.0]
 
 
 def track_of(proxy):
@@ -168,20 +218,34 @@ def track_of(proxy):
 
 
 runs = [0]
+tracks = {}
 
 
-def objective(x):
-    configure(x)
-    runs[0] += 1
-    track = track_of(wilt)
-    if not track:
-        return 1e9
-    return monotone_error(turned(track, best_yaw(track)))
+def simulate(x):
+    values = values_of(x)
+    if any(abs(values[n]) > 1.0 for n in ("DroopAsymmetry", "ContractionAsymmetry")):
+        return None  # outside the properties' range [-1, 1]
+    key = tuple(round(v, 12) for v in x)
+    if key not in tracks:
+        configure(values)
+        runs[0] += 1
+        tracks[key] = track_of(wilt)
+    return tracks[key]
+
+
+def objective_for(targets):
+    def objective(x):
+        track = simulate(x)
+        if not track:
+            return 1e9
+        return monotone_error(turned(track, best_yaw(track, targets)), targets)
+    return objective
 
 
 def nelder_mead(f, x0, step, budget):
     n = len(x0)
-    simplex = [list(x0)] + [[x0[j] + (step if j == i else 0.0) for j in range(n)] for i in range(n)]
+    simplex = [list(x0)] + [[x0[j] + (step * STEP[FITTED[j]] if j == i else 0.0) for j in range(n)]
+                            for i in range(n)]
     values = [f(x) for x in simplex]
     evaluations = len(simplex)
     while evaluations < budget:
@@ -220,10 +284,13 @@ def report(track, title):
     if not track:
         print("\n%s: the simulation blew up before Duration (see the error above); nothing to compare" % title)
         return
-    yaw = best_yaw(track)
+    yaw = best_yaw(track, measured)
     print("\n%s" % title)
-    for label, t in (("raw (yaw 0)", track), ("turned by the best yaw %.2f deg" % yaw, turned(track, yaw))):
-        mono, near = monotone(t), closest(t)
+    variants = [("raw (yaw 0)", track)]
+    if arguments.yaw:
+        variants.append(("turned by the best yaw %.2f deg" % yaw, turned(track, yaw)))
+    for label, t in variants:
+        mono, near = monotone(t, measured), closest(t, measured)
         print("  %s: frames (monotone) %s, times %s s" % (label, mono, [round(i * SETTINGS["FrameInterval"], 2)
                                                                       for i in mono]))
         print("  %-6s %-22s %-22s %-9s %-9s %-6s" % ("sample", "measured", "simulated (monotone)", "monotone",
@@ -242,16 +309,47 @@ def report(track, title):
             "%.2f deg" % angle(measured[0], measured[-1], paper[0], paper[-1]) if paper else "-"))
 
 
+def describe(values):
+    return ", ".join("%s %.5g" % (n, values[n]) for n in NAMES)
+
+
 started = time.time()
 if arguments.evaluate_preset:
     wilt.Preset = "Cucumber"
-    track = track_of(wilt)
-    report(track, "Cucumber preset at %s" % SETTINGS)
+    report(track_of(wilt), "Cucumber preset at %s" % SETTINGS)
+elif arguments.evaluate:
+    configure(START)
+    report(track_of(wilt), "START (%s) at %s" % (describe(START), SETTINGS))
+    best = vector_of(START)
 else:
-    x0 = [math.log(v) for v in START]
-    best, value = nelder_mead(objective, x0, 0.7, arguments.evaluations // 2)
+    print("fitting %d parameters (%s) to %d samples (%d coordinates)" % (
+        len(FITTED), ", ".join(FITTED), len(measured), 3 * len(measured)), flush=True)
+    objective = objective_for(measured)
+    best, value = nelder_mead(objective, vector_of(START), 0.7, arguments.evaluations // 2)
     best, value = nelder_mead(objective, best, 0.2, arguments.evaluations - arguments.evaluations // 2)
-    configure(best)
-    fitted = ", ".join("%s %.5g" % (n, math.exp(v)) for n, v in zip(NAMES, best))
-    print("fitted (%d simulations, %.0f s): %s" % (runs[0], time.time() - started, fitted))
+    fitted = values_of(best)
+    print("fitted (%d simulations, %.0f s): %s" % (runs[0], time.time() - started, describe(fitted)), flush=True)
+    configure(fitted)
     report(track_of(wilt), "fitted parameters at %s" % SETTINGS)
+if arguments.leave_one_out and not arguments.evaluate_preset:
+    budget = arguments.loo_evaluations or arguments.evaluations // 4
+    print("\nleave-one-out: refit %s without each sample (from the fit, %d simulations each)" % (
+        ", ".join(FITTED), budget))
+    left_out = []
+    for k in range(len(measured)):
+        targets = measured[:k] + measured[k + 1:]
+        x, _ = nelder_mead(objective_for(targets), best, 0.2, budget)
+        track = simulate(x)
+        if not track:
+            print("  without sample %d: the refit blew up" % (k + 1))
+            continue
+        mono = monotone(track, measured)
+        error = distance(track[mono[k]], measured[k])
+        near = distance(track[closest(track, measured)[k]], measured[k])
+        left_out.append((error, near))
+        print("  without sample %d: its error %.2f cm (monotone), %.2f cm (closest); refit %s" % (
+            k + 1, error, near, describe(values_of(x))), flush=True)
+    if left_out:
+        print("  leave-one-out mean: %.2f cm (monotone), %.2f cm (closest)" % (
+            sum(e for e, _ in left_out) / len(left_out), sum(n for _, n in left_out) / len(left_out)))
+print("\n%d simulations, %.0f s" % (runs[0], time.time() - started))

@@ -7,6 +7,9 @@ photograph (red), the tree TreeFromSketchSource lifts from them seen from the fr
 exactly: every branch projects onto its stroke) and, next to it, the same tree turned 90 degrees, which shows the
 depth the phyllotaxis rule gave each stroke branch, each with a two-level template subtree and leaves.
 In the GUI the strokes are drawn over a photograph with the Poly Line widget (docs/tracing-a-tree-photo.md).
+tree_merged.png: merging (paper 004 Fig. 11): a small sympodial tree's skeleton on the MergeTree input of a
+monopodial template, once grafted onto a branch (MergeParentBranch, MergeU, MergeAngle, MergeScale) and once as a
+second trunk beside it (MergeParentBranch -1, MergeOffset).
 
     xvfb-run -a pvbatch examples/main_tree_from_sketch.py --plugin build/.../PlantMorph.so --output output/
 """
@@ -89,3 +92,23 @@ show_solid(strokes_shown, view2, [0.85, 0.1, 0.1], LineWidth=3.0)
 show_solid(placed(sketched, 0, 18.0, rotate_y=90.0), view2, BARK)
 show_solid(placed(sketched, 2, 18.0, rotate_y=90.0), view2, LEAF, Opacity=0.6)
 save_framed(view2, os.path.join(arguments.output, "tree_sketched.png"), [9, 12], 15)
+
+# Merged trees: a sympodial tree's skeleton grafted onto branch 1 of a monopodial template, and stood beside it.
+SetActiveSource(None)
+graft = TreeFromSketchSource(registrationName="GraftedTree", Preset="Custom", TreeType="Sympodial", Depth=3,
+                             ChildCount=3, Ratio=0.0, Length=4.0, Radius=0.25, PhyllotaxisA=1, PhyllotaxisB=3,
+                             Leaves=0)
+SetActiveSource(None)
+host = TreeFromSketchSource(registrationName="HostTree", Preset="Custom", Depth=2, LeafCount=3, LeafScale=0.8,
+                            MergeTree=OutputPort(graft, 1), MergeParentBranch=1, MergeU=0.5, MergeAngle=40.0,
+                            MergeScale=0.8)
+SetActiveSource(None)
+pair = TreeFromSketchSource(registrationName="SecondTrunk", Preset="Custom", Depth=2, LeafCount=3, LeafScale=0.8,
+                            MergeTree=OutputPort(graft, 1), MergeParentBranch=-1, MergeOffset=[7, 0, 0],
+                            MergeAngle=0.0, MergeScale=1.0)
+save_vtp(host, os.path.join(arguments.output, "tree_merged_branches.vtp"))
+view3 = white_view(1400, 700)
+for tree, dx in ((host, -7.0), (pair, 10.0)):
+    show_solid(placed(tree, 0, dx), view3, BARK)
+    show_solid(placed(tree, 2, dx), view3, LEAF)
+save_framed(view3, os.path.join(arguments.output, "tree_merged.png"), [6, 8], 10)

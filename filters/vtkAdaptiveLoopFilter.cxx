@@ -139,6 +139,8 @@ void vtkAdaptiveLoopFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EdgeAngleThreshold: " << this->EdgeAngleThreshold << "\n";
   os << indent << "FlatnessThreshold: " << this->FlatnessThreshold << "\n";
   os << indent << "FeatureRule: " << this->FeatureRule << "\n";
+  os << indent << "RefinementRule: " << this->RefinementRule << "\n";
+  os << indent << "ErrorTolerance: " << this->ErrorTolerance << "\n";
   os << indent << "MidveinFeatures: " << this->MidveinFeatures << "\n";
   os << indent << "LineFeatures: " << this->LineFeatures << "\n";
   os << indent << "TriangulateNonTriangles: " << this->TriangulateNonTriangles << "\n";
@@ -194,6 +196,8 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
   settings.edgeAngleThreshold = this->EdgeAngleThreshold;
   settings.flatnessThreshold = this->FlatnessThreshold;
   settings.featureRule = static_cast<plantmorph::FeatureRule>(this->FeatureRule);
+  settings.refinementRule = static_cast<plantmorph::RefinementRule>(this->RefinementRule);
+  settings.errorTolerance = this->ErrorTolerance;
   settings.midveinIsFeature = this->MidveinFeatures != 0;
   if (this->MaximumTriangles < 1 || static_cast<std::size_t>(this->MaximumTriangles) > MaxAdaptiveLoopTriangles)
   {

@@ -19,6 +19,14 @@
  *   crease rules (edge midpoints; 1/8, 3/4, 1/8 along a feature curve; corners stay); Refine splits feature edges at
  *   their midpoints without moving feature points.
  * - Levels repeat up to MaximumLevel and stop early when a level would insert no point.
+ * - **RefinementRule SURFACE_ERROR** (not in the paper) replaces the two angle rules by one estimate in model
+ *   units: an interior edge splits when its estimated distance from Loop's surface reaches ErrorTolerance, the
+ *   largest of its odd point's distance from the chord midpoint, |n . (v3 + v4 - v1 - v2)| / 8 (and from the
+ *   midpoint of the chord between its ends' smoothed positions), and its two ends' distances from their Loop limit
+ *   positions (all along the normal, so flat parts of any mesh score 0); a vertex
+ *   moves only when one of its edges splits (parts left unrefined are left exactly as they were). ErrorTolerance 0
+ *   is plain Loop subdivision with the feature rule; a huge one changes nothing. See
+ *   filters/core/AdaptiveLoopSubdivision.h.
  *
  * With EdgeAngleThreshold = 180, FlatnessThreshold = 1, FeatureRule = Loop and MidveinFeatures and LineFeatures off,
  * the output is plain Loop subdivision, the same as vtkLoopSubdivisionFilter's (which stores float points).
@@ -52,6 +60,12 @@ public:
   vtkTypeMacro(vtkAdaptiveLoopFilter, vtkPolyDataAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  enum RefinementRuleType
+  {
+    DIHEDRAL_ANGLE = 0,
+    SURFACE_ERROR = 1
+  };
+
   enum FeatureRuleType
   {
     FIXED = 0,
@@ -84,6 +98,24 @@ public:
    */
   vtkSetMacro(FlatnessThreshold, double);
   vtkGetMacro(FlatnessThreshold, double);
+  ///@}
+
+  ///@{
+  /**
+   * Where to refine: DIHEDRAL_ANGLE (0, default, the paper: EdgeAngleThreshold and FlatnessThreshold) or
+   * SURFACE_ERROR (1: ErrorTolerance; FlatnessThreshold and EdgeAngleThreshold unused).
+   */
+  vtkSetMacro(RefinementRule, int);
+  vtkGetMacro(RefinementRule, int);
+  ///@}
+
+  ///@{
+  /**
+   * SURFACE_ERROR's tolerance in model units, range [0, inf]: an edge splits where the estimated distance of the
+   * unrefined surface from Loop's reaches it. Default 0.001. 0 splits everything (plain Loop with FeatureRule).
+   */
+  vtkSetMacro(ErrorTolerance, double);
+  vtkGetMacro(ErrorTolerance, double);
   ///@}
 
   ///@{
@@ -155,6 +187,8 @@ protected:
   double EdgeAngleThreshold = 170.0;
   double FlatnessThreshold = 0.999;
   int FeatureRule = FIXED;
+  int RefinementRule = DIHEDRAL_ANGLE;
+  double ErrorTolerance = 0.001;
   vtkTypeBool MidveinFeatures = 1;
   vtkTypeBool LineFeatures = 1;
   vtkTypeBool TriangulateNonTriangles = 1;

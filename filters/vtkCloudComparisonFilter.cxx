@@ -189,17 +189,6 @@ void AddColumn(vtkTable* table, vtkFieldData* fd, const char* name, double value
   }
 }
 
-/// Builds the distance structure over a point set: a surface if it has 2-D cells, else its points.
-std::string BuildStructure(vtkPointSet* data, const std::vector<double>& xyz, plantmorph::PointSurfaceDistance& out)
-{
-  const std::vector<std::int64_t> triangles = Triangles(data);
-  if (!triangles.empty())
-  {
-    return out.BuildSurface(xyz.data(), xyz.size() / 3, triangles.data(), triangles.size() / 3);
-  }
-  return out.BuildCloud(xyz.data(), xyz.size() / 3);
-}
-
 plantmorph::ParallelFor SMPFor()
 {
   return [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
@@ -207,6 +196,17 @@ plantmorph::ParallelFor SMPFor()
       body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end));
     });
   };
+}
+
+/// Builds the distance structure over a point set: a surface if it has 2-D cells, else its points.
+std::string BuildStructure(vtkPointSet* data, const std::vector<double>& xyz, plantmorph::PointSurfaceDistance& out)
+{
+  const std::vector<std::int64_t> triangles = Triangles(data);
+  if (!triangles.empty())
+  {
+    return out.BuildSurface(xyz.data(), xyz.size() / 3, triangles.data(), triangles.size() / 3, SMPFor());
+  }
+  return out.BuildCloud(xyz.data(), xyz.size() / 3, SMPFor());
 }
 } // namespace
 
@@ -423,18 +423,16 @@ int vtkCloudComparisonFilter::Execute(
   closest->SetName("ClosestPoint");
   closest->SetNumberOfComponents(3);
   closest->SetNumberOfTuples(count);
-  const vtkIdType block = std::max<vtkIdType>(1 << 16, count / 20);
-  for (vtkIdType start = 0; start < count; start += block)
+  // One QueryMany over all points (one Morton order: the most coherent), reporting progress between its blocks.
+  referenceDistance.QueryMany(xyz.data(), static_cast<std::size_t>(count), distance->GetPointer(0),
+    surface ? signedDistance->GetPointer(0) : nullptr, closest->GetPointer(0), nullptr, parallelFor,
+    [this](double done) {
+      this->UpdateProgress(0.3 + 0.6 * done);
+      return !this->GetAbortExecute();
+    });
+  if (this->GetAbortExecute())
   {
-    const vtkIdType stop = std::min(count, start + block);
-    referenceDistance.QueryMany(xyz.data() + 3 * start, static_cast<std::size_t>(stop - start),
-      distance->GetPointer(start), surface ? signedDistance->GetPointer(start) : nullptr,
-      closest->GetPointer(3 * start), nullptr, parallelFor);
-    this->UpdateProgress(0.3 + 0.6 * static_cast<double>(stop) / static_cast<double>(count));
-    if (this->GetAbortExecute())
-    {
-      return 0;
-    }
+    return 0;
   }
 
   // Reverse direction: the reference's points against the measured data (as a surface if it has polygons).

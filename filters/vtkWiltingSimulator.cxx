@@ -61,6 +61,8 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
   p.gravity = f->GetGravity();
   p.droopForce = f->GetDroopForce();
   p.contractionForce = f->GetContractionForce();
+  p.droopAsymmetry = f->GetDroopAsymmetry();
+  p.contractionAsymmetry = f->GetContractionAsymmetry();
   p.contractionSide = f->GetContractionSide() == vtkWiltingSimulator::SIDE_TOP ? plantmorph::WiltingContractionSide::Top
                                                                                : plantmorph::WiltingContractionSide::Bottom;
   p.contractionTarget = f->GetContractionTarget() == vtkWiltingSimulator::TARGET_BASE
@@ -172,6 +174,8 @@ void vtkWiltingSimulator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FrameInterval: " << this->FrameInterval << "\n";
   os << indent << "DroopForce: " << this->DroopForce << "\n";
   os << indent << "ContractionForce: " << this->ContractionForce << "\n";
+  os << indent << "DroopAsymmetry: " << this->DroopAsymmetry << "\n";
+  os << indent << "ContractionAsymmetry: " << this->ContractionAsymmetry << "\n";
   os << indent << "Solver: " << this->Solver << "\n";
 }
 

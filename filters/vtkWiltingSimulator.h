@@ -142,6 +142,12 @@ public:
   vtkGetMacro(ContractionForce, double);
   vtkSetMacro(ContractionSide, int);
   vtkGetMacro(ContractionSide, int);
+  /** Left/right asymmetry of the droop and of the contraction, each in [-1, 1] (default 0, symmetric): the +x half
+   * of the leaf carries (1 + a) times the load, the -x half (1 - a) times (one half wilting sooner or more). */
+  vtkSetMacro(DroopAsymmetry, double);
+  vtkGetMacro(DroopAsymmetry, double);
+  vtkSetMacro(ContractionAsymmetry, double);
+  vtkGetMacro(ContractionAsymmetry, double);
   /** Contraction towards the midvein plane (0, the paper's) or towards the base (1: margins and apex curl). */
   vtkSetMacro(ContractionTarget, int);
   vtkGetMacro(ContractionTarget, int);
@@ -223,6 +229,8 @@ protected:
   double Gravity = 981.0;
   double DroopForce = 2.0;
   double ContractionForce = 1.0;
+  double DroopAsymmetry = 0.0;
+  double ContractionAsymmetry = 0.0;
   int ContractionSide = SIDE_BOTTOM;
   int ContractionTarget = TARGET_MIDVEIN;
   int LoadProfile = PROFILE_SIGMOID;

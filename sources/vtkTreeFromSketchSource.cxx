@@ -47,6 +47,54 @@ vtkSmartPointer<vtkIntArray> IntArray(const char* name, vtkIdType count)
   return a;
 }
 
+/// The Merge input as skeleton branches: one per line cell, BranchId and ParentId from its cell arrays (whole
+/// numbers), Radius from the point array. Returns an error naming what is missing.
+std::string ReadSkeleton(vtkPolyData* input, std::vector<plantmorph::SkeletonBranch>& branches)
+{
+  const std::string hint =
+    " (connect a tree skeleton: another TreeFromSketchSource's Skeleton output, port 1, or polylines with cell arrays "
+    "BranchId and ParentId and a point array Radius)";
+  vtkCellArray* lines = input->GetLines();
+  if (!lines || lines->GetNumberOfCells() == 0)
+  {
+    return "Merge input is not a tree: it has no lines" + hint;
+  }
+  vtkDataArray* ids = input->GetCellData()->GetArray("BranchId");
+  vtkDataArray* parents = input->GetCellData()->GetArray("ParentId");
+  vtkDataArray* radius = input->GetPointData()->GetArray("Radius");
+  if (!ids || !parents || !radius)
+  {
+    return std::string("Merge input is not a tree: it has no ") +
+      (!ids ? "cell array BranchId" : !parents ? "cell array ParentId" : "point array Radius") + hint;
+  }
+  // Line cells come after vertex cells in a polydata's cell numbering.
+  const vtkIdType first = input->GetNumberOfVerts();
+  vtkNew<vtkIdList> pointIds;
+  vtkIdType cell = first;
+  for (lines->InitTraversal(); lines->GetNextCell(pointIds); ++cell)
+  {
+    const double id = ids->GetComponent(cell, 0), parent = parents->GetComponent(cell, 0);
+    if (!std::isfinite(id) || id != std::floor(id) || !std::isfinite(parent) || parent != std::floor(parent) ||
+      std::abs(id) > 4e9 || std::abs(parent) > 4e9)
+    {
+      return "Merge input is not a tree: line " + std::to_string(cell - first) +
+        " has a BranchId or ParentId that is not a whole number" + hint;
+    }
+    plantmorph::SkeletonBranch b;
+    b.id = static_cast<long long>(id);
+    b.parentId = static_cast<long long>(parent);
+    for (vtkIdType k = 0; k < pointIds->GetNumberOfIds(); ++k)
+    {
+      double p[3];
+      input->GetPoint(pointIds->GetId(k), p);
+      b.centre.emplace_back(p[0], p[1], p[2]);
+      b.radii.push_back(radius->GetComponent(pointIds->GetId(k), 0));
+    }
+    branches.push_back(std::move(b));
+  }
+  return {};
+}
+
 void SMPFor(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body)
 {
   vtkSMPTools::For(0, static_cast<vtkIdType>(count),
@@ -57,7 +105,7 @@ void SMPFor(std::size_t count, const std::function<void(std::size_t, std::size_t
 //------------------------------------------------------------------------------
 vtkTreeFromSketchSource::vtkTreeFromSketchSource()
 {
-  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfInputPorts(3);
   this->SetNumberOfOutputPorts(3);
 }
 
@@ -78,6 +126,8 @@ void vtkTreeFromSketchSource::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "StrokeFile: " << this->StrokeFile << "\n"
      << indent << "Leaves: " << this->Leaves << " type " << this->LeafType << " count " << this->LeafCount << "\n"
      << indent << "Seed: " << this->Seed << "\n"
+     << indent << "Merge: parent " << this->MergeParentBranch << " u " << this->MergeU << " angle " << this->MergeAngle
+     << " rotation " << this->MergeRotation << " scale " << this->MergeScale << "\n"
      << indent << "DeletedBranches: " << this->DeletedBranches.size() << "\n"
      << indent << "BranchOverrides: " << this->BranchOverrides.size() / 6 << "\n";
 }
@@ -192,6 +242,12 @@ int vtkTreeFromSketchSource::RequestData(
   s.leafScale = this->LeafScale;
   s.leafAngle = this->LeafAngle;
   s.seed = static_cast<std::uint64_t>(static_cast<std::int64_t>(this->Seed));
+  s.mergeParent = this->MergeParentBranch;
+  s.mergeU = this->MergeU;
+  s.mergeAngle = this->MergeAngle;
+  s.mergeRotation = this->MergeRotation;
+  s.mergeScale = this->MergeScale;
+  s.mergeOffset = Eigen::Vector3d(this->MergeOffset[0], this->MergeOffset[1], this->MergeOffset[2]);
   s.deletedBranches.insert(this->DeletedBranches.begin(), this->DeletedBranches.end());
   for (std::size_t r = 0; r + 6 <= this->BranchOverrides.size(); r += 6)
   {
@@ -244,10 +300,22 @@ int vtkTreeFromSketchSource::RequestData(
       }
     }
   }
+  // A second tree to merge: a skeleton (lines) with BranchId and ParentId on its cells and Radius on its points.
+  std::vector<plantmorph::SkeletonBranch> second;
+  vtkPolyData* mergeInput = vtkPolyData::GetData(inputVector[2], 0);
+  if (mergeInput)
+  {
+    const std::string refused = ReadSkeleton(mergeInput, second);
+    if (!refused.empty())
+    {
+      vtkErrorMacro(<< refused);
+      return 1;
+    }
+  }
   this->UpdateProgress(0.05);
 
   plantmorph::Tree tree;
-  std::string error = plantmorph::BuildTree(s, strokes, tree);
+  std::string error = plantmorph::BuildTree(s, strokes, mergeInput ? &second : nullptr, tree);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
@@ -259,23 +327,11 @@ int vtkTreeFromSketchSource::RequestData(
     return 1;
   }
 
-  // Branch surfaces.
-  std::vector<plantmorph::TubeInput> tubes(tree.branches.size());
-  for (std::size_t t = 0; t < tree.branches.size(); ++t)
-  {
-    const plantmorph::TreeBranch& b = tree.branches[t];
-    plantmorph::TubeInput& tube = tubes[t];
-    if (b.tubeRoot != b.centre[0])
-    {
-      tube.centre.push_back(b.tubeRoot);
-      tube.radii.push_back(b.radius);
-    }
-    tube.centre.insert(tube.centre.end(), b.centre.begin(), b.centre.end());
-    tube.radii.insert(tube.radii.end(), b.radii.begin(), b.radii.end());
-    tube.normal = b.frame.col(0);
-  }
+  // Branch surfaces; children's base rings seated on their parents.
+  std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree);
   plantmorph::TubeMesh mesh;
-  error = plantmorph::BuildTubes(tubes, s.sides, mesh, SMPFor);
+  plantmorph::JointReport joints;
+  error = plantmorph::BuildTubes(tubes, s.sides, mesh, SMPFor, &joints);
   tubes.clear();
   if (!error.empty())
   {
@@ -332,6 +388,20 @@ int vtkTreeFromSketchSource::RequestData(
   AddFieldValue(parameters, "PlantMorph.SegmentCount", static_cast<double>(tree.SegmentCount()));
   AddFieldValue(parameters, "PlantMorph.LeafCount", static_cast<double>(tree.leaves.size()));
   AddFieldValue(parameters, "PlantMorph.StrokeCount", static_cast<double>(strokes.size()));
+  AddFieldValue(parameters, "PlantMorph.MergeIdBase", static_cast<double>(tree.mergeIdBase));
+  {
+    vtkNew<vtkDoubleArray> seating;
+    seating->SetName("PlantMorph.JointRingVertices");
+    seating->SetNumberOfComponents(4);
+    seating->SetComponentName(0, "Seated");
+    seating->SetComponentName(1, "Missed");
+    seating->SetComponentName(2, "Clamped");
+    seating->SetComponentName(3, "Buried");
+    const double row[4] = { double(joints.seated), double(joints.missed), double(joints.clamped),
+      double(joints.buried) };
+    seating->InsertNextTuple(row);
+    parameters->AddArray(seating);
+  }
   {
     vtkNew<vtkDoubleArray> report;
     report->SetName("PlantMorph.Strokes");

@@ -16,6 +16,22 @@
  * drawn) lie in the image's XY plane; z is ignored. When it is not connected and `StrokeFile` is set, the strokes
  * come from that .csv (stroke_id, x, y) or .svg (polyline / path) file. Optional input port 1, **Leaf**: a leaf
  * mesh (e.g. LeafOutlineSource's Blade: XY plane, base at the origin, midrib along +Y) to instance at every leaf.
+ * Optional input port 2, **MergeTree**: a second tree to merge (paper 004 sec. 3.2, Fig. 11 "merged tree"): a
+ * skeleton, i.e. polylines with cell arrays `BranchId`, `ParentId` and point array `Radius`, such as another
+ * vtkTreeFromSketchSource's Skeleton output. It grows from branch `MergeParentBranch` at `MergeU` like a template
+ * child at (`MergeAngle`, `MergeRotation`), its +Y turned into that child's direction, or (MergeParentBranch -1)
+ * stands as a second trunk at `MergeOffset`, tilted by MergeAngle and turned about +Y by MergeRotation; scaled by
+ * `MergeScale`. Its branches keep their shape and get BranchId = base + their id in the second tree, base (field
+ * data `PlantMorph.MergeIdBase`) the first id this tree's own properties never use, so DeletedBranches and
+ * BranchOverrides address them and state files keep naming them. Input that is not one tree (no lines, no
+ * BranchId / ParentId / Radius, duplicate ids, no or several roots, dangling parents, cycles, NaN) is refused with a
+ * message starting "Merge input is not a tree". See plantmorph::MergeTree (TreeMerge.h) for every rule.
+ *
+ * Joints: each child's tube starts with its base ring on the parent tube's faceted surface (plantmorph::BuildTubes,
+ * "Joints"): no gap and no wall buried in the parent; the parent's surface is not cut (no Boolean union), so the
+ * child's base cap and a thin lens under it lie inside the parent. Field data `PlantMorph.JointRingVertices` counts
+ * the child ring vertices seated, missed (their line misses the parent: sympodial forks at a capped tip), clamped
+ * and buried.
  *
  * `Mode`: 0 Template (the template tree of the properties, or of `Preset` 1-3, Table 1), 1 Strokes (the first
  * stroke is the trunk, the others attach to their nearest branch and are lifted to 3-D by the phyllotaxis rule; each
@@ -24,7 +40,10 @@
  * plantmorph::PlaceLeaves and plantmorph::BuildTubes for every formula and for the choices made where the paper is
  * silent. Editing: `DeletedBranches` (ids; the branch and its subtree go) and `BranchOverrides` (rows of id,
  * length, radius, u, angle, rotation_angle; NaN or -1000 keeps). Branch ids are preorder numbers of the unedited template,
- * so they stay valid under edits of other branches and in saved state files.
+ * so they stay valid under edits of other branches and in saved state files. Overrides apply to stroke branches too
+ * (rotation_angle replaces the chosen phyllotaxis lifting angle, length scales the branch about its base, u moves
+ * it along its parent, angle turns it about its base; see TreeStrokes.h) and to merged branches (length, radius;
+ * u, angle and rotation_angle on the merged root only, other rows refused; see TreeMerge.h).
  *
  * The tree is made once as piece 0 (other pieces are empty, so it appears once under MPI). Bad parameters, bad
  * strokes (none, one point, NaN, zero length) or a tree above `MaxSegments` give an error naming the property or
@@ -139,6 +158,26 @@ public:
   vtkSetMacro(Seed, int);
   vtkGetMacro(Seed, int);
 
+  /// Merge input (port 2): the BranchId of this tree the second tree grows from, or -1 for a second trunk standing
+  /// at MergeOffset. Default 0 (the trunk).
+  vtkSetMacro(MergeParentBranch, int);
+  vtkGetMacro(MergeParentBranch, int);
+  /// Position on that branch, [0, 1]. Default 0.5.
+  vtkSetMacro(MergeU, double);
+  vtkGetMacro(MergeU, double);
+  /// Divergence from that branch (tilt from +Y for a second trunk), degrees, [0, 180]. Default 34.4.
+  vtkSetMacro(MergeAngle, double);
+  vtkGetMacro(MergeAngle, double);
+  /// Rotation about that branch (about +Y for a second trunk), degrees. Default 0.
+  vtkSetMacro(MergeRotation, double);
+  vtkGetMacro(MergeRotation, double);
+  /// Uniform scale of the second tree, (0, 1e6]. Default 1.
+  vtkSetMacro(MergeScale, double);
+  vtkGetMacro(MergeScale, double);
+  /// Where a second trunk stands (MergeParentBranch -1). Default (0, 0, 0).
+  vtkSetVector3Macro(MergeOffset, double);
+  vtkGetVector3Macro(MergeOffset, double);
+
   /// Branch ids to delete with their subtrees.
   void ClearDeletedBranches();
   void AddDeletedBranch(int id);
@@ -184,6 +223,12 @@ protected:
   double LeafScale = 1.0;
   double LeafAngle = 45.0;
   int Seed = 0;
+  int MergeParentBranch = 0;
+  double MergeU = 0.5;
+  double MergeAngle = 34.4;
+  double MergeRotation = 0.0;
+  double MergeScale = 1.0;
+  double MergeOffset[3] = { 0.0, 0.0, 0.0 };
   std::vector<int> DeletedBranches;
   std::vector<double> BranchOverrides;
 

@@ -8,13 +8,15 @@
 //   BM_Uniform_vtkLoopSubdivisionFilter      VTK's own Loop filter (ParaView's "Loop Subdivision")
 //   BM_Uniform_CGAL_Loop                     CGAL 5.5 Subdivision_method_3::Loop_subdivision on a Surface_mesh
 //                                            (positions only; the mesh is built from the sphere untimed)
-// Adaptive mode on a bent ginkgo blade (LeafOutlineSource, Fixed feature rule): the deviation of uniform level L
-// from the level-4 uniform surface (exact point-to-triangle distances both ways, see Deviation below), and the
-// adaptive settings (searched untimed, once: levels, bisection on the threshold angle, flatness rule; 288 runs,
-// about 6 minutes on a loaded 2-core machine) with the fewest triangles within that deviation.
-// PLANTMORPH_BLADE_SWEEP_LOG=1 prints every evaluated setting (levels, alpha = 180 - EdgeAngleThreshold,
-// 1 - FlatnessThreshold, triangles, deviations) to stderr, i.e. the adaptive triangles-versus-deviation curve:
-//   BM_Blade_Uniform/levels:L, BM_Blade_Adaptive/levels:L
+// Adaptive mode on leaf blades (BladeKind: the bent ginkgo blade, paper 003's cucumber and pin oak from
+// LeafOutlineSource curled by LeafCurlFilter, and the cucumber and ginkgo under FeatureRule Loop): the deviation of
+// uniform level L from the level-4 uniform surface (exact point-to-triangle distances both ways, see Deviation
+// below; maximum and RMS), and the adaptive settings (searched untimed, once per blade: levels, bisection on the
+// threshold angle with two flatness rules for the paper's DihedralAngle rule, bisection on ErrorTolerance for the
+// SurfaceError rule) with the fewest triangles within that deviation. PLANTMORPH_BLADE_SWEEP_LOG=1 prints every
+// evaluated setting to stderr (the triangles-versus-deviation curve); PLANTMORPH_BLADE_SKIP_DIHEDRAL=1 searches the
+// SurfaceError rule only:
+//   BM_Blade_Uniform/blade:B/levels:L, BM_Blade_Adaptive/blade:B/levels:L/rule:R/rms:C (C = 1: within the RMS)
 //
 // Counters: triangles (output), tri_per_s (output triangles per wall second: the filters are threaded), in_bytes /
 // out_bytes (vtkPolyData::GetActualMemorySize of input / output, or the CGAL mesh's element storage), peak_bytes
@@ -23,6 +25,7 @@
 #include "AdaptiveLoopSubdivision.h"
 #include "PointSurfaceDistance.h"
 #include "vtkAdaptiveLoopFilter.h"
+#include "vtkLeafCurlFilter.h"
 #include "vtkLeafOutlineSource.h"
 
 #include "vtkCellArray.h"
@@ -280,13 +283,49 @@ BENCHMARK(BM_Uniform_vtkLoopSubdivisionFilter)->Apply([](benchmark::internal::Be
 });
 BENCHMARK(BM_Uniform_CGAL_Loop)->Apply([](benchmark::internal::Benchmark* b) { UniformArguments(b, false); });
 
-// ---- adaptive mode on a leaf blade --------------------------------------------------------------------------------
+// ---- adaptive mode on leaf blades --------------------------------------------------------------------------------
 
 constexpr int ReferenceLevel = 4;
 
-/// The ginkgo blade (quality mesh, Resolution 24, 2,340 triangles), bent into a curved surface.
-vtkSmartPointer<vtkPolyData> BentBlade()
+enum BladeKind
 {
+  GinkgoBent = 0,     ///< the ginkgo blade (quality mesh, Resolution 24), z = 0.6 sin(0.8x) cos(0.5y) + 0.05x^2
+  CucumberCurled = 1, ///< paper 003's B-spline cucumber, curled 60 deg longitudinally and 40 deg transversely
+  PinOakCurled = 2,   ///< paper 003's B-spline pin oak, curled 45 and -30 deg
+  CucumberCurledLoop = 3, ///< the cucumber with FeatureRule Loop (margin and midvein smoothed, not fixed)
+  GinkgoBentLoop = 4,     ///< the bent ginkgo with FeatureRule Loop
+};
+constexpr int BladeKinds = 5;
+
+const char* BladeName(int kind)
+{
+  static const char* names[] = { "ginkgo_bent", "cucumber_curled", "pin_oak_curled", "cucumber_curled_loop",
+    "ginkgo_bent_loop" };
+  return names[kind];
+}
+
+vtkSmartPointer<vtkPolyData> CurledBSpline(int preset, int resolution, double longitudinal, double transverse)
+{
+  vtkNew<vtkLeafOutlineSource> source;
+  source->SetModel(vtkLeafOutlineSource::B_SPLINE);
+  source->SetBSplinePreset(preset);
+  source->SetResolution(resolution);
+  vtkNew<vtkLeafCurlFilter> curl;
+  curl->SetInputConnection(source->GetOutputPort(0));
+  curl->SetLongitudinalAngle(longitudinal);
+  curl->SetTransverseAngle(transverse);
+  curl->Update();
+  auto blade = vtkSmartPointer<vtkPolyData>::New();
+  blade->DeepCopy(curl->GetOutput());
+  return blade;
+}
+
+vtkSmartPointer<vtkPolyData> MakeBlade(int kind)
+{
+  if (kind == CucumberCurled || kind == CucumberCurledLoop)
+    return CurledBSpline(2, 24, 60.0, 40.0);
+  if (kind == PinOakCurled)
+    return CurledBSpline(3, 40, 45.0, -30.0);
   vtkNew<vtkLeafOutlineSource> source;
   source->SetResolution(24);
   source->Update();
@@ -302,19 +341,30 @@ vtkSmartPointer<vtkPolyData> BentBlade()
   return blade;
 }
 
+int BladeFeatureRule(int kind)
+{
+  return (kind == CucumberCurledLoop || kind == GinkgoBentLoop) ? vtkAdaptiveLoopFilter::LOOP
+                                                                 : vtkAdaptiveLoopFilter::FIXED;
+}
+
 struct BladeSetting
 {
+  int rule = vtkAdaptiveLoopFilter::DIHEDRAL_ANGLE;
   double angle = 180.0;
   double flatness = 1.0;
+  double tolerance = 0.0;
   int levels = 1;
+  int featureRule = vtkAdaptiveLoopFilter::FIXED;
 };
 
 void Apply(vtkAdaptiveLoopFilter* f, const BladeSetting& s)
 {
   f->SetMaximumLevel(s.levels);
+  f->SetRefinementRule(s.rule);
   f->SetEdgeAngleThreshold(s.angle);
   f->SetFlatnessThreshold(s.flatness);
-  f->SetFeatureRule(vtkAdaptiveLoopFilter::FIXED);
+  f->SetErrorTolerance(s.tolerance);
+  f->SetFeatureRule(s.featureRule);
 }
 
 /// A triangle surface on flat arrays, and its exact point-to-surface distance structure (BVH).
@@ -345,103 +395,142 @@ struct Surface
 
   std::size_t NumberOfPoints() const { return this->points.size() / 3; }
 
-  /// The largest exact distance from `other`'s points to this surface.
-  double MaxDistanceFrom(const Surface& other) const
+  /// Exact distances from `other`'s points to this surface.
+  std::vector<double> DistancesFrom(const Surface& other) const
   {
     std::vector<double> d(other.NumberOfPoints());
     this->distance.QueryMany(other.points.data(), d.size(), d.data(), nullptr, nullptr, nullptr);
-    return d.empty() ? 0.0 : *std::max_element(d.begin(), d.end());
+    return d;
   }
 };
 
-/// Deviation of a mesh from the reference (uniform level-4) surface S: both one-sided maxima of exact
-/// point-to-triangle distances, from the mesh's points to S ("to") and from S's points to the mesh ("from", which
-/// sees the chords of triangles left too large). The study's deviation is the larger of the two: a vertex-sampled
-/// Hausdorff distance (S is 16x finer than any compared mesh's input and its vertices sample it densely).
+/// Deviation of a mesh M from the reference (uniform level-4) surface S: both one-sided maxima of exact
+/// point-to-triangle distances, from M's points to S ("to") and from S's points to M ("from", which sees the chords
+/// of triangles left too large). The study's deviation is the larger of the two: a vertex-sampled Hausdorff
+/// distance (S is 16x finer than any compared mesh's input and its vertices sample it densely). `rms` is the root
+/// mean square of the "from" distances (S's points sample the surface nearly uniformly by area).
 struct Deviation
 {
   double to = 0.0;
   double from = 0.0;
+  double rms = 0.0;
   double Max() const { return std::max(this->to, this->from); }
 };
 
 Deviation Measure(vtkPolyData* mesh, const Surface& reference)
 {
   const Surface surface(mesh);
-  return { reference.MaxDistanceFrom(surface), surface.MaxDistanceFrom(reference) };
+  const std::vector<double> to = reference.DistancesFrom(surface);
+  const std::vector<double> from = surface.DistancesFrom(reference);
+  Deviation d;
+  d.to = to.empty() ? 0.0 : *std::max_element(to.begin(), to.end());
+  d.from = from.empty() ? 0.0 : *std::max_element(from.begin(), from.end());
+  double sum = 0.0;
+  for (double x : from)
+    sum += x * x;
+  d.rms = from.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(from.size()));
+  return d;
 }
+
+struct Best
+{
+  BladeSetting setting;
+  Deviation deviation;
+  vtkIdType triangles = -1;
+};
 
 struct BladeStudy
 {
   vtkSmartPointer<vtkPolyData> blade;
-  std::map<int, Deviation> uniformDeviation;    // by level
-  std::map<int, vtkIdType> uniformTriangles;    // by level
-  std::map<int, BladeSetting> adaptive;         // cheapest setting within the uniform deviation, by level
-  std::map<int, Deviation> adaptiveDeviation;
-  std::map<int, vtkIdType> adaptiveTriangles;
+  double length = 1.0;                       // bounding-box diagonal
+  std::map<int, Deviation> uniformDeviation; // by level
+  std::map<int, vtkIdType> uniformTriangles; // by level
+  // cheapest setting within uniform level L's maximum deviation ([0]) or RMS deviation ([1]), by rule, by level
+  std::map<int, std::map<int, Best>> best[2];
   int evaluations = 0;
   double seconds = 0.0;
 };
 
-// The sweep: for every target level L, adaptive runs of L .. min(L + 2, ReferenceLevel) levels, and for each a
-// bisection on the threshold angle alpha = 180 - EdgeAngleThreshold (an edge splits where its triangles' normals
-// differ by more than alpha) in log10(alpha) over [AlphaLow, AlphaHigh] degrees, AngleSteps halvings (resolution
-// 3.7% in alpha): the triangle count falls as alpha grows, the deviation rises. FlatnessThreshold is either 1
-// (every vertex moves) or tied to alpha, lambda = cos(c * alpha) for c in FlatnessFactors: a vertex whose
-// triangles' normals all lie within about c * alpha of its normal keeps its place, the vertex twin of the edge
-// rule (a vertex that keeps moving on an unrefined neighbourhood is smoothed again at every level and drifts from
-// the uniform surface). Every evaluated setting within the target competes for the fewest triangles.
+// The searches, for every target level L (uniform level L's deviation), with adaptive runs of L .. min(L + 2, 4)
+// levels:
+// - DihedralAngle (the paper's rules): a bisection on alpha = 180 - EdgeAngleThreshold (an edge splits where its
+//   triangles' normals differ by more than alpha) in log10(alpha) over [AlphaLow, AlphaHigh] degrees, AngleSteps
+//   halvings (3.7% resolution); FlatnessThreshold 1 (every vertex moves) or lambda = cos(alpha) (a vertex whose
+//   triangles' normals lie within about alpha of its normal stays). An earlier search also tried cos(c alpha) for
+//   c = 0.5 and 2: no better.
+// - SurfaceError: a bisection on log10(ErrorTolerance / L0) over [1e-7, 1e-1], ToleranceSteps halvings, L0 the
+//   blade's bounding-box diagonal.
+// The cost grows as the deviation falls, so the bisection keeps the largest threshold within the target; every
+// evaluated setting within the target competes for the fewest triangles.
 constexpr double AlphaLow = 1e-3;
 constexpr double AlphaHigh = 10.0;
 constexpr int AngleSteps = 8;
-constexpr double FlatnessFactors[] = { 0.0, 0.5, 1.0, 2.0 }; // 0: lambda = 1
+constexpr double FlatnessFactors[] = { 0.0, 1.0 }; // 0: lambda = 1
+constexpr double ToleranceLow = 1e-7;
+constexpr double ToleranceHigh = 1e-1;
+constexpr int ToleranceSteps = 10;
 
-/// Untimed, once: the reference, the uniform deviations, and the adaptive search.
-const BladeStudy& Study()
+/// Untimed, once per blade: the reference, the uniform deviations, and the adaptive searches.
+const BladeStudy& Study(int kind)
 {
-  static const BladeStudy study = [] {
-    const auto started = std::chrono::steady_clock::now();
-    BladeStudy s;
-    s.blade = BentBlade();
-    const Surface reference(
-      RunFilter(s.blade, [](vtkAdaptiveLoopFilter* f) { Apply(f, BladeSetting{ 180.0, 1.0, ReferenceLevel }); }));
-    for (int level = 1; level < ReferenceLevel; ++level)
+  static std::map<int, BladeStudy> studies;
+  if (studies.count(kind))
+    return studies.at(kind);
+  const auto started = std::chrono::steady_clock::now();
+  BladeStudy& s = studies[kind];
+  s.blade = MakeBlade(kind);
+  s.length = std::sqrt(s.blade->GetLength2());
+  const int featureRule = BladeFeatureRule(kind);
+  const auto uniform = [featureRule](int levels) {
+    BladeSetting u;
+    u.levels = levels;
+    u.featureRule = featureRule;
+    return u;
+  };
+  const Surface reference(RunFilter(s.blade, [&](vtkAdaptiveLoopFilter* f) { Apply(f, uniform(ReferenceLevel)); }));
+  for (int level = 0; level < ReferenceLevel; ++level)
+  {
+    const auto out = RunFilter(s.blade, [&](vtkAdaptiveLoopFilter* f) { Apply(f, uniform(level)); });
+    s.uniformDeviation[level] = Measure(out, reference);
+    s.uniformTriangles[level] = out->GetNumberOfCells();
+  }
+  const bool log = std::getenv("PLANTMORPH_BLADE_SWEEP_LOG") != nullptr;
+  const bool dihedral = std::getenv("PLANTMORPH_BLADE_SKIP_DIHEDRAL") == nullptr;
+  for (int level = 1; level < ReferenceLevel; ++level)
+  {
+    const Deviation target = s.uniformDeviation[level];
+    const auto evaluate = [&](const BladeSetting& setting) {
+      const auto out = RunFilter(s.blade, [&setting](vtkAdaptiveLoopFilter* f) { Apply(f, setting); });
+      const vtkIdType n = out->GetNumberOfCells();
+      const Deviation deviation = out->GetNumberOfCells() > 0 ? Measure(out, reference) : Deviation{ 1e9, 1e9, 1e9 };
+      ++s.evaluations;
+      const bool within[2] = { deviation.Max() <= target.Max(), deviation.rms <= target.rms };
+      if (log)
+        std::fprintf(stderr,
+          "%s target L%d %.4g/%.4g: rule %d levels %d alpha %.5f 1-flatness %.3g tol %.4g -> %lld triangles "
+          "(%.3f of uniform), to %.4g from %.4g rms %.4g%s%s\n",
+          BladeName(kind), level, target.Max(), target.rms, setting.rule, setting.levels, 180.0 - setting.angle,
+          1.0 - setting.flatness, setting.tolerance, static_cast<long long>(n),
+          static_cast<double>(n) / static_cast<double>(s.uniformTriangles[level]), deviation.to, deviation.from,
+          deviation.rms, within[0] ? " within-max" : "", within[1] ? " within-rms" : "");
+      for (int c = 0; c < 2; ++c)
+      {
+        Best& b = s.best[c][setting.rule][level];
+        if (within[c] && (b.triangles < 0 || n < b.triangles))
+          b = Best{ setting, deviation, n };
+      }
+      return within[0];
+    };
+    for (int levels = level; levels <= std::min(level + 2, ReferenceLevel); ++levels)
     {
-      const auto uniform =
-        RunFilter(s.blade, [level](vtkAdaptiveLoopFilter* f) { Apply(f, BladeSetting{ 180.0, 1.0, level }); });
-      s.uniformDeviation[level] = Measure(uniform, reference);
-      s.uniformTriangles[level] = uniform->GetNumberOfCells();
-    }
-    for (int level = 1; level < ReferenceLevel; ++level)
-    {
-      const double target = s.uniformDeviation[level].Max();
-      vtkIdType best = -1;
-      const auto evaluate = [&](const BladeSetting& setting) {
-        const auto out = RunFilter(s.blade, [&setting](vtkAdaptiveLoopFilter* f) { Apply(f, setting); });
-        const vtkIdType n = out->GetNumberOfCells();
-        const Deviation deviation = Measure(out, reference);
-        ++s.evaluations;
-        const bool within = deviation.Max() <= target;
-        if (std::getenv("PLANTMORPH_BLADE_SWEEP_LOG"))
-          std::fprintf(stderr,
-            "target L%d %.4g: levels %d alpha %.5f 1-flatness %.3g -> %lld triangles, to %.4g from %.4g%s\n", level,
-            target, setting.levels, 180.0 - setting.angle, 1.0 - setting.flatness, static_cast<long long>(n),
-            deviation.to, deviation.from, within ? " within" : "");
-        if (within && (best < 0 || n < best))
-        {
-          best = n;
-          s.adaptive[level] = setting;
-          s.adaptiveDeviation[level] = deviation;
-          s.adaptiveTriangles[level] = n;
-        }
-        return within;
-      };
-      for (int levels = level; levels <= std::min(level + 2, ReferenceLevel); ++levels)
+      if (dihedral)
         for (const double factor : FlatnessFactors)
         {
-          const auto setting = [levels, factor](double alpha) {
-            const double flatness = factor > 0.0 ? std::cos(factor * alpha * 3.14159265358979323846 / 180.0) : 1.0;
-            return BladeSetting{ 180.0 - alpha, flatness, levels };
+          const auto setting = [&](double alpha) {
+            BladeSetting b = uniform(levels);
+            b.angle = 180.0 - alpha;
+            b.flatness = factor > 0.0 ? std::cos(factor * alpha * 3.14159265358979323846 / 180.0) : 1.0;
+            return b;
           };
           double low = std::log10(AlphaLow), high = std::log10(AlphaHigh); // low: within, high: not (assumed)
           if (!evaluate(setting(AlphaLow)))
@@ -452,63 +541,100 @@ const BladeStudy& Study()
             (evaluate(setting(std::pow(10.0, mid))) ? low : high) = mid;
           }
         }
+      const auto setting = [&](double relative) {
+        BladeSetting b = uniform(levels);
+        b.rule = vtkAdaptiveLoopFilter::SURFACE_ERROR;
+        b.tolerance = relative * s.length;
+        return b;
+      };
+      double low = std::log10(ToleranceLow), high = std::log10(ToleranceHigh);
+      if (!evaluate(setting(ToleranceLow)))
+        continue;
+      for (int step = 0; step < ToleranceSteps; ++step)
+      {
+        const double mid = 0.5 * (low + high);
+        (evaluate(setting(std::pow(10.0, mid))) ? low : high) = mid;
+      }
     }
-    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    return s;
-  }();
-  return study;
+  }
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return s;
 }
 
 void BM_Blade_Uniform(benchmark::State& state)
 {
-  const int level = static_cast<int>(state.range(0));
-  const BladeStudy& study = Study();
+  const int kind = static_cast<int>(state.range(0));
+  const int level = static_cast<int>(state.range(1));
+  const BladeStudy& study = Study(kind);
+  BladeSetting setting;
+  setting.levels = level;
+  setting.featureRule = BladeFeatureRule(kind);
   double triangles = 0.0;
   for (auto _ : state)
   {
-    const auto out =
-      RunFilter(study.blade, [level](vtkAdaptiveLoopFilter* f) { Apply(f, BladeSetting{ 180.0, 1.0, level }); });
+    const auto out = RunFilter(study.blade, [&](vtkAdaptiveLoopFilter* f) { Apply(f, setting); });
     triangles = static_cast<double>(out->GetNumberOfCells());
   }
   ReportTriangles(state, triangles);
+  state.SetLabel(BladeName(kind));
   state.counters["deviation"] = study.uniformDeviation.at(level).Max();
   state.counters["deviation_to"] = study.uniformDeviation.at(level).to;
   state.counters["deviation_from"] = study.uniformDeviation.at(level).from;
+  state.counters["deviation_rms"] = study.uniformDeviation.at(level).rms;
   state.counters["input_triangles"] = static_cast<double>(study.blade->GetNumberOfCells());
+  state.counters["blade_diagonal"] = study.length;
 }
 
+/// range(2): the refinement rule; range(3): 0 = within the maximum deviation, 1 = within the RMS deviation.
 void BM_Blade_Adaptive(benchmark::State& state)
 {
-  const int level = static_cast<int>(state.range(0));
-  const BladeStudy& study = Study();
-  if (!study.adaptive.count(level))
+  const int kind = static_cast<int>(state.range(0));
+  const int level = static_cast<int>(state.range(1));
+  const int rule = static_cast<int>(state.range(2));
+  const int criterion = static_cast<int>(state.range(3));
+  const BladeStudy& study = Study(kind);
+  const auto& byRule = study.best[criterion];
+  if (!byRule.count(rule) || !byRule.at(rule).count(level))
   {
     state.SkipWithError("no adaptive setting reached the uniform deviation");
     return;
   }
-  const BladeSetting setting = study.adaptive.at(level);
+  const Best& best = byRule.at(rule).at(level);
   double triangles = 0.0;
   for (auto _ : state)
   {
-    const auto out = RunFilter(study.blade, [&setting](vtkAdaptiveLoopFilter* f) { Apply(f, setting); });
+    const auto out = RunFilter(study.blade, [&best](vtkAdaptiveLoopFilter* f) { Apply(f, best.setting); });
     triangles = static_cast<double>(out->GetNumberOfCells());
   }
   ReportTriangles(state, triangles);
-  state.counters["deviation"] = study.adaptiveDeviation.at(level).Max();
-  state.counters["deviation_to"] = study.adaptiveDeviation.at(level).to;
-  state.counters["deviation_from"] = study.adaptiveDeviation.at(level).from;
+  state.SetLabel(BladeName(kind));
+  state.counters["deviation"] = best.deviation.Max();
+  state.counters["deviation_to"] = best.deviation.to;
+  state.counters["deviation_from"] = best.deviation.from;
+  state.counters["deviation_rms"] = best.deviation.rms;
   state.counters["uniform_deviation"] = study.uniformDeviation.at(level).Max();
+  state.counters["uniform_rms"] = study.uniformDeviation.at(level).rms;
   state.counters["triangle_ratio"] = triangles / static_cast<double>(study.uniformTriangles.at(level));
-  state.counters["angle"] = setting.angle;
-  state.counters["alpha"] = 180.0 - setting.angle;
-  state.counters["flatness_1m"] = 1.0 - setting.flatness;
-  state.counters["levels"] = setting.levels;
+  state.counters["alpha"] = 180.0 - best.setting.angle;
+  state.counters["flatness_1m"] = 1.0 - best.setting.flatness;
+  state.counters["tolerance"] = best.setting.tolerance;
+  state.counters["levels"] = best.setting.levels;
   state.counters["sweep_runs"] = study.evaluations;
   state.counters["sweep_s"] = study.seconds;
 }
 
-BENCHMARK(BM_Blade_Uniform)->ArgName("levels")->DenseRange(1, ReferenceLevel - 1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_Blade_Adaptive)->ArgName("levels")->DenseRange(1, ReferenceLevel - 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Blade_Uniform)
+  ->ArgNames({ "blade", "levels" })
+  ->ArgsProduct(
+    { benchmark::CreateDenseRange(0, BladeKinds - 1, 1), benchmark::CreateDenseRange(1, ReferenceLevel - 1, 1) })
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime();
+BENCHMARK(BM_Blade_Adaptive)
+  ->ArgNames({ "blade", "levels", "rule", "rms" })
+  ->ArgsProduct({ benchmark::CreateDenseRange(0, BladeKinds - 1, 1),
+    benchmark::CreateDenseRange(1, ReferenceLevel - 1, 1), { 0, 1 }, { 0, 1 } })
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime();
 
 } // namespace
 

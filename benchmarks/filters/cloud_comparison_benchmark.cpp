@@ -9,6 +9,10 @@
 //   BM_CloudComparison/points:N/threads:T   vtkCloudComparisonFilter, unsigned + signed distance + closest point,
 //                                           statistics and histogram; T = 0: all cores (STDThread), 1: serial.
 //   BM_CloudComparisonSymmetric/points:N    the same with Symmetric on (the reverse direction too).
+//   BM_CoreQueries/scan:S/slabs:B           the algorithm layer alone, serial: PointSurfaceDistance::BuildSurface
+//                                           of the sphere and QueryMany of the 10^6 points (distance, signed
+//                                           distance, closest point) with the nodes' coin bounds (slabs:1) or box
+//                                           bounds only (slabs:0); counters build_s, query_s, pts_per_s (queries).
 //   BM_VtkDistancePolyData/points:N         vtkDistancePolyDataFilter (signed, one direction) on the first N points
 //                                           as vertex cells (it crashes on the single poly-vertex); N is small
 //                                           because it manages about 700 points/s here: extrapolate.
@@ -209,6 +213,85 @@ void BM_CloudComparisonSymmetric(benchmark::State& state)
 BENCHMARK(BM_CloudComparisonSymmetric)
   ->ArgNames({ "points", "threads", "scan" })
   ->Args({ 1000000, 0, 1 })
+  ->UseManualTime()
+  ->Unit(benchmark::kMillisecond)
+  ->Iterations(1);
+
+/// The sphere's points and triangles as the core's flat arrays.
+struct FlatSurface
+{
+  std::vector<double> points;
+  std::vector<std::int64_t> triangles;
+};
+
+const FlatSurface& SphereArrays()
+{
+  static const FlatSurface flat = [] {
+    FlatSurface out;
+    vtkPolyData* sphere = Sphere();
+    out.points.resize(3 * static_cast<std::size_t>(sphere->GetNumberOfPoints()));
+    for (vtkIdType i = 0; i < sphere->GetNumberOfPoints(); ++i)
+    {
+      sphere->GetPoint(i, out.points.data() + 3 * i);
+    }
+    auto it = vtk::TakeSmartPointer(sphere->GetPolys()->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    {
+      vtkIdType n = 0;
+      const vtkIdType* ids = nullptr;
+      it->GetCurrentCell(n, ids);
+      out.triangles.insert(out.triangles.end(), { ids[0], ids[1], ids[2] });
+    }
+    return out;
+  }();
+  return flat;
+}
+
+/// The algorithm layer alone, serial: BuildSurface of the sphere (once per iteration), then QueryMany of the 10^6
+/// points with slab bounds on (slabs:1) or box bounds only (slabs:0). Counters: build_s, query_s, pts_per_s of the
+/// queries alone.
+void BM_CoreQueries(benchmark::State& state)
+{
+  const FlatSurface& sphere = SphereArrays();
+  vtkPolyData* cloud = Cloud(1000000, static_cast<int>(state.range(0)));
+  std::vector<double> xyz(3 * static_cast<std::size_t>(cloud->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < cloud->GetNumberOfPoints(); ++i)
+  {
+    cloud->GetPoint(i, xyz.data() + 3 * i);
+  }
+  const std::size_t n = xyz.size() / 3;
+  std::vector<double> distance(n);
+  std::vector<double> signedDistance(n);
+  std::vector<double> closest(3 * n);
+  double build = 0.0;
+  double query = 0.0;
+  for (auto _ : state)
+  {
+    plantmorph::PointSurfaceDistance core;
+    core.SetSlabBounds(state.range(1) != 0);
+    auto start = std::chrono::steady_clock::now();
+    core.BuildSurface(sphere.points.data(), sphere.points.size() / 3, sphere.triangles.data(),
+      sphere.triangles.size() / 3);
+    const double b = Seconds(start);
+    start = std::chrono::steady_clock::now();
+    core.QueryMany(xyz.data(), n, distance.data(), signedDistance.data(), closest.data(), nullptr);
+    const double q = Seconds(start);
+    build += b;
+    query += q;
+    state.SetIterationTime(b + q);
+    benchmark::DoNotOptimize(distance.data());
+  }
+  const double iterations = static_cast<double>(state.iterations());
+  state.counters["build_s"] = build / iterations;
+  state.counters["query_s"] = query / iterations;
+  state.counters["pts_per_s"] = static_cast<double>(n) * iterations / query;
+}
+BENCHMARK(BM_CoreQueries)
+  ->ArgNames({ "scan", "slabs" })
+  ->Args({ 0, 1 })
+  ->Args({ 1, 1 })
+  ->Args({ 0, 0 })
+  ->Args({ 1, 0 })
   ->UseManualTime()
   ->Unit(benchmark::kMillisecond)
   ->Iterations(1);

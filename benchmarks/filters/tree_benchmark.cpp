@@ -69,19 +69,7 @@ void BM_TreeCore(benchmark::State& state)
       state.SkipWithError("BuildTree failed");
       return;
     }
-    std::vector<plantmorph::TubeInput> tubes(tree.branches.size());
-    for (std::size_t t = 0; t < tree.branches.size(); ++t)
-    {
-      const plantmorph::TreeBranch& b = tree.branches[t];
-      if (b.tubeRoot != b.centre[0])
-      {
-        tubes[t].centre.push_back(b.tubeRoot);
-        tubes[t].radii.push_back(b.radius);
-      }
-      tubes[t].centre.insert(tubes[t].centre.end(), b.centre.begin(), b.centre.end());
-      tubes[t].radii.insert(tubes[t].radii.end(), b.radii.begin(), b.radii.end());
-      tubes[t].normal = b.frame.col(0);
-    }
+    const std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree); // joints seated
     plantmorph::TubeMesh mesh;
     if (!plantmorph::BuildTubes(tubes, s.sides, mesh).empty())
     {
@@ -129,7 +117,43 @@ void BM_TreeSource(benchmark::State& state)
 }
 } // namespace
 
+/// What seating the joints costs: the tubes of the 10^6-segment tree alone (serial), with each child's parent index
+/// (arg 1: base rings seated on the parents) and without (arg 0: every tube stands alone).
+void BM_TreeTubesJoints(benchmark::State& state)
+{
+  const plantmorph::TreeSettings s = Settings(3);
+  plantmorph::Tree tree;
+  if (!plantmorph::BuildTree(s, {}, tree).empty())
+  {
+    state.SkipWithError("BuildTree failed");
+    return;
+  }
+  std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree);
+  if (state.range(0) == 0)
+  {
+    for (plantmorph::TubeInput& t : tubes)
+      t.parent = -1;
+  }
+  plantmorph::JointReport joints;
+  for (auto _ : state)
+  {
+    plantmorph::TubeMesh mesh;
+    if (!plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SerialFor, &joints).empty())
+    {
+      state.SkipWithError("BuildTubes failed");
+      return;
+    }
+    benchmark::DoNotOptimize(mesh.points.data());
+  }
+  state.counters["segments"] = static_cast<double>(tree.SegmentCount());
+  state.counters["seated"] = static_cast<double>(joints.seated);
+  state.counters["missed"] = static_cast<double>(joints.missed);
+  state.counters["clamped"] = static_cast<double>(joints.clamped);
+  state.counters["buried"] = static_cast<double>(joints.buried);
+}
+
 BENCHMARK(BM_TreeCore)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TreeTubesJoints)->DenseRange(0, 1)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_TreeSource)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

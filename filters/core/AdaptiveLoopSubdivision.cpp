@@ -319,6 +319,27 @@ double LoopBeta(int n)
   return (0.625 - c * c) / n;
 }
 
+/// chi of Loop's limit mask for n neighbours: v_inf = (1 - n chi) v + chi sum(neighbours).
+double LoopLimitChi(int n)
+{
+  return 1.0 / (3.0 / (8.0 * LoopBeta(n)) + n);
+}
+
+/// |n . d| for a unit (or zero) n; the full length of d when n is zero.
+double NormalComponent(const double* n, const double* d)
+{
+  if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0)
+    return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  return std::abs(n[0] * d[0] + n[1] * d[1] + n[2] * d[2]);
+}
+
+void Normalise(double* n)
+{
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int j = 0; j < 3; ++j)
+    n[j] = len > 0.0 ? n[j] / len : 0.0;
+}
+
 int OddRegion(int ra, int rb, bool boundary)
 {
   if (boundary)
@@ -392,6 +413,11 @@ std::string ValidateAdaptiveLoopSettings(const AdaptiveLoopSettings& s)
     out << "FeatureRule = " << static_cast<int>(s.featureRule) << " must be 0 (Fixed), 1 (Loop) or 2 (Refine)";
   else if (s.maximumTriangles < 1 || s.maximumTriangles > MaxAdaptiveLoopTriangles)
     out << "MaximumTriangles = " << s.maximumTriangles << " must be in [1, " << MaxAdaptiveLoopTriangles << "]";
+  else if (static_cast<int>(s.refinementRule) < 0 || static_cast<int>(s.refinementRule) > 1)
+    out << "RefinementRule = " << static_cast<int>(s.refinementRule)
+        << " must be 0 (Dihedral angle) or 1 (Surface error)";
+  else if (!(s.errorTolerance >= 0.0))
+    out << "ErrorTolerance = " << s.errorTolerance << " must be in [0, inf] (model units)";
   return out.str();
 }
 
@@ -429,6 +455,8 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
   // dihedral < T  <=>  angle between normals > 180 - T  <=>  cos(angle) < cos(180 - T)
   const double cosLimit = std::cos((180.0 - settings.edgeAngleThreshold) * Pi / 180.0);
   const FeatureRule rule = settings.featureRule;
+  const bool byError = settings.refinementRule == RefinementRule::SurfaceError;
+  const double tolerance = settings.errorTolerance;
 
   // Progress: level L costs about 4^L of level 0.
   double totalWork = 0.0;
@@ -473,7 +501,7 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
     }
 
     // Unit triangle normals (not needed when every edge splits and every vertex moves).
-    const bool needNormals = !splitAll || lambda < 1.0;
+    const bool needNormals = byError || !splitAll || lambda < 1.0;
     std::vector<double> normals(needNormals ? 3 * nT : 0);
     parallelFor(needNormals ? nT : 0, [&](std::size_t begin, std::size_t end) {
       for (std::size_t t = begin; t < end; ++t)
@@ -510,12 +538,115 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
       for (std::size_t e = begin; e < end; ++e)
       {
         const int a = edgeFirst[e], b = table.edgeOther[e];
-        const bool isFeature = table.edgeUses[e] == 1 || marked[e] ||
+        feature[e] = table.edgeUses[e] == 1 || marked[e] ||
           (settings.midveinIsFeature && haveRegion && mesh.region[a] == 1 && mesh.region[b] == 1);
-        feature[e] = isFeature;
+      }
+    });
+
+    // Feature vertices: their feature-edge count and first two feature neighbours (serial, in edge order).
+    std::vector<int> featureCount(nV, 0);
+    std::vector<int> featureNbr(2 * nV, -1);
+    for (std::size_t e = 0; e < nE; ++e)
+      if (feature[e])
+      {
+        const int a = edgeFirst[e], b = table.edgeOther[e];
+        if (featureCount[a] < 2)
+          featureNbr[2 * a + featureCount[a]] = b;
+        if (featureCount[b] < 2)
+          featureNbr[2 * b + featureCount[b]] = a;
+        ++featureCount[a];
+        ++featureCount[b];
+      }
+
+    // SurfaceError: every vertex's limit offset along its normal, and Loop's move of it at this level.
+    std::vector<double> limitOffset(byError ? nV : 0, 0.0);
+    std::vector<double> loopMove(byError ? 3 * nV : 0, 0.0);
+    parallelFor(byError ? nV : 0, [&](std::size_t begin, std::size_t end) {
+      std::vector<int> nbrs;
+      nbrs.reserve(32);
+      for (std::size_t vv = begin; vv < end; ++vv)
+      {
+        const int v = static_cast<int>(vv);
+        const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
+        const int f = featureCount[vv];
+        const double* pv = P + 3 * vv;
+        if (k == 0 || (f > 0 && (rule != FeatureRule::Loop || f != 2)))
+          continue; // never moves
+        if (f == 2)
+        {
+          const double* p = P + 3 * static_cast<std::size_t>(featureNbr[2 * vv]);
+          const double* q = P + 3 * static_cast<std::size_t>(featureNbr[2 * vv + 1]);
+          double d[3], chord[3];
+          for (int j = 0; j < 3; ++j)
+          {
+            d[j] = (p[j] + q[j] - 2.0 * pv[j]) / 6.0;
+            loopMove[3 * vv + j] = (p[j] + q[j] - 2.0 * pv[j]) / 8.0;
+            chord[j] = q[j] - p[j];
+          }
+          Normalise(chord);
+          const double along = d[0] * chord[0] + d[1] * chord[1] + d[2] * chord[2];
+          for (int j = 0; j < 3; ++j)
+            d[j] -= along * chord[j];
+          limitOffset[vv] = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+          continue;
+        }
+        double normal[3] = { 0.0, 0.0, 0.0 };
+        for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)
+        {
+          const double* n = normals.data() + 3 * static_cast<std::size_t>(table.vertexCorners[i] / 3);
+          for (int j = 0; j < 3; ++j)
+            normal[j] += n[j];
+        }
+        Normalise(normal);
+        GatherNeighbours(tri, table, v, false, nbrs);
+        const int n = static_cast<int>(nbrs.size());
+        const double chi = LoopLimitChi(n), beta = LoopBeta(n);
+        double d[3] = { 0.0, 0.0, 0.0 };
+        for (int w : nbrs)
+          for (int j = 0; j < 3; ++j)
+            d[j] += P[3 * static_cast<std::size_t>(w) + j] - pv[j];
+        for (int j = 0; j < 3; ++j)
+        {
+          loopMove[3 * vv + j] = beta * d[j];
+          d[j] *= chi;
+        }
+        limitOffset[vv] = NormalComponent(normal, d);
+      }
+    });
+
+    parallelFor(nE, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e)
+      {
+        const int a = edgeFirst[e], b = table.edgeOther[e];
         bool split;
-        if (isFeature)
-          split = rule != FeatureRule::Fixed;
+        if (feature[e])
+          split = rule != FeatureRule::Fixed &&
+            (!byError || std::max(limitOffset[a], limitOffset[b]) >= tolerance);
+        else if (byError)
+        {
+          const int t0 = table.edgeTriangles[2 * e], t1 = table.edgeTriangles[2 * e + 1];
+          const double* n0 = normals.data() + 3 * static_cast<std::size_t>(t0);
+          const double* n1 = normals.data() + 3 * static_cast<std::size_t>(t1);
+          const double sign = table.edgeSameDirection[e] ? -1.0 : 1.0;
+          double normal[3] = { n0[0] + sign * n1[0], n0[1] + sign * n1[1], n0[2] + sign * n1[2] };
+          Normalise(normal);
+          const double* pa = P + 3 * static_cast<std::size_t>(a);
+          const double* pb = P + 3 * static_cast<std::size_t>(b);
+          const double* pc = P + 3 * static_cast<std::size_t>(table.edgeOpposite[2 * e]);
+          const double* pd = P + 3 * static_cast<std::size_t>(table.edgeOpposite[2 * e + 1]);
+          // The odd point's offset from the chord midpoint, before and after the ends' Loop moves (whether they
+          // move depends on their other edges).
+          double d[3], moved[3];
+          for (int j = 0; j < 3; ++j)
+          {
+            d[j] = (pc[j] + pd[j] - pa[j] - pb[j]) / 8.0;
+            moved[j] = d[j] -
+              0.5 * (loopMove[3 * static_cast<std::size_t>(a) + j] + loopMove[3 * static_cast<std::size_t>(b) + j]);
+          }
+          const double error = std::max(
+            { NormalComponent(normal, d), NormalComponent(normal, moved), limitOffset[a], limitOffset[b] });
+          split = error >= tolerance;
+        }
         else if (splitAll)
           split = true;
         else
@@ -530,6 +661,34 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
         oddId[e] = split ? 1 : 0;
       }
     });
+    if (byError && rule != FeatureRule::Fixed)
+    {
+      // A feature edge also splits when another edge of its triangle does: the curve gains samples where the
+      // surface next to it is refined. Decided on the interior edges' flags (set above), written after all reads.
+      std::vector<unsigned char> alsoSplit(nE, 0);
+      parallelFor(nE, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t e = begin; e < end; ++e)
+        {
+          if (!feature[e] || oddId[e])
+            continue;
+          for (int side = 0; side < 2; ++side)
+          {
+            const int t = table.edgeTriangles[2 * e + side];
+            if (t < 0)
+              continue;
+            for (int c = 0; c < 3; ++c)
+            {
+              const int other = table.triangleEdges[3 * static_cast<std::size_t>(t) + c];
+              if (other != static_cast<int>(e) && !feature[other] && oddId[other])
+                alsoSplit[e] = 1;
+            }
+          }
+        }
+      });
+      for (std::size_t e = 0; e < nE; ++e)
+        if (alsoSplit[e])
+          oddId[e] = 1;
+    }
     int nSplit = 0;
     for (std::size_t e = 0; e < nE; ++e)
     {
@@ -568,21 +727,6 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
     }
     childOffsets[nT] = static_cast<int>(nTout);
     const std::size_t nVout = nV + static_cast<std::size_t>(nSplit);
-
-    // Feature vertices: their feature-edge count and first two feature neighbours (serial, in edge order).
-    std::vector<int> featureCount(nV, 0);
-    std::vector<int> featureNbr(2 * nV, -1);
-    for (std::size_t e = 0; e < nE; ++e)
-      if (feature[e])
-      {
-        const int a = edgeFirst[e], b = table.edgeOther[e];
-        if (featureCount[a] < 2)
-          featureNbr[2 * a + featureCount[a]] = b;
-        if (featureCount[b] < 2)
-          featureNbr[2 * b + featureCount[b]] = a;
-        ++featureCount[a];
-        ++featureCount[b];
-      }
     if (!progressAt(0.5))
     {
       result = AdaptiveLoopResult();
@@ -616,6 +760,23 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
           writer.Copy(vv, v);
           continue;
         }
+        if (byError)
+        {
+          // Moves only when one of its edges splits at this level.
+          bool anySplit = false;
+          for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1] && !anySplit; ++i)
+          {
+            const int corner = table.vertexCorners[i];
+            const int base = corner - corner % 3;
+            const int c = corner - base;
+            anySplit = oddId[table.triangleEdges[base + c]] >= 0 || oddId[table.triangleEdges[base + (c + 2) % 3]] >= 0;
+          }
+          if (!anySplit)
+          {
+            writer.Copy(vv, v);
+            continue;
+          }
+        }
         if (f == 2)
         {
           const int crease[3] = { v, featureNbr[2 * vv], featureNbr[2 * vv + 1] };
@@ -623,7 +784,7 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
           writer.Apply(vv, crease, creaseWeights, 3);
           continue;
         }
-        if (lambda < 1.0)
+        if (!byError && lambda < 1.0)
         {
           double s[3] = { 0.0, 0.0, 0.0 };
           for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)

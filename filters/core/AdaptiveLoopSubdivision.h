@@ -24,6 +24,25 @@
 //     vertex), 3 into 4. An edge is split for both of its triangles, so there are no T-junctions. Orientation is kept.
 //  Levels repeat up to `maximumLevel`; a level that would insert no point is not applied and ends the run.
 //
+// RefinementRule::SurfaceError replaces the paper's two angle rules (3 and 4 above) by one error estimate in length
+// units, `errorTolerance` (not in the paper; the dihedral angle is what it approximates):
+//  - a vertex's limit offset delta_v = |N_v . (v_inf - v)|, v_inf = (1 - n chi) v + chi sum(neighbours) its Loop
+//    limit position, chi = 1 / (3 / (8 beta) + n); the normal component only, so a flat patch (of any triangle
+//    shapes) has 0. A crease vertex under FeatureRule Loop: v_inf = (p + 4 v + q) / 6, the offset's component
+//    across the chord p q. Feature points that never move (Fixed, Refine, corners) have 0.
+//  - an interior non-feature edge (v1, v2 | v3, v4) has the error max(delta_v1, delta_v2, e, e'), where
+//    e = |n . (v3 + v4 - v1 - v2)| / 8 is the distance of Loop's odd point from the chord midpoint along the edge's
+//    normal n (the normalised sum of its triangles' unit normals), and e' the same from the midpoint of the chord
+//    between the ends' Loop even positions (they move if another of their edges splits). It splits when
+//    error >= errorTolerance. A feature edge under Loop or Refine splits when max(delta_v1, delta_v2) >=
+//    errorTolerance or another edge of its triangle splits.
+//  - a vertex moves (Loop's even rule, or the crease rule) only when one of its edges splits at this level, so a
+//    part left unrefined is left exactly as it was: it is not smoothed again by its coarse ring at every level.
+//    FlatnessThreshold is not used.
+//  errorTolerance 0 splits every edge and moves every vertex (plain Loop with the feature rule, bit for bit the
+//  same as EdgeAngleThreshold 180 and FlatnessThreshold 1); infinity changes nothing. The estimate is local: the
+//  result's distance from the uniform Loop surface is of the order of errorTolerance, not bounded by it.
+//
 // Point data: every output point is a weighted sum of current points (its stencil); the same weights are applied to
 // the positions and to every component of `attributes`, so any point array follows the surface. Region (integer)
 // is not interpolated: an even point keeps its region; an odd point on a boundary edge gets 4 (margin) if either
@@ -55,6 +74,13 @@ enum class FeatureRule : int
   Refine = 2, ///< feature edges split at their midpoints, feature points stay: the curves gain samples, not shape
 };
 
+/// Which rule decides where to refine.
+enum class RefinementRule : int
+{
+  DihedralAngle = 0, ///< the paper: edges by their dihedral angle, vertices by their flatness
+  SurfaceError = 1,  ///< edges by the estimated distance of the unrefined surface from Loop's (errorTolerance)
+};
+
 /// Runs body(begin, end) over sub-ranges covering [0, n), possibly concurrently (plantmorph/ParallelFor.h; the
 /// default SerialFor runs body(0, n) on the calling thread).
 using ParallelForFunction = ParallelFor;
@@ -65,6 +91,8 @@ struct AdaptiveLoopSettings
   double flatnessThreshold = 0.999;  ///< lambda in [0, 1]: keep vertices flatter than it (1: move all)
   int maximumLevel = 2;              ///< levels in [0, MaxAdaptiveLoopLevel]
   FeatureRule featureRule = FeatureRule::Fixed;
+  RefinementRule refinementRule = RefinementRule::DihedralAngle;
+  double errorTolerance = 0.001; ///< length units in [0, inf] (SurfaceError): split where the estimate reaches it
   bool midveinIsFeature = true;         ///< edges whose two ends have region 1 are feature edges
   std::size_t maximumTriangles = 50000000; ///< a level that would make more is refused with an error (memory guard)
   ParallelForFunction parallelFor;      ///< empty: serial

@@ -72,14 +72,35 @@ DistanceStatistics ComputeDistanceStatistics(const double* distances, std::size_
   }
   s.standardDeviation = std::sqrt(deviations / n);
   s.rms = std::sqrt(squares / n);
-  std::sort(kept.begin(), kept.end());
-  s.minimum = kept.front();
-  s.maximum = kept.back();
-  s.p50 = SortedPercentile(kept, 50.0);
-  s.p68 = SortedPercentile(kept, 68.0);
-  s.p75 = SortedPercentile(kept, 75.0);
-  s.p95 = SortedPercentile(kept, 95.0);
-  s.p99 = SortedPercentile(kept, 99.0);
+  s.minimum = *std::min_element(kept.begin(), kept.end());
+  s.maximum = *std::max_element(kept.begin(), kept.end());
+  // The percentiles need only the order statistics at their two ranks: place those by nth_element, each on the
+  // part above the previous one (O(n) each instead of a full O(n log n) sort; the values are the same).
+  const double percents[5] = { 50.0, 68.0, 75.0, 95.0, 99.0 };
+  double* targets[5] = { &s.p50, &s.p68, &s.p75, &s.p95, &s.p99 };
+  // Ranks are asked in non-decreasing order; kept[placed - 1] is the last one placed, nothing before it is larger,
+  // and a rank below `placed` is always one placed before (its position is never touched again).
+  std::size_t placed = 0;
+  const auto orderStatistic = [&](std::size_t rank) {
+    if (rank >= placed)
+    {
+      std::nth_element(kept.begin() + static_cast<std::ptrdiff_t>(placed),
+        kept.begin() + static_cast<std::ptrdiff_t>(rank), kept.end());
+      placed = rank + 1;
+    }
+    return kept[rank];
+  };
+  const double last = static_cast<double>(kept.size() - 1);
+  for (int i = 0; i < 5; ++i)
+  {
+    const double rank = percents[i] / 100.0 * last;
+    const std::size_t below = static_cast<std::size_t>(std::floor(rank));
+    const std::size_t above = std::min(below + 1, kept.size() - 1);
+    const double fraction = rank - static_cast<double>(below);
+    const double low = orderStatistic(below);
+    const double high = orderStatistic(above);
+    *targets[i] = low + fraction * (high - low);
+  }
   return s;
 }
 

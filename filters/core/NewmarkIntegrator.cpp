@@ -4,9 +4,12 @@
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 namespace plantmorph
 {
@@ -56,9 +59,42 @@ inline int SymIndex(int r, int c)
   return table[r][c];
 }
 
-/// Fixed number of spatial parts (slabs along the longest axis) the springs are cut into: the same on any number
-/// of threads, so every sum is taken in the same order.
-constexpr std::size_t Parts = 16;
+/// The sum of fn(begin, end, partial) over MassSpringThreads::ReduceChunks fixed ranges of [0, n), K sums at once,
+/// each chunk's partial sums added in chunk order: bit-identical on any number of threads. fn adds into partial.
+template <std::size_t K, class Function>
+std::array<double, K> ChunkedSum(MassSpringThreads& threads, std::size_t n, const Function& fn)
+{
+  constexpr std::size_t chunks = MassSpringThreads::ReduceChunks;
+  std::array<std::array<double, K>, chunks> partial{};
+  const std::function<void(std::size_t)> task = [&](std::size_t c) {
+    const std::size_t begin = n * c / chunks;
+    const std::size_t end = n * (c + 1) / chunks;
+    if (begin < end)
+    {
+      fn(begin, end, partial[c].data());
+    }
+  };
+  if (threads.Threads() == 1 || n < 2048)
+  {
+    for (std::size_t c = 0; c < chunks; ++c)
+    {
+      task(c);
+    }
+  }
+  else
+  {
+    threads.Tasks(chunks, task);
+  }
+  std::array<double, K> sum{};
+  for (const std::array<double, K>& piece : partial)
+  {
+    for (std::size_t k = 0; k < K; ++k)
+    {
+      sum[k] += piece[k];
+    }
+  }
+  return sum;
+}
 } // namespace
 
 struct NewmarkIntegrator::CholeskyData
@@ -150,12 +186,15 @@ std::string NewmarkIntegrator::Setup(const MassSpringSystem& system, const Newma
   {
     this->Solver = freeNodes <= AutoCholeskyMaxNodes ? NewmarkSolver::Cholesky : NewmarkSolver::ConjugateGradient;
   }
-  // Spatial parts: slabs of the rest bounding box's longest axis; a spring belongs to the part of its two ends, or
-  // to the joining springs when they differ.
+  // The solver's own node order (position p holds system node Order[p]): the rest positions sorted along the
+  // longest axis, then the middle one, then the shortest, so that the nodes joined by springs are close in memory
+  // (a voxel model numbered layer by layer has a layer's worth of nodes between a node and the one above it). The
+  // springs sorted by their ends' positions; each node's row: its springs in that order. Every per-node sum is a
+  // gather over the row in a fixed order, whatever the thread count.
   {
     const std::vector<Eigen::Vector3d>& rest = system.RestPositions();
-    Eigen::Vector3d low = Eigen::Vector3d::Constant(0.0);
-    Eigen::Vector3d high = Eigen::Vector3d::Constant(0.0);
+    Eigen::Vector3d low = Eigen::Vector3d::Zero();
+    Eigen::Vector3d high = Eigen::Vector3d::Zero();
     if (n > 0)
     {
       low = high = rest[0];
@@ -165,48 +204,100 @@ std::string NewmarkIntegrator::Setup(const MassSpringSystem& system, const Newma
       low = low.cwiseMin(x);
       high = high.cwiseMax(x);
     }
-    int axis = 0;
-    (high - low).maxCoeff(&axis);
-    const double extent = high[axis] - low[axis];
-    std::vector<std::size_t> part(n, 0);
+    const Eigen::Vector3d extent = high - low;
+    std::array<int, 3> axes = { 0, 1, 2 };
+    std::stable_sort(axes.begin(), axes.end(), [&](int u, int w) { return extent[u] > extent[w]; });
+    this->Order.resize(n);
     for (std::size_t i = 0; i < n; ++i)
     {
-      const double f = extent > 0.0 ? (rest[i][axis] - low[axis]) / extent : 0.0;
-      part[i] = std::min(Parts - 1, static_cast<std::size_t>(f * static_cast<double>(Parts)));
+      this->Order[i] = static_cast<int>(i);
     }
-    std::vector<std::vector<int>> members(Parts + 1);
+    std::sort(this->Order.begin(), this->Order.end(), [&](int u, int w) {
+      const Eigen::Vector3d& xu = rest[static_cast<std::size_t>(u)];
+      const Eigen::Vector3d& xw = rest[static_cast<std::size_t>(w)];
+      for (int axis : axes)
+      {
+        if (xu[axis] != xw[axis])
+        {
+          return xu[axis] < xw[axis];
+        }
+      }
+      return u < w;
+    });
+    this->Position.resize(n);
+    this->NodeMass.resize(n);
+    this->NodeFixed.resize(n);
+    this->RestSolver.resize(n);
+    for (std::size_t p = 0; p < n; ++p)
+    {
+      const std::size_t i = static_cast<std::size_t>(this->Order[p]);
+      this->Position[i] = static_cast<int>(p);
+      this->NodeMass[p] = system.Masses()[i];
+      this->NodeFixed[p] = system.IsFixed(i) ? 1 : 0;
+      this->RestSolver[p] = system.RestPositions()[i];
+    }
     const std::vector<MassSpringSpring>& springs = system.Springs();
+    std::vector<int> springOrder(m);
     for (std::size_t e = 0; e < m; ++e)
     {
-      const std::size_t pa = part[static_cast<std::size_t>(springs[e].a)];
-      const std::size_t pb = part[static_cast<std::size_t>(springs[e].b)];
-      members[pa == pb ? pa : Parts].push_back(static_cast<int>(e));
+      springOrder[e] = static_cast<int>(e);
     }
-    this->Compact.clear();
-    this->Compact.reserve(m);
-    this->Material.clear();
-    this->Material.reserve(m);
-    this->PartOffsets.assign(1, 0);
-    for (const std::vector<int>& list : members)
+    const auto lowHigh = [&](int e) {
+      const int pa = this->Position[static_cast<std::size_t>(springs[static_cast<std::size_t>(e)].a)];
+      const int pb = this->Position[static_cast<std::size_t>(springs[static_cast<std::size_t>(e)].b)];
+      return std::make_pair(std::min(pa, pb), std::max(pa, pb));
+    };
+    std::sort(springOrder.begin(), springOrder.end(), [&](int u, int w) { return lowHigh(u) < lowHigh(w); });
+    this->Ends.resize(m);
+    this->Blocks.assign(m, SpringBlock{ 0.0, { 0.0, 0.0, 0.0 } });
+    this->Material.resize(m);
+    this->SpringTerm.assign(3 * m, 0.0);
+    for (std::size_t e = 0; e < m; ++e)
     {
-      for (int e : list)
-      {
-        const MassSpringSpring& spring = springs[static_cast<std::size_t>(e)];
-        this->Compact.push_back({ spring.a, spring.b, 0.0, 0.0, { 0.0, 0.0, 0.0 } });
-        this->Material.push_back({ spring.stiffness, spring.damping, spring.restLength });
-      }
-      this->PartOffsets.push_back(this->Compact.size());
+      const MassSpringSpring& spring = springs[static_cast<std::size_t>(springOrder[e])];
+      // The spring's a end is its end earlier in the solver's order (the physics is symmetric in the two ends), so
+      // the arithmetic depends on the geometry only, not on the system's numbering.
+      const std::pair<int, int> ends = lowHigh(springOrder[e]);
+      this->Ends[e] = { ends.first, ends.second };
+      this->Material[e] = { spring.stiffness, spring.damping, spring.restLength };
+    }
+    this->RowOffsets.assign(n + 1, 0);
+    for (const SpringEnds& ends : this->Ends)
+    {
+      ++this->RowOffsets[static_cast<std::size_t>(ends.a) + 1];
+      ++this->RowOffsets[static_cast<std::size_t>(ends.b) + 1];
+    }
+    for (std::size_t p = 0; p < n; ++p)
+    {
+      this->RowOffsets[p + 1] += this->RowOffsets[p];
+    }
+    this->Rows.resize(2 * m);
+    this->RowSign.resize(2 * m);
+    std::vector<int> fill(this->RowOffsets.begin(), this->RowOffsets.end() - 1);
+    for (std::size_t e = 0; e < m; ++e)
+    {
+      const int pa = this->Ends[e].a;
+      const int pb = this->Ends[e].b;
+      const std::size_t ka = static_cast<std::size_t>(fill[static_cast<std::size_t>(pa)]++);
+      const std::size_t kb = static_cast<std::size_t>(fill[static_cast<std::size_t>(pb)]++);
+      this->Rows[ka] = { pb, static_cast<int>(e) };
+      this->RowSign[ka] = -1; // g_e is -R on the spring's a end
+      this->Rows[kb] = { pa, static_cast<int>(e) };
+      this->RowSign[kb] = 1;
     }
   }
   this->NodeBlock.assign(6 * n, 0.0);
   this->Rhs.assign(3 * n, 0.0);
   this->Delta.assign(3 * n, 0.0);
   this->PreviousDelta.assign(3 * n, 0.0);
+  this->OlderDelta.assign(3 * n, 0.0);
+  this->WarmSteps = 0;
   this->Chol.reset();
   this->CGr.clear();
   this->CGz.clear();
   this->CGd.clear();
   this->CGq.clear();
+  this->CGw.clear();
   this->Precond.clear();
   if (this->Solver == NewmarkSolver::ConjugateGradient)
   {
@@ -214,19 +305,20 @@ std::string NewmarkIntegrator::Setup(const MassSpringSystem& system, const Newma
     this->CGz.assign(3 * n, 0.0);
     this->CGd.assign(3 * n, 0.0);
     this->CGq.assign(3 * n, 0.0);
+    this->CGw.assign(3 * n, 0.0);
     this->Precond.assign(6 * n, 0.0);
   }
   else
   {
     // The pattern of the free degrees of freedom's lower triangle, built and analysed once.
     auto chol = std::make_unique<CholeskyData>();
-    chol->freeIndex.assign(n, -1);
+    chol->freeIndex.assign(n, -1); // by solver position
     int count = 0;
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t p = 0; p < n; ++p)
     {
-      if (!system.IsFixed(i))
+      if (!this->NodeFixed[p])
       {
-        chol->freeIndex[i] = count++;
+        chol->freeIndex[p] = count++;
       }
     }
     std::vector<Eigen::Triplet<double>> triplets;
@@ -248,12 +340,15 @@ std::string NewmarkIntegrator::Setup(const MassSpringSystem& system, const Newma
     }
     for (std::size_t e = 0; e < m; ++e)
     {
-      const int fa = chol->freeIndex[static_cast<std::size_t>(this->Compact[e].a)];
-      const int fb = chol->freeIndex[static_cast<std::size_t>(this->Compact[e].b)];
-      if (fa < 0 || fb < 0)
+      // The block is symmetric: its lower-triangle copy sits in the row of the later free index.
+      const int f0 = chol->freeIndex[static_cast<std::size_t>(this->Ends[e].a)];
+      const int f1 = chol->freeIndex[static_cast<std::size_t>(this->Ends[e].b)];
+      if (f0 < 0 || f1 < 0)
       {
         continue;
       }
+      const int fa = std::min(f0, f1);
+      const int fb = std::max(f0, f1);
       for (int r = 0; r < 3; ++r)
       {
         for (int c = 0; c < 3; ++c)
@@ -286,12 +381,15 @@ std::string NewmarkIntegrator::Setup(const MassSpringSystem& system, const Newma
     }
     for (std::size_t e = 0; e < m; ++e)
     {
-      const int fa = chol->freeIndex[static_cast<std::size_t>(this->Compact[e].a)];
-      const int fb = chol->freeIndex[static_cast<std::size_t>(this->Compact[e].b)];
-      if (fa < 0 || fb < 0)
+      // The block is symmetric: its lower-triangle copy sits in the row of the later free index.
+      const int f0 = chol->freeIndex[static_cast<std::size_t>(this->Ends[e].a)];
+      const int f1 = chol->freeIndex[static_cast<std::size_t>(this->Ends[e].b)];
+      if (f0 < 0 || f1 < 0)
       {
         continue;
       }
+      const int fa = std::min(f0, f1);
+      const int fb = std::max(f0, f1);
       for (int r = 0; r < 3; ++r)
       {
         for (int c = 0; c < 3; ++c)
@@ -317,7 +415,12 @@ void NewmarkIntegrator::Reset()
   this->Q.assign(n3, 0.0);
   this->V.assign(n3, 0.0);
   this->A.assign(n3, 0.0);
+  this->SolverQ.assign(n3, 0.0);
+  this->SolverV.assign(n3, 0.0);
+  this->SolverA.assign(n3, 0.0);
   this->PreviousDelta.assign(n3, 0.0);
+  this->OlderDelta.assign(n3, 0.0);
+  this->WarmSteps = 0;
   this->CurrentTime = 0.0;
 }
 
@@ -327,17 +430,27 @@ void NewmarkIntegrator::SetState(
   this->Q = q;
   this->V = v;
   this->A = a;
-  for (std::size_t i = 0; i < this->System->NodeCount(); ++i)
+  const std::size_t n = this->System->NodeCount();
+  this->SolverQ.assign(3 * n, 0.0);
+  this->SolverV.assign(3 * n, 0.0);
+  this->SolverA.assign(3 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
   {
-    if (this->System->IsFixed(i))
+    const std::size_t p = 3 * static_cast<std::size_t>(this->Position[i]);
+    for (std::size_t c = 0; c < 3; ++c)
     {
-      for (int c = 0; c < 3; ++c)
+      if (this->System->IsFixed(i))
       {
         this->Q[3 * i + c] = this->V[3 * i + c] = this->A[3 * i + c] = 0.0;
       }
+      this->SolverQ[p + c] = this->Q[3 * i + c];
+      this->SolverV[p + c] = this->V[3 * i + c];
+      this->SolverA[p + c] = this->A[3 * i + c];
     }
   }
   std::fill(this->PreviousDelta.begin(), this->PreviousDelta.end(), 0.0);
+  std::fill(this->OlderDelta.begin(), this->OlderDelta.end(), 0.0);
+  this->WarmSteps = 0;
   this->CurrentTime = time;
 }
 
@@ -351,52 +464,43 @@ void NewmarkIntegrator::Assemble(const std::vector<double>& force, double& resid
   const double c1 = 1.0 + a4 * beta;
   const double c2 = this->Alpha[1] + a4 * alpha;
   const bool clamp = this->Params.compressionClamp;
-  const double* masses = system.Masses().data();
-  const double* v = this->V.data();
-  const double* q = this->Q.data();
-  const double* accel = this->A.data();
-  const Eigen::Vector3d* rest = system.RestPositions().data();
-  double* r = this->Rhs.data();
-  double* diag = this->NodeBlock.data();
-  // Nodes: r = M (accel + alpha vel) - f, diagonal block c2 m I.
-  threads.For(system.NodeCount(), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-    {
-      const double m = masses[i];
-      for (std::size_t c = 0; c < 3; ++c)
-      {
-        r[3 * i + c] = m * (accel[3 * i + c] + alpha * v[3 * i + c]) - force[3 * i + c];
-      }
-      double* d = diag + 6 * i;
-      d[0] = d[3] = d[5] = c2 * m;
-      d[1] = d[2] = d[4] = 0.0;
-    }
-  });
-  // Springs, part by part (parts in parallel: they touch disjoint nodes), then the joining springs: the spring
-  // force f = k (l - L) n, the tangent D = k [g I + (1 - g) n n^T] (g = 1 - L/l, clamped at 0 if asked), the
-  // system block c1 D + a4 c I = s I + t n n^T, the residual's g_e = f + (beta D + c I)(v_b - v_a), which is
-  // -R on a and +R on b.
-  const auto springs = [&](std::size_t begin, std::size_t end) {
+  const double* masses = this->NodeMass.data();
+  const char* fixed = this->NodeFixed.data();
+  const int* order = this->Order.data();
+  const double* v = this->SolverV.data();
+  const double* q = this->SolverQ.data();
+  const double* accel = this->SolverA.data();
+  const double* f = force.data();
+  const Eigen::Vector3d* rest = this->RestSolver.data();
+  const SpringEnds* ends = this->Ends.data();
+  const SpringMaterial* materials = this->Material.data();
+  SpringBlock* blocks = this->Blocks.data();
+  double* terms = this->SpringTerm.data();
+  // Springs (each writes only its own records): the spring force f = k (l - L) n, the tangent
+  // D = k [g I + (1 - g) n n^T] (g = 1 - L/l, clamped at 0 if asked), the system block c1 D + a4 c I = s I + t n n^T,
+  // and the residual's g_e = f + (beta D + c I)(v_b - v_a), which is -R on a and +R on b.
+  threads.For(this->Ends.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t e = begin; e < end; ++e)
     {
-      CompactSpring& spring = this->Compact[e];
-      const SpringMaterial& material = this->Material[e];
-      const std::size_t ia = 3 * static_cast<std::size_t>(spring.a);
-      const std::size_t ib = 3 * static_cast<std::size_t>(spring.b);
-      const Eigen::Vector3d& xa = rest[spring.a];
-      const Eigen::Vector3d& xb = rest[spring.b];
+      SpringBlock& spring = blocks[e];
+      const SpringMaterial& material = materials[e];
+      const std::size_t ia = 3 * static_cast<std::size_t>(ends[e].a);
+      const std::size_t ib = 3 * static_cast<std::size_t>(ends[e].b);
+      const Eigen::Vector3d& xa = rest[ends[e].a];
+      const Eigen::Vector3d& xb = rest[ends[e].b];
       const double z[3] = { xb[0] + q[ib] - xa[0] - q[ia], xb[1] + q[ib + 1] - xa[1] - q[ia + 1],
         xb[2] + q[ib + 2] - xa[2] - q[ia + 2] };
       const double length = std::sqrt(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]);
       const double k = material.stiffness;
       double g = 1.0;
       double magnitude = 0.0;
+      double n[3] = { 0.0, 0.0, 0.0 };
       if (length > 0.0)
       {
         const double inv = 1.0 / length;
-        spring.n[0] = z[0] * inv;
-        spring.n[1] = z[1] * inv;
-        spring.n[2] = z[2] * inv;
+        n[0] = z[0] * inv;
+        n[1] = z[1] * inv;
+        n[2] = z[2] * inv;
         magnitude = k * (length - material.restLength);
         g = 1.0 - material.restLength * inv;
         if (clamp && g < 0.0)
@@ -404,200 +508,233 @@ void NewmarkIntegrator::Assemble(const std::vector<double>& force, double& resid
           g = 0.0;
         }
       }
-      else
-      {
-        spring.n[0] = spring.n[1] = spring.n[2] = 0.0;
-      }
-      const double* n = spring.n;
+      // t = c1 k (1 - g) = c1 k L / l >= 0 (1 - g is never clamped), so the block is s I + m m^T, m = sqrt(t) n.
       spring.s = c1 * k * g + a4 * material.damping;
-      spring.t = c1 * k * (1.0 - g);
+      const double root = std::sqrt(c1 * k * (1.0 - g));
+      spring.m[0] = root * n[0];
+      spring.m[1] = root * n[1];
+      spring.m[2] = root * n[2];
       const double dv[3] = { v[ib] - v[ia], v[ib + 1] - v[ia + 1], v[ib + 2] - v[ia + 2] };
       const double ndv = n[0] * dv[0] + n[1] * dv[1] + n[2] * dv[2];
       const double iso = beta * k * g + material.damping;
       const double along = magnitude + beta * k * (1.0 - g) * ndv;
       for (std::size_t c = 0; c < 3; ++c)
       {
-        const double ge = along * n[c] + iso * dv[c];
-        r[ia + c] -= ge;
-        r[ib + c] += ge;
-      }
-      const double block[6] = { spring.s + spring.t * n[0] * n[0], spring.t * n[0] * n[1], spring.t * n[0] * n[2],
-        spring.s + spring.t * n[1] * n[1], spring.t * n[1] * n[2], spring.s + spring.t * n[2] * n[2] };
-      double* da = diag + 6 * static_cast<std::size_t>(spring.a);
-      double* db = diag + 6 * static_cast<std::size_t>(spring.b);
-      for (std::size_t c = 0; c < 6; ++c)
-      {
-        da[c] += block[c];
-        db[c] += block[c];
+        terms[3 * e + c] = along * n[c] + iso * dv[c];
       }
     }
-  };
-  threads.Tasks(Parts, [&](std::size_t p) { springs(this->PartOffsets[p], this->PartOffsets[p + 1]); });
-  springs(this->PartOffsets[Parts], this->PartOffsets[Parts + 1]);
-  // Nodes again: fixed nodes drop out; -r becomes the right-hand side; the preconditioner for CG.
+  });
+  // Nodes, in the solver's order (each gathers its row): r = M (accel + alpha vel) - f - sum_a g_e + sum_b g_e,
+  // the diagonal block c2 m I + sum of the blocks; fixed nodes drop out; -r becomes the right-hand side; the
+  // preconditioner for CG.
   const bool cg = this->Solver == NewmarkSolver::ConjugateGradient;
-  residualNorm2 = threads.Sum(system.NodeCount(), [&](std::size_t begin, std::size_t end) {
-    double sum = 0.0;
+  const int* offsets = this->RowOffsets.data();
+  const RowEntry* rows = this->Rows.data();
+  const signed char* signs = this->RowSign.data();
+  double* r = this->Rhs.data();
+  double* diag = this->NodeBlock.data();
+  double* precond = cg ? this->Precond.data() : nullptr;
+  residualNorm2 = ChunkedSum<1>(threads, system.NodeCount(), [&](std::size_t begin, std::size_t end, double* sum) {
     for (std::size_t i = begin; i < end; ++i)
     {
       double* ri = r + 3 * i;
-      if (system.IsFixed(i))
+      double* d = diag + 6 * i;
+      if (fixed[i])
       {
         ri[0] = ri[1] = ri[2] = 0.0;
-        std::fill(diag + 6 * i, diag + 6 * i + 6, 0.0);
+        std::fill(d, d + 6, 0.0);
         if (cg)
         {
-          std::fill(&this->Precond[6 * i], &this->Precond[6 * i] + 6, 0.0);
+          std::fill(precond + 6 * i, precond + 6 * i + 6, 0.0);
         }
         continue;
       }
-      sum += ri[0] * ri[0] + ri[1] * ri[1] + ri[2] * ri[2];
-      ri[0] = -ri[0];
-      ri[1] = -ri[1];
-      ri[2] = -ri[2];
+      const double m = masses[i];
+      const std::size_t j = 3 * static_cast<std::size_t>(order[i]); // the system's node
+      double res[3];
+      for (std::size_t c = 0; c < 3; ++c)
+      {
+        res[c] = m * (accel[3 * i + c] + alpha * v[3 * i + c]) - f[j + c];
+      }
+      double block[6] = { c2 * m, 0.0, 0.0, c2 * m, 0.0, c2 * m };
+      for (int k = offsets[i]; k < offsets[i + 1]; ++k)
+      {
+        const RowEntry& entry = rows[k];
+        const SpringBlock& spring = blocks[entry.spring];
+        const double* g = terms + 3 * static_cast<std::size_t>(entry.spring);
+        const double sign = signs[k];
+        res[0] += sign * g[0];
+        res[1] += sign * g[1];
+        res[2] += sign * g[2];
+        const double* mv = spring.m;
+        block[0] += spring.s + mv[0] * mv[0];
+        block[1] += mv[0] * mv[1];
+        block[2] += mv[0] * mv[2];
+        block[3] += spring.s + mv[1] * mv[1];
+        block[4] += mv[1] * mv[2];
+        block[5] += spring.s + mv[2] * mv[2];
+      }
+      sum[0] += res[0] * res[0] + res[1] * res[1] + res[2] * res[2];
+      ri[0] = -res[0];
+      ri[1] = -res[1];
+      ri[2] = -res[2];
+      std::copy(block, block + 6, d);
       if (cg)
       {
-        InvertBlock(diag + 6 * i, &this->Precond[6 * i]);
+        InvertBlock(d, precond + 6 * i);
       }
     }
-    return sum;
-  });
+  })[0];
+}
+
+void NewmarkIntegrator::MultiplyRow(std::size_t i, const double* x, double* y) const
+{
+  // (A x)_i = c2 m_i x_i + sum over the row's springs of the spring's block s I + m m^T on (x_i - x_j).
+  const double cm = (this->Alpha[1] + this->Alpha[4] * this->Params.rayleighMass) * this->NodeMass[i];
+  const double* xi = x + 3 * i;
+  double y0 = cm * xi[0];
+  double y1 = cm * xi[1];
+  double y2 = cm * xi[2];
+  const RowEntry* rows = this->Rows.data();
+  const SpringBlock* blocks = this->Blocks.data();
+  const int end = this->RowOffsets[i + 1];
+  for (int k = this->RowOffsets[i]; k < end; ++k)
+  {
+    const SpringBlock& block = blocks[rows[k].spring];
+    const double* xj = x + 3 * static_cast<std::size_t>(rows[k].node);
+    const double d0 = xi[0] - xj[0];
+    const double d1 = xi[1] - xj[1];
+    const double d2 = xi[2] - xj[2];
+    const double md = block.m[0] * d0 + block.m[1] * d1 + block.m[2] * d2;
+    y0 += block.s * d0 + md * block.m[0];
+    y1 += block.s * d1 + md * block.m[1];
+    y2 += block.s * d2 + md * block.m[2];
+  }
+  y[0] = y0;
+  y[1] = y1;
+  y[2] = y2;
 }
 
 double NewmarkIntegrator::MultiplySystem(const double* x, double* y) const
 {
-  // y = A x with A = c2 M + sum over springs of the spring's block on (x_b - x_a) (the blocks' Laplacian), and
-  // x^T A x from the same pass: sum c2 m |x_i|^2 + sum (x_b - x_a)^T B (x_b - x_a). x is zero on fixed nodes; y is
-  // meaningful only on free nodes.
-  const MassSpringSystem& system = *this->System;
-  const double c2 = this->Alpha[1] + this->Alpha[4] * this->Params.rayleighMass;
-  const double* masses = system.Masses().data();
-  double energy = this->Threads->Sum(system.NodeCount(), [&](std::size_t begin, std::size_t end) {
-    double sum = 0.0;
+  // y = A x on the free nodes (0 on fixed nodes), and x^T A x. x must be zero on fixed nodes.
+  const char* fixed = this->NodeFixed.data();
+  return ChunkedSum<1>(*this->Threads, this->System->NodeCount(), [&](std::size_t begin, std::size_t end, double* sum) {
     for (std::size_t i = begin; i < end; ++i)
     {
-      const double cm = c2 * masses[i];
-      for (std::size_t c = 0; c < 3; ++c)
+      double* yi = y + 3 * i;
+      if (fixed[i])
       {
-        y[3 * i + c] = cm * x[3 * i + c];
-        sum += cm * x[3 * i + c] * x[3 * i + c];
+        yi[0] = yi[1] = yi[2] = 0.0;
+        continue;
       }
+      this->MultiplyRow(i, x, yi);
+      sum[0] += x[3 * i] * yi[0] + x[3 * i + 1] * yi[1] + x[3 * i + 2] * yi[2];
     }
-    return sum;
-  });
-  const auto springs = [&](std::size_t begin, std::size_t end) {
-    double sum = 0.0;
-    for (std::size_t e = begin; e < end; ++e)
-    {
-      const CompactSpring& spring = this->Compact[e];
-      const std::size_t ia = 3 * static_cast<std::size_t>(spring.a);
-      const std::size_t ib = 3 * static_cast<std::size_t>(spring.b);
-      const double dx[3] = { x[ib] - x[ia], x[ib + 1] - x[ia + 1], x[ib + 2] - x[ia + 2] };
-      const double tn = spring.t * (spring.n[0] * dx[0] + spring.n[1] * dx[1] + spring.n[2] * dx[2]);
-      for (std::size_t c = 0; c < 3; ++c)
-      {
-        const double w = spring.s * dx[c] + tn * spring.n[c];
-        y[ia + c] -= w;
-        y[ib + c] += w;
-        sum += dx[c] * w;
-      }
-    }
-    return sum;
-  };
-  double partial[Parts + 1] = {};
-  this->Threads->Tasks(
-    Parts, [&](std::size_t p) { partial[p] = springs(this->PartOffsets[p], this->PartOffsets[p + 1]); });
-  partial[Parts] = springs(this->PartOffsets[Parts], this->PartOffsets[Parts + 1]);
-  for (double p : partial)
-  {
-    energy += p;
-  }
-  return energy;
+  })[0];
 }
 
 bool NewmarkIntegrator::SolveCG()
 {
+  // Preconditioned CG in Chronopoulos and Gear's form (one synchronisation per half iteration; the same iterates
+  // as the textbook form in exact arithmetic): with u = P r and w = A u,
+  //   gamma = r.u, delta = u.w, beta = gamma / gamma_old, alpha = gamma / (delta - beta gamma / alpha_old),
+  //   p = u + beta p, s = w + beta s (= A p), x += alpha p, r -= alpha s.
+  // Each iteration is two passes over the nodes: a local one (the updates, u = P r and gamma) and a gathering one
+  // (w = A u and delta). Stop when r.u <= CGTolerance^2 b.P b (VegaFEM's Jacobi CG test with x0 = 0).
   MassSpringThreads& threads = *this->Threads;
   const std::size_t n = this->System->NodeCount();
+  const char* fixed = this->NodeFixed.data();
   double* x = this->Delta.data();
   double* r = this->CGr.data();
-  double* z = this->CGz.data();
-  double* d = this->CGd.data();
-  double* q = this->CGq.data();
+  double* u = this->CGz.data();
+  double* p = this->CGd.data();
+  double* s = this->CGq.data();
+  double* w = this->CGw.data();
   const double* b = this->Rhs.data();
   const double* P = this->Precond.data();
-  // b^T P b, and r = b - A x for the warm start x.
-  const double bNorm = threads.Sum(n, [&](std::size_t begin, std::size_t end) {
-    double sum = 0.0;
+  // r = b - A x for the warm start x, u = P r, gamma = r.u, b.P b.
+  std::array<double, 2> sums = ChunkedSum<2>(threads, n, [&](std::size_t begin, std::size_t end, double* sum) {
     for (std::size_t i = begin; i < end; ++i)
     {
-      double pb[3] = { 0, 0, 0 };
-      AddBlockTimes(P + 6 * i, b + 3 * i, 1.0, pb);
-      sum += pb[0] * b[3 * i] + pb[1] * b[3 * i + 1] + pb[2] * b[3 * i + 2];
+      double* ri = r + 3 * i;
+      double* ui = u + 3 * i;
+      if (fixed[i])
+      {
+        std::fill(ri, ri + 3, 0.0);
+        std::fill(ui, ui + 3, 0.0);
+        std::fill(p + 3 * i, p + 3 * i + 3, 0.0);
+        std::fill(s + 3 * i, s + 3 * i + 3, 0.0);
+        x[3 * i] = x[3 * i + 1] = x[3 * i + 2] = 0.0;
+        continue;
+      }
+      double ax[3];
+      this->MultiplyRow(i, x, ax);
+      const double* bi = b + 3 * i;
+      double pb[3] = { 0.0, 0.0, 0.0 };
+      AddBlockTimes(P + 6 * i, bi, 1.0, pb);
+      sum[1] += pb[0] * bi[0] + pb[1] * bi[1] + pb[2] * bi[2];
+      ri[0] = bi[0] - ax[0];
+      ri[1] = bi[1] - ax[1];
+      ri[2] = bi[2] - ax[2];
+      ui[0] = ui[1] = ui[2] = 0.0;
+      AddBlockTimes(P + 6 * i, ri, 1.0, ui);
+      sum[0] += ri[0] * ui[0] + ri[1] * ui[1] + ri[2] * ui[2];
+      // p and s start at zero (beta = 0 in the first iteration).
+      std::fill(p + 3 * i, p + 3 * i + 3, 0.0);
+      std::fill(s + 3 * i, s + 3 * i + 3, 0.0);
     }
-    return sum;
   });
+  double gamma = sums[0];
+  const double bNorm = sums[1];
   if (!(bNorm > 0.0))
   {
     std::fill(x, x + 3 * n, 0.0);
     return std::isfinite(bNorm);
   }
   const double threshold = this->Params.cgTolerance * this->Params.cgTolerance * bNorm;
-  this->MultiplySystem(x, q);
-  double delta = threads.Sum(n, [&](std::size_t begin, std::size_t end) {
-    double sum = 0.0;
-    for (std::size_t i = begin; i < end; ++i)
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        r[3 * i + c] = b[3 * i + c] - q[3 * i + c];
-      }
-      z[3 * i] = z[3 * i + 1] = z[3 * i + 2] = 0.0;
-      AddBlockTimes(P + 6 * i, r + 3 * i, 1.0, z + 3 * i);
-      for (int c = 0; c < 3; ++c)
-      {
-        d[3 * i + c] = z[3 * i + c];
-        sum += r[3 * i + c] * z[3 * i + c];
-      }
-    }
-    return sum;
-  });
   int iteration = 0;
-  while (delta > threshold && iteration < this->Params.cgMaxIterations)
+  double alpha = 0.0;
+  double beta = 0.0;
+  double gammaOld = 0.0;
+  while (std::isfinite(gamma) && gamma > threshold && iteration < this->Params.cgMaxIterations)
   {
-    const double dq = this->MultiplySystem(d, q);
-    if (!(dq > 0.0))
+    // w = A u, delta = u.w
+    const double delta = this->MultiplySystem(u, w);
+    const double curvature = iteration == 0 ? delta : delta - beta * gamma / alpha; // p.A p
+    if (!(curvature > 0.0) || !std::isfinite(curvature))
     {
       return false; // not positive definite (or NaN)
     }
-    const double step = delta / dq;
-    const double deltaNew = threads.Sum(n, [&](std::size_t begin, std::size_t end) {
-      double sum = 0.0;
+    alpha = gamma / curvature;
+    gammaOld = gamma;
+    const double a = alpha;
+    const double bt = beta;
+    gamma = ChunkedSum<1>(threads, n, [&](std::size_t begin, std::size_t end, double* sum) {
       for (std::size_t i = begin; i < end; ++i)
       {
-        for (int c = 0; c < 3; ++c)
+        if (fixed[i])
         {
-          x[3 * i + c] += step * d[3 * i + c];
-          r[3 * i + c] -= step * q[3 * i + c];
+          continue;
         }
-        z[3 * i] = z[3 * i + 1] = z[3 * i + 2] = 0.0;
-        AddBlockTimes(P + 6 * i, r + 3 * i, 1.0, z + 3 * i);
-        sum += r[3 * i] * z[3 * i] + r[3 * i + 1] * z[3 * i + 1] + r[3 * i + 2] * z[3 * i + 2];
+        for (std::size_t c = 3 * i; c < 3 * i + 3; ++c)
+        {
+          p[c] = u[c] + bt * p[c];
+          s[c] = w[c] + bt * s[c];
+          x[c] += a * p[c];
+          r[c] -= a * s[c];
+        }
+        double* ui = u + 3 * i;
+        ui[0] = ui[1] = ui[2] = 0.0;
+        AddBlockTimes(P + 6 * i, r + 3 * i, 1.0, ui);
+        sum[0] += r[3 * i] * ui[0] + r[3 * i + 1] * ui[1] + r[3 * i + 2] * ui[2];
       }
-      return sum;
-    });
-    const double ratio = deltaNew / delta;
-    delta = deltaNew;
-    threads.For(3 * n, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t k = begin; k < end; ++k)
-      {
-        d[k] = z[k] + ratio * d[k];
-      }
-    });
+    })[0];
+    beta = gamma / gammaOld;
     ++iteration;
   }
   this->Timing.cgIterations += iteration;
-  return std::isfinite(delta) && delta <= threshold;
+  return std::isfinite(gamma) && gamma <= threshold;
 }
 
 bool NewmarkIntegrator::SolveCholesky()
@@ -624,7 +761,7 @@ bool NewmarkIntegrator::SolveCholesky()
       }
     }
   });
-  this->Threads->For(this->Compact.size(), [&](std::size_t begin, std::size_t end) {
+  this->Threads->For(this->Blocks.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t e = begin; e < end; ++e)
     {
       const int* entry = &chol.springEntry[9 * e];
@@ -632,12 +769,12 @@ bool NewmarkIntegrator::SolveCholesky()
       {
         continue;
       }
-      const CompactSpring& spring = this->Compact[e];
+      const SpringBlock& spring = this->Blocks[e];
       for (int r = 0; r < 3; ++r)
       {
         for (int c = 0; c < 3; ++c)
         {
-          values[entry[3 * r + c]] = -(spring.t * spring.n[r] * spring.n[c] + (r == c ? spring.s : 0.0));
+          values[entry[3 * r + c]] = -(spring.m[r] * spring.m[c] + (r == c ? spring.s : 0.0));
         }
       }
     }
@@ -663,6 +800,27 @@ bool NewmarkIntegrator::SolveCholesky()
   return true;
 }
 
+void NewmarkIntegrator::WarmStart()
+{
+  // The first Newton iteration's increment changes smoothly from step to step (it is about v dt): start CG from
+  // its linear extrapolation 2 d_{s-1} - d_{s-2} once two are known, else from the last one.
+  double* x = this->Delta.data();
+  const double* d1 = this->PreviousDelta.data();
+  const double* d2 = this->OlderDelta.data();
+  const std::size_t n3 = this->Delta.size();
+  if (this->WarmSteps < 2 || !this->Params.extrapolateWarmStart)
+  {
+    std::copy(d1, d1 + n3, x);
+    return;
+  }
+  this->Threads->For(n3, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+    {
+      x[k] = 2.0 * d1[k] - d2[k];
+    }
+  });
+}
+
 std::string NewmarkIntegrator::Step(const std::vector<double>& force)
 {
   const MassSpringSystem& system = *this->System;
@@ -671,15 +829,27 @@ std::string NewmarkIntegrator::Step(const std::vector<double>& force)
   {
     return "the external force has the wrong size";
   }
-  this->Q1 = this->Q;
-  this->V1 = this->V;
-  this->A1 = this->A;
+  this->Q1.resize(n3);
+  this->V1.resize(n3);
+  this->A1.resize(n3);
   const double* a = this->Alpha;
-  for (std::size_t k = 0; k < n3; ++k)
-  {
-    this->A[k] = -a[2] * this->V1[k] - a[3] * this->A1[k];
-    this->V[k] = a[5] * this->V1[k] + a[6] * this->A1[k];
-  }
+  double* q = this->SolverQ.data();
+  double* v = this->SolverV.data();
+  double* acc = this->SolverA.data();
+  double* q1 = this->Q1.data();
+  double* v1 = this->V1.data();
+  double* a1 = this->A1.data();
+  // (All in the solver's node order.) Keep the step's start; the iterate's velocity and acceleration at q = q_s.
+  this->Threads->For(n3, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+    {
+      q1[k] = q[k];
+      v1[k] = v[k];
+      a1[k] = acc[k];
+      acc[k] = -a[2] * v1[k] - a[3] * a1[k];
+      v[k] = a[5] * v1[k] + a[6] * a1[k];
+    }
+  });
   double error0 = 0.0;
   std::string failure;
   for (int iteration = 0; iteration < this->Params.maxIterations; ++iteration)
@@ -711,7 +881,7 @@ std::string NewmarkIntegrator::Step(const std::vector<double>& force)
     {
       if (iteration == 0)
       {
-        this->Delta = this->PreviousDelta;
+        this->WarmStart();
       }
       else
       {
@@ -731,20 +901,32 @@ std::string NewmarkIntegrator::Step(const std::vector<double>& force)
     }
     if (iteration == 0)
     {
+      this->OlderDelta.swap(this->PreviousDelta);
       this->PreviousDelta = this->Delta;
+      this->WarmSteps = std::min(this->WarmSteps + 1, 2);
     }
-    for (std::size_t k = 0; k < n3; ++k)
-    {
-      this->Q[k] += this->Delta[k];
-      const double dq = this->Q[k] - this->Q1[k];
-      this->A[k] = a[1] * dq - a[2] * this->V1[k] - a[3] * this->A1[k];
-      this->V[k] = a[4] * dq + a[5] * this->V1[k] + a[6] * this->A1[k];
-    }
+    // q += dq, then the iterate's velocity and acceleration.
+    const double* dq = this->Delta.data();
+    this->Threads->For(n3, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k)
+      {
+        q[k] += dq[k];
+        const double du = q[k] - q1[k];
+        acc[k] = a[1] * du - a[2] * v1[k] - a[3] * a1[k];
+        v[k] = a[4] * du + a[5] * v1[k] + a[6] * a1[k];
+      }
+    });
   }
   bool finite = failure.empty();
-  for (std::size_t k = 0; finite && k < n3; ++k)
+  if (finite)
   {
-    finite = std::isfinite(this->Q[k]) && std::isfinite(this->V[k]);
+    const double bad = ChunkedSum<1>(*this->Threads, n3, [&](std::size_t begin, std::size_t end, double* sum) {
+      for (std::size_t k = begin; k < end; ++k)
+      {
+        sum[0] += std::isfinite(q[k]) && std::isfinite(v[k]) ? 0.0 : 1.0;
+      }
+    })[0];
+    finite = bad == 0.0;
   }
   if (!finite)
   {
@@ -752,11 +934,25 @@ std::string NewmarkIntegrator::Step(const std::vector<double>& force)
     {
       failure = "a non-finite displacement or velocity";
     }
-    this->Q = this->Q1;
-    this->V = this->V1;
-    this->A = this->A1;
+    this->SolverQ = this->Q1;
+    this->SolverV = this->V1;
+    this->SolverA = this->A1;
     return failure;
   }
+  // The state in the system's node order.
+  const int* position = this->Position.data();
+  this->Threads->For(system.NodeCount(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      const std::size_t p = 3 * static_cast<std::size_t>(position[i]);
+      for (std::size_t c = 0; c < 3; ++c)
+      {
+        this->Q[3 * i + c] = q[p + c];
+        this->V[3 * i + c] = v[p + c];
+        this->A[3 * i + c] = acc[p + c];
+      }
+    }
+  });
   this->CurrentTime += this->Params.timeStep;
   ++this->Timing.steps;
   return std::string();

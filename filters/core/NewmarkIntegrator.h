@@ -20,14 +20,17 @@
 // more iterations converge to the fully implicit average-acceleration step, which conserves the energy of a linear
 // system exactly.
 //
-// The system matrix is kept in the springs' own layout: per spring s I + t n n^T (the (a, b) off-diagonal block is
-// minus it) and a 3x3 diagonal block per node. Springs are cut into 16 fixed spatial slabs; the slabs' springs are
-// assembled (and multiplied) in parallel, touching disjoint nodes, then the springs joining two slabs serially:
-// every sum is taken in the same order on any thread count (bit-identical results), no atomics.
+// The system matrix is kept in the springs' own layout: per spring s I + m m^T (m = sqrt(t) n; the (a, b)
+// off-diagonal block is minus it) and a 3x3 diagonal block per node. The solver numbers the nodes by their rest
+// positions (sorted along the longest axis, then the middle, then the shortest: neighbours end up close in memory)
+// and every per-node quantity (residual, diagonal block, A x) is a gather over the node's row of springs in a fixed
+// order; reductions are cut into fixed chunks added in order. So the results are bit-identical on any thread count
+// and for any numbering of the same geometry, with no atomics, no partition and no serial part.
 // Two linear solvers:
-//   - ConjugateGradient: block-Jacobi (3x3 per node) preconditioned CG, warm-started from the previous step's
-//     increment, stopped when r^T P^-1 r <= CGTolerance^2 b^T P^-1 b (VegaFEM's Jacobi CG test with x0 = 0),
-//     matrix-vector products and reductions threaded (MassSpringThreads, fixed partitions);
+//   - ConjugateGradient: block-Jacobi (3x3 per node) preconditioned CG in Chronopoulos and Gear's form (two passes
+//     over the nodes per iteration: one gathering A u, one local), warm-started from the linear extrapolation
+//     2 d_{s-1} - d_{s-2} of the last two steps' increments, stopped when r^T P^-1 r <= CGTolerance^2 b^T P^-1 b
+//     (VegaFEM's Jacobi CG test with x0 = 0), every pass threaded (MassSpringThreads, fixed chunks);
 //   - Cholesky: Eigen's SimplicialLDLT on the free degrees of freedom, the sparsity pattern analysed once (AMD
 //     ordering), factorised every Newton iteration (exact to round-off).
 //   - Auto picks Cholesky below AutoCholeskyMaxNodes free nodes and CG above (benchmarks/README.md, "wilting").
@@ -65,6 +68,7 @@ struct NewmarkParameters
   NewmarkSolver solver = NewmarkSolver::Auto;
   double cgTolerance = 1e-6;      ///< relative (preconditioned) residual of the CG solve
   int cgMaxIterations = 10000;
+  bool extrapolateWarmStart = true; ///< CG starts from 2 d_{s-1} - d_{s-2} (else from d_{s-1})
   int threads = 1;                ///< <= 0: all hardware threads
 };
 
@@ -117,6 +121,8 @@ private:
   bool SolveCG();
   bool SolveCholesky();
   double MultiplySystem(const double* x, double* y) const;
+  void WarmStart();
+  void MultiplyRow(std::size_t node, const double* x, double* y) const;
 
   const MassSpringSystem* System = nullptr;
   NewmarkParameters Params;
@@ -125,26 +131,48 @@ private:
   double Alpha[7] = { 0, 0, 0, 0, 0, 0, 0 };
   double CurrentTime = 0.0;
   std::vector<double> Q, V, A;    // state
-  std::vector<double> Q1, V1, A1; // start of the step
-  // The springs in part order: those of part p (both ends in it) in [PartOffsets[p], PartOffsets[p + 1]), the
-  // springs joining two parts after PartOffsets[Parts]. The system's block of a spring is s I + t n n^T.
-  struct CompactSpring
+  std::vector<double> Q1, V1, A1; // start of the step, in the solver's node order
+  std::vector<double> SolverQ, SolverV, SolverA; // the state in the solver's node order
+  // Per spring (in the system's order): the ends, the system's block s I + m m^T, the material, and g_e, the
+  // spring's term of the residual (-R on a, +R on b). Per node: its springs as a row (the other end and the
+  // spring), so every per-node sum is a gather in a fixed order: no scatter, no atomics, no partition.
+  struct SpringEnds
   {
     int a, b;
-    double s, t, n[3];
+  };
+  struct SpringBlock // s I + m m^T
+  {
+    double s, m[3];
   };
   struct SpringMaterial
   {
     double stiffness, damping, restLength;
   };
-  std::vector<CompactSpring> Compact;
+  struct RowEntry
+  {
+    int node, spring;
+  };
+  std::vector<int> Order;            // solver position -> system node
+  std::vector<int> Position;         // system node -> solver position
+  std::vector<double> NodeMass;      // by solver position
+  std::vector<char> NodeFixed;       // by solver position
+  std::vector<Eigen::Vector3d> RestSolver; // by solver position
+  std::vector<SpringEnds> Ends;      // solver positions of the spring's a and b ends
+  std::vector<SpringBlock> Blocks;
   std::vector<SpringMaterial> Material;
-  std::vector<std::size_t> PartOffsets;
+  std::vector<double> SpringTerm;    // g_e, 3 per spring
+  std::vector<int> RowOffsets;       // NodeCount() + 1
+  std::vector<RowEntry> Rows;        // 2 per spring, solver positions
+  std::vector<signed char> RowSign;  // -1 where the row's node is the spring's a end, else +1
   std::vector<double> NodeBlock;     // 6 per node: the system's diagonal block
   std::vector<double> Rhs;           // -r, 3 per node (0 on fixed nodes)
   std::vector<double> Delta;         // the increment, 3 per node
-  std::vector<double> PreviousDelta; // warm start
-  std::vector<double> CGr, CGz, CGd, CGq, Precond; // CG work (Precond: inverse diagonal blocks, 6 per node)
+  std::vector<double> PreviousDelta; // warm start: the last step's first increment
+  std::vector<double> OlderDelta;    // and the one before
+  int WarmSteps = 0;                 // how many of the two are known
+  // CG work (Chronopoulos-Gear form): residual r, preconditioned residual u = P r, w = A u, direction p, s = A p;
+  // Precond: the inverse diagonal blocks, 6 per node.
+  std::vector<double> CGr, CGz, CGd, CGq, CGw, Precond;
   struct CholeskyData;
   std::unique_ptr<CholeskyData> Chol;
   NewmarkTimings Timing;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <utility>
@@ -182,92 +183,236 @@ void ClosestPointOnTriangle(const double p[3], const double a[3], const double b
 
 //------------------------------------------------------------------------------
 std::string PointSurfaceDistance::BuildTree(std::vector<double>& lo, std::vector<double>& hi,
-  std::vector<double>& centroid, std::size_t count, std::size_t leafSize)
+  std::vector<double>& centroid, std::size_t count, std::size_t leafSize, std::vector<std::uint32_t>& nodeRange,
+  const ParallelFor& parallelFor)
 {
+  // The shape of the tree depends only on the sizes (a range of m > leafSize splits into m / 2 and m - m / 2), so
+  // the depth-first index of every node is known before building: the left child follows its parent, the right one
+  // follows the left subtree, of NodeCount(m / 2) nodes. The sizes on one level differ by at most one, so the node
+  // counts of all sizes that occur fit a small table. That lets the tree be built one level at a time, the nodes of
+  // a level in parallel (each sorts only its own part of `order`), giving the same tree as a serial build.
+  std::map<std::size_t, std::size_t> nodeCount; // range size -> nodes in its subtree
+  {
+    std::vector<std::size_t> sizes{ count };
+    std::vector<std::size_t> all;
+    while (!sizes.empty())
+    {
+      std::vector<std::size_t> next;
+      for (const std::size_t m : sizes)
+      {
+        all.push_back(m);
+        if (m > leafSize)
+        {
+          next.push_back(m / 2);
+          next.push_back(m - m / 2);
+        }
+      }
+      std::sort(next.begin(), next.end());
+      next.erase(std::unique(next.begin(), next.end()), next.end());
+      sizes = std::move(next);
+    }
+    std::sort(all.begin(), all.end());
+    for (const std::size_t m : all) // increasing, so the children's counts are known
+    {
+      nodeCount[m] = m <= leafSize ? 1 : 1 + nodeCount.at(m / 2) + nodeCount.at(m - m / 2);
+    }
+  }
+  const std::size_t total = nodeCount.at(count);
   std::vector<std::uint32_t> order(count);
   std::iota(order.begin(), order.end(), 0u);
-  this->Nodes.clear();
-  this->Nodes.reserve(2 * (count / leafSize + 1));
+  this->Nodes.assign(total, Node{});
+  nodeRange.assign(2 * total, 0);
 
   struct Task
   {
-    std::size_t begin, end, parent; // parent: the node whose right child this is (npos for the root / left)
+    std::size_t begin, end, node;
   };
-  constexpr std::size_t npos = std::numeric_limits<std::size_t>::max();
-  std::vector<Task> tasks{ { 0, count, npos } };
+  std::vector<Task> tasks{ { 0, count, 0 } }; // one level, in increasing `begin`
   while (!tasks.empty())
   {
-    const Task task = tasks.back();
-    tasks.pop_back();
-    const std::size_t nodeIndex = this->Nodes.size();
-    if (task.parent != npos)
-    {
-      this->Nodes[task.parent].start = static_cast<std::uint32_t>(nodeIndex);
-    }
-    Node node{};
-    double clo[3] = { Infinity, Infinity, Infinity };
-    double chi[3] = { -Infinity, -Infinity, -Infinity };
-    for (int k = 0; k < 3; ++k)
-    {
-      node.lo[k] = Infinity;
-      node.hi[k] = -Infinity;
-    }
-    for (std::size_t i = task.begin; i < task.end; ++i)
-    {
-      const std::size_t id = order[i];
-      for (int k = 0; k < 3; ++k)
+    std::vector<Task> children(2 * tasks.size(), Task{ 0, 0, 0 });
+    // Each element range of the ParallelFor builds the nodes whose ranges start in it.
+    parallelFor(count, [&](std::size_t first, std::size_t last) {
+      auto it = std::lower_bound(
+        tasks.begin(), tasks.end(), first, [](const Task& t, std::size_t b) { return t.begin < b; });
+      for (; it != tasks.end() && it->begin < last; ++it)
       {
-        node.lo[k] = std::min(node.lo[k], lo[3 * id + k]);
-        node.hi[k] = std::max(node.hi[k], hi[3 * id + k]);
-        clo[k] = std::min(clo[k], centroid[3 * id + k]);
-        chi[k] = std::max(chi[k], centroid[3 * id + k]);
+        const Task task = *it;
+        Node& node = this->Nodes[task.node];
+        nodeRange[2 * task.node] = static_cast<std::uint32_t>(task.begin);
+        nodeRange[2 * task.node + 1] = static_cast<std::uint32_t>(task.end);
+        double clo[3] = { Infinity, Infinity, Infinity };
+        double chi[3] = { -Infinity, -Infinity, -Infinity };
+        for (int k = 0; k < 3; ++k)
+        {
+          node.lo[k] = Infinity;
+          node.hi[k] = -Infinity;
+        }
+        for (std::size_t i = task.begin; i < task.end; ++i)
+        {
+          const std::size_t id = order[i];
+          for (int k = 0; k < 3; ++k)
+          {
+            node.lo[k] = std::min(node.lo[k], lo[3 * id + k]);
+            node.hi[k] = std::max(node.hi[k], hi[3 * id + k]);
+            clo[k] = std::min(clo[k], centroid[3 * id + k]);
+            chi[k] = std::max(chi[k], centroid[3 * id + k]);
+          }
+        }
+        const std::size_t n = task.end - task.begin;
+        if (n <= leafSize)
+        {
+          node.start = static_cast<std::uint32_t>(task.begin);
+          node.count = static_cast<std::uint32_t>(n);
+          continue;
+        }
+        int axis = 0;
+        for (int k = 1; k < 3; ++k)
+        {
+          if (chi[k] - clo[k] > chi[axis] - clo[axis])
+          {
+            axis = k;
+          }
+        }
+        const std::size_t mid = task.begin + n / 2;
+        std::nth_element(order.begin() + static_cast<std::ptrdiff_t>(task.begin),
+          order.begin() + static_cast<std::ptrdiff_t>(mid), order.begin() + static_cast<std::ptrdiff_t>(task.end),
+          [&](std::uint32_t x, std::uint32_t y) {
+            const double cx = centroid[3 * x + axis];
+            const double cy = centroid[3 * y + axis];
+            return cx < cy || (cx == cy && x < y);
+          });
+        const std::size_t right = task.node + 1 + nodeCount.at(n / 2);
+        node.count = 0;
+        node.start = static_cast<std::uint32_t>(right);
+        const std::size_t slot = static_cast<std::size_t>(it - tasks.begin());
+        children[2 * slot] = { task.begin, mid, task.node + 1 };
+        children[2 * slot + 1] = { mid, task.end, right };
+      }
+    });
+    tasks.clear();
+    for (const Task& child : children)
+    {
+      if (child.end > child.begin)
+      {
+        tasks.push_back(child);
       }
     }
-    const std::size_t n = task.end - task.begin;
-    if (n <= leafSize)
-    {
-      node.start = static_cast<std::uint32_t>(task.begin);
-      node.count = static_cast<std::uint32_t>(n);
-      this->Nodes.push_back(node);
-      continue;
-    }
-    int axis = 0;
-    for (int k = 1; k < 3; ++k)
-    {
-      if (chi[k] - clo[k] > chi[axis] - clo[axis])
-      {
-        axis = k;
-      }
-    }
-    const std::size_t mid = task.begin + n / 2;
-    std::nth_element(order.begin() + static_cast<std::ptrdiff_t>(task.begin),
-      order.begin() + static_cast<std::ptrdiff_t>(mid), order.begin() + static_cast<std::ptrdiff_t>(task.end),
-      [&](std::uint32_t x, std::uint32_t y) {
-        const double cx = centroid[3 * x + axis];
-        const double cy = centroid[3 * y + axis];
-        return cx < cy || (cx == cy && x < y);
-      });
-    node.count = 0;
-    this->Nodes.push_back(node);
-    // Depth first: the left child is processed next (it lands at nodeIndex + 1), the right one after its subtree.
-    tasks.push_back({ mid, task.end, nodeIndex });
-    tasks.push_back({ task.begin, mid, npos });
   }
   this->PrimitiveIds = std::move(order);
   this->LeafOf.assign(count, 0);
-  for (std::size_t i = 0; i < count; ++i)
-  {
-    this->LeafOf[this->PrimitiveIds[i]] = static_cast<std::uint32_t>(i);
-  }
-  this->Nodes.shrink_to_fit();
+  parallelFor(count, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      this->LeafOf[this->PrimitiveIds[i]] = static_cast<std::uint32_t>(i);
+    }
+  });
   return {};
 }
 
 //------------------------------------------------------------------------------
-std::string PointSurfaceDistance::BuildSurface(
-  const double* points, std::size_t pointCount, const std::int64_t* triangles, std::size_t triangleCount)
+void PointSurfaceDistance::BuildSlabs(const std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor)
 {
+  parallelFor(this->Nodes.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      Node& node = this->Nodes[i];
+      const std::size_t first = nodeRange[2 * i];
+      const std::size_t last = nodeRange[2 * i + 1];
+      double n[3] = { 0.0, 0.0, 0.0 };
+      for (std::size_t t = first; t < last; ++t)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          n[k] += this->Triangles[t].n[k];
+        }
+      }
+      const double length = std::sqrt(Dot(n, n));
+      node.n[0] = node.n[1] = node.n[2] = node.h = node.r = 0.0;
+      node.o[0] = node.o[1] = node.o[2] = 0.0;
+      // No slab when the normals cancel (a closed or strongly curved part): it would be no tighter than the box.
+      if (!(length > 0.25 * static_cast<double>(last - first)))
+      {
+        continue;
+      }
+      const double o[3] = { 0.5 * (node.lo[0] + node.hi[0]), 0.5 * (node.lo[1] + node.hi[1]),
+        0.5 * (node.lo[2] + node.hi[2]) };
+      for (int k = 0; k < 3; ++k)
+      {
+        n[k] /= length;
+      }
+      double lo = Infinity;
+      double hi = -Infinity;
+      double lateral2 = 0.0;
+      for (std::size_t t = first; t < last; ++t)
+      {
+        const Triangle& tri = this->Triangles[t];
+        const double a[3] = { tri.a[0] - o[0], tri.a[1] - o[1], tri.a[2] - o[2] };
+        const double vertices[3][3] = { { a[0], a[1], a[2] }, { a[0] + tri.ab[0], a[1] + tri.ab[1], a[2] + tri.ab[2] },
+          { a[0] + tri.ac[0], a[1] + tri.ac[1], a[2] + tri.ac[2] } };
+        for (const auto& v : vertices)
+        {
+          const double axial = Dot(n, v);
+          double side[3];
+          Cross(n, v, side);
+          lo = std::min(lo, axial);
+          hi = std::max(hi, axial);
+          lateral2 = std::max(lateral2, Dot(side, side));
+        }
+      }
+      const double extent =
+        std::max({ node.hi[0] - node.lo[0], node.hi[1] - node.lo[1], node.hi[2] - node.lo[2] });
+      for (int k = 0; k < 3; ++k)
+      {
+        node.n[k] = n[k];
+      }
+      const double c = 0.5 * (lo + hi);
+      for (int k = 0; k < 3; ++k)
+      {
+        node.o[k] = o[k] + c * n[k];
+      }
+      // The rounding of the centre moves the coin by up to a few ulps of |o|: pad h and r by that too.
+      const double shift = 1e-14 * (std::fabs(node.o[0]) + std::fabs(node.o[1]) + std::fabs(node.o[2]));
+      node.h = 0.5 * (hi - lo) * (1.0 + 1e-12) + 1e-12 * extent + shift; // round-off pads (see the header)
+      node.r = std::sqrt(lateral2) * (1.0 + 1e-12) + 1e-12 * extent + shift;
+    }
+  });
+}
+
+//------------------------------------------------------------------------------
+inline double PointSurfaceDistance::NodeDistance2(const Node& node, const double p[3], double best2) const
+{
+  // Cheapest first: a node whose box is already no nearer than best2 is pruned without its coin.
+  const double box2 = BoxDistance2(p, node.lo, node.hi);
+  if (box2 >= best2 || !this->SlabBounds || node.h <= 0.0)
+  {
+    return box2;
+  }
+  const double d[3] = { p[0] - node.o[0], p[1] - node.o[1], p[2] - node.o[2] };
+  const double pad = 1e-14 * (std::fabs(d[0]) + std::fabs(d[1]) + std::fabs(d[2]));
+  const double axial = std::max(0.0, std::fabs(Dot(node.n, d)) - node.h - pad);
+  if (axial * axial >= best2)
+  {
+    return axial * axial;
+  }
+  double side[3];
+  Cross(node.n, d, side);
+  const double side2 = Dot(side, side);
+  double lateral = 0.0;
+  if (side2 > node.r * node.r)
+  {
+    lateral = std::max(0.0, std::sqrt(side2) - node.r - pad);
+  }
+  return std::max(box2, axial * axial + lateral * lateral);
+}
+
+//------------------------------------------------------------------------------
+std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t pointCount,
+  const std::int64_t* triangles, std::size_t triangleCount, const ParallelFor& parallelFor)
+{
+  const bool slabBounds = this->SlabBounds;
   *this = PointSurfaceDistance();
+  this->SlabBounds = slabBounds;
   if (triangleCount == 0)
   {
     return "the reference surface has no triangle";
@@ -294,18 +439,21 @@ std::string PointSurfaceDistance::BuildSurface(
   std::vector<double> lo(3 * triangleCount);
   std::vector<double> hi(3 * triangleCount);
   std::vector<double> centroid(3 * triangleCount);
-  for (std::size_t t = 0; t < triangleCount; ++t)
-  {
-    const double* v[3] = { points + 3 * triangles[3 * t], points + 3 * triangles[3 * t + 1],
-      points + 3 * triangles[3 * t + 2] };
-    for (int k = 0; k < 3; ++k)
+  parallelFor(triangleCount, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
     {
-      lo[3 * t + k] = std::min({ v[0][k], v[1][k], v[2][k] });
-      hi[3 * t + k] = std::max({ v[0][k], v[1][k], v[2][k] });
-      centroid[3 * t + k] = (v[0][k] + v[1][k] + v[2][k]) / 3.0;
+      const double* v[3] = { points + 3 * triangles[3 * t], points + 3 * triangles[3 * t + 1],
+        points + 3 * triangles[3 * t + 2] };
+      for (int k = 0; k < 3; ++k)
+      {
+        lo[3 * t + k] = std::min({ v[0][k], v[1][k], v[2][k] });
+        hi[3 * t + k] = std::max({ v[0][k], v[1][k], v[2][k] });
+        centroid[3 * t + k] = (v[0][k] + v[1][k] + v[2][k]) / 3.0;
+      }
     }
-  }
-  this->BuildTree(lo, hi, centroid, triangleCount, TriangleLeafSize);
+  });
+  std::vector<std::uint32_t> nodeRange;
+  this->BuildTree(lo, hi, centroid, triangleCount, TriangleLeafSize, nodeRange, parallelFor);
   lo = std::vector<double>();
   hi = std::vector<double>();
   centroid = std::vector<double>();
@@ -314,101 +462,128 @@ std::string PointSurfaceDistance::BuildSurface(
   // Triangles in leaf order, and their unit normals.
   std::vector<double> faceNormals(3 * triangleCount);
   this->Triangles.resize(triangleCount);
-  for (std::size_t i = 0; i < triangleCount; ++i)
-  {
-    const std::size_t t = this->PrimitiveIds[i];
-    const double* a = points + 3 * triangles[3 * t];
-    const double* b = points + 3 * triangles[3 * t + 1];
-    const double* c = points + 3 * triangles[3 * t + 2];
-    Triangle& tri = this->Triangles[i];
-    for (int k = 0; k < 3; ++k)
+  parallelFor(triangleCount, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
     {
-      tri.a[k] = a[k];
-      tri.ab[k] = b[k] - a[k];
-      tri.ac[k] = c[k] - a[k];
-    }
-    Cross(tri.ab, tri.ac, tri.n);
-    const double length = std::sqrt(Dot(tri.n, tri.n));
-    for (int k = 0; k < 3; ++k)
-    {
-      tri.n[k] = length > 0.0 ? tri.n[k] / length : 0.0;
-      faceNormals[3 * t + k] = tri.n[k];
-    }
-  }
-
-  // Pseudo-normals. Vertices: angle-weighted sums of the unit face normals around them.
-  this->TriangleVertices.assign(triangles, triangles + 3 * triangleCount);
-  this->VertexNormals.assign(3 * pointCount, 0.0);
-  for (std::size_t t = 0; t < triangleCount; ++t)
-  {
-    for (int corner = 0; corner < 3; ++corner)
-    {
-      const double* p0 = points + 3 * triangles[3 * t + corner];
-      const double* p1 = points + 3 * triangles[3 * t + (corner + 1) % 3];
-      const double* p2 = points + 3 * triangles[3 * t + (corner + 2) % 3];
-      const double e1[3] = { p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2] };
-      const double e2[3] = { p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2] };
-      const double l1 = std::sqrt(Dot(e1, e1));
-      const double l2 = std::sqrt(Dot(e2, e2));
-      if (l1 <= 0.0 || l2 <= 0.0)
-      {
-        continue;
-      }
-      const double angle = std::acos(std::clamp(Dot(e1, e2) / (l1 * l2), -1.0, 1.0));
+      const std::size_t t = this->PrimitiveIds[i];
+      const double* a = points + 3 * triangles[3 * t];
+      const double* b = points + 3 * triangles[3 * t + 1];
+      const double* c = points + 3 * triangles[3 * t + 2];
+      Triangle& tri = this->Triangles[i];
       for (int k = 0; k < 3; ++k)
       {
-        this->VertexNormals[3 * triangles[3 * t + corner] + k] += angle * faceNormals[3 * t + k];
+        tri.a[k] = a[k];
+        tri.ab[k] = b[k] - a[k];
+        tri.ac[k] = c[k] - a[k];
+      }
+      Cross(tri.ab, tri.ac, tri.n);
+      const double length = std::sqrt(Dot(tri.n, tri.n));
+      for (int k = 0; k < 3; ++k)
+      {
+        tri.n[k] = length > 0.0 ? tri.n[k] / length : 0.0;
+        faceNormals[3 * t + k] = tri.n[k];
       }
     }
-  }
-  // Edges: sums of the unit normals of the faces sharing them (found by sorting the undirected edges).
-  struct EdgeUse
-  {
-    std::int64_t lo, hi;
-    std::size_t slot; // 3 * triangle + local edge
-  };
-  std::vector<EdgeUse> uses(3 * triangleCount);
-  for (std::size_t t = 0; t < triangleCount; ++t)
-  {
-    for (int e = 0; e < 3; ++e)
-    {
-      const std::int64_t u = triangles[3 * t + e];
-      const std::int64_t v = triangles[3 * t + (e + 1) % 3];
-      uses[3 * t + e] = { std::min(u, v), std::max(u, v), 3 * t + static_cast<std::size_t>(e) };
-    }
-  }
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-    return x.lo < y.lo || (x.lo == y.lo && (x.hi < y.hi || (x.hi == y.hi && x.slot < y.slot)));
   });
-  this->EdgeNormals.assign(9 * triangleCount, 0.0);
-  for (std::size_t first = 0; first < uses.size();)
+  this->BuildSlabs(nodeRange, parallelFor);
+  nodeRange = std::vector<std::uint32_t>();
+
+  // Pseudo-normals, from the corners around each vertex (a counting sort of the 3 * triangleCount corners by
+  // vertex, in corner order, so every sum below adds its terms in triangle order whatever the threads).
+  this->TriangleVertices.assign(triangles, triangles + 3 * triangleCount);
+  std::vector<std::size_t> cornerStart(pointCount + 1, 0);
+  for (std::size_t i = 0; i < 3 * triangleCount; ++i)
   {
-    std::size_t last = first;
-    double sum[3] = { 0.0, 0.0, 0.0 };
-    while (last < uses.size() && uses[last].lo == uses[first].lo && uses[last].hi == uses[first].hi)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        sum[k] += faceNormals[3 * (uses[last].slot / 3) + k];
-      }
-      ++last;
-    }
-    for (std::size_t i = first; i < last; ++i)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        this->EdgeNormals[3 * uses[i].slot + k] = sum[k];
-      }
-    }
-    first = last;
+    ++cornerStart[static_cast<std::size_t>(triangles[i]) + 1];
   }
+  for (std::size_t v = 0; v < pointCount; ++v)
+  {
+    cornerStart[v + 1] += cornerStart[v];
+  }
+  std::vector<std::size_t> corners(3 * triangleCount); // 3 * triangle + corner, grouped by vertex
+  {
+    std::vector<std::size_t> fill(cornerStart.begin(), cornerStart.end() - 1);
+    for (std::size_t i = 0; i < 3 * triangleCount; ++i)
+    {
+      corners[fill[static_cast<std::size_t>(triangles[i])]++] = i;
+    }
+  }
+  // Vertices: angle-weighted sums of the unit face normals around them.
+  this->VertexNormals.assign(3 * pointCount, 0.0);
+  parallelFor(pointCount, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v)
+    {
+      double* sum = this->VertexNormals.data() + 3 * v;
+      for (std::size_t j = cornerStart[v]; j < cornerStart[v + 1]; ++j)
+      {
+        const std::size_t t = corners[j] / 3;
+        const std::size_t corner = corners[j] % 3;
+        const double* p0 = points + 3 * triangles[3 * t + corner];
+        const double* p1 = points + 3 * triangles[3 * t + (corner + 1) % 3];
+        const double* p2 = points + 3 * triangles[3 * t + (corner + 2) % 3];
+        const double e1[3] = { p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2] };
+        const double e2[3] = { p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2] };
+        const double l1 = std::sqrt(Dot(e1, e1));
+        const double l2 = std::sqrt(Dot(e2, e2));
+        if (l1 <= 0.0 || l2 <= 0.0)
+        {
+          continue;
+        }
+        const double angle = std::acos(std::clamp(Dot(e1, e2) / (l1 * l2), -1.0, 1.0));
+        for (int k = 0; k < 3; ++k)
+        {
+          sum[k] += angle * faceNormals[3 * t + k];
+        }
+      }
+    }
+  });
+  // Edges: sums of the unit normals of the faces sharing them (the triangles around the edge's first vertex that
+  // also hold its second; each triangle once). An edge from a vertex to itself (a degenerate triangle's) is shared
+  // only by degenerate triangles, whose normals are zero.
+  this->EdgeNormals.assign(9 * triangleCount, 0.0);
+  parallelFor(triangleCount, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+    {
+      for (int e = 0; e < 3; ++e)
+      {
+        const std::int64_t u = triangles[3 * t + e];
+        const std::int64_t w = triangles[3 * t + (e + 1) % 3];
+        if (u == w)
+        {
+          continue;
+        }
+        double* sum = this->EdgeNormals.data() + 9 * t + 3 * e;
+        std::size_t previous = std::numeric_limits<std::size_t>::max();
+        const std::size_t vertex = static_cast<std::size_t>(u);
+        for (std::size_t j = cornerStart[vertex]; j < cornerStart[vertex + 1]; ++j)
+        {
+          const std::size_t s = corners[j] / 3;
+          if (s == previous)
+          {
+            continue;
+          }
+          previous = s;
+          if (triangles[3 * s] == w || triangles[3 * s + 1] == w || triangles[3 * s + 2] == w)
+          {
+            for (int k = 0; k < 3; ++k)
+            {
+              sum[k] += faceNormals[3 * s + k];
+            }
+          }
+        }
+      }
+    }
+  });
   return {};
 }
 
 //------------------------------------------------------------------------------
-std::string PointSurfaceDistance::BuildCloud(const double* points, std::size_t pointCount)
+std::string PointSurfaceDistance::BuildCloud(
+  const double* points, std::size_t pointCount, const ParallelFor& parallelFor)
 {
+  const bool slabBounds = this->SlabBounds;
   *this = PointSurfaceDistance();
+  this->SlabBounds = slabBounds;
   if (pointCount == 0)
   {
     return "the reference point set has no point";
@@ -424,17 +599,20 @@ std::string PointSurfaceDistance::BuildCloud(const double* points, std::size_t p
   std::vector<double> lo(points, points + 3 * pointCount);
   std::vector<double> hi = lo;
   std::vector<double> centroid = lo;
-  this->BuildTree(lo, hi, centroid, pointCount, PointLeafSize);
+  std::vector<std::uint32_t> nodeRange;
+  this->BuildTree(lo, hi, centroid, pointCount, PointLeafSize, nodeRange, parallelFor);
   this->Surface = false;
   this->CloudPoints.resize(3 * pointCount);
-  for (std::size_t i = 0; i < pointCount; ++i)
-  {
-    const std::size_t id = this->PrimitiveIds[i];
-    for (int k = 0; k < 3; ++k)
+  parallelFor(pointCount, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
     {
-      this->CloudPoints[3 * i + k] = points[3 * id + k];
+      const std::size_t id = this->PrimitiveIds[i];
+      for (int k = 0; k < 3; ++k)
+      {
+        this->CloudPoints[3 * i + k] = points[3 * id + k];
+      }
     }
-  }
+  });
   return {};
 }
 
@@ -485,7 +663,7 @@ DistanceQueryResult PointSurfaceDistance::Query(const double p[3], std::int64_t 
   double stackDistance[StackSize];
   int top = 0;
   stack[top] = 0;
-  stackDistance[top++] = BoxDistance2(p, this->Nodes[0].lo, this->Nodes[0].hi);
+  stackDistance[top++] = this->NodeDistance2(this->Nodes[0], p, best2);
   while (top > 0)
   {
     --top;
@@ -510,8 +688,8 @@ DistanceQueryResult PointSurfaceDistance::Query(const double p[3], std::int64_t 
     }
     const std::uint32_t left = nodeIndex + 1;
     const std::uint32_t right = node.start;
-    const double dl = BoxDistance2(p, this->Nodes[left].lo, this->Nodes[left].hi);
-    const double dr = BoxDistance2(p, this->Nodes[right].lo, this->Nodes[right].hi);
+    const double dl = this->NodeDistance2(this->Nodes[left], p, best2);
+    const double dr = this->NodeDistance2(this->Nodes[right], p, best2);
     // Push the farther child first so the nearer one is visited next.
     if (dl <= dr)
     {
@@ -592,11 +770,14 @@ DistanceQueryResult PointSurfaceDistance::Query(const double p[3], std::int64_t 
 
 //------------------------------------------------------------------------------
 void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, double* distance,
-  double* signedDistance, double* closest, std::int64_t* primitive, const ParallelFor& parallelFor) const
+  double* signedDistance, double* closest, std::int64_t* primitive, const ParallelFor& parallelFor,
+  const std::function<bool(double)>& progress) const
 {
   // Queries run in Morton (Z-curve) order of the points, so consecutive queries are near each other and each one
   // starts from its predecessor's nearest primitive as a tight first bound. Results go to the input order.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> order;
+  // The order: key = 30-bit Morton code (10 bits an axis) << 32 | input index, sorted by an LSD radix sort on the
+  // code's three 10-bit digits (stable, so equal codes stay in input order).
+  std::vector<std::uint64_t> order;
   const bool sorted = count >= 4096 && count < std::numeric_limits<std::uint32_t>::max();
   if (sorted)
   {
@@ -614,13 +795,12 @@ void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, do
         }
       }
     }
-    const auto spread = [](std::uint64_t v) { // 21 bits -> every third bit
-      v &= 0x1fffff;
-      v = (v | v << 32) & 0x1f00000000ffffULL;
-      v = (v | v << 16) & 0x1f0000ff0000ffULL;
-      v = (v | v << 8) & 0x100f00f00f00f00fULL;
-      v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-      v = (v | v << 2) & 0x1249249249249249ULL;
+    const auto spread = [](std::uint64_t v) { // 10 bits -> every third bit
+      v &= 0x3ff;
+      v = (v | v << 16) & 0x30000ffULL;
+      v = (v | v << 8) & 0x300f00fULL;
+      v = (v | v << 4) & 0x30c30c3ULL;
+      v = (v | v << 2) & 0x9249249ULL;
       return v;
     };
     order.resize(count);
@@ -633,40 +813,70 @@ void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, do
           const double extent = hi[k] - lo[k];
           const double x = points[3 * i + k];
           const double t = extent > 0.0 && std::isfinite(x) ? (x - lo[k]) / extent : 0.0;
-          code |= spread(static_cast<std::uint64_t>(std::clamp(t, 0.0, 1.0) * 2097151.0)) << k;
+          code |= spread(static_cast<std::uint64_t>(std::clamp(t, 0.0, 1.0) * 1023.0)) << k;
         }
-        order[i] = { code, static_cast<std::uint32_t>(i) };
+        order[i] = code << 32 | static_cast<std::uint64_t>(i);
       }
     });
-    std::sort(order.begin(), order.end());
-  }
-  parallelFor(count, [&](std::size_t begin, std::size_t end) {
-    std::int64_t hint = -1;
-    for (std::size_t s = begin; s < end; ++s)
+    std::vector<std::uint64_t> buffer(count);
+    for (int shift = 32; shift < 62; shift += 10)
     {
-      const std::size_t i = sorted ? order[s].second : s;
-      const DistanceQueryResult r = this->Query(points + 3 * i, hint);
-      hint = r.primitive;
-      if (distance)
+      std::size_t bucket[1025] = {};
+      for (const std::uint64_t key : order)
       {
-        distance[i] = r.distance;
+        ++bucket[((key >> shift) & 1023) + 1];
       }
-      if (signedDistance)
+      for (int b = 0; b < 1024; ++b)
       {
-        signedDistance[i] = r.signedDistance;
+        bucket[b + 1] += bucket[b];
       }
-      if (closest)
+      for (const std::uint64_t key : order)
       {
-        closest[3 * i] = r.closest[0];
-        closest[3 * i + 1] = r.closest[1];
-        closest[3 * i + 2] = r.closest[2];
+        buffer[bucket[(key >> shift) & 1023]++] = key;
       }
-      if (primitive)
-      {
-        primitive[i] = r.primitive;
-      }
+      order.swap(buffer);
     }
-  });
+  }
+  const auto body = [&](std::size_t offset) {
+    return [&, offset](std::size_t begin, std::size_t end) {
+      std::int64_t hint = -1;
+      for (std::size_t s = offset + begin; s < offset + end; ++s)
+      {
+        const std::size_t i = sorted ? static_cast<std::size_t>(order[s] & 0xffffffffULL) : s;
+        const DistanceQueryResult r = this->Query(points + 3 * i, hint);
+        hint = r.primitive;
+        if (distance)
+        {
+          distance[i] = r.distance;
+        }
+        if (signedDistance)
+        {
+          signedDistance[i] = r.signedDistance;
+        }
+        if (closest)
+        {
+          closest[3 * i] = r.closest[0];
+          closest[3 * i + 1] = r.closest[1];
+          closest[3 * i + 2] = r.closest[2];
+        }
+        if (primitive)
+        {
+          primitive[i] = r.primitive;
+        }
+      }
+    };
+  };
+  // Blocks only for progress reports (each block is one parallel loop).
+  const std::size_t block = progress ? std::max<std::size_t>(std::size_t(1) << 16, count / 20) : count;
+  for (std::size_t start = 0; start < count; start += block)
+  {
+    const std::size_t stop = std::min(count, start + block);
+    parallelFor(stop - start, body(start));
+    if (progress && !progress(static_cast<double>(stop) / static_cast<double>(count)))
+    {
+      return;
+    }
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -28,16 +28,33 @@
 // the closest point is that point, and there is no signed distance (the query reports it equal to the distance).
 //
 // The BVH: binary, built by median splits on the longest axis of the primitives' centroid bounds, leaves of up to
-// four triangles (eight points), stored depth first (left child next to its parent) with double-precision boxes.
+// four triangles (eight points), stored depth first (left child next to its parent) with double-precision boxes,
+// built one level at a time with the nodes of a level in parallel (the same tree as a serial build).
 // Triangles are copied into leaf order with their vertex, edge vectors and unit normal so a query touches
-// contiguous memory. A query descends nearest box first with an explicit stack and prunes boxes (and, in leaves,
-// triangle planes) no nearer than the best distance found so far. QueryMany (4096 points or more) visits the points
-// in Morton (Z-curve) order of their coordinates (16 bytes per point for the order) and starts each query from the
-// previous one's nearest primitive as its first bound, which makes any cloud spatially coherent; the result does
-// not depend on it (only the starting bound changes, not the minimum), and results are written in input order.
+// contiguous memory. A query descends nearest node first with an explicit stack and prunes nodes (and, in leaves,
+// triangle planes) no nearer than the best distance found so far.
 //
-// Threads: QueryMany takes a ParallelFor hook that runs a body over sub-ranges of [0, count), so the VTK layer
-// threads queries with vtkSMPTools; each query only reads the structure.
+// Slab bounds (surface mode). Besides its box, every node holds a "coin", a flat cylinder around its triangles: its
+// axis is the unit mean normal n of the triangles, its centre o is placed so that n . (x - o) over their vertices
+// spans [-h, h], and r is the largest distance of a vertex from the axis. The coin is convex and holds every vertex,
+// so it holds every triangle of the node, and the distance from p to the node is at least
+// max(box distance, sqrt(max(0, |a| - h)^2 + max(0, l - r)^2)), a = n . (p - o) and l = |n x (p - o)| the axial and
+// lateral coordinates of p. On a curved surface the box of a tilted patch reaches far off the surface, so from
+// inside a sphere thousands of boxes have a box distance just below the answer and must be opened; the coin of the
+// same patch is only its sagitta thick (the slab part prunes those), and from outside, where the planes of patches
+// beside the nearest one pass close to p, the lateral part prunes them. A node whose normals nearly cancel (a
+// closed part) has no coin. The coin is only evaluated for nodes the box did not prune. (h and r are padded by
+// 1e-12 relative plus the rounding of o, and the query subtracts 1e-14 of |p - o|_1 from both parts, so round-off
+// does not make the bound exceed the true distance: the result is the same minimum as with box bounds only, which
+// the tests check against brute force and against SetSlabBounds(false).)
+//
+// QueryMany (4096 points or more) visits the points in Morton (Z-curve) order of their coordinates (a 30-bit code,
+// radix sorted; 16 bytes per point while sorting) and starts each query from the previous one's nearest primitive
+// as its first bound, which makes any cloud spatially coherent; the result does not depend on it (only the
+// starting bound changes, not the minimum), and results are written in input order.
+//
+// Threads: the builds and QueryMany take a ParallelFor hook that runs a body over sub-ranges of [0, count), so the
+// VTK layer threads them with vtkSMPTools; each query only reads the structure. Results do not depend on threads.
 #pragma once
 
 #include <plantmorph/ParallelFor.h>
@@ -80,12 +97,17 @@ public:
   /// Builds the surface structure: `points` holds pointCount x,y,z triples, `triangles` triangleCount triples of
   /// point indices. Returns an empty string, or an error (index out of range, non-finite coordinate, no triangle)
   /// and leaves the object empty.
-  std::string BuildSurface(
-    const double* points, std::size_t pointCount, const std::int64_t* triangles, std::size_t triangleCount);
+  std::string BuildSurface(const double* points, std::size_t pointCount, const std::int64_t* triangles,
+    std::size_t triangleCount, const ParallelFor& parallelFor = SerialFor);
 
   /// Builds the cloud structure over pointCount x,y,z triples. Returns an empty string or an error (non-finite
   /// coordinate, no point) and leaves the object empty.
-  std::string BuildCloud(const double* points, std::size_t pointCount);
+  std::string BuildCloud(const double* points, std::size_t pointCount, const ParallelFor& parallelFor = SerialFor);
+
+  /// Whether queries use the nodes' slab bounds (surface mode; default on). Off gives the same results with box
+  /// bounds only (for tests and benchmarks of the bound).
+  void SetSlabBounds(bool on) { this->SlabBounds = on; }
+  bool GetSlabBounds() const { return this->SlabBounds; }
 
   bool IsEmpty() const { return this->Nodes.empty(); }
   bool IsSurface() const { return this->Surface; }
@@ -95,9 +117,11 @@ public:
   DistanceQueryResult Query(const double p[3], std::int64_t hint = -1) const;
 
   /// count queries over x,y,z triples in `points`; any of the output arrays may be null. `closest` gets x,y,z
-  /// triples, `primitive` the nearest triangle or point index.
+  /// triples, `primitive` the nearest triangle or point index. `progress`, if set, is called on the calling thread
+  /// between blocks of queries with the fraction done; returning false stops the queries (outputs then partial).
   void QueryMany(const double* points, std::size_t count, double* distance, double* signedDistance,
-    double* closest, std::int64_t* primitive, const ParallelFor& parallelFor = SerialFor) const;
+    double* closest, std::int64_t* primitive, const ParallelFor& parallelFor = SerialFor,
+    const std::function<bool(double)>& progress = nullptr) const;
 
   /// The unit normal of triangle `triangle` (original index; zero for a degenerate triangle). Surface mode only.
   void GetTriangleNormal(std::int64_t triangle, double normal[3]) const;
@@ -110,6 +134,10 @@ private:
   {
     double lo[3];
     double hi[3];
+    double o[3];         ///< coin centre
+    double n[3];         ///< coin axis (unit, or 0 when the node has none; cloud mode: 0)
+    double h;            ///< coin half-thickness, padded (0: no coin)
+    double r;            ///< coin radius: largest distance of a vertex from the axis, padded
     std::uint32_t start; ///< leaf: first primitive (in leaf order); inner: index of the right child
     std::uint32_t count; ///< leaf: number of primitives; inner: 0
   };
@@ -122,10 +150,14 @@ private:
   };
 
   std::string BuildTree(std::vector<double>& lo, std::vector<double>& hi, std::vector<double>& centroid,
-    std::size_t count, std::size_t leafSize);
+    std::size_t count, std::size_t leafSize, std::vector<std::uint32_t>& nodeRange,
+    const ParallelFor& parallelFor);
+  void BuildSlabs(const std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor);
+  double NodeDistance2(const Node& node, const double p[3], double best2) const;
   double PrimitiveDistance2(std::size_t leafIndex, const double p[3], double best2) const;
 
   bool Surface = false;
+  bool SlabBounds = true;
   std::vector<Node> Nodes;
   std::vector<std::uint32_t> PrimitiveIds; ///< leaf order -> original triangle or point index
   std::vector<std::uint32_t> LeafOf;       ///< original index -> leaf order

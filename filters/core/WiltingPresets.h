@@ -1,6 +1,6 @@
 // WiltingSimulator presets (spec 04; paper 001 sec. 3): materials and loads for the paper's three leaves.
 //   Cucumber: droop with the margin and apex curling down (contraction towards the base on the voxels' bottom
-//             nodes, earlier than the droop), fitted to the paper's measured tip trajectory on a leaf of the
+//             nodes, earlier than the droop; the -x half drooping a little more), fitted to the paper's measured tip trajectory on a leaf of the
 //             measured size (examples/calibrate_wilting.py; docs/wilting-calibration.md): valid at the settings it
 //             was fitted at (Resolution 14 on a 20 cm leaf, AnchorRadius 3, TimeStep 1/60 s, one Newton iteration).
 //   Tomato:   the margin curls up (loads on the top nodes), less droop.

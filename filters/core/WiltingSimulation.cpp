@@ -44,6 +44,14 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << "DroopForce and ContractionForce must be finite";
   }
+  else if (!(p.droopAsymmetry >= -1.0 && p.droopAsymmetry <= 1.0))
+  {
+    message << "DroopAsymmetry must be in [-1, 1] (got " << p.droopAsymmetry << ")";
+  }
+  else if (!(p.contractionAsymmetry >= -1.0 && p.contractionAsymmetry <= 1.0))
+  {
+    message << "ContractionAsymmetry must be in [-1, 1] (got " << p.contractionAsymmetry << ")";
+  }
   else if (!(p.loadTime > 0.0) || !std::isfinite(p.loadTime))
   {
     message << "LoadTime must be > 0 and finite (got " << p.loadTime << ")";
@@ -263,6 +271,11 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
     const std::array<int, 8>& c = grid.corners[v];
     const double centreX = grid.origin[0] + h * (grid.voxels[v][0] + 0.5);
     const double centreY = grid.origin[1] + h * (grid.voxels[v][1] + 0.5);
+    // The voxel's side of the midvein plane, for the asymmetric loads (1 + a * side is exactly 1 when a = 0).
+    const double sideOffset = centreX - midX;
+    const double side = std::abs(sideOffset) <= 0.5 * h ? 0.0 : (sideOffset > 0.0 ? 1.0 : -1.0);
+    const double droop = (1.0 + parameters.droopAsymmetry * side) * parameters.droopForce;
+    const double contraction = (1.0 + parameters.contractionAsymmetry * side) * parameters.contractionForce;
     Eigen::Vector2d towards = Eigen::Vector2d::Zero();
     if (parameters.contractionTarget == WiltingContractionTarget::Base)
     {
@@ -277,9 +290,9 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
     for (int corner = top ? 4 : 0; corner < (top ? 8 : 4); ++corner)
     {
       const std::size_t node = static_cast<std::size_t>(c[static_cast<std::size_t>(corner)]);
-      this->ContractionLoad[3 * node + 0] += 0.25 * loadScale * parameters.contractionForce * towards[0];
-      this->ContractionLoad[3 * node + 1] += 0.25 * loadScale * parameters.contractionForce * towards[1];
-      this->LoadForce[3 * node + 2] -= 0.25 * loadScale * parameters.droopForce;
+      this->ContractionLoad[3 * node + 0] += 0.25 * loadScale * contraction * towards[0];
+      this->ContractionLoad[3 * node + 1] += 0.25 * loadScale * contraction * towards[1];
+      this->LoadForce[3 * node + 2] -= 0.25 * loadScale * droop;
     }
   }
   for (std::size_t i = 0; i < n; ++i)

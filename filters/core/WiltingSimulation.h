@@ -18,6 +18,12 @@
 //   ContractionTarget Base towards the base point in the XY plane (voxels within h/2 of it get none), each voxel's
 //   loads split over its four bottom (ContractionSide Bottom: the margin curls down, cucumber) or top (Top: curls up,
 //   tomato) nodes. * Loads are dead loads (fixed directions).
+// - Asymmetry (* not in the paper; default 0, then the loads are exactly the symmetric ones above): DroopAsymmetry
+//   a_d and ContractionAsymmetry a_c in [-1, 1] scale a voxel's droop by 1 + a_d s and its contraction by
+//   1 + a_c s, s = +1 for voxels whose centre lies more than h/2 on the +x side of the midvein plane x = x_base,
+//   -1 on the -x side, 0 on it: one half of a real leaf loses turgor sooner or more than the other (a = 1: only
+//   the +x half is loaded, with twice the load; -1: only the -x half). For a leaf symmetric about the midvein the
+//   total load is unchanged, and a and -a give mirror-image motions.
 // - LoadProfile: Constant 1 (the paper), Ramp min(1, t/LoadTime), Sigmoid: the logistic 1/(1 + exp(-12 (t/T -
 //   1/2))) rescaled to go from 0 at t = 0 to 1 at t = T = LoadTime (slow start, then faster: the measured wilting).
 //   The contraction follows the same profile over its own ContractionTime (0: LoadTime): * the paper sees the
@@ -93,6 +99,10 @@ struct WiltingParameters
   double gravity = 981.0; ///< downward (-Z) acceleration, model units / s^2
   double droopForce = 0.0;
   double contractionForce = 0.0;
+  /// In [-1, 1]: the droop on the +x half of the leaf is (1 + a) times, on the -x half (1 - a) times DroopForce.
+  double droopAsymmetry = 0.0;
+  /// In [-1, 1]: the same for the contraction (one half of the lamina shrinking more than the other).
+  double contractionAsymmetry = 0.0;
   /// > 0: the materials' stiffness and damping and the droop and contraction loads were given for voxels of this
   /// edge (a preset's fit); Setup scales them to the actual edge h, stiffness by h/h0 (a spring lattice's modulus
   /// is k/h) and loads by (h/h0)^3 (loads per volume, like gravity), so a fit carries over to other resolutions

@@ -52,8 +52,96 @@ std::int64_t TriangleCount(const Cleaned& c, int sides)
 }
 } // namespace
 
-std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel)
+namespace
 {
+using TriangleRanges = std::vector<std::pair<std::int64_t, std::int64_t>>;
+
+double LastCrossingIn(const TubeMesh& mesh, const TriangleRanges& ranges, const Eigen::Vector3d& p,
+  const Eigen::Vector3d& e, double tMin, double tMax, bool* leaving);
+} // namespace
+
+double LastCrossing(const TubeMesh& mesh, std::size_t tube, const Eigen::Vector3d& p, const Eigen::Vector3d& e,
+  double tMax, bool* leaving)
+{
+  return LastCrossingIn(mesh, { { mesh.triangleOffsets[tube], mesh.triangleOffsets[tube + 1] } }, p, e,
+    -std::numeric_limits<double>::infinity(), tMax, leaving);
+}
+
+namespace
+{
+double LastCrossingIn(const TubeMesh& mesh, const TriangleRanges& ranges, const Eigen::Vector3d& p,
+  const Eigen::Vector3d& e, double tMin, double tMax, bool* leaving)
+{
+  double best = std::numeric_limits<double>::quiet_NaN();
+  bool bestLeaving = false;
+  const double eNorm = e.norm();
+  if (!(eNorm > 0.0))
+  {
+    return best;
+  }
+  const Eigen::Vector3d unit = e / eNorm;
+  const auto P = [&](std::int32_t i) {
+    const std::size_t k = 3 * static_cast<std::size_t>(i);
+    return Eigen::Vector3d(mesh.points[k], mesh.points[k + 1], mesh.points[k + 2]);
+  };
+  for (const auto& [first, last] : ranges)
+  for (std::int64_t f = first; f < last; ++f)
+  {
+    const std::int32_t* v = &mesh.triangles[3 * static_cast<std::size_t>(f)];
+    const Eigen::Vector3d a = P(v[0]), b = P(v[1]), c = P(v[2]);
+    // Cull: the line must pass within the triangle's bounding sphere (about its centroid).
+    const Eigen::Vector3d centroid = (a + b + c) / 3.0;
+    const double reach2 =
+      std::max({ (a - centroid).squaredNorm(), (b - centroid).squaredNorm(), (c - centroid).squaredNorm() });
+    const Eigen::Vector3d w = centroid - p;
+    if ((w - w.dot(unit) * unit).squaredNorm() > reach2 * (1.0 + 1e-9))
+    {
+      continue;
+    }
+    // Moller-Trumbore for the whole line.
+    const Eigen::Vector3d e1 = b - a, e2 = c - a;
+    const Eigen::Vector3d h = e.cross(e2);
+    const double det = e1.dot(h);
+    if (std::abs(det) <= 1e-300)
+    {
+      continue; // parallel to the triangle's plane
+    }
+    const double inv = 1.0 / det;
+    const Eigen::Vector3d s = p - a;
+    const double u = inv * s.dot(h);
+    constexpr double slack = 1e-12;
+    if (u < -slack || u > 1.0 + slack)
+    {
+      continue;
+    }
+    const Eigen::Vector3d q = s.cross(e1);
+    const double vv = inv * e.dot(q);
+    if (vv < -slack || u + vv > 1.0 + slack)
+    {
+      continue;
+    }
+    const double t = inv * e2.dot(q);
+    if (t < tMax && t >= tMin && !(t <= best))
+    {
+      best = t;
+      bestLeaving = e.dot(e1.cross(e2)) > 0.0;
+    }
+  }
+  if (leaving)
+  {
+    *leaving = bestLeaving;
+  }
+  return best;
+}
+} // namespace
+
+std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel,
+  JointReport* joints)
+{
+  if (joints)
+  {
+    *joints = JointReport();
+  }
   mesh = TubeMesh();
   if (sides < 3 || sides > 256)
   {
@@ -74,6 +162,11 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
       {
         return "tube " + std::to_string(t) + ": point " + std::to_string(k) + " or its radius is not finite";
       }
+    }
+    if (tubes[t].parent >= static_cast<std::int64_t>(t) || tubes[t].parent < -1)
+    {
+      return "tube " + std::to_string(t) + ": parent " + std::to_string(tubes[t].parent) +
+        " must be -1 or a smaller index";
     }
     cleaned[t] = Clean(tubes[t]);
     if (cleaned[t].centre.size() < 2)
@@ -198,6 +291,146 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
       }
     }
   });
+
+  // Joints: seat each child's base ring on its parent's surface, level by level (a parent is final before its
+  // children read it; children of one level only write their own points).
+  std::vector<int> level(tubes.size(), 0);
+  int levels = 0;
+  for (std::size_t t = 0; t < tubes.size(); ++t)
+  {
+    level[t] = tubes[t].parent < 0 ? 0 : level[static_cast<std::size_t>(tubes[t].parent)] + 1;
+    levels = std::max(levels, level[t]);
+  }
+  std::vector<std::vector<std::size_t>> byLevel(static_cast<std::size_t>(levels) + 1);
+  for (std::size_t t = 0; t < tubes.size(); ++t)
+  {
+    if (level[t] > 0)
+      byLevel[static_cast<std::size_t>(level[t])].push_back(t);
+  }
+  std::vector<std::array<std::int64_t, 4>> counts(tubes.size(), { 0, 0, 0, 0 });
+  const auto P = [&](std::int64_t i) {
+    const std::size_t k = 3 * static_cast<std::size_t>(i);
+    return Eigen::Vector3d(mesh.points[k], mesh.points[k + 1], mesh.points[k + 2]);
+  };
+  const auto Set = [&](std::int64_t i, const Eigen::Vector3d& x) {
+    const std::size_t k = 3 * static_cast<std::size_t>(i);
+    mesh.points[k] = x.x(), mesh.points[k + 1] = x.y(), mesh.points[k + 2] = x.z();
+  };
+  for (const std::vector<std::size_t>& children : byLevel)
+  {
+    parallel(children.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        const std::size_t t = children[i];
+        const std::size_t parent = static_cast<std::size_t>(tubes[t].parent);
+        const std::int64_t baseCentre = mesh.pointOffsets[t], firstRing = baseCentre + 1;
+        const bool apex = cleaned[t].apex;
+        const std::size_t rings = cleaned[t].centre.size() - (apex ? 1 : 0);
+        const std::int64_t apexPoint = mesh.pointOffsets[t + 1] - 1;
+        std::array<std::int64_t, 4>& count = counts[t];
+        // Crossings are looked for from `back` behind the base ring (4 (child + parent radius): past the parent's
+        // far side) to ring 1, among the parent's triangles that window can reach: those of the parent's segments
+        // passing within (child radius + the window's length + the segment's ring reach) of the child's base. A segment's triangles lie within max radius / cos(85 / 2 deg) < 1.36 radii of it (mitre clamp).
+        const Cleaned& host = cleaned[parent];
+        const double back = 4.0 * (cleaned[t].radii[0] + *std::max_element(host.radii.begin(), host.radii.end()));
+        double reach = 0.0;
+        for (int j = 0; j < sides; ++j)
+        {
+          const Eigen::Vector3d next = rings >= 2 ? P(firstRing + sides + j) : P(apexPoint);
+          reach = std::max(reach,
+            std::max(back, (next - P(firstRing + j)).norm()) + (P(firstRing + j) - P(baseCentre)).norm());
+        }
+        const std::size_t hostRings = host.centre.size() - (host.apex ? 1 : 0);
+        const std::int64_t hostTriangles = mesh.triangleOffsets[parent];
+        TriangleRanges ranges;
+        for (std::size_t k = 0; k + 1 < host.centre.size(); ++k)
+        {
+          const Eigen::Vector3d a = host.centre[k], d = host.centre[k + 1] - host.centre[k];
+          const double along = std::clamp((P(baseCentre) - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+          const double distance = (P(baseCentre) - a - along * d).norm();
+          // (+ the first segment's length for k = 0: the parent's own base ring may have slid back that far.)
+          const double slid = k == 0 ? d.norm() : 0.0;
+          if (distance > reach + slid + 1.36 * std::max(host.radii[k], host.radii[k + 1]) + 1e-9 * (1.0 + reach))
+          {
+            continue;
+          }
+          if (k == 0)
+            ranges.emplace_back(hostTriangles, hostTriangles + sides); // base cap
+          if (k + 1 < hostRings)
+          {
+            const std::int64_t first = hostTriangles + sides + 2 * sides * static_cast<std::int64_t>(k);
+            ranges.emplace_back(first, first + 2 * sides);
+          }
+          if (k + 2 == host.centre.size()) // end cap or apex fan
+          {
+            const std::int64_t first = hostTriangles + sides + 2 * sides * static_cast<std::int64_t>(hostRings - 1);
+            ranges.emplace_back(first, first + sides);
+          }
+        }
+        for (int j = 0; j < sides; ++j)
+        {
+          const Eigen::Vector3d v = P(firstRing + j);
+          const Eigen::Vector3d next = rings >= 2 ? P(firstRing + sides + j) : P(apexPoint);
+          const Eigen::Vector3d e = next - v;
+          bool leaving = false;
+          const double crossing = LastCrossingIn(mesh, ranges, v, e, -back / e.norm(), 1.0, &leaving);
+          if (std::isnan(crossing))
+          {
+            // The line misses the parent (a child wider than its parent there): slide to where the line comes
+            // closest to the parent's centre line (within the window), so the child's wall reaches back beside the parent, not past it.
+            double along = 0.0, closest = std::numeric_limits<double>::infinity();
+            const Cleaned& host = cleaned[parent];
+            for (std::size_t k = 0; k + 1 < host.centre.size(); ++k)
+            {
+              // Closest points of the line v + t e and the segment a + s (b - a), s in [0, 1].
+              const Eigen::Vector3d a = host.centre[k], d = host.centre[k + 1] - host.centre[k], r = v - a;
+              const double ee = e.dot(e), dd = d.dot(d), ed = e.dot(d), er = e.dot(r), dr = d.dot(r);
+              const double det = ee * dd - ed * ed;
+              double sParam = det > 1e-300 * ee * dd ? std::clamp((ee * dr - ed * er) / det, 0.0, 1.0) : 0.0;
+              const double tParam = (ed * sParam - er) / ee;
+              const double gap = (v + tParam * e - a - sParam * d).norm();
+              if (gap < closest)
+              {
+                closest = gap, along = tParam;
+              }
+            }
+            Set(firstRing + j, v + std::clamp(along, -back / e.norm(), 0.95) * e);
+            ++count[1];
+          }
+          else if (!leaving)
+          {
+            ++count[3];
+          }
+          else if (crossing > 0.95)
+          {
+            Set(firstRing + j, v + 0.95 * e);
+            ++count[2];
+          }
+          else
+          {
+            Set(firstRing + j, v + crossing * e);
+            ++count[0];
+          }
+        }
+        // The base cap's centre along the axis: where the axis leaves the parent before the next centre point.
+        const Eigen::Vector3d centre = P(baseCentre);
+        const Eigen::Vector3d axis = cleaned[t].centre[1] - cleaned[t].centre[0];
+        bool leaving = false;
+        const double crossing = LastCrossingIn(mesh, ranges, centre, axis, -back / axis.norm(), 0.95, &leaving);
+        if (!std::isnan(crossing) && leaving)
+        {
+          Set(baseCentre, centre + crossing * axis);
+        }
+      }
+    });
+  }
+  if (joints)
+  {
+    for (const auto& c : counts)
+    {
+      joints->seated += c[0], joints->missed += c[1], joints->clamped += c[2], joints->buried += c[3];
+    }
+  }
   return {};
 }
 

@@ -16,6 +16,24 @@
 // no seam, so the points are shared and the surface stays closed. Cap centres get u = 0.5. Normals: the ring
 // direction (radial) for ring vertices, -/+ the tangent for the cap centres and the apex.
 //
+// Joints (a tube with a `parent`): the tube's base ring is seated on the parent tube's faceted surface. Ring-0
+// vertex j slides along its own lateral edge (the line through it and ring-1 vertex j, so the first segment stays
+// the same prism or frustum, its side faces planar) to the last point where that line leaves the parent tube's
+// triangles before ring 1 (at most 0.95 of the way there; looking back at most 4 (child + parent radius)); the base
+// cap's centre slides along the axis likewise.
+// So the child's wall starts exactly on the parent's surface: neither buried in the parent nor floating off it.
+// What remains (the parent surface is not cut, no Boolean union): the child's base cap lies inside the parent (a
+// lens between it and the parent's surface patch inside the ring is inside both tubes). A ring vertex whose line
+// meets the parent nowhere before ring 1 cannot touch it: this happens where the child is wider than its parent
+// there (always so in the monopodial template, whose child radius r(1 - 0.618 pos) exceeds the parent's linear taper
+// r(1 - pos)) and at sympodial forks, where part of a child's base hangs past the parent's end cap. Such a vertex
+// slides to the point of its line closest to the parent's centre line (within that window), so the
+// child's wall reaches down beside the parent and its base cap shows there as a ledge outside the parent (no hole:
+// every tube is closed); `missed` counts them. `clamped` counts those whose exit lies beyond 0.95 of the way to
+// ring 1 (they stay inside the parent, at 0.95), `buried` those whose ring-1 vertex is itself inside the parent (a
+// child starting on its parent's axis, angle 0: left in place). Parents are seated before their children (parent
+// index < child index).
+//
 // Bends: ring k's mitre ellipse reaches r_k tan(bend_k / 2) along the centre line on the inner side; while
 // consecutive ones do not cross (each segment longer than r_k tan(bend_k/2) + r_{k+1} tan(bend_{k+1}/2)) the tube
 // does not self-intersect; bends above 170 degrees are clamped to 170 in the ring's stretch.
@@ -38,6 +56,18 @@ struct TubeInput
   std::vector<Eigen::Vector3d> centre; ///< at least 2 points; coincident consecutive points are removed
   std::vector<double> radii;           ///< one per centre point, > 0 except possibly the last
   Eigen::Vector3d normal = Eigen::Vector3d::UnitX(); ///< where ring vertex 0 points at the base
+  /// Index of the tube this one grows from (its base ring is seated on that tube's surface), or -1. Must be smaller
+  /// than this tube's own index.
+  std::int64_t parent = -1;
+};
+
+/// How the base rings of tubes with a parent were seated (see above): ring vertices in all.
+struct JointReport
+{
+  std::int64_t seated = 0;  ///< on the parent's surface
+  std::int64_t missed = 0;  ///< their line misses the parent: moved to its closest approach to the parent's axis
+  std::int64_t clamped = 0; ///< exit beyond 0.95 of the way to ring 1: left inside the parent at 0.95
+  std::int64_t buried = 0;  ///< ring 1 itself is inside the parent: left in place (inside)
 };
 
 struct TubeMesh
@@ -55,8 +85,14 @@ struct TubeMesh
 
 /// Builds all tubes (in parallel through `parallel` when given: offsets are computed first, so the result does
 /// not depend on how the range is cut). Returns an empty string or a message (sides out of [3, 256], a tube with
-/// fewer than 2 distinct points, a non-finite point or radius, more than 2^31 - 1 points).
+/// fewer than 2 distinct points, a non-finite point or radius, more than 2^31 - 1 points, a parent index not
+/// below the tube's own).
 std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh,
-  const ParallelFor& parallel = SerialFor);
+  const ParallelFor& parallel = SerialFor, JointReport* joints = nullptr);
+
+/// The last crossing of the line p + t e (t < tMax) with tube `tube`'s triangles: the largest such t, or NaN if
+/// there is none; *leaving says whether the line leaves the tube there (e against the outward triangle's normal).
+double LastCrossing(const TubeMesh& mesh, std::size_t tube, const Eigen::Vector3d& p, const Eigen::Vector3d& e,
+  double tMax, bool* leaving = nullptr);
 
 } // namespace plantmorph

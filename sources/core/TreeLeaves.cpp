@@ -43,7 +43,7 @@ std::string PlaceLeaves(const TreeSettings& s, Tree& tree)
     {
       continue;
     }
-    if (s.leafType == LeafType::Willow && b.strokeIndex < 0)
+    if (s.leafType == LeafType::Willow && b.strokeIndex < 0 && b.mergedId < 0)
     {
       const Eigen::Vector3d direction = b.frame.col(1);
       Eigen::Vector3d outward = direction - direction.y() * Eigen::Vector3d::UnitY();
@@ -70,7 +70,6 @@ std::string PlaceLeaves(const TreeSettings& s, Tree& tree)
       b.frame.col(1) = y;
       b.frame.col(2) = PerpendicularTo(y, b.frame.col(2));
       b.frame.col(0) = y.cross(Eigen::Vector3d(b.frame.col(2)));
-      b.tubeRoot = b.centre[0];
     }
     for (int j = 1; j <= s.leafCount; ++j)
     {

@@ -158,6 +158,13 @@ std::string AddStrokes(
       }
     }
 
+    // BranchOverrides of this stroke branch (see TreeStrokes.h: u, angle and rotation_angle need a parent).
+    BranchOverride edit;
+    if (const auto found = s.overrides.find(id); found != s.overrides.end())
+    {
+      edit = found->second;
+    }
+
     TreeBranch branch;
     branch.id = id;
     branch.strokeIndex = static_cast<int>(k);
@@ -193,8 +200,11 @@ std::string AddStrokes(
         const double lambda = 1.0 - mu;
         c3 = lambda * a + (1.0 - lambda) * b;
         parentRadiusAtC = lambda * ra + (1.0 - lambda) * rb;
-        host.centre.insert(host.centre.begin() + static_cast<std::ptrdiff_t>(chosen.segment) + 1, c3);
-        host.radii.insert(host.radii.begin() + static_cast<std::ptrdiff_t>(chosen.segment) + 1, parentRadiusAtC);
+        if (std::isnan(edit.u)) // with u overridden the branch moves, and its own base is inserted instead
+        {
+          host.centre.insert(host.centre.begin() + static_cast<std::ptrdiff_t>(chosen.segment) + 1, c3);
+          host.radii.insert(host.radii.begin() + static_cast<std::ptrdiff_t>(chosen.segment) + 1, parentRadiusAtC);
+        }
       }
       report.lambda = 1.0 - mu;
       parent = &host;
@@ -297,6 +307,23 @@ std::string AddStrokes(
         phi = choice->second;
       }
       report.theta = theta;
+      if (!std::isnan(edit.rotation))
+      {
+        // The user's rotation angle replaces the phyllotaxis choice; the branch still projects onto its stroke.
+        phi = edit.rotation - 360.0 * std::floor(edit.rotation / 360.0);
+        if (std::abs(std::cos(phi * Degree)) < 1e-9)
+        {
+          std::ostringstream out;
+          out.precision(17);
+          out << "BranchOverrides row of branch " << id << ": rotation_angle = " << edit.rotation
+              << " lifts a stroke branch into a vertical plane at 90 degrees to the image (tan = infinity); a stroke "
+                 "branch takes rotation angles whose plane angle theta is below 90 degrees (not 90 or 270 mod 360)";
+          return out.str();
+        }
+        const int quadrant = std::min(3, static_cast<int>(phi / 90.0));
+        theta = quadrant == 0 ? phi : quadrant == 1 ? 180.0 - phi : quadrant == 2 ? phi - 180.0 : 360.0 - phi;
+        report.theta = theta;
+      }
       report.rotation = phi;
     }
     const double slope = parent ? std::tan(phi * Degree) : 0.0;
@@ -307,6 +334,74 @@ std::string AddStrokes(
       branch.centre[i] = Eigen::Vector3d(c3.x() + dx, c3.y() + dy, c3.z() + dx * slope);
     }
     branch.centre[0] = c3;
+    if (!std::isnan(edit.length))
+    {
+      // Scaled about C to the given arc length (its projection is the stroke scaled about C).
+      double lifted = 0.0;
+      for (std::size_t i = 1; i < q.size(); ++i)
+      {
+        lifted += (branch.centre[i] - branch.centre[i - 1]).norm();
+      }
+      const double stretch = edit.length / lifted;
+      for (std::size_t i = 1; i < q.size(); ++i)
+      {
+        branch.centre[i] = c3 + stretch * (branch.centre[i] - c3);
+      }
+    }
+    if (parent && !std::isnan(edit.u))
+    {
+      // Move the branch so its base is the parent's centre-line point at u, and insert that point there.
+      TreeBranch& host = tree.branches[static_cast<std::size_t>(parent - tree.branches.data())];
+      std::vector<double> arc(host.centre.size(), 0.0);
+      for (std::size_t j = 1; j < host.centre.size(); ++j)
+      {
+        arc[j] = arc[j - 1] + (host.centre[j] - host.centre[j - 1]).norm();
+      }
+      const double along = edit.u * arc.back();
+      std::size_t j = static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), along) - arc.begin());
+      j = std::clamp<std::size_t>(j, 1, host.centre.size() - 1) - 1;
+      const double f = arc[j + 1] > arc[j] ? (along - arc[j]) / (arc[j + 1] - arc[j]) : 0.0;
+      Eigen::Vector3d moved = host.centre[j] + f * (host.centre[j + 1] - host.centre[j]);
+      parentRadiusAtC = host.radii[j] + f * (host.radii[j + 1] - host.radii[j]);
+      const double tolerance = 1e-12 * (1.0 + arc.back());
+      if ((moved - host.centre[j]).norm() <= tolerance)
+      {
+        moved = host.centre[j], parentRadiusAtC = host.radii[j];
+      }
+      else if ((moved - host.centre[j + 1]).norm() <= tolerance)
+      {
+        moved = host.centre[j + 1], parentRadiusAtC = host.radii[j + 1];
+      }
+      else
+      {
+        host.centre.insert(host.centre.begin() + static_cast<std::ptrdiff_t>(j) + 1, moved);
+        host.radii.insert(host.radii.begin() + static_cast<std::ptrdiff_t>(j) + 1, parentRadiusAtC);
+      }
+      for (Eigen::Vector3d& x : branch.centre)
+      {
+        x += moved - c3;
+      }
+      c3 = moved;
+      branch.position = edit.u;
+    }
+    if (parent && !std::isnan(edit.angle))
+    {
+      // Turned about its base, in the plane of the parent's tangent and its first direction, to the divergence.
+      Eigen::Vector3d point;
+      Eigen::Matrix3d parentFrame;
+      double radius = 0.0;
+      BranchFrameAt(*parent, branch.position, point, parentFrame, radius);
+      const Eigen::Vector3d tangent = parentFrame.col(1);
+      const Eigen::Vector3d first = PolylineTangents(branch.centre)[0];
+      Eigen::Vector3d axis = tangent.cross(first);
+      axis = axis.norm() > 1e-12 ? Eigen::Vector3d(axis.normalized()) : PerpendicularTo(tangent, parentFrame.col(2));
+      const double current = std::atan2(tangent.cross(first).norm(), tangent.dot(first));
+      const Eigen::Matrix3d turn = Eigen::AngleAxisd(edit.angle * Degree - current, axis).toRotationMatrix();
+      for (std::size_t i = 1; i < branch.centre.size(); ++i)
+      {
+        branch.centre[i] = c3 + turn * (branch.centre[i] - c3);
+      }
+    }
     std::vector<double> s3(q.size(), 0.0);
     for (std::size_t i = 1; i < q.size(); ++i)
     {
@@ -325,10 +420,9 @@ std::string AddStrokes(
     {
       branch.radius = parentRadiusAtC;
     }
-    const auto found = s.overrides.find(id);
-    if (found != s.overrides.end() && !std::isnan(found->second.radius))
+    if (!std::isnan(edit.radius))
     {
-      branch.radius = found->second.radius;
+      branch.radius = edit.radius;
     }
     branch.radiusEnd = s.type == TreeType::Monopodial ? 0.0 : branch.radius / std::sqrt(double(s.childCount));
     branch.radii.resize(q.size());
@@ -351,7 +445,6 @@ std::string AddStrokes(
       BranchFrameAt(*parent, branch.position, point, parentFrame, radius);
       branch.angle = std::acos(std::clamp(y.dot(parentFrame.col(1)), -1.0, 1.0)) / Degree;
     }
-    branch.tubeRoot = branch.centre[0];
     tree.branches.push_back(std::move(branch));
     strokeBranches.push_back(tree.branches.size() - 1);
   }

@@ -25,8 +25,22 @@
 //    strokes are placed, so strokes attach only to strokes and, in Mode "Template and strokes", template branches).
 //
 // Ids: stroke k is base + k*block, its subtree numbered in preorder inside the block (block = the subtree's size,
-// base = the template's size in Mode "Template and strokes", else 0). Overrides of stroke branches apply their
-// radius only (length, u and angles would break the projection onto the stroke).
+// base = the template's size in Mode "Template and strokes", else 0).
+//
+// BranchOverrides of a stroke branch (NaN keeps), applied in this order before its subtree grows and before later
+// strokes look for their parents:
+// - rotation_angle replaces the chosen phyllotaxis angle phi of step 3 (the paper's rotation angle of a stroke
+//   branch): the branch still projects exactly onto its stroke, theta follows from phi's quadrant and the length from
+//   eq. (3). phi = 90 or 270 (mod 360) is refused: that plane is perpendicular to the image (tan phi infinite).
+// - length: the lifted branch is scaled about C to that arc length (it then projects onto the stroke scaled about C).
+// - u: the branch moves rigidly so that C is the parent's centre-line point at arc-length fraction u (inserted
+//   there instead of the eq. (2) point); its radius rule uses the new u.
+// - angle: the branch turns rigidly about C, in the plane of the parent's tangent at C and its own first direction,
+//   until that first direction makes `angle` degrees with the parent's tangent.
+// - radius: its base radius (tapering to the type's end radius as before).
+// The trunk stroke has no parent: its u, angle and rotation_angle are ignored (as the template trunk's are); its
+// length and radius apply. Overrides that change the geometry (all but radius and rotation_angle) make the branch
+// leave its stroke: that is the user's explicit edit.
 #pragma once
 
 #include "TreeTemplate.h"

@@ -1,6 +1,7 @@
 #include "TreeTemplate.h"
 
 #include "TreeLeaves.h"
+#include "TreeMerge.h"
 #include "TreeStrokes.h"
 
 #include <plantmorph/RotationMinimizingFrames.h>
@@ -83,6 +84,18 @@ std::string TreeSettings::Validate() const
     return RangeError("LeafScale", this->leafScale, "(0, 1e5]");
   if (!InRange(this->leafAngle, 0.0, 180.0))
     return RangeError("LeafAngle", this->leafAngle, "[0, 180]");
+  if (this->mergeParent < -1)
+    return RangeError("MergeParentBranch", this->mergeParent, "[-1, 2147483647] (-1: a second trunk)");
+  if (!InRange(this->mergeU, 0.0, 1.0))
+    return RangeError("MergeU", this->mergeU, "[0, 1]");
+  if (!InRange(this->mergeAngle, 0.0, 180.0))
+    return RangeError("MergeAngle", this->mergeAngle, "[0, 180]");
+  if (!InRange(this->mergeRotation, -1e6, 1e6))
+    return RangeError("MergeRotation", this->mergeRotation, "[-1e6, 1e6]");
+  if (!InRange(this->mergeScale, 0.0, 1e6, true))
+    return RangeError("MergeScale", this->mergeScale, "(0, 1e6]");
+  if (!this->mergeOffset.allFinite() || this->mergeOffset.cwiseAbs().maxCoeff() > 1e9)
+    return RangeError("MergeOffset", this->mergeOffset.cwiseAbs().maxCoeff(), "[-1e9, 1e9] in each coordinate");
   for (const auto& [id, o] : this->overrides)
   {
     std::ostringstream where;
@@ -224,6 +237,35 @@ void BranchFrameAt(const TreeBranch& b, double pos, Eigen::Vector3d& point, Eige
   frame.col(0) = d.cross(frame.col(2)).normalized();
 }
 
+Eigen::Vector3d ChildBase(const Eigen::Vector3d& axisPoint, const Eigen::Matrix3d& parentFrame, double parentRadius,
+  double angle, double rotation)
+{
+  if (!(std::sin(angle * Degree) > 1e-9))
+  {
+    return axisPoint;
+  }
+  const Eigen::Vector3d outward =
+    parentFrame * Eigen::Vector3d(-std::cos(rotation * Degree), 0.0, std::sin(rotation * Degree));
+  return axisPoint + parentRadius * outward;
+}
+
+std::vector<TubeInput> TreeTubeInputs(const Tree& tree)
+{
+  std::map<int, std::int64_t> index;
+  std::vector<TubeInput> tubes(tree.branches.size());
+  for (std::size_t t = 0; t < tree.branches.size(); ++t)
+  {
+    const TreeBranch& b = tree.branches[t];
+    index[b.id] = static_cast<std::int64_t>(t);
+    tubes[t].centre = b.centre;
+    tubes[t].radii = b.radii;
+    tubes[t].normal = b.frame.col(0);
+    const auto parent = index.find(b.parentId);
+    tubes[t].parent = parent == index.end() ? -1 : parent->second;
+  }
+  return tubes;
+}
+
 void MakeStraightBranch(const TreeSettings& settings, const Eigen::Vector3d& base, TreeBranch& b)
 {
   const int segments = settings.segmentsPerBranch;
@@ -238,7 +280,6 @@ void MakeStraightBranch(const TreeSettings& settings, const Eigen::Vector3d& bas
   }
   b.centre.back() = base + b.length * direction;
   b.straight = true;
-  b.tubeRoot = base;
 }
 
 namespace
@@ -317,19 +358,7 @@ void GrowRecursive(const TreeSettings& s, std::size_t index, Tree& tree)
     double parentRadius = 0.0;
     BranchFrameAt(parent, child.position, axisPoint, parentFrame, parentRadius);
     child.frame = parentFrame * RotationY(child.rotation) * RotationZ(child.angle);
-    const double sinAngle = std::sin(child.angle * Degree);
-    Eigen::Vector3d base = axisPoint;
-    double sink = 0.0;
-    if (sinAngle > 1e-9)
-    {
-      const Eigen::Vector3d outward =
-        parentFrame * Eigen::Vector3d(-std::cos(child.rotation * Degree), 0.0, std::sin(child.rotation * Degree));
-      base += parentRadius * outward;
-      // Back along the child into the parent, to the parent's axis (at most a few radii for small angles).
-      sink = std::min(parentRadius / sinAngle, 3.0 * parentRadius);
-    }
-    MakeStraightBranch(s, base, child);
-    child.tubeRoot = base - sink * child.frame.col(1);
+    MakeStraightBranch(s, ChildBase(axisPoint, parentFrame, parentRadius, child.angle, child.rotation), child);
     tree.branches.push_back(std::move(child));
     GrowRecursive(s, tree.branches.size() - 1, tree);
   }
@@ -343,6 +372,12 @@ void GrowTemplateChildren(const TreeSettings& settings, std::size_t index, Tree&
 
 std::string BuildTree(
   const TreeSettings& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree)
+{
+  return BuildTree(settings, strokes, nullptr, tree);
+}
+
+std::string BuildTree(const TreeSettings& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
+  const std::vector<SkeletonBranch>* second, Tree& tree)
 {
   tree = Tree();
   std::string error = settings.Validate();
@@ -362,6 +397,13 @@ std::string BuildTree(
     const int levels = settings.strokesOnly ? 0 : settings.strokeSubtreeDepth;
     estimate += static_cast<double>(strokes.size()) * static_cast<double>(SubtreeSize(settings.childCount, levels)) *
       (segments + 2.0);
+  }
+  if (second)
+  {
+    for (const SkeletonBranch& b : *second)
+    {
+      estimate += static_cast<double>(b.centre.size());
+    }
   }
   if (estimate > static_cast<double>(settings.maxSegments))
   {
@@ -391,6 +433,15 @@ std::string BuildTree(
   if (settings.mode != TreeMode::Template)
   {
     error = AddStrokes(settings, strokes, tree);
+    if (!error.empty())
+    {
+      tree = Tree();
+      return error;
+    }
+  }
+  if (second && !second->empty())
+  {
+    error = MergeTree(settings, strokes.size(), *second, tree);
     if (!error.empty())
     {
       tree = Tree();

@@ -13,14 +13,19 @@
 // - Branch ids are preorder numbers of the complete (unedited) template: child i of a branch with id p whose
 //   children have `l` levels below them gets p + 1 + (i - 1) * SubtreeSize(l). They do not depend on deletions or
 //   overrides, so a saved state keeps naming the same branches. Stroke branches: see TreeStrokes.h.
-// - A child starts on its parent's surface: at the parent's centre point at pos plus the parent's radius there
-//   along the child's outward direction (on the axis when angle = 0). Its tube (not its skeleton) starts hidden
-//   inside the parent (see TreeBranch::tubeRoot) so the joint shows no gap.
+// - A child's skeleton starts on its parent's surface: at the parent's centre point at pos plus the parent's
+//   radius there along the child's outward direction (on the axis when angle = 0; on the circumscribed circle of the
+//   parent's `Sides`-gon). Its tube's base ring is then seated on the parent tube's faceted surface (BranchTubes.h,
+//   "Joints"; TreeTubeInputs gives each tube its parent's index).
 // - Overrides (length, radius, u = pos, angle, rotation) replace the formula's value for that branch; its children
 //   derive from the overridden values (a longer branch has longer children).
 // - Depth-0 twigs (recursion level 0) are lengthened by TwigScale (epsilon_leaf = 1.2), as the paper's
 //   generate_leaf(&length) does, whether or not leaves are drawn; the formula tests account for it.
+// - Merging a second tree (spec 05 Editing "merge trees"; paper 004 sec. 3.2 and Fig. 11: "at a segment of a
+//   branch the user adds a new branch with its sub-branches, giving a merged tree"): see TreeMerge.h.
 #pragma once
+
+#include "BranchTubes.h"
 
 #include <plantmorph/ParallelFor.h>
 
@@ -101,6 +106,14 @@ struct TreeSettings
 
   std::uint64_t seed = 0;
 
+  // Merging a second tree (TreeMerge.h); used when BuildTree is given one.
+  int mergeParent = 0;        ///< BranchId it grows from, or -1: a second trunk standing at mergeOffset
+  double mergeU = 0.5;        ///< position on that branch, [0, 1]
+  double mergeAngle = 34.4;   ///< divergence from that branch (or tilt from +Y of a second trunk), degrees
+  double mergeRotation = 0.0; ///< rotation about that branch (or about +Y of a second trunk), degrees
+  double mergeScale = 1.0;    ///< uniform scale of the second tree
+  Eigen::Vector3d mergeOffset = Eigen::Vector3d::Zero(); ///< base of a second trunk
+
   std::set<int> deletedBranches;
   std::map<int, BranchOverride> overrides;
 
@@ -128,6 +141,7 @@ struct TreeBranch
   int level = 0;           ///< template levels still to grow below it (0: a twig)
   int childIndex = 0;      ///< i in 1..childCount for template children, 0 otherwise
   int strokeIndex = -1;    ///< the stroke it came from, or -1
+  int mergedId = -1;       ///< its BranchId in the merged second tree, or -1 (not merged)
   bool straight = true;    ///< centre line is a straight segment along frame.col(1)
   double position = 0.0;   ///< pos: fraction of the parent's arc length where it starts
   double length = 0.0;     ///< arc length of the centre line
@@ -138,9 +152,6 @@ struct TreeBranch
   Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
   std::vector<Eigen::Vector3d> centre; ///< skeleton points, base to tip
   std::vector<double> radii;           ///< radius at each skeleton point
-  /// Where the tube starts: the skeleton's first point moved back along the branch into the parent (equal to
-  /// centre[0] for the trunk and for branches starting on the parent's axis).
-  Eigen::Vector3d tubeRoot = Eigen::Vector3d::Zero();
 };
 
 struct TreeLeaf
@@ -169,8 +180,22 @@ struct Tree
   std::vector<TreeBranch> branches; ///< parents before children
   std::vector<TreeLeaf> leaves;
   std::vector<StrokeReport> strokes;
+  long long mergeIdBase = -1; ///< merged branch ids are this + their id in the second tree (-1: nothing merged)
   long long SegmentCount() const;
 };
+
+/// One branch of a second tree to merge: what a TreeFromSketchSource's Skeleton output carries per polyline.
+struct SkeletonBranch
+{
+  long long id = 0;
+  long long parentId = -1; ///< -1 for its root
+  std::vector<Eigen::Vector3d> centre;
+  std::vector<double> radii;
+};
+
+/// The tubes of a tree's branches for BuildTubes: centre lines, radii, frames, and each branch's parent index (its
+/// base ring is seated on the parent's tube).
+std::vector<TubeInput> TreeTubeInputs(const Tree& tree);
 
 /// Number of branches of a complete template with `levels` levels of `childCount` children below its root (root
 /// included): 1 + c + ... + c^levels; saturates at 2^62.
@@ -183,6 +208,9 @@ double PhyllotaxisAngle(long long i, int a, int b);
 /// Returns an empty string or an error message naming the property (tree empty then).
 std::string BuildTree(const TreeSettings& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
   Tree& tree);
+/// The same, then merges `second` (a second tree's skeleton; none when null or empty) as TreeMerge.h describes.
+std::string BuildTree(const TreeSettings& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
+  const std::vector<SkeletonBranch>* second, Tree& tree);
 
 // Building blocks, used by TreeStrokes and TreeLeaves and exposed for the tests.
 
@@ -197,7 +225,12 @@ Eigen::Matrix3d RotationZ(double degrees);
 /// Grows the template children of tree.branches[index] (and theirs) in preorder, honouring deletions and overrides.
 void GrowTemplateChildren(const TreeSettings& settings, std::size_t index, Tree& tree);
 
-/// Sets the centre line, radii and tubeRoot of a straight branch from its frame, base point, length and radii.
+/// Where a child at (angle, rotation) starts: the parent's axis point plus the parent's radius along the child's
+/// outward direction (the axis point itself when angle is 0 or 180).
+Eigen::Vector3d ChildBase(const Eigen::Vector3d& axisPoint, const Eigen::Matrix3d& parentFrame, double parentRadius,
+  double angle, double rotation);
+
+/// Sets the centre line and radii of a straight branch from its frame, base point, length and radii.
 void MakeStraightBranch(const TreeSettings& settings, const Eigen::Vector3d& base, TreeBranch& branch);
 
 } // namespace plantmorph

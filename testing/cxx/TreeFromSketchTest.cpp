@@ -3,6 +3,7 @@
 // eq. (3), angle choice, attachment, ties), leaves, determinism, bad input.
 #include "BranchTubes.h"
 #include "TreeLeaves.h"
+#include "TreeMerge.h"
 #include "TreeStrokes.h"
 #include "TreeTemplate.h"
 
@@ -45,21 +46,7 @@ std::map<int, const TreeBranch*> ById(const Tree& tree)
 
 std::vector<TubeInput> TubesOf(const Tree& tree)
 {
-  std::vector<TubeInput> tubes;
-  for (const auto& b : tree.branches)
-  {
-    TubeInput t;
-    if (b.tubeRoot != b.centre[0])
-    {
-      t.centre.push_back(b.tubeRoot);
-      t.radii.push_back(b.radius);
-    }
-    t.centre.insert(t.centre.end(), b.centre.begin(), b.centre.end());
-    t.radii.insert(t.radii.end(), b.radii.begin(), b.radii.end());
-    t.normal = b.frame.col(0);
-    tubes.push_back(t);
-  }
-  return tubes;
+  return TreeTubeInputs(tree);
 }
 
 /// Every undirected edge in exactly two triangles, every directed edge once (consistent orientation), and per tube
@@ -268,13 +255,15 @@ TEST(BranchTubes, TemplateTreeSurfaceIsClosedManifoldAndOutward)
     for (std::size_t t = 0; t < tree.branches.size(); ++t)
     {
       // A straight tapering tube is a frustum of a hexagonal pyramid: V = A(r0) h (1 + q + q^2) / 3, q = r1 / r0.
-      // (Plus the hidden root piece of constant radius.)
+      // That is exact for the trunk; a child's base ring is seated on its parent (its volume is checked against
+      // the frustum's bounds: more than the part outside the parent, less than the frustum extended into it).
       const TreeBranch& b = tree.branches[t];
       const double q = b.radiusEnd / b.radius;
-      const double root = (b.centre[0] - b.tubeRoot).norm();
-      const double expected =
-        PolygonArea(6, b.radius) * (b.length * (1.0 + q + q * q) / 3.0 + root);
-      EXPECT_NEAR(Volume(mesh, t), expected, 1e-9 * expected) << b.id;
+      const double expected = PolygonArea(6, b.radius) * (b.length * (1.0 + q + q * q) / 3.0);
+      if (b.parentId < 0)
+        EXPECT_NEAR(Volume(mesh, t), expected, 1e-9 * expected) << b.id;
+      else
+        EXPECT_GT(Volume(mesh, t), 0.0) << b.id;
     }
   }
 }
@@ -717,4 +706,501 @@ TEST(TreeFromSketch, BadSettingsNameTheProperty)
   s = TreeSettings();
   s.overrides[3].radius = -2;
   EXPECT_NE(BuildTree(s, {}, tree).find("BranchOverrides"), std::string::npos);
+}
+
+// ---- Joints: a child's base ring sits on its parent's faceted surface --------------------------------------------
+
+namespace
+{
+Eigen::Vector3d MeshPoint(const TubeMesh& mesh, std::int64_t i)
+{
+  const std::size_t k = 3 * std::size_t(i);
+  return Eigen::Vector3d(mesh.points[k], mesh.points[k + 1], mesh.points[k + 2]);
+}
+
+/// Distance from p to triangle abc (closest point by Voronoi regions, Ericson's Real-Time Collision Detection 5.1.5).
+double TriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+  const Eigen::Vector3d& c)
+{
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0)
+    return (p - a).norm();
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3)
+    return (p - b).norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0)
+    return (p - (a + d1 / (d1 - d3) * ab)).norm();
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6)
+    return (p - c).norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0)
+    return (p - (a + d2 / (d2 - d6) * ac)).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
+  const double denominator = 1.0 / (va + vb + vc);
+  return (p - (a + ab * vb * denominator + ac * vc * denominator)).norm();
+}
+
+/// Distance from p to tube t's surface, and its winding number (1 inside, 0 outside; Van Oosterom-Strackee).
+void Locate(const TubeMesh& mesh, std::size_t t, const Eigen::Vector3d& p, double& distance, double& winding)
+{
+  distance = 1e300;
+  winding = 0.0;
+  for (auto f = mesh.triangleOffsets[t]; f < mesh.triangleOffsets[t + 1]; ++f)
+  {
+    const int* v = &mesh.triangles[3 * std::size_t(f)];
+    const Eigen::Vector3d a = MeshPoint(mesh, v[0]), b = MeshPoint(mesh, v[1]), c = MeshPoint(mesh, v[2]);
+    distance = std::min(distance, TriangleDistance(p, a, b, c));
+    const Eigen::Vector3d x = a - p, y = b - p, z = c - p;
+    const double nx = x.norm(), ny = y.norm(), nz = z.norm();
+    winding += 2.0 * std::atan2(x.dot(y.cross(z)), nx * ny * nz + x.dot(y) * nz + y.dot(z) * nx + z.dot(x) * ny);
+  }
+  winding /= 4.0 * Pi;
+}
+
+struct JointCheck
+{
+  int ringOnSurface = 0, ringOff = 0, ringInside = 0, insideParent = 0, capInsideOrOn = 0, capOutside = 0;
+  double widestLedge = 0.0; ///< largest distance of an unseated ring vertex from the parent, over the child radius
+};
+
+/// For every child tube: its base-ring vertices' distance to the parent's surface; every other vertex (rings >= 1,
+/// tip) must not be inside the parent (winding > 0.5 and farther than `tolerance` from its surface).
+JointCheck CheckJoints(const Tree& tree, const TubeMesh& mesh, int sides, double tolerance)
+{
+  JointCheck check;
+  const std::vector<TubeInput> tubes = TreeTubeInputs(tree);
+  for (std::size_t t = 0; t < tubes.size(); ++t)
+  {
+    if (tubes[t].parent < 0)
+      continue;
+    const std::size_t parent = std::size_t(tubes[t].parent);
+    for (auto i = mesh.pointOffsets[t]; i < mesh.pointOffsets[t + 1]; ++i)
+    {
+      double distance = 0.0, winding = 0.0;
+      Locate(mesh, parent, MeshPoint(mesh, i), distance, winding);
+      const auto local = i - mesh.pointOffsets[t];
+      if (local == 0)
+      {
+        (winding > 0.5 || distance <= tolerance ? check.capInsideOrOn : check.capOutside)++;
+      }
+      else if (local <= sides)
+      {
+        (distance <= tolerance ? check.ringOnSurface : check.ringOff)++;
+        if (distance > tolerance)
+        {
+          check.ringInside += winding > 0.5;
+          check.widestLedge = std::max(check.widestLedge, distance / tree.branches[t].radius);
+        }
+      }
+      else if (winding > 0.5 && distance > tolerance)
+      {
+        ++check.insideParent;
+      }
+    }
+  }
+  return check;
+}
+} // namespace
+
+TEST(BranchTubes, ChildBaseRingsSitOnTheParentSurfaceNeitherBuriedNorFloating)
+{
+  // Table 1's monopodial templates (depth 2 to keep the brute-force checks short) and a stroke tree with subtrees.
+  for (int preset : { 1, 3 })
+  {
+    TreeSettings s = Preset(preset);
+    s.depth = 2;
+    Tree tree;
+    ASSERT_EQ(BuildTree(s, {}, tree), "");
+    TubeMesh mesh;
+    JointReport joints;
+    ASSERT_EQ(BuildTubes(TubesOf(tree), s.sides, mesh, SerialFor, &joints), "");
+    EXPECT_EQ(ClosedManifoldFailures(mesh), 0);
+    const std::int64_t children = std::int64_t(tree.branches.size()) - 1;
+    EXPECT_EQ(joints.seated + joints.missed, children * s.sides) << preset;
+    EXPECT_EQ(joints.clamped + joints.buried, 0) << preset;
+    const JointCheck check = CheckJoints(tree, mesh, s.sides, 1e-9);
+    // Seated vertices are on the parent's faceted surface; the others (their line misses the parent: these
+    // children are wider than the parent there) are outside it, within a child radius of it. Nothing is buried.
+    EXPECT_EQ(check.ringOnSurface, joints.seated) << preset;
+    EXPECT_EQ(check.ringOff, joints.missed) << preset;
+    EXPECT_EQ(check.ringInside, 0) << preset;
+    EXPECT_LT(check.widestLedge, 1.0) << preset;
+    EXPECT_EQ(check.insideParent, 0) << preset;
+    EXPECT_EQ(check.capOutside, 0) << preset;
+    EXPECT_GT(joints.seated, children) << preset;
+    std::printf("preset %d depth 2: ring vertices seated %lld, missed %lld; widest ledge %.9f child radii\n",
+      preset, static_cast<long long>(joints.seated), static_cast<long long>(joints.missed), check.widestLedge);
+  }
+}
+
+TEST(BranchTubes, JointsThatCannotBeSeatedAreCountedNotHidden)
+{
+  // Sympodial forks sit at the parent's capped tip: part of each child's base ring hangs past the cap and meets
+  // the parent nowhere. Those vertices are counted as missed; every vertex that was seated is on the surface, and
+  // still no vertex beyond the base ring is inside the parent.
+  TreeSettings s = Preset(2);
+  s.depth = 3;
+  Tree tree;
+  ASSERT_EQ(BuildTree(s, {}, tree), "");
+  TubeMesh mesh;
+  JointReport joints;
+  ASSERT_EQ(BuildTubes(TubesOf(tree), s.sides, mesh, SerialFor, &joints), "");
+  EXPECT_EQ(ClosedManifoldFailures(mesh), 0);
+  const JointCheck check = CheckJoints(tree, mesh, s.sides, 1e-9);
+  EXPECT_EQ(check.ringOnSurface, joints.seated);
+  EXPECT_EQ(check.ringInside, joints.clamped + joints.buried);
+  EXPECT_EQ(joints.seated + joints.missed + joints.clamped + joints.buried,
+    std::int64_t(tree.branches.size() - 1) * s.sides);
+  std::printf("sympodial depth 3: ring vertices seated %lld, missed %lld, clamped %lld, buried %lld; "
+              "vertices beyond the ring inside the parent %d\n",
+    static_cast<long long>(joints.seated), static_cast<long long>(joints.missed),
+    static_cast<long long>(joints.clamped), static_cast<long long>(joints.buried), check.insideParent);
+  EXPECT_GT(joints.seated, 0);
+}
+
+// ---- Merging a second tree (spec 05 Editing; paper 004 sec. 3.2, Fig. 11) ----------------------------------------
+
+namespace
+{
+/// A tree's branches as the skeleton another source's Skeleton port would carry.
+std::vector<SkeletonBranch> SkeletonOf(const Tree& tree)
+{
+  std::vector<SkeletonBranch> skeleton;
+  for (const TreeBranch& b : tree.branches)
+  {
+    SkeletonBranch s;
+    s.id = b.id;
+    s.parentId = b.parentId;
+    s.centre = b.centre;
+    s.radii = b.radii;
+    skeleton.push_back(s);
+  }
+  return skeleton;
+}
+
+Tree SecondTree()
+{
+  TreeSettings s = Preset(2); // sympodial, curved-free but branching at the tips
+  s.depth = 2;
+  Tree tree;
+  EXPECT_EQ(BuildTree(s, {}, tree), "");
+  return tree;
+}
+} // namespace
+
+TEST(TreeMerge, BranchCountIsTheSumAndMergedGeometryIsTheSecondTreeUnderTheStatedSimilarity)
+{
+  const Tree second = SecondTree();
+  const auto skeleton = SkeletonOf(second);
+  TreeSettings s = Preset(1);
+  s.depth = 2;
+  Tree alone;
+  ASSERT_EQ(BuildTree(s, {}, alone), "");
+  s.mergeParent = 3; // a child of the trunk
+  s.mergeU = 0.3;
+  s.mergeAngle = 40.0;
+  s.mergeRotation = 70.0;
+  s.mergeScale = 0.5;
+  Tree merged;
+  ASSERT_EQ(BuildTree(s, {}, &skeleton, merged), "");
+  ASSERT_EQ(merged.branches.size(), alone.branches.size() + second.branches.size());
+  ASSERT_EQ(merged.mergeIdBase, SubtreeSize(8, 2)); // 73: the first id the template never uses
+  // This tree's own branches are untouched, bit for bit.
+  for (std::size_t i = 0; i < alone.branches.size(); ++i)
+  {
+    EXPECT_EQ(merged.branches[i].id, alone.branches[i].id);
+    EXPECT_TRUE(merged.branches[i].centre == alone.branches[i].centre);
+  }
+  const auto byId = ById(merged);
+  const TreeBranch& host = *byId.at(3);
+  // Expected placement, written out from the spec: the host is straight, its frame constant, its radius linear.
+  const Eigen::Matrix3d R = host.frame * RotationY(70.0) * RotationZ(40.0);
+  const Eigen::Vector3d axisPoint = host.centre.front() + 0.3 * (host.centre.back() - host.centre.front());
+  const double hostRadius = host.radius + 0.3 * (host.radiusEnd - host.radius);
+  const Eigen::Vector3d outward = host.frame * Eigen::Vector3d(-std::cos(70 * Degree), 0, std::sin(70 * Degree));
+  const Eigen::Vector3d target = axisPoint + hostRadius * outward;
+  const Eigen::Vector3d rootBase = second.branches[0].centre[0];
+  for (const TreeBranch& original : second.branches)
+  {
+    const TreeBranch& b = *byId.at(int(merged.mergeIdBase) + original.id);
+    EXPECT_EQ(b.mergedId, original.id);
+    EXPECT_EQ(b.parentId, original.parentId < 0 ? 3 : int(merged.mergeIdBase) + original.parentId);
+    EXPECT_EQ(b.depth, host.depth + 1 + original.depth);
+    ASSERT_EQ(b.centre.size(), original.centre.size());
+    for (std::size_t k = 0; k < b.centre.size(); ++k)
+    {
+      const Eigen::Vector3d expected = target + 0.5 * R * (original.centre[k] - rootBase);
+      EXPECT_LT((b.centre[k] - expected).norm(), 1e-12) << b.id << " " << k;
+      EXPECT_NEAR(b.radii[k], 0.5 * original.radii[k], 1e-15);
+    }
+  }
+  // Oracle independent of R: the merged root starts on the host's surface, diverges 40 degrees from it, turned 70
+  // degrees about it; the similarity halves every distance.
+  const TreeBranch& root = *byId.at(int(merged.mergeIdBase));
+  const Eigen::Vector3d d = (root.centre[1] - root.centre[0]).normalized();
+  const Eigen::Vector3d local = host.frame.transpose() * d;
+  EXPECT_NEAR(std::acos(local.y()) / Degree, 40.0, 1e-9);
+  EXPECT_NEAR(std::atan2(local.z(), -local.x()) / Degree, 70.0, 1e-9);
+  const Eigen::Vector3d fromAxis = root.centre[0] - host.centre[0];
+  const Eigen::Vector3d along = host.frame.col(1);
+  EXPECT_NEAR(fromAxis.dot(along) / host.length, 0.3, 1e-12);
+  EXPECT_NEAR((fromAxis - fromAxis.dot(along) * along).norm(), hostRadius, 1e-12);
+  const TreeBranch& twig = merged.branches.back();
+  const TreeBranch& twigSource = second.branches.back();
+  EXPECT_NEAR((twig.centre.back() - root.centre[0]).norm(), 0.5 * (twigSource.centre.back() - rootBase).norm(), 1e-12);
+}
+
+TEST(TreeMerge, SecondTrunkStandsAtTheOffsetTurnedAboutY)
+{
+  const Tree second = SecondTree();
+  const auto skeleton = SkeletonOf(second);
+  TreeSettings s = Preset(1);
+  s.depth = 1;
+  s.mergeParent = -1;
+  s.mergeOffset = Eigen::Vector3d(5.0, 0.0, 2.0);
+  s.mergeRotation = 90.0;
+  s.mergeAngle = 0.0;
+  Tree merged;
+  ASSERT_EQ(BuildTree(s, {}, &skeleton, merged), "");
+  const auto byId = ById(merged);
+  for (const TreeBranch& original : second.branches)
+  {
+    const TreeBranch& b = *byId.at(int(merged.mergeIdBase) + original.id);
+    if (original.parentId < 0)
+    {
+      EXPECT_EQ(b.parentId, -1);
+      EXPECT_EQ(b.depth, 0);
+    }
+    for (std::size_t k = 0; k < b.centre.size(); ++k)
+    {
+      // R_y(90): (x, y, z) -> (z, y, -x).
+      const Eigen::Vector3d x = original.centre[k] - second.branches[0].centre[0];
+      EXPECT_LT((b.centre[k] - (s.mergeOffset + Eigen::Vector3d(x.z(), x.y(), -x.x()))).norm(), 1e-12);
+    }
+  }
+}
+
+TEST(TreeMerge, MergedIdsAreStableUnderEditsAndAddressableByDeletionsAndOverrides)
+{
+  const Tree second = SecondTree();
+  const auto skeleton = SkeletonOf(second);
+  TreeSettings s = Preset(1);
+  s.depth = 2;
+  s.mergeParent = 0;
+  Tree merged;
+  ASSERT_EQ(BuildTree(s, {}, &skeleton, merged), "");
+  const int base = int(merged.mergeIdBase);
+  // Deleting this tree's branches does not renumber merged ones (and vice versa).
+  TreeSettings edited = s;
+  edited.deletedBranches = { 1, 10, base + 1 }; // two template children, one merged child with its subtree
+  Tree after;
+  ASSERT_EQ(BuildTree(edited, {}, &skeleton, after), "");
+  EXPECT_EQ(after.mergeIdBase, base);
+  const auto before = ById(merged), now = ById(after);
+  long long removedMerged = 0;
+  for (const auto& [id, b] : before)
+  {
+    if (b->mergedId < 0)
+      continue;
+    // A merged branch is gone exactly when it or an ancestor was deleted.
+    bool deleted = false;
+    for (int a = id; a >= base; a = before.at(a)->parentId)
+      deleted = deleted || a == base + 1;
+    EXPECT_EQ(now.count(id) == 0, deleted) << id;
+    removedMerged += deleted;
+    if (!deleted)
+    {
+      EXPECT_TRUE(now.at(id)->centre == b->centre) << id;
+    }
+  }
+  EXPECT_EQ(removedMerged, SubtreeSize(3, 1));
+  // Overrides: radius and length of a merged branch; its sub-branches move with its tip.
+  edited = s;
+  const int root = base;
+  edited.overrides[root].radius = 0.9;
+  edited.overrides[root].length = 2.0 * before.at(root)->length;
+  ASSERT_EQ(BuildTree(edited, {}, &skeleton, after), "");
+  const auto grown = ById(after);
+  EXPECT_NEAR(grown.at(root)->radius, 0.9, 1e-15);
+  EXPECT_NEAR(grown.at(root)->length, 2.0 * before.at(root)->length, 1e-12);
+  EXPECT_NEAR(grown.at(root)->radiusEnd / 0.9, before.at(root)->radiusEnd / before.at(root)->radius, 1e-12);
+  const TreeBranch& child = *grown.at(base + 1);
+  const Eigen::Vector3d shift = child.centre[0] - before.at(base + 1)->centre[0];
+  // Scaling the root by 2 about its base moves the child's base (on the root's tip surface) twice as far from it.
+  EXPECT_LT((shift - (before.at(base + 1)->centre[0] - before.at(root)->centre[0])).norm(), 1e-12);
+  for (std::size_t k = 0; k < child.centre.size(); ++k)
+    EXPECT_LT((child.centre[k] - before.at(base + 1)->centre[k] - shift).norm(), 1e-12);
+  // u, angle and rotation of the merged root replace MergeU, MergeAngle, MergeRotation.
+  edited = s;
+  edited.overrides[root].u = 0.8;
+  edited.overrides[root].angle = 20.0;
+  TreeSettings direct = s;
+  direct.mergeU = 0.8;
+  direct.mergeAngle = 20.0;
+  Tree viaOverride, viaProperties;
+  ASSERT_EQ(BuildTree(edited, {}, &skeleton, viaOverride), "");
+  ASSERT_EQ(BuildTree(direct, {}, &skeleton, viaProperties), "");
+  ASSERT_EQ(viaOverride.branches.size(), viaProperties.branches.size());
+  for (std::size_t i = 0; i < viaOverride.branches.size(); ++i)
+    EXPECT_TRUE(viaOverride.branches[i].centre == viaProperties.branches[i].centre);
+  // On other merged branches they are refused, naming the row and where to edit instead.
+  edited = s;
+  edited.overrides[base + 2].angle = 10.0;
+  EXPECT_NE(BuildTree(edited, {}, &skeleton, after).find("BranchOverrides row of branch " + std::to_string(base + 2)),
+    std::string::npos);
+  EXPECT_TRUE(after.branches.empty());
+}
+
+TEST(TreeMerge, InputThatIsNotATreeIsRefusedWithAClearMessage)
+{
+  const auto good = SkeletonOf(SecondTree());
+  TreeSettings s = Preset(1);
+  s.depth = 1;
+  const auto refused = [&](std::vector<SkeletonBranch> skeleton, const std::string& why) {
+    Tree tree;
+    const std::string error = BuildTree(s, {}, &skeleton, tree);
+    EXPECT_EQ(error.rfind("Merge input is not a tree: ", 0), 0u) << error;
+    EXPECT_NE(error.find(why), std::string::npos) << error;
+    EXPECT_TRUE(tree.branches.empty());
+  };
+  auto bad = good;
+  bad[2].id = bad[1].id;
+  refused(bad, "appears on more than one polyline");
+  bad = good;
+  bad[3].parentId = -1;
+  refused(bad, "2 branches have ParentId -1");
+  bad = good;
+  bad[3].parentId = 999;
+  refused(bad, "ParentId 999, which is no branch of it");
+  bad = good;
+  bad[1].parentId = bad[2].id; // 1 -> 2 and 2 -> 1: a cycle cut off from the root
+  bad[2].parentId = bad[1].id;
+  refused(bad, "not reachable from the root");
+  bad = good;
+  bad[1].radii[1] = std::nan("");
+  refused(bad, "not finite");
+  bad = good;
+  bad[1].centre.resize(1);
+  bad[1].radii.resize(1);
+  refused(bad, "fewer than 2 points");
+  EXPECT_NE(CheckSkeletonIsTree({}).find("Merge input is not a tree: it has no branches"), std::string::npos);
+  // A parent branch that is not there.
+  s.mergeParent = 5000;
+  auto fine = good;
+  Tree tree;
+  EXPECT_NE(BuildTree(s, {}, &fine, tree).find("MergeParentBranch = 5000 names no branch"), std::string::npos);
+  s.mergeParent = 0;
+  s.mergeScale = 0.0;
+  EXPECT_NE(BuildTree(s, {}, &fine, tree).find("MergeScale = 0 is out of range (0, 1e6]"), std::string::npos);
+}
+
+// ---- BranchOverrides on stroke branches ---------------------------------------------------------------------------
+
+TEST(TreeStrokes, OverridesApplyToStrokeBranchesAsToTemplateBranches)
+{
+  TreeSettings s = StrokeSettings();
+  const auto strokes = SampleStrokes();
+  Tree plain;
+  ASSERT_EQ(BuildTree(s, strokes, plain), "");
+  const auto original = ById(plain);
+  const int id = plain.strokes[2].branchId; // attached to the trunk, goes to -x
+  const TreeBranch& b0 = *original.at(id);
+  const auto build = [&](const BranchOverride& o, Tree& tree) {
+    TreeSettings edited = s;
+    edited.overrides[id] = o;
+    return BuildTree(edited, strokes, tree);
+  };
+  Tree tree;
+  // All NaN: the same tree, bit for bit.
+  ASSERT_EQ(build(BranchOverride(), tree), "");
+  for (std::size_t i = 0; i < tree.branches.size(); ++i)
+    EXPECT_TRUE(tree.branches[i].centre == plain.branches[i].centre);
+
+  // rotation_angle: the lifting angle phi; the branch still projects onto its stroke, with eq. (3)'s length.
+  BranchOverride o;
+  o.rotation = 150.0;
+  ASSERT_EQ(build(o, tree), "");
+  {
+    const TreeBranch& b = *ById(tree).at(id);
+    EXPECT_EQ(tree.strokes[2].rotation, 150.0);
+    EXPECT_NEAR(tree.strokes[2].theta, 30.0, 1e-12);
+    std::vector<Eigen::Vector2d> planar;
+    for (std::size_t k = 0; k < b.centre.size(); ++k)
+    {
+      EXPECT_LT((b.centre[k].head<2>() - b0.centre[k].head<2>()).norm(), 1e-12);
+      EXPECT_NEAR(b.centre[k].z() - b.centre[0].z(), (b.centre[k].x() - b.centre[0].x()) * std::tan(150 * Degree), 1e-12);
+      planar.push_back(b.centre[k].head<2>());
+    }
+    EXPECT_NEAR(b.length, LiftedLength(planar, 30.0 * Degree), 1e-12);
+  }
+  o = BranchOverride();
+  o.rotation = 270.0;
+  EXPECT_NE(build(o, tree).find("rotation_angle = 270"), std::string::npos);
+
+  // length: scaled about C.
+  o = BranchOverride();
+  o.length = 3.0;
+  ASSERT_EQ(build(o, tree), "");
+  {
+    const TreeBranch& b = *ById(tree).at(id);
+    EXPECT_NEAR(b.length, 3.0, 1e-12);
+    const double f = 3.0 / b0.length;
+    for (std::size_t k = 0; k < b.centre.size(); ++k)
+      EXPECT_LT((b.centre[k] - b0.centre[0] - f * (b0.centre[k] - b0.centre[0])).norm(), 1e-12);
+  }
+
+  // u: moved rigidly along the parent to arc-length fraction u, the base a vertex of the parent's centre line.
+  o = BranchOverride();
+  o.u = 0.25;
+  ASSERT_EQ(build(o, tree), "");
+  {
+    const auto m = ById(tree);
+    const TreeBranch& b = *m.at(id);
+    const TreeBranch& parent = *m.at(b.parentId);
+    EXPECT_EQ(b.position, 0.25);
+    double arc = 0.0, total = 0.0, at = -1.0;
+    for (std::size_t k = 0; k + 1 < parent.centre.size(); ++k)
+      total += (parent.centre[k + 1] - parent.centre[k]).norm();
+    for (std::size_t k = 0; k < parent.centre.size(); ++k)
+    {
+      if (k > 0)
+        arc += (parent.centre[k] - parent.centre[k - 1]).norm();
+      if (parent.centre[k] == b.centre[0])
+        at = arc / total;
+    }
+    EXPECT_NEAR(at, 0.25, 1e-12);
+    for (std::size_t k = 0; k < b.centre.size(); ++k)
+      EXPECT_LT(((b.centre[k] - b.centre[0]) - (b0.centre[k] - b0.centre[0])).norm(), 1e-12);
+  }
+
+  // angle: turned about C to that divergence from the parent's tangent; distances from C kept.
+  o = BranchOverride();
+  o.angle = 75.0;
+  ASSERT_EQ(build(o, tree), "");
+  {
+    const auto m = ById(tree);
+    const TreeBranch& b = *m.at(id);
+    Eigen::Vector3d point;
+    Eigen::Matrix3d frame;
+    double radius = 0.0;
+    BranchFrameAt(*m.at(b.parentId), b.position, point, frame, radius);
+    const Eigen::Vector3d first = (b.centre[1] - b.centre[0]).normalized();
+    EXPECT_NEAR(std::acos(first.dot(frame.col(1))) / Degree, 75.0, 1e-9);
+    for (std::size_t k = 0; k < b.centre.size(); ++k)
+      EXPECT_NEAR((b.centre[k] - b.centre[0]).norm(), (b0.centre[k] - b0.centre[0]).norm(), 1e-12);
+  }
+
+  // The trunk stroke has no parent: u, angle and rotation_angle are ignored, as for the template trunk.
+  TreeSettings trunk = s;
+  trunk.overrides[plain.strokes[0].branchId] = BranchOverride{ std::nan(""), std::nan(""), 0.5, 60.0, 45.0 };
+  ASSERT_EQ(BuildTree(trunk, strokes, tree), "");
+  for (std::size_t i = 0; i < tree.branches.size(); ++i)
+    EXPECT_TRUE(tree.branches[i].centre == plain.branches[i].centre);
 }

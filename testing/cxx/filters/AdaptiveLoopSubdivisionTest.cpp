@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -603,6 +604,200 @@ TEST(AdaptiveLoopSubdivision, UserMarkedFeatureEdgesStayUnderFixed)
   EXPECT_EQ(use.count({ 5, 11 }), 1u);
   EXPECT_EQ(use.count({ 0, 5 }), 1u);
   ExpectConforming(input, result.mesh, "marked");
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// RefinementRule::SurfaceError
+
+AdaptiveLoopSettings ByError(double tolerance, int levels, FeatureRule rule)
+{
+  AdaptiveLoopSettings s;
+  s.refinementRule = RefinementRule::SurfaceError;
+  s.errorTolerance = tolerance;
+  s.maximumLevel = levels;
+  s.featureRule = rule;
+  return s;
+}
+
+TEST(AdaptiveLoopSubdivision, SurfaceErrorZeroToleranceIsUniformLoopBitForBit)
+{
+  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10) };
+  for (const AdaptiveLoopMesh& input : meshes)
+    for (int r = 0; r < 3; ++r)
+    {
+      AdaptiveLoopSettings uniform;
+      uniform.edgeAngleThreshold = 180.0;
+      uniform.flatnessThreshold = 1.0;
+      uniform.featureRule = static_cast<FeatureRule>(r);
+      uniform.maximumLevel = 3;
+      // FlatnessThreshold and EdgeAngleThreshold are not used by SurfaceError: set them to adaptive values.
+      AdaptiveLoopSettings byError = ByError(0.0, 3, uniform.featureRule);
+      byError.edgeAngleThreshold = 120.0;
+      byError.flatnessThreshold = 0.5;
+      const AdaptiveLoopResult a = AdaptiveLoopSubdivide(input, uniform);
+      const AdaptiveLoopResult b = AdaptiveLoopSubdivide(input, byError);
+      ASSERT_EQ(a.error, "");
+      ASSERT_EQ(b.error, "");
+      ASSERT_EQ(b.levels, 3);
+      EXPECT_EQ(a.mesh.points, b.mesh.points) << "rule " << r;
+      EXPECT_EQ(a.mesh.triangles, b.mesh.triangles) << "rule " << r;
+      EXPECT_EQ(a.mesh.attributes, b.mesh.attributes) << "rule " << r;
+      EXPECT_EQ(a.mesh.region, b.mesh.region) << "rule " << r;
+      EXPECT_EQ(a.trianglesPerLevel, b.trianglesPerLevel) << "rule " << r;
+    }
+  // And with the Loop rule and no midvein features, zero tolerance is the oracle-checked plain Loop.
+  AdaptiveLoopSettings plain = ByError(0.0, 2, FeatureRule::Loop);
+  plain.midveinIsFeature = false;
+  EXPECT_EQ(
+    AdaptiveLoopSubdivide(Blade(10), plain).mesh.points, AdaptiveLoopSubdivide(Blade(10), PlainLoop(2)).mesh.points);
+}
+
+TEST(AdaptiveLoopSubdivision, SurfaceErrorInfiniteToleranceLeavesTheInput)
+{
+  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10) };
+  for (const AdaptiveLoopMesh& input : meshes)
+    for (int r = 0; r < 3; ++r)
+      for (const double tolerance : { std::numeric_limits<double>::infinity(), 1e6 })
+      {
+        const AdaptiveLoopResult result =
+          AdaptiveLoopSubdivide(input, ByError(tolerance, 4, static_cast<FeatureRule>(r)));
+        ASSERT_EQ(result.error, "");
+        EXPECT_EQ(result.levels, 0);
+        EXPECT_EQ(result.mesh.points, input.points);
+        EXPECT_EQ(result.mesh.triangles, input.triangles);
+        EXPECT_EQ(result.mesh.attributes, input.attributes);
+      }
+}
+
+TEST(AdaptiveLoopSubdivision, SurfaceErrorSplitsAnEdgeExactlyWhenItsOddPointIsTheToleranceOffItsChord)
+{
+  // Two triangles on the edge (a, b) = (0,0,0)-(1,0,0), opposite points (0.5, +-1, z): the normals' sum is +z, and
+  // Loop's odd point (3a + 3b + c + d) / 8 lies (c + d - a - b) . z / 8 = z / 4 above the chord midpoint. All four
+  // points are on the boundary (Fixed: their limit offsets are 0), so the estimate is exactly z / 4.
+  AdaptiveLoopMesh quad;
+  const double z = 0.4;
+  quad.points = { 0, 0, 0, 1, 0, 0, 0.5, 1, z, 0.5, -1, z };
+  quad.triangles = { 0, 1, 2, 1, 0, 3 };
+  const AdaptiveLoopResult below = AdaptiveLoopSubdivide(quad, ByError(0.0999, 1, FeatureRule::Fixed));
+  const AdaptiveLoopResult above = AdaptiveLoopSubdivide(quad, ByError(0.1001, 1, FeatureRule::Fixed));
+  ASSERT_EQ(below.error, "");
+  ASSERT_EQ(above.error, "");
+  ASSERT_EQ(below.mesh.NumberOfTriangles(), 4u);
+  EXPECT_NEAR(below.mesh.points[3 * 4 + 2], 2.0 * z / 8.0, 1e-15); // the odd point, z / 4
+  EXPECT_EQ(above.mesh.NumberOfTriangles(), 2u);
+  EXPECT_EQ(above.levels, 0);
+  // The estimate is along the normal: sliding c and d in the plane (a non-parallelogram quad) changes nothing.
+  AdaptiveLoopMesh flat = quad;
+  flat.points = { 0, 0, 0, 1, 0, 0, 0.9, 1, 0, 0.2, -1.3, 0 };
+  EXPECT_EQ(AdaptiveLoopSubdivide(flat, ByError(1e-12, 1, FeatureRule::Fixed)).levels, 0);
+}
+
+TEST(AdaptiveLoopSubdivision, SurfaceErrorLeavesFlatPartsOfAnyTriangleShapeUntouched)
+{
+  // A flat grid with its interior points slid in the plane (irregular triangles): Loop moves them only in the
+  // plane, so nothing is refined at any positive tolerance (Fixed and Refine; Loop's crease rule would round the
+  // square's corners, a real change of the outline). Then the same grid folded: only the fold refines.
+  AdaptiveLoopMesh input = Grid(12);
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> jitter(-0.3 / 12.0, 0.3 / 12.0);
+  for (std::size_t i = 0; i < input.NumberOfPoints(); ++i)
+  {
+    const double x = input.points[3 * i], y = input.points[3 * i + 1];
+    if (x > 0.0 && x < 1.0 && y > 0.0 && y < 1.0)
+    {
+      input.points[3 * i] += jitter(random);
+      input.points[3 * i + 1] += jitter(random);
+    }
+  }
+  for (int r = 0; r < 3; r += 2)
+  {
+    const AdaptiveLoopResult flat = AdaptiveLoopSubdivide(input, ByError(1e-12, 3, static_cast<FeatureRule>(r)));
+    ASSERT_EQ(flat.error, "");
+    EXPECT_EQ(flat.levels, 0) << "rule " << r;
+    EXPECT_EQ(flat.mesh.points, input.points);
+  }
+  AdaptiveLoopMesh folded = input;
+  for (std::size_t i = 0; i < folded.NumberOfPoints(); ++i)
+    if (folded.points[3 * i] > 0.5)
+      folded.points[3 * i + 2] = 0.5 * (folded.points[3 * i] - 0.5);
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(folded, ByError(1e-4, 2, FeatureRule::Fixed));
+  ASSERT_EQ(result.error, "");
+  ASSERT_EQ(result.levels, 2);
+  EXPECT_GT(result.mesh.NumberOfTriangles(), folded.NumberOfTriangles());
+  const AdaptiveLoopResult uniform = AdaptiveLoopSubdivide(folded, ByError(0.0, 2, FeatureRule::Fixed));
+  EXPECT_LT(2 * result.mesh.NumberOfTriangles(), uniform.mesh.NumberOfTriangles());
+  // Points more than two (jittered) grid steps from the fold keep their place; their triangles are not split.
+  const auto far = [&folded](int v) { return std::abs(folded.points[3 * v] - 0.5) > 2.6 / 12.0; };
+  std::size_t farPoints = 0;
+  for (std::size_t v = 0; v < folded.NumberOfPoints(); ++v)
+    if (far(static_cast<int>(v)))
+    {
+      ++farPoints;
+      for (int j = 0; j < 3; ++j)
+        ASSERT_EQ(result.mesh.points[3 * v + j], folded.points[3 * v + j]) << "point " << v;
+    }
+  EXPECT_GT(farPoints, 50u);
+  const auto outTriangles = CanonicalTriangles(result.mesh.triangles);
+  for (const Tri& t : CanonicalTriangles(folded.triangles))
+    if (far(t[0]) && far(t[1]) && far(t[2]))
+    {
+      EXPECT_TRUE(std::binary_search(outTriangles.begin(), outTriangles.end(), t));
+    }
+  ExpectConforming(folded, result.mesh, "fold, surface error");
+}
+
+TEST(AdaptiveLoopSubdivision, SurfaceErrorConformingAndMonotoneOnRandomTolerances)
+{
+  std::mt19937_64 random(20261122);
+  std::uniform_real_distribution<double> exponent(-6.0, 0.0);
+  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10) };
+  for (int trial = 0; trial < 30; ++trial)
+  {
+    const AdaptiveLoopMesh& input = meshes[trial % 2];
+    const double tolerance = std::pow(10.0, exponent(random));
+    AdaptiveLoopSettings s = ByError(tolerance, 1 + trial % 4, static_cast<FeatureRule>(trial % 3));
+    const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+    ASSERT_EQ(result.error, "");
+    const std::string what = "trial " + std::to_string(trial) + " tolerance " + std::to_string(tolerance);
+    ExpectConforming(input, result.mesh, what);
+    EXPECT_EQ(result.trianglesPerLevel.back(), result.mesh.NumberOfTriangles());
+    // One level: the split set only shrinks as the tolerance grows.
+    s.maximumLevel = 1;
+    const std::size_t n1 = AdaptiveLoopSubdivide(input, s).mesh.NumberOfTriangles();
+    s.errorTolerance = 2.0 * tolerance;
+    EXPECT_LE(AdaptiveLoopSubdivide(input, s).mesh.NumberOfTriangles(), n1) << what;
+  }
+}
+
+TEST(AdaptiveLoopSubdivision, SurfaceErrorKeepsFixedFeaturesBitIdentical)
+{
+  const AdaptiveLoopMesh input = Blade(14);
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, ByError(1e-4, 3, FeatureRule::Fixed));
+  ASSERT_EQ(result.error, "");
+  ASSERT_GT(result.levels, 0);
+  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
+    if (input.region[v] == 1 || input.region[v] == 4)
+    {
+      for (int j = 0; j < 3; ++j)
+        ASSERT_EQ(result.mesh.points[3 * v + j], input.points[3 * v + j]) << "point " << v;
+    }
+  const auto loopsIn = testing::BoundaryLoops(AsTriangles(input.triangles));
+  const auto loopsOut = testing::BoundaryLoops(AsTriangles(result.mesh.triangles));
+  ASSERT_EQ(loopsOut.size(), 1u);
+  EXPECT_EQ(loopsOut[0].size(), loopsIn[0].size());
+}
+
+TEST(AdaptiveLoopSubdivision, SurfaceErrorToleranceIsValidated)
+{
+  const AdaptiveLoopMesh mesh = Icosahedron(false);
+  AdaptiveLoopSettings s = ByError(-1e-3, 1, FeatureRule::Fixed);
+  EXPECT_NE(
+    AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -0.001 must be in [0, inf]"), std::string::npos);
+  s.errorTolerance = std::nan("");
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance"), std::string::npos);
+  s.errorTolerance = 0.1;
+  s.refinementRule = static_cast<RefinementRule>(2);
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("RefinementRule = 2"), std::string::npos);
 }
 
 } // namespace

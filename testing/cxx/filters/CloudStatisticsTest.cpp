@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -53,6 +54,34 @@ TEST(CloudStatistics, RmsSquaredIsMeanSquaredPlusVarianceOnRandomData)
   EXPECT_LE(s.p75, s.p95);
   EXPECT_LE(s.p95, s.p99);
   EXPECT_LE(s.p99, s.maximum);
+}
+
+TEST(CloudStatistics, PercentilesEqualThoseOfAFullSortForEveryCount)
+{
+  // The percentiles come from nth_element on the ranks they need; they must be the values a full sort gives, for
+  // every small count (ranks that coincide, n = 1, 2) and with many ties.
+  RandomStream random(9);
+  for (std::size_t n = 1; n <= 300; n += (n < 40 ? 1 : 37))
+  {
+    for (const bool ties : { false, true })
+    {
+      std::vector<double> d(n);
+      for (double& x : d)
+      {
+        x = ties ? std::floor(random.Uniform(0.0, 4.0)) : random.Uniform(0.0, 2.0);
+      }
+      const DistanceStatistics s = ComputeDistanceStatistics(d.data(), d.size());
+      std::vector<double> sorted = d;
+      std::sort(sorted.begin(), sorted.end());
+      ASSERT_EQ(s.minimum, sorted.front()) << n;
+      ASSERT_EQ(s.maximum, sorted.back()) << n;
+      ASSERT_EQ(s.p50, SortedPercentile(sorted, 50.0)) << n;
+      ASSERT_EQ(s.p68, SortedPercentile(sorted, 68.0)) << n;
+      ASSERT_EQ(s.p75, SortedPercentile(sorted, 75.0)) << n;
+      ASSERT_EQ(s.p95, SortedPercentile(sorted, 95.0)) << n;
+      ASSERT_EQ(s.p99, SortedPercentile(sorted, 99.0)) << n;
+    }
+  }
 }
 
 TEST(CloudStatistics, CutOffAndNaN)

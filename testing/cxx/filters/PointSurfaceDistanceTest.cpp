@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -327,6 +328,176 @@ TEST(PointSurfaceDistance, QueryManyEqualsSingleQueriesWhateverTheOrder)
     EXPECT_EQ(s[i], r.signedDistance);
     EXPECT_NEAR(d[i], BruteForce(mesh, &points[3 * i]), 1e-12);
   }
+}
+
+/// An open, strongly bent sheet: 3/4 of a cylinder of radius 1 about the z axis, z in [-1, 1], n x m quads split in
+/// two (points near the axis are almost equally far from most of it, like the centre of a sphere).
+Mesh BentSheet(int n, int m)
+{
+  constexpr double Pi = 3.14159265358979323846;
+  Mesh mesh;
+  for (int j = 0; j <= m; ++j)
+  {
+    for (int i = 0; i <= n; ++i)
+    {
+      const double angle = 1.5 * Pi * i / n;
+      mesh.points.insert(mesh.points.end(), { std::cos(angle), std::sin(angle), -1.0 + 2.0 * j / m });
+    }
+  }
+  for (int j = 0; j < m; ++j)
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      const std::int64_t q00 = j * (n + 1) + i;
+      mesh.triangles.insert(mesh.triangles.end(), { q00, q00 + 1, q00 + n + 2, q00, q00 + n + 2, q00 + n + 1 });
+    }
+  }
+  return mesh;
+}
+
+/// Random points: half uniform in the cube [-1.5, 1.5]^3 (inside and outside, some near the centre), half within
+/// about 0.01 of the unit sphere / cylinder (what a scan looks like).
+std::vector<double> InsideAndOutside(RandomStream& random, std::size_t count)
+{
+  std::vector<double> points;
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    double p[3] = { random.Uniform(-1.5, 1.5), random.Uniform(-1.5, 1.5), random.Uniform(-1.5, 1.5) };
+    if (i % 2 == 1)
+    {
+      const double r = std::sqrt(Dot3(p, p));
+      const double scale = (1.0 + random.Normal(0.0, 0.01)) / std::max(r, 1e-9);
+      p[0] *= scale;
+      p[1] *= scale;
+      p[2] *= scale;
+    }
+    points.insert(points.end(), { p[0], p[1], p[2] });
+  }
+  // And the centre itself, where every triangle of the sphere is nearly equally far.
+  points.insert(points.end(), { 0.0, 0.0, 0.0, 1e-3, -2e-3, 5e-4 });
+  return points;
+}
+
+/// Two results of the same query by different search paths. The same triangle: bit for bit equal. Triangles tied
+/// at the minimum (the closest point on their shared edge or vertex, common outside a convex mesh): the same distance
+/// and sign to round-off, the same closest point.
+::testing::AssertionResult SameResult(const DistanceQueryResult& a, const DistanceQueryResult& b)
+{
+  if (a.primitive == b.primitive)
+  {
+    if (a.distance == b.distance && a.signedDistance == b.signedDistance && a.closest[0] == b.closest[0] &&
+      a.closest[1] == b.closest[1] && a.closest[2] == b.closest[2])
+    {
+      return ::testing::AssertionSuccess();
+    }
+    return ::testing::AssertionFailure() << "same triangle " << a.primitive << ", different results";
+  }
+  const double tolerance = 1e-14 * (1.0 + a.distance);
+  const double gap[3] = { a.closest[0] - b.closest[0], a.closest[1] - b.closest[1], a.closest[2] - b.closest[2] };
+  if (std::fabs(a.distance - b.distance) <= tolerance &&
+    std::fabs(a.signedDistance - b.signedDistance) <= tolerance && std::sqrt(Dot3(gap, gap)) <= 1e-12)
+  {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << "triangles " << a.primitive << " and " << b.primitive << ": distances "
+                                       << a.distance << " and " << b.distance << ", signed " << a.signedDistance
+                                       << " and " << b.signedDistance;
+}
+
+TEST(PointSurfaceDistance, SlabBoundsGiveTheBruteForceResultOnASphereAndABentSheet)
+{
+  RandomStream random(2026);
+  for (const bool sphere : { true, false })
+  {
+    const Mesh mesh = sphere ? Sphere(1.0, 40, 80) : BentSheet(90, 40);
+    PointSurfaceDistance slabs;
+    ASSERT_EQ(
+      slabs.BuildSurface(mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount()), "");
+    PointSurfaceDistance boxes;
+    boxes.SetSlabBounds(false);
+    ASSERT_EQ(
+      boxes.BuildSurface(mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount()), "");
+    ASSERT_TRUE(slabs.GetSlabBounds());
+    ASSERT_FALSE(boxes.GetSlabBounds());
+    const std::vector<double> points = InsideAndOutside(random, 3000);
+    for (std::size_t i = 0; i < points.size() / 3; ++i)
+    {
+      const double* p = &points[3 * i];
+      const DistanceQueryResult a = slabs.Query(p);
+      const DistanceQueryResult b = boxes.Query(p);
+      // The same nearest triangle (bit for bit the same unsigned and signed distance and closest point), or one
+      // tied with it.
+      ASSERT_TRUE(SameResult(a, b)) << "point " << i;
+      // And the minimum over all triangles by the independent oracle (to its round-off).
+      ASSERT_NEAR(a.distance, BruteForce(mesh, p), 1e-13) << "point " << i;
+      if (sphere) // the sign says inside / outside (chord error < 0.004)
+      {
+        const double r = std::sqrt(Dot3(p, p));
+        if (std::fabs(r - 1.0) > 0.004)
+        {
+          ASSERT_EQ(a.signedDistance < 0, r < 1.0) << r;
+        }
+      }
+      ASSERT_EQ(std::fabs(a.signedDistance), a.distance);
+    }
+  }
+}
+
+TEST(PointSurfaceDistance, ThreadedBuildAndMortonQueriesEqualSerialOnes)
+{
+  RandomStream random(5);
+  const Mesh mesh = Sphere(1.0, 30, 60);
+  const ParallelFor pieces = [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    for (std::size_t begin = 0; begin < count; begin += 97) // uneven pieces, last one first
+    {
+      const std::size_t first = (count - 1) / 97 * 97 - begin;
+      body(first, std::min(count, first + 97));
+    }
+  };
+  PointSurfaceDistance serial;
+  ASSERT_EQ(
+    serial.BuildSurface(mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount()), "");
+  PointSurfaceDistance threaded;
+  ASSERT_EQ(threaded.BuildSurface(
+              mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount(), pieces),
+    "");
+  EXPECT_EQ(serial.MemoryBytes(), threaded.MemoryBytes());
+  // 5000 points: QueryMany sorts them along the Z-curve; with a progress callback it works in blocks.
+  const std::vector<double> points = InsideAndOutside(random, 5000);
+  const std::size_t n = points.size() / 3;
+  std::vector<double> d(n), s(n), c(3 * n);
+  std::vector<std::int64_t> prim(n);
+  std::vector<double> reported;
+  threaded.QueryMany(points.data(), n, d.data(), s.data(), c.data(), prim.data(), pieces, [&](double done) {
+    reported.push_back(done);
+    return true;
+  });
+  ASSERT_FALSE(reported.empty());
+  EXPECT_EQ(reported.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end()));
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    // Single queries on the serial build, without the Morton order's starting hint: the same nearest triangle,
+    // or one tied with it.
+    const DistanceQueryResult r = serial.Query(&points[3 * i]);
+    DistanceQueryResult q;
+    q.distance = d[i];
+    q.signedDistance = s[i];
+    q.primitive = prim[i];
+    std::copy(&c[3 * i], &c[3 * i] + 3, q.closest);
+    ASSERT_TRUE(SameResult(q, r)) << "point " << i;
+  }
+  // A progress callback that says stop: QueryMany returns after the first block (70000 points: two blocks).
+  const std::vector<double> many = InsideAndOutside(random, 70000);
+  std::vector<double> far(many.size() / 3, -1.0);
+  int calls = 0;
+  threaded.QueryMany(many.data(), far.size(), far.data(), nullptr, nullptr, nullptr, SerialFor, [&](double done) {
+    ++calls;
+    EXPECT_LT(done, 1.0);
+    return false;
+  });
+  EXPECT_EQ(calls, 1);
+  EXPECT_GT(std::count(far.begin(), far.end(), -1.0), 0); // some points were never queried
 }
 
 TEST(PointSurfaceDistance, PointsSampledFromTheSurfaceAreAtDistanceZero)

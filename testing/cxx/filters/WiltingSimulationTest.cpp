@@ -296,6 +296,126 @@ TEST(WiltingSimulation, ContractionHasItsOwnTimeAndTarget)
   EXPECT_NE(ValidateWilting(p).find("ContractionTime"), std::string::npos);
 }
 
+/// The symmetric loads of the model's definition, recomputed from the grid: per voxel a quarter of DroopForce
+/// (-z) and of ContractionForce (towards the midvein plane x = 0) on each of its four bottom nodes, in voxel order.
+std::vector<double> SymmetricLoads(const WiltingSimulation& simulation, const WiltingParameters& p)
+{
+  const VoxelGrid& grid = simulation.Grid();
+  std::vector<double> f(3 * grid.nodes.size(), 0.0);
+  for (std::size_t v = 0; v < grid.voxels.size(); ++v)
+  {
+    const double x = grid.origin[0] + grid.h * (grid.voxels[v][0] + 0.5);
+    const double towards = std::abs(x) <= 0.5 * grid.h ? 0.0 : (x > 0.0 ? -1.0 : 1.0);
+    for (int corner = 0; corner < 4; ++corner)
+    {
+      const std::size_t node = static_cast<std::size_t>(grid.corners[v][static_cast<std::size_t>(corner)]);
+      f[3 * node + 0] += 0.25 * p.contractionForce * towards;
+      f[3 * node + 1] += 0.25 * p.contractionForce * 0.0;
+      f[3 * node + 2] -= 0.25 * p.droopForce;
+    }
+  }
+  for (std::size_t n = 0; n < grid.nodes.size(); ++n)
+  {
+    if (simulation.System().IsFixed(n))
+    {
+      f[3 * n] = f[3 * n + 1] = f[3 * n + 2] = 0.0;
+    }
+  }
+  return f;
+}
+
+/// The symmetric rectangle of Rectangle(4.5, 10, 8, 20) in 1 cm voxels: five columns centred on x = 0, the middle
+/// one on the midvein, so the voxel model is mirror-symmetric too.
+WiltingParameters AsymmetryCase()
+{
+  WiltingParameters p = DroopOnly();
+  p.voxelSize = 1.0;
+  p.gravity = 0.0;
+  p.loadProfile = WiltingLoadProfile::Constant;
+  p.droopForce = 2.0;
+  p.contractionForce = 1.5;
+  p.contractionTarget = WiltingContractionTarget::Midvein;
+  p.duration = 1.0;
+  p.frameInterval = 0.25;
+  return p;
+}
+
+TEST(WiltingSimulation, ZeroAsymmetryGivesExactlyTheSymmetricLoads)
+{
+  const WiltingInput in = Rectangle(4.5, 10.0, 8, 20);
+  WiltingParameters p = AsymmetryCase();
+  WiltingSimulation simulation;
+  ASSERT_EQ(simulation.Setup(in, p), "");
+  std::vector<double> force;
+  simulation.ExternalForce(0.5, force);
+  EXPECT_EQ(force, SymmetricLoads(simulation, p)) << "bit for bit: asymmetry 0 is the model without it";
+  // A nonzero asymmetry keeps the total (the leaf is symmetric) and moves (1 + a) : (1 - a) to the +x side.
+  p.droopAsymmetry = 0.5;
+  p.contractionAsymmetry = -0.25;
+  ASSERT_EQ(simulation.Setup(in, p), "");
+  simulation.ExternalForce(0.5, force);
+  double plus = 0.0, minus = 0.0, total = 0.0, pullPlus = 0.0, pullMinus = 0.0;
+  for (std::size_t n = 0; n < simulation.Grid().nodes.size(); ++n)
+  {
+    const double x = simulation.Grid().nodes[n][0];
+    total += force[3 * n + 2];
+    // Nodes on the middle column's faces (x = -0.5, 0.5) share loads with the middle voxel; count the outer ones.
+    plus += x > 0.75 ? force[3 * n + 2] : 0.0;
+    minus += x < -0.75 ? force[3 * n + 2] : 0.0;
+    pullPlus += x > 0.75 ? force[3 * n] : 0.0;
+    pullMinus += x < -0.75 ? force[3 * n] : 0.0;
+  }
+  const std::vector<double> symmetric = SymmetricLoads(simulation, AsymmetryCase());
+  double symmetricTotal = 0.0;
+  for (std::size_t k = 2; k < symmetric.size(); k += 3)
+  {
+    symmetricTotal += symmetric[k];
+  }
+  EXPECT_NEAR(total, symmetricTotal, 1e-9 * std::abs(symmetricTotal));
+  EXPECT_LT(plus, 0.0);
+  EXPECT_NEAR(plus / minus, 1.5 / 0.5, 1e-12) << "droop: (1 + a) / (1 - a) on the outer columns";
+  EXPECT_NEAR(-pullPlus / pullMinus, 0.75 / 1.25, 1e-12) << "contraction: (1 + a) / (1 - a)";
+  p.droopAsymmetry = 1.01;
+  EXPECT_NE(ValidateWilting(p).find("DroopAsymmetry must be in [-1, 1]"), std::string::npos);
+  p.droopAsymmetry = 0.0;
+  p.contractionAsymmetry = std::nan("");
+  EXPECT_NE(simulation.Setup(in, p).find("ContractionAsymmetry"), std::string::npos);
+}
+
+TEST(WiltingSimulation, AsymmetryMovesTheTipSidewaysAndItsMirrorMirrors)
+{
+  // More droop on the +x half rolls the leaf about its midvein, +x side down; once the leaf hangs (its tip below
+  // the base) that roll swings the tip to -x, away from the side that wilts more (here -0.028 cm at a tip 2 cm
+  // down; the mirror run agrees to 1e-15). -a gives the mirror-image run.
+  const WiltingInput in = Rectangle(4.5, 10.0, 8, 20);
+  WiltingParameters p = AsymmetryCase();
+  p.contractionForce = 0.0;
+  p.droopForce = 6.0;
+  Eigen::Vector3d tip[3];
+  double rightMinusLeft = 0.0;
+  const double asymmetry[3] = { 0.0, 0.5, -0.5 };
+  for (int k = 0; k < 3; ++k)
+  {
+    p.droopAsymmetry = asymmetry[k];
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    ASSERT_EQ(simulation.Run(), "");
+    tip[k] = simulation.Frames().back().tip;
+    if (k == 1)
+    {
+      const std::vector<Eigen::Vector3d> x = simulation.PointPositions(simulation.Frames().size() - 1);
+      rightMinusLeft = x[20 * 9 + 8][2] - x[20 * 9 + 0][2]; // the apex row's +x and -x corners
+    }
+  }
+  EXPECT_NEAR(tip[0][0], 0.0, 1e-9) << "symmetric loads keep the tip on the midvein";
+  EXPECT_LT(tip[1][2], -1.0) << "the leaf droops";
+  EXPECT_LT(rightMinusLeft, -0.05) << "a > 0: the +x side is lower";
+  EXPECT_LT(tip[1][0], -0.01) << "a > 0: the tip swings to -x";
+  EXPECT_NEAR(tip[2][0], -tip[1][0], 1e-9) << "-a: the mirror image";
+  EXPECT_NEAR(tip[2][1], tip[1][1], 1e-9);
+  EXPECT_NEAR(tip[2][2], tip[1][2], 1e-9);
+}
+
 TEST(WiltingSimulation, DeterministicAcrossRunsAndThreads)
 {
   const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);

@@ -276,6 +276,32 @@ TEST(TreeFromSketchSource, BadInputGivesAnErrorNamingItAndEmptyOutputs)
        s->SetStrokeFile("/nonexistent/strokes.csv");
      } },
     { "BranchOverrides", [](vtkTreeFromSketchSource* s) { s->AddBranchOverride(-3, 1, 1, 0.5, 10, 10); } },
+    { "Merge input is not a tree: it has no lines", [](vtkTreeFromSketchSource* s) {
+       vtkNew<vtkTreeFromSketchSource> second; // its Branches port: triangles, not a skeleton
+       second->SetDepth(1);
+       second->Update();
+       auto surface = vtkSmartPointer<vtkPolyData>::New();
+       surface->DeepCopy(Output(second, 0));
+       s->SetInputData(2, surface);
+     } },
+    { "Merge input is not a tree: it has no cell array ParentId", [](vtkTreeFromSketchSource* s) {
+       auto lines = Strokes({ { { 0, 0 }, { 0, 1 } } });
+       vtkNew<vtkIntArray> ids;
+       ids->SetName("BranchId");
+       ids->InsertNextValue(0);
+       lines->GetCellData()->AddArray(ids);
+       s->SetInputData(2, lines);
+     } },
+    { "Merge input is not a tree: 2 branches have ParentId -1", [](vtkTreeFromSketchSource* s) {
+       vtkNew<vtkTreeFromSketchSource> second;
+       second->SetPreset(2);
+       second->SetDepth(1);
+       second->Update();
+       auto skeleton = vtkSmartPointer<vtkPolyData>::New();
+       skeleton->DeepCopy(Output(second, 1));
+       vtkDataArray::SafeDownCast(skeleton->GetCellData()->GetArray("ParentId"))->SetComponent(1, 0, -1);
+       s->SetInputData(2, skeleton);
+     } },
   };
   for (const Case& c : cases)
   {
@@ -288,4 +314,73 @@ TEST(TreeFromSketchSource, BadInputGivesAnErrorNamingItAndEmptyOutputs)
     for (int port = 0; port < 3; ++port)
       EXPECT_EQ(Output(source, port)->GetNumberOfPoints(), 0) << c.expected;
   }
+}
+
+TEST(TreeFromSketchSource, SecondTreeOnTheMergePortKeepsItsShapeAndGetsIdsAfterThisTreesOwn)
+{
+  vtkNew<vtkTreeFromSketchSource> second;
+  second->SetPreset(2);
+  second->Update();
+  vtkPolyData* secondSkeleton = Output(second, 1);
+  vtkNew<vtkTreeFromSketchSource> first;
+  first->SetPreset(0); // Custom: the defaults (Table 1 left) with Depth 2
+  first->SetDepth(2);
+  first->Update();
+  const vtkIdType own = Output(first, 1)->GetNumberOfCells();
+
+  vtkNew<vtkTreeFromSketchSource> merged;
+  merged->SetPreset(0);
+  merged->SetDepth(2);
+  merged->SetInputConnection(2, second->GetOutputPort(1));
+  merged->SetMergeParentBranch(-1);
+  merged->SetMergeOffset(8.0, 0.0, 0.0);
+  merged->SetMergeAngle(0.0);
+  vtkNew<TreeErrorCatcher> catcher;
+  merged->AddObserver(vtkCommand::ErrorEvent, catcher);
+  merged->Update();
+  ASSERT_EQ(catcher->Messages, "");
+  vtkPolyData* skeleton = Output(merged, 1);
+  ASSERT_EQ(skeleton->GetNumberOfCells(), own + secondSkeleton->GetNumberOfCells());
+  const double base = skeleton->GetFieldData()->GetArray("PlantMorph.MergeIdBase")->GetTuple1(0);
+  EXPECT_EQ(base, 1 + 8 + 64); // SubtreeSize(8, 2)
+  // Every merged polyline is the second tree's, moved by the offset (a second trunk, angle 0, rotation 0).
+  vtkDataArray* ids = skeleton->GetCellData()->GetArray("BranchId");
+  vtkDataArray* secondIds = secondSkeleton->GetCellData()->GetArray("BranchId");
+  std::map<int, vtkIdType> secondCell;
+  for (vtkIdType c = 0; c < secondSkeleton->GetNumberOfCells(); ++c)
+    secondCell[int(secondIds->GetTuple1(c))] = c;
+  int checked = 0;
+  vtkNew<vtkIdList> a, b;
+  for (vtkIdType c = own; c < skeleton->GetNumberOfCells(); ++c)
+  {
+    const int source = int(ids->GetTuple1(c) - base);
+    ASSERT_TRUE(secondCell.count(source)) << source;
+    skeleton->GetCellPoints(c, a);
+    secondSkeleton->GetCellPoints(secondCell[source], b);
+    ASSERT_EQ(a->GetNumberOfIds(), b->GetNumberOfIds());
+    for (vtkIdType k = 0; k < a->GetNumberOfIds(); ++k)
+    {
+      double p[3], q[3];
+      skeleton->GetPoint(a->GetId(k), p);
+      secondSkeleton->GetPoint(b->GetId(k), q);
+      EXPECT_NEAR(p[0], q[0] + 8.0, 1e-12);
+      EXPECT_NEAR(p[1], q[1], 1e-12);
+      EXPECT_NEAR(p[2], q[2], 1e-12);
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, secondSkeleton->GetNumberOfCells());
+  // The joint report covers every child's base ring (the second trunk has none): 6 vertices a child.
+  vtkDataArray* joints = skeleton->GetFieldData()->GetArray("PlantMorph.JointRingVertices");
+  ASSERT_NE(joints, nullptr);
+  ASSERT_EQ(joints->GetNumberOfComponents(), 4);
+  double ringVertices = 0.0;
+  for (int c = 0; c < 4; ++c)
+    ringVertices += joints->GetComponent(0, c);
+  EXPECT_EQ(ringVertices, 6.0 * double(skeleton->GetNumberOfCells() - 2));
+  EXPECT_GT(joints->GetComponent(0, 0), 0.0);
+  // Deleting a merged branch by its id removes it with its subtree.
+  merged->AddDeletedBranch(int(base) + 1);
+  merged->Update();
+  EXPECT_EQ(Output(merged, 1)->GetNumberOfCells(), own + secondSkeleton->GetNumberOfCells() - (1 + 3 + 9 + 27 + 81 + 243));
 }

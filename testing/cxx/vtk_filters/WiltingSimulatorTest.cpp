@@ -389,6 +389,32 @@ TEST(vtkWiltingSimulator, ContractionTowardsTheBaseShortensAndCurlsTheLeaf)
   EXPECT_LT(std::abs(tipY[0] - 10.0), 0.25 * (10.0 - tipY[1]));
 }
 
+TEST(vtkWiltingSimulator, DroopAsymmetryTiltsTheLeafAndItsMirrorTiltsItBack)
+{
+  // The plate is symmetric about x = 0 and its 1 cm voxels are too (x in [-2, 2]: four columns): with
+  // DroopAsymmetry a the +x margin sinks below the -x margin, with -a the mirror image, and 0 is level.
+  auto plate = Plate();
+  const vtkIdType left = 20 * 9 + 0; // the apex row's corners, x = -2 and +2
+  const vtkIdType right = 20 * 9 + 8;
+  double tilt[3];
+  double rightZ[3], leftZ[3];
+  const double asymmetry[3] = { 0.0, 0.6, -0.6 };
+  for (int k = 0; k < 3; ++k)
+  {
+    auto wilt = Simulator(plate);
+    wilt->SetDroopAsymmetry(asymmetry[k]);
+    vtkPolyData* leaf = LeafAt(wilt, 1.0);
+    ASSERT_EQ(leaf->GetNumberOfPoints(), plate->GetNumberOfPoints());
+    rightZ[k] = leaf->GetPoint(right)[2];
+    leftZ[k] = leaf->GetPoint(left)[2];
+    tilt[k] = rightZ[k] - leftZ[k];
+  }
+  EXPECT_NEAR(tilt[0], 0.0, 1e-9);
+  EXPECT_LT(tilt[1], -0.05) << "a > 0: the +x side droops more";
+  EXPECT_NEAR(tilt[2], -tilt[1], 1e-9) << "-a: the mirror image";
+  EXPECT_NEAR(rightZ[1], leftZ[2], 1e-9);
+}
+
 TEST(vtkWiltingSimulator, ErrorsNameThePropertyAndEmptyEveryOutput)
 {
   auto plate = Plate();
@@ -401,6 +427,8 @@ TEST(vtkWiltingSimulator, ErrorsNameThePropertyAndEmptyEveryOutput)
     { "Duration", [](vtkWiltingSimulator* w) { w->SetDuration(-1.0); } },
     { "Preset", [](vtkWiltingSimulator* w) { w->SetPreset(9); } },
     { "ContractionTarget", [](vtkWiltingSimulator* w) { w->SetContractionTarget(3); } },
+    { "DroopAsymmetry", [](vtkWiltingSimulator* w) { w->SetDroopAsymmetry(1.5); } },
+    { "ContractionAsymmetry", [](vtkWiltingSimulator* w) { w->SetContractionAsymmetry(std::nan("")); } },
     { "TimeStep", [](vtkWiltingSimulator* w) { w->SetTimeStep(std::nan("")); } },
     { "BladeDensity", [](vtkWiltingSimulator* w) { w->SetBladeMaterial(0.0, 1000.0, 0.0); } },
   };

@@ -39,8 +39,10 @@ n_in = flat_blade.GetNumberOfCells()
 loop = AdaptiveLoopFilter(Input=leaf)
 checks.check(loop.GetXMLLabel() == "Adaptive Loop Filter", "label is 'Adaptive Loop Filter': %s" % loop.GetXMLLabel())
 checks.check(loop.MaximumLevel == 2 and loop.EdgeAngleThreshold == 170 and abs(loop.FlatnessThreshold - 0.999) < 1e-12
-             and loop.FeatureRule == "Fixed" and loop.MidveinFeatures == 1,
-             "defaults: MaximumLevel 2, EdgeAngleThreshold 170, FlatnessThreshold 0.999, Fixed, midvein features")
+             and loop.FeatureRule == "Fixed" and loop.MidveinFeatures == 1
+             and loop.RefinementRule == "Dihedral angle" and abs(loop.ErrorTolerance - 0.001) < 1e-15,
+             "defaults: MaximumLevel 2, EdgeAngleThreshold 170, FlatnessThreshold 0.999, Fixed, midvein features, "
+             "Dihedral angle rule, ErrorTolerance 0.001")
 
 # A flat blade has nothing to smooth: output = input, one entry per level list.
 out = servermanager.Fetch(loop)
@@ -112,6 +114,29 @@ checks.check(bool((out_points[:len(in_points)][feature] == in_points[feature]).a
              "Fixed: margin and midvein points bit-identical")
 checks.check(int(((region == 1) | (region == 4)).sum()) == int(feature.sum()), "Fixed: no new margin or midvein point")
 
+# The Surface error rule (not in the paper): between the input and uniform mode, conforming, margin kept; tolerance 0
+# is uniform mode with the same feature rule.
+loop.RefinementRule = "Surface error"
+loop.ErrorTolerance = 0.002
+by_error = servermanager.Fetch(loop)
+n_uniform_fixed = 64 * n_in  # three levels; an upper bound: Fixed never splits the margin
+checks.check(n_in < by_error.GetNumberOfCells() < n_uniform_fixed,
+             "Surface error: %d triangles, between %d and %d" % (by_error.GetNumberOfCells(), n_in, n_uniform_fixed))
+checks.check(set(edge_use(by_error).values()) <= {1, 2}, "Surface error: conforming")
+by_error_points = vtk_to_numpy(by_error.GetPoints().GetData())
+checks.check(bool((by_error_points[:len(in_points)][feature] == in_points[feature]).all()),
+             "Surface error, Fixed: margin and midvein points bit-identical")
+loop.ErrorTolerance = 0
+zero = servermanager.Fetch(loop)
+loop.RefinementRule = "Dihedral angle"
+loop.EdgeAngleThreshold = 180
+loop.FlatnessThreshold = 1
+uniform_fixed = servermanager.Fetch(loop)
+checks.check(zero.GetNumberOfCells() == uniform_fixed.GetNumberOfCells() and bool(
+    (vtk_to_numpy(zero.GetPoints().GetData()) == vtk_to_numpy(uniform_fixed.GetPoints().GetData())).all()),
+             "Surface error, tolerance 0: uniform mode's points")
+loop.FlatnessThreshold = 0.998
+
 # Bad properties: an error and an empty output (ParaView prints the error; the script carries on).
 loop.EdgeAngleThreshold = 200
 bad = servermanager.Fetch(loop)
@@ -121,6 +146,12 @@ loop.MaximumLevel = 11
 bad = servermanager.Fetch(loop)
 checks.check(bad.GetNumberOfPoints() == 0, "MaximumLevel 11: empty output")
 loop.MaximumLevel = 2
+loop.RefinementRule = "Surface error"
+loop.ErrorTolerance = -1
+bad = servermanager.Fetch(loop)
+checks.check(bad.GetNumberOfPoints() == 0, "ErrorTolerance -1: empty output")
+loop.RefinementRule = "Dihedral angle"
+loop.ErrorTolerance = 0.001
 good = servermanager.Fetch(loop)
 checks.check(good.GetNumberOfCells() > n_in, "valid again after the error")
 

@@ -1,9 +1,10 @@
 """pvpython: TreeFromSketchSource as users run it. The proxy is in the PlantMorph menu with its documented defaults;
 Table 1's presets give the closed-form branch counts with the contract arrays; strokes drawn as Poly Line sources
 and appended in order become lifted branches that project back onto them; a CSV stroke file gives the same tree;
-a LeafOutlineSource blade is instanced at every leaf; bad values give empty outputs; and a tree with deleted
-branches and overrides, saved as a state file, loads in a fresh pvpython with the same properties and
-bit-identical outputs.
+a LeafOutlineSource blade is instanced at every leaf; bad values give empty outputs; a second tree's skeleton on
+the MergeTree input is merged with ids after this tree's own (a surface there is refused); and a tree with deleted
+branches, overrides and a merged tree, saved as a state file, loads in a fresh pvpython with the same properties,
+BranchIds and bit-identical outputs.
 
     pvpython test_tree_from_sketch.py --plugin PlantMorph.so --work DIR
 """
@@ -26,7 +27,8 @@ import numpy  # noqa: E402
 load_plugin(arguments.plugin, globals())
 state = os.path.join(arguments.work, "tree_from_sketch.pvsm")
 expected_file = os.path.join(arguments.work, "tree_from_sketch_state_expected.json")
-EDIT_PROPERTIES = ("Preset", "Depth", "DeletedBranches", "BranchOverrides", "Seed", "LeafType")
+EDIT_PROPERTIES = ("Preset", "Depth", "DeletedBranches", "BranchOverrides", "Seed", "LeafType", "MergeParentBranch",
+                   "MergeU", "MergeAngle", "MergeRotation", "MergeScale")
 
 
 def fetch(proxy, port=0):
@@ -53,7 +55,8 @@ def describe(tree):
     return {"properties": {name: list(tree.GetPropertyValue(name)) if hasattr(tree.GetPropertyValue(name), "__len__")
                            else tree.GetPropertyValue(name) for name in EDIT_PROPERTIES},
             "fingerprints": [tree_fingerprint(fetch(tree, port)) for port in range(3)],
-            "cells": fetch(tree, 0).GetNumberOfCells()}
+            "cells": fetch(tree, 0).GetNumberOfCells(),
+            "branch_ids": sorted(int(i) for i in vtk_to_numpy(fetch(tree, 1).GetCellData().GetArray("BranchId")))}
 
 
 checks = Checks()
@@ -69,6 +72,7 @@ if arguments.load is not None:
         got = actual["properties"][name]
         checks.check(got == value, "property %s: %r after loading, %r before" % (name, got, value))
     checks.check(actual["cells"] == expected["cells"] and actual["cells"] > 0, "same number of cells")
+    checks.check(actual["branch_ids"] == expected["branch_ids"], "the same BranchIds (merged ones too) after loading")
     checks.check(actual["fingerprints"] == expected["fingerprints"], "all three outputs bit-identical after loading")
     checks.finish()
     sys.exit(0)
@@ -151,13 +155,46 @@ checks.check(fetch(bad, 0).GetNumberOfPoints() == 0 and fetch(bad, 2).GetNumberO
              "Length = -1 gives empty outputs")
 Delete(bad)
 
-# State file: deletions and overrides survive a save and a load in a fresh pvpython.
+# Merging a second tree: another source's Skeleton port on the MergeTree input.
+SetActiveSource(None)
+second = TreeFromSketchSource(registrationName="SecondTree", Preset="Custom", Depth=2, ChildCount=3)
+second_skeleton = fetch(second, 1)
+checks.check(second_skeleton.GetNumberOfLines() == 13, "second tree: 1 + 3 + 9 branches")
+SetActiveSource(None)
+host = TreeFromSketchSource(registrationName="Host", Preset="Custom", Depth=1)
+merged = TreeFromSketchSource(registrationName="Merged", Preset="Custom", Depth=1,
+                              MergeTree=OutputPort(second, 1), MergeParentBranch=-1, MergeOffset=[6, 0, 0],
+                              MergeAngle=0.0)
+merged_skeleton, host_skeleton = fetch(merged, 1), fetch(host, 1)
+checks.check(merged_skeleton.GetNumberOfLines() == host_skeleton.GetNumberOfLines() + 13,
+             "merged: branch count is the sum (%d)" % merged_skeleton.GetNumberOfLines())
+base = merged_skeleton.GetFieldData().GetArray("PlantMorph.MergeIdBase").GetValue(0)
+merged_ids = vtk_to_numpy(merged_skeleton.GetCellData().GetArray("BranchId"))
+checks.check(base == 9 and sorted(merged_ids[9:]) == [9 + i for i in range(13)],
+             "merged ids are 9 + the second tree's ids: base %r" % base)
+moved = vtk_to_numpy(merged_skeleton.GetPoints().GetData())[host_skeleton.GetNumberOfPoints():]
+checks.check(numpy.allclose(moved, vtk_to_numpy(second_skeleton.GetPoints().GetData()) + [6, 0, 0], atol=1e-12),
+             "a second trunk at offset (6, 0, 0): the second tree's skeleton moved by it")
+SetActiveSource(None)
+not_a_tree = TreeFromSketchSource(registrationName="NotATree", MergeTree=OutputPort(second, 0))
+checks.check(fetch(not_a_tree, 0).GetNumberOfPoints() == 0,
+             "the Branches surface (no lines) on MergeTree is refused: empty outputs")
+Delete(not_a_tree)
+
+# State file: deletions and overrides (of template and merged branches) survive a save and a load in a fresh
+# pvpython, with the same BranchIds.
 SetActiveSource(None)
 edited = TreeFromSketchSource(registrationName="EditedTree", Preset="Table 1 middle: sympodial 1/3", Depth=4,
-                              DeletedBranches=[2, 700], Seed=5, LeafType="Willow",
+                              DeletedBranches=[2, 700, 1093 + 1], Seed=5, LeafType="Willow",
+                              MergeTree=OutputPort(second, 1), MergeParentBranch=1, MergeU=0.6, MergeAngle=50.0,
+                              MergeRotation=30.0, MergeScale=0.3,
                               BranchOverrides=[1, 3.5, -1000, -1000, 70.0, -1000,
-                                               364, -1000, 0.2, 0.5, -1000, 100.0])
+                                               364, -1000, 0.2, 0.5, -1000, 100.0,
+                                               1093, 2.0, 0.1, -1000, -1000, 200.0,
+                                               1093 + 5, -1000, 0.05, -1000, -1000, -1000])
 before = describe(edited)
+checks.check(1093 in before["branch_ids"] and 1093 + 1 not in before["branch_ids"] and
+             1093 + 5 in before["branch_ids"], "merged ids 1093.. present, the deleted one gone")
 checks.check(before["cells"] > 0, "edited tree is not empty")
 plain = describe(TreeFromSketchSource(registrationName="Plain", Preset="Table 1 middle: sympodial 1/3"))
 checks.check(plain["fingerprints"][0] != before["fingerprints"][0], "the edits change the tree")
