@@ -1,6 +1,7 @@
 #include "vtkCloudComparisonFilter.h"
 
 #include "PlantMorphFieldData.h"
+#include "PlantMorphWholeInput.h"
 #include "CloudStatistics.h"
 #include "PointSurfaceDistance.h"
 #include "RigidRegistration.h"
@@ -269,6 +270,17 @@ int vtkCloudComparisonFilter::RequestData(
   {
     vtkErrorMacro(<< "NumberOfThreads = " << this->NumberOfThreads << " must be in [0, 256] (0: all cores)");
     return 1;
+  }
+  // Under MPI the comparison runs once, on rank 0, with every measured point and the whole reference (gathered
+  // there if they were split over ranks): statistics, percentiles, histogram and Hausdorff need them all.
+  const vtkSmartPointer<vtkPointSet> wholeMeasured = plantmorph::GatherOnFirstRank(measured);
+  const vtkSmartPointer<vtkPointSet> wholeReference = reference ? plantmorph::GatherOnFirstRank(reference) : nullptr;
+  measured = wholeMeasured.Get();
+  reference = wholeReference.Get();
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (controller && controller->GetLocalProcessId() > 0)
+  {
+    return 1; // rank 0 holds and compares everything
   }
   const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
   const std::string backend = (current == "Sequential" && this->NumberOfThreads != 1) ? "STDThread" : current;

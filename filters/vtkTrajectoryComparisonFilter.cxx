@@ -223,6 +223,17 @@ int vtkTrajectoryComparisonFilter::RequestData(
   summary->Initialize();
   vtkDataObject* measuredData = vtkDataObject::GetData(inputVector[0], 0);
   vtkDataObject* simulatedData = vtkDataObject::GetData(inputVector[1], 0);
+  // Both inputs empty: another MPI rank's share (readers and sources put their data on rank 0), nothing to compare
+  // and nothing wrong. A single empty input is still reported below.
+  const auto empty = [](vtkDataObject* data) {
+    auto* table = vtkTable::SafeDownCast(data);
+    auto* points = vtkPointSet::SafeDownCast(data);
+    return !data || (table && table->GetNumberOfRows() == 0) || (points && points->GetNumberOfPoints() == 0);
+  };
+  if (empty(measuredData) && empty(simulatedData))
+  {
+    return 1;
+  }
 
   Trajectory measured;
   Trajectory simulated;

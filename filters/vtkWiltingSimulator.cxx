@@ -1,5 +1,6 @@
 #include "vtkWiltingSimulator.h"
 
+#include "PlantMorphWholeInput.h"
 #include "WiltingPresets.h"
 #include "WiltingSimulation.h"
 
@@ -271,7 +272,19 @@ int vtkWiltingSimulator::RequestData(
   voxels->Initialize();
   table->Initialize();
   movedVeins->Initialize();
-  if (!input || input->GetNumberOfPoints() == 0)
+  if (!input)
+  {
+    return 1;
+  }
+  // Under MPI the leaf wilts once, on rank 0, whole (blade and veins gathered there if they were split over ranks).
+  // The cache stays keyed on this rank's own inputs' times, so scrubbing a gathered leaf does not re-simulate.
+  const vtkMTimeType pieceTime = input->GetMTime();
+  const vtkMTimeType veinsPieceTime = veins ? veins->GetMTime() : 0;
+  const vtkSmartPointer<vtkPolyData> wholeLeaf = plantmorph::GatherOnFirstRank(input);
+  const vtkSmartPointer<vtkPolyData> wholeVeins = veins ? plantmorph::GatherOnFirstRank(veins) : nullptr;
+  input = wholeLeaf.Get();
+  veins = wholeVeins.Get();
+  if (input->GetNumberOfPoints() == 0)
   {
     return 1; // an empty piece: nothing to wilt
   }
@@ -290,8 +303,8 @@ int vtkWiltingSimulator::RequestData(
   Cache& cache = *this->Cached;
   const vtkIdType pointCount = input->GetNumberOfPoints();
   const vtkIdType veinCount = veins ? veins->GetNumberOfPoints() : 0;
-  const vtkMTimeType veinsTime = veins ? veins->GetMTime() : 0;
-  if (!cache.valid || cache.inputTime != input->GetMTime() || cache.selfTime != this->GetMTime() ||
+  const vtkMTimeType veinsTime = veinsPieceTime;
+  if (!cache.valid || cache.inputTime != pieceTime || cache.selfTime != this->GetMTime() ||
     cache.veinsTime != veinsTime || cache.veinPoints != veinCount)
   {
     // The simulation's points: the surface's, then the veins' (they mark vein voxels through their Region and
@@ -367,7 +380,7 @@ int vtkWiltingSimulator::RequestData(
       vtkErrorMacro(<< error << " (the frames before it are kept)");
     }
     cache.valid = true;
-    cache.inputTime = input->GetMTime();
+    cache.inputTime = pieceTime;
     cache.veinsTime = veinsTime;
     cache.veinPoints = veinCount;
     cache.selfTime = this->GetMTime();

@@ -7,10 +7,12 @@
 
 #include "vtkAppendFilter.h"
 #include "vtkAppendPolyData.h"
+#include "vtkCellData.h"
 #include "vtkCleanPolyData.h"
 #include "vtkDataObject.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
+#include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkUnstructuredGrid.h"
@@ -39,6 +41,29 @@ inline bool PiecesOnOtherRanks(vtkMultiProcessController* controller, vtkDataSet
   }
   return false;
 }
+/// A piece without the ghost cells a partitioner (D3, RedistributeDataSet) adds along its seams: each cell then
+/// comes from the one rank that owns it. The piece itself when it has none.
+inline vtkSmartPointer<vtkDataObject> WithoutGhostCells(vtkPointSet* piece)
+{
+  if (!piece || !piece->HasAnyGhostCells())
+  {
+    return piece;
+  }
+  vtkSmartPointer<vtkPointSet> owned;
+  owned.TakeReference(piece->NewInstance());
+  owned->DeepCopy(piece);
+  if (auto* polyData = vtkPolyData::SafeDownCast(owned))
+  {
+    polyData->RemoveGhostCells();
+  }
+  else if (auto* grid = vtkUnstructuredGrid::SafeDownCast(owned))
+  {
+    grid->RemoveGhostCells();
+  }
+  owned->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  owned->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  return owned;
+}
 } // namespace detail
 
 /// Collective over the global controller's ranks (every rank must call it, as every rank runs the filter): returns
@@ -60,7 +85,7 @@ inline vtkSmartPointer<vtkPolyData> GatherOnFirstRank(vtkPolyData* piece)
     return rankZero ? whole : vtkSmartPointer<vtkPolyData>::New();
   }
   std::vector<vtkSmartPointer<vtkDataObject>> pieces;
-  controller->Gather(piece, pieces, 0);
+  controller->Gather(detail::WithoutGhostCells(piece), pieces, 0);
   if (!rankZero)
   {
     return vtkSmartPointer<vtkPolyData>::New();
@@ -106,7 +131,7 @@ inline vtkSmartPointer<vtkPointSet> GatherOnFirstRank(vtkPointSet* piece)
     return rankZero ? whole : vtkSmartPointer<vtkPointSet>(vtkSmartPointer<vtkUnstructuredGrid>::New());
   }
   std::vector<vtkSmartPointer<vtkDataObject>> pieces;
-  controller->Gather(piece, pieces, 0);
+  controller->Gather(detail::WithoutGhostCells(piece), pieces, 0);
   if (!rankZero)
   {
     return vtkSmartPointer<vtkUnstructuredGrid>::New();

@@ -42,10 +42,14 @@ tip = LeafCloudReader(FileName=tip_file)
 trajectory = TrajectoryComparisonFilter(Input=OutputPort(tip, 1), Simulated=OutputPort(tip, 1),
                                         MeasuredColumns=["measured_x", "measured_y", "measured_z"],
                                         SimulatedColumns=["paper_sim_x", "paper_sim_y", "paper_sim_z"])
-# A leaf split over the ranks (D3 partitions it; ExtractSurface makes it polygons again): the whole-leaf filters
+# A leaf split over the ranks (D3 partitions it, each cell on one rank; ExtractSurface makes it polygons again): the whole-leaf filters
 # gather it on rank 0. Serially D3 passes the leaf through, so the references are the unsplit leaf's.
-split = ExtractSurface(Input=D3(Input=rectangle))
+split = ExtractSurface(Input=D3(Input=rectangle, BoundaryMode="Assign cells uniquely"))
 split_curl = LeafCurlFilter(Input=split, LongitudinalAngle=60.0, TransverseAngle=40.0)
+split_loop = AdaptiveLoopFilter(Input=split, MaximumLevel=1)
+split_comparison = CloudComparisonFilter(Input=D3(Input=cloud, BoundaryMode="Assign cells uniquely"), Reference=spline,
+                                         Scale=0.1)
+SPLIT = {"split_curl": split_curl, "split_loop": split_loop}
 
 OUTPUTS = {
     "outline_rectangle_blade": (rectangle, 0), "outline_rectangle_outline": (rectangle, 1),
@@ -76,9 +80,15 @@ def counts(data):
     return [data.GetNumberOfPoints(), data.GetNumberOfCells()]
 
 
+def statistics(table):
+    return {table.GetColumnName(c): table.GetValue(0, c).ToDouble() for c in range(table.GetNumberOfColumns())
+            if table.GetColumn(c).IsA("vtkDataArray")}
+
+
 def sorted_points(data):
+    """The distinct points, rounded to 1e-9 first so that rounding noise cannot change their sorted order."""
     points = vtk_to_numpy(data.GetPoints().GetData())
-    return numpy.unique(points, axis=0)
+    return numpy.unique(numpy.round(points, 9), axis=0)
 
 
 reference_file = os.path.join(arguments.work, "mpi_every_proxy_reference.json")
@@ -87,9 +97,11 @@ if arguments.write_reference:
     for name, (proxy, port) in OUTPUTS.items():
         data = fetch(proxy, port, name)
         reference[name] = {"counts": counts(data), "fingerprint": fingerprint_all(data)}
-    split_curled = servermanager.Fetch(split_curl)
-    reference["split_curl_points"] = sorted_points(split_curled).tolist()
-    reference["split_curl_count"] = split_curled.GetNumberOfPoints()
+    for name, proxy in SPLIT.items():
+        data = servermanager.Fetch(proxy)
+        reference[name + "_points"] = sorted_points(data).tolist()
+        reference[name + "_count"] = [data.GetNumberOfPoints(), data.GetNumberOfCells()]
+    reference["split_comparison"] = statistics(servermanager.Fetch(split_comparison, idx=2))
     with open(reference_file, "w") as f:
         json.dump(reference, f)
     print("reference written to", reference_file)
@@ -120,10 +132,20 @@ if ranks > 1:
     holders = split.GetDataInformation().GetNumberOfPoints()
     checks.check(holders >= len(reference["split_curl_points"]),
                  "D3 split the leaf (%d points with the shared ones counted per rank)" % holders)
-split_curled = servermanager.Fetch(split_curl)
-checks.check(split_curled.GetNumberOfPoints() == reference["split_curl_count"],
-             "the leaf split over %d ranks curls once: %d points, %d serially" % (
-                 ranks, split_curled.GetNumberOfPoints(), reference["split_curl_count"]))
-checks.check(numpy.array_equal(sorted_points(split_curled), numpy.array(reference["split_curl_points"])),
-             "a leaf split over %d ranks curls into the serial leaf's points" % ranks)
+for name, proxy in SPLIT.items():
+    data = servermanager.Fetch(proxy)
+    counts_now = [data.GetNumberOfPoints(), data.GetNumberOfCells()] if data is not None else [0, 0]
+    checks.check(counts_now == reference[name + "_count"], "%s: the leaf split over %d ranks is processed once: %s, "
+                 "%s serially" % (name, ranks, counts_now, reference[name + "_count"]))
+    # Gathered pieces come in another point order, so sums may round differently: equal to 1e-9, as sets.
+    expected_points = numpy.array(reference[name + "_points"])
+    points_now = sorted_points(data) if counts_now[0] else numpy.zeros((0, 3))
+    checks.check(points_now.shape == expected_points.shape and numpy.allclose(points_now, expected_points, rtol=0,
+                                                                               atol=2e-9),
+                 "%s: the same points as the serial run on the unsplit leaf" % name)
+measured = statistics(servermanager.Fetch(split_comparison, idx=2))
+checks.check(set(measured) == set(reference["split_comparison"]) and all(
+    abs(measured[k] - v) <= 1e-9 * max(1.0, abs(v)) for k, v in reference["split_comparison"].items()),
+    "a cloud split over %d ranks gives the serial statistics: %s" % (ranks, {
+        k: (measured.get(k), v) for k, v in reference["split_comparison"].items() if measured.get(k) != v}))
 checks.finish()
