@@ -40,9 +40,13 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << "Gravity must be >= 0 and finite (got " << p.gravity << ")";
   }
-  else if (!std::isfinite(p.droopForce) || !std::isfinite(p.contractionForce))
+  else if (!(std::abs(p.droopForce) <= 1e9))
   {
-    message << "DroopForce and ContractionForce must be finite";
+    message << "DroopForce must be in [-1e9, 1e9] (negative pulls up; got " << p.droopForce << ")";
+  }
+  else if (!(std::abs(p.contractionForce) <= 1e9))
+  {
+    message << "ContractionForce must be in [-1e9, 1e9] (negative pushes away; got " << p.contractionForce << ")";
   }
   else if (!(p.droopAsymmetry >= -1.0 && p.droopAsymmetry <= 1.0))
   {
