@@ -15,7 +15,7 @@ second trunk beside it (MergeParentBranch -1, MergeOffset).
 """
 import os
 
-from plantmorph_example import save_vtp, show_solid, start, white_view
+from plantmorph_example import rendering, save_state, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -26,6 +26,8 @@ LEAF = [0.35, 0.62, 0.22]
 
 def save_framed(view, path, center, half_height):
     """Front view, parallel projection, framed on the trees (ResetCamera's bounding sphere leaves wide margins)."""
+    if not rendering():
+        return
     Render(view)  # the first render resets the camera: frame after it
     view.CameraPosition = [center[0], center[1], 200]
     view.CameraFocalPoint = [center[0], center[1], 0]
@@ -112,3 +114,4 @@ for tree, dx in ((host, -7.0), (pair, 10.0)):
     show_solid(placed(tree, 0, dx), view3, BARK)
     show_solid(placed(tree, 2, dx), view3, LEAF)
 save_framed(view3, os.path.join(arguments.output, "tree_merged.png"), [6, 8], 10)
+save_state(arguments, "tree_from_sketch")
