@@ -18,6 +18,7 @@ arguments = parser.parse_args()
 
 failures = []
 expected = []
+proxies = {}  # name -> the properties its panel shows
 for name in sorted(os.listdir(arguments.xml_dir)):
     if not name.endswith(".xml"):
         continue
@@ -26,6 +27,9 @@ for name in sorted(os.listdir(arguments.xml_dir)):
         for proxy in group:
             if proxy.get("name"):
                 expected.append("%s.%s.html" % (group.get("name"), proxy.get("name")))
+                proxies[proxy.get("name")] = [p.get("name") for p in proxy if p.tag.endswith("Property")
+                                              and p.get("information_only") != "1"
+                                              and p.get("panel_visibility") != "never"]
         for documentation in group.iter("Documentation"):
             text = "".join(documentation.itertext()) + (documentation.get("long_help") or "")
             if text.count("[") != text.count("]"):
@@ -38,6 +42,27 @@ overview = open(os.path.join(arguments.help_dir, "PlantMorph.html")).read() if o
 for image in [part.split('"')[0] for part in overview.split('src="')[1:]]:
     if not os.path.exists(os.path.join(arguments.help_dir, image)):
         failures.append("PlantMorph.html shows %s, which is not in the help" % image)
+# A page per proxy of our own (docs/PlantMorph.<name>.html): what it does, its paper, a picture that is in the help,
+# and every property its panel shows (a property added to the XML but not to the page fails here).
+for name, properties in sorted(proxies.items()):
+    page_file = os.path.join(arguments.help_dir, "PlantMorph.%s.html" % name)
+    if not os.path.exists(page_file):
+        failures.append("no help page PlantMorph.%s.html" % name)
+        continue
+    page = open(page_file).read()
+    if 'href="PlantMorph.%s.html"' % name not in overview:
+        failures.append("PlantMorph.html does not link to PlantMorph.%s.html" % name)
+    if "<p><i>From " not in page:
+        failures.append("PlantMorph.%s.html does not say which paper it comes from" % name)
+    images = [part.split('"')[0] for part in page.split('src="')[1:]]
+    if not images:
+        failures.append("PlantMorph.%s.html has no picture" % name)
+    for image in images:
+        if not os.path.exists(os.path.join(arguments.help_dir, image)):
+            failures.append("PlantMorph.%s.html shows %s, which is not in the help" % (name, image))
+    for prop in properties:
+        if "<b>%s</b>" % prop not in page:
+            failures.append("PlantMorph.%s.html does not describe its property %s" % (name, prop))
 for failure in failures:
     print("FAIL:", failure)
 print("%d proxies, %d failures" % (len(expected), len(failures)))
