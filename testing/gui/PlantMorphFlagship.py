@@ -1,15 +1,16 @@
 """ParaView macro for the GUI test (testing/gui/run_gui_test.py installs it in the test's own Macros folder).
 
-The menus have built LeafOutlineSource1 -> AdaptiveLoopFilter1 -> VenationFilter1 and TreeFromSketchSource1. This
-does what a user does in the Change Input dialog and the Properties panel: a WiltingSimulator on the venation's blade
-(port 1) with its veins (port 0) on the Veins input, the subdivided blade as the tree's leaf, the animation at the
-end of the wilting, a fixed camera. Then it writes what it found to $PLANTMORPH_GUI_CHECK (JSON) for the test."""
+The menus have built LeafOutlineSource1 -> AdaptiveLoopFilter1 -> VenationFilter1, TreeFromSketchSource1 and
+WiltingSimulator1 (on the tree, the active source then). This does what a user does in the pipeline browser, the
+Change Input dialog and the Properties panel: WiltingSimulator1 on the venation's blade (port 1) with its veins
+(port 0) on the Veins input, the subdivided blade as the tree's leaf, the animation at the end of the wilting, a
+fixed camera. Then it writes what it found to $PLANTMORPH_GUI_CHECK (JSON) for the test."""
 import json
 import os
 
 from paraview import servermanager
 from paraview.simple import (FindSource, GetActiveViewOrCreate, GetAnimationScene, GetSources, Hide, OutputPort,
-                             Render, SetActiveSource, Show, Transform, Tube, WiltingSimulator)
+                             Render, SetActiveSource, Show, Transform, Tube)
 
 view = GetActiveViewOrCreate("RenderView")
 leaf = FindSource("LeafOutlineSource1")
@@ -26,8 +27,13 @@ tree.Preset = "Custom"
 tree.Depth = 3
 tree.ChildCount = 3
 tree.LeafCount = 2
-wilt = WiltingSimulator(registrationName="WiltingSimulator1", Input=OutputPort(venation, 1),
-                        Veins=OutputPort(venation, 0), Resolution=10, Duration=1.0, FrameInterval=0.25)
+# The menu made WiltingSimulator1 on the active source (the tree): its inputs are the venation's blade and veins.
+wilt = FindSource("WiltingSimulator1")
+wilt.Input = OutputPort(venation, 1)
+wilt.Veins = OutputPort(venation, 0)
+wilt.Resolution = 10
+wilt.Duration = 1.0
+wilt.FrameInterval = 0.25
 tree.Leaf = OutputPort(loop, 0)
 tree.LeafScale = 1.0
 scene = GetAnimationScene()
