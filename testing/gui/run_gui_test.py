@@ -31,6 +31,7 @@ shutil.rmtree(home, ignore_errors=True)
 macros = os.path.join(home, ".config", "ParaView", "Macros")
 os.makedirs(macros)
 shutil.copy(os.path.join(HERE, "PlantMorphFlagship.py"), macros)
+shutil.copy(os.path.join(HERE, "PlantMorphPicked.py"), macros)
 check_file = os.path.join(arguments.work, "gui_check.json")
 environment = dict(os.environ, HOME=home, PLANTMORPH_GUI_CHECK=check_file, XDG_RUNTIME_DIR=home)
 command = ["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", arguments.paraview, "--dr",
@@ -41,8 +42,9 @@ print(" ".join(command))
 # On this kind of machine an X connection to Xvfb now and then fails at once ("bad X server connection"); such a run
 # says nothing about PlantMorph, so it is run again, up to three times.
 for attempt in range(3):
-    if os.path.exists(check_file):
-        os.remove(check_file)
+    for stale in (check_file, check_file + ".picked"):
+        if os.path.exists(stale):
+            os.remove(stale)
     run = subprocess.run(command, env=environment, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=600)
     log = run.stdout.decode(errors="replace")
     if "X server" not in log and "cannot open display" not in log.lower():
@@ -66,6 +68,8 @@ if os.path.exists(check_file):
     with open(check_file) as f:
         found = json.load(f)
     pipeline = found["pipeline"]
+    picked = json.load(open(check_file + ".picked")) if os.path.exists(check_file + ".picked") else []
+    check(picked == ["LeafCurlFilter1"], "Leaf Curl Filter made from the PlantMorph menu: %s" % picked)
     for name in ("LeafOutlineSource1", "AdaptiveLoopFilter1", "VenationFilter1", "TreeFromSketchSource1",
                  "WiltingSimulator1"):
         check(name in found["sources"], "%s in the pipeline browser" % name)
