@@ -23,20 +23,6 @@ def load_plugin(path, namespace):
     LoadPlugin(path, remote=False, ns=namespace)
 
 
-def fingerprint(dataset):
-    """A SHA-256 of points, LeafUV and cell connectivity: equal fingerprints mean bit-identical outputs."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    digest = hashlib.sha256()
-    if dataset.GetNumberOfPoints():
-        digest.update(vtk_to_numpy(dataset.GetPoints().GetData()).tobytes())
-        digest.update(vtk_to_numpy(dataset.GetPointData().GetArray("LeafUV")).tobytes())
-    for cells in (dataset.GetPolys(), dataset.GetLines()):
-        if cells.GetNumberOfCells():
-            digest.update(vtk_to_numpy(cells.GetConnectivityArray()).tobytes())
-            digest.update(vtk_to_numpy(cells.GetOffsetsArray()).tobytes())
-    return digest.hexdigest()
-
-
 class Checks:
     """Counts failed checks so a test reports them all, then exits non-zero if any failed."""
 
@@ -65,9 +51,10 @@ class Checks:
         sys.exit(1)
 
 
-def fingerprint_all(dataset):
+def fingerprint(dataset):
     """A SHA-256 of everything a source or filter computes: points, every point and cell array (by name), every cell
-    array's connectivity, and for tables every column. Field data is left out (it holds parameters, not results)."""
+    array's connectivity, and for tables every column; equal fingerprints mean bit-identical outputs. Field data is
+    left out (it holds parameters, not results)."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
     digest = hashlib.sha256()
 

@@ -11,7 +11,7 @@ import runpy
 import subprocess
 import sys
 
-from plantmorph_testing import Checks, fingerprint_all, load_plugin, parse_arguments
+from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
 
 arguments = parse_arguments([("--example", dict(required=True)), ("--pvpython", dict(required=True)),
                              ("--load", dict(default=None))])
@@ -32,7 +32,7 @@ def fingerprints():
             proxy.UpdatePipeline(time)
             data = servermanager.Fetch(proxy, idx=port)
             if data is not None:
-                result["%s/%d" % (registration, port)] = fingerprint_all(data)
+                result["%s/%d" % (registration, port)] = fingerprint(data)
     return result
 
 

@@ -9,7 +9,7 @@ import glob
 import json
 import os
 
-from plantmorph_testing import Checks, fingerprint_all, load_plugin, parse_arguments
+from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
 
 arguments = parse_arguments([("--write-reference", dict(action="store_true")), ("--ranks", dict(type=int, default=1))])
 
@@ -96,7 +96,7 @@ if arguments.write_reference:
     reference = {}
     for name, (proxy, port) in OUTPUTS.items():
         data = fetch(proxy, port, name)
-        reference[name] = {"counts": counts(data), "fingerprint": fingerprint_all(data)}
+        reference[name] = {"counts": counts(data), "fingerprint": fingerprint(data)}
     for name, proxy in SPLIT.items():
         data = servermanager.Fetch(proxy)
         reference[name + "_points"] = sorted_points(data).tolist()
@@ -124,7 +124,7 @@ for name, (proxy, port) in OUTPUTS.items():
         total = info.GetNumberOfRows() if data.IsA("vtkTable") else info.GetNumberOfPoints()
         checks.check(total == serial["counts"][0], "%s: %d over all ranks, %d serially" % (name, total,
                                                                                          serial["counts"][0]))
-    checks.check(fingerprint_all(data) == serial["fingerprint"], "%s: bit-identical to the serial output" % name)
+    checks.check(fingerprint(data) == serial["fingerprint"], "%s: bit-identical to the serial output" % name)
 
 # The split leaf: it really is split, and curling gathers it whole (point order is the gathered one).
 if ranks > 1:

@@ -16,7 +16,6 @@ Nothing is rendered.
 
     pvpython test_outline_loop_curl_chain.py --plugin PlantMorph.so --work DIR
 """
-import hashlib
 import json
 import os
 import shutil
@@ -50,18 +49,6 @@ def per_level(data, name):
     return [int(array.GetValue(i)) for i in range(array.GetNumberOfTuples())] if array else None
 
 
-def full_fingerprint(data):
-    """fingerprint() (points, LeafUV, cells) plus TCoords, Region (points and cells) and Normals."""
-    digest = hashlib.sha256(fingerprint(data).encode())
-    for arrays, name in ((data.GetPointData(), "TCoords"), (data.GetPointData(), "Region"),
-                         (data.GetCellData(), "Region"), (data.GetPointData(), "Normals")):
-        array = arrays.GetArray(name)
-        digest.update(name.encode())
-        if array is not None:
-            digest.update(vtk_to_numpy(array).tobytes())
-    return digest.hexdigest()
-
-
 def plain(value):
     """A property value as JSON can hold it (enumerations as their text)."""
     if hasattr(value, "GetData"):
@@ -76,7 +63,7 @@ def describe(loop, curl):
             "curl": {name: plain(getattr(curl, name)) for name in CURL_PROPERTIES},
             "triangles_per_level": per_level(subdivided, "AdaptiveLoop.TrianglesPerLevel"),
             "points_per_level": per_level(subdivided, "AdaptiveLoop.PointsPerLevel"),
-            "loop_fingerprint": full_fingerprint(subdivided), "curl_fingerprint": full_fingerprint(curled),
+            "loop_fingerprint": fingerprint(subdivided), "curl_fingerprint": fingerprint(curled),
             "points": curled.GetNumberOfPoints()}
 
 

@@ -8,14 +8,13 @@ BranchIds and bit-identical outputs.
 
     pvpython test_tree_from_sketch.py --plugin PlantMorph.so --work DIR
 """
-import hashlib
 import json
 import os
 import shutil
 import subprocess
 import sys
 
-from plantmorph_testing import Checks, load_plugin, parse_arguments
+from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -36,25 +35,12 @@ def fetch(proxy, port=0):
     return servermanager.Fetch(proxy, None, None, port)
 
 
-def tree_fingerprint(data):
-    """SHA-256 of points, connectivity and BranchId: equal means bit-identical."""
-    digest = hashlib.sha256()
-    if data.GetNumberOfPoints():
-        digest.update(vtk_to_numpy(data.GetPoints().GetData()).tobytes())
-    for cells in (data.GetPolys(), data.GetLines()):
-        if cells.GetNumberOfCells():
-            digest.update(vtk_to_numpy(cells.GetConnectivityArray()).tobytes())
-            digest.update(vtk_to_numpy(cells.GetOffsetsArray()).tobytes())
-    ids = data.GetCellData().GetArray("BranchId")
-    if ids is not None:
-        digest.update(vtk_to_numpy(ids).tobytes())
-    return digest.hexdigest()
 
 
 def describe(tree):
     return {"properties": {name: list(tree.GetPropertyValue(name)) if hasattr(tree.GetPropertyValue(name), "__len__")
                            else tree.GetPropertyValue(name) for name in EDIT_PROPERTIES},
-            "fingerprints": [tree_fingerprint(fetch(tree, port)) for port in range(3)],
+            "fingerprints": [fingerprint(fetch(tree, port)) for port in range(3)],
             "cells": fetch(tree, 0).GetNumberOfCells(),
             "branch_ids": sorted(int(i) for i in vtk_to_numpy(fetch(tree, 1).GetCellData().GetArray("BranchId")))}
 
