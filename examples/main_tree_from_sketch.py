@@ -15,7 +15,7 @@ second trunk beside it (MergeParentBranch -1, MergeOffset).
 """
 import os
 
-from plantmorph_example import rendering, save_state, save_vtp, show_solid, start, white_view
+from plantmorph_example import save_framed_png, save_state, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -25,18 +25,8 @@ LEAF = [0.35, 0.62, 0.22]
 
 
 def save_framed(view, path, center, half_height):
-    """Front view, parallel projection, framed on the trees (ResetCamera's bounding sphere leaves wide margins)."""
-    if not rendering():
-        return
-    Render(view)  # the first render resets the camera: frame after it
-    view.CameraPosition = [center[0], center[1], 200]
-    view.CameraFocalPoint = [center[0], center[1], 0]
-    view.CameraViewUp = [0, 1, 0]
-    view.CameraParallelProjection = 1
-    view.CameraParallelScale = half_height
-    Render(view)
-    SaveScreenshot(path, view, ImageResolution=list(view.ViewSize))
-    print("wrote", path)
+    """Front view, framed on the trees."""
+    save_framed_png(view, path, [center[0], center[1], 0], [center[0], center[1], 200], [0, 1, 0], half_height)
 
 
 def placed(source, port, dx, rotate_y=0.0):

@@ -15,7 +15,7 @@ benchmarks/README.md "wilting calibration"). Writes:
 import csv
 import os
 
-from plantmorph_example import rendering, save_state, save_vtp, show_solid, start, white_view
+from plantmorph_example import save_framed_png, save_state, save_vtp, show_solid, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -70,18 +70,8 @@ for k, t in enumerate(TIMES):
 
 
 def save(view, path, focal, position, scale):
-    """A parallel projection of the given half-height (ParaView's ResetCamera would fit the bounding sphere)."""
-    if not rendering():
-        return
-    Render(view)  # the first render resets the camera: set ours after it
-    view.CameraFocalPoint = focal
-    view.CameraPosition = position
-    view.CameraViewUp = [0.0, 0.0, 1.0]
-    view.CameraParallelProjection = 1
-    view.CameraParallelScale = scale
-    Render(view)
-    SaveScreenshot(path, view, ImageResolution=list(view.ViewSize))
-    print("wrote", path)
+    """Z up, parallel projection of the given half-height."""
+    save_framed_png(view, path, focal, position, [0.0, 0.0, 1.0], scale)
 
 
 save(view, os.path.join(arguments.output, "wilting_cucumber_frames.png"), [52.0, 6.0, -8.0], [52.0, -90.0, 50.0],

@@ -25,11 +25,6 @@ def start(description):
 RENDER = True
 
 
-def rendering():
-    """False under --no-render: scripts skip their Render() and SaveScreenshot() calls then."""
-    return RENDER
-
-
 def save_state(arguments, name):
     """Saves the whole pipeline, views included, as <output>/<name>.pvsm: File > Load State in ParaView (after loading
     the plugin) rebuilds the figure. examples/states/ holds these files as shipped (scripts/update_example_states.sh
@@ -87,6 +82,23 @@ def save_png(view, path, top_down=True):
         view.CameraViewUp = [0, 1, 0]
         view.CameraParallelProjection = 1
     ResetCamera(view)
+    Render(view)
+    SaveScreenshot(path, view, ImageResolution=list(view.ViewSize))
+    print("wrote", path)
+
+
+def save_framed_png(view, path, focal, position, view_up, half_height):
+    """A parallel projection of the given half-height, looking from `position` at `focal` (ResetCamera would fit the
+    bounding sphere and leave wide margins). Nothing under --no-render."""
+    from paraview.simple import Render, SaveScreenshot
+    if not RENDER:
+        return
+    Render(view)  # the first render resets the camera: set ours after it
+    view.CameraFocalPoint = focal
+    view.CameraPosition = position
+    view.CameraViewUp = view_up
+    view.CameraParallelProjection = 1
+    view.CameraParallelScale = half_height
     Render(view)
     SaveScreenshot(path, view, ImageResolution=list(view.ViewSize))
     print("wrote", path)
