@@ -25,22 +25,6 @@ namespace plantmorph
 
 namespace detail
 {
-/// Collective: whether every rank's piece must be gathered (true) or rank 0 already holds all there is (false).
-inline bool PiecesOnOtherRanks(vtkMultiProcessController* controller, vtkDataSet* piece)
-{
-  const int ranks = controller->GetNumberOfProcesses();
-  const int holds = piece && piece->GetNumberOfPoints() > 0 ? 1 : 0;
-  std::vector<int> holders(static_cast<std::size_t>(ranks), 0);
-  controller->AllGather(&holds, holders.data(), 1);
-  for (int rank = 1; rank < ranks; ++rank)
-  {
-    if (holders[static_cast<std::size_t>(rank)])
-    {
-      return true;
-    }
-  }
-  return false;
-}
 /// A piece without the ghost cells a partitioner (D3, RedistributeDataSet) adds along its seams: each cell then
 /// comes from the one rank that owns it. The piece itself when it has none.
 inline vtkSmartPointer<vtkDataObject> WithoutGhostCells(vtkPointSet* piece)
@@ -64,6 +48,41 @@ inline vtkSmartPointer<vtkDataObject> WithoutGhostCells(vtkPointSet* piece)
   owned->GetPointData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   return owned;
 }
+
+/// What this rank ends up with after the collective part of a gather.
+enum class Gathered
+{
+  Piece, ///< serial, or rank 0 when no other rank holds data: `piece` itself is the whole dataset
+  Nothing, ///< a rank other than 0: an empty dataset
+  Pieces ///< rank 0 when other ranks hold data: `pieces` has every rank's piece, ghost cells removed, to merge
+};
+
+/// Collective over the global controller's ranks: finds who holds data (AllGather) and, only when a rank other than
+/// 0 does, gathers every rank's piece onto rank 0.
+inline Gathered GatherPieces(vtkPointSet* piece, std::vector<vtkSmartPointer<vtkDataObject>>& pieces)
+{
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+  {
+    return Gathered::Piece;
+  }
+  const int ranks = controller->GetNumberOfProcesses();
+  const bool rankZero = controller->GetLocalProcessId() == 0;
+  const int holds = piece && piece->GetNumberOfPoints() > 0 ? 1 : 0;
+  std::vector<int> holders(static_cast<std::size_t>(ranks), 0);
+  controller->AllGather(&holds, holders.data(), 1);
+  bool others = false;
+  for (int rank = 1; rank < ranks; ++rank)
+  {
+    others = others || holders[static_cast<std::size_t>(rank)] != 0;
+  }
+  if (!others)
+  {
+    return rankZero ? Gathered::Piece : Gathered::Nothing;
+  }
+  controller->Gather(WithoutGhostCells(piece), pieces, 0);
+  return rankZero ? Gathered::Pieces : Gathered::Nothing;
+}
 } // namespace detail
 
 /// Collective over the global controller's ranks (every rank must call it, as every rank runs the filter): returns
@@ -73,22 +92,15 @@ inline vtkSmartPointer<vtkDataObject> WithoutGhostCells(vtkPointSet* piece)
 /// unsplit dataset's).
 inline vtkSmartPointer<vtkPolyData> GatherOnFirstRank(vtkPolyData* piece)
 {
-  vtkSmartPointer<vtkPolyData> whole = piece;
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (!controller || controller->GetNumberOfProcesses() < 2)
-  {
-    return whole;
-  }
-  const bool rankZero = controller->GetLocalProcessId() == 0;
-  if (!detail::PiecesOnOtherRanks(controller, piece))
-  {
-    return rankZero ? whole : vtkSmartPointer<vtkPolyData>::New();
-  }
   std::vector<vtkSmartPointer<vtkDataObject>> pieces;
-  controller->Gather(detail::WithoutGhostCells(piece), pieces, 0);
-  if (!rankZero)
+  switch (detail::GatherPieces(piece, pieces))
   {
-    return vtkSmartPointer<vtkPolyData>::New();
+    case detail::Gathered::Piece:
+      return piece;
+    case detail::Gathered::Nothing:
+      return vtkSmartPointer<vtkPolyData>::New();
+    case detail::Gathered::Pieces:
+      break;
   }
   vtkNew<vtkAppendPolyData> append;
   for (const auto& received : pieces)
@@ -107,8 +119,7 @@ inline vtkSmartPointer<vtkPolyData> GatherOnFirstRank(vtkPolyData* piece)
   merge->ConvertPolysToLinesOff();
   merge->ConvertStripsToPolysOff();
   merge->Update();
-  whole = merge->GetOutput();
-  return whole;
+  return merge->GetOutput();
 }
 
 /// The same for any point set (a measured cloud may come as an unstructured grid): polygonal data as above, other
@@ -119,22 +130,15 @@ inline vtkSmartPointer<vtkPointSet> GatherOnFirstRank(vtkPointSet* piece)
   {
     return GatherOnFirstRank(polyData);
   }
-  vtkSmartPointer<vtkPointSet> whole = piece;
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (!controller || controller->GetNumberOfProcesses() < 2)
-  {
-    return whole;
-  }
-  const bool rankZero = controller->GetLocalProcessId() == 0;
-  if (!detail::PiecesOnOtherRanks(controller, piece))
-  {
-    return rankZero ? whole : vtkSmartPointer<vtkPointSet>(vtkSmartPointer<vtkUnstructuredGrid>::New());
-  }
   std::vector<vtkSmartPointer<vtkDataObject>> pieces;
-  controller->Gather(detail::WithoutGhostCells(piece), pieces, 0);
-  if (!rankZero)
+  switch (detail::GatherPieces(piece, pieces))
   {
-    return vtkSmartPointer<vtkUnstructuredGrid>::New();
+    case detail::Gathered::Piece:
+      return piece;
+    case detail::Gathered::Nothing:
+      return vtkSmartPointer<vtkUnstructuredGrid>::New();
+    case detail::Gathered::Pieces:
+      break;
   }
   vtkNew<vtkAppendFilter> append;
   append->MergePointsOn();
@@ -147,8 +151,7 @@ inline vtkSmartPointer<vtkPointSet> GatherOnFirstRank(vtkPointSet* piece)
     }
   }
   append->Update();
-  whole = append->GetOutput();
-  return whole;
+  return append->GetOutput();
 }
 
 } // namespace plantmorph
