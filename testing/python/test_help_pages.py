@@ -42,8 +42,9 @@ overview = open(os.path.join(arguments.help_dir, "PlantMorph.html")).read() if o
 for image in [part.split('"')[0] for part in overview.split('src="')[1:]]:
     if not os.path.exists(os.path.join(arguments.help_dir, image)):
         failures.append("PlantMorph.html shows %s, which is not in the help" % image)
-# A page per proxy of our own (docs/PlantMorph.<name>.html): what it does, its paper, a picture that is in the help,
-# and every property its panel shows (a property added to the XML but not to the page fails here).
+# A page per proxy of our own (PlantMorph.<name>.html, written by paraview_plugin/write_proxy_help_pages.py from
+# docs/proxy-pages.json and the XML): what it does, its paper, a picture that is in the help,
+# and every property its panel shows.
 for name, properties in sorted(proxies.items()):
     page_file = os.path.join(arguments.help_dir, "PlantMorph.%s.html" % name)
     if not os.path.exists(page_file):
