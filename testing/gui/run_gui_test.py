@@ -12,9 +12,9 @@ copy it to the baseline and commit it if it is right. On failure ParaView writes
 import argparse
 import json
 import os
-import shutil
-import subprocess
 import sys
+
+import gui_playback
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 parser = argparse.ArgumentParser()
@@ -25,43 +25,17 @@ parser.add_argument("--work", required=True)
 parser.add_argument("--threshold", default="15", help="ParaView's image-difference threshold")
 arguments = parser.parse_args()
 
-# A home of its own: no user settings, and the macro in ParaView's Macros folder.
-home = os.path.join(arguments.work, "home")
-shutil.rmtree(home, ignore_errors=True)
-macros = os.path.join(home, ".config", "ParaView", "Macros")
-os.makedirs(macros)
-shutil.copy(os.path.join(HERE, "PlantMorphFlagship.py"), macros)
-shutil.copy(os.path.join(HERE, "PlantMorphPicked.py"), macros)
 check_file = os.path.join(arguments.work, "gui_check.json")
-environment = dict(os.environ, HOME=home, PLANTMORPH_GUI_CHECK=check_file, XDG_RUNTIME_DIR=home)
-command = ["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", arguments.paraview, "--dr",
-           "--plugin-search-paths=" + arguments.plugin_dir, "--plugins=PlantMorph",
-           "--test-script=" + os.path.join(HERE, "flagship_pipeline.xml"), "--test-baseline=" + arguments.baseline,
-           "--test-threshold=" + arguments.threshold, "--test-directory=" + arguments.work, "--exit"]
-print(" ".join(command))
-# On this kind of machine an X connection to Xvfb now and then fails at once ("bad X server connection"); such a run
-# says nothing about PlantMorph, so it is run again, up to three times.
-for attempt in range(3):
-    for stale in (check_file, check_file + ".picked"):
-        if os.path.exists(stale):
-            os.remove(stale)
-    run = subprocess.run(command, env=environment, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=600)
-    log = run.stdout.decode(errors="replace")
-    if "X server" not in log and "cannot open display" not in log.lower():
-        break
-    print("attempt %d: X connection failed, running again" % (attempt + 1))
+returncode, log = gui_playback.play(
+    arguments.paraview, arguments.plugin_dir, os.path.join(HERE, "flagship_pipeline.xml"), arguments.work,
+    [os.path.join(HERE, "PlantMorphFlagship.py"), os.path.join(HERE, "PlantMorphPicked.py")],
+    environment={"PLANTMORPH_GUI_CHECK": check_file},
+    extra_arguments=["--test-baseline=" + arguments.baseline, "--test-threshold=" + arguments.threshold],
+    fresh_files=[check_file, check_file + ".picked"])
 print(log[-6000:])
 
-failures = []
-
-
-def check(condition, message):
-    print(("ok: " if condition else "FAIL: ") + message)
-    if not condition:
-        failures.append(message)
-
-
-check(run.returncode == 0, "ParaView exited with 0 (playback and image comparison passed): %d" % run.returncode)
+check = gui_playback.Checks()
+check(returncode == 0, "ParaView exited with 0 (playback and image comparison passed): %d" % returncode)
 check("Success =  true" in log or "Success = true" in log, "the menu playback succeeded")
 check(os.path.exists(check_file), "the macro ran and wrote %s" % check_file)
 if os.path.exists(check_file):
@@ -89,4 +63,4 @@ if os.path.exists(check_file):
         leaf_cells, pipeline["loop"]["ports"][0][1]))
     check(len(found["wilt_times"]) > 1 and found["time"] == found["wilt_times"][-1],
           "the animation is at the wilting's last time step %s of %s" % (found["time"], found["wilt_times"]))
-sys.exit(1 if failures else 0)
+sys.exit(1 if check.failed else 0)
