@@ -5,6 +5,7 @@
 #include "VenationGrowth.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/PlaneFit.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -44,40 +45,26 @@ std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& po
   const std::vector<Eigen::Vector2d>& uv, const std::vector<std::array<int, 3>>& triangles, bool& flat)
 {
   std::vector<Eigen::Vector2d> plane(points.size());
-  bool level = true;
-  for (const Eigen::Vector3d& x : points)
-    level = level && x.z() == points.front().z();
   flat = true;
-  if (level)
+  if (plantmorph::AllAtSameHeight(points))
   {
     for (std::size_t i = 0; i < points.size(); ++i)
       plane[i] = points[i].head<2>();
     return plane;
   }
-  Eigen::Vector3d low = points.front(), high = points.front(), centroid = Eigen::Vector3d::Zero();
+  Eigen::Vector3d low = points.front(), high = points.front();
   for (const Eigen::Vector3d& x : points)
   {
     low = low.cwiseMin(x);
     high = high.cwiseMax(x);
-    centroid += x;
   }
-  centroid /= static_cast<double>(points.size());
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& x : points)
-    covariance += (x - centroid) * (x - centroid).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
-  Eigen::Vector3d normal = solver.eigenvectors().col(0);
-  if (normal.z() < 0.0)
-    normal = -normal;
-  double deviation = 0.0;
-  for (const Eigen::Vector3d& x : points)
-    deviation = std::max(deviation, std::abs((x - centroid).dot(normal)));
-  if (deviation <= 1e-6 * (high - low).norm())
+  const plantmorph::FittedPlane fitted = plantmorph::FitPlane(points);
+  if (fitted.maxDeviation <= 1e-6 * (high - low).norm())
   {
-    const Eigen::Vector3d e1 = solver.eigenvectors().col(2);
-    const Eigen::Vector3d e2 = normal.cross(e1);
+    const Eigen::Vector3d e1 = fitted.major;
+    const Eigen::Vector3d e2 = fitted.normal.cross(e1);
     for (std::size_t i = 0; i < points.size(); ++i)
-      plane[i] = Eigen::Vector2d((points[i] - centroid).dot(e1), (points[i] - centroid).dot(e2));
+      plane[i] = Eigen::Vector2d((points[i] - fitted.centroid).dot(e1), (points[i] - fitted.centroid).dot(e2));
     return plane;
   }
   // Curved: |dP|^2 ~ a du^2 + b dv^2 over the edges, least squares for a and b.

@@ -2,6 +2,7 @@
 
 #include <plantmorph/CubicBSpline.h>
 #include <plantmorph/DataContract.h>
+#include <plantmorph/PlaneFit.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -76,22 +77,11 @@ struct MeshPlane
 MeshPlane PlaneOf(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& base, const Eigen::Vector3d& apex)
 {
   MeshPlane plane;
-  bool flat = true;
-  for (const Eigen::Vector3d& x : points)
-    flat = flat && x.z() == points.front().z();
-  if (flat)
+  if (AllAtSameHeight(points))
     return plane;
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& x : points)
-    centroid += x;
-  centroid /= static_cast<double>(points.size());
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& x : points)
-    covariance += (x - centroid) * (x - centroid).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
-  Eigen::Vector3d n = solver.eigenvectors().col(0); // smallest eigenvalue first
-  if (n.z() < 0.0)
-    n = -n;
+  const FittedPlane fitted = FitPlane(points);
+  const Eigen::Vector3d& n = fitted.normal;
+  const Eigen::Vector3d& centroid = fitted.centroid;
   Eigen::Vector3d e2 = (apex - base) - (apex - base).dot(n) * n;
   if (!(e2.norm() > 0.0))
     return plane;

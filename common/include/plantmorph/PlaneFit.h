@@ -1,0 +1,27 @@
+// The least-squares plane of a point set: what a leaf's mesher and the venation filter use to find the plane a
+// curved or tilted blade lies in. Plain C++17 (Eigen), no VTK.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace plantmorph
+{
+
+/// True when every point has exactly the z of the first (a blade made in the XY plane; also true for no points).
+bool AllAtSameHeight(const std::vector<Eigen::Vector3d>& points);
+
+struct FittedPlane
+{
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); ///< unit, the direction of least spread, turned towards +Z
+  Eigen::Vector3d major = Eigen::Vector3d::UnitX();  ///< unit, the direction of largest spread (its sign arbitrary)
+  double maxDeviation = 0.0;                         ///< the largest |distance| of a point from the plane
+};
+
+/// The plane through the points' centroid whose normal is the eigenvector of their covariance with the smallest
+/// eigenvalue (least squares of the distances to the plane). At least one point.
+FittedPlane FitPlane(const std::vector<Eigen::Vector3d>& points);
+
+} // namespace plantmorph

@@ -1,0 +1,38 @@
+#include <plantmorph/PlaneFit.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+namespace plantmorph
+{
+
+bool AllAtSameHeight(const std::vector<Eigen::Vector3d>& points)
+{
+  for (const Eigen::Vector3d& x : points)
+    if (x.z() != points.front().z())
+      return false;
+  return true;
+}
+
+FittedPlane FitPlane(const std::vector<Eigen::Vector3d>& points)
+{
+  FittedPlane plane;
+  for (const Eigen::Vector3d& x : points)
+    plane.centroid += x;
+  plane.centroid /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& x : points)
+    covariance += (x - plane.centroid) * (x - plane.centroid).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  plane.normal = solver.eigenvectors().col(0); // eigenvalues ascending
+  if (plane.normal.z() < 0.0)
+    plane.normal = -plane.normal;
+  plane.major = solver.eigenvectors().col(2);
+  for (const Eigen::Vector3d& x : points)
+    plane.maxDeviation = std::max(plane.maxDeviation, std::abs((x - plane.centroid).dot(plane.normal)));
+  return plane;
+}
+
+} // namespace plantmorph

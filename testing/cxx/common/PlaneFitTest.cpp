@@ -1,0 +1,61 @@
+// PlaneFit: a tilted, noisy-free planar point set gives its own plane exactly (normal up to rounding, zero
+// deviation); a bumped set reports the bump as its largest deviation; the normal always points to +Z.
+#include <plantmorph/PlaneFit.h>
+
+#include <Eigen/Geometry>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace plantmorph
+{
+namespace
+{
+std::vector<Eigen::Vector3d> TiltedGrid(const Eigen::Vector3d& origin, const Eigen::Vector3d& u, const Eigen::Vector3d& v)
+{
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 7; ++i)
+    for (int j = 0; j < 4; ++j)
+      points.push_back(origin + i * u + j * v);
+  return points;
+}
+} // namespace
+
+TEST(PlaneFit, RecoversATiltedPlaneWithItsLongAxis)
+{
+  const Eigen::Vector3d u = Eigen::Vector3d(2.0, 0.0, 1.0), v = Eigen::Vector3d(-0.5, 1.0, 1.0); // orthogonal to u
+  const std::vector<Eigen::Vector3d> points = TiltedGrid(Eigen::Vector3d(1.0, -2.0, 3.0), u, v);
+  const FittedPlane plane = FitPlane(points);
+  const Eigen::Vector3d expected = u.cross(v).normalized() * (u.cross(v).z() < 0.0 ? -1.0 : 1.0);
+  EXPECT_NEAR((plane.normal - expected).norm(), 0.0, 1e-12);
+  EXPECT_GT(plane.normal.z(), 0.0);
+  EXPECT_NEAR(plane.normal.norm(), 1.0, 1e-12);
+  EXPECT_NEAR(std::abs(plane.major.dot(u.normalized())), 1.0, 1e-12); // the grid is longest along u
+  EXPECT_LT(plane.maxDeviation, 1e-12);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& x : points)
+    mean += x / static_cast<double>(points.size());
+  EXPECT_NEAR((plane.centroid - mean).norm(), 0.0, 1e-12);
+}
+
+TEST(PlaneFit, NormalTurnedUpAndDeviationOfABump)
+{
+  std::vector<Eigen::Vector3d> points =
+    TiltedGrid(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 0.0, 0.0), Eigen::Vector3d(0.0, -1.0, 0.0));
+  EXPECT_TRUE(AllAtSameHeight(points));
+  points[5].z() = 0.7;
+  EXPECT_FALSE(AllAtSameHeight(points));
+  const FittedPlane plane = FitPlane(points);
+  EXPECT_GT(plane.normal.z(), 0.0);
+  // Every point's distance from the fitted plane is at most the reported deviation, and one attains it.
+  double largest = 0.0;
+  for (const Eigen::Vector3d& x : points)
+    largest = std::max(largest, std::abs((x - plane.centroid).dot(plane.normal)));
+  EXPECT_EQ(largest, plane.maxDeviation);
+  EXPECT_GT(plane.maxDeviation, 0.5); // the bump stands out of the plane the other 27 points pull flat
+  EXPECT_LT(plane.maxDeviation, 0.7);
+}
+} // namespace plantmorph
