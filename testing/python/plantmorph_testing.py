@@ -1,7 +1,11 @@
-"""Helpers shared by the pvpython tests: argument parsing, plugin loading, and fingerprints of outputs."""
+"""Helpers shared by the pvpython tests: argument parsing, plugin loading, fingerprints of outputs, and the
+state-file round trip."""
 import argparse
 import hashlib
+import json
 import os
+import shutil
+import subprocess
 import sys
 
 
@@ -49,6 +53,24 @@ class Checks:
             from mpi4py import MPI
             MPI.COMM_WORLD.Abort(1)
         sys.exit(1)
+
+
+def reload_in_fresh_pvpython(state, expected, expected_file, arguments, script):
+    """The state-file round trip: writes `expected` (JSON) to `expected_file`, saves this session's pipeline to
+    `state`, and runs `script` again in a fresh pvpython with `--load state`, whose second half loads the state and
+    compares what it finds with `expected`. Returns that process's exit code (0: same outputs after loading). The
+    pvpython is `arguments.pvpython` when the test has that option, else the one on PATH."""
+    from paraview.simple import SaveState
+    with open(expected_file, "w") as f:
+        json.dump(expected, f)
+    SaveState(state)
+    pvpython = getattr(arguments, "pvpython", None) or shutil.which("pvpython") or "pvpython"
+    command = [pvpython, os.path.abspath(script), "--plugin", arguments.plugin, "--work", arguments.work,
+               "--load", state]
+    if getattr(arguments, "pvpython", None):
+        command += ["--pvpython", arguments.pvpython]
+    sys.stdout.flush()
+    return subprocess.run(command, timeout=600).returncode
 
 
 def fingerprint(dataset):

@@ -2,10 +2,9 @@
 and bit-identical output."""
 import json
 import os
-import subprocess
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
+from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
 
 arguments = parse_arguments([("--pvpython", dict(required=True)), ("--load", dict(default=None))])
 
@@ -81,12 +80,7 @@ if arguments.load is None:
     scene.UpdateAnimationUsingDataTimeSteps()
     scene.AnimationTime = 0.625
     expected["growing"] = describe(growing, ("Growth", "GrowthTimeSteps", "GrowthInitialScale"), time=0.625)
-    SaveState(state)
-    with open(expected_file, "w") as f:
-        json.dump(expected, f)
-    result = subprocess.run([arguments.pvpython, os.path.abspath(__file__), "--plugin", arguments.plugin,
-                             "--work", arguments.work, "--pvpython", arguments.pvpython, "--load", state])
-    sys.exit(result.returncode)
+    sys.exit(reload_in_fresh_pvpython(state, expected, expected_file, arguments, __file__))
 
 # Second process: a fresh pvpython loads the state and compares.
 checks = Checks()

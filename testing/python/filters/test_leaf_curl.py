@@ -9,11 +9,9 @@ properties and bit-identical output.
 import json
 import math
 import os
-import shutil
-import subprocess
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
+from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -157,11 +155,6 @@ checks.check(numpy.allclose(outline_points, blade_points[:len(outline_points)], 
 Delete(outline_curl)
 
 # State file: save with the curl angles set, load in a fresh pvpython, compare.
-with open(expected_file, "w") as f:
-    json.dump(describe(curl), f)
-SaveState(state)
-pvpython = arguments.pvpython or shutil.which("pvpython") or "pvpython"
-result = subprocess.run([pvpython, os.path.abspath(__file__), "--plugin", arguments.plugin, "--work", arguments.work,
-                         "--load", state])
-checks.check(result.returncode == 0, "the state file loads in a fresh pvpython with the same output")
+returncode = reload_in_fresh_pvpython(state, describe(curl), expected_file, arguments, __file__)
+checks.check(returncode == 0, "the state file loads in a fresh pvpython with the same output")
 checks.finish()

@@ -18,11 +18,9 @@ Nothing is rendered.
 """
 import json
 import os
-import shutil
-import subprocess
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
+from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -277,11 +275,6 @@ checks.check(numpy.array_equal(both[midvein, 0], sub_points[midvein, 0]),
 checks.check(numpy.abs(both - curled_points).max() > 0.1, "transverse curl changed the leaf")
 
 # State file: save the chain, load it in a fresh pvpython, compare.
-with open(expected_file, "w") as f:
-    json.dump(describe(loop, curl), f)
-SaveState(state)
-pvpython = arguments.pvpython or shutil.which("pvpython") or "pvpython"
-result = subprocess.run([pvpython, os.path.abspath(__file__), "--plugin", arguments.plugin, "--work", arguments.work,
-                         "--load", state])
-checks.check(result.returncode == 0, "the chain's state file loads in a fresh pvpython with the same output")
+returncode = reload_in_fresh_pvpython(state, describe(loop, curl), expected_file, arguments, __file__)
+checks.check(returncode == 0, "the chain's state file loads in a fresh pvpython with the same output")
 checks.finish()

@@ -10,11 +10,9 @@ BranchIds and bit-identical outputs.
 """
 import json
 import os
-import shutil
-import subprocess
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
+from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -184,13 +182,6 @@ checks.check(1093 in before["branch_ids"] and 1093 + 1 not in before["branch_ids
 checks.check(before["cells"] > 0, "edited tree is not empty")
 plain = describe(TreeFromSketchSource(registrationName="Plain", Preset="Table 1 middle: sympodial 1/3"))
 checks.check(plain["fingerprints"][0] != before["fingerprints"][0], "the edits change the tree")
-with open(expected_file, "w") as f:
-    json.dump(before, f)
-SaveState(state)
-pvpython = arguments.pvpython or shutil.which("pvpython") or "pvpython"
-run = subprocess.run([pvpython, os.path.abspath(__file__),
-                      "--plugin", arguments.plugin, "--work", arguments.work, "--load", state],
-                     capture_output=True, text=True, timeout=300)
-print(run.stdout[-2000:], run.stderr[-2000:])
-checks.check(run.returncode == 0, "the fresh pvpython found the same tree after loading the state")
+returncode = reload_in_fresh_pvpython(state, before, expected_file, arguments, __file__)
+checks.check(returncode == 0, "the fresh pvpython found the same tree after loading the state")
 checks.finish()

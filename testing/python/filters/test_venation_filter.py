@@ -7,11 +7,9 @@ properties, saved as a state file, loads in a fresh pvpython with bit-identical 
 """
 import json
 import os
-import shutil
-import subprocess
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
+from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -121,11 +119,6 @@ venation.DivergenceAngle = 48.0
 venation.Veinlets = 1
 venation.EmbossDepth = 0.02
 venation.ForkFraction = 0.7
-with open(expected_file, "w") as f:
-    json.dump(describe(venation), f)
-SaveState(state)
-pvpython = arguments.pvpython or shutil.which("pvpython") or "pvpython"
-result = subprocess.run([pvpython, os.path.abspath(__file__), "--plugin", arguments.plugin, "--work", arguments.work,
-                         "--load", state])
-checks.check(result.returncode == 0, "the state file loads in a fresh pvpython with the same output")
+returncode = reload_in_fresh_pvpython(state, describe(venation), expected_file, arguments, __file__)
+checks.check(returncode == 0, "the state file loads in a fresh pvpython with the same output")
 checks.finish()

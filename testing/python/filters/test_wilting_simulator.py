@@ -5,10 +5,9 @@ bad properties giving empty outputs, and a state file round trip at a non-zero t
 is rendered."""
 import json
 import os
-import subprocess
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
+from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
 
 arguments = parse_arguments([("--load", dict(default=None))])
 
@@ -83,13 +82,8 @@ if arguments.load is None:
     scene.UpdateAnimationUsingDataTimeSteps()
     scene.AnimationTime = 2.0
     expected = {"fingerprint": fingerprint(at(wilt, 2.0)), "duration": wilt.Duration, "resolution": wilt.Resolution}
-    SaveState(state)
-    with open(expected_file, "w") as f:
-        json.dump(expected, f)
     checks.finish()
-    result = subprocess.run([sys.executable if "pvpython" in sys.executable else "pvpython", os.path.abspath(__file__),
-                             "--plugin", arguments.plugin, "--work", arguments.work, "--load", state])
-    sys.exit(result.returncode)
+    sys.exit(reload_in_fresh_pvpython(state, expected, expected_file, arguments, __file__))
 
 LoadState(arguments.load)
 wilt = FindSource("Wilt")
