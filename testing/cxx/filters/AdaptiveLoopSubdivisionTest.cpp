@@ -93,6 +93,17 @@ AdaptiveLoopMesh Grid(int n)
   return mesh;
 }
 
+/// A parallel-for over three threads, to check that results do not depend on how the work is cut.
+void ThreeThreadFor(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body)
+{
+  std::vector<std::thread> threads;
+  const std::size_t parts = 3;
+  for (std::size_t p = 0; p < parts; ++p)
+    threads.emplace_back([&, p] { body(n * p / parts, n * (p + 1) / parts); });
+  for (auto& t : threads)
+    t.join();
+}
+
 AdaptiveLoopSettings PlainLoop(int levels)
 {
   AdaptiveLoopSettings s;
@@ -568,14 +579,7 @@ TEST(AdaptiveLoopSubdivision, ThreadedRunIsBitIdenticalToSerial)
   s.maximumLevel = 4;
   const AdaptiveLoopMesh input = Blade(20);
   const AdaptiveLoopResult serial = AdaptiveLoopSubdivide(input, s);
-  s.parallelFor = [](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::vector<std::thread> threads;
-    const std::size_t parts = 3;
-    for (std::size_t p = 0; p < parts; ++p)
-      threads.emplace_back([&, p] { body(n * p / parts, n * (p + 1) / parts); });
-    for (auto& t : threads)
-      t.join();
-  };
+  s.parallelFor = ThreeThreadFor;
   const AdaptiveLoopResult threaded = AdaptiveLoopSubdivide(input, s);
   ASSERT_EQ(serial.error, "");
   EXPECT_EQ(serial.mesh.points, threaded.mesh.points);
@@ -930,14 +934,6 @@ TEST(AdaptiveLoopSubdivision, ChordErrorConformingAndDeterministicOnRandomTolera
   std::mt19937_64 random(20261123);
   std::uniform_real_distribution<double> exponent(-6.0, 0.0);
   const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10), Tube(5, 9) };
-  const ParallelForFunction threaded = [](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::vector<std::thread> threads;
-    const std::size_t parts = 3;
-    for (std::size_t p = 0; p < parts; ++p)
-      threads.emplace_back([&, p] { body(n * p / parts, n * (p + 1) / parts); });
-    for (auto& t : threads)
-      t.join();
-  };
   for (int trial = 0; trial < 30; ++trial)
   {
     const AdaptiveLoopMesh& input = meshes[trial % 3];
@@ -949,7 +945,7 @@ TEST(AdaptiveLoopSubdivision, ChordErrorConformingAndDeterministicOnRandomTolera
     ExpectConforming(input, result.mesh, what);
     EXPECT_EQ(result.trianglesPerLevel.back(), result.mesh.NumberOfTriangles());
     EXPECT_EQ(result.mesh.origin.size(), result.mesh.NumberOfTriangles());
-    s.parallelFor = threaded;
+    s.parallelFor = ThreeThreadFor;
     const AdaptiveLoopResult again = AdaptiveLoopSubdivide(input, s);
     EXPECT_EQ(again.mesh.points, result.mesh.points) << what;
     EXPECT_EQ(again.mesh.triangles, result.mesh.triangles) << what;
