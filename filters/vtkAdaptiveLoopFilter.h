@@ -27,6 +27,13 @@
  *   moves only when one of its edges splits (parts left unrefined are left exactly as they were). ErrorTolerance 0
  *   is plain Loop subdivision with the feature rule; a huge one changes nothing. See
  *   filters/core/AdaptiveLoopSubdivision.h.
+ * - **RefinementRule CHORD_ERROR** (not in the paper) is SURFACE_ERROR with a direction-dependent estimate, so a
+ *   leaf curved in one direction (LeafCurlFilter's cylinder wraps) refines mostly across its curvature: an
+ *   interior edge splits when the largest of its chord's sagitta |(N2 - N1) . (v2 - v1)| / 8 (N the ends' unit
+ *   normals: curvature along the edge times length squared over 8), its odd point's distance from the chord
+ *   between its ends' smoothed positions and half SURFACE_ERROR's distance from the unmoved chord reaches
+ *   ErrorTolerance. Edges along straight lines of the surface stay longer, so triangles grow thin along the
+ *   rulings. Vertices move as for SURFACE_ERROR; ErrorTolerance 0 is plain Loop.
  *
  * With EdgeAngleThreshold = 180, FlatnessThreshold = 1, FeatureRule = Loop and MidveinFeatures and LineFeatures off,
  * the output is plain Loop subdivision, the same as vtkLoopSubdivisionFilter's (which stores float points).
@@ -63,7 +70,8 @@ public:
   enum RefinementRuleType
   {
     DIHEDRAL_ANGLE = 0,
-    SURFACE_ERROR = 1
+    SURFACE_ERROR = 1,
+    CHORD_ERROR = 2
   };
 
   enum FeatureRuleType
@@ -102,8 +110,9 @@ public:
 
   ///@{
   /**
-   * Where to refine: DIHEDRAL_ANGLE (0, default, the paper: EdgeAngleThreshold and FlatnessThreshold) or
-   * SURFACE_ERROR (1: ErrorTolerance; FlatnessThreshold and EdgeAngleThreshold unused).
+   * Where to refine: DIHEDRAL_ANGLE (0, default, the paper: EdgeAngleThreshold and FlatnessThreshold),
+   * SURFACE_ERROR (1: ErrorTolerance; FlatnessThreshold and EdgeAngleThreshold unused) or CHORD_ERROR (2:
+   * ErrorTolerance, anisotropic: edges along straight lines of the surface stay). Range [0, 2].
    */
   vtkSetMacro(RefinementRule, int);
   vtkGetMacro(RefinementRule, int);
@@ -111,8 +120,8 @@ public:
 
   ///@{
   /**
-   * SURFACE_ERROR's tolerance in model units, range [0, inf]: an edge splits where the estimated distance of the
-   * unrefined surface from Loop's reaches it. Default 0.001. 0 splits everything (plain Loop with FeatureRule).
+   * SURFACE_ERROR's and CHORD_ERROR's tolerance in model units, range [0, inf]: an edge splits where the
+   * estimated distance of the unrefined surface from Loop's reaches it. Default 0.001. 0 splits everything (plain Loop with FeatureRule).
    */
   vtkSetMacro(ErrorTolerance, double);
   vtkGetMacro(ErrorTolerance, double);

@@ -13,9 +13,9 @@
 // uniform level L from the level-4 uniform surface (exact point-to-triangle distances both ways, see Deviation
 // below; maximum and RMS), and the adaptive settings (searched untimed, once per blade: levels, bisection on the
 // threshold angle with two flatness rules for the paper's DihedralAngle rule, bisection on ErrorTolerance for the
-// SurfaceError rule) with the fewest triangles within that deviation. PLANTMORPH_BLADE_SWEEP_LOG=1 prints every
-// evaluated setting to stderr (the triangles-versus-deviation curve); PLANTMORPH_BLADE_SKIP_DIHEDRAL=1 searches the
-// SurfaceError rule only:
+// SurfaceError and ChordError rules) with the fewest triangles within that deviation. PLANTMORPH_BLADE_SWEEP_LOG=1
+// prints every evaluated setting to stderr (the triangles-versus-deviation curve); PLANTMORPH_BLADE_RULES=12 (the
+// digits of the RefinementRule values) searches those rules only (default all three):
 //   BM_Blade_Uniform/blade:B/levels:L, BM_Blade_Adaptive/blade:B/levels:L/rule:R/rms:C (C = 1: within the RMS)
 //
 // Counters: triangles (output), tri_per_s (output triangles per wall second: the filters are threaded), in_bytes /
@@ -458,8 +458,8 @@ struct BladeStudy
 //   halvings (3.7% resolution); FlatnessThreshold 1 (every vertex moves) or lambda = cos(alpha) (a vertex whose
 //   triangles' normals lie within about alpha of its normal stays). An earlier search also tried cos(c alpha) for
 //   c = 0.5 and 2: no better.
-// - SurfaceError: a bisection on log10(ErrorTolerance / L0) over [1e-7, 1e-1], ToleranceSteps halvings, L0 the
-//   blade's bounding-box diagonal.
+// - SurfaceError and ChordError: a bisection on log10(ErrorTolerance / L0) over [1e-7, 1e-1], ToleranceSteps
+//   halvings, L0 the blade's bounding-box diagonal.
 // The cost grows as the deviation falls, so the bisection keeps the largest threshold within the target; every
 // evaluated setting within the target competes for the fewest triangles.
 constexpr double AlphaLow = 1e-3;
@@ -495,7 +495,12 @@ const BladeStudy& Study(int kind)
     s.uniformTriangles[level] = out->GetNumberOfCells();
   }
   const bool log = std::getenv("PLANTMORPH_BLADE_SWEEP_LOG") != nullptr;
-  const bool dihedral = std::getenv("PLANTMORPH_BLADE_SKIP_DIHEDRAL") == nullptr;
+  // PLANTMORPH_BLADE_RULES: the digits of the rules to search (default all).
+  const char* rules = std::getenv("PLANTMORPH_BLADE_RULES");
+  const auto searched = [rules](int rule) {
+    return rules == nullptr || std::string(rules).find(static_cast<char>('0' + rule)) != std::string::npos;
+  };
+  const bool dihedral = searched(vtkAdaptiveLoopFilter::DIHEDRAL_ANGLE);
   for (int level = 1; level < ReferenceLevel; ++level)
   {
     const Deviation target = s.uniformDeviation[level];
@@ -541,19 +546,24 @@ const BladeStudy& Study(int kind)
             (evaluate(setting(std::pow(10.0, mid))) ? low : high) = mid;
           }
         }
-      const auto setting = [&](double relative) {
-        BladeSetting b = uniform(levels);
-        b.rule = vtkAdaptiveLoopFilter::SURFACE_ERROR;
-        b.tolerance = relative * s.length;
-        return b;
-      };
-      double low = std::log10(ToleranceLow), high = std::log10(ToleranceHigh);
-      if (!evaluate(setting(ToleranceLow)))
-        continue;
-      for (int step = 0; step < ToleranceSteps; ++step)
+      for (const int rule : { vtkAdaptiveLoopFilter::SURFACE_ERROR, vtkAdaptiveLoopFilter::CHORD_ERROR })
       {
-        const double mid = 0.5 * (low + high);
-        (evaluate(setting(std::pow(10.0, mid))) ? low : high) = mid;
+        if (!searched(rule))
+          continue;
+        const auto setting = [&](double relative) {
+          BladeSetting b = uniform(levels);
+          b.rule = rule;
+          b.tolerance = relative * s.length;
+          return b;
+        };
+        double low = std::log10(ToleranceLow), high = std::log10(ToleranceHigh);
+        if (!evaluate(setting(ToleranceLow)))
+          continue;
+        for (int step = 0; step < ToleranceSteps; ++step)
+        {
+          const double mid = 0.5 * (low + high);
+          (evaluate(setting(std::pow(10.0, mid))) ? low : high) = mid;
+        }
       }
     }
   }
@@ -632,7 +642,7 @@ BENCHMARK(BM_Blade_Uniform)
 BENCHMARK(BM_Blade_Adaptive)
   ->ArgNames({ "blade", "levels", "rule", "rms" })
   ->ArgsProduct({ benchmark::CreateDenseRange(0, BladeKinds - 1, 1),
-    benchmark::CreateDenseRange(1, ReferenceLevel - 1, 1), { 0, 1 }, { 0, 1 } })
+    benchmark::CreateDenseRange(1, ReferenceLevel - 1, 1), { 0, 1, 2 }, { 0, 1 } })
   ->Unit(benchmark::kMillisecond)
   ->UseRealTime();
 

@@ -43,6 +43,24 @@
 //  same as EdgeAngleThreshold 180 and FlatnessThreshold 1); infinity changes nothing. The estimate is local: the
 //  result's distance from the uniform Loop surface is of the order of errorTolerance, not bounded by it.
 //
+// RefinementRule::ChordError (not in the paper) is SurfaceError with an estimate that depends on the edge's
+// direction, so a surface curved in one direction refines in that direction only (anisotropically: an edge along
+// a ruling of a cylinder-like part stays, one across it splits, and the 1-to-2 and 1-to-3 splits of step 5 keep
+// the mesh conforming). An interior non-feature edge (v1, v2) splits when max(s, e', e / 2) >= errorTolerance:
+//  - s = |(N_v2 - N_v1) . (v2 - v1)| / 8 is the chord's sagitta kappa(t) l^2 / 8, with kappa(t) the normal
+//    curvature along the edge estimated from the ends' unit normals N_v (eq. (1), feature points too): 0 along a
+//    straight line of the surface whatever the curvature across it;
+//  - e' is SurfaceError's distance of Loop's odd point from the chord between the ends' Loop even positions (0
+//    along a ruling of a regularly meshed cylinder: the odd point and the ends move alike);
+//  - e is SurfaceError's odd point against the unmoved chord, as large along a ruling as across it; half of it
+//    still splits edges along a saddle's asymptotic directions (s and e' near 0 there, yet Loop bends the surface
+//    next to them): on the benchmark's bent ginkgo, leaving it out needs 0.68 of uniform level 3's triangles at its
+//    deviation, half of it 0.38 (benchmarks/README.md). On a cylinder a ruling splits at half the tolerance of an
+//    edge across it.
+//  The ends' limit offsets are left out (as large along a ruling as across it). Feature edges and vertex moves
+//  follow SurfaceError's rules. errorTolerance 0 is plain Loop bit for bit and infinity changes nothing, as for
+//  SurfaceError. Vertex normals assume consistently oriented triangles.
+//
 // Point data: every output point is a weighted sum of current points (its stencil); the same weights are applied to
 // the positions and to every component of `attributes`, so any point array follows the surface. Region (integer)
 // is not interpolated: an even point keeps its region; an odd point on a boundary edge gets 4 (margin) if either
@@ -79,6 +97,7 @@ enum class RefinementRule : int
 {
   DihedralAngle = 0, ///< the paper: edges by their dihedral angle, vertices by their flatness
   SurfaceError = 1,  ///< edges by the estimated distance of the unrefined surface from Loop's (errorTolerance)
+  ChordError = 2,    ///< edges by their chord's estimated distance from the surface along the edge (errorTolerance)
 };
 
 /// Runs body(begin, end) over sub-ranges covering [0, n), possibly concurrently (plantmorph/ParallelFor.h; the

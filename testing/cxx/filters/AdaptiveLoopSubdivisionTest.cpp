@@ -93,6 +93,17 @@ AdaptiveLoopMesh Grid(int n)
   return mesh;
 }
 
+/// A parallel-for over three threads, to check that results do not depend on how the work is cut.
+void ThreeThreadFor(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body)
+{
+  std::vector<std::thread> threads;
+  const std::size_t parts = 3;
+  for (std::size_t p = 0; p < parts; ++p)
+    threads.emplace_back([&, p] { body(n * p / parts, n * (p + 1) / parts); });
+  for (auto& t : threads)
+    t.join();
+}
+
 AdaptiveLoopSettings PlainLoop(int levels)
 {
   AdaptiveLoopSettings s;
@@ -568,14 +579,7 @@ TEST(AdaptiveLoopSubdivision, ThreadedRunIsBitIdenticalToSerial)
   s.maximumLevel = 4;
   const AdaptiveLoopMesh input = Blade(20);
   const AdaptiveLoopResult serial = AdaptiveLoopSubdivide(input, s);
-  s.parallelFor = [](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::vector<std::thread> threads;
-    const std::size_t parts = 3;
-    for (std::size_t p = 0; p < parts; ++p)
-      threads.emplace_back([&, p] { body(n * p / parts, n * (p + 1) / parts); });
-    for (auto& t : threads)
-      t.join();
-  };
+  s.parallelFor = ThreeThreadFor;
   const AdaptiveLoopResult threaded = AdaptiveLoopSubdivide(input, s);
   ASSERT_EQ(serial.error, "");
   EXPECT_EQ(serial.mesh.points, threaded.mesh.points);
@@ -796,8 +800,192 @@ TEST(AdaptiveLoopSubdivision, SurfaceErrorToleranceIsValidated)
   s.errorTolerance = std::nan("");
   EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance"), std::string::npos);
   s.errorTolerance = 0.1;
-  s.refinementRule = static_cast<RefinementRule>(2);
-  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("RefinementRule = 2"), std::string::npos);
+  s.refinementRule = static_cast<RefinementRule>(3);
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("RefinementRule = 3 must be 0 (Dihedral angle), 1 (Surface "
+                                                      "error) or 2 (Chord error)"),
+    std::string::npos);
+  s.refinementRule = RefinementRule::ChordError;
+  s.errorTolerance = -1.0;
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -1 must be in [0, inf]"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// RefinementRule::ChordError
+
+AdaptiveLoopSettings ByChord(double tolerance, int levels, FeatureRule rule)
+{
+  AdaptiveLoopSettings s = ByError(tolerance, levels, rule);
+  s.refinementRule = RefinementRule::ChordError;
+  return s;
+}
+
+/// A tube of radius 1 around the x axis, x in [0, 1] in n steps, `around` points per ring, every quad cut along
+/// the same diagonal: its rulings (edges along x) are straight lines of the cylinder.
+AdaptiveLoopMesh Tube(int n, int around)
+{
+  AdaptiveLoopMesh mesh;
+  for (int i = 0; i <= n; ++i)
+    for (int k = 0; k < around; ++k)
+    {
+      const double angle = 2.0 * 3.14159265358979323846 * k / around;
+      mesh.points.insert(mesh.points.end(), { static_cast<double>(i) / n, std::cos(angle), std::sin(angle) });
+    }
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < around; ++k)
+    {
+      const int a = i * around + k, b = i * around + (k + 1) % around, c = a + around, d = b + around;
+      mesh.triangles.insert(mesh.triangles.end(), { a, c, d, a, d, b });
+    }
+  return mesh;
+}
+
+TEST(AdaptiveLoopSubdivision, ChordErrorZeroToleranceIsUniformLoopBitForBit)
+{
+  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10), Tube(4, 8) };
+  for (const AdaptiveLoopMesh& input : meshes)
+    for (int r = 0; r < 3; ++r)
+    {
+      AdaptiveLoopSettings uniform;
+      uniform.edgeAngleThreshold = 180.0;
+      uniform.flatnessThreshold = 1.0;
+      uniform.featureRule = static_cast<FeatureRule>(r);
+      uniform.maximumLevel = 3;
+      AdaptiveLoopSettings byChord = ByChord(0.0, 3, uniform.featureRule);
+      byChord.edgeAngleThreshold = 120.0; // not used by ChordError
+      byChord.flatnessThreshold = 0.5;
+      const AdaptiveLoopResult a = AdaptiveLoopSubdivide(input, uniform);
+      const AdaptiveLoopResult b = AdaptiveLoopSubdivide(input, byChord);
+      ASSERT_EQ(a.error, "");
+      ASSERT_EQ(b.error, "");
+      ASSERT_EQ(b.levels, 3);
+      EXPECT_EQ(a.mesh.points, b.mesh.points) << "rule " << r;
+      EXPECT_EQ(a.mesh.triangles, b.mesh.triangles) << "rule " << r;
+      EXPECT_EQ(a.mesh.attributes, b.mesh.attributes) << "rule " << r;
+      EXPECT_EQ(a.mesh.region, b.mesh.region) << "rule " << r;
+      EXPECT_EQ(a.trianglesPerLevel, b.trianglesPerLevel) << "rule " << r;
+    }
+}
+
+TEST(AdaptiveLoopSubdivision, ChordErrorInfiniteToleranceLeavesTheInput)
+{
+  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10) };
+  for (const AdaptiveLoopMesh& input : meshes)
+    for (int r = 0; r < 3; ++r)
+    {
+      const AdaptiveLoopResult result = AdaptiveLoopSubdivide(
+        input, ByChord(std::numeric_limits<double>::infinity(), 4, static_cast<FeatureRule>(r)));
+      ASSERT_EQ(result.error, "");
+      EXPECT_EQ(result.levels, 0);
+      EXPECT_EQ(result.mesh.points, input.points);
+      EXPECT_EQ(result.mesh.triangles, input.triangles);
+    }
+}
+
+TEST(AdaptiveLoopSubdivision, ChordErrorRefinesATubeAcrossItsRulingsOnly)
+{
+  // On the tube (8 points per ring, 45 degrees apart), an interior ruling (two ends of valence 6 at the same
+  // angle) has equal end normals (sagitta 0) and its odd point lies on the chord between the ends' moved positions
+  // (the rings are congruent): only half of e = |n . (c + d - a - b)| / 8 = (1 - cos 45) / 4 = 0.073 counts,
+  // 0.037. Ring edges and diagonals bend with the circle: sagitta |(N_b - N_a) . (b - a)| / 8 =
+  // 4 sin^2(22.5) / 8 = 0.073. A tolerance of 0.05 splits those and keeps the rulings; the Surface error rule at
+  // the same tolerance splits the rulings too.
+  const int n = 6, around = 8;
+  const AdaptiveLoopMesh tube = Tube(n, around);
+  const double tolerance = 0.05;
+  const AdaptiveLoopResult chord = AdaptiveLoopSubdivide(tube, ByChord(tolerance, 1, FeatureRule::Fixed));
+  const AdaptiveLoopResult error = AdaptiveLoopSubdivide(tube, ByError(tolerance, 1, FeatureRule::Fixed));
+  ASSERT_EQ(chord.error, "");
+  ASSERT_EQ(error.error, "");
+  const auto use = testing::EdgeUse(AsTriangles(chord.mesh.triangles));
+  const auto errorUse = testing::EdgeUse(AsTriangles(error.mesh.triangles));
+  const auto has = [](const std::map<std::pair<int, int>, int>& edges, int p, int q) {
+    return edges.count({ std::min(p, q), std::max(p, q) }) == 1;
+  };
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < around; ++k)
+    {
+      const int a = i * around + k, b = i * around + (k + 1) % around, c = a + around, d = b + around;
+      if (i > 0 && i + 1 < n) // rulings touching a rim: the rim does not move (Fixed), so e' is not 0 there
+      {
+        EXPECT_TRUE(has(use, a, c)) << "ruling " << a << "-" << c << " split";
+        EXPECT_FALSE(has(errorUse, a, c)) << "Surface error: ruling " << a << "-" << c << " kept";
+      }
+      EXPECT_FALSE(has(use, a, d)) << "diagonal " << a << "-" << d << " not split";
+      if (i > 0) // ring 0 is a rim: boundary edges, never split under Fixed
+      {
+        EXPECT_FALSE(has(use, a, b)) << "ring edge " << a << "-" << b << " not split";
+      }
+    }
+  EXPECT_LT(chord.mesh.NumberOfTriangles(), error.mesh.NumberOfTriangles());
+  ExpectConforming(tube, chord.mesh, "tube, chord error");
+  // Three levels at a tolerance 16 times finer (one level's edges have a quarter of the sagitta): the rulings lag
+  // behind, so fewer triangles than the Surface error rule makes at the same tolerance.
+  const AdaptiveLoopResult three = AdaptiveLoopSubdivide(tube, ByChord(tolerance / 16.0, 3, FeatureRule::Fixed));
+  const AdaptiveLoopResult threeByError =
+    AdaptiveLoopSubdivide(tube, ByError(tolerance / 16.0, 3, FeatureRule::Fixed));
+  ASSERT_EQ(three.error, "");
+  ASSERT_EQ(three.levels, 3);
+  EXPECT_LT(three.mesh.NumberOfTriangles(), threeByError.mesh.NumberOfTriangles());
+  ExpectConforming(tube, three.mesh, "tube, chord error, 3 levels");
+}
+
+TEST(AdaptiveLoopSubdivision, ChordErrorConformingAndDeterministicOnRandomTolerances)
+{
+  std::mt19937_64 random(20261123);
+  std::uniform_real_distribution<double> exponent(-6.0, 0.0);
+  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10), Tube(5, 9) };
+  for (int trial = 0; trial < 30; ++trial)
+  {
+    const AdaptiveLoopMesh& input = meshes[trial % 3];
+    const double tolerance = std::pow(10.0, exponent(random));
+    AdaptiveLoopSettings s = ByChord(tolerance, 1 + trial % 4, static_cast<FeatureRule>(trial % 3));
+    const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
+    ASSERT_EQ(result.error, "");
+    const std::string what = "trial " + std::to_string(trial) + " tolerance " + std::to_string(tolerance);
+    ExpectConforming(input, result.mesh, what);
+    EXPECT_EQ(result.trianglesPerLevel.back(), result.mesh.NumberOfTriangles());
+    EXPECT_EQ(result.mesh.origin.size(), result.mesh.NumberOfTriangles());
+    s.parallelFor = ThreeThreadFor;
+    const AdaptiveLoopResult again = AdaptiveLoopSubdivide(input, s);
+    EXPECT_EQ(again.mesh.points, result.mesh.points) << what;
+    EXPECT_EQ(again.mesh.triangles, result.mesh.triangles) << what;
+    EXPECT_EQ(again.mesh.attributes, result.mesh.attributes) << what;
+  }
+}
+
+TEST(AdaptiveLoopSubdivision, ChordErrorKeepsFixedFeaturesBitIdentical)
+{
+  const AdaptiveLoopMesh input = Blade(14);
+  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, ByChord(1e-4, 3, FeatureRule::Fixed));
+  ASSERT_EQ(result.error, "");
+  ASSERT_GT(result.levels, 0);
+  std::size_t featurePoints = 0;
+  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
+    if (input.region[v] == 1 || input.region[v] == 4)
+    {
+      ++featurePoints;
+      for (int j = 0; j < 3; ++j)
+        ASSERT_EQ(result.mesh.points[3 * v + j], input.points[3 * v + j]) << "point " << v;
+    }
+  EXPECT_GT(featurePoints, 20u);
+  const auto loopsIn = testing::BoundaryLoops(AsTriangles(input.triangles));
+  const auto loopsOut = testing::BoundaryLoops(AsTriangles(result.mesh.triangles));
+  ASSERT_EQ(loopsOut.size(), 1u);
+  EXPECT_EQ(loopsOut[0].size(), loopsIn[0].size());
+}
+
+TEST(AdaptiveLoopSubdivision, ChordErrorAttributesFollowThePositionStencils)
+{
+  AdaptiveLoopMesh input = Blade(12);
+  input.attributeComponents = 3; // the position itself: after any run it must equal the output positions
+  input.attributes = input.points;
+  for (const FeatureRule rule : { FeatureRule::Fixed, FeatureRule::Loop, FeatureRule::Refine })
+  {
+    const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, ByChord(3e-4, 3, rule));
+    ASSERT_EQ(result.error, "");
+    ASSERT_GT(result.levels, 0);
+    EXPECT_EQ(result.mesh.attributes, result.mesh.points);
+  }
 }
 
 } // namespace

@@ -382,7 +382,7 @@ TEST(AdaptiveLoopFilter, BadPropertiesAreNamedWithTheirRangeAndGiveEmptyOutput)
     { [](vtkAdaptiveLoopFilter* f) { f->SetFeatureRule(7); }, "FeatureRule = 7 must be 0 (Fixed), 1 (Loop) or 2" },
     { [](vtkAdaptiveLoopFilter* f) { f->SetMaximumTriangles(0); }, "MaximumTriangles = 0 must be in [1, " },
     { [](vtkAdaptiveLoopFilter* f) { f->SetNumberOfThreads(-2); }, "NumberOfThreads = -2 must be in [0, 256]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetRefinementRule(3); }, "RefinementRule = 3 must be 0 (Dihedral angle) or 1" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetRefinementRule(3); }, "RefinementRule = 3 must be 0 (Dihedral angle), 1 (Surface error) or 2 (Chord error)" },
     { [](vtkAdaptiveLoopFilter* f) { f->SetErrorTolerance(-1.0); }, "ErrorTolerance = -1 must be in [0, inf]" },
     { [](vtkAdaptiveLoopFilter* f) {
         f->SetMaximumLevel(4);
@@ -408,43 +408,46 @@ TEST(AdaptiveLoopFilter, BadPropertiesAreNamedWithTheirRangeAndGiveEmptyOutput)
   EXPECT_EQ(run.output->GetNumberOfPoints(), 0);
 }
 
-TEST(AdaptiveLoopFilter, SurfaceErrorRuleFromZeroToHugeTolerance)
+TEST(AdaptiveLoopFilter, ErrorRulesFromZeroToHugeTolerance)
 {
   const vtkSmartPointer<vtkPolyData> input = CurvedBlade(16);
-  const auto byError = [](double tolerance) {
-    return [tolerance](vtkAdaptiveLoopFilter* f) {
-      f->SetMaximumLevel(2);
-      f->SetRefinementRule(vtkAdaptiveLoopFilter::SURFACE_ERROR);
-      f->SetErrorTolerance(tolerance);
-      f->SetEdgeAngleThreshold(90.0); // unused by this rule
-    };
-  };
-  // Tolerance 0: the same output as uniform mode with the same (Fixed) feature rule, point for point.
-  const FilterRun zero = Subdivide(input, byError(0.0));
-  const FilterRun uniform = Subdivide(input, [](vtkAdaptiveLoopFilter* f) {
-    f->SetMaximumLevel(2);
-    f->SetEdgeAngleThreshold(180.0);
-    f->SetFlatnessThreshold(1.0);
-  });
-  ASSERT_EQ(zero.errors, "");
-  ASSERT_EQ(zero.output->GetNumberOfPoints(), uniform.output->GetNumberOfPoints());
-  ASSERT_EQ(zero.output->GetNumberOfCells(), uniform.output->GetNumberOfCells());
-  for (vtkIdType i = 0; i < zero.output->GetNumberOfPoints(); ++i)
+  for (const int rule : { vtkAdaptiveLoopFilter::SURFACE_ERROR, vtkAdaptiveLoopFilter::CHORD_ERROR })
   {
-    double p[3], q[3];
-    zero.output->GetPoint(i, p);
-    uniform.output->GetPoint(i, q);
-    ASSERT_TRUE(p[0] == q[0] && p[1] == q[1] && p[2] == q[2]) << i;
+    const auto byError = [rule](double tolerance) {
+      return [tolerance, rule](vtkAdaptiveLoopFilter* f) {
+        f->SetMaximumLevel(2);
+        f->SetRefinementRule(rule);
+        f->SetErrorTolerance(tolerance);
+        f->SetEdgeAngleThreshold(90.0); // unused by this rule
+      };
+    };
+    // Tolerance 0: the same output as uniform mode with the same (Fixed) feature rule, point for point.
+    const FilterRun zero = Subdivide(input, byError(0.0));
+    const FilterRun uniform = Subdivide(input, [](vtkAdaptiveLoopFilter* f) {
+      f->SetMaximumLevel(2);
+      f->SetEdgeAngleThreshold(180.0);
+      f->SetFlatnessThreshold(1.0);
+    });
+    ASSERT_EQ(zero.errors, "");
+    ASSERT_EQ(zero.output->GetNumberOfPoints(), uniform.output->GetNumberOfPoints());
+    ASSERT_EQ(zero.output->GetNumberOfCells(), uniform.output->GetNumberOfCells());
+    for (vtkIdType i = 0; i < zero.output->GetNumberOfPoints(); ++i)
+    {
+      double p[3], q[3];
+      zero.output->GetPoint(i, p);
+      uniform.output->GetPoint(i, q);
+      ASSERT_TRUE(p[0] == q[0] && p[1] == q[1] && p[2] == q[2]) << i;
+    }
+    // A moderate tolerance refines part of the blade; a huge one returns the input's surface.
+    const FilterRun some = Subdivide(input, byError(1e-3));
+    ASSERT_EQ(some.errors, "");
+    EXPECT_GT(some.output->GetNumberOfCells(), input->GetNumberOfPolys());
+    EXPECT_LT(some.output->GetNumberOfCells(), uniform.output->GetNumberOfCells());
+    const FilterRun huge = Subdivide(input, byError(1e30));
+    ASSERT_EQ(huge.errors, "");
+    EXPECT_EQ(huge.output->GetNumberOfCells(), input->GetNumberOfPolys());
+    EXPECT_EQ(huge.output->GetNumberOfPoints(), input->GetNumberOfPoints());
   }
-  // A moderate tolerance refines part of the blade; a huge one returns the input's surface.
-  const FilterRun some = Subdivide(input, byError(1e-3));
-  ASSERT_EQ(some.errors, "");
-  EXPECT_GT(some.output->GetNumberOfCells(), input->GetNumberOfPolys());
-  EXPECT_LT(some.output->GetNumberOfCells(), uniform.output->GetNumberOfCells());
-  const FilterRun huge = Subdivide(input, byError(1e30));
-  ASSERT_EQ(huge.errors, "");
-  EXPECT_EQ(huge.output->GetNumberOfCells(), input->GetNumberOfPolys());
-  EXPECT_EQ(huge.output->GetNumberOfPoints(), input->GetNumberOfPoints());
 }
 
 TEST(AdaptiveLoopFilter, ThreadCountDoesNotChangeTheOutput)

@@ -137,6 +137,18 @@ checks.check(zero.GetNumberOfCells() == uniform_fixed.GetNumberOfCells() and boo
              "Surface error, tolerance 0: uniform mode's points")
 loop.FlatnessThreshold = 0.998
 
+# The Chord error rule (not in the paper, anisotropic): the same guarantees through the proxy.
+loop.RefinementRule = "Chord error"
+loop.ErrorTolerance = 0.002
+by_chord = servermanager.Fetch(loop)
+checks.check(n_in < by_chord.GetNumberOfCells() < n_uniform_fixed,
+             "Chord error: %d triangles, between %d and %d" % (by_chord.GetNumberOfCells(), n_in, n_uniform_fixed))
+checks.check(set(edge_use(by_chord).values()) <= {1, 2}, "Chord error: conforming")
+by_chord_points = vtk_to_numpy(by_chord.GetPoints().GetData())
+checks.check(bool((by_chord_points[:len(in_points)][feature] == in_points[feature]).all()),
+             "Chord error, Fixed: margin and midvein points bit-identical")
+loop.RefinementRule = "Dihedral angle"
+
 # Bad properties: an error and an empty output (ParaView prints the error; the script carries on).
 loop.EdgeAngleThreshold = 200
 bad = servermanager.Fetch(loop)
