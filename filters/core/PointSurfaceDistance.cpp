@@ -9,6 +9,10 @@
 #include <utility>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace plantmorph
 {
 
@@ -17,7 +21,7 @@ namespace
 constexpr double Infinity = std::numeric_limits<double>::infinity();
 constexpr std::size_t TriangleLeafSize = 4;
 constexpr std::size_t PointLeafSize = 8;
-constexpr int StackSize = 96; // the median-split tree has depth <= log2(2^32) + 1
+constexpr int StackSize = 96; // the 4-wide tree has depth <= 17 (median splits of < 2^32), <= 3 entries a level
 
 inline double Dot(const double a[3], const double b[3])
 {
@@ -380,30 +384,157 @@ void PointSurfaceDistance::BuildSlabs(const std::vector<std::uint32_t>& nodeRang
 }
 
 //------------------------------------------------------------------------------
-inline double PointSurfaceDistance::NodeDistance2(const Node& node, const double p[3], double best2) const
+void PointSurfaceDistance::CollapseToWideNodes()
 {
-  // Cheapest first: a node whose box is already no nearer than best2 is pruned without its coin.
-  const double box2 = BoxDistance2(p, node.lo, node.hi);
-  if (box2 >= best2 || !this->SlabBounds || node.h <= 0.0)
+  // Every wide node takes the grandchildren of a binary inner node as its children (a child that is a leaf stays
+  // one lane), so the 4-wide tree has half the levels. Serial: it only copies bounds.
+  this->WideNodes.clear();
+  const auto emptyLanes = [](WideNode& wide) {
+    for (int j = 0; j < 4; ++j)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        wide.lo[k][j] = Infinity;
+        wide.hi[k][j] = -Infinity;
+        wide.o[k][j] = wide.n[k][j] = 0.0;
+      }
+      wide.h[j] = wide.r[j] = 0.0;
+      wide.start[j] = wide.count[j] = 0;
+    }
+  };
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pending; // binary inner node -> its wide node
+  this->WideNodes.emplace_back();
+  emptyLanes(this->WideNodes[0]);
+  std::vector<std::uint32_t> lanes;
+  if (this->Nodes[0].count > 0) // the whole tree is one leaf: a root with one lane
   {
-    return box2;
+    lanes.push_back(0);
   }
-  const double d[3] = { p[0] - node.o[0], p[1] - node.o[1], p[2] - node.o[2] };
-  const double pad = 1e-14 * (std::fabs(d[0]) + std::fabs(d[1]) + std::fabs(d[2]));
-  const double axial = std::max(0.0, std::fabs(Dot(node.n, d)) - node.h - pad);
-  if (axial * axial >= best2)
+  else
   {
-    return axial * axial;
+    pending.emplace_back(0, 0);
   }
-  double side[3];
-  Cross(node.n, d, side);
-  const double side2 = Dot(side, side);
-  double lateral = 0.0;
-  if (side2 > node.r * node.r)
+  std::size_t next = 0;
+  do
   {
-    lateral = std::max(0.0, std::sqrt(side2) - node.r - pad);
+    std::uint32_t wideIndex = 0;
+    if (!pending.empty())
+    {
+      const auto [binary, wideOfBinary] = pending[next++];
+      wideIndex = wideOfBinary;
+      lanes.clear();
+      for (const std::uint32_t child : { binary + 1, this->Nodes[binary].start })
+      {
+        const Node& c = this->Nodes[child];
+        if (c.count > 0)
+        {
+          lanes.push_back(child);
+        }
+        else
+        {
+          lanes.push_back(child + 1);
+          lanes.push_back(c.start);
+        }
+      }
+    }
+    for (std::size_t j = 0; j < lanes.size(); ++j)
+    {
+      const Node& c = this->Nodes[lanes[j]];
+      std::uint32_t start = c.start;
+      if (c.count == 0)
+      {
+        start = static_cast<std::uint32_t>(this->WideNodes.size());
+        this->WideNodes.emplace_back();
+        emptyLanes(this->WideNodes.back());
+        pending.emplace_back(lanes[j], start);
+      }
+      WideNode& wide = this->WideNodes[wideIndex];
+      for (int k = 0; k < 3; ++k)
+      {
+        wide.lo[k][j] = c.lo[k];
+        wide.hi[k][j] = c.hi[k];
+        wide.o[k][j] = c.o[k];
+        wide.n[k][j] = c.n[k];
+      }
+      wide.h[j] = c.h;
+      wide.r[j] = c.r;
+      wide.start[j] = start;
+      wide.count[j] = c.count;
+    }
+  } while (next < pending.size());
+  this->WideNodes.shrink_to_fit();
+  this->Nodes = std::vector<Node>();
+}
+
+//------------------------------------------------------------------------------
+inline void PointSurfaceDistance::WideNodeDistance2(
+  const WideNode& node, const double p[3], bool slabs, double out[4]) const
+{
+  // Lower bounds of the squared distance from p to the four children: the box distance, and with slabs the coin
+  // distance (see the header; a lane without a coin has n = 0, h = r = 0, which gives 0 there), the larger of the
+  // two. The same bounds and round-off pads as one node at a time, computed for two lanes per instruction.
+#if defined(__SSE2__)
+  const __m128d zero = _mm_setzero_pd();
+  const __m128d signBit = _mm_set1_pd(-0.0);
+  const __m128d padScale = _mm_set1_pd(1e-14);
+  const __m128d pk[3] = { _mm_set1_pd(p[0]), _mm_set1_pd(p[1]), _mm_set1_pd(p[2]) };
+  for (int j = 0; j < 4; j += 2)
+  {
+    __m128d box2 = zero;
+    for (int k = 0; k < 3; ++k)
+    {
+      const __m128d below = _mm_sub_pd(_mm_load_pd(&node.lo[k][j]), pk[k]);
+      const __m128d above = _mm_sub_pd(pk[k], _mm_load_pd(&node.hi[k][j]));
+      const __m128d d = _mm_max_pd(_mm_max_pd(below, above), zero);
+      box2 = _mm_add_pd(box2, _mm_mul_pd(d, d));
+    }
+    if (slabs)
+    {
+      __m128d d[3];
+      __m128d n[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        d[k] = _mm_sub_pd(pk[k], _mm_load_pd(&node.o[k][j]));
+        n[k] = _mm_load_pd(&node.n[k][j]);
+      }
+      const __m128d pad = _mm_mul_pd(padScale,
+        _mm_add_pd(_mm_add_pd(_mm_andnot_pd(signBit, d[0]), _mm_andnot_pd(signBit, d[1])),
+          _mm_andnot_pd(signBit, d[2])));
+      const __m128d dot =
+        _mm_add_pd(_mm_add_pd(_mm_mul_pd(n[0], d[0]), _mm_mul_pd(n[1], d[1])), _mm_mul_pd(n[2], d[2]));
+      const __m128d axial = _mm_max_pd(
+        _mm_sub_pd(_mm_sub_pd(_mm_andnot_pd(signBit, dot), _mm_load_pd(&node.h[j])), pad), zero);
+      const __m128d side0 = _mm_sub_pd(_mm_mul_pd(n[1], d[2]), _mm_mul_pd(n[2], d[1]));
+      const __m128d side1 = _mm_sub_pd(_mm_mul_pd(n[2], d[0]), _mm_mul_pd(n[0], d[2]));
+      const __m128d side2 = _mm_sub_pd(_mm_mul_pd(n[0], d[1]), _mm_mul_pd(n[1], d[0]));
+      const __m128d lateralLength = _mm_sqrt_pd(
+        _mm_add_pd(_mm_add_pd(_mm_mul_pd(side0, side0), _mm_mul_pd(side1, side1)), _mm_mul_pd(side2, side2)));
+      const __m128d lateral =
+        _mm_max_pd(_mm_sub_pd(_mm_sub_pd(lateralLength, _mm_load_pd(&node.r[j])), pad), zero);
+      box2 = _mm_max_pd(_mm_add_pd(_mm_mul_pd(axial, axial), _mm_mul_pd(lateral, lateral)), box2);
+    }
+    _mm_storeu_pd(out + j, box2);
   }
-  return std::max(box2, axial * axial + lateral * lateral);
+#else
+  for (int j = 0; j < 4; ++j)
+  {
+    const double lo[3] = { node.lo[0][j], node.lo[1][j], node.lo[2][j] };
+    const double hi[3] = { node.hi[0][j], node.hi[1][j], node.hi[2][j] };
+    double bound2 = BoxDistance2(p, lo, hi);
+    if (slabs)
+    {
+      const double d[3] = { p[0] - node.o[0][j], p[1] - node.o[1][j], p[2] - node.o[2][j] };
+      const double n[3] = { node.n[0][j], node.n[1][j], node.n[2][j] };
+      const double pad = 1e-14 * (std::fabs(d[0]) + std::fabs(d[1]) + std::fabs(d[2]));
+      const double axial = std::max(0.0, std::fabs(Dot(n, d)) - node.h[j] - pad);
+      double side[3];
+      Cross(n, d, side);
+      const double lateral = std::max(0.0, std::sqrt(Dot(side, side)) - node.r[j] - pad);
+      bound2 = std::max(bound2, axial * axial + lateral * lateral);
+    }
+    out[j] = bound2;
+  }
+#endif
 }
 
 //------------------------------------------------------------------------------
@@ -487,6 +618,7 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
   });
   this->BuildSlabs(nodeRange, parallelFor);
   nodeRange = std::vector<std::uint32_t>();
+  this->CollapseToWideNodes();
 
   // Pseudo-normals, from the corners around each vertex (a counting sort of the 3 * triangleCount corners by
   // vertex, in corner order, so every sum below adds its terms in triangle order whatever the threads).
@@ -601,6 +733,7 @@ std::string PointSurfaceDistance::BuildCloud(
   std::vector<double> centroid = lo;
   std::vector<std::uint32_t> nodeRange;
   this->BuildTree(lo, hi, centroid, pointCount, PointLeafSize, nodeRange, parallelFor);
+  this->CollapseToWideNodes();
   this->Surface = false;
   this->CloudPoints.resize(3 * pointCount);
   parallelFor(pointCount, [&](std::size_t begin, std::size_t end) {
@@ -646,7 +779,7 @@ inline double PointSurfaceDistance::PrimitiveDistance2(std::size_t leafIndex, co
 DistanceQueryResult PointSurfaceDistance::Query(const double p[3], std::int64_t hint) const
 {
   DistanceQueryResult result;
-  if (this->Nodes.empty())
+  if (this->WideNodes.empty())
   {
     result.distance = result.signedDistance = Infinity;
     return result;
@@ -659,23 +792,28 @@ DistanceQueryResult PointSurfaceDistance::Query(const double p[3], std::int64_t 
     best2 = this->PrimitiveDistance2(bestLeaf, p, Infinity);
   }
 
-  std::uint32_t stack[StackSize];
-  double stackDistance[StackSize];
+  // The stack holds children still to visit: a wide node (count 0) or a leaf's primitives, with their bound.
+  struct Entry
+  {
+    double distance2;
+    std::uint32_t start;
+    std::uint32_t count;
+  };
+  Entry stack[StackSize];
   int top = 0;
-  stack[top] = 0;
-  stackDistance[top++] = this->NodeDistance2(this->Nodes[0], p, best2);
+  stack[top++] = { 0.0, 0, 0 };
+  const bool slabs = this->Surface && this->SlabBounds;
+  alignas(16) double bound2[4];
   while (top > 0)
   {
-    --top;
-    if (stackDistance[top] >= best2)
+    const Entry entry = stack[--top];
+    if (entry.distance2 >= best2)
     {
       continue;
     }
-    const std::uint32_t nodeIndex = stack[top];
-    const Node& node = this->Nodes[nodeIndex];
-    if (node.count > 0)
+    if (entry.count > 0)
     {
-      for (std::size_t i = node.start; i < node.start + node.count; ++i)
+      for (std::size_t i = entry.start; i < entry.start + entry.count; ++i)
       {
         const double d2 = this->PrimitiveDistance2(i, p, best2);
         if (d2 < best2)
@@ -686,36 +824,27 @@ DistanceQueryResult PointSurfaceDistance::Query(const double p[3], std::int64_t 
       }
       continue;
     }
-    const std::uint32_t left = nodeIndex + 1;
-    const std::uint32_t right = node.start;
-    const double dl = this->NodeDistance2(this->Nodes[left], p, best2);
-    const double dr = this->NodeDistance2(this->Nodes[right], p, best2);
-    // Push the farther child first so the nearer one is visited next.
-    if (dl <= dr)
+    const WideNode& node = this->WideNodes[entry.start];
+    this->WideNodeDistance2(node, p, slabs, bound2);
+    // The children nearer than the best so far, farthest first onto the stack, so the nearest is visited next
+    // (equal bounds: the lower lane next).
+    int lanes[4];
+    int kept = 0;
+    for (int j = 0; j < 4; ++j)
     {
-      if (dr < best2)
+      if (bound2[j] < best2)
       {
-        stack[top] = right;
-        stackDistance[top++] = dr;
-      }
-      if (dl < best2)
-      {
-        stack[top] = left;
-        stackDistance[top++] = dl;
+        int at = kept++;
+        for (; at > 0 && bound2[lanes[at - 1]] <= bound2[j]; --at)
+        {
+          lanes[at] = lanes[at - 1];
+        }
+        lanes[at] = j;
       }
     }
-    else
+    for (int i = 0; i < kept; ++i)
     {
-      if (dl < best2)
-      {
-        stack[top] = left;
-        stackDistance[top++] = dl;
-      }
-      if (dr < best2)
-      {
-        stack[top] = right;
-        stackDistance[top++] = dr;
-      }
+      stack[top++] = { bound2[lanes[i]], node.start[lanes[i]], node.count[lanes[i]] };
     }
   }
 
@@ -891,7 +1020,7 @@ void PointSurfaceDistance::GetTriangleNormal(std::int64_t triangle, double norma
 //------------------------------------------------------------------------------
 std::size_t PointSurfaceDistance::MemoryBytes() const
 {
-  return this->Nodes.capacity() * sizeof(Node) + this->PrimitiveIds.capacity() * sizeof(std::uint32_t) +
+  return this->WideNodes.capacity() * sizeof(WideNode) + this->PrimitiveIds.capacity() * sizeof(std::uint32_t) +
     this->LeafOf.capacity() * sizeof(std::uint32_t) + this->Triangles.capacity() * sizeof(Triangle) +
     this->CloudPoints.capacity() * sizeof(double) + this->TriangleVertices.capacity() * sizeof(std::int64_t) +
     this->EdgeNormals.capacity() * sizeof(double) + this->VertexNormals.capacity() * sizeof(double);

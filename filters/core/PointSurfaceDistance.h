@@ -109,7 +109,7 @@ public:
   void SetSlabBounds(bool on) { this->SlabBounds = on; }
   bool GetSlabBounds() const { return this->SlabBounds; }
 
-  bool IsEmpty() const { return this->Nodes.empty(); }
+  bool IsEmpty() const { return this->WideNodes.empty(); }
   bool IsSurface() const { return this->Surface; }
   std::size_t GetNumberOfPrimitives() const { return this->PrimitiveIds.size(); }
 
@@ -130,7 +130,7 @@ public:
   std::size_t MemoryBytes() const;
 
 private:
-  struct Node
+  struct Node ///< a node of the binary tree (built, then collapsed into WideNodes)
   {
     double lo[3];
     double hi[3];
@@ -140,6 +140,21 @@ private:
     double r;            ///< coin radius: largest distance of a vertex from the axis, padded
     std::uint32_t start; ///< leaf: first primitive (in leaf order); inner: index of the right child
     std::uint32_t count; ///< leaf: number of primitives; inner: 0
+  };
+  /// A node of the 4-wide tree the queries walk: the bounds of up to four children side by side (lane j of every
+  /// array is child j), so one query computes the four bounds at once (SSE2, two lanes at a time). A child is a
+  /// leaf (count > 0: primitives [start, start + count) in leaf order) or another wide node (count 0: its index).
+  /// An unused lane has an empty box (lo = +inf, hi = -inf: bound +inf) and no coin.
+  struct alignas(16) WideNode
+  {
+    double lo[3][4];
+    double hi[3][4];
+    double o[3][4];
+    double n[3][4];
+    double h[4];
+    double r[4];
+    std::uint32_t start[4];
+    std::uint32_t count[4];
   };
   struct Triangle ///< a triangle in leaf order: vertex a, edges ab and ac, unit normal (0 when degenerate)
   {
@@ -153,12 +168,14 @@ private:
     std::size_t count, std::size_t leafSize, std::vector<std::uint32_t>& nodeRange,
     const ParallelFor& parallelFor);
   void BuildSlabs(const std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor);
-  double NodeDistance2(const Node& node, const double p[3], double best2) const;
+  void CollapseToWideNodes();
+  void WideNodeDistance2(const WideNode& node, const double p[3], bool slabs, double out[4]) const;
   double PrimitiveDistance2(std::size_t leafIndex, const double p[3], double best2) const;
 
   bool Surface = false;
   bool SlabBounds = true;
-  std::vector<Node> Nodes;
+  std::vector<Node> Nodes;         ///< binary tree, during the build only
+  std::vector<WideNode> WideNodes; ///< the tree the queries walk; root 0
   std::vector<std::uint32_t> PrimitiveIds; ///< leaf order -> original triangle or point index
   std::vector<std::uint32_t> LeafOf;       ///< original index -> leaf order
   std::vector<Triangle> Triangles;         ///< surface mode, leaf order
