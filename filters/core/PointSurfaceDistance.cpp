@@ -966,31 +966,55 @@ void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, do
       order.swap(buffer);
     }
   }
+  // Batches of queries: the batch's points are first gathered from the input into a small buffer and its results
+  // scattered back after, each in a tight loop of its own (random accesses the processor overlaps), rather than one
+  // random read and several random writes between two searches (15% of the time on a randomly ordered cloud).
+  constexpr std::size_t Batch = 1024;
   const auto body = [&](std::size_t offset) {
     return [&, offset](std::size_t begin, std::size_t end) {
       std::int64_t hint = -1;
-      for (std::size_t s = offset + begin; s < offset + end; ++s)
+      std::vector<double> batchPoints(3 * Batch);
+      std::vector<DistanceQueryResult> results(Batch);
+      const auto inputIndex = [&](std::size_t s) {
+        return sorted ? static_cast<std::size_t>(order[s] & 0xffffffffULL) : s;
+      };
+      for (std::size_t first = offset + begin; first < offset + end; first += Batch)
       {
-        const std::size_t i = sorted ? static_cast<std::size_t>(order[s] & 0xffffffffULL) : s;
-        const DistanceQueryResult r = this->Query(points + 3 * i, hint);
-        hint = r.primitive;
-        if (distance)
+        const std::size_t size = std::min(Batch, offset + end - first);
+        for (std::size_t j = 0; j < size; ++j)
         {
-          distance[i] = r.distance;
+          const double* p = points + 3 * inputIndex(first + j);
+          batchPoints[3 * j] = p[0]; // element by element: std::copy_n here became a memmove call
+          batchPoints[3 * j + 1] = p[1];
+          batchPoints[3 * j + 2] = p[2];
         }
-        if (signedDistance)
+        for (std::size_t j = 0; j < size; ++j)
         {
-          signedDistance[i] = r.signedDistance;
+          results[j] = this->Query(&batchPoints[3 * j], hint);
+          hint = results[j].primitive;
         }
-        if (closest)
+        for (std::size_t j = 0; j < size; ++j)
         {
-          closest[3 * i] = r.closest[0];
-          closest[3 * i + 1] = r.closest[1];
-          closest[3 * i + 2] = r.closest[2];
-        }
-        if (primitive)
-        {
-          primitive[i] = r.primitive;
+          const std::size_t i = inputIndex(first + j);
+          const DistanceQueryResult& r = results[j];
+          if (distance)
+          {
+            distance[i] = r.distance;
+          }
+          if (signedDistance)
+          {
+            signedDistance[i] = r.signedDistance;
+          }
+          if (closest)
+          {
+            closest[3 * i] = r.closest[0];
+            closest[3 * i + 1] = r.closest[1];
+            closest[3 * i + 2] = r.closest[2];
+          }
+          if (primitive)
+          {
+            primitive[i] = r.primitive;
+          }
         }
       }
     };
