@@ -402,66 +402,64 @@ void PointSurfaceDistance::CollapseToWideNodes()
       wide.start[j] = wide.count[j] = 0;
     }
   };
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pending; // binary inner node -> its wide node
+  // Depth first (a stack of binary inner nodes still to collapse, with their wide node), so a subtree's wide nodes
+  // lie together in memory, as its queries need them.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pending;
+  this->WideNodes.reserve(this->Nodes.size() / 2 + 1);
   this->WideNodes.emplace_back();
   emptyLanes(this->WideNodes[0]);
-  std::vector<std::uint32_t> lanes;
+  // Lane j of wide node `wideIndex` becomes binary node `binary`: its bounds, and a leaf range or a new wide node.
+  const auto fillLane = [&](std::uint32_t wideIndex, int j, std::uint32_t binary) {
+    const Node& c = this->Nodes[binary];
+    std::uint32_t start = c.start;
+    if (c.count == 0)
+    {
+      start = static_cast<std::uint32_t>(this->WideNodes.size());
+      this->WideNodes.emplace_back();
+      emptyLanes(this->WideNodes.back());
+      pending.emplace_back(binary, start);
+    }
+    WideNode& wide = this->WideNodes[wideIndex];
+    for (int k = 0; k < 3; ++k)
+    {
+      wide.lo[k][j] = c.lo[k];
+      wide.hi[k][j] = c.hi[k];
+      wide.o[k][j] = c.o[k];
+      wide.n[k][j] = c.n[k];
+    }
+    wide.h[j] = c.h;
+    wide.r[j] = c.r;
+    wide.start[j] = start;
+    wide.count[j] = c.count;
+  };
   if (this->Nodes[0].count > 0) // the whole tree is one leaf: a root with one lane
   {
-    lanes.push_back(0);
+    fillLane(0, 0, 0);
   }
   else
   {
     pending.emplace_back(0, 0);
   }
-  std::size_t next = 0;
-  do
+  while (!pending.empty())
   {
-    std::uint32_t wideIndex = 0;
-    if (!pending.empty())
+    const auto [binary, wideIndex] = pending.back();
+    pending.pop_back();
+    int j = 0;
+    for (const std::uint32_t child : { binary + 1, this->Nodes[binary].start })
     {
-      const auto [binary, wideOfBinary] = pending[next++];
-      wideIndex = wideOfBinary;
-      lanes.clear();
-      for (const std::uint32_t child : { binary + 1, this->Nodes[binary].start })
+      const Node& c = this->Nodes[child];
+      if (c.count > 0)
       {
-        const Node& c = this->Nodes[child];
-        if (c.count > 0)
-        {
-          lanes.push_back(child);
-        }
-        else
-        {
-          lanes.push_back(child + 1);
-          lanes.push_back(c.start);
-        }
+        fillLane(wideIndex, j++, child);
+      }
+      else
+      {
+        const std::uint32_t rightGrandchild = c.start;
+        fillLane(wideIndex, j++, child + 1);
+        fillLane(wideIndex, j++, rightGrandchild);
       }
     }
-    for (std::size_t j = 0; j < lanes.size(); ++j)
-    {
-      const Node& c = this->Nodes[lanes[j]];
-      std::uint32_t start = c.start;
-      if (c.count == 0)
-      {
-        start = static_cast<std::uint32_t>(this->WideNodes.size());
-        this->WideNodes.emplace_back();
-        emptyLanes(this->WideNodes.back());
-        pending.emplace_back(lanes[j], start);
-      }
-      WideNode& wide = this->WideNodes[wideIndex];
-      for (int k = 0; k < 3; ++k)
-      {
-        wide.lo[k][j] = c.lo[k];
-        wide.hi[k][j] = c.hi[k];
-        wide.o[k][j] = c.o[k];
-        wide.n[k][j] = c.n[k];
-      }
-      wide.h[j] = c.h;
-      wide.r[j] = c.r;
-      wide.start[j] = start;
-      wide.count[j] = c.count;
-    }
-  } while (next < pending.size());
+  }
   this->WideNodes.shrink_to_fit();
   this->Nodes = std::vector<Node>();
 }
