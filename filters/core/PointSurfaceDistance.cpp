@@ -963,6 +963,7 @@ void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, do
       }
       order.swap(buffer);
     }
+    buffer = std::vector<std::uint64_t>(); // not kept through the queries (8 bytes a point)
   }
   // Batches of queries: the batch's points are first gathered from the input into a small buffer and its results
   // scattered back after, each in a tight loop of its own (random accesses the processor overlaps), rather than one
