@@ -12,6 +12,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define PLANTMORPH_AVX_SEARCH 1
+#endif
 
 namespace plantmorph
 {
@@ -166,6 +170,16 @@ bool AllFinite(const double* values, std::size_t count)
   }
   return true;
 }
+
+#if defined(PLANTMORPH_AVX_SEARCH)
+bool DetectAvx()
+{
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx");
+}
+/// Whether the processor has AVX (the build uses the default x86-64 flags: AVX code runs only behind this check).
+const bool CpuHasAvx = DetectAvx();
+#endif
 } // namespace
 
 
@@ -465,83 +479,14 @@ void PointSurfaceDistance::CollapseToWideNodes()
 }
 
 //------------------------------------------------------------------------------
-inline void PointSurfaceDistance::WideNodeDistance2(
-  const WideNode& node, const double p[3], bool slabs, double out[4]) const
-{
-  // Lower bounds of the squared distance from p to the four children: the box distance, and with slabs the coin
-  // distance (see the header; a lane without a coin has n = 0, h = r = 0, which gives 0 there), the larger of the
-  // two. The same bounds and round-off pads as one node at a time, computed for two lanes per instruction.
-#if defined(__SSE2__)
-  const __m128d zero = _mm_setzero_pd();
-  const __m128d signBit = _mm_set1_pd(-0.0);
-  const __m128d padScale = _mm_set1_pd(1e-14);
-  const __m128d pk[3] = { _mm_set1_pd(p[0]), _mm_set1_pd(p[1]), _mm_set1_pd(p[2]) };
-  for (int j = 0; j < 4; j += 2)
-  {
-    __m128d box2 = zero;
-    for (int k = 0; k < 3; ++k)
-    {
-      const __m128d below = _mm_sub_pd(_mm_load_pd(&node.lo[k][j]), pk[k]);
-      const __m128d above = _mm_sub_pd(pk[k], _mm_load_pd(&node.hi[k][j]));
-      const __m128d d = _mm_max_pd(_mm_max_pd(below, above), zero);
-      box2 = _mm_add_pd(box2, _mm_mul_pd(d, d));
-    }
-    if (slabs)
-    {
-      __m128d d[3];
-      __m128d n[3];
-      for (int k = 0; k < 3; ++k)
-      {
-        d[k] = _mm_sub_pd(pk[k], _mm_load_pd(&node.o[k][j]));
-        n[k] = _mm_load_pd(&node.n[k][j]);
-      }
-      const __m128d pad = _mm_mul_pd(padScale,
-        _mm_add_pd(_mm_add_pd(_mm_andnot_pd(signBit, d[0]), _mm_andnot_pd(signBit, d[1])),
-          _mm_andnot_pd(signBit, d[2])));
-      const __m128d dot =
-        _mm_add_pd(_mm_add_pd(_mm_mul_pd(n[0], d[0]), _mm_mul_pd(n[1], d[1])), _mm_mul_pd(n[2], d[2]));
-      const __m128d axial = _mm_max_pd(
-        _mm_sub_pd(_mm_sub_pd(_mm_andnot_pd(signBit, dot), _mm_load_pd(&node.h[j])), pad), zero);
-      const __m128d side0 = _mm_sub_pd(_mm_mul_pd(n[1], d[2]), _mm_mul_pd(n[2], d[1]));
-      const __m128d side1 = _mm_sub_pd(_mm_mul_pd(n[2], d[0]), _mm_mul_pd(n[0], d[2]));
-      const __m128d side2 = _mm_sub_pd(_mm_mul_pd(n[0], d[1]), _mm_mul_pd(n[1], d[0]));
-      const __m128d lateralLength = _mm_sqrt_pd(
-        _mm_add_pd(_mm_add_pd(_mm_mul_pd(side0, side0), _mm_mul_pd(side1, side1)), _mm_mul_pd(side2, side2)));
-      const __m128d lateral =
-        _mm_max_pd(_mm_sub_pd(_mm_sub_pd(lateralLength, _mm_load_pd(&node.r[j])), pad), zero);
-      box2 = _mm_max_pd(_mm_add_pd(_mm_mul_pd(axial, axial), _mm_mul_pd(lateral, lateral)), box2);
-    }
-    _mm_storeu_pd(out + j, box2);
-  }
-#else
-  for (int j = 0; j < 4; ++j)
-  {
-    const double lo[3] = { node.lo[0][j], node.lo[1][j], node.lo[2][j] };
-    const double hi[3] = { node.hi[0][j], node.hi[1][j], node.hi[2][j] };
-    double bound2 = BoxDistance2(p, lo, hi);
-    if (slabs)
-    {
-      const double d[3] = { p[0] - node.o[0][j], p[1] - node.o[1][j], p[2] - node.o[2][j] };
-      const double n[3] = { node.n[0][j], node.n[1][j], node.n[2][j] };
-      const double pad = 1e-14 * (std::fabs(d[0]) + std::fabs(d[1]) + std::fabs(d[2]));
-      const double axial = std::max(0.0, std::fabs(Dot(n, d)) - node.h[j] - pad);
-      double side[3];
-      Cross(n, d, side);
-      const double lateral = std::max(0.0, std::sqrt(Dot(side, side)) - node.r[j] - pad);
-      bound2 = std::max(bound2, axial * axial + lateral * lateral);
-    }
-    out[j] = bound2;
-  }
-#endif
-}
-
-//------------------------------------------------------------------------------
 std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t pointCount,
   const std::int64_t* triangles, std::size_t triangleCount, const ParallelFor& parallelFor)
 {
   const bool slabBounds = this->SlabBounds;
+  const bool avx = this->Avx;
   *this = PointSurfaceDistance();
   this->SlabBounds = slabBounds;
+  this->Avx = avx;
   if (triangleCount == 0)
   {
     return "the reference surface has no triangle";
@@ -712,8 +657,10 @@ std::string PointSurfaceDistance::BuildCloud(
   const double* points, std::size_t pointCount, const ParallelFor& parallelFor)
 {
   const bool slabBounds = this->SlabBounds;
+  const bool avx = this->Avx;
   *this = PointSurfaceDistance();
   this->SlabBounds = slabBounds;
+  this->Avx = avx;
   if (pointCount == 0)
   {
     return "the reference point set has no point";
@@ -774,78 +721,46 @@ inline double PointSurfaceDistance::PrimitiveDistance2(std::size_t leafIndex, co
 }
 
 //------------------------------------------------------------------------------
+// The traversal, once with SSE2 bounds (as this file is compiled: every x86-64 processor has SSE2) and, on x86-64,
+// once more compiled for AVX with four-lane bounds, used when the processor has AVX (checked once at load time).
+#define PLANTMORPH_SEARCH SearchSse2
+#define PLANTMORPH_SEARCH_AVX 0
+#include "PointSurfaceDistanceSearch.inc"
+#undef PLANTMORPH_SEARCH
+#undef PLANTMORPH_SEARCH_AVX
+#if defined(PLANTMORPH_AVX_SEARCH)
+#pragma GCC push_options
+#pragma GCC target("avx")
+#define PLANTMORPH_SEARCH SearchAvx
+#define PLANTMORPH_SEARCH_AVX 1
+#include "PointSurfaceDistanceSearch.inc"
+#undef PLANTMORPH_SEARCH
+#undef PLANTMORPH_SEARCH_AVX
+#pragma GCC pop_options
+#endif
+
+//------------------------------------------------------------------------------
 DistanceQueryResult PointSurfaceDistance::Query(const double p[3], std::int64_t hint) const
 {
-  DistanceQueryResult result;
   if (this->WideNodes.empty())
   {
+    DistanceQueryResult result;
     result.distance = result.signedDistance = Infinity;
     return result;
   }
-  double best2 = Infinity;
-  std::size_t bestLeaf = std::numeric_limits<std::size_t>::max();
-  if (hint >= 0 && static_cast<std::size_t>(hint) < this->LeafOf.size())
+#if defined(PLANTMORPH_AVX_SEARCH)
+  if (this->Avx && CpuHasAvx)
   {
-    bestLeaf = this->LeafOf[static_cast<std::size_t>(hint)];
-    best2 = this->PrimitiveDistance2(bestLeaf, p, Infinity);
+    return this->SearchAvx(p, hint);
   }
+#endif
+  return this->SearchSse2(p, hint);
+}
 
-  // The stack holds children still to visit: a wide node (count 0) or a leaf's primitives, with their bound.
-  struct Entry
-  {
-    double distance2;
-    std::uint32_t start;
-    std::uint32_t count;
-  };
-  Entry stack[StackSize];
-  int top = 0;
-  stack[top++] = { 0.0, 0, 0 };
-  const bool slabs = this->Surface && this->SlabBounds;
-  alignas(16) double bound2[4];
-  while (top > 0)
-  {
-    const Entry entry = stack[--top];
-    if (entry.distance2 >= best2)
-    {
-      continue;
-    }
-    if (entry.count > 0)
-    {
-      for (std::size_t i = entry.start; i < entry.start + entry.count; ++i)
-      {
-        const double d2 = this->PrimitiveDistance2(i, p, best2);
-        if (d2 < best2)
-        {
-          best2 = d2;
-          bestLeaf = i;
-        }
-      }
-      continue;
-    }
-    const WideNode& node = this->WideNodes[entry.start];
-    this->WideNodeDistance2(node, p, slabs, bound2);
-    // The children nearer than the best so far, farthest first onto the stack, so the nearest is visited next
-    // (equal bounds: the lower lane next).
-    int lanes[4];
-    int kept = 0;
-    for (int j = 0; j < 4; ++j)
-    {
-      if (bound2[j] < best2)
-      {
-        int at = kept++;
-        for (; at > 0 && bound2[lanes[at - 1]] <= bound2[j]; --at)
-        {
-          lanes[at] = lanes[at - 1];
-        }
-        lanes[at] = j;
-      }
-    }
-    for (int i = 0; i < kept; ++i)
-    {
-      stack[top++] = { bound2[lanes[i]], node.start[lanes[i]], node.count[lanes[i]] };
-    }
-  }
-
+//------------------------------------------------------------------------------
+DistanceQueryResult PointSurfaceDistance::QueryResult(const double p[3], double best2, std::size_t bestLeaf) const
+{
+  DistanceQueryResult result;
   if (bestLeaf == std::numeric_limits<std::size_t>::max())
   {
     // Only when p has a NaN coordinate (every comparison fails).

@@ -113,6 +113,11 @@ public:
   void SetSlabBounds(bool on) { this->SlabBounds = on; }
   bool GetSlabBounds() const { return this->SlabBounds; }
 
+  /// Whether queries use the AVX traversal where the processor has AVX (default on). Off gives the same results bit
+  /// for bit with the SSE2 one (for tests and benchmarks of both).
+  void SetAvx(bool on) { this->Avx = on; }
+  bool GetAvx() const { return this->Avx; }
+
   bool IsEmpty() const { return this->WideNodes.empty(); }
   bool IsSurface() const { return this->Surface; }
   std::size_t GetNumberOfPrimitives() const { return this->PrimitiveIds.size(); }
@@ -149,7 +154,7 @@ private:
   /// array is child j), so one query computes the four bounds at once (SSE2, two lanes at a time). A child is a
   /// leaf (count > 0: primitives [start, start + count) in leaf order) or another wide node (count 0: its index).
   /// An unused lane has an empty box (lo = +inf, hi = -inf: bound +inf) and no coin.
-  struct alignas(16) WideNode
+  struct alignas(32) WideNode
   {
     double lo[3][4];
     double hi[3][4];
@@ -173,11 +178,16 @@ private:
     const ParallelFor& parallelFor);
   void BuildSlabs(const std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor);
   void CollapseToWideNodes();
-  void WideNodeDistance2(const WideNode& node, const double p[3], bool slabs, double out[4]) const;
+  // The traversal (PointSurfaceDistanceSearch.inc) compiled for SSE2 and for AVX (x86-64 only), and the result
+  // from the nearest primitive it found.
+  DistanceQueryResult SearchSse2(const double p[3], std::int64_t hint) const;
+  DistanceQueryResult SearchAvx(const double p[3], std::int64_t hint) const;
+  DistanceQueryResult QueryResult(const double p[3], double best2, std::size_t bestLeaf) const;
   double PrimitiveDistance2(std::size_t leafIndex, const double p[3], double best2) const;
 
   bool Surface = false;
   bool SlabBounds = true;
+  bool Avx = true;
   std::vector<Node> Nodes;         ///< binary tree, during the build only
   std::vector<WideNode> WideNodes; ///< the tree the queries walk; root 0
   std::vector<std::uint32_t> PrimitiveIds; ///< leaf order -> original triangle or point index
