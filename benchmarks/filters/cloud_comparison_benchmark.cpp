@@ -9,10 +9,12 @@
 //   BM_CloudComparison/points:N/threads:T   vtkCloudComparisonFilter, unsigned + signed distance + closest point,
 //                                           statistics and histogram; T = 0: all cores (STDThread), 1: serial.
 //   BM_CloudComparisonSymmetric/points:N    the same with Symmetric on (the reverse direction too).
-//   BM_CoreQueries/scan:S/slabs:B           the algorithm layer alone, serial: PointSurfaceDistance::BuildSurface
+//   BM_CoreQueries/scan:S/slabs:B/avx:A     the algorithm layer alone, serial: PointSurfaceDistance::BuildSurface
 //                                           of the sphere and QueryMany of the 10^6 points (distance, signed
 //                                           distance, closest point) with the nodes' coin bounds (slabs:1) or box
-//                                           bounds only (slabs:0); counters build_s, query_s, pts_per_s (queries).
+//                                           bounds only (slabs:0), the AVX traversal where the processor has AVX
+//                                           (avx:1) or the SSE2 one (avx:0); counters build_s, query_s, pts_per_s
+//                                           (queries).
 //   BM_VtkDistancePolyData/points:N         vtkDistancePolyDataFilter (signed, one direction) on the first N points
 //                                           as vertex cells (it crashes on the single poly-vertex); N is small
 //                                           because it manages about 700 points/s here: extrapolate.
@@ -248,8 +250,8 @@ const FlatSurface& SphereArrays()
 }
 
 /// The algorithm layer alone, serial: BuildSurface of the sphere (once per iteration), then QueryMany of the 10^6
-/// points with slab bounds on (slabs:1) or box bounds only (slabs:0). Counters: build_s, query_s, pts_per_s of the
-/// queries alone.
+/// points with slab bounds on (slabs:1) or box bounds only (slabs:0), AVX (avx:1, where the processor has it) or
+/// SSE2 (avx:0). Counters: build_s, query_s, pts_per_s of the queries alone.
 void BM_CoreQueries(benchmark::State& state)
 {
   const FlatSurface& sphere = SphereArrays();
@@ -269,6 +271,7 @@ void BM_CoreQueries(benchmark::State& state)
   {
     plantmorph::PointSurfaceDistance core;
     core.SetSlabBounds(state.range(1) != 0);
+    core.SetAvx(state.range(2) != 0);
     auto start = std::chrono::steady_clock::now();
     core.BuildSurface(sphere.points.data(), sphere.points.size() / 3, sphere.triangles.data(),
       sphere.triangles.size() / 3);
@@ -287,11 +290,13 @@ void BM_CoreQueries(benchmark::State& state)
   state.counters["pts_per_s"] = static_cast<double>(n) * iterations / query;
 }
 BENCHMARK(BM_CoreQueries)
-  ->ArgNames({ "scan", "slabs" })
-  ->Args({ 0, 1 })
-  ->Args({ 1, 1 })
-  ->Args({ 0, 0 })
-  ->Args({ 1, 0 })
+  ->ArgNames({ "scan", "slabs", "avx" })
+  ->Args({ 0, 1, 1 })
+  ->Args({ 1, 1, 1 })
+  ->Args({ 0, 1, 0 })
+  ->Args({ 1, 1, 0 })
+  ->Args({ 0, 0, 1 })
+  ->Args({ 1, 0, 1 })
   ->UseManualTime()
   ->Unit(benchmark::kMillisecond)
   ->Iterations(1);

@@ -28,11 +28,13 @@
 // the closest point is that point, and there is no signed distance (the query reports it equal to the distance).
 //
 // The BVH: binary, built by median splits on the longest axis of the primitives' centroid bounds, leaves of up to
-// four triangles (eight points), stored depth first (left child next to its parent) with double-precision boxes,
-// built one level at a time with the nodes of a level in parallel (the same tree as a serial build).
-// Triangles are copied into leaf order with their vertex, edge vectors and unit normal so a query touches
-// contiguous memory. A query descends nearest node first with an explicit stack and prunes nodes (and, in leaves,
-// triangle planes) no nearer than the best distance found so far.
+// four triangles (eight points), with double-precision boxes, built one level at a time with the nodes of a level
+// in parallel (the same tree as a serial build). Queries walk a 4-wide tree collapsed from it (each wide node holds
+// the bounds of a binary node's four grandchildren side by side, stored depth first), so one step computes four
+// children's bounds at once with SSE2 (two lanes an instruction; x86-64 always has it; other processors use the same
+// formulas one lane at a time) over half as many levels. Triangles are copied into leaf order with their vertex,
+// edge vectors and unit normal so a query touches contiguous memory. A query descends nearest child first with an
+// explicit stack and prunes children (and, in leaves, triangle planes) no nearer than the best distance so far.
 //
 // Slab bounds (surface mode). Besides its box, every node holds a "coin", a flat cylinder around its triangles: its
 // axis is the unit mean normal n of the triangles, its centre o is placed so that n . (x - o) over their vertices
@@ -43,15 +45,17 @@
 // inside a sphere thousands of boxes have a box distance just below the answer and must be opened; the coin of the
 // same patch is only its sagitta thick (the slab part prunes those), and from outside, where the planes of patches
 // beside the nearest one pass close to p, the lateral part prunes them. A node whose normals nearly cancel (a
-// closed part) has no coin. The coin is only evaluated for nodes the box did not prune. (h and r are padded by
+// closed part) has no coin (its lanes hold n = 0, h = r = 0, whose coin part is 0). (h and r are padded by
 // 1e-12 relative plus the rounding of o, and the query subtracts 1e-14 of |p - o|_1 from both parts, so round-off
 // does not make the bound exceed the true distance: the result is the same minimum as with box bounds only, which
 // the tests check against brute force and against SetSlabBounds(false).)
 //
 // QueryMany (4096 points or more) visits the points in Morton (Z-curve) order of their coordinates (a 30-bit code,
-// radix sorted; 16 bytes per point while sorting) and starts each query from the previous one's nearest primitive
-// as its first bound, which makes any cloud spatially coherent; the result does not depend on it (only the
-// starting bound changes, not the minimum), and results are written in input order.
+// radix sorted; 16 bytes per point while sorting, 8 while querying) and starts each query from the previous one's
+// nearest primitive as its first bound, which makes any cloud spatially coherent; the result does not depend on it
+// (only the starting bound changes, not the minimum), and results are written in input order. The queries run in
+// batches of 1024: the batch's points gathered from the input first and its results scattered back after, each in
+// a loop of its own, so the processor overlaps those random accesses instead of waiting on them between searches.
 //
 // Threads: the builds and QueryMany take a ParallelFor hook that runs a body over sub-ranges of [0, count), so the
 // VTK layer threads them with vtkSMPTools; each query only reads the structure. Results do not depend on threads.
@@ -109,7 +113,12 @@ public:
   void SetSlabBounds(bool on) { this->SlabBounds = on; }
   bool GetSlabBounds() const { return this->SlabBounds; }
 
-  bool IsEmpty() const { return this->Nodes.empty(); }
+  /// Whether queries use the AVX traversal where the processor has AVX (default on). Off gives the same results bit
+  /// for bit with the SSE2 one (for tests and benchmarks of both).
+  void SetAvx(bool on) { this->Avx = on; }
+  bool GetAvx() const { return this->Avx; }
+
+  bool IsEmpty() const { return this->WideNodes.empty(); }
   bool IsSurface() const { return this->Surface; }
   std::size_t GetNumberOfPrimitives() const { return this->PrimitiveIds.size(); }
 
@@ -130,7 +139,7 @@ public:
   std::size_t MemoryBytes() const;
 
 private:
-  struct Node
+  struct Node ///< a node of the binary tree (built, then collapsed into WideNodes)
   {
     double lo[3];
     double hi[3];
@@ -140,6 +149,21 @@ private:
     double r;            ///< coin radius: largest distance of a vertex from the axis, padded
     std::uint32_t start; ///< leaf: first primitive (in leaf order); inner: index of the right child
     std::uint32_t count; ///< leaf: number of primitives; inner: 0
+  };
+  /// A node of the 4-wide tree the queries walk: the bounds of up to four children side by side (lane j of every
+  /// array is child j), so one query computes the four bounds at once (SSE2, two lanes at a time). A child is a
+  /// leaf (count > 0: primitives [start, start + count) in leaf order) or another wide node (count 0: its index).
+  /// An unused lane has an empty box (lo = +inf, hi = -inf: bound +inf) and no coin.
+  struct alignas(32) WideNode
+  {
+    double lo[3][4];
+    double hi[3][4];
+    double o[3][4];
+    double n[3][4];
+    double h[4];
+    double r[4];
+    std::uint32_t start[4];
+    std::uint32_t count[4];
   };
   struct Triangle ///< a triangle in leaf order: vertex a, edges ab and ac, unit normal (0 when degenerate)
   {
@@ -153,12 +177,19 @@ private:
     std::size_t count, std::size_t leafSize, std::vector<std::uint32_t>& nodeRange,
     const ParallelFor& parallelFor);
   void BuildSlabs(const std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor);
-  double NodeDistance2(const Node& node, const double p[3], double best2) const;
+  void CollapseToWideNodes();
+  // The traversal (PointSurfaceDistanceSearch.inc) compiled for SSE2 and for AVX (x86-64 only), and the result
+  // from the nearest primitive it found.
+  DistanceQueryResult SearchSse2(const double p[3], std::int64_t hint) const;
+  DistanceQueryResult SearchAvx(const double p[3], std::int64_t hint) const;
+  DistanceQueryResult QueryResult(const double p[3], double best2, std::size_t bestLeaf) const;
   double PrimitiveDistance2(std::size_t leafIndex, const double p[3], double best2) const;
 
   bool Surface = false;
   bool SlabBounds = true;
-  std::vector<Node> Nodes;
+  bool Avx = true;
+  std::vector<Node> Nodes;         ///< binary tree, during the build only
+  std::vector<WideNode> WideNodes; ///< the tree the queries walk; root 0
   std::vector<std::uint32_t> PrimitiveIds; ///< leaf order -> original triangle or point index
   std::vector<std::uint32_t> LeafOf;       ///< original index -> leaf order
   std::vector<Triangle> Triangles;         ///< surface mode, leaf order

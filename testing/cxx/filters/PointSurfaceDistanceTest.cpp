@@ -443,6 +443,46 @@ TEST(PointSurfaceDistance, SlabBoundsGiveTheBruteForceResultOnASphereAndABentShe
   }
 }
 
+TEST(PointSurfaceDistance, AvxAndSse2TraversalsGiveTheSameResultsBitForBit)
+{
+  // The traversal is compiled twice (AVX, four children's bounds an instruction; SSE2, two): the same arithmetic in
+  // the same order, so the same nodes are visited and every output is bit-identical. (On a processor without AVX
+  // both runs take the SSE2 path and the test is trivially true.)
+  RandomStream random(31);
+  for (const bool sphere : { true, false })
+  {
+    const Mesh mesh = sphere ? Sphere(1.0, 40, 80) : BentSheet(90, 40);
+    const std::vector<double> points = InsideAndOutside(random, 6000); // QueryMany sorts them (>= 4096)
+    const std::size_t n = points.size() / 3;
+    std::vector<double> d[2], s[2], c[2];
+    std::vector<std::int64_t> prim[2];
+    for (const bool avx : { true, false })
+    {
+      PointSurfaceDistance distance;
+      distance.SetAvx(avx);
+      ASSERT_EQ(distance.BuildSurface(
+                  mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount()),
+        "");
+      ASSERT_EQ(distance.GetAvx(), avx); // kept by BuildSurface
+      d[avx].resize(n);
+      s[avx].resize(n);
+      c[avx].resize(3 * n);
+      prim[avx].resize(n);
+      distance.QueryMany(points.data(), n, d[avx].data(), s[avx].data(), c[avx].data(), prim[avx].data());
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      ASSERT_EQ(prim[0][i], prim[1][i]) << "point " << i;
+      ASSERT_EQ(d[0][i], d[1][i]) << "point " << i;
+      ASSERT_EQ(s[0][i], s[1][i]) << "point " << i;
+      ASSERT_EQ(c[0][3 * i], c[1][3 * i]) << "point " << i;
+      ASSERT_EQ(c[0][3 * i + 1], c[1][3 * i + 1]) << "point " << i;
+      ASSERT_EQ(c[0][3 * i + 2], c[1][3 * i + 2]) << "point " << i;
+      ASSERT_NEAR(d[0][i], BruteForce(mesh, &points[3 * i]), 1e-13) << "point " << i;
+    }
+  }
+}
+
 TEST(PointSurfaceDistance, ThreadedBuildAndMortonQueriesEqualSerialOnes)
 {
   RandomStream random(5);
