@@ -148,6 +148,13 @@ public:
   vtkGetMacro(DroopAsymmetry, double);
   vtkSetMacro(ContractionAsymmetry, double);
   vtkGetMacro(ContractionAsymmetry, double);
+  /** Leaf shrinkage: the relative shortening in [-0.5, 0.5] of the lamina springs' rest lengths at full load
+   * (default 0: none), on the contraction's time profile, and its left/right asymmetry in [-1, 1] (default 0): the
+   * half that shrinks more becomes the concave side of an in-plane bend, moving the tip sideways towards it. */
+  vtkSetMacro(ShrinkageStrain, double);
+  vtkGetMacro(ShrinkageStrain, double);
+  vtkSetMacro(ShrinkageAsymmetry, double);
+  vtkGetMacro(ShrinkageAsymmetry, double);
   /** Contraction towards the midvein plane (0, the paper's) or towards the base (1: margins and apex curl). */
   vtkSetMacro(ContractionTarget, int);
   vtkGetMacro(ContractionTarget, int);
@@ -231,6 +238,8 @@ protected:
   double ContractionForce = 1.0;
   double DroopAsymmetry = 0.0;
   double ContractionAsymmetry = 0.0;
+  double ShrinkageStrain = 0.0;
+  double ShrinkageAsymmetry = 0.0;
   int ContractionSide = SIDE_BOTTOM;
   int ContractionTarget = TARGET_MIDVEIN;
   int LoadProfile = PROFILE_SIGMOID;

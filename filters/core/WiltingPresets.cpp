@@ -61,6 +61,8 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
   p.contractionTime = 0.0;
   p.droopAsymmetry = 0.0;
   p.contractionAsymmetry = 0.0;
+  p.shrinkageStrain = 0.0;
+  p.shrinkageAsymmetry = 0.0;
   p.referenceVoxelSize = 0.0;
   switch (preset)
   {

@@ -1,5 +1,7 @@
 #include "WiltingSimulation.h"
 
+#include "RigidRegistration.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -55,6 +57,14 @@ std::string ValidateWilting(const WiltingParameters& p)
   else if (!(p.contractionAsymmetry >= -1.0 && p.contractionAsymmetry <= 1.0))
   {
     message << "ContractionAsymmetry must be in [-1, 1] (got " << p.contractionAsymmetry << ")";
+  }
+  else if (!(std::abs(p.shrinkageStrain) <= 0.5))
+  {
+    message << "ShrinkageStrain must be in [-0.5, 0.5] (negative swells; got " << p.shrinkageStrain << ")";
+  }
+  else if (!(p.shrinkageAsymmetry >= -1.0 && p.shrinkageAsymmetry <= 1.0))
+  {
+    message << "ShrinkageAsymmetry must be in [-1, 1] (got " << p.shrinkageAsymmetry << ")";
   }
   else if (!(p.loadTime > 0.0) || !std::isfinite(p.loadTime))
   {
@@ -262,6 +272,7 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   this->GravityForce.assign(3 * n, 0.0);
   this->LoadForce.assign(3 * n, 0.0);
   this->ContractionLoad.assign(3 * n, 0.0);
+  this->Shrinking.clear();
   const std::vector<double>& masses = this->Springs.Masses();
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -297,6 +308,13 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
       this->ContractionLoad[3 * node + 0] += 0.25 * loadScale * contraction * towards[0];
       this->ContractionLoad[3 * node + 1] += 0.25 * loadScale * contraction * towards[1];
       this->LoadForce[3 * node + 2] -= 0.25 * loadScale * droop;
+    }
+    if (parameters.shrinkageStrain != 0.0 && WiltingMaterialOf(grid.regions[v]) != WiltingPetiole)
+    {
+      const double strain = (1.0 + parameters.shrinkageAsymmetry * side) * parameters.shrinkageStrain;
+      const double stiffness =
+        parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))].stiffness * springScale;
+      this->Shrinking.push_back({ v, stiffness * strain });
     }
   }
   for (std::size_t i = 0; i < n; ++i)
@@ -345,6 +363,53 @@ void WiltingSimulation::ExternalForce(double t, std::vector<double>& force) cons
   }
 }
 
+void WiltingSimulation::AddShrinkageForce(double t, const std::vector<double>& q, std::vector<double>& force) const
+{
+  if (this->Shrinking.empty())
+  {
+    return;
+  }
+  const double factor = WiltingLoadFactor(this->Params.loadProfile, t,
+    this->Params.contractionTime > 0.0 ? this->Params.contractionTime : this->Params.loadTime);
+  const std::vector<Eigen::Vector3d>& rest = this->Voxels.nodes;
+  double restCorners[24];
+  double currentCorners[24];
+  double rigid[16];
+  for (const ShrinkingVoxel& shrinking : this->Shrinking)
+  {
+    const std::array<int, 8>& c = this->Voxels.corners[shrinking.voxel];
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < 8; ++i)
+    {
+      const std::size_t node = static_cast<std::size_t>(c[i]);
+      for (std::size_t k = 0; k < 3; ++k)
+      {
+        restCorners[3 * i + k] = rest[node][static_cast<Eigen::Index>(k)];
+        currentCorners[3 * i + k] = restCorners[3 * i + k] + q[3 * node + k];
+      }
+      centre += rest[node] / 8.0;
+    }
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+    if (FitSimilarity(restCorners, currentCorners, 8, false, rigid))
+    {
+      rotation = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(rigid).topLeftCorner<3, 3>();
+    }
+    for (std::size_t i = 0; i < 8; ++i)
+    {
+      const std::size_t node = static_cast<std::size_t>(c[i]);
+      if (this->Springs.IsFixed(node))
+      {
+        continue;
+      }
+      const Eigen::Vector3d pull = (8.0 * factor * shrinking.pull) * (rotation * (centre - rest[node]));
+      for (std::size_t k = 0; k < 3; ++k)
+      {
+        force[3 * node + k] += pull[static_cast<Eigen::Index>(k)];
+      }
+    }
+  }
+}
+
 std::vector<Eigen::Vector3d> WiltingSimulation::PointPositions(std::size_t f) const
 {
   std::vector<double> d(3 * this->Points.size());
@@ -366,6 +431,7 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
     // From rest (R = 0, v = 0) with the consistent acceleration M^-1 f(0): second order from the first step.
     std::vector<double> f0;
     this->ExternalForce(0.0, f0);
+    this->AddShrinkageForce(0.0, std::vector<double>(f0.size(), 0.0), f0);
     std::vector<double> a0(f0.size(), 0.0);
     for (std::size_t i = 0; i < this->Springs.NodeCount(); ++i)
     {
@@ -405,6 +471,7 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
   std::vector<double> force;
   std::vector<double> previousForce;
   this->ExternalForce(0.0, previousForce);
+  this->AddShrinkageForce(0.0, this->Newmark.Displacement(), previousForce);
   const int totalSteps = (this->FrameCount - 1) * this->StepsPerFrame;
   const double dt = this->Params.newmark.timeStep;
   for (int step = 1; step <= totalSteps; ++step)
@@ -412,6 +479,7 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
     const double time = step * dt;
     this->ExternalForce(time, force);
     const std::vector<double> before = this->Newmark.Displacement();
+    this->AddShrinkageForce(time, before, force); // the voxels' rotations at the start of the step
     const std::string error = this->Newmark.Step(force);
     std::ostringstream message;
     if (!error.empty())

@@ -416,6 +416,52 @@ TEST(WiltingSimulation, AsymmetryMovesTheTipSidewaysAndItsMirrorMirrors)
   EXPECT_NEAR(tip[2][2], tip[1][2], 1e-9);
 }
 
+TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSideways)
+{
+  // Shrinkage shortens every lamina spring: a flat leaf, its two faces shrinking alike, shortens towards its
+  // anchored base and stays in its plane (a contraction on the bottom nodes curls it down instead); without other
+  // loads the free leaf takes the shrunk rest shape, its tip about e times its distance from the anchor closer.
+  // More shrinkage on the +x half makes that half the concave side of a bend in the plane: the tip moves to +x,
+  // still flat; -a is the mirror image.
+  const WiltingInput in = Rectangle(4.5, 10.0, 8, 20);
+  WiltingParameters p = AsymmetryCase();
+  p.droopForce = 0.0;
+  p.contractionForce = 0.0;
+  p.contractionTarget = WiltingContractionTarget::Base;
+  const Eigen::Vector3d rest = in.points[20 * 9 + 4];
+  const auto tipAfter = [&](const WiltingParameters& parameters) {
+    WiltingSimulation simulation;
+    EXPECT_EQ(simulation.Setup(in, parameters), "");
+    EXPECT_EQ(simulation.Run(), "");
+    EXPECT_EQ(simulation.TipPoint(), 20 * 9 + 4);
+    return Eigen::Vector3d(simulation.Frames().back().tip - rest);
+  };
+  p.shrinkageStrain = 0.01;
+  const Eigen::Vector3d shrunk = tipAfter(p);
+  // The free part, from the anchored nodes (within 1.5 cm of the base) to the tip at y = 10, is about 8.5 cm long.
+  EXPECT_LT(shrunk[1], -0.01 * 8.0) << "towards the base, by about e times the free length (-0.086 cm)";
+  EXPECT_GT(shrunk[1], -0.01 * 9.0);
+  EXPECT_NEAR(shrunk[0], 0.0, 1e-9) << "a symmetric leaf shrinks symmetrically";
+  EXPECT_NEAR(shrunk[2], 0.0, 1e-8) << "in the plane: both faces are pulled alike";
+  WiltingParameters curl = p;
+  curl.shrinkageStrain = 0.0;
+  curl.contractionForce = 40.0;
+  EXPECT_LT(tipAfter(curl)[2], -0.02) << "the contraction on the bottom nodes curls the tip down";
+  p.shrinkageAsymmetry = 0.5;
+  const Eigen::Vector3d plus = tipAfter(p);
+  p.shrinkageAsymmetry = -0.5;
+  const Eigen::Vector3d minus = tipAfter(p);
+  EXPECT_GT(plus[0], 0.01) << "towards the half that shrinks more";
+  EXPECT_NEAR(plus[2], 0.0, 1e-8) << "still in the plane";
+  EXPECT_NEAR(minus[0], -plus[0], 1e-9) << "-a: the mirror image";
+  EXPECT_NEAR(minus[1], plus[1], 1e-9);
+  p.shrinkageAsymmetry = -1.5;
+  EXPECT_NE(ValidateWilting(p).find("ShrinkageAsymmetry must be in [-1, 1]"), std::string::npos);
+  p.shrinkageAsymmetry = 0.0;
+  p.shrinkageStrain = 0.6;
+  EXPECT_NE(ValidateWilting(p).find("ShrinkageStrain must be in [-0.5, 0.5]"), std::string::npos);
+}
+
 TEST(WiltingSimulation, DeterministicAcrossRunsAndThreads)
 {
   const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
