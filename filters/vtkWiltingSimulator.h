@@ -148,7 +148,7 @@ public:
   vtkGetMacro(DroopAsymmetry, double);
   vtkSetMacro(ContractionAsymmetry, double);
   vtkGetMacro(ContractionAsymmetry, double);
-  /** Leaf shrinkage: the relative shortening in [-0.5, 0.5] of the lamina springs' rest lengths at full load
+  /** Leaf shrinkage: the relative shortening in [-0.4, 0.4] of the lamina springs' rest lengths at full load
    * (default 0: none), on the contraction's time profile, and its left/right asymmetry in [-1, 1] (default 0): the
    * half that shrinks more becomes the concave side of an in-plane bend, moving the tip sideways towards it. */
   vtkSetMacro(ShrinkageStrain, double);

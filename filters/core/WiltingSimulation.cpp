@@ -1,7 +1,5 @@
 #include "WiltingSimulation.h"
 
-#include "RigidRegistration.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -58,9 +56,9 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << "ContractionAsymmetry must be in [-1, 1] (got " << p.contractionAsymmetry << ")";
   }
-  else if (!(std::abs(p.shrinkageStrain) <= 0.5))
+  else if (!(std::abs(p.shrinkageStrain) <= 0.4))
   {
-    message << "ShrinkageStrain must be in [-0.5, 0.5] (negative swells; got " << p.shrinkageStrain << ")";
+    message << "ShrinkageStrain must be in [-0.4, 0.4] (negative swells; got " << p.shrinkageStrain << ")";
   }
   else if (!(p.shrinkageAsymmetry >= -1.0 && p.shrinkageAsymmetry <= 1.0))
   {
@@ -168,6 +166,7 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   const double ratio = parameters.referenceVoxelSize > 0.0 ? h / parameters.referenceVoxelSize : 1.0;
   const double springScale = ratio;
   const double loadScale = ratio * ratio * ratio;
+  std::vector<int> voxelSprings; // with shrinkage: the 28 springs of each voxel, in voxel order
   // Nodes with lumped masses.
   for (const Eigen::Vector3d& x : grid.nodes)
   {
@@ -189,8 +188,12 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
     {
       for (int b = a + 1; b < 8; ++b)
       {
-        this->Springs.AddSpring(
+        const int spring = this->Springs.AddSpring(
           c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], stiffness, damping);
+        if (parameters.shrinkageStrain != 0.0)
+        {
+          voxelSprings.push_back(spring);
+        }
       }
     }
     this->Springs.AddHexahedron(c);
@@ -272,7 +275,8 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   this->GravityForce.assign(3 * n, 0.0);
   this->LoadForce.assign(3 * n, 0.0);
   this->ContractionLoad.assign(3 * n, 0.0);
-  this->Shrinking.clear();
+  // With shrinkage: per spring, the sum over its voxels of k_v e_v (divided by the spring's k below).
+  std::vector<double> shrinkageWeight(voxelSprings.empty() ? 0 : this->Springs.SpringCount(), 0.0);
   const std::vector<double>& masses = this->Springs.Masses();
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -314,7 +318,10 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
       const double strain = (1.0 + parameters.shrinkageAsymmetry * side) * parameters.shrinkageStrain;
       const double stiffness =
         parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))].stiffness * springScale;
-      this->Shrinking.push_back({ v, stiffness * strain });
+      for (std::size_t pair = 0; pair < 28; ++pair)
+      {
+        shrinkageWeight[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * strain;
+      }
     }
   }
   for (std::size_t i = 0; i < n; ++i)
@@ -327,6 +334,15 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
         this->LoadForce[3 * i + static_cast<std::size_t>(c)] = 0.0;
         this->ContractionLoad[3 * i + static_cast<std::size_t>(c)] = 0.0;
       }
+    }
+  }
+  this->SpringShrinkage.clear();
+  if (!shrinkageWeight.empty())
+  {
+    this->SpringShrinkage.resize(shrinkageWeight.size());
+    for (std::size_t e = 0; e < shrinkageWeight.size(); ++e)
+    {
+      this->SpringShrinkage[e] = shrinkageWeight[e] / this->Springs.Springs()[e].stiffness;
     }
   }
   error = this->Newmark.Setup(this->Springs, parameters.newmark);
@@ -363,51 +379,23 @@ void WiltingSimulation::ExternalForce(double t, std::vector<double>& force) cons
   }
 }
 
-void WiltingSimulation::AddShrinkageForce(double t, const std::vector<double>& q, std::vector<double>& force) const
+double WiltingSimulation::ShrinkageFactor(double t) const
 {
-  if (this->Shrinking.empty())
-  {
-    return;
-  }
-  const double factor = WiltingLoadFactor(this->Params.loadProfile, t,
+  return WiltingLoadFactor(this->Params.loadProfile, t,
     this->Params.contractionTime > 0.0 ? this->Params.contractionTime : this->Params.loadTime);
-  const std::vector<Eigen::Vector3d>& rest = this->Voxels.nodes;
-  double restCorners[24];
-  double currentCorners[24];
-  double rigid[16];
-  for (const ShrinkingVoxel& shrinking : this->Shrinking)
+}
+
+std::vector<double> WiltingSimulation::RestLengths(double t) const
+{
+  const std::vector<MassSpringSpring>& springs = this->Springs.Springs();
+  std::vector<double> lengths(springs.size());
+  const double factor = this->ShrinkageFactor(t);
+  for (std::size_t e = 0; e < springs.size(); ++e)
   {
-    const std::array<int, 8>& c = this->Voxels.corners[shrinking.voxel];
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    for (std::size_t i = 0; i < 8; ++i)
-    {
-      const std::size_t node = static_cast<std::size_t>(c[i]);
-      for (std::size_t k = 0; k < 3; ++k)
-      {
-        restCorners[3 * i + k] = rest[node][static_cast<Eigen::Index>(k)];
-        currentCorners[3 * i + k] = restCorners[3 * i + k] + q[3 * node + k];
-      }
-      centre += rest[node] / 8.0;
-    }
-    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-    if (FitSimilarity(restCorners, currentCorners, 8, false, rigid))
-    {
-      rotation = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(rigid).topLeftCorner<3, 3>();
-    }
-    for (std::size_t i = 0; i < 8; ++i)
-    {
-      const std::size_t node = static_cast<std::size_t>(c[i]);
-      if (this->Springs.IsFixed(node))
-      {
-        continue;
-      }
-      const Eigen::Vector3d pull = (8.0 * factor * shrinking.pull) * (rotation * (centre - rest[node]));
-      for (std::size_t k = 0; k < 3; ++k)
-      {
-        force[3 * node + k] += pull[static_cast<Eigen::Index>(k)];
-      }
-    }
+    const double strain = this->SpringShrinkage.empty() ? 0.0 : factor * this->SpringShrinkage[e];
+    lengths[e] = springs[e].restLength * (1.0 - strain);
   }
+  return lengths;
 }
 
 std::vector<Eigen::Vector3d> WiltingSimulation::PointPositions(std::size_t f) const
@@ -427,11 +415,14 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
   this->FrameList.clear();
   this->WasAborted = false;
   this->Newmark.Reset();
+  if (!this->SpringShrinkage.empty())
+  {
+    this->Newmark.SetRestLengths(this->RestLengths(0.0));
+  }
   {
     // From rest (R = 0, v = 0) with the consistent acceleration M^-1 f(0): second order from the first step.
     std::vector<double> f0;
     this->ExternalForce(0.0, f0);
-    this->AddShrinkageForce(0.0, std::vector<double>(f0.size(), 0.0), f0);
     std::vector<double> a0(f0.size(), 0.0);
     for (std::size_t i = 0; i < this->Springs.NodeCount(); ++i)
     {
@@ -471,7 +462,6 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
   std::vector<double> force;
   std::vector<double> previousForce;
   this->ExternalForce(0.0, previousForce);
-  this->AddShrinkageForce(0.0, this->Newmark.Displacement(), previousForce);
   const int totalSteps = (this->FrameCount - 1) * this->StepsPerFrame;
   const double dt = this->Params.newmark.timeStep;
   for (int step = 1; step <= totalSteps; ++step)
@@ -479,7 +469,10 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
     const double time = step * dt;
     this->ExternalForce(time, force);
     const std::vector<double> before = this->Newmark.Displacement();
-    this->AddShrinkageForce(time, before, force); // the voxels' rotations at the start of the step
+    if (!this->SpringShrinkage.empty())
+    {
+      this->Newmark.SetRestLengths(this->RestLengths(time)); // the rest shape at the step's end, like the loads
+    }
     const std::string error = this->Newmark.Step(force);
     std::ostringstream message;
     if (!error.empty())
@@ -498,6 +491,26 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
       maxDisplacement = std::max(maxDisplacement, std::abs(q[k]));
     }
     previousForce = force;
+    if (!this->SpringShrinkage.empty())
+    {
+      // A rest length L (1 - x) is the spring of rest length L (the energies') with a pull k x L between its ends:
+      // its work, at the step's mean x, on the step's change of length.
+      const double mean = 0.5 * (this->ShrinkageFactor(time - dt) + this->ShrinkageFactor(time));
+      const std::vector<Eigen::Vector3d>& rest = this->Voxels.nodes;
+      const auto length = [&](const std::vector<double>& u, const MassSpringSpring& s) {
+        const std::size_t a = static_cast<std::size_t>(s.a);
+        const std::size_t b = static_cast<std::size_t>(s.b);
+        return (rest[b] - rest[a] + Eigen::Vector3d(u[3 * b] - u[3 * a], u[3 * b + 1] - u[3 * a + 1],
+                                      u[3 * b + 2] - u[3 * a + 2]))
+          .norm();
+      };
+      const std::vector<MassSpringSpring>& springs = this->Springs.Springs();
+      for (std::size_t e = 0; e < springs.size(); ++e)
+      {
+        work += springs[e].stiffness * mean * this->SpringShrinkage[e] * springs[e].restLength *
+          (length(before, springs[e]) - length(q, springs[e]));
+      }
+    }
     const double jacobian = this->Springs.MinimumRelativeJacobian(q.data());
     if (!(jacobian > 0.0))
     {

@@ -24,20 +24,16 @@
 //   -1 on the -x side, 0 on it: one half of a real leaf loses turgor sooner or more than the other (a = 1: only
 //   the +x half is loaded, with twice the load; -1: only the -x half). For a leaf symmetric about the midvein the
 //   total load is unchanged, and a and -a give mirror-image motions.
-// - Shrinkage (* not in the paper; default 0, then nothing is added): the lamina losing area as it dehydrates (leaf
-//   shrinkage). ShrinkageStrain e in [-0.5, 0.5] at full load: every spring of a non-petiole voxel has its rest
-//   length L shortened to (1 - e_v c(t)) L, e_v = e (1 + a_s s) with ShrinkageAsymmetry a_s in [-1, 1] and s the
-//   voxel's side as above, c(t) the contraction's load factor (ContractionTime). A linear spring of rest length
-//   (1 - x) L pulls with k (l - L) + k x L, so this is applied as the pair of equal and opposite forces k x L along
-//   the spring, on the voxel's own share k of it, * co-rotated: along R (X_b - X_a), R the voxel's best-fit
-//   rotation (Umeyama, FitSimilarity) at the start of each step. (Dead loads in the rest directions would leave the
-//   springs compressed under loads that do not turn with them: the one-voxel plate buckles; each spring's own
-//   current direction, taken explicitly, is unstable at these time steps; rest lengths varying in time would
-//   change the solver.) Summed over a voxel's 28 pairs each corner i is pulled by 8 k x R (X_mean - X_i), towards
-//   the voxel's centre. The pulls cancel (no net load, nothing accumulates towards the anchor) and both faces
-//   shrink alike, so a flat leaf shortens and narrows in its plane without curling (ContractionForce, on one face,
-//   curls). The half that shrinks more becomes the concave side of a bend in the leaf's plane: the tip moves
-//   sideways towards it. Large strains (above about 0.01 with the Cucumber preset) can still turn voxels over.
+// - Shrinkage (* not in the paper; default 0, then nothing changes): the lamina losing area as it dehydrates (leaf
+//   shrinkage). ShrinkageStrain e in [-0.4, 0.4] at full load: each spring's rest length L becomes (1 - e_v c(t)) L
+//   for the part k_v of its stiffness that voxel v contributes (a shared spring: L (1 - sum k_v e_v c / sum k_v)),
+//   e_v = e (1 + a_s s) with ShrinkageAsymmetry a_s in [-1, 1] and s the voxel's side as above (petiole voxels: 0),
+//   c(t) the contraction's load factor (ContractionTime). The rest lengths are the integrator's, so the shrinking
+//   is implicit (stable at any strain) and adds no load: a flat leaf, both faces shrinking alike, shortens and
+//   narrows in its plane towards its anchor without curling (ContractionForce, on one face, curls); the half that
+//   shrinks more becomes the concave side of a bend in the leaf's plane, so the tip moves sideways towards it.
+//   The energies keep the unshrunk rest lengths; the blow-up guard counts the shrinking as work (a rest length
+//   L (1 - x) is a spring of rest length L with a pull k x L between its ends).
 // - LoadProfile: Constant 1 (the paper), Ramp min(1, t/LoadTime), Sigmoid: the logistic 1/(1 + exp(-12 (t/T -
 //   1/2))) rescaled to go from 0 at t = 0 to 1 at t = T = LoadTime (slow start, then faster: the measured wilting).
 //   The contraction follows the same profile over its own ContractionTime (0: LoadTime): * the paper sees the
@@ -117,7 +113,7 @@ struct WiltingParameters
   double droopAsymmetry = 0.0;
   /// In [-1, 1]: the same for the contraction (one half of the lamina shrinking more than the other).
   double contractionAsymmetry = 0.0;
-  /// In [-0.5, 0.5]: the relative shortening of the rest length of every lamina spring at full load (leaf
+  /// In [-0.4, 0.4]: the relative shortening of the rest length of every lamina spring at full load (leaf
   /// shrinkage), on the contraction's profile; negative swells.
   double shrinkageStrain = 0.0;
   /// In [-1, 1]: the shrinkage on the +x half is (1 + a), on the -x half (1 - a) times ShrinkageStrain.
@@ -187,8 +183,8 @@ public:
   std::vector<Eigen::Vector3d> PointPositions(std::size_t f) const;
   /// The external force (3 per node) at time t.
   void ExternalForce(double t, std::vector<double>& force) const;
-  /// Adds the shrinkage's pulls at time t for the displacements q (3 per node) to `force` (nothing without it).
-  void AddShrinkageForce(double t, const std::vector<double>& q, std::vector<double>& force) const;
+  /// The springs' rest lengths at time t (one per spring; the system's own without shrinkage).
+  std::vector<double> RestLengths(double t) const;
 
 private:
   WiltingParameters Params;
@@ -200,12 +196,8 @@ private:
   std::vector<double> GravityForce; // per node
   std::vector<double> LoadForce;    // per node, droop at full load
   std::vector<double> ContractionLoad; // per node, contraction at full load
-  struct ShrinkingVoxel
-  {
-    std::size_t voxel = 0;
-    double pull = 0.0; // k e_v at full load
-  };
-  std::vector<ShrinkingVoxel> Shrinking; // empty without shrinkage
+  std::vector<double> SpringShrinkage; // per spring, its strain at full load; empty without shrinkage
+  double ShrinkageFactor(double t) const;
   int Tip = 0;
   int StepsPerFrame = 1;
   int FrameCount = 1;

@@ -420,7 +420,8 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
 {
   // Shrinkage shortens every lamina spring: a flat leaf, its two faces shrinking alike, shortens towards its
   // anchored base and stays in its plane (a contraction on the bottom nodes curls it down instead); without other
-  // loads the free leaf takes the shrunk rest shape, its tip about e times its distance from the anchor closer.
+  // loads the free leaf takes the shrunk rest shape, its tip e times its distance from the anchor closer. 5 % is
+  // far beyond what explicit pulls along the springs would survive at this time step: the rest lengths are implicit.
   // More shrinkage on the +x half makes that half the concave side of a bend in the plane: the tip moves to +x,
   // still flat; -a is the mirror image.
   const WiltingInput in = Rectangle(4.5, 10.0, 8, 20);
@@ -436,11 +437,12 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
     EXPECT_EQ(simulation.TipPoint(), 20 * 9 + 4);
     return Eigen::Vector3d(simulation.Frames().back().tip - rest);
   };
-  p.shrinkageStrain = 0.01;
+  p.shrinkageStrain = 0.05;
   const Eigen::Vector3d shrunk = tipAfter(p);
-  // The free part, from the anchored nodes (within 1.5 cm of the base) to the tip at y = 10, is about 8.5 cm long.
-  EXPECT_LT(shrunk[1], -0.01 * 8.0) << "towards the base, by about e times the free length (-0.086 cm)";
-  EXPECT_GT(shrunk[1], -0.01 * 9.0);
+  // The free part, from the anchored nodes (within 1.5 cm of the base: up to y = 1 on the midvein) to the tip at
+  // y = 10, is 9 to 10 cm long; the tip comes e times that closer (-0.464 cm).
+  EXPECT_LT(shrunk[1], -0.05 * 9.0) << "towards the base, by e times the free length";
+  EXPECT_GT(shrunk[1], -0.05 * 10.0);
   EXPECT_NEAR(shrunk[0], 0.0, 1e-9) << "a symmetric leaf shrinks symmetrically";
   EXPECT_NEAR(shrunk[2], 0.0, 1e-8) << "in the plane: both faces are pulled alike";
   WiltingParameters curl = p;
@@ -458,8 +460,8 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
   p.shrinkageAsymmetry = -1.5;
   EXPECT_NE(ValidateWilting(p).find("ShrinkageAsymmetry must be in [-1, 1]"), std::string::npos);
   p.shrinkageAsymmetry = 0.0;
-  p.shrinkageStrain = 0.6;
-  EXPECT_NE(ValidateWilting(p).find("ShrinkageStrain must be in [-0.5, 0.5]"), std::string::npos);
+  p.shrinkageStrain = 0.45;
+  EXPECT_NE(ValidateWilting(p).find("ShrinkageStrain must be in [-0.4, 0.4]"), std::string::npos);
 }
 
 TEST(WiltingSimulation, DeterministicAcrossRunsAndThreads)
