@@ -23,8 +23,8 @@ keeps its tip at x = 0 while the measured tip wanders sideways), and ShrinkageSt
 lamina shortening in its own plane as it dehydrates, on the contraction's time profile: it brings the tip closer to
 the petiole without curling the leaf). `--fit` picks which are fitted (the others keep their START value, the
 Cucumber preset's); log-parameters for the positive ones, the asymmetries and the shrinkage as they are.
-Nelder-Mead, then restarted from the best point with a smaller simplex. The objective is the mean time-monotone tip error: each measurement matched
-to one simulated frame, frames increasing (dynamic programming). With `--yaw` the simulated track is also turned
+Nelder-Mead, then restarted from the best point with a smaller simplex. The objective is the mean time-monotone
+tip error: each measurement matched to one simulated frame, frames increasing (dynamic programming). With `--yaw` the simulated track is also turned
 about the vertical axis through the petiole by the angle that fits best (searched in [-10, 10] deg; off by default:
 the asymmetry knobs replace it).
 
