@@ -437,6 +437,28 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
     EXPECT_EQ(simulation.TipPoint(), 20 * 9 + 4);
     return Eigen::Vector3d(simulation.Frames().back().tip - rest);
   };
+  {
+    // Without shrinkage the integrator keeps the system's rest lengths (the model without it, bit for bit); with
+    // it, at full load (Constant profile), every spring is (1 - e) times as long (no petiole voxels here, and every
+    // voxel shrinks alike, so a shared spring's stiffness-weighted strain is e too).
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    std::vector<double> own;
+    for (const MassSpringSpring& spring : simulation.System().Springs())
+    {
+      own.push_back(spring.restLength);
+    }
+    EXPECT_EQ(simulation.RestLengths(0.5), own);
+    WiltingParameters shrinking = p;
+    shrinking.shrinkageStrain = 0.05;
+    ASSERT_EQ(simulation.Setup(in, shrinking), "");
+    const std::vector<double> shrunkLengths = simulation.RestLengths(0.5);
+    ASSERT_EQ(shrunkLengths.size(), own.size());
+    for (std::size_t e = 0; e < own.size(); ++e)
+    {
+      EXPECT_NEAR(shrunkLengths[e], 0.95 * own[e], 1e-12 * own[e]) << "spring " << e;
+    }
+  }
   p.shrinkageStrain = 0.05;
   const Eigen::Vector3d shrunk = tipAfter(p);
   // The free part, from the anchored nodes (within 1.5 cm of the base: up to y = 1 on the midvein) to the tip at
