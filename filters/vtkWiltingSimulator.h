@@ -9,7 +9,8 @@
  * (petiole > veins > margin > blade; without `Region` everything is blade), lumps the masses to the nodes, fixes
  * the nodes within AnchorRadius of the petiole (Region 5 points) or else of the blade's base, and simulates the
  * wilting from rest under gravity and a droop pull and a contraction towards the midvein applied to the voxels'
- * bottom (margin curls down) or top (curls up) nodes, their magnitude following LoadProfile in time. The time
+ * bottom (margin curls down) or top (curls up) nodes, their magnitude following LoadProfile in time, and
+ * optionally the lamina shrinking in its own plane (ShrinkageStrain: the springs' rest lengths shorten). The time
  * stepping is implicit Newmark (beta 1/4, gamma 1/2) with Newton-Raphson, Rayleigh damping on the tangent
  * stiffness (compression clamp optional), and a sparse Cholesky or preconditioned CG solve. Every input point
  * (surface and lines, e.g. veins) is bound once to its voxel and follows it by trilinear (or tricubic)
