@@ -64,6 +64,8 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
   p.contractionForce = f->GetContractionForce();
   p.droopAsymmetry = f->GetDroopAsymmetry();
   p.contractionAsymmetry = f->GetContractionAsymmetry();
+  p.shrinkageStrain = f->GetShrinkageStrain();
+  p.shrinkageAsymmetry = f->GetShrinkageAsymmetry();
   p.contractionSide = f->GetContractionSide() == vtkWiltingSimulator::SIDE_TOP ? plantmorph::WiltingContractionSide::Top
                                                                                : plantmorph::WiltingContractionSide::Bottom;
   p.contractionTarget = f->GetContractionTarget() == vtkWiltingSimulator::TARGET_BASE
@@ -177,6 +179,8 @@ void vtkWiltingSimulator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ContractionForce: " << this->ContractionForce << "\n";
   os << indent << "DroopAsymmetry: " << this->DroopAsymmetry << "\n";
   os << indent << "ContractionAsymmetry: " << this->ContractionAsymmetry << "\n";
+  os << indent << "ShrinkageStrain: " << this->ShrinkageStrain << "\n";
+  os << indent << "ShrinkageAsymmetry: " << this->ShrinkageAsymmetry << "\n";
   os << indent << "Solver: " << this->Solver << "\n";
 }
 

@@ -9,7 +9,8 @@
  * (petiole > veins > margin > blade; without `Region` everything is blade), lumps the masses to the nodes, fixes
  * the nodes within AnchorRadius of the petiole (Region 5 points) or else of the blade's base, and simulates the
  * wilting from rest under gravity and a droop pull and a contraction towards the midvein applied to the voxels'
- * bottom (margin curls down) or top (curls up) nodes, their magnitude following LoadProfile in time. The time
+ * bottom (margin curls down) or top (curls up) nodes, their magnitude following LoadProfile in time, and
+ * optionally the lamina shrinking in its own plane (ShrinkageStrain: the springs' rest lengths shorten). The time
  * stepping is implicit Newmark (beta 1/4, gamma 1/2) with Newton-Raphson, Rayleigh damping on the tangent
  * stiffness (compression clamp optional), and a sparse Cholesky or preconditioned CG solve. Every input point
  * (surface and lines, e.g. veins) is bound once to its voxel and follows it by trilinear (or tricubic)
@@ -148,6 +149,13 @@ public:
   vtkGetMacro(DroopAsymmetry, double);
   vtkSetMacro(ContractionAsymmetry, double);
   vtkGetMacro(ContractionAsymmetry, double);
+  /** Leaf shrinkage: the relative shortening in [-0.4, 0.4] of the lamina springs' rest lengths at full load
+   * (default 0: none), on the contraction's time profile, and its left/right asymmetry in [-1, 1] (default 0): the
+   * half that shrinks more becomes the concave side of an in-plane bend, moving the tip sideways towards it. */
+  vtkSetMacro(ShrinkageStrain, double);
+  vtkGetMacro(ShrinkageStrain, double);
+  vtkSetMacro(ShrinkageAsymmetry, double);
+  vtkGetMacro(ShrinkageAsymmetry, double);
   /** Contraction towards the midvein plane (0, the paper's) or towards the base (1: margins and apex curl). */
   vtkSetMacro(ContractionTarget, int);
   vtkGetMacro(ContractionTarget, int);
@@ -231,6 +239,8 @@ protected:
   double ContractionForce = 1.0;
   double DroopAsymmetry = 0.0;
   double ContractionAsymmetry = 0.0;
+  double ShrinkageStrain = 0.0;
+  double ShrinkageAsymmetry = 0.0;
   int ContractionSide = SIDE_BOTTOM;
   int ContractionTarget = TARGET_MIDVEIN;
   int LoadProfile = PROFILE_SIGMOID;

@@ -248,6 +248,7 @@ std::string NewmarkIntegrator::Setup(const MassSpringSystem& system, const Newma
       return std::make_pair(std::min(pa, pb), std::max(pa, pb));
     };
     std::sort(springOrder.begin(), springOrder.end(), [&](int u, int w) { return lowHigh(u) < lowHigh(w); });
+    this->SystemSpring = springOrder;
     this->Ends.resize(m);
     this->Blocks.assign(m, SpringBlock{ 0.0, { 0.0, 0.0, 0.0 } });
     this->Material.resize(m);
@@ -819,6 +820,14 @@ void NewmarkIntegrator::WarmStart()
       x[k] = 2.0 * d1[k] - d2[k];
     }
   });
+}
+
+void NewmarkIntegrator::SetRestLengths(const std::vector<double>& restLengths)
+{
+  for (std::size_t e = 0; e < this->Material.size(); ++e)
+  {
+    this->Material[e].restLength = restLengths[static_cast<std::size_t>(this->SystemSpring[e])];
+  }
 }
 
 std::string NewmarkIntegrator::Step(const std::vector<double>& force)

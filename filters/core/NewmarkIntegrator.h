@@ -107,6 +107,10 @@ public:
   /// One step to time + dt under the external force `force` (3 per node) at the step's end. Empty on success;
   /// else a message (the solver failed, a non-finite value appeared) and the state is that of the step's start.
   std::string Step(const std::vector<double>& force);
+  /// Replaces the springs' rest lengths for the following steps (one per spring of the bound system, in its
+  /// order, each > 0): a material whose rest shape changes in time (WiltingSimulation's shrinkage). Setup takes the
+  /// system's own.
+  void SetRestLengths(const std::vector<double>& restLengths);
 
   const std::vector<double>& Displacement() const { return this->Q; }
   const std::vector<double>& Velocity() const { return this->V; }
@@ -160,6 +164,7 @@ private:
   std::vector<SpringEnds> Ends;      // solver positions of the spring's a and b ends
   std::vector<SpringBlock> Blocks;
   std::vector<SpringMaterial> Material;
+  std::vector<int> SystemSpring;     // the system's index of each spring in the solver's order
   std::vector<double> SpringTerm;    // g_e, 3 per spring
   std::vector<int> RowOffsets;       // NodeCount() + 1
   std::vector<RowEntry> Rows;        // 2 per spring, solver positions

@@ -20,21 +20,24 @@ std::string WiltingPresetName(WiltingPreset preset)
 
 namespace
 {
-/// The cucumber fit (examples/calibrate_wilting.py; rounded to 3 digits). Two stages, 10 parameters for the 5
-/// measured tip positions (15 coordinates): all but the asymmetries first (111 simulations), then the loads with the
-/// two asymmetries, the materials and damping held (95 simulations; docs/wilting-calibration.md).
+/// The cucumber fit (examples/calibrate_wilting.py; rounded to 3 digits). Three stages, 12 parameters for the 5
+/// measured tip positions (15 coordinates): all but the asymmetries and the shrinkage first (111 simulations), then
+/// the loads with the two asymmetries, the materials and damping held (95 simulations), then the shrinkage with the
+/// loads (84 + 42 simulations; docs/wilting-calibration.md).
 namespace CucumberFit
 {
 constexpr double droop = 17000.0;
-constexpr double contraction = 4280.0;
+constexpr double contraction = 4278.0;
 constexpr double blade = 91600.0;
 constexpr double vein = 399000.0;
 constexpr double margin = 99000.0;
 constexpr double loadTime = 13.7; // the droop's sigmoid is at 0.94 at 10 s
 constexpr double contractionTime = 2.75;
 constexpr double alpha = 1.16;
-constexpr double droopAsymmetry = -0.1;        // the -x half droops 1.1 / 0.9 times as much as the +x half
+constexpr double droopAsymmetry = -0.0841;     // the -x half droops 1.08 / 0.92 times as much as the +x half
 constexpr double contractionAsymmetry = 0.0605; // the +x half contracts a little more
+constexpr double shrinkageStrain = 0.0274;      // the lamina 2.7 % shorter in every direction at full load
+constexpr double shrinkageAsymmetry = -0.0104;  // (the fit's; practically symmetric)
 /// The voxel edge of the fit: the leaf's longest side (22.308 cm along y, cordate lobes included) / Resolution 14.
 constexpr double voxelSize = 22.3079 / 14.0;
 } // namespace CucumberFit
@@ -61,6 +64,8 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
   p.contractionTime = 0.0;
   p.droopAsymmetry = 0.0;
   p.contractionAsymmetry = 0.0;
+  p.shrinkageStrain = 0.0;
+  p.shrinkageAsymmetry = 0.0;
   p.referenceVoxelSize = 0.0;
   switch (preset)
   {
@@ -82,6 +87,8 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
       p.contractionForce = CucumberFit::contraction;
       p.droopAsymmetry = CucumberFit::droopAsymmetry;
       p.contractionAsymmetry = CucumberFit::contractionAsymmetry;
+      p.shrinkageStrain = CucumberFit::shrinkageStrain;
+      p.shrinkageAsymmetry = CucumberFit::shrinkageAsymmetry;
       p.referenceVoxelSize = CucumberFit::voxelSize;
       break;
     case WiltingPreset::Tomato:

@@ -56,6 +56,14 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << "ContractionAsymmetry must be in [-1, 1] (got " << p.contractionAsymmetry << ")";
   }
+  else if (!(std::abs(p.shrinkageStrain) <= 0.4))
+  {
+    message << "ShrinkageStrain must be in [-0.4, 0.4] (negative swells; got " << p.shrinkageStrain << ")";
+  }
+  else if (!(p.shrinkageAsymmetry >= -1.0 && p.shrinkageAsymmetry <= 1.0))
+  {
+    message << "ShrinkageAsymmetry must be in [-1, 1] (got " << p.shrinkageAsymmetry << ")";
+  }
   else if (!(p.loadTime > 0.0) || !std::isfinite(p.loadTime))
   {
     message << "LoadTime must be > 0 and finite (got " << p.loadTime << ")";
@@ -158,6 +166,7 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   const double ratio = parameters.referenceVoxelSize > 0.0 ? h / parameters.referenceVoxelSize : 1.0;
   const double springScale = ratio;
   const double loadScale = ratio * ratio * ratio;
+  std::vector<int> voxelSprings; // with shrinkage: the 28 springs of each voxel, in voxel order
   // Nodes with lumped masses.
   for (const Eigen::Vector3d& x : grid.nodes)
   {
@@ -179,8 +188,12 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
     {
       for (int b = a + 1; b < 8; ++b)
       {
-        this->Springs.AddSpring(
+        const int spring = this->Springs.AddSpring(
           c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], stiffness, damping);
+        if (parameters.shrinkageStrain != 0.0)
+        {
+          voxelSprings.push_back(spring);
+        }
       }
     }
     this->Springs.AddHexahedron(c);
@@ -262,6 +275,8 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   this->GravityForce.assign(3 * n, 0.0);
   this->LoadForce.assign(3 * n, 0.0);
   this->ContractionLoad.assign(3 * n, 0.0);
+  // With shrinkage: per spring, the sum over its voxels of k_v e_v (divided by the spring's k below).
+  std::vector<double> shrinkageWeight(voxelSprings.empty() ? 0 : this->Springs.SpringCount(), 0.0);
   const std::vector<double>& masses = this->Springs.Masses();
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -298,6 +313,16 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
       this->ContractionLoad[3 * node + 1] += 0.25 * loadScale * contraction * towards[1];
       this->LoadForce[3 * node + 2] -= 0.25 * loadScale * droop;
     }
+    if (parameters.shrinkageStrain != 0.0 && WiltingMaterialOf(grid.regions[v]) != WiltingPetiole)
+    {
+      const double strain = (1.0 + parameters.shrinkageAsymmetry * side) * parameters.shrinkageStrain;
+      const double stiffness =
+        parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))].stiffness * springScale;
+      for (std::size_t pair = 0; pair < 28; ++pair)
+      {
+        shrinkageWeight[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * strain;
+      }
+    }
   }
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -309,6 +334,15 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
         this->LoadForce[3 * i + static_cast<std::size_t>(c)] = 0.0;
         this->ContractionLoad[3 * i + static_cast<std::size_t>(c)] = 0.0;
       }
+    }
+  }
+  this->SpringShrinkage.clear();
+  if (!shrinkageWeight.empty())
+  {
+    this->SpringShrinkage.resize(shrinkageWeight.size());
+    for (std::size_t e = 0; e < shrinkageWeight.size(); ++e)
+    {
+      this->SpringShrinkage[e] = shrinkageWeight[e] / this->Springs.Springs()[e].stiffness;
     }
   }
   error = this->Newmark.Setup(this->Springs, parameters.newmark);
@@ -345,6 +379,25 @@ void WiltingSimulation::ExternalForce(double t, std::vector<double>& force) cons
   }
 }
 
+double WiltingSimulation::ShrinkageFactor(double t) const
+{
+  return WiltingLoadFactor(this->Params.loadProfile, t,
+    this->Params.contractionTime > 0.0 ? this->Params.contractionTime : this->Params.loadTime);
+}
+
+std::vector<double> WiltingSimulation::RestLengths(double t) const
+{
+  const std::vector<MassSpringSpring>& springs = this->Springs.Springs();
+  std::vector<double> lengths(springs.size());
+  const double factor = this->ShrinkageFactor(t);
+  for (std::size_t e = 0; e < springs.size(); ++e)
+  {
+    const double strain = this->SpringShrinkage.empty() ? 0.0 : factor * this->SpringShrinkage[e];
+    lengths[e] = springs[e].restLength * (1.0 - strain);
+  }
+  return lengths;
+}
+
 std::vector<Eigen::Vector3d> WiltingSimulation::PointPositions(std::size_t f) const
 {
   std::vector<double> d(3 * this->Points.size());
@@ -362,6 +415,10 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
   this->FrameList.clear();
   this->WasAborted = false;
   this->Newmark.Reset();
+  if (!this->SpringShrinkage.empty())
+  {
+    this->Newmark.SetRestLengths(this->RestLengths(0.0));
+  }
   {
     // From rest (R = 0, v = 0) with the consistent acceleration M^-1 f(0): second order from the first step.
     std::vector<double> f0;
@@ -412,6 +469,10 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
     const double time = step * dt;
     this->ExternalForce(time, force);
     const std::vector<double> before = this->Newmark.Displacement();
+    if (!this->SpringShrinkage.empty())
+    {
+      this->Newmark.SetRestLengths(this->RestLengths(time)); // the rest shape at the step's end, like the loads
+    }
     const std::string error = this->Newmark.Step(force);
     std::ostringstream message;
     if (!error.empty())
@@ -430,6 +491,26 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
       maxDisplacement = std::max(maxDisplacement, std::abs(q[k]));
     }
     previousForce = force;
+    if (!this->SpringShrinkage.empty())
+    {
+      // A rest length L (1 - x) is the spring of rest length L (the energies') with a pull k x L between its ends:
+      // its work, at the step's mean x, on the step's change of length.
+      const double mean = 0.5 * (this->ShrinkageFactor(time - dt) + this->ShrinkageFactor(time));
+      const std::vector<Eigen::Vector3d>& rest = this->Voxels.nodes;
+      const auto length = [&](const std::vector<double>& u, const MassSpringSpring& s) {
+        const std::size_t a = static_cast<std::size_t>(s.a);
+        const std::size_t b = static_cast<std::size_t>(s.b);
+        return (rest[b] - rest[a] + Eigen::Vector3d(u[3 * b] - u[3 * a], u[3 * b + 1] - u[3 * a + 1],
+                                      u[3 * b + 2] - u[3 * a + 2]))
+          .norm();
+      };
+      const std::vector<MassSpringSpring>& springs = this->Springs.Springs();
+      for (std::size_t e = 0; e < springs.size(); ++e)
+      {
+        work += springs[e].stiffness * mean * this->SpringShrinkage[e] * springs[e].restLength *
+          (length(before, springs[e]) - length(q, springs[e]));
+      }
+    }
     const double jacobian = this->Springs.MinimumRelativeJacobian(q.data());
     if (!(jacobian > 0.0))
     {

@@ -24,6 +24,16 @@
 //   -1 on the -x side, 0 on it: one half of a real leaf loses turgor sooner or more than the other (a = 1: only
 //   the +x half is loaded, with twice the load; -1: only the -x half). For a leaf symmetric about the midvein the
 //   total load is unchanged, and a and -a give mirror-image motions.
+// - Shrinkage (* not in the paper; default 0, then nothing changes): the lamina losing area as it dehydrates (leaf
+//   shrinkage). ShrinkageStrain e in [-0.4, 0.4] at full load: each spring's rest length L becomes (1 - e_v c(t)) L
+//   for the part k_v of its stiffness that voxel v contributes (a shared spring: L (1 - sum k_v e_v c / sum k_v)),
+//   e_v = e (1 + a_s s) with ShrinkageAsymmetry a_s in [-1, 1] and s the voxel's side as above (petiole voxels: 0),
+//   c(t) the contraction's load factor (ContractionTime). The rest lengths are the integrator's, so the shrinking
+//   is implicit (stable at any strain) and adds no load: a flat leaf, both faces shrinking alike, shortens and
+//   narrows in its plane towards its anchor without curling (ContractionForce, on one face, curls); the half that
+//   shrinks more becomes the concave side of a bend in the leaf's plane, so the tip moves sideways towards it.
+//   The energies keep the unshrunk rest lengths; the blow-up guard counts the shrinking as work (a rest length
+//   L (1 - x) is a spring of rest length L with a pull k x L between its ends).
 // - LoadProfile: Constant 1 (the paper), Ramp min(1, t/LoadTime), Sigmoid: the logistic 1/(1 + exp(-12 (t/T -
 //   1/2))) rescaled to go from 0 at t = 0 to 1 at t = T = LoadTime (slow start, then faster: the measured wilting).
 //   The contraction follows the same profile over its own ContractionTime (0: LoadTime): * the paper sees the
@@ -103,6 +113,11 @@ struct WiltingParameters
   double droopAsymmetry = 0.0;
   /// In [-1, 1]: the same for the contraction (one half of the lamina shrinking more than the other).
   double contractionAsymmetry = 0.0;
+  /// In [-0.4, 0.4]: the relative shortening of the rest length of every lamina spring at full load (leaf
+  /// shrinkage), on the contraction's profile; negative swells.
+  double shrinkageStrain = 0.0;
+  /// In [-1, 1]: the shrinkage on the +x half is (1 + a), on the -x half (1 - a) times ShrinkageStrain.
+  double shrinkageAsymmetry = 0.0;
   /// > 0: the materials' stiffness and damping and the droop and contraction loads were given for voxels of this
   /// edge (a preset's fit); Setup scales them to the actual edge h, stiffness by h/h0 (a spring lattice's modulus
   /// is k/h) and loads by (h/h0)^3 (loads per volume, like gravity), so a fit carries over to other resolutions
@@ -168,6 +183,8 @@ public:
   std::vector<Eigen::Vector3d> PointPositions(std::size_t f) const;
   /// The external force (3 per node) at time t.
   void ExternalForce(double t, std::vector<double>& force) const;
+  /// The springs' rest lengths at time t (one per spring; the system's own without shrinkage).
+  std::vector<double> RestLengths(double t) const;
 
 private:
   WiltingParameters Params;
@@ -179,6 +196,8 @@ private:
   std::vector<double> GravityForce; // per node
   std::vector<double> LoadForce;    // per node, droop at full load
   std::vector<double> ContractionLoad; // per node, contraction at full load
+  std::vector<double> SpringShrinkage; // per spring, its strain at full load; empty without shrinkage
+  double ShrinkageFactor(double t) const;
   int Tip = 0;
   int StepsPerFrame = 1;
   int FrameCount = 1;

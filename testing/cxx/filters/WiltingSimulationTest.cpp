@@ -416,6 +416,76 @@ TEST(WiltingSimulation, AsymmetryMovesTheTipSidewaysAndItsMirrorMirrors)
   EXPECT_NEAR(tip[2][2], tip[1][2], 1e-9);
 }
 
+TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSideways)
+{
+  // Shrinkage shortens every lamina spring: a flat leaf, its two faces shrinking alike, shortens towards its
+  // anchored base and stays in its plane (a contraction on the bottom nodes curls it down instead); without other
+  // loads the free leaf takes the shrunk rest shape, its tip e times its distance from the anchor closer. 5 % is
+  // far beyond what explicit pulls along the springs would survive at this time step: the rest lengths are implicit.
+  // More shrinkage on the +x half makes that half the concave side of a bend in the plane: the tip moves to +x,
+  // still flat; -a is the mirror image.
+  const WiltingInput in = Rectangle(4.5, 10.0, 8, 20);
+  WiltingParameters p = AsymmetryCase();
+  p.droopForce = 0.0;
+  p.contractionForce = 0.0;
+  p.contractionTarget = WiltingContractionTarget::Base;
+  const Eigen::Vector3d rest = in.points[20 * 9 + 4];
+  const auto tipAfter = [&](const WiltingParameters& parameters) {
+    WiltingSimulation simulation;
+    EXPECT_EQ(simulation.Setup(in, parameters), "");
+    EXPECT_EQ(simulation.Run(), "");
+    EXPECT_EQ(simulation.TipPoint(), 20 * 9 + 4);
+    return Eigen::Vector3d(simulation.Frames().back().tip - rest);
+  };
+  {
+    // Without shrinkage the integrator keeps the system's rest lengths (the model without it, bit for bit); with
+    // it, at full load (Constant profile), every spring is (1 - e) times as long (no petiole voxels here, and every
+    // voxel shrinks alike, so a shared spring's stiffness-weighted strain is e too).
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    std::vector<double> own;
+    for (const MassSpringSpring& spring : simulation.System().Springs())
+    {
+      own.push_back(spring.restLength);
+    }
+    EXPECT_EQ(simulation.RestLengths(0.5), own);
+    WiltingParameters shrinking = p;
+    shrinking.shrinkageStrain = 0.05;
+    ASSERT_EQ(simulation.Setup(in, shrinking), "");
+    const std::vector<double> shrunkLengths = simulation.RestLengths(0.5);
+    ASSERT_EQ(shrunkLengths.size(), own.size());
+    for (std::size_t e = 0; e < own.size(); ++e)
+    {
+      EXPECT_NEAR(shrunkLengths[e], 0.95 * own[e], 1e-12 * own[e]) << "spring " << e;
+    }
+  }
+  p.shrinkageStrain = 0.05;
+  const Eigen::Vector3d shrunk = tipAfter(p);
+  // The free part, from the anchored nodes (within 1.5 cm of the base: up to y = 1 on the midvein) to the tip at
+  // y = 10, is 9 to 10 cm long; the tip comes e times that closer (-0.464 cm).
+  EXPECT_LT(shrunk[1], -0.05 * 9.0) << "towards the base, by e times the free length";
+  EXPECT_GT(shrunk[1], -0.05 * 10.0);
+  EXPECT_NEAR(shrunk[0], 0.0, 1e-9) << "a symmetric leaf shrinks symmetrically";
+  EXPECT_NEAR(shrunk[2], 0.0, 1e-8) << "in the plane: both faces are pulled alike";
+  WiltingParameters curl = p;
+  curl.shrinkageStrain = 0.0;
+  curl.contractionForce = 40.0;
+  EXPECT_LT(tipAfter(curl)[2], -0.02) << "the contraction on the bottom nodes curls the tip down";
+  p.shrinkageAsymmetry = 0.5;
+  const Eigen::Vector3d plus = tipAfter(p);
+  p.shrinkageAsymmetry = -0.5;
+  const Eigen::Vector3d minus = tipAfter(p);
+  EXPECT_GT(plus[0], 0.01) << "towards the half that shrinks more";
+  EXPECT_NEAR(plus[2], 0.0, 1e-8) << "still in the plane";
+  EXPECT_NEAR(minus[0], -plus[0], 1e-9) << "-a: the mirror image";
+  EXPECT_NEAR(minus[1], plus[1], 1e-9);
+  p.shrinkageAsymmetry = -1.5;
+  EXPECT_NE(ValidateWilting(p).find("ShrinkageAsymmetry must be in [-1, 1]"), std::string::npos);
+  p.shrinkageAsymmetry = 0.0;
+  p.shrinkageStrain = 0.45;
+  EXPECT_NE(ValidateWilting(p).find("ShrinkageStrain must be in [-0.4, 0.4]"), std::string::npos);
+}
+
 TEST(WiltingSimulation, DeterministicAcrossRunsAndThreads)
 {
   const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);

@@ -429,6 +429,7 @@ TEST(vtkWiltingSimulator, ErrorsNameThePropertyAndEmptyEveryOutput)
     { "ContractionTarget", [](vtkWiltingSimulator* w) { w->SetContractionTarget(3); } },
     { "DroopAsymmetry", [](vtkWiltingSimulator* w) { w->SetDroopAsymmetry(1.5); } },
     { "ContractionAsymmetry", [](vtkWiltingSimulator* w) { w->SetContractionAsymmetry(std::nan("")); } },
+    { "ShrinkageAsymmetry", [](vtkWiltingSimulator* w) { w->SetShrinkageAsymmetry(2.0); } },
     { "TimeStep", [](vtkWiltingSimulator* w) { w->SetTimeStep(std::nan("")); } },
     { "BladeDensity", [](vtkWiltingSimulator* w) { w->SetBladeMaterial(0.0, 1000.0, 0.0); } },
   };
