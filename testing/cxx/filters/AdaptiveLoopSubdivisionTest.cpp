@@ -238,6 +238,26 @@ void ExpectOracle(const AdaptiveLoopMesh& input, int levels)
   }
 }
 
+/// Fixed or Refine features: every input point of the margin or midvein (Region 1 or 4) is in the output bit for bit,
+/// and the output has one boundary loop with `boundaryFactor` times the input loop's points. `featurePoints`
+/// receives how many points were checked.
+void ExpectFeaturePointsKept(const AdaptiveLoopMesh& input, const AdaptiveLoopMesh& output, std::size_t boundaryFactor,
+  std::size_t& featurePoints)
+{
+  featurePoints = 0;
+  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
+    if (input.region[v] == 1 || input.region[v] == 4)
+    {
+      ++featurePoints;
+      for (int j = 0; j < 3; ++j)
+        ASSERT_EQ(output.points[3 * v + j], input.points[3 * v + j]) << "point " << v;
+    }
+  const auto loopsIn = testing::BoundaryLoops(AsTriangles(input.triangles));
+  const auto loopsOut = testing::BoundaryLoops(AsTriangles(output.triangles));
+  ASSERT_EQ(loopsOut.size(), 1u);
+  EXPECT_EQ(loopsOut[0].size(), boundaryFactor * loopsIn[0].size());
+}
+
 /// Interior edges in two triangles, boundary edges in one, Euler characteristic and boundary loops kept.
 void ExpectConforming(const AdaptiveLoopMesh& input, const AdaptiveLoopMesh& output, const std::string& what)
 {
@@ -379,20 +399,10 @@ TEST(AdaptiveLoopSubdivision, FixedRuleKeepsMarginAndMidveinBitIdentical)
   const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
   ASSERT_EQ(result.error, "");
   ASSERT_EQ(result.levels, 3);
-  std::size_t featurePoints = 0;
-  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
-    if (input.region[v] == 1 || input.region[v] == 4)
-    {
-      ++featurePoints;
-      for (int j = 0; j < 3; ++j)
-        ASSERT_EQ(result.mesh.points[3 * v + j], input.points[3 * v + j]) << "point " << v;
-    }
-  ASSERT_GT(featurePoints, 20u);
   // No new point on the margin or the midvein: the boundary is the input's polygon, the midvein its polyline.
-  const auto loopsIn = testing::BoundaryLoops(AsTriangles(input.triangles));
-  const auto loopsOut = testing::BoundaryLoops(AsTriangles(result.mesh.triangles));
-  ASSERT_EQ(loopsOut.size(), 1u);
-  EXPECT_EQ(loopsOut[0].size(), loopsIn[0].size());
+  std::size_t featurePoints = 0;
+  ExpectFeaturePointsKept(input, result.mesh, 1, featurePoints);
+  ASSERT_GT(featurePoints, 20u);
   const std::size_t midveinIn = std::count(input.region.begin(), input.region.end(), 1);
   const std::size_t midveinOut = std::count(result.mesh.region.begin(), result.mesh.region.end(), 1);
   EXPECT_EQ(midveinOut, midveinIn);
@@ -409,16 +419,8 @@ TEST(AdaptiveLoopSubdivision, RefineRuleSamplesFeatureCurvesWithoutMovingThem)
   ASSERT_EQ(result.error, "");
   // Input margin and midvein points stay; the boundary has 4 times the points; every new margin point lies on the
   // input boundary polygon (x, y and z).
-  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
-    if (input.region[v] == 1 || input.region[v] == 4)
-    {
-      for (int j = 0; j < 3; ++j)
-        ASSERT_EQ(result.mesh.points[3 * v + j], input.points[3 * v + j]);
-    }
-  const auto loopsIn = testing::BoundaryLoops(AsTriangles(input.triangles));
-  const auto loopsOut = testing::BoundaryLoops(AsTriangles(result.mesh.triangles));
-  ASSERT_EQ(loopsOut.size(), 1u);
-  EXPECT_EQ(loopsOut[0].size(), 4 * loopsIn[0].size());
+  std::size_t featurePoints = 0;
+  ExpectFeaturePointsKept(input, result.mesh, 4, featurePoints);
   const std::size_t midveinIn = std::count(input.region.begin(), input.region.end(), 1);
   const std::size_t midveinOut = std::count(result.mesh.region.begin(), result.mesh.region.end(), 1);
   EXPECT_EQ(midveinOut, 4 * (midveinIn - 1) + 1);
@@ -779,16 +781,9 @@ TEST(AdaptiveLoopSubdivision, SurfaceErrorKeepsFixedFeaturesBitIdentical)
   const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, ByError(1e-4, 3, FeatureRule::Fixed));
   ASSERT_EQ(result.error, "");
   ASSERT_GT(result.levels, 0);
-  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
-    if (input.region[v] == 1 || input.region[v] == 4)
-    {
-      for (int j = 0; j < 3; ++j)
-        ASSERT_EQ(result.mesh.points[3 * v + j], input.points[3 * v + j]) << "point " << v;
-    }
-  const auto loopsIn = testing::BoundaryLoops(AsTriangles(input.triangles));
-  const auto loopsOut = testing::BoundaryLoops(AsTriangles(result.mesh.triangles));
-  ASSERT_EQ(loopsOut.size(), 1u);
-  EXPECT_EQ(loopsOut[0].size(), loopsIn[0].size());
+  std::size_t featurePoints = 0;
+  ExpectFeaturePointsKept(input, result.mesh, 1, featurePoints);
+  EXPECT_GT(featurePoints, 20u);
 }
 
 TEST(AdaptiveLoopSubdivision, SurfaceErrorToleranceIsValidated)
@@ -960,18 +955,8 @@ TEST(AdaptiveLoopSubdivision, ChordErrorKeepsFixedFeaturesBitIdentical)
   ASSERT_EQ(result.error, "");
   ASSERT_GT(result.levels, 0);
   std::size_t featurePoints = 0;
-  for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
-    if (input.region[v] == 1 || input.region[v] == 4)
-    {
-      ++featurePoints;
-      for (int j = 0; j < 3; ++j)
-        ASSERT_EQ(result.mesh.points[3 * v + j], input.points[3 * v + j]) << "point " << v;
-    }
+  ExpectFeaturePointsKept(input, result.mesh, 1, featurePoints);
   EXPECT_GT(featurePoints, 20u);
-  const auto loopsIn = testing::BoundaryLoops(AsTriangles(input.triangles));
-  const auto loopsOut = testing::BoundaryLoops(AsTriangles(result.mesh.triangles));
-  ASSERT_EQ(loopsOut.size(), 1u);
-  EXPECT_EQ(loopsOut[0].size(), loopsIn[0].size());
 }
 
 TEST(AdaptiveLoopSubdivision, ChordErrorAttributesFollowThePositionStencils)
