@@ -4,6 +4,7 @@ tests (run_gui_test.py, run_tracing_test.py) share.
 ParaView gets a home of its own (no user settings; the given macros in its Macros folder, where the XML events can
 pick them from the Macros menu). On this kind of machine an X connection to Xvfb now and then fails at once ("bad X
 server connection"); such a run says nothing about PlantMorph, so it is run again, up to three times."""
+import json
 import os
 import shutil
 import subprocess
@@ -53,3 +54,15 @@ class Checks:
     @property
     def failed(self):
         return bool(self.failures)
+
+    def playback(self, returncode, log, check_file):
+        """The checks every GUI test starts with: ParaView exited with 0 (playback and, if asked, the image
+        comparison passed), the playback reported success, and the check macro wrote `check_file`. Returns what
+        that file holds (JSON), or None."""
+        self(returncode == 0, "ParaView exited with 0: %d" % returncode)
+        self("Success =  true" in log or "Success = true" in log, "the playback succeeded")
+        self(os.path.exists(check_file), "the check macro ran and wrote %s" % check_file)
+        if not os.path.exists(check_file):
+            return None
+        with open(check_file) as f:
+            return json.load(f)

@@ -35,12 +35,8 @@ returncode, log = gui_playback.play(
 print(log[-6000:])
 
 check = gui_playback.Checks()
-check(returncode == 0, "ParaView exited with 0 (playback and image comparison passed): %d" % returncode)
-check("Success =  true" in log or "Success = true" in log, "the menu playback succeeded")
-check(os.path.exists(check_file), "the macro ran and wrote %s" % check_file)
-if os.path.exists(check_file):
-    with open(check_file) as f:
-        found = json.load(f)
+found = check.playback(returncode, log, check_file)
+if found is not None:
     pipeline = found["pipeline"]
     picked = json.load(open(check_file + ".picked")) if os.path.exists(check_file + ".picked") else []
     check(picked == ["LeafCurlFilter1"], "Leaf Curl Filter made from the PlantMorph menu: %s" % picked)

@@ -18,7 +18,6 @@ branches are lifted out of it).
     python3 run_tracing_test.py --paraview paraview --plugin-dir build/lib/paraview-5.11/plugins/PlantMorph \
         --work build/testing/gui-tracing"""
 import argparse
-import json
 import os
 import struct
 import sys
@@ -168,12 +167,8 @@ returncode, log = gui_playback.play(
 print(log[-4000:])
 
 check = gui_playback.Checks()
-check(returncode == 0, "ParaView exited with 0: %d" % returncode)
-check("Success =  true" in log or "Success = true" in log, "the playback succeeded")
-check(os.path.exists(check_file), "the check macro ran and wrote %s" % check_file)
-if os.path.exists(check_file):
-    with open(check_file) as f:
-        found = json.load(f)
+found = check.playback(returncode, log, check_file)
+if found is not None:
     sources = found["sources"]
     check(tuple(found["view_size"]) == VIEW_SIZE, "the render view is %s pixels, as the clicks assume (%s)" % (
         found["view_size"], VIEW_SIZE))
