@@ -625,56 +625,6 @@ AdaptiveLoopSettings ByError(double tolerance, int levels, FeatureRule rule)
   return s;
 }
 
-TEST(AdaptiveLoopSubdivision, SurfaceErrorZeroToleranceIsUniformLoopBitForBit)
-{
-  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10) };
-  for (const AdaptiveLoopMesh& input : meshes)
-    for (int r = 0; r < 3; ++r)
-    {
-      AdaptiveLoopSettings uniform;
-      uniform.edgeAngleThreshold = 180.0;
-      uniform.flatnessThreshold = 1.0;
-      uniform.featureRule = static_cast<FeatureRule>(r);
-      uniform.maximumLevel = 3;
-      // FlatnessThreshold and EdgeAngleThreshold are not used by SurfaceError: set them to adaptive values.
-      AdaptiveLoopSettings byError = ByError(0.0, 3, uniform.featureRule);
-      byError.edgeAngleThreshold = 120.0;
-      byError.flatnessThreshold = 0.5;
-      const AdaptiveLoopResult a = AdaptiveLoopSubdivide(input, uniform);
-      const AdaptiveLoopResult b = AdaptiveLoopSubdivide(input, byError);
-      ASSERT_EQ(a.error, "");
-      ASSERT_EQ(b.error, "");
-      ASSERT_EQ(b.levels, 3);
-      EXPECT_EQ(a.mesh.points, b.mesh.points) << "rule " << r;
-      EXPECT_EQ(a.mesh.triangles, b.mesh.triangles) << "rule " << r;
-      EXPECT_EQ(a.mesh.attributes, b.mesh.attributes) << "rule " << r;
-      EXPECT_EQ(a.mesh.region, b.mesh.region) << "rule " << r;
-      EXPECT_EQ(a.trianglesPerLevel, b.trianglesPerLevel) << "rule " << r;
-    }
-  // And with the Loop rule and no midvein features, zero tolerance is the oracle-checked plain Loop.
-  AdaptiveLoopSettings plain = ByError(0.0, 2, FeatureRule::Loop);
-  plain.midveinIsFeature = false;
-  EXPECT_EQ(
-    AdaptiveLoopSubdivide(Blade(10), plain).mesh.points, AdaptiveLoopSubdivide(Blade(10), PlainLoop(2)).mesh.points);
-}
-
-TEST(AdaptiveLoopSubdivision, SurfaceErrorInfiniteToleranceLeavesTheInput)
-{
-  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10) };
-  for (const AdaptiveLoopMesh& input : meshes)
-    for (int r = 0; r < 3; ++r)
-      for (const double tolerance : { std::numeric_limits<double>::infinity(), 1e6 })
-      {
-        const AdaptiveLoopResult result =
-          AdaptiveLoopSubdivide(input, ByError(tolerance, 4, static_cast<FeatureRule>(r)));
-        ASSERT_EQ(result.error, "");
-        EXPECT_EQ(result.levels, 0);
-        EXPECT_EQ(result.mesh.points, input.points);
-        EXPECT_EQ(result.mesh.triangles, input.triangles);
-        EXPECT_EQ(result.mesh.attributes, input.attributes);
-      }
-}
-
 TEST(AdaptiveLoopSubdivision, SurfaceErrorSplitsAnEdgeExactlyWhenItsOddPointIsTheToleranceOffItsChord)
 {
   // Two triangles on the edge (a, b) = (0,0,0)-(1,0,0), opposite points (0.5, +-1, z): the normals' sum is +z, and
@@ -775,17 +725,6 @@ TEST(AdaptiveLoopSubdivision, SurfaceErrorConformingAndMonotoneOnRandomTolerance
   }
 }
 
-TEST(AdaptiveLoopSubdivision, SurfaceErrorKeepsFixedFeaturesBitIdentical)
-{
-  const AdaptiveLoopMesh input = Blade(14);
-  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, ByError(1e-4, 3, FeatureRule::Fixed));
-  ASSERT_EQ(result.error, "");
-  ASSERT_GT(result.levels, 0);
-  std::size_t featurePoints = 0;
-  ExpectFeaturePointsKept(input, result.mesh, 1, featurePoints);
-  EXPECT_GT(featurePoints, 20u);
-}
-
 TEST(AdaptiveLoopSubdivision, SurfaceErrorToleranceIsValidated)
 {
   const AdaptiveLoopMesh mesh = Icosahedron(false);
@@ -834,46 +773,84 @@ AdaptiveLoopMesh Tube(int n, int around)
   return mesh;
 }
 
-TEST(AdaptiveLoopSubdivision, ChordErrorZeroToleranceIsUniformLoopBitForBit)
+/// The two error rules' shared guarantees are checked for both (Tube is defined above for the Chord error tests).
+const RefinementRule kErrorRules[] = { RefinementRule::SurfaceError, RefinementRule::ChordError };
+
+AdaptiveLoopSettings ByRule(RefinementRule rule, double tolerance, int levels, FeatureRule featureRule)
 {
-  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10), Tube(4, 8) };
-  for (const AdaptiveLoopMesh& input : meshes)
-    for (int r = 0; r < 3; ++r)
-    {
-      AdaptiveLoopSettings uniform;
-      uniform.edgeAngleThreshold = 180.0;
-      uniform.flatnessThreshold = 1.0;
-      uniform.featureRule = static_cast<FeatureRule>(r);
-      uniform.maximumLevel = 3;
-      AdaptiveLoopSettings byChord = ByChord(0.0, 3, uniform.featureRule);
-      byChord.edgeAngleThreshold = 120.0; // not used by ChordError
-      byChord.flatnessThreshold = 0.5;
-      const AdaptiveLoopResult a = AdaptiveLoopSubdivide(input, uniform);
-      const AdaptiveLoopResult b = AdaptiveLoopSubdivide(input, byChord);
-      ASSERT_EQ(a.error, "");
-      ASSERT_EQ(b.error, "");
-      ASSERT_EQ(b.levels, 3);
-      EXPECT_EQ(a.mesh.points, b.mesh.points) << "rule " << r;
-      EXPECT_EQ(a.mesh.triangles, b.mesh.triangles) << "rule " << r;
-      EXPECT_EQ(a.mesh.attributes, b.mesh.attributes) << "rule " << r;
-      EXPECT_EQ(a.mesh.region, b.mesh.region) << "rule " << r;
-      EXPECT_EQ(a.trianglesPerLevel, b.trianglesPerLevel) << "rule " << r;
-    }
+  return rule == RefinementRule::ChordError ? ByChord(tolerance, levels, featureRule)
+                                            : ByError(tolerance, levels, featureRule);
 }
 
-TEST(AdaptiveLoopSubdivision, ChordErrorInfiniteToleranceLeavesTheInput)
+TEST(AdaptiveLoopSubdivision, ErrorRulesZeroToleranceIsUniformLoopBitForBit)
+{
+  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10), Tube(4, 8) };
+  for (const RefinementRule rule : kErrorRules)
+    for (const AdaptiveLoopMesh& input : meshes)
+      for (int r = 0; r < 3; ++r)
+      {
+        AdaptiveLoopSettings uniform;
+        uniform.edgeAngleThreshold = 180.0;
+        uniform.flatnessThreshold = 1.0;
+        uniform.featureRule = static_cast<FeatureRule>(r);
+        uniform.maximumLevel = 3;
+        // FlatnessThreshold and EdgeAngleThreshold are not used by the error rules: set them to adaptive values.
+        AdaptiveLoopSettings byRule = ByRule(rule, 0.0, 3, uniform.featureRule);
+        byRule.edgeAngleThreshold = 120.0;
+        byRule.flatnessThreshold = 0.5;
+        const AdaptiveLoopResult a = AdaptiveLoopSubdivide(input, uniform);
+        const AdaptiveLoopResult b = AdaptiveLoopSubdivide(input, byRule);
+        const std::string what = "refinement rule " + std::to_string(static_cast<int>(rule)) + ", feature rule " +
+          std::to_string(r);
+        ASSERT_EQ(a.error, "");
+        ASSERT_EQ(b.error, "");
+        ASSERT_EQ(b.levels, 3);
+        EXPECT_EQ(a.mesh.points, b.mesh.points) << what;
+        EXPECT_EQ(a.mesh.triangles, b.mesh.triangles) << what;
+        EXPECT_EQ(a.mesh.attributes, b.mesh.attributes) << what;
+        EXPECT_EQ(a.mesh.region, b.mesh.region) << what;
+        EXPECT_EQ(a.trianglesPerLevel, b.trianglesPerLevel) << what;
+      }
+  // And with the Loop rule and no midvein features, zero tolerance is the oracle-checked plain Loop.
+  for (const RefinementRule rule : kErrorRules)
+  {
+    AdaptiveLoopSettings plain = ByRule(rule, 0.0, 2, FeatureRule::Loop);
+    plain.midveinIsFeature = false;
+    EXPECT_EQ(AdaptiveLoopSubdivide(Blade(10), plain).mesh.points,
+      AdaptiveLoopSubdivide(Blade(10), PlainLoop(2)).mesh.points);
+  }
+}
+
+TEST(AdaptiveLoopSubdivision, ErrorRulesInfiniteToleranceLeavesTheInput)
 {
   const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10) };
-  for (const AdaptiveLoopMesh& input : meshes)
-    for (int r = 0; r < 3; ++r)
-    {
-      const AdaptiveLoopResult result = AdaptiveLoopSubdivide(
-        input, ByChord(std::numeric_limits<double>::infinity(), 4, static_cast<FeatureRule>(r)));
-      ASSERT_EQ(result.error, "");
-      EXPECT_EQ(result.levels, 0);
-      EXPECT_EQ(result.mesh.points, input.points);
-      EXPECT_EQ(result.mesh.triangles, input.triangles);
-    }
+  for (const RefinementRule rule : kErrorRules)
+    for (const AdaptiveLoopMesh& input : meshes)
+      for (int r = 0; r < 3; ++r)
+        for (const double tolerance : { std::numeric_limits<double>::infinity(), 1e6 })
+        {
+          const AdaptiveLoopResult result =
+            AdaptiveLoopSubdivide(input, ByRule(rule, tolerance, 4, static_cast<FeatureRule>(r)));
+          ASSERT_EQ(result.error, "");
+          EXPECT_EQ(result.levels, 0);
+          EXPECT_EQ(result.mesh.points, input.points);
+          EXPECT_EQ(result.mesh.triangles, input.triangles);
+          EXPECT_EQ(result.mesh.attributes, input.attributes);
+        }
+}
+
+TEST(AdaptiveLoopSubdivision, ErrorRulesKeepFixedFeaturesBitIdentical)
+{
+  const AdaptiveLoopMesh input = Blade(14);
+  for (const RefinementRule rule : kErrorRules)
+  {
+    const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, ByRule(rule, 1e-4, 3, FeatureRule::Fixed));
+    ASSERT_EQ(result.error, "");
+    ASSERT_GT(result.levels, 0);
+    std::size_t featurePoints = 0;
+    ExpectFeaturePointsKept(input, result.mesh, 1, featurePoints);
+    EXPECT_GT(featurePoints, 20u);
+  }
 }
 
 TEST(AdaptiveLoopSubdivision, ChordErrorRefinesATubeAcrossItsRulingsOnly)
@@ -946,17 +923,6 @@ TEST(AdaptiveLoopSubdivision, ChordErrorConformingAndDeterministicOnRandomTolera
     EXPECT_EQ(again.mesh.triangles, result.mesh.triangles) << what;
     EXPECT_EQ(again.mesh.attributes, result.mesh.attributes) << what;
   }
-}
-
-TEST(AdaptiveLoopSubdivision, ChordErrorKeepsFixedFeaturesBitIdentical)
-{
-  const AdaptiveLoopMesh input = Blade(14);
-  const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, ByChord(1e-4, 3, FeatureRule::Fixed));
-  ASSERT_EQ(result.error, "");
-  ASSERT_GT(result.levels, 0);
-  std::size_t featurePoints = 0;
-  ExpectFeaturePointsKept(input, result.mesh, 1, featurePoints);
-  EXPECT_GT(featurePoints, 20u);
 }
 
 TEST(AdaptiveLoopSubdivision, ChordErrorAttributesFollowThePositionStencils)
