@@ -346,6 +346,19 @@ void Normalise(double* n)
     n[j] = len > 0.0 ? n[j] / len : 0.0;
 }
 
+/// Vertex v's unit normal: the sum of its triangles' unit normals (`normals`, 3 per triangle), normalised.
+void VertexNormal(const EdgeTable& table, const std::vector<double>& normals, int v, double* normal)
+{
+  normal[0] = normal[1] = normal[2] = 0.0;
+  for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)
+  {
+    const double* n = normals.data() + 3 * static_cast<std::size_t>(table.vertexCorners[i] / 3);
+    for (int j = 0; j < 3; ++j)
+      normal[j] += n[j];
+  }
+  Normalise(normal);
+}
+
 int OddRegion(int ra, int rb, bool boundary)
 {
   if (boundary)
@@ -571,16 +584,7 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
     std::vector<double> vertexNormal(byChord ? 3 * nV : 0, 0.0);
     parallelFor(byChord ? nV : 0, [&](std::size_t begin, std::size_t end) {
       for (std::size_t v = begin; v < end; ++v)
-      {
-        double* normal = vertexNormal.data() + 3 * v;
-        for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)
-        {
-          const double* n = normals.data() + 3 * static_cast<std::size_t>(table.vertexCorners[i] / 3);
-          for (int j = 0; j < 3; ++j)
-            normal[j] += n[j];
-        }
-        Normalise(normal);
-      }
+        VertexNormal(table, normals, static_cast<int>(v), vertexNormal.data() + 3 * v);
     });
     std::vector<double> loopMove(byError ? 3 * nV : 0, 0.0);
     parallelFor(byError ? nV : 0, [&](std::size_t begin, std::size_t end) {
@@ -612,14 +616,8 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
           limitOffset[vv] = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
           continue;
         }
-        double normal[3] = { 0.0, 0.0, 0.0 };
-        for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)
-        {
-          const double* n = normals.data() + 3 * static_cast<std::size_t>(table.vertexCorners[i] / 3);
-          for (int j = 0; j < 3; ++j)
-            normal[j] += n[j];
-        }
-        Normalise(normal);
+        double normal[3];
+        VertexNormal(table, normals, v, normal);
         GatherNeighbours(tri, table, v, false, nbrs);
         const int n = static_cast<int>(nbrs.size());
         const double chi = LoopLimitChi(n), beta = LoopBeta(n);
