@@ -32,20 +32,6 @@ inline double Dot(const double a[3], const double b[3])
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/// Squared distance from p to the box [lo, hi] (0 inside).
-inline double BoxDistance2(const double p[3], const double lo[3], const double hi[3])
-{
-  double d2 = 0.0;
-  for (int k = 0; k < 3; ++k)
-  {
-    const double below = lo[k] - p[k];
-    const double above = p[k] - hi[k];
-    const double d = std::max(0.0, std::max(below, above));
-    d2 += d * d;
-  }
-  return d2;
-}
-
 /// Ericson 5.1.5 on a triangle given as a, ab = b - a, ac = c - a; writes the barycentric weights (v, w) of the
 /// closest point a + v ab + w ac, and its feature.
 inline void ClosestOnTriangle(const double ap[3], const double ab[3], const double ac[3], double& v, double& w,
