@@ -8,9 +8,10 @@ fixed camera. Then it writes what it found to $PLANTMORPH_GUI_CHECK (JSON) for t
 import json
 import os
 
-from paraview import servermanager
 from paraview.simple import (FindSource, GetActiveViewOrCreate, GetAnimationScene, GetSources, Hide, OutputPort,
                              Render, SetActiveSource, Show, Transform, Tube)
+
+from pipeline_description import describe
 
 view = GetActiveViewOrCreate("RenderView")
 leaf = FindSource("LeafOutlineSource1")
@@ -74,23 +75,6 @@ view.CameraViewUp = [0.0, 0.0, 1.0]
 view.ResetCamera()
 SetActiveSource(wilt)
 Render(view)
-
-
-def describe(proxy):
-    ports = []
-    for port in range(proxy.SMProxy.GetNumberOfOutputPorts()):
-        info = OutputPort(proxy, port).GetDataInformation()
-        if info.GetDataSetTypeAsString() == "vtkTable":
-            ports.append([info.GetNumberOfRows(), info.GetNumberOfRows()])
-        else:
-            ports.append([info.GetNumberOfPoints(), info.GetNumberOfCells()])
-    inputs = []
-    for name in ("Input", "Veins", "Leaf", "Strokes"):
-        prop = proxy.SMProxy.GetProperty(name)
-        for i in range(prop.GetNumberOfProxies() if prop is not None else 0):
-            source = servermanager.ProxyManager().GetProxyName("sources", prop.GetProxy(i))
-            inputs.append("%s=%s:%d" % (name, source, prop.GetOutputPortForConnection(i)))
-    return {"label": proxy.GetXMLLabel(), "ports": ports, "inputs": inputs}
 
 
 check = {

@@ -7,20 +7,13 @@ import json
 import os
 
 from paraview import servermanager
-from paraview.simple import (FindSource, GetActiveViewOrCreate, GetDisplayProperties, GetSources, OutputPort, Render, Hide,
-                             SaveScreenshot, SetActiveSource, Show)
+from paraview.simple import (FindSource, GetActiveViewOrCreate, GetDisplayProperties, GetSources, Hide, OutputPort,
+                             Render, SaveScreenshot, SetActiveSource, Show)
+from pipeline_description import describe
 
 found = {"sources": {}}
 for (name, _), proxy in GetSources().items():
-    description = {"label": proxy.GetXMLLabel(), "inputs": [], "ports": []}
-    for property_name in ("Input", "Strokes", "Leaf", "MergeTree"):
-        prop = proxy.SMProxy.GetProperty(property_name)
-        for i in range(prop.GetNumberOfProxies() if prop is not None else 0):
-            description["inputs"].append("%s=%s:%d" % (property_name, servermanager.ProxyManager().GetProxyName(
-                "sources", prop.GetProxy(i)), prop.GetOutputPortForConnection(i)))
-    for port in range(proxy.SMProxy.GetNumberOfOutputPorts()):
-        info = OutputPort(proxy, port).GetDataInformation()
-        description["ports"].append([info.GetNumberOfPoints(), info.GetNumberOfCells()])
+    description = describe(proxy)
     if description["label"] == "Poly Line Source":
         description["points"] = list(proxy.Points)
     if proxy.GetProperty("Mode") is not None:

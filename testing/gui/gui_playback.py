@@ -24,6 +24,9 @@ def play(paraview, plugin_dir, events, work, macros, environment=None, extra_arg
     for macro in macros:
         shutil.copy(macro, macro_dir)
     env = dict(os.environ, HOME=home, XDG_RUNTIME_DIR=home, **(environment or {}))
+    # the macros import this folder's pipeline_description
+    here = os.path.dirname(os.path.abspath(__file__))
+    env["PYTHONPATH"] = here + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     command = ["xvfb-run", "-a", "-s", SCREEN, paraview, "--dr", "--plugin-search-paths=" + plugin_dir,
                "--plugins=PlantMorph", "--test-script=" + events, "--test-directory=" + work]
     command += list(extra_arguments) + ["--exit"]
