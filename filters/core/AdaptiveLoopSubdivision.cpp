@@ -21,6 +21,20 @@ constexpr int MaxReportedIds = 10;
 /// deviation: 0 gives 0.68 (bent ginkgo) and 0.84 (pin oak), 0.25 gives 0.52 and 0.74, 0.5 gives 0.38 and 0.53,
 /// 0.75 gives 0.40 and 0.54; 0.5 keeps the rulings of a cylinder at half the across edges' error.
 constexpr double ChordErrorIsotropicShare = 0.5;
+/// ChordError's factor on the estimate of an edge with an end that never moves (a Fixed or Refine feature point, a
+/// Loop corner). Next to such a point the subdivided surface bends ever more sharply towards the kept polygon, and
+/// the deviation there halves per level instead of quartering: on the benchmark's Fixed blades uniform levels 2 -> 3
+/// go from 7.8e-4 to 3.6e-4 (cucumber), set next to the margin. Measured (benchmarks/README.md, Chord error with no
+/// limit-offset terms): 2 gives the cucumber 0.84 / 0.59 / 0.23 of uniform levels 1-3's triangles at their
+/// deviation (1 gives 0.91 / 0.77 / 0.27), 4 gives 0.84 / 0.59 / 0.23 too; the pin oak moves little with it alone.
+constexpr double ChordErrorPinnedFactor = 2.0;
+/// ChordError's share of an end's limit offset delta (its distance from its Loop limit position along its normal)
+/// on every edge of that end. A part left at a coarse level keeps its points where they are, delta off the limit
+/// surface; the chord estimates do not see that. Measured on the Fixed blades with the pinned factor 2 and the
+/// forced move below: 0.5 gives the pin oak 0.85 / 0.48 / 0.36 (0 gives 0.97 / 0.70 / 0.53, 0.35 gives
+/// 0.91 / 0.59 / 0.42) and the cucumber 0.81 / 0.45 / 0.26 (0 gives 0.67 / 0.44 / 0.23; 1 for every edge,
+/// without the forced move, 0.97 / 0.63 / 0.26: it splits rulings and across edges alike).
+constexpr double ChordErrorLimitOffsetShare = 0.5;
 
 /// Every level's connectivity: vertex -> corners, the edge table, and triangle -> edges.
 struct EdgeTable
@@ -586,6 +600,13 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
       for (std::size_t v = begin; v < end; ++v)
         VertexNormal(table, normals, static_cast<int>(v), vertexNormal.data() + 3 * v);
     });
+    // Points that never move (feature points under Fixed and Refine, corners under Loop).
+    const auto pinned = [&](int v) {
+      const int f = featureCount[static_cast<std::size_t>(v)];
+      return f > 0 && (rule != FeatureRule::Loop || f != 2);
+    };
+    // ChordError: every interior non-feature edge's estimate, for the forced moves below.
+    std::vector<double> chordEstimate(byChord ? nE : 0, 0.0);
     std::vector<double> loopMove(byError ? 3 * nV : 0, 0.0);
     parallelFor(byError ? nV : 0, [&](std::size_t begin, std::size_t end) {
       std::vector<int> nbrs;
@@ -677,6 +698,10 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
               sagitta += (nb[j] - na[j]) * (pb[j] - pa[j]);
             error = std::max({ std::abs(sagitta) / 8.0, NormalComponent(normal, moved),
               ChordErrorIsotropicShare * NormalComponent(normal, d) });
+            if (pinned(a) || pinned(b))
+              error *= ChordErrorPinnedFactor;
+            chordEstimate[e] = error;
+            error = std::max(error, ChordErrorLimitOffsetShare * std::max(limitOffset[a], limitOffset[b]));
           }
           else
             error = std::max(
@@ -697,6 +722,41 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
         oddId[e] = split ? 1 : 0;
       }
     });
+    if (byChord)
+    {
+      // A point whose limit offset reaches the tolerance moves: when none of its edges splits (so it would stay
+      // where it is, delta off the limit surface), its interior non-feature edge with the largest estimate splits
+      // (ties: the lowest edge id). Decided on the flags set above, written after all reads.
+      std::vector<int> forced(nV, -1);
+      parallelFor(nV, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t vv = begin; vv < end; ++vv)
+        {
+          if (!(limitOffset[vv] >= tolerance))
+            continue;
+          const int v = static_cast<int>(vv);
+          int best = -1;
+          bool moves = false;
+          for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1] && !moves; ++i)
+          {
+            const int corner = table.vertexCorners[i];
+            const int base = corner - corner % 3;
+            const int c = corner - base;
+            for (const int e : { table.triangleEdges[base + c], table.triangleEdges[base + (c + 2) % 3] })
+            {
+              moves = moves || oddId[e] != 0;
+              if (!feature[e] && (best < 0 || chordEstimate[e] > chordEstimate[best] ||
+                                   (chordEstimate[e] == chordEstimate[best] && e < best)))
+                best = e;
+            }
+          }
+          if (!moves)
+            forced[vv] = best;
+        }
+      });
+      for (std::size_t v = 0; v < nV; ++v)
+        if (forced[v] >= 0)
+          oddId[forced[v]] = 1;
+    }
     if (byError && rule != FeatureRule::Fixed)
     {
       // A feature edge also splits when another edge of its triangle does: the curve gains samples where the

@@ -55,11 +55,21 @@
 //  - e is SurfaceError's odd point against the unmoved chord, as large along a ruling as across it; half of it
 //    still splits edges along a saddle's asymptotic directions (s and e' near 0 there, yet Loop bends the surface
 //    next to them): on the benchmark's bent ginkgo, leaving it out needs 0.68 of uniform level 3's triangles at its
-//    deviation, half of it 0.38 (benchmarks/README.md). On a cylinder a ruling splits at half the tolerance of an
-//    edge across it.
-//  The ends' limit offsets are left out (as large along a ruling as across it). Feature edges and vertex moves
-//  follow SurfaceError's rules. errorTolerance 0 is plain Loop bit for bit and infinity changes nothing, as for
-//  SurfaceError. Vertex normals assume consistently oriented triangles.
+//    deviation, half of it 0.38 (benchmarks/README.md). On a cylinder this term alone splits a ruling at half
+//    the tolerance of an edge across it (the limit-offset term below raises that to 2/3).
+//  Two corrections where that estimate is too low for the surface Loop makes (measured on the benchmark's Fixed
+//  blades, where the maximum deviation sat next to the kept margin and midvein, and at points left at a coarse
+//  level; benchmarks/README.md):
+//  - an edge with an end that never moves (a Fixed or Refine feature point, a Loop corner) counts twice its
+//    estimate: next to a kept polygon the surface bends ever more sharply and its deviation halves per level
+//    instead of quartering;
+//  - the ends' limit offsets delta (SurfaceError's) count at half: the edge's error is the larger of the (doubled)
+//    estimate above and max(delta_v1, delta_v2) / 2; and a point whose delta reaches the tolerance moves: when
+//    none of its edges splits (it would stay delta off the limit surface), its interior non-feature edge with the
+//    largest estimate (ties: the lowest edge id) splits. On a cylinder meshed in quads cut along one diagonal (valence 6), delta / 2 is 2/3 of an across
+//    edge's sagitta, above half of e, so the rulings split at 2/3 of an across edge's tolerance.
+//  Feature edges and vertex moves follow SurfaceError's rules. errorTolerance 0 is plain Loop bit for bit and
+//  infinity changes nothing, as for SurfaceError. Vertex normals assume consistently oriented triangles.
 //
 // Point data: every output point is a weighted sum of current points (its stencil); the same weights are applied to
 // the positions and to every component of `attributes`, so any point array follows the surface. Region (integer)

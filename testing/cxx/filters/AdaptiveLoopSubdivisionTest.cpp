@@ -939,5 +939,143 @@ TEST(AdaptiveLoopSubdivision, ChordErrorAttributesFollowThePositionStencils)
   }
 }
 
+TEST(AdaptiveLoopSubdivision, ChordErrorDoublesTheEstimateNextToPointsThatNeverMove)
+{
+  // SurfaceError's quad: the edge (a, b) = (0,0,0)-(1,0,0), opposite points (0.5, +-1, z), all four on the
+  // boundary. Both ends have the same normal (sagitta 0) and, under Fixed and Refine, never move (limit offsets 0,
+  // e' = e = z / 4): the estimate is max(0, z / 4, z / 8) = z / 4, doubled for an edge with an end that never moves:
+  // the edge splits exactly when the tolerance is at most z / 2, where the Surface error rule needs z / 4.
+  AdaptiveLoopMesh quad;
+  const double z = 0.4;
+  quad.points = { 0, 0, 0, 1, 0, 0, 0.5, 1, z, 0.5, -1, z };
+  quad.triangles = { 0, 1, 2, 1, 0, 3 };
+  for (const FeatureRule rule : { FeatureRule::Fixed, FeatureRule::Refine })
+  {
+    const AdaptiveLoopResult below = AdaptiveLoopSubdivide(quad, ByChord(0.1999, 1, rule));
+    const AdaptiveLoopResult above = AdaptiveLoopSubdivide(quad, ByChord(0.2001, 1, rule));
+    ASSERT_EQ(below.error, "");
+    ASSERT_EQ(above.error, "");
+    EXPECT_EQ(below.levels, 1) << "feature rule " << static_cast<int>(rule);
+    EXPECT_EQ(above.levels, 0) << "feature rule " << static_cast<int>(rule);
+    EXPECT_EQ(above.mesh.points, quad.points);
+  }
+  EXPECT_EQ(AdaptiveLoopSubdivide(quad, ByError(0.1001, 1, FeatureRule::Fixed)).levels, 0);
+}
+
+/// Loop's limit offset of every point (|N_v . (v_inf - v)|, N_v the normalised sum of its triangles' unit normals,
+/// v_inf = (1 - n chi) v + chi sum(neighbours)), written here from the formulas; -1 for points on a feature edge
+/// (boundary, or both ends in region 1), which the test leaves out.
+std::vector<double> LimitOffsets(const AdaptiveLoopMesh& mesh)
+{
+  const std::size_t nV = mesh.NumberOfPoints();
+  const auto use = testing::EdgeUse(AsTriangles(mesh.triangles));
+  std::vector<std::set<int>> neighbours(nV);
+  std::vector<std::array<double, 3>> normal(nV, { 0.0, 0.0, 0.0 });
+  std::vector<bool> onFeature(nV, false);
+  for (std::size_t t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    const int* v = mesh.triangles.data() + 3 * t;
+    const double* p[3] = { &mesh.points[3 * v[0]], &mesh.points[3 * v[1]], &mesh.points[3 * v[2]] };
+    const double u[3] = { p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2] };
+    const double w[3] = { p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2] };
+    double n[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0] };
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int c = 0; c < 3; ++c)
+    {
+      for (int j = 0; j < 3; ++j)
+        normal[v[c]][j] += n[j] / len;
+      neighbours[v[c]].insert(v[(c + 1) % 3]);
+      neighbours[v[c]].insert(v[(c + 2) % 3]);
+      const int a = v[c], b = v[(c + 1) % 3];
+      const bool midvein = !mesh.region.empty() && mesh.region[a] == 1 && mesh.region[b] == 1;
+      if (use.at({ std::min(a, b), std::max(a, b) }) == 1 || midvein)
+        onFeature[a] = onFeature[b] = true;
+    }
+  }
+  std::vector<double> offset(nV, -1.0);
+  for (std::size_t v = 0; v < nV; ++v)
+  {
+    if (onFeature[v] || neighbours[v].empty())
+      continue;
+    const int n = static_cast<int>(neighbours[v].size());
+    const double c = 0.375 + 0.25 * std::cos(2.0 * 3.14159265358979323846 / n);
+    const double beta = n == 3 ? 3.0 / 16.0 : (0.625 - c * c) / n;
+    const double chi = 1.0 / (3.0 / (8.0 * beta) + n);
+    const double len = std::sqrt(normal[v][0] * normal[v][0] + normal[v][1] * normal[v][1] + normal[v][2] * normal[v][2]);
+    double along = 0.0;
+    for (const int w : neighbours[v])
+      for (int j = 0; j < 3; ++j)
+        along += chi * (mesh.points[3 * w + j] - mesh.points[3 * v + j]) * normal[v][j] / len;
+    offset[v] = std::abs(along);
+  }
+  return offset;
+}
+
+TEST(AdaptiveLoopSubdivision, ChordErrorMovesEveryPointWhoseLimitOffsetReachesTheTolerance)
+{
+  // A point left unmoved stays its limit offset delta off the limit surface, which the chord estimates do not see.
+  // So, after one level: a point with delta >= tolerance has moved (one of its edges split, forced if need be), and
+  // one with delta / 2 >= tolerance has all its edges split. Tolerances at quantiles of the points' offsets, so
+  // both cases and their complements occur.
+  const AdaptiveLoopMesh meshes[] = { Icosahedron(true), Blade(10), Blade(13, 1.5) };
+  for (std::size_t m = 0; m < 3; ++m)
+  {
+    const AdaptiveLoopMesh& input = meshes[m];
+    const std::vector<double> offset = LimitOffsets(input);
+    std::vector<double> sorted;
+    for (const double d : offset)
+      if (d >= 0.0)
+        sorted.push_back(d);
+    ASSERT_GT(sorted.size(), 5u);
+    std::sort(sorted.begin(), sorted.end());
+    std::size_t moved = 0, allSplit = 0, kept = 0;
+    const auto at = [&sorted](double quantile) {
+      return sorted[static_cast<std::size_t>(quantile * static_cast<double>(sorted.size() - 1))];
+    };
+    for (const double tolerance : { at(0.2), at(0.5), at(0.8), 0.5 * at(0.5), 0.5 * at(0.2) })
+    {
+      const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, ByChord(tolerance, 1, FeatureRule::Fixed));
+      ASSERT_EQ(result.error, "");
+      const auto use = testing::EdgeUse(AsTriangles(result.mesh.triangles));
+      const auto inUse = testing::EdgeUse(AsTriangles(input.triangles));
+      for (std::size_t v = 0; v < offset.size(); ++v)
+      {
+        // (The test's offsets and the filter's agree to rounding, not bit for bit: skip exact ties.)
+        if (offset[v] < 0.0 || std::abs(offset[v] - tolerance) <= 1e-9 * tolerance ||
+          std::abs(offset[v] / 2.0 - tolerance) <= 1e-9 * tolerance)
+          continue;
+        const std::string what = "mesh " + std::to_string(m) + " tolerance " + std::to_string(tolerance) +
+          " point " + std::to_string(v) + " offset " + std::to_string(offset[v]);
+        bool same = true;
+        for (int j = 0; j < 3; ++j)
+          same = same && result.mesh.points[3 * v + j] == input.points[3 * v + j];
+        if (offset[v] >= tolerance)
+        {
+          EXPECT_FALSE(same) << what;
+          ++moved;
+        }
+        else
+          kept += same ? 1 : 0;
+        if (offset[v] / 2.0 >= tolerance)
+        {
+          ++allSplit;
+          for (const auto& edge : inUse)
+            if (edge.first.first == static_cast<int>(v) || edge.first.second == static_cast<int>(v))
+            {
+              EXPECT_EQ(use.count(edge.first), 0u) << what << ": edge " << edge.first.first << "-"
+                                                    << edge.first.second << " kept";
+            }
+        }
+      }
+    }
+    EXPECT_GT(moved, 0u) << "mesh " << m;
+    EXPECT_GT(allSplit, 0u) << "mesh " << m;
+    if (m > 0)
+    {
+      EXPECT_GT(kept, 0u) << "mesh " << m << ": some points below the tolerance stay";
+    }
+  }
+}
+
 } // namespace
 } // namespace plantmorph
