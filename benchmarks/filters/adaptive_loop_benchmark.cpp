@@ -9,7 +9,8 @@
 //   BM_Uniform_CGAL_Loop                     CGAL 5.5 Subdivision_method_3::Loop_subdivision on a Surface_mesh
 //                                            (positions only; the mesh is built from the sphere untimed)
 // Adaptive mode on leaf blades (BladeKind: the bent ginkgo blade, paper 003's cucumber and pin oak from
-// LeafOutlineSource curled by LeafCurlFilter, and the cucumber and ginkgo under FeatureRule Loop): the deviation of
+// LeafOutlineSource curled by LeafCurlFilter, and the cucumber and ginkgo under FeatureRule Loop; two held-out curled
+// blades, an elliptic one and the pin oak curled otherwise, not used to choose any constant): the deviation of
 // uniform level L from the level-4 uniform surface (exact point-to-triangle distances both ways, see Deviation
 // below; maximum and RMS), and the adaptive settings (searched untimed, once per blade: levels, bisection on the
 // threshold angle with two flatness rules for the paper's DihedralAngle rule, bisection on ErrorTolerance for the
@@ -294,13 +295,16 @@ enum BladeKind
   PinOakCurled = 2,   ///< paper 003's B-spline pin oak, curled 45 and -30 deg
   CucumberCurledLoop = 3, ///< the cucumber with FeatureRule Loop (margin and midvein smoothed, not fixed)
   GinkgoBentLoop = 4,     ///< the bent ginkgo with FeatureRule Loop
+  // Held out: not used to choose the Chord error rule's constants, a check that they carry over (Fixed).
+  EllipticCurled = 5, ///< paper 003's B-spline elliptic blade, Resolution 28, curled 50 and 35 deg
+  PinOakCurledB = 6,  ///< the pin oak at Resolution 32, curled -40 and 45 deg (rolled down, bent the other way)
 };
-constexpr int BladeKinds = 5;
+constexpr int BladeKinds = 7;
 
 const char* BladeName(int kind)
 {
   static const char* names[] = { "ginkgo_bent", "cucumber_curled", "pin_oak_curled", "cucumber_curled_loop",
-    "ginkgo_bent_loop" };
+    "ginkgo_bent_loop", "elliptic_curled", "pin_oak_curled_b" };
   return names[kind];
 }
 
@@ -326,6 +330,10 @@ vtkSmartPointer<vtkPolyData> MakeBlade(int kind)
     return CurledBSpline(2, 24, 60.0, 40.0);
   if (kind == PinOakCurled)
     return CurledBSpline(3, 40, 45.0, -30.0);
+  if (kind == EllipticCurled)
+    return CurledBSpline(1, 28, 50.0, 35.0);
+  if (kind == PinOakCurledB)
+    return CurledBSpline(3, 32, -40.0, 45.0);
   vtkNew<vtkLeafOutlineSource> source;
   source->SetResolution(24);
   source->Update();
