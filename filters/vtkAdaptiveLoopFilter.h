@@ -31,9 +31,12 @@
  *   leaf curved in one direction (LeafCurlFilter's cylinder wraps) refines mostly across its curvature: an
  *   interior edge splits when the largest of its chord's sagitta |(N2 - N1) . (v2 - v1)| / 8 (N the ends' unit
  *   normals: curvature along the edge times length squared over 8), its odd point's distance from the chord
- *   between its ends' smoothed positions and half SURFACE_ERROR's distance from the unmoved chord reaches
- *   ErrorTolerance. Edges along straight lines of the surface stay longer, so triangles grow thin along the
- *   rulings. Vertices move as for SURFACE_ERROR; ErrorTolerance 0 is plain Loop.
+ *   between its ends' smoothed positions and half SURFACE_ERROR's distance from the unmoved chord (doubled for
+ *   an edge with an end that never moves, such as a Fixed margin or midvein point), or half an end's distance
+ *   from its Loop limit position, reaches ErrorTolerance; a vertex whose limit distance reaches it moves (its
+ *   edge with the largest estimate splits if no other does). Edges along straight lines of the surface stay
+ *   longer, so triangles grow thin along the rulings. Vertices move as for SURFACE_ERROR; ErrorTolerance 0 is
+ *   plain Loop.
  *
  * With EdgeAngleThreshold = 180, FlatnessThreshold = 1, FeatureRule = Loop and MidveinFeatures and LineFeatures off,
  * the output is plain Loop subdivision, the same as vtkLoopSubdivisionFilter's (which stores float points).

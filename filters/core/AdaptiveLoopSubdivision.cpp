@@ -32,8 +32,9 @@ constexpr double ChordErrorPinnedFactor = 2.0;
 /// on every edge of that end. A part left at a coarse level keeps its points where they are, delta off the limit
 /// surface; the chord estimates do not see that. Measured on the Fixed blades with the pinned factor 2 and the
 /// forced move below: 0.5 gives the pin oak 0.85 / 0.48 / 0.36 (0 gives 0.97 / 0.70 / 0.53, 0.35 gives
-/// 0.91 / 0.59 / 0.42) and the cucumber 0.81 / 0.45 / 0.26 (0 gives 0.67 / 0.44 / 0.23; 1 for every edge,
-/// without the forced move, 0.97 / 0.63 / 0.26: it splits rulings and across edges alike).
+/// 0.91 / 0.59 / 0.42) and the cucumber 0.81 / 0.46 / 0.26 (0 gives 0.67 / 0.44 / 0.23; 1 for every edge,
+/// without the forced move, 0.97 / 0.63 / 0.26: it splits rulings and across edges alike). The numbers other
+/// than 0.5's were measured with an earlier, order-dependent version of the forced move (benchmarks/README.md).
 constexpr double ChordErrorLimitOffsetShare = 0.5;
 
 /// Every level's connectivity: vertex -> corners, the edge table, and triangle -> edges.
