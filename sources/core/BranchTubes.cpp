@@ -13,18 +13,9 @@ namespace plantmorph
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
-
-struct Cleaned
+CleanedTube CleanTube(const TubeInput& input)
 {
-  std::vector<Eigen::Vector3d> centre;
-  std::vector<double> radii;
-  bool apex = false;
-};
-
-Cleaned Clean(const TubeInput& input)
-{
-  Cleaned c;
+  CleanedTube c;
   for (std::size_t k = 0; k < input.centre.size(); ++k)
   {
     if (!c.centre.empty() && input.centre[k] == c.centre.back())
@@ -38,6 +29,50 @@ Cleaned Clean(const TubeInput& input)
   c.apex = !c.radii.empty() && !(c.radii.back() > 0.0);
   return c;
 }
+} // namespace
+
+std::string CleanTubes(const std::vector<TubeInput>& tubes, std::vector<CleanedTube>& cleaned)
+{
+  cleaned.assign(tubes.size(), CleanedTube());
+  for (std::size_t t = 0; t < tubes.size(); ++t)
+  {
+    if (tubes[t].radii.size() != tubes[t].centre.size())
+    {
+      return "tube " + std::to_string(t) + ": one radius per centre point is needed";
+    }
+    for (std::size_t k = 0; k < tubes[t].centre.size(); ++k)
+    {
+      if (!tubes[t].centre[k].allFinite() || !std::isfinite(tubes[t].radii[k]) || tubes[t].radii[k] < 0.0)
+      {
+        return "tube " + std::to_string(t) + ": point " + std::to_string(k) + " or its radius is not finite";
+      }
+    }
+    if (tubes[t].parent >= static_cast<std::int64_t>(t) || tubes[t].parent < -1)
+    {
+      return "tube " + std::to_string(t) + ": parent " + std::to_string(tubes[t].parent) +
+        " must be -1 or a smaller index";
+    }
+    cleaned[t] = CleanTube(tubes[t]);
+    if (cleaned[t].centre.size() < 2)
+    {
+      return "tube " + std::to_string(t) + " has fewer than 2 distinct centre points";
+    }
+    for (std::size_t k = 0; k + 1 < cleaned[t].radii.size(); ++k)
+    {
+      if (!(cleaned[t].radii[k] > 0.0))
+      {
+        return "tube " + std::to_string(t) + ": radius 0 before its end";
+      }
+    }
+  }
+  return {};
+}
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+using Cleaned = CleanedTube;
 
 std::int64_t PointCount(const Cleaned& c, int sides)
 {
@@ -147,39 +182,15 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
   {
     return "Sides = " + std::to_string(sides) + " is out of range [3, 256]";
   }
-  std::vector<Cleaned> cleaned(tubes.size());
+  std::vector<Cleaned> cleaned;
+  if (std::string error = CleanTubes(tubes, cleaned); !error.empty())
+  {
+    return error;
+  }
   mesh.pointOffsets.assign(tubes.size() + 1, 0);
   mesh.triangleOffsets.assign(tubes.size() + 1, 0);
   for (std::size_t t = 0; t < tubes.size(); ++t)
   {
-    if (tubes[t].radii.size() != tubes[t].centre.size())
-    {
-      return "tube " + std::to_string(t) + ": one radius per centre point is needed";
-    }
-    for (std::size_t k = 0; k < tubes[t].centre.size(); ++k)
-    {
-      if (!tubes[t].centre[k].allFinite() || !std::isfinite(tubes[t].radii[k]) || tubes[t].radii[k] < 0.0)
-      {
-        return "tube " + std::to_string(t) + ": point " + std::to_string(k) + " or its radius is not finite";
-      }
-    }
-    if (tubes[t].parent >= static_cast<std::int64_t>(t) || tubes[t].parent < -1)
-    {
-      return "tube " + std::to_string(t) + ": parent " + std::to_string(tubes[t].parent) +
-        " must be -1 or a smaller index";
-    }
-    cleaned[t] = Clean(tubes[t]);
-    if (cleaned[t].centre.size() < 2)
-    {
-      return "tube " + std::to_string(t) + " has fewer than 2 distinct centre points";
-    }
-    for (std::size_t k = 0; k + 1 < cleaned[t].radii.size(); ++k)
-    {
-      if (!(cleaned[t].radii[k] > 0.0))
-      {
-        return "tube " + std::to_string(t) + ": radius 0 before its end";
-      }
-    }
     mesh.pointOffsets[t + 1] = mesh.pointOffsets[t] + PointCount(cleaned[t], sides);
     mesh.triangleOffsets[t + 1] = mesh.triangleOffsets[t] + TriangleCount(cleaned[t], sides);
   }

@@ -83,6 +83,18 @@ struct TubeMesh
   std::size_t TriangleCount() const { return this->triangles.size() / 3; }
 };
 
+/// A tube's centre line without coincident consecutive points (the later radius kept); `apex`: it ends in a point.
+struct CleanedTube
+{
+  std::vector<Eigen::Vector3d> centre;
+  std::vector<double> radii;
+  bool apex = false;
+};
+
+/// Checks and cleans every tube as BuildTubes does (one radius per point, finite, non-negative radii, positive
+/// before the end, at least 2 distinct points, parent -1 or a smaller index); returns an empty string or the message.
+std::string CleanTubes(const std::vector<TubeInput>& tubes, std::vector<CleanedTube>& cleaned);
+
 /// Builds all tubes (in parallel through `parallel` when given: offsets are computed first, so the result does
 /// not depend on how the range is cut). Returns an empty string or a message (sides out of [3, 256], a tube with
 /// fewer than 2 distinct points, a non-finite point or radius, more than 2^31 - 1 points, a parent index not
