@@ -2,9 +2,9 @@
 
 #include <plantmorph/RotationMinimizingFrames.h>
 
+#include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/convex_hull_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <Eigen/Geometry>
 
@@ -317,40 +317,56 @@ bool Solve(const std::vector<Skeleton>& skeletons, std::vector<ChildState>& stat
 }
 
 /// Convex hull of the junction's points; false if a ring is not a face of it (then the junction falls back).
+/// The hull is the boundary of the points' Delaunay tetrahedralisation (CGAL, exact predicates, symbolic
+/// perturbation: one answer for one input, whatever the thread; CGAL 5.5's convex_hull_3 was seen by valgrind to
+/// read freed list nodes on these inputs). Its facets are the finite facets of the infinite cells.
 bool Hull(Junction& J, std::size_t sides)
 {
   using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-  using Point = Kernel::Point_3;
-  std::vector<Point> input;
-  std::map<std::array<double, 3>, long> index;
+  using Vb = CGAL::Triangulation_vertex_base_with_info_3<long, Kernel>;
+  using Tds = CGAL::Triangulation_data_structure_3<Vb>;
+  using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
+  Delaunay dt;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < J.points.size(); ++i)
   {
     const Eigen::Vector3d& x = J.points[i].vertex.x;
-    input.emplace_back(x.x(), x.y(), x.z());
-    if (!index.emplace(std::array<double, 3>{ x.x(), x.y(), x.z() }, static_cast<long>(i)).second)
-      return false; // coincident points
+    centroid += x;
+    const std::size_t before = dt.number_of_vertices();
+    const auto v = dt.insert(Kernel::Point_3(x.x(), x.y(), x.z()));
+    if (dt.number_of_vertices() == before)
+      return false; // a repeated point
+    v->info() = static_cast<long>(i) + 1;
   }
-  CGAL::Surface_mesh<Point> hull;
-  CGAL::convex_hull_3(input.begin(), input.end(), hull);
+  centroid /= static_cast<double>(J.points.size());
+  if (dt.dimension() != 3 || dt.number_of_vertices() != J.points.size())
+    return false;
+  std::vector<std::array<long, 3>> facets;
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c)
+  {
+    if (!dt.is_infinite(c))
+      continue;
+    const int infinite = c->index(dt.infinite_vertex());
+    std::array<long, 3> v{};
+    for (int k = 0, m = 0; k < 4; ++k)
+      if (k != infinite)
+        v[static_cast<std::size_t>(m++)] = c->vertex(k)->info() - 1;
+    // Outward: the centroid (strictly inside) is behind the facet.
+    const Eigen::Vector3d& a = J.points[static_cast<std::size_t>(v[0])].vertex.x;
+    const Eigen::Vector3d& b = J.points[static_cast<std::size_t>(v[1])].vertex.x;
+    const Eigen::Vector3d& d = J.points[static_cast<std::size_t>(v[2])].vertex.x;
+    if ((b - a).cross(d - a).dot(centroid - a) > 0.0)
+      std::swap(v[1], v[2]);
+    // A canonical rotation (smallest index first) and order, so the output does not depend on cell storage.
+    std::rotate(v.begin(), std::min_element(v.begin(), v.end()), v.end());
+    facets.push_back(v);
+  }
+  std::sort(facets.begin(), facets.end());
   std::vector<int> capFacets(J.rings.size(), 0);
   std::map<std::pair<long, long>, int> ringEdges; // directed edges of side facets along a ring
   J.facets.clear();
-  for (auto f : hull.faces())
+  for (const std::array<long, 3>& v : facets)
   {
-    std::array<long, 3> v{};
-    int i = 0;
-    for (auto h : hull.halfedges_around_face(hull.halfedge(f)))
-    {
-      if (i == 3)
-        return false;
-      const Point& q = hull.point(hull.target(h));
-      const auto it = index.find({ q.x(), q.y(), q.z() });
-      if (it == index.end())
-        return false;
-      v[static_cast<std::size_t>(i++)] = it->second;
-    }
-    if (i != 3)
-      return false;
     const long r0 = J.points[static_cast<std::size_t>(v[0])].ring;
     if (r0 >= 0 && r0 == J.points[static_cast<std::size_t>(v[1])].ring &&
       r0 == J.points[static_cast<std::size_t>(v[2])].ring)

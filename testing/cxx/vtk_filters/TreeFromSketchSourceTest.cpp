@@ -260,6 +260,7 @@ TEST(TreeFromSketchSource, BadInputGivesAnErrorNamingItAndEmptyOutputs)
     { "Length", [](vtkTreeFromSketchSource* s) { s->SetPreset(0), s->SetLength(-1); } },
     { "Ratio", [](vtkTreeFromSketchSource* s) { s->SetPreset(0), s->SetRatio(NAN); } },
     { "Sides", [](vtkTreeFromSketchSource* s) { s->SetSides(2); } },
+    { "Joints = 2 is out of range [0, 1]", [](vtkTreeFromSketchSource* s) { s->SetJoints(2); } },
     { "MaxSegments", [](vtkTreeFromSketchSource* s) { s->SetMaxSegments(1000); } },
     { "Preset", [](vtkTreeFromSketchSource* s) { s->SetPreset(9); } },
     { "Strokes input", [](vtkTreeFromSketchSource* s) { s->SetMode(1); } },
@@ -370,7 +371,18 @@ TEST(TreeFromSketchSource, SecondTreeOnTheMergePortKeepsItsShapeAndGetsIdsAfterT
     ++checked;
   }
   EXPECT_EQ(checked, secondSkeleton->GetNumberOfCells());
-  // The joint report covers every child's base ring (the second trunk has none): 6 vertices a child.
+  // Welded (default): every child is either welded or a counted fallback; the two trunks stand apart.
+  vtkDataArray* junctions = skeleton->GetFieldData()->GetArray("PlantMorph.Junctions");
+  ASSERT_NE(junctions, nullptr);
+  ASSERT_EQ(junctions->GetNumberOfComponents(), 6);
+  EXPECT_EQ(junctions->GetComponent(0, 1) + junctions->GetComponent(0, 5), double(skeleton->GetNumberOfCells() - 2));
+  EXPECT_GT(junctions->GetComponent(0, 1), 0.0);
+  EXPECT_EQ(skeleton->GetFieldData()->GetArray("PlantMorph.JointRingVertices")->GetComponent(0, 0), 0.0);
+  // Seated tubes: the joint report covers every child's base ring (the second trunk has none): 6 vertices a child.
+  merged->SetJoints(1);
+  merged->Update();
+  ASSERT_EQ(catcher->Messages, "");
+  skeleton = Output(merged, 1);
   vtkDataArray* joints = skeleton->GetFieldData()->GetArray("PlantMorph.JointRingVertices");
   ASSERT_NE(joints, nullptr);
   ASSERT_EQ(joints->GetNumberOfComponents(), 4);
