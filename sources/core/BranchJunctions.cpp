@@ -2,7 +2,7 @@
 
 #include <plantmorph/RotationMinimizingFrames.h>
 
-#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
@@ -317,16 +317,17 @@ bool Solve(const std::vector<Skeleton>& skeletons, std::vector<ChildState>& stat
 }
 
 /// Convex hull of the junction's points; false if a ring is not a face of it (then the junction falls back).
-/// The hull is the boundary of the points' Delaunay tetrahedralisation (CGAL, exact predicates, symbolic
-/// perturbation: one answer for one input, whatever the thread; CGAL 5.5's convex_hull_3 was seen by valgrind to
-/// read freed list nodes on these inputs). Its facets are the finite facets of the infinite cells.
+/// The hull is the boundary of the points' tetrahedralisation (CGAL Triangulation_3, exact orientation predicates,
+/// points inserted in order: one answer for one input, whatever the thread; CGAL 5.5's convex_hull_3 was seen by
+/// valgrind to read freed list nodes on these inputs, and a Delaunay tetrahedralisation spent most of its time in
+/// exact in-sphere tests of the cocircular ring points). Its facets are the finite facets of the infinite cells.
 bool Hull(Junction& J, std::size_t sides)
 {
   using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
   using Vb = CGAL::Triangulation_vertex_base_with_info_3<long, Kernel>;
   using Tds = CGAL::Triangulation_data_structure_3<Vb>;
-  using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
-  Delaunay dt;
+  using Triangulation = CGAL::Triangulation_3<Kernel, Tds>;
+  Triangulation dt;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < J.points.size(); ++i)
   {
