@@ -124,7 +124,8 @@ RingVertex Vertex(const Skeleton& s, const Station& station, const Trig& trig, s
     w -= w.dot(d) * d;
     w.normalize();
     const Eigen::Vector3d& plane = s.tangents[k];
-    const double denominator = std::max(d.dot(plane), std::cos(85.0 * Pi / 180.0));
+    constexpr double minimumCos = 0.087155742747658166; // cos(85 deg), BuildTubes' mitre clamp
+    const double denominator = std::max(d.dot(plane), minimumCos);
     r.x = s.line.centre[k] + s.line.radii[k] * (w - (w.dot(plane) / denominator) * d);
     r.normal = w;
     return r;
@@ -343,10 +344,10 @@ bool Hull(Junction& J, std::size_t sides)
   if (dt.dimension() != 3 || dt.number_of_vertices() != J.points.size())
     return false;
   std::vector<std::array<long, 3>> facets;
-  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c)
+  std::vector<Triangulation::Cell_handle> hullCells;
+  dt.incident_cells(dt.infinite_vertex(), std::back_inserter(hullCells));
+  for (const Triangulation::Cell_handle& c : hullCells)
   {
-    if (!dt.is_infinite(c))
-      continue;
     const int infinite = c->index(dt.infinite_vertex());
     std::array<long, 3> v{};
     for (int k = 0, m = 0; k < 4; ++k)
@@ -364,7 +365,7 @@ bool Hull(Junction& J, std::size_t sides)
   }
   std::sort(facets.begin(), facets.end());
   std::vector<int> capFacets(J.rings.size(), 0);
-  std::map<std::pair<long, long>, int> ringEdges; // directed edges of side facets along a ring
+  std::vector<int> ringEdges(J.points.size(), 0); // side facets using ring edge (point, its ring successor)
   J.facets.clear();
   for (const std::array<long, 3>& v : facets)
   {
@@ -378,9 +379,19 @@ bool Hull(Junction& J, std::size_t sides)
     for (int e = 0; e < 3; ++e)
     {
       const long a = v[static_cast<std::size_t>(e)], b = v[static_cast<std::size_t>((e + 1) % 3)];
-      if (J.points[static_cast<std::size_t>(a)].ring >= 0 &&
-        J.points[static_cast<std::size_t>(a)].ring == J.points[static_cast<std::size_t>(b)].ring)
-        ++ringEdges[{ a, b }];
+      const JunctionPoint& pa = J.points[static_cast<std::size_t>(a)];
+      const JunctionPoint& pb = J.points[static_cast<std::size_t>(b)];
+      if (pa.ring >= 0 && pa.ring == pb.ring)
+      {
+        // Ring points are stored j = 0..sides-1 per ring: the edge (j, j + 1 mod sides) is keyed by j's point.
+        const long next = (pa.slot + 1) % static_cast<long>(sides);
+        if (pb.slot == next)
+          ++ringEdges[static_cast<std::size_t>(a)];
+        else if ((pb.slot + 1) % static_cast<long>(sides) == pa.slot)
+          ++ringEdges[static_cast<std::size_t>(b)];
+        else
+          return false; // a chord of the ring on the hull's side: the ring is not a face
+      }
     }
     J.facets.push_back(v);
   }
@@ -393,11 +404,7 @@ bool Hull(Junction& J, std::size_t sides)
     const long first = static_cast<long>(r * sides);
     for (std::size_t j = 0; j < sides; ++j)
     {
-      const long a = first + static_cast<long>(j), b = first + static_cast<long>((j + 1) % sides);
-      const auto forward = ringEdges.find({ a, b }), backward = ringEdges.find({ b, a });
-      const int count = (forward == ringEdges.end() ? 0 : forward->second) +
-        (backward == ringEdges.end() ? 0 : backward->second);
-      if (count != 1)
+      if (ringEdges[static_cast<std::size_t>(first) + j] != 1)
         return false;
     }
   }
