@@ -43,6 +43,18 @@ struct Skeleton
     const double f = std::clamp((s - this->arc[k]) / (this->arc[k + 1] - this->arc[k]), 0.0, 1.0);
     return this->line.radii[k] + f * (this->line.radii[k + 1] - this->line.radii[k]);
   }
+  /// Whether centre point k's ring lies on the frustum between its neighbours' (collinear segments, radius linear in
+  /// arc length): then a hull holding rings on both sides of it holds it too, and it is left out of the hull's input
+  /// (it would only add points on the hull's boundary and degenerate, exactly evaluated, orientation tests).
+  bool Redundant(std::size_t k) const
+  {
+    if (k == 0 || k + 1 >= this->arc.size())
+      return false;
+    const double f = (this->arc[k] - this->arc[k - 1]) / (this->arc[k + 1] - this->arc[k - 1]);
+    const double linear = this->line.radii[k - 1] + f * (this->line.radii[k + 1] - this->line.radii[k - 1]);
+    return this->dir[k - 1].dot(this->dir[k]) >= 1.0 - 1e-14 &&
+      std::abs(this->line.radii[k] - linear) <= 1e-12 * std::max(this->line.radii[k], linear);
+  }
   Eigen::Vector3d PointAt(double s) const
   {
     const std::size_t k = this->Segment(s);
@@ -219,13 +231,14 @@ void CollectPoints(const std::vector<Skeleton>& skeletons, const std::vector<Chi
     const Skeleton& s = skeletons[c];
     for (std::size_t k = 0; k < s.arc.size() && s.arc[k] < state[c].pull; ++k)
     {
-      addDropped(c, Station{ s.arc[k], static_cast<long>(k) });
+      if (!s.Redundant(k))
+        addDropped(c, Station{ s.arc[k], static_cast<long>(k) });
     }
   }
   const std::size_t last = p.arc.size() - 1;
   for (std::size_t k = 1; k < last; ++k)
   {
-    if (p.arc[k] > J.lo && p.arc[k] < J.hi)
+    if (p.arc[k] > J.lo && p.arc[k] < J.hi && !p.Redundant(k))
       addDropped(J.parent, Station{ p.arc[k], static_cast<long>(k) });
   }
   if (J.end)
