@@ -33,7 +33,11 @@
 // Fallback: a child whose junction cannot be built (its ring cannot be pulled back within 0.85 of its length, a
 // junction interval reaching the parent's own base junction or base, a child along its parent's axis (angle below
 // 5 deg) not at the parent's end, or a hull that does not have every ring as a face) stays its own closed tube
-// starting on its parent's surface (today's unseated tube: overlapping its parent, no hole), counted in `fallback`.
+// starting where its skeleton starts (on its parent's surface; not seated: it overlaps its parent, no hole),
+// counted in `fallback`. Junctions of two generations are never merged: in Table 1's right template the child at
+// pos 0.1 of a branch that sits at its own parent's tip reaches into that branch's base junction and falls back
+// (111 of 11 110 children; none in the other two templates).
+// The hull is computed as the boundary of a CGAL Triangulation_3 of the junction's points (BranchJunctions.cpp).
 // Parents are decided before their children (parent index < child index), each parent's children at once, levels
 // in parallel; hulls in parallel; the result does not depend on the thread count (bit for bit).
 //

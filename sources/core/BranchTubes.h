@@ -16,7 +16,9 @@
 // no seam, so the points are shared and the surface stays closed. Cap centres get u = 0.5. Normals: the ring
 // direction (radial) for ring vertices, -/+ the tangent for the cap centres and the apex.
 //
-// Joints (a tube with a `parent`): the tube's base ring is seated on the parent tube's faceted surface. Ring-0
+// Joints (a tube with a `parent`), "seated tubes" (TreeFromSketchSource's `Joints` = 1; the default, welded joints
+// that make one closed surface per tree, is BuildWeldedTubes in BranchJunctions.h): the tube's base ring is seated
+// on the parent tube's faceted surface. Ring-0
 // vertex j slides along its own lateral edge (the line through it and ring-1 vertex j, so the first segment stays
 // the same prism or frustum, its side faces planar) to the last point where that line leaves the parent tube's
 // triangles before ring 1 (at most 0.95 of the way there; looking back at most 4 (child + parent radius)); the base

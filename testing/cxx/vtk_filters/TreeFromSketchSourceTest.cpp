@@ -6,6 +6,7 @@
 #include "vtkCellData.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
+#include "vtkFeatureEdges.h"
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkIntArray.h"
@@ -13,6 +14,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkPolyDataConnectivityFilter.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 
@@ -395,4 +397,40 @@ TEST(TreeFromSketchSource, SecondTreeOnTheMergePortKeepsItsShapeAndGetsIdsAfterT
   merged->AddDeletedBranch(int(base) + 1);
   merged->Update();
   EXPECT_EQ(Output(merged, 1)->GetNumberOfCells(), own + secondSkeleton->GetNumberOfCells() - (1 + 3 + 9 + 27 + 81 + 243));
+}
+
+TEST(TreeFromSketchSource, WeldedBranchesAreOneClosedManifoldPerTreeAndSeatedTubesAreNot)
+{
+  // VTK's own edge and connectivity filters as oracles: no boundary or non-manifold edge, one region per tree plus
+  // one per fallback child; seated tubes give one region per branch (every tube closed on its own).
+  for (int preset = 1; preset <= 3; ++preset)
+  {
+    for (int joints : { 0, 1 })
+    {
+      vtkNew<vtkTreeFromSketchSource> source;
+      source->SetPreset(preset);
+      source->SetDepth(2);
+      source->SetLeaves(0);
+      source->SetJoints(joints);
+      source->Update();
+      vtkPolyData* branches = Output(source, 0);
+      vtkNew<vtkFeatureEdges> edges;
+      edges->SetInputData(branches);
+      edges->BoundaryEdgesOn();
+      edges->NonManifoldEdgesOn();
+      edges->FeatureEdgesOff();
+      edges->ManifoldEdgesOff();
+      edges->Update();
+      EXPECT_EQ(edges->GetOutput()->GetNumberOfLines(), 0) << preset << " " << joints;
+      vtkNew<vtkPolyDataConnectivityFilter> regions;
+      regions->SetInputData(branches);
+      regions->SetExtractionModeToAllRegions();
+      regions->Update();
+      const double fallback =
+        branches->GetFieldData()->GetArray("PlantMorph.Junctions")->GetComponent(0, 5);
+      const vtkIdType branchCount = Output(source, 1)->GetNumberOfCells();
+      EXPECT_EQ(regions->GetNumberOfExtractedRegions(), joints == 0 ? 1 + vtkIdType(fallback) : branchCount)
+        << preset << " " << joints;
+    }
+  }
 }
