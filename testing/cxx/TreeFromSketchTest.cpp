@@ -23,6 +23,7 @@
 #include <cstring>
 #include <map>
 #include <set>
+#include <thread>
 
 using namespace plantmorph;
 
@@ -1515,6 +1516,19 @@ TEST(BranchJunctions, BitIdenticalAcrossThreadCuts)
                   body(begin, std::min(count, begin + 3));
               }),
     "");
+  // And on real threads: 4 threads, each a contiguous quarter of every range.
+  TubeMesh threaded;
+  ASSERT_EQ(BuildWeldedTubes(TubesOf(tree), 6, threaded,
+              [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+                std::vector<std::thread> threads;
+                for (std::size_t k = 0; k < 4; ++k)
+                  threads.emplace_back(body, count * k / 4, count * (k + 1) / 4);
+                for (std::thread& t : threads)
+                  t.join();
+              }),
+    "");
+  EXPECT_EQ(serial.triangles, threaded.triangles);
+  EXPECT_EQ(0, std::memcmp(serial.points.data(), threaded.points.data(), serial.points.size() * sizeof(double)));
   ASSERT_EQ(serial.points.size(), chunked.points.size());
   ASSERT_EQ(serial.triangles, chunked.triangles);
   EXPECT_EQ(0, std::memcmp(serial.points.data(), chunked.points.data(), serial.points.size() * sizeof(double)));
