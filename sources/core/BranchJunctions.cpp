@@ -515,7 +515,10 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
           const Eigen::Vector3d across = d - cosine * cs.axis;
           const double h = sine > 0.0 ? (B - cs.nodePoint).dot(across) / across.norm() : 0.0;
           const double rc = s.line.radii[0];
-          cs.pull = std::max(0.3 * rc, (1.2 * cs.parentRadius - h + rc * std::abs(cosine)) / std::max(sine, 0.2));
+          // At a parent's end the child need not clear a parent continuing beside it: start short and let the face
+          // test grow it (a short pull leaves room for the child's own first junctions).
+          cs.pull = atEnd ? 0.3 * rc
+                          : std::max(0.3 * rc, (1.2 * cs.parentRadius - h + rc * std::abs(cosine)) / std::max(sine, 0.2));
           Junction J;
           J.parent = P;
           J.children = { c };

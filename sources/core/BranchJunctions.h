@@ -7,7 +7,7 @@
 // Junctions. A child's node is the point of its parent's centre line nearest to the child's first centre point.
 // For each child, in a loop that only grows distances:
 //  - its ring at arc length p along the child (initially (0.2 r_parent + r_child |cos a|) / sin a beyond the
-//    parent's surface, a the angle between the child and the parent's axis) and the parent's rings at
+//    parent's surface, a the angle between the child and the parent's axis; 0.3 r_child at the parent's end) and the parent's rings at
 //    lo = node - s0 and hi = node + s1, where s0, s1 cover the child's ring and every dropped part of the child
 //    (its base ring and centre-point rings before p) along the parent's axis, plus 0.3 r_parent;
 //  - the junction's points: those rings (cut perpendicular to their segment, on the tube's own frustum) plus the
@@ -34,9 +34,10 @@
 // junction interval reaching the parent's own base junction or base, a child along its parent's axis (angle below
 // 5 deg) not at the parent's end, or a hull that does not have every ring as a face) stays its own closed tube
 // starting where its skeleton starts (on its parent's surface; not seated: it overlaps its parent, no hole),
-// counted in `fallback`. Junctions of two generations are never merged: in Table 1's right template the child at
-// pos 0.1 of a branch that sits at its own parent's tip reaches into that branch's base junction and falls back
-// (111 of 11 110 children; none in the other two templates).
+// counted in `fallback`. Junctions of two generations are never merged (a child whose junction would reach into its
+// parent's own base junction falls back); a child at its parent's end therefore starts its search at 0.3 of its
+// radius, so its ring stays close and leaves room for its own children: Table 1's three templates at full depth
+// have no fallback.
 // The hull is computed as the boundary of a CGAL Triangulation_3 of the junction's points (BranchJunctions.cpp).
 // Parents are decided before their children (parent index < child index), each parent's children at once, levels
 // in parallel; hulls in parallel; the result does not depend on the thread count (bit for bit).
