@@ -178,7 +178,6 @@ struct Junction
   std::vector<JunctionRing> rings;
   std::vector<JunctionPoint> points;
   std::vector<std::array<long, 3>> facets; ///< into points, outward
-  std::vector<std::size_t> facetOwner;
 };
 
 struct ChildState
@@ -431,12 +430,8 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
   if (report)
     *report = JunctionReport();
   mesh = TubeMesh();
-  if (sides < 3 || sides > 256)
-  {
-    return "Sides = " + std::to_string(sides) + " is out of range [3, 256]";
-  }
   std::vector<CleanedTube> cleaned;
-  if (std::string error = CleanTubes(tubes, cleaned); !error.empty())
+  if (std::string error = CleanTubes(tubes, sides, cleaned); !error.empty())
   {
     return error;
   }
@@ -480,7 +475,7 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
       for (std::size_t i = begin; i < end; ++i)
       {
         const std::size_t P = parents[i];
-        Skeleton& p = skeletons[P];
+        const Skeleton& p = skeletons[P];
         std::vector<Junction> single;
         for (std::size_t c : children[P])
         {
@@ -727,13 +722,7 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
       const Layout& L = layout[t];
       std::int64_t p = mesh.pointOffsets[t];
       const auto put = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& normal, double u, double v) {
-        const std::size_t i = static_cast<std::size_t>(p);
-        mesh.points[3 * i] = x.x(), mesh.points[3 * i + 1] = x.y(), mesh.points[3 * i + 2] = x.z();
-        mesh.normals[3 * i] = static_cast<float>(normal.x());
-        mesh.normals[3 * i + 1] = static_cast<float>(normal.y());
-        mesh.normals[3 * i + 2] = static_cast<float>(normal.z());
-        mesh.tcoords[2 * i] = static_cast<float>(u);
-        mesh.tcoords[2 * i + 1] = static_cast<float>(v);
+        SetMeshPoint(mesh, p, x, normal, u, v);
         return p++;
       };
       const std::int64_t baseCentre = L.baseCap ? put(s.line.centre[0], -s.tangents[0], 0.5, 0.0) : -1;

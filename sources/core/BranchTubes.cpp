@@ -31,8 +31,13 @@ CleanedTube CleanTube(const TubeInput& input)
 }
 } // namespace
 
-std::string CleanTubes(const std::vector<TubeInput>& tubes, std::vector<CleanedTube>& cleaned)
+std::string CleanTubes(const std::vector<TubeInput>& tubes, int sides, std::vector<CleanedTube>& cleaned)
 {
+  cleaned.clear();
+  if (sides < 3 || sides > 256)
+  {
+    return "Sides = " + std::to_string(sides) + " is out of range [3, 256]";
+  }
   cleaned.assign(tubes.size(), CleanedTube());
   for (std::size_t t = 0; t < tubes.size(); ++t)
   {
@@ -66,6 +71,18 @@ std::string CleanTubes(const std::vector<TubeInput>& tubes, std::vector<CleanedT
     }
   }
   return {};
+}
+
+void SetMeshPoint(TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
+  double u, double v)
+{
+  const std::size_t i = static_cast<std::size_t>(index);
+  mesh.points[3 * i] = x.x(), mesh.points[3 * i + 1] = x.y(), mesh.points[3 * i + 2] = x.z();
+  mesh.normals[3 * i] = static_cast<float>(normal.x());
+  mesh.normals[3 * i + 1] = static_cast<float>(normal.y());
+  mesh.normals[3 * i + 2] = static_cast<float>(normal.z());
+  mesh.tcoords[2 * i] = static_cast<float>(u);
+  mesh.tcoords[2 * i + 1] = static_cast<float>(v);
 }
 
 namespace
@@ -178,12 +195,8 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
     *joints = JointReport();
   }
   mesh = TubeMesh();
-  if (sides < 3 || sides > 256)
-  {
-    return "Sides = " + std::to_string(sides) + " is out of range [3, 256]";
-  }
   std::vector<Cleaned> cleaned;
-  if (std::string error = CleanTubes(tubes, cleaned); !error.empty())
+  if (std::string error = CleanTubes(tubes, sides, cleaned); !error.empty())
   {
     return error;
   }
@@ -228,13 +241,7 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
       const double total = arc.back();
       std::int64_t p = mesh.pointOffsets[t];
       const auto put = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& normal, double u, double v) {
-        const std::size_t i = static_cast<std::size_t>(p);
-        mesh.points[3 * i] = x.x(), mesh.points[3 * i + 1] = x.y(), mesh.points[3 * i + 2] = x.z();
-        mesh.normals[3 * i] = static_cast<float>(normal.x());
-        mesh.normals[3 * i + 1] = static_cast<float>(normal.y());
-        mesh.normals[3 * i + 2] = static_cast<float>(normal.z());
-        mesh.tcoords[2 * i] = static_cast<float>(u);
-        mesh.tcoords[2 * i + 1] = static_cast<float>(v);
+        SetMeshPoint(mesh, p, x, normal, u, v);
         return p++;
       };
       const std::int64_t baseCentre = put(c.centre[0], -tangents[0], 0.5, 0.0);

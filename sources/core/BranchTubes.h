@@ -93,9 +93,14 @@ struct CleanedTube
   bool apex = false;
 };
 
-/// Checks and cleans every tube as BuildTubes does (one radius per point, finite, non-negative radii, positive
-/// before the end, at least 2 distinct points, parent -1 or a smaller index); returns an empty string or the message.
-std::string CleanTubes(const std::vector<TubeInput>& tubes, std::vector<CleanedTube>& cleaned);
+/// Checks and cleans every tube as BuildTubes does (sides in [3, 256], one radius per point, finite, non-negative
+/// radii, positive before the end, at least 2 distinct points, parent -1 or a smaller index); returns an empty string
+/// or the message.
+std::string CleanTubes(const std::vector<TubeInput>& tubes, int sides, std::vector<CleanedTube>& cleaned);
+
+/// Writes point `index` of `mesh` (position, normal and TCoords (u, v)); the arrays must be sized.
+void SetMeshPoint(TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
+  double u, double v);
 
 /// Builds all tubes (in parallel through `parallel` when given: offsets are computed first, so the result does
 /// not depend on how the range is cut). Returns an empty string or a message (sides out of [3, 256], a tube with
