@@ -1,6 +1,7 @@
 #include "vtkTreeFromSketchSource.h"
 
 #include "PlantMorphFieldData.h"
+#include "BranchJunctions.h"
 #include "BranchTubes.h"
 #include "TreeStrokes.h"
 #include "TreeTemplate.h"
@@ -123,6 +124,7 @@ void vtkTreeFromSketchSource::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "Ratio: " << this->Ratio << "\n"
      << indent << "SegmentsPerBranch: " << this->SegmentsPerBranch << "\n"
      << indent << "Sides: " << this->Sides << "\n"
+     << indent << "Joints: " << this->Joints << "\n"
      << indent << "StrokeFile: " << this->StrokeFile << "\n"
      << indent << "Leaves: " << this->Leaves << " type " << this->LeafType << " count " << this->LeafCount << "\n"
      << indent << "Seed: " << this->Seed << "\n"
@@ -314,6 +316,11 @@ int vtkTreeFromSketchSource::RequestData(
   }
   this->UpdateProgress(0.05);
 
+  if (this->Joints != 0 && this->Joints != 1)
+  {
+    vtkErrorMacro("Joints = " << this->Joints << " is out of range [0, 1] (0 Welded, 1 Seated tubes)");
+    return 1;
+  }
   plantmorph::Tree tree;
   std::string error = plantmorph::BuildTree(s, strokes, mergeInput ? &second : nullptr, tree);
   if (!error.empty())
@@ -327,11 +334,14 @@ int vtkTreeFromSketchSource::RequestData(
     return 1;
   }
 
-  // Branch surfaces; children's base rings seated on their parents.
+  // Branch surfaces: welded by convex-hull junctions into one closed surface per tree (default), or each branch its
+  // own closed tube with its base ring seated on its parent.
   std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree);
   plantmorph::TubeMesh mesh;
   plantmorph::JointReport joints;
-  error = plantmorph::BuildTubes(tubes, s.sides, mesh, SMPFor, &joints);
+  plantmorph::JunctionReport junctions;
+  error = this->Joints == 0 ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, SMPFor, &junctions)
+                            : plantmorph::BuildTubes(tubes, s.sides, mesh, SMPFor, &joints);
   tubes.clear();
   if (!error.empty())
   {
@@ -401,6 +411,19 @@ int vtkTreeFromSketchSource::RequestData(
       double(joints.buried) };
     seating->InsertNextTuple(row);
     parameters->AddArray(seating);
+  }
+  AddFieldValue(parameters, "PlantMorph.Joints", this->Joints);
+  {
+    vtkNew<vtkDoubleArray> welding;
+    welding->SetName("PlantMorph.Junctions");
+    welding->SetNumberOfComponents(6);
+    const char* names[6] = { "Junctions", "Welded", "Merged", "AtEnds", "Narrowed", "Fallback" };
+    for (int c = 0; c < 6; ++c)
+      welding->SetComponentName(c, names[c]);
+    const double row[6] = { double(junctions.junctions), double(junctions.welded), double(junctions.merged),
+      double(junctions.endJunctions), double(junctions.narrowed), double(junctions.fallback) };
+    welding->InsertNextTuple(row);
+    parameters->AddArray(welding);
   }
   {
     vtkNew<vtkDoubleArray> report;

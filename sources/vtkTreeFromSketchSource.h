@@ -27,11 +27,22 @@
  * BranchId / ParentId / Radius, duplicate ids, no or several roots, dangling parents, cycles, NaN) is refused with a
  * message starting "Merge input is not a tree". See plantmorph::MergeTree (TreeMerge.h) for every rule.
  *
- * Joints: each child's tube starts with its base ring on the parent tube's faceted surface (plantmorph::BuildTubes,
- * "Joints"): no gap and no wall buried in the parent; the parent's surface is not cut (no Boolean union), so the
- * child's base cap and a thin lens under it lie inside the parent. Field data `PlantMorph.JointRingVertices` counts
- * the child ring vertices seated, missed (their line misses the parent: sympodial forks at a capped tip), clamped
- * and buried.
+ * `Joints` 0 **Welded** (default): the branches of a tree form ONE closed, consistently oriented, manifold surface
+ * (plantmorph::BuildWeldedTubes, BranchJunctions.h): at each node the child and the parent are cut back and joined
+ * by the convex hull of the cut rings (no cap inside the parent, no ledge, no internal face; the hull is convex, so
+ * at narrow angles it fills a little more than the exact union). A lateral child wider than 0.9 of its parent's
+ * radius at the node (every child of the monopodial template) has its first segment narrowed to that at its base
+ * (pipe model; skeleton `Radius` unchanged). Children whose intervals overlap share one junction. Hull facets carry
+ * the child's BranchId / ParentId / Depth. A child whose junction cannot be built (see BranchJunctions.h
+ * "Fallback") stays its own closed tube overlapping its parent. Branches that cross each other away from a node
+ * (the template's subtrees do) are not united. Field data `PlantMorph.Junctions` counts junctions, welded
+ * children, merged junctions, junctions at a parent's end (forks), narrowed children and fallbacks; Table 1's
+ * presets at full depth: see docs/tracing-a-tree-photo.md "Joints". `Joints` 1 **Seated tubes** (the previous
+ * behaviour, kept for comparison and for users who post-process separate tubes): each child's tube starts with its
+ * base ring on the parent tube's faceted surface (plantmorph::BuildTubes, "Joints"); the parent is not cut, so the
+ * child's base cap and a thin lens under it lie inside the parent and a child wider than its parent shows a ledge.
+ * Field data `PlantMorph.JointRingVertices` counts the child ring vertices seated, missed, clamped and buried (zeros
+ * when welded).
  *
  * `Mode`: 0 Template (the template tree of the properties, or of `Preset` 1-3, Table 1), 1 Strokes (the first
  * stroke is the trunk, the others attach to their nearest branch and are lifted to 3-D by the phyllotaxis rule; each
@@ -114,6 +125,10 @@ public:
   /// Vertices per tube ring, [3, 256]. Default 6 (the paper's hexagonal prisms).
   vtkSetMacro(Sides, int);
   vtkGetMacro(Sides, int);
+  /// How children join their parents: 0 Welded (convex-hull junctions, one closed surface per tree; default), 1
+  /// Seated tubes (each branch its own closed tube, base ring on the parent's surface: the surfaces overlap).
+  vtkSetMacro(Joints, int);
+  vtkGetMacro(Joints, int);
   /// Memory budget: at most this many skeleton segments (and leaves), [1, 1e9]. Default 2e7.
   vtkSetMacro(MaxSegments, vtkIdType);
   vtkGetMacro(MaxSegments, vtkIdType);
@@ -210,6 +225,7 @@ protected:
   int SegmentsPerBranch = 4;
   double TwigScale = 1.2;
   int Sides = 6;
+  int Joints = 0;
   vtkIdType MaxSegments = 20000000;
   int StrokeControlPoints = 4;
   double StrokeLengthRatio = 0.0;

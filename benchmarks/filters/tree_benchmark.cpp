@@ -1,11 +1,13 @@
 // TreeFromSketchSource benchmark (spec 05): segments per second and bytes per segment from 10^3 to 10^6 skeleton
 // segments, for the algorithm layer (template growth + watertight tubes, serial) and for the whole VTK source
-// (template, tubes through vtkSMPTools, arrays, skeleton, no leaves).
+// (template, tubes through vtkSMPTools, arrays, skeleton, no leaves); second argument: the joints, 0 seated tubes
+// (BuildTubes), 1 welded (BuildWeldedTubes, the source's default).
 //
 // Sizes: Table 1's left template (monopodial 3/8, 8 children) at depth 2..5 with SegmentsPerBranch chosen to reach
 // about 10^3, 10^4, 10^5 and 10^6 segments (the exact count is reported as `segments`), 6 sides.
 //
 //   tree_benchmark --benchmark_counters_tabular=true
+#include "BranchJunctions.h"
 #include "BranchTubes.h"
 #include "TreeTemplate.h"
 
@@ -58,6 +60,7 @@ double MeshBytes(const plantmorph::TubeMesh& m)
 void BM_TreeCore(benchmark::State& state)
 {
   const plantmorph::TreeSettings s = Settings(static_cast<int>(state.range(0)));
+  const bool welded = state.range(1) == 1;
   double segments = 0.0, bytes = 0.0, triangles = 0.0;
   PeakMemoryProbe memory;
   memory.Start();
@@ -69,9 +72,10 @@ void BM_TreeCore(benchmark::State& state)
       state.SkipWithError("BuildTree failed");
       return;
     }
-    const std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree); // joints seated
+    const std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree);
     plantmorph::TubeMesh mesh;
-    if (!plantmorph::BuildTubes(tubes, s.sides, mesh).empty())
+    if (!(welded ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh) : plantmorph::BuildTubes(tubes, s.sides, mesh))
+           .empty())
     {
       state.SkipWithError("BuildTubes failed");
       return;
@@ -102,6 +106,7 @@ void BM_TreeSource(benchmark::State& state)
     source->SetDepth(size.depth);
     source->SetSegmentsPerBranch(size.segmentsPerBranch);
     source->SetLeaves(0);
+    source->SetJoints(state.range(1) == 1 ? 0 : 1);
     source->Update();
     vtkPolyData* branches = vtkPolyData::SafeDownCast(source->GetOutputDataObject(0));
     vtkPolyData* skeleton = vtkPolyData::SafeDownCast(source->GetOutputDataObject(1));
@@ -117,8 +122,8 @@ void BM_TreeSource(benchmark::State& state)
 }
 } // namespace
 
-/// What seating the joints costs: the tubes of the 10^6-segment tree alone (serial), with each child's parent index
-/// (arg 1: base rings seated on the parents) and without (arg 0: every tube stands alone).
+/// What the joints cost: the tubes of the 10^6-segment tree alone (serial), without parents (arg 0: every tube
+/// stands alone), seated (arg 1: base rings seated on the parents) and welded (arg 2: convex-hull junctions).
 void BM_TreeTubesJoints(benchmark::State& state)
 {
   const plantmorph::TreeSettings s = Settings(3);
@@ -135,10 +140,14 @@ void BM_TreeTubesJoints(benchmark::State& state)
       t.parent = -1;
   }
   plantmorph::JointReport joints;
+  plantmorph::JunctionReport junctions;
   for (auto _ : state)
   {
     plantmorph::TubeMesh mesh;
-    if (!plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SerialFor, &joints).empty())
+    const std::string error = state.range(0) == 2
+      ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, plantmorph::SerialFor, &junctions)
+      : plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SerialFor, &joints);
+    if (!error.empty())
     {
       state.SkipWithError("BuildTubes failed");
       return;
@@ -150,10 +159,14 @@ void BM_TreeTubesJoints(benchmark::State& state)
   state.counters["missed"] = static_cast<double>(joints.missed);
   state.counters["clamped"] = static_cast<double>(joints.clamped);
   state.counters["buried"] = static_cast<double>(joints.buried);
+  state.counters["junctions"] = static_cast<double>(junctions.junctions);
+  state.counters["welded"] = static_cast<double>(junctions.welded);
+  state.counters["merged"] = static_cast<double>(junctions.merged);
+  state.counters["fallback"] = static_cast<double>(junctions.fallback);
 }
 
-BENCHMARK(BM_TreeCore)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_TreeTubesJoints)->DenseRange(0, 1)->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK(BM_TreeSource)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TreeCore)->ArgsProduct({ { 0, 1, 2, 3 }, { 0, 1 } })->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TreeTubesJoints)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_TreeSource)->ArgsProduct({ { 0, 1, 2, 3 }, { 0, 1 } })->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -13,18 +13,9 @@ namespace plantmorph
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
-
-struct Cleaned
+CleanedTube CleanTube(const TubeInput& input)
 {
-  std::vector<Eigen::Vector3d> centre;
-  std::vector<double> radii;
-  bool apex = false;
-};
-
-Cleaned Clean(const TubeInput& input)
-{
-  Cleaned c;
+  CleanedTube c;
   for (std::size_t k = 0; k < input.centre.size(); ++k)
   {
     if (!c.centre.empty() && input.centre[k] == c.centre.back())
@@ -38,6 +29,67 @@ Cleaned Clean(const TubeInput& input)
   c.apex = !c.radii.empty() && !(c.radii.back() > 0.0);
   return c;
 }
+} // namespace
+
+std::string CleanTubes(const std::vector<TubeInput>& tubes, int sides, std::vector<CleanedTube>& cleaned)
+{
+  cleaned.clear();
+  if (sides < 3 || sides > 256)
+  {
+    return "Sides = " + std::to_string(sides) + " is out of range [3, 256]";
+  }
+  cleaned.assign(tubes.size(), CleanedTube());
+  for (std::size_t t = 0; t < tubes.size(); ++t)
+  {
+    if (tubes[t].radii.size() != tubes[t].centre.size())
+    {
+      return "tube " + std::to_string(t) + ": one radius per centre point is needed";
+    }
+    for (std::size_t k = 0; k < tubes[t].centre.size(); ++k)
+    {
+      if (!tubes[t].centre[k].allFinite() || !std::isfinite(tubes[t].radii[k]) || tubes[t].radii[k] < 0.0)
+      {
+        return "tube " + std::to_string(t) + ": point " + std::to_string(k) + " or its radius is not finite";
+      }
+    }
+    if (tubes[t].parent >= static_cast<std::int64_t>(t) || tubes[t].parent < -1)
+    {
+      return "tube " + std::to_string(t) + ": parent " + std::to_string(tubes[t].parent) +
+        " must be -1 or a smaller index";
+    }
+    cleaned[t] = CleanTube(tubes[t]);
+    if (cleaned[t].centre.size() < 2)
+    {
+      return "tube " + std::to_string(t) + " has fewer than 2 distinct centre points";
+    }
+    for (std::size_t k = 0; k + 1 < cleaned[t].radii.size(); ++k)
+    {
+      if (!(cleaned[t].radii[k] > 0.0))
+      {
+        return "tube " + std::to_string(t) + ": radius 0 before its end";
+      }
+    }
+  }
+  return {};
+}
+
+void SetMeshPoint(TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
+  double u, double v)
+{
+  const std::size_t i = static_cast<std::size_t>(index);
+  mesh.points[3 * i] = x.x(), mesh.points[3 * i + 1] = x.y(), mesh.points[3 * i + 2] = x.z();
+  mesh.normals[3 * i] = static_cast<float>(normal.x());
+  mesh.normals[3 * i + 1] = static_cast<float>(normal.y());
+  mesh.normals[3 * i + 2] = static_cast<float>(normal.z());
+  mesh.tcoords[2 * i] = static_cast<float>(u);
+  mesh.tcoords[2 * i + 1] = static_cast<float>(v);
+}
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+using Cleaned = CleanedTube;
 
 std::int64_t PointCount(const Cleaned& c, int sides)
 {
@@ -143,43 +195,15 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
     *joints = JointReport();
   }
   mesh = TubeMesh();
-  if (sides < 3 || sides > 256)
+  std::vector<Cleaned> cleaned;
+  if (std::string error = CleanTubes(tubes, sides, cleaned); !error.empty())
   {
-    return "Sides = " + std::to_string(sides) + " is out of range [3, 256]";
+    return error;
   }
-  std::vector<Cleaned> cleaned(tubes.size());
   mesh.pointOffsets.assign(tubes.size() + 1, 0);
   mesh.triangleOffsets.assign(tubes.size() + 1, 0);
   for (std::size_t t = 0; t < tubes.size(); ++t)
   {
-    if (tubes[t].radii.size() != tubes[t].centre.size())
-    {
-      return "tube " + std::to_string(t) + ": one radius per centre point is needed";
-    }
-    for (std::size_t k = 0; k < tubes[t].centre.size(); ++k)
-    {
-      if (!tubes[t].centre[k].allFinite() || !std::isfinite(tubes[t].radii[k]) || tubes[t].radii[k] < 0.0)
-      {
-        return "tube " + std::to_string(t) + ": point " + std::to_string(k) + " or its radius is not finite";
-      }
-    }
-    if (tubes[t].parent >= static_cast<std::int64_t>(t) || tubes[t].parent < -1)
-    {
-      return "tube " + std::to_string(t) + ": parent " + std::to_string(tubes[t].parent) +
-        " must be -1 or a smaller index";
-    }
-    cleaned[t] = Clean(tubes[t]);
-    if (cleaned[t].centre.size() < 2)
-    {
-      return "tube " + std::to_string(t) + " has fewer than 2 distinct centre points";
-    }
-    for (std::size_t k = 0; k + 1 < cleaned[t].radii.size(); ++k)
-    {
-      if (!(cleaned[t].radii[k] > 0.0))
-      {
-        return "tube " + std::to_string(t) + ": radius 0 before its end";
-      }
-    }
     mesh.pointOffsets[t + 1] = mesh.pointOffsets[t] + PointCount(cleaned[t], sides);
     mesh.triangleOffsets[t + 1] = mesh.triangleOffsets[t] + TriangleCount(cleaned[t], sides);
   }
@@ -217,13 +241,7 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
       const double total = arc.back();
       std::int64_t p = mesh.pointOffsets[t];
       const auto put = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& normal, double u, double v) {
-        const std::size_t i = static_cast<std::size_t>(p);
-        mesh.points[3 * i] = x.x(), mesh.points[3 * i + 1] = x.y(), mesh.points[3 * i + 2] = x.z();
-        mesh.normals[3 * i] = static_cast<float>(normal.x());
-        mesh.normals[3 * i + 1] = static_cast<float>(normal.y());
-        mesh.normals[3 * i + 2] = static_cast<float>(normal.z());
-        mesh.tcoords[2 * i] = static_cast<float>(u);
-        mesh.tcoords[2 * i + 1] = static_cast<float>(v);
+        SetMeshPoint(mesh, p, x, normal, u, v);
         return p++;
       };
       const std::int64_t baseCentre = put(c.centre[0], -tangents[0], 0.5, 0.0);

@@ -16,7 +16,9 @@
 // no seam, so the points are shared and the surface stays closed. Cap centres get u = 0.5. Normals: the ring
 // direction (radial) for ring vertices, -/+ the tangent for the cap centres and the apex.
 //
-// Joints (a tube with a `parent`): the tube's base ring is seated on the parent tube's faceted surface. Ring-0
+// Joints (a tube with a `parent`), "seated tubes" (TreeFromSketchSource's `Joints` = 1; the default, welded joints
+// that make one closed surface per tree, is BuildWeldedTubes in BranchJunctions.h): the tube's base ring is seated
+// on the parent tube's faceted surface. Ring-0
 // vertex j slides along its own lateral edge (the line through it and ring-1 vertex j, so the first segment stays
 // the same prism or frustum, its side faces planar) to the last point where that line leaves the parent tube's
 // triangles before ring 1 (at most 0.95 of the way there; looking back at most 4 (child + parent radius)); the base
@@ -82,6 +84,23 @@ struct TubeMesh
   std::size_t PointCount() const { return this->points.size() / 3; }
   std::size_t TriangleCount() const { return this->triangles.size() / 3; }
 };
+
+/// A tube's centre line without coincident consecutive points (the later radius kept); `apex`: it ends in a point.
+struct CleanedTube
+{
+  std::vector<Eigen::Vector3d> centre;
+  std::vector<double> radii;
+  bool apex = false;
+};
+
+/// Checks and cleans every tube as BuildTubes does (sides in [3, 256], one radius per point, finite, non-negative
+/// radii, positive before the end, at least 2 distinct points, parent -1 or a smaller index); returns an empty string
+/// or the message.
+std::string CleanTubes(const std::vector<TubeInput>& tubes, int sides, std::vector<CleanedTube>& cleaned);
+
+/// Writes point `index` of `mesh` (position, normal and TCoords (u, v)); the arrays must be sized.
+void SetMeshPoint(TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
+  double u, double v);
 
 /// Builds all tubes (in parallel through `parallel` when given: offsets are computed first, so the result does
 /// not depend on how the range is cut). Returns an empty string or a message (sides out of [3, 256], a tube with

@@ -15,8 +15,9 @@
 //   overrides, so a saved state keeps naming the same branches. Stroke branches: see TreeStrokes.h.
 // - A child's skeleton starts on its parent's surface: at the parent's centre point at pos plus the parent's
 //   radius there along the child's outward direction (on the axis when angle = 0; on the circumscribed circle of the
-//   parent's `Sides`-gon). Its tube's base ring is then seated on the parent tube's faceted surface (BranchTubes.h,
-//   "Joints"; TreeTubeInputs gives each tube its parent's index).
+//   parent's `Sides`-gon). Its tube is then welded to the parent's by a convex-hull junction (BranchJunctions.h) or,
+//   with seated tubes, its base ring is seated on the parent tube's faceted surface (BranchTubes.h, "Joints");
+//   TreeTubeInputs gives each tube its parent's index.
 // - Overrides (length, radius, u = pos, angle, rotation) replace the formula's value for that branch; its children
 //   derive from the overridden values (a longer branch has longer children).
 // - Depth-0 twigs (recursion level 0) are lengthened by TwigScale (epsilon_leaf = 1.2), as the paper's
@@ -194,7 +195,7 @@ struct SkeletonBranch
 };
 
 /// The tubes of a tree's branches for BuildTubes: centre lines, radii, frames, and each branch's parent index (its
-/// base ring is seated on the parent's tube).
+/// tube is welded to, or its base ring seated on, the parent's tube).
 std::vector<TubeInput> TreeTubeInputs(const Tree& tree);
 
 /// Number of branches of a complete template with `levels` levels of `childCount` children below its root (root

@@ -6,6 +6,7 @@
 #include "vtkCellData.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
+#include "vtkFeatureEdges.h"
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkIntArray.h"
@@ -13,6 +14,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkPolyDataConnectivityFilter.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 
@@ -260,6 +262,7 @@ TEST(TreeFromSketchSource, BadInputGivesAnErrorNamingItAndEmptyOutputs)
     { "Length", [](vtkTreeFromSketchSource* s) { s->SetPreset(0), s->SetLength(-1); } },
     { "Ratio", [](vtkTreeFromSketchSource* s) { s->SetPreset(0), s->SetRatio(NAN); } },
     { "Sides", [](vtkTreeFromSketchSource* s) { s->SetSides(2); } },
+    { "Joints = 2 is out of range [0, 1]", [](vtkTreeFromSketchSource* s) { s->SetJoints(2); } },
     { "MaxSegments", [](vtkTreeFromSketchSource* s) { s->SetMaxSegments(1000); } },
     { "Preset", [](vtkTreeFromSketchSource* s) { s->SetPreset(9); } },
     { "Strokes input", [](vtkTreeFromSketchSource* s) { s->SetMode(1); } },
@@ -370,7 +373,18 @@ TEST(TreeFromSketchSource, SecondTreeOnTheMergePortKeepsItsShapeAndGetsIdsAfterT
     ++checked;
   }
   EXPECT_EQ(checked, secondSkeleton->GetNumberOfCells());
-  // The joint report covers every child's base ring (the second trunk has none): 6 vertices a child.
+  // Welded (default): every child is either welded or a counted fallback; the two trunks stand apart.
+  vtkDataArray* junctions = skeleton->GetFieldData()->GetArray("PlantMorph.Junctions");
+  ASSERT_NE(junctions, nullptr);
+  ASSERT_EQ(junctions->GetNumberOfComponents(), 6);
+  EXPECT_EQ(junctions->GetComponent(0, 1) + junctions->GetComponent(0, 5), double(skeleton->GetNumberOfCells() - 2));
+  EXPECT_GT(junctions->GetComponent(0, 1), 0.0);
+  EXPECT_EQ(skeleton->GetFieldData()->GetArray("PlantMorph.JointRingVertices")->GetComponent(0, 0), 0.0);
+  // Seated tubes: the joint report covers every child's base ring (the second trunk has none): 6 vertices a child.
+  merged->SetJoints(1);
+  merged->Update();
+  ASSERT_EQ(catcher->Messages, "");
+  skeleton = Output(merged, 1);
   vtkDataArray* joints = skeleton->GetFieldData()->GetArray("PlantMorph.JointRingVertices");
   ASSERT_NE(joints, nullptr);
   ASSERT_EQ(joints->GetNumberOfComponents(), 4);
@@ -383,4 +397,40 @@ TEST(TreeFromSketchSource, SecondTreeOnTheMergePortKeepsItsShapeAndGetsIdsAfterT
   merged->AddDeletedBranch(int(base) + 1);
   merged->Update();
   EXPECT_EQ(Output(merged, 1)->GetNumberOfCells(), own + secondSkeleton->GetNumberOfCells() - (1 + 3 + 9 + 27 + 81 + 243));
+}
+
+TEST(TreeFromSketchSource, WeldedBranchesAreOneClosedManifoldPerTreeAndSeatedTubesAreNot)
+{
+  // VTK's own edge and connectivity filters as oracles: no boundary or non-manifold edge, one region per tree plus
+  // one per fallback child; seated tubes give one region per branch (every tube closed on its own).
+  for (int preset = 1; preset <= 3; ++preset)
+  {
+    for (int joints : { 0, 1 })
+    {
+      vtkNew<vtkTreeFromSketchSource> source;
+      source->SetPreset(preset);
+      source->SetDepth(2);
+      source->SetLeaves(0);
+      source->SetJoints(joints);
+      source->Update();
+      vtkPolyData* branches = Output(source, 0);
+      vtkNew<vtkFeatureEdges> edges;
+      edges->SetInputData(branches);
+      edges->BoundaryEdgesOn();
+      edges->NonManifoldEdgesOn();
+      edges->FeatureEdgesOff();
+      edges->ManifoldEdgesOff();
+      edges->Update();
+      EXPECT_EQ(edges->GetOutput()->GetNumberOfLines(), 0) << preset << " " << joints;
+      vtkNew<vtkPolyDataConnectivityFilter> regions;
+      regions->SetInputData(branches);
+      regions->SetExtractionModeToAllRegions();
+      regions->Update();
+      const double fallback =
+        branches->GetFieldData()->GetArray("PlantMorph.Junctions")->GetComponent(0, 5);
+      const vtkIdType branchCount = Output(source, 1)->GetNumberOfCells();
+      EXPECT_EQ(regions->GetNumberOfExtractedRegions(), joints == 0 ? 1 + vtkIdType(fallback) : branchCount)
+        << preset << " " << joints;
+    }
+  }
 }

@@ -1,0 +1,809 @@
+#include "BranchJunctions.h"
+
+#include <plantmorph/RotationMinimizingFrames.h>
+
+#include <CGAL/Triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace plantmorph
+{
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+/// A tube's centre line with its per-segment frames (the rotation-minimising transport of BuildTubes: segment k's
+/// ring directions are cos(2 pi j / sides) n[k] + sin(2 pi j / sides) (n[k] x dir[k])).
+struct Skeleton
+{
+  CleanedTube line;
+  std::vector<Eigen::Vector3d> tangents; ///< PolylineTangents: mitre plane normals at the centre points
+  std::vector<Eigen::Vector3d> dir;      ///< unit segment directions
+  std::vector<Eigen::Vector3d> n;        ///< ring vertex 0's direction across each segment
+  std::vector<double> arc;               ///< arc length at each centre point
+  double Length() const { return this->arc.back(); }
+  std::size_t Segment(double s) const
+  {
+    const auto it = std::upper_bound(this->arc.begin(), this->arc.end(), s);
+    const std::size_t k = it == this->arc.begin() ? 0 : static_cast<std::size_t>(it - this->arc.begin()) - 1;
+    return std::min(k, this->dir.size() - 1);
+  }
+  double RadiusAt(double s) const
+  {
+    const std::size_t k = this->Segment(s);
+    const double f = std::clamp((s - this->arc[k]) / (this->arc[k + 1] - this->arc[k]), 0.0, 1.0);
+    return this->line.radii[k] + f * (this->line.radii[k + 1] - this->line.radii[k]);
+  }
+  /// Whether centre point k's ring lies on the frustum between its neighbours' (collinear segments, radius linear in
+  /// arc length): then a hull holding rings on both sides of it holds it too, and it is left out of the hull's input
+  /// (it would only add points on the hull's boundary and degenerate, exactly evaluated, orientation tests).
+  bool Redundant(std::size_t k) const
+  {
+    if (k == 0 || k + 1 >= this->arc.size())
+      return false;
+    const double f = (this->arc[k] - this->arc[k - 1]) / (this->arc[k + 1] - this->arc[k - 1]);
+    const double linear = this->line.radii[k - 1] + f * (this->line.radii[k + 1] - this->line.radii[k - 1]);
+    return this->dir[k - 1].dot(this->dir[k]) >= 1.0 - 1e-14 &&
+      std::abs(this->line.radii[k] - linear) <= 1e-12 * std::max(this->line.radii[k], linear);
+  }
+  Eigen::Vector3d PointAt(double s) const
+  {
+    const std::size_t k = this->Segment(s);
+    return this->line.centre[k] + (s - this->arc[k]) * this->dir[k];
+  }
+};
+
+Skeleton MakeSkeleton(const CleanedTube& line, const Eigen::Vector3d& normal)
+{
+  Skeleton s;
+  s.line = line;
+  const std::size_t n = line.centre.size();
+  s.tangents = PolylineTangents(line.centre);
+  s.arc.assign(n, 0.0);
+  for (std::size_t k = 0; k + 1 < n; ++k)
+  {
+    const Eigen::Vector3d d = line.centre[k + 1] - line.centre[k];
+    s.arc[k + 1] = s.arc[k] + d.norm();
+    s.dir.push_back(d.normalized());
+  }
+  const double minimumCos = std::cos(85.0 * Pi / 180.0);
+  s.n.push_back(PerpendicularTo(s.tangents[0], normal));
+  for (std::size_t k = 1; k + 1 < n; ++k)
+  {
+    const Eigen::Vector3d& d = s.dir[k - 1];
+    const Eigen::Vector3d& plane = s.tangents[k];
+    const double denominator = std::max(d.dot(plane), minimumCos);
+    Eigen::Vector3d w = s.n[k - 1] - s.n[k - 1].dot(d) * d;
+    w.normalize();
+    const Eigen::Vector3d offset = w - (w.dot(plane) / denominator) * d;
+    const Eigen::Vector3d next = offset - offset.dot(s.dir[k]) * s.dir[k];
+    s.n.push_back(next.norm() > 0.0 ? Eigen::Vector3d(next.normalized()) : w);
+  }
+  return s;
+}
+
+/// Where a ring sits on its tube: at centre point `point` (a mitre ring; the base ring for 0) or, for point = -1,
+/// across segment `segment` at arc length `arc` (a cut ring, perpendicular to the segment).
+struct Station
+{
+  double arc = 0.0;
+  long point = -1;
+};
+
+struct RingVertex
+{
+  Eigen::Vector3d x, normal;
+  float u = 0.0f, v = 0.0f;
+};
+
+struct Trig
+{
+  std::vector<double> cosines, sines, around;
+  explicit Trig(int sides)
+  {
+    for (int j = 0; j < sides; ++j)
+    {
+      const double a = 2.0 * Pi * j / sides;
+      this->cosines.push_back(std::cos(a));
+      this->sines.push_back(std::sin(a));
+      this->around.push_back(1.0 - std::abs(1.0 - 2.0 * j / sides));
+    }
+  }
+};
+
+/// Ring vertex j of the ring at `station` of tube `s` (BuildTubes' formulas).
+RingVertex Vertex(const Skeleton& s, const Station& station, const Trig& trig, std::size_t j)
+{
+  RingVertex r;
+  const double total = s.Length();
+  r.u = static_cast<float>(trig.around[j]);
+  r.v = static_cast<float>(total > 0.0 ? station.arc / total : 0.0);
+  if (station.point > 0)
+  {
+    const std::size_t k = static_cast<std::size_t>(station.point);
+    const Eigen::Vector3d& d = s.dir[k - 1];
+    const Eigen::Vector3d b = s.n[k - 1].cross(d);
+    Eigen::Vector3d w = trig.cosines[j] * s.n[k - 1] + trig.sines[j] * b;
+    w -= w.dot(d) * d;
+    w.normalize();
+    const Eigen::Vector3d& plane = s.tangents[k];
+    constexpr double minimumCos = 0.087155742747658166; // cos(85 deg), BuildTubes' mitre clamp
+    const double denominator = std::max(d.dot(plane), minimumCos);
+    r.x = s.line.centre[k] + s.line.radii[k] * (w - (w.dot(plane) / denominator) * d);
+    r.normal = w;
+    return r;
+  }
+  const std::size_t k = station.point == 0 ? 0 : s.Segment(station.arc);
+  const Eigen::Vector3d w = trig.cosines[j] * s.n[k] + trig.sines[j] * s.n[k].cross(s.dir[k]);
+  const double radius = station.point == 0 ? s.line.radii[0] : s.RadiusAt(station.arc);
+  const Eigen::Vector3d centre = station.point == 0 ? s.line.centre[0] : s.PointAt(station.arc);
+  r.x = centre + radius * w;
+  r.normal = w;
+  return r;
+}
+
+/// One ring of a junction: on tube `tube` at `station`, its outward normal points away from the junction.
+struct JunctionRing
+{
+  std::size_t tube = 0;
+  Station station;
+  Eigen::Vector3d centre, outward;
+  double radius = 0.0;
+};
+
+struct JunctionPoint
+{
+  RingVertex vertex;
+  std::size_t tube = 0;
+  long ring = -1; ///< index into the junction's rings, or -1 (a dropped part's point)
+  long slot = -1; ///< ring vertex j, or the tube's extra point number once it is a hull corner
+};
+
+struct Junction
+{
+  std::size_t parent = 0;
+  std::vector<std::size_t> children; ///< ascending index
+  double lo = 0.0, hi = 0.0;         ///< the parent's dropped interval of arc length
+  bool end = false;                  ///< hi is the parent's end: no ring after, the end dropped
+  bool failed = false;
+  std::vector<JunctionRing> rings;
+  std::vector<JunctionPoint> points;
+  std::vector<std::array<long, 3>> facets; ///< into points, outward
+};
+
+struct ChildState
+{
+  double node = 0.0;   ///< arc length of the node on the parent
+  Eigen::Vector3d nodePoint, axis;
+  double pull = 0.0;   ///< arc length of the child's junction ring
+  double parentRadius = 0.0;
+  bool welded = false;
+  bool narrowed = false;
+};
+
+/// The points of a junction for the current pulls and interval: rings first (children, then the parent's before
+/// and after rings), then the dropped parts' points.
+void CollectPoints(const std::vector<Skeleton>& skeletons, const std::vector<ChildState>& state, const Trig& trig,
+  Junction& J)
+{
+  J.rings.clear();
+  J.points.clear();
+  const std::size_t sides = trig.cosines.size();
+  const auto addRing = [&](std::size_t tube, const Station& station, const Eigen::Vector3d& outward) {
+    const Skeleton& s = skeletons[tube];
+    JunctionRing ring{ tube, station, s.PointAt(station.arc), outward, s.RadiusAt(station.arc) };
+    J.rings.push_back(ring);
+    for (std::size_t j = 0; j < sides; ++j)
+    {
+      J.points.push_back({ Vertex(s, station, trig, j), tube, static_cast<long>(J.rings.size() - 1),
+        static_cast<long>(j) });
+    }
+  };
+  const auto addDropped = [&](std::size_t tube, const Station& station) {
+    for (std::size_t j = 0; j < sides; ++j)
+    {
+      J.points.push_back({ Vertex(skeletons[tube], station, trig, j), tube, -1, static_cast<long>(j) });
+    }
+  };
+  for (std::size_t c : J.children)
+  {
+    const Skeleton& s = skeletons[c];
+    addRing(c, Station{ state[c].pull, -1 }, s.dir[s.Segment(state[c].pull)]);
+  }
+  const Skeleton& p = skeletons[J.parent];
+  addRing(J.parent, Station{ J.lo, -1 }, -p.dir[p.Segment(J.lo)]);
+  if (!J.end)
+  {
+    addRing(J.parent, Station{ J.hi, -1 }, p.dir[p.Segment(J.hi)]);
+  }
+  for (std::size_t c : J.children)
+  {
+    const Skeleton& s = skeletons[c];
+    for (std::size_t k = 0; k < s.arc.size() && s.arc[k] < state[c].pull; ++k)
+    {
+      if (!s.Redundant(k))
+        addDropped(c, Station{ s.arc[k], static_cast<long>(k) });
+    }
+  }
+  const std::size_t last = p.arc.size() - 1;
+  for (std::size_t k = 1; k < last; ++k)
+  {
+    if (p.arc[k] > J.lo && p.arc[k] < J.hi && !p.Redundant(k))
+      addDropped(J.parent, Station{ p.arc[k], static_cast<long>(k) });
+  }
+  if (J.end)
+  {
+    if (p.line.apex)
+    {
+      RingVertex apex;
+      apex.x = p.line.centre[last];
+      apex.normal = p.dir.back();
+      apex.u = 0.5f, apex.v = 1.0f;
+      J.points.push_back({ apex, J.parent, -1, -2 });
+    }
+    else
+    {
+      addDropped(J.parent, Station{ p.arc[last], static_cast<long>(last) });
+    }
+  }
+}
+
+/// Index of the first ring that is not a face with margin (every point off the ring at least 0.05 of its radius
+/// inside its plane), or -1.
+long FirstBadRing(const Junction& J)
+{
+  for (std::size_t i = 0; i < J.rings.size(); ++i)
+  {
+    const JunctionRing& r = J.rings[i];
+    double worst = -std::numeric_limits<double>::infinity();
+    for (const JunctionPoint& q : J.points)
+    {
+      if (q.ring != static_cast<long>(i))
+        worst = std::max(worst, (q.vertex.x - r.centre).dot(r.outward));
+    }
+    if (!(worst < -0.05 * r.radius))
+      return static_cast<long>(i);
+  }
+  return -1;
+}
+
+/// Grows the junction's pulls and margins until every ring is a face (true) or a limit is hit (false).
+bool Solve(const std::vector<Skeleton>& skeletons, std::vector<ChildState>& state, const std::vector<double>& baseCut,
+  const Trig& trig, Junction& J)
+{
+  const Skeleton& p = skeletons[J.parent];
+  double parentRadius = 0.0;
+  for (std::size_t c : J.children)
+    parentRadius = std::max(parentRadius, state[c].parentRadius);
+  double before = 0.3 * parentRadius, after = 0.3 * parentRadius;
+  const double L = p.Length();
+  for (int round = 0; round < 16; ++round)
+  {
+    // The interval: the children's rings and dropped parts along the parent's axis at each node, plus margins.
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t c : J.children)
+    {
+      const Skeleton& s = skeletons[c];
+      if (state[c].pull > 0.85 * s.Length())
+        return false;
+      const Station ring{ state[c].pull, -1 };
+      for (std::size_t j = 0; j < trig.cosines.size(); ++j)
+      {
+        for (const Station& st : { ring, Station{ 0.0, 0 } })
+        {
+          const double t = state[c].node + (Vertex(s, st, trig, j).x - state[c].nodePoint).dot(state[c].axis);
+          lo = std::min(lo, t), hi = std::max(hi, t);
+        }
+      }
+    }
+    J.lo = lo - before;
+    J.hi = hi + after;
+    const double base = baseCut[J.parent] + 0.05 * parentRadius;
+    if (!(J.lo > base))
+      return false;
+    J.end = J.hi >= L - 0.05 * parentRadius ||
+      (p.line.apex && p.RadiusAt(J.hi) < 0.2 * parentRadius);
+    if (J.end)
+      J.hi = L;
+    CollectPoints(skeletons, state, trig, J);
+    const long bad = FirstBadRing(J);
+    if (bad < 0)
+      return true;
+    const JunctionRing& r = J.rings[static_cast<std::size_t>(bad)];
+    if (static_cast<std::size_t>(bad) < J.children.size())
+      state[r.tube].pull *= 1.3;
+    else if (r.station.arc == J.lo)
+      before *= 1.3;
+    else
+      after *= 1.3;
+  }
+  return false;
+}
+
+/// Convex hull of the junction's points; false if a ring is not a face of it (then the junction falls back).
+/// The hull is the boundary of the points' tetrahedralisation (CGAL Triangulation_3, exact orientation predicates,
+/// points inserted in order: one answer for one input, whatever the thread; CGAL 5.5's convex_hull_3 was seen by
+/// valgrind to read freed list nodes on these inputs, and a Delaunay tetrahedralisation spent most of its time in
+/// exact in-sphere tests of the cocircular ring points). Its facets are the finite facets of the infinite cells.
+bool Hull(Junction& J, std::size_t sides)
+{
+  using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Vb = CGAL::Triangulation_vertex_base_with_info_3<long, Kernel>;
+  using Tds = CGAL::Triangulation_data_structure_3<Vb>;
+  using Triangulation = CGAL::Triangulation_3<Kernel, Tds>;
+  Triangulation dt;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < J.points.size(); ++i)
+  {
+    const Eigen::Vector3d& x = J.points[i].vertex.x;
+    centroid += x;
+    const std::size_t before = dt.number_of_vertices();
+    const auto v = dt.insert(Kernel::Point_3(x.x(), x.y(), x.z()));
+    if (dt.number_of_vertices() == before)
+      return false; // a repeated point
+    v->info() = static_cast<long>(i) + 1;
+  }
+  centroid /= static_cast<double>(J.points.size());
+  if (dt.dimension() != 3 || dt.number_of_vertices() != J.points.size())
+    return false;
+  std::vector<std::array<long, 3>> facets;
+  std::vector<Triangulation::Cell_handle> hullCells;
+  dt.incident_cells(dt.infinite_vertex(), std::back_inserter(hullCells));
+  for (const Triangulation::Cell_handle& c : hullCells)
+  {
+    const int infinite = c->index(dt.infinite_vertex());
+    std::array<long, 3> v{};
+    for (int k = 0, m = 0; k < 4; ++k)
+      if (k != infinite)
+        v[static_cast<std::size_t>(m++)] = c->vertex(k)->info() - 1;
+    // Outward: the centroid (strictly inside) is behind the facet.
+    const Eigen::Vector3d& a = J.points[static_cast<std::size_t>(v[0])].vertex.x;
+    const Eigen::Vector3d& b = J.points[static_cast<std::size_t>(v[1])].vertex.x;
+    const Eigen::Vector3d& d = J.points[static_cast<std::size_t>(v[2])].vertex.x;
+    if ((b - a).cross(d - a).dot(centroid - a) > 0.0)
+      std::swap(v[1], v[2]);
+    // A canonical rotation (smallest index first) and order, so the output does not depend on cell storage.
+    std::rotate(v.begin(), std::min_element(v.begin(), v.end()), v.end());
+    facets.push_back(v);
+  }
+  std::sort(facets.begin(), facets.end());
+  std::vector<int> capFacets(J.rings.size(), 0);
+  std::vector<int> ringEdges(J.points.size(), 0); // side facets using ring edge (point, its ring successor)
+  J.facets.clear();
+  for (const std::array<long, 3>& v : facets)
+  {
+    const long r0 = J.points[static_cast<std::size_t>(v[0])].ring;
+    if (r0 >= 0 && r0 == J.points[static_cast<std::size_t>(v[1])].ring &&
+      r0 == J.points[static_cast<std::size_t>(v[2])].ring)
+    {
+      ++capFacets[static_cast<std::size_t>(r0)];
+      continue;
+    }
+    for (int e = 0; e < 3; ++e)
+    {
+      const long a = v[static_cast<std::size_t>(e)], b = v[static_cast<std::size_t>((e + 1) % 3)];
+      const JunctionPoint& pa = J.points[static_cast<std::size_t>(a)];
+      const JunctionPoint& pb = J.points[static_cast<std::size_t>(b)];
+      if (pa.ring >= 0 && pa.ring == pb.ring)
+      {
+        // Ring points are stored j = 0..sides-1 per ring: the edge (j, j + 1 mod sides) is keyed by j's point.
+        const long next = (pa.slot + 1) % static_cast<long>(sides);
+        if (pb.slot == next)
+          ++ringEdges[static_cast<std::size_t>(a)];
+        else if ((pb.slot + 1) % static_cast<long>(sides) == pa.slot)
+          ++ringEdges[static_cast<std::size_t>(b)];
+        else
+          return false; // a chord of the ring on the hull's side: the ring is not a face
+      }
+    }
+    J.facets.push_back(v);
+  }
+  // Every ring: sides - 2 cap facets, and each of its edges in exactly one side facet, running j + 1 -> j (the
+  // tube beyond runs j -> j + 1 along its band: see the band triangles).
+  for (std::size_t r = 0; r < J.rings.size(); ++r)
+  {
+    if (capFacets[r] != static_cast<int>(sides) - 2)
+      return false;
+    const long first = static_cast<long>(r * sides);
+    for (std::size_t j = 0; j < sides; ++j)
+    {
+      if (ringEdges[static_cast<std::size_t>(first) + j] != 1)
+        return false;
+    }
+  }
+  return true;
+}
+} // namespace
+
+std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh,
+  const ParallelFor& parallel, JunctionReport* report)
+{
+  if (report)
+    *report = JunctionReport();
+  mesh = TubeMesh();
+  std::vector<CleanedTube> cleaned;
+  if (std::string error = CleanTubes(tubes, sides, cleaned); !error.empty())
+  {
+    return error;
+  }
+  const std::size_t count = tubes.size();
+  const std::size_t S = static_cast<std::size_t>(sides);
+  const Trig trig(sides);
+  std::vector<Skeleton> skeletons(count);
+  parallel(count, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+      skeletons[t] = MakeSkeleton(cleaned[t], tubes[t].normal);
+  });
+
+  // Children per parent, parents level by level.
+  std::vector<std::vector<std::size_t>> children(count);
+  std::vector<int> level(count, 0);
+  int levels = 0;
+  for (std::size_t t = 0; t < count; ++t)
+  {
+    if (tubes[t].parent >= 0)
+    {
+      const std::size_t p = static_cast<std::size_t>(tubes[t].parent);
+      children[p].push_back(t);
+      level[t] = level[p] + 1;
+      levels = std::max(levels, level[t]);
+    }
+  }
+  std::vector<std::vector<std::size_t>> byLevel(static_cast<std::size_t>(levels) + 1);
+  for (std::size_t t = 0; t < count; ++t)
+  {
+    if (!children[t].empty())
+      byLevel[static_cast<std::size_t>(level[t])].push_back(t);
+  }
+  std::vector<ChildState> state(count);
+  std::vector<double> baseCut(count, 0.0); // arc length of a welded child's ring (0: its base)
+  std::vector<std::vector<Junction>> junctionsOf(count);
+  const double smallAngle = std::sin(5.0 * Pi / 180.0);
+
+  for (const std::vector<std::size_t>& parents : byLevel)
+  {
+    parallel(parents.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        const std::size_t P = parents[i];
+        const Skeleton& p = skeletons[P];
+        std::vector<Junction> single;
+        for (std::size_t c : children[P])
+        {
+          ChildState& cs = state[c];
+          Skeleton& s = skeletons[c];
+          // Node: the parent's centre-line point nearest the child's first point.
+          const Eigen::Vector3d B = s.line.centre[0];
+          double best = std::numeric_limits<double>::infinity();
+          for (std::size_t k = 0; k < p.dir.size(); ++k)
+          {
+            const double len = p.arc[k + 1] - p.arc[k];
+            const double f = std::clamp((B - p.line.centre[k]).dot(p.dir[k]), 0.0, len);
+            const Eigen::Vector3d x = p.line.centre[k] + f * p.dir[k];
+            if ((x - B).squaredNorm() < best)
+            {
+              best = (x - B).squaredNorm();
+              cs.node = p.arc[k] + f, cs.nodePoint = x, cs.axis = p.dir[k];
+            }
+          }
+          const bool atEnd = cs.node >= p.Length() * (1.0 - 1e-9);
+          cs.parentRadius = std::max(p.RadiusAt(cs.node), atEnd ? p.line.radii[p.line.radii.size() - 2] : 0.0);
+          const Eigen::Vector3d d = s.dir[0];
+          const double cosine = d.dot(cs.axis);
+          const double sine = std::sqrt(std::max(0.0, 1.0 - cosine * cosine));
+          if (sine < smallAngle && !atEnd)
+            continue; // along the parent's axis: falls back
+          if (!atEnd && s.line.radii[0] > 0.9 * cs.parentRadius)
+          {
+            s.line.radii[0] = 0.9 * cs.parentRadius; // the pipe model (see the header)
+            cs.narrowed = true;
+          }
+          const Eigen::Vector3d across = d - cosine * cs.axis;
+          const double h = sine > 0.0 ? (B - cs.nodePoint).dot(across) / across.norm() : 0.0;
+          const double rc = s.line.radii[0];
+          // At a parent's end the child need not clear a parent continuing beside it: start short and let the face
+          // test grow it (a short pull leaves room for the child's own first junctions).
+          cs.pull = atEnd ? 0.3 * rc
+                          : std::max(0.3 * rc, (1.2 * cs.parentRadius - h + rc * std::abs(cosine)) / std::max(sine, 0.2));
+          Junction J;
+          J.parent = P;
+          J.children = { c };
+          if (Solve(skeletons, state, baseCut, trig, J))
+            single.push_back(std::move(J));
+        }
+        // Merge junctions whose intervals overlap (the children sorted along the parent), re-solve, repeat.
+        std::stable_sort(single.begin(), single.end(), [](const Junction& a, const Junction& b) { return a.lo < b.lo; });
+        for (bool changed = true; changed;)
+        {
+          changed = false;
+          for (std::size_t k = 0; k + 1 < single.size(); ++k)
+          {
+            if (single[k].hi < single[k + 1].lo)
+              continue;
+            Junction J;
+            J.parent = P;
+            J.children = single[k].children;
+            J.children.insert(J.children.end(), single[k + 1].children.begin(), single[k + 1].children.end());
+            std::sort(J.children.begin(), J.children.end());
+            single.erase(single.begin() + static_cast<long>(k), single.begin() + static_cast<long>(k) + 2);
+            if (Solve(skeletons, state, baseCut, trig, J))
+            {
+              single.insert(single.begin() + static_cast<long>(k), std::move(J));
+              std::stable_sort(
+                single.begin(), single.end(), [](const Junction& a, const Junction& b) { return a.lo < b.lo; });
+            }
+            changed = true;
+            break;
+          }
+        }
+        for (Junction& J : single)
+        {
+          for (std::size_t c : J.children)
+          {
+            state[c].welded = true;
+            baseCut[c] = state[c].pull;
+          }
+        }
+        // Children left unwelded keep their template radius (before their own children are decided).
+        for (std::size_t c : children[P])
+        {
+          if (state[c].narrowed && !state[c].welded)
+          {
+            skeletons[c].line.radii[0] = cleaned[c].radii[0];
+            state[c].narrowed = false;
+          }
+        }
+        junctionsOf[P] = std::move(single);
+      }
+    });
+  }
+  // Hulls, in parallel; a junction whose hull lacks a ring face falls back (its children unwelded).
+  std::vector<Junction*> all;
+  for (std::size_t t = 0; t < count; ++t)
+    for (Junction& J : junctionsOf[t])
+      all.push_back(&J);
+  parallel(all.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      all[i]->failed = !Hull(*all[i], S);
+  });
+  // A junction whose hull lacks a ring face falls back: its children stay closed tubes from their base (they keep
+  // the narrowed first radius their own junctions were built with).
+  for (Junction* J : all)
+  {
+    if (!J->failed)
+      continue;
+    for (std::size_t c : J->children)
+    {
+      state[c].welded = false;
+      baseCut[c] = 0.0;
+    }
+  }
+
+  // Stations of each tube: centre points and cut rings, kept or dropped; bands between kept neighbours.
+  struct Layout
+  {
+    std::vector<Station> stations;
+    std::vector<char> bandAfter; ///< band from station i to i + 1
+    bool baseCap = true, endKept = true;
+    std::vector<std::pair<const Junction*, long>> extras; ///< (junction, point) hull corners owned by the tube
+    std::vector<std::pair<const Junction*, std::size_t>> facets; ///< (junction, facet) owned by the tube
+  };
+  std::vector<Layout> layout(count);
+  for (Junction* J : all)
+  {
+    if (J->failed)
+      continue;
+    std::vector<char> used(J->points.size(), 0);
+    for (std::size_t f = 0; f < J->facets.size(); ++f)
+    {
+      std::size_t owner = J->parent;
+      for (long v : J->facets[f])
+      {
+        used[static_cast<std::size_t>(v)] = 1;
+        const JunctionPoint& q = J->points[static_cast<std::size_t>(v)];
+        if (q.tube != J->parent && q.ring >= 0 && (owner == J->parent || q.tube < owner))
+          owner = q.tube;
+      }
+      layout[owner].facets.emplace_back(J, f);
+    }
+    for (std::size_t v = 0; v < J->points.size(); ++v)
+    {
+      if (used[v] && J->points[v].ring < 0)
+        layout[J->points[v].tube].extras.emplace_back(J, static_cast<long>(v));
+    }
+  }
+  parallel(count, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+    {
+      const Skeleton& s = skeletons[t];
+      Layout& L = layout[t];
+      std::vector<std::pair<double, double>> dropped; // open intervals
+      std::vector<double> cuts;
+      if (state[t].welded)
+      {
+        dropped.emplace_back(-1.0, baseCut[t]);
+        cuts.push_back(baseCut[t]);
+        L.baseCap = false;
+      }
+      for (const Junction& J : junctionsOf[t])
+      {
+        if (J.failed)
+          continue;
+        dropped.emplace_back(J.lo, J.end ? std::numeric_limits<double>::infinity() : J.hi);
+        cuts.push_back(J.lo);
+        if (J.end)
+          L.endKept = false;
+        else
+          cuts.push_back(J.hi);
+      }
+      const auto inside = [&](double a) {
+        for (const auto& [lo, hi] : dropped)
+          if (a > lo && a < hi)
+            return true;
+        return false;
+      };
+      const std::size_t n = s.arc.size();
+      const std::size_t ringPoints = s.line.apex ? n - 1 : n;
+      for (std::size_t k = 0; k < ringPoints; ++k)
+      {
+        bool nearCut = false;
+        for (double c : cuts)
+          nearCut = nearCut || std::abs(c - s.arc[k]) <= 1e-9 * s.Length();
+        if (!inside(s.arc[k]) && !nearCut)
+          L.stations.push_back({ s.arc[k], static_cast<long>(k) });
+      }
+      for (double c : cuts)
+        L.stations.push_back({ c, -1 });
+      std::sort(L.stations.begin(), L.stations.end(), [](const Station& a, const Station& b) { return a.arc < b.arc; });
+      for (std::size_t i = 0; i + 1 < L.stations.size(); ++i)
+        L.bandAfter.push_back(!inside(0.5 * (L.stations[i].arc + L.stations[i + 1].arc)));
+    }
+  });
+
+  // Offsets, then points and triangles.
+  mesh.pointOffsets.assign(count + 1, 0);
+  mesh.triangleOffsets.assign(count + 1, 0);
+  for (std::size_t t = 0; t < count; ++t)
+  {
+    const Layout& L = layout[t];
+    std::int64_t bands = 0;
+    for (char b : L.bandAfter)
+      bands += b;
+    mesh.pointOffsets[t + 1] = mesh.pointOffsets[t] + (L.baseCap ? 1 : 0) +
+      static_cast<std::int64_t>(L.stations.size() * S) + (L.endKept ? 1 : 0) +
+      static_cast<std::int64_t>(L.extras.size());
+    mesh.triangleOffsets[t + 1] = mesh.triangleOffsets[t] + (L.baseCap ? sides : 0) + 2 * sides * bands +
+      (L.endKept ? sides : 0) + static_cast<std::int64_t>(L.facets.size());
+  }
+  if (mesh.pointOffsets.back() > std::numeric_limits<std::int32_t>::max())
+  {
+    mesh = TubeMesh();
+    return "the tubes would have more than 2^31 - 1 points";
+  }
+  mesh.points.resize(3 * static_cast<std::size_t>(mesh.pointOffsets.back()));
+  mesh.normals.resize(mesh.points.size());
+  mesh.tcoords.resize(2 * static_cast<std::size_t>(mesh.pointOffsets.back()));
+  mesh.triangles.resize(3 * static_cast<std::size_t>(mesh.triangleOffsets.back()));
+  // Global id of ring vertex j of the ring at arc `a` of tube t (its station), and of a junction's extra points.
+  const auto ringId = [&](std::size_t t, double a, std::size_t j) {
+    const Layout& L = layout[t];
+    const auto it = std::lower_bound(
+      L.stations.begin(), L.stations.end(), a, [](const Station& st, double x) { return st.arc < x; });
+    const std::size_t index = static_cast<std::size_t>(it - L.stations.begin());
+    return mesh.pointOffsets[t] + (L.baseCap ? 1 : 0) + static_cast<std::int64_t>(index * S + j);
+  };
+  std::vector<std::map<std::pair<const Junction*, long>, std::int64_t>> extraId(count);
+  for (std::size_t t = 0; t < count; ++t)
+  {
+    const Layout& L = layout[t];
+    std::int64_t id = mesh.pointOffsets[t + 1] - static_cast<std::int64_t>(L.extras.size());
+    for (const auto& e : L.extras)
+      extraId[t][e] = id++;
+  }
+  const auto pointId = [&](const Junction* J, long v) {
+    const JunctionPoint& q = J->points[static_cast<std::size_t>(v)];
+    if (q.ring >= 0)
+      return ringId(q.tube, J->rings[static_cast<std::size_t>(q.ring)].station.arc, static_cast<std::size_t>(q.slot));
+    return extraId[q.tube].at({ J, v });
+  };
+  parallel(count, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+    {
+      const Skeleton& s = skeletons[t];
+      const Layout& L = layout[t];
+      std::int64_t p = mesh.pointOffsets[t];
+      const auto put = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& normal, double u, double v) {
+        SetMeshPoint(mesh, p, x, normal, u, v);
+        return p++;
+      };
+      const std::int64_t baseCentre = L.baseCap ? put(s.line.centre[0], -s.tangents[0], 0.5, 0.0) : -1;
+      const std::int64_t firstRing = p;
+      for (const Station& st : L.stations)
+      {
+        for (std::size_t j = 0; j < S; ++j)
+        {
+          const RingVertex r = Vertex(s, st, trig, j);
+          put(r.x, r.normal, r.u, r.v);
+        }
+      }
+      const std::size_t rings = L.stations.size();
+      const std::int64_t last = L.endKept ? put(s.line.centre.back(), s.tangents.back(), 0.5, 1.0) : -1;
+      for (const auto& e : L.extras)
+      {
+        const RingVertex& r = e.first->points[static_cast<std::size_t>(e.second)].vertex;
+        put(r.x, r.normal, r.u, r.v);
+      }
+      std::size_t q = 3 * static_cast<std::size_t>(mesh.triangleOffsets[t]);
+      const auto tri = [&](std::int64_t a, std::int64_t b, std::int64_t d) {
+        mesh.triangles[q++] = static_cast<std::int32_t>(a);
+        mesh.triangles[q++] = static_cast<std::int32_t>(b);
+        mesh.triangles[q++] = static_cast<std::int32_t>(d);
+      };
+      const auto ring = [&](std::size_t k, int j) {
+        return firstRing + static_cast<std::int64_t>(k) * sides + (j % sides);
+      };
+      if (L.baseCap)
+        for (int j = 0; j < sides; ++j)
+          tri(baseCentre, ring(0, j), ring(0, j + 1));
+      for (std::size_t k = 0; k + 1 < rings; ++k)
+      {
+        if (!L.bandAfter[k])
+          continue;
+        for (int j = 0; j < sides; ++j)
+        {
+          tri(ring(k, j), ring(k + 1, j), ring(k, j + 1));
+          tri(ring(k, j + 1), ring(k + 1, j), ring(k + 1, j + 1));
+        }
+      }
+      if (L.endKept)
+      {
+        for (int j = 0; j < sides; ++j)
+        {
+          if (s.line.apex)
+            tri(ring(rings - 1, j), last, ring(rings - 1, j + 1));
+          else
+            tri(last, ring(rings - 1, j + 1), ring(rings - 1, j));
+        }
+      }
+      for (const auto& [J, f] : L.facets)
+      {
+        const std::array<long, 3>& v = J->facets[f];
+        tri(pointId(J, v[0]), pointId(J, v[1]), pointId(J, v[2]));
+      }
+    }
+  });
+
+  if (report)
+  {
+    for (const Junction* J : all)
+    {
+      if (J->failed)
+        continue;
+      ++report->junctions;
+      report->welded += static_cast<std::int64_t>(J->children.size());
+      report->merged += J->children.size() > 1 ? 1 : 0;
+      report->endJunctions += J->end ? 1 : 0;
+    }
+    for (std::size_t t = 0; t < count; ++t)
+    {
+      report->narrowed += state[t].narrowed ? 1 : 0;
+      if (tubes[t].parent >= 0 && !state[t].welded)
+      {
+        ++report->fallback;
+        report->fallbackTubes.push_back(static_cast<std::int64_t>(t));
+      }
+    }
+  }
+  return {};
+}
+
+} // namespace plantmorph

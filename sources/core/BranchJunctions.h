@@ -1,0 +1,76 @@
+// Welded branch joints: the tubes of a tree as ONE closed surface per connected tree, joined by convex-hull
+// junctions (the idea of Baerentzen, Misztal and Welnicka, "Converting skeletal structures to quad dominant meshes",
+// 2012: cut the tubes back from a branch node, take the convex hull of the cut rings, keep the tubes outside it).
+// Plain C++ (Eigen, CGAL's convex_hull_3 on exact predicates), no VTK. The tubes themselves (rings, mitres, frames,
+// caps, TCoords, normals) are those of BuildTubes (BranchTubes.h).
+//
+// Junctions. A child's node is the point of its parent's centre line nearest to the child's first centre point.
+// For each child, in a loop that only grows distances:
+//  - its ring at arc length p along the child (initially (0.2 r_parent + r_child |cos a|) / sin a beyond the
+//    parent's surface, a the angle between the child and the parent's axis; 0.3 r_child at the parent's end) and the parent's rings at
+//    lo = node - s0 and hi = node + s1, where s0, s1 cover the child's ring and every dropped part of the child
+//    (its base ring and centre-point rings before p) along the parent's axis, plus 0.3 r_parent;
+//  - the junction's points: those rings (cut perpendicular to their segment, on the tube's own frustum) plus the
+//    dropped tube parts' rings (the child's base ring and centre rings before p, the parent's centre rings between
+//    lo and hi, and at an end junction the parent's end ring or apex). A ring is usable only if it is a face of
+//    their convex hull with every other point at least 0.05 of its radius inside its plane; a ring that is not
+//    grows its distance by 1.3x (at most 16 rounds: then the junction falls back).
+//  - children whose intervals [lo, hi] on one parent overlap share one junction (merged, re-checked, repeated).
+//  - an interval reaching the parent's end (or, for a parent that ends in a point, where the parent's radius is
+//    below 0.2 of its radius at the node) makes an end junction: no ring after, the parent's end is dropped (a
+//    sympodial fork, a monopodial child at pos 1).
+// The hull's facets lying in a ring (all three corners in one ring) are dropped (the ring's own cap), the rest join
+// the tubes, which now start/stop at those rings and share their points. So the surface is closed and consistently
+// oriented, with no internal faces and no ledge, and it contains every tube (the hull contains the dropped parts).
+// The hull is convex: where branches meet at a small angle it is a blob larger than the exact union (the tests
+// measure the volume against the union of two cylinders).
+//
+// Pipe model: a lateral child (not an end junction) wider than 0.9 of its parent's radius at the node gets its base
+// radius limited to that (only its first segment tapers from the limit to the template's radius at its second
+// centre point; skeleton radii are unchanged). The monopodial template (child r(1 - 0.618 pos) against the
+// parent's r(1 - pos)) needs this for every child; without it the hull would swallow the parent around the node.
+//
+// Fallback: a child whose junction cannot be built (its ring cannot be pulled back within 0.85 of its length, a
+// junction interval reaching the parent's own base junction or base, a child along its parent's axis (angle below
+// 5 deg) not at the parent's end, or a hull that does not have every ring as a face) stays its own closed tube
+// starting where its skeleton starts (on its parent's surface; not seated: it overlaps its parent, no hole),
+// counted in `fallback`. Junctions of two generations are never merged (a child whose junction would reach into its
+// parent's own base junction falls back); a child at its parent's end therefore starts its search at 0.3 of its
+// radius, so its ring stays close and leaves room for its own children: Table 1's three templates at full depth
+// have no fallback.
+// The hull is computed as the boundary of a CGAL Triangulation_3 of the junction's points (BranchJunctions.cpp).
+// Parents are decided before their children (parent index < child index), each parent's children at once, levels
+// in parallel; hulls in parallel; the result does not depend on the thread count (bit for bit).
+//
+// Output layout: TubeMesh as BuildTubes, tube t owning its rings' points and triangles; a junction's facets belong
+// to the lowest-index child whose ring they touch (else the parent); dropped-part points that are hull corners
+// belong to their tube. Branches that cross each other away from a junction (the templates' subtrees do) are NOT
+// united: they still intersect.
+#pragma once
+
+#include "BranchTubes.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+
+struct JunctionReport
+{
+  std::int64_t junctions = 0; ///< convex hulls built
+  std::int64_t welded = 0;    ///< children joined by a junction
+  std::int64_t merged = 0;    ///< junctions holding more than one child
+  std::int64_t endJunctions = 0; ///< junctions at a parent's end (forks)
+  std::int64_t narrowed = 0;  ///< children whose base radius the pipe model limited
+  std::int64_t fallback = 0;  ///< children left as their own closed tube (see "Fallback")
+  std::vector<std::int64_t> fallbackTubes; ///< their indices, ascending
+};
+
+/// BuildTubes' tubes, joined at their parents by convex-hull junctions (see above). Same inputs and errors as
+/// BuildTubes.
+std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh,
+  const ParallelFor& parallel = SerialFor, JunctionReport* report = nullptr);
+
+} // namespace plantmorph
