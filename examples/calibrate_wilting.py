@@ -84,6 +84,10 @@ PARAMETERS = (
     ("ContractionAsymmetry", 0.0605, False, 0.5),
     ("ShrinkageStrain", 0.0274, False, 0.03),
     ("ShrinkageAsymmetry", -0.0104, False, 0.5),
+    ("CurlStrain", 0.0, False, 0.1),
+    ("CurlAsymmetry", 0.0, False, 0.5),
+    ("CurlRelaxation", 0.0, False, 0.3),
+    ("CurlRelaxationTime", 6.0, True, 1.0),
 )
 NAMES = [p[0] for p in PARAMETERS]
 START = {p[0]: p[1] for p in PARAMETERS}
@@ -207,6 +211,10 @@ def configure(values):
     wilt.ContractionAsymmetry = values["ContractionAsymmetry"]
     wilt.ShrinkageStrain = values["ShrinkageStrain"]
     wilt.ShrinkageAsymmetry = values["ShrinkageAsymmetry"]
+    wilt.CurlStrain = values["CurlStrain"]
+    wilt.CurlAsymmetry = values["CurlAsymmetry"]
+    wilt.CurlRelaxation = values["CurlRelaxation"]
+    wilt.CurlRelaxationTime = values["CurlRelaxationTime"]
     wilt.BladeMaterial = [0.02, values["BladeStiffness"], 0.0]
     wilt.MarginMaterial = [0.02, values["MarginStiffness"], 0.0]
     wilt.VeinMaterial = [0.02, values["VeinStiffness"], 0.0]
@@ -229,8 +237,12 @@ tracks = {}
 
 def simulate(x):
     values = values_of(x)
-    if any(abs(values[n]) > 1.0 for n in ("DroopAsymmetry", "ContractionAsymmetry", "ShrinkageAsymmetry")):
+    if any(abs(values[n]) > 1.0 for n in ("DroopAsymmetry", "ContractionAsymmetry", "ShrinkageAsymmetry",
+                                          "CurlAsymmetry")):
         return None  # outside the properties' range [-1, 1]
+    if abs(values["CurlStrain"]) > 0.4 or abs(values["ShrinkageStrain"]) > 0.4 or not (
+            0.0 <= values["CurlRelaxation"] <= 1.0):
+        return None  # outside [-0.4, 0.4] and [0, 1]
     key = tuple(round(v, 12) for v in x)
     if key not in tracks:
         configure(values)
@@ -290,6 +302,10 @@ def report(track, title):
     if not track:
         print("\n%s: the simulation blew up before Duration (see the error above); nothing to compare" % title)
         return
+    if os.environ.get("CALIBRATE_WILTING_TRACK"):
+        for i in range(0, len(track), 2):
+            print("  track t=%.1f (%.2f, %.2f, %.2f) |tip| %.2f" % ((i * SETTINGS["FrameInterval"],) + tuple(track[i]) +
+                                                               (distance(track[i], (0, 0, 0)),)))
     yaw = best_yaw(track, measured)
     print("\n%s" % title)
     variants = [("raw (yaw 0)", track)]

@@ -66,6 +66,10 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
   p.contractionAsymmetry = f->GetContractionAsymmetry();
   p.shrinkageStrain = f->GetShrinkageStrain();
   p.shrinkageAsymmetry = f->GetShrinkageAsymmetry();
+  p.curlStrain = f->GetCurlStrain();
+  p.curlAsymmetry = f->GetCurlAsymmetry();
+  p.curlRelaxation = f->GetCurlRelaxation();
+  p.curlRelaxationTime = f->GetCurlRelaxationTime();
   p.contractionSide = f->GetContractionSide() == vtkWiltingSimulator::SIDE_TOP ? plantmorph::WiltingContractionSide::Top
                                                                                : plantmorph::WiltingContractionSide::Bottom;
   p.contractionTarget = f->GetContractionTarget() == vtkWiltingSimulator::TARGET_BASE
@@ -181,6 +185,10 @@ void vtkWiltingSimulator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ContractionAsymmetry: " << this->ContractionAsymmetry << "\n";
   os << indent << "ShrinkageStrain: " << this->ShrinkageStrain << "\n";
   os << indent << "ShrinkageAsymmetry: " << this->ShrinkageAsymmetry << "\n";
+  os << indent << "CurlStrain: " << this->CurlStrain << "\n";
+  os << indent << "CurlAsymmetry: " << this->CurlAsymmetry << "\n";
+  os << indent << "CurlRelaxation: " << this->CurlRelaxation << "\n";
+  os << indent << "CurlRelaxationTime: " << this->CurlRelaxationTime << "\n";
   os << indent << "Solver: " << this->Solver << "\n";
 }
 

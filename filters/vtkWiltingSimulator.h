@@ -156,6 +156,20 @@ public:
   vtkGetMacro(ShrinkageStrain, double);
   vtkSetMacro(ShrinkageAsymmetry, double);
   vtkGetMacro(ShrinkageAsymmetry, double);
+  /** Curl: the lower face of the lamina shrinking more than the upper (CurlStrain d in [-0.4, 0.4], default 0:
+   * none): lower-face springs (1 - d/2), upper-face springs (1 + d/2) times their rest length at full curl, an
+   * intrinsic bend of curvature d / VoxelSize (positive: apex and margins down) that, unlike ContractionForce,
+   * adds no net force and turns with the leaf; its left/right asymmetry in [-1, 1] (default 0); and its relaxation:
+   * the fraction r in [0, 1] (default 0) of it that goes again, over CurlRelaxationTime (s, default 0: LoadTime),
+   * the upper face catching up. The curl rises on the contraction's profile (ContractionTime). */
+  vtkSetMacro(CurlStrain, double);
+  vtkGetMacro(CurlStrain, double);
+  vtkSetMacro(CurlAsymmetry, double);
+  vtkGetMacro(CurlAsymmetry, double);
+  vtkSetMacro(CurlRelaxation, double);
+  vtkGetMacro(CurlRelaxation, double);
+  vtkSetMacro(CurlRelaxationTime, double);
+  vtkGetMacro(CurlRelaxationTime, double);
   /** Contraction towards the midvein plane (0, the paper's) or towards the base (1: margins and apex curl). */
   vtkSetMacro(ContractionTarget, int);
   vtkGetMacro(ContractionTarget, int);
@@ -241,6 +255,10 @@ protected:
   double ContractionAsymmetry = 0.0;
   double ShrinkageStrain = 0.0;
   double ShrinkageAsymmetry = 0.0;
+  double CurlStrain = 0.0;
+  double CurlAsymmetry = 0.0;
+  double CurlRelaxation = 0.0;
+  double CurlRelaxationTime = 0.0;
   int ContractionSide = SIDE_BOTTOM;
   int ContractionTarget = TARGET_MIDVEIN;
   int LoadProfile = PROFILE_SIGMOID;

@@ -66,6 +66,10 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
   p.contractionAsymmetry = 0.0;
   p.shrinkageStrain = 0.0;
   p.shrinkageAsymmetry = 0.0;
+  p.curlStrain = 0.0;
+  p.curlAsymmetry = 0.0;
+  p.curlRelaxation = 0.0;
+  p.curlRelaxationTime = 0.0;
   p.referenceVoxelSize = 0.0;
   switch (preset)
   {

@@ -486,6 +486,100 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
   EXPECT_NE(ValidateWilting(p).find("ShrinkageStrain must be in [-0.4, 0.4]"), std::string::npos);
 }
 
+TEST(WiltingSimulation, CurlBendsTheLeafIntoItsArcAndRelaxes)
+{
+  // CurlStrain d: the lower face's springs (1 - d/2) L, the upper face's (1 + d/2) L, the springs joining the faces
+  // unchanged, on the contraction's profile minus r times the relaxation's. Without other loads a narrow free
+  // strip takes the rest shape those lengths describe: a circular arc of curvature d / h (h the voxel edge, the
+  // plate's thickness) from its anchored part, apex down for d > 0, up for -d; no net force, so nothing else moves.
+  const WiltingInput in = Rectangle(1.0, 10.0, 2, 20);
+  WiltingParameters p = AsymmetryCase();
+  p.droopForce = 0.0;
+  p.contractionForce = 0.0;
+  p.newmark.rayleighMass = 40.0;
+  p.duration = 3.0;
+  p.frameInterval = 0.5;
+  {
+    // Rest lengths: d = 0 keeps the system's exactly; d = 0.08 at full curl moves the bottom and top faces by
+    // -+ d/2 and leaves the others; with the Ramp profile, ContractionTime 1 s and the relaxation r = 0.5 over
+    // 4 s, the curl factor is 1 - 0.5 (t / 4) once the contraction is complete: 0.875 at 1 s, 0.5 from 4 s.
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    std::vector<double> own;
+    for (const MassSpringSpring& spring : simulation.System().Springs())
+    {
+      own.push_back(spring.restLength);
+    }
+    EXPECT_EQ(simulation.RestLengths(0.5), own);
+    WiltingParameters ramp = p;
+    ramp.curlStrain = 0.08;
+    ramp.loadProfile = WiltingLoadProfile::Ramp;
+    ramp.contractionTime = 1.0;
+    ramp.curlRelaxation = 0.5;
+    ramp.curlRelaxationTime = 4.0;
+    ASSERT_EQ(simulation.Setup(in, ramp), "");
+    const double z0 = simulation.Grid().origin[2];
+    for (const double t : { 1.0, 4.0, 6.0 })
+    {
+      const double factor = t < 4.0 ? 1.0 - 0.5 * t / 4.0 : 0.5;
+      const std::vector<double> lengths = simulation.RestLengths(t);
+      int bottom = 0, top = 0;
+      for (std::size_t e = 0; e < own.size(); ++e)
+      {
+        const MassSpringSpring& spring = simulation.System().Springs()[e];
+        const double za = simulation.Grid().nodes[static_cast<std::size_t>(spring.a)][2] - z0;
+        const double zb = simulation.Grid().nodes[static_cast<std::size_t>(spring.b)][2] - z0;
+        const double h = simulation.Grid().h;
+        const double face = (za < 0.5 * h && zb < 0.5 * h) ? 0.5 : ((za > 0.5 * h && zb > 0.5 * h) ? -0.5 : 0.0);
+        bottom += face > 0.0 ? 1 : 0;
+        top += face < 0.0 ? 1 : 0;
+        ASSERT_NEAR(lengths[e], own[e] * (1.0 - face * 0.08 * factor), 1e-12 * own[e]) << "spring " << e;
+      }
+      EXPECT_GT(bottom, 0);
+      EXPECT_EQ(top, bottom);
+    }
+  }
+  const Eigen::Vector3d rest = in.points[20 * 3 + 1];
+  const auto tipAfter = [&](const WiltingParameters& parameters) {
+    WiltingSimulation simulation;
+    EXPECT_EQ(simulation.Setup(in, parameters), "");
+    EXPECT_EQ(simulation.Run(), "");
+    EXPECT_EQ(simulation.TipPoint(), 20 * 3 + 1);
+    return Eigen::Vector3d(simulation.Frames().back().tip - rest);
+  };
+  p.curlStrain = 0.1;
+  const Eigen::Vector3d down = tipAfter(p);
+  // The arc of curvature k = d / h = 0.1 / cm over the free length s (the anchored nodes lie within 1.5 cm of the
+  // base, so s is 8.5 to 10 cm): the tip drops (1 - cos k s) / k, 3.4 to 4.6 cm, and comes s - sin(k s) / k,
+  // 1.0 to 1.6 cm, closer to the base.
+  const auto drop = [](double s) { return (1.0 - std::cos(0.1 * s)) / 0.1; };
+  const auto shortening = [](double s) { return s - std::sin(0.1 * s) / 0.1; };
+  EXPECT_LT(down[2], -drop(8.5)) << down.transpose();
+  EXPECT_GT(down[2], -drop(10.0)) << down.transpose();
+  EXPECT_LT(down[1], -shortening(8.5)) << down.transpose();
+  EXPECT_GT(down[1], -shortening(10.0)) << down.transpose();
+  EXPECT_NEAR(down[0], 0.0, 1e-9) << "a symmetric strip curls symmetrically";
+  p.curlStrain = -0.1;
+  const Eigen::Vector3d up = tipAfter(p);
+  EXPECT_NEAR(up[2], -down[2], 1e-6 * std::abs(down[2])) << "-d: the mirror image through the leaf's plane";
+  EXPECT_NEAR(up[1], down[1], 1e-6 * std::abs(down[1]));
+  // Half of it relaxing (r = 0.5 within the run) leaves the arc of half the curvature: a smaller drop.
+  p.curlStrain = 0.1;
+  p.curlRelaxation = 0.5;
+  p.curlRelaxationTime = 0.5;
+  const Eigen::Vector3d relaxed = tipAfter(p);
+  EXPECT_LT(relaxed[2], -0.4 * drop(8.5)) << relaxed.transpose();
+  EXPECT_GT(relaxed[2], -0.6 * drop(10.0)) << relaxed.transpose();
+  p.curlStrain = 0.41;
+  EXPECT_NE(ValidateWilting(p).find("CurlStrain must be in [-0.4, 0.4]"), std::string::npos);
+  p.curlStrain = 0.1;
+  p.curlRelaxation = 1.5;
+  EXPECT_NE(ValidateWilting(p).find("CurlRelaxation must be in [0, 1]"), std::string::npos);
+  p.curlRelaxation = 0.0;
+  p.curlAsymmetry = -2.0;
+  EXPECT_NE(ValidateWilting(p).find("CurlAsymmetry must be in [-1, 1]"), std::string::npos);
+}
+
 TEST(WiltingSimulation, DeterministicAcrossRunsAndThreads)
 {
   const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
