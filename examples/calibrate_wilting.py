@@ -46,11 +46,21 @@ parser.add_argument("--plugin", required=True)
 parser.add_argument("--csv", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared",
                                                   "data", "cucumber-wilting-tip.csv"))
 parser.add_argument("--evaluations", type=int, default=120, help="simulations the fit may run")
+parser.add_argument("--curl-direction", default="Isotropic", choices=("Isotropic", "Radial"),
+                    help="CurlDirection of the simulated leaf")
+parser.add_argument("--step", type=float, default=0.7,
+                    help="the first Nelder-Mead simplex's size (log-parameters; the restart uses 0.3 times it)")
 parser.add_argument("--fit", default=None, help="comma-separated names of the parameters to fit (default: all)")
 parser.add_argument("--set", default="", help="NAME=VALUE,...: start values other than START")
 parser.add_argument("--length", type=float, default=20.1, help="leaf length (cm), BladeLength")
 parser.add_argument("--width", type=float, default=22.1, help="leaf width (cm), BladeWidth")
 parser.add_argument("--yaw", action="store_true", help="also turn the simulated track about the vertical")
+parser.add_argument("--frame-interval", type=float, default=None,
+                    help="seconds between the simulated tip samples compared with the measurements (default: "
+                         "SETTINGS' FrameInterval)")
+parser.add_argument("--beat-paper", type=float, default=0.0,
+                    help="W > 0: add W times each sample's excess over the paper's error (the CSV's paper_sim_* "
+                         "columns) to the objective, so the fit also aims at every sample below the paper's")
 parser.add_argument("--leave-one-out", action="store_true",
                     help="after the fit (or from START with --evaluate), refit without each sample")
 parser.add_argument("--loo-evaluations", type=int, default=None,
@@ -68,6 +78,8 @@ LoadPlugin(arguments.plugin, remote=False, ns=globals())
 # The settings the Cucumber preset was fitted at (everything the preset does not set).
 SETTINGS = dict(Resolution=14, AnchorRadius=3.0, Duration=10.0, FrameInterval=0.1, TimeStep=1.0 / 60.0,
                 NewtonIterations=1, Threads=1)
+if arguments.frame_interval:
+    SETTINGS["FrameInterval"] = arguments.frame_interval
 
 # name, start value (the Cucumber preset's, filters/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
@@ -88,6 +100,7 @@ PARAMETERS = (
     ("CurlAsymmetry", 0.0, False, 0.5),
     ("CurlRelaxation", 0.0, False, 0.3),
     ("CurlRelaxationTime", 6.0, True, 1.0),
+    ("CurlTime", 2.75, True, 1.0),
 )
 NAMES = [p[0] for p in PARAMETERS]
 START = {p[0]: p[1] for p in PARAMETERS}
@@ -215,6 +228,8 @@ def configure(values):
     wilt.CurlAsymmetry = values["CurlAsymmetry"]
     wilt.CurlRelaxation = values["CurlRelaxation"]
     wilt.CurlRelaxationTime = values["CurlRelaxationTime"]
+    wilt.CurlTime = values["CurlTime"]
+    wilt.CurlDirection = arguments.curl_direction
     wilt.BladeMaterial = [0.02, values["BladeStiffness"], 0.0]
     wilt.MarginMaterial = [0.02, values["MarginStiffness"], 0.0]
     wilt.VeinMaterial = [0.02, values["VeinStiffness"], 0.0]
@@ -252,11 +267,21 @@ def simulate(x):
 
 
 def objective_for(targets):
+    bounds = [distance(p, m) for p, m in zip(paper, measured) if m in targets] if paper else []
+
     def objective(x):
         track = simulate(x)
         if not track:
             return 1e9
-        return monotone_error(turned(track, best_yaw(track, targets)), targets)
+        t = turned(track, best_yaw(track, targets))
+        value = monotone_error(t, targets)
+        if arguments.beat_paper > 0.0 and bounds:
+            picks = monotone(t, targets)
+            value += arguments.beat_paper * sum(max(0.0, distance(t[i], m) - b)
+                                                for i, m, b in zip(picks, targets, bounds))
+        if os.environ.get("CALIBRATE_WILTING_TRACK"):
+            print("    run %d: %.4f %s" % (runs[0], value, describe(values_of(x))), flush=True)
+        return value
     return objective
 
 
@@ -347,8 +372,8 @@ else:
     print("fitting %d parameters (%s) to %d samples (%d coordinates)" % (
         len(FITTED), ", ".join(FITTED), len(measured), 3 * len(measured)), flush=True)
     objective = objective_for(measured)
-    best, value = nelder_mead(objective, vector_of(START), 0.7, arguments.evaluations // 2)
-    best, value = nelder_mead(objective, best, 0.2, arguments.evaluations - arguments.evaluations // 2)
+    best, value = nelder_mead(objective, vector_of(START), arguments.step, arguments.evaluations // 2)
+    best, value = nelder_mead(objective, best, 0.3 * arguments.step, arguments.evaluations - arguments.evaluations // 2)
     fitted = values_of(best)
     print("fitted (%d simulations, %.0f s): %s" % (runs[0], time.time() - started, describe(fitted)), flush=True)
     configure(fitted)

@@ -70,6 +70,9 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
   p.curlAsymmetry = f->GetCurlAsymmetry();
   p.curlRelaxation = f->GetCurlRelaxation();
   p.curlRelaxationTime = f->GetCurlRelaxationTime();
+  p.curlTime = f->GetCurlTime();
+  p.curlDirection = f->GetCurlDirection() == 1 ? plantmorph::WiltingCurlDirection::Radial
+                                               : plantmorph::WiltingCurlDirection::Isotropic;
   p.contractionSide = f->GetContractionSide() == vtkWiltingSimulator::SIDE_TOP ? plantmorph::WiltingContractionSide::Top
                                                                                : plantmorph::WiltingContractionSide::Bottom;
   p.contractionTarget = f->GetContractionTarget() == vtkWiltingSimulator::TARGET_BASE
@@ -189,6 +192,8 @@ void vtkWiltingSimulator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CurlAsymmetry: " << this->CurlAsymmetry << "\n";
   os << indent << "CurlRelaxation: " << this->CurlRelaxation << "\n";
   os << indent << "CurlRelaxationTime: " << this->CurlRelaxationTime << "\n";
+  os << indent << "CurlTime: " << this->CurlTime << "\n";
+  os << indent << "CurlDirection: " << this->CurlDirection << "\n";
   os << indent << "Solver: " << this->Solver << "\n";
 }
 

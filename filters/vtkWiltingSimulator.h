@@ -161,7 +161,8 @@ public:
    * intrinsic bend of curvature d / VoxelSize (positive: apex and margins down) that, unlike ContractionForce,
    * adds no net force and turns with the leaf; its left/right asymmetry in [-1, 1] (default 0); and its relaxation:
    * the fraction r in [0, 1] (default 0) of it that goes again, over CurlRelaxationTime (s, default 0: LoadTime),
-   * the upper face catching up. The curl rises on the contraction's profile (ContractionTime). */
+   * the upper face catching up. The curl rises on the contraction's profile (ContractionTime) or its own
+ * (CurlTime). */
   vtkSetMacro(CurlStrain, double);
   vtkGetMacro(CurlStrain, double);
   vtkSetMacro(CurlAsymmetry, double);
@@ -170,6 +171,13 @@ public:
   vtkGetMacro(CurlRelaxation, double);
   vtkSetMacro(CurlRelaxationTime, double);
   vtkGetMacro(CurlRelaxationTime, double);
+  /** The curl's own rise time (s; default 0: the contraction's, ContractionTime). */
+  vtkSetMacro(CurlTime, double);
+  vtkGetMacro(CurlTime, double);
+  /** The curl's strain in every in-plane direction (0, Isotropic, default) or only along the lines from the base
+   * (1, Radial: the leaf curls along its primary veins, apex and lobes towards the base). */
+  vtkSetMacro(CurlDirection, int);
+  vtkGetMacro(CurlDirection, int);
   /** Contraction towards the midvein plane (0, the paper's) or towards the base (1: margins and apex curl). */
   vtkSetMacro(ContractionTarget, int);
   vtkGetMacro(ContractionTarget, int);
@@ -259,6 +267,8 @@ protected:
   double CurlAsymmetry = 0.0;
   double CurlRelaxation = 0.0;
   double CurlRelaxationTime = 0.0;
+  double CurlTime = 0.0;
+  int CurlDirection = 0;
   int ContractionSide = SIDE_BOTTOM;
   int ContractionTarget = TARGET_MIDVEIN;
   int LoadProfile = PROFILE_SIGMOID;

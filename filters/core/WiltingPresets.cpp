@@ -69,7 +69,9 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
   p.curlStrain = 0.0;
   p.curlAsymmetry = 0.0;
   p.curlRelaxation = 0.0;
+  p.curlTime = 0.0;
   p.curlRelaxationTime = 0.0;
+  p.curlDirection = WiltingCurlDirection::Isotropic;
   p.referenceVoxelSize = 0.0;
   switch (preset)
   {

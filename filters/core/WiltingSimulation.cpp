@@ -76,6 +76,10 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << "CurlRelaxation must be in [0, 1] (got " << p.curlRelaxation << ")";
   }
+  else if (!(p.curlTime >= 0.0) || !std::isfinite(p.curlTime))
+  {
+    message << "CurlTime must be >= 0 and finite (0: ContractionTime) (got " << p.curlTime << ")";
+  }
   else if (!(p.curlRelaxationTime >= 0.0) || !std::isfinite(p.curlRelaxationTime))
   {
     message << "CurlRelaxationTime must be >= 0 and finite (0: LoadTime) (got " << p.curlRelaxationTime << ")";
@@ -346,12 +350,25 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
       const double strain = (1.0 + parameters.curlAsymmetry * side) * parameters.curlStrain;
       const double stiffness =
         parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))].stiffness * springScale;
+      // Radial: the strain along the line from the base, (n . r)^2 of it along a spring of direction n (none for
+      // the voxels within h/2 of the base in the XY plane).
+      const Eigen::Vector2d offset(centreX - midX, centreY - baseY);
+      const bool radial = parameters.curlDirection == WiltingCurlDirection::Radial;
+      const Eigen::Vector2d r = offset.norm() <= 0.5 * h ? Eigen::Vector2d::Zero() : Eigen::Vector2d(offset / offset.norm());
       std::size_t pair = 0;
       for (int a = 0; a < 8; ++a) // the pairs in the order they were added above; corners 0-3 bottom, 4-7 top
       {
         for (int b = a + 1; b < 8; ++b, ++pair)
         {
-          const double face = (a < 4 && b < 4) ? 0.5 : ((a >= 4 && b >= 4) ? -0.5 : 0.0);
+          double face = (a < 4 && b < 4) ? 0.5 : ((a >= 4 && b >= 4) ? -0.5 : 0.0);
+          if (radial && face != 0.0)
+          {
+            const Eigen::Vector3d n = (grid.nodes[static_cast<std::size_t>(c[static_cast<std::size_t>(b)])] -
+              grid.nodes[static_cast<std::size_t>(c[static_cast<std::size_t>(a)])])
+                                        .normalized();
+            const double along = n[0] * r[0] + n[1] * r[1];
+            face *= along * along;
+          }
           curlWeight[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * face * strain;
         }
       }
@@ -434,7 +451,10 @@ double WiltingSimulation::CurlFactor(double t) const
     : this->Params.curlRelaxation *
       WiltingLoadFactor(this->Params.loadProfile, t,
         this->Params.curlRelaxationTime > 0.0 ? this->Params.curlRelaxationTime : this->Params.loadTime);
-  return this->ShrinkageFactor(t) - relaxation;
+  const double rise = this->Params.curlTime > 0.0
+    ? WiltingLoadFactor(this->Params.loadProfile, t, this->Params.curlTime)
+    : this->ShrinkageFactor(t);
+  return rise - relaxation;
 }
 
 double WiltingSimulation::SpringStrain(std::size_t e, double t) const

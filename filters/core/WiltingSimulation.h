@@ -42,9 +42,13 @@
 //   shrinking, only an intrinsic bend of curvature d / h (h the voxel edge, the plate's thickness), positive: the
 //   lower face concave, the apex and margins curling down. It is internal, so unlike ContractionForce (dead loads
 //   in fixed directions) it adds no net force and turns with the leaf. Time: g(t) = c(t) - r c_r(t), c the
-//   contraction's profile (ContractionTime), c_r the same profile over CurlRelaxationTime (0: LoadTime) and
+//   profile over CurlTime (0: the contraction's, ContractionTime), c_r the same profile over CurlRelaxationTime (0: LoadTime) and
 //   CurlRelaxation r in [0, 1]: the lower (abaxial) face, with the stomata, drying first and the upper face
 //   catching up a fraction r later, so the curl rises and then relaxes by r. Rest lengths as the shrinkage's.
+//   CurlDirection Radial: the strain only along the lines from the base (a face spring of direction n gets
+//   (n . r)^2 of it, r the unit vector from the base to the voxel's centre in the XY plane): the leaf curls along
+//   its primary veins, apex and lobes towards the base, which a wide plate can do (an isotropic curl asks a plate
+//   for curvature in two directions at once, which it cannot take without stretching).
 // - LoadProfile: Constant 1 (the paper), Ramp min(1, t/LoadTime), Sigmoid: the logistic 1/(1 + exp(-12 (t/T -
 //   1/2))) rescaled to go from 0 at t = 0 to 1 at t = T = LoadTime (slow start, then faster: the measured wilting).
 //   The contraction follows the same profile over its own ContractionTime (0: LoadTime): * the paper sees the
@@ -93,6 +97,16 @@ enum class WiltingContractionTarget : int
   Base = 1
 };
 
+/// How the curl's strain is oriented in the lamina's plane: the same in every direction, or only along the lines
+/// from the base (* the lamina contracting along its primary veins: the apex and lobes curl towards the base
+/// while the margins stay level, a bend a wide plate can take without stretching; an isotropic curl of a plate
+/// wider than it is curved cannot, and mostly curls the margins).
+enum class WiltingCurlDirection : int
+{
+  Isotropic = 0,
+  Radial = 1
+};
+
 /// Region classes with their own material.
 enum WiltingMaterialClass : int
 {
@@ -136,8 +150,13 @@ struct WiltingParameters
   double curlAsymmetry = 0.0;
   /// In [0, 1]: the fraction of the curl that relaxes again (the upper face catching up), over curlRelaxationTime.
   double curlRelaxation = 0.0;
+  /// The curl's own ramp / sigmoid duration (s); 0: the contraction's (contractionTime, or loadTime).
+  double curlTime = 0.0;
   /// The relaxation's ramp / sigmoid duration (s), from t = 0; 0: loadTime.
   double curlRelaxationTime = 0.0;
+  /// Isotropic, or Radial: a spring of direction n gets (n . r)^2 of the face strain, r the unit vector from the
+  /// base in the XY plane.
+  WiltingCurlDirection curlDirection = WiltingCurlDirection::Isotropic;
   /// > 0: the materials' stiffness and damping and the droop and contraction loads were given for voxels of this
   /// edge (a preset's fit); Setup scales them to the actual edge h, stiffness by h/h0 (a spring lattice's modulus
   /// is k/h) and loads by (h/h0)^3 (loads per volume, like gravity), so a fit carries over to other resolutions

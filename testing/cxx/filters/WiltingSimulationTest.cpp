@@ -570,6 +570,66 @@ TEST(WiltingSimulation, CurlBendsTheLeafIntoItsArcAndRelaxes)
   const Eigen::Vector3d relaxed = tipAfter(p);
   EXPECT_LT(relaxed[2], -0.4 * drop(8.5)) << relaxed.transpose();
   EXPECT_GT(relaxed[2], -0.6 * drop(10.0)) << relaxed.transpose();
+  {
+    // CurlTime: the curl rises on its own profile (Ramp over 2 s: half at 1 s, when the contraction's 1 s is done).
+    WiltingParameters own = p;
+    own.curlRelaxation = 0.0;
+    own.loadProfile = WiltingLoadProfile::Ramp;
+    own.contractionTime = 1.0;
+    own.curlTime = 2.0;
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, own), "");
+    const std::vector<double> lengths = simulation.RestLengths(1.0);
+    const double z0 = simulation.Grid().origin[2];
+    for (std::size_t e = 0; e < lengths.size(); ++e)
+    {
+      const MassSpringSpring& spring = simulation.System().Springs()[e];
+      const bool bottom = simulation.Grid().nodes[static_cast<std::size_t>(spring.a)][2] == z0 &&
+        simulation.Grid().nodes[static_cast<std::size_t>(spring.b)][2] == z0;
+      if (bottom)
+      {
+        ASSERT_NEAR(lengths[e], spring.restLength * (1.0 - 0.5 * 0.1 * 0.5), 1e-12) << "spring " << e;
+      }
+    }
+  }
+  {
+    // Radial: only along the lines from the base. This strip is one voxel column on the midvein, so beyond the
+    // base voxel that line is +y: a bottom-face spring along y gets all of d/2, one along x none of it.
+    WiltingParameters radial = p;
+    radial.curlRelaxation = 0.0;
+    radial.curlDirection = WiltingCurlDirection::Radial;
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, radial), "");
+    const std::vector<double> lengths = simulation.RestLengths(1.0);
+    const VoxelGrid& grid = simulation.Grid();
+    int alongX = 0, alongY = 0;
+    for (std::size_t e = 0; e < lengths.size(); ++e)
+    {
+      const MassSpringSpring& spring = simulation.System().Springs()[e];
+      const Eigen::Vector3d a = grid.nodes[static_cast<std::size_t>(spring.a)];
+      const Eigen::Vector3d b = grid.nodes[static_cast<std::size_t>(spring.b)];
+      if (a[2] != grid.origin[2] || b[2] != grid.origin[2] || std::min(a[1], b[1]) < grid.origin[1] + 2.0 * grid.h)
+      {
+        continue;
+      }
+      if (a[1] == b[1])
+      {
+        ++alongX;
+        ASSERT_EQ(lengths[e], spring.restLength) << "spring " << e;
+      }
+      else if (a[0] == b[0])
+      {
+        ++alongY;
+        ASSERT_NEAR(lengths[e], spring.restLength * (1.0 - 0.05), 1e-12) << "spring " << e;
+      }
+    }
+    EXPECT_GT(alongX, 0);
+    EXPECT_GT(alongY, 0);
+    // Along a strip the radial curl is the isotropic one's arc.
+    const Eigen::Vector3d arc = tipAfter(radial);
+    EXPECT_LT(arc[2], -drop(8.5)) << arc.transpose();
+    EXPECT_GT(arc[2], -drop(10.0)) << arc.transpose();
+  }
   p.curlStrain = 0.41;
   EXPECT_NE(ValidateWilting(p).find("CurlStrain must be in [-0.4, 0.4]"), std::string::npos);
   p.curlStrain = 0.1;
@@ -578,6 +638,9 @@ TEST(WiltingSimulation, CurlBendsTheLeafIntoItsArcAndRelaxes)
   p.curlRelaxation = 0.0;
   p.curlAsymmetry = -2.0;
   EXPECT_NE(ValidateWilting(p).find("CurlAsymmetry must be in [-1, 1]"), std::string::npos);
+  p.curlAsymmetry = 0.0;
+  p.curlTime = -1.0;
+  EXPECT_NE(ValidateWilting(p).find("CurlTime must be >= 0"), std::string::npos);
 }
 
 TEST(WiltingSimulation, DeterministicAcrossRunsAndThreads)
