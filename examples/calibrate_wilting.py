@@ -46,8 +46,8 @@ parser.add_argument("--plugin", required=True)
 parser.add_argument("--csv", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared",
                                                   "data", "cucumber-wilting-tip.csv"))
 parser.add_argument("--evaluations", type=int, default=120, help="simulations the fit may run")
-parser.add_argument("--curl-direction", default="Isotropic", choices=("Isotropic", "Radial"),
-                    help="CurlDirection of the simulated leaf")
+parser.add_argument("--curl-direction", default="Radial", choices=("Isotropic", "Radial"),
+                    help="CurlDirection of the simulated leaf (default: the Cucumber preset's)")
 parser.add_argument("--step", type=float, default=0.7,
                     help="the first Nelder-Mead simplex's size (log-parameters; the restart uses 0.3 times it)")
 parser.add_argument("--fit", default=None, help="comma-separated names of the parameters to fit (default: all)")
@@ -84,23 +84,23 @@ if arguments.frame_interval:
 # name, start value (the Cucumber preset's, filters/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
-    ("DroopForce", 17000.0, True, 1.0),
-    ("ContractionForce", 4278.0, True, 1.0),
+    ("DroopForce", 18600.0, True, 1.0),
+    ("ContractionForce", 4185.0, True, 1.0),
     ("BladeStiffness", 91600.0, True, 1.0),
     ("VeinStiffness", 399000.0, True, 1.0),
     ("MarginStiffness", 99000.0, True, 1.0),
     ("LoadTime", 13.7, True, 1.0),
-    ("ContractionTime", 2.75, True, 1.0),
+    ("ContractionTime", 2.93, True, 1.0),
     ("RayleighAlpha", 1.16, True, 1.0),
     ("DroopAsymmetry", -0.0841, False, 0.5),
     ("ContractionAsymmetry", 0.0605, False, 0.5),
     ("ShrinkageStrain", 0.0274, False, 0.03),
     ("ShrinkageAsymmetry", -0.0104, False, 0.5),
-    ("CurlStrain", 0.0, False, 0.1),
+    ("CurlStrain", 0.237, False, 0.1),
     ("CurlAsymmetry", 0.0, False, 0.5),
-    ("CurlRelaxation", 0.0, False, 0.3),
-    ("CurlRelaxationTime", 6.0, True, 1.0),
-    ("CurlTime", 2.75, True, 1.0),
+    ("CurlRelaxation", 0.926, False, 0.3),
+    ("CurlRelaxationTime", 5.87, True, 1.0),
+    ("CurlTime", 2.54, True, 1.0),
 )
 NAMES = [p[0] for p in PARAMETERS]
 START = {p[0]: p[1] for p in PARAMETERS}
