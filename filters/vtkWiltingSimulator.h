@@ -10,7 +10,9 @@
  * the nodes within AnchorRadius of the petiole (Region 5 points) or else of the blade's base, and simulates the
  * wilting from rest under gravity and a droop pull and a contraction towards the midvein applied to the voxels'
  * bottom (margin curls down) or top (curls up) nodes, their magnitude following LoadProfile in time, and
- * optionally the lamina shrinking in its own plane (ShrinkageStrain: the springs' rest lengths shorten). The time
+ * optionally the lamina shrinking in its own plane (ShrinkageStrain: the springs' rest lengths shorten) and its
+ * lower face shrinking before its upper (CurlStrain: an intrinsic bend, along the lines from the base with
+ * CurlDirection Radial, rising over CurlTime and partly relaxing over CurlRelaxationTime). The time
  * stepping is implicit Newmark (beta 1/4, gamma 1/2) with Newton-Raphson, Rayleigh damping on the tangent
  * stiffness (compression clamp optional), and a sparse Cholesky or preconditioned CG solve. Every input point
  * (surface and lines, e.g. veins) is bound once to its voxel and follows it by trilinear (or tricubic)
