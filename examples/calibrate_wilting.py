@@ -101,6 +101,7 @@ PARAMETERS = (
     ("CurlRelaxation", 0.926, False, 0.3),
     ("CurlRelaxationTime", 5.87, True, 1.0),
     ("CurlTime", 2.54, True, 1.0),
+    ("ShrinkageTime", 2.93, True, 1.0),
 )
 NAMES = [p[0] for p in PARAMETERS]
 START = {p[0]: p[1] for p in PARAMETERS}
@@ -229,6 +230,7 @@ def configure(values):
     wilt.CurlRelaxation = values["CurlRelaxation"]
     wilt.CurlRelaxationTime = values["CurlRelaxationTime"]
     wilt.CurlTime = values["CurlTime"]
+    wilt.ShrinkageTime = values["ShrinkageTime"]
     wilt.CurlDirection = arguments.curl_direction
     wilt.BladeMaterial = [0.02, values["BladeStiffness"], 0.0]
     wilt.MarginMaterial = [0.02, values["MarginStiffness"], 0.0]

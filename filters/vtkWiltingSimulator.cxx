@@ -71,6 +71,7 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
   p.curlRelaxation = f->GetCurlRelaxation();
   p.curlRelaxationTime = f->GetCurlRelaxationTime();
   p.curlTime = f->GetCurlTime();
+  p.shrinkageTime = f->GetShrinkageTime();
   p.curlDirection = f->GetCurlDirection() == 1 ? plantmorph::WiltingCurlDirection::Radial
                                                : plantmorph::WiltingCurlDirection::Isotropic;
   p.contractionSide = f->GetContractionSide() == vtkWiltingSimulator::SIDE_TOP ? plantmorph::WiltingContractionSide::Top
@@ -193,6 +194,7 @@ void vtkWiltingSimulator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CurlRelaxation: " << this->CurlRelaxation << "\n";
   os << indent << "CurlRelaxationTime: " << this->CurlRelaxationTime << "\n";
   os << indent << "CurlTime: " << this->CurlTime << "\n";
+  os << indent << "ShrinkageTime: " << this->ShrinkageTime << "\n";
   os << indent << "CurlDirection: " << this->CurlDirection << "\n";
   os << indent << "Solver: " << this->Solver << "\n";
 }

@@ -158,6 +158,9 @@ public:
   vtkGetMacro(ShrinkageStrain, double);
   vtkSetMacro(ShrinkageAsymmetry, double);
   vtkGetMacro(ShrinkageAsymmetry, double);
+  /** The shrinkage's own rise time (s; default 0: the contraction's, ContractionTime). */
+  vtkSetMacro(ShrinkageTime, double);
+  vtkGetMacro(ShrinkageTime, double);
   /** Curl: the lower face of the lamina shrinking more than the upper (CurlStrain d in [-0.4, 0.4], default 0:
    * none): lower-face springs (1 - d/2), upper-face springs (1 + d/2) times their rest length at full curl, an
    * intrinsic bend of curvature d / VoxelSize (positive: apex and margins down) that, unlike ContractionForce,
@@ -270,6 +273,7 @@ protected:
   double CurlRelaxation = 0.0;
   double CurlRelaxationTime = 0.0;
   double CurlTime = 0.0;
+  double ShrinkageTime = 0.0;
   int CurlDirection = 0;
   int ContractionSide = SIDE_BOTTOM;
   int ContractionTarget = TARGET_MIDVEIN;

@@ -75,6 +75,7 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
   p.curlAsymmetry = 0.0;
   p.curlRelaxation = 0.0;
   p.curlTime = 0.0;
+  p.shrinkageTime = 0.0;
   p.curlRelaxationTime = 0.0;
   p.curlDirection = WiltingCurlDirection::Isotropic;
   p.referenceVoxelSize = 0.0;

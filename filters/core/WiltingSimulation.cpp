@@ -76,6 +76,10 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << "CurlRelaxation must be in [0, 1] (got " << p.curlRelaxation << ")";
   }
+  else if (!(p.shrinkageTime >= 0.0) || !std::isfinite(p.shrinkageTime))
+  {
+    message << "ShrinkageTime must be >= 0 and finite (0: ContractionTime) (got " << p.shrinkageTime << ")";
+  }
   else if (!(p.curlTime >= 0.0) || !std::isfinite(p.curlTime))
   {
     message << "CurlTime must be >= 0 and finite (0: ContractionTime) (got " << p.curlTime << ")";
@@ -438,10 +442,16 @@ void WiltingSimulation::ExternalForce(double t, std::vector<double>& force) cons
   }
 }
 
-double WiltingSimulation::ShrinkageFactor(double t) const
+double WiltingSimulation::ContractionFactor(double t) const
 {
   return WiltingLoadFactor(this->Params.loadProfile, t,
     this->Params.contractionTime > 0.0 ? this->Params.contractionTime : this->Params.loadTime);
+}
+
+double WiltingSimulation::ShrinkageFactor(double t) const
+{
+  return this->Params.shrinkageTime > 0.0 ? WiltingLoadFactor(this->Params.loadProfile, t, this->Params.shrinkageTime)
+                                          : this->ContractionFactor(t);
 }
 
 double WiltingSimulation::CurlFactor(double t) const
@@ -453,7 +463,7 @@ double WiltingSimulation::CurlFactor(double t) const
         this->Params.curlRelaxationTime > 0.0 ? this->Params.curlRelaxationTime : this->Params.loadTime);
   const double rise = this->Params.curlTime > 0.0
     ? WiltingLoadFactor(this->Params.loadProfile, t, this->Params.curlTime)
-    : this->ShrinkageFactor(t);
+    : this->ContractionFactor(t);
   return rise - relaxation;
 }
 

@@ -28,7 +28,7 @@
 //   shrinkage). ShrinkageStrain e in [-0.4, 0.4] at full load: each spring's rest length L becomes (1 - e_v c(t)) L
 //   for the part k_v of its stiffness that voxel v contributes (a shared spring: L (1 - sum k_v e_v c / sum k_v)),
 //   e_v = e (1 + a_s s) with ShrinkageAsymmetry a_s in [-1, 1] and s the voxel's side as above (petiole voxels: 0),
-//   c(t) the contraction's load factor (ContractionTime). The rest lengths are the integrator's, so the shrinking
+//   c(t) the contraction's load factor (ContractionTime), or its own over ShrinkageTime. The rest lengths are the integrator's, so the shrinking
 //   is implicit (stable at any strain) and adds no load: a flat leaf, both faces shrinking alike, shortens and
 //   narrows in its plane towards its anchor without curling (ContractionForce, on one face, curls); the half that
 //   shrinks more becomes the concave side of a bend in the leaf's plane, so the tip moves sideways towards it.
@@ -143,6 +143,8 @@ struct WiltingParameters
   double shrinkageStrain = 0.0;
   /// In [-1, 1]: the shrinkage on the +x half is (1 + a), on the -x half (1 - a) times ShrinkageStrain.
   double shrinkageAsymmetry = 0.0;
+  /// The shrinkage's own ramp / sigmoid duration (s); 0: the contraction's (contractionTime, or loadTime).
+  double shrinkageTime = 0.0;
   /// In [-0.4, 0.4]: the lower face's springs (1 - d/2), the upper face's (1 + d/2) times their rest length at full
   /// curl: an intrinsic bend of curvature d / h, positive curling the apex and margins down.
   double curlStrain = 0.0;
@@ -237,6 +239,7 @@ private:
   std::vector<double> ContractionLoad; // per node, contraction at full load
   std::vector<double> SpringShrinkage; // per spring, its strain at full load; empty without shrinkage
   std::vector<double> SpringCurl;      // per spring, its curl strain at full curl; empty without curl
+  double ContractionFactor(double t) const;
   double ShrinkageFactor(double t) const;
   double CurlFactor(double t) const;
   /// Whether the rest lengths change in time (shrinkage or curl).

@@ -458,6 +458,18 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
     {
       EXPECT_NEAR(shrunkLengths[e], 0.95 * own[e], 1e-12 * own[e]) << "spring " << e;
     }
+    // ShrinkageTime: its own profile (Ramp over 4 s: a quarter at 1 s, while the contraction's 1 s is complete).
+    shrinking.loadProfile = WiltingLoadProfile::Ramp;
+    shrinking.contractionTime = 1.0;
+    shrinking.shrinkageTime = 4.0;
+    ASSERT_EQ(simulation.Setup(in, shrinking), "");
+    const std::vector<double> quarter = simulation.RestLengths(1.0);
+    for (std::size_t e = 0; e < own.size(); ++e)
+    {
+      EXPECT_NEAR(quarter[e], (1.0 - 0.25 * 0.05) * own[e], 1e-12 * own[e]) << "spring " << e;
+    }
+    shrinking.shrinkageTime = -1.0;
+    EXPECT_NE(ValidateWilting(shrinking).find("ShrinkageTime must be >= 0"), std::string::npos);
   }
   p.shrinkageStrain = 0.05;
   const Eigen::Vector3d shrunk = tipAfter(p);
