@@ -84,24 +84,24 @@ if arguments.frame_interval:
 # name, start value (the Cucumber preset's, filters/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
-    ("DroopForce", 18600.0, True, 1.0),
-    ("ContractionForce", 4185.0, True, 1.0),
+    ("DroopForce", 26925.0, True, 1.0),
+    ("ContractionForce", 4388.0, True, 1.0),
     ("BladeStiffness", 91600.0, True, 1.0),
     ("VeinStiffness", 399000.0, True, 1.0),
     ("MarginStiffness", 99000.0, True, 1.0),
-    ("LoadTime", 13.7, True, 1.0),
+    ("LoadTime", 13.81, True, 1.0),
     ("ContractionTime", 2.93, True, 1.0),
     ("RayleighAlpha", 1.16, True, 1.0),
     ("DroopAsymmetry", -0.0841, False, 0.5),
     ("ContractionAsymmetry", 0.0605, False, 0.5),
-    ("ShrinkageStrain", 0.0274, False, 0.03),
+    ("ShrinkageStrain", 0.02468, False, 0.03),
     ("ShrinkageAsymmetry", -0.0104, False, 0.5),
-    ("CurlStrain", 0.237, False, 0.1),
+    ("CurlStrain", 0.2089, False, 0.1),
     ("CurlAsymmetry", 0.0, False, 0.5),
-    ("CurlRelaxation", 0.926, False, 0.3),
+    ("CurlRelaxation", 0.9391, False, 0.3),
     ("CurlRelaxationTime", 5.87, True, 1.0),
     ("CurlTime", 2.54, True, 1.0),
-    ("ShrinkageTime", 2.93, True, 1.0),
+    ("ShrinkageTime", 1.319, True, 1.0),
 )
 NAMES = [p[0] for p in PARAMETERS]
 START = {p[0]: p[1] for p in PARAMETERS}
