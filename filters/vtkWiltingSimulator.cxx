@@ -121,6 +121,10 @@ std::string CheckEnumerations(vtkWiltingSimulator* f)
   {
     return "ContractionTarget must be 0 (Midvein) or 1 (Base), got " + std::to_string(f->GetContractionTarget());
   }
+  if (f->GetCurlDirection() < 0 || f->GetCurlDirection() > 1)
+  {
+    return "CurlDirection must be 0 (Isotropic) or 1 (Radial), got " + std::to_string(f->GetCurlDirection());
+  }
   if (f->GetSolver() < 0 || f->GetSolver() > 2)
   {
     return "Solver must be 0 (Auto), 1 (Cholesky) or 2 (CG), got " + std::to_string(f->GetSolver());
