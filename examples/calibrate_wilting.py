@@ -2,7 +2,8 @@
 
     pvpython examples/calibrate_wilting.py --plugin build/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so \
         [--csv ../shared/data/cucumber-wilting-tip.csv] [--fit NAME,NAME,...] [--evaluations 120] [--yaw] \
-        [--leave-one-out] [--evaluate-preset] [--set NAME=VALUE,...]
+        [--leave-one-out] [--evaluate-preset] [--set NAME=VALUE,...] [--step 0.7] [--beat-paper W]
+        [--curl-direction Radial] [--frame-interval S]
 
 The CSV has columns sample, measured_x, measured_y, measured_z (cm, origin at the petiole-blade junction, samples in
 time order, no time stamps); optional paper_sim_x/y/z columns are reported for comparison.
@@ -21,7 +22,9 @@ observed), RayleighAlpha (how quasi-static the fall is), DroopAsymmetry and Cont
 the +x half of the leaf droops or contracts than the -x half: a real leaf is not symmetric, and a symmetric model
 keeps its tip at x = 0 while the measured tip wanders sideways), and ShrinkageStrain and ShrinkageAsymmetry (the
 lamina shortening in its own plane as it dehydrates, on the contraction's time profile: it brings the tip closer to
-the petiole without curling the leaf). `--fit` picks which are fitted (the others keep their START value, the
+the petiole without curling the leaf; ShrinkageTime, its own sigmoid), and the curl: CurlStrain, CurlDirection
+(`--curl-direction`), CurlTime, CurlRelaxation, CurlRelaxationTime and CurlAsymmetry (the lower face shrinking
+before the upper: an intrinsic bend that rises and then partly relaxes). `--fit` picks which are fitted (the others keep their START value, the
 Cucumber preset's); log-parameters for the positive ones, the asymmetries and the shrinkage as they are.
 Nelder-Mead, then restarted from the best point with a smaller simplex. The objective is the mean time-monotone
 tip error: each measurement matched to one simulated frame, frames increasing (dynamic programming). With `--yaw` the simulated track is also turned
