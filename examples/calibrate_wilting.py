@@ -2,7 +2,8 @@
 
     pvpython examples/calibrate_wilting.py --plugin build/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so \
         [--csv ../shared/data/cucumber-wilting-tip.csv] [--fit NAME,NAME,...] [--evaluations 120] [--yaw] \
-        [--leave-one-out] [--evaluate-preset] [--set NAME=VALUE,...]
+        [--leave-one-out] [--evaluate-preset] [--set NAME=VALUE,...] [--step 0.7] [--beat-paper W]
+        [--curl-direction Radial] [--frame-interval S]
 
 The CSV has columns sample, measured_x, measured_y, measured_z (cm, origin at the petiole-blade junction, samples in
 time order, no time stamps); optional paper_sim_x/y/z columns are reported for comparison.
@@ -21,7 +22,9 @@ observed), RayleighAlpha (how quasi-static the fall is), DroopAsymmetry and Cont
 the +x half of the leaf droops or contracts than the -x half: a real leaf is not symmetric, and a symmetric model
 keeps its tip at x = 0 while the measured tip wanders sideways), and ShrinkageStrain and ShrinkageAsymmetry (the
 lamina shortening in its own plane as it dehydrates, on the contraction's time profile: it brings the tip closer to
-the petiole without curling the leaf). `--fit` picks which are fitted (the others keep their START value, the
+the petiole without curling the leaf; ShrinkageTime, its own sigmoid), and the curl: CurlStrain, CurlDirection
+(`--curl-direction`), CurlTime, CurlRelaxation, CurlRelaxationTime and CurlAsymmetry (the lower face shrinking
+before the upper: an intrinsic bend that rises and then partly relaxes). `--fit` picks which are fitted (the others keep their START value, the
 Cucumber preset's); log-parameters for the positive ones, the asymmetries and the shrinkage as they are.
 Nelder-Mead, then restarted from the best point with a smaller simplex. The objective is the mean time-monotone
 tip error: each measurement matched to one simulated frame, frames increasing (dynamic programming). With `--yaw` the simulated track is also turned
@@ -46,11 +49,21 @@ parser.add_argument("--plugin", required=True)
 parser.add_argument("--csv", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared",
                                                   "data", "cucumber-wilting-tip.csv"))
 parser.add_argument("--evaluations", type=int, default=120, help="simulations the fit may run")
+parser.add_argument("--curl-direction", default="Radial", choices=("Isotropic", "Radial"),
+                    help="CurlDirection of the simulated leaf (default: the Cucumber preset's)")
+parser.add_argument("--step", type=float, default=0.7,
+                    help="the first Nelder-Mead simplex's size (log-parameters; the restart uses 0.3 times it)")
 parser.add_argument("--fit", default=None, help="comma-separated names of the parameters to fit (default: all)")
 parser.add_argument("--set", default="", help="NAME=VALUE,...: start values other than START")
 parser.add_argument("--length", type=float, default=20.1, help="leaf length (cm), BladeLength")
 parser.add_argument("--width", type=float, default=22.1, help="leaf width (cm), BladeWidth")
 parser.add_argument("--yaw", action="store_true", help="also turn the simulated track about the vertical")
+parser.add_argument("--frame-interval", type=float, default=None,
+                    help="seconds between the simulated tip samples compared with the measurements (default: "
+                         "SETTINGS' FrameInterval)")
+parser.add_argument("--beat-paper", type=float, default=0.0,
+                    help="W > 0: add W times each sample's excess over the paper's error (the CSV's paper_sim_* "
+                         "columns) to the objective, so the fit also aims at every sample below the paper's")
 parser.add_argument("--leave-one-out", action="store_true",
                     help="after the fit (or from START with --evaluate), refit without each sample")
 parser.add_argument("--loo-evaluations", type=int, default=None,
@@ -68,22 +81,30 @@ LoadPlugin(arguments.plugin, remote=False, ns=globals())
 # The settings the Cucumber preset was fitted at (everything the preset does not set).
 SETTINGS = dict(Resolution=14, AnchorRadius=3.0, Duration=10.0, FrameInterval=0.1, TimeStep=1.0 / 60.0,
                 NewtonIterations=1, Threads=1)
+if arguments.frame_interval:
+    SETTINGS["FrameInterval"] = arguments.frame_interval
 
 # name, start value (the Cucumber preset's, filters/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
-    ("DroopForce", 17000.0, True, 1.0),
-    ("ContractionForce", 4278.0, True, 1.0),
+    ("DroopForce", 26925.0, True, 1.0),
+    ("ContractionForce", 4388.0, True, 1.0),
     ("BladeStiffness", 91600.0, True, 1.0),
     ("VeinStiffness", 399000.0, True, 1.0),
     ("MarginStiffness", 99000.0, True, 1.0),
-    ("LoadTime", 13.7, True, 1.0),
-    ("ContractionTime", 2.75, True, 1.0),
+    ("LoadTime", 13.81, True, 1.0),
+    ("ContractionTime", 2.93, True, 1.0),
     ("RayleighAlpha", 1.16, True, 1.0),
     ("DroopAsymmetry", -0.0841, False, 0.5),
     ("ContractionAsymmetry", 0.0605, False, 0.5),
-    ("ShrinkageStrain", 0.0274, False, 0.03),
+    ("ShrinkageStrain", 0.02468, False, 0.03),
     ("ShrinkageAsymmetry", -0.0104, False, 0.5),
+    ("CurlStrain", 0.2089, False, 0.1),
+    ("CurlAsymmetry", 0.0, False, 0.5),
+    ("CurlRelaxation", 0.9391, False, 0.3),
+    ("CurlRelaxationTime", 5.87, True, 1.0),
+    ("CurlTime", 2.54, True, 1.0),
+    ("ShrinkageTime", 1.319, True, 1.0),
 )
 NAMES = [p[0] for p in PARAMETERS]
 START = {p[0]: p[1] for p in PARAMETERS}
@@ -207,6 +228,13 @@ def configure(values):
     wilt.ContractionAsymmetry = values["ContractionAsymmetry"]
     wilt.ShrinkageStrain = values["ShrinkageStrain"]
     wilt.ShrinkageAsymmetry = values["ShrinkageAsymmetry"]
+    wilt.CurlStrain = values["CurlStrain"]
+    wilt.CurlAsymmetry = values["CurlAsymmetry"]
+    wilt.CurlRelaxation = values["CurlRelaxation"]
+    wilt.CurlRelaxationTime = values["CurlRelaxationTime"]
+    wilt.CurlTime = values["CurlTime"]
+    wilt.ShrinkageTime = values["ShrinkageTime"]
+    wilt.CurlDirection = arguments.curl_direction
     wilt.BladeMaterial = [0.02, values["BladeStiffness"], 0.0]
     wilt.MarginMaterial = [0.02, values["MarginStiffness"], 0.0]
     wilt.VeinMaterial = [0.02, values["VeinStiffness"], 0.0]
@@ -229,8 +257,12 @@ tracks = {}
 
 def simulate(x):
     values = values_of(x)
-    if any(abs(values[n]) > 1.0 for n in ("DroopAsymmetry", "ContractionAsymmetry", "ShrinkageAsymmetry")):
+    if any(abs(values[n]) > 1.0 for n in ("DroopAsymmetry", "ContractionAsymmetry", "ShrinkageAsymmetry",
+                                          "CurlAsymmetry")):
         return None  # outside the properties' range [-1, 1]
+    if abs(values["CurlStrain"]) > 0.4 or abs(values["ShrinkageStrain"]) > 0.4 or not (
+            0.0 <= values["CurlRelaxation"] <= 1.0):
+        return None  # outside [-0.4, 0.4] and [0, 1]
     key = tuple(round(v, 12) for v in x)
     if key not in tracks:
         configure(values)
@@ -240,11 +272,21 @@ def simulate(x):
 
 
 def objective_for(targets):
+    bounds = [distance(p, m) for p, m in zip(paper, measured) if m in targets] if paper else []
+
     def objective(x):
         track = simulate(x)
         if not track:
             return 1e9
-        return monotone_error(turned(track, best_yaw(track, targets)), targets)
+        t = turned(track, best_yaw(track, targets))
+        value = monotone_error(t, targets)
+        if arguments.beat_paper > 0.0 and bounds:
+            picks = monotone(t, targets)
+            value += arguments.beat_paper * sum(max(0.0, distance(t[i], m) - b)
+                                                for i, m, b in zip(picks, targets, bounds))
+        if os.environ.get("CALIBRATE_WILTING_TRACK"):
+            print("    run %d: %.4f %s" % (runs[0], value, describe(values_of(x))), flush=True)
+        return value
     return objective
 
 
@@ -290,6 +332,10 @@ def report(track, title):
     if not track:
         print("\n%s: the simulation blew up before Duration (see the error above); nothing to compare" % title)
         return
+    if os.environ.get("CALIBRATE_WILTING_TRACK"):
+        for i in range(0, len(track), 2):
+            print("  track t=%.1f (%.2f, %.2f, %.2f) |tip| %.2f" % ((i * SETTINGS["FrameInterval"],) + tuple(track[i]) +
+                                                               (distance(track[i], (0, 0, 0)),)))
     yaw = best_yaw(track, measured)
     print("\n%s" % title)
     variants = [("raw (yaw 0)", track)]
@@ -331,8 +377,8 @@ else:
     print("fitting %d parameters (%s) to %d samples (%d coordinates)" % (
         len(FITTED), ", ".join(FITTED), len(measured), 3 * len(measured)), flush=True)
     objective = objective_for(measured)
-    best, value = nelder_mead(objective, vector_of(START), 0.7, arguments.evaluations // 2)
-    best, value = nelder_mead(objective, best, 0.2, arguments.evaluations - arguments.evaluations // 2)
+    best, value = nelder_mead(objective, vector_of(START), arguments.step, arguments.evaluations // 2)
+    best, value = nelder_mead(objective, best, 0.3 * arguments.step, arguments.evaluations - arguments.evaluations // 2)
     fitted = values_of(best)
     print("fitted (%d simulations, %.0f s): %s" % (runs[0], time.time() - started, describe(fitted)), flush=True)
     configure(fitted)

@@ -66,6 +66,14 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
   p.contractionAsymmetry = f->GetContractionAsymmetry();
   p.shrinkageStrain = f->GetShrinkageStrain();
   p.shrinkageAsymmetry = f->GetShrinkageAsymmetry();
+  p.curlStrain = f->GetCurlStrain();
+  p.curlAsymmetry = f->GetCurlAsymmetry();
+  p.curlRelaxation = f->GetCurlRelaxation();
+  p.curlRelaxationTime = f->GetCurlRelaxationTime();
+  p.curlTime = f->GetCurlTime();
+  p.shrinkageTime = f->GetShrinkageTime();
+  p.curlDirection = f->GetCurlDirection() == 1 ? plantmorph::WiltingCurlDirection::Radial
+                                               : plantmorph::WiltingCurlDirection::Isotropic;
   p.contractionSide = f->GetContractionSide() == vtkWiltingSimulator::SIDE_TOP ? plantmorph::WiltingContractionSide::Top
                                                                                : plantmorph::WiltingContractionSide::Bottom;
   p.contractionTarget = f->GetContractionTarget() == vtkWiltingSimulator::TARGET_BASE
@@ -112,6 +120,10 @@ std::string CheckEnumerations(vtkWiltingSimulator* f)
   if (f->GetContractionTarget() < 0 || f->GetContractionTarget() > 1)
   {
     return "ContractionTarget must be 0 (Midvein) or 1 (Base), got " + std::to_string(f->GetContractionTarget());
+  }
+  if (f->GetCurlDirection() < 0 || f->GetCurlDirection() > 1)
+  {
+    return "CurlDirection must be 0 (Isotropic) or 1 (Radial), got " + std::to_string(f->GetCurlDirection());
   }
   if (f->GetSolver() < 0 || f->GetSolver() > 2)
   {
@@ -181,6 +193,13 @@ void vtkWiltingSimulator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ContractionAsymmetry: " << this->ContractionAsymmetry << "\n";
   os << indent << "ShrinkageStrain: " << this->ShrinkageStrain << "\n";
   os << indent << "ShrinkageAsymmetry: " << this->ShrinkageAsymmetry << "\n";
+  os << indent << "CurlStrain: " << this->CurlStrain << "\n";
+  os << indent << "CurlAsymmetry: " << this->CurlAsymmetry << "\n";
+  os << indent << "CurlRelaxation: " << this->CurlRelaxation << "\n";
+  os << indent << "CurlRelaxationTime: " << this->CurlRelaxationTime << "\n";
+  os << indent << "CurlTime: " << this->CurlTime << "\n";
+  os << indent << "ShrinkageTime: " << this->ShrinkageTime << "\n";
+  os << indent << "CurlDirection: " << this->CurlDirection << "\n";
   os << indent << "Solver: " << this->Solver << "\n";
 }
 

@@ -10,7 +10,9 @@
  * the nodes within AnchorRadius of the petiole (Region 5 points) or else of the blade's base, and simulates the
  * wilting from rest under gravity and a droop pull and a contraction towards the midvein applied to the voxels'
  * bottom (margin curls down) or top (curls up) nodes, their magnitude following LoadProfile in time, and
- * optionally the lamina shrinking in its own plane (ShrinkageStrain: the springs' rest lengths shorten). The time
+ * optionally the lamina shrinking in its own plane (ShrinkageStrain: the springs' rest lengths shorten) and its
+ * lower face shrinking before its upper (CurlStrain: an intrinsic bend, along the lines from the base with
+ * CurlDirection Radial, rising over CurlTime and partly relaxing over CurlRelaxationTime). The time
  * stepping is implicit Newmark (beta 1/4, gamma 1/2) with Newton-Raphson, Rayleigh damping on the tangent
  * stiffness (compression clamp optional), and a sparse Cholesky or preconditioned CG solve. Every input point
  * (surface and lines, e.g. veins) is bound once to its voxel and follows it by trilinear (or tricubic)
@@ -156,6 +158,31 @@ public:
   vtkGetMacro(ShrinkageStrain, double);
   vtkSetMacro(ShrinkageAsymmetry, double);
   vtkGetMacro(ShrinkageAsymmetry, double);
+  /** The shrinkage's own rise time (s; default 0: the contraction's, ContractionTime). */
+  vtkSetMacro(ShrinkageTime, double);
+  vtkGetMacro(ShrinkageTime, double);
+  /** Curl: the lower face of the lamina shrinking more than the upper (CurlStrain d in [-0.4, 0.4], default 0:
+   * none): lower-face springs (1 - d/2), upper-face springs (1 + d/2) times their rest length at full curl, an
+   * intrinsic bend of curvature d / VoxelSize (positive: apex and margins down) that, unlike ContractionForce,
+   * adds no net force and turns with the leaf; its left/right asymmetry in [-1, 1] (default 0); and its relaxation:
+   * the fraction r in [0, 1] (default 0) of it that goes again, over CurlRelaxationTime (s, default 0: LoadTime),
+   * the upper face catching up. The curl rises on the contraction's profile (ContractionTime) or its own
+ * (CurlTime). */
+  vtkSetMacro(CurlStrain, double);
+  vtkGetMacro(CurlStrain, double);
+  vtkSetMacro(CurlAsymmetry, double);
+  vtkGetMacro(CurlAsymmetry, double);
+  vtkSetMacro(CurlRelaxation, double);
+  vtkGetMacro(CurlRelaxation, double);
+  vtkSetMacro(CurlRelaxationTime, double);
+  vtkGetMacro(CurlRelaxationTime, double);
+  /** The curl's own rise time (s; default 0: the contraction's, ContractionTime). */
+  vtkSetMacro(CurlTime, double);
+  vtkGetMacro(CurlTime, double);
+  /** The curl's strain in every in-plane direction (0, Isotropic, default) or only along the lines from the base
+   * (1, Radial: the leaf curls along its primary veins, apex and lobes towards the base). */
+  vtkSetMacro(CurlDirection, int);
+  vtkGetMacro(CurlDirection, int);
   /** Contraction towards the midvein plane (0, the paper's) or towards the base (1: margins and apex curl). */
   vtkSetMacro(ContractionTarget, int);
   vtkGetMacro(ContractionTarget, int);
@@ -241,6 +268,13 @@ protected:
   double ContractionAsymmetry = 0.0;
   double ShrinkageStrain = 0.0;
   double ShrinkageAsymmetry = 0.0;
+  double CurlStrain = 0.0;
+  double CurlAsymmetry = 0.0;
+  double CurlRelaxation = 0.0;
+  double CurlRelaxationTime = 0.0;
+  double CurlTime = 0.0;
+  double ShrinkageTime = 0.0;
+  int CurlDirection = 0;
   int ContractionSide = SIDE_BOTTOM;
   int ContractionTarget = TARGET_MIDVEIN;
   int LoadProfile = PROFILE_SIGMOID;

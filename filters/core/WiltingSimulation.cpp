@@ -64,6 +64,30 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << "ShrinkageAsymmetry must be in [-1, 1] (got " << p.shrinkageAsymmetry << ")";
   }
+  else if (!(std::abs(p.curlStrain) <= 0.4))
+  {
+    message << "CurlStrain must be in [-0.4, 0.4] (negative curls up; got " << p.curlStrain << ")";
+  }
+  else if (!(p.curlAsymmetry >= -1.0 && p.curlAsymmetry <= 1.0))
+  {
+    message << "CurlAsymmetry must be in [-1, 1] (got " << p.curlAsymmetry << ")";
+  }
+  else if (!(p.curlRelaxation >= 0.0 && p.curlRelaxation <= 1.0))
+  {
+    message << "CurlRelaxation must be in [0, 1] (got " << p.curlRelaxation << ")";
+  }
+  else if (!(p.shrinkageTime >= 0.0) || !std::isfinite(p.shrinkageTime))
+  {
+    message << "ShrinkageTime must be >= 0 and finite (0: ContractionTime) (got " << p.shrinkageTime << ")";
+  }
+  else if (!(p.curlTime >= 0.0) || !std::isfinite(p.curlTime))
+  {
+    message << "CurlTime must be >= 0 and finite (0: ContractionTime) (got " << p.curlTime << ")";
+  }
+  else if (!(p.curlRelaxationTime >= 0.0) || !std::isfinite(p.curlRelaxationTime))
+  {
+    message << "CurlRelaxationTime must be >= 0 and finite (0: LoadTime) (got " << p.curlRelaxationTime << ")";
+  }
   else if (!(p.loadTime > 0.0) || !std::isfinite(p.loadTime))
   {
     message << "LoadTime must be > 0 and finite (got " << p.loadTime << ")";
@@ -166,7 +190,7 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   const double ratio = parameters.referenceVoxelSize > 0.0 ? h / parameters.referenceVoxelSize : 1.0;
   const double springScale = ratio;
   const double loadScale = ratio * ratio * ratio;
-  std::vector<int> voxelSprings; // with shrinkage: the 28 springs of each voxel, in voxel order
+  std::vector<int> voxelSprings; // with shrinkage or curl: the 28 springs of each voxel, in voxel order
   // Nodes with lumped masses.
   for (const Eigen::Vector3d& x : grid.nodes)
   {
@@ -190,7 +214,7 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
       {
         const int spring = this->Springs.AddSpring(
           c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], stiffness, damping);
-        if (parameters.shrinkageStrain != 0.0)
+        if (parameters.shrinkageStrain != 0.0 || parameters.curlStrain != 0.0)
         {
           voxelSprings.push_back(spring);
         }
@@ -276,7 +300,9 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   this->LoadForce.assign(3 * n, 0.0);
   this->ContractionLoad.assign(3 * n, 0.0);
   // With shrinkage: per spring, the sum over its voxels of k_v e_v (divided by the spring's k below).
-  std::vector<double> shrinkageWeight(voxelSprings.empty() ? 0 : this->Springs.SpringCount(), 0.0);
+  std::vector<double> shrinkageWeight(parameters.shrinkageStrain == 0.0 ? 0 : this->Springs.SpringCount(), 0.0);
+  // With curl: the same for the curl strain (+d_v/2 between two bottom corners, -d_v/2 between two top corners).
+  std::vector<double> curlWeight(parameters.curlStrain == 0.0 ? 0 : this->Springs.SpringCount(), 0.0);
   const std::vector<double>& masses = this->Springs.Masses();
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -323,6 +349,34 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
         shrinkageWeight[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * strain;
       }
     }
+    if (parameters.curlStrain != 0.0 && WiltingMaterialOf(grid.regions[v]) != WiltingPetiole)
+    {
+      const double strain = (1.0 + parameters.curlAsymmetry * side) * parameters.curlStrain;
+      const double stiffness =
+        parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))].stiffness * springScale;
+      // Radial: the strain along the line from the base, (n . r)^2 of it along a spring of direction n (none for
+      // the voxels within h/2 of the base in the XY plane).
+      const Eigen::Vector2d offset(centreX - midX, centreY - baseY);
+      const bool radial = parameters.curlDirection == WiltingCurlDirection::Radial;
+      const Eigen::Vector2d r = offset.norm() <= 0.5 * h ? Eigen::Vector2d::Zero() : Eigen::Vector2d(offset / offset.norm());
+      std::size_t pair = 0;
+      for (int a = 0; a < 8; ++a) // the pairs in the order they were added above; corners 0-3 bottom, 4-7 top
+      {
+        for (int b = a + 1; b < 8; ++b, ++pair)
+        {
+          double face = (a < 4 && b < 4) ? 0.5 : ((a >= 4 && b >= 4) ? -0.5 : 0.0);
+          if (radial && face != 0.0)
+          {
+            const Eigen::Vector3d n = (grid.nodes[static_cast<std::size_t>(c[static_cast<std::size_t>(b)])] -
+              grid.nodes[static_cast<std::size_t>(c[static_cast<std::size_t>(a)])])
+                                        .normalized();
+            const double along = n[0] * r[0] + n[1] * r[1];
+            face *= along * along;
+          }
+          curlWeight[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * face * strain;
+        }
+      }
+    }
   }
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -343,6 +397,15 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
     for (std::size_t e = 0; e < shrinkageWeight.size(); ++e)
     {
       this->SpringShrinkage[e] = shrinkageWeight[e] / this->Springs.Springs()[e].stiffness;
+    }
+  }
+  this->SpringCurl.clear();
+  if (!curlWeight.empty())
+  {
+    this->SpringCurl.resize(curlWeight.size());
+    for (std::size_t e = 0; e < curlWeight.size(); ++e)
+    {
+      this->SpringCurl[e] = curlWeight[e] / this->Springs.Springs()[e].stiffness;
     }
   }
   error = this->Newmark.Setup(this->Springs, parameters.newmark);
@@ -379,21 +442,48 @@ void WiltingSimulation::ExternalForce(double t, std::vector<double>& force) cons
   }
 }
 
-double WiltingSimulation::ShrinkageFactor(double t) const
+double WiltingSimulation::ContractionFactor(double t) const
 {
   return WiltingLoadFactor(this->Params.loadProfile, t,
     this->Params.contractionTime > 0.0 ? this->Params.contractionTime : this->Params.loadTime);
+}
+
+double WiltingSimulation::ShrinkageFactor(double t) const
+{
+  return this->Params.shrinkageTime > 0.0 ? WiltingLoadFactor(this->Params.loadProfile, t, this->Params.shrinkageTime)
+                                          : this->ContractionFactor(t);
+}
+
+double WiltingSimulation::CurlFactor(double t) const
+{
+  const double relaxation = this->Params.curlRelaxation == 0.0
+    ? 0.0
+    : this->Params.curlRelaxation *
+      WiltingLoadFactor(this->Params.loadProfile, t,
+        this->Params.curlRelaxationTime > 0.0 ? this->Params.curlRelaxationTime : this->Params.loadTime);
+  const double rise = this->Params.curlTime > 0.0
+    ? WiltingLoadFactor(this->Params.loadProfile, t, this->Params.curlTime)
+    : this->ContractionFactor(t);
+  return rise - relaxation;
+}
+
+double WiltingSimulation::SpringStrain(std::size_t e, double t) const
+{
+  double strain = this->SpringShrinkage.empty() ? 0.0 : this->ShrinkageFactor(t) * this->SpringShrinkage[e];
+  if (!this->SpringCurl.empty())
+  {
+    strain += this->CurlFactor(t) * this->SpringCurl[e];
+  }
+  return strain;
 }
 
 std::vector<double> WiltingSimulation::RestLengths(double t) const
 {
   const std::vector<MassSpringSpring>& springs = this->Springs.Springs();
   std::vector<double> lengths(springs.size());
-  const double factor = this->ShrinkageFactor(t);
   for (std::size_t e = 0; e < springs.size(); ++e)
   {
-    const double strain = this->SpringShrinkage.empty() ? 0.0 : factor * this->SpringShrinkage[e];
-    lengths[e] = springs[e].restLength * (1.0 - strain);
+    lengths[e] = springs[e].restLength * (1.0 - this->SpringStrain(e, t));
   }
   return lengths;
 }
@@ -415,7 +505,7 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
   this->FrameList.clear();
   this->WasAborted = false;
   this->Newmark.Reset();
-  if (!this->SpringShrinkage.empty())
+  if (this->RestLengthsChange())
   {
     this->Newmark.SetRestLengths(this->RestLengths(0.0));
   }
@@ -469,7 +559,7 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
     const double time = step * dt;
     this->ExternalForce(time, force);
     const std::vector<double> before = this->Newmark.Displacement();
-    if (!this->SpringShrinkage.empty())
+    if (this->RestLengthsChange())
     {
       this->Newmark.SetRestLengths(this->RestLengths(time)); // the rest shape at the step's end, like the loads
     }
@@ -491,11 +581,10 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
       maxDisplacement = std::max(maxDisplacement, std::abs(q[k]));
     }
     previousForce = force;
-    if (!this->SpringShrinkage.empty())
+    if (this->RestLengthsChange())
     {
       // A rest length L (1 - x) is the spring of rest length L (the energies') with a pull k x L between its ends:
       // its work, at the step's mean x, on the step's change of length.
-      const double mean = 0.5 * (this->ShrinkageFactor(time - dt) + this->ShrinkageFactor(time));
       const std::vector<Eigen::Vector3d>& rest = this->Voxels.nodes;
       const auto length = [&](const std::vector<double>& u, const MassSpringSpring& s) {
         const std::size_t a = static_cast<std::size_t>(s.a);
@@ -507,7 +596,8 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
       const std::vector<MassSpringSpring>& springs = this->Springs.Springs();
       for (std::size_t e = 0; e < springs.size(); ++e)
       {
-        work += springs[e].stiffness * mean * this->SpringShrinkage[e] * springs[e].restLength *
+        const double mean = 0.5 * (this->SpringStrain(e, time - dt) + this->SpringStrain(e, time));
+        work += springs[e].stiffness * mean * springs[e].restLength *
           (length(before, springs[e]) - length(q, springs[e]));
       }
     }

@@ -28,12 +28,27 @@
 //   shrinkage). ShrinkageStrain e in [-0.4, 0.4] at full load: each spring's rest length L becomes (1 - e_v c(t)) L
 //   for the part k_v of its stiffness that voxel v contributes (a shared spring: L (1 - sum k_v e_v c / sum k_v)),
 //   e_v = e (1 + a_s s) with ShrinkageAsymmetry a_s in [-1, 1] and s the voxel's side as above (petiole voxels: 0),
-//   c(t) the contraction's load factor (ContractionTime). The rest lengths are the integrator's, so the shrinking
+//   c(t) the contraction's load factor (ContractionTime), or its own over ShrinkageTime. The rest lengths are the integrator's, so the shrinking
 //   is implicit (stable at any strain) and adds no load: a flat leaf, both faces shrinking alike, shortens and
 //   narrows in its plane towards its anchor without curling (ContractionForce, on one face, curls); the half that
 //   shrinks more becomes the concave side of a bend in the leaf's plane, so the tip moves sideways towards it.
 //   The energies keep the unshrunk rest lengths; the blow-up guard counts the shrinking as work (a rest length
 //   L (1 - x) is a spring of rest length L with a pull k x L between its ends).
+// - Curl (* not in the paper; default 0, then nothing changes): the two faces of the lamina shrinking unequally.
+//   CurlStrain d in [-0.4, 0.4] at full curl: in every blade, vein and margin voxel the springs between two bottom
+//   nodes get the rest length (1 - d/2) L, those between two top nodes (1 + d/2) L, the others keep theirs (a shared
+//   spring: stiffness-weighted, as the shrinkage; on top of it, x = e_v c(t) + d_v g(t) per voxel), with
+//   d_v = d (1 + a_c s), CurlAsymmetry a_c in [-1, 1]. The mean length of the two faces is unchanged: no in-plane
+//   shrinking, only an intrinsic bend of curvature d / h (h the voxel edge, the plate's thickness), positive: the
+//   lower face concave, the apex and margins curling down. It is internal, so unlike ContractionForce (dead loads
+//   in fixed directions) it adds no net force and turns with the leaf. Time: g(t) = c(t) - r c_r(t), c the
+//   profile over CurlTime (0: the contraction's, ContractionTime), c_r the same profile over CurlRelaxationTime (0: LoadTime) and
+//   CurlRelaxation r in [0, 1]: the lower (abaxial) face, with the stomata, drying first and the upper face
+//   catching up a fraction r later, so the curl rises and then relaxes by r. Rest lengths as the shrinkage's.
+//   CurlDirection Radial: the strain only along the lines from the base (a face spring of direction n gets
+//   (n . r)^2 of it, r the unit vector from the base to the voxel's centre in the XY plane): the leaf curls along
+//   its primary veins, apex and lobes towards the base, which a wide plate can do (an isotropic curl asks a plate
+//   for curvature in two directions at once, which it cannot take without stretching).
 // - LoadProfile: Constant 1 (the paper), Ramp min(1, t/LoadTime), Sigmoid: the logistic 1/(1 + exp(-12 (t/T -
 //   1/2))) rescaled to go from 0 at t = 0 to 1 at t = T = LoadTime (slow start, then faster: the measured wilting).
 //   The contraction follows the same profile over its own ContractionTime (0: LoadTime): * the paper sees the
@@ -82,6 +97,16 @@ enum class WiltingContractionTarget : int
   Base = 1
 };
 
+/// How the curl's strain is oriented in the lamina's plane: the same in every direction, or only along the lines
+/// from the base (* the lamina contracting along its primary veins: the apex and lobes curl towards the base
+/// while the margins stay level, a bend a wide plate can take without stretching; an isotropic curl of a plate
+/// wider than it is curved cannot, and mostly curls the margins).
+enum class WiltingCurlDirection : int
+{
+  Isotropic = 0,
+  Radial = 1
+};
+
 /// Region classes with their own material.
 enum WiltingMaterialClass : int
 {
@@ -118,6 +143,22 @@ struct WiltingParameters
   double shrinkageStrain = 0.0;
   /// In [-1, 1]: the shrinkage on the +x half is (1 + a), on the -x half (1 - a) times ShrinkageStrain.
   double shrinkageAsymmetry = 0.0;
+  /// The shrinkage's own ramp / sigmoid duration (s); 0: the contraction's (contractionTime, or loadTime).
+  double shrinkageTime = 0.0;
+  /// In [-0.4, 0.4]: the lower face's springs (1 - d/2), the upper face's (1 + d/2) times their rest length at full
+  /// curl: an intrinsic bend of curvature d / h, positive curling the apex and margins down.
+  double curlStrain = 0.0;
+  /// In [-1, 1]: the curl on the +x half is (1 + a), on the -x half (1 - a) times CurlStrain.
+  double curlAsymmetry = 0.0;
+  /// In [0, 1]: the fraction of the curl that relaxes again (the upper face catching up), over curlRelaxationTime.
+  double curlRelaxation = 0.0;
+  /// The curl's own ramp / sigmoid duration (s); 0: the contraction's (contractionTime, or loadTime).
+  double curlTime = 0.0;
+  /// The relaxation's ramp / sigmoid duration (s), from t = 0; 0: loadTime.
+  double curlRelaxationTime = 0.0;
+  /// Isotropic, or Radial: a spring of direction n gets (n . r)^2 of the face strain, r the unit vector from the
+  /// base in the XY plane.
+  WiltingCurlDirection curlDirection = WiltingCurlDirection::Isotropic;
   /// > 0: the materials' stiffness and damping and the droop and contraction loads were given for voxels of this
   /// edge (a preset's fit); Setup scales them to the actual edge h, stiffness by h/h0 (a spring lattice's modulus
   /// is k/h) and loads by (h/h0)^3 (loads per volume, like gravity), so a fit carries over to other resolutions
@@ -197,7 +238,14 @@ private:
   std::vector<double> LoadForce;    // per node, droop at full load
   std::vector<double> ContractionLoad; // per node, contraction at full load
   std::vector<double> SpringShrinkage; // per spring, its strain at full load; empty without shrinkage
+  std::vector<double> SpringCurl;      // per spring, its curl strain at full curl; empty without curl
+  double ContractionFactor(double t) const;
   double ShrinkageFactor(double t) const;
+  double CurlFactor(double t) const;
+  /// Whether the rest lengths change in time (shrinkage or curl).
+  bool RestLengthsChange() const { return !this->SpringShrinkage.empty() || !this->SpringCurl.empty(); }
+  /// Spring e's relative shortening at time t.
+  double SpringStrain(std::size_t e, double t) const;
   int Tip = 0;
   int StepsPerFrame = 1;
   int FrameCount = 1;

@@ -458,6 +458,18 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
     {
       EXPECT_NEAR(shrunkLengths[e], 0.95 * own[e], 1e-12 * own[e]) << "spring " << e;
     }
+    // ShrinkageTime: its own profile (Ramp over 4 s: a quarter at 1 s, while the contraction's 1 s is complete).
+    shrinking.loadProfile = WiltingLoadProfile::Ramp;
+    shrinking.contractionTime = 1.0;
+    shrinking.shrinkageTime = 4.0;
+    ASSERT_EQ(simulation.Setup(in, shrinking), "");
+    const std::vector<double> quarter = simulation.RestLengths(1.0);
+    for (std::size_t e = 0; e < own.size(); ++e)
+    {
+      EXPECT_NEAR(quarter[e], (1.0 - 0.25 * 0.05) * own[e], 1e-12 * own[e]) << "spring " << e;
+    }
+    shrinking.shrinkageTime = -1.0;
+    EXPECT_NE(ValidateWilting(shrinking).find("ShrinkageTime must be >= 0"), std::string::npos);
   }
   p.shrinkageStrain = 0.05;
   const Eigen::Vector3d shrunk = tipAfter(p);
@@ -484,6 +496,163 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
   p.shrinkageAsymmetry = 0.0;
   p.shrinkageStrain = 0.45;
   EXPECT_NE(ValidateWilting(p).find("ShrinkageStrain must be in [-0.4, 0.4]"), std::string::npos);
+}
+
+TEST(WiltingSimulation, CurlBendsTheLeafIntoItsArcAndRelaxes)
+{
+  // CurlStrain d: the lower face's springs (1 - d/2) L, the upper face's (1 + d/2) L, the springs joining the faces
+  // unchanged, on the contraction's profile minus r times the relaxation's. Without other loads a narrow free
+  // strip takes the rest shape those lengths describe: a circular arc of curvature d / h (h the voxel edge, the
+  // plate's thickness) from its anchored part, apex down for d > 0, up for -d; no net force, so nothing else moves.
+  const WiltingInput in = Rectangle(1.0, 10.0, 2, 20);
+  WiltingParameters p = AsymmetryCase();
+  p.droopForce = 0.0;
+  p.contractionForce = 0.0;
+  p.newmark.rayleighMass = 40.0;
+  p.duration = 3.0;
+  p.frameInterval = 0.5;
+  {
+    // Rest lengths: d = 0 keeps the system's exactly; d = 0.08 at full curl moves the bottom and top faces by
+    // -+ d/2 and leaves the others; with the Ramp profile, ContractionTime 1 s and the relaxation r = 0.5 over
+    // 4 s, the curl factor is 1 - 0.5 (t / 4) once the contraction is complete: 0.875 at 1 s, 0.5 from 4 s.
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    std::vector<double> own;
+    for (const MassSpringSpring& spring : simulation.System().Springs())
+    {
+      own.push_back(spring.restLength);
+    }
+    EXPECT_EQ(simulation.RestLengths(0.5), own);
+    WiltingParameters ramp = p;
+    ramp.curlStrain = 0.08;
+    ramp.loadProfile = WiltingLoadProfile::Ramp;
+    ramp.contractionTime = 1.0;
+    ramp.curlRelaxation = 0.5;
+    ramp.curlRelaxationTime = 4.0;
+    ASSERT_EQ(simulation.Setup(in, ramp), "");
+    const double z0 = simulation.Grid().origin[2];
+    for (const double t : { 1.0, 4.0, 6.0 })
+    {
+      const double factor = t < 4.0 ? 1.0 - 0.5 * t / 4.0 : 0.5;
+      const std::vector<double> lengths = simulation.RestLengths(t);
+      int bottom = 0, top = 0;
+      for (std::size_t e = 0; e < own.size(); ++e)
+      {
+        const MassSpringSpring& spring = simulation.System().Springs()[e];
+        const double za = simulation.Grid().nodes[static_cast<std::size_t>(spring.a)][2] - z0;
+        const double zb = simulation.Grid().nodes[static_cast<std::size_t>(spring.b)][2] - z0;
+        const double h = simulation.Grid().h;
+        const double face = (za < 0.5 * h && zb < 0.5 * h) ? 0.5 : ((za > 0.5 * h && zb > 0.5 * h) ? -0.5 : 0.0);
+        bottom += face > 0.0 ? 1 : 0;
+        top += face < 0.0 ? 1 : 0;
+        ASSERT_NEAR(lengths[e], own[e] * (1.0 - face * 0.08 * factor), 1e-12 * own[e]) << "spring " << e;
+      }
+      EXPECT_GT(bottom, 0);
+      EXPECT_EQ(top, bottom);
+    }
+  }
+  const Eigen::Vector3d rest = in.points[20 * 3 + 1];
+  const auto tipAfter = [&](const WiltingParameters& parameters) {
+    WiltingSimulation simulation;
+    EXPECT_EQ(simulation.Setup(in, parameters), "");
+    EXPECT_EQ(simulation.Run(), "");
+    EXPECT_EQ(simulation.TipPoint(), 20 * 3 + 1);
+    return Eigen::Vector3d(simulation.Frames().back().tip - rest);
+  };
+  p.curlStrain = 0.1;
+  const Eigen::Vector3d down = tipAfter(p);
+  // The arc of curvature k = d / h = 0.1 / cm over the free length s (the anchored nodes lie within 1.5 cm of the
+  // base, so s is 8.5 to 10 cm): the tip drops (1 - cos k s) / k, 3.4 to 4.6 cm, and comes s - sin(k s) / k,
+  // 1.0 to 1.6 cm, closer to the base.
+  const auto drop = [](double s) { return (1.0 - std::cos(0.1 * s)) / 0.1; };
+  const auto shortening = [](double s) { return s - std::sin(0.1 * s) / 0.1; };
+  EXPECT_LT(down[2], -drop(8.5)) << down.transpose();
+  EXPECT_GT(down[2], -drop(10.0)) << down.transpose();
+  EXPECT_LT(down[1], -shortening(8.5)) << down.transpose();
+  EXPECT_GT(down[1], -shortening(10.0)) << down.transpose();
+  EXPECT_NEAR(down[0], 0.0, 1e-9) << "a symmetric strip curls symmetrically";
+  p.curlStrain = -0.1;
+  const Eigen::Vector3d up = tipAfter(p);
+  EXPECT_NEAR(up[2], -down[2], 1e-6 * std::abs(down[2])) << "-d: the mirror image through the leaf's plane";
+  EXPECT_NEAR(up[1], down[1], 1e-6 * std::abs(down[1]));
+  // Half of it relaxing (r = 0.5 within the run) leaves the arc of half the curvature: a smaller drop.
+  p.curlStrain = 0.1;
+  p.curlRelaxation = 0.5;
+  p.curlRelaxationTime = 0.5;
+  const Eigen::Vector3d relaxed = tipAfter(p);
+  EXPECT_LT(relaxed[2], -0.4 * drop(8.5)) << relaxed.transpose();
+  EXPECT_GT(relaxed[2], -0.6 * drop(10.0)) << relaxed.transpose();
+  {
+    // CurlTime: the curl rises on its own profile (Ramp over 2 s: half at 1 s, when the contraction's 1 s is done).
+    WiltingParameters own = p;
+    own.curlRelaxation = 0.0;
+    own.loadProfile = WiltingLoadProfile::Ramp;
+    own.contractionTime = 1.0;
+    own.curlTime = 2.0;
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, own), "");
+    const std::vector<double> lengths = simulation.RestLengths(1.0);
+    const double z0 = simulation.Grid().origin[2];
+    for (std::size_t e = 0; e < lengths.size(); ++e)
+    {
+      const MassSpringSpring& spring = simulation.System().Springs()[e];
+      const bool bottom = simulation.Grid().nodes[static_cast<std::size_t>(spring.a)][2] == z0 &&
+        simulation.Grid().nodes[static_cast<std::size_t>(spring.b)][2] == z0;
+      if (bottom)
+      {
+        ASSERT_NEAR(lengths[e], spring.restLength * (1.0 - 0.5 * 0.1 * 0.5), 1e-12) << "spring " << e;
+      }
+    }
+  }
+  {
+    // Radial: only along the lines from the base. This strip is one voxel column on the midvein, so beyond the
+    // base voxel that line is +y: a bottom-face spring along y gets all of d/2, one along x none of it.
+    WiltingParameters radial = p;
+    radial.curlRelaxation = 0.0;
+    radial.curlDirection = WiltingCurlDirection::Radial;
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, radial), "");
+    const std::vector<double> lengths = simulation.RestLengths(1.0);
+    const VoxelGrid& grid = simulation.Grid();
+    int alongX = 0, alongY = 0;
+    for (std::size_t e = 0; e < lengths.size(); ++e)
+    {
+      const MassSpringSpring& spring = simulation.System().Springs()[e];
+      const Eigen::Vector3d a = grid.nodes[static_cast<std::size_t>(spring.a)];
+      const Eigen::Vector3d b = grid.nodes[static_cast<std::size_t>(spring.b)];
+      if (a[2] != grid.origin[2] || b[2] != grid.origin[2] || std::min(a[1], b[1]) < grid.origin[1] + 2.0 * grid.h)
+      {
+        continue;
+      }
+      if (a[1] == b[1])
+      {
+        ++alongX;
+        ASSERT_EQ(lengths[e], spring.restLength) << "spring " << e;
+      }
+      else if (a[0] == b[0])
+      {
+        ++alongY;
+        ASSERT_NEAR(lengths[e], spring.restLength * (1.0 - 0.05), 1e-12) << "spring " << e;
+      }
+    }
+    EXPECT_GT(alongX, 0);
+    EXPECT_GT(alongY, 0);
+    // Along a strip the radial curl is the isotropic one's arc.
+    const Eigen::Vector3d arc = tipAfter(radial);
+    EXPECT_LT(arc[2], -drop(8.5)) << arc.transpose();
+    EXPECT_GT(arc[2], -drop(10.0)) << arc.transpose();
+  }
+  p.curlStrain = 0.41;
+  EXPECT_NE(ValidateWilting(p).find("CurlStrain must be in [-0.4, 0.4]"), std::string::npos);
+  p.curlStrain = 0.1;
+  p.curlRelaxation = 1.5;
+  EXPECT_NE(ValidateWilting(p).find("CurlRelaxation must be in [0, 1]"), std::string::npos);
+  p.curlRelaxation = 0.0;
+  p.curlAsymmetry = -2.0;
+  EXPECT_NE(ValidateWilting(p).find("CurlAsymmetry must be in [-1, 1]"), std::string::npos);
+  p.curlAsymmetry = 0.0;
+  p.curlTime = -1.0;
+  EXPECT_NE(ValidateWilting(p).find("CurlTime must be >= 0"), std::string::npos);
 }
 
 TEST(WiltingSimulation, DeterministicAcrossRunsAndThreads)

@@ -430,6 +430,10 @@ TEST(vtkWiltingSimulator, ErrorsNameThePropertyAndEmptyEveryOutput)
     { "DroopAsymmetry", [](vtkWiltingSimulator* w) { w->SetDroopAsymmetry(1.5); } },
     { "ContractionAsymmetry", [](vtkWiltingSimulator* w) { w->SetContractionAsymmetry(std::nan("")); } },
     { "ShrinkageAsymmetry", [](vtkWiltingSimulator* w) { w->SetShrinkageAsymmetry(2.0); } },
+    { "CurlStrain", [](vtkWiltingSimulator* w) { w->SetCurlStrain(0.5); } },
+    { "CurlDirection", [](vtkWiltingSimulator* w) { w->SetCurlDirection(2); } },
+    { "CurlRelaxation", [](vtkWiltingSimulator* w) { w->SetCurlRelaxation(-0.1); } },
+    { "ShrinkageTime", [](vtkWiltingSimulator* w) { w->SetShrinkageTime(std::nan("")); } },
     { "TimeStep", [](vtkWiltingSimulator* w) { w->SetTimeStep(std::nan("")); } },
     { "BladeDensity", [](vtkWiltingSimulator* w) { w->SetBladeMaterial(0.0, 1000.0, 0.0); } },
   };
