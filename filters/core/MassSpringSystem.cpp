@@ -215,15 +215,20 @@ void MassSpringSystem::InternalForce(const double* u, double* out) const
   }
 }
 
+double MassSpringSystem::SpringLength(const MassSpringSpring& s, const double* u) const
+{
+  const Eigen::Vector3d z = this->Rest[static_cast<std::size_t>(s.b)] +
+    Eigen::Vector3d(u[3 * s.b], u[3 * s.b + 1], u[3 * s.b + 2]) - this->Rest[static_cast<std::size_t>(s.a)] -
+    Eigen::Vector3d(u[3 * s.a], u[3 * s.a + 1], u[3 * s.a + 2]);
+  return z.norm();
+}
+
 double MassSpringSystem::SpringEnergy(const double* u) const
 {
   double energy = 0.0;
   for (const MassSpringSpring& s : this->SpringList)
   {
-    const Eigen::Vector3d z = this->Rest[static_cast<std::size_t>(s.b)] +
-      Eigen::Vector3d(u[3 * s.b], u[3 * s.b + 1], u[3 * s.b + 2]) - this->Rest[static_cast<std::size_t>(s.a)] -
-      Eigen::Vector3d(u[3 * s.a], u[3 * s.a + 1], u[3 * s.a + 2]);
-    const double stretch = z.norm() - s.restLength;
+    const double stretch = this->SpringLength(s, u) - s.restLength;
     energy += 0.5 * s.stiffness * stretch * stretch;
   }
   return energy;

@@ -88,6 +88,8 @@ public:
   void EvaluateSprings(const double* u, bool clamp, double* force, double* tangent, MassSpringThreads& threads) const;
   /// Internal force R(u) (3 per node): minus the sum of the spring forces on each node (fixed nodes included).
   void InternalForce(const double* u, double* out) const;
+  /// Spring s's length |X_b + u_b - X_a - u_a| at displacement `u` (3 per node).
+  double SpringLength(const MassSpringSpring& s, const double* u) const;
   /// Elastic energy sum 1/2 k (l - L)^2.
   double SpringEnergy(const double* u) const;
   /// Kinetic energy 1/2 v^T M v.

@@ -300,9 +300,9 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   this->LoadForce.assign(3 * n, 0.0);
   this->ContractionLoad.assign(3 * n, 0.0);
   // With shrinkage: per spring, the sum over its voxels of k_v e_v (divided by the spring's k below).
-  std::vector<double> shrinkageWeight(parameters.shrinkageStrain == 0.0 ? 0 : this->Springs.SpringCount(), 0.0);
+  this->SpringShrinkage.assign(parameters.shrinkageStrain == 0.0 ? 0 : this->Springs.SpringCount(), 0.0);
   // With curl: the same for the curl strain (+d_v/2 between two bottom corners, -d_v/2 between two top corners).
-  std::vector<double> curlWeight(parameters.curlStrain == 0.0 ? 0 : this->Springs.SpringCount(), 0.0);
+  this->SpringCurl.assign(parameters.curlStrain == 0.0 ? 0 : this->Springs.SpringCount(), 0.0);
   const std::vector<double>& masses = this->Springs.Masses();
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -321,11 +321,14 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
     const double side = std::abs(sideOffset) <= 0.5 * h ? 0.0 : (sideOffset > 0.0 ? 1.0 : -1.0);
     const double droop = (1.0 + parameters.droopAsymmetry * side) * parameters.droopForce;
     const double contraction = (1.0 + parameters.contractionAsymmetry * side) * parameters.contractionForce;
+    // The unit vector from the base to the voxel's centre in the XY plane (none within h/2 of the base).
+    const Eigen::Vector2d offset(centreX - midX, centreY - baseY);
+    const Eigen::Vector2d fromBase =
+      offset.norm() <= 0.5 * h ? Eigen::Vector2d::Zero() : Eigen::Vector2d(offset / offset.norm());
     Eigen::Vector2d towards = Eigen::Vector2d::Zero();
     if (parameters.contractionTarget == WiltingContractionTarget::Base)
     {
-      const Eigen::Vector2d offset(centreX - midX, centreY - baseY);
-      towards = offset.norm() <= 0.5 * h ? Eigen::Vector2d::Zero() : Eigen::Vector2d(-offset / offset.norm());
+      towards = -fromBase;
     }
     else
     {
@@ -339,26 +342,23 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
       this->ContractionLoad[3 * node + 1] += 0.25 * loadScale * contraction * towards[1];
       this->LoadForce[3 * node + 2] -= 0.25 * loadScale * droop;
     }
-    if (parameters.shrinkageStrain != 0.0 && WiltingMaterialOf(grid.regions[v]) != WiltingPetiole)
+    const int material = WiltingMaterialOf(grid.regions[v]);
+    const double stiffness = parameters.materials[static_cast<std::size_t>(material)].stiffness * springScale;
+    if (parameters.shrinkageStrain != 0.0 && material != WiltingPetiole)
     {
       const double strain = (1.0 + parameters.shrinkageAsymmetry * side) * parameters.shrinkageStrain;
-      const double stiffness =
-        parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))].stiffness * springScale;
       for (std::size_t pair = 0; pair < 28; ++pair)
       {
-        shrinkageWeight[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * strain;
+        this->SpringShrinkage[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * strain;
       }
     }
-    if (parameters.curlStrain != 0.0 && WiltingMaterialOf(grid.regions[v]) != WiltingPetiole)
+    if (parameters.curlStrain != 0.0 && material != WiltingPetiole)
     {
       const double strain = (1.0 + parameters.curlAsymmetry * side) * parameters.curlStrain;
-      const double stiffness =
-        parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))].stiffness * springScale;
-      // Radial: the strain along the line from the base, (n . r)^2 of it along a spring of direction n (none for
-      // the voxels within h/2 of the base in the XY plane).
-      const Eigen::Vector2d offset(centreX - midX, centreY - baseY);
+      // Radial: the strain along the line from the base, (n . r)^2 of it along a spring of direction n, r =
+      // fromBase (none for the voxels within h/2 of the base in the XY plane).
       const bool radial = parameters.curlDirection == WiltingCurlDirection::Radial;
-      const Eigen::Vector2d r = offset.norm() <= 0.5 * h ? Eigen::Vector2d::Zero() : Eigen::Vector2d(offset / offset.norm());
+      const Eigen::Vector2d& r = fromBase;
       std::size_t pair = 0;
       for (int a = 0; a < 8; ++a) // the pairs in the order they were added above; corners 0-3 bottom, 4-7 top
       {
@@ -373,7 +373,7 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
             const double along = n[0] * r[0] + n[1] * r[1];
             face *= along * along;
           }
-          curlWeight[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * face * strain;
+          this->SpringCurl[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * face * strain;
         }
       }
     }
@@ -390,22 +390,11 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
       }
     }
   }
-  this->SpringShrinkage.clear();
-  if (!shrinkageWeight.empty())
+  for (std::vector<double>* strains : { &this->SpringShrinkage, &this->SpringCurl })
   {
-    this->SpringShrinkage.resize(shrinkageWeight.size());
-    for (std::size_t e = 0; e < shrinkageWeight.size(); ++e)
+    for (std::size_t e = 0; e < strains->size(); ++e)
     {
-      this->SpringShrinkage[e] = shrinkageWeight[e] / this->Springs.Springs()[e].stiffness;
-    }
-  }
-  this->SpringCurl.clear();
-  if (!curlWeight.empty())
-  {
-    this->SpringCurl.resize(curlWeight.size());
-    for (std::size_t e = 0; e < curlWeight.size(); ++e)
-    {
-      this->SpringCurl[e] = curlWeight[e] / this->Springs.Springs()[e].stiffness;
+      (*strains)[e] /= this->Springs.Springs()[e].stiffness;
     }
   }
   error = this->Newmark.Setup(this->Springs, parameters.newmark);
@@ -433,8 +422,7 @@ std::vector<double> WiltingSimulation::FrameTimes() const
 void WiltingSimulation::ExternalForce(double t, std::vector<double>& force) const
 {
   const double factor = WiltingLoadFactor(this->Params.loadProfile, t, this->Params.loadTime);
-  const double contraction = WiltingLoadFactor(this->Params.loadProfile, t,
-    this->Params.contractionTime > 0.0 ? this->Params.contractionTime : this->Params.loadTime);
+  const double contraction = this->ContractionFactor(t);
   force.resize(this->GravityForce.size());
   for (std::size_t k = 0; k < force.size(); ++k)
   {
@@ -442,49 +430,70 @@ void WiltingSimulation::ExternalForce(double t, std::vector<double>& force) cons
   }
 }
 
+namespace
+{
+/// A duration property: its own value, or (0) the one it defaults to.
+double OwnOr(double time, double fallback)
+{
+  return time > 0.0 ? time : fallback;
+}
+}
+
 double WiltingSimulation::ContractionFactor(double t) const
 {
-  return WiltingLoadFactor(this->Params.loadProfile, t,
-    this->Params.contractionTime > 0.0 ? this->Params.contractionTime : this->Params.loadTime);
+  return WiltingLoadFactor(this->Params.loadProfile, t, OwnOr(this->Params.contractionTime, this->Params.loadTime));
 }
 
 double WiltingSimulation::ShrinkageFactor(double t) const
 {
-  return this->Params.shrinkageTime > 0.0 ? WiltingLoadFactor(this->Params.loadProfile, t, this->Params.shrinkageTime)
-                                          : this->ContractionFactor(t);
+  const double contractionTime = OwnOr(this->Params.contractionTime, this->Params.loadTime);
+  return WiltingLoadFactor(this->Params.loadProfile, t, OwnOr(this->Params.shrinkageTime, contractionTime));
 }
 
 double WiltingSimulation::CurlFactor(double t) const
 {
+  const double contractionTime = OwnOr(this->Params.contractionTime, this->Params.loadTime);
   const double relaxation = this->Params.curlRelaxation == 0.0
     ? 0.0
     : this->Params.curlRelaxation *
-      WiltingLoadFactor(this->Params.loadProfile, t,
-        this->Params.curlRelaxationTime > 0.0 ? this->Params.curlRelaxationTime : this->Params.loadTime);
-  const double rise = this->Params.curlTime > 0.0
-    ? WiltingLoadFactor(this->Params.loadProfile, t, this->Params.curlTime)
-    : this->ContractionFactor(t);
-  return rise - relaxation;
+      WiltingLoadFactor(
+        this->Params.loadProfile, t, OwnOr(this->Params.curlRelaxationTime, this->Params.loadTime));
+  return WiltingLoadFactor(this->Params.loadProfile, t, OwnOr(this->Params.curlTime, contractionTime)) -
+    relaxation;
 }
 
-double WiltingSimulation::SpringStrain(std::size_t e, double t) const
+void WiltingSimulation::SpringStrains(double t, std::vector<double>& strains) const
 {
-  double strain = this->SpringShrinkage.empty() ? 0.0 : this->ShrinkageFactor(t) * this->SpringShrinkage[e];
-  if (!this->SpringCurl.empty())
+  // The profiles once per time, not per spring.
+  const double shrinkage = this->SpringShrinkage.empty() ? 0.0 : this->ShrinkageFactor(t);
+  const double curl = this->SpringCurl.empty() ? 0.0 : this->CurlFactor(t);
+  strains.resize(this->Springs.SpringCount());
+  for (std::size_t e = 0; e < strains.size(); ++e)
   {
-    strain += this->CurlFactor(t) * this->SpringCurl[e];
+    double strain = this->SpringShrinkage.empty() ? 0.0 : shrinkage * this->SpringShrinkage[e];
+    if (!this->SpringCurl.empty())
+    {
+      strain += curl * this->SpringCurl[e];
+    }
+    strains[e] = strain;
   }
-  return strain;
+}
+
+void WiltingSimulation::RestLengthsFromStrains(const std::vector<double>& strains, std::vector<double>& lengths) const
+{
+  const std::vector<MassSpringSpring>& springs = this->Springs.Springs();
+  lengths.resize(springs.size());
+  for (std::size_t e = 0; e < springs.size(); ++e)
+  {
+    lengths[e] = springs[e].restLength * (1.0 - strains[e]);
+  }
 }
 
 std::vector<double> WiltingSimulation::RestLengths(double t) const
 {
-  const std::vector<MassSpringSpring>& springs = this->Springs.Springs();
-  std::vector<double> lengths(springs.size());
-  for (std::size_t e = 0; e < springs.size(); ++e)
-  {
-    lengths[e] = springs[e].restLength * (1.0 - this->SpringStrain(e, t));
-  }
+  std::vector<double> strains, lengths;
+  this->SpringStrains(t, strains);
+  this->RestLengthsFromStrains(strains, lengths);
   return lengths;
 }
 
@@ -505,9 +514,13 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
   this->FrameList.clear();
   this->WasAborted = false;
   this->Newmark.Reset();
+  // With shrinkage or curl: the springs' strains at the step's start and end, and the rest lengths they give.
+  std::vector<double> strainBefore, strainAfter, restLengths;
   if (this->RestLengthsChange())
   {
-    this->Newmark.SetRestLengths(this->RestLengths(0.0));
+    this->SpringStrains(0.0, strainBefore);
+    this->RestLengthsFromStrains(strainBefore, restLengths);
+    this->Newmark.SetRestLengths(restLengths);
   }
   {
     // From rest (R = 0, v = 0) with the consistent acceleration M^-1 f(0): second order from the first step.
@@ -561,7 +574,10 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
     const std::vector<double> before = this->Newmark.Displacement();
     if (this->RestLengthsChange())
     {
-      this->Newmark.SetRestLengths(this->RestLengths(time)); // the rest shape at the step's end, like the loads
+      // The rest shape at the step's end, like the loads.
+      this->SpringStrains(time, strainAfter);
+      this->RestLengthsFromStrains(strainAfter, restLengths);
+      this->Newmark.SetRestLengths(restLengths);
     }
     const std::string error = this->Newmark.Step(force);
     std::ostringstream message;
@@ -585,21 +601,14 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
     {
       // A rest length L (1 - x) is the spring of rest length L (the energies') with a pull k x L between its ends:
       // its work, at the step's mean x, on the step's change of length.
-      const std::vector<Eigen::Vector3d>& rest = this->Voxels.nodes;
-      const auto length = [&](const std::vector<double>& u, const MassSpringSpring& s) {
-        const std::size_t a = static_cast<std::size_t>(s.a);
-        const std::size_t b = static_cast<std::size_t>(s.b);
-        return (rest[b] - rest[a] + Eigen::Vector3d(u[3 * b] - u[3 * a], u[3 * b + 1] - u[3 * a + 1],
-                                      u[3 * b + 2] - u[3 * a + 2]))
-          .norm();
-      };
       const std::vector<MassSpringSpring>& springs = this->Springs.Springs();
       for (std::size_t e = 0; e < springs.size(); ++e)
       {
-        const double mean = 0.5 * (this->SpringStrain(e, time - dt) + this->SpringStrain(e, time));
+        const double mean = 0.5 * (strainBefore[e] + strainAfter[e]);
         work += springs[e].stiffness * mean * springs[e].restLength *
-          (length(before, springs[e]) - length(q, springs[e]));
+          (this->Springs.SpringLength(springs[e], before.data()) - this->Springs.SpringLength(springs[e], q.data()));
       }
+      strainBefore.swap(strainAfter);
     }
     const double jacobian = this->Springs.MinimumRelativeJacobian(q.data());
     if (!(jacobian > 0.0))

@@ -244,8 +244,10 @@ private:
   double CurlFactor(double t) const;
   /// Whether the rest lengths change in time (shrinkage or curl).
   bool RestLengthsChange() const { return !this->SpringShrinkage.empty() || !this->SpringCurl.empty(); }
-  /// Spring e's relative shortening at time t.
-  double SpringStrain(std::size_t e, double t) const;
+  /// Every spring's relative shortening at time t.
+  void SpringStrains(double t, std::vector<double>& strains) const;
+  /// The rest lengths L (1 - strain).
+  void RestLengthsFromStrains(const std::vector<double>& strains, std::vector<double>& lengths) const;
   int Tip = 0;
   int StepsPerFrame = 1;
   int FrameCount = 1;

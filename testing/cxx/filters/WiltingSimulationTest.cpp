@@ -340,6 +340,28 @@ WiltingParameters AsymmetryCase()
   return p;
 }
 
+/// The system's own rest lengths, one per spring (what WiltingSimulation::RestLengths gives without shrinkage or
+/// curl).
+std::vector<double> SystemRestLengths(const WiltingSimulation& simulation)
+{
+  std::vector<double> lengths;
+  for (const MassSpringSpring& spring : simulation.System().Springs())
+  {
+    lengths.push_back(spring.restLength);
+  }
+  return lengths;
+}
+
+/// The tip's displacement from `rest` at the end of a run; `tip` is the input point expected to be the tip.
+Eigen::Vector3d TipDisplacementAfter(const WiltingInput& in, const WiltingParameters& parameters, int tip)
+{
+  WiltingSimulation simulation;
+  EXPECT_EQ(simulation.Setup(in, parameters), "");
+  EXPECT_EQ(simulation.Run(), "");
+  EXPECT_EQ(simulation.TipPoint(), tip);
+  return simulation.Frames().back().tip - in.points[static_cast<std::size_t>(tip)];
+}
+
 TEST(WiltingSimulation, ZeroAsymmetryGivesExactlyTheSymmetricLoads)
 {
   const WiltingInput in = Rectangle(4.5, 10.0, 8, 20);
@@ -429,13 +451,8 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
   p.droopForce = 0.0;
   p.contractionForce = 0.0;
   p.contractionTarget = WiltingContractionTarget::Base;
-  const Eigen::Vector3d rest = in.points[20 * 9 + 4];
   const auto tipAfter = [&](const WiltingParameters& parameters) {
-    WiltingSimulation simulation;
-    EXPECT_EQ(simulation.Setup(in, parameters), "");
-    EXPECT_EQ(simulation.Run(), "");
-    EXPECT_EQ(simulation.TipPoint(), 20 * 9 + 4);
-    return Eigen::Vector3d(simulation.Frames().back().tip - rest);
+    return TipDisplacementAfter(in, parameters, 20 * 9 + 4);
   };
   {
     // Without shrinkage the integrator keeps the system's rest lengths (the model without it, bit for bit); with
@@ -443,11 +460,7 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
     // voxel shrinks alike, so a shared spring's stiffness-weighted strain is e too).
     WiltingSimulation simulation;
     ASSERT_EQ(simulation.Setup(in, p), "");
-    std::vector<double> own;
-    for (const MassSpringSpring& spring : simulation.System().Springs())
-    {
-      own.push_back(spring.restLength);
-    }
+    const std::vector<double> own = SystemRestLengths(simulation);
     EXPECT_EQ(simulation.RestLengths(0.5), own);
     WiltingParameters shrinking = p;
     shrinking.shrinkageStrain = 0.05;
@@ -517,11 +530,7 @@ TEST(WiltingSimulation, CurlBendsTheLeafIntoItsArcAndRelaxes)
     // 4 s, the curl factor is 1 - 0.5 (t / 4) once the contraction is complete: 0.875 at 1 s, 0.5 from 4 s.
     WiltingSimulation simulation;
     ASSERT_EQ(simulation.Setup(in, p), "");
-    std::vector<double> own;
-    for (const MassSpringSpring& spring : simulation.System().Springs())
-    {
-      own.push_back(spring.restLength);
-    }
+    const std::vector<double> own = SystemRestLengths(simulation);
     EXPECT_EQ(simulation.RestLengths(0.5), own);
     WiltingParameters ramp = p;
     ramp.curlStrain = 0.08;
@@ -551,13 +560,8 @@ TEST(WiltingSimulation, CurlBendsTheLeafIntoItsArcAndRelaxes)
       EXPECT_EQ(top, bottom);
     }
   }
-  const Eigen::Vector3d rest = in.points[20 * 3 + 1];
   const auto tipAfter = [&](const WiltingParameters& parameters) {
-    WiltingSimulation simulation;
-    EXPECT_EQ(simulation.Setup(in, parameters), "");
-    EXPECT_EQ(simulation.Run(), "");
-    EXPECT_EQ(simulation.TipPoint(), 20 * 3 + 1);
-    return Eigen::Vector3d(simulation.Frames().back().tip - rest);
+    return TipDisplacementAfter(in, parameters, 20 * 3 + 1);
   };
   p.curlStrain = 0.1;
   const Eigen::Vector3d down = tipAfter(p);
