@@ -75,16 +75,13 @@ Skeleton MakeSkeleton(const CleanedTube& line, const Eigen::Vector3d& normal)
     s.arc[k + 1] = s.arc[k] + d.norm();
     s.dir.push_back(d.normalized());
   }
-  const double minimumCos = std::cos(85.0 * Pi / 180.0);
   s.n.push_back(PerpendicularTo(s.tangents[0], normal));
   for (std::size_t k = 1; k + 1 < n; ++k)
   {
     const Eigen::Vector3d& d = s.dir[k - 1];
-    const Eigen::Vector3d& plane = s.tangents[k];
-    const double denominator = std::max(d.dot(plane), minimumCos);
     Eigen::Vector3d w = s.n[k - 1] - s.n[k - 1].dot(d) * d;
     w.normalize();
-    const Eigen::Vector3d offset = w - (w.dot(plane) / denominator) * d;
+    const Eigen::Vector3d offset = MitreOffset(w, d, s.tangents[k]);
     const Eigen::Vector3d next = offset - offset.dot(s.dir[k]) * s.dir[k];
     s.n.push_back(next.norm() > 0.0 ? Eigen::Vector3d(next.normalized()) : w);
   }
@@ -105,23 +102,8 @@ struct RingVertex
   float u = 0.0f, v = 0.0f;
 };
 
-struct Trig
-{
-  std::vector<double> cosines, sines, around;
-  explicit Trig(int sides)
-  {
-    for (int j = 0; j < sides; ++j)
-    {
-      const double a = 2.0 * Pi * j / sides;
-      this->cosines.push_back(std::cos(a));
-      this->sines.push_back(std::sin(a));
-      this->around.push_back(1.0 - std::abs(1.0 - 2.0 * j / sides));
-    }
-  }
-};
-
 /// Ring vertex j of the ring at `station` of tube `s` (BuildTubes' formulas).
-RingVertex Vertex(const Skeleton& s, const Station& station, const Trig& trig, std::size_t j)
+RingVertex Vertex(const Skeleton& s, const Station& station, const RingAngles& trig, std::size_t j)
 {
   RingVertex r;
   const double total = s.Length();
@@ -135,10 +117,7 @@ RingVertex Vertex(const Skeleton& s, const Station& station, const Trig& trig, s
     Eigen::Vector3d w = trig.cosines[j] * s.n[k - 1] + trig.sines[j] * b;
     w -= w.dot(d) * d;
     w.normalize();
-    const Eigen::Vector3d& plane = s.tangents[k];
-    constexpr double minimumCos = 0.087155742747658166; // cos(85 deg), BuildTubes' mitre clamp
-    const double denominator = std::max(d.dot(plane), minimumCos);
-    r.x = s.line.centre[k] + s.line.radii[k] * (w - (w.dot(plane) / denominator) * d);
+    r.x = s.line.centre[k] + s.line.radii[k] * MitreOffset(w, d, s.tangents[k]);
     r.normal = w;
     return r;
   }
@@ -192,7 +171,7 @@ struct ChildState
 
 /// The points of a junction for the current pulls and interval: rings first (children, then the parent's before
 /// and after rings), then the dropped parts' points.
-void CollectPoints(const std::vector<Skeleton>& skeletons, const std::vector<ChildState>& state, const Trig& trig,
+void CollectPoints(const std::vector<Skeleton>& skeletons, const std::vector<ChildState>& state, const RingAngles& trig,
   Junction& J)
 {
   J.rings.clear();
@@ -278,7 +257,7 @@ long FirstBadRing(const Junction& J)
 
 /// Grows the junction's pulls and margins until every ring is a face (true) or a limit is hit (false).
 bool Solve(const std::vector<Skeleton>& skeletons, std::vector<ChildState>& state, const std::vector<double>& baseCut,
-  const Trig& trig, Junction& J)
+  const RingAngles& trig, Junction& J)
 {
   const Skeleton& p = skeletons[J.parent];
   double parentRadius = 0.0;
@@ -437,7 +416,7 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
   }
   const std::size_t count = tubes.size();
   const std::size_t S = static_cast<std::size_t>(sides);
-  const Trig trig(sides);
+  const RingAngles trig(sides);
   std::vector<Skeleton> skeletons(count);
   parallel(count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)

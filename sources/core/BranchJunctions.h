@@ -1,7 +1,7 @@
 // Welded branch joints: the tubes of a tree as ONE closed surface per connected tree, joined by convex-hull
 // junctions (the idea of Baerentzen, Misztal and Welnicka, "Converting skeletal structures to quad dominant meshes",
 // 2012: cut the tubes back from a branch node, take the convex hull of the cut rings, keep the tubes outside it).
-// Plain C++ (Eigen, CGAL's convex_hull_3 on exact predicates), no VTK. The tubes themselves (rings, mitres, frames,
+// Plain C++ (Eigen, a CGAL Triangulation_3 on exact predicates for the hulls), no VTK. The tubes themselves (rings, mitres, frames,
 // caps, TCoords, normals) are those of BuildTubes (BranchTubes.h).
 //
 // Junctions. A child's node is the point of its parent's centre line nearest to the child's first centre point.

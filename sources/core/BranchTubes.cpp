@@ -88,7 +88,28 @@ void SetMeshPoint(TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, 
 namespace
 {
 constexpr double Pi = 3.14159265358979323846;
+} // namespace
 
+RingAngles::RingAngles(int sides)
+{
+  for (int j = 0; j < sides; ++j)
+  {
+    const double a = 2.0 * Pi * j / sides;
+    this->cosines.push_back(std::cos(a));
+    this->sines.push_back(std::sin(a));
+    this->around.push_back(1.0 - std::abs(1.0 - 2.0 * j / sides));
+  }
+}
+
+Eigen::Vector3d MitreOffset(const Eigen::Vector3d& w, const Eigen::Vector3d& d, const Eigen::Vector3d& plane)
+{
+  static const double minimumCos = std::cos(85.0 * Pi / 180.0);
+  const double denominator = std::max(d.dot(plane), minimumCos);
+  return w - (w.dot(plane) / denominator) * d;
+}
+
+namespace
+{
 using Cleaned = CleanedTube;
 
 std::int64_t PointCount(const Cleaned& c, int sides)
@@ -217,15 +238,10 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
   mesh.tcoords.resize(2 * points);
   mesh.triangles.resize(3 * static_cast<std::size_t>(mesh.triangleOffsets.back()));
 
-  std::vector<double> cosines(static_cast<std::size_t>(sides)), sines(static_cast<std::size_t>(sides)),
-    around(static_cast<std::size_t>(sides));
-  for (int j = 0; j < sides; ++j)
-  {
-    const double a = 2.0 * Pi * j / sides;
-    cosines[static_cast<std::size_t>(j)] = std::cos(a);
-    sines[static_cast<std::size_t>(j)] = std::sin(a);
-    around[static_cast<std::size_t>(j)] = 1.0 - std::abs(1.0 - 2.0 * j / sides);
-  }
+  const RingAngles angles(sides);
+  const std::vector<double>& cosines = angles.cosines;
+  const std::vector<double>& sines = angles.sines;
+  const std::vector<double>& around = angles.around;
 
   parallel(tubes.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
@@ -260,12 +276,10 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
       // Ring k: ring k - 1's cross-section directions carried along segment k - 1 (a translation: no twist, the
       // exact rotation-minimising transport of a polyline) onto the bisector plane at point k, i.e. the
       // intersection of segment k - 1's cylinder with that plane, which is also segment k's cylinder's.
-      const double minimumCos = std::cos(85.0 * Pi / 180.0);
       for (std::size_t k = 1; k < rings; ++k)
       {
         const Eigen::Vector3d d = (c.centre[k] - c.centre[k - 1]).normalized();
         const Eigen::Vector3d& plane = tangents[k];
-        const double denominator = std::max(d.dot(plane), minimumCos);
         const Eigen::Vector3d out =
           k + 1 < n ? Eigen::Vector3d((c.centre[k + 1] - c.centre[k]).normalized()) : d;
         for (int j = 0; j < sides; ++j)
@@ -273,7 +287,7 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
           const std::size_t js = static_cast<std::size_t>(j);
           Eigen::Vector3d w = radial[js] - radial[js].dot(d) * d;
           w.normalize();
-          const Eigen::Vector3d offset = c.radii[k] * (w - (w.dot(plane) / denominator) * d);
+          const Eigen::Vector3d offset = c.radii[k] * MitreOffset(w, d, plane);
           put(c.centre[k] + offset, w, around[js], total > 0.0 ? arc[k] / total : 0.0);
           // Across the next segment: the same offset direction without its component along it.
           Eigen::Vector3d next = offset - offset.dot(out) * out;

@@ -102,6 +102,17 @@ std::string CleanTubes(const std::vector<TubeInput>& tubes, int sides, std::vect
 void SetMeshPoint(TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
   double u, double v);
 
+/// A ring's `sides` vertex angles: cos and sin of 2 pi j / sides, and TCoords' u = 1 - |1 - 2j / sides|.
+struct RingAngles
+{
+  explicit RingAngles(int sides);
+  std::vector<double> cosines, sines, around;
+};
+
+/// A mitre ring vertex's offset per unit radius: `w` (unit, across the segment of direction `d` ending at the ring)
+/// moved along `d` onto the ring's bisector plane of unit normal `plane` (the plane's tilt clamped at 85 degrees).
+Eigen::Vector3d MitreOffset(const Eigen::Vector3d& w, const Eigen::Vector3d& d, const Eigen::Vector3d& plane);
+
 /// Builds all tubes (in parallel through `parallel` when given: offsets are computed first, so the result does
 /// not depend on how the range is cut). Returns an empty string or a message (sides out of [3, 256], a tube with
 /// fewer than 2 distinct points, a non-finite point or radius, more than 2^31 - 1 points, a parent index not
