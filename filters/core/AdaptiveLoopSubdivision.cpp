@@ -601,7 +601,8 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
       for (std::size_t v = begin; v < end; ++v)
         VertexNormal(table, normals, static_cast<int>(v), vertexNormal.data() + 3 * v);
     });
-    // Points that never move (feature points under Fixed and Refine, corners under Loop).
+    // Points that never move (feature points under Fixed and Refine, corners under Loop): the estimates, the
+    // limit offsets and the even points all use this.
     const auto pinned = [&](int v) {
       const int f = featureCount[static_cast<std::size_t>(v)];
       return f > 0 && (rule != FeatureRule::Loop || f != 2);
@@ -618,7 +619,7 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
         const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
         const int f = featureCount[vv];
         const double* pv = P + 3 * vv;
-        if (k == 0 || (f > 0 && (rule != FeatureRule::Loop || f != 2)))
+        if (k == 0 || pinned(v))
           continue; // never moves
         if (f == 2)
         {
@@ -852,7 +853,7 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
           next.region[vv] = mesh.region[vv];
         const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
         const int f = featureCount[vv];
-        if (k == 0 || (f > 0 && (rule != FeatureRule::Loop || f != 2)))
+        if (k == 0 || pinned(v))
         {
           writer.Copy(vv, v);
           continue;
