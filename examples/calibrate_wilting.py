@@ -110,15 +110,20 @@ NAMES = [p[0] for p in PARAMETERS]
 START = {p[0]: p[1] for p in PARAMETERS}
 POSITIVE = {p[0]: p[2] for p in PARAMETERS}
 STEP = {p[0]: p[3] for p in PARAMETERS}
+
+
+def require_known(name, option):
+    if name not in START:
+        parser.error("%s: unknown parameter %s (known: %s)" % (option, name, ", ".join(NAMES)))
+
+
 for item in filter(None, arguments.set.split(",")):
     name, value = item.split("=")
-    if name not in START:
-        parser.error("--set: unknown parameter %s (known: %s)" % (name, ", ".join(NAMES)))
+    require_known(name, "--set")
     START[name] = float(value)
 FITTED = NAMES if arguments.fit is None else arguments.fit.split(",")
 for name in FITTED:
-    if name not in START:
-        parser.error("--fit: unknown parameter %s (known: %s)" % (name, ", ".join(NAMES)))
+    require_known(name, "--fit")
 
 measured, paper = [], []
 with open(arguments.csv) as f:
