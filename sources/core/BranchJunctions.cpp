@@ -721,42 +721,12 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
         const RingVertex& r = e.first->points[static_cast<std::size_t>(e.second)].vertex;
         put(r.x, r.normal, r.u, r.v);
       }
-      std::size_t q = 3 * static_cast<std::size_t>(mesh.triangleOffsets[t]);
-      const auto tri = [&](std::int64_t a, std::int64_t b, std::int64_t d) {
-        mesh.triangles[q++] = static_cast<std::int32_t>(a);
-        mesh.triangles[q++] = static_cast<std::int32_t>(b);
-        mesh.triangles[q++] = static_cast<std::int32_t>(d);
-      };
-      const auto ring = [&](std::size_t k, int j) {
-        return firstRing + static_cast<std::int64_t>(k) * sides + (j % sides);
-      };
-      if (L.baseCap)
-        for (int j = 0; j < sides; ++j)
-          tri(baseCentre, ring(0, j), ring(0, j + 1));
-      for (std::size_t k = 0; k + 1 < rings; ++k)
-      {
-        if (!L.bandAfter[k])
-          continue;
-        for (int j = 0; j < sides; ++j)
-        {
-          tri(ring(k, j), ring(k + 1, j), ring(k, j + 1));
-          tri(ring(k, j + 1), ring(k + 1, j), ring(k + 1, j + 1));
-        }
-      }
-      if (L.endKept)
-      {
-        for (int j = 0; j < sides; ++j)
-        {
-          if (s.line.apex)
-            tri(ring(rings - 1, j), last, ring(rings - 1, j + 1));
-          else
-            tri(last, ring(rings - 1, j + 1), ring(rings - 1, j));
-        }
-      }
+      std::size_t q = TubeTriangles(mesh.triangles, 3 * static_cast<std::size_t>(mesh.triangleOffsets[t]), firstRing,
+        rings, sides, baseCentre, last, s.line.apex, &L.bandAfter);
       for (const auto& [J, f] : L.facets)
       {
-        const std::array<long, 3>& v = J->facets[f];
-        tri(pointId(J, v[0]), pointId(J, v[1]), pointId(J, v[2]));
+        for (long v : J->facets[f])
+          mesh.triangles[q++] = static_cast<std::int32_t>(pointId(J, v));
       }
     }
   });

@@ -108,6 +108,44 @@ Eigen::Vector3d MitreOffset(const Eigen::Vector3d& w, const Eigen::Vector3d& d, 
   return w - (w.dot(plane) / denominator) * d;
 }
 
+std::size_t TubeTriangles(std::vector<std::int32_t>& triangles, std::size_t q, std::int64_t firstRing,
+  std::size_t rings, int sides, std::int64_t baseCentre, std::int64_t end, bool apex,
+  const std::vector<char>* bandAfter)
+{
+  const auto tri = [&](std::int64_t a, std::int64_t b, std::int64_t d) {
+    triangles[q++] = static_cast<std::int32_t>(a);
+    triangles[q++] = static_cast<std::int32_t>(b);
+    triangles[q++] = static_cast<std::int32_t>(d);
+  };
+  const auto ring = [&](std::size_t k, int j) {
+    return firstRing + static_cast<std::int64_t>(k) * sides + (j % sides);
+  };
+  if (baseCentre >= 0)
+    for (int j = 0; j < sides; ++j)
+      tri(baseCentre, ring(0, j), ring(0, j + 1));
+  for (std::size_t k = 0; k + 1 < rings; ++k)
+  {
+    if (bandAfter && !(*bandAfter)[k])
+      continue;
+    for (int j = 0; j < sides; ++j)
+    {
+      tri(ring(k, j), ring(k + 1, j), ring(k, j + 1));
+      tri(ring(k, j + 1), ring(k + 1, j), ring(k + 1, j + 1));
+    }
+  }
+  if (end >= 0)
+  {
+    for (int j = 0; j < sides; ++j)
+    {
+      if (apex)
+        tri(ring(rings - 1, j), end, ring(rings - 1, j + 1));
+      else
+        tri(end, ring(rings - 1, j + 1), ring(rings - 1, j));
+    }
+  }
+  return q;
+}
+
 namespace
 {
 using Cleaned = CleanedTube;
@@ -295,32 +333,8 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
         }
       }
       const std::int64_t last = put(c.centre[n - 1], tangents[n - 1], 0.5, 1.0);
-      std::size_t q = 3 * static_cast<std::size_t>(mesh.triangleOffsets[t]);
-      const auto tri = [&](std::int64_t a, std::int64_t b, std::int64_t d) {
-        mesh.triangles[q++] = static_cast<std::int32_t>(a);
-        mesh.triangles[q++] = static_cast<std::int32_t>(b);
-        mesh.triangles[q++] = static_cast<std::int32_t>(d);
-      };
-      const auto ring = [&](std::size_t k, int j) { return firstRing + static_cast<std::int64_t>(k) * sides + (j % sides); };
-      for (int j = 0; j < sides; ++j)
-      {
-        tri(baseCentre, ring(0, j), ring(0, j + 1));
-      }
-      for (std::size_t k = 0; k + 1 < rings; ++k)
-      {
-        for (int j = 0; j < sides; ++j)
-        {
-          tri(ring(k, j), ring(k + 1, j), ring(k, j + 1));
-          tri(ring(k, j + 1), ring(k + 1, j), ring(k + 1, j + 1));
-        }
-      }
-      for (int j = 0; j < sides; ++j)
-      {
-        if (c.apex)
-          tri(ring(rings - 1, j), last, ring(rings - 1, j + 1));
-        else
-          tri(last, ring(rings - 1, j + 1), ring(rings - 1, j));
-      }
+      TubeTriangles(mesh.triangles, 3 * static_cast<std::size_t>(mesh.triangleOffsets[t]), firstRing, rings, sides,
+        baseCentre, last, c.apex);
     }
   });
 

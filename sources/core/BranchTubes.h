@@ -113,6 +113,14 @@ struct RingAngles
 /// moved along `d` onto the ring's bisector plane of unit normal `plane` (the plane's tilt clamped at 85 degrees).
 Eigen::Vector3d MitreOffset(const Eigen::Vector3d& w, const Eigen::Vector3d& d, const Eigen::Vector3d& plane);
 
+/// Writes one tube's triangles into `triangles` from index `q` on: a fan from point `baseCentre` to ring 0 (when
+/// >= 0), the strips between rings k and k + 1 (all, or those with bandAfter[k] when it is given), and a fan from
+/// ring `rings - 1` to point `end` (when >= 0: an apex when `apex`, else the end cap's centre), all facing outwards.
+/// Ring k is the `sides` consecutive point ids from firstRing + k sides. Returns the index after the last written.
+std::size_t TubeTriangles(std::vector<std::int32_t>& triangles, std::size_t q, std::int64_t firstRing,
+  std::size_t rings, int sides, std::int64_t baseCentre, std::int64_t end, bool apex,
+  const std::vector<char>* bandAfter = nullptr);
+
 /// Builds all tubes (in parallel through `parallel` when given: offsets are computed first, so the result does
 /// not depend on how the range is cut). Returns an empty string or a message (sides out of [3, 256], a tube with
 /// fewer than 2 distinct points, a non-finite point or radius, more than 2^31 - 1 points, a parent index not
