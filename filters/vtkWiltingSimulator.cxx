@@ -83,6 +83,7 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
   p.loadTime = f->GetLoadTime();
   p.contractionTime = f->GetContractionTime();
   p.anchorRadius = f->GetAnchorRadius();
+  p.petioleLength = f->GetPetioleLength();
   p.duration = f->GetDuration();
   p.frameInterval = f->GetFrameInterval();
   p.tricubic = f->GetTricubic();
@@ -199,6 +200,7 @@ void vtkWiltingSimulator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CurlRelaxationTime: " << this->CurlRelaxationTime << "\n";
   os << indent << "CurlTime: " << this->CurlTime << "\n";
   os << indent << "ShrinkageTime: " << this->ShrinkageTime << "\n";
+  os << indent << "PetioleLength: " << this->PetioleLength << "\n";
   os << indent << "CurlDirection: " << this->CurlDirection << "\n";
   os << indent << "Solver: " << this->Solver << "\n";
 }

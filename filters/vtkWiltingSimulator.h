@@ -19,6 +19,13 @@
  * interpolation. See plantmorph::WiltingSimulation (filters/core/WiltingSimulation.h) for the model's formulas and
  * the choices made where the spec is silent.
  *
+ * Petiole (PetioleLength > 0; not in the paper): a straight petiole of that length (whole voxels) is added from the
+ * blade's base along -y in the blade's plane, one or two voxels wide and thick, with PetioleMaterial; a stand holds
+ * its far end (the nodes within AnchorRadius of it, at least its end face) instead of the blade's base. The blade
+ * can then sag, roll, yaw and swing on it, as a detached leaf on a stand does; the petiole carries gravity but no
+ * wilting load. It shows in the voxel model (port 1, Region 5), not on port 0. The cucumber fit tried it and does
+ * not use it (docs/wilting-calibration.md "Petiole").
+ *
  * Time: the filter advertises TIME_STEPS (one per frame, every FrameInterval from 0 to Duration) and TIME_RANGE.
  * It simulates once per change of its input or properties, with progress over the whole run and abort honoured,
  * keeps every frame, and serves a requested time from that cache (linear interpolation between the two nearest
@@ -199,6 +206,13 @@ public:
   /** Nodes within this distance of the petiole (or the base) are fixed. Default 3. */
   vtkSetMacro(AnchorRadius, double);
   vtkGetMacro(AnchorRadius, double);
+  /**
+   * Above 0: a petiole of this length (whole voxels) from the blade's base along -y, held at its far end (the
+   * nodes within AnchorRadius of it), so the blade can roll, yaw and pitch on it. 0 (default): none, the blade
+   * held at its base. Range [0, 10000].
+   */
+  vtkSetMacro(PetioleLength, double);
+  vtkGetMacro(PetioleLength, double);
   ///@}
 
   ///@{
@@ -281,6 +295,7 @@ protected:
   double LoadTime = 8.0;
   double ContractionTime = 0.0;
   double AnchorRadius = 3.0;
+  double PetioleLength = 0.0;
   double Duration = 10.0;
   double TimeStep = 1.0 / 60.0;
   double FrameInterval = 0.1;

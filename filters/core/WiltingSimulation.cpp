@@ -104,6 +104,10 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << "AnchorRadius must be >= 0 and finite (got " << p.anchorRadius << ")";
   }
+  else if (!(p.petioleLength >= 0.0 && p.petioleLength <= 1e4))
+  {
+    message << "PetioleLength must be in [0, 10000] (0: no petiole) (got " << p.petioleLength << ")";
+  }
   else if (!(p.duration > 0.0 && p.duration <= 1e4))
   {
     message << "Duration must be in (0, 10000] s (got " << p.duration << ")";
@@ -141,6 +145,27 @@ std::string ValidateWilting(const WiltingParameters& p)
   }
   return message.str();
 }
+
+namespace
+{
+/// The blade's base: the point with the smallest LeafUV v (then the smallest |u|), else the smallest y.
+std::size_t BasePoint(const WiltingInput& input)
+{
+  std::size_t base = 0;
+  for (std::size_t p = 1; p < input.points.size(); ++p)
+  {
+    const bool lower = input.leafUV.empty()
+      ? input.points[p][1] < input.points[base][1]
+      : (input.leafUV[p][1] < input.leafUV[base][1] ||
+          (input.leafUV[p][1] == input.leafUV[base][1] && std::abs(input.leafUV[p][0]) < std::abs(input.leafUV[base][0])));
+    if (lower)
+    {
+      base = p;
+    }
+  }
+  return base;
+}
+} // namespace
 
 double WiltingLoadFactor(WiltingLoadProfile profile, double t, double loadTime)
 {
@@ -185,6 +210,16 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   {
     return error;
   }
+  this->PetioleCells = PetiolePlacement();
+  if (parameters.petioleLength > 0.0)
+  {
+    error = AddPetiole(this->Voxels, input.points[BasePoint(input)], parameters.petioleLength, parameters.maxVoxels,
+      this->PetioleCells);
+    if (!error.empty())
+    {
+      return error;
+    }
+  }
   const VoxelGrid& grid = this->Voxels;
   const double h = grid.h;
   const double ratio = parameters.referenceVoxelSize > 0.0 ? h / parameters.referenceVoxelSize : 1.0;
@@ -222,40 +257,37 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
     }
     this->Springs.AddHexahedron(c);
   }
-  // Anchors.
-  std::vector<std::size_t> anchors;
-  if (!input.regions.empty())
+  // Anchors: the petiole's far end, or the input's petiole points, or the blade's base.
+  const std::size_t base = BasePoint(input);
+  std::vector<Eigen::Vector3d> anchors;
+  std::vector<int> heldNodes; // fixed whatever AnchorRadius is
+  std::size_t firstAnchor = base; // without a petiole: its voxel's nodes are held when AnchorRadius reaches none
+  if (parameters.petioleLength > 0.0)
   {
-    for (std::size_t p = 0; p < input.points.size(); ++p)
+    anchors.push_back(this->PetioleCells.end);
+    heldNodes = this->PetioleCells.endNodes;
+  }
+  else
+  {
+    for (std::size_t p = input.regions.size(); p-- > 0;)
     {
       if (input.regions[p] == 5)
       {
-        anchors.push_back(p);
+        anchors.push_back(input.points[p]);
+        firstAnchor = p;
       }
     }
-  }
-  std::size_t base = 0;
-  for (std::size_t p = 1; p < input.points.size(); ++p)
-  {
-    const bool lower = input.leafUV.empty()
-      ? input.points[p][1] < input.points[base][1]
-      : (input.leafUV[p][1] < input.leafUV[base][1] ||
-          (input.leafUV[p][1] == input.leafUV[base][1] && std::abs(input.leafUV[p][0]) < std::abs(input.leafUV[base][0])));
-    if (lower)
+    if (anchors.empty())
     {
-      base = p;
+      anchors.push_back(input.points[base]);
     }
-  }
-  if (anchors.empty())
-  {
-    anchors.push_back(base);
   }
   std::size_t fixedCount = 0;
   for (std::size_t n = 0; n < grid.nodes.size(); ++n)
   {
-    for (std::size_t p : anchors)
+    for (const Eigen::Vector3d& anchor : anchors)
     {
-      if ((grid.nodes[n] - input.points[p]).norm() <= parameters.anchorRadius)
+      if ((grid.nodes[n] - anchor).norm() <= parameters.anchorRadius)
       {
         this->Springs.SetFixed(static_cast<int>(n), true);
         ++fixedCount;
@@ -268,12 +300,14 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   {
     return error;
   }
-  if (fixedCount == 0)
+  if (heldNodes.empty() && fixedCount == 0)
   {
-    for (int node : grid.corners[static_cast<std::size_t>(this->Embed.Voxels()[anchors[0]])])
-    {
-      this->Springs.SetFixed(node, true);
-    }
+    const auto& held = grid.corners[static_cast<std::size_t>(this->Embed.Voxels()[firstAnchor])];
+    heldNodes.assign(held.begin(), held.end());
+  }
+  for (int node : heldNodes)
+  {
+    this->Springs.SetFixed(node, true);
   }
   error = this->Springs.Finalize();
   if (!error.empty())
@@ -335,14 +369,14 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
       const double offset = centreX - midX;
       towards[0] = std::abs(offset) <= 0.5 * h ? 0.0 : (offset > 0.0 ? -1.0 : 1.0);
     }
-    for (int corner = top ? 4 : 0; corner < (top ? 8 : 4); ++corner)
+    const int material = WiltingMaterialOf(grid.regions[v]);
+    for (int corner = top ? 4 : 0; corner < (top ? 8 : 4) && material != WiltingPetiole; ++corner)
     {
       const std::size_t node = static_cast<std::size_t>(c[static_cast<std::size_t>(corner)]);
       this->ContractionLoad[3 * node + 0] += 0.25 * loadScale * contraction * towards[0];
       this->ContractionLoad[3 * node + 1] += 0.25 * loadScale * contraction * towards[1];
       this->LoadForce[3 * node + 2] -= 0.25 * loadScale * droop;
     }
-    const int material = WiltingMaterialOf(grid.regions[v]);
     const double stiffness = parameters.materials[static_cast<std::size_t>(material)].stiffness * springScale;
     if (parameters.shrinkageStrain != 0.0 && material != WiltingPetiole)
     {

@@ -12,8 +12,17 @@
 // - Anchors: * the input points with Region 5 (petiole), or else the blade's base (the point with the smallest
 //   LeafUV v, or the smallest y without LeafUV); every node within AnchorRadius of one is fixed (at least the
 //   nodes of the base point's voxel).
+// - Petiole (* not in the paper; PetioleLength 0, the default, adds none): a detached leaf on a stand hangs from
+//   its petiole, which bends and twists. PetioleLength > 0 adds a straight petiole of round(PetioleLength / h) >= 1
+//   voxels from the base along -y in the blade's plane, one or two voxels wide and thick (the cells around the
+//   base, AddPetiole), with the Petiole material; the blade's cells on its path become petiole. The stand holds its
+//   far end: the nodes within AnchorRadius of the end's centre, and at least the end face's, are the anchors instead
+//   of those above, so the blade itself is free and can roll, yaw and pitch on the petiole. The petiole carries
+//   gravity but none of the wilting loads, shrinkage or curl (the blade wilts, the petiole holds it), and the
+//   output's surface has none: it shows in the voxel model (Region 5). The blade's voxels are those without a
+//   petiole (the grid grows by whole cells).
 // - Loads at time t (all scaled by LoadFactor(t) except gravity): gravity m g (0, 0, -1) per node; droop: a pull
-//   DroopForce (0, 0, -1) per voxel; contraction: ContractionForce per voxel towards the midvein plane x = x_base
+//   DroopForce (0, 0, -1) per voxel (* not the petiole's, Region 5: the blade wilts); contraction: ContractionForce per voxel towards the midvein plane x = x_base
 //   (* the plane through the base along +Y; voxels whose centre is within h/2 of it get none), or with
 //   ContractionTarget Base towards the base point in the XY plane (voxels within h/2 of it get none), each voxel's
 //   loads split over its four bottom (ContractionSide Bottom: the margin curls down, cucumber) or top (Top: curls up,
@@ -171,6 +180,9 @@ struct WiltingParameters
   /// The contraction's own ramp / sigmoid duration (s); 0: loadTime. * The paper sees the margins change first.
   double contractionTime = 0.0;
   double anchorRadius = 1.0; ///< model units
+  /// > 0: a petiole of this length (model units, whole voxels) from the blade's base along -y, held at its far end
+  /// (AddPetiole); 0: none, the blade held at its base.
+  double petioleLength = 0.0;
   double duration = 10.0;    ///< simulated seconds
   double frameInterval = 0.1;
   bool tricubic = false;
@@ -220,6 +232,8 @@ public:
   const NewmarkIntegrator& Integrator() const { return this->Newmark; }
   int TipPoint() const { return this->Tip; }
   const std::vector<Eigen::Vector3d>& InputPoints() const { return this->Points; }
+  /// The petiole AddPetiole placed (voxels 0 without one).
+  const PetiolePlacement& Petiole() const { return this->PetioleCells; }
   /// The positions of the input points at frame `f`.
   std::vector<Eigen::Vector3d> PointPositions(std::size_t f) const;
   /// The external force (3 per node) at time t.
@@ -233,6 +247,7 @@ private:
   MassSpringSystem Springs;
   WiltingEmbedding Embed;
   NewmarkIntegrator Newmark;
+  PetiolePlacement PetioleCells;
   std::vector<Eigen::Vector3d> Points;
   std::vector<double> GravityForce; // per node
   std::vector<double> LoadForce;    // per node, droop at full load

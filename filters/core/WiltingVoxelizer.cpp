@@ -10,6 +10,15 @@
 namespace plantmorph
 {
 
+namespace
+{
+/// The grid's order of cells and nodes: by (k, j, i).
+bool CellBefore(const std::array<int, 3>& p, const std::array<int, 3>& q)
+{
+  return std::tie(p[2], p[1], p[0]) < std::tie(q[2], q[1], q[0]);
+}
+} // namespace
+
 bool TriangleBoxOverlap(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
   const Eigen::Vector3d& low, const Eigen::Vector3d& high)
 {
@@ -117,6 +126,47 @@ void VoxelGrid::BuildLookup()
     const std::array<int, 3>& c = this->nodeIndex[n];
     this->nodeLookup[(static_cast<std::size_t>(c[2]) * (ny + 1) + static_cast<std::size_t>(c[1])) * (nx + 1) +
       static_cast<std::size_t>(c[0])] = static_cast<int>(n);
+  }
+}
+
+void VoxelGrid::BuildNodes()
+{
+  // Nodes: the corners of kept cells.
+  std::vector<std::array<int, 3>> corners;
+  corners.reserve(8 * this->voxels.size());
+  for (const std::array<int, 3>& v : this->voxels)
+  {
+    for (int dk = 0; dk < 2; ++dk)
+    {
+      for (int dj = 0; dj < 2; ++dj)
+      {
+        for (int di = 0; di < 2; ++di)
+        {
+          corners.push_back({ v[0] + di, v[1] + dj, v[2] + dk });
+        }
+      }
+    }
+  }
+  std::sort(corners.begin(), corners.end(), CellBefore);
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  this->nodeIndex = corners;
+  this->nodes.clear();
+  this->nodes.reserve(corners.size());
+  for (const std::array<int, 3>& c : corners)
+  {
+    this->nodes.push_back(this->origin + this->h * Eigen::Vector3d(c[0], c[1], c[2]));
+  }
+  this->BuildLookup();
+  this->corners.clear();
+  this->corners.reserve(this->voxels.size());
+  for (const std::array<int, 3>& v : this->voxels)
+  {
+    const int i = v[0];
+    const int j = v[1];
+    const int k = v[2];
+    this->corners.push_back({ this->NodeAt(i, j, k), this->NodeAt(i + 1, j, k), this->NodeAt(i + 1, j + 1, k),
+      this->NodeAt(i, j + 1, k), this->NodeAt(i, j, k + 1), this->NodeAt(i + 1, j, k + 1),
+      this->NodeAt(i + 1, j + 1, k + 1), this->NodeAt(i, j + 1, k + 1) });
   }
 }
 
@@ -232,10 +282,7 @@ std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vect
       return message.str();
     }
   }
-  const auto order = [](const std::array<int, 3>& p, const std::array<int, 3>& q) {
-    return std::tie(p[2], p[1], p[0]) < std::tie(q[2], q[1], q[0]);
-  };
-  std::sort(kept.begin(), kept.end(), order);
+  std::sort(kept.begin(), kept.end(), CellBefore);
   kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
   if (kept.size() > options.maxVoxels)
   {
@@ -245,41 +292,7 @@ std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vect
     return message.str();
   }
   grid.voxels = kept;
-  // Nodes: the corners of kept cells.
-  std::vector<std::array<int, 3>> corners;
-  corners.reserve(8 * kept.size());
-  for (const std::array<int, 3>& v : kept)
-  {
-    for (int dk = 0; dk < 2; ++dk)
-    {
-      for (int dj = 0; dj < 2; ++dj)
-      {
-        for (int di = 0; di < 2; ++di)
-        {
-          corners.push_back({ v[0] + di, v[1] + dj, v[2] + dk });
-        }
-      }
-    }
-  }
-  std::sort(corners.begin(), corners.end(), order);
-  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-  grid.nodeIndex = corners;
-  grid.nodes.reserve(corners.size());
-  for (const std::array<int, 3>& c : corners)
-  {
-    grid.nodes.push_back(origin + h * Eigen::Vector3d(c[0], c[1], c[2]));
-  }
-  grid.BuildLookup();
-  grid.corners.reserve(kept.size());
-  for (const std::array<int, 3>& v : kept)
-  {
-    const int i = v[0];
-    const int j = v[1];
-    const int k = v[2];
-    grid.corners.push_back({ grid.NodeAt(i, j, k), grid.NodeAt(i + 1, j, k), grid.NodeAt(i + 1, j + 1, k),
-      grid.NodeAt(i, j + 1, k), grid.NodeAt(i, j, k + 1), grid.NodeAt(i + 1, j, k + 1),
-      grid.NodeAt(i + 1, j + 1, k + 1), grid.NodeAt(i, j + 1, k + 1) });
-  }
+  grid.BuildNodes();
   // Regions: the most significant Region of the points in each voxel (closed cube: a point on a face counts for
   // every voxel sharing it).
   grid.regions.assign(kept.size(), 0);
@@ -313,6 +326,99 @@ std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vect
       }
     }
   }
+  return std::string();
+}
+
+
+std::string AddPetiole(VoxelGrid& grid, const Eigen::Vector3d& base, double length, std::size_t maxVoxels,
+  PetiolePlacement& petiole)
+{
+  petiole = PetiolePlacement();
+  if (!(length > 0.0) || !std::isfinite(length))
+  {
+    return "PetioleLength must be > 0 and finite to add a petiole";
+  }
+  const double h = grid.h;
+  const double rows = std::max(1.0, std::round(length / h));
+  if (rows > 1e6 || grid.voxels.size() + static_cast<std::size_t>(rows) * 4 > maxVoxels)
+  {
+    std::ostringstream message;
+    message << "PetioleLength " << length << " is too long for voxels of " << h << " (more than " << maxVoxels
+            << " voxels)";
+    return message.str();
+  }
+  const int n = static_cast<int>(rows);
+  // The cells whose closed x (z) range holds the base: one, or two when the base lies on a cell face.
+  const auto around = [&](int axis) {
+    const double local = (base[axis] - grid.origin[axis]) / h;
+    const double cell = std::floor(local + 0.5);
+    const int upper = std::clamp(static_cast<int>(std::floor(local)), 0, grid.dims[axis] - 1);
+    if (std::abs(local - cell) <= 1e-6 && cell >= 1.0 && cell <= grid.dims[axis] - 1.0)
+    {
+      return std::array<int, 2>{ static_cast<int>(cell) - 1, static_cast<int>(cell) };
+    }
+    return std::array<int, 2>{ upper, upper };
+  };
+  const std::array<int, 2> columns = around(0);
+  const std::array<int, 2> layers = around(2);
+  const int baseRow = std::clamp(static_cast<int>(std::floor((base[1] - grid.origin[1]) / h)), 0, grid.dims[1] - 1);
+  // Rows baseRow - 1 down to baseRow - n; the grid grows by `shift` rows at its -y end when they leave it.
+  const int shift = std::max(0, n - baseRow);
+  std::vector<std::array<int, 3>> cells;
+  std::vector<int> regions;
+  cells.reserve(grid.voxels.size() + static_cast<std::size_t>(n) * 4);
+  for (std::size_t v = 0; v < grid.voxels.size(); ++v)
+  {
+    const std::array<int, 3>& c = grid.voxels[v];
+    cells.push_back({ c[0], c[1] + shift, c[2] });
+  }
+  std::vector<std::array<int, 3>> added;
+  for (int j = baseRow - n; j < baseRow; ++j)
+  {
+    for (int k = layers[0]; k <= layers[1]; ++k)
+    {
+      for (int i = columns[0]; i <= columns[1]; ++i)
+      {
+        added.push_back({ i, j + shift, k });
+      }
+    }
+  }
+  std::vector<std::array<int, 3>> merged = cells;
+  merged.insert(merged.end(), added.begin(), added.end());
+  std::sort(merged.begin(), merged.end(), CellBefore);
+  merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
+  std::sort(added.begin(), added.end(), CellBefore);
+  // Regions: the blade's cells keep theirs, the petiole's (new or on its path) are petiole (5).
+  std::vector<int> mergedRegions(merged.size(), 5);
+  for (std::size_t v = 0, m = 0; v < cells.size(); ++v)
+  {
+    // cells is sorted (the grid's order, shifted alike), so one forward scan finds each.
+    while (CellBefore(merged[m], cells[v]))
+    {
+      ++m;
+    }
+    if (!std::binary_search(added.begin(), added.end(), cells[v], CellBefore))
+    {
+      mergedRegions[m] = grid.regions[v];
+    }
+  }
+  grid.dims[1] += shift;
+  grid.origin[1] -= shift * h;
+  grid.voxels = std::move(merged);
+  grid.regions = std::move(mergedRegions);
+  grid.BuildNodes();
+  petiole.voxels = static_cast<int>(added.size());
+  petiole.shift = shift;
+  const int endRow = baseRow - n + shift;
+  for (int k = layers[0]; k <= layers[1] + 1; ++k)
+  {
+    for (int i = columns[0]; i <= columns[1] + 1; ++i)
+    {
+      petiole.endNodes.push_back(grid.NodeAt(i, endRow, k));
+    }
+  }
+  petiole.end = Eigen::Vector3d(base[0], grid.origin[1] + h * endRow, base[2]);
+  petiole.length = base[1] - petiole.end[1];
   return std::string();
 }
 

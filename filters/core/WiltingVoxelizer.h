@@ -47,6 +47,9 @@ struct VoxelGrid
   int NodeAt(int i, int j, int k) const;
   /// Fills the lookup tables (called by Voxelize).
   void BuildLookup();
+  /// From `voxels` (sorted by (k, j, i)), `origin` and `h`: the nodes, their indices, the voxels' corners and the
+  /// lookup tables.
+  void BuildNodes();
 
 private:
   std::vector<int> voxelLookup; // dims product, -1 when not kept
@@ -64,5 +67,24 @@ struct VoxelizeOptions
 /// Empty on success, else a message naming the property at fault.
 std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles,
   const std::vector<int>& regions, const VoxelizeOptions& options, VoxelGrid& grid);
+
+
+/// Where AddPetiole put the petiole.
+struct PetiolePlacement
+{
+  int voxels = 0;                                ///< the petiole's cells (new, or the blade's on its path)
+  int shift = 0;                                 ///< rows the grid grew by at its -y end
+  Eigen::Vector3d end = Eigen::Vector3d::Zero(); ///< the centre of its far (cut) end, where a stand holds it
+  double length = 0.0;                           ///< from the base to `end` along y (whole voxels)
+  std::vector<int> endNodes;                     ///< the nodes of its far end face
+};
+
+/// Adds a straight petiole to a voxelised blade: the cells whose closed x and z ranges hold the base point (one or
+/// two of each: two when the base lies on a cell face), in the round(length / h) >= 1 rows below the base's row
+/// (along -y, in the blade's plane), Region 5 (petiole); cells of the blade on that path become petiole. The grid
+/// grows at its -y end when the petiole leaves it (its origin moves by whole cells, so the blade's cells keep their
+/// positions). Empty on success, else a message naming PetioleLength.
+std::string AddPetiole(VoxelGrid& grid, const Eigen::Vector3d& base, double length, std::size_t maxVoxels,
+  PetiolePlacement& petiole);
 
 } // namespace plantmorph

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -102,6 +103,79 @@ TEST(WiltingVoxelizer, FlatLeafIsOneLayerWithSharedNodes)
   }
   EXPECT_EQ(veins, 20) << "the midvein x = 0 lies on the face between two columns: both are vein voxels";
   EXPECT_EQ(margins, 20);
+}
+
+TEST(WiltingVoxelizer, PetioleGrowsTheGridBelowTheBaseAndKeepsTheBlade)
+{
+  const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
+  VoxelizeOptions options;
+  options.resolution = 10;
+  VoxelGrid blade;
+  ASSERT_EQ(Voxelize(in.points, in.triangles, in.regions, options, blade), "");
+  // The base (0, 0, 0) lies on the face between two columns, at the grid's -y end: the petiole is two columns
+  // wide, one layer thick, 3 rows long, and the grid grows by 3 rows.
+  VoxelGrid grid = blade;
+  PetiolePlacement petiole;
+  ASSERT_EQ(AddPetiole(grid, Eigen::Vector3d::Zero(), 2.6, options.maxVoxels, petiole), "");
+  EXPECT_EQ(petiole.voxels, 6);
+  EXPECT_EQ(petiole.shift, 3);
+  EXPECT_EQ(grid.dims[1], blade.dims[1] + 3);
+  EXPECT_NEAR(petiole.length, 3.0, 1e-12) << "2.6 rounds to 3 whole voxels";
+  EXPECT_LT((petiole.end - Eigen::Vector3d(0.0, -3.0, 0.0)).norm(), 1e-12);
+  ASSERT_EQ(grid.voxels.size(), blade.voxels.size() + 6);
+  int petioleCells = 0;
+  for (std::size_t v = 0; v < grid.voxels.size(); ++v)
+  {
+    const Eigen::Vector3d low = grid.origin + grid.h * Eigen::Vector3d(grid.voxels[v][0], grid.voxels[v][1],
+                                                         grid.voxels[v][2]);
+    if (grid.regions[v] == 5)
+    {
+      ++petioleCells;
+      EXPECT_LT(low[1], -0.5) << "petiole cells lie below the base";
+      EXPECT_NEAR(std::abs(low[0] + 0.5), 0.5, 1e-12) << "in the two columns x in [-1, 0] and [0, 1]";
+    }
+    else
+    {
+      // Every blade cell is where it was, with its Region.
+      const int i = static_cast<int>(std::lround((low[0] - blade.origin[0]) / blade.h));
+      const int j = static_cast<int>(std::lround((low[1] - blade.origin[1]) / blade.h));
+      const int k = static_cast<int>(std::lround((low[2] - blade.origin[2]) / blade.h));
+      const int old = blade.VoxelAt(i, j, k);
+      ASSERT_GE(old, 0);
+      EXPECT_LT((blade.origin + blade.h * Eigen::Vector3d(i, j, k) - low).norm(), 1e-12);
+      EXPECT_EQ(grid.regions[v], blade.regions[static_cast<std::size_t>(old)]);
+    }
+    for (int corner : grid.corners[v])
+    {
+      ASSERT_GE(corner, 0) << "every corner is a node";
+    }
+  }
+  EXPECT_EQ(petioleCells, 6);
+  EXPECT_EQ(grid.nodes.size(), blade.nodes.size() + 3u * 2u * 3u) << "3 new node rows of 3 x 2";
+  ASSERT_EQ(petiole.endNodes.size(), 6u) << "the end face: 3 x 2 nodes";
+  for (int node : petiole.endNodes)
+  {
+    EXPECT_NEAR(grid.nodes[static_cast<std::size_t>(node)][1], -3.0, 1e-12);
+  }
+  // A base inside the blade: the cells on the petiole's path become petiole, the grid keeps its size; a base in a
+  // column's middle gives a one-column petiole.
+  grid = blade;
+  ASSERT_EQ(AddPetiole(grid, Eigen::Vector3d(0.5, 2.5, 0.0), 2.0, options.maxVoxels, petiole), "");
+  EXPECT_EQ(petiole.shift, 0);
+  EXPECT_EQ(petiole.voxels, 2);
+  EXPECT_EQ(grid.voxels.size(), blade.voxels.size());
+  EXPECT_EQ(std::count(grid.regions.begin(), grid.regions.end(), 5), 2);
+  ASSERT_GE(grid.VoxelAt(2, 0, 0), 0);
+  ASSERT_GE(grid.VoxelAt(2, 1, 0), 0);
+  EXPECT_EQ(grid.regions[static_cast<std::size_t>(grid.VoxelAt(2, 0, 0))], 5);
+  EXPECT_EQ(grid.regions[static_cast<std::size_t>(grid.VoxelAt(2, 1, 0))], 5);
+  EXPECT_EQ(grid.regions[static_cast<std::size_t>(grid.VoxelAt(2, 2, 0))], blade.regions[static_cast<std::size_t>(
+                                                                            blade.VoxelAt(2, 2, 0))]);
+  EXPECT_EQ(petiole.endNodes.size(), 4u);
+  EXPECT_NE(AddPetiole(grid, Eigen::Vector3d::Zero(), std::nan(""), options.maxVoxels, petiole).find("PetioleLength"),
+    std::string::npos);
+  EXPECT_NE(AddPetiole(grid, Eigen::Vector3d::Zero(), 1e9, options.maxVoxels, petiole).find("PetioleLength"),
+    std::string::npos);
 }
 
 TEST(WiltingEmbedding, ExactAtRestAndForAffineMotion)
@@ -436,6 +510,71 @@ TEST(WiltingSimulation, AsymmetryMovesTheTipSidewaysAndItsMirrorMirrors)
   EXPECT_NEAR(tip[2][0], -tip[1][0], 1e-9) << "-a: the mirror image";
   EXPECT_NEAR(tip[2][1], tip[1][1], 1e-9);
   EXPECT_NEAR(tip[2][2], tip[1][2], 1e-9);
+}
+
+TEST(WiltingSimulation, PetioleHoldsTheBladeAtItsEndAndLetsItRoll)
+{
+  // The symmetric rectangle on a 2 cm petiole one voxel wide (the base x = 0 is the middle column's centre), held
+  // by its end face only (AnchorRadius 0). Uneven droop (DroopAsymmetry 0.5) twists the petiole: the blade rolls
+  // +x side down while it is still nearly flat, which a blade held at its base cannot do.
+  const WiltingInput in = Rectangle(4.5, 10.0, 8, 20);
+  WiltingParameters p = AsymmetryCase();
+  p.contractionForce = 0.0;
+  p.droopForce = 6.0;
+  p.loadProfile = WiltingLoadProfile::Ramp;
+  p.loadTime = 1.0;
+  p.materials[WiltingPetiole] = { 0.05, 5000.0, 0.0 };
+  p.petioleLength = 2.0;
+  p.anchorRadius = 0.0;
+  const int rowAt = 5 * 9; // the input points' row v = 0.25: its -x and +x corners are rowAt and rowAt + 8
+  double roll[2] = { 0.0, 0.0 };
+  Eigen::Vector3d tip[3];
+  const double asymmetry[3] = { 0.0, 0.5, -0.5 };
+  for (int k = 0; k < 3; ++k)
+  {
+    p.droopAsymmetry = asymmetry[k];
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(in, p), "");
+    EXPECT_EQ(simulation.Petiole().voxels, 2);
+    std::size_t fixed = 0;
+    for (std::size_t n = 0; n < simulation.System().NodeCount(); ++n)
+    {
+      fixed += simulation.System().IsFixed(n) ? 1 : 0;
+    }
+    EXPECT_EQ(fixed, 4u) << "only the end face is held";
+    ASSERT_EQ(simulation.Run(), "");
+    const std::vector<WiltingFrame>& frames = simulation.Frames();
+    for (int node : simulation.Petiole().endNodes)
+    {
+      EXPECT_EQ(frames.back().q[3 * static_cast<std::size_t>(node) + 2], 0.0);
+    }
+    const std::vector<Eigen::Vector3d> x = simulation.PointPositions(1);
+    if (k == 0)
+    {
+      EXPECT_LT(x[4][2], -1e-3) << "the base itself drops: the petiole bends";
+      EXPECT_NEAR(frames.back().tip[0], 0.0, 1e-9) << "symmetric loads keep the tip on the midvein";
+    }
+    if (k == 1)
+    {
+      roll[0] = x[rowAt + 8][2] - x[rowAt][2];
+    }
+    tip[k] = frames.back().tip;
+  }
+  EXPECT_NEAR(tip[2][0], -tip[1][0], 1e-9) << "-a: the mirror image";
+  EXPECT_NEAR(tip[2][2], tip[1][2], 1e-9);
+  // The same leaf held at its base (no petiole, AnchorRadius 1.5 as the other tests).
+  p.petioleLength = 0.0;
+  p.anchorRadius = 1.5;
+  p.droopAsymmetry = 0.5;
+  WiltingSimulation held;
+  ASSERT_EQ(held.Setup(in, p), "");
+  ASSERT_EQ(held.Run(), "");
+  const std::vector<Eigen::Vector3d> x = held.PointPositions(1);
+  roll[1] = x[rowAt + 8][2] - x[rowAt][2];
+  EXPECT_LT(roll[0], -0.05) << "on a petiole the +x side drops";
+  EXPECT_LT(roll[0], 3.0 * roll[1]) << "three times more than held at the base (" << roll[0] << " vs " << roll[1] << ")";
+  p.petioleLength = -1.0;
+  EXPECT_NE(ValidateWilting(p).find("PetioleLength must be in [0, 10000]"), std::string::npos);
 }
 
 TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSideways)

@@ -415,6 +415,47 @@ TEST(vtkWiltingSimulator, DroopAsymmetryTiltsTheLeafAndItsMirrorTiltsItBack)
   EXPECT_NEAR(rightZ[1], leftZ[2], 1e-9);
 }
 
+TEST(vtkWiltingSimulator, PetioleShowsInTheVoxelModelAndHoldsTheLeafAtItsEnd)
+{
+  // A 3 cm petiole below the plate's base (0, 0, 0): two columns of 1 cm voxels (the base lies on the face between
+  // them), 3 rows, Region 5 in the voxel model; only its end face (y = -3) is Fixed, the base itself drops.
+  auto plate = Plate();
+  auto wilt = Simulator(plate);
+  wilt->SetPetioleMaterial(0.02, 50000.0, 0.0);
+  wilt->SetPetioleLength(3.0);
+  wilt->SetAnchorRadius(0.0);
+  vtkPolyData* leaf = LeafAt(wilt, 1.0);
+  ASSERT_EQ(leaf->GetNumberOfPoints(), plate->GetNumberOfPoints()) << "the leaf output has no petiole";
+  auto* grid = vtkUnstructuredGrid::SafeDownCast(wilt->GetOutputDataObject(1));
+  ASSERT_NE(grid, nullptr);
+  vtkDataArray* region = grid->GetCellData()->GetArray(plantmorph::arrays::Region);
+  ASSERT_NE(region, nullptr);
+  int petiole = 0;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    petiole += region->GetTuple1(c) == plantmorph::RegionPetiole ? 1 : 0;
+  }
+  EXPECT_EQ(petiole, 6);
+  vtkDataArray* fixed = grid->GetPointData()->GetArray("Fixed");
+  vtkDataArray* displacement = grid->GetPointData()->GetArray("Displacement");
+  ASSERT_NE(fixed, nullptr);
+  ASSERT_NE(displacement, nullptr);
+  int held = 0;
+  for (vtkIdType p = 0; p < grid->GetNumberOfPoints(); ++p)
+  {
+    if (fixed->GetTuple1(p) != 0.0)
+    {
+      ++held;
+      double x[3];
+      grid->GetPoint(p, x);
+      EXPECT_NEAR(x[1] - displacement->GetComponent(p, 1), -3.0, 1e-9) << "the end face, at rest";
+      EXPECT_EQ(displacement->GetComponent(p, 2), 0.0);
+    }
+  }
+  EXPECT_EQ(held, 6) << "3 x 2 nodes of the end face";
+  EXPECT_LT(leaf->GetPoint(4)[2], -1e-3) << "the base (0, 0, 0) drops: it hangs on the petiole";
+}
+
 TEST(vtkWiltingSimulator, ErrorsNameThePropertyAndEmptyEveryOutput)
 {
   auto plate = Plate();
@@ -434,6 +475,7 @@ TEST(vtkWiltingSimulator, ErrorsNameThePropertyAndEmptyEveryOutput)
     { "CurlDirection", [](vtkWiltingSimulator* w) { w->SetCurlDirection(2); } },
     { "CurlRelaxation", [](vtkWiltingSimulator* w) { w->SetCurlRelaxation(-0.1); } },
     { "ShrinkageTime", [](vtkWiltingSimulator* w) { w->SetShrinkageTime(std::nan("")); } },
+    { "PetioleLength", [](vtkWiltingSimulator* w) { w->SetPetioleLength(-2.0); } },
     { "TimeStep", [](vtkWiltingSimulator* w) { w->SetTimeStep(std::nan("")); } },
     { "BladeDensity", [](vtkWiltingSimulator* w) { w->SetBladeMaterial(0.0, 1000.0, 0.0); } },
   };
