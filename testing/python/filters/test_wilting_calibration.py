@@ -3,10 +3,13 @@
 
 The pipeline of examples/calibrate_wilting.py --evaluate-preset: the cucumber blade of the measured size (20.1 x
 22.1 cm) -> palmate veins -> WiltingSimulator, Cucumber preset, at the settings it was fitted at (Resolution 14,
-AnchorRadius 3, TimeStep 1/60 s, one Newton iteration, 10 s in frames of 0.1 s). Checked: the per-sample
-time-monotone and closest-sample errors and the direction difference are the documented ones (to 0.02 cm and 0.2
-deg: the solver may change the last digits), and the goals the preset meets stay met: mean below the paper's
-1.96 cm, direction below 3 deg, and the samples documented as better than the paper's stay better. 10-50 s (load)."""
+AnchorRadius 3, TimeStep 1/60 s, one Newton iteration, 10 s in frames of 0.1 s), the simulated track compared as
+it is and turned about the vertical through the petiole-blade junction by the documented yaw (the leaf's azimuth
+in the digitiser's frame, which the CSV does not give; calibrate_wilting.py --yaw fits it). Checked: the
+per-sample time-monotone and closest-sample errors and the direction difference are the documented ones (to 0.02
+cm and 0.2 deg: the solver may change the last digits), and the goals the preset meets stay met: mean below the
+paper's 1.96 cm, direction below 3 deg, and the samples documented as better than the paper's stay better; with
+the yaw: every sample below the paper's, mean below 1 cm. 10-50 s (load)."""
 import csv
 import math
 import os
@@ -23,15 +26,15 @@ checks = Checks()
 
 DATA = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..", "shared",
                                      "data"))
-PAPER = (1.76, 0.69, 2.52, 1.89, 2.92)  # the paper's per-sample errors (cm)
 # The preset's documented numbers (docs/wilting-calibration.md, examples/calibrate_wilting.py --evaluate-preset).
-EXPECTED_MONOTONE = (0.50, 1.48, 1.97, 0.41, 0.59)
-EXPECTED_CLOSEST = (0.50, 1.48, 1.97, 0.41, 0.59)
-EXPECTED_ANGLE = 1.32  # deg, monotone matching
+# (yaw in degrees, monotone errors, closest errors, direction difference in degrees) as it is and turned by the yaw.
+EXPECTED = ((0.0, (0.47, 1.59, 2.05, 0.62, 0.74), (0.47, 1.59, 2.05, 0.62, 0.74), 0.94),
+            (3.33, (1.41, 0.63, 1.48, 0.57, 0.85), (1.41, 0.63, 1.48, 0.57, 0.85), 2.49))
 
 with open(os.path.join(DATA, "cucumber-wilting-tip.csv")) as f:
     rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
 measured = [tuple(float(r["measured_" + c]) for c in "xyz") for r in rows]
+paper = [tuple(float(r["paper_sim_" + c]) for c in "xyz") for r in rows]
 
 
 def distance(a, b):
@@ -59,6 +62,10 @@ def monotone(track):
     return list(reversed(picks))
 
 
+# The paper's per-sample errors (cm) from its own simulated tips: 1.7649, 0.6888, 2.5221, 1.8918, 2.9155.
+PAPER = [distance(p, m) for p, m in zip(paper, measured)]
+
+
 def angle(a0, a1, b0, b1):
     u = [q - p for p, q in zip(a0, a1)]
     v = [q - p for p, q in zip(b0, b1)]
@@ -75,23 +82,32 @@ table = servermanager.Fetch(wilt, idx=2)
 checks.check(table is not None and table.GetNumberOfRows() == 101, "101 frames to 10 s (no blow-up)")
 if table is not None and table.GetNumberOfRows() == 101:
     columns = [table.GetColumnByName(n) for n in ("TipX", "TipY", "TipZ")]
-    track = [tuple(c.GetValue(i) for c in columns) for i in range(table.GetNumberOfRows())]
-    picks = monotone(track)
-    mono = [distance(track[i], m) for i, m in zip(picks, measured)]
-    near = [min(distance(t, m) for t in track) for m in measured]
-    checks.check(picks == sorted(picks), "monotone frames in time order: %s" % picks)
-    for k in range(len(measured)):
-        checks.check(abs(mono[k] - EXPECTED_MONOTONE[k]) < 0.02, "sample %d: monotone %.3f cm, documented %.2f" % (
-            k + 1, mono[k], EXPECTED_MONOTONE[k]))
-        checks.check(abs(near[k] - EXPECTED_CLOSEST[k]) < 0.02, "sample %d: closest %.3f cm, documented %.2f" % (
-            k + 1, near[k], EXPECTED_CLOSEST[k]))
-        checks.check(near[k] <= mono[k] + 1e-12, "sample %d: the closest frame is at least as close" % (k + 1))
-        if EXPECTED_MONOTONE[k] < PAPER[k]:
-            checks.check(mono[k] < PAPER[k], "sample %d: better than the paper's %.2f cm" % (k + 1, PAPER[k]))
-    mean = sum(mono) / len(mono)
-    checks.check(mean < 1.96, "mean monotone error %.3f cm below the paper's 1.96 cm" % mean)
-    checks.check(abs(mean - sum(EXPECTED_MONOTONE) / 5.0) < 0.02, "mean %.3f cm as documented" % mean)
-    direction = angle(measured[0], measured[-1], track[picks[0]], track[picks[-1]])
-    checks.check(direction < 3.0 and abs(direction - EXPECTED_ANGLE) < 0.2,
-                 "direction difference %.2f deg (documented %.2f, goal < 3)" % (direction, EXPECTED_ANGLE))
+    raw = [tuple(c.GetValue(i) for c in columns) for i in range(table.GetNumberOfRows())]
+    for yaw, expected_monotone, expected_closest, expected_angle in EXPECTED:
+        c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+        track = [(c * x - s * y, s * x + c * y, z) for x, y, z in raw]
+        picks = monotone(track)
+        mono = [distance(track[i], m) for i, m in zip(picks, measured)]
+        near = [min(distance(t, m) for t in track) for m in measured]
+        label = "yaw %.2f deg" % yaw
+        checks.check(picks == sorted(picks), "%s: monotone frames in time order: %s" % (label, picks))
+        for k in range(len(measured)):
+            checks.check(abs(mono[k] - expected_monotone[k]) < 0.02, "%s, sample %d: monotone %.3f cm, documented "
+                         "%.2f" % (label, k + 1, mono[k], expected_monotone[k]))
+            checks.check(abs(near[k] - expected_closest[k]) < 0.02, "%s, sample %d: closest %.3f cm, documented %.2f"
+                         % (label, k + 1, near[k], expected_closest[k]))
+            checks.check(near[k] <= mono[k] + 1e-12, "%s, sample %d: the closest frame is at least as close" % (
+                label, k + 1))
+            if expected_monotone[k] < PAPER[k]:
+                checks.check(mono[k] < PAPER[k], "%s, sample %d: %.3f cm, better than the paper's %.4f cm" % (
+                    label, k + 1, mono[k], PAPER[k]))
+        mean = sum(mono) / len(mono)
+        checks.check(mean < 1.96, "%s: mean monotone error %.3f cm below the paper's 1.96 cm" % (label, mean))
+        checks.check(abs(mean - sum(expected_monotone) / 5.0) < 0.02, "%s: mean %.4f cm as documented" % (label, mean))
+        if sum(expected_monotone) / 5.0 < 1.0:
+            checks.check(mean < 1.0, "%s: mean %.3f cm below 1 cm" % (label, mean))
+        direction = angle(measured[0], measured[-1], track[picks[0]], track[picks[-1]])
+        checks.check(direction < 3.0 and abs(direction - expected_angle) < 0.2,
+                     "%s: direction difference %.2f deg (documented %.2f, goal < 3)" % (label, direction,
+                                                                                        expected_angle))
 checks.finish()
