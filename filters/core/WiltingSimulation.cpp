@@ -210,10 +210,11 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   {
     return error;
   }
+  const std::size_t base = BasePoint(input);
   this->PetioleCells = PetiolePlacement();
   if (parameters.petioleLength > 0.0)
   {
-    error = AddPetiole(this->Voxels, input.points[BasePoint(input)], parameters.petioleLength, parameters.maxVoxels,
+    error = AddPetiole(this->Voxels, input.points[base], parameters.petioleLength, parameters.maxVoxels,
       this->PetioleCells);
     if (!error.empty())
     {
@@ -258,7 +259,6 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
     this->Springs.AddHexahedron(c);
   }
   // Anchors: the petiole's far end, or the input's petiole points, or the blade's base.
-  const std::size_t base = BasePoint(input);
   std::vector<Eigen::Vector3d> anchors;
   std::vector<int> heldNodes; // fixed whatever AnchorRadius is
   std::size_t firstAnchor = base; // without a petiole: its voxel's nodes are held when AnchorRadius reaches none
