@@ -269,12 +269,12 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   }
   else
   {
-    for (std::size_t p = input.regions.size(); p-- > 0;)
+    for (std::size_t p = 0; p < input.regions.size(); ++p)
     {
       if (input.regions[p] == 5)
       {
+        firstAnchor = anchors.empty() ? p : firstAnchor;
         anchors.push_back(input.points[p]);
-        firstAnchor = p;
       }
     }
     if (anchors.empty())

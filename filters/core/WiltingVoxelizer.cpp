@@ -329,7 +329,6 @@ std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vect
   return std::string();
 }
 
-
 std::string AddPetiole(VoxelGrid& grid, const Eigen::Vector3d& base, double length, std::size_t maxVoxels,
   PetiolePlacement& petiole)
 {
@@ -364,14 +363,8 @@ std::string AddPetiole(VoxelGrid& grid, const Eigen::Vector3d& base, double leng
   const int baseRow = std::clamp(static_cast<int>(std::floor((base[1] - grid.origin[1]) / h)), 0, grid.dims[1] - 1);
   // Rows baseRow - 1 down to baseRow - n; the grid grows by `shift` rows at its -y end when they leave it.
   const int shift = std::max(0, n - baseRow);
-  std::vector<std::array<int, 3>> cells;
-  std::vector<int> regions;
-  cells.reserve(grid.voxels.size() + static_cast<std::size_t>(n) * 4);
-  for (std::size_t v = 0; v < grid.voxels.size(); ++v)
-  {
-    const std::array<int, 3>& c = grid.voxels[v];
-    cells.push_back({ c[0], c[1] + shift, c[2] });
-  }
+  const std::vector<std::array<int, 3>> blade = std::move(grid.voxels);
+  const std::vector<int> bladeRegions = std::move(grid.regions);
   std::vector<std::array<int, 3>> added;
   for (int j = baseRow - n; j < baseRow; ++j)
   {
@@ -383,30 +376,29 @@ std::string AddPetiole(VoxelGrid& grid, const Eigen::Vector3d& base, double leng
       }
     }
   }
-  std::vector<std::array<int, 3>> merged = cells;
-  merged.insert(merged.end(), added.begin(), added.end());
-  std::sort(merged.begin(), merged.end(), CellBefore);
-  merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
-  std::sort(added.begin(), added.end(), CellBefore);
-  // Regions: the blade's cells keep theirs, the petiole's (new or on its path) are petiole (5).
-  std::vector<int> mergedRegions(merged.size(), 5);
-  for (std::size_t v = 0, m = 0; v < cells.size(); ++v)
+  grid.voxels.clear();
+  grid.voxels.reserve(blade.size() + added.size());
+  for (const std::array<int, 3>& c : blade)
   {
-    // cells is sorted (the grid's order, shifted alike), so one forward scan finds each.
-    while (CellBefore(merged[m], cells[v]))
-    {
-      ++m;
-    }
-    if (!std::binary_search(added.begin(), added.end(), cells[v], CellBefore))
-    {
-      mergedRegions[m] = grid.regions[v];
-    }
+    grid.voxels.push_back({ c[0], c[1] + shift, c[2] });
   }
+  grid.voxels.insert(grid.voxels.end(), added.begin(), added.end());
+  std::sort(grid.voxels.begin(), grid.voxels.end(), CellBefore);
+  grid.voxels.erase(std::unique(grid.voxels.begin(), grid.voxels.end()), grid.voxels.end());
   grid.dims[1] += shift;
   grid.origin[1] -= shift * h;
-  grid.voxels = std::move(merged);
-  grid.regions = std::move(mergedRegions);
   grid.BuildNodes();
+  // Regions: the blade's cells keep theirs, the petiole's (new or on its path) are petiole (5).
+  grid.regions.assign(grid.voxels.size(), 5);
+  for (std::size_t v = 0; v < blade.size(); ++v)
+  {
+    grid.regions[static_cast<std::size_t>(grid.VoxelAt(blade[v][0], blade[v][1] + shift, blade[v][2]))] =
+      bladeRegions[v];
+  }
+  for (const std::array<int, 3>& c : added)
+  {
+    grid.regions[static_cast<std::size_t>(grid.VoxelAt(c[0], c[1], c[2]))] = 5;
+  }
   petiole.voxels = static_cast<int>(added.size());
   petiole.shift = shift;
   const int endRow = baseRow - n + shift;

@@ -68,7 +68,6 @@ struct VoxelizeOptions
 std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles,
   const std::vector<int>& regions, const VoxelizeOptions& options, VoxelGrid& grid);
 
-
 /// Where AddPetiole put the petiole.
 struct PetiolePlacement
 {
