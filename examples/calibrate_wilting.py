@@ -198,18 +198,12 @@ def turned(track, degrees):
     return [(c * x - s * y, s * x + c * y, z) for x, y, z in track]
 
 
-def monotone_error(track, targets):
-    picks = monotone(track, targets)
-    return sum(distance(track[i], m) for i, m in zip(picks, targets)) / len(targets)
-
-
-def best_yaw(track, targets, score=None):
-    """The yaw in [-10, 10] deg minimising `score(turned track)` (default: the monotone error), or 0 without --yaw."""
+def best_yaw(track, score):
+    """The yaw in [-10, 10] deg minimising `score(turned track)`, --yaw-angle, or 0 without --yaw."""
     if not arguments.yaw:
         return 0.0
     if arguments.yaw_angle is not None:
         return arguments.yaw_angle
-    score = score or (lambda t: monotone_error(t, targets))
     lo, hi = -10.0, 10.0  # golden-section search over the yaw angle
     g = (math.sqrt(5.0) - 1.0) / 2.0
     a, b = hi - g * (hi - lo), lo + g * (hi - lo)
@@ -308,11 +302,11 @@ def objective_for(targets):
 
     def score(t):
         """The mean time-monotone error, plus --beat-paper times each sample's excess over the paper's."""
-        value = monotone_error(t, targets)
+        picks = monotone(t, targets)
+        errors = [distance(t[i], m) for i, m in zip(picks, targets)]
+        value = sum(errors) / len(targets)
         if arguments.beat_paper > 0.0 and bounds:
-            picks = monotone(t, targets)
-            value += arguments.beat_paper * sum(max(0.0, distance(t[i], m) - b + arguments.margin)
-                                                for i, m, b in zip(picks, targets, bounds))
+            value += arguments.beat_paper * sum(max(0.0, e - b + arguments.margin) for e, b in zip(errors, bounds))
             if arguments.max_angle is not None and len(targets) == len(measured):
                 excess = angle(targets[0], targets[-1], t[picks[0]], t[picks[-1]]) - arguments.max_angle
                 value += arguments.beat_paper * 0.1 * max(0.0, excess)
@@ -322,7 +316,7 @@ def objective_for(targets):
         track = simulate(x)
         if not track:
             return 1e9
-        value = score(turned(track, best_yaw(track, targets, score)))
+        value = score(turned(track, best_yaw(track, score)))
         if os.environ.get("CALIBRATE_WILTING_TRACK"):
             print("    run %d: %.4f %s" % (runs[0], value, describe(values_of(x))), flush=True)
         return value
@@ -376,7 +370,7 @@ def report(track, title):
         for i in range(0, len(track), 2):
             print("  track t=%.1f (%.2f, %.2f, %.2f) |tip| %.2f" % ((i * SETTINGS["FrameInterval"],) + tuple(track[i]) +
                                                                (distance(track[i], (0, 0, 0)),)))
-    yaw = best_yaw(track, measured, objective_for(measured).score)
+    yaw = best_yaw(track, objective_for(measured).score)
     print("\n%s" % title)
     variants = [("raw (yaw 0)", track)]
     if arguments.yaw:
@@ -436,7 +430,7 @@ if arguments.leave_one_out and not arguments.evaluate_preset:
         if not track:
             print("  without sample %d: the refit blew up" % (k + 1))
             continue
-        yaw = best_yaw(track, targets, fold.score)  # the fold's own yaw (0 without --yaw)
+        yaw = best_yaw(track, fold.score)  # the fold's own yaw (0 without --yaw)
         track = turned(track, yaw)
         mono = monotone(track, measured)
         error = distance(track[mono[k]], measured[k])
