@@ -100,7 +100,7 @@ SETTINGS = dict(Resolution=14, Duration=10.0, FrameInterval=0.1, TimeStep=1.0 / 
 if arguments.frame_interval:
     SETTINGS["FrameInterval"] = arguments.frame_interval
 
-# name, start value (the Cucumber preset's, filters/core/WiltingPresets.cpp), positive (fitted as a logarithm),
+# name, start value (the Cucumber preset's, wilting/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
     ("DroopForce", 27613.0, True, 1.0),

@@ -3,7 +3,7 @@ docs/proxy-pages.json) and the table of the properties its panel shows, read fro
 the page never disagrees with the panel's tooltips. Run by the build (paraview_plugin/CMakeLists.txt) into the help
 folder ParaView compiles.
 
-    python3 write_proxy_help_pages.py --xml-dir xml --pages docs/proxy-pages.json --out build/.../paraview_help
+    python3 write_proxy_help_pages.py --xml-dir leaf/vtk tree/vtk ... --pages docs/proxy-pages.json --out build/.../paraview_help
 """
 import argparse
 import html
@@ -31,11 +31,12 @@ PAGE = """<html>
 """
 
 
-def proxies(xml_dir):
-    """(group, proxy element) of every proxy in the XML files."""
-    for file_name in sorted(os.listdir(xml_dir)):
-        if file_name.endswith(".xml"):
-            root = ElementTree.parse(os.path.join(xml_dir, file_name)).getroot()
+def proxies(xml_dirs):
+    """(group, proxy element) of every proxy in the XML files of the folders, in order of file name."""
+    files = sorted((name, os.path.join(d, name)) for d in xml_dirs for name in os.listdir(d) if name.endswith(".xml"))
+    for _, path in files:
+        if True:
+            root = ElementTree.parse(path).getroot()
             for group in root.iter("ProxyGroup"):
                 for proxy in group:
                     if proxy.get("name"):
@@ -57,7 +58,7 @@ def property_rows(proxy):
 
 def main():
     parser = argparse.ArgumentParser()
-    parser.add_argument("--xml-dir", required=True)
+    parser.add_argument("--xml-dir", required=True, nargs="+", help="the folders holding the proxy XML")
     parser.add_argument("--pages", required=True, help="docs/proxy-pages.json")
     parser.add_argument("--out", required=True)
     arguments = parser.parse_args()

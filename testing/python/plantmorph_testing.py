@@ -15,6 +15,8 @@ def parse_arguments(extra=None):
     parser.add_argument("--work", required=True, help="folder for files the test writes")
     for name, kwargs in (extra or []):
         parser.add_argument(name, **kwargs)
+    if not any(name == "--pvpython" for name, _ in (extra or [])):
+        parser.add_argument("--pvpython", default=None, help="pvpython for reloading state files (default: PATH's)")
     arguments = parser.parse_args()
     os.makedirs(arguments.work, exist_ok=True)
     return arguments

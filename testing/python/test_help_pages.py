@@ -4,7 +4,7 @@ ParaView builds one help page per proxy from the server-manager XML, but splits 
 unbalanced square bracket in any proxy's documentation (a half-open range such as "(0, 1]") silently merges every
 later page into the one before. This test catches that.
 
-    python3 test_help_pages.py --xml-dir xml --help-dir build/paraview_plugin/paraview_help
+    python3 test_help_pages.py --xml-dir leaf/vtk tree/vtk ... --help-dir build/paraview_plugin/paraview_help
 """
 import argparse
 import os
@@ -12,17 +12,17 @@ import sys
 import xml.etree.ElementTree as ElementTree
 
 parser = argparse.ArgumentParser()
-parser.add_argument("--xml-dir", required=True)
+parser.add_argument("--xml-dir", required=True, nargs="+", help="the folders holding the proxy XML")
 parser.add_argument("--help-dir", required=True)
 arguments = parser.parse_args()
 
 failures = []
 expected = []
 proxies = {}  # name -> the properties its panel shows
-for name in sorted(os.listdir(arguments.xml_dir)):
+for name, path in sorted((n, os.path.join(d, n)) for d in arguments.xml_dir for n in os.listdir(d)):
     if not name.endswith(".xml"):
         continue
-    root = ElementTree.parse(os.path.join(arguments.xml_dir, name)).getroot()
+    root = ElementTree.parse(path).getroot()
     for group in root.iter("ProxyGroup"):
         for proxy in group:
             if proxy.get("name"):

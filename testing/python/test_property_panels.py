@@ -6,7 +6,7 @@
   gear button shows them), so the default panel shows what most users change;
 - every numeric property a user types has a range domain (the panel then rejects or clamps nonsense).
 
-    python3 test_property_panels.py --xml-dir xml
+    python3 test_property_panels.py --xml-dir leaf/vtk tree/vtk ...
 """
 import argparse
 import os
@@ -14,15 +14,15 @@ import sys
 import xml.etree.ElementTree as ElementTree
 
 parser = argparse.ArgumentParser()
-parser.add_argument("--xml-dir", required=True)
+parser.add_argument("--xml-dir", required=True, nargs="+", help="the folders holding the proxy XML")
 arguments = parser.parse_args()
 
 failures = []
 proxies = 0
-for name in sorted(os.listdir(arguments.xml_dir)):
+for name, path in sorted((n, os.path.join(d, n)) for d in arguments.xml_dir for n in os.listdir(d)):
     if not name.endswith(".xml"):
         continue
-    root = ElementTree.parse(os.path.join(arguments.xml_dir, name)).getroot()
+    root = ElementTree.parse(path).getroot()
     for proxy in root.iter("SourceProxy"):
         proxies += 1
         label = "%s (%s)" % (proxy.get("name"), name)

@@ -1,0 +1,70 @@
+/**
+ * @class   vtkLeafCloudReader
+ * @brief   Reads a measured leaf point cloud from a delimited text file (x, y, z [, nx, ny, nz [, r, g, b
+ *          [, scalar ...]]]) as vtkPolyData, keeping its normals and colours (spec 06; shared/data/leaf-clouds).
+ *
+ * The format is the one of the leaf scans in shared/data/leaf-clouds (Ando, Ozasa, Guo 2021): one point per line,
+ * numbers separated by commas, semicolons, spaces or tabs. Blank lines and lines starting with '#' or '//' are
+ * skipped; so is a first line that is not numeric (a header). Every data line must have the same number of columns,
+ * at least 3. Columns by position:
+ * - 0-2: x, y, z, stored as double precision points (the file's values exactly, no float rounding);
+ * - 3-5: the normal, point array `Normals` (double x3, set as the active normals, as in the file: not re-normalised);
+ * - 6-8: the colour, point array `Colors` (unsigned char x3, set as the active scalars so ParaView shows the scan's
+ *   own colours with Map Scalars off): values all within [0, 1] in the file are taken as fractions and scaled by
+ *   255 and rounded, otherwise as 0-255 values (clamped); the file's values are also kept as `RGB` (double x3);
+ * - 9: `Scalar` (double), the files' unnamed tenth column;
+ * - further columns: `Column10`, `Column11`, ... (double).
+ * Files with 4 or 5 columns keep the columns after z as `Column3`, `Column4`; 7 or 8 columns keep 6, 7 the same way.
+ *
+ * Each point gets one vertex cell (so ParaView draws it). Units are the file's (the soybean scans are in mm: set
+ * CloudComparisonFilter's Scale to 0.1 to compare them with a model in cm). Field data `PlantMorph.SourceFile`
+ * holds the file name.
+ *
+ * Output port 1 is the same file as a vtkTable, every column a double array named by the header line (a first
+ * non-numeric line with one comma-, semicolon- or tab-separated name per column) or Column0, Column1, ... This reads
+ * comma-separated tables with '#' comment lines, which ParaView 5.11's CSV reader cannot skip, such as
+ * shared/data/cucumber-wilting-tip.csv (columns sample, measured_x, ..., paper_sim_z), for
+ * TrajectoryComparisonFilter.
+ *
+ * Errors (vtkErrorMacro naming FileName and the line, and an empty output): no FileName, a file that cannot be
+ * opened, no data line, a non-numeric or non-finite value, a line with a different number of columns than the first.
+ */
+#ifndef vtkLeafCloudReader_h
+#define vtkLeafCloudReader_h
+
+#include "PlantMorphComparisonVTKModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <string>
+
+class PLANTMORPHCOMPARISONVTK_EXPORT vtkLeafCloudReader : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkLeafCloudReader* New();
+  vtkTypeMacro(vtkLeafCloudReader, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /** The text file to read. */
+  vtkSetStringMacro(FileName);
+  vtkGetStringMacro(FileName);
+  ///@}
+
+  /** 1 if the file's first data line has 3 or more numeric columns (for ParaView's reader choice). */
+  int CanReadFile(const char* name);
+
+protected:
+  vtkLeafCloudReader();
+  ~vtkLeafCloudReader() override;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  char* FileName = nullptr;
+
+private:
+  vtkLeafCloudReader(const vtkLeafCloudReader&) = delete;
+  void operator=(const vtkLeafCloudReader&) = delete;
+};
+
+#endif

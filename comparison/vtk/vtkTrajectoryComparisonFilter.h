@@ -1,0 +1,86 @@
+/**
+ * @class   vtkTrajectoryComparisonFilter
+ * @brief   Compares a measured trajectory (a leaf tip's positions over time) with a simulated one: matched samples,
+ *          distances and their components, mean and maximum, and the angle between the motion directions
+ *          (spec 06, "TrajectoryComparisonFilter"; paper 001 sec. 3, Table 1).
+ *
+ * Input port 0, **Measured**, and input port 1, **Simulated**: each a vtkTable (e.g. a CSV file read by ParaView's
+ * CSV reader, such as shared/data/cucumber-wilting-tip.csv) or a vtkPointSet (e.g. WiltingSimulator's tip
+ * trajectory, or Table To Points' output). From a table the x, y, z columns named by MeasuredColumns /
+ * SimulatedColumns are read (any numeric type); from a point set, its points. Samples are taken in row (point)
+ * order, which must be time order. An optional time column or point array named TimeColumn is carried into the
+ * output (it does not enter the matching).
+ *
+ * Matchings (plantmorph::CompareTrajectories, comparison/core/TrajectoryMatching.h):
+ * - Closest sample (paper 001's): each measured sample to the nearest simulated sample, independently.
+ * - Time-monotone: strictly increasing simulated indices minimising the summed distance (dynamic programming). It
+ *   needs at least as many simulated as measured samples and at most 2*10^7 measured x simulated pairs; otherwise
+ *   only the closest-sample columns are written, with a warning.
+ *
+ * Output port 0, one row per measured sample: `Sample`, `MeasuredX/Y/Z`, (`MeasuredTime`), then for each matching
+ * (prefix `Closest` and `Monotone`): `...Index` (the simulated row), (`...Time`), `...X/Y/Z` (the simulated
+ * position), `...Distance`, `...DX/DY/DZ` (simulated minus measured; paper 001 prints their absolute values).
+ * Output port 1, one summary row: `MeasuredSamples`, `SimulatedSamples`, and per matching `...MeanDistance`,
+ * `...MaxDistance`, `...DirectionAngle` (degrees between the measured last-minus-first direction and the matched
+ * simulated last-minus-first direction; on paper 001's Table 1, 6.1 degrees, where the paper prints 19.1 which its
+ * own unit vectors do not give). The summary is also written to port 0's field data.
+ *
+ * Errors (vtkErrorMacro naming the input, column or property, and EMPTY outputs, never a crash): a missing input,
+ * a table without the named column (the available ones are listed) or with a non-numeric one, no samples, a
+ * non-finite coordinate.
+ */
+#ifndef vtkTrajectoryComparisonFilter_h
+#define vtkTrajectoryComparisonFilter_h
+
+#include "PlantMorphComparisonVTKModule.h" // for export macro
+#include "vtkTableAlgorithm.h"
+
+#include <string>
+
+class PLANTMORPHCOMPARISONVTK_EXPORT vtkTrajectoryComparisonFilter : public vtkTableAlgorithm
+{
+public:
+  static vtkTrajectoryComparisonFilter* New();
+  vtkTypeMacro(vtkTrajectoryComparisonFilter, vtkTableAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// The simulated trajectory, input port 1.
+  void SetSimulatedConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+  void SetSimulatedData(vtkDataObject* data) { this->SetInputData(1, data); }
+
+  ///@{
+  /** Names of the measured table's x, y, z columns. Default "x", "y", "z". Ignored for a point set. */
+  void SetMeasuredColumns(const char* x, const char* y, const char* z);
+  const std::string& GetMeasuredColumn(int i) const { return this->MeasuredColumns[i]; }
+  ///@}
+
+  ///@{
+  /** Names of the simulated table's x, y, z columns. Default "x", "y", "z". Ignored for a point set. */
+  void SetSimulatedColumns(const char* x, const char* y, const char* z);
+  const std::string& GetSimulatedColumn(int i) const { return this->SimulatedColumns[i]; }
+  ///@}
+
+  ///@{
+  /** Optional time column (table) or point array (point set), looked up in both inputs; empty or absent: none.
+   * Default "time". */
+  void SetTimeColumn(const char* name);
+  const char* GetTimeColumn() const { return this->TimeColumn.c_str(); }
+  ///@}
+
+protected:
+  vtkTrajectoryComparisonFilter();
+  ~vtkTrajectoryComparisonFilter() override = default;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  std::string MeasuredColumns[3] = { "x", "y", "z" };
+  std::string SimulatedColumns[3] = { "x", "y", "z" };
+  std::string TimeColumn = "time";
+
+private:
+  vtkTrajectoryComparisonFilter(const vtkTrajectoryComparisonFilter&) = delete;
+  void operator=(const vtkTrajectoryComparisonFilter&) = delete;
+};
+
+#endif

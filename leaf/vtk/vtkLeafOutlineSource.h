@@ -1,0 +1,374 @@
+/**
+ * @class   vtkLeafOutlineSource
+ * @brief   A leaf blade and its outline from the published outline models (spec 01).
+ *
+ * Output port 0, **Blade**: the flat triangulated blade (XY plane, base at the origin, midvein along +Y, normals
+ * +Z) with point arrays `LeafUV` (double x2, the point's (u, v) on the canonical leaf), `TCoords` (float x2,
+ * paper 003 eq. (6), the active texture coordinates), `Region` (int: 1 midvein, 4 margin, 0 elsewhere),
+ * `Normals` (active normals), and cell array `Region` (0). Output port 1, **Outline**: three polylines, left margin,
+ * right margin and midvein, each from the base to the apex, with cell `Region` 4, 4, 1 and the same point arrays
+ * (palmate leaves: then each further lobe's midvein, base to its tip, `Region` 1).
+ * Both outputs carry the parameters as field data (`PlantMorph.Model`, `PlantMorph.Preset`, `PlantMorph.Terms`...),
+ * so a saved file says how it was made.
+ *
+ * Model A, the deformed rectangle (paper 000 eq. (1)): the rectangle u in [-0.5, 0.5],
+ * v in [0, 1] mapped by a sum of sinusoid terms (see plantmorph::DeformedRectangleModel for the term rows). A
+ * `Preset` other than Custom supplies the terms and the width; `Length` always sets the size. The blade is meshed
+ * with CGAL's constrained Delaunay triangulation with the midvein as a constraint (`MeshQuality` 0: the paper's
+ * plain triangulation of the samples; 1: Delaunay refinement of the interior to a 20.7 degree minimum angle and
+ * edges about the midvein spacing, never splitting margin or midvein). The midvein's two end points (base and
+ * apex) are Region 1: the vein owns them.
+ *
+ * Model B, the space curve (paper 002): a half-margin integrated from the Frenet-Serret equations with the chosen
+ * curvature and torsion functions, mirrored in the symmetry plane (Opening), the midvein from its projection, and
+ * quad strips from margin to midvein split into triangles (see plantmorph::BuildSpaceCurveLeaf). With torsion or
+ * Opening the blade is 3-D; its normals are area-weighted vertex normals. `Lobes` 3 or 5 builds the palmate leaf of
+ * paper 002 Fig. 8: the union of lobes, each a scaled and turned copy starting on the previous lobe's margin, meshed
+ * as one blade by CGAL with every lobe's midvein as a feature line (see plantmorph::BuildPalmateLeaf).
+ *
+ * The source generates the whole leaf as piece 0 and leaves other pieces empty, so it appears once under MPI.
+ * Bad parameters produce an error naming the property and its accepted range, and empty outputs.
+ */
+#ifndef vtkLeafOutlineSource_h
+#define vtkLeafOutlineSource_h
+
+#include "PlantMorphLeafVTKModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <string> // for error messages
+#include <vector> // for the term list
+
+class vtkFieldData;
+class vtkPolyData;
+namespace plantmorph
+{
+struct LeafGeometry;
+struct LeafMeshSettings;
+}
+
+class PLANTMORPHLEAFVTK_EXPORT vtkLeafOutlineSource : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkLeafOutlineSource* New();
+  vtkTypeMacro(vtkLeafOutlineSource, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum ModelType
+  {
+    DEFORMED_RECTANGLE = 0,
+    SPACE_CURVE = 1,
+    B_SPLINE = 2
+  };
+
+  ///@{
+  /**
+   * Outline model: DEFORMED_RECTANGLE (0, paper 000; properties Preset ... Asymmetry), SPACE_CURVE (1, paper
+   * 002; properties SpaceCurvePreset ... StripColumns) or B_SPLINE (2, paper 003; properties BSplinePreset ...
+   * RightMarginPoints). Default: deformed rectangle.
+   */
+  vtkSetMacro(Model, int);
+  vtkGetMacro(Model, int);
+  ///@}
+
+  ///@{
+  /**
+   * Preset (plantmorph::DeformedRectanglePreset): 0 Custom (Width and Terms as given), 1 Ginkgo (eq. (1)),
+   * 2 Entire, 3 Serrate, 4 Lobed, 5 Parted (Fig. 1), 6 acute base/acute apex, 7 rounded/acuminate,
+   * 8 cordate/rounded, 9 acuminate/emarginate (Fig. 2). Default: Ginkgo.
+   */
+  vtkSetMacro(Preset, int);
+  vtkGetMacro(Preset, int);
+  ///@}
+
+  ///@{
+  /**
+   * b_y: height of the initial rectangle, in model units (cm for the presets). Range (0, 1e6]. Default 5.
+   */
+  vtkSetMacro(Length, double);
+  vtkGetMacro(Length, double);
+  ///@}
+
+  ///@{
+  /**
+   * a_x: width of the initial rectangle (Custom preset only; presets fix their own proportion). Range [0, 1e6].
+   * Default 5.5 (the ginkgo fan's 1.1 * Length).
+   */
+  vtkSetMacro(Width, double);
+  vtkGetMacro(Width, double);
+  ///@}
+
+  ///@{
+  /**
+   * Sinusoid terms (Custom preset only), rows of seven numbers [Target (0 x, 1 y), Scale (0 Width, 1 Length),
+   * Amplitude, Multiplier (0: 1, 1: u, 2: v, 3: u*v), Frequency, Variable (0 u, 1 v), Phase (radians)], each adding
+   * Amplitude * Scale * Multiplier * sin(Frequency * pi * Variable + Phase) to x or y.
+   */
+  void ClearTerms();
+  void AddTerm(double target, double scale, double amplitude, double multiplier, double frequency, double variable,
+    double phase);
+  int GetNumberOfTerms() const { return static_cast<int>(this->Terms.size() / 7); }
+  ///@}
+
+  ///@{
+  /**
+   * Bending: adds Bending * Length * v^2 to x, bending the midvein sideways. Range [-10, 10]. Default 0.
+   */
+  vtkSetMacro(Bending, double);
+  vtkGetMacro(Bending, double);
+  ///@}
+
+  ///@{
+  /**
+   * Asymmetry: widens the right half by (1 + Asymmetry) and narrows the left by (1 - Asymmetry), smoothly, keeping
+   * the midvein. Range (-1, 1). Default 0.
+   */
+  vtkSetMacro(Asymmetry, double);
+  vtkGetMacro(Asymmetry, double);
+  ///@}
+
+  ///@{
+  /**
+   * Number of segments along the midvein; the margins are sampled at the same spacing, and quality mode keeps
+   * every edge no longer than it. Range [2, 4000]. Default 60.
+   */
+  vtkSetMacro(Resolution, int);
+  vtkGetMacro(Resolution, int);
+  ///@}
+
+  ///@{
+  /**
+   * 0: paper mode, the plain constrained Delaunay triangulation of the samples. 1 (default): quality mode, CGAL
+   * Delaunay refinement of the interior (minimum angle about 20.7 degrees, edges up to the midvein spacing, up to
+   * 1.5 times that next to the outline). Margin and midvein are never split: their vertices are exactly the
+   * samples in both modes, so the Outline port is exactly the blade's boundary and feature line.
+   */
+  vtkSetMacro(MeshQuality, int);
+  vtkGetMacro(MeshQuality, int);
+  ///@}
+
+  ///@{
+  /**
+   * Most vertices quality refinement may create before it stops with an error (a memory guard). Default 2e7.
+   */
+  vtkSetMacro(MaxVertices, int);
+  vtkGetMacro(MaxVertices, int);
+  ///@}
+
+  ///@{
+  /**
+   * Space-curve model (paper 002). SpaceCurvePreset: 0 Custom (the Curvature*, Torsion* and Midvein* properties),
+   * 1-6 paper 002 Figs. 1-6, 7 and 8 Fig. 8's palmate 3- and 5-lobed leaves (plantmorph::SpaceCurvePreset); a preset sets the curvature, torsion and midvein
+   * stretches, and CurveLength, Opening, InitialAngle, IntegrationMethod, Resolution and StripColumns still apply.
+   * CurveLength is the half-margin's arc length S; the Mu/Eta properties are peak times S, so changing S alone
+   * grows a similar leaf. See plantmorph::CurvatureFamily for the families and their parameters.
+   */
+  vtkSetMacro(SpaceCurvePreset, int);
+  vtkGetMacro(SpaceCurvePreset, int);
+  vtkSetMacro(CurveLength, double);
+  vtkGetMacro(CurveLength, double);
+  vtkSetMacro(CurvatureFunction, int);
+  vtkGetMacro(CurvatureFunction, int);
+  vtkSetMacro(CurvatureMu, double);
+  vtkGetMacro(CurvatureMu, double);
+  vtkSetMacro(CurvatureLambda, double);
+  vtkGetMacro(CurvatureLambda, double);
+  vtkSetMacro(CurvatureN1, double);
+  vtkGetMacro(CurvatureN1, double);
+  vtkSetMacro(CurvatureN2, double);
+  vtkGetMacro(CurvatureN2, double);
+  vtkSetMacro(CurvatureB1, double);
+  vtkGetMacro(CurvatureB1, double);
+  vtkSetMacro(CurvatureU3, double);
+  vtkGetMacro(CurvatureU3, double);
+  vtkSetMacro(CurvatureBeta, double);
+  vtkGetMacro(CurvatureBeta, double);
+  vtkSetMacro(CurvatureAlpha4, double);
+  vtkGetMacro(CurvatureAlpha4, double);
+  vtkSetMacro(CurvatureLambda2, double);
+  vtkGetMacro(CurvatureLambda2, double);
+  vtkSetMacro(TorsionFunction, int);
+  vtkGetMacro(TorsionFunction, int);
+  vtkSetMacro(TorsionEta, double);
+  vtkGetMacro(TorsionEta, double);
+  vtkSetMacro(TorsionLambda, double);
+  vtkGetMacro(TorsionLambda, double);
+  vtkSetMacro(TorsionN1, double);
+  vtkGetMacro(TorsionN1, double);
+  vtkSetMacro(TorsionN2, double);
+  vtkGetMacro(TorsionN2, double);
+  vtkSetMacro(TorsionB1, double);
+  vtkGetMacro(TorsionB1, double);
+  vtkSetMacro(TorsionU3, double);
+  vtkGetMacro(TorsionU3, double);
+  vtkSetMacro(TorsionBeta, double);
+  vtkGetMacro(TorsionBeta, double);
+  vtkSetMacro(TorsionAlpha4, double);
+  vtkGetMacro(TorsionAlpha4, double);
+  vtkSetMacro(TorsionLambda2, double);
+  vtkGetMacro(TorsionLambda2, double);
+  vtkSetMacro(Opening, double);
+  vtkGetMacro(Opening, double);
+  vtkSetMacro(MidveinStretchZ, double);
+  vtkGetMacro(MidveinStretchZ, double);
+  vtkSetMacro(MidveinStretchXY, double);
+  vtkGetMacro(MidveinStretchXY, double);
+  vtkSetMacro(InitialAngle, double);
+  vtkGetMacro(InitialAngle, double);
+  vtkSetMacro(IntegrationMethod, int);
+  vtkGetMacro(IntegrationMethod, int);
+  vtkSetMacro(StripColumns, int);
+  vtkGetMacro(StripColumns, int);
+  ///@}
+
+  ///@{
+  /**
+   * Palmate leaves of the space-curve model (paper 002 sec. 4, Fig. 8; plantmorph::BuildPalmateLeaf). Lobes: 1 (a
+   * simple leaf), 3 or 5. With Custom curvature these apply; the Fig. 8 presets set them. LobeStart (0, 1): where a
+   * lobe starts on the previous lobe's half-margin, as an arc-length fraction. LobeAngle (0, 90] degrees: how much
+   * further out a lobe's initial tangent turns. LobeScale (0, 1.5]: a lobe's size relative to the previous one.
+   * Palmate blades are flat (TorsionEta 0, Opening 0) and meshed with CGAL (MeshQuality applies, not
+   * StripColumns); every lobe's midvein is a Region 1 feature line and a polyline of the Outline port.
+   */
+  vtkSetMacro(Lobes, int);
+  vtkGetMacro(Lobes, int);
+  vtkSetMacro(LobeStart, double);
+  vtkGetMacro(LobeStart, double);
+  vtkSetMacro(LobeAngle, double);
+  vtkGetMacro(LobeAngle, double);
+  vtkSetMacro(LobeScale, double);
+  vtkGetMacro(LobeScale, double);
+  ///@}
+
+  ///@{
+  /**
+   * B-spline model (paper 003). BSplinePreset: 0 Custom (MidveinPoints, LeftMarginPoints, RightMarginPoints),
+   * 1 Elliptic (ControlPointCount points per margin), 2 Cucumber, 3 Pin oak (plantmorph::BSplinePreset), 4 the
+   * ControlPoints input's polylines; the
+   * presets sized by BladeLength (along +Y) and BladeWidth. Control points are x, y, z triples; the curves pass
+   * through them; margins that do not start at the midvein's first point (the base) or end at its last (the apex)
+   * get them added. Curves out of a plane are meshed in their least-squares plane and the blade lifted onto
+   * them (see plantmorph::BuildBSplineLeaf). MeshQuality applies as for the deformed rectangle.
+   *
+   * Input port 0 (optional, "ControlPoints"), used only when BSplinePreset is 4 ("ControlPoints input"; the
+   * spec puts the input first, but pvpython and the GUI connect the active pipeline object to a new source's
+   * input on their own, so using it only on request keeps a preset from silently turning into someone else's
+   * polylines): polylines, either labelled by a cell array `Region` (the first Region 1 cell is the
+   * midvein, the first two Region 4 cells the margins, told left from right by their side of the midvein) or,
+   * unlabelled, exactly three polylines in the order the Outline port writes them: left margin, right margin,
+   * midvein. A margin drawn from the apex to the base is reversed. So a traced set of polylines, or another
+   * LeafOutlineSource's Outline, drives the leaf.
+   */
+  vtkSetMacro(BSplinePreset, int);
+  vtkGetMacro(BSplinePreset, int);
+  vtkSetMacro(BladeLength, double);
+  vtkGetMacro(BladeLength, double);
+  vtkSetMacro(BladeWidth, double);
+  vtkGetMacro(BladeWidth, double);
+  vtkSetMacro(ControlPointCount, int);
+  vtkGetMacro(ControlPointCount, int);
+  void ClearMidveinPoints();
+  void AddMidveinPoint(double x, double y, double z);
+  void ClearLeftMarginPoints();
+  void AddLeftMarginPoint(double x, double y, double z);
+  void ClearRightMarginPoints();
+  void AddRightMarginPoint(double x, double y, double z);
+  ///@}
+
+  ///@{
+  /**
+   * Growth over time. With Growth on, the source advertises GrowthTimeSteps time values from 0 to 1 (the growth
+   * fraction; ParaView's animation plays them) and at time t outputs the leaf scaled by
+   * s = GrowthInitialScale + (1 - GrowthInitialScale) * t: deformed rectangle: Length (and Width for the Custom
+   * preset) times s, the shape fixed (a similar leaf); space curve: CurveLength times s with Mu and Eta held, the
+   * paper's similarity (except the exponential family with its fixed U3, which turns as it grows); B-spline: the
+   * control points scaled about the base (presets: BladeLength and BladeWidth scaled). Requests
+   * between or beyond the time values are clamped to [0, 1]. Defaults: off, 11 steps, initial scale 0.2.
+   */
+  vtkSetMacro(Growth, int);
+  vtkGetMacro(Growth, int);
+  vtkBooleanMacro(Growth, int);
+  vtkSetMacro(GrowthTimeSteps, int);
+  vtkGetMacro(GrowthTimeSteps, int);
+  vtkSetMacro(GrowthInitialScale, double);
+  vtkGetMacro(GrowthInitialScale, double);
+  ///@}
+
+protected:
+  vtkLeafOutlineSource();
+  ~vtkLeafOutlineSource() override = default;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Model = DEFORMED_RECTANGLE;
+  int Preset = 1;
+  double Length = 5.0;
+  double Width = 5.5;
+  std::vector<double> Terms;
+  double Bending = 0.0;
+  double Asymmetry = 0.0;
+  int Resolution = 60;
+  int MeshQuality = 1;
+  int MaxVertices = 20000000;
+
+  // Space-curve model, defaults: paper 002 Fig. 1.
+  int SpaceCurvePreset = 1;
+  double CurveLength = 5.0;
+  int CurvatureFunction = 1;
+  double CurvatureMu = 2.0;
+  double CurvatureLambda = 0.7;
+  double CurvatureN1 = 1.0;
+  double CurvatureN2 = 1.0;
+  double CurvatureB1 = 0.001;
+  double CurvatureU3 = 0.001;
+  double CurvatureBeta = 2.0;
+  double CurvatureAlpha4 = 0.3;
+  double CurvatureLambda2 = 0.5;
+  int TorsionFunction = 1;
+  double TorsionEta = 0.0;
+  double TorsionLambda = 0.7;
+  double TorsionN1 = 1.0;
+  double TorsionN2 = 1.0;
+  double TorsionB1 = 0.001;
+  double TorsionU3 = 0.001;
+  double TorsionBeta = 2.0;
+  double TorsionAlpha4 = 0.3;
+  double TorsionLambda2 = 0.5;
+  double Opening = 0.0;
+  double MidveinStretchZ = 1.0;
+  double MidveinStretchXY = 0.0;
+  double InitialAngle = -45.0;
+  int IntegrationMethod = 1;
+  int StripColumns = 6;
+  int Lobes = 1;
+  double LobeStart = 0.2;
+  double LobeAngle = 45.0;
+  double LobeScale = 0.85;
+
+  int BSplinePreset = 2;
+  double BladeLength = 8.0;
+  double BladeWidth = 7.0;
+  int ControlPointCount = 7;
+  std::vector<double> MidveinPoints;
+  std::vector<double> LeftMarginPoints;
+  std::vector<double> RightMarginPoints;
+
+  int Growth = 0;
+  int GrowthTimeSteps = 11;
+  double GrowthInitialScale = 0.2;
+
+private:
+  /// Builds the chosen model's leaf and describes its parameters as field data; returns an error message or "".
+  std::string BuildLeaf(
+    plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale, vtkPolyData* controlPoints);
+  /// Mesh settings of the CGAL-meshed models (Resolution, MeshQuality, MaxVertices, progress and abort).
+  std::string MeshSettings(plantmorph::LeafMeshSettings& settings);
+  /// Empty when the growth properties are valid, else the message.
+  std::string ValidateGrowth() const;
+
+  vtkLeafOutlineSource(const vtkLeafOutlineSource&) = delete;
+  void operator=(const vtkLeafOutlineSource&) = delete;
+};
+
+#endif

@@ -1,0 +1,143 @@
+// CloudStatistics (comparison/core): closed forms on small sets (mean, population std, RMS^2 = mean^2 + std^2,
+// numpy-type-7 percentiles), the outlier cut-off, NaN handling, and histograms that count every kept value once.
+#include "CloudStatistics.h"
+
+#include <plantmorph/RandomStream.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+namespace plantmorph
+{
+namespace
+{
+TEST(CloudStatistics, ClosedFormsOnOneToTen)
+{
+  std::vector<double> d(10);
+  std::iota(d.begin(), d.end(), 1.0); // 1..10
+  const DistanceStatistics s = ComputeDistanceStatistics(d.data(), d.size());
+  EXPECT_EQ(s.count, 10u);
+  EXPECT_EQ(s.outliers, 0u);
+  EXPECT_EQ(s.minimum, 1.0);
+  EXPECT_EQ(s.maximum, 10.0);
+  EXPECT_DOUBLE_EQ(s.mean, 5.5);
+  EXPECT_DOUBLE_EQ(s.standardDeviation, std::sqrt(8.25)); // population: (n^2 - 1) / 12
+  EXPECT_DOUBLE_EQ(s.rms, std::sqrt(38.5));               // (n + 1)(2n + 1) / 6
+  // numpy.percentile([1..10], p): 5.5, 7.12, 7.75, 9.55, 9.91
+  EXPECT_DOUBLE_EQ(s.p50, 5.5);
+  EXPECT_NEAR(s.p68, 7.12, 1e-12);
+  EXPECT_DOUBLE_EQ(s.p75, 7.75);
+  EXPECT_NEAR(s.p95, 9.55, 1e-12);
+  EXPECT_NEAR(s.p99, 9.91, 1e-12);
+}
+
+TEST(CloudStatistics, RmsSquaredIsMeanSquaredPlusVarianceOnRandomData)
+{
+  RandomStream random(1);
+  std::vector<double> d(10001);
+  for (double& x : d)
+  {
+    x = std::fabs(random.Normal(0.3, 1.0));
+  }
+  const DistanceStatistics s = ComputeDistanceStatistics(d.data(), d.size());
+  EXPECT_NEAR(s.rms * s.rms, s.mean * s.mean + s.standardDeviation * s.standardDeviation, 1e-12);
+  std::vector<double> sorted = d;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(s.p50, sorted[5000]); // odd count: the middle value
+  EXPECT_LE(s.p50, s.p68);
+  EXPECT_LE(s.p68, s.p75);
+  EXPECT_LE(s.p75, s.p95);
+  EXPECT_LE(s.p95, s.p99);
+  EXPECT_LE(s.p99, s.maximum);
+}
+
+TEST(CloudStatistics, PercentilesEqualThoseOfAFullSortForEveryCount)
+{
+  // The percentiles come from nth_element on the ranks they need; they must be the values a full sort gives, for
+  // every small count (ranks that coincide, n = 1, 2) and with many ties.
+  RandomStream random(9);
+  for (std::size_t n = 1; n <= 300; n += (n < 40 ? 1 : 37))
+  {
+    for (const bool ties : { false, true })
+    {
+      std::vector<double> d(n);
+      for (double& x : d)
+      {
+        x = ties ? std::floor(random.Uniform(0.0, 4.0)) : random.Uniform(0.0, 2.0);
+      }
+      const DistanceStatistics s = ComputeDistanceStatistics(d.data(), d.size());
+      std::vector<double> sorted = d;
+      std::sort(sorted.begin(), sorted.end());
+      ASSERT_EQ(s.minimum, sorted.front()) << n;
+      ASSERT_EQ(s.maximum, sorted.back()) << n;
+      ASSERT_EQ(s.p50, SortedPercentile(sorted, 50.0)) << n;
+      ASSERT_EQ(s.p68, SortedPercentile(sorted, 68.0)) << n;
+      ASSERT_EQ(s.p75, SortedPercentile(sorted, 75.0)) << n;
+      ASSERT_EQ(s.p95, SortedPercentile(sorted, 95.0)) << n;
+      ASSERT_EQ(s.p99, SortedPercentile(sorted, 99.0)) << n;
+    }
+  }
+}
+
+TEST(CloudStatistics, CutOffAndNaN)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> d = { 0.5, 1.0, nan, 7.0, 1.5, 100.0 };
+  const DistanceStatistics s = ComputeDistanceStatistics(d.data(), d.size(), 5.0);
+  EXPECT_EQ(s.count, 3u);
+  EXPECT_EQ(s.outliers, 2u);
+  EXPECT_EQ(s.invalid, 1u);
+  EXPECT_DOUBLE_EQ(s.mean, 1.0);
+  EXPECT_EQ(s.maximum, 1.5);
+  const DistanceStatistics all = ComputeDistanceStatistics(d.data(), d.size());
+  EXPECT_EQ(all.count, 5u);
+  EXPECT_EQ(all.maximum, 100.0);
+  const DistanceStatistics none = ComputeDistanceStatistics(d.data(), 0);
+  EXPECT_EQ(none.count, 0u);
+  EXPECT_EQ(none.mean, 0.0);
+}
+
+TEST(CloudStatistics, HistogramCountsEveryKeptValueOnce)
+{
+  RandomStream random(2);
+  std::vector<double> d(5000);
+  for (double& x : d)
+  {
+    x = random.Uniform(0.0, 3.0);
+  }
+  d[17] = 10.0; // an outlier under the cut-off below
+  for (std::size_t bins : { 1u, 7u, 64u })
+  {
+    const DistanceHistogram h = ComputeDistanceHistogram(d.data(), d.size(), bins, 5.0);
+    ASSERT_EQ(h.count.size(), bins);
+    EXPECT_EQ(std::accumulate(h.count.begin(), h.count.end(), std::size_t{ 0 }), 4999u);
+    EXPECT_LE(h.binEnd.back(), 3.0);
+    for (std::size_t b = 0; b + 1 < bins; ++b)
+    {
+      EXPECT_DOUBLE_EQ(h.binEnd[b], h.binStart[b + 1]);
+    }
+    // Brute-force count of one bin.
+    const std::size_t b = bins / 2;
+    std::size_t expected = 0;
+    for (double x : d)
+    {
+      if (x <= 5.0 && x >= h.binStart[b] && (x < h.binEnd[b] || (b + 1 == bins && x <= h.binEnd[b])))
+      {
+        ++expected;
+      }
+    }
+    EXPECT_EQ(h.count[b], expected);
+  }
+  const std::vector<double> same(10, 2.0);
+  const DistanceHistogram flat = ComputeDistanceHistogram(same.data(), same.size(), 4);
+  EXPECT_EQ(flat.count[0], 10u);
+  EXPECT_TRUE(ComputeDistanceHistogram(same.data(), same.size(), 4, 1.0).count.empty());
+}
+
+} // namespace
+} // namespace plantmorph

@@ -1,0 +1,240 @@
+// RigidRegistration (comparison/core): Umeyama recovers a known similarity from exact pairs; ICP recovers a known rigid
+// transform (and a rigid transform with scale) of a cloud sampled from a curved, asymmetric leaf surface; the
+// landmark subset is reproducible from the seed; bad settings are refused.
+#include "RigidRegistration.h"
+
+#include "DeformedRectangleLeaf.h"
+#include "DeformedRectanglePresets.h"
+
+#include <plantmorph/RandomStream.h>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <vector>
+
+namespace plantmorph
+{
+namespace
+{
+struct Surface
+{
+  std::vector<double> points;
+  std::vector<std::int64_t> triangles;
+};
+
+/// The ginkgo blade bent into an asymmetric dome (no symmetry ICP could slide along).
+Surface CurvedBlade()
+{
+  LeafMeshSettings settings;
+  settings.resolution = 40;
+  LeafGeometry leaf;
+  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings,
+              leaf),
+    "");
+  Surface s;
+  for (const auto& p : leaf.blade.points)
+  {
+    const double z = 0.4 * std::sin(0.9 * p.x() + 0.3) * std::cos(0.5 * p.y()) + 0.08 * p.x() * p.x() + 0.05 * p.y();
+    s.points.insert(s.points.end(), { p.x(), p.y(), z });
+  }
+  for (const auto& t : leaf.blade.triangles)
+  {
+    s.triangles.insert(s.triangles.end(), { t[0], t[1], t[2] });
+  }
+  return s;
+}
+
+std::vector<double> Sample(const Surface& s, std::size_t count, std::uint64_t seed)
+{
+  RandomStream random(seed);
+  std::vector<double> out;
+  const auto triangles = static_cast<std::int64_t>(s.triangles.size() / 3);
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const auto t = static_cast<std::size_t>(random.Integer(0, triangles - 1));
+    double u = random.Uniform();
+    double v = random.Uniform();
+    if (u + v > 1)
+    {
+      u = 1 - u;
+      v = 1 - v;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const double a = s.points[3 * s.triangles[3 * t] + k];
+      const double b = s.points[3 * s.triangles[3 * t + 1] + k];
+      const double c = s.points[3 * s.triangles[3 * t + 2] + k];
+      out.push_back(a + u * (b - a) + v * (c - a));
+    }
+  }
+  return out;
+}
+
+Eigen::Matrix4d KnownTransform(double scale)
+{
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  const Eigen::Matrix3d r = (Eigen::AngleAxisd(0.12, Eigen::Vector3d::UnitZ()) *
+    Eigen::AngleAxisd(-0.08, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(0.06, Eigen::Vector3d::UnitY()))
+                              .toRotationMatrix();
+  m.topLeftCorner<3, 3>() = scale * r;
+  m.topRightCorner<3, 1>() = Eigen::Vector3d(0.15, -0.2, 0.1);
+  return m;
+}
+
+/// Moves reference samples by the inverse of `truth`, so that registering them back must find `truth`.
+std::vector<double> MoveBy(const std::vector<double>& points, const Eigen::Matrix4d& truth)
+{
+  const Eigen::Matrix4d inverse = truth.inverse();
+  double m[16];
+  for (int r = 0; r < 4; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      m[4 * r + c] = inverse(r, c);
+    }
+  }
+  std::vector<double> out(points.size());
+  ApplyTransform(m, points.data(), out.data(), points.size() / 3);
+  return out;
+}
+
+TEST(RigidRegistration, UmeyamaRecoversAKnownSimilarityFromExactPairs)
+{
+  RandomStream random(1);
+  std::vector<double> source(300);
+  for (double& x : source)
+  {
+    x = random.Uniform(-2, 2);
+  }
+  const Eigen::Matrix4d truth = KnownTransform(1.7);
+  double m[16];
+  for (int r = 0; r < 4; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      m[4 * r + c] = truth(r, c);
+    }
+  }
+  std::vector<double> target(300);
+  ApplyTransform(m, source.data(), target.data(), 100);
+  double fitted[16];
+  ASSERT_TRUE(FitSimilarity(source.data(), target.data(), 100, true, fitted));
+  for (int i = 0; i < 16; ++i)
+  {
+    EXPECT_NEAR(fitted[i], m[i], 1e-12);
+  }
+  ASSERT_TRUE(FitSimilarity(source.data(), target.data(), 100, false, fitted));
+  const Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> rigid(fitted);
+  const double determinant = rigid.topLeftCorner<3, 3>().determinant();
+  EXPECT_NEAR(determinant, 1.0, 1e-12); // rigid: no scale
+  EXPECT_FALSE(FitSimilarity(source.data(), target.data(), 2, false, fitted));
+}
+
+TEST(RigidRegistration, IcpRecoversAKnownRigidTransform)
+{
+  const Surface surface = CurvedBlade();
+  PointSurfaceDistance reference;
+  ASSERT_EQ(reference.BuildSurface(
+              surface.points.data(), surface.points.size() / 3, surface.triangles.data(), surface.triangles.size() / 3),
+    "");
+  const Eigen::Matrix4d truth = KnownTransform(1.0);
+  const std::vector<double> measured = MoveBy(Sample(surface, 3000, 2), truth);
+  RegistrationSettings settings;
+  settings.maximumIterations = 500;
+  settings.tolerance = 1e-10;
+  const RegistrationResult result = RegisterPoints(measured.data(), 3000, reference, settings);
+  ASSERT_EQ(result.error, "");
+  EXPECT_TRUE(result.converged) << result.iterations << " iterations";
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      EXPECT_NEAR(result.matrix[4 * r + c], truth(r, c), 1e-5) << r << "," << c;
+    }
+  }
+  EXPECT_NEAR(result.scale, 1.0, 1e-12);
+  EXPECT_LT(result.rms, 1e-5);
+}
+
+TEST(RigidRegistration, IcpWithScaleRecoversUnitsAndPose)
+{
+  const Surface surface = CurvedBlade();
+  PointSurfaceDistance reference;
+  ASSERT_EQ(reference.BuildSurface(
+              surface.points.data(), surface.points.size() / 3, surface.triangles.data(), surface.triangles.size() / 3),
+    "");
+  const Eigen::Matrix4d truth = KnownTransform(1.1);
+  const std::vector<double> measured = MoveBy(Sample(surface, 3000, 3), truth);
+  RegistrationSettings settings;
+  settings.withScale = true;
+  settings.maximumIterations = 500;
+  settings.tolerance = 1e-10;
+  const RegistrationResult result = RegisterPoints(measured.data(), 3000, reference, settings);
+  ASSERT_EQ(result.error, "");
+  EXPECT_NEAR(result.scale, 1.1, 1e-5);
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      EXPECT_NEAR(result.matrix[4 * r + c], truth(r, c), 1e-5) << r << "," << c;
+    }
+  }
+  // Rigid mode cannot explain the scale: it leaves a residual.
+  settings.withScale = false;
+  const RegistrationResult rigid = RegisterPoints(measured.data(), 3000, reference, settings);
+  EXPECT_GT(rigid.rms, 100 * result.rms);
+}
+
+TEST(RigidRegistration, LandmarkSubsetIsReproducible)
+{
+  const Surface surface = CurvedBlade();
+  PointSurfaceDistance reference;
+  ASSERT_EQ(reference.BuildSurface(
+              surface.points.data(), surface.points.size() / 3, surface.triangles.data(), surface.triangles.size() / 3),
+    "");
+  const std::vector<double> measured = MoveBy(Sample(surface, 5000, 4), KnownTransform(1.0));
+  RegistrationSettings settings;
+  settings.maximumLandmarks = 500;
+  settings.seed = 42;
+  const RegistrationResult a = RegisterPoints(measured.data(), 5000, reference, settings);
+  const RegistrationResult b = RegisterPoints(measured.data(), 5000, reference, settings);
+  EXPECT_EQ(a.landmarks, 500u);
+  for (int i = 0; i < 16; ++i)
+  {
+    EXPECT_EQ(a.matrix[i], b.matrix[i]);
+  }
+  settings.seed = 43;
+  const RegistrationResult c = RegisterPoints(measured.data(), 5000, reference, settings);
+  bool differs = false;
+  for (int i = 0; i < 16; ++i)
+  {
+    differs = differs || a.matrix[i] != c.matrix[i];
+  }
+  EXPECT_TRUE(differs);
+}
+
+TEST(RigidRegistration, BadSettings)
+{
+  RegistrationSettings settings;
+  settings.maximumIterations = 0;
+  EXPECT_NE(ValidateRegistrationSettings(settings).find("RegistrationIterations"), std::string::npos);
+  settings = RegistrationSettings();
+  settings.tolerance = 0;
+  EXPECT_NE(ValidateRegistrationSettings(settings).find("RegistrationTolerance"), std::string::npos);
+  settings = RegistrationSettings();
+  PointSurfaceDistance empty;
+  const std::vector<double> points = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
+  EXPECT_NE(RegisterPoints(points.data(), 3, empty, settings).error, "");
+  // Everything rejected: a clear error, not a crash.
+  PointSurfaceDistance far;
+  const std::vector<double> cloud = { 10, 10, 10, 11, 10, 10, 10, 11, 10 };
+  ASSERT_EQ(far.BuildCloud(cloud.data(), 3), "");
+  settings.rejectDistance = 0.5;
+  EXPECT_NE(RegisterPoints(points.data(), 3, far, settings).error.find("landmark pairs"), std::string::npos);
+}
+
+} // namespace
+} // namespace plantmorph

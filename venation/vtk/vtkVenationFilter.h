@@ -1,0 +1,237 @@
+/**
+ * @class   vtkVenationFilter
+ * @brief   Grows leaf veins on a blade (paper 000 sec. 3; spec 02 "VenationFilter").
+ *
+ * Input: a triangulated blade carrying the point array `LeafUV` (every LeafOutlineSource blade does; any triangle
+ * surface with the canonical leaf's (u, v) will do). Output port 0, **Veins**: the vein network as polylines lying
+ * on the blade, with cell arrays `VeinOrder` (1 primary, 2 secondary, 3 tertiary, 4 free-ending veinlet) and
+ * `Region` (1 primary, 2 secondary, 3 tertiary and veinlets), point arrays `VeinWidth` (model units, the active
+ * scalars; for tubes as wide as the veins give ParaView's Tube filter VeinWidth / 2 (a Calculator) with "Vary
+ * Radius: By Absolute Scalar", which takes the scalar as the radius), `Region` (the lowest order through the
+ * point), and the blade's `LeafUV` and `TCoords` interpolated; a junction is one point shared by the veins that
+ * meet there. Output port 1, **Blade**: the input passed through, its points raised along the normals over the
+ * veins when EmbossDepth is not 0 (paper Fig. 10b's relief; it needs a blade fine enough to show a vein's width).
+ *
+ * Field data on port 0, the measures plant scientists quote (LEAF GUI, phenoVein): `PlantMorph.VeinLength` (4
+ * components: primary, secondary, tertiary, veinlet total lengths), `PlantMorph.VeinDensity` (vein length per
+ * blade area), `PlantMorph.AreoleCount`, `PlantMorph.AreoleAreaMean`, `PlantMorph.AreoleAreaStd` (areoles: the
+ * faces enclosed by veins alone), `PlantMorph.BranchPoints`, `PlantMorph.FreeEnds`, `PlantMorph.VeinSegments`,
+ * and the parameters used (`PlantMorph.VenationPattern`, `PlantMorph.VenationPreset`, `PlantMorph.Seed`).
+ *
+ * The growth rules are plantmorph::GrowVenation's (venation/core/VenationGrowth.h): primaries along u = const of
+ * LeafUV, secondaries by eqs. (2)-(4) ending as the pattern says, reticulate tertiaries by seed growth with
+ * junction angles around 120 degrees, free-ending veinlets, palmate veins by leaf growth with dichotomous forks.
+ * Lengths are fractions of the leaf length (the midvein's), so a preset fits any leaf size.
+ *
+ * Where the veins grow: when the blade is flat (every point within 1e-6 of its size of its least-squares plane,
+ * as LeafOutlineSource's flat blades are), in that plane, so angles and lengths are the blade's own (exactly its
+ * x, y when it lies in a plane z = constant). A curved blade (Model B with torsion, a blade curled or wilted
+ * already) is grown in LeafUV scaled by the blade's mean stretch along u and along v (a least-squares fit over its
+ * edges); angles are then approximate, and venation is best grown before curling. Either way every vein point is
+ * mapped onto the blade through the triangle holding it (barycentric interpolation of the input's points), so the
+ * veins lie on the surface whatever deformed it.
+ *
+ * `Preset` 0 (Custom) uses the properties below; 1 paper mulberry (Fig. 10, brochidodromous, secondaries at 45-70
+ * degrees, reticulate tertiaries), 2 ginkgo (Fig. 11, palmate, dichotomous), 3 poplar (Fig. 12, semicraspedodromous,
+ * reticulate with veinlets) set them all except Seed, EmbossDepth and MaxSegments. Same input, parameters and Seed:
+ * the same output, bit for bit.
+ *
+ * Errors (vtkErrorMacro naming the property or array and its accepted range, and empty outputs, never a crash):
+ * out-of-range or non-finite properties, no LeafUV (two components), non-triangle cells, a non-manifold edge, a
+ * network that would need more than MaxSegments segments. An empty input gives empty outputs without an error
+ * (pieces other than 0 of a PlantMorph source are empty under MPI, so the veins appear once).
+ */
+#ifndef vtkVenationFilter_h
+#define vtkVenationFilter_h
+
+#include "PlantMorphVenationVTKModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class PLANTMORPHVENATIONVTK_EXPORT vtkVenationFilter : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkVenationFilter* New();
+  vtkTypeMacro(vtkVenationFilter, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  // Setters do not clamp: an out-of-range value is reported when the filter runs (and the outputs are empty), so a
+  // typo in a script is seen rather than silently replaced by the end of the range.
+
+  ///@{
+  /** 0 Custom (the properties below), 1 paper mulberry, 2 ginkgo, 3 poplar. Default 1. */
+  vtkSetMacro(Preset, int);
+  vtkGetMacro(Preset, int);
+  ///@}
+
+  ///@{
+  /**
+   * The venation type of paper 000 Fig. 3: 0 craspedodromous, 1 semicraspedodromous, 2 brochidodromous, 3
+   * eucamptodromous, 4 reticulodromous, 5 cladodromous, 6 arcuate (acrodromous), 7 parallel, 8 palmate
+   * (actinodromous, by leaf growth). Default 2.
+   */
+  vtkSetMacro(Pattern, int);
+  vtkGetMacro(Pattern, int);
+  ///@}
+
+  ///@{
+  /** Seed of every random choice (branch point jitter, tertiary lengths and angles, veinlets). Default 0. */
+  vtkSetMacro(Seed, int);
+  vtkGetMacro(Seed, int);
+  ///@}
+
+  ///@{
+  /** Arcuate: number of primaries [1, 51] (default 3) and |u| of the outermost [0, 0.49] (default 0.3). */
+  vtkSetMacro(PrimaryCount, int);
+  vtkGetMacro(PrimaryCount, int);
+  vtkSetMacro(PrimarySpread, double);
+  vtkGetMacro(PrimarySpread, double);
+  ///@}
+
+  ///@{
+  /** Parallel: number of primaries [1, 101] (default 9) and |u| of the outermost [0, 0.49] (default 0.45). */
+  vtkSetMacro(ParallelVeins, int);
+  vtkGetMacro(ParallelVeins, int);
+  vtkSetMacro(ParallelSpread, double);
+  vtkGetMacro(ParallelSpread, double);
+  ///@}
+
+  ///@{
+  /**
+   * Secondary veins (eqs. (2)-(4)): spacing of branch points along the midvein in leaf lengths [0.005, 1] (default
+   * 0.1); divergence angle from the midvein at the base and at the apex, degrees [5, 90] (default 55, 55); k of
+   * eq. (2) at the base and the apex [0, 50] (default 1, 5); where forks happen, as a fraction of the way to the
+   * margin [0.05, 0.98] (default 0.8); c of eq. (3) for cladodromous branches [0, 10] (default 1).
+   */
+  vtkSetMacro(SecondarySpacing, double);
+  vtkGetMacro(SecondarySpacing, double);
+  vtkSetMacro(DivergenceAngle, double);
+  vtkGetMacro(DivergenceAngle, double);
+  vtkSetMacro(DivergenceAngleApex, double);
+  vtkGetMacro(DivergenceAngleApex, double);
+  vtkSetMacro(SecondaryCurvatureBase, double);
+  vtkGetMacro(SecondaryCurvatureBase, double);
+  vtkSetMacro(SecondaryCurvatureApex, double);
+  vtkGetMacro(SecondaryCurvatureApex, double);
+  vtkSetMacro(ForkFraction, double);
+  vtkGetMacro(ForkFraction, double);
+  vtkSetMacro(BranchCurvature, double);
+  vtkGetMacro(BranchCurvature, double);
+  ///@}
+
+  ///@{
+  /**
+   * Tertiary (reticulate) veins by seed growth: on or off (default on); edge length, the areole size, in leaf
+   * lengths [0.001, 0.5] (default 0.05); smallest junction angle, degrees [0, 110] (default 60); standard
+   * deviation of junction angles around 120 degrees [0, 60] (default 10).
+   */
+  vtkSetMacro(Tertiary, bool);
+  vtkGetMacro(Tertiary, bool);
+  vtkBooleanMacro(Tertiary, bool);
+  vtkSetMacro(AreoleSize, double);
+  vtkGetMacro(AreoleSize, double);
+  vtkSetMacro(MinJunctionAngle, double);
+  vtkGetMacro(MinJunctionAngle, double);
+  vtkSetMacro(JunctionAngleDeviation, double);
+  vtkGetMacro(JunctionAngleDeviation, double);
+  ///@}
+
+  ///@{
+  /** Free-ending veinlets in the areoles (default off; needs Tertiary), their piece length in areole sizes [0.05, 2]. */
+  vtkSetMacro(Veinlets, bool);
+  vtkGetMacro(Veinlets, bool);
+  vtkBooleanMacro(Veinlets, bool);
+  vtkSetMacro(VeinletLength, double);
+  vtkGetMacro(VeinletLength, double);
+  ///@}
+
+  ///@{
+  /**
+   * Palmate venation by leaf growth: veins from the base [1, 64] (default 4), dichotomous fork levels [0, 5]
+   * (default 1), growth fraction of the first fork [0.01, 0.99] (default 0.3).
+   */
+  vtkSetMacro(PalmateVeins, int);
+  vtkGetMacro(PalmateVeins, int);
+  vtkSetMacro(ForkLevels, int);
+  vtkGetMacro(ForkLevels, int);
+  vtkSetMacro(ForkSize, double);
+  vtkGetMacro(ForkSize, double);
+  ///@}
+
+  ///@{
+  /**
+   * Widths: primary width at the base in leaf lengths [0, 0.2] (default 0.015), its end width as a fraction
+   * [0, 1] (default 0.3); secondary, tertiary and veinlet widths as fractions of the primary's [0, 1] (default
+   * 0.5, 0.2, 0.12).
+   */
+  vtkSetMacro(PrimaryWidth, double);
+  vtkGetMacro(PrimaryWidth, double);
+  vtkSetMacro(PrimaryTaper, double);
+  vtkGetMacro(PrimaryTaper, double);
+  vtkSetMacro(SecondaryWidthRatio, double);
+  vtkGetMacro(SecondaryWidthRatio, double);
+  vtkSetMacro(TertiaryWidthRatio, double);
+  vtkGetMacro(TertiaryWidthRatio, double);
+  vtkSetMacro(VeinletWidthRatio, double);
+  vtkGetMacro(VeinletWidthRatio, double);
+  ///@}
+
+  ///@{
+  /**
+   * Relief on the Blade port: the height, in model units, a vein of the primary's width raises the blade along
+   * its normals (a smooth bump as wide as the vein, finer veins proportionally lower). [-1e3, 1e3], default 0 (the
+   * blade passes through unchanged).
+   */
+  vtkSetMacro(EmbossDepth, double);
+  vtkGetMacro(EmbossDepth, double);
+  ///@}
+
+  ///@{
+  /** The most vein segments a network may need [100, 1e8] (default 2e6); more is refused with a message. */
+  vtkSetMacro(MaxSegments, int);
+  vtkGetMacro(MaxSegments, int);
+  ///@}
+
+protected:
+  vtkVenationFilter();
+  ~vtkVenationFilter() override = default;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Preset = 1;
+  int Pattern = 2;
+  int Seed = 0;
+  int PrimaryCount = 3;
+  double PrimarySpread = 0.3;
+  int ParallelVeins = 9;
+  double ParallelSpread = 0.45;
+  double SecondarySpacing = 0.1;
+  double DivergenceAngle = 55.0;
+  double DivergenceAngleApex = 55.0;
+  double SecondaryCurvatureBase = 1.0;
+  double SecondaryCurvatureApex = 5.0;
+  double ForkFraction = 0.8;
+  double BranchCurvature = 1.0;
+  bool Tertiary = true;
+  double AreoleSize = 0.05;
+  double MinJunctionAngle = 60.0;
+  double JunctionAngleDeviation = 10.0;
+  bool Veinlets = false;
+  double VeinletLength = 0.4;
+  int PalmateVeins = 4;
+  int ForkLevels = 1;
+  double ForkSize = 0.3;
+  double PrimaryWidth = 0.015;
+  double PrimaryTaper = 0.3;
+  double SecondaryWidthRatio = 0.5;
+  double TertiaryWidthRatio = 0.2;
+  double VeinletWidthRatio = 0.12;
+  double EmbossDepth = 0.0;
+  int MaxSegments = 2000000;
+
+private:
+  vtkVenationFilter(const vtkVenationFilter&) = delete;
+  void operator=(const vtkVenationFilter&) = delete;
+};
+
+#endif
