@@ -1,4 +1,4 @@
-// Statistics and histograms of point-to-reference distances (spec 06, "CloudComparisonFilter" output ports 1 and 2).
+// Statistics and histograms of point-to-reference distances (docs/methods/comparison.md).
 // Plain C++17, no VTK.
 //
 // Choices where the spec is silent:

@@ -1,6 +1,6 @@
-// LeafCurlFilter's algorithm (spec 03, "LeafCurlFilter"; paper 003 sec. 3, Fig. 7): longitudinal curl, the two
-// halves rolling about the midvein, and transverse curl, the apex and base parts bending about the blade's mid-line,
-// both as isometric bending. Plain C++17, no VTK: it works on flat arrays and is unit-tested directly.
+// LeafCurlFilter's algorithm (docs/methods/subdivision-and-curl.md; paper 003 sec. 3, Fig. 7): longitudinal curl, the
+// two halves rolling about the midvein, and transverse curl, the apex and base parts bending about the blade's
+// mid-line, both as isometric bending. Plain C++17, no VTK: it works on flat arrays and is unit-tested directly.
 //
 // The flat blade. The input's x and y are taken as the flat blade (data contract: XY plane, base at the origin,
 // midvein along +Y); the midvein is the set of points whose LeafUV u is 0 (|u| <= MidveinTolerance). From them, by

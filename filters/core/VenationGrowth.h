@@ -1,5 +1,5 @@
-// Venation of paper 000 (sec. 3; spec 02) grown on any blade that carries LeafUV: the algorithm layer of
-// VenationFilter.
+// Venation of paper 000 (sec. 3; docs/methods/venation.md) grown on any blade that carries LeafUV: the algorithm layer
+// of VenationFilter.
 //
 // Everything grows in the blade's flat working plane (VenationBlade.h) inside one planar VeinGraph whose margin
 // edges are the blade's boundary, so no vein leaves the blade and every ending on the margin or on another vein is

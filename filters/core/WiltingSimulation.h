@@ -1,5 +1,5 @@
-// WiltingSimulator's algorithm (spec 04; paper 001): the voxel mass-spring leaf, its loads, the implicit Newmark run
-// and the frames it keeps. Plain C++17 + Eigen, no VTK; vtkWiltingSimulator is a thin layer over it.
+// WiltingSimulator's algorithm (paper 001; docs/methods/wilting.md): the voxel mass-spring leaf, its loads, the
+// implicit Newmark run and its frames. Plain C++17 + Eigen, no VTK; vtkWiltingSimulator is a thin layer over it.
 //
 // Model (choices where the spec is silent are marked *):
 // - Voxels: WiltingVoxelizer (exact triangle-box tests), VoxelSize or Resolution cubes along the longest side.

@@ -1,4 +1,4 @@
-// Leaves of paper 004 (sec. 2.3, 3.4; spec 05 "Leaves"). Plain C++ (Eigen), no VTK.
+// Leaves of paper 004 (sec. 2.3, 3.4; docs/methods/tree-from-sketch.md). Plain C++ (Eigen), no VTK.
 //
 // Leaves sit on the twigs: the branches without children in the finished tree (the template's depth-0 twigs, and
 // also a branch whose children were all deleted, or a stroke branch without subtree). Leaf j = 1..LeafCount of a

@@ -1,5 +1,5 @@
-// Curvature and torsion functions of paper 002 (eqs. (4)-(8), (10); spec 01 "Model B"), each a function of arc
-// length s on [0, S] with one peak.
+// Curvature and torsion functions of paper 002 (eqs. (4)-(8), (10); docs/methods/leaf-outline.md), each a function of
+// arc length s on [0, S] with one peak.
 //
 // The peak is given as an integral-like constant mu = S * h (the paper's mu for curvature, eta for torsion), not as
 // h itself: with mu held fixed, every family but the exponential one is phi(s) = (1/S) * g(s/S), so growing S gives an
