@@ -59,7 +59,7 @@ enum class LeafType : int
 {
   Monopodial = 0, ///< leaves spread over the LeafRatio part of each twig, phyllotaxis a/b
   Sympodial = 1,  ///< a whorl of leaves at each twig's tip, phyllotaxis a/b
-  Willow = 2      ///< pendulous twigs (spec's Bezier curve), leaves spread along them
+  Willow = 2      ///< pendulous twigs (a Bezier curve), leaves spread along them
 };
 
 /// One row of BranchOverrides: NaN keeps the computed value.

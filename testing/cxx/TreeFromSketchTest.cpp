@@ -926,7 +926,7 @@ TEST(TreeMerge, BranchCountIsTheSumAndMergedGeometryIsTheSecondTreeUnderTheState
   }
   const auto byId = ById(merged);
   const TreeBranch& host = *byId.at(3);
-  // Expected placement, written out from the spec: the host is straight, its frame constant, its radius linear.
+  // Expected placement, written out from the formulas: the host is straight, its frame constant, its radius linear.
   const Eigen::Matrix3d R = host.frame * RotationY(70.0) * RotationZ(40.0);
   const Eigen::Vector3d axisPoint = host.centre.front() + 0.3 * (host.centre.back() - host.centre.front());
   const double hostRadius = host.radius + 0.3 * (host.radiusEnd - host.radius);

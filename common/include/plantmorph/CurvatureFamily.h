@@ -14,7 +14,7 @@
 //                 phi(S) = u3 (b1 is ignored when lambda = 0, u3 when lambda = 1)
 //   NotchedApex   eq. (8), the "duck tongue": a triangle of peak h on [0, S4] then a triangle of peak u4 = h/beta on
 //                 [S4, (1 + alpha4) S4], peaked at lambda2 of the way; S = (1 + alpha4) S4. A negative beta makes u4
-//                 negative (the spec allows it where the positive notch does not show).
+//                 negative (allowed where the positive notch does not show: docs/methods/leaf-outline.md).
 #pragma once
 
 #include <string>
