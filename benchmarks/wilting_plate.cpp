@@ -1,4 +1,4 @@
-// wilting_plate: the VegaFEM 4.0 cross-check and the Newmark speed benchmark of WiltingSimulator (spec 04).
+// wilting_plate: the VegaFEM 4.0 cross-check and Newmark speed benchmark of WiltingSimulator (docs/methods/wilting.md).
 //
 //   wilting_plate NX NY STEPS [--solver auto|cholesky|cg] [--threads N] [--cg-tolerance EPS] [--clamp]
 //                 [--no-extrapolation]

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The main job: set up and build if needed, then run the example pipeline(s) in pvbatch, writing .vtp files and PNG
-# renders into output/ (or the folder given as the first argument).
+# renders into output/ (or the folder given as the first argument). It builds only the plugin (CMake target
+# PlantMorph), not the tests and benchmarks: scripts/test.sh builds those.
 set -euo pipefail
+PLANTMORPH_TARGETS=PlantMorph
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/setup.sh"
 OUTPUT="$(mkdir -p "${1:-$PLANTMORPH_ROOT/output}" && cd "${1:-$PLANTMORPH_ROOT/output}" && pwd)"
 # pvbatch renders only with an X server: use the one we have, or one virtual server for all the examples (one

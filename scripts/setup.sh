@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Installs what PlantMorph needs from Debian 12 (only what is missing), then configures and builds it in build/.
 # Sourced by scripts/run.sh and scripts/test.sh; safe to run again and again.
+# PLANTMORPH_TARGETS: the CMake targets to build, separated by spaces (default: all of them, tests and benchmarks
+# included, as scripts/test.sh needs; scripts/run.sh builds only the plugin, target PlantMorph).
 set -euo pipefail
 PLANTMORPH_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PLANTMORPH_BUILD="${PLANTMORPH_BUILD:-$PLANTMORPH_ROOT/build}"
+PLANTMORPH_TARGETS="${PLANTMORPH_TARGETS:-all}"
 
 # ParaView 5.11 with its SDK (find_package(ParaView) needs the -dev packages its CMake files look for, which
 # paraview-dev does not pull in), CGAL and Eigen (header-only), GoogleTest and Google Benchmark, and for running:
@@ -20,7 +23,7 @@ PACKAGES=(
   libavutil-dev libswscale-dev libexpat1-dev libboost-dev libx11-dev libxt-dev zlib1g-dev libgl-dev
   libdouble-conversion-dev libpugixml-dev libproj-dev libcgns-dev libsqlite3-dev
 )
-# Trimmed by experiment from ../shared/BUILDING-NOTES.md's list: a configure + build under strace opened no file of
+# Trimmed by experiment from the team's first, longer list: a configure + build under strace opened no file of
 # libfmt-dev, libjsoncpp-dev or nlohmann-json3-dev, nothing installed depends on them, and with them removed a clean
 # configure, build and every test pass. Every other package had a file opened (or is needed at run time: MPI, Xvfb).
 
@@ -41,14 +44,17 @@ plantmorph_install_packages() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null
 }
 
-# plantmorph_build DIR [extra cmake args...]: configure (first time) and build.
+# plantmorph_build DIR [extra cmake args...]: configure (first time) and build the targets in PLANTMORPH_TARGETS.
 plantmorph_build() {
   local dir="$1"
   shift
   mkdir -p "$dir"
   cmake -S "$PLANTMORPH_ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >"$dir/configure.log" 2>&1 ||
     { cat "$dir/configure.log"; echo "setup: configuring failed (log above)"; return 1; }
-  cmake --build "$dir" -j"$(nproc)"
+  local targets
+  read -r -a targets <<<"$PLANTMORPH_TARGETS"
+  echo "setup: building ${targets[*]} in $dir"
+  cmake --build "$dir" -j"$(nproc)" --target "${targets[@]}"
 }
 
 plantmorph_install_packages

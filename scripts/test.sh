@@ -3,6 +3,7 @@
 # the MPI test). Then the C++ tests again in an AddressSanitizer + UBSan build (build-asan/); skip that with
 # PLANTMORPH_SKIP_SANITIZERS=1.
 set -euo pipefail
+PLANTMORPH_TARGETS=all # everything: the tests, and the benchmarks (their programs must build too)
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/setup.sh"
 cd "$PLANTMORPH_BUILD"
 ctest --output-on-failure -j2 --timeout 900

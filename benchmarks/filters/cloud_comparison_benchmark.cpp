@@ -1,9 +1,9 @@
-// CloudComparisonFilter against VTK's own distance filters on the same data, in the same run (spec 06,
-// "Performance"): 10^6 measured points against a sphere of radius 1 with about 2*10^5 triangles (vtkSphereSource,
-// 317 x 317), ONE poly-vertex cell each. Two clouds (argument scan): 0 = vtkPointSource's uniform random ball of
-// radius 1.2 (most points far inside: the worst case of any nearest-triangle search, a point near the centre is
-// almost equally far from every triangle), 1 = scan-like, points on the sphere at radius 1 + N(0, 0.01) in random
-// order (what a measured leaf against its model looks like).
+// CloudComparisonFilter against VTK's own distance filters on the same data, in the same run
+// (docs/methods/comparison.md, "Performance"): 10^6 measured points against a sphere of radius 1 with about 2*10^5
+// triangles (vtkSphereSource, 317 x 317), ONE poly-vertex cell each. Two clouds (argument scan): 0 = vtkPointSource's
+// uniform random ball of radius 1.2 (most points far inside: the worst case of any nearest-triangle search, a point
+// near the centre is almost equally far from every triangle), 1 = scan-like, points on the sphere at radius
+// 1 + N(0, 0.01) in random order (what a measured leaf against its model looks like).
 //
 // Families (see benchmarks/README.md, "comparison_benchmark"):
 //   BM_CloudComparison/points:N/threads:T   vtkCloudComparisonFilter, unsigned + signed distance + closest point,

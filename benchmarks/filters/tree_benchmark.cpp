@@ -1,7 +1,7 @@
-// TreeFromSketchSource benchmark (spec 05): segments per second and bytes per segment from 10^3 to 10^6 skeleton
-// segments, for the algorithm layer (template growth + watertight tubes, serial) and for the whole VTK source
-// (template, tubes through vtkSMPTools, arrays, skeleton, no leaves); second argument: the joints, 0 seated tubes
-// (BuildTubes), 1 welded (BuildWeldedTubes, the source's default).
+// TreeFromSketchSource benchmark (docs/methods/tree-from-sketch.md): segments per second and bytes per segment from
+// 10^3 to 10^6 skeleton segments, for the algorithm layer (template growth + watertight tubes, serial) and for the
+// whole VTK source (template, tubes through vtkSMPTools, arrays, skeleton, no leaves); second argument: the joints, 0
+// seated tubes (BuildTubes), 1 welded (BuildWeldedTubes, the source's default).
 //
 // Sizes: Table 1's left template (monopodial 3/8, 8 children) at depth 2..5 with SegmentsPerBranch chosen to reach
 // about 10^3, 10^4, 10^5 and 10^6 segments (the exact count is reported as `segments`), 6 sides.

@@ -1,7 +1,7 @@
-// Statistics and histograms of point-to-reference distances (spec 06, "CloudComparisonFilter" output ports 1 and 2).
+// Statistics and histograms of point-to-reference distances (docs/methods/comparison.md).
 // Plain C++17, no VTK.
 //
-// Choices where the spec is silent:
+// Choices where no paper decides (docs/methods/comparison.md says why):
 // - The standard deviation is the population one (divide by n, not n - 1): the cloud is all the measured points,
 //   not a sample of them. RMS is sqrt(mean of d^2), so RMS^2 = mean^2 + std^2.
 // - Percentiles interpolate linearly between order statistics at rank p/100 * (n - 1) (numpy's default, Hyndman

@@ -1,4 +1,4 @@
-// CloudComparisonFilter's distance engine (spec 06, "CloudComparisonFilter"): the exact distance from query points
+// CloudComparisonFilter's distance engine (docs/methods/comparison.md): the exact distance from query points
 // to a triangle surface, or to the nearest point of a point cloud, through a bounding volume hierarchy (BVH) on flat
 // arrays. Plain C++17, no VTK: unit-tested directly against brute force.
 //

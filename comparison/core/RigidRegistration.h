@@ -1,4 +1,4 @@
-// CloudComparisonFilter's optional registration (spec 06, "Options: Registration"): iterative closest point (ICP)
+// CloudComparisonFilter's optional registration (docs/methods/comparison.md): iterative closest point (ICP)
 // that moves the measured points onto the reference, rigidly or rigidly with one uniform scale. Plain C++17 + Eigen.
 //
 // Each iteration finds, for every landmark (the measured points, or a seeded random subset of them when there are

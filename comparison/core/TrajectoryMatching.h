@@ -1,4 +1,4 @@
-// TrajectoryComparisonFilter's algorithm (spec 06, "TrajectoryComparisonFilter"; paper 001 sec. 3, Table 1): match
+// TrajectoryComparisonFilter's algorithm (docs/methods/comparison.md; paper 001 sec. 3, Table 1): match
 // each measured sample of a trajectory (a leaf tip's positions over time) to a simulated sample and report the
 // distances. Plain C++17, no VTK.
 //

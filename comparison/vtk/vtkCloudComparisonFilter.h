@@ -1,7 +1,17 @@
 /**
  * @class   vtkCloudComparisonFilter
  * @brief   Distances from measured points (a scan) to a reference surface or point cloud (a simulated leaf), with
- *          statistics, a histogram and optional ICP registration (spec 06, "CloudComparisonFilter").
+ *          statistics, a histogram and optional ICP registration (docs/methods/comparison.md).
+ *
+ * Related publications:
+ * - J. A. Baerentzen, H. Aanaes, "Signed distance computation using the angle weighted pseudonormal", IEEE TVCG
+ *   11(3), 2005 (SignedDistance);
+ * - Y. Chen, G. Medioni, "Object modelling by registration of multiple range images", Image and Vision Computing
+ *   10(3), 1992 (point-to-plane ICP);
+ * - S. Umeyama, "Least-squares estimation of transformation parameters between two point patterns", IEEE TPAMI
+ *   13(4), 1991.
+ * Full references: docs/references.md. What the code does, and where and why it departs from the paper:
+ * docs/methods/comparison.md.
  *
  * vtkCloudComparisonFilter takes two inputs. Port 0, **Measured**: any vtkPointSet; only its points are compared,
  * whatever its cells (one poly-vertex, one vertex per point, no cells at all, or a mesh). Port 1, **Reference**:
@@ -42,8 +52,8 @@
  * both are exactly symmetric under swapping the inputs. A surface's reverse direction is sampled at its vertices
  * (the supremum over the continuous surface is not computed).
  *
- * Registration (the spec's options): None; Rigid (ICP: a rotation and translation); Rigid + scale (one uniform scale
- * too). Point-to-plane ICP against a surface, point-to-point (Umeyama) against a point cloud, from the scaled
+ * Registration (docs/methods/comparison.md): None; Rigid (ICP: a rotation and translation); Rigid + scale (one uniform
+ * scale too). Point-to-plane ICP against a surface, point-to-point (Umeyama) against a point cloud, from the scaled
  * measured points, on at most RegistrationLandmarks of them (a random subset from Seed when there are more),
  * outliers (UseMaximumDistance) left out of the fit; see plantmorph::RegisterPoints (comparison/core/
  * RigidRegistration.h). ICP is local: bring the two roughly into place first. Field data of port 0:

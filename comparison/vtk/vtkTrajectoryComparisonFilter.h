@@ -2,10 +2,16 @@
  * @class   vtkTrajectoryComparisonFilter
  * @brief   Compares a measured trajectory (a leaf tip's positions over time) with a simulated one: matched samples,
  *          distances and their components, mean and maximum, and the angle between the motion directions
- *          (spec 06, "TrajectoryComparisonFilter"; paper 001 sec. 3, Table 1).
+ *          (docs/methods/comparison.md; paper 001 sec. 3, Table 1).
+ *
+ * Related publication: [P001] Miao Teng, Guo Xinyu, Wen Weiliang, Lu Shenglian, "A physically based representation
+ * of leaf wilting" (in Chinese), Transactions of the Chinese Society for Agricultural Machinery 45(5), 2014: sec. 3,
+ * Table 1.
+ * Full references: docs/references.md. What the code does, and where and why it departs from the paper:
+ * docs/methods/comparison.md.
  *
  * Input port 0, **Measured**, and input port 1, **Simulated**: each a vtkTable (e.g. a CSV file read by ParaView's
- * CSV reader, such as shared/data/cucumber-wilting-tip.csv) or a vtkPointSet (e.g. WiltingSimulator's tip
+ * CSV reader, such as data/cucumber-wilting-tip.csv) or a vtkPointSet (e.g. WiltingSimulator's tip
  * trajectory, or Table To Points' output). From a table the x, y, z columns named by MeasuredColumns /
  * SimulatedColumns are read (any numeric type); from a point set, its points. Samples are taken in row (point)
  * order, which must be time order. An optional time column or point array named TimeColumn is carried into the

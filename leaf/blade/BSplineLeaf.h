@@ -1,4 +1,4 @@
-// Model C of LeafOutlineSource: the B-spline leaf of paper 003 (sec. 2.1, 2.2, 2.4; spec 01 "Model C").
+// Model C of LeafOutlineSource: the B-spline leaf of paper 003 (sec. 2.1, 2.2, 2.4; docs/methods/leaf-outline.md).
 //
 // Three interpolating cubic B-splines (plantmorph::CubicBSpline2d, chord-length parameters): the midvein from the
 // base (its first control point) to the apex (its last), and the left and right margins, which start at the base

@@ -1,4 +1,4 @@
-// Triangulates a flat leaf blade with CGAL's constrained Delaunay triangulation (spec 01, "Meshing").
+// Triangulates a flat leaf blade with CGAL's constrained Delaunay triangulation (docs/methods/leaf-outline.md).
 //
 // Input: the outline as a closed counter-clockwise loop of boundary samples, and the midvein as a polyline of
 // samples from the base to the apex (both of which are outline samples too). The midvein is a constraint, so the

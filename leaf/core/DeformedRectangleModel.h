@@ -7,7 +7,7 @@
 //
 // with every term  Amplitude * Scale * m(u, v) * sin(Frequency*pi*w + Phase),  Scale one of a_x (Width) or b_y
 // (Length), m one of 1, u, v, u*v and w one of u, v. Eq. (1) needs the scale as a separate choice (its x term is
-// scaled by b_y), so a term has seven numbers, not the six the spec sketches:
+// scaled by b_y), so a term has seven numbers, not six (docs/methods/leaf-outline.md):
 //
 //   [Target (0 = x, 1 = y), Scale (0 = Width a_x, 1 = Length b_y), Amplitude,
 //    Multiplier (0 = 1, 1 = u, 2 = v, 3 = u*v), Frequency, Variable (0 = u, 1 = v), Phase (radians)]

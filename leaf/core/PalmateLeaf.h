@@ -1,4 +1,4 @@
-// Palmate (lobed) leaves of Model B: paper 002 sec. 4, Fig. 8 (spec 01, "Palmate, lobed leaves").
+// Palmate (lobed) leaves of Model B: paper 002 sec. 4, Fig. 8 (docs/methods/leaf-outline.md).
 //
 // Lobe 1 is the simple space-curve leaf (SpaceCurveLeaf.h, flat: no torsion, Opening 0): its half-margin from the
 // base, mirrored in its chord. Lobe k+1 starts on lobe k's integrated half-margin at the arc-length fraction

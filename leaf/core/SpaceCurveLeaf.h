@@ -1,4 +1,4 @@
-// Model B of LeafOutlineSource: the space-curve leaf of paper 002 (spec 01, "Model B").
+// Model B of LeafOutlineSource: the space-curve leaf of paper 002 (docs/methods/leaf-outline.md).
 //
 // One half-margin is integrated from the Frenet-Serret equations with the chosen curvature and torsion families
 // (plantmorph::IntegrateFrenet), from the base at the origin with the paper's initial frame rotated by

@@ -1,6 +1,17 @@
 /**
  * @class   vtkLeafOutlineSource
- * @brief   A leaf blade and its outline from the published outline models (spec 01).
+ * @brief   A leaf blade and its outline from the published outline models (docs/methods/leaf-outline.md).
+ *
+ * Related publications:
+ * - [P000] Lu Ling, Wang Lei, "Visual modelling of plant leaf venation" (in Chinese; venue not known): sec. 1,
+ *   eq. (1), Figs. 1-2 (Model A);
+ * - [P002] Yuan Xiujiu, Liu Dong, Wang Shengyong, Yang Rong, Zhao Xuejun, "Plant leaf shapes from space-curve
+ *   theory" (in Chinese), Journal of Air Force Engineering University (Natural Science Edition), 2011(3):78-83:
+ *   eqs. (1)-(10), Figs. 1-8 (Model B, palmate leaves);
+ * - [P003] Lu Shenglian, Guo Xinyu, Li Changfeng, "Accurate modelling and rendering of 3-D plant leaves" (in
+ *   Chinese), Journal of Image and Graphics 14(4):731-737, 2009: secs. 2.1, 2.2, 2.4, eq. (6) (Model C, TCoords).
+ * Full references: docs/references.md. What the code does, and where and why it departs from the paper:
+ * docs/methods/leaf-outline.md.
  *
  * Output port 0, **Blade**: the flat triangulated blade (XY plane, base at the origin, midvein along +Y, normals
  * +Z) with point arrays `LeafUV` (double x2, the point's (u, v) on the canonical leaf), `TCoords` (float x2,

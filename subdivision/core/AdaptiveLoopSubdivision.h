@@ -1,5 +1,5 @@
-// Adaptive Loop subdivision of a triangle surface (paper 003, sec. 2.3; spec 03, AdaptiveLoopFilter), on flat
-// arrays. Plain C++17, no VTK: vtkAdaptiveLoopFilter is the thin VTK layer over this.
+// Adaptive Loop subdivision of a triangle surface (paper 003, sec. 2.3; docs/methods/subdivision-and-curl.md,
+// AdaptiveLoopFilter), on flat arrays. Plain C++17, no VTK: vtkAdaptiveLoopFilter is the thin VTK layer over this.
 //
 // One level, on the current mesh:
 //  1. Edge table: every undirected edge (a, b), a < b, with its one or two triangles and their opposite vertices,

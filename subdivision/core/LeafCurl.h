@@ -1,6 +1,6 @@
-// LeafCurlFilter's algorithm (spec 03, "LeafCurlFilter"; paper 003 sec. 3, Fig. 7): longitudinal curl, the two
-// halves rolling about the midvein, and transverse curl, the apex and base parts bending about the blade's mid-line,
-// both as isometric bending. Plain C++17, no VTK: it works on flat arrays and is unit-tested directly.
+// LeafCurlFilter's algorithm (docs/methods/subdivision-and-curl.md; paper 003 sec. 3, Fig. 7): longitudinal curl, the
+// two halves rolling about the midvein, and transverse curl, the apex and base parts bending about the blade's
+// mid-line, both as isometric bending. Plain C++17, no VTK: it works on flat arrays and is unit-tested directly.
 //
 // The flat blade. The input's x and y are taken as the flat blade (data contract: XY plane, base at the origin,
 // midvein along +Y); the midvein is the set of points whose LeafUV u is 0 (|u| <= MidveinTolerance). From them, by
@@ -21,14 +21,14 @@
 //
 // Transverse curl: the same construction along the blade, about the mid-line y = y_c: e = y - y_c, one radius for
 // the apex part (length L = the largest e) and one for the base part (the largest -e), psi = angle * e / L; a
-// positive angle bends both ends up (+Z). Applied after the longitudinal curl (the spec's order) to the curled points.
+// positive angle bends both ends up (+Z). Applied after the longitudinal curl (as documented) to the curled points.
 //
 // Non-flat input (a space-curve leaf with torsion, or a leaf already curled). Each curl is a bend of space (Barr's
 // global bending): the point's height above the reference (h = z - z_mid(y) for the longitudinal curl, h = z - z_c
 // for the transverse one, z_c the midvein's height at the mid-line) is carried along the bent surface's normal,
 // P = C(d) + h * N(d). On a flat blade h = 0 and this is the arc above; relief and an earlier curl ride along. Each
 // curl alone is isometric on a flat blade; both together bend the blade in two directions, which no isometry can
-// (the spec asks for the combination anyway): then the transverse bend stretches or compresses the rolled halves
+// (users ask for the combination anyway): then the transverse bend stretches or compresses the rolled halves
 // by the factor (1 - h * angle / L).
 //
 // Combined curls can fold: where a rolled half rises above the mid-line by more than the transverse radius

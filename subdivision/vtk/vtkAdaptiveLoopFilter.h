@@ -1,6 +1,14 @@
 /**
  * @class   vtkAdaptiveLoopFilter
- * @brief   Adaptive Loop subdivision of a triangle surface (paper 003, sec. 2.3; spec 03).
+ * @brief   Adaptive Loop subdivision of a triangle surface (paper 003, sec. 2.3; docs/methods/subdivision-and-curl.md).
+ *
+ * Related publications:
+ * - [P003] Lu Shenglian, Guo Xinyu, Li Changfeng, "Accurate modelling and rendering of 3-D plant leaves" (in
+ *   Chinese), Journal of Image and Graphics 14(4):731-737, 2009: sec. 2.3, eqs. (1)-(5), Fig. 5;
+ * - Loop's stencils: C. Loop, "Smooth subdivision surfaces based on triangles", M.S. thesis, University of Utah,
+ *   1987.
+ * Full references: docs/references.md. What the code does, and where and why it departs from the paper:
+ * docs/methods/subdivision-and-curl.md.
  *
  * Subdivides where the surface bends and leaves flat parts alone. Per level:
  *

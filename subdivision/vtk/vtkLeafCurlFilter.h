@@ -1,7 +1,12 @@
 /**
  * @class   vtkLeafCurlFilter
  * @brief   Curls a leaf blade: longitudinal curl about the midvein, transverse curl about the mid-line (paper 003
- *          sec. 3, Fig. 7; spec 03 "LeafCurlFilter").
+ *          sec. 3, Fig. 7; docs/methods/subdivision-and-curl.md).
+ *
+ * Related publication: [P003] Lu Shenglian, Guo Xinyu, Li Changfeng, "Accurate modelling and rendering of 3-D plant
+ * leaves" (in Chinese), Journal of Image and Graphics 14(4):731-737, 2009: sec. 3, Fig. 7.
+ * Full references: docs/references.md. What the code does, and where and why it departs from the paper:
+ * docs/methods/subdivision-and-curl.md.
  *
  * vtkLeafCurlFilter bends a PlantMorph leaf (any vtkPolyData carrying the point array `LeafUV`, as every
  * LeafOutlineSource blade and outline does) without stretching it:

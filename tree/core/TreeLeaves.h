@@ -1,4 +1,4 @@
-// Leaves of paper 004 (sec. 2.3, 3.4; spec 05 "Leaves"). Plain C++ (Eigen), no VTK.
+// Leaves of paper 004 (sec. 2.3, 3.4; docs/methods/tree-from-sketch.md). Plain C++ (Eigen), no VTK.
 //
 // Leaves sit on the twigs: the branches without children in the finished tree (the template's depth-0 twigs, and
 // also a branch whose children were all deleted, or a stroke branch without subtree). Leaf j = 1..LeafCount of a
@@ -7,7 +7,7 @@
 // surface. Its axes: x across the blade, y along the midrib, z the blade's normal; a quad or an instanced leaf mesh
 // (base at its origin, midrib along +Y, XY plane) is placed with them, LeafScale long.
 //
-// LeafType Willow first reshapes every template twig into the spec's pendulous Bezier curve, control points
+// LeafType Willow first reshapes every template twig into the willow's pendulous Bezier curve, control points
 // (0, 0), (0.1, -0.05), (0.1, -0.4), (0.1, -0.8) times the twig's length, in the vertical plane through the twig's
 // base direction (local x the horizontal part of that direction, local y world +Y); leaves then spread along it.
 #pragma once
@@ -23,7 +23,7 @@ namespace plantmorph
 /// would exceed MaxSegments (the memory budget, shared with segments); tree.leaves is then empty.
 std::string PlaceLeaves(const TreeSettings& settings, Tree& tree);
 
-/// The spec's willow twig control points (unit length), x outward, y up.
+/// The willow twig's Bezier control points (unit length), x outward, y up.
 const std::vector<Eigen::Vector2d>& WillowControlPoints();
 
 } // namespace plantmorph

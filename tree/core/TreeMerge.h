@@ -1,4 +1,4 @@
-// Merging a second tree into this one (spec 05 Editing "merge trees"; paper 004 sec. 3.2 and Fig. 11: at a segment
+// Merging a second tree into this one (docs/methods/tree-from-sketch.md; paper 004 sec. 3.2 and Fig. 11: at a segment
 // of a branch the user adds a new branch with its sub-branches, giving a merged tree). Plain C++ (Eigen), no VTK.
 //
 // The second tree is a skeleton: branches with ids, parent ids, centre lines and radii, e.g. another

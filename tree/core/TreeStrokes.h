@@ -1,4 +1,4 @@
-// Strokes to 3-D branches (paper 004 sec. 3; spec 05 "Strokes to branches"). Plain C++ (Eigen), no VTK.
+// Strokes to 3-D branches (paper 004 sec. 3; docs/methods/tree-from-sketch.md). Plain C++ (Eigen), no VTK.
 //
 // Each stroke (points in the image plane XY, in drawing order) becomes one branch:
 // 1. n = StrokeControlPoints of its m points, point i at index floor(i*(m - 1)/(n - 1)), are the control points of

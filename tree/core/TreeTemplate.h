@@ -1,5 +1,5 @@
-// Template trees of paper 004 (sec. 2, Table 1; spec 05 "Template tree"), the tree model shared by strokes, leaves
-// and tube meshes, and the one entry point BuildTree. Plain C++ (Eigen), no VTK.
+// Template trees of paper 004 (sec. 2, Table 1; docs/methods/tree-from-sketch.md), the tree model shared by strokes,
+// leaves and tube meshes, and the one entry point BuildTree. Plain C++ (Eigen), no VTK.
 //
 // Coordinates: the tree grows along +Y from the origin (the paper's model matrices translate along Y), the image
 // plane of traced strokes is XY, depth (the lifting of strokes) is Z.
@@ -22,7 +22,7 @@
 //   derive from the overridden values (a longer branch has longer children).
 // - Depth-0 twigs (recursion level 0) are lengthened by TwigScale (epsilon_leaf = 1.2), as the paper's
 //   generate_leaf(&length) does, whether or not leaves are drawn; the formula tests account for it.
-// - Merging a second tree (spec 05 Editing "merge trees"; paper 004 sec. 3.2 and Fig. 11: "at a segment of a
+// - Merging a second tree (docs/methods/tree-from-sketch.md; paper 004 sec. 3.2 and Fig. 11: "at a segment of a
 //   branch the user adds a new branch with its sub-branches, giving a merged tree"): see TreeMerge.h.
 #pragma once
 
@@ -59,7 +59,7 @@ enum class LeafType : int
 {
   Monopodial = 0, ///< leaves spread over the LeafRatio part of each twig, phyllotaxis a/b
   Sympodial = 1,  ///< a whorl of leaves at each twig's tip, phyllotaxis a/b
-  Willow = 2      ///< pendulous twigs (spec's Bezier curve), leaves spread along them
+  Willow = 2      ///< pendulous twigs (a Bezier curve), leaves spread along them
 };
 
 /// One row of BranchOverrides: NaN keeps the computed value.

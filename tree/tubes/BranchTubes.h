@@ -1,4 +1,4 @@
-// Watertight branch tubes (spec 05 "Branch geometry"). Plain C++ (Eigen), no VTK.
+// Watertight branch tubes (docs/methods/tree-from-sketch.md). Plain C++ (Eigen), no VTK.
 //
 // Each branch is one closed tube along its centre line: `sides` vertices per ring, one ring per centre point, shared
 // by the two segments meeting there. A ring at an interior point lies in the bisector (mitre) plane of the two

@@ -2,6 +2,12 @@
  * @class   vtkTreeFromSketchSource
  * @brief   Trees from paper 004: golden-ratio / phyllotaxis template trees, strokes lifted to 3-D, and leaves.
  *
+ * Related publication: [P004] Liu Yisong, Xu Xianghu, Zeng Lanling, Zhan Yongzhao, "An interactive 3-D tree
+ * modelling system from sketches on a single image" (in Chinese; venue not known): secs. 2-3, eqs. (1)-(3), Table 1,
+ * Figs. 10-11.
+ * Full references: docs/references.md. What the code does, and where and why it departs from the paper:
+ * docs/methods/tree-from-sketch.md.
+ *
  * Output port 0, **Branches**: every branch as one closed, watertight tube (triangles; `Sides` vertices a ring,
  * rings shared by consecutive segments in the mitre plane, rotation-minimising frames, base capped, monopodial tips
  * closed in a point, sympodial ends capped), cell arrays `BranchId`, `ParentId`, `Depth` (0 the trunk), point

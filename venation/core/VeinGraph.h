@@ -1,4 +1,4 @@
-// The vein network of VenationFilter while it grows, in the blade's flat working plane (spec 02).
+// The vein network of VenationFilter while it grows, in the blade's flat working plane (docs/methods/venation.md).
 //
 // Nodes are 2-D points; edges are straight segments, each belonging to one vein (a path grown in one go) of one
 // order (0 the margin, 1 primary, 2 secondary, 3 tertiary, 4 free-ending veinlet). The margin is part of the graph,

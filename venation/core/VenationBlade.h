@@ -1,6 +1,6 @@
 // The blade VenationFilter grows veins on: a triangle mesh given in a flat 2-D working plane, with every vertex's
-// LeafUV (spec 02). Point location in both spaces goes through uniform grids of triangles, so mapping a vein point
-// costs the same however fine the blade.
+// LeafUV (docs/methods/venation.md). Point location in both spaces goes through uniform grids of triangles, so mapping
+// a vein point costs the same however fine the blade.
 //
 // Plain C++17 + Eigen, no VTK.
 #pragma once

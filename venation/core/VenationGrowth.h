@@ -1,5 +1,5 @@
-// Venation of paper 000 (sec. 3; spec 02) grown on any blade that carries LeafUV: the algorithm layer of
-// VenationFilter.
+// Venation of paper 000 (sec. 3; docs/methods/venation.md) grown on any blade that carries LeafUV: the algorithm layer
+// of VenationFilter.
 //
 // Everything grows in the blade's flat working plane (VenationBlade.h) inside one planar VeinGraph whose margin
 // edges are the blade's boundary, so no vein leaves the blade and every ending on the margin or on another vein is
@@ -33,9 +33,9 @@
 // - Palmate venation by leaf growth (sec. 3.2): `palmateVeins` * 2^`forkLevels` end points evenly along the
 //   canonical leaf's far edge v = 1 (a fan's distal margin, a palmate blade's lobe tips and sinuses); the vein of
 //   each is the path of its LeafUV parameter p through the canonical rectangle growing about the base, mapped onto
-//   the blade: P(g) = F(g * p(g)), g from 0 to 1 (F: LeafUV to the blade). This is the spec's construction "in
-//   LeafUV space" for every model, the deformed rectangle included: scaling a_x and b_y instead would carry the
-//   path outside the final blade wherever that is not star-shaped from its base (the ginkgo's cusp-like base).
+//   the blade: P(g) = F(g * p(g)), g from 0 to 1 (F: LeafUV to the blade). This construction in LeafUV space
+//   (docs/methods/venation.md) serves every model, the deformed rectangle too: scaling a_x and b_y instead carries
+//   the path outside the final blade wherever that is not star-shaped from its base (the ginkgo's cusp-like base).
 //   Dichotomous forks: a group of end points shares one parameter (their mean) until growth `forkSize` (later
 //   levels evenly after it), then the two halves move linearly apart to their own means by g = 1, so one vein
 //   splits into two.

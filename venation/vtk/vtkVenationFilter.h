@@ -1,6 +1,11 @@
 /**
  * @class   vtkVenationFilter
- * @brief   Grows leaf veins on a blade (paper 000 sec. 3; spec 02 "VenationFilter").
+ * @brief   Grows leaf veins on a blade (paper 000 sec. 3; docs/methods/venation.md).
+ *
+ * Related publication: [P000] Lu Ling, Wang Lei, "Visual modelling of plant leaf venation" (in Chinese; venue not
+ * known): sec. 3, eqs. (2)-(7), Figs. 3-12.
+ * Full references: docs/references.md. What the code does, and where and why it departs from the paper:
+ * docs/methods/venation.md.
  *
  * Input: a triangulated blade carrying the point array `LeafUV` (every LeafOutlineSource blade does; any triangle
  * surface with the canonical leaf's (u, v) will do). Output port 0, **Veins**: the vein network as polylines lying

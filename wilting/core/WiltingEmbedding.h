@@ -1,4 +1,4 @@
-// Embedding of the input leaf in the wilting voxel model (spec 04 "Embedding the leaf"; paper 001 sec. 2, end).
+// Embedding of the input leaf in the wilting voxel model (docs/methods/wilting.md; paper 001 sec. 2, end).
 // Plain C++17 + Eigen, no VTK.
 //
 // Bind() finds each input point's voxel once: the kept voxel whose closed cube contains it (the lowest (k, j, i)

@@ -1,4 +1,4 @@
-// WiltingSimulator presets (spec 04; paper 001 sec. 3): materials and loads for the paper's three leaves.
+// WiltingSimulator presets (docs/methods/wilting.md; paper 001 sec. 3): materials and loads for the paper's leaves.
 //   Cucumber: droop with the margin and apex curling down (contraction towards the base on the voxels' bottom
 //             nodes, earlier than the droop; the -x half drooping a little more), fitted to the paper's measured tip trajectory on a leaf of the
 //             measured size (examples/calibrate_wilting.py; docs/wilting-calibration.md): valid at the settings it

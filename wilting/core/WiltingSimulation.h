@@ -1,7 +1,7 @@
-// WiltingSimulator's algorithm (spec 04; paper 001): the voxel mass-spring leaf, its loads, the implicit Newmark run
-// and the frames it keeps. Plain C++17 + Eigen, no VTK; vtkWiltingSimulator is a thin layer over it.
+// WiltingSimulator's algorithm (paper 001; docs/methods/wilting.md): the voxel mass-spring leaf, its loads, the
+// implicit Newmark run and its frames. Plain C++17 + Eigen, no VTK; vtkWiltingSimulator is a thin layer over it.
 //
-// Model (choices where the spec is silent are marked *):
+// Model (choices where the paper is silent are marked *; docs/methods/wilting.md says why):
 // - Voxels: WiltingVoxelizer (exact triangle-box tests), VoxelSize or Resolution cubes along the longest side.
 // - Springs: the 28 node pairs of each voxel (12 edges, 12 face diagonals, 4 body diagonals) with the voxel's
 //   region stiffness k and dashpot c; * a pair shared by neighbouring voxels is one spring whose k and c are the

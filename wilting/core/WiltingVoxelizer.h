@@ -1,4 +1,4 @@
-// Voxelisation of a leaf surface for WiltingSimulator (spec 04 "Model" 1-3; paper 001 sec. 1, Figs. 1-2). Plain
+// Voxelisation of a leaf surface for WiltingSimulator (docs/methods/wilting.md; paper 001 sec. 1, Figs. 1-2). Plain
 // C++17 + Eigen, no VTK.
 //
 // The input's bounding box is covered by a grid of cubes of edge h (VoxelSize, or the longest side / Resolution),

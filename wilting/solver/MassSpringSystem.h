@@ -1,5 +1,5 @@
-// The mass-spring system of WiltingSimulator (spec 04, paper 001 sec. 1-2): point masses joined by linear springs.
-// Plain C++17 + Eigen, no VTK.
+// The mass-spring system of WiltingSimulator (docs/methods/wilting.md, paper 001 sec. 1-2): point masses joined by
+// linear springs. Plain C++17 + Eigen, no VTK.
 //
 // Formulation (chosen to be exactly that of VegaFEM's massSpringSystem, the paper's reference [19], so that the
 // benchmarks/wilting_plate cross-check can agree with it to 1e-3 cm):
@@ -9,7 +9,7 @@
 //   (eq. (3)); the "internal force" R(u) of the equations of motion M a + C v + R(u) = f is its negative.
 // - Tangent stiffness block D_e = dR/dz = k [ (1 - L/l) (I - n n^T) + n n^T ] (eq. (5)); K has +D_e on the two
 //   diagonal blocks (a, a), (b, b) and -D_e on (a, b), (b, a). The compression clamp replaces (1 - L/l) by
-//   max(0, 1 - L/l), so K stays positive semi-definite for compressed springs (spec 04 item 6).
+//   max(0, 1 - L/l), so K stays positive semi-definite for compressed springs (docs/methods/wilting.md).
 // - Dashpot: the force on a is c (v_b - v_a) (VegaFEM's spring damping), a constant matrix c (graph Laplacian (x) I).
 // - Masses are lumped (a diagonal M); fixed nodes have zero displacement, velocity and acceleration.
 //

@@ -1,5 +1,5 @@
-// A small persistent thread pool for the mass-spring system and its Newmark integrator (WiltingSimulator, spec 04).
-// Plain C++17 (std::thread), no VTK, so the algorithm layer and the command-line benchmark thread the same way.
+// A small persistent thread pool for WiltingSimulator's mass-spring system and Newmark integrator (see
+// docs/methods/wilting.md). Plain C++17 (std::thread), no VTK: the algorithm layer and the benchmark thread alike.
 //
 // Determinism: For() hands out a fixed partition of [0, n) and callers only write disjoint outputs from it, so its
 // results do not depend on the number of threads. Sum() always cuts [0, n) into the same ReduceChunks pieces, sums

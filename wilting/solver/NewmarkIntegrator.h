@@ -1,4 +1,4 @@
-// Implicit Newmark time integration with Newton-Raphson for a MassSpringSystem (spec 04 "Integrator"; paper 001
+// Implicit Newmark time integration with Newton-Raphson for a MassSpringSystem (docs/methods/wilting.md; paper 001
 // sec. 2). Plain C++17 + Eigen, no VTK.
 //
 // The equations of motion M a + C v + R(q) = f(t), q the displacements, with Rayleigh damping

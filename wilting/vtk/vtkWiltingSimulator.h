@@ -1,7 +1,13 @@
 /**
  * @class   vtkWiltingSimulator
  * @brief   Wilts a leaf: a voxel mass-spring model stepped by implicit Newmark, played as an animation (paper 001;
- *          spec 04 "WiltingSimulator").
+ *          docs/methods/wilting.md).
+ *
+ * Related publication: [P001] Miao Teng, Guo Xinyu, Wen Weiliang, Lu Shenglian, "A physically based representation
+ * of leaf wilting" (in Chinese), Transactions of the Chinese Society for Agricultural Machinery 45(5), 2014:
+ * secs. 1-3, eqs. (3)-(5), Figs. 1-5, Table 1.
+ * Full references: docs/references.md. What the code does, and where and why it departs from the paper:
+ * docs/methods/wilting.md.
  *
  * vtkWiltingSimulator voxelises the input surface (cubes of edge VoxelSize, or Resolution cubes along the longest
  * side; a cube is kept when an exact triangle-box test says a triangle touches it), joins the 8 corners of every
@@ -17,7 +23,7 @@
  * stiffness (compression clamp optional), and a sparse Cholesky or preconditioned CG solve. Every input point
  * (surface and lines, e.g. veins) is bound once to its voxel and follows it by trilinear (or tricubic)
  * interpolation. See plantmorph::WiltingSimulation (wilting/core/WiltingSimulation.h) for the model's formulas and
- * the choices made where the spec is silent.
+ * the choices made where the paper is silent (docs/methods/wilting.md says why).
  *
  * Petiole (PetioleLength > 0; not in the paper): a straight petiole of that length (whole voxels) is added from the
  * blade's base along -y in the blade's plane, one or two voxels wide and thick, with PetioleMaterial; a stand holds
@@ -35,9 +41,9 @@
  * Input port 1, optional (`Veins`; SetVeinsConnection): polylines on the surface, e.g. VenationFilter's port 0
  * (feed its port 1, the blade, to port 0). Their points are not voxelised; they mark the voxels they lie in with
  * their `Region` (primary and secondary veins make vein voxels; tertiary veins and veinlets, finer than a voxel,
- * keep the blade's material) and follow the voxels like the surface's points (spec 04: every input point, surface
- * and veins, follows the voxels). A single input holding both polygons and lines works too: its lines are
- * carried along on port 0.
+ * keep the blade's material) and follow the voxels like the surface's points (docs/methods/wilting.md: every input
+ * point, surface and veins, follows the voxels). A single input holding both polygons and lines works too: its lines
+ * are carried along on port 0.
  *
  * Outputs:
  * - port 0: the input with every point moved (points keep the input's precision) and every array passed through

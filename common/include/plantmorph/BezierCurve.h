@@ -21,9 +21,9 @@ template <int Dim>
 std::vector<Eigen::Matrix<double, Dim, 1>> SampleBezier(
   const std::vector<Eigen::Matrix<double, Dim, 1>>& controls, int count);
 
-/// Paper 004 sec. 3.1 (index corrected by spec 05): `n` of the `m` stroke points, point i at index
-/// floor(i * (m - 1) / (n - 1)), i = 0..n-1, so the first and last stroke points are always kept. n is clamped to
-/// [2, m]; m < 2 gives the points unchanged.
+/// Paper 004 sec. 3.1 (index corrected, see docs/methods/tree-from-sketch.md): `n` of the `m` stroke points, point
+/// i at index floor(i * (m - 1) / (n - 1)), i = 0..n-1, so the first and last stroke points are always kept. n is
+/// clamped to [2, m]; m < 2 gives the points unchanged.
 std::vector<int> StrokeControlIndices(int m, int n);
 
 extern template Eigen::Matrix<double, 2, 1> EvaluateBezier<2>(const std::vector<Eigen::Matrix<double, 2, 1>>&, double);

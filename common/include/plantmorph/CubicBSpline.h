@@ -1,5 +1,5 @@
-// Interpolating cubic B-spline curves in 2-D and 3-D (spec 01 "Model C", paper 003 sec. 2.1: leaf margins and
-// midveins; also sketched strokes). The curve passes THROUGH its control points Q_0..Q_{n-1}; the B-spline's own
+// Interpolating cubic B-spline curves in 2-D and 3-D (docs/methods/leaf-outline.md, paper 003 sec. 2.1: leaf margins
+// and midveins; also sketched strokes). The curve passes THROUGH its control points Q_0..Q_{n-1}; the B-spline's own
 // control polygon is called the de Boor points P_j here, to keep the two apart.
 //
 // Choices:

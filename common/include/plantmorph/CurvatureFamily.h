@@ -1,5 +1,5 @@
-// Curvature and torsion functions of paper 002 (eqs. (4)-(8), (10); spec 01 "Model B"), each a function of arc
-// length s on [0, S] with one peak.
+// Curvature and torsion functions of paper 002 (eqs. (4)-(8), (10); docs/methods/leaf-outline.md), each a function of
+// arc length s on [0, S] with one peak.
 //
 // The peak is given as an integral-like constant mu = S * h (the paper's mu for curvature, eta for torsion), not as
 // h itself: with mu held fixed, every family but the exponential one is phi(s) = (1/S) * g(s/S), so growing S gives an
@@ -14,7 +14,7 @@
 //                 phi(S) = u3 (b1 is ignored when lambda = 0, u3 when lambda = 1)
 //   NotchedApex   eq. (8), the "duck tongue": a triangle of peak h on [0, S4] then a triangle of peak u4 = h/beta on
 //                 [S4, (1 + alpha4) S4], peaked at lambda2 of the way; S = (1 + alpha4) S4. A negative beta makes u4
-//                 negative (the spec allows it where the positive notch does not show).
+//                 negative (allowed where the positive notch does not show: docs/methods/leaf-outline.md).
 #pragma once
 
 #include <string>

@@ -1,5 +1,5 @@
 // Space curves from curvature and torsion: the Frenet-Serret equations in arc length (paper 002 eq. (1), with the
-// OCR's psi*beta corrected to psi*gamma, spec 01 "Model B"):
+// OCR's psi*beta corrected to psi*gamma, docs/methods/leaf-outline.md):
 //
 //   dr/ds = T,  dT/ds = phi*N,  dN/ds = -phi*T + psi*B,  dB/ds = -psi*N.
 //

@@ -1,4 +1,4 @@
-// Rotation-minimising frames along a polyline (spec 05 "Branch geometry": tube rings transported without twist).
+// Rotation-minimising frames along a polyline (docs/methods/tree-from-sketch.md: tube rings transported without twist).
 //
 // The double reflection method of Wang, Juettler, Zheng and Liu, "Computation of rotation minimizing frames", ACM TOG
 // 27(1), 2008: from frame i to frame i + 1, reflect in the plane bisecting x_i and x_{i+1}, then in the plane that

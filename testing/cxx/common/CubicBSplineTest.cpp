@@ -1,5 +1,5 @@
-// Interpolating cubic B-splines (spec 01 "Model C"): interpolation, C2 continuity, not-a-knot ends, exactness for
-// lines and cubics, fourth-order convergence on a circle, derivatives, arc-length sampling, bad input, and size.
+// Interpolating cubic B-splines (docs/methods/leaf-outline.md): interpolation, C2, not-a-knot ends, exact lines and
+// cubics, fourth-order convergence on a circle, derivatives, arc-length sampling, bad input, and size.
 #include <plantmorph/CubicBSpline.h>
 
 #include <gtest/gtest.h>

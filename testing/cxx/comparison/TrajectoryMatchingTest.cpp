@@ -17,7 +17,7 @@ namespace plantmorph
 {
 namespace
 {
-// Table 1 of seeds/001 (as in shared/data/cucumber-wilting-tip.csv), cm.
+// Table 1 of paper 001 (docs/references.md; as in data/cucumber-wilting-tip.csv), cm.
 const std::vector<double> Measured = { 0.46, 19.58, -2.13, -1.26, 18.51, -3.43, -1.30, 13.45, -9.87, 0.10, 8.90,
   -14.10, 0.60, 4.20, -18.40 };
 const std::vector<double> PaperSimulated = { -1.06, 20.41, -1.79, -0.86, 19.03, -3.22, 1.12, 12.85, -9.49, 1.27,

@@ -1,5 +1,5 @@
-// vtkTreeFromSketchSource (spec 05): outputs and arrays, closed manifold branch surface, strokes from the input port
-// and from a CSV file, leaf instances, one piece under MPI, determinism, and errors with empty outputs.
+// vtkTreeFromSketchSource (docs/methods/tree-from-sketch.md): outputs and arrays, closed manifold branch surface,
+// strokes from the input port and a CSV file, leaf instances, one piece under MPI, determinism, errors, empty outputs.
 #include "vtkTreeFromSketchSource.h"
 
 #include "vtkCellArray.h"

@@ -1,6 +1,6 @@
-// TreeFromSketchSource's algorithm layer (spec 05, paper 004): template counts and formulas, stable ids, overrides,
-// watertight tubes (closed, manifold, oriented, exact volumes, mitre rings on both cylinders), strokes (projection,
-// eq. (3), angle choice, attachment, ties), leaves, determinism, bad input.
+// TreeFromSketchSource's algorithm layer (docs/methods/tree-from-sketch.md, paper 004): template counts and formulas,
+// stable ids, overrides, watertight tubes (closed, manifold, oriented, exact volumes, mitre rings on both cylinders),
+// strokes (projection, eq. (3), angle choice, attachment, ties), leaves, determinism, bad input.
 #include "BranchJunctions.h"
 #include "BranchTubes.h"
 #include "TreeLeaves.h"
@@ -871,7 +871,7 @@ TEST(BranchTubes, JointsThatCannotBeSeatedAreCountedNotHidden)
   EXPECT_GT(joints.seated, 0);
 }
 
-// ---- Merging a second tree (spec 05 Editing; paper 004 sec. 3.2, Fig. 11) ----------------------------------------
+// ---- Merging a second tree (docs/methods/tree-from-sketch.md; paper 004 sec. 3.2, Fig. 11) -----------------------
 
 namespace
 {
@@ -926,7 +926,7 @@ TEST(TreeMerge, BranchCountIsTheSumAndMergedGeometryIsTheSecondTreeUnderTheState
   }
   const auto byId = ById(merged);
   const TreeBranch& host = *byId.at(3);
-  // Expected placement, written out from the spec: the host is straight, its frame constant, its radius linear.
+  // Expected placement, written out from the formulas: the host is straight, its frame constant, its radius linear.
   const Eigen::Matrix3d R = host.frame * RotationY(70.0) * RotationZ(40.0);
   const Eigen::Vector3d axisPoint = host.centre.front() + 0.3 * (host.centre.back() - host.centre.front());
   const double hostRadius = host.radius + 0.3 * (host.radiusEnd - host.radius);

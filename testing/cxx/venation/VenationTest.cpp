@@ -1,7 +1,7 @@
-// Venation (paper 000 sec. 3, spec 02) on real blades from LeafOutlineSource's models: veins stay on the blade and
-// inside its outline, the network is connected through veins of equal or lower order, growth junctions keep their
-// angles, areoles are closed and scale with AreoleSize, every pattern builds, palmate growth forks dichotomously,
-// the statistics are what the network measures, and the same seed gives the same network bit for bit.
+// Venation (paper 000 sec. 3, docs/methods/venation.md) on real blades from LeafOutlineSource's models: veins stay on
+// the blade and inside its outline, the network is connected through veins of equal or lower order, growth junctions
+// keep their angles, areoles are closed and scale with AreoleSize, every pattern builds, palmate growth forks
+// dichotomously, the statistics are what the network measures, and the same seed gives the same network bit for bit.
 #include "MeshInvariants.h"
 #include "VenationGrowth.h"
 

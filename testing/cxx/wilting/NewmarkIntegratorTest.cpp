@@ -1,4 +1,4 @@
-// NewmarkIntegrator and MassSpringSystem against closed forms (spec 04 "What tests must show") and against VegaFEM
+// NewmarkIntegrator and MassSpringSystem against closed forms (docs/methods/wilting.md) and against VegaFEM
 // 4.0's implicitNewmarkSparse on the benchmarks/wilting_plate problem.
 #include "MassSpringSystem.h"
 #include "NewmarkIntegrator.h"

@@ -1,5 +1,5 @@
 // WiltingSimulator's algorithm layer: voxeliser (exact triangle-box test), embedding exactness, a drooping leaf
-// with its anchors fixed, loads, determinism and bad input (spec 04 "What tests must show").
+// with its anchors fixed, loads, determinism and bad input (docs/methods/wilting.md).
 #include "WiltingEmbedding.h"
 #include "WiltingPresets.h"
 #include "WiltingSimulation.h"
