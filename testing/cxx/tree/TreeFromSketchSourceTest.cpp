@@ -1,5 +1,6 @@
 // vtkTreeFromSketchSource (docs/methods/tree-from-sketch.md): outputs and arrays, closed manifold branch surface,
 // strokes from the input port and a CSV file, leaf instances, one piece under MPI, determinism, errors, empty outputs.
+#include "VtkErrorCatcher.h"
 #include "vtkTreeFromSketchSource.h"
 
 #include "vtkCellArray.h"
@@ -29,16 +30,7 @@
 
 namespace
 {
-class TreeErrorCatcher : public vtkCommand
-{
-public:
-  static TreeErrorCatcher* New() { return new TreeErrorCatcher; }
-  void Execute(vtkObject*, unsigned long, void* data) override
-  {
-    this->Messages += static_cast<const char*>(data);
-  }
-  std::string Messages;
-};
+using plantmorph::testing::ErrorCatcher;
 
 vtkPolyData* Output(vtkTreeFromSketchSource* s, int port)
 {
@@ -309,7 +301,7 @@ TEST(TreeFromSketchSource, BadInputGivesAnErrorNamingItAndEmptyOutputs)
   for (const Case& c : cases)
   {
     vtkNew<vtkTreeFromSketchSource> source;
-    vtkNew<TreeErrorCatcher> catcher;
+    vtkNew<ErrorCatcher> catcher;
     source->AddObserver(vtkCommand::ErrorEvent, catcher);
     c.apply(source);
     source->Update();
@@ -338,7 +330,7 @@ TEST(TreeFromSketchSource, SecondTreeOnTheMergePortKeepsItsShapeAndGetsIdsAfterT
   merged->SetMergeParentBranch(-1);
   merged->SetMergeOffset(8.0, 0.0, 0.0);
   merged->SetMergeAngle(0.0);
-  vtkNew<TreeErrorCatcher> catcher;
+  vtkNew<ErrorCatcher> catcher;
   merged->AddObserver(vtkCommand::ErrorEvent, catcher);
   merged->Update();
   ASSERT_EQ(catcher->Messages, "");
