@@ -258,8 +258,17 @@ std::string Grower::GrowSecondaries()
     const double slope = 1.0 / std::tan(theta * Pi / 180.0);
     const double k = this->P.curvatureBase + (this->P.curvatureApex - this->P.curvatureBase) * secondary.v;
     const Eigen::Vector2d origin = nodes[secondary.node];
+    // Its reach: the lateral distance to the margin along the straight line at the divergence angle. The arch of
+    // eq. (2) rises k*s^2/(10*reach) on top of that line: it turns towards the apex by a bounded angle (at the
+    // margin its slope is cot(theta) + k/5) however wide the blade, so it runs out to the margin instead of
+    // bending up along the midvein where the blade is wide (the printed k*w*(s/w)^2 starts perpendicular).
+    double reach = this->Step;
+    for (double s = this->Step; s <= sMax && this->Inside(origin + s * (secondary.outward + slope * secondary.tangent));
+         s += this->Step)
+      reach = s;
     auto at = [&](double s) {
-      return Eigen::Vector2d(origin + s * secondary.outward + (s * slope + k * s * s / w) * secondary.tangent);
+      return Eigen::Vector2d(
+        origin + s * secondary.outward + (s * slope + k * s * s / (10.0 * reach)) * secondary.tangent);
     };
     // Where it would leave the blade.
     double exit = 0.0;
@@ -272,7 +281,7 @@ std::string Grower::GrowSecondaries()
     const double ds = forks ? std::max(forkS, 1e-12 * this->Length) / toFork : this->Step;
     // A short first piece, so the vein leaves the midvein at the divergence angle itself rather than along the
     // chord of a curved step.
-    std::vector<Eigen::Vector2d> first = { at(0.125 * ds) };
+    std::vector<Eigen::Vector2d> first = { at(std::min(0.125 * ds, 0.01 * reach)) };
     for (int j = 1; j <= toFork && (forks || j * ds <= sMax); ++j)
       first.push_back(at(j * ds));
     if (!forks)
@@ -795,7 +804,7 @@ VenationParameters MakeVenationPreset(VenationPreset preset)
       p.divergenceAngle = 45.0;
       p.divergenceAngleApex = 70.0;
       p.secondarySpacing = 0.11;
-      p.forkFraction = 0.75;
+      p.forkFraction = 0.85;
       p.tertiary = true;
       p.areoleSize = 0.045;
       break;
