@@ -1,5 +1,7 @@
 #include "VenationGrowth.h"
 
+#include "PalmateFan.h"
+
 #include <plantmorph/RandomStream.h>
 
 #include <algorithm>
@@ -256,8 +258,17 @@ std::string Grower::GrowSecondaries()
     const double slope = 1.0 / std::tan(theta * Pi / 180.0);
     const double k = this->P.curvatureBase + (this->P.curvatureApex - this->P.curvatureBase) * secondary.v;
     const Eigen::Vector2d origin = nodes[secondary.node];
+    // Its reach: the lateral distance to the margin along the straight line at the divergence angle. The arch of
+    // eq. (2) rises k*s^2/(10*reach) on top of that line: it turns towards the apex by a bounded angle (at the
+    // margin its slope is cot(theta) + k/5) however wide the blade, so it runs out to the margin instead of
+    // bending up along the midvein where the blade is wide (the printed k*w*(s/w)^2 starts perpendicular).
+    double reach = this->Step;
+    for (double s = this->Step; s <= sMax && this->Inside(origin + s * (secondary.outward + slope * secondary.tangent));
+         s += this->Step)
+      reach = s;
     auto at = [&](double s) {
-      return Eigen::Vector2d(origin + s * secondary.outward + (s * slope + k * s * s / w) * secondary.tangent);
+      return Eigen::Vector2d(
+        origin + s * secondary.outward + (s * slope + k * s * s / (10.0 * reach)) * secondary.tangent);
     };
     // Where it would leave the blade.
     double exit = 0.0;
@@ -270,7 +281,7 @@ std::string Grower::GrowSecondaries()
     const double ds = forks ? std::max(forkS, 1e-12 * this->Length) / toFork : this->Step;
     // A short first piece, so the vein leaves the midvein at the divergence angle itself rather than along the
     // chord of a curved step.
-    std::vector<Eigen::Vector2d> first = { at(0.125 * ds) };
+    std::vector<Eigen::Vector2d> first = { at(std::min(0.125 * ds, 0.01 * reach)) };
     for (int j = 1; j <= toFork && (forks || j * ds <= sMax); ++j)
       first.push_back(at(j * ds));
     if (!forks)
@@ -512,23 +523,43 @@ void Grower::GrowVeinlets()
 
 void Grower::GrowPalmate()
 {
-  // End points evenly along the canonical leaf's far edge v = 1 (a fan's distal margin, a palmate blade's lobe tips
-  // and the sinuses between them; a pointed leaf's apex).
-  const int groups = this->P.palmateVeins;
+  // End points on the blade's margin, fanned over its angular extent seen from the base, one group per primary
+  // (PalmateFan.h: lobe tips, basal lobes of cordate blades, an even spread on entire blades).
+  PalmateFanSettings settings;
+  settings.primaries = this->P.palmateVeins;
+  settings.levels = this->P.forkLevels;
+  const PalmateFan fan = FindPalmateFan(this->Blade, this->Locator, this->Base, this->Axis, this->Length, settings);
   const int levels = this->P.forkLevels;
+  const int groups = static_cast<int>(fan.ends.size());
   const int count = groups << levels;
-  std::vector<Eigen::Vector2d> ends(count);
-  for (int j = 0; j < count; ++j)
-    ends[j] = Eigen::Vector2d(-0.5 + (j + 0.5) / count, 1.0);
+  std::vector<Eigen::Vector2d> ends(count), endsUV(count);
+  for (int r = 0; r < groups; ++r)
+  {
+    for (int j = 0; j < (1 << levels); ++j)
+    {
+      const Eigen::Vector2d x = fan.ends[r][j];
+      ends[(r << levels) + j] = x;
+      BladeLocation at = this->Locator.Locate(x, 1e-7 * this->Length);
+      if (at.triangle < 0)
+        at = this->Locator.Locate(x, 1e-3 * this->Length);
+      endsUV[(r << levels) + j] = at.triangle >= 0 ? this->Locator.Interpolate(this->Blade.uv, at)
+                                                   : Eigen::Vector2d(0.0, 1.0);
+    }
+  }
   // Fork growth fractions: level d forks at forkTime[d].
   std::vector<double> forkTime(levels + 2, 1.0);
   forkTime[0] = 0.0;
   for (int d = 1; d <= levels; ++d)
     forkTime[d] = this->P.forkSize + (d - 1) * (1.0 - this->P.forkSize) / levels;
+  // The path of an end point through the growing leaf: the leaf grows about its base, P(g) = B + g*(p(g) - B),
+  // where that stays inside the blade (a blade star-shaped from its base: straight primaries); otherwise it grows
+  // in LeafUV, P(g) = F(g*p(g)) (F: LeafUV to the blade), which never leaves it (a cusp-like base, basal lobes).
+  bool plane = true;
+  const std::vector<Eigen::Vector2d>* space = &ends;
   auto mean = [&](int first, int size) {
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     for (int j = first; j < first + size; ++j)
-      sum += ends[j];
+      sum += (*space)[j];
     return Eigen::Vector2d(sum / size);
   };
   // The parameter of the group [first, first + size) at depth d and growth g.
@@ -543,15 +574,40 @@ void Grower::GrowPalmate()
     const double f = (g - forkTime[d]) / (1.0 - forkTime[d]);
     return Eigen::Vector2d(parent + f * (mean(first, size) - mean(parentFirst, parentSize)));
   };
+  // In LeafUV the path arches up by g*(1 - g)*(1 - v)/4 in v: an end on the base edge v = 0 (a cordate blade's
+  // basal lobe) is reached through the blade rather than along its margin.
+  auto at = [&](int d, int first, int size, double g) {
+    const Eigen::Vector2d p = parameter(d, first, size, g);
+    return plane ? Eigen::Vector2d(this->Base + g * (p - this->Base))
+                 : this->Locator.PointAtUV(g * p + Eigen::Vector2d(0.0, 0.25 * g * (1.0 - g) * (1.0 - p.y())));
+  };
+  auto pieces = [&](int d) {
+    const double g0 = forkTime[d], g1 = d == levels ? 1.0 : forkTime[d + 1];
+    return std::max(2, static_cast<int>(std::ceil(2.0 * (g1 - g0) * this->Length / this->Step)));
+  };
+  // Straight paths only if every one stays inside the blade (all or none, so paths of both kinds never cross).
+  for (int j = 0; j < count && plane; ++j)
+  {
+    for (int d = 0; d <= levels && plane; ++d)
+    {
+      const int size = 1 << (levels - d), first = (j / size) * size;
+      const double g0 = forkTime[d], g1 = d == levels ? 1.0 : forkTime[d + 1];
+      const int n = pieces(d);
+      for (int k = 1; k <= n && plane; ++k)
+      {
+        const double g = std::min(g0 + (g1 - g0) * k / n, 1.0 - 1e-6);
+        plane = this->Locator.Locate(at(d, first, size, g), 1e-6 * this->Length).triangle >= 0;
+      }
+    }
+  }
+  if (!plane)
+    space = &endsUV;
   std::function<void(int, int, int, int)> grow = [&](int d, int first, int size, int from) {
     const double g0 = forkTime[d], g1 = d == levels ? 1.0 : forkTime[d + 1];
-    const int pieces = std::max(2, static_cast<int>(std::ceil(2.0 * (g1 - g0) * this->Length / this->Step)));
+    const int n = pieces(d);
     std::vector<Eigen::Vector2d> points;
-    for (int k = 1; k <= pieces; ++k)
-    {
-      const double g = g0 + (g1 - g0) * k / pieces;
-      points.push_back(this->Locator.PointAtUV(g * parameter(d, first, size, g)));
-    }
+    for (int k = 1; k <= n; ++k)
+      points.push_back(at(d, first, size, g0 + (g1 - g0) * k / n));
     const int vein = this->Graph.AddVein(d == 0 ? VeinOrderPrimary : VeinOrderSecondary);
     const VeinGraph::Step step = this->GrowCurve(from, points, vein, 1e-7 * this->Length);
     if (d == levels || (step.stopped && step.hitVein == 0))
@@ -748,7 +804,7 @@ VenationParameters MakeVenationPreset(VenationPreset preset)
       p.divergenceAngle = 45.0;
       p.divergenceAngleApex = 70.0;
       p.secondarySpacing = 0.11;
-      p.forkFraction = 0.75;
+      p.forkFraction = 0.85;
       p.tertiary = true;
       p.areoleSize = 0.045;
       break;

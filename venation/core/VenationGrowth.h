@@ -30,12 +30,15 @@
 // - Veinlets (Fig. 8b): in every areole larger than the veinlet length squared, a free-ending chain of one to three
 //   short edges (`veinletLength` areole sizes each) from the middle of one of its edges, first edge perpendicular
 //   to it, stopping before it would meet anything (VeinOrder 4).
-// - Palmate venation by leaf growth (sec. 3.2): `palmateVeins` * 2^`forkLevels` end points evenly along the
-//   canonical leaf's far edge v = 1 (a fan's distal margin, a palmate blade's lobe tips and sinuses); the vein of
-//   each is the path of its LeafUV parameter p through the canonical rectangle growing about the base, mapped onto
-//   the blade: P(g) = F(g * p(g)), g from 0 to 1 (F: LeafUV to the blade). This construction in LeafUV space
-//   (docs/methods/venation.md) serves every model, the deformed rectangle too: scaling a_x and b_y instead carries
-//   the path outside the final blade wherever that is not star-shaped from its base (the ginkgo's cusp-like base).
+// - Palmate venation by leaf growth (sec. 3.2): the primaries' end points lie on the blade's real margin, fanned
+//   over its angular extent seen from the base (PalmateFan.h; docs/methods/venation.md): one at each lobe tip of a lobed blade, the two
+//   outermost at the basal lobes of a cordate one, otherwise `palmateVeins` spread evenly in angle; each primary's
+//   2^`forkLevels` branch ends spread over its share of the angles. The vein of each end point is its path through
+//   the leaf growing about its base: P(g) = B + g*(p(g) - B), g from 0 to 1, a straight ray wherever every such
+//   path stays inside the blade (a blade star-shaped from its base); otherwise the same construction in LeafUV,
+//   P(g) = F(g*p(g) + (0, g*(1 - g)*(1 - v_p)/4)) (F: LeafUV to the blade, v_p the end's v), which cannot leave the
+//   blade (the ginkgo's cusp-like base, cordate blades' basal lobes) and arches into the blade rather than along a
+//   base edge v = 0.
 //   Dichotomous forks: a group of end points shares one parameter (their mean) until growth `forkSize` (later
 //   levels evenly after it), then the two halves move linearly apart to their own means by g = 1, so one vein
 //   splits into two.
@@ -96,7 +99,7 @@ struct VenationParameters
   double junctionAngleDeviation = 10.0; ///< standard deviation of the junction angles around 120 deg
   bool veinlets = false;
   double veinletLength = 0.4;    ///< in areole sizes
-  int palmateVeins = 4;
+  int palmateVeins = 4;         ///< palmate: primaries on a blade without lobes (a lobed one gets one per lobe)
   int forkLevels = 1;
   double forkSize = 0.3;         ///< growth fraction of the first dichotomous fork, (0, 1)
   double primaryWidth = 0.015;   ///< in leaf lengths

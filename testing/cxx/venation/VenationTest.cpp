@@ -359,7 +359,7 @@ TEST(Venation, GinkgoForksDichotomouslyIntoVeinsThatReachTheMargin)
 
 TEST(Venation, PalmateVeinsFollowThePalmateBladesLobes)
 {
-  // On paper 002's 5-lobed leaf, palmate growth veins spread over v = 1, which holds every lobe tip.
+  // On paper 002's 5-lobed leaf, one palmate primary runs to each lobe tip (VenationPalmateTest.cpp measures them).
   SpaceCurveMeshSettings settings;
   settings.resolution = 40;
   LeafGeometry leaf;

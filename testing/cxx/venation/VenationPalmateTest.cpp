@@ -1,0 +1,289 @@
+// Palmate (actinodromous) venation follows the blade (spec 02 "Palmate veins by leaf growth", issue 22 item 1), on
+// the project's own blades: on entire blades the primaries fan over at least 80 degrees seen from the base; on
+// paper 002's lobed leaves one primary runs into each lobe and reaches within 3 % of the leaf length of its tip
+// (the tips are the Outline's lobe midveins' ends, which the venation never sees); on cordate blades (the cucumber,
+// paper 000 Fig. 2c) the outermost primaries run into the basal lobes; ginkgo's dichotomies reach across the fan.
+#include "VenationGrowth.h"
+
+#include "BSplineLeaf.h"
+#include "DeformedRectangleLeaf.h"
+#include "DeformedRectanglePresets.h"
+#include "SpaceCurvePresets.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+namespace plantmorph
+{
+namespace
+{
+constexpr double Degrees = 180.0 / 3.14159265358979323846;
+
+VenationBlade BladeOf(const LeafGeometry& leaf)
+{
+  return { leaf.blade.points, leaf.blade.uv, leaf.blade.triangles };
+}
+
+VenationResult Grow(const LeafGeometry& leaf, const VenationParameters& p)
+{
+  VenationResult result;
+  EXPECT_EQ(GrowVenation(BladeOf(leaf), p, result), "");
+  return result;
+}
+
+VenationParameters Palmate(int veins)
+{
+  VenationParameters p;
+  p.pattern = VenationPattern::Palmate;
+  p.palmateVeins = veins;
+  p.forkLevels = 0;
+  p.tertiary = false;
+  return p;
+}
+
+LeafGeometry DeformedRectangle(DeformedRectanglePreset preset)
+{
+  LeafMeshSettings settings;
+  settings.resolution = 60;
+  LeafGeometry leaf;
+  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(preset, 5.0), settings, leaf), "");
+  return leaf;
+}
+
+LeafGeometry Cucumber()
+{
+  LeafMeshSettings settings;
+  settings.resolution = 60;
+  LeafGeometry leaf;
+  EXPECT_EQ(BuildBSplineLeaf(MakeBSplinePreset(BSplinePreset::Cucumber, 8.0, 7.0, 9), settings, leaf), "");
+  return leaf;
+}
+
+LeafGeometry Lobed(SpaceCurvePreset preset)
+{
+  SpaceCurveMeshSettings settings;
+  settings.resolution = 40;
+  LeafGeometry leaf;
+  EXPECT_EQ(BuildSpaceCurveLeaf(MakeSpaceCurvePreset(preset, 5.0), settings, leaf), "");
+  return leaf;
+}
+
+/// The leaf's base (the first midvein point) and unit axis (base to the apex).
+struct Frame
+{
+  Eigen::Vector2d base, axis;
+  double Angle(const Eigen::Vector2d& x) const
+  {
+    const Eigen::Vector2d r = x - this->base;
+    return std::atan2(this->axis.x() * r.y() - this->axis.y() * r.x(), r.dot(this->axis)) * Degrees;
+  }
+};
+
+Frame FrameOf(const LeafGeometry& leaf)
+{
+  const Eigen::Vector2d base = leaf.blade.points[leaf.midvein.front()];
+  return { base, (leaf.blade.points[leaf.midvein.back()] - base).normalized() };
+}
+
+std::vector<Eigen::Vector2d> Ends(const VenationResult& r, int order)
+{
+  std::vector<Eigen::Vector2d> ends;
+  for (const auto& vein : r.veins)
+  {
+    if (vein.order == order)
+      ends.push_back(r.nodes[vein.nodes.back()]);
+  }
+  return ends;
+}
+
+/// Angular span (degrees) of the points seen from the base.
+double Span(const Frame& frame, const std::vector<Eigen::Vector2d>& points)
+{
+  double low = 180.0, high = -180.0;
+  for (const Eigen::Vector2d& x : points)
+  {
+    low = std::min(low, frame.Angle(x));
+    high = std::max(high, frame.Angle(x));
+  }
+  return high - low;
+}
+
+/// Distance from x to the nearest vein of `order`.
+double DistanceToVeins(const VenationResult& r, int order, const Eigen::Vector2d& x)
+{
+  double best = std::numeric_limits<double>::max();
+  for (const auto& vein : r.veins)
+  {
+    if (vein.order != order)
+      continue;
+    for (std::size_t i = 0; i + 1 < vein.nodes.size(); ++i)
+    {
+      const Eigen::Vector2d a = r.nodes[vein.nodes[i]], d = r.nodes[vein.nodes[i + 1]] - a;
+      const double t = std::clamp((x - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+      best = std::min(best, (a + t * d - x).norm());
+    }
+  }
+  return best;
+}
+
+/// Every primary ends on the margin: no free end (tertiaries off, so every vein end is on the margin or a vein).
+void ExpectPrimariesEndOnTheMargin(const VenationResult& r)
+{
+  EXPECT_EQ(r.statistics.freeEnds, 0u);
+}
+
+TEST(PalmateVenation, PrimariesFanOverAtLeast80DegreesOnEntireBlades)
+{
+  for (const DeformedRectanglePreset preset :
+    { DeformedRectanglePreset::Entire, DeformedRectanglePreset::Ginkgo, DeformedRectanglePreset::Serrate,
+      DeformedRectanglePreset::RoundedBaseAcuminateApex })
+  {
+    const LeafGeometry leaf = DeformedRectangle(preset);
+    const Frame frame = FrameOf(leaf);
+    for (int veins : { 3, 4, 5, 7 })
+    {
+      SCOPED_TRACE(PresetName(preset) + ", " + std::to_string(veins) + " veins");
+      const VenationResult r = Grow(leaf, Palmate(veins));
+      const std::vector<Eigen::Vector2d> ends = Ends(r, VeinOrderPrimary);
+      ASSERT_EQ(ends.size(), static_cast<std::size_t>(veins));
+      const double span = Span(frame, ends);
+      std::cout << PresetName(preset) << " " << veins << " palmate veins: ends span " << span << " deg\n";
+      EXPECT_GE(span, 80.0);
+      ExpectPrimariesEndOnTheMargin(r);
+      // Spread evenly: no two neighbouring ends closer in angle than half the mean gap.
+      std::vector<double> angles;
+      for (const Eigen::Vector2d& x : ends)
+        angles.push_back(frame.Angle(x));
+      std::sort(angles.begin(), angles.end());
+      for (std::size_t i = 1; i < angles.size(); ++i)
+        EXPECT_GT(angles[i] - angles[i - 1], 0.5 * span / (veins - 1));
+    }
+  }
+}
+
+TEST(PalmateVenation, OnePrimaryRunsIntoEachLobeAndReachesItsTip)
+{
+  for (const SpaceCurvePreset preset : { SpaceCurvePreset::Figure8ThreeLobes, SpaceCurvePreset::Figure8FiveLobes })
+  {
+    SCOPED_TRACE(SpaceCurvePresetName(preset));
+    const LeafGeometry leaf = Lobed(preset);
+    // The lobe tips, from the Outline's lobe midveins (the venation sees only the blade and its LeafUV).
+    std::vector<Eigen::Vector2d> tips = { leaf.blade.points[leaf.midvein.back()] };
+    for (const std::vector<int>& lobe : leaf.lobeMidveins)
+      tips.push_back(leaf.blade.points[lobe.back()]);
+    for (int veins : { 3, 4 }) // PalmateVeins does not matter on a lobed blade: one primary per lobe
+    {
+      const VenationResult r = Grow(leaf, Palmate(veins));
+      EXPECT_EQ(Ends(r, VeinOrderPrimary).size(), tips.size());
+      ExpectPrimariesEndOnTheMargin(r);
+      for (const Eigen::Vector2d& tip : tips)
+      {
+        const double gap = DistanceToVeins(r, VeinOrderPrimary, tip) / r.leafLength;
+        std::cout << SpaceCurvePresetName(preset) << ": lobe tip " << tip.transpose() << " is " << 100.0 * gap
+                  << " % of the length from a primary\n";
+        EXPECT_LE(gap, 0.03);
+      }
+    }
+  }
+}
+
+TEST(PalmateVenation, BasalPrimariesRunIntoTheBasalLobesOfCordateBlades)
+{
+  const LeafGeometry cucumber = Cucumber(), cordate = DeformedRectangle(DeformedRectanglePreset::CordateBaseRoundedApex);
+  for (const LeafGeometry* leaf : { &cucumber, &cordate })
+  {
+    SCOPED_TRACE(leaf == &cucumber ? "cucumber" : "cordate base");
+    const Frame frame = FrameOf(*leaf);
+    // Each basal lobe's tip: the margin point farthest behind the base (the lowest along the axis), on each side.
+    std::vector<Eigen::Vector2d> lobes;
+    for (const std::vector<int>* margin : { &leaf->rightMargin, &leaf->leftMargin })
+    {
+      Eigen::Vector2d tip = frame.base;
+      for (int id : *margin)
+      {
+        const Eigen::Vector2d x = leaf->blade.points[id];
+        if ((x - frame.base).dot(frame.axis) < (tip - frame.base).dot(frame.axis))
+          tip = x;
+      }
+      ASSERT_LT((tip - frame.base).dot(frame.axis), -0.05 * (leaf->blade.points[leaf->midvein.back()] - frame.base).norm());
+      lobes.push_back(tip);
+    }
+    for (int veins : { 3, 5 })
+    {
+      const VenationResult r = Grow(*leaf, Palmate(veins));
+      const std::vector<Eigen::Vector2d> ends = Ends(r, VeinOrderPrimary);
+      ExpectPrimariesEndOnTheMargin(r);
+      std::cout << (leaf == &cucumber ? "cucumber" : "cordate") << " " << veins << " veins: " << ends.size()
+                << " primaries, span " << Span(frame, ends) << " deg\n";
+      EXPECT_GE(Span(frame, ends), 80.0);
+      for (const Eigen::Vector2d& lobe : lobes)
+      {
+        const double gap = DistanceToVeins(r, VeinOrderPrimary, lobe) / r.leafLength;
+        std::cout << "  basal lobe tip " << lobe.transpose() << ": " << 100.0 * gap << " % of the length\n";
+        EXPECT_LE(gap, 0.03);
+      }
+      // The basal primaries end behind the base, one on each side.
+      int behind[2] = { 0, 0 };
+      for (const Eigen::Vector2d& x : ends)
+      {
+        if ((x - frame.base).dot(frame.axis) < 0.0)
+          ++behind[frame.Angle(x) < 0.0 ? 0 : 1];
+      }
+      EXPECT_EQ(behind[0], 1);
+      EXPECT_EQ(behind[1], 1);
+    }
+  }
+}
+
+TEST(PalmateVenation, GinkgoDichotomiesReachAcrossTheFan)
+{
+  const LeafGeometry leaf = DeformedRectangle(DeformedRectanglePreset::Ginkgo);
+  const Frame frame = FrameOf(leaf);
+  const VenationResult r = Grow(leaf, MakeVenationPreset(VenationPreset::Ginkgo));
+  // The fan's angular extent: its margin points at least a fifth of the length from the base.
+  double low = 180.0, high = -180.0;
+  for (const std::vector<int>* margin : { &leaf.rightMargin, &leaf.leftMargin })
+  {
+    for (int id : *margin)
+    {
+      const Eigen::Vector2d x = leaf.blade.points[id];
+      if ((x - frame.base).norm() >= 0.2 * r.leafLength)
+      {
+        low = std::min(low, frame.Angle(x));
+        high = std::max(high, frame.Angle(x));
+      }
+    }
+  }
+  ASSERT_EQ(Ends(r, VeinOrderSecondary).size(), 24u); // 4 primaries forking twice: 8 + 16 branches
+  // The 16 branch tips on the margin: branch ends where no later branch starts.
+  std::vector<double> tips;
+  for (const auto& vein : r.veins)
+  {
+    if (vein.order != VeinOrderSecondary)
+      continue;
+    const Eigen::Vector2d x = r.nodes[vein.nodes.back()];
+    bool onMargin = true;
+    for (const auto& other : r.veins)
+    {
+      if (&other != &vein && other.nodes.front() == vein.nodes.back())
+        onMargin = false; // a fork: a later branch starts here
+    }
+    if (onMargin)
+      tips.push_back(frame.Angle(x));
+  }
+  ASSERT_EQ(tips.size(), 16u);
+  std::sort(tips.begin(), tips.end());
+  const double extent = high - low, even = extent / 16.0;
+  std::cout << "ginkgo fan " << low << ".." << high << " deg; branch tips " << tips.front() << ".." << tips.back()
+            << " deg\n";
+  EXPECT_LE(tips.front() - low, even);
+  EXPECT_LE(high - tips.back(), even);
+  for (std::size_t i = 1; i < tips.size(); ++i)
+    EXPECT_LE(tips[i] - tips[i - 1], 2.0 * even) << "gap " << i;
+}
+
+} // namespace
+} // namespace plantmorph

@@ -1,0 +1,136 @@
+// Pinnate venation reaches out (issue 22 item 2, spec 02 "Secondary veins"): on the entire blade the paper
+// mulberry preset's secondaries leave the midvein at the preset's divergence angle (45 deg at the base to 70 at the
+// apex), run out into the outer part of the half-blade before they loop (brochidodromous), and craspedodromous
+// secondaries end on the margin. The blade is symmetric about x = 0 with its midvein on it, so the half-width at a
+// height is read off its outline.
+#include "VenationGrowth.h"
+
+#include "DeformedRectangleLeaf.h"
+#include "DeformedRectanglePresets.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+namespace plantmorph
+{
+namespace
+{
+constexpr double Degrees = 180.0 / 3.14159265358979323846;
+
+struct Blade
+{
+  LeafGeometry leaf;
+  std::vector<Eigen::Vector2d> outline; ///< closed
+  /// The blade's half-width at height y: the largest |x| where the outline crosses the line at y.
+  double HalfWidth(double y) const
+  {
+    double best = 0.0;
+    for (std::size_t i = 0; i + 1 < this->outline.size(); ++i)
+    {
+      const Eigen::Vector2d a = this->outline[i], b = this->outline[i + 1];
+      if ((a.y() - y) * (b.y() - y) > 0.0 || a.y() == b.y())
+        continue;
+      const double t = (y - a.y()) / (b.y() - a.y());
+      best = std::max(best, std::abs(a.x() + t * (b.x() - a.x())));
+    }
+    return best;
+  }
+  double DistanceToOutline(const Eigen::Vector2d& x) const
+  {
+    double best = std::numeric_limits<double>::max();
+    for (std::size_t i = 0; i + 1 < this->outline.size(); ++i)
+    {
+      const Eigen::Vector2d a = this->outline[i], d = this->outline[i + 1] - a;
+      const double t = std::clamp((x - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+      best = std::min(best, (a + t * d - x).norm());
+    }
+    return best;
+  }
+};
+
+Blade Entire()
+{
+  Blade blade;
+  LeafMeshSettings settings;
+  settings.resolution = 80;
+  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings,
+              blade.leaf),
+    "");
+  for (int id : blade.leaf.rightMargin)
+    blade.outline.push_back(blade.leaf.blade.points[id]);
+  for (std::size_t i = blade.leaf.leftMargin.size(); i-- > 0;)
+    blade.outline.push_back(blade.leaf.blade.points[blade.leaf.leftMargin[i]]);
+  return blade;
+}
+
+VenationResult Grow(const Blade& blade, const VenationParameters& p)
+{
+  VenationResult result;
+  EXPECT_EQ(GrowVenation({ blade.leaf.blade.points, blade.leaf.blade.uv, blade.leaf.blade.triangles }, p, result), "");
+  return result;
+}
+
+TEST(PinnateVenation, PaperMulberrySecondariesLeaveAtTheDivergenceAngleAndLoopInTheOuterPart)
+{
+  const Blade blade = Entire();
+  VenationParameters p = MakeVenationPreset(VenationPreset::PaperMulberry);
+  p.tertiary = false;
+  const VenationResult r = Grow(blade, p);
+  int secondaries = 0;
+  double lowest = 1.0;
+  std::vector<double> outs;
+  for (const auto& vein : r.veins)
+  {
+    const Eigen::Vector2d start = r.nodes[vein.nodes.front()];
+    if (vein.order != VeinOrderSecondary || start.x() != 0.0)
+      continue; // a loop, not a secondary leaving the midvein
+    ++secondaries;
+    // The divergence angle interpolates from the base to the apex along the midvein (here v = y / L).
+    const double v = start.y() / r.leafLength;
+    const double expected = p.divergenceAngle + (p.divergenceAngleApex - p.divergenceAngle) * v;
+    const Eigen::Vector2d d = r.nodes[vein.nodes[1]] - start;
+    EXPECT_NEAR(std::atan2(std::abs(d.x()), d.y()) * Degrees, expected, 1.0) << "secondary at v = " << v;
+    // Where it forks into its loop: its last node, as a fraction of the half-width at that height.
+    const Eigen::Vector2d fork = r.nodes[vein.nodes.back()];
+    const double out = std::abs(fork.x()) / blade.HalfWidth(fork.y());
+    lowest = std::min(lowest, out);
+    outs.push_back(out);
+    EXPECT_GE(out, 0.5) << "secondary at v = " << v;
+  }
+  std::sort(outs.begin(), outs.end());
+  const double median = outs.empty() ? 0.0 : outs[outs.size() / 2];
+  std::cout << secondaries << " secondaries; the forks lie at " << lowest << " (innermost), " << median
+            << " (median) of the half-width\n";
+  EXPECT_GE(median, 0.7); // most loops run in the outer 30 % of the half-blade
+  EXPECT_GT(secondaries, 10);
+}
+
+TEST(PinnateVenation, CraspedodromousSecondariesEndOnTheMargin)
+{
+  const Blade blade = Entire();
+  for (const double angle : { 45.0, 55.0, 70.0 })
+  {
+    VenationParameters p;
+    p.pattern = VenationPattern::Craspedodromous;
+    p.tertiary = false;
+    p.divergenceAngle = p.divergenceAngleApex = angle;
+    const VenationResult r = Grow(blade, p);
+    int secondaries = 0;
+    for (const auto& vein : r.veins)
+    {
+      if (vein.order != VeinOrderSecondary)
+        continue;
+      ++secondaries;
+      const Eigen::Vector2d end = r.nodes[vein.nodes.back()];
+      EXPECT_LT(blade.DistanceToOutline(end), 1e-6 * r.leafLength) << "angle " << angle << ", end " << end.transpose();
+    }
+    EXPECT_GT(secondaries, 10);
+    EXPECT_EQ(r.statistics.freeEnds, 0u);
+  }
+}
+
+} // namespace
+} // namespace plantmorph
