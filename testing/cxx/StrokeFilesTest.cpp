@@ -331,7 +331,7 @@ TEST(StrokeFiles, HostileSvgIsRefused)
   std::string junk;
   for (int i = 0; i < 100000; ++i)
   {
-    junk += static_cast<char>(1 + (i * 7919) % 255);
+    junk += static_cast<char>(1u + (static_cast<unsigned>(i) * 7919u) % 255u);
   }
   ExpectRefused(junk, "StrokeFile");
   std::string deep;
