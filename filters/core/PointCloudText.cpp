@@ -166,9 +166,12 @@ std::string ReadPointCloudText(
 {
   cloud = PointCloudText();
   CloudBuilder builder(cloud);
-  std::vector<char> block(std::size_t(1) << 20);
+  // Small blocks (64 KiB) keep the buffer in cache and cheap to allocate; progress is reported per MiB.
+  constexpr std::uint64_t reportEvery = std::uint64_t(1) << 20;
+  std::vector<char> block(std::size_t(1) << 16);
   std::string carry; // the start of a line that continues in the next block
   std::uint64_t bytes = 0;
+  std::uint64_t reported = 0;
   const auto fail = [&](const std::string& error) {
     cloud = PointCloudText();
     return error;
@@ -215,10 +218,19 @@ std::string ReadPointCloudText(
       }
       p = newline + 1;
     }
-    if (progress && !progress(bytes))
+    const bool last = n < block.size();
+    if (progress && (bytes / reportEvery > reported / reportEvery || (last && bytes != reported)))
     {
-      return fail("reading stopped after " + std::to_string(bytes) + " bytes");
+      reported = bytes;
+      if (!progress(bytes))
+      {
+        return fail("reading stopped after " + std::to_string(bytes) + " bytes");
+      }
     }
+  }
+  if (progress && bytes != reported && !progress(bytes))
+  {
+    return fail("reading stopped after " + std::to_string(bytes) + " bytes");
   }
   if (!carry.empty() && !builder.Line(carry.data(), carry.data() + carry.size()))
   {
@@ -233,19 +245,32 @@ std::string ReadPointCloudText(
 
 bool LooksLikePointCloudText(std::istream& in)
 {
-  std::string text(kMaxPointCloudLineLength, '\0');
-  in.read(&text[0], static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  const bool whole = !in; // the file ended inside the buffer
+  // Reads 64 KiB at a time until 20 lines are whole, the file ends or kMaxPointCloudLineLength bytes are read.
+  std::string text;
+  std::size_t lines = 0;
+  bool whole = false;
+  while (lines < 20 && text.size() < kMaxPointCloudLineLength)
+  {
+    const std::size_t old = text.size();
+    text.resize(old + (std::size_t(1) << 16));
+    in.read(&text[old], static_cast<std::streamsize>(text.size() - old));
+    text.resize(old + static_cast<std::size_t>(in.gcount()));
+    lines += static_cast<std::size_t>(std::count(text.begin() + static_cast<std::ptrdiff_t>(old), text.end(), '\n'));
+    if (!in)
+    {
+      whole = true; // the file ended inside the buffer
+      break;
+    }
+  }
   std::vector<double> values;
   std::string why;
   std::size_t start = 0;
-  for (int lines = 0; lines < 20 && start < text.size(); ++lines)
+  for (int line = 0; line < 20 && start < text.size(); ++line)
   {
     std::size_t newline = text.find('\n', start);
     if (newline == std::string::npos && !whole)
     {
-      return false; // a line longer than the buffer
+      return false; // a line longer than what was read
     }
     newline = newline == std::string::npos ? text.size() : newline;
     if (ParseCloudLine(text.data() + start, text.data() + newline, values, why) == CloudLineKind::Data)

@@ -49,13 +49,13 @@ struct PointCloudText
 /// The header's names: split at ',', ';' and tabs, surrounding spaces and '\r' dropped.
 std::vector<std::string> SplitHeaderNames(const std::string& header);
 
-/// Reads the whole stream into `cloud`. `progress` (optional) gets the bytes read so far after each block of
-/// about 1 MiB and returns false to stop reading (an error then). Returns an empty string or "line N: ..." (or
+/// Reads the whole stream into `cloud` (in blocks of 64 KiB). `progress` (optional) gets the bytes read so far
+/// after each further MiB and at the end, and returns false to stop reading (an error then). Returns an empty string or "line N: ..." (or
 /// "no data line") for the caller to prefix with the file's name; `cloud` is then empty.
 std::string ReadPointCloudText(
   std::istream& in, PointCloudText& cloud, const std::function<bool(std::uint64_t)>& progress = {});
 
-/// True if one of the first 20 lines (of at most kMaxPointCloudLineLength characters) is a data line of 3 or more
+/// True if one of the first 20 lines (within the first kMaxPointCloudLineLength bytes) is a data line of 3 or more
 /// columns, and no earlier one is a data line with fewer.
 bool LooksLikePointCloudText(std::istream& in);
 

@@ -1,5 +1,5 @@
 // PointCloudText (filters/core): Leaf Cloud Reader's text format. Every value read back exactly, lines across the
-// reader's 1 MiB blocks, the header and comment conventions, and hostile files refused with the line and reason.
+// reader's 64 KiB blocks, the header and comment conventions, and hostile files refused with the line and reason.
 #include "PointCloudText.h"
 
 #include <gtest/gtest.h>
@@ -44,7 +44,7 @@ TEST(PointCloudText, ScanFormatWithHeaderCommentsAndMixedSeparators)
 
 TEST(PointCloudText, ValuesAcrossBlocksEqualPrintf)
 {
-  // About 3 MB: lines straddle the 1 MiB read blocks; every value comes back as printf's %.17g round trip.
+  // About 3 MB: lines straddle the 64 KiB read blocks; every value comes back as printf's %.17g round trip.
   std::string text;
   std::vector<double> expected;
   char line[128];
@@ -66,7 +66,7 @@ TEST(PointCloudText, ValuesAcrossBlocksEqualPrintf)
   }),
     "");
   EXPECT_EQ(cloud.values, expected);
-  ASSERT_EQ(progress.size(), (text.size() + (1u << 20) - 1) >> 20); // one report per 1 MiB block
+  ASSERT_EQ(progress.size(), (text.size() + (1u << 20) - 1) >> 20); // one report per MiB, and the end
   EXPECT_EQ(progress.back(), text.size());
   EXPECT_LT(progress[0], progress[1]);
 
