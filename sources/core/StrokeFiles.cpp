@@ -385,6 +385,13 @@ bool ViewportTransform(const pugi::xml_node& svg, Affine& result, std::string& e
 // ---------------------------------------------------------------------------------------------------------------
 // SVG: path data to user-space polylines
 
+std::string TooManyPoints()
+{
+  return "its strokes hold more points than are read from a file of this size (" +
+    std::to_string(kStrokePointsFloor) + " + " + std::to_string(kStrokePointsPerByte) + " per byte, at most " +
+    std::to_string(kMaxStrokeFilePoints) + ")";
+}
+
 /// Number of equal parameter steps so that (step^2 / 8) * maxSecond <= tolerance, for a parameter span of 1.
 int CurveSteps(double maxSecond, double tolerance)
 {
@@ -600,7 +607,7 @@ std::string PathFlattener::Command(char command, NumberList& list)
   }
   if (!ok)
   {
-    return "its strokes hold more than " + std::to_string(kMaxStrokeFilePoints) + " points in all (the most read)";
+    return TooManyPoints();
   }
   this->Current = end;
   this->Previous = kind;
@@ -641,7 +648,7 @@ std::string PathFlattener::Run(const char* begin, const char* end, std::vector<s
     {
       if (!this->Stroke.empty() && !this->Add(this->Start))
       {
-        return "its strokes hold more than " + std::to_string(kMaxStrokeFilePoints) + " points in all (the most read)";
+        return TooManyPoints();
       }
       this->Current = this->Start;
       this->Previous = 'Z';
@@ -740,7 +747,7 @@ std::string ElementPolylines(const pugi::xml_node& node, const std::string& name
       }
       if (budget == 0)
       {
-        return "its strokes hold more than " + std::to_string(kMaxStrokeFilePoints) + " points in all (the most read)";
+        return TooManyPoints();
       }
       --budget;
       points.emplace_back(x, y);
@@ -798,7 +805,7 @@ std::string AddElement(const pugi::xml_node& node, const std::string& name, cons
 /// Walks the tree in document order without recursion, composing transforms.
 std::string WalkSvg(const pugi::xml_node& root, const Affine& viewport, const std::string& text, Strokes& strokes)
 {
-  std::size_t budget = kMaxStrokeFilePoints;
+  std::size_t budget = StrokePointBudget(text.size());
   std::vector<Affine> ctms; // ctms[k]: the transform of the element at depth k + 1
   pugi::xml_node node = root;
   int depth = 1;
@@ -861,6 +868,13 @@ std::string WalkSvg(const pugi::xml_node& root, const Affine& viewport, const st
   return {};
 }
 } // namespace
+
+std::size_t StrokePointBudget(std::size_t bytes)
+{
+  return bytes >= kMaxStrokeFilePoints / kStrokePointsPerByte
+    ? kMaxStrokeFilePoints
+    : std::min(kMaxStrokeFilePoints, kStrokePointsFloor + kStrokePointsPerByte * bytes);
+}
 
 std::string ParseStrokeCsv(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes)
 {

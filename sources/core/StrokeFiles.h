@@ -3,8 +3,8 @@
 //
 // Every reader here is linear in the file's size, bounds what one line or token may hold and refuses hostile input
 // (binary junk, NUL bytes, unterminated elements, numbers of thousands of digits or beyond a double's range, too
-// deep nesting, too many points) with an error naming the property, the line or element and the accepted range.
-// On error the strokes are empty.
+// deep nesting, more points than StrokePointBudget) with an error naming the property, the line or element and the
+// accepted range. On error the strokes are empty.
 //
 // CSV: rows "stroke_id, x, y" (';' or tab also separate fields; a field's surrounding spaces and double quotes are
 // dropped); blank lines and lines starting with '#' are skipped, and so are non-numeric lines before the first data
@@ -42,8 +42,14 @@ namespace plantmorph
 constexpr double kSvgCurveTolerance = 0.1;
 /// Most chords one curve command (C S Q T A) is flattened into.
 constexpr int kMaxCurveSegments = 1024;
-/// Most points all strokes of one file may hold together.
+/// Most points all strokes of one file may hold together: kStrokePointsFloor + kStrokePointsPerByte * (file size),
+/// at most kMaxStrokeFilePoints. Flattening makes up to kMaxCurveSegments points of one curve command of a few bytes;
+/// this bound keeps the work per megabyte of hostile curves (about a second) in proportion to the file.
 constexpr std::size_t kMaxStrokeFilePoints = 4000000;
+constexpr std::size_t kStrokePointsFloor = 100000;
+constexpr std::size_t kStrokePointsPerByte = 4;
+/// The point budget of a file of `bytes` bytes (see above).
+std::size_t StrokePointBudget(std::size_t bytes);
 /// Most characters of one CSV line.
 constexpr std::size_t kMaxStrokeLineLength = 65536;
 /// Deepest element nesting read in an SVG file (the root is level 1).

@@ -352,7 +352,10 @@ TEST(StrokeFiles, HostileSvgIsRefused)
   {
     huge += " C 1e9 1e9 -1e9 1e9 0 0";
   }
-  ExpectRefused(Plain("<path d=\"" + huge + "\"/>"), "points in all");
+  ExpectRefused(Plain("<path d=\"" + huge + "\"/>"), "more points than are read from a file of this size");
+  EXPECT_EQ(StrokePointBudget(0), kStrokePointsFloor);
+  EXPECT_EQ(StrokePointBudget(1000), kStrokePointsFloor + 4000);
+  EXPECT_EQ(StrokePointBudget(std::size_t(1) << 40), kMaxStrokeFilePoints);
   // Underflow is harmless: 1e-400 reads as 0.
   Strokes strokes;
   ASSERT_EQ(ParseStrokeSvg(Plain("<path d=\"M 1e-400 0 L 1 1\"/>"), strokes), "");
