@@ -1,5 +1,7 @@
 #include "vtkLeafCloudReader.h"
 
+#include "PointCloudText.h"
+
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -29,59 +31,6 @@ vtkStandardNewMacro(vtkLeafCloudReader);
 
 namespace
 {
-enum class LineKind
-{
-  Skip,
-  Data,
-  Bad,
-};
-
-/// Splits a line into numbers. Skip for blank and comment lines, Bad if a token is not a finite number.
-LineKind ParseLine(const std::string& line, std::vector<double>& values)
-{
-  values.clear();
-  std::size_t start = line.find_first_not_of(" \t\r");
-  if (start == std::string::npos || line[start] == '#' || line.compare(start, 2, "//") == 0)
-  {
-    return LineKind::Skip;
-  }
-  const char* p = line.c_str() + start;
-  const char* end = line.c_str() + line.size();
-  while (p < end)
-  {
-    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r'))
-    {
-      ++p;
-    }
-    if (p >= end)
-    {
-      break;
-    }
-    char* next = nullptr;
-    errno = 0;
-    const double v = std::strtod(p, &next);
-    if (next == p || !std::isfinite(v))
-    {
-      return LineKind::Bad;
-    }
-    values.push_back(v);
-    p = next;
-    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r'))
-    {
-      ++p;
-    }
-    if (p < end && (*p == ',' || *p == ';'))
-    {
-      ++p;
-    }
-    else if (p < end && !(*(p - 1) == ' ' || *(p - 1) == '\t'))
-    {
-      return LineKind::Bad; // two numbers glued together, or junk after a number
-    }
-  }
-  return values.empty() ? LineKind::Skip : LineKind::Data;
-}
-
 vtkDoubleArray* NewArray(vtkPolyData* output, const std::string& name, int components, vtkIdType n)
 {
   vtkNew<vtkDoubleArray> a;
@@ -123,18 +72,8 @@ void vtkLeafCloudReader::PrintSelf(ostream& os, vtkIndent indent)
 //------------------------------------------------------------------------------
 int vtkLeafCloudReader::CanReadFile(const char* name)
 {
-  std::ifstream file(name ? name : "");
-  std::string line;
-  std::vector<double> values;
-  for (int lines = 0; lines < 20 && std::getline(file, line); ++lines)
-  {
-    const LineKind kind = ParseLine(line, values);
-    if (kind == LineKind::Data)
-    {
-      return values.size() >= 3 ? 1 : 0;
-    }
-  }
-  return 0;
+  std::ifstream file(name ? name : "", std::ios::binary);
+  return file && plantmorph::LooksLikePointCloudText(file) ? 1 : 0;
 }
 
 //------------------------------------------------------------------------------
@@ -156,66 +95,26 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
     vtkErrorMacro(<< "FileName is not set: give a leaf point-cloud text file (x, y, z [, nx, ny, nz [, r, g, b]])");
     return 1;
   }
-  std::ifstream file(this->FileName);
+  std::ifstream file(this->FileName, std::ios::binary | std::ios::ate);
   if (!file)
   {
     vtkErrorMacro(<< "FileName '" << this->FileName << "' cannot be opened");
     return 1;
   }
-
-  std::vector<double> values;
-  std::vector<double> row;
-  std::size_t columns = 0;
-  std::string line;
-  std::size_t lineNumber = 0;
-  bool firstLine = true;
-  std::string header;
-  while (std::getline(file, line))
+  const auto size = static_cast<double>(std::max<std::streamoff>(1, file.tellg()));
+  file.seekg(0);
+  plantmorph::PointCloudText cloud;
+  const std::string error = plantmorph::ReadPointCloudText(file, cloud, [&](std::uint64_t bytes) {
+    this->UpdateProgress(0.9 * static_cast<double>(bytes) / size);
+    return !this->CheckAbort();
+  });
+  if (!error.empty())
   {
-    ++lineNumber;
-    const LineKind kind = ParseLine(line, row);
-    if (kind == LineKind::Skip)
-    {
-      continue;
-    }
-    if (kind == LineKind::Bad)
-    {
-      if (firstLine && columns == 0)
-      {
-        firstLine = false; // a header line
-        header = line;
-        continue;
-      }
-      vtkErrorMacro(<< "FileName '" << this->FileName << "', line " << lineNumber
-                    << ": not a list of finite numbers separated by commas, semicolons or spaces: '"
-                    << line.substr(0, 80) << "'");
-      return 1;
-    }
-    firstLine = false;
-    if (columns == 0)
-    {
-      columns = row.size();
-      if (columns < 3)
-      {
-        vtkErrorMacro(<< "FileName '" << this->FileName << "', line " << lineNumber << ": " << columns
-                      << " column(s); a point needs at least x, y, z");
-        return 1;
-      }
-    }
-    else if (row.size() != columns)
-    {
-      vtkErrorMacro(<< "FileName '" << this->FileName << "', line " << lineNumber << ": " << row.size()
-                    << " columns where the first data line has " << columns);
-      return 1;
-    }
-    values.insert(values.end(), row.begin(), row.end());
-  }
-  if (columns == 0)
-  {
-    vtkErrorMacro(<< "FileName '" << this->FileName << "' has no data line");
+    vtkErrorMacro(<< "FileName '" << this->FileName << "', " << error);
     return 1;
   }
-
+  const std::vector<double>& values = cloud.values;
+  const std::size_t columns = cloud.columns;
   const auto n = static_cast<vtkIdType>(values.size() / columns);
   vtkNew<vtkDoubleArray> coordinates;
   coordinates->SetNumberOfComponents(3);
@@ -300,24 +199,7 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
   output->SetVerts(verts);
 
   // Port 1: every column as a table, named by the header line when it has one name per column.
-  std::vector<std::string> names;
-  {
-    std::string name;
-    for (char c : header + ",")
-    {
-      if (c == ',' || c == ';' || c == '\t')
-      {
-        const std::size_t b = name.find_first_not_of(" \r");
-        const std::size_t e = name.find_last_not_of(" \r");
-        names.push_back(b == std::string::npos ? std::string() : name.substr(b, e - b + 1));
-        name.clear();
-      }
-      else
-      {
-        name += c;
-      }
-    }
-  }
+  const std::vector<std::string> names = plantmorph::SplitHeaderNames(cloud.header);
   for (std::size_t c = 0; c < columns; ++c)
   {
     vtkNew<vtkDoubleArray> column;
@@ -335,5 +217,6 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
   source->SetName("PlantMorph.SourceFile");
   source->InsertNextValue(this->FileName);
   output->GetFieldData()->AddArray(source);
+  this->UpdateProgress(1.0);
   return 1;
 }

@@ -43,6 +43,7 @@
 // leave its stroke: that is the user's explicit edit.
 #pragma once
 
+#include "StrokeFiles.h" // the stroke-file readers (ParseStrokeCsv, ParseStrokeSvg, ReadStrokeFile)
 #include "TreeTemplate.h"
 
 #include <Eigen/Core>
@@ -67,14 +68,5 @@ double SignedSegmentAngle(const Eigen::Vector2d& a, const Eigen::Vector2d& b);
 
 /// Eq. (3) summed over a planar polyline: the length of its lift to a plane at theta (radians) to the image plane.
 double LiftedLength(const std::vector<Eigen::Vector2d>& samples, double theta);
-
-/// Strokes from text: CSV rows "stroke_id, x, y" (a header line and blank lines are skipped; strokes in order of
-/// first appearance, points in row order), or SVG <polyline points="..."> and <path d="..."> elements (M, L, H, V
-/// and their relative forms; for C, S, Q, T only the end points; y is flipped, SVG's y axis points down). Returns an
-/// empty string or a message with the line or element at fault.
-std::string ParseStrokeCsv(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes);
-std::string ParseStrokeSvg(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes);
-/// Reads a .csv or .svg file (by extension, case-insensitive) with the parsers above.
-std::string ReadStrokeFile(const std::string& path, std::vector<std::vector<Eigen::Vector3d>>& strokes);
 
 } // namespace plantmorph

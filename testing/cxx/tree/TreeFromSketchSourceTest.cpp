@@ -27,6 +27,8 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace
 {
@@ -424,5 +426,56 @@ TEST(TreeFromSketchSource, WeldedBranchesAreOneClosedManifoldPerTreeAndSeatedTub
       EXPECT_EQ(regions->GetNumberOfExtractedRegions(), joints == 0 ? 1 + vtkIdType(fallback) : branchCount)
         << preset << " " << joints;
     }
+  }
+}
+
+TEST(TreeFromSketchSource, StrokeFilesOfIssue25BuildTreesOrFailCleanly)
+{
+  // Files that crashed the regex reader (a 2,000-point polyline, a 5,000-command path, a file cut inside a long
+  // attribute) and the bow that came out straight.
+  std::string points, path = "M 0,0";
+  for (int i = 0; i < 2000; ++i)
+    points += std::to_string(i % 50) + "," + std::to_string(-i) + " ";
+  for (int i = 1; i <= 5000; ++i)
+    path += " L " + std::to_string((i * 3) % 40) + "," + std::to_string(-i);
+  const std::string head = "<svg xmlns=\"http://www.w3.org/2000/svg\">";
+  const std::string polyline = head + "<polyline points=\"" + points + "\"/></svg>";
+  const std::vector<std::pair<std::string, std::string>> files = { { "polyline.svg", polyline },
+    { "path.svg", head + "<path d=\"" + path + "\"/></svg>" },
+    { "truncated.svg", polyline.substr(0, polyline.size() / 2) },
+    { "bow.svg", head + "<path d=\"M 0,100 C 40,66 40,33 0,0\"/></svg>" } };
+  for (const auto& [name, text] : files)
+  {
+    const std::string file = testing::TempDir() + name;
+    std::ofstream(file) << text;
+    vtkNew<vtkTreeFromSketchSource> source;
+    vtkNew<TreeErrorCatcher> catcher;
+    source->AddObserver(vtkCommand::ErrorEvent, catcher);
+    source->SetMode(1);
+    source->SetStrokesOnly(1);
+    source->SetStrokeFile(file.c_str());
+    source->Update();
+    vtkPolyData* skeleton = Output(source, 1);
+    if (name == "truncated.svg")
+    {
+      EXPECT_NE(catcher->Messages.find("not well-formed XML"), std::string::npos) << catcher->Messages;
+      for (int port = 0; port < 3; ++port)
+        EXPECT_EQ(Output(source, port)->GetNumberOfPoints(), 0);
+    }
+    else
+    {
+      EXPECT_EQ(catcher->Messages, "") << name;
+      EXPECT_GT(skeleton->GetNumberOfPoints(), 1) << name;
+    }
+    if (name == "bow.svg")
+    {
+      // The trunk follows the bow (its Bezier control points are flattened-curve points, up to x = 30 away from
+      // the chord x = 0); the old reader kept only the end points and gave a straight trunk at x = 0.
+      double bounds[6];
+      skeleton->GetBounds(bounds);
+      EXPECT_GT(bounds[1], 15.0);
+      EXPECT_NEAR(bounds[0], 0.0, 1e-9);
+    }
+    std::remove(file.c_str());
   }
 }
