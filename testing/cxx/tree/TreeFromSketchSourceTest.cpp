@@ -449,7 +449,7 @@ TEST(TreeFromSketchSource, StrokeFilesOfIssue25BuildTreesOrFailCleanly)
     const std::string file = testing::TempDir() + name;
     std::ofstream(file) << text;
     vtkNew<vtkTreeFromSketchSource> source;
-    vtkNew<TreeErrorCatcher> catcher;
+    vtkNew<ErrorCatcher> catcher;
     source->AddObserver(vtkCommand::ErrorEvent, catcher);
     source->SetMode(1);
     source->SetStrokesOnly(1);
