@@ -1,9 +1,9 @@
 /**
  * @class   vtkLeafCloudReader
  * @brief   Reads a measured leaf point cloud from a delimited text file (x, y, z [, nx, ny, nz [, r, g, b
- *          [, scalar ...]]]) as vtkPolyData, keeping its normals and colours (spec 06; shared/data/leaf-clouds).
+ *          [, scalar ...]]]) as vtkPolyData, keeping its normals and colours (spec 06; data/leaf-clouds).
  *
- * The format is the one of the leaf scans in shared/data/leaf-clouds (Ando, Ozasa, Guo 2021): one point per line,
+ * The format is the one of the leaf scans in data/leaf-clouds (Ando, Ozasa, Guo 2021): one point per line,
  * numbers separated by commas, semicolons, spaces or tabs. Blank lines and lines starting with '#' or '//' are
  * skipped; so is a first line that is not numeric (a header). Every data line must have the same number of columns,
  * at least 3. Columns by position:
@@ -16,6 +16,13 @@
  * - further columns: `Column10`, `Column11`, ... (double).
  * Files with 4 or 5 columns keep the columns after z as `Column3`, `Column4`; 7 or 8 columns keep 6, 7 the same way.
  *
+ * A header naming every column (comma-, semicolon- or tab-separated) must name the coordinates: `x`, `y`, `z` (any
+ * case) or `P_x`, `P_y`, `P_z` for a prefix P (the first found; e.g. measured_x, measured_y, measured_z of
+ * data/cucumber-wilting-tip.csv). Named as the first three columns, the columns above apply by position; named
+ * elsewhere, the points come from them and every other column becomes a point array named by the header. A header
+ * naming none of them is refused (an error listing the names, and an empty port 0; port 1 still has the table):
+ * reading (sample, measured_x, measured_y) as x, y, z would be silently wrong.
+ *
  * Each point gets one vertex cell (so ParaView draws it). Units are the file's (the soybean scans are in mm: set
  * CloudComparisonFilter's Scale to 0.1 to compare them with a model in cm). Field data `PlantMorph.SourceFile`
  * holds the file name.
@@ -23,7 +30,7 @@
  * Output port 1 is the same file as a vtkTable, every column a double array named by the header line (a first
  * non-numeric line with one comma-, semicolon- or tab-separated name per column) or Column0, Column1, ... This reads
  * comma-separated tables with '#' comment lines, which ParaView 5.11's CSV reader cannot skip, such as
- * shared/data/cucumber-wilting-tip.csv (columns sample, measured_x, ..., paper_sim_z), for
+ * data/cucumber-wilting-tip.csv (columns sample, measured_x, ..., paper_sim_z), for
  * TrajectoryComparisonFilter.
  *
  * Errors (vtkErrorMacro naming FileName and the line, and an empty output): no FileName, a file that cannot be
