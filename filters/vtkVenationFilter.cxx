@@ -106,6 +106,57 @@ int vtkVenationFilter::FillInputPortInformation(int, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
+void vtkVenationFilter::WarnAboutPresetOverrides()
+{
+  if (this->Preset == 0)
+  {
+    return;
+  }
+  vtkNew<vtkVenationFilter> defaults;
+  std::ostringstream ignored;
+  const auto check = [&](const char* name, bool changed) {
+    if (changed)
+    {
+      ignored << (ignored.tellp() > 0 ? ", " : "") << name;
+    }
+  };
+#define PLANTMORPH_CHECK(name) check(#name, this->name != defaults->name)
+  PLANTMORPH_CHECK(Pattern);
+  PLANTMORPH_CHECK(PrimaryCount);
+  PLANTMORPH_CHECK(PrimarySpread);
+  PLANTMORPH_CHECK(ParallelVeins);
+  PLANTMORPH_CHECK(ParallelSpread);
+  PLANTMORPH_CHECK(SecondarySpacing);
+  PLANTMORPH_CHECK(DivergenceAngle);
+  PLANTMORPH_CHECK(DivergenceAngleApex);
+  PLANTMORPH_CHECK(SecondaryCurvatureBase);
+  PLANTMORPH_CHECK(SecondaryCurvatureApex);
+  PLANTMORPH_CHECK(ForkFraction);
+  PLANTMORPH_CHECK(BranchCurvature);
+  PLANTMORPH_CHECK(Tertiary);
+  PLANTMORPH_CHECK(AreoleSize);
+  PLANTMORPH_CHECK(MinJunctionAngle);
+  PLANTMORPH_CHECK(JunctionAngleDeviation);
+  PLANTMORPH_CHECK(Veinlets);
+  PLANTMORPH_CHECK(VeinletLength);
+  PLANTMORPH_CHECK(PalmateVeins);
+  PLANTMORPH_CHECK(ForkLevels);
+  PLANTMORPH_CHECK(ForkSize);
+  PLANTMORPH_CHECK(PrimaryWidth);
+  PLANTMORPH_CHECK(PrimaryTaper);
+  PLANTMORPH_CHECK(SecondaryWidthRatio);
+  PLANTMORPH_CHECK(TertiaryWidthRatio);
+  PLANTMORPH_CHECK(VeinletWidthRatio);
+#undef PLANTMORPH_CHECK
+  if (ignored.tellp() > 0)
+  {
+    vtkWarningMacro(<< "these properties are changed from their defaults but not used, because Preset is a named "
+                       "preset that sets them itself: "
+                    << ignored.str() << ". Set Preset to Custom (0) to use them.");
+  }
+}
+
+//------------------------------------------------------------------------------
 int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
@@ -122,7 +173,12 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   input = wholeBlade.Get();
   if (input->GetNumberOfPoints() == 0)
   {
-    return 1; // another rank: the blade is on rank 0, nothing to grow here, no error
+    // Another rank: the blade is on rank 0, nothing to grow here, no error. On rank 0 the whole blade is empty.
+    if (plantmorph::IsFirstRank())
+    {
+      vtkWarningMacro(<< "the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
+    }
+    return 1;
   }
   auto fail = [&](const std::string& message) {
     vtkErrorMacro(<< message);
@@ -150,6 +206,7 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
     return fail(message.str());
   }
   const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
+  this->WarnAboutPresetOverrides();
   plantmorph::VenationParameters p = plantmorph::MakeVenationPreset(preset);
   if (preset == plantmorph::VenationPreset::Custom)
   {

@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -284,6 +285,57 @@ int vtkWiltingSimulator::RequestUpdateExtent(
 }
 
 //------------------------------------------------------------------------------
+void vtkWiltingSimulator::WarnAboutPresetOverrides()
+{
+  if (this->Preset == PRESET_CUSTOM)
+  {
+    return;
+  }
+  vtkNew<vtkWiltingSimulator> defaults;
+  std::ostringstream ignored;
+  const auto check = [&](const char* name, bool changed) {
+    if (changed)
+    {
+      ignored << (ignored.tellp() > 0 ? ", " : "") << name;
+    }
+  };
+  const auto differ = [](const double a[3], const double b[3]) { return !std::equal(a, a + 3, b); };
+#define PLANTMORPH_CHECK(name) check(#name, this->name != defaults->name)
+  check("BladeMaterial", differ(this->BladeMaterial, defaults->BladeMaterial));
+  check("VeinMaterial", differ(this->VeinMaterial, defaults->VeinMaterial));
+  check("MarginMaterial", differ(this->MarginMaterial, defaults->MarginMaterial));
+  check("PetioleMaterial", differ(this->PetioleMaterial, defaults->PetioleMaterial));
+  PLANTMORPH_CHECK(Gravity);
+  PLANTMORPH_CHECK(DroopForce);
+  PLANTMORPH_CHECK(ContractionForce);
+  PLANTMORPH_CHECK(DroopAsymmetry);
+  PLANTMORPH_CHECK(ContractionAsymmetry);
+  PLANTMORPH_CHECK(ShrinkageStrain);
+  PLANTMORPH_CHECK(ShrinkageAsymmetry);
+  PLANTMORPH_CHECK(ShrinkageTime);
+  PLANTMORPH_CHECK(CurlStrain);
+  PLANTMORPH_CHECK(CurlAsymmetry);
+  PLANTMORPH_CHECK(CurlRelaxation);
+  PLANTMORPH_CHECK(CurlRelaxationTime);
+  PLANTMORPH_CHECK(CurlTime);
+  PLANTMORPH_CHECK(CurlDirection);
+  PLANTMORPH_CHECK(ContractionSide);
+  PLANTMORPH_CHECK(ContractionTarget);
+  PLANTMORPH_CHECK(LoadProfile);
+  PLANTMORPH_CHECK(LoadTime);
+  PLANTMORPH_CHECK(ContractionTime);
+  PLANTMORPH_CHECK(RayleighAlpha);
+  PLANTMORPH_CHECK(RayleighBeta);
+#undef PLANTMORPH_CHECK
+  if (ignored.tellp() > 0)
+  {
+    vtkWarningMacro(<< "these properties are changed from their defaults but not used, because Preset is a named "
+                       "preset that sets them itself: "
+                    << ignored.str() << ". Set Preset to Custom (0) to use them.");
+  }
+}
+
+//------------------------------------------------------------------------------
 int vtkWiltingSimulator::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -311,7 +363,12 @@ int vtkWiltingSimulator::RequestData(
   veins = wholeVeins.Get();
   if (input->GetNumberOfPoints() == 0)
   {
-    return 1; // an empty piece: nothing to wilt
+    // An empty piece on another rank is expected; on rank 0 the whole leaf is empty.
+    if (plantmorph::IsFirstRank())
+    {
+      vtkWarningMacro(<< "the Input (the leaf) is empty (no points): nothing to wilt, the outputs are empty");
+    }
+    return 1;
   }
   std::string error = CheckEnumerations(this);
   const plantmorph::WiltingParameters parameters = ParametersOf(this);
@@ -392,6 +449,7 @@ int vtkWiltingSimulator::RequestData(
       return 1;
     }
     ++this->SimulationCount;
+    this->WarnAboutPresetOverrides();
     error = cache.simulation.Run([this](double fraction) {
       this->UpdateProgress(fraction);
       return !this->GetAbortExecute();
