@@ -28,6 +28,10 @@
  *
  * The source generates the whole leaf as piece 0 and leaves other pieces empty, so it appears once under MPI.
  * Bad parameters produce an error naming the property and its accepted range, and empty outputs.
+ *
+ * Presets: the properties a named preset sets are used only when it is Custom. One changed from its default while a
+ * named preset is on is not what the output has, so a warning names it and says to choose Custom (the same in
+ * pvpython, the GUI and a loaded state file, whose outputs are unchanged).
  */
 #ifndef vtkLeafOutlineSource_h
 #define vtkLeafOutlineSource_h
@@ -293,6 +297,14 @@ public:
   vtkGetMacro(GrowthInitialScale, double);
   ///@}
 
+  /**
+   * The optional ControlPoints input (port 0); nullptr disconnects. The server-manager XML connects through this,
+   * with a `port_index` of 1 that no algorithm port has: ParaView 5.11's paraview.simple connects the active source
+   * to the input property of port_index 0 of every new proxy, and a source's optional input must stay empty unless
+   * the user sets it. The first argument (the XML's port_index) is ignored.
+   */
+  void SetControlPointsConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
+
 protected:
   vtkLeafOutlineSource();
   ~vtkLeafOutlineSource() override = default;
@@ -366,6 +378,9 @@ private:
   std::string MeshSettings(plantmorph::LeafMeshSettings& settings);
   /// Empty when the growth properties are valid, else the message.
   std::string ValidateGrowth() const;
+  /// With a named preset of the chosen model, warns about each property only Custom uses that was changed from
+  /// its default (it is not what the output has).
+  void WarnAboutPresetOverrides();
 
   vtkLeafOutlineSource(const vtkLeafOutlineSource&) = delete;
   void operator=(const vtkLeafOutlineSource&) = delete;
