@@ -64,7 +64,8 @@ TEST(TrajectoryMatching, MonotoneMatchingIsTheBestIncreasingAssignment)
   RandomStream random(4);
   for (int trial = 0; trial < 30; ++trial)
   {
-    const std::size_t n = 1 + static_cast<std::size_t>(random.Integer(0, 4));
+    // Two samples at least: a single one has no direction and is refused.
+    const std::size_t n = 2 + static_cast<std::size_t>(random.Integer(0, 3));
     const std::size_t m = n + static_cast<std::size_t>(random.Integer(0, 5));
     std::vector<double> measured(3 * n);
     std::vector<double> simulated(3 * m);
