@@ -1,6 +1,7 @@
 """Every PlantMorph proxy gives a tidy Properties panel (plain python3 over the server-manager XML):
 
 - it is in the PlantMorph menu (Sources or Filters), or, for a reader, opens its files from File > Open;
+- its label (the menu entry) is spaced words, "Leaf Outline Source", not "LeafOutlineSource";
 - the proxy and every property it shows have documentation: ParaView shows it as the panel's tooltips and help;
 - a proxy with more than 8 properties puts them in groups (the panel's sections) and hides some as advanced (the
   gear button shows them), so the default panel shows what most users change;
@@ -10,6 +11,7 @@
 """
 import argparse
 import os
+import re
 import sys
 import xml.etree.ElementTree as ElementTree
 
@@ -31,6 +33,8 @@ for name in sorted(os.listdir(arguments.xml_dir)):
         reader = hints is not None and hints.find("ReaderFactory") is not None
         if not (in_menu or reader):
             failures.append("%s: neither in the PlantMorph menu nor a reader" % label)
+        if not proxy.get("label") or re.search(r"[a-z][A-Z]", proxy.get("label")):
+            failures.append("%s: label %r is not spaced words (the menu shows it)" % (label, proxy.get("label")))
         documentation = proxy.find("Documentation")
         if documentation is None or not "".join(documentation.itertext()).strip():
             failures.append("%s: no documentation" % label)
