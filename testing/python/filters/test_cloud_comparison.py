@@ -1,4 +1,4 @@
-"""pvpython: the comparison filters as users build them, on the real data in shared/data. Leaf Cloud Reader reads a
+"""pvpython: the comparison filters as users build them, on the real data in data/. Leaf Cloud Reader reads a
 soybean scan (x, y, z, normals, colours, scalar) exactly as numpy reads the file, and a sugar-beet scan (x, y, z
 only); Cloud Comparison Filter on the real scan: distances to a subsampled, moved copy equal numpy's brute-force
 nearest neighbours, the scan against itself is at 0, the histogram adds up, Symmetric Hausdorff is symmetric; the
@@ -20,8 +20,7 @@ arguments = parse_arguments()
 load_plugin(arguments.plugin, globals())
 checks = Checks()
 
-DATA = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..", "shared",
-                                     "data"))
+DATA = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "data"))
 soybean_file = sorted(glob.glob(os.path.join(DATA, "leaf-clouds", "soybean_*.txt")))[0]
 sugarbeet_file = sorted(glob.glob(os.path.join(DATA, "leaf-clouds", "sugarbeet_*.txt")))[0]
 tip_file = os.path.join(DATA, "cucumber-wilting-tip.csv")
