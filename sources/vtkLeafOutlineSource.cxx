@@ -537,9 +537,17 @@ std::string vtkLeafOutlineSource::BuildLeaf(
               << plantmorph::DeformedRectanglePresetCount - 1 << "]";
       return message.str();
     }
+    const double bladeLength = scale * this->Length;
+    if (!(std::isfinite(bladeLength) && bladeLength > 0.0 && bladeLength <= 1e6))
+    {
+      message << "Length = " << this->Length << " is outside the accepted range (0, 1e6] (the blade's length from "
+              << "base to apex)";
+      return message.str();
+    }
     const auto preset = static_cast<plantmorph::DeformedRectanglePreset>(this->Preset);
-    plantmorph::DeformedRectangleParameters parameters =
-      plantmorph::MakeDeformedRectanglePreset(preset, scale * this->Length);
+    // The rectangle first at b_y = Length (a_x: the preset's proportion, or Width for Custom), then a_x and b_y
+    // scaled together so the blade is Length long from base to apex.
+    plantmorph::DeformedRectangleParameters parameters = plantmorph::MakeDeformedRectanglePreset(preset, bladeLength);
     if (preset == plantmorph::DeformedRectanglePreset::Custom)
     {
       parameters.width = scale * this->Width;
@@ -551,6 +559,14 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     }
     parameters.bending = this->Bending;
     parameters.asymmetry = this->Asymmetry;
+    if (plantmorph::Validate(parameters).empty())
+    {
+      const std::string scaleError = plantmorph::ScaleToBladeLength(parameters, bladeLength);
+      if (!scaleError.empty())
+      {
+        return scaleError;
+      }
+    }
     plantmorph::LeafMeshSettings settings;
     const std::string settingsError = this->MeshSettings(settings);
     if (!settingsError.empty())
@@ -564,8 +580,9 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     }
     AddFieldString(fd, "PlantMorph.Model", "DeformedRectangle");
     AddFieldString(fd, "PlantMorph.Preset", plantmorph::PresetName(preset));
-    AddFieldValue(fd, "PlantMorph.Length", parameters.length);
-    AddFieldValue(fd, "PlantMorph.Width", parameters.width);
+    AddFieldValue(fd, "PlantMorph.Length", bladeLength);
+    AddFieldValue(fd, "PlantMorph.RectangleWidth", parameters.width);
+    AddFieldValue(fd, "PlantMorph.RectangleHeight", parameters.length);
     AddFieldValue(fd, "PlantMorph.Bending", parameters.bending);
     AddFieldValue(fd, "PlantMorph.Asymmetry", parameters.asymmetry);
     AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);

@@ -86,7 +86,12 @@ public:
 
   ///@{
   /**
-   * b_y: height of the initial rectangle, in model units (cm for the presets). Range (0, 1e6]. Default 5.
+   * The blade's length from base to apex (the chord of the midvein), in model units (cm for the presets), for every
+   * preset and Custom: the rectangle is built at b_y = Length (a_x: the preset's proportion, or Width), then a_x and
+   * b_y are scaled together so the blade is Length long (the same shape). The a_x and b_y used are in the field
+   * data as PlantMorph.RectangleWidth and PlantMorph.RectangleHeight (paper 000's own Length = 5 ginkgo is
+   * b_y = 5, a blade 7.75 long). The bounding box can be longer: a cordate base's lobes reach below the base, the
+   * ginkgo's erose margin above the apex. Range (0, 1e6]. Default 5.
    */
   vtkSetMacro(Length, double);
   vtkGetMacro(Length, double);
@@ -94,8 +99,9 @@ public:
 
   ///@{
   /**
-   * a_x: width of the initial rectangle (Custom preset only; presets fix their own proportion). Range [0, 1e6].
-   * Default 5.5 (the ginkgo fan's 1.1 * Length).
+   * Custom preset only: a_x, the initial rectangle's width when its height b_y is Length (the proportion a_x : b_y
+   * is Width : Length; the blade is then scaled to be Length long). Presets fix their own proportion. Range
+   * [0, 1e6]. Default 5.5 (the ginkgo fan's 1.1 * Length).
    */
   vtkSetMacro(Width, double);
   vtkGetMacro(Width, double);
