@@ -67,6 +67,10 @@
  * Assembly and the CG solve run on Threads threads (0: all cores) with fixed partitions: the result is
  * bit-identical on any thread count.
  *
+ * Assumptions said (a warning, once per simulation): an Input without LeafUV (the base is its lowest point, the tip
+ * the point farthest from the base), without Region (every point is blade), or not manifold (edges shared by more
+ * than two triangles; it is voxelised as it is). TimeStep longer than Duration is an error.
+ *
  * Presets: the properties a named preset sets are used only when it is Custom. One changed from its default while a
  * named preset is on is not what the output has, so a warning names it and says to choose Custom (the same in
  * pvpython, the GUI and a loaded state file, whose outputs are unchanged).

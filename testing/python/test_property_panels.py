@@ -5,7 +5,8 @@
 - the proxy and every property it shows have documentation: ParaView shows it as the panel's tooltips and help;
 - a proxy with more than 8 properties puts them in groups (the panel's sections) and hides some as advanced (the
   gear button shows them), so the default panel shows what most users change;
-- every numeric property a user types has a range domain (the panel then rejects or clamps nonsense).
+- every numeric property a user types has a range domain (the panel then rejects or clamps nonsense);
+- a property of several numbers in a row (not a repeatable list) labels each box (ShowComponentLabels).
 
     python3 test_property_panels.py --xml-dir xml
 """
@@ -51,6 +52,12 @@ for name in sorted(os.listdir(arguments.xml_dir)):
             if typed and not domains:
                 failures.append("%s: numeric property %s has no domain (range, enumeration or boolean)" % (
                     label, prop.get("name")))
+            # A row of several numbers (not a repeatable list) shows one box per number: each needs a label.
+            several = (prop.tag in ("IntVectorProperty", "DoubleVectorProperty") and prop.get("repeat_command") != "1"
+                       and int(prop.get("number_of_elements") or 1) > 1)
+            if several and prop.find("Hints/ShowComponentLabels") is None:
+                failures.append("%s: property %s shows %s unlabelled boxes (add ShowComponentLabels)" % (
+                    label, prop.get("name"), prop.get("number_of_elements")))
         if len(shown) > 8:
             if not proxy.findall("PropertyGroup"):
                 failures.append("%s: %d properties and no PropertyGroup" % (label, len(shown)))

@@ -4,6 +4,7 @@
    to a new proxy's input property of port_index 0), and setting one to None disconnects it.
 2. A property a named preset overrides is reported: a warning naming it and Custom, the same in a fresh pvpython
    loading the saved state (whose outputs are the same).
+3. LeafOutlineSource's Length is the blade's length from base to apex for every deformed-rectangle preset.
 4. Trajectory Comparison's default columns chain: WiltingSimulator's Trajectory table with itself and with the tip
    CSV, the tip CSV with itself (measured_* against paper_sim_*, paper 001's 1.76 ... 2.92 cm).
 10. Bad input is an error naming the property or input, and empty output: TimeStep longer than Duration, a
@@ -125,6 +126,33 @@ checks.check(not messages.warnings, "a preset's own properties (Length) changed:
 Delete(ginkgo)
 SetActiveSource(None)
 
+# 3. Length is the blade's length, base to apex (the Outline port's midvein: its first and last points), for every
+# deformed-rectangle preset, Custom included; the rectangle's a_x, b_y are in the field data.
+sizer = LeafOutlineSource(Length=5.0, Resolution=30)
+presets = sizer.GetProperty("Preset").Available
+for preset in presets:
+    sizer.Preset = preset
+    if preset == "Custom":
+        sizer.Width = 2.0
+        sizer.Terms = [1, 1, 0.3, 2, 1, 0, 0]
+    outline = fetch(sizer, 1)
+    lines = outline.GetLines()
+    ids = []
+    if lines is not None and lines.GetNumberOfCells() == 3:
+        lines.InitTraversal()
+        from vtkmodules.vtkCommonCore import vtkIdList
+        cell = vtkIdList()
+        for _ in range(3):
+            lines.GetNextCell(cell)
+        ids = [cell.GetId(0), cell.GetId(cell.GetNumberOfIds() - 1)]
+    length = math.dist(outline.GetPoint(ids[0]), outline.GetPoint(ids[1])) if ids else None
+    checks.check(length is not None and abs(length - 5.0) < 1e-9,
+                 "3: %s with Length 5 is %s long from base to apex" % (preset, length))
+rectangle = fetch(sizer).GetFieldData()
+checks.check(rectangle.GetArray("PlantMorph.RectangleWidth") is not None and
+             rectangle.GetArray("PlantMorph.RectangleHeight") is not None, "3: a_x and b_y reachable by name")
+Delete(sizer)
+
 # 4. The trajectory filters chain with their defaults.
 tip = LeafCloudReader(FileName=tip_csv)
 paper = TrajectoryComparisonFilter(Input=OutputPort(tip, 1), Simulated=OutputPort(tip, 1))
@@ -174,6 +202,20 @@ checks.check(messages.said("TimeStep = 0.75", "Duration = 0.5", kind="error"),
              "TimeStep longer than Duration: an error naming both %s" % messages.errors)
 checks.check(leaf_out.GetNumberOfPoints() == 0 and table_out.GetNumberOfRows() == 0, "... and empty outputs")
 Delete(wilt)
+# A surface without LeafUV and Region, and a non-manifold one (three triangles on one edge): what is assumed is said.
+# Three quads on one edge (x = z = 0, y in [0, 1]), their coincident points merged.
+wings = [Plane(Origin=[0, 0, 0], Point1=list(p1), Point2=[0, 4, 0]) for p1 in ((3, 0, 0), (-3, 0, 0), (0, 0, 3))]
+fin = Clean(Input=AppendGeometry(Input=wings))
+bare = WiltingSimulator(Input=fin, Duration=0.1, Resolution=4)
+with Messages(bare) as messages:
+    bare.UpdatePipeline()
+checks.check(messages.said("no LeafUV", "lowest point", kind="warning") and messages.said("no Region", kind="warning"),
+             "10: Wilting without LeafUV and Region says what it assumes %s" % messages.warnings)
+checks.check(messages.said("not a manifold surface", "1 edge(s)", kind="warning"),
+             "10: Wilting on a non-manifold surface says so %s" % messages.warnings)
+Delete(bare)
+for proxy in [fin, fin.Input] + wings:
+    Delete(proxy)
 one_csv = os.path.join(arguments.work, "new_user_one_sample.csv")
 with open(one_csv, "w") as f:
     f.write("x,y,z\n1,2,3\n")
@@ -206,8 +248,12 @@ checks.check(messages.said("'a', 'b', 'c'", "x, y, z", kind="error") and out.Get
 checks.check(out_table.GetNumberOfRows() == 2, "... the Table port still has the file")
 
 # 11. Empty inputs: a warning naming the input, and empty output.
-empty = ProgrammableSource(OutputDataSetType="vtkPolyData", Script="")
-empty_table = ProgrammableSource(OutputDataSetType="vtkTable", Script="")
+# An empty blade (a LeafOutlineSource refusing Resolution 1) and an empty table (Leaf Cloud Reader's Table port for a
+# file that does not exist): their own errors are not the filters' messages.
+empty = LeafOutlineSource(Resolution=1)
+missing = LeafCloudReader(FileName=os.path.join(arguments.work, "no-such-file.csv"))
+empty_table = OutputPort(missing, 1)
+checks.check(size(fetch(empty)) == 0 and size(fetch(missing, 1)) == 0, "the empty inputs are empty")
 cases = [
     ("Venation Filter", VenationFilter(Input=empty)),
     ("Adaptive Loop Filter", AdaptiveLoopFilter(Input=empty)),
@@ -221,10 +267,10 @@ for name, proxy in cases:
         out = fetch(proxy)
     checks.check(messages.said("Input", "empty", kind="warning") and not messages.errors,
                  "%s on an empty input: a warning naming it %s %s" % (name, messages.warnings, messages.errors))
-    checks.check(size(out) == 0, "%s on an empty input: empty output" % name)
+    checks.check(size(out) == 0, "%s on an empty input: empty output (%d)" % (name, size(out)))
 
 # 2, the state round trip: the tree and the lobed leaf, saved and loaded in a fresh pvpython.
-for proxy in [p for _, p in cases] + [empty, empty_table, unnamed, one, paper, tip, blade, sphere]:
+for proxy in [p for _, p in cases] + [empty, missing, unnamed, one, paper, tip, blade, sphere]:
     Delete(proxy)
 expected = {"tree": fingerprint(fetch(tree)), "leaf": fingerprint(fetch(leaf))}
 checks.check(reload_in_fresh_pvpython(state, expected, expected_file, arguments, __file__) == 0,
