@@ -3,6 +3,7 @@
 - it is in the PlantMorph menu (Sources or Filters), or, for a reader, opens its files from File > Open;
 - its label (the menu entry) is spaced words, "Leaf Outline Source", not "LeafOutlineSource";
 - the proxy and every property it shows have documentation: ParaView shows it as the panel's tooltips and help;
+  a property's is a tooltip, at most 400 characters (the long explanation is in the proxy's, on the help page);
 - a proxy with more than 8 properties puts them in groups (the panel's sections) and hides some as advanced (the
   gear button shows them), so the default panel shows what most users change;
 - every numeric property a user types has a range domain (the panel then rejects or clamps nonsense);
@@ -45,6 +46,10 @@ for name in sorted(os.listdir(arguments.xml_dir)):
             text = prop.find("Documentation")
             if text is None or not "".join(text.itertext()).strip():
                 failures.append("%s: property %s has no documentation (no tooltip)" % (label, prop.get("name")))
+            elif len(" ".join("".join(text.itertext()).split())) > 400:
+                failures.append("%s: property %s has a %d-character tooltip (at most 400: a sentence or two; the "
+                                "explanation goes in the proxy's documentation, the help page)" % (
+                                    label, prop.get("name"), len(" ".join("".join(text.itertext()).split()))))
             # Lists of ids or table rows (repeat_command) have no range: their filter checks each entry.
             typed = (prop.tag in ("IntVectorProperty", "DoubleVectorProperty") and prop.find("Hints") is None
                      and prop.get("repeat_command") != "1")
