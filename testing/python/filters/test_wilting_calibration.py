@@ -1,5 +1,5 @@
 """pvpython: the Cucumber preset's calibration against paper 001's measured tip (Table 1,
-../shared/data/cucumber-wilting-tip.csv), the table of docs/wilting-calibration.md and README.md.
+data/cucumber-wilting-tip.csv), the table of docs/wilting-calibration.md and README.md.
 
 The pipeline of examples/calibrate_wilting.py --evaluate-preset: the cucumber blade of the measured size (20.1 x
 22.1 cm) -> palmate veins -> WiltingSimulator, Cucumber preset, at the settings it was fitted at (Resolution 14,
@@ -24,8 +24,7 @@ from paraview import servermanager
 load_plugin(arguments.plugin, globals())
 checks = Checks()
 
-DATA = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..", "shared",
-                                     "data"))
+DATA = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "data"))
 # The preset's documented numbers (docs/wilting-calibration.md, examples/calibrate_wilting.py --evaluate-preset).
 # (yaw in degrees, monotone errors, closest errors, direction difference in degrees) as it is and turned by the yaw.
 EXPECTED = ((0.0, (0.47, 1.59, 2.05, 0.62, 0.74), (0.47, 1.59, 2.05, 0.62, 0.74), 0.94),
