@@ -31,6 +31,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 
 using plantmorph::AddFieldString;
 using plantmorph::AddFieldValue;
@@ -89,6 +90,28 @@ std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& po
   for (std::size_t i = 0; i < points.size(); ++i)
     plane[i] = Eigen::Vector2d(su * uv[i].x(), sv * uv[i].y());
   return plane;
+}
+/// The parameters the venation grew with (a named preset's own, or the properties for Custom), one field value per
+/// property as PlantMorph.Venation.<property>: what a preset chose, visible in the Information panel.
+void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
+{
+  const std::pair<const char*, double> values[] = { { "Pattern", static_cast<double>(p.pattern) },
+    { "PrimaryCount", p.primaries }, { "PrimarySpread", p.primarySpread }, { "ParallelVeins", p.parallelVeins },
+    { "ParallelSpread", p.parallelSpread }, { "SecondarySpacing", p.secondarySpacing },
+    { "DivergenceAngle", p.divergenceAngle }, { "DivergenceAngleApex", p.divergenceAngleApex },
+    { "SecondaryCurvatureBase", p.curvatureBase }, { "SecondaryCurvatureApex", p.curvatureApex },
+    { "ForkFraction", p.forkFraction }, { "BranchCurvature", p.branchCurvature },
+    { "Tertiary", p.tertiary ? 1.0 : 0.0 },
+    { "AreoleSize", p.areoleSize }, { "MinJunctionAngle", p.minJunctionAngle },
+    { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
+    { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins }, { "ForkLevels", p.forkLevels },
+    { "ForkSize", p.forkSize }, { "PrimaryWidth", p.primaryWidth }, { "PrimaryTaper", p.primaryTaper },
+    { "SecondaryWidthRatio", p.secondaryWidthRatio }, { "TertiaryWidthRatio", p.tertiaryWidthRatio },
+    { "VeinletWidthRatio", p.veinletWidthRatio } };
+  for (const auto& [name, value] : values)
+  {
+    AddFieldValue(fd, (std::string("PlantMorph.Venation.") + name).c_str(), value);
+  }
 }
 } // namespace
 
@@ -385,6 +408,7 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
   AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
   AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
+  AddParameters(fd, p);
   AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
 
   // Port 1: the blade, raised over the veins when asked.

@@ -41,6 +41,10 @@
  * network that would need more than MaxSegments segments. An empty input gives empty outputs without an error
  * (pieces other than 0 of a PlantMorph source are empty under MPI, so the veins appear once).
  *
+ * The values the veins grew with (a named preset's own, or the properties for Custom) are written to the veins'
+ * field data as `PlantMorph.Venation.<property>` (e.g. PlantMorph.Venation.DivergenceAngle), so what a preset chose
+ * can be read in ParaView's Information panel.
+ *
  * Presets: the properties a named preset sets are used only when it is Custom. One changed from its default while a
  * named preset is on is not what the output has, so a warning names it and says to choose Custom (the same in
  * pvpython, the GUI and a loaded state file, whose outputs are unchanged).

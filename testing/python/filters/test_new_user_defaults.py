@@ -2,7 +2,7 @@
 
 1. A source's optional inputs stay empty when another source is active (paraview.simple connects the active source
    to a new proxy's input property of port_index 0), and setting one to None disconnects it.
-2. A property a named preset overrides is reported: a warning naming it and Custom, the same in a fresh pvpython
+2. (and 9, in part) A property a named preset overrides is reported; what the preset chose is in the field data: a warning naming it and Custom, the same in a fresh pvpython
    loading the saved state (whose outputs are the same).
 3. LeafOutlineSource's Length is the blade's length from base to apex for every deformed-rectangle preset.
 4. Trajectory Comparison's default columns chain: WiltingSimulator's Trajectory table with itself and with the tip
@@ -175,6 +175,19 @@ with Messages(veins) as messages:
     veins.UpdatePipeline()
 checks.check(messages.said("PrimaryCount", "Custom", kind="warning"), "2: PrimaryCount under a venation preset: "
              "a warning %s" % messages.warnings)
+
+
+def chosen(proxy, name):
+    array = fetch(proxy).GetFieldData().GetArray("PlantMorph.Venation." + name)
+    return array.GetValue(0) if array is not None else None
+
+
+# 9 (in part): what the preset chose is in the veins' field data, for the Information panel.
+checks.check(chosen(veins, "DivergenceAngleApex") == 70.0 and chosen(veins, "PrimaryCount") == 3,
+             "9: the paper mulberry preset's own values in the field data (%s, %s)" % (
+                 chosen(veins, "DivergenceAngleApex"), chosen(veins, "PrimaryCount")))
+veins.Preset = "Custom"
+checks.check(chosen(veins, "PrimaryCount") == 5, "9: Custom: the property's value in the field data")
 Delete(veins)
 itself = TrajectoryComparisonFilter(Input=OutputPort(wilt, 2), Simulated=OutputPort(wilt, 2))
 with Messages(itself) as messages:
