@@ -1,7 +1,7 @@
 """Fits WiltingSimulator's load and material parameters to a measured leaf-tip trajectory (paper 001 Table 1).
 
     pvpython examples/calibrate_wilting.py --plugin build/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so \
-        [--csv ../shared/data/cucumber-wilting-tip.csv] [--fit NAME,NAME,...] [--evaluations 120] [--yaw] \
+        [--csv data/cucumber-wilting-tip.csv] [--fit NAME,NAME,...] [--evaluations 120] [--yaw] \
         [--leave-one-out] [--evaluate-preset] [--set NAME=VALUE,...] [--step 0.7] [--beat-paper W]
         [--curl-direction Radial] [--frame-interval S]
 
@@ -52,8 +52,8 @@ import time
 
 parser = argparse.ArgumentParser()
 parser.add_argument("--plugin", required=True)
-parser.add_argument("--csv", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared",
-                                                  "data", "cucumber-wilting-tip.csv"))
+parser.add_argument("--csv", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data",
+                                                  "cucumber-wilting-tip.csv"))
 parser.add_argument("--evaluations", type=int, default=120, help="simulations the fit may run")
 parser.add_argument("--curl-direction", default="Radial", choices=("Isotropic", "Radial"),
                     help="CurlDirection of the simulated leaf (default: the Cucumber preset's)")

@@ -2,7 +2,7 @@
 
     xvfb-run -a pvbatch examples/compare_scanned_leaf.py [--plugin build/.../PlantMorph.so] [--output output]
 
-1. Leaf Cloud Reader reads the scan (shared/data/leaf-clouds/soybean_*_1.txt: x, y, z in mm, normals, colours).
+1. Leaf Cloud Reader reads the scan (data/leaf-clouds/soybean_*_1.txt: x, y, z in mm, normals, colours).
 2. Control points are picked from the scan: in the scan's principal frame (numpy PCA: length, width, normal), the
    base and apex are the extreme points along the length; at 5 stations along it the midvein point is the scan point
    nearest the middle of the slice and the margin points are the slice's widest scan points on each side. Picked
@@ -27,7 +27,7 @@ parser = argparse.ArgumentParser()
 parser.add_argument("--plugin", default=os.path.join(HERE, "..", "build", "lib", "paraview-5.11", "plugins",
                                                      "PlantMorph", "PlantMorph.so"))
 parser.add_argument("--output", default=os.path.join(HERE, "..", "output"))
-parser.add_argument("--scan", default=sorted(glob.glob(os.path.join(HERE, "..", "..", "shared", "data", "leaf-clouds",
+parser.add_argument("--scan", default=sorted(glob.glob(os.path.join(HERE, "..", "data", "leaf-clouds",
                                                                      "soybean_*_pot1_1.txt")))[0])
 arguments = parser.parse_args()
 os.makedirs(arguments.output, exist_ok=True)

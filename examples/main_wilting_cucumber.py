@@ -82,8 +82,7 @@ view = white_view(1100, 1000)
 shades = [[0.72 - 0.1 * k, 0.86 - 0.1 * k, 0.45 - 0.06 * k] for k in range(len(TIMES))]
 for k, t in enumerate(TIMES):
     show_frame(t, view, [0.0, 0.0, 0.0], blade_color=shades[k], opacity=1.0 if k in (0, len(TIMES) - 1) else 0.6)
-data = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "data",
-                    "cucumber-wilting-tip.csv")
+data = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "cucumber-wilting-tip.csv")
 if os.path.exists(data):
     with open(data) as f:
         rows = [r for r in csv.reader(line for line in f if not line.startswith("#"))]
