@@ -154,4 +154,12 @@ inline vtkSmartPointer<vtkPointSet> GatherOnFirstRank(vtkPointSet* piece)
   return append->GetOutput();
 }
 
+/// True in serial and on rank 0: where a gathered input is whole. A filter whose gathered input is empty there
+/// says so (a warning naming the input), while the other ranks' empty pieces are expected and stay silent.
+inline bool IsFirstRank()
+{
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  return !controller || controller->GetNumberOfProcesses() < 2 || controller->GetLocalProcessId() == 0;
+}
+
 } // namespace plantmorph

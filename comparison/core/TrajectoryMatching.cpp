@@ -66,9 +66,13 @@ TrajectoryComparison CompareTrajectories(const double* measured, std::size_t n, 
   std::size_t m, std::size_t maximumMonotonePairs)
 {
   TrajectoryComparison result;
-  if (n == 0 || m == 0)
+  // A direction (last minus first sample) needs two samples: one gives no angle, only a NaN.
+  if (n < 2 || m < 2)
   {
-    result.error = n == 0 ? "the measured trajectory has no sample" : "the simulated trajectory has no sample";
+    const bool measuredShort = n < 2;
+    result.error = std::string(measuredShort ? "the measured" : "the simulated") + " trajectory has " +
+      std::to_string(measuredShort ? n : m) + " sample(s); a comparison needs at least 2 (its direction is the last "
+      "minus the first sample)";
     return result;
   }
   for (std::size_t i = 0; i < 3 * n; ++i)

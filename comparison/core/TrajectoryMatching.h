@@ -42,7 +42,7 @@ struct TrajectoryComparison
   std::string error;        ///< empty on success
 };
 
-/// measured: n x,y,z triples; simulated: m triples. Needs n >= 1, m >= 1 and finite coordinates. The monotone
+/// measured: n x,y,z triples; simulated: m triples. Needs n >= 2, m >= 2 and finite coordinates. The monotone
 /// matching is computed when m >= n and n * m <= maximumMonotonePairs (it takes 16 bytes per pair), else
 /// hasMonotone is false.
 TrajectoryComparison CompareTrajectories(const double* measured, std::size_t n, const double* simulated,

@@ -355,7 +355,13 @@ int vtkCloudComparisonFilter::Execute(
   const vtkIdType count = measured->GetNumberOfPoints();
   if (count == 0)
   {
-    return 1; // an empty piece is not an error
+    // The other MPI ranks' empty pieces are expected; an empty whole input is said, and gives empty outputs.
+    if (plantmorph::IsFirstRank())
+    {
+      vtkWarningMacro(<< "the Input (Measured points, port 0) is empty (no points): nothing to compare, the outputs "
+                         "are empty");
+    }
+    return 1;
   }
 
   // The measured points, scaled, as flat doubles; every coordinate must be finite. When nothing moves them (Scale

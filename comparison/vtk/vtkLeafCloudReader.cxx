@@ -19,6 +19,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -39,6 +40,123 @@ vtkDoubleArray* NewArray(vtkPolyData* output, const std::string& name, int compo
   a->SetNumberOfTuples(n);
   output->GetPointData()->AddArray(a);
   return a;
+}
+
+std::string Lower(std::string text)
+{
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
+}
+
+/// The x, y, z columns a header names: x, y, z (any case), else the first prefix P with P_x, P_y, P_z (e.g.
+/// measured_x, measured_y, measured_z). False when it names none.
+bool NamedCoordinates(const std::vector<std::string>& names, std::size_t xyz[3])
+{
+  const auto find = [&](const std::string& wanted) {
+    for (std::size_t c = 0; c < names.size(); ++c)
+    {
+      if (Lower(names[c]) == wanted)
+      {
+        return c;
+      }
+    }
+    return names.size();
+  };
+  for (std::size_t c = 0; c < names.size(); ++c)
+  {
+    const std::string name = Lower(names[c]);
+    const bool bare = name == "x";
+    const bool suffixed = name.size() > 2 && name.compare(name.size() - 2, 2, "_x") == 0;
+    if (!bare && !suffixed)
+    {
+      continue;
+    }
+    const std::string prefix = name.substr(0, name.size() - 1);
+    xyz[0] = c;
+    xyz[1] = find(prefix + "y");
+    xyz[2] = find(prefix + "z");
+    if (xyz[1] < names.size() && xyz[2] < names.size())
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Columns after x, y, z by position (files without a header naming the columns, or naming x, y, z first):
+/// normals, colours, scalars.
+void AddPositionalArrays(vtkPolyData* output, const std::vector<double>& values, std::size_t columns, vtkIdType n)
+{
+  std::size_t next = 3;
+  if (columns >= 6)
+  {
+    vtkDoubleArray* normals = NewArray(output, "Normals", 3, n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        normals->SetTypedComponent(i, k, values[i * columns + 3 + k]);
+      }
+    }
+    output->GetPointData()->SetNormals(normals);
+    next = 6;
+  }
+  if (columns >= 9)
+  {
+    vtkDoubleArray* rgb = NewArray(output, "RGB", 3, n);
+    bool fractions = true;
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const double v = values[i * columns + 6 + k];
+        rgb->SetTypedComponent(i, k, v);
+        fractions = fractions && v >= 0.0 && v <= 1.0;
+      }
+    }
+    vtkNew<vtkUnsignedCharArray> colors;
+    colors->SetName("Colors");
+    colors->SetNumberOfComponents(3);
+    colors->SetNumberOfTuples(n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const double v = rgb->GetTypedComponent(i, k) * (fractions ? 255.0 : 1.0);
+        colors->SetTypedComponent(i, k, static_cast<unsigned char>(std::lround(std::clamp(v, 0.0, 255.0))));
+      }
+    }
+    output->GetPointData()->SetScalars(colors);
+    next = 9;
+  }
+  for (std::size_t c = next; c < columns; ++c)
+  {
+    const std::string name = c == 9 ? std::string("Scalar") : "Column" + std::to_string(c);
+    vtkDoubleArray* column = NewArray(output, name, 1, n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      column->SetValue(i, values[i * columns + c]);
+    }
+  }
+}
+
+/// Every column but x, y, z as a point array named by the header (x, y, z named elsewhere than columns 0-2).
+void AddNamedArrays(vtkPolyData* output, const std::vector<double>& values, const std::vector<std::string>& names,
+  const std::size_t xyz[3], vtkIdType n)
+{
+  const std::size_t columns = names.size();
+  for (std::size_t c = 0; c < columns; ++c)
+  {
+    if (c == xyz[0] || c == xyz[1] || c == xyz[2])
+    {
+      continue;
+    }
+    vtkDoubleArray* column = NewArray(output, names[c].empty() ? "Column" + std::to_string(c) : names[c], 1, n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      column->SetValue(i, values[i * columns + c]);
+    }
+  }
 }
 } // namespace
 
@@ -116,6 +234,40 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
   const std::vector<double>& values = cloud.values;
   const std::size_t columns = cloud.columns;
   const auto n = static_cast<vtkIdType>(values.size() / columns);
+  // Port 1: every column as a table, named by the header line when it has one name per column.
+  std::vector<std::string> names = plantmorph::SplitHeaderNames(cloud.header);
+  if (names.size() != columns)
+  {
+    names.clear();
+  }
+  for (std::size_t c = 0; c < columns; ++c)
+  {
+    vtkNew<vtkDoubleArray> column;
+    const bool named = !names.empty() && !names[c].empty();
+    column->SetName(named ? names[c].c_str() : ("Column" + std::to_string(c)).c_str());
+    column->SetNumberOfTuples(n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      column->SetValue(i, values[i * columns + c]);
+    }
+    table->AddColumn(column);
+  }
+
+  // Port 0: the points. A header naming the columns must name x, y, z (or P_x, P_y, P_z): points read by position
+  // from a table such as the tip CSV (sample, measured_x, measured_y, ...) would be silently wrong.
+  std::size_t xyz[3] = { 0, 1, 2 };
+  if (!names.empty() && !NamedCoordinates(names, xyz))
+  {
+    std::ostringstream list;
+    for (const auto& name : names)
+    {
+      list << (list.tellp() > 0 ? ", " : "") << "'" << name << "'";
+    }
+    vtkErrorMacro(<< "FileName '" << this->FileName << "': its header names the columns (" << list.str()
+                  << ") but none are x, y, z or P_x, P_y, P_z (e.g. measured_x, measured_y, measured_z), so the "
+                     "points are not read (output port 0 is empty; port 1 has the table)");
+    return 1;
+  }
   vtkNew<vtkDoubleArray> coordinates;
   coordinates->SetNumberOfComponents(3);
   coordinates->SetNumberOfTuples(n);
@@ -123,63 +275,19 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
   {
     for (int k = 0; k < 3; ++k)
     {
-      coordinates->SetTypedComponent(i, k, values[i * columns + k]);
+      coordinates->SetTypedComponent(i, k, values[i * columns + xyz[k]]);
     }
   }
   vtkNew<vtkPoints> points;
   points->SetData(coordinates);
   output->SetPoints(points);
-
-  std::size_t next = 3;
-  if (columns >= 6)
+  if (xyz[0] == 0 && xyz[1] == 1 && xyz[2] == 2)
   {
-    vtkDoubleArray* normals = NewArray(output, "Normals", 3, n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        normals->SetTypedComponent(i, k, values[i * columns + 3 + k]);
-      }
-    }
-    output->GetPointData()->SetNormals(normals);
-    next = 6;
+    AddPositionalArrays(output, values, columns, n);
   }
-  if (columns >= 9)
+  else
   {
-    vtkDoubleArray* rgb = NewArray(output, "RGB", 3, n);
-    bool fractions = true;
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        const double v = values[i * columns + 6 + k];
-        rgb->SetTypedComponent(i, k, v);
-        fractions = fractions && v >= 0.0 && v <= 1.0;
-      }
-    }
-    vtkNew<vtkUnsignedCharArray> colors;
-    colors->SetName("Colors");
-    colors->SetNumberOfComponents(3);
-    colors->SetNumberOfTuples(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        const double v = rgb->GetTypedComponent(i, k) * (fractions ? 255.0 : 1.0);
-        colors->SetTypedComponent(i, k, static_cast<unsigned char>(std::lround(std::clamp(v, 0.0, 255.0))));
-      }
-    }
-    output->GetPointData()->SetScalars(colors);
-    next = 9;
-  }
-  for (std::size_t c = next; c < columns; ++c)
-  {
-    const std::string name = c == 9 ? std::string("Scalar") : "Column" + std::to_string(c);
-    vtkDoubleArray* column = NewArray(output, name, 1, n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      column->SetValue(i, values[i * columns + c]);
-    }
+    AddNamedArrays(output, values, names, xyz, n);
   }
 
   vtkNew<vtkIdTypeArray> offsets;
@@ -197,21 +305,6 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
   vtkNew<vtkCellArray> verts;
   verts->SetData(offsets, connectivity);
   output->SetVerts(verts);
-
-  // Port 1: every column as a table, named by the header line when it has one name per column.
-  const std::vector<std::string> names = plantmorph::SplitHeaderNames(cloud.header);
-  for (std::size_t c = 0; c < columns; ++c)
-  {
-    vtkNew<vtkDoubleArray> column;
-    const bool named = names.size() == columns && !names[c].empty();
-    column->SetName(named ? names[c].c_str() : ("Column" + std::to_string(c)).c_str());
-    column->SetNumberOfTuples(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      column->SetValue(i, values[i * columns + c]);
-    }
-    table->AddColumn(column);
-  }
 
   vtkNew<vtkStringArray> source;
   source->SetName("PlantMorph.SourceFile");

@@ -1,5 +1,6 @@
 #include "vtkTrajectoryComparisonFilter.h"
 
+#include "PlantMorphWholeInput.h"
 #include "TrajectoryMatching.h"
 
 #include "vtkDataArray.h"
@@ -30,11 +31,57 @@ struct Trajectory
   std::vector<double> time; ///< empty when there is none
 };
 
-/// Reads x, y, z (and time) from a table's columns or a point set's points. Empty string or an error.
+bool IsAuto(const std::string& name)
+{
+  return name.empty() || name == "auto" || name == "Auto" || name == "AUTO";
+}
+
+/// The x, y, z column layouts recognised when the columns are "auto", in order of preference. Measured: the tip
+/// table's measured_*, then generic names, then WiltingSimulator's Tip*. Simulated: WiltingSimulator's Trajectory
+/// port (Tip*), the tip table's paper_sim_*, then generic names, then measured_*. So a simulated trajectory compared
+/// with itself or with data/cucumber-wilting-tip.csv needs no column typed.
+const std::vector<std::vector<std::string>>& KnownLayouts(bool measured)
+{
+  static const std::vector<std::vector<std::string>> forMeasured = { { "measured_x", "measured_y", "measured_z" },
+    { "x", "y", "z" }, { "X", "Y", "Z" }, { "TipX", "TipY", "TipZ" }, { "paper_sim_x", "paper_sim_y", "paper_sim_z" },
+    { "Points_0", "Points_1", "Points_2" } };
+  static const std::vector<std::vector<std::string>> forSimulated = { { "TipX", "TipY", "TipZ" },
+    { "paper_sim_x", "paper_sim_y", "paper_sim_z" }, { "x", "y", "z" }, { "X", "Y", "Z" },
+    { "Points_0", "Points_1", "Points_2" }, { "measured_x", "measured_y", "measured_z" } };
+  return measured ? forMeasured : forSimulated;
+}
+
+bool HasNumericColumn(vtkTable* table, const std::string& name)
+{
+  auto* column = vtkDataArray::SafeDownCast(table->GetColumnByName(name.c_str()));
+  return column && column->GetNumberOfComponents() == 1;
+}
+
+/// The time column: the one named, or with "auto" the first of time, Time, t present. Empty: none.
+std::string TimeColumnOf(vtkTable* table, const std::string& timeName)
+{
+  if (!IsAuto(timeName))
+  {
+    return timeName;
+  }
+  for (const char* name : { "time", "Time", "t" })
+  {
+    if (HasNumericColumn(table, name))
+    {
+      return name;
+    }
+  }
+  return {};
+}
+
+/// Reads x, y, z (and time) from a table's columns or a point set's points. Empty string or an error. `port` is
+/// "Measured" or "Simulated"; "auto" columns are looked up among KnownLayouts.
 std::string ReadTrajectory(
-  vtkDataObject* data, const std::string columns[3], const std::string& timeName, const char* port, Trajectory& out)
+  vtkDataObject* data, const std::string named[3], const std::string& timeName, const char* port, Trajectory& out)
 {
   std::ostringstream message;
+  const bool measured = std::string(port) == "Measured";
+  const char* inputName = measured ? "Input (measured)" : "Simulated";
   if (auto* points = vtkPointSet::SafeDownCast(data))
   {
     const vtkIdType n = points->GetNumberOfPoints();
@@ -43,7 +90,11 @@ std::string ReadTrajectory(
     {
       points->GetPoint(i, out.xyz.data() + 3 * i);
     }
-    vtkDataArray* time = timeName.empty() ? nullptr : points->GetPointData()->GetArray(timeName.c_str());
+    vtkDataArray* time = IsAuto(timeName) ? nullptr : points->GetPointData()->GetArray(timeName.c_str());
+    for (const char* name : { "time", "Time", "t" })
+    {
+      time = time || !IsAuto(timeName) ? time : points->GetPointData()->GetArray(name);
+    }
     if (time && time->GetNumberOfComponents() == 1)
     {
       out.time.resize(static_cast<std::size_t>(n));
@@ -57,8 +108,40 @@ std::string ReadTrajectory(
   auto* table = vtkTable::SafeDownCast(data);
   if (!table)
   {
-    message << "the " << port << " input is missing or is neither a table nor a point set";
+    message << "the " << inputName << " input is missing or is neither a table nor a point set";
     return message.str();
+  }
+  std::vector<std::string> columns(named, named + 3);
+  if (IsAuto(named[0]) && IsAuto(named[1]) && IsAuto(named[2]))
+  {
+    columns.clear();
+    for (const auto& layout : KnownLayouts(measured))
+    {
+      if (HasNumericColumn(table, layout[0]) && HasNumericColumn(table, layout[1]) &&
+        HasNumericColumn(table, layout[2]))
+      {
+        columns = layout;
+        break;
+      }
+    }
+    if (columns.empty())
+    {
+      message << port << "Columns: auto found none of the known x, y, z column layouts in the " << inputName
+              << " table (";
+      const char* separator = "";
+      for (const auto& layout : KnownLayouts(measured))
+      {
+        message << separator << layout[0] << "/" << layout[1] << "/" << layout[2];
+        separator = ", ";
+      }
+      message << "); name its columns in " << port << "Columns (its columns:";
+      for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
+      {
+        message << " '" << (table->GetColumnName(c) ? table->GetColumnName(c) : "") << "'";
+      }
+      message << ")";
+      return message.str();
+    }
   }
   vtkDataArray* xyz[3] = { nullptr, nullptr, nullptr };
   for (int k = 0; k < 3; ++k)
@@ -67,7 +150,7 @@ std::string ReadTrajectory(
     xyz[k] = vtkDataArray::SafeDownCast(column);
     if (!xyz[k] || xyz[k]->GetNumberOfComponents() != 1)
     {
-      message << port << "Columns: the " << port << " table has no numeric column '" << columns[k]
+      message << port << "Columns: the " << inputName << " table has no numeric column '" << columns[k]
               << "' (its columns:";
       for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
       {
@@ -86,8 +169,9 @@ std::string ReadTrajectory(
       out.xyz[3 * i + k] = xyz[k]->GetComponent(i, 0);
     }
   }
+  const std::string tableTime = TimeColumnOf(table, timeName);
   vtkDataArray* time =
-    timeName.empty() ? nullptr : vtkDataArray::SafeDownCast(table->GetColumnByName(timeName.c_str()));
+    tableTime.empty() ? nullptr : vtkDataArray::SafeDownCast(table->GetColumnByName(tableTime.c_str()));
   if (time && time->GetNumberOfComponents() == 1)
   {
     out.time.resize(static_cast<std::size_t>(n));
@@ -232,6 +316,11 @@ int vtkTrajectoryComparisonFilter::RequestData(
   };
   if (empty(measuredData) && empty(simulatedData))
   {
+    if (plantmorph::IsFirstRank())
+    {
+      vtkWarningMacro(<< "the Input (measured) and Simulated inputs are both empty (no rows or points): nothing to "
+                         "compare, the outputs are empty");
+    }
     return 1;
   }
 
@@ -249,7 +338,7 @@ int vtkTrajectoryComparisonFilter::RequestData(
   {
     comparison = plantmorph::CompareTrajectories(
       measured.xyz.data(), n, simulated.xyz.data(), m, static_cast<std::size_t>(MaxMonotonePairs));
-    error = comparison.error;
+    error = comparison.error.empty() ? "" : "Input (measured) / Simulated: " + comparison.error;
   }
   if (!error.empty())
   {

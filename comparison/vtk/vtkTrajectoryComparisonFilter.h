@@ -11,11 +11,16 @@
  * docs/methods/comparison.md.
  *
  * Input port 0, **Measured**, and input port 1, **Simulated**: each a vtkTable (e.g. a CSV file read by ParaView's
- * CSV reader, such as data/cucumber-wilting-tip.csv) or a vtkPointSet (e.g. WiltingSimulator's tip
- * trajectory, or Table To Points' output). From a table the x, y, z columns named by MeasuredColumns /
- * SimulatedColumns are read (any numeric type); from a point set, its points. Samples are taken in row (point)
- * order, which must be time order. An optional time column or point array named TimeColumn is carried into the
- * output (it does not enter the matching).
+ * CSV reader, such as data/cucumber-wilting-tip.csv, or WiltingSimulator's Trajectory port) or a vtkPointSet (e.g.
+ * Table To Points' output). From a table the x, y, z columns named by MeasuredColumns / SimulatedColumns are read
+ * (any numeric type). Their default, "auto" (or empty), recognises the known layouts, the first found in this order:
+ * Measured: measured_x/y/z (the tip CSV), x/y/z, X/Y/Z, TipX/TipY/TipZ (WiltingSimulator's Trajectory port),
+ * paper_sim_x/y/z, Points_0/1/2; Simulated: TipX/TipY/TipZ, paper_sim_x/y/z, x/y/z, X/Y/Z, Points_0/1/2,
+ * measured_x/y/z. So the defaults chain: a simulated trajectory compared with itself or with the tip CSV needs no
+ * column typed; a table with none of them is refused with an error listing them and its columns. From a point set,
+ * its points. Samples are taken in row (point) order, which must be time order. An optional time column or point
+ * array named TimeColumn (default "auto": time, Time or t, whichever is present) is carried into the output (it
+ * does not enter the matching).
  *
  * Matchings (plantmorph::CompareTrajectories, comparison/core/TrajectoryMatching.h):
  * - Closest sample (paper 001's): each measured sample to the nearest simulated sample, independently.
@@ -32,8 +37,10 @@
  * own unit vectors do not give). The summary is also written to port 0's field data.
  *
  * Errors (vtkErrorMacro naming the input, column or property, and EMPTY outputs, never a crash): a missing input,
- * a table without the named column (the available ones are listed) or with a non-numeric one, no samples, a
- * non-finite coordinate.
+ * a table without the named column (the available ones are listed) or with a non-numeric one, "auto" columns that
+ * match no known layout, fewer than 2 samples in either input (the direction angle needs two; one sample used to
+ * give a NaN angle), a non-finite coordinate. Both inputs empty: a warning naming them and empty outputs (on MPI
+ * ranks other than 0 an empty share is expected and silent).
  */
 #ifndef vtkTrajectoryComparisonFilter_h
 #define vtkTrajectoryComparisonFilter_h
@@ -80,9 +87,9 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  std::string MeasuredColumns[3] = { "x", "y", "z" };
-  std::string SimulatedColumns[3] = { "x", "y", "z" };
-  std::string TimeColumn = "time";
+  std::string MeasuredColumns[3] = { "auto", "auto", "auto" };
+  std::string SimulatedColumns[3] = { "auto", "auto", "auto" };
+  std::string TimeColumn = "auto";
 
 private:
   vtkTrajectoryComparisonFilter(const vtkTrajectoryComparisonFilter&) = delete;

@@ -104,6 +104,24 @@ std::string Validate(const DeformedRectangleParameters& p)
   return message.str();
 }
 
+double BladeLength(const DeformedRectangleParameters& parameters)
+{
+  const DeformedRectangleModel model(parameters);
+  return (model.Evaluate(0.0, 1.0) - model.Evaluate(0.0, 0.0)).norm();
+}
+
+std::string ScaleToBladeLength(DeformedRectangleParameters& parameters, double length)
+{
+  const double current = BladeLength(parameters);
+  if (!(current > 1e-12 * std::max(parameters.width, parameters.length)) || !std::isfinite(current))
+    return "Terms: the apex falls onto the base (the midvein u = 0 has no length), so the blade cannot be made "
+           "Length long";
+  const double factor = length / current;
+  parameters.width *= factor;
+  parameters.length *= factor;
+  return {};
+}
+
 DeformedRectangleModel::DeformedRectangleModel(DeformedRectangleParameters parameters)
   : Params(std::move(parameters))
   , Base(Eigen::Vector2d::Zero())

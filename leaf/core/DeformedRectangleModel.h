@@ -65,6 +65,15 @@ std::vector<double> FlattenTerms(const std::vector<SinusoidTerm>& terms);
 /// its accepted range.
 std::string Validate(const DeformedRectangleParameters& parameters);
 
+/// The blade's length from base to apex: |x(0, 1) - x(0, 0)|, the chord of the midvein u = 0. Parameters must
+/// have passed Validate().
+double BladeLength(const DeformedRectangleParameters& parameters);
+
+/// Scales a_x and b_y by one factor so the blade is `length` long from base to apex (BladeLength). Every term is
+/// proportional to a_x or b_y, so the leaf stays similar: the same shape at another size. Parameters must have passed
+/// Validate(). Empty string, or a message when the apex falls onto the base (nothing to scale).
+std::string ScaleToBladeLength(DeformedRectangleParameters& parameters, double length);
+
 class DeformedRectangleModel
 {
 public:

@@ -254,6 +254,12 @@ void vtkLeafOutlineSource::AddRightMarginPoint(double x, double y, double z)
 }
 
 //------------------------------------------------------------------------------
+void vtkLeafOutlineSource::SetControlPointsConnection(int, vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(0, output);
+}
+
+//------------------------------------------------------------------------------
 int vtkLeafOutlineSource::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
@@ -335,6 +341,7 @@ int vtkLeafOutlineSource::RequestData(
   vtkPolyData* controlPoints = inputVector[0]->GetNumberOfInformationObjects() > 0
     ? vtkPolyData::GetData(inputVector[0], 0)
     : nullptr;
+  this->WarnAboutPresetOverrides();
   const std::string error = this->BuildLeaf(leaf, parameters, scale, controlPoints);
   if (!error.empty())
   {
@@ -453,6 +460,71 @@ std::string vtkLeafOutlineSource::MeshSettings(plantmorph::LeafMeshSettings& set
 }
 
 //------------------------------------------------------------------------------
+void vtkLeafOutlineSource::WarnAboutPresetOverrides()
+{
+  vtkNew<vtkLeafOutlineSource> defaults;
+  std::ostringstream ignored;
+  const auto check = [&](const char* name, bool changed) {
+    if (changed)
+    {
+      ignored << (ignored.tellp() > 0 ? ", " : "") << name;
+    }
+  };
+#define PLANTMORPH_CHECK(name) check(#name, this->name != defaults->name)
+  std::string presetName;
+  if (this->Model == DEFORMED_RECTANGLE && this->Preset != 0)
+  {
+    presetName = "Preset";
+    PLANTMORPH_CHECK(Width);
+    PLANTMORPH_CHECK(Terms);
+  }
+  else if (this->Model == SPACE_CURVE && this->SpaceCurvePreset != 0)
+  {
+    presetName = "SpaceCurvePreset";
+    PLANTMORPH_CHECK(CurvatureFunction);
+    PLANTMORPH_CHECK(CurvatureMu);
+    PLANTMORPH_CHECK(CurvatureLambda);
+    PLANTMORPH_CHECK(CurvatureN1);
+    PLANTMORPH_CHECK(CurvatureN2);
+    PLANTMORPH_CHECK(CurvatureB1);
+    PLANTMORPH_CHECK(CurvatureU3);
+    PLANTMORPH_CHECK(CurvatureBeta);
+    PLANTMORPH_CHECK(CurvatureAlpha4);
+    PLANTMORPH_CHECK(CurvatureLambda2);
+    PLANTMORPH_CHECK(TorsionFunction);
+    PLANTMORPH_CHECK(TorsionEta);
+    PLANTMORPH_CHECK(TorsionLambda);
+    PLANTMORPH_CHECK(TorsionN1);
+    PLANTMORPH_CHECK(TorsionN2);
+    PLANTMORPH_CHECK(TorsionB1);
+    PLANTMORPH_CHECK(TorsionU3);
+    PLANTMORPH_CHECK(TorsionBeta);
+    PLANTMORPH_CHECK(TorsionAlpha4);
+    PLANTMORPH_CHECK(TorsionLambda2);
+    PLANTMORPH_CHECK(MidveinStretchZ);
+    PLANTMORPH_CHECK(MidveinStretchXY);
+    PLANTMORPH_CHECK(Lobes);
+    PLANTMORPH_CHECK(LobeStart);
+    PLANTMORPH_CHECK(LobeAngle);
+    PLANTMORPH_CHECK(LobeScale);
+  }
+  else if (this->Model == B_SPLINE && this->BSplinePreset != 0)
+  {
+    presetName = "BSplinePreset";
+    PLANTMORPH_CHECK(MidveinPoints);
+    PLANTMORPH_CHECK(LeftMarginPoints);
+    PLANTMORPH_CHECK(RightMarginPoints);
+  }
+#undef PLANTMORPH_CHECK
+  if (ignored.tellp() > 0)
+  {
+    vtkWarningMacro(<< "these properties are changed from their defaults but not used, because " << presetName
+                    << " is a named preset that sets them itself: " << ignored.str() << ". Set " << presetName
+                    << " to Custom (0) to use them.");
+  }
+}
+
+//------------------------------------------------------------------------------
 std::string vtkLeafOutlineSource::BuildLeaf(
   LeafGeometry& leaf, vtkFieldData* fd, double scale, vtkPolyData* controlPoints)
 {
@@ -465,9 +537,17 @@ std::string vtkLeafOutlineSource::BuildLeaf(
               << plantmorph::DeformedRectanglePresetCount - 1 << "]";
       return message.str();
     }
+    const double bladeLength = scale * this->Length;
+    if (!(std::isfinite(bladeLength) && bladeLength > 0.0 && bladeLength <= 1e6))
+    {
+      message << "Length = " << this->Length << " is outside the accepted range (0, 1e6] (the blade's length from "
+              << "base to apex)";
+      return message.str();
+    }
     const auto preset = static_cast<plantmorph::DeformedRectanglePreset>(this->Preset);
-    plantmorph::DeformedRectangleParameters parameters =
-      plantmorph::MakeDeformedRectanglePreset(preset, scale * this->Length);
+    // The rectangle first at b_y = Length (a_x: the preset's proportion, or Width for Custom), then a_x and b_y
+    // scaled together so the blade is Length long from base to apex.
+    plantmorph::DeformedRectangleParameters parameters = plantmorph::MakeDeformedRectanglePreset(preset, bladeLength);
     if (preset == plantmorph::DeformedRectanglePreset::Custom)
     {
       parameters.width = scale * this->Width;
@@ -479,6 +559,14 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     }
     parameters.bending = this->Bending;
     parameters.asymmetry = this->Asymmetry;
+    if (plantmorph::Validate(parameters).empty())
+    {
+      const std::string scaleError = plantmorph::ScaleToBladeLength(parameters, bladeLength);
+      if (!scaleError.empty())
+      {
+        return scaleError;
+      }
+    }
     plantmorph::LeafMeshSettings settings;
     const std::string settingsError = this->MeshSettings(settings);
     if (!settingsError.empty())
@@ -492,8 +580,9 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     }
     AddFieldString(fd, "PlantMorph.Model", "DeformedRectangle");
     AddFieldString(fd, "PlantMorph.Preset", plantmorph::PresetName(preset));
-    AddFieldValue(fd, "PlantMorph.Length", parameters.length);
-    AddFieldValue(fd, "PlantMorph.Width", parameters.width);
+    AddFieldValue(fd, "PlantMorph.Length", bladeLength);
+    AddFieldValue(fd, "PlantMorph.RectangleWidth", parameters.width);
+    AddFieldValue(fd, "PlantMorph.RectangleHeight", parameters.length);
     AddFieldValue(fd, "PlantMorph.Bending", parameters.bending);
     AddFieldValue(fd, "PlantMorph.Asymmetry", parameters.asymmetry);
     AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);

@@ -39,6 +39,10 @@
  *
  * The source generates the whole leaf as piece 0 and leaves other pieces empty, so it appears once under MPI.
  * Bad parameters produce an error naming the property and its accepted range, and empty outputs.
+ *
+ * Presets: the properties a named preset sets are used only when it is Custom. One changed from its default while a
+ * named preset is on is not what the output has, so a warning names it and says to choose Custom (the same in
+ * pvpython, the GUI and a loaded state file, whose outputs are unchanged).
  */
 #ifndef vtkLeafOutlineSource_h
 #define vtkLeafOutlineSource_h
@@ -93,7 +97,12 @@ public:
 
   ///@{
   /**
-   * b_y: height of the initial rectangle, in model units (cm for the presets). Range (0, 1e6]. Default 5.
+   * The blade's length from base to apex (the chord of the midvein), in model units (cm for the presets), for every
+   * preset and Custom: the rectangle is built at b_y = Length (a_x: the preset's proportion, or Width), then a_x and
+   * b_y are scaled together so the blade is Length long (the same shape). The a_x and b_y used are in the field
+   * data as PlantMorph.RectangleWidth and PlantMorph.RectangleHeight (paper 000's own Length = 5 ginkgo is
+   * b_y = 5, a blade 7.75 long). The bounding box can be longer: a cordate base's lobes reach below the base, the
+   * ginkgo's erose margin above the apex. Range (0, 1e6]. Default 5.
    */
   vtkSetMacro(Length, double);
   vtkGetMacro(Length, double);
@@ -101,8 +110,9 @@ public:
 
   ///@{
   /**
-   * a_x: width of the initial rectangle (Custom preset only; presets fix their own proportion). Range [0, 1e6].
-   * Default 5.5 (the ginkgo fan's 1.1 * Length).
+   * Custom preset only: a_x, the initial rectangle's width when its height b_y is Length (the proportion a_x : b_y
+   * is Width : Length; the blade is then scaled to be Length long). Presets fix their own proportion. Range
+   * [0, 1e6]. Default 5.5 (the ginkgo fan's 1.1 * Length).
    */
   vtkSetMacro(Width, double);
   vtkGetMacro(Width, double);
@@ -304,6 +314,14 @@ public:
   vtkGetMacro(GrowthInitialScale, double);
   ///@}
 
+  /**
+   * The optional ControlPoints input (port 0); nullptr disconnects. The server-manager XML connects through this,
+   * with a `port_index` of 1 that no algorithm port has: ParaView 5.11's paraview.simple connects the active source
+   * to the input property of port_index 0 of every new proxy, and a source's optional input must stay empty unless
+   * the user sets it. The first argument (the XML's port_index) is ignored.
+   */
+  void SetControlPointsConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
+
 protected:
   vtkLeafOutlineSource();
   ~vtkLeafOutlineSource() override = default;
@@ -377,6 +395,9 @@ private:
   std::string MeshSettings(plantmorph::LeafMeshSettings& settings);
   /// Empty when the growth properties are valid, else the message.
   std::string ValidateGrowth() const;
+  /// With a named preset of the chosen model, warns about each property only Custom uses that was changed from
+  /// its default (it is not what the output has).
+  void WarnAboutPresetOverrides();
 
   vtkLeafOutlineSource(const vtkLeafOutlineSource&) = delete;
   void operator=(const vtkLeafOutlineSource&) = delete;

@@ -194,7 +194,12 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
   const vtkIdType nPoints = input->GetNumberOfPoints();
   if (nPoints == 0)
   {
-    return 1; // an empty piece is not an error
+    // The other MPI ranks' empty pieces are expected; an empty whole input is said, and gives an empty output.
+    if (plantmorph::IsFirstRank())
+    {
+      vtkWarningMacro(<< "the Input is empty (no points): nothing to subdivide, the output is empty");
+    }
+    return 1;
   }
 
   AdaptiveLoopSettings settings;

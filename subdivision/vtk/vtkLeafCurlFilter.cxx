@@ -92,7 +92,11 @@ int vtkLeafCurlFilter::RequestData(
   const vtkIdType count = input->GetNumberOfPoints();
   if (count == 0)
   {
-    // An empty piece (MPI ranks other than the source's piece 0) is not an error: nothing to curl.
+    // An empty piece (MPI ranks other than rank 0) is expected; an empty whole input is said.
+    if (plantmorph::IsFirstRank())
+    {
+      vtkWarningMacro(<< "the Input is empty (no points): nothing to curl, the output is empty");
+    }
     return 1;
   }
   vtkDataArray* leafUV = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);

@@ -109,3 +109,41 @@ def fingerprint(dataset):
                 digest.update(vtk_to_numpy(cells.GetConnectivityArray()).astype("int64").tobytes())
                 digest.update(vtk_to_numpy(cells.GetOffsetsArray()).astype("int64").tobytes())
     return digest.hexdigest()
+
+
+class Messages:
+    """Collects the VTK errors and warnings the given proxies' algorithms report while the `with` block runs
+    (pvpython's built-in session: the algorithms live in this process). `errors` and `warnings` are their texts."""
+
+    def __init__(self, *proxies):
+        self.proxies = proxies
+        self.errors = []
+        self.warnings = []
+        self._observers = []
+
+    def __enter__(self):
+        from vtkmodules.util.misc import calldata_type
+        from vtkmodules.util.vtkConstants import VTK_STRING
+        from vtkmodules.vtkCommonCore import vtkCommand
+
+        @calldata_type(VTK_STRING)
+        def collect(caller, event, text):
+            (self.errors if event == "ErrorEvent" else self.warnings).append(str(text))
+
+        self._callback = collect
+        for proxy in self.proxies:
+            algorithm = proxy.GetClientSideObject()
+            for event in (vtkCommand.ErrorEvent, vtkCommand.WarningEvent):
+                self._observers.append((algorithm, algorithm.AddObserver(event, collect)))
+        return self
+
+    def __exit__(self, *exception):
+        for algorithm, tag in self._observers:
+            algorithm.RemoveObserver(tag)
+        self._observers = []
+        return False
+
+    def said(self, *words, kind="any"):
+        """True when one error (kind "error"), warning ("warning") or either holds every word."""
+        texts = {"error": self.errors, "warning": self.warnings}.get(kind, self.errors + self.warnings)
+        return any(all(word in text for word in words) for text in texts)

@@ -32,6 +32,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <sstream>
 
 using plantmorph::AddFieldString;
 using plantmorph::AddFieldValue;
@@ -176,6 +177,52 @@ void vtkTreeFromSketchSource::AddBranchOverride(
 }
 
 //------------------------------------------------------------------------------
+void vtkTreeFromSketchSource::SetStrokesConnection(int, vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(0, output);
+}
+
+void vtkTreeFromSketchSource::SetLeafConnection(int, vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(1, output);
+}
+
+void vtkTreeFromSketchSource::SetMergeTreeConnection(int, vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(2, output);
+}
+
+void vtkTreeFromSketchSource::WarnAboutPresetOverrides(const plantmorph::TreeSettings& used)
+{
+  if (this->Preset == 0)
+  {
+    return;
+  }
+  // A property the user changed from its default while a named preset is on is not what the output has: say so.
+  vtkNew<vtkTreeFromSketchSource> defaults;
+  std::ostringstream ignored;
+  const auto check = [&](const char* name, double set, double byDefault, double byPreset) {
+    if (set != byDefault && set != byPreset)
+    {
+      ignored << (ignored.tellp() > 0 ? ", " : "") << name << " = " << set << " (the preset's: " << byPreset << ")";
+    }
+  };
+  check("TreeType", this->TreeType, defaults->TreeType, static_cast<int>(used.type));
+  check("Length", this->Length, defaults->Length, used.length);
+  check("Radius", this->Radius, defaults->Radius, used.radius);
+  check("Depth", this->Depth, defaults->Depth, used.depth);
+  check("PhyllotaxisA", this->PhyllotaxisA, defaults->PhyllotaxisA, used.phyllotaxisA);
+  check("PhyllotaxisB", this->PhyllotaxisB, defaults->PhyllotaxisB, used.phyllotaxisB);
+  check("ChildCount", this->ChildCount, defaults->ChildCount, used.childCount);
+  check("Ratio", this->Ratio, defaults->Ratio, used.ratio);
+  if (ignored.tellp() > 0)
+  {
+    vtkWarningMacro(<< "Preset \"" << plantmorph::TreePresetName(this->Preset) << "\" sets TreeType, Length, Radius, "
+                    << "Depth, PhyllotaxisA/B, ChildCount and Ratio, so these values are not used: " << ignored.str()
+                    << ". Set Preset to Custom (0) to use them.");
+  }
+}
+
 int vtkTreeFromSketchSource::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
@@ -226,6 +273,7 @@ int vtkTreeFromSketchSource::RequestData(
   s.childCount = this->ChildCount;
   s.ratio = this->Ratio;
   plantmorph::ApplyTreePreset(this->Preset, s);
+  this->WarnAboutPresetOverrides(s);
   s.lengthScale = this->LengthScale;
   s.monopodialAngle = this->MonopodialAngle;
   s.sympodialAngle = this->SympodialAngle;

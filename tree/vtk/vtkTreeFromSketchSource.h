@@ -67,6 +67,10 @@
  * strokes (none, one point, NaN, zero length) or a tree above `MaxSegments` give an error naming the property or
  * input and its accepted range, and empty outputs. Randomness (ties in the nearest-parent search) comes only from
  * `Seed`: the same parameters, strokes and seed give bit-identical outputs.
+ *
+ * Presets: the properties a named preset sets are used only when it is Custom. One changed from its default while a
+ * named preset is on is not what the output has, so a warning names it and says to choose Custom (the same in
+ * pvpython, the GUI and a loaded state file, whose outputs are unchanged).
  */
 #ifndef vtkTreeFromSketchSource_h
 #define vtkTreeFromSketchSource_h
@@ -76,6 +80,11 @@
 
 #include <string> // for StrokeFile
 #include <vector> // for deletions and overrides
+
+namespace plantmorph
+{
+struct TreeSettings;
+}
 
 class PLANTMORPHTREEVTK_EXPORT vtkTreeFromSketchSource : public vtkPolyDataAlgorithm
 {
@@ -208,11 +217,27 @@ public:
   void ClearBranchOverrides();
   void AddBranchOverride(double id, double length, double radius, double u, double angle, double rotation);
 
+  ///@{
+  /**
+   * The optional inputs by name: Strokes (port 0), Leaf (port 1), MergeTree (port 2); nullptr disconnects. The
+   * server-manager XML connects through these, with `port_index` values 3, 4, 5 that no algorithm port has: ParaView
+   * 5.11's paraview.simple connects the active source to the input property of port_index 0 of every new proxy,
+   * and a source's optional inputs must stay empty unless the user sets them. The first argument (the XML's
+   * port_index) is ignored.
+   */
+  void SetStrokesConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
+  void SetLeafConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
+  void SetMergeTreeConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
+  ///@}
+
 protected:
   vtkTreeFromSketchSource();
   ~vtkTreeFromSketchSource() override = default;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  /// With a named Preset, warns about each preset-set property changed from its default to a value the preset
+  /// overrides (it is not what the output has).
+  void WarnAboutPresetOverrides(const plantmorph::TreeSettings& used);
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

@@ -31,6 +31,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 
 using plantmorph::AddFieldString;
 using plantmorph::AddFieldValue;
@@ -90,6 +91,28 @@ std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& po
     plane[i] = Eigen::Vector2d(su * uv[i].x(), sv * uv[i].y());
   return plane;
 }
+/// The parameters the venation grew with (a named preset's own, or the properties for Custom), one field value per
+/// property as PlantMorph.Venation.<property>: what a preset chose, visible in the Information panel.
+void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
+{
+  const std::pair<const char*, double> values[] = { { "Pattern", static_cast<double>(p.pattern) },
+    { "PrimaryCount", p.primaries }, { "PrimarySpread", p.primarySpread }, { "ParallelVeins", p.parallelVeins },
+    { "ParallelSpread", p.parallelSpread }, { "SecondarySpacing", p.secondarySpacing },
+    { "DivergenceAngle", p.divergenceAngle }, { "DivergenceAngleApex", p.divergenceAngleApex },
+    { "SecondaryCurvatureBase", p.curvatureBase }, { "SecondaryCurvatureApex", p.curvatureApex },
+    { "ForkFraction", p.forkFraction }, { "BranchCurvature", p.branchCurvature },
+    { "Tertiary", p.tertiary ? 1.0 : 0.0 },
+    { "AreoleSize", p.areoleSize }, { "MinJunctionAngle", p.minJunctionAngle },
+    { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
+    { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins }, { "ForkLevels", p.forkLevels },
+    { "ForkSize", p.forkSize }, { "PrimaryWidth", p.primaryWidth }, { "PrimaryTaper", p.primaryTaper },
+    { "SecondaryWidthRatio", p.secondaryWidthRatio }, { "TertiaryWidthRatio", p.tertiaryWidthRatio },
+    { "VeinletWidthRatio", p.veinletWidthRatio } };
+  for (const auto& [name, value] : values)
+  {
+    AddFieldValue(fd, (std::string("PlantMorph.Venation.") + name).c_str(), value);
+  }
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -103,6 +126,57 @@ int vtkVenationFilter::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
   return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkVenationFilter::WarnAboutPresetOverrides()
+{
+  if (this->Preset == 0)
+  {
+    return;
+  }
+  vtkNew<vtkVenationFilter> defaults;
+  std::ostringstream ignored;
+  const auto check = [&](const char* name, bool changed) {
+    if (changed)
+    {
+      ignored << (ignored.tellp() > 0 ? ", " : "") << name;
+    }
+  };
+#define PLANTMORPH_CHECK(name) check(#name, this->name != defaults->name)
+  PLANTMORPH_CHECK(Pattern);
+  PLANTMORPH_CHECK(PrimaryCount);
+  PLANTMORPH_CHECK(PrimarySpread);
+  PLANTMORPH_CHECK(ParallelVeins);
+  PLANTMORPH_CHECK(ParallelSpread);
+  PLANTMORPH_CHECK(SecondarySpacing);
+  PLANTMORPH_CHECK(DivergenceAngle);
+  PLANTMORPH_CHECK(DivergenceAngleApex);
+  PLANTMORPH_CHECK(SecondaryCurvatureBase);
+  PLANTMORPH_CHECK(SecondaryCurvatureApex);
+  PLANTMORPH_CHECK(ForkFraction);
+  PLANTMORPH_CHECK(BranchCurvature);
+  PLANTMORPH_CHECK(Tertiary);
+  PLANTMORPH_CHECK(AreoleSize);
+  PLANTMORPH_CHECK(MinJunctionAngle);
+  PLANTMORPH_CHECK(JunctionAngleDeviation);
+  PLANTMORPH_CHECK(Veinlets);
+  PLANTMORPH_CHECK(VeinletLength);
+  PLANTMORPH_CHECK(PalmateVeins);
+  PLANTMORPH_CHECK(ForkLevels);
+  PLANTMORPH_CHECK(ForkSize);
+  PLANTMORPH_CHECK(PrimaryWidth);
+  PLANTMORPH_CHECK(PrimaryTaper);
+  PLANTMORPH_CHECK(SecondaryWidthRatio);
+  PLANTMORPH_CHECK(TertiaryWidthRatio);
+  PLANTMORPH_CHECK(VeinletWidthRatio);
+#undef PLANTMORPH_CHECK
+  if (ignored.tellp() > 0)
+  {
+    vtkWarningMacro(<< "these properties are changed from their defaults but not used, because Preset is a named "
+                       "preset that sets them itself: "
+                    << ignored.str() << ". Set Preset to Custom (0) to use them.");
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -122,7 +196,12 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   input = wholeBlade.Get();
   if (input->GetNumberOfPoints() == 0)
   {
-    return 1; // another rank: the blade is on rank 0, nothing to grow here, no error
+    // Another rank: the blade is on rank 0, nothing to grow here, no error. On rank 0 the whole blade is empty.
+    if (plantmorph::IsFirstRank())
+    {
+      vtkWarningMacro(<< "the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
+    }
+    return 1;
   }
   auto fail = [&](const std::string& message) {
     vtkErrorMacro(<< message);
@@ -150,6 +229,7 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
     return fail(message.str());
   }
   const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
+  this->WarnAboutPresetOverrides();
   plantmorph::VenationParameters p = plantmorph::MakeVenationPreset(preset);
   if (preset == plantmorph::VenationPreset::Custom)
   {
@@ -328,6 +408,7 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
   AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
   AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
+  AddParameters(fd, p);
   AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
 
   // Port 1: the blade, raised over the veins when asked.

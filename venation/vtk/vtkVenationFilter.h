@@ -45,6 +45,14 @@
  * out-of-range or non-finite properties, no LeafUV (two components), non-triangle cells, a non-manifold edge, a
  * network that would need more than MaxSegments segments. An empty input gives empty outputs without an error
  * (pieces other than 0 of a PlantMorph source are empty under MPI, so the veins appear once).
+ *
+ * The values the veins grew with (a named preset's own, or the properties for Custom) are written to the veins'
+ * field data as `PlantMorph.Venation.<property>` (e.g. PlantMorph.Venation.DivergenceAngle), so what a preset chose
+ * can be read in ParaView's Information panel.
+ *
+ * Presets: the properties a named preset sets are used only when it is Custom. One changed from its default while a
+ * named preset is on is not what the output has, so a warning names it and says to choose Custom (the same in
+ * pvpython, the GUI and a loaded state file, whose outputs are unchanged).
  */
 #ifndef vtkVenationFilter_h
 #define vtkVenationFilter_h
@@ -202,6 +210,9 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// With a named Preset, warns about each property only Custom uses that was changed from its default (it is not
+  /// what the output has).
+  void WarnAboutPresetOverrides();
 
   int Preset = 1;
   int Pattern = 2;

@@ -138,7 +138,13 @@ std::string ValidateWilting(const WiltingParameters& p)
     {
       return newmark;
     }
-    if (p.duration / p.newmark.timeStep > 1e7)
+    if (p.newmark.timeStep > p.duration)
+    {
+      // One step longer than the whole run: a one-row trajectory and a leaf that never moves.
+      message << "TimeStep = " << p.newmark.timeStep << " s is longer than Duration = " << p.duration
+              << " s: TimeStep must be in (0, Duration]";
+    }
+    else if (p.duration / p.newmark.timeStep > 1e7)
     {
       message << "Duration / TimeStep must be at most 1e7 steps";
     }

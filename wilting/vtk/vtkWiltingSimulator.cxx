@@ -30,6 +30,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -101,6 +103,92 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
     plantmorph::ApplyWiltingPreset(static_cast<plantmorph::WiltingPreset>(f->GetPreset()), p);
   }
   return p;
+}
+
+/// The simulation's input from the leaf surface and the veins. Returns what had to be assumed (the Input lacks
+/// LeafUV or Region, or is not a manifold surface), for a warning, or "".
+std::string WiltingInputOf(vtkPolyData* input, vtkPolyData* veins, plantmorph::WiltingInput& in)
+{
+  const vtkIdType pointCount = input->GetNumberOfPoints();
+  const vtkIdType veinCount = veins ? veins->GetNumberOfPoints() : 0;
+  // The simulation's points: the surface's, then the veins' (they mark vein voxels through their Region and
+  // follow the voxels like every surface point; they are not voxelised themselves).
+  const std::size_t total = static_cast<std::size_t>(pointCount + veinCount);
+  in.points.resize(total);
+  for (vtkIdType i = 0; i < pointCount; ++i)
+  {
+    input->GetPoint(i, in.points[static_cast<std::size_t>(i)].data());
+  }
+  for (vtkIdType i = 0; i < veinCount; ++i)
+  {
+    veins->GetPoint(i, in.points[static_cast<std::size_t>(pointCount + i)].data());
+  }
+  auto polys = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+  for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
+  {
+    vtkIdType size = 0;
+    const vtkIdType* ids = nullptr;
+    polys->GetCurrentCell(size, ids);
+    for (vtkIdType k = 1; k + 1 < size; ++k)
+    {
+      in.triangles.push_back({ static_cast<int>(ids[0]), static_cast<int>(ids[k]), static_cast<int>(ids[k + 1]) });
+    }
+  }
+  // Region: a point without one (either dataset may lack the array) counts as blade.
+  vtkDataArray* region = input->GetPointData()->GetArray(plantmorph::arrays::Region);
+  vtkDataArray* veinRegion = veins ? veins->GetPointData()->GetArray(plantmorph::arrays::Region) : nullptr;
+  region = region && region->GetNumberOfComponents() == 1 ? region : nullptr;
+  veinRegion = veinRegion && veinRegion->GetNumberOfComponents() == 1 ? veinRegion : nullptr;
+  if (region || veinRegion)
+  {
+    in.regions.assign(total, plantmorph::RegionBlade);
+    for (vtkIdType i = 0; region && i < pointCount; ++i)
+    {
+      in.regions[static_cast<std::size_t>(i)] = static_cast<int>(region->GetComponent(i, 0));
+    }
+    for (vtkIdType i = 0; veinRegion && i < veinCount; ++i)
+    {
+      in.regions[static_cast<std::size_t>(pointCount + i)] = static_cast<int>(veinRegion->GetComponent(i, 0));
+    }
+  }
+  // LeafUV picks the base and the tip among the surface's points; vein points get NaN (never picked).
+  vtkDataArray* uv = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
+  if (uv && uv->GetNumberOfComponents() == 2)
+  {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    in.leafUV.assign(total, Eigen::Vector2d(nan, nan));
+    for (vtkIdType i = 0; i < pointCount; ++i)
+    {
+      in.leafUV[static_cast<std::size_t>(i)] = Eigen::Vector2d(uv->GetComponent(i, 0), uv->GetComponent(i, 1));
+    }
+  }  std::ostringstream assumed;
+  if (in.leafUV.empty())
+  {
+    assumed << "the Input has no LeafUV point array (2 components), so its base is taken as its lowest point (least "
+               "y) and its tip as its point farthest from the base. ";
+  }
+  if (!region)
+  {
+    assumed << "the Input has no Region point array, so every point of it counts as blade (no margin or midvein "
+               "material). ";
+  }
+  std::map<std::pair<int, int>, int> edgeUse;
+  for (const auto& t : in.triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int a = t[k], b = t[(k + 1) % 3];
+      ++edgeUse[{ std::min(a, b), std::max(a, b) }];
+    }
+  }
+  const auto shared = std::count_if(edgeUse.begin(), edgeUse.end(), [](const auto& e) { return e.second > 2; });
+  if (shared > 0)
+  {
+    assumed << "the Input is not a manifold surface (" << shared << " edge(s) shared by more than two triangles): it "
+            << "is voxelised as it is, each triangle on its own. ";
+  }
+  std::string text = assumed.str();
+  return text.empty() ? text : text.substr(0, text.size() - 1);
 }
 
 std::string CheckEnumerations(vtkWiltingSimulator* f)
@@ -284,6 +372,57 @@ int vtkWiltingSimulator::RequestUpdateExtent(
 }
 
 //------------------------------------------------------------------------------
+void vtkWiltingSimulator::WarnAboutPresetOverrides()
+{
+  if (this->Preset == PRESET_CUSTOM)
+  {
+    return;
+  }
+  vtkNew<vtkWiltingSimulator> defaults;
+  std::ostringstream ignored;
+  const auto check = [&](const char* name, bool changed) {
+    if (changed)
+    {
+      ignored << (ignored.tellp() > 0 ? ", " : "") << name;
+    }
+  };
+  const auto differ = [](const double a[3], const double b[3]) { return !std::equal(a, a + 3, b); };
+#define PLANTMORPH_CHECK(name) check(#name, this->name != defaults->name)
+  check("BladeMaterial", differ(this->BladeMaterial, defaults->BladeMaterial));
+  check("VeinMaterial", differ(this->VeinMaterial, defaults->VeinMaterial));
+  check("MarginMaterial", differ(this->MarginMaterial, defaults->MarginMaterial));
+  check("PetioleMaterial", differ(this->PetioleMaterial, defaults->PetioleMaterial));
+  PLANTMORPH_CHECK(Gravity);
+  PLANTMORPH_CHECK(DroopForce);
+  PLANTMORPH_CHECK(ContractionForce);
+  PLANTMORPH_CHECK(DroopAsymmetry);
+  PLANTMORPH_CHECK(ContractionAsymmetry);
+  PLANTMORPH_CHECK(ShrinkageStrain);
+  PLANTMORPH_CHECK(ShrinkageAsymmetry);
+  PLANTMORPH_CHECK(ShrinkageTime);
+  PLANTMORPH_CHECK(CurlStrain);
+  PLANTMORPH_CHECK(CurlAsymmetry);
+  PLANTMORPH_CHECK(CurlRelaxation);
+  PLANTMORPH_CHECK(CurlRelaxationTime);
+  PLANTMORPH_CHECK(CurlTime);
+  PLANTMORPH_CHECK(CurlDirection);
+  PLANTMORPH_CHECK(ContractionSide);
+  PLANTMORPH_CHECK(ContractionTarget);
+  PLANTMORPH_CHECK(LoadProfile);
+  PLANTMORPH_CHECK(LoadTime);
+  PLANTMORPH_CHECK(ContractionTime);
+  PLANTMORPH_CHECK(RayleighAlpha);
+  PLANTMORPH_CHECK(RayleighBeta);
+#undef PLANTMORPH_CHECK
+  if (ignored.tellp() > 0)
+  {
+    vtkWarningMacro(<< "these properties are changed from their defaults but not used, because Preset is a named "
+                       "preset that sets them itself: "
+                    << ignored.str() << ". Set Preset to Custom (0) to use them.");
+  }
+}
+
+//------------------------------------------------------------------------------
 int vtkWiltingSimulator::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -311,7 +450,12 @@ int vtkWiltingSimulator::RequestData(
   veins = wholeVeins.Get();
   if (input->GetNumberOfPoints() == 0)
   {
-    return 1; // an empty piece: nothing to wilt
+    // An empty piece on another rank is expected; on rank 0 the whole leaf is empty.
+    if (plantmorph::IsFirstRank())
+    {
+      vtkWarningMacro(<< "the Input (the leaf) is empty (no points): nothing to wilt, the outputs are empty");
+    }
+    return 1;
   }
   std::string error = CheckEnumerations(this);
   const plantmorph::WiltingParameters parameters = ParametersOf(this);
@@ -332,57 +476,11 @@ int vtkWiltingSimulator::RequestData(
   if (!cache.valid || cache.inputTime != pieceTime || cache.selfTime != this->GetMTime() ||
     cache.veinsTime != veinsTime || cache.veinPoints != veinCount)
   {
-    // The simulation's points: the surface's, then the veins' (they mark vein voxels through their Region and
-    // follow the voxels like every surface point; they are not voxelised themselves).
     plantmorph::WiltingInput in;
-    const std::size_t total = static_cast<std::size_t>(pointCount + veinCount);
-    in.points.resize(total);
-    for (vtkIdType i = 0; i < pointCount; ++i)
+    const std::string assumed = WiltingInputOf(input, veins, in);
+    if (!assumed.empty())
     {
-      input->GetPoint(i, in.points[static_cast<std::size_t>(i)].data());
-    }
-    for (vtkIdType i = 0; i < veinCount; ++i)
-    {
-      veins->GetPoint(i, in.points[static_cast<std::size_t>(pointCount + i)].data());
-    }
-    auto polys = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
-    for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell())
-    {
-      vtkIdType size = 0;
-      const vtkIdType* ids = nullptr;
-      polys->GetCurrentCell(size, ids);
-      for (vtkIdType k = 1; k + 1 < size; ++k)
-      {
-        in.triangles.push_back({ static_cast<int>(ids[0]), static_cast<int>(ids[k]), static_cast<int>(ids[k + 1]) });
-      }
-    }
-    // Region: a point without one (either dataset may lack the array) counts as blade.
-    vtkDataArray* region = input->GetPointData()->GetArray(plantmorph::arrays::Region);
-    vtkDataArray* veinRegion = veins ? veins->GetPointData()->GetArray(plantmorph::arrays::Region) : nullptr;
-    region = region && region->GetNumberOfComponents() == 1 ? region : nullptr;
-    veinRegion = veinRegion && veinRegion->GetNumberOfComponents() == 1 ? veinRegion : nullptr;
-    if (region || veinRegion)
-    {
-      in.regions.assign(total, plantmorph::RegionBlade);
-      for (vtkIdType i = 0; region && i < pointCount; ++i)
-      {
-        in.regions[static_cast<std::size_t>(i)] = static_cast<int>(region->GetComponent(i, 0));
-      }
-      for (vtkIdType i = 0; veinRegion && i < veinCount; ++i)
-      {
-        in.regions[static_cast<std::size_t>(pointCount + i)] = static_cast<int>(veinRegion->GetComponent(i, 0));
-      }
-    }
-    // LeafUV picks the base and the tip among the surface's points; vein points get NaN (never picked).
-    vtkDataArray* uv = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
-    if (uv && uv->GetNumberOfComponents() == 2)
-    {
-      const double nan = std::numeric_limits<double>::quiet_NaN();
-      in.leafUV.assign(total, Eigen::Vector2d(nan, nan));
-      for (vtkIdType i = 0; i < pointCount; ++i)
-      {
-        in.leafUV[static_cast<std::size_t>(i)] = Eigen::Vector2d(uv->GetComponent(i, 0), uv->GetComponent(i, 1));
-      }
+      vtkWarningMacro(<< assumed);
     }
     cache.valid = false;
     error = cache.simulation.Setup(in, parameters);
@@ -392,6 +490,7 @@ int vtkWiltingSimulator::RequestData(
       return 1;
     }
     ++this->SimulationCount;
+    this->WarnAboutPresetOverrides();
     error = cache.simulation.Run([this](double fraction) {
       this->UpdateProgress(fraction);
       return !this->GetAbortExecute();

@@ -72,6 +72,14 @@
  *
  * Assembly and the CG solve run on Threads threads (0: all cores) with fixed partitions: the result is
  * bit-identical on any thread count.
+ *
+ * Assumptions said (a warning, once per simulation): an Input without LeafUV (the base is its lowest point, the tip
+ * the point farthest from the base), without Region (every point is blade), or not manifold (edges shared by more
+ * than two triangles; it is voxelised as it is). TimeStep longer than Duration is an error.
+ *
+ * Presets: the properties a named preset sets are used only when it is Custom. One changed from its default while a
+ * named preset is on is not what the output has, so a warning names it and says to choose Custom (the same in
+ * pvpython, the GUI and a loaded state file, whose outputs are unchanged).
  */
 #ifndef vtkWiltingSimulator_h
 #define vtkWiltingSimulator_h
@@ -272,6 +280,9 @@ protected:
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// With a named Preset, warns (once per simulation) about each property the preset sets that was changed from
+  /// its default (it is not what the output has).
+  void WarnAboutPresetOverrides();
 
   int Preset = PRESET_CUCUMBER;
   double VoxelSize = 0.0;

@@ -1,6 +1,7 @@
 // The VTK layer of TrajectoryComparisonFilter: paper 001 Table 1 from tables (columns by name) and from point sets
 // gives 1.76, 0.69, 2.52, 1.89, 2.92 cm and 6.1 degrees in the outputs and field data; times are carried; a missing
-// column is an error naming the property and the available columns, with empty outputs.
+// column is an error naming the property and the available columns, with empty outputs. The default columns (auto)
+// recognise the data file's measured_* / paper_sim_* and WiltingSimulator's TipX/Y/Z; a single sample is refused.
 #include "VtkErrorCatcher.h"
 #include "vtkTrajectoryComparisonFilter.h"
 
@@ -123,7 +124,8 @@ TEST(TrajectoryComparisonFilter, MissingColumnIsAnErrorWithEmptyOutputs)
   filter->AddObserver(vtkCommand::ErrorEvent, catcher);
   filter->SetInputData(0, table);
   filter->SetSimulatedData(table);
-  filter->Update(); // default columns x, y, z do not exist
+  filter->SetMeasuredColumns("x", "y", "z");
+  filter->Update(); // columns x, y, z do not exist
   EXPECT_NE(catcher->Messages.find("MeasuredColumns"), std::string::npos) << catcher->Messages;
   EXPECT_NE(catcher->Messages.find("'measured_x'"), std::string::npos) << "lists the available columns";
   EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(0))->GetNumberOfRows(), 0);
@@ -136,6 +138,68 @@ TEST(TrajectoryComparisonFilter, MissingColumnIsAnErrorWithEmptyOutputs)
   filter->Update();
   EXPECT_NE(catcher->Messages.find("non-finite"), std::string::npos) << catcher->Messages;
   EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(0))->GetNumberOfRows(), 0);
+}
+
+TEST(TrajectoryComparisonFilter, DefaultColumnsRecogniseTheKnownLayouts)
+{
+  // The data file's table with itself: measured_* for the Input, paper_sim_* for Simulated, no names typed.
+  vtkSmartPointer<vtkTable> table = Table1();
+  vtkNew<vtkTrajectoryComparisonFilter> filter;
+  vtkNew<ErrorCatcher> catcher;
+  filter->AddObserver(vtkCommand::ErrorEvent, catcher);
+  filter->SetInputData(0, table);
+  filter->SetSimulatedData(table);
+  filter->Update();
+  EXPECT_EQ(catcher->Messages, "");
+  ExpectPaperNumbers(filter);
+
+  // WiltingSimulator's Trajectory layout (Time, TipX, TipY, TipZ) as the simulated input: its Time is carried.
+  vtkNew<vtkTable> tip;
+  const char* names[4] = { "Time", "TipX", "TipY", "TipZ" };
+  for (int c = 0; c < 4; ++c)
+  {
+    vtkNew<vtkDoubleArray> column;
+    column->SetName(names[c]);
+    for (int i = 0; i < 5; ++i)
+    {
+      column->InsertNextValue(c == 0 ? 2.5 * i : Simulated[i][c - 1]);
+    }
+    tip->AddColumn(column);
+  }
+  filter->SetSimulatedData(tip);
+  filter->Update();
+  EXPECT_EQ(catcher->Messages, "");
+  ExpectPaperNumbers(filter);
+  EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(0))->GetValueByName(3, "ClosestTime").ToDouble(), 7.5);
+
+  // A table with none of the known layouts: an error listing them and its columns, empty outputs.
+  vtkNew<vtkTable> other;
+  for (const char* name : { "a", "b", "c" })
+  {
+    vtkNew<vtkDoubleArray> column;
+    column->SetName(name);
+    column->SetNumberOfTuples(3);
+    column->Fill(1.0);
+    other->AddColumn(column);
+  }
+  filter->SetInputData(0, other);
+  filter->Update();
+  EXPECT_NE(catcher->Messages.find("MeasuredColumns: auto found none"), std::string::npos) << catcher->Messages;
+  EXPECT_NE(catcher->Messages.find("'a' 'b' 'c'"), std::string::npos) << catcher->Messages;
+  EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(0))->GetNumberOfRows(), 0);
+}
+
+TEST(TrajectoryComparisonFilter, OneSampleIsAnErrorNotANaNAngle)
+{
+  vtkNew<vtkTrajectoryComparisonFilter> filter;
+  vtkNew<ErrorCatcher> catcher;
+  filter->AddObserver(vtkCommand::ErrorEvent, catcher);
+  filter->SetInputData(0, Points(Measured, 1, false));
+  filter->SetSimulatedData(Points(Simulated, 5, false));
+  filter->Update();
+  EXPECT_NE(catcher->Messages.find("Input (measured)"), std::string::npos) << catcher->Messages;
+  EXPECT_NE(catcher->Messages.find("at least 2"), std::string::npos) << catcher->Messages;
+  EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(1))->GetNumberOfRows(), 0);
 }
 
 } // namespace

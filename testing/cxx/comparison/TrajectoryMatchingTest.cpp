@@ -64,7 +64,8 @@ TEST(TrajectoryMatching, MonotoneMatchingIsTheBestIncreasingAssignment)
   RandomStream random(4);
   for (int trial = 0; trial < 30; ++trial)
   {
-    const std::size_t n = 1 + static_cast<std::size_t>(random.Integer(0, 4));
+    // Two samples at least: a single one has no direction and is refused.
+    const std::size_t n = 2 + static_cast<std::size_t>(random.Integer(0, 3));
     const std::size_t m = n + static_cast<std::size_t>(random.Integer(0, 5));
     std::vector<double> measured(3 * n);
     std::vector<double> simulated(3 * m);
@@ -135,8 +136,12 @@ TEST(TrajectoryMatching, BadInput)
   const TrajectoryComparison fewer = CompareTrajectories(Measured.data(), 5, PaperSimulated.data(), 3);
   EXPECT_EQ(fewer.error, "");
   EXPECT_FALSE(fewer.hasMonotone);
-  // One sample each: the direction is undefined.
-  EXPECT_TRUE(std::isnan(CompareTrajectories(Measured.data(), 1, PaperSimulated.data(), 1).closest.directionAngle));
+  // One sample: the direction is undefined, so it is refused (it used to give a NaN angle).
+  EXPECT_NE(CompareTrajectories(Measured.data(), 1, PaperSimulated.data(), 5).error.find("measured trajectory has 1"),
+    std::string::npos);
+  EXPECT_NE(CompareTrajectories(Measured.data(), 5, PaperSimulated.data(), 1).error.find("at least 2"),
+    std::string::npos);
+  EXPECT_EQ(CompareTrajectories(Measured.data(), 2, PaperSimulated.data(), 2).error, "");
 }
 
 } // namespace

@@ -41,6 +41,36 @@ TEST(DeformedRectangleModel, GinkgoPresetIsEquationOne)
   }
 }
 
+TEST(DeformedRectangleModel, ScaledToItsBladeLengthBaseToApex)
+{
+  // Eq. (1) at u = 0: the base (0, 0) and the apex (0, b_y (1 + 0.05 sin(-1.5) - 0.6 sin(-pi/2))) = (0, 1.55013 b_y),
+  // so a ginkgo blade 5 long has b_y = 5 / 1.55013 (its b_y = 5 made it 7.75 long).
+  const double apex = 1.0 + 0.05 * std::sin(-1.5) + 0.6;
+  DeformedRectangleParameters ginkgo = MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0);
+  EXPECT_NEAR(BladeLength(ginkgo), 5.0 * apex, 1e-12);
+  ASSERT_EQ(ScaleToBladeLength(ginkgo, 5.0), "");
+  EXPECT_NEAR(ginkgo.length, 5.0 / apex, 1e-12);
+  EXPECT_NEAR(ginkgo.width / ginkgo.length, 1.1, 1e-12) << "a_x / b_y kept: the same shape";
+  EXPECT_NEAR(BladeLength(ginkgo), 5.0, 1e-12);
+  // Every preset, and a bent one: Length is the distance from base to apex.
+  for (int preset = 0; preset < DeformedRectanglePresetCount; ++preset)
+  {
+    DeformedRectangleParameters p = MakeDeformedRectanglePreset(static_cast<DeformedRectanglePreset>(preset), 3.0);
+    p.bending = preset == 2 ? 0.4 : 0.0;
+    ASSERT_EQ(Validate(p), "");
+    const double ratio = p.width / p.length;
+    ASSERT_EQ(ScaleToBladeLength(p, 7.25), "") << preset;
+    EXPECT_NEAR(BladeLength(p), 7.25, 1e-12) << preset;
+    EXPECT_NEAR(p.width / p.length, ratio, 1e-12) << preset;
+  }
+  // An apex on the base cannot be scaled to a length.
+  DeformedRectangleParameters collapsed;
+  collapsed.terms = { SinusoidTerm{ SinusoidTerm::Y, SinusoidTerm::Length, -1.0, SinusoidTerm::V, 0.0,
+    SinusoidTerm::VariableU, Pi / 2 } };
+  ASSERT_EQ(Validate(collapsed), "");
+  EXPECT_NE(ScaleToBladeLength(collapsed, 5.0).find("apex falls onto the base"), std::string::npos);
+}
+
 TEST(DeformedRectangleModel, CustomTermsReproduceEquationOneForAnyWidth)
 {
   // The rows the Terms property documents, with a width that does not collapse the base.

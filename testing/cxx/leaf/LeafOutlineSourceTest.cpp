@@ -166,7 +166,8 @@ TEST(vtkLeafOutlineSource, BadPropertiesGiveAMessageAndEmptyOutputs)
 {
   const BadCase cases[] = {
     { "Resolution = 1 is outside the accepted range [2, 4000]", [](vtkLeafOutlineSource* s) { s->SetResolution(1); } },
-    { "Length (b_y) = nan", [](vtkLeafOutlineSource* s) { s->SetLength(std::nan("")); } },
+    { "Length = nan is outside the accepted range (0, 1e6]",
+      [](vtkLeafOutlineSource* s) { s->SetLength(std::nan("")); } },
     { "Preset = 42 is outside the accepted range [0, 9]", [](vtkLeafOutlineSource* s) { s->SetPreset(42); } },
     { "Model = 3 is not available", [](vtkLeafOutlineSource* s) { s->SetModel(3); } },
     { "MeshQuality = 2", [](vtkLeafOutlineSource* s) { s->SetMeshQuality(2); } },

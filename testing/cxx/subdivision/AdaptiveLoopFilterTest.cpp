@@ -43,10 +43,12 @@ namespace
 {
 using plantmorph::testing::ErrorCatcher;
 
-/// The ginkgo blade of LeafOutlineSource, lifted into a curved surface (points in `precision`).
+/// The ginkgo blade of LeafOutlineSource, lifted into a curved surface (points in `precision`). Its size is paper
+/// 000's b_y = 5, a blade 5 (1.6 + 0.05 sin(-1.5)) = 7.75 long from base to apex, for which the lift is sized.
 vtkSmartPointer<vtkPolyData> CurvedBlade(int resolution = 24, int precision = VTK_DOUBLE)
 {
   vtkNew<vtkLeafOutlineSource> source;
+  source->SetLength(5.0 * (1.6 + 0.05 * std::sin(-1.5)));
   source->SetResolution(resolution);
   source->Update();
   auto blade = vtkSmartPointer<vtkPolyData>::New();

@@ -844,6 +844,13 @@ TEST(WiltingSimulation, BadInputAndBlowUp)
   p = DroopOnly();
   p.newmark.timeStep = std::nan("");
   EXPECT_NE(simulation.Setup(in, p).find("TimeStep"), std::string::npos);
+  // A step longer than the run used to give a one-row trajectory and a leaf that never moves.
+  p = DroopOnly();
+  p.duration = 0.5;
+  p.newmark.timeStep = 0.75;
+  EXPECT_NE(ValidateWilting(p).find("TimeStep = 0.75 s is longer than Duration = 0.5 s"), std::string::npos);
+  p.newmark.timeStep = 0.5;
+  EXPECT_EQ(ValidateWilting(p), "");
   p = DroopOnly();
   p.materials[WiltingVein].stiffness = -1.0;
   EXPECT_NE(simulation.Setup(in, p).find("VeinStiffness"), std::string::npos);

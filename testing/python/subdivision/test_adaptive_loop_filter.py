@@ -4,6 +4,7 @@ data contract's arrays interpolated (LeafUV, TCoords active, Region codes, unit 
 keeping margin and midvein points, triangle counts per level in field data, a conforming mesh, and bad properties
 giving an empty output. Nothing is rendered."""
 import collections
+import math
 
 from plantmorph_testing import Checks, load_plugin, parse_arguments
 
@@ -31,7 +32,9 @@ def per_level(data, name):
     return [int(array.GetValue(i)) for i in range(array.GetNumberOfTuples())] if array else None
 
 
-leaf = LeafOutlineSource(Preset="Ginkgo", Resolution=30)
+# The ginkgo of paper 000's b_y = 5: its blade is 5 (1.6 + 0.05 sin(-1.5)) = 7.75 long from base to apex (Length is
+# the blade's length); the bend below is sized for it.
+leaf = LeafOutlineSource(Preset="Ginkgo", Length=5.0 * (1.6 + 0.05 * math.sin(-1.5)), Resolution=30)
 flat_blade = servermanager.Fetch(leaf)
 n_in = flat_blade.GetNumberOfCells()
 
