@@ -37,36 +37,66 @@ struct Fitted
   std::vector<int> kept;              // ids of the points the cleaning kept
   std::vector<Eigen::Vector3d> local; // their local coordinates
   std::vector<Eigen::Vector2d> ts;    // their (t, s)
+  std::vector<double> residual;       // their distances to the surface
   double sigma = 0.0;                 // robust scale of the final residuals
 };
+
+/// The largest distance to the surface an inlier may have.
+double InlierLimit(const Fitted& f, double spacing)
+{
+  return std::max(5.0 * f.sigma, spacing);
+}
 
 /// The penalised, Huber-reweighted surface through the kept points.
 std::string FitSurface(const LeafFitOptions& options, double spacing, Fitted& f)
 {
-  double tLo = 1e300, tHi = -1e300;
+  Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
   for (const auto& p : f.ts)
   {
-    tLo = std::min(tLo, p.x());
-    tHi = std::max(tHi, p.x());
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
   }
-  const double pad = 2.0 * spacing;
-  const Eigen::Vector2d tRange(tLo - pad, tHi + pad), sRange(f.outline.s0 - pad, f.outline.s1 + pad);
+  // The domain reaches beyond the points by more than the outline's tips may be extrapolated (4 spacings).
+  const double pad = 6.0 * spacing;
+  const Eigen::Vector2d tRange(lo.x() - pad, hi.x() + pad), sRange(lo.y() - pad, hi.y() + pad);
   const double length = sRange[1] - sRange[0], width = tRange[1] - tRange[0];
   const double n = static_cast<double>(f.ts.size());
   const int ns = std::clamp(static_cast<int>(std::lround(std::sqrt(n / 12.0 * length / width))), 6, 40);
   const int nt = std::clamp(static_cast<int>(std::lround(ns * width / length)), 4, 30);
   const double lambda = 0.01 * options.surfaceSmoothing;
-  std::vector<double> w(f.ts.size(), 1.0), residual(f.ts.size());
-  for (int iteration = 0; iteration < 4; ++iteration)
+  std::vector<double> w(f.ts.size(), 1.0);
+  std::vector<double>& residual = f.residual;
+  residual.resize(f.ts.size());
+  for (int pass = 0; pass < 2; ++pass)
   {
-    if (!f.surface.Fit(tRange, sRange, nt, ns, f.ts, f.local, w, lambda))
-      return "no leaf shape: the surface could not be fitted";
-    for (std::size_t i = 0; i < f.ts.size(); ++i)
-      residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm();
-    f.sigma = 1.4826 * Median(residual);
-    const double k = 2.0 * std::max(f.sigma, 1e-6 * spacing);
-    for (std::size_t i = 0; i < f.ts.size(); ++i)
-      w[i] = residual[i] <= k ? 1.0 : k / residual[i];
+    if (pass > 0)
+    {
+      // Project every point onto the surface (two Gauss-Newton steps on its (t, s)): a point's noise along a
+      // tilted normal must not move it along the leaf, or the outermost samples reach beyond the margin and tips.
+      for (std::size_t i = 0; i < f.ts.size(); ++i)
+        for (int step = 0; step < 2; ++step)
+        {
+          Eigen::Vector3d dt, ds;
+          f.surface.Derivatives(f.ts[i].x(), f.ts[i].y(), dt, ds);
+          Eigen::Matrix<double, 3, 2> J;
+          J << dt, ds;
+          const Eigen::Vector3d r = f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y());
+          const Eigen::Vector2d delta = (J.transpose() * J).ldlt().solve(J.transpose() * r);
+          if (delta.allFinite() && delta.norm() < 10.0 * spacing)
+            f.ts[i] += delta;
+        }
+    }
+    for (int iteration = 0; iteration < 3; ++iteration)
+    {
+      if (!f.surface.Fit(tRange, sRange, nt, ns, f.ts, f.local, w, lambda))
+        return "no leaf shape: the surface could not be fitted";
+      for (std::size_t i = 0; i < f.ts.size(); ++i)
+        residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm();
+      f.sigma = 1.4826 * Median(residual);
+      const double k = 2.0 * std::max(f.sigma, 1e-6 * spacing);
+      for (std::size_t i = 0; i < f.ts.size(); ++i)
+        w[i] = residual[i] <= k ? 1.0 : k / residual[i];
+    }
   }
   if (f.sigma > 0.05 * width)
   {
@@ -167,7 +197,7 @@ void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, dou
   result.fitDistance.assign(points.size(), nan);
   result.inlier.assign(points.size(), 0);
   result.intrinsic.assign(points.size(), Eigen::Vector2d(nan, nan));
-  const double limit = std::max(5.0 * f.sigma, spacing);
+  const double limit = InlierLimit(f, spacing);
   std::vector<Eigen::Vector3d> inliers;
   for (std::size_t k = 0; k < f.kept.size(); ++k)
   {
@@ -176,7 +206,7 @@ void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, dou
     const Eigen::Vector3d d = f.local[k] - f.surface(ts.x(), ts.y());
     result.fitDistance[i] = d.dot(f.surface.Normal(ts.x(), ts.y()));
     result.intrinsic[i] = { ts.x(), ts.y() - f.outline.s0 };
-    result.inlier[i] = d.norm() <= limit ? 1 : 0;
+    result.inlier[i] = f.residual[k] <= limit ? 1 : 0;
     if (result.inlier[i])
       inliers.push_back(points[i]);
   }
@@ -241,9 +271,15 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions
     return error;
   for (const auto& q : f.local)
     f.ts.push_back(f.sections.Intrinsic(q));
-  error = fit::FitOutline(f.ts, options, spacing, f.outline);
-  if (error.empty())
-    error = FitSurface(options, spacing, f);
+  error = FitSurface(options, spacing, f);
+  if (!error.empty())
+    return error;
+  // The outline from the points on the surface only (an outlier beside the leaf must not widen it).
+  std::vector<Eigen::Vector2d> onSurface;
+  for (std::size_t k = 0; k < f.ts.size(); ++k)
+    if (f.residual[k] <= InlierLimit(f, spacing))
+      onSurface.push_back(f.ts[k]);
+  error = fit::FitOutline(onSurface, options, spacing, f.outline);
   if (error.empty())
     error = MeshFittedBlade(options, f, result);
   if (!error.empty())

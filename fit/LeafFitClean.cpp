@@ -90,14 +90,15 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
     nearest[i] = nb.empty() ? 0.0 : std::sqrt(nb.front().first);
   }
   // Statistical outlier removal, robust: a point is dropped when its mean neighbour distance is beyond the median
-  // by OutlierSigma robust deviations AND twice the median (margin points, with half their neighbours missing,
-  // have about 1.4 times the median and must stay: dropping them would shrink the outline).
+  // by OutlierSigma robust deviations AND five times the median. Points on the margin have about 1.4 times the
+  // median, and at a sharp tip, whose neighbours all lie in a narrow wedge, up to sqrt(pi / half-angle) times it:
+  // they must stay, or the outline shrinks. Points off the surface closer than that go in the surface's robust fit.
   const double median = Median(meanDistance);
   std::vector<double> deviation(n);
   for (int i = 0; i < n; ++i)
     deviation[i] = std::abs(meanDistance[i] - median);
   const double sigma = 1.4826 * Median(deviation);
-  const double limit = std::max(median + outlierSigma * sigma, 2.0 * median);
+  const double limit = std::max(median + outlierSigma * sigma, 5.0 * median);
   keep.assign(n, 0);
   for (int i = 0; i < n; ++i)
     keep[i] = meanDistance[i] <= limit ? 1 : 0;
@@ -185,8 +186,10 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions
     for (int k = 0; k < slices; ++k)
       width[k] = maxA[k] >= minA[k] ? maxA[k] - minA[k] : 0.0;
     const double widest = *std::max_element(width.begin(), width.end());
-    const bool stalkLow = width[0] < 0.15 * widest && width[1] < 0.25 * widest;
-    const bool stalkHigh = width[slices - 1] < 0.15 * widest && width[slices - 2] < 0.25 * widest;
+    // A stalk: the two end slices (10 % of the length) both narrower than a tenth of the widest (an acute apex of
+    // a broad leaf widens faster than that).
+    const bool stalkLow = width[0] < 0.06 * widest && width[1] < 0.1 * widest;
+    const bool stalkHigh = width[slices - 1] < 0.06 * widest && width[slices - 2] < 0.1 * widest;
     if (stalkLow != stalkHigh)
       flip = stalkHigh;
     else
