@@ -61,7 +61,7 @@ std::string FitSurface(const LeafFitOptions& options, double spacing, Fitted& f)
   const Eigen::Vector2d tRange(lo.x() - pad, hi.x() + pad), sRange(lo.y() - pad, hi.y() + pad);
   const double length = sRange[1] - sRange[0], width = tRange[1] - tRange[0];
   const double n = static_cast<double>(f.ts.size());
-  const int ns = std::clamp(static_cast<int>(std::lround(std::sqrt(n / 12.0 * length / width))), 6, 40);
+  const int ns = std::clamp(static_cast<int>(std::lround(std::sqrt(n / 5.0 * length / width))), 6, 40);
   const int nt = std::clamp(static_cast<int>(std::lround(ns * width / length)), 4, 30);
   const double lambda = 0.01 * options.surfaceSmoothing;
   std::vector<double> w(f.ts.size(), 1.0);
