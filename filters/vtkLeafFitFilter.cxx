@@ -78,9 +78,11 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* point
     outline->GetCellData()->GetArray("LeafId")->InsertNextTuple1(leafId);
   }
   // The fitted Model C control points, for LeafOutlineSource (B-spline, Custom).
-  const std::vector<Eigen::Vector3d>* model[3] = { &r.modelMidvein, &r.modelLeftMargin, &r.modelRightMargin };
-  const char* names[3] = { "MidveinPoints", "LeftMarginPoints", "RightMarginPoints" };
-  for (int k = 0; k < 3; ++k)
+  const std::vector<Eigen::Vector3d>* model[6] = { &r.modelMidvein, &r.modelLeftMargin, &r.modelRightMargin,
+    &r.flatMidvein, &r.flatLeftMargin, &r.flatRightMargin };
+  const char* names[6] = { "MidveinPoints", "LeftMarginPoints", "RightMarginPoints", "FlatMidveinPoints",
+    "FlatLeftMarginPoints", "FlatRightMarginPoints" };
+  for (int k = 0; k < 6; ++k)
   {
     const std::string name = "PlantMorph.FitModel." + std::to_string(leafId) + "." + names[k];
     auto array = NewArray<vtkDoubleArray>(name.c_str(), 3);

@@ -11,7 +11,9 @@
  * `Region` and `LeafId`. Field data: for every leaf, its fitted Model C control points,
  * `PlantMorph.FitModel.<LeafId>.MidveinPoints`, `.LeftMarginPoints`, `.RightMarginPoints` (3-component arrays,
  * base to apex): LeafOutlineSource with Model B-spline, BSplinePreset Custom and these three lists rebuilds the
- * leaf. Port 1, **Outline**: left margin, right margin and midvein of each leaf (cell `Region` 4, 4, 1, `LeafId`).
+ * leaf where its curvature lets LeafOutlineSource mesh it in one plane; `.FlatMidveinPoints`,
+ * `.FlatLeftMarginPoints`, `.FlatRightMarginPoints` give the same leaf laid flat (intrinsic coordinates, base at
+ * the origin, midvein along +Y), which always rebuilds (then curl it with LeafCurlFilter). Port 1, **Outline**: left margin, right margin and midvein of each leaf (cell `Region` 4, 4, 1, `LeafId`).
  * Port 2, **Traits**: a vtkTable, one row per leaf (LeafId, then plantmorph::TraitNames()). Port 3, **Scan**: the
  * input points (scaled) with their point data and `FitDistance`, `Inlier`, `LeafId`.
  *
@@ -55,7 +57,7 @@ public:
   ///@{
   /// Fit controls (plantmorph::LeafFitOptions): SurfaceSmoothing [0, 1e6] (default 1), OutlineSmoothing [0, 1e6]
   /// (default 1), OutlineControlPoints [4, 200] (default 16), OutlierSigma [1, 100] (default 3), Resolution
-  /// [4, 1000] segments along the midvein (default 60), ModelControlPoints [3, 100] (default 12).
+  /// [4, 1000] segments along the midvein (default 60), ModelControlPoints [3, 100] (default 20).
   vtkSetMacro(SurfaceSmoothing, double);
   vtkGetMacro(SurfaceSmoothing, double);
   vtkSetMacro(OutlineSmoothing, double);
@@ -88,7 +90,7 @@ protected:
   int OutlineControlPoints = 16;
   double OutlierSigma = 3.0;
   int Resolution = 60;
-  int ModelControlPoints = 12;
+  int ModelControlPoints = 20;
 
 private:
   vtkLeafFitFilter(const vtkLeafFitFilter&) = delete;

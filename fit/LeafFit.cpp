@@ -225,21 +225,38 @@ void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, dou
     result.support[i] = std::sqrt(scan.Nearest(result.points[i], 1).front().first);
 }
 
-/// Model C control points: the midvein at `count` stations base to apex, each margin at `count` inner stations.
+/// Model C control points: the midvein at `count` stations base to apex (half-way between the margins), each margin at `count` inner stations
+/// equally spaced along its arc length in (t, s) (so the rounded ends, where a margin turns fast, get their share).
 void ModelControlPoints(const LeafFitOptions& options, const Fitted& f, LeafFitResult& result)
 {
   const Outline& o = f.outline;
   const int m = options.modelControlPoints;
   for (int k = 0; k < m; ++k)
   {
+    // The model's midvein runs half-way between the margins (the fitted one, t = 0, may run close to a margin
+    // where a narrow petiole meets the blade, and an interpolating spline through it would cross that margin).
     const double s = o.s0 + (o.s1 - o.s0) * k / (m - 1);
-    result.modelMidvein.push_back(f.frame.World(f.surface(0.0, s)));
+    const double t = k == 0 || k == m - 1 ? 0.0 : 0.5 * (o.Left(s) + o.Right(s));
+    result.modelMidvein.push_back(f.frame.World(f.surface(t, s)));
+    result.flatMidvein.emplace_back(t, s - o.s0, 0.0);
   }
-  for (int k = 1; k <= m; ++k)
+  for (int side = 0; side < 2; ++side)
   {
-    const double s = o.s0 + (o.s1 - o.s0) * k / (m + 1);
-    result.modelLeftMargin.push_back(f.frame.World(f.surface(o.Left(s), s)));
-    result.modelRightMargin.push_back(f.frame.World(f.surface(o.Right(s), s)));
+    const std::vector<Eigen::Vector2d> samples = SampleMargin(o, side == 1, (o.s1 - o.s0) / 4000.0);
+    std::vector<double> arc(samples.size(), 0.0);
+    for (std::size_t i = 1; i < samples.size(); ++i)
+      arc[i] = arc[i - 1] + (samples[i] - samples[i - 1]).norm();
+    std::size_t j = 0;
+    for (int k = 1; k <= m; ++k)
+    {
+      const double target = arc.back() * k / (m + 1);
+      while (j + 1 < samples.size() && arc[j + 1] < target)
+        ++j;
+      const Eigen::Vector2d& p = samples[j];
+      (side == 0 ? result.modelLeftMargin : result.modelRightMargin)
+        .push_back(f.frame.World(f.surface(p.x(), o.s0 + p.y())));
+      (side == 0 ? result.flatLeftMargin : result.flatRightMargin).emplace_back(p.x(), p.y(), 0.0);
+    }
   }
 }
 

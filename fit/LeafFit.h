@@ -46,7 +46,7 @@ struct LeafFitOptions
   int outlineControlPoints = 16;  ///< [4, 200]: B-spline control points per margin
   double outlierSigma = 3.0;      ///< [1, 100]: robust deviations of the neighbour distance beyond which a point is dropped
   int resolution = 60;            ///< [4, 1000]: segments along the midvein of the output mesh
-  int modelControlPoints = 12;    ///< [3, 100]: Model C control points per margin in the fitted model
+  int modelControlPoints = 20;    ///< [3, 100]: Model C control points per margin in the fitted model
 };
 
 /// Empty when every option is finite and in range; otherwise the message naming the option and its range.
@@ -94,6 +94,10 @@ struct LeafFitResult
   std::vector<int> leftMargin, rightMargin, midvein; ///< base to apex, ids into points
   // The model LeafOutlineSource rebuilds (Model C, Custom preset): 3-D control points.
   std::vector<Eigen::Vector3d> modelMidvein, modelLeftMargin, modelRightMargin;
+  /// The same leaf laid flat (x = t, y = s - s_base, z = 0: the intrinsic layout, base at the origin, midvein along
+  /// +Y, as LeafOutlineSource makes leaves): always a valid flat Model C leaf, also when the 3-D one folds in the
+  /// least-squares plane LeafOutlineSource meshes 3-D control points in.
+  std::vector<Eigen::Vector3d> flatMidvein, flatLeftMargin, flatRightMargin;
   LeafTraits traits;
 };
 
