@@ -78,16 +78,25 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
 {
   const int n = static_cast<int>(points.size());
   const int k = 8;
-  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
+  const double cell = PointGrid::CellFor(points, 4.0);
+  const PointGrid grid(points, cell);
+  // Neighbours are looked for within 8 cells (about 16 point spacings on the sheet; the search cost grows with the
+  // cube of the reach): a point with fewer than k there counts its missing neighbours at that distance, beyond the
+  // outlier limit below.
+  const double reach = 8.0 * cell;
   std::vector<double> meanDistance(n), nearest(n);
+  std::vector<std::pair<double, int>> neighbours(static_cast<std::size_t>(n) * k, { 0.0, -1 });
   for (int i = 0; i < n; ++i)
   {
-    const auto nb = grid.Nearest(points[i], k, i);
-    double sum = 0.0;
-    for (const auto& d : nb)
-      sum += std::sqrt(d.first);
-    meanDistance[i] = nb.empty() ? 0.0 : sum / nb.size();
-    nearest[i] = nb.empty() ? 0.0 : std::sqrt(nb.front().first);
+    const auto nb = grid.Nearest(points[i], k, i, reach);
+    double sum = (k - static_cast<double>(nb.size())) * reach;
+    for (std::size_t j = 0; j < nb.size(); ++j)
+    {
+      sum += std::sqrt(nb[j].first);
+      neighbours[static_cast<std::size_t>(i) * k + j] = { std::sqrt(nb[j].first), nb[j].second };
+    }
+    meanDistance[i] = sum / k;
+    nearest[i] = nb.empty() ? reach : std::sqrt(nb.front().first);
   }
   // Statistical outlier removal, robust: a point is dropped when its mean neighbour distance is beyond the median
   // by OutlierSigma robust deviations AND five times the median. Points on the margin have about 1.4 times the
@@ -98,28 +107,29 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   for (int i = 0; i < n; ++i)
     deviation[i] = std::abs(meanDistance[i] - median);
   const double sigma = 1.4826 * Median(deviation);
-  const double limit = std::max(median + outlierSigma * sigma, 5.0 * median);
+  const double limit = std::min(std::max(median + outlierSigma * sigma, 5.0 * median), 0.9 * reach);
   keep.assign(n, 0);
   for (int i = 0; i < n; ++i)
     keep[i] = meanDistance[i] <= limit ? 1 : 0;
-  // Connected parts of the radius graph (radius three median distances): keep the largest and every part of at
-  // least 5 % of it (a scan with a gap across it is still one leaf).
+  // Connected parts of the graph of k nearest neighbours closer than three median distances: keep the largest and
+  // every part of at least 5 % of it (a scan with a gap across it is still one leaf).
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
-  std::vector<int> near;
   const double radius = 3.0 * median;
   for (int i = 0; i < n; ++i)
   {
     if (!keep[i])
       continue;
-    grid.Within(points[i], radius, near);
-    for (int j : near)
-      if (keep[j])
+    for (int j = 0; j < k; ++j)
+    {
+      const auto& nb = neighbours[static_cast<std::size_t>(i) * k + j];
+      if (nb.second >= 0 && keep[nb.second] && nb.first <= radius)
       {
-        const int a = Find(parent, i), b = Find(parent, j);
+        const int a = Find(parent, i), b = Find(parent, nb.second);
         if (a != b)
           parent[std::max(a, b)] = std::min(a, b);
       }
+    }
   }
   std::vector<int> size(n, 0);
   for (int i = 0; i < n; ++i)

@@ -59,7 +59,7 @@ Eigen::Vector3i PointGrid::CellOf(const Eigen::Vector3d& p) const
   return c;
 }
 
-std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q, int k, int skip) const
+std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q, int k, int skip, double reach) const
 {
   std::vector<std::pair<double, int>> best;
   if (k <= 0 || this->Points.empty())
@@ -100,6 +100,8 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
             if (id == skip)
               continue;
             const double d2 = (this->Points[id] - q).squaredNorm();
+            if (d2 > reach * reach)
+              continue;
             if (static_cast<int>(best.size()) < k)
             {
               best.emplace_back(d2, id);
@@ -116,12 +118,11 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
       }
     }
     // Every point not yet visited is farther than r cells (minus q's offset within its cell).
-    if (static_cast<int>(best.size()) == k)
-    {
-      const double reach = r * this->Cell - outside;
-      if (reach > 0.0 && best.front().first <= reach * reach)
-        break;
-    }
+    const double covered = r * this->Cell - outside;
+    if (covered >= reach)
+      break;
+    if (static_cast<int>(best.size()) == k && covered > 0.0 && best.front().first <= covered * covered)
+      break;
   }
   std::sort_heap(best.begin(), best.end());
   return best;

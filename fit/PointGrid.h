@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -19,7 +20,10 @@ public:
   PointGrid(const std::vector<Eigen::Vector3d>& points, double cell);
 
   /// The k nearest points to q (excluding index `skip`, if >= 0) as (squared distance, index), nearest first.
-  std::vector<std::pair<double, int>> Nearest(const Eigen::Vector3d& q, int k, int skip = -1) const;
+  /// Only points within `reach` are looked for: fewer than k come back when fewer lie that close (the search cost
+  /// grows with the cube of the distance searched, so far outliers must not search the whole grid).
+  std::vector<std::pair<double, int>> Nearest(const Eigen::Vector3d& q, int k, int skip = -1,
+    double reach = std::numeric_limits<double>::infinity()) const;
 
   /// Indices of every point within `radius` of q.
   void Within(const Eigen::Vector3d& q, double radius, std::vector<int>& out) const;
