@@ -1,4 +1,4 @@
-// The text format of Leaf Cloud Reader (vtkLeafCloudReader; spec 06, the leaf scans in data/leaf-clouds/), parsed
+// The text format of Leaf Cloud Reader (vtkLeafCloudReader; docs/methods/comparison.md, the leaf scans in data/leaf-clouds/), parsed
 // without VTK so that it is unit-tested and fuzzed alone (testing/fuzz/).
 //
 // One point per line, numbers separated by commas, semicolons, spaces or tabs. Blank lines and lines starting with

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <vector>
@@ -80,8 +81,189 @@ void ApplyTransform(const double m[16], const double* in, double* out, std::size
   }
 }
 
+namespace
+{
+/// Every k-th of `count` triples so that at most `limit` remain (all when count <= limit), in order.
+std::vector<double> Strided(const double* xyz, std::size_t count, std::size_t limit)
+{
+  const std::size_t stride = std::max<std::size_t>(1, (count + limit - 1) / std::max<std::size_t>(limit, 1));
+  std::vector<double> out;
+  for (std::size_t i = 0; i < count; i += stride)
+    out.insert(out.end(), xyz + 3 * i, xyz + 3 * i + 3);
+  return out;
+}
+
+/// The symmetric mean distance of the landmarks moved by `matrix` and the reference (see RegistrationResult).
+double SymmetricDistance(const double matrix[16], const std::vector<double>& landmarks,
+  const std::vector<double>& referencePoints, const PointSurfaceDistance& reference, const ParallelFor& parallelFor)
+{
+  const std::size_t n = landmarks.size() / 3, m = referencePoints.size() / 3;
+  std::vector<double> moved(landmarks.size()), forward(n), backward(m);
+  ApplyTransform(matrix, landmarks.data(), moved.data(), n);
+  reference.QueryMany(moved.data(), n, forward.data(), nullptr, nullptr, nullptr, parallelFor);
+  PointSurfaceDistance cloud;
+  if (!cloud.BuildCloud(moved.data(), n, parallelFor).empty())
+    return std::numeric_limits<double>::infinity();
+  cloud.QueryMany(referencePoints.data(), m, backward.data(), nullptr, nullptr, nullptr, parallelFor);
+  const double f = std::accumulate(forward.begin(), forward.end(), 0.0) / static_cast<double>(n);
+  const double b = std::accumulate(backward.begin(), backward.end(), 0.0) / static_cast<double>(m);
+  return 0.5 * (f + b);
+}
+
+/// Symmetric point-to-point ICP (RegisterPoints' symmetric mode) from the identity; fills matrix, iterations,
+/// converged, landmarks (the caller guards and finishes the result).
+void SymmetricICP(const std::vector<double>& landmarks, const std::vector<double>& referencePoints,
+  const PointSurfaceDistance& reference, const RegistrationSettings& settings, const ParallelFor& parallelFor,
+  RegistrationResult& result)
+{
+  const std::size_t n = landmarks.size() / 3, m = referencePoints.size() / 3;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    lo = lo.cwiseMin(Eigen::Vector3d(landmarks[3 * i], landmarks[3 * i + 1], landmarks[3 * i + 2]));
+    hi = hi.cwiseMax(Eigen::Vector3d(landmarks[3 * i], landmarks[3 * i + 1], landmarks[3 * i + 2]));
+  }
+  const double stepLimit = settings.tolerance * std::max((hi - lo).norm(), 1e-300);
+  std::vector<double> moved(3 * n), next(3 * n), closest(3 * n), forward(n), backward(m), source, target;
+  std::vector<std::int64_t> nearest(m);
+  double matrix[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+  for (int iteration = 1; iteration <= settings.maximumIterations; ++iteration)
+  {
+    ApplyTransform(matrix, landmarks.data(), moved.data(), n);
+    reference.QueryMany(moved.data(), n, forward.data(), nullptr, closest.data(), nullptr, parallelFor);
+    PointSurfaceDistance cloud;
+    if (!cloud.BuildCloud(moved.data(), n, parallelFor).empty())
+      break;
+    cloud.QueryMany(referencePoints.data(), m, backward.data(), nullptr, nullptr, nearest.data(), parallelFor);
+    source.clear();
+    target.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      if (settings.rejectDistance < 0.0 || forward[i] <= settings.rejectDistance)
+      {
+        source.insert(source.end(), landmarks.begin() + 3 * i, landmarks.begin() + 3 * i + 3);
+        target.insert(target.end(), closest.begin() + 3 * i, closest.begin() + 3 * i + 3);
+      }
+    for (std::size_t j = 0; j < m; ++j)
+      if (settings.rejectDistance < 0.0 || backward[j] <= settings.rejectDistance)
+      {
+        const std::size_t k = static_cast<std::size_t>(nearest[j]);
+        source.insert(source.end(), landmarks.begin() + 3 * k, landmarks.begin() + 3 * k + 3);
+        target.insert(target.end(), referencePoints.begin() + 3 * j, referencePoints.begin() + 3 * j + 3);
+      }
+    double fitted[16];
+    if (!FitSimilarity(source.data(), target.data(), source.size() / 3, settings.withScale, fitted))
+    {
+      std::ostringstream message;
+      message << "registration failed at iteration " << iteration << ": " << source.size() / 3
+              << " landmark pairs within the rejection distance (at least 3 distinct points are needed)";
+      result.error = message.str();
+      return;
+    }
+    result.iterations = iteration;
+    ApplyTransform(fitted, landmarks.data(), next.data(), n);
+    double step2 = 0.0;
+    for (std::size_t i = 0; i < 3 * n; i += 3)
+      step2 = std::max(step2, (Eigen::Vector3d(next[i], next[i + 1], next[i + 2]) -
+                                Eigen::Vector3d(moved[i], moved[i + 1], moved[i + 2])).squaredNorm());
+    std::copy(fitted, fitted + 16, matrix);
+    if (std::sqrt(step2) <= stepLimit)
+    {
+      result.converged = true;
+      break;
+    }
+  }
+  std::copy(matrix, matrix + 16, result.matrix);
+}
+
+RegistrationResult RegisterOneSided(const double* points, std::size_t count, const PointSurfaceDistance& reference,
+  const RegistrationSettings& settings, const ParallelFor& parallelFor);
+} // namespace
+
 //------------------------------------------------------------------------------
 RegistrationResult RegisterPoints(const double* points, std::size_t count, const PointSurfaceDistance& reference,
+  const RegistrationSettings& settings, const ParallelFor& parallelFor)
+{
+  if (!settings.referencePoints || settings.referenceCount == 0)
+    return RegisterOneSided(points, count, reference, settings, parallelFor);
+  RegistrationResult result;
+  result.error = ValidateRegistrationSettings(settings);
+  if (result.error.empty() && reference.IsEmpty())
+    result.error = "registration: the reference is empty";
+  if (result.error.empty() && count < 3)
+    result.error = "registration needs at least 3 measured points";
+  for (std::size_t i = 0; result.error.empty() && i < 3 * count; ++i)
+    if (!std::isfinite(points[i]))
+      result.error = "registration: a measured point has a non-finite coordinate";
+  if (!result.error.empty())
+    return result;
+  const std::vector<double> landmarks = Strided(points, count, settings.maximumLandmarks);
+  const std::vector<double> referencePoints =
+    Strided(settings.referencePoints, settings.referenceCount, settings.maximumLandmarks);
+  result.landmarks = landmarks.size() / 3;
+  SymmetricICP(landmarks, referencePoints, reference, settings, parallelFor, result);
+  if (!result.error.empty())
+    return result;
+  // Polish: rigid point-to-plane ICP from there (fast, exact where the surfaces match; the scale stays), kept only
+  // if the symmetric distance does not grow (point-to-plane alone may slide a mismatched leaf along itself).
+  {
+    std::vector<double> moved(landmarks.size());
+    ApplyTransform(result.matrix, landmarks.data(), moved.data(), result.landmarks);
+    RegistrationSettings rigid = settings;
+    rigid.withScale = false;
+    const RegistrationResult polish = RegisterOneSided(moved.data(), result.landmarks, reference, rigid, parallelFor);
+    if (polish.error.empty())
+    {
+      const Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> a(result.matrix), b(polish.matrix);
+      double composed[16];
+      Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> product(composed);
+      product = b * a;
+      if (SymmetricDistance(composed, landmarks, referencePoints, reference, parallelFor) <=
+        SymmetricDistance(result.matrix, landmarks, referencePoints, reference, parallelFor))
+      {
+        std::copy(composed, composed + 16, result.matrix);
+        result.iterations += polish.iterations;
+        result.converged = result.converged || polish.converged;
+      }
+    }
+  }
+  const double identity[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+  result.symmetricBefore = SymmetricDistance(identity, landmarks, referencePoints, reference, parallelFor);
+  result.symmetricAfter = SymmetricDistance(result.matrix, landmarks, referencePoints, reference, parallelFor);
+  if (!(result.symmetricAfter <= result.symmetricBefore))
+  {
+    std::ostringstream message;
+    message << "registration made the fit worse (symmetric mean distance " << result.symmetricAfter
+            << " instead of " << result.symmetricBefore << " without it): the measured points are left unregistered";
+    result.warning = message.str();
+    result.worse = true;
+    std::copy(identity, identity + 16, result.matrix);
+  }
+  Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> m(result.matrix);
+  if (!settings.withScale && !result.worse)
+  {
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m.topLeftCorner<3, 3>(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+    m.topLeftCorner<3, 3>() = svd.matrixU() * svd.matrixV().transpose();
+  }
+  result.scale = std::cbrt(m.topLeftCorner<3, 3>().determinant());
+  std::vector<double> moved(landmarks.size()), distance(result.landmarks);
+  ApplyTransform(result.matrix, landmarks.data(), moved.data(), result.landmarks);
+  reference.QueryMany(moved.data(), result.landmarks, distance.data(), nullptr, nullptr, nullptr, parallelFor);
+  double sum = 0.0;
+  std::size_t kept = 0;
+  for (double d : distance)
+    if (settings.rejectDistance < 0.0 || d <= settings.rejectDistance)
+    {
+      sum += d * d;
+      ++kept;
+    }
+  result.rms = kept ? std::sqrt(sum / static_cast<double>(kept)) : 0.0;
+  return result;
+}
+
+namespace
+{
+//------------------------------------------------------------------------------
+RegistrationResult RegisterOneSided(const double* points, std::size_t count, const PointSurfaceDistance& reference,
   const RegistrationSettings& settings, const ParallelFor& parallelFor)
 {
   RegistrationResult result;
@@ -288,5 +470,6 @@ RegistrationResult RegisterPoints(const double* points, std::size_t count, const
   result.rms = kept ? std::sqrt(sum / static_cast<double>(kept)) : 0.0;
   return result;
 }
+} // namespace
 
 } // namespace plantmorph

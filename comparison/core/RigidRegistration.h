@@ -39,6 +39,11 @@ struct RegistrationSettings
   std::size_t maximumLandmarks = 20000; ///< >= 3; more measured points than this: a random subset
   double rejectDistance = -1.0;    ///< < 0: no rejection
   std::uint64_t seed = 0;
+  /// The reference's points (x,y,z triples), optional. Given, the registration is symmetric (see SymmetricICP
+  /// below) and guarded: it cannot shrink the measured cloud to a point, it sees sliding within a flat leaf's plane
+  /// through the outline, and a result that fits worse than no registration is not used.
+  const double* referencePoints = nullptr;
+  std::size_t referenceCount = 0;
 };
 
 struct RegistrationResult
@@ -51,6 +56,13 @@ struct RegistrationResult
   double rms = 0.0;           ///< RMS distance of the fitted landmark pairs after the final transform
   std::size_t landmarks = 0;  ///< landmarks used
   std::string error;          ///< empty on success
+  /// Symmetric mode: the symmetric mean distance (half the mean measured-to-reference distance plus half the mean
+  /// reference-point-to-measured distance) without registration and with the transform found. When the transform
+  /// is worse, `worse` is set, `warning` says so, and matrix and scale are the identity (the unregistered result).
+  double symmetricBefore = 0.0;
+  double symmetricAfter = 0.0;
+  bool worse = false;
+  std::string warning;
 };
 
 /// Validates settings; empty string when fine.
@@ -65,6 +77,15 @@ void ApplyTransform(const double matrix[16], const double* in, double* out, std:
 
 /// ICP of `count` points (x,y,z triples) onto `reference` (built). Threads the closest-point queries with
 /// `parallelFor`.
+///
+/// With settings.referencePoints (symmetric mode): point-to-point ICP whose pairs go both ways, each measured
+/// landmark to its closest point on the reference AND each reference point (a strided subset of at most
+/// maximumLandmarks) to its nearest moved landmark, solved by Umeyama's similarity (rigid or with scale) each
+/// iteration. The second half of the pairs makes the measured cloud cover the whole reference: scale cannot
+/// collapse (a shrunken cloud leaves the reference's far points far away), and a flat leaf turned or scaled within
+/// its plane is brought back by its outline (point-to-plane terms cannot see that). Then the guard: the symmetric
+/// mean distance with and without the transform; if registration made it worse, the identity is returned with
+/// `worse` and a warning.
 RegistrationResult RegisterPoints(const double* points, std::size_t count, const PointSurfaceDistance& reference,
   const RegistrationSettings& settings, const ParallelFor& parallelFor = SerialFor);
 

@@ -416,12 +416,20 @@ int vtkCloudComparisonFilter::Execute(
   RegistrationResult registered;
   if (this->Registration != REGISTRATION_NONE)
   {
+    // Symmetric and guarded: the reference's points take part (no collapse, in-plane sliding seen by the outline),
+    // and a registration that fits worse than none is not used.
+    registration.referencePoints = referenceXYZ.data();
+    registration.referenceCount = referenceXYZ.size() / 3;
     registered = RegisterPoints(
       xyz, static_cast<std::size_t>(count), referenceDistance, registration, parallelFor);
     if (!registered.error.empty())
     {
       vtkErrorMacro(<< "Registration: " << registered.error);
       return 0;
+    }
+    if (registered.worse)
+    {
+      vtkWarningMacro(<< "Registration: " << registered.warning);
     }
     ApplyTransform(registered.matrix, moved.data(), moved.data(), static_cast<std::size_t>(count));
     double total[16];
@@ -573,6 +581,9 @@ int vtkCloudComparisonFilter::Execute(
     AddFieldValue(fd, "PlantMorph.RegistrationIterations", registered.iterations);
     AddFieldValue(fd, "PlantMorph.RegistrationConverged", registered.converged ? 1.0 : 0.0);
     AddFieldValue(fd, "PlantMorph.RegistrationRMS", registered.rms);
+    AddFieldValue(fd, "PlantMorph.RegistrationSymmetricBefore", registered.symmetricBefore);
+    AddFieldValue(fd, "PlantMorph.RegistrationSymmetricAfter", registered.symmetricAfter);
+    AddFieldValue(fd, "PlantMorph.RegistrationRejected", registered.worse ? 1.0 : 0.0);
   }
 
   // Output 2 (and field data): statistics.

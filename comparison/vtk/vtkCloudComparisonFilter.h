@@ -52,14 +52,19 @@
  * both are exactly symmetric under swapping the inputs. A surface's reverse direction is sampled at its vertices
  * (the supremum over the continuous surface is not computed).
  *
- * Registration (docs/methods/comparison.md): None; Rigid (ICP: a rotation and translation); Rigid + scale (one uniform
- * scale too). Point-to-plane ICP against a surface, point-to-point (Umeyama) against a point cloud, from the scaled
- * measured points, on at most RegistrationLandmarks of them (a random subset from Seed when there are more),
- * outliers (UseMaximumDistance) left out of the fit; see plantmorph::RegisterPoints (comparison/core/
- * RigidRegistration.h). ICP is local: bring the two roughly into place first. Field data of port 0:
- * `PlantMorph.MeasuredTransform` (16 components, row-major 4x4 from the input's coordinates to the output's,
- * Scale included; present in every mode), `PlantMorph.RegistrationScale`, `PlantMorph.RegistrationIterations`,
- * `PlantMorph.RegistrationConverged`, `PlantMorph.RegistrationRMS`.
+ * Registration (docs/methods/comparison.md): None; Rigid (ICP: a rotation and translation); Rigid + scale (one uniform scale
+ * too). Symmetric ICP (plantmorph::RegisterPoints with the reference's points, comparison/core/RigidRegistration.h):
+ * point-to-point pairs both ways, every measured landmark to its closest reference point and every reference point
+ * to its nearest measured landmark (Umeyama each iteration), so the scale cannot collapse and a flat leaf's in-plane
+ * turn or scale is seen by its outline; then a rigid point-to-plane polish against a surface, kept only if it does
+ * not worsen the fit. On at most RegistrationLandmarks points per side (a strided subset), outliers
+ * (UseMaximumDistance) left out. Guard: if the registered result's symmetric mean distance is larger than the
+ * unregistered one, a warning says so and the unregistered result is output. ICP is local: bring the two roughly
+ * into place first. Field data of port 0: `PlantMorph.MeasuredTransform` (16 components, row-major 4x4 from the
+ * input's coordinates to the output's, Scale included; present in every mode), `PlantMorph.RegistrationScale`,
+ * `PlantMorph.RegistrationIterations`, `PlantMorph.RegistrationConverged`, `PlantMorph.RegistrationRMS`,
+ * `PlantMorph.RegistrationSymmetricBefore`, `PlantMorph.RegistrationSymmetricAfter`,
+ * `PlantMorph.RegistrationRejected` (1 when the guard refused the registration).
  *
  * Errors (a vtkErrorMacro naming the input or property and the accepted range, and EMPTY outputs on all three
  * ports, never a crash): a missing or empty Reference, a reference with a non-finite coordinate, Scale not finite

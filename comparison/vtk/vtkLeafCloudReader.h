@@ -40,7 +40,7 @@
  *
  * Errors (vtkErrorMacro naming FileName and the line, and an empty output): no FileName, a file that cannot be
  * opened, no data line, a non-numeric or non-finite value, a line with a different number of columns than the first.
- * Hostile files are refused the same way, in one linear pass (the parser is filters/core/PointCloudText.h): a line
+ * Hostile files are refused the same way, in one linear pass (the parser is comparison/core/PointCloudText.h): a line
  * of more than 2^20 characters or 1000 columns, a number of more than 512 characters or beyond a double's range,
  * binary junk. Progress is reported while reading (by bytes), and Abort stops the read with an error.
  */

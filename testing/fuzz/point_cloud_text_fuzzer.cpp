@@ -1,4 +1,4 @@
-// libFuzzer harness: Leaf Cloud Reader's text parser (filters/core/PointCloudText.cpp) on arbitrary bytes, read
+// libFuzzer harness: Leaf Cloud Reader's text parser (comparison/core/PointCloudText.cpp) on arbitrary bytes, read
 // through the same stream path as the reader, and the first-lines probe (CanReadFile). On success the values form
 // whole rows of 3..1000 finite columns; on error nothing is kept.
 #include "PointCloudText.h"

@@ -1,4 +1,4 @@
-// libFuzzer harness: ParseStrokeCsv (sources/core/StrokeFiles.cpp) on arbitrary bytes. It must return, and either
+// libFuzzer harness: ParseStrokeCsv (tree/core/StrokeFiles.cpp) on arbitrary bytes. It must return, and either
 // give an error with no strokes or strokes of finite points, none of them empty.
 #include "StrokeFiles.h"
 

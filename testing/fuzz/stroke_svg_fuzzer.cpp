@@ -1,4 +1,4 @@
-// libFuzzer harness: ParseStrokeSvg (sources/core/StrokeFiles.cpp) on arbitrary bytes. It must return (no crash,
+// libFuzzer harness: ParseStrokeSvg (tree/core/StrokeFiles.cpp) on arbitrary bytes. It must return (no crash,
 // hang, leak or undefined behaviour), and either an error with no strokes or strokes of finite points.
 #include "StrokeFiles.h"
 

@@ -1,4 +1,4 @@
-// Stroke files for TreeFromSketchSource's StrokeFile (spec 05, input port 0 "Strokes"). Plain C++17 (Eigen, pugixml),
+// Stroke files for TreeFromSketchSource's StrokeFile (docs/methods/tree-from-sketch.md, input port 0 "Strokes"). Plain C++17 (Eigen, pugixml),
 // no VTK: the fuzzers in testing/fuzz/ link this file pair alone.
 //
 // Every reader here is linear in the file's size, bounds what one line or token may hold and refuses hostile input

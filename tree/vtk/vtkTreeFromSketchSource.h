@@ -21,7 +21,7 @@
  * Optional input port 0, **Strokes**: polydata whose lines (each line or polyline cell one stroke, in the order
  * drawn) lie in the image's XY plane; z is ignored. When it is not connected and `StrokeFile` is set, the strokes
  * come from that .csv (stroke_id, x, y) or .svg file (each path subpath, polyline, polygon and line a stroke, curves
- * flattened to 0.1 px, transforms, viewBox and units applied; sources/core/StrokeFiles.h). Optional input port 1, **Leaf**: a leaf
+ * flattened to 0.1 px, transforms, viewBox and units applied; tree/core/StrokeFiles.h). Optional input port 1, **Leaf**: a leaf
  * mesh (e.g. LeafOutlineSource's Blade: XY plane, base at the origin, midrib along +Y) to instance at every leaf.
  * Optional input port 2, **MergeTree**: a second tree to merge (paper 004 sec. 3.2, Fig. 11 "merged tree"): a
  * skeleton, i.e. polylines with cell arrays `BranchId`, `ParentId` and point array `Radius`, such as another

@@ -1,4 +1,4 @@
-// Where palmate (actinodromous) primaries end on a blade (spec 02, "Palmate veins by leaf growth", turn 2): on the
+// Where palmate (actinodromous) primaries end on a blade (docs/methods/venation.md, "Palmate veins by leaf growth", turn 2): on the
 // blade's real margin, spread over its angular extent as seen from the base, one into each lobe of a lobed blade and
 // into each basal lobe of a cordate one. Found on the boundary itself, so it works for any blade carrying LeafUV.
 //

@@ -1,4 +1,4 @@
-// The VTK layer of Leaf Cloud Reader over its VTK-free parser (filters/core/PointCloudText): the soybean layout's
+// The VTK layer of Leaf Cloud Reader over its VTK-free parser (comparison/core/PointCloudText): the soybean layout's
 // arrays, progress up to 1, and the issue-25 files (one line of 2*10^6 columns, binary junk) refused with an error
 // naming FileName and the line, and empty outputs.
 #include "VtkErrorCatcher.h"

@@ -1,4 +1,4 @@
-// PointCloudText (filters/core): Leaf Cloud Reader's text format. Every value read back exactly, lines across the
+// PointCloudText (comparison/core): Leaf Cloud Reader's text format. Every value read back exactly, lines across the
 // reader's 64 KiB blocks, the header and comment conventions, and hostile files refused with the line and reason.
 #include "PointCloudText.h"
 

@@ -1,4 +1,4 @@
-// Stroke files (sources/core/StrokeFiles.h): SVG as drawing programs write it, with exact expected points, and
+// Stroke files (tree/core/StrokeFiles.h): SVG as drawing programs write it, with exact expected points, and
 // hostile files refused with a clear error and no strokes.
 #include "StrokeFiles.h"
 

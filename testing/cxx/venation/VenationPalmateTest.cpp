@@ -1,4 +1,4 @@
-// Palmate (actinodromous) venation follows the blade (spec 02 "Palmate veins by leaf growth", issue 22 item 1), on
+// Palmate (actinodromous) venation follows the blade (docs/methods/venation.md "Palmate veins by leaf growth", issue 22 item 1), on
 // the project's own blades: on entire blades the primaries fan over at least 80 degrees seen from the base; on
 // paper 002's lobed leaves one primary runs into each lobe and reaches within 3 % of the leaf length of its tip
 // (the tips are the Outline's lobe midveins' ends, which the venation never sees); on cordate blades (the cucumber,
