@@ -20,7 +20,9 @@ constexpr std::uint64_t StreamSources = 4;
 class PointGrid
 {
 public:
-  PointGrid(const Eigen::Vector2d& low, const Eigen::Vector2d& high, double cell, double maxCells)
+  /// Cells of about `cell` (fewer when there would be more than maxCells), counted in coarse cells of about
+  /// `coarseCell` so that an empty neighbourhood is seen without visiting its fine cells.
+  PointGrid(const Eigen::Vector2d& low, const Eigen::Vector2d& high, double cell, double coarseCell, double maxCells)
     : Low(low)
   {
     const Eigen::Vector2d extent = (high - low).cwiseMax(1e-300);
@@ -32,13 +34,33 @@ public:
     this->Width = static_cast<int>(extent.x() / cell) + 1;
     this->Height = static_cast<int>(extent.y() / cell) + 1;
     this->Cells.resize(static_cast<std::size_t>(this->Width) * this->Height);
+    this->Factor = std::max(1, static_cast<int>(coarseCell / cell));
+    this->CoarseWidth = (this->Width - 1) / this->Factor + 1;
+    this->Coarse.assign(static_cast<std::size_t>(this->CoarseWidth) * ((this->Height - 1) / this->Factor + 1), 0);
   }
 
-  void Insert(int id, const Eigen::Vector2d& p) { this->Cells[this->Index(p)].push_back(id); }
+  void Insert(int id, const Eigen::Vector2d& p)
+  {
+    this->Cells[this->Index(p)].push_back(id);
+    ++this->Coarse[this->CoarseIndex(p)];
+  }
   void Remove(int id, const Eigen::Vector2d& p)
   {
     std::vector<int>& cell = this->Cells[this->Index(p)];
     cell.erase(std::find(cell.begin(), cell.end(), id));
+    --this->Coarse[this->CoarseIndex(p)];
+  }
+
+  /// True when no entry lies in the coarse cells the disc (p, r) touches (so none lies within r of p).
+  bool EmptyWithin(const Eigen::Vector2d& p, double r) const
+  {
+    const int x0 = this->Column(p.x() - r) / this->Factor, x1 = this->Column(p.x() + r) / this->Factor;
+    const int y0 = this->Row(p.y() - r) / this->Factor, y1 = this->Row(p.y() + r) / this->Factor;
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        if (this->Coarse[static_cast<std::size_t>(y) * this->CoarseWidth + x] != 0)
+          return false;
+    return true;
   }
 
   /// Calls f(id) for every entry of the cells the disc (p, r) touches.
@@ -64,6 +86,8 @@ public:
   /// it looks at about as many cells as the nearest entry is far.
   int Nearest(const Eigen::Vector2d& p, double r, const std::vector<Eigen::Vector2d>& points) const
   {
+    if (std::isfinite(r) && this->EmptyWithin(p, r))
+      return -1;
     const int cx = this->Column(p.x()), cy = this->Row(p.y());
     int best = -1;
     double bestSquared = r * r;
@@ -104,11 +128,18 @@ private:
   {
     return static_cast<std::size_t>(this->Row(p.y())) * this->Width + this->Column(p.x());
   }
+  std::size_t CoarseIndex(const Eigen::Vector2d& p) const
+  {
+    return static_cast<std::size_t>(this->Row(p.y()) / this->Factor) * this->CoarseWidth +
+      this->Column(p.x()) / this->Factor;
+  }
 
   Eigen::Vector2d Low;
   double Cell = 1.0;
   int Width = 1, Height = 1;
   std::vector<std::vector<int>> Cells;
+  int Factor = 1, CoarseWidth = 1;
+  std::vector<int> Coarse; ///< entries per coarse cell of Factor x Factor cells
 };
 
 class Colonizer
@@ -119,8 +150,8 @@ public:
     , P(p)
     , Length(length)
     , Random(p.seed, StreamSources)
-    , Nodes(locator.Lower(), locator.Upper(), GridCell(p, length), 4.0e6)
-    , Sources(locator.Lower(), locator.Upper(), GridCell(p, length), 4.0e6)
+    , Nodes(locator.Lower(), locator.Upper(), GridCell(p, length), p.attractionDistance * length, 4.0e6)
+    , Sources(locator.Lower(), locator.Upper(), GridCell(p, length), p.attractionDistance * length, 4.0e6)
   {
   }
 
@@ -132,6 +163,18 @@ private:
     return std::max(p.killDistance, 0.5 / std::sqrt(p.sourceDensity)) * length;
   }
   bool Inside(const Eigen::Vector2d& x) const { return this->Locator.Locate(x, 1e-9 * this->Length).triangle >= 0; }
+  /// Whether the segment a-b stays inside the blade: b and points along it every half mesh edge (at most 16).
+  bool InsideAlong(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const
+  {
+    const double spacing = std::max(0.5 * this->Locator.EdgeLength(), 1e-12 * this->Length);
+    const int samples = std::clamp(static_cast<int>(std::ceil((b - a).norm() / spacing)), 1, 16);
+    for (int i = samples; i >= 1; --i)
+    {
+      if (!this->Inside(a + (static_cast<double>(i) / samples) * (b - a)))
+        return false;
+    }
+    return true;
+  }
   int AddNode(const Eigen::Vector2d& x, int parent);
   /// Throws the darts of the blade's growth from the current stage to `stage`.
   void ThrowDarts(double stage);
@@ -148,6 +191,10 @@ private:
   std::vector<Eigen::Vector2d> NodePoints, SourcePoints;
   std::vector<int> Parent;
   std::vector<int> Live; ///< the sources not yet killed, in the order they were born
+  /// Per source: the step before which no vein node can come within the attraction distance (nodes advance at most
+  /// one vein step a step and the distances only shrink as the blade grows), so far sources are not searched again.
+  std::vector<std::size_t> Wake;
+  std::size_t Steps = 0;
   PointGrid Nodes, Sources;
 };
 
@@ -180,26 +227,44 @@ void Colonizer::ThrowDarts(double stage)
     this->SourcePoints.push_back(dart);
     this->Sources.Insert(id, dart);
     this->Live.push_back(id);
+    this->Wake.push_back(0);
   }
   this->Stage = stage;
 }
 
 std::size_t Colonizer::Step()
 {
-  // Every source's nearest node within the attraction distance; at any distance when none has one.
+  ++this->Steps;
+  // Every source's nearest node within the attraction distance (searched a few steps further, to know how long it
+  // may sleep); when no source has one, the distance doubles for this step until one has.
   const double reach = this->P.attractionDistance * this->Length / this->Stage;
+  const double step = 0.5 * this->P.killDistance * this->Length / this->Stage;
   std::vector<int> target(this->Live.size(), -1);
   bool any = false;
   for (std::size_t i = 0; i < this->Live.size(); ++i)
   {
-    target[i] = this->Nodes.Nearest(this->SourcePoints[this->Live[i]], reach, this->NodePoints);
-    any = any || target[i] >= 0;
+    const int id = this->Live[i];
+    if (this->Wake[id] > this->Steps)
+      continue;
+    const Eigen::Vector2d& x = this->SourcePoints[id];
+    const int n = this->Nodes.Nearest(x, reach + 8.0 * step, this->NodePoints);
+    const double d = n >= 0 ? (this->NodePoints[n] - x).norm() : reach + 8.0 * step;
+    if (n >= 0 && d <= reach)
+    {
+      target[i] = n;
+      any = true;
+    }
+    else
+      this->Wake[id] = this->Steps + static_cast<std::size_t>(std::max(0.0, std::floor((d - reach) / step)));
   }
-  if (!any)
+  const Eigen::Vector2d extent = this->Locator.Upper() - this->Locator.Lower();
+  for (double wider = 2.0 * reach; !any && !this->Live.empty() && wider < 4.0 * extent.norm(); wider *= 2.0)
   {
     for (std::size_t i = 0; i < this->Live.size(); ++i)
-      target[i] = this->Nodes.Nearest(
-        this->SourcePoints[this->Live[i]], std::numeric_limits<double>::infinity(), this->NodePoints);
+    {
+      target[i] = this->Nodes.Nearest(this->SourcePoints[this->Live[i]], wider, this->NodePoints);
+      any = any || target[i] >= 0;
+    }
   }
   // The mean direction of each attracted node's sources, nodes in the order their first source was born.
   std::vector<int> attracted;
@@ -222,15 +287,15 @@ std::size_t Colonizer::Step()
     }
     direction[slot[n]] += d / norm;
   }
-  const double step = 0.5 * this->P.killDistance * this->Length / this->Stage;
   std::vector<int> added;
   for (std::size_t k = 0; k < attracted.size(); ++k)
   {
     const double norm = direction[k].norm();
     if (!(norm > 1e-9))
       continue; // sources pulling equally in opposite directions
-    const Eigen::Vector2d x = this->NodePoints[attracted[k]] + step / norm * direction[k];
-    if (!this->Inside(x) || this->Nodes.AnyWithin(x, 1e-3 * step, this->NodePoints))
+    const Eigen::Vector2d from = this->NodePoints[attracted[k]];
+    const Eigen::Vector2d x = from + step / norm * direction[k];
+    if (!this->InsideAlong(from, x) || this->Nodes.AnyWithin(x, 1e-3 * step, this->NodePoints))
       continue;
     added.push_back(this->AddNode(x, attracted[k]));
   }

@@ -10,11 +10,13 @@
 // - every source picks its nearest vein node within `attractionDistance`; every node with sources grows one node a
 //   step D = killDistance / 2 towards the mean of the unit vectors to its sources (if that point is inside the blade);
 // - a source with a vein node within `killDistance` is removed (open venation: the network stays a tree).
-// When no source lies within the attraction distance of any node, each source picks its nearest node at any
-// distance for that step, so a static blade (growthStart = 1) or a sparse start still grows. Growth ends when no
+// When no source lies within the attraction distance of any node, that step the distance doubles until one does,
+// so a static blade (growthStart = 1) or a sparse start still grows. Growth ends when no
 // source is left (or none can make a node grow) once the blade is full size.
-// Every neighbour query goes through uniform grids of cells about the kill distance, so a step costs about the live
-// sources plus the nodes they move, not the whole network.
+// Every neighbour query goes through uniform grids of cells about the kill distance (with counts per cell of about
+// the attraction distance, so an empty neighbourhood costs a few cells), and a source with no node near enough
+// sleeps for as many steps as veins need to come within reach, so a step costs about the sources near veins plus
+// the nodes they move, not the whole network.
 // Widths by the pipe model: a free end has width 1, a node w = (sum of its children's w^n)^(1/n) (n =
 // `murrayExponent`, 3 is Murray's law), scaled so the base is `primaryWidth` * L. Orders: the vein from the base
 // continues through the child of largest width (order 1); every other child starts a vein one order higher (at

@@ -140,6 +140,19 @@ TEST_P(Coverage, NinetyFivePercentOfTheBladeLiesWithinThreePercentOfTheLengthFro
   std::cout << "blade " << GetParam() << ": " << r.statistics.segments << " segments, 95th percentile distance "
             << p95 << " L, largest " << d.back() / r.leafLength << " L\n";
   EXPECT_LT(p95, 0.03);
+  // Inside the blade along every segment, not only at its nodes (the lobed blade's sinuses are narrow).
+  BladeLocator locator;
+  const VenationBlade blade = BladeOf(leaf);
+  ASSERT_EQ(locator.Build(blade), "");
+  int outside = 0;
+  for (const auto& vein : r.veins)
+    for (std::size_t i = 0; i + 1 < vein.nodes.size(); ++i)
+      for (int k = 1; k < 16; ++k)
+      {
+        const Eigen::Vector2d x = r.nodes[vein.nodes[i]] + k / 16.0 * (r.nodes[vein.nodes[i + 1]] - r.nodes[vein.nodes[i]]);
+        outside += locator.Locate(x, 1e-9 * r.leafLength).triangle < 0;
+      }
+  EXPECT_EQ(outside, 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(SpaceColonization, Coverage, ::testing::Values(0, 1, 2),
