@@ -3,6 +3,7 @@
 // network is a tree, widths obey the pipe model with the chosen Murray exponent, the same seed gives the same
 // network bit for bit, and bad distances are refused with a message naming the property.
 #include "VenationGrowth.h"
+#include "VeinNetworkMeasures.h"
 
 #include "BSplineLeaf.h"
 #include "DeformedRectangleLeaf.h"
@@ -182,6 +183,13 @@ TEST(SpaceColonization, OpenVenationIsATreeFromTheBase)
     }
     ASSERT_EQ(parent[at], -1) << "node " << i << " does not reach the base";
   }
+  // The measures see a tree: loopiness 1, no areole, every free end plus the base has one segment.
+  VeinNetworkMeasures m;
+  ASSERT_EQ(MeasureVeinNetwork(r, r.statistics.bladeArea, {}, 0.0, m), "");
+  EXPECT_NEAR(m.loopiness, 1.0, 1e-12);
+  EXPECT_EQ(m.areoles, 0u) << (m.areoles ? m.areoleAreas.back() : 0.0);
+  EXPECT_EQ(m.freeEnds, r.statistics.freeEnds + 1);
+  EXPECT_EQ(m.branchPoints, r.statistics.branchPoints);
   EXPECT_EQ(r.veins.front().order, VeinOrderPrimary);
   EXPECT_LT(base.y(), r.nodes[r.veins.front().nodes.back()].y()); // the midvein runs from the base upwards
 }
