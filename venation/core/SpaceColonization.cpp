@@ -176,6 +176,12 @@ private:
     return true;
   }
   int AddNode(const Eigen::Vector2d& x, int parent);
+  /// Closed venation: the nodes within `reach` of source `id` in its relative neighbourhood (no other node is
+  /// closer both to the source and to them), in id order.
+  std::vector<int> Neighbourhood(int id, double reach) const;
+  /// Closed venation: removes every source whose relative neighbourhood has all come within the kill distance,
+  /// joining the veins that met there; returns whether any was removed.
+  void CloseSources(double reach, double kill);
   /// Throws the darts of the blade's growth from the current stage to `stage`.
   void ThrowDarts(double stage);
   /// One step of attraction, growth and killing at the current stage; the number of nodes added.
@@ -190,6 +196,7 @@ private:
   double DartCarry = 0.0;
   std::vector<Eigen::Vector2d> NodePoints, SourcePoints;
   std::vector<int> Parent;
+  std::vector<std::pair<int, int>> Links; ///< closed venation: where veins met at a source (they make the loops)
   std::vector<int> Live; ///< the sources not yet killed, in the order they were born
   /// Per source: the step before which no vein node can come within the attraction distance (nodes advance at most
   /// one vein step a step and the distances only shrink as the blade grows), so far sources are not searched again.
@@ -232,6 +239,68 @@ void Colonizer::ThrowDarts(double stage)
   this->Stage = stage;
 }
 
+std::vector<int> Colonizer::Neighbourhood(int id, double reach) const
+{
+  const Eigen::Vector2d& x = this->SourcePoints[id];
+  std::vector<int> near;
+  this->Nodes.ForEachNear(x, reach, [&](int n) {
+    if ((this->NodePoints[n] - x).squaredNorm() <= reach * reach)
+      near.push_back(n);
+  });
+  std::sort(near.begin(), near.end());
+  std::vector<int> kept;
+  for (int v : near)
+  {
+    const double dv = (this->NodePoints[v] - x).squaredNorm();
+    bool shadowed = false;
+    for (std::size_t k = 0; k < near.size() && !shadowed; ++k)
+    {
+      const int u = near[k];
+      shadowed = u != v && (this->NodePoints[u] - x).squaredNorm() < dv &&
+        (this->NodePoints[u] - this->NodePoints[v]).squaredNorm() < dv;
+    }
+    if (!shadowed)
+      kept.push_back(v);
+  }
+  return kept;
+}
+
+void Colonizer::CloseSources(double reach, double kill)
+{
+  std::vector<char> removed(this->SourcePoints.size(), 0);
+  bool any = false;
+  for (int id : this->Live)
+  {
+    if (this->Wake[id] > this->Steps)
+      continue;
+    const std::vector<int> near = this->Neighbourhood(id, reach);
+    const Eigen::Vector2d& x = this->SourcePoints[id];
+    if (near.empty())
+      continue;
+    bool reached = true;
+    int closest = near.front();
+    for (int v : near)
+    {
+      reached = reached && (this->NodePoints[v] - x).norm() <= kill;
+      if ((this->NodePoints[v] - x).squaredNorm() < (this->NodePoints[closest] - x).squaredNorm())
+        closest = v;
+    }
+    if (!reached)
+      continue;
+    for (int v : near)
+    {
+      if (v != closest && this->Parent[v] != closest && this->Parent[closest] != v)
+        this->Links.emplace_back(closest, v);
+    }
+    removed[id] = 1;
+    any = true;
+    this->Sources.Remove(id, x);
+  }
+  if (any)
+    this->Live.erase(std::remove_if(this->Live.begin(), this->Live.end(), [&](int id) { return removed[id] != 0; }),
+      this->Live.end());
+}
+
 std::size_t Colonizer::Step()
 {
   ++this->Steps;
@@ -270,22 +339,28 @@ std::size_t Colonizer::Step()
   std::vector<int> attracted;
   std::vector<Eigen::Vector2d> direction;
   std::vector<int> slot(this->NodePoints.size(), -1);
+  const double kill = this->P.killDistance * this->Length / this->Stage;
   for (std::size_t i = 0; i < this->Live.size(); ++i)
   {
-    const int n = target[i];
-    if (n < 0)
+    if (target[i] < 0)
       continue;
-    const Eigen::Vector2d d = this->SourcePoints[this->Live[i]] - this->NodePoints[n];
-    const double norm = d.norm();
-    if (!(norm > 0.0))
-      continue;
-    if (slot[n] < 0)
+    std::vector<int> pulled = { target[i] };
+    if (this->P.closedVenation)
+      pulled = this->Neighbourhood(this->Live[i], std::max(reach, (this->NodePoints[target[i]] - this->SourcePoints[this->Live[i]]).norm()));
+    for (int n : pulled)
     {
-      slot[n] = static_cast<int>(attracted.size());
-      attracted.push_back(n);
-      direction.emplace_back(Eigen::Vector2d::Zero());
+      const Eigen::Vector2d d = this->SourcePoints[this->Live[i]] - this->NodePoints[n];
+      const double norm = d.norm();
+      if (!(norm > 0.0) || (this->P.closedVenation && norm <= kill))
+        continue; // closed: a vein that has reached the source waits there for the others
+      if (slot[n] < 0)
+      {
+        slot[n] = static_cast<int>(attracted.size());
+        attracted.push_back(n);
+        direction.emplace_back(Eigen::Vector2d::Zero());
+      }
+      direction[slot[n]] += d / norm;
     }
-    direction[slot[n]] += d / norm;
   }
   std::vector<int> added;
   for (std::size_t k = 0; k < attracted.size(); ++k)
@@ -299,8 +374,12 @@ std::size_t Colonizer::Step()
       continue;
     added.push_back(this->AddNode(x, attracted[k]));
   }
+  if (this->P.closedVenation)
+  {
+    this->CloseSources(reach, kill);
+    return added.size();
+  }
   // Kill the sources the new nodes came within the kill distance of (open venation).
-  const double kill = this->P.killDistance * this->Length / this->Stage;
   std::vector<char> killed;
   for (int n : added)
   {
@@ -419,6 +498,21 @@ void Colonizer::Finish(VenationResult& result) const
     stats.segments += line.nodes.size() - 1;
     result.veins.push_back(std::move(line));
   }
+  // Closed venation: where veins met at a source, a short vein of the finer order joins them.
+  std::vector<int> degree(count, 0);
+  for (std::size_t i = 0; i < count; ++i)
+    degree[i] = children[i] + (this->Parent[i] >= 0 ? 1 : 0);
+  for (const auto& link : this->Links)
+  {
+    VenationResult::Polyline line;
+    line.order = std::max(result.order[link.first], result.order[link.second]);
+    line.nodes = { link.first, link.second };
+    stats.length[line.order] += (result.nodes[link.first] - result.nodes[link.second]).norm();
+    ++stats.segments;
+    ++degree[link.first];
+    ++degree[link.second];
+    result.veins.push_back(std::move(line));
+  }
   for (const Eigen::Vector2d& x : result.nodes)
   {
     BladeLocation at = this->Locator.Locate(x, 1e-7 * this->Length);
@@ -428,13 +522,11 @@ void Colonizer::Finish(VenationResult& result) const
   }
   stats.bladeArea = this->Locator.Area();
   stats.density = (stats.length[1] + stats.length[2] + stats.length[3] + stats.length[4]) / stats.bladeArea;
-  for (std::size_t i = 1; i < count; ++i)
+  for (std::size_t i = 0; i < count; ++i)
   {
-    const int degree = children[i] + 1;
-    stats.branchPoints += degree >= 3;
-    stats.freeEnds += degree == 1;
+    stats.branchPoints += degree[i] >= 3;
+    stats.freeEnds += degree[i] == 1 && i > 0; // node 0 is the base, on the margin
   }
-  stats.branchPoints += children[0] >= 3;
 }
 
 } // namespace

@@ -179,6 +179,7 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
     p.sourceDensity = this->SourceDensity;
     p.murrayExponent = this->MurrayExponent;
     p.growthStart = this->GrowthStart;
+    p.closedVenation = this->ClosedVenation;
     p.primaryWidth = this->PrimaryWidth;
     p.primaryTaper = this->PrimaryTaper;
     p.secondaryWidthRatio = this->SecondaryWidthRatio;

@@ -178,6 +178,10 @@ public:
   vtkGetMacro(MurrayExponent, double);
   vtkSetMacro(GrowthStart, double);
   vtkGetMacro(GrowthStart, double);
+  /** Space colonization: closed venation (veins meet at sources, making loops) instead of open (a tree). */
+  vtkSetMacro(ClosedVenation, bool);
+  vtkGetMacro(ClosedVenation, bool);
+  vtkBooleanMacro(ClosedVenation, bool);
   ///@}
 
   ///@{
@@ -249,6 +253,7 @@ protected:
   double SourceDensity = 3000.0;
   double MurrayExponent = 3.0;
   double GrowthStart = 0.1;
+  bool ClosedVenation = false;
   double PrimaryWidth = 0.015;
   double PrimaryTaper = 0.3;
   double SecondaryWidthRatio = 0.5;

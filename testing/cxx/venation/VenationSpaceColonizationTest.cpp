@@ -239,6 +239,26 @@ TEST(SpaceColonization, SameSeedSameNetworkOtherSeedOtherNetwork)
   EXPECT_NE(a.nodes, c.nodes);
 }
 
+TEST(SpaceColonization, ClosedVenationMakesLoopsAndCoversTheBlade)
+{
+  // Closed venation (Runions 2005 sec. 4): veins approaching one source from different sides meet there, so the
+  // network has areoles and loopiness below 1, and it still covers the blade.
+  const LeafGeometry leaf = Entire();
+  VenationParameters p = Colonization(6);
+  p.closedVenation = true;
+  const VenationResult r = Grow(leaf, p);
+  VeinNetworkMeasures m;
+  ASSERT_EQ(MeasureVeinNetwork(r, r.statistics.bladeArea, {}, 0.0, m), "");
+  std::cout << "closed: " << r.statistics.segments << " segments, " << m.areoles << " areoles, loopiness "
+            << m.loopiness << "\n";
+  EXPECT_GE(m.areoles, 20u);
+  EXPECT_LT(m.loopiness, 0.97);
+  const std::vector<double> d = DistancesToVeins(leaf, r, 2000);
+  EXPECT_LT(d[d.size() * 95 / 100] / r.leafLength, 0.03);
+  const VenationResult again = Grow(leaf, p);
+  EXPECT_EQ(r.nodes, again.nodes);
+}
+
 TEST(SpaceColonization, AStaticBladeGrowsToo)
 {
   // growthStart = 1: every source is there from the start, most far beyond the attraction distance of the base.
