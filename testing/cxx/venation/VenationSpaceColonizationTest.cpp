@@ -259,6 +259,30 @@ TEST(SpaceColonization, ClosedVenationMakesLoopsAndCoversTheBlade)
   EXPECT_EQ(r.nodes, again.nodes);
 }
 
+TEST(VeinNetworkMeasures, AgreeWithTheGrowthsOwnCountsOnAPaperMulberryNetwork)
+{
+  // The growth counts areoles as faces of its vein graph with the margin that no margin edge bounds, and free ends
+  // off the margin; the measures see only the veins and the margin polygon, and must count the same.
+  const LeafGeometry leaf = Entire();
+  VenationParameters p = MakeVenationPreset(VenationPreset::PaperMulberry);
+  p.seed = 12;
+  const VenationResult r = Grow(leaf, p);
+  std::vector<Eigen::Vector2d> margin;
+  for (int id : leaf.rightMargin)
+    margin.push_back(leaf.blade.points[id]);
+  for (std::size_t i = leaf.leftMargin.size() - 1; i-- > 1;)
+    margin.push_back(leaf.blade.points[leaf.leftMargin[i]]);
+  VeinNetworkMeasures m;
+  ASSERT_EQ(MeasureVeinNetwork(r, r.statistics.bladeArea, margin, 1e-9 * r.leafLength, m), "");
+  ASSERT_GT(r.statistics.areoles, 50u);
+  EXPECT_EQ(m.areoles, r.statistics.areoles);
+  EXPECT_NEAR(m.areoleMean, r.statistics.areoleAreaMean, 1e-9 * r.statistics.areoleAreaMean);
+  EXPECT_EQ(m.branchPoints, r.statistics.branchPoints);
+  EXPECT_EQ(m.freeEnds, r.statistics.freeEnds);
+  EXPECT_NEAR(m.vla, r.statistics.density, 1e-9 * r.statistics.density);
+  EXPECT_LT(m.loopiness, 0.9);
+}
+
 TEST(SpaceColonization, AStaticBladeGrowsToo)
 {
   // growthStart = 1: every source is there from the start, most far beyond the attraction distance of the base.
