@@ -1,6 +1,7 @@
 #include "VenationGrowth.h"
 
 #include "PalmateFan.h"
+#include "SpaceColonization.h"
 
 #include <plantmorph/RandomStream.h>
 
@@ -842,7 +843,8 @@ std::string VenationPresetName(VenationPreset preset)
 std::string VenationPatternName(VenationPattern pattern)
 {
   static const char* const names[VenationPatternCount] = { "Craspedodromous", "Semicraspedodromous",
-    "Brochidodromous", "Eucamptodromous", "Reticulodromous", "Cladodromous", "Arcuate", "Parallel", "Palmate" };
+    "Brochidodromous", "Eucamptodromous", "Reticulodromous", "Cladodromous", "Arcuate", "Parallel", "Palmate",
+    "SpaceColonization" };
   const int i = static_cast<int>(pattern);
   return i >= 0 && i < VenationPatternCount ? names[i] : "Unknown";
 }
@@ -852,7 +854,7 @@ std::string ValidateVenationParameters(const VenationParameters& p)
   auto in = [](double x, double low, double high) { return std::isfinite(x) && x >= low && x <= high; };
   const int pattern = static_cast<int>(p.pattern);
   if (pattern < 0 || pattern >= VenationPatternCount)
-    return Range("Pattern", pattern, "[0, 8]");
+    return Range("Pattern", pattern, "[0, 9]");
   if (p.primaries < 1 || p.primaries > 51)
     return Range("PrimaryCount", p.primaries, "[1, 51]");
   if (!in(p.primarySpread, 0.0, 0.49))
@@ -896,6 +898,16 @@ std::string ValidateVenationParameters(const VenationParameters& p)
     if (!in(ratio, 0.0, 1.0))
       return Range("VeinWidthRatio", ratio, "[0, 1]");
   }
+  if (!in(p.killDistance, 0.0002, 0.2))
+    return Range("KillDistance", p.killDistance, "[0.0002, 0.2] leaf lengths");
+  if (!in(p.attractionDistance, p.killDistance, 2.0))
+    return Range("AttractionDistance", p.attractionDistance, "[KillDistance, 2] leaf lengths");
+  if (!in(p.sourceDensity, 1.0, 1.0e8))
+    return Range("SourceDensity", p.sourceDensity, "[1, 1e8] per leaf length squared");
+  if (!in(p.murrayExponent, 1.0, 4.0))
+    return Range("MurrayExponent", p.murrayExponent, "[1, 4]");
+  if (!in(p.growthStart, 0.02, 1.0))
+    return Range("GrowthStart", p.growthStart, "[0.02, 1]");
   if (!(p.gridCellScale > 0.0) || !std::isfinite(p.gridCellScale))
     return Range("gridCellScale", p.gridCellScale, "(0, inf)");
   if (p.maxSegments < 100)
@@ -914,6 +926,8 @@ std::string GrowVenation(const VenationBlade& blade, const VenationParameters& p
   error = locator.Build(blade);
   if (!error.empty())
     return "Input: " + error;
+  if (parameters.pattern == VenationPattern::SpaceColonization)
+    return GrowSpaceColonization(locator, parameters, result, progress);
   Grower grower(blade, locator, parameters, progress);
   error = grower.Run(result);
   if (!error.empty())

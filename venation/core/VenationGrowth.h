@@ -43,6 +43,8 @@
 //   levels evenly after it), then the two halves move linearly apart to their own means by g = 1, so one vein
 //   splits into two.
 //
+// - Space colonization (Runions et al. 2005, open venation), a method of its own: SpaceColonization.h.
+//
 // Widths (`VeinWidth`): primaries taper from `primaryWidth` (a fraction of the leaf length) to `primaryTaper` of it
 // at their end; secondaries from `secondaryWidthRatio` of it to half that; tertiaries and veinlets a constant
 // `tertiaryWidthRatio` and `veinletWidthRatio` of it. A shared node takes the widest vein's width.
@@ -75,8 +77,9 @@ enum class VenationPattern : int
   Arcuate = 6,
   Parallel = 7,
   Palmate = 8,
+  SpaceColonization = 9, ///< Runions et al. 2005, open venation (SpaceColonization.h)
 };
-inline constexpr int VenationPatternCount = 9;
+inline constexpr int VenationPatternCount = 10;
 
 struct VenationParameters
 {
@@ -107,6 +110,13 @@ struct VenationParameters
   double secondaryWidthRatio = 0.5;
   double tertiaryWidthRatio = 0.2;
   double veinletWidthRatio = 0.12;
+  // Space colonization (SpaceColonization.h); distances in leaf lengths of the full-grown blade.
+  double killDistance = 0.01;       ///< a source dies when a vein node comes this close; the vein step is half of it
+  double attractionDistance = 0.1;  ///< a source draws its nearest vein node within this distance
+  double sourceDensity = 3000.0;    ///< auxin-source darts per unit blade area (leaf length squared)
+  double murrayExponent = 3.0;      ///< pipe model: w^n of a vein is the sum of w^n of its branches
+  double growthStart = 0.1;         ///< blade size (fraction of the final) when veins start; 1 = a static blade
+  bool closedVenation = false;      ///< closed: a source draws its whole relative neighbourhood and dies when all reach it
   std::size_t maxSegments = 2000000; ///< refuse (with a message) networks that would need more edges
   /// Benchmarks only: the vein graph's grid cells as a multiple of their default size (about one areole); a huge
   /// value puts every edge in one cell, so every crossing test looks at every edge (brute force).

@@ -254,6 +254,12 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
     p.palmateVeins = this->PalmateVeins;
     p.forkLevels = this->ForkLevels;
     p.forkSize = this->ForkSize;
+    p.killDistance = this->KillDistance;
+    p.attractionDistance = this->AttractionDistance;
+    p.sourceDensity = this->SourceDensity;
+    p.murrayExponent = this->MurrayExponent;
+    p.growthStart = this->GrowthStart;
+    p.closedVenation = this->ClosedVenation;
     p.primaryWidth = this->PrimaryWidth;
     p.primaryTaper = this->PrimaryTaper;
     p.secondaryWidthRatio = this->SecondaryWidthRatio;
@@ -461,6 +467,9 @@ void vtkVenationFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Tertiary: " << this->Tertiary << " (AreoleSize " << this->AreoleSize << ")\n";
   os << indent << "Veinlets: " << this->Veinlets << "\n";
   os << indent << "PalmateVeins: " << this->PalmateVeins << " (ForkLevels " << this->ForkLevels << ")\n";
+  os << indent << "KillDistance: " << this->KillDistance << " (AttractionDistance " << this->AttractionDistance
+     << ", SourceDensity " << this->SourceDensity << ", MurrayExponent " << this->MurrayExponent << ", GrowthStart "
+     << this->GrowthStart << ")\n";
   os << indent << "EmbossDepth: " << this->EmbossDepth << "\n";
   os << indent << "MaxSegments: " << this->MaxSegments << "\n";
 }

@@ -172,6 +172,28 @@ public:
 
   ///@{
   /**
+   * Space colonization (Runions et al. 2005): kill distance [0.0002, 0.2] leaf lengths (default 0.01), attraction
+   * distance [KillDistance, 2] (default 0.1), auxin-source darts per leaf length squared [1, 1e8] (default 3000),
+   * Murray exponent of the pipe model [1, 4] (default 3), blade size when veins start [0.02, 1] (default 0.1).
+   */
+  vtkSetMacro(KillDistance, double);
+  vtkGetMacro(KillDistance, double);
+  vtkSetMacro(AttractionDistance, double);
+  vtkGetMacro(AttractionDistance, double);
+  vtkSetMacro(SourceDensity, double);
+  vtkGetMacro(SourceDensity, double);
+  vtkSetMacro(MurrayExponent, double);
+  vtkGetMacro(MurrayExponent, double);
+  vtkSetMacro(GrowthStart, double);
+  vtkGetMacro(GrowthStart, double);
+  /** Space colonization: closed venation (veins meet at sources, making loops) instead of open (a tree). */
+  vtkSetMacro(ClosedVenation, bool);
+  vtkGetMacro(ClosedVenation, bool);
+  vtkBooleanMacro(ClosedVenation, bool);
+  ///@}
+
+  ///@{
+  /**
    * Widths: primary width at the base in leaf lengths [0, 0.2] (default 0.015), its end width as a fraction
    * [0, 1] (default 0.3); secondary, tertiary and veinlet widths as fractions of the primary's [0, 1] (default
    * 0.5, 0.2, 0.12).
@@ -237,6 +259,12 @@ protected:
   int PalmateVeins = 4;
   int ForkLevels = 1;
   double ForkSize = 0.3;
+  double KillDistance = 0.01;
+  double AttractionDistance = 0.1;
+  double SourceDensity = 3000.0;
+  double MurrayExponent = 3.0;
+  double GrowthStart = 0.1;
+  bool ClosedVenation = false;
   double PrimaryWidth = 0.015;
   double PrimaryTaper = 0.3;
   double SecondaryWidthRatio = 0.5;

@@ -396,7 +396,7 @@ TEST(Venation, BadInputGivesAMessageNamingThePropertyAndNoNetwork)
     double value;
   };
   const Bad cases[] = {
-    { "Pattern", [](VenationParameters& p, double v) { p.pattern = static_cast<VenationPattern>(static_cast<int>(v)); }, 9 },
+    { "Pattern", [](VenationParameters& p, double v) { p.pattern = static_cast<VenationPattern>(static_cast<int>(v)); }, VenationPatternCount },
     { "SecondarySpacing", [](VenationParameters& p, double v) { p.secondarySpacing = v; }, nan },
     { "DivergenceAngle", [](VenationParameters& p, double v) { p.divergenceAngle = v; }, 95 },
     { "AreoleSize", [](VenationParameters& p, double v) { p.areoleSize = v; }, 0.0 },

@@ -97,11 +97,19 @@ for preset in PRESETS:
     checks.check(veins.GetNumberOfLines() > 10, "%s: %d veins" % (preset, veins.GetNumberOfLines()))
 venation.Preset = "Custom"
 PATTERNS = ["Craspedodromous", "Semicraspedodromous", "Brochidodromous", "Eucamptodromous", "Reticulodromous",
-            "Cladodromous", "Arcuate (acrodromous)", "Parallel", "Palmate (actinodromous)"]
+            "Cladodromous", "Arcuate (acrodromous)", "Parallel", "Palmate (actinodromous)",
+            "Space colonization (Runions 2005)"]
 for pattern in PATTERNS:
     venation.Pattern = pattern
     veins = fetch(venation)
     checks.check(veins.GetNumberOfLines() > 10, "%s: %d veins" % (pattern, veins.GetNumberOfLines()))
+venation.ClosedVenation = 1
+veins = fetch(venation)
+checks.check(veins.GetNumberOfLines() > 10, "closed space colonization: %d veins" % veins.GetNumberOfLines())
+venation.ClosedVenation = 0
+venation.KillDistance = 0.0
+checks.check(fetch(venation).GetNumberOfPoints() == 0, "KillDistance 0: empty output")
+venation.KillDistance = 0.01
 
 # Bad values: an error and empty outputs.
 venation.Pattern = "Brochidodromous"

@@ -1,0 +1,51 @@
+// The measures plant scientists report for a vein network (issue 22 item 4; spec 02 "Statistics"; LEAF GUI,
+// phenoVein, Green & Losada 2023), computed from the network alone, so they apply to any VenationResult.
+//
+// - Lengths: total vein length, length per VeinOrder, and VLA (vein length per blade area; in mm/mm^2 when the
+//   leaf is in mm, in 1/cm when in cm).
+// - Areoles: the bounded faces (of non-zero area) of the planar graph of the veins alone (regions enclosed by veins only; a region
+//   that a vein ending on the margin leaves open is not one): count, mean, median, coefficient of variation
+//   (population standard deviation over the mean) of their areas, and the sorted areas (for a histogram). A vein
+//   loop lying inside an areole without touching it is not subtracted from it.
+// - Loopiness: total length of a minimum spanning forest of the network (Kruskal) over the total length: 1 for a
+//   tree, lower the more loops.
+// - Branch points (nodes where three or more vein segments meet) and free ends (nodes with one segment, not on the
+//   margin), absolute and per blade area.
+// - Mean width per order: the length-weighted mean of the segments' widths (each the mean of its two nodes').
+//
+// Plain C++17 + Eigen, no VTK.
+#pragma once
+
+#include "VenationGrowth.h"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+
+struct VeinNetworkMeasures
+{
+  double bladeArea = 0.0;
+  double totalLength = 0.0;
+  double vla = 0.0;                       ///< vein length per blade area
+  double length[5] = { 0, 0, 0, 0, 0 };    ///< per VeinOrder (index 0 unused)
+  double meanWidth[5] = { 0, 0, 0, 0, 0 }; ///< length-weighted, per VeinOrder; 0 where an order has no vein
+  std::size_t areoles = 0;
+  double areoleMean = 0.0, areoleMedian = 0.0, areoleCV = 0.0;
+  std::vector<double> areoleAreas;        ///< sorted ascending
+  double spanningLength = 0.0;            ///< minimum spanning forest length
+  double loopiness = 1.0;                 ///< spanningLength / totalLength
+  std::size_t branchPoints = 0, freeEnds = 0;
+  double branchPointsPerArea = 0.0, freeEndsPerArea = 0.0;
+};
+
+/// Measures `veins` on a blade of area `bladeArea` whose margin is the closed polygon `margin` (vein ends within
+/// `tolerance` of it are not free ends; may be empty: then every end is free). Empty on success, else a message.
+std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
+  const std::vector<Eigen::Vector2d>& margin, double tolerance, VeinNetworkMeasures& measures);
+
+} // namespace plantmorph
