@@ -19,7 +19,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 import numpy  # noqa: E402
 
 load_plugin(arguments.plugin, globals())
-DATA = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "shared", "data"))
+DATA = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "data"))
 soybean_file = sorted(glob.glob(os.path.join(DATA, "leaf-clouds", "soybean_*.txt")))[0]
 tip_file = os.path.join(DATA, "cucumber-wilting-tip.csv")
 WILT_TIME = 0.5
