@@ -1,9 +1,9 @@
 /**
  * @class   vtkLeafCloudReader
  * @brief   Reads a measured leaf point cloud from a delimited text file (x, y, z [, nx, ny, nz [, r, g, b
- *          [, scalar ...]]]) as vtkPolyData, keeping its normals and colours (spec 06; shared/data/leaf-clouds).
+ *          [, scalar ...]]]) as vtkPolyData, keeping its normals and colours (spec 06; data/leaf-clouds).
  *
- * The format is the one of the leaf scans in shared/data/leaf-clouds (Ando, Ozasa, Guo 2021): one point per line,
+ * The format is the one of the leaf scans in data/leaf-clouds (Ando, Ozasa, Guo 2021): one point per line,
  * numbers separated by commas, semicolons, spaces or tabs. Blank lines and lines starting with '#' or '//' are
  * skipped; so is a first line that is not numeric (a header). Every data line must have the same number of columns,
  * at least 3. Columns by position:
@@ -23,7 +23,7 @@
  * Output port 1 is the same file as a vtkTable, every column a double array named by the header line (a first
  * non-numeric line with one comma-, semicolon- or tab-separated name per column) or Column0, Column1, ... This reads
  * comma-separated tables with '#' comment lines, which ParaView 5.11's CSV reader cannot skip, such as
- * shared/data/cucumber-wilting-tip.csv (columns sample, measured_x, ..., paper_sim_z), for
+ * data/cucumber-wilting-tip.csv (columns sample, measured_x, ..., paper_sim_z), for
  * TrajectoryComparisonFilter.
  *
  * Errors (vtkErrorMacro naming FileName and the line, and an empty output): no FileName, a file that cannot be
