@@ -1,4 +1,5 @@
 #include "vtkCloudComparisonFilter.h"
+#include "PlantMorphAlgorithmHooks.h"
 
 #include "PlantMorphFieldData.h"
 #include "PlantMorphWholeInput.h"
@@ -190,13 +191,10 @@ void AddColumn(vtkTable* table, vtkFieldData* fd, const char* name, double value
   }
 }
 
-plantmorph::ParallelFor SMPFor()
+/// vtkSMPTools over blocks of at least 2048 points (a query is cheap: smaller blocks cost more than they balance).
+plantmorph::ParallelFor BlockSMPFor()
 {
-  return [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
-    vtkSMPTools::For(0, static_cast<vtkIdType>(count), 2048, [&](vtkIdType begin, vtkIdType end) {
-      body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end));
-    });
-  };
+  return plantmorph::SMPFor(2048);
 }
 
 /// Builds the distance structure over a point set (its pointCount points as flat doubles in xyz): a surface if it
@@ -207,9 +205,9 @@ std::string BuildStructure(
   const std::vector<std::int64_t> triangles = Triangles(data);
   if (!triangles.empty())
   {
-    return out.BuildSurface(xyz, pointCount, triangles.data(), triangles.size() / 3, SMPFor());
+    return out.BuildSurface(xyz, pointCount, triangles.data(), triangles.size() / 3, BlockSMPFor());
   }
-  return out.BuildCloud(xyz, pointCount, SMPFor());
+  return out.BuildCloud(xyz, pointCount, BlockSMPFor());
 }
 } // namespace
 
@@ -410,7 +408,7 @@ int vtkCloudComparisonFilter::Execute(
   {
     return 0;
   }
-  const ParallelFor parallelFor = SMPFor();
+  const ParallelFor parallelFor = BlockSMPFor();
 
   // Registration.
   RegistrationResult registered;
@@ -470,10 +468,7 @@ int vtkCloudComparisonFilter::Execute(
   // One QueryMany over all points (one Morton order: the most coherent), reporting progress between its blocks.
   referenceDistance.QueryMany(xyz, static_cast<std::size_t>(count), distance->GetPointer(0),
     surface ? signedDistance->GetPointer(0) : nullptr, closest->GetPointer(0), nullptr, parallelFor,
-    [this](double done) {
-      this->UpdateProgress(0.3 + 0.6 * done);
-      return !this->GetAbortExecute();
-    });
+    plantmorph::Progress(this, 0.3, 0.9));
   if (this->GetAbortExecute())
   {
     return 0;

@@ -1,4 +1,5 @@
 #include "vtkLeafFitFilter.h"
+#include "PlantMorphAlgorithmHooks.h"
 
 #include "LeafFit.h"
 #include "PlantMorphFieldData.h"
@@ -181,9 +182,7 @@ int vtkLeafFitFilter::RequestData(vtkInformation*, vtkInformationVector** inputV
     for (vtkIdType i : m.second)
       leaves.back().push_back(all[i]);
   }
-  const plantmorph::ParallelFor smp = [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
-    vtkSMPTools::For(0, static_cast<vtkIdType>(count), 1, [&](vtkIdType b, vtkIdType e) { body(b, e); });
-  };
+  const plantmorph::ParallelFor smp = plantmorph::SMPFor(1); // one leaf per task: leaves differ in size
   const std::vector<plantmorph::LeafFitResult> results = plantmorph::FitLeaves(leaves, options, smp);
   for (std::size_t k = 0; k < results.size(); ++k)
     if (!results[k].error.empty())

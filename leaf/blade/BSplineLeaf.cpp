@@ -1,5 +1,6 @@
 #include "BSplineLeaf.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/CubicBSpline.h>
 #include <plantmorph/DataContract.h>
 #include <plantmorph/PlaneFit.h>
@@ -15,8 +16,6 @@ namespace plantmorph
 {
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
-
 /// Right-margin control points of a preset, as (x / width, y / length), base and apex excluded.
 std::vector<Eigen::Vector2d> RightMarginShape(BSplinePreset preset, int count)
 {

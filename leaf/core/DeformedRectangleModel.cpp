@@ -1,5 +1,7 @@
 #include "DeformedRectangleModel.h"
 
+#include <plantmorph/MathConstants.h>
+
 #include <Eigen/LU>
 
 #include <algorithm>
@@ -10,8 +12,6 @@ namespace plantmorph
 {
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
-
 // Largest |amplitude| and |frequency| a term may have: far beyond any leaf, small enough that sampling stays sane.
 constexpr double MaxAmplitude = 100.0;
 constexpr double MaxFrequency = 1000.0;

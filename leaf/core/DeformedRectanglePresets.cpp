@@ -1,13 +1,13 @@
 #include "DeformedRectanglePresets.h"
 
+#include <plantmorph/MathConstants.h>
+
 #include <vector>
 
 namespace plantmorph
 {
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
-
 /// One sinusoid in v: amplitude * sin(frequency*pi*v + phase).
 struct Wave
 {

@@ -2,6 +2,7 @@
 
 #include "PalmateLeaf.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/DataContract.h>
 
 #include <Eigen/Geometry>
@@ -13,8 +14,6 @@ namespace plantmorph
 {
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
-
 std::string Check(bool ok, const char* property, double value, const char* range)
 {
   if (ok)
@@ -67,7 +66,6 @@ std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& p, const Sp
 
 namespace
 {
-
 /// The unit normal g of the symmetry plane: g.c = 0, g_z = opening, |g| = 1, and g.t0 > 0 (eq. (9)).
 bool SymmetryNormal(const Eigen::Vector3d& c, double opening, const Eigen::Vector3d& t0, Eigen::Vector3d& g)
 {

@@ -1,4 +1,5 @@
 #include "vtkLeafOutlineSource.h"
+#include "PlantMorphAlgorithmHooks.h"
 
 #include "PlantMorphFieldData.h"
 #include "DeformedRectangleLeaf.h"
@@ -452,10 +453,7 @@ std::string vtkLeafOutlineSource::MeshSettings(plantmorph::LeafMeshSettings& set
   settings.resolution = this->Resolution;
   settings.quality = this->MeshQuality == 1;
   settings.maxVertices = static_cast<std::size_t>(this->MaxVertices);
-  settings.progress = [this](double fraction) {
-    this->UpdateProgress(fraction);
-    return !this->GetAbortExecute();
-  };
+  settings.progress = plantmorph::Progress(this);
   return {};
 }
 

@@ -1,5 +1,7 @@
 #include "LeafCurl.h"
 
+#include <plantmorph/MathConstants.h>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -8,8 +10,6 @@ namespace plantmorph
 {
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
-
 /// sin(x) / x, 1 at 0.
 double Sinc(double x)
 {

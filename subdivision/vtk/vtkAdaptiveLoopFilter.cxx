@@ -1,4 +1,5 @@
 #include "vtkAdaptiveLoopFilter.h"
+#include "PlantMorphAlgorithmHooks.h"
 
 #include "PlantMorphWholeInput.h"
 
@@ -374,15 +375,8 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
   }
   this->UpdateProgress(0.05);
 
-  settings.parallelFor = [](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
-    vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&body](vtkIdType b, vtkIdType e) {
-      body(static_cast<std::size_t>(b), static_cast<std::size_t>(e));
-    });
-  };
-  settings.progress = [this](double fraction) {
-    this->UpdateProgress(0.05 + 0.8 * fraction);
-    return !this->GetAbortExecute();
-  };
+  settings.parallelFor = plantmorph::SMPFor();
+  settings.progress = plantmorph::Progress(this, 0.05, 0.85);
   AdaptiveLoopResult result = AdaptiveLoopSubdivide(std::move(mesh), settings);
   if (!result.error.empty())
   {

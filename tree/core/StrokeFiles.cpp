@@ -1,5 +1,6 @@
 #include "StrokeFiles.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/TextNumbers.h>
 
 #include <pugixml.hpp>
@@ -17,8 +18,6 @@ namespace
 {
 using Strokes = std::vector<std::vector<Eigen::Vector3d>>;
 using Point = Eigen::Vector2d;
-
-constexpr double kPi = 3.14159265358979323846;
 
 bool IsSpace(char c)
 {
@@ -296,7 +295,7 @@ bool ParseTransform(const char* text, Affine& result)
     }
     ++list.P;
     Affine m;
-    const double radians = v[0] * kPi / 180.0;
+    const double radians = v[0] * Pi / 180.0;
     if (name == "matrix" && count == 6)
       m = Matrix(v[0], v[1], v[2], v[3], v[4], v[5]);
     else if (name == "translate" && (count == 1 || count == 2))
@@ -480,7 +479,7 @@ bool PathFlattener::Arc(const Point& p0, double rx, double ry, double angle, boo
   {
     return this->Add(p1); // a straight line
   }
-  const double phi = angle * kPi / 180.0;
+  const double phi = angle * Pi / 180.0;
   const double cp = std::cos(phi), sp = std::sin(phi);
   const Point h = 0.5 * (p0 - p1);
   const Point q(cp * h.x() + sp * h.y(), -sp * h.x() + cp * h.y());
@@ -503,9 +502,9 @@ bool PathFlattener::Arc(const Point& p0, double rx, double ry, double angle, boo
   const double theta1 = std::atan2((q.y() - cq.y()) / ry, (q.x() - cq.x()) / rx);
   double delta = std::atan2((-q.y() - cq.y()) / ry, (-q.x() - cq.x()) / rx) - theta1;
   if (sweep && delta < 0.0)
-    delta += 2.0 * kPi;
+    delta += 2.0 * Pi;
   else if (!sweep && delta > 0.0)
-    delta -= 2.0 * kPi;
+    delta -= 2.0 * Pi;
   if (!std::isfinite(delta) || !std::isfinite(centre.x()) || !std::isfinite(centre.y()))
   {
     return this->Add(p1);

@@ -1,5 +1,6 @@
 #include "TreeStrokes.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/BezierCurve.h>
 #include <plantmorph/RandomStream.h>
 #include <plantmorph/RotationMinimizingFrames.h>
@@ -15,7 +16,6 @@ namespace plantmorph
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
 constexpr double Degree = Pi / 180.0;
 
 std::string StrokeError(std::size_t k, const std::string& what)

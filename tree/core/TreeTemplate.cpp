@@ -4,6 +4,7 @@
 #include "TreeMerge.h"
 #include "TreeStrokes.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/RotationMinimizingFrames.h>
 
 #include <Eigen/Geometry>
@@ -17,7 +18,6 @@ namespace plantmorph
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
 constexpr double Degree = Pi / 180.0;
 
 bool InRange(double v, double low, double high, bool lowOpen = false)

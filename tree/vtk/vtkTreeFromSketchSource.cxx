@@ -1,4 +1,5 @@
 #include "vtkTreeFromSketchSource.h"
+#include "PlantMorphAlgorithmHooks.h"
 
 #include "PlantMorphFieldData.h"
 #include "BranchJunctions.h"
@@ -97,11 +98,6 @@ std::string ReadSkeleton(vtkPolyData* input, std::vector<plantmorph::SkeletonBra
   return {};
 }
 
-void SMPFor(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body)
-{
-  vtkSMPTools::For(0, static_cast<vtkIdType>(count),
-    [&](vtkIdType begin, vtkIdType end) { body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end)); });
-}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -388,8 +384,8 @@ int vtkTreeFromSketchSource::RequestData(
   plantmorph::TubeMesh mesh;
   plantmorph::JointReport joints;
   plantmorph::JunctionReport junctions;
-  error = this->Joints == 0 ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, SMPFor, &junctions)
-                            : plantmorph::BuildTubes(tubes, s.sides, mesh, SMPFor, &joints);
+  error = this->Joints == 0 ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &junctions)
+                            : plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &joints);
   tubes.clear();
   if (!error.empty())
   {
@@ -532,7 +528,7 @@ int vtkTreeFromSketchSource::RequestData(
     vtkNew<vtkCellArray> polys;
     polys->SetData(offsets, connectivity);
     auto branchId = IntArray("BranchId", nt), parentId = IntArray("ParentId", nt), depth = IntArray("Depth", nt);
-    SMPFor(tree.branches.size(), [&](std::size_t begin, std::size_t end) {
+    plantmorph::SMPFor()(tree.branches.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t t = begin; t < end; ++t)
       {
         const plantmorph::TreeBranch& b = tree.branches[t];

@@ -3,6 +3,7 @@
 #include "PalmateFan.h"
 #include "SpaceColonization.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/RandomStream.h>
 
 #include <algorithm>
@@ -15,8 +16,6 @@ namespace plantmorph
 {
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
-
 Eigen::Vector2d Rotate(const Eigen::Vector2d& d, double degrees)
 {
   const double a = degrees * Pi / 180.0;

@@ -1,4 +1,5 @@
 #include "vtkVenationFilter.h"
+#include "PlantMorphAlgorithmHooks.h"
 
 #include "PlantMorphFieldData.h"
 #include "PlantMorphWholeInput.h"
@@ -313,10 +314,7 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   plantmorph::VenationBlade blade{ WorkingPlane(points, uv, triangles, flat), uv, triangles };
 
   plantmorph::VenationResult result;
-  const std::string error = plantmorph::GrowVenation(blade, p, result, [this](double fraction) {
-    this->UpdateProgress(0.95 * fraction);
-    return !this->GetAbortExecute();
-  });
+  const std::string error = plantmorph::GrowVenation(blade, p, result, plantmorph::Progress(this, 0.0, 0.95));
   if (!error.empty())
   {
     return fail(error);

@@ -1,4 +1,5 @@
 #include "vtkWiltingSimulator.h"
+#include "PlantMorphAlgorithmHooks.h"
 
 #include "PlantMorphWholeInput.h"
 #include "WiltingPresets.h"
@@ -491,10 +492,7 @@ int vtkWiltingSimulator::RequestData(
     }
     ++this->SimulationCount;
     this->WarnAboutPresetOverrides();
-    error = cache.simulation.Run([this](double fraction) {
-      this->UpdateProgress(fraction);
-      return !this->GetAbortExecute();
-    });
+    error = cache.simulation.Run(plantmorph::Progress(this));
     if (cache.simulation.Aborted())
     {
       return 1; // the cache stays invalid: the next request simulates again
