@@ -10,6 +10,10 @@
 //                                          over the 10^5-beam scan, serial, one iteration (it manages a few hundred
 //                                          beams per second); the tree built untimed.
 //   BM_VtkStaticCellLocator/tris:N         vtkStaticCellLocator::IntersectWithLine, 2000 such beams, serial.
+//   BM_Embree/tris:N/beams:B               Embree 3 (libembree-dev, single precision, when installed): the scene
+//                                          committed untimed on a one-thread device, then the same beams made by
+//                                          the same pattern, rtcIntersect1 each (nearest hit), serial; no normals
+//                                          or compaction, so it does a little less than BM_ScannerCast.
 // Rates: per CPU second of the benchmark's thread for the serial families (fair on a loaded machine), per wall
 // second for threads:2 (the casting threads are not the benchmark's own).
 // Counters: beams_per_s (beams per wall second), hits (returns, to check all families see the same scene), peak
@@ -32,6 +36,10 @@
 #include "vtkStaticCellLocator.h"
 
 #include <benchmark/benchmark.h>
+
+#ifdef PLANTMORPH_HAVE_EMBREE
+#include <embree3/rtcore.h>
+#endif
 
 #include <chrono>
 #include <cmath>
@@ -223,6 +231,78 @@ void BM_VtkStaticCellLocator(benchmark::State& state)
   vtkNew<vtkStaticCellLocator> locator;
   RunVtk(state, locator.Get(), 2000);
 }
+#ifdef PLANTMORPH_HAVE_EMBREE
+void BM_Embree(benchmark::State& state)
+{
+  const Scene& scene = Sphere(state.range(0));
+  const plantmorph::ScannerParameters p = Scan(state.range(1));
+  plantmorph::BeamPattern pattern;
+  pattern.Setup(p);
+  RTCDevice device = rtcNewDevice("threads=1");
+  RTCScene rtc = rtcNewScene(device);
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  const std::size_t nv = scene.points.size() / 3, nt = scene.triangles.size() / 3;
+  auto* vertices = static_cast<float*>(
+    rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+  auto* indices = static_cast<unsigned*>(
+    rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
+  for (std::size_t i = 0; i < 3 * nv; ++i)
+    vertices[i] = static_cast<float>(scene.points[i]);
+  for (std::size_t i = 0; i < 3 * nt; ++i)
+    indices[i] = static_cast<unsigned>(scene.triangles[i]);
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(rtc, geometry);
+  rtcReleaseGeometry(geometry);
+  const auto start = std::chrono::steady_clock::now();
+  rtcCommitScene(rtc);
+  const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  PeakMemoryProbe memory;
+  memory.Start();
+  std::size_t hits = 0;
+  for (auto _ : state)
+  {
+    hits = 0;
+    for (std::uint64_t b = 0; b < pattern.BeamCount(); ++b)
+    {
+      double o[3], d[3];
+      std::int64_t pose;
+      pattern.Beam(b, o, d, pose);
+      RTCRayHit ray;
+      ray.ray.org_x = static_cast<float>(o[0]);
+      ray.ray.org_y = static_cast<float>(o[1]);
+      ray.ray.org_z = static_cast<float>(o[2]);
+      ray.ray.dir_x = static_cast<float>(d[0]);
+      ray.ray.dir_y = static_cast<float>(d[1]);
+      ray.ray.dir_z = static_cast<float>(d[2]);
+      ray.ray.tnear = 0.0f;
+      ray.ray.tfar = static_cast<float>(p.maximumRange);
+      ray.ray.time = 0.0f;
+      ray.ray.mask = 0xFFFFFFFFu;
+      ray.ray.id = 0;
+      ray.ray.flags = 0;
+      ray.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(rtc, &context, &ray);
+      hits += ray.hit.geomID != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
+    }
+  }
+  state.counters["tris"] = static_cast<double>(nt);
+  state.counters["beams"] = static_cast<double>(pattern.BeamCount());
+  state.counters["hits"] = static_cast<double>(hits);
+  state.counters["build_s"] = build;
+  state.counters["beams_per_s"] =
+    benchmark::Counter(static_cast<double>(pattern.BeamCount()), benchmark::Counter::kIsIterationInvariantRate);
+  memory.Report(state);
+  rtcReleaseScene(rtc);
+  rtcReleaseDevice(device);
+}
+BENCHMARK(BM_Embree)
+  ->ArgNames({ "tris", "beams" })
+  ->ArgsProduct({ { 10000, 100000, 1000000 }, { 100000, 1000000 } })
+  ->Unit(benchmark::kMillisecond);
+#endif
 } // namespace
 
 BENCHMARK(BM_ScannerBuild)->ArgName("tris")->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
