@@ -165,6 +165,56 @@ void WriteCloud(const plantmorph::ScanPoints& scan, const std::vector<vtkIdType>
   }
 }
 
+/// The input's point arrays at the hits, for those not named like ours or like a carried cell array: floating-point
+/// arrays interpolated with the hit's barycentric weights (LeafUV, TCoords: exact on the triangle hit), integer
+/// arrays (labels) taken from the triangle's vertex nearest the hit.
+void InterpolatePointArrays(const plantmorph::ScanPoints& scan, const std::vector<std::int64_t>& triangles,
+  vtkPolyData* input, vtkPolyData* cloud)
+{
+  const auto n = static_cast<vtkIdType>(scan.Size());
+  vtkPointData* in = input->GetPointData();
+  vtkPointData* pd = cloud->GetPointData();
+  for (int a = 0; a < in->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* source = in->GetArray(a);
+    const char* name = source ? source->GetName() : nullptr;
+    if (!name || std::strcmp(name, vtkDataSetAttributes::GhostArrayName()) == 0 || pd->GetAbstractArray(name))
+      continue;
+    bool own = false;
+    for (const char* ours : OwnArrays)
+      own = own || std::strcmp(name, ours) == 0;
+    if (own)
+      continue;
+    vtkSmartPointer<vtkDataArray> values = vtk::TakeSmartPointer(source->NewInstance());
+    values->SetName(name);
+    const int components = source->GetNumberOfComponents();
+    values->SetNumberOfComponents(components);
+    values->SetNumberOfTuples(n);
+    const bool real = source->GetDataType() == VTK_FLOAT || source->GetDataType() == VTK_DOUBLE;
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      const auto s = static_cast<std::size_t>(i);
+      const std::int64_t* t = &triangles[3 * static_cast<std::size_t>(scan.triangle[s])];
+      const double u = scan.barycentric[2 * s], v = scan.barycentric[2 * s + 1];
+      const double w[3] = { 1.0 - u - v, u, v };
+      if (!real)
+      {
+        const int k = w[0] >= w[1] && w[0] >= w[2] ? 0 : (w[1] >= w[2] ? 1 : 2);
+        values->SetTuple(i, static_cast<vtkIdType>(t[k]), source);
+        continue;
+      }
+      for (int c = 0; c < components; ++c)
+      {
+        values->SetComponent(i, c,
+          w[0] * source->GetComponent(static_cast<vtkIdType>(t[0]), c) +
+            w[1] * source->GetComponent(static_cast<vtkIdType>(t[1]), c) +
+            w[2] * source->GetComponent(static_cast<vtkIdType>(t[2]), c));
+      }
+    }
+    pd->AddArray(values);
+  }
+}
+
 /// Port 1: the set-up as lines, with the pose of each.
 void WriteSetup(const plantmorph::BeamPattern& pattern, double length, vtkPolyData* setup)
 {
@@ -317,6 +367,7 @@ int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** input
     return fail(error);
   }
   WriteCloud(scan, cellOf, input, cloud);
+  InterpolatePointArrays(scan, triangles, input, cloud);
   vtkFieldData* fd = cloud->GetFieldData();
   plantmorph::AddFieldValue(fd, "PlantMorph.Beams", static_cast<double>(scan.beams));
   plantmorph::AddFieldValue(fd, "PlantMorph.Returns", static_cast<double>(scan.Size()));

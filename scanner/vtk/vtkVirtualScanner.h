@@ -14,7 +14,9 @@
  * index for Terrestrial and Depth camera, fan index along the path for Line, position * TurntableSteps + step on a
  * turntable), `HitCellId` (the input cell hit), `BeamId` (the beam's index in the pattern), and every cell array of
  * the input carried from the hit cell as a point array of the same name (`Region`, `BranchId`, `LeafId`, ...; a
- * cell array named like one of ours is not carried). Field data: PlantMorph.Beams, PlantMorph.Returns,
+ * cell array named like one of ours is not carried). The input's point arrays follow, unless a cell array or one
+ * of ours has the name: floating-point ones (`LeafUV`, `TCoords`) interpolated at the hit with its barycentric
+ * weights, integer ones (labels) from the hit triangle's vertex nearest the hit. Field data: PlantMorph.Beams, PlantMorph.Returns,
  * PlantMorph.Dropped, PlantMorph.Seed, PlantMorph.ScannerType. Output port 1, the set-up: per pose (at most 200
  * shown) its central beam and the beams at the corners of its field as lines as long as the distance from the
  * first position to LookAt, and a line scanner's path, with the cell array `ScanPosition` (-1 on the path).

@@ -22,6 +22,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -166,11 +167,33 @@ TEST(VirtualScanner, HitCellIdCountsVertsLinesPolygonsAndStrips)
   surface->SetLines(lines);
   surface->SetPolys(polys);
   surface->SetStrips(strips);
+  // Point arrays: a linear height (interpolated exactly), an integer corner label (the nearest vertex's), and a
+  // point array named like a cell array (the cell's wins).
+  vtkNew<vtkDoubleArray> height;
+  height->SetName("Height");
+  vtkNew<vtkIntArray> corner, pointLabel, cellLabel;
+  corner->SetName("Corner");
+  pointLabel->SetName("Label");
+  cellLabel->SetName("Label");
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    points->GetPoint(i, x);
+    height->InsertNextValue(x[0] + 2 * x[1] + 3);
+    corner->InsertNextValue(static_cast<int>(i));
+    pointLabel->InsertNextValue(-1);
+  }
+  for (int c = 0; c < 4; ++c)
+    cellLabel->InsertNextValue(10 + c);
+  surface->GetPointData()->AddArray(height);
+  surface->GetPointData()->AddArray(corner);
+  surface->GetPointData()->AddArray(pointLabel);
+  surface->GetCellData()->AddArray(cellLabel);
   vtkNew<vtkVirtualScanner> scanner;
   scanner->SetInputData(surface);
   scanner->SetScannerType(2);
   scanner->ClearPositions();
-  scanner->AddPosition(0.01, 0.02, 2.0);
+  scanner->AddPosition(0.01, 0.02, 4.0);
   scanner->SetLookAt(0.01, 0.02, 0.0);
   scanner->SetUp(0, 1, 0);
   scanner->SetHorizontalFieldOfView(40);
@@ -178,18 +201,47 @@ TEST(VirtualScanner, HitCellIdCountsVertsLinesPolygonsAndStrips)
   scanner->SetResolution(40, 40);
   scanner->Update();
   vtkPolyData* cloud = scanner->GetOutput(0);
-  ASSERT_EQ(cloud->GetNumberOfPoints(), 1600); // the whole image lies on the surface
+  // The image (half-width 4 tan 20 = 1.46) holds the whole 2 x 2 surface: the pixels inside it hit.
+  ASSERT_GT(cloud->GetNumberOfPoints(), 1600 * 0.4);
+  ASSERT_LT(cloud->GetNumberOfPoints(), 1600 * 0.55);
   vtkDataArray* hitCell = cloud->GetPointData()->GetArray("HitCellId");
+  vtkDataArray* heightAt = cloud->GetPointData()->GetArray("Height");
+  vtkDataArray* cornerAt = cloud->GetPointData()->GetArray("Corner");
+  vtkDataArray* labelAt = cloud->GetPointData()->GetArray("Label");
+  ASSERT_TRUE(heightAt && cornerAt && labelAt);
+  EXPECT_TRUE(cornerAt->IsA("vtkIntArray"));
+  int nearVertex = 0;
   for (vtkIdType i = 0; i < cloud->GetNumberOfPoints(); ++i)
   {
     double x[3];
     cloud->GetPoint(i, x);
     EXPECT_NEAR(x[2], 0.0, 1e-12);
+    EXPECT_NEAR(heightAt->GetComponent(i, 0), x[0] + 2 * x[1] + 3, 1e-12);
+    EXPECT_EQ(labelAt->GetComponent(i, 0), 10 + hitCell->GetComponent(i, 0));
+    // The corner label is a vertex of the hit cell, and the vertex itself when the hit is next to it.
+    const auto label = static_cast<vtkIdType>(cornerAt->GetComponent(i, 0));
+    vtkIdType size;
+    const vtkIdType* ids;
+    surface->GetCellPoints(static_cast<vtkIdType>(hitCell->GetComponent(i, 0)), size, ids);
+    EXPECT_NE(std::find(ids, ids + size, label), ids + size);
+    for (vtkIdType k = 0; k < size; ++k)
+    {
+      double p[3];
+      surface->GetPoint(ids[k], p);
+      if (std::hypot(p[0] - x[0], p[1] - x[1]) < 0.1)
+      {
+        EXPECT_EQ(label, ids[k]);
+        ++nearVertex;
+      }
+    }
+    EXPECT_LE(std::abs(x[0]), 1.0 + 1e-12);
+    EXPECT_LE(std::abs(x[1]), 1.0 + 1e-12);
     if (std::abs(x[0]) > 1e-9)
     {
       EXPECT_EQ(hitCell->GetComponent(i, 0), x[0] < 0 ? 2.0 : 3.0) << "point at x = " << x[0];
     }
   }
+  EXPECT_GT(nearVertex, 4);
 }
 
 TEST(VirtualScanner, BadInputIsNamedAndGivesEmptyOutputs)
