@@ -72,6 +72,10 @@ std::string BeamPattern::Setup(const ScannerParameters& p)
   this->Path.clear();
   this->Azimuth0.clear();
   this->Elevation0.clear();
+  this->AzimuthCos.clear();
+  this->AzimuthSin.clear();
+  this->ElevationCos.clear();
+  this->ElevationSin.clear();
   this->PerPose = 0;
   this->Type = p.type;
   if (p.type != ScannerType::Terrestrial && p.type != ScannerType::Line && p.type != ScannerType::DepthCamera)
@@ -181,6 +185,20 @@ std::string BeamPattern::SetupTerrestrial(const ScannerParameters& p)
     this->Poses.push_back(Frame(p.positions[i], forward, p.up));
     this->Azimuth0.push_back(std::atan2(Dot(forward, this->WorldY), Dot(forward, this->WorldX)));
     this->Elevation0.push_back(std::asin(std::max(-1.0, std::min(1.0, Dot(forward, this->WorldZ)))));
+    for (std::uint64_t c = 0; c < this->Columns; ++c)
+    {
+      const double azimuth =
+        this->Azimuth0.back() + (static_cast<double>(c) - 0.5 * static_cast<double>(this->Columns - 1)) * this->Step;
+      this->AzimuthCos.push_back(std::cos(azimuth));
+      this->AzimuthSin.push_back(std::sin(azimuth));
+    }
+    for (std::uint64_t r = 0; r < this->Rows; ++r)
+    {
+      const double elevation =
+        this->Elevation0.back() + (static_cast<double>(r) - 0.5 * static_cast<double>(this->Rows - 1)) * this->Step;
+      this->ElevationCos.push_back(std::cos(elevation));
+      this->ElevationSin.push_back(std::sin(elevation));
+    }
   }
   this->PerPose = this->Columns * this->Rows;
   return {};
@@ -315,13 +333,11 @@ void BeamPattern::Beam(std::uint64_t index, double origin[3], double direction[3
   {
     case ScannerType::Terrestrial:
     {
-      const double azimuth =
-        this->Azimuth0[poseIndex] + (static_cast<double>(column) - 0.5 * static_cast<double>(this->Columns - 1)) * this->Step;
-      const double elevation =
-        this->Elevation0[poseIndex] + (static_cast<double>(row) - 0.5 * static_cast<double>(this->Rows - 1)) * this->Step;
-      const double c = std::cos(elevation);
-      d = Add(Add(Scale(this->WorldX, c * std::cos(azimuth)), Scale(this->WorldY, c * std::sin(azimuth))),
-        Scale(this->WorldZ, std::sin(elevation)));
+      const std::size_t a = static_cast<std::size_t>(poseIndex * this->Columns + column);
+      const std::size_t e = static_cast<std::size_t>(poseIndex * this->Rows + row);
+      const double c = this->ElevationCos[e];
+      d = Add(Add(Scale(this->WorldX, c * this->AzimuthCos[a]), Scale(this->WorldY, c * this->AzimuthSin[a])),
+        Scale(this->WorldZ, this->ElevationSin[e]));
       break;
     }
     case ScannerType::DepthCamera:

@@ -99,6 +99,9 @@ private:
   double Step = 0.0;
   Vec3 WorldX{}, WorldY{}, WorldZ{};
   std::vector<double> Azimuth0, Elevation0; // per pose
+  // Terrestrial: per pose, cos and sin of each column's azimuth and each row's elevation (the same expressions as
+  // per beam, evaluated once), so a beam costs no trigonometry.
+  std::vector<double> AzimuthCos, AzimuthSin, ElevationCos, ElevationSin;
   // Depth camera: half-extents of the image plane at distance 1.
   double TanX = 0.0, TanY = 0.0;
   std::string SetupTerrestrial(const ScannerParameters& p);
