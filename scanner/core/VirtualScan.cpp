@@ -146,19 +146,21 @@ std::string ValidateSurface(const std::vector<double>& points, const std::vector
 
 std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, const std::vector<double>& points,
   const std::vector<std::int64_t>& triangles, const TriangleBVH& bvh, ScanPoints& out, const ParallelFor& parallel,
-  const std::function<bool(double)>& progress)
+  const std::function<bool(double)>& progress, std::uint64_t firstBeam, std::uint64_t endBeam)
 {
   out.Clear();
-  const std::uint64_t beams = pattern.BeamCount();
+  const std::uint64_t end = std::min(endBeam, pattern.BeamCount());
+  const std::uint64_t start = std::min(firstBeam, end);
+  const std::uint64_t beams = end - start;
   std::vector<BeamResult> block(static_cast<std::size_t>(std::min(beams, Block)));
-  for (std::uint64_t first = 0; first < beams; first += Block)
+  for (std::uint64_t first = start; first < end; first += Block)
   {
-    if (progress && !progress(static_cast<double>(first) / static_cast<double>(beams)))
+    if (progress && !progress(static_cast<double>(first - start) / static_cast<double>(beams)))
     {
       out.Clear();
       return "aborted";
     }
-    const std::size_t count = static_cast<std::size_t>(std::min(Block, beams - first));
+    const std::size_t count = static_cast<std::size_t>(std::min(Block, end - first));
     parallel(count, [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i)
         CastOne(p, pattern, points, triangles, bvh, first + i, block[i]);

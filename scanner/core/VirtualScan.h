@@ -28,7 +28,7 @@ struct ScanPoints
   std::vector<std::int64_t> triangle; ///< index of the input triangle hit
   std::vector<double> barycentric; ///< u, v of the hit in that triangle (its own vertex order)
   std::vector<std::uint64_t> beam; ///< index of the beam in the pattern (BeamPattern::Beam)
-  std::uint64_t beams = 0; ///< beams cast
+  std::uint64_t beams = 0; ///< beams cast (this share's)
   std::uint64_t dropped = 0; ///< beams that hit but were dropped (DropoutProbability)
 
   std::size_t Size() const { return this->range.size(); }
@@ -38,12 +38,15 @@ struct ScanPoints
 /// Checks a surface: finite points, triangle indices in range. An empty string when it can be scanned.
 std::string ValidateSurface(const std::vector<double>& points, const std::vector<std::int64_t>& triangles);
 
-/// Casts every beam of `pattern` (Setup already succeeded) against `bvh` (built on `points`, `triangles`).
+/// Casts the beams [firstBeam, endBeam) (clamped to the pattern's count; default all) of `pattern` (Setup already
+/// succeeded) against `bvh` (built on `points`, `triangles`): a share of the beams gives exactly the points the
+/// whole scan gives for them, so ranks casting consecutive shares concatenate to the whole cloud.
 /// `progress(fraction)` is called between blocks of beams; returning false stops the scan (the cloud is cleared and
 /// "aborted" returned).
 std::string CastBeams(const ScannerParameters& parameters, const BeamPattern& pattern, const std::vector<double>& points,
   const std::vector<std::int64_t>& triangles, const TriangleBVH& bvh, ScanPoints& out,
-  const ParallelFor& parallel = SerialFor, const std::function<bool(double)>& progress = {});
+  const ParallelFor& parallel = SerialFor, const std::function<bool(double)>& progress = {},
+  std::uint64_t firstBeam = 0, std::uint64_t endBeam = ~std::uint64_t(0));
 
 /// The whole scan: parameters and the beam budget checked first (nothing built or cast when they fail), then the
 /// surface checked, the hierarchy built and the beams cast.

@@ -8,6 +8,7 @@
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
+#include "vtkCommunicator.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
@@ -282,16 +283,28 @@ int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** input
   }
   cloud->Initialize();
   setup->Initialize();
-  // Under MPI the surface is scanned once, on rank 0, whole (gathered there if it was split over ranks).
-  const vtkSmartPointer<vtkPolyData> whole = plantmorph::GatherOnFirstRank(input);
-  input = whole.Get();
+  // Under MPI the whole surface (gathered on rank 0 if it was split over ranks) is replicated on every rank, and
+  // each rank casts its consecutive share of the beams: the ranks' pieces in rank order are the serial cloud.
+  vtkSmartPointer<vtkPolyData> whole = plantmorph::GatherOnFirstRank(input);
   vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (controller && controller->GetLocalProcessId() > 0)
+  const int ranks = controller ? controller->GetNumberOfProcesses() : 1;
+  const int rank = controller ? controller->GetLocalProcessId() : 0;
+  if (ranks > 1)
   {
-    return 1;
+    vtkNew<vtkPolyData> replica;
+    if (rank == 0)
+    {
+      replica->ShallowCopy(whole);
+    }
+    controller->Broadcast(replica, 0);
+    whole = replica.Get();
   }
+  input = whole.Get();
   auto fail = [&](const std::string& message) {
-    vtkErrorMacro(<< message);
+    if (rank == 0) // every rank finds the same error: report it once
+    {
+      vtkErrorMacro(<< message);
+    }
     cloud->Initialize();
     setup->Initialize();
     return 1;
@@ -358,25 +371,42 @@ int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** input
   bvh.Build(points, triangles);
   this->UpdateProgress(0.1);
   plantmorph::ScanPoints scan;
-  error = plantmorph::CastBeams(p, pattern, points, triangles, bvh, scan, SMPFor, [this](double fraction) {
-    this->UpdateProgress(0.1 + 0.8 * fraction);
-    return !this->GetAbortExecute();
-  });
+  const std::uint64_t beams = pattern.BeamCount();
+  const auto share = [&](int r) {
+    // beams <= 4e9 (AbsoluteMaximumBeams), so beams * rank fits in 64 bits for any rank count MPI runs.
+    return beams * static_cast<std::uint64_t>(r) / static_cast<std::uint64_t>(ranks);
+  };
+  error = plantmorph::CastBeams(p, pattern, points, triangles, bvh, scan, SMPFor,
+    [this](double fraction) {
+      this->UpdateProgress(0.1 + 0.8 * fraction);
+      return !this->GetAbortExecute();
+    },
+    share(rank), share(rank + 1));
   if (!error.empty())
   {
     return fail(error);
   }
   WriteCloud(scan, cellOf, input, cloud);
   InterpolatePointArrays(scan, triangles, input, cloud);
+  // Totals over the ranks in field data (every rank holds them).
+  double local[2] = { static_cast<double>(scan.Size()), static_cast<double>(scan.dropped) };
+  double total[2] = { local[0], local[1] };
+  if (ranks > 1)
+  {
+    controller->AllReduce(local, total, 2, vtkCommunicator::SUM_OP);
+  }
   vtkFieldData* fd = cloud->GetFieldData();
-  plantmorph::AddFieldValue(fd, "PlantMorph.Beams", static_cast<double>(scan.beams));
-  plantmorph::AddFieldValue(fd, "PlantMorph.Returns", static_cast<double>(scan.Size()));
-  plantmorph::AddFieldValue(fd, "PlantMorph.Dropped", static_cast<double>(scan.dropped));
+  plantmorph::AddFieldValue(fd, "PlantMorph.Beams", static_cast<double>(beams));
+  plantmorph::AddFieldValue(fd, "PlantMorph.Returns", total[0]);
+  plantmorph::AddFieldValue(fd, "PlantMorph.Dropped", total[1]);
   plantmorph::AddFieldValue(fd, "PlantMorph.Seed", this->Seed);
   plantmorph::AddFieldString(fd, "PlantMorph.ScannerType", TypeNames[this->ScannerType]);
   const double dx = p.lookAt[0] - p.positions[0][0], dy = p.lookAt[1] - p.positions[0][1],
                dz = p.lookAt[2] - p.positions[0][2];
-  WriteSetup(pattern, std::sqrt(dx * dx + dy * dy + dz * dz), setup);
+  if (rank == 0) // the set-up once
+  {
+    WriteSetup(pattern, std::sqrt(dx * dx + dy * dy + dz * dz), setup);
+  }
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -22,8 +22,9 @@
  * first position to LookAt, and a line scanner's path, with the cell array `ScanPosition` (-1 on the path).
  *
  * Same input, properties and Seed: the same cloud bit for bit, whatever the number of threads. Under MPI the
- * surface is gathered on rank 0 and scanned there (other ranks give empty outputs), so the cloud does not depend
- * on the number of ranks.
+ * surface is gathered on rank 0 (if it was split) and replicated on every rank, and each rank casts its consecutive
+ * share of the beams (every random number depends on the beam alone), so the ranks' pieces in rank order are the
+ * serial cloud; the set-up lines are on rank 0, the field data's totals on every rank.
  *
  * Errors (vtkErrorMacro naming the property and its accepted range, and empty outputs): out-of-range or non-finite
  * properties, no position, LookAt on a position, a surface without polygons or with non-finite points, a beam count

@@ -49,7 +49,7 @@ split_curl = LeafCurlFilter(Input=split, LongitudinalAngle=60.0, TransverseAngle
 split_loop = AdaptiveLoopFilter(Input=split, MaximumLevel=1)
 split_comparison = CloudComparisonFilter(Input=D3(Input=cloud, BoundaryMode="Assign cells uniquely"), Reference=spline,
                                          Scale=0.1)
-# VirtualScanner: a noisy scan of the tree (made on rank 0), and a scan of the split leaf from above (gathered whole).
+# VirtualScanner: a noisy scan of the tree (made on rank 0, its beams shared over the ranks), and a scan of the split leaf from above (gathered whole).
 scan = VirtualScanner(Input=tree, Positions=[0.0, -40.0, 5.0, 30.0, 10.0, 8.0], LookAt=[0.0, 0.0, 5.0], AngularStep=0.5,
                       RangeNoise=0.01, DropoutProbability=0.1, Seed=3)
 leaf_bounds = servermanager.Fetch(rectangle).GetBounds()

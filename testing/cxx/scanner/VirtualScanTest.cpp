@@ -628,3 +628,41 @@ TEST(VirtualScan, FullTurnDoesNotRepeatItsFirstColumn)
   EXPECT_NEAR(first[2], last[2], 1e-15);
   EXPECT_NEAR(Dot3(first, last), (1 - first[2] * first[2]) * std::cos(Pi / 180) + first[2] * first[2], 1e-12);
 }
+
+TEST(VirtualScan, SharesOfTheBeamsConcatenateToTheWholeScan)
+{
+  // What each MPI rank does: consecutive shares of the beams, with noise and dropout, give the whole cloud in order.
+  const Mesh sphere = Icosphere(3, 1.0);
+  ScannerParameters p;
+  p.positions = { Vec3{ 0, -4, 0.3 }, Vec3{ 3, 1, 0 } };
+  p.angularStep = 0.3;
+  p.rangeNoise = 0.01;
+  p.dropoutProbability = 0.2;
+  p.seed = 5;
+  BeamPattern pattern;
+  ASSERT_EQ(pattern.Setup(p), "");
+  TriangleBVH bvh;
+  bvh.Build(sphere.points, sphere.triangles);
+  ScanPoints whole;
+  ASSERT_EQ(CastBeams(p, pattern, sphere.points, sphere.triangles, bvh, whole), "");
+  ASSERT_GT(whole.Size(), 1000u);
+  for (std::uint64_t ranks : { 2u, 3u, 4u })
+  {
+    ScanPoints joined;
+    for (std::uint64_t r = 0; r < ranks; ++r)
+    {
+      ScanPoints piece;
+      const std::uint64_t b = pattern.BeamCount();
+      ASSERT_EQ(CastBeams(p, pattern, sphere.points, sphere.triangles, bvh, piece, SerialFor, {}, b * r / ranks,
+                  b * (r + 1) / ranks),
+        "");
+      EXPECT_EQ(piece.beams, b * (r + 1) / ranks - b * r / ranks);
+      joined.points.insert(joined.points.end(), piece.points.begin(), piece.points.end());
+      joined.range.insert(joined.range.end(), piece.range.begin(), piece.range.end());
+      joined.beam.insert(joined.beam.end(), piece.beam.begin(), piece.beam.end());
+    }
+    EXPECT_TRUE(SameBits(whole.points, joined.points)) << ranks << " shares";
+    EXPECT_TRUE(SameBits(whole.range, joined.range));
+    EXPECT_EQ(whole.beam, joined.beam);
+  }
+}
