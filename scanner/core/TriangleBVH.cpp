@@ -315,6 +315,7 @@ TriangleHit TriangleBVH::Intersect(const double origin[3], const double directio
   if (boxEntry(this->Nodes[0], hit.t) == std::numeric_limits<double>::infinity())
     return hit;
   std::uint32_t stack[StackSize];
+  double stackEntry[StackSize]; // where the beam enters each pushed box (it was tested when pushed)
   int top = 0;
   std::uint32_t current = 0;
   std::int64_t stored = -1;
@@ -341,7 +342,14 @@ TriangleHit TriangleBVH::Intersect(const double origin[3], const double directio
       if (hitNear && hitFar)
       {
         if (tFar < tNear)
+        {
           std::swap(near, far);
+          stackEntry[top] = tNear;
+        }
+        else
+        {
+          stackEntry[top] = tFar;
+        }
         stack[top++] = far;
         current = near;
         continue;
@@ -352,14 +360,14 @@ TriangleHit TriangleBVH::Intersect(const double origin[3], const double directio
         continue;
       }
     }
-    // Pop, skipping nodes now farther than the nearest hit.
+    // Pop, skipping boxes the beam enters beyond the nearest hit found since they were pushed.
     bool found = false;
     while (top > 0)
     {
-      const std::uint32_t candidate = stack[--top];
-      if (boxEntry(this->Nodes[candidate], hit.t) != std::numeric_limits<double>::infinity())
+      --top;
+      if (stackEntry[top] <= hit.t)
       {
-        current = candidate;
+        current = stack[top];
         found = true;
         break;
       }
