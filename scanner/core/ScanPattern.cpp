@@ -374,7 +374,10 @@ void BeamPattern::SetupLines(
     return;
   const std::size_t shown = std::min(poses, maxPoses);
   const std::uint64_t last = this->PerPose - 1;
-  const std::uint64_t corners[4] = { 0, this->Columns - 1, last - (this->Columns - 1), last };
+  // A fan (one column) has two ends, a grid four corners.
+  std::vector<std::uint64_t> corners{ 0, last };
+  if (this->Columns > 1)
+    corners = { 0, this->Columns - 1, last - (this->Columns - 1), last };
   for (std::size_t j = 0; j < shown; ++j)
   {
     const std::size_t i = shown == 1 ? 0 : j * (poses - 1) / (shown - 1);

@@ -85,7 +85,7 @@ public:
   void Beam(std::uint64_t index, double origin[3], double direction[3], std::int64_t& pose) const;
 
   /// The scanner set-up to draw: for each pose (at most `maxPoses`, spread evenly) the beams at the corners of its
-  /// field and its central beam, each `length` long, as segments (x0 y0 z0 x1 y1 z1) with their pose, and for a
+  /// field (the two ends of a line scanner's fan) and its central beam, each `length` long, as segments (x0 y0 z0 x1 y1 z1) with their pose, and for a
   /// line scanner on a path the path itself (pose -1).
   void SetupLines(double length, std::size_t maxPoses, std::vector<double>& segments, std::vector<std::int64_t>& pose) const;
 

@@ -591,6 +591,15 @@ TEST(VirtualScan, LineScannerOnAPathAndOnATurntable)
     EXPECT_NEAR(out.points[3 * i + 2], 0.0, 1e-12);
     EXPECT_LE(std::abs(out.points[3 * i + 1]), std::tan(20.0 * Pi / 180) + 1e-12);
   }
+  // The set-up: the path's two segments, and per fan shown its central beam and the fan's two ends.
+  BeamPattern pattern;
+  ASSERT_EQ(pattern.Setup(p), "");
+  std::vector<double> segments;
+  std::vector<std::int64_t> shown;
+  pattern.SetupLines(1.0, 4, segments, shown);
+  EXPECT_EQ(shown.size(), 2u + 4u * 3u);
+  EXPECT_EQ(std::count(shown.begin(), shown.end(), -1), 2);
+  EXPECT_EQ(std::count(shown.begin(), shown.end(), 10), 3); // the last fan is among those shown
   // Turntable: a sphere turned 8 times a full turn in front of a fan sees every side of it.
   const Mesh sphere = Icosphere(3, 0.5);
   p.lineMotion = LineMotion::Turntable;
