@@ -15,7 +15,7 @@ PACKAGES=(
   build-essential cmake
   paraview paraview-dev python3-paraview python3-numpy python3-mpi4py python3-dev
   libcgal-dev libeigen3-dev libgmp-dev libmpfr-dev
-  libgtest-dev libbenchmark-dev
+  libgtest-dev libbenchmark-dev libembree-dev
   openmpi-bin libopenmpi-dev xvfb xauth
   qtbase5-dev qttools5-dev libqt5svg5-dev libqt5x11extras5-dev libqt5opengl5-dev qtxmlpatterns5-dev-tools
   libutfcpp-dev libhdf5-dev libogg-dev libtheora-dev libtiff-dev libnetcdf-dev libxml2-dev liblzma-dev liblz4-dev

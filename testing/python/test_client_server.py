@@ -18,12 +18,15 @@ from paraview import servermanager  # noqa: E402
 
 
 def pipelines():
-    """The pipelines compared: a leaf of each outline model, and veins grown on one."""
+    """The pipelines compared: a leaf of each outline model, veins grown on one, and a scan of it."""
     leaf = LeafOutlineSource(Preset="Lobed", Resolution=40)
     return {
         "deformed_rectangle": leaf,
         "space_curve": LeafOutlineSource(Model="Space curve", SpaceCurvePreset="Paper 002 Fig. 8, 3 lobes", Resolution=30),
         "venation": VenationFilter(Input=leaf, Preset="Poplar (paper 000 Fig. 12)", Seed=3),
+        # The leaf lies in z = 0, 5 long along y: scanned from above, with noise, its beams shared over the ranks.
+        "scan": VirtualScanner(Input=leaf, Positions=[0, 2.5, 15], LookAt=[0, 2.5, 0], Up=[0, 1, 0], AngularStep=0.5,
+                               RangeNoise=0.01, Seed=2),
     }
 
 

@@ -49,7 +49,15 @@ split_curl = LeafCurlFilter(Input=split, LongitudinalAngle=60.0, TransverseAngle
 split_loop = AdaptiveLoopFilter(Input=split, MaximumLevel=1)
 split_comparison = CloudComparisonFilter(Input=D3(Input=cloud, BoundaryMode="Assign cells uniquely"), Reference=spline,
                                          Scale=0.1)
-SPLIT = {"split_curl": split_curl, "split_loop": split_loop}
+# VirtualScanner: a noisy scan of the tree (made on rank 0, its beams shared over the ranks), and a scan of the split leaf from above (gathered whole).
+scan = VirtualScanner(Input=tree, Positions=[0.0, -40.0, 5.0, 30.0, 10.0, 8.0], LookAt=[0.0, 0.0, 5.0], AngularStep=0.5,
+                      RangeNoise=0.01, DropoutProbability=0.1, Seed=3)
+leaf_bounds = servermanager.Fetch(rectangle).GetBounds()
+leaf_centre = [(leaf_bounds[2 * k] + leaf_bounds[2 * k + 1]) / 2 for k in range(3)]
+leaf_size = max(leaf_bounds[1] - leaf_bounds[0], leaf_bounds[3] - leaf_bounds[2])
+split_scan = VirtualScanner(Input=split, ScannerType="Depth camera", Resolution=[64, 64], LookAt=leaf_centre,
+                            Positions=[leaf_centre[0], leaf_centre[1], leaf_centre[2] + 2 * leaf_size])
+SPLIT = {"split_curl": split_curl, "split_loop": split_loop, "split_scan": split_scan}
 
 OUTPUTS = {
     "outline_rectangle_blade": (rectangle, 0), "outline_rectangle_outline": (rectangle, 1),
@@ -62,6 +70,7 @@ OUTPUTS = {
     "cloud_reader": (cloud, 0), "cloud_distances": (comparison, 0), "cloud_histogram": (comparison, 1),
     "cloud_statistics": (comparison, 2),
     "trajectory_samples": (trajectory, 0), "trajectory_summary": (trajectory, 1),
+    "scanner_cloud": (scan, 0), "scanner_setup": (scan, 1),
 }
 TIMED = {"wilting_leaf", "wilting_voxels", "wilting_veins"}
 

@@ -1,4 +1,4 @@
-// The measures plant scientists report for a vein network (issue 22 item 4; spec 02 "Statistics"; LEAF GUI,
+// The measures plant scientists report for a vein network (issue 22 item 4; docs/methods/venation.md "Statistics"; LEAF GUI,
 // phenoVein, Green & Losada 2023), computed from the network alone, so they apply to any VenationResult.
 //
 // - Lengths: total vein length, length per VeinOrder, and VLA (vein length per blade area; in mm/mm^2 when the

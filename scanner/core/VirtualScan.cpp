@@ -1,0 +1,207 @@
+#include "VirtualScan.h"
+
+#include <plantmorph/RandomStream.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace plantmorph
+{
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+constexpr std::uint64_t Block = 1u << 16; // beams per progress step and compaction block
+// The random slots of a beam.
+constexpr std::uint64_t SlotDropout = 0, SlotRange = 1, SlotJitter = 3;
+
+/// Box-Muller from two of the beam's slots: two independent standard normals.
+void BeamNormals(std::uint64_t seed, std::uint64_t beam, std::uint64_t slot, double& n0, double& n1)
+{
+  const double u0 = BeamUniform(seed, beam, slot), u1 = BeamUniform(seed, beam, slot + 1);
+  const double r = std::sqrt(-2.0 * std::log(1.0 - u0));
+  n0 = r * std::cos(2.0 * Pi * u1);
+  n1 = r * std::sin(2.0 * Pi * u1);
+}
+
+/// What one beam returned (filled in parallel, compacted in beam order).
+struct BeamResult
+{
+  double point[3];
+  double normal[3];
+  double range;
+  double intensity;
+  double u, v;
+  std::int64_t triangle; // -1: nothing returned
+  std::int64_t pose;
+  bool dropped;
+};
+
+void CastOne(const ScannerParameters& p, const BeamPattern& pattern, const std::vector<double>& points,
+  const std::vector<std::int64_t>& triangles, const TriangleBVH& bvh, std::uint64_t beam, BeamResult& r)
+{
+  double origin[3], d[3];
+  pattern.Beam(beam, origin, d, r.pose);
+  r.triangle = -1;
+  r.dropped = false;
+  if (p.angularJitter > 0.0)
+  {
+    // Two normal deviations about two axes orthogonal to the beam (Duff et al. 2017's branchless basis).
+    const double sign = std::copysign(1.0, d[2]);
+    const double a = -1.0 / (sign + d[2]), b = d[0] * d[1] * a;
+    const double e1[3] = { 1.0 + sign * d[0] * d[0] * a, sign * b, -sign * d[0] };
+    const double e2[3] = { b, sign + d[1] * d[1] * a, -d[1] };
+    double n0, n1;
+    BeamNormals(p.seed, beam, SlotJitter, n0, n1);
+    const double s = p.angularJitter * Pi / 180.0;
+    double length = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      d[k] += s * (n0 * e1[k] + n1 * e2[k]);
+      length += d[k] * d[k];
+    }
+    length = std::sqrt(length);
+    for (int k = 0; k < 3; ++k)
+      d[k] /= length;
+  }
+  const TriangleHit hit = bvh.Intersect(origin, d, p.maximumRange);
+  if (!hit.Hit())
+    return;
+  if (p.dropoutProbability > 0.0 && BeamUniform(p.seed, beam, SlotDropout) < p.dropoutProbability)
+  {
+    r.dropped = true;
+    return;
+  }
+  const std::int64_t* t = &triangles[3 * static_cast<std::size_t>(hit.triangle)];
+  const double* a = &points[3 * static_cast<std::size_t>(t[0])];
+  const double* b = &points[3 * static_cast<std::size_t>(t[1])];
+  const double* c = &points[3 * static_cast<std::size_t>(t[2])];
+  const double e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+  const double e2[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+  double n[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0] };
+  const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  double cosine = -(n[0] * d[0] + n[1] * d[1] + n[2] * d[2]) / length;
+  const double flip = cosine < 0.0 ? -1.0 : 1.0;
+  cosine *= flip;
+  for (int k = 0; k < 3; ++k)
+    r.normal[k] = flip * n[k] / length;
+  double measured = hit.t;
+  if (p.rangeNoise > 0.0)
+  {
+    double n0, n1;
+    BeamNormals(p.seed, beam, SlotRange, n0, n1);
+    measured = std::max(0.0, hit.t + p.rangeNoise * n0);
+  }
+  for (int k = 0; k < 3; ++k)
+    r.point[k] = origin[k] + measured * d[k];
+  r.range = measured;
+  r.intensity = p.intensityFalloff ? cosine / (hit.t * hit.t) : cosine;
+  r.u = hit.u;
+  r.v = hit.v;
+  r.triangle = hit.triangle;
+}
+} // namespace
+
+double BeamUniform(std::uint64_t seed, std::uint64_t beam, std::uint64_t slot)
+{
+  // SplitMix64 of a counter: (seed, beam, slot) -> 53 bits, the same on every thread and machine.
+  const std::uint64_t key = SplitMix64(seed ^ 0x5CA77E12B3A1D0C5ull);
+  const std::uint64_t x = SplitMix64(key + SplitMix64(beam * 8u + slot));
+  return static_cast<double>(x >> 11) * 0x1.0p-53;
+}
+
+void ScanPoints::Clear()
+{
+  *this = ScanPoints{};
+}
+
+std::string ValidateSurface(const std::vector<double>& points, const std::vector<std::int64_t>& triangles)
+{
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    if (!std::isfinite(points[i]))
+    {
+      std::ostringstream s;
+      s << "Input: point " << i / 3 << " is not finite";
+      return s.str();
+    }
+  }
+  const auto count = static_cast<std::int64_t>(points.size() / 3);
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+  {
+    if (triangles[i] < 0 || triangles[i] >= count)
+    {
+      std::ostringstream s;
+      s << "Input: triangle " << i / 3 << " refers to point " << triangles[i] << ", outside [0, " << count - 1 << "]";
+      return s.str();
+    }
+  }
+  if (triangles.empty())
+    return "Input: the surface has no polygons to scan (give a surface: triangles, polygons or strips)";
+  if (triangles.size() / 3 >= (std::uint64_t(1) << 32))
+    return "Input: more than 2^32 triangles";
+  return {};
+}
+
+std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, const std::vector<double>& points,
+  const std::vector<std::int64_t>& triangles, const TriangleBVH& bvh, ScanPoints& out, const ParallelFor& parallel,
+  const std::function<bool(double)>& progress, std::uint64_t firstBeam, std::uint64_t endBeam)
+{
+  out.Clear();
+  const std::uint64_t end = std::min(endBeam, pattern.BeamCount());
+  const std::uint64_t start = std::min(firstBeam, end);
+  const std::uint64_t beams = end - start;
+  std::vector<BeamResult> block(static_cast<std::size_t>(std::min(beams, Block)));
+  for (std::uint64_t first = start; first < end; first += Block)
+  {
+    if (progress && !progress(static_cast<double>(first - start) / static_cast<double>(beams)))
+    {
+      out.Clear();
+      return "aborted";
+    }
+    const std::size_t count = static_cast<std::size_t>(std::min(Block, end - first));
+    parallel(count, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        CastOne(p, pattern, points, triangles, bvh, first + i, block[i]);
+    });
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      const BeamResult& r = block[i];
+      out.dropped += r.dropped ? 1 : 0;
+      if (r.triangle < 0)
+        continue;
+      out.points.insert(out.points.end(), r.point, r.point + 3);
+      out.normals.insert(out.normals.end(), r.normal, r.normal + 3);
+      out.range.push_back(r.range);
+      out.intensity.push_back(r.intensity);
+      out.pose.push_back(r.pose);
+      out.triangle.push_back(r.triangle);
+      out.barycentric.push_back(r.u);
+      out.barycentric.push_back(r.v);
+      out.beam.push_back(first + i);
+    }
+  }
+  out.beams = beams;
+  if (progress)
+    progress(1.0);
+  return {};
+}
+
+std::string VirtualScan(const ScannerParameters& p, const std::vector<double>& points,
+  const std::vector<std::int64_t>& triangles, ScanPoints& out, const ParallelFor& parallel,
+  const std::function<bool(double)>& progress)
+{
+  out.Clear();
+  BeamPattern pattern;
+  std::string error = pattern.Setup(p);
+  if (error.empty())
+    error = ValidateSurface(points, triangles);
+  if (!error.empty())
+    return error;
+  TriangleBVH bvh;
+  bvh.Build(points, triangles);
+  return CastBeams(p, pattern, points, triangles, bvh, out, parallel, progress);
+}
+
+} // namespace plantmorph
