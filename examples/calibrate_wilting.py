@@ -222,7 +222,8 @@ def best_yaw(track, score):
 
 leaf = LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength=arguments.length,
                          BladeWidth=arguments.width, Resolution=30)
-veins = VenationFilter(Input=leaf, Preset="Custom", Pattern="Palmate (actinodromous)")
+veins = VenationFilter(Input=leaf, Preset="Custom", Pattern="Palmate (actinodromous)",
+                       PalmateEnds="Along the far edge (paper 000)")  # the veins the Cucumber preset was fitted on
 wilt = WiltingSimulator(Input=OutputPort(veins, 1), Veins=OutputPort(veins, 0), Preset="Custom",
                         LoadProfile="Sigmoid", ContractionSide="Bottom", ContractionTarget="Base",
                         RayleighBeta=0.01, **SETTINGS)

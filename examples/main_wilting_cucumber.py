@@ -30,7 +30,10 @@ SETTINGS = dict(Resolution=14, AnchorRadius=3.0, Duration=10.0, FrameInterval=0.
 
 leaf = LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength=20.1, BladeWidth=22.1,
                          Resolution=40)
-venation = VenationFilter(Input=OutputPort(leaf, 0), Preset="Custom", Pattern="Palmate (actinodromous)", Seed=1)
+# The Cucumber preset was fitted on paper 000's palmate construction (vein ends along the far edge), so the example
+# grows that one; the default, veins fanned over the blade, awaits the preset's refit.
+venation = VenationFilter(Input=OutputPort(leaf, 0), Preset="Custom", Pattern="Palmate (actinodromous)", Seed=1,
+                          PalmateEnds="Along the far edge (paper 000)")
 wilt = WiltingSimulator(Input=OutputPort(venation, 1), Veins=OutputPort(venation, 0), Preset="Cucumber", **SETTINGS)
 wilt.UpdatePipeline(0.0)
 

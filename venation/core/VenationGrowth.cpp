@@ -77,7 +77,23 @@ private:
   /// Grows a curve (points after the start) from node `from`; returns the last node and whether it stopped on a
   /// vein or the margin. `stopAfter` samples at most (all when negative).
   VeinGraph::Step GrowCurve(int from, const std::vector<Eigen::Vector2d>& points, int vein, double snap);
+  /// A secondary vein: its node on the midvein, side, height and directions; where it forked (if it did).
+  struct Secondary
+  {
+    int node = -1;
+    int side = 0;
+    double v = 0.0;
+    Eigen::Vector2d tangent, outward;
+    int fork = -1; ///< the node where it forked (or stopped short of the margin), -1 if it met a vein first
+    double exit = 0.0;
+  };
   std::string GrowSecondaries();
+  /// Secondaries' start nodes on the midvein (split into it), from the base up; `total` is the midvein's length.
+  std::vector<Secondary> PlaceSecondaries(RandomStream& random, double total);
+  /// Grows one secondary (eq. (2)) to its fork or the margin, and what continues from the fork.
+  void GrowSecondary(Secondary& secondary);
+  /// Loops (eq. (4)) from each fork to the fork of the next secondary above on the same side.
+  void GrowSecondaryLoops(const std::vector<Secondary>& secondaries);
   std::string GrowTertiaries();
   void GrowVeinlets();
   void GrowPalmate();
@@ -168,17 +184,26 @@ std::vector<int> Grower::TracePrimary(double u, int vein)
 std::string Grower::GrowSecondaries()
 {
   RandomStream random(this->P.seed, StreamSecondary);
-  const VenationPattern pattern = this->P.pattern;
   const auto& nodes = this->Graph.Nodes();
   // Arc length along the midvein path.
-  std::vector<double> arc(1, 0.0);
+  double total = 0.0;
   for (std::size_t i = 1; i < this->Midvein.size(); ++i)
-    arc.push_back(arc.back() + (nodes[this->Midvein[i]] - nodes[this->Midvein[i - 1]]).norm());
-  const double total = arc.back();
+    total += (nodes[this->Midvein[i]] - nodes[this->Midvein[i - 1]]).norm();
   if (!(total > 0.0))
     return {};
-  const double spacing = this->P.secondarySpacing * this->Length;
+  std::vector<Secondary> secondaries = this->PlaceSecondaries(random, total);
+  for (Secondary& secondary : secondaries)
+    this->GrowSecondary(secondary);
+  if (!this->KeepGoing(0.35))
+    return "aborted";
+  this->GrowSecondaryLoops(secondaries);
+  return {};
+}
 
+std::vector<Grower::Secondary> Grower::PlaceSecondaries(RandomStream& random, double total)
+{
+  const auto& nodes = this->Graph.Nodes();
+  const double spacing = this->P.secondarySpacing * this->Length;
   struct Branch
   {
     double at = 0.0; ///< arc length along the midvein
@@ -197,124 +222,118 @@ std::string Grower::GrowSecondaries()
   std::stable_sort(branches.begin(), branches.end(), [](const Branch& a, const Branch& b) { return a.at < b.at; });
 
   // Branch nodes on the midvein, in order from the base (the path gains the new nodes as it goes).
-  struct Secondary
-  {
-    int node = -1;
-    int side = 0;
-    double v = 0.0;
-    Eigen::Vector2d tangent, outward;
-    int fork = -1; ///< the node where it forked (or stopped short of the margin), -1 if it met a vein first
-    double exit = 0.0;
-  };
   std::vector<Secondary> secondaries;
+  std::vector<int> path = this->Midvein;
+  std::size_t segment = 0;
+  double start = 0.0; // arc length at path[segment]
+  for (const Branch& branch : branches)
   {
-    std::vector<int> path = this->Midvein;
-    std::size_t segment = 0;
-    double start = 0.0; // arc length at path[segment]
-    for (const Branch& branch : branches)
+    while (segment + 1 < path.size() &&
+      start + (nodes[path[segment + 1]] - nodes[path[segment]]).norm() < branch.at)
     {
-      while (segment + 1 < path.size() &&
-        start + (nodes[path[segment + 1]] - nodes[path[segment]]).norm() < branch.at)
-      {
-        start += (nodes[path[segment + 1]] - nodes[path[segment]]).norm();
-        ++segment;
-      }
-      if (segment + 1 >= path.size())
-        break;
-      const Eigen::Vector2d a = nodes[path[segment]], b = nodes[path[segment + 1]];
-      const double piece = (b - a).norm();
-      const Eigen::Vector2d tangent = (b - a) / piece;
-      const Eigen::Vector2d x = a + std::min(piece, branch.at - start) * tangent;
-      int node;
-      if ((x - a).norm() <= 1e-9 * this->Length)
-        node = path[segment];
-      else if ((x - b).norm() <= 1e-9 * this->Length)
-        node = path[segment + 1];
-      else
-      {
-        node = this->Graph.SplitEdge(this->Graph.FindEdge(path[segment], path[segment + 1]), x);
-        path.insert(path.begin() + static_cast<std::ptrdiff_t>(segment) + 1, node);
-        start += (x - a).norm();
-        ++segment;
-      }
-      Secondary secondary;
-      secondary.node = node;
-      secondary.side = branch.side;
-      secondary.v = branch.at / total;
-      secondary.tangent = tangent;
-      secondary.outward = branch.side == 0 ? Left(tangent) : Eigen::Vector2d(-Left(tangent));
-      secondaries.push_back(secondary);
+      start += (nodes[path[segment + 1]] - nodes[path[segment]]).norm();
+      ++segment;
     }
-    this->Midvein = path;
+    if (segment + 1 >= path.size())
+      break;
+    const Eigen::Vector2d a = nodes[path[segment]], b = nodes[path[segment + 1]];
+    const double piece = (b - a).norm();
+    const Eigen::Vector2d tangent = (b - a) / piece;
+    const Eigen::Vector2d x = a + std::min(piece, branch.at - start) * tangent;
+    int node;
+    if ((x - a).norm() <= 1e-9 * this->Length)
+      node = path[segment];
+    else if ((x - b).norm() <= 1e-9 * this->Length)
+      node = path[segment + 1];
+    else
+    {
+      node = this->Graph.SplitEdge(this->Graph.FindEdge(path[segment], path[segment + 1]), x);
+      path.insert(path.begin() + static_cast<std::ptrdiff_t>(segment) + 1, node);
+      start += (x - a).norm();
+      ++segment;
+    }
+    Secondary secondary;
+    secondary.node = node;
+    secondary.side = branch.side;
+    secondary.v = branch.at / total;
+    secondary.tangent = tangent;
+    secondary.outward = branch.side == 0 ? Left(tangent) : Eigen::Vector2d(-Left(tangent));
+    secondaries.push_back(secondary);
   }
+  this->Midvein = path;
+  return secondaries;
+}
 
+void Grower::GrowSecondary(Secondary& secondary)
+{
+  const auto& nodes = this->Graph.Nodes();
+  const VenationPattern pattern = this->P.pattern;
   const double w = this->Width;
   const double sMax = 4.0 * w + this->Length;
   const bool forks = pattern != VenationPattern::Craspedodromous;
   const double forkAt = pattern == VenationPattern::Reticulodromous ? 0.5 : this->P.forkFraction;
-  for (Secondary& secondary : secondaries)
+  const double theta = this->P.divergenceAngle + (this->P.divergenceAngleApex - this->P.divergenceAngle) * secondary.v;
+  const double slope = 1.0 / std::tan(theta * Pi / 180.0);
+  const double k = this->P.curvatureBase + (this->P.curvatureApex - this->P.curvatureBase) * secondary.v;
+  const Eigen::Vector2d origin = nodes[secondary.node];
+  // Its reach: the lateral distance to the margin along the straight line at the divergence angle. The arch of
+  // eq. (2) rises k*s^2/(10*reach) on top of that line: it turns towards the apex by a bounded angle (at the
+  // margin its slope is cot(theta) + k/5) however wide the blade, so it runs out to the margin instead of
+  // bending up along the midvein where the blade is wide (the printed k*w*(s/w)^2 starts perpendicular).
+  double reach = this->Step;
+  for (double s = this->Step; s <= sMax && this->Inside(origin + s * (secondary.outward + slope * secondary.tangent));
+       s += this->Step)
+    reach = s;
+  auto at = [&](double s) {
+    return Eigen::Vector2d(
+      origin + s * secondary.outward + (s * slope + k * s * s / (10.0 * reach)) * secondary.tangent);
+  };
+  // Where it would leave the blade.
+  double exit = 0.0;
+  for (double s = this->Step; s <= sMax && this->Inside(at(s)); s += this->Step)
+    exit = s;
+  secondary.exit = exit;
+  const int vein = this->Graph.AddVein(VeinOrderSecondary);
+  const double forkS = forks ? forkAt * exit : sMax;
+  const int toFork = std::max(1, static_cast<int>(std::ceil(forkS / this->Step)));
+  const double ds = forks ? std::max(forkS, 1e-12 * this->Length) / toFork : this->Step;
+  // A short first piece, so the vein leaves the midvein at the divergence angle itself rather than along the
+  // chord of a curved step.
+  std::vector<Eigen::Vector2d> first = { at(std::min(0.125 * ds, 0.01 * reach)) };
+  for (int j = 1; j <= toFork && (forks || j * ds <= sMax); ++j)
+    first.push_back(at(j * ds));
+  if (!forks)
   {
-    const double theta = this->P.divergenceAngle + (this->P.divergenceAngleApex - this->P.divergenceAngle) * secondary.v;
-    const double slope = 1.0 / std::tan(theta * Pi / 180.0);
-    const double k = this->P.curvatureBase + (this->P.curvatureApex - this->P.curvatureBase) * secondary.v;
-    const Eigen::Vector2d origin = nodes[secondary.node];
-    // Its reach: the lateral distance to the margin along the straight line at the divergence angle. The arch of
-    // eq. (2) rises k*s^2/(10*reach) on top of that line: it turns towards the apex by a bounded angle (at the
-    // margin its slope is cot(theta) + k/5) however wide the blade, so it runs out to the margin instead of
-    // bending up along the midvein where the blade is wide (the printed k*w*(s/w)^2 starts perpendicular).
-    double reach = this->Step;
-    for (double s = this->Step; s <= sMax && this->Inside(origin + s * (secondary.outward + slope * secondary.tangent));
-         s += this->Step)
-      reach = s;
-    auto at = [&](double s) {
-      return Eigen::Vector2d(
-        origin + s * secondary.outward + (s * slope + k * s * s / (10.0 * reach)) * secondary.tangent);
-    };
-    // Where it would leave the blade.
-    double exit = 0.0;
-    for (double s = this->Step; s <= sMax && this->Inside(at(s)); s += this->Step)
-      exit = s;
-    secondary.exit = exit;
-    const int vein = this->Graph.AddVein(VeinOrderSecondary);
-    const double forkS = forks ? forkAt * exit : sMax;
-    const int toFork = std::max(1, static_cast<int>(std::ceil(forkS / this->Step)));
-    const double ds = forks ? std::max(forkS, 1e-12 * this->Length) / toFork : this->Step;
-    // A short first piece, so the vein leaves the midvein at the divergence angle itself rather than along the
-    // chord of a curved step.
-    std::vector<Eigen::Vector2d> first = { at(std::min(0.125 * ds, 0.01 * reach)) };
-    for (int j = 1; j <= toFork && (forks || j * ds <= sMax); ++j)
-      first.push_back(at(j * ds));
-    if (!forks)
-    {
-      for (double s = (toFork + 1) * ds; s <= sMax + ds; s += ds)
-        first.push_back(at(s));
-    }
-    VeinGraph::Step step = this->GrowCurve(secondary.node, first, vein, 1e-7 * this->Length);
-    if (step.stopped || !forks)
-      continue; // met the margin or a vein
-    secondary.fork = step.node;
-    const bool continues = pattern == VenationPattern::Semicraspedodromous || pattern == VenationPattern::Cladodromous;
-    if (continues)
-    {
-      std::vector<Eigen::Vector2d> rest;
-      for (double s = (toFork + 1) * ds; s <= sMax + ds; s += ds)
-        rest.push_back(at(s));
-      this->GrowCurve(step.node, rest, vein, 1e-7 * this->Length);
-    }
-    if (pattern == VenationPattern::Cladodromous)
-    {
-      // Eq. (3): the branch turns towards the base, y = y_f - c*sqrt(w*x), to the margin.
-      const Eigen::Vector2d fork = nodes[secondary.fork];
-      std::vector<Eigen::Vector2d> branch;
-      for (double x = this->Step; x <= sMax; x += this->Step)
-        branch.push_back(fork + x * secondary.outward - this->P.branchCurvature * std::sqrt(w * x) * secondary.tangent);
-      this->GrowCurve(secondary.fork, branch, this->Graph.AddVein(VeinOrderSecondary), 1e-7 * this->Length);
-    }
+    for (double s = (toFork + 1) * ds; s <= sMax + ds; s += ds)
+      first.push_back(at(s));
   }
-  if (!this->KeepGoing(0.35))
-    return "aborted";
+  VeinGraph::Step step = this->GrowCurve(secondary.node, first, vein, 1e-7 * this->Length);
+  if (step.stopped || !forks)
+    return; // met the margin or a vein
+  secondary.fork = step.node;
+  const bool continues = pattern == VenationPattern::Semicraspedodromous || pattern == VenationPattern::Cladodromous;
+  if (continues)
+  {
+    std::vector<Eigen::Vector2d> rest;
+    for (double s = (toFork + 1) * ds; s <= sMax + ds; s += ds)
+      rest.push_back(at(s));
+    this->GrowCurve(step.node, rest, vein, 1e-7 * this->Length);
+  }
+  if (pattern == VenationPattern::Cladodromous)
+  {
+    // Eq. (3): the branch turns towards the base, y = y_f - c*sqrt(w*x), to the margin.
+    const Eigen::Vector2d fork = nodes[secondary.fork];
+    std::vector<Eigen::Vector2d> branch;
+    for (double x = this->Step; x <= sMax; x += this->Step)
+      branch.push_back(fork + x * secondary.outward - this->P.branchCurvature * std::sqrt(w * x) * secondary.tangent);
+    this->GrowCurve(secondary.fork, branch, this->Graph.AddVein(VeinOrderSecondary), 1e-7 * this->Length);
+  }
+}
 
-  // Loops (eq. (4)) from each fork to the fork of the next secondary above on the same side.
+void Grower::GrowSecondaryLoops(const std::vector<Secondary>& secondaries)
+{
+  const auto& nodes = this->Graph.Nodes();
+  const VenationPattern pattern = this->P.pattern;
   const bool loops = pattern == VenationPattern::Brochidodromous || pattern == VenationPattern::Semicraspedodromous ||
     pattern == VenationPattern::Eucamptodromous;
   for (int side = 0; side < 2 && loops; ++side)
@@ -369,7 +388,6 @@ std::string Grower::GrowSecondaries()
       }
     }
   }
-  return {};
 }
 
 std::string Grower::GrowTertiaries()
@@ -525,15 +543,20 @@ void Grower::GrowPalmate()
 {
   // End points on the blade's margin, fanned over its angular extent seen from the base, one group per primary
   // (PalmateFan.h: lobe tips, basal lobes of cordate blades, an even spread on entire blades).
+  // Without the fan (paper 000): evenly along the canonical leaf's far edge v = 1, grown in LeafUV.
   PalmateFanSettings settings;
   settings.primaries = this->P.palmateVeins;
   settings.levels = this->P.forkLevels;
-  const PalmateFan fan = FindPalmateFan(this->Blade, this->Locator, this->Base, this->Axis, this->Length, settings);
+  const PalmateFan fan = this->P.palmateFan
+    ? FindPalmateFan(this->Blade, this->Locator, this->Base, this->Axis, this->Length, settings)
+    : PalmateFan{};
   const int levels = this->P.forkLevels;
-  const int groups = static_cast<int>(fan.ends.size());
+  const int groups = this->P.palmateFan ? static_cast<int>(fan.ends.size()) : this->P.palmateVeins;
   const int count = groups << levels;
   std::vector<Eigen::Vector2d> ends(count), endsUV(count);
-  for (int r = 0; r < groups; ++r)
+  for (int j = 0; j < count && !this->P.palmateFan; ++j)
+    ends[j] = endsUV[j] = Eigen::Vector2d(-0.5 + (j + 0.5) / count, 1.0);
+  for (int r = 0; r < groups && this->P.palmateFan; ++r)
   {
     for (int j = 0; j < (1 << levels); ++j)
     {
@@ -554,7 +577,7 @@ void Grower::GrowPalmate()
   // The path of an end point through the growing leaf: the leaf grows about its base, P(g) = B + g*(p(g) - B),
   // where that stays inside the blade (a blade star-shaped from its base: straight primaries); otherwise it grows
   // in LeafUV, P(g) = F(g*p(g)) (F: LeafUV to the blade), which never leaves it (a cusp-like base, basal lobes).
-  bool plane = true;
+  bool plane = this->P.palmateFan;
   const std::vector<Eigen::Vector2d>* space = &ends;
   auto mean = [&](int first, int size) {
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();

@@ -103,6 +103,10 @@ struct VenationParameters
   bool veinlets = false;
   double veinletLength = 0.4;    ///< in areole sizes
   int palmateVeins = 4;         ///< palmate: primaries on a blade without lobes (a lobed one gets one per lobe)
+  /// palmate: where the vein ends lie. true: fanned over the blade's margin (PalmateFan.h); false: paper 000's
+  /// construction, evenly along the canonical leaf's far edge v = 1, grown in LeafUV (the ends bunch towards the
+  /// apex on an entire blade; kept because the Cucumber wilting preset was fitted on it).
+  bool palmateFan = true;
   int forkLevels = 1;
   double forkSize = 0.3;         ///< growth fraction of the first dichotomous fork, (0, 1)
   double primaryWidth = 0.015;   ///< in leaf lengths

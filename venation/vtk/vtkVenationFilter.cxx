@@ -105,7 +105,8 @@ void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
     { "Tertiary", p.tertiary ? 1.0 : 0.0 },
     { "AreoleSize", p.areoleSize }, { "MinJunctionAngle", p.minJunctionAngle },
     { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
-    { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins }, { "ForkLevels", p.forkLevels },
+    { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins }, { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 },
+    { "ForkLevels", p.forkLevels },
     { "ForkSize", p.forkSize }, { "PrimaryWidth", p.primaryWidth }, { "PrimaryTaper", p.primaryTaper },
     { "SecondaryWidthRatio", p.secondaryWidthRatio }, { "TertiaryWidthRatio", p.tertiaryWidthRatio },
     { "VeinletWidthRatio", p.veinletWidthRatio } };
@@ -164,6 +165,7 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
   PLANTMORPH_CHECK(Veinlets);
   PLANTMORPH_CHECK(VeinletLength);
   PLANTMORPH_CHECK(PalmateVeins);
+  PLANTMORPH_CHECK(PalmateEnds);
   PLANTMORPH_CHECK(ForkLevels);
   PLANTMORPH_CHECK(ForkSize);
   PLANTMORPH_CHECK(PrimaryWidth);
@@ -253,6 +255,7 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
     p.veinlets = this->Veinlets;
     p.veinletLength = this->VeinletLength;
     p.palmateVeins = this->PalmateVeins;
+    p.palmateFan = this->PalmateEnds != 0;
     p.forkLevels = this->ForkLevels;
     p.forkSize = this->ForkSize;
     p.killDistance = this->KillDistance;

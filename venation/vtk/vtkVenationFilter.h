@@ -164,6 +164,10 @@ public:
    */
   vtkSetMacro(PalmateVeins, int);
   vtkGetMacro(PalmateVeins, int);
+  /// Where palmate vein ends lie: 1 (default) fanned over the blade's margin, one per lobe; 0 paper 000's
+  /// construction, evenly along the canonical leaf's far edge (the Cucumber wilting preset was fitted on it).
+  vtkSetMacro(PalmateEnds, int);
+  vtkGetMacro(PalmateEnds, int);
   vtkSetMacro(ForkLevels, int);
   vtkGetMacro(ForkLevels, int);
   vtkSetMacro(ForkSize, double);
@@ -257,6 +261,7 @@ protected:
   bool Veinlets = false;
   double VeinletLength = 0.4;
   int PalmateVeins = 4;
+  int PalmateEnds = 1;
   int ForkLevels = 1;
   double ForkSize = 0.3;
   double KillDistance = 0.01;
