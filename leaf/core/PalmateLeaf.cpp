@@ -73,20 +73,37 @@ std::string LobeName(int level)
   return "lobe " + std::to_string(level + 1);
 }
 
-std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m, LeafGeometry& leaf)
+/// An outline vertex of the lobes' union: its position, its role before the union, or a crossing of lobe margins.
+struct OutlineVertex
 {
-  std::string error = ValidateSpaceCurveParameters(p, m);
-  if (!error.empty())
-    return error;
-  if (p.lobes != 3 && p.lobes != 5)
-    return "Lobes = " + std::to_string(p.lobes) + " is outside the accepted range {3, 5} for a palmate leaf";
-  const int n = m.resolution;
-  const double spacing = p.length / n;
-  const int levels = (p.lobes + 1) / 2;
+  Eigen::Vector2d x;
+  VertexRole role;
+  bool crossing = false;
+};
 
+/// Where the lobes' tips are along the outline.
+struct TipLayout
+{
+  std::vector<int> position; ///< outline index of each lobe's tip
+  std::vector<int> order;    ///< lobes by the position of their tips, right to left
+  std::vector<double> u;     ///< each lobe's LeafUV u
+};
+
+/// A sector between neighbouring midveins (or between a midvein and the margin down to the base): its polygon and
+/// boundary LeafUV, for the interior points' mean-value interpolation.
+struct Sector
+{
+  std::vector<Eigen::Vector2d> polygon, uv;
+  double uLow = 0.0, uHigh = 0.0;
+};
+
+/// Lobe 1 in the paper's frame, turned so that its chord runs along +Y, and each further lobe's half-margin from its
+/// start on the previous lobe's (`levels` lobes in all).
+std::string IntegrateLobes(const SpaceCurveParameters& p, int n, int levels, std::vector<Lobe>& lobes)
+{
   // Lobe 1 in the paper's frame, then the rotation that takes its chord to +Y.
   std::vector<FrenetFrame> frames;
-  error = IntegrateHalfMargin(p, n, frames);
+  std::string error = IntegrateHalfMargin(p, n, frames);
   if (!error.empty())
     return "Curvature: " + error;
   const Eigen::Vector3d base = frames.front().position;
@@ -101,7 +118,7 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
     return Eigen::Vector2d(y.x(), y.y());
   };
 
-  std::vector<Lobe> lobes(levels);
+  lobes.assign(levels, Lobe());
   for (const FrenetFrame& f : frames)
     lobes[0].margin.push_back(flat(f.position - base));
   lobes[0].margin.front() = Eigen::Vector2d::Zero();
@@ -145,14 +162,18 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
     lobe.margin.front() = start;
     lobe.tip = lobe.margin.back();
   }
+  return {};
+}
 
-  // Second halves: lobe 1's mirrored in the leaf's axis (x = 0), the others in their own chords.
-  for (int k = 0; k < levels; ++k)
+/// Second halves: lobe 1's mirrored in the leaf's axis (x = 0), the others in their own chords.
+std::string MirrorLobes(const SpaceCurveParameters& p, std::vector<Lobe>& lobes)
+{
+  for (std::size_t k = 0; k < lobes.size(); ++k)
   {
     Lobe& lobe = lobes[k];
     const Eigen::Vector2d axis = lobe.tip - lobe.start;
     if (!(axis.norm() > 1e-9 * p.length))
-      return "Curvature (" + LobeName(k) + "): the half-margin closes on itself; lower CurvatureMu";
+      return "Curvature (" + LobeName(static_cast<int>(k)) + "): the half-margin closes on itself; lower CurvatureMu";
     const Eigen::Vector2d direction = axis.normalized();
     for (const Eigen::Vector2d& x : lobe.margin)
     {
@@ -162,13 +183,15 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
     lobe.mirror.front() = lobe.start;
     lobe.mirror.back() = lobe.tip;
   }
+  return {};
+}
 
-  // Lobe polygons: lobe 1, then each further lobe on its own side and mirrored on the other. Roles of their vertices.
-  std::map<Key, VertexRole> roles;
-  std::vector<ExactPolygon> polygons;
-  std::vector<Eigen::Vector2d> tips;
+/// Lobe polygons: lobe 1, then each further lobe on its own side and mirrored on the other. Roles of their vertices.
+std::string LobePolygons(const std::vector<Lobe>& lobes, std::map<Key, VertexRole>& roles,
+  std::vector<ExactPolygon>& polygons, std::vector<Eigen::Vector2d>& tips)
+{
   roles[KeyOf(Eigen::Vector2d::Zero())].base = true;
-  for (int k = 0; k < levels; ++k)
+  for (std::size_t k = 0; k < lobes.size(); ++k)
   {
     for (int copy = 0; copy < (k == 0 ? 1 : 2); ++copy)
     {
@@ -186,7 +209,7 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
         roles[KeyOf(x)];
       }
       if (!polygon.is_simple())
-        return "Curvature (" + LobeName(k) + "): the lobe's two halves cross; lower CurvatureMu";
+        return "Curvature (" + LobeName(static_cast<int>(k)) + "): the lobe's two halves cross; lower CurvatureMu";
       if (polygon.orientation() == CGAL::CLOCKWISE)
         polygon.reverse_orientation();
       polygons.push_back(polygon);
@@ -197,7 +220,13 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
         roles[KeyOf(place(lobe.start))].start = true;
     }
   }
+  return {};
+}
 
+/// The union's outline, counter-clockwise, from the base; crossings of lobe margins are new vertices.
+std::string UnionOutline(const std::vector<ExactPolygon>& polygons, const std::map<Key, VertexRole>& roles,
+  std::vector<OutlineVertex>& vertices)
+{
   std::vector<ExactPolygonWithHoles> unions;
   CGAL::join(polygons.begin(), polygons.end(), std::back_inserter(unions));
   if (unions.size() != 1)
@@ -205,14 +234,6 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
   if (unions.front().number_of_holes() > 0)
     return "LobeAngle/LobeScale: the lobes enclose a hole; lower LobeAngle";
 
-  // The union's outline, counter-clockwise, from the base; crossings of lobe margins are new vertices.
-  struct OutlineVertex
-  {
-    Eigen::Vector2d x;
-    VertexRole role;
-    bool crossing = false;
-  };
-  std::vector<OutlineVertex> vertices;
   for (auto v = unions.front().outer_boundary().vertices_begin(); v != unions.front().outer_boundary().vertices_end();
        ++v)
   {
@@ -240,30 +261,35 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
   if (baseIt == vertices.end())
     return "LobeAngle/LobeStart: a lobe covers the leaf's base; lower LobeAngle or raise LobeStart";
   std::rotate(vertices.begin(), baseIt, vertices.end());
+  return {};
+}
 
-  // No slivers: drop plain samples closer than 0.3 of the spacing to a neighbouring crossing or lobe start.
+/// No slivers: drop plain samples closer than 0.3 of the spacing to a neighbouring crossing or lobe start.
+void DropSlivers(double spacing, std::vector<OutlineVertex>& vertices)
+{
+  std::vector<OutlineVertex> kept;
+  const std::size_t count = vertices.size();
+  for (std::size_t i = 0; i < count; ++i)
   {
-    std::vector<OutlineVertex> kept;
-    const std::size_t count = vertices.size();
-    for (std::size_t i = 0; i < count; ++i)
+    const OutlineVertex& v = vertices[i];
+    const bool plain = !v.crossing && !v.role.base && !v.role.start && v.role.tip < 0;
+    bool crowded = false;
+    for (const std::size_t j : { (i + count - 1) % count, (i + 1) % count })
     {
-      const OutlineVertex& v = vertices[i];
-      const bool plain = !v.crossing && !v.role.base && !v.role.start && v.role.tip < 0;
-      bool crowded = false;
-      for (const std::size_t j : { (i + count - 1) % count, (i + 1) % count })
-      {
-        const OutlineVertex& w = vertices[j];
-        crowded = crowded || ((w.crossing || w.role.start) && (w.x - v.x).norm() < 0.3 * spacing);
-      }
-      if (!(plain && crowded))
-        kept.push_back(v);
+      const OutlineVertex& w = vertices[j];
+      crowded = crowded || ((w.crossing || w.role.start) && (w.x - v.x).norm() < 0.3 * spacing);
     }
-    vertices.swap(kept);
+    if (!(plain && crowded))
+      kept.push_back(v);
   }
+  vertices.swap(kept);
+}
 
-  // Where the lobes' tips are along the outline: from the base counter-clockwise, the rightmost first.
-  const int lobeCount = static_cast<int>(tips.size());
-  std::vector<int> tipPosition(lobeCount, -1);
+/// Where the lobes' tips are along the outline: from the base counter-clockwise, the rightmost first.
+std::string LayOutTips(const std::vector<OutlineVertex>& vertices, int lobeCount, TipLayout& tips)
+{
+  std::vector<int>& tipPosition = tips.position;
+  tipPosition.assign(lobeCount, -1);
   for (std::size_t i = 0; i < vertices.size(); ++i)
   {
     if (vertices[i].role.tip >= 0)
@@ -274,15 +300,24 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
     if (tipPosition[k] < 0)
       return "LobeAngle/LobeScale: the tip of a lobe lies inside another lobe; lower LobeScale or raise LobeAngle";
   }
-  std::vector<int> order(lobeCount); // lobes by the position of their tips, right to left
+  std::vector<int>& order = tips.order;
+  order.resize(lobeCount);
   for (int k = 0; k < lobeCount; ++k)
     order[k] = k;
   std::sort(order.begin(), order.end(), [&](int a, int b) { return tipPosition[a] < tipPosition[b]; });
-  std::vector<double> tipU(lobeCount);
+  tips.u.resize(lobeCount);
   for (int j = 0; j < lobeCount; ++j)
-    tipU[order[j]] = (0.5 * (lobeCount - 1) - j) / lobeCount;
+    tips.u[order[j]] = (0.5 * (lobeCount - 1) - j) / lobeCount;
+  return {};
+}
 
-  // Outline vertices with their LeafUV, piece by piece along the canonical rectangle's edges.
+/// Outline vertices with their LeafUV, piece by piece along the canonical rectangle's edges.
+BladeOutline OutlineWithLeafUV(const std::vector<OutlineVertex>& vertices, const TipLayout& tips)
+{
+  const std::vector<int>& tipPosition = tips.position;
+  const std::vector<int>& order = tips.order;
+  const std::vector<double>& tipU = tips.u;
+  const int lobeCount = static_cast<int>(tipPosition.size());
   BladeOutline outline;
   const int count = static_cast<int>(vertices.size());
   outline.points.resize(count);
@@ -314,11 +349,46 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
     if (j < lobeCount)
       outline.uv[to] = Eigen::Vector2d(tipU[order[j]], 1.0);
   }
+  return outline;
+}
 
-  // Midveins from the base to each tip, at the margin spacing (lobe 1's in Resolution pieces): straight where the
-  // straight line stays inside the blade; otherwise bent once, at a point two spacings into the lobe from its start
-  // along the bisector of the lobe's axis and its inner (mirrored) half-margin, i.e. on the side of the previous
-  // lobe, where the straight line from the base can reach the lobe.
+/// The bend of each further lobe's midvein (own side; mirror it for the other): two spacings into the lobe from its
+/// start along the bisector of the lobe's axis and its inner (mirrored) half-margin, i.e. on the side of the
+/// previous lobe, where the straight line from the base can reach the lobe.
+std::vector<Eigen::Vector2d> MidveinBends(const std::vector<Lobe>& lobes, double spacing)
+{
+  const int levels = static_cast<int>(lobes.size());
+  std::vector<Eigen::Vector2d> bends(levels, Eigen::Vector2d::Zero());
+  for (int level = 1; level < levels; ++level)
+  {
+    const Lobe& lobe = lobes[level];
+    const Eigen::Vector2d axis = (lobe.tip - lobe.start).normalized();
+    const Eigen::Vector2d inner = (lobe.mirror[1] - lobe.start).normalized();
+    const double depth = std::min(2.0 * spacing, 0.1 * (lobe.tip - lobe.start).norm());
+    bends[level] = lobe.start + depth * (axis + inner).normalized();
+  }
+  return bends;
+}
+
+/// The midvein of `level` (own side) from the base through the bends firstBend..level to the tip.
+std::vector<Eigen::Vector2d> MidveinPath(
+  const std::vector<Eigen::Vector2d>& bends, int level, int firstBend, const Eigen::Vector2d& tip)
+{
+  std::vector<Eigen::Vector2d> path = { Eigen::Vector2d::Zero() };
+  for (int l = firstBend; l <= level; ++l)
+    path.push_back(bends[l]);
+  path.push_back(tip);
+  return path;
+}
+
+/// Each further level's midvein (own side; the mirrored side is its mirror image): straight from the base to the
+/// tip if that stays inside the blade; else bent at this lobe's bend, or also at the previous lobes' bends (a
+/// lobe that starts on another lobe takes its midvein through that lobe's base). first[level] is the first bend
+/// used, level + 1 for none. Lobes whose midveins share bends share the stretch up to them, so no two cross.
+std::vector<int> FirstBends(const std::vector<Eigen::Vector2d>& bends, const BladeOutline& outline,
+  const std::vector<int>& tipPosition, double spacing)
+{
+  const int levels = static_cast<int>(bends.size());
   std::vector<Eigen::Vector2d> boundaryPolygon(outline.points.begin(), outline.points.end());
   auto staysInside = [&](const std::vector<Eigen::Vector2d>& path) {
     for (std::size_t i = 0; i + 1 < path.size(); ++i)
@@ -332,33 +402,12 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
     }
     return true;
   };
-  // The bend of each further lobe (own side; mirror it for the other).
-  std::vector<Eigen::Vector2d> bends(levels, Eigen::Vector2d::Zero());
-  for (int level = 1; level < levels; ++level)
-  {
-    const Lobe& lobe = lobes[level];
-    const Eigen::Vector2d axis = (lobe.tip - lobe.start).normalized();
-    const Eigen::Vector2d inner = (lobe.mirror[1] - lobe.start).normalized();
-    const double depth = std::min(2.0 * spacing, 0.1 * (lobe.tip - lobe.start).norm());
-    bends[level] = lobe.start + depth * (axis + inner).normalized();
-  }
-  // Each further level's midvein (own side; the mirrored side is its mirror image): straight from the base to the
-  // tip if that stays inside the blade; else bent at this lobe's bend, or also at the previous lobes' bends (a
-  // lobe that starts on another lobe takes its midvein through that lobe's base). first[level] is the first bend
-  // used, level + 1 for none. Lobes whose midveins share bends share the stretch up to them, so no two cross.
-  auto pathOf = [&](int level, int firstBend, const Eigen::Vector2d& tip) {
-    std::vector<Eigen::Vector2d> path = { Eigen::Vector2d::Zero() };
-    for (int l = firstBend; l <= level; ++l)
-      path.push_back(bends[l]);
-    path.push_back(tip);
-    return path;
-  };
   std::vector<int> first(levels, 1);
   for (int level = levels - 1; level >= 1; --level)
   {
     const Eigen::Vector2d tip = outline.points[tipPosition[2 * level - 1]];
     first[level] = level + 1;
-    while (first[level] > 1 && !staysInside(pathOf(level, first[level], tip)))
+    while (first[level] > 1 && !staysInside(MidveinPath(bends, level, first[level], tip)))
       --first[level];
   }
   for (int level = 1; level < levels; ++level)
@@ -369,6 +418,16 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
         first[level] = std::min(first[level], first[outer]);
     }
   }
+  return first;
+}
+
+/// Midveins from the base to each tip, at the margin spacing (lobe 1's in n pieces), added to the outline as
+/// interior points with their LeafUV (u of the lobe, v the arc-length fraction); shared stretches share samples.
+std::vector<std::vector<int>> SampleMidveins(const std::vector<Eigen::Vector2d>& bends, const std::vector<int>& first,
+  const TipLayout& tips, int n, double spacing, BladeOutline& outline)
+{
+  const std::vector<int>& tipPosition = tips.position;
+  const int lobeCount = static_cast<int>(tipPosition.size());
   std::map<Key, int> midveinPointIds; // shared stretches share their samples
   std::vector<std::vector<int>> midveins(lobeCount);
   for (int k = 0; k < lobeCount; ++k)
@@ -376,8 +435,8 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
     const Eigen::Vector2d tip = outline.points[tipPosition[k]];
     const int level = (k + 1) / 2;
     const bool mirrored = k > 0 && k % 2 == 0; // lobes are listed as: lobe 1, then each level's own side and mirror
-    std::vector<Eigen::Vector2d> path =
-      k == 0 ? std::vector<Eigen::Vector2d>{ Eigen::Vector2d::Zero(), tip } : pathOf(level, first[level], tip);
+    std::vector<Eigen::Vector2d> path = k == 0 ? std::vector<Eigen::Vector2d>{ Eigen::Vector2d::Zero(), tip }
+                                               : MidveinPath(bends, level, first[level], tip);
     if (mirrored)
     {
       for (std::size_t i = 1; i + 1 < path.size(); ++i)
@@ -403,7 +462,7 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
         midveins[k].push_back(static_cast<int>(outline.points.size()));
         midveinPointIds[KeyOf(x)] = midveins[k].back();
         outline.points.push_back(x);
-        outline.uv.emplace_back(tipU[k], 0.0);
+        outline.uv.emplace_back(tips.u[k], 0.0);
         outline.region.push_back(RegionMidvein);
       }
     }
@@ -420,16 +479,17 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
         outline.uv[midveins[k][i]].y() = along / total;
     }
   }
-  outline.midvein = midveins[0];
-  outline.veins.assign(midveins.begin() + 1, midveins.end());
+  return midveins;
+}
 
-  // Sectors between neighbouring midveins (and the outer two, between a midvein and the margin down to the base):
-  // their polygons and boundary LeafUV, for the interior points' mean-value interpolation.
-  struct Sector
-  {
-    std::vector<Eigen::Vector2d> polygon, uv;
-    double uLow = 0.0, uHigh = 0.0;
-  };
+/// Sectors between neighbouring midveins (and the outer two, between a midvein and the margin down to the base),
+/// `count` being the number of outline vertices.
+std::vector<Sector> MakeSectors(const BladeOutline& outline, const std::vector<std::vector<int>>& midveins,
+  const TipLayout& tips, int count)
+{
+  const std::vector<int>& tipPosition = tips.position;
+  const std::vector<int>& order = tips.order;
+  const int lobeCount = static_cast<int>(tipPosition.size());
   std::vector<Sector> sectors(lobeCount + 1);
   for (int j = 0; j <= lobeCount; ++j)
   {
@@ -443,25 +503,70 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
     if (j < lobeCount)
       loop.insert(loop.end(), midveins[order[j]].rbegin(), midveins[order[j]].rend() - 1);
     Sector& sector = sectors[j];
-    sector.uLow = j == lobeCount ? -0.5 : tipU[order[j]];
-    sector.uHigh = j == 0 ? 0.5 : tipU[order[j - 1]];
+    sector.uLow = j == lobeCount ? -0.5 : tips.u[order[j]];
+    sector.uHigh = j == 0 ? 0.5 : tips.u[order[j - 1]];
     for (int id : loop)
     {
       sector.polygon.push_back(outline.points[id]);
       sector.uv.push_back(outline.uv[id]);
     }
   }
-  auto solveUV = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& guess) {
-    for (const Sector& sector : sectors)
+  return sectors;
+}
+
+/// An interior point's LeafUV: the mean-value interpolation over the sector holding it (clamped to the sector's u
+/// range and to [0, 1]), else `guess`.
+Eigen::Vector2d SectorUV(const std::vector<Sector>& sectors, const Eigen::Vector2d& x, const Eigen::Vector2d& guess)
+{
+  for (const Sector& sector : sectors)
+  {
+    if (InsidePolygon(sector.polygon, x))
     {
-      if (InsidePolygon(sector.polygon, x))
-      {
-        Eigen::Vector2d uv = MeanValueInterpolate(sector.polygon, sector.uv, x);
-        return Eigen::Vector2d(std::clamp(uv.x(), sector.uLow, sector.uHigh), std::clamp(uv.y(), 0.0, 1.0));
-      }
+      Eigen::Vector2d uv = MeanValueInterpolate(sector.polygon, sector.uv, x);
+      return Eigen::Vector2d(std::clamp(uv.x(), sector.uLow, sector.uHigh), std::clamp(uv.y(), 0.0, 1.0));
     }
-    return guess;
-  };
+  }
+  return guess;
+}
+
+std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m, LeafGeometry& leaf)
+{
+  std::string error = ValidateSpaceCurveParameters(p, m);
+  if (!error.empty())
+    return error;
+  if (p.lobes != 3 && p.lobes != 5)
+    return "Lobes = " + std::to_string(p.lobes) + " is outside the accepted range {3, 5} for a palmate leaf";
+  const int n = m.resolution;
+  const double spacing = p.length / n;
+  const int levels = (p.lobes + 1) / 2;
+
+  std::vector<Lobe> lobes;
+  if (error = IntegrateLobes(p, n, levels, lobes); !error.empty())
+    return error;
+  if (error = MirrorLobes(p, lobes); !error.empty())
+    return error;
+  std::map<Key, VertexRole> roles;
+  std::vector<ExactPolygon> polygons;
+  std::vector<Eigen::Vector2d> tipPoints;
+  if (error = LobePolygons(lobes, roles, polygons, tipPoints); !error.empty())
+    return error;
+  std::vector<OutlineVertex> vertices;
+  if (error = UnionOutline(polygons, roles, vertices); !error.empty())
+    return error;
+  DropSlivers(spacing, vertices);
+  TipLayout tips;
+  if (error = LayOutTips(vertices, static_cast<int>(tipPoints.size()), tips); !error.empty())
+    return error;
+
+  BladeOutline outline = OutlineWithLeafUV(vertices, tips);
+  const int count = static_cast<int>(vertices.size());
+  const std::vector<Eigen::Vector2d> bends = MidveinBends(lobes, spacing);
+  const std::vector<int> first = FirstBends(bends, outline, tips.position, spacing);
+  const std::vector<std::vector<int>> midveins = SampleMidveins(bends, first, tips, n, spacing, outline);
+  outline.midvein = midveins[0];
+  outline.veins.assign(midveins.begin() + 1, midveins.end());
+  const std::vector<Sector> sectors = MakeSectors(outline, midveins, tips, count);
+  auto solveUV = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& guess) { return SectorUV(sectors, x, guess); };
 
   LeafMeshSettings meshSettings;
   meshSettings.resolution = n;
@@ -483,7 +588,7 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
 
   leaf.midvein = midveins[0];
   leaf.lobeMidveins.assign(midveins.begin() + 1, midveins.end());
-  const int apex = tipPosition[0];
+  const int apex = tips.position[0];
   leaf.rightMargin.assign(outline.boundary.begin(), outline.boundary.begin() + apex + 1);
   leaf.leftMargin.push_back(0);
   for (int i = count - 1; i >= apex; --i)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -432,6 +433,637 @@ double Distance2(const double* p, int a, int b)
   return s;
 }
 
+/// The settings as the steps of a level read them.
+struct SplitRules
+{
+  bool haveRegion = false;
+  bool midveinIsFeature = false;
+  double lambda = 1.0;
+  bool splitAll = false;
+  double cosLimit = 0.0;
+  FeatureRule rule = FeatureRule::Fixed;
+  bool byChord = false;
+  bool byError = false;
+  double tolerance = 0.0;
+  std::size_t maximumTriangles = 0;
+
+  SplitRules(const AdaptiveLoopSettings& settings, bool region)
+    : haveRegion(region)
+    , midveinIsFeature(settings.midveinIsFeature)
+    , lambda(settings.flatnessThreshold)
+    , splitAll(settings.edgeAngleThreshold >= 180.0)
+    // dihedral < T  <=>  angle between normals > 180 - T  <=>  cos(angle) < cos(180 - T)
+    , cosLimit(std::cos((180.0 - settings.edgeAngleThreshold) * Pi / 180.0))
+    , rule(settings.featureRule)
+    , byChord(settings.refinementRule == RefinementRule::ChordError)
+    , byError(settings.refinementRule == RefinementRule::SurfaceError || byChord)
+    , tolerance(settings.errorTolerance)
+    , maximumTriangles(settings.maximumTriangles)
+  {
+  }
+};
+
+/// What one level knows of its input mesh's edges and vertices, step by step.
+struct LevelState
+{
+  std::vector<double> normals;               ///< unit triangle normals, 3 per triangle (when needed)
+  std::vector<unsigned char> marked;         ///< user-marked feature edges
+  std::vector<int> edgeFirst;                ///< smaller vertex of every edge
+  std::vector<unsigned char> feature;        ///< boundary, midvein, user-marked
+  std::vector<int> oddId;                    ///< 1/0 split flags, then the output point ids (-1: no split)
+  std::vector<int> featureCount;             ///< feature edges per vertex
+  std::vector<int> featureNbr;               ///< first two feature neighbours per vertex
+  std::vector<double> limitOffset;           ///< SurfaceError, ChordError: offset from the limit along the normal
+  std::vector<double> vertexNormal;          ///< ChordError: unit vertex normals (eq. (1))
+  std::vector<double> chordEstimate;         ///< ChordError: every interior non-feature edge's estimate
+  std::vector<double> loopMove;              ///< SurfaceError, ChordError: Loop's move of every vertex
+  FeatureRule rule = FeatureRule::Fixed;
+
+  /// Points that never move (feature points under Fixed and Refine, corners under Loop): the estimates, the limit
+  /// offsets and the even points all use this.
+  bool Pinned(int v) const
+  {
+    const int f = this->featureCount[static_cast<std::size_t>(v)];
+    return f > 0 && (this->rule != FeatureRule::Loop || f != 2);
+  }
+};
+
+/// Unit triangle normals (not needed when every edge splits and every vertex moves).
+void ComputeTriangleNormals(
+  const AdaptiveLoopMesh& mesh, const SplitRules& rules, const ParallelForFunction& parallelFor, LevelState& s)
+{
+  const std::size_t nT = mesh.NumberOfTriangles();
+  const std::vector<int>& tri = mesh.triangles;
+  const double* P = mesh.points.data();
+  const bool needNormals = rules.byError || !rules.splitAll || rules.lambda < 1.0;
+  std::vector<double>& normals = s.normals;
+  normals.assign(needNormals ? 3 * nT : 0, 0.0);
+  parallelFor(needNormals ? nT : 0, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+    {
+      const double* a = P + 3 * static_cast<std::size_t>(tri[3 * t]);
+      const double* b = P + 3 * static_cast<std::size_t>(tri[3 * t + 1]);
+      const double* c = P + 3 * static_cast<std::size_t>(tri[3 * t + 2]);
+      const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+      const double w[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+      double n[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0] };
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      for (int j = 0; j < 3; ++j)
+        normals[3 * t + j] = len > 0.0 ? n[j] / len : 0.0;
+    }
+  });
+}
+
+/// Feature edges (boundary, midvein, user-marked) and feature vertices: their feature-edge count and first two
+/// feature neighbours (serial, in edge order).
+void ClassifyFeatures(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules,
+  const ParallelForFunction& parallelFor, LevelState& s)
+{
+  const std::size_t nV = mesh.NumberOfPoints();
+  const std::size_t nE = table.NumberOfEdges();
+  s.marked.assign(nE, 0);
+  for (const auto& fe : mesh.featureEdges)
+  {
+    const int e = table.EdgeOf(fe[0], fe[1]);
+    if (e >= 0)
+      s.marked[e] = 1;
+  }
+  s.edgeFirst.assign(nE, 0);
+  s.feature.assign(nE, 0);
+  s.oddId.assign(nE, 0);
+  parallelFor(nV, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v)
+      for (int e = table.edgeOffsets[v]; e < table.edgeOffsets[v + 1]; ++e)
+        s.edgeFirst[e] = static_cast<int>(v);
+  });
+  parallelFor(nE, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e)
+    {
+      const int a = s.edgeFirst[e], b = table.edgeOther[e];
+      s.feature[e] = table.edgeUses[e] == 1 || s.marked[e] ||
+        (rules.midveinIsFeature && rules.haveRegion && mesh.region[a] == 1 && mesh.region[b] == 1);
+    }
+  });
+
+  s.featureCount.assign(nV, 0);
+  s.featureNbr.assign(2 * nV, -1);
+  for (std::size_t e = 0; e < nE; ++e)
+    if (s.feature[e])
+    {
+      const int a = s.edgeFirst[e], b = table.edgeOther[e];
+      if (s.featureCount[a] < 2)
+        s.featureNbr[2 * a + s.featureCount[a]] = b;
+      if (s.featureCount[b] < 2)
+        s.featureNbr[2 * b + s.featureCount[b]] = a;
+      ++s.featureCount[a];
+      ++s.featureCount[b];
+    }
+}
+
+/// SurfaceError and ChordError: every vertex's limit offset along its normal and Loop's move of it at this level;
+/// ChordError: every vertex's unit normal (eq. (1)), feature vertices too.
+void EstimateLimitOffsets(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules,
+  const ParallelForFunction& parallelFor, LevelState& s)
+{
+  const std::size_t nV = mesh.NumberOfPoints();
+  const std::size_t nE = table.NumberOfEdges();
+  const std::vector<int>& tri = mesh.triangles;
+  const double* P = mesh.points.data();
+  const bool byError = rules.byError, byChord = rules.byChord;
+  s.limitOffset.assign(byError ? nV : 0, 0.0);
+  s.vertexNormal.assign(byChord ? 3 * nV : 0, 0.0);
+  parallelFor(byChord ? nV : 0, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v)
+      VertexNormal(table, s.normals, static_cast<int>(v), s.vertexNormal.data() + 3 * v);
+  });
+  s.chordEstimate.assign(byChord ? nE : 0, 0.0);
+  s.loopMove.assign(byError ? 3 * nV : 0, 0.0);
+  parallelFor(byError ? nV : 0, [&](std::size_t begin, std::size_t end) {
+    std::vector<int> nbrs;
+    nbrs.reserve(32);
+    for (std::size_t vv = begin; vv < end; ++vv)
+    {
+      const int v = static_cast<int>(vv);
+      const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
+      const int f = s.featureCount[vv];
+      const double* pv = P + 3 * vv;
+      if (k == 0 || s.Pinned(v))
+        continue; // never moves
+      if (f == 2)
+      {
+        const double* p = P + 3 * static_cast<std::size_t>(s.featureNbr[2 * vv]);
+        const double* q = P + 3 * static_cast<std::size_t>(s.featureNbr[2 * vv + 1]);
+        double d[3], chord[3];
+        for (int j = 0; j < 3; ++j)
+        {
+          d[j] = (p[j] + q[j] - 2.0 * pv[j]) / 6.0;
+          s.loopMove[3 * vv + j] = (p[j] + q[j] - 2.0 * pv[j]) / 8.0;
+          chord[j] = q[j] - p[j];
+        }
+        Normalise(chord);
+        const double along = d[0] * chord[0] + d[1] * chord[1] + d[2] * chord[2];
+        for (int j = 0; j < 3; ++j)
+          d[j] -= along * chord[j];
+        s.limitOffset[vv] = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        continue;
+      }
+      double normal[3];
+      VertexNormal(table, s.normals, v, normal);
+      GatherNeighbours(tri, table, v, false, nbrs);
+      const int n = static_cast<int>(nbrs.size());
+      const double chi = LoopLimitChi(n), beta = LoopBeta(n);
+      double d[3] = { 0.0, 0.0, 0.0 };
+      for (int w : nbrs)
+        for (int j = 0; j < 3; ++j)
+          d[j] += P[3 * static_cast<std::size_t>(w) + j] - pv[j];
+      for (int j = 0; j < 3; ++j)
+      {
+        s.loopMove[3 * vv + j] = beta * d[j];
+        d[j] *= chi;
+      }
+      s.limitOffset[vv] = NormalComponent(normal, d);
+    }
+  });
+}
+
+/// Whether interior non-feature edge e splits by SurfaceError or ChordError (ChordError also records its estimate).
+bool SplitsByError(
+  const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules, std::size_t e, LevelState& s)
+{
+  const double* P = mesh.points.data();
+  const int a = s.edgeFirst[e], b = table.edgeOther[e];
+  const int t0 = table.edgeTriangles[2 * e], t1 = table.edgeTriangles[2 * e + 1];
+  const double* n0 = s.normals.data() + 3 * static_cast<std::size_t>(t0);
+  const double* n1 = s.normals.data() + 3 * static_cast<std::size_t>(t1);
+  const double sign = table.edgeSameDirection[e] ? -1.0 : 1.0;
+  double normal[3] = { n0[0] + sign * n1[0], n0[1] + sign * n1[1], n0[2] + sign * n1[2] };
+  Normalise(normal);
+  const double* pa = P + 3 * static_cast<std::size_t>(a);
+  const double* pb = P + 3 * static_cast<std::size_t>(b);
+  const double* pc = P + 3 * static_cast<std::size_t>(table.edgeOpposite[2 * e]);
+  const double* pd = P + 3 * static_cast<std::size_t>(table.edgeOpposite[2 * e + 1]);
+  // The odd point's offset from the chord midpoint, before and after the ends' Loop moves (whether they
+  // move depends on their other edges).
+  double d[3], moved[3];
+  for (int j = 0; j < 3; ++j)
+  {
+    d[j] = (pc[j] + pd[j] - pa[j] - pb[j]) / 8.0;
+    moved[j] = d[j] -
+      0.5 * (s.loopMove[3 * static_cast<std::size_t>(a) + j] + s.loopMove[3 * static_cast<std::size_t>(b) + j]);
+  }
+  double error;
+  if (rules.byChord)
+  {
+    // The chord's own sagitta, kappa(t) l^2 / 8 with the normal curvature along the edge
+    // kappa(t) = (N_b - N_a) . t / l (zero along a ruling of a cylinder, whatever the curvature across
+    // it), the odd point's offset from the moved chord (zero there too on a regular mesh), and a share of
+    // its offset from the unmoved chord.
+    const double* na = s.vertexNormal.data() + 3 * static_cast<std::size_t>(a);
+    const double* nb = s.vertexNormal.data() + 3 * static_cast<std::size_t>(b);
+    double sagitta = 0.0;
+    for (int j = 0; j < 3; ++j)
+      sagitta += (nb[j] - na[j]) * (pb[j] - pa[j]);
+    error = std::max({ std::abs(sagitta) / 8.0, NormalComponent(normal, moved),
+      ChordErrorIsotropicShare * NormalComponent(normal, d) });
+    if (s.Pinned(a) || s.Pinned(b))
+      error *= ChordErrorPinnedFactor;
+    s.chordEstimate[e] = error;
+    error = std::max(error, ChordErrorLimitOffsetShare * std::max(s.limitOffset[a], s.limitOffset[b]));
+  }
+  else
+    error = std::max(
+      { NormalComponent(normal, d), NormalComponent(normal, moved), s.limitOffset[a], s.limitOffset[b] });
+  return error >= rules.tolerance;
+}
+
+/// Every edge's split flag (1/0 in oddId) by the refinement rule; feature edges by the feature rule.
+void FlagSplitEdges(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules,
+  const ParallelForFunction& parallelFor, LevelState& s)
+{
+  parallelFor(table.NumberOfEdges(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e)
+    {
+      const int a = s.edgeFirst[e], b = table.edgeOther[e];
+      bool split;
+      if (s.feature[e])
+        split = rules.rule != FeatureRule::Fixed &&
+          (!rules.byError || std::max(s.limitOffset[a], s.limitOffset[b]) >= rules.tolerance);
+      else if (rules.byError)
+        split = SplitsByError(mesh, table, rules, e, s);
+      else if (rules.splitAll)
+        split = true;
+      else
+      {
+        const double* n0 = s.normals.data() + 3 * static_cast<std::size_t>(table.edgeTriangles[2 * e]);
+        const double* n1 = s.normals.data() + 3 * static_cast<std::size_t>(table.edgeTriangles[2 * e + 1]);
+        double dot = n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2];
+        if (table.edgeSameDirection[e])
+          dot = -dot; // inconsistently oriented neighbours: compare as if oriented alike
+        split = dot < rules.cosLimit;
+      }
+      s.oddId[e] = split ? 1 : 0;
+    }
+  });
+}
+
+/// ChordError: a point whose limit offset reaches the tolerance moves: when none of its edges splits (so it would
+/// stay where it is, delta off the limit surface), its interior non-feature edge with the largest estimate splits
+/// (ties: the lowest edge id). Decided on the flags set above, written after all reads.
+void ForceMovesOffTheLimit(std::size_t nV, const EdgeTable& table, const SplitRules& rules,
+  const ParallelForFunction& parallelFor, LevelState& s)
+{
+  std::vector<int> forced(nV, -1);
+  parallelFor(nV, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t vv = begin; vv < end; ++vv)
+    {
+      if (!(s.limitOffset[vv] >= rules.tolerance))
+        continue;
+      const int v = static_cast<int>(vv);
+      int best = -1;
+      bool moves = false;
+      for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1] && !moves; ++i)
+      {
+        const int corner = table.vertexCorners[i];
+        const int base = corner - corner % 3;
+        const int c = corner - base;
+        for (const int e : { table.triangleEdges[base + c], table.triangleEdges[base + (c + 2) % 3] })
+        {
+          moves = moves || s.oddId[e] != 0;
+          if (!s.feature[e] && (best < 0 || s.chordEstimate[e] > s.chordEstimate[best] ||
+                                 (s.chordEstimate[e] == s.chordEstimate[best] && e < best)))
+            best = e;
+        }
+      }
+      if (!moves)
+        forced[vv] = best;
+    }
+  });
+  for (std::size_t v = 0; v < nV; ++v)
+    if (forced[v] >= 0)
+      s.oddId[forced[v]] = 1;
+}
+
+/// A feature edge also splits when another edge of its triangle does: the curve gains samples where the surface
+/// next to it is refined. Decided on the interior edges' flags (set above), written after all reads.
+void SplitFeatureEdgesBesideSplits(const EdgeTable& table, const ParallelForFunction& parallelFor, LevelState& s)
+{
+  const std::size_t nE = table.NumberOfEdges();
+  std::vector<unsigned char> alsoSplit(nE, 0);
+  parallelFor(nE, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e)
+    {
+      if (!s.feature[e] || s.oddId[e])
+        continue;
+      for (int side = 0; side < 2; ++side)
+      {
+        const int t = table.edgeTriangles[2 * e + side];
+        if (t < 0)
+          continue;
+        for (int c = 0; c < 3; ++c)
+        {
+          const int other = table.triangleEdges[3 * static_cast<std::size_t>(t) + c];
+          if (other != static_cast<int>(e) && !s.feature[other] && s.oddId[other])
+            alsoSplit[e] = 1;
+        }
+      }
+    }
+  });
+  for (std::size_t e = 0; e < nE; ++e)
+    if (alsoSplit[e])
+      s.oddId[e] = 1;
+}
+
+/// Turns the split flags into output point ids (nV, nV + 1, ... in edge order; -1: no split); the split count.
+int NumberOddPoints(std::size_t nV, std::vector<int>& oddId)
+{
+  int nSplit = 0;
+  for (std::size_t e = 0; e < oddId.size(); ++e)
+  {
+    const int s = oddId[e];
+    oddId[e] = s ? static_cast<int>(nV) + nSplit : -1;
+    nSplit += s;
+  }
+  return nSplit;
+}
+
+/// Children per triangle (offsets, nT + 1) and the output triangle count; "" or the MaximumTriangles error.
+std::string CountChildren(const EdgeTable& table, std::size_t nT, const std::vector<int>& oddId,
+  std::size_t maximumTriangles, int level, const ParallelForFunction& parallelFor, std::vector<int>& childOffsets,
+  std::size_t& nTout)
+{
+  childOffsets.assign(nT + 1, 0);
+  parallelFor(nT, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+    {
+      int n = 1;
+      for (int c = 0; c < 3; ++c)
+        n += oddId[table.triangleEdges[3 * t + c]] >= 0 ? 1 : 0;
+      childOffsets[t] = n;
+    }
+  });
+  nTout = 0;
+  for (std::size_t t = 0; t < nT; ++t)
+  {
+    const int n = childOffsets[t];
+    childOffsets[t] = static_cast<int>(nTout);
+    nTout += static_cast<std::size_t>(n);
+    if (nTout > maximumTriangles)
+    {
+      std::ostringstream out;
+      out << "level " << level + 1 << " would make more than MaximumTriangles = " << maximumTriangles
+          << " triangles (accepted range [1, " << MaxAdaptiveLoopTriangles
+          << "]); lower MaximumLevel or raise MaximumTriangles";
+      return out.str();
+    }
+  }
+  childOffsets[nT] = static_cast<int>(nTout);
+  return "";
+}
+
+/// Even points: kept (pinned, unsplit under the error rules, flat enough), crease rule, or Loop's stencil.
+void WriteEvenPoints(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules,
+  const LevelState& s, const StencilWriter& writer, const ParallelForFunction& parallelFor, AdaptiveLoopMesh& next)
+{
+  const std::vector<int>& tri = mesh.triangles;
+  parallelFor(mesh.NumberOfPoints(), [&](std::size_t begin, std::size_t end) {
+    std::vector<int> ids;
+    std::vector<double> weights;
+    std::vector<int> nbrs;
+    nbrs.reserve(32);
+    for (std::size_t vv = begin; vv < end; ++vv)
+    {
+      const int v = static_cast<int>(vv);
+      if (rules.haveRegion)
+        next.region[vv] = mesh.region[vv];
+      const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
+      const int f = s.featureCount[vv];
+      if (k == 0 || s.Pinned(v))
+      {
+        writer.Copy(vv, v);
+        continue;
+      }
+      if (rules.byError)
+      {
+        // Moves only when one of its edges splits at this level.
+        bool anySplit = false;
+        for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1] && !anySplit; ++i)
+        {
+          const int corner = table.vertexCorners[i];
+          const int base = corner - corner % 3;
+          const int c = corner - base;
+          anySplit =
+            s.oddId[table.triangleEdges[base + c]] >= 0 || s.oddId[table.triangleEdges[base + (c + 2) % 3]] >= 0;
+        }
+        if (!anySplit)
+        {
+          writer.Copy(vv, v);
+          continue;
+        }
+      }
+      if (f == 2)
+      {
+        const int crease[3] = { v, s.featureNbr[2 * vv], s.featureNbr[2 * vv + 1] };
+        const double creaseWeights[3] = { 0.75, 0.125, 0.125 };
+        writer.Apply(vv, crease, creaseWeights, 3);
+        continue;
+      }
+      if (!rules.byError && rules.lambda < 1.0)
+      {
+        double sum[3] = { 0.0, 0.0, 0.0 };
+        for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)
+        {
+          const double* n = s.normals.data() + 3 * static_cast<std::size_t>(table.vertexCorners[i] / 3);
+          sum[0] += n[0];
+          sum[1] += n[1];
+          sum[2] += n[2];
+        }
+        const double flatness = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]) / k;
+        if (flatness > rules.lambda)
+        {
+          writer.Copy(vv, v);
+          continue;
+        }
+      }
+      GatherNeighbours(tri, table, v, false, nbrs);
+      const int n = static_cast<int>(nbrs.size());
+      const double beta = LoopBeta(n);
+      ids.assign(1, v);
+      weights.assign(1, 1.0 - n * beta);
+      for (int w : nbrs)
+      {
+        ids.push_back(w);
+        weights.push_back(beta);
+      }
+      writer.Apply(vv, ids.data(), weights.data(), n + 1);
+    }
+  });
+}
+
+/// Odd points: the midpoint on feature edges, Loop's edge stencil elsewhere; their regions.
+void WriteOddPoints(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules,
+  const LevelState& s, const StencilWriter& writer, const ParallelForFunction& parallelFor, AdaptiveLoopMesh& next)
+{
+  parallelFor(table.NumberOfEdges(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e)
+    {
+      const int id = s.oddId[e];
+      if (id < 0)
+        continue;
+      const int a = s.edgeFirst[e], b = table.edgeOther[e];
+      if (s.feature[e])
+      {
+        const int ids[2] = { a, b };
+        const double w[2] = { 0.5, 0.5 };
+        writer.Apply(static_cast<std::size_t>(id), ids, w, 2);
+      }
+      else
+      {
+        const int ids[4] = { a, b, table.edgeOpposite[2 * e], table.edgeOpposite[2 * e + 1] };
+        const double w[4] = { 0.375, 0.375, 0.125, 0.125 };
+        writer.Apply(static_cast<std::size_t>(id), ids, w, 4);
+      }
+      if (rules.haveRegion)
+        next.region[id] = OddRegion(mesh.region[a], mesh.region[b], table.edgeUses[e] == 1);
+    }
+  });
+}
+
+/// Each triangle's children (1 to 4 by its split edges; two splits cut along the shorter diagonal) and their origin.
+void WriteChildren(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const std::vector<int>& oddId,
+  const std::vector<int>& childOffsets, const ParallelForFunction& parallelFor, AdaptiveLoopMesh& next)
+{
+  const std::vector<int>& tri = mesh.triangles;
+  const double* Q = next.points.data();
+  parallelFor(mesh.NumberOfTriangles(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+    {
+      const int v[3] = { tri[3 * t], tri[3 * t + 1], tri[3 * t + 2] };
+      const int m[3] = { oddId[table.triangleEdges[3 * t]], oddId[table.triangleEdges[3 * t + 1]],
+        oddId[table.triangleEdges[3 * t + 2]] };
+      int* out = next.triangles.data() + 3 * static_cast<std::size_t>(childOffsets[t]);
+      const int nChildren = childOffsets[t + 1] - childOffsets[t];
+      const auto put = [&out](int a, int b, int c) {
+        out[0] = a;
+        out[1] = b;
+        out[2] = c;
+        out += 3;
+      };
+      const int splitCount = nChildren - 1;
+      if (splitCount == 0)
+        put(v[0], v[1], v[2]);
+      else if (splitCount == 3)
+      {
+        put(v[0], m[0], m[2]);
+        put(m[0], v[1], m[1]);
+        put(m[2], m[1], v[2]);
+        put(m[0], m[1], m[2]);
+      }
+      else if (splitCount == 1)
+      {
+        const int c = m[0] >= 0 ? 0 : (m[1] >= 0 ? 1 : 2);
+        const int a = v[c], b = v[(c + 1) % 3], o = v[(c + 2) % 3];
+        put(a, m[c], o);
+        put(m[c], b, o);
+      }
+      else
+      {
+        const int c = m[0] < 0 ? 0 : (m[1] < 0 ? 1 : 2); // the unsplit edge (a, b)
+        const int a = v[c], b = v[(c + 1) % 3], o = v[(c + 2) % 3];
+        const int m1 = m[(c + 1) % 3], m2 = m[(c + 2) % 3]; // on (b, o) and (o, a)
+        put(m1, o, m2);
+        if (Distance2(Q, a, m1) <= Distance2(Q, b, m2))
+        {
+          put(a, b, m1);
+          put(a, m1, m2);
+        }
+        else
+        {
+          put(a, b, m2);
+          put(b, m1, m2);
+        }
+      }
+      for (int i = childOffsets[t]; i < childOffsets[t + 1]; ++i)
+        next.origin[i] = mesh.origin[t];
+    }
+  });
+}
+
+/// User-marked feature edges follow their halves.
+void CarryMarkedFeatureEdges(const EdgeTable& table, const LevelState& s, AdaptiveLoopMesh& next)
+{
+  for (std::size_t e = 0; e < table.NumberOfEdges(); ++e)
+    if (s.marked[e])
+    {
+      const int a = s.edgeFirst[e], b = table.edgeOther[e];
+      if (s.oddId[e] >= 0)
+      {
+        next.featureEdges.push_back({ a, s.oddId[e] });
+        next.featureEdges.push_back({ s.oddId[e], b });
+      }
+      else
+        next.featureEdges.push_back({ a, b });
+    }
+}
+
+enum class LevelOutcome
+{
+  Subdivided,
+  Converged, ///< no edge splits: nothing would change but smoothing
+  Aborted,
+  Failed
+};
+
+/// One level of `mesh` (whose edge table is `table`) into `next`: classify, decide the splits, write the points and
+/// the children. Reports progress at 0.5 and 0.75 of the level through `progressAt`.
+LevelOutcome SubdivideLevel(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules, int level,
+  const ParallelForFunction& parallelFor, const std::function<bool(double)>& progressAt, AdaptiveLoopMesh& next,
+  std::string& error)
+{
+  const std::size_t nV = mesh.NumberOfPoints();
+  const std::size_t nT = mesh.NumberOfTriangles();
+  LevelState s;
+  s.rule = rules.rule;
+  ComputeTriangleNormals(mesh, rules, parallelFor, s);
+  ClassifyFeatures(mesh, table, rules, parallelFor, s);
+  EstimateLimitOffsets(mesh, table, rules, parallelFor, s);
+  FlagSplitEdges(mesh, table, rules, parallelFor, s);
+  if (rules.byChord)
+    ForceMovesOffTheLimit(nV, table, rules, parallelFor, s);
+  if (rules.byError && rules.rule != FeatureRule::Fixed)
+    SplitFeatureEdgesBesideSplits(table, parallelFor, s);
+  const int nSplit = NumberOddPoints(nV, s.oddId);
+  if (nSplit == 0)
+    return LevelOutcome::Converged;
+
+  std::vector<int> childOffsets;
+  std::size_t nTout = 0;
+  error = CountChildren(table, nT, s.oddId, rules.maximumTriangles, level, parallelFor, childOffsets, nTout);
+  if (!error.empty())
+    return LevelOutcome::Failed;
+  const std::size_t nVout = nV + static_cast<std::size_t>(nSplit);
+  if (!progressAt(0.5))
+    return LevelOutcome::Aborted;
+
+  const int D = mesh.attributeComponents;
+  next.attributeComponents = D;
+  next.points.resize(3 * nVout);
+  next.attributes.resize(static_cast<std::size_t>(D) * nVout);
+  if (rules.haveRegion)
+    next.region.resize(nVout);
+  const StencilWriter writer{ mesh.points.data(), mesh.attributes.data(), D, next.points.data(),
+    next.attributes.data() };
+  WriteEvenPoints(mesh, table, rules, s, writer, parallelFor, next);
+  WriteOddPoints(mesh, table, rules, s, writer, parallelFor, next);
+  if (!progressAt(0.75))
+    return LevelOutcome::Aborted;
+
+  next.triangles.resize(3 * nTout);
+  next.origin.resize(nTout);
+  WriteChildren(mesh, table, s.oddId, childOffsets, parallelFor, next);
+  CarryMarkedFeatureEdges(table, s, next);
+  return LevelOutcome::Subdivided;
+}
+
 } // namespace
 
 std::string ValidateAdaptiveLoopSettings(const AdaptiveLoopSettings& s)
@@ -466,6 +1098,11 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
     result.levels = 0;
     return result;
   };
+  const auto aborted = [] {
+    AdaptiveLoopResult stopped;
+    stopped.aborted = true;
+    return stopped;
+  };
   if (std::string error = ValidateAdaptiveLoopSettings(settings); !error.empty())
     return fail(error);
   if (std::string error = ValidateInput(input); !error.empty())
@@ -481,17 +1118,7 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
   std::iota(mesh.origin.begin(), mesh.origin.end(), 0);
   result.trianglesPerLevel.push_back(mesh.NumberOfTriangles());
   result.pointsPerLevel.push_back(mesh.NumberOfPoints());
-
-  const int D = mesh.attributeComponents;
-  const bool haveRegion = !mesh.region.empty();
-  const double lambda = settings.flatnessThreshold;
-  const bool splitAll = settings.edgeAngleThreshold >= 180.0;
-  // dihedral < T  <=>  angle between normals > 180 - T  <=>  cos(angle) < cos(180 - T)
-  const double cosLimit = std::cos((180.0 - settings.edgeAngleThreshold) * Pi / 180.0);
-  const FeatureRule rule = settings.featureRule;
-  const bool byChord = settings.refinementRule == RefinementRule::ChordError;
-  const bool byError = settings.refinementRule == RefinementRule::SurfaceError || byChord;
-  const double tolerance = settings.errorTolerance;
+  const SplitRules rules(settings, !mesh.region.empty());
 
   // Progress: level L costs about 4^L of level 0.
   double totalWork = 0.0;
@@ -511,509 +1138,25 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
   for (int level = 0; level < settings.maximumLevel; ++level)
   {
     const double levelWork = std::pow(4.0, level);
-    const auto progressAt = [&](double phase) {
+    const std::function<bool(double)> progressAt = [&](double phase) {
       return report((doneWork + phase * levelWork) / std::max(totalWork, 1.0));
     };
     if (!progressAt(0.0))
-    {
-      result = AdaptiveLoopResult();
-      result.aborted = true;
-      return result;
-    }
-    const std::size_t nV = mesh.NumberOfPoints();
-    const std::size_t nT = mesh.NumberOfTriangles();
-    const std::vector<int>& tri = mesh.triangles;
-    const double* P = mesh.points.data();
-
+      return aborted();
     if (level > 0)
-      BuildEdgeTable(tri, nV, parallelFor, table);
-    const std::size_t nE = table.NumberOfEdges();
+      BuildEdgeTable(mesh.triangles, mesh.NumberOfPoints(), parallelFor, table);
     if (!progressAt(0.3))
-    {
-      result = AdaptiveLoopResult();
-      result.aborted = true;
-      return result;
-    }
-
-    // Unit triangle normals (not needed when every edge splits and every vertex moves).
-    const bool needNormals = byError || !splitAll || lambda < 1.0;
-    std::vector<double> normals(needNormals ? 3 * nT : 0);
-    parallelFor(needNormals ? nT : 0, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t t = begin; t < end; ++t)
-      {
-        const double* a = P + 3 * static_cast<std::size_t>(tri[3 * t]);
-        const double* b = P + 3 * static_cast<std::size_t>(tri[3 * t + 1]);
-        const double* c = P + 3 * static_cast<std::size_t>(tri[3 * t + 2]);
-        const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
-        const double w[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
-        double n[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0] };
-        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        for (int j = 0; j < 3; ++j)
-          normals[3 * t + j] = len > 0.0 ? n[j] / len : 0.0;
-      }
-    });
-
-    // Feature edges: boundary, midvein, user-marked.
-    std::vector<unsigned char> marked(nE, 0);
-    for (const auto& fe : mesh.featureEdges)
-    {
-      const int e = table.EdgeOf(fe[0], fe[1]);
-      if (e >= 0)
-        marked[e] = 1;
-    }
-    std::vector<int> edgeFirst(nE); // smaller vertex of every edge
-    std::vector<unsigned char> feature(nE, 0);
-    std::vector<int> oddId(nE, 0); // 1/0 split flags, then the output point ids
-    parallelFor(nV, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t v = begin; v < end; ++v)
-        for (int e = table.edgeOffsets[v]; e < table.edgeOffsets[v + 1]; ++e)
-          edgeFirst[e] = static_cast<int>(v);
-    });
-    parallelFor(nE, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t e = begin; e < end; ++e)
-      {
-        const int a = edgeFirst[e], b = table.edgeOther[e];
-        feature[e] = table.edgeUses[e] == 1 || marked[e] ||
-          (settings.midveinIsFeature && haveRegion && mesh.region[a] == 1 && mesh.region[b] == 1);
-      }
-    });
-
-    // Feature vertices: their feature-edge count and first two feature neighbours (serial, in edge order).
-    std::vector<int> featureCount(nV, 0);
-    std::vector<int> featureNbr(2 * nV, -1);
-    for (std::size_t e = 0; e < nE; ++e)
-      if (feature[e])
-      {
-        const int a = edgeFirst[e], b = table.edgeOther[e];
-        if (featureCount[a] < 2)
-          featureNbr[2 * a + featureCount[a]] = b;
-        if (featureCount[b] < 2)
-          featureNbr[2 * b + featureCount[b]] = a;
-        ++featureCount[a];
-        ++featureCount[b];
-      }
-
-    // SurfaceError: every vertex's limit offset along its normal, and Loop's move of it at this level.
-    std::vector<double> limitOffset(byError ? nV : 0, 0.0);
-    // ChordError: every vertex's unit normal (eq. (1)), feature vertices too.
-    std::vector<double> vertexNormal(byChord ? 3 * nV : 0, 0.0);
-    parallelFor(byChord ? nV : 0, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t v = begin; v < end; ++v)
-        VertexNormal(table, normals, static_cast<int>(v), vertexNormal.data() + 3 * v);
-    });
-    // Points that never move (feature points under Fixed and Refine, corners under Loop): the estimates, the
-    // limit offsets and the even points all use this.
-    const auto pinned = [&](int v) {
-      const int f = featureCount[static_cast<std::size_t>(v)];
-      return f > 0 && (rule != FeatureRule::Loop || f != 2);
-    };
-    // ChordError: every interior non-feature edge's estimate, for the forced moves below.
-    std::vector<double> chordEstimate(byChord ? nE : 0, 0.0);
-    std::vector<double> loopMove(byError ? 3 * nV : 0, 0.0);
-    parallelFor(byError ? nV : 0, [&](std::size_t begin, std::size_t end) {
-      std::vector<int> nbrs;
-      nbrs.reserve(32);
-      for (std::size_t vv = begin; vv < end; ++vv)
-      {
-        const int v = static_cast<int>(vv);
-        const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
-        const int f = featureCount[vv];
-        const double* pv = P + 3 * vv;
-        if (k == 0 || pinned(v))
-          continue; // never moves
-        if (f == 2)
-        {
-          const double* p = P + 3 * static_cast<std::size_t>(featureNbr[2 * vv]);
-          const double* q = P + 3 * static_cast<std::size_t>(featureNbr[2 * vv + 1]);
-          double d[3], chord[3];
-          for (int j = 0; j < 3; ++j)
-          {
-            d[j] = (p[j] + q[j] - 2.0 * pv[j]) / 6.0;
-            loopMove[3 * vv + j] = (p[j] + q[j] - 2.0 * pv[j]) / 8.0;
-            chord[j] = q[j] - p[j];
-          }
-          Normalise(chord);
-          const double along = d[0] * chord[0] + d[1] * chord[1] + d[2] * chord[2];
-          for (int j = 0; j < 3; ++j)
-            d[j] -= along * chord[j];
-          limitOffset[vv] = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-          continue;
-        }
-        double normal[3];
-        VertexNormal(table, normals, v, normal);
-        GatherNeighbours(tri, table, v, false, nbrs);
-        const int n = static_cast<int>(nbrs.size());
-        const double chi = LoopLimitChi(n), beta = LoopBeta(n);
-        double d[3] = { 0.0, 0.0, 0.0 };
-        for (int w : nbrs)
-          for (int j = 0; j < 3; ++j)
-            d[j] += P[3 * static_cast<std::size_t>(w) + j] - pv[j];
-        for (int j = 0; j < 3; ++j)
-        {
-          loopMove[3 * vv + j] = beta * d[j];
-          d[j] *= chi;
-        }
-        limitOffset[vv] = NormalComponent(normal, d);
-      }
-    });
-
-    parallelFor(nE, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t e = begin; e < end; ++e)
-      {
-        const int a = edgeFirst[e], b = table.edgeOther[e];
-        bool split;
-        if (feature[e])
-          split = rule != FeatureRule::Fixed &&
-            (!byError || std::max(limitOffset[a], limitOffset[b]) >= tolerance);
-        else if (byError)
-        {
-          const int t0 = table.edgeTriangles[2 * e], t1 = table.edgeTriangles[2 * e + 1];
-          const double* n0 = normals.data() + 3 * static_cast<std::size_t>(t0);
-          const double* n1 = normals.data() + 3 * static_cast<std::size_t>(t1);
-          const double sign = table.edgeSameDirection[e] ? -1.0 : 1.0;
-          double normal[3] = { n0[0] + sign * n1[0], n0[1] + sign * n1[1], n0[2] + sign * n1[2] };
-          Normalise(normal);
-          const double* pa = P + 3 * static_cast<std::size_t>(a);
-          const double* pb = P + 3 * static_cast<std::size_t>(b);
-          const double* pc = P + 3 * static_cast<std::size_t>(table.edgeOpposite[2 * e]);
-          const double* pd = P + 3 * static_cast<std::size_t>(table.edgeOpposite[2 * e + 1]);
-          // The odd point's offset from the chord midpoint, before and after the ends' Loop moves (whether they
-          // move depends on their other edges).
-          double d[3], moved[3];
-          for (int j = 0; j < 3; ++j)
-          {
-            d[j] = (pc[j] + pd[j] - pa[j] - pb[j]) / 8.0;
-            moved[j] = d[j] -
-              0.5 * (loopMove[3 * static_cast<std::size_t>(a) + j] + loopMove[3 * static_cast<std::size_t>(b) + j]);
-          }
-          double error;
-          if (byChord)
-          {
-            // The chord's own sagitta, kappa(t) l^2 / 8 with the normal curvature along the edge
-            // kappa(t) = (N_b - N_a) . t / l (zero along a ruling of a cylinder, whatever the curvature across
-            // it), the odd point's offset from the moved chord (zero there too on a regular mesh), and a share of
-            // its offset from the unmoved chord.
-            const double* na = vertexNormal.data() + 3 * static_cast<std::size_t>(a);
-            const double* nb = vertexNormal.data() + 3 * static_cast<std::size_t>(b);
-            double sagitta = 0.0;
-            for (int j = 0; j < 3; ++j)
-              sagitta += (nb[j] - na[j]) * (pb[j] - pa[j]);
-            error = std::max({ std::abs(sagitta) / 8.0, NormalComponent(normal, moved),
-              ChordErrorIsotropicShare * NormalComponent(normal, d) });
-            if (pinned(a) || pinned(b))
-              error *= ChordErrorPinnedFactor;
-            chordEstimate[e] = error;
-            error = std::max(error, ChordErrorLimitOffsetShare * std::max(limitOffset[a], limitOffset[b]));
-          }
-          else
-            error = std::max(
-              { NormalComponent(normal, d), NormalComponent(normal, moved), limitOffset[a], limitOffset[b] });
-          split = error >= tolerance;
-        }
-        else if (splitAll)
-          split = true;
-        else
-        {
-          const double* n0 = normals.data() + 3 * static_cast<std::size_t>(table.edgeTriangles[2 * e]);
-          const double* n1 = normals.data() + 3 * static_cast<std::size_t>(table.edgeTriangles[2 * e + 1]);
-          double dot = n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2];
-          if (table.edgeSameDirection[e])
-            dot = -dot; // inconsistently oriented neighbours: compare as if oriented alike
-          split = dot < cosLimit;
-        }
-        oddId[e] = split ? 1 : 0;
-      }
-    });
-    if (byChord)
-    {
-      // A point whose limit offset reaches the tolerance moves: when none of its edges splits (so it would stay
-      // where it is, delta off the limit surface), its interior non-feature edge with the largest estimate splits
-      // (ties: the lowest edge id). Decided on the flags set above, written after all reads.
-      std::vector<int> forced(nV, -1);
-      parallelFor(nV, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t vv = begin; vv < end; ++vv)
-        {
-          if (!(limitOffset[vv] >= tolerance))
-            continue;
-          const int v = static_cast<int>(vv);
-          int best = -1;
-          bool moves = false;
-          for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1] && !moves; ++i)
-          {
-            const int corner = table.vertexCorners[i];
-            const int base = corner - corner % 3;
-            const int c = corner - base;
-            for (const int e : { table.triangleEdges[base + c], table.triangleEdges[base + (c + 2) % 3] })
-            {
-              moves = moves || oddId[e] != 0;
-              if (!feature[e] && (best < 0 || chordEstimate[e] > chordEstimate[best] ||
-                                   (chordEstimate[e] == chordEstimate[best] && e < best)))
-                best = e;
-            }
-          }
-          if (!moves)
-            forced[vv] = best;
-        }
-      });
-      for (std::size_t v = 0; v < nV; ++v)
-        if (forced[v] >= 0)
-          oddId[forced[v]] = 1;
-    }
-    if (byError && rule != FeatureRule::Fixed)
-    {
-      // A feature edge also splits when another edge of its triangle does: the curve gains samples where the
-      // surface next to it is refined. Decided on the interior edges' flags (set above), written after all reads.
-      std::vector<unsigned char> alsoSplit(nE, 0);
-      parallelFor(nE, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t e = begin; e < end; ++e)
-        {
-          if (!feature[e] || oddId[e])
-            continue;
-          for (int side = 0; side < 2; ++side)
-          {
-            const int t = table.edgeTriangles[2 * e + side];
-            if (t < 0)
-              continue;
-            for (int c = 0; c < 3; ++c)
-            {
-              const int other = table.triangleEdges[3 * static_cast<std::size_t>(t) + c];
-              if (other != static_cast<int>(e) && !feature[other] && oddId[other])
-                alsoSplit[e] = 1;
-            }
-          }
-        }
-      });
-      for (std::size_t e = 0; e < nE; ++e)
-        if (alsoSplit[e])
-          oddId[e] = 1;
-    }
-    int nSplit = 0;
-    for (std::size_t e = 0; e < nE; ++e)
-    {
-      const int s = oddId[e];
-      oddId[e] = s ? static_cast<int>(nV) + nSplit : -1;
-      nSplit += s;
-    }
-    if (nSplit == 0)
-      break; // nothing would change but smoothing: the run has converged
-
-    // Children per triangle and the output size.
-    std::vector<int> childOffsets(nT + 1, 0);
-    parallelFor(nT, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t t = begin; t < end; ++t)
-      {
-        int n = 1;
-        for (int c = 0; c < 3; ++c)
-          n += oddId[table.triangleEdges[3 * t + c]] >= 0 ? 1 : 0;
-        childOffsets[t] = n;
-      }
-    });
-    std::size_t nTout = 0;
-    for (std::size_t t = 0; t < nT; ++t)
-    {
-      const int n = childOffsets[t];
-      childOffsets[t] = static_cast<int>(nTout);
-      nTout += static_cast<std::size_t>(n);
-      if (nTout > settings.maximumTriangles)
-      {
-        std::ostringstream out;
-        out << "level " << level + 1 << " would make more than MaximumTriangles = " << settings.maximumTriangles
-            << " triangles (accepted range [1, " << MaxAdaptiveLoopTriangles
-            << "]); lower MaximumLevel or raise MaximumTriangles";
-        return fail(out.str());
-      }
-    }
-    childOffsets[nT] = static_cast<int>(nTout);
-    const std::size_t nVout = nV + static_cast<std::size_t>(nSplit);
-    if (!progressAt(0.5))
-    {
-      result = AdaptiveLoopResult();
-      result.aborted = true;
-      return result;
-    }
+      return aborted();
 
     AdaptiveLoopMesh next;
-    next.attributeComponents = D;
-    next.points.resize(3 * nVout);
-    next.attributes.resize(static_cast<std::size_t>(D) * nVout);
-    if (haveRegion)
-      next.region.resize(nVout);
-    const StencilWriter writer{ P, mesh.attributes.data(), D, next.points.data(), next.attributes.data() };
-
-    // Even points.
-    parallelFor(nV, [&](std::size_t begin, std::size_t end) {
-      std::vector<int> ids;
-      std::vector<double> weights;
-      std::vector<int> nbrs;
-      nbrs.reserve(32);
-      for (std::size_t vv = begin; vv < end; ++vv)
-      {
-        const int v = static_cast<int>(vv);
-        if (haveRegion)
-          next.region[vv] = mesh.region[vv];
-        const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
-        const int f = featureCount[vv];
-        if (k == 0 || pinned(v))
-        {
-          writer.Copy(vv, v);
-          continue;
-        }
-        if (byError)
-        {
-          // Moves only when one of its edges splits at this level.
-          bool anySplit = false;
-          for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1] && !anySplit; ++i)
-          {
-            const int corner = table.vertexCorners[i];
-            const int base = corner - corner % 3;
-            const int c = corner - base;
-            anySplit = oddId[table.triangleEdges[base + c]] >= 0 || oddId[table.triangleEdges[base + (c + 2) % 3]] >= 0;
-          }
-          if (!anySplit)
-          {
-            writer.Copy(vv, v);
-            continue;
-          }
-        }
-        if (f == 2)
-        {
-          const int crease[3] = { v, featureNbr[2 * vv], featureNbr[2 * vv + 1] };
-          const double creaseWeights[3] = { 0.75, 0.125, 0.125 };
-          writer.Apply(vv, crease, creaseWeights, 3);
-          continue;
-        }
-        if (!byError && lambda < 1.0)
-        {
-          double s[3] = { 0.0, 0.0, 0.0 };
-          for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)
-          {
-            const double* n = normals.data() + 3 * static_cast<std::size_t>(table.vertexCorners[i] / 3);
-            s[0] += n[0];
-            s[1] += n[1];
-            s[2] += n[2];
-          }
-          const double flatness = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / k;
-          if (flatness > lambda)
-          {
-            writer.Copy(vv, v);
-            continue;
-          }
-        }
-        GatherNeighbours(tri, table, v, false, nbrs);
-        const int n = static_cast<int>(nbrs.size());
-        const double beta = LoopBeta(n);
-        ids.assign(1, v);
-        weights.assign(1, 1.0 - n * beta);
-        for (int w : nbrs)
-        {
-          ids.push_back(w);
-          weights.push_back(beta);
-        }
-        writer.Apply(vv, ids.data(), weights.data(), n + 1);
-      }
-    });
-
-    // Odd points.
-    parallelFor(nE, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t e = begin; e < end; ++e)
-      {
-        const int id = oddId[e];
-        if (id < 0)
-          continue;
-        const int a = edgeFirst[e], b = table.edgeOther[e];
-        if (feature[e])
-        {
-          const int ids[2] = { a, b };
-          const double w[2] = { 0.5, 0.5 };
-          writer.Apply(static_cast<std::size_t>(id), ids, w, 2);
-        }
-        else
-        {
-          const int ids[4] = { a, b, table.edgeOpposite[2 * e], table.edgeOpposite[2 * e + 1] };
-          const double w[4] = { 0.375, 0.375, 0.125, 0.125 };
-          writer.Apply(static_cast<std::size_t>(id), ids, w, 4);
-        }
-        if (haveRegion)
-          next.region[id] = OddRegion(mesh.region[a], mesh.region[b], table.edgeUses[e] == 1);
-      }
-    });
-    if (!progressAt(0.75))
-    {
-      result = AdaptiveLoopResult();
-      result.aborted = true;
-      return result;
-    }
-
-    // Children.
-    next.triangles.resize(3 * nTout);
-    next.origin.resize(nTout);
-    const double* Q = next.points.data();
-    parallelFor(nT, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t t = begin; t < end; ++t)
-      {
-        const int v[3] = { tri[3 * t], tri[3 * t + 1], tri[3 * t + 2] };
-        const int m[3] = { oddId[table.triangleEdges[3 * t]], oddId[table.triangleEdges[3 * t + 1]],
-          oddId[table.triangleEdges[3 * t + 2]] };
-        int* out = next.triangles.data() + 3 * static_cast<std::size_t>(childOffsets[t]);
-        const int nChildren = childOffsets[t + 1] - childOffsets[t];
-        const auto put = [&out](int a, int b, int c) {
-          out[0] = a;
-          out[1] = b;
-          out[2] = c;
-          out += 3;
-        };
-        const int splitCount = nChildren - 1;
-        if (splitCount == 0)
-          put(v[0], v[1], v[2]);
-        else if (splitCount == 3)
-        {
-          put(v[0], m[0], m[2]);
-          put(m[0], v[1], m[1]);
-          put(m[2], m[1], v[2]);
-          put(m[0], m[1], m[2]);
-        }
-        else if (splitCount == 1)
-        {
-          const int c = m[0] >= 0 ? 0 : (m[1] >= 0 ? 1 : 2);
-          const int a = v[c], b = v[(c + 1) % 3], o = v[(c + 2) % 3];
-          put(a, m[c], o);
-          put(m[c], b, o);
-        }
-        else
-        {
-          const int c = m[0] < 0 ? 0 : (m[1] < 0 ? 1 : 2); // the unsplit edge (a, b)
-          const int a = v[c], b = v[(c + 1) % 3], o = v[(c + 2) % 3];
-          const int m1 = m[(c + 1) % 3], m2 = m[(c + 2) % 3]; // on (b, o) and (o, a)
-          put(m1, o, m2);
-          if (Distance2(Q, a, m1) <= Distance2(Q, b, m2))
-          {
-            put(a, b, m1);
-            put(a, m1, m2);
-          }
-          else
-          {
-            put(a, b, m2);
-            put(b, m1, m2);
-          }
-        }
-        for (int i = childOffsets[t]; i < childOffsets[t + 1]; ++i)
-          next.origin[i] = mesh.origin[t];
-      }
-    });
-
-    // User-marked feature edges follow their halves.
-    for (std::size_t e = 0; e < nE; ++e)
-      if (marked[e])
-      {
-        const int a = edgeFirst[e], b = table.edgeOther[e];
-        if (oddId[e] >= 0)
-        {
-          next.featureEdges.push_back({ a, oddId[e] });
-          next.featureEdges.push_back({ oddId[e], b });
-        }
-        else
-          next.featureEdges.push_back({ a, b });
-      }
+    std::string error;
+    const LevelOutcome outcome = SubdivideLevel(mesh, table, rules, level, parallelFor, progressAt, next, error);
+    if (outcome == LevelOutcome::Converged)
+      break;
+    if (outcome == LevelOutcome::Aborted)
+      return aborted();
+    if (outcome == LevelOutcome::Failed)
+      return fail(error);
 
     mesh = std::move(next);
     ++result.levels;
@@ -1022,11 +1165,7 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
     doneWork += levelWork;
   }
   if (!report(1.0))
-  {
-    result = AdaptiveLoopResult();
-    result.aborted = true;
-    return result;
-  }
+    return aborted();
   result.mesh = std::move(mesh);
   return result;
 }

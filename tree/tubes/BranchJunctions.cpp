@@ -401,30 +401,24 @@ bool Hull(Junction& J, std::size_t sides)
   }
   return true;
 }
-} // namespace
 
-std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh,
-  const ParallelFor& parallel, JunctionReport* report)
+/// What the junctions decide for every tube: its skeleton (a welded child's first radius may be narrowed), its
+/// children, its state as a child, the arc length of its welded base ring, and the junctions on it as a parent.
+struct Welding
 {
-  if (report)
-    *report = JunctionReport();
-  mesh = TubeMesh();
-  std::vector<CleanedTube> cleaned;
-  if (std::string error = CleanTubes(tubes, sides, cleaned); !error.empty())
-  {
-    return error;
-  }
-  const std::size_t count = tubes.size();
-  const std::size_t S = static_cast<std::size_t>(sides);
-  const RingAngles trig(sides);
-  std::vector<Skeleton> skeletons(count);
-  parallel(count, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t t = begin; t < end; ++t)
-      skeletons[t] = MakeSkeleton(cleaned[t], tubes[t].normal);
-  });
+  std::vector<Skeleton> skeletons;
+  std::vector<std::vector<std::size_t>> children;
+  std::vector<ChildState> state;
+  std::vector<double> baseCut; ///< arc length of a welded child's ring (0: its base)
+  std::vector<std::vector<Junction>> junctionsOf;
+};
 
-  // Children per parent, parents level by level.
-  std::vector<std::vector<std::size_t>> children(count);
+/// Children per parent (into `children`), and the parents level by level.
+std::vector<std::vector<std::size_t>> ParentsByLevel(
+  const std::vector<TubeInput>& tubes, std::vector<std::vector<std::size_t>>& children)
+{
+  const std::size_t count = tubes.size();
+  children.assign(count, {});
   std::vector<int> level(count, 0);
   int levels = 0;
   for (std::size_t t = 0; t < count; ++t)
@@ -443,140 +437,157 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
     if (!children[t].empty())
       byLevel[static_cast<std::size_t>(level[t])].push_back(t);
   }
-  std::vector<ChildState> state(count);
-  std::vector<double> baseCut(count, 0.0); // arc length of a welded child's ring (0: its base)
-  std::vector<std::vector<Junction>> junctionsOf(count);
-  const double smallAngle = std::sin(5.0 * Pi / 180.0);
+  return byLevel;
+}
 
-  for (const std::vector<std::size_t>& parents : byLevel)
+/// A child's node on its parent `p` (the parent's centre-line point nearest the child's first point), the parent's
+/// radius there, and the child's first pull; narrows the child's first radius to the pipe model's. False when the
+/// child runs along the parent's axis (it falls back).
+bool PlaceChild(const Skeleton& p, Skeleton& s, ChildState& cs)
+{
+  const double smallAngle = std::sin(5.0 * Pi / 180.0);
+  // Node: the parent's centre-line point nearest the child's first point.
+  const Eigen::Vector3d B = s.line.centre[0];
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < p.dir.size(); ++k)
   {
-    parallel(parents.size(), [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
-      {
-        const std::size_t P = parents[i];
-        const Skeleton& p = skeletons[P];
-        std::vector<Junction> single;
-        for (std::size_t c : children[P])
-        {
-          ChildState& cs = state[c];
-          Skeleton& s = skeletons[c];
-          // Node: the parent's centre-line point nearest the child's first point.
-          const Eigen::Vector3d B = s.line.centre[0];
-          double best = std::numeric_limits<double>::infinity();
-          for (std::size_t k = 0; k < p.dir.size(); ++k)
-          {
-            const double len = p.arc[k + 1] - p.arc[k];
-            const double f = std::clamp((B - p.line.centre[k]).dot(p.dir[k]), 0.0, len);
-            const Eigen::Vector3d x = p.line.centre[k] + f * p.dir[k];
-            if ((x - B).squaredNorm() < best)
-            {
-              best = (x - B).squaredNorm();
-              cs.node = p.arc[k] + f, cs.nodePoint = x, cs.axis = p.dir[k];
-            }
-          }
-          const bool atEnd = cs.node >= p.Length() * (1.0 - 1e-9);
-          cs.parentRadius = std::max(p.RadiusAt(cs.node), atEnd ? p.line.radii[p.line.radii.size() - 2] : 0.0);
-          const Eigen::Vector3d d = s.dir[0];
-          const double cosine = d.dot(cs.axis);
-          const double sine = std::sqrt(std::max(0.0, 1.0 - cosine * cosine));
-          if (sine < smallAngle && !atEnd)
-            continue; // along the parent's axis: falls back
-          if (!atEnd && s.line.radii[0] > 0.9 * cs.parentRadius)
-          {
-            s.line.radii[0] = 0.9 * cs.parentRadius; // the pipe model (see the header)
-            cs.narrowed = true;
-          }
-          const Eigen::Vector3d across = d - cosine * cs.axis;
-          const double h = sine > 0.0 ? (B - cs.nodePoint).dot(across) / across.norm() : 0.0;
-          const double rc = s.line.radii[0];
-          // At a parent's end the child need not clear a parent continuing beside it: start short and let the face
-          // test grow it (a short pull leaves room for the child's own first junctions).
-          cs.pull = atEnd ? 0.3 * rc
-                          : std::max(0.3 * rc, (1.2 * cs.parentRadius - h + rc * std::abs(cosine)) / std::max(sine, 0.2));
-          Junction J;
-          J.parent = P;
-          J.children = { c };
-          if (Solve(skeletons, state, baseCut, trig, J))
-            single.push_back(std::move(J));
-        }
-        // Merge junctions whose intervals overlap (the children sorted along the parent), re-solve, repeat.
-        std::stable_sort(single.begin(), single.end(), [](const Junction& a, const Junction& b) { return a.lo < b.lo; });
-        for (bool changed = true; changed;)
-        {
-          changed = false;
-          for (std::size_t k = 0; k + 1 < single.size(); ++k)
-          {
-            if (single[k].hi < single[k + 1].lo)
-              continue;
-            Junction J;
-            J.parent = P;
-            J.children = single[k].children;
-            J.children.insert(J.children.end(), single[k + 1].children.begin(), single[k + 1].children.end());
-            std::sort(J.children.begin(), J.children.end());
-            single.erase(single.begin() + static_cast<long>(k), single.begin() + static_cast<long>(k) + 2);
-            if (Solve(skeletons, state, baseCut, trig, J))
-            {
-              single.insert(single.begin() + static_cast<long>(k), std::move(J));
-              std::stable_sort(
-                single.begin(), single.end(), [](const Junction& a, const Junction& b) { return a.lo < b.lo; });
-            }
-            changed = true;
-            break;
-          }
-        }
-        for (Junction& J : single)
-        {
-          for (std::size_t c : J.children)
-          {
-            state[c].welded = true;
-            baseCut[c] = state[c].pull;
-          }
-        }
-        // Children left unwelded keep their template radius (before their own children are decided).
-        for (std::size_t c : children[P])
-        {
-          if (state[c].narrowed && !state[c].welded)
-          {
-            skeletons[c].line.radii[0] = cleaned[c].radii[0];
-            state[c].narrowed = false;
-          }
-        }
-        junctionsOf[P] = std::move(single);
-      }
-    });
+    const double len = p.arc[k + 1] - p.arc[k];
+    const double f = std::clamp((B - p.line.centre[k]).dot(p.dir[k]), 0.0, len);
+    const Eigen::Vector3d x = p.line.centre[k] + f * p.dir[k];
+    if ((x - B).squaredNorm() < best)
+    {
+      best = (x - B).squaredNorm();
+      cs.node = p.arc[k] + f, cs.nodePoint = x, cs.axis = p.dir[k];
+    }
   }
-  // Hulls, in parallel; a junction whose hull lacks a ring face falls back (its children unwelded).
+  const bool atEnd = cs.node >= p.Length() * (1.0 - 1e-9);
+  cs.parentRadius = std::max(p.RadiusAt(cs.node), atEnd ? p.line.radii[p.line.radii.size() - 2] : 0.0);
+  const Eigen::Vector3d d = s.dir[0];
+  const double cosine = d.dot(cs.axis);
+  const double sine = std::sqrt(std::max(0.0, 1.0 - cosine * cosine));
+  if (sine < smallAngle && !atEnd)
+    return false; // along the parent's axis: falls back
+  if (!atEnd && s.line.radii[0] > 0.9 * cs.parentRadius)
+  {
+    s.line.radii[0] = 0.9 * cs.parentRadius; // the pipe model (see the header)
+    cs.narrowed = true;
+  }
+  const Eigen::Vector3d across = d - cosine * cs.axis;
+  const double h = sine > 0.0 ? (B - cs.nodePoint).dot(across) / across.norm() : 0.0;
+  const double rc = s.line.radii[0];
+  // At a parent's end the child need not clear a parent continuing beside it: start short and let the face
+  // test grow it (a short pull leaves room for the child's own first junctions).
+  cs.pull = atEnd ? 0.3 * rc
+                  : std::max(0.3 * rc, (1.2 * cs.parentRadius - h + rc * std::abs(cosine)) / std::max(sine, 0.2));
+  return true;
+}
+
+/// Merges junctions whose intervals overlap (the children sorted along the parent), re-solves, repeats.
+void MergeOverlapping(std::size_t P, const RingAngles& trig, Welding& w, std::vector<Junction>& single)
+{
+  std::stable_sort(single.begin(), single.end(), [](const Junction& a, const Junction& b) { return a.lo < b.lo; });
+  for (bool changed = true; changed;)
+  {
+    changed = false;
+    for (std::size_t k = 0; k + 1 < single.size(); ++k)
+    {
+      if (single[k].hi < single[k + 1].lo)
+        continue;
+      Junction J;
+      J.parent = P;
+      J.children = single[k].children;
+      J.children.insert(J.children.end(), single[k + 1].children.begin(), single[k + 1].children.end());
+      std::sort(J.children.begin(), J.children.end());
+      single.erase(single.begin() + static_cast<long>(k), single.begin() + static_cast<long>(k) + 2);
+      if (Solve(w.skeletons, w.state, w.baseCut, trig, J))
+      {
+        single.insert(single.begin() + static_cast<long>(k), std::move(J));
+        std::stable_sort(
+          single.begin(), single.end(), [](const Junction& a, const Junction& b) { return a.lo < b.lo; });
+      }
+      changed = true;
+      break;
+    }
+  }
+}
+
+/// The junctions of parent P: one per child that can weld, merged where they overlap; marks the welded children
+/// and gives the unwelded ones back their template radius (before their own children are decided).
+void WeldChildrenOf(std::size_t P, const std::vector<CleanedTube>& cleaned, const RingAngles& trig, Welding& w)
+{
+  const Skeleton& p = w.skeletons[P];
+  std::vector<Junction> single;
+  for (std::size_t c : w.children[P])
+  {
+    if (!PlaceChild(p, w.skeletons[c], w.state[c]))
+      continue;
+    Junction J;
+    J.parent = P;
+    J.children = { c };
+    if (Solve(w.skeletons, w.state, w.baseCut, trig, J))
+      single.push_back(std::move(J));
+  }
+  MergeOverlapping(P, trig, w, single);
+  for (Junction& J : single)
+  {
+    for (std::size_t c : J.children)
+    {
+      w.state[c].welded = true;
+      w.baseCut[c] = w.state[c].pull;
+    }
+  }
+  // Children left unwelded keep their template radius (before their own children are decided).
+  for (std::size_t c : w.children[P])
+  {
+    if (w.state[c].narrowed && !w.state[c].welded)
+    {
+      w.skeletons[c].line.radii[0] = cleaned[c].radii[0];
+      w.state[c].narrowed = false;
+    }
+  }
+  w.junctionsOf[P] = std::move(single);
+}
+
+/// Hulls, in parallel; a junction whose hull lacks a ring face falls back: its children stay closed tubes from
+/// their base (they keep the narrowed first radius their own junctions were built with). All junctions, in order.
+std::vector<Junction*> BuildHulls(std::size_t S, const ParallelFor& parallel, Welding& w)
+{
   std::vector<Junction*> all;
-  for (std::size_t t = 0; t < count; ++t)
-    for (Junction& J : junctionsOf[t])
+  for (std::size_t t = 0; t < w.junctionsOf.size(); ++t)
+    for (Junction& J : w.junctionsOf[t])
       all.push_back(&J);
   parallel(all.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       all[i]->failed = !Hull(*all[i], S);
   });
-  // A junction whose hull lacks a ring face falls back: its children stay closed tubes from their base (they keep
-  // the narrowed first radius their own junctions were built with).
   for (Junction* J : all)
   {
     if (!J->failed)
       continue;
     for (std::size_t c : J->children)
     {
-      state[c].welded = false;
-      baseCut[c] = 0.0;
+      w.state[c].welded = false;
+      w.baseCut[c] = 0.0;
     }
   }
+  return all;
+}
 
-  // Stations of each tube: centre points and cut rings, kept or dropped; bands between kept neighbours.
-  struct Layout
-  {
-    std::vector<Station> stations;
-    std::vector<char> bandAfter; ///< band from station i to i + 1
-    bool baseCap = true, endKept = true;
-    std::vector<std::pair<const Junction*, long>> extras; ///< (junction, point) hull corners owned by the tube
-    std::vector<std::pair<const Junction*, std::size_t>> facets; ///< (junction, facet) owned by the tube
-  };
-  std::vector<Layout> layout(count);
+/// Stations of a tube: centre points and cut rings, kept or dropped; bands between kept neighbours; the hull
+/// corners and facets the tube owns.
+struct Layout
+{
+  std::vector<Station> stations;
+  std::vector<char> bandAfter; ///< band from station i to i + 1
+  bool baseCap = true, endKept = true;
+  std::vector<std::pair<const Junction*, long>> extras; ///< (junction, point) hull corners owned by the tube
+  std::vector<std::pair<const Junction*, std::size_t>> facets; ///< (junction, facet) owned by the tube
+};
+
+/// Each hull facet goes to the lowest-numbered child tube with a ring in it (else the parent), each used corner of
+/// a dropped part to its tube.
+void AssignHullParts(const std::vector<Junction*>& all, std::vector<Layout>& layout)
+{
   for (Junction* J : all)
   {
     if (J->failed)
@@ -600,55 +611,60 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
         layout[J->points[v].tube].extras.emplace_back(J, static_cast<long>(v));
     }
   }
-  parallel(count, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t t = begin; t < end; ++t)
-    {
-      const Skeleton& s = skeletons[t];
-      Layout& L = layout[t];
-      std::vector<std::pair<double, double>> dropped; // open intervals
-      std::vector<double> cuts;
-      if (state[t].welded)
-      {
-        dropped.emplace_back(-1.0, baseCut[t]);
-        cuts.push_back(baseCut[t]);
-        L.baseCap = false;
-      }
-      for (const Junction& J : junctionsOf[t])
-      {
-        if (J.failed)
-          continue;
-        dropped.emplace_back(J.lo, J.end ? std::numeric_limits<double>::infinity() : J.hi);
-        cuts.push_back(J.lo);
-        if (J.end)
-          L.endKept = false;
-        else
-          cuts.push_back(J.hi);
-      }
-      const auto inside = [&](double a) {
-        for (const auto& [lo, hi] : dropped)
-          if (a > lo && a < hi)
-            return true;
-        return false;
-      };
-      const std::size_t n = s.arc.size();
-      const std::size_t ringPoints = s.line.apex ? n - 1 : n;
-      for (std::size_t k = 0; k < ringPoints; ++k)
-      {
-        bool nearCut = false;
-        for (double c : cuts)
-          nearCut = nearCut || std::abs(c - s.arc[k]) <= 1e-9 * s.Length();
-        if (!inside(s.arc[k]) && !nearCut)
-          L.stations.push_back({ s.arc[k], static_cast<long>(k) });
-      }
-      for (double c : cuts)
-        L.stations.push_back({ c, -1 });
-      std::sort(L.stations.begin(), L.stations.end(), [](const Station& a, const Station& b) { return a.arc < b.arc; });
-      for (std::size_t i = 0; i + 1 < L.stations.size(); ++i)
-        L.bandAfter.push_back(!inside(0.5 * (L.stations[i].arc + L.stations[i + 1].arc)));
-    }
-  });
+}
 
-  // Offsets, then points and triangles.
+/// Tube t's stations and bands: its centre points outside the dropped intervals (its welded base, the junctions
+/// on it) and the cut rings at their ends.
+void LayOutStations(std::size_t t, const Welding& w, Layout& L)
+{
+  const Skeleton& s = w.skeletons[t];
+  std::vector<std::pair<double, double>> dropped; // open intervals
+  std::vector<double> cuts;
+  if (w.state[t].welded)
+  {
+    dropped.emplace_back(-1.0, w.baseCut[t]);
+    cuts.push_back(w.baseCut[t]);
+    L.baseCap = false;
+  }
+  for (const Junction& J : w.junctionsOf[t])
+  {
+    if (J.failed)
+      continue;
+    dropped.emplace_back(J.lo, J.end ? std::numeric_limits<double>::infinity() : J.hi);
+    cuts.push_back(J.lo);
+    if (J.end)
+      L.endKept = false;
+    else
+      cuts.push_back(J.hi);
+  }
+  const auto inside = [&](double a) {
+    for (const auto& [lo, hi] : dropped)
+      if (a > lo && a < hi)
+        return true;
+    return false;
+  };
+  const std::size_t n = s.arc.size();
+  const std::size_t ringPoints = s.line.apex ? n - 1 : n;
+  for (std::size_t k = 0; k < ringPoints; ++k)
+  {
+    bool nearCut = false;
+    for (double c : cuts)
+      nearCut = nearCut || std::abs(c - s.arc[k]) <= 1e-9 * s.Length();
+    if (!inside(s.arc[k]) && !nearCut)
+      L.stations.push_back({ s.arc[k], static_cast<long>(k) });
+  }
+  for (double c : cuts)
+    L.stations.push_back({ c, -1 });
+  std::sort(L.stations.begin(), L.stations.end(), [](const Station& a, const Station& b) { return a.arc < b.arc; });
+  for (std::size_t i = 0; i + 1 < L.stations.size(); ++i)
+    L.bandAfter.push_back(!inside(0.5 * (L.stations[i].arc + L.stations[i + 1].arc)));
+}
+
+/// Point and triangle offsets of every tube, and the mesh's arrays sized; "" or the 32-bit id error.
+std::string AllocateWeldedMesh(const std::vector<Layout>& layout, int sides, TubeMesh& mesh)
+{
+  const std::size_t count = layout.size();
+  const std::size_t S = static_cast<std::size_t>(sides);
   mesh.pointOffsets.assign(count + 1, 0);
   mesh.triangleOffsets.assign(count + 1, 0);
   for (std::size_t t = 0; t < count; ++t)
@@ -672,6 +688,16 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
   mesh.normals.resize(mesh.points.size());
   mesh.tcoords.resize(2 * static_cast<std::size_t>(mesh.pointOffsets.back()));
   mesh.triangles.resize(3 * static_cast<std::size_t>(mesh.triangleOffsets.back()));
+  return {};
+}
+
+/// Every tube's points (base centre, rings, end point, owned hull corners) and triangles (TubeTriangles' caps and
+/// kept bands, then its hull facets).
+void WriteWeldedTubes(const Welding& w, const std::vector<Layout>& layout, int sides, const RingAngles& trig,
+  const ParallelFor& parallel, TubeMesh& mesh)
+{
+  const std::size_t count = layout.size();
+  const std::size_t S = static_cast<std::size_t>(sides);
   // Global id of ring vertex j of the ring at arc `a` of tube t (its station), and of a junction's extra points.
   const auto ringId = [&](std::size_t t, double a, std::size_t j) {
     const Layout& L = layout[t];
@@ -697,7 +723,7 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
   parallel(count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
     {
-      const Skeleton& s = skeletons[t];
+      const Skeleton& s = w.skeletons[t];
       const Layout& L = layout[t];
       std::int64_t p = mesh.pointOffsets[t];
       const auto put = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& normal, double u, double v) {
@@ -730,28 +756,82 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
       }
     }
   });
+}
 
-  if (report)
+/// The junction counts and the tubes that fell back.
+void FillJunctionReport(const std::vector<TubeInput>& tubes, const std::vector<Junction*>& all, const Welding& w,
+  JunctionReport& report)
+{
+  for (const Junction* J : all)
   {
-    for (const Junction* J : all)
+    if (J->failed)
+      continue;
+    ++report.junctions;
+    report.welded += static_cast<std::int64_t>(J->children.size());
+    report.merged += J->children.size() > 1 ? 1 : 0;
+    report.endJunctions += J->end ? 1 : 0;
+  }
+  for (std::size_t t = 0; t < tubes.size(); ++t)
+  {
+    report.narrowed += w.state[t].narrowed ? 1 : 0;
+    if (tubes[t].parent >= 0 && !w.state[t].welded)
     {
-      if (J->failed)
-        continue;
-      ++report->junctions;
-      report->welded += static_cast<std::int64_t>(J->children.size());
-      report->merged += J->children.size() > 1 ? 1 : 0;
-      report->endJunctions += J->end ? 1 : 0;
-    }
-    for (std::size_t t = 0; t < count; ++t)
-    {
-      report->narrowed += state[t].narrowed ? 1 : 0;
-      if (tubes[t].parent >= 0 && !state[t].welded)
-      {
-        ++report->fallback;
-        report->fallbackTubes.push_back(static_cast<std::int64_t>(t));
-      }
+      ++report.fallback;
+      report.fallbackTubes.push_back(static_cast<std::int64_t>(t));
     }
   }
+}
+} // namespace
+
+std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh,
+  const ParallelFor& parallel, JunctionReport* report)
+{
+  if (report)
+    *report = JunctionReport();
+  mesh = TubeMesh();
+  std::vector<CleanedTube> cleaned;
+  if (std::string error = CleanTubes(tubes, sides, cleaned); !error.empty())
+  {
+    return error;
+  }
+  const std::size_t count = tubes.size();
+  const std::size_t S = static_cast<std::size_t>(sides);
+  const RingAngles trig(sides);
+  Welding w;
+  w.skeletons.resize(count);
+  parallel(count, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+      w.skeletons[t] = MakeSkeleton(cleaned[t], tubes[t].normal);
+  });
+
+  // Children per parent, parents level by level: each level's junctions in parallel (a parent is final before its
+  // children's junctions are decided).
+  const std::vector<std::vector<std::size_t>> byLevel = ParentsByLevel(tubes, w.children);
+  w.state.assign(count, ChildState());
+  w.baseCut.assign(count, 0.0);
+  w.junctionsOf.assign(count, {});
+  for (const std::vector<std::size_t>& parents : byLevel)
+  {
+    parallel(parents.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        WeldChildrenOf(parents[i], cleaned, trig, w);
+    });
+  }
+  const std::vector<Junction*> all = BuildHulls(S, parallel, w);
+
+  // Stations of each tube, then points and triangles.
+  std::vector<Layout> layout(count);
+  AssignHullParts(all, layout);
+  parallel(count, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+      LayOutStations(t, w, layout[t]);
+  });
+  if (std::string error = AllocateWeldedMesh(layout, sides, mesh); !error.empty())
+    return error;
+  WriteWeldedTubes(w, layout, sides, trig, parallel, mesh);
+
+  if (report)
+    FillJunctionReport(tubes, all, w, *report);
   return {};
 }
 

@@ -244,6 +244,220 @@ double LastCrossingIn(const TubeMesh& mesh, const TriangleRanges& ranges, const 
   }
   return best;
 }
+
+/// Tube t's points and triangles at its offsets: base centre, rings (ring 0 around the first segment, vertex 0
+/// towards `towards`, the tube's normal; each further ring the previous one's directions carried along the segment
+/// onto the bisector plane), end point, and TubeTriangles' caps and bands.
+void WriteTube(const Cleaned& c, const Eigen::Vector3d& towards, const RingAngles& angles, int sides, std::size_t t,
+  TubeMesh& mesh)
+{
+  const std::vector<double>& cosines = angles.cosines;
+  const std::vector<double>& sines = angles.sines;
+  const std::vector<double>& around = angles.around;
+  const std::size_t n = c.centre.size();
+  const std::vector<Eigen::Vector3d> tangents = PolylineTangents(c.centre);
+  std::vector<double> arc(n, 0.0);
+  for (std::size_t k = 1; k < n; ++k)
+  {
+    arc[k] = arc[k - 1] + (c.centre[k] - c.centre[k - 1]).norm();
+  }
+  const double total = arc.back();
+  std::int64_t p = mesh.pointOffsets[t];
+  const auto put = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& normal, double u, double v) {
+    SetMeshPoint(mesh, p, x, normal, u, v);
+    return p++;
+  };
+  const std::int64_t baseCentre = put(c.centre[0], -tangents[0], 0.5, 0.0);
+  const std::size_t rings = c.apex ? n - 1 : n;
+  const std::int64_t firstRing = p;
+  // Ring 0: a circle around the first segment, vertex 0 towards the given normal.
+  std::vector<Eigen::Vector3d> radial(static_cast<std::size_t>(sides)); // unit, across the current segment
+  const Eigen::Vector3d n0 = PerpendicularTo(tangents[0], towards);
+  const Eigen::Vector3d b0 = n0.cross(tangents[0]);
+  for (int j = 0; j < sides; ++j)
+  {
+    const std::size_t js = static_cast<std::size_t>(j);
+    radial[js] = cosines[js] * n0 + sines[js] * b0;
+    put(c.centre[0] + c.radii[0] * radial[js], radial[js], around[js], 0.0);
+  }
+  // Ring k: ring k - 1's cross-section directions carried along segment k - 1 (a translation: no twist, the
+  // exact rotation-minimising transport of a polyline) onto the bisector plane at point k, i.e. the
+  // intersection of segment k - 1's cylinder with that plane, which is also segment k's cylinder's.
+  for (std::size_t k = 1; k < rings; ++k)
+  {
+    const Eigen::Vector3d d = (c.centre[k] - c.centre[k - 1]).normalized();
+    const Eigen::Vector3d& plane = tangents[k];
+    const Eigen::Vector3d out = k + 1 < n ? Eigen::Vector3d((c.centre[k + 1] - c.centre[k]).normalized()) : d;
+    for (int j = 0; j < sides; ++j)
+    {
+      const std::size_t js = static_cast<std::size_t>(j);
+      Eigen::Vector3d w = radial[js] - radial[js].dot(d) * d;
+      w.normalize();
+      const Eigen::Vector3d offset = c.radii[k] * MitreOffset(w, d, plane);
+      put(c.centre[k] + offset, w, around[js], total > 0.0 ? arc[k] / total : 0.0);
+      // Across the next segment: the same offset direction without its component along it.
+      Eigen::Vector3d next = offset - offset.dot(out) * out;
+      radial[js] = next.norm() > 0.0 ? Eigen::Vector3d(next.normalized()) : w;
+    }
+  }
+  const std::int64_t last = put(c.centre[n - 1], tangents[n - 1], 0.5, 1.0);
+  TubeTriangles(mesh.triangles, 3 * static_cast<std::size_t>(mesh.triangleOffsets[t]), firstRing, rings, sides,
+    baseCentre, last, c.apex);
+}
+
+/// The child tubes level by level (level 1 first; the roots, level 0, are left out).
+std::vector<std::vector<std::size_t>> ChildrenByLevel(const std::vector<TubeInput>& tubes)
+{
+  std::vector<int> level(tubes.size(), 0);
+  int levels = 0;
+  for (std::size_t t = 0; t < tubes.size(); ++t)
+  {
+    level[t] = tubes[t].parent < 0 ? 0 : level[static_cast<std::size_t>(tubes[t].parent)] + 1;
+    levels = std::max(levels, level[t]);
+  }
+  std::vector<std::vector<std::size_t>> byLevel(static_cast<std::size_t>(levels) + 1);
+  for (std::size_t t = 0; t < tubes.size(); ++t)
+  {
+    if (level[t] > 0)
+      byLevel[static_cast<std::size_t>(level[t])].push_back(t);
+  }
+  return byLevel;
+}
+
+Eigen::Vector3d MeshPoint(const TubeMesh& mesh, std::int64_t i)
+{
+  const std::size_t k = 3 * static_cast<std::size_t>(i);
+  return Eigen::Vector3d(mesh.points[k], mesh.points[k + 1], mesh.points[k + 2]);
+}
+
+void MovePoint(TubeMesh& mesh, std::int64_t i, const Eigen::Vector3d& x)
+{
+  const std::size_t k = 3 * static_cast<std::size_t>(i);
+  mesh.points[k] = x.x(), mesh.points[k + 1] = x.y(), mesh.points[k + 2] = x.z();
+}
+
+/// The parent's triangles a child's crossing window can reach: those of the parent's segments passing within
+/// (`reach` + the segment's ring reach) of the child's base centre. A segment's triangles lie within
+/// max radius / cos(85 / 2 deg) < 1.36 radii of it (mitre clamp).
+TriangleRanges ParentTrianglesNear(const Cleaned& host, std::int64_t hostTriangles, const Eigen::Vector3d& baseCentre,
+  double reach, int sides)
+{
+  const std::size_t hostRings = host.centre.size() - (host.apex ? 1 : 0);
+  TriangleRanges ranges;
+  for (std::size_t k = 0; k + 1 < host.centre.size(); ++k)
+  {
+    const Eigen::Vector3d a = host.centre[k], d = host.centre[k + 1] - host.centre[k];
+    const double along = std::clamp((baseCentre - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    const double distance = (baseCentre - a - along * d).norm();
+    // (+ the first segment's length for k = 0: the parent's own base ring may have slid back that far.)
+    const double slid = k == 0 ? d.norm() : 0.0;
+    if (distance > reach + slid + 1.36 * std::max(host.radii[k], host.radii[k + 1]) + 1e-9 * (1.0 + reach))
+    {
+      continue;
+    }
+    if (k == 0)
+      ranges.emplace_back(hostTriangles, hostTriangles + sides); // base cap
+    if (k + 1 < hostRings)
+    {
+      const std::int64_t first = hostTriangles + sides + 2 * sides * static_cast<std::int64_t>(k);
+      ranges.emplace_back(first, first + 2 * sides);
+    }
+    if (k + 2 == host.centre.size()) // end cap or apex fan
+    {
+      const std::int64_t first = hostTriangles + sides + 2 * sides * static_cast<std::int64_t>(hostRings - 1);
+      ranges.emplace_back(first, first + sides);
+    }
+  }
+  return ranges;
+}
+
+/// The parameter t of the line v + t e where it comes closest to the host's centre line.
+double ClosestToCentreLine(const Cleaned& host, const Eigen::Vector3d& v, const Eigen::Vector3d& e)
+{
+  double along = 0.0, closest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k + 1 < host.centre.size(); ++k)
+  {
+    // Closest points of the line v + t e and the segment a + s (b - a), s in [0, 1].
+    const Eigen::Vector3d a = host.centre[k], d = host.centre[k + 1] - host.centre[k], r = v - a;
+    const double ee = e.dot(e), dd = d.dot(d), ed = e.dot(d), er = e.dot(r), dr = d.dot(r);
+    const double det = ee * dd - ed * ed;
+    double sParam = det > 1e-300 * ee * dd ? std::clamp((ee * dr - ed * er) / det, 0.0, 1.0) : 0.0;
+    const double tParam = (ed * sParam - er) / ee;
+    const double gap = (v + tParam * e - a - sParam * d).norm();
+    if (gap < closest)
+    {
+      closest = gap, along = tParam;
+    }
+  }
+  return along;
+}
+
+/// Seats child tube t's base ring on its parent's surface (each ring vertex slides along its first band edge to
+/// where that line last leaves the parent) and its base cap's centre along the axis; counts seated, missed,
+/// clamped and buried vertices.
+void SeatJoint(const std::vector<TubeInput>& tubes, const std::vector<Cleaned>& cleaned, std::size_t t, int sides,
+  TubeMesh& mesh, std::array<std::int64_t, 4>& count)
+{
+  const auto P = [&](std::int64_t i) { return MeshPoint(mesh, i); };
+  const auto Set = [&](std::int64_t i, const Eigen::Vector3d& x) { MovePoint(mesh, i, x); };
+  const std::size_t parent = static_cast<std::size_t>(tubes[t].parent);
+  const std::int64_t baseCentre = mesh.pointOffsets[t], firstRing = baseCentre + 1;
+  const bool apex = cleaned[t].apex;
+  const std::size_t rings = cleaned[t].centre.size() - (apex ? 1 : 0);
+  const std::int64_t apexPoint = mesh.pointOffsets[t + 1] - 1;
+  // Crossings are looked for from `back` behind the base ring (4 (child + parent radius): past the parent's
+  // far side) to ring 1, among the parent's triangles that window can reach.
+  const Cleaned& host = cleaned[parent];
+  const double back = 4.0 * (cleaned[t].radii[0] + *std::max_element(host.radii.begin(), host.radii.end()));
+  double reach = 0.0;
+  for (int j = 0; j < sides; ++j)
+  {
+    const Eigen::Vector3d next = rings >= 2 ? P(firstRing + sides + j) : P(apexPoint);
+    reach = std::max(reach,
+      std::max(back, (next - P(firstRing + j)).norm()) + (P(firstRing + j) - P(baseCentre)).norm());
+  }
+  const TriangleRanges ranges =
+    ParentTrianglesNear(host, mesh.triangleOffsets[parent], P(baseCentre), reach, sides);
+  for (int j = 0; j < sides; ++j)
+  {
+    const Eigen::Vector3d v = P(firstRing + j);
+    const Eigen::Vector3d next = rings >= 2 ? P(firstRing + sides + j) : P(apexPoint);
+    const Eigen::Vector3d e = next - v;
+    bool leaving = false;
+    const double crossing = LastCrossingIn(mesh, ranges, v, e, -back / e.norm(), 1.0, &leaving);
+    if (std::isnan(crossing))
+    {
+      // The line misses the parent (a child wider than its parent there): slide to where the line comes
+      // closest to the parent's centre line (within the window), so the child's wall reaches back beside the parent, not past it.
+      const double along = ClosestToCentreLine(host, v, e);
+      Set(firstRing + j, v + std::clamp(along, -back / e.norm(), 0.95) * e);
+      ++count[1];
+    }
+    else if (!leaving)
+    {
+      ++count[3];
+    }
+    else if (crossing > 0.95)
+    {
+      Set(firstRing + j, v + 0.95 * e);
+      ++count[2];
+    }
+    else
+    {
+      Set(firstRing + j, v + crossing * e);
+      ++count[0];
+    }
+  }
+  // The base cap's centre along the axis: where the axis leaves the parent before the next centre point.
+  const Eigen::Vector3d centre = P(baseCentre);
+  const Eigen::Vector3d axis = cleaned[t].centre[1] - cleaned[t].centre[0];
+  bool leaving = false;
+  const double crossing = LastCrossingIn(mesh, ranges, centre, axis, -back / axis.norm(), 0.95, &leaving);
+  if (!std::isnan(crossing) && leaving)
+  {
+    Set(baseCentre, centre + crossing * axis);
+  }
+}
 } // namespace
 
 std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel,
@@ -277,197 +491,19 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
   mesh.triangles.resize(3 * static_cast<std::size_t>(mesh.triangleOffsets.back()));
 
   const RingAngles angles(sides);
-  const std::vector<double>& cosines = angles.cosines;
-  const std::vector<double>& sines = angles.sines;
-  const std::vector<double>& around = angles.around;
-
   parallel(tubes.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
-    {
-      const Cleaned& c = cleaned[t];
-      const std::size_t n = c.centre.size();
-      const std::vector<Eigen::Vector3d> tangents = PolylineTangents(c.centre);
-      std::vector<double> arc(n, 0.0);
-      for (std::size_t k = 1; k < n; ++k)
-      {
-        arc[k] = arc[k - 1] + (c.centre[k] - c.centre[k - 1]).norm();
-      }
-      const double total = arc.back();
-      std::int64_t p = mesh.pointOffsets[t];
-      const auto put = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& normal, double u, double v) {
-        SetMeshPoint(mesh, p, x, normal, u, v);
-        return p++;
-      };
-      const std::int64_t baseCentre = put(c.centre[0], -tangents[0], 0.5, 0.0);
-      const std::size_t rings = c.apex ? n - 1 : n;
-      const std::int64_t firstRing = p;
-      // Ring 0: a circle around the first segment, vertex 0 towards the given normal.
-      std::vector<Eigen::Vector3d> radial(static_cast<std::size_t>(sides)); // unit, across the current segment
-      const Eigen::Vector3d n0 = PerpendicularTo(tangents[0], tubes[t].normal);
-      const Eigen::Vector3d b0 = n0.cross(tangents[0]);
-      for (int j = 0; j < sides; ++j)
-      {
-        const std::size_t js = static_cast<std::size_t>(j);
-        radial[js] = cosines[js] * n0 + sines[js] * b0;
-        put(c.centre[0] + c.radii[0] * radial[js], radial[js], around[js], 0.0);
-      }
-      // Ring k: ring k - 1's cross-section directions carried along segment k - 1 (a translation: no twist, the
-      // exact rotation-minimising transport of a polyline) onto the bisector plane at point k, i.e. the
-      // intersection of segment k - 1's cylinder with that plane, which is also segment k's cylinder's.
-      for (std::size_t k = 1; k < rings; ++k)
-      {
-        const Eigen::Vector3d d = (c.centre[k] - c.centre[k - 1]).normalized();
-        const Eigen::Vector3d& plane = tangents[k];
-        const Eigen::Vector3d out =
-          k + 1 < n ? Eigen::Vector3d((c.centre[k + 1] - c.centre[k]).normalized()) : d;
-        for (int j = 0; j < sides; ++j)
-        {
-          const std::size_t js = static_cast<std::size_t>(j);
-          Eigen::Vector3d w = radial[js] - radial[js].dot(d) * d;
-          w.normalize();
-          const Eigen::Vector3d offset = c.radii[k] * MitreOffset(w, d, plane);
-          put(c.centre[k] + offset, w, around[js], total > 0.0 ? arc[k] / total : 0.0);
-          // Across the next segment: the same offset direction without its component along it.
-          Eigen::Vector3d next = offset - offset.dot(out) * out;
-          radial[js] = next.norm() > 0.0 ? Eigen::Vector3d(next.normalized()) : w;
-        }
-      }
-      const std::int64_t last = put(c.centre[n - 1], tangents[n - 1], 0.5, 1.0);
-      TubeTriangles(mesh.triangles, 3 * static_cast<std::size_t>(mesh.triangleOffsets[t]), firstRing, rings, sides,
-        baseCentre, last, c.apex);
-    }
+      WriteTube(cleaned[t], tubes[t].normal, angles, sides, t, mesh);
   });
 
   // Joints: seat each child's base ring on its parent's surface, level by level (a parent is final before its
   // children read it; children of one level only write their own points).
-  std::vector<int> level(tubes.size(), 0);
-  int levels = 0;
-  for (std::size_t t = 0; t < tubes.size(); ++t)
-  {
-    level[t] = tubes[t].parent < 0 ? 0 : level[static_cast<std::size_t>(tubes[t].parent)] + 1;
-    levels = std::max(levels, level[t]);
-  }
-  std::vector<std::vector<std::size_t>> byLevel(static_cast<std::size_t>(levels) + 1);
-  for (std::size_t t = 0; t < tubes.size(); ++t)
-  {
-    if (level[t] > 0)
-      byLevel[static_cast<std::size_t>(level[t])].push_back(t);
-  }
   std::vector<std::array<std::int64_t, 4>> counts(tubes.size(), { 0, 0, 0, 0 });
-  const auto P = [&](std::int64_t i) {
-    const std::size_t k = 3 * static_cast<std::size_t>(i);
-    return Eigen::Vector3d(mesh.points[k], mesh.points[k + 1], mesh.points[k + 2]);
-  };
-  const auto Set = [&](std::int64_t i, const Eigen::Vector3d& x) {
-    const std::size_t k = 3 * static_cast<std::size_t>(i);
-    mesh.points[k] = x.x(), mesh.points[k + 1] = x.y(), mesh.points[k + 2] = x.z();
-  };
-  for (const std::vector<std::size_t>& children : byLevel)
+  for (const std::vector<std::size_t>& children : ChildrenByLevel(tubes))
   {
     parallel(children.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i)
-      {
-        const std::size_t t = children[i];
-        const std::size_t parent = static_cast<std::size_t>(tubes[t].parent);
-        const std::int64_t baseCentre = mesh.pointOffsets[t], firstRing = baseCentre + 1;
-        const bool apex = cleaned[t].apex;
-        const std::size_t rings = cleaned[t].centre.size() - (apex ? 1 : 0);
-        const std::int64_t apexPoint = mesh.pointOffsets[t + 1] - 1;
-        std::array<std::int64_t, 4>& count = counts[t];
-        // Crossings are looked for from `back` behind the base ring (4 (child + parent radius): past the parent's
-        // far side) to ring 1, among the parent's triangles that window can reach: those of the parent's segments
-        // passing within (child radius + the window's length + the segment's ring reach) of the child's base. A segment's triangles lie within max radius / cos(85 / 2 deg) < 1.36 radii of it (mitre clamp).
-        const Cleaned& host = cleaned[parent];
-        const double back = 4.0 * (cleaned[t].radii[0] + *std::max_element(host.radii.begin(), host.radii.end()));
-        double reach = 0.0;
-        for (int j = 0; j < sides; ++j)
-        {
-          const Eigen::Vector3d next = rings >= 2 ? P(firstRing + sides + j) : P(apexPoint);
-          reach = std::max(reach,
-            std::max(back, (next - P(firstRing + j)).norm()) + (P(firstRing + j) - P(baseCentre)).norm());
-        }
-        const std::size_t hostRings = host.centre.size() - (host.apex ? 1 : 0);
-        const std::int64_t hostTriangles = mesh.triangleOffsets[parent];
-        TriangleRanges ranges;
-        for (std::size_t k = 0; k + 1 < host.centre.size(); ++k)
-        {
-          const Eigen::Vector3d a = host.centre[k], d = host.centre[k + 1] - host.centre[k];
-          const double along = std::clamp((P(baseCentre) - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
-          const double distance = (P(baseCentre) - a - along * d).norm();
-          // (+ the first segment's length for k = 0: the parent's own base ring may have slid back that far.)
-          const double slid = k == 0 ? d.norm() : 0.0;
-          if (distance > reach + slid + 1.36 * std::max(host.radii[k], host.radii[k + 1]) + 1e-9 * (1.0 + reach))
-          {
-            continue;
-          }
-          if (k == 0)
-            ranges.emplace_back(hostTriangles, hostTriangles + sides); // base cap
-          if (k + 1 < hostRings)
-          {
-            const std::int64_t first = hostTriangles + sides + 2 * sides * static_cast<std::int64_t>(k);
-            ranges.emplace_back(first, first + 2 * sides);
-          }
-          if (k + 2 == host.centre.size()) // end cap or apex fan
-          {
-            const std::int64_t first = hostTriangles + sides + 2 * sides * static_cast<std::int64_t>(hostRings - 1);
-            ranges.emplace_back(first, first + sides);
-          }
-        }
-        for (int j = 0; j < sides; ++j)
-        {
-          const Eigen::Vector3d v = P(firstRing + j);
-          const Eigen::Vector3d next = rings >= 2 ? P(firstRing + sides + j) : P(apexPoint);
-          const Eigen::Vector3d e = next - v;
-          bool leaving = false;
-          const double crossing = LastCrossingIn(mesh, ranges, v, e, -back / e.norm(), 1.0, &leaving);
-          if (std::isnan(crossing))
-          {
-            // The line misses the parent (a child wider than its parent there): slide to where the line comes
-            // closest to the parent's centre line (within the window), so the child's wall reaches back beside the parent, not past it.
-            double along = 0.0, closest = std::numeric_limits<double>::infinity();
-            const Cleaned& host = cleaned[parent];
-            for (std::size_t k = 0; k + 1 < host.centre.size(); ++k)
-            {
-              // Closest points of the line v + t e and the segment a + s (b - a), s in [0, 1].
-              const Eigen::Vector3d a = host.centre[k], d = host.centre[k + 1] - host.centre[k], r = v - a;
-              const double ee = e.dot(e), dd = d.dot(d), ed = e.dot(d), er = e.dot(r), dr = d.dot(r);
-              const double det = ee * dd - ed * ed;
-              double sParam = det > 1e-300 * ee * dd ? std::clamp((ee * dr - ed * er) / det, 0.0, 1.0) : 0.0;
-              const double tParam = (ed * sParam - er) / ee;
-              const double gap = (v + tParam * e - a - sParam * d).norm();
-              if (gap < closest)
-              {
-                closest = gap, along = tParam;
-              }
-            }
-            Set(firstRing + j, v + std::clamp(along, -back / e.norm(), 0.95) * e);
-            ++count[1];
-          }
-          else if (!leaving)
-          {
-            ++count[3];
-          }
-          else if (crossing > 0.95)
-          {
-            Set(firstRing + j, v + 0.95 * e);
-            ++count[2];
-          }
-          else
-          {
-            Set(firstRing + j, v + crossing * e);
-            ++count[0];
-          }
-        }
-        // The base cap's centre along the axis: where the axis leaves the parent before the next centre point.
-        const Eigen::Vector3d centre = P(baseCentre);
-        const Eigen::Vector3d axis = cleaned[t].centre[1] - cleaned[t].centre[0];
-        bool leaving = false;
-        const double crossing = LastCrossingIn(mesh, ranges, centre, axis, -back / axis.norm(), 0.95, &leaving);
-        if (!std::isnan(crossing) && leaving)
-        {
-          Set(baseCentre, centre + crossing * axis);
-        }
-      }
+        SeatJoint(tubes, cleaned, children[i], sides, mesh, counts[children[i]]);
     });
   }
   if (joints)

@@ -1,6 +1,7 @@
 #include "WiltingSimulation.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -171,6 +172,278 @@ std::size_t BasePoint(const WiltingInput& input)
   }
   return base;
 }
+
+/// Nodes with lumped masses, and the 28 springs and the hexahedron of every voxel. With shrinkage or curl: the 28
+/// springs of each voxel, in voxel order (else empty).
+std::vector<int> AddVoxelSprings(const VoxelGrid& grid, const WiltingParameters& parameters, double springScale,
+  MassSpringSystem& springs)
+{
+  const double h = grid.h;
+  std::vector<int> voxelSprings;
+  for (const Eigen::Vector3d& x : grid.nodes)
+  {
+    springs.AddNode(x, 0.0);
+  }
+  for (std::size_t v = 0; v < grid.voxels.size(); ++v)
+  {
+    const WiltingMaterial& material =
+      parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))];
+    const double stiffness = material.stiffness * springScale;
+    const double damping = material.damping * springScale;
+    const double mass = material.density * h * h * h;
+    const std::array<int, 8>& c = grid.corners[v];
+    for (int node : c)
+    {
+      springs.AddMass(node, mass / 8.0);
+    }
+    for (int a = 0; a < 8; ++a)
+    {
+      for (int b = a + 1; b < 8; ++b)
+      {
+        const int spring =
+          springs.AddSpring(c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], stiffness, damping);
+        if (parameters.shrinkageStrain != 0.0 || parameters.curlStrain != 0.0)
+        {
+          voxelSprings.push_back(spring);
+        }
+      }
+    }
+    springs.AddHexahedron(c);
+  }
+  return voxelSprings;
+}
+
+/// Where the leaf is held: anchor points (nodes within AnchorRadius of one are fixed) and nodes fixed whatever
+/// AnchorRadius is.
+struct AnchorPlan
+{
+  std::vector<Eigen::Vector3d> anchors;
+  std::vector<int> heldNodes;
+  std::size_t firstAnchor = 0; ///< without a petiole: its voxel's nodes are held when AnchorRadius reaches none
+};
+
+/// Anchors: the petiole's far end, or the input's petiole points, or the blade's base.
+AnchorPlan PlanAnchors(const WiltingInput& input, const WiltingParameters& parameters,
+  const PetiolePlacement& petiole, std::size_t base)
+{
+  AnchorPlan plan;
+  plan.firstAnchor = base;
+  if (parameters.petioleLength > 0.0)
+  {
+    plan.anchors.push_back(petiole.end);
+    plan.heldNodes = petiole.endNodes;
+  }
+  else
+  {
+    for (std::size_t p = 0; p < input.regions.size(); ++p)
+    {
+      if (input.regions[p] == 5)
+      {
+        plan.firstAnchor = plan.anchors.empty() ? p : plan.firstAnchor;
+        plan.anchors.push_back(input.points[p]);
+      }
+    }
+    if (plan.anchors.empty())
+    {
+      plan.anchors.push_back(input.points[base]);
+    }
+  }
+  return plan;
+}
+
+/// Fixes the nodes within `radius` of an anchor; their number.
+std::size_t FixNodesNearAnchors(
+  const VoxelGrid& grid, const std::vector<Eigen::Vector3d>& anchors, double radius, MassSpringSystem& springs)
+{
+  std::size_t fixedCount = 0;
+  for (std::size_t n = 0; n < grid.nodes.size(); ++n)
+  {
+    for (const Eigen::Vector3d& anchor : anchors)
+    {
+      if ((grid.nodes[n] - anchor).norm() <= radius)
+      {
+        springs.SetFixed(static_cast<int>(n), true);
+        ++fixedCount;
+        break;
+      }
+    }
+  }
+  return fixedCount;
+}
+
+/// Tip: the largest LeafUV v (closest to the midvein), else the point farthest from the base.
+std::size_t TipPointOf(const WiltingInput& input, std::size_t base)
+{
+  std::size_t tip = 0;
+  for (std::size_t p = 1; p < input.points.size(); ++p)
+  {
+    const bool higher = input.leafUV.empty()
+      ? (input.points[p] - input.points[base]).squaredNorm() > (input.points[tip] - input.points[base]).squaredNorm()
+      : (input.leafUV[p][1] > input.leafUV[tip][1] ||
+          (input.leafUV[p][1] == input.leafUV[tip][1] && std::abs(input.leafUV[p][0]) < std::abs(input.leafUV[tip][0])));
+    if (higher)
+    {
+      tip = p;
+    }
+  }
+  return tip;
+}
+
+/// The loads at full load: gravity, droop and contraction per node (3 each); with shrinkage or curl, the sum over
+/// every spring's voxels of k_v e_v (divided by the spring's k at the end).
+struct FullLoads
+{
+  std::vector<double>& gravity;
+  std::vector<double>& droop;
+  std::vector<double>& contraction;
+  std::vector<double>& shrinkage;
+  std::vector<double>& curl;
+};
+
+/// A voxel's side of the midvein plane (-1, 0 or 1), and the XY directions from the base to it and of its
+/// contraction.
+struct VoxelDirections
+{
+  double side = 0.0;
+  Eigen::Vector2d fromBase = Eigen::Vector2d::Zero();
+  Eigen::Vector2d towards = Eigen::Vector2d::Zero();
+};
+
+VoxelDirections DirectionsOf(const VoxelGrid& grid, std::size_t v, double midX, double baseY,
+  WiltingContractionTarget target)
+{
+  const double h = grid.h;
+  VoxelDirections out;
+  const double centreX = grid.origin[0] + h * (grid.voxels[v][0] + 0.5);
+  const double centreY = grid.origin[1] + h * (grid.voxels[v][1] + 0.5);
+  // The voxel's side of the midvein plane, for the asymmetric loads (1 + a * side is exactly 1 when a = 0).
+  const double sideOffset = centreX - midX;
+  out.side = std::abs(sideOffset) <= 0.5 * h ? 0.0 : (sideOffset > 0.0 ? 1.0 : -1.0);
+  // The unit vector from the base to the voxel's centre in the XY plane (none within h/2 of the base).
+  const Eigen::Vector2d offset(centreX - midX, centreY - baseY);
+  out.fromBase = offset.norm() <= 0.5 * h ? Eigen::Vector2d::Zero() : Eigen::Vector2d(offset / offset.norm());
+  if (target == WiltingContractionTarget::Base)
+  {
+    out.towards = -out.fromBase;
+  }
+  else
+  {
+    const double offsetX = centreX - midX;
+    out.towards[0] = std::abs(offsetX) <= 0.5 * h ? 0.0 : (offsetX > 0.0 ? -1.0 : 1.0);
+  }
+  return out;
+}
+
+/// Adds voxel v's curl strain to its 28 springs (+d_v/2 between two bottom corners, -d_v/2 between two top corners).
+void AddVoxelCurl(const VoxelGrid& grid, std::size_t v, const WiltingParameters& parameters, double stiffness,
+  const VoxelDirections& directions, const std::vector<int>& voxelSprings, std::vector<double>& curl)
+{
+  const std::array<int, 8>& c = grid.corners[v];
+  const double strain = (1.0 + parameters.curlAsymmetry * directions.side) * parameters.curlStrain;
+  // Radial: the strain along the line from the base, (n . r)^2 of it along a spring of direction n, r =
+  // fromBase (none for the voxels within h/2 of the base in the XY plane).
+  const bool radial = parameters.curlDirection == WiltingCurlDirection::Radial;
+  const Eigen::Vector2d& r = directions.fromBase;
+  std::size_t pair = 0;
+  for (int a = 0; a < 8; ++a) // the pairs in the order AddVoxelSprings added them; corners 0-3 bottom, 4-7 top
+  {
+    for (int b = a + 1; b < 8; ++b, ++pair)
+    {
+      double face = (a < 4 && b < 4) ? 0.5 : ((a >= 4 && b >= 4) ? -0.5 : 0.0);
+      if (radial && face != 0.0)
+      {
+        const Eigen::Vector3d n = (grid.nodes[static_cast<std::size_t>(c[static_cast<std::size_t>(b)])] -
+          grid.nodes[static_cast<std::size_t>(c[static_cast<std::size_t>(a)])])
+                                    .normalized();
+        const double along = n[0] * r[0] + n[1] * r[1];
+        face *= along * along;
+      }
+      curl[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * face * strain;
+    }
+  }
+}
+
+/// Every voxel's droop and contraction on its bottom (or top) corners, and its shrinkage and curl strains on its
+/// springs (none for the petiole's voxels).
+void AccumulateVoxelLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint,
+  const WiltingParameters& parameters, double springScale, double loadScale, const std::vector<int>& voxelSprings,
+  FullLoads& loads)
+{
+  const double midX = basePoint[0];
+  const double baseY = basePoint[1];
+  const bool top = parameters.contractionSide == WiltingContractionSide::Top;
+  for (std::size_t v = 0; v < grid.voxels.size(); ++v)
+  {
+    const std::array<int, 8>& c = grid.corners[v];
+    const VoxelDirections directions = DirectionsOf(grid, v, midX, baseY, parameters.contractionTarget);
+    const double side = directions.side;
+    const Eigen::Vector2d& towards = directions.towards;
+    const double droop = (1.0 + parameters.droopAsymmetry * side) * parameters.droopForce;
+    const double contraction = (1.0 + parameters.contractionAsymmetry * side) * parameters.contractionForce;
+    const int material = WiltingMaterialOf(grid.regions[v]);
+    for (int corner = top ? 4 : 0; corner < (top ? 8 : 4) && material != WiltingPetiole; ++corner)
+    {
+      const std::size_t node = static_cast<std::size_t>(c[static_cast<std::size_t>(corner)]);
+      loads.contraction[3 * node + 0] += 0.25 * loadScale * contraction * towards[0];
+      loads.contraction[3 * node + 1] += 0.25 * loadScale * contraction * towards[1];
+      loads.droop[3 * node + 2] -= 0.25 * loadScale * droop;
+    }
+    const double stiffness = parameters.materials[static_cast<std::size_t>(material)].stiffness * springScale;
+    if (parameters.shrinkageStrain != 0.0 && material != WiltingPetiole)
+    {
+      const double strain = (1.0 + parameters.shrinkageAsymmetry * side) * parameters.shrinkageStrain;
+      for (std::size_t pair = 0; pair < 28; ++pair)
+      {
+        loads.shrinkage[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * strain;
+      }
+    }
+    if (parameters.curlStrain != 0.0 && material != WiltingPetiole)
+    {
+      AddVoxelCurl(grid, v, parameters, stiffness, directions, voxelSprings, loads.curl);
+    }
+  }
+}
+
+/// The loads at full load (FullLoads) for the finalised system: gravity from the lumped masses, the voxels' loads,
+/// none on fixed nodes; the strains divided by each spring's stiffness.
+void ComputeFullLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint, const WiltingParameters& parameters,
+  double springScale, double loadScale, const std::vector<int>& voxelSprings, const MassSpringSystem& springs,
+  FullLoads& loads)
+{
+  const std::size_t n = grid.nodes.size();
+  loads.gravity.assign(3 * n, 0.0);
+  loads.droop.assign(3 * n, 0.0);
+  loads.contraction.assign(3 * n, 0.0);
+  // With shrinkage: per spring, the sum over its voxels of k_v e_v (divided by the spring's k below).
+  loads.shrinkage.assign(parameters.shrinkageStrain == 0.0 ? 0 : springs.SpringCount(), 0.0);
+  // With curl: the same for the curl strain (+d_v/2 between two bottom corners, -d_v/2 between two top corners).
+  loads.curl.assign(parameters.curlStrain == 0.0 ? 0 : springs.SpringCount(), 0.0);
+  const std::vector<double>& masses = springs.Masses();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    loads.gravity[3 * i + 2] = -masses[i] * parameters.gravity;
+  }
+  AccumulateVoxelLoads(grid, basePoint, parameters, springScale, loadScale, voxelSprings, loads);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (springs.IsFixed(i))
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        loads.gravity[3 * i + static_cast<std::size_t>(c)] = 0.0;
+        loads.droop[3 * i + static_cast<std::size_t>(c)] = 0.0;
+        loads.contraction[3 * i + static_cast<std::size_t>(c)] = 0.0;
+      }
+    }
+  }
+  for (std::vector<double>* strains : { &loads.shrinkage, &loads.curl })
+  {
+    for (std::size_t e = 0; e < strains->size(); ++e)
+    {
+      (*strains)[e] /= springs.Springs()[e].stiffness;
+    }
+  }
+}
 } // namespace
 
 double WiltingLoadFactor(WiltingLoadProfile profile, double t, double loadTime)
@@ -232,86 +505,23 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   const double ratio = parameters.referenceVoxelSize > 0.0 ? h / parameters.referenceVoxelSize : 1.0;
   const double springScale = ratio;
   const double loadScale = ratio * ratio * ratio;
-  std::vector<int> voxelSprings; // with shrinkage or curl: the 28 springs of each voxel, in voxel order
-  // Nodes with lumped masses.
-  for (const Eigen::Vector3d& x : grid.nodes)
-  {
-    this->Springs.AddNode(x, 0.0);
-  }
-  for (std::size_t v = 0; v < grid.voxels.size(); ++v)
-  {
-    const WiltingMaterial& material =
-      parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))];
-    const double stiffness = material.stiffness * springScale;
-    const double damping = material.damping * springScale;
-    const double mass = material.density * h * h * h;
-    const std::array<int, 8>& c = grid.corners[v];
-    for (int node : c)
-    {
-      this->Springs.AddMass(node, mass / 8.0);
-    }
-    for (int a = 0; a < 8; ++a)
-    {
-      for (int b = a + 1; b < 8; ++b)
-      {
-        const int spring = this->Springs.AddSpring(
-          c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], stiffness, damping);
-        if (parameters.shrinkageStrain != 0.0 || parameters.curlStrain != 0.0)
-        {
-          voxelSprings.push_back(spring);
-        }
-      }
-    }
-    this->Springs.AddHexahedron(c);
-  }
+  const std::vector<int> voxelSprings = AddVoxelSprings(grid, parameters, springScale, this->Springs);
+
   // Anchors: the petiole's far end, or the input's petiole points, or the blade's base.
-  std::vector<Eigen::Vector3d> anchors;
-  std::vector<int> heldNodes; // fixed whatever AnchorRadius is
-  std::size_t firstAnchor = base; // without a petiole: its voxel's nodes are held when AnchorRadius reaches none
-  if (parameters.petioleLength > 0.0)
-  {
-    anchors.push_back(this->PetioleCells.end);
-    heldNodes = this->PetioleCells.endNodes;
-  }
-  else
-  {
-    for (std::size_t p = 0; p < input.regions.size(); ++p)
-    {
-      if (input.regions[p] == 5)
-      {
-        firstAnchor = anchors.empty() ? p : firstAnchor;
-        anchors.push_back(input.points[p]);
-      }
-    }
-    if (anchors.empty())
-    {
-      anchors.push_back(input.points[base]);
-    }
-  }
-  std::size_t fixedCount = 0;
-  for (std::size_t n = 0; n < grid.nodes.size(); ++n)
-  {
-    for (const Eigen::Vector3d& anchor : anchors)
-    {
-      if ((grid.nodes[n] - anchor).norm() <= parameters.anchorRadius)
-      {
-        this->Springs.SetFixed(static_cast<int>(n), true);
-        ++fixedCount;
-        break;
-      }
-    }
-  }
+  AnchorPlan anchors = PlanAnchors(input, parameters, this->PetioleCells, base);
+  const std::size_t fixedCount =
+    FixNodesNearAnchors(grid, anchors.anchors, parameters.anchorRadius, this->Springs);
   error = this->Embed.Bind(grid, input.points, parameters.tricubic);
   if (!error.empty())
   {
     return error;
   }
-  if (heldNodes.empty() && fixedCount == 0)
+  if (anchors.heldNodes.empty() && fixedCount == 0)
   {
-    const auto& held = grid.corners[static_cast<std::size_t>(this->Embed.Voxels()[firstAnchor])];
-    heldNodes.assign(held.begin(), held.end());
+    const auto& held = grid.corners[static_cast<std::size_t>(this->Embed.Voxels()[anchors.firstAnchor])];
+    anchors.heldNodes.assign(held.begin(), held.end());
   }
-  for (int node : heldNodes)
+  for (int node : anchors.heldNodes)
   {
     this->Springs.SetFixed(node, true);
   }
@@ -320,123 +530,12 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   {
     return error;
   }
-  // Tip: the largest LeafUV v (closest to the midvein), else the point farthest from the base.
-  std::size_t tip = 0;
-  for (std::size_t p = 1; p < input.points.size(); ++p)
-  {
-    const bool higher = input.leafUV.empty()
-      ? (input.points[p] - input.points[base]).squaredNorm() > (input.points[tip] - input.points[base]).squaredNorm()
-      : (input.leafUV[p][1] > input.leafUV[tip][1] ||
-          (input.leafUV[p][1] == input.leafUV[tip][1] && std::abs(input.leafUV[p][0]) < std::abs(input.leafUV[tip][0])));
-    if (higher)
-    {
-      tip = p;
-    }
-  }
-  this->Tip = static_cast<int>(tip);
+  this->Tip = static_cast<int>(TipPointOf(input, base));
+
   // Forces at full load.
-  const std::size_t n = grid.nodes.size();
-  this->GravityForce.assign(3 * n, 0.0);
-  this->LoadForce.assign(3 * n, 0.0);
-  this->ContractionLoad.assign(3 * n, 0.0);
-  // With shrinkage: per spring, the sum over its voxels of k_v e_v (divided by the spring's k below).
-  this->SpringShrinkage.assign(parameters.shrinkageStrain == 0.0 ? 0 : this->Springs.SpringCount(), 0.0);
-  // With curl: the same for the curl strain (+d_v/2 between two bottom corners, -d_v/2 between two top corners).
-  this->SpringCurl.assign(parameters.curlStrain == 0.0 ? 0 : this->Springs.SpringCount(), 0.0);
-  const std::vector<double>& masses = this->Springs.Masses();
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    this->GravityForce[3 * i + 2] = -masses[i] * parameters.gravity;
-  }
-  const double midX = input.points[base][0];
-  const double baseY = input.points[base][1];
-  const bool top = parameters.contractionSide == WiltingContractionSide::Top;
-  for (std::size_t v = 0; v < grid.voxels.size(); ++v)
-  {
-    const std::array<int, 8>& c = grid.corners[v];
-    const double centreX = grid.origin[0] + h * (grid.voxels[v][0] + 0.5);
-    const double centreY = grid.origin[1] + h * (grid.voxels[v][1] + 0.5);
-    // The voxel's side of the midvein plane, for the asymmetric loads (1 + a * side is exactly 1 when a = 0).
-    const double sideOffset = centreX - midX;
-    const double side = std::abs(sideOffset) <= 0.5 * h ? 0.0 : (sideOffset > 0.0 ? 1.0 : -1.0);
-    const double droop = (1.0 + parameters.droopAsymmetry * side) * parameters.droopForce;
-    const double contraction = (1.0 + parameters.contractionAsymmetry * side) * parameters.contractionForce;
-    // The unit vector from the base to the voxel's centre in the XY plane (none within h/2 of the base).
-    const Eigen::Vector2d offset(centreX - midX, centreY - baseY);
-    const Eigen::Vector2d fromBase =
-      offset.norm() <= 0.5 * h ? Eigen::Vector2d::Zero() : Eigen::Vector2d(offset / offset.norm());
-    Eigen::Vector2d towards = Eigen::Vector2d::Zero();
-    if (parameters.contractionTarget == WiltingContractionTarget::Base)
-    {
-      towards = -fromBase;
-    }
-    else
-    {
-      const double offset = centreX - midX;
-      towards[0] = std::abs(offset) <= 0.5 * h ? 0.0 : (offset > 0.0 ? -1.0 : 1.0);
-    }
-    const int material = WiltingMaterialOf(grid.regions[v]);
-    for (int corner = top ? 4 : 0; corner < (top ? 8 : 4) && material != WiltingPetiole; ++corner)
-    {
-      const std::size_t node = static_cast<std::size_t>(c[static_cast<std::size_t>(corner)]);
-      this->ContractionLoad[3 * node + 0] += 0.25 * loadScale * contraction * towards[0];
-      this->ContractionLoad[3 * node + 1] += 0.25 * loadScale * contraction * towards[1];
-      this->LoadForce[3 * node + 2] -= 0.25 * loadScale * droop;
-    }
-    const double stiffness = parameters.materials[static_cast<std::size_t>(material)].stiffness * springScale;
-    if (parameters.shrinkageStrain != 0.0 && material != WiltingPetiole)
-    {
-      const double strain = (1.0 + parameters.shrinkageAsymmetry * side) * parameters.shrinkageStrain;
-      for (std::size_t pair = 0; pair < 28; ++pair)
-      {
-        this->SpringShrinkage[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * strain;
-      }
-    }
-    if (parameters.curlStrain != 0.0 && material != WiltingPetiole)
-    {
-      const double strain = (1.0 + parameters.curlAsymmetry * side) * parameters.curlStrain;
-      // Radial: the strain along the line from the base, (n . r)^2 of it along a spring of direction n, r =
-      // fromBase (none for the voxels within h/2 of the base in the XY plane).
-      const bool radial = parameters.curlDirection == WiltingCurlDirection::Radial;
-      const Eigen::Vector2d& r = fromBase;
-      std::size_t pair = 0;
-      for (int a = 0; a < 8; ++a) // the pairs in the order they were added above; corners 0-3 bottom, 4-7 top
-      {
-        for (int b = a + 1; b < 8; ++b, ++pair)
-        {
-          double face = (a < 4 && b < 4) ? 0.5 : ((a >= 4 && b >= 4) ? -0.5 : 0.0);
-          if (radial && face != 0.0)
-          {
-            const Eigen::Vector3d n = (grid.nodes[static_cast<std::size_t>(c[static_cast<std::size_t>(b)])] -
-              grid.nodes[static_cast<std::size_t>(c[static_cast<std::size_t>(a)])])
-                                        .normalized();
-            const double along = n[0] * r[0] + n[1] * r[1];
-            face *= along * along;
-          }
-          this->SpringCurl[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * face * strain;
-        }
-      }
-    }
-  }
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    if (this->Springs.IsFixed(i))
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        this->GravityForce[3 * i + static_cast<std::size_t>(c)] = 0.0;
-        this->LoadForce[3 * i + static_cast<std::size_t>(c)] = 0.0;
-        this->ContractionLoad[3 * i + static_cast<std::size_t>(c)] = 0.0;
-      }
-    }
-  }
-  for (std::vector<double>* strains : { &this->SpringShrinkage, &this->SpringCurl })
-  {
-    for (std::size_t e = 0; e < strains->size(); ++e)
-    {
-      (*strains)[e] /= this->Springs.Springs()[e].stiffness;
-    }
-  }
+  FullLoads loads{ this->GravityForce, this->LoadForce, this->ContractionLoad, this->SpringShrinkage,
+    this->SpringCurl };
+  ComputeFullLoads(grid, input.points[base], parameters, springScale, loadScale, voxelSprings, this->Springs, loads);
   error = this->Newmark.Setup(this->Springs, parameters.newmark);
   if (!error.empty())
   {

@@ -105,7 +105,134 @@ struct NewmarkIntegrator::CholeskyData
   std::vector<int> springEntry; // 9 per compact spring (row b, column a), -1 when an end is fixed
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
   Eigen::VectorXd rhs, solution;
+
+  /// The pattern of the free degrees of freedom's lower triangle (nodes by solver position), built and analysed
+  /// once.
+  void Analyse(const std::vector<char>& nodeFixed, const std::vector<SpringEnds>& ends);
+
+private:
+  /// Numbers the free nodes; their count.
+  int NumberFreeNodes(const std::vector<char>& nodeFixed);
+  /// The matrix's pattern: every free node's diagonal block and every free spring's off-diagonal block.
+  void BuildPattern(int count, const std::vector<SpringEnds>& ends);
+  /// nodeEntry and springEntry: where each block's entries sit in the matrix's values.
+  void LocateEntries(const std::vector<SpringEnds>& ends);
 };
+
+int NewmarkIntegrator::CholeskyData::NumberFreeNodes(const std::vector<char>& nodeFixed)
+{
+  const std::size_t n = nodeFixed.size();
+  this->freeIndex.assign(n, -1); // by solver position
+  int count = 0;
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    if (!nodeFixed[p])
+    {
+      this->freeIndex[p] = count++;
+    }
+  }
+  return count;
+}
+
+void NewmarkIntegrator::CholeskyData::BuildPattern(int count, const std::vector<SpringEnds>& ends)
+{
+  const std::size_t n = this->freeIndex.size();
+  const std::size_t m = ends.size();
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(6 * static_cast<std::size_t>(count) + 9 * m);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const int f = this->freeIndex[i];
+    if (f < 0)
+    {
+      continue;
+    }
+    for (int r = 0; r < 3; ++r)
+    {
+      for (int c = 0; c <= r; ++c)
+      {
+        triplets.emplace_back(3 * f + r, 3 * f + c, 1.0);
+      }
+    }
+  }
+  for (std::size_t e = 0; e < m; ++e)
+  {
+    // The block is symmetric: its lower-triangle copy sits in the row of the later free index.
+    const int f0 = this->freeIndex[static_cast<std::size_t>(ends[e].a)];
+    const int f1 = this->freeIndex[static_cast<std::size_t>(ends[e].b)];
+    if (f0 < 0 || f1 < 0)
+    {
+      continue;
+    }
+    const int fa = std::min(f0, f1);
+    const int fb = std::max(f0, f1);
+    for (int r = 0; r < 3; ++r)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        triplets.emplace_back(3 * fb + r, 3 * fa + c, 1.0);
+      }
+    }
+  }
+  this->matrix.resize(3 * count, 3 * count);
+  this->matrix.setFromTriplets(triplets.begin(), triplets.end());
+  this->matrix.makeCompressed();
+}
+
+void NewmarkIntegrator::CholeskyData::LocateEntries(const std::vector<SpringEnds>& ends)
+{
+  const std::size_t n = this->freeIndex.size();
+  const std::size_t m = ends.size();
+  const double* base = this->matrix.valuePtr();
+  this->nodeEntry.assign(6 * n, -1);
+  this->springEntry.assign(9 * m, -1);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const int f = this->freeIndex[i];
+    if (f < 0)
+    {
+      continue;
+    }
+    for (int r = 0; r < 3; ++r)
+    {
+      for (int c = 0; c <= r; ++c)
+      {
+        this->nodeEntry[6 * i + static_cast<std::size_t>(SymIndex(r, c))] =
+          static_cast<int>(&this->matrix.coeffRef(3 * f + r, 3 * f + c) - base);
+      }
+    }
+  }
+  for (std::size_t e = 0; e < m; ++e)
+  {
+    // The block is symmetric: its lower-triangle copy sits in the row of the later free index.
+    const int f0 = this->freeIndex[static_cast<std::size_t>(ends[e].a)];
+    const int f1 = this->freeIndex[static_cast<std::size_t>(ends[e].b)];
+    if (f0 < 0 || f1 < 0)
+    {
+      continue;
+    }
+    const int fa = std::min(f0, f1);
+    const int fb = std::max(f0, f1);
+    for (int r = 0; r < 3; ++r)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        this->springEntry[9 * e + static_cast<std::size_t>(3 * r + c)] =
+          static_cast<int>(&this->matrix.coeffRef(3 * fb + r, 3 * fa + c) - base);
+      }
+    }
+  }
+}
+
+void NewmarkIntegrator::CholeskyData::Analyse(const std::vector<char>& nodeFixed, const std::vector<SpringEnds>& ends)
+{
+  const int count = this->NumberFreeNodes(nodeFixed);
+  this->BuildPattern(count, ends);
+  this->LocateEntries(ends);
+  this->ldlt.analyzePattern(this->matrix);
+  this->rhs.resize(3 * count);
+  this->solution.resize(3 * count);
+}
 
 std::string ValidateNewmark(const NewmarkParameters& p)
 {
@@ -175,7 +302,6 @@ std::string NewmarkIntegrator::Setup(const MassSpringSystem& system, const Newma
     this->Threads = std::make_unique<MassSpringThreads>(parameters.threads);
   }
   const std::size_t n = system.NodeCount();
-  const std::size_t m = system.SpringCount();
   std::size_t freeNodes = 0;
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -191,102 +317,135 @@ std::string NewmarkIntegrator::Setup(const MassSpringSystem& system, const Newma
   // (a voxel model numbered layer by layer has a layer's worth of nodes between a node and the one above it). The
   // springs sorted by their ends' positions; each node's row: its springs in that order. Every per-node sum is a
   // gather over the row in a fixed order, whatever the thread count.
+  this->OrderNodes(system);
+  this->OrderSprings(system);
+  this->BuildRows();
+  this->ResetWorkspace();
+  if (this->Solver != NewmarkSolver::ConjugateGradient)
   {
-    const std::vector<Eigen::Vector3d>& rest = system.RestPositions();
-    Eigen::Vector3d low = Eigen::Vector3d::Zero();
-    Eigen::Vector3d high = Eigen::Vector3d::Zero();
-    if (n > 0)
-    {
-      low = high = rest[0];
-    }
-    for (const Eigen::Vector3d& x : rest)
-    {
-      low = low.cwiseMin(x);
-      high = high.cwiseMax(x);
-    }
-    const Eigen::Vector3d extent = high - low;
-    std::array<int, 3> axes = { 0, 1, 2 };
-    std::stable_sort(axes.begin(), axes.end(), [&](int u, int w) { return extent[u] > extent[w]; });
-    this->Order.resize(n);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      this->Order[i] = static_cast<int>(i);
-    }
-    std::sort(this->Order.begin(), this->Order.end(), [&](int u, int w) {
-      const Eigen::Vector3d& xu = rest[static_cast<std::size_t>(u)];
-      const Eigen::Vector3d& xw = rest[static_cast<std::size_t>(w)];
-      for (int axis : axes)
-      {
-        if (xu[axis] != xw[axis])
-        {
-          return xu[axis] < xw[axis];
-        }
-      }
-      return u < w;
-    });
-    this->Position.resize(n);
-    this->NodeMass.resize(n);
-    this->NodeFixed.resize(n);
-    this->RestSolver.resize(n);
-    for (std::size_t p = 0; p < n; ++p)
-    {
-      const std::size_t i = static_cast<std::size_t>(this->Order[p]);
-      this->Position[i] = static_cast<int>(p);
-      this->NodeMass[p] = system.Masses()[i];
-      this->NodeFixed[p] = system.IsFixed(i) ? 1 : 0;
-      this->RestSolver[p] = system.RestPositions()[i];
-    }
-    const std::vector<MassSpringSpring>& springs = system.Springs();
-    std::vector<int> springOrder(m);
-    for (std::size_t e = 0; e < m; ++e)
-    {
-      springOrder[e] = static_cast<int>(e);
-    }
-    const auto lowHigh = [&](int e) {
-      const int pa = this->Position[static_cast<std::size_t>(springs[static_cast<std::size_t>(e)].a)];
-      const int pb = this->Position[static_cast<std::size_t>(springs[static_cast<std::size_t>(e)].b)];
-      return std::make_pair(std::min(pa, pb), std::max(pa, pb));
-    };
-    std::sort(springOrder.begin(), springOrder.end(), [&](int u, int w) { return lowHigh(u) < lowHigh(w); });
-    this->SystemSpring = springOrder;
-    this->Ends.resize(m);
-    this->Blocks.assign(m, SpringBlock{ 0.0, { 0.0, 0.0, 0.0 } });
-    this->Material.resize(m);
-    this->SpringTerm.assign(3 * m, 0.0);
-    for (std::size_t e = 0; e < m; ++e)
-    {
-      const MassSpringSpring& spring = springs[static_cast<std::size_t>(springOrder[e])];
-      // The spring's a end is its end earlier in the solver's order (the physics is symmetric in the two ends), so
-      // the arithmetic depends on the geometry only, not on the system's numbering.
-      const std::pair<int, int> ends = lowHigh(springOrder[e]);
-      this->Ends[e] = { ends.first, ends.second };
-      this->Material[e] = { spring.stiffness, spring.damping, spring.restLength };
-    }
-    this->RowOffsets.assign(n + 1, 0);
-    for (const SpringEnds& ends : this->Ends)
-    {
-      ++this->RowOffsets[static_cast<std::size_t>(ends.a) + 1];
-      ++this->RowOffsets[static_cast<std::size_t>(ends.b) + 1];
-    }
-    for (std::size_t p = 0; p < n; ++p)
-    {
-      this->RowOffsets[p + 1] += this->RowOffsets[p];
-    }
-    this->Rows.resize(2 * m);
-    this->RowSign.resize(2 * m);
-    std::vector<int> fill(this->RowOffsets.begin(), this->RowOffsets.end() - 1);
-    for (std::size_t e = 0; e < m; ++e)
-    {
-      const int pa = this->Ends[e].a;
-      const int pb = this->Ends[e].b;
-      const std::size_t ka = static_cast<std::size_t>(fill[static_cast<std::size_t>(pa)]++);
-      const std::size_t kb = static_cast<std::size_t>(fill[static_cast<std::size_t>(pb)]++);
-      this->Rows[ka] = { pb, static_cast<int>(e) };
-      this->RowSign[ka] = -1; // g_e is -R on the spring's a end
-      this->Rows[kb] = { pa, static_cast<int>(e) };
-      this->RowSign[kb] = 1;
-    }
+    // The pattern of the free degrees of freedom's lower triangle, built and analysed once.
+    auto chol = std::make_unique<CholeskyData>();
+    chol->Analyse(this->NodeFixed, this->Ends);
+    this->Chol = std::move(chol);
   }
+  this->Timing = NewmarkTimings();
+  this->Reset();
+  return std::string();
+}
+
+void NewmarkIntegrator::OrderNodes(const MassSpringSystem& system)
+{
+  const std::size_t n = system.NodeCount();
+  const std::vector<Eigen::Vector3d>& rest = system.RestPositions();
+  Eigen::Vector3d low = Eigen::Vector3d::Zero();
+  Eigen::Vector3d high = Eigen::Vector3d::Zero();
+  if (n > 0)
+  {
+    low = high = rest[0];
+  }
+  for (const Eigen::Vector3d& x : rest)
+  {
+    low = low.cwiseMin(x);
+    high = high.cwiseMax(x);
+  }
+  const Eigen::Vector3d extent = high - low;
+  std::array<int, 3> axes = { 0, 1, 2 };
+  std::stable_sort(axes.begin(), axes.end(), [&](int u, int w) { return extent[u] > extent[w]; });
+  this->Order.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    this->Order[i] = static_cast<int>(i);
+  }
+  std::sort(this->Order.begin(), this->Order.end(), [&](int u, int w) {
+    const Eigen::Vector3d& xu = rest[static_cast<std::size_t>(u)];
+    const Eigen::Vector3d& xw = rest[static_cast<std::size_t>(w)];
+    for (int axis : axes)
+    {
+      if (xu[axis] != xw[axis])
+      {
+        return xu[axis] < xw[axis];
+      }
+    }
+    return u < w;
+  });
+  this->Position.resize(n);
+  this->NodeMass.resize(n);
+  this->NodeFixed.resize(n);
+  this->RestSolver.resize(n);
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    const std::size_t i = static_cast<std::size_t>(this->Order[p]);
+    this->Position[i] = static_cast<int>(p);
+    this->NodeMass[p] = system.Masses()[i];
+    this->NodeFixed[p] = system.IsFixed(i) ? 1 : 0;
+    this->RestSolver[p] = system.RestPositions()[i];
+  }
+}
+
+void NewmarkIntegrator::OrderSprings(const MassSpringSystem& system)
+{
+  const std::size_t m = system.SpringCount();
+  const std::vector<MassSpringSpring>& springs = system.Springs();
+  std::vector<int> springOrder(m);
+  for (std::size_t e = 0; e < m; ++e)
+  {
+    springOrder[e] = static_cast<int>(e);
+  }
+  const auto lowHigh = [&](int e) {
+    const int pa = this->Position[static_cast<std::size_t>(springs[static_cast<std::size_t>(e)].a)];
+    const int pb = this->Position[static_cast<std::size_t>(springs[static_cast<std::size_t>(e)].b)];
+    return std::make_pair(std::min(pa, pb), std::max(pa, pb));
+  };
+  std::sort(springOrder.begin(), springOrder.end(), [&](int u, int w) { return lowHigh(u) < lowHigh(w); });
+  this->SystemSpring = springOrder;
+  this->Ends.resize(m);
+  this->Blocks.assign(m, SpringBlock{ 0.0, { 0.0, 0.0, 0.0 } });
+  this->Material.resize(m);
+  this->SpringTerm.assign(3 * m, 0.0);
+  for (std::size_t e = 0; e < m; ++e)
+  {
+    const MassSpringSpring& spring = springs[static_cast<std::size_t>(springOrder[e])];
+    // The spring's a end is its end earlier in the solver's order (the physics is symmetric in the two ends), so
+    // the arithmetic depends on the geometry only, not on the system's numbering.
+    const std::pair<int, int> ends = lowHigh(springOrder[e]);
+    this->Ends[e] = { ends.first, ends.second };
+    this->Material[e] = { spring.stiffness, spring.damping, spring.restLength };
+  }
+}
+
+void NewmarkIntegrator::BuildRows()
+{
+  const std::size_t n = this->Order.size();
+  const std::size_t m = this->Ends.size();
+  this->RowOffsets.assign(n + 1, 0);
+  for (const SpringEnds& ends : this->Ends)
+  {
+    ++this->RowOffsets[static_cast<std::size_t>(ends.a) + 1];
+    ++this->RowOffsets[static_cast<std::size_t>(ends.b) + 1];
+  }
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    this->RowOffsets[p + 1] += this->RowOffsets[p];
+  }
+  this->Rows.resize(2 * m);
+  this->RowSign.resize(2 * m);
+  std::vector<int> fill(this->RowOffsets.begin(), this->RowOffsets.end() - 1);
+  for (std::size_t e = 0; e < m; ++e)
+  {
+    const int pa = this->Ends[e].a;
+    const int pb = this->Ends[e].b;
+    const std::size_t ka = static_cast<std::size_t>(fill[static_cast<std::size_t>(pa)]++);
+    const std::size_t kb = static_cast<std::size_t>(fill[static_cast<std::size_t>(pb)]++);
+    this->Rows[ka] = { pb, static_cast<int>(e) };
+    this->RowSign[ka] = -1; // g_e is -R on the spring's a end
+    this->Rows[kb] = { pa, static_cast<int>(e) };
+    this->RowSign[kb] = 1;
+  }
+}
+
+void NewmarkIntegrator::ResetWorkspace()
+{
+  const std::size_t n = this->Order.size();
   this->NodeBlock.assign(6 * n, 0.0);
   this->Rhs.assign(3 * n, 0.0);
   this->Delta.assign(3 * n, 0.0);
@@ -309,105 +468,6 @@ std::string NewmarkIntegrator::Setup(const MassSpringSystem& system, const Newma
     this->CGw.assign(3 * n, 0.0);
     this->Precond.assign(6 * n, 0.0);
   }
-  else
-  {
-    // The pattern of the free degrees of freedom's lower triangle, built and analysed once.
-    auto chol = std::make_unique<CholeskyData>();
-    chol->freeIndex.assign(n, -1); // by solver position
-    int count = 0;
-    for (std::size_t p = 0; p < n; ++p)
-    {
-      if (!this->NodeFixed[p])
-      {
-        chol->freeIndex[p] = count++;
-      }
-    }
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(6 * static_cast<std::size_t>(count) + 9 * m);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      const int f = chol->freeIndex[i];
-      if (f < 0)
-      {
-        continue;
-      }
-      for (int r = 0; r < 3; ++r)
-      {
-        for (int c = 0; c <= r; ++c)
-        {
-          triplets.emplace_back(3 * f + r, 3 * f + c, 1.0);
-        }
-      }
-    }
-    for (std::size_t e = 0; e < m; ++e)
-    {
-      // The block is symmetric: its lower-triangle copy sits in the row of the later free index.
-      const int f0 = chol->freeIndex[static_cast<std::size_t>(this->Ends[e].a)];
-      const int f1 = chol->freeIndex[static_cast<std::size_t>(this->Ends[e].b)];
-      if (f0 < 0 || f1 < 0)
-      {
-        continue;
-      }
-      const int fa = std::min(f0, f1);
-      const int fb = std::max(f0, f1);
-      for (int r = 0; r < 3; ++r)
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          triplets.emplace_back(3 * fb + r, 3 * fa + c, 1.0);
-        }
-      }
-    }
-    chol->matrix.resize(3 * count, 3 * count);
-    chol->matrix.setFromTriplets(triplets.begin(), triplets.end());
-    chol->matrix.makeCompressed();
-    const double* base = chol->matrix.valuePtr();
-    chol->nodeEntry.assign(6 * n, -1);
-    chol->springEntry.assign(9 * m, -1);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      const int f = chol->freeIndex[i];
-      if (f < 0)
-      {
-        continue;
-      }
-      for (int r = 0; r < 3; ++r)
-      {
-        for (int c = 0; c <= r; ++c)
-        {
-          chol->nodeEntry[6 * i + static_cast<std::size_t>(SymIndex(r, c))] =
-            static_cast<int>(&chol->matrix.coeffRef(3 * f + r, 3 * f + c) - base);
-        }
-      }
-    }
-    for (std::size_t e = 0; e < m; ++e)
-    {
-      // The block is symmetric: its lower-triangle copy sits in the row of the later free index.
-      const int f0 = chol->freeIndex[static_cast<std::size_t>(this->Ends[e].a)];
-      const int f1 = chol->freeIndex[static_cast<std::size_t>(this->Ends[e].b)];
-      if (f0 < 0 || f1 < 0)
-      {
-        continue;
-      }
-      const int fa = std::min(f0, f1);
-      const int fb = std::max(f0, f1);
-      for (int r = 0; r < 3; ++r)
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          chol->springEntry[9 * e + static_cast<std::size_t>(3 * r + c)] =
-            static_cast<int>(&chol->matrix.coeffRef(3 * fb + r, 3 * fa + c) - base);
-        }
-      }
-    }
-    chol->ldlt.analyzePattern(chol->matrix);
-    chol->rhs.resize(3 * count);
-    chol->solution.resize(3 * count);
-    this->Chol = std::move(chol);
-  }
-  this->Timing = NewmarkTimings();
-  this->Reset();
-  return std::string();
 }
 
 void NewmarkIntegrator::Reset()

@@ -121,6 +121,12 @@ public:
   const NewmarkParameters& Parameters() const { return this->Params; }
 
 private:
+  /// Setup's steps: the solver's node order (and each node's mass, fixedness, rest position in it), the springs in
+  /// the order of their ends, each node's row of springs, and the work arrays.
+  void OrderNodes(const MassSpringSystem& system);
+  void OrderSprings(const MassSpringSystem& system);
+  void BuildRows();
+  void ResetWorkspace();
   void Assemble(const std::vector<double>& force, double& residualNorm2);
   bool SolveCG();
   bool SolveCholesky();
