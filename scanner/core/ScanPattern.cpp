@@ -1,5 +1,7 @@
 #include "ScanPattern.h"
 
+#include <plantmorph/MathConstants.h>
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -10,7 +12,6 @@ namespace plantmorph
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
 constexpr double Degree = Pi / 180.0;
 
 Vec3 Sub(const Vec3& a, const Vec3& b) { return { a[0] - b[0], a[1] - b[1], a[2] - b[2] }; }

@@ -1,5 +1,6 @@
 #include "VirtualScan.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/RandomStream.h>
 
 #include <algorithm>
@@ -11,7 +12,6 @@ namespace plantmorph
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
 constexpr std::uint64_t Block = 1u << 16; // beams per progress step and compaction block
 // The random slots of a beam.
 constexpr std::uint64_t SlotDropout = 0, SlotRange = 1, SlotJitter = 3;

@@ -1,5 +1,7 @@
 #include "AdaptiveLoopSubdivision.h"
 
+#include <plantmorph/MathConstants.h>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -13,8 +15,6 @@ namespace plantmorph
 
 namespace
 {
-
-constexpr double Pi = 3.14159265358979323846;
 constexpr int MaxReportedIds = 10;
 /// ChordError's share of SurfaceError's isotropic estimate e (odd point against the unmoved chord), which catches
 /// edges along asymptotic directions of saddles (sagitta and e' near 0, yet Loop bends the surface next to them).

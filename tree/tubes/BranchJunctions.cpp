@@ -1,5 +1,6 @@
 #include "BranchJunctions.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/RotationMinimizingFrames.h>
 
 #include <CGAL/Triangulation_3.h>
@@ -19,8 +20,6 @@ namespace plantmorph
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
-
 /// A tube's centre line with its per-segment frames (the rotation-minimising transport of BuildTubes: segment k's
 /// ring directions are cos(2 pi j / sides) n[k] + sin(2 pi j / sides) (n[k] x dir[k])).
 struct Skeleton

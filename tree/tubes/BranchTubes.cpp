@@ -1,5 +1,6 @@
 #include "BranchTubes.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/RotationMinimizingFrames.h>
 
 #include <Eigen/Geometry>
@@ -87,7 +88,6 @@ void SetMeshPoint(TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, 
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
 } // namespace
 
 RingAngles::RingAngles(int sides)
