@@ -1,6 +1,7 @@
 // FitLeaf's traits: what plant scientists measure on a leaf, from the fitted surface and blade.
 #include "LeafFitInternal.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/PlaneFit.h>
 
 #include <algorithm>
@@ -12,7 +13,7 @@ namespace fit
 {
 namespace
 {
-constexpr double Degrees = 180.0 / 3.14159265358979323846;
+constexpr double Degrees = 180.0 / Pi;
 
 double AngleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b)
 {

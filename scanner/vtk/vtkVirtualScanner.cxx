@@ -1,4 +1,5 @@
 #include "vtkVirtualScanner.h"
+#include "PlantMorphAlgorithmHooks.h"
 
 #include "PlantMorphFieldData.h"
 #include "PlantMorphWholeInput.h"
@@ -35,12 +36,6 @@ namespace
 {
 const char* const OwnArrays[] = { "Normals", "Range", "Intensity", "ScanPosition", "HitCellId", "BeamId" };
 const char* const TypeNames[] = { "Terrestrial", "Line", "Depth camera" };
-
-void SMPFor(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body)
-{
-  vtkSMPTools::For(0, static_cast<vtkIdType>(count), 1024,
-    [&](vtkIdType begin, vtkIdType end) { body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end)); });
-}
 
 /// The input's polygons and strips as triangles (fans and strip triangles), each with its cell id in the input.
 std::string Triangulate(vtkPolyData* input, std::vector<double>& points, std::vector<std::int64_t>& triangles,
@@ -376,12 +371,8 @@ int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** input
     // beams <= 4e9 (AbsoluteMaximumBeams), so beams * rank fits in 64 bits for any rank count MPI runs.
     return beams * static_cast<std::uint64_t>(r) / static_cast<std::uint64_t>(ranks);
   };
-  error = plantmorph::CastBeams(p, pattern, points, triangles, bvh, scan, SMPFor,
-    [this](double fraction) {
-      this->UpdateProgress(0.1 + 0.8 * fraction);
-      return !this->GetAbortExecute();
-    },
-    share(rank), share(rank + 1));
+  error = plantmorph::CastBeams(p, pattern, points, triangles, bvh, scan, plantmorph::SMPFor(1024),
+    plantmorph::Progress(this, 0.1, 0.9), share(rank), share(rank + 1));
   if (!error.empty())
   {
     return fail(error);

@@ -1,6 +1,7 @@
 #include "TreeLeaves.h"
 
 #include <plantmorph/BezierCurve.h>
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/RotationMinimizingFrames.h>
 
 #include <Eigen/Geometry>
@@ -20,7 +21,7 @@ const std::vector<Eigen::Vector2d>& WillowControlPoints()
 
 std::string PlaceLeaves(const TreeSettings& s, Tree& tree)
 {
-  constexpr double Degree = 3.14159265358979323846 / 180.0;
+  constexpr double Degree = Pi / 180.0;
   tree.leaves.clear();
   std::set<int> parents;
   for (const TreeBranch& b : tree.branches)
