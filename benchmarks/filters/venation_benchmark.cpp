@@ -7,11 +7,15 @@
 //   BM_Venation            the plugin's growth (grid cells of about one areole)
 //   BM_VenationBruteForce  the same growth with one grid cell for everything (gridCellScale huge): every crossing
 //                          test looks at every edge. The alternative the grid replaces; run up to ~2e4 segments.
+//   BM_SpaceColonization   VenationPattern::SpaceColonization on the same blade (argument: KillDistance k in units
+//                          of 1e-5 leaf lengths), AttractionDistance 10 k and SourceDensity 3000 (0.01 / k)^2 darts
+//                          per L^2, so the network keeps its look while it grows from about 10^3 to 10^6 segments;
+//                          every attraction, kill and dart query goes through uniform grids (SpaceColonization.cpp).
 //
 // Counters: segments (vein edges, margin excluded), seg_per_s, s_per_seg (CPU seconds per segment), areoles,
 // peak_bytes / peak_ratio (peak above the baseline over the blade's and the network's bytes; see PeakMemory.h).
 //
-//   build/bin/venation_benchmark [--benchmark_filter=BM_Venation/]
+//   build/bin/venation_benchmark [--benchmark_filter=BM_Venation/ or =BM_SpaceColonization]
 #include "PeakMemory.h"
 
 #include "DeformedRectangleLeaf.h"
@@ -21,6 +25,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace
@@ -99,12 +104,50 @@ void BM_VenationBruteForce(benchmark::State& state)
 {
   Run(state, 1e9);
 }
+
+void BM_SpaceColonization(benchmark::State& state)
+{
+  const plantmorph::VenationBlade& blade = Blade();
+  plantmorph::VenationParameters p;
+  p.pattern = plantmorph::VenationPattern::SpaceColonization;
+  p.killDistance = 1e-5 * static_cast<double>(state.range(0));
+  p.attractionDistance = 10.0 * p.killDistance;
+  p.sourceDensity = 3000.0 * (0.01 / p.killDistance) * (0.01 / p.killDistance);
+  p.maxSegments = 20000000;
+  std::size_t segments = 0;
+  double outBytes = 0.0;
+  PeakMemoryProbe memory;
+  memory.Start();
+  for (auto _ : state)
+  {
+    plantmorph::VenationResult result;
+    const std::string error = plantmorph::GrowVenation(blade, p, result);
+    if (!error.empty())
+    {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(result.nodes.data());
+    segments = result.statistics.segments;
+    outBytes = static_cast<double>(result.nodes.size() * (sizeof(result.nodes[0]) + sizeof(result.location[0]) + 12));
+  }
+  memory.Report(state, 0.0, outBytes);
+  const double n = static_cast<double>(segments);
+  state.counters["segments"] = n;
+  state.counters["seg_per_s"] = benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["s_per_seg"] =
+    benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
 } // namespace
 
 // AreoleSize 0.04 .. 0.00125 leaf lengths: about 10^3 .. 10^6 segments on this blade.
 BENCHMARK(BM_Venation)->ArgName("areole_1e-5")->Arg(4000)->Arg(2000)->Arg(1000)->Arg(500)->Arg(250)->Arg(125)
   ->Unit(benchmark::kMillisecond)->MinTime(0.2);
 BENCHMARK(BM_VenationBruteForce)->ArgName("areole_1e-5")->Arg(4000)->Arg(2000)->Arg(1000)
+  ->Unit(benchmark::kMillisecond)->MinTime(0.2);
+
+// KillDistance 0.01 .. 0.0003 leaf lengths: about 10^3 .. 10^6 segments on this blade.
+BENCHMARK(BM_SpaceColonization)->ArgName("kill_1e-5")->Arg(1000)->Arg(500)->Arg(250)->Arg(125)->Arg(63)->Arg(32)
   ->Unit(benchmark::kMillisecond)->MinTime(0.2);
 
 int main(int argc, char** argv)
