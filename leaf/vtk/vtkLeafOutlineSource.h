@@ -391,6 +391,11 @@ private:
   /// Builds the chosen model's leaf and describes its parameters as field data; returns an error message or "".
   std::string BuildLeaf(
     plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale, vtkPolyData* controlPoints);
+  /// The three models' leaves, one each (BuildLeaf picks by Model); `scale` converts Units to the output's.
+  std::string BuildDeformedRectangle(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale);
+  std::string BuildSpaceCurve(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale);
+  std::string BuildBSpline(
+    plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale, vtkPolyData* controlPoints);
   /// Mesh settings of the CGAL-meshed models (Resolution, MeshQuality, MaxVertices, progress and abort).
   std::string MeshParameters(plantmorph::LeafMeshParameters& settings);
   /// Empty when the growth properties are valid, else the message.

@@ -83,8 +83,12 @@
 
 namespace plantmorph
 {
+struct JointReport;
+struct JunctionReport;
+struct Tree;
 struct TreeParameters;
 }
+class vtkFieldData;
 
 class PLANTMORPHTREEVTK_EXPORT vtkTreeFromSketchSource : public vtkPolyDataAlgorithm
 {
@@ -238,6 +242,11 @@ protected:
   /// With a named Preset, warns about each preset-set property changed from its default to a value the preset
   /// overrides (it is not what the output has).
   void WarnAboutPresetOverrides(const plantmorph::TreeParameters& used);
+  /// Properties -> parameters (the Preset applied); false, with the error reported, when one is out of range.
+  bool ReadProperties(plantmorph::TreeParameters& parameters);
+  /// The PlantMorph.* field data every output carries: the parameters used and the build's reports.
+  void FillFieldData(vtkFieldData* fieldData, const plantmorph::TreeParameters& parameters, const plantmorph::Tree& tree,
+    std::size_t strokeCount, const plantmorph::JointReport& joints, const plantmorph::JunctionReport& junctions) const;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
