@@ -448,7 +448,7 @@ std::string vtkLeafOutlineSource::MeshParameters(plantmorph::LeafMeshParameters&
   if (this->MeshQuality != 0 && this->MeshQuality != 1)
   {
     std::ostringstream message;
-    message << "MeshQuality = " << this->MeshQuality << " is not 0 (paper) or 1 (quality)";
+    message << plantmorph::OutOfRange("MeshQuality", this->MeshQuality, "{0, 1}", "0 paper, 1 quality");
     return message.str();
   }
   settings.resolution = this->Resolution;
@@ -540,8 +540,8 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     return this->BuildBSpline(leaf, fd, scale, controlPoints);
   }
   std::ostringstream message;
-  message << "Model = " << this->Model
-          << " is not available; accepted: 0 (deformed rectangle), 1 (space curve), 2 (B-spline)";
+  message << plantmorph::OutOfRange(
+    "Model", this->Model, "{0, 1, 2}", "0 deformed rectangle, 1 space curve, 2 B-spline");
   return message.str();
 }
 
@@ -628,7 +628,7 @@ std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldDa
   }
   if (this->IntegrationMethod != 0 && this->IntegrationMethod != 1)
   {
-    message << "IntegrationMethod = " << this->IntegrationMethod << " is not 0 (RK4) or 1 (RK45)";
+    message << plantmorph::OutOfRange("IntegrationMethod", this->IntegrationMethod, "{0, 1}", "0 RK4, 1 RK45");
     return message.str();
   }
   const auto preset = static_cast<plantmorph::SpaceCurvePreset>(this->SpaceCurvePreset);

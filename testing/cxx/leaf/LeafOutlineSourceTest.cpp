@@ -169,7 +169,7 @@ TEST(vtkLeafOutlineSource, BadPropertiesGiveAMessageAndEmptyOutputs)
     { "Length = nan is outside the accepted range (0, 1e6]",
       [](vtkLeafOutlineSource* s) { s->SetLength(std::nan("")); } },
     { "Preset = 42 is outside the accepted range [0, 9]", [](vtkLeafOutlineSource* s) { s->SetPreset(42); } },
-    { "Model = 3 is not available", [](vtkLeafOutlineSource* s) { s->SetModel(3); } },
+    { "Model = 3 is outside the accepted range {0, 1, 2}", [](vtkLeafOutlineSource* s) { s->SetModel(3); } },
     { "MeshQuality = 2", [](vtkLeafOutlineSource* s) { s->SetMeshQuality(2); } },
     { "Asymmetry = 1.5", [](vtkLeafOutlineSource* s) { s->SetAsymmetry(1.5); } },
     { "Terms: row 0, Multiplier = 7",
