@@ -8,6 +8,7 @@
 #include "SpaceCurvePresets.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -29,6 +30,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 using plantmorph::AddFieldString;
 using plantmorph::AddFieldValue;
@@ -91,6 +93,7 @@ vtkLeafOutlineSource::vtkLeafOutlineSource()
 //------------------------------------------------------------------------------
 void vtkLeafOutlineSource::ClearTerms()
 {
+  this->TermsElementCount = -1;
   if (!this->Terms.empty())
   {
     this->Terms.clear();
@@ -104,6 +107,16 @@ void vtkLeafOutlineSource::AddTerm(double target, double scale, double amplitude
 {
   this->Terms.insert(this->Terms.end(), { target, scale, amplitude, multiplier, frequency, variable, phase });
   this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkLeafOutlineSource::SetTermsElementCount(int count)
+{
+  if (count != this->TermsElementCount)
+  {
+    this->TermsElementCount = count;
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -314,6 +327,15 @@ int vtkLeafOutlineSource::RequestData(
     return 1;
   }
 
+  if (this->TermsElementCount >= 0 && static_cast<std::size_t>(this->TermsElementCount) != this->Terms.size())
+  {
+    // ParaView pushed only the whole rows: a partial row means the user's list is not rows of seven.
+    vtkErrorMacro(<< plantmorph::OutOfRange("Terms", std::to_string(this->TermsElementCount) + " numbers",
+                    "{0, 7, 14, ...}",
+                    "rows of seven: Target, Scale, Amplitude, Multiplier, Frequency, Variable, Phase; the last row has " +
+                      std::to_string(this->TermsElementCount % 7)));
+    return 1;
+  }
   if (this->MaxVertices < 3)
   {
     vtkErrorMacro("MaxVertices = " << this->MaxVertices << " must be at least 3");

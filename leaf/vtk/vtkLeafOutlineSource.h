@@ -128,6 +128,12 @@ public:
   void AddTerm(double target, double scale, double amplitude, double multiplier, double frequency, double variable,
     double phase);
   int GetNumberOfTerms() const { return static_cast<int>(this->Terms.size() / 7); }
+  /**
+   * How many numbers the Terms property held (the server-manager XML's element_count_command, pushed after the
+   * rows by vtkSICountedDoubleVectorProperty; ParaView drops a partial last row before AddTerm sees it). A count
+   * that is not the rows' numbers is refused with an error naming Terms. ClearTerms resets it to -1 (not given).
+   */
+  void SetTermsElementCount(int count);
   ///@}
 
   ///@{
@@ -335,6 +341,7 @@ protected:
   double Length = 5.0;
   double Width = 5.5;
   std::vector<double> Terms;
+  int TermsElementCount = -1;
   double Bending = 0.0;
   double Asymmetry = 0.0;
   int Resolution = 60;

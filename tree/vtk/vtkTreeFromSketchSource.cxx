@@ -8,6 +8,7 @@
 #include "TreeTemplate.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -34,6 +35,7 @@
 #include <functional>
 #include <limits>
 #include <sstream>
+#include <string>
 
 using plantmorph::AddFieldString;
 using plantmorph::AddFieldValue;
@@ -158,6 +160,7 @@ void vtkTreeFromSketchSource::AddDeletedBranch(int id)
 
 void vtkTreeFromSketchSource::ClearBranchOverrides()
 {
+  this->BranchOverridesElementCount = -1;
   if (!this->BranchOverrides.empty())
   {
     this->BranchOverrides.clear();
@@ -170,6 +173,15 @@ void vtkTreeFromSketchSource::AddBranchOverride(
 {
   this->BranchOverrides.insert(this->BranchOverrides.end(), { id, length, radius, u, angle, rotation });
   this->Modified();
+}
+
+void vtkTreeFromSketchSource::SetBranchOverridesElementCount(int count)
+{
+  if (count != this->BranchOverridesElementCount)
+  {
+    this->BranchOverridesElementCount = count;
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -249,6 +261,17 @@ int vtkTreeFromSketchSource::RequestData(
     outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
   if (piece > 0)
   {
+    return 1;
+  }
+
+  if (this->BranchOverridesElementCount >= 0 &&
+    static_cast<std::size_t>(this->BranchOverridesElementCount) != this->BranchOverrides.size())
+  {
+    // ParaView pushed only the whole rows: a partial row means the user's list is not rows of six.
+    vtkErrorMacro(<< plantmorph::OutOfRange("BranchOverrides",
+                    std::to_string(this->BranchOverridesElementCount) + " numbers", "{0, 6, 12, ...}",
+                    "rows of six: BranchId, length, radius, u, angle, rotation; the last row has " +
+                      std::to_string(this->BranchOverridesElementCount % 6)));
     return 1;
   }
 

@@ -216,6 +216,11 @@ public:
   /// value (write -1000 in scripts you save as state files: ParaView 5.11 state files turn NaN into 0).
   void ClearBranchOverrides();
   void AddBranchOverride(double id, double length, double radius, double u, double angle, double rotation);
+  /// How many numbers the BranchOverrides property held (the XML's element_count_command, pushed after the rows by
+  /// vtkSICountedDoubleVectorProperty: ParaView drops a partial last row before AddBranchOverride sees it). A count
+  /// that is not the rows' numbers is refused with an error naming BranchOverrides. ClearBranchOverrides resets it
+  /// to -1 (not given).
+  void SetBranchOverridesElementCount(int count);
 
   ///@{
   /**
@@ -279,6 +284,7 @@ protected:
   double MergeOffset[3] = { 0.0, 0.0, 0.0 };
   std::vector<int> DeletedBranches;
   std::vector<double> BranchOverrides;
+  int BranchOverridesElementCount = -1;
 
 private:
   vtkTreeFromSketchSource(const vtkTreeFromSketchSource&) = delete;
