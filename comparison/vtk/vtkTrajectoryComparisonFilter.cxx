@@ -267,6 +267,17 @@ void vtkTrajectoryComparisonFilter::SetSimulatedColumns(const char* x, const cha
 }
 
 //------------------------------------------------------------------------------
+void vtkTrajectoryComparisonFilter::SetColumn(std::string& column, const char* name)
+{
+  const std::string value = name ? name : "";
+  if (value != column)
+  {
+    column = value;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkTrajectoryComparisonFilter::SetTimeColumn(const char* name)
 {
   const std::string value = name ? name : "";
@@ -281,10 +292,10 @@ void vtkTrajectoryComparisonFilter::SetTimeColumn(const char* name)
 void vtkTrajectoryComparisonFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "MeasuredColumns: " << this->MeasuredColumns[0] << " " << this->MeasuredColumns[1] << " "
-     << this->MeasuredColumns[2] << "\n";
-  os << indent << "SimulatedColumns: " << this->SimulatedColumns[0] << " " << this->SimulatedColumns[1] << " "
-     << this->SimulatedColumns[2] << "\n";
+  os << indent << "MeasuredColumns: " << this->GetMeasuredColumn(0) << " " << this->GetMeasuredColumn(1) << " "
+     << this->GetMeasuredColumn(2) << "\n";
+  os << indent << "SimulatedColumns: " << this->GetSimulatedColumn(0) << " " << this->GetSimulatedColumn(1) << " "
+     << this->GetSimulatedColumn(2) << "\n";
   os << indent << "TimeColumn: " << this->TimeColumn << "\n";
 }
 
@@ -326,10 +337,14 @@ int vtkTrajectoryComparisonFilter::RequestData(
 
   Trajectory measured;
   Trajectory simulated;
-  std::string error = ReadTrajectory(measuredData, this->MeasuredColumns, this->TimeColumn, "Measured", measured);
+  const std::string measuredColumns[3] = { this->GetMeasuredColumn(0), this->GetMeasuredColumn(1),
+    this->GetMeasuredColumn(2) };
+  const std::string simulatedColumns[3] = { this->GetSimulatedColumn(0), this->GetSimulatedColumn(1),
+    this->GetSimulatedColumn(2) };
+  std::string error = ReadTrajectory(measuredData, measuredColumns, this->TimeColumn, "Measured", measured);
   if (error.empty())
   {
-    error = ReadTrajectory(simulatedData, this->SimulatedColumns, this->TimeColumn, "Simulated", simulated);
+    error = ReadTrajectory(simulatedData, simulatedColumns, this->TimeColumn, "Simulated", simulated);
   }
   const std::size_t n = measured.xyz.size() / 3;
   const std::size_t m = simulated.xyz.size() / 3;
