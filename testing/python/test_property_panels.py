@@ -12,6 +12,8 @@
 - every list (repeat_command) is labelled: ParaView 5.11 shows a list of doubles with its label only when it has
   ShowComponentLabels, which also gives each column its header, so every list of doubles has one label per column;
   it shows a list of whole numbers with no label at all, so such a list is alone in a labelled PropertyGroup;
+- a preset never hides what it sets: a property used only with a Custom preset (a decorator on a ...Preset property
+  with value 0) is greyed out (mode "enabled_state"), not hidden, so a user sees it under a named preset;
 - a text property of several strings (not a list) is not shown: ParaView 5.11 gives it one text box that shows
   none of its values (use one property per string, e.g. a column menu with an ArrayListDomain).
 
@@ -113,6 +115,11 @@ for name, path in sorted((n, os.path.join(d, n)) for d in arguments.xml_dir for 
             if several and prop.find("Hints/ShowComponentLabels") is None:
                 failures.append("%s: property %s shows %s unlabelled boxes (add ShowComponentLabels)" % (
                     label, prop.get("name"), prop.get("number_of_elements")))
+            for decorator in prop.iter("PropertyWidgetDecorator"):
+                if ((decorator.get("property") or "").endswith("Preset") and decorator.get("value") == "0"
+                        and decorator.get("mode") != "enabled_state"):
+                    failures.append("%s: property %s is hidden under a named %s (grey it out: mode enabled_state)"
+                                    % (label, prop.get("name"), decorator.get("property")))
             if prop.get("repeat_command") == "1":
                 failures.extend("%s: %s" % (label, f) for f in list_label_failures(proxy, prop))
             if (prop.tag == "StringVectorProperty" and prop.get("repeat_command") != "1"

@@ -231,6 +231,26 @@ void vtkTreeFromSketchSource::WarnAboutPresetOverrides(const plantmorph::TreeSet
   }
 }
 
+const char* vtkTreeFromSketchSource::GetPresetValues()
+{
+  std::ostringstream text;
+  if (this->Preset <= 0 || this->Preset >= plantmorph::TreePresetCount)
+  {
+    text << (this->Preset == 0 ? "Custom: the template properties are used as set." : "Preset is out of range.");
+  }
+  else
+  {
+    plantmorph::TreeSettings s;
+    plantmorph::ApplyTreePreset(this->Preset, s);
+    text << plantmorph::TreePresetName(this->Preset) << " sets (the greyed properties are not used):\nTreeType = "
+         << (s.type == plantmorph::TreeType::Monopodial ? "Monopodial" : "Sympodial") << "\nLength = " << s.length
+         << "\nRadius = " << s.radius << "\nDepth = " << s.depth << "\nPhyllotaxisA = " << s.phyllotaxisA
+         << "\nPhyllotaxisB = " << s.phyllotaxisB << "\nChildCount = " << s.childCount << "\nRatio = " << s.ratio;
+  }
+  this->PresetValues = text.str();
+  return this->PresetValues.c_str();
+}
+
 int vtkTreeFromSketchSource::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");

@@ -235,6 +235,13 @@ public:
   void SetMergeTreeConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
   ///@}
 
+  /**
+   * What the named Preset sets (TreeType, Length, Radius, Depth, PhyllotaxisA/B, ChildCount, Ratio), one
+   * "Property = value" per line, for the read-only PresetValues box of the Properties panel beside the greyed-out
+   * properties it overrides; for Custom, a line saying the properties are used. Computed from Preset alone.
+   */
+  const char* GetPresetValues();
+
 protected:
   vtkTreeFromSketchSource();
   ~vtkTreeFromSketchSource() override = default;
@@ -285,6 +292,7 @@ protected:
   std::vector<int> DeletedBranches;
   std::vector<double> BranchOverrides;
   int BranchOverridesElementCount = -1;
+  std::string PresetValues;
 
 private:
   vtkTreeFromSketchSource(const vtkTreeFromSketchSource&) = delete;
