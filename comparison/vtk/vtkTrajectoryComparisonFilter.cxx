@@ -126,7 +126,7 @@ std::string ReadTrajectory(
     }
     if (columns.empty())
     {
-      message << port << "Columns: auto found none of the known x, y, z column layouts in the " << inputName
+      message << port << "X/Y/Z: auto found none of the known x, y, z column layouts in the " << inputName
               << " table (";
       const char* separator = "";
       for (const auto& layout : KnownLayouts(measured))
@@ -134,7 +134,7 @@ std::string ReadTrajectory(
         message << separator << layout[0] << "/" << layout[1] << "/" << layout[2];
         separator = ", ";
       }
-      message << "); name its columns in " << port << "Columns (its columns:";
+      message << "); choose its columns in " << port << "X, " << port << "Y and " << port << "Z (its columns:";
       for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
       {
         message << " '" << (table->GetColumnName(c) ? table->GetColumnName(c) : "") << "'";
@@ -150,7 +150,7 @@ std::string ReadTrajectory(
     xyz[k] = vtkDataArray::SafeDownCast(column);
     if (!xyz[k] || xyz[k]->GetNumberOfComponents() != 1)
     {
-      message << port << "Columns: the " << inputName << " table has no numeric column '" << columns[k]
+      message << port << "XYZ"[k] << ": the " << inputName << " table has no numeric column '" << columns[k]
               << "' (its columns:";
       for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
       {
