@@ -120,6 +120,28 @@ void vtkLeafOutlineSource::SetTermsElementCount(int count)
 }
 
 //------------------------------------------------------------------------------
+const char* vtkLeafOutlineSource::GetPresetValues()
+{
+  const int preset = this->Model == SPACE_CURVE ? this->SpaceCurvePreset
+    : this->Model == B_SPLINE                   ? this->BSplinePreset
+                                                : this->Preset;
+  if (preset == 0)
+  {
+    this->PresetValues = "Custom: the properties are used as set.";
+  }
+  else if (this->LastParameters.empty())
+  {
+    this->PresetValues = "Apply to see the values the preset uses.";
+  }
+  else
+  {
+    this->PresetValues = "The named preset made this leaf with (the greyed properties are not used):\n" +
+      this->LastParameters;
+  }
+  return this->PresetValues.c_str();
+}
+
+//------------------------------------------------------------------------------
 namespace
 {
 void AddPoint(std::vector<double>& list, double x, double y, double z, vtkObject* owner)
@@ -365,6 +387,7 @@ int vtkLeafOutlineSource::RequestData(
     ? vtkPolyData::GetData(inputVector[0], 0)
     : nullptr;
   this->WarnAboutPresetOverrides();
+  this->LastParameters.clear();
   const std::string error = this->BuildLeaf(leaf, parameters, scale, controlPoints);
   if (!error.empty())
   {
@@ -427,6 +450,7 @@ int vtkLeafOutlineSource::RequestData(
     AddFieldValue(parameters, "PlantMorph.GrowthFraction", time);
     AddFieldValue(parameters, "PlantMorph.GrowthScale", scale);
   }
+  this->LastParameters = plantmorph::FormatParameters(parameters);
   // Parameters as field data on both outputs, and the time they show.
   for (vtkPolyData* output : { blade, outline })
   {

@@ -328,6 +328,14 @@ public:
    */
   void SetControlPointsConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
 
+  /**
+   * For the read-only PresetValues box of the Properties panel: with a named preset of the current Model (Preset,
+   * SpaceCurvePreset or BSplinePreset), the parameters the last update made the leaf with, one "Name = value" a
+   * line (the outputs' PlantMorph.* field data: what the preset chose instead of the greyed-out properties); for
+   * Custom, a line saying the properties are used. ParaView refreshes the box after each update.
+   */
+  const char* GetPresetValues();
+
 protected:
   vtkLeafOutlineSource();
   ~vtkLeafOutlineSource() override = default;
@@ -342,6 +350,8 @@ protected:
   double Width = 5.5;
   std::vector<double> Terms;
   int TermsElementCount = -1;
+  std::string LastParameters; // FormatParameters of the last leaf made, "" after an error
+  std::string PresetValues;
   double Bending = 0.0;
   double Asymmetry = 0.0;
   int Resolution = 60;

@@ -1,10 +1,10 @@
 """pvpython: with a named preset the panel shows what the preset chose (issue 20 item 9).
 
-VenationFilter and TreeFromSketchSource grey out (not hide) the properties a named preset overrides, and show a
+VenationFilter, TreeFromSketchSource and LeafOutlineSource grey out (not hide) the properties a named preset overrides, and show a
 read-only PresetValues box (an information_only property, which ParaView 5.11's panel shows disabled and refreshes
 after each update). Checked here: the box lists exactly the values the output was made with (the veins' field data
-PlantMorph.Venation.<property>; the tree's branch count from paper 004 Table 1), it follows the Preset, and Custom
-says the properties are used. (The greying itself is checked on the XML by test_property_panels.py.)
+PlantMorph.Venation.<property>; the tree's branch count from paper 004 Table 1; the leaf's field data), it follows
+the Preset, and Custom says the properties are used. (The greying itself is checked on the XML by test_property_panels.py.)
 
     pvpython test_preset_values.py --plugin PlantMorph.so --work DIR
 """
@@ -65,4 +65,21 @@ for preset, depth, children, branches in ((1, 4, 8, 4681), (2, 6, 3, 1093)):
 tree.Preset = 0
 values, title = shown(tree)
 checks.check(not values and title.startswith("Custom"), "tree Custom: the box says the properties are used")
+
+SetActiveSource(None)
+leaf = LeafOutlineSource(Model="Space curve", SpaceCurvePreset=3)
+values, title = shown(leaf)
+curvature = servermanager.Fetch(leaf).GetFieldData().GetArray("PlantMorph.Curvature")
+checks.check(curvature is not None and float(values.get("CurvatureMu", "nan")) == curvature.GetComponent(0, 1),
+             "leaf space-curve preset: the box's CurvatureMu is the one the leaf was made with (%s)" %
+             values.get("CurvatureMu"))
+checks.check("greyed" in title and values.get("Model") == "SpaceCurve", "leaf: the box names the model %r" % title)
+leaf.Model = "Deformed rectangle"
+leaf.Preset = "Ginkgo"
+values, title = shown(leaf)
+checks.check(values.get("Preset") == "Ginkgo" and values.get("Terms", "").count("(") == 3,
+             "leaf Ginkgo: the box lists its three terms (%s)" % values.get("Terms"))
+leaf.Preset = "Custom"
+values, title = shown(leaf)
+checks.check(not values and title.startswith("Custom"), "leaf Custom: the box says the properties are used")
 checks.finish()
