@@ -240,7 +240,7 @@ const char* vtkTreeFromSketchSource::GetPresetValues()
   }
   else
   {
-    plantmorph::TreeSettings s;
+    plantmorph::TreeParameters s;
     plantmorph::ApplyTreePreset(this->Preset, s);
     text << plantmorph::TreePresetName(this->Preset) << " sets (the greyed properties are not used):\nTreeType = "
          << (s.type == plantmorph::TreeType::Monopodial ? "Monopodial" : "Sympodial") << "\nLength = " << s.length
