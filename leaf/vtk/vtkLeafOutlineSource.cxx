@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 using plantmorph::AddFieldString;
 using plantmorph::AddFieldValue;
@@ -92,6 +93,7 @@ vtkLeafOutlineSource::vtkLeafOutlineSource()
 //------------------------------------------------------------------------------
 void vtkLeafOutlineSource::ClearTerms()
 {
+  this->TermsElementCount = -1;
   if (!this->Terms.empty())
   {
     this->Terms.clear();
@@ -105,6 +107,38 @@ void vtkLeafOutlineSource::AddTerm(double target, double scale, double amplitude
 {
   this->Terms.insert(this->Terms.end(), { target, scale, amplitude, multiplier, frequency, variable, phase });
   this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkLeafOutlineSource::SetTermsElementCount(int count)
+{
+  if (count != this->TermsElementCount)
+  {
+    this->TermsElementCount = count;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+const char* vtkLeafOutlineSource::GetPresetValues()
+{
+  const int preset = this->Model == SPACE_CURVE ? this->SpaceCurvePreset
+    : this->Model == B_SPLINE                   ? this->BSplinePreset
+                                                : this->Preset;
+  if (preset == 0)
+  {
+    this->PresetValues = "Custom: the properties are used as set.";
+  }
+  else if (this->LastParameters.empty())
+  {
+    this->PresetValues = "Apply to see the values the preset uses.";
+  }
+  else
+  {
+    this->PresetValues = "The named preset made this leaf with (the greyed properties are not used):\n" +
+      this->LastParameters;
+  }
+  return this->PresetValues.c_str();
 }
 
 //------------------------------------------------------------------------------
@@ -315,6 +349,15 @@ int vtkLeafOutlineSource::RequestData(
     return 1;
   }
 
+  if (this->TermsElementCount >= 0 && static_cast<std::size_t>(this->TermsElementCount) != this->Terms.size())
+  {
+    // ParaView pushed only the whole rows: a partial row means the user's list is not rows of seven.
+    vtkErrorMacro(<< plantmorph::OutOfRange("Terms", std::to_string(this->TermsElementCount) + " numbers",
+                    "{0, 7, 14, ...}",
+                    "rows of seven: Target, Scale, Amplitude, Multiplier, Frequency, Variable, Phase; the last row has " +
+                      std::to_string(this->TermsElementCount % 7)));
+    return 1;
+  }
   if (this->MaxVertices < 3)
   {
     vtkErrorMacro(<< plantmorph::OutOfRange("MaxVertices", this->MaxVertices, "[3, inf)"));
@@ -344,6 +387,7 @@ int vtkLeafOutlineSource::RequestData(
     ? vtkPolyData::GetData(inputVector[0], 0)
     : nullptr;
   this->WarnAboutPresetOverrides();
+  this->LastParameters.clear();
   const std::string error = this->BuildLeaf(leaf, parameters, scale, controlPoints);
   if (!error.empty())
   {
@@ -406,6 +450,7 @@ int vtkLeafOutlineSource::RequestData(
     AddFieldValue(parameters, "PlantMorph.GrowthFraction", time);
     AddFieldValue(parameters, "PlantMorph.GrowthScale", scale);
   }
+  this->LastParameters = plantmorph::FormatParameters(parameters);
   // Parameters as field data on both outputs, and the time they show.
   for (vtkPolyData* output : { blade, outline })
   {

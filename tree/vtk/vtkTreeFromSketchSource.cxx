@@ -35,6 +35,7 @@
 #include <functional>
 #include <limits>
 #include <sstream>
+#include <string>
 
 using plantmorph::AddFieldString;
 using plantmorph::AddFieldValue;
@@ -396,6 +397,7 @@ void vtkTreeFromSketchSource::AddDeletedBranch(int id)
 
 void vtkTreeFromSketchSource::ClearBranchOverrides()
 {
+  this->BranchOverridesElementCount = -1;
   if (!this->BranchOverrides.empty())
   {
     this->BranchOverrides.clear();
@@ -408,6 +410,15 @@ void vtkTreeFromSketchSource::AddBranchOverride(
 {
   this->BranchOverrides.insert(this->BranchOverrides.end(), { id, length, radius, u, angle, rotation });
   this->Modified();
+}
+
+void vtkTreeFromSketchSource::SetBranchOverridesElementCount(int count)
+{
+  if (count != this->BranchOverridesElementCount)
+  {
+    this->BranchOverridesElementCount = count;
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -457,6 +468,26 @@ void vtkTreeFromSketchSource::WarnAboutPresetOverrides(const plantmorph::TreePar
   }
 }
 
+const char* vtkTreeFromSketchSource::GetPresetValues()
+{
+  std::ostringstream text;
+  if (this->Preset <= 0 || this->Preset >= plantmorph::TreePresetCount)
+  {
+    text << (this->Preset == 0 ? "Custom: the template properties are used as set." : "Preset is out of range.");
+  }
+  else
+  {
+    plantmorph::TreeParameters s;
+    plantmorph::ApplyTreePreset(this->Preset, s);
+    text << plantmorph::TreePresetName(this->Preset) << " sets (the greyed properties are not used):\nTreeType = "
+         << (s.type == plantmorph::TreeType::Monopodial ? "Monopodial" : "Sympodial") << "\nLength = " << s.length
+         << "\nRadius = " << s.radius << "\nDepth = " << s.depth << "\nPhyllotaxisA = " << s.phyllotaxisA
+         << "\nPhyllotaxisB = " << s.phyllotaxisB << "\nChildCount = " << s.childCount << "\nRatio = " << s.ratio;
+  }
+  this->PresetValues = text.str();
+  return this->PresetValues.c_str();
+}
+
 int vtkTreeFromSketchSource::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
@@ -476,6 +507,16 @@ int vtkTreeFromSketchSource::RequestInformation(vtkInformation*, vtkInformationV
 //------------------------------------------------------------------------------
 bool vtkTreeFromSketchSource::ReadProperties(plantmorph::TreeParameters& s)
 {
+  if (this->BranchOverridesElementCount >= 0 &&
+    static_cast<std::size_t>(this->BranchOverridesElementCount) != this->BranchOverrides.size())
+  {
+    // ParaView pushed only the whole rows: a partial row means the user's list is not rows of six.
+    vtkErrorMacro(<< plantmorph::OutOfRange("BranchOverrides",
+                    std::to_string(this->BranchOverridesElementCount) + " numbers", "{0, 6, 12, ...}",
+                    "rows of six: BranchId, length, radius, u, angle, rotation; the last row has " +
+                      std::to_string(this->BranchOverridesElementCount % 6)));
+    return false;
+  }
   if (this->Preset < 0 || this->Preset >= plantmorph::TreePresetCount)
   {
     vtkErrorMacro(<< plantmorph::OutOfRange("Preset", this->Preset, "[0, 3]", "0 Custom, 1-3 Table 1"));

@@ -220,6 +220,11 @@ public:
   /// value (write -1000 in scripts you save as state files: ParaView 5.11 state files turn NaN into 0).
   void ClearBranchOverrides();
   void AddBranchOverride(double id, double length, double radius, double u, double angle, double rotation);
+  /// How many numbers the BranchOverrides property held (the XML's element_count_command, pushed after the rows by
+  /// vtkSICountedDoubleVectorProperty: ParaView drops a partial last row before AddBranchOverride sees it). A count
+  /// that is not the rows' numbers is refused with an error naming BranchOverrides. ClearBranchOverrides resets it
+  /// to -1 (not given).
+  void SetBranchOverridesElementCount(int count);
 
   ///@{
   /**
@@ -233,6 +238,13 @@ public:
   void SetLeafConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
   void SetMergeTreeConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
   ///@}
+
+  /**
+   * What the named Preset sets (TreeType, Length, Radius, Depth, PhyllotaxisA/B, ChildCount, Ratio), one
+   * "Property = value" per line, for the read-only PresetValues box of the Properties panel beside the greyed-out
+   * properties it overrides; for Custom, a line saying the properties are used. Computed from Preset alone.
+   */
+  const char* GetPresetValues();
 
 protected:
   vtkTreeFromSketchSource();
@@ -288,6 +300,8 @@ protected:
   double MergeOffset[3] = { 0.0, 0.0, 0.0 };
   std::vector<int> DeletedBranches;
   std::vector<double> BranchOverrides;
+  int BranchOverridesElementCount = -1;
+  std::string PresetValues;
 
 private:
   vtkTreeFromSketchSource(const vtkTreeFromSketchSource&) = delete;

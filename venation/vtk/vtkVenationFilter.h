@@ -60,6 +60,8 @@
 #include "PlantMorphVenationVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <string> // for PresetValues
+
 class PLANTMORPHVENATIONVTK_EXPORT vtkVenationFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -230,6 +232,14 @@ public:
   vtkGetMacro(MaxSegments, int);
   ///@}
 
+  /**
+   * What the named Preset sets, one "Property = value" per line (Pattern by name), for the read-only PresetValues
+   * box of the Properties panel, which shows it beside the greyed-out properties the preset overrides; for Custom,
+   * a line saying the properties are used. Computed from Preset alone (no update needed); the veins' field data
+   * holds the same values as PlantMorph.Venation.<property>.
+   */
+  const char* GetPresetValues();
+
 protected:
   vtkVenationFilter();
   ~vtkVenationFilter() override = default;
@@ -240,6 +250,7 @@ protected:
   /// what the output has).
   void WarnAboutPresetOverrides();
 
+  std::string PresetValues;
   int Preset = 1;
   int Pattern = 2;
   int Seed = 0;

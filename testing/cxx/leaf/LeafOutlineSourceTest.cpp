@@ -182,6 +182,15 @@ TEST(vtkLeafOutlineSource, BadPropertiesGiveAMessageAndEmptyOutputs)
         s->SetPreset(0);
         s->AddTerm(0, 0, -3, 1, 1, 1, 0);
       } },
+    // What ParaView's push of Terms = [9 numbers] does: the whole row, then the raw count (the XML's
+    // element_count_command).
+    { "Terms = 9 numbers is outside the accepted range {0, 7, 14, ...}",
+      [](vtkLeafOutlineSource* s) {
+        s->SetPreset(0);
+        s->ClearTerms();
+        s->AddTerm(0, 0, 0.2, 0, 1, 1, 0);
+        s->SetTermsElementCount(9);
+      } },
   };
   for (const BadCase& bad : cases)
   {
@@ -195,6 +204,29 @@ TEST(vtkLeafOutlineSource, BadPropertiesGiveAMessageAndEmptyOutputs)
     EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
     EXPECT_EQ(source->GetOutput(1)->GetNumberOfPoints(), 0);
   }
+}
+
+TEST(vtkLeafOutlineSource, WholeTermRowsWithTheirCountAreAccepted)
+{
+  // The count of whole rows, as the property pushes it, and a clear that resets it: no error, a leaf.
+  vtkNew<vtkLeafOutlineSource> source;
+  vtkNew<ErrorCatcher> catcher;
+  source->AddObserver(vtkCommand::ErrorEvent, catcher);
+  source->SetPreset(0);
+  source->AddTerm(0, 0, 0.2, 0, 1, 1, 0);
+  source->SetTermsElementCount(7);
+  source->Update();
+  EXPECT_EQ(catcher->Messages, "");
+  EXPECT_GT(source->GetOutput(0)->GetNumberOfPoints(), 0);
+  source->SetTermsElementCount(8);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("the last row has 1"), std::string::npos) << catcher->Messages;
+  EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
+  catcher->Messages.clear();
+  source->ClearTerms(); // the C++ interface: no count given, none checked
+  source->Update();
+  EXPECT_EQ(catcher->Messages, "");
+  EXPECT_GT(source->GetOutput(0)->GetNumberOfPoints(), 0);
 }
 
 } // namespace
