@@ -362,8 +362,12 @@ int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** input
   {
     return fail(error);
   }
-  plantmorph::TriangleBVH bvh;
-  bvh.Build(points, triangles);
+  plantmorph::RayCaster caster;
+  error = caster.Build(points, triangles);
+  if (!error.empty())
+  {
+    return fail(error);
+  }
   this->UpdateProgress(0.1);
   plantmorph::ScanPoints scan;
   const std::uint64_t beams = pattern.BeamCount();
@@ -371,7 +375,7 @@ int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** input
     // beams <= 4e9 (AbsoluteMaximumBeams), so beams * rank fits in 64 bits for any rank count MPI runs.
     return beams * static_cast<std::uint64_t>(r) / static_cast<std::uint64_t>(ranks);
   };
-  error = plantmorph::CastBeams(p, pattern, points, triangles, bvh, scan, plantmorph::SMPFor(1024),
+  error = plantmorph::CastBeams(p, pattern, points, triangles, caster, scan, plantmorph::SMPFor(1024),
     plantmorph::Progress(this, 0.1, 0.9), share(rank), share(rank + 1));
   if (!error.empty())
   {
