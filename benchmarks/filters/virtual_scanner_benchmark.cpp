@@ -11,16 +11,20 @@
 //                                      1 our BVH (serial); bytes of the hierarchy, peak memory.
 //   BM_Cast/caster:C/tris:N/beams:B/threads:T
 //                                      nearest hit per beam, beams made by the pattern, no cloud (the caster
-//                                      alone); T = 1 or 2 std::threads over consecutive halves.
+//                                      alone); C = 0 RayCaster one beam at a time (rtcIntersect1), 2 RayCaster in
+//                                      packets of 8 (rtcIntersect8, as CastBeams casts), 1 our BVH; T = 1 or 2
+//                                      std::threads over consecutive halves.
 //   BM_EmbreePacket/width:W/tris:N/beams:B
-//                                      Embree's own calls on the scanner's beams, serial: W = 1 rtcIntersect1,
+//                                      Embree's own single-precision triangles (not watertight: the plugin does not
+//                                      use them, see RayCaster.h), serial: W = 1 rtcIntersect1,
 //                                      4/8/16 rtcIntersect4/8/16 (packets of consecutive beams), 0 rtcIntersect1M
 //                                      (a stream of 64 beams, coherent flag); double-precision refinement not done.
 //   BM_CastBeams/tris:N/beams:B/threads:T
 //                                      the plugin's casting layer: scanner/core CastBeams (pattern, Embree, double
 //                                      refinement, normals, intensity, compaction into the cloud).
 //   BM_Filter/tris:N/beams:B           the whole filter: vtkVirtualScanner on a vtkPolyData (triangulation, the
-//                                      caster's build, vtkSMPTools threads, cloud, labels), default SMP threads.
+//                                      caster's build, the cast on vtkSMPTools' STDThread backend, every core, the
+//                                      cloud and its labels).
 //   BM_VtkStaticCellLocator/tris:N     vtkStaticCellLocator::IntersectWithLine, 2000 beams spread over the 10^5-beam
 //                                      scan, serial; BM_VtkOBBTree the same with vtkOBBTree, 200 beams.
 // Counters: beams_per_s (per wall second where the family uses real time: threads:2, the filter; per CPU second of
@@ -236,6 +240,49 @@ void BM_Build(benchmark::State& state)
   memory.Report(state, static_cast<double>(scene.points.size() * 8 + scene.triangles.size() * 8));
 }
 
+/// The plugin's caster in packets of RayCaster::PacketSize consecutive beams.
+struct Packets
+{
+  const plantmorph::RayCaster& caster;
+};
+
+std::size_t CastRange(const plantmorph::BeamPattern& pattern, const Packets& packets, double tMax, std::size_t begin,
+  std::size_t end)
+{
+  constexpr std::size_t W = plantmorph::RayCaster::PacketSize;
+  double o[3 * W], d[3 * W];
+  plantmorph::TriangleHit hits[W];
+  std::size_t h = 0;
+  for (std::size_t b = begin; b < end; b += W)
+  {
+    const std::size_t n = std::min(W, end - b);
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      std::int64_t pose;
+      pattern.Beam(b + j, o + 3 * j, d + 3 * j, pose);
+    }
+    packets.caster.Intersect(n, o, d, tMax, hits);
+    for (std::size_t j = 0; j < n; ++j)
+      h += hits[j].Hit() ? 1 : 0;
+  }
+  return h;
+}
+
+template <typename Caster>
+std::size_t CastRange(const plantmorph::BeamPattern& pattern, const Caster& caster, double tMax, std::size_t begin,
+  std::size_t end)
+{
+  std::size_t h = 0;
+  for (std::size_t b = begin; b < end; ++b)
+  {
+    double o[3], d[3];
+    std::int64_t pose;
+    pattern.Beam(b, o, d, pose);
+    h += caster.Intersect(o, d, tMax).Hit() ? 1 : 0;
+  }
+  return h;
+}
+
 template <typename Caster>
 void CastAll(benchmark::State& state, const Caster& caster, const plantmorph::BeamPattern& pattern, double tMax,
   int threads, std::size_t& hits)
@@ -245,17 +292,8 @@ void CastAll(benchmark::State& state, const Caster& caster, const plantmorph::Be
   for (auto _ : state)
   {
     total = 0;
-    parallel(pattern.BeamCount(), [&](std::size_t begin, std::size_t end) {
-      std::size_t h = 0;
-      for (std::size_t b = begin; b < end; ++b)
-      {
-        double o[3], d[3];
-        std::int64_t pose;
-        pattern.Beam(b, o, d, pose);
-        h += caster.Intersect(o, d, tMax).Hit() ? 1 : 0;
-      }
-      total += h;
-    });
+    parallel(pattern.BeamCount(),
+      [&](std::size_t begin, std::size_t end) { total += CastRange(pattern, caster, tMax, begin, end); });
   }
   hits = total;
 }
@@ -272,13 +310,16 @@ void BM_Cast(benchmark::State& state)
   const int threads = static_cast<int>(state.range(3));
   PeakMemoryProbe memory;
   CpuMeter cpu;
-  if (state.range(0) == 0)
+  if (state.range(0) != 1)
   {
     plantmorph::RayCaster caster;
     build = TimedBuild(caster, scene);
     memory.Start();
     cpu = CpuMeter{};
-    CastAll(state, caster, pattern, p.maximumRange, threads, hits);
+    if (state.range(0) == 0)
+      CastAll(state, caster, pattern, p.maximumRange, threads, hits);
+    else
+      CastAll(state, Packets{ caster }, pattern, p.maximumRange, threads, hits);
   }
   else
   {
@@ -579,11 +620,11 @@ BENCHMARK(BM_Build)
   ->UseRealTime();
 BENCHMARK(BM_Cast)
   ->ArgNames({ "caster", "tris", "beams", "threads" })
-  ->ArgsProduct({ { 0, 1 }, { 10000, 100000, 1000000, 10000000 }, { 1000000 }, { 1 } })
+  ->ArgsProduct({ { 0, 2, 1 }, { 10000, 100000, 1000000, 10000000 }, { 1000000 }, { 1 } })
   ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Cast)
   ->ArgNames({ "caster", "tris", "beams", "threads" })
-  ->ArgsProduct({ { 0, 1 }, { 10000, 100000, 1000000, 10000000 }, { 1000000, 10000000 }, { 2 } })
+  ->ArgsProduct({ { 2, 1 }, { 10000, 100000, 1000000, 10000000 }, { 1000000, 10000000 }, { 2 } })
   ->Unit(benchmark::kMillisecond)
   ->UseRealTime();
 BENCHMARK(BM_EmbreePacket)

@@ -123,11 +123,13 @@ struct BeamContext
   double slack[RayCaster::PacketSize]; // added to its far distance (covers its rounding and the padding)
 };
 
-/// The data the callbacks see.
+/// The data the callbacks see: the triangles' vertices copied in double precision, nine per triangle, in the
+/// Morton order of their centroids (Embree's primitive i is input triangle order[i]), so the triangles of one box of
+/// the hierarchy lie close together in memory.
 struct Surface
 {
-  const std::vector<double>* points;
-  const std::vector<std::int64_t>* triangles;
+  std::vector<double> vertices;
+  std::vector<std::uint32_t> order;
   const double* centre;
   double pad;
 };
@@ -135,18 +137,12 @@ struct Surface
 void TriangleBounds(const RTCBoundsFunctionArguments* args)
 {
   const auto* s = static_cast<const Surface*>(args->geometryUserPtr);
-  const std::int64_t* t = &(*s->triangles)[3 * static_cast<std::size_t>(args->primID)];
+  const double* v = &s->vertices[9 * static_cast<std::size_t>(args->primID)];
   double lo[3], hi[3];
   for (int k = 0; k < 3; ++k)
   {
-    lo[k] = std::numeric_limits<double>::infinity();
-    hi[k] = -lo[k];
-    for (int j = 0; j < 3; ++j)
-    {
-      const double x = (*s->points)[3 * static_cast<std::size_t>(t[j]) + k] - s->centre[k];
-      lo[k] = std::min(lo[k], x);
-      hi[k] = std::max(hi[k], x);
-    }
+    lo[k] = std::min({ v[k], v[3 + k], v[6 + k] }) - s->centre[k];
+    hi[k] = std::max({ v[k], v[3 + k], v[6 + k] }) - s->centre[k];
   }
   // Padded outwards: the single-precision beam strays from the exact one by less than the padding, so no box the
   // exact beam enters is culled.
@@ -159,13 +155,24 @@ void TriangleBounds(const RTCBoundsFunctionArguments* args)
   b->upper_z = static_cast<float>(hi[2] + s->pad);
 }
 
+/// 10-bit spread of a coordinate in [0, 1] for a 30-bit Morton code.
+std::uint32_t Spread(double x)
+{
+  std::uint32_t v = static_cast<std::uint32_t>(std::min(1023.0, std::max(0.0, x * 1024.0)));
+  v = (v * 0x00010001u) & 0xFF0000FFu;
+  v = (v * 0x00000101u) & 0x0F00F00Fu;
+  v = (v * 0x00000011u) & 0xC30C30C3u;
+  v = (v * 0x00000005u) & 0x49249249u;
+  return v;
+}
+
 void TriangleIntersect(const RTCIntersectFunctionNArguments* args)
 {
   const auto* s = static_cast<const Surface*>(args->geometryUserPtr);
   auto* beams = reinterpret_cast<BeamContext*>(args->context);
-  const std::int64_t* t = &(*s->triangles)[3 * static_cast<std::size_t>(args->primID)];
-  const double* p = s->points->data();
-  const double *a = p + 3 * t[0], *b = p + 3 * t[1], *c = p + 3 * t[2];
+  const double* a = &s->vertices[9 * static_cast<std::size_t>(args->primID)];
+  const double *b = a + 3, *c = a + 6;
+  const auto triangle = static_cast<std::int64_t>(s->order[args->primID]);
   RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
   RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
   for (unsigned i = 0; i < args->N; ++i)
@@ -174,12 +181,12 @@ void TriangleIntersect(const RTCIntersectFunctionNArguments* args)
       continue;
     const unsigned lane = RTCRayN_id(rays, args->N, i);
     TriangleHit& best = beams->best[lane];
-    if (!IntersectTriangle(beams->ray[lane], a, b, c, static_cast<std::int64_t>(args->primID), best))
+    if (!IntersectTriangle(beams->ray[lane], a, b, c, triangle, best))
       continue;
     // Boxes the beam enters beyond the hit need no visit: the single-precision far distance, rounded up.
-    RTCRayN_tfar(rays, args->N, i) = std::nextafter(
-      static_cast<float>((best.t - beams->start[lane]) * (1.0 + 1e-6) + beams->slack[lane]),
-      std::numeric_limits<float>::infinity());
+    // (Rounding to single precision loses less than the 1e-6 added.)
+    RTCRayN_tfar(rays, args->N, i) =
+      static_cast<float>((best.t - beams->start[lane]) * (1.0 + 1e-6) + beams->slack[lane]);
     RTCHitN_geomID(hits, args->N, i) = args->geomID;
     RTCHitN_primID(hits, args->N, i) = args->primID;
   }
@@ -220,7 +227,9 @@ std::size_t RayCaster::PeakBytes() const
 
 std::size_t RayCaster::MemoryBytes() const
 {
-  return this->Impl ? static_cast<std::size_t>(std::max<std::int64_t>(0, this->Impl->bytes.load())) : 0;
+  const std::size_t own =
+    this->User ? this->User->surface.vertices.size() * sizeof(double) + this->User->surface.order.size() * 4 : 0;
+  return own + (this->Impl ? static_cast<std::size_t>(std::max<std::int64_t>(0, this->Impl->bytes.load())) : 0);
 }
 
 std::string RayCaster::Build(
@@ -229,14 +238,10 @@ std::string RayCaster::Build(
   this->Release();
   this->Impl = new Embree;
   this->User = new Callbacks;
-  this->Points = &points;
-  this->Triangles = &triangles;
+  this->Count = 0;
   const std::size_t nt = triangles.size() / 3;
   if (nt >= (std::size_t(1) << 32))
-  {
-    this->Triangles = nullptr;
     return "Input: more than 2^32 triangles";
-  }
   // The bounding box of the triangles' vertices; the single-precision boxes are relative to its centre.
   double lo[3] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
     std::numeric_limits<double>::infinity() };
@@ -265,13 +270,40 @@ std::string RayCaster::Build(
   }
   this->Margin = 1e-2 * size + pad;
   this->Pad = pad;
-  this->User->surface = Surface{ &points, &triangles, this->Centre, pad };
+  Surface& surface = this->User->surface;
+  surface.centre = this->Centre;
+  surface.pad = pad;
+  {
+    // Morton order of the centroids in the box.
+    std::vector<std::uint64_t> keys(nt);
+    for (std::size_t i = 0; i < nt; ++i)
+    {
+      double x[3] = { 0.0, 0.0, 0.0 };
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k)
+          x[k] += points[3 * static_cast<std::size_t>(triangles[3 * i + j]) + k] / 3.0;
+      std::uint32_t code = 0;
+      for (int k = 0; k < 3; ++k)
+        code |= Spread(size > 0.0 ? (x[k] - lo[k]) / size : 0.0) << k;
+      keys[i] = (static_cast<std::uint64_t>(code) << 32) | i;
+    }
+    std::sort(keys.begin(), keys.end());
+    surface.order.resize(nt);
+    surface.vertices.resize(9 * nt);
+    for (std::size_t i = 0; i < nt; ++i)
+    {
+      const auto t = static_cast<std::uint32_t>(keys[i] & 0xFFFFFFFFu);
+      surface.order[i] = t;
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k)
+          surface.vertices[9 * i + 3 * j + k] = points[3 * static_cast<std::size_t>(triangles[3 * t + j]) + k];
+    }
+  }
 
   const std::string config = "threads=" + std::to_string(std::max(0, buildThreads));
   RTCDevice device = rtcNewDevice(config.c_str());
   if (!device)
   {
-    this->Triangles = nullptr;
     return DeviceError(nullptr, "rtcNewDevice (is the CPU supported?)");
   }
   this->Impl->device = device;
@@ -293,10 +325,8 @@ std::string RayCaster::Build(
   }
   rtcCommitScene(scene);
   if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
-  {
-    this->Triangles = nullptr;
     return DeviceError(device, "building the scene");
-  }
+  this->Count = nt;
   return {};
 }
 
@@ -341,8 +371,7 @@ bool PrepareLane(const double* origin, const double* direction, double tMax, con
   r.dir_y[lane] = static_cast<float>(direction[1]);
   r.dir_z[lane] = static_cast<float>(direction[2]);
   r.tnear[lane] = 0.0f;
-  r.tfar[lane] = std::nextafter(static_cast<float>((leave - start) * (1.0 + 1e-6) + beams.slack[lane]),
-    std::numeric_limits<float>::infinity());
+  r.tfar[lane] = static_cast<float>((leave - start) * (1.0 + 1e-6) + beams.slack[lane]);
   r.time[lane] = 0.0f;
   r.mask[lane] = 0xFFFFFFFFu;
   r.id[lane] = lane;
@@ -372,7 +401,7 @@ struct SingleRay
 
 TriangleHit RayCaster::Intersect(const double origin[3], const double direction[3], double tMax) const
 {
-  if (!this->Triangles || this->Triangles->empty())
+  if (this->Count == 0)
     return TriangleHit{};
   BeamContext beams;
   RTCRayHit ray;
@@ -392,7 +421,7 @@ void RayCaster::Intersect(std::size_t count, const double* origins, const double
   count = std::min<std::size_t>(count, PacketSize);
   for (std::size_t i = 0; i < count; ++i)
     hits[i] = TriangleHit{};
-  if (!this->Triangles || this->Triangles->empty() || count == 0)
+  if (this->Count == 0 || count == 0)
     return;
   BeamContext beams;
   alignas(64) RTCRayHitNt<PacketSize> packet;

@@ -45,8 +45,8 @@ public:
   RayCaster(const RayCaster&) = delete;
   RayCaster& operator=(const RayCaster&) = delete;
 
-  /// Builds over `triangles` (three point indices each) of `points` (x, y, z each); both are kept by reference and
-  /// must outlive the caster. Degenerate triangles are never hit. An empty string on success, else Embree's error
+  /// Builds over `triangles` (three point indices each) of `points` (x, y, z each), copying what it needs (their
+  /// vertices, in double precision, 72 bytes a triangle). Degenerate triangles are never hit. An empty string on success, else Embree's error
   /// (the caster is then empty: every beam misses). Indices out of range are the caller's error (ValidateSurface).
   /// `buildThreads`: Embree's build threads (0: all of the machine's).
   std::string Build(const std::vector<double>& points, const std::vector<std::int64_t>& triangles, int buildThreads = 0);
@@ -62,9 +62,9 @@ public:
   void Intersect(std::size_t count, const double* origins, const double* directions, double tMax,
     TriangleHit* hits) const;
 
-  std::size_t TriangleCount() const { return this->Triangles ? this->Triangles->size() / 3 : 0; }
-  /// Bytes Embree allocated for the scene (its copy of the vertices and indices, the hierarchy), at the peak of the
-  /// build and after it.
+  std::size_t TriangleCount() const { return this->Count; }
+  /// Bytes Embree allocated for the hierarchy at the peak of the build; bytes the caster holds (the hierarchy and the
+  /// copied vertices).
   std::size_t PeakBytes() const;
   std::size_t MemoryBytes() const;
 
@@ -75,8 +75,7 @@ private:
   void Release();
   Embree* Impl = nullptr;
   Callbacks* User = nullptr;
-  const std::vector<double>* Points = nullptr;
-  const std::vector<std::int64_t>* Triangles = nullptr;
+  std::size_t Count = 0; // triangles
   double Centre[3] = { 0.0, 0.0, 0.0 };
   double Box[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 }; // padded bounds relative to Centre
   double Margin = 0.0; // how far before the box a beam starts

@@ -178,7 +178,10 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
   const std::uint64_t start = std::min(firstBeam, end);
   const std::uint64_t beams = end - start;
   std::vector<BeamResult> block(static_cast<std::size_t>(std::min(beams, Block)));
-  std::vector<std::size_t> slot(block.size()); // where each returned beam goes in the cloud
+  // Each block in pieces of Piece beams: a piece is cast and counts its returns in parallel, the pieces' places in
+  // the cloud follow (a short serial sum), then the pieces copy their returns in parallel.
+  constexpr std::size_t Piece = 1024;
+  std::vector<std::size_t> place(static_cast<std::size_t>(Block / Piece) + 1);
   for (std::uint64_t first = start; first < end; first += Block)
   {
     if (progress && !progress(static_cast<double>(first - start) / static_cast<double>(beams)))
@@ -187,16 +190,41 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
       return "aborted";
     }
     const std::size_t count = static_cast<std::size_t>(std::min(Block, end - first));
-    parallel(count, [&](std::size_t begin, std::size_t end) {
-      CastRange(p, pattern, points, triangles, caster, first, begin, end, block.data());
+    const std::size_t pieces = (count + Piece - 1) / Piece;
+    std::vector<std::size_t> returned(pieces, 0), dropped(pieces, 0);
+    parallel(pieces, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t piece = begin; piece < end; ++piece)
+      {
+        const std::size_t b = piece * Piece, e = std::min(count, b + Piece);
+        CastRange(p, pattern, points, triangles, caster, first, b, e, block.data());
+        for (std::size_t i = b; i < e; ++i)
+        {
+          returned[piece] += block[i].triangle >= 0 ? 1 : 0;
+          dropped[piece] += block[i].dropped ? 1 : 0;
+        }
+      }
     });
-    // Compaction in beam order: the returns' places (serial, one pass over flags), then the copy (parallel).
     std::size_t n = out.Size();
-    for (std::size_t i = 0; i < count; ++i)
+    for (std::size_t piece = 0; piece < pieces; ++piece)
     {
-      out.dropped += block[i].dropped ? 1 : 0;
-      slot[i] = n;
-      n += block[i].triangle >= 0 ? 1 : 0;
+      place[piece] = n;
+      n += returned[piece];
+      out.dropped += dropped[piece];
+    }
+    if (n > out.range.capacity())
+    {
+      // Room for the rest of the scan at the return rate so far (few reallocations of a large cloud).
+      const double rate = static_cast<double>(n) / static_cast<double>(first + count - start);
+      const auto expected = static_cast<std::size_t>(1.05 * rate * static_cast<double>(end - start)) + 1024;
+      const std::size_t capacity = std::max(n, std::min(expected, static_cast<std::size_t>(end - start)));
+      out.points.reserve(3 * capacity);
+      out.normals.reserve(3 * capacity);
+      out.range.reserve(capacity);
+      out.intensity.reserve(capacity);
+      out.pose.reserve(capacity);
+      out.triangle.reserve(capacity);
+      out.barycentric.reserve(2 * capacity);
+      out.beam.reserve(capacity);
     }
     out.points.resize(3 * n);
     out.normals.resize(3 * n);
@@ -206,22 +234,26 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
     out.triangle.resize(n);
     out.barycentric.resize(2 * n);
     out.beam.resize(n);
-    parallel(count, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
+    parallel(pieces, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t piece = begin; piece < end; ++piece)
       {
-        const BeamResult& r = block[i];
-        if (r.triangle < 0)
-          continue;
-        const std::size_t j = slot[i];
-        std::copy(r.point, r.point + 3, &out.points[3 * j]);
-        std::copy(r.normal, r.normal + 3, &out.normals[3 * j]);
-        out.range[j] = r.range;
-        out.intensity[j] = r.intensity;
-        out.pose[j] = r.pose;
-        out.triangle[j] = r.triangle;
-        out.barycentric[2 * j] = r.u;
-        out.barycentric[2 * j + 1] = r.v;
-        out.beam[j] = first + i;
+        std::size_t j = place[piece];
+        for (std::size_t i = piece * Piece; i < std::min(count, (piece + 1) * Piece); ++i)
+        {
+          const BeamResult& r = block[i];
+          if (r.triangle < 0)
+            continue;
+          std::copy(r.point, r.point + 3, &out.points[3 * j]);
+          std::copy(r.normal, r.normal + 3, &out.normals[3 * j]);
+          out.range[j] = r.range;
+          out.intensity[j] = r.intensity;
+          out.pose[j] = r.pose;
+          out.triangle[j] = r.triangle;
+          out.barycentric[2 * j] = r.u;
+          out.barycentric[2 * j + 1] = r.v;
+          out.beam[j] = first + i;
+          ++j;
+        }
       }
     });
   }
