@@ -1,21 +1,19 @@
 // The virtual scanner's ray caster: Embree 3 (Debian's libembree-dev; Wald et al., "Embree: a kernel framework for
-// efficient CPU ray tracing", ACM TOG 33(4), 2014), which measured 2-3 times faster per thread than the project's
-// own BVH on the same beams (benchmarks/README.md "virtual_scanner_benchmark"; issue 24: "whichever measures
-// faster, the other kept out"). Built once per surface, then cast from any number of threads at once.
+// efficient CPU ray tracing", ACM TOG 33(4), 2014) builds the hierarchy once per surface and traverses it, beams in
+// packets of PacketSize (rtcIntersect8), from any number of threads at once. It measured 1.2-1.8 times the project's
+// own BVH per CPU second on the same beams (benchmarks/README.md "virtual_scanner_benchmark"; issue 24: "whichever
+// measures faster, the other kept out"), which is now in benchmarks/ only.
 //
-// Exactness:
-// - Watertight: the scene is committed with RTC_SCENE_FLAG_ROBUST (Embree's watertight triangle test and
-//   conservative box tests), and every vertex is converted to single precision once, whichever triangles share it,
-//   so a beam through a closed surface hits at least one triangle at a shared edge or vertex.
-// - Single precision chooses the triangle only: the hit's distance and barycentric coordinates are then recomputed
-//   in double precision on that triangle (the ray meets its plane), so points lie on the surface to double
-//   precision. Vertices are stored relative to the surface's bounding-box centre, and each beam starts at its entry
-//   into the (padded) bounding box, so single precision is relative to the surface's size, not to where it or the
-//   scanner stands. Two surfaces closer than about 1e-7 of the surface's size along a beam may be told apart in the
-//   wrong order.
-// - Deterministic: a beam's hit depends only on the beam and the surface, never on the thread that casts it or on
-//   the other beams (single rays, rtcIntersect1: packets measured no faster on the scanner's beams, see the
-//   benchmark), and Embree's build of a given surface is the same on every run and rank.
+// Exactness (docs/methods/virtual-scanner.md):
+// - The triangle test is ours, run by Embree as a user geometry: Woop, Benthin and Wald's watertight test (JCGT
+//   2(1), 2013) in double precision on the input's vertices, so no beam slips between two triangles of a closed
+//   surface and the hit lies on its triangle to double precision. Embree's own single-precision triangles, even with
+//   RTC_SCENE_FLAG_ROBUST, let 4-9 of 71,688 beams aimed at an icosphere's shared vertices and edges through.
+// - Embree's single-precision boxes are padded outwards (1e-5 of the surface's size) and relative to the surface's
+//   bounding-box centre, and each beam starts at its entry into the box, so Embree never culls a triangle the exact
+//   test would hit, wherever the surface and the scanner stand.
+// - Deterministic: of hits at the same distance the smaller triangle index wins, so a beam's hit depends on the beam
+//   and the surface only, not on the traversal order, the packet's other beams, the build threads or the thread.
 #pragma once
 
 #include <cstddef>
@@ -46,10 +44,11 @@ public:
   RayCaster& operator=(const RayCaster&) = delete;
 
   /// Builds over `triangles` (three point indices each) of `points` (x, y, z each), copying what it needs (their
-  /// vertices, in double precision, 72 bytes a triangle). Degenerate triangles are never hit. An empty string on success, else Embree's error
-  /// (the caster is then empty: every beam misses). Indices out of range are the caller's error (ValidateSurface).
-  /// `buildThreads`: Embree's build threads (0: all of the machine's).
-  std::string Build(const std::vector<double>& points, const std::vector<std::int64_t>& triangles, int buildThreads = 0);
+  /// vertices, in double precision, 72 bytes a triangle). Degenerate triangles are never hit. An empty string on
+  /// success, else Embree's error (the caster is then empty: every beam misses). Indices out of range are the
+  /// caller's error (ValidateSurface). `buildThreads`: Embree's build threads (0: all of the machine's).
+  std::string Build(
+    const std::vector<double>& points, const std::vector<std::int64_t>& triangles, int buildThreads = 0);
 
   /// The nearest hit with 0 < t < tMax of the ray origin + t * direction; no hit: triangle = -1. Of hits at the
   /// same distance (a beam through a shared edge), the smaller triangle index.

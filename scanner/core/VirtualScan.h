@@ -1,7 +1,7 @@
-// The virtual scan (docs/methods/virtual-scanner.md): every beam of a BeamPattern cast through a RayCaster (Embree) of the surface, the nearest
-// hit within MaximumRange kept, then dropout, range noise and angular jitter drawn from a counter-based stream keyed
-// by (Seed, beam index), so the cloud is bit-identical for a seed whatever the number of threads or how the beams
-// are shared out. Points come out in beam order.
+// The virtual scan (docs/methods/virtual-scanner.md): every beam of a BeamPattern cast through a RayCaster (Embree)
+// of the surface, the nearest hit within MaximumRange kept, then dropout, range noise and angular jitter drawn from
+// a counter-based stream keyed by (Seed, beam index), so the cloud is bit-identical for a seed whatever the number
+// of threads or how the beams are shared out. Points come out in beam order.
 #pragma once
 
 #include "ScanPattern.h"

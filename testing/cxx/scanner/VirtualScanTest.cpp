@@ -332,7 +332,8 @@ TEST(RayCaster, PacketsGiveEachBeamItsOwnHitAndTiesGoToTheSmallerTriangle)
     {
       std::vector<double> o, d;
       std::vector<std::size_t> which;
-      for (std::size_t j = first; j < beams && which.size() < RayCaster::PacketSize - (stride == 3 ? 1 : 0); j += stride)
+      const std::size_t size = RayCaster::PacketSize - (stride == 3 ? 1 : 0);
+      for (std::size_t j = first; j < beams && which.size() < size; j += stride)
       {
         o.insert(o.end(), &origins[3 * j], &origins[3 * j] + 3);
         d.insert(d.end(), &directions[3 * j], &directions[3 * j] + 3);
