@@ -54,8 +54,8 @@ inline std::string FormatParameters(vtkFieldData* fd)
     else if (array->GetNumberOfTuples() == 1 && array->GetComponentName(0))
     {
       for (int c = 0; c < components; ++c)
-        text << name << (array->GetComponentName(c) ? array->GetComponentName(c) : std::to_string(c).c_str())
-             << " = " << array->GetVariantValue(c).ToString() << "\n";
+        text << name << (array->GetComponentName(c) ? array->GetComponentName(c) : std::to_string(c).c_str()) << " = "
+             << array->GetVariantValue(c).ToString() << "\n";
     }
     else
     {
