@@ -1,4 +1,5 @@
 #include "BranchJunctions.h"
+#include "SmallConvexHull.h"
 
 #include <plantmorph/MathConstants.h>
 #include <plantmorph/RotationMinimizingFrames.h>
@@ -390,12 +391,12 @@ bool Solve(std::vector<Skeleton>& skeletons, std::vector<ChildState>& state, con
   return false;
 }
 
-/// Convex hull of the junction's points; false if a ring is not a face of it (then the junction falls back).
+/// The junction's hull facets by CGAL, when SmallConvexHull fails (false: no hull, the junction falls back).
 /// The hull is the boundary of the points' tetrahedralisation (CGAL Triangulation_3, exact orientation predicates,
 /// points inserted in order: one answer for one input, whatever the thread; CGAL 5.5's convex_hull_3 was seen by
 /// valgrind to read freed list nodes on these inputs, and a Delaunay tetrahedralisation spent most of its time in
 /// exact in-sphere tests of the cocircular ring points). Its facets are the finite facets of the infinite cells.
-bool Hull(Junction& J, std::size_t sides)
+bool CgalHullFacets(const Junction& J, std::vector<std::array<long, 3>>& facets)
 {
   using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
   using Vb = CGAL::Triangulation_vertex_base_with_info_3<long, Kernel>;
@@ -416,7 +417,6 @@ bool Hull(Junction& J, std::size_t sides)
   centroid /= static_cast<double>(J.points.size());
   if (dt.dimension() != 3 || dt.number_of_vertices() != J.points.size())
     return false;
-  std::vector<std::array<long, 3>> facets;
   std::vector<Triangulation::Cell_handle> hullCells;
   dt.incident_cells(dt.infinite_vertex(), std::back_inserter(hullCells));
   for (const Triangulation::Cell_handle& c : hullCells)
@@ -437,6 +437,13 @@ bool Hull(Junction& J, std::size_t sides)
     facets.push_back(v);
   }
   std::sort(facets.begin(), facets.end());
+  return true;
+}
+
+/// The hull's facets without the rings' caps into J.facets; false if a ring is not a face with each of its edges in
+/// exactly one side facet.
+bool KeepSideFacets(Junction& J, std::size_t sides, const std::vector<std::array<long, 3>>& facets)
+{
   std::vector<int> capFacets(J.rings.size(), 0);
   std::vector<int> ringEdges(J.points.size(), 0); // side facets using ring edge (point, its ring successor)
   J.facets.clear();
@@ -482,6 +489,19 @@ bool Hull(Junction& J, std::size_t sides)
     }
   }
   return true;
+}
+
+/// Convex hull of the junction's points (SmallConvexHull; CGAL's Triangulation_3 when that fails its check or a ring
+/// check); false if a ring is not a face of it (then the junction falls back).
+bool Hull(Junction& J, std::size_t sides)
+{
+  std::vector<Eigen::Vector3d> points(J.points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    points[i] = J.points[i].vertex.x;
+  std::vector<std::array<long, 3>> facets;
+  if (SmallConvexHull(points, facets) && KeepSideFacets(J, sides, facets))
+    return true;
+  return CgalHullFacets(J, facets) && KeepSideFacets(J, sides, facets);
 }
 
 /// What the junctions decide for every tube: its skeleton (a welded child's first radius may be narrowed), its
