@@ -14,7 +14,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <map>
+#include <utility>
 
 namespace plantmorph
 {
@@ -69,10 +69,11 @@ struct Skeleton
   }
 };
 
-Skeleton MakeSkeleton(const CleanedTube& line, const Eigen::Vector3d& normal)
+Skeleton MakeSkeleton(CleanedTube&& cleaned, const Eigen::Vector3d& normal)
 {
   Skeleton s;
-  s.line = line;
+  s.line = std::move(cleaned);
+  const CleanedTube& line = s.line;
   const std::size_t n = line.centre.size();
   s.tangents = PolylineTangents(line.centre);
   s.arc.assign(n, 0.0);
@@ -103,7 +104,7 @@ struct Station
   long point = -1;
   /// A cut ring's plane normal when the cut is tilted (a welded child's junction ring, see PlaceChild); zero: the cut
   /// is perpendicular to the segment.
-  Eigen::Vector3d tilt = Eigen::Vector3d::Zero();
+  const Eigen::Vector3d* tilt = nullptr; ///< into the child's ChildState (a pointer keeps stations small)
 };
 
 struct RingVertex
@@ -135,8 +136,8 @@ RingVertex Vertex(const Skeleton& s, const Station& station, const RingAngles& t
   const Eigen::Vector3d w = trig.cosines[j] * s.n[k] + trig.sines[j] * s.n[k].cross(s.dir[k]);
   const double radius = station.point == 0 ? s.line.radii[0] : s.RadiusAt(station.arc);
   const Eigen::Vector3d centre = station.point == 0 ? s.line.centre[0] : s.PointAt(station.arc);
-  const bool tilted = station.point < 0 && station.tilt.squaredNorm() > 0.0;
-  r.x = centre + radius * (tilted ? MitreOffset(w, s.dir[k], station.tilt) : w);
+  const bool tilted = station.point < 0 && station.tilt && station.tilt->squaredNorm() > 0.0;
+  r.x = centre + radius * (tilted ? MitreOffset(w, s.dir[k], *station.tilt) : w);
   r.normal = w;
   return r;
 }
@@ -217,7 +218,7 @@ void CollectPoints(const std::vector<Skeleton>& skeletons, const std::vector<Chi
   {
     const Skeleton& s = skeletons[c];
     const Eigen::Vector3d& tilt = state[c].tilt;
-    addRing(c, Station{ state[c].pull, -1, tilt },
+    addRing(c, Station{ state[c].pull, -1, &tilt },
       tilt.squaredNorm() > 0.0 ? tilt : Eigen::Vector3d(s.dir[s.Segment(state[c].pull)]));
   }
   const Skeleton& p = skeletons[J.parent];
@@ -302,7 +303,7 @@ bool Solve(std::vector<Skeleton>& skeletons, std::vector<ChildState>& state, con
       const Skeleton& s = skeletons[c];
       if (state[c].pull > 0.85 * s.Length())
         return false;
-      const Station ring{ state[c].pull, -1, state[c].tilt };
+      const Station ring{ state[c].pull, -1, &state[c].tilt };
       for (std::size_t j = 0; j < trig.cosines.size(); ++j)
       {
         for (const Station& st : { ring, Station{ 0.0, 0 } })
@@ -325,7 +326,7 @@ bool Solve(std::vector<Skeleton>& skeletons, std::vector<ChildState>& state, con
       const Eigen::Vector3d centre = s.PointAt(pull);
       double ahead = 0.0;
       for (std::size_t j = 0; j < trig.cosines.size(); ++j)
-        ahead = std::max(ahead, (Vertex(s, Station{ pull, -1, state[c].tilt }, trig, j).x - centre).dot(s.dir[k]));
+        ahead = std::max(ahead, (Vertex(s, Station{ pull, -1, &state[c].tilt }, trig, j).x - centre).dot(s.dir[k]));
       double back = 0.0;
       if (k + 2 < s.arc.size())
       {
@@ -629,7 +630,7 @@ void MergeOverlapping(std::size_t P, const RingAngles& trig, Welding& w, std::ve
 
 /// The junctions of parent P: one per child that can weld, merged where they overlap; marks the welded children
 /// and gives the unwelded ones back their template radius (before their own children are decided).
-void WeldChildrenOf(std::size_t P, const std::vector<CleanedTube>& cleaned, const RingAngles& trig, Welding& w)
+void WeldChildrenOf(std::size_t P, const std::vector<double>& firstRadius, const RingAngles& trig, Welding& w)
 {
   const Skeleton& p = w.skeletons[P];
   std::vector<Junction> single;
@@ -657,11 +658,38 @@ void WeldChildrenOf(std::size_t P, const std::vector<CleanedTube>& cleaned, cons
   {
     if (w.state[c].narrowed && !w.state[c].welded)
     {
-      w.skeletons[c].line.radii[0] = cleaned[c].radii[0];
+      w.skeletons[c].line.radii[0] = firstRadius[c];
       w.state[c].narrowed = false;
     }
   }
   w.junctionsOf[P] = std::move(single);
+}
+
+/// Keeps only the hull's corners (ring points, which come first, keep their indices), so the junctions held until
+/// the mesh is written take less memory beside it.
+void DropInteriorPoints(Junction& J)
+{
+  std::vector<long> index(J.points.size(), -1);
+  for (const std::array<long, 3>& f : J.facets)
+    for (long v : f)
+      index[static_cast<std::size_t>(v)] = 0;
+  for (std::size_t k = 0; k < J.points.size(); ++k)
+    if (J.points[k].ring >= 0)
+      index[k] = 0;
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < J.points.size(); ++k)
+  {
+    if (index[k] < 0)
+      continue;
+    index[k] = static_cast<long>(kept);
+    J.points[kept++] = J.points[k];
+  }
+  J.points.resize(kept);
+  J.points.shrink_to_fit();
+  for (std::array<long, 3>& f : J.facets)
+    for (long& v : f)
+      v = index[static_cast<std::size_t>(v)];
+  J.facets.shrink_to_fit();
 }
 
 /// Hulls, in parallel; a junction whose hull lacks a ring face falls back: its children stay closed tubes from
@@ -674,7 +702,11 @@ std::vector<Junction*> BuildHulls(std::size_t S, const ParallelFor& parallel, We
       all.push_back(&J);
   parallel(all.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
+    {
       all[i]->failed = !Hull(*all[i], S);
+      if (!all[i]->failed)
+        DropInteriorPoints(*all[i]);
+    }
   });
   for (Junction* J : all)
   {
@@ -739,7 +771,7 @@ void LayOutStations(std::size_t t, const Welding& w, Layout& L)
   if (w.state[t].welded)
   {
     dropped.emplace_back(-1.0, w.baseCut[t]);
-    cuts.push_back({ w.baseCut[t], -1, w.state[t].tilt });
+    cuts.push_back({ w.baseCut[t], -1, &w.state[t].tilt });
     L.baseCap = false;
   }
   for (const Junction& J : w.junctionsOf[t])
@@ -822,19 +854,14 @@ void WriteWeldedTubes(const Welding& w, const std::vector<Layout>& layout, int s
     const std::size_t index = static_cast<std::size_t>(it - L.stations.begin());
     return mesh.pointOffsets[t] + (L.baseCap ? 1 : 0) + static_cast<std::int64_t>(index * S + j);
   };
-  std::vector<std::map<std::pair<const Junction*, long>, std::int64_t>> extraId(count);
-  for (std::size_t t = 0; t < count; ++t)
-  {
-    const Layout& L = layout[t];
-    std::int64_t id = mesh.pointOffsets[t + 1] - static_cast<std::int64_t>(L.extras.size());
-    for (const auto& e : L.extras)
-      extraId[t][e] = id++;
-  }
+  // An extra point's id: its place among its tube's extras (a few per junction: a linear search, no map).
   const auto pointId = [&](const Junction* J, long v) {
     const JunctionPoint& q = J->points[static_cast<std::size_t>(v)];
     if (q.ring >= 0)
       return ringId(q.tube, J->rings[static_cast<std::size_t>(q.ring)].station.arc, static_cast<std::size_t>(q.slot));
-    return extraId[q.tube].at({ J, v });
+    const Layout& L = layout[q.tube];
+    const auto it = std::find(L.extras.begin(), L.extras.end(), std::make_pair(J, v));
+    return mesh.pointOffsets[q.tube + 1] - static_cast<std::int64_t>(L.extras.end() - it);
   };
   parallel(count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
@@ -915,10 +942,15 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
   const RingAngles trig(sides);
   Welding w;
   w.skeletons.resize(count);
+  std::vector<double> firstRadius(count); // before the pipe model narrows it
   parallel(count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
-      w.skeletons[t] = MakeSkeleton(cleaned[t], tubes[t].normal);
+    {
+      firstRadius[t] = cleaned[t].radii[0];
+      w.skeletons[t] = MakeSkeleton(std::move(cleaned[t]), tubes[t].normal);
+    }
   });
+  std::vector<CleanedTube>().swap(cleaned); // moved into the skeletons: not kept beside the mesh
 
   // Children per parent, parents level by level: each level's junctions in parallel (a parent is final before its
   // children's junctions are decided).
@@ -930,7 +962,7 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
   {
     parallel(parents.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i)
-        WeldChildrenOf(parents[i], cleaned, trig, w);
+        WeldChildrenOf(parents[i], firstRadius, trig, w);
     });
   }
   const std::vector<Junction*> all = BuildHulls(S, parallel, w);
