@@ -14,6 +14,7 @@
 // holds for the whole skeleton.
 #include "BranchJunctions.h"
 #include "BranchTubes.h"
+#include "SmallConvexHull.h"
 #include "TreeMerge.h"
 #include "TreeStrokes.h"
 #include "TreeTemplate.h"
@@ -29,6 +30,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <random>
 #include <set>
 #include <string>
 
@@ -198,9 +200,9 @@ std::vector<std::vector<Eigen::Vector3d>> ThreeStrokes()
     Line({ { -0.2, 4 }, { -1, 5 }, { -2.5, 5.5 }, { -3.5, 7 }, { -4, 8 } }) };
 }
 
-TreeSettings Preset(int preset)
+TreeParameters Preset(int preset)
 {
-  TreeSettings s;
+  TreeParameters s;
   ApplyTreePreset(preset, s);
   s.leaves = false;
   return s;
@@ -213,7 +215,7 @@ TEST(JunctionReach, ThreeStrokeTreeAtEveryStrokeSubtreeDepth)
   // the other depths: 0 (strokes alone), 1 and 3 (with fewer children, to keep the brute force short).
   for (int depth = 0; depth <= 3; ++depth)
   {
-    TreeSettings s;
+    TreeParameters s;
     s.mode = TreeMode::Strokes;
     s.leaves = false;
     s.strokesOnly = depth == 0;
@@ -230,7 +232,7 @@ TEST(JunctionReach, Table1Presets)
 {
   for (int preset = 1; preset <= 3; ++preset)
   {
-    TreeSettings s = Preset(preset);
+    TreeParameters s = Preset(preset);
     s.depth = preset == 2 ? 4 : 3;
     Tree tree;
     ASSERT_EQ(BuildTree(s, {}, tree), "");
@@ -240,7 +242,7 @@ TEST(JunctionReach, Table1Presets)
 
 TEST(JunctionReach, EditedAndMergedTrees)
 {
-  TreeSettings e = Preset(1);
+  TreeParameters e = Preset(1);
   e.depth = 2;
   e.deletedBranches = { 2, 20 };
   e.overrides[11].length = 3.0;
@@ -251,14 +253,14 @@ TEST(JunctionReach, EditedAndMergedTrees)
   ASSERT_EQ(BuildTree(e, {}, edited), "");
   EXPECT_LE(CheckTree(edited, e.sides, "edited preset 1"), Bound);
 
-  TreeSettings second = Preset(2);
+  TreeParameters second = Preset(2);
   second.depth = 2;
   Tree other;
   ASSERT_EQ(BuildTree(second, {}, other), "");
   std::vector<SkeletonBranch> skeleton;
   for (const TreeBranch& b : other.branches)
     skeleton.push_back({ b.id, b.parentId, b.centre, b.radii });
-  TreeSettings m = Preset(1);
+  TreeParameters m = Preset(1);
   m.depth = 2;
   m.mergeParent = 3;
   m.mergeU = 0.3;
@@ -268,4 +270,90 @@ TEST(JunctionReach, EditedAndMergedTrees)
   Tree merged;
   ASSERT_EQ(BuildTree(m, {}, &skeleton, merged), "");
   EXPECT_LE(CheckTree(merged, m.sides, "merged"), Bound);
+}
+
+namespace
+{
+/// Checks a hull against brute force: closed and oriented (each directed edge once, its reverse once), V - E + F = 2,
+/// every point behind or on every facet's plane (tolerance), every facet of positive area. Returns the corners used.
+std::set<long> ExpectConvexHull(const std::vector<Eigen::Vector3d>& p, const std::vector<std::array<long, 3>>& facets)
+{
+  std::map<std::pair<long, long>, int> directed;
+  std::set<long> corners;
+  for (const auto& f : facets)
+  {
+    const Eigen::Vector3d n = (p[std::size_t(f[1])] - p[std::size_t(f[0])]).cross(p[std::size_t(f[2])] - p[std::size_t(f[0])]);
+    EXPECT_GT(n.norm(), 0.0);
+    for (const Eigen::Vector3d& x : p)
+      EXPECT_LE(n.normalized().dot(x - p[std::size_t(f[0])]), 1e-9);
+    for (int e = 0; e < 3; ++e)
+    {
+      ++directed[{ f[std::size_t(e)], f[std::size_t((e + 1) % 3)] }];
+      corners.insert(f[std::size_t(e)]);
+    }
+  }
+  for (const auto& [edge, count] : directed)
+  {
+    EXPECT_EQ(count, 1);
+    EXPECT_EQ(directed.count({ edge.second, edge.first }), 1u);
+  }
+  EXPECT_EQ(long(corners.size()) - long(directed.size() / 2) + long(facets.size()), 2);
+  return corners;
+}
+} // namespace
+
+TEST(SmallConvexHull, CubeWithInteriorPointsHasTwelveFacetsOnItsCorners)
+{
+  std::vector<Eigen::Vector3d> p;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> inside(-0.9, 0.9);
+  for (int i = 0; i < 20; ++i)
+    p.emplace_back(inside(random), inside(random), inside(random));
+  for (int k = 0; k < 8; ++k)
+    p.emplace_back(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0);
+  std::vector<std::array<long, 3>> facets;
+  ASSERT_TRUE(SmallConvexHull(p, facets));
+  EXPECT_EQ(facets.size(), 12u); // two per face of the cube
+  const std::set<long> corners = ExpectConvexHull(p, facets);
+  EXPECT_EQ(corners, (std::set<long>{ 20, 21, 22, 23, 24, 25, 26, 27 }));
+}
+
+TEST(SmallConvexHull, TwoRingsAndAnApexLikeAJunction)
+{
+  // Two hexagonal rings in parallel planes (coplanar, cocircular points, as a junction's cut rings) and a point past
+  // one of them: 6 + 6 side facets between the rings, 4 in the far cap, 6 in the apex's fan; every point a corner.
+  std::vector<Eigen::Vector3d> p;
+  for (int ring = 0; ring < 2; ++ring)
+    for (int j = 0; j < 6; ++j)
+      p.emplace_back(std::cos(j * 3.14159265358979 / 3), ring * 2.0, std::sin(j * 3.14159265358979 / 3));
+  p.emplace_back(0.1, 3.5, 0.0);
+  p.emplace_back(0.0, 1.0, 0.2); // inside
+  std::vector<std::array<long, 3>> facets;
+  ASSERT_TRUE(SmallConvexHull(p, facets));
+  EXPECT_EQ(facets.size(), 12u + 4u + 6u);
+  EXPECT_EQ(ExpectConvexHull(p, facets).size(), 13u);
+}
+
+TEST(SmallConvexHull, RandomCloudsAgreeWithBruteForce)
+{
+  std::mt19937 random(11);
+  std::normal_distribution<double> normal;
+  for (int trial = 0; trial < 50; ++trial)
+  {
+    std::vector<Eigen::Vector3d> p;
+    for (int i = 0; i < 10 + trial; ++i)
+      p.emplace_back(normal(random), 0.3 * normal(random), normal(random));
+    std::vector<std::array<long, 3>> facets;
+    ASSERT_TRUE(SmallConvexHull(p, facets)) << trial;
+    ExpectConvexHull(p, facets); // every point behind every facet: the hull holds the cloud
+  }
+}
+
+TEST(SmallConvexHull, DegenerateSetsFail)
+{
+  std::vector<std::array<long, 3>> facets;
+  EXPECT_FALSE(SmallConvexHull({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 } }, facets));
+  EXPECT_FALSE(SmallConvexHull({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 1, 1, 0 }, { 0.5, 0.2, 0 } }, facets));
+  EXPECT_FALSE(SmallConvexHull({ { 0, 0, 0 }, { 1, 1, 1 }, { 2, 2, 2 }, { 3, 3, 3 } }, facets));
+  EXPECT_TRUE(facets.empty());
 }
