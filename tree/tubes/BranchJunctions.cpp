@@ -1,4 +1,5 @@
 #include "BranchJunctions.h"
+#include "SmallConvexHull.h"
 
 #include <plantmorph/MathConstants.h>
 #include <plantmorph/RotationMinimizingFrames.h>
@@ -13,13 +14,20 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <map>
+#include <utility>
 
 namespace plantmorph
 {
 
 namespace
 {
+/// A lateral child's junction ring is first cut FirstTilt from its cross-section towards the parent's axis (never
+/// more than 90 deg - its angle, the cut parallel to the parent's axis); in a merged junction a ring behind the
+/// parent's far ring tilts further in TiltStep steps up to MaxTilt (see PlaceChild and Solve).
+constexpr double FirstTilt = 30.0 * Pi / 180.0;
+constexpr double MaxTilt = 75.0 * Pi / 180.0;
+constexpr double TiltStep = 15.0 * Pi / 180.0;
+
 /// A tube's centre line with its per-segment frames (the rotation-minimising transport of BuildTubes: segment k's
 /// ring directions are cos(2 pi j / sides) n[k] + sin(2 pi j / sides) (n[k] x dir[k])).
 struct Skeleton
@@ -61,10 +69,11 @@ struct Skeleton
   }
 };
 
-Skeleton MakeSkeleton(const CleanedTube& line, const Eigen::Vector3d& normal)
+Skeleton MakeSkeleton(CleanedTube&& cleaned, const Eigen::Vector3d& normal)
 {
   Skeleton s;
-  s.line = line;
+  s.line = std::move(cleaned);
+  const CleanedTube& line = s.line;
   const std::size_t n = line.centre.size();
   s.tangents = PolylineTangents(line.centre);
   s.arc.assign(n, 0.0);
@@ -93,6 +102,9 @@ struct Station
 {
   double arc = 0.0;
   long point = -1;
+  /// A cut ring's plane normal when the cut is tilted (a welded child's junction ring, see PlaceChild); zero: the cut
+  /// is perpendicular to the segment.
+  const Eigen::Vector3d* tilt = nullptr; ///< into the child's ChildState (a pointer keeps stations small)
 };
 
 struct RingVertex
@@ -124,7 +136,8 @@ RingVertex Vertex(const Skeleton& s, const Station& station, const RingAngles& t
   const Eigen::Vector3d w = trig.cosines[j] * s.n[k] + trig.sines[j] * s.n[k].cross(s.dir[k]);
   const double radius = station.point == 0 ? s.line.radii[0] : s.RadiusAt(station.arc);
   const Eigen::Vector3d centre = station.point == 0 ? s.line.centre[0] : s.PointAt(station.arc);
-  r.x = centre + radius * w;
+  const bool tilted = station.point < 0 && station.tilt && station.tilt->squaredNorm() > 0.0;
+  r.x = centre + radius * (tilted ? MitreOffset(w, s.dir[k], *station.tilt) : w);
   r.normal = w;
   return r;
 }
@@ -164,6 +177,15 @@ struct ChildState
   Eigen::Vector3d nodePoint, axis;
   double pull = 0.0;   ///< arc length of the child's junction ring
   double parentRadius = 0.0;
+  Eigen::Vector3d tilt = Eigen::Vector3d::Zero(); ///< the junction ring's plane normal (Station::tilt)
+  double tau = 0.0, tauMax = 0.0; ///< its tilt from the child's cross-section, and the most it may tilt
+  Eigen::Vector3d d, hPerp;       ///< the child's first direction, and the direction it tilts towards
+  void SetTilt(double angle)
+  {
+    this->tau = angle;
+    this->tilt = angle > 1e-6 ? Eigen::Vector3d((std::cos(angle) * this->d + std::sin(angle) * this->hPerp).normalized())
+                              : Eigen::Vector3d::Zero();
+  }
   bool welded = false;
   bool narrowed = false;
 };
@@ -195,7 +217,9 @@ void CollectPoints(const std::vector<Skeleton>& skeletons, const std::vector<Chi
   for (std::size_t c : J.children)
   {
     const Skeleton& s = skeletons[c];
-    addRing(c, Station{ state[c].pull, -1 }, s.dir[s.Segment(state[c].pull)]);
+    const Eigen::Vector3d& tilt = state[c].tilt;
+    addRing(c, Station{ state[c].pull, -1, &tilt },
+      tilt.squaredNorm() > 0.0 ? tilt : Eigen::Vector3d(s.dir[s.Segment(state[c].pull)]));
   }
   const Skeleton& p = skeletons[J.parent];
   addRing(J.parent, Station{ J.lo, -1 }, -p.dir[p.Segment(J.lo)]);
@@ -236,17 +260,19 @@ void CollectPoints(const std::vector<Skeleton>& skeletons, const std::vector<Chi
 }
 
 /// Index of the first ring that is not a face with margin (every point off the ring at least 0.05 of its radius
-/// inside its plane), or -1.
-long FirstBadRing(const Junction& J)
+/// inside its plane), or -1; `blocker`: the point farthest in front of that ring's plane.
+long FirstBadRing(const Junction& J, std::size_t& blocker)
 {
   for (std::size_t i = 0; i < J.rings.size(); ++i)
   {
     const JunctionRing& r = J.rings[i];
     double worst = -std::numeric_limits<double>::infinity();
-    for (const JunctionPoint& q : J.points)
+    for (std::size_t k = 0; k < J.points.size(); ++k)
     {
-      if (q.ring != static_cast<long>(i))
-        worst = std::max(worst, (q.vertex.x - r.centre).dot(r.outward));
+      const JunctionPoint& q = J.points[k];
+      const double ahead = (q.vertex.x - r.centre).dot(r.outward);
+      if (q.ring != static_cast<long>(i) && ahead > worst)
+        worst = ahead, blocker = k;
     }
     if (!(worst < -0.05 * r.radius))
       return static_cast<long>(i);
@@ -254,8 +280,12 @@ long FirstBadRing(const Junction& J)
   return -1;
 }
 
+/// Crowded siblings (one's junction ring in front of the other's plane) first get thinner bases, down to this
+/// fraction of the parent's radius, before their rings are pulled out (see the header's pipe model).
+constexpr double CrowdedRadius = 0.35;
+
 /// Grows the junction's pulls and margins until every ring is a face (true) or a limit is hit (false).
-bool Solve(const std::vector<Skeleton>& skeletons, std::vector<ChildState>& state, const std::vector<double>& baseCut,
+bool Solve(std::vector<Skeleton>& skeletons, std::vector<ChildState>& state, const std::vector<double>& baseCut,
   const RingAngles& trig, Junction& J)
 {
   const Skeleton& p = skeletons[J.parent];
@@ -264,7 +294,7 @@ bool Solve(const std::vector<Skeleton>& skeletons, std::vector<ChildState>& stat
     parentRadius = std::max(parentRadius, state[c].parentRadius);
   double before = 0.3 * parentRadius, after = 0.3 * parentRadius;
   const double L = p.Length();
-  for (int round = 0; round < 16; ++round)
+  for (int round = 0; round < 48; ++round)
   {
     // The interval: the children's rings and dropped parts along the parent's axis at each node, plus margins.
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -273,7 +303,7 @@ bool Solve(const std::vector<Skeleton>& skeletons, std::vector<ChildState>& stat
       const Skeleton& s = skeletons[c];
       if (state[c].pull > 0.85 * s.Length())
         return false;
-      const Station ring{ state[c].pull, -1 };
+      const Station ring{ state[c].pull, -1, &state[c].tilt };
       for (std::size_t j = 0; j < trig.cosines.size(); ++j)
       {
         for (const Station& st : { ring, Station{ 0.0, 0 } })
@@ -283,6 +313,34 @@ bool Solve(const std::vector<Skeleton>& skeletons, std::vector<ChildState>& stat
         }
       }
     }
+    // A tilted ring must end before the child's next kept ring (the next centre point's mitre ring, which reaches back
+    // r tan(bend / 2) on its inner side), else the band between them folds: pull it past that point.
+    bool folded = false;
+    for (std::size_t c : J.children)
+    {
+      const Skeleton& s = skeletons[c];
+      if (state[c].tau <= 0.0)
+        continue;
+      const double pull = state[c].pull;
+      const std::size_t k = s.Segment(pull);
+      const Eigen::Vector3d centre = s.PointAt(pull);
+      double ahead = 0.0;
+      for (std::size_t j = 0; j < trig.cosines.size(); ++j)
+        ahead = std::max(ahead, (Vertex(s, Station{ pull, -1, &state[c].tilt }, trig, j).x - centre).dot(s.dir[k]));
+      double back = 0.0;
+      if (k + 2 < s.arc.size())
+      {
+        const double bend = std::acos(std::clamp(s.dir[k].dot(s.dir[k + 1]), -1.0, 1.0));
+        back = s.line.radii[k + 1] * std::tan(0.5 * std::min(bend, 170.0 * Pi / 180.0));
+      }
+      if (pull + ahead + back + 0.05 * s.RadiusAt(pull) > s.arc[k + 1])
+      {
+        state[c].pull = std::max(1.1 * pull, s.arc[k + 1] + 1e-3 * s.Length());
+        folded = true;
+      }
+    }
+    if (folded)
+      continue;
     J.lo = lo - before;
     J.hi = hi + after;
     const double base = baseCut[J.parent] + 0.05 * parentRadius;
@@ -293,12 +351,39 @@ bool Solve(const std::vector<Skeleton>& skeletons, std::vector<ChildState>& stat
     if (J.end)
       J.hi = L;
     CollectPoints(skeletons, state, trig, J);
-    const long bad = FirstBadRing(J);
+    std::size_t blocker = 0;
+    const long bad = FirstBadRing(J, blocker);
     if (bad < 0)
       return true;
     const JunctionRing& r = J.rings[static_cast<std::size_t>(bad)];
+    const std::size_t other = J.points[blocker].tube;
+    if (static_cast<std::size_t>(bad) < J.children.size() && other != J.parent && other != r.tube)
+    {
+      // Two crowded siblings: thin both bases (the pipe model's narrowing, further) while they can be thinned.
+      bool thinned = false;
+      for (std::size_t c : { r.tube, other })
+      {
+        double& r0 = skeletons[c].line.radii[0];
+        const double floor = CrowdedRadius * state[c].parentRadius;
+        if (r0 > floor * (1.0 + 1e-9))
+        {
+          r0 = std::max(floor, 0.85 * r0);
+          state[c].narrowed = thinned = true;
+        }
+      }
+      if (thinned)
+        continue;
+    }
+    if (static_cast<std::size_t>(bad) < J.children.size() && other == J.parent && J.children.size() > 1 &&
+      state[r.tube].tau < state[r.tube].tauMax)
+    {
+      // A child low in a long merged interval, behind the parent's far ring: turn its ring towards the parent's axis
+      // (it then clears the parent by lying beside it) rather than pulling it out along the child.
+      state[r.tube].SetTilt(std::min(state[r.tube].tauMax, state[r.tube].tau + TiltStep));
+      continue;
+    }
     if (static_cast<std::size_t>(bad) < J.children.size())
-      state[r.tube].pull *= 1.3;
+      state[r.tube].pull *= 1.1;
     else if (r.station.arc == J.lo)
       before *= 1.3;
     else
@@ -307,12 +392,12 @@ bool Solve(const std::vector<Skeleton>& skeletons, std::vector<ChildState>& stat
   return false;
 }
 
-/// Convex hull of the junction's points; false if a ring is not a face of it (then the junction falls back).
+/// The junction's hull facets by CGAL, when SmallConvexHull fails (false: no hull, the junction falls back).
 /// The hull is the boundary of the points' tetrahedralisation (CGAL Triangulation_3, exact orientation predicates,
 /// points inserted in order: one answer for one input, whatever the thread; CGAL 5.5's convex_hull_3 was seen by
 /// valgrind to read freed list nodes on these inputs, and a Delaunay tetrahedralisation spent most of its time in
 /// exact in-sphere tests of the cocircular ring points). Its facets are the finite facets of the infinite cells.
-bool Hull(Junction& J, std::size_t sides)
+bool CgalHullFacets(const Junction& J, std::vector<std::array<long, 3>>& facets)
 {
   using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
   using Vb = CGAL::Triangulation_vertex_base_with_info_3<long, Kernel>;
@@ -333,7 +418,6 @@ bool Hull(Junction& J, std::size_t sides)
   centroid /= static_cast<double>(J.points.size());
   if (dt.dimension() != 3 || dt.number_of_vertices() != J.points.size())
     return false;
-  std::vector<std::array<long, 3>> facets;
   std::vector<Triangulation::Cell_handle> hullCells;
   dt.incident_cells(dt.infinite_vertex(), std::back_inserter(hullCells));
   for (const Triangulation::Cell_handle& c : hullCells)
@@ -354,6 +438,13 @@ bool Hull(Junction& J, std::size_t sides)
     facets.push_back(v);
   }
   std::sort(facets.begin(), facets.end());
+  return true;
+}
+
+/// The hull's facets without the rings' caps into J.facets; false if a ring is not a face with each of its edges in
+/// exactly one side facet.
+bool KeepSideFacets(Junction& J, std::size_t sides, const std::vector<std::array<long, 3>>& facets)
+{
   std::vector<int> capFacets(J.rings.size(), 0);
   std::vector<int> ringEdges(J.points.size(), 0); // side facets using ring edge (point, its ring successor)
   J.facets.clear();
@@ -401,6 +492,19 @@ bool Hull(Junction& J, std::size_t sides)
   return true;
 }
 
+/// Convex hull of the junction's points (SmallConvexHull; CGAL's Triangulation_3 when that fails its check or a ring
+/// check); false if a ring is not a face of it (then the junction falls back).
+bool Hull(Junction& J, std::size_t sides)
+{
+  std::vector<Eigen::Vector3d> points(J.points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    points[i] = J.points[i].vertex.x;
+  std::vector<std::array<long, 3>> facets;
+  if (SmallConvexHull(points, facets) && KeepSideFacets(J, sides, facets))
+    return true;
+  return CgalHullFacets(J, facets) && KeepSideFacets(J, sides, facets);
+}
+
 /// What the junctions decide for every tube: its skeleton (a welded child's first radius may be narrowed), its
 /// children, its state as a child, the arc length of its welded base ring, and the junctions on it as a parent.
 struct Welding
@@ -442,6 +546,7 @@ std::vector<std::vector<std::size_t>> ParentsByLevel(
 /// A child's node on its parent `p` (the parent's centre-line point nearest the child's first point), the parent's
 /// radius there, and the child's first pull; narrows the child's first radius to the pipe model's. False when the
 /// child runs along the parent's axis (it falls back).
+
 bool PlaceChild(const Skeleton& p, Skeleton& s, ChildState& cs)
 {
   const double smallAngle = std::sin(5.0 * Pi / 180.0);
@@ -474,6 +579,19 @@ bool PlaceChild(const Skeleton& p, Skeleton& s, ChildState& cs)
   const Eigen::Vector3d across = d - cosine * cs.axis;
   const double h = sine > 0.0 ? (B - cs.nodePoint).dot(across) / across.norm() : 0.0;
   const double rc = s.line.radii[0];
+  // The junction ring of a lateral child is cut in a plane turned from the child's cross-section towards the
+  // parent's axis (by 90 deg - the angle, at most MaxTilt): its normal is then (nearly) `across`, so the ring clears
+  // the parent and its siblings by lying beside the parent, not by being pulled out along a steep child (which made
+  // the hull of neighbouring children balloon into the crook between them).
+  cs.d = d;
+  cs.tauMax = 0.0;
+  if (!atEnd && sine > 0.0 && std::abs(cosine) > 1e-9)
+  {
+    const Eigen::Vector3d h = across.normalized();
+    cs.hPerp = (h - h.dot(d) * d).normalized();
+    cs.tauMax = std::min(std::abs(0.5 * Pi - std::acos(std::clamp(cosine, -1.0, 1.0))), MaxTilt);
+  }
+  cs.SetTilt(std::min(cs.tauMax, FirstTilt));
   // At a parent's end the child need not clear a parent continuing beside it: start short and let the face
   // test grow it (a short pull leaves room for the child's own first junctions).
   cs.pull = atEnd ? 0.3 * rc
@@ -512,7 +630,7 @@ void MergeOverlapping(std::size_t P, const RingAngles& trig, Welding& w, std::ve
 
 /// The junctions of parent P: one per child that can weld, merged where they overlap; marks the welded children
 /// and gives the unwelded ones back their template radius (before their own children are decided).
-void WeldChildrenOf(std::size_t P, const std::vector<CleanedTube>& cleaned, const RingAngles& trig, Welding& w)
+void WeldChildrenOf(std::size_t P, const std::vector<double>& firstRadius, const RingAngles& trig, Welding& w)
 {
   const Skeleton& p = w.skeletons[P];
   std::vector<Junction> single;
@@ -540,11 +658,38 @@ void WeldChildrenOf(std::size_t P, const std::vector<CleanedTube>& cleaned, cons
   {
     if (w.state[c].narrowed && !w.state[c].welded)
     {
-      w.skeletons[c].line.radii[0] = cleaned[c].radii[0];
+      w.skeletons[c].line.radii[0] = firstRadius[c];
       w.state[c].narrowed = false;
     }
   }
   w.junctionsOf[P] = std::move(single);
+}
+
+/// Keeps only the hull's corners (ring points, which come first, keep their indices), so the junctions held until
+/// the mesh is written take less memory beside it.
+void DropInteriorPoints(Junction& J)
+{
+  std::vector<long> index(J.points.size(), -1);
+  for (const std::array<long, 3>& f : J.facets)
+    for (long v : f)
+      index[static_cast<std::size_t>(v)] = 0;
+  for (std::size_t k = 0; k < J.points.size(); ++k)
+    if (J.points[k].ring >= 0)
+      index[k] = 0;
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < J.points.size(); ++k)
+  {
+    if (index[k] < 0)
+      continue;
+    index[k] = static_cast<long>(kept);
+    J.points[kept++] = J.points[k];
+  }
+  J.points.resize(kept);
+  J.points.shrink_to_fit();
+  for (std::array<long, 3>& f : J.facets)
+    for (long& v : f)
+      v = index[static_cast<std::size_t>(v)];
+  J.facets.shrink_to_fit();
 }
 
 /// Hulls, in parallel; a junction whose hull lacks a ring face falls back: its children stay closed tubes from
@@ -557,7 +702,11 @@ std::vector<Junction*> BuildHulls(std::size_t S, const ParallelFor& parallel, We
       all.push_back(&J);
   parallel(all.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
+    {
       all[i]->failed = !Hull(*all[i], S);
+      if (!all[i]->failed)
+        DropInteriorPoints(*all[i]);
+    }
   });
   for (Junction* J : all)
   {
@@ -618,11 +767,11 @@ void LayOutStations(std::size_t t, const Welding& w, Layout& L)
 {
   const Skeleton& s = w.skeletons[t];
   std::vector<std::pair<double, double>> dropped; // open intervals
-  std::vector<double> cuts;
+  std::vector<Station> cuts;
   if (w.state[t].welded)
   {
     dropped.emplace_back(-1.0, w.baseCut[t]);
-    cuts.push_back(w.baseCut[t]);
+    cuts.push_back({ w.baseCut[t], -1, &w.state[t].tilt });
     L.baseCap = false;
   }
   for (const Junction& J : w.junctionsOf[t])
@@ -630,11 +779,11 @@ void LayOutStations(std::size_t t, const Welding& w, Layout& L)
     if (J.failed)
       continue;
     dropped.emplace_back(J.lo, J.end ? std::numeric_limits<double>::infinity() : J.hi);
-    cuts.push_back(J.lo);
+    cuts.push_back({ J.lo, -1 });
     if (J.end)
       L.endKept = false;
     else
-      cuts.push_back(J.hi);
+      cuts.push_back({ J.hi, -1 });
   }
   const auto inside = [&](double a) {
     for (const auto& [lo, hi] : dropped)
@@ -647,13 +796,13 @@ void LayOutStations(std::size_t t, const Welding& w, Layout& L)
   for (std::size_t k = 0; k < ringPoints; ++k)
   {
     bool nearCut = false;
-    for (double c : cuts)
-      nearCut = nearCut || std::abs(c - s.arc[k]) <= 1e-9 * s.Length();
+    for (const Station& c : cuts)
+      nearCut = nearCut || std::abs(c.arc - s.arc[k]) <= 1e-9 * s.Length();
     if (!inside(s.arc[k]) && !nearCut)
       L.stations.push_back({ s.arc[k], static_cast<long>(k) });
   }
-  for (double c : cuts)
-    L.stations.push_back({ c, -1 });
+  for (const Station& c : cuts)
+    L.stations.push_back(c);
   std::sort(L.stations.begin(), L.stations.end(), [](const Station& a, const Station& b) { return a.arc < b.arc; });
   for (std::size_t i = 0; i + 1 < L.stations.size(); ++i)
     L.bandAfter.push_back(!inside(0.5 * (L.stations[i].arc + L.stations[i + 1].arc)));
@@ -705,19 +854,14 @@ void WriteWeldedTubes(const Welding& w, const std::vector<Layout>& layout, int s
     const std::size_t index = static_cast<std::size_t>(it - L.stations.begin());
     return mesh.pointOffsets[t] + (L.baseCap ? 1 : 0) + static_cast<std::int64_t>(index * S + j);
   };
-  std::vector<std::map<std::pair<const Junction*, long>, std::int64_t>> extraId(count);
-  for (std::size_t t = 0; t < count; ++t)
-  {
-    const Layout& L = layout[t];
-    std::int64_t id = mesh.pointOffsets[t + 1] - static_cast<std::int64_t>(L.extras.size());
-    for (const auto& e : L.extras)
-      extraId[t][e] = id++;
-  }
+  // An extra point's id: its place among its tube's extras (a few per junction: a linear search, no map).
   const auto pointId = [&](const Junction* J, long v) {
     const JunctionPoint& q = J->points[static_cast<std::size_t>(v)];
     if (q.ring >= 0)
       return ringId(q.tube, J->rings[static_cast<std::size_t>(q.ring)].station.arc, static_cast<std::size_t>(q.slot));
-    return extraId[q.tube].at({ J, v });
+    const Layout& L = layout[q.tube];
+    const auto it = std::find(L.extras.begin(), L.extras.end(), std::make_pair(J, v));
+    return mesh.pointOffsets[q.tube + 1] - static_cast<std::int64_t>(L.extras.end() - it);
   };
   parallel(count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
@@ -798,10 +942,15 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
   const RingAngles trig(sides);
   Welding w;
   w.skeletons.resize(count);
+  std::vector<double> firstRadius(count); // before the pipe model narrows it
   parallel(count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
-      w.skeletons[t] = MakeSkeleton(cleaned[t], tubes[t].normal);
+    {
+      firstRadius[t] = cleaned[t].radii[0];
+      w.skeletons[t] = MakeSkeleton(std::move(cleaned[t]), tubes[t].normal);
+    }
   });
+  std::vector<CleanedTube>().swap(cleaned); // moved into the skeletons: not kept beside the mesh
 
   // Children per parent, parents level by level: each level's junctions in parallel (a parent is final before its
   // children's junctions are decided).
@@ -813,7 +962,7 @@ std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, Tub
   {
     parallel(parents.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i)
-        WeldChildrenOf(parents[i], cleaned, trig, w);
+        WeldChildrenOf(parents[i], firstRadius, trig, w);
     });
   }
   const std::vector<Junction*> all = BuildHulls(S, parallel, w);

@@ -10,11 +10,18 @@
 //    parent's surface, a the angle between the child and the parent's axis; 0.3 r_child at the parent's end) and the parent's rings at
 //    lo = node - s0 and hi = node + s1, where s0, s1 cover the child's ring and every dropped part of the child
 //    (its base ring and centre-point rings before p) along the parent's axis, plus 0.3 r_parent;
-//  - the junction's points: those rings (cut perpendicular to their segment, on the tube's own frustum) plus the
+//  - the child's ring is cut in a plane turned 30 deg from its cross-section towards the parent's axis (at most
+//    90 deg - a: a cut parallel to the parent's axis), so it clears the parent by lying beside it rather than by
+//    being pulled out along a steep child; the parent's rings are cut perpendicular to their segment;
+//  - the junction's points: those rings (on the tube's own frustum) plus the
 //    dropped tube parts' rings (the child's base ring and centre rings before p, the parent's centre rings between
 //    lo and hi, and at an end junction the parent's end ring or apex). A ring is usable only if it is a face of
 //    their convex hull with every other point at least 0.05 of its radius inside its plane; a ring that is not
-//    grows its distance by 1.3x (at most 16 rounds: then the junction falls back).
+//    grows its distance (a child's pull by 1.1x, the parent's margins by 1.3x; at most 48 rounds: then the junction
+//    falls back). In a junction of several children two ways come first: crowded siblings (one's ring in front of
+//    the other's plane) get thinner bases, 0.85x a round down to 0.35 of the parent's radius (the pipe model's
+//    narrowing, further), and a child's ring behind the parent's far ring tilts 15 deg more (up to 75 deg). A tilted
+//    ring must end before the child's next kept ring (that ring's mitre included), else its pull grows past it.
 //  - children whose intervals [lo, hi] on one parent overlap share one junction (merged, re-checked, repeated).
 //  - an interval reaching the parent's end (or, for a parent that ends in a point, where the parent's radius is
 //    below 0.2 of its radius at the node) makes an end junction: no ring after, the parent's end is dropped (a
@@ -23,7 +30,11 @@
 // the tubes, which now start/stop at those rings and share their points. So the surface is closed and consistently
 // oriented, with no internal faces and no ledge, and it contains every tube (the hull contains the dropped parts).
 // The hull is convex: where branches meet at a small angle it is a blob larger than the exact union (the tests
-// measure the volume against the union of two cylinders).
+// measure the volume against the union of two cylinders). Reach (issue 23): no point of the welded surface is farther
+// than 1.6 local radii from the skeleton on Table 1's templates, stroke trees and edited and merged trees
+// (testing/cxx/tree/JunctionReachTest.cpp measures 1.24-1.57); before the tilted rings and the crowded-sibling rule,
+// merged junctions pulled their rings out until each cleared the parent's far ring and its siblings, and the hull
+// of those far rings filled the crook (2.5 local radii on the three-stroke tree).
 //
 // Pipe model: a lateral child (not an end junction) wider than 0.9 of its parent's radius at the node gets its base
 // radius limited to that (only its first segment tapers from the limit to the template's radius at its second
