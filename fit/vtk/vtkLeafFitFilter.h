@@ -17,7 +17,12 @@
  * Port 2, **Traits**: a vtkTable, one row per leaf (LeafId, then plantmorph::TraitNames()). Port 3, **Scan**: the
  * input points (scaled) with their point data and `FitDistance`, `Inlier`, `LeafId`.
  *
- * Each rank fits the leaves it holds (no communication). Bad input (too few points, a line, NaN, no leaf shape, a
+ * Under MPI each rank fits its own leaves (LeafFitExchange.h): every leaf gets one owner rank (largest leaves
+ * first, each to the least loaded rank), its points are sent there from every rank that holds some, and it is
+ * fitted there; Blade and Outline stay on the owner, Scan on the ranks holding the points (the owners send
+ * FitDistance and Inlier back), and the Traits rows are gathered onto rank 0 in LeafId order. Each leaf is fitted on
+ * its points in lexicographic order of their coordinates, so the results are bit-identical to a serial run
+ * whatever the ranks and however the points were split. Bad input (too few points, a line, NaN, no leaf shape, a
  * missing LeafIdArray, properties out of range) gives an error naming the problem and empty outputs.
  */
 #ifndef vtkLeafFitFilter_h
