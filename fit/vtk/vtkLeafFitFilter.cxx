@@ -94,6 +94,8 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* point
       array->InsertNextTuple(p.data());
     blade->GetFieldData()->AddArray(array);
   }
+  plantmorph::AddFieldValue(blade->GetFieldData(),
+    ("PlantMorph.FitModel." + std::to_string(leafId) + ".ControlPoints").c_str(), r.modelControlPoints);
 }
 } // namespace
 
@@ -334,6 +336,9 @@ int vtkLeafFitFilter::RequestData(vtkInformation*, vtkInformationVector** inputV
     }
   if (exchange.AnyRank(failed))
     return 0;
+  for (std::size_t k = 0; k < results.size(); ++k)
+    if (!results[k].modelWarning.empty())
+      vtkWarningMacro(<< "leaf " << exchange.LeafIds()[owned[k]] << ": " << results[k].modelWarning);
 
   // Blade and Outline of the leaves this rank fitted; their traits rows, gathered on rank 0 in LeafId order.
   PrepareOutputs(blade, outline, traits);

@@ -13,7 +13,9 @@
  * base to apex): LeafOutlineSource with Model B-spline, BSplinePreset Custom and these three lists rebuilds the
  * leaf where its curvature lets LeafOutlineSource mesh it in one plane; `.FlatMidveinPoints`,
  * `.FlatLeftMarginPoints`, `.FlatRightMarginPoints` give the same leaf laid flat (intrinsic coordinates, base at
- * the origin, midvein along +Y), which always rebuilds (then curl it with LeafCurlFilter). Port 1, **Outline**: left margin, right margin and midvein of each leaf (cell `Region` 4, 4, 1, `LeafId`).
+ * the origin, midvein along +Y), which rebuilds (then curl it with LeafCurlFilter): when ModelControlPoints
+ * interpolating points fold it (a margin close to the midvein), fewer are given (by twos, down to 3; the count used
+ * is `.ControlPoints`), and if none rebuilds a warning names the leaf. Port 1, **Outline**: left margin, right margin and midvein of each leaf (cell `Region` 4, 4, 1, `LeafId`).
  * Port 2, **Traits**: a vtkTable, one row per leaf (LeafId, then plantmorph::TraitNames()). Port 3, **Scan**: the
  * input points (scaled) with their point data and `FitDistance`, `Inlier`, `LeafId`.
  *
