@@ -7,6 +7,8 @@
 #include "PointSurfaceDistance.h"
 #include "RigidRegistration.h"
 
+#include <plantmorph/RangeError.h>
+
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellType.h"
@@ -269,7 +271,7 @@ int vtkCloudComparisonFilter::RequestData(
   }
   if (this->NumberOfThreads < 0 || this->NumberOfThreads > 256)
   {
-    vtkErrorMacro(<< "NumberOfThreads = " << this->NumberOfThreads << " must be in [0, 256] (0: all cores)");
+    vtkErrorMacro(<< plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
     return 1;
   }
   // Under MPI the comparison runs once, on rank 0, with every measured point and the whole reference (gathered
@@ -309,22 +311,22 @@ std::string CheckProperties(vtkCloudComparisonFilter* self, plantmorph::Registra
   const int mode = self->GetRegistration(), landmarks = self->GetRegistrationLandmarks();
   if (!std::isfinite(scale) || scale <= 0.0)
   {
-    m << "Scale = " << scale << " must be finite and > 0 (e.g. 0.1 for a scan in mm against a model in cm)";
+    m << OutOfRange("Scale", scale, "(0, inf)", "e.g. 0.1 for a scan in mm against a model in cm");
     return m.str();
   }
   if (self->GetUseMaximumDistance() && (!std::isfinite(maximumDistance) || maximumDistance < 0.0))
   {
-    m << "MaximumDistance = " << maximumDistance << " must be finite and >= 0";
+    m << OutOfRange("MaximumDistance", maximumDistance, "[0, inf)");
     return m.str();
   }
   if (self->GetHistogramBins() < 1 || self->GetHistogramBins() > 100000)
   {
-    m << "HistogramBins = " << self->GetHistogramBins() << " must be in [1, 100000]";
+    m << OutOfRange("HistogramBins", self->GetHistogramBins(), "[1, 100000]");
     return m.str();
   }
   if (mode < vtkCloudComparisonFilter::REGISTRATION_NONE || mode > vtkCloudComparisonFilter::REGISTRATION_RIGID_SCALE)
   {
-    m << "Registration = " << mode << " must be 0 (none), 1 (rigid) or 2 (rigid + uniform scale)";
+    m << OutOfRange("Registration", mode, "{0, 1, 2}", "0 none, 1 rigid, 2 rigid + uniform scale");
     return m.str();
   }
   registration.withScale = mode == vtkCloudComparisonFilter::REGISTRATION_RIGID_SCALE;
@@ -337,7 +339,7 @@ std::string CheckProperties(vtkCloudComparisonFilter* self, plantmorph::Registra
   {
     if (registration.maximumLandmarks == 0)
     {
-      m << "RegistrationLandmarks = " << landmarks << " must be in [3, 100000000]";
+      m << OutOfRange("RegistrationLandmarks", landmarks, "[3, 100000000]");
       return m.str();
     }
     return ValidateRegistrationSettings(registration);

@@ -6,6 +6,7 @@
 #include "PlantMorphFieldData.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -272,7 +273,7 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, std::vector<E
   const std::string leafIdArray = self->GetLeafIdArray();
   std::string error = plantmorph::ValidateLeafFitOptions(Options(self));
   if (error.empty() && !(std::isfinite(scale) && scale > 0.0))
-    error = "Scale: must be finite and > 0";
+    error = plantmorph::OutOfRange("Scale", scale, "(0, inf)");
   vtkDataArray* ids = nullptr;
   if (error.empty() && !leafIdArray.empty())
   {

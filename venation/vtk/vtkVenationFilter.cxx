@@ -7,6 +7,7 @@
 
 #include <plantmorph/DataContract.h>
 #include <plantmorph/PlaneFit.h>
+#include <plantmorph/RangeError.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -217,18 +218,18 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   std::ostringstream message;
   if (this->Preset < 0 || this->Preset >= plantmorph::VenationPresetCount)
   {
-    message << "Preset = " << this->Preset << " is outside the accepted range [0, "
-            << plantmorph::VenationPresetCount - 1 << "]";
+    message << plantmorph::OutOfRange(
+      "Preset", this->Preset, "[0, " + std::to_string(plantmorph::VenationPresetCount - 1) + "]");
     return fail(message.str());
   }
   if (!std::isfinite(this->EmbossDepth) || std::abs(this->EmbossDepth) > 1e3)
   {
-    message << "EmbossDepth = " << this->EmbossDepth << " is outside the accepted range [-1e3, 1e3]";
+    message << plantmorph::OutOfRange("EmbossDepth", this->EmbossDepth, "[-1e3, 1e3]");
     return fail(message.str());
   }
   if (this->MaxSegments < 100 || this->MaxSegments > 100000000)
   {
-    message << "MaxSegments = " << this->MaxSegments << " is outside the accepted range [100, 1e8]";
+    message << plantmorph::OutOfRange("MaxSegments", this->MaxSegments, "[100, 1e8]");
     return fail(message.str());
   }
   const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
