@@ -17,7 +17,7 @@ namespace plantmorph
 {
 
 //------------------------------------------------------------------------------
-std::string ValidateRegistrationSettings(const RegistrationSettings& settings)
+std::string ValidateRegistrationParameters(const RegistrationParameters& settings)
 {
   std::ostringstream message;
   if (settings.maximumIterations < 1 || settings.maximumIterations > 10000)
@@ -114,7 +114,7 @@ double SymmetricDistance(const double matrix[16], const std::vector<double>& lan
 /// Symmetric point-to-point ICP (RegisterPoints' symmetric mode) from the identity; fills matrix, iterations,
 /// converged, landmarks (the caller guards and finishes the result).
 void SymmetricICP(const std::vector<double>& landmarks, const std::vector<double>& referencePoints,
-  const PointSurfaceDistance& reference, const RegistrationSettings& settings, const ParallelFor& parallelFor,
+  const PointSurfaceDistance& reference, const RegistrationParameters& settings, const ParallelFor& parallelFor,
   RegistrationResult& result)
 {
   const std::size_t n = landmarks.size() / 3, m = referencePoints.size() / 3;
@@ -177,17 +177,17 @@ void SymmetricICP(const std::vector<double>& landmarks, const std::vector<double
 }
 
 RegistrationResult RegisterOneSided(const double* points, std::size_t count, const PointSurfaceDistance& reference,
-  const RegistrationSettings& settings, const ParallelFor& parallelFor);
+  const RegistrationParameters& settings, const ParallelFor& parallelFor);
 } // namespace
 
 //------------------------------------------------------------------------------
 RegistrationResult RegisterPoints(const double* points, std::size_t count, const PointSurfaceDistance& reference,
-  const RegistrationSettings& settings, const ParallelFor& parallelFor)
+  const RegistrationParameters& settings, const ParallelFor& parallelFor)
 {
   if (!settings.referencePoints || settings.referenceCount == 0)
     return RegisterOneSided(points, count, reference, settings, parallelFor);
   RegistrationResult result;
-  result.error = ValidateRegistrationSettings(settings);
+  result.error = ValidateRegistrationParameters(settings);
   if (result.error.empty() && reference.IsEmpty())
     result.error = "registration: the reference is empty";
   if (result.error.empty() && count < 3)
@@ -209,7 +209,7 @@ RegistrationResult RegisterPoints(const double* points, std::size_t count, const
   {
     std::vector<double> moved(landmarks.size());
     ApplyTransform(result.matrix, landmarks.data(), moved.data(), result.landmarks);
-    RegistrationSettings rigid = settings;
+    RegistrationParameters rigid = settings;
     rigid.withScale = false;
     const RegistrationResult polish = RegisterOneSided(moved.data(), result.landmarks, reference, rigid, parallelFor);
     if (polish.error.empty())
@@ -266,7 +266,7 @@ namespace
 //------------------------------------------------------------------------------
 /// RegisterOneSided's landmarks: all points, or a seeded random subset (partial Fisher-Yates), kept in input order,
 /// copied to `original`; `stepLimit` is the tolerance times their bounding-box diagonal. The error or "".
-std::string ChooseLandmarks(const double* points, std::size_t count, const RegistrationSettings& settings,
+std::string ChooseLandmarks(const double* points, std::size_t count, const RegistrationParameters& settings,
   std::vector<double>& original, double& stepLimit)
 {
   std::vector<std::size_t> chosen;
@@ -318,7 +318,7 @@ std::string ChooseLandmarks(const double* points, std::size_t count, const Regis
 /// composed with `matrix` into `fitted`. False when fewer than 3 pairs are kept or the step is not usable.
 bool PointToPlaneStep(const std::vector<double>& moved, const std::vector<double>& closest,
   const std::vector<double>& distance, const std::vector<std::int64_t>& primitive,
-  const PointSurfaceDistance& reference, const RegistrationSettings& settings, const double matrix[16],
+  const PointSurfaceDistance& reference, const RegistrationParameters& settings, const double matrix[16],
   double fitted[16], std::size_t& pairs)
 {
   const std::size_t n = distance.size();
@@ -380,7 +380,7 @@ bool PointToPlaneStep(const std::vector<double>& moved, const std::vector<double
 /// One point-to-point ICP step: the closed-form similarity between the original landmarks and their closest
 /// reference points (pairs beyond the rejection distance left out), into `fitted`.
 bool PointToPointStep(const std::vector<double>& original, const std::vector<double>& closest,
-  const std::vector<double>& distance, const RegistrationSettings& settings, double fitted[16], std::size_t& pairs)
+  const std::vector<double>& distance, const RegistrationParameters& settings, double fitted[16], std::size_t& pairs)
 {
   std::vector<double> fitSource, fitTarget;
   for (std::size_t i = 0; i < distance.size(); ++i)
@@ -399,7 +399,7 @@ bool PointToPointStep(const std::vector<double>& original, const std::vector<dou
 /// The end of RegisterOneSided: the rotation re-orthonormalised in rigid mode, the scale, and the RMS of the kept
 /// pairs under the final transform.
 void FinishOneSided(const std::vector<double>& original, const PointSurfaceDistance& reference,
-  const RegistrationSettings& settings, const ParallelFor& parallelFor, double matrix[16], RegistrationResult& result)
+  const RegistrationParameters& settings, const ParallelFor& parallelFor, double matrix[16], RegistrationResult& result)
 {
   const std::size_t n = original.size() / 3;
   if (!settings.withScale)
@@ -431,10 +431,10 @@ void FinishOneSided(const std::vector<double>& original, const PointSurfaceDista
 
 //------------------------------------------------------------------------------
 RegistrationResult RegisterOneSided(const double* points, std::size_t count, const PointSurfaceDistance& reference,
-  const RegistrationSettings& settings, const ParallelFor& parallelFor)
+  const RegistrationParameters& settings, const ParallelFor& parallelFor)
 {
   RegistrationResult result;
-  result.error = ValidateRegistrationSettings(settings);
+  result.error = ValidateRegistrationParameters(settings);
   if (!result.error.empty())
   {
     return result;

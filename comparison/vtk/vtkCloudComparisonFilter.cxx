@@ -303,7 +303,7 @@ namespace
 {
 /// Step 1 of Execute: the properties that must hold before anything is computed, and the registration settings
 /// they give. The message naming the first bad property, or "".
-std::string CheckProperties(vtkCloudComparisonFilter* self, plantmorph::RegistrationSettings& registration)
+std::string CheckProperties(vtkCloudComparisonFilter* self, plantmorph::RegistrationParameters& registration)
 {
   using namespace plantmorph;
   std::ostringstream m;
@@ -342,7 +342,7 @@ std::string CheckProperties(vtkCloudComparisonFilter* self, plantmorph::Registra
       m << OutOfRange("RegistrationLandmarks", landmarks, "[3, 100000000]");
       return m.str();
     }
-    return ValidateRegistrationSettings(registration);
+    return ValidateRegistrationParameters(registration);
   }
   return {};
 }
@@ -385,7 +385,7 @@ std::string ReadMeasured(vtkPointSet* measured, double scale, bool registering, 
 
 /// Step 3: symmetric, guarded registration of the measured points (`moved`, in place) onto the reference; the
 /// registration's matrix is composed into `transform`. The error message or "".
-std::string RegisterMeasured(plantmorph::RegistrationSettings registration, const std::vector<double>& referenceXYZ,
+std::string RegisterMeasured(plantmorph::RegistrationParameters registration, const std::vector<double>& referenceXYZ,
   const plantmorph::PointSurfaceDistance& referenceDistance, const plantmorph::ParallelFor& parallelFor,
   std::vector<double>& moved, double transform[16], plantmorph::RegistrationResult& registered)
 {
@@ -590,7 +590,7 @@ int vtkCloudComparisonFilter::Execute(
 {
   using namespace plantmorph;
   // 1. Properties.
-  RegistrationSettings registration;
+  RegistrationParameters registration;
   if (const std::string error = CheckProperties(this, registration); !error.empty())
   {
     vtkErrorMacro(<< error);

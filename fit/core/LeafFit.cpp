@@ -50,7 +50,7 @@ double InlierLimit(const Fitted& f, double spacing)
 }
 
 /// The penalised, Huber-reweighted surface through the kept points.
-std::string FitSurface(const LeafFitOptions& options, double spacing, Fitted& f)
+std::string FitSurface(const LeafFitParameters& options, double spacing, Fitted& f)
 {
   Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
   for (const auto& p : f.ts)
@@ -142,7 +142,7 @@ std::vector<Eigen::Vector2d> SampleMargin(const Outline& outline, bool right, do
 }
 
 /// The blade: the outline in (t, s) meshed by LeafOutlineSource's mesher, mapped to 3-D.
-std::string MeshFittedBlade(const LeafFitOptions& options, const Fitted& f, LeafFitResult& result)
+std::string MeshFittedBlade(const LeafFitParameters& options, const Fitted& f, LeafFitResult& result)
 {
   const Outline& o = f.outline;
   const double L = o.s1 - o.s0;
@@ -173,7 +173,7 @@ std::string MeshFittedBlade(const LeafFitOptions& options, const Fitted& f, Leaf
     const double u = p.x() >= 0.0 ? 0.5 * p.x() / o.Right(s) : -0.5 * p.x() / o.Left(s);
     return Eigen::Vector2d(std::clamp(u, -0.5, 0.5), std::clamp(p.y() / L, 0.0, 1.0));
   };
-  BladeMeshOptions meshOptions;
+  BladeMeshParameters meshOptions;
   meshOptions.quality = true;
   meshOptions.maxEdgeLength = h;
   BladeMesh mesh;
@@ -269,7 +269,7 @@ void ModelControlPoints(int m, const Fitted& f, LeafFitResult& result)
 /// cross it, and the outline folds. The flat model is built (LeafOutlineSource's own B-spline leaf, unrefined);
 /// while it folds, two control points fewer per curve are tried (smoother splines), down to 3. If none builds, the
 /// requested count is kept and `modelWarning` says why the model will not rebuild.
-void RebuildableModel(const LeafFitOptions& options, const Fitted& f, LeafFitResult& result)
+void RebuildableModel(const LeafFitParameters& options, const Fitted& f, LeafFitResult& result)
 {
   std::string first;
   for (int m = options.modelControlPoints; m >= 3; m -= 2)
@@ -279,7 +279,7 @@ void RebuildableModel(const LeafFitOptions& options, const Fitted& f, LeafFitRes
     std::string error;
     for (int resolution : { options.resolution, 240 })
     {
-      LeafMeshSettings check;
+      LeafMeshParameters check;
       check.resolution = resolution;
       check.quality = false;
       LeafGeometry rebuilt;
@@ -300,11 +300,11 @@ void RebuildableModel(const LeafFitOptions& options, const Fitted& f, LeafFitRes
     std::to_string(options.modelControlPoints) + " or fewer control points (" + first + ")";
 }
 
-std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions& options, LeafFitResult& result)
+std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, LeafFitResult& result)
 {
-  std::string error = ValidateLeafFitOptions(options);
+  std::string error = ValidateLeafFitParameters(options);
   if (error.empty())
-    error = fit::CheckCloud(points);
+    error = fit::ValidateCloud(points);
   if (!error.empty())
     return error;
   std::vector<unsigned char> keep;
@@ -350,7 +350,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions
 }
 } // namespace
 
-std::string ValidateLeafFitOptions(const LeafFitOptions& o)
+std::string ValidateLeafFitParameters(const LeafFitParameters& o)
 {
   std::ostringstream m;
   if (!o.up.allFinite() || !(o.up.norm() > 0.0))
@@ -372,10 +372,10 @@ std::string ValidateLeafFitOptions(const LeafFitOptions& o)
   return m.str();
 }
 
-LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions& options)
+LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options)
 {
   LeafFitResult result;
-  LeafFitOptions normalized = options;
+  LeafFitParameters normalized = options;
   if (normalized.up.allFinite() && normalized.up.norm() > 0.0)
     normalized.up.normalize();
   const std::string error = Fit(points, normalized, result);
@@ -388,7 +388,7 @@ LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitO
 }
 
 std::vector<LeafFitResult> FitLeaves(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
-  const LeafFitOptions& options, const ParallelFor& parallel)
+  const LeafFitParameters& options, const ParallelFor& parallel)
 {
   std::vector<LeafFitResult> results(leaves.size());
   parallel(leaves.size(), [&](std::size_t begin, std::size_t end) {

@@ -147,7 +147,7 @@ std::vector<std::size_t> CanonicalOrder(const std::vector<Eigen::Vector3d>& poin
 /// Fits the leaves this rank owns (threaded over leaves), each on its points in canonical order; `values` gets,
 /// per leaf, FitDistance and Inlier of every point in the order the points came.
 std::vector<plantmorph::LeafFitResult> FitOwned(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
-  const plantmorph::LeafFitOptions& options, std::vector<std::vector<double>>& values)
+  const plantmorph::LeafFitParameters& options, std::vector<std::vector<double>>& values)
 {
   std::vector<std::vector<std::size_t>> orders(leaves.size());
   std::vector<std::vector<Eigen::Vector3d>> sorted(leaves.size());
@@ -243,9 +243,9 @@ void FillScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, const
 namespace
 {
 /// The filter's properties as the algorithm's options.
-plantmorph::LeafFitOptions Options(vtkLeafFitFilter* self)
+plantmorph::LeafFitParameters Options(vtkLeafFitFilter* self)
 {
-  plantmorph::LeafFitOptions options;
+  plantmorph::LeafFitParameters options;
   options.up = Eigen::Vector3d::Unit(self->GetUpAxis());
   if (self->GetUseBasePoint())
   {
@@ -271,7 +271,7 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, std::vector<E
     return {}; // an empty piece (MPI ranks without leaves): nothing to check
   const double scale = self->GetScale();
   const std::string leafIdArray = self->GetLeafIdArray();
-  std::string error = plantmorph::ValidateLeafFitOptions(Options(self));
+  std::string error = plantmorph::ValidateLeafFitParameters(Options(self));
   if (error.empty() && !(std::isfinite(scale) && scale > 0.0))
     error = plantmorph::OutOfRange("Scale", scale, "(0, inf)");
   vtkDataArray* ids = nullptr;

@@ -443,7 +443,7 @@ std::string vtkLeafOutlineSource::ValidateGrowth() const
 }
 
 //------------------------------------------------------------------------------
-std::string vtkLeafOutlineSource::MeshSettings(plantmorph::LeafMeshSettings& settings)
+std::string vtkLeafOutlineSource::MeshParameters(plantmorph::LeafMeshParameters& settings)
 {
   if (this->MeshQuality != 0 && this->MeshQuality != 1)
   {
@@ -565,8 +565,8 @@ std::string vtkLeafOutlineSource::BuildLeaf(
         return scaleError;
       }
     }
-    plantmorph::LeafMeshSettings settings;
-    const std::string settingsError = this->MeshSettings(settings);
+    plantmorph::LeafMeshParameters settings;
+    const std::string settingsError = this->MeshParameters(settings);
     if (!settingsError.empty())
     {
       return settingsError;
@@ -644,11 +644,11 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     parameters.opening = this->Opening;
     parameters.initialAngle = this->InitialAngle;
     parameters.method = static_cast<plantmorph::FrenetMethod>(this->IntegrationMethod);
-    plantmorph::SpaceCurveMeshSettings settings;
+    plantmorph::SpaceCurveMeshParameters settings;
     settings.resolution = this->Resolution;
     settings.columns = this->StripColumns;
-    plantmorph::LeafMeshSettings meshSettings;
-    const std::string settingsError = this->MeshSettings(meshSettings);
+    plantmorph::LeafMeshParameters meshSettings;
+    const std::string settingsError = this->MeshParameters(meshSettings);
     if (!settingsError.empty())
     {
       return settingsError;
@@ -757,8 +757,8 @@ std::string vtkLeafOutlineSource::BuildLeaf(
       parameters = plantmorph::MakeBSplinePreset(
         preset, scale * this->BladeLength, scale * this->BladeWidth, this->ControlPointCount);
     }
-    plantmorph::LeafMeshSettings settings;
-    const std::string settingsError = this->MeshSettings(settings);
+    plantmorph::LeafMeshParameters settings;
+    const std::string settingsError = this->MeshParameters(settings);
     if (!settingsError.empty())
     {
       return settingsError;

@@ -58,7 +58,7 @@ class vtkPolyData;
 namespace plantmorph
 {
 struct LeafGeometry;
-struct LeafMeshSettings;
+struct LeafMeshParameters;
 }
 
 class PLANTMORPHLEAFVTK_EXPORT vtkLeafOutlineSource : public vtkPolyDataAlgorithm
@@ -392,7 +392,7 @@ private:
   std::string BuildLeaf(
     plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale, vtkPolyData* controlPoints);
   /// Mesh settings of the CGAL-meshed models (Resolution, MeshQuality, MaxVertices, progress and abort).
-  std::string MeshSettings(plantmorph::LeafMeshSettings& settings);
+  std::string MeshParameters(plantmorph::LeafMeshParameters& settings);
   /// Empty when the growth properties are valid, else the message.
   std::string ValidateGrowth() const;
   /// With a named preset of the chosen model, warns about each property only Custom uses that was changed from

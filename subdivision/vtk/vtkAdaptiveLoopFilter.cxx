@@ -204,7 +204,7 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
     return 1;
   }
 
-  AdaptiveLoopSettings settings;
+  AdaptiveLoopParameters settings;
   settings.maximumLevel = this->MaximumLevel;
   settings.edgeAngleThreshold = this->EdgeAngleThreshold;
   settings.flatnessThreshold = this->FlatnessThreshold;
@@ -219,7 +219,7 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
     return 0;
   }
   settings.maximumTriangles = static_cast<std::size_t>(this->MaximumTriangles);
-  if (const std::string error = ValidateAdaptiveLoopSettings(settings); !error.empty())
+  if (const std::string error = ValidateAdaptiveLoopParameters(settings); !error.empty())
   {
     vtkErrorMacro(<< error);
     return 0;

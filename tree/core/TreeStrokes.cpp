@@ -65,7 +65,7 @@ double LiftedLength(const std::vector<Eigen::Vector2d>& q, double theta)
 }
 
 std::string AddStrokes(
-  const TreeSettings& s, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree)
+  const TreeParameters& s, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree)
 {
   if (strokes.empty())
   {

@@ -189,7 +189,7 @@ void vtkTreeFromSketchSource::SetMergeTreeConnection(int, vtkAlgorithmOutput* ou
   this->SetInputConnection(2, output);
 }
 
-void vtkTreeFromSketchSource::WarnAboutPresetOverrides(const plantmorph::TreeSettings& used)
+void vtkTreeFromSketchSource::WarnAboutPresetOverrides(const plantmorph::TreeParameters& used)
 {
   if (this->Preset == 0)
   {
@@ -254,7 +254,7 @@ int vtkTreeFromSketchSource::RequestData(
   }
 
   // Properties -> settings.
-  plantmorph::TreeSettings s;
+  plantmorph::TreeParameters s;
   if (this->Preset < 0 || this->Preset >= plantmorph::TreePresetCount)
   {
     vtkErrorMacro(<< plantmorph::OutOfRange("Preset", this->Preset, "[0, 3]", "0 Custom, 1-3 Table 1"));

@@ -83,7 +83,7 @@
 
 namespace plantmorph
 {
-struct TreeSettings;
+struct TreeParameters;
 }
 
 class PLANTMORPHTREEVTK_EXPORT vtkTreeFromSketchSource : public vtkPolyDataAlgorithm
@@ -237,7 +237,7 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   /// With a named Preset, warns about each preset-set property changed from its default to a value the preset
   /// overrides (it is not what the output has).
-  void WarnAboutPresetOverrides(const plantmorph::TreeSettings& used);
+  void WarnAboutPresetOverrides(const plantmorph::TreeParameters& used);
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

@@ -193,7 +193,7 @@ std::string WiltingInputOf(vtkPolyData* input, vtkPolyData* veins, plantmorph::W
   return text.empty() ? text : text.substr(0, text.size() - 1);
 }
 
-std::string CheckEnumerations(vtkWiltingSimulator* f)
+std::string ValidateEnumerations(vtkWiltingSimulator* f)
 {
   if (f->GetPreset() < 0 || f->GetPreset() >= plantmorph::WiltingPresetCount)
   {
@@ -340,7 +340,7 @@ int vtkWiltingSimulator::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   const std::vector<double> times =
-    CheckEnumerations(this).empty() ? FrameTimes(ParametersOf(this)) : std::vector<double>();
+    ValidateEnumerations(this).empty() ? FrameTimes(ParametersOf(this)) : std::vector<double>();
   for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
   {
     vtkInformation* info = outputVector->GetInformationObject(port);
@@ -459,7 +459,7 @@ int vtkWiltingSimulator::RequestData(
     }
     return 1;
   }
-  std::string error = CheckEnumerations(this);
+  std::string error = ValidateEnumerations(this);
   const plantmorph::WiltingParameters parameters = ParametersOf(this);
   if (error.empty())
   {
