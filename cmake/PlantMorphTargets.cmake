@@ -21,16 +21,18 @@ endfunction()
 # plantmorph_add_vtk_module(<module> ALGORITHMS <libraries>...)
 #   Called from a method's vtk/CMakeLists.txt (the plugin's module scan adds that folder through its vtk.module):
 #   the VTK module of every vtk<Name>.{h,cxx} class in the folder (collected, so a new proxy needs no edit here),
-#   linked privately to the method's algorithm libraries, with the VTK helpers of common/vtk.
+#   linked privately to the method's algorithm libraries, with the VTK helpers of common/vtk. PRIVATE_SOURCES and
+#   PRIVATE_HEADERS: the folder's helpers that are no VTK class (neither wrapped nor installed as API).
 function(plantmorph_add_vtk_module module)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "ALGORITHMS")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "ALGORITHMS;PRIVATE_SOURCES;PRIVATE_HEADERS")
   file(GLOB headers CONFIGURE_DEPENDS RELATIVE "${CMAKE_CURRENT_SOURCE_DIR}" "${CMAKE_CURRENT_SOURCE_DIR}/vtk*.h")
   set(classes)
   foreach (header IN LISTS headers)
     get_filename_component(class "${header}" NAME_WE)
     list(APPEND classes "${class}")
   endforeach ()
-  vtk_module_add_module(${module} CLASSES ${classes})
+  vtk_module_add_module(${module} CLASSES ${classes} SOURCES ${arg_PRIVATE_SOURCES}
+    PRIVATE_HEADERS ${arg_PRIVATE_HEADERS})
   vtk_module_include(${module} PRIVATE "${PROJECT_SOURCE_DIR}/common/vtk")
   vtk_module_link(${module} PRIVATE ${arg_ALGORITHMS} plantmorph_warnings)
 endfunction()

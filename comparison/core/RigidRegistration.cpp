@@ -264,27 +264,11 @@ RegistrationResult RegisterPoints(const double* points, std::size_t count, const
 namespace
 {
 //------------------------------------------------------------------------------
-RegistrationResult RegisterOneSided(const double* points, std::size_t count, const PointSurfaceDistance& reference,
-  const RegistrationParameters& settings, const ParallelFor& parallelFor)
+/// RegisterOneSided's landmarks: all points, or a seeded random subset (partial Fisher-Yates), kept in input order,
+/// copied to `original`; `stepLimit` is the tolerance times their bounding-box diagonal. The error or "".
+std::string ChooseLandmarks(const double* points, std::size_t count, const RegistrationParameters& settings,
+  std::vector<double>& original, double& stepLimit)
 {
-  RegistrationResult result;
-  result.error = ValidateRegistrationParameters(settings);
-  if (!result.error.empty())
-  {
-    return result;
-  }
-  if (reference.IsEmpty())
-  {
-    result.error = "registration: the reference is empty";
-    return result;
-  }
-  if (count < 3)
-  {
-    result.error = "registration needs at least 3 measured points";
-    return result;
-  }
-
-  // Landmarks: all points, or a seeded random subset (partial Fisher-Yates), kept in input order.
   std::vector<std::size_t> chosen;
   if (count <= settings.maximumLandmarks)
   {
@@ -306,8 +290,7 @@ RegistrationResult RegisterOneSided(const double* points, std::size_t count, con
     std::sort(chosen.begin(), chosen.end());
   }
   const std::size_t n = chosen.size();
-  result.landmarks = n;
-  std::vector<double> original(3 * n);
+  original.assign(3 * n, 0.0);
   double lo[3] = { points[3 * chosen[0]], points[3 * chosen[0] + 1], points[3 * chosen[0] + 2] };
   double hi[3] = { lo[0], lo[1], lo[2] };
   for (std::size_t i = 0; i < n; ++i)
@@ -317,8 +300,7 @@ RegistrationResult RegisterOneSided(const double* points, std::size_t count, con
       const double x = points[3 * chosen[i] + k];
       if (!std::isfinite(x))
       {
-        result.error = "registration: a measured point has a non-finite coordinate";
-        return result;
+        return "registration: a measured point has a non-finite coordinate";
       }
       original[3 * i + k] = x;
       lo[k] = std::min(lo[k], x);
@@ -327,15 +309,157 @@ RegistrationResult RegisterOneSided(const double* points, std::size_t count, con
   }
   const double diagonal =
     std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  const double stepLimit = settings.tolerance * std::max(diagonal, 1e-300);
+  stepLimit = settings.tolerance * std::max(diagonal, 1e-300);
+  return {};
+}
 
-  std::vector<double> moved(3 * n);
-  std::vector<double> closest(3 * n);
-  std::vector<double> distance(n);
+/// One point-to-plane ICP step: the linearised motion about the moved landmarks' centroid g,
+///   x' = g + (1 + s) R(w) (x - g) + t,  residual n . (x' - c), unknowns (w, t[, s]),
+/// composed with `matrix` into `fitted`. False when fewer than 3 pairs are kept or the step is not usable.
+bool PointToPlaneStep(const std::vector<double>& moved, const std::vector<double>& closest,
+  const std::vector<double>& distance, const std::vector<std::int64_t>& primitive,
+  const PointSurfaceDistance& reference, const RegistrationParameters& settings, const double matrix[16],
+  double fitted[16], std::size_t& pairs)
+{
+  const std::size_t n = distance.size();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    g += Eigen::Vector3d(moved[3 * i], moved[3 * i + 1], moved[3 * i + 2]);
+  }
+  g /= static_cast<double>(n);
+  Eigen::Matrix<double, 7, 7> a = Eigen::Matrix<double, 7, 7>::Zero();
+  Eigen::Matrix<double, 7, 1> b = Eigen::Matrix<double, 7, 1>::Zero();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (settings.rejectDistance >= 0.0 && distance[i] > settings.rejectDistance)
+    {
+      continue;
+    }
+    double normal[3];
+    reference.GetTriangleNormal(primitive[i], normal);
+    const Eigen::Vector3d nn(normal[0], normal[1], normal[2]);
+    const Eigen::Vector3d x = Eigen::Vector3d(moved[3 * i], moved[3 * i + 1], moved[3 * i + 2]) - g;
+    const Eigen::Vector3d c = Eigen::Vector3d(closest[3 * i], closest[3 * i + 1], closest[3 * i + 2]) - g;
+    Eigen::Matrix<double, 7, 1> j;
+    j << x.cross(nn), nn, settings.withScale ? nn.dot(x) : 0.0;
+    const double r = nn.dot(x - c);
+    a += j * j.transpose();
+    b -= j * r;
+    ++pairs;
+  }
+  if (pairs < 3)
+  {
+    return false;
+  }
+  // A tiny ridge keeps directions the surface does not constrain (sliding on a plane) at zero.
+  const double ridge = 1e-12 * std::max(a.trace(), 1e-300);
+  for (int k = 0; k < 7; ++k)
+  {
+    a(k, k) += ridge;
+  }
+  const Eigen::Matrix<double, 7, 1> step = a.ldlt().solve(b);
+  if (!step.allFinite())
+  {
+    return false;
+  }
+  const Eigen::Vector3d w = step.head<3>();
+  const double angle = w.norm();
+  const Eigen::Matrix3d rotation =
+    angle > 0.0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  const double s = settings.withScale ? 1.0 + step(6) : 1.0;
+  Eigen::Matrix4d delta = Eigen::Matrix4d::Identity();
+  delta.topLeftCorner<3, 3>() = s * rotation;
+  delta.topRightCorner<3, 1>() = g - s * rotation * g + step.segment<3>(3);
+  const Eigen::Matrix4d current = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(matrix);
+  Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> composed(fitted);
+  composed = delta * current;
+  return s > 0.0;
+}
+
+/// One point-to-point ICP step: the closed-form similarity between the original landmarks and their closest
+/// reference points (pairs beyond the rejection distance left out), into `fitted`.
+bool PointToPointStep(const std::vector<double>& original, const std::vector<double>& closest,
+  const std::vector<double>& distance, const RegistrationParameters& settings, double fitted[16], std::size_t& pairs)
+{
+  std::vector<double> fitSource, fitTarget;
+  for (std::size_t i = 0; i < distance.size(); ++i)
+  {
+    if (settings.rejectDistance >= 0.0 && distance[i] > settings.rejectDistance)
+    {
+      continue;
+    }
+    fitSource.insert(fitSource.end(), original.begin() + 3 * i, original.begin() + 3 * i + 3);
+    fitTarget.insert(fitTarget.end(), closest.begin() + 3 * i, closest.begin() + 3 * i + 3);
+  }
+  pairs = fitSource.size() / 3;
+  return FitSimilarity(fitSource.data(), fitTarget.data(), pairs, settings.withScale, fitted);
+}
+
+/// The end of RegisterOneSided: the rotation re-orthonormalised in rigid mode, the scale, and the RMS of the kept
+/// pairs under the final transform.
+void FinishOneSided(const std::vector<double>& original, const PointSurfaceDistance& reference,
+  const RegistrationParameters& settings, const ParallelFor& parallelFor, double matrix[16], RegistrationResult& result)
+{
+  const std::size_t n = original.size() / 3;
+  if (!settings.withScale)
+  {
+    // Re-orthonormalise the composed rotation (rounding of many compositions), keeping the translation.
+    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> m(matrix);
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m.topLeftCorner<3, 3>(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+    m.topLeftCorner<3, 3>() = svd.matrixU() * svd.matrixV().transpose();
+  }
+  std::copy(matrix, matrix + 16, result.matrix);
+  result.scale = std::cbrt(Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(matrix)
+                             .topLeftCorner<3, 3>()
+                             .determinant());
+  std::vector<double> moved(3 * n), distance(n);
+  ApplyTransform(matrix, original.data(), moved.data(), n);
+  reference.QueryMany(moved.data(), n, distance.data(), nullptr, nullptr, nullptr, parallelFor);
+  double sum = 0.0;
+  std::size_t kept = 0;
+  for (double d : distance)
+  {
+    if (settings.rejectDistance < 0.0 || d <= settings.rejectDistance)
+    {
+      sum += d * d;
+      ++kept;
+    }
+  }
+  result.rms = kept ? std::sqrt(sum / static_cast<double>(kept)) : 0.0;
+}
+
+//------------------------------------------------------------------------------
+RegistrationResult RegisterOneSided(const double* points, std::size_t count, const PointSurfaceDistance& reference,
+  const RegistrationParameters& settings, const ParallelFor& parallelFor)
+{
+  RegistrationResult result;
+  result.error = ValidateRegistrationParameters(settings);
+  if (!result.error.empty())
+  {
+    return result;
+  }
+  if (reference.IsEmpty())
+  {
+    result.error = "registration: the reference is empty";
+    return result;
+  }
+  if (count < 3)
+  {
+    result.error = "registration needs at least 3 measured points";
+    return result;
+  }
+  std::vector<double> original;
+  double stepLimit = 0.0;
+  result.landmarks = std::min(count, settings.maximumLandmarks);
+  result.error = ChooseLandmarks(points, count, settings, original, stepLimit);
+  if (!result.error.empty())
+  {
+    return result;
+  }
+  const std::size_t n = original.size() / 3;
+  std::vector<double> moved(3 * n), closest(3 * n), distance(n), next(3 * n);
   std::vector<std::int64_t> primitive(n);
-  std::vector<double> fitSource;
-  std::vector<double> fitTarget;
-  std::vector<double> next(3 * n);
   double matrix[16];
   std::copy(result.matrix, result.matrix + 16, matrix);
   const bool pointToPlane = reference.IsSurface();
@@ -346,79 +470,9 @@ RegistrationResult RegisterOneSided(const double* points, std::size_t count, con
       moved.data(), n, distance.data(), nullptr, closest.data(), primitive.data(), parallelFor);
     double fitted[16];
     std::size_t pairs = 0;
-    bool solved = false;
-    if (pointToPlane)
-    {
-      // Linearised point-to-plane step about the moved landmarks' centroid g:
-      //   x' = g + (1 + s) R(w) (x - g) + t,  residual n . (x' - c), unknowns (w, t[, s]).
-      Eigen::Vector3d g = Eigen::Vector3d::Zero();
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        g += Eigen::Vector3d(moved[3 * i], moved[3 * i + 1], moved[3 * i + 2]);
-      }
-      g /= static_cast<double>(n);
-      Eigen::Matrix<double, 7, 7> a = Eigen::Matrix<double, 7, 7>::Zero();
-      Eigen::Matrix<double, 7, 1> b = Eigen::Matrix<double, 7, 1>::Zero();
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        if (settings.rejectDistance >= 0.0 && distance[i] > settings.rejectDistance)
-        {
-          continue;
-        }
-        double normal[3];
-        reference.GetTriangleNormal(primitive[i], normal);
-        const Eigen::Vector3d nn(normal[0], normal[1], normal[2]);
-        const Eigen::Vector3d x = Eigen::Vector3d(moved[3 * i], moved[3 * i + 1], moved[3 * i + 2]) - g;
-        const Eigen::Vector3d c = Eigen::Vector3d(closest[3 * i], closest[3 * i + 1], closest[3 * i + 2]) - g;
-        Eigen::Matrix<double, 7, 1> j;
-        j << x.cross(nn), nn, settings.withScale ? nn.dot(x) : 0.0;
-        const double r = nn.dot(x - c);
-        a += j * j.transpose();
-        b -= j * r;
-        ++pairs;
-      }
-      if (pairs >= 3)
-      {
-        // A tiny ridge keeps directions the surface does not constrain (sliding on a plane) at zero.
-        const double ridge = 1e-12 * std::max(a.trace(), 1e-300);
-        for (int k = 0; k < 7; ++k)
-        {
-          a(k, k) += ridge;
-        }
-        const Eigen::Matrix<double, 7, 1> step = a.ldlt().solve(b);
-        if (step.allFinite())
-        {
-          const Eigen::Vector3d w = step.head<3>();
-          const double angle = w.norm();
-          const Eigen::Matrix3d rotation =
-            angle > 0.0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
-          const double s = settings.withScale ? 1.0 + step(6) : 1.0;
-          Eigen::Matrix4d delta = Eigen::Matrix4d::Identity();
-          delta.topLeftCorner<3, 3>() = s * rotation;
-          delta.topRightCorner<3, 1>() = g - s * rotation * g + step.segment<3>(3);
-          const Eigen::Matrix4d current = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(matrix);
-          Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> composed(fitted);
-          composed = delta * current;
-          solved = s > 0.0;
-        }
-      }
-    }
-    else
-    {
-      fitSource.clear();
-      fitTarget.clear();
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        if (settings.rejectDistance >= 0.0 && distance[i] > settings.rejectDistance)
-        {
-          continue;
-        }
-        fitSource.insert(fitSource.end(), original.begin() + 3 * i, original.begin() + 3 * i + 3);
-        fitTarget.insert(fitTarget.end(), closest.begin() + 3 * i, closest.begin() + 3 * i + 3);
-      }
-      pairs = fitSource.size() / 3;
-      solved = FitSimilarity(fitSource.data(), fitTarget.data(), pairs, settings.withScale, fitted);
-    }
+    const bool solved = pointToPlane
+      ? PointToPlaneStep(moved, closest, distance, primitive, reference, settings, matrix, fitted, pairs)
+      : PointToPointStep(original, closest, distance, settings, fitted, pairs);
     if (!solved)
     {
       std::ostringstream message;
@@ -444,31 +498,7 @@ RegistrationResult RegisterOneSided(const double* points, std::size_t count, con
       break;
     }
   }
-  if (!settings.withScale)
-  {
-    // Re-orthonormalise the composed rotation (rounding of many compositions), keeping the translation.
-    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> m(matrix);
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m.topLeftCorner<3, 3>(), Eigen::ComputeFullU | Eigen::ComputeFullV);
-    m.topLeftCorner<3, 3>() = svd.matrixU() * svd.matrixV().transpose();
-  }
-  std::copy(matrix, matrix + 16, result.matrix);
-  result.scale = std::cbrt(Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(matrix)
-                             .topLeftCorner<3, 3>()
-                             .determinant());
-  // Final RMS of the kept pairs under the final transform.
-  ApplyTransform(matrix, original.data(), moved.data(), n);
-  reference.QueryMany(moved.data(), n, distance.data(), nullptr, nullptr, nullptr, parallelFor);
-  double sum = 0.0;
-  std::size_t kept = 0;
-  for (double d : distance)
-  {
-    if (settings.rejectDistance < 0.0 || d <= settings.rejectDistance)
-    {
-      sum += d * d;
-      ++kept;
-    }
-  }
-  result.rms = kept ? std::sqrt(sum / static_cast<double>(kept)) : 0.0;
+  FinishOneSided(original, reference, settings, parallelFor, matrix, result);
   return result;
 }
 } // namespace

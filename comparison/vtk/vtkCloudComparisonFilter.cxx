@@ -35,6 +35,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -298,53 +299,302 @@ int vtkCloudComparisonFilter::RequestData(
   return 1;
 }
 
+namespace
+{
+/// Step 1 of Execute: the properties that must hold before anything is computed, and the registration settings
+/// they give. The message naming the first bad property, or "".
+std::string CheckProperties(vtkCloudComparisonFilter* self, plantmorph::RegistrationParameters& registration)
+{
+  using namespace plantmorph;
+  std::ostringstream m;
+  const double scale = self->GetScale(), maximumDistance = self->GetMaximumDistance();
+  const int mode = self->GetRegistration(), landmarks = self->GetRegistrationLandmarks();
+  if (!std::isfinite(scale) || scale <= 0.0)
+  {
+    m << OutOfRange("Scale", scale, "(0, inf)", "e.g. 0.1 for a scan in mm against a model in cm");
+    return m.str();
+  }
+  if (self->GetUseMaximumDistance() && (!std::isfinite(maximumDistance) || maximumDistance < 0.0))
+  {
+    m << OutOfRange("MaximumDistance", maximumDistance, "[0, inf)");
+    return m.str();
+  }
+  if (self->GetHistogramBins() < 1 || self->GetHistogramBins() > 100000)
+  {
+    m << OutOfRange("HistogramBins", self->GetHistogramBins(), "[1, 100000]");
+    return m.str();
+  }
+  if (mode < vtkCloudComparisonFilter::REGISTRATION_NONE || mode > vtkCloudComparisonFilter::REGISTRATION_RIGID_SCALE)
+  {
+    m << OutOfRange("Registration", mode, "{0, 1, 2}", "0 none, 1 rigid, 2 rigid + uniform scale");
+    return m.str();
+  }
+  registration.withScale = mode == vtkCloudComparisonFilter::REGISTRATION_RIGID_SCALE;
+  registration.maximumIterations = self->GetRegistrationIterations();
+  registration.tolerance = self->GetRegistrationTolerance();
+  registration.maximumLandmarks = landmarks < 3 || landmarks > 100000000 ? 0 : landmarks;
+  registration.rejectDistance = self->GetUseMaximumDistance() ? maximumDistance : -1.0;
+  // Seed is ignored: the filter's registration is always the symmetric one, which subsamples by stride.
+  if (mode != vtkCloudComparisonFilter::REGISTRATION_NONE)
+  {
+    if (registration.maximumLandmarks == 0)
+    {
+      m << OutOfRange("RegistrationLandmarks", landmarks, "[3, 100000000]");
+      return m.str();
+    }
+    return ValidateRegistrationParameters(registration);
+  }
+  return {};
+}
+
+/// Step 2: the measured points, scaled, as flat doubles in `xyz`; every coordinate must be finite. When nothing
+/// moves them (Scale 1, no registration) and the input holds them as contiguous doubles, its own array is read in
+/// place; else a copy (24 bytes a point, a sixth of the filter's peak memory on 10^6 points) is made in `moved`
+/// and scaled. `transform` gets the scale.
+std::string ReadMeasured(vtkPointSet* measured, double scale, bool registering, std::vector<double>& moved,
+  const double*& xyz, double transform[16])
+{
+  const vtkIdType count = measured->GetNumberOfPoints();
+  auto* inputDoubles = vtkArrayDownCast<vtkAOSDataArrayTemplate<double>>(measured->GetPoints()->GetData());
+  if (inputDoubles && inputDoubles->GetNumberOfComponents() == 3 && scale == 1.0 && !registering)
+  {
+    xyz = inputDoubles->GetPointer(0);
+  }
+  else
+  {
+    moved = FlatPoints(measured);
+    xyz = moved.data();
+  }
+  for (std::size_t i = 0; i < 3 * static_cast<std::size_t>(count); ++i)
+  {
+    if (!std::isfinite(xyz[i]))
+    {
+      std::ostringstream m;
+      m << "the Measured input's point " << i / 3 << " has a non-finite coordinate (NaN or infinite)";
+      return m.str();
+    }
+  }
+  const double scaling[16] = { scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, 1 };
+  std::copy(scaling, scaling + 16, transform);
+  if (scale != 1.0)
+  {
+    plantmorph::ApplyTransform(transform, moved.data(), moved.data(), static_cast<std::size_t>(count));
+  }
+  return {};
+}
+
+/// Step 3: symmetric, guarded registration of the measured points (`moved`, in place) onto the reference; the
+/// registration's matrix is composed into `transform`. The error message or "".
+std::string RegisterMeasured(plantmorph::RegistrationParameters registration, const std::vector<double>& referenceXYZ,
+  const plantmorph::PointSurfaceDistance& referenceDistance, const plantmorph::ParallelFor& parallelFor,
+  std::vector<double>& moved, double transform[16], plantmorph::RegistrationResult& registered)
+{
+  using namespace plantmorph;
+  const std::size_t count = moved.size() / 3;
+  // Symmetric and guarded: the reference's points take part (no collapse, in-plane sliding seen by the outline),
+  // and a registration that fits worse than none is not used.
+  registration.referencePoints = referenceXYZ.data();
+  registration.referenceCount = referenceXYZ.size() / 3;
+  registered = RegisterPoints(moved.data(), count, referenceDistance, registration, parallelFor);
+  if (!registered.error.empty())
+  {
+    return registered.error;
+  }
+  ApplyTransform(registered.matrix, moved.data(), moved.data(), count);
+  double total[16];
+  for (int r = 0; r < 4; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      total[4 * r + c] = 0.0;
+      for (int k = 0; k < 4; ++k)
+      {
+        total[4 * r + c] += registered.matrix[4 * r + k] * transform[4 * k + c];
+      }
+    }
+  }
+  std::copy(total, total + 16, transform);
+  return {};
+}
+
+/// Step 5, output 0: the measured points (moved when scaled or registered: `moved`), one vertex each when the
+/// input has no cells, with the distance arrays (`signedDistance` when the reference is a surface) and, with a
+/// maximum distance, Outlier.
+void FillPoints(vtkPointSet* measured, const std::vector<double>& moved, bool movedPoints, vtkDoubleArray* distance,
+  vtkDoubleArray* signedDistance, vtkDoubleArray* closest, double maximumDistance, bool useMaximumDistance,
+  vtkPolyData* output)
+{
+  const vtkIdType count = measured->GetNumberOfPoints();
+  if (auto* poly = vtkPolyData::SafeDownCast(measured))
+  {
+    output->ShallowCopy(poly);
+  }
+  else
+  {
+    output->SetPoints(measured->GetPoints());
+    output->GetPointData()->ShallowCopy(measured->GetPointData());
+    output->GetFieldData()->ShallowCopy(measured->GetFieldData());
+  }
+  if (output->GetNumberOfCells() == 0)
+  {
+    vtkNew<vtkIdTypeArray> offsets;
+    vtkNew<vtkIdTypeArray> connectivity;
+    offsets->SetNumberOfTuples(count + 1);
+    connectivity->SetNumberOfTuples(count);
+    vtkSMPTools::For(0, count + 1, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        offsets->SetValue(i, i);
+        if (i < count)
+        {
+          connectivity->SetValue(i, i);
+        }
+      }
+    });
+    vtkNew<vtkCellArray> verts;
+    verts->SetData(offsets, connectivity);
+    output->SetVerts(verts);
+  }
+  if (movedPoints)
+  {
+    vtkNew<vtkDoubleArray> coordinates;
+    coordinates->SetNumberOfComponents(3);
+    coordinates->SetNumberOfTuples(count);
+    std::copy(moved.begin(), moved.end(), coordinates->GetPointer(0));
+    vtkNew<vtkPoints> points;
+    points->SetData(coordinates);
+    output->SetPoints(points);
+  }
+  vtkPointData* pd = output->GetPointData();
+  pd->AddArray(distance);
+  pd->SetActiveScalars("Distance");
+  if (signedDistance)
+  {
+    pd->AddArray(signedDistance);
+  }
+  else
+  {
+    pd->RemoveArray("SignedDistance"); // a stale one from an earlier comparison would mislead
+  }
+  pd->AddArray(closest);
+  if (useMaximumDistance)
+  {
+    vtkNew<vtkUnsignedCharArray> outlier;
+    outlier->SetName("Outlier");
+    outlier->SetNumberOfTuples(count);
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      outlier->SetValue(i, distance->GetValue(i) > maximumDistance ? 1 : 0);
+    }
+    pd->AddArray(outlier);
+  }
+  else
+  {
+    pd->RemoveArray("Outlier");
+  }
+}
+
+/// Field data of output 0: the total transform and, when registering, the registration's numbers.
+void FillTransform(const double transform[16], const plantmorph::RegistrationResult* registered, vtkFieldData* fd)
+{
+  vtkNew<vtkDoubleArray> matrix;
+  matrix->SetName("PlantMorph.MeasuredTransform");
+  matrix->SetNumberOfComponents(16);
+  matrix->SetNumberOfTuples(1);
+  matrix->SetTypedTuple(0, transform);
+  fd->AddArray(matrix);
+  if (registered)
+  {
+    AddFieldValue(fd, "PlantMorph.RegistrationScale", registered->scale);
+    AddFieldValue(fd, "PlantMorph.RegistrationIterations", registered->iterations);
+    AddFieldValue(fd, "PlantMorph.RegistrationConverged", registered->converged ? 1.0 : 0.0);
+    AddFieldValue(fd, "PlantMorph.RegistrationRMS", registered->rms);
+    AddFieldValue(fd, "PlantMorph.RegistrationSymmetricBefore", registered->symmetricBefore);
+    AddFieldValue(fd, "PlantMorph.RegistrationSymmetricAfter", registered->symmetricAfter);
+    AddFieldValue(fd, "PlantMorph.RegistrationRejected", registered->worse ? 1.0 : 0.0);
+  }
+}
+
+/// Output 2 (and field data): statistics of the distances, and of the reverse ones when `reverse` is given.
+plantmorph::DistanceStatistics FillStatistics(const double* distance, std::size_t count, double cutOff,
+  bool surface, const std::vector<double>* reverse, vtkTable* statistics, vtkFieldData* fd)
+{
+  using namespace plantmorph;
+  const DistanceStatistics s = ComputeDistanceStatistics(distance, count, cutOff);
+  AddColumn(statistics, fd, "Count", static_cast<double>(s.count));
+  AddColumn(statistics, fd, "Outliers", static_cast<double>(s.outliers));
+  AddColumn(statistics, fd, "Minimum", s.minimum);
+  AddColumn(statistics, fd, "Maximum", s.maximum);
+  AddColumn(statistics, fd, "Mean", s.mean);
+  AddColumn(statistics, fd, "StandardDeviation", s.standardDeviation);
+  AddColumn(statistics, fd, "RMS", s.rms);
+  AddColumn(statistics, fd, "Percentile50", s.p50);
+  AddColumn(statistics, fd, "Percentile68", s.p68);
+  AddColumn(statistics, fd, "Percentile75", s.p75);
+  AddColumn(statistics, fd, "Percentile95", s.p95);
+  AddColumn(statistics, fd, "Percentile99", s.p99);
+  AddColumn(statistics, fd, "Hausdorff", s.maximum);
+  AddColumn(statistics, fd, "ReferenceIsSurface", surface ? 1.0 : 0.0);
+  if (reverse)
+  {
+    const DistanceStatistics r = ComputeDistanceStatistics(reverse->data(), reverse->size(), cutOff);
+    AddColumn(statistics, fd, "ReverseCount", static_cast<double>(r.count));
+    AddColumn(statistics, fd, "ReverseMean", r.mean);
+    AddColumn(statistics, fd, "ReverseHausdorff", r.maximum);
+    AddColumn(statistics, fd, "SymmetricHausdorff", std::max(s.maximum, r.maximum));
+    AddColumn(statistics, fd, "Chamfer", 0.5 * (s.mean + r.mean));
+  }
+  return s;
+}
+
+/// Output 1: the histogram of the distances (`counted`: the statistics' count, for the fractions).
+void FillHistogram(const double* distance, std::size_t count, std::size_t bins, double cutOff, std::size_t counted,
+  vtkTable* histogram)
+{
+  const plantmorph::DistanceHistogram h = plantmorph::ComputeDistanceHistogram(distance, count, bins, cutOff);
+  const vtkIdType n = static_cast<vtkIdType>(h.count.size());
+  vtkNew<vtkDoubleArray> centers;
+  centers->SetName("bin_extents");
+  vtkNew<vtkIdTypeArray> values;
+  values->SetName("bin_values");
+  vtkNew<vtkDoubleArray> starts;
+  starts->SetName("BinStart");
+  vtkNew<vtkDoubleArray> ends;
+  ends->SetName("BinEnd");
+  vtkNew<vtkDoubleArray> fraction;
+  fraction->SetName("Fraction");
+  for (vtkDataArray* a : { static_cast<vtkDataArray*>(centers), static_cast<vtkDataArray*>(values),
+         static_cast<vtkDataArray*>(starts), static_cast<vtkDataArray*>(ends), static_cast<vtkDataArray*>(fraction) })
+  {
+    a->SetNumberOfTuples(n);
+  }
+  for (vtkIdType b = 0; b < n; ++b)
+  {
+    centers->SetValue(b, h.binCenter[b]);
+    values->SetValue(b, static_cast<vtkIdType>(h.count[b]));
+    starts->SetValue(b, h.binStart[b]);
+    ends->SetValue(b, h.binEnd[b]);
+    fraction->SetValue(b, counted ? static_cast<double>(h.count[b]) / static_cast<double>(counted) : 0.0);
+  }
+  histogram->AddColumn(centers);
+  histogram->AddColumn(values);
+  histogram->AddColumn(starts);
+  histogram->AddColumn(ends);
+  histogram->AddColumn(fraction);
+}
+} // namespace
+
 //------------------------------------------------------------------------------
 int vtkCloudComparisonFilter::Execute(
   vtkPointSet* measured, vtkPointSet* reference, vtkPolyData* output, vtkTable* histogram, vtkTable* statistics)
 {
   using namespace plantmorph;
-  if (!std::isfinite(this->Scale) || this->Scale <= 0.0)
-  {
-    vtkErrorMacro(<< OutOfRange(
-                    "Scale", this->Scale, "(0, inf)", "e.g. 0.1 for a scan in mm against a model in cm"));
-    return 0;
-  }
-  if (this->UseMaximumDistance && (!std::isfinite(this->MaximumDistance) || this->MaximumDistance < 0.0))
-  {
-    vtkErrorMacro(<< OutOfRange("MaximumDistance", this->MaximumDistance, "[0, inf)"));
-    return 0;
-  }
-  if (this->HistogramBins < 1 || this->HistogramBins > 100000)
-  {
-    vtkErrorMacro(<< plantmorph::OutOfRange("HistogramBins", this->HistogramBins, "[1, 100000]"));
-    return 0;
-  }
-  if (this->Registration < REGISTRATION_NONE || this->Registration > REGISTRATION_RIGID_SCALE)
-  {
-    vtkErrorMacro(<< OutOfRange(
-                    "Registration", this->Registration, "{0, 1, 2}", "0 none, 1 rigid, 2 rigid + uniform scale"));
-    return 0;
-  }
+  // 1. Properties.
   RegistrationParameters registration;
-  registration.withScale = this->Registration == REGISTRATION_RIGID_SCALE;
-  registration.maximumIterations = this->RegistrationIterations;
-  registration.tolerance = this->RegistrationTolerance;
-  registration.maximumLandmarks =
-    this->RegistrationLandmarks < 3 || this->RegistrationLandmarks > 100000000 ? 0 : this->RegistrationLandmarks;
-  registration.rejectDistance = this->UseMaximumDistance ? this->MaximumDistance : -1.0;
-  registration.seed = static_cast<std::uint64_t>(static_cast<std::int64_t>(this->Seed));
-  if (this->Registration != REGISTRATION_NONE)
+  if (const std::string error = CheckProperties(this, registration); !error.empty())
   {
-    if (registration.maximumLandmarks == 0)
-    {
-      vtkErrorMacro(<< plantmorph::OutOfRange("RegistrationLandmarks", this->RegistrationLandmarks, "[3, 100000000]"));
-      return 0;
-    }
-    if (const std::string error = ValidateRegistrationParameters(registration); !error.empty())
-    {
-      vtkErrorMacro(<< error);
-      return 0;
-    }
+    vtkErrorMacro(<< error);
+    return 0;
   }
   if (!reference || reference->GetNumberOfPoints() == 0)
   {
@@ -364,34 +614,16 @@ int vtkCloudComparisonFilter::Execute(
     return 1;
   }
 
-  // The measured points, scaled, as flat doubles; every coordinate must be finite. When nothing moves them (Scale
-  // 1, no registration) and the input holds them as contiguous doubles, its own array is read in place; else a copy
-  // (24 bytes a point, a sixth of the filter's peak memory on 10^6 points) is made and moved.
+  // 2. The measured points, scaled.
+  const bool registering = this->Registration != REGISTRATION_NONE;
   std::vector<double> moved;
   const double* xyz = nullptr;
-  auto* inputDoubles = vtkArrayDownCast<vtkAOSDataArrayTemplate<double>>(measured->GetPoints()->GetData());
-  if (inputDoubles && inputDoubles->GetNumberOfComponents() == 3 && this->Scale == 1.0 &&
-    this->Registration == REGISTRATION_NONE)
+  double transform[16];
+  if (const std::string error = ReadMeasured(measured, this->Scale, registering, moved, xyz, transform);
+      !error.empty())
   {
-    xyz = inputDoubles->GetPointer(0);
-  }
-  else
-  {
-    moved = FlatPoints(measured);
-    xyz = moved.data();
-  }
-  for (std::size_t i = 0; i < 3 * static_cast<std::size_t>(count); ++i)
-  {
-    if (!std::isfinite(xyz[i]))
-    {
-      vtkErrorMacro(<< "the Measured input's point " << i / 3 << " has a non-finite coordinate (NaN or infinite)");
-      return 0;
-    }
-  }
-  double transform[16] = { this->Scale, 0, 0, 0, 0, this->Scale, 0, 0, 0, 0, this->Scale, 0, 0, 0, 0, 1 };
-  if (this->Scale != 1.0)
-  {
-    ApplyTransform(transform, moved.data(), moved.data(), static_cast<std::size_t>(count));
+    vtkErrorMacro(<< error);
+    return 0;
   }
   this->UpdateProgress(0.05);
 
@@ -412,39 +644,21 @@ int vtkCloudComparisonFilter::Execute(
   }
   const ParallelFor parallelFor = BlockSMPFor();
 
-  // Registration.
+  // 3. Registration.
   RegistrationResult registered;
-  if (this->Registration != REGISTRATION_NONE)
+  if (registering)
   {
-    // Symmetric and guarded: the reference's points take part (no collapse, in-plane sliding seen by the outline),
-    // and a registration that fits worse than none is not used.
-    registration.referencePoints = referenceXYZ.data();
-    registration.referenceCount = referenceXYZ.size() / 3;
-    registered = RegisterPoints(
-      xyz, static_cast<std::size_t>(count), referenceDistance, registration, parallelFor);
-    if (!registered.error.empty())
+    if (const std::string error =
+          RegisterMeasured(registration, referenceXYZ, referenceDistance, parallelFor, moved, transform, registered);
+        !error.empty())
     {
-      vtkErrorMacro(<< "Registration: " << registered.error);
+      vtkErrorMacro(<< "Registration: " << error);
       return 0;
     }
     if (registered.worse)
     {
       vtkWarningMacro(<< "Registration: " << registered.warning);
     }
-    ApplyTransform(registered.matrix, moved.data(), moved.data(), static_cast<std::size_t>(count));
-    double total[16];
-    for (int r = 0; r < 4; ++r)
-    {
-      for (int c = 0; c < 4; ++c)
-      {
-        total[4 * r + c] = 0.0;
-        for (int k = 0; k < 4; ++k)
-        {
-          total[4 * r + c] += registered.matrix[4 * r + k] * transform[4 * k + c];
-        }
-      }
-    }
-    std::copy(total, total + 16, transform);
   }
   this->UpdateProgress(0.3);
   if (this->GetAbortExecute())
@@ -452,7 +666,7 @@ int vtkCloudComparisonFilter::Execute(
     return 0;
   }
 
-  // Distances, in blocks with progress and abort.
+  // 4. Distances, in blocks with progress and abort.
   const bool surface = referenceDistance.IsSurface();
   vtkNew<vtkDoubleArray> distance;
   distance->SetName("Distance");
@@ -495,153 +709,15 @@ int vtkCloudComparisonFilter::Execute(
   }
   this->UpdateProgress(0.95);
 
-  // Output 0: the measured points with the distance arrays.
-  if (auto* poly = vtkPolyData::SafeDownCast(measured))
-  {
-    output->ShallowCopy(poly);
-  }
-  else
-  {
-    output->SetPoints(measured->GetPoints());
-    output->GetPointData()->ShallowCopy(measured->GetPointData());
-    output->GetFieldData()->ShallowCopy(measured->GetFieldData());
-  }
-  if (output->GetNumberOfCells() == 0)
-  {
-    vtkNew<vtkIdTypeArray> offsets;
-    vtkNew<vtkIdTypeArray> connectivity;
-    offsets->SetNumberOfTuples(count + 1);
-    connectivity->SetNumberOfTuples(count);
-    vtkSMPTools::For(0, count + 1, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        offsets->SetValue(i, i);
-        if (i < count)
-        {
-          connectivity->SetValue(i, i);
-        }
-      }
-    });
-    vtkNew<vtkCellArray> verts;
-    verts->SetData(offsets, connectivity);
-    output->SetVerts(verts);
-  }
-  if (this->Scale != 1.0 || this->Registration != REGISTRATION_NONE)
-  {
-    vtkNew<vtkDoubleArray> coordinates;
-    coordinates->SetNumberOfComponents(3);
-    coordinates->SetNumberOfTuples(count);
-    std::copy(moved.begin(), moved.end(), coordinates->GetPointer(0));
-    vtkNew<vtkPoints> points;
-    points->SetData(coordinates);
-    output->SetPoints(points);
-  }
-  vtkPointData* pd = output->GetPointData();
-  pd->AddArray(distance);
-  pd->SetActiveScalars("Distance");
-  if (surface)
-  {
-    pd->AddArray(signedDistance);
-  }
-  else
-  {
-    pd->RemoveArray("SignedDistance"); // a stale one from an earlier comparison would mislead
-  }
-  pd->AddArray(closest);
-  if (this->UseMaximumDistance)
-  {
-    vtkNew<vtkUnsignedCharArray> outlier;
-    outlier->SetName("Outlier");
-    outlier->SetNumberOfTuples(count);
-    for (vtkIdType i = 0; i < count; ++i)
-    {
-      outlier->SetValue(i, distance->GetValue(i) > this->MaximumDistance ? 1 : 0);
-    }
-    pd->AddArray(outlier);
-  }
-  else
-  {
-    pd->RemoveArray("Outlier");
-  }
+  // 5. The outputs.
+  FillPoints(measured, moved, this->Scale != 1.0 || registering, distance, surface ? signedDistance.Get() : nullptr,
+    closest, this->MaximumDistance, this->UseMaximumDistance != 0, output);
   vtkFieldData* fd = output->GetFieldData();
-  {
-    vtkNew<vtkDoubleArray> matrix;
-    matrix->SetName("PlantMorph.MeasuredTransform");
-    matrix->SetNumberOfComponents(16);
-    matrix->SetNumberOfTuples(1);
-    matrix->SetTypedTuple(0, transform);
-    fd->AddArray(matrix);
-  }
-  if (this->Registration != REGISTRATION_NONE)
-  {
-    AddFieldValue(fd, "PlantMorph.RegistrationScale", registered.scale);
-    AddFieldValue(fd, "PlantMorph.RegistrationIterations", registered.iterations);
-    AddFieldValue(fd, "PlantMorph.RegistrationConverged", registered.converged ? 1.0 : 0.0);
-    AddFieldValue(fd, "PlantMorph.RegistrationRMS", registered.rms);
-    AddFieldValue(fd, "PlantMorph.RegistrationSymmetricBefore", registered.symmetricBefore);
-    AddFieldValue(fd, "PlantMorph.RegistrationSymmetricAfter", registered.symmetricAfter);
-    AddFieldValue(fd, "PlantMorph.RegistrationRejected", registered.worse ? 1.0 : 0.0);
-  }
-
-  // Output 2 (and field data): statistics.
-  const DistanceStatistics s =
-    ComputeDistanceStatistics(distance->GetPointer(0), static_cast<std::size_t>(count), cutOff);
-  AddColumn(statistics, fd, "Count", static_cast<double>(s.count));
-  AddColumn(statistics, fd, "Outliers", static_cast<double>(s.outliers));
-  AddColumn(statistics, fd, "Minimum", s.minimum);
-  AddColumn(statistics, fd, "Maximum", s.maximum);
-  AddColumn(statistics, fd, "Mean", s.mean);
-  AddColumn(statistics, fd, "StandardDeviation", s.standardDeviation);
-  AddColumn(statistics, fd, "RMS", s.rms);
-  AddColumn(statistics, fd, "Percentile50", s.p50);
-  AddColumn(statistics, fd, "Percentile68", s.p68);
-  AddColumn(statistics, fd, "Percentile75", s.p75);
-  AddColumn(statistics, fd, "Percentile95", s.p95);
-  AddColumn(statistics, fd, "Percentile99", s.p99);
-  AddColumn(statistics, fd, "Hausdorff", s.maximum);
-  AddColumn(statistics, fd, "ReferenceIsSurface", surface ? 1.0 : 0.0);
-  if (this->Symmetric)
-  {
-    const DistanceStatistics r = ComputeDistanceStatistics(reverse.data(), reverse.size(), cutOff);
-    AddColumn(statistics, fd, "ReverseCount", static_cast<double>(r.count));
-    AddColumn(statistics, fd, "ReverseMean", r.mean);
-    AddColumn(statistics, fd, "ReverseHausdorff", r.maximum);
-    AddColumn(statistics, fd, "SymmetricHausdorff", std::max(s.maximum, r.maximum));
-    AddColumn(statistics, fd, "Chamfer", 0.5 * (s.mean + r.mean));
-  }
-
-  // Output 1: histogram.
-  const DistanceHistogram h = ComputeDistanceHistogram(distance->GetPointer(0), static_cast<std::size_t>(count),
-    static_cast<std::size_t>(this->HistogramBins), cutOff);
-  const vtkIdType bins = static_cast<vtkIdType>(h.count.size());
-  vtkNew<vtkDoubleArray> centers;
-  centers->SetName("bin_extents");
-  vtkNew<vtkIdTypeArray> values;
-  values->SetName("bin_values");
-  vtkNew<vtkDoubleArray> starts;
-  starts->SetName("BinStart");
-  vtkNew<vtkDoubleArray> ends;
-  ends->SetName("BinEnd");
-  vtkNew<vtkDoubleArray> fraction;
-  fraction->SetName("Fraction");
-  for (vtkDataArray* a : { static_cast<vtkDataArray*>(centers), static_cast<vtkDataArray*>(values),
-         static_cast<vtkDataArray*>(starts), static_cast<vtkDataArray*>(ends), static_cast<vtkDataArray*>(fraction) })
-  {
-    a->SetNumberOfTuples(bins);
-  }
-  for (vtkIdType b = 0; b < bins; ++b)
-  {
-    centers->SetValue(b, h.binCenter[b]);
-    values->SetValue(b, static_cast<vtkIdType>(h.count[b]));
-    starts->SetValue(b, h.binStart[b]);
-    ends->SetValue(b, h.binEnd[b]);
-    fraction->SetValue(b, s.count ? static_cast<double>(h.count[b]) / static_cast<double>(s.count) : 0.0);
-  }
-  histogram->AddColumn(centers);
-  histogram->AddColumn(values);
-  histogram->AddColumn(starts);
-  histogram->AddColumn(ends);
-  histogram->AddColumn(fraction);
+  FillTransform(transform, registering ? &registered : nullptr, fd);
+  const DistanceStatistics s = FillStatistics(distance->GetPointer(0), static_cast<std::size_t>(count), cutOff,
+    surface, this->Symmetric ? &reverse : nullptr, statistics, fd);
+  FillHistogram(distance->GetPointer(0), static_cast<std::size_t>(count),
+    static_cast<std::size_t>(this->HistogramBins), cutOff, s.count, histogram);
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -133,13 +133,16 @@ public:
   ///@}
 
   ///@{
-  /** Measured points used by ICP at most (a seeded random subset above it), [3, 10^8]. Default 20000. */
+  /** Measured (and reference) points used by ICP at most (every k-th point above it), [3, 10^8]. Default 20000. */
   vtkSetMacro(RegistrationLandmarks, int);
   vtkGetMacro(RegistrationLandmarks, int);
   ///@}
 
   ///@{
-  /** Seed of the landmark subset. Default 0. */
+  /**
+   * Ignored (it was the seed of a random landmark subset; registration now takes every k-th point, see
+   * RegistrationLandmarks). Kept, and hidden in the panel, so that state files saved with it still load.
+   */
   vtkSetMacro(Seed, int);
   vtkGetMacro(Seed, int);
   ///@}

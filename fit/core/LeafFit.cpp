@@ -2,6 +2,7 @@
 #include "LeafFitInternal.h"
 #include "PointGrid.h"
 
+#include "BSplineLeaf.h"
 #include "BladeMesher.h"
 #include "LeafGeometry.h"
 
@@ -228,10 +229,12 @@ void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, dou
 
 /// Model C control points: the midvein at `count` stations base to apex (half-way between the margins), each margin at `count` inner stations
 /// equally spaced along its arc length in (t, s) (so the rounded ends, where a margin turns fast, get their share).
-void ModelControlPoints(const LeafFitParameters& options, const Fitted& f, LeafFitResult& result)
+void ModelControlPoints(int m, const Fitted& f, LeafFitResult& result)
 {
   const Outline& o = f.outline;
-  const int m = options.modelControlPoints;
+  for (auto* points : { &result.modelMidvein, &result.modelLeftMargin, &result.modelRightMargin, &result.flatMidvein,
+         &result.flatLeftMargin, &result.flatRightMargin })
+    points->clear();
   for (int k = 0; k < m; ++k)
   {
     // The model's midvein runs half-way between the margins (the fitted one, t = 0, may run close to a margin
@@ -259,6 +262,42 @@ void ModelControlPoints(const LeafFitParameters& options, const Fitted& f, LeafF
       (side == 0 ? result.flatLeftMargin : result.flatRightMargin).emplace_back(p.x(), p.y(), 0.0);
     }
   }
+}
+
+/// The model control points, checked: LeafOutlineSource interpolates them, and where a margin runs close to the
+/// midvein (a narrow petiole, a margin the scan barely reaches) an interpolating spline through many points may
+/// cross it, and the outline folds. The flat model is built (LeafOutlineSource's own B-spline leaf, unrefined);
+/// while it folds, two control points fewer per curve are tried (smoother splines), down to 3. If none builds, the
+/// requested count is kept and `modelWarning` says why the model will not rebuild.
+void RebuildableModel(const LeafFitParameters& options, const Fitted& f, LeafFitResult& result)
+{
+  std::string first;
+  for (int m = options.modelControlPoints; m >= 3; m -= 2)
+  {
+    ModelControlPoints(m, f, result);
+    // At the fit's own resolution (the recipe's) and a fine one: whether the sampled outline folds depends on it.
+    std::string error;
+    for (int resolution : { options.resolution, 240 })
+    {
+      LeafMeshParameters check;
+      check.resolution = resolution;
+      check.quality = false;
+      LeafGeometry rebuilt;
+      if (error.empty())
+        error = BuildBSplineLeaf({ result.flatMidvein, result.flatLeftMargin, result.flatRightMargin }, check, rebuilt);
+    }
+    if (error.empty())
+    {
+      result.modelControlPoints = m;
+      return;
+    }
+    if (first.empty())
+      first = error;
+  }
+  ModelControlPoints(options.modelControlPoints, f, result);
+  result.modelControlPoints = options.modelControlPoints;
+  result.modelWarning = "the fitted model does not rebuild in LeafOutlineSource with " +
+    std::to_string(options.modelControlPoints) + " or fewer control points (" + first + ")";
 }
 
 std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, LeafFitResult& result)
@@ -303,7 +342,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   if (!error.empty())
     return error;
   ScanArrays(points, f, spacing, result);
-  ModelControlPoints(options, f, result);
+  RebuildableModel(options, f, result);
   result.traits.spacing = spacing;
   result.traits.points = static_cast<double>(points.size());
   fit::ComputeTraits(f.surface, f.outline, options, f.frame.axes, result);

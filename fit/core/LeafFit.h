@@ -46,7 +46,8 @@ struct LeafFitParameters
   int outlineControlPoints = 16;  ///< [4, 200]: B-spline control points per margin
   double outlierSigma = 3.0;      ///< [1, 100]: robust deviations of the neighbour distance beyond which a point is dropped
   int resolution = 60;            ///< [4, 1000]: segments along the midvein of the output mesh
-  int modelControlPoints = 20;    ///< [3, 100]: Model C control points per margin in the fitted model
+  int modelControlPoints = 20;    ///< [3, 100]: Model C control points per margin in the fitted model (at most:
+                                  ///< fewer when that many fold the flat model, LeafFitResult::modelControlPoints)
 };
 
 /// Empty when every option is finite and in range; otherwise the message naming the option and its range.
@@ -98,6 +99,11 @@ struct LeafFitResult
   /// +Y, as LeafOutlineSource makes leaves): always a valid flat Model C leaf, also when the 3-D one folds in the
   /// least-squares plane LeafOutlineSource meshes 3-D control points in.
   std::vector<Eigen::Vector3d> flatMidvein, flatLeftMargin, flatRightMargin;
+  /// Control points per curve in the model: `modelControlPoints` of the options, or fewer (by twos) when the flat
+  /// model folded in LeafOutlineSource with that many (its interpolating margin crossed the midvein).
+  int modelControlPoints = 0;
+  /// Empty when the flat model rebuilds in LeafOutlineSource; else why it does not (the model is still given).
+  std::string modelWarning;
   LeafTraits traits;
 };
 

@@ -86,7 +86,7 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   const double reach = 8.0 * cell;
   std::vector<double> meanDistance(n), nearest(n);
   std::vector<std::pair<double, int>> neighbours(static_cast<std::size_t>(n) * k, { 0.0, -1 });
-  for (int i = 0; i < n; ++i)
+  for (int i : grid.SortedIds()) // cell by cell: neighbouring queries share cells, so memory stays in cache
   {
     const auto nb = grid.Nearest(points[i], k, i, reach);
     double sum = (k - static_cast<double>(nb.size())) * reach;

@@ -214,35 +214,32 @@ double Outline::Left(double s) const
 namespace
 {
 /// Where the tip lies beyond the K extreme values v (ascending distances inwards from the tip, v[0] the nearest
-/// sample): order statistics of a tip whose area grows as d^q give v_i = tip + c i^(1/q); q from a grid, least
-/// squares for tip and c. The result is clamped to at most `reach` beyond v[0].
+/// sample, at most `reach` beyond it). Samples uniform by area near a tip whose area grows as d^q are a Poisson
+/// process in u = d^q, so u_i (the i-th nearest, i = 1..K) has expectation i u_1's: the tip solves
+/// sum_i (v_i - tip)^q = K (K + 1) / 2 (v_0 - tip)^q (bisection). q = 1.5, the parabolic (rounded) tip, between
+/// blunt (1) and acute (2) tips: K is 10-40, too few samples to tell q from the data. Chosen on synthetic leaves of
+/// all three models (500 to 12000 points): a least-squares fit of q with v_i = tip + c i^(1/q) put an acute apex up
+/// to four spacings beyond the last sample (1.4 % of the length on the leaf bent at both ends), and the maximum
+/// likelihood tip with a free q came out up to 4 % short on 500-1000 points; this is within 1 % from 1000 points.
 double TipBeyond(const std::vector<double>& v, double reach)
 {
-  double best = 1e300, tip = v.front();
-  for (double q = 1.0; q <= 3.0001; q += 0.05)
+  const double q = 1.5;
+  const double K = static_cast<double>(v.size());
+  auto excess = [&](double tip) {
+    double sum = 0.0;
+    for (double x : v)
+      sum += std::pow(x - tip, q);
+    return sum - K * (K + 1.0) / 2.0 * std::pow(v.front() - tip, q);
+  };
+  double lo = v.front() - reach, hi = v.front();
+  if (excess(lo) > 0.0)
+    return lo; // the samples thin out slower than any tip within reach: the farthest allowed
+  for (int iteration = 0; iteration < 100; ++iteration)
   {
-    Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
-    Eigen::Vector2d r = Eigen::Vector2d::Zero();
-    for (std::size_t i = 0; i < v.size(); ++i)
-    {
-      const Eigen::Vector2d b(1.0, std::pow(static_cast<double>(i + 1), 1.0 / q));
-      A += b * b.transpose();
-      r += v[i] * b;
-    }
-    const Eigen::Vector2d x = A.ldlt().solve(r);
-    double sse = 0.0;
-    for (std::size_t i = 0; i < v.size(); ++i)
-    {
-      const double e = v[i] - x[0] - x[1] * std::pow(static_cast<double>(i + 1), 1.0 / q);
-      sse += e * e;
-    }
-    if (sse < best && x[1] >= 0.0)
-    {
-      best = sse;
-      tip = x[0];
-    }
+    const double mid = 0.5 * (lo + hi);
+    (excess(mid) > 0.0 ? hi : lo) = mid;
   }
-  return std::clamp(tip, v.front() - reach, v.front());
+  return 0.5 * (lo + hi);
 }
 } // namespace
 

@@ -111,9 +111,12 @@ bool TensorSurface::Fit(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sR
   this->Nt = std::max(1, nt);
   this->Ns = std::max(1, ns);
   const int n0 = this->Nt + 3, n1 = this->Ns + 3, n = n0 * n1;
-  // The normal equations are accumulated densely (16 x 16 per point), then solved as the sparse system they are.
-  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
-  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(n, 3);
+  // The normal equations: each point adds a 16 x 16 block over the 4 x 4 controls of its knot cell. Blocks are
+  // summed per cell first (contiguous memory: on 10^6 points scattered updates of the big matrix were memory-bound),
+  // then added into the matrix, which is solved as the sparse system it is.
+  const int cells = std::max(1, (n0 - 3) * (n1 - 3));
+  std::vector<double> gram(static_cast<std::size_t>(cells) * 256, 0.0), rhs(static_cast<std::size_t>(cells) * 48, 0.0);
+  std::vector<int> firstT(cells, -1), firstS(cells, -1);
   double total = 0.0;
   for (std::size_t i = 0; i < ts.size(); ++i)
   {
@@ -121,21 +124,44 @@ bool TensorSurface::Fit(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sR
       continue;
     const UniformBasis bt(this->T[0], this->T[1], this->Nt, ts[i].x());
     const UniformBasis bs(this->S[0], this->S[1], this->Ns, ts[i].y());
-    int id[16];
+    const int cell = bt.first + (n0 - 3) * bs.first;
+    firstT[cell] = bt.first;
+    firstS[cell] = bs.first;
     double v[16];
     for (int q = 0; q < 4; ++q)
       for (int p = 0; p < 4; ++p)
-      {
-        id[p + 4 * q] = bt.first + p + n0 * (bs.first + q);
         v[p + 4 * q] = bt.value[p] * bs.value[q];
-      }
+    double* g = &gram[static_cast<std::size_t>(cell) * 256];
+    double* r = &rhs[static_cast<std::size_t>(cell) * 48];
     for (int a = 0; a < 16; ++a)
     {
-      r.row(id[a]) += w[i] * v[a] * X[i].transpose();
+      const double wa = w[i] * v[a];
+      for (int c = 0; c < 3; ++c)
+        r[3 * a + c] += wa * X[i][c];
       for (int b = 0; b < 16; ++b)
-        M(id[a], id[b]) += w[i] * v[a] * v[b];
+        g[16 * a + b] += wa * v[b];
     }
     total += w[i];
+  }
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(n, 3);
+  for (int cell = 0; cell < cells; ++cell)
+  {
+    if (firstT[cell] < 0)
+      continue;
+    int id[16];
+    for (int q = 0; q < 4; ++q)
+      for (int p = 0; p < 4; ++p)
+        id[p + 4 * q] = firstT[cell] + p + n0 * (firstS[cell] + q);
+    const double* g = &gram[static_cast<std::size_t>(cell) * 256];
+    const double* h = &rhs[static_cast<std::size_t>(cell) * 48];
+    for (int a = 0; a < 16; ++a)
+    {
+      for (int c = 0; c < 3; ++c)
+        r(id[a], c) += h[3 * a + c];
+      for (int b = 0; b < 16; ++b)
+        M(id[a], id[b]) += g[16 * a + b];
+    }
   }
   if (!(total > 0.0))
     return false;

@@ -7,8 +7,7 @@ namespace plantmorph
 {
 
 PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell)
-  : Points(points)
-  , Cell(cell)
+  : Cell(cell)
 {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(0.0), hi = lo;
   if (!points.empty())
@@ -35,9 +34,11 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell)
   }
   std::sort(keyed.begin(), keyed.end());
   this->Order.resize(keyed.size());
+  this->Sorted.resize(keyed.size());
   for (std::size_t i = 0; i < keyed.size(); ++i)
   {
     this->Order[i] = keyed[i].second;
+    this->Sorted[i] = points[keyed[i].second];
     auto it = this->Ranges.find(keyed[i].first);
     if (it == this->Ranges.end())
       this->Ranges.emplace(keyed[i].first, std::make_pair(static_cast<int>(i), static_cast<int>(i + 1)));
@@ -62,7 +63,7 @@ Eigen::Vector3i PointGrid::CellOf(const Eigen::Vector3d& p) const
 std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q, int k, int skip, double reach) const
 {
   std::vector<std::pair<double, int>> best;
-  if (k <= 0 || this->Points.empty())
+  if (k <= 0 || this->Sorted.empty())
     return best;
   const Eigen::Vector3i c = this->CellOf(q);
   // q may lie outside the grid (its cell clamped): the shells' reach then starts that far behind.
@@ -99,7 +100,7 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
             const int id = this->Order[o];
             if (id == skip)
               continue;
-            const double d2 = (this->Points[id] - q).squaredNorm();
+            const double d2 = (this->Sorted[o] - q).squaredNorm();
             if (d2 > reach * reach)
               continue;
             if (static_cast<int>(best.size()) < k)
@@ -142,7 +143,7 @@ void PointGrid::Within(const Eigen::Vector3d& q, double radius, std::vector<int>
         if (it == this->Ranges.end())
           continue;
         for (int o = it->second.first; o < it->second.second; ++o)
-          if ((this->Points[this->Order[o]] - q).squaredNorm() <= r2)
+          if ((this->Sorted[o] - q).squaredNorm() <= r2)
             out.push_back(this->Order[o]);
       }
 }

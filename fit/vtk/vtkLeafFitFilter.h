@@ -13,11 +13,18 @@
  * base to apex): LeafOutlineSource with Model B-spline, BSplinePreset Custom and these three lists rebuilds the
  * leaf where its curvature lets LeafOutlineSource mesh it in one plane; `.FlatMidveinPoints`,
  * `.FlatLeftMarginPoints`, `.FlatRightMarginPoints` give the same leaf laid flat (intrinsic coordinates, base at
- * the origin, midvein along +Y), which always rebuilds (then curl it with LeafCurlFilter). Port 1, **Outline**: left margin, right margin and midvein of each leaf (cell `Region` 4, 4, 1, `LeafId`).
+ * the origin, midvein along +Y), which rebuilds (then curl it with LeafCurlFilter): when ModelControlPoints
+ * interpolating points fold it (a margin close to the midvein), fewer are given (by twos, down to 3; the count used
+ * is `.ControlPoints`), and if none rebuilds a warning names the leaf. Port 1, **Outline**: left margin, right margin and midvein of each leaf (cell `Region` 4, 4, 1, `LeafId`).
  * Port 2, **Traits**: a vtkTable, one row per leaf (LeafId, then plantmorph::TraitNames()). Port 3, **Scan**: the
  * input points (scaled) with their point data and `FitDistance`, `Inlier`, `LeafId`.
  *
- * Each rank fits the leaves it holds (no communication). Bad input (too few points, a line, NaN, no leaf shape, a
+ * Under MPI each rank fits its own leaves (LeafFitExchange.h): every leaf gets one owner rank (largest leaves
+ * first, each to the least loaded rank), its points are sent there from every rank that holds some, and it is
+ * fitted there; Blade and Outline stay on the owner, Scan on the ranks holding the points (the owners send
+ * FitDistance and Inlier back), and the Traits rows are gathered onto rank 0 in LeafId order. Each leaf is fitted on
+ * its points in lexicographic order of their coordinates, so the results are bit-identical to a serial run
+ * whatever the ranks and however the points were split. Bad input (too few points, a line, NaN, no leaf shape, a
  * missing LeafIdArray, properties out of range) gives an error naming the problem and empty outputs.
  */
 #ifndef vtkLeafFitFilter_h

@@ -38,6 +38,7 @@ wilt = WiltingSimulator(Input=OutputPort(spline_veins, 1), Veins=OutputPort(spli
 tree = TreeFromSketchSource()
 cloud = LeafCloudReader(FileName=soybean_file)
 comparison = CloudComparisonFilter(Input=cloud, Reference=spline, Scale=0.1)
+leaf_fit = LeafFitFilter(Input=cloud)
 tip = LeafCloudReader(FileName=tip_file)
 trajectory = TrajectoryComparisonFilter(Input=OutputPort(tip, 1), Simulated=OutputPort(tip, 1),
                                         MeasuredColumns=["measured_x", "measured_y", "measured_z"],
@@ -49,6 +50,8 @@ split_curl = LeafCurlFilter(Input=split, LongitudinalAngle=60.0, TransverseAngle
 split_loop = AdaptiveLoopFilter(Input=split, MaximumLevel=1)
 split_comparison = CloudComparisonFilter(Input=D3(Input=cloud, BoundaryMode="Assign cells uniquely"), Reference=spline,
                                          Scale=0.1)
+# The leaf fit of a scan split over the ranks: its points are sent to the leaf's one owner (rank 0, one leaf).
+split_fit = LeafFitFilter(Input=D3(Input=cloud, BoundaryMode="Assign cells uniquely"))
 # VirtualScanner: a noisy scan of the tree (made on rank 0, its beams shared over the ranks), and a scan of the split leaf from above (gathered whole).
 scan = VirtualScanner(Input=tree, Positions=[0.0, -40.0, 5.0, 30.0, 10.0, 8.0], LookAt=[0.0, 0.0, 5.0], AngularStep=0.5,
                       RangeNoise=0.01, DropoutProbability=0.1, Seed=3)
@@ -69,6 +72,7 @@ OUTPUTS = {
     "tree_surface": (tree, 0), "tree_skeleton": (tree, 1), "tree_leaves": (tree, 2),
     "cloud_reader": (cloud, 0), "cloud_distances": (comparison, 0), "cloud_histogram": (comparison, 1),
     "cloud_statistics": (comparison, 2),
+    "fit_blade": (leaf_fit, 0), "fit_outline": (leaf_fit, 1), "fit_traits": (leaf_fit, 2), "fit_scan": (leaf_fit, 3),
     "trajectory_samples": (trajectory, 0), "trajectory_summary": (trajectory, 1),
     "scanner_cloud": (scan, 0), "scanner_setup": (scan, 1),
 }
@@ -111,6 +115,7 @@ if arguments.write_reference:
         reference[name + "_points"] = sorted_points(data).tolist()
         reference[name + "_count"] = [data.GetNumberOfPoints(), data.GetNumberOfCells()]
     reference["split_comparison"] = statistics(servermanager.Fetch(split_comparison, idx=2))
+    reference["split_fit"] = statistics(servermanager.Fetch(split_fit, idx=2))
     with open(reference_file, "w") as f:
         json.dump(reference, f)
     print("reference written to", reference_file)
@@ -157,4 +162,7 @@ checks.check(set(measured) == set(reference["split_comparison"]) and all(
     abs(measured[k] - v) <= 1e-9 * max(1.0, abs(v)) for k, v in reference["split_comparison"].items()),
     "a cloud split over %d ranks gives the serial statistics: %s" % (ranks, {
         k: (measured.get(k), v) for k, v in reference["split_comparison"].items() if measured.get(k) != v}))
+measured = statistics(servermanager.Fetch(split_fit, idx=2))
+checks.check(measured == reference["split_fit"], "a scan split over %d ranks gives the serial traits bit for bit: %s" % (
+    ranks, {k: (measured.get(k), v) for k, v in reference["split_fit"].items() if measured.get(k) != v}))
 checks.finish()

@@ -127,4 +127,13 @@ comparison.Scale = 1
 trajectory.MeasuredColumns = ["x", "y", "nope"]
 checks.check(servermanager.Fetch(trajectory).GetNumberOfRows() == 0, "unknown column: empty output")
 
+# Seed is ignored (registration subsamples by stride) and hidden, but kept so that old state files set it: two seeds
+# give the same registered result on a cloud larger than RegistrationLandmarks.
+seeded = [CloudComparisonFilter(Input=reader, Reference=LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber"),
+                                Scale=0.1, Registration="Rigid + scale ICP", RegistrationLandmarks=500, Seed=seed)
+          for seed in (0, 12345)]
+matrices = [vtk_to_numpy(servermanager.Fetch(f).GetFieldData().GetArray("PlantMorph.MeasuredTransform")) for f in seeded]
+checks.check(numpy.array_equal(matrices[0], matrices[1]) and seeded[1].Seed == 12345,
+             "Seed is accepted and ignored: the same transform with two seeds")
+
 checks.finish()
