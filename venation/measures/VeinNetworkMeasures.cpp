@@ -165,4 +165,44 @@ std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
   return {};
 }
 
+std::string MeasureVenation(const VenationBlade& blade, const VenationResult& veins, VeinNetworkMeasures& measures)
+{
+  measures = VeinNetworkMeasures();
+  BladeLocator locator;
+  const std::string error = locator.Build(blade);
+  if (!error.empty())
+    return error;
+  std::vector<Eigen::Vector2d> margin;
+  if (!locator.BoundaryLoops().empty())
+    for (int id : locator.BoundaryLoops().front())
+      margin.push_back(blade.points[id]);
+  const double length = veins.leafLength > 0.0 ? veins.leafLength : (locator.Upper() - locator.Lower()).norm();
+  return MeasureVeinNetwork(veins, locator.Area(), margin, 1e-6 * length, measures);
+}
+
+AreoleHistogram MakeAreoleHistogram(const std::vector<double>& areas, int bins)
+{
+  AreoleHistogram h;
+  if (areas.empty() || bins < 1)
+    return h;
+  const auto [lowest, highest] = std::minmax_element(areas.begin(), areas.end());
+  const double low = *lowest;
+  double width = (*highest - low) / bins;
+  if (!(width > 0.0))
+    width = (low != 0.0 ? std::abs(low) : 1.0) * 1e-6 / bins;
+  h.count.assign(static_cast<std::size_t>(bins), 0);
+  for (int b = 0; b < bins; ++b)
+  {
+    h.lower.push_back(low + b * width);
+    h.upper.push_back(b + 1 == bins ? std::max(*highest, low + bins * width) : low + (b + 1) * width);
+  }
+  for (double a : areas)
+  {
+    const double at = std::floor((a - low) / width);
+    const int b = std::clamp(static_cast<int>(std::min(at, static_cast<double>(bins))), 0, bins - 1);
+    ++h.count[static_cast<std::size_t>(b)];
+  }
+  return h;
+}
+
 } // namespace plantmorph
