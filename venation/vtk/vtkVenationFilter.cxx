@@ -6,6 +6,7 @@
 #include "VenationGrowth.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 #include <plantmorph/PlaneFit.h>
 
 #include "vtkCellArray.h"
@@ -115,6 +116,201 @@ void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
     AddFieldValue(fd, (std::string("PlantMorph.Venation.") + name).c_str(), value);
   }
 }
+/// The input blade as flat arrays: points, LeafUV, triangles.
+struct InputBlade
+{
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+/// Reads the blade's points, LeafUV and triangles; a message naming what is wrong when it cannot be used.
+std::string ReadBlade(vtkPolyData* input, InputBlade& blade)
+{
+  vtkDataArray* uvArray = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
+  if (!uvArray || uvArray->GetNumberOfComponents() != 2)
+  {
+    return "Input: the blade needs the point array LeafUV with 2 components (LeafOutlineSource's blades have it)";
+  }
+  const vtkIdType n = input->GetNumberOfPoints();
+  blade.points.resize(static_cast<std::size_t>(n));
+  blade.uv.resize(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    input->GetPoint(i, blade.points[i].data());
+    blade.uv[i] = Eigen::Vector2d(uvArray->GetComponent(i, 0), uvArray->GetComponent(i, 1));
+  }
+  vtkCellArray* polys = input->GetPolys();
+  vtkNew<vtkIdList> ids;
+  vtkIdType cell = 0;
+  for (polys->InitTraversal(); polys->GetNextCell(ids); ++cell)
+  {
+    if (ids->GetNumberOfIds() != 3)
+    {
+      std::ostringstream message;
+      message << "Input: polygon " << cell << " has " << ids->GetNumberOfIds()
+              << " points; the blade must be triangles (apply Triangulate first)";
+      return message.str();
+    }
+    blade.triangles.push_back(
+      { static_cast<int>(ids->GetId(0)), static_cast<int>(ids->GetId(1)), static_cast<int>(ids->GetId(2)) });
+  }
+  if (input->GetNumberOfStrips() > 0)
+  {
+    return "Input: the blade has triangle strips; apply Triangulate first";
+  }
+  if (blade.triangles.empty())
+  {
+    return "Input: the blade has no triangles";
+  }
+  return {};
+}
+
+/// Port 0's geometry: the network's points mapped onto the surface (with VeinWidth, Region, LeafUV and the
+/// blade's TCoords interpolated) and one polyline per vein (VeinOrder, Region).
+std::string WriteVeins(
+  vtkPolyData* input, const InputBlade& blade, const plantmorph::VenationResult& result, vtkPolyData* veins)
+{
+  const std::size_t count = result.nodes.size();
+  vtkNew<vtkPoints> veinPoints;
+  veinPoints->SetDataType(input->GetPoints()->GetDataType());
+  veinPoints->SetNumberOfPoints(static_cast<vtkIdType>(count));
+  vtkNew<vtkDoubleArray> width, veinUV;
+  width->SetName(plantmorph::arrays::VeinWidth);
+  width->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  veinUV->SetName(plantmorph::arrays::LeafUV);
+  veinUV->SetNumberOfComponents(2);
+  veinUV->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  vtkNew<vtkIntArray> pointRegion;
+  pointRegion->SetName(plantmorph::arrays::Region);
+  pointRegion->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  vtkDataArray* tcoords = input->GetPointData()->GetTCoords();
+  vtkNew<vtkFloatArray> veinTCoords;
+  if (tcoords && tcoords->GetNumberOfComponents() == 2)
+  {
+    veinTCoords->SetName(tcoords->GetName() ? tcoords->GetName() : plantmorph::arrays::TCoords);
+    veinTCoords->SetNumberOfComponents(2);
+    veinTCoords->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  }
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const plantmorph::BladeLocation& at = result.location[i];
+    if (at.triangle < 0)
+    {
+      return "internal: a vein point fell outside the blade";
+    }
+    const auto& t = blade.triangles[at.triangle];
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    Eigen::Vector2d w = Eigen::Vector2d::Zero(), tc = Eigen::Vector2d::Zero();
+    for (int k = 0; k < 3; ++k)
+    {
+      x += at.weights[k] * blade.points[t[k]];
+      w += at.weights[k] * blade.uv[t[k]];
+      if (veinTCoords->GetNumberOfTuples() > 0)
+        tc += at.weights[k] * Eigen::Vector2d(tcoords->GetComponent(t[k], 0), tcoords->GetComponent(t[k], 1));
+    }
+    veinPoints->SetPoint(static_cast<vtkIdType>(i), x.data());
+    width->SetValue(static_cast<vtkIdType>(i), result.width[i]);
+    veinUV->SetTuple2(static_cast<vtkIdType>(i), w.x(), w.y());
+    pointRegion->SetValue(static_cast<vtkIdType>(i), std::min<int>(result.order[i], plantmorph::RegionTertiaryVein));
+    if (veinTCoords->GetNumberOfTuples() > 0)
+      veinTCoords->SetTuple2(static_cast<vtkIdType>(i), tc.x(), tc.y());
+  }
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIntArray> veinOrder, cellRegion;
+  veinOrder->SetName(plantmorph::arrays::VeinOrder);
+  cellRegion->SetName(plantmorph::arrays::Region);
+  for (const auto& line : result.veins)
+  {
+    lines->InsertNextCell(static_cast<vtkIdType>(line.nodes.size()));
+    for (int id : line.nodes)
+      lines->InsertCellPoint(id);
+    veinOrder->InsertNextValue(line.order);
+    cellRegion->InsertNextValue(std::min<int>(line.order, plantmorph::RegionTertiaryVein));
+  }
+  veins->SetPoints(veinPoints);
+  veins->SetLines(lines);
+  veins->GetPointData()->AddArray(width);
+  veins->GetPointData()->SetActiveScalars(plantmorph::arrays::VeinWidth);
+  veins->GetPointData()->AddArray(pointRegion);
+  veins->GetPointData()->AddArray(veinUV);
+  if (veinTCoords->GetNumberOfTuples() > 0)
+    veins->GetPointData()->SetTCoords(veinTCoords);
+  veins->GetCellData()->AddArray(veinOrder);
+  veins->GetCellData()->AddArray(cellRegion);
+  return {};
+}
+
+/// Port 1: the blade passed through, its points raised along the normals over the veins when depth is not 0.
+void WriteBlade(vtkPolyData* input, const InputBlade& blade, const plantmorph::VenationBlade& plane,
+  const plantmorph::VenationResult& result, double depth, vtkPolyData* bladeOut)
+{
+  bladeOut->ShallowCopy(input);
+  if (depth != 0.0)
+  {
+    const std::vector<double> heights = plantmorph::VeinReliefHeights(plane, result, depth);
+    const vtkIdType n = input->GetNumberOfPoints();
+    std::vector<Eigen::Vector3d> normals(blade.points.size(), Eigen::Vector3d::Zero());
+    vtkDataArray* given = input->GetPointData()->GetNormals();
+    if (given && given->GetNumberOfComponents() == 3)
+    {
+      for (vtkIdType i = 0; i < n; ++i)
+        given->GetTuple(i, normals[i].data());
+    }
+    else
+    {
+      for (const auto& t : blade.triangles)
+      {
+        const Eigen::Vector3d face =
+          (blade.points[t[1]] - blade.points[t[0]]).cross(blade.points[t[2]] - blade.points[t[0]]);
+        for (int k = 0; k < 3; ++k)
+          normals[t[k]] += face;
+      }
+    }
+    vtkNew<vtkPoints> raised;
+    raised->SetDataType(input->GetPoints()->GetDataType());
+    raised->SetNumberOfPoints(n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      const double length = normals[i].norm();
+      const Eigen::Vector3d up = length > 0.0 ? Eigen::Vector3d(normals[i] / length) : Eigen::Vector3d::UnitZ();
+      const Eigen::Vector3d x = blade.points[i] + heights[i] * up;
+      raised->SetPoint(i, x.data());
+    }
+    bladeOut->SetPoints(raised);
+  }
+  AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", depth);
+}
+
+/// Field data on port 0: the network's measures and what the veins grew with (parameters, seed, preset, plane).
+void WriteVeinFieldData(vtkFieldData* fd, const plantmorph::VenationResult& result,
+  const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset, int seed, bool flat)
+{
+  const plantmorph::VenationStatistics& s = result.statistics;
+  vtkNew<vtkDoubleArray> lengths;
+  lengths->SetName("PlantMorph.VeinLength");
+  lengths->SetNumberOfComponents(4);
+  lengths->SetComponentName(0, "Primary");
+  lengths->SetComponentName(1, "Secondary");
+  lengths->SetComponentName(2, "Tertiary");
+  lengths->SetComponentName(3, "Veinlet");
+  lengths->InsertNextTuple4(s.length[1], s.length[2], s.length[3], s.length[4]);
+  fd->AddArray(lengths);
+  AddFieldValue(fd, "PlantMorph.VeinDensity", s.density);
+  AddFieldValue(fd, "PlantMorph.BladeArea", s.bladeArea);
+  AddFieldValue(fd, "PlantMorph.AreoleCount", static_cast<double>(s.areoles));
+  AddFieldValue(fd, "PlantMorph.AreoleAreaMean", s.areoleAreaMean);
+  AddFieldValue(fd, "PlantMorph.AreoleAreaStd", s.areoleAreaStd);
+  AddFieldValue(fd, "PlantMorph.BranchPoints", static_cast<double>(s.branchPoints));
+  AddFieldValue(fd, "PlantMorph.FreeEnds", static_cast<double>(s.freeEnds));
+  AddFieldValue(fd, "PlantMorph.VeinSegments", static_cast<double>(s.segments));
+  AddFieldValue(fd, "PlantMorph.Seed", seed);
+  AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
+  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
+  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
+  AddParameters(fd, p);
+  AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -183,57 +379,24 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
 }
 
 //------------------------------------------------------------------------------
-int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
-  vtkPolyData* veins = vtkPolyData::GetData(outputVector, 0);
-  vtkPolyData* bladeOut = vtkPolyData::GetData(outputVector, 1);
-  if (!input || !veins || !bladeOut)
-  {
-    return 0;
-  }
-  veins->Initialize();
-  bladeOut->Initialize();
-  // Under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split over ranks).
-  const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
-  input = wholeBlade.Get();
-  if (input->GetNumberOfPoints() == 0)
-  {
-    // Another rank: the blade is on rank 0, nothing to grow here, no error. On rank 0 the whole blade is empty.
-    if (plantmorph::IsFirstRank())
-    {
-      vtkWarningMacro(<< "the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
-    }
-    return 1;
-  }
-  auto fail = [&](const std::string& message) {
-    vtkErrorMacro(<< message);
-    veins->Initialize();
-    bladeOut->Initialize();
-    return 1;
-  };
-
-  // Parameters: a preset, or the properties.
-  std::ostringstream message;
   if (this->Preset < 0 || this->Preset >= plantmorph::VenationPresetCount)
   {
-    message << "Preset = " << this->Preset << " is outside the accepted range [0, "
-            << plantmorph::VenationPresetCount - 1 << "]";
-    return fail(message.str());
+    return plantmorph::OutOfRange(
+      "Preset", this->Preset, "[0, " + std::to_string(plantmorph::VenationPresetCount - 1) + "]");
   }
   if (!std::isfinite(this->EmbossDepth) || std::abs(this->EmbossDepth) > 1e3)
   {
-    message << "EmbossDepth = " << this->EmbossDepth << " is outside the accepted range [-1e3, 1e3]";
-    return fail(message.str());
+    return plantmorph::OutOfRange("EmbossDepth", this->EmbossDepth, "[-1e3, 1e3]");
   }
   if (this->MaxSegments < 100 || this->MaxSegments > 100000000)
   {
-    message << "MaxSegments = " << this->MaxSegments << " is outside the accepted range [100, 1e8]";
-    return fail(message.str());
+    return plantmorph::OutOfRange("MaxSegments", this->MaxSegments, "[100, 1e8]");
   }
   const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
   this->WarnAboutPresetOverrides();
-  plantmorph::VenationParameters p = plantmorph::MakeVenationPreset(preset);
+  p = plantmorph::MakeVenationPreset(preset);
   if (preset == plantmorph::VenationPreset::Custom)
   {
     p.pattern = static_cast<plantmorph::VenationPattern>(this->Pattern);
@@ -272,186 +435,63 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   }
   p.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
   p.maxSegments = static_cast<std::size_t>(this->MaxSegments);
+  return {};
+}
 
-  // The blade: points, LeafUV, triangles.
-  vtkDataArray* uvArray = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
-  if (!uvArray || uvArray->GetNumberOfComponents() != 2)
+//------------------------------------------------------------------------------
+int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* veins = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* bladeOut = vtkPolyData::GetData(outputVector, 1);
+  if (!input || !veins || !bladeOut)
   {
-    return fail("Input: the blade needs the point array LeafUV with 2 components (LeafOutlineSource's blades have "
-                "it)");
+    return 0;
   }
-  const vtkIdType n = input->GetNumberOfPoints();
-  std::vector<Eigen::Vector3d> points(static_cast<std::size_t>(n));
-  std::vector<Eigen::Vector2d> uv(static_cast<std::size_t>(n));
-  for (vtkIdType i = 0; i < n; ++i)
+  veins->Initialize();
+  bladeOut->Initialize();
+  // Under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split over ranks).
+  const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
+  input = wholeBlade.Get();
+  if (input->GetNumberOfPoints() == 0)
   {
-    input->GetPoint(i, points[i].data());
-    uv[i] = Eigen::Vector2d(uvArray->GetComponent(i, 0), uvArray->GetComponent(i, 1));
-  }
-  std::vector<std::array<int, 3>> triangles;
-  {
-    vtkCellArray* polys = input->GetPolys();
-    vtkNew<vtkIdList> ids;
-    vtkIdType cell = 0;
-    for (polys->InitTraversal(); polys->GetNextCell(ids); ++cell)
+    // Another rank: the blade is on rank 0, nothing to grow here, no error. On rank 0 the whole blade is empty.
+    if (plantmorph::IsFirstRank())
     {
-      if (ids->GetNumberOfIds() != 3)
-      {
-        message << "Input: polygon " << cell << " has " << ids->GetNumberOfIds()
-                << " points; the blade must be triangles (apply Triangulate first)";
-        return fail(message.str());
-      }
-      triangles.push_back({ static_cast<int>(ids->GetId(0)), static_cast<int>(ids->GetId(1)),
-        static_cast<int>(ids->GetId(2)) });
+      vtkWarningMacro(<< "the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
     }
+    return 1;
   }
-  if (input->GetNumberOfStrips() > 0)
-  {
-    return fail("Input: the blade has triangle strips; apply Triangulate first");
-  }
-  if (triangles.empty())
-  {
-    return fail("Input: the blade has no triangles");
-  }
-  bool flat = true;
-  plantmorph::VenationBlade blade{ WorkingPlane(points, uv, triangles, flat), uv, triangles };
+  auto fail = [&](const std::string& message) {
+    vtkErrorMacro(<< message);
+    veins->Initialize();
+    bladeOut->Initialize();
+    return 1;
+  };
 
-  plantmorph::VenationResult result;
-  const std::string error = plantmorph::GrowVenation(blade, p, result, plantmorph::Progress(this, 0.0, 0.95));
+  plantmorph::VenationParameters p;
+  std::string error = this->MakeParameters(p);
+  InputBlade blade;
+  if (error.empty())
+    error = ReadBlade(input, blade);
   if (!error.empty())
   {
     return fail(error);
   }
-
-  // Port 0: the veins on the surface.
-  const std::size_t count = result.nodes.size();
-  vtkNew<vtkPoints> veinPoints;
-  veinPoints->SetDataType(input->GetPoints()->GetDataType());
-  veinPoints->SetNumberOfPoints(static_cast<vtkIdType>(count));
-  vtkNew<vtkDoubleArray> width, veinUV;
-  width->SetName(plantmorph::arrays::VeinWidth);
-  width->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  veinUV->SetName(plantmorph::arrays::LeafUV);
-  veinUV->SetNumberOfComponents(2);
-  veinUV->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  vtkNew<vtkIntArray> pointRegion;
-  pointRegion->SetName(plantmorph::arrays::Region);
-  pointRegion->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  vtkDataArray* tcoords = input->GetPointData()->GetTCoords();
-  vtkNew<vtkFloatArray> veinTCoords;
-  if (tcoords && tcoords->GetNumberOfComponents() == 2)
+  bool flat = true;
+  const plantmorph::VenationBlade plane{ WorkingPlane(blade.points, blade.uv, blade.triangles, flat), blade.uv,
+    blade.triangles };
+  plantmorph::VenationResult result;
+  error = plantmorph::GrowVenation(plane, p, result, plantmorph::Progress(this, 0.0, 0.95));
+  if (error.empty())
+    error = WriteVeins(input, blade, result, veins);
+  if (!error.empty())
   {
-    veinTCoords->SetName(tcoords->GetName() ? tcoords->GetName() : plantmorph::arrays::TCoords);
-    veinTCoords->SetNumberOfComponents(2);
-    veinTCoords->SetNumberOfTuples(static_cast<vtkIdType>(count));
+    return fail(error);
   }
-  for (std::size_t i = 0; i < count; ++i)
-  {
-    const plantmorph::BladeLocation& at = result.location[i];
-    if (at.triangle < 0)
-    {
-      return fail("internal: a vein point fell outside the blade");
-    }
-    const auto& t = triangles[at.triangle];
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    Eigen::Vector2d w = Eigen::Vector2d::Zero(), tc = Eigen::Vector2d::Zero();
-    for (int k = 0; k < 3; ++k)
-    {
-      x += at.weights[k] * points[t[k]];
-      w += at.weights[k] * uv[t[k]];
-      if (veinTCoords->GetNumberOfTuples() > 0)
-        tc += at.weights[k] * Eigen::Vector2d(tcoords->GetComponent(t[k], 0), tcoords->GetComponent(t[k], 1));
-    }
-    veinPoints->SetPoint(static_cast<vtkIdType>(i), x.data());
-    width->SetValue(static_cast<vtkIdType>(i), result.width[i]);
-    veinUV->SetTuple2(static_cast<vtkIdType>(i), w.x(), w.y());
-    pointRegion->SetValue(static_cast<vtkIdType>(i), std::min<int>(result.order[i], plantmorph::RegionTertiaryVein));
-    if (veinTCoords->GetNumberOfTuples() > 0)
-      veinTCoords->SetTuple2(static_cast<vtkIdType>(i), tc.x(), tc.y());
-  }
-  vtkNew<vtkCellArray> lines;
-  vtkNew<vtkIntArray> veinOrder, cellRegion;
-  veinOrder->SetName(plantmorph::arrays::VeinOrder);
-  cellRegion->SetName(plantmorph::arrays::Region);
-  for (const auto& line : result.veins)
-  {
-    lines->InsertNextCell(static_cast<vtkIdType>(line.nodes.size()));
-    for (int id : line.nodes)
-      lines->InsertCellPoint(id);
-    veinOrder->InsertNextValue(line.order);
-    cellRegion->InsertNextValue(std::min<int>(line.order, plantmorph::RegionTertiaryVein));
-  }
-  veins->SetPoints(veinPoints);
-  veins->SetLines(lines);
-  veins->GetPointData()->AddArray(width);
-  veins->GetPointData()->SetActiveScalars(plantmorph::arrays::VeinWidth);
-  veins->GetPointData()->AddArray(pointRegion);
-  veins->GetPointData()->AddArray(veinUV);
-  if (veinTCoords->GetNumberOfTuples() > 0)
-    veins->GetPointData()->SetTCoords(veinTCoords);
-  veins->GetCellData()->AddArray(veinOrder);
-  veins->GetCellData()->AddArray(cellRegion);
-
-  vtkFieldData* fd = veins->GetFieldData();
-  const plantmorph::VenationStatistics& s = result.statistics;
-  vtkNew<vtkDoubleArray> lengths;
-  lengths->SetName("PlantMorph.VeinLength");
-  lengths->SetNumberOfComponents(4);
-  lengths->SetComponentName(0, "Primary");
-  lengths->SetComponentName(1, "Secondary");
-  lengths->SetComponentName(2, "Tertiary");
-  lengths->SetComponentName(3, "Veinlet");
-  lengths->InsertNextTuple4(s.length[1], s.length[2], s.length[3], s.length[4]);
-  fd->AddArray(lengths);
-  AddFieldValue(fd, "PlantMorph.VeinDensity", s.density);
-  AddFieldValue(fd, "PlantMorph.BladeArea", s.bladeArea);
-  AddFieldValue(fd, "PlantMorph.AreoleCount", static_cast<double>(s.areoles));
-  AddFieldValue(fd, "PlantMorph.AreoleAreaMean", s.areoleAreaMean);
-  AddFieldValue(fd, "PlantMorph.AreoleAreaStd", s.areoleAreaStd);
-  AddFieldValue(fd, "PlantMorph.BranchPoints", static_cast<double>(s.branchPoints));
-  AddFieldValue(fd, "PlantMorph.FreeEnds", static_cast<double>(s.freeEnds));
-  AddFieldValue(fd, "PlantMorph.VeinSegments", static_cast<double>(s.segments));
-  AddFieldValue(fd, "PlantMorph.Seed", this->Seed);
-  AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
-  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
-  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
-  AddParameters(fd, p);
-  AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
-
-  // Port 1: the blade, raised over the veins when asked.
-  bladeOut->ShallowCopy(input);
-  if (this->EmbossDepth != 0.0)
-  {
-    const std::vector<double> heights = plantmorph::VeinReliefHeights(blade, result, this->EmbossDepth);
-    std::vector<Eigen::Vector3d> normals(points.size(), Eigen::Vector3d::Zero());
-    vtkDataArray* given = input->GetPointData()->GetNormals();
-    if (given && given->GetNumberOfComponents() == 3)
-    {
-      for (vtkIdType i = 0; i < n; ++i)
-        given->GetTuple(i, normals[i].data());
-    }
-    else
-    {
-      for (const auto& t : triangles)
-      {
-        const Eigen::Vector3d face = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
-        for (int k = 0; k < 3; ++k)
-          normals[t[k]] += face;
-      }
-    }
-    vtkNew<vtkPoints> raised;
-    raised->SetDataType(input->GetPoints()->GetDataType());
-    raised->SetNumberOfPoints(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      const double length = normals[i].norm();
-      const Eigen::Vector3d up = length > 0.0 ? Eigen::Vector3d(normals[i] / length) : Eigen::Vector3d::UnitZ();
-      const Eigen::Vector3d x = points[i] + heights[i] * up;
-      raised->SetPoint(i, x.data());
-    }
-    bladeOut->SetPoints(raised);
-  }
-  AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", this->EmbossDepth);
+  WriteVeinFieldData(veins->GetFieldData(), result, p, static_cast<plantmorph::VenationPreset>(this->Preset),
+    this->Seed, flat);
+  WriteBlade(input, blade, plane, result, this->EmbossDepth, bladeOut);
   this->UpdateProgress(1.0);
   return 1;
 }

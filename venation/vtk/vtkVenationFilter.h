@@ -60,6 +60,13 @@
 #include "PlantMorphVenationVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <string> // for MakeParameters
+
+namespace plantmorph
+{
+struct VenationParameters;
+}
+
 class PLANTMORPHVENATIONVTK_EXPORT vtkVenationFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -239,6 +246,9 @@ protected:
   /// With a named Preset, warns about each property only Custom uses that was changed from its default (it is not
   /// what the output has).
   void WarnAboutPresetOverrides();
+  /// The parameters to grow with (the named preset's, or the properties for Custom); a message naming the first
+  /// out-of-range property of the wrapper's own, else empty (the algorithm validates the rest).
+  std::string MakeParameters(plantmorph::VenationParameters& parameters);
 
   int Preset = 1;
   int Pattern = 2;
