@@ -3,6 +3,7 @@
 
 #include "PlantMorphFieldData.h"
 #include "PlantMorphWholeInput.h"
+#include "VeinNetworkMeasures.h"
 #include "VenationGrowth.h"
 
 #include <plantmorph/DataContract.h>
@@ -16,6 +17,7 @@
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -25,6 +27,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkStringArray.h"
+#include "vtkTable.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -283,10 +286,11 @@ void WriteBlade(vtkPolyData* input, const InputBlade& blade, const plantmorph::V
 }
 
 /// Field data on port 0: the network's measures and what the veins grew with (parameters, seed, preset, plane).
+/// The counts are the Statistics port's (one set of numbers); AreoleAreaStd is the population standard deviation.
 void WriteVeinFieldData(vtkFieldData* fd, const plantmorph::VenationResult& result,
-  const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset, int seed, bool flat)
+  const plantmorph::VeinNetworkMeasures& m, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset,
+  int seed, bool flat)
 {
-  const plantmorph::VenationStatistics& s = result.statistics;
   vtkNew<vtkDoubleArray> lengths;
   lengths->SetName("PlantMorph.VeinLength");
   lengths->SetNumberOfComponents(4);
@@ -294,16 +298,16 @@ void WriteVeinFieldData(vtkFieldData* fd, const plantmorph::VenationResult& resu
   lengths->SetComponentName(1, "Secondary");
   lengths->SetComponentName(2, "Tertiary");
   lengths->SetComponentName(3, "Veinlet");
-  lengths->InsertNextTuple4(s.length[1], s.length[2], s.length[3], s.length[4]);
+  lengths->InsertNextTuple4(m.length[1], m.length[2], m.length[3], m.length[4]);
   fd->AddArray(lengths);
-  AddFieldValue(fd, "PlantMorph.VeinDensity", s.density);
-  AddFieldValue(fd, "PlantMorph.BladeArea", s.bladeArea);
-  AddFieldValue(fd, "PlantMorph.AreoleCount", static_cast<double>(s.areoles));
-  AddFieldValue(fd, "PlantMorph.AreoleAreaMean", s.areoleAreaMean);
-  AddFieldValue(fd, "PlantMorph.AreoleAreaStd", s.areoleAreaStd);
-  AddFieldValue(fd, "PlantMorph.BranchPoints", static_cast<double>(s.branchPoints));
-  AddFieldValue(fd, "PlantMorph.FreeEnds", static_cast<double>(s.freeEnds));
-  AddFieldValue(fd, "PlantMorph.VeinSegments", static_cast<double>(s.segments));
+  AddFieldValue(fd, "PlantMorph.VeinDensity", m.vla);
+  AddFieldValue(fd, "PlantMorph.BladeArea", m.bladeArea);
+  AddFieldValue(fd, "PlantMorph.AreoleCount", static_cast<double>(m.areoles));
+  AddFieldValue(fd, "PlantMorph.AreoleAreaMean", m.areoleMean);
+  AddFieldValue(fd, "PlantMorph.AreoleAreaStd", m.areoleCV * m.areoleMean);
+  AddFieldValue(fd, "PlantMorph.BranchPoints", static_cast<double>(m.branchPoints));
+  AddFieldValue(fd, "PlantMorph.FreeEnds", static_cast<double>(m.freeEnds));
+  AddFieldValue(fd, "PlantMorph.VeinSegments", static_cast<double>(result.statistics.segments));
   AddFieldValue(fd, "PlantMorph.Seed", seed);
   AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
   AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
@@ -311,12 +315,66 @@ void WriteVeinFieldData(vtkFieldData* fd, const plantmorph::VenationResult& resu
   AddParameters(fd, p);
   AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
 }
+
+/// Port 2, Statistics: one row, the measures of the network (VeinNetworkMeasures.h), lengths and areas in the
+/// blade's units (VLA in units^-1, i.e. mm/mm^2 for a blade in mm).
+void WriteStatistics(const plantmorph::VeinNetworkMeasures& m, vtkTable* statistics)
+{
+  const auto addValue = [&](const char* name, double value) {
+    vtkNew<vtkDoubleArray> column;
+    column->SetName(name);
+    column->InsertNextValue(value);
+    statistics->AddColumn(column);
+  };
+  const auto addCount = [&](const char* name, std::size_t value) {
+    vtkNew<vtkIdTypeArray> column;
+    column->SetName(name);
+    column->InsertNextValue(static_cast<vtkIdType>(value));
+    statistics->AddColumn(column);
+  };
+  addValue("VLA", m.vla);
+  addValue("TotalLength", m.totalLength);
+  addValue("BladeArea", m.bladeArea);
+  addCount("AreoleCount", m.areoles);
+  addValue("AreoleAreaMean", m.areoleMean);
+  addValue("AreoleAreaMedian", m.areoleMedian);
+  addValue("AreoleAreaCV", m.areoleCV);
+  addValue("Loopiness", m.loopiness);
+  addCount("BranchPoints", m.branchPoints);
+  addValue("BranchPointsPerArea", m.branchPointsPerArea);
+  addCount("FreeEnds", m.freeEnds);
+  addValue("FreeEndsPerArea", m.freeEndsPerArea);
+  const char* const orders[] = { "Primary", "Secondary", "Tertiary", "Veinlet" };
+  for (int o = 1; o <= 4; ++o)
+    addValue(("Length" + std::string(orders[o - 1])).c_str(), m.length[o]);
+  for (int o = 1; o <= 4; ++o)
+    addValue(("MeanWidth" + std::string(orders[o - 1])).c_str(), m.meanWidth[o]);
+}
+
+/// Port 3, Areole histogram: one row per bin, its lower and upper area edges and how many areoles it holds.
+void WriteHistogram(const plantmorph::AreoleHistogram& h, vtkTable* histogram)
+{
+  vtkNew<vtkDoubleArray> lower, upper;
+  lower->SetName("BinLower");
+  upper->SetName("BinUpper");
+  vtkNew<vtkIdTypeArray> count;
+  count->SetName("Count");
+  for (std::size_t b = 0; b < h.count.size(); ++b)
+  {
+    lower->InsertNextValue(h.lower[b]);
+    upper->InsertNextValue(h.upper[b]);
+    count->InsertNextValue(static_cast<vtkIdType>(h.count[b]));
+  }
+  histogram->AddColumn(lower);
+  histogram->AddColumn(upper);
+  histogram->AddColumn(count);
+}
 } // namespace
 
 //------------------------------------------------------------------------------
 vtkVenationFilter::vtkVenationFilter()
 {
-  this->SetNumberOfOutputPorts(2);
+  this->SetNumberOfOutputPorts(4);
 }
 
 //------------------------------------------------------------------------------
@@ -379,6 +437,13 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
 }
 
 //------------------------------------------------------------------------------
+int vtkVenationFilter::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port < 2 ? "vtkPolyData" : "vtkTable");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
 {
   if (this->Preset < 0 || this->Preset >= plantmorph::VenationPresetCount)
@@ -393,6 +458,10 @@ std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
   if (this->MaxSegments < 100 || this->MaxSegments > 100000000)
   {
     return plantmorph::OutOfRange("MaxSegments", this->MaxSegments, "[100, 1e8]");
+  }
+  if (this->AreoleHistogramBins < 1 || this->AreoleHistogramBins > 10000)
+  {
+    return plantmorph::OutOfRange("AreoleHistogramBins", this->AreoleHistogramBins, "[1, 10000]");
   }
   const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
   this->WarnAboutPresetOverrides();
@@ -444,12 +513,19 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
   vtkPolyData* veins = vtkPolyData::GetData(outputVector, 0);
   vtkPolyData* bladeOut = vtkPolyData::GetData(outputVector, 1);
-  if (!input || !veins || !bladeOut)
+  vtkTable* statistics = vtkTable::GetData(outputVector, 2);
+  vtkTable* histogram = vtkTable::GetData(outputVector, 3);
+  if (!input || !veins || !bladeOut || !statistics || !histogram)
   {
     return 0;
   }
-  veins->Initialize();
-  bladeOut->Initialize();
+  const auto clear = [&]() {
+    veins->Initialize();
+    bladeOut->Initialize();
+    statistics->Initialize();
+    histogram->Initialize();
+  };
+  clear();
   // Under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split over ranks).
   const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
   input = wholeBlade.Get();
@@ -464,8 +540,7 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   }
   auto fail = [&](const std::string& message) {
     vtkErrorMacro(<< message);
-    veins->Initialize();
-    bladeOut->Initialize();
+    clear();
     return 1;
   };
 
@@ -483,14 +558,19 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
     blade.triangles };
   plantmorph::VenationResult result;
   error = plantmorph::GrowVenation(plane, p, result, plantmorph::Progress(this, 0.0, 0.95));
+  plantmorph::VeinNetworkMeasures measures;
+  if (error.empty())
+    error = plantmorph::MeasureVenation(plane, result, measures);
   if (error.empty())
     error = WriteVeins(input, blade, result, veins);
   if (!error.empty())
   {
     return fail(error);
   }
-  WriteVeinFieldData(veins->GetFieldData(), result, p, static_cast<plantmorph::VenationPreset>(this->Preset),
-    this->Seed, flat);
+  WriteVeinFieldData(veins->GetFieldData(), result, measures, p,
+    static_cast<plantmorph::VenationPreset>(this->Preset), this->Seed, flat);
+  WriteStatistics(measures, statistics);
+  WriteHistogram(plantmorph::MakeAreoleHistogram(measures.areoleAreas, this->AreoleHistogramBins), histogram);
   WriteBlade(input, blade, plane, result, this->EmbossDepth, bladeOut);
   this->UpdateProgress(1.0);
   return 1;
@@ -513,4 +593,5 @@ void vtkVenationFilter::PrintSelf(ostream& os, vtkIndent indent)
      << this->GrowthStart << ")\n";
   os << indent << "EmbossDepth: " << this->EmbossDepth << "\n";
   os << indent << "MaxSegments: " << this->MaxSegments << "\n";
+  os << indent << "AreoleHistogramBins: " << this->AreoleHistogramBins << "\n";
 }

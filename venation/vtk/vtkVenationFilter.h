@@ -17,11 +17,24 @@
  * meet there. Output port 1, **Blade**: the input passed through, its points raised along the normals over the
  * veins when EmbossDepth is not 0 (paper Fig. 10b's relief; it needs a blade fine enough to show a vein's width).
  *
- * Field data on port 0, the measures plant scientists quote (LEAF GUI, phenoVein): `PlantMorph.VeinLength` (4
- * components: primary, secondary, tertiary, veinlet total lengths), `PlantMorph.VeinDensity` (vein length per
- * blade area), `PlantMorph.AreoleCount`, `PlantMorph.AreoleAreaMean`, `PlantMorph.AreoleAreaStd` (areoles: the
- * faces enclosed by veins alone), `PlantMorph.BranchPoints`, `PlantMorph.FreeEnds`, `PlantMorph.VeinSegments`,
- * and the parameters used (`PlantMorph.VenationPattern`, `PlantMorph.VenationPreset`, `PlantMorph.Seed`).
+ * Output port 2, **Statistics** (vtkTable, one row per leaf; the filter grows one leaf, so one row), the measures
+ * plant scientists report (LEAF GUI, phenoVein; venation/measures/VeinNetworkMeasures.h), measured on the network
+ * in the plane it grew in (the blade's own plane for a flat blade, so in the blade's units; ScaledLeafUV for a
+ * curved one, approximate): `VLA` (vein length per blade area, in the blade's units^-1: mm/mm^2 = 1/mm for a blade
+ * in mm), `TotalLength`, `BladeArea`, `AreoleCount` (bounded faces enclosed by veins alone), `AreoleAreaMean`,
+ * `AreoleAreaMedian`, `AreoleAreaCV` (population standard deviation over the mean), `Loopiness` (minimum spanning
+ * forest length over total length: 1 for a tree), `BranchPoints` (nodes where three or more segments meet),
+ * `BranchPointsPerArea`, `FreeEnds` (ends not on the blade's outer margin), `FreeEndsPerArea`, and per VeinOrder
+ * `LengthPrimary`.. `LengthVeinlet` and `MeanWidthPrimary`.. `MeanWidthVeinlet` (length-weighted; 0 for an order
+ * with no vein). Output port 3, **Areole histogram** (vtkTable): `AreoleHistogramBins` equal bins from the smallest
+ * to the largest areole area, one row each: `BinLower`, `BinUpper`, `Count` (the counts sum to AreoleCount; no rows
+ * when there is no areole).
+ *
+ * Field data on port 0, the same numbers (one set): `PlantMorph.VeinLength` (4 components: primary, secondary,
+ * tertiary, veinlet total lengths), `PlantMorph.VeinDensity` (= VLA), `PlantMorph.BladeArea`,
+ * `PlantMorph.AreoleCount`, `PlantMorph.AreoleAreaMean`, `PlantMorph.AreoleAreaStd` (= CV times the mean),
+ * `PlantMorph.BranchPoints`, `PlantMorph.FreeEnds`, `PlantMorph.VeinSegments` (the growth's segment count), and the
+ * parameters used (`PlantMorph.VenationPattern`, `PlantMorph.VenationPreset`, `PlantMorph.Seed`).
  *
  * The growth rules are plantmorph::GrowVenation's (venation/core/VenationGrowth.h): primaries along u = const of
  * LeafUV, secondaries by eqs. (2)-(4) ending as the pattern says, reticulate tertiaries by seed growth with
@@ -237,11 +250,19 @@ public:
   vtkGetMacro(MaxSegments, int);
   ///@}
 
+  ///@{
+  /** Bins of the Areole histogram port [1, 1e4], default 20: equal bins from the smallest to the largest area. */
+  vtkSetMacro(AreoleHistogramBins, int);
+  vtkGetMacro(AreoleHistogramBins, int);
+  ///@}
+
 protected:
   vtkVenationFilter();
   ~vtkVenationFilter() override = default;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  /// Ports 0 (Veins) and 1 (Blade): vtkPolyData; 2 (Statistics) and 3 (Areole histogram): vtkTable.
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   /// With a named Preset, warns about each property only Custom uses that was changed from its default (it is not
   /// what the output has).
@@ -287,6 +308,7 @@ protected:
   double VeinletWidthRatio = 0.12;
   double EmbossDepth = 0.0;
   int MaxSegments = 2000000;
+  int AreoleHistogramBins = 20;
 
 private:
   vtkVenationFilter(const vtkVenationFilter&) = delete;
