@@ -127,15 +127,18 @@ struct VenationParameters
   double gridCellScale = 1.0;
 };
 
-/// Presets of paper 000's figures.
+/// Presets of paper 000's figures, and of the wilting species (paper 001; docs/methods/venation.md "Presets").
 enum class VenationPreset : int
 {
   Custom = 0,
   PaperMulberry = 1, ///< Broussonetia, Fig. 10: pinnate brochidodromous, secondaries at 45-70 deg, reticulate
   Ginkgo = 2,        ///< Fig. 11: palmate, dichotomous
   Poplar = 3,        ///< Fig. 12: semicraspedodromous, reticulate tertiaries with free-ending veinlets
+  Cucumber = 4,      ///< palmate: five primaries to the lobe and basal-lobe tips, reticulate
+  Tomato = 5,        ///< one leaflet of the compound leaf: pinnate semicraspedodromous, reticulate with veinlets
+  Watermelon = 6,    ///< palmate, one primary to each lobe tip, fine reticulum with veinlets
 };
-inline constexpr int VenationPresetCount = 4;
+inline constexpr int VenationPresetCount = 7;
 VenationParameters MakeVenationPreset(VenationPreset preset);
 std::string VenationPresetName(VenationPreset preset);
 std::string VenationPatternName(VenationPattern pattern);

@@ -50,8 +50,10 @@
  * veins lie on the surface whatever deformed it.
  *
  * `Preset` 0 (Custom) uses the properties below; 1 paper mulberry (Fig. 10, brochidodromous, secondaries at 45-70
- * degrees, reticulate tertiaries), 2 ginkgo (Fig. 11, palmate, dichotomous), 3 poplar (Fig. 12, semicraspedodromous,
- * reticulate with veinlets) set them all except Seed, EmbossDepth and MaxSegments. Same input, parameters and Seed:
+ * degrees, reticulate tertiaries), 2 ginkgo (Fig. 11, palmate, two veins forking five times), 3 poplar (Fig. 12, semicraspedodromous,
+ * reticulate with veinlets), and the wilting species 4 cucumber (palmate, five primaries to the lobe tips, reticulate),
+ * 5 tomato (a leaflet of the compound leaf: pinnate semicraspedodromous with veinlets), 6 watermelon (palmate into
+ * each lobe tip, veinlets) set them all except Seed, EmbossDepth, MaxSegments and AreoleHistogramBins. Same input, parameters and Seed:
  * the same output, bit for bit.
  *
  * Errors (vtkErrorMacro naming the property or array and its accepted range, and empty outputs, never a crash):
@@ -91,7 +93,8 @@ public:
   // typo in a script is seen rather than silently replaced by the end of the range.
 
   ///@{
-  /** 0 Custom (the properties below), 1 paper mulberry, 2 ginkgo, 3 poplar. Default 1. */
+  /** 0 Custom (the properties below), 1 paper mulberry, 2 ginkgo, 3 poplar, 4 cucumber, 5 tomato, 6 watermelon.
+   * Default 1. */
   vtkSetMacro(Preset, int);
   vtkGetMacro(Preset, int);
   ///@}

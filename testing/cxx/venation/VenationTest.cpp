@@ -329,7 +329,8 @@ TEST(Venation, GinkgoForksDichotomouslyIntoVeinsThatReachTheMargin)
   ASSERT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings, leaf), "");
   const VenationParameters p = MakeVenationPreset(VenationPreset::Ginkgo);
   const VenationResult r = Grow(leaf, p);
-  // 4 veins from the base, each forking twice: 4 + 8 + 16 veins, all 16 tips on the margin.
+  // p.palmateVeins veins from the base, each forking p.forkLevels times: with 2 and 5, 2 + (4 + 8 + ... + 64) veins,
+  // all 64 tips on the margin, 2 + 4 + ... + 32 = 62 forks.
   int primaries = 0, branches = 0;
   std::set<int> tips;
   std::vector<std::vector<int>> next(r.nodes.size());
@@ -342,13 +343,13 @@ TEST(Venation, GinkgoForksDichotomouslyIntoVeinsThatReachTheMargin)
       next[vein.nodes[i + 1]].push_back(vein.nodes[i]);
     }
   }
-  EXPECT_EQ(primaries, 4);
-  EXPECT_EQ(branches, 24);
+  EXPECT_EQ(primaries, p.palmateVeins);
+  EXPECT_EQ(branches, p.palmateVeins * ((2 << p.forkLevels) - 2));
   EXPECT_EQ(r.statistics.freeEnds, 0u);
   std::size_t forks = 0;
   for (const auto& n : next)
     forks += n.size() == 3;
-  EXPECT_EQ(forks, 12u);
+  EXPECT_EQ(forks, static_cast<std::size_t>(p.palmateVeins * ((1 << p.forkLevels) - 1)));
   // Every vein starts at the base (0, 0) or at a fork, never on another vein's side.
   for (const auto& vein : r.veins)
   {
