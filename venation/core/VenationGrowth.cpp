@@ -602,15 +602,18 @@ void Grower::GrowPalmate()
     return Eigen::Vector2d(parent + f * (mean(first, size) - mean(parentFirst, parentSize)));
   };
   // In LeafUV the path arches up by g*(1 - g)*(1 - v)/4 in v: an end on the base edge v = 0 (a cordate blade's
-  // basal lobe) is reached through the blade rather than along its margin. Its u grows as sqrt(g) u_end (the
-  // same law for every vein, so their order across the blade is kept): a vein takes its share of the width early,
-  // so the outer veins of a fan run along its flanks (a ginkgo's marginal veins) instead of up the middle.
+  // basal lobe) is reached through the blade rather than along its margin. With the fan its u grows as
+  // sqrt(g) u_end (the same law for every vein, so their order across the blade is kept): a vein takes its share
+  // of the width early, so the outer veins of a fan run along its flanks (a ginkgo's marginal veins) instead of up
+  // the middle. Paper 000's construction (no fan) keeps u = g u_end: the Cucumber wilting preset was fitted on it.
+  const bool fanned = this->P.palmateFan;
   auto at = [&](int d, int first, int size, double g) {
     const Eigen::Vector2d p = parameter(d, first, size, g);
     if (plane)
       return Eigen::Vector2d(this->Base + g * (p - this->Base));
+    const double across = fanned ? std::sqrt(g) : g;
     return this->Locator.PointAtUV(
-      Eigen::Vector2d(std::sqrt(g) * p.x(), g * p.y() + 0.25 * g * (1.0 - g) * (1.0 - p.y())));
+      Eigen::Vector2d(across * p.x(), g * p.y() + 0.25 * g * (1.0 - g) * (1.0 - p.y())));
   };
   auto pieces = [&](int d) {
     const double g0 = forkTime[d], g1 = d == levels ? 1.0 : forkTime[d + 1];
