@@ -90,7 +90,8 @@ checks.check(tubes.GetNumberOfPolys() + tubes.GetNumberOfStrips() > 100, "Tube m
 Delete(tube)
 
 # Every preset and every pattern.
-PRESETS = ["Paper mulberry (paper 000 Fig. 10)", "Ginkgo (paper 000 Fig. 11)", "Poplar (paper 000 Fig. 12)"]
+PRESETS = ["Paper mulberry (paper 000 Fig. 10)", "Ginkgo (paper 000 Fig. 11)", "Poplar (paper 000 Fig. 12)",
+           "Cucumber (palmate)", "Tomato (pinnate leaflet)", "Watermelon (palmate, lobed)"]
 for preset in PRESETS:
     venation.Preset = preset
     veins = fetch(venation)
