@@ -1,5 +1,6 @@
 #include "SpaceColonization.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/RandomStream.h>
 
 #include <algorithm>
@@ -175,6 +176,18 @@ private:
     }
     return true;
   }
+  /// Marginal growth: whether x lies within `band` of the margin (a point of the circle of that radius about it,
+  /// sampled every 30 degrees, lies outside the blade).
+  bool NearMargin(const Eigen::Vector2d& x, double band) const
+  {
+    for (int k = 0; k < 12; ++k)
+    {
+      const double angle = k * Pi / 6.0;
+      if (!this->Inside(x + band * Eigen::Vector2d(std::cos(angle), std::sin(angle))))
+        return true;
+    }
+    return false;
+  }
   int AddNode(const Eigen::Vector2d& x, int parent);
   /// Closed venation: the nodes within `reach` of source `id` in its relative neighbourhood (no other node is
   /// closer both to the source and to them), in id order.
@@ -223,11 +236,14 @@ void Colonizer::ThrowDarts(double stage)
   const auto count = static_cast<std::int64_t>(std::floor(darts));
   this->DartCarry = darts - static_cast<double>(count);
   const double birth = 0.5 / std::sqrt(this->P.sourceDensity) * this->Length / stage;
+  // Marginal growth: only darts within one attraction distance (physical, at this stage) of the margin count.
+  const double band = this->P.attractionDistance * this->Length / stage;
   for (std::int64_t i = 0; i < count; ++i)
   {
     const double x = this->Random.Uniform(), y = this->Random.Uniform();
     const Eigen::Vector2d dart = low + Eigen::Vector2d(x * extent.x(), y * extent.y());
-    if (!this->Inside(dart) || this->Sources.AnyWithin(dart, birth, this->SourcePoints) ||
+    if (!this->Inside(dart) || (this->P.marginalGrowth && !this->NearMargin(dart, band)) ||
+      this->Sources.AnyWithin(dart, birth, this->SourcePoints) ||
       this->Nodes.AnyWithin(dart, birth, this->NodePoints))
       continue;
     const int id = static_cast<int>(this->SourcePoints.size());

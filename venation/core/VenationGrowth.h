@@ -121,6 +121,9 @@ struct VenationParameters
   double murrayExponent = 3.0;      ///< pipe model: w^n of a vein is the sum of w^n of its branches
   double growthStart = 0.1;         ///< blade size (fraction of the final) when veins start; 1 = a static blade
   bool closedVenation = false;      ///< closed: a source draws its whole relative neighbourhood and dies when all reach it
+  /// marginal growth (Runions 2005): sources are added only within one attraction distance of the growing margin
+  /// (false: uniformly over the whole blade as it grows)
+  bool marginalGrowth = false;
   std::size_t maxSegments = 2000000; ///< refuse (with a message) networks that would need more edges
   /// Benchmarks only: the vein graph's grid cells as a multiple of their default size (about one areole); a huge
   /// value puts every edge in one cell, so every crossing test looks at every edge (brute force).

@@ -111,7 +111,7 @@ void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
     { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
     { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins }, { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 },
     { "ForkLevels", p.forkLevels },
-    { "ForkSize", p.forkSize }, { "PrimaryWidth", p.primaryWidth }, { "PrimaryTaper", p.primaryTaper },
+    { "ForkSize", p.forkSize }, { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth }, { "PrimaryTaper", p.primaryTaper },
     { "SecondaryWidthRatio", p.secondaryWidthRatio }, { "TertiaryWidthRatio", p.tertiaryWidthRatio },
     { "VeinletWidthRatio", p.veinletWidthRatio } };
   for (const auto& [name, value] : values)
@@ -422,6 +422,13 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
   PLANTMORPH_CHECK(PalmateEnds);
   PLANTMORPH_CHECK(ForkLevels);
   PLANTMORPH_CHECK(ForkSize);
+  PLANTMORPH_CHECK(KillDistance);
+  PLANTMORPH_CHECK(AttractionDistance);
+  PLANTMORPH_CHECK(SourceDensity);
+  PLANTMORPH_CHECK(MurrayExponent);
+  PLANTMORPH_CHECK(GrowthStart);
+  PLANTMORPH_CHECK(ClosedVenation);
+  PLANTMORPH_CHECK(MarginalGrowth);
   PLANTMORPH_CHECK(PrimaryWidth);
   PLANTMORPH_CHECK(PrimaryTaper);
   PLANTMORPH_CHECK(SecondaryWidthRatio);
@@ -496,6 +503,7 @@ std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
     p.murrayExponent = this->MurrayExponent;
     p.growthStart = this->GrowthStart;
     p.closedVenation = this->ClosedVenation;
+    p.marginalGrowth = this->MarginalGrowth;
     p.primaryWidth = this->PrimaryWidth;
     p.primaryTaper = this->PrimaryTaper;
     p.secondaryWidthRatio = this->SecondaryWidthRatio;
@@ -590,7 +598,7 @@ void vtkVenationFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PalmateVeins: " << this->PalmateVeins << " (ForkLevels " << this->ForkLevels << ")\n";
   os << indent << "KillDistance: " << this->KillDistance << " (AttractionDistance " << this->AttractionDistance
      << ", SourceDensity " << this->SourceDensity << ", MurrayExponent " << this->MurrayExponent << ", GrowthStart "
-     << this->GrowthStart << ")\n";
+     << this->GrowthStart << ", MarginalGrowth " << this->MarginalGrowth << ")\n";
   os << indent << "EmbossDepth: " << this->EmbossDepth << "\n";
   os << indent << "MaxSegments: " << this->MaxSegments << "\n";
   os << indent << "AreoleHistogramBins: " << this->AreoleHistogramBins << "\n";

@@ -221,6 +221,17 @@ public:
 
   ///@{
   /**
+   * Space colonization: marginal growth (Runions et al. 2005), auxin sources added only within one
+   * AttractionDistance of the growing margin, so the finest veins form last near the margin; off (default): added
+   * uniformly over the whole blade as it grows.
+   */
+  vtkSetMacro(MarginalGrowth, bool);
+  vtkGetMacro(MarginalGrowth, bool);
+  vtkBooleanMacro(MarginalGrowth, bool);
+  ///@}
+
+  ///@{
+  /**
    * Widths: primary width at the base in leaf lengths [0, 0.2] (default 0.015), its end width as a fraction
    * [0, 1] (default 0.3); secondary, tertiary and veinlet widths as fractions of the primary's [0, 1] (default
    * 0.5, 0.2, 0.12).
@@ -304,6 +315,7 @@ protected:
   double MurrayExponent = 3.0;
   double GrowthStart = 0.1;
   bool ClosedVenation = false;
+  bool MarginalGrowth = false;
   double PrimaryWidth = 0.015;
   double PrimaryTaper = 0.3;
   double SecondaryWidthRatio = 0.5;

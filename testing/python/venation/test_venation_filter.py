@@ -108,6 +108,10 @@ venation.ClosedVenation = 1
 veins = fetch(venation)
 checks.check(veins.GetNumberOfLines() > 10, "closed space colonization: %d veins" % veins.GetNumberOfLines())
 venation.ClosedVenation = 0
+venation.MarginalGrowth = 1
+veins = fetch(venation)
+checks.check(veins.GetNumberOfLines() > 10, "space colonization, marginal growth: %d veins" % veins.GetNumberOfLines())
+venation.MarginalGrowth = 0
 venation.KillDistance = 0.0
 checks.check(fetch(venation).GetNumberOfPoints() == 0, "KillDistance 0: empty output")
 venation.KillDistance = 0.01
