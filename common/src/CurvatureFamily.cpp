@@ -1,4 +1,5 @@
 #include <plantmorph/CurvatureFamily.h>
+#include <plantmorph/RangeError.h>
 
 #include <algorithm>
 #include <cmath>
@@ -24,7 +25,7 @@ std::string CurvatureFamily::Validate(double length, const std::string& name) co
 {
   std::ostringstream message;
   auto bad = [&](const char* parameter, double value, const char* range) {
-    message << name << parameter << " = " << value << " is outside the accepted range " << range;
+    message << OutOfRange(name + parameter, value, range);
     return message.str();
   };
   if (!std::isfinite(length) || !(length > 0.0))

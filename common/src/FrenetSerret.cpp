@@ -1,4 +1,5 @@
 #include <plantmorph/FrenetSerret.h>
+#include <plantmorph/RangeError.h>
 
 #include <Eigen/Geometry>
 
@@ -145,7 +146,7 @@ std::string IntegrateFrenet(const CurveFunction& curvature, const CurveFunction&
   if (settings.method == FrenetMethod::RK4 && settings.stepsPerOutput < 1)
     return "RK4: at least one step per output interval";
   if (settings.method == FrenetMethod::RK45 && !(settings.tolerance > 0.0 && settings.tolerance < 1.0))
-    return "RK45: the tolerance must be in (0, 1)";
+    return "RK45: " + OutOfRange("Tolerance", settings.tolerance, "(0, 1)");
 
   State y = Pack(initial);
   if (!y.allFinite() || !Orthonormalise(y))

@@ -1,6 +1,7 @@
 #include "RigidRegistration.h"
 
 #include <plantmorph/RandomStream.h>
+#include <plantmorph/RangeError.h>
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
@@ -21,15 +22,15 @@ std::string ValidateRegistrationSettings(const RegistrationSettings& settings)
   std::ostringstream message;
   if (settings.maximumIterations < 1 || settings.maximumIterations > 10000)
   {
-    message << "RegistrationIterations = " << settings.maximumIterations << " must be in [1, 10000]";
+    message << plantmorph::OutOfRange("RegistrationIterations", settings.maximumIterations, "[1, 10000]");
   }
   else if (!(settings.tolerance > 0.0 && settings.tolerance < 1.0))
   {
-    message << "RegistrationTolerance = " << settings.tolerance << " must be in (0, 1)";
+    message << plantmorph::OutOfRange("RegistrationTolerance", settings.tolerance, "(0, 1)");
   }
   else if (settings.maximumLandmarks < 3)
   {
-    message << "RegistrationLandmarks = " << settings.maximumLandmarks << " must be at least 3";
+    message << plantmorph::OutOfRange("RegistrationLandmarks", settings.maximumLandmarks, "[3, inf)");
   }
   else if (std::isnan(settings.rejectDistance))
   {

@@ -7,6 +7,8 @@
 #include "PointSurfaceDistance.h"
 #include "RigidRegistration.h"
 
+#include <plantmorph/RangeError.h>
+
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellType.h"
@@ -268,7 +270,7 @@ int vtkCloudComparisonFilter::RequestData(
   }
   if (this->NumberOfThreads < 0 || this->NumberOfThreads > 256)
   {
-    vtkErrorMacro(<< "NumberOfThreads = " << this->NumberOfThreads << " must be in [0, 256] (0: all cores)");
+    vtkErrorMacro(<< plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
     return 1;
   }
   // Under MPI the comparison runs once, on rank 0, with every measured point and the whole reference (gathered
@@ -303,24 +305,24 @@ int vtkCloudComparisonFilter::Execute(
   using namespace plantmorph;
   if (!std::isfinite(this->Scale) || this->Scale <= 0.0)
   {
-    vtkErrorMacro(<< "Scale = " << this->Scale << " must be finite and > 0 (e.g. 0.1 for a scan in mm against a "
-                                                   "model in cm)");
+    vtkErrorMacro(<< OutOfRange(
+                    "Scale", this->Scale, "(0, inf)", "e.g. 0.1 for a scan in mm against a model in cm"));
     return 0;
   }
   if (this->UseMaximumDistance && (!std::isfinite(this->MaximumDistance) || this->MaximumDistance < 0.0))
   {
-    vtkErrorMacro(<< "MaximumDistance = " << this->MaximumDistance << " must be finite and >= 0");
+    vtkErrorMacro(<< OutOfRange("MaximumDistance", this->MaximumDistance, "[0, inf)"));
     return 0;
   }
   if (this->HistogramBins < 1 || this->HistogramBins > 100000)
   {
-    vtkErrorMacro(<< "HistogramBins = " << this->HistogramBins << " must be in [1, 100000]");
+    vtkErrorMacro(<< plantmorph::OutOfRange("HistogramBins", this->HistogramBins, "[1, 100000]"));
     return 0;
   }
   if (this->Registration < REGISTRATION_NONE || this->Registration > REGISTRATION_RIGID_SCALE)
   {
-    vtkErrorMacro(<< "Registration = " << this->Registration
-                  << " must be 0 (none), 1 (rigid) or 2 (rigid + uniform scale)");
+    vtkErrorMacro(<< OutOfRange(
+                    "Registration", this->Registration, "{0, 1, 2}", "0 none, 1 rigid, 2 rigid + uniform scale"));
     return 0;
   }
   RegistrationSettings registration;
@@ -335,7 +337,7 @@ int vtkCloudComparisonFilter::Execute(
   {
     if (registration.maximumLandmarks == 0)
     {
-      vtkErrorMacro(<< "RegistrationLandmarks = " << this->RegistrationLandmarks << " must be in [3, 100000000]");
+      vtkErrorMacro(<< plantmorph::OutOfRange("RegistrationLandmarks", this->RegistrationLandmarks, "[3, 100000000]"));
       return 0;
     }
     if (const std::string error = ValidateRegistrationSettings(registration); !error.empty())

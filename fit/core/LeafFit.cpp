@@ -6,6 +6,7 @@
 #include "LeafGeometry.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 
 #include <algorithm>
 #include <cmath>
@@ -318,17 +319,17 @@ std::string ValidateLeafFitOptions(const LeafFitOptions& o)
   else if (o.basePoint && !o.basePoint->allFinite())
     m << "BasePoint: must be finite";
   else if (!(o.surfaceSmoothing >= 0.0 && o.surfaceSmoothing <= 1e6))
-    m << "SurfaceSmoothing: " << o.surfaceSmoothing << " is outside [0, 1e6]";
+    m << OutOfRange("SurfaceSmoothing", o.surfaceSmoothing, "[0, 1e6]");
   else if (!(o.outlineSmoothing >= 0.0 && o.outlineSmoothing <= 1e6))
-    m << "OutlineSmoothing: " << o.outlineSmoothing << " is outside [0, 1e6]";
+    m << OutOfRange("OutlineSmoothing", o.outlineSmoothing, "[0, 1e6]");
   else if (o.outlineControlPoints < 4 || o.outlineControlPoints > 200)
-    m << "OutlineControlPoints: " << o.outlineControlPoints << " is outside [4, 200]";
+    m << OutOfRange("OutlineControlPoints", o.outlineControlPoints, "[4, 200]");
   else if (!(o.outlierSigma >= 1.0 && o.outlierSigma <= 100.0))
-    m << "OutlierSigma: " << o.outlierSigma << " is outside [1, 100]";
+    m << OutOfRange("OutlierSigma", o.outlierSigma, "[1, 100]");
   else if (o.resolution < 4 || o.resolution > 1000)
-    m << "Resolution: " << o.resolution << " is outside [4, 1000]";
+    m << OutOfRange("Resolution", o.resolution, "[4, 1000]");
   else if (o.modelControlPoints < 3 || o.modelControlPoints > 100)
-    m << "ModelControlPoints: " << o.modelControlPoints << " is outside [3, 100]";
+    m << OutOfRange("ModelControlPoints", o.modelControlPoints, "[3, 100]");
   return m.str();
 }
 

@@ -5,6 +5,7 @@
 #include "PlantMorphFieldData.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -148,7 +149,7 @@ int vtkLeafFitFilter::RequestData(vtkInformation*, vtkInformationVector** inputV
   options.modelControlPoints = this->ModelControlPoints;
   std::string error = plantmorph::ValidateLeafFitOptions(options);
   if (error.empty() && !(std::isfinite(this->Scale) && this->Scale > 0.0))
-    error = "Scale: must be finite and > 0";
+    error = plantmorph::OutOfRange("Scale", this->Scale, "(0, inf)");
   vtkDataArray* ids = nullptr;
   if (error.empty() && !this->LeafIdArray.empty())
   {

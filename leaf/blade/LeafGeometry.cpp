@@ -1,5 +1,7 @@
 #include "LeafGeometry.h"
 
+#include <plantmorph/RangeError.h>
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -30,10 +32,8 @@ std::vector<Eigen::Vector2d> BoundingBoxTextureCoordinates(const std::vector<Eig
 
 std::string ValidateResolution(int resolution)
 {
-  if (resolution >= MinResolution && resolution <= MaxResolution)
-    return {};
-  return "Resolution = " + std::to_string(resolution) + " is outside the accepted range [" +
-    std::to_string(MinResolution) + ", " + std::to_string(MaxResolution) + "]";
+  return CheckRange(resolution >= MinResolution && resolution <= MaxResolution, "Resolution", resolution,
+    "[" + std::to_string(MinResolution) + ", " + std::to_string(MaxResolution) + "]");
 }
 
 BladeMeshOptions MeshOptionsFor(const LeafMeshSettings& settings, double spacing)

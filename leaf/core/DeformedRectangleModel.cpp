@@ -1,6 +1,7 @@
 #include "DeformedRectangleModel.h"
 
 #include <plantmorph/MathConstants.h>
+#include <plantmorph/RangeError.h>
 
 #include <Eigen/LU>
 
@@ -87,13 +88,13 @@ std::string Validate(const DeformedRectangleParameters& p)
 {
   std::ostringstream message;
   if (!std::isfinite(p.length) || p.length <= 0.0 || p.length > 1e6)
-    message << "Length (b_y) = " << p.length << " is outside the accepted range (0, 1e6]";
+    message << plantmorph::OutOfRange("Length (b_y)", p.length, "(0, 1e6]");
   else if (!std::isfinite(p.width) || p.width < 0.0 || p.width > 1e6)
-    message << "Width (a_x) = " << p.width << " is outside the accepted range [0, 1e6]";
+    message << plantmorph::OutOfRange("Width (a_x)", p.width, "[0, 1e6]");
   else if (!std::isfinite(p.bending) || std::abs(p.bending) > 10.0)
-    message << "Bending = " << p.bending << " is outside the accepted range [-10, 10]";
+    message << plantmorph::OutOfRange("Bending", p.bending, "[-10, 10]");
   else if (!std::isfinite(p.asymmetry) || std::abs(p.asymmetry) >= 1.0)
-    message << "Asymmetry = " << p.asymmetry << " is outside the accepted range (-1, 1)";
+    message << plantmorph::OutOfRange("Asymmetry", p.asymmetry, "(-1, 1)");
   else
   {
     std::vector<SinusoidTerm> parsed;

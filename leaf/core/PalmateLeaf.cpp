@@ -1,6 +1,7 @@
 #include "PalmateLeaf.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 
 #include <CGAL/Boolean_set_operations_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
@@ -535,7 +536,7 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
   if (!error.empty())
     return error;
   if (p.lobes != 3 && p.lobes != 5)
-    return "Lobes = " + std::to_string(p.lobes) + " is outside the accepted range {3, 5} for a palmate leaf";
+    return OutOfRange("Lobes", p.lobes, "{3, 5}", "for a palmate leaf");
   const int n = m.resolution;
   const double spacing = p.length / n;
   const int levels = (p.lobes + 1) / 2;

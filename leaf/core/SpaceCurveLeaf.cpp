@@ -3,6 +3,7 @@
 #include "PalmateLeaf.h"
 
 #include <plantmorph/MathConstants.h>
+#include <plantmorph/RangeError.h>
 #include <plantmorph/DataContract.h>
 
 #include <Eigen/Geometry>
@@ -16,11 +17,7 @@ namespace
 {
 std::string Check(bool ok, const char* property, double value, const char* range)
 {
-  if (ok)
-    return {};
-  std::ostringstream message;
-  message << property << " = " << value << " is outside the accepted range " << range;
-  return message.str();
+  return CheckRange(ok, property, value, range);
 }
 
 } // namespace

@@ -8,6 +8,7 @@
 #include "SpaceCurvePresets.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -316,7 +317,7 @@ int vtkLeafOutlineSource::RequestData(
 
   if (this->MaxVertices < 3)
   {
-    vtkErrorMacro("MaxVertices = " << this->MaxVertices << " must be at least 3");
+    vtkErrorMacro(<< plantmorph::OutOfRange("MaxVertices", this->MaxVertices, "[3, inf)"));
     return 1;
   }
   // Growth: the requested time (clamped to [0, 1]) sets the size.
@@ -432,11 +433,11 @@ std::string vtkLeafOutlineSource::ValidateGrowth() const
   std::ostringstream message;
   if (this->GrowthTimeSteps < 2 || this->GrowthTimeSteps > 10000)
   {
-    message << "GrowthTimeSteps = " << this->GrowthTimeSteps << " is outside the accepted range [2, 10000]";
+    message << plantmorph::OutOfRange("GrowthTimeSteps", this->GrowthTimeSteps, "[2, 10000]");
   }
   else if (!(this->GrowthInitialScale > 0.0 && this->GrowthInitialScale <= 1.0))
   {
-    message << "GrowthInitialScale = " << this->GrowthInitialScale << " is outside the accepted range (0, 1]";
+    message << plantmorph::OutOfRange("GrowthInitialScale", this->GrowthInitialScale, "(0, 1]");
   }
   return message.str();
 }
@@ -531,15 +532,14 @@ std::string vtkLeafOutlineSource::BuildLeaf(
   {
     if (this->Preset < 0 || this->Preset >= plantmorph::DeformedRectanglePresetCount)
     {
-      message << "Preset = " << this->Preset << " is outside the accepted range [0, "
-              << plantmorph::DeformedRectanglePresetCount - 1 << "]";
+      message << plantmorph::OutOfRange(
+        "Preset", this->Preset, "[0, " + std::to_string(plantmorph::DeformedRectanglePresetCount - 1) + "]");
       return message.str();
     }
     const double bladeLength = scale * this->Length;
     if (!(std::isfinite(bladeLength) && bladeLength > 0.0 && bladeLength <= 1e6))
     {
-      message << "Length = " << this->Length << " is outside the accepted range (0, 1e6] (the blade's length from "
-              << "base to apex)";
+      message << plantmorph::OutOfRange("Length", this->Length, "(0, 1e6]", "the blade's length from base to apex");
       return message.str();
     }
     const auto preset = static_cast<plantmorph::DeformedRectanglePreset>(this->Preset);
@@ -598,8 +598,8 @@ std::string vtkLeafOutlineSource::BuildLeaf(
   {
     if (this->SpaceCurvePreset < 0 || this->SpaceCurvePreset >= plantmorph::SpaceCurvePresetCount)
     {
-      message << "SpaceCurvePreset = " << this->SpaceCurvePreset << " is outside the accepted range [0, "
-              << plantmorph::SpaceCurvePresetCount - 1 << "]";
+      message << plantmorph::OutOfRange("SpaceCurvePreset", this->SpaceCurvePreset,
+        "[0, " + std::to_string(plantmorph::SpaceCurvePresetCount - 1) + "]");
       return message.str();
     }
     if (this->IntegrationMethod != 0 && this->IntegrationMethod != 1)
@@ -710,8 +710,7 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     const int fromInput = plantmorph::BSplinePresetCount;
     if (this->BSplinePreset < 0 || this->BSplinePreset > fromInput)
     {
-      message << "BSplinePreset = " << this->BSplinePreset << " is outside the accepted range [0, " << fromInput
-              << "]";
+      message << plantmorph::OutOfRange("BSplinePreset", this->BSplinePreset, "[0, " + std::to_string(fromInput) + "]");
       return message.str();
     }
     const auto preset = static_cast<plantmorph::BSplinePreset>(this->BSplinePreset);
@@ -742,17 +741,17 @@ std::string vtkLeafOutlineSource::BuildLeaf(
     {
       if (!(std::isfinite(this->BladeLength) && this->BladeLength > 0 && this->BladeLength <= 1e6))
       {
-        message << "BladeLength = " << this->BladeLength << " is outside the accepted range (0, 1e6]";
+        message << plantmorph::OutOfRange("BladeLength", this->BladeLength, "(0, 1e6]");
         return message.str();
       }
       if (!(std::isfinite(this->BladeWidth) && this->BladeWidth > 0 && this->BladeWidth <= 1e6))
       {
-        message << "BladeWidth = " << this->BladeWidth << " is outside the accepted range (0, 1e6]";
+        message << plantmorph::OutOfRange("BladeWidth", this->BladeWidth, "(0, 1e6]");
         return message.str();
       }
       if (this->ControlPointCount < 3 || this->ControlPointCount > 1000)
       {
-        message << "ControlPointCount = " << this->ControlPointCount << " is outside the accepted range [3, 1000]";
+        message << plantmorph::OutOfRange("ControlPointCount", this->ControlPointCount, "[3, 1000]");
         return message.str();
       }
       parameters = plantmorph::MakeBSplinePreset(

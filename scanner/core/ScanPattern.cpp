@@ -1,6 +1,7 @@
 #include "ScanPattern.h"
 
 #include <plantmorph/MathConstants.h>
+#include <plantmorph/RangeError.h>
 
 #include <algorithm>
 #include <cmath>
@@ -61,9 +62,7 @@ std::uint64_t GridCount(double field, double step, bool fullTurnPossible)
 
 std::string Range(const char* name, double value, const char* range)
 {
-  std::ostringstream s;
-  s << name << " = " << value << " is outside the accepted range " << range;
-  return s.str();
+  return OutOfRange(name, value, range);
 }
 } // namespace
 

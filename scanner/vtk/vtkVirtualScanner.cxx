@@ -3,6 +3,8 @@
 
 #include "PlantMorphFieldData.h"
 #include "PlantMorphWholeInput.h"
+
+#include <plantmorph/RangeError.h>
 #include "VirtualScan.h"
 
 #include "vtkAbstractArray.h"
@@ -310,19 +312,19 @@ int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** input
   if (this->ScannerType < 0 || this->ScannerType > 2)
   {
     std::ostringstream message;
-    message << "ScannerType = " << this->ScannerType << " is outside the accepted range 0 Terrestrial, 1 Line, 2 Depth camera";
+    message << plantmorph::OutOfRange("ScannerType", this->ScannerType, "{0, 1, 2}", "0 Terrestrial, 1 Line, 2 Depth camera");
     return fail(message.str());
   }
   if (this->LineMotion < 0 || this->LineMotion > 1)
   {
     std::ostringstream message;
-    message << "LineMotion = " << this->LineMotion << " is outside the accepted range 0 Path, 1 Turntable";
+    message << plantmorph::OutOfRange("LineMotion", this->LineMotion, "{0, 1}", "0 Path, 1 Turntable");
     return fail(message.str());
   }
   if (!(this->MaximumBeams >= 1.0 && this->MaximumBeams <= 4e9))
   {
     std::ostringstream message;
-    message << "MaximumBeams = " << this->MaximumBeams << " is outside the accepted range [1, 4e9]";
+    message << plantmorph::OutOfRange("MaximumBeams", this->MaximumBeams, "[1, 4e9]");
     return fail(message.str());
   }
   p.type = static_cast<plantmorph::ScannerType>(this->ScannerType);

@@ -1,6 +1,7 @@
 #include "AdaptiveLoopSubdivision.h"
 
 #include <plantmorph/MathConstants.h>
+#include <plantmorph/RangeError.h>
 
 #include <algorithm>
 #include <cmath>
@@ -1070,20 +1071,22 @@ std::string ValidateAdaptiveLoopSettings(const AdaptiveLoopSettings& s)
 {
   std::ostringstream out;
   if (!(s.edgeAngleThreshold >= 0.0 && s.edgeAngleThreshold <= 180.0))
-    out << "EdgeAngleThreshold = " << s.edgeAngleThreshold << " must be in [0, 180] degrees";
+    out << plantmorph::OutOfRange("EdgeAngleThreshold", s.edgeAngleThreshold, "[0, 180]", "degrees");
   else if (!(s.flatnessThreshold >= 0.0 && s.flatnessThreshold <= 1.0))
-    out << "FlatnessThreshold = " << s.flatnessThreshold << " must be in [0, 1]";
+    out << plantmorph::OutOfRange("FlatnessThreshold", s.flatnessThreshold, "[0, 1]");
   else if (s.maximumLevel < 0 || s.maximumLevel > MaxAdaptiveLoopLevel)
-    out << "MaximumLevel = " << s.maximumLevel << " must be in [0, " << MaxAdaptiveLoopLevel << "]";
+    out << plantmorph::OutOfRange("MaximumLevel", s.maximumLevel, "[0, " + std::to_string(MaxAdaptiveLoopLevel) + "]");
   else if (static_cast<int>(s.featureRule) < 0 || static_cast<int>(s.featureRule) > 2)
-    out << "FeatureRule = " << static_cast<int>(s.featureRule) << " must be 0 (Fixed), 1 (Loop) or 2 (Refine)";
+    out << plantmorph::OutOfRange(
+      "FeatureRule", static_cast<int>(s.featureRule), "{0, 1, 2}", "0 Fixed, 1 Loop, 2 Refine");
   else if (s.maximumTriangles < 1 || s.maximumTriangles > MaxAdaptiveLoopTriangles)
-    out << "MaximumTriangles = " << s.maximumTriangles << " must be in [1, " << MaxAdaptiveLoopTriangles << "]";
+    out << plantmorph::OutOfRange(
+      "MaximumTriangles", s.maximumTriangles, "[1, " + std::to_string(MaxAdaptiveLoopTriangles) + "]");
   else if (static_cast<int>(s.refinementRule) < 0 || static_cast<int>(s.refinementRule) > 2)
-    out << "RefinementRule = " << static_cast<int>(s.refinementRule)
-        << " must be 0 (Dihedral angle), 1 (Surface error) or 2 (Chord error)";
+    out << plantmorph::OutOfRange("RefinementRule", static_cast<int>(s.refinementRule), "{0, 1, 2}",
+      "0 Dihedral angle, 1 Surface error, 2 Chord error");
   else if (!(s.errorTolerance >= 0.0))
-    out << "ErrorTolerance = " << s.errorTolerance << " must be in [0, inf] (model units)";
+    out << plantmorph::OutOfRange("ErrorTolerance", s.errorTolerance, "[0, inf]", "model units");
   return out.str();
 }
 

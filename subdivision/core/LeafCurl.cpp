@@ -1,6 +1,7 @@
 #include "LeafCurl.h"
 
 #include <plantmorph/MathConstants.h>
+#include <plantmorph/RangeError.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,7 +28,7 @@ double Versinc(double x)
 
 void RangeError(std::ostringstream& message, const char* name, double value, const char* range)
 {
-  message << name << " = " << value << " is outside the accepted range " << range;
+  message << OutOfRange(name, value, range);
 }
 
 /// The bend of one coordinate pair (a along the bending direction, b the height) by a circle of curvature kappa

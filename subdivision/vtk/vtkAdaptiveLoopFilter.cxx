@@ -28,6 +28,7 @@
 #include "vtkTypeInt32Array.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 
 #include <algorithm>
 #include <cmath>
@@ -164,7 +165,7 @@ int vtkAdaptiveLoopFilter::RequestData(
   }
   if (this->NumberOfThreads < 0 || this->NumberOfThreads > 256)
   {
-    vtkErrorMacro(<< "NumberOfThreads = " << this->NumberOfThreads << " must be in [0, 256] (0: all cores)");
+    vtkErrorMacro(<< plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
     return 1;
   }
   // Under MPI the surface is subdivided once, on rank 0, whole (gathered there if it was split over ranks: pieces
@@ -213,8 +214,8 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
   settings.midveinIsFeature = this->MidveinFeatures != 0;
   if (this->MaximumTriangles < 1 || static_cast<std::size_t>(this->MaximumTriangles) > MaxAdaptiveLoopTriangles)
   {
-    vtkErrorMacro(<< "MaximumTriangles = " << this->MaximumTriangles << " must be in [1, "
-                  << MaxAdaptiveLoopTriangles << "]");
+    vtkErrorMacro(<< plantmorph::OutOfRange(
+                    "MaximumTriangles", this->MaximumTriangles, "[1, " + std::to_string(MaxAdaptiveLoopTriangles) + "]"));
     return 0;
   }
   settings.maximumTriangles = static_cast<std::size_t>(this->MaximumTriangles);

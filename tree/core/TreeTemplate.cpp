@@ -5,6 +5,7 @@
 #include "TreeStrokes.h"
 
 #include <plantmorph/MathConstants.h>
+#include <plantmorph/RangeError.h>
 #include <plantmorph/RotationMinimizingFrames.h>
 
 #include <Eigen/Geometry>
@@ -27,10 +28,7 @@ bool InRange(double v, double low, double high, bool lowOpen = false)
 
 std::string RangeError(const char* name, double value, const char* range)
 {
-  std::ostringstream out;
-  out.precision(17);
-  out << name << " = " << value << " is out of range " << range;
-  return out.str();
+  return OutOfRange(name, value, range);
 }
 } // namespace
 

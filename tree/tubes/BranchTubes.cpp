@@ -1,6 +1,7 @@
 #include "BranchTubes.h"
 
 #include <plantmorph/MathConstants.h>
+#include <plantmorph/RangeError.h>
 #include <plantmorph/RotationMinimizingFrames.h>
 
 #include <Eigen/Geometry>
@@ -37,7 +38,7 @@ std::string CleanTubes(const std::vector<TubeInput>& tubes, int sides, std::vect
   cleaned.clear();
   if (sides < 3 || sides > 256)
   {
-    return "Sides = " + std::to_string(sides) + " is out of range [3, 256]";
+    return OutOfRange("Sides", sides, "[3, 256]");
   }
   cleaned.assign(tubes.size(), CleanedTube());
   for (std::size_t t = 0; t < tubes.size(); ++t)

@@ -8,6 +8,7 @@
 #include "TreeTemplate.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -256,7 +257,7 @@ int vtkTreeFromSketchSource::RequestData(
   plantmorph::TreeSettings s;
   if (this->Preset < 0 || this->Preset >= plantmorph::TreePresetCount)
   {
-    vtkErrorMacro("Preset = " << this->Preset << " is out of range [0, 3] (0 Custom, 1-3 Table 1)");
+    vtkErrorMacro(<< plantmorph::OutOfRange("Preset", this->Preset, "[0, 3]", "0 Custom, 1-3 Table 1"));
     return 1;
   }
   s.mode = static_cast<plantmorph::TreeMode>(this->Mode);
@@ -300,8 +301,8 @@ int vtkTreeFromSketchSource::RequestData(
     const double id = this->BranchOverrides[r];
     if (!std::isfinite(id) || id < 0 || id > std::numeric_limits<int>::max() || id != std::floor(id))
     {
-      vtkErrorMacro("BranchOverrides row " << r / 6 << ": BranchId = " << id
-                                           << " must be a whole number in [0, 2147483647]");
+      vtkErrorMacro("BranchOverrides row " << r / 6 << ": "
+                                           << plantmorph::OutOfRange("BranchId", id, "[0, 2147483647]", "a whole number"));
       return 1;
     }
     // NaN or <= -1000 keeps: ParaView 5.11 state files do not keep NaN (it loads as 0), so -1000 is the
@@ -362,7 +363,7 @@ int vtkTreeFromSketchSource::RequestData(
 
   if (this->Joints != 0 && this->Joints != 1)
   {
-    vtkErrorMacro("Joints = " << this->Joints << " is out of range [0, 1] (0 Welded, 1 Seated tubes)");
+    vtkErrorMacro(<< plantmorph::OutOfRange("Joints", this->Joints, "[0, 1]", "0 Welded, 1 Seated tubes"));
     return 1;
   }
   plantmorph::Tree tree;

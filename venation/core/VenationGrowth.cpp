@@ -5,6 +5,7 @@
 
 #include <plantmorph/MathConstants.h>
 #include <plantmorph/RandomStream.h>
+#include <plantmorph/RangeError.h>
 
 #include <algorithm>
 #include <cmath>
@@ -29,9 +30,7 @@ Eigen::Vector2d Left(const Eigen::Vector2d& d)
 
 std::string Range(const char* property, double value, const char* range)
 {
-  std::ostringstream message;
-  message << property << " = " << value << " is outside the accepted range " << range;
-  return message.str();
+  return OutOfRange(property, value, range);
 }
 
 /// The random streams, one per phase, so changing one phase's parameters leaves the others' draws alone.

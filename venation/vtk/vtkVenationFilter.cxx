@@ -7,8 +7,8 @@
 #include "VenationGrowth.h"
 
 #include <plantmorph/DataContract.h>
-#include <plantmorph/RangeError.h>
 #include <plantmorph/PlaneFit.h>
+#include <plantmorph/RangeError.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"

@@ -1,5 +1,7 @@
 #include "WiltingSimulation.h"
 
+#include <plantmorph/RangeError.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -31,67 +33,67 @@ std::string ValidateWilting(const WiltingParameters& p)
   static const char* names[WiltingMaterialCount] = { "Blade", "Vein", "Margin", "Petiole" };
   if (!(p.voxelSize >= 0.0) || !std::isfinite(p.voxelSize))
   {
-    message << "VoxelSize must be >= 0 and finite (0: use Resolution) (got " << p.voxelSize << ")";
+    message << OutOfRange("VoxelSize", p.voxelSize, "[0, inf)", "0: use Resolution");
   }
   else if (p.voxelSize == 0.0 && (p.resolution < 1 || p.resolution > 1000))
   {
-    message << "Resolution must be in [1, 1000] (got " << p.resolution << ")";
+    message << OutOfRange("Resolution", p.resolution, "[1, 1000]");
   }
   else if (!(p.gravity >= 0.0) || !std::isfinite(p.gravity))
   {
-    message << "Gravity must be >= 0 and finite (got " << p.gravity << ")";
+    message << OutOfRange("Gravity", p.gravity, "[0, inf)");
   }
   else if (!(std::abs(p.droopForce) <= 1e9))
   {
-    message << "DroopForce must be in [-1e9, 1e9] (negative pulls up; got " << p.droopForce << ")";
+    message << OutOfRange("DroopForce", p.droopForce, "[-1e9, 1e9]", "negative pulls up");
   }
   else if (!(std::abs(p.contractionForce) <= 1e9))
   {
-    message << "ContractionForce must be in [-1e9, 1e9] (negative pushes away; got " << p.contractionForce << ")";
+    message << OutOfRange("ContractionForce", p.contractionForce, "[-1e9, 1e9]", "negative pushes away");
   }
   else if (!(p.droopAsymmetry >= -1.0 && p.droopAsymmetry <= 1.0))
   {
-    message << "DroopAsymmetry must be in [-1, 1] (got " << p.droopAsymmetry << ")";
+    message << OutOfRange("DroopAsymmetry", p.droopAsymmetry, "[-1, 1]");
   }
   else if (!(p.contractionAsymmetry >= -1.0 && p.contractionAsymmetry <= 1.0))
   {
-    message << "ContractionAsymmetry must be in [-1, 1] (got " << p.contractionAsymmetry << ")";
+    message << OutOfRange("ContractionAsymmetry", p.contractionAsymmetry, "[-1, 1]");
   }
   else if (!(std::abs(p.shrinkageStrain) <= 0.4))
   {
-    message << "ShrinkageStrain must be in [-0.4, 0.4] (negative swells; got " << p.shrinkageStrain << ")";
+    message << OutOfRange("ShrinkageStrain", p.shrinkageStrain, "[-0.4, 0.4]", "negative swells");
   }
   else if (!(p.shrinkageAsymmetry >= -1.0 && p.shrinkageAsymmetry <= 1.0))
   {
-    message << "ShrinkageAsymmetry must be in [-1, 1] (got " << p.shrinkageAsymmetry << ")";
+    message << OutOfRange("ShrinkageAsymmetry", p.shrinkageAsymmetry, "[-1, 1]");
   }
   else if (!(std::abs(p.curlStrain) <= 0.4))
   {
-    message << "CurlStrain must be in [-0.4, 0.4] (negative curls up; got " << p.curlStrain << ")";
+    message << OutOfRange("CurlStrain", p.curlStrain, "[-0.4, 0.4]", "negative curls up");
   }
   else if (!(p.curlAsymmetry >= -1.0 && p.curlAsymmetry <= 1.0))
   {
-    message << "CurlAsymmetry must be in [-1, 1] (got " << p.curlAsymmetry << ")";
+    message << OutOfRange("CurlAsymmetry", p.curlAsymmetry, "[-1, 1]");
   }
   else if (!(p.curlRelaxation >= 0.0 && p.curlRelaxation <= 1.0))
   {
-    message << "CurlRelaxation must be in [0, 1] (got " << p.curlRelaxation << ")";
+    message << OutOfRange("CurlRelaxation", p.curlRelaxation, "[0, 1]");
   }
   else if (!(p.shrinkageTime >= 0.0) || !std::isfinite(p.shrinkageTime))
   {
-    message << "ShrinkageTime must be >= 0 and finite (0: ContractionTime) (got " << p.shrinkageTime << ")";
+    message << OutOfRange("ShrinkageTime", p.shrinkageTime, "[0, inf)", "0: ContractionTime");
   }
   else if (!(p.curlTime >= 0.0) || !std::isfinite(p.curlTime))
   {
-    message << "CurlTime must be >= 0 and finite (0: ContractionTime) (got " << p.curlTime << ")";
+    message << OutOfRange("CurlTime", p.curlTime, "[0, inf)", "0: ContractionTime");
   }
   else if (!(p.curlRelaxationTime >= 0.0) || !std::isfinite(p.curlRelaxationTime))
   {
-    message << "CurlRelaxationTime must be >= 0 and finite (0: LoadTime) (got " << p.curlRelaxationTime << ")";
+    message << OutOfRange("CurlRelaxationTime", p.curlRelaxationTime, "[0, inf)", "0: LoadTime");
   }
   else if (!(p.loadTime > 0.0) || !std::isfinite(p.loadTime))
   {
-    message << "LoadTime must be > 0 and finite (got " << p.loadTime << ")";
+    message << OutOfRange("LoadTime", p.loadTime, "(0, inf)");
   }
   else if (!(p.referenceVoxelSize >= 0.0) || !std::isfinite(p.referenceVoxelSize))
   {
@@ -99,37 +101,38 @@ std::string ValidateWilting(const WiltingParameters& p)
   }
   else if (!(p.contractionTime >= 0.0) || !std::isfinite(p.contractionTime))
   {
-    message << "ContractionTime must be >= 0 and finite (0: LoadTime) (got " << p.contractionTime << ")";
+    message << OutOfRange("ContractionTime", p.contractionTime, "[0, inf)", "0: LoadTime");
   }
   else if (!(p.anchorRadius >= 0.0) || !std::isfinite(p.anchorRadius))
   {
-    message << "AnchorRadius must be >= 0 and finite (got " << p.anchorRadius << ")";
+    message << OutOfRange("AnchorRadius", p.anchorRadius, "[0, inf)");
   }
   else if (!(p.petioleLength >= 0.0 && p.petioleLength <= 1e4))
   {
-    message << "PetioleLength must be in [0, 10000] (0: no petiole) (got " << p.petioleLength << ")";
+    message << OutOfRange("PetioleLength", p.petioleLength, "[0, 10000]", "0: no petiole");
   }
   else if (!(p.duration > 0.0 && p.duration <= 1e4))
   {
-    message << "Duration must be in (0, 10000] s (got " << p.duration << ")";
+    message << OutOfRange("Duration", p.duration, "(0, 10000]", "seconds");
   }
   else if (!(p.frameInterval > 0.0) || !std::isfinite(p.frameInterval))
   {
-    message << "FrameInterval must be > 0 and finite (got " << p.frameInterval << ")";
+    message << OutOfRange("FrameInterval", p.frameInterval, "(0, inf)");
   }
   else
   {
     for (int m = 0; m < WiltingMaterialCount; ++m)
     {
       const WiltingMaterial& material = p.materials[static_cast<std::size_t>(m)];
-      if (!(material.density > 0.0) || !std::isfinite(material.density) || !(material.stiffness > 0.0) ||
-        !std::isfinite(material.stiffness) || !(material.damping >= 0.0) || !std::isfinite(material.damping))
-      {
-        message << names[m] << "Density and " << names[m] << "Stiffness must be > 0 and " << names[m]
-                << "Damping >= 0, all finite (got " << material.density << ", " << material.stiffness << ", "
-                << material.damping << ")";
+      const std::string name = names[m];
+      if (!(material.density > 0.0) || !std::isfinite(material.density))
+        message << OutOfRange(name + "Density", material.density, "(0, inf)");
+      else if (!(material.stiffness > 0.0) || !std::isfinite(material.stiffness))
+        message << OutOfRange(name + "Stiffness", material.stiffness, "(0, inf)");
+      else if (!(material.damping >= 0.0) || !std::isfinite(material.damping))
+        message << OutOfRange(name + "Damping", material.damping, "[0, inf)");
+      if (!message.str().empty())
         break;
-      }
     }
   }
   if (message.str().empty())

@@ -1,5 +1,7 @@
 #include "WiltingVoxelizer.h"
 
+#include <plantmorph/RangeError.h>
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -214,7 +216,7 @@ std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vect
   {
     if (options.resolution < 1)
     {
-      return "Resolution must be >= 1 when VoxelSize is 0";
+      return OutOfRange("Resolution", options.resolution, "[1, inf)", "when VoxelSize is 0");
     }
     h = longest / options.resolution;
   }
@@ -335,7 +337,7 @@ std::string AddPetiole(VoxelGrid& grid, const Eigen::Vector3d& base, double leng
   petiole = PetiolePlacement();
   if (!(length > 0.0) || !std::isfinite(length))
   {
-    return "PetioleLength must be > 0 and finite to add a petiole";
+    return OutOfRange("PetioleLength", length, "(0, inf)", "to add a petiole");
   }
   const double h = grid.h;
   const double rows = std::max(1.0, std::round(length / h));

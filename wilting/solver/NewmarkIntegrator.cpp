@@ -1,5 +1,7 @@
 #include "NewmarkIntegrator.h"
 
+#include <plantmorph/RangeError.h>
+
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
@@ -239,39 +241,39 @@ std::string ValidateNewmark(const NewmarkParameters& p)
   std::ostringstream message;
   if (!(p.timeStep > 0.0) || !std::isfinite(p.timeStep))
   {
-    message << "TimeStep must be a positive finite number (got " << p.timeStep << ")";
+    message << OutOfRange("TimeStep", p.timeStep, "(0, inf)");
   }
   else if (!(p.newmarkBeta > 0.0 && p.newmarkBeta <= 0.5))
   {
-    message << "NewmarkBeta must be in (0, 0.5] (got " << p.newmarkBeta << ")";
+    message << OutOfRange("NewmarkBeta", p.newmarkBeta, "(0, 0.5]");
   }
   else if (!(p.newmarkGamma >= 0.5 && p.newmarkGamma <= 1.0))
   {
-    message << "NewmarkGamma must be in [0.5, 1] (got " << p.newmarkGamma << ")";
+    message << OutOfRange("NewmarkGamma", p.newmarkGamma, "[0.5, 1]");
   }
   else if (!(p.rayleighMass >= 0.0) || !std::isfinite(p.rayleighMass))
   {
-    message << "RayleighMass (alpha) must be >= 0 and finite (got " << p.rayleighMass << ")";
+    message << OutOfRange("RayleighMass (alpha)", p.rayleighMass, "[0, inf)");
   }
   else if (!(p.rayleighStiffness >= 0.0) || !std::isfinite(p.rayleighStiffness))
   {
-    message << "RayleighStiffness (beta) must be >= 0 and finite (got " << p.rayleighStiffness << ")";
+    message << OutOfRange("RayleighStiffness (beta)", p.rayleighStiffness, "[0, inf)");
   }
   else if (p.maxIterations < 1 || p.maxIterations > 100)
   {
-    message << "NewtonIterations must be in [1, 100] (got " << p.maxIterations << ")";
+    message << OutOfRange("NewtonIterations", p.maxIterations, "[1, 100]");
   }
   else if (!(p.newtonTolerance >= 0.0 && p.newtonTolerance < 1.0))
   {
-    message << "NewtonTolerance must be in [0, 1) (got " << p.newtonTolerance << ")";
+    message << OutOfRange("NewtonTolerance", p.newtonTolerance, "[0, 1)");
   }
   else if (!(p.cgTolerance > 0.0 && p.cgTolerance < 1.0))
   {
-    message << "CGTolerance must be in (0, 1) (got " << p.cgTolerance << ")";
+    message << OutOfRange("CGTolerance", p.cgTolerance, "(0, 1)");
   }
   else if (p.cgMaxIterations < 1)
   {
-    message << "CGMaxIterations must be >= 1 (got " << p.cgMaxIterations << ")";
+    message << OutOfRange("CGMaxIterations", p.cgMaxIterations, "[1, inf)");
   }
   return message.str();
 }

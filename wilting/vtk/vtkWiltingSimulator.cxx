@@ -6,6 +6,7 @@
 #include "WiltingSimulation.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -196,36 +197,36 @@ std::string CheckEnumerations(vtkWiltingSimulator* f)
 {
   if (f->GetPreset() < 0 || f->GetPreset() >= plantmorph::WiltingPresetCount)
   {
-    return "Preset must be 0 (Custom), 1 (Cucumber), 2 (Tomato) or 3 (Watermelon), got " +
-      std::to_string(f->GetPreset());
+    return plantmorph::OutOfRange(
+      "Preset", f->GetPreset(), "{0, 1, 2, 3}", "0 Custom, 1 Cucumber, 2 Tomato, 3 Watermelon");
   }
   if (f->GetLoadProfile() < 0 || f->GetLoadProfile() > 2)
   {
-    return "LoadProfile must be 0 (Constant), 1 (Ramp) or 2 (Sigmoid), got " + std::to_string(f->GetLoadProfile());
+    return plantmorph::OutOfRange("LoadProfile", f->GetLoadProfile(), "{0, 1, 2}", "0 Constant, 1 Ramp, 2 Sigmoid");
   }
   if (f->GetContractionSide() < 0 || f->GetContractionSide() > 1)
   {
-    return "ContractionSide must be 0 (Bottom) or 1 (Top), got " + std::to_string(f->GetContractionSide());
+    return plantmorph::OutOfRange("ContractionSide", f->GetContractionSide(), "{0, 1}", "0 Bottom, 1 Top");
   }
   if (f->GetContractionTarget() < 0 || f->GetContractionTarget() > 1)
   {
-    return "ContractionTarget must be 0 (Midvein) or 1 (Base), got " + std::to_string(f->GetContractionTarget());
+    return plantmorph::OutOfRange("ContractionTarget", f->GetContractionTarget(), "{0, 1}", "0 Midvein, 1 Base");
   }
   if (f->GetCurlDirection() < 0 || f->GetCurlDirection() > 1)
   {
-    return "CurlDirection must be 0 (Isotropic) or 1 (Radial), got " + std::to_string(f->GetCurlDirection());
+    return plantmorph::OutOfRange("CurlDirection", f->GetCurlDirection(), "{0, 1}", "0 Isotropic, 1 Radial");
   }
   if (f->GetSolver() < 0 || f->GetSolver() > 2)
   {
-    return "Solver must be 0 (Auto), 1 (Cholesky) or 2 (CG), got " + std::to_string(f->GetSolver());
+    return plantmorph::OutOfRange("Solver", f->GetSolver(), "{0, 1, 2}", "0 Auto, 1 Cholesky, 2 CG");
   }
   if (f->GetThreads() < 0 || f->GetThreads() > 256)
   {
-    return "Threads must be in [0, 256], got " + std::to_string(f->GetThreads());
+    return plantmorph::OutOfRange("Threads", f->GetThreads(), "[0, 256]", "0: all cores");
   }
   if (f->GetMaximumVoxels() < 1)
   {
-    return "MaximumVoxels must be >= 1";
+    return plantmorph::OutOfRange("MaximumVoxels", f->GetMaximumVoxels(), "[1, inf)");
   }
   return std::string();
 }

@@ -427,7 +427,7 @@ TEST(LeafFit, BadInputGivesAClearError)
   ExpectError(slab, "no leaf shape");
   LeafFitOptions options;
   options.resolution = 2;
-  ExpectError(leaf, "Resolution: 2 is outside [4, 1000]", options);
+  ExpectError(leaf, "Resolution = 2 is outside the accepted range [4, 1000]", options);
   options = LeafFitOptions();
   options.surfaceSmoothing = -1.0;
   ExpectError(leaf, "SurfaceSmoothing", options);

@@ -390,15 +390,15 @@ TEST(AdaptiveLoopFilter, BadPropertiesAreNamedWithTheirRangeAndGiveEmptyOutput)
   const vtkSmartPointer<vtkPolyData> input = CurvedBlade(12);
   const std::vector<std::pair<std::function<void(vtkAdaptiveLoopFilter*)>, std::string>> cases = {
     { [](vtkAdaptiveLoopFilter* f) { f->SetEdgeAngleThreshold(std::nan("")); },
-      "EdgeAngleThreshold = nan must be in [0, 180]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetEdgeAngleThreshold(181); }, "EdgeAngleThreshold = 181 must be in [0, 180]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetFlatnessThreshold(-0.5); }, "FlatnessThreshold = -0.5 must be in [0, 1]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetMaximumLevel(-1); }, "MaximumLevel = -1 must be in [0, 10]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetFeatureRule(7); }, "FeatureRule = 7 must be 0 (Fixed), 1 (Loop) or 2" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetMaximumTriangles(0); }, "MaximumTriangles = 0 must be in [1, " },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetNumberOfThreads(-2); }, "NumberOfThreads = -2 must be in [0, 256]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetRefinementRule(3); }, "RefinementRule = 3 must be 0 (Dihedral angle), 1 (Surface error) or 2 (Chord error)" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetErrorTolerance(-1.0); }, "ErrorTolerance = -1 must be in [0, inf]" },
+      "EdgeAngleThreshold = nan is outside the accepted range [0, 180]" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetEdgeAngleThreshold(181); }, "EdgeAngleThreshold = 181 is outside the accepted range [0, 180]" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetFlatnessThreshold(-0.5); }, "FlatnessThreshold = -0.5 is outside the accepted range [0, 1]" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetMaximumLevel(-1); }, "MaximumLevel = -1 is outside the accepted range [0, 10]" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetFeatureRule(7); }, "FeatureRule = 7 is outside the accepted range {0, 1, 2}" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetMaximumTriangles(0); }, "MaximumTriangles = 0 is outside the accepted range [1, " },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetNumberOfThreads(-2); }, "NumberOfThreads = -2 is outside the accepted range [0, 256]" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetRefinementRule(3); }, "RefinementRule = 3 is outside the accepted range {0, 1, 2} (0 Dihedral angle, 1 Surface error, 2 Chord error)" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetErrorTolerance(-1.0); }, "ErrorTolerance = -1 is outside the accepted range [0, inf]" },
     { [](vtkAdaptiveLoopFilter* f) {
         f->SetMaximumLevel(4);
         f->SetEdgeAngleThreshold(180);

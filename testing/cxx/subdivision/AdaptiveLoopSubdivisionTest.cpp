@@ -528,13 +528,13 @@ TEST(AdaptiveLoopSubdivision, BadSettingsAndInputAreRefusedByName)
   const AdaptiveLoopMesh mesh = Icosahedron(false);
   AdaptiveLoopSettings s = PlainLoop(1);
   s.edgeAngleThreshold = std::nan("");
-  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("EdgeAngleThreshold = nan must be in [0, 180]"),
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("EdgeAngleThreshold = nan is outside the accepted range [0, 180]"),
     std::string::npos);
   s = PlainLoop(1);
   s.flatnessThreshold = 1.5;
   EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("FlatnessThreshold"), std::string::npos);
   s = PlainLoop(MaxAdaptiveLoopLevel + 1);
-  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("MaximumLevel = 11 must be in [0, 10]"), std::string::npos);
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("MaximumLevel = 11 is outside the accepted range [0, 10]"), std::string::npos);
 
   AdaptiveLoopMesh nan = mesh;
   nan.points[7] = std::nan("");
@@ -730,17 +730,17 @@ TEST(AdaptiveLoopSubdivision, SurfaceErrorToleranceIsValidated)
   const AdaptiveLoopMesh mesh = Icosahedron(false);
   AdaptiveLoopSettings s = ByError(-1e-3, 1, FeatureRule::Fixed);
   EXPECT_NE(
-    AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -0.001 must be in [0, inf]"), std::string::npos);
+    AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -0.001 is outside the accepted range [0, inf]"), std::string::npos);
   s.errorTolerance = std::nan("");
   EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance"), std::string::npos);
   s.errorTolerance = 0.1;
   s.refinementRule = static_cast<RefinementRule>(3);
-  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("RefinementRule = 3 must be 0 (Dihedral angle), 1 (Surface "
-                                                      "error) or 2 (Chord error)"),
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("RefinementRule = 3 is outside the accepted range {0, 1, 2} "
+                                                      "(0 Dihedral angle, 1 Surface error, 2 Chord error)"),
     std::string::npos);
   s.refinementRule = RefinementRule::ChordError;
   s.errorTolerance = -1.0;
-  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -1 must be in [0, inf]"), std::string::npos);
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -1 is outside the accepted range [0, inf]"), std::string::npos);
 }
 
 // ---------------------------------------------------------------------------------------------------------------

@@ -256,7 +256,7 @@ TEST(TreeFromSketchSource, BadInputGivesAnErrorNamingItAndEmptyOutputs)
     { "Length", [](vtkTreeFromSketchSource* s) { s->SetPreset(0), s->SetLength(-1); } },
     { "Ratio", [](vtkTreeFromSketchSource* s) { s->SetPreset(0), s->SetRatio(NAN); } },
     { "Sides", [](vtkTreeFromSketchSource* s) { s->SetSides(2); } },
-    { "Joints = 2 is out of range [0, 1]", [](vtkTreeFromSketchSource* s) { s->SetJoints(2); } },
+    { "Joints = 2 is outside the accepted range [0, 1]", [](vtkTreeFromSketchSource* s) { s->SetJoints(2); } },
     { "MaxSegments", [](vtkTreeFromSketchSource* s) { s->SetMaxSegments(1000); } },
     { "Preset", [](vtkTreeFromSketchSource* s) { s->SetPreset(9); } },
     { "Strokes input", [](vtkTreeFromSketchSource* s) { s->SetMode(1); } },

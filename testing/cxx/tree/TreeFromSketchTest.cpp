@@ -1104,7 +1104,7 @@ TEST(TreeMerge, InputThatIsNotATreeIsRefusedWithAClearMessage)
   EXPECT_NE(BuildTree(s, {}, &fine, tree).find("MergeParentBranch = 5000 names no branch"), std::string::npos);
   s.mergeParent = 0;
   s.mergeScale = 0.0;
-  EXPECT_NE(BuildTree(s, {}, &fine, tree).find("MergeScale = 0 is out of range (0, 1e6]"), std::string::npos);
+  EXPECT_NE(BuildTree(s, {}, &fine, tree).find("MergeScale = 0 is outside the accepted range (0, 1e6]"), std::string::npos);
 }
 
 // ---- BranchOverrides on stroke branches ---------------------------------------------------------------------------

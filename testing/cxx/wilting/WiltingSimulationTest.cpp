@@ -472,7 +472,7 @@ TEST(WiltingSimulation, ZeroAsymmetryGivesExactlyTheSymmetricLoads)
   EXPECT_NEAR(plus / minus, 1.5 / 0.5, 1e-12) << "droop: (1 + a) / (1 - a) on the outer columns";
   EXPECT_NEAR(-pullPlus / pullMinus, 0.75 / 1.25, 1e-12) << "contraction: (1 + a) / (1 - a)";
   p.droopAsymmetry = 1.01;
-  EXPECT_NE(ValidateWilting(p).find("DroopAsymmetry must be in [-1, 1]"), std::string::npos);
+  EXPECT_NE(ValidateWilting(p).find("DroopAsymmetry = 1.01 is outside the accepted range [-1, 1]"), std::string::npos);
   p.droopAsymmetry = 0.0;
   p.contractionAsymmetry = std::nan("");
   EXPECT_NE(simulation.Setup(in, p).find("ContractionAsymmetry"), std::string::npos);
@@ -574,7 +574,7 @@ TEST(WiltingSimulation, PetioleHoldsTheBladeAtItsEndAndLetsItRoll)
   EXPECT_LT(roll[0], -0.05) << "on a petiole the +x side drops";
   EXPECT_LT(roll[0], 3.0 * roll[1]) << "three times more than held at the base (" << roll[0] << " vs " << roll[1] << ")";
   p.petioleLength = -1.0;
-  EXPECT_NE(ValidateWilting(p).find("PetioleLength must be in [0, 10000]"), std::string::npos);
+  EXPECT_NE(ValidateWilting(p).find("PetioleLength = -1 is outside the accepted range [0, 10000]"), std::string::npos);
 }
 
 TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSideways)
@@ -621,7 +621,7 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
       EXPECT_NEAR(quarter[e], (1.0 - 0.25 * 0.05) * own[e], 1e-12 * own[e]) << "spring " << e;
     }
     shrinking.shrinkageTime = -1.0;
-    EXPECT_NE(ValidateWilting(shrinking).find("ShrinkageTime must be >= 0"), std::string::npos);
+    EXPECT_NE(ValidateWilting(shrinking).find("ShrinkageTime = -1 is outside the accepted range [0, inf)"), std::string::npos);
   }
   p.shrinkageStrain = 0.05;
   const Eigen::Vector3d shrunk = tipAfter(p);
@@ -644,10 +644,10 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
   EXPECT_NEAR(minus[0], -plus[0], 1e-9) << "-a: the mirror image";
   EXPECT_NEAR(minus[1], plus[1], 1e-9);
   p.shrinkageAsymmetry = -1.5;
-  EXPECT_NE(ValidateWilting(p).find("ShrinkageAsymmetry must be in [-1, 1]"), std::string::npos);
+  EXPECT_NE(ValidateWilting(p).find("ShrinkageAsymmetry = -1.5 is outside the accepted range [-1, 1]"), std::string::npos);
   p.shrinkageAsymmetry = 0.0;
   p.shrinkageStrain = 0.45;
-  EXPECT_NE(ValidateWilting(p).find("ShrinkageStrain must be in [-0.4, 0.4]"), std::string::npos);
+  EXPECT_NE(ValidateWilting(p).find("ShrinkageStrain = 0.45 is outside the accepted range [-0.4, 0.4]"), std::string::npos);
 }
 
 TEST(WiltingSimulation, CurlBendsTheLeafIntoItsArcAndRelaxes)
@@ -786,16 +786,16 @@ TEST(WiltingSimulation, CurlBendsTheLeafIntoItsArcAndRelaxes)
     EXPECT_GT(arc[2], -drop(10.0)) << arc.transpose();
   }
   p.curlStrain = 0.41;
-  EXPECT_NE(ValidateWilting(p).find("CurlStrain must be in [-0.4, 0.4]"), std::string::npos);
+  EXPECT_NE(ValidateWilting(p).find("CurlStrain = 0.41 is outside the accepted range [-0.4, 0.4]"), std::string::npos);
   p.curlStrain = 0.1;
   p.curlRelaxation = 1.5;
-  EXPECT_NE(ValidateWilting(p).find("CurlRelaxation must be in [0, 1]"), std::string::npos);
+  EXPECT_NE(ValidateWilting(p).find("CurlRelaxation = 1.5 is outside the accepted range [0, 1]"), std::string::npos);
   p.curlRelaxation = 0.0;
   p.curlAsymmetry = -2.0;
-  EXPECT_NE(ValidateWilting(p).find("CurlAsymmetry must be in [-1, 1]"), std::string::npos);
+  EXPECT_NE(ValidateWilting(p).find("CurlAsymmetry = -2 is outside the accepted range [-1, 1]"), std::string::npos);
   p.curlAsymmetry = 0.0;
   p.curlTime = -1.0;
-  EXPECT_NE(ValidateWilting(p).find("CurlTime must be >= 0"), std::string::npos);
+  EXPECT_NE(ValidateWilting(p).find("CurlTime = -1 is outside the accepted range [0, inf)"), std::string::npos);
 }
 
 TEST(WiltingSimulation, DeterministicAcrossRunsAndThreads)
