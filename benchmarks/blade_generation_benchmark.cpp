@@ -69,7 +69,7 @@
 namespace
 {
 constexpr double GinkgoLength = 5.0;
-constexpr double ShapeBound = 0.125; // BladeMeshOptions' default, as the plugin uses it
+constexpr double ShapeBound = 0.125; // BladeMeshParameters' default, as the plugin uses it
 constexpr double MinSeconds = 0.2;
 
 // Quality mode makes ~4*R^2 triangles: 16 -> ~1e3, 512 -> ~1e6, in steps of sqrt(2) (twice the triangles).
@@ -127,7 +127,7 @@ void RunBlade(benchmark::State& state, bool quality)
 {
   const plantmorph::DeformedRectangleParameters parameters =
     plantmorph::MakeDeformedRectanglePreset(plantmorph::DeformedRectanglePreset::Ginkgo, GinkgoLength);
-  plantmorph::LeafMeshSettings settings;
+  plantmorph::LeafMeshParameters settings;
   settings.resolution = static_cast<int>(state.range(0));
   settings.quality = quality;
   MeasureLeaf(state,
@@ -175,7 +175,7 @@ const SameBoundary& BoundaryAt(int resolution)
     plantmorph::MakeDeformedRectanglePreset(plantmorph::DeformedRectanglePreset::Ginkgo, GinkgoLength);
   // Paper mode adds no Steiner point: the blade's points are exactly the outline samples (midvein first), the same
   // ones quality mode starts from.
-  plantmorph::LeafMeshSettings settings;
+  plantmorph::LeafMeshParameters settings;
   settings.resolution = resolution;
   settings.quality = false;
   plantmorph::LeafGeometry leaf;
@@ -271,7 +271,7 @@ void BM_SpaceCurveLeaf(benchmark::State& state)
 {
   const plantmorph::SpaceCurveParameters parameters =
     plantmorph::MakeSpaceCurvePreset(plantmorph::SpaceCurvePreset::Figure5, 5.0);
-  plantmorph::SpaceCurveMeshSettings settings;
+  plantmorph::SpaceCurveMeshParameters settings;
   settings.resolution = static_cast<int>(state.range(0));
   MeasureLeaf(
     state, [&](plantmorph::LeafGeometry& leaf) { return plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf); });
@@ -283,7 +283,7 @@ void BM_PalmateLeafQuality(benchmark::State& state)
 {
   const plantmorph::SpaceCurveParameters parameters =
     plantmorph::MakeSpaceCurvePreset(plantmorph::SpaceCurvePreset::Figure8FiveLobes, 5.0);
-  plantmorph::SpaceCurveMeshSettings settings;
+  plantmorph::SpaceCurveMeshParameters settings;
   settings.resolution = static_cast<int>(state.range(0));
   MeasureLeaf(
     state, [&](plantmorph::LeafGeometry& leaf) { return plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf); });
@@ -294,7 +294,7 @@ void BM_BSplineLeafQuality(benchmark::State& state)
 {
   const plantmorph::BSplineLeafParameters parameters =
     plantmorph::MakeBSplinePreset(plantmorph::BSplinePreset::PinOak, 8.0, 7.0, 7);
-  plantmorph::LeafMeshSettings settings;
+  plantmorph::LeafMeshParameters settings;
   settings.resolution = static_cast<int>(state.range(0));
   MeasureLeaf(
     state, [&](plantmorph::LeafGeometry& leaf) { return plantmorph::BuildBSplineLeaf(parameters, settings, leaf); });

@@ -1,21 +1,27 @@
-"""The comparison loop of issue 24: fit a leaf to a measured scan, scan the fitted leaf the way the leaf was scanned,
-and compare the simulated cloud with the measured one.
+"""The comparison loop of issue 24: fit a leaf to a measured scan, scan the fitted leaf the way a close-range scanner
+scans a leaf, and compare the simulated cloud with the measured one.
 
     pvbatch examples/scan_fitted_leaf.py [--plugin build/.../PlantMorph.so] [--scan data/leaf-clouds/soybean_..txt]
+                                         [--output output]
 
-1. Leaf Cloud Reader reads a shipped soybean scan (millimetres); a B-spline LeafOutlineSource leaf (centimetres) is
-   fitted through control points picked from the scan, as examples/compare_scanned_leaf.py does (LeafFitFilter will
-   replace this when it lands).
-2. The fit residual: CloudComparisonFilter, scan against the fitted leaf (Scale 0.1: mm to cm).
-3. VirtualScanner scans the fitted leaf with a set-up like the real one's: a depth camera on the leaf's normal, 3
-   leaf lengths away, its pixel footprint on the leaf equal to the scan's mean point spacing, range noise equal to
-   the residual's RMS (so the simulated cloud scatters about the model as the measured one does).
+1. Leaf Cloud Reader reads a shipped soybean scan (millimetres); LeafFitFilter fits a leaf to it with its defaults
+   (Scale 0.1: the fitted Blade in centimetres).
+2. The fit residual: CloudComparisonFilter, scan against the fitted Blade (Scale 0.1: mm to cm).
+3. VirtualScanner scans the fitted Blade with a line (profile) scanner passing over the leaf along its length, looking
+   down the leaf's normal from two leaf lengths away, its fan across the leaf: the angular step and the line spacing
+   give the measured scan's mean point spacing (the fitted blade's area seen along the normal over the scan's point
+   count), the range noise is the residual's RMS (so the simulated
+   cloud scatters about the model as the measured one does about it).
 4. Cloud to cloud: CloudComparisonFilter of the measured scan against the simulated cloud (nearest neighbour), and
-   of the simulated cloud against the fitted leaf, printed beside the fit residual: a simulated scan that samples
+   of the simulated cloud against the fitted Blade, printed beside the fit residual: a simulated scan that samples
    like the real one gives cloud-to-cloud distances of the order of the residual and the spacing.
+
+Writes into --output: scan_fitted_leaf_simulated.vtp (the simulated cloud, labelled), scan_fitted_leaf_blade.vtp (the
+fitted leaf) and scan_fitted_leaf.json (the numbers printed).
 """
 import argparse
 import glob
+import json
 import math
 import os
 
@@ -31,49 +37,19 @@ parser.add_argument("--plugin", default=os.path.join(HERE, "..", "build", "lib",
                                                      "PlantMorph", "PlantMorph.so"))
 parser.add_argument("--scan", default=sorted(glob.glob(os.path.join(HERE, "..", "data", "leaf-clouds",
                                                                      "soybean_*_pot1_1.txt")))[0])
+parser.add_argument("--output", default=os.path.join(HERE, "..", "output"))
 arguments = parser.parse_args()
+os.makedirs(arguments.output, exist_ok=True)
 LoadPlugin(os.path.abspath(arguments.plugin), remote=False, ns=globals())
 
 scan = LeafCloudReader(FileName=os.path.abspath(arguments.scan))
 xyz = vtk_to_numpy(servermanager.Fetch(scan).GetPoints().GetData()) * 0.1  # mm -> cm
 
-# 1. The fit (examples/compare_scanned_leaf.py's control points: principal frame, base and apex, five stations).
-centre = xyz.mean(axis=0)
-_, _, axes = numpy.linalg.svd(xyz - centre, full_matrices=False)
-e_length, e_width = axes[0], axes[1]
-s = (xyz - centre) @ e_length
-t = (xyz - centre) @ e_width
-if ((s > s.max() - 0.15 * (s.max() - s.min())).sum() > (s < s.min() + 0.15 * (s.max() - s.min())).sum()):
-    s, e_length = -s, -e_length
-base, apex = xyz[numpy.argmin(s)], xyz[numpy.argmax(s)]
-stations = numpy.linspace(s.min(), s.max(), 7)[1:-1]
-half = 0.5 * (stations[1] - stations[0])
-midvein, left, right = [base], [base], [base]
-for station in stations:
-    ids = numpy.nonzero(numpy.abs(s - station) < half)[0]
-    if len(ids) < 3:
-        continue
-    middle = numpy.median(t[ids])
-    midvein.append(xyz[ids[numpy.argmin(numpy.abs(t[ids] - middle))]])
-    left.append(xyz[ids[numpy.argmin(t[ids])]])
-    right.append(xyz[ids[numpy.argmax(t[ids])]])
-for points in (midvein, left, right):
-    points.append(apex)
-normal = numpy.cross(e_length, e_width)
-if normal[2] < 0:
-    left, right = right, left
-
-
-def flat(points):
-    return [float(x) for p in points for x in p]
-
-
-leaf = LeafOutlineSource(Model="B-spline", BSplinePreset="Custom", Resolution=80,
-                         MidveinPoints=flat(midvein), LeftMarginPoints=flat(left), RightMarginPoints=flat(right))
-blade = servermanager.Fetch(leaf)
+# 1. The fit: LeafFitFilter's defaults, output in cm.
+fit = LeafFitFilter(Input=scan, Scale=0.1)
+blade = servermanager.Fetch(fit, idx=0)
 if blade.GetNumberOfPolys() == 0:
-    leaf.LeftMarginPoints, leaf.RightMarginPoints = flat(right), flat(left)
-    blade = servermanager.Fetch(leaf)
+    raise SystemExit("LeafFitFilter gave no leaf (see the error above)")
 
 
 def statistics(comparison):
@@ -82,33 +58,54 @@ def statistics(comparison):
 
 
 # 2. The fit residual.
-residual = statistics(CloudComparisonFilter(Input=scan, Reference=leaf, Scale=0.1))
+residual = statistics(CloudComparisonFilter(Input=scan, Reference=OutputPort(fit, 0), Scale=0.1))
 
-# 3. The simulated scan: spacing from the blade's area and the scan's point count.
+# 3. The simulated scan. The leaf's frame from the scan (principal axes: length, width, normal towards +z, where the
+# scanner looked from), the scan's spacing from the fitted blade's area seen along the normal and its point count.
+centre = xyz.mean(axis=0)
+_, _, axes = numpy.linalg.svd(xyz - centre, full_matrices=False)
+e_length, e_width, normal = axes[0], axes[1], numpy.cross(axes[0], axes[1])
+if normal[2] < 0:
+    normal, e_width = -normal, -e_width
+s = (xyz - centre) @ e_length
+w = (xyz - centre) @ e_width
+length, width = s.max() - s.min(), w.max() - w.min()
 points = vtk_to_numpy(blade.GetPoints().GetData())
 polys = vtk_to_numpy(blade.GetPolys().GetConnectivityArray()).reshape(-1, 3)
-area = 0.5 * numpy.linalg.norm(numpy.cross(points[polys[:, 1]] - points[polys[:, 0]],
-                                           points[polys[:, 2]] - points[polys[:, 0]]), axis=1).sum()
-spacing = math.sqrt(area / len(xyz))
-length = s.max() - s.min()
-distance = 3.0 * length
-field = 2.0 * math.degrees(math.atan(0.65 * length / distance))
-resolution = int(math.ceil(2.0 * distance * math.tan(math.radians(field / 2)) / spacing))
-camera = list(centre + distance * normal / numpy.linalg.norm(normal))
-scanner = VirtualScanner(Input=leaf, ScannerType="Depth camera", Positions=camera, LookAt=list(centre),
-                         Up=list(e_length), HorizontalFieldOfView=field, VerticalFieldOfView=field,
-                         Resolution=[resolution, resolution], RangeNoise=residual["RMS"], Seed=1)
+cross = numpy.cross(points[polys[:, 1]] - points[polys[:, 0]], points[polys[:, 2]] - points[polys[:, 0]])
+area = 0.5 * numpy.linalg.norm(cross, axis=1).sum()
+# The scanner looks down the normal: its points are spread over the blade's area projected on the leaf's plane.
+projected = 0.5 * numpy.abs(cross @ normal).sum()
+spacing = math.sqrt(projected / len(xyz))
+height = 2.0 * length
+# The path: over the leaf from 10 % before its base to 10 % beyond its tip, along its length, `height` above it.
+start = centre + (s.min() - 0.1 * length) * e_length + height * normal
+end = centre + (s.max() + 0.1 * length) * e_length + height * normal
+fan = 2.0 * math.degrees(math.atan(0.6 * width / height))
+scanner = VirtualScanner(Input=OutputPort(fit, 0), ScannerType="Line", LineMotion="Path",
+                         Positions=list(start) + list(end), LookAt=list(start - height * normal), Up=list(e_width),
+                         VerticalFieldOfView=fan, AngularStep=math.degrees(spacing / height), LineSpacing=spacing,
+                         RangeNoise=residual["RMS"], Seed=1)
 simulated = servermanager.Fetch(scanner)
 
 # 4. Cloud to cloud, and the simulated cloud against the model.
 cloud_to_cloud = statistics(CloudComparisonFilter(Input=scan, Reference=OutputPort(scanner, 0), Scale=0.1))
-simulated_to_model = statistics(CloudComparisonFilter(Input=OutputPort(scanner, 0), Reference=leaf))
-print("leaf %.2f cm long, blade area %.2f cm^2; scan %d points, spacing %.3f cm; simulated %d points "
-      "(depth camera %d x %d, %.1f degrees, range noise %.4f cm)"
-      % (length, area, len(xyz), spacing, simulated.GetNumberOfPoints(), resolution, resolution, field,
-         residual["RMS"]))
+simulated_to_model = statistics(CloudComparisonFilter(Input=OutputPort(scanner, 0), Reference=OutputPort(fit, 0)))
+print("leaf %.2f x %.2f cm, fitted blade area %.2f cm^2; scan %d points, spacing %.3f cm; simulated %d points "
+      "(line scanner %.1f cm above, fan %.1f degrees, step %.4f degrees, lines %.3f cm apart, range noise %.4f cm)"
+      % (length, width, area, len(xyz), spacing, simulated.GetNumberOfPoints(), height, fan,
+         math.degrees(spacing / height), spacing, residual["RMS"]))
 print("%-38s %8s %8s %8s %8s" % ("cm", "count", "mean", "RMS", "p95"))
-for name, row in (("measured scan to fitted leaf (residual)", residual),
-                  ("simulated scan to fitted leaf", simulated_to_model),
-                  ("measured scan to simulated scan", cloud_to_cloud)):
+rows = (("measured scan to fitted leaf (residual)", residual),
+        ("simulated scan to fitted leaf", simulated_to_model),
+        ("measured scan to simulated scan", cloud_to_cloud))
+for name, row in rows:
     print("%-38s %8d %8.4f %8.4f %8.4f" % (name, row["Count"], row["Mean"], row["RMS"], row["Percentile95"]))
+
+SaveData(os.path.join(arguments.output, "scan_fitted_leaf_simulated.vtp"), proxy=OutputPort(scanner, 0))
+SaveData(os.path.join(arguments.output, "scan_fitted_leaf_blade.vtp"), proxy=OutputPort(fit, 0))
+with open(os.path.join(arguments.output, "scan_fitted_leaf.json"), "w") as out:
+    json.dump({"scan_points": len(xyz), "simulated_points": simulated.GetNumberOfPoints(), "spacing_cm": spacing,
+               "length_cm": length, "blade_area_cm2": area, "projected_area_cm2": projected, "residual": residual,
+               "simulated_to_model": simulated_to_model, "cloud_to_cloud": cloud_to_cloud}, out, indent=1)
+print("wrote %s" % os.path.join(arguments.output, "scan_fitted_leaf.json"))

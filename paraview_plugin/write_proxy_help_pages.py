@@ -1,7 +1,8 @@
 """Writes the plugin's help page of every proxy, PlantMorph.<Proxy>.html: what it does, its paper and pictures (from
-docs/proxy-pages.json) and the table of the properties its panel shows, read from the proxy's server-manager XML, so
-the page never disagrees with the panel's tooltips. Run by the build (paraview_plugin/CMakeLists.txt) into the help
-folder ParaView compiles.
+docs/proxy-pages.json) and the table of the properties its panel shows, read from the proxy's server-manager XML
+(each property's tooltip and, below it, the long explanation in its Documentation's long_help), so the page never
+disagrees with the panel's tooltips. Run by the build (paraview_plugin/CMakeLists.txt) into the help folder ParaView
+compiles.
 
     python3 write_proxy_help_pages.py --xml-dir leaf/vtk tree/vtk ... --pages docs/proxy-pages.json --out build/.../paraview_help
 """
@@ -51,8 +52,11 @@ def property_rows(proxy):
             continue
         documentation = prop.find("Documentation")
         text = " ".join("".join(documentation.itertext()).split()) if documentation is not None else ""
+        # The tooltip (a sentence or two), then the long explanation the tooltip leaves out (long_help), if any.
+        details = " ".join((documentation.get("long_help") or "").split()) if documentation is not None else ""
+        cell = html.escape(text) + ("<br/><small>%s</small>" % html.escape(details) if details else "")
         advanced = " (advanced)" if prop.get("panel_visibility") == "advanced" else ""
-        rows.append("<tr><td><b>%s</b>%s</td><td>%s</td></tr>" % (prop.get("name"), advanced, html.escape(text)))
+        rows.append("<tr><td><b>%s</b>%s</td><td>%s</td></tr>" % (prop.get("name"), advanced, cell))
     return "\n".join(rows)
 
 

@@ -22,9 +22,10 @@ PACKAGES=(
   libjpeg-dev libpng-dev libglew-dev libgl2ps-dev libgdal-dev libfreetype-dev libavformat-dev libavcodec-dev
   libavutil-dev libswscale-dev libexpat1-dev libboost-dev libx11-dev libxt-dev zlib1g-dev libgl-dev
   libdouble-conversion-dev libpugixml-dev libproj-dev libcgns-dev libsqlite3-dev
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev clang-format
 )
 # clang and libclang-rt-14-dev (libFuzzer; only a Recommends of clang) build the fuzz harnesses of testing/fuzz/.
+# clang-format: scripts/format.sh and the ctest repo.format (the C++ follows .clang-format).
 # Trimmed by experiment from the team's first, longer list: a configure + build under strace opened no file of
 # libfmt-dev, libjsoncpp-dev or nlohmann-json3-dev, nothing installed depends on them, and with them removed a clean
 # configure, build and every test pass. Every other package had a file opened (or is needed at run time: MPI, Xvfb).

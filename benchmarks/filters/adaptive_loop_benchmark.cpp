@@ -188,7 +188,7 @@ void BM_Uniform_Core(benchmark::State& state)
 {
   const int exponent = static_cast<int>(state.range(0)), levels = static_cast<int>(state.range(1));
   const plantmorph::AdaptiveLoopMesh mesh = FlatArrays(SphereFor(exponent, levels));
-  plantmorph::AdaptiveLoopSettings settings;
+  plantmorph::AdaptiveLoopParameters settings;
   settings.edgeAngleThreshold = 180.0;
   settings.flatnessThreshold = 1.0;
   settings.featureRule = plantmorph::FeatureRule::Loop;

@@ -40,9 +40,9 @@ Size SizeFor(int index)
   return sizes[index];
 }
 
-plantmorph::TreeSettings Settings(int index)
+plantmorph::TreeParameters Settings(int index)
 {
-  plantmorph::TreeSettings s;
+  plantmorph::TreeParameters s;
   plantmorph::ApplyTreePreset(1, s);
   s.depth = SizeFor(index).depth;
   s.segmentsPerBranch = SizeFor(index).segmentsPerBranch;
@@ -59,7 +59,7 @@ double MeshBytes(const plantmorph::TubeMesh& m)
 
 void BM_TreeCore(benchmark::State& state)
 {
-  const plantmorph::TreeSettings s = Settings(static_cast<int>(state.range(0)));
+  const plantmorph::TreeParameters s = Settings(static_cast<int>(state.range(0)));
   const bool welded = state.range(1) == 1;
   double segments = 0.0, bytes = 0.0, triangles = 0.0;
   PeakMemoryProbe memory;
@@ -126,7 +126,7 @@ void BM_TreeSource(benchmark::State& state)
 /// stands alone), seated (arg 1: base rings seated on the parents) and welded (arg 2: convex-hull junctions).
 void BM_TreeTubesJoints(benchmark::State& state)
 {
-  const plantmorph::TreeSettings s = Settings(3);
+  const plantmorph::TreeParameters s = Settings(3);
   plantmorph::Tree tree;
   if (!plantmorph::BuildTree(s, {}, tree).empty())
   {

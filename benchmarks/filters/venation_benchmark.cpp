@@ -37,7 +37,7 @@ using plantmorph_benchmarks::PeakMemoryProbe;
 const plantmorph::VenationBlade& Blade()
 {
   static const plantmorph::VenationBlade blade = [] {
-    plantmorph::LeafMeshSettings settings;
+    plantmorph::LeafMeshParameters settings;
     settings.resolution = 100;
     plantmorph::LeafGeometry leaf;
     plantmorph::BuildDeformedRectangleLeaf(

@@ -1,50 +1,63 @@
-// VirtualScanner's ray casting against VTK's locators on the same scene and beams, in the same run (docs/methods/virtual-scanner.md,
-// issue 24). Scene: a sphere of radius 1 (vtkSphereSource, R x R, about 2 R^2 triangles: 10^4 ... 10^6), scanned
-// by a terrestrial scanner 3 away over a 45 x 45 degree field (about 60% of the beams hit), its step giving 10^5 or
-// 10^6 beams. Nearest hit per beam in every family.
+// VirtualScanner's ray casting (docs/methods/virtual-scanner.md, issue 24): Embree (the plugin's caster,
+// scanner/core/RayCaster.h), the project's own BVH it replaced (filters/TriangleBVH.h, kept here as the comparison)
+// and VTK's locators, on the same scenes and beams in the same run.
 //
-//   BM_ScannerBuild/tris:N                 TriangleBVH::Build alone (binned SAH), serial; counter tris_per_s.
-//   BM_ScannerCast/tris:N/beams:B/threads:T CastBeams (pattern, BVH traversal, watertight test, normals, intensity,
-//                                          compaction), T threads (std::thread pieces through ParallelFor).
-//   BM_VtkOBBTree/tris:N                   vtkOBBTree::IntersectWithLine (the nearest hit) on 200 beams spread
-//                                          over the 10^5-beam scan, serial, one iteration (it manages a few hundred
-//                                          beams per second); the tree built untimed.
-//   BM_VtkStaticCellLocator/tris:N         vtkStaticCellLocator::IntersectWithLine, 2000 such beams, serial.
-//   BM_Embree/tris:N/beams:B               Embree 3 (libembree-dev, single precision, when installed): the scene
-//                                          committed untimed on a one-thread device, then the same beams made by
-//                                          the same pattern, rtcIntersect1 each (nearest hit), serial; no normals
-//                                          or compaction, so it does a little less than BM_ScannerCast.
-// Rates: per CPU second of the benchmark's thread for the serial families (fair on a loaded machine), per wall
-// second for threads:2 (the casting threads are not the benchmark's own).
-// Counters: beams_per_s (beams per wall second), hits (returns, to check all families see the same scene), peak
-// memory (PeakMemory.h) of the timed runs, and build_s (the hierarchy's or locator's build, untimed runs).
+// Scene: a field of 16 UV spheres (radius 0.22, a 4 x 4 grid 0.5 apart in the plane y = 0), N triangles in all
+// (10^4 ... 10^7), made procedurally. Beams: a terrestrial scanner at (0.1, -3, 0.2) looking at the origin over
+// 45 x 45 degrees, its step giving 10^5, 10^6 or 10^7 beams (about 40 % hit), cast in the pattern's order (coherent:
+// neighbouring beams are neighbouring directions).
+//
+//   BM_Build/caster:C/tris:N           the hierarchy's build, C = 0 Embree (RayCaster::Build, all build threads),
+//                                      1 our BVH (serial); bytes of the hierarchy, peak memory.
+//   BM_Cast/caster:C/tris:N/beams:B/threads:T
+//                                      nearest hit per beam, beams made by the pattern, no cloud (the caster
+//                                      alone); C = 0 RayCaster one beam at a time (rtcIntersect1), 2 RayCaster in
+//                                      packets of 8 (rtcIntersect8, as CastBeams casts), 1 our BVH; T = 1 or 2
+//                                      std::threads over consecutive halves.
+//   BM_EmbreePacket/width:W/tris:N/beams:B
+//                                      Embree's own single-precision triangles (not watertight: the plugin does not
+//                                      use them, see RayCaster.h), serial: W = 1 rtcIntersect1,
+//                                      4/8/16 rtcIntersect4/8/16 (packets of consecutive beams), 0 rtcIntersect1M
+//                                      (a stream of 64 beams, coherent flag); double-precision refinement not done.
+//   BM_CastBeams/tris:N/beams:B/threads:T
+//                                      the plugin's casting layer: scanner/core CastBeams (pattern, Embree, double
+//                                      refinement, normals, intensity, compaction into the cloud).
+//   BM_Filter/tris:N/beams:B           the whole filter: vtkVirtualScanner on a vtkPolyData (triangulation, the
+//                                      caster's build, the cast on vtkSMPTools' STDThread backend, every core, the
+//                                      cloud and its labels).
+//   BM_VtkStaticCellLocator/tris:N     vtkStaticCellLocator::IntersectWithLine, 2000 beams spread over the 10^5-beam
+//                                      scan, serial; BM_VtkOBBTree the same with vtkOBBTree, 200 beams.
+// Counters: beams_per_s (per wall second where the family uses real time: threads:2, the filter; per CPU second of
+// the benchmark's thread otherwise), cpu_per_wall (the process's CPU seconds per wall second over the timed runs),
+// hits (returns, the same in every family for the same scene and beams), build_s, peak memory (PeakMemory.h).
 #include "../PeakMemory.h"
 
+#include "RayCaster.h"
 #include "ScanPattern.h"
 #include "TriangleBVH.h"
 #include "VirtualScan.h"
+#include "vtkVirtualScanner.h"
 
 #include "vtkCellArray.h"
-#include "vtkCellArrayIterator.h"
 #include "vtkGenericCell.h"
+#include "vtkIdTypeArray.h"
 #include "vtkNew.h"
 #include "vtkOBBTree.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
-#include "vtkSphereSource.h"
 #include "vtkStaticCellLocator.h"
 
 #include <benchmark/benchmark.h>
-
-#ifdef PLANTMORPH_HAVE_EMBREE
 #include <embree3/rtcore.h>
-#endif
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <functional>
 #include <map>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -54,40 +67,85 @@ using plantmorph_benchmarks::PeakMemoryProbe;
 
 struct Scene
 {
-  vtkSmartPointer<vtkPolyData> polyData;
   std::vector<double> points;
   std::vector<std::int64_t> triangles;
+  vtkSmartPointer<vtkPolyData> polyData; // made on demand (VTK families, the filter)
 };
 
-/// The sphere with about `triangles` triangles (cached per size).
-const Scene& Sphere(std::int64_t triangles)
+/// One UV sphere of `rings` rings and 2 * rings segments (4 rings^2 - 4 rings triangles), appended to `scene`.
+void AppendSphere(Scene& scene, const double centre[3], double radius, int rings)
+{
+  const int segments = 2 * rings;
+  const auto base = static_cast<std::int64_t>(scene.points.size() / 3);
+  const double pi = 3.14159265358979323846;
+  scene.points.insert(scene.points.end(), { centre[0], centre[1], centre[2] + radius });
+  for (int i = 1; i < rings; ++i)
+  {
+    const double theta = pi * i / rings;
+    for (int j = 0; j < segments; ++j)
+    {
+      const double phi = 2.0 * pi * j / segments;
+      scene.points.insert(scene.points.end(), { centre[0] + radius * std::sin(theta) * std::cos(phi),
+                                                centre[1] + radius * std::sin(theta) * std::sin(phi),
+                                                centre[2] + radius * std::cos(theta) });
+    }
+  }
+  scene.points.insert(scene.points.end(), { centre[0], centre[1], centre[2] - radius });
+  const std::int64_t south = base + 1 + static_cast<std::int64_t>(rings - 1) * segments;
+  auto ring = [&](int i, int j) { return base + 1 + static_cast<std::int64_t>(i - 1) * segments + (j % segments); };
+  for (int j = 0; j < segments; ++j)
+  {
+    scene.triangles.insert(scene.triangles.end(), { base, ring(1, j), ring(1, j + 1) });
+    for (int i = 1; i + 1 < rings; ++i)
+      scene.triangles.insert(scene.triangles.end(),
+        { ring(i, j), ring(i + 1, j), ring(i + 1, j + 1), ring(i, j), ring(i + 1, j + 1), ring(i, j + 1) });
+    scene.triangles.insert(scene.triangles.end(), { ring(rings - 1, j), south, ring(rings - 1, j + 1) });
+  }
+}
+
+/// The field of 16 spheres with about `triangles` triangles (cached per size).
+Scene& Field(std::int64_t triangles)
 {
   static std::map<std::int64_t, Scene> cache;
   auto it = cache.find(triangles);
   if (it != cache.end())
     return it->second;
-  const int r = static_cast<int>(std::lround(std::sqrt(triangles / 2.0))) + 1;
-  vtkNew<vtkSphereSource> source;
-  source->SetRadius(1.0);
-  source->SetThetaResolution(r);
-  source->SetPhiResolution(r);
-  source->SetOutputPointsPrecision(vtkAlgorithm::DOUBLE_PRECISION);
-  source->Update();
+  const double perSphere = static_cast<double>(triangles) / 16.0;
+  const int rings = static_cast<int>(std::lround(0.5 + std::sqrt(0.25 + perSphere / 4.0)));
   Scene scene;
-  scene.polyData = source->GetOutput();
-  const vtkIdType n = scene.polyData->GetNumberOfPoints();
-  scene.points.resize(3 * static_cast<std::size_t>(n));
-  for (vtkIdType i = 0; i < n; ++i)
-    scene.polyData->GetPoint(i, &scene.points[3 * static_cast<std::size_t>(i)]);
-  auto cells = vtk::TakeSmartPointer(scene.polyData->GetPolys()->NewIterator());
-  for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
-  {
-    vtkIdType size;
-    const vtkIdType* ids;
-    cells->GetCurrentCell(size, ids);
-    scene.triangles.insert(scene.triangles.end(), { ids[0], ids[1], ids[2] });
-  }
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+    {
+      const double centre[3] = { -0.75 + 0.5 * i, 0.0, -0.75 + 0.5 * j };
+      AppendSphere(scene, centre, 0.22, rings);
+    }
   return cache.emplace(triangles, std::move(scene)).first->second;
+}
+
+vtkPolyData* PolyData(Scene& scene)
+{
+  if (!scene.polyData)
+  {
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    points->SetNumberOfPoints(static_cast<vtkIdType>(scene.points.size() / 3));
+    for (std::size_t i = 0; i < scene.points.size() / 3; ++i)
+      points->SetPoint(static_cast<vtkIdType>(i), &scene.points[3 * i]);
+    vtkNew<vtkIdTypeArray> connectivity, offsets;
+    const std::size_t nt = scene.triangles.size() / 3;
+    connectivity->SetNumberOfValues(static_cast<vtkIdType>(3 * nt));
+    offsets->SetNumberOfValues(static_cast<vtkIdType>(nt + 1));
+    for (std::size_t i = 0; i < 3 * nt; ++i)
+      connectivity->SetValue(static_cast<vtkIdType>(i), static_cast<vtkIdType>(scene.triangles[i]));
+    for (std::size_t i = 0; i <= nt; ++i)
+      offsets->SetValue(static_cast<vtkIdType>(i), static_cast<vtkIdType>(3 * i));
+    vtkNew<vtkCellArray> polys;
+    polys->SetData(offsets, connectivity);
+    scene.polyData = vtkSmartPointer<vtkPolyData>::New();
+    scene.polyData->SetPoints(points);
+    scene.polyData->SetPolys(polys);
+  }
+  return scene.polyData;
 }
 
 /// The scan: a terrestrial scanner 3 from the centre, 45 x 45 degrees, about `beams` beams.
@@ -100,8 +158,28 @@ plantmorph::ScannerParameters Scan(std::int64_t beams)
   p.verticalFieldOfView = 45;
   p.angularStep = 45.0 / (std::sqrt(static_cast<double>(beams)) - 1.0);
   p.maximumRange = 10.0;
+  p.maximumBeams = 20000000;
   return p;
 }
+
+double ProcessCpu()
+{
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+/// Process CPU and wall time over the timed runs: cpu_per_wall.
+struct CpuMeter
+{
+  double cpu = ProcessCpu();
+  std::chrono::steady_clock::time_point wall = std::chrono::steady_clock::now();
+  void Report(benchmark::State& state) const
+  {
+    const double w = std::chrono::duration<double>(std::chrono::steady_clock::now() - this->wall).count();
+    state.counters["cpu_per_wall"] = (ProcessCpu() - this->cpu) / w;
+  }
+};
 
 plantmorph::ParallelFor Threads(int threads)
 {
@@ -116,64 +194,369 @@ plantmorph::ParallelFor Threads(int threads)
   };
 }
 
-void BM_ScannerBuild(benchmark::State& state)
+void Rates(benchmark::State& state, double tris, double beams, double hits, double build)
 {
-  const Scene& scene = Sphere(state.range(0));
+  state.counters["tris"] = tris;
+  state.counters["beams"] = beams;
+  state.counters["hits"] = hits;
+  if (build >= 0.0)
+    state.counters["build_s"] = build;
+  state.counters["beams_per_s"] = benchmark::Counter(beams, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+template <typename Caster>
+double TimedBuild(Caster& caster, const Scene& scene)
+{
+  const auto start = std::chrono::steady_clock::now();
+  caster.Build(scene.points, scene.triangles);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void BM_Build(benchmark::State& state)
+{
+  const Scene& scene = Field(state.range(1));
   PeakMemoryProbe memory;
   memory.Start();
-  plantmorph::TriangleBVH bvh;
+  double bytes = 0.0;
   for (auto _ : state)
   {
-    bvh.Build(scene.points, scene.triangles);
-    benchmark::DoNotOptimize(bvh.NodeCount());
+    if (state.range(0) == 0)
+    {
+      plantmorph::RayCaster caster;
+      caster.Build(scene.points, scene.triangles);
+      bytes = static_cast<double>(caster.MemoryBytes());
+    }
+    else
+    {
+      plantmorph::TriangleBVH bvh;
+      bvh.Build(scene.points, scene.triangles);
+      bytes = static_cast<double>(bvh.MemoryBytes());
+    }
   }
   const double tris = static_cast<double>(scene.triangles.size() / 3);
   state.counters["tris"] = tris;
   state.counters["tris_per_s"] = benchmark::Counter(tris, benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["bvh_bytes"] = plantmorph_benchmarks::Bytes(static_cast<double>(bvh.MemoryBytes()));
+  state.counters["hierarchy_bytes"] = plantmorph_benchmarks::Bytes(bytes);
   memory.Report(state, static_cast<double>(scene.points.size() * 8 + scene.triangles.size() * 8));
 }
 
-void BM_ScannerCast(benchmark::State& state)
+/// The plugin's caster in packets of RayCaster::PacketSize consecutive beams.
+struct Packets
 {
-  const Scene& scene = Sphere(state.range(0));
+  const plantmorph::RayCaster& caster;
+};
+
+std::size_t CastRange(const plantmorph::BeamPattern& pattern, const Packets& packets, double tMax, std::size_t begin,
+  std::size_t end)
+{
+  constexpr std::size_t W = plantmorph::RayCaster::PacketSize;
+  double o[3 * W], d[3 * W];
+  plantmorph::TriangleHit hits[W];
+  std::size_t h = 0;
+  for (std::size_t b = begin; b < end; b += W)
+  {
+    const std::size_t n = std::min(W, end - b);
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      std::int64_t pose;
+      pattern.Beam(b + j, o + 3 * j, d + 3 * j, pose);
+    }
+    packets.caster.Intersect(n, o, d, tMax, hits);
+    for (std::size_t j = 0; j < n; ++j)
+      h += hits[j].Hit() ? 1 : 0;
+  }
+  return h;
+}
+
+template <typename Caster>
+std::size_t CastRange(const plantmorph::BeamPattern& pattern, const Caster& caster, double tMax, std::size_t begin,
+  std::size_t end)
+{
+  std::size_t h = 0;
+  for (std::size_t b = begin; b < end; ++b)
+  {
+    double o[3], d[3];
+    std::int64_t pose;
+    pattern.Beam(b, o, d, pose);
+    h += caster.Intersect(o, d, tMax).Hit() ? 1 : 0;
+  }
+  return h;
+}
+
+template <typename Caster>
+void CastAll(benchmark::State& state, const Caster& caster, const plantmorph::BeamPattern& pattern, double tMax,
+  int threads, std::size_t& hits)
+{
+  const plantmorph::ParallelFor parallel = Threads(threads);
+  std::atomic<std::size_t> total{ 0 };
+  for (auto _ : state)
+  {
+    total = 0;
+    parallel(pattern.BeamCount(),
+      [&](std::size_t begin, std::size_t end) { total += CastRange(pattern, caster, tMax, begin, end); });
+  }
+  hits = total;
+}
+
+void BM_Cast(benchmark::State& state)
+{
+  const Scene& scene = Field(state.range(1));
+  const plantmorph::ScannerParameters p = Scan(state.range(2));
+  plantmorph::BeamPattern pattern;
+  if (!pattern.Setup(p).empty())
+    return state.SkipWithError("pattern");
+  std::size_t hits = 0;
+  double build = 0.0;
+  const int threads = static_cast<int>(state.range(3));
+  PeakMemoryProbe memory;
+  CpuMeter cpu;
+  if (state.range(0) != 1)
+  {
+    plantmorph::RayCaster caster;
+    build = TimedBuild(caster, scene);
+    memory.Start();
+    cpu = CpuMeter{};
+    if (state.range(0) == 0)
+      CastAll(state, caster, pattern, p.maximumRange, threads, hits);
+    else
+      CastAll(state, Packets{ caster }, pattern, p.maximumRange, threads, hits);
+  }
+  else
+  {
+    plantmorph::TriangleBVH bvh;
+    build = TimedBuild(bvh, scene);
+    memory.Start();
+    cpu = CpuMeter{};
+    CastAll(state, bvh, pattern, p.maximumRange, threads, hits);
+  }
+  cpu.Report(state);
+  Rates(state, static_cast<double>(scene.triangles.size() / 3), static_cast<double>(pattern.BeamCount()),
+    static_cast<double>(hits), build);
+  memory.Report(state);
+}
+
+/// Embree's packet and stream calls on the scanner's beams (a scene committed the way RayCaster does).
+void BM_EmbreePacket(benchmark::State& state)
+{
+  const int width = static_cast<int>(state.range(0));
+  const Scene& scene = Field(state.range(1));
+  const plantmorph::ScannerParameters p = Scan(state.range(2));
+  plantmorph::BeamPattern pattern;
+  pattern.Setup(p);
+  RTCDevice device = rtcNewDevice(nullptr);
+  RTCScene rtc = rtcNewScene(device);
+  rtcSetSceneFlags(rtc, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(rtc, RTC_BUILD_QUALITY_HIGH);
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  const std::size_t nv = scene.points.size() / 3, nt = scene.triangles.size() / 3;
+  auto* vertices = static_cast<float*>(
+    rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+  auto* indices = static_cast<unsigned*>(
+    rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
+  for (std::size_t i = 0; i < 3 * nv; ++i)
+    vertices[i] = static_cast<float>(scene.points[i]);
+  for (std::size_t i = 0; i < 3 * nt; ++i)
+    indices[i] = static_cast<unsigned>(scene.triangles[i]);
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(rtc, geometry);
+  rtcReleaseGeometry(geometry);
+  rtcCommitScene(rtc);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  const int lanes = width == 0 ? 64 : width;
+  if (width != 1)
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(64) RTCRayHit16 packet;
+  std::vector<RTCRayHit> stream(64);
+  alignas(64) int valid[16];
+  const std::uint64_t beams = pattern.BeamCount();
+  std::size_t hits = 0;
+  for (auto _ : state)
+  {
+    hits = 0;
+    for (std::uint64_t first = 0; first < beams; first += static_cast<std::uint64_t>(lanes))
+    {
+      const int n = static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(lanes), beams - first));
+      for (int i = 0; i < lanes; ++i)
+      {
+        double o[3] = { 0, 0, 0 }, d[3] = { 1, 0, 0 };
+        std::int64_t pose;
+        if (i < n)
+          pattern.Beam(first + static_cast<std::uint64_t>(i), o, d, pose);
+        if (width == 0 || width == 1)
+        {
+          RTCRayHit& r = stream[static_cast<std::size_t>(i)];
+          r.ray.org_x = static_cast<float>(o[0]);
+          r.ray.org_y = static_cast<float>(o[1]);
+          r.ray.org_z = static_cast<float>(o[2]);
+          r.ray.dir_x = static_cast<float>(d[0]);
+          r.ray.dir_y = static_cast<float>(d[1]);
+          r.ray.dir_z = static_cast<float>(d[2]);
+          r.ray.tnear = 0.0f;
+          r.ray.tfar = static_cast<float>(p.maximumRange);
+          r.ray.time = 0.0f;
+          r.ray.mask = 0xFFFFFFFFu;
+          r.ray.id = static_cast<unsigned>(i);
+          r.ray.flags = 0;
+          r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+          r.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+          if (width == 1)
+          {
+            rtcIntersect1(rtc, &context, &r);
+            hits += r.hit.geomID != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
+          }
+          continue;
+        }
+        valid[i] = i < n ? -1 : 0;
+        packet.ray.org_x[i] = static_cast<float>(o[0]);
+        packet.ray.org_y[i] = static_cast<float>(o[1]);
+        packet.ray.org_z[i] = static_cast<float>(o[2]);
+        packet.ray.dir_x[i] = static_cast<float>(d[0]);
+        packet.ray.dir_y[i] = static_cast<float>(d[1]);
+        packet.ray.dir_z[i] = static_cast<float>(d[2]);
+        packet.ray.tnear[i] = 0.0f;
+        packet.ray.tfar[i] = static_cast<float>(p.maximumRange);
+        packet.ray.time[i] = 0.0f;
+        packet.ray.mask[i] = 0xFFFFFFFFu;
+        packet.ray.id[i] = static_cast<unsigned>(i);
+        packet.ray.flags[i] = 0;
+        packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+      }
+      if (width == 0)
+      {
+        rtcIntersect1M(rtc, &context, stream.data(), static_cast<unsigned>(n), sizeof(RTCRayHit));
+        for (int i = 0; i < n; ++i)
+          hits += stream[static_cast<std::size_t>(i)].hit.geomID != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
+        continue;
+      }
+      if (width == 1)
+        continue;
+      // The packet layouts of width 4 and 8 are prefixes of RTCRayHit16's arrays only in size: copy lane-wise.
+      if (width == 16)
+        rtcIntersect16(valid, rtc, &context, &packet);
+      else if (width == 8)
+      {
+        alignas(32) RTCRayHit8 p8;
+        for (int i = 0; i < 8; ++i)
+        {
+          p8.ray.org_x[i] = packet.ray.org_x[i];
+          p8.ray.org_y[i] = packet.ray.org_y[i];
+          p8.ray.org_z[i] = packet.ray.org_z[i];
+          p8.ray.dir_x[i] = packet.ray.dir_x[i];
+          p8.ray.dir_y[i] = packet.ray.dir_y[i];
+          p8.ray.dir_z[i] = packet.ray.dir_z[i];
+          p8.ray.tnear[i] = 0.0f;
+          p8.ray.tfar[i] = packet.ray.tfar[i];
+          p8.ray.time[i] = 0.0f;
+          p8.ray.mask[i] = 0xFFFFFFFFu;
+          p8.ray.id[i] = static_cast<unsigned>(i);
+          p8.ray.flags[i] = 0;
+          p8.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+          p8.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect8(valid, rtc, &context, &p8);
+        for (int i = 0; i < 8; ++i)
+          packet.hit.geomID[i] = p8.hit.geomID[i];
+      }
+      else
+      {
+        alignas(16) RTCRayHit4 p4;
+        for (int i = 0; i < 4; ++i)
+        {
+          p4.ray.org_x[i] = packet.ray.org_x[i];
+          p4.ray.org_y[i] = packet.ray.org_y[i];
+          p4.ray.org_z[i] = packet.ray.org_z[i];
+          p4.ray.dir_x[i] = packet.ray.dir_x[i];
+          p4.ray.dir_y[i] = packet.ray.dir_y[i];
+          p4.ray.dir_z[i] = packet.ray.dir_z[i];
+          p4.ray.tnear[i] = 0.0f;
+          p4.ray.tfar[i] = packet.ray.tfar[i];
+          p4.ray.time[i] = 0.0f;
+          p4.ray.mask[i] = 0xFFFFFFFFu;
+          p4.ray.id[i] = static_cast<unsigned>(i);
+          p4.ray.flags[i] = 0;
+          p4.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+          p4.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect4(valid, rtc, &context, &p4);
+        for (int i = 0; i < 4; ++i)
+          packet.hit.geomID[i] = p4.hit.geomID[i];
+      }
+      for (int i = 0; i < n; ++i)
+        hits += packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
+    }
+  }
+  Rates(state, static_cast<double>(nt), static_cast<double>(beams), static_cast<double>(hits), -1.0);
+  rtcReleaseScene(rtc);
+  rtcReleaseDevice(device);
+}
+
+void BM_CastBeams(benchmark::State& state)
+{
+  const Scene& scene = Field(state.range(0));
   const plantmorph::ScannerParameters p = Scan(state.range(1));
   plantmorph::BeamPattern pattern;
   if (!pattern.Setup(p).empty())
-  {
-    state.SkipWithError("pattern");
-    return;
-  }
-  plantmorph::TriangleBVH bvh;
-  const auto start = std::chrono::steady_clock::now();
-  bvh.Build(scene.points, scene.triangles);
-  const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return state.SkipWithError("pattern");
+  plantmorph::RayCaster caster;
+  const double build = TimedBuild(caster, scene);
   const plantmorph::ParallelFor parallel = Threads(static_cast<int>(state.range(2)));
   PeakMemoryProbe memory;
   memory.Start();
+  CpuMeter cpu;
   plantmorph::ScanPoints out;
   for (auto _ : state)
   {
-    plantmorph::CastBeams(p, pattern, scene.points, scene.triangles, bvh, out, parallel);
+    plantmorph::CastBeams(p, pattern, scene.points, scene.triangles, caster, out, parallel);
     benchmark::DoNotOptimize(out.points.data());
   }
-  state.counters["tris"] = static_cast<double>(scene.triangles.size() / 3);
-  state.counters["beams"] = static_cast<double>(pattern.BeamCount());
-  state.counters["hits"] = static_cast<double>(out.Size());
-  state.counters["build_s"] = build;
-  state.counters["beams_per_s"] =
-    benchmark::Counter(static_cast<double>(pattern.BeamCount()), benchmark::Counter::kIsIterationInvariantRate);
-  memory.Report(state, 0.0, static_cast<double>(out.Size() * (8 * 10 + 8 * 3)));
+  cpu.Report(state);
+  Rates(state, static_cast<double>(scene.triangles.size() / 3), static_cast<double>(pattern.BeamCount()),
+    static_cast<double>(out.Size()), build);
+  memory.Report(state, 0.0, static_cast<double>(out.Size() * (8 * 10 + 8 * 4)));
 }
 
-/// The first `count` beams of the 10^5-beam scan as line segments (start, end at MaximumRange).
+void BM_Filter(benchmark::State& state)
+{
+  Scene& scene = Field(state.range(0));
+  vtkPolyData* input = PolyData(scene);
+  const plantmorph::ScannerParameters p = Scan(state.range(1));
+  vtkNew<vtkVirtualScanner> filter;
+  filter->SetInputData(input);
+  filter->ClearPositions();
+  filter->AddPosition(p.positions[0][0], p.positions[0][1], p.positions[0][2]);
+  filter->SetLookAt(0.0, 0.0, 0.0);
+  filter->SetHorizontalFieldOfView(45);
+  filter->SetVerticalFieldOfView(45);
+  filter->SetAngularStep(p.angularStep);
+  filter->SetMaximumRange(p.maximumRange);
+  filter->SetMaximumBeams(static_cast<double>(p.maximumBeams));
+  PeakMemoryProbe memory;
+  memory.Start();
+  CpuMeter cpu;
+  double returns = 0.0;
+  for (auto _ : state)
+  {
+    filter->Modified();
+    filter->Update();
+    returns = static_cast<double>(filter->GetOutput()->GetNumberOfPoints());
+  }
+  cpu.Report(state);
+  plantmorph::BeamPattern pattern;
+  pattern.Setup(p);
+  Rates(state, static_cast<double>(scene.triangles.size() / 3), static_cast<double>(pattern.BeamCount()), returns,
+    -1.0);
+  memory.Report(state);
+}
+
+/// `count` beams spread over the 10^5-beam scan as line segments (start, end at MaximumRange).
 std::vector<double> Segments(std::size_t count)
 {
   const plantmorph::ScannerParameters p = Scan(100000);
   plantmorph::BeamPattern pattern;
   pattern.Setup(p);
   std::vector<double> segments;
-  // Spread over the whole field: every k-th beam.
   const std::uint64_t stride = pattern.BeamCount() / count;
   for (std::size_t i = 0; i < count; ++i)
   {
@@ -188,8 +571,8 @@ std::vector<double> Segments(std::size_t count)
 template <typename Locator>
 void RunVtk(benchmark::State& state, Locator* locator, std::size_t count)
 {
-  const Scene& scene = Sphere(state.range(0));
-  locator->SetDataSet(scene.polyData);
+  Scene& scene = Field(state.range(0));
+  locator->SetDataSet(PolyData(scene));
   const auto start = std::chrono::steady_clock::now();
   locator->BuildLocator();
   const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -212,11 +595,8 @@ void RunVtk(benchmark::State& state, Locator* locator, std::size_t count)
         ++hits;
     }
   }
-  state.counters["tris"] = static_cast<double>(scene.triangles.size() / 3);
-  state.counters["beams"] = static_cast<double>(count);
-  state.counters["hits"] = static_cast<double>(hits);
-  state.counters["build_s"] = build;
-  state.counters["beams_per_s"] = benchmark::Counter(static_cast<double>(count), benchmark::Counter::kIsIterationInvariantRate);
+  Rates(state, static_cast<double>(scene.triangles.size() / 3), static_cast<double>(count), static_cast<double>(hits),
+    build);
   memory.Report(state);
 }
 
@@ -231,97 +611,44 @@ void BM_VtkStaticCellLocator(benchmark::State& state)
   vtkNew<vtkStaticCellLocator> locator;
   RunVtk(state, locator.Get(), 2000);
 }
-#ifdef PLANTMORPH_HAVE_EMBREE
-void BM_Embree(benchmark::State& state)
-{
-  const Scene& scene = Sphere(state.range(0));
-  const plantmorph::ScannerParameters p = Scan(state.range(1));
-  plantmorph::BeamPattern pattern;
-  pattern.Setup(p);
-  RTCDevice device = rtcNewDevice("threads=1");
-  RTCScene rtc = rtcNewScene(device);
-  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  const std::size_t nv = scene.points.size() / 3, nt = scene.triangles.size() / 3;
-  auto* vertices = static_cast<float*>(
-    rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
-  auto* indices = static_cast<unsigned*>(
-    rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
-  for (std::size_t i = 0; i < 3 * nv; ++i)
-    vertices[i] = static_cast<float>(scene.points[i]);
-  for (std::size_t i = 0; i < 3 * nt; ++i)
-    indices[i] = static_cast<unsigned>(scene.triangles[i]);
-  rtcCommitGeometry(geometry);
-  rtcAttachGeometry(rtc, geometry);
-  rtcReleaseGeometry(geometry);
-  const auto start = std::chrono::steady_clock::now();
-  rtcCommitScene(rtc);
-  const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  PeakMemoryProbe memory;
-  memory.Start();
-  std::size_t hits = 0;
-  for (auto _ : state)
-  {
-    hits = 0;
-    for (std::uint64_t b = 0; b < pattern.BeamCount(); ++b)
-    {
-      double o[3], d[3];
-      std::int64_t pose;
-      pattern.Beam(b, o, d, pose);
-      RTCRayHit ray;
-      ray.ray.org_x = static_cast<float>(o[0]);
-      ray.ray.org_y = static_cast<float>(o[1]);
-      ray.ray.org_z = static_cast<float>(o[2]);
-      ray.ray.dir_x = static_cast<float>(d[0]);
-      ray.ray.dir_y = static_cast<float>(d[1]);
-      ray.ray.dir_z = static_cast<float>(d[2]);
-      ray.ray.tnear = 0.0f;
-      ray.ray.tfar = static_cast<float>(p.maximumRange);
-      ray.ray.time = 0.0f;
-      ray.ray.mask = 0xFFFFFFFFu;
-      ray.ray.id = 0;
-      ray.ray.flags = 0;
-      ray.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(rtc, &context, &ray);
-      hits += ray.hit.geomID != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
-    }
-  }
-  state.counters["tris"] = static_cast<double>(nt);
-  state.counters["beams"] = static_cast<double>(pattern.BeamCount());
-  state.counters["hits"] = static_cast<double>(hits);
-  state.counters["build_s"] = build;
-  state.counters["beams_per_s"] =
-    benchmark::Counter(static_cast<double>(pattern.BeamCount()), benchmark::Counter::kIsIterationInvariantRate);
-  memory.Report(state);
-  rtcReleaseScene(rtc);
-  rtcReleaseDevice(device);
-}
-BENCHMARK(BM_Embree)
-  ->ArgNames({ "tris", "beams" })
-  ->ArgsProduct({ { 10000, 100000, 1000000 }, { 100000, 1000000 } })
-  ->Unit(benchmark::kMillisecond);
-#endif
 } // namespace
 
-BENCHMARK(BM_ScannerBuild)->ArgName("tris")->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ScannerCast)
-  ->ArgNames({ "tris", "beams", "threads" })
-  ->ArgsProduct({ { 10000, 100000, 1000000 }, { 100000, 1000000 }, { 1 } })
-  ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ScannerCast)
-  ->ArgNames({ "tris", "beams", "threads" })
-  ->ArgsProduct({ { 10000, 100000, 1000000 }, { 100000, 1000000 }, { 2 } })
+BENCHMARK(BM_Build)
+  ->ArgNames({ "caster", "tris" })
+  ->ArgsProduct({ { 0, 1 }, { 10000, 100000, 1000000, 10000000 } })
   ->Unit(benchmark::kMillisecond)
   ->UseRealTime();
-BENCHMARK(BM_VtkOBBTree)->ArgName("tris")->Arg(10000)->Arg(100000)->Arg(1000000)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Cast)
+  ->ArgNames({ "caster", "tris", "beams", "threads" })
+  ->ArgsProduct({ { 0, 2, 1 }, { 10000, 100000, 1000000, 10000000 }, { 1000000 }, { 1 } })
+  ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Cast)
+  ->ArgNames({ "caster", "tris", "beams", "threads" })
+  ->ArgsProduct({ { 2, 1 }, { 10000, 100000, 1000000, 10000000 }, { 1000000, 10000000 }, { 2 } })
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime();
+BENCHMARK(BM_EmbreePacket)
+  ->ArgNames({ "width", "tris", "beams" })
+  ->ArgsProduct({ { 1, 4, 8, 16, 0 }, { 10000, 1000000 }, { 1000000 } })
+  ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CastBeams)
+  ->ArgNames({ "tris", "beams", "threads" })
+  ->ArgsProduct({ { 10000, 100000, 1000000, 10000000 }, { 100000, 1000000, 10000000 }, { 1, 2 } })
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime();
+BENCHMARK(BM_Filter)
+  ->ArgNames({ "tris", "beams" })
+  ->ArgsProduct({ { 10000, 1000000, 10000000 }, { 1000000, 10000000 } })
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime();
 BENCHMARK(BM_VtkStaticCellLocator)
   ->ArgName("tris")
   ->Arg(10000)
   ->Arg(100000)
   ->Arg(1000000)
+  ->Arg(10000000)
   ->Iterations(1)
   ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_VtkOBBTree)->ArgName("tris")->Arg(10000)->Arg(100000)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -28,7 +28,7 @@ struct Truth
 
 Truth MakeTruth()
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 200;
   LeafGeometry leaf;
   BuildBSplineLeaf(MakeBSplinePreset(BSplinePreset::Elliptic, 100.0, 45.0, 9), settings, leaf);
@@ -102,7 +102,7 @@ void BM_FitOneLeaf(benchmark::State& state)
   LeafFitResult fit;
   for (auto _ : state)
   {
-    fit = FitLeaf(scan, LeafFitOptions());
+    fit = FitLeaf(scan, LeafFitParameters());
     benchmark::DoNotOptimize(fit.points.data());
   }
   if (!fit.error.empty())
@@ -136,7 +136,7 @@ void BM_FitLeaves(benchmark::State& state)
   };
   for (auto _ : state)
   {
-    const auto results = FitLeaves(leaves, LeafFitOptions(), state.range(1) ? pool : ParallelFor(SerialFor));
+    const auto results = FitLeaves(leaves, LeafFitParameters(), state.range(1) ? pool : ParallelFor(SerialFor));
     benchmark::DoNotOptimize(results.data());
   }
   state.counters["leaves"] = static_cast<double>(leaves.size());

@@ -105,7 +105,7 @@ Eigen::Matrix<double, Dim, 1> DeBoorPoint(
 /// [MinPolygonLength, MaxPolygonLength], and (unless `allowCoincident`) consecutive points at least `gap` times that
 /// length apart. Fills `chords` (|Q_i+1 - Q_i|). Returns an empty string or the first problem found.
 template <int Dim>
-std::string CheckPoints(const std::vector<Eigen::Matrix<double, Dim, 1>>& points, bool allowCoincident, double gap,
+std::string ValidatePoints(const std::vector<Eigen::Matrix<double, Dim, 1>>& points, bool allowCoincident, double gap,
   std::vector<double>& chords)
 {
   std::ostringstream message;
@@ -166,7 +166,7 @@ std::string CheckPoints(const std::vector<Eigen::Matrix<double, Dim, 1>>& points
 }
 
 /// One parameter a point, finite, from exactly 0 to exactly 1, each at least `gap` above the one before.
-std::string CheckParameters(const std::vector<double>& parameters, std::size_t n, double gap)
+std::string ValidateParameters(const std::vector<double>& parameters, std::size_t n, double gap)
 {
   std::ostringstream message;
   message.precision(17);
@@ -211,7 +211,7 @@ std::string CubicBSpline<Dim>::Interpolate(const PointList& points, CubicBSpline
 {
   // `points` may be curve.ControlPoints(): curve changes only at the end.
   std::vector<double> chords;
-  std::string message = CheckPoints<Dim>(points, false, MinParameterGap, chords);
+  std::string message = ValidatePoints<Dim>(points, false, MinParameterGap, chords);
   if (message.empty())
   {
     std::vector<double> parameters(points.size(), 0.0);
@@ -233,9 +233,9 @@ std::string CubicBSpline<Dim>::Interpolate(
   const PointList& points, const std::vector<double>& parameters, CubicBSpline& curve)
 {
   std::vector<double> chords;
-  std::string message = CheckPoints<Dim>(points, true, MinParameterGap, chords);
+  std::string message = ValidatePoints<Dim>(points, true, MinParameterGap, chords);
   if (message.empty())
-    message = CheckParameters(parameters, points.size(), MinParameterGap);
+    message = ValidateParameters(parameters, points.size(), MinParameterGap);
   if (message.empty())
     message = Build(points, parameters, curve);
   if (!message.empty())

@@ -125,7 +125,7 @@ std::vector<double> UniformArcLengths(double length, int pieces)
 }
 
 std::string IntegrateFrenet(const CurveFunction& curvature, const CurveFunction& torsion, const FrenetFrame& initial,
-  const std::vector<double>& outputs, const std::vector<double>& breakpoints, const FrenetSettings& settings,
+  const std::vector<double>& outputs, const std::vector<double>& breakpoints, const FrenetParameters& settings,
   std::vector<FrenetFrame>& frames, FrenetReport* report)
 {
   frames.clear();

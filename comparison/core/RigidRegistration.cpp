@@ -17,7 +17,7 @@ namespace plantmorph
 {
 
 //------------------------------------------------------------------------------
-std::string ValidateRegistrationSettings(const RegistrationSettings& settings)
+std::string ValidateRegistrationParameters(const RegistrationParameters& settings)
 {
   std::ostringstream message;
   if (settings.maximumIterations < 1 || settings.maximumIterations > 10000)
@@ -114,7 +114,7 @@ double SymmetricDistance(const double matrix[16], const std::vector<double>& lan
 /// Symmetric point-to-point ICP (RegisterPoints' symmetric mode) from the identity; fills matrix, iterations,
 /// converged, landmarks (the caller guards and finishes the result).
 void SymmetricICP(const std::vector<double>& landmarks, const std::vector<double>& referencePoints,
-  const PointSurfaceDistance& reference, const RegistrationSettings& settings, const ParallelFor& parallelFor,
+  const PointSurfaceDistance& reference, const RegistrationParameters& settings, const ParallelFor& parallelFor,
   RegistrationResult& result)
 {
   const std::size_t n = landmarks.size() / 3, m = referencePoints.size() / 3;
@@ -177,17 +177,17 @@ void SymmetricICP(const std::vector<double>& landmarks, const std::vector<double
 }
 
 RegistrationResult RegisterOneSided(const double* points, std::size_t count, const PointSurfaceDistance& reference,
-  const RegistrationSettings& settings, const ParallelFor& parallelFor);
+  const RegistrationParameters& settings, const ParallelFor& parallelFor);
 } // namespace
 
 //------------------------------------------------------------------------------
 RegistrationResult RegisterPoints(const double* points, std::size_t count, const PointSurfaceDistance& reference,
-  const RegistrationSettings& settings, const ParallelFor& parallelFor)
+  const RegistrationParameters& settings, const ParallelFor& parallelFor)
 {
   if (!settings.referencePoints || settings.referenceCount == 0)
     return RegisterOneSided(points, count, reference, settings, parallelFor);
   RegistrationResult result;
-  result.error = ValidateRegistrationSettings(settings);
+  result.error = ValidateRegistrationParameters(settings);
   if (result.error.empty() && reference.IsEmpty())
     result.error = "registration: the reference is empty";
   if (result.error.empty() && count < 3)
@@ -209,7 +209,7 @@ RegistrationResult RegisterPoints(const double* points, std::size_t count, const
   {
     std::vector<double> moved(landmarks.size());
     ApplyTransform(result.matrix, landmarks.data(), moved.data(), result.landmarks);
-    RegistrationSettings rigid = settings;
+    RegistrationParameters rigid = settings;
     rigid.withScale = false;
     const RegistrationResult polish = RegisterOneSided(moved.data(), result.landmarks, reference, rigid, parallelFor);
     if (polish.error.empty())
@@ -265,10 +265,10 @@ namespace
 {
 //------------------------------------------------------------------------------
 RegistrationResult RegisterOneSided(const double* points, std::size_t count, const PointSurfaceDistance& reference,
-  const RegistrationSettings& settings, const ParallelFor& parallelFor)
+  const RegistrationParameters& settings, const ParallelFor& parallelFor)
 {
   RegistrationResult result;
-  result.error = ValidateRegistrationSettings(settings);
+  result.error = ValidateRegistrationParameters(settings);
   if (!result.error.empty())
   {
     return result;

@@ -31,7 +31,7 @@
 namespace plantmorph
 {
 
-struct RegistrationSettings
+struct RegistrationParameters
 {
   bool withScale = false;          ///< rigid + one uniform scale instead of rigid
   int maximumIterations = 100;     ///< [1, 10000]
@@ -66,7 +66,7 @@ struct RegistrationResult
 };
 
 /// Validates settings; empty string when fine.
-std::string ValidateRegistrationSettings(const RegistrationSettings& settings);
+std::string ValidateRegistrationParameters(const RegistrationParameters& settings);
 
 /// Least-squares similarity (or rigid motion) taking source[i] to target[i] (x,y,z triples), Umeyama's closed form.
 /// Returns false (matrix untouched) if fewer than 3 pairs or the problem is degenerate (all points coincide).
@@ -87,6 +87,6 @@ void ApplyTransform(const double matrix[16], const double* in, double* out, std:
 /// mean distance with and without the transform; if registration made it worse, the identity is returned with
 /// `worse` and a warning.
 RegistrationResult RegisterPoints(const double* points, std::size_t count, const PointSurfaceDistance& reference,
-  const RegistrationSettings& settings, const ParallelFor& parallelFor = SerialFor);
+  const RegistrationParameters& settings, const ParallelFor& parallelFor = SerialFor);
 
 } // namespace plantmorph

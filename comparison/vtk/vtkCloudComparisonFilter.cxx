@@ -325,7 +325,7 @@ int vtkCloudComparisonFilter::Execute(
                     "Registration", this->Registration, "{0, 1, 2}", "0 none, 1 rigid, 2 rigid + uniform scale"));
     return 0;
   }
-  RegistrationSettings registration;
+  RegistrationParameters registration;
   registration.withScale = this->Registration == REGISTRATION_RIGID_SCALE;
   registration.maximumIterations = this->RegistrationIterations;
   registration.tolerance = this->RegistrationTolerance;
@@ -340,7 +340,7 @@ int vtkCloudComparisonFilter::Execute(
       vtkErrorMacro(<< plantmorph::OutOfRange("RegistrationLandmarks", this->RegistrationLandmarks, "[3, 100000000]"));
       return 0;
     }
-    if (const std::string error = ValidateRegistrationSettings(registration); !error.empty())
+    if (const std::string error = ValidateRegistrationParameters(registration); !error.empty())
     {
       vtkErrorMacro(<< error);
       return 0;

@@ -126,7 +126,7 @@ std::string ReadTrajectory(
     }
     if (columns.empty())
     {
-      message << port << "Columns: auto found none of the known x, y, z column layouts in the " << inputName
+      message << port << "X/Y/Z: auto found none of the known x, y, z column layouts in the " << inputName
               << " table (";
       const char* separator = "";
       for (const auto& layout : KnownLayouts(measured))
@@ -134,7 +134,7 @@ std::string ReadTrajectory(
         message << separator << layout[0] << "/" << layout[1] << "/" << layout[2];
         separator = ", ";
       }
-      message << "); name its columns in " << port << "Columns (its columns:";
+      message << "); choose its columns in " << port << "X, " << port << "Y and " << port << "Z (its columns:";
       for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
       {
         message << " '" << (table->GetColumnName(c) ? table->GetColumnName(c) : "") << "'";
@@ -150,7 +150,7 @@ std::string ReadTrajectory(
     xyz[k] = vtkDataArray::SafeDownCast(column);
     if (!xyz[k] || xyz[k]->GetNumberOfComponents() != 1)
     {
-      message << port << "Columns: the " << inputName << " table has no numeric column '" << columns[k]
+      message << port << "XYZ"[k] << ": the " << inputName << " table has no numeric column '" << columns[k]
               << "' (its columns:";
       for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
       {
@@ -267,6 +267,17 @@ void vtkTrajectoryComparisonFilter::SetSimulatedColumns(const char* x, const cha
 }
 
 //------------------------------------------------------------------------------
+void vtkTrajectoryComparisonFilter::SetColumn(std::string& column, const char* name)
+{
+  const std::string value = name ? name : "";
+  if (value != column)
+  {
+    column = value;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkTrajectoryComparisonFilter::SetTimeColumn(const char* name)
 {
   const std::string value = name ? name : "";
@@ -281,10 +292,10 @@ void vtkTrajectoryComparisonFilter::SetTimeColumn(const char* name)
 void vtkTrajectoryComparisonFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "MeasuredColumns: " << this->MeasuredColumns[0] << " " << this->MeasuredColumns[1] << " "
-     << this->MeasuredColumns[2] << "\n";
-  os << indent << "SimulatedColumns: " << this->SimulatedColumns[0] << " " << this->SimulatedColumns[1] << " "
-     << this->SimulatedColumns[2] << "\n";
+  os << indent << "MeasuredColumns: " << this->GetMeasuredColumn(0) << " " << this->GetMeasuredColumn(1) << " "
+     << this->GetMeasuredColumn(2) << "\n";
+  os << indent << "SimulatedColumns: " << this->GetSimulatedColumn(0) << " " << this->GetSimulatedColumn(1) << " "
+     << this->GetSimulatedColumn(2) << "\n";
   os << indent << "TimeColumn: " << this->TimeColumn << "\n";
 }
 
@@ -326,10 +337,14 @@ int vtkTrajectoryComparisonFilter::RequestData(
 
   Trajectory measured;
   Trajectory simulated;
-  std::string error = ReadTrajectory(measuredData, this->MeasuredColumns, this->TimeColumn, "Measured", measured);
+  const std::string measuredColumns[3] = { this->GetMeasuredColumn(0), this->GetMeasuredColumn(1),
+    this->GetMeasuredColumn(2) };
+  const std::string simulatedColumns[3] = { this->GetSimulatedColumn(0), this->GetSimulatedColumn(1),
+    this->GetSimulatedColumn(2) };
+  std::string error = ReadTrajectory(measuredData, measuredColumns, this->TimeColumn, "Measured", measured);
   if (error.empty())
   {
-    error = ReadTrajectory(simulatedData, this->SimulatedColumns, this->TimeColumn, "Simulated", simulated);
+    error = ReadTrajectory(simulatedData, simulatedColumns, this->TimeColumn, "Simulated", simulated);
   }
   const std::size_t n = measured.xyz.size() / 3;
   const std::size_t m = simulated.xyz.size() / 3;

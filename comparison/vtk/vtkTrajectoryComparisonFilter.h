@@ -62,15 +62,29 @@ public:
   void SetSimulatedData(vtkDataObject* data) { this->SetInputData(1, data); }
 
   ///@{
-  /** Names of the measured table's x, y, z columns. Default "x", "y", "z". Ignored for a point set. */
+  /**
+   * The measured table's x, y and z columns, one name each (the panel's MeasuredX/Y/Z column menus). Default
+   * "auto" (or empty): the recognised layouts above. Ignored for a point set. GetMeasuredColumn(i) is the name in
+   * use: the column's own setting, else SetMeasuredColumns's (the three-name property of scripts and states
+   * written before the menus), else "auto".
+   */
+  void SetMeasuredX(const char* name) { this->SetColumn(this->MeasuredColumn[0], name); }
+  void SetMeasuredY(const char* name) { this->SetColumn(this->MeasuredColumn[1], name); }
+  void SetMeasuredZ(const char* name) { this->SetColumn(this->MeasuredColumn[2], name); }
   void SetMeasuredColumns(const char* x, const char* y, const char* z);
-  const std::string& GetMeasuredColumn(int i) const { return this->MeasuredColumns[i]; }
+  std::string GetMeasuredColumn(int i) const { return Chosen(this->MeasuredColumn[i], this->MeasuredColumns[i]); }
   ///@}
 
   ///@{
-  /** Names of the simulated table's x, y, z columns. Default "x", "y", "z". Ignored for a point set. */
+  /** The simulated table's x, y and z columns, likewise (SimulatedX/Y/Z; SimulatedColumns in older scripts). */
+  void SetSimulatedX(const char* name) { this->SetColumn(this->SimulatedColumn[0], name); }
+  void SetSimulatedY(const char* name) { this->SetColumn(this->SimulatedColumn[1], name); }
+  void SetSimulatedZ(const char* name) { this->SetColumn(this->SimulatedColumn[2], name); }
   void SetSimulatedColumns(const char* x, const char* y, const char* z);
-  const std::string& GetSimulatedColumn(int i) const { return this->SimulatedColumns[i]; }
+  std::string GetSimulatedColumn(int i) const
+  {
+    return Chosen(this->SimulatedColumn[i], this->SimulatedColumns[i]);
+  }
   ///@}
 
   ///@{
@@ -87,8 +101,19 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
+  /// The per-column settings (the panel's menus) and the three-name settings (older scripts and states): a column's
+  /// own setting wins unless it is "auto" or empty, so the two properties never depend on the order ParaView pushes
+  /// them in.
+  std::string MeasuredColumn[3] = { "auto", "auto", "auto" };
+  std::string SimulatedColumn[3] = { "auto", "auto", "auto" };
   std::string MeasuredColumns[3] = { "auto", "auto", "auto" };
   std::string SimulatedColumns[3] = { "auto", "auto", "auto" };
+
+  void SetColumn(std::string& column, const char* name);
+  static std::string Chosen(const std::string& own, const std::string& legacy)
+  {
+    return own.empty() || own == "auto" ? (legacy.empty() ? std::string("auto") : legacy) : own;
+  }
   std::string TimeColumn = "auto";
 
 private:

@@ -49,7 +49,7 @@ double InlierLimit(const Fitted& f, double spacing)
 }
 
 /// The penalised, Huber-reweighted surface through the kept points.
-std::string FitSurface(const LeafFitOptions& options, double spacing, Fitted& f)
+std::string FitSurface(const LeafFitParameters& options, double spacing, Fitted& f)
 {
   Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
   for (const auto& p : f.ts)
@@ -141,7 +141,7 @@ std::vector<Eigen::Vector2d> SampleMargin(const Outline& outline, bool right, do
 }
 
 /// The blade: the outline in (t, s) meshed by LeafOutlineSource's mesher, mapped to 3-D.
-std::string MeshFittedBlade(const LeafFitOptions& options, const Fitted& f, LeafFitResult& result)
+std::string MeshFittedBlade(const LeafFitParameters& options, const Fitted& f, LeafFitResult& result)
 {
   const Outline& o = f.outline;
   const double L = o.s1 - o.s0;
@@ -172,7 +172,7 @@ std::string MeshFittedBlade(const LeafFitOptions& options, const Fitted& f, Leaf
     const double u = p.x() >= 0.0 ? 0.5 * p.x() / o.Right(s) : -0.5 * p.x() / o.Left(s);
     return Eigen::Vector2d(std::clamp(u, -0.5, 0.5), std::clamp(p.y() / L, 0.0, 1.0));
   };
-  BladeMeshOptions meshOptions;
+  BladeMeshParameters meshOptions;
   meshOptions.quality = true;
   meshOptions.maxEdgeLength = h;
   BladeMesh mesh;
@@ -228,7 +228,7 @@ void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, dou
 
 /// Model C control points: the midvein at `count` stations base to apex (half-way between the margins), each margin at `count` inner stations
 /// equally spaced along its arc length in (t, s) (so the rounded ends, where a margin turns fast, get their share).
-void ModelControlPoints(const LeafFitOptions& options, const Fitted& f, LeafFitResult& result)
+void ModelControlPoints(const LeafFitParameters& options, const Fitted& f, LeafFitResult& result)
 {
   const Outline& o = f.outline;
   const int m = options.modelControlPoints;
@@ -261,11 +261,11 @@ void ModelControlPoints(const LeafFitOptions& options, const Fitted& f, LeafFitR
   }
 }
 
-std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions& options, LeafFitResult& result)
+std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, LeafFitResult& result)
 {
-  std::string error = ValidateLeafFitOptions(options);
+  std::string error = ValidateLeafFitParameters(options);
   if (error.empty())
-    error = fit::CheckCloud(points);
+    error = fit::ValidateCloud(points);
   if (!error.empty())
     return error;
   std::vector<unsigned char> keep;
@@ -311,7 +311,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions
 }
 } // namespace
 
-std::string ValidateLeafFitOptions(const LeafFitOptions& o)
+std::string ValidateLeafFitParameters(const LeafFitParameters& o)
 {
   std::ostringstream m;
   if (!o.up.allFinite() || !(o.up.norm() > 0.0))
@@ -333,10 +333,10 @@ std::string ValidateLeafFitOptions(const LeafFitOptions& o)
   return m.str();
 }
 
-LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions& options)
+LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options)
 {
   LeafFitResult result;
-  LeafFitOptions normalized = options;
+  LeafFitParameters normalized = options;
   if (normalized.up.allFinite() && normalized.up.norm() > 0.0)
     normalized.up.normalize();
   const std::string error = Fit(points, normalized, result);
@@ -349,7 +349,7 @@ LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitO
 }
 
 std::vector<LeafFitResult> FitLeaves(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
-  const LeafFitOptions& options, const ParallelFor& parallel)
+  const LeafFitParameters& options, const ParallelFor& parallel)
 {
   std::vector<LeafFitResult> results(leaves.size());
   parallel(leaves.size(), [&](std::size_t begin, std::size_t end) {

@@ -37,7 +37,7 @@
 namespace plantmorph
 {
 
-struct LeafFitOptions
+struct LeafFitParameters
 {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ(); ///< unit vertical, for Inclination, Azimuth, HorizontalArea
   std::optional<Eigen::Vector3d> basePoint;      ///< the scan end nearest it is the base
@@ -50,7 +50,7 @@ struct LeafFitOptions
 };
 
 /// Empty when every option is finite and in range; otherwise the message naming the option and its range.
-std::string ValidateLeafFitOptions(const LeafFitOptions& options);
+std::string ValidateLeafFitParameters(const LeafFitParameters& options);
 
 inline constexpr int MinLeafPoints = 50;
 
@@ -102,11 +102,11 @@ struct LeafFitResult
 };
 
 /// Fits one leaf. Never throws for bad input: the result's error says what is wrong.
-LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions& options);
+LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options);
 
 /// Fits several leaves (each its own point set) through `parallel`; results in the leaves' order, identical to
 /// fitting them one by one.
 std::vector<LeafFitResult> FitLeaves(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
-  const LeafFitOptions& options, const ParallelFor& parallel = SerialFor);
+  const LeafFitParameters& options, const ParallelFor& parallel = SerialFor);
 
 } // namespace plantmorph

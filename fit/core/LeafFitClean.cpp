@@ -47,7 +47,7 @@ int Find(std::vector<int>& parent, int i)
 }
 } // namespace
 
-std::string CheckCloud(const std::vector<Eigen::Vector3d>& points)
+std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points)
 {
   std::ostringstream message;
   if (points.size() < static_cast<std::size_t>(MinLeafPoints))
@@ -157,7 +157,7 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   return {};
 }
 
-Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions& options, int& baseFrom)
+Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, int& baseFrom)
 {
   Eigen::Vector3d centroid;
   const auto eig = Principal(points, centroid);

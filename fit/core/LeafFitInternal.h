@@ -25,7 +25,7 @@ struct Frame
 };
 
 /// Checks the raw points: count, finite coordinates, not a line, not a blob. Empty string: usable.
-std::string CheckCloud(const std::vector<Eigen::Vector3d>& points);
+std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points);
 
 /// Statistical outlier removal and the largest connected parts; keep[i] = 1 for kept points. Sets `spacing` (the
 /// median nearest-neighbour distance of the kept points).
@@ -33,7 +33,7 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   std::vector<unsigned char>& keep, double& spacing);
 
 /// The frame of the kept points (principal axes, base chosen as LeafFit.h says); baseFrom 0 shape, 1 base point.
-Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitOptions& options, int& baseFrom);
+Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, int& baseFrom);
 
 /// Smoothed cross-sections along the leaf (in local coordinates) and the intrinsic coordinates they give.
 class CrossSections
@@ -64,11 +64,11 @@ struct Outline
 
 /// Fits the outline to intrinsic coordinates (t, s) of the kept points.
 std::string FitOutline(
-  const std::vector<Eigen::Vector2d>& ts, const LeafFitOptions& options, double spacing, Outline& outline);
+  const std::vector<Eigen::Vector2d>& ts, const LeafFitParameters& options, double spacing, Outline& outline);
 
 /// Fills result.traits from the finished blade (points, triangles, margins, Support, FitDistance, Inlier) and the
 /// surface (in the local frame whose axes, in world coordinates, are the columns of `axes`).
-void ComputeTraits(const TensorSurface& surface, const Outline& outline, const LeafFitOptions& options,
+void ComputeTraits(const TensorSurface& surface, const Outline& outline, const LeafFitParameters& options,
   const Eigen::Matrix3d& axes, LeafFitResult& result);
 
 } // namespace fit

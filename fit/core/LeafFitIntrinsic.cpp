@@ -246,7 +246,7 @@ double TipBeyond(const std::vector<double>& v, double reach)
 }
 } // namespace
 
-std::string FitOutline(const std::vector<Eigen::Vector2d>& ts, const LeafFitOptions& options, double spacing,
+std::string FitOutline(const std::vector<Eigen::Vector2d>& ts, const LeafFitParameters& options, double spacing,
   Outline& outline)
 {
   std::vector<double> s(ts.size());

@@ -72,7 +72,7 @@ void ShapeTraits(const TensorSurface& S, const Outline& o, LeafTraits& traits)
   traits.rollingCurvature = stations > 0 ? curvature / stations : 0.0;
 }
 
-void BladeTraits(const LeafFitOptions& options, LeafFitResult& r)
+void BladeTraits(const LeafFitParameters& options, LeafFitResult& r)
 {
   LeafTraits& traits = r.traits;
   const FittedPlane plane = FitPlane(r.points);
@@ -129,7 +129,7 @@ void BladeTraits(const LeafFitOptions& options, LeafFitResult& r)
 }
 } // namespace
 
-void ComputeTraits(const TensorSurface& surface, const Outline& outline, const LeafFitOptions& options,
+void ComputeTraits(const TensorSurface& surface, const Outline& outline, const LeafFitParameters& options,
   const Eigen::Matrix3d& axes, LeafFitResult& result)
 {
   LeafTraits& traits = result.traits;

@@ -137,7 +137,7 @@ int vtkLeafFitFilter::RequestData(vtkInformation*, vtkInformationVector** inputV
     return 1; // an empty piece (MPI ranks without leaves): empty outputs, no error
 
   // Options and the leaves' points.
-  plantmorph::LeafFitOptions options;
+  plantmorph::LeafFitParameters options;
   options.up = Eigen::Vector3d::Unit(this->UpAxis);
   if (this->UseBasePoint)
     options.basePoint = Eigen::Vector3d(this->BasePoint[0], this->BasePoint[1], this->BasePoint[2]);
@@ -147,7 +147,7 @@ int vtkLeafFitFilter::RequestData(vtkInformation*, vtkInformationVector** inputV
   options.outlierSigma = this->OutlierSigma;
   options.resolution = this->Resolution;
   options.modelControlPoints = this->ModelControlPoints;
-  std::string error = plantmorph::ValidateLeafFitOptions(options);
+  std::string error = plantmorph::ValidateLeafFitParameters(options);
   if (error.empty() && !(std::isfinite(this->Scale) && this->Scale > 0.0))
     error = plantmorph::OutOfRange("Scale", this->Scale, "(0, inf)");
   vtkDataArray* ids = nullptr;

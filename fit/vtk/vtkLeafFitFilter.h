@@ -55,7 +55,7 @@ public:
   vtkGetVector3Macro(BasePoint, double);
 
   ///@{
-  /// Fit controls (plantmorph::LeafFitOptions): SurfaceSmoothing [0, 1e6] (default 1), OutlineSmoothing [0, 1e6]
+  /// Fit controls (plantmorph::LeafFitParameters): SurfaceSmoothing [0, 1e6] (default 1), OutlineSmoothing [0, 1e6]
   /// (default 1), OutlineControlPoints [4, 200] (default 16), OutlierSigma [1, 100] (default 3), Resolution
   /// [4, 1000] segments along the midvein (default 60), ModelControlPoints [3, 100] (default 20).
   vtkSetMacro(SurfaceSmoothing, double);

@@ -91,7 +91,7 @@ MeshPlane PlaneOf(const std::vector<Eigen::Vector3d>& points, const Eigen::Vecto
   return plane;
 }
 
-std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& settings, LeafGeometry& leaf)
+std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshParameters& settings, LeafGeometry& leaf)
 {
   std::string error = ValidateResolution(settings.resolution);
   if (!error.empty())
@@ -208,7 +208,7 @@ std::string BuildLeaf(const BSplineLeafParameters& p, const LeafMeshSettings& se
     return uv;
   };
 
-  const BladeMeshOptions options = MeshOptionsFor(settings, spacing);
+  const BladeMeshParameters options = MeshParametersFor(settings, spacing);
   error = MeshBlade(outline, options, solveUV, leaf.blade);
   if (!error.empty())
     return error.rfind("outline:", 0) == 0 ? "MidveinPoints/LeftMarginPoints/RightMarginPoints: " + error : error;
@@ -266,7 +266,7 @@ std::string BSplinePresetName(BSplinePreset preset)
 }
 
 std::string BuildBSplineLeaf(
-  const BSplineLeafParameters& parameters, const LeafMeshSettings& settings, LeafGeometry& leaf)
+  const BSplineLeafParameters& parameters, const LeafMeshParameters& settings, LeafGeometry& leaf)
 {
   return BuildAllOrNothing(leaf, [&] { return BuildLeaf(parameters, settings, leaf); });
 }

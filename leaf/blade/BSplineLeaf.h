@@ -51,6 +51,6 @@ std::string BSplinePresetName(BSplinePreset preset);
 
 /// Empty on success; otherwise a message naming the property at fault, and `leaf` is empty.
 std::string BuildBSplineLeaf(
-  const BSplineLeafParameters& parameters, const LeafMeshSettings& settings, LeafGeometry& leaf);
+  const BSplineLeafParameters& parameters, const LeafMeshParameters& settings, LeafGeometry& leaf);
 
 } // namespace plantmorph

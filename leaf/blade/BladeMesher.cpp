@@ -151,7 +151,7 @@ std::string ValidateBladeOutline(const BladeOutline& outline)
 }
 
 std::string MeshBlade(
-  const BladeOutline& outline, const BladeMeshOptions& options, const UVSolver& solveUV, BladeMesh& mesh)
+  const BladeOutline& outline, const BladeMeshParameters& options, const UVSolver& solveUV, BladeMesh& mesh)
 {
   mesh = BladeMesh();
   std::string error = ValidateBladeOutline(outline);

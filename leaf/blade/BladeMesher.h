@@ -40,7 +40,7 @@ struct BladeOutline
   std::vector<std::vector<int>> veins;
 };
 
-struct BladeMeshOptions
+struct BladeMeshParameters
 {
   bool quality = true;
   double maxEdgeLength = 0.0; ///< quality mode's size bound (required > 0 there)
@@ -68,7 +68,7 @@ std::string ValidateBladeOutline(const BladeOutline& outline);
 
 /// Meshes the blade. Returns an empty string on success; otherwise a message (the mesh is then empty).
 std::string MeshBlade(
-  const BladeOutline& outline, const BladeMeshOptions& options, const UVSolver& solveUV, BladeMesh& mesh);
+  const BladeOutline& outline, const BladeMeshParameters& options, const UVSolver& solveUV, BladeMesh& mesh);
 
 /// Signed area of a closed polygon given by point ids (positive when counter-clockwise).
 double PolygonArea(const std::vector<Eigen::Vector2d>& points, const std::vector<int>& loop);

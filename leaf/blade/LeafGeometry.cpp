@@ -36,9 +36,9 @@ std::string ValidateResolution(int resolution)
     "[" + std::to_string(MinResolution) + ", " + std::to_string(MaxResolution) + "]");
 }
 
-BladeMeshOptions MeshOptionsFor(const LeafMeshSettings& settings, double spacing)
+BladeMeshParameters MeshParametersFor(const LeafMeshParameters& settings, double spacing)
 {
-  BladeMeshOptions options;
+  BladeMeshParameters options;
   options.quality = settings.quality;
   options.maxEdgeLength = spacing;
   options.maxVertices = settings.maxVertices;

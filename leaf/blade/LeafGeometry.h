@@ -33,7 +33,7 @@ struct LeafGeometry
 std::vector<Eigen::Vector3d> VertexNormals(
   const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles);
 
-struct LeafMeshSettings
+struct LeafMeshParameters
 {
   int resolution = 60; ///< segments along the midvein; the margins are sampled at the same spacing
   bool quality = true; ///< CGAL Delaunay refinement (min angle ~20.7 deg, max edge = the midvein spacing)
@@ -49,7 +49,7 @@ std::string ValidateResolution(int resolution);
 
 /// The mesher options for these settings: the meshing mode, edges of `spacing` (the midvein spacing), the vertex
 /// budget, and the settings' progress mapped onto [0.05, 0.9] (sampling before, output after).
-BladeMeshOptions MeshOptionsFor(const LeafMeshSettings& settings, double spacing);
+BladeMeshParameters MeshParametersFor(const LeafMeshParameters& settings, double spacing);
 
 /// Runs `build` (returning an error message or "") on an emptied `leaf`, and empties it again if it failed: a
 /// model's builder either fills the whole leaf or leaves nothing.

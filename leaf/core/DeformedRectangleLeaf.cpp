@@ -53,7 +53,7 @@ std::vector<Eigen::Vector2d> HalfMarginUV(
   return uv;
 }
 std::string BuildLeaf(
-  const DeformedRectangleParameters& parameters, const LeafMeshSettings& settings, LeafGeometry& leaf)
+  const DeformedRectangleParameters& parameters, const LeafMeshParameters& settings, LeafGeometry& leaf)
 {
   std::string error = Validate(parameters);
   if (!error.empty())
@@ -111,7 +111,7 @@ std::string BuildLeaf(
   outline.boundary.insert(outline.boundary.end(), leaf.leftMargin.rbegin(), leaf.leftMargin.rend() - 1);
   outline.midvein = leaf.midvein;
 
-  const BladeMeshOptions options = MeshOptionsFor(settings, spacing);
+  const BladeMeshParameters options = MeshParametersFor(settings, spacing);
   std::size_t failures = 0;
   auto solveUV = [&](const Eigen::Vector2d& xy, const Eigen::Vector2d& guess) {
     Eigen::Vector2d uv;
@@ -130,7 +130,7 @@ std::string BuildLeaf(
 } // namespace
 
 std::string BuildDeformedRectangleLeaf(
-  const DeformedRectangleParameters& parameters, const LeafMeshSettings& settings, LeafGeometry& leaf)
+  const DeformedRectangleParameters& parameters, const LeafMeshParameters& settings, LeafGeometry& leaf)
 {
   return BuildAllOrNothing(leaf, [&] { return BuildLeaf(parameters, settings, leaf); });
 }

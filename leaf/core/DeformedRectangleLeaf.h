@@ -12,6 +12,6 @@ namespace plantmorph
 
 /// Returns an empty string on success; otherwise a message naming the property at fault, and `leaf` is empty.
 std::string BuildDeformedRectangleLeaf(
-  const DeformedRectangleParameters& parameters, const LeafMeshSettings& settings, LeafGeometry& leaf);
+  const DeformedRectangleParameters& parameters, const LeafMeshParameters& settings, LeafGeometry& leaf);
 
 } // namespace plantmorph

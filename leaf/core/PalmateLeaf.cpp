@@ -530,7 +530,7 @@ Eigen::Vector2d SectorUV(const std::vector<Sector>& sectors, const Eigen::Vector
   return guess;
 }
 
-std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m, LeafGeometry& leaf)
+std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshParameters& m, LeafGeometry& leaf)
 {
   std::string error = ValidateSpaceCurveParameters(p, m);
   if (!error.empty())
@@ -569,12 +569,12 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
   const std::vector<Sector> sectors = MakeSectors(outline, midveins, tips, count);
   auto solveUV = [&](const Eigen::Vector2d& x, const Eigen::Vector2d& guess) { return SectorUV(sectors, x, guess); };
 
-  LeafMeshSettings meshSettings;
+  LeafMeshParameters meshSettings;
   meshSettings.resolution = n;
   meshSettings.quality = m.quality;
   meshSettings.maxVertices = m.maxVertices;
   meshSettings.progress = m.progress;
-  const BladeMeshOptions options = MeshOptionsFor(meshSettings, spacing);
+  const BladeMeshParameters options = MeshParametersFor(meshSettings, spacing);
   if (m.progress && !m.progress(0.05))
     return "aborted";
   error = MeshBlade(outline, options, solveUV, leaf.blade);
@@ -599,7 +599,7 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m
 }
 } // namespace
 
-std::string BuildPalmateLeaf(const SpaceCurveParameters& parameters, const SpaceCurveMeshSettings& settings,
+std::string BuildPalmateLeaf(const SpaceCurveParameters& parameters, const SpaceCurveMeshParameters& settings,
   LeafGeometry& leaf)
 {
   return BuildAllOrNothing(leaf, [&] { return Build(parameters, settings, leaf); });

@@ -37,6 +37,6 @@ namespace plantmorph
 /// The palmate leaf of `parameters` (lobes 3 or 5). Empty on success; otherwise a message naming the property at
 /// fault, and `leaf` is empty.
 std::string BuildPalmateLeaf(
-  const SpaceCurveParameters& parameters, const SpaceCurveMeshSettings& settings, LeafGeometry& leaf);
+  const SpaceCurveParameters& parameters, const SpaceCurveMeshParameters& settings, LeafGeometry& leaf);
 
 } // namespace plantmorph

@@ -22,7 +22,7 @@ std::string Check(bool ok, const char* property, double value, const char* range
 
 } // namespace
 
-std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m)
+std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& p, const SpaceCurveMeshParameters& m)
 {
   std::string e;
   if (!(e = Check(std::isfinite(p.length) && p.length > 0 && p.length <= 1e6, "CurveLength", p.length,
@@ -100,7 +100,7 @@ std::string IntegrateHalfMargin(
   std::vector<double> breakpoints = p.curvature.Breakpoints(p.length);
   const std::vector<double> torsionBreaks = p.torsion.Breakpoints(p.length);
   breakpoints.insert(breakpoints.end(), torsionBreaks.begin(), torsionBreaks.end());
-  FrenetSettings settings;
+  FrenetParameters settings;
   settings.method = p.method;
   settings.tolerance = p.tolerance;
   settings.stepsPerOutput = p.rk4StepsPerSample;
@@ -111,7 +111,7 @@ std::string IntegrateHalfMargin(
 }
 
 std::string BuildSpaceCurveLeaf(
-  const SpaceCurveParameters& p, const SpaceCurveMeshSettings& m, LeafGeometry& leaf)
+  const SpaceCurveParameters& p, const SpaceCurveMeshParameters& m, LeafGeometry& leaf)
 {
   if (p.lobes != 1)
     return BuildPalmateLeaf(p, m, leaf);

@@ -61,7 +61,7 @@ struct SpaceCurveParameters
   }
 };
 
-struct SpaceCurveMeshSettings
+struct SpaceCurveMeshParameters
 {
   int resolution = 60; ///< rows (arc-length samples) from base to apex
   int columns = 6;     ///< points per half row, margin to midvein
@@ -77,10 +77,10 @@ inline constexpr int MaxStripColumns = 200;
 /// Empty on success; otherwise a message naming the parameter and its accepted range, and `leaf` is empty.
 /// lobes > 1 builds the palmate leaf (BuildPalmateLeaf).
 std::string BuildSpaceCurveLeaf(
-  const SpaceCurveParameters& parameters, const SpaceCurveMeshSettings& settings, LeafGeometry& leaf);
+  const SpaceCurveParameters& parameters, const SpaceCurveMeshParameters& settings, LeafGeometry& leaf);
 
 /// Empty when the parameters and settings are in range; otherwise the message naming the property and its range.
-std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& parameters, const SpaceCurveMeshSettings& settings);
+std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& parameters, const SpaceCurveMeshParameters& settings);
 
 /// The half-margin alone (frames at the arc lengths i*S/pieces), for tests and the palmate lobes.
 std::string IntegrateHalfMargin(

@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 using plantmorph::AddFieldString;
 using plantmorph::AddFieldValue;
@@ -92,6 +93,7 @@ vtkLeafOutlineSource::vtkLeafOutlineSource()
 //------------------------------------------------------------------------------
 void vtkLeafOutlineSource::ClearTerms()
 {
+  this->TermsElementCount = -1;
   if (!this->Terms.empty())
   {
     this->Terms.clear();
@@ -105,6 +107,38 @@ void vtkLeafOutlineSource::AddTerm(double target, double scale, double amplitude
 {
   this->Terms.insert(this->Terms.end(), { target, scale, amplitude, multiplier, frequency, variable, phase });
   this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkLeafOutlineSource::SetTermsElementCount(int count)
+{
+  if (count != this->TermsElementCount)
+  {
+    this->TermsElementCount = count;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+const char* vtkLeafOutlineSource::GetPresetValues()
+{
+  const int preset = this->Model == SPACE_CURVE ? this->SpaceCurvePreset
+    : this->Model == B_SPLINE                   ? this->BSplinePreset
+                                                : this->Preset;
+  if (preset == 0)
+  {
+    this->PresetValues = "Custom: the properties are used as set.";
+  }
+  else if (this->LastParameters.empty())
+  {
+    this->PresetValues = "Apply to see the values the preset uses.";
+  }
+  else
+  {
+    this->PresetValues = "The named preset made this leaf with (the greyed properties are not used):\n" +
+      this->LastParameters;
+  }
+  return this->PresetValues.c_str();
 }
 
 //------------------------------------------------------------------------------
@@ -315,6 +349,15 @@ int vtkLeafOutlineSource::RequestData(
     return 1;
   }
 
+  if (this->TermsElementCount >= 0 && static_cast<std::size_t>(this->TermsElementCount) != this->Terms.size())
+  {
+    // ParaView pushed only the whole rows: a partial row means the user's list is not rows of seven.
+    vtkErrorMacro(<< plantmorph::OutOfRange("Terms", std::to_string(this->TermsElementCount) + " numbers",
+                    "{0, 7, 14, ...}",
+                    "rows of seven: Target, Scale, Amplitude, Multiplier, Frequency, Variable, Phase; the last row has " +
+                      std::to_string(this->TermsElementCount % 7)));
+    return 1;
+  }
   if (this->MaxVertices < 3)
   {
     vtkErrorMacro(<< plantmorph::OutOfRange("MaxVertices", this->MaxVertices, "[3, inf)"));
@@ -344,6 +387,7 @@ int vtkLeafOutlineSource::RequestData(
     ? vtkPolyData::GetData(inputVector[0], 0)
     : nullptr;
   this->WarnAboutPresetOverrides();
+  this->LastParameters.clear();
   const std::string error = this->BuildLeaf(leaf, parameters, scale, controlPoints);
   if (!error.empty())
   {
@@ -406,6 +450,7 @@ int vtkLeafOutlineSource::RequestData(
     AddFieldValue(parameters, "PlantMorph.GrowthFraction", time);
     AddFieldValue(parameters, "PlantMorph.GrowthScale", scale);
   }
+  this->LastParameters = plantmorph::FormatParameters(parameters);
   // Parameters as field data on both outputs, and the time they show.
   for (vtkPolyData* output : { blade, outline })
   {
@@ -443,12 +488,12 @@ std::string vtkLeafOutlineSource::ValidateGrowth() const
 }
 
 //------------------------------------------------------------------------------
-std::string vtkLeafOutlineSource::MeshSettings(plantmorph::LeafMeshSettings& settings)
+std::string vtkLeafOutlineSource::MeshParameters(plantmorph::LeafMeshParameters& settings)
 {
   if (this->MeshQuality != 0 && this->MeshQuality != 1)
   {
     std::ostringstream message;
-    message << "MeshQuality = " << this->MeshQuality << " is not 0 (paper) or 1 (quality)";
+    message << plantmorph::OutOfRange("MeshQuality", this->MeshQuality, "{0, 1}", "0 paper, 1 quality");
     return message.str();
   }
   settings.resolution = this->Resolution;
@@ -527,259 +572,283 @@ void vtkLeafOutlineSource::WarnAboutPresetOverrides()
 std::string vtkLeafOutlineSource::BuildLeaf(
   LeafGeometry& leaf, vtkFieldData* fd, double scale, vtkPolyData* controlPoints)
 {
-  std::ostringstream message;
   if (this->Model == DEFORMED_RECTANGLE)
   {
-    if (this->Preset < 0 || this->Preset >= plantmorph::DeformedRectanglePresetCount)
-    {
-      message << plantmorph::OutOfRange(
-        "Preset", this->Preset, "[0, " + std::to_string(plantmorph::DeformedRectanglePresetCount - 1) + "]");
-      return message.str();
-    }
-    const double bladeLength = scale * this->Length;
-    if (!(std::isfinite(bladeLength) && bladeLength > 0.0 && bladeLength <= 1e6))
-    {
-      message << plantmorph::OutOfRange("Length", this->Length, "(0, 1e6]", "the blade's length from base to apex");
-      return message.str();
-    }
-    const auto preset = static_cast<plantmorph::DeformedRectanglePreset>(this->Preset);
-    // The rectangle first at b_y = Length (a_x: the preset's proportion, or Width for Custom), then a_x and b_y
-    // scaled together so the blade is Length long from base to apex.
-    plantmorph::DeformedRectangleParameters parameters = plantmorph::MakeDeformedRectanglePreset(preset, bladeLength);
-    if (preset == plantmorph::DeformedRectanglePreset::Custom)
-    {
-      parameters.width = scale * this->Width;
-      const std::string termError = plantmorph::ParseTerms(this->Terms, parameters.terms);
-      if (!termError.empty())
-      {
-        return termError;
-      }
-    }
-    parameters.bending = this->Bending;
-    parameters.asymmetry = this->Asymmetry;
-    if (plantmorph::Validate(parameters).empty())
-    {
-      const std::string scaleError = plantmorph::ScaleToBladeLength(parameters, bladeLength);
-      if (!scaleError.empty())
-      {
-        return scaleError;
-      }
-    }
-    plantmorph::LeafMeshSettings settings;
-    const std::string settingsError = this->MeshSettings(settings);
-    if (!settingsError.empty())
-    {
-      return settingsError;
-    }
-    const std::string error = plantmorph::BuildDeformedRectangleLeaf(parameters, settings, leaf);
-    if (!error.empty())
-    {
-      return error;
-    }
-    AddFieldString(fd, "PlantMorph.Model", "DeformedRectangle");
-    AddFieldString(fd, "PlantMorph.Preset", plantmorph::PresetName(preset));
-    AddFieldValue(fd, "PlantMorph.Length", bladeLength);
-    AddFieldValue(fd, "PlantMorph.RectangleWidth", parameters.width);
-    AddFieldValue(fd, "PlantMorph.RectangleHeight", parameters.length);
-    AddFieldValue(fd, "PlantMorph.Bending", parameters.bending);
-    AddFieldValue(fd, "PlantMorph.Asymmetry", parameters.asymmetry);
-    AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
-    AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
-    vtkNew<vtkDoubleArray> terms;
-    terms->SetName("PlantMorph.Terms");
-    terms->SetNumberOfComponents(plantmorph::TermColumns);
-    const std::vector<double> flat = plantmorph::FlattenTerms(parameters.terms);
-    terms->SetNumberOfTuples(static_cast<vtkIdType>(parameters.terms.size()));
-    std::copy(flat.begin(), flat.end(), terms->GetPointer(0));
-    fd->AddArray(terms);
-    return {};
+    return this->BuildDeformedRectangle(leaf, fd, scale);
   }
   if (this->Model == SPACE_CURVE)
   {
-    if (this->SpaceCurvePreset < 0 || this->SpaceCurvePreset >= plantmorph::SpaceCurvePresetCount)
-    {
-      message << plantmorph::OutOfRange("SpaceCurvePreset", this->SpaceCurvePreset,
-        "[0, " + std::to_string(plantmorph::SpaceCurvePresetCount - 1) + "]");
-      return message.str();
-    }
-    if (this->IntegrationMethod != 0 && this->IntegrationMethod != 1)
-    {
-      message << "IntegrationMethod = " << this->IntegrationMethod << " is not 0 (RK4) or 1 (RK45)";
-      return message.str();
-    }
-    const auto preset = static_cast<plantmorph::SpaceCurvePreset>(this->SpaceCurvePreset);
-    plantmorph::SpaceCurveParameters parameters =
-      plantmorph::MakeSpaceCurvePreset(preset, scale * this->CurveLength);
-    if (preset == plantmorph::SpaceCurvePreset::Custom)
-    {
-      plantmorph::CurvatureFamily& k = parameters.curvature;
-      k.type = static_cast<plantmorph::CurvatureFamily::Type>(this->CurvatureFunction);
-      k.mu = this->CurvatureMu;
-      k.lambda = this->CurvatureLambda;
-      k.n1 = this->CurvatureN1;
-      k.n2 = this->CurvatureN2;
-      k.b1 = this->CurvatureB1;
-      k.u3 = this->CurvatureU3;
-      k.beta = this->CurvatureBeta;
-      k.alpha4 = this->CurvatureAlpha4;
-      k.lambda2 = this->CurvatureLambda2;
-      plantmorph::CurvatureFamily& t = parameters.torsion;
-      t.type = static_cast<plantmorph::CurvatureFamily::Type>(this->TorsionFunction);
-      t.mu = this->TorsionEta;
-      t.lambda = this->TorsionLambda;
-      t.n1 = this->TorsionN1;
-      t.n2 = this->TorsionN2;
-      t.b1 = this->TorsionB1;
-      t.u3 = this->TorsionU3;
-      t.beta = this->TorsionBeta;
-      t.alpha4 = this->TorsionAlpha4;
-      t.lambda2 = this->TorsionLambda2;
-      parameters.midveinStretchZ = this->MidveinStretchZ;
-      parameters.midveinStretchXY = this->MidveinStretchXY;
-      parameters.lobes = this->Lobes;
-      parameters.lobeStart = this->LobeStart;
-      parameters.lobeAngle = this->LobeAngle;
-      parameters.lobeScale = this->LobeScale;
-    }
-    parameters.opening = this->Opening;
-    parameters.initialAngle = this->InitialAngle;
-    parameters.method = static_cast<plantmorph::FrenetMethod>(this->IntegrationMethod);
-    plantmorph::SpaceCurveMeshSettings settings;
-    settings.resolution = this->Resolution;
-    settings.columns = this->StripColumns;
-    plantmorph::LeafMeshSettings meshSettings;
-    const std::string settingsError = this->MeshSettings(meshSettings);
-    if (!settingsError.empty())
-    {
-      return settingsError;
-    }
-    settings.quality = meshSettings.quality;
-    settings.maxVertices = meshSettings.maxVertices;
-    settings.progress = meshSettings.progress;
-    this->UpdateProgress(0.1);
-    const std::string error = plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf);
-    if (!error.empty())
-    {
-      return error;
-    }
-    AddFieldString(fd, "PlantMorph.Model", "SpaceCurve");
-    AddFieldString(fd, "PlantMorph.Preset", plantmorph::SpaceCurvePresetName(preset));
-    AddFieldValue(fd, "PlantMorph.CurveLength", parameters.length);
-    for (const auto& family : { std::make_pair("PlantMorph.Curvature", &parameters.curvature),
-           std::make_pair("PlantMorph.Torsion", &parameters.torsion) })
-    {
-      const plantmorph::CurvatureFamily& f = *family.second;
-      vtkNew<vtkDoubleArray> values;
-      values->SetName(family.first);
-      values->SetNumberOfComponents(10);
-      values->SetComponentName(0, "Function");
-      values->SetComponentName(1, "Mu");
-      values->SetComponentName(2, "Lambda");
-      values->SetComponentName(3, "N1");
-      values->SetComponentName(4, "N2");
-      values->SetComponentName(5, "B1");
-      values->SetComponentName(6, "U3");
-      values->SetComponentName(7, "Beta");
-      values->SetComponentName(8, "Alpha4");
-      values->SetComponentName(9, "Lambda2");
-      const double tuple[10] = { static_cast<double>(f.type), f.mu, f.lambda, f.n1, f.n2, f.b1, f.u3, f.beta,
-        f.alpha4, f.lambda2 };
-      values->InsertNextTuple(tuple);
-      fd->AddArray(values);
-    }
-    AddFieldValue(fd, "PlantMorph.Opening", parameters.opening);
-    AddFieldValue(fd, "PlantMorph.MidveinStretchZ", parameters.midveinStretchZ);
-    AddFieldValue(fd, "PlantMorph.MidveinStretchXY", parameters.midveinStretchXY);
-    AddFieldValue(fd, "PlantMorph.InitialAngle", parameters.initialAngle);
-    AddFieldValue(fd, "PlantMorph.IntegrationMethod", this->IntegrationMethod);
-    AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
-    AddFieldValue(fd, "PlantMorph.StripColumns", this->StripColumns);
-    AddFieldValue(fd, "PlantMorph.Lobes", parameters.lobes);
-    if (parameters.lobes > 1)
-    {
-      AddFieldValue(fd, "PlantMorph.LobeStart", parameters.lobeStart);
-      AddFieldValue(fd, "PlantMorph.LobeAngle", parameters.lobeAngle);
-      AddFieldValue(fd, "PlantMorph.LobeScale", parameters.lobeScale);
-      AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
-    }
-    return {};
+    return this->BuildSpaceCurve(leaf, fd, scale);
   }
   if (this->Model == B_SPLINE)
   {
-    // One past the algorithm's presets: the control points come from the input port.
-    const int fromInput = plantmorph::BSplinePresetCount;
-    if (this->BSplinePreset < 0 || this->BSplinePreset > fromInput)
+    return this->BuildBSpline(leaf, fd, scale, controlPoints);
+  }
+  std::ostringstream message;
+  message << plantmorph::OutOfRange(
+    "Model", this->Model, "{0, 1, 2}", "0 deformed rectangle, 1 space curve, 2 B-spline");
+  return message.str();
+}
+
+//------------------------------------------------------------------------------
+// Paper 000: the deformed rectangle.
+std::string vtkLeafOutlineSource::BuildDeformedRectangle(LeafGeometry& leaf, vtkFieldData* fd, double scale)
+{
+  std::ostringstream message;
+  if (this->Preset < 0 || this->Preset >= plantmorph::DeformedRectanglePresetCount)
+  {
+    message << plantmorph::OutOfRange(
+      "Preset", this->Preset, "[0, " + std::to_string(plantmorph::DeformedRectanglePresetCount - 1) + "]");
+    return message.str();
+  }
+  const double bladeLength = scale * this->Length;
+  if (!(std::isfinite(bladeLength) && bladeLength > 0.0 && bladeLength <= 1e6))
+  {
+    message << plantmorph::OutOfRange("Length", this->Length, "(0, 1e6]", "the blade's length from base to apex");
+    return message.str();
+  }
+  const auto preset = static_cast<plantmorph::DeformedRectanglePreset>(this->Preset);
+  // The rectangle first at b_y = Length (a_x: the preset's proportion, or Width for Custom), then a_x and b_y
+  // scaled together so the blade is Length long from base to apex.
+  plantmorph::DeformedRectangleParameters parameters = plantmorph::MakeDeformedRectanglePreset(preset, bladeLength);
+  if (preset == plantmorph::DeformedRectanglePreset::Custom)
+  {
+    parameters.width = scale * this->Width;
+    const std::string termError = plantmorph::ParseTerms(this->Terms, parameters.terms);
+    if (!termError.empty())
     {
-      message << plantmorph::OutOfRange("BSplinePreset", this->BSplinePreset, "[0, " + std::to_string(fromInput) + "]");
+      return termError;
+    }
+  }
+  parameters.bending = this->Bending;
+  parameters.asymmetry = this->Asymmetry;
+  if (plantmorph::Validate(parameters).empty())
+  {
+    const std::string scaleError = plantmorph::ScaleToBladeLength(parameters, bladeLength);
+    if (!scaleError.empty())
+    {
+      return scaleError;
+    }
+  }
+  plantmorph::LeafMeshParameters settings;
+  const std::string settingsError = this->MeshParameters(settings);
+  if (!settingsError.empty())
+  {
+    return settingsError;
+  }
+  const std::string error = plantmorph::BuildDeformedRectangleLeaf(parameters, settings, leaf);
+  if (!error.empty())
+  {
+    return error;
+  }
+  AddFieldString(fd, "PlantMorph.Model", "DeformedRectangle");
+  AddFieldString(fd, "PlantMorph.Preset", plantmorph::PresetName(preset));
+  AddFieldValue(fd, "PlantMorph.Length", bladeLength);
+  AddFieldValue(fd, "PlantMorph.RectangleWidth", parameters.width);
+  AddFieldValue(fd, "PlantMorph.RectangleHeight", parameters.length);
+  AddFieldValue(fd, "PlantMorph.Bending", parameters.bending);
+  AddFieldValue(fd, "PlantMorph.Asymmetry", parameters.asymmetry);
+  AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
+  AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
+  vtkNew<vtkDoubleArray> terms;
+  terms->SetName("PlantMorph.Terms");
+  terms->SetNumberOfComponents(plantmorph::TermColumns);
+  const std::vector<double> flat = plantmorph::FlattenTerms(parameters.terms);
+  terms->SetNumberOfTuples(static_cast<vtkIdType>(parameters.terms.size()));
+  std::copy(flat.begin(), flat.end(), terms->GetPointer(0));
+  fd->AddArray(terms);
+  return {};
+}
+
+//------------------------------------------------------------------------------
+// Paper 002: the space curve (and palmate) leaf.
+std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldData* fd, double scale)
+{
+  std::ostringstream message;
+  if (this->SpaceCurvePreset < 0 || this->SpaceCurvePreset >= plantmorph::SpaceCurvePresetCount)
+  {
+    message << plantmorph::OutOfRange("SpaceCurvePreset", this->SpaceCurvePreset,
+      "[0, " + std::to_string(plantmorph::SpaceCurvePresetCount - 1) + "]");
+    return message.str();
+  }
+  if (this->IntegrationMethod != 0 && this->IntegrationMethod != 1)
+  {
+    message << plantmorph::OutOfRange("IntegrationMethod", this->IntegrationMethod, "{0, 1}", "0 RK4, 1 RK45");
+    return message.str();
+  }
+  const auto preset = static_cast<plantmorph::SpaceCurvePreset>(this->SpaceCurvePreset);
+  plantmorph::SpaceCurveParameters parameters =
+    plantmorph::MakeSpaceCurvePreset(preset, scale * this->CurveLength);
+  if (preset == plantmorph::SpaceCurvePreset::Custom)
+  {
+    plantmorph::CurvatureFamily& k = parameters.curvature;
+    k.type = static_cast<plantmorph::CurvatureFamily::Type>(this->CurvatureFunction);
+    k.mu = this->CurvatureMu;
+    k.lambda = this->CurvatureLambda;
+    k.n1 = this->CurvatureN1;
+    k.n2 = this->CurvatureN2;
+    k.b1 = this->CurvatureB1;
+    k.u3 = this->CurvatureU3;
+    k.beta = this->CurvatureBeta;
+    k.alpha4 = this->CurvatureAlpha4;
+    k.lambda2 = this->CurvatureLambda2;
+    plantmorph::CurvatureFamily& t = parameters.torsion;
+    t.type = static_cast<plantmorph::CurvatureFamily::Type>(this->TorsionFunction);
+    t.mu = this->TorsionEta;
+    t.lambda = this->TorsionLambda;
+    t.n1 = this->TorsionN1;
+    t.n2 = this->TorsionN2;
+    t.b1 = this->TorsionB1;
+    t.u3 = this->TorsionU3;
+    t.beta = this->TorsionBeta;
+    t.alpha4 = this->TorsionAlpha4;
+    t.lambda2 = this->TorsionLambda2;
+    parameters.midveinStretchZ = this->MidveinStretchZ;
+    parameters.midveinStretchXY = this->MidveinStretchXY;
+    parameters.lobes = this->Lobes;
+    parameters.lobeStart = this->LobeStart;
+    parameters.lobeAngle = this->LobeAngle;
+    parameters.lobeScale = this->LobeScale;
+  }
+  parameters.opening = this->Opening;
+  parameters.initialAngle = this->InitialAngle;
+  parameters.method = static_cast<plantmorph::FrenetMethod>(this->IntegrationMethod);
+  plantmorph::SpaceCurveMeshParameters settings;
+  settings.resolution = this->Resolution;
+  settings.columns = this->StripColumns;
+  plantmorph::LeafMeshParameters meshSettings;
+  const std::string settingsError = this->MeshParameters(meshSettings);
+  if (!settingsError.empty())
+  {
+    return settingsError;
+  }
+  settings.quality = meshSettings.quality;
+  settings.maxVertices = meshSettings.maxVertices;
+  settings.progress = meshSettings.progress;
+  this->UpdateProgress(0.1);
+  const std::string error = plantmorph::BuildSpaceCurveLeaf(parameters, settings, leaf);
+  if (!error.empty())
+  {
+    return error;
+  }
+  AddFieldString(fd, "PlantMorph.Model", "SpaceCurve");
+  AddFieldString(fd, "PlantMorph.Preset", plantmorph::SpaceCurvePresetName(preset));
+  AddFieldValue(fd, "PlantMorph.CurveLength", parameters.length);
+  for (const auto& family : { std::make_pair("PlantMorph.Curvature", &parameters.curvature),
+         std::make_pair("PlantMorph.Torsion", &parameters.torsion) })
+  {
+    const plantmorph::CurvatureFamily& f = *family.second;
+    vtkNew<vtkDoubleArray> values;
+    values->SetName(family.first);
+    values->SetNumberOfComponents(10);
+    values->SetComponentName(0, "Function");
+    values->SetComponentName(1, "Mu");
+    values->SetComponentName(2, "Lambda");
+    values->SetComponentName(3, "N1");
+    values->SetComponentName(4, "N2");
+    values->SetComponentName(5, "B1");
+    values->SetComponentName(6, "U3");
+    values->SetComponentName(7, "Beta");
+    values->SetComponentName(8, "Alpha4");
+    values->SetComponentName(9, "Lambda2");
+    const double tuple[10] = { static_cast<double>(f.type), f.mu, f.lambda, f.n1, f.n2, f.b1, f.u3, f.beta,
+      f.alpha4, f.lambda2 };
+    values->InsertNextTuple(tuple);
+    fd->AddArray(values);
+  }
+  AddFieldValue(fd, "PlantMorph.Opening", parameters.opening);
+  AddFieldValue(fd, "PlantMorph.MidveinStretchZ", parameters.midveinStretchZ);
+  AddFieldValue(fd, "PlantMorph.MidveinStretchXY", parameters.midveinStretchXY);
+  AddFieldValue(fd, "PlantMorph.InitialAngle", parameters.initialAngle);
+  AddFieldValue(fd, "PlantMorph.IntegrationMethod", this->IntegrationMethod);
+  AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
+  AddFieldValue(fd, "PlantMorph.StripColumns", this->StripColumns);
+  AddFieldValue(fd, "PlantMorph.Lobes", parameters.lobes);
+  if (parameters.lobes > 1)
+  {
+    AddFieldValue(fd, "PlantMorph.LobeStart", parameters.lobeStart);
+    AddFieldValue(fd, "PlantMorph.LobeAngle", parameters.lobeAngle);
+    AddFieldValue(fd, "PlantMorph.LobeScale", parameters.lobeScale);
+    AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
+  }
+  return {};
+}
+
+//------------------------------------------------------------------------------
+// Paper 003: the B-spline leaf (Model C).
+std::string vtkLeafOutlineSource::BuildBSpline(LeafGeometry& leaf, vtkFieldData* fd, double scale, vtkPolyData* controlPoints)
+{
+  std::ostringstream message;
+  // One past the algorithm's presets: the control points come from the input port.
+  const int fromInput = plantmorph::BSplinePresetCount;
+  if (this->BSplinePreset < 0 || this->BSplinePreset > fromInput)
+  {
+    message << plantmorph::OutOfRange("BSplinePreset", this->BSplinePreset, "[0, " + std::to_string(fromInput) + "]");
+    return message.str();
+  }
+  const auto preset = static_cast<plantmorph::BSplinePreset>(this->BSplinePreset);
+  plantmorph::BSplineLeafParameters parameters;
+  std::string source = this->BSplinePreset == fromInput ? "ControlPointsInput" : plantmorph::BSplinePresetName(preset);
+  if (this->BSplinePreset == fromInput)
+  {
+    if (!controlPoints || controlPoints->GetNumberOfLines() == 0)
+    {
+      return "BSplinePreset 'ControlPoints input' needs polylines connected to the ControlPoints input";
+    }
+    const std::string inputError = ControlPointsFromPolylines(controlPoints, scale, parameters);
+    if (!inputError.empty())
+    {
+      return "ControlPoints input: " + inputError;
+    }
+  }
+  else if (preset == plantmorph::BSplinePreset::Custom)
+  {
+    const Eigen::Vector3d base = this->MidveinPoints.size() >= 3
+      ? Eigen::Vector3d(this->MidveinPoints[0], this->MidveinPoints[1], this->MidveinPoints[2])
+      : Eigen::Vector3d::Zero();
+    parameters.midvein = ScaledPoints(this->MidveinPoints, scale, base);
+    parameters.leftMargin = ScaledPoints(this->LeftMarginPoints, scale, base);
+    parameters.rightMargin = ScaledPoints(this->RightMarginPoints, scale, base);
+  }
+  else
+  {
+    if (!(std::isfinite(this->BladeLength) && this->BladeLength > 0 && this->BladeLength <= 1e6))
+    {
+      message << plantmorph::OutOfRange("BladeLength", this->BladeLength, "(0, 1e6]");
       return message.str();
     }
-    const auto preset = static_cast<plantmorph::BSplinePreset>(this->BSplinePreset);
-    plantmorph::BSplineLeafParameters parameters;
-    std::string source = this->BSplinePreset == fromInput ? "ControlPointsInput" : plantmorph::BSplinePresetName(preset);
-    if (this->BSplinePreset == fromInput)
+    if (!(std::isfinite(this->BladeWidth) && this->BladeWidth > 0 && this->BladeWidth <= 1e6))
     {
-      if (!controlPoints || controlPoints->GetNumberOfLines() == 0)
-      {
-        return "BSplinePreset 'ControlPoints input' needs polylines connected to the ControlPoints input";
-      }
-      const std::string inputError = ControlPointsFromPolylines(controlPoints, scale, parameters);
-      if (!inputError.empty())
-      {
-        return "ControlPoints input: " + inputError;
-      }
+      message << plantmorph::OutOfRange("BladeWidth", this->BladeWidth, "(0, 1e6]");
+      return message.str();
     }
-    else if (preset == plantmorph::BSplinePreset::Custom)
+    if (this->ControlPointCount < 3 || this->ControlPointCount > 1000)
     {
-      const Eigen::Vector3d base = this->MidveinPoints.size() >= 3
-        ? Eigen::Vector3d(this->MidveinPoints[0], this->MidveinPoints[1], this->MidveinPoints[2])
-        : Eigen::Vector3d::Zero();
-      parameters.midvein = ScaledPoints(this->MidveinPoints, scale, base);
-      parameters.leftMargin = ScaledPoints(this->LeftMarginPoints, scale, base);
-      parameters.rightMargin = ScaledPoints(this->RightMarginPoints, scale, base);
+      message << plantmorph::OutOfRange("ControlPointCount", this->ControlPointCount, "[3, 1000]");
+      return message.str();
     }
-    else
-    {
-      if (!(std::isfinite(this->BladeLength) && this->BladeLength > 0 && this->BladeLength <= 1e6))
-      {
-        message << plantmorph::OutOfRange("BladeLength", this->BladeLength, "(0, 1e6]");
-        return message.str();
-      }
-      if (!(std::isfinite(this->BladeWidth) && this->BladeWidth > 0 && this->BladeWidth <= 1e6))
-      {
-        message << plantmorph::OutOfRange("BladeWidth", this->BladeWidth, "(0, 1e6]");
-        return message.str();
-      }
-      if (this->ControlPointCount < 3 || this->ControlPointCount > 1000)
-      {
-        message << plantmorph::OutOfRange("ControlPointCount", this->ControlPointCount, "[3, 1000]");
-        return message.str();
-      }
-      parameters = plantmorph::MakeBSplinePreset(
-        preset, scale * this->BladeLength, scale * this->BladeWidth, this->ControlPointCount);
-    }
-    plantmorph::LeafMeshSettings settings;
-    const std::string settingsError = this->MeshSettings(settings);
-    if (!settingsError.empty())
-    {
-      return settingsError;
-    }
-    const std::string error = plantmorph::BuildBSplineLeaf(parameters, settings, leaf);
-    if (!error.empty())
-    {
-      return error;
-    }
-    AddFieldString(fd, "PlantMorph.Model", "BSpline");
-    AddFieldString(fd, "PlantMorph.Preset", source);
-    AddPointList(fd, "PlantMorph.MidveinPoints", parameters.midvein);
-    AddPointList(fd, "PlantMorph.LeftMarginPoints", parameters.leftMargin);
-    AddPointList(fd, "PlantMorph.RightMarginPoints", parameters.rightMargin);
-    AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
-    AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
-    return {};
+    parameters = plantmorph::MakeBSplinePreset(
+      preset, scale * this->BladeLength, scale * this->BladeWidth, this->ControlPointCount);
   }
-  message << "Model = " << this->Model
-          << " is not available; accepted: 0 (deformed rectangle), 1 (space curve), 2 (B-spline)";
-  return message.str();
+  plantmorph::LeafMeshParameters settings;
+  const std::string settingsError = this->MeshParameters(settings);
+  if (!settingsError.empty())
+  {
+    return settingsError;
+  }
+  const std::string error = plantmorph::BuildBSplineLeaf(parameters, settings, leaf);
+  if (!error.empty())
+  {
+    return error;
+  }
+  AddFieldString(fd, "PlantMorph.Model", "BSpline");
+  AddFieldString(fd, "PlantMorph.Preset", source);
+  AddPointList(fd, "PlantMorph.MidveinPoints", parameters.midvein);
+  AddPointList(fd, "PlantMorph.LeftMarginPoints", parameters.leftMargin);
+  AddPointList(fd, "PlantMorph.RightMarginPoints", parameters.rightMargin);
+  AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
+  AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
+  return {};
 }
 
 //------------------------------------------------------------------------------

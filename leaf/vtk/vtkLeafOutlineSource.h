@@ -58,7 +58,7 @@ class vtkPolyData;
 namespace plantmorph
 {
 struct LeafGeometry;
-struct LeafMeshSettings;
+struct LeafMeshParameters;
 }
 
 class PLANTMORPHLEAFVTK_EXPORT vtkLeafOutlineSource : public vtkPolyDataAlgorithm
@@ -128,6 +128,12 @@ public:
   void AddTerm(double target, double scale, double amplitude, double multiplier, double frequency, double variable,
     double phase);
   int GetNumberOfTerms() const { return static_cast<int>(this->Terms.size() / 7); }
+  /**
+   * How many numbers the Terms property held (the server-manager XML's element_count_command, pushed after the
+   * rows by vtkSICountedDoubleVectorProperty; ParaView drops a partial last row before AddTerm sees it). A count
+   * that is not the rows' numbers is refused with an error naming Terms. ClearTerms resets it to -1 (not given).
+   */
+  void SetTermsElementCount(int count);
   ///@}
 
   ///@{
@@ -322,6 +328,14 @@ public:
    */
   void SetControlPointsConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
 
+  /**
+   * For the read-only PresetValues box of the Properties panel: with a named preset of the current Model (Preset,
+   * SpaceCurvePreset or BSplinePreset), the parameters the last update made the leaf with, one "Name = value" a
+   * line (the outputs' PlantMorph.* field data: what the preset chose instead of the greyed-out properties); for
+   * Custom, a line saying the properties are used. ParaView refreshes the box after each update.
+   */
+  const char* GetPresetValues();
+
 protected:
   vtkLeafOutlineSource();
   ~vtkLeafOutlineSource() override = default;
@@ -335,6 +349,9 @@ protected:
   double Length = 5.0;
   double Width = 5.5;
   std::vector<double> Terms;
+  int TermsElementCount = -1;
+  std::string LastParameters; // FormatParameters of the last leaf made, "" after an error
+  std::string PresetValues;
   double Bending = 0.0;
   double Asymmetry = 0.0;
   int Resolution = 60;
@@ -391,8 +408,13 @@ private:
   /// Builds the chosen model's leaf and describes its parameters as field data; returns an error message or "".
   std::string BuildLeaf(
     plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale, vtkPolyData* controlPoints);
+  /// The three models' leaves, one each (BuildLeaf picks by Model); `scale` converts Units to the output's.
+  std::string BuildDeformedRectangle(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale);
+  std::string BuildSpaceCurve(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale);
+  std::string BuildBSpline(
+    plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale, vtkPolyData* controlPoints);
   /// Mesh settings of the CGAL-meshed models (Resolution, MeshQuality, MaxVertices, progress and abort).
-  std::string MeshSettings(plantmorph::LeafMeshSettings& settings);
+  std::string MeshParameters(plantmorph::LeafMeshParameters& settings);
   /// Empty when the growth properties are valid, else the message.
   std::string ValidateGrowth() const;
   /// With a named preset of the chosen model, warns about each property only Custom uses that was changed from

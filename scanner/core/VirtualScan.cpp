@@ -38,13 +38,11 @@ struct BeamResult
   bool dropped;
 };
 
-void CastOne(const ScannerParameters& p, const BeamPattern& pattern, const std::vector<double>& points,
-  const std::vector<std::int64_t>& triangles, const TriangleBVH& bvh, std::uint64_t beam, BeamResult& r)
+/// Beam `beam` as cast: the pattern's origin and direction, the angular jitter drawn (unit direction).
+void MakeBeam(const ScannerParameters& p, const BeamPattern& pattern, std::uint64_t beam, double origin[3],
+  double d[3], std::int64_t& pose)
 {
-  double origin[3], d[3];
-  pattern.Beam(beam, origin, d, r.pose);
-  r.triangle = -1;
-  r.dropped = false;
+  pattern.Beam(beam, origin, d, pose);
   if (p.angularJitter > 0.0)
   {
     // Two normal deviations about two axes orthogonal to the beam (Duff et al. 2017's branchless basis).
@@ -65,7 +63,14 @@ void CastOne(const ScannerParameters& p, const BeamPattern& pattern, const std::
     for (int k = 0; k < 3; ++k)
       d[k] /= length;
   }
-  const TriangleHit hit = bvh.Intersect(origin, d, p.maximumRange);
+}
+
+/// What beam `beam` returns given its nearest hit: dropout, the normal facing the scanner, noise, intensity.
+void Finish(const ScannerParameters& p, const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
+  std::uint64_t beam, const double origin[3], const double d[3], const TriangleHit& hit, BeamResult& r)
+{
+  r.triangle = -1;
+  r.dropped = false;
   if (!hit.Hit())
     return;
   if (p.dropoutProbability > 0.0 && BeamUniform(p.seed, beam, SlotDropout) < p.dropoutProbability)
@@ -100,6 +105,26 @@ void CastOne(const ScannerParameters& p, const BeamPattern& pattern, const std::
   r.u = hit.u;
   r.v = hit.v;
   r.triangle = hit.triangle;
+}
+
+/// Beams first + [begin, end) into block[begin, end), RayCaster::PacketSize at a time (each beam's hit does not
+/// depend on its packet, so neither does the cloud).
+void CastRange(const ScannerParameters& p, const BeamPattern& pattern, const std::vector<double>& points,
+  const std::vector<std::int64_t>& triangles, const RayCaster& caster, std::uint64_t first, std::size_t begin,
+  std::size_t end, BeamResult* block)
+{
+  constexpr std::size_t W = RayCaster::PacketSize;
+  double origins[3 * W], directions[3 * W];
+  TriangleHit hits[W];
+  for (std::size_t i = begin; i < end; i += W)
+  {
+    const std::size_t n = std::min(W, end - i);
+    for (std::size_t j = 0; j < n; ++j)
+      MakeBeam(p, pattern, first + i + j, origins + 3 * j, directions + 3 * j, block[i + j].pose);
+    caster.Intersect(n, origins, directions, p.maximumRange, hits);
+    for (std::size_t j = 0; j < n; ++j)
+      Finish(p, points, triangles, first + i + j, origins + 3 * j, directions + 3 * j, hits[j], block[i + j]);
+  }
 }
 } // namespace
 
@@ -145,7 +170,7 @@ std::string ValidateSurface(const std::vector<double>& points, const std::vector
 }
 
 std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, const std::vector<double>& points,
-  const std::vector<std::int64_t>& triangles, const TriangleBVH& bvh, ScanPoints& out, const ParallelFor& parallel,
+  const std::vector<std::int64_t>& triangles, const RayCaster& caster, ScanPoints& out, const ParallelFor& parallel,
   const std::function<bool(double)>& progress, std::uint64_t firstBeam, std::uint64_t endBeam)
 {
   out.Clear();
@@ -153,6 +178,10 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
   const std::uint64_t start = std::min(firstBeam, end);
   const std::uint64_t beams = end - start;
   std::vector<BeamResult> block(static_cast<std::size_t>(std::min(beams, Block)));
+  // Each block in pieces of Piece beams: a piece is cast and counts its returns in parallel, the pieces' places in
+  // the cloud follow (a short serial sum), then the pieces copy their returns in parallel.
+  constexpr std::size_t Piece = 1024;
+  std::vector<std::size_t> place(static_cast<std::size_t>(Block / Piece) + 1);
   for (std::uint64_t first = start; first < end; first += Block)
   {
     if (progress && !progress(static_cast<double>(first - start) / static_cast<double>(beams)))
@@ -161,26 +190,72 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
       return "aborted";
     }
     const std::size_t count = static_cast<std::size_t>(std::min(Block, end - first));
-    parallel(count, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
-        CastOne(p, pattern, points, triangles, bvh, first + i, block[i]);
+    const std::size_t pieces = (count + Piece - 1) / Piece;
+    std::vector<std::size_t> returned(pieces, 0), dropped(pieces, 0);
+    parallel(pieces, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t piece = begin; piece < end; ++piece)
+      {
+        const std::size_t b = piece * Piece, e = std::min(count, b + Piece);
+        CastRange(p, pattern, points, triangles, caster, first, b, e, block.data());
+        for (std::size_t i = b; i < e; ++i)
+        {
+          returned[piece] += block[i].triangle >= 0 ? 1 : 0;
+          dropped[piece] += block[i].dropped ? 1 : 0;
+        }
+      }
     });
-    for (std::size_t i = 0; i < count; ++i)
+    std::size_t n = out.Size();
+    for (std::size_t piece = 0; piece < pieces; ++piece)
     {
-      const BeamResult& r = block[i];
-      out.dropped += r.dropped ? 1 : 0;
-      if (r.triangle < 0)
-        continue;
-      out.points.insert(out.points.end(), r.point, r.point + 3);
-      out.normals.insert(out.normals.end(), r.normal, r.normal + 3);
-      out.range.push_back(r.range);
-      out.intensity.push_back(r.intensity);
-      out.pose.push_back(r.pose);
-      out.triangle.push_back(r.triangle);
-      out.barycentric.push_back(r.u);
-      out.barycentric.push_back(r.v);
-      out.beam.push_back(first + i);
+      place[piece] = n;
+      n += returned[piece];
+      out.dropped += dropped[piece];
     }
+    if (n > out.range.capacity())
+    {
+      // Room for the rest of the scan at the return rate so far (few reallocations of a large cloud).
+      const double rate = static_cast<double>(n) / static_cast<double>(first + count - start);
+      const auto expected = static_cast<std::size_t>(1.05 * rate * static_cast<double>(end - start)) + 1024;
+      const std::size_t capacity = std::max(n, std::min(expected, static_cast<std::size_t>(end - start)));
+      out.points.reserve(3 * capacity);
+      out.normals.reserve(3 * capacity);
+      out.range.reserve(capacity);
+      out.intensity.reserve(capacity);
+      out.pose.reserve(capacity);
+      out.triangle.reserve(capacity);
+      out.barycentric.reserve(2 * capacity);
+      out.beam.reserve(capacity);
+    }
+    out.points.resize(3 * n);
+    out.normals.resize(3 * n);
+    out.range.resize(n);
+    out.intensity.resize(n);
+    out.pose.resize(n);
+    out.triangle.resize(n);
+    out.barycentric.resize(2 * n);
+    out.beam.resize(n);
+    parallel(pieces, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t piece = begin; piece < end; ++piece)
+      {
+        std::size_t j = place[piece];
+        for (std::size_t i = piece * Piece; i < std::min(count, (piece + 1) * Piece); ++i)
+        {
+          const BeamResult& r = block[i];
+          if (r.triangle < 0)
+            continue;
+          std::copy(r.point, r.point + 3, &out.points[3 * j]);
+          std::copy(r.normal, r.normal + 3, &out.normals[3 * j]);
+          out.range[j] = r.range;
+          out.intensity[j] = r.intensity;
+          out.pose[j] = r.pose;
+          out.triangle[j] = r.triangle;
+          out.barycentric[2 * j] = r.u;
+          out.barycentric[2 * j + 1] = r.v;
+          out.beam[j] = first + i;
+          ++j;
+        }
+      }
+    });
   }
   out.beams = beams;
   if (progress)
@@ -199,9 +274,11 @@ std::string VirtualScan(const ScannerParameters& p, const std::vector<double>& p
     error = ValidateSurface(points, triangles);
   if (!error.empty())
     return error;
-  TriangleBVH bvh;
-  bvh.Build(points, triangles);
-  return CastBeams(p, pattern, points, triangles, bvh, out, parallel, progress);
+  RayCaster caster;
+  error = caster.Build(points, triangles);
+  if (!error.empty())
+    return error;
+  return CastBeams(p, pattern, points, triangles, caster, out, parallel, progress);
 }
 
 } // namespace plantmorph

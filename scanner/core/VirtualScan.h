@@ -1,11 +1,11 @@
-// The virtual scan (docs/methods/virtual-scanner.md): every beam of a BeamPattern cast through a TriangleBVH of the surface, the nearest
-// hit within MaximumRange kept, then dropout, range noise and angular jitter drawn from a counter-based stream keyed
-// by (Seed, beam index), so the cloud is bit-identical for a seed whatever the number of threads or how the beams
-// are shared out. Points come out in beam order.
+// The virtual scan (docs/methods/virtual-scanner.md): every beam of a BeamPattern cast through a RayCaster (Embree)
+// of the surface, the nearest hit within MaximumRange kept, then dropout, range noise and angular jitter drawn from
+// a counter-based stream keyed by (Seed, beam index), so the cloud is bit-identical for a seed whatever the number
+// of threads or how the beams are shared out. Points come out in beam order.
 #pragma once
 
 #include "ScanPattern.h"
-#include "TriangleBVH.h"
+#include "RayCaster.h"
 
 #include <plantmorph/ParallelFor.h>
 
@@ -39,12 +39,12 @@ struct ScanPoints
 std::string ValidateSurface(const std::vector<double>& points, const std::vector<std::int64_t>& triangles);
 
 /// Casts the beams [firstBeam, endBeam) (clamped to the pattern's count; default all) of `pattern` (Setup already
-/// succeeded) against `bvh` (built on `points`, `triangles`): a share of the beams gives exactly the points the
+/// succeeded) against `caster` (built on `points`, `triangles`): a share of the beams gives exactly the points the
 /// whole scan gives for them, so ranks casting consecutive shares concatenate to the whole cloud.
 /// `progress(fraction)` is called between blocks of beams; returning false stops the scan (the cloud is cleared and
 /// "aborted" returned).
 std::string CastBeams(const ScannerParameters& parameters, const BeamPattern& pattern, const std::vector<double>& points,
-  const std::vector<std::int64_t>& triangles, const TriangleBVH& bvh, ScanPoints& out,
+  const std::vector<std::int64_t>& triangles, const RayCaster& caster, ScanPoints& out,
   const ParallelFor& parallel = SerialFor, const std::function<bool(double)>& progress = {},
   std::uint64_t firstBeam = 0, std::uint64_t endBeam = ~std::uint64_t(0));
 

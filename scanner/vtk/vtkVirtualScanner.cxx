@@ -364,8 +364,12 @@ int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** input
   {
     return fail(error);
   }
-  plantmorph::TriangleBVH bvh;
-  bvh.Build(points, triangles);
+  plantmorph::RayCaster caster;
+  error = caster.Build(points, triangles);
+  if (!error.empty())
+  {
+    return fail(error);
+  }
   this->UpdateProgress(0.1);
   plantmorph::ScanPoints scan;
   const std::uint64_t beams = pattern.BeamCount();
@@ -373,8 +377,14 @@ int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** input
     // beams <= 4e9 (AbsoluteMaximumBeams), so beams * rank fits in 64 bits for any rank count MPI runs.
     return beams * static_cast<std::uint64_t>(r) / static_cast<std::uint64_t>(ranks);
   };
-  error = plantmorph::CastBeams(p, pattern, points, triangles, bvh, scan, plantmorph::SMPFor(1024),
-    plantmorph::Progress(this, 0.1, 0.9), share(rank), share(rank + 1));
+  // Every core: ParaView's default Sequential SMP backend (Debian's) is replaced by STDThread for the cast, as
+  // CloudComparisonFilter does; the output does not depend on the thread count.
+  const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
+  const std::string backend = current == "Sequential" ? "STDThread" : current;
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ 0, backend, false }, [&]() {
+    error = plantmorph::CastBeams(p, pattern, points, triangles, caster, scan, plantmorph::SMPFor(2),
+      plantmorph::Progress(this, 0.1, 0.9), share(rank), share(rank + 1));
+  });
   if (!error.empty())
   {
     return fail(error);

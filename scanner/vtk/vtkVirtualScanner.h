@@ -5,8 +5,9 @@
  *
  * Input: a vtkPolyData surface (polygons and triangle strips; vertices and lines are not scanned), e.g. a leaf, a
  * wilting frame, a tree with leaves, several plants appended. Every beam of the scanner's pattern is cast through
- * a BVH of the surface (scanner/core/TriangleBVH.h: watertight, so no beam slips between two triangles of a closed
- * surface) and returns the nearest hit within MaximumRange.
+ * an Embree 3 hierarchy of the surface (scanner/core/RayCaster.h: Embree's robust, watertight mode, so no beam slips
+ * between two triangles of a closed surface; the triangle found in single precision, the hit point computed on it
+ * in double precision) and returns the nearest hit within MaximumRange.
  *
  * Output port 0, the cloud: one vertex per point, in beam order, with point arrays `Normals` (the unit normal of
  * the polygon hit, turned to face the scanner), `Range` (measured, model units), `Intensity` (cos of the incidence

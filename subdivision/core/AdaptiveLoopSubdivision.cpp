@@ -251,7 +251,7 @@ std::string ValidateInput(const AdaptiveLoopMesh& mesh)
 }
 
 /// Non-manifold edges (three or more triangles); "" when manifold.
-std::string CheckManifoldEdges(std::size_t nV, const EdgeTable& table)
+std::string ValidateManifoldEdges(std::size_t nV, const EdgeTable& table)
 {
   std::vector<std::string> items;
   std::size_t count = 0;
@@ -306,7 +306,7 @@ int CountFan(const std::vector<int>& tri, const EdgeTable& table, int v)
   return visited;
 }
 
-std::string CheckManifoldVertices(const std::vector<int>& tri, std::size_t nV, const EdgeTable& table,
+std::string ValidateManifoldVertices(const std::vector<int>& tri, std::size_t nV, const EdgeTable& table,
   const ParallelForFunction& parallelFor)
 {
   std::vector<unsigned char> bad(nV, 0);
@@ -448,7 +448,7 @@ struct SplitRules
   double tolerance = 0.0;
   std::size_t maximumTriangles = 0;
 
-  SplitRules(const AdaptiveLoopSettings& settings, bool region)
+  SplitRules(const AdaptiveLoopParameters& settings, bool region)
     : haveRegion(region)
     , midveinIsFeature(settings.midveinIsFeature)
     , lambda(settings.flatnessThreshold)
@@ -1067,7 +1067,7 @@ LevelOutcome SubdivideLevel(const AdaptiveLoopMesh& mesh, const EdgeTable& table
 
 } // namespace
 
-std::string ValidateAdaptiveLoopSettings(const AdaptiveLoopSettings& s)
+std::string ValidateAdaptiveLoopParameters(const AdaptiveLoopParameters& s)
 {
   std::ostringstream out;
   if (!(s.edgeAngleThreshold >= 0.0 && s.edgeAngleThreshold <= 180.0))
@@ -1090,7 +1090,7 @@ std::string ValidateAdaptiveLoopSettings(const AdaptiveLoopSettings& s)
   return out.str();
 }
 
-AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveLoopSettings& settings)
+AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveLoopParameters& settings)
 {
   AdaptiveLoopResult result;
   const auto fail = [&result](std::string message) {
@@ -1106,7 +1106,7 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
     stopped.aborted = true;
     return stopped;
   };
-  if (std::string error = ValidateAdaptiveLoopSettings(settings); !error.empty())
+  if (std::string error = ValidateAdaptiveLoopParameters(settings); !error.empty())
     return fail(error);
   if (std::string error = ValidateInput(input); !error.empty())
     return fail(error);
@@ -1132,9 +1132,9 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
   // The input's edge table, checked for manifoldness whatever the level count.
   EdgeTable table;
   BuildEdgeTable(mesh.triangles, mesh.NumberOfPoints(), parallelFor, table);
-  if (std::string error = CheckManifoldEdges(mesh.NumberOfPoints(), table); !error.empty())
+  if (std::string error = ValidateManifoldEdges(mesh.NumberOfPoints(), table); !error.empty())
     return fail(error);
-  if (std::string error = CheckManifoldVertices(mesh.triangles, mesh.NumberOfPoints(), table, parallelFor);
+  if (std::string error = ValidateManifoldVertices(mesh.triangles, mesh.NumberOfPoints(), table, parallelFor);
       !error.empty())
     return fail(error);
 

@@ -114,7 +114,7 @@ enum class RefinementRule : int
 /// default SerialFor runs body(0, n) on the calling thread).
 using ParallelForFunction = ParallelFor;
 
-struct AdaptiveLoopSettings
+struct AdaptiveLoopParameters
 {
   double edgeAngleThreshold = 170.0; ///< degrees in [0, 180]: split interior edges whose dihedral angle is below
   double flatnessThreshold = 0.999;  ///< lambda in [0, 1]: keep vertices flatter than it (1: move all)
@@ -157,11 +157,11 @@ struct AdaptiveLoopResult
 };
 
 /// Empty when the settings are valid, else a message naming the setting and its accepted range.
-std::string ValidateAdaptiveLoopSettings(const AdaptiveLoopSettings& settings);
+std::string ValidateAdaptiveLoopParameters(const AdaptiveLoopParameters& settings);
 
 /// Subdivides `input`. Errors (bad settings, NaN coordinates, ids out of range, degenerate or non-manifold
 /// triangles, too many triangles) leave result.mesh empty with result.error set; nothing is half made.
 /// Takes `input` by value: pass std::move(mesh) when it is no longer needed, to save a copy.
-AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveLoopSettings& settings);
+AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveLoopParameters& settings);
 
 } // namespace plantmorph

@@ -130,6 +130,276 @@ void AddIdList(vtkFieldData* fd, const char* name, const std::vector<std::size_t
   fd->AddArray(array);
 }
 
+
+/// The input's polygons and strips as triangles, each remembering its input cell in `cellOf` (cell ids count verts,
+/// lines, polys, strips in that order); "" or why the input cannot be subdivided.
+std::string ReadTriangles(
+  vtkPolyData* input, bool triangulate, plantmorph::AdaptiveLoopMesh& mesh, std::vector<vtkIdType>& cellOf)
+{
+  const vtkIdType polyStart = input->GetNumberOfVerts() + input->GetNumberOfLines();
+  vtkCellArray* polys = input->GetPolys();
+  const vtkIdType nPolys = polys ? polys->GetNumberOfCells() : 0;
+  if (nPolys > 0 && polys->IsHomogeneous() == 3)
+  {
+    mesh.triangles.resize(3 * static_cast<std::size_t>(nPolys));
+    cellOf.resize(static_cast<std::size_t>(nPolys));
+    vtkDataArray* connectivity = polys->GetConnectivityArray();
+    vtkSMPTools::For(0, nPolys, [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType i = b; i < e; ++i)
+      {
+        for (int c = 0; c < 3; ++c)
+          mesh.triangles[3 * i + c] = static_cast<int>(connectivity->GetComponent(3 * i + c, 0));
+        cellOf[i] = polyStart + i;
+      }
+    });
+  }
+  else if (nPolys > 0)
+  {
+    vtkNew<vtkPolygon> polygon;
+    vtkNew<vtkIdList> local;
+    auto it = vtk::TakeSmartPointer(polys->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    {
+      vtkIdType npts;
+      const vtkIdType* pts;
+      it->GetCurrentCell(npts, pts);
+      const vtkIdType cellId = polyStart + it->GetCurrentCellId();
+      if (npts == 3)
+      {
+        mesh.triangles.insert(mesh.triangles.end(),
+          { static_cast<int>(pts[0]), static_cast<int>(pts[1]), static_cast<int>(pts[2]) });
+        cellOf.push_back(cellId);
+        continue;
+      }
+      if (npts < 3)
+      {
+        continue; // a polygon of fewer than three points has no area: skipped
+      }
+      if (!triangulate)
+      {
+        std::ostringstream message;
+        message << "input cell " << cellId << " is a polygon with " << npts
+                << " points; AdaptiveLoopFilter subdivides triangles only: turn TriangulateNonTriangles on "
+                   "or apply Triangulate first";
+        return message.str();
+      }
+      polygon->Initialize(static_cast<int>(npts), pts, input->GetPoints());
+      local->Reset();
+      polygon->Triangulate(local);
+      for (vtkIdType k = 0; k + 2 < local->GetNumberOfIds(); k += 3)
+      {
+        mesh.triangles.insert(mesh.triangles.end(), { static_cast<int>(pts[local->GetId(k)]),
+                                                      static_cast<int>(pts[local->GetId(k + 1)]),
+                                                      static_cast<int>(pts[local->GetId(k + 2)]) });
+        cellOf.push_back(cellId);
+      }
+    }
+  }
+  vtkCellArray* strips = input->GetStrips();
+  if (strips && strips->GetNumberOfCells() > 0)
+  {
+    if (!triangulate)
+    {
+      std::ostringstream message;
+      message << "input cell " << polyStart + nPolys
+              << " is a triangle strip; AdaptiveLoopFilter subdivides triangles only: turn "
+                 "TriangulateNonTriangles on or apply Triangulate first";
+      return message.str();
+    }
+    vtkNew<vtkCellArray> triangles;
+    auto it = vtk::TakeSmartPointer(strips->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    {
+      vtkIdType npts;
+      const vtkIdType* pts;
+      it->GetCurrentCell(npts, pts);
+      triangles->Reset();
+      vtkTriangleStrip::DecomposeStrip(static_cast<int>(npts), pts, triangles);
+      vtkIdType tn;
+      const vtkIdType* tp;
+      for (triangles->InitTraversal(); triangles->GetNextCell(tn, tp);)
+      {
+        if (tn != 3 || tp[0] == tp[1] || tp[1] == tp[2] || tp[0] == tp[2])
+          continue; // strips repeat points to turn: skip those zero-area triangles
+        mesh.triangles.insert(
+          mesh.triangles.end(), { static_cast<int>(tp[0]), static_cast<int>(tp[1]), static_cast<int>(tp[2]) });
+        cellOf.push_back(polyStart + nPolys + it->GetCurrentCellId());
+      }
+    }
+  }
+  return {};
+}
+
+/// The numeric point arrays passed through the subdivision, and Region (kept apart: propagated, not interpolated).
+struct PointArrays
+{
+  vtkDataArray* regionArray = nullptr;
+  std::vector<vtkDataArray*> attributeArrays;
+  std::vector<int> attributeOffsets;
+};
+
+/// Points, Region and every other point array (interleaved into one attribute block) into `mesh`.
+PointArrays ReadPoints(vtkPolyData* input, plantmorph::AdaptiveLoopMesh& mesh)
+{
+  const vtkIdType nPoints = input->GetNumberOfPoints();
+  PointArrays read;
+  vtkDataArray*& regionArray = read.regionArray;
+  std::vector<vtkDataArray*>& attributeArrays = read.attributeArrays;
+  std::vector<int>& attributeOffsets = read.attributeOffsets;
+  mesh.points.resize(3 * static_cast<std::size_t>(nPoints));
+  Gather(input->GetPoints()->GetData(), mesh.points, 3, 0);
+  vtkPointData* inPD = input->GetPointData();
+  for (int a = 0; a < inPD->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array = inPD->GetArray(a);
+    if (!array)
+      continue; // string and other non-numeric arrays are not passed
+    const char* name = array->GetName();
+    if (name && std::string(name) == plantmorph::arrays::Region && array->GetNumberOfComponents() == 1 && !regionArray)
+    {
+      regionArray = array;
+      continue;
+    }
+    attributeArrays.push_back(array);
+    attributeOffsets.push_back(mesh.attributeComponents);
+    mesh.attributeComponents += array->GetNumberOfComponents();
+  }
+  mesh.attributes.resize(static_cast<std::size_t>(mesh.attributeComponents) * nPoints);
+  for (std::size_t a = 0; a < attributeArrays.size(); ++a)
+    Gather(attributeArrays[a], mesh.attributes, mesh.attributeComponents, attributeOffsets[a]);
+  if (regionArray)
+  {
+    mesh.region.resize(static_cast<std::size_t>(nPoints));
+    for (vtkIdType i = 0; i < nPoints; ++i)
+      mesh.region[i] = static_cast<int>(std::lround(regionArray->GetComponent(i, 0)));
+  }
+  return read;
+}
+
+/// The input's lines as feature edges.
+void ReadLineFeatures(vtkPolyData* input, plantmorph::AdaptiveLoopMesh& mesh)
+{
+  auto it = vtk::TakeSmartPointer(input->GetLines()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType npts;
+    const vtkIdType* pts;
+    it->GetCurrentCell(npts, pts);
+    for (vtkIdType k = 0; k + 1 < npts; ++k)
+      if (pts[k] != pts[k + 1])
+        mesh.featureEdges.push_back({ static_cast<int>(pts[k]), static_cast<int>(pts[k + 1]) });
+  }
+}
+
+/// The output's points, in the input's precision.
+void WritePoints(vtkPolyData* input, plantmorph::AdaptiveLoopMesh& out, vtkIdType nOutPoints, vtkPolyData* output)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataType(input->GetPoints()->GetDataType() == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
+  {
+    vtkSmartPointer<vtkDataArray> data = Scatter(points->GetData(), out.points, 3, 0, nOutPoints);
+    data->SetName(input->GetPoints()->GetData()->GetName());
+    points->SetData(data);
+  }
+  std::vector<double>().swap(out.points);
+  output->SetPoints(points);
+}
+
+/// The output's triangles, 32-bit connectivity.
+void WriteTriangles(plantmorph::AdaptiveLoopMesh& out, vtkIdType nOutTriangles, vtkPolyData* output)
+{
+  vtkNew<vtkTypeInt32Array> offsets;
+  vtkNew<vtkTypeInt32Array> connectivity;
+  offsets->SetNumberOfValues(nOutTriangles + 1);
+  connectivity->SetNumberOfValues(3 * nOutTriangles);
+  vtkTypeInt32* o = offsets->GetPointer(0);
+  vtkTypeInt32* c = connectivity->GetPointer(0);
+  const int* t = out.triangles.data();
+  vtkSMPTools::For(0, nOutTriangles + 1, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
+      o[i] = static_cast<vtkTypeInt32>(3 * i);
+  });
+  vtkSMPTools::For(0, 3 * nOutTriangles, [&](vtkIdType b, vtkIdType e) { std::copy(t + b, t + e, c + b); });
+  std::vector<int>().swap(out.triangles);
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, connectivity);
+  output->SetPolys(cells);
+}
+
+/// Point data: interpolated arrays, active normals renormalised, Region propagated; active attributes kept.
+void WritePointData(vtkPolyData* input, const PointArrays& read, plantmorph::AdaptiveLoopMesh& out,
+  vtkIdType nOutPoints, vtkPolyData* output)
+{
+  vtkPointData* inPD = input->GetPointData();
+  vtkPointData* outPD = output->GetPointData();
+  vtkDataArray* inNormals = inPD->GetNormals();
+  for (std::size_t a = 0; a < read.attributeArrays.size(); ++a)
+  {
+    if (read.attributeArrays[a] == inNormals && inNormals->GetNumberOfComponents() == 3)
+    {
+      const int stride = out.attributeComponents, offset = read.attributeOffsets[a];
+      vtkSMPTools::For(0, nOutPoints, [&](vtkIdType b, vtkIdType e) {
+        for (vtkIdType i = b; i < e; ++i)
+        {
+          double* n = out.attributes.data() + static_cast<std::size_t>(stride) * i + offset;
+          const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+          if (len > 0.0)
+          {
+            n[0] /= len;
+            n[1] /= len;
+            n[2] /= len;
+          }
+        }
+      });
+    }
+    outPD->AddArray(
+      Scatter(read.attributeArrays[a], out.attributes, out.attributeComponents, read.attributeOffsets[a], nOutPoints));
+  }
+  std::vector<double>().swap(out.attributes);
+  if (read.regionArray)
+  {
+    vtkSmartPointer<vtkDataArray> region = vtk::TakeSmartPointer(read.regionArray->NewInstance());
+    region->SetName(read.regionArray->GetName());
+    region->SetNumberOfComponents(1);
+    region->SetNumberOfTuples(nOutPoints);
+    for (vtkIdType i = 0; i < nOutPoints; ++i)
+      region->SetComponent(i, 0, out.region[i]);
+    outPD->AddArray(region);
+  }
+  for (int attribute = 0; attribute < vtkDataSetAttributes::NUM_ATTRIBUTES; ++attribute)
+    if (vtkDataArray* active = inPD->GetAttribute(attribute))
+      if (active->GetName())
+        outPD->SetActiveAttribute(active->GetName(), attribute);
+}
+
+/// Cell data: each triangle takes its input cell's tuple.
+void WriteCellData(vtkPolyData* input, const std::vector<vtkIdType>& cellOf, const plantmorph::AdaptiveLoopMesh& out,
+  vtkIdType nOutTriangles, vtkPolyData* output)
+{
+  vtkCellData* inCD = input->GetCellData();
+  if (inCD->GetNumberOfArrays() > 0)
+  {
+    vtkNew<vtkIdList> sourceIds;
+    sourceIds->SetNumberOfIds(nOutTriangles);
+    for (vtkIdType i = 0; i < nOutTriangles; ++i)
+      sourceIds->SetId(i, cellOf[out.origin[i]]);
+    vtkCellData* outCD = output->GetCellData();
+    for (int a = 0; a < inCD->GetNumberOfArrays(); ++a)
+    {
+      vtkAbstractArray* in = inCD->GetAbstractArray(a);
+      vtkSmartPointer<vtkAbstractArray> array = vtk::TakeSmartPointer(in->NewInstance());
+      array->SetName(in->GetName());
+      array->SetNumberOfComponents(in->GetNumberOfComponents());
+      array->SetNumberOfTuples(nOutTriangles);
+      in->GetTuples(sourceIds, array);
+      outCD->AddArray(array);
+    }
+    for (int attribute = 0; attribute < vtkDataSetAttributes::NUM_ATTRIBUTES; ++attribute)
+      if (vtkAbstractArray* active = inCD->GetAbstractAttribute(attribute))
+        if (active->GetName())
+          outCD->SetActiveAttribute(active->GetName(), attribute);
+  }
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -204,7 +474,7 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
     return 1;
   }
 
-  AdaptiveLoopSettings settings;
+  AdaptiveLoopParameters settings;
   settings.maximumLevel = this->MaximumLevel;
   settings.edgeAngleThreshold = this->EdgeAngleThreshold;
   settings.flatnessThreshold = this->FlatnessThreshold;
@@ -219,103 +489,19 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
     return 0;
   }
   settings.maximumTriangles = static_cast<std::size_t>(this->MaximumTriangles);
-  if (const std::string error = ValidateAdaptiveLoopSettings(settings); !error.empty())
+  if (const std::string error = ValidateAdaptiveLoopParameters(settings); !error.empty())
   {
     vtkErrorMacro(<< error);
     return 0;
   }
 
-  // Triangles, each remembering its input cell (cell ids count verts, lines, polys, strips in that order).
+  // Input -> mesh: triangles, each remembering its input cell; points and their arrays; line features.
   AdaptiveLoopMesh mesh;
   std::vector<vtkIdType> cellOf;
-  const vtkIdType polyStart = input->GetNumberOfVerts() + input->GetNumberOfLines();
-  vtkCellArray* polys = input->GetPolys();
-  const vtkIdType nPolys = polys ? polys->GetNumberOfCells() : 0;
-  if (nPolys > 0 && polys->IsHomogeneous() == 3)
+  if (const std::string error = ReadTriangles(input, this->TriangulateNonTriangles, mesh, cellOf); !error.empty())
   {
-    mesh.triangles.resize(3 * static_cast<std::size_t>(nPolys));
-    cellOf.resize(static_cast<std::size_t>(nPolys));
-    vtkDataArray* connectivity = polys->GetConnectivityArray();
-    vtkSMPTools::For(0, nPolys, [&](vtkIdType b, vtkIdType e) {
-      for (vtkIdType i = b; i < e; ++i)
-      {
-        for (int c = 0; c < 3; ++c)
-          mesh.triangles[3 * i + c] = static_cast<int>(connectivity->GetComponent(3 * i + c, 0));
-        cellOf[i] = polyStart + i;
-      }
-    });
-  }
-  else if (nPolys > 0)
-  {
-    vtkNew<vtkPolygon> polygon;
-    vtkNew<vtkIdList> local;
-    auto it = vtk::TakeSmartPointer(polys->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-    {
-      vtkIdType npts;
-      const vtkIdType* pts;
-      it->GetCurrentCell(npts, pts);
-      const vtkIdType cellId = polyStart + it->GetCurrentCellId();
-      if (npts == 3)
-      {
-        mesh.triangles.insert(mesh.triangles.end(),
-          { static_cast<int>(pts[0]), static_cast<int>(pts[1]), static_cast<int>(pts[2]) });
-        cellOf.push_back(cellId);
-        continue;
-      }
-      if (npts < 3)
-      {
-        continue; // a polygon of fewer than three points has no area: skipped
-      }
-      if (!this->TriangulateNonTriangles)
-      {
-        vtkErrorMacro(<< "input cell " << cellId << " is a polygon with " << npts
-                      << " points; AdaptiveLoopFilter subdivides triangles only: turn TriangulateNonTriangles on "
-                         "or apply Triangulate first");
-        return 0;
-      }
-      polygon->Initialize(static_cast<int>(npts), pts, input->GetPoints());
-      local->Reset();
-      polygon->Triangulate(local);
-      for (vtkIdType k = 0; k + 2 < local->GetNumberOfIds(); k += 3)
-      {
-        mesh.triangles.insert(mesh.triangles.end(), { static_cast<int>(pts[local->GetId(k)]),
-                                                      static_cast<int>(pts[local->GetId(k + 1)]),
-                                                      static_cast<int>(pts[local->GetId(k + 2)]) });
-        cellOf.push_back(cellId);
-      }
-    }
-  }
-  vtkCellArray* strips = input->GetStrips();
-  if (strips && strips->GetNumberOfCells() > 0)
-  {
-    if (!this->TriangulateNonTriangles)
-    {
-      vtkErrorMacro(<< "input cell " << polyStart + nPolys
-                    << " is a triangle strip; AdaptiveLoopFilter subdivides triangles only: turn "
-                       "TriangulateNonTriangles on or apply Triangulate first");
-      return 0;
-    }
-    vtkNew<vtkCellArray> triangles;
-    auto it = vtk::TakeSmartPointer(strips->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-    {
-      vtkIdType npts;
-      const vtkIdType* pts;
-      it->GetCurrentCell(npts, pts);
-      triangles->Reset();
-      vtkTriangleStrip::DecomposeStrip(static_cast<int>(npts), pts, triangles);
-      vtkIdType tn;
-      const vtkIdType* tp;
-      for (triangles->InitTraversal(); triangles->GetNextCell(tn, tp);)
-      {
-        if (tn != 3 || tp[0] == tp[1] || tp[1] == tp[2] || tp[0] == tp[2])
-          continue; // strips repeat points to turn: skip those zero-area triangles
-        mesh.triangles.insert(
-          mesh.triangles.end(), { static_cast<int>(tp[0]), static_cast<int>(tp[1]), static_cast<int>(tp[2]) });
-        cellOf.push_back(polyStart + nPolys + it->GetCurrentCellId());
-      }
-    }
+    vtkErrorMacro(<< error);
+    return 0;
   }
   if (mesh.triangles.empty())
   {
@@ -330,49 +516,10 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
     return 0;
   }
 
-  // Points, Region and every other point array (interleaved into one attribute block).
-  mesh.points.resize(3 * static_cast<std::size_t>(nPoints));
-  Gather(input->GetPoints()->GetData(), mesh.points, 3, 0);
-  vtkPointData* inPD = input->GetPointData();
-  vtkDataArray* regionArray = nullptr;
-  std::vector<vtkDataArray*> attributeArrays;
-  std::vector<int> attributeOffsets;
-  for (int a = 0; a < inPD->GetNumberOfArrays(); ++a)
-  {
-    vtkDataArray* array = inPD->GetArray(a);
-    if (!array)
-      continue; // string and other non-numeric arrays are not passed
-    const char* name = array->GetName();
-    if (name && std::string(name) == plantmorph::arrays::Region && array->GetNumberOfComponents() == 1 && !regionArray)
-    {
-      regionArray = array;
-      continue;
-    }
-    attributeArrays.push_back(array);
-    attributeOffsets.push_back(mesh.attributeComponents);
-    mesh.attributeComponents += array->GetNumberOfComponents();
-  }
-  mesh.attributes.resize(static_cast<std::size_t>(mesh.attributeComponents) * nPoints);
-  for (std::size_t a = 0; a < attributeArrays.size(); ++a)
-    Gather(attributeArrays[a], mesh.attributes, mesh.attributeComponents, attributeOffsets[a]);
-  if (regionArray)
-  {
-    mesh.region.resize(static_cast<std::size_t>(nPoints));
-    for (vtkIdType i = 0; i < nPoints; ++i)
-      mesh.region[i] = static_cast<int>(std::lround(regionArray->GetComponent(i, 0)));
-  }
+  const PointArrays read = ReadPoints(input, mesh);
   if (this->LineFeatures && input->GetNumberOfLines() > 0)
   {
-    auto it = vtk::TakeSmartPointer(input->GetLines()->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-    {
-      vtkIdType npts;
-      const vtkIdType* pts;
-      it->GetCurrentCell(npts, pts);
-      for (vtkIdType k = 0; k + 1 < npts; ++k)
-        if (pts[k] != pts[k + 1])
-          mesh.featureEdges.push_back({ static_cast<int>(pts[k]), static_cast<int>(pts[k + 1]) });
-    }
+    ReadLineFeatures(input, mesh);
   }
   this->UpdateProgress(0.05);
 
@@ -389,106 +536,15 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
     return 0;
   }
   AdaptiveLoopMesh& out = result.mesh;
+
+  // Mesh -> output (each writer frees the mesh's part it has written).
   const vtkIdType nOutPoints = static_cast<vtkIdType>(out.NumberOfPoints());
   const vtkIdType nOutTriangles = static_cast<vtkIdType>(out.NumberOfTriangles());
-
-  // Points in the input's precision.
-  vtkNew<vtkPoints> points;
-  points->SetDataType(input->GetPoints()->GetDataType() == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
-  {
-    vtkSmartPointer<vtkDataArray> data = Scatter(points->GetData(), out.points, 3, 0, nOutPoints);
-    data->SetName(input->GetPoints()->GetData()->GetName());
-    points->SetData(data);
-  }
-  std::vector<double>().swap(out.points);
-  output->SetPoints(points);
-
-  // Triangles, 32-bit connectivity.
-  {
-    vtkNew<vtkTypeInt32Array> offsets;
-    vtkNew<vtkTypeInt32Array> connectivity;
-    offsets->SetNumberOfValues(nOutTriangles + 1);
-    connectivity->SetNumberOfValues(3 * nOutTriangles);
-    vtkTypeInt32* o = offsets->GetPointer(0);
-    vtkTypeInt32* c = connectivity->GetPointer(0);
-    const int* t = out.triangles.data();
-    vtkSMPTools::For(0, nOutTriangles + 1, [&](vtkIdType b, vtkIdType e) {
-      for (vtkIdType i = b; i < e; ++i)
-        o[i] = static_cast<vtkTypeInt32>(3 * i);
-    });
-    vtkSMPTools::For(0, 3 * nOutTriangles, [&](vtkIdType b, vtkIdType e) { std::copy(t + b, t + e, c + b); });
-    std::vector<int>().swap(out.triangles);
-    vtkNew<vtkCellArray> cells;
-    cells->SetData(offsets, connectivity);
-    output->SetPolys(cells);
-  }
-
-  // Point data: interpolated arrays, active normals renormalised, Region propagated; active attributes kept.
-  vtkPointData* outPD = output->GetPointData();
-  vtkDataArray* inNormals = inPD->GetNormals();
-  for (std::size_t a = 0; a < attributeArrays.size(); ++a)
-  {
-    if (attributeArrays[a] == inNormals && inNormals->GetNumberOfComponents() == 3)
-    {
-      const int stride = out.attributeComponents, offset = attributeOffsets[a];
-      vtkSMPTools::For(0, nOutPoints, [&](vtkIdType b, vtkIdType e) {
-        for (vtkIdType i = b; i < e; ++i)
-        {
-          double* n = out.attributes.data() + static_cast<std::size_t>(stride) * i + offset;
-          const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-          if (len > 0.0)
-          {
-            n[0] /= len;
-            n[1] /= len;
-            n[2] /= len;
-          }
-        }
-      });
-    }
-    outPD->AddArray(
-      Scatter(attributeArrays[a], out.attributes, out.attributeComponents, attributeOffsets[a], nOutPoints));
-  }
-  std::vector<double>().swap(out.attributes);
-  if (regionArray)
-  {
-    vtkSmartPointer<vtkDataArray> region = vtk::TakeSmartPointer(regionArray->NewInstance());
-    region->SetName(regionArray->GetName());
-    region->SetNumberOfComponents(1);
-    region->SetNumberOfTuples(nOutPoints);
-    for (vtkIdType i = 0; i < nOutPoints; ++i)
-      region->SetComponent(i, 0, out.region[i]);
-    outPD->AddArray(region);
-  }
-  for (int attribute = 0; attribute < vtkDataSetAttributes::NUM_ATTRIBUTES; ++attribute)
-    if (vtkDataArray* active = inPD->GetAttribute(attribute))
-      if (active->GetName())
-        outPD->SetActiveAttribute(active->GetName(), attribute);
+  WritePoints(input, out, nOutPoints, output);
+  WriteTriangles(out, nOutTriangles, output);
+  WritePointData(input, read, out, nOutPoints, output);
   this->UpdateProgress(0.95);
-
-  // Cell data: each triangle takes its input cell's tuple.
-  vtkCellData* inCD = input->GetCellData();
-  if (inCD->GetNumberOfArrays() > 0)
-  {
-    vtkNew<vtkIdList> sourceIds;
-    sourceIds->SetNumberOfIds(nOutTriangles);
-    for (vtkIdType i = 0; i < nOutTriangles; ++i)
-      sourceIds->SetId(i, cellOf[out.origin[i]]);
-    vtkCellData* outCD = output->GetCellData();
-    for (int a = 0; a < inCD->GetNumberOfArrays(); ++a)
-    {
-      vtkAbstractArray* in = inCD->GetAbstractArray(a);
-      vtkSmartPointer<vtkAbstractArray> array = vtk::TakeSmartPointer(in->NewInstance());
-      array->SetName(in->GetName());
-      array->SetNumberOfComponents(in->GetNumberOfComponents());
-      array->SetNumberOfTuples(nOutTriangles);
-      in->GetTuples(sourceIds, array);
-      outCD->AddArray(array);
-    }
-    for (int attribute = 0; attribute < vtkDataSetAttributes::NUM_ATTRIBUTES; ++attribute)
-      if (vtkAbstractArray* active = inCD->GetAbstractAttribute(attribute))
-        if (active->GetName())
-          outCD->SetActiveAttribute(active->GetName(), attribute);
-  }
+  WriteCellData(input, cellOf, out, nOutTriangles, output);
 
   // Field data: the input's, and the counts per level.
   output->GetFieldData()->PassData(input->GetFieldData());

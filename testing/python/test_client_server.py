@@ -18,13 +18,17 @@ from paraview import servermanager  # noqa: E402
 
 
 def pipelines():
-    """The pipelines compared: a leaf of each outline model, veins grown on one, and a scan of it."""
+    """The pipelines compared: a leaf of each outline model, veins grown on one, a scan of it, and a leaf refused for
+    a partial Terms row."""
     leaf = LeafOutlineSource(Preset="Lobed", Resolution=40)
     return {
         "deformed_rectangle": leaf,
         "space_curve": LeafOutlineSource(Model="Space curve", SpaceCurvePreset="Paper 002 Fig. 8, 3 lobes", Resolution=30),
         "venation": VenationFilter(Input=leaf, Preset="Poplar (paper 000 Fig. 12)", Seed=3),
         # The leaf lies in z = 0, 5 long along y: scanned from above, with noise, its beams shared over the ranks.
+        # A partial row of Terms: the server-side property helper (vtkSICountedDoubleVectorProperty) runs on the
+        # server's ranks too, so the leaf is refused there as in the built-in session (empty, checked below).
+        "partial_terms": LeafOutlineSource(Preset="Custom", Terms=[0, 0, 0.2, 0, 1, 1, 0, 1, 1]),
         "scan": VirtualScanner(Input=leaf, Positions=[0, 2.5, 15], LookAt=[0, 2.5, 0], Up=[0, 1, 0], AngularStep=0.5,
                                RangeNoise=0.01, Seed=2),
     }
@@ -77,6 +81,8 @@ try:
             checks.check(got[2] == total, "%s: %d points over the server's ranks, %d in the built-in session"
                          % (name, got[2], total))
             checks.check(got[0] == digest, "%s: the server's data is bit-identical to the built-in session's" % name)
+        checks.check(expected["partial_terms"][2] == 0 and actual["partial_terms"][2] == 0,
+                     "a partial Terms row is refused on the server as in the built-in session (empty outputs)")
         Disconnect()
 finally:
     server.terminate()

@@ -19,7 +19,7 @@ const std::vector<Eigen::Vector2d>& WillowControlPoints()
   return points;
 }
 
-std::string PlaceLeaves(const TreeSettings& s, Tree& tree)
+std::string PlaceLeaves(const TreeParameters& s, Tree& tree)
 {
   constexpr double Degree = Pi / 180.0;
   tree.leaves.clear();

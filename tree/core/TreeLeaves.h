@@ -21,7 +21,7 @@ namespace plantmorph
 
 /// Reshapes willow twigs and fills tree.leaves (see above). Returns an empty string, or an error if the leaves
 /// would exceed MaxSegments (the memory budget, shared with segments); tree.leaves is then empty.
-std::string PlaceLeaves(const TreeSettings& settings, Tree& tree);
+std::string PlaceLeaves(const TreeParameters& settings, Tree& tree);
 
 /// The willow twig's Bezier control points (unit length), x outward, y up.
 const std::vector<Eigen::Vector2d>& WillowControlPoints();

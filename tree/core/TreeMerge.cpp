@@ -32,7 +32,7 @@ double ArcLength(const std::vector<Eigen::Vector3d>& centre)
 }
 } // namespace
 
-long long MergeIdBase(const TreeSettings& s, std::size_t strokeCount)
+long long MergeIdBase(const TreeParameters& s, std::size_t strokeCount)
 {
   long long base = 0;
   if (s.mode != TreeMode::Strokes)
@@ -47,7 +47,7 @@ long long MergeIdBase(const TreeSettings& s, std::size_t strokeCount)
   return base;
 }
 
-std::string CheckSkeletonIsTree(const std::vector<SkeletonBranch>& second)
+std::string ValidateSkeletonIsTree(const std::vector<SkeletonBranch>& second)
 {
   if (second.empty())
   {
@@ -111,9 +111,9 @@ std::string CheckSkeletonIsTree(const std::vector<SkeletonBranch>& second)
 }
 
 std::string MergeTree(
-  const TreeSettings& s, std::size_t strokeCount, const std::vector<SkeletonBranch>& second, Tree& tree)
+  const TreeParameters& s, std::size_t strokeCount, const std::vector<SkeletonBranch>& second, Tree& tree)
 {
-  std::string error = CheckSkeletonIsTree(second);
+  std::string error = ValidateSkeletonIsTree(second);
   if (!error.empty())
   {
     return error;

@@ -37,14 +37,14 @@ namespace plantmorph
 {
 
 /// The first BranchId this tree's own properties never use (see above) for `strokeCount` strokes.
-long long MergeIdBase(const TreeSettings& settings, std::size_t strokeCount);
+long long MergeIdBase(const TreeParameters& settings, std::size_t strokeCount);
 
 /// Empty if `second` is one tree as above, else the message.
-std::string CheckSkeletonIsTree(const std::vector<SkeletonBranch>& second);
+std::string ValidateSkeletonIsTree(const std::vector<SkeletonBranch>& second);
 
 /// Appends the second tree's branches to `tree` (after its own branches and strokes, before leaves). Returns an
 /// empty string or an error naming the input or property.
-std::string MergeTree(const TreeSettings& settings, std::size_t strokeCount, const std::vector<SkeletonBranch>& second,
+std::string MergeTree(const TreeParameters& settings, std::size_t strokeCount, const std::vector<SkeletonBranch>& second,
   Tree& tree);
 
 } // namespace plantmorph

@@ -57,7 +57,7 @@ namespace plantmorph
 /// Adds the strokes' branches (and their subtrees) to `tree` (see above). Returns an empty string or an error
 /// naming the Strokes input and the stroke; the caller then discards the tree.
 std::string AddStrokes(
-  const TreeSettings& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree);
+  const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree);
 
 /// Eq. (2): distance from p to segment ab, with mu in [0, 1] the position of the closest point (0 at a).
 double PointSegmentDistance(

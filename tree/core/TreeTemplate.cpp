@@ -32,7 +32,7 @@ std::string RangeError(const char* name, double value, const char* range)
 }
 } // namespace
 
-std::string TreeSettings::Validate() const
+std::string TreeParameters::Validate() const
 {
   if (static_cast<int>(this->mode) < 0 || static_cast<int>(this->mode) > 2)
     return RangeError("Mode", static_cast<int>(this->mode), "{0 Template, 1 Strokes, 2 Template and strokes}");
@@ -112,7 +112,7 @@ std::string TreeSettings::Validate() const
   return {};
 }
 
-void ApplyTreePreset(int preset, TreeSettings& s)
+void ApplyTreePreset(int preset, TreeParameters& s)
 {
   switch (preset)
   {
@@ -264,7 +264,7 @@ std::vector<TubeInput> TreeTubeInputs(const Tree& tree)
   return tubes;
 }
 
-void MakeStraightBranch(const TreeSettings& settings, const Eigen::Vector3d& base, TreeBranch& b)
+void MakeStraightBranch(const TreeParameters& settings, const Eigen::Vector3d& base, TreeBranch& b)
 {
   const int segments = settings.segmentsPerBranch;
   const Eigen::Vector3d direction = b.frame.col(1);
@@ -282,12 +282,12 @@ void MakeStraightBranch(const TreeSettings& settings, const Eigen::Vector3d& bas
 
 namespace
 {
-double EndRadius(const TreeSettings& s, double radius)
+double EndRadius(const TreeParameters& s, double radius)
 {
   return s.type == TreeType::Monopodial ? 0.0 : radius / std::sqrt(static_cast<double>(s.childCount));
 }
 
-void ApplyOverride(const TreeSettings& s, TreeBranch& b)
+void ApplyOverride(const TreeParameters& s, TreeBranch& b)
 {
   const auto found = s.overrides.find(b.id);
   if (found == s.overrides.end())
@@ -307,7 +307,7 @@ void ApplyOverride(const TreeSettings& s, TreeBranch& b)
     b.rotation = o.rotation;
 }
 
-void GrowRecursive(const TreeSettings& s, std::size_t index, Tree& tree)
+void GrowRecursive(const TreeParameters& s, std::size_t index, Tree& tree)
 {
   const int levels = tree.branches[index].level;
   if (levels <= 0)
@@ -363,18 +363,18 @@ void GrowRecursive(const TreeSettings& s, std::size_t index, Tree& tree)
 }
 } // namespace
 
-void GrowTemplateChildren(const TreeSettings& settings, std::size_t index, Tree& tree)
+void GrowTemplateChildren(const TreeParameters& settings, std::size_t index, Tree& tree)
 {
   GrowRecursive(settings, index, tree);
 }
 
 std::string BuildTree(
-  const TreeSettings& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree)
+  const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree)
 {
   return BuildTree(settings, strokes, nullptr, tree);
 }
 
-std::string BuildTree(const TreeSettings& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
+std::string BuildTree(const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
   const std::vector<SkeletonBranch>* second, Tree& tree)
 {
   tree = Tree();

@@ -72,7 +72,7 @@ struct BranchOverride
   double rotation = std::numeric_limits<double>::quiet_NaN(); ///< degrees
 };
 
-struct TreeSettings
+struct TreeParameters
 {
   TreeMode mode = TreeMode::Template;
   TreeType type = TreeType::Monopodial;
@@ -130,7 +130,7 @@ struct TreeSettings
 
 /// Table 1's three templates (1 left, 2 middle, 3 right); 0 (Custom) and unknown numbers change nothing. Sets type,
 /// depth, ratio, length, radius, a, b and childCount.
-void ApplyTreePreset(int preset, TreeSettings& settings);
+void ApplyTreePreset(int preset, TreeParameters& settings);
 const char* TreePresetName(int preset);
 constexpr int TreePresetCount = 4;
 
@@ -207,10 +207,10 @@ double PhyllotaxisAngle(long long i, int a, int b);
 
 /// Builds the tree: template and/or strokes (x, y of each point; z ignored), deletions, overrides, leaves.
 /// Returns an empty string or an error message naming the property (tree empty then).
-std::string BuildTree(const TreeSettings& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
+std::string BuildTree(const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
   Tree& tree);
 /// The same, then merges `second` (a second tree's skeleton; none when null or empty) as TreeMerge.h describes.
-std::string BuildTree(const TreeSettings& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
+std::string BuildTree(const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
   const std::vector<SkeletonBranch>* second, Tree& tree);
 
 // Building blocks, used by TreeStrokes and TreeLeaves and exposed for the tests.
@@ -224,7 +224,7 @@ Eigen::Matrix3d RotationY(double degrees);
 Eigen::Matrix3d RotationZ(double degrees);
 
 /// Grows the template children of tree.branches[index] (and theirs) in preorder, honouring deletions and overrides.
-void GrowTemplateChildren(const TreeSettings& settings, std::size_t index, Tree& tree);
+void GrowTemplateChildren(const TreeParameters& settings, std::size_t index, Tree& tree);
 
 /// Where a child at (angle, rotation) starts: the parent's axis point plus the parent's radius along the child's
 /// outward direction (the axis point itself when angle is 0 or 180).
@@ -232,6 +232,6 @@ Eigen::Vector3d ChildBase(const Eigen::Vector3d& axisPoint, const Eigen::Matrix3
   double angle, double rotation);
 
 /// Sets the centre line and radii of a straight branch from its frame, base point, length and radii.
-void MakeStraightBranch(const TreeSettings& settings, const Eigen::Vector3d& base, TreeBranch& branch);
+void MakeStraightBranch(const TreeParameters& settings, const Eigen::Vector3d& base, TreeBranch& branch);
 
 } // namespace plantmorph

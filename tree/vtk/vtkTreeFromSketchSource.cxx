@@ -35,6 +35,7 @@
 #include <functional>
 #include <limits>
 #include <sstream>
+#include <string>
 
 using plantmorph::AddFieldString;
 using plantmorph::AddFieldValue;
@@ -99,6 +100,243 @@ std::string ReadSkeleton(vtkPolyData* input, std::vector<plantmorph::SkeletonBra
   return {};
 }
 
+
+/// The strokes: the Strokes input's lines (their x and y), else the StrokeFile's; "" or why they cannot be read.
+std::string ReadStrokes(
+  vtkPolyData* strokeInput, const std::string& strokeFile, std::vector<std::vector<Eigen::Vector3d>>& strokes)
+{
+  if (strokeInput)
+  {
+    vtkCellArray* lines = strokeInput->GetLines();
+    vtkNew<vtkIdList> ids;
+    for (lines->InitTraversal(); lines->GetNextCell(ids);)
+    {
+      std::vector<Eigen::Vector3d> stroke;
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      {
+        double p[3];
+        strokeInput->GetPoint(ids->GetId(k), p);
+        stroke.emplace_back(p[0], p[1], 0.0);
+      }
+      strokes.push_back(std::move(stroke));
+    }
+  }
+  else if (!strokeFile.empty())
+  {
+    return plantmorph::ReadStrokeFile(strokeFile, strokes);
+  }
+  return {};
+}
+
+/// The Leaf input, checked before anything is written: "" or why it cannot be used; its length and lowest y.
+std::string ValidateLeafInput(vtkPolyData* leafInput, const plantmorph::Tree& tree, const plantmorph::TreeParameters& s,
+  double& leafLength, double& leafMinY)
+{
+  if (leafInput->GetNumberOfPolys() == 0 || leafInput->GetNumberOfPoints() == 0)
+  {
+    return "Leaf input has no polygons: connect a leaf mesh (e.g. LeafOutlineSource's Blade) or "
+           "disconnect it for textured quads";
+  }
+  double bounds[6];
+  leafInput->GetBounds(bounds);
+  leafMinY = bounds[2];
+  leafLength = bounds[3] - bounds[2];
+  if (!(leafLength > 0.0) || !std::isfinite(leafLength))
+  {
+    return "Leaf input has no extent along +Y (its length must be positive and finite)";
+  }
+  const double total = static_cast<double>(tree.leaves.size()) * leafInput->GetNumberOfPoints();
+  if (total > static_cast<double>(s.maxSegments) * 8.0)
+  {
+    std::ostringstream message;
+    message << "the leaves would have " << total << " points, more than 8 * MaxSegments = "
+            << 8.0 * static_cast<double>(s.maxSegments) << " (lower LeafCount or use a coarser Leaf input)";
+    return message.str();
+  }
+  return {};
+}
+
+/// Port 0: the branch surfaces, with Normals, TCoords and each triangle's BranchId, ParentId and Depth.
+void WriteBranches(const plantmorph::TubeMesh& mesh, const plantmorph::Tree& tree, vtkPolyData* branchesOut)
+{
+  const vtkIdType np = static_cast<vtkIdType>(mesh.PointCount());
+  const vtkIdType nt = static_cast<vtkIdType>(mesh.TriangleCount());
+  vtkNew<vtkDoubleArray> coordinates;
+  coordinates->SetNumberOfComponents(3);
+  coordinates->SetNumberOfTuples(np);
+  std::copy(mesh.points.begin(), mesh.points.end(), coordinates->GetPointer(0));
+  vtkNew<vtkPoints> points;
+  points->SetData(coordinates);
+  vtkNew<vtkFloatArray> normals;
+  normals->SetName(plantmorph::arrays::Normals);
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(np);
+  std::copy(mesh.normals.begin(), mesh.normals.end(), normals->GetPointer(0));
+  vtkNew<vtkFloatArray> tcoords;
+  tcoords->SetName(plantmorph::arrays::TCoords);
+  tcoords->SetNumberOfComponents(2);
+  tcoords->SetNumberOfTuples(np);
+  std::copy(mesh.tcoords.begin(), mesh.tcoords.end(), tcoords->GetPointer(0));
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(nt + 1);
+  connectivity->SetNumberOfTuples(3 * nt);
+  vtkIdType* o = offsets->GetPointer(0);
+  vtkIdType* c = connectivity->GetPointer(0);
+  vtkSMPTools::For(0, nt + 1, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      o[i] = 3 * i;
+      if (i < nt)
+      {
+        c[3 * i] = mesh.triangles[3 * static_cast<std::size_t>(i)];
+        c[3 * i + 1] = mesh.triangles[3 * static_cast<std::size_t>(i) + 1];
+        c[3 * i + 2] = mesh.triangles[3 * static_cast<std::size_t>(i) + 2];
+      }
+    }
+  });
+  vtkNew<vtkCellArray> polys;
+  polys->SetData(offsets, connectivity);
+  auto branchId = IntArray("BranchId", nt), parentId = IntArray("ParentId", nt), depth = IntArray("Depth", nt);
+  plantmorph::SMPFor()(tree.branches.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+    {
+      const plantmorph::TreeBranch& b = tree.branches[t];
+      for (auto f = mesh.triangleOffsets[t]; f < mesh.triangleOffsets[t + 1]; ++f)
+      {
+        branchId->SetValue(f, b.id);
+        parentId->SetValue(f, b.parentId);
+        depth->SetValue(f, b.depth);
+      }
+    }
+  });
+  branchesOut->SetPoints(points);
+  branchesOut->SetPolys(polys);
+  branchesOut->GetPointData()->SetNormals(normals);
+  branchesOut->GetPointData()->SetTCoords(tcoords);
+  branchesOut->GetCellData()->AddArray(branchId);
+  branchesOut->GetCellData()->AddArray(parentId);
+  branchesOut->GetCellData()->AddArray(depth);
+}
+
+/// Port 1: the skeleton, one polyline per branch with its Radius, BranchId, ParentId and Depth.
+void WriteSkeleton(const plantmorph::Tree& tree, vtkPolyData* skeletonOut)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> radius;
+  radius->SetName("Radius");
+  vtkNew<vtkCellArray> lines;
+  const vtkIdType nb = static_cast<vtkIdType>(tree.branches.size());
+  auto branchId = IntArray("BranchId", nb), parentId = IntArray("ParentId", nb), depth = IntArray("Depth", nb);
+  vtkIdType next = 0;
+  for (vtkIdType t = 0; t < nb; ++t)
+  {
+    const plantmorph::TreeBranch& b = tree.branches[static_cast<std::size_t>(t)];
+    lines->InsertNextCell(static_cast<vtkIdType>(b.centre.size()));
+    for (std::size_t k = 0; k < b.centre.size(); ++k)
+    {
+      points->InsertNextPoint(b.centre[k].data());
+      radius->InsertNextValue(b.radii[k]);
+      lines->InsertCellPoint(next++);
+    }
+    branchId->SetValue(t, b.id);
+    parentId->SetValue(t, b.parentId);
+    depth->SetValue(t, b.depth);
+  }
+  skeletonOut->SetPoints(points);
+  skeletonOut->SetLines(lines);
+  skeletonOut->GetPointData()->AddArray(radius);
+  skeletonOut->GetPointData()->SetActiveScalars("Radius");
+  skeletonOut->GetCellData()->AddArray(branchId);
+  skeletonOut->GetCellData()->AddArray(parentId);
+  skeletonOut->GetCellData()->AddArray(depth);
+}
+
+/// Port 2: the leaves, copies of the Leaf input (or textured quads without one) at each leaf's place.
+void WriteLeaves(const plantmorph::Tree& tree, const plantmorph::TreeParameters& s, vtkPolyData* leafInput,
+  double leafLength, double leafMinY, vtkPolyData* leavesOut)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkFloatArray> tcoords;
+  tcoords->SetName(plantmorph::arrays::TCoords);
+  tcoords->SetNumberOfComponents(2);
+  vtkNew<vtkFloatArray> normals;
+  normals->SetName(plantmorph::arrays::Normals);
+  normals->SetNumberOfComponents(3);
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkIntArray> branchId;
+  branchId->SetName("BranchId");
+  const double scale = leafInput ? s.leafScale / leafLength : s.leafScale;
+  vtkDataArray* leafTCoords = leafInput ? leafInput->GetPointData()->GetTCoords() : nullptr;
+  if (leafInput && !leafTCoords)
+  {
+    leafTCoords = leafInput->GetPointData()->GetArray(plantmorph::arrays::TCoords);
+  }
+  vtkDataArray* leafNormals = leafInput ? leafInput->GetPointData()->GetNormals() : nullptr;
+  vtkNew<vtkIdList> ids;
+  for (const plantmorph::TreeLeaf& leaf : tree.leaves)
+  {
+    const vtkIdType first = points->GetNumberOfPoints();
+    const Eigen::Vector3d n = leaf.axes.col(2);
+    if (!leafInput)
+    {
+      const double half = 0.5 * scale;
+      const Eigen::Vector3d x = leaf.axes.col(0), y = leaf.axes.col(1);
+      const Eigen::Vector3d corners[4] = { leaf.origin - half * x, leaf.origin + half * x,
+        leaf.origin + half * x + scale * y, leaf.origin - half * x + scale * y };
+      const float uv[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
+      polys->InsertNextCell(4);
+      for (int k = 0; k < 4; ++k)
+      {
+        points->InsertNextPoint(corners[k].data());
+        tcoords->InsertNextTuple2(uv[k][0], uv[k][1]);
+        normals->InsertNextTuple3(n.x(), n.y(), n.z());
+        polys->InsertCellPoint(first + k);
+      }
+      branchId->InsertNextValue(leaf.branchId);
+      continue;
+    }
+    for (vtkIdType k = 0; k < leafInput->GetNumberOfPoints(); ++k)
+    {
+      double p[3];
+      leafInput->GetPoint(k, p);
+      const Eigen::Vector3d local(p[0], p[1] - leafMinY, p[2]);
+      const Eigen::Vector3d world = leaf.origin + leaf.axes * (scale * local);
+      points->InsertNextPoint(world.data());
+      if (leafTCoords && leafTCoords->GetNumberOfComponents() >= 2)
+      {
+        tcoords->InsertNextTuple2(leafTCoords->GetComponent(k, 0), leafTCoords->GetComponent(k, 1));
+      }
+      else
+      {
+        tcoords->InsertNextTuple2(0.5 + local.x() / leafLength, local.y() / leafLength);
+      }
+      Eigen::Vector3d normal = n;
+      if (leafNormals && leafNormals->GetNumberOfComponents() == 3)
+      {
+        normal = leaf.axes * Eigen::Vector3d(leafNormals->GetComponent(k, 0), leafNormals->GetComponent(k, 1),
+                               leafNormals->GetComponent(k, 2));
+      }
+      normals->InsertNextTuple3(normal.x(), normal.y(), normal.z());
+    }
+    vtkCellArray* cells = leafInput->GetPolys();
+    for (cells->InitTraversal(); cells->GetNextCell(ids);)
+    {
+      polys->InsertNextCell(ids->GetNumberOfIds());
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      {
+        polys->InsertCellPoint(first + ids->GetId(k));
+      }
+      branchId->InsertNextValue(leaf.branchId);
+    }
+  }
+  leavesOut->SetPoints(points);
+  leavesOut->SetPolys(polys);
+  leavesOut->GetPointData()->SetTCoords(tcoords);
+  leavesOut->GetPointData()->SetNormals(normals);
+  leavesOut->GetCellData()->AddArray(branchId);
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -159,6 +397,7 @@ void vtkTreeFromSketchSource::AddDeletedBranch(int id)
 
 void vtkTreeFromSketchSource::ClearBranchOverrides()
 {
+  this->BranchOverridesElementCount = -1;
   if (!this->BranchOverrides.empty())
   {
     this->BranchOverrides.clear();
@@ -171,6 +410,15 @@ void vtkTreeFromSketchSource::AddBranchOverride(
 {
   this->BranchOverrides.insert(this->BranchOverrides.end(), { id, length, radius, u, angle, rotation });
   this->Modified();
+}
+
+void vtkTreeFromSketchSource::SetBranchOverridesElementCount(int count)
+{
+  if (count != this->BranchOverridesElementCount)
+  {
+    this->BranchOverridesElementCount = count;
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -189,7 +437,7 @@ void vtkTreeFromSketchSource::SetMergeTreeConnection(int, vtkAlgorithmOutput* ou
   this->SetInputConnection(2, output);
 }
 
-void vtkTreeFromSketchSource::WarnAboutPresetOverrides(const plantmorph::TreeSettings& used)
+void vtkTreeFromSketchSource::WarnAboutPresetOverrides(const plantmorph::TreeParameters& used)
 {
   if (this->Preset == 0)
   {
@@ -220,6 +468,26 @@ void vtkTreeFromSketchSource::WarnAboutPresetOverrides(const plantmorph::TreeSet
   }
 }
 
+const char* vtkTreeFromSketchSource::GetPresetValues()
+{
+  std::ostringstream text;
+  if (this->Preset <= 0 || this->Preset >= plantmorph::TreePresetCount)
+  {
+    text << (this->Preset == 0 ? "Custom: the template properties are used as set." : "Preset is out of range.");
+  }
+  else
+  {
+    plantmorph::TreeParameters s;
+    plantmorph::ApplyTreePreset(this->Preset, s);
+    text << plantmorph::TreePresetName(this->Preset) << " sets (the greyed properties are not used):\nTreeType = "
+         << (s.type == plantmorph::TreeType::Monopodial ? "Monopodial" : "Sympodial") << "\nLength = " << s.length
+         << "\nRadius = " << s.radius << "\nDepth = " << s.depth << "\nPhyllotaxisA = " << s.phyllotaxisA
+         << "\nPhyllotaxisB = " << s.phyllotaxisB << "\nChildCount = " << s.childCount << "\nRatio = " << s.ratio;
+  }
+  this->PresetValues = text.str();
+  return this->PresetValues.c_str();
+}
+
 int vtkTreeFromSketchSource::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
@@ -237,28 +505,22 @@ int vtkTreeFromSketchSource::RequestInformation(vtkInformation*, vtkInformationV
 }
 
 //------------------------------------------------------------------------------
-int vtkTreeFromSketchSource::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+bool vtkTreeFromSketchSource::ReadProperties(plantmorph::TreeParameters& s)
 {
-  vtkPolyData* branchesOut = vtkPolyData::GetData(outputVector, 0);
-  vtkPolyData* skeletonOut = vtkPolyData::GetData(outputVector, 1);
-  vtkPolyData* leavesOut = vtkPolyData::GetData(outputVector, 2);
-  branchesOut->Initialize();
-  skeletonOut->Initialize();
-  leavesOut->Initialize();
-  const int piece =
-    outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
-  if (piece > 0)
+  if (this->BranchOverridesElementCount >= 0 &&
+    static_cast<std::size_t>(this->BranchOverridesElementCount) != this->BranchOverrides.size())
   {
-    return 1;
+    // ParaView pushed only the whole rows: a partial row means the user's list is not rows of six.
+    vtkErrorMacro(<< plantmorph::OutOfRange("BranchOverrides",
+                    std::to_string(this->BranchOverridesElementCount) + " numbers", "{0, 6, 12, ...}",
+                    "rows of six: BranchId, length, radius, u, angle, rotation; the last row has " +
+                      std::to_string(this->BranchOverridesElementCount % 6)));
+    return false;
   }
-
-  // Properties -> settings.
-  plantmorph::TreeSettings s;
   if (this->Preset < 0 || this->Preset >= plantmorph::TreePresetCount)
   {
     vtkErrorMacro(<< plantmorph::OutOfRange("Preset", this->Preset, "[0, 3]", "0 Custom, 1-3 Table 1"));
-    return 1;
+    return false;
   }
   s.mode = static_cast<plantmorph::TreeMode>(this->Mode);
   s.type = static_cast<plantmorph::TreeType>(this->TreeType);
@@ -303,7 +565,7 @@ int vtkTreeFromSketchSource::RequestData(
     {
       vtkErrorMacro("BranchOverrides row " << r / 6 << ": "
                                            << plantmorph::OutOfRange("BranchId", id, "[0, 2147483647]", "a whole number"));
-      return 1;
+      return false;
     }
     // NaN or <= -1000 keeps: ParaView 5.11 state files do not keep NaN (it loads as 0), so -1000 is the
     // spelling that survives a save and a load.
@@ -315,117 +577,14 @@ int vtkTreeFromSketchSource::RequestData(
     o.angle = keep(this->BranchOverrides[r + 4]);
     o.rotation = keep(this->BranchOverrides[r + 5]);
   }
+  return true;
+}
 
-  // Strokes: the input's lines, else the file.
-  std::vector<std::vector<Eigen::Vector3d>> strokes;
-  vtkPolyData* strokeInput = vtkPolyData::GetData(inputVector[0], 0);
-  if (s.mode != plantmorph::TreeMode::Template)
-  {
-    if (strokeInput)
-    {
-      vtkCellArray* lines = strokeInput->GetLines();
-      vtkNew<vtkIdList> ids;
-      for (lines->InitTraversal(); lines->GetNextCell(ids);)
-      {
-        std::vector<Eigen::Vector3d> stroke;
-        for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-        {
-          double p[3];
-          strokeInput->GetPoint(ids->GetId(k), p);
-          stroke.emplace_back(p[0], p[1], 0.0);
-        }
-        strokes.push_back(std::move(stroke));
-      }
-    }
-    else if (!this->StrokeFile.empty())
-    {
-      const std::string error = plantmorph::ReadStrokeFile(this->StrokeFile, strokes);
-      if (!error.empty())
-      {
-        vtkErrorMacro(<< error);
-        return 1;
-      }
-    }
-  }
-  // A second tree to merge: a skeleton (lines) with BranchId and ParentId on its cells and Radius on its points.
-  std::vector<plantmorph::SkeletonBranch> second;
-  vtkPolyData* mergeInput = vtkPolyData::GetData(inputVector[2], 0);
-  if (mergeInput)
-  {
-    const std::string refused = ReadSkeleton(mergeInput, second);
-    if (!refused.empty())
-    {
-      vtkErrorMacro(<< refused);
-      return 1;
-    }
-  }
-  this->UpdateProgress(0.05);
-
-  if (this->Joints != 0 && this->Joints != 1)
-  {
-    vtkErrorMacro(<< plantmorph::OutOfRange("Joints", this->Joints, "[0, 1]", "0 Welded, 1 Seated tubes"));
-    return 1;
-  }
-  plantmorph::Tree tree;
-  std::string error = plantmorph::BuildTree(s, strokes, mergeInput ? &second : nullptr, tree);
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 1;
-  }
-  this->UpdateProgress(0.3);
-  if (this->GetAbortExecute())
-  {
-    return 1;
-  }
-
-  // Branch surfaces: welded by convex-hull junctions into one closed surface per tree (default), or each branch its
-  // own closed tube with its base ring seated on its parent.
-  std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree);
-  plantmorph::TubeMesh mesh;
-  plantmorph::JointReport joints;
-  plantmorph::JunctionReport junctions;
-  error = this->Joints == 0 ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &junctions)
-                            : plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &joints);
-  tubes.clear();
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 1;
-  }
-  this->UpdateProgress(0.6);
-
-  // Leaf geometry input: validated before anything is written.
-  vtkPolyData* leafInput = vtkPolyData::GetData(inputVector[1], 0);
-  double leafLength = 0.0, leafMinY = 0.0;
-  if (s.leaves && leafInput)
-  {
-    if (leafInput->GetNumberOfPolys() == 0 || leafInput->GetNumberOfPoints() == 0)
-    {
-      vtkErrorMacro("Leaf input has no polygons: connect a leaf mesh (e.g. LeafOutlineSource's Blade) or "
-                    "disconnect it for textured quads");
-      return 1;
-    }
-    double bounds[6];
-    leafInput->GetBounds(bounds);
-    leafMinY = bounds[2];
-    leafLength = bounds[3] - bounds[2];
-    if (!(leafLength > 0.0) || !std::isfinite(leafLength))
-    {
-      vtkErrorMacro("Leaf input has no extent along +Y (its length must be positive and finite)");
-      return 1;
-    }
-    const double total = static_cast<double>(tree.leaves.size()) * leafInput->GetNumberOfPoints();
-    if (total > static_cast<double>(s.maxSegments) * 8.0)
-    {
-      vtkErrorMacro("the leaves would have " << total << " points, more than 8 * MaxSegments = "
-                                              << 8.0 * static_cast<double>(s.maxSegments)
-                                              << " (lower LeafCount or use a coarser Leaf input)");
-      return 1;
-    }
-  }
-
-  vtkNew<vtkFieldData> parameters;
+//------------------------------------------------------------------------------
+void vtkTreeFromSketchSource::FillFieldData(vtkFieldData* parameters, const plantmorph::TreeParameters& s,
+  const plantmorph::Tree& tree, std::size_t strokeCount, const plantmorph::JointReport& joints,
+  const plantmorph::JunctionReport& junctions) const
+{
   AddFieldString(parameters, "PlantMorph.Model", "TreeFromSketch");
   AddFieldString(parameters, "PlantMorph.TreePreset", plantmorph::TreePresetName(this->Preset));
   AddFieldValue(parameters, "PlantMorph.Mode", this->Mode);
@@ -442,7 +601,7 @@ int vtkTreeFromSketchSource::RequestData(
   AddFieldValue(parameters, "PlantMorph.BranchCount", static_cast<double>(tree.branches.size()));
   AddFieldValue(parameters, "PlantMorph.SegmentCount", static_cast<double>(tree.SegmentCount()));
   AddFieldValue(parameters, "PlantMorph.LeafCount", static_cast<double>(tree.leaves.size()));
-  AddFieldValue(parameters, "PlantMorph.StrokeCount", static_cast<double>(strokes.size()));
+  AddFieldValue(parameters, "PlantMorph.StrokeCount", static_cast<double>(strokeCount));
   AddFieldValue(parameters, "PlantMorph.MergeIdBase", static_cast<double>(tree.mergeIdBase));
   {
     vtkNew<vtkDoubleArray> seating;
@@ -488,186 +647,112 @@ int vtkTreeFromSketchSource::RequestData(
     }
     parameters->AddArray(report);
   }
+}
 
-  // Port 0.
+//------------------------------------------------------------------------------
+int vtkTreeFromSketchSource::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* branchesOut = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* skeletonOut = vtkPolyData::GetData(outputVector, 1);
+  vtkPolyData* leavesOut = vtkPolyData::GetData(outputVector, 2);
+  branchesOut->Initialize();
+  skeletonOut->Initialize();
+  leavesOut->Initialize();
+  const int piece =
+    outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+  if (piece > 0)
   {
-    const vtkIdType np = static_cast<vtkIdType>(mesh.PointCount());
-    const vtkIdType nt = static_cast<vtkIdType>(mesh.TriangleCount());
-    vtkNew<vtkDoubleArray> coordinates;
-    coordinates->SetNumberOfComponents(3);
-    coordinates->SetNumberOfTuples(np);
-    std::copy(mesh.points.begin(), mesh.points.end(), coordinates->GetPointer(0));
-    vtkNew<vtkPoints> points;
-    points->SetData(coordinates);
-    vtkNew<vtkFloatArray> normals;
-    normals->SetName(plantmorph::arrays::Normals);
-    normals->SetNumberOfComponents(3);
-    normals->SetNumberOfTuples(np);
-    std::copy(mesh.normals.begin(), mesh.normals.end(), normals->GetPointer(0));
-    vtkNew<vtkFloatArray> tcoords;
-    tcoords->SetName(plantmorph::arrays::TCoords);
-    tcoords->SetNumberOfComponents(2);
-    tcoords->SetNumberOfTuples(np);
-    std::copy(mesh.tcoords.begin(), mesh.tcoords.end(), tcoords->GetPointer(0));
-    vtkNew<vtkIdTypeArray> offsets, connectivity;
-    offsets->SetNumberOfTuples(nt + 1);
-    connectivity->SetNumberOfTuples(3 * nt);
-    vtkIdType* o = offsets->GetPointer(0);
-    vtkIdType* c = connectivity->GetPointer(0);
-    vtkSMPTools::For(0, nt + 1, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        o[i] = 3 * i;
-        if (i < nt)
-        {
-          c[3 * i] = mesh.triangles[3 * static_cast<std::size_t>(i)];
-          c[3 * i + 1] = mesh.triangles[3 * static_cast<std::size_t>(i) + 1];
-          c[3 * i + 2] = mesh.triangles[3 * static_cast<std::size_t>(i) + 2];
-        }
-      }
-    });
-    vtkNew<vtkCellArray> polys;
-    polys->SetData(offsets, connectivity);
-    auto branchId = IntArray("BranchId", nt), parentId = IntArray("ParentId", nt), depth = IntArray("Depth", nt);
-    plantmorph::SMPFor()(tree.branches.size(), [&](std::size_t begin, std::size_t end) {
-      for (std::size_t t = begin; t < end; ++t)
-      {
-        const plantmorph::TreeBranch& b = tree.branches[t];
-        for (auto f = mesh.triangleOffsets[t]; f < mesh.triangleOffsets[t + 1]; ++f)
-        {
-          branchId->SetValue(f, b.id);
-          parentId->SetValue(f, b.parentId);
-          depth->SetValue(f, b.depth);
-        }
-      }
-    });
-    branchesOut->SetPoints(points);
-    branchesOut->SetPolys(polys);
-    branchesOut->GetPointData()->SetNormals(normals);
-    branchesOut->GetPointData()->SetTCoords(tcoords);
-    branchesOut->GetCellData()->AddArray(branchId);
-    branchesOut->GetCellData()->AddArray(parentId);
-    branchesOut->GetCellData()->AddArray(depth);
+    return 1;
   }
+
+  // Properties -> parameters.
+  plantmorph::TreeParameters s;
+  if (!this->ReadProperties(s))
+  {
+    return 1;
+  }
+
+  // Strokes: the input's lines, else the file.
+  std::vector<std::vector<Eigen::Vector3d>> strokes;
+  std::string error = s.mode == plantmorph::TreeMode::Template
+    ? std::string()
+    : ReadStrokes(vtkPolyData::GetData(inputVector[0], 0), this->StrokeFile, strokes);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 1;
+  }
+  // A second tree to merge: a skeleton (lines) with BranchId and ParentId on its cells and Radius on its points.
+  std::vector<plantmorph::SkeletonBranch> second;
+  vtkPolyData* mergeInput = vtkPolyData::GetData(inputVector[2], 0);
+  if (mergeInput)
+  {
+    const std::string refused = ReadSkeleton(mergeInput, second);
+    if (!refused.empty())
+    {
+      vtkErrorMacro(<< refused);
+      return 1;
+    }
+  }
+  this->UpdateProgress(0.05);
+
+  if (this->Joints != 0 && this->Joints != 1)
+  {
+    vtkErrorMacro(<< plantmorph::OutOfRange("Joints", this->Joints, "[0, 1]", "0 Welded, 1 Seated tubes"));
+    return 1;
+  }
+  plantmorph::Tree tree;
+  error = plantmorph::BuildTree(s, strokes, mergeInput ? &second : nullptr, tree);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 1;
+  }
+  this->UpdateProgress(0.3);
+  if (this->GetAbortExecute())
+  {
+    return 1;
+  }
+
+  // Branch surfaces: welded by convex-hull junctions into one closed surface per tree (default), or each branch its
+  // own closed tube with its base ring seated on its parent.
+  std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree);
+  plantmorph::TubeMesh mesh;
+  plantmorph::JointReport joints;
+  plantmorph::JunctionReport junctions;
+  error = this->Joints == 0 ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &junctions)
+                            : plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &joints);
+  tubes.clear();
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 1;
+  }
+  this->UpdateProgress(0.6);
+
+  // Leaf geometry input: validated before anything is written.
+  vtkPolyData* leafInput = vtkPolyData::GetData(inputVector[1], 0);
+  double leafLength = 0.0, leafMinY = 0.0;
+  if (s.leaves && leafInput)
+  {
+    error = ValidateLeafInput(leafInput, tree, s, leafLength, leafMinY);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< error);
+      return 1;
+    }
+  }
+
+  vtkNew<vtkFieldData> parameters;
+  this->FillFieldData(parameters, s, tree, strokes.size(), joints, junctions);
+  WriteBranches(mesh, tree, branchesOut);
   mesh = plantmorph::TubeMesh();
   this->UpdateProgress(0.8);
-
-  // Port 1.
-  {
-    vtkNew<vtkPoints> points;
-    points->SetDataTypeToDouble();
-    vtkNew<vtkDoubleArray> radius;
-    radius->SetName("Radius");
-    vtkNew<vtkCellArray> lines;
-    const vtkIdType nb = static_cast<vtkIdType>(tree.branches.size());
-    auto branchId = IntArray("BranchId", nb), parentId = IntArray("ParentId", nb), depth = IntArray("Depth", nb);
-    vtkIdType next = 0;
-    for (vtkIdType t = 0; t < nb; ++t)
-    {
-      const plantmorph::TreeBranch& b = tree.branches[static_cast<std::size_t>(t)];
-      lines->InsertNextCell(static_cast<vtkIdType>(b.centre.size()));
-      for (std::size_t k = 0; k < b.centre.size(); ++k)
-      {
-        points->InsertNextPoint(b.centre[k].data());
-        radius->InsertNextValue(b.radii[k]);
-        lines->InsertCellPoint(next++);
-      }
-      branchId->SetValue(t, b.id);
-      parentId->SetValue(t, b.parentId);
-      depth->SetValue(t, b.depth);
-    }
-    skeletonOut->SetPoints(points);
-    skeletonOut->SetLines(lines);
-    skeletonOut->GetPointData()->AddArray(radius);
-    skeletonOut->GetPointData()->SetActiveScalars("Radius");
-    skeletonOut->GetCellData()->AddArray(branchId);
-    skeletonOut->GetCellData()->AddArray(parentId);
-    skeletonOut->GetCellData()->AddArray(depth);
-  }
-
-  // Port 2.
+  WriteSkeleton(tree, skeletonOut);
   if (s.leaves && !tree.leaves.empty())
   {
-    vtkNew<vtkPoints> points;
-    points->SetDataTypeToDouble();
-    vtkNew<vtkFloatArray> tcoords;
-    tcoords->SetName(plantmorph::arrays::TCoords);
-    tcoords->SetNumberOfComponents(2);
-    vtkNew<vtkFloatArray> normals;
-    normals->SetName(plantmorph::arrays::Normals);
-    normals->SetNumberOfComponents(3);
-    vtkNew<vtkCellArray> polys;
-    vtkNew<vtkIntArray> branchId;
-    branchId->SetName("BranchId");
-    const double scale = leafInput ? s.leafScale / leafLength : s.leafScale;
-    vtkDataArray* leafTCoords = leafInput ? leafInput->GetPointData()->GetTCoords() : nullptr;
-    if (leafInput && !leafTCoords)
-    {
-      leafTCoords = leafInput->GetPointData()->GetArray(plantmorph::arrays::TCoords);
-    }
-    vtkDataArray* leafNormals = leafInput ? leafInput->GetPointData()->GetNormals() : nullptr;
-    vtkNew<vtkIdList> ids;
-    for (const plantmorph::TreeLeaf& leaf : tree.leaves)
-    {
-      const vtkIdType first = points->GetNumberOfPoints();
-      const Eigen::Vector3d n = leaf.axes.col(2);
-      if (!leafInput)
-      {
-        const double half = 0.5 * scale;
-        const Eigen::Vector3d x = leaf.axes.col(0), y = leaf.axes.col(1);
-        const Eigen::Vector3d corners[4] = { leaf.origin - half * x, leaf.origin + half * x,
-          leaf.origin + half * x + scale * y, leaf.origin - half * x + scale * y };
-        const float uv[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
-        polys->InsertNextCell(4);
-        for (int k = 0; k < 4; ++k)
-        {
-          points->InsertNextPoint(corners[k].data());
-          tcoords->InsertNextTuple2(uv[k][0], uv[k][1]);
-          normals->InsertNextTuple3(n.x(), n.y(), n.z());
-          polys->InsertCellPoint(first + k);
-        }
-        branchId->InsertNextValue(leaf.branchId);
-        continue;
-      }
-      for (vtkIdType k = 0; k < leafInput->GetNumberOfPoints(); ++k)
-      {
-        double p[3];
-        leafInput->GetPoint(k, p);
-        const Eigen::Vector3d local(p[0], p[1] - leafMinY, p[2]);
-        const Eigen::Vector3d world = leaf.origin + leaf.axes * (scale * local);
-        points->InsertNextPoint(world.data());
-        if (leafTCoords && leafTCoords->GetNumberOfComponents() >= 2)
-        {
-          tcoords->InsertNextTuple2(leafTCoords->GetComponent(k, 0), leafTCoords->GetComponent(k, 1));
-        }
-        else
-        {
-          tcoords->InsertNextTuple2(0.5 + local.x() / leafLength, local.y() / leafLength);
-        }
-        Eigen::Vector3d normal = n;
-        if (leafNormals && leafNormals->GetNumberOfComponents() == 3)
-        {
-          normal = leaf.axes * Eigen::Vector3d(leafNormals->GetComponent(k, 0), leafNormals->GetComponent(k, 1),
-                                 leafNormals->GetComponent(k, 2));
-        }
-        normals->InsertNextTuple3(normal.x(), normal.y(), normal.z());
-      }
-      vtkCellArray* cells = leafInput->GetPolys();
-      for (cells->InitTraversal(); cells->GetNextCell(ids);)
-      {
-        polys->InsertNextCell(ids->GetNumberOfIds());
-        for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-        {
-          polys->InsertCellPoint(first + ids->GetId(k));
-        }
-        branchId->InsertNextValue(leaf.branchId);
-      }
-    }
-    leavesOut->SetPoints(points);
-    leavesOut->SetPolys(polys);
-    leavesOut->GetPointData()->SetTCoords(tcoords);
-    leavesOut->GetPointData()->SetNormals(normals);
-    leavesOut->GetCellData()->AddArray(branchId);
+    WriteLeaves(tree, s, leafInput, leafLength, leafMinY, leavesOut);
   }
 
   for (vtkPolyData* output : { branchesOut, skeletonOut, leavesOut })

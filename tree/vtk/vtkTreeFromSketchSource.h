@@ -83,8 +83,12 @@
 
 namespace plantmorph
 {
-struct TreeSettings;
+struct JointReport;
+struct JunctionReport;
+struct Tree;
+struct TreeParameters;
 }
+class vtkFieldData;
 
 class PLANTMORPHTREEVTK_EXPORT vtkTreeFromSketchSource : public vtkPolyDataAlgorithm
 {
@@ -216,6 +220,11 @@ public:
   /// value (write -1000 in scripts you save as state files: ParaView 5.11 state files turn NaN into 0).
   void ClearBranchOverrides();
   void AddBranchOverride(double id, double length, double radius, double u, double angle, double rotation);
+  /// How many numbers the BranchOverrides property held (the XML's element_count_command, pushed after the rows by
+  /// vtkSICountedDoubleVectorProperty: ParaView drops a partial last row before AddBranchOverride sees it). A count
+  /// that is not the rows' numbers is refused with an error naming BranchOverrides. ClearBranchOverrides resets it
+  /// to -1 (not given).
+  void SetBranchOverridesElementCount(int count);
 
   ///@{
   /**
@@ -230,6 +239,13 @@ public:
   void SetMergeTreeConnection(int xmlPortIndex, vtkAlgorithmOutput* output);
   ///@}
 
+  /**
+   * What the named Preset sets (TreeType, Length, Radius, Depth, PhyllotaxisA/B, ChildCount, Ratio), one
+   * "Property = value" per line, for the read-only PresetValues box of the Properties panel beside the greyed-out
+   * properties it overrides; for Custom, a line saying the properties are used. Computed from Preset alone.
+   */
+  const char* GetPresetValues();
+
 protected:
   vtkTreeFromSketchSource();
   ~vtkTreeFromSketchSource() override = default;
@@ -237,7 +253,12 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   /// With a named Preset, warns about each preset-set property changed from its default to a value the preset
   /// overrides (it is not what the output has).
-  void WarnAboutPresetOverrides(const plantmorph::TreeSettings& used);
+  void WarnAboutPresetOverrides(const plantmorph::TreeParameters& used);
+  /// Properties -> parameters (the Preset applied); false, with the error reported, when one is out of range.
+  bool ReadProperties(plantmorph::TreeParameters& parameters);
+  /// The PlantMorph.* field data every output carries: the parameters used and the build's reports.
+  void FillFieldData(vtkFieldData* fieldData, const plantmorph::TreeParameters& parameters, const plantmorph::Tree& tree,
+    std::size_t strokeCount, const plantmorph::JointReport& joints, const plantmorph::JunctionReport& junctions) const;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
@@ -279,6 +300,8 @@ protected:
   double MergeOffset[3] = { 0.0, 0.0, 0.0 };
   std::vector<int> DeletedBranches;
   std::vector<double> BranchOverrides;
+  int BranchOverridesElementCount = -1;
+  std::string PresetValues;
 
 private:
   vtkTreeFromSketchSource(const vtkTreeFromSketchSource&) = delete;

@@ -113,7 +113,7 @@ struct Primary
 } // namespace
 
 PalmateFan FindPalmateFan(const VenationBlade& blade, const BladeLocator& locator, const Eigen::Vector2d& base,
-  const Eigen::Vector2d& axis, double length, const PalmateFanSettings& settings)
+  const Eigen::Vector2d& axis, double length, const PalmateFanParameters& settings)
 {
   PalmateFan fan;
   const View view = Look(blade, locator, base, axis);

@@ -28,7 +28,7 @@
 namespace plantmorph
 {
 
-struct PalmateFanSettings
+struct PalmateFanParameters
 {
   int primaries = 4;            ///< primaries on a blade without lobes (a lobed blade has one per lobe)
   int levels = 0;               ///< dichotomous fork levels: 2^levels end points per primary
@@ -48,6 +48,6 @@ struct PalmateFan
 /// The end points of the palmate primaries of `blade` seen from `base` along the unit `axis`; `length` is the leaf
 /// length the settings' distances are fractions of.
 PalmateFan FindPalmateFan(const VenationBlade& blade, const BladeLocator& locator, const Eigen::Vector2d& base,
-  const Eigen::Vector2d& axis, double length, const PalmateFanSettings& settings);
+  const Eigen::Vector2d& axis, double length, const PalmateFanParameters& settings);
 
 } // namespace plantmorph

@@ -543,7 +543,7 @@ void Grower::GrowPalmate()
   // End points on the blade's margin, fanned over its angular extent seen from the base, one group per primary
   // (PalmateFan.h: lobe tips, basal lobes of cordate blades, an even spread on entire blades).
   // Without the fan (paper 000): evenly along the canonical leaf's far edge v = 1, grown in LeafUV.
-  PalmateFanSettings settings;
+  PalmateFanParameters settings;
   settings.primaries = this->P.palmateVeins;
   settings.levels = this->P.forkLevels;
   const PalmateFan fan = this->P.palmateFan

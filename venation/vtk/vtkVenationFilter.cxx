@@ -37,6 +37,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 using plantmorph::AddFieldString;
 using plantmorph::AddFieldValue;
@@ -96,11 +97,10 @@ std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& po
     plane[i] = Eigen::Vector2d(su * uv[i].x(), sv * uv[i].y());
   return plane;
 }
-/// The parameters the venation grew with (a named preset's own, or the properties for Custom), one field value per
-/// property as PlantMorph.Venation.<property>: what a preset chose, visible in the Information panel.
-void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
+/// The parameters a venation grows with, by property name (a named preset's own, or the properties for Custom).
+std::vector<std::pair<const char*, double>> ParameterValues(const plantmorph::VenationParameters& p)
 {
-  const std::pair<const char*, double> values[] = { { "Pattern", static_cast<double>(p.pattern) },
+  return { { "Pattern", static_cast<double>(p.pattern) },
     { "PrimaryCount", p.primaries }, { "PrimarySpread", p.primarySpread }, { "ParallelVeins", p.parallelVeins },
     { "ParallelSpread", p.parallelSpread }, { "SecondarySpacing", p.secondarySpacing },
     { "DivergenceAngle", p.divergenceAngle }, { "DivergenceAngleApex", p.divergenceAngleApex },
@@ -114,7 +114,13 @@ void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
     { "ForkSize", p.forkSize }, { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth }, { "PrimaryTaper", p.primaryTaper },
     { "SecondaryWidthRatio", p.secondaryWidthRatio }, { "TertiaryWidthRatio", p.tertiaryWidthRatio },
     { "VeinletWidthRatio", p.veinletWidthRatio } };
-  for (const auto& [name, value] : values)
+}
+
+/// The parameters the venation grew with, one field value per property as PlantMorph.Venation.<property>: what a
+/// preset chose, visible in the Information panel.
+void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
+{
+  for (const auto& [name, value] : ParameterValues(p))
   {
     AddFieldValue(fd, (std::string("PlantMorph.Venation.") + name).c_str(), value);
   }
@@ -382,6 +388,37 @@ int vtkVenationFilter::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
   return 1;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkVenationFilter::GetPresetValues()
+{
+  std::ostringstream text;
+  if (this->Preset <= 0 || this->Preset >= plantmorph::VenationPresetCount)
+  {
+    text << (this->Preset == 0 ? "Custom: the properties below are used as set."
+                               : "Preset is out of range: no veins grow.");
+  }
+  else
+  {
+    const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
+    const plantmorph::VenationParameters p = plantmorph::MakeVenationPreset(preset);
+    text << plantmorph::VenationPresetName(preset) << " sets (the greyed properties are not used):";
+    for (const auto& [name, value] : ParameterValues(p))
+    {
+      text << "\n" << name << " = ";
+      if (std::string(name) == "Pattern")
+      {
+        text << plantmorph::VenationPatternName(p.pattern);
+      }
+      else
+      {
+        text << value;
+      }
+    }
+  }
+  this->PresetValues = text.str();
+  return this->PresetValues.c_str();
 }
 
 //------------------------------------------------------------------------------

@@ -75,7 +75,7 @@
 #include "PlantMorphVenationVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
-#include <string> // for MakeParameters
+#include <string> // for MakeParameters and PresetValues
 
 namespace plantmorph
 {
@@ -270,6 +270,14 @@ public:
   vtkGetMacro(AreoleHistogramBins, int);
   ///@}
 
+  /**
+   * What the named Preset sets, one "Property = value" per line (Pattern by name), for the read-only PresetValues
+   * box of the Properties panel, which shows it beside the greyed-out properties the preset overrides; for Custom,
+   * a line saying the properties are used. Computed from Preset alone (no update needed); the veins' field data
+   * holds the same values as PlantMorph.Venation.<property>.
+   */
+  const char* GetPresetValues();
+
 protected:
   vtkVenationFilter();
   ~vtkVenationFilter() override = default;
@@ -285,6 +293,7 @@ protected:
   /// out-of-range property of the wrapper's own, else empty (the algorithm validates the rest).
   std::string MakeParameters(plantmorph::VenationParameters& parameters);
 
+  std::string PresetValues;
   int Preset = 1;
   int Pattern = 2;
   int Seed = 0;

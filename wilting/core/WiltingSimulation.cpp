@@ -483,7 +483,7 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   {
     return "the LeafUV array does not have one value per point";
   }
-  VoxelizeOptions options;
+  VoxelizeParameters options;
   options.voxelSize = parameters.voxelSize;
   options.resolution = parameters.resolution;
   options.maxVoxels = parameters.maxVoxels;

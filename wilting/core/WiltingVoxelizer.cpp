@@ -173,7 +173,7 @@ void VoxelGrid::BuildNodes()
 }
 
 std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles,
-  const std::vector<int>& regions, const VoxelizeOptions& options, VoxelGrid& grid)
+  const std::vector<int>& regions, const VoxelizeParameters& options, VoxelGrid& grid)
 {
   grid = VoxelGrid();
   if (points.empty() || triangles.empty())

@@ -56,7 +56,7 @@ private:
   std::vector<int> nodeLookup;  // (dims + 1) product
 };
 
-struct VoxelizeOptions
+struct VoxelizeParameters
 {
   double voxelSize = 0.0; ///< > 0: the cube edge; 0: from resolution
   int resolution = 20;    ///< cubes along the bounding box's longest side when voxelSize is 0
@@ -66,7 +66,7 @@ struct VoxelizeOptions
 /// Voxelises the triangles (point ids into `points`). `regions` may be empty (everything blade) or one per point.
 /// Empty on success, else a message naming the property at fault.
 std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles,
-  const std::vector<int>& regions, const VoxelizeOptions& options, VoxelGrid& grid);
+  const std::vector<int>& regions, const VoxelizeParameters& options, VoxelGrid& grid);
 
 /// Where AddPetiole put the petiole.
 struct PetiolePlacement

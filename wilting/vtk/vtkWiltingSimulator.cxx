@@ -193,7 +193,7 @@ std::string WiltingInputOf(vtkPolyData* input, vtkPolyData* veins, plantmorph::W
   return text.empty() ? text : text.substr(0, text.size() - 1);
 }
 
-std::string CheckEnumerations(vtkWiltingSimulator* f)
+std::string ValidateEnumerations(vtkWiltingSimulator* f)
 {
   if (f->GetPreset() < 0 || f->GetPreset() >= plantmorph::WiltingPresetCount)
   {
@@ -255,6 +255,205 @@ vtkSmartPointer<vtkDoubleArray> Vector3Array(const char* name, vtkIdType count)
   a->SetNumberOfComponents(3);
   a->SetNumberOfTuples(count);
   return a;
+}
+
+/// The time asked of the port that asked (a request through the veins' or the voxels' port leaves port 0's time
+/// stale), else port 0's; 0 when no time is asked.
+double RequestedTime(vtkInformation* request, vtkInformationVector* outputVector)
+{
+  int port = request && request->Has(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT())
+    ? request->Get(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT())
+    : 0;
+  if (port < 0 || port >= outputVector->GetNumberOfInformationObjects())
+  {
+    port = 0;
+  }
+  vtkInformation* outInfo = outputVector->GetInformationObject(port);
+  if (!outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  {
+    outInfo = outputVector->GetInformationObject(0);
+  }
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  {
+    return outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+  }
+  return 0.0;
+}
+
+/// The nodes' displacements and velocities at one time, between two frames.
+struct NodeState
+{
+  std::vector<double> q, v;
+  double time = 0.0;
+};
+
+/// The state at `time`, linear between the frames around it (clamped to the first and the last).
+NodeState InterpolateFrames(const std::vector<plantmorph::WiltingFrame>& frames, double time, std::size_t nodeCount)
+{
+  std::size_t lower = 0;
+  while (lower + 1 < frames.size() && frames[lower + 1].time <= time)
+  {
+    ++lower;
+  }
+  const std::size_t upper = std::min(lower + 1, frames.size() - 1);
+  double w = 0.0;
+  if (upper != lower && frames[upper].time > frames[lower].time)
+  {
+    w = std::clamp((time - frames[lower].time) / (frames[upper].time - frames[lower].time), 0.0, 1.0);
+  }
+  NodeState state;
+  state.q.resize(3 * nodeCount);
+  state.v.resize(3 * nodeCount);
+  for (std::size_t k = 0; k < state.q.size(); ++k)
+  {
+    state.q[k] = (1.0 - w) * frames[lower].q[k] + w * frames[upper].q[k];
+    state.v[k] = (1.0 - w) * frames[lower].v[k] + w * frames[upper].v[k];
+  }
+  state.time = (1.0 - w) * frames[lower].time + w * frames[upper].time;
+  return state;
+}
+
+/// The displacement of the simulation's `count` input points (the leaf's, then the veins'), embedded in the voxels.
+std::vector<double> PointDisplacements(
+  const plantmorph::WiltingSimulation& simulation, const NodeState& state, vtkIdType count)
+{
+  std::vector<double> d(3 * static_cast<std::size_t>(count));
+  simulation.Embedding().Interpolate(state.q.data(), d.data());
+  return d;
+}
+
+/// `count` points from `first` of the simulation's input points, moved by `d`, and their Displacement array.
+void MovedPoints(const plantmorph::WiltingSimulation& simulation, const std::vector<double>& d, std::size_t first,
+  vtkIdType count, vtkPoints* points, vtkDoubleArray* displacement)
+{
+  const std::vector<Eigen::Vector3d>& rest = simulation.InputPoints();
+  points->SetNumberOfPoints(count);
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    const std::size_t k = first + static_cast<std::size_t>(i);
+    const double* di = d.data() + 3 * k;
+    const Eigen::Vector3d& x = rest[k];
+    // At t = 0 the displacement is exactly 0, so the points are the input's.
+    points->SetPoint(i, x[0] + di[0], x[1] + di[1], x[2] + di[2]);
+    displacement->SetTuple(i, di);
+  }
+}
+
+/// Port 0: the moved input (the first of the simulation's points; the veins' follow), every array kept.
+void WriteMovedLeaf(const plantmorph::WiltingSimulation& simulation, vtkPolyData* input, const std::vector<double>& d,
+  double frameTime, vtkPolyData* output)
+{
+  const vtkIdType pointCount = input->GetNumberOfPoints();
+  output->ShallowCopy(input);
+  vtkNew<vtkPoints> points;
+  points->SetDataType(input->GetPoints()->GetDataType());
+  auto displacement = Vector3Array("Displacement", pointCount);
+  MovedPoints(simulation, d, 0, pointCount, points, displacement);
+  output->SetPoints(points);
+  output->GetPointData()->AddArray(displacement);
+  output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frameTime);
+}
+
+/// Port 3: the moved veins, every array kept, plus Displacement.
+void WriteMovedVeins(const plantmorph::WiltingSimulation& simulation, vtkIdType pointCount, vtkPolyData* veins,
+  const std::vector<double>& d, double frameTime, vtkPolyData* movedVeins)
+{
+  const vtkIdType veinCount = veins ? veins->GetNumberOfPoints() : 0;
+  if (veins && veinCount > 0)
+  {
+    movedVeins->ShallowCopy(veins);
+    vtkNew<vtkPoints> veinPoints;
+    veinPoints->SetDataType(veins->GetPoints()->GetDataType());
+    auto veinDisplacement = Vector3Array("Displacement", veinCount);
+    MovedPoints(simulation, d, static_cast<std::size_t>(pointCount), veinCount, veinPoints, veinDisplacement);
+    movedVeins->SetPoints(veinPoints);
+    movedVeins->GetPointData()->AddArray(veinDisplacement);
+  }
+  movedVeins->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frameTime);
+}
+
+/// Port 0's field data: how many simulations this filter has run (scrubbing must not raise it) and the frame time.
+void WriteSimulationFieldData(int simulationCount, double frameTime, vtkPolyData* output)
+{
+  vtkNew<vtkIntArray> runs;
+  runs->SetName("WiltingSimulator.SimulationCount");
+  runs->InsertNextValue(simulationCount);
+  output->GetFieldData()->AddArray(runs);
+  vtkNew<vtkDoubleArray> served;
+  served->SetName("WiltingSimulator.FrameTime");
+  served->InsertNextValue(frameTime);
+  output->GetFieldData()->AddArray(served);
+}
+
+/// Port 1: the voxel model, moved, with each node's displacement, velocity, fixedness and mass.
+void WriteVoxels(const plantmorph::WiltingSimulation& simulation, const NodeState& state, vtkUnstructuredGrid* voxels)
+{
+  const plantmorph::VoxelGrid& grid = simulation.Grid();
+  const std::size_t nodeCount = simulation.System().NodeCount();
+  const std::vector<double>& q = state.q;
+  vtkNew<vtkPoints> nodes;
+  nodes->SetDataType(VTK_DOUBLE);
+  nodes->SetNumberOfPoints(static_cast<vtkIdType>(nodeCount));
+  auto nodeDisplacement = Vector3Array("Displacement", static_cast<vtkIdType>(nodeCount));
+  auto nodeVelocity = Vector3Array("Velocity", static_cast<vtkIdType>(nodeCount));
+  vtkNew<vtkUnsignedCharArray> fixed;
+  fixed->SetName("Fixed");
+  fixed->SetNumberOfTuples(static_cast<vtkIdType>(nodeCount));
+  vtkNew<vtkDoubleArray> mass;
+  mass->SetName("Mass");
+  mass->SetNumberOfTuples(static_cast<vtkIdType>(nodeCount));
+  for (std::size_t n = 0; n < nodeCount; ++n)
+  {
+    const Eigen::Vector3d& x = grid.nodes[n];
+    nodes->SetPoint(static_cast<vtkIdType>(n), x[0] + q[3 * n], x[1] + q[3 * n + 1], x[2] + q[3 * n + 2]);
+    nodeDisplacement->SetTuple(static_cast<vtkIdType>(n), q.data() + 3 * n);
+    nodeVelocity->SetTuple(static_cast<vtkIdType>(n), state.v.data() + 3 * n);
+    fixed->SetValue(static_cast<vtkIdType>(n), simulation.System().IsFixed(n) ? 1 : 0);
+    mass->SetValue(static_cast<vtkIdType>(n), simulation.System().Masses()[n]);
+  }
+  voxels->SetPoints(nodes);
+  voxels->Allocate(static_cast<vtkIdType>(grid.corners.size()));
+  vtkNew<vtkIntArray> cellRegion;
+  cellRegion->SetName(plantmorph::arrays::Region);
+  for (std::size_t c = 0; c < grid.corners.size(); ++c)
+  {
+    vtkIdType ids[8];
+    for (int k = 0; k < 8; ++k)
+    {
+      ids[k] = grid.corners[c][static_cast<std::size_t>(k)];
+    }
+    voxels->InsertNextCell(VTK_HEXAHEDRON, 8, ids);
+    cellRegion->InsertNextValue(grid.regions[c]);
+  }
+  voxels->GetPointData()->AddArray(nodeDisplacement);
+  voxels->GetPointData()->AddArray(nodeVelocity);
+  voxels->GetPointData()->AddArray(fixed);
+  voxels->GetPointData()->AddArray(mass);
+  voxels->GetCellData()->AddArray(cellRegion);
+  voxels->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), state.time);
+}
+
+/// Port 2: every frame's tip and energies.
+void WriteFrameTable(const std::vector<plantmorph::WiltingFrame>& frames, vtkTable* table)
+{
+  const char* names[7] = { "Time", "TipX", "TipY", "TipZ", "Kinetic", "Spring", "Gravity" };
+  for (const char* name : names)
+  {
+    vtkNew<vtkDoubleArray> column;
+    column->SetName(name);
+    column->SetNumberOfTuples(static_cast<vtkIdType>(frames.size()));
+    table->AddColumn(column);
+  }
+  for (std::size_t f = 0; f < frames.size(); ++f)
+  {
+    const plantmorph::WiltingFrame& frame = frames[f];
+    const double row[7] = { frame.time, frame.tip[0], frame.tip[1], frame.tip[2], frame.kinetic, frame.spring,
+      frame.gravity };
+    for (int c = 0; c < 7; ++c)
+    {
+      vtkDoubleArray::SafeDownCast(table->GetColumn(c))->SetValue(static_cast<vtkIdType>(f), row[c]);
+    }
+  }
 }
 } // namespace
 
@@ -340,7 +539,7 @@ int vtkWiltingSimulator::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   const std::vector<double> times =
-    CheckEnumerations(this).empty() ? FrameTimes(ParametersOf(this)) : std::vector<double>();
+    ValidateEnumerations(this).empty() ? FrameTimes(ParametersOf(this)) : std::vector<double>();
   for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
   {
     vtkInformation* info = outputVector->GetInformationObject(port);
@@ -425,6 +624,49 @@ void vtkWiltingSimulator::WarnAboutPresetOverrides()
 }
 
 //------------------------------------------------------------------------------
+bool vtkWiltingSimulator::Simulate(vtkPolyData* input, vtkPolyData* veins,
+  const plantmorph::WiltingParameters& parameters, vtkMTimeType pieceTime, vtkMTimeType veinsTime)
+{
+  Cache& cache = *this->Cached;
+  const vtkIdType veinCount = veins ? veins->GetNumberOfPoints() : 0;
+  if (cache.valid && cache.inputTime == pieceTime && cache.selfTime == this->GetMTime() &&
+    cache.veinsTime == veinsTime && cache.veinPoints == veinCount)
+  {
+    return true;
+  }
+  plantmorph::WiltingInput in;
+  const std::string assumed = WiltingInputOf(input, veins, in);
+  if (!assumed.empty())
+  {
+    vtkWarningMacro(<< assumed);
+  }
+  cache.valid = false;
+  std::string error = cache.simulation.Setup(in, parameters);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return false;
+  }
+  ++this->SimulationCount;
+  this->WarnAboutPresetOverrides();
+  error = cache.simulation.Run(plantmorph::Progress(this));
+  if (cache.simulation.Aborted())
+  {
+    return false; // the cache stays invalid: the next request simulates again
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error << " (the frames before it are kept)");
+  }
+  cache.valid = true;
+  cache.inputTime = pieceTime;
+  cache.veinsTime = veinsTime;
+  cache.veinPoints = veinCount;
+  cache.selfTime = this->GetMTime();
+  return true;
+}
+
+//------------------------------------------------------------------------------
 int vtkWiltingSimulator::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -459,7 +701,8 @@ int vtkWiltingSimulator::RequestData(
     }
     return 1;
   }
-  std::string error = CheckEnumerations(this);
+  // Properties -> parameters.
+  std::string error = ValidateEnumerations(this);
   const plantmorph::WiltingParameters parameters = ParametersOf(this);
   if (error.empty())
   {
@@ -471,200 +714,27 @@ int vtkWiltingSimulator::RequestData(
     this->Cached->valid = false;
     return 1;
   }
-  Cache& cache = *this->Cached;
-  const vtkIdType pointCount = input->GetNumberOfPoints();
-  const vtkIdType veinCount = veins ? veins->GetNumberOfPoints() : 0;
-  const vtkMTimeType veinsTime = veinsPieceTime;
-  if (!cache.valid || cache.inputTime != pieceTime || cache.selfTime != this->GetMTime() ||
-    cache.veinsTime != veinsTime || cache.veinPoints != veinCount)
+  // Simulate (or reuse the cached frames), then serve the requested time.
+  if (!this->Simulate(input, veins, parameters, pieceTime, veinsPieceTime))
   {
-    plantmorph::WiltingInput in;
-    const std::string assumed = WiltingInputOf(input, veins, in);
-    if (!assumed.empty())
-    {
-      vtkWarningMacro(<< assumed);
-    }
-    cache.valid = false;
-    error = cache.simulation.Setup(in, parameters);
-    if (!error.empty())
-    {
-      vtkErrorMacro(<< error);
-      return 1;
-    }
-    ++this->SimulationCount;
-    this->WarnAboutPresetOverrides();
-    error = cache.simulation.Run(plantmorph::Progress(this));
-    if (cache.simulation.Aborted())
-    {
-      return 1; // the cache stays invalid: the next request simulates again
-    }
-    if (!error.empty())
-    {
-      vtkErrorMacro(<< error << " (the frames before it are kept)");
-    }
-    cache.valid = true;
-    cache.inputTime = pieceTime;
-    cache.veinsTime = veinsTime;
-    cache.veinPoints = veinCount;
-    cache.selfTime = this->GetMTime();
+    return 1;
   }
-  const plantmorph::WiltingSimulation& simulation = cache.simulation;
+  const plantmorph::WiltingSimulation& simulation = this->Cached->simulation;
   const std::vector<plantmorph::WiltingFrame>& frames = simulation.Frames();
   if (frames.empty())
   {
     return 1;
   }
-  // The requested time, between two frames: the time asked of the port that asked (a request through the veins'
-  // or the voxels' port leaves port 0's time stale), else port 0's.
-  double time = 0.0;
-  int port = request && request->Has(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT())
-    ? request->Get(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT())
-    : 0;
-  if (port < 0 || port >= outputVector->GetNumberOfInformationObjects())
-  {
-    port = 0;
-  }
-  vtkInformation* outInfo = outputVector->GetInformationObject(port);
-  if (!outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-  {
-    outInfo = outputVector->GetInformationObject(0);
-  }
-  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-  {
-    time = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
-  }
-  std::size_t lower = 0;
-  while (lower + 1 < frames.size() && frames[lower + 1].time <= time)
-  {
-    ++lower;
-  }
-  const std::size_t upper = std::min(lower + 1, frames.size() - 1);
-  double w = 0.0;
-  if (upper != lower && frames[upper].time > frames[lower].time)
-  {
-    w = std::clamp((time - frames[lower].time) / (frames[upper].time - frames[lower].time), 0.0, 1.0);
-  }
-  const std::size_t nodeCount = simulation.System().NodeCount();
-  std::vector<double> q(3 * nodeCount);
-  std::vector<double> v(3 * nodeCount);
-  for (std::size_t k = 0; k < q.size(); ++k)
-  {
-    q[k] = (1.0 - w) * frames[lower].q[k] + w * frames[upper].q[k];
-    v[k] = (1.0 - w) * frames[lower].v[k] + w * frames[upper].v[k];
-  }
-  const double frameTime = (1.0 - w) * frames[lower].time + w * frames[upper].time;
-  // Port 0: the moved input (the first pointCount of the simulation's points; the veins' follow).
-  std::vector<double> d(3 * static_cast<std::size_t>(pointCount + veinCount));
-  simulation.Embedding().Interpolate(q.data(), d.data());
-  output->ShallowCopy(input);
-  vtkNew<vtkPoints> points;
-  points->SetDataType(input->GetPoints()->GetDataType());
-  points->SetNumberOfPoints(pointCount);
-  auto displacement = Vector3Array("Displacement", pointCount);
-  const std::vector<Eigen::Vector3d>& rest = simulation.InputPoints();
-  for (vtkIdType i = 0; i < pointCount; ++i)
-  {
-    const double* di = d.data() + 3 * i;
-    const Eigen::Vector3d& x = rest[static_cast<std::size_t>(i)];
-    // At t = 0 the displacement is exactly 0, so the points are the input's.
-    points->SetPoint(i, x[0] + di[0], x[1] + di[1], x[2] + di[2]);
-    displacement->SetTuple(i, di);
-  }
-  output->SetPoints(points);
-  output->GetPointData()->AddArray(displacement);
-  output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frameTime);
-  // Port 3: the moved veins, every array kept, plus Displacement.
-  if (veins && veinCount > 0)
-  {
-    movedVeins->ShallowCopy(veins);
-    vtkNew<vtkPoints> veinPoints;
-    veinPoints->SetDataType(veins->GetPoints()->GetDataType());
-    veinPoints->SetNumberOfPoints(veinCount);
-    auto veinDisplacement = Vector3Array("Displacement", veinCount);
-    for (vtkIdType i = 0; i < veinCount; ++i)
-    {
-      const std::size_t k = static_cast<std::size_t>(pointCount + i);
-      const double* di = d.data() + 3 * k;
-      const Eigen::Vector3d& x = rest[k];
-      veinPoints->SetPoint(i, x[0] + di[0], x[1] + di[1], x[2] + di[2]);
-      veinDisplacement->SetTuple(i, di);
-    }
-    movedVeins->SetPoints(veinPoints);
-    movedVeins->GetPointData()->AddArray(veinDisplacement);
-  }
-  movedVeins->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frameTime);
-  {
-    // Field data: how many simulations this filter has run (scrubbing must not raise it) and the frame time.
-    vtkNew<vtkIntArray> runs;
-    runs->SetName("WiltingSimulator.SimulationCount");
-    runs->InsertNextValue(this->SimulationCount);
-    output->GetFieldData()->AddArray(runs);
-    vtkNew<vtkDoubleArray> served;
-    served->SetName("WiltingSimulator.FrameTime");
-    served->InsertNextValue(frameTime);
-    output->GetFieldData()->AddArray(served);
-  }
-  // Port 1: the voxel model.
-  const plantmorph::VoxelGrid& grid = simulation.Grid();
-  vtkNew<vtkPoints> nodes;
-  nodes->SetDataType(VTK_DOUBLE);
-  nodes->SetNumberOfPoints(static_cast<vtkIdType>(nodeCount));
-  auto nodeDisplacement = Vector3Array("Displacement", static_cast<vtkIdType>(nodeCount));
-  auto nodeVelocity = Vector3Array("Velocity", static_cast<vtkIdType>(nodeCount));
-  vtkNew<vtkUnsignedCharArray> fixed;
-  fixed->SetName("Fixed");
-  fixed->SetNumberOfTuples(static_cast<vtkIdType>(nodeCount));
-  vtkNew<vtkDoubleArray> mass;
-  mass->SetName("Mass");
-  mass->SetNumberOfTuples(static_cast<vtkIdType>(nodeCount));
-  for (std::size_t n = 0; n < nodeCount; ++n)
-  {
-    const Eigen::Vector3d& x = grid.nodes[n];
-    nodes->SetPoint(static_cast<vtkIdType>(n), x[0] + q[3 * n], x[1] + q[3 * n + 1], x[2] + q[3 * n + 2]);
-    nodeDisplacement->SetTuple(static_cast<vtkIdType>(n), q.data() + 3 * n);
-    nodeVelocity->SetTuple(static_cast<vtkIdType>(n), v.data() + 3 * n);
-    fixed->SetValue(static_cast<vtkIdType>(n), simulation.System().IsFixed(n) ? 1 : 0);
-    mass->SetValue(static_cast<vtkIdType>(n), simulation.System().Masses()[n]);
-  }
-  voxels->SetPoints(nodes);
-  voxels->Allocate(static_cast<vtkIdType>(grid.corners.size()));
-  vtkNew<vtkIntArray> cellRegion;
-  cellRegion->SetName(plantmorph::arrays::Region);
-  for (std::size_t c = 0; c < grid.corners.size(); ++c)
-  {
-    vtkIdType ids[8];
-    for (int k = 0; k < 8; ++k)
-    {
-      ids[k] = grid.corners[c][static_cast<std::size_t>(k)];
-    }
-    voxels->InsertNextCell(VTK_HEXAHEDRON, 8, ids);
-    cellRegion->InsertNextValue(grid.regions[c]);
-  }
-  voxels->GetPointData()->AddArray(nodeDisplacement);
-  voxels->GetPointData()->AddArray(nodeVelocity);
-  voxels->GetPointData()->AddArray(fixed);
-  voxels->GetPointData()->AddArray(mass);
-  voxels->GetCellData()->AddArray(cellRegion);
-  vtkUnstructuredGrid::GetData(outputVector, 1)->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frameTime);
-  // Port 2: every frame's tip and energies.
-  const char* names[7] = { "Time", "TipX", "TipY", "TipZ", "Kinetic", "Spring", "Gravity" };
-  for (const char* name : names)
-  {
-    vtkNew<vtkDoubleArray> column;
-    column->SetName(name);
-    column->SetNumberOfTuples(static_cast<vtkIdType>(frames.size()));
-    table->AddColumn(column);
-  }
-  for (std::size_t f = 0; f < frames.size(); ++f)
-  {
-    const plantmorph::WiltingFrame& frame = frames[f];
-    const double row[7] = { frame.time, frame.tip[0], frame.tip[1], frame.tip[2], frame.kinetic, frame.spring,
-      frame.gravity };
-    for (int c = 0; c < 7; ++c)
-    {
-      vtkDoubleArray::SafeDownCast(table->GetColumn(c))->SetValue(static_cast<vtkIdType>(f), row[c]);
-    }
-  }
+  const NodeState state =
+    InterpolateFrames(frames, RequestedTime(request, outputVector), simulation.System().NodeCount());
+  const vtkIdType pointCount = input->GetNumberOfPoints();
+  const vtkIdType veinCount = veins ? veins->GetNumberOfPoints() : 0;
+  const std::vector<double> d = PointDisplacements(simulation, state, pointCount + veinCount);
+  WriteMovedLeaf(simulation, input, d, state.time, output);
+  WriteMovedVeins(simulation, pointCount, veins, d, state.time, movedVeins);
+  WriteSimulationFieldData(this->SimulationCount, state.time, output);
+  WriteVoxels(simulation, state, voxels);
+  WriteFrameTable(frames, table);
   this->UpdateProgress(1.0);
   return 1;
 }

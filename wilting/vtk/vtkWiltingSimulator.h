@@ -89,6 +89,11 @@
 
 #include <memory> // for std::unique_ptr
 
+namespace plantmorph
+{
+struct WiltingParameters;
+}
+
 class PLANTMORPHWILTINGVTK_EXPORT vtkWiltingSimulator : public vtkPolyDataAlgorithm
 {
 public:
@@ -283,6 +288,10 @@ protected:
   /// With a named Preset, warns (once per simulation) about each property the preset sets that was changed from
   /// its default (it is not what the output has).
   void WarnAboutPresetOverrides();
+  /// Runs the simulation unless the cache holds it for these inputs and properties; false when it failed or was
+  /// aborted (nothing to serve; the error is reported).
+  bool Simulate(vtkPolyData* input, vtkPolyData* veins, const plantmorph::WiltingParameters& parameters,
+    vtkMTimeType pieceTime, vtkMTimeType veinsTime);
 
   int Preset = PRESET_CUCUMBER;
   double VoxelSize = 0.0;

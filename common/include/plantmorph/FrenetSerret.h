@@ -33,7 +33,7 @@ enum class FrenetMethod : int
   RK45 = 1, ///< Dormand-Prince 5(4) with error control to `tolerance`
 };
 
-struct FrenetSettings
+struct FrenetParameters
 {
   FrenetMethod method = FrenetMethod::RK45;
   int stepsPerOutput = 4;   ///< RK4: steps between consecutive output points (at least 1)
@@ -54,7 +54,7 @@ using CurveFunction = std::function<double(double s)>;
 /// each of the non-decreasing arc lengths in `outputs` (outputs[0] must be 0). `breakpoints` are arc lengths where
 /// curvature or torsion is not smooth. Returns an empty string on success, otherwise a message, with `frames` empty.
 std::string IntegrateFrenet(const CurveFunction& curvature, const CurveFunction& torsion, const FrenetFrame& initial,
-  const std::vector<double>& outputs, const std::vector<double>& breakpoints, const FrenetSettings& settings,
+  const std::vector<double>& outputs, const std::vector<double>& breakpoints, const FrenetParameters& settings,
   std::vector<FrenetFrame>& frames, FrenetReport* report = nullptr);
 
 /// n + 1 equally spaced arc lengths 0, S/n, ..., S.

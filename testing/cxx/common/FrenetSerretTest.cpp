@@ -22,7 +22,7 @@ FrenetFrame StandardFrame()
 }
 
 std::vector<FrenetFrame> Integrate(const CurveFunction& phi, const CurveFunction& psi, double length, int pieces,
-  FrenetSettings settings, const std::vector<double>& breakpoints = {}, const FrenetFrame& start = FrenetFrame())
+  FrenetParameters settings, const std::vector<double>& breakpoints = {}, const FrenetFrame& start = FrenetFrame())
 {
   std::vector<FrenetFrame> frames;
   const std::string error =
@@ -31,17 +31,17 @@ std::vector<FrenetFrame> Integrate(const CurveFunction& phi, const CurveFunction
   return frames;
 }
 
-FrenetSettings RK4(int stepsPerOutput = 1)
+FrenetParameters RK4(int stepsPerOutput = 1)
 {
-  FrenetSettings s;
+  FrenetParameters s;
   s.method = FrenetMethod::RK4;
   s.stepsPerOutput = stepsPerOutput;
   return s;
 }
 
-FrenetSettings RK45(double tolerance)
+FrenetParameters RK45(double tolerance)
 {
-  FrenetSettings s;
+  FrenetParameters s;
   s.method = FrenetMethod::RK45;
   s.tolerance = tolerance;
   return s;
@@ -272,7 +272,7 @@ TEST(FrenetSerret, BadInputIsAnErrorNotACrashOrAHang)
               { 0.0, 1.0 }, {}, RK4(), f)
               .find("not finite"),
     std::string::npos);
-  FrenetSettings limited = RK45(1e-14);
+  FrenetParameters limited = RK45(1e-14);
   limited.maxSteps = 50;
   EXPECT_NE(IntegrateFrenet([](double) { return 1e3; }, nullptr, FrenetFrame(), { 0.0, 10.0 }, {}, limited, f)
               .find("integration failed"),

@@ -223,7 +223,7 @@ Mesh Sphere(double r, int rings, int segments)
 
 Mesh GinkgoBlade(int resolution)
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = resolution;
   LeafGeometry leaf;
   EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings,

@@ -30,7 +30,7 @@ struct Surface
 /// The ginkgo blade bent into an asymmetric dome (no symmetry ICP could slide along).
 Surface CurvedBlade()
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 40;
   LeafGeometry leaf;
   EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings,
@@ -144,7 +144,7 @@ TEST(RigidRegistration, IcpRecoversAKnownRigidTransform)
     "");
   const Eigen::Matrix4d truth = KnownTransform(1.0);
   const std::vector<double> measured = MoveBy(Sample(surface, 3000, 2), truth);
-  RegistrationSettings settings;
+  RegistrationParameters settings;
   settings.maximumIterations = 500;
   settings.tolerance = 1e-10;
   const RegistrationResult result = RegisterPoints(measured.data(), 3000, reference, settings);
@@ -170,7 +170,7 @@ TEST(RigidRegistration, IcpWithScaleRecoversUnitsAndPose)
     "");
   const Eigen::Matrix4d truth = KnownTransform(1.1);
   const std::vector<double> measured = MoveBy(Sample(surface, 3000, 3), truth);
-  RegistrationSettings settings;
+  RegistrationParameters settings;
   settings.withScale = true;
   settings.maximumIterations = 500;
   settings.tolerance = 1e-10;
@@ -198,7 +198,7 @@ TEST(RigidRegistration, LandmarkSubsetIsReproducible)
               surface.points.data(), surface.points.size() / 3, surface.triangles.data(), surface.triangles.size() / 3),
     "");
   const std::vector<double> measured = MoveBy(Sample(surface, 5000, 4), KnownTransform(1.0));
-  RegistrationSettings settings;
+  RegistrationParameters settings;
   settings.maximumLandmarks = 500;
   settings.seed = 42;
   const RegistrationResult a = RegisterPoints(measured.data(), 5000, reference, settings);
@@ -221,7 +221,7 @@ TEST(RigidRegistration, LandmarkSubsetIsReproducible)
 /// A flat blade (the ginkgo fan, z = 0): point-to-plane terms cannot see it turn or grow within its plane.
 Surface FlatBlade()
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 40;
   LeafGeometry leaf;
   EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings,
@@ -235,9 +235,9 @@ Surface FlatBlade()
   return s;
 }
 
-RegistrationSettings Symmetric(const Surface& s, bool withScale)
+RegistrationParameters Symmetric(const Surface& s, bool withScale)
 {
-  RegistrationSettings settings;
+  RegistrationParameters settings;
   settings.withScale = withScale;
   settings.maximumIterations = 300;
   settings.tolerance = 1e-9;
@@ -260,7 +260,7 @@ TEST(RigidRegistration, SymmetricIcpRecoversAnInPlaneTurnAndScaleOfAFlatLeaf)
   truth.topRightCorner<3, 1>() = Eigen::Vector3d(0.12, -0.05, 0.0);
   const std::vector<double> measured = MoveBy(Sample(surface, 6000, 5), truth);
   // The one-sided point-to-plane ICP cannot see it: it stays at the start (the old failure, kept as a witness).
-  RegistrationSettings oneSided = Symmetric(surface, true);
+  RegistrationParameters oneSided = Symmetric(surface, true);
   oneSided.referencePoints = nullptr;
   const RegistrationResult blind = RegisterPoints(measured.data(), 6000, reference, oneSided);
   ASSERT_EQ(blind.error, "");
@@ -350,7 +350,7 @@ TEST(RigidRegistration, AWorseRegistrationIsRefusedWithAWarning)
     measured[3 * k + 1] = 5.0;
     measured[3 * k + 2] = 30.0 + 7.0 * k;
   }
-  RegistrationSettings settings = Symmetric(surface, true);
+  RegistrationParameters settings = Symmetric(surface, true);
   settings.maximumIterations = 1;
   settings.rejectDistance = 1e6;
   const RegistrationResult result = RegisterPoints(measured.data(), 2000, reference, settings);
@@ -365,13 +365,13 @@ TEST(RigidRegistration, AWorseRegistrationIsRefusedWithAWarning)
 
 TEST(RigidRegistration, BadSettings)
 {
-  RegistrationSettings settings;
+  RegistrationParameters settings;
   settings.maximumIterations = 0;
-  EXPECT_NE(ValidateRegistrationSettings(settings).find("RegistrationIterations"), std::string::npos);
-  settings = RegistrationSettings();
+  EXPECT_NE(ValidateRegistrationParameters(settings).find("RegistrationIterations"), std::string::npos);
+  settings = RegistrationParameters();
   settings.tolerance = 0;
-  EXPECT_NE(ValidateRegistrationSettings(settings).find("RegistrationTolerance"), std::string::npos);
-  settings = RegistrationSettings();
+  EXPECT_NE(ValidateRegistrationParameters(settings).find("RegistrationTolerance"), std::string::npos);
+  settings = RegistrationParameters();
   PointSurfaceDistance empty;
   const std::vector<double> points = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
   EXPECT_NE(RegisterPoints(points.data(), 3, empty, settings).error, "");

@@ -126,7 +126,7 @@ TEST(TrajectoryComparisonFilter, MissingColumnIsAnErrorWithEmptyOutputs)
   filter->SetSimulatedData(table);
   filter->SetMeasuredColumns("x", "y", "z");
   filter->Update(); // columns x, y, z do not exist
-  EXPECT_NE(catcher->Messages.find("MeasuredColumns"), std::string::npos) << catcher->Messages;
+  EXPECT_NE(catcher->Messages.find("MeasuredX: "), std::string::npos) << catcher->Messages;
   EXPECT_NE(catcher->Messages.find("'measured_x'"), std::string::npos) << "lists the available columns";
   EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(0))->GetNumberOfRows(), 0);
   EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(1))->GetNumberOfColumns(), 0);
@@ -138,6 +138,31 @@ TEST(TrajectoryComparisonFilter, MissingColumnIsAnErrorWithEmptyOutputs)
   filter->Update();
   EXPECT_NE(catcher->Messages.find("non-finite"), std::string::npos) << catcher->Messages;
   EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(0))->GetNumberOfRows(), 0);
+}
+
+TEST(TrajectoryComparisonFilter, OneColumnMenuEachAndTheOlderThreeNamesWhereAMenuIsAuto)
+{
+  // The panel's menus (SetMeasuredX ...) name the columns; the three-name setter of older scripts fills in the
+  // columns whose menu is auto, in either order.
+  vtkSmartPointer<vtkTable> table = Table1();
+  vtkNew<vtkTrajectoryComparisonFilter> filter;
+  filter->SetInputData(0, table);
+  filter->SetSimulatedData(table);
+  filter->SetSimulatedX("paper_sim_x");
+  filter->SetSimulatedY("paper_sim_y");
+  filter->SetSimulatedZ("paper_sim_z");
+  filter->SetMeasuredColumns("nope", "measured_y", "nope");
+  filter->SetMeasuredX("measured_x");
+  filter->SetMeasuredZ("measured_z");
+  EXPECT_EQ(filter->GetMeasuredColumn(0), "measured_x");
+  EXPECT_EQ(filter->GetMeasuredColumn(1), "measured_y");
+  EXPECT_EQ(filter->GetSimulatedColumn(2), "paper_sim_z");
+  filter->Update();
+  ExpectPaperNumbers(filter);
+  filter->SetMeasuredX("auto"); // back to the three-name setting's "nope"
+  EXPECT_EQ(filter->GetMeasuredColumn(0), "nope");
+  vtkNew<vtkTrajectoryComparisonFilter> fresh;
+  EXPECT_EQ(fresh->GetMeasuredColumn(0), "auto");
 }
 
 TEST(TrajectoryComparisonFilter, DefaultColumnsRecogniseTheKnownLayouts)
@@ -184,7 +209,7 @@ TEST(TrajectoryComparisonFilter, DefaultColumnsRecogniseTheKnownLayouts)
   }
   filter->SetInputData(0, other);
   filter->Update();
-  EXPECT_NE(catcher->Messages.find("MeasuredColumns: auto found none"), std::string::npos) << catcher->Messages;
+  EXPECT_NE(catcher->Messages.find("MeasuredX/Y/Z: auto found none"), std::string::npos) << catcher->Messages;
   EXPECT_NE(catcher->Messages.find("'a' 'b' 'c'"), std::string::npos) << catcher->Messages;
   EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(0))->GetNumberOfRows(), 0);
 }

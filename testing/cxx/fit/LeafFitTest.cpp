@@ -56,7 +56,7 @@ enum class Model
 TrueLeaf MakeLeaf(Model model, double length, double longitudinal, double transverse,
   const Eigen::Isometry3d& pose = Eigen::Isometry3d::Identity())
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 160;
   LeafGeometry leaf;
   std::string error;
@@ -224,7 +224,7 @@ void ExpectAccurate(const Case& c, const Eigen::Isometry3d& pose = Eigen::Isomet
     scan = holed;
     EXPECT_LT(kept, c.count * 0.97);
   }
-  LeafFitOptions options;
+  LeafFitParameters options;
   options.up = pose.linear() * Eigen::Vector3d::UnitZ();
   options.basePoint = truth.points[truth.midvein.front()];
   const LeafFitResult fit = FitLeaf(scan, options);
@@ -293,7 +293,7 @@ TEST(LeafFit, RolledLeafWithAHole)
 TEST(LeafFit, TraitsOfAFlatLeafHaveTheirClosedForms)
 {
   const TrueLeaf truth = MakeLeaf(Model::EllipticC, 100.0, 0.0, 0.0);
-  const LeafFitResult fit = FitLeaf(Scan(truth, 8000, 0.1, 0), LeafFitOptions());
+  const LeafFitResult fit = FitLeaf(Scan(truth, 8000, 0.1, 0), LeafFitParameters());
   ASSERT_EQ(fit.error, "");
   // Flat, in the XY plane, up +Z: no bending, no rolling, horizontal, every projection the area itself.
   EXPECT_LT(fit.traits.bending, 1.0);
@@ -324,11 +324,11 @@ TEST(LeafFit, TraitsOfAFlatLeafHaveTheirClosedForms)
 TEST(LeafFit, RollingAndBendingHaveTheirSigns)
 {
   const TrueLeaf rolled = MakeLeaf(Model::EllipticC, 100.0, 60.0, 0.0);
-  const LeafFitResult up = FitLeaf(Scan(rolled, 8000, 0.1, 0), LeafFitOptions());
+  const LeafFitResult up = FitLeaf(Scan(rolled, 8000, 0.1, 0), LeafFitParameters());
   ASSERT_EQ(up.error, "");
   EXPECT_GT(up.traits.rolling, 20.0);
   const TrueLeaf bent = MakeLeaf(Model::EllipticC, 100.0, 0.0, 60.0);
-  const LeafFitResult fit = FitLeaf(Scan(bent, 8000, 0.1, 0), LeafFitOptions());
+  const LeafFitResult fit = FitLeaf(Scan(bent, 8000, 0.1, 0), LeafFitParameters());
   ASSERT_EQ(fit.error, "");
   // Both ends turn by 60 degrees: the tangents at base and apex differ by about 120 degrees (less: 2 % in).
   EXPECT_NEAR(fit.traits.bending, 120.0, 10.0);
@@ -337,7 +337,7 @@ TEST(LeafFit, RollingAndBendingHaveTheirSigns)
 TEST(LeafFit, OvateLeafFindsItsBase)
 {
   const TrueLeaf truth = MakeLeaf(Model::OvateA, 100.0, 0.0, 0.0);
-  const LeafFitResult fit = FitLeaf(Scan(truth, 8000, 0.1, 0), LeafFitOptions());
+  const LeafFitResult fit = FitLeaf(Scan(truth, 8000, 0.1, 0), LeafFitParameters());
   ASSERT_EQ(fit.error, "");
   EXPECT_EQ(fit.traits.baseFrom, 0);
   EXPECT_LT((fit.points[fit.midvein.front()] - truth.points[truth.midvein.front()]).norm(), 3.0);
@@ -346,10 +346,10 @@ TEST(LeafFit, OvateLeafFindsItsBase)
 TEST(LeafFit, ModelCControlPointsRebuildTheLeaf)
 {
   const TrueLeaf truth = MakeLeaf(Model::OvateA, 100.0, 0.0, 0.0);
-  const LeafFitResult fit = FitLeaf(Scan(truth, 10000, 0.2, 100), LeafFitOptions());
+  const LeafFitResult fit = FitLeaf(Scan(truth, 10000, 0.2, 100), LeafFitParameters());
   ASSERT_EQ(fit.error, "");
   BSplineLeafParameters model{ fit.modelMidvein, fit.modelLeftMargin, fit.modelRightMargin };
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 60;
   LeafGeometry rebuilt;
   ASSERT_EQ(BuildBSplineLeaf(model, settings, rebuilt), "");
@@ -378,11 +378,11 @@ TEST(LeafFit, LeavesFitInParallelAsOneByOne)
     for (auto& t : pool)
       t.join();
   };
-  const auto parallel = FitLeaves(leaves, LeafFitOptions(), threads);
+  const auto parallel = FitLeaves(leaves, LeafFitParameters(), threads);
   ASSERT_EQ(parallel.size(), 3u);
   for (std::size_t i = 0; i < leaves.size(); ++i)
   {
-    const LeafFitResult serial = FitLeaf(leaves[i], LeafFitOptions());
+    const LeafFitResult serial = FitLeaf(leaves[i], LeafFitParameters());
     ASSERT_EQ(parallel[i].error, "");
     EXPECT_EQ(TraitValues(parallel[i].traits), TraitValues(serial.traits));
     EXPECT_EQ(parallel[i].points, serial.points);
@@ -391,7 +391,7 @@ TEST(LeafFit, LeavesFitInParallelAsOneByOne)
 }
 
 void ExpectError(const std::vector<Eigen::Vector3d>& points, const std::string& words,
-  const LeafFitOptions& options = LeafFitOptions())
+  const LeafFitParameters& options = LeafFitParameters())
 {
   const LeafFitResult fit = FitLeaf(points, options);
   EXPECT_NE(fit.error.find(words), std::string::npos) << "error: '" << fit.error << "'";
@@ -425,10 +425,10 @@ TEST(LeafFit, BadInputGivesAClearError)
   for (int i = 0; i < 3000; ++i)
     slab.emplace_back(50.0 * uniform(random), 20.0 * uniform(random), 8.0 * uniform(random));
   ExpectError(slab, "no leaf shape");
-  LeafFitOptions options;
+  LeafFitParameters options;
   options.resolution = 2;
   ExpectError(leaf, "Resolution = 2 is outside the accepted range [4, 1000]", options);
-  options = LeafFitOptions();
+  options = LeafFitParameters();
   options.surfaceSmoothing = -1.0;
   ExpectError(leaf, "SurfaceSmoothing", options);
 }

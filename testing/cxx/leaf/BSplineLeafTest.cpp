@@ -25,7 +25,7 @@ using testing::SignedArea;
 
 LeafGeometry Build(const BSplineLeafParameters& p, bool quality, int resolution = 40)
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = resolution;
   settings.quality = quality;
   LeafGeometry leaf;
@@ -163,7 +163,7 @@ TEST(BSplineLeaf, SameControlPointsGiveBitIdenticalOutput)
 TEST(BSplineLeaf, BadControlPointsGiveAMessageAndNoLeaf)
 {
   auto message = [](const BSplineLeafParameters& p) {
-    LeafMeshSettings settings;
+    LeafMeshParameters settings;
     settings.resolution = 30;
     LeafGeometry leaf;
     const std::string error = BuildBSplineLeaf(p, settings, leaf);

@@ -26,7 +26,7 @@ using testing::SignedArea;
 
 LeafGeometry Build(DeformedRectanglePreset preset, bool quality, int resolution = 40)
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = resolution;
   settings.quality = quality;
   LeafGeometry leaf;
@@ -308,7 +308,7 @@ TEST(DeformedRectangleLeaf, GinkgoFanCollapsesItsBaseIntoThePetiolePoint)
 TEST(DeformedRectangleLeaf, BadInputGivesAMessageAndNoLeaf)
 {
   auto message = [](DeformedRectangleParameters p, int resolution) {
-    LeafMeshSettings settings;
+    LeafMeshParameters settings;
     settings.resolution = resolution;
     LeafGeometry leaf;
     const std::string error = BuildDeformedRectangleLeaf(p, settings, leaf);
@@ -347,7 +347,7 @@ TEST(DeformedRectangleLeaf, BadInputGivesAMessageAndNoLeaf)
 
 TEST(DeformedRectangleLeaf, RefinementBeyondTheVertexBudgetStopsWithAMessage)
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 400;
   settings.maxVertices = 5000;
   LeafGeometry leaf;
@@ -359,7 +359,7 @@ TEST(DeformedRectangleLeaf, RefinementBeyondTheVertexBudgetStopsWithAMessage)
 
 TEST(DeformedRectangleLeaf, ProgressIsReportedAndAbortStops)
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 200;
   std::vector<double> reported;
   settings.progress = [&](double f) {

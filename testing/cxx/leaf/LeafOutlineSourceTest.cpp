@@ -169,7 +169,7 @@ TEST(vtkLeafOutlineSource, BadPropertiesGiveAMessageAndEmptyOutputs)
     { "Length = nan is outside the accepted range (0, 1e6]",
       [](vtkLeafOutlineSource* s) { s->SetLength(std::nan("")); } },
     { "Preset = 42 is outside the accepted range [0, 9]", [](vtkLeafOutlineSource* s) { s->SetPreset(42); } },
-    { "Model = 3 is not available", [](vtkLeafOutlineSource* s) { s->SetModel(3); } },
+    { "Model = 3 is outside the accepted range {0, 1, 2}", [](vtkLeafOutlineSource* s) { s->SetModel(3); } },
     { "MeshQuality = 2", [](vtkLeafOutlineSource* s) { s->SetMeshQuality(2); } },
     { "Asymmetry = 1.5", [](vtkLeafOutlineSource* s) { s->SetAsymmetry(1.5); } },
     { "Terms: row 0, Multiplier = 7",
@@ -181,6 +181,15 @@ TEST(vtkLeafOutlineSource, BadPropertiesGiveAMessageAndEmptyOutputs)
       [](vtkLeafOutlineSource* s) {
         s->SetPreset(0);
         s->AddTerm(0, 0, -3, 1, 1, 1, 0);
+      } },
+    // What ParaView's push of Terms = [9 numbers] does: the whole row, then the raw count (the XML's
+    // element_count_command).
+    { "Terms = 9 numbers is outside the accepted range {0, 7, 14, ...}",
+      [](vtkLeafOutlineSource* s) {
+        s->SetPreset(0);
+        s->ClearTerms();
+        s->AddTerm(0, 0, 0.2, 0, 1, 1, 0);
+        s->SetTermsElementCount(9);
       } },
   };
   for (const BadCase& bad : cases)
@@ -195,6 +204,29 @@ TEST(vtkLeafOutlineSource, BadPropertiesGiveAMessageAndEmptyOutputs)
     EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
     EXPECT_EQ(source->GetOutput(1)->GetNumberOfPoints(), 0);
   }
+}
+
+TEST(vtkLeafOutlineSource, WholeTermRowsWithTheirCountAreAccepted)
+{
+  // The count of whole rows, as the property pushes it, and a clear that resets it: no error, a leaf.
+  vtkNew<vtkLeafOutlineSource> source;
+  vtkNew<ErrorCatcher> catcher;
+  source->AddObserver(vtkCommand::ErrorEvent, catcher);
+  source->SetPreset(0);
+  source->AddTerm(0, 0, 0.2, 0, 1, 1, 0);
+  source->SetTermsElementCount(7);
+  source->Update();
+  EXPECT_EQ(catcher->Messages, "");
+  EXPECT_GT(source->GetOutput(0)->GetNumberOfPoints(), 0);
+  source->SetTermsElementCount(8);
+  source->Update();
+  EXPECT_NE(catcher->Messages.find("the last row has 1"), std::string::npos) << catcher->Messages;
+  EXPECT_EQ(source->GetOutput(0)->GetNumberOfPoints(), 0);
+  catcher->Messages.clear();
+  source->ClearTerms(); // the C++ interface: no count given, none checked
+  source->Update();
+  EXPECT_EQ(catcher->Messages, "");
+  EXPECT_GT(source->GetOutput(0)->GetNumberOfPoints(), 0);
 }
 
 } // namespace

@@ -25,7 +25,7 @@ using testing::SignedArea;
 
 LeafGeometry Build(const SpaceCurveParameters& p, bool quality, int resolution = 40)
 {
-  SpaceCurveMeshSettings settings;
+  SpaceCurveMeshParameters settings;
   settings.resolution = resolution;
   settings.quality = quality;
   LeafGeometry leaf;
@@ -253,7 +253,7 @@ TEST(PalmateLeaf, BadLobeParametersGiveAMessageNamingThePropertyAndNoLeaf)
     SCOPED_TRACE(std::string(bad.property) + " " + std::to_string(bad.value));
     SpaceCurveParameters p = good;
     bad.change(p, bad.value);
-    SpaceCurveMeshSettings settings;
+    SpaceCurveMeshParameters settings;
     settings.resolution = 30;
     LeafGeometry leaf;
     const std::string error = BuildSpaceCurveLeaf(p, settings, leaf);

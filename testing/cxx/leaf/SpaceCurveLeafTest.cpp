@@ -43,7 +43,7 @@ SpaceCurveParameters FigureFive(double length = 5.0)
 
 LeafGeometry Build(const SpaceCurveParameters& p, int resolution = 40, int columns = 5)
 {
-  SpaceCurveMeshSettings settings;
+  SpaceCurveMeshParameters settings;
   settings.resolution = resolution;
   settings.columns = columns;
   LeafGeometry leaf;
@@ -209,7 +209,7 @@ TEST(SpaceCurveLeaf, RK4AndRK45Agree)
 TEST(SpaceCurveLeaf, BadInputGivesAMessageAndNoLeaf)
 {
   auto message = [](SpaceCurveParameters p, int resolution = 20) {
-    SpaceCurveMeshSettings settings;
+    SpaceCurveMeshParameters settings;
     settings.resolution = resolution;
     LeafGeometry leaf;
     const std::string error = BuildSpaceCurveLeaf(p, settings, leaf);

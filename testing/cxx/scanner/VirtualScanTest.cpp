@@ -1,7 +1,7 @@
 // The virtual scanner's algorithm layer (scanner/core): the BVH against brute force, watertightness, the sphere's
 // visible cap and its solid angle, an exact shadow, determinism per seed and thread count, bad input, the budget.
 #include "ScanPattern.h"
-#include "TriangleBVH.h"
+#include "RayCaster.h"
 #include "VirtualScan.h"
 
 #include <gtest/gtest.h>
@@ -170,14 +170,14 @@ bool SameBits(const std::vector<double>& a, const std::vector<double>& b)
 }
 } // namespace
 
-TEST(TriangleBVH, NearestHitEqualsBruteForce)
+TEST(RayCaster, NearestHitEqualsBruteForce)
 {
   Mesh scene = Icosphere(3, 1.0);
   scene.Append(Icosphere(2, 0.4, { 1.5, 0.2, -0.3 }));
   scene.Append(Square(-2, 2, -2, 2, -1.2, 7));
-  TriangleBVH bvh;
-  bvh.Build(scene.points, scene.triangles);
-  EXPECT_EQ(bvh.TriangleCount(), scene.triangles.size() / 3);
+  RayCaster caster;
+  ASSERT_EQ(caster.Build(scene.points, scene.triangles), "");
+  EXPECT_EQ(caster.TriangleCount(), scene.triangles.size() / 3);
   RandomStream random(7);
   int hits = 0;
   for (int i = 0; i < 3000; ++i)
@@ -189,7 +189,7 @@ TEST(TriangleBVH, NearestHitEqualsBruteForce)
       for (int k = 0; k < 3; ++k)
         d[k] = random.Uniform(-1.2, 1.2) - o[k];
     }
-    const TriangleHit hit = bvh.Intersect(o, d, 1e30);
+    const TriangleHit hit = caster.Intersect(o, d, 1e30);
     const double expected = BruteForce(scene, o, d);
     if (expected == 1e300)
     {
@@ -211,13 +211,13 @@ TEST(TriangleBVH, NearestHitEqualsBruteForce)
   EXPECT_GT(hits, 1000);
 }
 
-TEST(TriangleBVH, ClosedSurfaceLetsNoBeamThrough)
+TEST(RayCaster, ClosedSurfaceLetsNoBeamThrough)
 {
   // Beams aimed exactly at the vertices and edge midpoints of a closed icosphere, where two or more triangles meet,
   // from inside and from outside: each must hit (a crack between triangles would let it through).
   const Mesh sphere = Icosphere(4, 1.0);
-  TriangleBVH bvh;
-  bvh.Build(sphere.points, sphere.triangles);
+  RayCaster caster;
+  ASSERT_EQ(caster.Build(sphere.points, sphere.triangles), "");
   std::vector<Vec3> targets;
   for (std::size_t i = 0; i < sphere.Points(); ++i)
     targets.push_back({ sphere.points[3 * i], sphere.points[3 * i + 1], sphere.points[3 * i + 2] });
@@ -235,11 +235,11 @@ TEST(TriangleBVH, ClosedSurfaceLetsNoBeamThrough)
     for (const auto& o : inside)
     {
       const double d[3] = { x[0] - o[0], x[1] - o[1], x[2] - o[2] };
-      missed += bvh.Intersect(o, d, 1e30).Hit() ? 0 : 1;
+      missed += caster.Intersect(o, d, 1e30).Hit() ? 0 : 1;
     }
     const double outside[3] = { 3 * x[0], 3 * x[1], 3 * x[2] };
     const double d[3] = { -x[0], -x[1], -x[2] };
-    const TriangleHit hit = bvh.Intersect(outside, d, 1e30);
+    const TriangleHit hit = caster.Intersect(outside, d, 1e30);
     missed += hit.Hit() ? 0 : 1;
     if (hit.Hit())
     {
@@ -258,6 +258,126 @@ TEST(TriangleBVH, ClosedSurfaceLetsNoBeamThrough)
   ASSERT_EQ(VirtualScan(p, sphere.points, sphere.triangles, out), "");
   EXPECT_EQ(out.beams, 720u * 361u);
   EXPECT_EQ(out.Size(), out.beams);
+}
+
+TEST(RayCaster, PacketsGiveEachBeamItsOwnHitAndTiesGoToTheSmallerTriangle)
+{
+  // A flat grid (every interior edge shared by two coplanar triangles: beams through an edge hit both at exactly the
+  // same distance) and a sphere; beams aimed at vertices, edge midpoints and random points, cast alone and in
+  // packets with different companions: the same hit, bit for bit, and on a tie the smaller triangle index.
+  Mesh scene = Square(-1, 1, -1, 1, 0.0, 8);
+  const std::size_t gridTriangles = scene.triangles.size() / 3;
+  scene.Append(Icosphere(2, 0.3, { 0.2, 0.1, 1.0 }));
+  RayCaster caster;
+  ASSERT_EQ(caster.Build(scene.points, scene.triangles, 1), "");
+  RayCaster threaded; // built on all threads: the same hits
+  ASSERT_EQ(threaded.Build(scene.points, scene.triangles, 0), "");
+  std::vector<double> origins, directions;
+  RandomStream random(3);
+  for (std::size_t i = 0; i < scene.Points(); ++i)
+  {
+    const double o[3] = { random.Uniform(-0.5, 0.5), random.Uniform(-0.5, 0.5), 2.5 };
+    origins.insert(origins.end(), o, o + 3);
+    for (int k = 0; k < 3; ++k)
+      directions.push_back(scene.points[3 * i + k] - o[k]);
+  }
+  for (std::size_t t = 0; t < gridTriangles; ++t) // edge midpoints of the grid, from straight above
+  {
+    const double* a = &scene.points[3 * scene.triangles[3 * t]];
+    const double* b = &scene.points[3 * scene.triangles[3 * t + 1]];
+    origins.insert(origins.end(), { 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 2.0 });
+    directions.insert(directions.end(), { 0.0, 0.0, -1.0 });
+  }
+  const std::size_t beams = origins.size() / 3;
+  std::vector<TriangleHit> single(beams);
+  int ties = 0;
+  for (std::size_t i = 0; i < beams; ++i)
+  {
+    single[i] = caster.Intersect(&origins[3 * i], &directions[3 * i], 10.0);
+    const TriangleHit other = threaded.Intersect(&origins[3 * i], &directions[3 * i], 10.0);
+    EXPECT_EQ(other.triangle, single[i].triangle) << "beam " << i;
+    EXPECT_EQ(std::memcmp(&other.t, &single[i].t, sizeof(double)), 0) << "beam " << i;
+    const bool onGrid = single[i].Hit() && single[i].triangle < static_cast<std::int64_t>(gridTriangles);
+    if (i < scene.Points() || !onGrid) // the sphere hides some of the grid
+      continue;
+    // A vertical beam through an edge midpoint meets both triangles at exactly t = 2 (every product a power of two
+    // apart): it reports the smaller index of the grid triangles whose closed inside holds the point.
+    EXPECT_EQ(single[i].t, 2.0);
+    for (std::size_t t = 0; t < gridTriangles; ++t)
+    {
+      const double* o = &origins[3 * i];
+      const double* d = &directions[3 * i];
+      const double tt = -o[2] / d[2];
+      const double x = o[0] + tt * d[0], y = o[1] + tt * d[1];
+      // Inside test of the grid triangle t (closed), in the plane z = 0.
+      const double* a = &scene.points[3 * scene.triangles[3 * t]];
+      const double* b = &scene.points[3 * scene.triangles[3 * t + 1]];
+      const double* c = &scene.points[3 * scene.triangles[3 * t + 2]];
+      auto edge = [](const double* p, const double* q, double X, double Y) {
+        return (q[0] - p[0]) * (Y - p[1]) - (q[1] - p[1]) * (X - p[0]);
+      };
+      const double e0 = edge(a, b, x, y), e1 = edge(b, c, x, y), e2 = edge(c, a, x, y);
+      if (e0 >= 0 && e1 >= 0 && e2 >= 0 && (e0 == 0 || e1 == 0 || e2 == 0))
+      {
+        EXPECT_LE(single[i].triangle, static_cast<std::int64_t>(t)) << "beam " << i;
+        ties += static_cast<std::int64_t>(t) != single[i].triangle ? 1 : 0;
+      }
+    }
+  }
+  EXPECT_GT(ties, 100); // the grid's shared edges were really hit
+  // Packets: consecutive beams, then every third beam with an odd count, so each beam has other companions.
+  for (std::size_t stride : { 1, 3 })
+  {
+    for (std::size_t first = 0; first < beams; first += RayCaster::PacketSize * stride)
+    {
+      std::vector<double> o, d;
+      std::vector<std::size_t> which;
+      const std::size_t size = RayCaster::PacketSize - (stride == 3 ? 1 : 0);
+      for (std::size_t j = first; j < beams && which.size() < size; j += stride)
+      {
+        o.insert(o.end(), &origins[3 * j], &origins[3 * j] + 3);
+        d.insert(d.end(), &directions[3 * j], &directions[3 * j] + 3);
+        which.push_back(j);
+      }
+      std::vector<TriangleHit> hits(which.size());
+      caster.Intersect(which.size(), o.data(), d.data(), 10.0, hits.data());
+      for (std::size_t j = 0; j < which.size(); ++j)
+      {
+        const TriangleHit& h = single[which[j]];
+        EXPECT_EQ(hits[j].triangle, h.triangle) << "beam " << which[j];
+        EXPECT_EQ(std::memcmp(&hits[j].t, &h.t, sizeof(double)), 0) << "beam " << which[j];
+        EXPECT_EQ(std::memcmp(&hits[j].u, &h.u, sizeof(double)), 0) << "beam " << which[j];
+      }
+    }
+  }
+}
+
+TEST(RayCaster, FarFromTheOriginStaysExactAndWatertight)
+{
+  // Single precision inside Embree is relative to the surface's own box: a sphere 10^5 away from the origin,
+  // scanned from 10^3 away from it, gives points on the sphere to double precision and no beam through a crack.
+  const Vec3 centre{ 1.0e5, -2.0e5, 3.0e4 };
+  const Mesh sphere = Icosphere(4, 1.0, centre);
+  RayCaster caster;
+  ASSERT_EQ(caster.Build(sphere.points, sphere.triangles), "");
+  std::size_t missed = 0;
+  for (std::size_t i = 0; i < sphere.Points(); ++i)
+  {
+    const double* x = &sphere.points[3 * i];
+    const double u[3] = { x[0] - centre[0], x[1] - centre[1], x[2] - centre[2] };
+    const double o[3] = { centre[0] + 1000 * u[0], centre[1] + 1000 * u[1], centre[2] + 1000 * u[2] };
+    const double d[3] = { -u[0], -u[1], -u[2] };
+    const TriangleHit hit = caster.Intersect(o, d, 1e30);
+    missed += hit.Hit() ? 0 : 1;
+    if (hit.Hit())
+    {
+      EXPECT_NEAR(hit.t, 999.0, 1e-9);
+    }
+    const double inside[3] = { centre[0] + 0.1, centre[1] - 0.2, centre[2] + 0.05 };
+    const double e[3] = { x[0] - inside[0], x[1] - inside[1], x[2] - inside[2] };
+    missed += caster.Intersect(inside, e, 1e30).Hit() ? 0 : 1;
+  }
+  EXPECT_EQ(missed, 0u);
 }
 
 TEST(VirtualScan, SphereFromOutsideGivesTheVisibleCapAndItsSolidAngle)
@@ -650,10 +770,10 @@ TEST(VirtualScan, SharesOfTheBeamsConcatenateToTheWholeScan)
   p.seed = 5;
   BeamPattern pattern;
   ASSERT_EQ(pattern.Setup(p), "");
-  TriangleBVH bvh;
-  bvh.Build(sphere.points, sphere.triangles);
+  RayCaster caster;
+  ASSERT_EQ(caster.Build(sphere.points, sphere.triangles), "");
   ScanPoints whole;
-  ASSERT_EQ(CastBeams(p, pattern, sphere.points, sphere.triangles, bvh, whole), "");
+  ASSERT_EQ(CastBeams(p, pattern, sphere.points, sphere.triangles, caster, whole), "");
   ASSERT_GT(whole.Size(), 1000u);
   for (std::uint64_t ranks : { 2u, 3u, 4u })
   {
@@ -662,7 +782,7 @@ TEST(VirtualScan, SharesOfTheBeamsConcatenateToTheWholeScan)
     {
       ScanPoints piece;
       const std::uint64_t b = pattern.BeamCount();
-      ASSERT_EQ(CastBeams(p, pattern, sphere.points, sphere.triangles, bvh, piece, SerialFor, {}, b * r / ranks,
+      ASSERT_EQ(CastBeams(p, pattern, sphere.points, sphere.triangles, caster, piece, SerialFor, {}, b * r / ranks,
                   b * (r + 1) / ranks),
         "");
       EXPECT_EQ(piece.beams, b * (r + 1) / ranks - b * r / ranks);

@@ -48,7 +48,7 @@ AdaptiveLoopMesh Icosahedron(bool perturb)
 /// The ginkgo blade of LeafOutlineSource (quality mode), lifted by a bump so it is curved; region = the blade's.
 AdaptiveLoopMesh Blade(int resolution = 16, double bump = 0.6)
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = resolution;
   LeafGeometry leaf;
   const std::string error =
@@ -104,9 +104,9 @@ void ThreeThreadFor(std::size_t n, const std::function<void(std::size_t, std::si
     t.join();
 }
 
-AdaptiveLoopSettings PlainLoop(int levels)
+AdaptiveLoopParameters PlainLoop(int levels)
 {
-  AdaptiveLoopSettings s;
+  AdaptiveLoopParameters s;
   s.edgeAngleThreshold = 180.0;
   s.flatnessThreshold = 1.0;
   s.featureRule = FeatureRule::Loop;
@@ -307,7 +307,7 @@ TEST(AdaptiveLoopSubdivision, ConformingAfterRandomAdaptiveLevels)
   for (int trial = 0; trial < 24; ++trial)
   {
     const AdaptiveLoopMesh& input = meshes[trial % 2];
-    AdaptiveLoopSettings s;
+    AdaptiveLoopParameters s;
     s.edgeAngleThreshold = angle(random);
     s.flatnessThreshold = flatness(random);
     s.featureRule = static_cast<FeatureRule>(trial % 3);
@@ -323,7 +323,7 @@ TEST(AdaptiveLoopSubdivision, ConformingAfterRandomAdaptiveLevels)
 
 TEST(AdaptiveLoopSubdivision, AdaptiveSplitsOnlySomeEdgesAndMakesTwoAndThreeWaySplits)
 {
-  AdaptiveLoopSettings s;
+  AdaptiveLoopParameters s;
   s.edgeAngleThreshold = 177.0;
   s.flatnessThreshold = 0.995;
   s.maximumLevel = 1;
@@ -346,7 +346,7 @@ TEST(AdaptiveLoopSubdivision, AdaptiveSplitsOnlySomeEdgesAndMakesTwoAndThreeWayS
 TEST(AdaptiveLoopSubdivision, FlatMeshIsLeftUntouched)
 {
   AdaptiveLoopMesh input = Grid(8);
-  AdaptiveLoopSettings s; // adaptive defaults, Fixed
+  AdaptiveLoopParameters s; // adaptive defaults, Fixed
   s.maximumLevel = 3;
   const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
   ASSERT_EQ(result.error, "");
@@ -363,7 +363,7 @@ TEST(AdaptiveLoopSubdivision, FlatPartOfABentMeshIsLeftUntouched)
   for (std::size_t i = 0; i < input.NumberOfPoints(); ++i)
     if (input.points[3 * i] > 0.75)
       input.points[3 * i + 2] = 0.5 * (input.points[3 * i] - 0.75);
-  AdaptiveLoopSettings s;
+  AdaptiveLoopParameters s;
   s.edgeAngleThreshold = 179.0;
   s.flatnessThreshold = 0.9999;
   s.maximumLevel = 1;
@@ -391,7 +391,7 @@ TEST(AdaptiveLoopSubdivision, FlatPartOfABentMeshIsLeftUntouched)
 TEST(AdaptiveLoopSubdivision, FixedRuleKeepsMarginAndMidveinBitIdentical)
 {
   const AdaptiveLoopMesh input = Blade(16);
-  AdaptiveLoopSettings s;
+  AdaptiveLoopParameters s;
   s.edgeAngleThreshold = 180.0;
   s.flatnessThreshold = 1.0;
   s.featureRule = FeatureRule::Fixed;
@@ -412,7 +412,7 @@ TEST(AdaptiveLoopSubdivision, FixedRuleKeepsMarginAndMidveinBitIdentical)
 TEST(AdaptiveLoopSubdivision, RefineRuleSamplesFeatureCurvesWithoutMovingThem)
 {
   const AdaptiveLoopMesh input = Blade(12);
-  AdaptiveLoopSettings s = PlainLoop(2);
+  AdaptiveLoopParameters s = PlainLoop(2);
   s.featureRule = FeatureRule::Refine;
   s.midveinIsFeature = true;
   const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
@@ -440,7 +440,7 @@ TEST(AdaptiveLoopSubdivision, AttributesFollowThePositionStencils)
   input.attributes = attributes;
   for (const FeatureRule rule : { FeatureRule::Fixed, FeatureRule::Loop, FeatureRule::Refine })
   {
-    AdaptiveLoopSettings s;
+    AdaptiveLoopParameters s;
     s.featureRule = rule;
     s.edgeAngleThreshold = 175.0;
     s.flatnessThreshold = 0.999;
@@ -462,7 +462,7 @@ TEST(AdaptiveLoopSubdivision, AttributesFollowThePositionStencils)
 TEST(AdaptiveLoopSubdivision, RegionRule)
 {
   const AdaptiveLoopMesh input = Blade(12);
-  AdaptiveLoopSettings s = PlainLoop(2);
+  AdaptiveLoopParameters s = PlainLoop(2);
   s.featureRule = FeatureRule::Refine;
   s.midveinIsFeature = true;
   const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
@@ -526,7 +526,7 @@ TEST(AdaptiveLoopSubdivision, NonManifoldVertexIsRefusedWithItsId)
 TEST(AdaptiveLoopSubdivision, BadSettingsAndInputAreRefusedByName)
 {
   const AdaptiveLoopMesh mesh = Icosahedron(false);
-  AdaptiveLoopSettings s = PlainLoop(1);
+  AdaptiveLoopParameters s = PlainLoop(1);
   s.edgeAngleThreshold = std::nan("");
   EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("EdgeAngleThreshold = nan is outside the accepted range [0, 180]"),
     std::string::npos);
@@ -549,7 +549,7 @@ TEST(AdaptiveLoopSubdivision, BadSettingsAndInputAreRefusedByName)
 
 TEST(AdaptiveLoopSubdivision, TriangleBudgetIsAnErrorNotAHalfMesh)
 {
-  AdaptiveLoopSettings s = PlainLoop(3);
+  AdaptiveLoopParameters s = PlainLoop(3);
   s.maximumTriangles = 20 * 16 * 4 - 1; // level 3 makes 20 * 64
   const AdaptiveLoopResult result = AdaptiveLoopSubdivide(Icosahedron(false), s);
   EXPECT_NE(result.error.find("MaximumTriangles"), std::string::npos) << result.error;
@@ -559,7 +559,7 @@ TEST(AdaptiveLoopSubdivision, TriangleBudgetIsAnErrorNotAHalfMesh)
 
 TEST(AdaptiveLoopSubdivision, AbortLeavesNothing)
 {
-  AdaptiveLoopSettings s = PlainLoop(3);
+  AdaptiveLoopParameters s = PlainLoop(3);
   int calls = 0;
   s.progress = [&calls](double fraction) {
     EXPECT_GE(fraction, 0.0);
@@ -574,7 +574,7 @@ TEST(AdaptiveLoopSubdivision, AbortLeavesNothing)
 
 TEST(AdaptiveLoopSubdivision, ThreadedRunIsBitIdenticalToSerial)
 {
-  AdaptiveLoopSettings s;
+  AdaptiveLoopParameters s;
   s.edgeAngleThreshold = 176.0;
   s.flatnessThreshold = 0.998;
   s.featureRule = FeatureRule::Loop;
@@ -595,7 +595,7 @@ TEST(AdaptiveLoopSubdivision, UserMarkedFeatureEdgesStayUnderFixed)
 {
   AdaptiveLoopMesh input = Icosahedron(true);
   input.featureEdges = { { 0, 11 }, { 11, 5 }, { 5, 0 } };
-  AdaptiveLoopSettings s = PlainLoop(2);
+  AdaptiveLoopParameters s = PlainLoop(2);
   s.featureRule = FeatureRule::Fixed;
   const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
   ASSERT_EQ(result.error, "");
@@ -615,9 +615,9 @@ TEST(AdaptiveLoopSubdivision, UserMarkedFeatureEdgesStayUnderFixed)
 // ---------------------------------------------------------------------------------------------------------------
 // RefinementRule::SurfaceError
 
-AdaptiveLoopSettings ByError(double tolerance, int levels, FeatureRule rule)
+AdaptiveLoopParameters ByError(double tolerance, int levels, FeatureRule rule)
 {
-  AdaptiveLoopSettings s;
+  AdaptiveLoopParameters s;
   s.refinementRule = RefinementRule::SurfaceError;
   s.errorTolerance = tolerance;
   s.maximumLevel = levels;
@@ -711,7 +711,7 @@ TEST(AdaptiveLoopSubdivision, SurfaceErrorConformingAndMonotoneOnRandomTolerance
   {
     const AdaptiveLoopMesh& input = meshes[trial % 2];
     const double tolerance = std::pow(10.0, exponent(random));
-    AdaptiveLoopSettings s = ByError(tolerance, 1 + trial % 4, static_cast<FeatureRule>(trial % 3));
+    AdaptiveLoopParameters s = ByError(tolerance, 1 + trial % 4, static_cast<FeatureRule>(trial % 3));
     const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
     ASSERT_EQ(result.error, "");
     const std::string what = "trial " + std::to_string(trial) + " tolerance " + std::to_string(tolerance);
@@ -728,7 +728,7 @@ TEST(AdaptiveLoopSubdivision, SurfaceErrorConformingAndMonotoneOnRandomTolerance
 TEST(AdaptiveLoopSubdivision, SurfaceErrorToleranceIsValidated)
 {
   const AdaptiveLoopMesh mesh = Icosahedron(false);
-  AdaptiveLoopSettings s = ByError(-1e-3, 1, FeatureRule::Fixed);
+  AdaptiveLoopParameters s = ByError(-1e-3, 1, FeatureRule::Fixed);
   EXPECT_NE(
     AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -0.001 is outside the accepted range [0, inf]"), std::string::npos);
   s.errorTolerance = std::nan("");
@@ -746,9 +746,9 @@ TEST(AdaptiveLoopSubdivision, SurfaceErrorToleranceIsValidated)
 // ---------------------------------------------------------------------------------------------------------------
 // RefinementRule::ChordError
 
-AdaptiveLoopSettings ByChord(double tolerance, int levels, FeatureRule rule)
+AdaptiveLoopParameters ByChord(double tolerance, int levels, FeatureRule rule)
 {
-  AdaptiveLoopSettings s = ByError(tolerance, levels, rule);
+  AdaptiveLoopParameters s = ByError(tolerance, levels, rule);
   s.refinementRule = RefinementRule::ChordError;
   return s;
 }
@@ -776,7 +776,7 @@ AdaptiveLoopMesh Tube(int n, int around)
 /// The two error rules' shared guarantees are checked for both (Tube is defined above for the Chord error tests).
 const RefinementRule kErrorRules[] = { RefinementRule::SurfaceError, RefinementRule::ChordError };
 
-AdaptiveLoopSettings ByRule(RefinementRule rule, double tolerance, int levels, FeatureRule featureRule)
+AdaptiveLoopParameters ByRule(RefinementRule rule, double tolerance, int levels, FeatureRule featureRule)
 {
   return rule == RefinementRule::ChordError ? ByChord(tolerance, levels, featureRule)
                                             : ByError(tolerance, levels, featureRule);
@@ -789,13 +789,13 @@ TEST(AdaptiveLoopSubdivision, ErrorRulesZeroToleranceIsUniformLoopBitForBit)
     for (const AdaptiveLoopMesh& input : meshes)
       for (int r = 0; r < 3; ++r)
       {
-        AdaptiveLoopSettings uniform;
+        AdaptiveLoopParameters uniform;
         uniform.edgeAngleThreshold = 180.0;
         uniform.flatnessThreshold = 1.0;
         uniform.featureRule = static_cast<FeatureRule>(r);
         uniform.maximumLevel = 3;
         // FlatnessThreshold and EdgeAngleThreshold are not used by the error rules: set them to adaptive values.
-        AdaptiveLoopSettings byRule = ByRule(rule, 0.0, 3, uniform.featureRule);
+        AdaptiveLoopParameters byRule = ByRule(rule, 0.0, 3, uniform.featureRule);
         byRule.edgeAngleThreshold = 120.0;
         byRule.flatnessThreshold = 0.5;
         const AdaptiveLoopResult a = AdaptiveLoopSubdivide(input, uniform);
@@ -814,7 +814,7 @@ TEST(AdaptiveLoopSubdivision, ErrorRulesZeroToleranceIsUniformLoopBitForBit)
   // And with the Loop rule and no midvein features, zero tolerance is the oracle-checked plain Loop.
   for (const RefinementRule rule : kErrorRules)
   {
-    AdaptiveLoopSettings plain = ByRule(rule, 0.0, 2, FeatureRule::Loop);
+    AdaptiveLoopParameters plain = ByRule(rule, 0.0, 2, FeatureRule::Loop);
     plain.midveinIsFeature = false;
     EXPECT_EQ(AdaptiveLoopSubdivide(Blade(10), plain).mesh.points,
       AdaptiveLoopSubdivide(Blade(10), PlainLoop(2)).mesh.points);
@@ -910,7 +910,7 @@ TEST(AdaptiveLoopSubdivision, ChordErrorConformingAndDeterministicOnRandomTolera
   {
     const AdaptiveLoopMesh& input = meshes[trial % 3];
     const double tolerance = std::pow(10.0, exponent(random));
-    AdaptiveLoopSettings s = ByChord(tolerance, 1 + trial % 4, static_cast<FeatureRule>(trial % 3));
+    AdaptiveLoopParameters s = ByChord(tolerance, 1 + trial % 4, static_cast<FeatureRule>(trial % 3));
     const AdaptiveLoopResult result = AdaptiveLoopSubdivide(input, s);
     ASSERT_EQ(result.error, "");
     const std::string what = "trial " + std::to_string(trial) + " tolerance " + std::to_string(tolerance);

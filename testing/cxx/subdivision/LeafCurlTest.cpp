@@ -53,7 +53,7 @@ Blade FromLeaf(const LeafGeometry& leaf)
 /// The elliptic B-spline leaf of paper 003 (8 long, 6 wide), fine: about 120 segments along the midvein.
 Blade EllipticBlade(int resolution = 120)
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = resolution;
   LeafGeometry leaf;
   EXPECT_EQ(BuildBSplineLeaf(MakeBSplinePreset(BSplinePreset::Elliptic, 8.0, 6.0, 7), settings, leaf), "");
@@ -64,7 +64,7 @@ Blade GinkgoBlade(double bending = 0.0, int resolution = 100)
 {
   DeformedRectangleParameters parameters = MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0);
   parameters.bending = bending;
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = resolution;
   LeafGeometry leaf;
   EXPECT_EQ(BuildDeformedRectangleLeaf(parameters, settings, leaf), "");

@@ -273,6 +273,11 @@ TEST(TreeFromSketchSource, BadInputGivesAnErrorNamingItAndEmptyOutputs)
        s->SetStrokeFile("/nonexistent/strokes.csv");
      } },
     { "BranchOverrides", [](vtkTreeFromSketchSource* s) { s->AddBranchOverride(-3, 1, 1, 0.5, 10, 10); } },
+    // What ParaView's push of BranchOverrides = [1, 2, 3] does: no whole row, then the raw count.
+    { "BranchOverrides = 3 numbers is outside the accepted range {0, 6, 12, ...}", [](vtkTreeFromSketchSource* s) {
+       s->ClearBranchOverrides();
+       s->SetBranchOverridesElementCount(3);
+     } },
     { "Merge input is not a tree: it has no lines", [](vtkTreeFromSketchSource* s) {
        vtkNew<vtkTreeFromSketchSource> second; // its Branches port: triangles, not a skeleton
        second->SetDepth(1);

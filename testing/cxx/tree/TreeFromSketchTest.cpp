@@ -32,9 +32,9 @@ namespace
 constexpr double Pi = 3.14159265358979323846;
 constexpr double Degree = Pi / 180.0;
 
-TreeSettings Preset(int preset)
+TreeParameters Preset(int preset)
 {
-  TreeSettings s;
+  TreeParameters s;
   ApplyTreePreset(preset, s);
   s.leaves = false;
   return s;
@@ -142,7 +142,7 @@ TEST(TreeTemplate, EveryChildFollowsTheFormulas)
 {
   for (int preset = 1; preset <= 3; ++preset)
   {
-    const TreeSettings s = Preset(preset);
+    const TreeParameters s = Preset(preset);
     Tree tree;
     ASSERT_EQ(BuildTree(s, {}, tree), "");
     const auto byId = ById(tree);
@@ -200,7 +200,7 @@ TEST(TreeTemplate, PhyllotaxisAngleIsExactFraction)
 
 TEST(TreeTemplate, IdsAreStableUnderDeletionAndOverridesSurvive)
 {
-  TreeSettings s = Preset(1);
+  TreeParameters s = Preset(1);
   Tree full;
   ASSERT_EQ(BuildTree(s, {}, full), "");
   // Branch 2 is the trunk's first child's first child (preorder): it has 1 + 8 + 64 = 73 branches below and with it.
@@ -251,7 +251,7 @@ TEST(BranchTubes, TemplateTreeSurfaceIsClosedManifoldAndOutward)
 {
   for (int preset = 1; preset <= 2; ++preset)
   {
-    TreeSettings s = Preset(preset);
+    TreeParameters s = Preset(preset);
     s.depth = preset == 1 ? 2 : 4;
     Tree tree;
     ASSERT_EQ(BuildTree(s, {}, tree), "");
@@ -334,9 +334,9 @@ TEST(BranchTubes, RejectsBadTubes)
 
 namespace
 {
-TreeSettings StrokeSettings()
+TreeParameters StrokeParameters()
 {
-  TreeSettings s;
+  TreeParameters s;
   s.mode = TreeMode::Strokes;
   s.strokesOnly = true;
   s.leaves = false;
@@ -363,7 +363,7 @@ std::vector<std::vector<Eigen::Vector3d>> SampleStrokes()
 
 TEST(TreeStrokes, LiftedBranchesProjectOntoTheirStrokesWithEq3Lengths)
 {
-  const TreeSettings s = StrokeSettings();
+  const TreeParameters s = StrokeParameters();
   const auto strokes = SampleStrokes();
   Tree tree;
   ASSERT_EQ(BuildTree(s, strokes, tree), "");
@@ -440,7 +440,7 @@ TEST(TreeStrokes, ChosenAngleIsAPhyllotaxisAngleFromTheRightQuadrantsAndBestOfIt
   {
     for (int bb : { 3, 5, 8, 13 })
     {
-      TreeSettings s = StrokeSettings();
+      TreeParameters s = StrokeParameters();
       s.phyllotaxisA = a;
       s.phyllotaxisB = bb;
       Tree tree;
@@ -509,7 +509,7 @@ TEST(TreeStrokes, ChosenAngleIsAPhyllotaxisAngleFromTheRightQuadrantsAndBestOfIt
     }
   }
   // Target length follows epsilon: 0.6 of the parent monopodial, 0.8 sympodial.
-  TreeSettings s = StrokeSettings();
+  TreeParameters s = StrokeParameters();
   Tree tree;
   ASSERT_EQ(BuildTree(s, SampleStrokes(), tree), "");
   EXPECT_NEAR(tree.strokes[1].targetLength, 0.6 * tree.branches[0].length, 1e-12);
@@ -533,7 +533,7 @@ TEST(TreeStrokes, Eq2DistanceAndEq1Angle)
 
 TEST(TreeStrokes, TemplateSubtreesGrowOnStrokeBranchesAndInsertedPointsSplitParents)
 {
-  TreeSettings s = StrokeSettings();
+  TreeParameters s = StrokeParameters();
   s.strokesOnly = false;
   s.strokeSubtreeDepth = 2;
   s.childCount = 3;
@@ -559,7 +559,7 @@ TEST(TreeStrokes, TiesAreBrokenByTheSeedReproducibly)
   std::set<int> parents;
   for (std::uint64_t seed = 0; seed < 32; ++seed)
   {
-    TreeSettings s = StrokeSettings();
+    TreeParameters s = StrokeParameters();
     s.seed = seed;
     Tree a, b;
     ASSERT_EQ(BuildTree(s, strokes, a), "");
@@ -573,7 +573,7 @@ TEST(TreeStrokes, TiesAreBrokenByTheSeedReproducibly)
 
 TEST(TreeStrokes, BadStrokesGiveErrorsNamingTheInput)
 {
-  TreeSettings s = StrokeSettings();
+  TreeParameters s = StrokeParameters();
   Tree tree;
   EXPECT_NE(BuildTree(s, {}, tree).find("Strokes input"), std::string::npos);
   auto strokes = SampleStrokes();
@@ -612,7 +612,7 @@ TEST(TreeStrokes, ParsesCsvAndSvg)
 
 TEST(TreeLeaves, LeavesSitOnTwigSurfacesWithPhyllotaxis)
 {
-  TreeSettings s = Preset(2);
+  TreeParameters s = Preset(2);
   s.depth = 3;
   s.leaves = true;
   s.leafCount = 5;
@@ -666,7 +666,7 @@ TEST(TreeLeaves, LeavesSitOnTwigSurfacesWithPhyllotaxis)
 
 TEST(TreeFromSketch, SameSettingsAndStrokesGiveBitIdenticalTrees)
 {
-  TreeSettings s = StrokeSettings();
+  TreeParameters s = StrokeParameters();
   s.mode = TreeMode::TemplateAndStrokes;
   s.depth = 2;
   s.strokesOnly = false;
@@ -699,17 +699,17 @@ TEST(TreeFromSketch, SameSettingsAndStrokesGiveBitIdenticalTrees)
 TEST(TreeFromSketch, BadSettingsNameTheProperty)
 {
   Tree tree;
-  TreeSettings s;
+  TreeParameters s;
   s.length = -1;
   EXPECT_NE(BuildTree(s, {}, tree).find("Length"), std::string::npos);
-  s = TreeSettings();
+  s = TreeParameters();
   s.ratio = NAN;
   EXPECT_NE(BuildTree(s, {}, tree).find("Ratio"), std::string::npos);
-  s = TreeSettings();
+  s = TreeParameters();
   s.depth = 8; // 8^9 branches
   EXPECT_NE(BuildTree(s, {}, tree).find("MaxSegments"), std::string::npos);
   EXPECT_TRUE(tree.branches.empty());
-  s = TreeSettings();
+  s = TreeParameters();
   s.overrides[3].radius = -2;
   EXPECT_NE(BuildTree(s, {}, tree).find("BranchOverrides"), std::string::npos);
 }
@@ -820,7 +820,7 @@ TEST(BranchTubes, ChildBaseRingsSitOnTheParentSurfaceNeitherBuriedNorFloating)
   // Table 1's monopodial templates (depth 2 to keep the brute-force checks short) and a stroke tree with subtrees.
   for (int preset : { 1, 3 })
   {
-    TreeSettings s = Preset(preset);
+    TreeParameters s = Preset(preset);
     s.depth = 2;
     Tree tree;
     ASSERT_EQ(BuildTree(s, {}, tree), "");
@@ -851,7 +851,7 @@ TEST(BranchTubes, JointsThatCannotBeSeatedAreCountedNotHidden)
   // Sympodial forks sit at the parent's capped tip: part of each child's base ring hangs past the cap and meets
   // the parent nowhere. Those vertices are counted as missed; every vertex that was seated is on the surface, and
   // still no vertex beyond the base ring is inside the parent.
-  TreeSettings s = Preset(2);
+  TreeParameters s = Preset(2);
   s.depth = 3;
   Tree tree;
   ASSERT_EQ(BuildTree(s, {}, tree), "");
@@ -893,7 +893,7 @@ std::vector<SkeletonBranch> SkeletonOf(const Tree& tree)
 
 Tree SecondTree()
 {
-  TreeSettings s = Preset(2); // sympodial, curved-free but branching at the tips
+  TreeParameters s = Preset(2); // sympodial, curved-free but branching at the tips
   s.depth = 2;
   Tree tree;
   EXPECT_EQ(BuildTree(s, {}, tree), "");
@@ -905,7 +905,7 @@ TEST(TreeMerge, BranchCountIsTheSumAndMergedGeometryIsTheSecondTreeUnderTheState
 {
   const Tree second = SecondTree();
   const auto skeleton = SkeletonOf(second);
-  TreeSettings s = Preset(1);
+  TreeParameters s = Preset(1);
   s.depth = 2;
   Tree alone;
   ASSERT_EQ(BuildTree(s, {}, alone), "");
@@ -967,7 +967,7 @@ TEST(TreeMerge, SecondTrunkStandsAtTheOffsetTurnedAboutY)
 {
   const Tree second = SecondTree();
   const auto skeleton = SkeletonOf(second);
-  TreeSettings s = Preset(1);
+  TreeParameters s = Preset(1);
   s.depth = 1;
   s.mergeParent = -1;
   s.mergeOffset = Eigen::Vector3d(5.0, 0.0, 2.0);
@@ -997,14 +997,14 @@ TEST(TreeMerge, MergedIdsAreStableUnderEditsAndAddressableByDeletionsAndOverride
 {
   const Tree second = SecondTree();
   const auto skeleton = SkeletonOf(second);
-  TreeSettings s = Preset(1);
+  TreeParameters s = Preset(1);
   s.depth = 2;
   s.mergeParent = 0;
   Tree merged;
   ASSERT_EQ(BuildTree(s, {}, &skeleton, merged), "");
   const int base = int(merged.mergeIdBase);
   // Deleting this tree's branches does not renumber merged ones (and vice versa).
-  TreeSettings edited = s;
+  TreeParameters edited = s;
   edited.deletedBranches = { 1, 10, base + 1 }; // two template children, one merged child with its subtree
   Tree after;
   ASSERT_EQ(BuildTree(edited, {}, &skeleton, after), "");
@@ -1047,7 +1047,7 @@ TEST(TreeMerge, MergedIdsAreStableUnderEditsAndAddressableByDeletionsAndOverride
   edited = s;
   edited.overrides[root].u = 0.8;
   edited.overrides[root].angle = 20.0;
-  TreeSettings direct = s;
+  TreeParameters direct = s;
   direct.mergeU = 0.8;
   direct.mergeAngle = 20.0;
   Tree viaOverride, viaProperties;
@@ -1067,7 +1067,7 @@ TEST(TreeMerge, MergedIdsAreStableUnderEditsAndAddressableByDeletionsAndOverride
 TEST(TreeMerge, InputThatIsNotATreeIsRefusedWithAClearMessage)
 {
   const auto good = SkeletonOf(SecondTree());
-  TreeSettings s = Preset(1);
+  TreeParameters s = Preset(1);
   s.depth = 1;
   const auto refused = [&](std::vector<SkeletonBranch> skeleton, const std::string& why) {
     Tree tree;
@@ -1096,7 +1096,7 @@ TEST(TreeMerge, InputThatIsNotATreeIsRefusedWithAClearMessage)
   bad[1].centre.resize(1);
   bad[1].radii.resize(1);
   refused(bad, "fewer than 2 points");
-  EXPECT_NE(CheckSkeletonIsTree({}).find("Merge input is not a tree: it has no branches"), std::string::npos);
+  EXPECT_NE(ValidateSkeletonIsTree({}).find("Merge input is not a tree: it has no branches"), std::string::npos);
   // A parent branch that is not there.
   s.mergeParent = 5000;
   auto fine = good;
@@ -1111,7 +1111,7 @@ TEST(TreeMerge, InputThatIsNotATreeIsRefusedWithAClearMessage)
 
 TEST(TreeStrokes, OverridesApplyToStrokeBranchesAsToTemplateBranches)
 {
-  TreeSettings s = StrokeSettings();
+  TreeParameters s = StrokeParameters();
   const auto strokes = SampleStrokes();
   Tree plain;
   ASSERT_EQ(BuildTree(s, strokes, plain), "");
@@ -1119,7 +1119,7 @@ TEST(TreeStrokes, OverridesApplyToStrokeBranchesAsToTemplateBranches)
   const int id = plain.strokes[2].branchId; // attached to the trunk, goes to -x
   const TreeBranch& b0 = *original.at(id);
   const auto build = [&](const BranchOverride& o, Tree& tree) {
-    TreeSettings edited = s;
+    TreeParameters edited = s;
     edited.overrides[id] = o;
     return BuildTree(edited, strokes, tree);
   };
@@ -1204,7 +1204,7 @@ TEST(TreeStrokes, OverridesApplyToStrokeBranchesAsToTemplateBranches)
   }
 
   // The trunk stroke has no parent: u, angle and rotation_angle are ignored, as for the template trunk.
-  TreeSettings trunk = s;
+  TreeParameters trunk = s;
   trunk.overrides[plain.strokes[0].branchId] = BranchOverride{ std::nan(""), std::nan(""), 0.5, 60.0, 45.0 };
   ASSERT_EQ(BuildTree(trunk, strokes, tree), "");
   for (std::size_t i = 0; i < tree.branches.size(); ++i)
@@ -1417,7 +1417,7 @@ TEST(BranchJunctions, PresetTreesAreOneClosedOrientedManifold)
   // Table 1's three templates at reduced depth (the brute-force checks stay short).
   for (int preset = 1; preset <= 3; ++preset)
   {
-    TreeSettings s = Preset(preset);
+    TreeParameters s = Preset(preset);
     s.depth = preset == 2 ? 3 : 2;
     Tree tree;
     ASSERT_EQ(BuildTree(s, {}, tree), "");
@@ -1464,7 +1464,7 @@ TEST(BranchJunctions, PresetTreesAreOneClosedOrientedManifold)
 
 TEST(BranchJunctions, StrokeEditedAndMergedTreesAreClosedAndJunctionsDoNotSelfIntersect)
 {
-  TreeSettings s = StrokeSettings();
+  TreeParameters s = StrokeParameters();
   s.strokesOnly = false;
   s.strokeSubtreeDepth = 1;
   s.childCount = 3;
@@ -1474,7 +1474,7 @@ TEST(BranchJunctions, StrokeEditedAndMergedTreesAreClosedAndJunctionsDoNotSelfIn
   ExpectOneClosedSurfacePerTree(a, "stroke tree");
   EXPECT_EQ(a.atJunctions, 0);
 
-  TreeSettings e = Preset(1);
+  TreeParameters e = Preset(1);
   e.depth = 2;
   e.deletedBranches = { 2, 20 };
   e.overrides[11].length = 3.0;
@@ -1488,7 +1488,7 @@ TEST(BranchJunctions, StrokeEditedAndMergedTreesAreClosedAndJunctionsDoNotSelfIn
 
   const Tree second = SecondTree();
   const auto skeleton = SkeletonOf(second);
-  TreeSettings m = Preset(1);
+  TreeParameters m = Preset(1);
   m.depth = 1;
   m.mergeParent = 3;
   m.mergeU = 0.3;
@@ -1504,7 +1504,7 @@ TEST(BranchJunctions, StrokeEditedAndMergedTreesAreClosedAndJunctionsDoNotSelfIn
 
 TEST(BranchJunctions, BitIdenticalAcrossThreadCuts)
 {
-  TreeSettings s = Preset(1);
+  TreeParameters s = Preset(1);
   s.depth = 3;
   Tree tree;
   ASSERT_EQ(BuildTree(s, {}, tree), "");

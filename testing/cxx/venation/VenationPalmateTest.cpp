@@ -47,7 +47,7 @@ VenationParameters Palmate(int veins)
 
 LeafGeometry DeformedRectangle(DeformedRectanglePreset preset)
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 60;
   LeafGeometry leaf;
   EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(preset, 5.0), settings, leaf), "");
@@ -56,7 +56,7 @@ LeafGeometry DeformedRectangle(DeformedRectanglePreset preset)
 
 LeafGeometry Cucumber()
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 60;
   LeafGeometry leaf;
   EXPECT_EQ(BuildBSplineLeaf(MakeBSplinePreset(BSplinePreset::Cucumber, 8.0, 7.0, 9), settings, leaf), "");
@@ -65,7 +65,7 @@ LeafGeometry Cucumber()
 
 LeafGeometry Lobed(SpaceCurvePreset preset)
 {
-  SpaceCurveMeshSettings settings;
+  SpaceCurveMeshParameters settings;
   settings.resolution = 40;
   LeafGeometry leaf;
   EXPECT_EQ(BuildSpaceCurveLeaf(MakeSpaceCurvePreset(preset, 5.0), settings, leaf), "");

@@ -54,7 +54,7 @@ struct Blade
 Blade Entire()
 {
   Blade blade;
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 80;
   EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings,
               blade.leaf),

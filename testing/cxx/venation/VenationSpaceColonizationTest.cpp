@@ -31,7 +31,7 @@ VenationBlade BladeOf(const LeafGeometry& leaf)
 
 LeafGeometry Entire()
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 60;
   LeafGeometry leaf;
   EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, leaf), "");
@@ -40,7 +40,7 @@ LeafGeometry Entire()
 
 LeafGeometry Cucumber()
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 60;
   LeafGeometry leaf;
   EXPECT_EQ(BuildBSplineLeaf(MakeBSplinePreset(BSplinePreset::Cucumber, 8.0, 7.0, 9), settings, leaf), "");
@@ -49,7 +49,7 @@ LeafGeometry Cucumber()
 
 LeafGeometry Lobed()
 {
-  SpaceCurveMeshSettings settings;
+  SpaceCurveMeshParameters settings;
   settings.resolution = 40;
   LeafGeometry leaf;
   EXPECT_EQ(BuildSpaceCurveLeaf(MakeSpaceCurvePreset(SpaceCurvePreset::Figure8FiveLobes, 5.0), settings, leaf), "");

@@ -32,7 +32,7 @@ VenationBlade BladeOf(const LeafGeometry& leaf)
 
 LeafGeometry EntireLeaf(int resolution = 60)
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = resolution;
   LeafGeometry leaf;
   EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, leaf), "");
@@ -323,7 +323,7 @@ TEST(Venation, SameSeedSameNetworkOtherSeedOtherNetwork)
 
 TEST(Venation, GinkgoForksDichotomouslyIntoVeinsThatReachTheMargin)
 {
-  LeafMeshSettings settings;
+  LeafMeshParameters settings;
   settings.resolution = 60;
   LeafGeometry leaf;
   ASSERT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings, leaf), "");
@@ -361,7 +361,7 @@ TEST(Venation, GinkgoForksDichotomouslyIntoVeinsThatReachTheMargin)
 TEST(Venation, PalmateVeinsFollowThePalmateBladesLobes)
 {
   // On paper 002's 5-lobed leaf, one palmate primary runs to each lobe tip (VenationPalmateTest.cpp measures them).
-  SpaceCurveMeshSettings settings;
+  SpaceCurveMeshParameters settings;
   settings.resolution = 40;
   LeafGeometry leaf;
   ASSERT_EQ(BuildSpaceCurveLeaf(MakeSpaceCurvePreset(SpaceCurvePreset::Figure8FiveLobes, 5.0), settings, leaf), "");

@@ -207,7 +207,7 @@ TEST(NewmarkIntegrator, SecondOrderInTimeStep)
 }
 
 /// Options of PlateCorner beyond the plate's size.
-struct PlateOptions
+struct PlateParameters
 {
   double cgTolerance = 1e-6;
   bool extrapolate = true;
@@ -217,7 +217,7 @@ struct PlateOptions
 
 /// The wilting_plate problem (see benchmarks/wilting_plate.cpp).
 Eigen::Vector3d PlateCorner(
-  int nx, int ny, int steps, NewmarkSolver solver, int threads, const PlateOptions& options = PlateOptions())
+  int nx, int ny, int steps, NewmarkSolver solver, int threads, const PlateParameters& options = PlateParameters())
 {
   const auto node = [&](int i, int j, int k) {
     return options.interleaved ? (j * (nx + 1) + i) * 2 + k : (k * (ny + 1) + j) * (nx + 1) + i;
@@ -309,13 +309,13 @@ TEST(NewmarkIntegrator, MatchesVegaFEMPlateAtTheBenchmarksLooserTolerance)
   // wilting_plate's --cg-tolerance 5e-6 (fewer CG iterations) still agrees with VegaFEM to 1e-3 cm, and is further
   // from the exact (Cholesky) solve than the default 1e-6: the tolerance is what limits the agreement.
   const Eigen::Vector3d vega(-18.0457, -0.2439, -8.2899);
-  PlateOptions loose;
+  PlateParameters loose;
   loose.cgTolerance = 5e-6;
   long long looseIterations = 0;
   loose.cgIterations = &looseIterations;
   const Eigen::Vector3d ours = PlateCorner(22, 22, 240, NewmarkSolver::ConjugateGradient, 2, loose);
   EXPECT_LT((ours - vega).cwiseAbs().maxCoeff(), 1e-3) << ours.transpose();
-  PlateOptions tight;
+  PlateParameters tight;
   long long tightIterations = 0;
   tight.cgIterations = &tightIterations;
   const Eigen::Vector3d exact = PlateCorner(22, 22, 240, NewmarkSolver::Cholesky, 1);
@@ -329,9 +329,9 @@ TEST(NewmarkIntegrator, ExtrapolatedWarmStartSavesIterationsNotAccuracy)
   // Starting CG from 2 d_{s-1} - d_{s-2} instead of d_{s-1}: fewer iterations, the same answer to the tolerance.
   long long withIterations = 0;
   long long withoutIterations = 0;
-  PlateOptions with;
+  PlateParameters with;
   with.cgIterations = &withIterations;
-  PlateOptions without;
+  PlateParameters without;
   without.extrapolate = false;
   without.cgIterations = &withoutIterations;
   const Eigen::Vector3d a = PlateCorner(22, 22, 120, NewmarkSolver::ConjugateGradient, 1, with);
@@ -346,7 +346,7 @@ TEST(NewmarkIntegrator, NodeNumberingDoesNotChangeTheResult)
 {
   // The solver orders nodes and springs by their rest positions, so two numberings of the same plate give the
   // same bits, on the CG path (1 and 2 threads) and the Cholesky path.
-  PlateOptions interleaved;
+  PlateParameters interleaved;
   interleaved.interleaved = true;
   for (int threads : { 1, 2 })
   {

@@ -87,7 +87,7 @@ TEST(WiltingVoxelizer, FlatLeafIsOneLayerWithSharedNodes)
 {
   const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
   VoxelGrid grid;
-  VoxelizeOptions options;
+  VoxelizeParameters options;
   options.resolution = 10;
   ASSERT_EQ(Voxelize(in.points, in.triangles, in.regions, options, grid), "");
   EXPECT_EQ(grid.dims[2], 1);
@@ -108,7 +108,7 @@ TEST(WiltingVoxelizer, FlatLeafIsOneLayerWithSharedNodes)
 TEST(WiltingVoxelizer, PetioleGrowsTheGridBelowTheBaseAndKeepsTheBlade)
 {
   const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
-  VoxelizeOptions options;
+  VoxelizeParameters options;
   options.resolution = 10;
   VoxelGrid blade;
   ASSERT_EQ(Voxelize(in.points, in.triangles, in.regions, options, blade), "");
@@ -184,7 +184,7 @@ TEST(WiltingEmbedding, ExactAtRestAndForAffineMotion)
   in.points.emplace_back(0.3, 5.1, 0.4); // a point off the surface, inside a voxel
   in.points.emplace_back(0.3, 5.1, 3.0); // outside every voxel: extrapolated
   VoxelGrid grid;
-  VoxelizeOptions options;
+  VoxelizeParameters options;
   options.resolution = 10;
   std::vector<int> regions = in.regions;
   regions.resize(in.points.size(), 0);

@@ -1,5 +1,7 @@
-// A bounding volume hierarchy over triangles for the virtual scanner: built once per surface (binned SAH), then
-// traversed by many beams at once, each beam independently, so the caller may cast from any number of threads.
+// The project's own bounding volume hierarchy over triangles, the virtual scanner's first ray caster, kept here only
+// as virtual_scanner_benchmark's comparison: Embree (scanner/core/RayCaster.h) measured faster and replaced it in
+// the plugin (issue 24: "whichever measures faster, the other kept out"). Built once per surface (binned SAH, double
+// precision), then traversed by many beams at once, each beam independently.
 //
 // Exactness: the ray-triangle test is Woop, Benthin and Wald's watertight intersection (JCGT 2(1), 2013): the ray is
 // sheared so it runs along +z, and the three edge functions are evaluated on the sheared vertices, each vertex
@@ -10,23 +12,14 @@
 // are padded by a few ulps at build time, so no triangle the exact test would hit is culled by its box.
 #pragma once
 
+#include "RayCaster.h" // TriangleHit
+
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace plantmorph
 {
-
-/// The nearest hit of a beam: distance along the (unit or not) direction, the triangle, and its barycentric
-/// coordinates (the point is (1 - u - v) v0 + u v1 + v v2 in the triangle's own vertex order).
-struct TriangleHit
-{
-  double t = 0.0;
-  std::int64_t triangle = -1;
-  double u = 0.0;
-  double v = 0.0;
-  bool Hit() const { return this->triangle >= 0; }
-};
 
 class TriangleBVH
 {

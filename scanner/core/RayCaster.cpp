@@ -1,0 +1,454 @@
+#include "RayCaster.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <sys/types.h>
+#include <utility>
+
+namespace plantmorph
+{
+
+struct RayCaster::Embree
+{
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::atomic<std::int64_t> bytes{ 0 };
+  std::atomic<std::int64_t> peak{ 0 };
+};
+
+namespace
+{
+bool CountMemory(void* user, ssize_t bytes, bool /*post*/)
+{
+  auto* e = static_cast<RayCaster::Embree*>(user);
+  const std::int64_t now = e->bytes.fetch_add(static_cast<std::int64_t>(bytes)) + static_cast<std::int64_t>(bytes);
+  std::int64_t peak = e->peak.load();
+  while (now > peak && !e->peak.compare_exchange_weak(peak, now))
+  {
+  }
+  return true;
+}
+
+std::string DeviceError(RTCDevice device, const char* what)
+{
+  const RTCError code = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
+  std::ostringstream s;
+  s << "Embree: " << what << " failed (error " << static_cast<int>(code) << ")";
+  return s.str();
+}
+
+/// The beam in Woop et al.'s sheared frame: kz the dominant axis of the direction, the shear taking it to +z.
+struct ShearedRay
+{
+  double origin[3];
+  int kx, ky, kz;
+  double sx, sy, sz;
+};
+
+ShearedRay Shear(const double origin[3], const double direction[3])
+{
+  ShearedRay r;
+  for (int k = 0; k < 3; ++k)
+    r.origin[k] = origin[k];
+  const double ax = std::abs(direction[0]), ay = std::abs(direction[1]), az = std::abs(direction[2]);
+  r.kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  r.kx = (r.kz + 1) % 3;
+  r.ky = (r.kx + 1) % 3;
+  if (direction[r.kz] < 0.0)
+    std::swap(r.kx, r.ky);
+  r.sx = direction[r.kx] / direction[r.kz];
+  r.sy = direction[r.ky] / direction[r.kz];
+  r.sz = 1.0 / direction[r.kz];
+  return r;
+}
+
+/// Woop, Benthin and Wald's watertight test (JCGT 2(1), 2013) in double precision on the vertices a, b, c of
+/// triangle `index`; on a hit nearer than hit.t (or as near, and `index` the smaller) updates hit and returns true.
+/// The tie rule makes the nearest hit independent of the order the triangles are tested in.
+bool IntersectTriangle(
+  const ShearedRay& r, const double* va, const double* vb, const double* vc, std::int64_t index, TriangleHit& hit)
+{
+  const double a[3] = { va[0] - r.origin[0], va[1] - r.origin[1], va[2] - r.origin[2] };
+  const double b[3] = { vb[0] - r.origin[0], vb[1] - r.origin[1], vb[2] - r.origin[2] };
+  const double c[3] = { vc[0] - r.origin[0], vc[1] - r.origin[1], vc[2] - r.origin[2] };
+  const double ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
+  const double bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
+  const double cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
+  double e0 = cx * by - cy * bx;
+  double e1 = ax * cy - ay * cx;
+  double e2 = bx * ay - by * ax;
+  if (e0 == 0.0 || e1 == 0.0 || e2 == 0.0)
+  {
+    // On an edge in double precision: decided in long double, as the paper falls back to higher precision.
+    using L = long double;
+    e0 = static_cast<double>(L(cx) * L(by) - L(cy) * L(bx));
+    e1 = static_cast<double>(L(ax) * L(cy) - L(ay) * L(cx));
+    e2 = static_cast<double>(L(bx) * L(ay) - L(by) * L(ax));
+  }
+  if ((e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0))
+    return false;
+  const double det = e0 + e1 + e2;
+  if (det == 0.0)
+    return false;
+  const double az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
+  const double tScaled = e0 * az + e1 * bz + e2 * cz;
+  // A cheap rejection with room for rounding (the exact comparison is on t itself, below).
+  const double reach = hit.t * det * (1.0 + 1e-12);
+  if (det > 0.0 ? (tScaled <= 0.0 || tScaled > reach) : (tScaled >= 0.0 || tScaled < reach))
+    return false;
+  const double inverse = 1.0 / det;
+  const double t = tScaled * inverse;
+  if (!(t < hit.t || (t == hit.t && hit.triangle >= 0 && index < hit.triangle)))
+    return false;
+  hit.t = t;
+  hit.u = e1 * inverse;
+  hit.v = e2 * inverse;
+  hit.triangle = index;
+  return true;
+}
+
+/// What a packet of beams (or one) carries through Embree's traversal: Embree hands the context to the callbacks
+/// (it comes first); each single-precision ray's id is its lane here, whichever way Embree regroups the rays.
+struct BeamContext
+{
+  RTCIntersectContext context;
+  ShearedRay ray[RayCaster::PacketSize];
+  TriangleHit best[RayCaster::PacketSize];
+  double start[RayCaster::PacketSize]; // the single-precision ray starts at origin + start * direction
+  double slack[RayCaster::PacketSize]; // added to its far distance (covers its rounding and the padding)
+};
+
+/// The data the callbacks see: the triangles' vertices copied in double precision, nine per triangle, in the
+/// Morton order of their centroids (Embree's primitive i is input triangle order[i]), so the triangles of one box of
+/// the hierarchy lie close together in memory.
+struct Surface
+{
+  std::vector<double> vertices;
+  std::vector<std::uint32_t> order;
+  const double* centre;
+  double pad;
+};
+
+void TriangleBounds(const RTCBoundsFunctionArguments* args)
+{
+  const auto* s = static_cast<const Surface*>(args->geometryUserPtr);
+  const double* v = &s->vertices[9 * static_cast<std::size_t>(args->primID)];
+  double lo[3], hi[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    lo[k] = std::min({ v[k], v[3 + k], v[6 + k] }) - s->centre[k];
+    hi[k] = std::max({ v[k], v[3 + k], v[6 + k] }) - s->centre[k];
+  }
+  // Padded outwards: the single-precision beam strays from the exact one by less than the padding, so no box the
+  // exact beam enters is culled.
+  RTCBounds* b = args->bounds_o;
+  b->lower_x = static_cast<float>(lo[0] - s->pad);
+  b->lower_y = static_cast<float>(lo[1] - s->pad);
+  b->lower_z = static_cast<float>(lo[2] - s->pad);
+  b->upper_x = static_cast<float>(hi[0] + s->pad);
+  b->upper_y = static_cast<float>(hi[1] + s->pad);
+  b->upper_z = static_cast<float>(hi[2] + s->pad);
+}
+
+/// 10-bit spread of a coordinate in [0, 1] for a 30-bit Morton code.
+std::uint32_t Spread(double x)
+{
+  std::uint32_t v = static_cast<std::uint32_t>(std::min(1023.0, std::max(0.0, x * 1024.0)));
+  v = (v * 0x00010001u) & 0xFF0000FFu;
+  v = (v * 0x00000101u) & 0x0F00F00Fu;
+  v = (v * 0x00000011u) & 0xC30C30C3u;
+  v = (v * 0x00000005u) & 0x49249249u;
+  return v;
+}
+
+void TriangleIntersect(const RTCIntersectFunctionNArguments* args)
+{
+  const auto* s = static_cast<const Surface*>(args->geometryUserPtr);
+  auto* beams = reinterpret_cast<BeamContext*>(args->context);
+  const double* a = &s->vertices[9 * static_cast<std::size_t>(args->primID)];
+  const double *b = a + 3, *c = a + 6;
+  const auto triangle = static_cast<std::int64_t>(s->order[args->primID]);
+  RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+  RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+  for (unsigned i = 0; i < args->N; ++i)
+  {
+    if (!args->valid[i])
+      continue;
+    const unsigned lane = RTCRayN_id(rays, args->N, i);
+    TriangleHit& best = beams->best[lane];
+    if (!IntersectTriangle(beams->ray[lane], a, b, c, triangle, best))
+      continue;
+    // Boxes the beam enters beyond the hit need no visit: the single-precision far distance, rounded up.
+    // (Rounding to single precision loses less than the 1e-6 added.)
+    RTCRayN_tfar(rays, args->N, i) =
+      static_cast<float>((best.t - beams->start[lane]) * (1.0 + 1e-6) + beams->slack[lane]);
+    RTCHitN_geomID(hits, args->N, i) = args->geomID;
+    RTCHitN_primID(hits, args->N, i) = args->primID;
+  }
+}
+} // namespace
+
+struct RayCaster::Callbacks
+{
+  Surface surface;
+};
+
+RayCaster::RayCaster() = default;
+
+RayCaster::~RayCaster()
+{
+  this->Release();
+}
+
+void RayCaster::Release()
+{
+  if (this->Impl)
+  {
+    if (this->Impl->scene)
+      rtcReleaseScene(this->Impl->scene);
+    if (this->Impl->device)
+      rtcReleaseDevice(this->Impl->device);
+    delete this->Impl;
+    this->Impl = nullptr;
+  }
+  delete this->User;
+  this->User = nullptr;
+}
+
+std::size_t RayCaster::PeakBytes() const
+{
+  return this->Impl ? static_cast<std::size_t>(std::max<std::int64_t>(0, this->Impl->peak.load())) : 0;
+}
+
+std::size_t RayCaster::MemoryBytes() const
+{
+  const std::size_t own =
+    this->User ? this->User->surface.vertices.size() * sizeof(double) + this->User->surface.order.size() * 4 : 0;
+  return own + (this->Impl ? static_cast<std::size_t>(std::max<std::int64_t>(0, this->Impl->bytes.load())) : 0);
+}
+
+std::string RayCaster::Build(
+  const std::vector<double>& points, const std::vector<std::int64_t>& triangles, int buildThreads)
+{
+  this->Release();
+  this->Impl = new Embree;
+  this->User = new Callbacks;
+  this->Count = 0;
+  const std::size_t nt = triangles.size() / 3;
+  if (nt >= (std::size_t(1) << 32))
+    return "Input: more than 2^32 triangles";
+  // The bounding box of the triangles' vertices; the single-precision boxes are relative to its centre.
+  double lo[3] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+    std::numeric_limits<double>::infinity() };
+  double hi[3] = { -lo[0], -lo[1], -lo[2] };
+  for (std::int64_t i : triangles)
+    for (int k = 0; k < 3; ++k)
+    {
+      lo[k] = std::min(lo[k], points[3 * static_cast<std::size_t>(i) + k]);
+      hi[k] = std::max(hi[k], points[3 * static_cast<std::size_t>(i) + k]);
+    }
+  double size = 0.0;
+  for (int k = 0; k < 3; ++k)
+  {
+    if (nt == 0)
+      lo[k] = hi[k] = 0.0;
+    this->Centre[k] = 0.5 * (lo[k] + hi[k]);
+    size = std::max(size, hi[k] - lo[k]);
+  }
+  // Single precision (relative 6e-8) of coordinates up to the box's size: a padding of 1e-5 of it covers the
+  // rounding of the boxes and of the single-precision beam (which starts near the box, see Intersect).
+  const double pad = 1e-5 * size + 1e-30;
+  for (int k = 0; k < 3; ++k)
+  {
+    this->Box[k] = lo[k] - this->Centre[k] - 2.0 * pad;
+    this->Box[k + 3] = hi[k] - this->Centre[k] + 2.0 * pad;
+  }
+  this->Margin = 1e-2 * size + pad;
+  this->Pad = pad;
+  Surface& surface = this->User->surface;
+  surface.centre = this->Centre;
+  surface.pad = pad;
+  {
+    // Morton order of the centroids in the box.
+    std::vector<std::uint64_t> keys(nt);
+    for (std::size_t i = 0; i < nt; ++i)
+    {
+      double x[3] = { 0.0, 0.0, 0.0 };
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k)
+          x[k] += points[3 * static_cast<std::size_t>(triangles[3 * i + j]) + k] / 3.0;
+      std::uint32_t code = 0;
+      for (int k = 0; k < 3; ++k)
+        code |= Spread(size > 0.0 ? (x[k] - lo[k]) / size : 0.0) << k;
+      keys[i] = (static_cast<std::uint64_t>(code) << 32) | i;
+    }
+    std::sort(keys.begin(), keys.end());
+    surface.order.resize(nt);
+    surface.vertices.resize(9 * nt);
+    for (std::size_t i = 0; i < nt; ++i)
+    {
+      const auto t = static_cast<std::uint32_t>(keys[i] & 0xFFFFFFFFu);
+      surface.order[i] = t;
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k)
+          surface.vertices[9 * i + 3 * j + k] = points[3 * static_cast<std::size_t>(triangles[3 * t + j]) + k];
+    }
+  }
+
+  const std::string config = "threads=" + std::to_string(std::max(0, buildThreads));
+  RTCDevice device = rtcNewDevice(config.c_str());
+  if (!device)
+  {
+    return DeviceError(nullptr, "rtcNewDevice (is the CPU supported?)");
+  }
+  this->Impl->device = device;
+  rtcSetDeviceMemoryMonitorFunction(device, CountMemory, this->Impl);
+  RTCScene scene = rtcNewScene(device);
+  this->Impl->scene = scene;
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  if (nt > 0)
+  {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(nt));
+    rtcSetGeometryUserData(geometry, &this->User->surface);
+    rtcSetGeometryBoundsFunction(geometry, TriangleBounds, nullptr);
+    rtcSetGeometryIntersectFunction(geometry, TriangleIntersect);
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(scene);
+  if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
+    return DeviceError(device, "building the scene");
+  this->Count = nt;
+  return {};
+}
+
+namespace
+{
+/// Lane `lane` of a packet of W single-precision rays: the beam clipped to the padded box `box` (relative to
+/// `centre`), started `margin` before it. False (and the ray inactive) when the beam misses the box.
+template <typename Rays>
+bool PrepareLane(const double* origin, const double* direction, double tMax, const double* centre, const double* box,
+  double margin, double pad, BeamContext& beams, unsigned lane, Rays& r)
+{
+  double o[3], enter = 0.0, leave = tMax;
+  for (int k = 0; k < 3; ++k)
+  {
+    o[k] = origin[k] - centre[k];
+    if (direction[k] == 0.0)
+    {
+      if (!(o[k] >= box[k] && o[k] <= box[k + 3]))
+        return false;
+      continue;
+    }
+    double a = (box[k] - o[k]) / direction[k], b = (box[k + 3] - o[k]) / direction[k];
+    if (a > b)
+      std::swap(a, b);
+    enter = std::max(enter, a);
+    leave = std::min(leave, b);
+  }
+  if (!(enter <= leave))
+    return false;
+  const double length =
+    std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2]);
+  beams.ray[lane] = Shear(origin, direction);
+  beams.best[lane] = TriangleHit{};
+  beams.best[lane].t = tMax;
+  const double start = std::max(0.0, enter - margin / length);
+  beams.start[lane] = start;
+  beams.slack[lane] = 2.0 * pad / length;
+  r.org_x[lane] = static_cast<float>(o[0] + start * direction[0]);
+  r.org_y[lane] = static_cast<float>(o[1] + start * direction[1]);
+  r.org_z[lane] = static_cast<float>(o[2] + start * direction[2]);
+  r.dir_x[lane] = static_cast<float>(direction[0]);
+  r.dir_y[lane] = static_cast<float>(direction[1]);
+  r.dir_z[lane] = static_cast<float>(direction[2]);
+  r.tnear[lane] = 0.0f;
+  r.tfar[lane] = static_cast<float>((leave - start) * (1.0 + 1e-6) + beams.slack[lane]);
+  r.time[lane] = 0.0f;
+  r.mask[lane] = 0xFFFFFFFFu;
+  r.id[lane] = lane;
+  r.flags[lane] = 0;
+  return true;
+}
+
+/// One lane's view of a single RTCRay, so PrepareLane serves rtcIntersect1 too.
+struct SingleRay
+{
+  RTCRay& ray;
+  struct Field
+  {
+    float* f;
+    float& operator[](unsigned) { return *f; }
+  };
+  struct UField
+  {
+    unsigned* u;
+    unsigned& operator[](unsigned) { return *u; }
+  };
+  Field org_x{ &ray.org_x }, org_y{ &ray.org_y }, org_z{ &ray.org_z }, dir_x{ &ray.dir_x }, dir_y{ &ray.dir_y },
+    dir_z{ &ray.dir_z }, tnear{ &ray.tnear }, tfar{ &ray.tfar }, time{ &ray.time };
+  UField mask{ &ray.mask }, id{ &ray.id }, flags{ &ray.flags };
+};
+} // namespace
+
+TriangleHit RayCaster::Intersect(const double origin[3], const double direction[3], double tMax) const
+{
+  if (this->Count == 0)
+    return TriangleHit{};
+  BeamContext beams;
+  RTCRayHit ray;
+  SingleRay single{ ray.ray };
+  if (!PrepareLane(origin, direction, tMax, this->Centre, this->Box, this->Margin, this->Pad, beams, 0, single))
+    return TriangleHit{};
+  rtcInitIntersectContext(&beams.context);
+  ray.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(this->Impl->scene, &beams.context, &ray);
+  return beams.best[0].Hit() ? beams.best[0] : TriangleHit{};
+}
+
+void RayCaster::Intersect(std::size_t count, const double* origins, const double* directions, double tMax,
+  TriangleHit* hits) const
+{
+  count = std::min<std::size_t>(count, PacketSize);
+  for (std::size_t i = 0; i < count; ++i)
+    hits[i] = TriangleHit{};
+  if (this->Count == 0 || count == 0)
+    return;
+  BeamContext beams;
+  alignas(64) RTCRayHitNt<PacketSize> packet;
+  alignas(64) int valid[PacketSize];
+  int active = 0;
+  for (unsigned i = 0; i < PacketSize; ++i)
+  {
+    valid[i] = i < count && PrepareLane(origins + 3 * i, directions + 3 * i, tMax, this->Centre, this->Box,
+                              this->Margin, this->Pad, beams, i, packet.ray)
+      ? -1
+      : 0;
+    packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    active += valid[i] ? 1 : 0;
+  }
+  if (active == 0)
+    return;
+  rtcInitIntersectContext(&beams.context);
+  beams.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  static_assert(PacketSize == 8 || PacketSize == 16, "Embree packets of 8 or 16");
+  if (PacketSize == 16)
+    rtcIntersect16(valid, this->Impl->scene, &beams.context, reinterpret_cast<RTCRayHit16*>(&packet));
+  else
+    rtcIntersect8(valid, this->Impl->scene, &beams.context, reinterpret_cast<RTCRayHit8*>(&packet));
+  for (std::size_t i = 0; i < count; ++i)
+    if (valid[i] && beams.best[i].Hit())
+      hits[i] = beams.best[i];
+}
+
+} // namespace plantmorph
