@@ -123,8 +123,14 @@ public:
   }
 
 private:
-  int Column(double x) const { return std::clamp(static_cast<int>(std::floor((x - this->Low.x()) / this->Cell)), 0, this->Width - 1); }
-  int Row(double y) const { return std::clamp(static_cast<int>(std::floor((y - this->Low.y()) / this->Cell)), 0, this->Height - 1); }
+  int Column(double x) const
+  {
+    return std::clamp(static_cast<int>(std::floor((x - this->Low.x()) / this->Cell)), 0, this->Width - 1);
+  }
+  int Row(double y) const
+  {
+    return std::clamp(static_cast<int>(std::floor((y - this->Low.y()) / this->Cell)), 0, this->Height - 1);
+  }
   std::size_t Index(const Eigen::Vector2d& p) const
   {
     return static_cast<std::size_t>(this->Row(p.y())) * this->Width + this->Column(p.x());
@@ -210,7 +216,7 @@ private:
   std::vector<Eigen::Vector2d> NodePoints, SourcePoints;
   std::vector<int> Parent;
   std::vector<std::pair<int, int>> Links; ///< closed venation: where veins met at a source (they make the loops)
-  std::vector<int> Live; ///< the sources not yet killed, in the order they were born
+  std::vector<int> Live;                  ///< the sources not yet killed, in the order they were born
   /// Per source: the step before which no vein node can come within the attraction distance (nodes advance at most
   /// one vein step a step and the distances only shrink as the blade grows), so far sources are not searched again.
   std::vector<std::size_t> Wake;
@@ -243,8 +249,7 @@ void Colonizer::ThrowDarts(double stage)
     const double x = this->Random.Uniform(), y = this->Random.Uniform();
     const Eigen::Vector2d dart = low + Eigen::Vector2d(x * extent.x(), y * extent.y());
     if (!this->Inside(dart) || (this->P.marginalGrowth && !this->NearMargin(dart, band)) ||
-      this->Sources.AnyWithin(dart, birth, this->SourcePoints) ||
-      this->Nodes.AnyWithin(dart, birth, this->NodePoints))
+      this->Sources.AnyWithin(dart, birth, this->SourcePoints) || this->Nodes.AnyWithin(dart, birth, this->NodePoints))
       continue;
     const int id = static_cast<int>(this->SourcePoints.size());
     this->SourcePoints.push_back(dart);
@@ -313,8 +318,8 @@ void Colonizer::CloseSources(double reach, double kill)
     this->Sources.Remove(id, x);
   }
   if (any)
-    this->Live.erase(std::remove_if(this->Live.begin(), this->Live.end(), [&](int id) { return removed[id] != 0; }),
-      this->Live.end());
+    this->Live.erase(
+      std::remove_if(this->Live.begin(), this->Live.end(), [&](int id) { return removed[id] != 0; }), this->Live.end());
 }
 
 std::size_t Colonizer::Step()
@@ -362,7 +367,8 @@ std::size_t Colonizer::Step()
       continue;
     std::vector<int> pulled = { target[i] };
     if (this->P.closedVenation)
-      pulled = this->Neighbourhood(this->Live[i], std::max(reach, (this->NodePoints[target[i]] - this->SourcePoints[this->Live[i]]).norm()));
+      pulled = this->Neighbourhood(
+        this->Live[i], std::max(reach, (this->NodePoints[target[i]] - this->SourcePoints[this->Live[i]]).norm()));
     for (int n : pulled)
     {
       const Eigen::Vector2d d = this->SourcePoints[this->Live[i]] - this->NodePoints[n];
@@ -413,8 +419,8 @@ std::size_t Colonizer::Step()
     }
   }
   if (!killed.empty())
-    this->Live.erase(std::remove_if(this->Live.begin(), this->Live.end(), [&](int id) { return killed[id] != 0; }),
-      this->Live.end());
+    this->Live.erase(
+      std::remove_if(this->Live.begin(), this->Live.end(), [&](int id) { return killed[id] != 0; }), this->Live.end());
   return added.size();
 }
 
@@ -426,8 +432,7 @@ std::string Colonizer::Run(VenationResult& result, const std::function<bool(doub
   this->Stage = 0.0;
   this->AddNode(this->Locator.PointAtUV(Eigen::Vector2d(0.0, 0.0)), -1);
   this->ThrowDarts(start);
-  const std::size_t limit =
-    static_cast<std::size_t>((1.0 - start) / grow + 20.0 / this->P.killDistance) + 1000;
+  const std::size_t limit = static_cast<std::size_t>((1.0 - start) / grow + 20.0 / this->P.killDistance) + 1000;
   for (std::size_t step = 0; step < limit; ++step)
   {
     const std::size_t added = this->Step();
@@ -547,8 +552,8 @@ void Colonizer::Finish(VenationResult& result) const
 
 } // namespace
 
-std::string GrowSpaceColonization(const BladeLocator& locator,
-  const VenationParameters& parameters, VenationResult& result, const std::function<bool(double)>& progress)
+std::string GrowSpaceColonization(const BladeLocator& locator, const VenationParameters& parameters,
+  VenationResult& result, const std::function<bool(double)>& progress)
 {
   result = VenationResult();
   double length = 0.0;

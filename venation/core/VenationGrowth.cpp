@@ -103,13 +103,13 @@ private:
   const VenationParameters& P;
   const std::function<bool(double)>& Progress;
   VeinGraph Graph;
-  double Length = 1.0;  ///< leaf length L
-  double Width = 1.0;   ///< blade width across the axis
-  double Step = 0.01;   ///< sampling step of traced curves
-  double Snap = 1e-9;   ///< tertiary snap distance
+  double Length = 1.0; ///< leaf length L
+  double Width = 1.0;  ///< blade width across the axis
+  double Step = 0.01;  ///< sampling step of traced curves
+  double Snap = 1e-9;  ///< tertiary snap distance
   Eigen::Vector2d Base = Eigen::Vector2d::Zero(), Apex = Eigen::Vector2d::Zero(), Axis = Eigen::Vector2d::UnitY();
   int BaseNode = -1;
-  std::vector<int> Midvein;          ///< node path of the midvein (pinnate patterns)
+  std::vector<int> Midvein; ///< node path of the midvein (pinnate patterns)
   std::vector<double> JunctionAngles;
 };
 
@@ -227,8 +227,7 @@ std::vector<Grower::Secondary> Grower::PlaceSecondaries(RandomStream& random, do
   double start = 0.0; // arc length at path[segment]
   for (const Branch& branch : branches)
   {
-    while (segment + 1 < path.size() &&
-      start + (nodes[path[segment + 1]] - nodes[path[segment]]).norm() < branch.at)
+    while (segment + 1 < path.size() && start + (nodes[path[segment + 1]] - nodes[path[segment]]).norm() < branch.at)
     {
       start += (nodes[path[segment + 1]] - nodes[path[segment]]).norm();
       ++segment;
@@ -564,8 +563,8 @@ void Grower::GrowPalmate()
       BladeLocation at = this->Locator.Locate(x, 1e-7 * this->Length);
       if (at.triangle < 0)
         at = this->Locator.Locate(x, 1e-3 * this->Length);
-      endsUV[(r << levels) + j] = at.triangle >= 0 ? this->Locator.Interpolate(this->Blade.uv, at)
-                                                   : Eigen::Vector2d(0.0, 1.0);
+      endsUV[(r << levels) + j] =
+        at.triangle >= 0 ? this->Locator.Interpolate(this->Blade.uv, at) : Eigen::Vector2d(0.0, 1.0);
     }
   }
   // Fork growth fractions: level d forks at forkTime[d].
@@ -611,8 +610,7 @@ void Grower::GrowPalmate()
     if (plane)
       return Eigen::Vector2d(this->Base + g * (p - this->Base));
     const double across = fanned ? std::sqrt(g) : g;
-    return this->Locator.PointAtUV(
-      Eigen::Vector2d(across * p.x(), g * p.y() + 0.25 * g * (1.0 - g) * (1.0 - p.y())));
+    return this->Locator.PointAtUV(Eigen::Vector2d(across * p.x(), g * p.y() + 0.25 * g * (1.0 - g) * (1.0 - p.y())));
   };
   auto pieces = [&](int d) {
     const double g0 = forkTime[d], g1 = d == levels ? 1.0 : forkTime[d + 1];
@@ -669,7 +667,7 @@ std::string Grower::Run(VenationResult& result)
     return "LeafUV: the blade's midvein (u = 0 from v = 0 to 1) has no length";
   this->Length = length;
   this->Axis = (this->Apex - this->Base).norm() > 0.0 ? Eigen::Vector2d((this->Apex - this->Base).normalized())
-                                                        : Eigen::Vector2d::UnitY();
+                                                      : Eigen::Vector2d::UnitY();
   double low = 0.0, high = 0.0;
   for (const Eigen::Vector2d& x : this->Blade.points)
   {
@@ -702,7 +700,8 @@ std::string Grower::Run(VenationResult& result)
       for (int i = 0; i < n; ++i)
         primaries.push_back(n == 1 ? 0.0 : spread * (2.0 * i / (n - 1) - 1.0));
       // The midvein (or the one nearest it) first, so the others join it rather than the reverse.
-      std::stable_sort(primaries.begin(), primaries.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+      std::stable_sort(
+        primaries.begin(), primaries.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
     }
     for (double u : primaries)
     {
@@ -819,7 +818,8 @@ void Grower::Finish(VenationResult& result)
   if (stats.areoles > 0)
   {
     stats.areoleAreaMean = sum / stats.areoles;
-    stats.areoleAreaStd = std::sqrt(std::max(0.0, sumSquares / stats.areoles - stats.areoleAreaMean * stats.areoleAreaMean));
+    stats.areoleAreaStd =
+      std::sqrt(std::max(0.0, sumSquares / stats.areoles - stats.areoleAreaMean * stats.areoleAreaMean));
   }
 }
 
@@ -917,9 +917,8 @@ std::string VenationPresetName(VenationPreset preset)
 
 std::string VenationPatternName(VenationPattern pattern)
 {
-  static const char* const names[VenationPatternCount] = { "Craspedodromous", "Semicraspedodromous",
-    "Brochidodromous", "Eucamptodromous", "Reticulodromous", "Cladodromous", "Arcuate", "Parallel", "Palmate",
-    "SpaceColonization" };
+  static const char* const names[VenationPatternCount] = { "Craspedodromous", "Semicraspedodromous", "Brochidodromous",
+    "Eucamptodromous", "Reticulodromous", "Cladodromous", "Arcuate", "Parallel", "Palmate", "SpaceColonization" };
   const int i = static_cast<int>(pattern);
   return i >= 0 && i < VenationPatternCount ? names[i] : "Unknown";
 }

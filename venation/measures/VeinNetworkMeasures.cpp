@@ -51,7 +51,8 @@ void MeasureAreoles(const VenationResult& veins, const std::vector<Segment>& seg
     high = high.cwiseMax(x);
   }
   const double pad = 1e-6 * std::max(1.0, (high - low).maxCoeff());
-  const double cell = std::max((high - low).maxCoeff() / std::max(1.0, std::sqrt(static_cast<double>(segments.size()))), pad);
+  const double cell =
+    std::max((high - low).maxCoeff() / std::max(1.0, std::sqrt(static_cast<double>(segments.size()))), pad);
   VeinGraph graph(low - Eigen::Vector2d::Constant(pad), high + Eigen::Vector2d::Constant(pad), cell);
   for (const Eigen::Vector2d& x : veins.nodes)
     graph.AddNode(x);
@@ -101,8 +102,8 @@ std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
       if (a == b)
         continue;
       keys.push_back({ { std::min(a, b), std::max(a, b) }, segments.size() });
-      segments.push_back({ a, b, vein.order, (veins.nodes[a] - veins.nodes[b]).norm(),
-        0.5 * (veins.width[a] + veins.width[b]) });
+      segments.push_back(
+        { a, b, vein.order, (veins.nodes[a] - veins.nodes[b]).norm(), 0.5 * (veins.width[a] + veins.width[b]) });
     }
   }
   std::sort(keys.begin(), keys.end());
@@ -148,8 +149,8 @@ std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
   // Minimum spanning forest (Kruskal; equal lengths in segment order).
   std::vector<std::size_t> order(segments.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-    [&](std::size_t x, std::size_t y) { return segments[x].length < segments[y].length; });
+  std::stable_sort(
+    order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return segments[x].length < segments[y].length; });
   std::vector<int> parent(veins.nodes.size());
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t k : order)

@@ -34,14 +34,14 @@ struct VeinNetworkMeasures
 {
   double bladeArea = 0.0;
   double totalLength = 0.0;
-  double vla = 0.0;                       ///< vein length per blade area
+  double vla = 0.0;                        ///< vein length per blade area
   double length[5] = { 0, 0, 0, 0, 0 };    ///< per VeinOrder (index 0 unused)
   double meanWidth[5] = { 0, 0, 0, 0, 0 }; ///< length-weighted, per VeinOrder; 0 where an order has no vein
   std::size_t areoles = 0;
   double areoleMean = 0.0, areoleMedian = 0.0, areoleCV = 0.0;
-  std::vector<double> areoleAreas;        ///< sorted ascending
-  double spanningLength = 0.0;            ///< minimum spanning forest length
-  double loopiness = 1.0;                 ///< spanningLength / totalLength
+  std::vector<double> areoleAreas; ///< sorted ascending
+  double spanningLength = 0.0;     ///< minimum spanning forest length
+  double loopiness = 1.0;          ///< spanningLength / totalLength
   std::size_t branchPoints = 0, freeEnds = 0;
   double branchPointsPerArea = 0.0, freeEndsPerArea = 0.0;
 };

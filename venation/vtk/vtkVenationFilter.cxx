@@ -83,8 +83,8 @@ std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& po
     for (int k = 0; k < 3; ++k)
     {
       const int i = t[k], j = t[(k + 1) % 3];
-      const Eigen::Vector2d row((uv[i].x() - uv[j].x()) * (uv[i].x() - uv[j].x()),
-        (uv[i].y() - uv[j].y()) * (uv[i].y() - uv[j].y()));
+      const Eigen::Vector2d row(
+        (uv[i].x() - uv[j].x()) * (uv[i].x() - uv[j].x()), (uv[i].y() - uv[j].y()) * (uv[i].y() - uv[j].y()));
       normalMatrix += row * row.transpose();
       rhs += row * (points[i] - points[j]).squaredNorm();
     }
@@ -100,20 +100,18 @@ std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& po
 /// The parameters a venation grows with, by property name (a named preset's own, or the properties for Custom).
 std::vector<std::pair<const char*, double>> ParameterValues(const plantmorph::VenationParameters& p)
 {
-  return { { "Pattern", static_cast<double>(p.pattern) },
-    { "PrimaryCount", p.primaries }, { "PrimarySpread", p.primarySpread }, { "ParallelVeins", p.parallelVeins },
-    { "ParallelSpread", p.parallelSpread }, { "SecondarySpacing", p.secondarySpacing },
-    { "DivergenceAngle", p.divergenceAngle }, { "DivergenceAngleApex", p.divergenceAngleApex },
-    { "SecondaryCurvatureBase", p.curvatureBase }, { "SecondaryCurvatureApex", p.curvatureApex },
-    { "ForkFraction", p.forkFraction }, { "BranchCurvature", p.branchCurvature },
-    { "Tertiary", p.tertiary ? 1.0 : 0.0 },
-    { "AreoleSize", p.areoleSize }, { "MinJunctionAngle", p.minJunctionAngle },
-    { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
-    { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins }, { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 },
-    { "ForkLevels", p.forkLevels },
-    { "ForkSize", p.forkSize }, { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth }, { "PrimaryTaper", p.primaryTaper },
-    { "SecondaryWidthRatio", p.secondaryWidthRatio }, { "TertiaryWidthRatio", p.tertiaryWidthRatio },
-    { "VeinletWidthRatio", p.veinletWidthRatio } };
+  return { { "Pattern", static_cast<double>(p.pattern) }, { "PrimaryCount", p.primaries },
+    { "PrimarySpread", p.primarySpread }, { "ParallelVeins", p.parallelVeins }, { "ParallelSpread", p.parallelSpread },
+    { "SecondarySpacing", p.secondarySpacing }, { "DivergenceAngle", p.divergenceAngle },
+    { "DivergenceAngleApex", p.divergenceAngleApex }, { "SecondaryCurvatureBase", p.curvatureBase },
+    { "SecondaryCurvatureApex", p.curvatureApex }, { "ForkFraction", p.forkFraction },
+    { "BranchCurvature", p.branchCurvature }, { "Tertiary", p.tertiary ? 1.0 : 0.0 }, { "AreoleSize", p.areoleSize },
+    { "MinJunctionAngle", p.minJunctionAngle }, { "JunctionAngleDeviation", p.junctionAngleDeviation },
+    { "Veinlets", p.veinlets ? 1.0 : 0.0 }, { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
+    { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels }, { "ForkSize", p.forkSize },
+    { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth },
+    { "PrimaryTaper", p.primaryTaper }, { "SecondaryWidthRatio", p.secondaryWidthRatio },
+    { "TertiaryWidthRatio", p.tertiaryWidthRatio }, { "VeinletWidthRatio", p.veinletWidthRatio } };
 }
 
 /// The parameters the venation grew with, one field value per property as PlantMorph.Venation.<property>: what a
@@ -553,7 +551,8 @@ std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
 }
 
 //------------------------------------------------------------------------------
-int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkVenationFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
   vtkPolyData* veins = vtkPolyData::GetData(outputVector, 0);
@@ -612,8 +611,8 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   {
     return fail(error);
   }
-  WriteVeinFieldData(veins->GetFieldData(), result, measures, p,
-    static_cast<plantmorph::VenationPreset>(this->Preset), this->Seed, flat);
+  WriteVeinFieldData(veins->GetFieldData(), result, measures, p, static_cast<plantmorph::VenationPreset>(this->Preset),
+    this->Seed, flat);
   WriteStatistics(measures, statistics);
   WriteHistogram(plantmorph::MakeAreoleHistogram(measures.areoleAreas, this->AreoleHistogramBins), histogram);
   WriteBlade(input, blade, plane, result, this->EmbossDepth, bladeOut);

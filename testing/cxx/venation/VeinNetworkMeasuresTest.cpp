@@ -67,7 +67,7 @@ TEST(VeinNetworkMeasures, RectanglesOfAreaOneAndThree)
   EXPECT_DOUBLE_EQ(m.areoleAreas[1], 3.0);
   EXPECT_DOUBLE_EQ(m.areoleMean, 2.0);
   EXPECT_DOUBLE_EQ(m.areoleMedian, 2.0);
-  EXPECT_DOUBLE_EQ(m.areoleCV, 0.5); // population standard deviation 1 over mean 2
+  EXPECT_DOUBLE_EQ(m.areoleCV, 0.5);       // population standard deviation 1 over mean 2
   EXPECT_DOUBLE_EQ(m.spanningLength, 7.0); // three of the unit square's edges, the right side, one long edge
   EXPECT_DOUBLE_EQ(m.loopiness, 7.0 / 11.0);
   EXPECT_EQ(m.branchPoints, 2u);

@@ -198,11 +198,24 @@ TEST(vtkVenationFilter, BadInputGivesAMessageAndEmptyOutputs)
   };
   const Case cases[] = {
     { [](vtkVenationFilter* f) { f->SetPreset(7); }, "Preset = 7 is outside the accepted range [0, 6]" },
-    { [](vtkVenationFilter* f) { f->SetPreset(0); f->SetPattern(12); }, "Pattern = 12" },
-    { [](vtkVenationFilter* f) { f->SetPreset(0); f->SetAreoleSize(std::nan("")); }, "AreoleSize" },
+    { [](vtkVenationFilter* f) {
+       f->SetPreset(0);
+       f->SetPattern(12);
+     },
+      "Pattern = 12" },
+    { [](vtkVenationFilter* f) {
+       f->SetPreset(0);
+       f->SetAreoleSize(std::nan(""));
+     },
+      "AreoleSize" },
     { [](vtkVenationFilter* f) { f->SetEmbossDepth(std::nan("")); }, "EmbossDepth" },
     { [](vtkVenationFilter* f) { f->SetMaxSegments(10); }, "MaxSegments = 10" },
-    { [](vtkVenationFilter* f) { f->SetPreset(0); f->SetAreoleSize(0.001); f->SetMaxSegments(1000); }, "MaxSegments" },
+    { [](vtkVenationFilter* f) {
+       f->SetPreset(0);
+       f->SetAreoleSize(0.001);
+       f->SetMaxSegments(1000);
+     },
+      "MaxSegments" },
     { [](vtkVenationFilter* f) { f->SetAreoleHistogramBins(0); }, "AreoleHistogramBins = 0 is outside" },
   };
   for (const Case& c : cases)

@@ -158,9 +158,8 @@ void ExpectPrimariesEndOnTheMargin(const VenationResult& r)
 
 TEST(PalmateVenation, PrimariesFanOverAtLeast80DegreesOnEntireBlades)
 {
-  for (const DeformedRectanglePreset preset :
-    { DeformedRectanglePreset::Entire, DeformedRectanglePreset::Ginkgo, DeformedRectanglePreset::Serrate,
-      DeformedRectanglePreset::RoundedBaseAcuminateApex })
+  for (const DeformedRectanglePreset preset : { DeformedRectanglePreset::Entire, DeformedRectanglePreset::Ginkgo,
+         DeformedRectanglePreset::Serrate, DeformedRectanglePreset::RoundedBaseAcuminateApex })
   {
     const LeafGeometry leaf = DeformedRectangle(preset);
     const Frame frame = FrameOf(leaf);
@@ -213,7 +212,8 @@ TEST(PalmateVenation, OnePrimaryRunsIntoEachLobeAndReachesItsTip)
 
 TEST(PalmateVenation, BasalPrimariesRunIntoTheBasalLobesOfCordateBlades)
 {
-  const LeafGeometry cucumber = Cucumber(), cordate = DeformedRectangle(DeformedRectanglePreset::CordateBaseRoundedApex);
+  const LeafGeometry cucumber = Cucumber(),
+                     cordate = DeformedRectangle(DeformedRectanglePreset::CordateBaseRoundedApex);
   for (const LeafGeometry* leaf : { &cucumber, &cordate })
   {
     SCOPED_TRACE(leaf == &cucumber ? "cucumber" : "cordate base");
@@ -302,8 +302,7 @@ TEST(PalmateVenation, GinkgoDichotomiesFillTheFan)
   for (std::size_t t = 0; t < leaf.blade.triangles.size(); t += 3)
   {
     const auto& tri = leaf.blade.triangles[t];
-    const Eigen::Vector2d c =
-      (leaf.blade.points[tri[0]] + leaf.blade.points[tri[1]] + leaf.blade.points[tri[2]]) / 3.0;
+    const Eigen::Vector2d c = (leaf.blade.points[tri[0]] + leaf.blade.points[tri[1]] + leaf.blade.points[tri[2]]) / 3.0;
     distances.push_back(DistanceToVeins(r, VeinOrderSecondary, c, true) / r.leafLength);
   }
   std::sort(distances.begin(), distances.end());

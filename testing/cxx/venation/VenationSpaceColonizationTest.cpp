@@ -34,7 +34,8 @@ LeafGeometry Entire()
   LeafMeshParameters settings;
   settings.resolution = 60;
   LeafGeometry leaf;
-  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, leaf), "");
+  EXPECT_EQ(
+    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, leaf), "");
   return leaf;
 }
 
@@ -138,8 +139,8 @@ TEST_P(Coverage, NinetyFivePercentOfTheBladeLiesWithinThreePercentOfTheLengthFro
   ASSERT_GT(r.veins.size(), 20u);
   const std::vector<double> d = DistancesToVeins(leaf, r, 4000);
   const double p95 = d[d.size() * 95 / 100] / r.leafLength;
-  std::cout << "blade " << GetParam() << ": " << r.statistics.segments << " segments, 95th percentile distance "
-            << p95 << " L, largest " << d.back() / r.leafLength << " L\n";
+  std::cout << "blade " << GetParam() << ": " << r.statistics.segments << " segments, 95th percentile distance " << p95
+            << " L, largest " << d.back() / r.leafLength << " L\n";
   EXPECT_LT(p95, 0.03);
   // Inside the blade along every segment, not only at its nodes (the lobed blade's sinuses are narrow).
   BladeLocator locator;
@@ -150,14 +151,15 @@ TEST_P(Coverage, NinetyFivePercentOfTheBladeLiesWithinThreePercentOfTheLengthFro
     for (std::size_t i = 0; i + 1 < vein.nodes.size(); ++i)
       for (int k = 1; k < 16; ++k)
       {
-        const Eigen::Vector2d x = r.nodes[vein.nodes[i]] + k / 16.0 * (r.nodes[vein.nodes[i + 1]] - r.nodes[vein.nodes[i]]);
+        const Eigen::Vector2d x =
+          r.nodes[vein.nodes[i]] + k / 16.0 * (r.nodes[vein.nodes[i + 1]] - r.nodes[vein.nodes[i]]);
         outside += locator.Locate(x, 1e-9 * r.leafLength).triangle < 0;
       }
   EXPECT_EQ(outside, 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(SpaceColonization, Coverage, ::testing::Values(0, 1, 2),
-  [](const ::testing::TestParamInfo<int>& info) {
+INSTANTIATE_TEST_SUITE_P(
+  SpaceColonization, Coverage, ::testing::Values(0, 1, 2), [](const ::testing::TestParamInfo<int>& info) {
     return std::string(info.param == 0 ? "Entire" : info.param == 1 ? "Cucumber" : "FiveLobes");
   });
 

@@ -35,7 +35,8 @@ LeafGeometry EntireLeaf(int resolution = 60)
   LeafMeshParameters settings;
   settings.resolution = resolution;
   LeafGeometry leaf;
-  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, leaf), "");
+  EXPECT_EQ(
+    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, leaf), "");
   return leaf;
 }
 
@@ -148,8 +149,10 @@ TEST_P(EveryPattern, VeinsLieOnTheBladeInsideItsOutlineAndReachTheMidvein)
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Venation, EveryPattern, ::testing::Range(0, VenationPatternCount),
-  [](const ::testing::TestParamInfo<int>& info) { return VenationPatternName(static_cast<VenationPattern>(info.param)); });
+INSTANTIATE_TEST_SUITE_P(
+  Venation, EveryPattern, ::testing::Range(0, VenationPatternCount), [](const ::testing::TestParamInfo<int>& info) {
+    return VenationPatternName(static_cast<VenationPattern>(info.param));
+  });
 
 TEST(Venation, GrowthJunctionsKeepTheirAnglesAndAverage120Degrees)
 {
@@ -244,7 +247,7 @@ TEST(Venation, VeinletsEndFreeInsideAreoles)
     if (vein.order != VeinOrderVeinlet)
       continue;
     ++veinlets;
-    EXPECT_EQ(degree[vein.nodes.back()], 1); // its tip meets nothing
+    EXPECT_EQ(degree[vein.nodes.back()], 1);  // its tip meets nothing
     EXPECT_GE(degree[vein.nodes.front()], 3); // its start is on an areole's vein
   }
   EXPECT_GT(veinlets, 20u);
@@ -326,7 +329,8 @@ TEST(Venation, GinkgoForksDichotomouslyIntoVeinsThatReachTheMargin)
   LeafMeshParameters settings;
   settings.resolution = 60;
   LeafGeometry leaf;
-  ASSERT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings, leaf), "");
+  ASSERT_EQ(
+    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings, leaf), "");
   const VenationParameters p = MakeVenationPreset(VenationPreset::Ginkgo);
   const VenationResult r = Grow(leaf, p);
   // p.palmateVeins veins from the base, each forking p.forkLevels times: with 2 and 5, 2 + (4 + 8 + ... + 64) veins,
@@ -397,13 +401,19 @@ TEST(Venation, BadInputGivesAMessageNamingThePropertyAndNoNetwork)
     double value;
   };
   const Bad cases[] = {
-    { "Pattern", [](VenationParameters& p, double v) { p.pattern = static_cast<VenationPattern>(static_cast<int>(v)); }, VenationPatternCount },
+    { "Pattern", [](VenationParameters& p, double v) { p.pattern = static_cast<VenationPattern>(static_cast<int>(v)); },
+      VenationPatternCount },
     { "SecondarySpacing", [](VenationParameters& p, double v) { p.secondarySpacing = v; }, nan },
     { "DivergenceAngle", [](VenationParameters& p, double v) { p.divergenceAngle = v; }, 95 },
     { "AreoleSize", [](VenationParameters& p, double v) { p.areoleSize = v; }, 0.0 },
     { "MinJunctionAngle", [](VenationParameters& p, double v) { p.minJunctionAngle = v; }, 130 },
     { "ForkLevels", [](VenationParameters& p, double v) { p.forkLevels = static_cast<int>(v); }, 9 },
-    { "AreoleSize", [](VenationParameters& p, double v) { p.areoleSize = v; p.maxSegments = 1000; }, 0.002 },
+    { "AreoleSize",
+      [](VenationParameters& p, double v) {
+        p.areoleSize = v;
+        p.maxSegments = 1000;
+      },
+      0.002 },
   };
   for (const Bad& bad : cases)
   {
