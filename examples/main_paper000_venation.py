@@ -6,14 +6,21 @@
   veinlets), veins drawn as tubes of their VeinWidth;
 - paper000_venation_patterns.png: the nine venation types of Fig. 3 on one ovate blade;
 - paper000_mulberry_embossed.png: the paper mulberry blade with its veins embossed (Fig. 10b's relief), lit from
-  the side.
+  the side;
+- venation_space_colonization.png: Runions et al. 2005's space colonization on a growing blade: open venation (a
+  tree, widths by the pipe model) on an entire, a cordate (cucumber) and a five-lobed blade, and closed venation
+  (with loops) on the entire blade;
+- venation_wilting_species.png: the presets of the wilting species on their blades: cucumber (palmate to the lobe
+  and basal-lobe tips), watermelon (palmate, one primary per lobe, on paper 002's five-lobed leaf) and a tomato
+  leaflet (pinnate semicraspedodromous, on a serrate blade).
 Each figure's veins and blade are written as .vtp files.
 
     xvfb-run -a pvbatch examples/main_paper000_venation.py --plugin build/.../PlantMorph.so --output output/
 """
 import os
 
-from plantmorph_example import caption, save_png, save_state, save_vtp, show_solid, start, white_view
+from plantmorph_example import (caption, save_framed_png, save_png, save_state, save_vtp, show_solid, start,
+                                white_view)
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -79,4 +86,42 @@ view.CameraPosition = [4.0, -4.0, 6.0]
 view.CameraFocalPoint = [0.0, 2.5, 0.0]
 view.CameraViewUp = [0.0, 0.0, 1.0]
 save_png(view, os.path.join(arguments.output, "paper000_mulberry_embossed.png"), top_down=False)
+
+# Space colonization (Runions et al. 2005): open venation on three blades, closed venation on the first.
+view = white_view(1800, 420)
+blades = [("entire", LeafOutlineSource(Preset="Entire", Length=5.0, Resolution=80, MeshQuality="Quality")),
+          ("cucumber", LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength=5.0, BladeWidth=5.5,
+                                         Resolution=80, MeshQuality="Quality")),
+          ("five lobes", LeafOutlineSource(Model="Space curve", SpaceCurvePreset="Paper 002 Fig. 8, 5 lobes",
+                                           Length=5.0, Resolution=80, MeshQuality="Quality"))]
+colonized = [(name, leaf, 0) for name, leaf in blades] + [("entire, closed", blades[0][1], 1)]
+for k, ((name, leaf, closed), x) in enumerate(zip(colonized, [0.0, 6.0, 14.0, 22.0])):
+    venation = VenationFilter(Input=OutputPort(leaf, 0), Preset="Custom", Pattern="Space colonization (Runions 2005)",
+                              ClosedVenation=closed, PrimaryWidth=0.02, Seed=1)
+    save_vtp(venation, os.path.join(arguments.output, "venation_colonization_%s_veins.vtp" % name.replace(", ", "_")
+                                    .replace(" ", "_")), port=0)
+    offset = [x, 0.0]
+    show_leaf(leaf, venation, view, offset)
+    caption(view, ("Closed, " if closed else "Open, ") + name.split(",")[0], [offset[0] - 1.6, -1.3, 0.0], 0.3)
+save_framed_png(view, os.path.join(arguments.output, "venation_space_colonization.png"), [11.0, 2.2, 0.0],
+                [11.0, 2.2, 50.0], [0.0, 1.0, 0.0], 3.9)
+
+# The wilting species' presets on their blades.
+view = white_view(1500, 560)
+species = [("Cucumber (palmate)", LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength=5.0,
+                                                    BladeWidth=5.5, Resolution=80, MeshQuality="Quality"), "Cucumber"),
+           ("Watermelon (palmate, lobed)", LeafOutlineSource(Model="Space curve",
+                                                             SpaceCurvePreset="Paper 002 Fig. 8, 5 lobes", Length=5.0,
+                                                             Resolution=80, MeshQuality="Quality"), "Watermelon"),
+           ("Tomato (pinnate leaflet)", LeafOutlineSource(Preset="Serrate", Length=5.0, Resolution=80,
+                                                          MeshQuality="Quality"), "Tomato leaflet")]
+for k, ((preset, leaf, title), x) in enumerate(zip(species, [0.0, 9.0, 16.5])):
+    # Seed 2: with seed 1 the watermelon's lower left lobe gets no tertiary seed (docs/methods/venation.md, "Not yet").
+    venation = VenationFilter(Input=OutputPort(leaf, 0), Preset=preset, Seed=2)
+    save_vtp(venation, os.path.join(arguments.output, "venation_%s_veins.vtp" % title.split(" ")[0].lower()), port=0)
+    offset = [x, 0.0]
+    show_leaf(leaf, venation, view, offset)
+    caption(view, title, [offset[0] - 1.6, -1.5, 0.0], 0.3)
+save_framed_png(view, os.path.join(arguments.output, "venation_wilting_species.png"), [8.0, 1.9, 0.0],
+                [8.0, 1.9, 50.0], [0.0, 1.0, 0.0], 4.15)
 save_state(arguments, "paper000_venation")

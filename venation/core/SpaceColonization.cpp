@@ -1,5 +1,6 @@
 #include "SpaceColonization.h"
 
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/RandomStream.h>
 
 #include <algorithm>
@@ -122,8 +123,14 @@ public:
   }
 
 private:
-  int Column(double x) const { return std::clamp(static_cast<int>(std::floor((x - this->Low.x()) / this->Cell)), 0, this->Width - 1); }
-  int Row(double y) const { return std::clamp(static_cast<int>(std::floor((y - this->Low.y()) / this->Cell)), 0, this->Height - 1); }
+  int Column(double x) const
+  {
+    return std::clamp(static_cast<int>(std::floor((x - this->Low.x()) / this->Cell)), 0, this->Width - 1);
+  }
+  int Row(double y) const
+  {
+    return std::clamp(static_cast<int>(std::floor((y - this->Low.y()) / this->Cell)), 0, this->Height - 1);
+  }
   std::size_t Index(const Eigen::Vector2d& p) const
   {
     return static_cast<std::size_t>(this->Row(p.y())) * this->Width + this->Column(p.x());
@@ -175,6 +182,18 @@ private:
     }
     return true;
   }
+  /// Marginal growth: whether x lies within `band` of the margin (a point of the circle of that radius about it,
+  /// sampled every 30 degrees, lies outside the blade).
+  bool NearMargin(const Eigen::Vector2d& x, double band) const
+  {
+    for (int k = 0; k < 12; ++k)
+    {
+      const double angle = k * Pi / 6.0;
+      if (!this->Inside(x + band * Eigen::Vector2d(std::cos(angle), std::sin(angle))))
+        return true;
+    }
+    return false;
+  }
   int AddNode(const Eigen::Vector2d& x, int parent);
   /// Closed venation: the nodes within `reach` of source `id` in its relative neighbourhood (no other node is
   /// closer both to the source and to them), in id order.
@@ -197,7 +216,7 @@ private:
   std::vector<Eigen::Vector2d> NodePoints, SourcePoints;
   std::vector<int> Parent;
   std::vector<std::pair<int, int>> Links; ///< closed venation: where veins met at a source (they make the loops)
-  std::vector<int> Live; ///< the sources not yet killed, in the order they were born
+  std::vector<int> Live;                  ///< the sources not yet killed, in the order they were born
   /// Per source: the step before which no vein node can come within the attraction distance (nodes advance at most
   /// one vein step a step and the distances only shrink as the blade grows), so far sources are not searched again.
   std::vector<std::size_t> Wake;
@@ -223,12 +242,14 @@ void Colonizer::ThrowDarts(double stage)
   const auto count = static_cast<std::int64_t>(std::floor(darts));
   this->DartCarry = darts - static_cast<double>(count);
   const double birth = 0.5 / std::sqrt(this->P.sourceDensity) * this->Length / stage;
+  // Marginal growth: only darts within one attraction distance (physical, at this stage) of the margin count.
+  const double band = this->P.attractionDistance * this->Length / stage;
   for (std::int64_t i = 0; i < count; ++i)
   {
     const double x = this->Random.Uniform(), y = this->Random.Uniform();
     const Eigen::Vector2d dart = low + Eigen::Vector2d(x * extent.x(), y * extent.y());
-    if (!this->Inside(dart) || this->Sources.AnyWithin(dart, birth, this->SourcePoints) ||
-      this->Nodes.AnyWithin(dart, birth, this->NodePoints))
+    if (!this->Inside(dart) || (this->P.marginalGrowth && !this->NearMargin(dart, band)) ||
+      this->Sources.AnyWithin(dart, birth, this->SourcePoints) || this->Nodes.AnyWithin(dart, birth, this->NodePoints))
       continue;
     const int id = static_cast<int>(this->SourcePoints.size());
     this->SourcePoints.push_back(dart);
@@ -297,8 +318,8 @@ void Colonizer::CloseSources(double reach, double kill)
     this->Sources.Remove(id, x);
   }
   if (any)
-    this->Live.erase(std::remove_if(this->Live.begin(), this->Live.end(), [&](int id) { return removed[id] != 0; }),
-      this->Live.end());
+    this->Live.erase(
+      std::remove_if(this->Live.begin(), this->Live.end(), [&](int id) { return removed[id] != 0; }), this->Live.end());
 }
 
 std::size_t Colonizer::Step()
@@ -346,7 +367,8 @@ std::size_t Colonizer::Step()
       continue;
     std::vector<int> pulled = { target[i] };
     if (this->P.closedVenation)
-      pulled = this->Neighbourhood(this->Live[i], std::max(reach, (this->NodePoints[target[i]] - this->SourcePoints[this->Live[i]]).norm()));
+      pulled = this->Neighbourhood(
+        this->Live[i], std::max(reach, (this->NodePoints[target[i]] - this->SourcePoints[this->Live[i]]).norm()));
     for (int n : pulled)
     {
       const Eigen::Vector2d d = this->SourcePoints[this->Live[i]] - this->NodePoints[n];
@@ -397,8 +419,8 @@ std::size_t Colonizer::Step()
     }
   }
   if (!killed.empty())
-    this->Live.erase(std::remove_if(this->Live.begin(), this->Live.end(), [&](int id) { return killed[id] != 0; }),
-      this->Live.end());
+    this->Live.erase(
+      std::remove_if(this->Live.begin(), this->Live.end(), [&](int id) { return killed[id] != 0; }), this->Live.end());
   return added.size();
 }
 
@@ -410,8 +432,7 @@ std::string Colonizer::Run(VenationResult& result, const std::function<bool(doub
   this->Stage = 0.0;
   this->AddNode(this->Locator.PointAtUV(Eigen::Vector2d(0.0, 0.0)), -1);
   this->ThrowDarts(start);
-  const std::size_t limit =
-    static_cast<std::size_t>((1.0 - start) / grow + 20.0 / this->P.killDistance) + 1000;
+  const std::size_t limit = static_cast<std::size_t>((1.0 - start) / grow + 20.0 / this->P.killDistance) + 1000;
   for (std::size_t step = 0; step < limit; ++step)
   {
     const std::size_t added = this->Step();
@@ -531,8 +552,8 @@ void Colonizer::Finish(VenationResult& result) const
 
 } // namespace
 
-std::string GrowSpaceColonization(const BladeLocator& locator,
-  const VenationParameters& parameters, VenationResult& result, const std::function<bool(double)>& progress)
+std::string GrowSpaceColonization(const BladeLocator& locator, const VenationParameters& parameters,
+  VenationResult& result, const std::function<bool(double)>& progress)
 {
   result = VenationResult();
   double length = 0.0;

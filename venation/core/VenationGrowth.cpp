@@ -103,13 +103,13 @@ private:
   const VenationParameters& P;
   const std::function<bool(double)>& Progress;
   VeinGraph Graph;
-  double Length = 1.0;  ///< leaf length L
-  double Width = 1.0;   ///< blade width across the axis
-  double Step = 0.01;   ///< sampling step of traced curves
-  double Snap = 1e-9;   ///< tertiary snap distance
+  double Length = 1.0; ///< leaf length L
+  double Width = 1.0;  ///< blade width across the axis
+  double Step = 0.01;  ///< sampling step of traced curves
+  double Snap = 1e-9;  ///< tertiary snap distance
   Eigen::Vector2d Base = Eigen::Vector2d::Zero(), Apex = Eigen::Vector2d::Zero(), Axis = Eigen::Vector2d::UnitY();
   int BaseNode = -1;
-  std::vector<int> Midvein;          ///< node path of the midvein (pinnate patterns)
+  std::vector<int> Midvein; ///< node path of the midvein (pinnate patterns)
   std::vector<double> JunctionAngles;
 };
 
@@ -227,8 +227,7 @@ std::vector<Grower::Secondary> Grower::PlaceSecondaries(RandomStream& random, do
   double start = 0.0; // arc length at path[segment]
   for (const Branch& branch : branches)
   {
-    while (segment + 1 < path.size() &&
-      start + (nodes[path[segment + 1]] - nodes[path[segment]]).norm() < branch.at)
+    while (segment + 1 < path.size() && start + (nodes[path[segment + 1]] - nodes[path[segment]]).norm() < branch.at)
     {
       start += (nodes[path[segment + 1]] - nodes[path[segment]]).norm();
       ++segment;
@@ -564,8 +563,8 @@ void Grower::GrowPalmate()
       BladeLocation at = this->Locator.Locate(x, 1e-7 * this->Length);
       if (at.triangle < 0)
         at = this->Locator.Locate(x, 1e-3 * this->Length);
-      endsUV[(r << levels) + j] = at.triangle >= 0 ? this->Locator.Interpolate(this->Blade.uv, at)
-                                                   : Eigen::Vector2d(0.0, 1.0);
+      endsUV[(r << levels) + j] =
+        at.triangle >= 0 ? this->Locator.Interpolate(this->Blade.uv, at) : Eigen::Vector2d(0.0, 1.0);
     }
   }
   // Fork growth fractions: level d forks at forkTime[d].
@@ -593,15 +592,25 @@ void Grower::GrowPalmate()
     const Eigen::Vector2d parent = parameter(d - 1, parentFirst, parentSize, g);
     if (g <= forkTime[d])
       return parent;
-    const double f = (g - forkTime[d]) / (1.0 - forkTime[d]);
+    // The two branches move linearly apart: over the rest of the growth in paper 000's construction; with the
+    // fan, by the next fork (the last level: by full size), so at every stage the veins are spread evenly over
+    // the fan rather than bunched until the leaf is full grown (a ginkgo's dozens of nearly parallel veins).
+    const double until = this->P.palmateFan ? forkTime[d + 1] : 1.0;
+    const double f = std::min(1.0, (g - forkTime[d]) / (until - forkTime[d]));
     return Eigen::Vector2d(parent + f * (mean(first, size) - mean(parentFirst, parentSize)));
   };
   // In LeafUV the path arches up by g*(1 - g)*(1 - v)/4 in v: an end on the base edge v = 0 (a cordate blade's
-  // basal lobe) is reached through the blade rather than along its margin.
+  // basal lobe) is reached through the blade rather than along its margin. With the fan its u grows as
+  // sqrt(g) u_end (the same law for every vein, so their order across the blade is kept): a vein takes its share
+  // of the width early, so the outer veins of a fan run along its flanks (a ginkgo's marginal veins) instead of up
+  // the middle. Paper 000's construction (no fan) keeps u = g u_end: the Cucumber wilting preset was fitted on it.
+  const bool fanned = this->P.palmateFan;
   auto at = [&](int d, int first, int size, double g) {
     const Eigen::Vector2d p = parameter(d, first, size, g);
-    return plane ? Eigen::Vector2d(this->Base + g * (p - this->Base))
-                 : this->Locator.PointAtUV(g * p + Eigen::Vector2d(0.0, 0.25 * g * (1.0 - g) * (1.0 - p.y())));
+    if (plane)
+      return Eigen::Vector2d(this->Base + g * (p - this->Base));
+    const double across = fanned ? std::sqrt(g) : g;
+    return this->Locator.PointAtUV(Eigen::Vector2d(across * p.x(), g * p.y() + 0.25 * g * (1.0 - g) * (1.0 - p.y())));
   };
   auto pieces = [&](int d) {
     const double g0 = forkTime[d], g1 = d == levels ? 1.0 : forkTime[d + 1];
@@ -658,7 +667,7 @@ std::string Grower::Run(VenationResult& result)
     return "LeafUV: the blade's midvein (u = 0 from v = 0 to 1) has no length";
   this->Length = length;
   this->Axis = (this->Apex - this->Base).norm() > 0.0 ? Eigen::Vector2d((this->Apex - this->Base).normalized())
-                                                        : Eigen::Vector2d::UnitY();
+                                                      : Eigen::Vector2d::UnitY();
   double low = 0.0, high = 0.0;
   for (const Eigen::Vector2d& x : this->Blade.points)
   {
@@ -691,7 +700,8 @@ std::string Grower::Run(VenationResult& result)
       for (int i = 0; i < n; ++i)
         primaries.push_back(n == 1 ? 0.0 : spread * (2.0 * i / (n - 1) - 1.0));
       // The midvein (or the one nearest it) first, so the others join it rather than the reverse.
-      std::stable_sort(primaries.begin(), primaries.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+      std::stable_sort(
+        primaries.begin(), primaries.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
     }
     for (double u : primaries)
     {
@@ -808,7 +818,8 @@ void Grower::Finish(VenationResult& result)
   if (stats.areoles > 0)
   {
     stats.areoleAreaMean = sum / stats.areoles;
-    stats.areoleAreaStd = std::sqrt(std::max(0.0, sumSquares / stats.areoles - stats.areoleAreaMean * stats.areoleAreaMean));
+    stats.areoleAreaStd =
+      std::sqrt(std::max(0.0, sumSquares / stats.areoles - stats.areoleAreaMean * stats.areoleAreaMean));
   }
 }
 
@@ -831,13 +842,15 @@ VenationParameters MakeVenationPreset(VenationPreset preset)
       p.areoleSize = 0.045;
       break;
     case VenationPreset::Ginkgo:
+      // Two veins enter from the petiole and fork dichotomously, five times, into 64 nearly parallel veins that
+      // fan out to the whole margin (a real ginkgo leaf has some 40-60 at its margin).
       p.pattern = VenationPattern::Palmate;
-      p.palmateVeins = 4;
-      p.forkLevels = 2;
-      p.forkSize = 0.25;
+      p.palmateVeins = 2;
+      p.forkLevels = 5;
+      p.forkSize = 0.08;
       p.tertiary = false;
-      p.primaryWidth = 0.008;
-      p.primaryTaper = 0.6;
+      p.primaryWidth = 0.006;
+      p.primaryTaper = 0.7;
       p.secondaryWidthRatio = 0.8;
       break;
     case VenationPreset::Poplar:
@@ -850,22 +863,62 @@ VenationParameters MakeVenationPreset(VenationPreset preset)
       p.areoleSize = 0.035;
       p.veinlets = true;
       break;
+    case VenationPreset::Cucumber:
+      // Cucumis sativus: palmate (actinodromous), five primaries from the petiole ending at the tips of the
+      // shallow lobes and of the cordate blade's basal lobes, a dense reticulum between (the model grows no
+      // secondaries off palmate primaries; a fork level would move the primaries off the lobe tips).
+      p.pattern = VenationPattern::Palmate;
+      p.palmateVeins = 5;
+      p.forkLevels = 0;
+      p.tertiary = true;
+      p.areoleSize = 0.04;
+      p.primaryWidth = 0.018;
+      p.primaryTaper = 0.35;
+      p.secondaryWidthRatio = 0.55;
+      break;
+    case VenationPreset::Tomato:
+      // Solanum lycopersicum: the leaf is pinnately compound; the model grows one blade, so this is a leaflet's
+      // venation (pinnate, secondaries at 50-65 deg looping inside the margin with branches to its teeth,
+      // reticulate tertiaries and veinlets). Grow it on each leaflet.
+      p.pattern = VenationPattern::Semicraspedodromous;
+      p.divergenceAngle = 50.0;
+      p.divergenceAngleApex = 65.0;
+      p.secondarySpacing = 0.13;
+      p.forkFraction = 0.75;
+      p.tertiary = true;
+      p.areoleSize = 0.04;
+      p.veinlets = true;
+      break;
+    case VenationPreset::Watermelon:
+      // Citrullus lanatus: palmately veined, the blade deeply cut into three to five lobes that are themselves
+      // pinnately lobed: one primary to each lobe tip (PalmateFan's lobe tips), a fine reticulum with veinlets.
+      // The veins into the sub-lobes are not modelled (fork levels would move the primaries off the lobe tips).
+      p.pattern = VenationPattern::Palmate;
+      p.palmateVeins = 5;
+      p.forkLevels = 0;
+      p.tertiary = true;
+      p.areoleSize = 0.03;
+      p.veinlets = true;
+      p.primaryWidth = 0.015;
+      p.primaryTaper = 0.3;
+      p.secondaryWidthRatio = 0.6;
+      break;
   }
   return p;
 }
 
 std::string VenationPresetName(VenationPreset preset)
 {
-  static const char* const names[VenationPresetCount] = { "Custom", "PaperMulberry", "Ginkgo", "Poplar" };
+  static const char* const names[VenationPresetCount] = { "Custom", "PaperMulberry", "Ginkgo", "Poplar", "Cucumber",
+    "Tomato", "Watermelon" };
   const int i = static_cast<int>(preset);
   return i >= 0 && i < VenationPresetCount ? names[i] : "Unknown";
 }
 
 std::string VenationPatternName(VenationPattern pattern)
 {
-  static const char* const names[VenationPatternCount] = { "Craspedodromous", "Semicraspedodromous",
-    "Brochidodromous", "Eucamptodromous", "Reticulodromous", "Cladodromous", "Arcuate", "Parallel", "Palmate",
-    "SpaceColonization" };
+  static const char* const names[VenationPatternCount] = { "Craspedodromous", "Semicraspedodromous", "Brochidodromous",
+    "Eucamptodromous", "Reticulodromous", "Cladodromous", "Arcuate", "Parallel", "Palmate", "SpaceColonization" };
   const int i = static_cast<int>(pattern);
   return i >= 0 && i < VenationPatternCount ? names[i] : "Unknown";
 }

@@ -85,57 +85,63 @@ struct VenationParameters
 {
   VenationPattern pattern = VenationPattern::Brochidodromous;
   std::uint64_t seed = 0;
-  int primaries = 3;            ///< arcuate: number of primary veins (odd counts include the midvein)
-  double primarySpread = 0.3;   ///< arcuate: |u| of the outermost primaries, [0, 0.49]
-  int parallelVeins = 9;        ///< parallel: number of primary veins
-  double parallelSpread = 0.45; ///< parallel: |u| of the outermost primaries, [0, 0.49]
-  double secondarySpacing = 0.1; ///< distance between branch points along the midvein, in leaf lengths
-  double divergenceAngle = 55.0; ///< degrees between midvein and secondary at the base, (5, 90]
+  int primaries = 3;                 ///< arcuate: number of primary veins (odd counts include the midvein)
+  double primarySpread = 0.3;        ///< arcuate: |u| of the outermost primaries, [0, 0.49]
+  int parallelVeins = 9;             ///< parallel: number of primary veins
+  double parallelSpread = 0.45;      ///< parallel: |u| of the outermost primaries, [0, 0.49]
+  double secondarySpacing = 0.1;     ///< distance between branch points along the midvein, in leaf lengths
+  double divergenceAngle = 55.0;     ///< degrees between midvein and secondary at the base, (5, 90]
   double divergenceAngleApex = 55.0; ///< the same at the apex (linear in between)
-  double curvatureBase = 1.0;    ///< k of eq. (2) at the base
-  double curvatureApex = 5.0;    ///< k of eq. (2) at the apex
-  double forkFraction = 0.8;     ///< where secondaries fork, as a fraction of their way to the margin, (0, 1)
-  double branchCurvature = 1.0;  ///< c of eq. (3) (cladodromous branches)
+  double curvatureBase = 1.0;        ///< k of eq. (2) at the base
+  double curvatureApex = 5.0;        ///< k of eq. (2) at the apex
+  double forkFraction = 0.8;         ///< where secondaries fork, as a fraction of their way to the margin, (0, 1)
+  double branchCurvature = 1.0;      ///< c of eq. (3) (cladodromous branches)
   bool tertiary = true;
-  double areoleSize = 0.05;      ///< tertiary edge length, in leaf lengths
+  double areoleSize = 0.05; ///< tertiary edge length, in leaf lengths
   double minJunctionAngle = 60.0;
   double junctionAngleDeviation = 10.0; ///< standard deviation of the junction angles around 120 deg
   bool veinlets = false;
-  double veinletLength = 0.4;    ///< in areole sizes
-  int palmateVeins = 4;         ///< palmate: primaries on a blade without lobes (a lobed one gets one per lobe)
+  double veinletLength = 0.4; ///< in areole sizes
+  int palmateVeins = 4;       ///< palmate: primaries on a blade without lobes (a lobed one gets one per lobe)
   /// palmate: where the vein ends lie. true: fanned over the blade's margin (PalmateFan.h); false: paper 000's
   /// construction, evenly along the canonical leaf's far edge v = 1, grown in LeafUV (the ends bunch towards the
   /// apex on an entire blade; kept because the Cucumber wilting preset was fitted on it).
   bool palmateFan = true;
   int forkLevels = 1;
-  double forkSize = 0.3;         ///< growth fraction of the first dichotomous fork, (0, 1)
-  double primaryWidth = 0.015;   ///< in leaf lengths
-  double primaryTaper = 0.3;     ///< width at the end of a primary, as a fraction of its width at the base
+  double forkSize = 0.3;       ///< growth fraction of the first dichotomous fork, (0, 1)
+  double primaryWidth = 0.015; ///< in leaf lengths
+  double primaryTaper = 0.3;   ///< width at the end of a primary, as a fraction of its width at the base
   double secondaryWidthRatio = 0.5;
   double tertiaryWidthRatio = 0.2;
   double veinletWidthRatio = 0.12;
   // Space colonization (SpaceColonization.h); distances in leaf lengths of the full-grown blade.
-  double killDistance = 0.01;       ///< a source dies when a vein node comes this close; the vein step is half of it
-  double attractionDistance = 0.1;  ///< a source draws its nearest vein node within this distance
-  double sourceDensity = 3000.0;    ///< auxin-source darts per unit blade area (leaf length squared)
-  double murrayExponent = 3.0;      ///< pipe model: w^n of a vein is the sum of w^n of its branches
-  double growthStart = 0.1;         ///< blade size (fraction of the final) when veins start; 1 = a static blade
-  bool closedVenation = false;      ///< closed: a source draws its whole relative neighbourhood and dies when all reach it
+  double killDistance = 0.01;      ///< a source dies when a vein node comes this close; the vein step is half of it
+  double attractionDistance = 0.1; ///< a source draws its nearest vein node within this distance
+  double sourceDensity = 3000.0;   ///< auxin-source darts per unit blade area (leaf length squared)
+  double murrayExponent = 3.0;     ///< pipe model: w^n of a vein is the sum of w^n of its branches
+  double growthStart = 0.1;        ///< blade size (fraction of the final) when veins start; 1 = a static blade
+  bool closedVenation = false; ///< closed: a source draws its whole relative neighbourhood and dies when all reach it
+  /// marginal growth (Runions 2005): sources are added only within one attraction distance of the growing margin
+  /// (false: uniformly over the whole blade as it grows)
+  bool marginalGrowth = false;
   std::size_t maxSegments = 2000000; ///< refuse (with a message) networks that would need more edges
   /// Benchmarks only: the vein graph's grid cells as a multiple of their default size (about one areole); a huge
   /// value puts every edge in one cell, so every crossing test looks at every edge (brute force).
   double gridCellScale = 1.0;
 };
 
-/// Presets of paper 000's figures.
+/// Presets of paper 000's figures, and of the wilting species (paper 001; docs/methods/venation.md "Presets").
 enum class VenationPreset : int
 {
   Custom = 0,
   PaperMulberry = 1, ///< Broussonetia, Fig. 10: pinnate brochidodromous, secondaries at 45-70 deg, reticulate
   Ginkgo = 2,        ///< Fig. 11: palmate, dichotomous
   Poplar = 3,        ///< Fig. 12: semicraspedodromous, reticulate tertiaries with free-ending veinlets
+  Cucumber = 4,      ///< palmate: five primaries to the lobe and basal-lobe tips, reticulate
+  Tomato = 5,        ///< one leaflet of the compound leaf: pinnate semicraspedodromous, reticulate with veinlets
+  Watermelon = 6,    ///< palmate, one primary to each lobe tip, fine reticulum with veinlets
 };
-inline constexpr int VenationPresetCount = 4;
+inline constexpr int VenationPresetCount = 7;
 VenationParameters MakeVenationPreset(VenationPreset preset);
 std::string VenationPresetName(VenationPreset preset);
 std::string VenationPatternName(VenationPattern pattern);
@@ -148,12 +154,12 @@ struct VenationStatistics
   double length[5] = { 0, 0, 0, 0, 0 }; ///< total vein length per VeinOrder (index 0 unused: the margin)
   double density = 0.0;                 ///< total vein length per blade area
   double bladeArea = 0.0;
-  std::size_t areoles = 0;              ///< faces enclosed by veins only
+  std::size_t areoles = 0; ///< faces enclosed by veins only
   double areoleAreaMean = 0.0;
   double areoleAreaStd = 0.0;
-  std::size_t branchPoints = 0;         ///< nodes where three or more vein edges meet
-  std::size_t freeEnds = 0;             ///< vein ends that meet nothing
-  std::size_t segments = 0;             ///< vein edges (margin excluded)
+  std::size_t branchPoints = 0; ///< nodes where three or more vein edges meet
+  std::size_t freeEnds = 0;     ///< vein ends that meet nothing
+  std::size_t segments = 0;     ///< vein edges (margin excluded)
 };
 
 struct VenationResult
@@ -169,7 +175,7 @@ struct VenationResult
   };
   std::vector<Polyline> veins;
   VenationStatistics statistics;
-  std::vector<double> junctionAngles;  ///< growth junctions: the three angles of each, degrees (for tests)
+  std::vector<double> junctionAngles; ///< growth junctions: the three angles of each, degrees (for tests)
   double leafLength = 0.0;
 };
 

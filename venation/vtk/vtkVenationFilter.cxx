@@ -3,6 +3,7 @@
 
 #include "PlantMorphFieldData.h"
 #include "PlantMorphWholeInput.h"
+#include "VeinNetworkMeasures.h"
 #include "VenationGrowth.h"
 
 #include <plantmorph/DataContract.h>
@@ -16,6 +17,7 @@
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -25,6 +27,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkStringArray.h"
+#include "vtkTable.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -80,8 +83,8 @@ std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& po
     for (int k = 0; k < 3; ++k)
     {
       const int i = t[k], j = t[(k + 1) % 3];
-      const Eigen::Vector2d row((uv[i].x() - uv[j].x()) * (uv[i].x() - uv[j].x()),
-        (uv[i].y() - uv[j].y()) * (uv[i].y() - uv[j].y()));
+      const Eigen::Vector2d row(
+        (uv[i].x() - uv[j].x()) * (uv[i].x() - uv[j].x()), (uv[i].y() - uv[j].y()) * (uv[i].y() - uv[j].y()));
       normalMatrix += row * row.transpose();
       rhs += row * (points[i] - points[j]).squaredNorm();
     }
@@ -97,20 +100,18 @@ std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& po
 /// The parameters a venation grows with, by property name (a named preset's own, or the properties for Custom).
 std::vector<std::pair<const char*, double>> ParameterValues(const plantmorph::VenationParameters& p)
 {
-  return { { "Pattern", static_cast<double>(p.pattern) },
-    { "PrimaryCount", p.primaries }, { "PrimarySpread", p.primarySpread }, { "ParallelVeins", p.parallelVeins },
-    { "ParallelSpread", p.parallelSpread }, { "SecondarySpacing", p.secondarySpacing },
-    { "DivergenceAngle", p.divergenceAngle }, { "DivergenceAngleApex", p.divergenceAngleApex },
-    { "SecondaryCurvatureBase", p.curvatureBase }, { "SecondaryCurvatureApex", p.curvatureApex },
-    { "ForkFraction", p.forkFraction }, { "BranchCurvature", p.branchCurvature },
-    { "Tertiary", p.tertiary ? 1.0 : 0.0 },
-    { "AreoleSize", p.areoleSize }, { "MinJunctionAngle", p.minJunctionAngle },
-    { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
-    { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins }, { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 },
-    { "ForkLevels", p.forkLevels },
-    { "ForkSize", p.forkSize }, { "PrimaryWidth", p.primaryWidth }, { "PrimaryTaper", p.primaryTaper },
-    { "SecondaryWidthRatio", p.secondaryWidthRatio }, { "TertiaryWidthRatio", p.tertiaryWidthRatio },
-    { "VeinletWidthRatio", p.veinletWidthRatio } };
+  return { { "Pattern", static_cast<double>(p.pattern) }, { "PrimaryCount", p.primaries },
+    { "PrimarySpread", p.primarySpread }, { "ParallelVeins", p.parallelVeins }, { "ParallelSpread", p.parallelSpread },
+    { "SecondarySpacing", p.secondarySpacing }, { "DivergenceAngle", p.divergenceAngle },
+    { "DivergenceAngleApex", p.divergenceAngleApex }, { "SecondaryCurvatureBase", p.curvatureBase },
+    { "SecondaryCurvatureApex", p.curvatureApex }, { "ForkFraction", p.forkFraction },
+    { "BranchCurvature", p.branchCurvature }, { "Tertiary", p.tertiary ? 1.0 : 0.0 }, { "AreoleSize", p.areoleSize },
+    { "MinJunctionAngle", p.minJunctionAngle }, { "JunctionAngleDeviation", p.junctionAngleDeviation },
+    { "Veinlets", p.veinlets ? 1.0 : 0.0 }, { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
+    { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels }, { "ForkSize", p.forkSize },
+    { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth },
+    { "PrimaryTaper", p.primaryTaper }, { "SecondaryWidthRatio", p.secondaryWidthRatio },
+    { "TertiaryWidthRatio", p.tertiaryWidthRatio }, { "VeinletWidthRatio", p.veinletWidthRatio } };
 }
 
 /// The parameters the venation grew with, one field value per property as PlantMorph.Venation.<property>: what a
@@ -122,12 +123,262 @@ void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
     AddFieldValue(fd, (std::string("PlantMorph.Venation.") + name).c_str(), value);
   }
 }
+/// The input blade as flat arrays: points, LeafUV, triangles.
+struct InputBlade
+{
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+/// Reads the blade's points, LeafUV and triangles; a message naming what is wrong when it cannot be used.
+std::string ReadBlade(vtkPolyData* input, InputBlade& blade)
+{
+  vtkDataArray* uvArray = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
+  if (!uvArray || uvArray->GetNumberOfComponents() != 2)
+  {
+    return "Input: the blade needs the point array LeafUV with 2 components (LeafOutlineSource's blades have it)";
+  }
+  const vtkIdType n = input->GetNumberOfPoints();
+  blade.points.resize(static_cast<std::size_t>(n));
+  blade.uv.resize(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    input->GetPoint(i, blade.points[i].data());
+    blade.uv[i] = Eigen::Vector2d(uvArray->GetComponent(i, 0), uvArray->GetComponent(i, 1));
+  }
+  vtkCellArray* polys = input->GetPolys();
+  vtkNew<vtkIdList> ids;
+  vtkIdType cell = 0;
+  for (polys->InitTraversal(); polys->GetNextCell(ids); ++cell)
+  {
+    if (ids->GetNumberOfIds() != 3)
+    {
+      std::ostringstream message;
+      message << "Input: polygon " << cell << " has " << ids->GetNumberOfIds()
+              << " points; the blade must be triangles (apply Triangulate first)";
+      return message.str();
+    }
+    blade.triangles.push_back(
+      { static_cast<int>(ids->GetId(0)), static_cast<int>(ids->GetId(1)), static_cast<int>(ids->GetId(2)) });
+  }
+  if (input->GetNumberOfStrips() > 0)
+  {
+    return "Input: the blade has triangle strips; apply Triangulate first";
+  }
+  if (blade.triangles.empty())
+  {
+    return "Input: the blade has no triangles";
+  }
+  return {};
+}
+
+/// Port 0's geometry: the network's points mapped onto the surface (with VeinWidth, Region, LeafUV and the
+/// blade's TCoords interpolated) and one polyline per vein (VeinOrder, Region).
+std::string WriteVeins(
+  vtkPolyData* input, const InputBlade& blade, const plantmorph::VenationResult& result, vtkPolyData* veins)
+{
+  const std::size_t count = result.nodes.size();
+  vtkNew<vtkPoints> veinPoints;
+  veinPoints->SetDataType(input->GetPoints()->GetDataType());
+  veinPoints->SetNumberOfPoints(static_cast<vtkIdType>(count));
+  vtkNew<vtkDoubleArray> width, veinUV;
+  width->SetName(plantmorph::arrays::VeinWidth);
+  width->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  veinUV->SetName(plantmorph::arrays::LeafUV);
+  veinUV->SetNumberOfComponents(2);
+  veinUV->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  vtkNew<vtkIntArray> pointRegion;
+  pointRegion->SetName(plantmorph::arrays::Region);
+  pointRegion->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  vtkDataArray* tcoords = input->GetPointData()->GetTCoords();
+  vtkNew<vtkFloatArray> veinTCoords;
+  if (tcoords && tcoords->GetNumberOfComponents() == 2)
+  {
+    veinTCoords->SetName(tcoords->GetName() ? tcoords->GetName() : plantmorph::arrays::TCoords);
+    veinTCoords->SetNumberOfComponents(2);
+    veinTCoords->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  }
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const plantmorph::BladeLocation& at = result.location[i];
+    if (at.triangle < 0)
+    {
+      return "internal: a vein point fell outside the blade";
+    }
+    const auto& t = blade.triangles[at.triangle];
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    Eigen::Vector2d w = Eigen::Vector2d::Zero(), tc = Eigen::Vector2d::Zero();
+    for (int k = 0; k < 3; ++k)
+    {
+      x += at.weights[k] * blade.points[t[k]];
+      w += at.weights[k] * blade.uv[t[k]];
+      if (veinTCoords->GetNumberOfTuples() > 0)
+        tc += at.weights[k] * Eigen::Vector2d(tcoords->GetComponent(t[k], 0), tcoords->GetComponent(t[k], 1));
+    }
+    veinPoints->SetPoint(static_cast<vtkIdType>(i), x.data());
+    width->SetValue(static_cast<vtkIdType>(i), result.width[i]);
+    veinUV->SetTuple2(static_cast<vtkIdType>(i), w.x(), w.y());
+    pointRegion->SetValue(static_cast<vtkIdType>(i), std::min<int>(result.order[i], plantmorph::RegionTertiaryVein));
+    if (veinTCoords->GetNumberOfTuples() > 0)
+      veinTCoords->SetTuple2(static_cast<vtkIdType>(i), tc.x(), tc.y());
+  }
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIntArray> veinOrder, cellRegion;
+  veinOrder->SetName(plantmorph::arrays::VeinOrder);
+  cellRegion->SetName(plantmorph::arrays::Region);
+  for (const auto& line : result.veins)
+  {
+    lines->InsertNextCell(static_cast<vtkIdType>(line.nodes.size()));
+    for (int id : line.nodes)
+      lines->InsertCellPoint(id);
+    veinOrder->InsertNextValue(line.order);
+    cellRegion->InsertNextValue(std::min<int>(line.order, plantmorph::RegionTertiaryVein));
+  }
+  veins->SetPoints(veinPoints);
+  veins->SetLines(lines);
+  veins->GetPointData()->AddArray(width);
+  veins->GetPointData()->SetActiveScalars(plantmorph::arrays::VeinWidth);
+  veins->GetPointData()->AddArray(pointRegion);
+  veins->GetPointData()->AddArray(veinUV);
+  if (veinTCoords->GetNumberOfTuples() > 0)
+    veins->GetPointData()->SetTCoords(veinTCoords);
+  veins->GetCellData()->AddArray(veinOrder);
+  veins->GetCellData()->AddArray(cellRegion);
+  return {};
+}
+
+/// Port 1: the blade passed through, its points raised along the normals over the veins when depth is not 0.
+void WriteBlade(vtkPolyData* input, const InputBlade& blade, const plantmorph::VenationBlade& plane,
+  const plantmorph::VenationResult& result, double depth, vtkPolyData* bladeOut)
+{
+  bladeOut->ShallowCopy(input);
+  if (depth != 0.0)
+  {
+    const std::vector<double> heights = plantmorph::VeinReliefHeights(plane, result, depth);
+    const vtkIdType n = input->GetNumberOfPoints();
+    std::vector<Eigen::Vector3d> normals(blade.points.size(), Eigen::Vector3d::Zero());
+    vtkDataArray* given = input->GetPointData()->GetNormals();
+    if (given && given->GetNumberOfComponents() == 3)
+    {
+      for (vtkIdType i = 0; i < n; ++i)
+        given->GetTuple(i, normals[i].data());
+    }
+    else
+    {
+      for (const auto& t : blade.triangles)
+      {
+        const Eigen::Vector3d face =
+          (blade.points[t[1]] - blade.points[t[0]]).cross(blade.points[t[2]] - blade.points[t[0]]);
+        for (int k = 0; k < 3; ++k)
+          normals[t[k]] += face;
+      }
+    }
+    vtkNew<vtkPoints> raised;
+    raised->SetDataType(input->GetPoints()->GetDataType());
+    raised->SetNumberOfPoints(n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      const double length = normals[i].norm();
+      const Eigen::Vector3d up = length > 0.0 ? Eigen::Vector3d(normals[i] / length) : Eigen::Vector3d::UnitZ();
+      const Eigen::Vector3d x = blade.points[i] + heights[i] * up;
+      raised->SetPoint(i, x.data());
+    }
+    bladeOut->SetPoints(raised);
+  }
+  AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", depth);
+}
+
+/// Field data on port 0: the network's measures and what the veins grew with (parameters, seed, preset, plane).
+/// The counts are the Statistics port's (one set of numbers); AreoleAreaStd is the population standard deviation.
+void WriteVeinFieldData(vtkFieldData* fd, const plantmorph::VenationResult& result,
+  const plantmorph::VeinNetworkMeasures& m, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset,
+  int seed, bool flat)
+{
+  vtkNew<vtkDoubleArray> lengths;
+  lengths->SetName("PlantMorph.VeinLength");
+  lengths->SetNumberOfComponents(4);
+  lengths->SetComponentName(0, "Primary");
+  lengths->SetComponentName(1, "Secondary");
+  lengths->SetComponentName(2, "Tertiary");
+  lengths->SetComponentName(3, "Veinlet");
+  lengths->InsertNextTuple4(m.length[1], m.length[2], m.length[3], m.length[4]);
+  fd->AddArray(lengths);
+  AddFieldValue(fd, "PlantMorph.VeinDensity", m.vla);
+  AddFieldValue(fd, "PlantMorph.BladeArea", m.bladeArea);
+  AddFieldValue(fd, "PlantMorph.AreoleCount", static_cast<double>(m.areoles));
+  AddFieldValue(fd, "PlantMorph.AreoleAreaMean", m.areoleMean);
+  AddFieldValue(fd, "PlantMorph.AreoleAreaStd", m.areoleCV * m.areoleMean);
+  AddFieldValue(fd, "PlantMorph.BranchPoints", static_cast<double>(m.branchPoints));
+  AddFieldValue(fd, "PlantMorph.FreeEnds", static_cast<double>(m.freeEnds));
+  AddFieldValue(fd, "PlantMorph.VeinSegments", static_cast<double>(result.statistics.segments));
+  AddFieldValue(fd, "PlantMorph.Seed", seed);
+  AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
+  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
+  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
+  AddParameters(fd, p);
+  AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
+}
+
+/// Port 2, Statistics: one row, the measures of the network (VeinNetworkMeasures.h), lengths and areas in the
+/// blade's units (VLA in units^-1, i.e. mm/mm^2 for a blade in mm).
+void WriteStatistics(const plantmorph::VeinNetworkMeasures& m, vtkTable* statistics)
+{
+  const auto addValue = [&](const char* name, double value) {
+    vtkNew<vtkDoubleArray> column;
+    column->SetName(name);
+    column->InsertNextValue(value);
+    statistics->AddColumn(column);
+  };
+  const auto addCount = [&](const char* name, std::size_t value) {
+    vtkNew<vtkIdTypeArray> column;
+    column->SetName(name);
+    column->InsertNextValue(static_cast<vtkIdType>(value));
+    statistics->AddColumn(column);
+  };
+  addValue("VLA", m.vla);
+  addValue("TotalLength", m.totalLength);
+  addValue("BladeArea", m.bladeArea);
+  addCount("AreoleCount", m.areoles);
+  addValue("AreoleAreaMean", m.areoleMean);
+  addValue("AreoleAreaMedian", m.areoleMedian);
+  addValue("AreoleAreaCV", m.areoleCV);
+  addValue("Loopiness", m.loopiness);
+  addCount("BranchPoints", m.branchPoints);
+  addValue("BranchPointsPerArea", m.branchPointsPerArea);
+  addCount("FreeEnds", m.freeEnds);
+  addValue("FreeEndsPerArea", m.freeEndsPerArea);
+  const char* const orders[] = { "Primary", "Secondary", "Tertiary", "Veinlet" };
+  for (int o = 1; o <= 4; ++o)
+    addValue(("Length" + std::string(orders[o - 1])).c_str(), m.length[o]);
+  for (int o = 1; o <= 4; ++o)
+    addValue(("MeanWidth" + std::string(orders[o - 1])).c_str(), m.meanWidth[o]);
+}
+
+/// Port 3, Areole histogram: one row per bin, its lower and upper area edges and how many areoles it holds.
+void WriteHistogram(const plantmorph::AreoleHistogram& h, vtkTable* histogram)
+{
+  vtkNew<vtkDoubleArray> lower, upper;
+  lower->SetName("BinLower");
+  upper->SetName("BinUpper");
+  vtkNew<vtkIdTypeArray> count;
+  count->SetName("Count");
+  for (std::size_t b = 0; b < h.count.size(); ++b)
+  {
+    lower->InsertNextValue(h.lower[b]);
+    upper->InsertNextValue(h.upper[b]);
+    count->InsertNextValue(static_cast<vtkIdType>(h.count[b]));
+  }
+  histogram->AddColumn(lower);
+  histogram->AddColumn(upper);
+  histogram->AddColumn(count);
+}
 } // namespace
 
 //------------------------------------------------------------------------------
 vtkVenationFilter::vtkVenationFilter()
 {
-  this->SetNumberOfOutputPorts(2);
+  this->SetNumberOfOutputPorts(4);
 }
 
 //------------------------------------------------------------------------------
@@ -206,6 +457,13 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
   PLANTMORPH_CHECK(PalmateEnds);
   PLANTMORPH_CHECK(ForkLevels);
   PLANTMORPH_CHECK(ForkSize);
+  PLANTMORPH_CHECK(KillDistance);
+  PLANTMORPH_CHECK(AttractionDistance);
+  PLANTMORPH_CHECK(SourceDensity);
+  PLANTMORPH_CHECK(MurrayExponent);
+  PLANTMORPH_CHECK(GrowthStart);
+  PLANTMORPH_CHECK(ClosedVenation);
+  PLANTMORPH_CHECK(MarginalGrowth);
   PLANTMORPH_CHECK(PrimaryWidth);
   PLANTMORPH_CHECK(PrimaryTaper);
   PLANTMORPH_CHECK(SecondaryWidthRatio);
@@ -221,57 +479,35 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
 }
 
 //------------------------------------------------------------------------------
-int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkVenationFilter::FillOutputPortInformation(int port, vtkInformation* info)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
-  vtkPolyData* veins = vtkPolyData::GetData(outputVector, 0);
-  vtkPolyData* bladeOut = vtkPolyData::GetData(outputVector, 1);
-  if (!input || !veins || !bladeOut)
-  {
-    return 0;
-  }
-  veins->Initialize();
-  bladeOut->Initialize();
-  // Under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split over ranks).
-  const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
-  input = wholeBlade.Get();
-  if (input->GetNumberOfPoints() == 0)
-  {
-    // Another rank: the blade is on rank 0, nothing to grow here, no error. On rank 0 the whole blade is empty.
-    if (plantmorph::IsFirstRank())
-    {
-      vtkWarningMacro(<< "the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
-    }
-    return 1;
-  }
-  auto fail = [&](const std::string& message) {
-    vtkErrorMacro(<< message);
-    veins->Initialize();
-    bladeOut->Initialize();
-    return 1;
-  };
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port < 2 ? "vtkPolyData" : "vtkTable");
+  return 1;
+}
 
-  // Parameters: a preset, or the properties.
-  std::ostringstream message;
+//------------------------------------------------------------------------------
+std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
+{
   if (this->Preset < 0 || this->Preset >= plantmorph::VenationPresetCount)
   {
-    message << plantmorph::OutOfRange(
+    return plantmorph::OutOfRange(
       "Preset", this->Preset, "[0, " + std::to_string(plantmorph::VenationPresetCount - 1) + "]");
-    return fail(message.str());
   }
   if (!std::isfinite(this->EmbossDepth) || std::abs(this->EmbossDepth) > 1e3)
   {
-    message << plantmorph::OutOfRange("EmbossDepth", this->EmbossDepth, "[-1e3, 1e3]");
-    return fail(message.str());
+    return plantmorph::OutOfRange("EmbossDepth", this->EmbossDepth, "[-1e3, 1e3]");
   }
   if (this->MaxSegments < 100 || this->MaxSegments > 100000000)
   {
-    message << plantmorph::OutOfRange("MaxSegments", this->MaxSegments, "[100, 1e8]");
-    return fail(message.str());
+    return plantmorph::OutOfRange("MaxSegments", this->MaxSegments, "[100, 1e8]");
+  }
+  if (this->AreoleHistogramBins < 1 || this->AreoleHistogramBins > 10000)
+  {
+    return plantmorph::OutOfRange("AreoleHistogramBins", this->AreoleHistogramBins, "[1, 10000]");
   }
   const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
   this->WarnAboutPresetOverrides();
-  plantmorph::VenationParameters p = plantmorph::MakeVenationPreset(preset);
+  p = plantmorph::MakeVenationPreset(preset);
   if (preset == plantmorph::VenationPreset::Custom)
   {
     p.pattern = static_cast<plantmorph::VenationPattern>(this->Pattern);
@@ -302,6 +538,7 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
     p.murrayExponent = this->MurrayExponent;
     p.growthStart = this->GrowthStart;
     p.closedVenation = this->ClosedVenation;
+    p.marginalGrowth = this->MarginalGrowth;
     p.primaryWidth = this->PrimaryWidth;
     p.primaryTaper = this->PrimaryTaper;
     p.secondaryWidthRatio = this->SecondaryWidthRatio;
@@ -310,186 +547,75 @@ int vtkVenationFilter::RequestData(vtkInformation*, vtkInformationVector** input
   }
   p.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
   p.maxSegments = static_cast<std::size_t>(this->MaxSegments);
+  return {};
+}
 
-  // The blade: points, LeafUV, triangles.
-  vtkDataArray* uvArray = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
-  if (!uvArray || uvArray->GetNumberOfComponents() != 2)
+//------------------------------------------------------------------------------
+int vtkVenationFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* veins = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* bladeOut = vtkPolyData::GetData(outputVector, 1);
+  vtkTable* statistics = vtkTable::GetData(outputVector, 2);
+  vtkTable* histogram = vtkTable::GetData(outputVector, 3);
+  if (!input || !veins || !bladeOut || !statistics || !histogram)
   {
-    return fail("Input: the blade needs the point array LeafUV with 2 components (LeafOutlineSource's blades have "
-                "it)");
+    return 0;
   }
-  const vtkIdType n = input->GetNumberOfPoints();
-  std::vector<Eigen::Vector3d> points(static_cast<std::size_t>(n));
-  std::vector<Eigen::Vector2d> uv(static_cast<std::size_t>(n));
-  for (vtkIdType i = 0; i < n; ++i)
+  const auto clear = [&]() {
+    veins->Initialize();
+    bladeOut->Initialize();
+    statistics->Initialize();
+    histogram->Initialize();
+  };
+  clear();
+  // Under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split over ranks).
+  const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
+  input = wholeBlade.Get();
+  if (input->GetNumberOfPoints() == 0)
   {
-    input->GetPoint(i, points[i].data());
-    uv[i] = Eigen::Vector2d(uvArray->GetComponent(i, 0), uvArray->GetComponent(i, 1));
-  }
-  std::vector<std::array<int, 3>> triangles;
-  {
-    vtkCellArray* polys = input->GetPolys();
-    vtkNew<vtkIdList> ids;
-    vtkIdType cell = 0;
-    for (polys->InitTraversal(); polys->GetNextCell(ids); ++cell)
+    // Another rank: the blade is on rank 0, nothing to grow here, no error. On rank 0 the whole blade is empty.
+    if (plantmorph::IsFirstRank())
     {
-      if (ids->GetNumberOfIds() != 3)
-      {
-        message << "Input: polygon " << cell << " has " << ids->GetNumberOfIds()
-                << " points; the blade must be triangles (apply Triangulate first)";
-        return fail(message.str());
-      }
-      triangles.push_back({ static_cast<int>(ids->GetId(0)), static_cast<int>(ids->GetId(1)),
-        static_cast<int>(ids->GetId(2)) });
+      vtkWarningMacro(<< "the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
     }
+    return 1;
   }
-  if (input->GetNumberOfStrips() > 0)
-  {
-    return fail("Input: the blade has triangle strips; apply Triangulate first");
-  }
-  if (triangles.empty())
-  {
-    return fail("Input: the blade has no triangles");
-  }
-  bool flat = true;
-  plantmorph::VenationBlade blade{ WorkingPlane(points, uv, triangles, flat), uv, triangles };
+  auto fail = [&](const std::string& message) {
+    vtkErrorMacro(<< message);
+    clear();
+    return 1;
+  };
 
-  plantmorph::VenationResult result;
-  const std::string error = plantmorph::GrowVenation(blade, p, result, plantmorph::Progress(this, 0.0, 0.95));
+  plantmorph::VenationParameters p;
+  std::string error = this->MakeParameters(p);
+  InputBlade blade;
+  if (error.empty())
+    error = ReadBlade(input, blade);
   if (!error.empty())
   {
     return fail(error);
   }
-
-  // Port 0: the veins on the surface.
-  const std::size_t count = result.nodes.size();
-  vtkNew<vtkPoints> veinPoints;
-  veinPoints->SetDataType(input->GetPoints()->GetDataType());
-  veinPoints->SetNumberOfPoints(static_cast<vtkIdType>(count));
-  vtkNew<vtkDoubleArray> width, veinUV;
-  width->SetName(plantmorph::arrays::VeinWidth);
-  width->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  veinUV->SetName(plantmorph::arrays::LeafUV);
-  veinUV->SetNumberOfComponents(2);
-  veinUV->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  vtkNew<vtkIntArray> pointRegion;
-  pointRegion->SetName(plantmorph::arrays::Region);
-  pointRegion->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  vtkDataArray* tcoords = input->GetPointData()->GetTCoords();
-  vtkNew<vtkFloatArray> veinTCoords;
-  if (tcoords && tcoords->GetNumberOfComponents() == 2)
+  bool flat = true;
+  const plantmorph::VenationBlade plane{ WorkingPlane(blade.points, blade.uv, blade.triangles, flat), blade.uv,
+    blade.triangles };
+  plantmorph::VenationResult result;
+  error = plantmorph::GrowVenation(plane, p, result, plantmorph::Progress(this, 0.0, 0.95));
+  plantmorph::VeinNetworkMeasures measures;
+  if (error.empty())
+    error = plantmorph::MeasureVenation(plane, result, measures);
+  if (error.empty())
+    error = WriteVeins(input, blade, result, veins);
+  if (!error.empty())
   {
-    veinTCoords->SetName(tcoords->GetName() ? tcoords->GetName() : plantmorph::arrays::TCoords);
-    veinTCoords->SetNumberOfComponents(2);
-    veinTCoords->SetNumberOfTuples(static_cast<vtkIdType>(count));
+    return fail(error);
   }
-  for (std::size_t i = 0; i < count; ++i)
-  {
-    const plantmorph::BladeLocation& at = result.location[i];
-    if (at.triangle < 0)
-    {
-      return fail("internal: a vein point fell outside the blade");
-    }
-    const auto& t = triangles[at.triangle];
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    Eigen::Vector2d w = Eigen::Vector2d::Zero(), tc = Eigen::Vector2d::Zero();
-    for (int k = 0; k < 3; ++k)
-    {
-      x += at.weights[k] * points[t[k]];
-      w += at.weights[k] * uv[t[k]];
-      if (veinTCoords->GetNumberOfTuples() > 0)
-        tc += at.weights[k] * Eigen::Vector2d(tcoords->GetComponent(t[k], 0), tcoords->GetComponent(t[k], 1));
-    }
-    veinPoints->SetPoint(static_cast<vtkIdType>(i), x.data());
-    width->SetValue(static_cast<vtkIdType>(i), result.width[i]);
-    veinUV->SetTuple2(static_cast<vtkIdType>(i), w.x(), w.y());
-    pointRegion->SetValue(static_cast<vtkIdType>(i), std::min<int>(result.order[i], plantmorph::RegionTertiaryVein));
-    if (veinTCoords->GetNumberOfTuples() > 0)
-      veinTCoords->SetTuple2(static_cast<vtkIdType>(i), tc.x(), tc.y());
-  }
-  vtkNew<vtkCellArray> lines;
-  vtkNew<vtkIntArray> veinOrder, cellRegion;
-  veinOrder->SetName(plantmorph::arrays::VeinOrder);
-  cellRegion->SetName(plantmorph::arrays::Region);
-  for (const auto& line : result.veins)
-  {
-    lines->InsertNextCell(static_cast<vtkIdType>(line.nodes.size()));
-    for (int id : line.nodes)
-      lines->InsertCellPoint(id);
-    veinOrder->InsertNextValue(line.order);
-    cellRegion->InsertNextValue(std::min<int>(line.order, plantmorph::RegionTertiaryVein));
-  }
-  veins->SetPoints(veinPoints);
-  veins->SetLines(lines);
-  veins->GetPointData()->AddArray(width);
-  veins->GetPointData()->SetActiveScalars(plantmorph::arrays::VeinWidth);
-  veins->GetPointData()->AddArray(pointRegion);
-  veins->GetPointData()->AddArray(veinUV);
-  if (veinTCoords->GetNumberOfTuples() > 0)
-    veins->GetPointData()->SetTCoords(veinTCoords);
-  veins->GetCellData()->AddArray(veinOrder);
-  veins->GetCellData()->AddArray(cellRegion);
-
-  vtkFieldData* fd = veins->GetFieldData();
-  const plantmorph::VenationStatistics& s = result.statistics;
-  vtkNew<vtkDoubleArray> lengths;
-  lengths->SetName("PlantMorph.VeinLength");
-  lengths->SetNumberOfComponents(4);
-  lengths->SetComponentName(0, "Primary");
-  lengths->SetComponentName(1, "Secondary");
-  lengths->SetComponentName(2, "Tertiary");
-  lengths->SetComponentName(3, "Veinlet");
-  lengths->InsertNextTuple4(s.length[1], s.length[2], s.length[3], s.length[4]);
-  fd->AddArray(lengths);
-  AddFieldValue(fd, "PlantMorph.VeinDensity", s.density);
-  AddFieldValue(fd, "PlantMorph.BladeArea", s.bladeArea);
-  AddFieldValue(fd, "PlantMorph.AreoleCount", static_cast<double>(s.areoles));
-  AddFieldValue(fd, "PlantMorph.AreoleAreaMean", s.areoleAreaMean);
-  AddFieldValue(fd, "PlantMorph.AreoleAreaStd", s.areoleAreaStd);
-  AddFieldValue(fd, "PlantMorph.BranchPoints", static_cast<double>(s.branchPoints));
-  AddFieldValue(fd, "PlantMorph.FreeEnds", static_cast<double>(s.freeEnds));
-  AddFieldValue(fd, "PlantMorph.VeinSegments", static_cast<double>(s.segments));
-  AddFieldValue(fd, "PlantMorph.Seed", this->Seed);
-  AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
-  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
-  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
-  AddParameters(fd, p);
-  AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
-
-  // Port 1: the blade, raised over the veins when asked.
-  bladeOut->ShallowCopy(input);
-  if (this->EmbossDepth != 0.0)
-  {
-    const std::vector<double> heights = plantmorph::VeinReliefHeights(blade, result, this->EmbossDepth);
-    std::vector<Eigen::Vector3d> normals(points.size(), Eigen::Vector3d::Zero());
-    vtkDataArray* given = input->GetPointData()->GetNormals();
-    if (given && given->GetNumberOfComponents() == 3)
-    {
-      for (vtkIdType i = 0; i < n; ++i)
-        given->GetTuple(i, normals[i].data());
-    }
-    else
-    {
-      for (const auto& t : triangles)
-      {
-        const Eigen::Vector3d face = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
-        for (int k = 0; k < 3; ++k)
-          normals[t[k]] += face;
-      }
-    }
-    vtkNew<vtkPoints> raised;
-    raised->SetDataType(input->GetPoints()->GetDataType());
-    raised->SetNumberOfPoints(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      const double length = normals[i].norm();
-      const Eigen::Vector3d up = length > 0.0 ? Eigen::Vector3d(normals[i] / length) : Eigen::Vector3d::UnitZ();
-      const Eigen::Vector3d x = points[i] + heights[i] * up;
-      raised->SetPoint(i, x.data());
-    }
-    bladeOut->SetPoints(raised);
-  }
-  AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", this->EmbossDepth);
+  WriteVeinFieldData(veins->GetFieldData(), result, measures, p, static_cast<plantmorph::VenationPreset>(this->Preset),
+    this->Seed, flat);
+  WriteStatistics(measures, statistics);
+  WriteHistogram(plantmorph::MakeAreoleHistogram(measures.areoleAreas, this->AreoleHistogramBins), histogram);
+  WriteBlade(input, blade, plane, result, this->EmbossDepth, bladeOut);
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -508,7 +634,8 @@ void vtkVenationFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PalmateVeins: " << this->PalmateVeins << " (ForkLevels " << this->ForkLevels << ")\n";
   os << indent << "KillDistance: " << this->KillDistance << " (AttractionDistance " << this->AttractionDistance
      << ", SourceDensity " << this->SourceDensity << ", MurrayExponent " << this->MurrayExponent << ", GrowthStart "
-     << this->GrowthStart << ")\n";
+     << this->GrowthStart << ", MarginalGrowth " << this->MarginalGrowth << ")\n";
   os << indent << "EmbossDepth: " << this->EmbossDepth << "\n";
   os << indent << "MaxSegments: " << this->MaxSegments << "\n";
+  os << indent << "AreoleHistogramBins: " << this->AreoleHistogramBins << "\n";
 }

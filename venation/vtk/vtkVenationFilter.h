@@ -17,11 +17,24 @@
  * meet there. Output port 1, **Blade**: the input passed through, its points raised along the normals over the
  * veins when EmbossDepth is not 0 (paper Fig. 10b's relief; it needs a blade fine enough to show a vein's width).
  *
- * Field data on port 0, the measures plant scientists quote (LEAF GUI, phenoVein): `PlantMorph.VeinLength` (4
- * components: primary, secondary, tertiary, veinlet total lengths), `PlantMorph.VeinDensity` (vein length per
- * blade area), `PlantMorph.AreoleCount`, `PlantMorph.AreoleAreaMean`, `PlantMorph.AreoleAreaStd` (areoles: the
- * faces enclosed by veins alone), `PlantMorph.BranchPoints`, `PlantMorph.FreeEnds`, `PlantMorph.VeinSegments`,
- * and the parameters used (`PlantMorph.VenationPattern`, `PlantMorph.VenationPreset`, `PlantMorph.Seed`).
+ * Output port 2, **Statistics** (vtkTable, one row per leaf; the filter grows one leaf, so one row), the measures
+ * plant scientists report (LEAF GUI, phenoVein; venation/measures/VeinNetworkMeasures.h), measured on the network
+ * in the plane it grew in (the blade's own plane for a flat blade, so in the blade's units; ScaledLeafUV for a
+ * curved one, approximate): `VLA` (vein length per blade area, in the blade's units^-1: mm/mm^2 = 1/mm for a blade
+ * in mm), `TotalLength`, `BladeArea`, `AreoleCount` (bounded faces enclosed by veins alone), `AreoleAreaMean`,
+ * `AreoleAreaMedian`, `AreoleAreaCV` (population standard deviation over the mean), `Loopiness` (minimum spanning
+ * forest length over total length: 1 for a tree), `BranchPoints` (nodes where three or more segments meet),
+ * `BranchPointsPerArea`, `FreeEnds` (ends not on the blade's outer margin), `FreeEndsPerArea`, and per VeinOrder
+ * `LengthPrimary`.. `LengthVeinlet` and `MeanWidthPrimary`.. `MeanWidthVeinlet` (length-weighted; 0 for an order
+ * with no vein). Output port 3, **Areole histogram** (vtkTable): `AreoleHistogramBins` equal bins from the smallest
+ * to the largest areole area, one row each: `BinLower`, `BinUpper`, `Count` (the counts sum to AreoleCount; no rows
+ * when there is no areole).
+ *
+ * Field data on port 0, the same numbers (one set): `PlantMorph.VeinLength` (4 components: primary, secondary,
+ * tertiary, veinlet total lengths), `PlantMorph.VeinDensity` (= VLA), `PlantMorph.BladeArea`,
+ * `PlantMorph.AreoleCount`, `PlantMorph.AreoleAreaMean`, `PlantMorph.AreoleAreaStd` (= CV times the mean),
+ * `PlantMorph.BranchPoints`, `PlantMorph.FreeEnds`, `PlantMorph.VeinSegments` (the growth's segment count), and the
+ * parameters used (`PlantMorph.VenationPattern`, `PlantMorph.VenationPreset`, `PlantMorph.Seed`).
  *
  * The growth rules are plantmorph::GrowVenation's (venation/core/VenationGrowth.h): primaries along u = const of
  * LeafUV, secondaries by eqs. (2)-(4) ending as the pattern says, reticulate tertiaries by seed growth with
@@ -37,8 +50,10 @@
  * veins lie on the surface whatever deformed it.
  *
  * `Preset` 0 (Custom) uses the properties below; 1 paper mulberry (Fig. 10, brochidodromous, secondaries at 45-70
- * degrees, reticulate tertiaries), 2 ginkgo (Fig. 11, palmate, dichotomous), 3 poplar (Fig. 12, semicraspedodromous,
- * reticulate with veinlets) set them all except Seed, EmbossDepth and MaxSegments. Same input, parameters and Seed:
+ * degrees, reticulate tertiaries), 2 ginkgo (Fig. 11, palmate, two veins forking five times), 3 poplar (Fig. 12, semicraspedodromous,
+ * reticulate with veinlets), and the wilting species 4 cucumber (palmate, five primaries to the lobe tips, reticulate),
+ * 5 tomato (a leaflet of the compound leaf: pinnate semicraspedodromous with veinlets), 6 watermelon (palmate into
+ * each lobe tip, veinlets) set them all except Seed, EmbossDepth, MaxSegments and AreoleHistogramBins. Same input, parameters and Seed:
  * the same output, bit for bit.
  *
  * Errors (vtkErrorMacro naming the property or array and its accepted range, and empty outputs, never a crash):
@@ -60,7 +75,12 @@
 #include "PlantMorphVenationVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
-#include <string> // for PresetValues
+#include <string> // for MakeParameters and PresetValues
+
+namespace plantmorph
+{
+struct VenationParameters;
+}
 
 class PLANTMORPHVENATIONVTK_EXPORT vtkVenationFilter : public vtkPolyDataAlgorithm
 {
@@ -73,7 +93,8 @@ public:
   // typo in a script is seen rather than silently replaced by the end of the range.
 
   ///@{
-  /** 0 Custom (the properties below), 1 paper mulberry, 2 ginkgo, 3 poplar. Default 1. */
+  /** 0 Custom (the properties below), 1 paper mulberry, 2 ginkgo, 3 poplar, 4 cucumber, 5 tomato, 6 watermelon.
+   * Default 1. */
   vtkSetMacro(Preset, int);
   vtkGetMacro(Preset, int);
   ///@}
@@ -200,6 +221,17 @@ public:
 
   ///@{
   /**
+   * Space colonization: marginal growth (Runions et al. 2005), auxin sources added only within one
+   * AttractionDistance of the growing margin, so the finest veins form last near the margin; off (default): added
+   * uniformly over the whole blade as it grows.
+   */
+  vtkSetMacro(MarginalGrowth, bool);
+  vtkGetMacro(MarginalGrowth, bool);
+  vtkBooleanMacro(MarginalGrowth, bool);
+  ///@}
+
+  ///@{
+  /**
    * Widths: primary width at the base in leaf lengths [0, 0.2] (default 0.015), its end width as a fraction
    * [0, 1] (default 0.3); secondary, tertiary and veinlet widths as fractions of the primary's [0, 1] (default
    * 0.5, 0.2, 0.12).
@@ -232,6 +264,12 @@ public:
   vtkGetMacro(MaxSegments, int);
   ///@}
 
+  ///@{
+  /** Bins of the Areole histogram port [1, 1e4], default 20: equal bins from the smallest to the largest area. */
+  vtkSetMacro(AreoleHistogramBins, int);
+  vtkGetMacro(AreoleHistogramBins, int);
+  ///@}
+
   /**
    * What the named Preset sets, one "Property = value" per line (Pattern by name), for the read-only PresetValues
    * box of the Properties panel, which shows it beside the greyed-out properties the preset overrides; for Custom,
@@ -245,10 +283,15 @@ protected:
   ~vtkVenationFilter() override = default;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  /// Ports 0 (Veins) and 1 (Blade): vtkPolyData; 2 (Statistics) and 3 (Areole histogram): vtkTable.
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   /// With a named Preset, warns about each property only Custom uses that was changed from its default (it is not
   /// what the output has).
   void WarnAboutPresetOverrides();
+  /// The parameters to grow with (the named preset's, or the properties for Custom); a message naming the first
+  /// out-of-range property of the wrapper's own, else empty (the algorithm validates the rest).
+  std::string MakeParameters(plantmorph::VenationParameters& parameters);
 
   std::string PresetValues;
   int Preset = 1;
@@ -281,6 +324,7 @@ protected:
   double MurrayExponent = 3.0;
   double GrowthStart = 0.1;
   bool ClosedVenation = false;
+  bool MarginalGrowth = false;
   double PrimaryWidth = 0.015;
   double PrimaryTaper = 0.3;
   double SecondaryWidthRatio = 0.5;
@@ -288,6 +332,7 @@ protected:
   double VeinletWidthRatio = 0.12;
   double EmbossDepth = 0.0;
   int MaxSegments = 2000000;
+  int AreoleHistogramBins = 20;
 
 private:
   vtkVenationFilter(const vtkVenationFilter&) = delete;

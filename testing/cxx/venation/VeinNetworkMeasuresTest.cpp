@@ -1,6 +1,7 @@
 // The network measures (issue 22 item 4, VeinNetworkMeasures.h) against hand counts on small networks: a 2 x 2 grid
 // of unit squares, two rectangles of areas 1 and 3 side by side, a star with one arm ending on the margin, and the
-// pipe-model tree of space colonization (a tree: loopiness 1, no areoles).
+// pipe-model tree of space colonization (a tree: loopiness 1, no areoles); the areole histogram's bins and counts,
+// and MeasureVenation's blade area and margin on a rectangle.
 #include "VeinNetworkMeasures.h"
 
 #include <gtest/gtest.h>
@@ -66,7 +67,7 @@ TEST(VeinNetworkMeasures, RectanglesOfAreaOneAndThree)
   EXPECT_DOUBLE_EQ(m.areoleAreas[1], 3.0);
   EXPECT_DOUBLE_EQ(m.areoleMean, 2.0);
   EXPECT_DOUBLE_EQ(m.areoleMedian, 2.0);
-  EXPECT_DOUBLE_EQ(m.areoleCV, 0.5); // population standard deviation 1 over mean 2
+  EXPECT_DOUBLE_EQ(m.areoleCV, 0.5);       // population standard deviation 1 over mean 2
   EXPECT_DOUBLE_EQ(m.spanningLength, 7.0); // three of the unit square's edges, the right side, one long edge
   EXPECT_DOUBLE_EQ(m.loopiness, 7.0 / 11.0);
   EXPECT_EQ(m.branchPoints, 2u);
@@ -109,6 +110,49 @@ TEST(VeinNetworkMeasures, BadInputGivesAMessage)
   EXPECT_NE(MeasureVeinNetwork(r, 1.0, {}, 1e-9, m), "");
   r.veins = { Vein({ 0, 1 }, VeinOrderPrimary) };
   EXPECT_NE(MeasureVeinNetwork(r, 0.0, {}, 1e-9, m).find("bladeArea"), std::string::npos);
+}
+
+TEST(AreoleHistogram, EqualBinsFromTheSmallestToTheLargestArea)
+{
+  // Areas 1..10 in 3 bins of width 3: [1, 4) holds 1, 2, 3; [4, 7) 4, 5, 6; [7, 10] 7, 8, 9, 10.
+  const AreoleHistogram h = MakeAreoleHistogram({ 10, 1, 2, 3, 4, 5, 6, 7, 8, 9 }, 3);
+  ASSERT_EQ(h.count.size(), 3u);
+  EXPECT_EQ(h.count, (std::vector<std::size_t>{ 3, 3, 4 }));
+  EXPECT_DOUBLE_EQ(h.lower[0], 1.0);
+  EXPECT_DOUBLE_EQ(h.upper[0], 4.0);
+  EXPECT_DOUBLE_EQ(h.lower[2], 7.0);
+  EXPECT_DOUBLE_EQ(h.upper[2], 10.0);
+  // One bin holds all; equal areas get bins of positive width; no areas, no bins.
+  EXPECT_EQ(MakeAreoleHistogram({ 2, 5, 3 }, 1).count, (std::vector<std::size_t>{ 3 }));
+  const AreoleHistogram same = MakeAreoleHistogram({ 2, 2, 2 }, 4);
+  EXPECT_EQ(same.count, (std::vector<std::size_t>{ 3, 0, 0, 0 }));
+  EXPECT_GT(same.upper[3], same.lower[0]);
+  EXPECT_TRUE(MakeAreoleHistogram({}, 5).count.empty());
+  EXPECT_TRUE(MakeAreoleHistogram({ 1.0 }, 0).count.empty());
+}
+
+TEST(VeinNetworkMeasures, MeasureVenationUsesTheBladesAreaAndOuterMargin)
+{
+  // A 4 x 2 rectangle of two triangles; a vein from the bottom edge's middle (on the margin) to the centre (free)
+  // and a branch from there to the right edge (on the margin): one free end (the centre is a corner of degree 2).
+  VenationBlade blade;
+  blade.points = { { 0, 0 }, { 4, 0 }, { 4, 2 }, { 0, 2 } };
+  blade.uv = { { -0.5, 0 }, { 0.5, 0 }, { 0.5, 1 }, { -0.5, 1 } };
+  blade.triangles = { { 0, 1, 2 }, { 0, 2, 3 } };
+  VenationResult r;
+  r.nodes = { { 2, 0 }, { 2, 1 }, { 3, 1 }, { 4, 1 } };
+  r.width = { 0.1, 0.1, 0.1, 0.1 };
+  r.leafLength = 2.0;
+  r.veins = { Vein({ 0, 1 }, VeinOrderPrimary), Vein({ 1, 2 }, VeinOrderSecondary) };
+  VeinNetworkMeasures m;
+  ASSERT_EQ(MeasureVenation(blade, r, m), "");
+  EXPECT_DOUBLE_EQ(m.bladeArea, 8.0);
+  EXPECT_DOUBLE_EQ(m.vla, 2.0 / 8.0);
+  EXPECT_EQ(m.freeEnds, 1u); // (3, 1); (2, 0) lies on the margin
+  r.veins[1] = Vein({ 1, 2, 3 }, VeinOrderSecondary);
+  ASSERT_EQ(MeasureVenation(blade, r, m), "");
+  EXPECT_EQ(m.freeEnds, 0u); // (4, 1) lies on the margin too
+  EXPECT_EQ(m.branchPoints, 0u);
 }
 
 } // namespace

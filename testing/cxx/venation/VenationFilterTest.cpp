@@ -18,6 +18,7 @@
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkStringArray.h"
+#include "vtkTable.h"
 
 #include <gtest/gtest.h>
 
@@ -84,6 +85,19 @@ TEST(vtkVenationFilter, VeinsCarryTheContractsArraysAndStatistics)
   EXPECT_GT(FieldValue(veins, "PlantMorph.AreoleCount"), 20.0);
   EXPECT_GT(FieldValue(veins, "PlantMorph.VeinDensity"), 0.0);
   EXPECT_EQ(FieldValue(veins, "PlantMorph.FreeEnds"), 0.0);
+  // Ports 2 and 3: one row of the same numbers, and a histogram of every areole in AreoleHistogramBins bins.
+  vtkTable* statistics = vtkTable::SafeDownCast(venation->GetOutputDataObject(2));
+  vtkTable* histogram = vtkTable::SafeDownCast(venation->GetOutputDataObject(3));
+  ASSERT_NE(statistics, nullptr);
+  ASSERT_NE(histogram, nullptr);
+  ASSERT_EQ(statistics->GetNumberOfRows(), 1);
+  EXPECT_EQ(statistics->GetValueByName(0, "AreoleCount").ToDouble(), FieldValue(veins, "PlantMorph.AreoleCount"));
+  EXPECT_EQ(statistics->GetValueByName(0, "VLA").ToDouble(), FieldValue(veins, "PlantMorph.VeinDensity"));
+  EXPECT_EQ(histogram->GetNumberOfRows(), venation->GetAreoleHistogramBins());
+  double areoles = 0.0;
+  for (vtkIdType b = 0; b < histogram->GetNumberOfRows(); ++b)
+    areoles += histogram->GetValueByName(b, "Count").ToDouble();
+  EXPECT_EQ(areoles, FieldValue(veins, "PlantMorph.AreoleCount"));
   auto* pattern = vtkStringArray::SafeDownCast(veins->GetFieldData()->GetAbstractArray("PlantMorph.VenationPattern"));
   ASSERT_NE(pattern, nullptr);
   EXPECT_EQ(pattern->GetValue(0), "Brochidodromous");
@@ -183,12 +197,26 @@ TEST(vtkVenationFilter, BadInputGivesAMessageAndEmptyOutputs)
     const char* expected;
   };
   const Case cases[] = {
-    { [](vtkVenationFilter* f) { f->SetPreset(7); }, "Preset = 7 is outside the accepted range [0, 3]" },
-    { [](vtkVenationFilter* f) { f->SetPreset(0); f->SetPattern(12); }, "Pattern = 12" },
-    { [](vtkVenationFilter* f) { f->SetPreset(0); f->SetAreoleSize(std::nan("")); }, "AreoleSize" },
+    { [](vtkVenationFilter* f) { f->SetPreset(7); }, "Preset = 7 is outside the accepted range [0, 6]" },
+    { [](vtkVenationFilter* f) {
+       f->SetPreset(0);
+       f->SetPattern(12);
+     },
+      "Pattern = 12" },
+    { [](vtkVenationFilter* f) {
+       f->SetPreset(0);
+       f->SetAreoleSize(std::nan(""));
+     },
+      "AreoleSize" },
     { [](vtkVenationFilter* f) { f->SetEmbossDepth(std::nan("")); }, "EmbossDepth" },
     { [](vtkVenationFilter* f) { f->SetMaxSegments(10); }, "MaxSegments = 10" },
-    { [](vtkVenationFilter* f) { f->SetPreset(0); f->SetAreoleSize(0.001); f->SetMaxSegments(1000); }, "MaxSegments" },
+    { [](vtkVenationFilter* f) {
+       f->SetPreset(0);
+       f->SetAreoleSize(0.001);
+       f->SetMaxSegments(1000);
+     },
+      "MaxSegments" },
+    { [](vtkVenationFilter* f) { f->SetAreoleHistogramBins(0); }, "AreoleHistogramBins = 0 is outside" },
   };
   for (const Case& c : cases)
   {
@@ -201,6 +229,8 @@ TEST(vtkVenationFilter, BadInputGivesAMessageAndEmptyOutputs)
     EXPECT_NE(catcher->Messages.find(c.expected), std::string::npos) << catcher->Messages;
     EXPECT_EQ(venation->GetOutput(0)->GetNumberOfPoints(), 0);
     EXPECT_EQ(venation->GetOutput(1)->GetNumberOfPoints(), 0);
+    EXPECT_EQ(vtkTable::SafeDownCast(venation->GetOutputDataObject(2))->GetNumberOfRows(), 0);
+    EXPECT_EQ(vtkTable::SafeDownCast(venation->GetOutputDataObject(3))->GetNumberOfRows(), 0);
   }
   // A surface without LeafUV.
   vtkNew<vtkPolyData> bare;

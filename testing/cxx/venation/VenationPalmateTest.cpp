@@ -2,7 +2,8 @@
 // the project's own blades: on entire blades the primaries fan over at least 80 degrees seen from the base; on
 // paper 002's lobed leaves one primary runs into each lobe and reaches within 3 % of the leaf length of its tip
 // (the tips are the Outline's lobe midveins' ends, which the venation never sees); on cordate blades (the cucumber,
-// paper 000 Fig. 2c) the outermost primaries run into the basal lobes; ginkgo's dichotomies reach across the fan.
+// paper 000 Fig. 2c) the outermost primaries run into the basal lobes; ginkgo's dichotomies fill the fan; the
+// wilting species' presets (cucumber, watermelon, a tomato leaflet) follow their blades.
 #include "VenationGrowth.h"
 
 #include "BSplineLeaf.h"
@@ -111,13 +112,13 @@ double Span(const Frame& frame, const std::vector<Eigen::Vector2d>& points)
   return high - low;
 }
 
-/// Distance from x to the nearest vein of `order`.
-double DistanceToVeins(const VenationResult& r, int order, const Eigen::Vector2d& x)
+/// Distance from x to the nearest vein of `order` (of order `order` or lower when `orLower`).
+double DistanceToVeins(const VenationResult& r, int order, const Eigen::Vector2d& x, bool orLower = false)
 {
   double best = std::numeric_limits<double>::max();
   for (const auto& vein : r.veins)
   {
-    if (vein.order != order)
+    if (orLower ? vein.order > order : vein.order != order)
       continue;
     for (std::size_t i = 0; i + 1 < vein.nodes.size(); ++i)
     {
@@ -129,6 +130,26 @@ double DistanceToVeins(const VenationResult& r, int order, const Eigen::Vector2d
   return best;
 }
 
+/// Each basal lobe's tip: the margin point farthest behind the base (the lowest along the axis), on each side, if
+/// it lies more than 0.05 of the base-apex distance behind the base.
+std::vector<Eigen::Vector2d> BasalLobeTips(const LeafGeometry& leaf, const Frame& frame)
+{
+  std::vector<Eigen::Vector2d> lobes;
+  for (const std::vector<int>* margin : { &leaf.rightMargin, &leaf.leftMargin })
+  {
+    Eigen::Vector2d tip = frame.base;
+    for (int id : *margin)
+    {
+      const Eigen::Vector2d x = leaf.blade.points[id];
+      if ((x - frame.base).dot(frame.axis) < (tip - frame.base).dot(frame.axis))
+        tip = x;
+    }
+    if ((tip - frame.base).dot(frame.axis) < -0.05 * (leaf.blade.points[leaf.midvein.back()] - frame.base).norm())
+      lobes.push_back(tip);
+  }
+  return lobes;
+}
+
 /// Every primary ends on the margin: no free end (tertiaries off, so every vein end is on the margin or a vein).
 void ExpectPrimariesEndOnTheMargin(const VenationResult& r)
 {
@@ -137,9 +158,8 @@ void ExpectPrimariesEndOnTheMargin(const VenationResult& r)
 
 TEST(PalmateVenation, PrimariesFanOverAtLeast80DegreesOnEntireBlades)
 {
-  for (const DeformedRectanglePreset preset :
-    { DeformedRectanglePreset::Entire, DeformedRectanglePreset::Ginkgo, DeformedRectanglePreset::Serrate,
-      DeformedRectanglePreset::RoundedBaseAcuminateApex })
+  for (const DeformedRectanglePreset preset : { DeformedRectanglePreset::Entire, DeformedRectanglePreset::Ginkgo,
+         DeformedRectanglePreset::Serrate, DeformedRectanglePreset::RoundedBaseAcuminateApex })
   {
     const LeafGeometry leaf = DeformedRectangle(preset);
     const Frame frame = FrameOf(leaf);
@@ -192,25 +212,14 @@ TEST(PalmateVenation, OnePrimaryRunsIntoEachLobeAndReachesItsTip)
 
 TEST(PalmateVenation, BasalPrimariesRunIntoTheBasalLobesOfCordateBlades)
 {
-  const LeafGeometry cucumber = Cucumber(), cordate = DeformedRectangle(DeformedRectanglePreset::CordateBaseRoundedApex);
+  const LeafGeometry cucumber = Cucumber(),
+                     cordate = DeformedRectangle(DeformedRectanglePreset::CordateBaseRoundedApex);
   for (const LeafGeometry* leaf : { &cucumber, &cordate })
   {
     SCOPED_TRACE(leaf == &cucumber ? "cucumber" : "cordate base");
     const Frame frame = FrameOf(*leaf);
-    // Each basal lobe's tip: the margin point farthest behind the base (the lowest along the axis), on each side.
-    std::vector<Eigen::Vector2d> lobes;
-    for (const std::vector<int>* margin : { &leaf->rightMargin, &leaf->leftMargin })
-    {
-      Eigen::Vector2d tip = frame.base;
-      for (int id : *margin)
-      {
-        const Eigen::Vector2d x = leaf->blade.points[id];
-        if ((x - frame.base).dot(frame.axis) < (tip - frame.base).dot(frame.axis))
-          tip = x;
-      }
-      ASSERT_LT((tip - frame.base).dot(frame.axis), -0.05 * (leaf->blade.points[leaf->midvein.back()] - frame.base).norm());
-      lobes.push_back(tip);
-    }
+    const std::vector<Eigen::Vector2d> lobes = BasalLobeTips(*leaf, frame);
+    ASSERT_EQ(lobes.size(), 2u);
     for (int veins : { 3, 5 })
     {
       const VenationResult r = Grow(*leaf, Palmate(veins));
@@ -238,11 +247,15 @@ TEST(PalmateVenation, BasalPrimariesRunIntoTheBasalLobesOfCordateBlades)
   }
 }
 
-TEST(PalmateVenation, GinkgoDichotomiesReachAcrossTheFan)
+TEST(PalmateVenation, GinkgoDichotomiesFillTheFan)
 {
+  // The preset: two veins from the petiole forking five times, 64 nearly parallel veins at the margin.
   const LeafGeometry leaf = DeformedRectangle(DeformedRectanglePreset::Ginkgo);
   const Frame frame = FrameOf(leaf);
-  const VenationResult r = Grow(leaf, MakeVenationPreset(VenationPreset::Ginkgo));
+  const VenationParameters p = MakeVenationPreset(VenationPreset::Ginkgo);
+  const VenationResult r = Grow(leaf, p);
+  const std::size_t tipCount = static_cast<std::size_t>(p.palmateVeins) << p.forkLevels;
+  ASSERT_GE(tipCount, 40u); // dozens, as a real ginkgo leaf has
   // The fan's angular extent: its margin points at least a fifth of the length from the base.
   double low = 180.0, high = -180.0;
   for (const std::vector<int>* margin : { &leaf.rightMargin, &leaf.leftMargin })
@@ -257,8 +270,9 @@ TEST(PalmateVenation, GinkgoDichotomiesReachAcrossTheFan)
       }
     }
   }
-  ASSERT_EQ(Ends(r, VeinOrderSecondary).size(), 24u); // 4 primaries forking twice: 8 + 16 branches
-  // The 16 branch tips on the margin: branch ends where no later branch starts.
+  // Every fork makes two branches (order 2): 2 + 4 + ... + 2^levels per primary.
+  ASSERT_EQ(Ends(r, VeinOrderSecondary).size(), static_cast<std::size_t>(p.palmateVeins) * ((2u << p.forkLevels) - 2));
+  // The branch tips on the margin: branch ends where no later branch starts.
   std::vector<double> tips;
   for (const auto& vein : r.veins)
   {
@@ -274,15 +288,64 @@ TEST(PalmateVenation, GinkgoDichotomiesReachAcrossTheFan)
     if (onMargin)
       tips.push_back(frame.Angle(x));
   }
-  ASSERT_EQ(tips.size(), 16u);
+  ASSERT_EQ(tips.size(), tipCount);
   std::sort(tips.begin(), tips.end());
-  const double extent = high - low, even = extent / 16.0;
-  std::cout << "ginkgo fan " << low << ".." << high << " deg; branch tips " << tips.front() << ".." << tips.back()
-            << " deg\n";
-  EXPECT_LE(tips.front() - low, even);
-  EXPECT_LE(high - tips.back(), even);
+  const double extent = high - low, even = extent / static_cast<double>(tipCount);
+  std::cout << "ginkgo fan " << low << ".." << high << " deg; " << tipCount << " branch tips " << tips.front() << ".."
+            << tips.back() << " deg\n";
+  EXPECT_LE(tips.front() - low, 2.0 * even);
+  EXPECT_LE(high - tips.back(), 2.0 * even);
   for (std::size_t i = 1; i < tips.size(); ++i)
     EXPECT_LE(tips[i] - tips[i - 1], 2.0 * even) << "gap " << i;
+  // Every part of the fan is near a vein: the blade's triangle centroids (every 3rd), their distance to the veins.
+  std::vector<double> distances;
+  for (std::size_t t = 0; t < leaf.blade.triangles.size(); t += 3)
+  {
+    const auto& tri = leaf.blade.triangles[t];
+    const Eigen::Vector2d c = (leaf.blade.points[tri[0]] + leaf.blade.points[tri[1]] + leaf.blade.points[tri[2]]) / 3.0;
+    distances.push_back(DistanceToVeins(r, VeinOrderSecondary, c, true) / r.leafLength);
+  }
+  std::sort(distances.begin(), distances.end());
+  const double p95 = distances[distances.size() * 95 / 100];
+  std::cout << "ginkgo: 95th percentile distance to a vein " << p95 << " L, largest " << distances.back() << " L\n";
+  // Measured 0.077 L and 0.135 L (the farthest: the lower flanks, below the outermost veins).
+  EXPECT_LE(p95, 0.08);
+  EXPECT_LE(distances.back(), 0.15);
+}
+
+TEST(PalmateVenation, WiltingSpeciesPresetsFollowTheirBlades)
+{
+  // Cucumber: its primaries and their branches reach both basal lobes and fan over more than 80 degrees.
+  {
+    const LeafGeometry leaf = Cucumber();
+    const Frame frame = FrameOf(leaf);
+    const VenationResult r = Grow(leaf, MakeVenationPreset(VenationPreset::Cucumber));
+    const std::vector<Eigen::Vector2d> lobes = BasalLobeTips(leaf, frame);
+    ASSERT_EQ(lobes.size(), 2u);
+    for (const Eigen::Vector2d& lobe : lobes)
+      EXPECT_LE(DistanceToVeins(r, VeinOrderSecondary, lobe, true) / r.leafLength, 0.03);
+    EXPECT_GE(Span(frame, Ends(r, VeinOrderPrimary)), 80.0);
+    EXPECT_GT(r.statistics.areoles, 100u); // the reticulum
+  }
+  // Watermelon: a vein into every lobe of a five-lobed blade, ending within 3 % of the length of its tip.
+  {
+    const LeafGeometry leaf = Lobed(SpaceCurvePreset::Figure8FiveLobes);
+    std::vector<Eigen::Vector2d> tips = { leaf.blade.points[leaf.midvein.back()] };
+    for (const std::vector<int>& lobe : leaf.lobeMidveins)
+      tips.push_back(leaf.blade.points[lobe.back()]);
+    const VenationResult r = Grow(leaf, MakeVenationPreset(VenationPreset::Watermelon));
+    EXPECT_EQ(Ends(r, VeinOrderPrimary).size(), tips.size());
+    for (const Eigen::Vector2d& tip : tips)
+      EXPECT_LE(DistanceToVeins(r, VeinOrderSecondary, tip, true) / r.leafLength, 0.03);
+  }
+  // Tomato (a leaflet): pinnate, the midvein and secondaries, with free-ending veinlets.
+  {
+    const LeafGeometry leaf = DeformedRectangle(DeformedRectanglePreset::Serrate);
+    const VenationResult r = Grow(leaf, MakeVenationPreset(VenationPreset::Tomato));
+    EXPECT_EQ(Ends(r, VeinOrderPrimary).size(), 1u);
+    EXPECT_GT(Ends(r, VeinOrderSecondary).size(), 8u);
+    EXPECT_FALSE(Ends(r, VeinOrderVeinlet).empty());
+  }
 }
 
 } // namespace

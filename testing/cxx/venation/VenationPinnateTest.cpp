@@ -56,8 +56,8 @@ Blade Entire()
   Blade blade;
   LeafMeshParameters settings;
   settings.resolution = 80;
-  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings,
-              blade.leaf),
+  EXPECT_EQ(
+    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, blade.leaf),
     "");
   for (int id : blade.leaf.rightMargin)
     blade.outline.push_back(blade.leaf.blade.points[id]);

@@ -35,7 +35,8 @@ LeafGeometry EntireLeaf(int resolution = 60)
   LeafMeshParameters settings;
   settings.resolution = resolution;
   LeafGeometry leaf;
-  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, leaf), "");
+  EXPECT_EQ(
+    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, leaf), "");
   return leaf;
 }
 
@@ -148,8 +149,10 @@ TEST_P(EveryPattern, VeinsLieOnTheBladeInsideItsOutlineAndReachTheMidvein)
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Venation, EveryPattern, ::testing::Range(0, VenationPatternCount),
-  [](const ::testing::TestParamInfo<int>& info) { return VenationPatternName(static_cast<VenationPattern>(info.param)); });
+INSTANTIATE_TEST_SUITE_P(
+  Venation, EveryPattern, ::testing::Range(0, VenationPatternCount), [](const ::testing::TestParamInfo<int>& info) {
+    return VenationPatternName(static_cast<VenationPattern>(info.param));
+  });
 
 TEST(Venation, GrowthJunctionsKeepTheirAnglesAndAverage120Degrees)
 {
@@ -244,7 +247,7 @@ TEST(Venation, VeinletsEndFreeInsideAreoles)
     if (vein.order != VeinOrderVeinlet)
       continue;
     ++veinlets;
-    EXPECT_EQ(degree[vein.nodes.back()], 1); // its tip meets nothing
+    EXPECT_EQ(degree[vein.nodes.back()], 1);  // its tip meets nothing
     EXPECT_GE(degree[vein.nodes.front()], 3); // its start is on an areole's vein
   }
   EXPECT_GT(veinlets, 20u);
@@ -326,10 +329,12 @@ TEST(Venation, GinkgoForksDichotomouslyIntoVeinsThatReachTheMargin)
   LeafMeshParameters settings;
   settings.resolution = 60;
   LeafGeometry leaf;
-  ASSERT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings, leaf), "");
+  ASSERT_EQ(
+    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings, leaf), "");
   const VenationParameters p = MakeVenationPreset(VenationPreset::Ginkgo);
   const VenationResult r = Grow(leaf, p);
-  // 4 veins from the base, each forking twice: 4 + 8 + 16 veins, all 16 tips on the margin.
+  // p.palmateVeins veins from the base, each forking p.forkLevels times: with 2 and 5, 2 + (4 + 8 + ... + 64) veins,
+  // all 64 tips on the margin, 2 + 4 + ... + 32 = 62 forks.
   int primaries = 0, branches = 0;
   std::set<int> tips;
   std::vector<std::vector<int>> next(r.nodes.size());
@@ -342,13 +347,13 @@ TEST(Venation, GinkgoForksDichotomouslyIntoVeinsThatReachTheMargin)
       next[vein.nodes[i + 1]].push_back(vein.nodes[i]);
     }
   }
-  EXPECT_EQ(primaries, 4);
-  EXPECT_EQ(branches, 24);
+  EXPECT_EQ(primaries, p.palmateVeins);
+  EXPECT_EQ(branches, p.palmateVeins * ((2 << p.forkLevels) - 2));
   EXPECT_EQ(r.statistics.freeEnds, 0u);
   std::size_t forks = 0;
   for (const auto& n : next)
     forks += n.size() == 3;
-  EXPECT_EQ(forks, 12u);
+  EXPECT_EQ(forks, static_cast<std::size_t>(p.palmateVeins * ((1 << p.forkLevels) - 1)));
   // Every vein starts at the base (0, 0) or at a fork, never on another vein's side.
   for (const auto& vein : r.veins)
   {
@@ -396,13 +401,19 @@ TEST(Venation, BadInputGivesAMessageNamingThePropertyAndNoNetwork)
     double value;
   };
   const Bad cases[] = {
-    { "Pattern", [](VenationParameters& p, double v) { p.pattern = static_cast<VenationPattern>(static_cast<int>(v)); }, VenationPatternCount },
+    { "Pattern", [](VenationParameters& p, double v) { p.pattern = static_cast<VenationPattern>(static_cast<int>(v)); },
+      VenationPatternCount },
     { "SecondarySpacing", [](VenationParameters& p, double v) { p.secondarySpacing = v; }, nan },
     { "DivergenceAngle", [](VenationParameters& p, double v) { p.divergenceAngle = v; }, 95 },
     { "AreoleSize", [](VenationParameters& p, double v) { p.areoleSize = v; }, 0.0 },
     { "MinJunctionAngle", [](VenationParameters& p, double v) { p.minJunctionAngle = v; }, 130 },
     { "ForkLevels", [](VenationParameters& p, double v) { p.forkLevels = static_cast<int>(v); }, 9 },
-    { "AreoleSize", [](VenationParameters& p, double v) { p.areoleSize = v; p.maxSegments = 1000; }, 0.002 },
+    { "AreoleSize",
+      [](VenationParameters& p, double v) {
+        p.areoleSize = v;
+        p.maxSegments = 1000;
+      },
+      0.002 },
   };
   for (const Bad& bad : cases)
   {

@@ -90,7 +90,8 @@ checks.check(tubes.GetNumberOfPolys() + tubes.GetNumberOfStrips() > 100, "Tube m
 Delete(tube)
 
 # Every preset and every pattern.
-PRESETS = ["Paper mulberry (paper 000 Fig. 10)", "Ginkgo (paper 000 Fig. 11)", "Poplar (paper 000 Fig. 12)"]
+PRESETS = ["Paper mulberry (paper 000 Fig. 10)", "Ginkgo (paper 000 Fig. 11)", "Poplar (paper 000 Fig. 12)",
+           "Cucumber (palmate)", "Tomato (pinnate leaflet)", "Watermelon (palmate, lobed)"]
 for preset in PRESETS:
     venation.Preset = preset
     veins = fetch(venation)
@@ -107,6 +108,10 @@ venation.ClosedVenation = 1
 veins = fetch(venation)
 checks.check(veins.GetNumberOfLines() > 10, "closed space colonization: %d veins" % veins.GetNumberOfLines())
 venation.ClosedVenation = 0
+venation.MarginalGrowth = 1
+veins = fetch(venation)
+checks.check(veins.GetNumberOfLines() > 10, "space colonization, marginal growth: %d veins" % veins.GetNumberOfLines())
+venation.MarginalGrowth = 0
 venation.KillDistance = 0.0
 checks.check(fetch(venation).GetNumberOfPoints() == 0, "KillDistance 0: empty output")
 venation.KillDistance = 0.01

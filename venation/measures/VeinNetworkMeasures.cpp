@@ -51,7 +51,8 @@ void MeasureAreoles(const VenationResult& veins, const std::vector<Segment>& seg
     high = high.cwiseMax(x);
   }
   const double pad = 1e-6 * std::max(1.0, (high - low).maxCoeff());
-  const double cell = std::max((high - low).maxCoeff() / std::max(1.0, std::sqrt(static_cast<double>(segments.size()))), pad);
+  const double cell =
+    std::max((high - low).maxCoeff() / std::max(1.0, std::sqrt(static_cast<double>(segments.size()))), pad);
   VeinGraph graph(low - Eigen::Vector2d::Constant(pad), high + Eigen::Vector2d::Constant(pad), cell);
   for (const Eigen::Vector2d& x : veins.nodes)
     graph.AddNode(x);
@@ -101,8 +102,8 @@ std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
       if (a == b)
         continue;
       keys.push_back({ { std::min(a, b), std::max(a, b) }, segments.size() });
-      segments.push_back({ a, b, vein.order, (veins.nodes[a] - veins.nodes[b]).norm(),
-        0.5 * (veins.width[a] + veins.width[b]) });
+      segments.push_back(
+        { a, b, vein.order, (veins.nodes[a] - veins.nodes[b]).norm(), 0.5 * (veins.width[a] + veins.width[b]) });
     }
   }
   std::sort(keys.begin(), keys.end());
@@ -148,8 +149,8 @@ std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
   // Minimum spanning forest (Kruskal; equal lengths in segment order).
   std::vector<std::size_t> order(segments.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-    [&](std::size_t x, std::size_t y) { return segments[x].length < segments[y].length; });
+  std::stable_sort(
+    order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return segments[x].length < segments[y].length; });
   std::vector<int> parent(veins.nodes.size());
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t k : order)
@@ -163,6 +164,46 @@ std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
   m.loopiness = m.totalLength > 0.0 ? m.spanningLength / m.totalLength : 1.0;
   MeasureAreoles(veins, segments, m);
   return {};
+}
+
+std::string MeasureVenation(const VenationBlade& blade, const VenationResult& veins, VeinNetworkMeasures& measures)
+{
+  measures = VeinNetworkMeasures();
+  BladeLocator locator;
+  const std::string error = locator.Build(blade);
+  if (!error.empty())
+    return error;
+  std::vector<Eigen::Vector2d> margin;
+  if (!locator.BoundaryLoops().empty())
+    for (int id : locator.BoundaryLoops().front())
+      margin.push_back(blade.points[id]);
+  const double length = veins.leafLength > 0.0 ? veins.leafLength : (locator.Upper() - locator.Lower()).norm();
+  return MeasureVeinNetwork(veins, locator.Area(), margin, 1e-6 * length, measures);
+}
+
+AreoleHistogram MakeAreoleHistogram(const std::vector<double>& areas, int bins)
+{
+  AreoleHistogram h;
+  if (areas.empty() || bins < 1)
+    return h;
+  const auto [lowest, highest] = std::minmax_element(areas.begin(), areas.end());
+  const double low = *lowest;
+  double width = (*highest - low) / bins;
+  if (!(width > 0.0))
+    width = (low != 0.0 ? std::abs(low) : 1.0) * 1e-6 / bins;
+  h.count.assign(static_cast<std::size_t>(bins), 0);
+  for (int b = 0; b < bins; ++b)
+  {
+    h.lower.push_back(low + b * width);
+    h.upper.push_back(b + 1 == bins ? std::max(*highest, low + bins * width) : low + (b + 1) * width);
+  }
+  for (double a : areas)
+  {
+    const double at = std::floor((a - low) / width);
+    const int b = std::clamp(static_cast<int>(std::min(at, static_cast<double>(bins))), 0, bins - 1);
+    ++h.count[static_cast<std::size_t>(b)];
+  }
+  return h;
 }
 
 } // namespace plantmorph

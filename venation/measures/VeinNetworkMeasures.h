@@ -12,10 +12,13 @@
 // - Branch points (nodes where three or more vein segments meet) and free ends (nodes with one segment, not on the
 //   margin), absolute and per blade area.
 // - Mean width per order: the length-weighted mean of the segments' widths (each the mean of its two nodes').
+// - MeasureVenation: the same for a network GrowVenation grew, on its blade (area and margin from the blade), and
+//   MakeAreoleHistogram: the areole-area distribution in equal bins (VenationFilter's two table ports).
 //
 // Plain C++17 + Eigen, no VTK.
 #pragma once
 
+#include "VenationBlade.h"
 #include "VenationGrowth.h"
 
 #include <Eigen/Core>
@@ -31,14 +34,14 @@ struct VeinNetworkMeasures
 {
   double bladeArea = 0.0;
   double totalLength = 0.0;
-  double vla = 0.0;                       ///< vein length per blade area
+  double vla = 0.0;                        ///< vein length per blade area
   double length[5] = { 0, 0, 0, 0, 0 };    ///< per VeinOrder (index 0 unused)
   double meanWidth[5] = { 0, 0, 0, 0, 0 }; ///< length-weighted, per VeinOrder; 0 where an order has no vein
   std::size_t areoles = 0;
   double areoleMean = 0.0, areoleMedian = 0.0, areoleCV = 0.0;
-  std::vector<double> areoleAreas;        ///< sorted ascending
-  double spanningLength = 0.0;            ///< minimum spanning forest length
-  double loopiness = 1.0;                 ///< spanningLength / totalLength
+  std::vector<double> areoleAreas; ///< sorted ascending
+  double spanningLength = 0.0;     ///< minimum spanning forest length
+  double loopiness = 1.0;          ///< spanningLength / totalLength
   std::size_t branchPoints = 0, freeEnds = 0;
   double branchPointsPerArea = 0.0, freeEndsPerArea = 0.0;
 };
@@ -47,5 +50,22 @@ struct VeinNetworkMeasures
 /// `tolerance` of it are not free ends; may be empty: then every end is free). Empty on success, else a message.
 std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
   const std::vector<Eigen::Vector2d>& margin, double tolerance, VeinNetworkMeasures& measures);
+
+/// Measures the network `veins` that GrowVenation grew on `blade`, in the blade's working plane: the blade's area
+/// and its outer boundary loop as the margin (vein ends within 1e-6 leaf lengths of it are not free ends; a hole's
+/// edge is not margin). This is what VenationFilter reports. Empty on success, else a message.
+std::string MeasureVenation(const VenationBlade& blade, const VenationResult& veins, VeinNetworkMeasures& measures);
+
+/// A histogram of areole areas: `lower[b]`, `upper[b]` the edges of bin b, `count[b]` the areas in [lower, upper)
+/// (the last bin holds its upper edge too).
+struct AreoleHistogram
+{
+  std::vector<double> lower, upper;
+  std::vector<std::size_t> count;
+};
+
+/// `bins` equal bins from the smallest to the largest of `areas` (any order), so the counts sum to areas.size();
+/// when every area is the same the bins span [a, a (1 + 1e-6)]. No bins when `areas` is empty or `bins` < 1.
+AreoleHistogram MakeAreoleHistogram(const std::vector<double>& areas, int bins);
 
 } // namespace plantmorph
