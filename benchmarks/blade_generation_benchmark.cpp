@@ -147,8 +147,8 @@ void BM_BladePaper(benchmark::State& state)
 // ---- CGAL alone on the same boundary -----------------------------------------------------------------------------
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using DataStructure =
-  CGAL::Triangulation_data_structure_2<CGAL::Delaunay_mesh_vertex_base_2<Kernel>, CGAL::Delaunay_mesh_face_base_2<Kernel>>;
+using DataStructure = CGAL::Triangulation_data_structure_2<CGAL::Delaunay_mesh_vertex_base_2<Kernel>,
+  CGAL::Delaunay_mesh_face_base_2<Kernel>>;
 using Triangulation = CGAL::Constrained_Delaunay_triangulation_2<Kernel, DataStructure, CGAL::Exact_predicates_tag>;
 using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Triangulation>;
 using Mesher = CGAL::Delaunay_mesher_no_edge_refinement_2<Triangulation, Criteria>;
@@ -327,8 +327,8 @@ int main(int argc, char** argv)
   if (benchmark::ReportUnrecognizedArguments(argc, argv))
     return 1;
   benchmark::AddCustomContext("preset", "Ginkgo, b_y = 5");
-  benchmark::AddCustomContext("peak_memory",
-    "malloc_trim(0), baseline VmRSS, echo 5 > /proc/self/clear_refs, run, VmHWM - baseline");
+  benchmark::AddCustomContext(
+    "peak_memory", "malloc_trim(0), baseline VmRSS, echo 5 > /proc/self/clear_refs, run, VmHWM - baseline");
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

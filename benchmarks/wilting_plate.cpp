@@ -182,16 +182,17 @@ int main(int argc, char** argv)
   const std::vector<double>& q = integrator.Displacement();
   const plantmorph::NewmarkTimings& timing = integrator.Timings();
   const bool cholesky = integrator.ActiveSolver() == plantmorph::NewmarkSolver::Cholesky;
-  std::printf("plate %d x %d x 1 cubes: %zu nodes, %zu springs, %d steps of dt = 1/240 s (t = %.6g s)\n", nx, ny,
-    n, system.SpringCount(), steps, integrator.Time());
-  std::printf("corner node (%d, %d, 0) displacement: %.6f %.6f %.6f cm\n", nx, ny, q[3 * corner],
-    q[3 * corner + 1], q[3 * corner + 2]);
-  std::printf("solver %s, %d threads: %.2f steps/s overall, %.2f steps/s median step\n",
-    cholesky ? "cholesky" : "cg", parameters.threads <= 0 ? 0 : parameters.threads, steps / total, 1.0 / median);
-  std::printf("per step: assembly %.3f ms, solve %.3f ms%s; per node: %.3f us\n",
-    1e3 * timing.assemblySeconds / steps, 1e3 * timing.solveSeconds / steps,
-    cholesky ? "" : (" (" + std::to_string(timing.cgIterations / std::max(1LL, timing.newtonIterations)) +
-                      " CG iterations)").c_str(),
+  std::printf("plate %d x %d x 1 cubes: %zu nodes, %zu springs, %d steps of dt = 1/240 s (t = %.6g s)\n", nx, ny, n,
+    system.SpringCount(), steps, integrator.Time());
+  std::printf("corner node (%d, %d, 0) displacement: %.6f %.6f %.6f cm\n", nx, ny, q[3 * corner], q[3 * corner + 1],
+    q[3 * corner + 2]);
+  std::printf("solver %s, %d threads: %.2f steps/s overall, %.2f steps/s median step\n", cholesky ? "cholesky" : "cg",
+    parameters.threads <= 0 ? 0 : parameters.threads, steps / total, 1.0 / median);
+  std::printf("per step: assembly %.3f ms, solve %.3f ms%s; per node: %.3f us\n", 1e3 * timing.assemblySeconds / steps,
+    1e3 * timing.solveSeconds / steps,
+    cholesky ? ""
+             : (" (" + std::to_string(timing.cgIterations / std::max(1LL, timing.newtonIterations)) + " CG iterations)")
+                 .c_str(),
     1e6 * median / static_cast<double>(n));
   std::printf("CPU time (all threads): %.3f ms per step (%.2f steps per CPU second)\n", 1e3 * cpu / steps, steps / cpu);
   return 0;

@@ -14,9 +14,9 @@ const double TriangleBVH::Empty[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
 namespace
 {
 constexpr int Bins = 16;
-constexpr std::size_t LeafSize = 4; // always a leaf at or below this
+constexpr std::size_t LeafSize = 4;     // always a leaf at or below this
 constexpr std::size_t MaxLeafSize = 16; // a leaf above LeafSize only when no split pays
-constexpr int MaxDepth = 100; // deeper ranges become leaves (only for pathological input)
+constexpr int MaxDepth = 100;           // deeper ranges become leaves (only for pathological input)
 constexpr int StackSize = MaxDepth + 8;
 
 struct Box
@@ -148,7 +148,8 @@ void TriangleBVH::Build(const std::vector<double>& points, const std::vector<std
     // Pad by a few ulps of the coordinates so rounding in the box test never culls a triangle it touches.
     for (int k = 0; k < 3; ++k)
     {
-      const double pad = 8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(box.lo[k]), std::abs(box.hi[k]));
+      const double pad =
+        8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(box.lo[k]), std::abs(box.hi[k]));
       this->Nodes[r.node].box[k] = box.lo[k] - pad;
       this->Nodes[r.node].box[k + 3] = box.hi[k] + pad;
     }

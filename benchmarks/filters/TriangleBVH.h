@@ -42,14 +42,14 @@ public:
 private:
   struct Node
   {
-    double box[6]; // xmin, ymin, zmin, xmax, ymax, zmax
+    double box[6];       // xmin, ymin, zmin, xmax, ymax, zmax
     std::uint32_t first; // leaf: first stored triangle; inner: index of the first child (the second is first + 1)
     std::uint32_t count; // leaf: triangle count (> 0); inner: 0
-    std::uint32_t axis; // inner: split axis (the child on the beam's side of it is visited first)
+    std::uint32_t axis;  // inner: split axis (the child on the beam's side of it is visited first)
     std::uint32_t pad;
   };
   std::vector<Node> Nodes;
-  std::vector<double> Vertices; // 9 per triangle, in Order
+  std::vector<double> Vertices;    // 9 per triangle, in Order
   std::vector<std::int64_t> Order; // the input triangle of each stored triangle
   static const double Empty[6];
 };

@@ -201,8 +201,8 @@ void BM_Uniform_Core(benchmark::State& state)
   {
     plantmorph::AdaptiveLoopResult result = plantmorph::AdaptiveLoopSubdivide(mesh, settings);
     triangles = static_cast<double>(result.mesh.NumberOfTriangles());
-    outBytes = static_cast<double>(result.mesh.points.size() * 8 + result.mesh.triangles.size() * 4 +
-      result.mesh.origin.size() * 4);
+    outBytes = static_cast<double>(
+      result.mesh.points.size() * 8 + result.mesh.triangles.size() * 4 + result.mesh.origin.size() * 4);
     benchmark::DoNotOptimize(result.mesh.points.data());
   }
   ReportTriangles(state, triangles);
@@ -232,8 +232,8 @@ void BM_Uniform_vtkLoopSubdivisionFilter(benchmark::State& state)
 double MeshBytes(const SurfaceMesh& m)
 {
   // Surface_mesh storage: per vertex a point and a halfedge index, per halfedge 4 indices, per face 1 index.
-  return static_cast<double>(m.number_of_vertices() * (sizeof(Kernel::Point_3) + 4) + m.number_of_halfedges() * 16 +
-    m.number_of_faces() * 4);
+  return static_cast<double>(
+    m.number_of_vertices() * (sizeof(Kernel::Point_3) + 4) + m.number_of_halfedges() * 16 + m.number_of_faces() * 4);
 }
 
 void BM_Uniform_CGAL_Loop(benchmark::State& state)
@@ -290,9 +290,9 @@ constexpr int ReferenceLevel = 4;
 
 enum BladeKind
 {
-  GinkgoBent = 0,     ///< the ginkgo blade (quality mesh, Resolution 24), z = 0.6 sin(0.8x) cos(0.5y) + 0.05x^2
-  CucumberCurled = 1, ///< paper 003's B-spline cucumber, curled 60 deg longitudinally and 40 deg transversely
-  PinOakCurled = 2,   ///< paper 003's B-spline pin oak, curled 45 and -30 deg
+  GinkgoBent = 0,         ///< the ginkgo blade (quality mesh, Resolution 24), z = 0.6 sin(0.8x) cos(0.5y) + 0.05x^2
+  CucumberCurled = 1,     ///< paper 003's B-spline cucumber, curled 60 deg longitudinally and 40 deg transversely
+  PinOakCurled = 2,       ///< paper 003's B-spline pin oak, curled 45 and -30 deg
   CucumberCurledLoop = 3, ///< the cucumber with FeatureRule Loop (margin and midvein smoothed, not fixed)
   GinkgoBentLoop = 4,     ///< the bent ginkgo with FeatureRule Loop
   // Held out: not used to choose the Chord error rule's constants, a check that they carry over (Fixed).
@@ -355,7 +355,7 @@ vtkSmartPointer<vtkPolyData> MakeBlade(int kind)
 int BladeFeatureRule(int kind)
 {
   return (kind == CucumberCurledLoop || kind == GinkgoBentLoop) ? vtkAdaptiveLoopFilter::LOOP
-                                                                 : vtkAdaptiveLoopFilter::FIXED;
+                                                                : vtkAdaptiveLoopFilter::FIXED;
 }
 
 struct BladeSetting

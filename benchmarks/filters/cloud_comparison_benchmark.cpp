@@ -169,7 +169,7 @@ void RunOurs(benchmark::State& state, bool symmetric)
   vtkPolyData* sphere = Sphere();
   const double inBytes = 24.0 * static_cast<double>(n + sphere->GetNumberOfPoints()) +
     12.0 * 8.0 * static_cast<double>(sphere->GetNumberOfPolys()) / 3.0 * 3.0 / 4.0; // points + ~int64 connectivity
-  const double outBytes = (8.0 + 8.0 + 24.0) * static_cast<double>(n);           // Distance, SignedDistance, Closest
+  const double outBytes = (8.0 + 8.0 + 24.0) * static_cast<double>(n);              // Distance, SignedDistance, Closest
   PeakMemoryProbe probe;
   probe.Start();
   double total = 0.0;
@@ -273,8 +273,8 @@ void BM_CoreQueries(benchmark::State& state)
     core.SetSlabBounds(state.range(1) != 0);
     core.SetAvx(state.range(2) != 0);
     auto start = std::chrono::steady_clock::now();
-    core.BuildSurface(sphere.points.data(), sphere.points.size() / 3, sphere.triangles.data(),
-      sphere.triangles.size() / 3);
+    core.BuildSurface(
+      sphere.points.data(), sphere.points.size() / 3, sphere.triangles.data(), sphere.triangles.size() / 3);
     const double b = Seconds(start);
     start = std::chrono::steady_clock::now();
     core.QueryMany(xyz.data(), n, distance.data(), signedDistance.data(), closest.data(), nullptr);
@@ -369,8 +369,9 @@ double BruteForce(vtkPolyData* surface, const double p[3])
     plantmorph::TriangleFeature feature;
     int index = 0;
     plantmorph::ClosestPointOnTriangle(p, a, b, c, closest, feature, index);
-    best = std::min(best, std::sqrt((p[0] - closest[0]) * (p[0] - closest[0]) +
-                            (p[1] - closest[1]) * (p[1] - closest[1]) + (p[2] - closest[2]) * (p[2] - closest[2])));
+    best = std::min(best,
+      std::sqrt((p[0] - closest[0]) * (p[0] - closest[0]) + (p[1] - closest[1]) * (p[1] - closest[1]) +
+        (p[2] - closest[2]) * (p[2] - closest[2])));
   }
   return best;
 }

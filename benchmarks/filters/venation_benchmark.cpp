@@ -141,14 +141,35 @@ void BM_SpaceColonization(benchmark::State& state)
 } // namespace
 
 // AreoleSize 0.04 .. 0.00125 leaf lengths: about 10^3 .. 10^6 segments on this blade.
-BENCHMARK(BM_Venation)->ArgName("areole_1e-5")->Arg(4000)->Arg(2000)->Arg(1000)->Arg(500)->Arg(250)->Arg(125)
-  ->Unit(benchmark::kMillisecond)->MinTime(0.2);
-BENCHMARK(BM_VenationBruteForce)->ArgName("areole_1e-5")->Arg(4000)->Arg(2000)->Arg(1000)
-  ->Unit(benchmark::kMillisecond)->MinTime(0.2);
+BENCHMARK(BM_Venation)
+  ->ArgName("areole_1e-5")
+  ->Arg(4000)
+  ->Arg(2000)
+  ->Arg(1000)
+  ->Arg(500)
+  ->Arg(250)
+  ->Arg(125)
+  ->Unit(benchmark::kMillisecond)
+  ->MinTime(0.2);
+BENCHMARK(BM_VenationBruteForce)
+  ->ArgName("areole_1e-5")
+  ->Arg(4000)
+  ->Arg(2000)
+  ->Arg(1000)
+  ->Unit(benchmark::kMillisecond)
+  ->MinTime(0.2);
 
 // KillDistance 0.01 .. 0.0003 leaf lengths: about 10^3 .. 10^6 segments on this blade.
-BENCHMARK(BM_SpaceColonization)->ArgName("kill_1e-5")->Arg(1000)->Arg(500)->Arg(250)->Arg(125)->Arg(63)->Arg(32)
-  ->Unit(benchmark::kMillisecond)->MinTime(0.2);
+BENCHMARK(BM_SpaceColonization)
+  ->ArgName("kill_1e-5")
+  ->Arg(1000)
+  ->Arg(500)
+  ->Arg(250)
+  ->Arg(125)
+  ->Arg(63)
+  ->Arg(32)
+  ->Unit(benchmark::kMillisecond)
+  ->MinTime(0.2);
 
 int main(int argc, char** argv)
 {

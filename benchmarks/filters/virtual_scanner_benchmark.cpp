@@ -85,9 +85,9 @@ void AppendSphere(Scene& scene, const double centre[3], double radius, int rings
     for (int j = 0; j < segments; ++j)
     {
       const double phi = 2.0 * pi * j / segments;
-      scene.points.insert(scene.points.end(), { centre[0] + radius * std::sin(theta) * std::cos(phi),
-                                                centre[1] + radius * std::sin(theta) * std::sin(phi),
-                                                centre[2] + radius * std::cos(theta) });
+      scene.points.insert(scene.points.end(),
+        { centre[0] + radius * std::sin(theta) * std::cos(phi), centre[1] + radius * std::sin(theta) * std::sin(phi),
+          centre[2] + radius * std::cos(theta) });
     }
   }
   scene.points.insert(scene.points.end(), { centre[0], centre[1], centre[2] - radius });
@@ -246,8 +246,8 @@ struct Packets
   const plantmorph::RayCaster& caster;
 };
 
-std::size_t CastRange(const plantmorph::BeamPattern& pattern, const Packets& packets, double tMax, std::size_t begin,
-  std::size_t end)
+std::size_t CastRange(
+  const plantmorph::BeamPattern& pattern, const Packets& packets, double tMax, std::size_t begin, std::size_t end)
 {
   constexpr std::size_t W = plantmorph::RayCaster::PacketSize;
   double o[3 * W], d[3 * W];
@@ -269,8 +269,8 @@ std::size_t CastRange(const plantmorph::BeamPattern& pattern, const Packets& pac
 }
 
 template <typename Caster>
-std::size_t CastRange(const plantmorph::BeamPattern& pattern, const Caster& caster, double tMax, std::size_t begin,
-  std::size_t end)
+std::size_t CastRange(
+  const plantmorph::BeamPattern& pattern, const Caster& caster, double tMax, std::size_t begin, std::size_t end)
 {
   std::size_t h = 0;
   for (std::size_t b = begin; b < end; ++b)
@@ -545,8 +545,8 @@ void BM_Filter(benchmark::State& state)
   cpu.Report(state);
   plantmorph::BeamPattern pattern;
   pattern.Setup(p);
-  Rates(state, static_cast<double>(scene.triangles.size() / 3), static_cast<double>(pattern.BeamCount()), returns,
-    -1.0);
+  Rates(
+    state, static_cast<double>(scene.triangles.size() / 3), static_cast<double>(pattern.BeamCount()), returns, -1.0);
   memory.Report(state);
 }
 

@@ -80,7 +80,8 @@ std::vector<Eigen::Vector3d> Scan(int count, unsigned seed)
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < count; ++i)
   {
-    const auto k = std::min<std::size_t>(std::lower_bound(cdf.begin(), cdf.end(), uniform(random) * total) - cdf.begin(), cdf.size() - 1);
+    const auto k = std::min<std::size_t>(
+      std::lower_bound(cdf.begin(), cdf.end(), uniform(random) * total) - cdf.begin(), cdf.size() - 1);
     const auto& t = truth.triangles[k];
     double a = uniform(random), b = uniform(random);
     if (a + b > 1.0)
@@ -92,7 +93,8 @@ std::vector<Eigen::Vector3d> Scan(int count, unsigned seed)
     points.push_back(p0 + a * (p1 - p0) + b * (p2 - p0) + gauss(random) * (p1 - p0).cross(p2 - p0).normalized());
   }
   for (int i = 0; i < count / 100; ++i)
-    points.emplace_back(-40.0 + 80.0 * uniform(random), -10.0 + 120.0 * uniform(random), -20.0 + 40.0 * uniform(random));
+    points.emplace_back(
+      -40.0 + 80.0 * uniform(random), -10.0 + 120.0 * uniform(random), -20.0 + 40.0 * uniform(random));
   return points;
 }
 

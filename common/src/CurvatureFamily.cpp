@@ -127,8 +127,8 @@ std::vector<double> CurvatureFamily::Breakpoints(double length) const
       break;
     }
   }
-  points.erase(std::remove_if(points.begin(), points.end(), [&](double p) { return !(p > 0.0 && p < length); }),
-    points.end());
+  points.erase(
+    std::remove_if(points.begin(), points.end(), [&](double p) { return !(p > 0.0 && p < length); }), points.end());
   return points;
 }
 

@@ -102,14 +102,16 @@ State StepDormandPrince(Equations& f, double s, const State& y, double h, State&
   const State k5 = f(s + 8.0 * h / 9.0,
     y + h * (19372.0 / 6561.0 * k1 - 25360.0 / 2187.0 * k2 + 64448.0 / 6561.0 * k3 - 212.0 / 729.0 * k4));
   const State k6 = f(s + h,
-    y + h * (9017.0 / 3168.0 * k1 - 355.0 / 33.0 * k2 + 46732.0 / 5247.0 * k3 + 49.0 / 176.0 * k4 -
-              5103.0 / 18656.0 * k5));
-  const State y5 = y +
-    h * (35.0 / 384.0 * k1 + 500.0 / 1113.0 * k3 + 125.0 / 192.0 * k4 - 2187.0 / 6784.0 * k5 + 11.0 / 84.0 * k6);
+    y +
+      h *
+        (9017.0 / 3168.0 * k1 - 355.0 / 33.0 * k2 + 46732.0 / 5247.0 * k3 + 49.0 / 176.0 * k4 - 5103.0 / 18656.0 * k5));
+  const State y5 =
+    y + h * (35.0 / 384.0 * k1 + 500.0 / 1113.0 * k3 + 125.0 / 192.0 * k4 - 2187.0 / 6784.0 * k5 + 11.0 / 84.0 * k6);
   const State k7 = f(s + h, y5);
   const State y4 = y +
-    h * (5179.0 / 57600.0 * k1 + 7571.0 / 16695.0 * k3 + 393.0 / 640.0 * k4 - 92097.0 / 339200.0 * k5 +
-          187.0 / 2100.0 * k6 + 1.0 / 40.0 * k7);
+    h *
+      (5179.0 / 57600.0 * k1 + 7571.0 / 16695.0 * k3 + 393.0 / 640.0 * k4 - 92097.0 / 339200.0 * k5 +
+        187.0 / 2100.0 * k6 + 1.0 / 40.0 * k7);
   error = y5 - y4;
   return y5;
 }
@@ -175,9 +177,8 @@ std::string IntegrateFrenet(const CurveFunction& curvature, const CurveFunction&
     if (settings.method == FrenetMethod::RK4)
     {
       const double span = stop - s;
-      const long n = span > 0.0
-        ? std::max(1L, std::lround(std::ceil(settings.stepsPerOutput * span / outputSpacing - 1e-9)))
-        : 0L;
+      const long n =
+        span > 0.0 ? std::max(1L, std::lround(std::ceil(settings.stepsPerOutput * span / outputSpacing - 1e-9))) : 0L;
       for (long k = 0; k < n; ++k)
       {
         const double from = s + span * static_cast<double>(k) / static_cast<double>(n);
@@ -195,8 +196,8 @@ std::string IntegrateFrenet(const CurveFunction& curvature, const CurveFunction&
         State error;
         State next = StepDormandPrince(f, s, y, step, error);
         // Position error relative to the curve's length, frame error absolute: both against the tolerance.
-        const double norm = std::max(error.segment<3>(0).cwiseAbs().maxCoeff() / scale,
-                              error.segment<9>(3).cwiseAbs().maxCoeff()) /
+        const double norm =
+          std::max(error.segment<3>(0).cwiseAbs().maxCoeff() / scale, error.segment<9>(3).cwiseAbs().maxCoeff()) /
           settings.tolerance;
         if (!std::isfinite(norm))
           break;

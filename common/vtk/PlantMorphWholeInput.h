@@ -52,9 +52,9 @@ inline vtkSmartPointer<vtkDataObject> WithoutGhostCells(vtkPointSet* piece)
 /// What this rank ends up with after the collective part of a gather.
 enum class Gathered
 {
-  Piece, ///< serial, or rank 0 when no other rank holds data: `piece` itself is the whole dataset
+  Piece,   ///< serial, or rank 0 when no other rank holds data: `piece` itself is the whole dataset
   Nothing, ///< a rank other than 0: an empty dataset
-  Pieces ///< rank 0 when other ranks hold data: `pieces` has every rank's piece, ghost cells removed, to merge
+  Pieces   ///< rank 0 when other ranks hold data: `pieces` has every rank's piece, ghost cells removed, to merge
 };
 
 /// Collective over the global controller's ranks: finds who holds data (AllGather) and, only when a rank other than

@@ -168,7 +168,6 @@ const bool CpuHasAvx = DetectAvx();
 #endif
 } // namespace
 
-
 //------------------------------------------------------------------------------
 void ClosestPointOnTriangle(const double p[3], const double a[3], const double b[3], const double c[3],
   double closest[3], TriangleFeature& feature, int& index)
@@ -237,8 +236,8 @@ std::string PointSurfaceDistance::BuildTree(std::vector<double>& lo, std::vector
     std::vector<Task> children(2 * tasks.size(), Task{ 0, 0, 0 });
     // Each element range of the ParallelFor builds the nodes whose ranges start in it.
     parallelFor(count, [&](std::size_t first, std::size_t last) {
-      auto it = std::lower_bound(
-        tasks.begin(), tasks.end(), first, [](const Task& t, std::size_t b) { return t.begin < b; });
+      auto it =
+        std::lower_bound(tasks.begin(), tasks.end(), first, [](const Task& t, std::size_t b) { return t.begin < b; });
       for (; it != tasks.end() && it->begin < last; ++it)
       {
         const Task task = *it;
@@ -364,8 +363,7 @@ void PointSurfaceDistance::BuildSlabs(const std::vector<std::uint32_t>& nodeRang
           lateral2 = std::max(lateral2, Dot(side, side));
         }
       }
-      const double extent =
-        std::max({ node.hi[0] - node.lo[0], node.hi[1] - node.lo[1], node.hi[2] - node.lo[2] });
+      const double extent = std::max({ node.hi[0] - node.lo[0], node.hi[1] - node.lo[1], node.hi[2] - node.lo[2] });
       for (int k = 0; k < 3; ++k)
       {
         node.n[k] = n[k];
@@ -490,8 +488,7 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
     if (triangles[i] < 0 || static_cast<std::size_t>(triangles[i]) >= pointCount)
     {
       std::ostringstream message;
-      message << "triangle " << i / 3 << " refers to point " << triangles[i] << ", outside [0, " << pointCount
-              << ")";
+      message << "triangle " << i / 3 << " refers to point " << triangles[i] << ", outside [0, " << pointCount << ")";
       return message.str();
     }
   }
@@ -797,8 +794,8 @@ DistanceQueryResult PointSurfaceDistance::QueryResult(const double p[3], double 
 }
 
 //------------------------------------------------------------------------------
-void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, double* distance,
-  double* signedDistance, double* closest, std::int64_t* primitive, const ParallelFor& parallelFor,
+void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, double* distance, double* signedDistance,
+  double* closest, std::int64_t* primitive, const ParallelFor& parallelFor,
   const std::function<bool(double)>& progress) const
 {
   // Queries run in Morton (Z-curve) order of the points, so consecutive queries are near each other and each one

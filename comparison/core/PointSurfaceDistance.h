@@ -128,8 +128,8 @@ public:
   /// count queries over x,y,z triples in `points`; any of the output arrays may be null. `closest` gets x,y,z
   /// triples, `primitive` the nearest triangle or point index. `progress`, if set, is called on the calling thread
   /// between blocks of queries with the fraction done; returning false stops the queries (outputs then partial).
-  void QueryMany(const double* points, std::size_t count, double* distance, double* signedDistance,
-    double* closest, std::int64_t* primitive, const ParallelFor& parallelFor = SerialFor,
+  void QueryMany(const double* points, std::size_t count, double* distance, double* signedDistance, double* closest,
+    std::int64_t* primitive, const ParallelFor& parallelFor = SerialFor,
     const std::function<bool(double)>& progress = nullptr) const;
 
   /// The unit normal of triangle `triangle` (original index; zero for a degenerate triangle). Surface mode only.
@@ -174,8 +174,7 @@ private:
   };
 
   std::string BuildTree(std::vector<double>& lo, std::vector<double>& hi, std::vector<double>& centroid,
-    std::size_t count, std::size_t leafSize, std::vector<std::uint32_t>& nodeRange,
-    const ParallelFor& parallelFor);
+    std::size_t count, std::size_t leafSize, std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor);
   void BuildSlabs(const std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor);
   void CollapseToWideNodes();
   // The traversal (PointSurfaceDistanceSearch.inc) compiled for SSE2 and for AVX (x86-64 only), and the result
@@ -188,8 +187,8 @@ private:
   bool Surface = false;
   bool SlabBounds = true;
   bool Avx = true;
-  std::vector<Node> Nodes;         ///< binary tree, during the build only
-  std::vector<WideNode> WideNodes; ///< the tree the queries walk; root 0
+  std::vector<Node> Nodes;                 ///< binary tree, during the build only
+  std::vector<WideNode> WideNodes;         ///< the tree the queries walk; root 0
   std::vector<std::uint32_t> PrimitiveIds; ///< leaf order -> original triangle or point index
   std::vector<std::uint32_t> LeafOf;       ///< original index -> leaf order
   std::vector<Triangle> Triangles;         ///< surface mode, leaf order

@@ -164,8 +164,9 @@ void SymmetricICP(const std::vector<double>& landmarks, const std::vector<double
     ApplyTransform(fitted, landmarks.data(), next.data(), n);
     double step2 = 0.0;
     for (std::size_t i = 0; i < 3 * n; i += 3)
-      step2 = std::max(step2, (Eigen::Vector3d(next[i], next[i + 1], next[i + 2]) -
-                                Eigen::Vector3d(moved[i], moved[i + 1], moved[i + 2])).squaredNorm());
+      step2 = std::max(step2,
+        (Eigen::Vector3d(next[i], next[i + 1], next[i + 2]) - Eigen::Vector3d(moved[i], moved[i + 1], moved[i + 2]))
+          .squaredNorm());
     std::copy(fitted, fitted + 16, matrix);
     if (std::sqrt(step2) <= stepLimit)
     {
@@ -233,8 +234,8 @@ RegistrationResult RegisterPoints(const double* points, std::size_t count, const
   if (!(result.symmetricAfter <= result.symmetricBefore))
   {
     std::ostringstream message;
-    message << "registration made the fit worse (symmetric mean distance " << result.symmetricAfter
-            << " instead of " << result.symmetricBefore << " without it): the measured points are left unregistered";
+    message << "registration made the fit worse (symmetric mean distance " << result.symmetricAfter << " instead of "
+            << result.symmetricBefore << " without it): the measured points are left unregistered";
     result.warning = message.str();
     result.worse = true;
     std::copy(identity, identity + 16, result.matrix);
@@ -282,8 +283,8 @@ std::string ChooseLandmarks(const double* points, std::size_t count, const Regis
     RandomStream random(settings.seed, 0x1C9);
     for (std::size_t i = 0; i < settings.maximumLandmarks; ++i)
     {
-      const auto j = static_cast<std::size_t>(
-        random.Integer(static_cast<std::int64_t>(i), static_cast<std::int64_t>(count - 1)));
+      const auto j =
+        static_cast<std::size_t>(random.Integer(static_cast<std::int64_t>(i), static_cast<std::int64_t>(count - 1)));
       std::swap(all[i], all[j]);
     }
     chosen.assign(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(settings.maximumLandmarks));
@@ -307,8 +308,8 @@ std::string ChooseLandmarks(const double* points, std::size_t count, const Regis
       hi[k] = std::max(hi[k], x);
     }
   }
-  const double diagonal =
-    std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  const double diagonal = std::sqrt(
+    (hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
   stepLimit = settings.tolerance * std::max(diagonal, 1e-300);
   return {};
 }
@@ -410,9 +411,8 @@ void FinishOneSided(const std::vector<double>& original, const PointSurfaceDista
     m.topLeftCorner<3, 3>() = svd.matrixU() * svd.matrixV().transpose();
   }
   std::copy(matrix, matrix + 16, result.matrix);
-  result.scale = std::cbrt(Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(matrix)
-                             .topLeftCorner<3, 3>()
-                             .determinant());
+  result.scale = std::cbrt(
+    Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(matrix).topLeftCorner<3, 3>().determinant());
   std::vector<double> moved(3 * n), distance(n);
   ApplyTransform(matrix, original.data(), moved.data(), n);
   reference.QueryMany(moved.data(), n, distance.data(), nullptr, nullptr, nullptr, parallelFor);
@@ -466,8 +466,7 @@ RegistrationResult RegisterOneSided(const double* points, std::size_t count, con
   for (int iteration = 1; iteration <= settings.maximumIterations; ++iteration)
   {
     ApplyTransform(matrix, original.data(), moved.data(), n);
-    reference.QueryMany(
-      moved.data(), n, distance.data(), nullptr, closest.data(), primitive.data(), parallelFor);
+    reference.QueryMany(moved.data(), n, distance.data(), nullptr, closest.data(), primitive.data(), parallelFor);
     double fitted[16];
     std::size_t pairs = 0;
     const bool solved = pointToPlane

@@ -33,11 +33,11 @@ namespace plantmorph
 
 struct RegistrationParameters
 {
-  bool withScale = false;          ///< rigid + one uniform scale instead of rigid
-  int maximumIterations = 100;     ///< [1, 10000]
-  double tolerance = 1e-7;         ///< relative to the landmarks' bounding-box diagonal, (0, 1)
+  bool withScale = false;               ///< rigid + one uniform scale instead of rigid
+  int maximumIterations = 100;          ///< [1, 10000]
+  double tolerance = 1e-7;              ///< relative to the landmarks' bounding-box diagonal, (0, 1)
   std::size_t maximumLandmarks = 20000; ///< >= 3; more measured points than this: a random subset
-  double rejectDistance = -1.0;    ///< < 0: no rejection
+  double rejectDistance = -1.0;         ///< < 0: no rejection
   std::uint64_t seed = 0;
   /// The reference's points (x,y,z triples), optional. Given, the registration is symmetric (see SymmetricICP
   /// below) and guarded: it cannot shrink the measured cloud to a point, it sees sliding within a flat leaf's plane
@@ -53,9 +53,9 @@ struct RegistrationResult
   double scale = 1.0;
   int iterations = 0;
   bool converged = false;
-  double rms = 0.0;           ///< RMS distance of the fitted landmark pairs after the final transform
-  std::size_t landmarks = 0;  ///< landmarks used
-  std::string error;          ///< empty on success
+  double rms = 0.0;          ///< RMS distance of the fitted landmark pairs after the final transform
+  std::size_t landmarks = 0; ///< landmarks used
+  std::string error;         ///< empty on success
   /// Symmetric mode: the symmetric mean distance (half the mean measured-to-reference distance plus half the mean
   /// reference-point-to-measured distance) without registration and with the transform found. When the transform
   /// is worse, `worse` is set, `warning` says so, and matrix and scale are the identity (the unregistered result).

@@ -62,8 +62,8 @@ double AngleBetween(const double a[3], const double b[3])
 }
 
 //------------------------------------------------------------------------------
-TrajectoryComparison CompareTrajectories(const double* measured, std::size_t n, const double* simulated,
-  std::size_t m, std::size_t maximumMonotonePairs)
+TrajectoryComparison CompareTrajectories(
+  const double* measured, std::size_t n, const double* simulated, std::size_t m, std::size_t maximumMonotonePairs)
 {
   TrajectoryComparison result;
   // A direction (last minus first sample) needs two samples: one gives no angle, only a NaN.
@@ -71,7 +71,8 @@ TrajectoryComparison CompareTrajectories(const double* measured, std::size_t n, 
   {
     const bool measuredShort = n < 2;
     result.error = std::string(measuredShort ? "the measured" : "the simulated") + " trajectory has " +
-      std::to_string(measuredShort ? n : m) + " sample(s); a comparison needs at least 2 (its direction is the last "
+      std::to_string(measuredShort ? n : m) +
+      " sample(s); a comparison needs at least 2 (its direction is the last "
       "minus the first sample)";
     return result;
   }

@@ -45,8 +45,8 @@ struct TrajectoryComparison
 /// measured: n x,y,z triples; simulated: m triples. Needs n >= 2, m >= 2 and finite coordinates. The monotone
 /// matching is computed when m >= n and n * m <= maximumMonotonePairs (it takes 16 bytes per pair), else
 /// hasMonotone is false.
-TrajectoryComparison CompareTrajectories(const double* measured, std::size_t n, const double* simulated,
-  std::size_t m, std::size_t maximumMonotonePairs = 20000000);
+TrajectoryComparison CompareTrajectories(const double* measured, std::size_t n, const double* simulated, std::size_t m,
+  std::size_t maximumMonotonePairs = 20000000);
 
 /// Angle in degrees between two 3-D vectors (NaN if either is zero), computed with atan2 (accurate near 0 and 180).
 double AngleBetween(const double a[3], const double b[3]);

@@ -92,7 +92,8 @@ void AppendPolygon(vtkIdType n, const vtkIdType* ids, vtkPoints* points, vtkPoly
   {
     for (vtkIdType k = 0; k + 2 < triangleIds->GetNumberOfIds(); k += 3)
     {
-      triangles.insert(triangles.end(), { triangleIds->GetId(k), triangleIds->GetId(k + 1), triangleIds->GetId(k + 2) });
+      triangles.insert(
+        triangles.end(), { triangleIds->GetId(k), triangleIds->GetId(k + 1), triangleIds->GetId(k + 2) });
     }
     return;
   }
@@ -516,8 +517,8 @@ void FillTransform(const double transform[16], const plantmorph::RegistrationRes
 }
 
 /// Output 2 (and field data): statistics of the distances, and of the reverse ones when `reverse` is given.
-plantmorph::DistanceStatistics FillStatistics(const double* distance, std::size_t count, double cutOff,
-  bool surface, const std::vector<double>* reverse, vtkTable* statistics, vtkFieldData* fd)
+plantmorph::DistanceStatistics FillStatistics(const double* distance, std::size_t count, double cutOff, bool surface,
+  const std::vector<double>* reverse, vtkTable* statistics, vtkFieldData* fd)
 {
   using namespace plantmorph;
   const DistanceStatistics s = ComputeDistanceStatistics(distance, count, cutOff);
@@ -548,8 +549,8 @@ plantmorph::DistanceStatistics FillStatistics(const double* distance, std::size_
 }
 
 /// Output 1: the histogram of the distances (`counted`: the statistics' count, for the fractions).
-void FillHistogram(const double* distance, std::size_t count, std::size_t bins, double cutOff, std::size_t counted,
-  vtkTable* histogram)
+void FillHistogram(
+  const double* distance, std::size_t count, std::size_t bins, double cutOff, std::size_t counted, vtkTable* histogram)
 {
   const plantmorph::DistanceHistogram h = plantmorph::ComputeDistanceHistogram(distance, count, bins, cutOff);
   const vtkIdType n = static_cast<vtkIdType>(h.count.size());
@@ -619,8 +620,7 @@ int vtkCloudComparisonFilter::Execute(
   std::vector<double> moved;
   const double* xyz = nullptr;
   double transform[16];
-  if (const std::string error = ReadMeasured(measured, this->Scale, registering, moved, xyz, transform);
-      !error.empty())
+  if (const std::string error = ReadMeasured(measured, this->Scale, registering, moved, xyz, transform); !error.empty())
   {
     vtkErrorMacro(<< error);
     return 0;
@@ -714,10 +714,10 @@ int vtkCloudComparisonFilter::Execute(
     closest, this->MaximumDistance, this->UseMaximumDistance != 0, output);
   vtkFieldData* fd = output->GetFieldData();
   FillTransform(transform, registering ? &registered : nullptr, fd);
-  const DistanceStatistics s = FillStatistics(distance->GetPointer(0), static_cast<std::size_t>(count), cutOff,
-    surface, this->Symmetric ? &reverse : nullptr, statistics, fd);
-  FillHistogram(distance->GetPointer(0), static_cast<std::size_t>(count),
-    static_cast<std::size_t>(this->HistogramBins), cutOff, s.count, histogram);
+  const DistanceStatistics s = FillStatistics(distance->GetPointer(0), static_cast<std::size_t>(count), cutOff, surface,
+    this->Symmetric ? &reverse : nullptr, statistics, fd);
+  FillHistogram(distance->GetPointer(0), static_cast<std::size_t>(count), static_cast<std::size_t>(this->HistogramBins),
+    cutOff, s.count, histogram);
   this->UpdateProgress(1.0);
   return 1;
 }

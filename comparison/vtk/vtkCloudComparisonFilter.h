@@ -197,8 +197,8 @@ protected:
   int NumberOfThreads = 0;
 
 private:
-  int Execute(vtkPointSet* measured, vtkPointSet* reference, vtkPolyData* output, vtkTable* histogram,
-    vtkTable* statistics);
+  int Execute(
+    vtkPointSet* measured, vtkPointSet* reference, vtkPolyData* output, vtkTable* histogram, vtkTable* statistics);
 
   vtkCloudComparisonFilter(const vtkCloudComparisonFilter&) = delete;
   void operator=(const vtkCloudComparisonFilter&) = delete;

@@ -192,8 +192,8 @@ vtkDoubleArray* NewColumn(vtkTable* table, const std::string& name, vtkIdType ro
   return column;
 }
 
-void WriteMatch(vtkTable* table, const std::string& prefix, const plantmorph::TrajectoryMatch& match,
-  const Trajectory& simulated)
+void WriteMatch(
+  vtkTable* table, const std::string& prefix, const plantmorph::TrajectoryMatch& match, const Trajectory& simulated)
 {
   const auto rows = static_cast<vtkIdType>(match.distance.size());
   vtkNew<vtkIdTypeArray> index;

@@ -81,10 +81,7 @@ public:
   void SetSimulatedY(const char* name) { this->SetColumn(this->SimulatedColumn[1], name); }
   void SetSimulatedZ(const char* name) { this->SetColumn(this->SimulatedColumn[2], name); }
   void SetSimulatedColumns(const char* x, const char* y, const char* z);
-  std::string GetSimulatedColumn(int i) const
-  {
-    return Chosen(this->SimulatedColumn[i], this->SimulatedColumns[i]);
-  }
+  std::string GetSimulatedColumn(int i) const { return Chosen(this->SimulatedColumn[i], this->SimulatedColumns[i]); }
   ///@}
 
   ///@{

@@ -155,7 +155,8 @@ std::string MeshFittedBlade(const LeafFitParameters& options, const Fitted& f, L
     return static_cast<int>(outline.points.size() - 1);
   };
   for (int k = 0; k <= options.resolution; ++k)
-    result.midvein.push_back(add({ 0.0, L * k / options.resolution }, { 0.0, static_cast<double>(k) / options.resolution }, RegionMidvein));
+    result.midvein.push_back(
+      add({ 0.0, L * k / options.resolution }, { 0.0, static_cast<double>(k) / options.resolution }, RegionMidvein));
   for (int side = 0; side < 2; ++side)
   {
     const std::vector<Eigen::Vector2d> samples = SampleMargin(o, side == 1, h);

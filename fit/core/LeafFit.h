@@ -41,13 +41,13 @@ struct LeafFitParameters
 {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ(); ///< unit vertical, for Inclination, Azimuth, HorizontalArea
   std::optional<Eigen::Vector3d> basePoint;      ///< the scan end nearest it is the base
-  double surfaceSmoothing = 1.0;  ///< [0, 1e6]: weight of the surface's bending penalty (1: the default balance)
-  double outlineSmoothing = 1.0;  ///< [0, 1e6]: weight of the margins' curvature penalty
-  int outlineControlPoints = 16;  ///< [4, 200]: B-spline control points per margin
-  double outlierSigma = 3.0;      ///< [1, 100]: robust deviations of the neighbour distance beyond which a point is dropped
-  int resolution = 60;            ///< [4, 1000]: segments along the midvein of the output mesh
-  int modelControlPoints = 20;    ///< [3, 100]: Model C control points per margin in the fitted model (at most:
-                                  ///< fewer when that many fold the flat model, LeafFitResult::modelControlPoints)
+  double surfaceSmoothing = 1.0; ///< [0, 1e6]: weight of the surface's bending penalty (1: the default balance)
+  double outlineSmoothing = 1.0; ///< [0, 1e6]: weight of the margins' curvature penalty
+  int outlineControlPoints = 16; ///< [4, 200]: B-spline control points per margin
+  double outlierSigma = 3.0; ///< [1, 100]: robust deviations of the neighbour distance beyond which a point is dropped
+  int resolution = 60;       ///< [4, 1000]: segments along the midvein of the output mesh
+  int modelControlPoints = 20; ///< [3, 100]: Model C control points per margin in the fitted model (at most:
+                               ///< fewer when that many fold the flat model, LeafFitResult::modelControlPoints)
 };
 
 /// Empty when every option is finite and in range; otherwise the message naming the option and its range.
@@ -63,13 +63,13 @@ struct LeafTraits
   double rolling = 0;          ///< degrees the cross-section turns from margin to margin (mean along the leaf)
   double rollingCurvature = 0; ///< mean cross-section curvature (1 / length unit), signed: + rolls up
   double inclination = 0;      ///< degrees between the blade's mean normal and `up` (0: the blade lies horizontal)
-  double azimuth = 0;          ///< degrees of the midvein (base to apex) in the horizontal plane, from the first horizontal axis
+  double azimuth = 0; ///< degrees of the midvein (base to apex) in the horizontal plane, from the first horizontal axis
   double midveinInclination = 0; ///< degrees of the midvein's base tangent above the horizontal plane
   double points = 0, inliers = 0;
   double fitRMS = 0, fitP95 = 0, fitMax = 0; ///< scan-to-blade distances of the inliers
-  double coverage = 0;         ///< fraction of blade area whose Support is below twice the point spacing
-  double spacing = 0;          ///< median nearest-neighbour distance of the inliers
-  int baseFrom = 0;            ///< 0: the shape, 1: BasePoint
+  double coverage = 0;                       ///< fraction of blade area whose Support is below twice the point spacing
+  double spacing = 0;                        ///< median nearest-neighbour distance of the inliers
+  int baseFrom = 0;                          ///< 0: the shape, 1: BasePoint
 };
 
 /// Names of the traits, in the order TraitValues() lists them (the Traits table's columns after LeafId).
@@ -85,12 +85,12 @@ struct LeafFitResult
   std::vector<Eigen::Vector2d> intrinsic; ///< (t, s) of every point (NaN for dropped points)
   // The blade: the mesher's output mapped to 3-D.
   std::vector<Eigen::Vector3d> points;
-  std::vector<Eigen::Vector2d> flat;    ///< (t, s - s_base) of every blade point: the blade laid flat
+  std::vector<Eigen::Vector2d> flat; ///< (t, s - s_base) of every blade point: the blade laid flat
   std::vector<Eigen::Vector2d> leafUV;
   std::vector<Eigen::Vector2d> tcoords; ///< eq. (6) of the flat blade
   std::vector<Eigen::Vector3d> normals;
   std::vector<int> region;
-  std::vector<double> support;          ///< distance to the nearest inlier
+  std::vector<double> support; ///< distance to the nearest inlier
   std::vector<std::array<int, 3>> triangles;
   std::vector<int> leftMargin, rightMargin, midvein; ///< base to apex, ids into points
   // The model LeafOutlineSource rebuilds (Model C, Custom preset): 3-D control points.

@@ -73,8 +73,8 @@ std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points)
   return {};
 }
 
-std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlierSigma,
-  std::vector<unsigned char>& keep, double& spacing)
+std::string CleanCloud(
+  const std::vector<Eigen::Vector3d>& points, double outlierSigma, std::vector<unsigned char>& keep, double& spacing)
 {
   const int n = static_cast<int>(points.size());
   const int k = 8;

@@ -29,8 +29,8 @@ std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points);
 
 /// Statistical outlier removal and the largest connected parts; keep[i] = 1 for kept points. Sets `spacing` (the
 /// median nearest-neighbour distance of the kept points).
-std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlierSigma,
-  std::vector<unsigned char>& keep, double& spacing);
+std::string CleanCloud(
+  const std::vector<Eigen::Vector3d>& points, double outlierSigma, std::vector<unsigned char>& keep, double& spacing);
 
 /// The frame of the kept points (principal axes, base chosen as LeafFit.h says); baseFrom 0 shape, 1 base point.
 Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, int& baseFrom);

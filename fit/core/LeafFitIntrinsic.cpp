@@ -243,8 +243,8 @@ double TipBeyond(const std::vector<double>& v, double reach)
 }
 } // namespace
 
-std::string FitOutline(const std::vector<Eigen::Vector2d>& ts, const LeafFitParameters& options, double spacing,
-  Outline& outline)
+std::string FitOutline(
+  const std::vector<Eigen::Vector2d>& ts, const LeafFitParameters& options, double spacing, Outline& outline)
 {
   std::vector<double> s(ts.size());
   for (std::size_t i = 0; i < ts.size(); ++i)
@@ -300,8 +300,8 @@ std::string FitOutline(const std::vector<Eigen::Vector2d>& ts, const LeafFitPara
     return "no leaf shape: too few slices across the leaf hold points";
   const int intervals = std::max(1, options.outlineControlPoints - 3);
   const double lambda = 0.02 * options.outlineSmoothing;
-  if (!outline.right.Fit(outline.s0, outline.s1, intervals, sR, tR, w, phiR, lambda)
-    || !outline.left.Fit(outline.s0, outline.s1, intervals, sL, tL, w, phiL, lambda))
+  if (!outline.right.Fit(outline.s0, outline.s1, intervals, sR, tR, w, phiR, lambda) ||
+    !outline.left.Fit(outline.s0, outline.s1, intervals, sL, tL, w, phiL, lambda))
     return "no leaf shape: the margins could not be fitted";
   return {};
 }

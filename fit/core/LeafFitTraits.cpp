@@ -124,7 +124,9 @@ void BladeTraits(const LeafFitParameters& options, LeafFitResult& r)
     sum += d * d;
   std::sort(distances.begin(), distances.end());
   traits.fitRMS = distances.empty() ? 0.0 : std::sqrt(sum / distances.size());
-  traits.fitP95 = distances.empty() ? 0.0 : distances[std::min(distances.size() - 1, static_cast<std::size_t>(0.95 * distances.size()))];
+  traits.fitP95 = distances.empty()
+    ? 0.0
+    : distances[std::min(distances.size() - 1, static_cast<std::size_t>(0.95 * distances.size()))];
   traits.fitMax = distances.empty() ? 0.0 : distances.back();
 }
 } // namespace

@@ -49,7 +49,8 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell)
 
 PointGrid::Key PointGrid::KeyOf(std::int64_t i, std::int64_t j, std::int64_t k) const
 {
-  return (i * (static_cast<std::int64_t>(this->Extent[1]) + 2) + j) * (static_cast<std::int64_t>(this->Extent[2]) + 2) + k;
+  return (i * (static_cast<std::int64_t>(this->Extent[1]) + 2) + j) * (static_cast<std::int64_t>(this->Extent[2]) + 2) +
+    k;
 }
 
 Eigen::Vector3i PointGrid::CellOf(const Eigen::Vector3d& p) const

@@ -23,8 +23,8 @@ public:
   /// The k nearest points to q (excluding index `skip`, if >= 0) as (squared distance, index), nearest first.
   /// Only points within `reach` are looked for: fewer than k come back when fewer lie that close (the search cost
   /// grows with the cube of the distance searched, so far outliers must not search the whole grid).
-  std::vector<std::pair<double, int>> Nearest(const Eigen::Vector3d& q, int k, int skip = -1,
-    double reach = std::numeric_limits<double>::infinity()) const;
+  std::vector<std::pair<double, int>> Nearest(
+    const Eigen::Vector3d& q, int k, int skip = -1, double reach = std::numeric_limits<double>::infinity()) const;
 
   /// Indices of every point within `radius` of q.
   void Within(const Eigen::Vector3d& q, double radius, std::vector<int>& out) const;
@@ -44,10 +44,10 @@ private:
 
   double Cell;
   Eigen::Vector3d Origin;
-  std::vector<int> Order;                                  // point ids sorted by cell
-  std::vector<Eigen::Vector3d> Sorted;                     // the points in that order: a cell's points contiguous
-  std::unordered_map<Key, std::pair<int, int>> Ranges;     // cell -> [begin, end) in Order
-  Eigen::Vector3i Extent = Eigen::Vector3i::Zero();        // cells per axis
+  std::vector<int> Order;                              // point ids sorted by cell
+  std::vector<Eigen::Vector3d> Sorted;                 // the points in that order: a cell's points contiguous
+  std::unordered_map<Key, std::pair<int, int>> Ranges; // cell -> [begin, end) in Order
+  Eigen::Vector3i Extent = Eigen::Vector3i::Zero();    // cells per axis
 };
 
 } // namespace plantmorph

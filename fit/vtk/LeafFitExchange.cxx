@@ -115,8 +115,8 @@ vtkIdType LeafExchange::CountFor(int q, int rank) const
   return count;
 }
 
-std::vector<std::vector<Eigen::Vector3d>> LeafExchange::SendPoints(const LocalLeaves& local,
-  const std::vector<Eigen::Vector3d>& points) const
+std::vector<std::vector<Eigen::Vector3d>> LeafExchange::SendPoints(
+  const LocalLeaves& local, const std::vector<Eigen::Vector3d>& points) const
 {
   std::vector<std::vector<Eigen::Vector3d>> result;
   for (int owner = 0; owner < this->Ranks; ++owner)
@@ -159,8 +159,8 @@ std::vector<std::vector<Eigen::Vector3d>> LeafExchange::SendPoints(const LocalLe
   return result;
 }
 
-std::vector<double> LeafExchange::ReturnValues(const LocalLeaves& local, vtkIdType localPoints,
-  const std::vector<std::vector<double>>& owned, int width) const
+std::vector<double> LeafExchange::ReturnValues(
+  const LocalLeaves& local, vtkIdType localPoints, const std::vector<std::vector<double>>& owned, int width) const
 {
   std::vector<double> values(static_cast<std::size_t>(localPoints * width), std::numeric_limits<double>::quiet_NaN());
   for (int owner = 0; owner < this->Ranks; ++owner)

@@ -48,14 +48,14 @@ public:
 
   /// Collective: the points of every leaf this rank owns (in Owned() order), each the concatenation over ranks, in
   /// rank order, of that rank's points of the leaf in its input order. `points` are the local piece's points.
-  std::vector<std::vector<Eigen::Vector3d>> SendPoints(const LocalLeaves& local,
-    const std::vector<Eigen::Vector3d>& points) const;
+  std::vector<std::vector<Eigen::Vector3d>> SendPoints(
+    const LocalLeaves& local, const std::vector<Eigen::Vector3d>& points) const;
 
   /// Collective: per-point values computed by the owners (`owned[k]`: `width` values per point of the k-th owned
   /// leaf, in the order SendPoints gave them) back to the ranks holding the points; returns, for every local
   /// point, its `width` values (NaN for points of no leaf).
-  std::vector<double> ReturnValues(const LocalLeaves& local, vtkIdType localPoints,
-    const std::vector<std::vector<double>>& owned, int width) const;
+  std::vector<double> ReturnValues(
+    const LocalLeaves& local, vtkIdType localPoints, const std::vector<std::vector<double>>& owned, int width) const;
 
   /// Collective: rows of `width` values, one per owned leaf in Owned() order, gathered onto rank 0 in LeafId order
   /// (every leaf's row); empty on the other ranks.

@@ -76,7 +76,9 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* point
     for (int id : *polylines[k])
     {
       lines->InsertCellPoint(outlinePoints->InsertNextPoint(r.points[id].data()));
-      outline->GetPointData()->GetArray(plantmorph::arrays::LeafUV)->InsertNextTuple2(r.leafUV[id].x(), r.leafUV[id].y());
+      outline->GetPointData()
+        ->GetArray(plantmorph::arrays::LeafUV)
+        ->InsertNextTuple2(r.leafUV[id].x(), r.leafUV[id].y());
       outline->GetPointData()->GetArray("LeafId")->InsertNextTuple1(leafId);
     }
     outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(regions[k]);
@@ -299,7 +301,8 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, std::vector<E
 
 } // namespace
 
-int vtkLeafFitFilter::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkLeafFitFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPointSet* input = vtkPointSet::GetData(inputVector[0], 0);
   vtkPolyData* blade = vtkPolyData::GetData(outputVector, 0);
@@ -331,7 +334,8 @@ int vtkLeafFitFilter::RequestData(vtkInformation*, vtkInformationVector** inputV
     if (!results[k].error.empty())
     {
       std::ostringstream message;
-      message << "leaf " << exchange.LeafIds()[owned[k]] << " (" << leaves[k].size() << " points): " << results[k].error;
+      message << "leaf " << exchange.LeafIds()[owned[k]] << " (" << leaves[k].size()
+              << " points): " << results[k].error;
       vtkErrorMacro(<< message.str());
       failed = true;
     }
@@ -365,8 +369,7 @@ int vtkLeafFitFilter::RequestData(vtkInformation*, vtkInformationVector** inputV
   FillTraits(exchange.GatherRows(rows, width), traits);
 
   // Scan: stays where its points are; the owners send each point's FitDistance and Inlier back.
-  const std::vector<double> pointValues =
-    exchange.ReturnValues(members, static_cast<vtkIdType>(all.size()), values, 2);
+  const std::vector<double> pointValues = exchange.ReturnValues(members, static_cast<vtkIdType>(all.size()), values, 2);
   if (!all.empty())
     FillScan(input, all, leafOf, pointValues, scan);
   return 1;

@@ -29,8 +29,8 @@ std::vector<Eigen::Vector2d> RightMarginShape(BSplinePreset preset, int count)
       // Deep sinuses (x ~ 0.1 of the width) between lobes reaching 0.4-0.5 of it. Every tip and sinus has a
       // shoulder point on each side: an interpolating spline through a bare zigzag makes small loops there.
       return { { 0.08, 0.06 }, { 0.25, 0.08 }, { 0.40, 0.14 }, { 0.30, 0.20 }, { 0.12, 0.26 }, { 0.20, 0.32 },
-        { 0.40, 0.36 }, { 0.50, 0.40 }, { 0.36, 0.47 }, { 0.13, 0.52 }, { 0.22, 0.58 }, { 0.42, 0.66 },
-        { 0.30, 0.71 }, { 0.10, 0.76 }, { 0.16, 0.84 }, { 0.12, 0.92 } };
+        { 0.40, 0.36 }, { 0.50, 0.40 }, { 0.36, 0.47 }, { 0.13, 0.52 }, { 0.22, 0.58 }, { 0.42, 0.66 }, { 0.30, 0.71 },
+        { 0.10, 0.76 }, { 0.16, 0.84 }, { 0.12, 0.92 } };
     case BSplinePreset::Custom:
     case BSplinePreset::Elliptic:
       break;

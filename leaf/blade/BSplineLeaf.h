@@ -37,10 +37,10 @@ struct BSplineLeafParameters
 /// Parametric initialiser and presets (control points for a leaf along +Y with its base at the origin).
 enum class BSplinePreset : int
 {
-  Custom = 0,    ///< the user's control points
-  Elliptic = 1,  ///< a plain elliptic blade from length, width and control-point count (paper 003 Fig. 1)
-  Cucumber = 2,  ///< broad, cordate base, shallow palmate lobes, acute apex
-  PinOak = 3,    ///< deeply lobed (pin oak: sinuses reaching most of the way to the midvein)
+  Custom = 0,   ///< the user's control points
+  Elliptic = 1, ///< a plain elliptic blade from length, width and control-point count (paper 003 Fig. 1)
+  Cucumber = 2, ///< broad, cordate base, shallow palmate lobes, acute apex
+  PinOak = 3,   ///< deeply lobed (pin oak: sinuses reaching most of the way to the midvein)
 };
 
 inline constexpr int BSplinePresetCount = 4;

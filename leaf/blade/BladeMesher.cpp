@@ -123,8 +123,7 @@ std::string ValidateBladeOutline(const BladeOutline& outline)
   // Further veins: ends on the boundary, everything else strictly inside it.
   const std::vector<Point> polygon = LoopPoints(outline.points, outline.boundary);
   auto strictlyInside = [&](const Eigen::Vector2d& p) {
-    return CGAL::bounded_side_2(polygon.begin(), polygon.end(), Point(p.x(), p.y()), Kernel()) ==
-      CGAL::ON_BOUNDED_SIDE;
+    return CGAL::bounded_side_2(polygon.begin(), polygon.end(), Point(p.x(), p.y()), Kernel()) == CGAL::ON_BOUNDED_SIDE;
   };
   for (const std::vector<int>& vein : outline.veins)
   {

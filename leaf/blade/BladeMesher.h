@@ -43,8 +43,8 @@ struct BladeOutline
 struct BladeMeshParameters
 {
   bool quality = true;
-  double maxEdgeLength = 0.0; ///< quality mode's size bound (required > 0 there)
-  double shapeBound = 0.125;  ///< CGAL's B = sin^2 of the smallest angle allowed
+  double maxEdgeLength = 0.0;         ///< quality mode's size bound (required > 0 there)
+  double shapeBound = 0.125;          ///< CGAL's B = sin^2 of the smallest angle allowed
   std::size_t maxVertices = 20000000; ///< refinement beyond this fails with a message instead of exhausting memory
   /// Called now and then with a fraction in [0, 1]; returning false aborts the meshing.
   std::function<bool(double)> progress;

@@ -132,8 +132,8 @@ bool InsidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vec
   return winding != 0;
 }
 
-Eigen::Vector2d MeanValueInterpolate(const std::vector<Eigen::Vector2d>& polygon,
-  const std::vector<Eigen::Vector2d>& values, const Eigen::Vector2d& x)
+Eigen::Vector2d MeanValueInterpolate(
+  const std::vector<Eigen::Vector2d>& polygon, const std::vector<Eigen::Vector2d>& values, const Eigen::Vector2d& x)
 {
   const std::size_t n = polygon.size();
   std::vector<Eigen::Vector2d> s(n);

@@ -19,14 +19,14 @@ namespace plantmorph
 struct LeafGeometry
 {
   BladeMesh blade;
-  std::vector<Eigen::Vector2d> tcoords; ///< paper 003 eq. (6): bounding-box normalised x, y of the flat blade
-  std::vector<int> leftMargin;          ///< base to apex, through u < 0
-  std::vector<int> rightMargin;         ///< base to apex, through u > 0
-  std::vector<int> midvein;             ///< base to apex
+  std::vector<Eigen::Vector2d> tcoords;       ///< paper 003 eq. (6): bounding-box normalised x, y of the flat blade
+  std::vector<int> leftMargin;                ///< base to apex, through u < 0
+  std::vector<int> rightMargin;               ///< base to apex, through u > 0
+  std::vector<int> midvein;                   ///< base to apex
   std::vector<std::vector<int>> lobeMidveins; ///< palmate leaves: each lateral lobe's midvein, base to its tip
-  std::size_t uvInversionFailures = 0;  ///< interior points whose LeafUV fell back to the neighbours' mean
-  std::vector<double> z;                ///< height of every blade point; empty for a flat blade (z = 0)
-  std::vector<Eigen::Vector3d> normals; ///< unit normal of every blade point; empty for a flat blade (+Z)
+  std::size_t uvInversionFailures = 0;        ///< interior points whose LeafUV fell back to the neighbours' mean
+  std::vector<double> z;                      ///< height of every blade point; empty for a flat blade (z = 0)
+  std::vector<Eigen::Vector3d> normals;       ///< unit normal of every blade point; empty for a flat blade (+Z)
 };
 
 /// Area-weighted vertex normals of a triangle mesh given by 3-D points (zero-area neighbourhoods get +Z).
@@ -80,7 +80,7 @@ bool InsidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vec
 
 /// Mean-value coordinates interpolation at x of values given at the vertices of a closed polygon (x inside it;
 /// exact at vertices, linear along edges). In a non-convex polygon the weights may be negative: callers clamp.
-Eigen::Vector2d MeanValueInterpolate(const std::vector<Eigen::Vector2d>& polygon,
-  const std::vector<Eigen::Vector2d>& values, const Eigen::Vector2d& x);
+Eigen::Vector2d MeanValueInterpolate(
+  const std::vector<Eigen::Vector2d>& polygon, const std::vector<Eigen::Vector2d>& values, const Eigen::Vector2d& x);
 
 } // namespace plantmorph

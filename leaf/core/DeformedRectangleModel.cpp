@@ -34,8 +34,7 @@ std::string ParseTerms(const std::vector<double>& flat, std::vector<SinusoidTerm
             << " numbers";
     return message.str();
   }
-  const char* names[TermColumns] = { "Target", "Scale", "Amplitude", "Multiplier", "Frequency", "Variable",
-    "Phase" };
+  const char* names[TermColumns] = { "Target", "Scale", "Amplitude", "Multiplier", "Frequency", "Variable", "Phase" };
   for (std::size_t row = 0; row < flat.size() / TermColumns; ++row)
   {
     const double* r = &flat[row * TermColumns];
@@ -78,8 +77,8 @@ std::vector<double> FlattenTerms(const std::vector<SinusoidTerm>& terms)
   for (const SinusoidTerm& t : terms)
   {
     flat.insert(flat.end(),
-      { static_cast<double>(t.target), static_cast<double>(t.scale), t.amplitude,
-        static_cast<double>(t.multiplier), t.frequency, static_cast<double>(t.variable), t.phase });
+      { static_cast<double>(t.target), static_cast<double>(t.scale), t.amplitude, static_cast<double>(t.multiplier),
+        t.frequency, static_cast<double>(t.variable), t.phase });
   }
   return flat;
 }

@@ -30,10 +30,28 @@ namespace plantmorph
 
 struct SinusoidTerm
 {
-  enum Target : int { X = 0, Y = 1 };
-  enum Scale : int { Width = 0, Length = 1 };
-  enum Multiplier : int { One = 0, U = 1, V = 2, UV = 3 };
-  enum Variable : int { VariableU = 0, VariableV = 1 };
+  enum Target : int
+  {
+    X = 0,
+    Y = 1
+  };
+  enum Scale : int
+  {
+    Width = 0,
+    Length = 1
+  };
+  enum Multiplier : int
+  {
+    One = 0,
+    U = 1,
+    V = 2,
+    UV = 3
+  };
+  enum Variable : int
+  {
+    VariableU = 0,
+    VariableV = 1
+  };
 
   Target target = X;
   Scale scale = Width;

@@ -53,8 +53,8 @@ void SetWidthProfile(DeformedRectangleParameters& p, const std::vector<Wave>& pr
     Term(SinusoidTerm::X, SinusoidTerm::Width, -1.0, SinusoidTerm::U, 0.0, SinusoidTerm::VariableV, Pi / 2));
   for (const Wave& w : profile)
   {
-    p.terms.push_back(Term(
-      SinusoidTerm::X, SinusoidTerm::Width, w.amplitude, SinusoidTerm::U, w.frequency, SinusoidTerm::VariableV, w.phase));
+    p.terms.push_back(Term(SinusoidTerm::X, SinusoidTerm::Width, w.amplitude, SinusoidTerm::U, w.frequency,
+      SinusoidTerm::VariableV, w.phase));
   }
 }
 

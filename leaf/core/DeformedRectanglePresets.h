@@ -15,15 +15,15 @@ namespace plantmorph
 
 enum class DeformedRectanglePreset : int
 {
-  Custom = 0, ///< the user's Width, Length and Terms
-  Ginkgo = 1, ///< paper 000 eq. (1): fan with an erose upper margin, a_x = 1.1*b_y
-  Entire = 2, ///< Fig. 1a: smooth (entire) ovate margin
-  Serrate = 3, ///< Fig. 1b: serrate margin, forward-pointing teeth
-  Lobed = 4, ///< Fig. 1c: shallowly lobed margin
-  Parted = 5, ///< Fig. 1d: deeply parted margin
-  AcuteBaseAcuteApex = 6, ///< Fig. 2a
-  RoundedBaseAcuminateApex = 7, ///< Fig. 2b
-  CordateBaseRoundedApex = 8, ///< Fig. 2c
+  Custom = 0,                      ///< the user's Width, Length and Terms
+  Ginkgo = 1,                      ///< paper 000 eq. (1): fan with an erose upper margin, a_x = 1.1*b_y
+  Entire = 2,                      ///< Fig. 1a: smooth (entire) ovate margin
+  Serrate = 3,                     ///< Fig. 1b: serrate margin, forward-pointing teeth
+  Lobed = 4,                       ///< Fig. 1c: shallowly lobed margin
+  Parted = 5,                      ///< Fig. 1d: deeply parted margin
+  AcuteBaseAcuteApex = 6,          ///< Fig. 2a
+  RoundedBaseAcuminateApex = 7,    ///< Fig. 2b
+  CordateBaseRoundedApex = 8,      ///< Fig. 2c
   AcuminateBaseEmarginateApex = 9, ///< Fig. 2d
 };
 

@@ -179,7 +179,8 @@ std::string MirrorLobes(const SpaceCurveParameters& p, std::vector<Lobe>& lobes)
     for (const Eigen::Vector2d& x : lobe.margin)
     {
       const Eigen::Vector2d d = x - lobe.start;
-      lobe.mirror.push_back(k == 0 ? MirrorInAxis(x) : Eigen::Vector2d(lobe.start + 2.0 * d.dot(direction) * direction - d));
+      lobe.mirror.push_back(
+        k == 0 ? MirrorInAxis(x) : Eigen::Vector2d(lobe.start + 2.0 * d.dot(direction) * direction - d));
     }
     lobe.mirror.front() = lobe.start;
     lobe.mirror.back() = lobe.tip;
@@ -485,8 +486,8 @@ std::vector<std::vector<int>> SampleMidveins(const std::vector<Eigen::Vector2d>&
 
 /// Sectors between neighbouring midveins (and the outer two, between a midvein and the margin down to the base),
 /// `count` being the number of outline vertices.
-std::vector<Sector> MakeSectors(const BladeOutline& outline, const std::vector<std::vector<int>>& midveins,
-  const TipLayout& tips, int count)
+std::vector<Sector> MakeSectors(
+  const BladeOutline& outline, const std::vector<std::vector<int>>& midveins, const TipLayout& tips, int count)
 {
   const std::vector<int>& tipPosition = tips.position;
   const std::vector<int>& order = tips.order;
@@ -599,8 +600,8 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshParameters&
 }
 } // namespace
 
-std::string BuildPalmateLeaf(const SpaceCurveParameters& parameters, const SpaceCurveMeshParameters& settings,
-  LeafGeometry& leaf)
+std::string BuildPalmateLeaf(
+  const SpaceCurveParameters& parameters, const SpaceCurveMeshParameters& settings, LeafGeometry& leaf)
 {
   return BuildAllOrNothing(leaf, [&] { return Build(parameters, settings, leaf); });
 }

@@ -25,8 +25,7 @@ std::string Check(bool ok, const char* property, double value, const char* range
 std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& p, const SpaceCurveMeshParameters& m)
 {
   std::string e;
-  if (!(e = Check(std::isfinite(p.length) && p.length > 0 && p.length <= 1e6, "CurveLength", p.length,
-          "(0, 1e6]"))
+  if (!(e = Check(std::isfinite(p.length) && p.length > 0 && p.length <= 1e6, "CurveLength", p.length, "(0, 1e6]"))
          .empty() ||
     !(e = p.curvature.Validate(p.length, "Curvature")).empty() ||
     !(e = p.torsion.Validate(p.length, "Torsion")).empty() ||
@@ -46,14 +45,13 @@ std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& p, const Sp
     return e;
   if (p.lobes == 1)
     return {};
-  if (!(e = Check(std::isfinite(p.lobeStart) && p.lobeStart > 0 && p.lobeStart < 1, "LobeStart", p.lobeStart,
-          "(0, 1)"))
+  if (!(e = Check(std::isfinite(p.lobeStart) && p.lobeStart > 0 && p.lobeStart < 1, "LobeStart", p.lobeStart, "(0, 1)"))
          .empty() ||
     !(e = Check(std::isfinite(p.lobeAngle) && p.lobeAngle > 0 && p.lobeAngle <= 90, "LobeAngle", p.lobeAngle,
         "(0, 90] degrees"))
        .empty() ||
-    !(e = Check(std::isfinite(p.lobeScale) && p.lobeScale > 0 && p.lobeScale <= 1.5, "LobeScale", p.lobeScale,
-        "(0, 1.5]"))
+    !(e = Check(
+        std::isfinite(p.lobeScale) && p.lobeScale > 0 && p.lobeScale <= 1.5, "LobeScale", p.lobeScale, "(0, 1.5]"))
        .empty())
     return e;
   if (p.torsion.mu != 0.0 || p.opening != 0.0)
@@ -89,8 +87,7 @@ bool SymmetryNormal(const Eigen::Vector3d& c, double opening, const Eigen::Vecto
 }
 } // namespace
 
-std::string IntegrateHalfMargin(
-  const SpaceCurveParameters& p, int pieces, std::vector<FrenetFrame>& frames)
+std::string IntegrateHalfMargin(const SpaceCurveParameters& p, int pieces, std::vector<FrenetFrame>& frames)
 {
   const double angle = p.initialAngle * Pi / 180.0;
   FrenetFrame start;
@@ -110,8 +107,7 @@ std::string IntegrateHalfMargin(
     UniformArcLengths(p.length, pieces), breakpoints, settings, frames);
 }
 
-std::string BuildSpaceCurveLeaf(
-  const SpaceCurveParameters& p, const SpaceCurveMeshParameters& m, LeafGeometry& leaf)
+std::string BuildSpaceCurveLeaf(const SpaceCurveParameters& p, const SpaceCurveMeshParameters& m, LeafGeometry& leaf)
 {
   if (p.lobes != 1)
     return BuildPalmateLeaf(p, m, leaf);
@@ -206,8 +202,8 @@ std::string BuildSpaceCurveLeaf(
         continue;
       const bool leftHalf = j < columns;
       const double f = leftHalf ? static_cast<double>(j) / columns : static_cast<double>(j - columns) / columns;
-      const Eigen::Vector3d x =
-        leftHalf ? Eigen::Vector3d((1 - f) * left[i] + f * midvein[i]) : Eigen::Vector3d((1 - f) * midvein[i] + f * right[i]);
+      const Eigen::Vector3d x = leftHalf ? Eigen::Vector3d((1 - f) * left[i] + f * midvein[i])
+                                         : Eigen::Vector3d((1 - f) * midvein[i] + f * right[i]);
       rows[i][j] = add(x, -0.5 + 0.5 * static_cast<double>(j) / columns, v[i], RegionBlade);
     }
   }

@@ -50,15 +50,12 @@ struct SpaceCurveParameters
   int rk4StepsPerSample = 4;
 
   // Palmate leaves (paper 002 sec. 4, Fig. 8; see PalmateLeaf.h). lobes = 1 is the simple leaf above.
-  int lobes = 1;            ///< 1, 3 or 5
-  double lobeStart = 0.2;   ///< arc-length fraction of the previous lobe's half-margin where a lobe starts, (0, 1)
-  double lobeAngle = 45.0;  ///< degrees by which a lobe's initial tangent turns away from the previous one's, (0, 90]
-  double lobeScale = 0.85;  ///< a lobe's size relative to the previous lobe's, (0, 1.5]
+  int lobes = 1;           ///< 1, 3 or 5
+  double lobeStart = 0.2;  ///< arc-length fraction of the previous lobe's half-margin where a lobe starts, (0, 1)
+  double lobeAngle = 45.0; ///< degrees by which a lobe's initial tangent turns away from the previous one's, (0, 90]
+  double lobeScale = 0.85; ///< a lobe's size relative to the previous lobe's, (0, 1.5]
 
-  SpaceCurveParameters()
-  {
-    torsion.mu = 0.0;
-  }
+  SpaceCurveParameters() { torsion.mu = 0.0; }
 };
 
 struct SpaceCurveMeshParameters
@@ -80,10 +77,10 @@ std::string BuildSpaceCurveLeaf(
   const SpaceCurveParameters& parameters, const SpaceCurveMeshParameters& settings, LeafGeometry& leaf);
 
 /// Empty when the parameters and settings are in range; otherwise the message naming the property and its range.
-std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& parameters, const SpaceCurveMeshParameters& settings);
+std::string ValidateSpaceCurveParameters(
+  const SpaceCurveParameters& parameters, const SpaceCurveMeshParameters& settings);
 
 /// The half-margin alone (frames at the arc lengths i*S/pieces), for tests and the palmate lobes.
-std::string IntegrateHalfMargin(
-  const SpaceCurveParameters& parameters, int pieces, std::vector<FrenetFrame>& frames);
+std::string IntegrateHalfMargin(const SpaceCurveParameters& parameters, int pieces, std::vector<FrenetFrame>& frames);
 
 } // namespace plantmorph

@@ -102,8 +102,8 @@ void vtkLeafOutlineSource::ClearTerms()
 }
 
 //------------------------------------------------------------------------------
-void vtkLeafOutlineSource::AddTerm(double target, double scale, double amplitude, double multiplier,
-  double frequency, double variable, double phase)
+void vtkLeafOutlineSource::AddTerm(
+  double target, double scale, double amplitude, double multiplier, double frequency, double variable, double phase)
 {
   this->Terms.insert(this->Terms.end(), { target, scale, amplitude, multiplier, frequency, variable, phase });
   this->Modified();
@@ -135,8 +135,8 @@ const char* vtkLeafOutlineSource::GetPresetValues()
   }
   else
   {
-    this->PresetValues = "The named preset made this leaf with (the greyed properties are not used):\n" +
-      this->LastParameters;
+    this->PresetValues =
+      "The named preset made this leaf with (the greyed properties are not used):\n" + this->LastParameters;
   }
   return this->PresetValues.c_str();
 }
@@ -160,8 +160,7 @@ void ClearPoints(std::vector<double>& list, vtkObject* owner)
 }
 
 /// Points of xyz triples, scaled about `origin`.
-std::vector<Eigen::Vector3d> ScaledPoints(
-  const std::vector<double>& xyz, double scale, const Eigen::Vector3d& origin)
+std::vector<Eigen::Vector3d> ScaledPoints(const std::vector<double>& xyz, double scale, const Eigen::Vector3d& origin)
 {
   std::vector<Eigen::Vector3d> points;
   for (std::size_t i = 0; i + 2 < xyz.size(); i += 3)
@@ -342,8 +341,7 @@ int vtkLeafOutlineSource::RequestData(
   outline->Initialize();
 
   // The leaf is one piece: piece 0 makes it, the others stay empty (no duplicates under MPI).
-  const int piece =
-    outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+  const int piece = outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
   if (piece > 0)
   {
     return 1;
@@ -352,10 +350,10 @@ int vtkLeafOutlineSource::RequestData(
   if (this->TermsElementCount >= 0 && static_cast<std::size_t>(this->TermsElementCount) != this->Terms.size())
   {
     // ParaView pushed only the whole rows: a partial row means the user's list is not rows of seven.
-    vtkErrorMacro(<< plantmorph::OutOfRange("Terms", std::to_string(this->TermsElementCount) + " numbers",
-                    "{0, 7, 14, ...}",
-                    "rows of seven: Target, Scale, Amplitude, Multiplier, Frequency, Variable, Phase; the last row has " +
-                      std::to_string(this->TermsElementCount % 7)));
+    vtkErrorMacro(
+      << plantmorph::OutOfRange("Terms", std::to_string(this->TermsElementCount) + " numbers", "{0, 7, 14, ...}",
+           "rows of seven: Target, Scale, Amplitude, Multiplier, Frequency, Variable, Phase; the last row has " +
+             std::to_string(this->TermsElementCount % 7)));
     return 1;
   }
   if (this->MaxVertices < 3)
@@ -383,9 +381,8 @@ int vtkLeafOutlineSource::RequestData(
   }
   vtkNew<vtkFieldData> parameters;
   LeafGeometry leaf;
-  vtkPolyData* controlPoints = inputVector[0]->GetNumberOfInformationObjects() > 0
-    ? vtkPolyData::GetData(inputVector[0], 0)
-    : nullptr;
+  vtkPolyData* controlPoints =
+    inputVector[0]->GetNumberOfInformationObjects() > 0 ? vtkPolyData::GetData(inputVector[0], 0) : nullptr;
   this->WarnAboutPresetOverrides();
   this->LastParameters.clear();
   const std::string error = this->BuildLeaf(leaf, parameters, scale, controlPoints);
@@ -402,8 +399,8 @@ int vtkLeafOutlineSource::RequestData(
   const vtkIdType numberOfPoints = static_cast<vtkIdType>(leaf.blade.points.size());
   FillPoints(leaf, numberOfPoints, blade);
   vtkNew<vtkCellArray> triangles;
-  triangles->AllocateExact(static_cast<vtkIdType>(leaf.blade.triangles.size()),
-    3 * static_cast<vtkIdType>(leaf.blade.triangles.size()));
+  triangles->AllocateExact(
+    static_cast<vtkIdType>(leaf.blade.triangles.size()), 3 * static_cast<vtkIdType>(leaf.blade.triangles.size()));
   for (const auto& t : leaf.blade.triangles)
   {
     const vtkIdType ids[3] = { t[0], t[1], t[2] };
@@ -667,8 +664,8 @@ std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldDa
   std::ostringstream message;
   if (this->SpaceCurvePreset < 0 || this->SpaceCurvePreset >= plantmorph::SpaceCurvePresetCount)
   {
-    message << plantmorph::OutOfRange("SpaceCurvePreset", this->SpaceCurvePreset,
-      "[0, " + std::to_string(plantmorph::SpaceCurvePresetCount - 1) + "]");
+    message << plantmorph::OutOfRange(
+      "SpaceCurvePreset", this->SpaceCurvePreset, "[0, " + std::to_string(plantmorph::SpaceCurvePresetCount - 1) + "]");
     return message.str();
   }
   if (this->IntegrationMethod != 0 && this->IntegrationMethod != 1)
@@ -677,8 +674,7 @@ std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldDa
     return message.str();
   }
   const auto preset = static_cast<plantmorph::SpaceCurvePreset>(this->SpaceCurvePreset);
-  plantmorph::SpaceCurveParameters parameters =
-    plantmorph::MakeSpaceCurvePreset(preset, scale * this->CurveLength);
+  plantmorph::SpaceCurveParameters parameters = plantmorph::MakeSpaceCurvePreset(preset, scale * this->CurveLength);
   if (preset == plantmorph::SpaceCurvePreset::Custom)
   {
     plantmorph::CurvatureFamily& k = parameters.curvature;
@@ -751,8 +747,8 @@ std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldDa
     values->SetComponentName(7, "Beta");
     values->SetComponentName(8, "Alpha4");
     values->SetComponentName(9, "Lambda2");
-    const double tuple[10] = { static_cast<double>(f.type), f.mu, f.lambda, f.n1, f.n2, f.b1, f.u3, f.beta,
-      f.alpha4, f.lambda2 };
+    const double tuple[10] = { static_cast<double>(f.type), f.mu, f.lambda, f.n1, f.n2, f.b1, f.u3, f.beta, f.alpha4,
+      f.lambda2 };
     values->InsertNextTuple(tuple);
     fd->AddArray(values);
   }
@@ -776,7 +772,8 @@ std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldDa
 
 //------------------------------------------------------------------------------
 // Paper 003: the B-spline leaf (Model C).
-std::string vtkLeafOutlineSource::BuildBSpline(LeafGeometry& leaf, vtkFieldData* fd, double scale, vtkPolyData* controlPoints)
+std::string vtkLeafOutlineSource::BuildBSpline(
+  LeafGeometry& leaf, vtkFieldData* fd, double scale, vtkPolyData* controlPoints)
 {
   std::ostringstream message;
   // One past the algorithm's presets: the control points come from the input port.

@@ -125,8 +125,8 @@ public:
    * Amplitude * Scale * Multiplier * sin(Frequency * pi * Variable + Phase) to x or y.
    */
   void ClearTerms();
-  void AddTerm(double target, double scale, double amplitude, double multiplier, double frequency, double variable,
-    double phase);
+  void AddTerm(
+    double target, double scale, double amplitude, double multiplier, double frequency, double variable, double phase);
   int GetNumberOfTerms() const { return static_cast<int>(this->Terms.size() / 7); }
   /**
    * How many numbers the Terms property held (the server-manager XML's element_count_command, pushed after the

@@ -415,8 +415,8 @@ TriangleHit RayCaster::Intersect(const double origin[3], const double direction[
   return beams.best[0].Hit() ? beams.best[0] : TriangleHit{};
 }
 
-void RayCaster::Intersect(std::size_t count, const double* origins, const double* directions, double tMax,
-  TriangleHit* hits) const
+void RayCaster::Intersect(
+  std::size_t count, const double* origins, const double* directions, double tMax, TriangleHit* hits) const
 {
   count = std::min<std::size_t>(count, PacketSize);
   for (std::size_t i = 0; i < count; ++i)
@@ -429,8 +429,9 @@ void RayCaster::Intersect(std::size_t count, const double* origins, const double
   int active = 0;
   for (unsigned i = 0; i < PacketSize; ++i)
   {
-    valid[i] = i < count && PrepareLane(origins + 3 * i, directions + 3 * i, tMax, this->Centre, this->Box,
-                              this->Margin, this->Pad, beams, i, packet.ray)
+    valid[i] = i < count &&
+        PrepareLane(origins + 3 * i, directions + 3 * i, tMax, this->Centre, this->Box, this->Margin, this->Pad, beams,
+          i, packet.ray)
       ? -1
       : 0;
     packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;

@@ -58,8 +58,8 @@ public:
   static constexpr unsigned PacketSize = 8;
   /// The first `count` (at most PacketSize) beams (x, y, z each in `origins`, `directions`) as one packet:
   /// `hits[i]` is exactly what Intersect gives for beam i, whatever the other beams are.
-  void Intersect(std::size_t count, const double* origins, const double* directions, double tMax,
-    TriangleHit* hits) const;
+  void Intersect(
+    std::size_t count, const double* origins, const double* directions, double tMax, TriangleHit* hits) const;
 
   std::size_t TriangleCount() const { return this->Count; }
   /// Bytes Embree allocated for the hierarchy at the peak of the build; bytes the caster holds (the hierarchy and the
@@ -67,7 +67,7 @@ public:
   std::size_t PeakBytes() const;
   std::size_t MemoryBytes() const;
 
-  struct Embree; // the device, the scene and its memory count (RayCaster.cpp)
+  struct Embree;    // the device, the scene and its memory count (RayCaster.cpp)
   struct Callbacks; // what Embree's bounds and intersection callbacks see
 
 private:
@@ -77,8 +77,8 @@ private:
   std::size_t Count = 0; // triangles
   double Centre[3] = { 0.0, 0.0, 0.0 };
   double Box[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 }; // padded bounds relative to Centre
-  double Margin = 0.0; // how far before the box a beam starts
-  double Pad = 0.0; // the single-precision boxes' padding
+  double Margin = 0.0;                              // how far before the box a beam starts
+  double Pad = 0.0;                                 // the single-precision boxes' padding
 };
 
 } // namespace plantmorph

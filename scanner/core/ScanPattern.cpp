@@ -15,17 +15,38 @@ namespace
 {
 constexpr double Degree = Pi / 180.0;
 
-Vec3 Sub(const Vec3& a, const Vec3& b) { return { a[0] - b[0], a[1] - b[1], a[2] - b[2] }; }
-Vec3 Add(const Vec3& a, const Vec3& b) { return { a[0] + b[0], a[1] + b[1], a[2] + b[2] }; }
-Vec3 Scale(const Vec3& a, double s) { return { s * a[0], s * a[1], s * a[2] }; }
-double Dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 Sub(const Vec3& a, const Vec3& b)
+{
+  return { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
+}
+Vec3 Add(const Vec3& a, const Vec3& b)
+{
+  return { a[0] + b[0], a[1] + b[1], a[2] + b[2] };
+}
+Vec3 Scale(const Vec3& a, double s)
+{
+  return { s * a[0], s * a[1], s * a[2] };
+}
+double Dot(const Vec3& a, const Vec3& b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 Vec3 Cross(const Vec3& a, const Vec3& b)
 {
   return { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
 }
-double Norm(const Vec3& a) { return std::sqrt(Dot(a, a)); }
-Vec3 Normalized(const Vec3& a) { return Scale(a, 1.0 / Norm(a)); }
-bool Finite(const Vec3& a) { return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]); }
+double Norm(const Vec3& a)
+{
+  return std::sqrt(Dot(a, a));
+}
+Vec3 Normalized(const Vec3& a)
+{
+  return Scale(a, 1.0 / Norm(a));
+}
+bool Finite(const Vec3& a)
+{
+  return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]);
+}
 
 /// An orthonormal frame looking along `forward` with `up` as near upwards as it can be (another axis when the two
 /// are parallel).
@@ -135,7 +156,8 @@ std::string Budget(double beams, const ScannerParameters& p)
   if (beams > static_cast<double>(p.maximumBeams))
   {
     std::ostringstream s;
-    s << std::fixed << std::setprecision(0) << "MaximumBeams: this set-up casts " << beams << " beams, more than MaximumBeams = " << p.maximumBeams
+    s << std::fixed << std::setprecision(0) << "MaximumBeams: this set-up casts " << beams
+      << " beams, more than MaximumBeams = " << p.maximumBeams
       << " (raise it up to 4e9, or coarsen AngularStep, Resolution, LineSpacing or TurntableSteps)";
     return s.str();
   }
@@ -166,8 +188,8 @@ std::string BeamPattern::SetupTerrestrial(const ScannerParameters& p)
     return Range("AngularStep", p.angularStep, "[1e-4, 90] degrees");
   this->Columns = GridCount(p.horizontalFieldOfView, p.angularStep, true);
   this->Rows = GridCount(p.verticalFieldOfView, p.angularStep, false);
-  const std::string over =
-    Budget(static_cast<double>(this->Columns) * static_cast<double>(this->Rows) * static_cast<double>(p.positions.size()), p);
+  const std::string over = Budget(
+    static_cast<double>(this->Columns) * static_cast<double>(this->Rows) * static_cast<double>(p.positions.size()), p);
   if (!over.empty())
     return over;
   this->Step = p.angularStep * Degree;
@@ -217,8 +239,8 @@ std::string BeamPattern::SetupDepthCamera(const ScannerParameters& p)
   }
   this->Columns = static_cast<std::uint64_t>(p.resolution[0]);
   this->Rows = static_cast<std::uint64_t>(p.resolution[1]);
-  const std::string over =
-    Budget(static_cast<double>(this->Columns) * static_cast<double>(this->Rows) * static_cast<double>(p.positions.size()), p);
+  const std::string over = Budget(
+    static_cast<double>(this->Columns) * static_cast<double>(this->Rows) * static_cast<double>(p.positions.size()), p);
   if (!over.empty())
     return over;
   this->TanX = std::tan(0.5 * p.horizontalFieldOfView * Degree);
@@ -252,7 +274,8 @@ std::string BeamPattern::SetupLine(const ScannerParameters& p)
       return Range("TurntableSteps", p.turntableSteps, "[1, 1e6]");
     if (!Finite(p.turntableAxis) || Norm(p.turntableAxis) == 0.0)
       return "TurntableAxis: the turntable's axis must be finite and not zero";
-    const std::string over = Budget(static_cast<double>(this->Rows) * p.turntableSteps * static_cast<double>(p.positions.size()), p);
+    const std::string over =
+      Budget(static_cast<double>(this->Rows) * p.turntableSteps * static_cast<double>(p.positions.size()), p);
     if (!over.empty())
       return over;
     const Vec3 axis = Normalized(p.turntableAxis);
@@ -342,7 +365,8 @@ void BeamPattern::Beam(std::uint64_t index, double origin[3], double direction[3
     }
     case ScannerType::DepthCamera:
     {
-      const double x = (2.0 * (static_cast<double>(column) + 0.5) / static_cast<double>(this->Columns) - 1.0) * this->TanX;
+      const double x =
+        (2.0 * (static_cast<double>(column) + 0.5) / static_cast<double>(this->Columns) - 1.0) * this->TanX;
       const double y = (1.0 - 2.0 * (static_cast<double>(row) + 0.5) / static_cast<double>(this->Rows)) * this->TanY;
       d = Normalized(Add(frame.forward, Add(Scale(frame.right, x), Scale(frame.up, y))));
       break;

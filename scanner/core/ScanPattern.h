@@ -53,7 +53,7 @@ struct ScannerParameters
   double lineSpacing = 0.01;
   int turntableSteps = 360;
   Vec3 turntableAxis{ 0.0, 0.0, 1.0 };
-  double rangeNoise = 0.0; ///< standard deviation of the range, model units
+  double rangeNoise = 0.0;    ///< standard deviation of the range, model units
   double angularJitter = 0.0; ///< standard deviation of each beam's direction (two axes), degrees
   double dropoutProbability = 0.0;
   double maximumRange = 1000.0;
@@ -87,7 +87,8 @@ public:
   /// The scanner set-up to draw: for each pose (at most `maxPoses`, spread evenly) the beams at the corners of its
   /// field (the two ends of a line scanner's fan) and its central beam, each `length` long, as segments (x0 y0 z0 x1 y1 z1) with their pose, and for a
   /// line scanner on a path the path itself (pose -1).
-  void SetupLines(double length, std::size_t maxPoses, std::vector<double>& segments, std::vector<std::int64_t>& pose) const;
+  void SetupLines(
+    double length, std::size_t maxPoses, std::vector<double>& segments, std::vector<std::int64_t>& pose) const;
 
 private:
   ScannerType Type = ScannerType::Terrestrial;

@@ -39,8 +39,8 @@ struct BeamResult
 };
 
 /// Beam `beam` as cast: the pattern's origin and direction, the angular jitter drawn (unit direction).
-void MakeBeam(const ScannerParameters& p, const BeamPattern& pattern, std::uint64_t beam, double origin[3],
-  double d[3], std::int64_t& pose)
+void MakeBeam(const ScannerParameters& p, const BeamPattern& pattern, std::uint64_t beam, double origin[3], double d[3],
+  std::int64_t& pose)
 {
   pattern.Beam(beam, origin, d, pose);
   if (p.angularJitter > 0.0)

@@ -20,16 +20,16 @@ namespace plantmorph
 /// The cloud, one entry per returned beam.
 struct ScanPoints
 {
-  std::vector<double> points; ///< x, y, z: origin + measured range * beam direction
-  std::vector<double> normals; ///< unit normal of the triangle hit, facing the scanner
-  std::vector<double> range; ///< measured range (the true one plus noise, never below 0)
-  std::vector<double> intensity; ///< cos(incidence), over the true range squared when intensityFalloff
-  std::vector<std::int64_t> pose; ///< the scanner pose (ScanPattern.h: position, fan or turntable step)
+  std::vector<double> points;         ///< x, y, z: origin + measured range * beam direction
+  std::vector<double> normals;        ///< unit normal of the triangle hit, facing the scanner
+  std::vector<double> range;          ///< measured range (the true one plus noise, never below 0)
+  std::vector<double> intensity;      ///< cos(incidence), over the true range squared when intensityFalloff
+  std::vector<std::int64_t> pose;     ///< the scanner pose (ScanPattern.h: position, fan or turntable step)
   std::vector<std::int64_t> triangle; ///< index of the input triangle hit
-  std::vector<double> barycentric; ///< u, v of the hit in that triangle (its own vertex order)
-  std::vector<std::uint64_t> beam; ///< index of the beam in the pattern (BeamPattern::Beam)
-  std::uint64_t beams = 0; ///< beams cast (this share's)
-  std::uint64_t dropped = 0; ///< beams that hit but were dropped (DropoutProbability)
+  std::vector<double> barycentric;    ///< u, v of the hit in that triangle (its own vertex order)
+  std::vector<std::uint64_t> beam;    ///< index of the beam in the pattern (BeamPattern::Beam)
+  std::uint64_t beams = 0;            ///< beams cast (this share's)
+  std::uint64_t dropped = 0;          ///< beams that hit but were dropped (DropoutProbability)
 
   std::size_t Size() const { return this->range.size(); }
   void Clear();
@@ -43,9 +43,9 @@ std::string ValidateSurface(const std::vector<double>& points, const std::vector
 /// whole scan gives for them, so ranks casting consecutive shares concatenate to the whole cloud.
 /// `progress(fraction)` is called between blocks of beams; returning false stops the scan (the cloud is cleared and
 /// "aborted" returned).
-std::string CastBeams(const ScannerParameters& parameters, const BeamPattern& pattern, const std::vector<double>& points,
-  const std::vector<std::int64_t>& triangles, const RayCaster& caster, ScanPoints& out,
-  const ParallelFor& parallel = SerialFor, const std::function<bool(double)>& progress = {},
+std::string CastBeams(const ScannerParameters& parameters, const BeamPattern& pattern,
+  const std::vector<double>& points, const std::vector<std::int64_t>& triangles, const RayCaster& caster,
+  ScanPoints& out, const ParallelFor& parallel = SerialFor, const std::function<bool(double)>& progress = {},
   std::uint64_t firstBeam = 0, std::uint64_t endBeam = ~std::uint64_t(0));
 
 /// The whole scan: parameters and the beam budget checked first (nothing built or cast when they fail), then the

@@ -40,8 +40,8 @@ const char* const OwnArrays[] = { "Normals", "Range", "Intensity", "ScanPosition
 const char* const TypeNames[] = { "Terrestrial", "Line", "Depth camera" };
 
 /// The input's polygons and strips as triangles (fans and strip triangles), each with its cell id in the input.
-std::string Triangulate(vtkPolyData* input, std::vector<double>& points, std::vector<std::int64_t>& triangles,
-  std::vector<vtkIdType>& cellOf)
+std::string Triangulate(
+  vtkPolyData* input, std::vector<double>& points, std::vector<std::int64_t>& triangles, std::vector<vtkIdType>& cellOf)
 {
   const vtkIdType n = input->GetNumberOfPoints();
   points.resize(3 * static_cast<std::size_t>(n));
@@ -79,8 +79,8 @@ std::string Triangulate(vtkPolyData* input, std::vector<double>& points, std::ve
 }
 
 /// Port 0: the cloud with its arrays and the hit cells' arrays.
-void WriteCloud(const plantmorph::ScanPoints& scan, const std::vector<vtkIdType>& cellOf, vtkPolyData* input,
-  vtkPolyData* cloud)
+void WriteCloud(
+  const plantmorph::ScanPoints& scan, const std::vector<vtkIdType>& cellOf, vtkPolyData* input, vtkPolyData* cloud)
 {
   const auto n = static_cast<vtkIdType>(scan.Size());
   vtkNew<vtkPoints> points;
@@ -269,7 +269,8 @@ int vtkVirtualScanner::FillInputPortInformation(int, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
-int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkVirtualScanner::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
   vtkPolyData* cloud = vtkPolyData::GetData(outputVector, 0);
@@ -312,7 +313,8 @@ int vtkVirtualScanner::RequestData(vtkInformation*, vtkInformationVector** input
   if (this->ScannerType < 0 || this->ScannerType > 2)
   {
     std::ostringstream message;
-    message << plantmorph::OutOfRange("ScannerType", this->ScannerType, "{0, 1, 2}", "0 Terrestrial, 1 Line, 2 Depth camera");
+    message << plantmorph::OutOfRange(
+      "ScannerType", this->ScannerType, "{0, 1, 2}", "0 Terrestrial, 1 Line, 2 Depth camera");
     return fail(message.str());
   }
   if (this->LineMotion < 0 || this->LineMotion > 1)

@@ -42,14 +42,14 @@ constexpr double ChordErrorLimitOffsetShare = 0.5;
 /// Every level's connectivity: vertex -> corners, the edge table, and triangle -> edges.
 struct EdgeTable
 {
-  std::vector<int> vertexCornerOffsets; ///< nV + 1
-  std::vector<int> vertexCorners;       ///< corner ids (3 t + c), ascending per vertex
-  std::vector<int> edgeOffsets;         ///< nV + 1: edges (v, w), w > v, of vertex v
-  std::vector<int> edgeOther;           ///< w of every edge, ascending per v
-  std::vector<int> edgeUses;            ///< number of triangles using the edge
-  std::vector<int> edgeTriangles;       ///< 2 per edge, -1 when absent
-  std::vector<int> edgeOpposite;        ///< the opposite vertex in each of those triangles
-  std::vector<int> triangleEdges;       ///< 3 per triangle: local edge c is (tri[c], tri[c + 1])
+  std::vector<int> vertexCornerOffsets;         ///< nV + 1
+  std::vector<int> vertexCorners;               ///< corner ids (3 t + c), ascending per vertex
+  std::vector<int> edgeOffsets;                 ///< nV + 1: edges (v, w), w > v, of vertex v
+  std::vector<int> edgeOther;                   ///< w of every edge, ascending per v
+  std::vector<int> edgeUses;                    ///< number of triangles using the edge
+  std::vector<int> edgeTriangles;               ///< 2 per edge, -1 when absent
+  std::vector<int> edgeOpposite;                ///< the opposite vertex in each of those triangles
+  std::vector<int> triangleEdges;               ///< 3 per triangle: local edge c is (tri[c], tri[c + 1])
   std::vector<unsigned char> edgeSameDirection; ///< both triangles run along the edge the same way (misoriented)
 
   std::size_t NumberOfEdges() const { return this->edgeOther.size(); }
@@ -108,8 +108,8 @@ void ExclusiveScan(std::vector<int>& counts)
   }
 }
 
-void BuildEdgeTable(const std::vector<int>& tri, std::size_t nV, const ParallelForFunction& parallelFor,
-  EdgeTable& table)
+void BuildEdgeTable(
+  const std::vector<int>& tri, std::size_t nV, const ParallelForFunction& parallelFor, EdgeTable& table)
 {
   const std::size_t nCorners = tri.size();
   const std::size_t nT = nCorners / 3;
@@ -168,8 +168,7 @@ void BuildEdgeTable(const std::vector<int>& tri, std::size_t nV, const ParallelF
           const int w = side == 0 ? next : prev;
           if (w <= v)
             continue;
-          const int e = first +
-            static_cast<int>(std::lower_bound(nbrs.begin(), nbrs.end(), w) - nbrs.begin());
+          const int e = first + static_cast<int>(std::lower_bound(nbrs.begin(), nbrs.end(), w) - nbrs.begin());
           const int slot = table.edgeUses[e]++;
           if (slot < 2)
           {
@@ -214,8 +213,7 @@ std::string ValidateInput(const AdaptiveLoopMesh& mesh)
   const std::size_t nV = mesh.NumberOfPoints();
   if (nV >= static_cast<std::size_t>(std::numeric_limits<int>::max() / 2))
     return "too many points for 32-bit ids";
-  if (mesh.attributeComponents < 0 ||
-    mesh.attributes.size() != static_cast<std::size_t>(mesh.attributeComponents) * nV)
+  if (mesh.attributeComponents < 0 || mesh.attributes.size() != static_cast<std::size_t>(mesh.attributeComponents) * nV)
     return "attributes must hold attributeComponents values per point";
   if (!mesh.region.empty() && mesh.region.size() != nV)
     return "region must be empty or hold one value per point";
@@ -233,8 +231,7 @@ std::string ValidateInput(const AdaptiveLoopMesh& mesh)
     if (a < 0 || b < 0 || c < 0 || a >= n || b >= n || c >= n)
     {
       std::ostringstream out;
-      out << "triangle " << t << " (" << a << ", " << b << ", " << c << ") uses a point id outside [0, " << n
-          << ")";
+      out << "triangle " << t << " (" << a << ", " << b << ", " << c << ") uses a point id outside [0, " << n << ")";
       return out.str();
     }
     if (a == b || b == c || c == a)
@@ -306,8 +303,8 @@ int CountFan(const std::vector<int>& tri, const EdgeTable& table, int v)
   return visited;
 }
 
-std::string ValidateManifoldVertices(const std::vector<int>& tri, std::size_t nV, const EdgeTable& table,
-  const ParallelForFunction& parallelFor)
+std::string ValidateManifoldVertices(
+  const std::vector<int>& tri, std::size_t nV, const EdgeTable& table, const ParallelForFunction& parallelFor)
 {
   std::vector<unsigned char> bad(nV, 0);
   parallelFor(nV, [&](std::size_t begin, std::size_t end) {
@@ -467,17 +464,17 @@ struct SplitRules
 /// What one level knows of its input mesh's edges and vertices, step by step.
 struct LevelState
 {
-  std::vector<double> normals;               ///< unit triangle normals, 3 per triangle (when needed)
-  std::vector<unsigned char> marked;         ///< user-marked feature edges
-  std::vector<int> edgeFirst;                ///< smaller vertex of every edge
-  std::vector<unsigned char> feature;        ///< boundary, midvein, user-marked
-  std::vector<int> oddId;                    ///< 1/0 split flags, then the output point ids (-1: no split)
-  std::vector<int> featureCount;             ///< feature edges per vertex
-  std::vector<int> featureNbr;               ///< first two feature neighbours per vertex
-  std::vector<double> limitOffset;           ///< SurfaceError, ChordError: offset from the limit along the normal
-  std::vector<double> vertexNormal;          ///< ChordError: unit vertex normals (eq. (1))
-  std::vector<double> chordEstimate;         ///< ChordError: every interior non-feature edge's estimate
-  std::vector<double> loopMove;              ///< SurfaceError, ChordError: Loop's move of every vertex
+  std::vector<double> normals;        ///< unit triangle normals, 3 per triangle (when needed)
+  std::vector<unsigned char> marked;  ///< user-marked feature edges
+  std::vector<int> edgeFirst;         ///< smaller vertex of every edge
+  std::vector<unsigned char> feature; ///< boundary, midvein, user-marked
+  std::vector<int> oddId;             ///< 1/0 split flags, then the output point ids (-1: no split)
+  std::vector<int> featureCount;      ///< feature edges per vertex
+  std::vector<int> featureNbr;        ///< first two feature neighbours per vertex
+  std::vector<double> limitOffset;    ///< SurfaceError, ChordError: offset from the limit along the normal
+  std::vector<double> vertexNormal;   ///< ChordError: unit vertex normals (eq. (1))
+  std::vector<double> chordEstimate;  ///< ChordError: every interior non-feature edge's estimate
+  std::vector<double> loopMove;       ///< SurfaceError, ChordError: Loop's move of every vertex
   FeatureRule rule = FeatureRule::Fixed;
 
   /// Points that never move (feature points under Fixed and Refine, corners under Loop): the estimates, the limit
@@ -649,8 +646,8 @@ bool SplitsByError(
   for (int j = 0; j < 3; ++j)
   {
     d[j] = (pc[j] + pd[j] - pa[j] - pb[j]) / 8.0;
-    moved[j] = d[j] -
-      0.5 * (s.loopMove[3 * static_cast<std::size_t>(a) + j] + s.loopMove[3 * static_cast<std::size_t>(b) + j]);
+    moved[j] =
+      d[j] - 0.5 * (s.loopMove[3 * static_cast<std::size_t>(a) + j] + s.loopMove[3 * static_cast<std::size_t>(b) + j]);
   }
   double error;
   if (rules.byChord)
@@ -672,8 +669,8 @@ bool SplitsByError(
     error = std::max(error, ChordErrorLimitOffsetShare * std::max(s.limitOffset[a], s.limitOffset[b]));
   }
   else
-    error = std::max(
-      { NormalComponent(normal, d), NormalComponent(normal, moved), s.limitOffset[a], s.limitOffset[b] });
+    error =
+      std::max({ NormalComponent(normal, d), NormalComponent(normal, moved), s.limitOffset[a], s.limitOffset[b] });
   return error >= rules.tolerance;
 }
 
@@ -730,8 +727,9 @@ void ForceMovesOffTheLimit(std::size_t nV, const EdgeTable& table, const SplitRu
         for (const int e : { table.triangleEdges[base + c], table.triangleEdges[base + (c + 2) % 3] })
         {
           moves = moves || s.oddId[e] != 0;
-          if (!s.feature[e] && (best < 0 || s.chordEstimate[e] > s.chordEstimate[best] ||
-                                 (s.chordEstimate[e] == s.chordEstimate[best] && e < best)))
+          if (!s.feature[e] &&
+            (best < 0 || s.chordEstimate[e] > s.chordEstimate[best] ||
+              (s.chordEstimate[e] == s.chordEstimate[best] && e < best)))
             best = e;
         }
       }
@@ -822,8 +820,8 @@ std::string CountChildren(const EdgeTable& table, std::size_t nT, const std::vec
 }
 
 /// Even points: kept (pinned, unsplit under the error rules, flat enough), crease rule, or Loop's stencil.
-void WriteEvenPoints(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules,
-  const LevelState& s, const StencilWriter& writer, const ParallelForFunction& parallelFor, AdaptiveLoopMesh& next)
+void WriteEvenPoints(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules, const LevelState& s,
+  const StencilWriter& writer, const ParallelForFunction& parallelFor, AdaptiveLoopMesh& next)
 {
   const std::vector<int>& tri = mesh.triangles;
   parallelFor(mesh.NumberOfPoints(), [&](std::size_t begin, std::size_t end) {
@@ -901,8 +899,8 @@ void WriteEvenPoints(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const
 }
 
 /// Odd points: the midpoint on feature edges, Loop's edge stencil elsewhere; their regions.
-void WriteOddPoints(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules,
-  const LevelState& s, const StencilWriter& writer, const ParallelForFunction& parallelFor, AdaptiveLoopMesh& next)
+void WriteOddPoints(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules, const LevelState& s,
+  const StencilWriter& writer, const ParallelForFunction& parallelFor, AdaptiveLoopMesh& next)
 {
   parallelFor(table.NumberOfEdges(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t e = begin; e < end; ++e)
@@ -1112,9 +1110,7 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
     return fail(error);
 
   const ParallelForFunction parallelFor = settings.parallelFor ? settings.parallelFor : ParallelForFunction(SerialFor);
-  const auto report = [&settings](double fraction) {
-    return !settings.progress || settings.progress(fraction);
-  };
+  const auto report = [&settings](double fraction) { return !settings.progress || settings.progress(fraction); };
 
   AdaptiveLoopMesh mesh = std::move(input);
   mesh.origin.resize(mesh.NumberOfTriangles());

@@ -122,10 +122,10 @@ struct AdaptiveLoopParameters
   FeatureRule featureRule = FeatureRule::Fixed;
   RefinementRule refinementRule = RefinementRule::DihedralAngle;
   double errorTolerance = 0.001; ///< length units in [0, inf] (SurfaceError): split where the estimate reaches it
-  bool midveinIsFeature = true;         ///< edges whose two ends have region 1 are feature edges
+  bool midveinIsFeature = true;  ///< edges whose two ends have region 1 are feature edges
   std::size_t maximumTriangles = 50000000; ///< a level that would make more is refused with an error (memory guard)
-  ParallelForFunction parallelFor;      ///< empty: serial
-  std::function<bool(double)> progress; ///< fraction in [0, 1]; returning false aborts (result.aborted, empty mesh)
+  ParallelForFunction parallelFor;         ///< empty: serial
+  std::function<bool(double)> progress;    ///< fraction in [0, 1]; returning false aborts (result.aborted, empty mesh)
 };
 
 inline constexpr int MaxAdaptiveLoopLevel = 10;
@@ -134,13 +134,13 @@ inline constexpr std::size_t MaxAdaptiveLoopTriangles = 500000000; ///< ids stay
 /// A triangle surface on flat arrays.
 struct AdaptiveLoopMesh
 {
-  std::vector<double> points;        ///< x, y, z of every point
-  std::vector<int> triangles;        ///< three point ids per triangle
-  int attributeComponents = 0;       ///< values per point in `attributes`
-  std::vector<double> attributes;    ///< per point, interleaved; interpolated with the position stencils
-  std::vector<int> region;           ///< per point, or empty; see the Region rule above
+  std::vector<double> points;                   ///< x, y, z of every point
+  std::vector<int> triangles;                   ///< three point ids per triangle
+  int attributeComponents = 0;                  ///< values per point in `attributes`
+  std::vector<double> attributes;               ///< per point, interleaved; interpolated with the position stencils
+  std::vector<int> region;                      ///< per point, or empty; see the Region rule above
   std::vector<std::array<int, 2>> featureEdges; ///< user-marked feature edges (point pairs, any order)
-  std::vector<int> origin; ///< output only: per triangle, the input triangle it lies in
+  std::vector<int> origin;                      ///< output only: per triangle, the input triangle it lies in
 
   std::size_t NumberOfPoints() const { return this->points.size() / 3; }
   std::size_t NumberOfTriangles() const { return this->triangles.size() / 3; }
@@ -148,11 +148,11 @@ struct AdaptiveLoopMesh
 
 struct AdaptiveLoopResult
 {
-  AdaptiveLoopMesh mesh;                    ///< empty on error or abort
+  AdaptiveLoopMesh mesh;                      ///< empty on error or abort
   std::vector<std::size_t> trianglesPerLevel; ///< [0] the input's, then one entry per applied level
   std::vector<std::size_t> pointsPerLevel;    ///< same, points
-  int levels = 0;                           ///< levels applied
-  std::string error;                        ///< non-empty: the input or settings were refused; mesh is empty
+  int levels = 0;                             ///< levels applied
+  std::string error;                          ///< non-empty: the input or settings were refused; mesh is empty
   bool aborted = false;
 };
 

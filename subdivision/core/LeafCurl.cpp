@@ -70,8 +70,8 @@ std::string ValidateLeafCurl(const LeafCurlParameters& parameters)
 
 void LeafCurl::Interpolate(const std::vector<MidveinSample>& samples, double key, double& a, double& b)
 {
-  auto upper = std::upper_bound(samples.begin(), samples.end(), key,
-    [](double k, const MidveinSample& sample) { return k < sample.key; });
+  auto upper = std::upper_bound(
+    samples.begin(), samples.end(), key, [](double k, const MidveinSample& sample) { return k < sample.key; });
   if (upper == samples.begin())
   {
     a = samples.front().a;
@@ -108,8 +108,7 @@ std::string LeafCurl::Setup(
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
     {
       std::ostringstream message;
-      message << "input point " << i << " has a non-finite coordinate (" << p[0] << ", " << p[1] << ", " << p[2]
-              << ")";
+      message << "input point " << i << " has a non-finite coordinate (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
       return message.str();
     }
     if (!std::isfinite(uv[0]) || !std::isfinite(uv[1]))

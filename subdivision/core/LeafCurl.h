@@ -109,8 +109,8 @@ private:
   double LengthApex = 0.0;
   double CenterY = 0.0;
   double CenterZ = 0.0;
-  std::vector<double> Lateral;      // d per point
-  std::vector<double> MidveinZ;     // z_mid(y) per point
+  std::vector<double> Lateral;  // d per point
+  std::vector<double> MidveinZ; // z_mid(y) per point
 };
 
 /// Convenience for tests and serial callers: curls `xyz` (3 * count) in place, and `normals` (3 * count) when not

@@ -130,7 +130,6 @@ void AddIdList(vtkFieldData* fd, const char* name, const std::vector<std::size_t
   fd->AddArray(array);
 }
 
-
 /// The input's polygons and strips as triangles, each remembering its input cell in `cellOf` (cell ids count verts,
 /// lines, polys, strips in that order); "" or why the input cannot be subdivided.
 std::string ReadTriangles(
@@ -166,8 +165,8 @@ std::string ReadTriangles(
       const vtkIdType cellId = polyStart + it->GetCurrentCellId();
       if (npts == 3)
       {
-        mesh.triangles.insert(mesh.triangles.end(),
-          { static_cast<int>(pts[0]), static_cast<int>(pts[1]), static_cast<int>(pts[2]) });
+        mesh.triangles.insert(
+          mesh.triangles.end(), { static_cast<int>(pts[0]), static_cast<int>(pts[1]), static_cast<int>(pts[2]) });
         cellOf.push_back(cellId);
         continue;
       }
@@ -188,9 +187,9 @@ std::string ReadTriangles(
       polygon->Triangulate(local);
       for (vtkIdType k = 0; k + 2 < local->GetNumberOfIds(); k += 3)
       {
-        mesh.triangles.insert(mesh.triangles.end(), { static_cast<int>(pts[local->GetId(k)]),
-                                                      static_cast<int>(pts[local->GetId(k + 1)]),
-                                                      static_cast<int>(pts[local->GetId(k + 2)]) });
+        mesh.triangles.insert(mesh.triangles.end(),
+          { static_cast<int>(pts[local->GetId(k)]), static_cast<int>(pts[local->GetId(k + 1)]),
+            static_cast<int>(pts[local->GetId(k + 2)]) });
         cellOf.push_back(cellId);
       }
     }
@@ -484,8 +483,8 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
   settings.midveinIsFeature = this->MidveinFeatures != 0;
   if (this->MaximumTriangles < 1 || static_cast<std::size_t>(this->MaximumTriangles) > MaxAdaptiveLoopTriangles)
   {
-    vtkErrorMacro(<< plantmorph::OutOfRange(
-                    "MaximumTriangles", this->MaximumTriangles, "[1, " + std::to_string(MaxAdaptiveLoopTriangles) + "]"));
+    vtkErrorMacro(<< plantmorph::OutOfRange("MaximumTriangles", this->MaximumTriangles,
+                    "[1, " + std::to_string(MaxAdaptiveLoopTriangles) + "]"));
     return 0;
   }
   settings.maximumTriangles = static_cast<std::size_t>(this->MaximumTriangles);

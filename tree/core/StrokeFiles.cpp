@@ -386,9 +386,8 @@ bool ViewportTransform(const pugi::xml_node& svg, Affine& result, std::string& e
 
 std::string TooManyPoints()
 {
-  return "its strokes hold more points than are read from a file of this size (" +
-    std::to_string(kStrokePointsFloor) + " + " + std::to_string(kStrokePointsPerByte) + " per byte, at most " +
-    std::to_string(kMaxStrokeFilePoints) + ")";
+  return "its strokes hold more points than are read from a file of this size (" + std::to_string(kStrokePointsFloor) +
+    " + " + std::to_string(kStrokePointsPerByte) + " per byte, at most " + std::to_string(kMaxStrokeFilePoints) + ")";
 }
 
 /// Number of equal parameter steps so that (step^2 / 8) * maxSecond <= tolerance, for a parameter span of 1.
@@ -576,7 +575,7 @@ std::string PathFlattener::Command(char command, NumberList& list)
     case 'C':
     case 'S':
     {
-      const Point c1 = upper == 'C' ? at(0)
+      const Point c1 = upper == 'C'                        ? at(0)
         : (this->Previous == 'C' || this->Previous == 'S') ? Point(2.0 * this->Current - this->Control)
                                                            : this->Current;
       const Point c2 = upper == 'C' ? at(2) : at(0);
@@ -588,7 +587,7 @@ std::string PathFlattener::Command(char command, NumberList& list)
     case 'Q':
     case 'T':
     {
-      const Point c = upper == 'Q' ? at(0)
+      const Point c = upper == 'Q'                         ? at(0)
         : (this->Previous == 'Q' || this->Previous == 'T') ? Point(2.0 * this->Current - this->Control)
                                                            : this->Current;
       end = upper == 'Q' ? at(2) : at(0);
@@ -706,8 +705,8 @@ std::string Describe(const pugi::xml_node& node, const std::string& text)
 }
 
 /// The polylines of one drawing element, in its user space.
-std::string ElementPolylines(const pugi::xml_node& node, const std::string& name, double tolerance,
-  std::size_t& budget, std::vector<std::vector<Point>>& out)
+std::string ElementPolylines(const pugi::xml_node& node, const std::string& name, double tolerance, std::size_t& budget,
+  std::vector<std::vector<Point>>& out)
 {
   if (name == "path")
   {
@@ -904,8 +903,8 @@ std::string ParseStrokeCsv(const std::string& text, std::vector<std::vector<Eige
       return fail("holds a NUL byte: not a text file of rows stroke_id, x, y");
     }
     const char* first = std::find_if(line, lineEnd, [](char c) { return c != ' '; });
-    const bool blank = std::all_of(
-      line, lineEnd, [](char c) { return c == ' ' || c == '\r' || c == ',' || c == ';' || c == '\t'; });
+    const bool blank =
+      std::all_of(line, lineEnd, [](char c) { return c == ' ' || c == '\r' || c == ',' || c == ';' || c == '\t'; });
     if (blank || *first == '#')
     {
       continue;

@@ -35,8 +35,8 @@ std::string PlaceLeaves(const TreeParameters& s, Tree& tree)
   }
   if (static_cast<double>(twigs) * s.leafCount > static_cast<double>(s.maxSegments))
   {
-    return "the tree would have " + std::to_string(twigs * s.leafCount) + " leaves, more than MaxSegments = " +
-      std::to_string(s.maxSegments) + " (lower LeafCount or the tree's size)";
+    return "the tree would have " + std::to_string(twigs * s.leafCount) +
+      " leaves, more than MaxSegments = " + std::to_string(s.maxSegments) + " (lower LeafCount or the tree's size)";
   }
   for (TreeBranch& b : tree.branches)
   {

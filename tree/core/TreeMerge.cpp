@@ -92,8 +92,8 @@ std::string ValidateSkeletonIsTree(const std::vector<SkeletonBranch>& second)
       continue;
     }
     if (!index.count(second[i].parentId))
-      return NotATree("branch " + std::to_string(second[i].id) + " has ParentId " +
-        std::to_string(second[i].parentId) + ", which is no branch of it");
+      return NotATree("branch " + std::to_string(second[i].id) + " has ParentId " + std::to_string(second[i].parentId) +
+        ", which is no branch of it");
     children[second[i].parentId].push_back(i);
   }
   std::vector<std::size_t> stack = { root };

@@ -44,7 +44,7 @@ std::string ValidateSkeletonIsTree(const std::vector<SkeletonBranch>& second);
 
 /// Appends the second tree's branches to `tree` (after its own branches and strokes, before leaves). Returns an
 /// empty string or an error naming the input or property.
-std::string MergeTree(const TreeParameters& settings, std::size_t strokeCount, const std::vector<SkeletonBranch>& second,
-  Tree& tree);
+std::string MergeTree(
+  const TreeParameters& settings, std::size_t strokeCount, const std::vector<SkeletonBranch>& second, Tree& tree);
 
 } // namespace plantmorph

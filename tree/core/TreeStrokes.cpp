@@ -229,8 +229,10 @@ std::string ChoosePlaneAngle(const TreeParameters& s, const std::vector<Eigen::V
     const double angle = PhyllotaxisAngle(i, s.phyllotaxisA, s.phyllotaxisB);
     const int quadrant = std::min(3, static_cast<int>(angle / 90.0));
     const bool allowed = toMinusX ? (quadrant == 1 || quadrant == 2) : (quadrant == 0 || quadrant == 3);
-    const double theta = quadrant == 0 ? angle : quadrant == 1 ? 180.0 - angle : quadrant == 2 ? angle - 180.0
-                                                                                              : 360.0 - angle;
+    const double theta = quadrant == 0 ? angle
+      : quadrant == 1                  ? 180.0 - angle
+      : quadrant == 2                  ? angle - 180.0
+                                       : 360.0 - angle;
     if (allowed && theta < 90.0 - 1e-12)
     {
       candidates.emplace_back(theta, angle);
@@ -320,8 +322,8 @@ void LiftStroke(const std::vector<Eigen::Vector2d>& q, const Eigen::Vector3d& c3
 }
 
 /// An overridden u: the branch moved so its base is the parent's centre-line point at u, inserted there.
-void MoveToOverriddenU(const BranchOverride& edit, TreeBranch& host, Eigen::Vector3d& c3, double& parentRadiusAtC,
-  TreeBranch& branch)
+void MoveToOverriddenU(
+  const BranchOverride& edit, TreeBranch& host, Eigen::Vector3d& c3, double& parentRadiusAtC, TreeBranch& branch)
 {
   // Move the branch so its base is the parent's centre-line point at u, and insert that point there.
   std::vector<double> arc(host.centre.size(), 0.0);
@@ -359,8 +361,8 @@ void MoveToOverriddenU(const BranchOverride& edit, TreeBranch& host, Eigen::Vect
 
 /// An overridden angle: the branch turned about its base, in the plane of the parent's tangent and its first
 /// direction, to the divergence.
-void TurnToOverriddenAngle(const BranchOverride& edit, const TreeBranch& parent, const Eigen::Vector3d& c3,
-  TreeBranch& branch)
+void TurnToOverriddenAngle(
+  const BranchOverride& edit, const TreeBranch& parent, const Eigen::Vector3d& c3, TreeBranch& branch)
 {
   // Turned about its base, in the plane of the parent's tangent and its first direction, to the divergence.
   Eigen::Vector3d point;
@@ -429,8 +431,7 @@ void FinishStrokeBranch(const TreeParameters& s, const TreeBranch* parent, doubl
 }
 } // namespace
 
-std::string AddStrokes(
-  const TreeParameters& s, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree)
+std::string AddStrokes(const TreeParameters& s, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree)
 {
   if (std::string error = ValidateStrokes(strokes); !error.empty())
   {
@@ -513,8 +514,8 @@ std::string AddStrokes(
     LiftStroke(q, c3, slope, edit, branch);
     if (parent && !std::isnan(edit.u))
     {
-      MoveToOverriddenU(edit, tree.branches[static_cast<std::size_t>(parent - tree.branches.data())], c3,
-        parentRadiusAtC, branch);
+      MoveToOverriddenU(
+        edit, tree.branches[static_cast<std::size_t>(parent - tree.branches.data())], c3, parentRadiusAtC, branch);
     }
     if (parent && !std::isnan(edit.angle))
     {

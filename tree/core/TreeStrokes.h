@@ -60,8 +60,7 @@ std::string AddStrokes(
   const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree);
 
 /// Eq. (2): distance from p to segment ab, with mu in [0, 1] the position of the closest point (0 at a).
-double PointSegmentDistance(
-  const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double& mu);
+double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double& mu);
 
 /// Eq. (1): signed angle in degrees from segment vector a to b in the image plane, sign of (b x a).e_z.
 double SignedSegmentAngle(const Eigen::Vector2d& a, const Eigen::Vector2d& b);

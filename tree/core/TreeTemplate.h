@@ -50,8 +50,8 @@ enum class TreeType : int
 
 enum class TreeMode : int
 {
-  Template = 0,         ///< the template tree alone
-  Strokes = 1,          ///< the first stroke is the trunk; template subtrees grow on the stroke branches
+  Template = 0,          ///< the template tree alone
+  Strokes = 1,           ///< the first stroke is the trunk; template subtrees grow on the stroke branches
   TemplateAndStrokes = 2 ///< strokes are added to (merged into) the template tree, each on its nearest branch
 };
 
@@ -82,13 +82,13 @@ struct TreeParameters
   int phyllotaxisA = 3; ///< a of the phyllotaxis fraction a/b (turns)
   int phyllotaxisB = 8; ///< b (leaves or branches per a turns)
   int childCount = 8;
-  double ratio = 0.7;             ///< children sit on the last `ratio` of their parent
-  double lengthScale = 0.8;       ///< sympodial child length / parent length
-  double monopodialAngle = 34.4;  ///< degrees, 90 * 0.382
-  double sympodialAngle = 55.6;   ///< degrees, 90 * 0.618
-  int segmentsPerBranch = 4;      ///< DIVID
-  double twigScale = 1.2;         ///< epsilon_leaf: depth-0 twigs are this much longer
-  int sides = 6;                  ///< vertices per tube ring
+  double ratio = 0.7;               ///< children sit on the last `ratio` of their parent
+  double lengthScale = 0.8;         ///< sympodial child length / parent length
+  double monopodialAngle = 34.4;    ///< degrees, 90 * 0.382
+  double sympodialAngle = 55.6;     ///< degrees, 90 * 0.618
+  int segmentsPerBranch = 4;        ///< DIVID
+  double twigScale = 1.2;           ///< epsilon_leaf: depth-0 twigs are this much longer
+  int sides = 6;                    ///< vertices per tube ring
   long long maxSegments = 20000000; ///< memory budget: more skeleton segments than this is an error
 
   // Strokes (TreeStrokes.h).
@@ -123,8 +123,7 @@ struct TreeParameters
   double Angle() const { return this->type == TreeType::Monopodial ? this->monopodialAngle : this->sympodialAngle; }
   double StrokeRatio() const
   {
-    return this->strokeLengthRatio > 0.0 ? this->strokeLengthRatio
-                                         : (this->type == TreeType::Monopodial ? 0.6 : 0.8);
+    return this->strokeLengthRatio > 0.0 ? this->strokeLengthRatio : (this->type == TreeType::Monopodial ? 0.6 : 0.8);
   }
 };
 
@@ -137,19 +136,19 @@ constexpr int TreePresetCount = 4;
 struct TreeBranch
 {
   int id = 0;
-  int parentId = -1;       ///< -1 for the trunk
-  int depth = 0;           ///< 0 trunk, parent's + 1 (the data contract's Depth)
-  int level = 0;           ///< template levels still to grow below it (0: a twig)
-  int childIndex = 0;      ///< i in 1..childCount for template children, 0 otherwise
-  int strokeIndex = -1;    ///< the stroke it came from, or -1
-  int mergedId = -1;       ///< its BranchId in the merged second tree, or -1 (not merged)
-  bool straight = true;    ///< centre line is a straight segment along frame.col(1)
-  double position = 0.0;   ///< pos: fraction of the parent's arc length where it starts
-  double length = 0.0;     ///< arc length of the centre line
-  double radius = 0.0;     ///< base radius
-  double radiusEnd = 0.0;  ///< end radius (0: the tube closes in a point)
-  double angle = 0.0;      ///< divergence from the parent, degrees
-  double rotation = 0.0;   ///< rotation about the parent, degrees
+  int parentId = -1;      ///< -1 for the trunk
+  int depth = 0;          ///< 0 trunk, parent's + 1 (the data contract's Depth)
+  int level = 0;          ///< template levels still to grow below it (0: a twig)
+  int childIndex = 0;     ///< i in 1..childCount for template children, 0 otherwise
+  int strokeIndex = -1;   ///< the stroke it came from, or -1
+  int mergedId = -1;      ///< its BranchId in the merged second tree, or -1 (not merged)
+  bool straight = true;   ///< centre line is a straight segment along frame.col(1)
+  double position = 0.0;  ///< pos: fraction of the parent's arc length where it starts
+  double length = 0.0;    ///< arc length of the centre line
+  double radius = 0.0;    ///< base radius
+  double radiusEnd = 0.0; ///< end radius (0: the tube closes in a point)
+  double angle = 0.0;     ///< divergence from the parent, degrees
+  double rotation = 0.0;  ///< rotation about the parent, degrees
   Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
   std::vector<Eigen::Vector3d> centre; ///< skeleton points, base to tip
   std::vector<double> radii;           ///< radius at each skeleton point
@@ -158,7 +157,7 @@ struct TreeBranch
 struct TreeLeaf
 {
   int branchId = 0;
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero(); ///< the leaf's base on its twig's surface
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();   ///< the leaf's base on its twig's surface
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity(); ///< columns: across the blade, along the midrib, normal (unit)
 };
 
@@ -166,14 +165,14 @@ struct TreeLeaf
 struct StrokeReport
 {
   int branchId = -1;
-  int parentId = -1;       ///< -1 for the trunk
-  double distance = 0.0;   ///< eq. (2) distance from the stroke's first point to the parent
-  double lambda = 0.0;     ///< C = lambda*A + (1 - lambda)*B on the parent segment AB
-  double targetLength = 0.0; ///< L* = epsilon * parent length
-  double planarLength = 0.0; ///< |l3|: the smoothed stroke's length in the image plane
+  int parentId = -1;             ///< -1 for the trunk
+  double distance = 0.0;         ///< eq. (2) distance from the stroke's first point to the parent
+  double lambda = 0.0;           ///< C = lambda*A + (1 - lambda)*B on the parent segment AB
+  double targetLength = 0.0;     ///< L* = epsilon * parent length
+  double planarLength = 0.0;     ///< |l3|: the smoothed stroke's length in the image plane
   double recommendedTheta = 0.0; ///< theta*, degrees
-  double rotation = 0.0;   ///< the chosen phyllotaxis rotation angle phi, degrees (tan(phi) lifts dx to z)
-  double theta = 0.0;      ///< the chosen plane angle in [0, 90), degrees
+  double rotation = 0.0;         ///< the chosen phyllotaxis rotation angle phi, degrees (tan(phi) lifts dx to z)
+  double theta = 0.0;            ///< the chosen plane angle in [0, 90), degrees
 };
 
 struct Tree
@@ -207,8 +206,8 @@ double PhyllotaxisAngle(long long i, int a, int b);
 
 /// Builds the tree: template and/or strokes (x, y of each point; z ignored), deletions, overrides, leaves.
 /// Returns an empty string or an error message naming the property (tree empty then).
-std::string BuildTree(const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
-  Tree& tree);
+std::string BuildTree(
+  const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree);
 /// The same, then merges `second` (a second tree's skeleton; none when null or empty) as TreeMerge.h describes.
 std::string BuildTree(const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
   const std::vector<SkeletonBranch>* second, Tree& tree);
@@ -217,8 +216,8 @@ std::string BuildTree(const TreeParameters& settings, const std::vector<std::vec
 
 /// The point, unit frame (y along the centre line) and radius at arc-length fraction `pos` of a branch; curved
 /// branches carry a rotation-minimising frame from their base frame.
-void BranchFrameAt(const TreeBranch& branch, double pos, Eigen::Vector3d& point, Eigen::Matrix3d& frame,
-  double& radius);
+void BranchFrameAt(
+  const TreeBranch& branch, double pos, Eigen::Vector3d& point, Eigen::Matrix3d& frame, double& radius);
 /// Rotation about the local y axis, then about z, in degrees (the paper's two matrices).
 Eigen::Matrix3d RotationY(double degrees);
 Eigen::Matrix3d RotationZ(double degrees);

@@ -173,18 +173,19 @@ struct Junction
 
 struct ChildState
 {
-  double node = 0.0;   ///< arc length of the node on the parent
+  double node = 0.0; ///< arc length of the node on the parent
   Eigen::Vector3d nodePoint, axis;
-  double pull = 0.0;   ///< arc length of the child's junction ring
+  double pull = 0.0; ///< arc length of the child's junction ring
   double parentRadius = 0.0;
   Eigen::Vector3d tilt = Eigen::Vector3d::Zero(); ///< the junction ring's plane normal (Station::tilt)
-  double tau = 0.0, tauMax = 0.0; ///< its tilt from the child's cross-section, and the most it may tilt
-  Eigen::Vector3d d, hPerp;       ///< the child's first direction, and the direction it tilts towards
+  double tau = 0.0, tauMax = 0.0;                 ///< its tilt from the child's cross-section, and the most it may tilt
+  Eigen::Vector3d d, hPerp;                       ///< the child's first direction, and the direction it tilts towards
   void SetTilt(double angle)
   {
     this->tau = angle;
-    this->tilt = angle > 1e-6 ? Eigen::Vector3d((std::cos(angle) * this->d + std::sin(angle) * this->hPerp).normalized())
-                              : Eigen::Vector3d::Zero();
+    this->tilt = angle > 1e-6
+      ? Eigen::Vector3d((std::cos(angle) * this->d + std::sin(angle) * this->hPerp).normalized())
+      : Eigen::Vector3d::Zero();
   }
   bool welded = false;
   bool narrowed = false;
@@ -192,8 +193,8 @@ struct ChildState
 
 /// The points of a junction for the current pulls and interval: rings first (children, then the parent's before
 /// and after rings), then the dropped parts' points.
-void CollectPoints(const std::vector<Skeleton>& skeletons, const std::vector<ChildState>& state, const RingAngles& trig,
-  Junction& J)
+void CollectPoints(
+  const std::vector<Skeleton>& skeletons, const std::vector<ChildState>& state, const RingAngles& trig, Junction& J)
 {
   J.rings.clear();
   J.points.clear();
@@ -204,8 +205,8 @@ void CollectPoints(const std::vector<Skeleton>& skeletons, const std::vector<Chi
     J.rings.push_back(ring);
     for (std::size_t j = 0; j < sides; ++j)
     {
-      J.points.push_back({ Vertex(s, station, trig, j), tube, static_cast<long>(J.rings.size() - 1),
-        static_cast<long>(j) });
+      J.points.push_back(
+        { Vertex(s, station, trig, j), tube, static_cast<long>(J.rings.size() - 1), static_cast<long>(j) });
     }
   };
   const auto addDropped = [&](std::size_t tube, const Station& station) {
@@ -346,8 +347,7 @@ bool Solve(std::vector<Skeleton>& skeletons, std::vector<ChildState>& state, con
     const double base = baseCut[J.parent] + 0.05 * parentRadius;
     if (!(J.lo > base))
       return false;
-    J.end = J.hi >= L - 0.05 * parentRadius ||
-      (p.line.apex && p.RadiusAt(J.hi) < 0.2 * parentRadius);
+    J.end = J.hi >= L - 0.05 * parentRadius || (p.line.apex && p.RadiusAt(J.hi) < 0.2 * parentRadius);
     if (J.end)
       J.hi = L;
     CollectPoints(skeletons, state, trig, J);
@@ -594,8 +594,8 @@ bool PlaceChild(const Skeleton& p, Skeleton& s, ChildState& cs)
   cs.SetTilt(std::min(cs.tauMax, FirstTilt));
   // At a parent's end the child need not clear a parent continuing beside it: start short and let the face
   // test grow it (a short pull leaves room for the child's own first junctions).
-  cs.pull = atEnd ? 0.3 * rc
-                  : std::max(0.3 * rc, (1.2 * cs.parentRadius - h + rc * std::abs(cosine)) / std::max(sine, 0.2));
+  cs.pull =
+    atEnd ? 0.3 * rc : std::max(0.3 * rc, (1.2 * cs.parentRadius - h + rc * std::abs(cosine)) / std::max(sine, 0.2));
   return true;
 }
 
@@ -728,7 +728,7 @@ struct Layout
   std::vector<Station> stations;
   std::vector<char> bandAfter; ///< band from station i to i + 1
   bool baseCap = true, endKept = true;
-  std::vector<std::pair<const Junction*, long>> extras; ///< (junction, point) hull corners owned by the tube
+  std::vector<std::pair<const Junction*, long>> extras;        ///< (junction, point) hull corners owned by the tube
   std::vector<std::pair<const Junction*, std::size_t>> facets; ///< (junction, facet) owned by the tube
 };
 
@@ -849,8 +849,8 @@ void WriteWeldedTubes(const Welding& w, const std::vector<Layout>& layout, int s
   // Global id of ring vertex j of the ring at arc `a` of tube t (its station), and of a junction's extra points.
   const auto ringId = [&](std::size_t t, double a, std::size_t j) {
     const Layout& L = layout[t];
-    const auto it = std::lower_bound(
-      L.stations.begin(), L.stations.end(), a, [](const Station& st, double x) { return st.arc < x; });
+    const auto it =
+      std::lower_bound(L.stations.begin(), L.stations.end(), a, [](const Station& st, double x) { return st.arc < x; });
     const std::size_t index = static_cast<std::size_t>(it - L.stations.begin());
     return mesh.pointOffsets[t] + (L.baseCap ? 1 : 0) + static_cast<std::int64_t>(index * S + j);
   };
@@ -902,8 +902,8 @@ void WriteWeldedTubes(const Welding& w, const std::vector<Layout>& layout, int s
 }
 
 /// The junction counts and the tubes that fell back.
-void FillJunctionReport(const std::vector<TubeInput>& tubes, const std::vector<Junction*>& all, const Welding& w,
-  JunctionReport& report)
+void FillJunctionReport(
+  const std::vector<TubeInput>& tubes, const std::vector<Junction*>& all, const Welding& w, JunctionReport& report)
 {
   for (const Junction* J : all)
   {
@@ -926,8 +926,8 @@ void FillJunctionReport(const std::vector<TubeInput>& tubes, const std::vector<J
 }
 } // namespace
 
-std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh,
-  const ParallelFor& parallel, JunctionReport* report)
+std::string BuildWeldedTubes(
+  const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel, JunctionReport* report)
 {
   if (report)
     *report = JunctionReport();

@@ -70,12 +70,12 @@ namespace plantmorph
 
 struct JunctionReport
 {
-  std::int64_t junctions = 0; ///< convex hulls built
-  std::int64_t welded = 0;    ///< children joined by a junction
-  std::int64_t merged = 0;    ///< junctions holding more than one child
-  std::int64_t endJunctions = 0; ///< junctions at a parent's end (forks)
-  std::int64_t narrowed = 0;  ///< children whose base radius the pipe model limited
-  std::int64_t fallback = 0;  ///< children left as their own closed tube (see "Fallback")
+  std::int64_t junctions = 0;              ///< convex hulls built
+  std::int64_t welded = 0;                 ///< children joined by a junction
+  std::int64_t merged = 0;                 ///< junctions holding more than one child
+  std::int64_t endJunctions = 0;           ///< junctions at a parent's end (forks)
+  std::int64_t narrowed = 0;               ///< children whose base radius the pipe model limited
+  std::int64_t fallback = 0;               ///< children left as their own closed tube (see "Fallback")
   std::vector<std::int64_t> fallbackTubes; ///< their indices, ascending
 };
 

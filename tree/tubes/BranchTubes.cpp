@@ -75,8 +75,8 @@ std::string CleanTubes(const std::vector<TubeInput>& tubes, int sides, std::vect
   return {};
 }
 
-void SetMeshPoint(TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
-  double u, double v)
+void SetMeshPoint(
+  TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, const Eigen::Vector3d& normal, double u, double v)
 {
   const std::size_t i = static_cast<std::size_t>(index);
   mesh.points[3 * i] = x.x(), mesh.points[3 * i + 1] = x.y(), mesh.points[3 * i + 2] = x.z();
@@ -118,9 +118,8 @@ std::size_t TubeTriangles(std::vector<std::int32_t>& triangles, std::size_t q, s
     triangles[q++] = static_cast<std::int32_t>(b);
     triangles[q++] = static_cast<std::int32_t>(d);
   };
-  const auto ring = [&](std::size_t k, int j) {
-    return firstRing + static_cast<std::int64_t>(k) * sides + (j % sides);
-  };
+  const auto ring = [&](
+                      std::size_t k, int j) { return firstRing + static_cast<std::int64_t>(k) * sides + (j % sides); };
   if (baseCentre >= 0)
     for (int j = 0; j < sides; ++j)
       tri(baseCentre, ring(0, j), ring(0, j + 1));
@@ -197,48 +196,48 @@ double LastCrossingIn(const TubeMesh& mesh, const TriangleRanges& ranges, const 
     return Eigen::Vector3d(mesh.points[k], mesh.points[k + 1], mesh.points[k + 2]);
   };
   for (const auto& [first, last] : ranges)
-  for (std::int64_t f = first; f < last; ++f)
-  {
-    const std::int32_t* v = &mesh.triangles[3 * static_cast<std::size_t>(f)];
-    const Eigen::Vector3d a = P(v[0]), b = P(v[1]), c = P(v[2]);
-    // Cull: the line must pass within the triangle's bounding sphere (about its centroid).
-    const Eigen::Vector3d centroid = (a + b + c) / 3.0;
-    const double reach2 =
-      std::max({ (a - centroid).squaredNorm(), (b - centroid).squaredNorm(), (c - centroid).squaredNorm() });
-    const Eigen::Vector3d w = centroid - p;
-    if ((w - w.dot(unit) * unit).squaredNorm() > reach2 * (1.0 + 1e-9))
+    for (std::int64_t f = first; f < last; ++f)
     {
-      continue;
+      const std::int32_t* v = &mesh.triangles[3 * static_cast<std::size_t>(f)];
+      const Eigen::Vector3d a = P(v[0]), b = P(v[1]), c = P(v[2]);
+      // Cull: the line must pass within the triangle's bounding sphere (about its centroid).
+      const Eigen::Vector3d centroid = (a + b + c) / 3.0;
+      const double reach2 =
+        std::max({ (a - centroid).squaredNorm(), (b - centroid).squaredNorm(), (c - centroid).squaredNorm() });
+      const Eigen::Vector3d w = centroid - p;
+      if ((w - w.dot(unit) * unit).squaredNorm() > reach2 * (1.0 + 1e-9))
+      {
+        continue;
+      }
+      // Moller-Trumbore for the whole line.
+      const Eigen::Vector3d e1 = b - a, e2 = c - a;
+      const Eigen::Vector3d h = e.cross(e2);
+      const double det = e1.dot(h);
+      if (std::abs(det) <= 1e-300)
+      {
+        continue; // parallel to the triangle's plane
+      }
+      const double inv = 1.0 / det;
+      const Eigen::Vector3d s = p - a;
+      const double u = inv * s.dot(h);
+      constexpr double slack = 1e-12;
+      if (u < -slack || u > 1.0 + slack)
+      {
+        continue;
+      }
+      const Eigen::Vector3d q = s.cross(e1);
+      const double vv = inv * e.dot(q);
+      if (vv < -slack || u + vv > 1.0 + slack)
+      {
+        continue;
+      }
+      const double t = inv * e2.dot(q);
+      if (t < tMax && t >= tMin && !(t <= best))
+      {
+        best = t;
+        bestLeaving = e.dot(e1.cross(e2)) > 0.0;
+      }
     }
-    // Moller-Trumbore for the whole line.
-    const Eigen::Vector3d e1 = b - a, e2 = c - a;
-    const Eigen::Vector3d h = e.cross(e2);
-    const double det = e1.dot(h);
-    if (std::abs(det) <= 1e-300)
-    {
-      continue; // parallel to the triangle's plane
-    }
-    const double inv = 1.0 / det;
-    const Eigen::Vector3d s = p - a;
-    const double u = inv * s.dot(h);
-    constexpr double slack = 1e-12;
-    if (u < -slack || u > 1.0 + slack)
-    {
-      continue;
-    }
-    const Eigen::Vector3d q = s.cross(e1);
-    const double vv = inv * e.dot(q);
-    if (vv < -slack || u + vv > 1.0 + slack)
-    {
-      continue;
-    }
-    const double t = inv * e2.dot(q);
-    if (t < tMax && t >= tMin && !(t <= best))
-    {
-      best = t;
-      bestLeaving = e.dot(e1.cross(e2)) > 0.0;
-    }
-  }
   if (leaving)
   {
     *leaving = bestLeaving;
@@ -249,8 +248,8 @@ double LastCrossingIn(const TubeMesh& mesh, const TriangleRanges& ranges, const 
 /// Tube t's points and triangles at its offsets: base centre, rings (ring 0 around the first segment, vertex 0
 /// towards `towards`, the tube's normal; each further ring the previous one's directions carried along the segment
 /// onto the bisector plane), end point, and TubeTriangles' caps and bands.
-void WriteTube(const Cleaned& c, const Eigen::Vector3d& towards, const RingAngles& angles, int sides, std::size_t t,
-  TubeMesh& mesh)
+void WriteTube(
+  const Cleaned& c, const Eigen::Vector3d& towards, const RingAngles& angles, int sides, std::size_t t, TubeMesh& mesh)
 {
   const std::vector<double>& cosines = angles.cosines;
   const std::vector<double>& sines = angles.sines;
@@ -340,8 +339,8 @@ void MovePoint(TubeMesh& mesh, std::int64_t i, const Eigen::Vector3d& x)
 /// The parent's triangles a child's crossing window can reach: those of the parent's segments passing within
 /// (`reach` + the segment's ring reach) of the child's base centre. A segment's triangles lie within
 /// max radius / cos(85 / 2 deg) < 1.36 radii of it (mitre clamp).
-TriangleRanges ParentTrianglesNear(const Cleaned& host, std::int64_t hostTriangles, const Eigen::Vector3d& baseCentre,
-  double reach, int sides)
+TriangleRanges ParentTrianglesNear(
+  const Cleaned& host, std::int64_t hostTriangles, const Eigen::Vector3d& baseCentre, double reach, int sides)
 {
   const std::size_t hostRings = host.centre.size() - (host.apex ? 1 : 0);
   TriangleRanges ranges;
@@ -414,11 +413,10 @@ void SeatJoint(const std::vector<TubeInput>& tubes, const std::vector<Cleaned>& 
   for (int j = 0; j < sides; ++j)
   {
     const Eigen::Vector3d next = rings >= 2 ? P(firstRing + sides + j) : P(apexPoint);
-    reach = std::max(reach,
-      std::max(back, (next - P(firstRing + j)).norm()) + (P(firstRing + j) - P(baseCentre)).norm());
+    reach =
+      std::max(reach, std::max(back, (next - P(firstRing + j)).norm()) + (P(firstRing + j) - P(baseCentre)).norm());
   }
-  const TriangleRanges ranges =
-    ParentTrianglesNear(host, mesh.triangleOffsets[parent], P(baseCentre), reach, sides);
+  const TriangleRanges ranges = ParentTrianglesNear(host, mesh.triangleOffsets[parent], P(baseCentre), reach, sides);
   for (int j = 0; j < sides; ++j)
   {
     const Eigen::Vector3d v = P(firstRing + j);
@@ -461,8 +459,8 @@ void SeatJoint(const std::vector<TubeInput>& tubes, const std::vector<Cleaned>& 
 }
 } // namespace
 
-std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel,
-  JointReport* joints)
+std::string BuildTubes(
+  const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel, JointReport* joints)
 {
   if (joints)
   {

@@ -55,8 +55,8 @@ namespace plantmorph
 
 struct TubeInput
 {
-  std::vector<Eigen::Vector3d> centre; ///< at least 2 points; coincident consecutive points are removed
-  std::vector<double> radii;           ///< one per centre point, > 0 except possibly the last
+  std::vector<Eigen::Vector3d> centre;               ///< at least 2 points; coincident consecutive points are removed
+  std::vector<double> radii;                         ///< one per centre point, > 0 except possibly the last
   Eigen::Vector3d normal = Eigen::Vector3d::UnitX(); ///< where ring vertex 0 points at the base
   /// Index of the tube this one grows from (its base ring is seated on that tube's surface), or -1. Must be smaller
   /// than this tube's own index.
@@ -74,9 +74,9 @@ struct JointReport
 
 struct TubeMesh
 {
-  std::vector<double> points;   ///< x, y, z
-  std::vector<float> normals;   ///< x, y, z per point
-  std::vector<float> tcoords;   ///< u, v per point
+  std::vector<double> points;          ///< x, y, z
+  std::vector<float> normals;          ///< x, y, z per point
+  std::vector<float> tcoords;          ///< u, v per point
   std::vector<std::int32_t> triangles; ///< three point ids each
   /// Tube t owns points [pointOffsets[t], pointOffsets[t + 1]) and triangles likewise; size tubes + 1.
   std::vector<std::int64_t> pointOffsets;
@@ -99,8 +99,8 @@ struct CleanedTube
 std::string CleanTubes(const std::vector<TubeInput>& tubes, int sides, std::vector<CleanedTube>& cleaned);
 
 /// Writes point `index` of `mesh` (position, normal and TCoords (u, v)); the arrays must be sized.
-void SetMeshPoint(TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
-  double u, double v);
+void SetMeshPoint(
+  TubeMesh& mesh, std::int64_t index, const Eigen::Vector3d& x, const Eigen::Vector3d& normal, double u, double v);
 
 /// A ring's `sides` vertex angles: cos and sin of 2 pi j / sides, and TCoords' u = 1 - |1 - 2j / sides|.
 struct RingAngles

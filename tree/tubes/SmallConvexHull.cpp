@@ -47,8 +47,7 @@ long Farthest(const std::vector<Eigen::Vector3d>& p, double& best, const Distanc
 }
 } // namespace
 
-bool SmallConvexHull(const std::vector<Eigen::Vector3d>& p, std::vector<std::array<long, 3>>& facets,
-  double tolerance)
+bool SmallConvexHull(const std::vector<Eigen::Vector3d>& p, std::vector<std::array<long, 3>>& facets, double tolerance)
 {
   facets.clear();
   if (p.size() < 4)

@@ -22,7 +22,7 @@ namespace plantmorph
 
 /// Outward facets (counter-clockwise seen from outside), as indices into `points`, each rotated so that its smallest
 /// index is first, sorted. Returns false (facets empty) when the hull is degenerate or fails its check.
-bool SmallConvexHull(const std::vector<Eigen::Vector3d>& points, std::vector<std::array<long, 3>>& facets,
-  double tolerance = 1e-9);
+bool SmallConvexHull(
+  const std::vector<Eigen::Vector3d>& points, std::vector<std::array<long, 3>>& facets, double tolerance = 1e-9);
 
 } // namespace plantmorph

@@ -70,7 +70,10 @@ std::string ReadSkeleton(vtkPolyData* input, std::vector<plantmorph::SkeletonBra
   if (!ids || !parents || !radius)
   {
     return std::string("Merge input is not a tree: it has no ") +
-      (!ids ? "cell array BranchId" : !parents ? "cell array ParentId" : "point array Radius") + hint;
+      (!ids          ? "cell array BranchId"
+          : !parents ? "cell array ParentId"
+                     : "point array Radius") +
+      hint;
   }
   // Line cells come after vertex cells in a polydata's cell numbering.
   const vtkIdType first = input->GetNumberOfVerts();
@@ -99,7 +102,6 @@ std::string ReadSkeleton(vtkPolyData* input, std::vector<plantmorph::SkeletonBra
   }
   return {};
 }
-
 
 /// The strokes: the Strokes input's lines (their x and y), else the StrokeFile's; "" or why they cannot be read.
 std::string ReadStrokes(
@@ -149,8 +151,9 @@ std::string ValidateLeafInput(vtkPolyData* leafInput, const plantmorph::Tree& tr
   if (total > static_cast<double>(s.maxSegments) * 8.0)
   {
     std::ostringstream message;
-    message << "the leaves would have " << total << " points, more than 8 * MaxSegments = "
-            << 8.0 * static_cast<double>(s.maxSegments) << " (lower LeafCount or use a coarser Leaf input)";
+    message << "the leaves would have " << total
+            << " points, more than 8 * MaxSegments = " << 8.0 * static_cast<double>(s.maxSegments)
+            << " (lower LeafCount or use a coarser Leaf input)";
     return message.str();
   }
   return {};
@@ -315,8 +318,9 @@ void WriteLeaves(const plantmorph::Tree& tree, const plantmorph::TreeParameters&
       Eigen::Vector3d normal = n;
       if (leafNormals && leafNormals->GetNumberOfComponents() == 3)
       {
-        normal = leaf.axes * Eigen::Vector3d(leafNormals->GetComponent(k, 0), leafNormals->GetComponent(k, 1),
-                               leafNormals->GetComponent(k, 2));
+        normal = leaf.axes *
+          Eigen::Vector3d(
+            leafNormals->GetComponent(k, 0), leafNormals->GetComponent(k, 1), leafNormals->GetComponent(k, 2));
       }
       normals->InsertNextTuple3(normal.x(), normal.y(), normal.z());
     }
@@ -563,8 +567,8 @@ bool vtkTreeFromSketchSource::ReadProperties(plantmorph::TreeParameters& s)
     const double id = this->BranchOverrides[r];
     if (!std::isfinite(id) || id < 0 || id > std::numeric_limits<int>::max() || id != std::floor(id))
     {
-      vtkErrorMacro("BranchOverrides row " << r / 6 << ": "
-                                           << plantmorph::OutOfRange("BranchId", id, "[0, 2147483647]", "a whole number"));
+      vtkErrorMacro("BranchOverrides row "
+        << r / 6 << ": " << plantmorph::OutOfRange("BranchId", id, "[0, 2147483647]", "a whole number"));
       return false;
     }
     // NaN or <= -1000 keeps: ParaView 5.11 state files do not keep NaN (it loads as 0), so -1000 is the
@@ -659,8 +663,7 @@ int vtkTreeFromSketchSource::RequestData(
   branchesOut->Initialize();
   skeletonOut->Initialize();
   leavesOut->Initialize();
-  const int piece =
-    outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+  const int piece = outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
   if (piece > 0)
   {
     return 1;

@@ -257,8 +257,9 @@ protected:
   /// Properties -> parameters (the Preset applied); false, with the error reported, when one is out of range.
   bool ReadProperties(plantmorph::TreeParameters& parameters);
   /// The PlantMorph.* field data every output carries: the parameters used and the build's reports.
-  void FillFieldData(vtkFieldData* fieldData, const plantmorph::TreeParameters& parameters, const plantmorph::Tree& tree,
-    std::size_t strokeCount, const plantmorph::JointReport& joints, const plantmorph::JunctionReport& junctions) const;
+  void FillFieldData(vtkFieldData* fieldData, const plantmorph::TreeParameters& parameters,
+    const plantmorph::Tree& tree, std::size_t strokeCount, const plantmorph::JointReport& joints,
+    const plantmorph::JunctionReport& junctions) const;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

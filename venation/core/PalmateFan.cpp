@@ -20,8 +20,8 @@ struct View
   std::vector<double> distance, angle, axial;
 };
 
-View Look(const VenationBlade& blade, const BladeLocator& locator, const Eigen::Vector2d& base,
-  const Eigen::Vector2d& axis)
+View Look(
+  const VenationBlade& blade, const BladeLocator& locator, const Eigen::Vector2d& base, const Eigen::Vector2d& axis)
 {
   View view;
   if (locator.BoundaryLoops().empty())
@@ -70,8 +70,8 @@ std::vector<std::size_t> LobeTips(const View& view, double prominence)
 
 /// Where the ray from `base` at angle `phi` leaves the blade's outer loop for the last time; the boundary vertex
 /// nearest in angle (among those at least `near` from the base) when the ray meets nothing.
-Eigen::Vector2d RayEnd(const View& view, const Eigen::Vector2d& base, const Eigen::Vector2d& axis, double phi,
-  double near)
+Eigen::Vector2d RayEnd(
+  const View& view, const Eigen::Vector2d& base, const Eigen::Vector2d& axis, double phi, double near)
 {
   const Eigen::Vector2d left(-axis.y(), axis.x());
   const Eigen::Vector2d direction = std::cos(phi) * axis + std::sin(phi) * left;

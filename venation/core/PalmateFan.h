@@ -34,7 +34,7 @@ struct PalmateFanParameters
   int levels = 0;               ///< dichotomous fork levels: 2^levels end points per primary
   double lobeProminence = 0.08; ///< in leaf lengths
   double basalDepth = 0.04;     ///< in leaf lengths
-  double extentDistance = 0.15;  ///< in leaf lengths
+  double extentDistance = 0.15; ///< in leaf lengths
 };
 
 struct PalmateFan

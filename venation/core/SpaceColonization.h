@@ -41,7 +41,7 @@ namespace plantmorph
 
 /// Grows space-colonization venation on the blade `locator` was built on (parameters already validated). Empty on
 /// success; otherwise a message (and `result` is empty).
-std::string GrowSpaceColonization(const BladeLocator& locator,
-  const VenationParameters& parameters, VenationResult& result, const std::function<bool(double)>& progress);
+std::string GrowSpaceColonization(const BladeLocator& locator, const VenationParameters& parameters,
+  VenationResult& result, const std::function<bool(double)>& progress);
 
 } // namespace plantmorph

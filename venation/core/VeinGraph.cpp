@@ -156,7 +156,8 @@ int VeinGraph::FindEdge(int a, int b) const
 {
   for (int e = this->FirstEdge[a]; e >= 0; e = this->NextEdge[2 * e + (this->EdgeList[e].a == a ? 0 : 1)])
   {
-    if ((this->EdgeList[e].a == a && this->EdgeList[e].b == b) || (this->EdgeList[e].a == b && this->EdgeList[e].b == a))
+    if ((this->EdgeList[e].a == a && this->EdgeList[e].b == b) ||
+      (this->EdgeList[e].a == b && this->EdgeList[e].b == a))
       return e;
   }
   return -1;
@@ -172,7 +173,7 @@ int VeinGraph::SplitEdge(int edge, const Eigen::Vector2d& point)
   second.a = node;
   this->EdgeList.push_back(second);
   const int id = static_cast<int>(this->EdgeList.size() - 1);
-  this->NextEdge.push_back(-1);                    // slot at its end a (the node), linked below
+  this->NextEdge.push_back(-1);                           // slot at its end a (the node), linked below
   this->NextEdge.push_back(this->NextEdge[2 * edge + 1]); // slot at its end b: the old edge's successor there
   this->Visit.push_back(0);
   if (this->FirstEdge[b] == edge)
@@ -278,7 +279,7 @@ std::vector<std::vector<int>> VeinGraph::VeinPaths() const
       byVein[fill[this->EdgeList[e].vein]++] = static_cast<int>(e);
   }
   std::vector<std::vector<int>> paths(veins);
-  std::vector<char> used(this->EdgeList.size(), 0); // each edge belongs to one vein: walked once in all
+  std::vector<char> used(this->EdgeList.size(), 0);  // each edge belongs to one vein: walked once in all
   std::vector<int> degree(this->NodeList.size(), 0); // within the vein being walked; reset after it
   auto nextAt = [&](int e, int node) { return this->NextEdge[2 * e + (this->EdgeList[e].a == node ? 0 : 1)]; };
   for (std::size_t v = 0; v < veins; ++v)

@@ -14,8 +14,8 @@ double SignedArea(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eige
   return 0.5 * ((b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y()));
 }
 
-Eigen::Vector3d Barycentric(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-  const Eigen::Vector2d& c)
+Eigen::Vector3d Barycentric(
+  const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c)
 {
   const double area = SignedArea(a, b, c);
   return Eigen::Vector3d(SignedArea(p, b, c), SignedArea(a, p, c), SignedArea(a, b, p)) / area;
@@ -172,8 +172,9 @@ std::string BladeLocator::Build(const VenationBlade& blade)
     }
     return 0.5 * twice;
   };
-  std::stable_sort(this->Loops.begin(), this->Loops.end(),
-    [&](const std::vector<int>& a, const std::vector<int>& b) { return std::abs(loopArea(a)) > std::abs(loopArea(b)); });
+  std::stable_sort(this->Loops.begin(), this->Loops.end(), [&](const std::vector<int>& a, const std::vector<int>& b) {
+    return std::abs(loopArea(a)) > std::abs(loopArea(b));
+  });
 
   this->Low = blade.points.front();
   this->High = blade.points.front();
@@ -192,8 +193,8 @@ std::string BladeLocator::Build(const VenationBlade& blade)
   return {};
 }
 
-BladeLocation BladeLocator::Find(const Grid& grid, const std::vector<Eigen::Vector2d>& points,
-  const Eigen::Vector2d& p, double tolerance, const std::vector<char>& usable) const
+BladeLocation BladeLocator::Find(const Grid& grid, const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& p,
+  double tolerance, const std::vector<char>& usable) const
 {
   BladeLocation best;
   double bestMin = -std::numeric_limits<double>::max();
@@ -208,8 +209,8 @@ BladeLocation BladeLocator::Find(const Grid& grid, const std::vector<Eigen::Vect
     if (smallest > bestMin)
     {
       // The tolerance is a distance: a weight of -x is a distance of x times the height over that vertex.
-      const double size = std::max({ (points[tri[0]] - points[tri[1]]).norm(),
-        (points[tri[1]] - points[tri[2]]).norm(), (points[tri[2]] - points[tri[0]]).norm() });
+      const double size = std::max({ (points[tri[0]] - points[tri[1]]).norm(), (points[tri[1]] - points[tri[2]]).norm(),
+        (points[tri[2]] - points[tri[0]]).norm() });
       const double twiceArea = 2.0 * std::abs(SignedArea(points[tri[0]], points[tri[1]], points[tri[2]]));
       const double height = twiceArea / std::max(size, 1e-300);
       if (smallest >= 0.0 || -smallest * height <= tolerance)
@@ -261,8 +262,8 @@ BladeLocation BladeLocator::LocateUV(const Eigen::Vector2d& uv) const
           const Eigen::Vector2d& a = this->Blade->uv[tri[0]];
           const Eigen::Vector2d& b = this->Blade->uv[tri[1]];
           const Eigen::Vector2d& d = this->Blade->uv[tri[2]];
-          for (const Eigen::Vector2d& q : { ClosestOnSegment(uv, a, b), ClosestOnSegment(uv, b, d),
-                 ClosestOnSegment(uv, d, a) })
+          for (const Eigen::Vector2d& q :
+            { ClosestOnSegment(uv, a, b), ClosestOnSegment(uv, b, d), ClosestOnSegment(uv, d, a) })
           {
             const double distance = (q - uv).norm();
             if (distance < bestDistance)
@@ -279,8 +280,8 @@ BladeLocation BladeLocator::LocateUV(const Eigen::Vector2d& uv) const
   if (found.triangle >= 0)
   {
     const auto& tri = this->Blade->triangles[found.triangle];
-    found.weights = Barycentric(bestPoint, this->Blade->uv[tri[0]], this->Blade->uv[tri[1]], this->Blade->uv[tri[2]])
-                      .cwiseMax(0.0);
+    found.weights =
+      Barycentric(bestPoint, this->Blade->uv[tri[0]], this->Blade->uv[tri[1]], this->Blade->uv[tri[2]]).cwiseMax(0.0);
     found.weights /= found.weights.sum();
   }
   return found;

@@ -36,16 +36,16 @@ constexpr double margin = 99000.0;
 constexpr double loadTime = 14.81; // the droop's sigmoid is at 0.89 at 10 s
 constexpr double contractionTime = 3.02;
 constexpr double alpha = 1.16;
-constexpr double droopAsymmetry = -0.00744;     // practically symmetric
+constexpr double droopAsymmetry = -0.00744;      // practically symmetric
 constexpr double contractionAsymmetry = -0.0404; // the -x half contracts a little more
-constexpr double shrinkageStrain = 0.03569;     // the lamina 3.6 % shorter in every direction at full load ...
-constexpr double shrinkageTime = 1.06;          // ... reached early, before the leaf falls
-constexpr double shrinkageAsymmetry = 0.1916;   // the +x half shrinking 1.19 / 0.81 times as much as the -x half
-constexpr double curlStrain = 0.204;      // radial: curvature 0.204 / 1.59 cm = 0.128 / cm at full curl
-constexpr double curlAsymmetry = -0.00975; // (the fit's; practically symmetric)
-constexpr double curlTime = 2.501;        // before the contraction (3.02 s) drops the base
-constexpr double curlRelaxation = 0.9097; // most of it goes again as the leaf hangs ...
-constexpr double curlRelaxationTime = 6.506; // ... over this sigmoid
+constexpr double shrinkageStrain = 0.03569;      // the lamina 3.6 % shorter in every direction at full load ...
+constexpr double shrinkageTime = 1.06;           // ... reached early, before the leaf falls
+constexpr double shrinkageAsymmetry = 0.1916;    // the +x half shrinking 1.19 / 0.81 times as much as the -x half
+constexpr double curlStrain = 0.204;             // radial: curvature 0.204 / 1.59 cm = 0.128 / cm at full curl
+constexpr double curlAsymmetry = -0.00975;       // (the fit's; practically symmetric)
+constexpr double curlTime = 2.501;               // before the contraction (3.02 s) drops the base
+constexpr double curlRelaxation = 0.9097;        // most of it goes again as the leaf hangs ...
+constexpr double curlRelaxationTime = 6.506;     // ... over this sigmoid
 /// The voxel edge of the fit: the leaf's longest side (22.308 cm along y, cordate lobes included) / Resolution 14.
 constexpr double voxelSize = 22.3079 / 14.0;
 } // namespace CucumberFit

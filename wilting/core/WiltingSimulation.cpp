@@ -164,10 +164,10 @@ std::size_t BasePoint(const WiltingInput& input)
   std::size_t base = 0;
   for (std::size_t p = 1; p < input.points.size(); ++p)
   {
-    const bool lower = input.leafUV.empty()
-      ? input.points[p][1] < input.points[base][1]
-      : (input.leafUV[p][1] < input.leafUV[base][1] ||
-          (input.leafUV[p][1] == input.leafUV[base][1] && std::abs(input.leafUV[p][0]) < std::abs(input.leafUV[base][0])));
+    const bool lower = input.leafUV.empty() ? input.points[p][1] < input.points[base][1]
+                                            : (input.leafUV[p][1] < input.leafUV[base][1] ||
+                                                (input.leafUV[p][1] == input.leafUV[base][1] &&
+                                                  std::abs(input.leafUV[p][0]) < std::abs(input.leafUV[base][0])));
     if (lower)
     {
       base = p;
@@ -178,8 +178,8 @@ std::size_t BasePoint(const WiltingInput& input)
 
 /// Nodes with lumped masses, and the 28 springs and the hexahedron of every voxel. With shrinkage or curl: the 28
 /// springs of each voxel, in voxel order (else empty).
-std::vector<int> AddVoxelSprings(const VoxelGrid& grid, const WiltingParameters& parameters, double springScale,
-  MassSpringSystem& springs)
+std::vector<int> AddVoxelSprings(
+  const VoxelGrid& grid, const WiltingParameters& parameters, double springScale, MassSpringSystem& springs)
 {
   const double h = grid.h;
   std::vector<int> voxelSprings;
@@ -226,8 +226,8 @@ struct AnchorPlan
 };
 
 /// Anchors: the petiole's far end, or the input's petiole points, or the blade's base.
-AnchorPlan PlanAnchors(const WiltingInput& input, const WiltingParameters& parameters,
-  const PetiolePlacement& petiole, std::size_t base)
+AnchorPlan PlanAnchors(
+  const WiltingInput& input, const WiltingParameters& parameters, const PetiolePlacement& petiole, std::size_t base)
 {
   AnchorPlan plan;
   plan.firstAnchor = base;
@@ -283,7 +283,8 @@ std::size_t TipPointOf(const WiltingInput& input, std::size_t base)
     const bool higher = input.leafUV.empty()
       ? (input.points[p] - input.points[base]).squaredNorm() > (input.points[tip] - input.points[base]).squaredNorm()
       : (input.leafUV[p][1] > input.leafUV[tip][1] ||
-          (input.leafUV[p][1] == input.leafUV[tip][1] && std::abs(input.leafUV[p][0]) < std::abs(input.leafUV[tip][0])));
+          (input.leafUV[p][1] == input.leafUV[tip][1] &&
+            std::abs(input.leafUV[p][0]) < std::abs(input.leafUV[tip][0])));
     if (higher)
     {
       tip = p;
@@ -312,8 +313,8 @@ struct VoxelDirections
   Eigen::Vector2d towards = Eigen::Vector2d::Zero();
 };
 
-VoxelDirections DirectionsOf(const VoxelGrid& grid, std::size_t v, double midX, double baseY,
-  WiltingContractionTarget target)
+VoxelDirections DirectionsOf(
+  const VoxelGrid& grid, std::size_t v, double midX, double baseY, WiltingContractionTarget target)
 {
   const double h = grid.h;
   VoxelDirections out;
@@ -368,9 +369,8 @@ void AddVoxelCurl(const VoxelGrid& grid, std::size_t v, const WiltingParameters&
 
 /// Every voxel's droop and contraction on its bottom (or top) corners, and its shrinkage and curl strains on its
 /// springs (none for the petiole's voxels).
-void AccumulateVoxelLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint,
-  const WiltingParameters& parameters, double springScale, double loadScale, const std::vector<int>& voxelSprings,
-  FullLoads& loads)
+void AccumulateVoxelLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint, const WiltingParameters& parameters,
+  double springScale, double loadScale, const std::vector<int>& voxelSprings, FullLoads& loads)
 {
   const double midX = basePoint[0];
   const double baseY = basePoint[1];
@@ -496,8 +496,8 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   this->PetioleCells = PetiolePlacement();
   if (parameters.petioleLength > 0.0)
   {
-    error = AddPetiole(this->Voxels, input.points[base], parameters.petioleLength, parameters.maxVoxels,
-      this->PetioleCells);
+    error =
+      AddPetiole(this->Voxels, input.points[base], parameters.petioleLength, parameters.maxVoxels, this->PetioleCells);
     if (!error.empty())
     {
       return error;
@@ -512,8 +512,7 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
 
   // Anchors: the petiole's far end, or the input's petiole points, or the blade's base.
   AnchorPlan anchors = PlanAnchors(input, parameters, this->PetioleCells, base);
-  const std::size_t fixedCount =
-    FixNodesNearAnchors(grid, anchors.anchors, parameters.anchorRadius, this->Springs);
+  const std::size_t fixedCount = FixNodesNearAnchors(grid, anchors.anchors, parameters.anchorRadius, this->Springs);
   error = this->Embed.Bind(grid, input.points, parameters.tricubic);
   if (!error.empty())
   {
@@ -595,13 +594,10 @@ double WiltingSimulation::ShrinkageFactor(double t) const
 double WiltingSimulation::CurlFactor(double t) const
 {
   const double contractionTime = OwnOr(this->Params.contractionTime, this->Params.loadTime);
-  const double relaxation = this->Params.curlRelaxation == 0.0
-    ? 0.0
-    : this->Params.curlRelaxation *
-      WiltingLoadFactor(
-        this->Params.loadProfile, t, OwnOr(this->Params.curlRelaxationTime, this->Params.loadTime));
-  return WiltingLoadFactor(this->Params.loadProfile, t, OwnOr(this->Params.curlTime, contractionTime)) -
-    relaxation;
+  const double relaxation = this->Params.curlRelaxation == 0.0 ? 0.0
+                                                               : this->Params.curlRelaxation *
+      WiltingLoadFactor(this->Params.loadProfile, t, OwnOr(this->Params.curlRelaxationTime, this->Params.loadTime));
+  return WiltingLoadFactor(this->Params.loadProfile, t, OwnOr(this->Params.curlTime, contractionTime)) - relaxation;
 }
 
 void WiltingSimulation::SpringStrains(double t, std::vector<double>& strains) const
@@ -769,8 +765,7 @@ std::string WiltingSimulation::Run(const std::function<bool(double)>& progress)
       if (energy > 2.0 * std::max(0.0, work) + scale)
       {
         message << "the simulation blew up at step " << step << " (t = " << time << " s): its energy (" << energy
-                << ") grew beyond the work of the loads (" << work
-                << "); reduce TimeStep, or raise the damping";
+                << ") grew beyond the work of the loads (" << work << "); reduce TimeStep, or raise the damping";
         return message.str();
       }
     }

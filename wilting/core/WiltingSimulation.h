@@ -130,9 +130,9 @@ int WiltingMaterialOf(int region);
 
 struct WiltingMaterial
 {
-  double density = 0.05;    ///< mass per unit voxel volume (g/cm^3 with the presets' cm)
+  double density = 0.05;     ///< mass per unit voxel volume (g/cm^3 with the presets' cm)
   double stiffness = 2000.0; ///< spring constant (dyn/cm)
-  double damping = 0.0;     ///< spring dashpot (g/s)
+  double damping = 0.0;      ///< spring dashpot (g/s)
 };
 
 struct WiltingParameters
@@ -176,14 +176,14 @@ struct WiltingParameters
   WiltingContractionSide contractionSide = WiltingContractionSide::Bottom;
   WiltingContractionTarget contractionTarget = WiltingContractionTarget::Midvein;
   WiltingLoadProfile loadProfile = WiltingLoadProfile::Sigmoid;
-  double loadTime = 5.0;     ///< ramp / sigmoid duration (s)
+  double loadTime = 5.0; ///< ramp / sigmoid duration (s)
   /// The contraction's own ramp / sigmoid duration (s); 0: loadTime. * The paper sees the margins change first.
   double contractionTime = 0.0;
   double anchorRadius = 1.0; ///< model units
   /// > 0: a petiole of this length (model units, whole voxels) from the blade's base along -y, held at its far end
   /// (AddPetiole); 0: none, the blade held at its base.
   double petioleLength = 0.0;
-  double duration = 10.0;    ///< simulated seconds
+  double duration = 10.0; ///< simulated seconds
   double frameInterval = 0.1;
   bool tricubic = false;
   NewmarkParameters newmark; ///< time step, damping, Newton, solver, threads
@@ -198,10 +198,10 @@ double WiltingLoadFactor(WiltingLoadProfile profile, double t, double loadTime);
 
 struct WiltingInput
 {
-  std::vector<Eigen::Vector3d> points;     ///< every input point (surface and lines)
+  std::vector<Eigen::Vector3d> points;       ///< every input point (surface and lines)
   std::vector<std::array<int, 3>> triangles; ///< the surface, voxelised
-  std::vector<int> regions;                ///< one per point, or empty
-  std::vector<Eigen::Vector2d> leafUV;     ///< one per point, or empty
+  std::vector<int> regions;                  ///< one per point, or empty
+  std::vector<Eigen::Vector2d> leafUV;       ///< one per point, or empty
 };
 
 struct WiltingFrame
@@ -249,8 +249,8 @@ private:
   NewmarkIntegrator Newmark;
   PetiolePlacement PetioleCells;
   std::vector<Eigen::Vector3d> Points;
-  std::vector<double> GravityForce; // per node
-  std::vector<double> LoadForce;    // per node, droop at full load
+  std::vector<double> GravityForce;    // per node
+  std::vector<double> LoadForce;       // per node, droop at full load
   std::vector<double> ContractionLoad; // per node, contraction at full load
   std::vector<double> SpringShrinkage; // per spring, its strain at full load; empty without shrinkage
   std::vector<double> SpringCurl;      // per spring, its curl strain at full curl; empty without curl

@@ -331,8 +331,8 @@ std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vect
   return std::string();
 }
 
-std::string AddPetiole(VoxelGrid& grid, const Eigen::Vector3d& base, double length, std::size_t maxVoxels,
-  PetiolePlacement& petiole)
+std::string AddPetiole(
+  VoxelGrid& grid, const Eigen::Vector3d& base, double length, std::size_t maxVoxels, PetiolePlacement& petiole)
 {
   petiole = PetiolePlacement();
   if (!(length > 0.0) || !std::isfinite(length))

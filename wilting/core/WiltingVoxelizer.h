@@ -83,7 +83,7 @@ struct PetiolePlacement
 /// (along -y, in the blade's plane), Region 5 (petiole); cells of the blade on that path become petiole. The grid
 /// grows at its -y end when the petiole leaves it (its origin moves by whole cells, so the blade's cells keep their
 /// positions). Empty on success, else a message naming PetioleLength.
-std::string AddPetiole(VoxelGrid& grid, const Eigen::Vector3d& base, double length, std::size_t maxVoxels,
-  PetiolePlacement& petiole);
+std::string AddPetiole(
+  VoxelGrid& grid, const Eigen::Vector3d& base, double length, std::size_t maxVoxels, PetiolePlacement& petiole);
 
 } // namespace plantmorph

@@ -98,8 +98,8 @@ std::string MassSpringSystem::Finalize()
   for (std::size_t e = 0; e < this->SpringList.size(); ++e)
   {
     const MassSpringSpring& s = this->SpringList[e];
-    if (s.a < 0 || s.b >= static_cast<int>(n) || s.a == s.b || !(s.restLength > 0.0) ||
-      !std::isfinite(s.stiffness) || s.stiffness < 0.0 || !std::isfinite(s.damping) || s.damping < 0.0)
+    if (s.a < 0 || s.b >= static_cast<int>(n) || s.a == s.b || !(s.restLength > 0.0) || !std::isfinite(s.stiffness) ||
+      s.stiffness < 0.0 || !std::isfinite(s.damping) || s.damping < 0.0)
     {
       std::ostringstream message;
       message << "mass-spring spring " << e << " (" << s.a << ", " << s.b
@@ -239,7 +239,8 @@ double MassSpringSystem::KineticEnergy(const double* v) const
   double energy = 0.0;
   for (std::size_t i = 0; i < this->Rest.size(); ++i)
   {
-    energy += 0.5 * this->NodeMasses[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+    energy +=
+      0.5 * this->NodeMasses[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
   }
   return energy;
 }
@@ -264,8 +265,8 @@ double MassSpringSystem::MinimumRelativeJacobian(const double* u) const
     for (int c = 0; c < 8; ++c)
     {
       const int node = this->HexList[h][c];
-      x[c] = this->Rest[static_cast<std::size_t>(node)] +
-        Eigen::Vector3d(u[3 * node], u[3 * node + 1], u[3 * node + 2]);
+      x[c] =
+        this->Rest[static_cast<std::size_t>(node)] + Eigen::Vector3d(u[3 * node], u[3 * node + 1], u[3 * node + 2]);
     }
     const std::array<double, 8> det = CornerJacobians(x);
     for (int c = 0; c < 8; ++c)

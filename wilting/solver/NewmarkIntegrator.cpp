@@ -101,10 +101,10 @@ std::array<double, K> ChunkedSum(MassSpringThreads& threads, std::size_t n, cons
 
 struct NewmarkIntegrator::CholeskyData
 {
-  std::vector<int> freeIndex; // per node, -1 if fixed
+  std::vector<int> freeIndex;         // per node, -1 if fixed
   Eigen::SparseMatrix<double> matrix; // lower triangle, column-major
-  std::vector<int> nodeEntry;   // 6 per node (lower triangle of the diagonal block), value indices
-  std::vector<int> springEntry; // 9 per compact spring (row b, column a), -1 when an end is fixed
+  std::vector<int> nodeEntry;         // 6 per node (lower triangle of the diagonal block), value indices
+  std::vector<int> springEntry;       // 9 per compact spring (row b, column a), -1 when an end is fixed
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
   Eigen::VectorXd rhs, solution;
 
@@ -816,7 +816,8 @@ bool NewmarkIntegrator::SolveCholesky()
       }
       for (int k = 0; k < 6; ++k)
       {
-        values[chol.nodeEntry[6 * i + static_cast<std::size_t>(k)]] = this->NodeBlock[6 * i + static_cast<std::size_t>(k)];
+        values[chol.nodeEntry[6 * i + static_cast<std::size_t>(k)]] =
+          this->NodeBlock[6 * i + static_cast<std::size_t>(k)];
       }
       for (int c = 0; c < 3; ++c)
       {
@@ -938,7 +939,8 @@ std::string NewmarkIntegrator::Step(const std::vector<double>& force)
     {
       error0 = error;
     }
-    if (error == 0.0 || (iteration > 0 && error <= this->Params.newtonTolerance * this->Params.newtonTolerance * error0))
+    if (error == 0.0 ||
+      (iteration > 0 && error <= this->Params.newtonTolerance * this->Params.newtonTolerance * error0))
     {
       break;
     }

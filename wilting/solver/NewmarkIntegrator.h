@@ -66,10 +66,10 @@ struct NewmarkParameters
   double newtonTolerance = 1e-6;  ///< relative residual norm that ends the Newton iterations early
   bool compressionClamp = true;   ///< clamp (1 - L/l) at 0 in the tangent stiffness
   NewmarkSolver solver = NewmarkSolver::Auto;
-  double cgTolerance = 1e-6;      ///< relative (preconditioned) residual of the CG solve
+  double cgTolerance = 1e-6; ///< relative (preconditioned) residual of the CG solve
   int cgMaxIterations = 10000;
   bool extrapolateWarmStart = true; ///< CG starts from 2 d_{s-1} - d_{s-2} (else from d_{s-1})
-  int threads = 1;                ///< <= 0: all hardware threads
+  int threads = 1;                  ///< <= 0: all hardware threads
 };
 
 /// Free nodes up to this count use Cholesky under NewmarkSolver::Auto: CG won at every measured size (1k, 10k, 100k
@@ -140,8 +140,8 @@ private:
   std::unique_ptr<MassSpringThreads> Threads;
   double Alpha[7] = { 0, 0, 0, 0, 0, 0, 0 };
   double CurrentTime = 0.0;
-  std::vector<double> Q, V, A;    // state
-  std::vector<double> Q1, V1, A1; // start of the step, in the solver's node order
+  std::vector<double> Q, V, A;                   // state
+  std::vector<double> Q1, V1, A1;                // start of the step, in the solver's node order
   std::vector<double> SolverQ, SolverV, SolverA; // the state in the solver's node order
   // Per spring (in the system's order): the ends, the system's block s I + m m^T, the material, and g_e, the
   // spring's term of the residual (-R on a, +R on b). Per node: its springs as a row (the other end and the
@@ -162,12 +162,12 @@ private:
   {
     int node, spring;
   };
-  std::vector<int> Order;            // solver position -> system node
-  std::vector<int> Position;         // system node -> solver position
-  std::vector<double> NodeMass;      // by solver position
-  std::vector<char> NodeFixed;       // by solver position
+  std::vector<int> Order;                  // solver position -> system node
+  std::vector<int> Position;               // system node -> solver position
+  std::vector<double> NodeMass;            // by solver position
+  std::vector<char> NodeFixed;             // by solver position
   std::vector<Eigen::Vector3d> RestSolver; // by solver position
-  std::vector<SpringEnds> Ends;      // solver positions of the spring's a and b ends
+  std::vector<SpringEnds> Ends;            // solver positions of the spring's a and b ends
   std::vector<SpringBlock> Blocks;
   std::vector<SpringMaterial> Material;
   std::vector<int> SystemSpring;     // the system's index of each spring in the solver's order

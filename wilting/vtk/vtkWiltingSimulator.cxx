@@ -76,10 +76,11 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
   p.curlRelaxationTime = f->GetCurlRelaxationTime();
   p.curlTime = f->GetCurlTime();
   p.shrinkageTime = f->GetShrinkageTime();
-  p.curlDirection = f->GetCurlDirection() == 1 ? plantmorph::WiltingCurlDirection::Radial
-                                               : plantmorph::WiltingCurlDirection::Isotropic;
-  p.contractionSide = f->GetContractionSide() == vtkWiltingSimulator::SIDE_TOP ? plantmorph::WiltingContractionSide::Top
-                                                                               : plantmorph::WiltingContractionSide::Bottom;
+  p.curlDirection =
+    f->GetCurlDirection() == 1 ? plantmorph::WiltingCurlDirection::Radial : plantmorph::WiltingCurlDirection::Isotropic;
+  p.contractionSide = f->GetContractionSide() == vtkWiltingSimulator::SIDE_TOP
+    ? plantmorph::WiltingContractionSide::Top
+    : plantmorph::WiltingContractionSide::Bottom;
   p.contractionTarget = f->GetContractionTarget() == vtkWiltingSimulator::TARGET_BASE
     ? plantmorph::WiltingContractionTarget::Base
     : plantmorph::WiltingContractionTarget::Midvein;
@@ -163,7 +164,8 @@ std::string WiltingInputOf(vtkPolyData* input, vtkPolyData* veins, plantmorph::W
     {
       in.leafUV[static_cast<std::size_t>(i)] = Eigen::Vector2d(uv->GetComponent(i, 0), uv->GetComponent(i, 1));
     }
-  }  std::ostringstream assumed;
+  }
+  std::ostringstream assumed;
   if (in.leafUV.empty())
   {
     assumed << "the Input has no LeafUV point array (2 components), so its base is taken as its lowest point (least "
@@ -535,8 +537,7 @@ int vtkWiltingSimulator::FillOutputPortInformation(int port, vtkInformation* inf
 }
 
 //------------------------------------------------------------------------------
-int vtkWiltingSimulator::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+int vtkWiltingSimulator::RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   const std::vector<double> times =
     ValidateEnumerations(this).empty() ? FrameTimes(ParametersOf(this)) : std::vector<double>();
@@ -557,8 +558,7 @@ int vtkWiltingSimulator::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
-int vtkWiltingSimulator::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+int vtkWiltingSimulator::RequestUpdateExtent(vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
   // The whole simulation starts from the inputs' one state: do not pass our time upstream.
   for (int port = 0; port < 2; ++port)

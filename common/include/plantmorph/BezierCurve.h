@@ -13,8 +13,7 @@ namespace plantmorph
 /// The point at parameter t (clamped to [0, 1]) of the Bezier curve of degree controls.size() - 1; a zero vector
 /// for an empty control polygon. O(n^2) in the number of control points.
 template <int Dim>
-Eigen::Matrix<double, Dim, 1> EvaluateBezier(
-  const std::vector<Eigen::Matrix<double, Dim, 1>>& controls, double t);
+Eigen::Matrix<double, Dim, 1> EvaluateBezier(const std::vector<Eigen::Matrix<double, Dim, 1>>& controls, double t);
 
 /// `count` + 1 points at the equally spaced parameters 0, 1/count, ..., 1 (count at least 1).
 template <int Dim>

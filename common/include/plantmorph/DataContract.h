@@ -8,10 +8,10 @@ namespace plantmorph
 /// Array names. A filter passes through every array it does not own.
 namespace arrays
 {
-inline constexpr const char* LeafUV = "LeafUV";     ///< points, double x2: u in [-0.5, 0.5], v in [0, 1]
-inline constexpr const char* TCoords = "TCoords";   ///< points, float x2: paper 003 eq. (6), active tcoords
-inline constexpr const char* Region = "Region";     ///< points and cells, int: see Region below
-inline constexpr const char* Normals = "Normals";   ///< points, float x3, active normals
+inline constexpr const char* LeafUV = "LeafUV";   ///< points, double x2: u in [-0.5, 0.5], v in [0, 1]
+inline constexpr const char* TCoords = "TCoords"; ///< points, float x2: paper 003 eq. (6), active tcoords
+inline constexpr const char* Region = "Region";   ///< points and cells, int: see Region below
+inline constexpr const char* Normals = "Normals"; ///< points, float x3, active normals
 inline constexpr const char* VeinOrder = "VeinOrder";
 inline constexpr const char* VeinWidth = "VeinWidth";
 } // namespace arrays

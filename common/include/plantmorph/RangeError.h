@@ -11,8 +11,8 @@ namespace plantmorph
 
 /// The message for `property` = `value` outside `range`, with an optional explanatory `note` in parentheses.
 template <class T>
-std::string OutOfRange(const std::string& property, const T& value, const std::string& range,
-  const std::string& note = std::string())
+std::string OutOfRange(
+  const std::string& property, const T& value, const std::string& range, const std::string& note = std::string())
 {
   std::ostringstream message;
   message << property << " = " << value << " is outside the accepted range " << range;

@@ -95,8 +95,8 @@ TEST(FrenetSerret, ConstantCurvatureAndTorsionIsAHelix)
 
 TEST(FrenetSerret, FrameStaysOrthonormalAndRightHanded)
 {
-  const std::vector<FrenetFrame> f = Integrate([](double s) { return 2.0 + std::sin(3 * s); },
-    [](double s) { return 0.5 * std::cos(s); }, 10.0, 200, RK4(2));
+  const std::vector<FrenetFrame> f = Integrate(
+    [](double s) { return 2.0 + std::sin(3 * s); }, [](double s) { return 0.5 * std::cos(s); }, 10.0, 200, RK4(2));
   for (const FrenetFrame& frame : f)
   {
     EXPECT_NEAR(frame.tangent.norm(), 1.0, 1e-14);
@@ -114,8 +114,8 @@ TEST(FrenetSerret, RK45MeetsItsTolerance)
   {
     FrenetReport report;
     std::vector<FrenetFrame> f;
-    ASSERT_EQ(IntegrateFrenet(phi, nullptr, StandardFrame(), UniformArcLengths(S, 4), {}, RK45(tolerance), f, &report),
-      "");
+    ASSERT_EQ(
+      IntegrateFrenet(phi, nullptr, StandardFrame(), UniformArcLengths(S, 4), {}, RK45(tolerance), f, &report), "");
     // Back to the start after a full turn; the global error stays within a modest multiple of the step tolerance.
     EXPECT_LT(f.back().position.norm(), 200 * tolerance * S) << "tolerance " << tolerance;
     EXPECT_GT(report.steps, 0);
@@ -130,8 +130,7 @@ TEST(FrenetSerret, BreakpointsKeepRK4FourthOrderOnAKinkedCurvature)
   triangle.lambda = 0.7137; // the kink falls between output points
   const double S = 2.0;
   const auto phi = [&](double s) { return triangle.Evaluate(s, S); };
-  const std::vector<FrenetFrame> exact =
-    Integrate(phi, nullptr, S, 10, RK45(1e-13), triangle.Breakpoints(S));
+  const std::vector<FrenetFrame> exact = Integrate(phi, nullptr, S, 10, RK45(1e-13), triangle.Breakpoints(S));
   auto error = [&](int steps, bool withBreakpoints) {
     const std::vector<FrenetFrame> f =
       Integrate(phi, nullptr, S, 10, RK4(steps), withBreakpoints ? triangle.Breakpoints(S) : std::vector<double>{});
@@ -156,8 +155,8 @@ Eigen::Vector3d Chord(const CurvatureFamily& curvature, const CurvatureFamily* t
     breaks.insert(breaks.end(), more.begin(), more.end());
   }
   std::vector<FrenetFrame> f = Integrate([&](double s) { return curvature.Evaluate(s, S); },
-    torsion ? CurveFunction([&](double s) { return torsion->Evaluate(s, S); }) : CurveFunction(), S, 64, RK4(4),
-    breaks, start);
+    torsion ? CurveFunction([&](double s) { return torsion->Evaluate(s, S); }) : CurveFunction(), S, 64, RK4(4), breaks,
+    start);
   if (frames)
     *frames = f;
   return f.back().position - f.front().position;
@@ -260,16 +259,14 @@ TEST(FrenetSerret, BadInputIsAnErrorNotACrashOrAHang)
 {
   std::vector<FrenetFrame> f;
   const auto one = [](double) { return 1.0; };
-  EXPECT_NE(IntegrateFrenet(one, nullptr, FrenetFrame(), { 0.0, 0.0 }, {}, RK4(), f).find("length"),
-    std::string::npos);
-  EXPECT_NE(IntegrateFrenet(one, nullptr, FrenetFrame(), { 0.5, 1.0 }, {}, RK4(), f).find("s = 0"),
-    std::string::npos);
+  EXPECT_NE(IntegrateFrenet(one, nullptr, FrenetFrame(), { 0.0, 0.0 }, {}, RK4(), f).find("length"), std::string::npos);
+  EXPECT_NE(IntegrateFrenet(one, nullptr, FrenetFrame(), { 0.5, 1.0 }, {}, RK4(), f).find("s = 0"), std::string::npos);
   FrenetFrame parallel;
   parallel.normal = parallel.tangent;
-  EXPECT_NE(IntegrateFrenet(one, nullptr, parallel, { 0.0, 1.0 }, {}, RK4(), f).find("initial frame"),
-    std::string::npos);
-  EXPECT_NE(IntegrateFrenet([](double s) { return s > 0.5 ? std::nan("") : 1.0; }, nullptr, FrenetFrame(),
-              { 0.0, 1.0 }, {}, RK4(), f)
+  EXPECT_NE(
+    IntegrateFrenet(one, nullptr, parallel, { 0.0, 1.0 }, {}, RK4(), f).find("initial frame"), std::string::npos);
+  EXPECT_NE(IntegrateFrenet(
+              [](double s) { return s > 0.5 ? std::nan("") : 1.0; }, nullptr, FrenetFrame(), { 0.0, 1.0 }, {}, RK4(), f)
               .find("not finite"),
     std::string::npos);
   FrenetParameters limited = RK45(1e-14);

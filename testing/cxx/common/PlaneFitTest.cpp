@@ -14,7 +14,8 @@ namespace plantmorph
 {
 namespace
 {
-std::vector<Eigen::Vector3d> TiltedGrid(const Eigen::Vector3d& origin, const Eigen::Vector3d& u, const Eigen::Vector3d& v)
+std::vector<Eigen::Vector3d> TiltedGrid(
+  const Eigen::Vector3d& origin, const Eigen::Vector3d& u, const Eigen::Vector3d& v)
 {
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < 7; ++i)

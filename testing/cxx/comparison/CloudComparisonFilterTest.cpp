@@ -146,9 +146,8 @@ TEST(CloudComparisonFilter, EveryCellLayoutGivesVtkExactDistances)
       ASSERT_EQ(Array(reference.points, "SignedDistance")->GetTuple1(i) > 0, r > 1.0) << r;
     }
   }
-  for (vtkDataObject* layout :
-    { static_cast<vtkDataObject*>(glyphs->GetOutput()), static_cast<vtkDataObject*>(bare.Get()),
-      static_cast<vtkDataObject*>(grid.Get()) })
+  for (vtkDataObject* layout : { static_cast<vtkDataObject*>(glyphs->GetOutput()),
+         static_cast<vtkDataObject*>(bare.Get()), static_cast<vtkDataObject*>(grid.Get()) })
   {
     const Result r = Compare(layout, surface);
     ASSERT_EQ(r.errors, "");
@@ -378,19 +377,20 @@ TEST(CloudComparisonFilter, BadInputGivesAnErrorAndEmptyOutputs)
     EXPECT_EQ(r.statistics->GetNumberOfColumns(), 0) << what;
   };
   expectEmpty(Compare(ball, surface, [](vtkCloudComparisonFilter* f) { f->SetScale(0.0); }), "Scale");
-  expectEmpty(
-    Compare(ball, surface, [](vtkCloudComparisonFilter* f) { f->SetScale(std::nan("")); }), "Scale");
+  expectEmpty(Compare(ball, surface, [](vtkCloudComparisonFilter* f) { f->SetScale(std::nan("")); }), "Scale");
   expectEmpty(Compare(ball, surface, [](vtkCloudComparisonFilter* f) { f->SetHistogramBins(0); }), "HistogramBins");
-  expectEmpty(Compare(ball, surface, [](vtkCloudComparisonFilter* f) {
-    f->UseMaximumDistanceOn();
-    f->SetMaximumDistance(-1);
-  }),
+  expectEmpty(Compare(ball, surface,
+                [](vtkCloudComparisonFilter* f) {
+                  f->UseMaximumDistanceOn();
+                  f->SetMaximumDistance(-1);
+                }),
     "MaximumDistance");
   expectEmpty(Compare(ball, surface, [](vtkCloudComparisonFilter* f) { f->SetRegistration(7); }), "Registration");
-  expectEmpty(Compare(ball, surface, [](vtkCloudComparisonFilter* f) {
-    f->SetRegistration(1);
-    f->SetRegistrationIterations(0);
-  }),
+  expectEmpty(Compare(ball, surface,
+                [](vtkCloudComparisonFilter* f) {
+                  f->SetRegistration(1);
+                  f->SetRegistrationIterations(0);
+                }),
     "RegistrationIterations");
   vtkNew<vtkPolyData> empty;
   expectEmpty(Compare(ball, empty), "Reference");

@@ -36,10 +36,7 @@ class ProgressRecorder : public vtkCommand
 {
 public:
   static ProgressRecorder* New() { return new ProgressRecorder; }
-  void Execute(vtkObject*, unsigned long, void* data) override
-  {
-    this->Values.push_back(*static_cast<double*>(data));
-  }
+  void Execute(vtkObject*, unsigned long, void* data) override { this->Values.push_back(*static_cast<double*>(data)); }
   std::vector<double> Values;
 };
 

@@ -31,8 +31,8 @@ void ExpectRefused(const std::string& text, const std::string& words)
 TEST(PointCloudText, ScanFormatWithHeaderCommentsAndMixedSeparators)
 {
   PointCloudText cloud;
-  ASSERT_EQ(Read("x, y; z\tq\n# a comment\n// another\n\n  \r\n1,2,3,4\n5 6 7 8\r\n-1;-2 ; -3,\t-4\n.5 , 1e2  3e-1 4\n",
-              cloud),
+  ASSERT_EQ(
+    Read("x, y; z\tq\n# a comment\n// another\n\n  \r\n1,2,3,4\n5 6 7 8\r\n-1;-2 ; -3,\t-4\n.5 , 1e2  3e-1 4\n", cloud),
     "");
   EXPECT_EQ(cloud.columns, 4u);
   EXPECT_EQ(cloud.Rows(), 4u);
@@ -60,10 +60,11 @@ TEST(PointCloudText, ValuesAcrossBlocksEqualPrintf)
   std::istringstream in(text);
   std::vector<std::uint64_t> progress;
   PointCloudText cloud;
-  ASSERT_EQ(ReadPointCloudText(in, cloud, [&](std::uint64_t bytes) {
-    progress.push_back(bytes);
-    return true;
-  }),
+  ASSERT_EQ(ReadPointCloudText(in, cloud,
+              [&](std::uint64_t bytes) {
+                progress.push_back(bytes);
+                return true;
+              }),
     "");
   EXPECT_EQ(cloud.values, expected);
   ASSERT_EQ(progress.size(), (text.size() + (1u << 20) - 1) >> 20); // one report per MiB, and the end
@@ -71,8 +72,8 @@ TEST(PointCloudText, ValuesAcrossBlocksEqualPrintf)
   EXPECT_LT(progress[0], progress[1]);
 
   std::istringstream again(text);
-  EXPECT_EQ(ReadPointCloudText(again, cloud, [](std::uint64_t) { return false; }),
-    "reading stopped after 1048576 bytes");
+  EXPECT_EQ(
+    ReadPointCloudText(again, cloud, [](std::uint64_t) { return false; }), "reading stopped after 1048576 bytes");
   EXPECT_TRUE(cloud.values.empty());
 }
 

@@ -90,8 +90,9 @@ double BruteForce(const Mesh& mesh, const double* p)
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t t = 0; t < mesh.TriangleCount(); ++t)
   {
-    best = std::min(best, OracleTriangleDistance(p, &mesh.points[3 * mesh.triangles[3 * t]],
-                            &mesh.points[3 * mesh.triangles[3 * t + 1]], &mesh.points[3 * mesh.triangles[3 * t + 2]]));
+    best = std::min(best,
+      OracleTriangleDistance(p, &mesh.points[3 * mesh.triangles[3 * t]], &mesh.points[3 * mesh.triangles[3 * t + 1]],
+        &mesh.points[3 * mesh.triangles[3 * t + 2]]));
   }
   return best;
 }
@@ -226,9 +227,8 @@ Mesh GinkgoBlade(int resolution)
   LeafMeshParameters settings;
   settings.resolution = resolution;
   LeafGeometry leaf;
-  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings,
-              leaf),
-    "");
+  EXPECT_EQ(
+    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings, leaf), "");
   Mesh mesh;
   for (const auto& p : leaf.blade.points)
   {
@@ -269,8 +269,8 @@ std::vector<double> SampleOnMesh(const Mesh& mesh, RandomStream& random, std::si
 PointSurfaceDistance Build(const Mesh& mesh)
 {
   PointSurfaceDistance distance;
-  EXPECT_EQ(distance.BuildSurface(mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount()),
-    "");
+  EXPECT_EQ(
+    distance.BuildSurface(mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount()), "");
   return distance;
 }
 
@@ -394,8 +394,8 @@ std::vector<double> InsideAndOutside(RandomStream& random, std::size_t count)
   }
   const double tolerance = 1e-14 * (1.0 + a.distance);
   const double gap[3] = { a.closest[0] - b.closest[0], a.closest[1] - b.closest[1], a.closest[2] - b.closest[2] };
-  if (std::fabs(a.distance - b.distance) <= tolerance &&
-    std::fabs(a.signedDistance - b.signedDistance) <= tolerance && std::sqrt(Dot3(gap, gap)) <= 1e-12)
+  if (std::fabs(a.distance - b.distance) <= tolerance && std::fabs(a.signedDistance - b.signedDistance) <= tolerance &&
+    std::sqrt(Dot3(gap, gap)) <= 1e-12)
   {
     return ::testing::AssertionSuccess();
   }
@@ -460,9 +460,8 @@ TEST(PointSurfaceDistance, AvxAndSse2TraversalsGiveTheSameResultsBitForBit)
     {
       PointSurfaceDistance distance;
       distance.SetAvx(avx);
-      ASSERT_EQ(distance.BuildSurface(
-                  mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount()),
-        "");
+      ASSERT_EQ(
+        distance.BuildSurface(mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount()), "");
       ASSERT_EQ(distance.GetAvx(), avx); // kept by BuildSurface
       d[avx].resize(n);
       s[avx].resize(n);
@@ -498,8 +497,8 @@ TEST(PointSurfaceDistance, ThreadedBuildAndMortonQueriesEqualSerialOnes)
   ASSERT_EQ(
     serial.BuildSurface(mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount()), "");
   PointSurfaceDistance threaded;
-  ASSERT_EQ(threaded.BuildSurface(
-              mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount(), pieces),
+  ASSERT_EQ(
+    threaded.BuildSurface(mesh.points.data(), mesh.PointCount(), mesh.triangles.data(), mesh.TriangleCount(), pieces),
     "");
   EXPECT_EQ(serial.MemoryBytes(), threaded.MemoryBytes());
   // 5000 points: QueryMany sorts them along the Z-curve; with a progress callback it works in blocks.

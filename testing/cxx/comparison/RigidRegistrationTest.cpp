@@ -33,9 +33,8 @@ Surface CurvedBlade()
   LeafMeshParameters settings;
   settings.resolution = 40;
   LeafGeometry leaf;
-  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings,
-              leaf),
-    "");
+  EXPECT_EQ(
+    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, 5.0), settings, leaf), "");
   Surface s;
   for (const auto& p : leaf.blade.points)
   {
@@ -224,9 +223,8 @@ Surface FlatBlade()
   LeafMeshParameters settings;
   settings.resolution = 40;
   LeafGeometry leaf;
-  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings,
-              leaf),
-    "");
+  EXPECT_EQ(
+    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, leaf), "");
   Surface s;
   for (const auto& p : leaf.blade.points)
     s.points.insert(s.points.end(), { p.x(), p.y(), 0.0 });
@@ -255,8 +253,8 @@ TEST(RigidRegistration, SymmetricIcpRecoversAnInPlaneTurnAndScaleOfAFlatLeaf)
               surface.points.data(), surface.points.size() / 3, surface.triangles.data(), surface.triangles.size() / 3),
     "");
   Eigen::Matrix4d truth = Eigen::Matrix4d::Identity();
-  truth.topLeftCorner<3, 3>() = 1.08 * Eigen::AngleAxisd(6.0 * 3.14159265358979 / 180.0, Eigen::Vector3d::UnitZ())
-                                         .toRotationMatrix();
+  truth.topLeftCorner<3, 3>() =
+    1.08 * Eigen::AngleAxisd(6.0 * 3.14159265358979 / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   truth.topRightCorner<3, 1>() = Eigen::Vector3d(0.12, -0.05, 0.0);
   const std::vector<double> measured = MoveBy(Sample(surface, 6000, 5), truth);
   // The one-sided point-to-plane ICP cannot see it: it stays at the start (the old failure, kept as a witness).

@@ -18,10 +18,10 @@ namespace plantmorph
 namespace
 {
 // Table 1 of paper 001 (docs/references.md; as in data/cucumber-wilting-tip.csv), cm.
-const std::vector<double> Measured = { 0.46, 19.58, -2.13, -1.26, 18.51, -3.43, -1.30, 13.45, -9.87, 0.10, 8.90,
-  -14.10, 0.60, 4.20, -18.40 };
-const std::vector<double> PaperSimulated = { -1.06, 20.41, -1.79, -0.86, 19.03, -3.22, 1.12, 12.85, -9.49, 1.27,
-  9.90, -15.20, 1.50, 1.70, -19.60 };
+const std::vector<double> Measured = { 0.46, 19.58, -2.13, -1.26, 18.51, -3.43, -1.30, 13.45, -9.87, 0.10, 8.90, -14.10,
+  0.60, 4.20, -18.40 };
+const std::vector<double> PaperSimulated = { -1.06, 20.41, -1.79, -0.86, 19.03, -3.22, 1.12, 12.85, -9.49, 1.27, 9.90,
+  -15.20, 1.50, 1.70, -19.60 };
 
 TEST(TrajectoryMatching, ReproducesPaper001Table1)
 {
@@ -139,8 +139,8 @@ TEST(TrajectoryMatching, BadInput)
   // One sample: the direction is undefined, so it is refused (it used to give a NaN angle).
   EXPECT_NE(CompareTrajectories(Measured.data(), 1, PaperSimulated.data(), 5).error.find("measured trajectory has 1"),
     std::string::npos);
-  EXPECT_NE(CompareTrajectories(Measured.data(), 5, PaperSimulated.data(), 1).error.find("at least 2"),
-    std::string::npos);
+  EXPECT_NE(
+    CompareTrajectories(Measured.data(), 5, PaperSimulated.data(), 1).error.find("at least 2"), std::string::npos);
   EXPECT_EQ(CompareTrajectories(Measured.data(), 2, PaperSimulated.data(), 2).error, "");
 }
 

@@ -80,8 +80,8 @@ TrueLeaf MakeLeaf(Model model, double length, double longitudinal, double transv
       z *= length / midvein;
   }
   else
-    error = BuildDeformedRectangleLeaf(
-      MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, length), settings, leaf);
+    error =
+      BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, length), settings, leaf);
   EXPECT_EQ(error, "");
   const std::size_t n = leaf.blade.points.size();
   std::vector<double> xyz, uv;
@@ -230,8 +230,9 @@ void ExpectAccurate(const Case& c, const Eigen::Isometry3d& pose = Eigen::Isomet
   {
     // A hole in the scan (a missing patch, as scanners leave behind glare or occlusion), outliers kept at the end.
     const Eigen::Vector3d centre = truth.points[truth.midvein[truth.midvein.size() / 2]] +
-      0.25 * (truth.points[truth.rightMargin[truth.rightMargin.size() / 2]] -
-               truth.points[truth.midvein[truth.midvein.size() / 2]]);
+      0.25 *
+        (truth.points[truth.rightMargin[truth.rightMargin.size() / 2]] -
+          truth.points[truth.midvein[truth.midvein.size() / 2]]);
     std::vector<Eigen::Vector3d> holed;
     for (int i = 0; i < c.count; ++i)
       if ((scan[i] - centre).norm() > c.hole * length)
@@ -248,12 +249,13 @@ void ExpectAccurate(const Case& c, const Eigen::Isometry3d& pose = Eigen::Isomet
   ASSERT_EQ(fit.error, "");
   const double area = truth.Area(), trueLength = truth.MidveinLength();
   EXPECT_NEAR(fit.traits.area / area, 1.0, 0.01) << "area " << fit.traits.area << " truth " << area;
-  EXPECT_NEAR(fit.traits.length / trueLength, 1.0, c.lengthTolerance) << "length " << fit.traits.length << " truth " << trueLength
-    << " base off by " << (fit.points[fit.midvein.front()] - truth.points[truth.midvein.front()]).norm()
-    << " apex off by " << (fit.points[fit.midvein.back()] - truth.points[truth.midvein.back()]).norm();
+  EXPECT_NEAR(fit.traits.length / trueLength, 1.0, c.lengthTolerance)
+    << "length " << fit.traits.length << " truth " << trueLength << " base off by "
+    << (fit.points[fit.midvein.front()] - truth.points[truth.midvein.front()]).norm() << " apex off by "
+    << (fit.points[fit.midvein.back()] - truth.points[truth.midvein.back()]).norm();
   EXPECT_LT(SurfaceRMS(fit, truth), sigma) << "noise " << sigma;
-  const double hausdorff = OutlineHausdorff(Loop(fit.points, fit.rightMargin, fit.leftMargin),
-    Loop(truth.points, truth.rightMargin, truth.leftMargin));
+  const double hausdorff = OutlineHausdorff(
+    Loop(fit.points, fit.rightMargin, fit.leftMargin), Loop(truth.points, truth.rightMargin, truth.leftMargin));
   EXPECT_LT(hausdorff, 0.02 * trueLength);
   // The scan's own statistics: FitRMS is the noise; the outliers are not inliers; the blade is covered.
   EXPECT_NEAR(fit.traits.fitRMS / sigma, 1.0, 0.15);
@@ -336,10 +338,10 @@ TEST(LeafFit, SmallScansStayWithinTheirDocumentedRange)
         ASSERT_EQ(fit.error, "");
         const double area = fit.traits.area / truth.Area() - 1.0;
         const double length = fit.traits.length / truth.MidveinLength() - 1.0;
-        EXPECT_LT(std::abs(area), count >= 5000 ? 0.01 : 0.02) << "model " << static_cast<int>(model) << ", " << count
-                                                             << " points, seed " << seed;
-        EXPECT_LT(std::abs(length), count >= 5000 ? 0.01 : 0.05) << "model " << static_cast<int>(model) << ", "
-                                                                 << count << " points, seed " << seed;
+        EXPECT_LT(std::abs(area), count >= 5000 ? 0.01 : 0.02)
+          << "model " << static_cast<int>(model) << ", " << count << " points, seed " << seed;
+        EXPECT_LT(std::abs(length), count >= 5000 ? 0.01 : 0.05)
+          << "model " << static_cast<int>(model) << ", " << count << " points, seed " << seed;
       }
   }
 }
@@ -409,13 +411,14 @@ TEST(LeafFit, ModelCControlPointsRebuildTheLeaf)
   ASSERT_EQ(BuildBSplineLeaf(model, settings, rebuilt), "");
   std::vector<Eigen::Vector3d> points;
   for (std::size_t i = 0; i < rebuilt.blade.points.size(); ++i)
-    points.emplace_back(rebuilt.blade.points[i].x(), rebuilt.blade.points[i].y(), rebuilt.z.empty() ? 0.0 : rebuilt.z[i]);
+    points.emplace_back(
+      rebuilt.blade.points[i].x(), rebuilt.blade.points[i].y(), rebuilt.z.empty() ? 0.0 : rebuilt.z[i]);
   double area = 0.0;
   for (const auto& t : rebuilt.blade.triangles)
     area += 0.5 * (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]).norm();
   EXPECT_NEAR(area / fit.traits.area, 1.0, 0.01);
-  EXPECT_LT(OutlineHausdorff(Loop(points, rebuilt.rightMargin, rebuilt.leftMargin),
-              Loop(fit.points, fit.rightMargin, fit.leftMargin)),
+  EXPECT_LT(OutlineHausdorff(
+              Loop(points, rebuilt.rightMargin, rebuilt.leftMargin), Loop(fit.points, fit.rightMargin, fit.leftMargin)),
     0.01 * fit.traits.length);
 }
 

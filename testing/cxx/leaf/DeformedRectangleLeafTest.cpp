@@ -99,8 +99,8 @@ TEST_P(EveryPreset, BladeIsAnOrientedManifoldDisk)
   ASSERT_EQ(used.size(), mesh.points.size());
   const std::size_t boundary = loops[0].size(), interior = mesh.points.size() - boundary;
   EXPECT_EQ(mesh.triangles.size(), boundary + 2 * interior - 2);
-  EXPECT_EQ(static_cast<long>(mesh.points.size()) - static_cast<long>(use.size()) +
-      static_cast<long>(mesh.triangles.size()),
+  EXPECT_EQ(
+    static_cast<long>(mesh.points.size()) - static_cast<long>(use.size()) + static_cast<long>(mesh.triangles.size()),
     1L);
 }
 

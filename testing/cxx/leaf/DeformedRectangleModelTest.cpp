@@ -65,8 +65,8 @@ TEST(DeformedRectangleModel, ScaledToItsBladeLengthBaseToApex)
   }
   // An apex on the base cannot be scaled to a length.
   DeformedRectangleParameters collapsed;
-  collapsed.terms = { SinusoidTerm{ SinusoidTerm::Y, SinusoidTerm::Length, -1.0, SinusoidTerm::V, 0.0,
-    SinusoidTerm::VariableU, Pi / 2 } };
+  collapsed.terms = { SinusoidTerm{
+    SinusoidTerm::Y, SinusoidTerm::Length, -1.0, SinusoidTerm::V, 0.0, SinusoidTerm::VariableU, Pi / 2 } };
   ASSERT_EQ(Validate(collapsed), "");
   EXPECT_NE(ScaleToBladeLength(collapsed, 5.0).find("apex falls onto the base"), std::string::npos);
 }
@@ -141,7 +141,8 @@ TEST(DeformedRectangleModel, InvertRecoversParameters)
     for (int trial = 0; trial < 200; ++trial)
     {
       const Eigen::Vector2d uv(-0.49 + 0.98 * uniform(random), 0.02 + 0.96 * uniform(random));
-      const Eigen::Vector2d guess = uv + Eigen::Vector2d(0.01 * (uniform(random) - 0.5), 0.01 * (uniform(random) - 0.5));
+      const Eigen::Vector2d guess =
+        uv + Eigen::Vector2d(0.01 * (uniform(random) - 0.5), 0.01 * (uniform(random) - 0.5));
       Eigen::Vector2d found;
       ASSERT_TRUE(model.Invert(model.Evaluate(uv.x(), uv.y()), guess, found))
         << PresetName(static_cast<DeformedRectanglePreset>(k)) << " at " << uv.transpose();

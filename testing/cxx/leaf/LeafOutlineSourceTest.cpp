@@ -338,7 +338,7 @@ TEST(vtkLeafOutlineSource, TorsionShapeParametersReachTheModel)
   double after[6];
   source->GetOutput(0)->GetBounds(after);
   EXPECT_GT(std::abs(after[5] - before[5]) + std::abs(after[4] - before[4]), 1e-3); // another twist, another leaf
-  source->SetTorsionFunction(4); // notched apex
+  source->SetTorsionFunction(4);                                                    // notched apex
   source->SetTorsionAlpha4(1.5);
   source->Update();
   EXPECT_NE(catcher->Messages.find("Alpha4 = 1.5"), std::string::npos) << catcher->Messages;

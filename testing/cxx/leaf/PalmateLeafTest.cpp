@@ -99,7 +99,8 @@ TEST_P(EveryPalmatePreset, BladeIsOneManifoldDiskThatTilesTheLobesUnion)
     const double area = SignedArea(leaf.blade.points, t);
     ASSERT_GT(area, 0.0);
     total += area;
-    const Eigen::Vector2d centroid = (leaf.blade.points[t[0]] + leaf.blade.points[t[1]] + leaf.blade.points[t[2]]) / 3.0;
+    const Eigen::Vector2d centroid =
+      (leaf.blade.points[t[0]] + leaf.blade.points[t[1]] + leaf.blade.points[t[2]]) / 3.0;
     ASSERT_TRUE(InsideOrOn(centroid, closed, 1e-12));
   }
   EXPECT_NEAR(total, Area(polygon), 1e-9 * Area(polygon));
@@ -191,8 +192,9 @@ TEST_P(EveryPalmatePreset, LeafIsMirrorSymmetricAndBitIdenticalOnRerun)
 }
 
 INSTANTIATE_TEST_SUITE_P(PalmateLeaf, EveryPalmatePreset,
-  ::testing::Values(Case{ SpaceCurvePreset::Figure8ThreeLobes, true }, Case{ SpaceCurvePreset::Figure8ThreeLobes, false },
-    Case{ SpaceCurvePreset::Figure8FiveLobes, true }, Case{ SpaceCurvePreset::Figure8FiveLobes, false }),
+  ::testing::Values(Case{ SpaceCurvePreset::Figure8ThreeLobes, true },
+    Case{ SpaceCurvePreset::Figure8ThreeLobes, false }, Case{ SpaceCurvePreset::Figure8FiveLobes, true },
+    Case{ SpaceCurvePreset::Figure8FiveLobes, false }),
   [](const ::testing::TestParamInfo<Case>& info) {
     return SpaceCurvePresetName(info.param.preset) + (info.param.quality ? "Quality" : "Paper");
   });
@@ -216,7 +218,8 @@ TEST(PalmateLeaf, GrowingAtFixedMuIsAnExactSimilarity)
 
 TEST(PalmateLeaf, MoreLobesCoverMore)
 {
-  const double three = Area(OutlinePolygon(Build(MakeSpaceCurvePreset(SpaceCurvePreset::Figure8ThreeLobes, 5.0), false)));
+  const double three =
+    Area(OutlinePolygon(Build(MakeSpaceCurvePreset(SpaceCurvePreset::Figure8ThreeLobes, 5.0), false)));
   SpaceCurveParameters p = MakeSpaceCurvePreset(SpaceCurvePreset::Figure8ThreeLobes, 5.0);
   p.lobes = 5;
   const double five = Area(OutlinePolygon(Build(p, false)));
@@ -246,7 +249,12 @@ TEST(PalmateLeaf, BadLobeParametersGiveAMessageNamingThePropertyAndNoLeaf)
     { "Lobes", [](SpaceCurveParameters& p, double v) { p.torsion.mu = v; }, 4.0 }, // palmate leaves are flat
     { "Lobes", [](SpaceCurveParameters& p, double v) { p.opening = v; }, 0.5 },
     // Lobes turned so far out that they hang from lobe 1 by their start point only.
-    { "LobeAngle", [](SpaceCurveParameters& p, double v) { p.lobeAngle = v; p.curvature.mu = 2.0; }, 60.0 },
+    { "LobeAngle",
+      [](SpaceCurveParameters& p, double v) {
+        p.lobeAngle = v;
+        p.curvature.mu = 2.0;
+      },
+      60.0 },
   };
   for (const Bad& bad : cases)
   {
@@ -258,8 +266,8 @@ TEST(PalmateLeaf, BadLobeParametersGiveAMessageNamingThePropertyAndNoLeaf)
     LeafGeometry leaf;
     const std::string error = BuildSpaceCurveLeaf(p, settings, leaf);
     EXPECT_NE(error.find(bad.property), std::string::npos) << error;
-    EXPECT_TRUE(leaf.blade.points.empty() && leaf.blade.triangles.empty() && leaf.midvein.empty() &&
-      leaf.lobeMidveins.empty());
+    EXPECT_TRUE(
+      leaf.blade.points.empty() && leaf.blade.triangles.empty() && leaf.midvein.empty() && leaf.lobeMidveins.empty());
   }
 }
 

@@ -80,8 +80,8 @@ void ExpectManifoldDisk(const LeafGeometry& leaf)
     bool lobeTip = false;
     for (const std::vector<int>& lobe : leaf.lobeMidveins)
       lobeTip = lobeTip || id == lobe.back();
-    EXPECT_TRUE(leaf.blade.region[id] == RegionMargin || id == leaf.midvein.front() || id == leaf.midvein.back() ||
-      lobeTip);
+    EXPECT_TRUE(
+      leaf.blade.region[id] == RegionMargin || id == leaf.midvein.front() || id == leaf.midvein.back() || lobeTip);
   }
 }
 

@@ -162,7 +162,10 @@ ParallelFor Threads(std::size_t threads)
   };
 }
 
-double Dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double Dot3(const double* a, const double* b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 bool SameBits(const std::vector<double>& a, const std::vector<double>& b)
 {

@@ -111,7 +111,8 @@ TEST(VirtualScanner, EveryPointCarriesItsHitCellsLabels)
     ASSERT_LT(cell, scene->GetNumberOfCells());
     EXPECT_EQ(leaf->GetValue(i), scene->GetCellData()->GetArray("LeafId")->GetComponent(cell, 0));
     EXPECT_EQ(region->GetValue(i), scene->GetCellData()->GetArray("Region")->GetComponent(cell, 0));
-    EXPECT_EQ(label->GetComponent(i, 1), static_cast<double>(cell) - (leaf->GetValue(i) ? scene->GetNumberOfCells() / 2 : 0));
+    EXPECT_EQ(
+      label->GetComponent(i, 1), static_cast<double>(cell) - (leaf->GetValue(i) ? scene->GetNumberOfCells() / 2 : 0));
     // The point lies on its hit cell's plane, within the cell's reach, and on the side facing its scanner.
     double x[3], n3[3], a[3], b[3], c[3];
     cloud->GetPoint(i, x);

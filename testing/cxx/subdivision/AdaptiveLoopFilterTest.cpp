@@ -371,8 +371,8 @@ TEST(AdaptiveLoopFilter, NonManifoldInputIsRefusedWithPointIds)
 {
   vtkNew<vtkPolyData> fin;
   vtkNew<vtkPoints> points;
-  for (const auto& p : std::vector<std::array<double, 3>>{ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 },
-         { 0, 0, 1 } })
+  for (const auto& p :
+    std::vector<std::array<double, 3>>{ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 } })
     points->InsertNextPoint(p.data());
   fin->SetPoints(points);
   vtkNew<vtkCellArray> triangles;
@@ -391,19 +391,27 @@ TEST(AdaptiveLoopFilter, BadPropertiesAreNamedWithTheirRangeAndGiveEmptyOutput)
   const std::vector<std::pair<std::function<void(vtkAdaptiveLoopFilter*)>, std::string>> cases = {
     { [](vtkAdaptiveLoopFilter* f) { f->SetEdgeAngleThreshold(std::nan("")); },
       "EdgeAngleThreshold = nan is outside the accepted range [0, 180]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetEdgeAngleThreshold(181); }, "EdgeAngleThreshold = 181 is outside the accepted range [0, 180]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetFlatnessThreshold(-0.5); }, "FlatnessThreshold = -0.5 is outside the accepted range [0, 1]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetMaximumLevel(-1); }, "MaximumLevel = -1 is outside the accepted range [0, 10]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetFeatureRule(7); }, "FeatureRule = 7 is outside the accepted range {0, 1, 2}" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetMaximumTriangles(0); }, "MaximumTriangles = 0 is outside the accepted range [1, " },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetNumberOfThreads(-2); }, "NumberOfThreads = -2 is outside the accepted range [0, 256]" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetRefinementRule(3); }, "RefinementRule = 3 is outside the accepted range {0, 1, 2} (0 Dihedral angle, 1 Surface error, 2 Chord error)" },
-    { [](vtkAdaptiveLoopFilter* f) { f->SetErrorTolerance(-1.0); }, "ErrorTolerance = -1 is outside the accepted range [0, inf]" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetEdgeAngleThreshold(181); },
+      "EdgeAngleThreshold = 181 is outside the accepted range [0, 180]" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetFlatnessThreshold(-0.5); },
+      "FlatnessThreshold = -0.5 is outside the accepted range [0, 1]" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetMaximumLevel(-1); },
+      "MaximumLevel = -1 is outside the accepted range [0, 10]" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetFeatureRule(7); },
+      "FeatureRule = 7 is outside the accepted range {0, 1, 2}" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetMaximumTriangles(0); },
+      "MaximumTriangles = 0 is outside the accepted range [1, " },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetNumberOfThreads(-2); },
+      "NumberOfThreads = -2 is outside the accepted range [0, 256]" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetRefinementRule(3); },
+      "RefinementRule = 3 is outside the accepted range {0, 1, 2} (0 Dihedral angle, 1 Surface error, 2 Chord error)" },
+    { [](vtkAdaptiveLoopFilter* f) { f->SetErrorTolerance(-1.0); },
+      "ErrorTolerance = -1 is outside the accepted range [0, inf]" },
     { [](vtkAdaptiveLoopFilter* f) {
-        f->SetMaximumLevel(4);
-        f->SetEdgeAngleThreshold(180);
-        f->SetMaximumTriangles(1000);
-      },
+       f->SetMaximumLevel(4);
+       f->SetEdgeAngleThreshold(180);
+       f->SetMaximumTriangles(1000);
+     },
       "would make more than MaximumTriangles = 1000" },
   };
   for (const auto& [configure, expected] : cases)

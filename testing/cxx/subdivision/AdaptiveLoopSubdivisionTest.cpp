@@ -31,8 +31,8 @@ AdaptiveLoopMesh Icosahedron(bool perturb)
 {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   AdaptiveLoopMesh mesh;
-  mesh.points = { -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1,
-    -t, 0, -1, -t, 0, 1 };
+  mesh.points = { -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t,
+    0, -1, -t, 0, 1 };
   mesh.triangles = { 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
     3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1 };
   if (perturb)
@@ -156,8 +156,8 @@ AdaptiveLoopMesh ReferenceLoopLevel(const AdaptiveLoopMesh& in)
       else
       {
         const int n = static_cast<int>(neighbours[v].size());
-        const double beta = n == 3 ? 3.0 / 16.0
-                                   : (5.0 / 8.0 - std::pow(3.0 / 8.0 + std::cos(2.0 * M_PI / n) / 4.0, 2)) / n;
+        const double beta =
+          n == 3 ? 3.0 / 16.0 : (5.0 / 8.0 - std::pow(3.0 / 8.0 + std::cos(2.0 * M_PI / n) / 4.0, 2)) / n;
         double sum = 0.0;
         for (int w : neighbours[v])
           sum += P(w, j);
@@ -170,9 +170,9 @@ AdaptiveLoopMesh ReferenceLoopLevel(const AdaptiveLoopMesh& in)
   {
     oddId[edge] = static_cast<int>(out.points.size() / 3);
     for (int j = 0; j < 3; ++j)
-      out.points.push_back(opp.size() == 1 ? 0.5 * (P(edge.first, j) + P(edge.second, j))
-                                           : 0.375 * (P(edge.first, j) + P(edge.second, j)) +
-                             0.125 * (P(opp[0], j) + P(opp[1], j)));
+      out.points.push_back(opp.size() == 1
+          ? 0.5 * (P(edge.first, j) + P(edge.second, j))
+          : 0.375 * (P(edge.first, j) + P(edge.second, j)) + 0.125 * (P(opp[0], j) + P(opp[1], j)));
   }
   for (std::size_t t = 0; t < in.NumberOfTriangles(); ++t)
   {
@@ -180,8 +180,8 @@ AdaptiveLoopMesh ReferenceLoopLevel(const AdaptiveLoopMesh& in)
     int m[3];
     for (int c = 0; c < 3; ++c)
       m[c] = oddId.at({ std::min(v[c], v[(c + 1) % 3]), std::max(v[c], v[(c + 1) % 3]) });
-    out.triangles.insert(out.triangles.end(),
-      { v[0], m[0], m[2], m[0], v[1], m[1], m[2], m[1], v[2], m[0], m[1], m[2] });
+    out.triangles.insert(
+      out.triangles.end(), { v[0], m[0], m[2], m[0], v[1], m[1], m[2], m[1], v[2], m[0], m[1], m[2] });
   }
   return out;
 }
@@ -230,8 +230,7 @@ void ExpectOracle(const AdaptiveLoopMesh& input, int levels)
     ASSERT_EQ(result.levels, level);
     ASSERT_EQ(result.mesh.NumberOfPoints(), reference.NumberOfPoints()) << "level " << level;
     EXPECT_LT(MaxDifference(result.mesh.points, reference.points), 1e-12) << "level " << level;
-    EXPECT_EQ(CanonicalTriangles(result.mesh.triangles), CanonicalTriangles(reference.triangles))
-      << "level " << level;
+    EXPECT_EQ(CanonicalTriangles(result.mesh.triangles), CanonicalTriangles(reference.triangles)) << "level " << level;
     ASSERT_EQ(result.trianglesPerLevel.size(), static_cast<std::size_t>(level + 1));
     for (int l = 0; l <= level; ++l)
       EXPECT_EQ(result.trianglesPerLevel[l], input.NumberOfTriangles() << (2 * l));
@@ -241,8 +240,8 @@ void ExpectOracle(const AdaptiveLoopMesh& input, int levels)
 /// Fixed or Refine features: every input point of the margin or midvein (Region 1 or 4) is in the output bit for bit,
 /// and the output has one boundary loop with `boundaryFactor` times the input loop's points. `featurePoints`
 /// receives how many points were checked.
-void ExpectFeaturePointsKept(const AdaptiveLoopMesh& input, const AdaptiveLoopMesh& output, std::size_t boundaryFactor,
-  std::size_t& featurePoints)
+void ExpectFeaturePointsKept(
+  const AdaptiveLoopMesh& input, const AdaptiveLoopMesh& output, std::size_t boundaryFactor, std::size_t& featurePoints)
 {
   featurePoints = 0;
   for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
@@ -264,8 +263,8 @@ void ExpectConforming(const AdaptiveLoopMesh& input, const AdaptiveLoopMesh& out
   const auto inUse = testing::EdgeUse(AsTriangles(input.triangles));
   const auto outUse = testing::EdgeUse(AsTriangles(output.triangles));
   for (const auto& [edge, count] : outUse)
-    ASSERT_TRUE(count == 1 || count == 2) << what << ": edge " << edge.first << "-" << edge.second << " in "
-                                          << count << " triangles";
+    ASSERT_TRUE(count == 1 || count == 2)
+      << what << ": edge " << edge.first << "-" << edge.second << " in " << count << " triangles";
   const auto euler = [](std::size_t v, std::size_t e, std::size_t f) {
     return static_cast<long>(v) - static_cast<long>(e) + static_cast<long>(f);
   };
@@ -490,7 +489,8 @@ TEST(AdaptiveLoopSubdivision, RegionRule)
       EXPECT_EQ(r, input.region[v]); // even points keep theirs
     }
   }
-  EXPECT_GT(std::count(out.region.begin(), out.region.end(), 1), std::count(input.region.begin(), input.region.end(), 1));
+  EXPECT_GT(
+    std::count(out.region.begin(), out.region.end(), 1), std::count(input.region.begin(), input.region.end(), 1));
 }
 
 TEST(AdaptiveLoopSubdivision, NonManifoldEdgeIsRefusedWithItsIds)
@@ -528,13 +528,15 @@ TEST(AdaptiveLoopSubdivision, BadSettingsAndInputAreRefusedByName)
   const AdaptiveLoopMesh mesh = Icosahedron(false);
   AdaptiveLoopParameters s = PlainLoop(1);
   s.edgeAngleThreshold = std::nan("");
-  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("EdgeAngleThreshold = nan is outside the accepted range [0, 180]"),
+  EXPECT_NE(
+    AdaptiveLoopSubdivide(mesh, s).error.find("EdgeAngleThreshold = nan is outside the accepted range [0, 180]"),
     std::string::npos);
   s = PlainLoop(1);
   s.flatnessThreshold = 1.5;
   EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("FlatnessThreshold"), std::string::npos);
   s = PlainLoop(MaxAdaptiveLoopLevel + 1);
-  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("MaximumLevel = 11 is outside the accepted range [0, 10]"), std::string::npos);
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("MaximumLevel = 11 is outside the accepted range [0, 10]"),
+    std::string::npos);
 
   AdaptiveLoopMesh nan = mesh;
   nan.points[7] = std::nan("");
@@ -729,8 +731,8 @@ TEST(AdaptiveLoopSubdivision, SurfaceErrorToleranceIsValidated)
 {
   const AdaptiveLoopMesh mesh = Icosahedron(false);
   AdaptiveLoopParameters s = ByError(-1e-3, 1, FeatureRule::Fixed);
-  EXPECT_NE(
-    AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -0.001 is outside the accepted range [0, inf]"), std::string::npos);
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -0.001 is outside the accepted range [0, inf]"),
+    std::string::npos);
   s.errorTolerance = std::nan("");
   EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance"), std::string::npos);
   s.errorTolerance = 0.1;
@@ -740,7 +742,8 @@ TEST(AdaptiveLoopSubdivision, SurfaceErrorToleranceIsValidated)
     std::string::npos);
   s.refinementRule = RefinementRule::ChordError;
   s.errorTolerance = -1.0;
-  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -1 is outside the accepted range [0, inf]"), std::string::npos);
+  EXPECT_NE(AdaptiveLoopSubdivide(mesh, s).error.find("ErrorTolerance = -1 is outside the accepted range [0, inf]"),
+    std::string::npos);
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -800,8 +803,8 @@ TEST(AdaptiveLoopSubdivision, ErrorRulesZeroToleranceIsUniformLoopBitForBit)
         byRule.flatnessThreshold = 0.5;
         const AdaptiveLoopResult a = AdaptiveLoopSubdivide(input, uniform);
         const AdaptiveLoopResult b = AdaptiveLoopSubdivide(input, byRule);
-        const std::string what = "refinement rule " + std::to_string(static_cast<int>(rule)) + ", feature rule " +
-          std::to_string(r);
+        const std::string what =
+          "refinement rule " + std::to_string(static_cast<int>(rule)) + ", feature rule " + std::to_string(r);
         ASSERT_EQ(a.error, "");
         ASSERT_EQ(b.error, "");
         ASSERT_EQ(b.levels, 3);
@@ -816,8 +819,8 @@ TEST(AdaptiveLoopSubdivision, ErrorRulesZeroToleranceIsUniformLoopBitForBit)
   {
     AdaptiveLoopParameters plain = ByRule(rule, 0.0, 2, FeatureRule::Loop);
     plain.midveinIsFeature = false;
-    EXPECT_EQ(AdaptiveLoopSubdivide(Blade(10), plain).mesh.points,
-      AdaptiveLoopSubdivide(Blade(10), PlainLoop(2)).mesh.points);
+    EXPECT_EQ(
+      AdaptiveLoopSubdivide(Blade(10), plain).mesh.points, AdaptiveLoopSubdivide(Blade(10), PlainLoop(2)).mesh.points);
   }
 }
 
@@ -893,8 +896,7 @@ TEST(AdaptiveLoopSubdivision, ChordErrorRefinesATubeAcrossItsRulingsOnly)
   // Three levels at a tolerance 16 times finer (one level's edges have a quarter of the sagitta): the rulings lag
   // behind, so fewer triangles than the Surface error rule makes at the same tolerance.
   const AdaptiveLoopResult three = AdaptiveLoopSubdivide(tube, ByChord(tolerance / 16.0, 3, FeatureRule::Fixed));
-  const AdaptiveLoopResult threeByError =
-    AdaptiveLoopSubdivide(tube, ByError(tolerance / 16.0, 3, FeatureRule::Fixed));
+  const AdaptiveLoopResult threeByError = AdaptiveLoopSubdivide(tube, ByError(tolerance / 16.0, 3, FeatureRule::Fixed));
   ASSERT_EQ(three.error, "");
   ASSERT_EQ(three.levels, 3);
   EXPECT_LT(three.mesh.NumberOfTriangles(), threeByError.mesh.NumberOfTriangles());
@@ -1001,7 +1003,8 @@ std::vector<double> LimitOffsets(const AdaptiveLoopMesh& mesh)
     const double c = 0.375 + 0.25 * std::cos(2.0 * 3.14159265358979323846 / n);
     const double beta = n == 3 ? 3.0 / 16.0 : (0.625 - c * c) / n;
     const double chi = 1.0 / (3.0 / (8.0 * beta) + n);
-    const double len = std::sqrt(normal[v][0] * normal[v][0] + normal[v][1] * normal[v][1] + normal[v][2] * normal[v][2]);
+    const double len =
+      std::sqrt(normal[v][0] * normal[v][0] + normal[v][1] * normal[v][1] + normal[v][2] * normal[v][2]);
     double along = 0.0;
     for (const int w : neighbours[v])
       for (int j = 0; j < 3; ++j)
@@ -1044,8 +1047,8 @@ TEST(AdaptiveLoopSubdivision, ChordErrorMovesEveryPointWhoseLimitOffsetReachesTh
         if (offset[v] < 0.0 || std::abs(offset[v] - tolerance) <= 1e-9 * tolerance ||
           std::abs(offset[v] / 2.0 - tolerance) <= 1e-9 * tolerance)
           continue;
-        const std::string what = "mesh " + std::to_string(m) + " tolerance " + std::to_string(tolerance) +
-          " point " + std::to_string(v) + " offset " + std::to_string(offset[v]);
+        const std::string what = "mesh " + std::to_string(m) + " tolerance " + std::to_string(tolerance) + " point " +
+          std::to_string(v) + " offset " + std::to_string(offset[v]);
         bool same = true;
         for (int j = 0; j < 3; ++j)
           same = same && result.mesh.points[3 * v + j] == input.points[3 * v + j];
@@ -1062,8 +1065,8 @@ TEST(AdaptiveLoopSubdivision, ChordErrorMovesEveryPointWhoseLimitOffsetReachesTh
           for (const auto& edge : inUse)
             if (edge.first.first == static_cast<int>(v) || edge.first.second == static_cast<int>(v))
             {
-              EXPECT_EQ(use.count(edge.first), 0u) << what << ": edge " << edge.first.first << "-"
-                                                    << edge.first.second << " kept";
+              EXPECT_EQ(use.count(edge.first), 0u)
+                << what << ": edge " << edge.first.first << "-" << edge.first.second << " kept";
             }
         }
       }

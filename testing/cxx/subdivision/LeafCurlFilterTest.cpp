@@ -46,8 +46,8 @@ vtkSmartPointer<vtkPolyData> Blade(int port = 0)
   return blade;
 }
 
-vtkSmartPointer<vtkPolyData> Curl(vtkPolyData* input, double longitudinal, double transverse, double center,
-  std::string* errors = nullptr)
+vtkSmartPointer<vtkPolyData> Curl(
+  vtkPolyData* input, double longitudinal, double transverse, double center, std::string* errors = nullptr)
 {
   vtkNew<vtkLeafCurlFilter> curl;
   vtkNew<ErrorCatcher> catcher;

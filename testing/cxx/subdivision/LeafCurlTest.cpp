@@ -89,12 +89,11 @@ double MaxEdgeLengthChange(const Blade& before, const std::vector<double>& after
   return worst;
 }
 
-std::vector<double> Curled(const Blade& blade, const LeafCurlParameters& parameters, std::vector<double>* normals =
-                                                                                          nullptr)
+std::vector<double> Curled(
+  const Blade& blade, const LeafCurlParameters& parameters, std::vector<double>* normals = nullptr)
 {
   std::vector<double> xyz = blade.xyz;
-  EXPECT_EQ(CurlLeaf(parameters, blade.Count(), xyz.data(), blade.uv.data(), normals ? normals->data() : nullptr),
-    "");
+  EXPECT_EQ(CurlLeaf(parameters, blade.Count(), xyz.data(), blade.uv.data(), normals ? normals->data() : nullptr), "");
   return xyz;
 }
 

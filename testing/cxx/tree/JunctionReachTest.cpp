@@ -117,8 +117,8 @@ Reach MeasureReach(const std::vector<TubeInput>& tubes, const TubeMesh& mesh)
 
 /// One closed, oriented, manifold surface per tree: every directed edge once with its reverse once (EdgeUse: every
 /// undirected edge in two triangles), one connected piece per root plus one per fallback child, each a sphere.
-void ExpectClosedPerTree(const std::vector<TubeInput>& tubes, const TubeMesh& mesh, const JunctionReport& report,
-  const std::string& what)
+void ExpectClosedPerTree(
+  const std::vector<TubeInput>& tubes, const TubeMesh& mesh, const JunctionReport& report, const std::string& what)
 {
   plantmorph::testing::Triangles triangles;
   for (std::size_t f = 0; f < mesh.TriangleCount(); ++f)
@@ -156,8 +156,8 @@ void ExpectClosedPerTree(const std::vector<TubeInput>& tubes, const TubeMesh& me
   for (const TubeInput& t : tubes)
     roots += t.parent < 0;
   EXPECT_EQ(pieces.size(), roots + static_cast<std::size_t>(report.fallback)) << what;
-  const long long euler = static_cast<long long>(used.size()) -
-    static_cast<long long>(directed.size() / 2) + static_cast<long long>(triangles.size());
+  const long long euler = static_cast<long long>(used.size()) - static_cast<long long>(directed.size() / 2) +
+    static_cast<long long>(triangles.size());
   EXPECT_EQ(euler, 2 * static_cast<long long>(pieces.size())) << what;
   double volume = 0.0;
   for (const auto& t : triangles)
@@ -176,9 +176,9 @@ double CheckTree(const Tree& tree, int sides, const std::string& what)
   const Reach reach = MeasureReach(tubes, mesh);
   std::printf("%s: %zu tubes, junctions %lld (merged %lld, at ends %lld), fallback %lld; reach: surface %.3f, "
               "vertices %.3f local radii (worst on tube %zu at %.3f %.3f %.3f)\n",
-    what.c_str(), tubes.size(), (long long)report.junctions, (long long)report.merged,
-    (long long)report.endJunctions, (long long)report.fallback, reach.surface, reach.vertices, reach.tube,
-    reach.where.x(), reach.where.y(), reach.where.z());
+    what.c_str(), tubes.size(), (long long)report.junctions, (long long)report.merged, (long long)report.endJunctions,
+    (long long)report.fallback, reach.surface, reach.vertices, reach.tube, reach.where.x(), reach.where.y(),
+    reach.where.z());
   return reach.surface;
 }
 
@@ -282,7 +282,8 @@ std::set<long> ExpectConvexHull(const std::vector<Eigen::Vector3d>& p, const std
   std::set<long> corners;
   for (const auto& f : facets)
   {
-    const Eigen::Vector3d n = (p[std::size_t(f[1])] - p[std::size_t(f[0])]).cross(p[std::size_t(f[2])] - p[std::size_t(f[0])]);
+    const Eigen::Vector3d n =
+      (p[std::size_t(f[1])] - p[std::size_t(f[0])]).cross(p[std::size_t(f[2])] - p[std::size_t(f[0])]);
     EXPECT_GT(n.norm(), 0.0);
     for (const Eigen::Vector3d& x : p)
       EXPECT_LE(n.normalized().dot(x - p[std::size_t(f[0])]), 1e-9);

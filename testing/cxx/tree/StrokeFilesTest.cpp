@@ -51,8 +51,8 @@ Eigen::Vector3d Flip(const Eigen::Vector2d& p)
   return Eigen::Vector3d(p.x(), -p.y(), 0.0);
 }
 
-Eigen::Vector2d Cubic(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-  const Eigen::Vector2d& d, double t)
+Eigen::Vector2d Cubic(
+  const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c, const Eigen::Vector2d& d, double t)
 {
   // de Casteljau, independent of the reader's Bernstein form
   const Eigen::Vector2d ab = a + t * (b - a), bc = b + t * (c - b), cd = c + t * (d - c);
@@ -78,8 +78,9 @@ double Deviation(const std::vector<Eigen::Vector3d>& stroke, Curve curve)
     double best = HUGE_VAL;
     for (std::size_t i = 0; i + 1 < stroke.size(); ++i)
     {
-      best = std::min(best, SegmentDistance(p, Eigen::Vector2d(stroke[i].x(), -stroke[i].y()),
-                              Eigen::Vector2d(stroke[i + 1].x(), -stroke[i + 1].y())));
+      best = std::min(best,
+        SegmentDistance(
+          p, Eigen::Vector2d(stroke[i].x(), -stroke[i].y()), Eigen::Vector2d(stroke[i + 1].x(), -stroke[i + 1].y())));
     }
     worst = std::max(worst, best);
   }
@@ -168,7 +169,10 @@ TEST(StrokeFiles, SmoothCurvesReflectTheirControlPoints)
   const auto& s = strokes[0];
   EXPECT_EQ(s.back(), Eigen::Vector3d(20, -0.0, 0));
   EXPECT_LE(Deviation(s, second), kSvgCurveTolerance);
-  EXPECT_LE(Deviation(s, [](double t) { return Cubic({ 0, 0 }, { 0, 10 }, { 10, 10 }, { 10, 0 }, t); }),
+  EXPECT_LE(Deviation(s,
+              [](double t) {
+                return Cubic({ 0, 0 }, { 0, 10 }, { 10, 10 }, { 10, 0 }, t);
+              }),
     kSvgCurveTolerance);
   bool sawReflected = false; // a point on the second curve's lower half (y < 0 in SVG, > 0 here)
   for (const auto& p : s)
@@ -251,8 +255,9 @@ TEST(StrokeFiles, PathGrammarCorners)
   // Numbers glued as SVG allows, implicit linetos after a moveto, relative commands after z start at the subpath's
   // first point.
   ASSERT_EQ(ParseStrokeSvg(Plain(R"~(<path d="M1-2.5.5.25L3,4 5,6z l1,1"/>)~"), strokes), "");
-  EXPECT_EQ(strokes[0], (std::vector<Eigen::Vector3d>{ { 1, 2.5, 0 }, { 0.5, -0.25, 0 }, { 3, -4, 0 }, { 5, -6, 0 },
-                          { 1, 2.5, 0 }, { 2, 1.5, 0 } }));
+  EXPECT_EQ(strokes[0],
+    (std::vector<Eigen::Vector3d>{
+      { 1, 2.5, 0 }, { 0.5, -0.25, 0 }, { 3, -4, 0 }, { 5, -6, 0 }, { 1, 2.5, 0 }, { 2, 1.5, 0 } }));
   ExpectRefused(Plain(R"~(<path id="p7" d="M 0 0 X 5 5"/>)~"), "<path id=\"p7\">");
   ExpectRefused(Plain(R"~(<path d="L 0 0"/>)~"), "must start with M");
   ExpectRefused(Plain(R"~(<path d="M 0 0 C 1 1 2"/>)~"), "'C' command needs 6 numbers");
@@ -275,8 +280,8 @@ TEST(StrokeFiles, ViewBoxAspectRatio)
   };
   // 10 x 10 user units on 100 x 50 px: meet scales by 5 and centres (x offset 25).
   ExpectNear(point(R"~(width="100" height="50" viewBox="0 0 10 10")~"), Eigen::Vector3d(35, -10, 0));
-  ExpectNear(point(R"~(width="100" height="50" viewBox="0 0 10 10" preserveAspectRatio="none")~"),
-    Eigen::Vector3d(20, -10, 0));
+  ExpectNear(
+    point(R"~(width="100" height="50" viewBox="0 0 10 10" preserveAspectRatio="none")~"), Eigen::Vector3d(20, -10, 0));
   ExpectNear(point(R"~(width="100" height="50" viewBox="0 0 10 10" preserveAspectRatio="xMinYMin slice")~"),
     Eigen::Vector3d(20, -20, 0));
   ExpectNear(point(R"~(width="100" height="50" viewBox="0 0 10 10" preserveAspectRatio="xMaxYMax")~"),

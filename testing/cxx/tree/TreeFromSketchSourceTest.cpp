@@ -260,50 +260,57 @@ TEST(TreeFromSketchSource, BadInputGivesAnErrorNamingItAndEmptyOutputs)
     { "MaxSegments", [](vtkTreeFromSketchSource* s) { s->SetMaxSegments(1000); } },
     { "Preset", [](vtkTreeFromSketchSource* s) { s->SetPreset(9); } },
     { "Strokes input", [](vtkTreeFromSketchSource* s) { s->SetMode(1); } },
-    { "stroke 1", [](vtkTreeFromSketchSource* s) {
-       s->SetMode(1);
-       s->SetInputData(0, Strokes({ { { 0, 0 }, { 0, 1 } }, { { 1, 1 } } }));
-     } },
-    { "not finite", [](vtkTreeFromSketchSource* s) {
-       s->SetMode(1);
-       s->SetInputData(0, Strokes({ { { 0, 0 }, { 0, NAN } } }));
-     } },
-    { "StrokeFile", [](vtkTreeFromSketchSource* s) {
-       s->SetMode(1);
-       s->SetStrokeFile("/nonexistent/strokes.csv");
-     } },
+    { "stroke 1",
+      [](vtkTreeFromSketchSource* s) {
+        s->SetMode(1);
+        s->SetInputData(0, Strokes({ { { 0, 0 }, { 0, 1 } }, { { 1, 1 } } }));
+      } },
+    { "not finite",
+      [](vtkTreeFromSketchSource* s) {
+        s->SetMode(1);
+        s->SetInputData(0, Strokes({ { { 0, 0 }, { 0, NAN } } }));
+      } },
+    { "StrokeFile",
+      [](vtkTreeFromSketchSource* s) {
+        s->SetMode(1);
+        s->SetStrokeFile("/nonexistent/strokes.csv");
+      } },
     { "BranchOverrides", [](vtkTreeFromSketchSource* s) { s->AddBranchOverride(-3, 1, 1, 0.5, 10, 10); } },
     // What ParaView's push of BranchOverrides = [1, 2, 3] does: no whole row, then the raw count.
-    { "BranchOverrides = 3 numbers is outside the accepted range {0, 6, 12, ...}", [](vtkTreeFromSketchSource* s) {
-       s->ClearBranchOverrides();
-       s->SetBranchOverridesElementCount(3);
-     } },
-    { "Merge input is not a tree: it has no lines", [](vtkTreeFromSketchSource* s) {
-       vtkNew<vtkTreeFromSketchSource> second; // its Branches port: triangles, not a skeleton
-       second->SetDepth(1);
-       second->Update();
-       auto surface = vtkSmartPointer<vtkPolyData>::New();
-       surface->DeepCopy(Output(second, 0));
-       s->SetInputData(2, surface);
-     } },
-    { "Merge input is not a tree: it has no cell array ParentId", [](vtkTreeFromSketchSource* s) {
-       auto lines = Strokes({ { { 0, 0 }, { 0, 1 } } });
-       vtkNew<vtkIntArray> ids;
-       ids->SetName("BranchId");
-       ids->InsertNextValue(0);
-       lines->GetCellData()->AddArray(ids);
-       s->SetInputData(2, lines);
-     } },
-    { "Merge input is not a tree: 2 branches have ParentId -1", [](vtkTreeFromSketchSource* s) {
-       vtkNew<vtkTreeFromSketchSource> second;
-       second->SetPreset(2);
-       second->SetDepth(1);
-       second->Update();
-       auto skeleton = vtkSmartPointer<vtkPolyData>::New();
-       skeleton->DeepCopy(Output(second, 1));
-       vtkDataArray::SafeDownCast(skeleton->GetCellData()->GetArray("ParentId"))->SetComponent(1, 0, -1);
-       s->SetInputData(2, skeleton);
-     } },
+    { "BranchOverrides = 3 numbers is outside the accepted range {0, 6, 12, ...}",
+      [](vtkTreeFromSketchSource* s) {
+        s->ClearBranchOverrides();
+        s->SetBranchOverridesElementCount(3);
+      } },
+    { "Merge input is not a tree: it has no lines",
+      [](vtkTreeFromSketchSource* s) {
+        vtkNew<vtkTreeFromSketchSource> second; // its Branches port: triangles, not a skeleton
+        second->SetDepth(1);
+        second->Update();
+        auto surface = vtkSmartPointer<vtkPolyData>::New();
+        surface->DeepCopy(Output(second, 0));
+        s->SetInputData(2, surface);
+      } },
+    { "Merge input is not a tree: it has no cell array ParentId",
+      [](vtkTreeFromSketchSource* s) {
+        auto lines = Strokes({ { { 0, 0 }, { 0, 1 } } });
+        vtkNew<vtkIntArray> ids;
+        ids->SetName("BranchId");
+        ids->InsertNextValue(0);
+        lines->GetCellData()->AddArray(ids);
+        s->SetInputData(2, lines);
+      } },
+    { "Merge input is not a tree: 2 branches have ParentId -1",
+      [](vtkTreeFromSketchSource* s) {
+        vtkNew<vtkTreeFromSketchSource> second;
+        second->SetPreset(2);
+        second->SetDepth(1);
+        second->Update();
+        auto skeleton = vtkSmartPointer<vtkPolyData>::New();
+        skeleton->DeepCopy(Output(second, 1));
+        vtkDataArray::SafeDownCast(skeleton->GetCellData()->GetArray("ParentId"))->SetComponent(1, 0, -1);
+        s->SetInputData(2, skeleton);
+      } },
   };
   for (const Case& c : cases)
   {
@@ -395,7 +402,8 @@ TEST(TreeFromSketchSource, SecondTreeOnTheMergePortKeepsItsShapeAndGetsIdsAfterT
   // Deleting a merged branch by its id removes it with its subtree.
   merged->AddDeletedBranch(int(base) + 1);
   merged->Update();
-  EXPECT_EQ(Output(merged, 1)->GetNumberOfCells(), own + secondSkeleton->GetNumberOfCells() - (1 + 3 + 9 + 27 + 81 + 243));
+  EXPECT_EQ(
+    Output(merged, 1)->GetNumberOfCells(), own + secondSkeleton->GetNumberOfCells() - (1 + 3 + 9 + 27 + 81 + 243));
 }
 
 TEST(TreeFromSketchSource, WeldedBranchesAreOneClosedManifoldPerTreeAndSeatedTubesAreNot)
@@ -425,8 +433,7 @@ TEST(TreeFromSketchSource, WeldedBranchesAreOneClosedManifoldPerTreeAndSeatedTub
       regions->SetInputData(branches);
       regions->SetExtractionModeToAllRegions();
       regions->Update();
-      const double fallback =
-        branches->GetFieldData()->GetArray("PlantMorph.Junctions")->GetComponent(0, 5);
+      const double fallback = branches->GetFieldData()->GetArray("PlantMorph.Junctions")->GetComponent(0, 5);
       const vtkIdType branchCount = Output(source, 1)->GetNumberOfCells();
       EXPECT_EQ(regions->GetNumberOfExtractedRegions(), joints == 0 ? 1 + vtkIdType(fallback) : branchCount)
         << preset << " " << joints;

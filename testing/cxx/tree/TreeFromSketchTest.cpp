@@ -93,8 +93,8 @@ double Volume(const TubeMesh& mesh, std::size_t t)
 {
   double volume = 0.0;
   const auto P = [&](int i) {
-    return Eigen::Vector3d(mesh.points[3 * std::size_t(i)], mesh.points[3 * std::size_t(i) + 1],
-      mesh.points[3 * std::size_t(i) + 2]);
+    return Eigen::Vector3d(
+      mesh.points[3 * std::size_t(i)], mesh.points[3 * std::size_t(i) + 1], mesh.points[3 * std::size_t(i) + 2]);
   };
   for (auto f = mesh.triangleOffsets[t]; f < mesh.triangleOffsets[t + 1]; ++f)
   {
@@ -279,8 +279,9 @@ TEST(BranchTubes, BentTubeRingsLieOnBothCylindersAndVolumeIsExact)
   // A polyline with bends of 30, 60 and 90 degrees in different planes; constant radius.
   const double r = 0.3;
   std::vector<Eigen::Vector3d> c = { { 0, 0, 0 } };
-  for (const Eigen::Vector3d& d : { Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(std::sin(30 * Degree), std::cos(30 * Degree), 0),
-         Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 0, 1) })
+  for (const Eigen::Vector3d& d :
+    { Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(std::sin(30 * Degree), std::cos(30 * Degree), 0),
+      Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 0, 1) })
     c.push_back(c.back() + 2.0 * d);
   TubeInput input{ c, std::vector<double>(c.size(), r), Eigen::Vector3d::UnitX() };
   TubeMesh mesh;
@@ -327,7 +328,8 @@ TEST(BranchTubes, RejectsBadTubes)
 {
   TubeMesh mesh;
   EXPECT_NE(BuildTubes({ TubeInput{ { { 0, 0, 0 }, { 0, 0, 0 } }, { 1, 1 }, Eigen::Vector3d::UnitX() } }, 6, mesh), "");
-  EXPECT_NE(BuildTubes({ TubeInput{ { { 0, 0, 0 }, { 0, NAN, 0 } }, { 1, 1 }, Eigen::Vector3d::UnitX() } }, 6, mesh), "");
+  EXPECT_NE(
+    BuildTubes({ TubeInput{ { { 0, 0, 0 }, { 0, NAN, 0 } }, { 1, 1 }, Eigen::Vector3d::UnitX() } }, 6, mesh), "");
   EXPECT_NE(BuildTubes({ TubeInput{ { { 0, 0, 0 }, { 0, 1, 0 } }, { 1, 1 }, Eigen::Vector3d::UnitX() } }, 2, mesh), "");
   EXPECT_EQ(mesh.PointCount(), 0u);
 }
@@ -385,8 +387,8 @@ TEST(TreeStrokes, LiftedBranchesProjectOntoTheirStrokesWithEq3Lengths)
     std::size_t matched = 0;
     for (const auto& point : b.centre)
     {
-      const auto exact = std::find_if(q.begin(), q.end(),
-        [&](const Eigen::Vector2d& sample) { return (point.head<2>() - sample).norm() < 1e-9; });
+      const auto exact = std::find_if(
+        q.begin(), q.end(), [&](const Eigen::Vector2d& sample) { return (point.head<2>() - sample).norm() < 1e-9; });
       matched += exact != q.end();
     }
     EXPECT_EQ(matched, q.size()) << k;
@@ -527,7 +529,7 @@ TEST(TreeStrokes, Eq2DistanceAndEq1Angle)
   EXPECT_EQ(mu, 1.0);
   EXPECT_DOUBLE_EQ(PointSegmentDistance({ 4, -3 }, { 0, 0 }, { 10, 0 }, mu), 3.0);
   EXPECT_DOUBLE_EQ(mu, 0.4);
-  EXPECT_NEAR(SignedSegmentAngle({ 0, 1 }, { 1, 1 }), 45.0, 1e-12);  // turning right: (b x a).z > 0
+  EXPECT_NEAR(SignedSegmentAngle({ 0, 1 }, { 1, 1 }), 45.0, 1e-12); // turning right: (b x a).z > 0
   EXPECT_NEAR(SignedSegmentAngle({ 0, 1 }, { -1, 1 }), -45.0, 1e-12);
 }
 
@@ -679,8 +681,9 @@ TEST(TreeFromSketch, SameSettingsAndStrokesGiveBitIdenticalTrees)
   for (std::size_t i = 0; i < a.branches.size(); ++i)
   {
     ASSERT_EQ(a.branches[i].centre.size(), b.branches[i].centre.size());
-    EXPECT_EQ(0, std::memcmp(a.branches[i].centre.data(), b.branches[i].centre.data(),
-                   a.branches[i].centre.size() * sizeof(Eigen::Vector3d)));
+    EXPECT_EQ(0,
+      std::memcmp(a.branches[i].centre.data(), b.branches[i].centre.data(),
+        a.branches[i].centre.size() * sizeof(Eigen::Vector3d)));
   }
   TubeMesh ma, mb;
   ASSERT_EQ(BuildTubes(TubesOf(a), 6, ma), "");
@@ -725,8 +728,8 @@ Eigen::Vector3d MeshPoint(const TubeMesh& mesh, std::int64_t i)
 }
 
 /// Distance from p to triangle abc (closest point by Voronoi regions, Ericson's Real-Time Collision Detection 5.1.5).
-double TriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-  const Eigen::Vector3d& c)
+double TriangleDistance(
+  const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c)
 {
   const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
@@ -841,8 +844,8 @@ TEST(BranchTubes, ChildBaseRingsSitOnTheParentSurfaceNeitherBuriedNorFloating)
     EXPECT_EQ(check.insideParent, 0) << preset;
     EXPECT_EQ(check.capOutside, 0) << preset;
     EXPECT_GT(joints.seated, children) << preset;
-    std::printf("preset %d depth 2: ring vertices seated %lld, missed %lld; widest ledge %.9f child radii\n",
-      preset, static_cast<long long>(joints.seated), static_cast<long long>(joints.missed), check.widestLedge);
+    std::printf("preset %d depth 2: ring vertices seated %lld, missed %lld; widest ledge %.9f child radii\n", preset,
+      static_cast<long long>(joints.seated), static_cast<long long>(joints.missed), check.widestLedge);
   }
 }
 
@@ -862,8 +865,8 @@ TEST(BranchTubes, JointsThatCannotBeSeatedAreCountedNotHidden)
   const JointCheck check = CheckJoints(tree, mesh, s.sides, 1e-9);
   EXPECT_EQ(check.ringOnSurface, joints.seated);
   EXPECT_EQ(check.ringInside, joints.clamped + joints.buried);
-  EXPECT_EQ(joints.seated + joints.missed + joints.clamped + joints.buried,
-    std::int64_t(tree.branches.size() - 1) * s.sides);
+  EXPECT_EQ(
+    joints.seated + joints.missed + joints.clamped + joints.buried, std::int64_t(tree.branches.size() - 1) * s.sides);
   std::printf("sympodial depth 3: ring vertices seated %lld, missed %lld, clamped %lld, buried %lld; "
               "vertices beyond the ring inside the parent %d\n",
     static_cast<long long>(joints.seated), static_cast<long long>(joints.missed),
@@ -1104,7 +1107,8 @@ TEST(TreeMerge, InputThatIsNotATreeIsRefusedWithAClearMessage)
   EXPECT_NE(BuildTree(s, {}, &fine, tree).find("MergeParentBranch = 5000 names no branch"), std::string::npos);
   s.mergeParent = 0;
   s.mergeScale = 0.0;
-  EXPECT_NE(BuildTree(s, {}, &fine, tree).find("MergeScale = 0 is outside the accepted range (0, 1e6]"), std::string::npos);
+  EXPECT_NE(
+    BuildTree(s, {}, &fine, tree).find("MergeScale = 0 is outside the accepted range (0, 1e6]"), std::string::npos);
 }
 
 // ---- BranchOverrides on stroke branches ---------------------------------------------------------------------------
@@ -1141,7 +1145,8 @@ TEST(TreeStrokes, OverridesApplyToStrokeBranchesAsToTemplateBranches)
     for (std::size_t k = 0; k < b.centre.size(); ++k)
     {
       EXPECT_LT((b.centre[k].head<2>() - b0.centre[k].head<2>()).norm(), 1e-12);
-      EXPECT_NEAR(b.centre[k].z() - b.centre[0].z(), (b.centre[k].x() - b.centre[0].x()) * std::tan(150 * Degree), 1e-12);
+      EXPECT_NEAR(
+        b.centre[k].z() - b.centre[0].z(), (b.centre[k].x() - b.centre[0].x()) * std::tan(150 * Degree), 1e-12);
       planar.push_back(b.centre[k].head<2>());
     }
     EXPECT_NEAR(b.length, LiftedLength(planar, 30.0 * Degree), 1e-12);
@@ -1217,10 +1222,10 @@ namespace
 {
 struct WholeSurface
 {
-  int edgeFailures = 0;   ///< directed edges not used exactly once with their reverse used exactly once
-  int components = 0;     ///< connected pieces (through shared edges)
-  long long euler = 0;    ///< V - E + F over the referenced points
-  double volume = 0.0;    ///< signed, divergence theorem
+  int edgeFailures = 0; ///< directed edges not used exactly once with their reverse used exactly once
+  int components = 0;   ///< connected pieces (through shared edges)
+  long long euler = 0;  ///< V - E + F over the referenced points
+  double volume = 0.0;  ///< signed, divergence theorem
 };
 
 WholeSurface CheckWholeSurface(const TubeMesh& mesh)
@@ -1260,8 +1265,7 @@ WholeSurface CheckWholeSurface(const TubeMesh& mesh)
   }
   for (std::size_t f = 0; f < F; ++f)
     w.components += find(f) == f;
-  w.euler = static_cast<long long>(used.size()) - static_cast<long long>(firstFace.size()) +
-    static_cast<long long>(F);
+  w.euler = static_cast<long long>(used.size()) - static_cast<long long>(firstFace.size()) + static_cast<long long>(F);
   return w;
 }
 
@@ -1273,7 +1277,8 @@ std::vector<std::pair<std::size_t, std::size_t>> SelfIntersections(const TubeMes
   Mesh sm;
   std::vector<Mesh::Vertex_index> vertex;
   for (std::size_t i = 0; i < mesh.PointCount(); ++i)
-    vertex.push_back(sm.add_vertex(Kernel::Point_3(mesh.points[3 * i], mesh.points[3 * i + 1], mesh.points[3 * i + 2])));
+    vertex.push_back(
+      sm.add_vertex(Kernel::Point_3(mesh.points[3 * i], mesh.points[3 * i + 1], mesh.points[3 * i + 2])));
   for (std::size_t f = 0; f < mesh.TriangleCount(); ++f)
   {
     const int* v = &mesh.triangles[3 * f];
@@ -1293,7 +1298,8 @@ std::vector<std::pair<std::size_t, std::size_t>> SelfIntersections(const TubeMes
 std::size_t TubeOfTriangle(const TubeMesh& mesh, std::size_t f)
 {
   return std::size_t(std::upper_bound(mesh.triangleOffsets.begin(), mesh.triangleOffsets.end(), std::int64_t(f)) -
-           mesh.triangleOffsets.begin()) - 1;
+           mesh.triangleOffsets.begin()) -
+    1;
 }
 
 } // namespace
@@ -1360,10 +1366,10 @@ struct WeldedResult
 {
   WholeSurface surface;
   JunctionReport report;
-  long long intersecting = 0;      ///< self-intersecting triangle pairs
-  long long atJunctions = 0;       ///< of these, pairs whose tubes are a welded parent and child or siblings
-  long long atFallbacks = 0;       ///< pairs of a fallback child and its parent (overlapping, as documented)
-  std::size_t trees = 0;           ///< roots (tubes without a parent)
+  long long intersecting = 0; ///< self-intersecting triangle pairs
+  long long atJunctions = 0;  ///< of these, pairs whose tubes are a welded parent and child or siblings
+  long long atFallbacks = 0;  ///< pairs of a fallback child and its parent (overlapping, as documented)
+  std::size_t trees = 0;      ///< roots (tubes without a parent)
 };
 
 WeldedResult Weld(const Tree& tree, int sides, const ParallelFor& parallel = SerialFor)
@@ -1435,8 +1441,7 @@ TEST(BranchJunctions, PresetTreesAreOneClosedOrientedManifold)
       const auto parentOf = [&](std::size_t t) { return tubes[t].parent; };
       const auto grand = [&](std::size_t t) { return parentOf(t) < 0 ? -1 : parentOf(std::size_t(parentOf(t))); };
       return a == b || parentOf(a) == std::int64_t(b) || parentOf(b) == std::int64_t(a) ||
-        (parentOf(a) >= 0 && parentOf(a) == parentOf(b)) || grand(a) == std::int64_t(b) ||
-        grand(b) == std::int64_t(a);
+        (parentOf(a) >= 0 && parentOf(a) == parentOf(b)) || grand(a) == std::int64_t(b) || grand(b) == std::int64_t(a);
     };
     std::set<std::pair<std::size_t, std::size_t>> crossingSeated, crossingWelded;
     for (const auto& [a, b] : SelfIntersections(seated))

@@ -55,8 +55,8 @@ TEST_P(OscillatorTest, PeriodAndEnergy)
   NewmarkIntegrator integrator;
   ASSERT_EQ(integrator.Setup(system, Exact(period / 200.0, GetParam())), "");
   const double amplitude = 0.1;
-  integrator.SetState({ 0, 0, 0, amplitude, 0, 0 }, std::vector<double>(6, 0.0),
-    { 0, 0, 0, -k * amplitude / m, 0, 0 }, 0.0);
+  integrator.SetState(
+    { 0, 0, 0, amplitude, 0, 0 }, std::vector<double>(6, 0.0), { 0, 0, 0, -k * amplitude / m, 0, 0 }, 0.0);
   const auto energy = [&] {
     const double u = integrator.Displacement()[3];
     const double v = integrator.Velocity()[3];
@@ -88,8 +88,8 @@ TEST_P(OscillatorTest, PeriodAndEnergy)
     << "the trapezoidal rule's known period elongation";
 }
 
-INSTANTIATE_TEST_SUITE_P(Solvers, OscillatorTest,
-  ::testing::Values(NewmarkSolver::Cholesky, NewmarkSolver::ConjugateGradient));
+INSTANTIATE_TEST_SUITE_P(
+  Solvers, OscillatorTest, ::testing::Values(NewmarkSolver::Cholesky, NewmarkSolver::ConjugateGradient));
 
 TEST(NewmarkIntegrator, RayleighDampingDecayRate)
 {
@@ -107,8 +107,7 @@ TEST(NewmarkIntegrator, RayleighDampingDecayRate)
   p.rayleighStiffness = beta;
   NewmarkIntegrator integrator;
   ASSERT_EQ(integrator.Setup(system, p), "");
-  integrator.SetState({ 0, 0, 0, 0.05, 0, 0 }, std::vector<double>(6, 0.0),
-    { 0, 0, 0, -k * 0.05 / m, 0, 0 }, 0.0);
+  integrator.SetState({ 0, 0, 0, 0.05, 0, 0 }, std::vector<double>(6, 0.0), { 0, 0, 0, -k * 0.05 / m, 0, 0 }, 0.0);
   // Peaks of the displacement.
   std::vector<std::pair<double, double>> peaks;
   double u2 = 0.0;
@@ -211,7 +210,7 @@ struct PlateParameters
 {
   double cgTolerance = 1e-6;
   bool extrapolate = true;
-  bool interleaved = false;           ///< number the nodes (j, i, k) with k fastest instead of layer by layer
+  bool interleaved = false;          ///< number the nodes (j, i, k) with k fastest instead of layer by layer
   long long* cgIterations = nullptr; ///< receives the CG iterations of the run
 };
 
@@ -353,7 +352,8 @@ TEST(NewmarkIntegrator, NodeNumberingDoesNotChangeTheResult)
     EXPECT_EQ(PlateCorner(40, 30, 8, NewmarkSolver::ConjugateGradient, threads),
       PlateCorner(40, 30, 8, NewmarkSolver::ConjugateGradient, threads, interleaved));
   }
-  EXPECT_EQ(PlateCorner(6, 5, 20, NewmarkSolver::Cholesky, 1), PlateCorner(6, 5, 20, NewmarkSolver::Cholesky, 1, interleaved));
+  EXPECT_EQ(
+    PlateCorner(6, 5, 20, NewmarkSolver::Cholesky, 1), PlateCorner(6, 5, 20, NewmarkSolver::Cholesky, 1, interleaved));
 }
 
 TEST(NewmarkIntegrator, SolversAgreeAndThreadsAreBitIdentical)
@@ -400,7 +400,8 @@ TEST(NewmarkIntegrator, TangentStiffnessIsTheForceDerivative)
       const int index[3][3] = { { 0, 1, 2 }, { 1, 3, 4 }, { 2, 4, 5 } };
       for (int row = 0; row < 3; ++row)
       {
-        const double derivative = (r1[3 + static_cast<std::size_t>(row)] - r0[3 + static_cast<std::size_t>(row)]) / (2 * h);
+        const double derivative =
+          (r1[3 + static_cast<std::size_t>(row)] - r0[3 + static_cast<std::size_t>(row)]) / (2 * h);
         EXPECT_NEAR(derivative, tangent[index[row][c]], 1e-6);
       }
     }

@@ -75,12 +75,13 @@ TEST(WiltingVoxelizer, TriangleBoxOverlapAgreesWithSampling)
   }
   EXPECT_GT(overlaps, 100);
   // Separated only by the triangle's plane (the 13th axis), and only by an edge axis.
-  EXPECT_FALSE(TriangleBoxOverlap(Eigen::Vector3d(3.1, 0, 0), Eigen::Vector3d(0, 3.1, 0), Eigen::Vector3d(0, 0, 3.1),
-    low, high));
-  EXPECT_TRUE(TriangleBoxOverlap(Eigen::Vector3d(2.9, 0, 0), Eigen::Vector3d(0, 2.9, 0), Eigen::Vector3d(0, 0, 2.9),
-    low, high));
-  EXPECT_TRUE(TriangleBoxOverlap(Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(3, 0, 0), Eigen::Vector3d(3, 3, 0), low,
-    high)) << "touching an edge counts";
+  EXPECT_FALSE(
+    TriangleBoxOverlap(Eigen::Vector3d(3.1, 0, 0), Eigen::Vector3d(0, 3.1, 0), Eigen::Vector3d(0, 0, 3.1), low, high));
+  EXPECT_TRUE(
+    TriangleBoxOverlap(Eigen::Vector3d(2.9, 0, 0), Eigen::Vector3d(0, 2.9, 0), Eigen::Vector3d(0, 0, 2.9), low, high));
+  EXPECT_TRUE(
+    TriangleBoxOverlap(Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(3, 0, 0), Eigen::Vector3d(3, 3, 0), low, high))
+    << "touching an edge counts";
 }
 
 TEST(WiltingVoxelizer, FlatLeafIsOneLayerWithSharedNodes)
@@ -126,8 +127,8 @@ TEST(WiltingVoxelizer, PetioleGrowsTheGridBelowTheBaseAndKeepsTheBlade)
   int petioleCells = 0;
   for (std::size_t v = 0; v < grid.voxels.size(); ++v)
   {
-    const Eigen::Vector3d low = grid.origin + grid.h * Eigen::Vector3d(grid.voxels[v][0], grid.voxels[v][1],
-                                                         grid.voxels[v][2]);
+    const Eigen::Vector3d low =
+      grid.origin + grid.h * Eigen::Vector3d(grid.voxels[v][0], grid.voxels[v][1], grid.voxels[v][2]);
     if (grid.regions[v] == 5)
     {
       ++petioleCells;
@@ -169,8 +170,8 @@ TEST(WiltingVoxelizer, PetioleGrowsTheGridBelowTheBaseAndKeepsTheBlade)
   ASSERT_GE(grid.VoxelAt(2, 1, 0), 0);
   EXPECT_EQ(grid.regions[static_cast<std::size_t>(grid.VoxelAt(2, 0, 0))], 5);
   EXPECT_EQ(grid.regions[static_cast<std::size_t>(grid.VoxelAt(2, 1, 0))], 5);
-  EXPECT_EQ(grid.regions[static_cast<std::size_t>(grid.VoxelAt(2, 2, 0))], blade.regions[static_cast<std::size_t>(
-                                                                            blade.VoxelAt(2, 2, 0))]);
+  EXPECT_EQ(grid.regions[static_cast<std::size_t>(grid.VoxelAt(2, 2, 0))],
+    blade.regions[static_cast<std::size_t>(blade.VoxelAt(2, 2, 0))]);
   EXPECT_EQ(petiole.endNodes.size(), 4u);
   EXPECT_NE(AddPetiole(grid, Eigen::Vector3d::Zero(), std::nan(""), options.maxVoxels, petiole).find("PetioleLength"),
     std::string::npos);
@@ -572,7 +573,8 @@ TEST(WiltingSimulation, PetioleHoldsTheBladeAtItsEndAndLetsItRoll)
   const std::vector<Eigen::Vector3d> x = held.PointPositions(1);
   roll[1] = x[rowAt + 8][2] - x[rowAt][2];
   EXPECT_LT(roll[0], -0.05) << "on a petiole the +x side drops";
-  EXPECT_LT(roll[0], 3.0 * roll[1]) << "three times more than held at the base (" << roll[0] << " vs " << roll[1] << ")";
+  EXPECT_LT(roll[0], 3.0 * roll[1]) << "three times more than held at the base (" << roll[0] << " vs " << roll[1]
+                                    << ")";
   p.petioleLength = -1.0;
   EXPECT_NE(ValidateWilting(p).find("PetioleLength = -1 is outside the accepted range [0, 10000]"), std::string::npos);
 }
@@ -621,7 +623,8 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
       EXPECT_NEAR(quarter[e], (1.0 - 0.25 * 0.05) * own[e], 1e-12 * own[e]) << "spring " << e;
     }
     shrinking.shrinkageTime = -1.0;
-    EXPECT_NE(ValidateWilting(shrinking).find("ShrinkageTime = -1 is outside the accepted range [0, inf)"), std::string::npos);
+    EXPECT_NE(
+      ValidateWilting(shrinking).find("ShrinkageTime = -1 is outside the accepted range [0, inf)"), std::string::npos);
   }
   p.shrinkageStrain = 0.05;
   const Eigen::Vector3d shrunk = tipAfter(p);
@@ -644,10 +647,12 @@ TEST(WiltingSimulation, ShrinkageShortensTheLeafInPlaneAndItsAsymmetryBendsItSid
   EXPECT_NEAR(minus[0], -plus[0], 1e-9) << "-a: the mirror image";
   EXPECT_NEAR(minus[1], plus[1], 1e-9);
   p.shrinkageAsymmetry = -1.5;
-  EXPECT_NE(ValidateWilting(p).find("ShrinkageAsymmetry = -1.5 is outside the accepted range [-1, 1]"), std::string::npos);
+  EXPECT_NE(
+    ValidateWilting(p).find("ShrinkageAsymmetry = -1.5 is outside the accepted range [-1, 1]"), std::string::npos);
   p.shrinkageAsymmetry = 0.0;
   p.shrinkageStrain = 0.45;
-  EXPECT_NE(ValidateWilting(p).find("ShrinkageStrain = 0.45 is outside the accepted range [-0.4, 0.4]"), std::string::npos);
+  EXPECT_NE(
+    ValidateWilting(p).find("ShrinkageStrain = 0.45 is outside the accepted range [-0.4, 0.4]"), std::string::npos);
 }
 
 TEST(WiltingSimulation, CurlBendsTheLeafIntoItsArcAndRelaxes)
