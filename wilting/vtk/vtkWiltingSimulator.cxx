@@ -30,6 +30,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -664,6 +665,69 @@ bool vtkWiltingSimulator::Simulate(vtkPolyData* input, vtkPolyData* veins,
   cache.veinPoints = veinCount;
   cache.selfTime = this->GetMTime();
   return true;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+/// The shortest text that reads back as exactly `value`, so the box shows what the preset uses, digit for digit.
+std::string Exact(double value)
+{
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof(buffer), value).ptr;
+  return std::string(buffer, end);
+}
+} // namespace
+
+const char* vtkWiltingSimulator::GetPresetValues()
+{
+  if (this->Preset <= PRESET_CUSTOM || this->Preset >= plantmorph::WiltingPresetCount)
+  {
+    this->PresetValues = this->Preset == PRESET_CUSTOM ? "Custom: the properties are used as set."
+                                                       : "Preset is outside the accepted range.";
+    return this->PresetValues.c_str();
+  }
+  const auto preset = static_cast<plantmorph::WiltingPreset>(this->Preset);
+  plantmorph::WiltingParameters p;
+  plantmorph::ApplyWiltingPreset(preset, p);
+  std::ostringstream text;
+  const auto line = [&](const char* name, double value) { text << "\n" << name << " = " << Exact(value); };
+  const auto material = [&](const char* name, const plantmorph::WiltingMaterial& m) {
+    text << "\n" << name << " = " << Exact(m.density) << ", " << Exact(m.stiffness) << ", " << Exact(m.damping);
+  };
+  text << plantmorph::WiltingPresetName(preset) << " sets (the greyed properties are not used):";
+  material("BladeMaterial", p.materials[plantmorph::WiltingBlade]);
+  material("VeinMaterial", p.materials[plantmorph::WiltingVein]);
+  material("MarginMaterial", p.materials[plantmorph::WiltingMargin]);
+  material("PetioleMaterial", p.materials[plantmorph::WiltingPetiole]);
+  line("Gravity", p.gravity);
+  line("DroopForce", p.droopForce);
+  line("ContractionForce", p.contractionForce);
+  line("DroopAsymmetry", p.droopAsymmetry);
+  line("ContractionAsymmetry", p.contractionAsymmetry);
+  line("ShrinkageStrain", p.shrinkageStrain);
+  line("ShrinkageAsymmetry", p.shrinkageAsymmetry);
+  line("ShrinkageTime", p.shrinkageTime);
+  line("CurlStrain", p.curlStrain);
+  line("CurlAsymmetry", p.curlAsymmetry);
+  line("CurlRelaxation", p.curlRelaxation);
+  line("CurlRelaxationTime", p.curlRelaxationTime);
+  line("CurlTime", p.curlTime);
+  line("CurlDirection", static_cast<int>(p.curlDirection));
+  line("ContractionSide", static_cast<int>(p.contractionSide));
+  line("ContractionTarget", static_cast<int>(p.contractionTarget));
+  line("LoadProfile", static_cast<int>(p.loadProfile));
+  line("LoadTime", p.loadTime);
+  line("ContractionTime", p.contractionTime);
+  line("RayleighAlpha", p.newmark.rayleighMass);
+  line("RayleighBeta", p.newmark.rayleighStiffness);
+  if (p.referenceVoxelSize > 0.0)
+  {
+    // Not a property: the preset's forces are per voxel of this edge and scale with (VoxelSize / it)^3.
+    text << "\n(forces per voxel of edge " << Exact(p.referenceVoxelSize) << ", scaled to the voxel size used)";
+  }
+  this->PresetValues = text.str();
+  return this->PresetValues.c_str();
 }
 
 //------------------------------------------------------------------------------

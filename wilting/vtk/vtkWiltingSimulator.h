@@ -87,6 +87,8 @@
 #include "PlantMorphWiltingVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <string>
+
 #include <memory> // for std::unique_ptr
 
 namespace plantmorph
@@ -135,6 +137,13 @@ public:
   /** Preset (0 Custom, 1 Cucumber, 2 Tomato, 3 Watermelon). Default Cucumber. */
   vtkSetMacro(Preset, int);
   vtkGetMacro(Preset, int);
+
+  /**
+   * What the named Preset sets instead of the greyed-out properties (materials as density, stiffness, damping;
+   * loads; load profile; Rayleigh damping), one "Property = value" per line, for the read-only PresetValues box of
+   * the Properties panel; for Custom, a line saying the properties are used. Computed from Preset alone.
+   */
+  const char* GetPresetValues();
   ///@}
 
   ///@{
@@ -294,6 +303,7 @@ protected:
     vtkMTimeType pieceTime, vtkMTimeType veinsTime);
 
   int Preset = PRESET_CUCUMBER;
+  std::string PresetValues;
   double VoxelSize = 0.0;
   int Resolution = 14;
   int MaximumVoxels = 2000000;

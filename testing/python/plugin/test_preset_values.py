@@ -1,9 +1,10 @@
 """pvpython: with a named preset the panel shows what the preset chose (issue 20 item 9).
 
-VenationFilter, TreeFromSketchSource and LeafOutlineSource grey out (not hide) the properties a named preset overrides, and show a
+VenationFilter, TreeFromSketchSource, LeafOutlineSource and WiltingSimulator grey out (not hide) the properties a named preset overrides, and show a
 read-only PresetValues box (an information_only property, which ParaView 5.11's panel shows disabled and refreshes
 after each update). Checked here: the box lists exactly the values the output was made with (the veins' field data
-PlantMorph.Venation.<property>; the tree's branch count from paper 004 Table 1; the leaf's field data), it follows
+PlantMorph.Venation.<property>; the tree's branch count from paper 004 Table 1; the leaf's field data; a Custom
+wilting run with the box's values gives the named preset's trajectory bit for bit), it follows
 the Preset, and Custom says the properties are used. (The greying itself is checked on the XML by test_property_panels.py.)
 
     pvpython test_preset_values.py --plugin PlantMorph.so --work DIR
@@ -82,4 +83,43 @@ checks.check(values.get("Preset") == "Ginkgo" and values.get("Terms", "").count(
 leaf.Preset = "Custom"
 values, title = shown(leaf)
 checks.check(not values and title.startswith("Custom"), "leaf Custom: the box says the properties are used")
+
+SetActiveSource(None)
+blade = LeafOutlineSource()
+named = WiltingSimulator(Input=blade, Preset="Cucumber", Duration=0.5, Resolution=8)
+values, title = shown(named)
+checks.check("greyed" in title and len(values) == 25, "wilting Cucumber: the box lists 25 values (%d) %r" % (len(values), title))
+# The Cucumber's forces are per voxel of its fitting edge (a note in the box, not a property): simulate both at that
+# edge so that the Custom run's forces are the box's numbers unscaled.
+import re
+edge = re.search(r"forces per voxel of edge ([0-9.e+-]+)", str(named.PresetValues))
+checks.check(edge is not None, "wilting Cucumber: the box names the voxel edge its forces are given for")
+named.VoxelSize = float(edge.group(1)) if edge else 0.0
+custom = WiltingSimulator(Input=blade, Preset="Custom", Duration=0.5, VoxelSize=named.VoxelSize)
+for name, text in values.items():
+    numbers = [float(v) for v in text.split(",")]
+    current = custom.GetPropertyValue(name)
+    if name in ("CurlDirection", "ContractionSide", "ContractionTarget", "LoadProfile"):
+        custom.GetProperty(name).SetData(int(numbers[0]))
+    else:
+        custom.GetProperty(name).SetData(numbers if len(numbers) > 1 else numbers[0])
+custom.UpdatePipeline(0.5)
+named.UpdatePipeline(0.5)
+
+
+def tip_path(proxy):
+    table = servermanager.Fetch(proxy, idx=2)
+    return [[table.GetColumnByName(c).GetValue(r) for c in ("TipX", "TipY", "TipZ")]
+            for r in range(table.GetNumberOfRows())]
+
+
+named_path, custom_path = tip_path(named), tip_path(custom)
+checks.check(len(named_path) > 3 and named_path == custom_path,
+             "wilting: Custom with the box's values moves the tip exactly as Cucumber (%d rows; last %s vs %s)" % (
+                 len(named_path), named_path[-1:] if named_path else None, custom_path[-1:] if custom_path else None))
+checks.check(named_path[-1][2] < named_path[0][2], "wilting: the tip droops (z %s -> %s)" % (
+    named_path[0][2], named_path[-1][2]))
+named.Preset = "Custom"
+values, title = shown(named)
+checks.check(not values and title.startswith("Custom"), "wilting Custom: the box says the properties are used")
 checks.finish()
