@@ -336,6 +336,34 @@ void BM_Cast(benchmark::State& state)
 }
 
 /// Embree's packet and stream calls on the scanner's beams (a scene committed the way RayCaster does).
+/// Casts the first `Width` lanes of a 16-wide packet as a `Width`-wide one (4 and 8 are not prefixes of the 16-wide
+/// layout, so lanes are copied) and writes the hit geometry ids back into `wide`.
+template <int Width, typename Narrow, typename IntersectFunction>
+void IntersectNarrow(const int* valid, RTCScene scene, RTCIntersectContext& context, RTCRayHit16& wide, Narrow& narrow,
+  IntersectFunction intersect)
+{
+  for (int i = 0; i < Width; ++i)
+  {
+    narrow.ray.org_x[i] = wide.ray.org_x[i];
+    narrow.ray.org_y[i] = wide.ray.org_y[i];
+    narrow.ray.org_z[i] = wide.ray.org_z[i];
+    narrow.ray.dir_x[i] = wide.ray.dir_x[i];
+    narrow.ray.dir_y[i] = wide.ray.dir_y[i];
+    narrow.ray.dir_z[i] = wide.ray.dir_z[i];
+    narrow.ray.tnear[i] = 0.0f;
+    narrow.ray.tfar[i] = wide.ray.tfar[i];
+    narrow.ray.time[i] = 0.0f;
+    narrow.ray.mask[i] = 0xFFFFFFFFu;
+    narrow.ray.id[i] = static_cast<unsigned>(i);
+    narrow.ray.flags[i] = 0;
+    narrow.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    narrow.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  intersect(valid, scene, &context, &narrow);
+  for (int i = 0; i < Width; ++i)
+    wide.hit.geomID[i] = narrow.hit.geomID[i];
+}
+
 void BM_EmbreePacket(benchmark::State& state)
 {
   const int width = static_cast<int>(state.range(0));
@@ -438,50 +466,12 @@ void BM_EmbreePacket(benchmark::State& state)
       else if (width == 8)
       {
         alignas(32) RTCRayHit8 p8;
-        for (int i = 0; i < 8; ++i)
-        {
-          p8.ray.org_x[i] = packet.ray.org_x[i];
-          p8.ray.org_y[i] = packet.ray.org_y[i];
-          p8.ray.org_z[i] = packet.ray.org_z[i];
-          p8.ray.dir_x[i] = packet.ray.dir_x[i];
-          p8.ray.dir_y[i] = packet.ray.dir_y[i];
-          p8.ray.dir_z[i] = packet.ray.dir_z[i];
-          p8.ray.tnear[i] = 0.0f;
-          p8.ray.tfar[i] = packet.ray.tfar[i];
-          p8.ray.time[i] = 0.0f;
-          p8.ray.mask[i] = 0xFFFFFFFFu;
-          p8.ray.id[i] = static_cast<unsigned>(i);
-          p8.ray.flags[i] = 0;
-          p8.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-          p8.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-        }
-        rtcIntersect8(valid, rtc, &context, &p8);
-        for (int i = 0; i < 8; ++i)
-          packet.hit.geomID[i] = p8.hit.geomID[i];
+        IntersectNarrow<8>(valid, rtc, context, packet, p8, rtcIntersect8);
       }
       else
       {
         alignas(16) RTCRayHit4 p4;
-        for (int i = 0; i < 4; ++i)
-        {
-          p4.ray.org_x[i] = packet.ray.org_x[i];
-          p4.ray.org_y[i] = packet.ray.org_y[i];
-          p4.ray.org_z[i] = packet.ray.org_z[i];
-          p4.ray.dir_x[i] = packet.ray.dir_x[i];
-          p4.ray.dir_y[i] = packet.ray.dir_y[i];
-          p4.ray.dir_z[i] = packet.ray.dir_z[i];
-          p4.ray.tnear[i] = 0.0f;
-          p4.ray.tfar[i] = packet.ray.tfar[i];
-          p4.ray.time[i] = 0.0f;
-          p4.ray.mask[i] = 0xFFFFFFFFu;
-          p4.ray.id[i] = static_cast<unsigned>(i);
-          p4.ray.flags[i] = 0;
-          p4.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-          p4.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-        }
-        rtcIntersect4(valid, rtc, &context, &p4);
-        for (int i = 0; i < 4; ++i)
-          packet.hit.geomID[i] = p4.hit.geomID[i];
+        IntersectNarrow<4>(valid, rtc, context, packet, p4, rtcIntersect4);
       }
       for (int i = 0; i < n; ++i)
         hits += packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
