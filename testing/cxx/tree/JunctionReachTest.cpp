@@ -18,6 +18,7 @@
 #include "TreeMerge.h"
 #include "TreeStrokes.h"
 #include "TreeTemplate.h"
+#include "TreeTestStrokes.h"
 
 #include <MeshInvariants.h>
 
@@ -184,20 +185,12 @@ double CheckTree(const Tree& tree, int sides, const std::string& what)
 
 constexpr double Bound = 1.6;
 
-std::vector<Eigen::Vector3d> Line(std::initializer_list<std::pair<double, double>> points)
-{
-  std::vector<Eigen::Vector3d> line;
-  for (const auto& [x, y] : points)
-    line.emplace_back(x, y, 0.0);
-  return line;
-}
-
-/// The tree: three strokes (testing/python/tree/test_tree_from_sketch.py's), trunk first.
+/// The tree: the first three sample strokes (testing/python/tree/test_tree_from_sketch.py's), trunk first.
 std::vector<std::vector<Eigen::Vector3d>> ThreeStrokes()
 {
-  return { Line({ { 0, 0 }, { 0.2, 3 }, { -0.1, 6 }, { 0.1, 9 }, { 0, 12 } }),
-    Line({ { 0.3, 6 }, { 1.5, 7.5 }, { 3, 8.2 }, { 4, 10 } }),
-    Line({ { -0.2, 4 }, { -1, 5 }, { -2.5, 5.5 }, { -3.5, 7 }, { -4, 8 } }) };
+  auto strokes = tree_test::SampleStrokes();
+  strokes.resize(3);
+  return strokes;
 }
 
 TreeParameters Preset(int preset)

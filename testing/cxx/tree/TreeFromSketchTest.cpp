@@ -7,6 +7,7 @@
 #include "TreeMerge.h"
 #include "TreeStrokes.h"
 #include "TreeTemplate.h"
+#include "TreeTestStrokes.h"
 
 #include <plantmorph/BezierCurve.h>
 
@@ -346,21 +347,8 @@ TreeParameters StrokeParameters()
   return s;
 }
 
-std::vector<Eigen::Vector3d> Line(std::initializer_list<std::pair<double, double>> points)
-{
-  std::vector<Eigen::Vector3d> line;
-  for (const auto& [x, y] : points)
-    line.emplace_back(x, y, 0.0);
-  return line;
-}
-
-std::vector<std::vector<Eigen::Vector3d>> SampleStrokes()
-{
-  return { Line({ { 0, 0 }, { 0.2, 3 }, { -0.1, 6 }, { 0.1, 9 }, { 0, 12 } }),
-    Line({ { 0.3, 6 }, { 1.5, 7.5 }, { 3, 8.2 }, { 4, 10 } }),
-    Line({ { -0.2, 4 }, { -1, 5 }, { -2.5, 5.5 }, { -3.5, 7 }, { -4, 8 } }),
-    Line({ { 2.0, 7.8 }, { 2.2, 9 }, { 2.1, 10.5 } }) };
-}
+using tree_test::Line;
+using tree_test::SampleStrokes;
 } // namespace
 
 TEST(TreeStrokes, LiftedBranchesProjectOntoTheirStrokesWithEq3Lengths)
