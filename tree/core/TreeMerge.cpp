@@ -276,4 +276,19 @@ std::string MergeTree(
   return {};
 }
 
+std::vector<char> MergedRoots(const Tree& tree)
+{
+  std::map<int, bool> merged;
+  for (const TreeBranch& b : tree.branches)
+    merged[b.id] = b.mergedId >= 0;
+  std::vector<char> roots(tree.branches.size(), 0);
+  for (std::size_t t = 0; t < tree.branches.size(); ++t)
+  {
+    const TreeBranch& b = tree.branches[t];
+    const auto parent = merged.find(b.parentId);
+    roots[t] = b.mergedId >= 0 && (parent == merged.end() || !parent->second) ? 1 : 0;
+  }
+  return roots;
+}
+
 } // namespace plantmorph

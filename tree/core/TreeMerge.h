@@ -47,4 +47,8 @@ std::string ValidateSkeletonIsTree(const std::vector<SkeletonBranch>& second);
 std::string MergeTree(
   const TreeParameters& settings, std::size_t strokeCount, const std::vector<SkeletonBranch>& second, Tree& tree);
 
+/// For splitting into pieces (BranchPieces.h' PlanPieces): 1 for each merged tree's root (a merged branch whose
+/// parent is not merged; a second trunk has no parent anyway), so a merged tree is a unit of its own; one per branch.
+std::vector<char> MergedRoots(const Tree& tree);
+
 } // namespace plantmorph

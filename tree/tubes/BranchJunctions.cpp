@@ -1,4 +1,5 @@
 #include "BranchJunctions.h"
+#include "BranchPieces.h"
 #include "SmallConvexHull.h"
 
 #include <plantmorph/MathConstants.h>
@@ -516,6 +517,66 @@ struct Welding
   std::vector<std::vector<Junction>> junctionsOf;
 };
 
+/// What a build restricted to some tubes (a piece, BranchPieces.h) computes of each tube: all of them are set for a
+/// whole build. write: its points are written (the selected tubes, and their parents, siblings and children, whose
+/// rings the selected tubes' junction facets may use); decide: its children's junctions are decided (the written
+/// tubes and their ancestors: a junction depends on its parent's own welding); skeleton: its skeleton is made (the
+/// decided tubes and their children); hull: the hulls of the junctions on it are built (the written tubes and their
+/// parents); triangles: its triangles are written (the selected tubes).
+struct TubeRoles
+{
+  std::vector<char> write, decide, skeleton, hull, triangles;
+};
+
+TubeRoles RolesFor(const std::vector<TubeInput>& tubes, const std::vector<std::vector<std::size_t>>& children,
+  const std::vector<char>* selected)
+{
+  const std::size_t count = tubes.size();
+  TubeRoles roles;
+  if (!selected)
+  {
+    roles.write.assign(count, 1);
+    roles.decide = roles.skeleton = roles.hull = roles.triangles = roles.write;
+    return roles;
+  }
+  roles.triangles = *selected;
+  roles.write = *selected;
+  const auto parentOf = [&](std::size_t t) { return tubes[t].parent; };
+  for (std::size_t t = 0; t < count; ++t)
+  {
+    if (!(*selected)[t])
+      continue;
+    for (std::size_t c : children[t])
+      roles.write[c] = 1;
+    if (parentOf(t) >= 0)
+    {
+      const std::size_t p = static_cast<std::size_t>(parentOf(t));
+      roles.write[p] = 1;
+      for (std::size_t c : children[p])
+        roles.write[c] = 1;
+    }
+  }
+  roles.decide.assign(count, 0);
+  roles.hull.assign(count, 0);
+  for (std::size_t t = 0; t < count; ++t)
+  {
+    if (!roles.write[t])
+      continue;
+    roles.hull[t] = 1;
+    if (parentOf(t) >= 0)
+      roles.hull[static_cast<std::size_t>(parentOf(t))] = 1;
+    for (std::int64_t a = static_cast<std::int64_t>(t); a >= 0 && !roles.decide[static_cast<std::size_t>(a)];
+         a = parentOf(static_cast<std::size_t>(a)))
+      roles.decide[static_cast<std::size_t>(a)] = 1;
+  }
+  roles.skeleton = roles.decide;
+  for (std::size_t t = 0; t < count; ++t)
+    if (roles.decide[t])
+      for (std::size_t c : children[t])
+        roles.skeleton[c] = 1;
+  return roles;
+}
+
 /// Children per parent (into `children`), and the parents level by level.
 std::vector<std::vector<std::size_t>> ParentsByLevel(
   const std::vector<TubeInput>& tubes, std::vector<std::vector<std::size_t>>& children)
@@ -694,12 +755,13 @@ void DropInteriorPoints(Junction& J)
 
 /// Hulls, in parallel; a junction whose hull lacks a ring face falls back: its children stay closed tubes from
 /// their base (they keep the narrowed first radius their own junctions were built with). All junctions, in order.
-std::vector<Junction*> BuildHulls(std::size_t S, const ParallelFor& parallel, Welding& w)
+std::vector<Junction*> BuildHulls(std::size_t S, const ParallelFor& parallel, const TubeRoles& roles, Welding& w)
 {
   std::vector<Junction*> all;
   for (std::size_t t = 0; t < w.junctionsOf.size(); ++t)
-    for (Junction& J : w.junctionsOf[t])
-      all.push_back(&J);
+    if (roles.hull[t])
+      for (Junction& J : w.junctionsOf[t])
+        all.push_back(&J);
   parallel(all.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
     {
@@ -809,7 +871,7 @@ void LayOutStations(std::size_t t, const Welding& w, Layout& L)
 }
 
 /// Point and triangle offsets of every tube, and the mesh's arrays sized; "" or the 32-bit id error.
-std::string AllocateWeldedMesh(const std::vector<Layout>& layout, int sides, TubeMesh& mesh)
+std::string AllocateWeldedMesh(const std::vector<Layout>& layout, int sides, const TubeRoles& roles, TubeMesh& mesh)
 {
   const std::size_t count = layout.size();
   const std::size_t S = static_cast<std::size_t>(sides);
@@ -821,11 +883,14 @@ std::string AllocateWeldedMesh(const std::vector<Layout>& layout, int sides, Tub
     std::int64_t bands = 0;
     for (char b : L.bandAfter)
       bands += b;
-    mesh.pointOffsets[t + 1] = mesh.pointOffsets[t] + (L.baseCap ? 1 : 0) +
-      static_cast<std::int64_t>(L.stations.size() * S) + (L.endKept ? 1 : 0) +
-      static_cast<std::int64_t>(L.extras.size());
-    mesh.triangleOffsets[t + 1] = mesh.triangleOffsets[t] + (L.baseCap ? sides : 0) + 2 * sides * bands +
-      (L.endKept ? sides : 0) + static_cast<std::int64_t>(L.facets.size());
+    mesh.pointOffsets[t + 1] = mesh.pointOffsets[t] +
+      (roles.write[t] ? (L.baseCap ? 1 : 0) + static_cast<std::int64_t>(L.stations.size() * S) + (L.endKept ? 1 : 0) +
+            static_cast<std::int64_t>(L.extras.size())
+                      : 0);
+    mesh.triangleOffsets[t + 1] = mesh.triangleOffsets[t] +
+      (roles.triangles[t] ? (L.baseCap ? sides : 0) + 2 * sides * bands + (L.endKept ? sides : 0) +
+            static_cast<std::int64_t>(L.facets.size())
+                          : 0);
   }
   if (mesh.pointOffsets.back() > std::numeric_limits<std::int32_t>::max())
   {
@@ -842,7 +907,7 @@ std::string AllocateWeldedMesh(const std::vector<Layout>& layout, int sides, Tub
 /// Every tube's points (base centre, rings, end point, owned hull corners) and triangles (TubeTriangles' caps and
 /// kept bands, then its hull facets).
 void WriteWeldedTubes(const Welding& w, const std::vector<Layout>& layout, int sides, const RingAngles& trig,
-  const ParallelFor& parallel, TubeMesh& mesh)
+  const ParallelFor& parallel, const TubeRoles& roles, TubeMesh& mesh)
 {
   const std::size_t count = layout.size();
   const std::size_t S = static_cast<std::size_t>(sides);
@@ -866,6 +931,8 @@ void WriteWeldedTubes(const Welding& w, const std::vector<Layout>& layout, int s
   parallel(count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
     {
+      if (!roles.write[t])
+        continue;
       const Skeleton& s = w.skeletons[t];
       const Layout& L = layout[t];
       std::int64_t p = mesh.pointOffsets[t];
@@ -890,6 +957,8 @@ void WriteWeldedTubes(const Welding& w, const std::vector<Layout>& layout, int s
         const RingVertex& r = e.first->points[static_cast<std::size_t>(e.second)].vertex;
         put(r.x, r.normal, r.u, r.v);
       }
+      if (!roles.triangles[t])
+        continue;
       std::size_t q = TubeTriangles(mesh.triangles, 3 * static_cast<std::size_t>(mesh.triangleOffsets[t]), firstRing,
         rings, sides, baseCentre, last, s.line.apex, &L.bandAfter);
       for (const auto& [J, f] : L.facets)
@@ -902,12 +971,12 @@ void WriteWeldedTubes(const Welding& w, const std::vector<Layout>& layout, int s
 }
 
 /// The junction counts and the tubes that fell back.
-void FillJunctionReport(
-  const std::vector<TubeInput>& tubes, const std::vector<Junction*>& all, const Welding& w, JunctionReport& report)
+void FillJunctionReport(const std::vector<TubeInput>& tubes, const std::vector<Junction*>& all, const Welding& w,
+  const TubeRoles& roles, JunctionReport& report)
 {
   for (const Junction* J : all)
   {
-    if (J->failed)
+    if (J->failed || !roles.triangles[J->parent])
       continue;
     ++report.junctions;
     report.welded += static_cast<std::int64_t>(J->children.size());
@@ -916,6 +985,8 @@ void FillJunctionReport(
   }
   for (std::size_t t = 0; t < tubes.size(); ++t)
   {
+    if (!roles.triangles[t])
+      continue;
     report.narrowed += w.state[t].narrowed ? 1 : 0;
     if (tubes[t].parent >= 0 && !w.state[t].welded)
     {
@@ -926,8 +997,8 @@ void FillJunctionReport(
 }
 } // namespace
 
-std::string BuildWeldedTubes(
-  const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel, JunctionReport* report)
+std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh,
+  const ParallelFor& parallel, JunctionReport* report, const std::vector<char>* selected)
 {
   if (report)
     *report = JunctionReport();
@@ -937,49 +1008,61 @@ std::string BuildWeldedTubes(
   {
     return error;
   }
+  if (selected && selected->size() != tubes.size())
+    return "the tube selection has " + std::to_string(selected->size()) + " entries for " +
+      std::to_string(tubes.size()) + " tubes";
   const std::size_t count = tubes.size();
   const std::size_t S = static_cast<std::size_t>(sides);
   const RingAngles trig(sides);
   Welding w;
+  // Children per parent, parents level by level: each level's junctions in parallel (a parent is final before its
+  // children's junctions are decided). A piece decides, hulls and writes only what its tubes need (TubeRoles).
+  const std::vector<std::vector<std::size_t>> byLevel = ParentsByLevel(tubes, w.children);
+  const TubeRoles roles = RolesFor(tubes, w.children, selected);
   w.skeletons.resize(count);
   std::vector<double> firstRadius(count); // before the pipe model narrows it
   parallel(count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
     {
       firstRadius[t] = cleaned[t].radii[0];
-      w.skeletons[t] = MakeSkeleton(std::move(cleaned[t]), tubes[t].normal);
+      if (roles.skeleton[t])
+        w.skeletons[t] = MakeSkeleton(std::move(cleaned[t]), tubes[t].normal);
     }
   });
   std::vector<CleanedTube>().swap(cleaned); // moved into the skeletons: not kept beside the mesh
 
-  // Children per parent, parents level by level: each level's junctions in parallel (a parent is final before its
-  // children's junctions are decided).
-  const std::vector<std::vector<std::size_t>> byLevel = ParentsByLevel(tubes, w.children);
   w.state.assign(count, ChildState());
   w.baseCut.assign(count, 0.0);
   w.junctionsOf.assign(count, {});
-  for (const std::vector<std::size_t>& parents : byLevel)
+  for (const std::vector<std::size_t>& level : byLevel)
   {
+    std::vector<std::size_t> parents;
+    for (std::size_t P : level)
+      if (roles.decide[P])
+        parents.push_back(P);
     parallel(parents.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i)
         WeldChildrenOf(parents[i], firstRadius, trig, w);
     });
   }
-  const std::vector<Junction*> all = BuildHulls(S, parallel, w);
+  const std::vector<Junction*> all = BuildHulls(S, parallel, roles, w);
 
   // Stations of each tube, then points and triangles.
   std::vector<Layout> layout(count);
   AssignHullParts(all, layout);
   parallel(count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
-      LayOutStations(t, w, layout[t]);
+      if (roles.write[t])
+        LayOutStations(t, w, layout[t]);
   });
-  if (std::string error = AllocateWeldedMesh(layout, sides, mesh); !error.empty())
+  if (std::string error = AllocateWeldedMesh(layout, sides, roles, mesh); !error.empty())
     return error;
-  WriteWeldedTubes(w, layout, sides, trig, parallel, mesh);
+  WriteWeldedTubes(w, layout, sides, trig, parallel, roles, mesh);
+  if (selected)
+    KeepTubes(mesh, *selected);
 
   if (report)
-    FillJunctionReport(tubes, all, w, *report);
+    FillJunctionReport(tubes, all, w, roles, *report);
   return {};
 }
 

@@ -81,7 +81,16 @@ struct JunctionReport
 
 /// BuildTubes' tubes, joined at their parents by convex-hull junctions (see above). Same inputs and errors as
 /// BuildTubes.
+///
+/// Pieces: with `selected` (one entry per tube, 1: build it; BranchPieces.h plans them) only those tubes' points and
+/// triangles are made, each exactly as in the whole build (the junctions are decided for the selected tubes, their
+/// families and their ancestors only, which is all a junction depends on), plus copies of the other tubes' points
+/// their facets use; the mesh is then KeepTubes' (BranchPieces.h). A junction's facets stay with the tube that owns
+/// them (above), so a junction whose tubes lie in two pieces is computed in both and each writes its own facets.
+/// The report then counts the junctions on the selected tubes and the selected tubes' narrowing and fallback:
+/// summed over the pieces of a plan, the whole build's counts.
 std::string BuildWeldedTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh,
-  const ParallelFor& parallel = SerialFor, JunctionReport* report = nullptr);
+  const ParallelFor& parallel = SerialFor, JunctionReport* report = nullptr,
+  const std::vector<char>* selected = nullptr);
 
 } // namespace plantmorph

@@ -1,4 +1,5 @@
 #include "BranchTubes.h"
+#include "BranchPieces.h"
 
 #include <plantmorph/MathConstants.h>
 #include <plantmorph/RangeError.h>
@@ -459,8 +460,8 @@ void SeatJoint(const std::vector<TubeInput>& tubes, const std::vector<Cleaned>& 
 }
 } // namespace
 
-std::string BuildTubes(
-  const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel, JointReport* joints)
+std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh, const ParallelFor& parallel,
+  JointReport* joints, const std::vector<char>* selected)
 {
   if (joints)
   {
@@ -472,12 +473,25 @@ std::string BuildTubes(
   {
     return error;
   }
+  if (selected && selected->size() != tubes.size())
+  {
+    return "the tube selection has " + std::to_string(selected->size()) + " entries for " +
+      std::to_string(tubes.size()) + " tubes";
+  }
+  // Built: the selected tubes and their ancestors (all tubes without a selection).
+  std::vector<char> built(tubes.size(), selected ? 0 : 1);
+  for (std::size_t t = 0; selected && t < tubes.size(); ++t)
+  {
+    for (std::int64_t a = (*selected)[t] ? static_cast<std::int64_t>(t) : -1; a >= 0 && !built[std::size_t(a)];
+         a = tubes[std::size_t(a)].parent)
+      built[static_cast<std::size_t>(a)] = 1;
+  }
   mesh.pointOffsets.assign(tubes.size() + 1, 0);
   mesh.triangleOffsets.assign(tubes.size() + 1, 0);
   for (std::size_t t = 0; t < tubes.size(); ++t)
   {
-    mesh.pointOffsets[t + 1] = mesh.pointOffsets[t] + PointCount(cleaned[t], sides);
-    mesh.triangleOffsets[t + 1] = mesh.triangleOffsets[t] + TriangleCount(cleaned[t], sides);
+    mesh.pointOffsets[t + 1] = mesh.pointOffsets[t] + (built[t] ? PointCount(cleaned[t], sides) : 0);
+    mesh.triangleOffsets[t + 1] = mesh.triangleOffsets[t] + (built[t] ? TriangleCount(cleaned[t], sides) : 0);
   }
   if (mesh.pointOffsets.back() > std::numeric_limits<std::int32_t>::max())
   {
@@ -492,14 +506,17 @@ std::string BuildTubes(
   const RingAngles angles(sides);
   parallel(tubes.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
-      WriteTube(cleaned[t], tubes[t].normal, angles, sides, t, mesh);
+      if (built[t])
+        WriteTube(cleaned[t], tubes[t].normal, angles, sides, t, mesh);
   });
 
   // Joints: seat each child's base ring on its parent's surface, level by level (a parent is final before its
   // children read it; children of one level only write their own points).
   std::vector<std::array<std::int64_t, 4>> counts(tubes.size(), { 0, 0, 0, 0 });
-  for (const std::vector<std::size_t>& children : ChildrenByLevel(tubes))
+  for (std::vector<std::size_t> children : ChildrenByLevel(tubes))
   {
+    children.erase(std::remove_if(children.begin(), children.end(), [&](std::size_t t) { return !built[t]; }),
+      children.end());
     parallel(children.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i)
         SeatJoint(tubes, cleaned, children[i], sides, mesh, counts[children[i]]);
@@ -507,10 +524,17 @@ std::string BuildTubes(
   }
   if (joints)
   {
-    for (const auto& c : counts)
+    for (std::size_t t = 0; t < tubes.size(); ++t)
     {
+      if (selected && !(*selected)[t])
+        continue;
+      const auto& c = counts[t];
       joints->seated += c[0], joints->missed += c[1], joints->clamped += c[2], joints->buried += c[3];
     }
+  }
+  if (selected)
+  {
+    KeepTubes(mesh, *selected);
   }
   return {};
 }

@@ -125,8 +125,11 @@ std::size_t TubeTriangles(std::vector<std::int32_t>& triangles, std::size_t q, s
 /// not depend on how the range is cut). Returns an empty string or a message (sides out of [3, 256], a tube with
 /// fewer than 2 distinct points, a non-finite point or radius, more than 2^31 - 1 points, a parent index not
 /// below the tube's own).
+/// With `selected` (one entry per tube, 1: build it) only those tubes are kept, as in the whole build: they and their
+/// ancestors (whose seated surfaces they are seated on) are built, then cut down by KeepTubes (BranchPieces.h); the
+/// report counts the selected tubes' ring vertices.
 std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh& mesh,
-  const ParallelFor& parallel = SerialFor, JointReport* joints = nullptr);
+  const ParallelFor& parallel = SerialFor, JointReport* joints = nullptr, const std::vector<char>* selected = nullptr);
 
 /// The last crossing of the line p + t e (t < tMax) with tube `tube`'s triangles: the largest such t, or NaN if
 /// there is none; *leaving says whether the line leaves the tube there (e against the outward triangle's normal).
