@@ -1,6 +1,7 @@
 """pvbatch under MPI: every PlantMorph source and filter gives, on 1, 2 or 4 ranks, the result of a serial run, once.
 
-Sources make their data on rank 0 (piece 0); the reader reads its file on rank 0; filters that need the whole leaf
+Sources make their data on rank 0 (piece 0), except TreeFromSketchSource's branches and leaves, made by pieces and
+checked as triangle sets by test_mpi_tree_pieces.py (its skeleton stays on rank 0, here); the reader reads its file on rank 0; filters that need the whole leaf
 run where it is, and gather it onto rank 0 when it arrives split over ranks (here by D3). For every output port:
 the totals over all ranks equal the serial counts (nothing duplicated, nothing lost) and the data gathered from all
 ranks is bit-identical to the serial output. Run once serially with --write-reference (pvpython), then as
@@ -69,7 +70,7 @@ OUTPUTS = {
     "venation_veins": (veins, 0), "venation_blade": (veins, 1),
     "adaptive_loop": (loop, 0), "leaf_curl": (curl, 0),
     "wilting_leaf": (wilt, 0), "wilting_voxels": (wilt, 1), "wilting_table": (wilt, 2), "wilting_veins": (wilt, 3),
-    "tree_surface": (tree, 0), "tree_skeleton": (tree, 1), "tree_leaves": (tree, 2),
+    "tree_skeleton": (tree, 1),
     "cloud_reader": (cloud, 0), "cloud_distances": (comparison, 0), "cloud_histogram": (comparison, 1),
     "cloud_statistics": (comparison, 2),
     "fit_blade": (leaf_fit, 0), "fit_outline": (leaf_fit, 1), "fit_traits": (leaf_fit, 2), "fit_scan": (leaf_fit, 3),

@@ -2,8 +2,11 @@
 #include "PlantMorphAlgorithmHooks.h"
 
 #include "PlantMorphFieldData.h"
+#include "PlantMorphWholeInput.h"
 #include "BranchJunctions.h"
+#include "BranchPieces.h"
 #include "BranchTubes.h"
+#include "TreeMerge.h"
 #include "TreeStrokes.h"
 #include "TreeTemplate.h"
 
@@ -14,6 +17,7 @@
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkIdList.h"
@@ -21,6 +25,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -34,6 +39,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -256,8 +262,8 @@ void WriteSkeleton(const plantmorph::Tree& tree, vtkPolyData* skeletonOut)
 }
 
 /// Port 2: the leaves, copies of the Leaf input (or textured quads without one) at each leaf's place.
-void WriteLeaves(const plantmorph::Tree& tree, const plantmorph::TreeParameters& s, vtkPolyData* leafInput,
-  double leafLength, double leafMinY, vtkPolyData* leavesOut)
+void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, const plantmorph::TreeParameters& s,
+  vtkPolyData* leafInput, double leafLength, double leafMinY, vtkPolyData* leavesOut)
 {
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
@@ -278,7 +284,7 @@ void WriteLeaves(const plantmorph::Tree& tree, const plantmorph::TreeParameters&
   }
   vtkDataArray* leafNormals = leafInput ? leafInput->GetPointData()->GetNormals() : nullptr;
   vtkNew<vtkIdList> ids;
-  for (const plantmorph::TreeLeaf& leaf : tree.leaves)
+  for (const plantmorph::TreeLeaf& leaf : leaves)
   {
     const vtkIdType first = points->GetNumberOfPoints();
     const Eigen::Vector3d n = leaf.axes.col(2);
@@ -340,6 +346,82 @@ void WriteLeaves(const plantmorph::Tree& tree, const plantmorph::TreeParameters&
   leavesOut->GetPointData()->SetTCoords(tcoords);
   leavesOut->GetPointData()->SetNormals(normals);
   leavesOut->GetCellData()->AddArray(branchId);
+}
+
+/// A small input (strokes, a leaf, a skeleton to merge) whole on every rank, for a tree made by pieces. Collective:
+/// every rank calls it for the same connected ports. Rank 0's input is broadcast when no other rank holds different
+/// data (our sources make it on rank 0 alone; a programmable source makes it on every rank, the same); an input split
+/// over the ranks (D3, a partitioned reader) is first gathered on rank 0 (PlantMorphWholeInput.h). Serially the input
+/// itself.
+vtkSmartPointer<vtkPolyData> WholeOnEveryRank(vtkPolyData* piece)
+{
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+  {
+    return piece;
+  }
+  const int ranks = controller->GetNumberOfProcesses();
+  const vtkIdType mine[2] = { piece ? piece->GetNumberOfPoints() : 0, piece ? piece->GetNumberOfCells() : 0 };
+  std::vector<vtkIdType> all(2 * static_cast<std::size_t>(ranks));
+  controller->AllGather(mine, all.data(), 2);
+  bool split = false;
+  for (int rank = 1; rank < ranks; ++rank)
+  {
+    const std::size_t r = 2 * static_cast<std::size_t>(rank);
+    split = split || (all[r] > 0 && (all[r] != all[0] || all[r + 1] != all[1]));
+  }
+  vtkSmartPointer<vtkPolyData> whole = piece;
+  if (split)
+  {
+    whole = plantmorph::GatherOnFirstRank(piece);
+  }
+  if (controller->GetLocalProcessId() != 0 || !whole)
+  {
+    whole = vtkSmartPointer<vtkPolyData>::New();
+  }
+  controller->Broadcast(whole, 0);
+  return whole;
+}
+
+/// The piece this request asks for; pieces below 1 (a request without them) mean the whole tree.
+void RequestedPiece(vtkInformation* info, int& piece, int& pieces)
+{
+  piece = info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    ? info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    : 0;
+  pieces = info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (pieces < 1)
+  {
+    piece = 0, pieces = 1;
+  }
+}
+
+/// The leaves on the selected branches (all of them without a selection), in the tree's order.
+std::vector<plantmorph::TreeLeaf> LeavesOf(const plantmorph::Tree& tree, const std::vector<char>* selected)
+{
+  if (!selected)
+  {
+    return tree.leaves;
+  }
+  std::set<int> ids;
+  for (std::size_t t = 0; t < tree.branches.size(); ++t)
+  {
+    if ((*selected)[t])
+    {
+      ids.insert(tree.branches[t].id);
+    }
+  }
+  std::vector<plantmorph::TreeLeaf> leaves;
+  for (const plantmorph::TreeLeaf& leaf : tree.leaves)
+  {
+    if (ids.count(leaf.branchId))
+    {
+      leaves.push_back(leaf);
+    }
+  }
+  return leaves;
 }
 } // namespace
 
@@ -655,7 +737,7 @@ void vtkTreeFromSketchSource::FillFieldData(vtkFieldData* parameters, const plan
 
 //------------------------------------------------------------------------------
 int vtkTreeFromSketchSource::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* branchesOut = vtkPolyData::GetData(outputVector, 0);
   vtkPolyData* skeletonOut = vtkPolyData::GetData(outputVector, 1);
@@ -663,10 +745,22 @@ int vtkTreeFromSketchSource::RequestData(
   branchesOut->Initialize();
   skeletonOut->Initialize();
   leavesOut->Initialize();
-  const int piece = outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
-  if (piece > 0)
+  // Pieces (see the class documentation): every piece builds the same skeleton and makes its own branches.
+  // The piece asked of the port this update is for (the other ports' requests may be absent or stale).
+  int piece = 0, pieces = 1;
+  const int port = request->Has(vtkExecutive::FROM_OUTPUT_PORT()) ? request->Get(vtkExecutive::FROM_OUTPUT_PORT()) : 0;
+  RequestedPiece(outputVector->GetInformationObject(port >= 0 && port < 3 ? port : 0), piece, pieces);
+  if (piece < 0 || piece >= pieces)
   {
-    return 1;
+    return 1; // no such piece: nothing (a streaming request beyond the last piece)
+  }
+  // The small inputs whole on every rank (collective: before anything may return on one rank but not another).
+  vtkSmartPointer<vtkPolyData> inputs[3];
+  for (int port = 0; port < 3; ++port)
+  {
+    inputs[port] = this->GetNumberOfInputConnections(port) > 0
+      ? WholeOnEveryRank(vtkPolyData::GetData(inputVector[port], 0))
+      : nullptr;
   }
 
   // Properties -> parameters.
@@ -678,9 +772,8 @@ int vtkTreeFromSketchSource::RequestData(
 
   // Strokes: the input's lines, else the file.
   std::vector<std::vector<Eigen::Vector3d>> strokes;
-  std::string error = s.mode == plantmorph::TreeMode::Template
-    ? std::string()
-    : ReadStrokes(vtkPolyData::GetData(inputVector[0], 0), this->StrokeFile, strokes);
+  std::string error =
+    s.mode == plantmorph::TreeMode::Template ? std::string() : ReadStrokes(inputs[0], this->StrokeFile, strokes);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
@@ -688,7 +781,7 @@ int vtkTreeFromSketchSource::RequestData(
   }
   // A second tree to merge: a skeleton (lines) with BranchId and ParentId on its cells and Radius on its points.
   std::vector<plantmorph::SkeletonBranch> second;
-  vtkPolyData* mergeInput = vtkPolyData::GetData(inputVector[2], 0);
+  vtkPolyData* mergeInput = inputs[2];
   if (mergeInput)
   {
     const std::string refused = ReadSkeleton(mergeInput, second);
@@ -719,13 +812,20 @@ int vtkTreeFromSketchSource::RequestData(
   }
 
   // Branch surfaces: welded by convex-hull junctions into one closed surface per tree (default), or each branch its
-  // own closed tube with its base ring seated on its parent.
+  // own closed tube with its base ring seated on its parent. A piece builds the branches the plan gives it.
   std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree);
+  std::vector<char> selected;
+  if (pieces > 1)
+  {
+    selected = plantmorph::TubesOfPiece(plantmorph::PlanPieces(tubes, plantmorph::MergedRoots(tree), pieces), piece);
+  }
+  const std::vector<char>* only = pieces > 1 ? &selected : nullptr;
   plantmorph::TubeMesh mesh;
   plantmorph::JointReport joints;
   plantmorph::JunctionReport junctions;
-  error = this->Joints == 0 ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &junctions)
-                            : plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &joints);
+  error = this->Joints == 0
+    ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &junctions, only)
+    : plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &joints, only);
   tubes.clear();
   if (!error.empty())
   {
@@ -735,7 +835,7 @@ int vtkTreeFromSketchSource::RequestData(
   this->UpdateProgress(0.6);
 
   // Leaf geometry input: validated before anything is written.
-  vtkPolyData* leafInput = vtkPolyData::GetData(inputVector[1], 0);
+  vtkPolyData* leafInput = inputs[1];
   double leafLength = 0.0, leafMinY = 0.0;
   if (s.leaves && leafInput)
   {
@@ -749,13 +849,27 @@ int vtkTreeFromSketchSource::RequestData(
 
   vtkNew<vtkFieldData> parameters;
   this->FillFieldData(parameters, s, tree, strokes.size(), joints, junctions);
+  if (pieces > 1)
+  {
+    vtkNew<vtkIntArray> where;
+    where->SetName("PlantMorph.Piece");
+    where->SetNumberOfComponents(2);
+    where->SetComponentName(0, "Piece");
+    where->SetComponentName(1, "Pieces");
+    where->InsertNextTuple2(piece, pieces);
+    parameters->AddArray(where);
+  }
   WriteBranches(mesh, tree, branchesOut);
   mesh = plantmorph::TubeMesh();
   this->UpdateProgress(0.8);
-  WriteSkeleton(tree, skeletonOut);
-  if (s.leaves && !tree.leaves.empty())
+  if (piece == 0)
   {
-    WriteLeaves(tree, s, leafInput, leafLength, leafMinY, leavesOut);
+    WriteSkeleton(tree, skeletonOut); // small: whole on piece 0 (see the class documentation)
+  }
+  const std::vector<plantmorph::TreeLeaf> leaves = LeavesOf(tree, only);
+  if (s.leaves && !leaves.empty())
+  {
+    WriteLeaves(leaves, s, leafInput, leafLength, leafMinY, leavesOut);
   }
 
   for (vtkPolyData* output : { branchesOut, skeletonOut, leavesOut })

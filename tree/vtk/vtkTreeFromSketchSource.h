@@ -63,7 +63,19 @@
  * it along its parent, angle turns it about its base; see TreeStrokes.h) and to merged branches (length, radius;
  * u, angle and rotation_angle on the merged root only, other rows refused; see TreeMerge.h).
  *
- * The tree is made once as piece 0 (other pieces are empty, so it appears once under MPI). Bad parameters, bad
+ * Pieces (UPDATE_PIECE_NUMBER of UPDATE_NUMBER_OF_PIECES; under `mpirun -np N pvbatch` or a cluster pvserver one
+ * piece per rank): every piece builds the same skeleton (small, deterministic), the branches are split between the
+ * pieces by subtree (tree/tubes/BranchPieces.h: depth-first runs balanced by segment count, a forest or a merged tree
+ * split by tree first), and each piece makes only its branches' tubes and the junction facets they own, exactly as
+ * the whole tree has them: the pieces' triangles together are the serial Branches output's, none twice or missing,
+ * with the same cell arrays (point ids and cell order differ). A junction whose branches lie in two pieces is computed
+ * in both, each writing its own facets (BranchJunctions.h). A piece's surface is a valid mesh, open where it meets
+ * another piece (the union is closed); the points of another piece's branch that its facets use are copied into it.
+ * Leaves go with their branch. The Skeleton output (one polyline per branch, small) is whole on piece 0 and empty on
+ * the others, so it appears once and can feed another source's MergeTree input. Field data: on every piece; in a
+ * piece, `PlantMorph.Junctions` and `PlantMorph.JointRingVertices` count its own branches' (summed over the pieces:
+ * the serial counts) and `PlantMorph.Piece` holds (piece, pieces). The inputs (strokes, leaf, merge skeleton) are
+ * small: under MPI they are gathered on rank 0 and broadcast, so every piece sees them whole. Bad parameters, bad
  * strokes (none, one point, NaN, zero length) or a tree above `MaxSegments` give an error naming the property or
  * input and its accepted range, and empty outputs. Randomness (ties in the nearest-parent search) comes only from
  * `Seed`: the same parameters, strokes and seed give bit-identical outputs.
