@@ -111,15 +111,33 @@ TEST(TreeFromSketchSource, Table1PresetGivesEveryBranchAsAClosedTubeWithArrays)
   EXPECT_EQ(bad, 0);
 }
 
-TEST(TreeFromSketchSource, PiecesAboveZeroAreEmpty)
+TEST(TreeFromSketchSource, PiecesSplitBranchesAndLeavesSkeletonOnPieceZero)
 {
+  // Each piece holds its own branches (BranchPieces.h; the exact triangle sets: TreePiecesTest.cpp and
+  // test_mpi_tree_pieces.py) and leaves; the skeleton is whole on piece 0 only.
   vtkNew<vtkTreeFromSketchSource> source;
   source->SetPreset(2);
-  source->UpdatePiece(1, 2, 0);
-  EXPECT_EQ(Output(source, 0)->GetNumberOfPoints(), 0);
-  EXPECT_EQ(Output(source, 2)->GetNumberOfPoints(), 0);
-  source->UpdatePiece(0, 2, 0);
-  EXPECT_EQ(Output(source, 1)->GetNumberOfLines(), 1093);
+  source->SetLeaves(1);
+  source->Update();
+  const vtkIdType triangles = Output(source, 0)->GetNumberOfCells();
+  const vtkIdType leaves = Output(source, 2)->GetNumberOfCells();
+  ASSERT_GT(leaves, 0);
+  for (int pieces : { 2, 3 })
+  {
+    vtkIdType sumTriangles = 0, sumLeaves = 0;
+    for (int piece = 0; piece < pieces; ++piece)
+    {
+      source->UpdatePiece(piece, pieces, 0);
+      const vtkIdType mine = Output(source, 0)->GetNumberOfCells();
+      EXPECT_GT(mine, 0);
+      EXPECT_LT(mine, triangles);
+      sumTriangles += mine;
+      sumLeaves += Output(source, 2)->GetNumberOfCells();
+      EXPECT_EQ(Output(source, 1)->GetNumberOfLines(), piece == 0 ? 1093 : 0) << piece << " of " << pieces;
+    }
+    EXPECT_EQ(sumTriangles, triangles) << pieces << " pieces";
+    EXPECT_EQ(sumLeaves, leaves) << pieces << " pieces";
+  }
 }
 
 TEST(TreeFromSketchSource, StrokesFromThePortAndFromACsvFileGiveTheSameTree)
