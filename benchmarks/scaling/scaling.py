@@ -112,6 +112,7 @@ def timed(step, proxy, port=0, extra=None, again=arguments.again, touch=None):
               "rss_before_mb": before,
               "step_mb": [round(p - b, 1) for p, b in zip(peak, before)],
               "cpu_s": (cpu_after - cpu_before).round(2).tolist(), "points": info.GetNumberOfPoints(), "cells": info.GetNumberOfCells(),
+              "rows": info.GetNumberOfRows(),
               "threads": os.environ.get("VTK_SMP_MAX_THREADS", ""), "label": arguments.label}
     result.update(extra or {})
     line = json.dumps(result)
