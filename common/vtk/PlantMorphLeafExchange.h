@@ -26,6 +26,7 @@
 
 #include "vtkAbstractArray.h"
 #include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkCellType.h"
 #include "vtkCommunicator.h"
@@ -42,6 +43,7 @@
 #include "vtkTable.h"
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <map>
@@ -104,58 +106,94 @@ inline std::string IdentifyLeaves(vtkPolyData* piece, std::vector<int>& leafOf)
   return {};
 }
 
-/// The points of `piece` with LeafId `leaf` (in the piece's order) and the cells all of whose points are among them
-/// (in the piece's order, by type), with every point, cell and field array.
-inline vtkSmartPointer<vtkPolyData> ExtractLeaf(vtkPolyData* piece, const std::vector<int>& leafOf, int leaf)
+/// The leaves `wanted` (ascending) of `piece`, each with its points (in the piece's order) and the cells all of
+/// whose points are in it (in the piece's order, by type), with every point, cell and field array. One pass over the
+/// piece for all of them.
+inline std::map<int, vtkSmartPointer<vtkPolyData>> ExtractLeaves(
+  vtkPolyData* piece, const std::vector<int>& leafOf, const std::vector<int>& wanted)
 {
-  auto result = vtkSmartPointer<vtkPolyData>::New();
+  std::map<int, vtkSmartPointer<vtkPolyData>> result;
+  if (wanted.empty())
+    return result;
+  const auto indexOf = [&](int leaf) {
+    const auto at = std::lower_bound(wanted.begin(), wanted.end(), leaf);
+    return at != wanted.end() && *at == leaf ? static_cast<int>(at - wanted.begin()) : -1;
+  };
   const vtkIdType n = piece->GetNumberOfPoints();
+  std::vector<int> slot(static_cast<std::size_t>(n), -1);
   std::vector<vtkIdType> newId(static_cast<std::size_t>(n), -1);
-  vtkNew<vtkPoints> points;
-  points->SetDataType(piece->GetPoints() ? piece->GetPoints()->GetDataType() : VTK_FLOAT);
-  vtkPointData* outPD = result->GetPointData();
-  outPD->CopyAllocate(piece->GetPointData());
+  std::vector<vtkSmartPointer<vtkIdList>> pointIds(wanted.size());
+  for (auto& ids : pointIds)
+    ids = vtkSmartPointer<vtkIdList>::New();
   for (vtkIdType i = 0; i < n; ++i)
-    if (leafOf[i] == leaf)
+    if ((slot[i] = indexOf(leafOf[i])) >= 0)
     {
-      newId[i] = points->InsertNextPoint(piece->GetPoint(i));
-      outPD->CopyData(piece->GetPointData(), i, newId[i]);
+      newId[i] = pointIds[slot[i]]->GetNumberOfIds();
+      pointIds[slot[i]]->InsertNextId(i);
     }
-  result->SetPoints(points);
   // Cells by type (vtkPolyData numbers its cells verts, lines, polys, strips), each type in the piece's order.
-  vtkNew<vtkCellArray> cells[4];
-  std::vector<vtkIdType> sources[4];
-  vtkNew<vtkIdList> ids;
-  for (vtkIdType c = 0; c < piece->GetNumberOfCells(); ++c)
+  std::vector<std::array<vtkSmartPointer<vtkCellArray>, 4>> cells(wanted.size());
+  std::vector<vtkSmartPointer<vtkIdList>> cellIds(wanted.size());
+  for (std::size_t k = 0; k < wanted.size(); ++k)
   {
-    piece->GetCellPoints(c, ids);
-    bool inside = ids->GetNumberOfIds() > 0;
-    for (vtkIdType k = 0; inside && k < ids->GetNumberOfIds(); ++k)
-    {
-      inside = newId[ids->GetId(k)] >= 0;
-      ids->SetId(k, newId[ids->GetId(k)]);
-    }
-    if (!inside)
-      continue;
-    const int type = piece->GetCellType(c);
-    const int kind = type == VTK_VERTEX || type == VTK_POLY_VERTEX ? 0
-      : type == VTK_LINE || type == VTK_POLY_LINE                  ? 1
-      : type == VTK_TRIANGLE_STRIP                                 ? 3
-                                                                   : 2;
-    cells[kind]->InsertNextCell(ids);
-    sources[kind].push_back(c);
+    for (auto& c : cells[k])
+      c = vtkSmartPointer<vtkCellArray>::New();
+    cellIds[k] = vtkSmartPointer<vtkIdList>::New();
   }
-  result->SetVerts(cells[0]);
-  result->SetLines(cells[1]);
-  result->SetPolys(cells[2]);
-  result->SetStrips(cells[3]);
-  vtkCellData* outCD = result->GetCellData();
-  outCD->CopyAllocate(piece->GetCellData());
-  vtkIdType next = 0;
-  for (const auto& kind : sources)
-    for (vtkIdType c : kind)
-      outCD->CopyData(piece->GetCellData(), c, next++);
-  result->GetFieldData()->PassData(piece->GetFieldData());
+  vtkCellArray* kinds[4] = { piece->GetVerts(), piece->GetLines(), piece->GetPolys(), piece->GetStrips() };
+  vtkIdType cellId = 0;
+  std::vector<vtkIdType> mapped;
+  for (int kind = 0; kind < 4; ++kind)
+  {
+    if (!kinds[kind])
+      continue;
+    vtkIdType size = 0;
+    const vtkIdType* ids = nullptr;
+    auto it = vtk::TakeSmartPointer(kinds[kind]->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+    {
+      it->GetCurrentCell(size, ids);
+      const int k = size > 0 ? slot[ids[0]] : -1;
+      bool inside = k >= 0;
+      mapped.resize(static_cast<std::size_t>(size));
+      for (vtkIdType j = 0; inside && j < size; ++j)
+      {
+        inside = slot[ids[j]] == k;
+        mapped[j] = newId[ids[j]];
+      }
+      if (!inside)
+        continue;
+      cells[k][kind]->InsertNextCell(size, mapped.data());
+      cellIds[k]->InsertNextId(cellId);
+    }
+  }
+  for (std::size_t k = 0; k < wanted.size(); ++k)
+  {
+    auto leaf = vtkSmartPointer<vtkPolyData>::New();
+    vtkNew<vtkPoints> points;
+    points->SetDataType(piece->GetPoints() ? piece->GetPoints()->GetDataType() : VTK_FLOAT);
+    points->SetNumberOfPoints(pointIds[k]->GetNumberOfIds());
+    if (piece->GetPoints())
+      piece->GetPoints()->GetData()->GetTuples(pointIds[k], points->GetData());
+    leaf->SetPoints(points);
+    leaf->GetPointData()->CopyAllocate(piece->GetPointData(), pointIds[k]->GetNumberOfIds());
+    leaf->GetPointData()->SetNumberOfTuples(pointIds[k]->GetNumberOfIds());
+    vtkNew<vtkIdList> to;
+    to->SetNumberOfIds(pointIds[k]->GetNumberOfIds());
+    std::iota(to->GetPointer(0), to->GetPointer(0) + to->GetNumberOfIds(), vtkIdType{ 0 });
+    leaf->GetPointData()->CopyData(piece->GetPointData(), pointIds[k], to);
+    leaf->SetVerts(cells[k][0]);
+    leaf->SetLines(cells[k][1]);
+    leaf->SetPolys(cells[k][2]);
+    leaf->SetStrips(cells[k][3]);
+    leaf->GetCellData()->CopyAllocate(piece->GetCellData(), cellIds[k]->GetNumberOfIds());
+    leaf->GetCellData()->SetNumberOfTuples(cellIds[k]->GetNumberOfIds());
+    to->SetNumberOfIds(cellIds[k]->GetNumberOfIds());
+    std::iota(to->GetPointer(0), to->GetPointer(0) + to->GetNumberOfIds(), vtkIdType{ 0 });
+    leaf->GetCellData()->CopyData(piece->GetCellData(), cellIds[k], to);
+    leaf->GetFieldData()->PassData(piece->GetFieldData());
+    result[wanted[k]] = leaf;
+  }
   return result;
 }
 
@@ -248,6 +286,11 @@ public:
       this->Controller->AllGather(mine.data(), holders.data(), static_cast<vtkIdType>(mine.size()));
     else
       holders = mine;
+    std::vector<int> held;
+    for (std::size_t leaf = 0; leaf < this->Ids.size(); ++leaf)
+      if (mine[leaf])
+        held.push_back(this->Ids[leaf]);
+    std::map<int, vtkSmartPointer<vtkPolyData>> parts = ExtractLeaves(piece, leafOf, held);
     for (std::size_t leaf = 0; leaf < this->Ids.size(); ++leaf)
     {
       const int owner = this->Owners[leaf];
@@ -255,9 +298,7 @@ public:
       for (int q = 0; q < this->Ranks; ++q)
         if (holders[q * this->Ids.size() + leaf])
           from.push_back(q);
-      vtkSmartPointer<vtkPolyData> part;
-      if (mine[leaf])
-        part = ExtractLeaf(piece, leafOf, this->Ids[leaf]);
+      vtkSmartPointer<vtkPolyData> part = mine[leaf] ? parts[this->Ids[leaf]] : nullptr;
       vtkSmartPointer<vtkPolyData> whole;
       if (from.size() == 1 && from[0] == owner)
         whole = part; // the usual case: nothing moves
