@@ -19,9 +19,7 @@ struct Run
 Run DepthFirstRun(const std::vector<TubeInput>& tubes, const std::vector<char>& unitRoots)
 {
   const std::size_t count = tubes.size();
-  const auto isRoot = [&](std::size_t t) {
-    return tubes[t].parent < 0 || (t < unitRoots.size() && unitRoots[t] != 0);
-  };
+  const auto isRoot = [&](std::size_t t) { return tubes[t].parent < 0 || (t < unitRoots.size() && unitRoots[t] != 0); };
   std::vector<std::vector<std::size_t>> children(count);
   for (std::size_t t = 0; t < count; ++t)
     if (!isRoot(t))
@@ -163,8 +161,8 @@ void KeepTubes(TubeMesh& mesh, const std::vector<char>& selected)
     if (!selected[t])
       continue;
     for (std::int64_t q = 3 * mesh.triangleOffsets[t]; q < 3 * mesh.triangleOffsets[t + 1]; ++q)
-      kept.triangles.push_back(static_cast<std::int32_t>(
-        index[static_cast<std::size_t>(mesh.triangles[static_cast<std::size_t>(q)])]));
+      kept.triangles.push_back(
+        static_cast<std::int32_t>(index[static_cast<std::size_t>(mesh.triangles[static_cast<std::size_t>(q)])]));
   }
   mesh = std::move(kept);
 }

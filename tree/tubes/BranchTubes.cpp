@@ -515,8 +515,8 @@ std::string BuildTubes(const std::vector<TubeInput>& tubes, int sides, TubeMesh&
   std::vector<std::array<std::int64_t, 4>> counts(tubes.size(), { 0, 0, 0, 0 });
   for (std::vector<std::size_t> children : ChildrenByLevel(tubes))
   {
-    children.erase(std::remove_if(children.begin(), children.end(), [&](std::size_t t) { return !built[t]; }),
-      children.end());
+    children.erase(
+      std::remove_if(children.begin(), children.end(), [&](std::size_t t) { return !built[t]; }), children.end());
     parallel(children.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i)
         SeatJoint(tubes, cleaned, children[i], sides, mesh, counts[children[i]]);

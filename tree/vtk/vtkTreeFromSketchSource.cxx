@@ -823,9 +823,8 @@ int vtkTreeFromSketchSource::RequestData(
   plantmorph::TubeMesh mesh;
   plantmorph::JointReport joints;
   plantmorph::JunctionReport junctions;
-  error = this->Joints == 0
-    ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &junctions, only)
-    : plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &joints, only);
+  error = this->Joints == 0 ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &junctions, only)
+                            : plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &joints, only);
   tubes.clear();
   if (!error.empty())
   {

@@ -60,7 +60,8 @@ Position At(const TubeMesh& mesh, std::int32_t p)
 }
 
 /// A piece's own validity; adds its directed edges (by position) to `edges`.
-void ExpectValidPiece(const TubeMesh& mesh, const std::string& what, std::map<std::pair<Position, Position>, int>& edges)
+void ExpectValidPiece(
+  const TubeMesh& mesh, const std::string& what, std::map<std::pair<Position, Position>, int>& edges)
 {
   std::vector<char> used(mesh.PointCount(), 0);
   std::map<std::pair<std::int32_t, std::int32_t>, int> directed;
