@@ -364,6 +364,11 @@ std::string ReadPointCloudTextPiece(std::istream& in, PointCloudTextPiece& piece
     piece.errorWhat = builder.What;
     return "line " + std::to_string(builder.Number) + ": " + builder.What;
   };
+  // An empty range owns no line (more pieces than bytes: the file's first line is the first non-empty piece's).
+  if (piece.end <= piece.begin)
+  {
+    return {};
+  }
   // 1. The piece's first line: after the first newline at or after begin (the first piece: the file's first line).
   const std::uint64_t first = piece.begin == 0 ? 0 : FirstLineAfter(in, piece.begin, piece.end);
   if (piece.begin > 0 && first == 0)

@@ -56,7 +56,7 @@ std::string ReadPointCloudText(
   std::istream& in, PointCloudText& cloud, const std::function<bool(std::uint64_t)>& progress = {});
 
 /// One piece of a file read in parallel (MPI ranks): the byte range [begin, end). A piece reads the lines whose
-/// preceding newline lies in its range (the piece at begin 0 also the file's first line): the first line it reads
+/// preceding newline lies in its range (the non-empty piece at begin 0 also the file's first line): the first line it reads
 /// starts after the first newline at or after `begin`, and it reads through the line that crosses `end`. Pieces
 /// that tile the file read every line once, in file order.
 struct PointCloudTextPiece

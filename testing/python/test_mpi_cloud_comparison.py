@@ -4,7 +4,9 @@ The scan (a cucumber blade's points moved off the leaf and perturbed, with comme
 CRLF endings, written by the serial run) is read by Leaf Cloud Reader, each rank parsing its own byte range, and
 compared with the blade (a surface: distances, Symmetric, an outlier cut-off; a rigid + scale registration) and with
 a point-cloud reference read by the reader too (so split over the ranks and gathered back for every rank). Checks:
-- the reader: the same points in file order (gathered in rank order), the same table, split over every rank;
+- the reader: the same points in file order (gathered in rank order), the same table, split over every rank; a file
+  with one bad line (in the last rank's piece) gives no point on any rank; a file whose colours are fractions except
+  one 0-255 value near its end is scaled 0-255 on every rank, as serially;
 - per point: Distance, SignedDistance, ClosestPoint and the points (moved by the registration) bit for bit;
 - the statistics: counts, minimum, maximum and the percentiles exactly (a distributed selection), the sums (mean,
   deviation, RMS, Chamfer) to 1e-12 relative; the histogram's bins and counts exactly; the registration's
@@ -25,6 +27,8 @@ import numpy  # noqa: E402
 load_plugin(arguments.plugin, globals())
 scan_file = os.path.join(arguments.work, "mpi_cloud_scan.txt")
 cloud_file = os.path.join(arguments.work, "mpi_cloud_reference.txt")
+colour_file = os.path.join(arguments.work, "mpi_cloud_colours.txt")
+bad_file = os.path.join(arguments.work, "mpi_cloud_bad.txt")
 reference_file = os.path.join(arguments.work, "mpi_cloud_comparison_reference.npz")
 blade = LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", Resolution=30)
 
@@ -42,11 +46,18 @@ if arguments.write_reference:
         f.write("# a synthetic scan\r\n\r\nx,y,z,nx,ny,nz\r\n")
         for i, row in enumerate(rows):
             f.write(",".join(repr(float(v)) for v in row) + ("\r\n" if i % 7 else "\r\n// a comment\n\n"))
+    with open(colour_file, "w") as f:  # colours as fractions but one 0-255 value near the end: 0-255 for all
+        for i in range(4000):
+            f.write("%d 1 2 0 0 1 %s 0.5 1\n" % (i, "200" if i == 3900 else "0.25"))
+    with open(bad_file, "w") as f:  # an error on line 3901, in the last rank's piece
+        f.write("".join("%d 1 2\n" % i for i in range(3900)) + "1 two 3\n" + "".join("%d 1 2\n" % i for i in range(99)))
     with open(cloud_file, "w") as f:
         for row in points[::2] + rng.normal(0.0, 0.01, points[::2].shape):
             f.write("%r %r %r\n" % tuple(float(v) for v in row))
 
 scan = LeafCloudReader(FileName=scan_file)
+colours = LeafCloudReader(FileName=colour_file)
+bad = LeafCloudReader(FileName=bad_file)
 point_reference = LeafCloudReader(FileName=cloud_file)
 COMPARISONS = {
     "surface": CloudComparisonFilter(Input=scan, Reference=blade, Symmetric=1, UseMaximumDistance=1,
@@ -76,6 +87,9 @@ def results():
     out["table_rows_over_ranks"] = numpy.array([OutputPort(scan, 1).GetDataInformation().GetNumberOfRows()])
     data = servermanager.Fetch(scan)
     out["scan_points"] = vtk_to_numpy(data.GetPoints().GetData()).copy()
+    out["colours"] = vtk_to_numpy(servermanager.Fetch(colours).GetPointData().GetArray("Colors")).copy()
+    bad.UpdatePipeline()
+    out["bad_points_over_ranks"] = numpy.array([bad.GetDataInformation().GetNumberOfPoints()])
     out.update({"scan_" + k: v for k, v in arrays(data, ["Normals"]).items()})
     for name, comparison in COMPARISONS.items():
         data = servermanager.Fetch(comparison)
@@ -112,6 +126,8 @@ for key in sorted(set(now) & set(expected.files)):
     else:
         checks.check(a.shape == b.shape and numpy.array_equal(a, b),
                      "%s bit for bit the serial one on %d ranks" % (key, ranks))
+checks.check(expected["bad_points_over_ranks"][0] == 0 and expected["colours"][0, 0] == 0,
+             "serially: the bad file gives no point, the colours are taken as 0-255 values (0.25 -> 0, not 64)")
 checks.check(expected["registered_stat_Count"][0] > 0 and not numpy.allclose(
     expected["registered_transform"], numpy.eye(4).ravel()), "the registration moved the scan (not the identity)")
 checks.finish()
