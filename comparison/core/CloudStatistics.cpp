@@ -19,8 +19,8 @@ bool Kept(double d, double maximumDistance)
 void CompensatedSum::Add(double value)
 {
   const double total = this->Sum + value;
-  this->Compensation += std::fabs(this->Sum) >= std::fabs(value) ? (this->Sum - total) + value
-                                                                 : (value - total) + this->Sum;
+  this->Compensation +=
+    std::fabs(this->Sum) >= std::fabs(value) ? (this->Sum - total) + value : (value - total) + this->Sum;
   this->Sum = total;
 }
 

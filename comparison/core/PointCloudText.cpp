@@ -83,9 +83,9 @@ public:
 
 enum class ScanStop
 {
-  End,      ///< the stream ended, or the next line starts after `last`
-  ByLine,   ///< the visitor returned false
-  TooLong,  ///< a line longer than kMaxPointCloudLineLength (it starts at `lineStart`)
+  End,     ///< the stream ended, or the next line starts after `last`
+  ByLine,  ///< the visitor returned false
+  TooLong, ///< a line longer than kMaxPointCloudLineLength (it starts at `lineStart`)
   ByProgress,
 };
 

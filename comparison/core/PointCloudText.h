@@ -64,13 +64,13 @@ struct PointCloudTextPiece
   std::uint64_t begin = 0;
   std::uint64_t end = UINT64_MAX;
   // Out:
-  std::uint64_t lines = 0;        ///< lines the piece owns (its range's), counted when no error stopped it
-  std::uint64_t firstNumber = 0;  ///< the file's line number of the piece's first line when known, else 0
-  std::uint64_t errorNumber = 0;  ///< on error: the line's number in the file, or in the piece (its first line 1)
-  bool errorNumberInFile = true;  ///< whether errorNumber counts the file's lines (else the piece's: the caller adds
-                                  ///< the lines of the pieces before)
-  std::string errorWhat;          ///< on error: what is wrong with the line (the message is "line N: what")
-  bool found = false;             ///< the file has a data line before the piece's end (header and columns known)
+  std::uint64_t lines = 0;       ///< lines the piece owns (its range's), counted when no error stopped it
+  std::uint64_t firstNumber = 0; ///< the file's line number of the piece's first line when known, else 0
+  std::uint64_t errorNumber = 0; ///< on error: the line's number in the file, or in the piece (its first line 1)
+  bool errorNumberInFile = true; ///< whether errorNumber counts the file's lines (else the piece's: the caller adds
+                                 ///< the lines of the pieces before)
+  std::string errorWhat;         ///< on error: what is wrong with the line (the message is "line N: what")
+  bool found = false;            ///< the file has a data line before the piece's end (header and columns known)
 };
 
 /// Reads one piece of a seekable stream. The file's head (every line before its first data line: comments, the

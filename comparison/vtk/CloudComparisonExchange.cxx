@@ -209,8 +209,7 @@ std::vector<double> Landmarks(
     offsets[q] = q ? offsets[q - 1] + counts[q - 1] : 0;
   }
   std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
-  controller->AllGatherV(
-    Data(mine), Data(all), static_cast<vtkIdType>(mine.size()), counts.data(), offsets.data());
+  controller->AllGatherV(Data(mine), Data(all), static_cast<vtkIdType>(mine.size()), counts.data(), offsets.data());
   return all;
 }
 
@@ -311,8 +310,7 @@ void MinimumOverRanks(vtkMultiProcessController* controller, std::vector<double>
     return;
   }
   std::vector<double> minimum(values.size());
-  controller->AllReduce(
-    Data(values), Data(minimum), static_cast<vtkIdType>(values.size()), vtkCommunicator::MIN_OP);
+  controller->AllReduce(Data(values), Data(minimum), static_cast<vtkIdType>(values.size()), vtkCommunicator::MIN_OP);
   values.swap(minimum);
 }
 

@@ -748,8 +748,8 @@ int vtkCloudComparisonFilter::Execute(
   const double cutOff = this->UseMaximumDistance ? this->MaximumDistance : -1.0;
   std::vector<double> reverse;
   if (this->Symmetric &&
-    failed(ReverseDistances(controller, measured, xyz, static_cast<std::size_t>(count), referenceXYZ, parallelFor,
-             reverse),
+    failed(
+      ReverseDistances(controller, measured, xyz, static_cast<std::size_t>(count), referenceXYZ, parallelFor, reverse),
       "Measured input (reverse direction): "))
   {
     return 0;

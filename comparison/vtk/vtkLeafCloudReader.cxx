@@ -178,10 +178,10 @@ bool ColourFractions(const std::vector<double>& values, std::size_t columns)
 /// What the pieces of one read tell each other (MPI: one piece per rank, collective), in rank order.
 struct PieceSummary
 {
-  bool failed = false;       ///< some piece failed: every piece's output empty
-  std::string error;         ///< this piece's message (with the file's line number) when it is the first to fail
+  bool failed = false;         ///< some piece failed: every piece's output empty
+  std::string error;           ///< this piece's message (with the file's line number) when it is the first to fail
   unsigned long long rows = 0; ///< data lines of all pieces
-  bool fractions = true;     ///< colours all within [0, 1] on every piece
+  bool fractions = true;       ///< colours all within [0, 1] on every piece
 };
 
 PieceSummary Summarize(vtkMultiProcessController* controller, const plantmorph::PointCloudTextPiece& piece,
@@ -209,8 +209,8 @@ PieceSummary Summarize(vtkMultiProcessController* controller, const plantmorph::
       if (q == me)
       {
         const unsigned long long line = r[5] ? r[4] : number - 1 + r[4];
-        summary.error = r[5] || piece.errorWhat.empty() ? error
-                                                        : "line " + std::to_string(line) + ": " + piece.errorWhat;
+        summary.error =
+          r[5] || piece.errorWhat.empty() ? error : "line " + std::to_string(line) + ": " + piece.errorWhat;
       }
     }
     summary.rows += r[1];
@@ -316,8 +316,8 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
     return controller || !this->CheckAbort(); // under MPI a read is not aborted on one rank alone
   };
   std::string error = !opened ? std::string("cannot be opened")
-    : pieces == 1           ? plantmorph::ReadPointCloudText(file, cloud, progress)
-                            : plantmorph::ReadPointCloudTextPiece(file, range, cloud, progress);
+    : pieces == 1             ? plantmorph::ReadPointCloudText(file, cloud, progress)
+                              : plantmorph::ReadPointCloudTextPiece(file, range, cloud, progress);
   if (pieces == 1)
   {
     range.firstNumber = 1;

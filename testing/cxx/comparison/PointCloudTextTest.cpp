@@ -172,8 +172,9 @@ std::string BigText()
   std::string text = "# scan\n\nx y z w\r\n";
   for (int i = 0; i < 30000; ++i)
   {
-    text += std::to_string(i) + " " + std::to_string(i * 0.25) + ", " + std::string(static_cast<std::size_t>(i % 9), ' ') +
-      std::to_string(-i) + ";" + std::to_string(i % 17) + (i % 5 ? "\n" : "\r\n");
+    text += std::to_string(i) + " " + std::to_string(i * 0.25) + ", " +
+      std::string(static_cast<std::size_t>(i % 9), ' ') + std::to_string(-i) + ";" + std::to_string(i % 17) +
+      (i % 5 ? "\n" : "\r\n");
     if (i % 997 == 0)
     {
       text += "// a comment\n\n";
@@ -184,9 +185,9 @@ std::string BigText()
 
 TEST(PointCloudText, PiecesTileTheFileInOrder)
 {
-  const std::vector<std::string> texts = { "# c\n\nx,y,z\r\n1,2,3\r\n4 5 6\n// c\n7;8;9\n\n10 11 12",
-    "1 2 3\n", "1 2 3", std::string(5000, '#') + "\n" + "x y z\n" + std::string(3000, '\n') + "1 2 3\n4 5 6\n",
-    "x y z\n\n", BigText() };
+  const std::vector<std::string> texts = { "# c\n\nx,y,z\r\n1,2,3\r\n4 5 6\n// c\n7;8;9\n\n10 11 12", "1 2 3\n",
+    "1 2 3", std::string(5000, '#') + "\n" + "x y z\n" + std::string(3000, '\n') + "1 2 3\n4 5 6\n", "x y z\n\n",
+    BigText() };
   for (const std::string& text : texts)
   {
     PointCloudText whole;
