@@ -24,6 +24,7 @@ parser.add_argument("--scan")
 parser.add_argument("--generate")
 parser.add_argument("--points", type=int, default=2000000)
 parser.add_argument("--repeat", type=int, default=2)
+parser.add_argument("--tag", default="", help="distinguishes the symlinks of runs made at the same time")
 arguments = parser.parse_args()
 
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -71,7 +72,7 @@ def timed(proxy, step):
 
 
 for run in range(arguments.repeat):
-    name = "%s.run%d" % (arguments.scan, run)
+    name = "%s.%srun%d" % (arguments.scan, arguments.tag, run)
     if rank == 0:
         if os.path.lexists(name):
             os.remove(name)
