@@ -102,43 +102,54 @@ LocalPart Local(const double* distances, std::size_t count, double maximumDistan
   return part;
 }
 
-/// The order statistics `ranks` (0-based, among all ranks' kept distances) by bisection over the order keys: the
-/// smallest key with at least rank + 1 kept distances at or below it, every rank counting its own (sorted) keys.
+/// The order statistics `ranks` (0-based, among all ranks' kept distances): for each, the smallest key with at least
+/// rank + 1 kept distances at or below it. Each round splits every open key interval [lo, hi] at 255 candidates and
+/// counts (one AllReduce for all targets) the distances at or below each, every rank on its own sorted keys; the
+/// interval shrinks 256-fold, so at most 9 rounds (few synchronisations: each costs a scheduling delay on a loaded
+/// machine and a latency on a cluster).
 std::vector<double> OrderStatistics(vtkMultiProcessController* controller, const std::vector<std::uint64_t>& keys,
   const std::vector<unsigned long long>& ranks, double minimum, double maximum)
 {
+  constexpr std::size_t candidates = 255;
   const std::size_t n = ranks.size();
-  std::vector<std::uint64_t> lo(n, OrderKey(minimum)), hi(n, OrderKey(maximum));
-  std::vector<unsigned long long> below(n), total(n);
-  for (int round = 0; round < 66; ++round) // each round halves every open interval of at most 2^64 keys
+  std::vector<std::uint64_t> lo(n, OrderKey(minimum)), hi(n, OrderKey(maximum)), at(n * candidates);
+  std::vector<unsigned long long> below(n * candidates), total(n * candidates);
+  for (int round = 0; round < 12; ++round) // 256-fold per round: 2^64 keys in 8 rounds
   {
     bool open = false;
     for (std::size_t t = 0; t < n; ++t)
     {
       open = open || lo[t] < hi[t];
-      const std::uint64_t mid = lo[t] + (hi[t] - lo[t]) / 2;
-      below[t] = static_cast<unsigned long long>(std::upper_bound(keys.begin(), keys.end(), mid) - keys.begin());
+      const std::uint64_t width = hi[t] - lo[t];
+      const std::uint64_t step = width / (candidates + 1) + 1;
+      for (std::size_t j = 0; j < candidates; ++j)
+      {
+        const std::uint64_t offset = step * (j + 1) - 1; // no overflow: step * 256 <= width + 256
+        at[t * candidates + j] = offset >= width ? hi[t] : lo[t] + offset;
+        below[t * candidates + j] = static_cast<unsigned long long>(
+          std::upper_bound(keys.begin(), keys.end(), at[t * candidates + j]) - keys.begin());
+      }
     }
     if (!open) // the same on every rank: lo and hi move alike everywhere
     {
       break;
     }
-    controller->AllReduce(below.data(), total.data(), static_cast<vtkIdType>(n), vtkCommunicator::SUM_OP);
+    controller->AllReduce(below.data(), total.data(), static_cast<vtkIdType>(below.size()), vtkCommunicator::SUM_OP);
     for (std::size_t t = 0; t < n; ++t)
     {
-      const std::uint64_t mid = lo[t] + (hi[t] - lo[t]) / 2;
       if (lo[t] >= hi[t])
       {
         continue;
       }
-      if (total[t] >= ranks[t] + 1)
+      // The first candidate with enough at or below it bounds the target from above; the one before, from below.
+      std::size_t j = 0;
+      while (j < candidates && total[t * candidates + j] < ranks[t] + 1)
       {
-        hi[t] = mid;
+        ++j;
       }
-      else
-      {
-        lo[t] = mid + 1;
-      }
+      const std::uint64_t newLo = j > 0 ? at[t * candidates + j - 1] + 1 : lo[t];
+      hi[t] = j < candidates ? at[t * candidates + j] : hi[t];
+      lo[t] = newLo;
     }
   }
   std::vector<double> values(n);

@@ -6,9 +6,9 @@
 // needs every point is reduced over the ranks, the same on every rank whatever the split:
 // - counts, minimum and maximum exactly; the sums of the mean, deviation and RMS as per-rank compensated sums
 //   (plantmorph::CompensatedSum) added in rank order, equal to the serial ones to about one rounding;
-// - the percentiles exactly, by a distributed selection: each order statistic is found by bisection over the
-//   distances' order keys, every round counting (AllReduce) the distances at or below the candidate on every rank
-//   (each rank's kept distances sorted once; at most 64 rounds for all ten order statistics together);
+// - the percentiles exactly, by a distributed selection: each order statistic's key interval is split at 255
+//   candidates a round, every rank counting its own (sorted once) distances at or below each, one AllReduce for all
+//   ten order statistics; the interval shrinks 256-fold a round, so 8 rounds at most;
 // - the histogram over the global [minimum, maximum], the bins' counts summed;
 // - registration: its landmarks (every k-th point of the whole cloud, at most RegistrationLandmarks, the stride
 //   the serial run takes) are gathered on every rank in global order, so every rank runs the serial registration on
