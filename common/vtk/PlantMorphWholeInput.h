@@ -17,6 +17,7 @@
 #include "vtkPolyData.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkSmartPointer.h"
+#include "vtkTable.h"
 
 #include <vector>
 
@@ -152,6 +153,64 @@ inline vtkSmartPointer<vtkPointSet> GatherOnFirstRank(vtkPointSet* piece)
   }
   append->Update();
   return append->GetOutput();
+}
+
+/// The same for a table (a reader's table split over the ranks by rows): collective; the whole table on rank 0, its
+/// rows in rank order (the columns of rank 0's piece, or of the first piece with rows, matched by name), an empty
+/// table on the other ranks. In serial, or when only rank 0 holds rows, `piece` itself.
+inline vtkSmartPointer<vtkTable> GatherRowsOnFirstRank(vtkTable* piece)
+{
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+  {
+    return piece;
+  }
+  const int ranks = controller->GetNumberOfProcesses();
+  const int holds = piece && piece->GetNumberOfRows() > 0 ? 1 : 0;
+  std::vector<int> holders(static_cast<std::size_t>(ranks), 0);
+  controller->AllGather(&holds, holders.data(), 1);
+  bool others = false;
+  for (int rank = 1; rank < ranks; ++rank)
+  {
+    others = others || holders[static_cast<std::size_t>(rank)] != 0;
+  }
+  const bool rankZero = controller->GetLocalProcessId() == 0;
+  if (!others)
+  {
+    return rankZero ? vtkSmartPointer<vtkTable>(piece) : vtkSmartPointer<vtkTable>::New();
+  }
+  vtkNew<vtkTable> empty;
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  controller->Gather(piece ? static_cast<vtkDataObject*>(piece) : empty.Get(), pieces, 0);
+  auto whole = vtkSmartPointer<vtkTable>::New();
+  if (!rankZero)
+  {
+    return whole;
+  }
+  vtkTable* first = nullptr;
+  for (const auto& received : pieces)
+  {
+    auto* table = vtkTable::SafeDownCast(received);
+    first = !first && table && table->GetNumberOfRows() > 0 ? table : first;
+  }
+  for (vtkIdType c = 0; first && c < first->GetNumberOfColumns(); ++c)
+  {
+    vtkAbstractArray* column = first->GetColumn(c);
+    vtkSmartPointer<vtkAbstractArray> joined = vtk::TakeSmartPointer(column->NewInstance());
+    joined->SetName(column->GetName());
+    joined->SetNumberOfComponents(column->GetNumberOfComponents());
+    for (const auto& received : pieces)
+    {
+      auto* table = vtkTable::SafeDownCast(received);
+      vtkAbstractArray* part = table && column->GetName() ? table->GetColumnByName(column->GetName()) : nullptr;
+      if (part && part->GetNumberOfTuples() > 0)
+      {
+        joined->InsertTuples(joined->GetNumberOfTuples(), part->GetNumberOfTuples(), 0, part);
+      }
+    }
+    whole->AddColumn(joined);
+  }
+  return whole;
 }
 
 /// True in serial and on rank 0: where a gathered input is whole. A filter whose gathered input is empty there

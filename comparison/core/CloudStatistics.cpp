@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace plantmorph
 {
@@ -13,6 +14,15 @@ bool Kept(double d, double maximumDistance)
   return std::isfinite(d) && (maximumDistance < 0.0 || d <= maximumDistance);
 }
 } // namespace
+
+//------------------------------------------------------------------------------
+void CompensatedSum::Add(double value)
+{
+  const double total = this->Sum + value;
+  this->Compensation +=
+    std::fabs(this->Sum) >= std::fabs(value) ? (this->Sum - total) + value : (value - total) + this->Sum;
+  this->Sum = total;
+}
 
 //------------------------------------------------------------------------------
 double SortedPercentile(const std::vector<double>& sorted, double p)
@@ -56,27 +66,28 @@ DistanceStatistics ComputeDistanceStatistics(const double* distances, std::size_
     return s;
   }
   // Two passes for the mean and the deviation (no cancellation), in a fixed order (deterministic).
-  double sum = 0.0;
+  // Compensated sums: within about one rounding of the exact sums, so that per-rank partial sums (MPI) added in
+  // rank order give the same statistics to ~1e-16 relative, whatever the split.
+  CompensatedSum sum;
   for (double d : kept)
   {
-    sum += d;
+    sum.Add(d);
   }
   const double n = static_cast<double>(kept.size());
-  s.mean = sum / n;
-  double squares = 0.0;
-  double deviations = 0.0;
+  s.mean = sum.Value() / n;
+  CompensatedSum squares;
+  CompensatedSum deviations;
   for (double d : kept)
   {
-    squares += d * d;
-    deviations += (d - s.mean) * (d - s.mean);
+    squares.Add(d * d);
+    deviations.Add((d - s.mean) * (d - s.mean));
   }
-  s.standardDeviation = std::sqrt(deviations / n);
-  s.rms = std::sqrt(squares / n);
+  s.standardDeviation = std::sqrt(deviations.Value() / n);
+  s.rms = std::sqrt(squares.Value() / n);
   s.minimum = *std::min_element(kept.begin(), kept.end());
   s.maximum = *std::max_element(kept.begin(), kept.end());
   // The percentiles need only the order statistics at their two ranks: place those by nth_element, each on the
   // part above the previous one (O(n) each instead of a full O(n log n) sort; the values are the same).
-  const double percents[5] = { 50.0, 68.0, 75.0, 95.0, 99.0 };
   double* targets[5] = { &s.p50, &s.p68, &s.p75, &s.p95, &s.p99 };
   // Ranks are asked in non-decreasing order; kept[placed - 1] is the last one placed, nothing before it is larger,
   // and a rank below `placed` is always one placed before (its position is never touched again).
@@ -90,18 +101,46 @@ DistanceStatistics ComputeDistanceStatistics(const double* distances, std::size_
     }
     return kept[rank];
   };
-  const double last = static_cast<double>(kept.size() - 1);
-  for (int i = 0; i < 5; ++i)
+  std::size_t ranks[2 * kPercentiles];
+  double fractions[kPercentiles];
+  PercentileRanks(kept.size(), ranks, fractions);
+  for (std::size_t i = 0; i < kPercentiles; ++i)
   {
-    const double rank = percents[i] / 100.0 * last;
-    const std::size_t below = static_cast<std::size_t>(std::floor(rank));
-    const std::size_t above = std::min(below + 1, kept.size() - 1);
-    const double fraction = rank - static_cast<double>(below);
-    const double low = orderStatistic(below);
-    const double high = orderStatistic(above);
-    *targets[i] = low + fraction * (high - low);
+    const double low = orderStatistic(ranks[2 * i]);
+    const double high = orderStatistic(ranks[2 * i + 1]);
+    *targets[i] = low + fractions[i] * (high - low);
   }
   return s;
+}
+
+//------------------------------------------------------------------------------
+void PercentileRanks(std::size_t kept, std::size_t ranks[2 * kPercentiles], double fractions[kPercentiles])
+{
+  const double last = static_cast<double>(kept ? kept - 1 : 0);
+  for (std::size_t i = 0; i < kPercentiles; ++i)
+  {
+    const double rank = kPercentileValues[i] / 100.0 * last;
+    const std::size_t below = static_cast<std::size_t>(std::floor(rank));
+    ranks[2 * i] = below;
+    ranks[2 * i + 1] = std::min(below + 1, kept ? kept - 1 : 0);
+    fractions[i] = rank - static_cast<double>(below);
+  }
+}
+
+//------------------------------------------------------------------------------
+std::uint64_t OrderKey(double value)
+{
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &value, sizeof bits);
+  return (bits >> 63) ? ~bits : bits | (std::uint64_t(1) << 63);
+}
+
+double FromOrderKey(std::uint64_t key)
+{
+  const std::uint64_t bits = (key >> 63) ? key & ~(std::uint64_t(1) << 63) : ~key;
+  double value = 0.0;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
 }
 
 //------------------------------------------------------------------------------
@@ -130,6 +169,18 @@ DistanceHistogram ComputeDistanceHistogram(
   {
     return h;
   }
+  return ComputeDistanceHistogramOver(distances, count, bins, maximumDistance, lo, hi);
+}
+
+//------------------------------------------------------------------------------
+DistanceHistogram ComputeDistanceHistogramOver(
+  const double* distances, std::size_t count, std::size_t bins, double maximumDistance, double lo, double hi)
+{
+  DistanceHistogram h;
+  if (bins == 0)
+  {
+    return h;
+  }
   const double width = (hi - lo) / static_cast<double>(bins);
   h.binStart.resize(bins);
   h.binEnd.resize(bins);
@@ -144,7 +195,7 @@ DistanceHistogram ComputeDistanceHistogram(
   for (std::size_t i = 0; i < count; ++i)
   {
     const double d = distances[i];
-    if (!Kept(d, maximumDistance))
+    if (!Kept(d, maximumDistance) || d < lo || d > hi)
     {
       continue;
     }

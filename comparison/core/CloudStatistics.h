@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,35 @@ struct DistanceStatistics
   double p99 = 0.0;
 };
 
+/// Neumaier's compensated summation: Value() is the sum of the added values to about one rounding (the error does
+/// not grow with their number), so sums of parts (MPI ranks' pieces) added in a fixed order equal the whole one's.
+struct CompensatedSum
+{
+  double Sum = 0.0;
+  double Compensation = 0.0;
+  void Add(double value);
+  /// Adds another part's sum (its sum, then its compensation).
+  void Add(const CompensatedSum& part)
+  {
+    this->Add(part.Sum);
+    this->Add(part.Compensation);
+  }
+  double Value() const { return this->Sum + this->Compensation; }
+};
+
+/// The percentiles of DistanceStatistics: p50, p68, p75, p95, p99.
+constexpr std::size_t kPercentiles = 5;
+constexpr double kPercentileValues[kPercentiles] = { 50.0, 68.0, 75.0, 95.0, 99.0 };
+
+/// The order statistics (0-based ranks among `kept` sorted values) each percentile interpolates between, ranks[2i]
+/// and ranks[2i + 1], and the fraction of the way from the first to the second: p_i = low + fraction (high - low).
+void PercentileRanks(std::size_t kept, std::size_t ranks[2 * kPercentiles], double fractions[kPercentiles]);
+
+/// A 64-bit key of a double that orders like the value (a < b gives OrderKey(a) < OrderKey(b); -0 is below +0), and
+/// its inverse: a distributed selection (MPI) searches keys.
+std::uint64_t OrderKey(double value);
+double FromOrderKey(std::uint64_t key);
+
 /// Statistics of `count` distances; maximumDistance < 0 means no cut-off. All zero when nothing is kept.
 DistanceStatistics ComputeDistanceStatistics(const double* distances, std::size_t count, double maximumDistance = -1.0);
 
@@ -54,5 +84,10 @@ struct DistanceHistogram
 /// bins must be >= 1. Empty vectors when nothing is kept.
 DistanceHistogram ComputeDistanceHistogram(
   const double* distances, std::size_t count, std::size_t bins, double maximumDistance = -1.0);
+
+/// The same over a given range [lo, hi] (lo <= hi: the kept distances' minimum and maximum over all MPI ranks);
+/// kept distances outside it are not counted.
+DistanceHistogram ComputeDistanceHistogramOver(
+  const double* distances, std::size_t count, std::size_t bins, double maximumDistance, double lo, double hi);
 
 } // namespace plantmorph

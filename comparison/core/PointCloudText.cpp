@@ -68,6 +68,7 @@ public:
 
   bool Fail(const std::string& what)
   {
+    this->What = what;
     this->Error = "line " + std::to_string(this->Number) + ": " + what;
     return false;
   }
@@ -77,7 +78,112 @@ public:
   std::size_t Number = 0;
   bool FirstLine = true;
   std::string Error;
+  std::string What;
 };
+
+enum class ScanStop
+{
+  End,     ///< the stream ended, or the next line starts after `last`
+  ByLine,  ///< the visitor returned false
+  TooLong, ///< a line longer than kMaxPointCloudLineLength (it starts at `lineStart`)
+  ByProgress,
+};
+
+/// Visits the lines of `in` from offset `from` (a line's start) whose start offset is at most `last`, in order:
+/// visit(begin, end, start) for each, false stopping. Blocks of 64 KiB, one partial line carried (bounded).
+template <typename Visit>
+ScanStop ScanLines(std::istream& in, std::uint64_t from, std::uint64_t last, Visit&& visit,
+  const std::function<bool(std::uint64_t)>& progress, std::uint64_t& bytes)
+{
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(from));
+  std::vector<char> block(std::size_t(1) << 16);
+  std::string carry;
+  std::uint64_t offset = from, lineStart = from, reported = 0;
+  bytes = 0;
+  while (in && lineStart <= last)
+  {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    const auto n = static_cast<std::size_t>(in.gcount());
+    if (n == 0)
+    {
+      break;
+    }
+    const char* p = block.data();
+    const char* end = p + n;
+    while (p < end && lineStart <= last)
+    {
+      const auto* newline = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+      if (!newline)
+      {
+        carry.append(p, end);
+        if (carry.size() > kMaxPointCloudLineLength)
+        {
+          return ScanStop::TooLong;
+        }
+        break;
+      }
+      bool ok = true;
+      if (carry.empty())
+      {
+        ok = visit(p, newline, lineStart);
+      }
+      else
+      {
+        carry.append(p, newline);
+        ok = visit(carry.data(), carry.data() + carry.size(), lineStart);
+        carry.clear();
+      }
+      if (!ok)
+      {
+        return ScanStop::ByLine;
+      }
+      lineStart = offset + static_cast<std::uint64_t>(newline - block.data()) + 1;
+      p = newline + 1;
+    }
+    offset += n;
+    bytes += n;
+    if (progress && bytes / (std::uint64_t(1) << 20) > reported / (std::uint64_t(1) << 20))
+    {
+      reported = bytes;
+      if (!progress(bytes))
+      {
+        return ScanStop::ByProgress;
+      }
+    }
+  }
+  if (!carry.empty() && lineStart <= last && !visit(carry.data(), carry.data() + carry.size(), lineStart))
+  {
+    return ScanStop::ByLine;
+  }
+  return ScanStop::End;
+}
+
+/// The offset just after the first newline at or after `begin` and before `end`; 0 when there is none.
+std::uint64_t FirstLineAfter(std::istream& in, std::uint64_t begin, std::uint64_t end)
+{
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(begin));
+  std::vector<char> block(std::size_t(1) << 16);
+  std::uint64_t offset = begin;
+  while (in && offset < end)
+  {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    const auto n = static_cast<std::size_t>(in.gcount());
+    const auto* newline = static_cast<const char*>(std::memchr(block.data(), '\n', n));
+    if (newline)
+    {
+      const std::uint64_t at = offset + static_cast<std::uint64_t>(newline - block.data());
+      return at < end ? at + 1 : 0;
+    }
+    offset += n;
+    if (n == 0)
+    {
+      break;
+    }
+  }
+  return 0;
+}
 } // namespace
 
 CloudLineKind ParseCloudLine(const char* begin, const char* end, std::vector<double>& values, std::string& why)
@@ -240,6 +346,105 @@ std::string ReadPointCloudText(
   {
     return fail("no data line");
   }
+  return {};
+}
+
+std::string ReadPointCloudTextPiece(std::istream& in, PointCloudTextPiece& piece, PointCloudText& cloud,
+  const std::function<bool(std::uint64_t)>& progress)
+{
+  cloud = PointCloudText();
+  piece.lines = piece.firstNumber = piece.errorNumber = 0;
+  piece.errorNumberInFile = true;
+  piece.errorWhat.clear();
+  piece.found = false;
+  const auto fail = [&](const CloudBuilder& builder, bool inFile) {
+    cloud = PointCloudText();
+    piece.errorNumber = builder.Number;
+    piece.errorNumberInFile = inFile;
+    piece.errorWhat = builder.What;
+    return "line " + std::to_string(builder.Number) + ": " + builder.What;
+  };
+  // An empty range owns no line (more pieces than bytes: the file's first line is the first non-empty piece's).
+  if (piece.end <= piece.begin)
+  {
+    return {};
+  }
+  // 1. The piece's first line: after the first newline at or after begin (the first piece: the file's first line).
+  const std::uint64_t first = piece.begin == 0 ? 0 : FirstLineAfter(in, piece.begin, piece.end);
+  if (piece.begin > 0 && first == 0)
+  {
+    return {}; // no line starts in the range
+  }
+  // 2. The file's head, up to its first data line: the header and the column count.
+  std::uint64_t dataStart = 0, bytes = 0;
+  PointCloudText head;
+  CloudBuilder headBuilder(head);
+  if (piece.begin > 0)
+  {
+    const ScanStop stop = ScanLines(
+      in, 0, piece.end,
+      [&](const char* b, const char* e, std::uint64_t start) {
+        piece.firstNumber = start == first ? headBuilder.Number + 1 : piece.firstNumber;
+        if (!headBuilder.Line(b, e) || head.columns)
+        {
+          dataStart = start;
+          return false;
+        }
+        return true;
+      },
+      {}, bytes);
+    if (stop == ScanStop::TooLong)
+    {
+      ++headBuilder.Number;
+      headBuilder.Fail("longer than " + std::to_string(kMaxPointCloudLineLength) + " characters");
+    }
+    if (!headBuilder.Error.empty())
+    {
+      return fail(headBuilder, true);
+    }
+    if (head.columns == 0)
+    {
+      return {}; // no data line before the piece's end: the piece has none
+    }
+    cloud.columns = head.columns;
+    cloud.header = head.header;
+  }
+  // 3. The piece's own lines (those before the first data line are the head's: comments or the header).
+  CloudBuilder builder(cloud);
+  builder.FirstLine = piece.begin == 0;
+  builder.Number = piece.firstNumber ? piece.firstNumber - 1 : 0;
+  const ScanStop stop = ScanLines(
+    in, first, piece.end,
+    [&](const char* b, const char* e, std::uint64_t start) {
+      ++piece.lines;
+      if (piece.begin > 0 && start < dataStart)
+      {
+        ++builder.Number;
+        return true;
+      }
+      return builder.Line(b, e);
+    },
+    progress, bytes);
+  const bool inFile = piece.begin == 0 || piece.firstNumber != 0;
+  if (stop == ScanStop::TooLong)
+  {
+    ++builder.Number;
+    builder.Fail("longer than " + std::to_string(kMaxPointCloudLineLength) + " characters");
+  }
+  if (stop == ScanStop::ByProgress)
+  {
+    cloud = PointCloudText();
+    return "reading stopped after " + std::to_string(bytes) + " bytes";
+  }
+  if (!builder.Error.empty())
+  {
+    return fail(builder, inFile);
+  }
+  if (piece.begin == 0)
+  {
+    piece.firstNumber = 1;
+  }
+  piece.found = cloud.columns != 0;
   return {};
 }
 

@@ -55,6 +55,33 @@ std::vector<std::string> SplitHeaderNames(const std::string& header);
 std::string ReadPointCloudText(
   std::istream& in, PointCloudText& cloud, const std::function<bool(std::uint64_t)>& progress = {});
 
+/// One piece of a file read in parallel (MPI ranks): the byte range [begin, end). A piece reads the lines whose
+/// preceding newline lies in its range (the non-empty piece at begin 0 also the file's first line): the first line it reads
+/// starts after the first newline at or after `begin`, and it reads through the line that crosses `end`. Pieces
+/// that tile the file read every line once, in file order.
+struct PointCloudTextPiece
+{
+  std::uint64_t begin = 0;
+  std::uint64_t end = UINT64_MAX;
+  // Out:
+  std::uint64_t lines = 0;       ///< lines the piece owns (its range's), counted when no error stopped it
+  std::uint64_t firstNumber = 0; ///< the file's line number of the piece's first line when known, else 0
+  std::uint64_t errorNumber = 0; ///< on error: the line's number in the file, or in the piece (its first line 1)
+  bool errorNumberInFile = true; ///< whether errorNumber counts the file's lines (else the piece's: the caller adds
+                                 ///< the lines of the pieces before)
+  std::string errorWhat;         ///< on error: what is wrong with the line (the message is "line N: what")
+  bool found = false;            ///< the file has a data line before the piece's end (header and columns known)
+};
+
+/// Reads one piece of a seekable stream. The file's head (every line before its first data line: comments, the
+/// header) is read first by every piece, up to its own end at most, to learn the header and the column count; then
+/// the piece's own lines are parsed as ReadPointCloudText would (the same checks, the same values). Linear in the
+/// head plus the piece; one line of at most kMaxPointCloudLineLength held. Returns "" (the cloud may be empty: a
+/// piece without data lines) or the error, `cloud` then empty. "no data line" is never returned: only all pieces
+/// together can tell.
+std::string ReadPointCloudTextPiece(std::istream& in, PointCloudTextPiece& piece, PointCloudText& cloud,
+  const std::function<bool(std::uint64_t)>& progress = {});
+
 /// True if one of the first 20 lines (within the first kMaxPointCloudLineLength bytes) is a data line of 3 or more
 /// columns, and no earlier one is a data line with fewer.
 bool LooksLikePointCloudText(std::istream& in);

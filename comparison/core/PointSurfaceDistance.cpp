@@ -689,9 +689,9 @@ inline double PointSurfaceDistance::PrimitiveDistance2(std::size_t leafIndex, co
   const Triangle& tri = this->Triangles[leafIndex];
   const double ap[3] = { p[0] - tri.a[0], p[1] - tri.a[1], p[2] - tri.a[2] };
   const double plane = Dot(ap, tri.n);
-  if (plane * plane > best2)
+  if (plane * plane > best2 * (1.0 + 1e-12))
   {
-    return Infinity; // the triangle's plane alone is farther than the best so far
+    return Infinity; // the triangle's plane alone is farther than the best so far (a tie is computed, never skipped)
   }
   double v = 0.0;
   double w = 0.0;

@@ -6,8 +6,9 @@
 // point p is min over all triangles of |p - c_t|, c_t the exact closest point of triangle t (Ericson, "Real-Time
 // Collision Detection", 5.1.5: the Voronoi regions of the vertices, edges and face, closed forms in double
 // precision). The BVH only decides which triangles need looking at: the result is the same as the brute-force
-// minimum over all triangles (ties between triangles at the same distance are broken by BVH order; the distance and
-// the closest point's position then agree to rounding, the triangle index may differ).
+// minimum over all triangles (exact ties between triangles at the same distance go to the lowest index in the BVH's
+// primitive order, whatever the order of the visit or the starting hint: a point's results do not depend on which
+// other points are queried with it, so an MPI rank's piece gets the serial values bit for bit).
 //
 // Signed distance. The sign is that of (p - c) . N, N the angle-weighted pseudo-normal of the feature of the closest
 // triangle that holds c (Baerentzen and Aanaes, "Signed distance computation using the angle weighted

@@ -3,6 +3,7 @@
 
 #include "PlantMorphFieldData.h"
 #include "PlantMorphWholeInput.h"
+#include "CloudComparisonExchange.h"
 #include "CloudStatistics.h"
 #include "PointSurfaceDistance.h"
 #include "RigidRegistration.h"
@@ -20,6 +21,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -35,6 +37,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -275,17 +278,11 @@ int vtkCloudComparisonFilter::RequestData(
     vtkErrorMacro(<< plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
     return 1;
   }
-  // Under MPI the comparison runs once, on rank 0, with every measured point and the whole reference (gathered
-  // there if they were split over ranks): statistics, percentiles, histogram and Hausdorff need them all.
-  const vtkSmartPointer<vtkPointSet> wholeMeasured = plantmorph::GatherOnFirstRank(measured);
-  const vtkSmartPointer<vtkPointSet> wholeReference = reference ? plantmorph::GatherOnFirstRank(reference) : nullptr;
-  measured = wholeMeasured.Get();
+  // Under MPI the measured points stay on their ranks, each rank comparing its own; the reference (small) is
+  // gathered and broadcast, so every rank holds it whole (CloudComparisonExchange.h).
+  const vtkSmartPointer<vtkPointSet> wholeReference =
+    plantmorph::cloudmpi::Replicate(plantmorph::cloudmpi::Parallel(), reference);
   reference = wholeReference.Get();
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (controller && controller->GetLocalProcessId() > 0)
-  {
-    return 1; // rank 0 holds and compares everything
-  }
   const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
   const std::string backend = (current == "Sequential" && this->NumberOfThreads != 1) ? "STDThread" : current;
   int status = 1;
@@ -356,7 +353,9 @@ std::string ReadMeasured(vtkPointSet* measured, double scale, bool registering, 
   const double*& xyz, double transform[16])
 {
   const vtkIdType count = measured->GetNumberOfPoints();
-  auto* inputDoubles = vtkArrayDownCast<vtkAOSDataArrayTemplate<double>>(measured->GetPoints()->GetData());
+  auto* inputDoubles = measured->GetPoints()
+    ? vtkArrayDownCast<vtkAOSDataArrayTemplate<double>>(measured->GetPoints()->GetData())
+    : nullptr; // an MPI rank's empty piece
   if (inputDoubles && inputDoubles->GetNumberOfComponents() == 3 && scale == 1.0 && !registering)
   {
     xyz = inputDoubles->GetPointer(0);
@@ -386,9 +385,13 @@ std::string ReadMeasured(vtkPointSet* measured, double scale, bool registering, 
 
 /// Step 3: symmetric, guarded registration of the measured points (`moved`, in place) onto the reference; the
 /// registration's matrix is composed into `transform`. The error message or "".
+/// The registration is fitted to `landmarks` (`landmarkCount` points: the measured points themselves when serial,
+/// under MPI every rank's strided landmarks gathered, which RegisterPoints takes whole as it would have taken them
+/// from all the points), then applied to this rank's `moved`.
 std::string RegisterMeasured(plantmorph::RegistrationParameters registration, const std::vector<double>& referenceXYZ,
   const plantmorph::PointSurfaceDistance& referenceDistance, const plantmorph::ParallelFor& parallelFor,
-  std::vector<double>& moved, double transform[16], plantmorph::RegistrationResult& registered)
+  const double* landmarks, std::size_t landmarkCount, std::vector<double>& moved, double transform[16],
+  plantmorph::RegistrationResult& registered)
 {
   using namespace plantmorph;
   const std::size_t count = moved.size() / 3;
@@ -396,7 +399,7 @@ std::string RegisterMeasured(plantmorph::RegistrationParameters registration, co
   // and a registration that fits worse than none is not used.
   registration.referencePoints = referenceXYZ.data();
   registration.referenceCount = referenceXYZ.size() / 3;
-  registered = RegisterPoints(moved.data(), count, referenceDistance, registration, parallelFor);
+  registered = RegisterPoints(landmarks, landmarkCount, referenceDistance, registration, parallelFor);
   if (!registered.error.empty())
   {
     return registered.error;
@@ -517,11 +520,10 @@ void FillTransform(const double transform[16], const plantmorph::RegistrationRes
 }
 
 /// Output 2 (and field data): statistics of the distances, and of the reverse ones when `reverse` is given.
-plantmorph::DistanceStatistics FillStatistics(const double* distance, std::size_t count, double cutOff, bool surface,
+void FillStatistics(const plantmorph::DistanceStatistics& s, double cutOff, bool surface,
   const std::vector<double>* reverse, vtkTable* statistics, vtkFieldData* fd)
 {
   using namespace plantmorph;
-  const DistanceStatistics s = ComputeDistanceStatistics(distance, count, cutOff);
   AddColumn(statistics, fd, "Count", static_cast<double>(s.count));
   AddColumn(statistics, fd, "Outliers", static_cast<double>(s.outliers));
   AddColumn(statistics, fd, "Minimum", s.minimum);
@@ -545,14 +547,11 @@ plantmorph::DistanceStatistics FillStatistics(const double* distance, std::size_
     AddColumn(statistics, fd, "SymmetricHausdorff", std::max(s.maximum, r.maximum));
     AddColumn(statistics, fd, "Chamfer", 0.5 * (s.mean + r.mean));
   }
-  return s;
 }
 
 /// Output 1: the histogram of the distances (`counted`: the statistics' count, for the fractions).
-void FillHistogram(
-  const double* distance, std::size_t count, std::size_t bins, double cutOff, std::size_t counted, vtkTable* histogram)
+void FillHistogram(const plantmorph::DistanceHistogram& h, std::size_t counted, vtkTable* histogram)
 {
-  const plantmorph::DistanceHistogram h = plantmorph::ComputeDistanceHistogram(distance, count, bins, cutOff);
   const vtkIdType n = static_cast<vtkIdType>(h.count.size());
   vtkNew<vtkDoubleArray> centers;
   centers->SetName("bin_extents");
@@ -583,6 +582,37 @@ void FillHistogram(
   histogram->AddColumn(ends);
   histogram->AddColumn(fraction);
 }
+
+/// The reverse direction: every reference point's distance to the measured data, as a surface if it has 2-D
+/// cells, else its points. Under MPI each rank measures to its own piece (as a surface when any rank's piece has
+/// 2-D cells, as serially the whole would be) and the minimum over the ranks is taken. The error message or "".
+std::string ReverseDistances(vtkMultiProcessController* controller, vtkPointSet* measured, const double* xyz,
+  std::size_t count, const std::vector<double>& referenceXYZ, const plantmorph::ParallelFor& parallelFor,
+  std::vector<double>& reverse)
+{
+  using namespace plantmorph;
+  const std::vector<std::int64_t> triangles = count ? Triangles(measured) : std::vector<std::int64_t>();
+  const bool surface = cloudmpi::AnyRank(controller, !triangles.empty());
+  reverse.assign(referenceXYZ.size() / 3, std::numeric_limits<double>::infinity());
+  std::string error;
+  if (count > 0 && (!surface || !triangles.empty()))
+  {
+    PointSurfaceDistance measuredDistance;
+    error = surface ? measuredDistance.BuildSurface(xyz, count, triangles.data(), triangles.size() / 3, BlockSMPFor())
+                    : measuredDistance.BuildCloud(xyz, count, BlockSMPFor());
+    if (error.empty())
+    {
+      measuredDistance.QueryMany(
+        referenceXYZ.data(), reverse.size(), reverse.data(), nullptr, nullptr, nullptr, parallelFor);
+    }
+  }
+  if (cloudmpi::AnyRank(controller, !error.empty()))
+  {
+    return error.empty() ? std::string("(failed on another MPI rank)") : error;
+  }
+  cloudmpi::MinimumOverRanks(controller, reverse);
+  return {};
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -590,7 +620,24 @@ int vtkCloudComparisonFilter::Execute(
   vtkPointSet* measured, vtkPointSet* reference, vtkPolyData* output, vtkTable* histogram, vtkTable* statistics)
 {
   using namespace plantmorph;
-  // 1. Properties.
+  // Under MPI (controller not null) every step runs on every rank, each on its own measured points; the steps
+  // that may fail on one rank only are followed by a collective check, so that all ranks stop together (the
+  // failing rank says why).
+  vtkMultiProcessController* controller = cloudmpi::Parallel();
+  const bool first = IsFirstRank();
+  const auto failed = [&](const std::string& error, const char* prefix) {
+    if (!cloudmpi::AnyRank(controller, !error.empty()))
+    {
+      return false;
+    }
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< prefix << error);
+    }
+    return true;
+  };
+  const auto aborted = [&]() { return cloudmpi::AnyRank(controller, this->GetAbortExecute() != 0); };
+  // 1. Properties (the same on every rank, as is the replicated reference).
   RegistrationParameters registration;
   if (const std::string error = CheckProperties(this, registration); !error.empty())
   {
@@ -604,10 +651,10 @@ int vtkCloudComparisonFilter::Execute(
     return 0;
   }
   const vtkIdType count = measured->GetNumberOfPoints();
-  if (count == 0)
+  const cloudmpi::PointLayout layout = cloudmpi::Layout(controller, static_cast<std::uint64_t>(count));
+  if (layout.total == 0)
   {
-    // The other MPI ranks' empty pieces are expected; an empty whole input is said, and gives empty outputs.
-    if (plantmorph::IsFirstRank())
+    if (first)
     {
       vtkWarningMacro(<< "the Input (Measured points, port 0) is empty (no points): nothing to compare, the outputs "
                          "are empty");
@@ -620,9 +667,8 @@ int vtkCloudComparisonFilter::Execute(
   std::vector<double> moved;
   const double* xyz = nullptr;
   double transform[16];
-  if (const std::string error = ReadMeasured(measured, this->Scale, registering, moved, xyz, transform); !error.empty())
+  if (failed(ReadMeasured(measured, this->Scale, registering, moved, xyz, transform), ""))
   {
-    vtkErrorMacro(<< error);
     return 0;
   }
   this->UpdateProgress(0.05);
@@ -638,30 +684,34 @@ int vtkCloudComparisonFilter::Execute(
     return 0;
   }
   this->UpdateProgress(0.15);
-  if (this->GetAbortExecute())
+  if (aborted())
   {
     return 0;
   }
   const ParallelFor parallelFor = BlockSMPFor();
 
-  // 3. Registration.
+  // 3. Registration: on the whole cloud's landmarks (the same on every rank), applied to each rank's points.
   RegistrationResult registered;
   if (registering)
   {
-    if (const std::string error =
-          RegisterMeasured(registration, referenceXYZ, referenceDistance, parallelFor, moved, transform, registered);
+    const std::vector<double> gathered = controller
+      ? cloudmpi::Landmarks(controller, layout, moved.data(), registration.maximumLandmarks)
+      : std::vector<double>();
+    const std::vector<double>& landmarks = controller ? gathered : moved;
+    if (const std::string error = RegisterMeasured(registration, referenceXYZ, referenceDistance, parallelFor,
+          landmarks.data(), landmarks.size() / 3, moved, transform, registered);
         !error.empty())
     {
       vtkErrorMacro(<< "Registration: " << error);
       return 0;
     }
-    if (registered.worse)
+    if (registered.worse && first)
     {
       vtkWarningMacro(<< "Registration: " << registered.warning);
     }
   }
   this->UpdateProgress(0.3);
-  if (this->GetAbortExecute())
+  if (aborted())
   {
     return 0;
   }
@@ -682,10 +732,13 @@ int vtkCloudComparisonFilter::Execute(
   closest->SetNumberOfComponents(3);
   closest->SetNumberOfTuples(count);
   // One QueryMany over all points (one Morton order: the most coherent), reporting progress between its blocks.
-  referenceDistance.QueryMany(xyz, static_cast<std::size_t>(count), distance->GetPointer(0),
-    surface ? signedDistance->GetPointer(0) : nullptr, closest->GetPointer(0), nullptr, parallelFor,
-    plantmorph::Progress(this, 0.3, 0.9));
-  if (this->GetAbortExecute())
+  if (count > 0)
+  {
+    referenceDistance.QueryMany(xyz, static_cast<std::size_t>(count), distance->GetPointer(0),
+      surface ? signedDistance->GetPointer(0) : nullptr, closest->GetPointer(0), nullptr, parallelFor,
+      plantmorph::Progress(this, 0.3, 0.9));
+  }
+  if (aborted())
   {
     return 0;
   }
@@ -694,30 +747,32 @@ int vtkCloudComparisonFilter::Execute(
   // Reverse direction: the reference's points against the measured data (as a surface if it has polygons).
   const double cutOff = this->UseMaximumDistance ? this->MaximumDistance : -1.0;
   std::vector<double> reverse;
-  if (this->Symmetric)
+  if (this->Symmetric &&
+    failed(
+      ReverseDistances(controller, measured, xyz, static_cast<std::size_t>(count), referenceXYZ, parallelFor, reverse),
+      "Measured input (reverse direction): "))
   {
-    PointSurfaceDistance measuredDistance;
-    if (const std::string error = BuildStructure(measured, xyz, static_cast<std::size_t>(count), measuredDistance);
-        !error.empty())
-    {
-      vtkErrorMacro(<< "Measured input (reverse direction): " << error);
-      return 0;
-    }
-    reverse.resize(referenceXYZ.size() / 3);
-    measuredDistance.QueryMany(
-      referenceXYZ.data(), reverse.size(), reverse.data(), nullptr, nullptr, nullptr, parallelFor);
+    return 0;
   }
   this->UpdateProgress(0.95);
 
-  // 5. The outputs.
+  // 5. The outputs: each rank's points; the statistics and histogram of all ranks' distances (the tables on rank 0,
+  // the field data on every rank).
   FillPoints(measured, moved, this->Scale != 1.0 || registering, distance, surface ? signedDistance.Get() : nullptr,
     closest, this->MaximumDistance, this->UseMaximumDistance != 0, output);
   vtkFieldData* fd = output->GetFieldData();
   FillTransform(transform, registering ? &registered : nullptr, fd);
-  const DistanceStatistics s = FillStatistics(distance->GetPointer(0), static_cast<std::size_t>(count), cutOff, surface,
-    this->Symmetric ? &reverse : nullptr, statistics, fd);
-  FillHistogram(distance->GetPointer(0), static_cast<std::size_t>(count), static_cast<std::size_t>(this->HistogramBins),
-    cutOff, s.count, histogram);
+  const DistanceStatistics s =
+    cloudmpi::Statistics(controller, distance->GetPointer(0), static_cast<std::size_t>(count), cutOff);
+  FillStatistics(s, cutOff, surface, this->Symmetric ? &reverse : nullptr, statistics, fd);
+  FillHistogram(cloudmpi::Histogram(controller, distance->GetPointer(0), static_cast<std::size_t>(count),
+                  static_cast<std::size_t>(this->HistogramBins), cutOff, s),
+    s.count, histogram);
+  if (!first)
+  {
+    statistics->Initialize(); // one row in all, rank 0's
+    histogram->Initialize();
+  }
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -73,6 +73,13 @@
  * that finds fewer than 3 pairs. An empty Measured input gives empty outputs without an error (an MPI piece with
  * no points).
  *
+ * Under MPI (pvbatch, pvserver) the filter is data-parallel (CloudComparisonExchange.h, docs/methods/comparison.md
+ * "Under MPI"): Measured stays on its ranks, each comparing its own points; Reference is gathered and broadcast to
+ * every rank (it is expected small: a leaf, a plant; it is replicated whatever its size). Per-point arrays equal the
+ * serial ones bit for bit; statistics, exact percentiles, histogram and the registration's transform are reduced
+ * over the ranks in a fixed order (equal to serial: counts, extremes, percentiles and the transform exactly, sums to
+ * about one rounding). Ports 1 and 2 are on rank 0; the field data on every rank's piece.
+ *
  * Queries run in parallel with vtkSMPTools (NumberOfThreads; the Sequential backend ParaView ships with is
  * replaced by STDThread for the filter's run) in blocks, with progress and abort between blocks.
  */

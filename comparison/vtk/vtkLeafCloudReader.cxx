@@ -8,6 +8,8 @@
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkCommunicator.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -85,7 +87,8 @@ bool NamedCoordinates(const std::vector<std::string>& names, std::size_t xyz[3])
 
 /// Columns after x, y, z by position (files without a header naming the columns, or naming x, y, z first):
 /// normals, colours, scalars.
-void AddPositionalArrays(vtkPolyData* output, const std::vector<double>& values, std::size_t columns, vtkIdType n)
+void AddPositionalArrays(
+  vtkPolyData* output, const std::vector<double>& values, std::size_t columns, vtkIdType n, bool fractions)
 {
   std::size_t next = 3;
   if (columns >= 6)
@@ -104,14 +107,11 @@ void AddPositionalArrays(vtkPolyData* output, const std::vector<double>& values,
   if (columns >= 9)
   {
     vtkDoubleArray* rgb = NewArray(output, "RGB", 3, n);
-    bool fractions = true;
     for (vtkIdType i = 0; i < n; ++i)
     {
       for (int k = 0; k < 3; ++k)
       {
-        const double v = values[i * columns + 6 + k];
-        rgb->SetTypedComponent(i, k, v);
-        fractions = fractions && v >= 0.0 && v <= 1.0;
+        rgb->SetTypedComponent(i, k, values[i * columns + 6 + k]);
       }
     }
     vtkNew<vtkUnsignedCharArray> colors;
@@ -158,6 +158,72 @@ void AddNamedArrays(vtkPolyData* output, const std::vector<double>& values, cons
     }
   }
 }
+
+/// Whether the colour columns (6-8) are all within [0, 1] (fractions, scaled by 255), on this piece.
+bool ColourFractions(const std::vector<double>& values, std::size_t columns)
+{
+  for (std::size_t i = 0; columns >= 9 && i < values.size(); i += columns)
+  {
+    for (std::size_t k = 6; k < 9; ++k)
+    {
+      if (!(values[i + k] >= 0.0 && values[i + k] <= 1.0))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+/// What the pieces of one read tell each other (MPI: one piece per rank, collective), in rank order.
+struct PieceSummary
+{
+  bool failed = false;         ///< some piece failed: every piece's output empty
+  std::string error;           ///< this piece's message (with the file's line number) when it is the first to fail
+  unsigned long long rows = 0; ///< data lines of all pieces
+  bool fractions = true;       ///< colours all within [0, 1] on every piece
+};
+
+PieceSummary Summarize(vtkMultiProcessController* controller, const plantmorph::PointCloudTextPiece& piece,
+  const std::string& error, const plantmorph::PointCloudText& cloud)
+{
+  PieceSummary summary;
+  const unsigned long long mine[6] = { error.empty() ? 0ULL : 1ULL, cloud.Rows(), piece.lines, piece.firstNumber,
+    piece.errorNumber, piece.errorNumberInFile || error.empty() ? 1ULL : 0ULL };
+  const int ranks = controller ? controller->GetNumberOfProcesses() : 1;
+  const int me = controller ? controller->GetLocalProcessId() : 0;
+  std::vector<unsigned long long> all(mine, mine + 6);
+  all.resize(6 * static_cast<std::size_t>(ranks));
+  if (controller)
+  {
+    controller->AllGather(mine, all.data(), 6);
+  }
+  unsigned long long number = 1; // the file's number of each piece's first line, pieces in order
+  for (int q = 0; q < ranks; ++q)
+  {
+    const unsigned long long* r = &all[6 * static_cast<std::size_t>(q)];
+    number = r[3] ? r[3] : number;
+    if (r[0] && !summary.failed)
+    {
+      summary.failed = true;
+      if (q == me)
+      {
+        const unsigned long long line = r[5] ? r[4] : number - 1 + r[4];
+        summary.error =
+          r[5] || piece.errorWhat.empty() ? error : "line " + std::to_string(line) + ": " + piece.errorWhat;
+      }
+    }
+    summary.rows += r[1];
+    number += r[2];
+  }
+  int fractions = ColourFractions(cloud.values, cloud.columns) ? 1 : 0, all01 = fractions;
+  if (controller)
+  {
+    controller->AllReduce(&fractions, &all01, 1, vtkCommunicator::MIN_OP);
+  }
+  summary.fractions = all01 != 0;
+  return summary;
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -195,44 +261,91 @@ int vtkLeafCloudReader::CanReadFile(const char* name)
 }
 
 //------------------------------------------------------------------------------
+int vtkLeafCloudReader::RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  // Any piece of the file can be read alone (its byte range): under MPI each rank reads its own.
+  outputVector->GetInformationObject(0)->Set(CAN_HANDLE_PIECE_REQUEST(), 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   vtkTable* table = vtkTable::GetData(outputVector, 1);
   output->Initialize();
   table->Initialize();
-  // The file is read whole by piece 0; under MPI the other ranks stay empty, so no point appears twice.
+  // Piece p of N reads the lines whose preceding newline lies in bytes [p S / N, (p + 1) S / N) of the file (S
+  // bytes): every line once, in file order over the pieces. Under MPI (one piece per rank) the pieces agree on
+  // errors, the colour scaling and the line numbers of messages (collective).
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) &&
-    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) > 0)
+  const int piece = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    : 0;
+  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? std::max(1, outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
+    : 1;
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (!controller || pieces < 2 || controller->GetNumberOfProcesses() != pieces ||
+    controller->GetLocalProcessId() != piece)
   {
-    return 1;
+    controller = nullptr; // pieces read in one process (or serial): each piece alone
   }
+  const bool first = piece == 0;
+  // Only errors every piece finds alike are said by the first piece alone.
+  const bool say = first || !controller;
   if (!this->FileName || !*this->FileName)
   {
-    vtkErrorMacro(<< "FileName is not set: give a leaf point-cloud text file (x, y, z [, nx, ny, nz [, r, g, b]])");
+    if (say)
+    {
+      vtkErrorMacro(<< "FileName is not set: give a leaf point-cloud text file (x, y, z [, nx, ny, nz [, r, g, b]])");
+    }
     return 1;
   }
   std::ifstream file(this->FileName, std::ios::binary | std::ios::ate);
-  if (!file)
-  {
-    vtkErrorMacro(<< "FileName '" << this->FileName << "' cannot be opened");
-    return 1;
-  }
-  const auto size = static_cast<double>(std::max<std::streamoff>(1, file.tellg()));
+  const bool opened = static_cast<bool>(file);
+  const std::uint64_t bytes = file ? static_cast<std::uint64_t>(std::max<std::streamoff>(0, file.tellg())) : 0;
   file.seekg(0);
   plantmorph::PointCloudText cloud;
-  const std::string error = plantmorph::ReadPointCloudText(file, cloud, [&](std::uint64_t bytes) {
-    this->UpdateProgress(0.9 * static_cast<double>(bytes) / size);
-    return !this->CheckAbort();
-  });
-  if (!error.empty())
+  plantmorph::PointCloudTextPiece range;
+  range.begin = bytes * static_cast<std::uint64_t>(piece) / static_cast<std::uint64_t>(pieces);
+  range.end = piece + 1 == pieces ? UINT64_MAX : bytes * static_cast<std::uint64_t>(piece + 1) / pieces;
+  const double span = static_cast<double>(std::max<std::uint64_t>(1, std::min(range.end, bytes) - range.begin));
+  const auto progress = [&](std::uint64_t done) {
+    this->UpdateProgress(0.9 * std::min(1.0, static_cast<double>(done) / span));
+    return controller || !this->CheckAbort(); // under MPI a read is not aborted on one rank alone
+  };
+  std::string error = !opened ? std::string("cannot be opened")
+    : pieces == 1             ? plantmorph::ReadPointCloudText(file, cloud, progress)
+                              : plantmorph::ReadPointCloudTextPiece(file, range, cloud, progress);
+  if (pieces == 1)
   {
-    vtkErrorMacro(<< "FileName '" << this->FileName << "', " << error);
+    range.firstNumber = 1;
+    range.found = error.empty();
+  }
+  const PieceSummary summary = Summarize(controller, range, error, cloud);
+  if (summary.failed || (controller && summary.rows == 0) || (pieces > 1 && !controller && !error.empty()))
+  {
+    if (!summary.error.empty() || (!controller && !error.empty()))
+    {
+      const std::string what = summary.error.empty() ? error : summary.error;
+      vtkErrorMacro(<< "FileName '" << this->FileName << (opened ? "', " : "' ") << what
+                    << (!controller && !range.errorNumberInFile
+                           ? " (counted from piece " + std::to_string(piece) + "'s first line)"
+                           : std::string()));
+    }
+    else if (!summary.failed && first)
+    {
+      vtkErrorMacro(<< "FileName '" << this->FileName << "', no data line");
+    }
     return 1;
   }
   const std::vector<double>& values = cloud.values;
   const std::size_t columns = cloud.columns;
+  if (columns == 0)
+  {
+    return 1; // a piece before the file's first data line: nothing of its own
+  }
   const auto n = static_cast<vtkIdType>(values.size() / columns);
   // Port 1: every column as a table, named by the header line when it has one name per column.
   std::vector<std::string> names = plantmorph::SplitHeaderNames(cloud.header);
@@ -263,9 +376,12 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
     {
       list << (list.tellp() > 0 ? ", " : "") << "'" << name << "'";
     }
-    vtkErrorMacro(<< "FileName '" << this->FileName << "': its header names the columns (" << list.str()
-                  << ") but none are x, y, z or P_x, P_y, P_z (e.g. measured_x, measured_y, measured_z), so the "
-                     "points are not read (output port 0 is empty; port 1 has the table)");
+    if (say)
+    {
+      vtkErrorMacro(<< "FileName '" << this->FileName << "': its header names the columns (" << list.str()
+                    << ") but none are x, y, z or P_x, P_y, P_z (e.g. measured_x, measured_y, measured_z), so the "
+                       "points are not read (output port 0 is empty; port 1 has the table)");
+    }
     return 1;
   }
   vtkNew<vtkDoubleArray> coordinates;
@@ -283,7 +399,7 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
   output->SetPoints(points);
   if (xyz[0] == 0 && xyz[1] == 1 && xyz[2] == 2)
   {
-    AddPositionalArrays(output, values, columns, n);
+    AddPositionalArrays(output, values, columns, n, summary.fractions);
   }
   else
   {

@@ -38,6 +38,12 @@
  * data/cucumber-wilting-tip.csv (columns sample, measured_x, ..., paper_sim_z), for
  * TrajectoryComparisonFilter.
  *
+ * Pieces (MPI: one per rank): piece p of N parses its own byte range of the file, cut at line ends (the lines whose
+ * preceding newline lies in bytes [p S/N, (p+1) S/N), piece 0 also the first line), after reading the file's head
+ * up to its first data line (header, column count). The pieces in rank order hold the serial points and rows in
+ * file order; under MPI the ranks agree on errors, line numbers and the colour scale (docs/methods/comparison.md
+ * "Under MPI"). One piece: the whole file, as before.
+ *
  * Errors (vtkErrorMacro naming FileName and the line, and an empty output): no FileName, a file that cannot be
  * opened, no data line, a non-numeric or non-finite value, a line with a different number of columns than the first.
  * Hostile files are refused the same way, in one linear pass (the parser is comparison/core/PointCloudText.h): a line
@@ -73,6 +79,7 @@ protected:
   ~vtkLeafCloudReader() override;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   char* FileName = nullptr;

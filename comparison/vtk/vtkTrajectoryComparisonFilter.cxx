@@ -316,8 +316,19 @@ int vtkTrajectoryComparisonFilter::RequestData(
   vtkTable* summary = vtkTable::GetData(outputVector, 1);
   samples->Initialize();
   summary->Initialize();
-  vtkDataObject* measuredData = vtkDataObject::GetData(inputVector[0], 0);
-  vtkDataObject* simulatedData = vtkDataObject::GetData(inputVector[1], 0);
+  // Tables (a reader's, which under MPI reads its file by pieces) are gathered whole on rank 0 (collective).
+  vtkSmartPointer<vtkDataObject> wholeMeasured = vtkDataObject::GetData(inputVector[0], 0);
+  vtkSmartPointer<vtkDataObject> wholeSimulated = vtkDataObject::GetData(inputVector[1], 0);
+  if (auto* table = vtkTable::SafeDownCast(wholeMeasured))
+  {
+    wholeMeasured = plantmorph::GatherRowsOnFirstRank(table);
+  }
+  if (auto* table = vtkTable::SafeDownCast(wholeSimulated))
+  {
+    wholeSimulated = plantmorph::GatherRowsOnFirstRank(table);
+  }
+  vtkDataObject* measuredData = wholeMeasured;
+  vtkDataObject* simulatedData = wholeSimulated;
   // Both inputs empty: another MPI rank's share (readers and sources put their data on rank 0), nothing to compare
   // and nothing wrong. A single empty input is still reported below.
   const auto empty = [](vtkDataObject* data) {

@@ -1,8 +1,10 @@
 """pvbatch under MPI: every PlantMorph source and filter gives, on 1, 2 or 4 ranks, the result of a serial run, once.
 
 Sources make their data on rank 0 (piece 0), except TreeFromSketchSource's branches and leaves, made by pieces and
-checked as triangle sets by test_mpi_tree_pieces.py (its skeleton stays on rank 0, here); the reader reads its file on rank 0; filters that need the whole leaf
-run where it is, and gather it onto rank 0 when it arrives split over ranks (here by D3). For every output port:
+checked as triangle sets by test_mpi_tree_pieces.py (its skeleton stays on rank 0, here); the reader reads its file
+by pieces, each rank its byte range, and CloudComparisonFilter compares each rank's points there
+(test_mpi_cloud_comparison.py checks that in detail); filters that need the whole leaf run where it is, and gather it
+onto rank 0 when it arrives split over ranks (here by D3). For every output port:
 the totals over all ranks equal the serial counts (nothing duplicated, nothing lost) and the data gathered from all
 ranks is bit-identical to the serial output. Run once serially with --write-reference (pvpython), then as
 `mpirun -np N pvbatch test_mpi_every_proxy.py ... --ranks N`."""

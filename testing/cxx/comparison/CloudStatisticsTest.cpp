@@ -139,5 +139,106 @@ TEST(CloudStatistics, HistogramCountsEveryKeptValueOnce)
   EXPECT_TRUE(ComputeDistanceHistogram(same.data(), same.size(), 4, 1.0).count.empty());
 }
 
+TEST(CloudStatistics, CompensatedSumsOfPartsEqualTheWhole)
+{
+  // Ill-conditioned: plain summation loses the small terms entirely.
+  CompensatedSum sum;
+  for (double v : { 1e16, 1.0, -1e16, 1.0, 3.0 })
+  {
+    sum.Add(v);
+  }
+  EXPECT_EQ(sum.Value(), 5.0);
+  // Random distances split into 1..7 parts (as MPI ranks hold them), the parts' sums added in order: the whole's
+  // sum to 1e-15 relative (the bound the filter's 1e-12 rests on).
+  RandomStream random(5);
+  std::vector<double> values(100000);
+  for (double& v : values)
+  {
+    v = random.Uniform(0.0, 1.0) * std::pow(10.0, random.Uniform(-6.0, 3.0));
+  }
+  CompensatedSum whole;
+  for (double v : values)
+  {
+    whole.Add(v);
+  }
+  for (std::size_t parts = 1; parts <= 7; ++parts)
+  {
+    CompensatedSum total;
+    for (std::size_t q = 0; q < parts; ++q)
+    {
+      CompensatedSum part;
+      for (std::size_t i = q * values.size() / parts; i < (q + 1) * values.size() / parts; ++i)
+      {
+        part.Add(values[i]);
+      }
+      total.Add(part);
+    }
+    EXPECT_NEAR(total.Value(), whole.Value(), 1e-15 * whole.Value()) << parts << " parts";
+  }
+}
+
+TEST(CloudStatistics, OrderKeysOrderLikeTheValuesAndInvert)
+{
+  RandomStream random(9);
+  std::vector<double> values = { 0.0, -0.0, 1.0, -1.0, 1e-310, -1e-310, 1e308, -1e308, 0.5, 2.0 };
+  for (int i = 0; i < 1000; ++i)
+  {
+    values.push_back(random.Uniform(-1.0, 1.0) * std::pow(10.0, random.Uniform(-300.0, 300.0)));
+  }
+  for (double a : values)
+  {
+    EXPECT_EQ(std::signbit(FromOrderKey(OrderKey(a))), std::signbit(a));
+    EXPECT_EQ(FromOrderKey(OrderKey(a)), a);
+    for (double b : { 0.0, 1.0, -1.0, 1e-300, values[50] })
+    {
+      if (a < b)
+      {
+        EXPECT_LT(OrderKey(a), OrderKey(b)) << a << " " << b;
+      }
+      else if (a > b)
+      {
+        EXPECT_GT(OrderKey(a), OrderKey(b)) << a << " " << b;
+      }
+    }
+  }
+}
+
+TEST(CloudStatistics, PercentileRanksAndTheHistogramOverARangeAgreeWithTheWholeFunctions)
+{
+  RandomStream random(13);
+  std::vector<double> values(1001);
+  for (double& v : values)
+  {
+    v = random.Uniform(0.0, 4.0);
+  }
+  const DistanceStatistics s = ComputeDistanceStatistics(values.data(), values.size());
+  std::vector<double> sorted = values;
+  std::sort(sorted.begin(), sorted.end());
+  std::size_t ranks[2 * kPercentiles];
+  double fractions[kPercentiles];
+  PercentileRanks(sorted.size(), ranks, fractions);
+  const double expected[kPercentiles] = { s.p50, s.p68, s.p75, s.p95, s.p99 };
+  for (std::size_t i = 0; i < kPercentiles; ++i)
+  {
+    const double low = sorted[ranks[2 * i]], high = sorted[ranks[2 * i + 1]];
+    EXPECT_EQ(low + fractions[i] * (high - low), expected[i]);
+    EXPECT_EQ(SortedPercentile(sorted, kPercentileValues[i]), expected[i]);
+  }
+  const DistanceHistogram whole = ComputeDistanceHistogram(values.data(), values.size(), 13);
+  const DistanceHistogram over =
+    ComputeDistanceHistogramOver(values.data(), values.size(), 13, -1.0, s.minimum, s.maximum);
+  EXPECT_EQ(whole.count, over.count);
+  EXPECT_EQ(whole.binStart, over.binStart);
+  EXPECT_EQ(whole.binEnd, over.binEnd);
+  // Split in two parts histogrammed over the whole range: the counts add up to the whole's.
+  const DistanceHistogram first = ComputeDistanceHistogramOver(values.data(), 400, 13, -1.0, s.minimum, s.maximum);
+  const DistanceHistogram second =
+    ComputeDistanceHistogramOver(values.data() + 400, values.size() - 400, 13, -1.0, s.minimum, s.maximum);
+  for (std::size_t b = 0; b < 13; ++b)
+  {
+    EXPECT_EQ(first.count[b] + second.count[b], whole.count[b]);
+  }
+}
+
 } // namespace
 } // namespace plantmorph

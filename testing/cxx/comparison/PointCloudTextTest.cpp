@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -110,6 +111,137 @@ TEST(PointCloudText, HostileFilesAreRefused)
   PointCloudText cloud;
   EXPECT_NE(Read(junk, cloud), "");
   EXPECT_TRUE(cloud.values.empty());
+}
+
+/// The file read as `count` pieces (as MPI ranks read it), in order: the values concatenated, the first error with
+/// its line number in the file (counted as the reader does: the pieces' own lines added up).
+struct ByPieces
+{
+  std::vector<double> values;
+  std::size_t columns = 0;
+  std::string error;
+  int failures = 0;
+};
+
+ByPieces ReadByPieces(const std::string& text, const std::vector<std::uint64_t>& cuts)
+{
+  ByPieces result;
+  std::uint64_t number = 1;
+  for (std::size_t p = 0; p + 1 < cuts.size(); ++p)
+  {
+    std::istringstream in(text);
+    PointCloudTextPiece piece;
+    piece.begin = cuts[p];
+    piece.end = p + 2 == cuts.size() ? UINT64_MAX : cuts[p + 1];
+    PointCloudText cloud;
+    const std::string error = ReadPointCloudTextPiece(in, piece, cloud);
+    number = piece.firstNumber ? piece.firstNumber : number;
+    if (!error.empty())
+    {
+      EXPECT_TRUE(cloud.values.empty());
+      ++result.failures;
+      if (result.error.empty())
+      {
+        const std::uint64_t line = piece.errorNumberInFile ? piece.errorNumber : number - 1 + piece.errorNumber;
+        result.error = "line " + std::to_string(line) + ": " + piece.errorWhat;
+      }
+    }
+    if (cloud.Rows() > 0)
+    {
+      EXPECT_TRUE(result.columns == 0 || result.columns == cloud.columns);
+      result.columns = cloud.columns;
+    }
+    result.values.insert(result.values.end(), cloud.values.begin(), cloud.values.end());
+    number += piece.lines;
+  }
+  return result;
+}
+
+std::vector<std::uint64_t> EvenCuts(std::size_t size, std::size_t count)
+{
+  std::vector<std::uint64_t> cuts;
+  for (std::size_t p = 0; p <= count; ++p)
+  {
+    cuts.push_back(size * p / count);
+  }
+  return cuts;
+}
+
+std::string BigText()
+{
+  std::string text = "# scan\n\nx y z w\r\n";
+  for (int i = 0; i < 30000; ++i)
+  {
+    text += std::to_string(i) + " " + std::to_string(i * 0.25) + ", " +
+      std::string(static_cast<std::size_t>(i % 9), ' ') + std::to_string(-i) + ";" + std::to_string(i % 17) +
+      (i % 5 ? "\n" : "\r\n");
+    if (i % 997 == 0)
+    {
+      text += "// a comment\n\n";
+    }
+  }
+  return text + "1 2 3 4"; // no newline at the end
+}
+
+TEST(PointCloudText, PiecesTileTheFileInOrder)
+{
+  const std::vector<std::string> texts = { "# c\n\nx,y,z\r\n1,2,3\r\n4 5 6\n// c\n7;8;9\n\n10 11 12", "1 2 3\n",
+    "1 2 3", std::string(5000, '#') + "\n" + "x y z\n" + std::string(3000, '\n') + "1 2 3\n4 5 6\n", "x y z\n\n",
+    BigText() };
+  for (const std::string& text : texts)
+  {
+    PointCloudText whole;
+    const std::string wholeError = Read(text, whole);
+    for (std::size_t count = 1; count <= 9; ++count)
+    {
+      const ByPieces pieces = ReadByPieces(text, EvenCuts(text.size(), count));
+      if (!wholeError.empty())
+      {
+        EXPECT_EQ(wholeError, "no data line"); // only "x y z\n\n": no piece may fail, none has a point
+        EXPECT_EQ(pieces.failures, 0);
+        EXPECT_TRUE(pieces.values.empty());
+        continue;
+      }
+      EXPECT_EQ(pieces.failures, 0) << pieces.error;
+      EXPECT_EQ(pieces.values, whole.values) << count << " pieces of a " << text.size() << "-byte file";
+      EXPECT_EQ(pieces.columns, whole.columns);
+    }
+  }
+  // Two pieces cut at every byte of a small file: lines at, before and after the cut.
+  const std::string& small = texts[0];
+  PointCloudText whole;
+  ASSERT_EQ(Read(small, whole), "");
+  for (std::uint64_t cut = 0; cut <= small.size(); ++cut)
+  {
+    EXPECT_EQ(ReadByPieces(small, { 0, cut, small.size() }).values, whole.values) << "cut at " << cut;
+  }
+}
+
+TEST(PointCloudText, PiecesReportTheWholeFilesErrorWithItsLineNumber)
+{
+  std::string lines;
+  for (int i = 0; i < 5000; ++i)
+  {
+    lines += std::to_string(i) + " 1 2\n";
+  }
+  for (const std::string& text : { "x y z\n" + lines + "4 five 6\n" + lines, "# c\n" + lines + "4 5\n" + lines,
+         lines + lines + "1 2 1e999\n", "1 2 3\n" + lines + std::string(2000000, ' ') + "\n" + lines })
+  {
+    PointCloudText whole;
+    const std::string expected = Read(text, whole);
+    ASSERT_NE(expected, "");
+    for (std::size_t count = 2; count <= 7; ++count)
+    {
+      const ByPieces pieces = ReadByPieces(text, EvenCuts(text.size(), count));
+      EXPECT_EQ(pieces.error, expected) << count << " pieces";
+      EXPECT_EQ(pieces.failures, 1) << count << " pieces"; // only the piece that holds the line
+    }
+  }
+  // An error before the first data line is every later piece's (each reads the head): the same message.
+  const std::string early = "x y z\nnot numbers here\n" + lines;
+  PointCloudText whole;
+  const std::string expected = Read(early, whole);
+  EXPECT_EQ(ReadByPieces(early, EvenCuts(early.size(), 4)).error, expected);
 }
 
 TEST(PointCloudText, LooksLikeAPointCloud)

@@ -762,6 +762,36 @@ TEST(PointSurfaceDistance, DegenerateTrianglesAreSegments)
   EXPECT_NEAR(distance2.Query(p).distance, 5.0, 1e-12);
 }
 
+TEST(PointSurfaceDistance, ExactTiesGoToTheLowestIndexWhateverTheHint)
+{
+  // Two mirrored triangles at exactly the same distance (1) from the origin, and a grid of mirrored pairs: the
+  // result must not depend on the starting hint (the previous query's primitive, which an MPI rank's other points
+  // set differently), so the closest point is the same bit for bit.
+  std::vector<double> points;
+  std::vector<std::int64_t> triangles;
+  for (int k = 0; k < 40; ++k)
+  {
+    const double y = 3.0 * k;
+    const std::int64_t base = static_cast<std::int64_t>(points.size() / 3);
+    points.insert(points.end(), { 1, y - 1, 0, 2, y + 1, 0, 1, y + 1, 0, -1, y - 1, 0, -1, y + 1, 0, -2, y + 1, 0 });
+    triangles.insert(triangles.end(), { base, base + 1, base + 2, base + 3, base + 4, base + 5 });
+  }
+  PointSurfaceDistance distance;
+  ASSERT_EQ(distance.BuildSurface(points.data(), points.size() / 3, triangles.data(), triangles.size() / 3), "");
+  for (int k = 0; k < 40; ++k)
+  {
+    const double p[3] = { 0.0, 3.0 * k, 0.0 };
+    const DistanceQueryResult a = distance.Query(p, 2 * k);
+    const DistanceQueryResult b = distance.Query(p, 2 * k + 1);
+    const DistanceQueryResult none = distance.Query(p);
+    EXPECT_EQ(a.distance, 1.0);
+    EXPECT_EQ(a.primitive, b.primitive);
+    EXPECT_EQ(a.primitive, none.primitive);
+    EXPECT_EQ(a.closest[0], b.closest[0]);
+    EXPECT_EQ(a.signedDistance, b.signedDistance);
+  }
+}
+
 TEST(PointSurfaceDistance, BadInputIsRefused)
 {
   PointSurfaceDistance distance;
