@@ -533,8 +533,9 @@ std::string Grower::GrowTertiaries()
   };
   std::deque<Front> fronts;
 
-  // Seeds on the secondaries (on the primaries when there are none, and always on palmate ones: a lobe whose
-  // primary has no room for secondaries is not left bare), every three areoles, alternate sides.
+  // Seeds on the secondaries (on the primaries when there are none, and always on fanned palmate ones: a lobe
+  // whose primary has no room for secondaries is not left bare; paper 000's palmate construction, which the
+  // Cucumber wilting preset was fitted on, keeps its seeds), every three areoles, alternate sides.
   std::vector<int> hosts; // every secondary (loops and branches too), or every primary when there are none
   for (int order : { VeinOrderSecondary, VeinOrderPrimary })
   {
@@ -543,7 +544,7 @@ std::string Grower::GrowTertiaries()
       if (this->Graph.Order(static_cast<int>(v)) == order)
         hosts.push_back(static_cast<int>(v));
     }
-    if (!hosts.empty() && this->P.pattern != VenationPattern::Palmate)
+    if (!hosts.empty() && !(this->P.pattern == VenationPattern::Palmate && this->P.palmateFan))
       break;
   }
   const std::vector<std::vector<int>> paths = this->Graph.VeinPaths();
