@@ -11,8 +11,9 @@
   tree, widths by the pipe model) on an entire, a cordate (cucumber) and a five-lobed blade, and closed venation
   (with loops) on the entire blade;
 - venation_wilting_species.png: the presets of the wilting species on their blades: cucumber (palmate to the lobe
-  and basal-lobe tips), watermelon (palmate, one primary per lobe, on paper 002's five-lobed leaf) and a tomato
-  leaflet (pinnate semicraspedodromous, on a serrate blade).
+  and basal-lobe tips, craspedodromous secondaries off each primary, a hierarchical reticulum), watermelon (palmate,
+  one primary per lobe with secondaries into its flanks, on paper 002's five-lobed leaf) and a tomato leaflet
+  (pinnate semicraspedodromous, on a serrate blade).
 Each figure's veins and blade are written as .vtp files.
 
     xvfb-run -a pvbatch examples/main_paper000_venation.py --plugin build/.../PlantMorph.so --output output/
@@ -116,8 +117,7 @@ species = [("Cucumber (palmate)", LeafOutlineSource(Model="B-spline", BSplinePre
            ("Tomato (pinnate leaflet)", LeafOutlineSource(Preset="Serrate", Length=5.0, Resolution=80,
                                                           MeshQuality="Quality"), "Tomato leaflet")]
 for k, ((preset, leaf, title), x) in enumerate(zip(species, [0.0, 9.0, 16.5])):
-    # Seed 2: with seed 1 the watermelon's lower left lobe gets no tertiary seed (docs/methods/venation.md, "Not yet").
-    venation = VenationFilter(Input=OutputPort(leaf, 0), Preset=preset, Seed=2)
+    venation = VenationFilter(Input=OutputPort(leaf, 0), Preset=preset, Seed=1)
     save_vtp(venation, os.path.join(arguments.output, "venation_%s_veins.vtp" % title.split(" ")[0].lower()), port=0)
     offset = [x, 0.0]
     show_leaf(leaf, venation, view, offset)

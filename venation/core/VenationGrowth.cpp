@@ -8,6 +8,7 @@
 #include <plantmorph/RangeError.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -80,15 +81,29 @@ private:
   struct Secondary
   {
     int node = -1;
+    int host = 0; ///< which primary it leaves (0: the midvein)
     int side = 0;
     double v = 0.0;
     Eigen::Vector2d tangent, outward;
     int fork = -1; ///< the node where it forked (or stopped short of the margin), -1 if it met a vein first
     double exit = 0.0;
   };
-  std::string GrowSecondaries();
-  /// Secondaries' start nodes on the midvein (split into it), from the base up; `total` is the midvein's length.
-  std::vector<Secondary> PlaceSecondaries(RandomStream& random, double total);
+  /// The secondaries of every primary path in `hosts` (the midvein; each palmate primary); the paths gain the
+  /// secondaries' start nodes.
+  std::string GrowSecondaries(std::vector<std::vector<int>>& hosts);
+  /// Secondaries' start nodes on the primary `path` (split into it), from the base up; `total` is its length.
+  std::vector<Secondary> PlaceSecondaries(RandomStream& random, std::vector<int>& path, double total, int host);
+  /// How secondaries end: the pattern's own, or for palmate primaries the PalmateSecondaries choice.
+  VenationPattern SecondaryPattern() const
+  {
+    if (this->P.pattern != VenationPattern::Palmate)
+      return this->P.pattern;
+    return this->P.palmateSecondaries == PalmateSecondaries::Brochidodromous ? VenationPattern::Brochidodromous
+                                                                             : VenationPattern::Craspedodromous;
+  }
+  /// Hierarchical reticulum: the tertiary edge length factor at x (areoleGradient; 1 when it is 0).
+  double AreoleScale(const Eigen::Vector2d& x) const;
+  void BuildPrimaryDistance();
   /// Grows one secondary (eq. (2)) to its fork or the margin, and what continues from the fork.
   void GrowSecondary(Secondary& secondary);
   /// Loops (eq. (4)) from each fork to the fork of the next secondary above on the same side.
@@ -109,7 +124,12 @@ private:
   double Snap = 1e-9;  ///< tertiary snap distance
   Eigen::Vector2d Base = Eigen::Vector2d::Zero(), Apex = Eigen::Vector2d::Zero(), Axis = Eigen::Vector2d::UnitY();
   int BaseNode = -1;
-  std::vector<int> Midvein; ///< node path of the midvein (pinnate patterns)
+  std::vector<int> Midvein;      ///< node path of the midvein (pinnate patterns)
+  std::vector<int> PrimaryVeins; ///< palmate: the primaries' vein ids
+  /// Distance to the nearest primary on a grid over the blade's box (areoleGradient), and its largest value inside.
+  std::vector<double> PrimaryDistance;
+  int DistanceCells = 0;
+  double DistanceCell = 1.0, DistanceFar = 1.0;
   std::vector<double> JunctionAngles;
 };
 
@@ -180,17 +200,25 @@ std::vector<int> Grower::TracePrimary(double u, int vein)
   return path;
 }
 
-std::string Grower::GrowSecondaries()
+std::string Grower::GrowSecondaries(std::vector<std::vector<int>>& hosts)
 {
   RandomStream random(this->P.seed, StreamSecondary);
   const auto& nodes = this->Graph.Nodes();
-  // Arc length along the midvein path.
-  double total = 0.0;
-  for (std::size_t i = 1; i < this->Midvein.size(); ++i)
-    total += (nodes[this->Midvein[i]] - nodes[this->Midvein[i - 1]]).norm();
-  if (!(total > 0.0))
-    return {};
-  std::vector<Secondary> secondaries = this->PlaceSecondaries(random, total);
+  std::vector<Secondary> secondaries;
+  for (std::size_t host = 0; host < hosts.size(); ++host)
+  {
+    // Arc length along the primary's path.
+    double total = 0.0;
+    for (std::size_t i = 1; i < hosts[host].size(); ++i)
+      total += (nodes[hosts[host][i]] - nodes[hosts[host][i - 1]]).norm();
+    if (!(total > 0.0))
+      continue;
+    const std::vector<Secondary> placed = this->PlaceSecondaries(random, hosts[host], total, static_cast<int>(host));
+    secondaries.insert(secondaries.end(), placed.begin(), placed.end());
+  }
+  // Grown in turn from the base up over all primaries, so no primary's secondaries claim the space first.
+  std::stable_sort(
+    secondaries.begin(), secondaries.end(), [](const Secondary& a, const Secondary& b) { return a.v < b.v; });
   for (Secondary& secondary : secondaries)
     this->GrowSecondary(secondary);
   if (!this->KeepGoing(0.35))
@@ -199,7 +227,8 @@ std::string Grower::GrowSecondaries()
   return {};
 }
 
-std::vector<Grower::Secondary> Grower::PlaceSecondaries(RandomStream& random, double total)
+std::vector<Grower::Secondary> Grower::PlaceSecondaries(
+  RandomStream& random, std::vector<int>& path, double total, int host)
 {
   const auto& nodes = this->Graph.Nodes();
   const double spacing = this->P.secondarySpacing * this->Length;
@@ -222,7 +251,6 @@ std::vector<Grower::Secondary> Grower::PlaceSecondaries(RandomStream& random, do
 
   // Branch nodes on the midvein, in order from the base (the path gains the new nodes as it goes).
   std::vector<Secondary> secondaries;
-  std::vector<int> path = this->Midvein;
   std::size_t segment = 0;
   double start = 0.0; // arc length at path[segment]
   for (const Branch& branch : branches)
@@ -252,20 +280,20 @@ std::vector<Grower::Secondary> Grower::PlaceSecondaries(RandomStream& random, do
     }
     Secondary secondary;
     secondary.node = node;
+    secondary.host = host;
     secondary.side = branch.side;
     secondary.v = branch.at / total;
     secondary.tangent = tangent;
     secondary.outward = branch.side == 0 ? Left(tangent) : Eigen::Vector2d(-Left(tangent));
     secondaries.push_back(secondary);
   }
-  this->Midvein = path;
   return secondaries;
 }
 
 void Grower::GrowSecondary(Secondary& secondary)
 {
   const auto& nodes = this->Graph.Nodes();
-  const VenationPattern pattern = this->P.pattern;
+  const VenationPattern pattern = this->SecondaryPattern();
   const double w = this->Width;
   const double sMax = 4.0 * w + this->Length;
   const bool forks = pattern != VenationPattern::Craspedodromous;
@@ -282,17 +310,41 @@ void Grower::GrowSecondary(Secondary& secondary)
   for (double s = this->Step; s <= sMax && this->Inside(origin + s * (secondary.outward + slope * secondary.tangent));
        s += this->Step)
     reach = s;
+  double bend = k;
   auto at = [&](double s) {
     return Eigen::Vector2d(
-      origin + s * secondary.outward + (s * slope + k * s * s / (10.0 * reach)) * secondary.tangent);
+      origin + s * secondary.outward + (s * slope + bend * s * s / (10.0 * reach)) * secondary.tangent);
   };
-  // Where it would leave the blade.
-  double exit = 0.0;
-  for (double s = this->Step; s <= sMax && this->Inside(at(s)); s += this->Step)
-    exit = s;
+  // A palmate primary's secondary only where it has room: none where the neighbouring primary (or the margin)
+  // lies within half a spacing along its start (between diverging primaries near the base, at a lobe's tip).
+  if (this->P.pattern == VenationPattern::Palmate &&
+    this->Graph.FirstCrossing(secondary.node, at(0.5 * this->P.secondarySpacing * this->Length), 0.0) <= 1.0)
+    return;
+  // It forks where it has come forkAt of the way across the half-blade at its height: where the margin lies
+  // within (1 - forkAt)/forkAt of its distance from the midvein, straight on outwards (brochidodromous loops
+  // then run in the outer part of the half-blade however wide it is). An arch that would leave the blade (through
+  // the apex side, on a blade wide near its apex) before it gets there is bent less, by half up to three times;
+  // failing that it forks at forkAt of its way out. Reticulodromous veins stop halfway along their way out.
+  const bool across = forks && pattern != VenationPattern::Reticulodromous;
+  double exit = 0.0, forkS = sMax;
+  for (int attempt = 0; attempt < 4; ++attempt, bend *= 0.5)
+  {
+    exit = 0.0;
+    for (double s = this->Step; s <= sMax && this->Inside(at(s)); s += this->Step)
+      exit = s;
+    forkS = forks ? forkAt * exit : sMax;
+    bool found = false;
+    for (double s = this->Step; across && s < exit && !found; s += this->Step)
+    {
+      found = !this->Inside(at(s) + s * (1.0 - forkAt) / forkAt * secondary.outward);
+      if (found)
+        forkS = s;
+    }
+    if (found || !across || bend == 0.0)
+      break;
+  }
   secondary.exit = exit;
   const int vein = this->Graph.AddVein(VeinOrderSecondary);
-  const double forkS = forks ? forkAt * exit : sMax;
   const int toFork = std::max(1, static_cast<int>(std::ceil(forkS / this->Step)));
   const double ds = forks ? std::max(forkS, 1e-12 * this->Length) / toFork : this->Step;
   // A short first piece, so the vein leaves the midvein at the divergence angle itself rather than along the
@@ -331,7 +383,7 @@ void Grower::GrowSecondary(Secondary& secondary)
 void Grower::GrowSecondaryLoops(const std::vector<Secondary>& secondaries)
 {
   const auto& nodes = this->Graph.Nodes();
-  const VenationPattern pattern = this->P.pattern;
+  const VenationPattern pattern = this->SecondaryPattern();
   const bool loops = pattern == VenationPattern::Brochidodromous || pattern == VenationPattern::Semicraspedodromous ||
     pattern == VenationPattern::Eucamptodromous;
   for (int side = 0; side < 2 && loops; ++side)
@@ -342,6 +394,9 @@ void Grower::GrowSecondaryLoops(const std::vector<Secondary>& secondaries)
       if (s.side == side)
         list.push_back(&s);
     }
+    // Each primary's own, in order along it.
+    std::stable_sort(
+      list.begin(), list.end(), [](const Secondary* a, const Secondary* b) { return a->host < b->host; });
     for (std::size_t i = 0; i < list.size(); ++i)
     {
       const Secondary& low = *list[i];
@@ -349,7 +404,7 @@ void Grower::GrowSecondaryLoops(const std::vector<Secondary>& secondaries)
         continue;
       const Eigen::Vector2d from = nodes[low.fork];
       const Secondary* high = nullptr;
-      for (std::size_t j = i + 1; j < list.size() && !high; ++j)
+      for (std::size_t j = i + 1; j < list.size() && !high && list[j]->host == low.host; ++j)
         high = list[j]->fork >= 0 ? list[j] : nullptr;
       if (!high)
       {
@@ -368,11 +423,27 @@ void Grower::GrowSecondaryLoops(const std::vector<Secondary>& secondaries)
       const double dy = d.dot(low.tangent), dx = d.dot(low.outward);
       const int pieces = std::max(4, static_cast<int>(std::ceil(d.norm() / this->Step)));
       const bool free = pattern == VenationPattern::Eucamptodromous;
+      // Brochidodromous loops arch out towards the margin: the chord between the forks plus an outward bulge,
+      // sin(pi t) along it, of half the room left between the chord's middle and the margin (at most 0.3 of the
+      // chord), so each loop runs in the outer part of the half-blade (eq. (4)'s cubic stays inside the chord
+      // and, where the blade widens, bends in towards the midvein).
+      double bulge = 0.0;
+      if (pattern == VenationPattern::Brochidodromous)
+      {
+        const Eigen::Vector2d middle = from + 0.5 * d;
+        double room = 0.0;
+        for (double s = this->Step; s <= this->Width && this->Inside(middle + s * low.outward); s += this->Step)
+          room = s;
+        bulge = std::min(0.5 * room, 0.3 * d.norm());
+      }
       std::vector<Eigen::Vector2d> curve;
       for (int j = 1; j <= (free ? pieces / 2 : pieces); ++j)
       {
         const double t = static_cast<double>(j) / pieces;
-        curve.push_back(from + t * dy * low.tangent + t * t * t * dx * low.outward);
+        if (pattern == VenationPattern::Brochidodromous)
+          curve.push_back(from + t * d + bulge * std::sin(Pi * t) * low.outward);
+        else
+          curve.push_back(from + t * dy * low.tangent + t * t * t * dx * low.outward);
       }
       const int loopVein = this->Graph.AddVein(VeinOrderSecondary);
       if (free)
@@ -388,11 +459,59 @@ void Grower::GrowSecondaryLoops(const std::vector<Secondary>& secondaries)
   }
 }
 
+void Grower::BuildPrimaryDistance()
+{
+  const Eigen::Vector2d low = this->Locator.Lower(), extent = this->Locator.Upper() - low;
+  this->DistanceCells = 96;
+  this->DistanceCell = std::max(extent.x(), extent.y()) / this->DistanceCells;
+  const int n = this->DistanceCells;
+  this->PrimaryDistance.assign(static_cast<std::size_t>(n) * n, 0.0);
+  this->DistanceFar = 0.0;
+  const auto& nodes = this->Graph.Nodes();
+  std::vector<std::array<Eigen::Vector2d, 2>> primaries;
+  for (const VeinGraph::Edge& edge : this->Graph.Edges())
+  {
+    if (this->Graph.Order(edge.vein) == VeinOrderPrimary)
+      primaries.push_back({ nodes[edge.a], nodes[edge.b] });
+  }
+  for (int y = 0; y < n; ++y)
+  {
+    for (int x = 0; x < n; ++x)
+    {
+      const Eigen::Vector2d c = low + this->DistanceCell * Eigen::Vector2d(x + 0.5, y + 0.5);
+      double best = std::numeric_limits<double>::max();
+      for (const auto& [a, b] : primaries)
+      {
+        const Eigen::Vector2d d = b - a;
+        const double t = std::clamp((c - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+        best = std::min(best, (a + t * d - c).norm());
+      }
+      this->PrimaryDistance[static_cast<std::size_t>(y) * n + x] = best;
+      if (this->Inside(c))
+        this->DistanceFar = std::max(this->DistanceFar, best);
+    }
+  }
+}
+
+double Grower::AreoleScale(const Eigen::Vector2d& x) const
+{
+  const double g = this->P.areoleGradient;
+  if (g == 0.0 || this->PrimaryDistance.empty() || !(this->DistanceFar > 0.0))
+    return 1.0;
+  const int n = this->DistanceCells;
+  const Eigen::Vector2d r = (x - this->Locator.Lower()) / this->DistanceCell;
+  const int cx = std::clamp(static_cast<int>(r.x()), 0, n - 1), cy = std::clamp(static_cast<int>(r.y()), 0, n - 1);
+  const double d = this->PrimaryDistance[static_cast<std::size_t>(cy) * n + cx];
+  return 1.0 + g * (1.0 - 2.0 * std::min(1.0, d / this->DistanceFar));
+}
+
 std::string Grower::GrowTertiaries()
 {
   RandomStream random(this->P.seed, StreamTertiary);
   const double areole = this->P.areoleSize * this->Length;
-  const double expected = this->Locator.Area() / (areole * areole);
+  // The shortest tertiary edges set the count (a hierarchical reticulum's are 1 - areoleGradient of the size).
+  const double shortest = areole * (1.0 - this->P.areoleGradient);
+  const double expected = this->Locator.Area() / (shortest * shortest);
   if (3.0 * expected > static_cast<double>(this->P.maxSegments))
   {
     std::ostringstream message;
@@ -403,6 +522,8 @@ std::string Grower::GrowTertiaries()
   const std::size_t budget =
     std::min<std::size_t>(this->P.maxSegments, static_cast<std::size_t>(40.0 * expected) + 100);
   this->Snap = 0.15 * areole;
+  if (this->P.areoleGradient > 0.0)
+    this->BuildPrimaryDistance();
 
   struct Front
   {
@@ -412,7 +533,9 @@ std::string Grower::GrowTertiaries()
   };
   std::deque<Front> fronts;
 
-  // Seeds on the secondaries (on the primaries when there are none), every three areoles, alternate sides.
+  // Seeds on the secondaries (on the primaries when there are none, and always on fanned palmate ones: a lobe
+  // whose primary has no room for secondaries is not left bare; paper 000's palmate construction, which the
+  // Cucumber wilting preset was fitted on, keeps its seeds), every three areoles, alternate sides.
   std::vector<int> hosts; // every secondary (loops and branches too), or every primary when there are none
   for (int order : { VeinOrderSecondary, VeinOrderPrimary })
   {
@@ -421,7 +544,7 @@ std::string Grower::GrowTertiaries()
       if (this->Graph.Order(static_cast<int>(v)) == order)
         hosts.push_back(static_cast<int>(v));
     }
-    if (!hosts.empty())
+    if (!hosts.empty() && !(this->P.pattern == VenationPattern::Palmate && this->P.palmateFan))
       break;
   }
   const std::vector<std::vector<int>> paths = this->Graph.VeinPaths();
@@ -441,19 +564,20 @@ std::string Grower::GrowTertiaries()
       }
       const Eigen::Vector2d along = (b - a) / piece;
       const Eigen::Vector2d x = a + carried * along;
+      const double scale = this->AreoleScale(x);
       const int edge = this->Graph.FindEdge(path[i], path[i + 1]);
       if (edge < 0)
         break;
       const int node = this->Graph.SplitEdge(edge, x);
       path.insert(path.begin() + static_cast<std::ptrdiff_t>(i) + 1, node);
-      carried = areole * random.Uniform(1.0, 2.0);
+      carried = areole * random.Uniform(1.0, 2.0) * scale;
       // A first edge to each side, away from the vein.
       for (const Eigen::Vector2d& normal : { Left(along), Eigen::Vector2d(-Left(along)) })
       {
         const Eigen::Vector2d direction = Rotate(normal, random.Uniform(-20.0, 20.0));
         const int vein = this->Graph.AddVein(VeinOrderTertiary);
         const VeinGraph::Step step = this->Graph.Grow(
-          node, this->Graph.Nodes()[node] + areole * random.Uniform(0.6, 1.4) * direction, vein, this->Snap);
+          node, this->Graph.Nodes()[node] + areole * random.Uniform(0.6, 1.4) * scale * direction, vein, this->Snap);
         if (!step.stopped)
           fronts.push_back({ step.node, direction, vein });
       }
@@ -485,12 +609,13 @@ std::string Grower::GrowTertiaries()
     this->JunctionAngles.push_back(beta);
     this->JunctionAngles.push_back(360.0 - alpha - beta);
     const Eigen::Vector2d origin = this->Graph.Nodes()[front.node];
+    const double scale = this->AreoleScale(origin);
     for (int branch = 0; branch < 2; ++branch)
     {
       const Eigen::Vector2d direction = branch == 0 ? first : second;
       const int vein = branch == 0 ? front.vein : this->Graph.AddVein(VeinOrderTertiary);
       const VeinGraph::Step step =
-        this->Graph.Grow(front.node, origin + areole * random.Uniform(0.6, 1.4) * direction, vein, this->Snap);
+        this->Graph.Grow(front.node, origin + areole * random.Uniform(0.6, 1.4) * scale * direction, vein, this->Snap);
       ++grown;
       if (!step.stopped)
         fronts.push_back({ step.node, direction, vein });
@@ -570,8 +695,12 @@ void Grower::GrowPalmate()
   // Fork growth fractions: level d forks at forkTime[d].
   std::vector<double> forkTime(levels + 2, 1.0);
   forkTime[0] = 0.0;
+  // Paper 000: evenly after the first. With the fan, geometrically from forkSize towards full size (forkSize^(1 -
+  // (d - 1)/levels)): most dichotomies in the lower part of the blade, so the veins spread over the whole width
+  // early and the outermost follow the flanks (the ginkgo's lower flanks are not left bare).
   for (int d = 1; d <= levels; ++d)
-    forkTime[d] = this->P.forkSize + (d - 1) * (1.0 - this->P.forkSize) / levels;
+    forkTime[d] = this->P.palmateFan ? std::pow(this->P.forkSize, 1.0 - static_cast<double>(d - 1) / levels)
+                                     : this->P.forkSize + (d - 1) * (1.0 - this->P.forkSize) / levels;
   // The path of an end point through the growing leaf: the leaf grows about its base, P(g) = B + g*(p(g) - B),
   // where that stays inside the blade (a blade star-shaped from its base: straight primaries); otherwise it grows
   // in LeafUV, P(g) = F(g*p(g)) (F: LeafUV to the blade), which never leaves it (a cusp-like base, basal lobes).
@@ -604,12 +733,26 @@ void Grower::GrowPalmate()
   // sqrt(g) u_end (the same law for every vein, so their order across the blade is kept): a vein takes its share
   // of the width early, so the outer veins of a fan run along its flanks (a ginkgo's marginal veins) instead of up
   // the middle. Paper 000's construction (no fan) keeps u = g u_end: the Cucumber wilting preset was fitted on it.
+  // Dichotomous veins (fork levels) reach their full u by the first fork, sqrt(g / forkSize), and then run along
+  // the blade's curves u = constant between forks: in LeafUV a tree of nearly parallel veins filling the whole
+  // width, so on a fan (the ginkgo) the outermost run down its flanks rather than leaving them bare.
   const bool fanned = this->P.palmateFan;
+  const double spread = levels > 0 ? forkTime[1] : 1.0;
+  // Dichotomous veins grown in LeafUV take their u evenly spread in the ends' order, so no two share one (the ends
+  // on a flank all have u = +-0.5 and would run along one curve), and move to the end's own u over the last
+  // stretch so each still ends on its margin point.
+  std::vector<Eigen::Vector2d> evenUV = endsUV;
+  const double direction = count > 1 && endsUV.back().x() < endsUV.front().x() ? -1.0 : 1.0;
+  for (int j = 0; j < count && fanned && levels > 0; ++j)
+    evenUV[j].x() = direction * (-0.5 + (j + 0.5) / count);
   auto at = [&](int d, int first, int size, double g) {
-    const Eigen::Vector2d p = parameter(d, first, size, g);
+    Eigen::Vector2d p = parameter(d, first, size, g);
     if (plane)
       return Eigen::Vector2d(this->Base + g * (p - this->Base));
-    const double across = fanned ? std::sqrt(g) : g;
+    if (fanned && levels > 0 && d == levels)
+      p.x() += (g - forkTime[levels]) / (1.0 - forkTime[levels]) * (endsUV[first].x() - evenUV[first].x());
+    // (An end on a flank, u = +-0.5, is approached from just inside, so the vein does not run on the margin.)
+    const double across = fanned ? std::sqrt(std::min(1.0, g / spread)) * (1.0 - (1.0 - g) / (4.0 * count)) : g;
     return this->Locator.PointAtUV(Eigen::Vector2d(across * p.x(), g * p.y() + 0.25 * g * (1.0 - g) * (1.0 - p.y())));
   };
   auto pieces = [&](int d) {
@@ -632,7 +775,7 @@ void Grower::GrowPalmate()
     }
   }
   if (!plane)
-    space = &endsUV;
+    space = fanned && levels > 0 ? &evenUV : &endsUV;
   std::function<void(int, int, int, int)> grow = [&](int d, int first, int size, int from) {
     const double g0 = forkTime[d], g1 = d == levels ? 1.0 : forkTime[d + 1];
     const int n = pieces(d);
@@ -640,6 +783,8 @@ void Grower::GrowPalmate()
     for (int k = 1; k <= n; ++k)
       points.push_back(at(d, first, size, g0 + (g1 - g0) * k / n));
     const int vein = this->Graph.AddVein(d == 0 ? VeinOrderPrimary : VeinOrderSecondary);
+    if (d == 0)
+      this->PrimaryVeins.push_back(vein);
     const VeinGraph::Step step = this->GrowCurve(from, points, vein, 1e-7 * this->Length);
     if (d == levels || (step.stopped && step.hitVein == 0))
       return;
@@ -687,7 +832,24 @@ std::string Grower::Run(VenationResult& result)
 
   const VenationPattern pattern = this->P.pattern;
   if (pattern == VenationPattern::Palmate)
+  {
     this->GrowPalmate();
+    if (this->P.palmateSecondaries != PalmateSecondaries::None)
+    {
+      const std::vector<std::vector<int>> paths = this->Graph.VeinPaths();
+      std::vector<std::vector<int>> hosts;
+      for (int vein : this->PrimaryVeins)
+      {
+        std::vector<int> path = paths[vein];
+        if (path.size() >= 2 && path.back() == this->BaseNode)
+          std::reverse(path.begin(), path.end()); // from the base out
+        hosts.push_back(path);
+      }
+      const std::string error = this->GrowSecondaries(hosts);
+      if (!error.empty())
+        return error;
+    }
+  }
   else
   {
     std::vector<double> primaries = { 0.0 };
@@ -714,7 +876,9 @@ std::string Grower::Run(VenationResult& result)
       return "LeafUV: no midvein could be traced along u = 0 (is LeafUV the canonical leaf's (u, v)?)";
     if (pattern != VenationPattern::Arcuate && pattern != VenationPattern::Parallel)
     {
-      const std::string error = this->GrowSecondaries();
+      std::vector<std::vector<int>> hosts = { this->Midvein };
+      const std::string error = this->GrowSecondaries(hosts);
+      this->Midvein = hosts.front();
       if (!error.empty())
         return error;
     }
@@ -837,7 +1001,7 @@ VenationParameters MakeVenationPreset(VenationPreset preset)
       p.divergenceAngle = 45.0;
       p.divergenceAngleApex = 70.0;
       p.secondarySpacing = 0.11;
-      p.forkFraction = 0.85;
+      p.forkFraction = 0.75;
       p.tertiary = true;
       p.areoleSize = 0.045;
       break;
@@ -865,13 +1029,21 @@ VenationParameters MakeVenationPreset(VenationPreset preset)
       break;
     case VenationPreset::Cucumber:
       // Cucumis sativus: palmate (actinodromous), five primaries from the petiole ending at the tips of the
-      // shallow lobes and of the cordate blade's basal lobes, a dense reticulum between (the model grows no
-      // secondaries off palmate primaries; a fork level would move the primaries off the lobe tips).
+      // shallow lobes and of the cordate blade's basal lobes; each sends craspedodromous secondaries out to the
+      // (dentate) margin, and a hierarchical reticulum fills the rest: coarser beside the primaries, finer
+      // towards the margin.
       p.pattern = VenationPattern::Palmate;
       p.palmateVeins = 5;
       p.forkLevels = 0;
+      p.palmateSecondaries = PalmateSecondaries::Craspedodromous;
+      p.secondarySpacing = 0.1;
+      p.divergenceAngle = 50.0;
+      p.divergenceAngleApex = 60.0;
+      p.curvatureBase = 0.5;
+      p.curvatureApex = 1.5;
       p.tertiary = true;
       p.areoleSize = 0.04;
+      p.areoleGradient = 0.5;
       p.primaryWidth = 0.018;
       p.primaryTaper = 0.35;
       p.secondaryWidthRatio = 0.55;
@@ -891,13 +1063,20 @@ VenationParameters MakeVenationPreset(VenationPreset preset)
       break;
     case VenationPreset::Watermelon:
       // Citrullus lanatus: palmately veined, the blade deeply cut into three to five lobes that are themselves
-      // pinnately lobed: one primary to each lobe tip (PalmateFan's lobe tips), a fine reticulum with veinlets.
-      // The veins into the sub-lobes are not modelled (fork levels would move the primaries off the lobe tips).
+      // pinnately lobed: one primary to each lobe tip (PalmateFan's lobe tips), craspedodromous secondaries off
+      // it out into the lobe's flanks (its sub-lobes), a fine hierarchical reticulum with veinlets.
       p.pattern = VenationPattern::Palmate;
       p.palmateVeins = 5;
       p.forkLevels = 0;
+      p.palmateSecondaries = PalmateSecondaries::Craspedodromous;
+      p.secondarySpacing = 0.08;
+      p.divergenceAngle = 45.0;
+      p.divergenceAngleApex = 55.0;
+      p.curvatureBase = 0.5;
+      p.curvatureApex = 1.5;
       p.tertiary = true;
       p.areoleSize = 0.03;
+      p.areoleGradient = 0.35;
       p.veinlets = true;
       p.primaryWidth = 0.015;
       p.primaryTaper = 0.3;
@@ -951,6 +1130,11 @@ std::string ValidateVenationParameters(const VenationParameters& p)
     return Range("BranchCurvature", p.branchCurvature, "[0, 10]");
   if (!in(p.areoleSize, 0.001, 0.5))
     return Range("AreoleSize", p.areoleSize, "[0.001, 0.5] leaf lengths");
+  if (!in(p.areoleGradient, 0.0, 0.8))
+    return Range("AreoleGradient", p.areoleGradient, "[0, 0.8]");
+  const int palmateSecondaries = static_cast<int>(p.palmateSecondaries);
+  if (palmateSecondaries < 0 || palmateSecondaries >= PalmateSecondariesCount)
+    return Range("PalmateSecondaries", palmateSecondaries, "[0, 2]");
   if (!in(p.minJunctionAngle, 0.0, 110.0))
     return Range("MinJunctionAngle", p.minJunctionAngle, "[0, 110] degrees");
   if (!in(p.junctionAngleDeviation, 0.0, 60.0))

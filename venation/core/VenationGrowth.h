@@ -81,6 +81,15 @@ enum class VenationPattern : int
 };
 inline constexpr int VenationPatternCount = 10;
 
+/// Palmate: the secondaries each primary sends towards the margin (docs/methods/venation.md "Palmate secondaries").
+enum class PalmateSecondaries : int
+{
+  None = 0,            ///< bare primaries (paper 000's Fig. 9)
+  Craspedodromous = 1, ///< each secondary runs on to the margin
+  Brochidodromous = 2, ///< each forks at `forkFraction` of its way and loops to the next one out along its primary
+};
+inline constexpr int PalmateSecondariesCount = 3;
+
 struct VenationParameters
 {
   VenationPattern pattern = VenationPattern::Brochidodromous;
@@ -98,6 +107,9 @@ struct VenationParameters
   double branchCurvature = 1.0;      ///< c of eq. (3) (cladodromous branches)
   bool tertiary = true;
   double areoleSize = 0.05; ///< tertiary edge length, in leaf lengths
+  /// Hierarchical reticulum: tertiary edges are (1 + g) areoleSize long beside the primaries, falling linearly with
+  /// the distance from them to (1 - g) areoleSize at the point of the blade farthest from any; 0: even, [0, 0.8]
+  double areoleGradient = 0.0;
   double minJunctionAngle = 60.0;
   double junctionAngleDeviation = 10.0; ///< standard deviation of the junction angles around 120 deg
   bool veinlets = false;
@@ -107,6 +119,9 @@ struct VenationParameters
   /// construction, evenly along the canonical leaf's far edge v = 1, grown in LeafUV (the ends bunch towards the
   /// apex on an entire blade; kept because the Cucumber wilting preset was fitted on it).
   bool palmateFan = true;
+  /// palmate: secondaries off every primary, every `secondarySpacing` along it on both sides, at the divergence
+  /// angle (none where the primary's neighbour or the margin is nearer than half a spacing along that line)
+  PalmateSecondaries palmateSecondaries = PalmateSecondaries::None;
   int forkLevels = 1;
   double forkSize = 0.3;       ///< growth fraction of the first dichotomous fork, (0, 1)
   double primaryWidth = 0.015; ///< in leaf lengths

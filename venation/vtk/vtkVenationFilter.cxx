@@ -108,9 +108,11 @@ std::vector<std::pair<const char*, double>> ParameterValues(const plantmorph::Ve
     { "DivergenceAngleApex", p.divergenceAngleApex }, { "SecondaryCurvatureBase", p.curvatureBase },
     { "SecondaryCurvatureApex", p.curvatureApex }, { "ForkFraction", p.forkFraction },
     { "BranchCurvature", p.branchCurvature }, { "Tertiary", p.tertiary ? 1.0 : 0.0 }, { "AreoleSize", p.areoleSize },
-    { "MinJunctionAngle", p.minJunctionAngle }, { "JunctionAngleDeviation", p.junctionAngleDeviation },
-    { "Veinlets", p.veinlets ? 1.0 : 0.0 }, { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
-    { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels }, { "ForkSize", p.forkSize },
+    { "AreoleGradient", p.areoleGradient }, { "MinJunctionAngle", p.minJunctionAngle },
+    { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
+    { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
+    { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels },
+    { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) }, { "ForkSize", p.forkSize },
     { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth },
     { "PrimaryTaper", p.primaryTaper }, { "SecondaryWidthRatio", p.secondaryWidthRatio },
     { "TertiaryWidthRatio", p.tertiaryWidthRatio }, { "VeinletWidthRatio", p.veinletWidthRatio } };
@@ -451,6 +453,7 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
   PLANTMORPH_CHECK(BranchCurvature);
   PLANTMORPH_CHECK(Tertiary);
   PLANTMORPH_CHECK(AreoleSize);
+  PLANTMORPH_CHECK(AreoleGradient);
   PLANTMORPH_CHECK(MinJunctionAngle);
   PLANTMORPH_CHECK(JunctionAngleDeviation);
   PLANTMORPH_CHECK(Veinlets);
@@ -458,6 +461,7 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
   PLANTMORPH_CHECK(PalmateVeins);
   PLANTMORPH_CHECK(PalmateEnds);
   PLANTMORPH_CHECK(ForkLevels);
+  PLANTMORPH_CHECK(PalmateSecondaries);
   PLANTMORPH_CHECK(ForkSize);
   PLANTMORPH_CHECK(KillDistance);
   PLANTMORPH_CHECK(AttractionDistance);
@@ -526,6 +530,7 @@ std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
     p.branchCurvature = this->BranchCurvature;
     p.tertiary = this->Tertiary;
     p.areoleSize = this->AreoleSize;
+    p.areoleGradient = this->AreoleGradient;
     p.minJunctionAngle = this->MinJunctionAngle;
     p.junctionAngleDeviation = this->JunctionAngleDeviation;
     p.veinlets = this->Veinlets;
@@ -533,6 +538,7 @@ std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
     p.palmateVeins = this->PalmateVeins;
     p.palmateFan = this->PalmateEnds != 0;
     p.forkLevels = this->ForkLevels;
+    p.palmateSecondaries = static_cast<plantmorph::PalmateSecondaries>(this->PalmateSecondaries);
     p.forkSize = this->ForkSize;
     p.killDistance = this->KillDistance;
     p.attractionDistance = this->AttractionDistance;

@@ -178,6 +178,10 @@ public:
   vtkBooleanMacro(Tertiary, bool);
   vtkSetMacro(AreoleSize, double);
   vtkGetMacro(AreoleSize, double);
+  /// Hierarchical reticulum [0, 0.8] (default 0): tertiary edges (1 + g) AreoleSize beside the primaries, falling
+  /// to (1 - g) AreoleSize at the point farthest from them.
+  vtkSetMacro(AreoleGradient, double);
+  vtkGetMacro(AreoleGradient, double);
   vtkSetMacro(MinJunctionAngle, double);
   vtkGetMacro(MinJunctionAngle, double);
   vtkSetMacro(JunctionAngleDeviation, double);
@@ -206,6 +210,10 @@ public:
   vtkGetMacro(PalmateEnds, int);
   vtkSetMacro(ForkLevels, int);
   vtkGetMacro(ForkLevels, int);
+  /// Palmate: secondaries off each primary, 0 none (default), 1 craspedodromous (to the margin), 2 brochidodromous
+  /// (looping); spaced, angled and forked by the secondary-vein properties.
+  vtkSetMacro(PalmateSecondaries, int);
+  vtkGetMacro(PalmateSecondaries, int);
   vtkSetMacro(ForkSize, double);
   vtkGetMacro(ForkSize, double);
   ///@}
@@ -327,6 +335,7 @@ protected:
   double BranchCurvature = 1.0;
   bool Tertiary = true;
   double AreoleSize = 0.05;
+  double AreoleGradient = 0.0;
   double MinJunctionAngle = 60.0;
   double JunctionAngleDeviation = 10.0;
   bool Veinlets = false;
@@ -334,6 +343,7 @@ protected:
   int PalmateVeins = 4;
   int PalmateEnds = 1;
   int ForkLevels = 1;
+  int PalmateSecondaries = 0;
   double ForkSize = 0.3;
   double KillDistance = 0.01;
   double AttractionDistance = 0.1;

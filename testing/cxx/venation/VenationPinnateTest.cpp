@@ -51,14 +51,12 @@ struct Blade
   }
 };
 
-Blade Entire()
+Blade Entire(DeformedRectanglePreset preset = DeformedRectanglePreset::Entire)
 {
   Blade blade;
   LeafMeshParameters settings;
   settings.resolution = 80;
-  EXPECT_EQ(
-    BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, 5.0), settings, blade.leaf),
-    "");
+  EXPECT_EQ(BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(preset, 5.0), settings, blade.leaf), "");
   for (int id : blade.leaf.rightMargin)
     blade.outline.push_back(blade.leaf.blade.points[id]);
   for (std::size_t i = blade.leaf.leftMargin.size(); i-- > 0;)
@@ -106,6 +104,55 @@ TEST(PinnateVenation, PaperMulberrySecondariesLeaveAtTheDivergenceAngleAndLoopIn
             << " (median) of the half-width\n";
   EXPECT_GE(median, 0.7); // most loops run in the outer 30 % of the half-blade
   EXPECT_GT(secondaries, 10);
+}
+
+TEST(PinnateVenation, PaperMulberryLoopsBulgeTowardsTheMargin)
+{
+  // Brochidodromous loops lie in the outer part of the half-blade, nearer the margin than the midvein: each loop's
+  // outermost point (its apex) and the mean of its points, as fractions of the half-width at their height. On the
+  // entire blade and on LeafOutlineSource's default blade (the ginkgo fan, widest near its apex, where the loops
+  // used to hug the midvein).
+  for (const DeformedRectanglePreset preset : { DeformedRectanglePreset::Entire, DeformedRectanglePreset::Ginkgo })
+  {
+    SCOPED_TRACE(PresetName(preset));
+    const Blade blade = Entire(preset);
+    VenationParameters p = MakeVenationPreset(VenationPreset::PaperMulberry);
+    p.tertiary = false;
+    const VenationResult r = Grow(blade, p);
+    std::vector<double> apexes, means;
+    for (const auto& vein : r.veins)
+    {
+      const Eigen::Vector2d start = r.nodes[vein.nodes.front()], end = r.nodes[vein.nodes.back()];
+      if (vein.order != VeinOrderSecondary || start.x() == 0.0 || blade.DistanceToOutline(end) < 1e-6 * r.leafLength)
+        continue; // a secondary leaving the midvein, or the topmost one's run on to the margin
+      double apex = 0.0, sum = 0.0;
+      Eigen::Vector2d outermost = start;
+      for (int n : vein.nodes)
+      {
+        const Eigen::Vector2d x = r.nodes[n];
+        const double fraction = std::abs(x.x()) / blade.HalfWidth(x.y());
+        sum += fraction;
+        if (fraction > apex)
+        {
+          apex = fraction;
+          outermost = x;
+        }
+      }
+      apexes.push_back(apex);
+      means.push_back(sum / static_cast<double>(vein.nodes.size()));
+      // Its apex is nearer the margin than the midvein.
+      EXPECT_LT(blade.DistanceToOutline(outermost), std::abs(outermost.x())) << "loop from " << start.transpose();
+      EXPECT_GE(means.back(), 0.6) << "loop from " << start.transpose();
+    }
+    ASSERT_GE(apexes.size(), 8u);
+    std::sort(apexes.begin(), apexes.end());
+    std::sort(means.begin(), means.end());
+    std::cout << PresetName(preset) << ": " << apexes.size() << " loops; apexes at " << apexes.front()
+              << " (innermost), " << apexes[apexes.size() / 2] << " (median) of the half-width; mean positions "
+              << means.front() << ".." << means.back() << "\n";
+    EXPECT_GE(apexes.front(), 2.0 / 3.0);      // every loop reaches the outer third
+    EXPECT_GE(apexes[apexes.size() / 2], 0.8); // most run close to the margin
+  }
 }
 
 TEST(PinnateVenation, CraspedodromousSecondariesEndOnTheMargin)

@@ -112,6 +112,27 @@ venation.MarginalGrowth = 1
 veins = fetch(venation)
 checks.check(veins.GetNumberOfLines() > 10, "space colonization, marginal growth: %d veins" % veins.GetNumberOfLines())
 venation.MarginalGrowth = 0
+# Palmate secondaries through the proxy: none by default, secondaries off the primaries when asked for, whose
+# VeinOrder-2 cells start on a primary; the field data tells the choice.
+venation.Pattern = "Palmate (actinodromous)"
+venation.ForkLevels = 0
+bare = fetch(venation)
+bare_orders = set(vtk_to_numpy(bare.GetCellData().GetArray("VeinOrder")).tolist())
+for kind in ("Craspedodromous", "Brochidodromous"):
+    venation.PalmateSecondaries = kind
+    veins = fetch(venation)
+    order = vtk_to_numpy(veins.GetCellData().GetArray("VeinOrder"))
+    chosen = veins.GetFieldData().GetArray("PlantMorph.Venation.PalmateSecondaries").GetValue(0)
+    expected = 1 if kind == "Craspedodromous" else 2
+    checks.check(2 not in bare_orders and (order == 2).sum() >= 8 and chosen == expected,
+                 "PalmateSecondaries %s: %d secondary veins (none without), field data %s" % (
+                     kind, (order == 2).sum(), chosen))
+venation.PalmateSecondaries = "None"
+venation.AreoleGradient = 0.9
+checks.check(fetch(venation).GetNumberOfPoints() == 0, "AreoleGradient 0.9 (above 0.8): empty output")
+venation.AreoleGradient = 0.0
+venation.ForkLevels = 1
+venation.Pattern = "Space colonization (Runions 2005)"
 venation.KillDistance = 0.0
 checks.check(fetch(venation).GetNumberOfPoints() == 0, "KillDistance 0: empty output")
 venation.KillDistance = 0.01
