@@ -49,6 +49,20 @@ constexpr double curlRelaxationTime = 6.506;     // ... over this sigmoid
 /// The voxel edge of the fit: the leaf's longest side (22.308 cm along y, cordate lobes included) / Resolution 14.
 constexpr double voxelSize = 22.3079 / 14.0;
 } // namespace CucumberFit
+
+/// Physical units (WiltingLatticeOf) of the lattice values k (dyn/cm per spring) and F (dyn per voxel) a preset was
+/// given for at voxel edge h = blade thickness t (the default t, the leaf's longest side / 14, at Resolution 14):
+/// Young's modulus 18 k / t (dyn/cm^2) and pressure F / t^2 (dyn/cm^2); densities and strains are the same.
+constexpr double YoungsModulusOf(double k, double t)
+{
+  return 18.0 * k / t;
+}
+constexpr double PressureOf(double force, double t)
+{
+  return force / (t * t);
+}
+/// Tomato and watermelon: the lattice values they had, on a leaf of longest side 10 cm at Resolution 14.
+constexpr double SmallLeafThickness = 10.0 / 14.0;
 } // namespace
 
 void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
@@ -59,7 +73,10 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
   }
   // Tomato and watermelon (no measurements to fit): the stiffness ratios of the paper's fit, veins 20000, margin
   // 8000, rest 10000, for leaves of a few cm. The cucumber replaces them with its fit below.
-  const double blade = 1000.0;
+  // Physical units (Young's modulus in dyn/cm^2, pressures in dyn/cm^2, density in g/cm^3): the same material
+  // on any leaf and at any Resolution, the blade as thick as the leaf's longest side / 14 (docs/methods/wilting.md).
+  p.units = WiltingUnits::Physical; // BladeThickness and the sub-steps stay the caller's
+  const double blade = YoungsModulusOf(1000.0, SmallLeafThickness); // 25200 dyn/cm^2
   p.materials[WiltingBlade] = { 0.02, blade, 0.0 };
   p.materials[WiltingVein] = { 0.04, 2.0 * blade, 0.0 };
   p.materials[WiltingMargin] = { 0.03, 0.8 * blade, 0.0 };
@@ -87,19 +104,24 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
     case WiltingPreset::Cucumber:
       // Fitted to paper 001's measured tip trajectory by examples/calibrate_wilting.py (docs/wilting-calibration.md):
       // a 20.1 x 22.1 cm LeafOutlineSource cucumber blade with palmate VenationFilter veins, Resolution 14 (1.58 cm
-      // voxels), AnchorRadius 3, TimeStep 1/60 s, one Newton iteration. Stiffness in dyn/cm, loads in dyn per voxel
-      // of that size (scaled to the voxels actually used: WiltingParameters::referenceVoxelSize).
-      p.materials[WiltingBlade] = { 0.02, CucumberFit::blade, 0.0 };
-      p.materials[WiltingVein] = { 0.02, CucumberFit::vein, 0.0 };
-      p.materials[WiltingMargin] = { 0.02, CucumberFit::margin, 0.0 };
-      p.materials[WiltingPetiole] = { 0.02, 5.0 * CucumberFit::vein, 0.0 };
+      // voxels), AnchorRadius 3, TimeStep 1/60 s, one Newton iteration, in lattice units (dyn/cm per spring, dyn
+      // per voxel) at that edge, which is the default blade thickness of that leaf: expressed in physical units
+      // here, the preset is the fitted model exactly at Resolution 14 of the 20 cm leaf, and the same plate
+      // (bending stiffness, mass, loads per area, curvature) at any other Resolution and, scaled, on any leaf.
+      {
+        const double t = CucumberFit::voxelSize;
+        p.materials[WiltingBlade] = { 0.02, YoungsModulusOf(CucumberFit::blade, t), 0.0 };
+        p.materials[WiltingVein] = { 0.02, YoungsModulusOf(CucumberFit::vein, t), 0.0 };
+        p.materials[WiltingMargin] = { 0.02, YoungsModulusOf(CucumberFit::margin, t), 0.0 };
+        p.materials[WiltingPetiole] = { 0.02, YoungsModulusOf(5.0 * CucumberFit::vein, t), 0.0 };
+        p.droopForce = PressureOf(CucumberFit::droop, t);
+        p.contractionForce = PressureOf(CucumberFit::contraction, t);
+      }
       p.newmark.rayleighMass = CucumberFit::alpha;
       p.loadTime = CucumberFit::loadTime;
       p.contractionTime = CucumberFit::contractionTime;
       p.contractionSide = WiltingContractionSide::Bottom;
       p.contractionTarget = WiltingContractionTarget::Base;
-      p.droopForce = CucumberFit::droop;
-      p.contractionForce = CucumberFit::contraction;
       p.droopAsymmetry = CucumberFit::droopAsymmetry;
       p.contractionAsymmetry = CucumberFit::contractionAsymmetry;
       p.shrinkageStrain = CucumberFit::shrinkageStrain;
@@ -111,19 +133,18 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
       p.curlTime = CucumberFit::curlTime;
       p.curlRelaxation = CucumberFit::curlRelaxation;
       p.curlRelaxationTime = CucumberFit::curlRelaxationTime;
-      p.referenceVoxelSize = CucumberFit::voxelSize;
       break;
     case WiltingPreset::Tomato:
       p.contractionSide = WiltingContractionSide::Top;
       p.contractionTarget = WiltingContractionTarget::Midvein;
-      p.droopForce = 0.8;
-      p.contractionForce = 2.0;
+      p.droopForce = PressureOf(0.8, SmallLeafThickness);
+      p.contractionForce = PressureOf(2.0, SmallLeafThickness);
       break;
     case WiltingPreset::Watermelon:
       p.contractionSide = WiltingContractionSide::Bottom;
       p.contractionTarget = WiltingContractionTarget::Midvein;
-      p.droopForce = 1.5;
-      p.contractionForce = 1.0;
+      p.droopForce = PressureOf(1.5, SmallLeafThickness);
+      p.contractionForce = PressureOf(1.0, SmallLeafThickness);
       break;
     default:
       break;
