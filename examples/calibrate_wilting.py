@@ -76,6 +76,10 @@ parser.add_argument("--beat-paper", type=float, default=0.0,
 parser.add_argument("--margin", type=float, default=0.02,
                     help="with --beat-paper: a sample's excess is counted over the paper's error less this (cm), "
                          "so a fit aims strictly below the paper's")
+parser.add_argument("--max-rise", type=float, default=None,
+                    help="F: add 100 cm times the amount (in leaf lengths) by which the tip rises back after its "
+                         "lowest point so far beyond F (issue 23: the measured tip never rises)")
+parser.add_argument("--resolution", type=int, default=None, help="Resolution of the fit (default: SETTINGS')")
 parser.add_argument("--max-angle", type=float, default=None,
                     help="with --beat-paper: also add W times 0.1 cm per degree the direction difference exceeds this")
 parser.add_argument("--leave-one-out", action="store_true",
@@ -99,15 +103,17 @@ SETTINGS = dict(Resolution=14, Duration=10.0, FrameInterval=0.1, TimeStep=1.0 / 
                 NewtonIterations=1, Threads=1)
 if arguments.frame_interval:
     SETTINGS["FrameInterval"] = arguments.frame_interval
+if arguments.resolution:
+    SETTINGS["Resolution"] = arguments.resolution
 
 # name, start value (the Cucumber preset's, wilting/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
-    ("DroopForce", 27613.0, True, 1.0),
-    ("ContractionForce", 4521.0, True, 1.0),
-    ("BladeStiffness", 91600.0, True, 1.0),
-    ("VeinStiffness", 399000.0, True, 1.0),
-    ("MarginStiffness", 99000.0, True, 1.0),
+    ("DroopForce", 10875.6, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)
+    ("ContractionForce", 1780.63, True, 1.0),  # dyn/cm^2 on the lower face
+    ("BladeStiffness", 1034750.0, True, 1.0),  # Young's modulus, dyn/cm^2, of a blade of BladeThickness
+    ("VeinStiffness", 4507280.0, True, 1.0),
+    ("MarginStiffness", 1118350.0, True, 1.0),
     ("LoadTime", 14.81, True, 1.0),
     ("ContractionTime", 3.02, True, 1.0),
     ("RayleighAlpha", 1.16, True, 1.0),
@@ -115,14 +121,14 @@ PARAMETERS = (
     ("ContractionAsymmetry", -0.0404, False, 0.5),
     ("ShrinkageStrain", 0.03569, False, 0.03),
     ("ShrinkageAsymmetry", 0.1916, False, 0.5),
-    ("CurlStrain", 0.204, False, 0.1),
+    ("CurlStrain", 0.204, False, 0.1),  # strain difference across BladeThickness
     ("CurlAsymmetry", -0.00975, False, 0.5),
     ("CurlRelaxation", 0.9097, False, 0.3),
     ("CurlRelaxationTime", 6.506, True, 1.0),
     ("CurlTime", 2.501, True, 1.0),
     ("ShrinkageTime", 1.06, True, 1.0),
     ("PetioleLength", 0.0, False, 2.0),
-    ("PetioleStiffness", 5.0 * 399000.0, True, 1.0),
+    ("PetioleStiffness", 22536400.0, True, 1.0),
     ("AnchorRadius", 3.0, True, 1.0),
 )
 NAMES = [p[0] for p in PARAMETERS]
@@ -193,6 +199,15 @@ def monotone(track, targets):
     return list(reversed(picks))
 
 
+def rises_back(track):
+    """The largest rise of the tip's height after its lowest point so far, in leaf lengths (--length)."""
+    lowest, rise = track[0][2], 0.0
+    for point in track:
+        lowest = min(lowest, point[2])
+        rise = max(rise, point[2] - lowest)
+    return rise / arguments.length
+
+
 def turned(track, degrees):
     c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
     return [(c * x - s * y, s * x + c * y, z) for x, y, z in track]
@@ -224,7 +239,7 @@ leaf = LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength
                          BladeWidth=arguments.width, Resolution=30)
 veins = VenationFilter(Input=leaf, Preset="Custom", Pattern="Palmate (actinodromous)",
                        PalmateEnds="Along the far edge (paper 000)")  # the veins the Cucumber preset was fitted on
-wilt = WiltingSimulator(Input=OutputPort(veins, 1), Veins=OutputPort(veins, 0), Preset="Custom",
+wilt = WiltingSimulator(Input=OutputPort(veins, 1), Veins=OutputPort(veins, 0), Preset="Custom", Units="Physical",
                         LoadProfile="Sigmoid", ContractionSide="Bottom", ContractionTarget="Base",
                         RayleighBeta=0.01, **SETTINGS)
 
@@ -318,6 +333,8 @@ def objective_for(targets):
         if not track:
             return 1e9
         value = score(turned(track, best_yaw(track, score)))
+        if arguments.max_rise is not None:
+            value += 100.0 * max(0.0, rises_back(track) - arguments.max_rise)
         if os.environ.get("CALIBRATE_WILTING_TRACK"):
             print("    run %d: %.4f %s" % (runs[0], value, describe(values_of(x))), flush=True)
         return value
@@ -373,6 +390,7 @@ def report(track, title):
                                                                (distance(track[i], (0, 0, 0)),)))
     yaw = best_yaw(track, objective_for(measured).score)
     print("\n%s" % title)
+    print("  the tip rises back %.3f leaf lengths after its lowest point so far" % rises_back(track))
     variants = [("raw (yaw 0)", track)]
     if arguments.yaw:
         variants.append(("turned by the best yaw %.2f deg" % yaw, turned(track, yaw)))
