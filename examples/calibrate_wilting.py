@@ -109,13 +109,13 @@ if arguments.resolution:
 # name, start value (the Cucumber preset's, wilting/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
-    ("DroopForce", 10875.6, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)
-    ("ContractionForce", 1780.63, True, 1.0),  # dyn/cm^2 on the lower face
+    ("DroopForce", 10018.0, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)
+    ("ContractionForce", 1725.4, True, 1.0),  # dyn/cm^2 on the lower face
     ("BladeStiffness", 1034750.0, True, 1.0),  # Young's modulus, dyn/cm^2, of a blade of BladeThickness
     ("VeinStiffness", 4507280.0, True, 1.0),
     ("MarginStiffness", 1118350.0, True, 1.0),
-    ("LoadTime", 14.81, True, 1.0),
-    ("ContractionTime", 3.02, True, 1.0),
+    ("LoadTime", 15.728, True, 1.0),
+    ("ContractionTime", 7.0932, True, 1.0),
     ("RayleighAlpha", 1.16, True, 1.0),
     ("DroopAsymmetry", -0.00744, False, 0.5),
     ("ContractionAsymmetry", -0.0404, False, 0.5),
@@ -125,7 +125,7 @@ PARAMETERS = (
     ("CurlAsymmetry", -0.00975, False, 0.5),
     ("CurlRelaxation", 0.9097, False, 0.3),
     ("CurlRelaxationTime", 6.506, True, 1.0),
-    ("CurlTime", 2.501, True, 1.0),
+    ("CurlTime", 2.6623, True, 1.0),
     ("ShrinkageTime", 1.06, True, 1.0),
     ("PetioleLength", 0.0, False, 2.0),
     ("PetioleStiffness", 22536400.0, True, 1.0),

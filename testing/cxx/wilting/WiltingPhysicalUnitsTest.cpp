@@ -154,7 +154,7 @@ TEST(WiltingPhysicalUnits, BiggerLeavesDroopMoreAsTheScalingSays)
   // with the default thickness t = L / 14 the bending stiffness E t^3 / 12 grows as L^3 and the weight per area
   // rho t g as L, so the small-deflection sag over the length, rho t g L^3 / (8 D), grows as L: twice at 2 L; with
   // a fixed thickness it grows as L^3: eight times. (Pressures, strains and the curl are scale-free with the default
-  // thickness: only gravity, and a contraction's moment q t / 2 against D, depend on the size.)
+  // thickness: only gravity depends on the size.)
   const double length = 10.0;
   const WiltingInput small = Strip(1.0, length, 8, 80);
   WiltingInput big = small;
