@@ -71,3 +71,66 @@ TEST(WiltingConvergence, CucumberMeansTheSameOnSmallAndLargeLeaves)
     EXPECT_LT(TrackDistance(m.track, reference.track), 0.05) << length << " cm";
   }
 }
+
+TEST(WiltingConvergence, TomatoAndWatermelonBehaveAsDocumented)
+{
+  // In physical units on a 10 cm blade (the size their old per-voxel values were meant for, the cucumber outline
+  // without veins), at Resolution 14 and 20, 6 s: both droop (the tip ends lower) without blowing up, and their
+  // contraction curls the margin as documented: Tomato's (on the top nodes) up, Watermelon's (bottom) down, i.e.
+  // the margin's height above the midvein at mid-length rises (falls) against the same run without contraction.
+  const double length = 10.0;
+  const WiltingInput leaf = CucumberBlade(length, false);
+  ASSERT_FALSE(leaf.points.empty());
+  // A margin point and the midvein point nearest to mid-length (LeafUV v = 0.5).
+  std::size_t margin = 0, midvein = 0;
+  double marginScore = 1e9, midScore = 1e9;
+  for (std::size_t i = 0; i < leaf.leafUV.size(); ++i)
+  {
+    const Eigen::Vector2d& uv = leaf.leafUV[i];
+    const double m = std::abs(std::abs(uv[0]) - 0.5) + std::abs(uv[1] - 0.5);
+    const double c = std::abs(uv[0]) + std::abs(uv[1] - 0.5);
+    if (m < marginScore)
+    {
+      marginScore = m;
+      margin = i;
+    }
+    if (c < midScore)
+    {
+      midScore = c;
+      midvein = i;
+    }
+  }
+  for (const WiltingPreset preset : { WiltingPreset::Tomato, WiltingPreset::Watermelon })
+  {
+    for (const int r : { 14, 20 })
+    {
+      double heights[2] = { 0.0, 0.0 };
+      for (const bool contraction : { true, false })
+      {
+        WiltingParameters p;
+        ApplyWiltingPreset(preset, p);
+        p.contractionForce = contraction ? p.contractionForce : 0.0;
+        p.resolution = r;
+        p.anchorRadius = 1.5;
+        p.duration = 6.0;
+        p.frameInterval = 0.5;
+        WiltingSimulation simulation;
+        ASSERT_EQ(simulation.Setup(leaf, p), "");
+        ASSERT_EQ(simulation.Run(), "") << WiltingPresetName(preset) << " R " << r;
+        const std::vector<Eigen::Vector3d> end = simulation.PointPositions(simulation.Frames().size() - 1);
+        const std::size_t tip = static_cast<std::size_t>(simulation.TipPoint());
+        EXPECT_LT(end[tip][2], leaf.points[tip][2] - 0.05 * length) << WiltingPresetName(preset) << " R " << r;
+        heights[contraction ? 0 : 1] = end[margin][2] - end[midvein][2];
+      }
+      const double curl = heights[0] - heights[1];
+      if (preset == WiltingPreset::Tomato)
+      {
+        EXPECT_GT(curl, 0.0) << "R " << r << ": Tomato's margin curls up";
+      }
+      else
+      {
+        EXPECT_LT(curl, 0.0) << "R " << r << ": Watermelon's margin curls down";
+      }
+    }
+  }
+}
