@@ -110,8 +110,10 @@ int main(int argc, char** argv)
       legacy = true;
     else
     {
-      std::fprintf(stderr, "usage: %s [--sizes L,...] [--resolutions R,...] [--duration S] [--legacy] "
-                           "[--anchor-cm A] [--threads N] [--track FILE] [--substeps N] [--set NAME=VALUE]\n", argv[0]);
+      std::fprintf(stderr,
+        "usage: %s [--sizes L,...] [--resolutions R,...] [--duration S] [--legacy] "
+        "[--anchor-cm A] [--threads N] [--track FILE] [--substeps N] [--set NAME=VALUE]\n",
+        argv[0]);
       return 2;
     }
   }
@@ -160,7 +162,8 @@ int main(int argc, char** argv)
       for (std::size_t f = 0; track && f < simulation.Frames().size(); ++f)
       {
         const plantmorph::WiltingFrame& frame = simulation.Frames()[f];
-        std::fprintf(track, "%g %g %.4f %.6f %.6f %.6f\n", length, r, frame.time, frame.tip[0], frame.tip[1], frame.tip[2]);
+        std::fprintf(
+          track, "%g %g %.4f %.6f %.6f %.6f\n", length, r, frame.time, frame.tip[0], frame.tip[1], frame.tip[2]);
       }
       if (!error.empty())
         std::fprintf(stderr, "L %g R %g: %s\n", length, r, error.c_str());

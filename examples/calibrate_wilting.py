@@ -12,8 +12,9 @@ The leaf: LeafOutlineSource's cucumber B-spline blade of the measured size (Blad
 the Length/Width properties belong to the other models and do not size it) -> VenationFilter (palmate, the
 cucumber's five primaries) -> WiltingSimulator with the blade on Input and the veins on Veins, at the settings the
 Cucumber preset was fitted at (SETTINGS below: Resolution 14, AnchorRadius 3, TimeStep 1/60 s, one Newton
-iteration, 10 s). A mass-spring model depends on its voxel size: at another Resolution the same preset droops
-differently, so rerun this script there.
+iteration, 10 s). The properties are in physical units (Units Physical: Young's moduli and pressures in dyn/cm^2,
+strains; issue 23), so a fit carries over to other Resolutions (14-30 verified) and leaf sizes; `--resolution`
+fits at another one. `--max-rise F` penalises a tip that rises back more than F leaf lengths after falling.
 
 The parameters (PARAMETERS below, each a physical property of the filter): DroopForce, ContractionForce (towards the
 base on the voxels' bottom nodes: the margins and apex curl down), blade, vein and margin stiffness, LoadTime (the

@@ -523,8 +523,8 @@ WiltingParameters WiltingLatticeOf(
     *faceShare = 0.5 * (1.0 + t / h); // moment arm t / 2: (F_side - F_other) h / 2 = q h^2 t / 2
   }
   lattice.throughStiffness = std::max(1.0, (h / t) * (h / t));
-  const int steps = parameters.substeps > 0 ? parameters.substeps
-                                            : std::max(1, static_cast<int>(std::ceil((t / h) * (t / h) - 1e-9)));
+  const int steps =
+    parameters.substeps > 0 ? parameters.substeps : std::max(1, static_cast<int>(std::ceil((t / h) * (t / h) - 1e-9)));
   lattice.newmark.timeStep = parameters.newmark.timeStep / steps;
   if (substeps)
   {

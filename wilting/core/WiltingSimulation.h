@@ -167,7 +167,7 @@ struct WiltingParameters
   /// keep the stiffness E t / 18 of h = t while the face springs soften to E t^3 / (18 h^2) for the bending
   /// stiffness: a coarse voxel does not shear or invert under loads its bending carries.
   double throughStiffness = 1.0;
-  int resolution = 20;    ///< cubes along the longest side when voxelSize is 0
+  int resolution = 20; ///< cubes along the longest side when voxelSize is 0
   std::array<WiltingMaterial, WiltingMaterialCount> materials{};
   double gravity = 981.0; ///< downward (-Z) acceleration, model units / s^2
   double droopForce = 0.0;
