@@ -3,7 +3,9 @@
     pvpython examples/calibrate_wilting.py --plugin build/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so \
         [--csv data/cucumber-wilting-tip.csv] [--fit NAME,NAME,...] [--evaluations 120] [--yaw] \
         [--leave-one-out] [--evaluate-preset] [--set NAME=VALUE,...] [--step 0.7] [--beat-paper W]
-        [--curl-direction Radial] [--frame-interval S]
+        [--curl-direction Radial] [--frame-interval S] [--ensemble N [--seed S]] [--resolution R] [--duration S]
+        [--result FILE]
+    mpirun -np N pvbatch --symmetric examples/calibrate_wilting.py --plugin ... (the same options)
 
 The CSV has columns sample, measured_x, measured_y, measured_z (cm, origin at the petiole-blade junction, samples in
 time order, no time stamps); optional paper_sim_x/y/z columns are reported for comparison.
@@ -41,6 +43,15 @@ registration of the two frames, not a force. Off by default; `--yaw-angle` gives
 `--leave-one-out` then refits the fitted parameters five times, each time without one sample (from the best point,
 a quarter of the budget each), and reports the left-out sample's error: how well the model predicts a measurement
 it was not fitted to, the overfitting check of a fit of several parameters to five points.
+
+On several MPI ranks, `mpirun -np N pvbatch --symmetric examples/calibrate_wilting.py ...` (every rank runs this
+script), the candidate parameter sets that do not depend on each other are evaluated on all ranks, round-robin
+(candidate i on rank i mod N), each rank simulating on its own (its pipeline serial: the leaf whole on every rank),
+and the objectives are gathered in candidate order on every rank (mpi4py), so every rank takes the same next step:
+Nelder-Mead's first simplex and its shrinks, the leave-one-out folds' first simplices, and `--ensemble N` (N
+candidates: START and N - 1 points drawn about it, seeded, `--step` wide; the best reported). The steps that need
+the one before (reflect, expand, contract) run on every rank at once. The result is the serial run's, candidate
+for candidate and bit for bit (`--result FILE` writes it as JSON). Only rank 0 prints.
 
 Reported: per sample the time-monotone error and the paper's closest-sample error (each measurement to its nearest
 frame at any time), their means, and the angle between the (sample 5 - sample 1) directions of measurement and
@@ -80,7 +91,6 @@ parser.add_argument("--margin", type=float, default=0.02,
 parser.add_argument("--max-rise", type=float, default=None,
                     help="F: add 100 cm times the amount (in leaf lengths) by which the tip rises back after its "
                          "lowest point so far beyond F (issue 23: the measured tip never rises)")
-parser.add_argument("--resolution", type=int, default=None, help="Resolution of the fit (default: SETTINGS')")
 parser.add_argument("--max-angle", type=float, default=None,
                     help="with --beat-paper: also add W times 0.1 cm per degree the direction difference exceeds this")
 parser.add_argument("--leave-one-out", action="store_true",
@@ -90,14 +100,35 @@ parser.add_argument("--loo-evaluations", type=int, default=None,
 parser.add_argument("--evaluate-preset", action="store_true",
                     help="no fit: run the Cucumber preset at SETTINGS and print its table")
 parser.add_argument("--evaluate", action="store_true", help="no fit: run START (with --set) and print its table")
+parser.add_argument("--ensemble", type=int, default=0,
+                    help="N > 0: no fit: evaluate START and N - 1 seeded candidates about it (on all MPI ranks)")
+parser.add_argument("--seed", type=int, default=1, help="the --ensemble candidates' random seed")
+parser.add_argument("--resolution", type=int, default=None,
+                    help="Resolution instead of SETTINGS' 14 (quicker runs; the preset was fitted at 14)")
+parser.add_argument("--duration", type=float, default=None,
+                    help="Duration (s) instead of SETTINGS' 10 (quicker runs)")
+parser.add_argument("--result", default=None, help="write the candidates' objectives and the best (JSON) here")
 arguments = parser.parse_args()
 if arguments.yaw_angle is not None:
     arguments.yaw = True
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
+from vtkmodules.vtkParallelCore import vtkDummyController, vtkMultiProcessController  # noqa: E402
 
 LoadPlugin(arguments.plugin, remote=False, ns=globals())
+
+# MPI (pvbatch --symmetric on several ranks): every rank runs this script; mpi4py shares the objectives.
+RANKS = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
+if RANKS > 1:
+    import sys
+    from mpi4py import MPI
+    COMM = MPI.COMM_WORLD
+    RANK = COMM.Get_rank()
+    if RANK != 0:
+        sys.stdout = open(os.devnull, "w")
+else:
+    COMM, RANK = None, 0
 
 # The settings the Cucumber preset was fitted at (everything the preset does not set).
 SETTINGS = dict(Resolution=14, Duration=10.0, FrameInterval=0.1, TimeStep=1.0 / 60.0,
@@ -106,6 +137,8 @@ if arguments.frame_interval:
     SETTINGS["FrameInterval"] = arguments.frame_interval
 if arguments.resolution:
     SETTINGS["Resolution"] = arguments.resolution
+if arguments.duration:
+    SETTINGS["Duration"] = arguments.duration
 
 # name, start value (the Cucumber preset's, wilting/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
@@ -283,7 +316,19 @@ def configure(values):
 
 
 def track_of(proxy):
-    table = servermanager.Fetch(proxy, idx=2)
+    """The simulated tip track. On one rank the pipeline runs as usual; on several each rank runs its own copy of it
+    alone (a one-process controller while it runs, so no filter waits for the other ranks), whole, as serially."""
+    algorithm = proxy.GetClientSideObject()
+    if RANKS > 1:
+        everyone = vtkMultiProcessController.GetGlobalController()
+        vtkMultiProcessController.SetGlobalController(vtkDummyController())
+        try:
+            algorithm.Update()
+        finally:
+            vtkMultiProcessController.SetGlobalController(everyone)
+    else:
+        proxy.UpdatePipeline()
+    table = algorithm.GetOutputDataObject(2)
     if table is None or table.GetNumberOfRows() < 2:
         return None
     cols = [table.GetColumnByName(n) for n in ("TipX", "TipY", "TipZ")]
@@ -343,11 +388,23 @@ def objective_for(targets):
     return objective
 
 
+def evaluate_all(f, xs):
+    """f at every candidate of xs, in order: on several ranks candidate i on rank i mod N, the values gathered on
+    every rank (each value is the serial one: the same simulation, wherever it runs)."""
+    if RANKS == 1:
+        return [f(x) for x in xs]
+    mine = {i: f(x) for i, x in enumerate(xs) if i % RANKS == RANK}
+    everyone = {}
+    for part in COMM.allgather(mine):
+        everyone.update(part)
+    return [everyone[i] for i in range(len(xs))]
+
+
 def nelder_mead(f, x0, step, budget):
     n = len(x0)
     simplex = [list(x0)] + [[x0[j] + (step * STEP[FITTED[j]] if j == i else 0.0) for j in range(n)]
                             for i in range(n)]
-    values = [f(x) for x in simplex]
+    values = evaluate_all(f, simplex)
     evaluations = len(simplex)
     while evaluations < budget:
         order = sorted(range(len(simplex)), key=lambda i: values[i])
@@ -374,7 +431,7 @@ def nelder_mead(f, x0, step, budget):
             else:
                 best = simplex[0]
                 simplex = [best] + [[b + 0.5 * (p - b) for b, p in zip(best, q)] for q in simplex[1:]]
-                values = [values[0]] + [f(x) for x in simplex[1:]]
+                values = [values[0]] + evaluate_all(f, simplex[1:])
                 evaluations += n
         print("  best %.3f cm after %d runs" % (min(values), evaluations), flush=True)
     i = min(range(len(simplex)), key=lambda k: values[k])
@@ -419,8 +476,39 @@ def describe(values):
     return ", ".join("%s %.5g" % (n, values[n]) for n in NAMES)
 
 
+def ensemble(objective, count):
+    """START and count - 1 candidates about it (each fitted log-parameter offset by a seeded normal times --step
+    times its STEP), evaluated on all ranks; returns (candidates, their objectives)."""
+    import random
+    generator = random.Random(arguments.seed)
+    x0 = vector_of(START)
+    candidates = [x0] + [[v + generator.gauss(0.0, 1.0) * arguments.step * STEP[name] for v, name in zip(x0, FITTED)]
+                         for _ in range(count - 1)]
+    return candidates, evaluate_all(objective, candidates)
+
+
+def write_result(result):
+    result["runs_per_rank"] = COMM.allgather(runs[0]) if COMM else [runs[0]]  # collective: every rank writes
+    if arguments.result and RANK == 0:
+        import json
+        with open(arguments.result, "w") as f:
+            json.dump(result, f, indent=1)
+
+
 started = time.time()
-if arguments.evaluate_preset:
+if arguments.ensemble > 0:
+    objective = objective_for(measured)
+    candidates, values = ensemble(objective, arguments.ensemble)
+    best = min(range(len(values)), key=lambda i: values[i])
+    for i, (x, v) in enumerate(zip(candidates, values)):
+        print("  candidate %d: %.6f cm  %s" % (i, v, describe(values_of(x))))
+    print("best candidate %d: %r cm (%d ranks, %.0f s)" % (best, values[best], RANKS, time.time() - started))
+    write_result(dict(ranks=RANKS, candidates=[values_of(x) for x in candidates], objectives=values, best=best,
+                      best_objective=values[best]))
+    configure(values_of(candidates[best]))
+    report(track_of(wilt), "best candidate at %s" % SETTINGS)
+    best = candidates[best]
+elif arguments.evaluate_preset:
     wilt.Preset = "Cucumber"
     report(track_of(wilt), "Cucumber preset at %s" % SETTINGS)
 elif arguments.evaluate:
@@ -435,9 +523,10 @@ else:
     best, value = nelder_mead(objective, best, 0.3 * arguments.step, arguments.evaluations - arguments.evaluations // 2)
     fitted = values_of(best)
     print("fitted (%d simulations, %.0f s): %s" % (runs[0], time.time() - started, describe(fitted)), flush=True)
+    write_result(dict(ranks=RANKS, fitted=fitted, best=best, best_objective=value))
     configure(fitted)
     report(track_of(wilt), "fitted parameters at %s" % SETTINGS)
-if arguments.leave_one_out and not arguments.evaluate_preset:
+if arguments.leave_one_out and not arguments.evaluate_preset and not arguments.ensemble:
     budget = arguments.loo_evaluations or arguments.evaluations // 4
     print("\nleave-one-out: refit %s without each sample (from the fit, %d simulations each)" % (
         ", ".join(FITTED), budget))

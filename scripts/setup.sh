@@ -52,7 +52,10 @@ plantmorph_build() {
   local dir="$1"
   shift
   mkdir -p "$dir"
-  cmake -S "$PLANTMORPH_ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >"$dir/configure.log" 2>&1 ||
+  # ccache, when the machine has it, makes a rebuild after `git pull` or a fresh clone's build cheap.
+  local launcher=()
+  command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  cmake -S "$PLANTMORPH_ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" "$@" >"$dir/configure.log" 2>&1 ||
     { cat "$dir/configure.log"; echo "setup: configuring failed (log above)"; return 1; }
   local targets
   read -r -a targets <<<"$PLANTMORPH_TARGETS"

@@ -2,6 +2,7 @@
 #include "PlantMorphAlgorithmHooks.h"
 
 #include "PlantMorphFieldData.h"
+#include "PlantMorphLeafExchange.h"
 #include "PlantMorphWholeInput.h"
 #include "VeinNetworkMeasures.h"
 #include "VenationGrowth.h"
@@ -10,6 +11,7 @@
 #include <plantmorph/PlaneFit.h>
 #include <plantmorph/RangeError.h>
 
+#include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
@@ -550,6 +552,50 @@ std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
   return {};
 }
 
+namespace
+{
+/// The venation of one whole leaf, `input`: the four outputs filled, or a message naming what went wrong.
+std::string GrowOnLeaf(vtkVenationFilter* self, vtkPolyData* input, const plantmorph::VenationParameters& p,
+  double progressBegin, double progressEnd, vtkPolyData* veins, vtkPolyData* bladeOut, vtkTable* statistics,
+  vtkTable* histogram)
+{
+  InputBlade blade;
+  std::string error = ReadBlade(input, blade);
+  if (!error.empty())
+    return error;
+  bool flat = true;
+  const plantmorph::VenationBlade plane{ WorkingPlane(blade.points, blade.uv, blade.triangles, flat), blade.uv,
+    blade.triangles };
+  plantmorph::VenationResult result;
+  error = plantmorph::GrowVenation(plane, p, result, plantmorph::Progress(self, progressBegin, progressEnd));
+  plantmorph::VeinNetworkMeasures measures;
+  if (error.empty())
+    error = plantmorph::MeasureVenation(plane, result, measures);
+  if (error.empty())
+    error = WriteVeins(input, blade, result, veins);
+  if (!error.empty())
+    return error;
+  WriteVeinFieldData(veins->GetFieldData(), result, measures, p,
+    static_cast<plantmorph::VenationPreset>(self->GetPreset()), self->GetSeed(), flat);
+  WriteStatistics(measures, statistics);
+  WriteHistogram(plantmorph::MakeAreoleHistogram(measures.areoleAreas, self->GetAreoleHistogramBins()), histogram);
+  WriteBlade(input, blade, plane, result, self->GetEmbossDepth(), bladeOut);
+  return {};
+}
+
+/// Field data of the veins of several leaves: what every leaf grew with (each leaf's measures are its Statistics
+/// row) and how many leaves the whole input has.
+void WriteLeavesFieldData(vtkFieldData* fd, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset,
+  int seed, std::size_t leaves)
+{
+  AddFieldValue(fd, "PlantMorph.LeafCount", static_cast<double>(leaves));
+  AddFieldValue(fd, "PlantMorph.Seed", seed);
+  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
+  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
+  AddParameters(fd, p);
+}
+} // namespace
+
 //------------------------------------------------------------------------------
 int vtkVenationFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
@@ -563,14 +609,23 @@ int vtkVenationFilter::RequestData(
   {
     return 0;
   }
-  const auto clear = [&]() {
-    veins->Initialize();
-    bladeOut->Initialize();
-    statistics->Initialize();
-    histogram->Initialize();
-  };
-  clear();
-  // Under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split over ranks).
+  veins->Initialize();
+  bladeOut->Initialize();
+  statistics->Initialize();
+  histogram->Initialize();
+  // Several leaves (PlantMorphLeafExchange.h: a LeafId array, or connected blades): each grows on one rank.
+  const plantmorph::LeafPlan plan(input);
+  if (plan.AnyRank(!plan.Error().empty()))
+  {
+    if (!plan.Error().empty())
+      vtkErrorMacro(<< plan.Error());
+    return 1;
+  }
+  if (plan.LeafIds().size() > 1)
+  {
+    return this->GrowLeaves(plan, veins, bladeOut, statistics, histogram);
+  }
+  // One leaf: under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split).
   const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
   input = wholeBlade.Get();
   if (input->GetNumberOfPoints() == 0)
@@ -582,40 +637,70 @@ int vtkVenationFilter::RequestData(
     }
     return 1;
   }
-  auto fail = [&](const std::string& message) {
-    vtkErrorMacro(<< message);
-    clear();
-    return 1;
-  };
-
   plantmorph::VenationParameters p;
   std::string error = this->MakeParameters(p);
-  InputBlade blade;
   if (error.empty())
-    error = ReadBlade(input, blade);
+    error = GrowOnLeaf(this, input, p, 0.0, 0.95, veins, bladeOut, statistics, histogram);
   if (!error.empty())
   {
-    return fail(error);
+    vtkErrorMacro(<< error);
+    veins->Initialize();
+    bladeOut->Initialize();
+    statistics->Initialize();
+    histogram->Initialize();
+    return 1;
   }
-  bool flat = true;
-  const plantmorph::VenationBlade plane{ WorkingPlane(blade.points, blade.uv, blade.triangles, flat), blade.uv,
-    blade.triangles };
-  plantmorph::VenationResult result;
-  error = plantmorph::GrowVenation(plane, p, result, plantmorph::Progress(this, 0.0, 0.95));
-  plantmorph::VeinNetworkMeasures measures;
-  if (error.empty())
-    error = plantmorph::MeasureVenation(plane, result, measures);
-  if (error.empty())
-    error = WriteVeins(input, blade, result, veins);
-  if (!error.empty())
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkVenationFilter::GrowLeaves(const plantmorph::LeafPlan& plan, vtkPolyData* veins, vtkPolyData* bladeOut,
+  vtkTable* statistics, vtkTable* histogram)
+{
+  // Collective: the leaves this rank owns, whole; each grows as it would alone (same parameters, same Seed).
+  const std::vector<vtkSmartPointer<vtkPolyData>> leaves = plan.Leaves();
+  const std::vector<int> owned = plan.Owned();
+  plantmorph::VenationParameters p;
+  std::string error = owned.empty() ? std::string() : this->MakeParameters(p);
+  vtkNew<vtkAppendPolyData> appendVeins, appendBlades;
+  vtkNew<vtkTable> statisticsRows, histogramRows;
+  for (std::size_t k = 0; k < leaves.size() && error.empty(); ++k)
   {
-    return fail(error);
+    vtkNew<vtkPolyData> leafVeins, leafBlade;
+    vtkNew<vtkTable> leafStatistics, leafHistogram;
+    const double share = 0.95 / static_cast<double>(leaves.size());
+    error =
+      GrowOnLeaf(this, leaves[k], p, k * share, (k + 1) * share, leafVeins, leafBlade, leafStatistics, leafHistogram);
+    if (!error.empty())
+    {
+      error = "leaf " + std::to_string(owned[k]) + ": " + error;
+      break;
+    }
+    plantmorph::MarkLeaf(leafVeins, owned[k]);
+    plantmorph::MarkLeaf(leafBlade, owned[k]);
+    appendVeins->AddInputData(leafVeins);
+    appendBlades->AddInputData(leafBlade);
+    plantmorph::AppendRows(statisticsRows, plantmorph::WithLeafColumn(leafStatistics, owned[k]));
+    plantmorph::AppendRows(histogramRows, plantmorph::WithLeafColumn(leafHistogram, owned[k]));
   }
-  WriteVeinFieldData(veins->GetFieldData(), result, measures, p, static_cast<plantmorph::VenationPreset>(this->Preset),
-    this->Seed, flat);
-  WriteStatistics(measures, statistics);
-  WriteHistogram(plantmorph::MakeAreoleHistogram(measures.areoleAreas, this->AreoleHistogramBins), histogram);
-  WriteBlade(input, blade, plane, result, this->EmbossDepth, bladeOut);
+  if (!error.empty())
+    vtkErrorMacro(<< error);
+  if (plan.AnyRank(!error.empty()))
+    return 1; // every rank's outputs stay empty
+  if (!leaves.empty())
+  {
+    appendVeins->Update();
+    appendBlades->Update();
+    veins->ShallowCopy(appendVeins->GetOutput());
+    bladeOut->ShallowCopy(appendBlades->GetOutput());
+    WriteLeavesFieldData(veins->GetFieldData(), p, static_cast<plantmorph::VenationPreset>(this->Preset), this->Seed,
+      plan.LeafIds().size());
+    AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", this->EmbossDepth);
+  }
+  // Collective: the tables' rows (one Statistics row per leaf, its histogram's rows) on rank 0, in LeafId order.
+  statistics->ShallowCopy(plan.GatherRows(statisticsRows));
+  histogram->ShallowCopy(plan.GatherRows(histogramRows));
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -65,6 +65,16 @@
  * field data as `PlantMorph.Venation.<property>` (e.g. PlantMorph.Venation.DivergenceAngle), so what a preset chose
  * can be read in ParaView's Information panel.
  *
+ * Several leaves (a point or cell array `LeafId`, else separate connected blades, e.g. LeafOutlineSource outputs
+ * appended; common/vtk/PlantMorphLeafExchange.h): the veins grow on each leaf alone, with the same parameters and
+ * the same Seed, so every leaf's veins, blade and tables are those of the leaf run alone, bit for bit. Veins and
+ * Blade are the leaves' results appended in LeafId order, each point and cell marked with the point and cell array
+ * `LeafId` (the blades' numbers 0, 1, ... in the order of their first points when the input has no LeafId);
+ * Statistics has one row per leaf and the Areole histogram each leaf's bins, both with a first column `LeafId`, in
+ * LeafId order. The veins' field data then holds the parameters, the Seed and `PlantMorph.LeafCount` (each leaf's
+ * measures are its Statistics row). Under MPI each leaf grows on one rank (largest leaves first, each to the least
+ * loaded rank), its veins and blade stay there, and the tables are gathered on rank 0; one leaf grows on rank 0.
+ *
  * Presets: the properties a named preset sets are used only when it is Custom. One changed from its default while a
  * named preset is on is not what the output has, so a warning names it and says to choose Custom (the same in
  * pvpython, the GUI and a loaded state file, whose outputs are unchanged).
@@ -77,9 +87,12 @@
 
 #include <string> // for MakeParameters and PresetValues
 
+class vtkTable;
+
 namespace plantmorph
 {
 struct VenationParameters;
+class LeafPlan;
 }
 
 class PLANTMORPHVENATIONVTK_EXPORT vtkVenationFilter : public vtkPolyDataAlgorithm
@@ -292,6 +305,10 @@ protected:
   /// The parameters to grow with (the named preset's, or the properties for Custom); a message naming the first
   /// out-of-range property of the wrapper's own, else empty (the algorithm validates the rest).
   std::string MakeParameters(plantmorph::VenationParameters& parameters);
+  /// Several leaves: grows the veins of each leaf `plan` gives this rank, alone, and appends them; the tables'
+  /// rows gathered on rank 0 in LeafId order (collective).
+  int GrowLeaves(const plantmorph::LeafPlan& plan, vtkPolyData* veins, vtkPolyData* bladeOut, vtkTable* statistics,
+    vtkTable* histogram);
 
   std::string PresetValues;
   int Preset = 1;

@@ -1,6 +1,7 @@
 #include "vtkWiltingSimulator.h"
 #include "PlantMorphAlgorithmHooks.h"
 
+#include "PlantMorphLeafExchange.h"
 #include "PlantMorphWholeInput.h"
 #include "WiltingPresets.h"
 #include "WiltingSimulation.h"
@@ -8,6 +9,8 @@
 #include <plantmorph/DataContract.h>
 #include <plantmorph/RangeError.h>
 
+#include "vtkAppendFilter.h"
+#include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
@@ -34,6 +37,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -48,6 +52,14 @@ struct vtkWiltingSimulator::Cache
   vtkIdType veinPoints = 0;
   vtkMTimeType selfTime = 0;
   bool valid = false;
+  // Several leaves: one simulation per leaf this rank owns (LeafIds `leafIds`), keyed like the single one.
+  std::vector<std::unique_ptr<plantmorph::WiltingSimulation>> leaves;
+  std::vector<int> leafIds;
+  std::vector<vtkIdType> leafVeinPoints;
+  vtkMTimeType leavesInputTime = 0;
+  vtkMTimeType leavesVeinsTime = 0;
+  vtkMTimeType leavesSelfTime = 0;
+  bool leavesValid = false;
 };
 
 namespace
@@ -755,7 +767,21 @@ int vtkWiltingSimulator::RequestData(
   {
     return 1;
   }
-  // Under MPI the leaf wilts once, on rank 0, whole (blade and veins gathered there if they were split over ranks).
+  // Several leaves (PlantMorphLeafExchange.h: a LeafId array, or connected blades): each wilts alone, on one rank.
+  const plantmorph::LeafPlan plan(input);
+  if (plan.AnyRank(!plan.Error().empty()))
+  {
+    if (!plan.Error().empty())
+    {
+      vtkErrorMacro(<< plan.Error());
+    }
+    return 1;
+  }
+  if (plan.LeafIds().size() > 1)
+  {
+    return this->WiltLeaves(plan, request, input, veins, outputVector);
+  }
+  // One leaf: under MPI the leaf wilts once, on rank 0, whole (blade and veins gathered there if they were split over ranks).
   // The cache stays keyed on this rank's own inputs' times, so scrubbing a gathered leaf does not re-simulate.
   const vtkMTimeType pieceTime = input->GetMTime();
   const vtkMTimeType veinsPieceTime = veins ? veins->GetMTime() : 0;
@@ -806,6 +832,175 @@ int vtkWiltingSimulator::RequestData(
   WriteSimulationFieldData(this->SimulationCount, state.time, output);
   WriteVoxels(simulation, state, voxels);
   WriteFrameTable(frames, table);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+bool vtkWiltingSimulator::SimulateLeaves(const std::vector<vtkSmartPointer<vtkPolyData>>& leaves,
+  const std::vector<vtkSmartPointer<vtkPolyData>>& veins, const std::vector<int>& leafIds,
+  const plantmorph::WiltingParameters& parameters, vtkMTimeType pieceTime, vtkMTimeType veinsTime)
+{
+  Cache& cache = *this->Cached;
+  std::vector<vtkIdType> veinPoints;
+  for (const auto& v : veins)
+  {
+    veinPoints.push_back(v->GetNumberOfPoints());
+  }
+  if (cache.leavesValid && cache.leavesInputTime == pieceTime && cache.leavesSelfTime == this->GetMTime() &&
+    cache.leavesVeinsTime == veinsTime && cache.leafIds == leafIds && cache.leafVeinPoints == veinPoints)
+  {
+    return true;
+  }
+  cache.leavesValid = false;
+  cache.leaves.clear();
+  bool warned = false;
+  for (std::size_t k = 0; k < leaves.size(); ++k)
+  {
+    plantmorph::WiltingInput in;
+    vtkPolyData* leafVeins = veinPoints[k] > 0 ? veins[k].Get() : nullptr;
+    const std::string assumed = WiltingInputOf(leaves[k], leafVeins, in);
+    const std::string leaf = "leaf " + std::to_string(leafIds[k]) + ": ";
+    if (!assumed.empty())
+    {
+      vtkWarningMacro(<< leaf << assumed);
+    }
+    cache.leaves.push_back(std::make_unique<plantmorph::WiltingSimulation>());
+    plantmorph::WiltingSimulation& simulation = *cache.leaves.back();
+    const std::string error = simulation.Setup(in, parameters);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< leaf << error);
+      return false;
+    }
+    if (!warned)
+    {
+      this->WarnAboutPresetOverrides();
+      warned = true;
+    }
+    const double share = 1.0 / static_cast<double>(leaves.size());
+    const std::string runError = simulation.Run(plantmorph::Progress(this, k * share, (k + 1) * share));
+    if (simulation.Aborted())
+    {
+      return false;
+    }
+    if (!runError.empty())
+    {
+      vtkErrorMacro(<< leaf << runError << " (the frames before it are kept)");
+    }
+  }
+  ++this->SimulationCount;
+  cache.leavesValid = true;
+  cache.leafIds = leafIds;
+  cache.leafVeinPoints = veinPoints;
+  cache.leavesInputTime = pieceTime;
+  cache.leavesVeinsTime = veinsTime;
+  cache.leavesSelfTime = this->GetMTime();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+int vtkWiltingSimulator::WiltLeaves(const plantmorph::LeafPlan& plan, vtkInformation* request, vtkPolyData* input,
+  vtkPolyData* veins, vtkInformationVector* outputVector)
+{
+  // Collective: the veins split by their LeafId point array; each leaf and its veins sent to the leaf's owner.
+  std::vector<int> veinLeafOf;
+  const bool veinsKnown = plantmorph::LeafIdsOfPoints(veins, veinLeafOf);
+  if (!veinsKnown)
+  {
+    vtkErrorMacro(<< "Veins: with several leaves the veins need a one-component point array LeafId naming the leaf of "
+                     "each vein point (VenationFilter's veins of several leaves have it)");
+  }
+  if (plan.AnyRank(!veinsKnown))
+  {
+    return 1;
+  }
+  vtkNew<vtkPolyData> noVeins;
+  const std::vector<vtkSmartPointer<vtkPolyData>> leaves = plan.Leaves();
+  const std::vector<vtkSmartPointer<vtkPolyData>> leafVeins =
+    plan.Distribute(veins ? veins : noVeins.Get(), veinLeafOf);
+  const std::vector<int> owned = plan.Owned();
+  // Properties -> parameters, checked where leaves wilt; then every owned leaf wilts alone (or comes from the cache).
+  std::string error = owned.empty() ? std::string() : ValidateEnumerations(this);
+  const plantmorph::WiltingParameters parameters = ParametersOf(this);
+  if (!owned.empty() && error.empty())
+  {
+    error = plantmorph::ValidateWilting(parameters);
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    this->Cached->leavesValid = false;
+  }
+  if (plan.AnyRank(!error.empty()))
+  {
+    return 1;
+  }
+  const bool simulated = owned.empty() ||
+    this->SimulateLeaves(leaves, leafVeins, owned, parameters, input->GetMTime(), veins ? veins->GetMTime() : 0);
+  if (plan.AnyRank(!simulated))
+  {
+    return 1;
+  }
+  // Every owned leaf at the requested time, appended in LeafId order and marked with LeafId.
+  const double time = RequestedTime(request, outputVector);
+  vtkNew<vtkAppendPolyData> appendLeaves, appendVeins;
+  vtkNew<vtkAppendFilter> appendVoxels;
+  vtkNew<vtkTable> rows;
+  double served = 0.0;
+  for (std::size_t k = 0; k < owned.size(); ++k)
+  {
+    const plantmorph::WiltingSimulation& simulation = *this->Cached->leaves[k];
+    if (simulation.Frames().empty())
+    {
+      continue;
+    }
+    const NodeState state = InterpolateFrames(simulation.Frames(), time, simulation.System().NodeCount());
+    vtkPolyData* leafVeinsK = leafVeins[k]->GetNumberOfPoints() > 0 ? leafVeins[k].Get() : nullptr;
+    const vtkIdType pointCount = leaves[k]->GetNumberOfPoints();
+    const vtkIdType veinCount = leafVeinsK ? leafVeinsK->GetNumberOfPoints() : 0;
+    const std::vector<double> d = PointDisplacements(simulation, state, pointCount + veinCount);
+    vtkNew<vtkPolyData> moved, movedVeins;
+    vtkNew<vtkUnstructuredGrid> voxels;
+    vtkNew<vtkTable> frames;
+    WriteMovedLeaf(simulation, leaves[k], d, state.time, moved);
+    WriteMovedVeins(simulation, pointCount, leafVeinsK, d, state.time, movedVeins);
+    WriteVoxels(simulation, state, voxels);
+    WriteFrameTable(simulation.Frames(), frames);
+    for (vtkDataSet* part :
+      { static_cast<vtkDataSet*>(moved), static_cast<vtkDataSet*>(movedVeins), static_cast<vtkDataSet*>(voxels) })
+    {
+      plantmorph::MarkLeaf(part, owned[k]);
+    }
+    appendLeaves->AddInputData(moved);
+    if (veinCount > 0)
+    {
+      appendVeins->AddInputData(movedVeins);
+    }
+    appendVoxels->AddInputData(voxels);
+    plantmorph::AppendRows(rows, plantmorph::WithLeafColumn(frames, owned[k]));
+    served = state.time;
+  }
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* movedVeins = vtkPolyData::GetData(outputVector, 3);
+  if (appendLeaves->GetNumberOfInputConnections(0) > 0)
+  {
+    appendLeaves->Update();
+    appendVoxels->Update();
+    output->ShallowCopy(appendLeaves->GetOutput());
+    vtkUnstructuredGrid::GetData(outputVector, 1)->ShallowCopy(appendVoxels->GetOutput());
+    WriteSimulationFieldData(this->SimulationCount, served, output);
+    output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), served);
+    vtkUnstructuredGrid::GetData(outputVector, 1)->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), served);
+  }
+  if (appendVeins->GetNumberOfInputConnections(0) > 0)
+  {
+    appendVeins->Update();
+    movedVeins->ShallowCopy(appendVeins->GetOutput());
+    movedVeins->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), served);
+  }
+  // Collective: the frame tables' rows on rank 0, in LeafId order (each leaf's frames in time order).
+  vtkTable::GetData(outputVector, 2)->ShallowCopy(plan.GatherRows(rows));
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -55,6 +55,15 @@
  * - port 3: the veins (input port 1) moved with the leaf, every array kept, plus `Displacement`; empty without
  *   veins.
  *
+ * Several leaves (a point or cell array `LeafId` on Input, else separate connected blades, e.g. LeafOutlineSource
+ * outputs appended or VenationFilter's Blade of several leaves; common/vtk/PlantMorphLeafExchange.h): each leaf
+ * wilts alone, with its own voxels, base, tip and veins, so each leaf's outputs are those of the leaf run alone, bit
+ * for bit. The veins then need a point array `LeafId` naming their leaf (VenationFilter's veins of several leaves
+ * have it; an error otherwise). Ports 0, 1 and 3 are the leaves' results appended in LeafId order, each point and
+ * cell marked with `LeafId`; port 2 has every leaf's frames, a first column `LeafId`, in LeafId order. Under MPI each
+ * leaf wilts on one rank (largest leaves first, each to the least loaded rank) and its outputs stay there; the
+ * table is gathered on rank 0. One leaf wilts on rank 0, gathered whole.
+ *
  * Field data on port 0: `WiltingSimulator.SimulationCount` (simulations run so far: scrubbing does not raise it)
  * and `WiltingSimulator.FrameTime` (the time served).
  *
@@ -99,10 +108,14 @@
 #include <string>
 
 #include <memory> // for std::unique_ptr
+#include <vector> // for the leaves
+
+#include "vtkSmartPointer.h" // for the leaves
 
 namespace plantmorph
 {
 struct WiltingParameters;
+class LeafPlan;
 }
 
 class PLANTMORPHWILTINGVTK_EXPORT vtkWiltingSimulator : public vtkPolyDataAlgorithm
@@ -316,6 +329,14 @@ protected:
   /// aborted (nothing to serve; the error is reported).
   bool Simulate(vtkPolyData* input, vtkPolyData* veins, const plantmorph::WiltingParameters& parameters,
     vtkMTimeType pieceTime, vtkMTimeType veinsTime);
+  /// Several leaves (collective): each leaf `plan` gives this rank wilts alone with its own veins; outputs appended
+  /// in LeafId order, the frame tables' rows gathered on rank 0.
+  int WiltLeaves(const plantmorph::LeafPlan& plan, vtkInformation* request, vtkPolyData* input, vtkPolyData* veins,
+    vtkInformationVector* outputVector);
+  /// Simulate for the leaves this rank owns, one simulation each (cached like Simulate's).
+  bool SimulateLeaves(const std::vector<vtkSmartPointer<vtkPolyData>>& leaves,
+    const std::vector<vtkSmartPointer<vtkPolyData>>& veins, const std::vector<int>& leafIds,
+    const plantmorph::WiltingParameters& parameters, vtkMTimeType pieceTime, vtkMTimeType veinsTime);
 
   int Preset = PRESET_CUCUMBER;
   std::string PresetValues;
