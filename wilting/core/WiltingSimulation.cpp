@@ -103,6 +103,18 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << OutOfRange("ContractionTime", p.contractionTime, "[0, inf)", "0: LoadTime");
   }
+  else if (!(p.bladeThickness >= 0.0 && p.bladeThickness <= 1e6))
+  {
+    message << OutOfRange("BladeThickness", p.bladeThickness, "[0, 1e6]", "0: the leaf's longest side / 14");
+  }
+  else if (!(p.throughStiffness > 0.0 && p.throughStiffness <= 1e6))
+  {
+    message << OutOfRange("throughStiffness", p.throughStiffness, "(0, 1e6]", "1: every spring alike");
+  }
+  else if (p.substeps < 0 || p.substeps > 1000)
+  {
+    message << OutOfRange("Substeps", p.substeps, "[0, 1000]", "0: automatic");
+  }
   else if (!(p.anchorRadius >= 0.0) || !std::isfinite(p.anchorRadius))
   {
     message << OutOfRange("AnchorRadius", p.anchorRadius, "[0, inf)");
@@ -125,12 +137,13 @@ std::string ValidateWilting(const WiltingParameters& p)
     {
       const WiltingMaterial& material = p.materials[static_cast<std::size_t>(m)];
       const std::string name = names[m];
+      const bool physical = p.units == WiltingUnits::Physical;
       if (!(material.density > 0.0) || !std::isfinite(material.density))
         message << OutOfRange(name + "Density", material.density, "(0, inf)");
       else if (!(material.stiffness > 0.0) || !std::isfinite(material.stiffness))
-        message << OutOfRange(name + "Stiffness", material.stiffness, "(0, inf)");
+        message << OutOfRange(name + (physical ? "YoungsModulus" : "Stiffness"), material.stiffness, "(0, inf)");
       else if (!(material.damping >= 0.0) || !std::isfinite(material.damping))
-        message << OutOfRange(name + "Damping", material.damping, "[0, inf)");
+        message << OutOfRange(name + (physical ? "DampingTime" : "Damping"), material.damping, "[0, inf)");
       if (!message.str().empty())
         break;
     }
@@ -176,6 +189,12 @@ std::size_t BasePoint(const WiltingInput& input)
   return base;
 }
 
+/// Whether corners a < b of a voxel (0-3 bottom, 4-7 top) lie on one horizontal face.
+bool OnOneFace(int a, int b)
+{
+  return (a < 4) == (b < 4);
+}
+
 /// Nodes with lumped masses, and the 28 springs and the hexahedron of every voxel. With shrinkage or curl: the 28
 /// springs of each voxel, in voxel order (else empty).
 std::vector<int> AddVoxelSprings(
@@ -203,8 +222,9 @@ std::vector<int> AddVoxelSprings(
     {
       for (int b = a + 1; b < 8; ++b)
       {
-        const int spring =
-          springs.AddSpring(c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], stiffness, damping);
+        const double factor = OnOneFace(a, b) ? 1.0 : parameters.throughStiffness;
+        const int spring = springs.AddSpring(
+          c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], factor * stiffness, factor * damping);
         if (parameters.shrinkageStrain != 0.0 || parameters.curlStrain != 0.0)
         {
           voxelSprings.push_back(spring);
@@ -370,7 +390,7 @@ void AddVoxelCurl(const VoxelGrid& grid, std::size_t v, const WiltingParameters&
 /// Every voxel's droop and contraction on its bottom (or top) corners, and its shrinkage and curl strains on its
 /// springs (none for the petiole's voxels).
 void AccumulateVoxelLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint, const WiltingParameters& parameters,
-  double springScale, double loadScale, const std::vector<int>& voxelSprings, FullLoads& loads)
+  double springScale, double loadScale, double faceShare, const std::vector<int>& voxelSprings, FullLoads& loads)
 {
   const double midX = basePoint[0];
   const double baseY = basePoint[1];
@@ -384,20 +404,35 @@ void AccumulateVoxelLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoin
     const double droop = (1.0 + parameters.droopAsymmetry * side) * parameters.droopForce;
     const double contraction = (1.0 + parameters.contractionAsymmetry * side) * parameters.contractionForce;
     const int material = WiltingMaterialOf(grid.regions[v]);
-    for (int corner = top ? 4 : 0; corner < (top ? 8 : 4) && material != WiltingPetiole; ++corner)
+    // The droop on the contraction side's four nodes; the contraction faceShare there and the rest on the other
+    // face's (faceShare 1 in Lattice units: all on the side's face).
+    for (int corner = 0; corner < 8 && material != WiltingPetiole; ++corner)
     {
+      const bool onSide = top == (corner >= 4);
+      const double share = onSide ? faceShare : 1.0 - faceShare;
       const std::size_t node = static_cast<std::size_t>(c[static_cast<std::size_t>(corner)]);
-      loads.contraction[3 * node + 0] += 0.25 * loadScale * contraction * towards[0];
-      loads.contraction[3 * node + 1] += 0.25 * loadScale * contraction * towards[1];
-      loads.droop[3 * node + 2] -= 0.25 * loadScale * droop;
+      if (share != 0.0)
+      {
+        loads.contraction[3 * node + 0] += 0.25 * share * loadScale * contraction * towards[0];
+        loads.contraction[3 * node + 1] += 0.25 * share * loadScale * contraction * towards[1];
+      }
+      if (onSide)
+      {
+        loads.droop[3 * node + 2] -= 0.25 * loadScale * droop;
+      }
     }
     const double stiffness = parameters.materials[static_cast<std::size_t>(material)].stiffness * springScale;
     if (parameters.shrinkageStrain != 0.0 && material != WiltingPetiole)
     {
       const double strain = (1.0 + parameters.shrinkageAsymmetry * side) * parameters.shrinkageStrain;
-      for (std::size_t pair = 0; pair < 28; ++pair)
+      std::size_t pair = 0;
+      for (int a = 0; a < 8; ++a) // the pairs in the order AddVoxelSprings added them
       {
-        loads.shrinkage[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += stiffness * strain;
+        for (int b = a + 1; b < 8; ++b, ++pair)
+        {
+          const double factor = OnOneFace(a, b) ? 1.0 : parameters.throughStiffness;
+          loads.shrinkage[static_cast<std::size_t>(voxelSprings[28 * v + pair])] += factor * stiffness * strain;
+        }
       }
     }
     if (parameters.curlStrain != 0.0 && material != WiltingPetiole)
@@ -410,8 +445,8 @@ void AccumulateVoxelLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoin
 /// The loads at full load (FullLoads) for the finalised system: gravity from the lumped masses, the voxels' loads,
 /// none on fixed nodes; the strains divided by each spring's stiffness.
 void ComputeFullLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint, const WiltingParameters& parameters,
-  double springScale, double loadScale, const std::vector<int>& voxelSprings, const MassSpringSystem& springs,
-  FullLoads& loads)
+  double springScale, double loadScale, double faceShare, const std::vector<int>& voxelSprings,
+  const MassSpringSystem& springs, FullLoads& loads)
 {
   const std::size_t n = grid.nodes.size();
   loads.gravity.assign(3 * n, 0.0);
@@ -426,7 +461,7 @@ void ComputeFullLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint, c
   {
     loads.gravity[3 * i + 2] = -masses[i] * parameters.gravity;
   }
-  AccumulateVoxelLoads(grid, basePoint, parameters, springScale, loadScale, voxelSprings, loads);
+  AccumulateVoxelLoads(grid, basePoint, parameters, springScale, loadScale, faceShare, voxelSprings, loads);
   for (std::size_t i = 0; i < n; ++i)
   {
     if (springs.IsFixed(i))
@@ -448,6 +483,55 @@ void ComputeFullLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint, c
   }
 }
 } // namespace
+
+double WiltingBladeThickness(const WiltingParameters& parameters, double longest)
+{
+  return parameters.bladeThickness > 0.0 ? parameters.bladeThickness : longest / 14.0;
+}
+
+WiltingParameters WiltingLatticeOf(
+  const WiltingParameters& parameters, double h, double thickness, double* faceShare, int* substeps)
+{
+  WiltingParameters lattice = parameters;
+  if (faceShare)
+  {
+    *faceShare = 1.0;
+  }
+  if (substeps)
+  {
+    *substeps = 1;
+  }
+  if (parameters.units == WiltingUnits::Lattice)
+  {
+    return lattice;
+  }
+  const double t = thickness;
+  lattice.units = WiltingUnits::Lattice;
+  lattice.referenceVoxelSize = 0.0;
+  for (WiltingMaterial& material : lattice.materials)
+  {
+    const double youngs = material.stiffness;
+    material.stiffness = youngs * t * t * t / (18.0 * h * h); // D = 3/2 k h^2 = E t^3 / 12
+    material.damping = material.damping * material.stiffness; // a retardation time
+    material.density = material.density * t / h;              // rho t per area, h^2 of it per voxel
+  }
+  lattice.droopForce = parameters.droopForce * h * h;
+  lattice.contractionForce = parameters.contractionForce * h * h;
+  lattice.curlStrain = parameters.curlStrain * h / t; // curvature d / t on a plate of thickness h
+  if (faceShare)
+  {
+    *faceShare = 0.5 * (1.0 + t / h); // moment arm t / 2: (F_side - F_other) h / 2 = q h^2 t / 2
+  }
+  lattice.throughStiffness = std::max(1.0, (h / t) * (h / t));
+  const int steps =
+    parameters.substeps > 0 ? parameters.substeps : std::max(1, static_cast<int>(std::ceil((t / h) * (t / h) - 1e-9)));
+  lattice.newmark.timeStep = parameters.newmark.timeStep / steps;
+  if (substeps)
+  {
+    *substeps = steps;
+  }
+  return lattice;
+}
 
 double WiltingLoadFactor(WiltingLoadProfile profile, double t, double loadTime)
 {
@@ -505,10 +589,28 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   }
   const VoxelGrid& grid = this->Voxels;
   const double h = grid.h;
-  const double ratio = parameters.referenceVoxelSize > 0.0 ? h / parameters.referenceVoxelSize : 1.0;
+  // Physical units: the lattice's springs and per-voxel loads for this h (Lattice units: as they are).
+  Eigen::Vector3d low = input.points.front(), high = input.points.front();
+  for (const Eigen::Vector3d& x : input.points)
+  {
+    low = low.cwiseMin(x);
+    high = high.cwiseMax(x);
+  }
+  const bool physical = parameters.units == WiltingUnits::Physical;
+  this->Thickness = physical ? WiltingBladeThickness(parameters, (high - low).maxCoeff()) : 0.0;
+  double faceShare = 1.0;
+  this->Params = WiltingLatticeOf(parameters, h, this->Thickness, &faceShare, &this->SubstepCount);
+  if (physical && !(std::abs(this->Params.curlStrain) <= 1.0))
+  {
+    std::ostringstream message;
+    message << OutOfRange("CurlStrain", parameters.curlStrain, "[-0.4, 0.4]",
+      "and |CurlStrain| h / BladeThickness at most 1 for the voxel edge h = " + std::to_string(h));
+    return message.str();
+  }
+  const double ratio = this->Params.referenceVoxelSize > 0.0 ? h / this->Params.referenceVoxelSize : 1.0;
   const double springScale = ratio;
   const double loadScale = ratio * ratio * ratio;
-  const std::vector<int> voxelSprings = AddVoxelSprings(grid, parameters, springScale, this->Springs);
+  const std::vector<int> voxelSprings = AddVoxelSprings(grid, this->Params, springScale, this->Springs);
 
   // Anchors: the petiole's far end, or the input's petiole points, or the blade's base.
   AnchorPlan anchors = PlanAnchors(input, parameters, this->PetioleCells, base);
@@ -537,15 +639,17 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   // Forces at full load.
   FullLoads loads{ this->GravityForce, this->LoadForce, this->ContractionLoad, this->SpringShrinkage,
     this->SpringCurl };
-  ComputeFullLoads(grid, input.points[base], parameters, springScale, loadScale, voxelSprings, this->Springs, loads);
-  error = this->Newmark.Setup(this->Springs, parameters.newmark);
+  ComputeFullLoads(
+    grid, input.points[base], this->Params, springScale, loadScale, faceShare, voxelSprings, this->Springs, loads);
+  error = this->Newmark.Setup(this->Springs, this->Params.newmark);
   if (!error.empty())
   {
     return error;
   }
-  this->StepsPerFrame =
+  // Frames as the user's TimeStep gives them (each of its steps SubstepCount integrator steps).
+  this->StepsPerFrame = this->SubstepCount *
     std::max(1, static_cast<int>(std::lround(parameters.frameInterval / parameters.newmark.timeStep)));
-  const double frameTime = this->StepsPerFrame * parameters.newmark.timeStep;
+  const double frameTime = this->StepsPerFrame * this->Params.newmark.timeStep;
   this->FrameCount = 1 + static_cast<int>(std::floor(parameters.duration / frameTime + 1e-9));
   return std::string();
 }

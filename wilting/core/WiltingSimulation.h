@@ -116,6 +116,18 @@ enum class WiltingCurlDirection : int
   Radial = 1
 };
 
+/// How WiltingParameters' materials, loads and curl are read (docs/methods/wilting.md "Physical units").
+/// Physical: a lamina of thickness bladeThickness, whatever the voxels: Young's modulus, density per volume, a
+/// dashpot as a retardation time, droop and contraction as pressures (force per area of leaf), curl as the strain
+/// difference across the thickness; WiltingLatticeOf turns them into the springs and per-voxel loads of a voxel
+/// edge h so that the plate's bending stiffness, mass and loads per area and its intrinsic curvature do not depend
+/// on h. Lattice: per spring and per voxel, as given (the model before issue 23; referenceVoxelSize applies).
+enum class WiltingUnits : int
+{
+  Physical = 0,
+  Lattice = 1
+};
+
 /// Region classes with their own material.
 enum WiltingMaterialClass : int
 {
@@ -130,15 +142,32 @@ int WiltingMaterialOf(int region);
 
 struct WiltingMaterial
 {
-  double density = 0.05;     ///< mass per unit voxel volume (g/cm^3 with the presets' cm)
-  double stiffness = 2000.0; ///< spring constant (dyn/cm)
-  double damping = 0.0;      ///< spring dashpot (g/s)
+  /// Lattice: mass per unit voxel volume; Physical: mass per unit volume of the lamina (g/cm^3 with cm).
+  double density = 0.05;
+  /// Lattice: spring constant (dyn/cm); Physical: Young's modulus E (dyn/cm^2 = 0.1 Pa with cm).
+  double stiffness = 2000.0;
+  /// Lattice: spring dashpot (g/s); Physical: retardation time (s), each spring's dashpot that times its stiffness.
+  double damping = 0.0;
 };
 
 struct WiltingParameters
 {
   double voxelSize = 0.0; ///< > 0: cube edge; 0: from resolution
-  int resolution = 20;    ///< cubes along the longest side when voxelSize is 0
+  /// Physical (presets and the filter's default) or Lattice (the unit tests' and the VegaFEM cross-check's).
+  WiltingUnits units = WiltingUnits::Lattice;
+  /// Physical units: the lamina's thickness t (model units); 0: the leaf's longest side / 14 (* the Cucumber fit's
+  /// voxel edge: an effective thickness that scales with the leaf, so geometrically similar leaves wilt alike).
+  double bladeThickness = 0.0;
+  /// Physical units: integrator sub-steps per TimeStep; 0: automatic, ceil((t / h)^2) (the lattice's highest
+  /// frequency grows as 1 / h^2 at a fixed bending stiffness; 1 when h >= t).
+  int substeps = 0;
+  /// Set by WiltingLatticeOf (1 otherwise): the stiffness of the springs that cross the layer (the 4 vertical
+  /// edges, 8 vertical face diagonals and 4 body diagonals of each cube, which do not stretch in bending) relative
+  /// to the face springs'. Physical units with voxels coarser than the blade is thick (h > t): (h / t)^2, so they
+  /// keep the stiffness E t / 18 of h = t while the face springs soften to E t^3 / (18 h^2) for the bending
+  /// stiffness: a coarse voxel does not shear or invert under loads its bending carries.
+  double throughStiffness = 1.0;
+  int resolution = 20; ///< cubes along the longest side when voxelSize is 0
   std::array<WiltingMaterial, WiltingMaterialCount> materials{};
   double gravity = 981.0; ///< downward (-Z) acceleration, model units / s^2
   double droopForce = 0.0;
@@ -193,6 +222,22 @@ struct WiltingParameters
 /// Empty when usable; otherwise a message naming the property and its range.
 std::string ValidateWilting(const WiltingParameters& parameters);
 
+/// Physical units for a voxel edge h and blade thickness t, as the lattice's per-spring and per-voxel values
+/// (units Lattice, referenceVoxelSize 0, the time step divided by the sub-steps); Lattice parameters are returned
+/// as they are. The one-voxel layer is a plate of thickness h whose cubes' 28 springs of constant k give it the
+/// bending stiffness D = 3/2 k h^2 per width (cylindrical bending: the four edges and four horizontal face
+/// diagonals of each cube along the bend; the other springs do not stretch), so k = E t^3 / (18 h^2) gives
+/// D = E t^3 / 12 at every h (its in-plane stiffness, 3 k per width, grows as h shrinks: the limit is the
+/// inextensible plate). A voxel is h^2 of the lamina: mass rho t h^2 (density rho t / h), droop p h^2; the
+/// contraction q h^2 pulls its face (ContractionSide) at t / 2 from the mid-plane: (1 + t/h)/2 of it on that face's
+/// four nodes and (1 - t/h)/2 on the other's (faceShare; all on the face when h = t, the model before); curl d
+/// (a strain difference across t, curvature d / t) strains the lattice's faces by -+ d h / (2 t); dashpots tau k.
+WiltingParameters WiltingLatticeOf(const WiltingParameters& parameters, double h, double thickness,
+  double* faceShare = nullptr, int* substeps = nullptr);
+
+/// The blade thickness Physical units use for a leaf whose bounding box's longest side is `longest`.
+double WiltingBladeThickness(const WiltingParameters& parameters, double longest);
+
 /// The load factor in [0, 1] at time t.
 double WiltingLoadFactor(WiltingLoadProfile profile, double t, double loadTime);
 
@@ -222,6 +267,9 @@ public:
   /// the frames so far are kept). Returns an empty string, or the blow-up guard's message.
   std::string Run(const std::function<bool(double)>& progress = nullptr);
   bool Aborted() const { return this->WasAborted; }
+  /// Integrator steps per TimeStep (Physical units; 1 for Lattice) and the blade thickness used (0: Lattice).
+  int Substeps() const { return this->SubstepCount; }
+  double BladeThickness() const { return this->Thickness; }
 
   const std::vector<WiltingFrame>& Frames() const { return this->FrameList; }
   /// The frame times the run will produce (known after Setup).
@@ -264,6 +312,8 @@ private:
   /// The rest lengths L (1 - strain).
   void RestLengthsFromStrains(const std::vector<double>& strains, std::vector<double>& lengths) const;
   int Tip = 0;
+  int SubstepCount = 1;
+  double Thickness = 0.0;
   int StepsPerFrame = 1;
   int FrameCount = 1;
   std::vector<WiltingFrame> FrameList;

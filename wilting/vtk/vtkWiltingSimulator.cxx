@@ -69,6 +69,8 @@ plantmorph::WiltingParameters ParametersOf(vtkWiltingSimulator* f)
   plantmorph::WiltingParameters p;
   p.voxelSize = f->GetVoxelSize();
   p.resolution = f->GetResolution();
+  p.units = f->GetUnits() == 1 ? plantmorph::WiltingUnits::Lattice : plantmorph::WiltingUnits::Physical;
+  p.bladeThickness = f->GetBladeThickness();
   p.maxVoxels = static_cast<std::size_t>(std::max(1, f->GetMaximumVoxels()));
   const double* materials[4] = { f->GetBladeMaterial(), f->GetVeinMaterial(), f->GetMarginMaterial(),
     f->GetPetioleMaterial() };
@@ -230,6 +232,10 @@ std::string ValidateEnumerations(vtkWiltingSimulator* f)
   if (f->GetCurlDirection() < 0 || f->GetCurlDirection() > 1)
   {
     return plantmorph::OutOfRange("CurlDirection", f->GetCurlDirection(), "{0, 1}", "0 Isotropic, 1 Radial");
+  }
+  if (f->GetUnits() < 0 || f->GetUnits() > 1)
+  {
+    return plantmorph::OutOfRange("Units", f->GetUnits(), "{0, 1}", "0 Physical, 1 Lattice");
   }
   if (f->GetSolver() < 0 || f->GetSolver() > 2)
   {
@@ -489,6 +495,8 @@ void vtkWiltingSimulator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Preset: " << this->Preset << "\n";
   os << indent << "VoxelSize: " << this->VoxelSize << "\n";
   os << indent << "Resolution: " << this->Resolution << "\n";
+  os << indent << "Units: " << this->Units << "\n";
+  os << indent << "BladeThickness: " << this->BladeThickness << "\n";
   os << indent << "Duration: " << this->Duration << "\n";
   os << indent << "TimeStep: " << this->TimeStep << "\n";
   os << indent << "FrameInterval: " << this->FrameInterval << "\n";
@@ -627,6 +635,7 @@ void vtkWiltingSimulator::WarnAboutPresetOverrides()
   PLANTMORPH_CHECK(ContractionTime);
   PLANTMORPH_CHECK(RayleighAlpha);
   PLANTMORPH_CHECK(RayleighBeta);
+  PLANTMORPH_CHECK(Units);
 #undef PLANTMORPH_CHECK
   if (ignored.tellp() > 0)
   {
@@ -733,11 +742,9 @@ const char* vtkWiltingSimulator::GetPresetValues()
   line("ContractionTime", p.contractionTime);
   line("RayleighAlpha", p.newmark.rayleighMass);
   line("RayleighBeta", p.newmark.rayleighStiffness);
-  if (p.referenceVoxelSize > 0.0)
-  {
-    // Not a property: the preset's forces are per voxel of this edge and scale with (VoxelSize / it)^3.
-    text << "\n(forces per voxel of edge " << Exact(p.referenceVoxelSize) << ", scaled to the voxel size used)";
-  }
+  line("Units", static_cast<int>(p.units));
+  text << "\n(Physical units: Young's moduli and pressures in dyn/cm^2, densities in g/cm^3, for a blade of "
+          "BladeThickness, 0: the leaf's longest side / 14)";
   this->PresetValues = text.str();
   return this->PresetValues.c_str();
 }

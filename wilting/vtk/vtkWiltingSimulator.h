@@ -71,8 +71,17 @@
  * preset (plantmorph::ApplyWiltingPreset: Cucumber, Tomato, Watermelon) and the corresponding properties are
  * ignored (Duration, TimeStep and the rest are always the properties'); with Custom they are used as set. The
  * Cucumber preset was fitted to paper 001's measured tip trajectory (docs/wilting-calibration.md) at this filter's
- * defaults (Resolution 14, AnchorRadius 3, TimeStep 1/60 s, one Newton iteration) on a 20.1 x 22.1 cm leaf; at
- * other voxel sizes its stiffness and loads are rescaled (WiltingParameters::referenceVoxelSize), approximately.
+ * defaults (Resolution 14, AnchorRadius 3, TimeStep 1/60 s, one Newton iteration) on a 20.1 x 22.1 cm leaf.
+ *
+ * Units (issue 23; docs/methods/wilting.md "Physical units"): with Units Physical (the default, and every preset)
+ * the materials and loads describe the lamina, not the voxels: Density per volume of the lamina, Stiffness its
+ * Young's modulus E (dyn/cm^2 with cm, = 0.1 Pa), Damping a retardation time (s), DroopForce and ContractionForce
+ * pressures (force per area of leaf), CurlStrain the strain difference across BladeThickness (curvature
+ * CurlStrain / BladeThickness), ShrinkageStrain a strain; BladeThickness 0 takes the leaf's longest side / 14.
+ * plantmorph::WiltingLatticeOf turns them into per-spring and per-voxel values for the voxel edge used, so the
+ * plate's bending stiffness E t^3 / 12, its mass and loads per area and its curvature are the same at every
+ * Resolution, and sub-steps TimeStep when the voxels are finer than the blade is thick. Units Lattice is the
+ * model before: per spring (dyn/cm) and per voxel (dyn), for state files saved before issue 23 with Custom values.
  *
  * Errors (a vtkErrorMacro naming the property and its accepted range, and empty outputs, never a crash): any
  * property out of range or not finite, an input without triangles, a non-finite coordinate, a model larger than
@@ -163,6 +172,12 @@ public:
   /** Voxel edge in model units; 0 uses Resolution. Range [0, inf). Default 0. */
   vtkSetMacro(VoxelSize, double);
   vtkGetMacro(VoxelSize, double);
+  /** Physical (0, default) or Lattice (1) units of the Custom materials and loads (see the class doc). */
+  vtkSetMacro(Units, int);
+  vtkGetMacro(Units, int);
+  /** Physical units: the lamina's thickness in model units; 0 (default): the leaf's longest side / 14. [0, 1e6]. */
+  vtkSetMacro(BladeThickness, double);
+  vtkGetMacro(BladeThickness, double);
   /** Voxels along the bounding box's longest side when VoxelSize is 0. Range [1, 1000]. Default 14. */
   vtkSetMacro(Resolution, int);
   vtkGetMacro(Resolution, int);
@@ -326,6 +341,8 @@ protected:
   int Preset = PRESET_CUCUMBER;
   std::string PresetValues;
   double VoxelSize = 0.0;
+  int Units = 0;
+  double BladeThickness = 0.0;
   int Resolution = 14;
   int MaximumVoxels = 2000000;
   double BladeMaterial[3] = { 0.02, 1000.0, 0.0 };
@@ -333,8 +350,8 @@ protected:
   double MarginMaterial[3] = { 0.03, 800.0, 0.0 };
   double PetioleMaterial[3] = { 0.05, 5000.0, 0.0 };
   double Gravity = 981.0;
-  double DroopForce = 2.0;
-  double ContractionForce = 1.0;
+  double DroopForce = 3.92;
+  double ContractionForce = 1.96;
   double DroopAsymmetry = 0.0;
   double ContractionAsymmetry = 0.0;
   double ShrinkageStrain = 0.0;

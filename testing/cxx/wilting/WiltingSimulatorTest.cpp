@@ -105,12 +105,14 @@ vtkSmartPointer<vtkPolyData> Midvein()
   return veins;
 }
 
-/// A quick, drooping Custom set-up: 1 cm voxels, 1 s in frames of 0.1 s.
+/// A quick, drooping Custom set-up: 1 cm voxels, 1 s in frames of 0.1 s, values per spring and per voxel (Units
+/// Lattice: these tests are about the wrapper; physical units are WiltingPhysicalUnitsTest's).
 vtkSmartPointer<vtkWiltingSimulator> Simulator(vtkPolyData* plate)
 {
   auto wilt = vtkSmartPointer<vtkWiltingSimulator>::New();
   wilt->SetInputData(plate);
   wilt->SetPreset(vtkWiltingSimulator::PRESET_CUSTOM);
+  wilt->SetUnits(1);
   wilt->SetVoxelSize(1.0);
   wilt->SetBladeMaterial(0.02, 2000.0, 0.0);
   wilt->SetMarginMaterial(0.02, 2000.0, 0.0);
