@@ -319,7 +319,7 @@ public:
         std::vector<vtkSmartPointer<vtkDataObject>> pieces;
         this->Controller->Gather(part ? part.Get() : empty.Get(), pieces, owner);
         if (this->MyRank == owner)
-          whole = Merge(pieces);
+          whole = detail::MergePolyPieces(pieces);
       }
       if (owner == this->MyRank)
         result.push_back(whole ? whole : vtkSmartPointer<vtkPolyData>::New());
@@ -368,26 +368,6 @@ public:
   }
 
 private:
-  static vtkSmartPointer<vtkPolyData> Merge(const std::vector<vtkSmartPointer<vtkDataObject>>& pieces)
-  {
-    vtkNew<vtkAppendPolyData> append;
-    for (const auto& received : pieces)
-    {
-      auto* polyData = vtkPolyData::SafeDownCast(received);
-      if (polyData && polyData->GetNumberOfPoints() > 0)
-        append->AddInputData(polyData);
-    }
-    vtkNew<vtkCleanPolyData> merge;
-    merge->SetInputConnection(append->GetOutputPort());
-    merge->PointMergingOn();
-    merge->SetTolerance(0.0);
-    merge->ConvertLinesToPointsOff();
-    merge->ConvertPolysToLinesOff();
-    merge->ConvertStripsToPolysOff();
-    merge->Update();
-    return merge->GetOutput();
-  }
-
   /// Every rank's (LeafId, count) pairs, then the owners (largest first, to the least loaded rank).
   void Plan(const std::map<int, vtkIdType>& counts)
   {

@@ -84,6 +84,29 @@ inline Gathered GatherPieces(vtkPointSet* piece, std::vector<vtkSmartPointer<vtk
   controller->Gather(WithoutGhostCells(piece), pieces, 0);
   return rankZero ? Gathered::Pieces : Gathered::Nothing;
 }
+/// Polygonal pieces appended in the given order, coincident points merged (tolerance 0), cells kept as they are.
+inline vtkSmartPointer<vtkPolyData> MergePolyPieces(const std::vector<vtkSmartPointer<vtkDataObject>>& pieces)
+{
+  vtkNew<vtkAppendPolyData> append;
+  for (const auto& received : pieces)
+  {
+    auto* polyData = vtkPolyData::SafeDownCast(received);
+    if (polyData && polyData->GetNumberOfPoints() > 0)
+    {
+      append->AddInputData(polyData);
+    }
+  }
+  vtkNew<vtkCleanPolyData> merge;
+  merge->SetInputConnection(append->GetOutputPort());
+  merge->PointMergingOn();
+  merge->SetTolerance(0.0);
+  merge->ConvertLinesToPointsOff();
+  merge->ConvertPolysToLinesOff();
+  merge->ConvertStripsToPolysOff();
+  merge->Update();
+  return merge->GetOutput();
+}
+
 } // namespace detail
 
 /// Collective over the global controller's ranks (every rank must call it, as every rank runs the filter): returns
@@ -103,24 +126,7 @@ inline vtkSmartPointer<vtkPolyData> GatherOnFirstRank(vtkPolyData* piece)
     case detail::Gathered::Pieces:
       break;
   }
-  vtkNew<vtkAppendPolyData> append;
-  for (const auto& received : pieces)
-  {
-    auto* polyData = vtkPolyData::SafeDownCast(received);
-    if (polyData && polyData->GetNumberOfPoints() > 0)
-    {
-      append->AddInputData(polyData);
-    }
-  }
-  vtkNew<vtkCleanPolyData> merge;
-  merge->SetInputConnection(append->GetOutputPort());
-  merge->PointMergingOn();
-  merge->SetTolerance(0.0);
-  merge->ConvertLinesToPointsOff();
-  merge->ConvertPolysToLinesOff();
-  merge->ConvertStripsToPolysOff();
-  merge->Update();
-  return merge->GetOutput();
+  return detail::MergePolyPieces(pieces);
 }
 
 /// The same for any point set (a measured cloud may come as an unstructured grid): polygonal data as above, other
