@@ -1,5 +1,7 @@
 #include "RayCaster.h"
 
+#include <plantmorph/RangeError.h>
+
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -114,6 +116,7 @@ bool IntersectTriangle(
 
 /// What a packet of beams (or one) carries through Embree's traversal: Embree hands the context to the callbacks
 /// (it comes first); each single-precision ray's id is its lane here, whichever way Embree regroups the rays.
+/// `best` is the exact nearest hit so far, in either geometry.
 struct BeamContext
 {
   RTCIntersectContext context;
@@ -126,12 +129,16 @@ struct BeamContext
 /// The data the callbacks see: the triangles' vertices copied in double precision, nine per triangle, in the
 /// Morton order of their centroids (Embree's primitive i is input triangle order[i]), so the triangles of one box of
 /// the hierarchy lie close together in memory.
+/// Triangles: the input's points in double precision and the triangles' point indices (Embree's primitive i is
+/// input triangle i).
 struct Surface
 {
   std::vector<double> vertices;
   std::vector<std::uint32_t> order;
   const double* centre;
   double pad;
+  std::vector<double> points;
+  std::vector<std::uint32_t> indices;
 };
 
 void TriangleBounds(const RTCBoundsFunctionArguments* args)
@@ -191,6 +198,38 @@ void TriangleIntersect(const RTCIntersectFunctionNArguments* args)
     RTCHitN_primID(hits, args->N, i) = args->primID;
   }
 }
+
+/// Triangle `index` of the Triangles surface through the exact test.
+bool TestIndexed(const Surface& s, const ShearedRay& r, std::uint32_t index, TriangleHit& best)
+{
+  const std::uint32_t* t = &s.indices[3 * static_cast<std::size_t>(index)];
+  return IntersectTriangle(r, &s.points[3 * static_cast<std::size_t>(t[0])],
+    &s.points[3 * static_cast<std::size_t>(t[1])], &s.points[3 * static_cast<std::size_t>(t[2])], index, best);
+}
+
+/// Embree's intersection filter on the single-precision (enlarged) triangles: a candidate is kept only when the
+/// exact test on the input's triangle improved the beam's nearest hit, and then the far distance is the exact
+/// one's, rounded up (as the user geometry does), so nothing the exact test could prefer is culled by
+/// single-precision rounding; a rejected candidate lets Embree go on to the triangles behind it.
+void TriangleFilter(const RTCFilterFunctionNArguments* args)
+{
+  const auto* s = static_cast<const Surface*>(args->geometryUserPtr);
+  auto* beams = reinterpret_cast<BeamContext*>(const_cast<RTCIntersectContext*>(args->context));
+  for (unsigned i = 0; i < args->N; ++i)
+  {
+    if (args->valid[i] == 0)
+      continue;
+    const unsigned lane = RTCRayN_id(args->ray, args->N, i);
+    const std::uint32_t index = RTCHitN_primID(args->hit, args->N, i);
+    if (!TestIndexed(*s, beams->ray[lane], index, beams->best[lane]))
+    {
+      args->valid[i] = 0;
+      continue;
+    }
+    RTCRayN_tfar(args->ray, args->N, i) =
+      static_cast<float>((beams->best[lane].t - beams->start[lane]) * (1.0 + 1e-6) + beams->slack[lane]);
+  }
+}
 } // namespace
 
 struct RayCaster::Callbacks
@@ -227,21 +266,128 @@ std::size_t RayCaster::PeakBytes() const
 
 std::size_t RayCaster::MemoryBytes() const
 {
-  const std::size_t own =
-    this->User ? this->User->surface.vertices.size() * sizeof(double) + this->User->surface.order.size() * 4 : 0;
+  std::size_t own = 0;
+  if (this->User)
+  {
+    const Surface& s = this->User->surface;
+    own = (s.vertices.size() + s.points.size()) * sizeof(double) + (s.order.size() + s.indices.size()) * 4;
+  }
   return own + (this->Impl ? static_cast<std::size_t>(std::max<std::int64_t>(0, this->Impl->bytes.load())) : 0);
+}
+
+std::string ValidateRayCasterParameters(const RayCasterParameters& p)
+{
+  std::string error = CheckRange(
+    p.buildQuality >= 0 && p.buildQuality <= 2, "buildQuality", p.buildQuality, "{0, 1, 2}", "0 low, 1 medium, 2 high");
+  if (error.empty())
+    error = CheckRange(p.packetWidth == 1 || p.packetWidth == 4 || p.packetWidth == 8 || p.packetWidth == 16,
+      "packetWidth", p.packetWidth, "{1, 4, 8, 16}");
+  if (error.empty())
+    error = CheckRange(p.buildThreads >= 0, "buildThreads", p.buildThreads, "[0, inf)", "0: all");
+  return error;
 }
 
 std::string RayCaster::Build(
   const std::vector<double>& points, const std::vector<std::int64_t>& triangles, int buildThreads)
 {
+  RayCasterParameters parameters;
+  parameters.buildThreads = buildThreads;
+  return this->Build(points, triangles, parameters);
+}
+
+namespace
+{
+/// ExactUser: the triangles' vertices in double precision, nine per triangle, in the Morton order of their centroids.
+void CopyMortonOrdered(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
+  const double lo[3], double size, Surface& surface)
+{
+  const std::size_t nt = triangles.size() / 3;
+  std::vector<std::uint64_t> keys(nt);
+  for (std::size_t i = 0; i < nt; ++i)
+  {
+    double x[3] = { 0.0, 0.0, 0.0 };
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        x[k] += points[3 * static_cast<std::size_t>(triangles[3 * i + j]) + k] / 3.0;
+    std::uint32_t code = 0;
+    for (int k = 0; k < 3; ++k)
+      code |= Spread(size > 0.0 ? (x[k] - lo[k]) / size : 0.0) << k;
+    keys[i] = (static_cast<std::uint64_t>(code) << 32) | i;
+  }
+  std::sort(keys.begin(), keys.end());
+  surface.order.resize(nt);
+  surface.vertices.resize(9 * nt);
+  for (std::size_t i = 0; i < nt; ++i)
+  {
+    const auto t = static_cast<std::uint32_t>(keys[i] & 0xFFFFFFFFu);
+    surface.order[i] = t;
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        surface.vertices[9 * i + 3 * j + k] = points[3 * static_cast<std::size_t>(triangles[3 * t + j]) + k];
+  }
+}
+
+/// Triangles: the points in double precision and the indices.
+void CopyIndexed(const std::vector<double>& points, const std::vector<std::int64_t>& triangles, Surface& surface)
+{
+  surface.points = points;
+  surface.indices.resize(triangles.size());
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    surface.indices[i] = static_cast<std::uint32_t>(triangles[i]);
+}
+
+/// Triangle `t` relative to `centre`, its edges moved outwards in its plane by `grow` (each vertex along its angle's
+/// bisector by grow / sin(angle / 2), at most 1000 grow), in single precision: nine floats.
+void EnlargedTriangle(
+  const std::vector<double>& points, const std::int64_t* t, const double* centre, double grow, float* out)
+{
+  double v[3][3];
+  for (int j = 0; j < 3; ++j)
+    for (int k = 0; k < 3; ++k)
+      v[j][k] = points[3 * static_cast<std::size_t>(t[j]) + k] - centre[k];
+  for (int j = 0; j < 3; ++j)
+  {
+    double u[2][3], length[2];
+    for (int e = 0; e < 2; ++e)
+    {
+      const double* q = v[(j + 1 + e) % 3];
+      for (int k = 0; k < 3; ++k)
+        u[e][k] = q[k] - v[j][k];
+      length[e] = std::sqrt(u[e][0] * u[e][0] + u[e][1] * u[e][1] + u[e][2] * u[e][2]);
+    }
+    double sum[3], difference = 0.0, along = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double a = length[0] > 0.0 ? u[0][k] / length[0] : 0.0, b = length[1] > 0.0 ? u[1][k] / length[1] : 0.0;
+      sum[k] = a + b; // along the bisector, into the triangle
+      difference += (a - b) * (a - b);
+      along += sum[k] * sum[k];
+    }
+    along = std::sqrt(along);
+    // |a - b| = 2 sin(angle / 2): the vertex moves grow / sin(angle / 2) (degenerate corners: not moved; such
+    // triangles are never hit by the exact test).
+    const double move =
+      along > 0.0 && difference > 0.0 ? std::min(1000.0 * grow, 2.0 * grow / std::sqrt(difference)) : 0.0;
+    for (int k = 0; k < 3; ++k)
+      out[3 * j + k] = static_cast<float>(v[j][k] - (along > 0.0 ? move * sum[k] / along : 0.0));
+  }
+}
+} // namespace
+
+std::string RayCaster::Build(
+  const std::vector<double>& points, const std::vector<std::int64_t>& triangles, const RayCasterParameters& parameters)
+{
   this->Release();
   this->Impl = new Embree;
   this->User = new Callbacks;
   this->Count = 0;
+  this->Settings = parameters;
+  std::string error = ValidateRayCasterParameters(parameters);
+  if (!error.empty())
+    return error;
   const std::size_t nt = triangles.size() / 3;
-  if (nt >= (std::size_t(1) << 32))
-    return "Input: more than 2^32 triangles";
+  if (3 * nt >= (std::size_t(1) << 32) || points.size() / 3 >= (std::size_t(1) << 32))
+    return "Input: more than 2^32 / 3 triangles or 2^32 points";
   // The bounding box of the triangles' vertices; the single-precision boxes are relative to its centre.
   double lo[3] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
     std::numeric_limits<double>::infinity() };
@@ -273,52 +419,67 @@ std::string RayCaster::Build(
   Surface& surface = this->User->surface;
   surface.centre = this->Centre;
   surface.pad = pad;
-  {
-    // Morton order of the centroids in the box.
-    std::vector<std::uint64_t> keys(nt);
-    for (std::size_t i = 0; i < nt; ++i)
-    {
-      double x[3] = { 0.0, 0.0, 0.0 };
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k)
-          x[k] += points[3 * static_cast<std::size_t>(triangles[3 * i + j]) + k] / 3.0;
-      std::uint32_t code = 0;
-      for (int k = 0; k < 3; ++k)
-        code |= Spread(size > 0.0 ? (x[k] - lo[k]) / size : 0.0) << k;
-      keys[i] = (static_cast<std::uint64_t>(code) << 32) | i;
-    }
-    std::sort(keys.begin(), keys.end());
-    surface.order.resize(nt);
-    surface.vertices.resize(9 * nt);
-    for (std::size_t i = 0; i < nt; ++i)
-    {
-      const auto t = static_cast<std::uint32_t>(keys[i] & 0xFFFFFFFFu);
-      surface.order[i] = t;
-      for (int j = 0; j < 3; ++j)
-        for (int k = 0; k < 3; ++k)
-          surface.vertices[9 * i + 3 * j + k] = points[3 * static_cast<std::size_t>(triangles[3 * t + j]) + k];
-    }
-  }
+  if (parameters.geometry == RayCasterParameters::Geometry::ExactUser)
+    CopyMortonOrdered(points, triangles, lo, size, surface);
+  else
+    CopyIndexed(points, triangles, surface);
+  error = this->BuildScene(points, triangles);
+  if (error.empty())
+    this->Count = nt;
+  return error;
+}
 
-  const std::string config = "threads=" + std::to_string(std::max(0, buildThreads));
+std::string RayCaster::BuildScene(const std::vector<double>& points, const std::vector<std::int64_t>& triangles)
+{
+  const std::size_t nt = triangles.size() / 3;
+  const std::string config = "threads=" + std::to_string(std::max(0, this->Settings.buildThreads));
   RTCDevice device = rtcNewDevice(config.c_str());
   if (!device)
-  {
     return DeviceError(nullptr, "rtcNewDevice (is the CPU supported?)");
-  }
   this->Impl->device = device;
   rtcSetDeviceMemoryMonitorFunction(device, CountMemory, this->Impl);
   RTCScene scene = rtcNewScene(device);
   this->Impl->scene = scene;
   rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-  if (nt > 0)
+  const RTCBuildQuality quality[3] = { RTC_BUILD_QUALITY_LOW, RTC_BUILD_QUALITY_MEDIUM, RTC_BUILD_QUALITY_HIGH };
+  rtcSetSceneBuildQuality(scene, quality[this->Settings.buildQuality]);
+  Surface& surface = this->User->surface;
+  if (nt > 0 && this->Settings.geometry == RayCasterParameters::Geometry::ExactUser)
   {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryBuildQuality(geometry, quality[this->Settings.buildQuality]);
     rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(nt));
-    rtcSetGeometryUserData(geometry, &this->User->surface);
+    rtcSetGeometryUserData(geometry, &surface);
     rtcSetGeometryBoundsFunction(geometry, TriangleBounds, nullptr);
     rtcSetGeometryIntersectFunction(geometry, TriangleIntersect);
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  else if (nt > 0)
+  {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryBuildQuality(geometry, quality[this->Settings.buildQuality]);
+    auto* vertices = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * nt));
+    auto* indices = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
+    if (!vertices || !indices)
+    {
+      rtcReleaseGeometry(geometry);
+      return DeviceError(device, "allocating the triangle buffers");
+    }
+    // Each triangle its own three vertices, relative to the box's centre (single precision relative to the
+    // surface's size) and enlarged by the padding: a beam the exact test finds on a triangle passes well inside its
+    // single-precision candidate, so Embree's test proposes it (no slip at shared vertices and edges).
+    for (std::size_t i = 0; i < nt; ++i)
+    {
+      EnlargedTriangle(points, &triangles[3 * i], this->Centre, this->Pad, vertices + 9 * i);
+      for (unsigned j = 0; j < 3; ++j)
+        indices[3 * i + j] = static_cast<unsigned>(3 * i + j);
+    }
+    rtcSetGeometryUserData(geometry, &surface);
+    rtcSetGeometryIntersectFilterFunction(geometry, TriangleFilter);
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene, geometry);
     rtcReleaseGeometry(geometry);
@@ -326,7 +487,6 @@ std::string RayCaster::Build(
   rtcCommitScene(scene);
   if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
     return DeviceError(device, "building the scene");
-  this->Count = nt;
   return {};
 }
 
@@ -415,6 +575,52 @@ TriangleHit RayCaster::Intersect(const double origin[3], const double direction[
   return beams.best[0].Hit() ? beams.best[0] : TriangleHit{};
 }
 
+namespace
+{
+/// Beams [0, count) of `origins`, `directions` cast as Embree packets of W lanes (`Packet` RTCRayHitNt<W>).
+template <unsigned W, typename Intersector>
+void CastPackets(RTCScene scene, const double* centre, const double* box, double margin, double pad, std::size_t count,
+  const double* origins, const double* directions, double tMax, TriangleHit* hits, Intersector intersect)
+{
+  for (std::size_t first = 0; first < count; first += W)
+  {
+    BeamContext beams;
+    alignas(64) RTCRayHitNt<W> packet;
+    alignas(64) int valid[W];
+    int active = 0;
+    for (unsigned i = 0; i < W; ++i)
+    {
+      const std::size_t b = first + i;
+      valid[i] = b < count &&
+          PrepareLane(origins + 3 * b, directions + 3 * b, tMax, centre, box, margin, pad, beams, i, packet.ray)
+        ? -1
+        : 0;
+      packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+      active += valid[i] ? 1 : 0;
+    }
+    if (active == 0)
+      continue;
+    rtcInitIntersectContext(&beams.context);
+    beams.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    intersect(valid, scene, &beams.context, &packet);
+    for (unsigned i = 0; i < W && first + i < count; ++i)
+      if (valid[i] && beams.best[i].Hit())
+        hits[first + i] = beams.best[i];
+  }
+}
+} // namespace
+
+bool RayCaster::SetPacketWidth(unsigned width)
+{
+  RayCasterParameters p = this->Settings;
+  p.packetWidth = width;
+  if (!ValidateRayCasterParameters(p).empty())
+    return false;
+  this->Settings.packetWidth = width;
+  return true;
+}
+
 void RayCaster::Intersect(
   std::size_t count, const double* origins, const double* directions, double tMax, TriangleHit* hits) const
 {
@@ -423,33 +629,32 @@ void RayCaster::Intersect(
     hits[i] = TriangleHit{};
   if (this->Count == 0 || count == 0)
     return;
-  BeamContext beams;
-  alignas(64) RTCRayHitNt<PacketSize> packet;
-  alignas(64) int valid[PacketSize];
-  int active = 0;
-  for (unsigned i = 0; i < PacketSize; ++i)
+  RTCScene scene = this->Impl->scene;
+  const double *c = this->Centre, *box = this->Box;
+  switch (this->Settings.packetWidth)
   {
-    valid[i] = i < count &&
-        PrepareLane(origins + 3 * i, directions + 3 * i, tMax, this->Centre, this->Box, this->Margin, this->Pad, beams,
-          i, packet.ray)
-      ? -1
-      : 0;
-    packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    active += valid[i] ? 1 : 0;
+    case 16:
+      CastPackets<16>(scene, c, box, this->Margin, this->Pad, count, origins, directions, tMax, hits,
+        [](const int* v, RTCScene s, RTCIntersectContext* x, RTCRayHitNt<16>* r) {
+          rtcIntersect16(v, s, x, reinterpret_cast<RTCRayHit16*>(r));
+        });
+      break;
+    case 8:
+      CastPackets<8>(scene, c, box, this->Margin, this->Pad, count, origins, directions, tMax, hits,
+        [](const int* v, RTCScene s, RTCIntersectContext* x, RTCRayHitNt<8>* r) {
+          rtcIntersect8(v, s, x, reinterpret_cast<RTCRayHit8*>(r));
+        });
+      break;
+    case 4:
+      CastPackets<4>(scene, c, box, this->Margin, this->Pad, count, origins, directions, tMax, hits,
+        [](const int* v, RTCScene s, RTCIntersectContext* x, RTCRayHitNt<4>* r) {
+          rtcIntersect4(v, s, x, reinterpret_cast<RTCRayHit4*>(r));
+        });
+      break;
+    default:
+      for (std::size_t i = 0; i < count; ++i)
+        hits[i] = this->Intersect(origins + 3 * i, directions + 3 * i, tMax);
   }
-  if (active == 0)
-    return;
-  rtcInitIntersectContext(&beams.context);
-  beams.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  static_assert(PacketSize == 8 || PacketSize == 16, "Embree packets of 8 or 16");
-  if (PacketSize == 16)
-    rtcIntersect16(valid, this->Impl->scene, &beams.context, reinterpret_cast<RTCRayHit16*>(&packet));
-  else
-    rtcIntersect8(valid, this->Impl->scene, &beams.context, reinterpret_cast<RTCRayHit8*>(&packet));
-  for (std::size_t i = 0; i < count; ++i)
-    if (valid[i] && beams.best[i].Hit())
-      hits[i] = beams.best[i];
 }
 
 } // namespace plantmorph

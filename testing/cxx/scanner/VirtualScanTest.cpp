@@ -383,6 +383,139 @@ TEST(RayCaster, FarFromTheOriginStaysExactAndWatertight)
   EXPECT_EQ(missed, 0u);
 }
 
+TEST(RayCaster, EveryGeometryQualityAndPacketWidthGivesTheSameExactHits)
+{
+  // The exact user geometry cast one beam at a time is the reference; Embree's enlarged single-precision triangles
+  // with the double-precision filter, every build quality and every packet width must give the same triangle,
+  // distance and barycentrics bit for bit: beams through an icosphere's shared vertices and edge midpoints (from
+  // inside and outside), through a grid's shared edges (ties), and random beams (some missing everything).
+  Mesh scene = Icosphere(3, 1.0);
+  scene.Append(Square(-2, 2, -2, 2, -1.5, 6));
+  scene.Append(Icosphere(2, 0.3, { 1.4, 0.3, 0.2 }));
+  std::vector<double> origins, directions;
+  for (std::size_t i = 0; i < 642; ++i) // the level-3 icosphere's vertices
+  {
+    const double* x = &scene.points[3 * i];
+    origins.insert(origins.end(), { 0.1, -0.2, 0.05 });
+    directions.insert(directions.end(), { x[0] - 0.1, x[1] + 0.2, x[2] - 0.05 });
+    origins.insert(origins.end(), { 3 * x[0], 3 * x[1], 3 * x[2] });
+    directions.insert(directions.end(), { -x[0], -x[1], -x[2] });
+  }
+  for (std::size_t t = 0; t < 1280; t += 3) // edge midpoints of the icosphere, from inside
+  {
+    const double* a = &scene.points[3 * scene.triangles[3 * t]];
+    const double* b = &scene.points[3 * scene.triangles[3 * t + 1]];
+    origins.insert(origins.end(), { -0.3, 0.3, 0.3 });
+    directions.insert(
+      directions.end(), { 0.5 * (a[0] + b[0]) + 0.3, 0.5 * (a[1] + b[1]) - 0.3, 0.5 * (a[2] + b[2]) - 0.3 });
+  }
+  for (int i = 0; i <= 12; ++i) // the grid's shared edges, from straight above (beside the sphere)
+    for (int j = 0; j <= 12; ++j)
+    {
+      origins.insert(origins.end(), { -2.0 + i / 3.0, -2.0 + j / 6.0, 3.0 });
+      directions.insert(directions.end(), { 0.0, 0.0, -1.0 });
+    }
+  RandomStream random(11);
+  for (int i = 0; i < 1500; ++i)
+  {
+    origins.insert(origins.end(), { random.Uniform(-3, 3), random.Uniform(-3, 3), random.Uniform(-3, 3) });
+    directions.insert(directions.end(), { random.Normal(), random.Normal(), random.Normal() });
+  }
+  const std::size_t beams = origins.size() / 3;
+  RayCasterParameters exact;
+  exact.geometry = RayCasterParameters::Geometry::ExactUser;
+  exact.buildQuality = 2;
+  RayCaster reference;
+  ASSERT_EQ(reference.Build(scene.points, scene.triangles, exact), "");
+  std::vector<TriangleHit> expected(beams);
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < beams; ++i)
+  {
+    expected[i] = reference.Intersect(&origins[3 * i], &directions[3 * i], 100.0);
+    hits += expected[i].Hit() ? 1 : 0;
+  }
+  EXPECT_GT(hits, beams / 2);
+  EXPECT_LT(hits, beams);
+  for (auto geometry : { RayCasterParameters::Geometry::Triangles, RayCasterParameters::Geometry::ExactUser })
+    for (int quality : { 0, 1, 2 })
+    {
+      RayCasterParameters parameters;
+      parameters.geometry = geometry;
+      parameters.buildQuality = quality;
+      RayCaster caster;
+      ASSERT_EQ(caster.Build(scene.points, scene.triangles, parameters), "");
+      for (unsigned width : { 1u, 4u, 8u, 16u })
+      {
+        ASSERT_TRUE(caster.SetPacketWidth(width));
+        std::size_t different = 0;
+        for (std::size_t first = 0; first < beams; first += RayCaster::PacketSize)
+        {
+          TriangleHit got[RayCaster::PacketSize];
+          const std::size_t n = std::min<std::size_t>(RayCaster::PacketSize, beams - first);
+          caster.Intersect(n, &origins[3 * first], &directions[3 * first], 100.0, got);
+          for (std::size_t j = 0; j < n; ++j)
+          {
+            const TriangleHit& e = expected[first + j];
+            different += got[j].triangle != e.triangle || std::memcmp(&got[j].t, &e.t, sizeof(double)) != 0 ||
+                std::memcmp(&got[j].u, &e.u, sizeof(double)) != 0 || std::memcmp(&got[j].v, &e.v, sizeof(double)) != 0
+              ? 1
+              : 0;
+          }
+        }
+        EXPECT_EQ(different, 0u) << "of " << beams << " beams, geometry " << static_cast<int>(geometry) << " quality "
+                                 << quality << " width " << width;
+      }
+    }
+}
+
+TEST(RayCaster, NearlyCoplanarSurfacesGiveTheNearerOne)
+{
+  // Two separate squares 1e-9 apart (single precision cannot tell them apart at this scale) with different
+  // triangulations: every beam from above must report the upper one at its exact distance.
+  Mesh scene = Square(-1, 1, -1, 1, 0.0, 5);
+  const auto lower = static_cast<std::int64_t>(scene.triangles.size() / 3);
+  scene.Append(Square(-1, 1, -1, 1, 1e-9, 3));
+  for (auto geometry : { RayCasterParameters::Geometry::Triangles, RayCasterParameters::Geometry::ExactUser })
+  {
+    RayCasterParameters parameters;
+    parameters.geometry = geometry;
+    RayCaster caster;
+    ASSERT_EQ(caster.Build(scene.points, scene.triangles, parameters), "");
+    RandomStream random(5);
+    int wrong = 0;
+    for (int i = 0; i < 4000; ++i)
+    {
+      const double o[3] = { random.Uniform(-0.5, 0.5), random.Uniform(-0.5, 0.5), 2.0 };
+      const double d[3] = { random.Uniform(-0.7, 0.7) - o[0], random.Uniform(-0.7, 0.7) - o[1], -2.0 };
+      const TriangleHit hit = caster.Intersect(o, d, 10.0);
+      const double t = (1e-9 - o[2]) / d[2];
+      wrong += hit.triangle >= lower && std::abs(hit.t - t) <= 1e-15 ? 0 : 1;
+    }
+    EXPECT_EQ(wrong, 0) << "geometry " << static_cast<int>(geometry);
+  }
+}
+
+TEST(RayCaster, BadParametersAreRefusedWithTheirNames)
+{
+  const Mesh scene = Icosphere(1, 1.0);
+  RayCasterParameters parameters;
+  parameters.packetWidth = 3;
+  RayCaster caster;
+  EXPECT_EQ(caster.Build(scene.points, scene.triangles, parameters),
+    "packetWidth = 3 is outside the accepted range {1, 4, 8, 16}");
+  const double o[3] = { 0, 0, 5 }, d[3] = { 0, 0, -1 };
+  EXPECT_FALSE(caster.Intersect(o, d, 10).Hit()); // empty: every beam misses
+  parameters.packetWidth = 8;
+  parameters.buildQuality = 3;
+  EXPECT_EQ(caster.Build(scene.points, scene.triangles, parameters),
+    "buildQuality = 3 is outside the accepted range {0, 1, 2} (0 low, 1 medium, 2 high)");
+  parameters.buildQuality = 1;
+  ASSERT_EQ(caster.Build(scene.points, scene.triangles, parameters), "");
+  EXPECT_TRUE(caster.Intersect(o, d, 10).Hit());
+  EXPECT_FALSE(caster.SetPacketWidth(5));
+  EXPECT_EQ(caster.Parameters().packetWidth, 8u);
+}
+
 TEST(VirtualScan, SphereFromOutsideGivesTheVisibleCapAndItsSolidAngle)
 {
   const double R = 1.0, D = 5.0;
