@@ -7,13 +7,14 @@
 // 45 x 45 degrees, its step giving 10^5, 10^6 or 10^7 beams (about 40 % hit), cast in the pattern's order (coherent:
 // neighbouring beams are neighbouring directions).
 //
-//   BM_Build/caster:C/tris:N           the hierarchy's build, C = 0 Embree (RayCaster::Build, all build threads),
-//                                      1 our BVH (serial); bytes of the hierarchy, peak memory.
+//   BM_Build/caster:C/tris:N           the hierarchy's build, C = 0 Embree (RayCaster::Build, all build threads,
+//                                      defaults), 2 Embree's user geometry, 1 our BVH (serial); bytes, peak memory.
 //   BM_Cast/caster:C/tris:N/beams:B/threads:T
 //                                      nearest hit per beam, beams made by the pattern, no cloud (the caster
-//                                      alone); C = 0 RayCaster one beam at a time (rtcIntersect1), 2 RayCaster in
-//                                      packets of 8 (rtcIntersect8, as CastBeams casts), 1 our BVH; T = 1 or 2
-//                                      std::threads over consecutive halves.
+//                                      alone); C = 0 RayCaster (defaults) one beam at a time, 2 RayCaster in its
+//                                      default packets (as CastBeams casts), 3 the exact user geometry in packets
+//                                      (the plugin's caster before), 1 our BVH; T = 1 or 2 std::threads over
+//                                      consecutive halves.
 //   BM_EmbreePacket/width:W/tris:N/beams:B
 //                                      Embree's own single-precision triangles (not watertight: the plugin does not
 //                                      use them, see RayCaster.h), serial: W = 1 rtcIntersect1,
@@ -22,9 +23,14 @@
 //   BM_CastBeams/tris:N/beams:B/threads:T
 //                                      the plugin's casting layer: scanner/core CastBeams (pattern, Embree, double
 //                                      refinement, normals, intensity, compaction into the cloud).
-//   BM_Filter/tris:N/beams:B           the whole filter: vtkVirtualScanner on a vtkPolyData (triangulation, the
-//                                      caster's build, the cast on vtkSMPTools' STDThread backend, every core, the
-//                                      cloud and its labels).
+//   BM_Filter/tris:N/beams:B           the whole filter: vtkVirtualScanner on a vtkPolyData re-run after a
+//                                      property change (the triangulation and the caster kept from the untimed
+//                                      first run, whose wall time is first_run_s): the cast on vtkSMPTools'
+//                                      STDThread backend, every core, and the output stage (the cloud, its arrays).
+//   BM_CasterOptions/geometry:G/quality:Q/tris:N/width:W
+//                                      RayCaster's choices, 10^6 beams, one thread: G = 0 Embree's triangles + the
+//                                      double-precision filter (the default), 1 the exact user geometry; Q Embree's
+//                                      build quality 0 low, 1 medium, 2 high; W beams per Embree call (1, 4, 8, 16).
 //   BM_VtkStaticCellLocator/tris:N     vtkStaticCellLocator::IntersectWithLine, 2000 beams spread over the 10^5-beam
 //                                      scan, serial; BM_VtkOBBTree the same with vtkOBBTree, 200 beams.
 // Counters: beams_per_s (per wall second where the family uses real time: threads:2, the filter; per CPU second of
@@ -204,11 +210,31 @@ void Rates(benchmark::State& state, double tris, double beams, double hits, doub
   state.counters["beams_per_s"] = benchmark::Counter(beams, benchmark::Counter::kIsIterationInvariantRate);
 }
 
-template <typename Caster>
-double TimedBuild(Caster& caster, const Scene& scene)
+/// The caster's parameters: geometry 0 Triangles (+ double filter), 1 ExactUser; quality -1 and width 0: defaults.
+plantmorph::RayCasterParameters Options(int geometry, int quality = -1, unsigned width = 0)
+{
+  plantmorph::RayCasterParameters p;
+  p.geometry = geometry == 1 ? plantmorph::RayCasterParameters::Geometry::ExactUser
+                             : plantmorph::RayCasterParameters::Geometry::Triangles;
+  if (quality >= 0)
+    p.buildQuality = quality;
+  if (width > 0)
+    p.packetWidth = width;
+  return p;
+}
+
+double TimedBuild(plantmorph::TriangleBVH& caster, const Scene& scene)
 {
   const auto start = std::chrono::steady_clock::now();
   caster.Build(scene.points, scene.triangles);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double TimedBuild(plantmorph::RayCaster& caster, const Scene& scene,
+  const plantmorph::RayCasterParameters& parameters = plantmorph::RayCasterParameters{})
+{
+  const auto start = std::chrono::steady_clock::now();
+  caster.Build(scene.points, scene.triangles, parameters);
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -220,10 +246,10 @@ void BM_Build(benchmark::State& state)
   double bytes = 0.0;
   for (auto _ : state)
   {
-    if (state.range(0) == 0)
+    if (state.range(0) != 1)
     {
       plantmorph::RayCaster caster;
-      caster.Build(scene.points, scene.triangles);
+      caster.Build(scene.points, scene.triangles, Options(state.range(0) == 2 ? 1 : 0));
       bytes = static_cast<double>(caster.MemoryBytes());
     }
     else
@@ -313,7 +339,7 @@ void BM_Cast(benchmark::State& state)
   if (state.range(0) != 1)
   {
     plantmorph::RayCaster caster;
-    build = TimedBuild(caster, scene);
+    build = TimedBuild(caster, scene, Options(state.range(0) == 3 ? 1 : 0));
     memory.Start();
     cpu = CpuMeter{};
     if (state.range(0) == 0)
@@ -333,6 +359,37 @@ void BM_Cast(benchmark::State& state)
   Rates(state, static_cast<double>(scene.triangles.size() / 3), static_cast<double>(pattern.BeamCount()),
     static_cast<double>(hits), build);
   memory.Report(state);
+}
+
+/// The caster's choices on 10^6 beams, one thread: geometry, Embree's build quality and the packet width; the
+/// caster of the previous run is reused when only the width changed (the build is not what this measures).
+void BM_CasterOptions(benchmark::State& state)
+{
+  static std::unique_ptr<plantmorph::RayCaster> caster;
+  static std::int64_t key = -1;
+  static double build = 0.0;
+  const int geometry = static_cast<int>(state.range(0)), quality = static_cast<int>(state.range(1));
+  const Scene& scene = Field(state.range(2));
+  const auto width = static_cast<unsigned>(state.range(3));
+  const std::int64_t want = (state.range(2) * 4 + quality) * 2 + geometry;
+  if (key != want)
+  {
+    caster.reset();
+    caster = std::make_unique<plantmorph::RayCaster>();
+    build = TimedBuild(*caster, scene, Options(geometry, quality));
+    key = want;
+  }
+  if (!caster->SetPacketWidth(width))
+    return state.SkipWithError("width");
+  const plantmorph::ScannerParameters p = Scan(1000000);
+  plantmorph::BeamPattern pattern;
+  if (!pattern.Setup(p).empty())
+    return state.SkipWithError("pattern");
+  std::size_t hits = 0;
+  CastAll(state, Packets{ *caster }, pattern, p.maximumRange, 1, hits);
+  Rates(state, static_cast<double>(scene.triangles.size() / 3), static_cast<double>(pattern.BeamCount()),
+    static_cast<double>(hits), build);
+  state.counters["hierarchy_bytes"] = plantmorph_benchmarks::Bytes(static_cast<double>(caster->MemoryBytes()));
 }
 
 /// Embree's packet and stream calls on the scanner's beams (a scene committed the way RayCaster does).
@@ -522,6 +579,12 @@ void BM_Filter(benchmark::State& state)
   filter->SetAngularStep(p.angularStep);
   filter->SetMaximumRange(p.maximumRange);
   filter->SetMaximumBeams(static_cast<double>(p.maximumBeams));
+  // The first run (untimed) triangulates and builds; the timed runs re-run the scan on the kept caster, as changing
+  // a scanner property in ParaView does (the build is BM_Build's).
+  const auto start = std::chrono::steady_clock::now();
+  filter->Update();
+  const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  filter->GetOutput()->Initialize();
   PeakMemoryProbe memory;
   memory.Start();
   CpuMeter cpu;
@@ -537,6 +600,7 @@ void BM_Filter(benchmark::State& state)
   pattern.Setup(p);
   Rates(
     state, static_cast<double>(scene.triangles.size() / 3), static_cast<double>(pattern.BeamCount()), returns, -1.0);
+  state.counters["first_run_s"] = first;
   memory.Report(state);
 }
 
@@ -605,18 +669,26 @@ void BM_VtkStaticCellLocator(benchmark::State& state)
 
 BENCHMARK(BM_Build)
   ->ArgNames({ "caster", "tris" })
-  ->ArgsProduct({ { 0, 1 }, { 10000, 100000, 1000000, 10000000 } })
+  ->ArgsProduct({ { 0, 2, 1 }, { 10000, 100000, 1000000, 10000000 } })
   ->Unit(benchmark::kMillisecond)
   ->UseRealTime();
 BENCHMARK(BM_Cast)
   ->ArgNames({ "caster", "tris", "beams", "threads" })
-  ->ArgsProduct({ { 0, 2, 1 }, { 10000, 100000, 1000000, 10000000 }, { 1000000 }, { 1 } })
+  ->ArgsProduct({ { 0, 2, 3, 1 }, { 10000, 100000, 1000000, 10000000 }, { 1000000 }, { 1 } })
   ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Cast)
   ->ArgNames({ "caster", "tris", "beams", "threads" })
-  ->ArgsProduct({ { 2, 1 }, { 10000, 100000, 1000000, 10000000 }, { 1000000, 10000000 }, { 2 } })
+  ->ArgsProduct({ { 2, 3, 1 }, { 10000, 100000, 1000000, 10000000 }, { 1000000, 10000000 }, { 2 } })
   ->Unit(benchmark::kMillisecond)
   ->UseRealTime();
+BENCHMARK(BM_CasterOptions)
+  ->ArgNames({ "geometry", "quality", "tris", "width" })
+  ->ArgsProduct({ { 0, 1 }, { 1 }, { 10000, 1000000, 10000000 }, { 1, 4, 8, 16 } })
+  ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CasterOptions)
+  ->ArgNames({ "geometry", "quality", "tris", "width" })
+  ->ArgsProduct({ { 0, 1 }, { 0, 2 }, { 10000, 1000000, 10000000 }, { 8 } })
+  ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EmbreePacket)
   ->ArgNames({ "width", "tris", "beams" })
   ->ArgsProduct({ { 1, 4, 8, 16, 0 }, { 10000, 1000000 }, { 1000000 } })
@@ -628,7 +700,7 @@ BENCHMARK(BM_CastBeams)
   ->UseRealTime();
 BENCHMARK(BM_Filter)
   ->ArgNames({ "tris", "beams" })
-  ->ArgsProduct({ { 10000, 1000000, 10000000 }, { 1000000, 10000000 } })
+  ->ArgsProduct({ { 10000, 1000000, 10000000 }, { 100000, 1000000, 10000000 } })
   ->Unit(benchmark::kMillisecond)
   ->UseRealTime();
 BENCHMARK(BM_VtkStaticCellLocator)

@@ -244,6 +244,12 @@ RayCaster::~RayCaster()
   this->Release();
 }
 
+void RayCaster::Clear()
+{
+  this->Release();
+  this->Count = 0;
+}
+
 void RayCaster::Release()
 {
   if (this->Impl)

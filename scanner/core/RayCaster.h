@@ -91,6 +91,9 @@ public:
   void Intersect(
     std::size_t count, const double* origins, const double* directions, double tMax, TriangleHit* hits) const;
 
+  /// Releases the hierarchy and Embree's device now (the caster is then empty: every beam misses).
+  void Clear();
+
   std::size_t TriangleCount() const { return this->Count; }
   const RayCasterParameters& Parameters() const { return this->Settings; }
   /// The packet width may change after Build (it is read at cast time); false (unchanged) unless 1, 4, 8 or 16.

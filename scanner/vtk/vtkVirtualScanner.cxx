@@ -28,7 +28,11 @@
 #include "vtkSMPTools.h"
 
 #include <cmath>
+#include <algorithm>
+#include <cstdlib>
 #include <cstring>
+#include <memory>
+#include <mutex>
 #include <sstream>
 #include <string>
 
@@ -78,14 +82,45 @@ std::string Triangulate(
   return plantmorph::ValidateSurface(points, triangles);
 }
 
-/// Port 0: the cloud with its arrays and the hit cells' arrays.
+/// True when `name` is one of the cloud's own arrays or the ghost array: not carried from the input.
+bool Reserved(const char* name)
+{
+  if (!name || std::strcmp(name, vtkDataSetAttributes::GhostArrayName()) == 0)
+    return true;
+  for (const char* ours : OwnArrays)
+    if (std::strcmp(name, ours) == 0)
+      return true;
+  return false;
+}
+
+/// Arrays whose tuples threads may write side by side (plain arrays of values; not bit arrays, not implicit ones).
+bool Contiguous(vtkAbstractArray* array)
+{
+  return array->GetArrayType() == vtkAbstractArray::AoSDataArrayTemplate;
+}
+
+/// An empty array like `source` (type, name, components and their names) with n tuples.
+vtkSmartPointer<vtkAbstractArray> LikeWithTuples(vtkAbstractArray* source, vtkIdType n)
+{
+  vtkSmartPointer<vtkAbstractArray> values = vtk::TakeSmartPointer(source->NewInstance());
+  values->SetName(source->GetName());
+  values->SetNumberOfComponents(source->GetNumberOfComponents());
+  for (int c = 0; c < source->GetNumberOfComponents(); ++c)
+    if (source->GetComponentName(c))
+      values->SetComponentName(c, source->GetComponentName(c));
+  values->SetNumberOfTuples(n);
+  return values;
+}
+
+/// Port 0: the cloud with its arrays and the hit cells' arrays. One threaded pass writes every array, sized once,
+/// through raw pointers (each point i is written by one thread only, so the output does not depend on the threads).
 void WriteCloud(
   const plantmorph::ScanPoints& scan, const std::vector<vtkIdType>& cellOf, vtkPolyData* input, vtkPolyData* cloud)
 {
   const auto n = static_cast<vtkIdType>(scan.Size());
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(n);
+  vtkNew<vtkDoubleArray> xyz;
+  xyz->SetNumberOfComponents(3);
+  xyz->SetNumberOfTuples(n);
   vtkNew<vtkFloatArray> normals;
   normals->SetName("Normals");
   normals->SetNumberOfComponents(3);
@@ -98,35 +133,41 @@ void WriteCloud(
   vtkNew<vtkIntArray> pose;
   pose->SetName("ScanPosition");
   pose->SetNumberOfTuples(n);
-  vtkNew<vtkIdTypeArray> hitCell, beam;
+  vtkNew<vtkIdTypeArray> hitCell, beam, offsets, connectivity;
   hitCell->SetName("HitCellId");
   hitCell->SetNumberOfTuples(n);
   beam->SetName("BeamId");
   beam->SetNumberOfTuples(n);
-  vtkNew<vtkIdList> from, to;
-  from->SetNumberOfIds(n);
-  to->SetNumberOfIds(n);
-  vtkNew<vtkCellArray> verts;
-  vtkNew<vtkIdTypeArray> offsets, connectivity;
   offsets->SetNumberOfTuples(n + 1);
   connectivity->SetNumberOfTuples(n);
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    const auto s = static_cast<std::size_t>(i);
-    points->SetPoint(i, &scan.points[3 * s]);
-    normals->SetTuple3(i, scan.normals[3 * s], scan.normals[3 * s + 1], scan.normals[3 * s + 2]);
-    range->SetValue(i, scan.range[s]);
-    intensity->SetValue(i, scan.intensity[s]);
-    pose->SetValue(i, static_cast<int>(scan.pose[s]));
-    const vtkIdType cell = cellOf[static_cast<std::size_t>(scan.triangle[s])];
-    hitCell->SetValue(i, cell);
-    beam->SetValue(i, static_cast<vtkIdType>(scan.beam[s]));
-    from->SetId(i, cell);
-    to->SetId(i, i);
-    offsets->SetValue(i, i);
-    connectivity->SetValue(i, i);
-  }
-  offsets->SetValue(n, n);
+  double* x = xyz->GetPointer(0);
+  float* normal = normals->GetPointer(0);
+  double *r = range->GetPointer(0), *in = intensity->GetPointer(0);
+  int* ps = pose->GetPointer(0);
+  vtkIdType *cell = hitCell->GetPointer(0), *b = beam->GetPointer(0), *off = offsets->GetPointer(0),
+            *conn = connectivity->GetPointer(0);
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const auto s = static_cast<std::size_t>(i);
+      for (std::size_t k = 0; k < 3; ++k)
+      {
+        x[3 * s + k] = scan.points[3 * s + k];
+        normal[3 * s + k] = static_cast<float>(scan.normals[3 * s + k]);
+      }
+      r[s] = scan.range[s];
+      in[s] = scan.intensity[s];
+      ps[s] = static_cast<int>(scan.pose[s]);
+      cell[s] = cellOf[static_cast<std::size_t>(scan.triangle[s])];
+      b[s] = static_cast<vtkIdType>(scan.beam[s]);
+      off[s] = i;
+      conn[s] = i;
+    }
+  });
+  off[n] = n;
+  vtkNew<vtkPoints> points;
+  points->SetData(xyz);
+  vtkNew<vtkCellArray> verts;
   verts->SetData(offsets, connectivity);
   cloud->SetPoints(points);
   cloud->SetVerts(verts);
@@ -142,30 +183,36 @@ void WriteCloud(
   for (int a = 0; a < cd->GetNumberOfArrays(); ++a)
   {
     vtkAbstractArray* source = cd->GetAbstractArray(a);
-    const char* name = source ? source->GetName() : nullptr;
-    if (!name || std::strcmp(name, vtkDataSetAttributes::GhostArrayName()) == 0)
+    if (!source || Reserved(source->GetName()))
       continue;
-    bool own = false;
-    for (const char* ours : OwnArrays)
-      own = own || std::strcmp(name, ours) == 0;
-    if (own)
-      continue;
-    vtkSmartPointer<vtkAbstractArray> carried = vtk::TakeSmartPointer(source->NewInstance());
-    carried->SetName(name);
-    carried->SetNumberOfComponents(source->GetNumberOfComponents());
-    for (int c = 0; c < source->GetNumberOfComponents(); ++c)
-      if (source->GetComponentName(c))
-        carried->SetComponentName(c, source->GetComponentName(c));
-    carried->SetNumberOfTuples(n);
-    if (n > 0)
+    vtkSmartPointer<vtkAbstractArray> carried = LikeWithTuples(source, n);
+    auto* data = vtkDataArray::SafeDownCast(carried);
+    if (data && Contiguous(carried)) // numbers: copied in parallel, tuple by tuple
+    {
+      vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+        for (vtkIdType i = begin; i < end; ++i)
+          data->SetTuple(i, cell[i], source);
+      });
+    }
+    else if (n > 0) // strings, variants, bits: serial
+    {
+      vtkNew<vtkIdList> from, to;
+      from->SetNumberOfIds(n);
+      to->SetNumberOfIds(n);
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        from->SetId(i, cell[i]);
+        to->SetId(i, i);
+      }
       carried->InsertTuples(to, from, source);
+    }
     pd->AddArray(carried);
   }
 }
 
 /// The input's point arrays at the hits, for those not named like ours or like a carried cell array: floating-point
 /// arrays interpolated with the hit's barycentric weights (LeafUV, TCoords: exact on the triangle hit), integer
-/// arrays (labels) taken from the triangle's vertex nearest the hit.
+/// arrays (labels) taken from the triangle's vertex nearest the hit. Threaded over the points.
 void InterpolatePointArrays(const plantmorph::ScanPoints& scan, const std::vector<std::int64_t>& triangles,
   vtkPolyData* input, vtkPolyData* cloud)
 {
@@ -175,40 +222,37 @@ void InterpolatePointArrays(const plantmorph::ScanPoints& scan, const std::vecto
   for (int a = 0; a < in->GetNumberOfArrays(); ++a)
   {
     vtkDataArray* source = in->GetArray(a);
-    const char* name = source ? source->GetName() : nullptr;
-    if (!name || std::strcmp(name, vtkDataSetAttributes::GhostArrayName()) == 0 || pd->GetAbstractArray(name))
+    if (!source || Reserved(source->GetName()) || pd->GetAbstractArray(source->GetName()))
       continue;
-    bool own = false;
-    for (const char* ours : OwnArrays)
-      own = own || std::strcmp(name, ours) == 0;
-    if (own)
-      continue;
-    vtkSmartPointer<vtkDataArray> values = vtk::TakeSmartPointer(source->NewInstance());
-    values->SetName(name);
+    vtkSmartPointer<vtkDataArray> values = vtkDataArray::SafeDownCast(LikeWithTuples(source, n));
     const int components = source->GetNumberOfComponents();
-    values->SetNumberOfComponents(components);
-    values->SetNumberOfTuples(n);
     const bool real = source->GetDataType() == VTK_FLOAT || source->GetDataType() == VTK_DOUBLE;
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      const auto s = static_cast<std::size_t>(i);
-      const std::int64_t* t = &triangles[3 * static_cast<std::size_t>(scan.triangle[s])];
-      const double u = scan.barycentric[2 * s], v = scan.barycentric[2 * s + 1];
-      const double w[3] = { 1.0 - u - v, u, v };
-      if (!real)
+    const auto interpolate = [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
       {
-        const int k = w[0] >= w[1] && w[0] >= w[2] ? 0 : (w[1] >= w[2] ? 1 : 2);
-        values->SetTuple(i, static_cast<vtkIdType>(t[k]), source);
-        continue;
+        const auto s = static_cast<std::size_t>(i);
+        const std::int64_t* t = &triangles[3 * static_cast<std::size_t>(scan.triangle[s])];
+        const double u = scan.barycentric[2 * s], v = scan.barycentric[2 * s + 1];
+        const double w[3] = { 1.0 - u - v, u, v };
+        if (!real)
+        {
+          const int k = w[0] >= w[1] && w[0] >= w[2] ? 0 : (w[1] >= w[2] ? 1 : 2);
+          values->SetTuple(i, static_cast<vtkIdType>(t[k]), source);
+          continue;
+        }
+        for (int c = 0; c < components; ++c)
+        {
+          values->SetComponent(i, c,
+            w[0] * source->GetComponent(static_cast<vtkIdType>(t[0]), c) +
+              w[1] * source->GetComponent(static_cast<vtkIdType>(t[1]), c) +
+              w[2] * source->GetComponent(static_cast<vtkIdType>(t[2]), c));
+        }
       }
-      for (int c = 0; c < components; ++c)
-      {
-        values->SetComponent(i, c,
-          w[0] * source->GetComponent(static_cast<vtkIdType>(t[0]), c) +
-            w[1] * source->GetComponent(static_cast<vtkIdType>(t[1]), c) +
-            w[2] * source->GetComponent(static_cast<vtkIdType>(t[2]), c));
-      }
-    }
+    };
+    if (Contiguous(values) && Contiguous(source))
+      vtkSMPTools::For(0, n, interpolate);
+    else
+      interpolate(0, n);
     pd->AddArray(values);
   }
 }
@@ -235,6 +279,58 @@ void WriteSetup(const plantmorph::BeamPattern& pattern, double length, vtkPolyDa
   setup->SetPoints(points);
   setup->SetLines(lines);
   setup->GetCellData()->AddArray(pose);
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+struct vtkVirtualScanner::PreparedSurface
+{
+  const vtkPolyData* input = nullptr; // identity only, never dereferenced
+  vtkMTimeType time = 0;
+  std::vector<double> points;
+  std::vector<std::int64_t> triangles;
+  std::vector<vtkIdType> cellOf;
+  plantmorph::RayCaster caster;
+};
+
+namespace
+{
+/// The kept surfaces of every filter, released by an exit handler: a filter still alive when the process ends
+/// (ParaView deletes its proxies in its static destructors) would otherwise release its Embree device after
+/// Embree's thread pool is gone, which aborts or hangs.
+struct KeptSurfaces
+{
+  std::mutex lock;
+  std::vector<std::weak_ptr<vtkVirtualScanner::PreparedSurface>> all;
+};
+
+KeptSurfaces& Kept()
+{
+  static KeptSurfaces* kept = new KeptSurfaces; // never destroyed: the exit handler may run after statics
+  return *kept;
+}
+
+void ReleaseKeptSurfaces()
+{
+  std::lock_guard<std::mutex> guard(Kept().lock);
+  for (auto& weak : Kept().all)
+  {
+    if (auto prepared = weak.lock())
+    {
+      prepared->caster.Clear();
+    }
+  }
+  Kept().all.clear();
+}
+
+void Keep(const std::shared_ptr<vtkVirtualScanner::PreparedSurface>& prepared)
+{
+  static std::once_flag once;
+  std::call_once(once, [] { std::atexit(ReleaseKeptSurfaces); });
+  std::lock_guard<std::mutex> guard(Kept().lock);
+  auto& all = Kept().all;
+  all.erase(std::remove_if(all.begin(), all.end(), [](const auto& w) { return w.expired(); }), all.end());
+  all.push_back(prepared);
 }
 } // namespace
 
@@ -273,6 +369,7 @@ int vtkVirtualScanner::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* original = input;
   vtkPolyData* cloud = vtkPolyData::GetData(outputVector, 0);
   vtkPolyData* setup = vtkPolyData::GetData(outputVector, 1);
   if (!input || !cloud || !setup)
@@ -358,20 +455,30 @@ int vtkVirtualScanner::RequestData(
     return fail(error);
   }
 
-  std::vector<double> points;
-  std::vector<std::int64_t> triangles;
-  std::vector<vtkIdType> cellOf;
-  error = Triangulate(input, points, triangles, cellOf);
-  if (!error.empty())
+  // The triangulation and the caster's build, unless the same input (unchanged) was prepared by the last run.
+  const vtkMTimeType inputTime = original->GetMTime();
+  if (!this->Prepared || ranks > 1 || this->Prepared->input != original || this->Prepared->time != inputTime)
   {
-    return fail(error);
+    this->Prepared.reset(); // its memory first
+    auto prepared = std::make_shared<PreparedSurface>();
+    error = Triangulate(input, prepared->points, prepared->triangles, prepared->cellOf);
+    if (error.empty())
+    {
+      error = prepared->caster.Build(prepared->points, prepared->triangles);
+    }
+    if (!error.empty())
+    {
+      return fail(error);
+    }
+    prepared->input = original;
+    prepared->time = inputTime;
+    this->Prepared = prepared;
+    Keep(prepared);
   }
-  plantmorph::RayCaster caster;
-  error = caster.Build(points, triangles);
-  if (!error.empty())
-  {
-    return fail(error);
-  }
+  const std::vector<double>& points = this->Prepared->points;
+  const std::vector<std::int64_t>& triangles = this->Prepared->triangles;
+  const std::vector<vtkIdType>& cellOf = this->Prepared->cellOf;
+  const plantmorph::RayCaster& caster = this->Prepared->caster;
   this->UpdateProgress(0.1);
   plantmorph::ScanPoints scan;
   const std::uint64_t beams = pattern.BeamCount();
@@ -386,13 +493,16 @@ int vtkVirtualScanner::RequestData(
   vtkSMPTools::LocalScope(vtkSMPTools::Config{ 0, backend, false }, [&]() {
     error = plantmorph::CastBeams(p, pattern, points, triangles, caster, scan, plantmorph::SMPFor(2),
       plantmorph::Progress(this, 0.1, 0.9), share(rank), share(rank + 1));
+    if (error.empty()) // the output stage on the same threads
+    {
+      WriteCloud(scan, cellOf, input, cloud);
+      InterpolatePointArrays(scan, triangles, input, cloud);
+    }
   });
   if (!error.empty())
   {
     return fail(error);
   }
-  WriteCloud(scan, cellOf, input, cloud);
-  InterpolatePointArrays(scan, triangles, input, cloud);
   // Totals over the ranks in field data (every rank holds them).
   double local[2] = { static_cast<double>(scan.Size()), static_cast<double>(scan.dropped) };
   double total[2] = { local[0], local[1] };
@@ -411,6 +521,10 @@ int vtkVirtualScanner::RequestData(
   if (rank == 0) // the set-up once
   {
     WriteSetup(pattern, std::sqrt(dx * dx + dy * dy + dz * dz), setup);
+  }
+  if (ranks > 1) // rebuilt every run under MPI: not kept
+  {
+    this->Prepared.reset();
   }
   this->UpdateProgress(1.0);
   return 1;

@@ -5,9 +5,12 @@
  *
  * Input: a vtkPolyData surface (polygons and triangle strips; vertices and lines are not scanned), e.g. a leaf, a
  * wilting frame, a tree with leaves, several plants appended. Every beam of the scanner's pattern is cast through
- * an Embree 3 hierarchy of the surface (scanner/core/RayCaster.h: Embree's robust, watertight mode, so no beam slips
- * between two triangles of a closed surface; the triangle found in single precision, the hit point computed on it
- * in double precision) and returns the nearest hit within MaximumRange.
+ * an Embree 3 hierarchy of the surface (scanner/core/RayCaster.h: Embree's robust single-precision triangles find
+ * the candidates, each re-tested with its neighbours by a double-precision watertight test, so no beam slips between
+ * two triangles of a surface whose triangles share their points, and the hit point lies on its triangle in double
+ * precision) and returns the nearest hit within MaximumRange. The triangulated surface and its hierarchy are kept
+ * between runs while the input is unchanged (serial runs; under MPI they are rebuilt every run), so changing the
+ * scanner's properties does not rebuild them; they are released with the filter or when the input changes.
  *
  * Output port 0, the cloud: one vertex per point, in beam order, with point arrays `Normals` (the unit normal of
  * the polygon hit, turned to face the scanner), `Range` (measured, model units), `Intensity` (cos of the incidence
@@ -37,6 +40,7 @@
 #include "PlantMorphScannerVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <memory> // for the prepared surface
 #include <vector> // for the positions
 
 class PLANTMORPHSCANNERVTK_EXPORT vtkVirtualScanner : public vtkPolyDataAlgorithm
@@ -175,7 +179,12 @@ protected:
   bool IntensityFalloff = true;
   double MaximumBeams = 5e7;
 
+public:
+  struct PreparedSurface; // the triangulated input and its caster, kept while the input is unchanged (internal)
+
 private:
+  std::shared_ptr<PreparedSurface> Prepared;
+
   vtkVirtualScanner(const vtkVirtualScanner&) = delete;
   void operator=(const vtkVirtualScanner&) = delete;
 };

@@ -348,3 +348,62 @@ TEST(VirtualScanner, SameSeedSameCloud)
   }
   EXPECT_TRUE(differs);
 }
+
+TEST(VirtualScanner, KeptCasterFollowsPropertiesAndTheInput)
+{
+  // The filter keeps its triangulated surface and caster between runs: a changed property re-scans it, a changed
+  // input (points moved in place) rebuilds it. Each run must equal a fresh filter's cloud, bit for bit.
+  vtkSmartPointer<vtkPolyData> scene = TwoSpheres();
+  auto same = [](vtkPolyData* a, vtkPolyData* b) {
+    if (a->GetNumberOfPoints() != b->GetNumberOfPoints() || a->GetNumberOfPoints() < 100)
+      return false;
+    auto* ca = vtkIdTypeArray::SafeDownCast(a->GetPointData()->GetArray("HitCellId"));
+    auto* cb = vtkIdTypeArray::SafeDownCast(b->GetPointData()->GetArray("HitCellId"));
+    auto* la = a->GetPointData()->GetArray("Label");
+    auto* lb = b->GetPointData()->GetArray("Label");
+    if (!ca || !cb || !la || !lb)
+      return false;
+    for (vtkIdType i = 0; i < a->GetNumberOfPoints(); ++i)
+    {
+      double x[3], y[3];
+      a->GetPoint(i, x);
+      b->GetPoint(i, y);
+      if (x[0] != y[0] || x[1] != y[1] || x[2] != y[2] || ca->GetValue(i) != cb->GetValue(i) ||
+        la->GetComponent(i, 1) != lb->GetComponent(i, 1))
+        return false;
+    }
+    return true;
+  };
+  auto fresh = [&](double step) {
+    vtkNew<vtkVirtualScanner> s;
+    s->SetInputData(scene);
+    s->SetAngularStep(step);
+    s->Update();
+    vtkSmartPointer<vtkPolyData> out = vtkSmartPointer<vtkPolyData>::New();
+    out->DeepCopy(s->GetOutput(0));
+    return out;
+  };
+  vtkNew<vtkVirtualScanner> kept;
+  kept->SetInputData(scene);
+  kept->SetAngularStep(0.5);
+  kept->Update();
+  EXPECT_TRUE(same(kept->GetOutput(0), fresh(0.5)));
+  kept->SetAngularStep(0.4);
+  kept->Update();
+  vtkSmartPointer<vtkPolyData> before = fresh(0.4);
+  EXPECT_TRUE(same(kept->GetOutput(0), before));
+  // Move the spheres 0.2 along x in place: the old caster would give the old points.
+  vtkPoints* points = scene->GetPoints();
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    points->GetPoint(i, x);
+    x[0] += 0.2;
+    points->SetPoint(i, x);
+  }
+  points->Modified();
+  kept->Update();
+  vtkSmartPointer<vtkPolyData> moved = fresh(0.4);
+  EXPECT_TRUE(same(kept->GetOutput(0), moved));
+  EXPECT_FALSE(same(kept->GetOutput(0), before)); // the cloud really moved
+}
