@@ -54,9 +54,9 @@ struct RayCasterParameters
     ExactUser  ///< our double-precision test as an Embree user geometry
   };
   Geometry geometry = Geometry::Triangles;
-  int buildQuality = 1;     ///< Embree's RTC_BUILD_QUALITY: 0 low, 1 medium, 2 high (spatial splits)
-  unsigned packetWidth = 8; ///< beams per Embree call: 1 (rtcIntersect1), 4, 8 or 16
-  int buildThreads = 0;     ///< Embree's build threads (0: all of the machine's)
+  int buildQuality = 1;      ///< Embree's RTC_BUILD_QUALITY: 0 low, 1 medium, 2 high (spatial splits)
+  unsigned packetWidth = 16; ///< beams per Embree call: 1 (rtcIntersect1), 4, 8 or 16
+  int buildThreads = 0;      ///< Embree's build threads (0: all of the machine's)
 };
 
 /// Checks a RayCasterParameters: "" when valid.
