@@ -213,10 +213,13 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
     }
     if (n > out.range.capacity())
     {
-      // Room for the rest of the scan at the return rate so far (few reallocations of a large cloud).
+      // Room for every beam of the share up to 2^26 (address space only: pages are touched as points arrive), so a
+      // cloud of that size is never copied to a larger allocation (serial work: run 3 of the benchmark); beyond,
+      // room for the rest of the scan at the return rate so far.
       const double rate = static_cast<double>(n) / static_cast<double>(first + count - start);
       const auto expected = static_cast<std::size_t>(1.05 * rate * static_cast<double>(end - start)) + 1024;
-      const std::size_t capacity = std::max(n, std::min(expected, static_cast<std::size_t>(end - start)));
+      const auto share = static_cast<std::size_t>(end - start);
+      const std::size_t capacity = std::max(n, share <= (std::size_t(1) << 26) ? share : std::min(expected, share));
       out.points.reserve(3 * capacity);
       out.normals.reserve(3 * capacity);
       out.range.reserve(capacity);
