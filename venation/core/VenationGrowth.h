@@ -42,6 +42,14 @@
 //   Dichotomous forks: a group of end points shares one parameter (their mean) until growth `forkSize` (later
 //   levels evenly after it), then the two halves move linearly apart to their own means by g = 1, so one vein
 //   splits into two.
+//   Sub-lobe veins (`subLobeVeins`, palmate only, not in the paper): a sub-lobe tip is a vertex of the outer boundary
+//   loop where the distance d to the nearest primary has a local maximum, and walking the loop either way from it
+//   one meets a concave (reflex) vertex at least 0.02 L lower in d before meeting a higher d or a primary's end
+//   (d < 0.01 L): a lobe's smooth flank, which falls to its primary's end at the lobe tip without a sinus, is no
+//   sub-lobe. From the foot F of the tip T on its nearest primary, at distance h, the vein leaves the primary
+//   h cot(theta)/2 nearer the base (theta the divergence angle) and is the quadratic Bezier curve through the control
+//   point (F + T)/2: it leaves at the divergence angle and meets the margin at T along FT. These are grown before
+//   the regular secondaries, which stop where they meet them.
 //
 // - Space colonization (Runions et al. 2005, open venation), a method of its own: SpaceColonization.h.
 //
@@ -122,6 +130,9 @@ struct VenationParameters
   /// palmate: secondaries off every primary, every `secondarySpacing` along it on both sides, at the divergence
   /// angle (none where the primary's neighbour or the margin is nearer than half a spacing along that line)
   PalmateSecondaries palmateSecondaries = PalmateSecondaries::None;
+  /// palmate: one secondary from the nearest primary to every sub-lobe tip of the margin (a local maximum of the
+  /// distance from the primaries with a sinus at least 0.02 L deep on both sides; docs/methods/venation.md)
+  bool subLobeVeins = false;
   int forkLevels = 1;
   double forkSize = 0.3;       ///< growth fraction of the first dichotomous fork, (0, 1)
   double primaryWidth = 0.015; ///< in leaf lengths
