@@ -112,7 +112,8 @@ std::vector<std::pair<const char*, double>> ParameterValues(const plantmorph::Ve
     { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
     { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
     { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels },
-    { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) }, { "ForkSize", p.forkSize },
+    { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) },
+    { "SubLobeVeins", p.subLobeVeins ? 1.0 : 0.0 }, { "ForkSize", p.forkSize },
     { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth },
     { "PrimaryTaper", p.primaryTaper }, { "SecondaryWidthRatio", p.secondaryWidthRatio },
     { "TertiaryWidthRatio", p.tertiaryWidthRatio }, { "VeinletWidthRatio", p.veinletWidthRatio } };
@@ -462,6 +463,7 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
   PLANTMORPH_CHECK(PalmateEnds);
   PLANTMORPH_CHECK(ForkLevels);
   PLANTMORPH_CHECK(PalmateSecondaries);
+  PLANTMORPH_CHECK(SubLobeVeins);
   PLANTMORPH_CHECK(ForkSize);
   PLANTMORPH_CHECK(KillDistance);
   PLANTMORPH_CHECK(AttractionDistance);
@@ -539,6 +541,7 @@ std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
     p.palmateFan = this->PalmateEnds != 0;
     p.forkLevels = this->ForkLevels;
     p.palmateSecondaries = static_cast<plantmorph::PalmateSecondaries>(this->PalmateSecondaries);
+    p.subLobeVeins = this->SubLobeVeins != 0;
     p.forkSize = this->ForkSize;
     p.killDistance = this->KillDistance;
     p.attractionDistance = this->AttractionDistance;
