@@ -1052,6 +1052,10 @@ std::string Grower::Run(VenationResult& result)
     return "aborted";
   if (this->P.veinlets && this->P.tertiary)
     this->GrowVeinlets();
+  // True orders in the reticulum: tertiaries join primaries or secondaries, the rest subdivide areoles (order 4).
+  const std::vector<int> orders = ReticulumOrders(this->Graph);
+  for (std::size_t vein = 0; vein < orders.size(); ++vein)
+    this->Graph.SetOrder(static_cast<int>(vein), orders[vein]);
   this->Finish(result);
   return {};
 }
@@ -1092,6 +1096,8 @@ void Grower::Finish(VenationResult& result)
         width = widest * this->P.secondaryWidthRatio * (1.0 - 0.5 * f);
       else if (order == VeinOrderTertiary)
         width = widest * this->P.tertiaryWidthRatio;
+      else if (order == VeinOrderQuaternary) // between the tertiaries and the veinlets, never wider than a tertiary
+        width = widest * std::min(this->P.tertiaryWidthRatio, 0.5 * (this->P.tertiaryWidthRatio + this->P.veinletWidthRatio));
       if (id[n] < 0)
       {
         id[n] = static_cast<int>(result.nodes.size());

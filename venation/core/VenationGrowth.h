@@ -55,7 +55,8 @@
 //
 // Widths (`VeinWidth`): primaries taper from `primaryWidth` (a fraction of the leaf length) to `primaryTaper` of it
 // at their end; secondaries from `secondaryWidthRatio` of it to half that; tertiaries and veinlets a constant
-// `tertiaryWidthRatio` and `veinletWidthRatio` of it. A shared node takes the widest vein's width.
+// `tertiaryWidthRatio` and `veinletWidthRatio` of it, quaternaries (the finer reticulum) the mean of the two (at
+// most the tertiaries' ratio). A shared node takes the widest vein's width.
 // Lengths (`secondarySpacing`, `areoleSize`, `veinletLength` in areole sizes, `primaryWidth`) are fractions of the
 // leaf length L (the midvein's length in the working plane), so a preset fits any leaf size. All randomness comes
 // from RandomStream(seed, phase): the same seed gives the same network bit for bit.
@@ -177,7 +178,7 @@ std::string ValidateVenationParameters(const VenationParameters& parameters);
 
 struct VenationStatistics
 {
-  double length[5] = { 0, 0, 0, 0, 0 }; ///< total vein length per VeinOrder (index 0 unused: the margin)
+  double length[VeinOrderCount] = {}; ///< total vein length per VeinOrder (index 0 unused: the margin)
   double density = 0.0;                 ///< total vein length per blade area
   double bladeArea = 0.0;
   std::size_t areoles = 0; ///< faces enclosed by veins only

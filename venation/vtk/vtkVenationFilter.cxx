@@ -302,12 +302,14 @@ void WriteVeinFieldData(vtkFieldData* fd, const plantmorph::VenationResult& resu
 {
   vtkNew<vtkDoubleArray> lengths;
   lengths->SetName("PlantMorph.VeinLength");
-  lengths->SetNumberOfComponents(4);
+  lengths->SetNumberOfComponents(5);
   lengths->SetComponentName(0, "Primary");
   lengths->SetComponentName(1, "Secondary");
   lengths->SetComponentName(2, "Tertiary");
-  lengths->SetComponentName(3, "Veinlet");
-  lengths->InsertNextTuple4(m.length[1], m.length[2], m.length[3], m.length[4]);
+  lengths->SetComponentName(3, "Quaternary");
+  lengths->SetComponentName(4, "Veinlet");
+  const double perOrder[5] = { m.length[1], m.length[2], m.length[3], m.length[4], m.length[5] };
+  lengths->InsertNextTuple(perOrder);
   fd->AddArray(lengths);
   AddFieldValue(fd, "PlantMorph.VeinDensity", m.vla);
   AddFieldValue(fd, "PlantMorph.BladeArea", m.bladeArea);
@@ -353,10 +355,10 @@ void WriteStatistics(const plantmorph::VeinNetworkMeasures& m, vtkTable* statist
   addValue("BranchPointsPerArea", m.branchPointsPerArea);
   addCount("FreeEnds", m.freeEnds);
   addValue("FreeEndsPerArea", m.freeEndsPerArea);
-  const char* const orders[] = { "Primary", "Secondary", "Tertiary", "Veinlet" };
-  for (int o = 1; o <= 4; ++o)
+  const char* const orders[] = { "Primary", "Secondary", "Tertiary", "Quaternary", "Veinlet" };
+  for (int o = 1; o <= 5; ++o)
     addValue(("Length" + std::string(orders[o - 1])).c_str(), m.length[o]);
-  for (int o = 1; o <= 4; ++o)
+  for (int o = 1; o <= 5; ++o)
     addValue(("MeanWidth" + std::string(orders[o - 1])).c_str(), m.meanWidth[o]);
 }
 

@@ -183,7 +183,8 @@ TEST(Venation, GrowthJunctionsKeepTheirAnglesAndAverage120Degrees)
   int checked = 0;
   for (std::size_t n = 0; n < r.nodes.size(); ++n)
   {
-    if (next[n].size() != 3 || r.order[n] != VeinOrderTertiary)
+    // Reticulum nodes (tertiary or quaternary: grown alike, only classified after growth).
+    if (next[n].size() != 3 || (r.order[n] != VeinOrderTertiary && r.order[n] != VeinOrderQuaternary))
       continue;
     std::vector<double> angles;
     for (int m : next[n])
