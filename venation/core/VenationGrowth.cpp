@@ -114,6 +114,9 @@ private:
   /// Sub-lobe veins (subLobeVeins): a secondary from the nearest primary in `hosts` to every sub-lobe tip; the
   /// paths gain the veins' start nodes.
   void GrowSubLobeVeins(std::vector<std::vector<int>>& hosts);
+  /// Flank secondaries (flankSecondaries): straight secondaries into the blade's parts farthest from the primaries
+  /// and secondaries while they are farther than secondarySpacing.
+  void GrowFlankSecondaries();
   /// Splits the path at arc length `at` from its start (an existing node within 1e-9 L is reused); the node there.
   int SplitPathAt(std::vector<int>& path, double at);
   void Finish(VenationResult& result);
@@ -800,6 +803,74 @@ void Grower::GrowPalmate()
     grow(0, r << levels, 1 << levels, this->BaseNode);
 }
 
+void Grower::GrowFlankSecondaries()
+{
+  const double L = this->Length, reach = this->P.secondarySpacing * L;
+  // Sample points over the blade (a 64 x 64 grid over its box, those inside).
+  const Eigen::Vector2d low = this->Locator.Lower(), extent = this->Locator.Upper() - low;
+  std::vector<Eigen::Vector2d> samples;
+  for (int y = 0; y < 64; ++y)
+  {
+    for (int x = 0; x < 64; ++x)
+    {
+      const Eigen::Vector2d point = low + Eigen::Vector2d((x + 0.5) / 64 * extent.x(), (y + 0.5) / 64 * extent.y());
+      if (this->Inside(point))
+        samples.push_back(point);
+    }
+  }
+  for (int added = 0; added < 8; ++added)
+  {
+    // The sample farthest from every primary and secondary edge, and its foot on the nearest.
+    const auto& nodes = this->Graph.Nodes();
+    const auto& edges = this->Graph.Edges();
+    double farthest = 0.0;
+    int edgeAt = -1;
+    Eigen::Vector2d target = Eigen::Vector2d::Zero(), foot = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& point : samples)
+    {
+      double best = std::numeric_limits<double>::infinity();
+      int bestEdge = -1;
+      Eigen::Vector2d bestFoot = point;
+      for (std::size_t e = 0; e < edges.size(); ++e)
+      {
+        const int order = this->Graph.Order(edges[e].vein);
+        if (order != VeinOrderPrimary && order != VeinOrderSecondary)
+          continue;
+        const Eigen::Vector2d a = nodes[edges[e].a], d = nodes[edges[e].b] - a;
+        const double t = std::clamp((point - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+        const double distance = (a + t * d - point).norm();
+        if (distance < best)
+        {
+          best = distance;
+          bestEdge = static_cast<int>(e);
+          bestFoot = a + t * d;
+        }
+      }
+      if (bestEdge >= 0 && best > farthest)
+      {
+        farthest = best;
+        edgeAt = bestEdge;
+        target = point;
+        foot = bestFoot;
+      }
+    }
+    if (edgeAt < 0 || farthest <= reach)
+      return;
+    // A node at the foot (an end of the edge if it is within 1e-9 L), then straight through the target to the margin.
+    const VeinGraph::Edge edge = edges[edgeAt];
+    int from = edge.a;
+    if ((foot - nodes[edge.b]).norm() <= 1e-9 * L)
+      from = edge.b;
+    else if ((foot - nodes[edge.a]).norm() > 1e-9 * L)
+      from = this->Graph.SplitEdge(edgeAt, foot);
+    const Eigen::Vector2d direction = (target - this->Graph.Nodes()[from]).normalized();
+    std::vector<Eigen::Vector2d> line;
+    for (double s = this->Step; s <= 4.0 * L; s += this->Step)
+      line.push_back(this->Graph.Nodes()[from] + s * direction);
+    this->GrowCurve(from, line, this->Graph.AddVein(VeinOrderSecondary), 1e-7 * L);
+  }
+}
+
 int Grower::SplitPathAt(std::vector<int>& path, double at)
 {
   const auto& nodes = this->Graph.Nodes();
@@ -1038,6 +1109,8 @@ std::string Grower::Run(VenationResult& result)
       this->Midvein = hosts.front();
       if (!error.empty())
         return error;
+      if (this->P.flankSecondaries)
+        this->GrowFlankSecondaries();
     }
   }
   if (!this->KeepGoing(0.4))
@@ -1167,6 +1240,7 @@ VenationParameters MakeVenationPreset(VenationPreset preset)
       p.forkFraction = 0.75;
       p.tertiary = true;
       p.areoleSize = 0.045;
+      p.flankSecondaries = true; // a broad blade's flanks below the lowest secondaries get their own
       break;
     case VenationPreset::Ginkgo:
       // Two veins enter from the petiole and fork dichotomously, five times, into 64 nearly parallel veins that

@@ -131,6 +131,10 @@ struct VenationParameters
   /// palmate: secondaries off every primary, every `secondarySpacing` along it on both sides, at the divergence
   /// angle (none where the primary's neighbour or the margin is nearer than half a spacing along that line)
   PalmateSecondaries palmateSecondaries = PalmateSecondaries::None;
+  /// pinnate: secondaries into bare flanks (docs/methods/venation.md "Flank secondaries"): while some blade point
+  /// lies farther than `secondarySpacing` from every primary and secondary, a straight secondary from the nearest
+  /// such vein through that point on to the margin (at most 8)
+  bool flankSecondaries = false;
   /// palmate: one secondary from the nearest primary to every sub-lobe tip of the margin (a local maximum of the
   /// distance from the primaries with a sinus at least 0.02 L deep on both sides; docs/methods/venation.md)
   bool subLobeVeins = false;
