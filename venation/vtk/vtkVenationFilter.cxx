@@ -113,7 +113,8 @@ std::vector<std::pair<const char*, double>> ParameterValues(const plantmorph::Ve
     { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
     { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels },
     { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) },
-    { "SubLobeVeins", p.subLobeVeins ? 1.0 : 0.0 }, { "ForkSize", p.forkSize },
+    { "SubLobeVeins", p.subLobeVeins ? 1.0 : 0.0 }, { "FlankSecondaries", p.flankSecondaries ? 1.0 : 0.0 },
+    { "ForkSize", p.forkSize },
     { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth },
     { "PrimaryTaper", p.primaryTaper }, { "SecondaryWidthRatio", p.secondaryWidthRatio },
     { "TertiaryWidthRatio", p.tertiaryWidthRatio }, { "VeinletWidthRatio", p.veinletWidthRatio } };
@@ -466,6 +467,7 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
   PLANTMORPH_CHECK(ForkLevels);
   PLANTMORPH_CHECK(PalmateSecondaries);
   PLANTMORPH_CHECK(SubLobeVeins);
+  PLANTMORPH_CHECK(FlankSecondaries);
   PLANTMORPH_CHECK(ForkSize);
   PLANTMORPH_CHECK(KillDistance);
   PLANTMORPH_CHECK(AttractionDistance);
@@ -544,6 +546,7 @@ std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
     p.forkLevels = this->ForkLevels;
     p.palmateSecondaries = static_cast<plantmorph::PalmateSecondaries>(this->PalmateSecondaries);
     p.subLobeVeins = this->SubLobeVeins != 0;
+    p.flankSecondaries = this->FlankSecondaries != 0;
     p.forkSize = this->ForkSize;
     p.killDistance = this->KillDistance;
     p.attractionDistance = this->AttractionDistance;

@@ -218,6 +218,10 @@ public:
   /// a bulge between two sinuses at least 0.02 leaf lengths deep, seen from the primaries); 0 (default) none.
   vtkSetMacro(SubLobeVeins, int);
   vtkGetMacro(SubLobeVeins, int);
+  /// Pinnate: 1 adds straight secondaries into the parts of the blade farther than SecondarySpacing from every
+  /// primary and secondary (a broad blade's flanks below the lowest secondaries), at most 8; 0 (default) none.
+  vtkSetMacro(FlankSecondaries, int);
+  vtkGetMacro(FlankSecondaries, int);
   vtkSetMacro(ForkSize, double);
   vtkGetMacro(ForkSize, double);
   ///@}
@@ -349,6 +353,7 @@ protected:
   int ForkLevels = 1;
   int PalmateSecondaries = 0;
   int SubLobeVeins = 0;
+  int FlankSecondaries = 0;
   double ForkSize = 0.3;
   double KillDistance = 0.01;
   double AttractionDistance = 0.1;
