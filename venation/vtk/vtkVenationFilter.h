@@ -9,7 +9,9 @@
  *
  * Input: a triangulated blade carrying the point array `LeafUV` (every LeafOutlineSource blade does; any triangle
  * surface with the canonical leaf's (u, v) will do). Output port 0, **Veins**: the vein network as polylines lying
- * on the blade, with cell arrays `VeinOrder` (1 primary, 2 secondary, 3 tertiary, 4 free-ending veinlet) and
+ * on the blade, with cell arrays `VeinOrder` (1 primary, 2 secondary, 3 tertiary: a reticulum vein joining
+ * primaries or secondaries at both ends, 4 quaternary: the finer reticulum that only subdivides areoles, 5
+ * free-ending veinlet; plantmorph::ReticulumOrders) and
  * `Region` (1 primary, 2 secondary, 3 tertiary and veinlets), point arrays `VeinWidth` (model units, the active
  * scalars; for tubes as wide as the veins give ParaView's Tube filter VeinWidth / 2 (a Calculator) with "Vary
  * Radius: By Absolute Scalar", which takes the scalar as the radius), `Region` (the lowest order through the
@@ -25,7 +27,8 @@
  * `AreoleAreaMedian`, `AreoleAreaCV` (population standard deviation over the mean), `Loopiness` (minimum spanning
  * forest length over total length: 1 for a tree), `BranchPoints` (nodes where three or more segments meet),
  * `BranchPointsPerArea`, `FreeEnds` (ends not on the blade's outer margin), `FreeEndsPerArea`, and per VeinOrder
- * `LengthPrimary`.. `LengthVeinlet` and `MeanWidthPrimary`.. `MeanWidthVeinlet` (length-weighted; 0 for an order
+ * `LengthPrimary`, `LengthSecondary`, `LengthTertiary`, `LengthQuaternary`, `LengthVeinlet` and the same
+ * `MeanWidth...` (length-weighted; 0 for an order
  * with no vein). Output port 3, **Areole histogram** (vtkTable): `AreoleHistogramBins` equal bins from the smallest
  * to the largest areole area, one row each: `BinLower`, `BinUpper`, `Count` (the counts sum to AreoleCount; no rows
  * when there is no areole).
