@@ -1170,7 +1170,8 @@ void Grower::Finish(VenationResult& result)
       else if (order == VeinOrderTertiary)
         width = widest * this->P.tertiaryWidthRatio;
       else if (order == VeinOrderQuaternary) // between the tertiaries and the veinlets, never wider than a tertiary
-        width = widest * std::min(this->P.tertiaryWidthRatio, 0.5 * (this->P.tertiaryWidthRatio + this->P.veinletWidthRatio));
+        width =
+          widest * std::min(this->P.tertiaryWidthRatio, 0.5 * (this->P.tertiaryWidthRatio + this->P.veinletWidthRatio));
       if (id[n] < 0)
       {
         id[n] = static_cast<int>(result.nodes.size());

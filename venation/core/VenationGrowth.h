@@ -183,7 +183,7 @@ std::string ValidateVenationParameters(const VenationParameters& parameters);
 struct VenationStatistics
 {
   double length[VeinOrderCount] = {}; ///< total vein length per VeinOrder (index 0 unused: the margin)
-  double density = 0.0;                 ///< total vein length per blade area
+  double density = 0.0;               ///< total vein length per blade area
   double bladeArea = 0.0;
   std::size_t areoles = 0; ///< faces enclosed by veins only
   double areoleAreaMean = 0.0;

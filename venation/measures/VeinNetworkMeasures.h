@@ -34,7 +34,7 @@ struct VeinNetworkMeasures
 {
   double bladeArea = 0.0;
   double totalLength = 0.0;
-  double vla = 0.0;                        ///< vein length per blade area
+  double vla = 0.0;                      ///< vein length per blade area
   double length[VeinOrderCount] = {};    ///< per VeinOrder (index 0 unused)
   double meanWidth[VeinOrderCount] = {}; ///< length-weighted, per VeinOrder; 0 where an order has no vein
   std::size_t areoles = 0;

@@ -112,9 +112,8 @@ std::vector<std::pair<const char*, double>> ParameterValues(const plantmorph::Ve
     { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
     { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
     { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels },
-    { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) },
-    { "SubLobeVeins", p.subLobeVeins ? 1.0 : 0.0 }, { "FlankSecondaries", p.flankSecondaries ? 1.0 : 0.0 },
-    { "ForkSize", p.forkSize },
+    { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) }, { "SubLobeVeins", p.subLobeVeins ? 1.0 : 0.0 },
+    { "FlankSecondaries", p.flankSecondaries ? 1.0 : 0.0 }, { "ForkSize", p.forkSize },
     { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth },
     { "PrimaryTaper", p.primaryTaper }, { "SecondaryWidthRatio", p.secondaryWidthRatio },
     { "TertiaryWidthRatio", p.tertiaryWidthRatio }, { "VeinletWidthRatio", p.veinletWidthRatio } };
