@@ -818,55 +818,65 @@ void Grower::GrowFlankSecondaries()
         samples.push_back(point);
     }
   }
-  for (int added = 0; added < 8; ++added)
-  {
-    // The sample farthest from every primary and secondary edge, and its foot on the nearest.
-    const auto& nodes = this->Graph.Nodes();
-    const auto& edges = this->Graph.Edges();
-    double farthest = 0.0;
-    int edgeAt = -1;
-    Eigen::Vector2d target = Eigen::Vector2d::Zero(), foot = Eigen::Vector2d::Zero();
-    for (const Eigen::Vector2d& point : samples)
+  // Each sample's distance to the nearest primary or secondary edge, brought up to date with the edges added
+  // since (splitting an edge keeps its geometry, so older distances stay right).
+  const auto& nodes = this->Graph.Nodes();
+  const auto& edges = this->Graph.Edges();
+  std::vector<double> distance(samples.size(), std::numeric_limits<double>::infinity());
+  auto nearest = [&](const Eigen::Vector2d& point, std::size_t from, double& best, int& bestEdge,
+                   Eigen::Vector2d& bestFoot) {
+    for (std::size_t e = from; e < edges.size(); ++e)
     {
-      double best = std::numeric_limits<double>::infinity();
-      int bestEdge = -1;
-      Eigen::Vector2d bestFoot = point;
-      for (std::size_t e = 0; e < edges.size(); ++e)
+      const int order = this->Graph.Order(edges[e].vein);
+      if (order != VeinOrderPrimary && order != VeinOrderSecondary)
+        continue;
+      const Eigen::Vector2d a = nodes[edges[e].a], d = nodes[edges[e].b] - a;
+      const double t = std::clamp((point - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+      const double r = (a + t * d - point).norm();
+      if (r < best)
       {
-        const int order = this->Graph.Order(edges[e].vein);
-        if (order != VeinOrderPrimary && order != VeinOrderSecondary)
-          continue;
-        const Eigen::Vector2d a = nodes[edges[e].a], d = nodes[edges[e].b] - a;
-        const double t = std::clamp((point - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
-        const double distance = (a + t * d - point).norm();
-        if (distance < best)
-        {
-          best = distance;
-          bestEdge = static_cast<int>(e);
-          bestFoot = a + t * d;
-        }
-      }
-      if (bestEdge >= 0 && best > farthest)
-      {
-        farthest = best;
-        edgeAt = bestEdge;
-        target = point;
-        foot = bestFoot;
+        best = r;
+        bestEdge = static_cast<int>(e);
+        bestFoot = a + t * d;
       }
     }
-    if (edgeAt < 0 || farthest <= reach)
+  };
+  std::size_t seen = 0;
+  for (int added = 0; added < 8; ++added)
+  {
+    double farthest = 0.0;
+    std::size_t far = samples.size();
+    for (std::size_t i = 0; i < samples.size(); ++i)
+    {
+      int edge = -1;
+      Eigen::Vector2d foot;
+      nearest(samples[i], seen, distance[i], edge, foot);
+      if (std::isfinite(distance[i]) && distance[i] > farthest)
+      {
+        farthest = distance[i];
+        far = i;
+      }
+    }
+    seen = edges.size();
+    if (far == samples.size() || farthest <= reach)
       return;
-    // A node at the foot (an end of the edge if it is within 1e-9 L), then straight through the target to the margin.
+    // The farthest sample's foot on its nearest vein, found afresh (a node there, or an end of the edge within
+    // 1e-9 L), then straight through the sample to the margin.
+    const Eigen::Vector2d target = samples[far];
+    double best = std::numeric_limits<double>::infinity();
+    int edgeAt = -1;
+    Eigen::Vector2d foot = target;
+    nearest(target, 0, best, edgeAt, foot);
     const VeinGraph::Edge edge = edges[edgeAt];
     int from = edge.a;
     if ((foot - nodes[edge.b]).norm() <= 1e-9 * L)
       from = edge.b;
     else if ((foot - nodes[edge.a]).norm() > 1e-9 * L)
       from = this->Graph.SplitEdge(edgeAt, foot);
-    const Eigen::Vector2d direction = (target - this->Graph.Nodes()[from]).normalized();
+    const Eigen::Vector2d origin = nodes[from], direction = (target - origin).normalized();
     std::vector<Eigen::Vector2d> line;
-    for (double s = this->Step; s <= 4.0 * L; s += this->Step)
-      line.push_back(this->Graph.Nodes()[from] + s * direction);
+    for (double step = this->Step; step <= 4.0 * L; step += this->Step)
+      line.push_back(origin + step * direction);
     this->GrowCurve(from, line, this->Graph.AddVein(VeinOrderSecondary), 1e-7 * L);
   }
 }
