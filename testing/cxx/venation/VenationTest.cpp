@@ -286,7 +286,7 @@ TEST(Venation, StatisticsAreWhatTheNetworkMeasures)
 {
   const LeafGeometry leaf = EntireLeaf();
   const VenationResult r = Grow(leaf, MakeVenationPreset(VenationPreset::Poplar));
-  double length[5] = { 0, 0, 0, 0, 0 };
+  double length[VeinOrderCount] = {};
   std::size_t segments = 0;
   for (const auto& vein : r.veins)
   {
@@ -295,7 +295,7 @@ TEST(Venation, StatisticsAreWhatTheNetworkMeasures)
     segments += vein.nodes.size() - 1;
   }
   double total = 0.0;
-  for (int o = 1; o < 5; ++o)
+  for (int o = 1; o < VeinOrderCount; ++o)
   {
     EXPECT_NEAR(r.statistics.length[o], length[o], 1e-9 * (1.0 + length[o]));
     total += length[o];
