@@ -1207,7 +1207,7 @@ void Grower::Finish(VenationResult& result)
   }
   stats.bladeArea = this->Locator.Area();
   double total = 0.0;
-  for (int o = 1; o < 5; ++o)
+  for (int o = 1; o < VeinOrderCount; ++o)
     total += stats.length[o];
   stats.density = total / stats.bladeArea;
   const std::vector<int> degree = this->Graph.VeinDegrees();
