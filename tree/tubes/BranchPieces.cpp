@@ -21,9 +21,14 @@ Run DepthFirstRun(const std::vector<TubeInput>& tubes, const std::vector<char>& 
   const std::size_t count = tubes.size();
   const auto isRoot = [&](std::size_t t) { return tubes[t].parent < 0 || (t < unitRoots.size() && unitRoots[t] != 0); };
   std::vector<std::vector<std::size_t>> children(count);
+  std::vector<double> rings(count, 0.0); // children's base rings at the tube's end junction (merged roots too)
   for (std::size_t t = 0; t < count; ++t)
+  {
+    if (tubes[t].parent >= 0 && static_cast<std::size_t>(tubes[t].parent) < count)
+      rings[static_cast<std::size_t>(tubes[t].parent)] += 1.0;
     if (!isRoot(t))
       children[static_cast<std::size_t>(tubes[t].parent)].push_back(t);
+  }
   Run run;
   run.order.reserve(count);
   run.before.assign(1, 0.0);
@@ -39,7 +44,7 @@ Run DepthFirstRun(const std::vector<TubeInput>& tubes, const std::vector<char>& 
       stack.pop_back();
       run.order.push_back(t);
       const double segments = static_cast<double>(tubes[t].centre.size()) - 1.0;
-      run.before.push_back(run.before.back() + std::max(segments, 1.0) + 1.0);
+      run.before.push_back(run.before.back() + std::max(segments, 1.0) + 1.0 + rings[t]);
       // Reversed onto the stack: the children come off it in index order.
       stack.insert(stack.end(), children[t].rbegin(), children[t].rend());
     }
