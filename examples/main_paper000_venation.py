@@ -12,7 +12,8 @@
   (with loops) on the entire blade;
 - venation_wilting_species.png: the presets of the wilting species on their blades: cucumber (palmate to the lobe
   and basal-lobe tips, craspedodromous secondaries off each primary, a hierarchical reticulum), watermelon (palmate,
-  one primary per lobe with secondaries into its flanks, on paper 002's five-lobed leaf) and a tomato leaflet
+  one primary per lobe with secondaries into its flanks and one to each sub-lobe tip, on LeafOutlineSource's
+  Watermelon blade: paper 002's five lobes, each with two sub-lobes a side) and a tomato leaflet
   (pinnate semicraspedodromous, on a serrate blade).
 Each figure's veins and blade are written as .vtp files.
 
@@ -112,7 +113,8 @@ view = white_view(1500, 560)
 species = [("Cucumber (palmate)", LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength=5.0,
                                                     BladeWidth=5.5, Resolution=80, MeshQuality="Quality"), "Cucumber"),
            ("Watermelon (palmate, lobed)", LeafOutlineSource(Model="Space curve",
-                                                             SpaceCurvePreset="Paper 002 Fig. 8, 5 lobes", Length=5.0,
+                                                             SpaceCurvePreset="Watermelon (5 lobes, sub-lobed)",
+                                                             Length=5.0,
                                                              Resolution=80, MeshQuality="Quality"), "Watermelon"),
            ("Tomato (pinnate leaflet)", LeafOutlineSource(Preset="Serrate", Length=5.0, Resolution=80,
                                                           MeshQuality="Quality"), "Tomato leaflet")]

@@ -12,11 +12,12 @@
 // on rank 0 (PlantMorphWholeInput.h) and the blades found there.
 //
 // The plan (LeafPlan), the same on every rank: every leaf gets one owner rank, the leaves taken largest first (by
-// points; ties: the smaller LeafId first), each to the least loaded rank so far (ties: the lower rank) -- LeafFit's
-// rule (fit/vtk/LeafFitExchange.h). A leaf held by one rank moves whole to its owner (nothing moves when that is its
-// owner); a leaf whose points are on several ranks is gathered on its owner, the pieces appended in rank order and
-// their exactly coincident points merged. A leaf taken out of a piece keeps the input's point and cell order and
-// every point, cell and field array, so a leaf alone and the same leaf among others give the same dataset.
+// points; ties: the smaller LeafId first), each to the least loaded rank so far (ties: the lower rank): LeafOwners,
+// the one copy of the rule, which LeafFitFilter's exchange (fit/vtk/LeafFitExchange.h) uses too. A leaf held by one
+// rank moves whole to its owner (nothing moves when that is its owner); a leaf whose points are on several ranks is
+// gathered on its owner, the pieces appended in rank order and their exactly coincident points merged. A leaf taken
+// out of a piece keeps the input's point and cell order and every point, cell and field array, so a leaf alone and
+// the same leaf among others give the same dataset.
 // Serially the same code runs without communication: rank 0 owns every leaf.
 //
 // Every function marked collective must be called by every rank, in the same order.
@@ -197,6 +198,55 @@ inline std::map<int, vtkSmartPointer<vtkPolyData>> ExtractLeaves(
   return result;
 }
 
+/// Collective: every rank's (LeafId, point count) pairs, on every rank: element q is rank q's `mine`. `controller`
+/// null (serial): just `mine`.
+inline std::vector<std::map<int, vtkIdType>> LeafCountsOfRanks(
+  vtkMultiProcessController* controller, const std::map<int, vtkIdType>& mine)
+{
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+    return { mine };
+  std::vector<long long> flat;
+  for (const auto& leaf : mine)
+  {
+    flat.push_back(leaf.first);
+    flat.push_back(static_cast<long long>(leaf.second));
+  }
+  const vtkIdType length = static_cast<vtkIdType>(flat.size());
+  std::vector<vtkIdType> lengths(static_cast<std::size_t>(controller->GetNumberOfProcesses()), 0);
+  std::vector<vtkIdType> offsets(lengths.size(), 0);
+  controller->AllGather(&length, lengths.data(), 1);
+  for (std::size_t q = 1; q < lengths.size(); ++q)
+    offsets[q] = offsets[q - 1] + lengths[q - 1];
+  std::vector<long long> all(static_cast<std::size_t>(offsets.back() + lengths.back()) + 1, 0); // +1: never null
+  flat.push_back(0);
+  controller->AllGatherV(flat.data(), all.data(), length, lengths.data(), offsets.data());
+  std::vector<std::map<int, vtkIdType>> result(lengths.size());
+  for (std::size_t q = 0; q < lengths.size(); ++q)
+    for (vtkIdType k = offsets[q]; k + 1 < offsets[q] + lengths[q]; k += 2)
+      result[q][static_cast<int>(all[k])] += static_cast<vtkIdType>(all[k + 1]);
+  return result;
+}
+
+/// The owner plan, the one rule of every per-leaf filter (LeafPlan here, LeafFitFilter's fit/vtk/LeafFitExchange):
+/// `points[k]` is leaf k's point count over all ranks, the leaves in ascending LeafId; returns each leaf's owner
+/// rank. The leaves are taken largest first (ties: the smaller LeafId first), each given to the least loaded rank so
+/// far (ties: the lower rank), a rank's load being the points of the leaves it owns.
+inline std::vector<int> LeafOwners(const std::vector<vtkIdType>& points, int ranks)
+{
+  std::vector<std::size_t> index(points.size());
+  std::iota(index.begin(), index.end(), 0);
+  std::stable_sort(index.begin(), index.end(), [&](std::size_t a, std::size_t b) { return points[a] > points[b]; });
+  std::vector<vtkIdType> load(static_cast<std::size_t>(std::max(ranks, 1)), 0);
+  std::vector<int> owners(points.size(), 0);
+  for (std::size_t leaf : index)
+  {
+    const auto least = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
+    owners[leaf] = least;
+    load[least] += points[leaf];
+  }
+  return owners;
+}
+
 /// The owner plan and the exchanges (see the top of this file).
 class LeafPlan
 {
@@ -368,46 +418,20 @@ public:
   }
 
 private:
-  /// Every rank's (LeafId, count) pairs, then the owners (largest first, to the least loaded rank).
+  /// Every rank's (LeafId, count) pairs, then the owners (LeafOwners).
   void Plan(const std::map<int, vtkIdType>& counts)
   {
-    std::vector<long long> mine;
-    for (const auto& leaf : counts)
-    {
-      mine.push_back(leaf.first);
-      mine.push_back(static_cast<long long>(leaf.second));
-    }
-    std::vector<long long> all = mine;
-    if (this->Controller)
-    {
-      const vtkIdType length = static_cast<vtkIdType>(mine.size());
-      std::vector<vtkIdType> lengths(static_cast<std::size_t>(this->Ranks), 0), offsets(lengths.size(), 0);
-      this->Controller->AllGather(&length, lengths.data(), 1);
-      for (std::size_t q = 1; q < lengths.size(); ++q)
-        offsets[q] = offsets[q - 1] + lengths[q - 1];
-      all.assign(static_cast<std::size_t>(offsets.back() + lengths.back()) + 1, 0); // +1: never a null buffer
-      mine.push_back(0);
-      this->Controller->AllGatherV(mine.data(), all.data(), length, lengths.data(), offsets.data());
-      all.pop_back();
-    }
     std::map<int, vtkIdType> total;
-    for (std::size_t k = 0; k + 1 < all.size(); k += 2)
-      total[static_cast<int>(all[k])] += static_cast<vtkIdType>(all[k + 1]);
-    std::vector<std::pair<int, vtkIdType>> order(total.begin(), total.end()); // ascending LeafId
-    for (const auto& leaf : order)
-      this->Ids.push_back(leaf.first);
-    std::vector<std::size_t> index(order.size());
-    std::iota(index.begin(), index.end(), 0);
-    std::stable_sort(
-      index.begin(), index.end(), [&](std::size_t a, std::size_t b) { return order[a].second > order[b].second; });
-    std::vector<vtkIdType> load(static_cast<std::size_t>(this->Ranks), 0);
-    this->Owners.assign(order.size(), 0);
-    for (std::size_t leaf : index)
+    for (const auto& rank : LeafCountsOfRanks(this->Controller, counts))
+      for (const auto& leaf : rank)
+        total[leaf.first] += leaf.second;
+    std::vector<vtkIdType> points;
+    for (const auto& leaf : total) // ascending LeafId
     {
-      const auto least = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
-      this->Owners[leaf] = least;
-      load[least] += order[leaf].second;
+      this->Ids.push_back(leaf.first);
+      points.push_back(leaf.second);
     }
+    this->Owners = LeafOwners(points, this->Ranks);
   }
 
   vtkMultiProcessController* Controller = nullptr; // null when serial

@@ -1,5 +1,7 @@
 #include "LeafFitExchange.h"
 
+#include "PlantMorphLeafExchange.h"
+
 #include "vtkCommunicator.h"
 #include "vtkMultiProcessController.h"
 
@@ -39,53 +41,29 @@ LeafExchange::LeafExchange(vtkMultiProcessController* controller, const LocalLea
     this->Ranks = controller->GetNumberOfProcesses();
     this->MyRank = controller->GetLocalProcessId();
   }
-  // Every rank's (LeafId, count) pairs.
-  std::vector<long long> mine;
+  // Every rank's (LeafId, count) pairs, then the owners: the common rule (PlantMorphLeafExchange.h).
+  std::map<int, vtkIdType> mine;
   for (const auto& leaf : local)
+    mine[leaf.first] = static_cast<vtkIdType>(leaf.second.size());
+  const std::vector<std::map<int, vtkIdType>> ranks = LeafCountsOfRanks(this->Controller, mine);
+  std::map<int, vtkIdType> total;
+  for (const auto& rank : ranks)
+    for (const auto& leaf : rank)
+      total[leaf.first] += leaf.second;
+  std::vector<vtkIdType> points;
+  for (const auto& leaf : total) // ascending LeafId
   {
-    mine.push_back(leaf.first);
-    mine.push_back(static_cast<long long>(leaf.second.size()));
+    this->Ids.push_back(leaf.first);
+    points.push_back(leaf.second);
   }
-  std::vector<long long> all = mine;
-  std::vector<vtkIdType> lengths(static_cast<std::size_t>(this->Ranks), static_cast<vtkIdType>(mine.size()));
-  if (this->Controller)
-  {
-    const int length = static_cast<int>(mine.size());
-    std::vector<int> received(lengths.size(), 0);
-    this->Controller->AllGather(&length, received.data(), 1);
-    std::copy(received.begin(), received.end(), lengths.begin());
-    const std::vector<vtkIdType> offsets = Offsets(lengths);
-    all.assign(static_cast<std::size_t>(offsets.back() + lengths.back()), 0);
-    this->Controller->AllGatherV(Data(mine), Data(all), static_cast<vtkIdType>(mine.size()), lengths.data(),
-      const_cast<vtkIdType*>(offsets.data()));
-  }
-  for (std::size_t k = 0; k < all.size(); k += 2)
-    this->Ids.push_back(static_cast<int>(all[k]));
-  std::sort(this->Ids.begin(), this->Ids.end());
-  this->Ids.erase(std::unique(this->Ids.begin(), this->Ids.end()), this->Ids.end());
   this->Counts.assign(static_cast<std::size_t>(this->Ranks), std::vector<vtkIdType>(this->Ids.size(), 0));
-  std::vector<vtkIdType> total(this->Ids.size(), 0);
-  const std::vector<vtkIdType> offsets = Offsets(lengths);
-  for (int q = 0; q < this->Ranks; ++q)
-    for (vtkIdType k = offsets[q]; k < offsets[q] + lengths[q]; k += 2)
+  for (std::size_t q = 0; q < ranks.size(); ++q)
+    for (const auto& leaf : ranks[q])
     {
-      const auto leaf = static_cast<std::size_t>(
-        std::lower_bound(this->Ids.begin(), this->Ids.end(), static_cast<int>(all[k])) - this->Ids.begin());
-      this->Counts[q][leaf] = static_cast<vtkIdType>(all[k + 1]);
-      total[leaf] += this->Counts[q][leaf];
+      const auto at = std::lower_bound(this->Ids.begin(), this->Ids.end(), leaf.first) - this->Ids.begin();
+      this->Counts[q][static_cast<std::size_t>(at)] = leaf.second;
     }
-  // Owners: largest leaf first (ties: smaller LeafId), each to the least loaded rank (ties: the lower rank).
-  std::vector<std::size_t> order(this->Ids.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return total[a] > total[b]; });
-  std::vector<vtkIdType> load(static_cast<std::size_t>(this->Ranks), 0);
-  this->Owners.assign(this->Ids.size(), 0);
-  for (std::size_t leaf : order)
-  {
-    const auto least = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
-    this->Owners[leaf] = least;
-    load[least] += total[leaf];
-  }
+  this->Owners = LeafOwners(points, this->Ranks);
 }
 
 bool LeafExchange::AnyRank(bool failed) const

@@ -3,7 +3,8 @@
 // Every rank holds a piece of the input, and a leaf's points may be spread over several pieces. The plan, the same
 // on every rank (it depends only on the leaves' ids and point counts, which every rank learns): each leaf gets one
 // owner rank, the leaves taken largest first (ties: smaller LeafId first) and each given to the least loaded rank so
-// far (ties: the lower rank), the load being the points a rank fits. Every rank sends its points of each leaf to the
+// far (ties: the lower rank), the load being the points a rank fits: plantmorph::LeafOwners of
+// common/vtk/PlantMorphLeafExchange.h, the rule every per-leaf filter shares. Every rank sends its points of each leaf to the
 // leaf's owner (in rank order, each rank's points in its input order); the owner fits the leaf and sends each point's
 // per-point results (FitDistance, Inlier) back to the rank that holds the point, where the Scan output stays. Blade
 // and Outline stay on the owner. The Traits rows are gathered onto rank 0 in LeafId order. Serially (no controller,

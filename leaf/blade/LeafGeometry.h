@@ -24,6 +24,7 @@ struct LeafGeometry
   std::vector<int> rightMargin;               ///< base to apex, through u > 0
   std::vector<int> midvein;                   ///< base to apex
   std::vector<std::vector<int>> lobeMidveins; ///< palmate leaves: each lateral lobe's midvein, base to its tip
+  std::vector<int> subLobeTips;               ///< palmate leaves with sub-lobes: the sub-lobes' tips on the margin
   std::size_t uvInversionFailures = 0;        ///< interior points whose LeafUV fell back to the neighbours' mean
   std::vector<double> z;                      ///< height of every blade point; empty for a flat blade (z = 0)
   std::vector<Eigen::Vector3d> normals;       ///< unit normal of every blade point; empty for a flat blade (+Z)

@@ -1,6 +1,7 @@
 #include "PalmateLeaf.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/MathConstants.h>
 #include <plantmorph/RangeError.h>
 
 #include <CGAL/Boolean_set_operations_2.h>
@@ -30,6 +31,7 @@ struct Lobe
   std::vector<Eigen::Vector2d> mirror; ///< the other half, start to tip
   Eigen::Vector2d start = Eigen::Vector2d::Zero();
   Eigen::Vector2d tip = Eigen::Vector2d::Zero();
+  std::vector<Eigen::Vector2d> subTips; ///< its sub-lobes' tips on both halves
 };
 
 /// What an outline vertex was before the union: a sample, the base, a lobe's start, or a lobe's tip.
@@ -37,7 +39,8 @@ struct VertexRole
 {
   bool base = false;
   bool start = false;
-  int tip = -1; ///< index of the lobe whose tip this is
+  int tip = -1;        ///< index of the lobe whose tip this is
+  bool subTip = false; ///< a sub-lobe's tip
 };
 
 using Key = std::pair<double, double>;
@@ -97,6 +100,91 @@ struct Sector
   std::vector<Eigen::Vector2d> polygon, uv;
   double uLow = 0.0, uHigh = 0.0;
 };
+
+/// Sub-lobes (a pinnately lobed lobe) on one half-margin `half` of a lobe running from `start` to `tip`: every
+/// sample at arc-length fraction t beyond `from` is pulled towards the lobe's axis (its chord from start to tip) to
+/// 1 - depth*sin^4(pi*phi) of its distance from it, phi = (count + 1)(t - from)/(1 - from): `count` sub-lobes whose
+/// tips (phi = 1..count, the samples nearest their t, kept where they were) go to `tips`, with rounded sinuses
+/// between them and one below the lobe's own tip.
+void SubLobeHalf(const SpaceCurveParameters& p, double from, const Eigen::Vector2d& start, const Eigen::Vector2d& tip,
+  std::vector<Eigen::Vector2d>& half, std::vector<Eigen::Vector2d>& tips)
+{
+  const Eigen::Vector2d axis = (tip - start).normalized();
+  std::vector<double> t(half.size(), 0.0);
+  for (std::size_t i = 1; i < half.size(); ++i)
+    t[i] = t[i - 1] + (half[i] - half[i - 1]).norm();
+  for (double& value : t)
+    value /= t.back();
+  const double periods = p.subLobes + 1.0;
+  std::vector<std::size_t> tipSamples;
+  for (int j = 1; j <= p.subLobes; ++j)
+  {
+    const double target = from + j * (1.0 - from) / periods;
+    std::size_t nearest = 1;
+    for (std::size_t i = 1; i + 1 < half.size(); ++i)
+    {
+      if (std::abs(t[i] - target) < std::abs(t[nearest] - target))
+        nearest = i;
+    }
+    if (t[nearest] > from)
+      tipSamples.push_back(nearest);
+  }
+  for (std::size_t i = 1; i + 1 < half.size(); ++i)
+  {
+    if (t[i] <= from)
+      continue;
+    const double phi = periods * (t[i] - from) / (1.0 - from);
+    const double bump = std::pow(std::sin(Pi * phi), 4);
+    const Eigen::Vector2d foot = start + (half[i] - start).dot(axis) * axis;
+    half[i] = foot + (1.0 - p.subLobeDepth * bump) * (half[i] - foot);
+  }
+  for (std::size_t i : tipSamples)
+    tips.push_back(half[i]);
+}
+
+/// Sub-lobes on both halves of every lobe (subLobes > 0), each half from where it leaves the other lobes (the
+/// entire lobes' polygons, both copies; at least LobeStart) to its tip: only margin that is outline is cut, so the
+/// sinuses open no holes where lobes overlap.
+void ApplySubLobes(const SpaceCurveParameters& p, std::vector<Lobe>& lobes)
+{
+  if (p.subLobes <= 0)
+    return;
+  std::vector<std::vector<Eigen::Vector2d>> polygons;
+  std::vector<std::size_t> owner;
+  for (std::size_t k = 0; k < lobes.size(); ++k)
+  {
+    for (int copy = 0; copy < (k == 0 ? 1 : 2); ++copy)
+    {
+      std::vector<Eigen::Vector2d> loop(lobes[k].margin.begin(), lobes[k].margin.end());
+      for (std::size_t i = lobes[k].mirror.size() - 2; i >= 1; --i)
+        loop.push_back(lobes[k].mirror[i]);
+      for (Eigen::Vector2d& x : loop)
+        x = copy == 0 ? x : MirrorInAxis(x);
+      polygons.push_back(loop);
+      owner.push_back(k);
+    }
+  }
+  for (std::size_t k = 0; k < lobes.size(); ++k)
+  {
+    for (std::vector<Eigen::Vector2d>* half : { &lobes[k].margin, &lobes[k].mirror })
+    {
+      double from = p.lobeStart, along = 0.0, total = 0.0;
+      for (std::size_t i = 1; i < half->size(); ++i)
+        total += ((*half)[i] - (*half)[i - 1]).norm();
+      for (std::size_t i = 1; i + 1 < half->size(); ++i)
+      {
+        along += ((*half)[i] - (*half)[i - 1]).norm();
+        for (std::size_t j = 0; j < polygons.size(); ++j)
+        {
+          if (owner[j] != k && InsidePolygon(polygons[j], (*half)[i]))
+            from = std::max(from, along / total);
+        }
+      }
+      if (from < 0.95)
+        SubLobeHalf(p, from, lobes[k].start, lobes[k].tip, *half, lobes[k].subTips);
+    }
+  }
+}
 
 /// Lobe 1 in the paper's frame, turned so that its chord runs along +Y, and each further lobe's half-margin from its
 /// start on the previous lobe's (`levels` lobes in all).
@@ -220,6 +308,8 @@ std::string LobePolygons(const std::vector<Lobe>& lobes, std::map<Key, VertexRol
       roles[KeyOf(tips.back())].tip = tipIndex;
       if (k > 0)
         roles[KeyOf(place(lobe.start))].start = true;
+      for (const Eigen::Vector2d& x : lobe.subTips)
+        roles[KeyOf(place(x))].subTip = true;
     }
   }
   return {};
@@ -274,7 +364,7 @@ void DropSlivers(double spacing, std::vector<OutlineVertex>& vertices)
   for (std::size_t i = 0; i < count; ++i)
   {
     const OutlineVertex& v = vertices[i];
-    const bool plain = !v.crossing && !v.role.base && !v.role.start && v.role.tip < 0;
+    const bool plain = !v.crossing && !v.role.base && !v.role.start && v.role.tip < 0 && !v.role.subTip;
     bool crowded = false;
     for (const std::size_t j : { (i + count - 1) % count, (i + 1) % count })
     {
@@ -547,6 +637,7 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshParameters&
     return error;
   if (error = MirrorLobes(p, lobes); !error.empty())
     return error;
+  ApplySubLobes(p, lobes);
   std::map<Key, VertexRole> roles;
   std::vector<ExactPolygon> polygons;
   std::vector<Eigen::Vector2d> tipPoints;
@@ -595,6 +686,11 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshParameters&
   leaf.leftMargin.push_back(0);
   for (int i = count - 1; i >= apex; --i)
     leaf.leftMargin.push_back(i);
+  for (int i = 0; i < count; ++i)
+  {
+    if (vertices[i].role.subTip)
+      leaf.subLobeTips.push_back(i);
+  }
   leaf.tcoords = BoundingBoxTextureCoordinates(leaf.blade.points);
   return {};
 }

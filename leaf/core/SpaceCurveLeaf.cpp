@@ -52,6 +52,10 @@ std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& p, const Sp
        .empty() ||
     !(e = Check(
         std::isfinite(p.lobeScale) && p.lobeScale > 0 && p.lobeScale <= 1.5, "LobeScale", p.lobeScale, "(0, 1.5]"))
+       .empty() ||
+    !(e = Check(p.subLobes >= 0 && p.subLobes <= 8, "SubLobes", p.subLobes, "[0, 8]")).empty() ||
+    !(e = Check(std::isfinite(p.subLobeDepth) && p.subLobeDepth > 0 && p.subLobeDepth <= 0.9, "SubLobeDepth",
+        p.subLobeDepth, "(0, 0.9]"))
        .empty())
     return e;
   if (p.torsion.mu != 0.0 || p.opening != 0.0)

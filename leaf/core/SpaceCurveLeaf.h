@@ -54,6 +54,10 @@ struct SpaceCurveParameters
   double lobeStart = 0.2;  ///< arc-length fraction of the previous lobe's half-margin where a lobe starts, (0, 1)
   double lobeAngle = 45.0; ///< degrees by which a lobe's initial tangent turns away from the previous one's, (0, 90]
   double lobeScale = 0.85; ///< a lobe's size relative to the previous lobe's, (0, 1.5]
+  /// Palmate leaves: sub-lobes on each side of every lobe (a pinnately lobed lobe, as a watermelon's), [0, 8];
+  /// 0 (the default) leaves the lobes entire (PalmateLeaf.h).
+  int subLobes = 0;
+  double subLobeDepth = 0.5; ///< the sinuses' depth, a fraction of the lobe's half-width there, (0, 0.9]
 
   SpaceCurveParameters() { torsion.mu = 0.0; }
 };

@@ -63,6 +63,14 @@ SpaceCurveParameters MakeSpaceCurvePreset(SpaceCurvePreset preset, double length
       p.lobeAngle = preset == SpaceCurvePreset::Figure8ThreeLobes ? 45.0 : 40.0;
       p.lobeScale = 0.85;
       break;
+    case SpaceCurvePreset::Watermelon:
+      // Not in paper 002: a watermelon (Citrullus lanatus) leaf is deeply 3-5-lobed and each lobe is itself
+      // pinnately lobed. Fig. 8's five lobes, each with two sub-lobes a side between LobeStart and its tip, the
+      // sinuses cutting half-way to the lobe's axis (deep, rounded sinuses).
+      p = MakeSpaceCurvePreset(SpaceCurvePreset::Figure8FiveLobes, length);
+      p.subLobes = 2;
+      p.subLobeDepth = 0.5;
+      break;
   }
   return p;
 }
@@ -71,7 +79,7 @@ std::string SpaceCurvePresetName(SpaceCurvePreset preset)
 {
   static const char* const names[SpaceCurvePresetCount] = { "Custom", "Paper002Figure1", "Paper002Figure2",
     "Paper002Figure3", "Paper002Figure4", "Paper002Figure5", "Paper002Figure6", "Paper002Figure8ThreeLobes",
-    "Paper002Figure8FiveLobes" };
+    "Paper002Figure8FiveLobes", "Watermelon" };
   const int index = static_cast<int>(preset);
   return index >= 0 && index < SpaceCurvePresetCount ? names[index] : "Unknown";
 }

@@ -20,9 +20,10 @@ enum class SpaceCurvePreset : int
   Figure6 = 6,           ///< Fig. 5 with the midvein projected from the margins onto the symmetry plane
   Figure8ThreeLobes = 7, ///< palmate, 3 lobes (Fig. 8; numbers chosen, the paper prints none)
   Figure8FiveLobes = 8,  ///< palmate, 5 lobes (Fig. 8; numbers chosen, the paper prints none)
+  Watermelon = 9,        ///< Fig. 8's five lobes, each pinnately lobed: two sub-lobes a side (not in the paper)
 };
 
-inline constexpr int SpaceCurvePresetCount = 9;
+inline constexpr int SpaceCurvePresetCount = 10;
 
 /// The preset's parameters for a half-margin of arc length `length` (Custom: the default parameters).
 SpaceCurveParameters MakeSpaceCurvePreset(SpaceCurvePreset preset, double length);

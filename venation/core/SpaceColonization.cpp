@@ -483,7 +483,7 @@ void Colonizer::Finish(VenationResult& result) const
   const double base = std::pow(flux[0], 1.0 / n);
   for (std::size_t i = 0; i < count; ++i)
     result.width.push_back(this->P.primaryWidth * this->Length * std::pow(flux[i], 1.0 / n) / base);
-  result.order.assign(count, VeinOrderVeinlet);
+  result.order.assign(count, VeinOrderQuaternary);
   std::vector<std::vector<int>> kids(count);
   for (std::size_t i = 1; i < count; ++i)
     kids[this->Parent[i]].push_back(static_cast<int>(i));
@@ -509,7 +509,7 @@ void Colonizer::Finish(VenationResult& result) const
       for (auto k = kids[at].rbegin(); k != kids[at].rend(); ++k)
       {
         if (*k != heaviest[at])
-          starts.push_back({ at, *k, std::min(s.order + 1, static_cast<int>(VeinOrderVeinlet)) });
+          starts.push_back({ at, *k, std::min(s.order + 1, static_cast<int>(VeinOrderQuaternary)) });
       }
     }
     if (line.nodes.size() < 2)

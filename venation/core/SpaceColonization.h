@@ -25,7 +25,7 @@
 // `murrayExponent`, 3 is Murray's law), scaled so the base is `primaryWidth` * L (closed venation: along the tree
 // the veins grew as; a link takes the widths of the nodes it joins). Orders: the vein from the base
 // continues through the child of largest width (order 1); every other child starts a vein one order higher (at
-// most 4, VeinOrderVeinlet).
+// most 4, VeinOrderQuaternary: the higher orders; no free-ending veinlets of order 5).
 //
 // Plain C++17 + Eigen, no VTK.
 #pragma once

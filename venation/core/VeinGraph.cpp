@@ -428,4 +428,29 @@ std::vector<VeinGraph::Face> VeinGraph::Faces(bool withNodes) const
   return faces;
 }
 
+std::vector<int> ReticulumOrders(const VeinGraph& graph)
+{
+  const std::vector<std::vector<int>> paths = graph.VeinPaths();
+  const std::size_t veins = graph.Veins().size();
+  // The nodes on a primary or secondary.
+  std::vector<char> major(graph.Nodes().size(), 0);
+  for (std::size_t v = 0; v < veins; ++v)
+  {
+    const int order = graph.Order(static_cast<int>(v));
+    if (order == VeinOrderPrimary || order == VeinOrderSecondary)
+    {
+      for (int n : paths[v])
+        major[n] = 1;
+    }
+  }
+  std::vector<int> orders(veins);
+  for (std::size_t v = 0; v < veins; ++v)
+  {
+    orders[v] = graph.Order(static_cast<int>(v));
+    if (orders[v] == VeinOrderTertiary && !paths[v].empty() && !(major[paths[v].front()] && major[paths[v].back()]))
+      orders[v] = VeinOrderQuaternary;
+  }
+  return orders;
+}
+
 } // namespace plantmorph

@@ -28,9 +28,11 @@ enum VeinOrderValue : int
   VeinOrderMargin = 0,
   VeinOrderPrimary = 1,
   VeinOrderSecondary = 2,
-  VeinOrderTertiary = 3,
-  VeinOrderVeinlet = 4,
+  VeinOrderTertiary = 3,   ///< reticulum veins joining two primaries or secondaries (percurrent, ReticulumOrders)
+  VeinOrderQuaternary = 4, ///< the finer reticulum: veins that only subdivide areoles (and higher orders)
+  VeinOrderVeinlet = 5,    ///< free-ending veinlets inside areoles
 };
+inline constexpr int VeinOrderCount = 6; ///< margin (0) to veinlet (5), for arrays indexed by order
 
 class VeinGraph
 {
@@ -93,6 +95,9 @@ public:
   const std::vector<Vein>& Veins() const { return this->VeinList; }
   int Order(int vein) const { return this->VeinList[vein].order; }
 
+  /// Changes a vein's order (ReticulumOrders).
+  void SetOrder(int vein, int order) { this->VeinList[vein].order = order; }
+
   /// Each vein's nodes in order along it (a vein is a path; the margin, a closed loop, starts and ends on one node).
   std::vector<std::vector<int>> VeinPaths() const;
 
@@ -132,5 +137,12 @@ private:
   mutable std::vector<int> Visit; ///< query stamp per edge, so an edge in several cells is tested once
   mutable int Stamp = 0;
 };
+
+/// The reticulum's orders (docs/methods/venation.md "Vein orders"): every vein of order VeinOrderTertiary as grown
+/// (one vein is one front's path, from where it started to where it stopped, through the junctions it made on the
+/// way) stays a tertiary if both its ends lie on primaries or secondaries (order <= 2, the margin not counting): a
+/// vein joining them across the intercostal area; otherwise, starting or ending on another reticulum vein, it only
+/// subdivides an areole and becomes VeinOrderQuaternary. Other veins keep their order. The new order of every vein.
+std::vector<int> ReticulumOrders(const VeinGraph& graph);
 
 } // namespace plantmorph

@@ -111,6 +111,14 @@ private:
   std::string GrowTertiaries();
   void GrowVeinlets();
   void GrowPalmate();
+  /// Sub-lobe veins (subLobeVeins): a secondary from the nearest primary in `hosts` to every sub-lobe tip; the
+  /// paths gain the veins' start nodes.
+  void GrowSubLobeVeins(std::vector<std::vector<int>>& hosts);
+  /// Flank secondaries (flankSecondaries): straight secondaries into the blade's parts farthest from the primaries
+  /// and secondaries while they are farther than secondarySpacing.
+  void GrowFlankSecondaries();
+  /// Splits the path at arc length `at` from its start (an existing node within 1e-9 L is reused); the node there.
+  int SplitPathAt(std::vector<int>& path, double at);
   void Finish(VenationResult& result);
 
   const VenationBlade& Blade;
@@ -795,6 +803,233 @@ void Grower::GrowPalmate()
     grow(0, r << levels, 1 << levels, this->BaseNode);
 }
 
+void Grower::GrowFlankSecondaries()
+{
+  const double L = this->Length, reach = this->P.secondarySpacing * L;
+  // Sample points over the blade (a 64 x 64 grid over its box, those inside).
+  const Eigen::Vector2d low = this->Locator.Lower(), extent = this->Locator.Upper() - low;
+  std::vector<Eigen::Vector2d> samples;
+  for (int y = 0; y < 64; ++y)
+  {
+    for (int x = 0; x < 64; ++x)
+    {
+      const Eigen::Vector2d point = low + Eigen::Vector2d((x + 0.5) / 64 * extent.x(), (y + 0.5) / 64 * extent.y());
+      if (this->Inside(point))
+        samples.push_back(point);
+    }
+  }
+  // Each sample's distance to the nearest primary or secondary edge, brought up to date with the edges added
+  // since (splitting an edge keeps its geometry, so older distances stay right).
+  const auto& nodes = this->Graph.Nodes();
+  const auto& edges = this->Graph.Edges();
+  std::vector<double> distance(samples.size(), std::numeric_limits<double>::infinity());
+  auto nearest = [&](const Eigen::Vector2d& point, std::size_t from, double& best, int& bestEdge,
+                   Eigen::Vector2d& bestFoot) {
+    for (std::size_t e = from; e < edges.size(); ++e)
+    {
+      const int order = this->Graph.Order(edges[e].vein);
+      if (order != VeinOrderPrimary && order != VeinOrderSecondary)
+        continue;
+      const Eigen::Vector2d a = nodes[edges[e].a], d = nodes[edges[e].b] - a;
+      const double t = std::clamp((point - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+      const double r = (a + t * d - point).norm();
+      if (r < best)
+      {
+        best = r;
+        bestEdge = static_cast<int>(e);
+        bestFoot = a + t * d;
+      }
+    }
+  };
+  std::size_t seen = 0;
+  for (int added = 0; added < 8; ++added)
+  {
+    double farthest = 0.0;
+    std::size_t far = samples.size();
+    for (std::size_t i = 0; i < samples.size(); ++i)
+    {
+      int edge = -1;
+      Eigen::Vector2d foot;
+      nearest(samples[i], seen, distance[i], edge, foot);
+      if (std::isfinite(distance[i]) && distance[i] > farthest)
+      {
+        farthest = distance[i];
+        far = i;
+      }
+    }
+    seen = edges.size();
+    if (far == samples.size() || farthest <= reach)
+      return;
+    // The farthest sample's foot on its nearest vein, found afresh (a node there, or an end of the edge within
+    // 1e-9 L), then straight through the sample to the margin.
+    const Eigen::Vector2d target = samples[far];
+    double best = std::numeric_limits<double>::infinity();
+    int edgeAt = -1;
+    Eigen::Vector2d foot = target;
+    nearest(target, 0, best, edgeAt, foot);
+    const VeinGraph::Edge edge = edges[edgeAt];
+    int from = edge.a;
+    if ((foot - nodes[edge.b]).norm() <= 1e-9 * L)
+      from = edge.b;
+    else if ((foot - nodes[edge.a]).norm() > 1e-9 * L)
+      from = this->Graph.SplitEdge(edgeAt, foot);
+    const Eigen::Vector2d origin = nodes[from], direction = (target - origin).normalized();
+    std::vector<Eigen::Vector2d> line;
+    for (double step = this->Step; step <= 4.0 * L; step += this->Step)
+      line.push_back(origin + step * direction);
+    this->GrowCurve(from, line, this->Graph.AddVein(VeinOrderSecondary), 1e-7 * L);
+  }
+}
+
+int Grower::SplitPathAt(std::vector<int>& path, double at)
+{
+  const auto& nodes = this->Graph.Nodes();
+  double start = 0.0;
+  for (std::size_t i = 0; i + 1 < path.size(); ++i)
+  {
+    const Eigen::Vector2d a = nodes[path[i]], b = nodes[path[i + 1]];
+    const double piece = (b - a).norm();
+    if (start + piece < at && i + 2 < path.size())
+    {
+      start += piece;
+      continue;
+    }
+    const double t = std::clamp(at - start, 0.0, piece);
+    if (t <= 1e-9 * this->Length)
+      return path[i];
+    if (piece - t <= 1e-9 * this->Length)
+      return path[i + 1];
+    const int node = this->Graph.SplitEdge(this->Graph.FindEdge(path[i], path[i + 1]), a + t / piece * (b - a));
+    path.insert(path.begin() + static_cast<std::ptrdiff_t>(i) + 1, node);
+    return node;
+  }
+  return path.back();
+}
+
+void Grower::GrowSubLobeVeins(std::vector<std::vector<int>>& hosts)
+{
+  if (this->Locator.BoundaryLoops().empty())
+    return;
+  const std::vector<int>& loop = this->Locator.BoundaryLoops().front();
+  const std::size_t n = loop.size();
+  const double L = this->Length;
+  // The distance of every boundary vertex to the nearest primary: which host, and the arc length of its foot.
+  std::vector<double> d(n, std::numeric_limits<double>::infinity()), footAt(n, 0.0);
+  std::vector<int> nearest(n, -1);
+  std::vector<Eigen::Vector2d> foot(n, Eigen::Vector2d::Zero());
+  for (std::size_t h = 0; h < hosts.size(); ++h)
+  {
+    const auto& nodes = this->Graph.Nodes();
+    double along = 0.0;
+    for (std::size_t k = 0; k + 1 < hosts[h].size(); ++k)
+    {
+      const Eigen::Vector2d a = nodes[hosts[h][k]], b = nodes[hosts[h][k + 1]];
+      const double piece = (b - a).norm();
+      for (std::size_t i = 0; i < n && piece > 0.0; ++i)
+      {
+        const Eigen::Vector2d x = this->Blade.points[loop[i]];
+        const double t = std::clamp((x - a).dot(b - a) / (piece * piece), 0.0, 1.0);
+        const double distance = (a + t * (b - a) - x).norm();
+        if (distance < d[i])
+        {
+          d[i] = distance;
+          nearest[i] = static_cast<int>(h);
+          footAt[i] = along + t * piece;
+          foot[i] = a + t * (b - a);
+        }
+      }
+      along += piece;
+    }
+  }
+  // Concave (reflex) vertices of the counter-clockwise loop, judged over neighbours at least 0.01 L away.
+  auto neighbour = [&](std::size_t i, int direction) {
+    const Eigen::Vector2d x = this->Blade.points[loop[i]];
+    std::size_t j = i;
+    for (std::size_t step = 0; step < n; ++step)
+    {
+      j = (j + n + static_cast<std::size_t>(direction)) % n;
+      if ((this->Blade.points[loop[j]] - x).norm() >= 0.01 * L)
+        break;
+    }
+    return this->Blade.points[loop[j]];
+  };
+  std::vector<char> concave(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const Eigen::Vector2d x = this->Blade.points[loop[i]];
+    const Eigen::Vector2d in = x - neighbour(i, -1), out = neighbour(i, 1) - x;
+    concave[i] = in.x() * out.y() - in.y() * out.x() < 0.0;
+  }
+  const double prominence = 0.02 * L, end = 0.01 * L;
+  // A sinus on the way from i in `direction`: the first concave vertex prominence lower before a higher d or a
+  // primary's end, then the lowest d of its stretch of concave vertices (n if none).
+  auto sinus = [&](std::size_t i, int direction) {
+    std::size_t j = i;
+    for (std::size_t step = 1; step < n; ++step)
+    {
+      j = (j + n + static_cast<std::size_t>(direction)) % n;
+      if (d[j] > d[i] || d[j] < end)
+        return n;
+      if (concave[j] && d[i] - d[j] >= prominence)
+      {
+        // The sinus's bottom: the lowest d in this stretch of concave vertices.
+        std::size_t bottom = j;
+        for (std::size_t next = (j + n + static_cast<std::size_t>(direction)) % n; concave[next] && d[next] >= end;
+             next = (next + n + static_cast<std::size_t>(direction)) % n)
+          bottom = d[next] < d[bottom] ? next : bottom;
+        return bottom;
+      }
+    }
+    return n;
+  };
+  // The sub-lobe's tip: the vertex halfway (in length along the margin) between the bottoms of its two sinuses,
+  // which must be at least 0.08 L apart along it.
+  std::vector<std::size_t> tips;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double before = d[(i + n - 1) % n], after = d[(i + 1) % n];
+    if (nearest[i] < 0 || !(d[i] > before && d[i] >= after) || !(d[i] >= prominence + end))
+      continue;
+    const std::size_t low = sinus(i, -1), high = sinus(i, 1);
+    if (low == n || high == n)
+      continue;
+    double half = 0.0;
+    for (std::size_t k = low; k != high; k = (k + 1) % n)
+      half += 0.5 * (this->Blade.points[loop[(k + 1) % n]] - this->Blade.points[loop[k]]).norm();
+    if (2.0 * half < 0.08 * L)
+      continue; // a notch where two lobes' margins cross, not a sub-lobe
+    std::size_t tip = low;
+    for (double along = 0.0; tip != high; tip = (tip + 1) % n)
+    {
+      const double piece = (this->Blade.points[loop[(tip + 1) % n]] - this->Blade.points[loop[tip]]).norm();
+      if (along + 0.5 * piece >= half)
+        break;
+      along += piece;
+    }
+    if (std::find(tips.begin(), tips.end(), tip) == tips.end())
+      tips.push_back(tip);
+  }
+  for (std::size_t i : tips)
+  {
+    std::vector<int>& path = hosts[nearest[i]];
+    const double v = footAt[i] / std::max(footAt[i] + d[i], 1e-12 * L); // a rough height along the primary
+    const double theta = this->P.divergenceAngle + (this->P.divergenceAngleApex - this->P.divergenceAngle) * v;
+    const double back = 0.5 * d[i] / std::tan(theta * Pi / 180.0);
+    const int from = this->SplitPathAt(path, std::max(footAt[i] - back, std::min(footAt[i], 0.02 * L)));
+    const Eigen::Vector2d p0 = this->Graph.Nodes()[from], tip = this->Blade.points[loop[i]];
+    const Eigen::Vector2d control = 0.5 * (foot[i] + tip);
+    const int pieces = std::max(4, static_cast<int>(std::ceil((tip - p0).norm() / this->Step)));
+    std::vector<Eigen::Vector2d> curve;
+    for (int k = 1; k <= pieces; ++k)
+    {
+      const double t = static_cast<double>(k) / pieces;
+      curve.push_back((1 - t) * (1 - t) * p0 + 2 * t * (1 - t) * control + t * t * tip);
+    }
+    curve.back() = tip;
+    this->GrowCurve(from, curve, this->Graph.AddVein(VeinOrderSecondary), 1e-7 * L);
+  }
+}
+
 std::string Grower::Run(VenationResult& result)
 {
   // Leaf frame: base, apex, length along the midvein u = 0, width across the base-apex axis.
@@ -834,7 +1069,7 @@ std::string Grower::Run(VenationResult& result)
   if (pattern == VenationPattern::Palmate)
   {
     this->GrowPalmate();
-    if (this->P.palmateSecondaries != PalmateSecondaries::None)
+    if (this->P.palmateSecondaries != PalmateSecondaries::None || this->P.subLobeVeins)
     {
       const std::vector<std::vector<int>> paths = this->Graph.VeinPaths();
       std::vector<std::vector<int>> hosts;
@@ -845,7 +1080,10 @@ std::string Grower::Run(VenationResult& result)
           std::reverse(path.begin(), path.end()); // from the base out
         hosts.push_back(path);
       }
-      const std::string error = this->GrowSecondaries(hosts);
+      if (this->P.subLobeVeins)
+        this->GrowSubLobeVeins(hosts);
+      const std::string error =
+        this->P.palmateSecondaries != PalmateSecondaries::None ? this->GrowSecondaries(hosts) : std::string();
       if (!error.empty())
         return error;
     }
@@ -881,6 +1119,8 @@ std::string Grower::Run(VenationResult& result)
       this->Midvein = hosts.front();
       if (!error.empty())
         return error;
+      if (this->P.flankSecondaries)
+        this->GrowFlankSecondaries();
     }
   }
   if (!this->KeepGoing(0.4))
@@ -895,6 +1135,10 @@ std::string Grower::Run(VenationResult& result)
     return "aborted";
   if (this->P.veinlets && this->P.tertiary)
     this->GrowVeinlets();
+  // True orders in the reticulum: tertiaries join primaries or secondaries, the rest subdivide areoles (order 4).
+  const std::vector<int> orders = ReticulumOrders(this->Graph);
+  for (std::size_t vein = 0; vein < orders.size(); ++vein)
+    this->Graph.SetOrder(static_cast<int>(vein), orders[vein]);
   this->Finish(result);
   return {};
 }
@@ -935,6 +1179,9 @@ void Grower::Finish(VenationResult& result)
         width = widest * this->P.secondaryWidthRatio * (1.0 - 0.5 * f);
       else if (order == VeinOrderTertiary)
         width = widest * this->P.tertiaryWidthRatio;
+      else if (order == VeinOrderQuaternary) // between the tertiaries and the veinlets, never wider than a tertiary
+        width =
+          widest * std::min(this->P.tertiaryWidthRatio, 0.5 * (this->P.tertiaryWidthRatio + this->P.veinletWidthRatio));
       if (id[n] < 0)
       {
         id[n] = static_cast<int>(result.nodes.size());
@@ -960,7 +1207,7 @@ void Grower::Finish(VenationResult& result)
   }
   stats.bladeArea = this->Locator.Area();
   double total = 0.0;
-  for (int o = 1; o < 5; ++o)
+  for (int o = 1; o < VeinOrderCount; ++o)
     total += stats.length[o];
   stats.density = total / stats.bladeArea;
   const std::vector<int> degree = this->Graph.VeinDegrees();
@@ -1004,6 +1251,7 @@ VenationParameters MakeVenationPreset(VenationPreset preset)
       p.forkFraction = 0.75;
       p.tertiary = true;
       p.areoleSize = 0.045;
+      p.flankSecondaries = true; // a broad blade's flanks below the lowest secondaries get their own
       break;
     case VenationPreset::Ginkgo:
       // Two veins enter from the petiole and fork dichotomously, five times, into 64 nearly parallel veins that
@@ -1069,6 +1317,7 @@ VenationParameters MakeVenationPreset(VenationPreset preset)
       p.palmateVeins = 5;
       p.forkLevels = 0;
       p.palmateSecondaries = PalmateSecondaries::Craspedodromous;
+      p.subLobeVeins = true; // a secondary to every sub-lobe's tip (none on a blade without sub-lobes)
       p.secondarySpacing = 0.08;
       p.divergenceAngle = 45.0;
       p.divergenceAngleApex = 55.0;

@@ -42,12 +42,21 @@
 //   Dichotomous forks: a group of end points shares one parameter (their mean) until growth `forkSize` (later
 //   levels evenly after it), then the two halves move linearly apart to their own means by g = 1, so one vein
 //   splits into two.
+//   Sub-lobe veins (`subLobeVeins`, palmate only, not in the paper): a sub-lobe tip is a vertex of the outer boundary
+//   loop where the distance d to the nearest primary has a local maximum, and walking the loop either way from it
+//   one meets a concave (reflex) vertex at least 0.02 L lower in d before meeting a higher d or a primary's end
+//   (d < 0.01 L): a lobe's smooth flank, which falls to its primary's end at the lobe tip without a sinus, is no
+//   sub-lobe. From the foot F of the tip T on its nearest primary, at distance h, the vein leaves the primary
+//   h cot(theta)/2 nearer the base (theta the divergence angle) and is the quadratic Bezier curve through the control
+//   point (F + T)/2: it leaves at the divergence angle and meets the margin at T along FT. These are grown before
+//   the regular secondaries, which stop where they meet them.
 //
 // - Space colonization (Runions et al. 2005, open venation), a method of its own: SpaceColonization.h.
 //
 // Widths (`VeinWidth`): primaries taper from `primaryWidth` (a fraction of the leaf length) to `primaryTaper` of it
 // at their end; secondaries from `secondaryWidthRatio` of it to half that; tertiaries and veinlets a constant
-// `tertiaryWidthRatio` and `veinletWidthRatio` of it. A shared node takes the widest vein's width.
+// `tertiaryWidthRatio` and `veinletWidthRatio` of it, quaternaries (the finer reticulum) the mean of the two (at
+// most the tertiaries' ratio). A shared node takes the widest vein's width.
 // Lengths (`secondarySpacing`, `areoleSize`, `veinletLength` in areole sizes, `primaryWidth`) are fractions of the
 // leaf length L (the midvein's length in the working plane), so a preset fits any leaf size. All randomness comes
 // from RandomStream(seed, phase): the same seed gives the same network bit for bit.
@@ -122,6 +131,13 @@ struct VenationParameters
   /// palmate: secondaries off every primary, every `secondarySpacing` along it on both sides, at the divergence
   /// angle (none where the primary's neighbour or the margin is nearer than half a spacing along that line)
   PalmateSecondaries palmateSecondaries = PalmateSecondaries::None;
+  /// pinnate: secondaries into bare flanks (docs/methods/venation.md "Flank secondaries"): while some blade point
+  /// lies farther than `secondarySpacing` from every primary and secondary, a straight secondary from the nearest
+  /// such vein through that point on to the margin (at most 8)
+  bool flankSecondaries = false;
+  /// palmate: one secondary from the nearest primary to every sub-lobe tip of the margin (a local maximum of the
+  /// distance from the primaries with a sinus at least 0.02 L deep on both sides; docs/methods/venation.md)
+  bool subLobeVeins = false;
   int forkLevels = 1;
   double forkSize = 0.3;       ///< growth fraction of the first dichotomous fork, (0, 1)
   double primaryWidth = 0.015; ///< in leaf lengths
@@ -166,8 +182,8 @@ std::string ValidateVenationParameters(const VenationParameters& parameters);
 
 struct VenationStatistics
 {
-  double length[5] = { 0, 0, 0, 0, 0 }; ///< total vein length per VeinOrder (index 0 unused: the margin)
-  double density = 0.0;                 ///< total vein length per blade area
+  double length[VeinOrderCount] = {}; ///< total vein length per VeinOrder (index 0 unused: the margin)
+  double density = 0.0;               ///< total vein length per blade area
   double bladeArea = 0.0;
   std::size_t areoles = 0; ///< faces enclosed by veins only
   double areoleAreaMean = 0.0;

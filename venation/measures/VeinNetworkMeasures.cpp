@@ -93,7 +93,7 @@ std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
   for (const auto& vein : veins.veins)
   {
     if (vein.order < VeinOrderPrimary || vein.order > VeinOrderVeinlet)
-      return "a vein's order is outside [1, 4]";
+      return "a vein's order is outside [1, 5]";
     for (std::size_t i = 0; i + 1 < vein.nodes.size(); ++i)
     {
       const int a = vein.nodes[i], b = vein.nodes[i + 1];
@@ -126,7 +126,7 @@ std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
 
   VeinNetworkMeasures& m = measures;
   m.bladeArea = bladeArea;
-  double widthLength[5] = { 0, 0, 0, 0, 0 };
+  double widthLength[VeinOrderCount] = {};
   std::vector<int> degree(veins.nodes.size(), 0);
   for (const Segment& s : segments)
   {
@@ -136,7 +136,7 @@ std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
     ++degree[s.a];
     ++degree[s.b];
   }
-  for (int o = 1; o < 5; ++o)
+  for (int o = 1; o < VeinOrderCount; ++o)
     m.meanWidth[o] = m.length[o] > 0.0 ? widthLength[o] / m.length[o] : 0.0;
   m.vla = m.totalLength / bladeArea;
   for (std::size_t n = 0; n < degree.size(); ++n)

@@ -34,9 +34,9 @@ struct VeinNetworkMeasures
 {
   double bladeArea = 0.0;
   double totalLength = 0.0;
-  double vla = 0.0;                        ///< vein length per blade area
-  double length[5] = { 0, 0, 0, 0, 0 };    ///< per VeinOrder (index 0 unused)
-  double meanWidth[5] = { 0, 0, 0, 0, 0 }; ///< length-weighted, per VeinOrder; 0 where an order has no vein
+  double vla = 0.0;                      ///< vein length per blade area
+  double length[VeinOrderCount] = {};    ///< per VeinOrder (index 0 unused)
+  double meanWidth[VeinOrderCount] = {}; ///< length-weighted, per VeinOrder; 0 where an order has no vein
   std::size_t areoles = 0;
   double areoleMean = 0.0, areoleMedian = 0.0, areoleCV = 0.0;
   std::vector<double> areoleAreas; ///< sorted ascending

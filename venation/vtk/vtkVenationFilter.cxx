@@ -112,7 +112,8 @@ std::vector<std::pair<const char*, double>> ParameterValues(const plantmorph::Ve
     { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
     { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
     { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels },
-    { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) }, { "ForkSize", p.forkSize },
+    { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) }, { "SubLobeVeins", p.subLobeVeins ? 1.0 : 0.0 },
+    { "FlankSecondaries", p.flankSecondaries ? 1.0 : 0.0 }, { "ForkSize", p.forkSize },
     { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth },
     { "PrimaryTaper", p.primaryTaper }, { "SecondaryWidthRatio", p.secondaryWidthRatio },
     { "TertiaryWidthRatio", p.tertiaryWidthRatio }, { "VeinletWidthRatio", p.veinletWidthRatio } };
@@ -301,12 +302,14 @@ void WriteVeinFieldData(vtkFieldData* fd, const plantmorph::VenationResult& resu
 {
   vtkNew<vtkDoubleArray> lengths;
   lengths->SetName("PlantMorph.VeinLength");
-  lengths->SetNumberOfComponents(4);
+  lengths->SetNumberOfComponents(5);
   lengths->SetComponentName(0, "Primary");
   lengths->SetComponentName(1, "Secondary");
   lengths->SetComponentName(2, "Tertiary");
-  lengths->SetComponentName(3, "Veinlet");
-  lengths->InsertNextTuple4(m.length[1], m.length[2], m.length[3], m.length[4]);
+  lengths->SetComponentName(3, "Quaternary");
+  lengths->SetComponentName(4, "Veinlet");
+  const double perOrder[5] = { m.length[1], m.length[2], m.length[3], m.length[4], m.length[5] };
+  lengths->InsertNextTuple(perOrder);
   fd->AddArray(lengths);
   AddFieldValue(fd, "PlantMorph.VeinDensity", m.vla);
   AddFieldValue(fd, "PlantMorph.BladeArea", m.bladeArea);
@@ -352,10 +355,10 @@ void WriteStatistics(const plantmorph::VeinNetworkMeasures& m, vtkTable* statist
   addValue("BranchPointsPerArea", m.branchPointsPerArea);
   addCount("FreeEnds", m.freeEnds);
   addValue("FreeEndsPerArea", m.freeEndsPerArea);
-  const char* const orders[] = { "Primary", "Secondary", "Tertiary", "Veinlet" };
-  for (int o = 1; o <= 4; ++o)
+  const char* const orders[] = { "Primary", "Secondary", "Tertiary", "Quaternary", "Veinlet" };
+  for (int o = 1; o <= 5; ++o)
     addValue(("Length" + std::string(orders[o - 1])).c_str(), m.length[o]);
-  for (int o = 1; o <= 4; ++o)
+  for (int o = 1; o <= 5; ++o)
     addValue(("MeanWidth" + std::string(orders[o - 1])).c_str(), m.meanWidth[o]);
 }
 
@@ -462,6 +465,8 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
   PLANTMORPH_CHECK(PalmateEnds);
   PLANTMORPH_CHECK(ForkLevels);
   PLANTMORPH_CHECK(PalmateSecondaries);
+  PLANTMORPH_CHECK(SubLobeVeins);
+  PLANTMORPH_CHECK(FlankSecondaries);
   PLANTMORPH_CHECK(ForkSize);
   PLANTMORPH_CHECK(KillDistance);
   PLANTMORPH_CHECK(AttractionDistance);
@@ -539,6 +544,8 @@ std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
     p.palmateFan = this->PalmateEnds != 0;
     p.forkLevels = this->ForkLevels;
     p.palmateSecondaries = static_cast<plantmorph::PalmateSecondaries>(this->PalmateSecondaries);
+    p.subLobeVeins = this->SubLobeVeins != 0;
+    p.flankSecondaries = this->FlankSecondaries != 0;
     p.forkSize = this->ForkSize;
     p.killDistance = this->KillDistance;
     p.attractionDistance = this->AttractionDistance;

@@ -9,7 +9,9 @@
  *
  * Input: a triangulated blade carrying the point array `LeafUV` (every LeafOutlineSource blade does; any triangle
  * surface with the canonical leaf's (u, v) will do). Output port 0, **Veins**: the vein network as polylines lying
- * on the blade, with cell arrays `VeinOrder` (1 primary, 2 secondary, 3 tertiary, 4 free-ending veinlet) and
+ * on the blade, with cell arrays `VeinOrder` (1 primary, 2 secondary, 3 tertiary: a reticulum vein joining
+ * primaries or secondaries at both ends, 4 quaternary: the finer reticulum that only subdivides areoles, 5
+ * free-ending veinlet; plantmorph::ReticulumOrders) and
  * `Region` (1 primary, 2 secondary, 3 tertiary and veinlets), point arrays `VeinWidth` (model units, the active
  * scalars; for tubes as wide as the veins give ParaView's Tube filter VeinWidth / 2 (a Calculator) with "Vary
  * Radius: By Absolute Scalar", which takes the scalar as the radius), `Region` (the lowest order through the
@@ -25,7 +27,8 @@
  * `AreoleAreaMedian`, `AreoleAreaCV` (population standard deviation over the mean), `Loopiness` (minimum spanning
  * forest length over total length: 1 for a tree), `BranchPoints` (nodes where three or more segments meet),
  * `BranchPointsPerArea`, `FreeEnds` (ends not on the blade's outer margin), `FreeEndsPerArea`, and per VeinOrder
- * `LengthPrimary`.. `LengthVeinlet` and `MeanWidthPrimary`.. `MeanWidthVeinlet` (length-weighted; 0 for an order
+ * `LengthPrimary`, `LengthSecondary`, `LengthTertiary`, `LengthQuaternary`, `LengthVeinlet` and the same
+ * `MeanWidth...` (length-weighted; 0 for an order
  * with no vein). Output port 3, **Areole histogram** (vtkTable): `AreoleHistogramBins` equal bins from the smallest
  * to the largest areole area, one row each: `BinLower`, `BinUpper`, `Count` (the counts sum to AreoleCount; no rows
  * when there is no areole).
@@ -214,6 +217,14 @@ public:
   /// (looping); spaced, angled and forked by the secondary-vein properties.
   vtkSetMacro(PalmateSecondaries, int);
   vtkGetMacro(PalmateSecondaries, int);
+  /// Palmate: 1 sends one secondary from the nearest primary to every sub-lobe tip found on the margin (a sub-lobe:
+  /// a bulge between two sinuses at least 0.02 leaf lengths deep, seen from the primaries); 0 (default) none.
+  vtkSetMacro(SubLobeVeins, int);
+  vtkGetMacro(SubLobeVeins, int);
+  /// Pinnate: 1 adds straight secondaries into the parts of the blade farther than SecondarySpacing from every
+  /// primary and secondary (a broad blade's flanks below the lowest secondaries), at most 8; 0 (default) none.
+  vtkSetMacro(FlankSecondaries, int);
+  vtkGetMacro(FlankSecondaries, int);
   vtkSetMacro(ForkSize, double);
   vtkGetMacro(ForkSize, double);
   ///@}
@@ -344,6 +355,8 @@ protected:
   int PalmateEnds = 1;
   int ForkLevels = 1;
   int PalmateSecondaries = 0;
+  int SubLobeVeins = 0;
+  int FlankSecondaries = 0;
   double ForkSize = 0.3;
   double KillDistance = 0.01;
   double AttractionDistance = 0.1;

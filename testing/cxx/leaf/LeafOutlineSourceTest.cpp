@@ -300,9 +300,9 @@ TEST(vtkLeafOutlineSource, SpaceCurveBadPropertiesGiveAMessage)
   EXPECT_NE(catcher->Messages.find("Opening = 1"), std::string::npos) << catcher->Messages;
   catcher->Messages.clear();
   source->SetOpening(0.0);
-  source->SetSpaceCurvePreset(9);
+  source->SetSpaceCurvePreset(10);
   source->Update();
-  EXPECT_NE(catcher->Messages.find("SpaceCurvePreset = 9"), std::string::npos) << catcher->Messages;
+  EXPECT_NE(catcher->Messages.find("SpaceCurvePreset = 10"), std::string::npos) << catcher->Messages;
   catcher->Messages.clear();
   source->SetSpaceCurvePreset(0);
   source->SetLobes(4);
@@ -347,7 +347,7 @@ TEST(vtkLeafOutlineSource, TorsionShapeParametersReachTheModel)
 
 TEST(vtkLeafOutlineSource, PalmateLeafHasEveryLobeMidveinOnTheOutlinePort)
 {
-  for (int preset : { 7, 8 })
+  for (int preset : { 7, 8, 9 }) // 9: Watermelon, Fig. 8's five lobes with sub-lobes
   {
     vtkNew<vtkLeafOutlineSource> source;
     source->SetModel(vtkLeafOutlineSource::SPACE_CURVE);
@@ -388,6 +388,60 @@ TEST(vtkLeafOutlineSource, PalmateLeafHasEveryLobeMidveinOnTheOutlinePort)
       EXPECT_EQ(tips, line < 2 ? (lobes - 1) / 2 : 0);
     }
   }
+}
+
+TEST(vtkLeafOutlineSource, SubLobesReachTheModelAndItsFieldData)
+{
+  // Custom SubLobes 2 / SubLobeDepth 0.5 on Fig. 8's five lobes is the Watermelon preset's blade, point for point;
+  // the field data names them (and only when there are sub-lobes); SubLobes 9 is refused naming it.
+  auto build = [](int preset, int subLobes) {
+    vtkNew<vtkLeafOutlineSource> source;
+    source->SetModel(vtkLeafOutlineSource::SPACE_CURVE);
+    source->SetSpaceCurvePreset(preset);
+    if (preset == 0)
+    {
+      source->SetCurvatureMu(3.0);
+      source->SetCurvatureLambda(0.5);
+      source->SetLobes(5);
+      source->SetLobeStart(0.2);
+      source->SetLobeAngle(40.0);
+      source->SetLobeScale(0.85);
+      source->SetSubLobes(subLobes);
+      source->SetSubLobeDepth(0.5);
+    }
+    source->SetResolution(30);
+    source->Update();
+    vtkSmartPointer<vtkPolyData> blade = source->GetOutput(0);
+    return blade;
+  };
+  vtkSmartPointer<vtkPolyData> preset = build(9, 0), custom = build(0, 2), entire = build(8, 0);
+  ASSERT_GT(preset->GetNumberOfPoints(), 0);
+  ASSERT_EQ(custom->GetNumberOfPoints(), preset->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < preset->GetNumberOfPoints(); ++i)
+  {
+    double a[3], b[3];
+    preset->GetPoint(i, a);
+    custom->GetPoint(i, b);
+    ASSERT_EQ(a[0], b[0]);
+    ASSERT_EQ(a[1], b[1]);
+  }
+  auto* count = vtkDoubleArray::SafeDownCast(preset->GetFieldData()->GetArray("PlantMorph.SubLobes"));
+  ASSERT_NE(count, nullptr);
+  EXPECT_EQ(count->GetValue(0), 2.0);
+  EXPECT_EQ(entire->GetFieldData()->GetArray("PlantMorph.SubLobes"), nullptr);
+  EXPECT_NE(entire->GetNumberOfPoints(), preset->GetNumberOfPoints());
+
+  vtkNew<vtkLeafOutlineSource> bad;
+  vtkNew<ErrorCatcher> catcher;
+  bad->AddObserver(vtkCommand::ErrorEvent, catcher);
+  bad->SetModel(vtkLeafOutlineSource::SPACE_CURVE);
+  bad->SetSpaceCurvePreset(0);
+  bad->SetLobes(5);
+  bad->SetSubLobes(9);
+  bad->Update();
+  EXPECT_NE(catcher->Messages.find("SubLobes = 9 is outside the accepted range [0, 8]"), std::string::npos)
+    << catcher->Messages;
+  EXPECT_EQ(bad->GetOutput(0)->GetNumberOfPoints(), 0);
 }
 } // namespace
 

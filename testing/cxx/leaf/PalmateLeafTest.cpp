@@ -194,7 +194,8 @@ TEST_P(EveryPalmatePreset, LeafIsMirrorSymmetricAndBitIdenticalOnRerun)
 INSTANTIATE_TEST_SUITE_P(PalmateLeaf, EveryPalmatePreset,
   ::testing::Values(Case{ SpaceCurvePreset::Figure8ThreeLobes, true },
     Case{ SpaceCurvePreset::Figure8ThreeLobes, false }, Case{ SpaceCurvePreset::Figure8FiveLobes, true },
-    Case{ SpaceCurvePreset::Figure8FiveLobes, false }),
+    Case{ SpaceCurvePreset::Figure8FiveLobes, false }, Case{ SpaceCurvePreset::Watermelon, true },
+    Case{ SpaceCurvePreset::Watermelon, false }),
   [](const ::testing::TestParamInfo<Case>& info) {
     return SpaceCurvePresetName(info.param.preset) + (info.param.quality ? "Quality" : "Paper");
   });
@@ -226,6 +227,62 @@ TEST(PalmateLeaf, MoreLobesCoverMore)
   EXPECT_GT(five, three * 1.1);
 }
 
+/// The distance from x to the polygon's boundary.
+double DistanceToOutline(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& x)
+{
+  double best = std::numeric_limits<double>::max();
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+  {
+    const Eigen::Vector2d a = polygon[i], d = polygon[(i + 1) % polygon.size()] - a;
+    const double t = std::clamp((x - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    best = std::min(best, (a + t * d - x).norm());
+  }
+  return best;
+}
+
+TEST(PalmateLeaf, SubLobesCutSinusesBetweenTipsThatStayOnTheEntireLobes)
+{
+  // The Watermelon preset is Fig. 8's five lobes with two sub-lobes a side. Its sub-lobe tips are margin vertices,
+  // mirror-symmetric, kept (to 1e-3 L) on the entire lobes' outline, while the sinuses between them cut into the
+  // blade: its area is smaller by more than 5 %. Off by default: SubLobes 0 is Fig. 8's leaf exactly.
+  const double length = 5.0;
+  const SpaceCurveParameters entire = MakeSpaceCurvePreset(SpaceCurvePreset::Figure8FiveLobes, length);
+  SpaceCurveParameters zero = entire;
+  zero.subLobeDepth = 0.8; // unused without sub-lobes
+  const LeafGeometry a = Build(entire, false, 60), b = Build(zero, false, 60);
+  EXPECT_EQ(a.blade.points, b.blade.points);
+  EXPECT_TRUE(a.subLobeTips.empty());
+
+  const LeafGeometry lobed = Build(MakeSpaceCurvePreset(SpaceCurvePreset::Watermelon, length), false, 60);
+  const std::vector<Eigen::Vector2d> outline = OutlinePolygon(a);
+  ASSERT_GE(lobed.subLobeTips.size(), 12u);
+  EXPECT_LE(lobed.subLobeTips.size(), 20u); // 5 lobes x 2 sides x 2, less those inside a neighbouring lobe
+  std::set<int> margin(lobed.rightMargin.begin(), lobed.rightMargin.end());
+  margin.insert(lobed.leftMargin.begin(), lobed.leftMargin.end());
+  for (int id : lobed.subLobeTips)
+  {
+    const Eigen::Vector2d x = lobed.blade.points[id];
+    EXPECT_EQ(margin.count(id), 1u);
+    EXPECT_LT(DistanceToOutline(outline, x), 1e-3 * length) << x.transpose();
+    bool mirrored = false;
+    for (int other : lobed.subLobeTips)
+      mirrored = mirrored || (lobed.blade.points[other] - Eigen::Vector2d(-x.x(), x.y())).norm() < 1e-12 * length;
+    EXPECT_TRUE(mirrored) << x.transpose();
+  }
+  EXPECT_LT(Area(OutlinePolygon(lobed)), 0.95 * Area(outline));
+
+  // Resolution-independent: at twice the resolution the same tips, each within one coarse spacing.
+  const LeafGeometry fine = Build(MakeSpaceCurvePreset(SpaceCurvePreset::Watermelon, length), false, 120);
+  ASSERT_EQ(fine.subLobeTips.size(), lobed.subLobeTips.size());
+  for (int id : fine.subLobeTips)
+  {
+    double nearest = std::numeric_limits<double>::max();
+    for (int other : lobed.subLobeTips)
+      nearest = std::min(nearest, (fine.blade.points[id] - lobed.blade.points[other]).norm());
+    EXPECT_LT(nearest, length / 60.0);
+  }
+}
+
 TEST(PalmateLeaf, BadLobeParametersGiveAMessageNamingThePropertyAndNoLeaf)
 {
   const SpaceCurveParameters good = MakeSpaceCurvePreset(SpaceCurvePreset::Figure8ThreeLobes, 5.0);
@@ -246,6 +303,11 @@ TEST(PalmateLeaf, BadLobeParametersGiveAMessageNamingThePropertyAndNoLeaf)
     { "LobeAngle", [](SpaceCurveParameters& p, double v) { p.lobeAngle = v; }, 120.0 },
     { "LobeScale", [](SpaceCurveParameters& p, double v) { p.lobeScale = v; }, 0.0 },
     { "LobeScale", [](SpaceCurveParameters& p, double v) { p.lobeScale = v; }, nan },
+    { "SubLobes", [](SpaceCurveParameters& p, double v) { p.subLobes = static_cast<int>(v); }, -1 },
+    { "SubLobes", [](SpaceCurveParameters& p, double v) { p.subLobes = static_cast<int>(v); }, 9 },
+    { "SubLobeDepth", [](SpaceCurveParameters& p, double v) { p.subLobeDepth = v; }, 0.0 },
+    { "SubLobeDepth", [](SpaceCurveParameters& p, double v) { p.subLobeDepth = v; }, 0.95 },
+    { "SubLobeDepth", [](SpaceCurveParameters& p, double v) { p.subLobeDepth = v; }, nan },
     { "Lobes", [](SpaceCurveParameters& p, double v) { p.torsion.mu = v; }, 4.0 }, // palmate leaves are flat
     { "Lobes", [](SpaceCurveParameters& p, double v) { p.opening = v; }, 0.5 },
     // Lobes turned so far out that they hang from lobe 1 by their start point only.

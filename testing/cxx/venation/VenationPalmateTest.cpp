@@ -573,5 +573,83 @@ TEST(PalmateVenation, WatermelonVeinsReachEveryLobeAtEverySeed)
   }
 }
 
+/// A sub-lobed watermelon blade (LeafOutlineSource's Watermelon preset) at Resolution 60.
+LeafGeometry SubLobedWatermelon()
+{
+  SpaceCurveMeshParameters settings;
+  settings.resolution = 60;
+  LeafGeometry leaf;
+  EXPECT_EQ(BuildSpaceCurveLeaf(MakeSpaceCurvePreset(SpaceCurvePreset::Watermelon, 5.0), settings, leaf), "");
+  return leaf;
+}
+
+TEST(PalmateVenation, WatermelonVeinsReachEverySubLobeTip)
+{
+  // Every lobe and sub-lobe tip (the outline's own list, which the venation never sees) lies within 0.03 L of a
+  // primary or secondary, at seeds 1-6; a vein of order 2 or lower ends within 0.03 L of each sub-lobe tip.
+  const LeafGeometry leaf = SubLobedWatermelon();
+  ASSERT_GE(leaf.subLobeTips.size(), 12u);
+  std::vector<Eigen::Vector2d> lobeTips = { leaf.blade.points[leaf.midvein.back()] };
+  for (const std::vector<int>& lobe : leaf.lobeMidveins)
+    lobeTips.push_back(leaf.blade.points[lobe.back()]);
+  std::vector<Eigen::Vector2d> subTips;
+  for (int id : leaf.subLobeTips)
+    subTips.push_back(leaf.blade.points[id]);
+  for (std::uint64_t seed = 1; seed <= 6; ++seed)
+  {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    VenationParameters p = MakeVenationPreset(VenationPreset::Watermelon);
+    p.seed = seed;
+    const VenationResult r = Grow(leaf, p);
+    for (const Eigen::Vector2d& tip : lobeTips)
+      EXPECT_LE(DistanceToVeins(r, VeinOrderSecondary, tip, true) / r.leafLength, 0.03);
+    double worst = 0.0;
+    for (const Eigen::Vector2d& tip : subTips)
+    {
+      const double distance = DistanceToVeins(r, VeinOrderSecondary, tip, true) / r.leafLength;
+      worst = std::max(worst, distance);
+      EXPECT_LE(distance, 0.03) << "sub-lobe tip " << tip.transpose();
+      bool ends = false;
+      for (const auto& vein : r.veins)
+      {
+        ends = ends ||
+          (vein.order <= VeinOrderSecondary &&
+            ((r.nodes[vein.nodes.front()] - tip).norm() <= 0.03 * r.leafLength ||
+              (r.nodes[vein.nodes.back()] - tip).norm() <= 0.03 * r.leafLength));
+      }
+      EXPECT_TRUE(ends) << "no vein ends at sub-lobe tip " << tip.transpose();
+    }
+    std::cout << "watermelon sub-lobes seed " << seed << ": " << subTips.size()
+              << " sub-lobe tips, farthest from a vein " << worst << " L\n";
+  }
+}
+
+TEST(PalmateVenation, SubLobeVeinsAreWhatReachTheSubLobes)
+{
+  // The control: without sub-lobe targeting the regular secondaries miss some sub-lobe tip by more than 0.03 L; on
+  // Fig. 8's five-lobed blade (no sub-lobes) targeting finds none, so the network is the same as without it.
+  const LeafGeometry leaf = SubLobedWatermelon();
+  VenationParameters p = MakeVenationPreset(VenationPreset::Watermelon);
+  p.seed = 1;
+  p.subLobeVeins = false;
+  const VenationResult off = Grow(leaf, p);
+  double worst = 0.0;
+  for (int id : leaf.subLobeTips)
+    worst = std::max(worst, DistanceToVeins(off, VeinOrderSecondary, leaf.blade.points[id], true) / off.leafLength);
+  std::cout << "without sub-lobe veins the farthest sub-lobe tip is " << worst << " L from a vein\n";
+  EXPECT_GT(worst, 0.03);
+
+  const LeafGeometry plain = Lobed(SpaceCurvePreset::Figure8FiveLobes);
+  EXPECT_TRUE(plain.subLobeTips.empty());
+  p.subLobeVeins = true;
+  const VenationResult with = Grow(plain, p);
+  p.subLobeVeins = false;
+  const VenationResult without = Grow(plain, p);
+  ASSERT_EQ(with.nodes.size(), without.nodes.size());
+  EXPECT_EQ(with.veins.size(), without.veins.size());
+  for (std::size_t i = 0; i < with.nodes.size(); ++i)
+    EXPECT_EQ(with.nodes[i], without.nodes[i]);
+}
+
 } // namespace
 } // namespace plantmorph

@@ -155,6 +155,73 @@ TEST(PinnateVenation, PaperMulberryLoopsBulgeTowardsTheMargin)
   }
 }
 
+/// Distances (in leaf lengths) from blade points (triangle centroids) to the nearest primary or secondary, sorted;
+/// only points below `below` (a height) and farther than `side` from the midvein.
+std::vector<double> MajorVeinDistances(const Blade& blade, const VenationResult& r, double below, double side)
+{
+  std::vector<double> distances;
+  for (const auto& t : blade.leaf.blade.triangles)
+  {
+    const Eigen::Vector2d c =
+      (blade.leaf.blade.points[t[0]] + blade.leaf.blade.points[t[1]] + blade.leaf.blade.points[t[2]]) / 3.0;
+    if (c.y() > below || std::abs(c.x()) < side)
+      continue;
+    double best = std::numeric_limits<double>::max();
+    for (const auto& vein : r.veins)
+    {
+      if (vein.order > VeinOrderSecondary)
+        continue;
+      for (std::size_t i = 0; i + 1 < vein.nodes.size(); ++i)
+      {
+        const Eigen::Vector2d a = r.nodes[vein.nodes[i]], d = r.nodes[vein.nodes[i + 1]] - a;
+        const double u = std::clamp((c - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+        best = std::min(best, (a + u * d - c).norm());
+      }
+    }
+    distances.push_back(best / r.leafLength);
+  }
+  std::sort(distances.begin(), distances.end());
+  return distances;
+}
+
+TEST(PinnateVenation, PaperMulberryFlanksOfTheFanGetSecondaries)
+{
+  // On the default ginkgo fan the lowest secondaries run parallel to its straight lower flanks; the paper mulberry
+  // preset's flank secondaries (flankSecondaries) reach into them. The measure: in the lower flanks (below the
+  // lateral corners, outside the middle half), the largest distance from a blade point to a primary or secondary,
+  // at most SecondarySpacing (0.11 L, sampling tolerance 0.01 L) with them and more than 0.15 L without, seeds 1-4.
+  const Blade fan = Entire(DeformedRectanglePreset::Ginkgo);
+  double lowY = std::numeric_limits<double>::max(), highY = -lowY, halfWidth = 0.0;
+  for (const Eigen::Vector2d& x : fan.outline)
+  {
+    lowY = std::min(lowY, x.y());
+    highY = std::max(highY, x.y());
+    halfWidth = std::max(halfWidth, std::abs(x.x()));
+  }
+  // The lateral corners: the outline's widest points.
+  double cornerY = 0.0;
+  for (const Eigen::Vector2d& x : fan.outline)
+  {
+    if (std::abs(x.x()) == halfWidth)
+      cornerY = x.y();
+  }
+  for (std::uint64_t seed = 1; seed <= 4; ++seed)
+  {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    VenationParameters p = MakeVenationPreset(VenationPreset::PaperMulberry);
+    p.seed = seed;
+    const std::vector<double> with = MajorVeinDistances(fan, Grow(fan, p), cornerY, 0.25 * halfWidth);
+    p.flankSecondaries = false;
+    const std::vector<double> without = MajorVeinDistances(fan, Grow(fan, p), cornerY, 0.25 * halfWidth);
+    ASSERT_GT(with.size(), 50u);
+    std::cout << "fan flanks, seed " << seed << ": farthest from a primary or secondary " << with.back()
+              << " L with flank secondaries, " << without.back() << " L without (95th percentile "
+              << with[with.size() * 95 / 100] << ", " << without[without.size() * 95 / 100] << ")\n";
+    EXPECT_LE(with.back(), p.secondarySpacing + 0.01);
+    EXPECT_GT(without.back(), 0.15);
+  }
+}
+
 TEST(PinnateVenation, CraspedodromousSecondariesEndOnTheMargin)
 {
   const Blade blade = Entire();

@@ -183,7 +183,8 @@ TEST(Venation, GrowthJunctionsKeepTheirAnglesAndAverage120Degrees)
   int checked = 0;
   for (std::size_t n = 0; n < r.nodes.size(); ++n)
   {
-    if (next[n].size() != 3 || r.order[n] != VeinOrderTertiary)
+    // Reticulum nodes (tertiary or quaternary: grown alike, only classified after growth).
+    if (next[n].size() != 3 || (r.order[n] != VeinOrderTertiary && r.order[n] != VeinOrderQuaternary))
       continue;
     std::vector<double> angles;
     for (int m : next[n])
@@ -285,7 +286,7 @@ TEST(Venation, StatisticsAreWhatTheNetworkMeasures)
 {
   const LeafGeometry leaf = EntireLeaf();
   const VenationResult r = Grow(leaf, MakeVenationPreset(VenationPreset::Poplar));
-  double length[5] = { 0, 0, 0, 0, 0 };
+  double length[VeinOrderCount] = {};
   std::size_t segments = 0;
   for (const auto& vein : r.veins)
   {
@@ -294,7 +295,7 @@ TEST(Venation, StatisticsAreWhatTheNetworkMeasures)
     segments += vein.nodes.size() - 1;
   }
   double total = 0.0;
-  for (int o = 1; o < 5; ++o)
+  for (int o = 1; o < VeinOrderCount; ++o)
   {
     EXPECT_NEAR(r.statistics.length[o], length[o], 1e-9 * (1.0 + length[o]));
     total += length[o];

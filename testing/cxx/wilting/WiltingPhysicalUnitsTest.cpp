@@ -3,6 +3,7 @@
 // size scaling of geometrically similar leaves, and a curl whose arc does not depend on the voxel size.
 #include "WiltingPresets.h"
 #include "WiltingSimulation.h"
+#include "WiltingTestBlades.h"
 
 #include <gtest/gtest.h>
 
@@ -16,28 +17,7 @@ using namespace plantmorph;
 /// edge y = 0 Region 5 (the anchors: the nodes within AnchorRadius of them are held), the others blade.
 WiltingInput Strip(double w, double l, int nx, int ny)
 {
-  WiltingInput in;
-  for (int j = 0; j <= ny; ++j)
-  {
-    for (int i = 0; i <= nx; ++i)
-    {
-      const double u = static_cast<double>(i) / nx - 0.5;
-      const double v = static_cast<double>(j) / ny;
-      in.points.emplace_back(u * w, v * l, 0.0);
-      in.leafUV.emplace_back(u, v);
-      in.regions.push_back(j == 0 ? 5 : 0);
-    }
-  }
-  for (int j = 0; j < ny; ++j)
-  {
-    for (int i = 0; i < nx; ++i)
-    {
-      const int a = j * (nx + 1) + i;
-      in.triangles.push_back({ a, a + 1, a + nx + 2 });
-      in.triangles.push_back({ a, a + nx + 2, a + nx + 1 });
-    }
-  }
-  return in;
+  return GridBlade(w, l, nx, ny, [](int, int j) { return j == 0 ? 5 : 0; });
 }
 
 /// Gravity only, one material everywhere (the petiole row too), heavily damped to reach the static shape.

@@ -3,6 +3,7 @@
 #include "WiltingEmbedding.h"
 #include "WiltingPresets.h"
 #include "WiltingSimulation.h"
+#include "WiltingTestBlades.h"
 #include "WiltingVoxelizer.h"
 
 #include <gtest/gtest.h>
@@ -19,28 +20,7 @@ using namespace plantmorph;
 /// midvein Region along x = 0 and margin Region on the sides.
 WiltingInput Rectangle(double w, double l, int nx, int ny)
 {
-  WiltingInput in;
-  for (int j = 0; j <= ny; ++j)
-  {
-    for (int i = 0; i <= nx; ++i)
-    {
-      const double u = static_cast<double>(i) / nx - 0.5;
-      const double v = static_cast<double>(j) / ny;
-      in.points.emplace_back(u * w, v * l, 0.0);
-      in.leafUV.emplace_back(u, v);
-      in.regions.push_back(i == nx / 2 ? 1 : (i == 0 || i == nx ? 4 : 0));
-    }
-  }
-  for (int j = 0; j < ny; ++j)
-  {
-    for (int i = 0; i < nx; ++i)
-    {
-      const int a = j * (nx + 1) + i;
-      in.triangles.push_back({ a, a + 1, a + nx + 2 });
-      in.triangles.push_back({ a, a + nx + 2, a + nx + 1 });
-    }
-  }
-  return in;
+  return GridBlade(w, l, nx, ny, [nx](int i, int) { return i == nx / 2 ? 1 : (i == 0 || i == nx ? 4 : 0); });
 }
 
 TEST(WiltingVoxelizer, TriangleBoxOverlapAgreesWithSampling)

@@ -68,7 +68,8 @@ checks.check(venation.Preset == "Paper mulberry (paper 000 Fig. 10)" and venatio
 veins = fetch(venation)
 checks.check(veins.GetNumberOfLines() > 50, "paper mulberry: %d vein polylines" % veins.GetNumberOfLines())
 order = vtk_to_numpy(veins.GetCellData().GetArray("VeinOrder"))
-checks.check(set(order.tolist()) == {1, 2, 3}, "primary, secondary and tertiary veins: %s" % sorted(set(order.tolist())))
+checks.check(set(order.tolist()) == {1, 2, 3, 4},
+             "primary, secondary, tertiary and quaternary veins: %s" % sorted(set(order.tolist())))
 checks.check(veins.GetPointData().GetScalars().GetName() == "VeinWidth", "VeinWidth is the active scalar")
 for name in ("Region", "LeafUV"):
     checks.check(veins.GetPointData().GetArray(name) is not None, "vein points carry %s" % name)

@@ -195,8 +195,12 @@ free = sum(1 for p in numpy.nonzero(degree == 1)[0] if distance_to_margin(xyz[p]
 checks.check(s["FreeEnds"] == free, "mulberry: %d free ends = ends off the margin (%d)" % (s["FreeEnds"], free))
 checks.check(close(s["BranchPointsPerArea"], s["BranchPoints"] / area, 1e-9)
              and close(s["FreeEndsPerArea"], s["FreeEnds"] / area, 1e-9), "mulberry: counts per area")
-checks.check(close(s["LengthPrimary"] + s["LengthSecondary"] + s["LengthTertiary"] + s["LengthVeinlet"],
-                   s["TotalLength"], 1e-12), "mulberry: lengths per order sum to the total")
+checks.check(close(s["LengthPrimary"] + s["LengthSecondary"] + s["LengthTertiary"] + s["LengthQuaternary"]
+                   + s["LengthVeinlet"], s["TotalLength"], 1e-12), "mulberry: lengths per order sum to the total")
+checks.check(s["LengthTertiary"] > 0 and s["LengthQuaternary"] > 0
+             and s["MeanWidthTertiary"] >= s["MeanWidthQuaternary"] > 0,
+             "mulberry: tertiaries (%.3g long, %.3g wide) and the finer quaternary reticulum (%.3g, %.3g)"
+             % (s["LengthTertiary"], s["MeanWidthTertiary"], s["LengthQuaternary"], s["MeanWidthQuaternary"]))
 checks.check(0 < s["AreoleAreaMedian"] and 0 < s["AreoleAreaMean"] and s["AreoleAreaCV"] > 0,
              "mulberry: areole mean %.4g, median %.4g, CV %.3g" % (s["AreoleAreaMean"], s["AreoleAreaMedian"],
                                                                   s["AreoleAreaCV"]))
