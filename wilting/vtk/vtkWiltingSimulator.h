@@ -345,10 +345,12 @@ protected:
   double BladeThickness = 0.0;
   int Resolution = 14;
   int MaximumVoxels = 2000000;
-  double BladeMaterial[3] = { 0.02, 1000.0, 0.0 };
-  double VeinMaterial[3] = { 0.04, 2000.0, 0.0 };
-  double MarginMaterial[3] = { 0.03, 800.0, 0.0 };
-  double PetioleMaterial[3] = { 0.05, 5000.0, 0.0 };
+  // The XML's defaults (Units Physical: density, Young's modulus in dyn/cm^2, damping time): the preset warning
+  // compares the properties with a default-constructed instance, so these must equal WiltingSimulator.xml's.
+  double BladeMaterial[3] = { 0.02, 25200.0, 0.0 };
+  double VeinMaterial[3] = { 0.04, 50400.0, 0.0 };
+  double MarginMaterial[3] = { 0.03, 20160.0, 0.0 };
+  double PetioleMaterial[3] = { 0.05, 126000.0, 0.0 };
   double Gravity = 981.0;
   double DroopForce = 3.92;
   double ContractionForce = 1.96;

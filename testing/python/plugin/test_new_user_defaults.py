@@ -170,6 +170,18 @@ with Messages(wilt) as messages:
 checks.check(messages.said("Gravity", "Preset", "Custom", kind="warning") and
              not messages.said("Duration", kind="warning"),
              "2: Gravity under the Cucumber preset: a warning naming it (not Duration) %s" % messages.warnings)
+# 2, the other way: a proxy left at its defaults names no property as changed (the class's own defaults equal the
+# XML's; WiltingSimulator's materials did not, and every default wilting run warned about them).
+for name, make in (("WiltingSimulator", lambda: WiltingSimulator(Input=blade, Duration=0.5, Resolution=6)),
+                   ("VenationFilter", lambda: VenationFilter(Input=blade)),
+                   ("LeafOutlineSource", lambda: LeafOutlineSource()),
+                   ("TreeFromSketchSource", lambda: TreeFromSketchSource())):
+    proxy = make()
+    with Messages(proxy) as messages:
+        proxy.UpdatePipeline()
+    checks.check(not messages.said("not used", kind="warning"),
+                 "2: %s at its defaults names no ignored property %s" % (name, messages.warnings))
+    Delete(proxy)
 veins = VenationFilter(Input=blade, PrimaryCount=5)
 with Messages(veins) as messages:
     veins.UpdatePipeline()
