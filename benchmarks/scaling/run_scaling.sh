@@ -10,6 +10,7 @@
 # STEP_GROUPS default "read,compare fit tree" (space-separated groups, each a comma list of steps for one pvbatch);
 # SIZE default "normal", "large": a 6*10^6-point scan and a ChildCount 10 tree (scaling.py --size), where the data
 # outweighs pvbatch's own ~330 MB a rank. The scan is written first by a pvbatch of its own (step prepare).
+# POINTS (optional) overrides the scan size of either SIZE.
 set -euo pipefail
 BUILD="${1:?usage: run_scaling.sh BUILD_DIR [WORK_DIR]}"
 WORK="${2:-$BUILD/scaling}"
@@ -24,16 +25,18 @@ mkdir -p "$WORK"
 # yield_when_idle: a rank waiting for a message gives its core away instead of spinning (the machine is shared).
 export VTK_SMP_MAX_THREADS=1 OMPI_MCA_rmaps_base_oversubscribe=1 OMPI_MCA_mpi_yield_when_idle=1
 case " $STEP_GROUPS " in *read* | *compare*)
-  pvbatch "$HERE/scaling.py" --plugin "$PLUGIN" --work "$WORK" --steps prepare --size "$SIZE" >"$WORK/log_prepare.txt" 2>&1 ||
+  pvbatch "$HERE/scaling.py" --plugin "$PLUGIN" --work "$WORK" --steps prepare --size "$SIZE" ${POINTS:+--points "$POINTS"} >"$WORK/log_prepare.txt" 2>&1 ||
     { echo "failed: writing the scan (log: $WORK/log_prepare.txt)"; exit 1; } ;;
 esac
 echo "load average at the start: $(cut -d' ' -f1-3 /proc/loadavg)"
-for ranks in $RANKS; do
-  for group in $STEP_GROUPS; do
-    for run in $(seq "$REPEAT"); do
+# Repeats are the outer loop: each round runs every rank count and group once, so a slow spell of the (shared, virtual)
+# machine falls on 1 and 2 ranks alike instead of on all runs of one rank count.
+for run in $(seq "$REPEAT"); do
+  for ranks in $RANKS; do
+    for group in $STEP_GROUPS; do
       start=$(date +%s.%N)
       mpirun --allow-run-as-root --oversubscribe -np "$ranks" pvbatch "$HERE/scaling.py" --plugin "$PLUGIN" \
-        --work "$WORK" --steps "$group" --size "$SIZE" --label "run$run" >"$WORK/log_${ranks}_${group}_$run.txt" 2>&1 ||
+        --work "$WORK" --steps "$group" --size "$SIZE" ${POINTS:+--points "$POINTS"} --label "run$run" >"$WORK/log_${ranks}_${group}_$run.txt" 2>&1 ||
         { echo "failed: $ranks ranks, $group (log: $WORK/log_${ranks}_${group}_$run.txt)"; exit 1; }
       end=$(date +%s.%N)
       python3 - "$WORK/scaling.jsonl" "$ranks" "$group" "$run" "$start" "$end" <<'PY'
