@@ -167,7 +167,8 @@ double Dot3(const double* a, const double* b)
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-bool SameBits(const std::vector<double>& a, const std::vector<double>& b)
+template <class Array>
+bool SameBits(const Array& a, const Array& b)
 {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
 }
