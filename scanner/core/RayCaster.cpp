@@ -25,6 +25,15 @@ struct RayCaster::Embree
 
 namespace
 {
+/// Embree's far distance for a beam that starts at `start` (the exact distances t are from the beam's own origin):
+/// t's distance from there, rounded up to single precision (the 1e-6 and the slack cover the rounding), and never
+/// below Embree's near distance 0, which a ray must keep (tnear <= tfar) even when rounding puts t a hair before
+/// the start.
+float FarLimit(double t, double start, double slack)
+{
+  return static_cast<float>(std::max(0.0, (t - start) * (1.0 + 1e-6) + slack));
+}
+
 bool CountMemory(void* user, ssize_t bytes, bool /*post*/)
 {
   auto* e = static_cast<RayCaster::Embree*>(user);
@@ -192,8 +201,7 @@ void TriangleIntersect(const RTCIntersectFunctionNArguments* args)
       continue;
     // Boxes the beam enters beyond the hit need no visit: the single-precision far distance, rounded up.
     // (Rounding to single precision loses less than the 1e-6 added.)
-    RTCRayN_tfar(rays, args->N, i) =
-      static_cast<float>((best.t - beams->start[lane]) * (1.0 + 1e-6) + beams->slack[lane]);
+    RTCRayN_tfar(rays, args->N, i) = FarLimit(best.t, beams->start[lane], beams->slack[lane]);
     RTCHitN_geomID(hits, args->N, i) = args->geomID;
     RTCHitN_primID(hits, args->N, i) = args->primID;
   }
@@ -226,8 +234,7 @@ void TriangleFilter(const RTCFilterFunctionNArguments* args)
       args->valid[i] = 0;
       continue;
     }
-    RTCRayN_tfar(args->ray, args->N, i) =
-      static_cast<float>((beams->best[lane].t - beams->start[lane]) * (1.0 + 1e-6) + beams->slack[lane]);
+    RTCRayN_tfar(args->ray, args->N, i) = FarLimit(beams->best[lane].t, beams->start[lane], beams->slack[lane]);
   }
 }
 } // namespace
@@ -537,7 +544,7 @@ bool PrepareLane(const double* origin, const double* direction, double tMax, con
   r.dir_y[lane] = static_cast<float>(direction[1]);
   r.dir_z[lane] = static_cast<float>(direction[2]);
   r.tnear[lane] = 0.0f;
-  r.tfar[lane] = static_cast<float>((leave - start) * (1.0 + 1e-6) + beams.slack[lane]);
+  r.tfar[lane] = FarLimit(leave, start, beams.slack[lane]);
   r.time[lane] = 0.0f;
   r.mask[lane] = 0xFFFFFFFFu;
   r.id[lane] = lane;
