@@ -227,6 +227,22 @@ inline std::vector<std::map<int, vtkIdType>> LeafCountsOfRanks(
   return result;
 }
 
+/// The leaves of every rank's counts (LeafCountsOfRanks) in ascending LeafId: their ids and their point counts summed
+/// over the ranks, appended to `ids` and `points` (the input of LeafOwners).
+inline void SumLeafCounts(
+  const std::vector<std::map<int, vtkIdType>>& ranks, std::vector<int>& ids, std::vector<vtkIdType>& points)
+{
+  std::map<int, vtkIdType> total;
+  for (const auto& rank : ranks)
+    for (const auto& leaf : rank)
+      total[leaf.first] += leaf.second;
+  for (const auto& leaf : total) // ascending LeafId
+  {
+    ids.push_back(leaf.first);
+    points.push_back(leaf.second);
+  }
+}
+
 /// The owner plan, the one rule of every per-leaf filter (LeafPlan here, LeafFitFilter's fit/vtk/LeafFitExchange):
 /// `points[k]` is leaf k's point count over all ranks, the leaves in ascending LeafId; returns each leaf's owner
 /// rank. The leaves are taken largest first (ties: the smaller LeafId first), each given to the least loaded rank so
@@ -421,16 +437,8 @@ private:
   /// Every rank's (LeafId, count) pairs, then the owners (LeafOwners).
   void Plan(const std::map<int, vtkIdType>& counts)
   {
-    std::map<int, vtkIdType> total;
-    for (const auto& rank : LeafCountsOfRanks(this->Controller, counts))
-      for (const auto& leaf : rank)
-        total[leaf.first] += leaf.second;
     std::vector<vtkIdType> points;
-    for (const auto& leaf : total) // ascending LeafId
-    {
-      this->Ids.push_back(leaf.first);
-      points.push_back(leaf.second);
-    }
+    SumLeafCounts(LeafCountsOfRanks(this->Controller, counts), this->Ids, points);
     this->Owners = LeafOwners(points, this->Ranks);
   }
 

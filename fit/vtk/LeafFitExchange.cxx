@@ -46,16 +46,8 @@ LeafExchange::LeafExchange(vtkMultiProcessController* controller, const LocalLea
   for (const auto& leaf : local)
     mine[leaf.first] = static_cast<vtkIdType>(leaf.second.size());
   const std::vector<std::map<int, vtkIdType>> ranks = LeafCountsOfRanks(this->Controller, mine);
-  std::map<int, vtkIdType> total;
-  for (const auto& rank : ranks)
-    for (const auto& leaf : rank)
-      total[leaf.first] += leaf.second;
   std::vector<vtkIdType> points;
-  for (const auto& leaf : total) // ascending LeafId
-  {
-    this->Ids.push_back(leaf.first);
-    points.push_back(leaf.second);
-  }
+  SumLeafCounts(ranks, this->Ids, points);
   this->Counts.assign(static_cast<std::size_t>(this->Ranks), std::vector<vtkIdType>(this->Ids.size(), 0));
   for (std::size_t q = 0; q < ranks.size(); ++q)
     for (const auto& leaf : ranks[q])
