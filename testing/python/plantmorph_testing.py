@@ -57,6 +57,39 @@ class Checks:
         sys.exit(1)
 
 
+# The options of every MPI equality test: --write-reference (the serial run writes what the others must equal) and
+# --ranks (how many ranks the run is meant to have).
+MPI_EQUALITY_ARGUMENTS = [("--write-reference", dict(action="store_true")), ("--ranks", dict(type=int, default=1))]
+
+
+def save_reference(path, reference):
+    """Writes an MPI equality test's serial reference: a dict of arrays to .npz, anything JSON holds to .json."""
+    if path.endswith(".npz"):
+        import numpy
+        numpy.savez(path, **reference)
+    else:
+        with open(path, "w") as f:
+            json.dump(reference, f)
+    print("reference written to", path)
+
+
+def load_reference(path):
+    """The serial reference save_reference wrote."""
+    if path.endswith(".npz"):
+        import numpy
+        return numpy.load(path)
+    with open(path) as f:
+        return json.load(f)
+
+
+def check_rank_count(checks, arguments):
+    """The number of ranks this pvbatch runs on, checked against --ranks."""
+    from paraview import servermanager
+    ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
+    checks.check(ranks == arguments.ranks, "running on %d ranks (expected %d)" % (ranks, arguments.ranks))
+    return ranks
+
+
 def reload_in_fresh_pvpython(state, expected, expected_file, arguments, script):
     """The state-file round trip: writes `expected` (JSON) to `expected_file`, saves this session's pipeline to
     `state`, and runs `script` again in a fresh pvpython with `--load state`, whose second half loads the state and

@@ -15,9 +15,10 @@ Run once serially with --write-reference (pvpython), then as `mpirun -np N pvbat
 """
 import os
 
-from plantmorph_testing import Checks, load_plugin, parse_arguments
+from plantmorph_testing import (check_rank_count, Checks, load_plugin, load_reference, MPI_EQUALITY_ARGUMENTS,
+                               parse_arguments, save_reference)
 
-arguments = parse_arguments([("--write-reference", dict(action="store_true")), ("--ranks", dict(type=int, default=1))])
+arguments = parse_arguments(MPI_EQUALITY_ARGUMENTS)
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
@@ -102,14 +103,12 @@ def results():
 
 
 if arguments.write_reference:
-    numpy.savez(reference_file, **results())
-    print("reference written to", reference_file)
+    save_reference(reference_file, results())
     raise SystemExit(0)
 
 checks = Checks()
-ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
-checks.check(ranks == arguments.ranks, "running on %d ranks (expected %d)" % (ranks, arguments.ranks))
-expected = numpy.load(reference_file)
+ranks = check_rank_count(checks, arguments)
+expected = load_reference(reference_file)
 now = results()
 checks.check(set(now) == set(expected.files), "the same outputs and arrays as serially: %s" % sorted(
     set(now) ^ set(expected.files)))

@@ -9,12 +9,12 @@ the totals over all ranks equal the serial counts (nothing duplicated, nothing l
 ranks is bit-identical to the serial output. Run once serially with --write-reference (pvpython), then as
 `mpirun -np N pvbatch test_mpi_every_proxy.py ... --ranks N`."""
 import glob
-import json
 import os
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
+from plantmorph_testing import (check_rank_count, Checks, fingerprint, load_plugin, load_reference,
+                               MPI_EQUALITY_ARGUMENTS, parse_arguments, save_reference)
 
-arguments = parse_arguments([("--write-reference", dict(action="store_true")), ("--ranks", dict(type=int, default=1))])
+arguments = parse_arguments(MPI_EQUALITY_ARGUMENTS)
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
@@ -120,16 +120,12 @@ if arguments.write_reference:
         reference[name + "_count"] = [data.GetNumberOfPoints(), data.GetNumberOfCells()]
     reference["split_comparison"] = statistics(servermanager.Fetch(split_comparison, idx=2))
     reference["split_fit"] = statistics(servermanager.Fetch(split_fit, idx=2))
-    with open(reference_file, "w") as f:
-        json.dump(reference, f)
-    print("reference written to", reference_file)
+    save_reference(reference_file, reference)
     raise SystemExit(0)
 
 checks = Checks()
-ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
-checks.check(ranks == arguments.ranks, "running on %d ranks (expected %d)" % (ranks, arguments.ranks))
-with open(reference_file) as f:
-    reference = json.load(f)
+ranks = check_rank_count(checks, arguments)
+reference = load_reference(reference_file)
 for name, (proxy, port) in OUTPUTS.items():
     data = fetch(proxy, port, name)
     serial = reference[name]

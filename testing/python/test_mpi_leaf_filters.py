@@ -14,9 +14,10 @@ On 1, 2 and 4 ranks (`mpirun -np N pvbatch test_mpi_leaf_filters.py ... --ranks 
 """
 import os
 
-from plantmorph_testing import Checks, load_plugin, parse_arguments
+from plantmorph_testing import (check_rank_count, Checks, load_plugin, load_reference, MPI_EQUALITY_ARGUMENTS,
+                               parse_arguments, save_reference)
 
-arguments = parse_arguments([("--write-reference", dict(action="store_true")), ("--ranks", dict(type=int, default=1))])
+arguments = parse_arguments(MPI_EQUALITY_ARGUMENTS)
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
@@ -118,14 +119,12 @@ if arguments.write_reference:
     for name, proxy, port, time in OUTPUTS:
         for leaf_id, (arrays, _) in per_leaf(fetch(proxy, port, time)).items():
             saved.update({"%s:%d:%s" % (name, leaf_id, k): v for k, v in arrays.items()})
-    numpy.savez(reference_file, **saved)
-    print("reference written to", reference_file)
+    save_reference(reference_file, saved)
     checks.finish()
     raise SystemExit(0)
 
-ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
-checks.check(ranks == arguments.ranks, "running on %d ranks (expected %d)" % (ranks, arguments.ranks))
-reference = numpy.load(reference_file)
+ranks = check_rank_count(checks, arguments)
+reference = load_reference(reference_file)
 for name, proxy, port, time in TABLES:
     columns = table_columns(proxy, port, time)
     expected = {k.split(":", 1)[1]: reference[k] for k in reference.files if k.startswith(name + ":")}

@@ -12,9 +12,10 @@ Run once serially with --write-reference (pvpython), then as `mpirun -np N pvbat
 import glob
 import os
 
-from plantmorph_testing import Checks, load_plugin, parse_arguments
+from plantmorph_testing import (check_rank_count, Checks, load_plugin, load_reference, MPI_EQUALITY_ARGUMENTS,
+                               parse_arguments, save_reference)
 
-arguments = parse_arguments([("--write-reference", dict(action="store_true")), ("--ranks", dict(type=int, default=1))])
+arguments = parse_arguments(MPI_EQUALITY_ARGUMENTS)
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
@@ -70,14 +71,12 @@ if arguments.write_reference:
         saved.update({"blade_points_%d" % leaf_id: points, "blade_normals_%d" % leaf_id: normals,
                       "blade_support_%d" % leaf_id: support})
     saved["scan"] = scan_rows(fit)[0]
-    numpy.savez(reference_file, **saved)
-    print("reference written to", reference_file)
+    save_reference(reference_file, saved)
     raise SystemExit(0)
 
 checks = Checks()
-ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
-checks.check(ranks == arguments.ranks, "running on %d ranks (expected %d)" % (ranks, arguments.ranks))
-reference = numpy.load(reference_file)
+ranks = check_rank_count(checks, arguments)
+reference = load_reference(reference_file)
 for name, fit in FITS.items():
     traits = table_columns(servermanager.Fetch(fit, idx=2))
     expected = {k[len("traits_"):]: reference[k] for k in reference.files if k.startswith("traits_")}

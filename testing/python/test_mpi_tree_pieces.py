@@ -9,12 +9,12 @@ a stroke tree (a stroke file) and a forest (a second trunk merged from another s
 Run once serially with --write-reference (pvpython), then as `mpirun -np N pvbatch test_mpi_tree_pieces.py ...
 --ranks N`."""
 import hashlib
-import json
 import os
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments
+from plantmorph_testing import (check_rank_count, Checks, fingerprint, load_plugin, load_reference,
+                               MPI_EQUALITY_ARGUMENTS, parse_arguments, save_reference)
 
-arguments = parse_arguments([("--write-reference", dict(action="store_true")), ("--ranks", dict(type=int, default=1))])
+arguments = parse_arguments(MPI_EQUALITY_ARGUMENTS)
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
@@ -83,16 +83,12 @@ if arguments.write_reference:
                            "skeleton": fingerprint(servermanager.Fetch(tree, idx=1))}
         leaves = servermanager.Fetch(tree, idx=2)
         reference[name]["leaves"] = digest(leaves) if leaves.GetNumberOfCells() else None
-    with open(reference_file, "w") as f:
-        json.dump(reference, f)
-    print("reference written to", reference_file)
+    save_reference(reference_file, reference)
     raise SystemExit(0)
 
 checks = Checks()
-ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
-checks.check(ranks == arguments.ranks, "running on %d ranks (expected %d)" % (ranks, arguments.ranks))
-with open(reference_file) as f:
-    reference = json.load(f)
+ranks = check_rank_count(checks, arguments)
+reference = load_reference(reference_file)
 for name, tree in TREES.items():
     serial = reference[name]
     branches = digest(servermanager.Fetch(tree, idx=0))
