@@ -18,6 +18,7 @@
 #include "TreeMerge.h"
 #include "TreeStrokes.h"
 #include "TreeTemplate.h"
+#include "TreeTestMerge.h"
 #include "TreeTestStrokes.h"
 
 #include <MeshInvariants.h>
@@ -36,6 +37,8 @@
 #include <string>
 
 using namespace plantmorph;
+using tree_test::MergeOntoBranch3;
+using tree_test::SkeletonOf;
 
 namespace
 {
@@ -250,16 +253,10 @@ TEST(JunctionReach, EditedAndMergedTrees)
   second.depth = 2;
   Tree other;
   ASSERT_EQ(BuildTree(second, {}, other), "");
-  std::vector<SkeletonBranch> skeleton;
-  for (const TreeBranch& b : other.branches)
-    skeleton.push_back({ b.id, b.parentId, b.centre, b.radii });
+  const std::vector<SkeletonBranch> skeleton = SkeletonOf(other);
   TreeParameters m = Preset(1);
   m.depth = 2;
-  m.mergeParent = 3;
-  m.mergeU = 0.3;
-  m.mergeAngle = 40.0;
-  m.mergeRotation = 70.0;
-  m.mergeScale = 0.5;
+  MergeOntoBranch3(m); // a child of the trunk
   Tree merged;
   ASSERT_EQ(BuildTree(m, {}, &skeleton, merged), "");
   EXPECT_LE(CheckTree(merged, m.sides, "merged"), Bound);

@@ -7,6 +7,7 @@
 #include "TreeMerge.h"
 #include "TreeStrokes.h"
 #include "TreeTemplate.h"
+#include "TreeTestMerge.h"
 #include "TreeTestStrokes.h"
 
 #include <plantmorph/BezierCurve.h>
@@ -27,6 +28,8 @@
 #include <thread>
 
 using namespace plantmorph;
+using tree_test::MergeOntoBranch3;
+using tree_test::SkeletonOf;
 
 namespace
 {
@@ -866,22 +869,6 @@ TEST(BranchTubes, JointsThatCannotBeSeatedAreCountedNotHidden)
 
 namespace
 {
-/// A tree's branches as the skeleton another source's Skeleton port would carry.
-std::vector<SkeletonBranch> SkeletonOf(const Tree& tree)
-{
-  std::vector<SkeletonBranch> skeleton;
-  for (const TreeBranch& b : tree.branches)
-  {
-    SkeletonBranch s;
-    s.id = b.id;
-    s.parentId = b.parentId;
-    s.centre = b.centre;
-    s.radii = b.radii;
-    skeleton.push_back(s);
-  }
-  return skeleton;
-}
-
 Tree SecondTree()
 {
   TreeParameters s = Preset(2); // sympodial, curved-free but branching at the tips
@@ -900,11 +887,7 @@ TEST(TreeMerge, BranchCountIsTheSumAndMergedGeometryIsTheSecondTreeUnderTheState
   s.depth = 2;
   Tree alone;
   ASSERT_EQ(BuildTree(s, {}, alone), "");
-  s.mergeParent = 3; // a child of the trunk
-  s.mergeU = 0.3;
-  s.mergeAngle = 40.0;
-  s.mergeRotation = 70.0;
-  s.mergeScale = 0.5;
+  MergeOntoBranch3(s); // a child of the trunk
   Tree merged;
   ASSERT_EQ(BuildTree(s, {}, &skeleton, merged), "");
   ASSERT_EQ(merged.branches.size(), alone.branches.size() + second.branches.size());
@@ -1483,11 +1466,7 @@ TEST(BranchJunctions, StrokeEditedAndMergedTreesAreClosedAndJunctionsDoNotSelfIn
   const auto skeleton = SkeletonOf(second);
   TreeParameters m = Preset(1);
   m.depth = 1;
-  m.mergeParent = 3;
-  m.mergeU = 0.3;
-  m.mergeAngle = 40.0;
-  m.mergeRotation = 70.0;
-  m.mergeScale = 0.5;
+  MergeOntoBranch3(m); // a child of the trunk
   Tree merged;
   ASSERT_EQ(BuildTree(m, {}, &skeleton, merged), "");
   const WeldedResult c = Weld(merged, 6);

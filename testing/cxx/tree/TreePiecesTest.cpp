@@ -9,6 +9,7 @@
 #include "BranchTubes.h"
 #include "TreeMerge.h"
 #include "TreeTemplate.h"
+#include "TreeTestMerge.h"
 #include "TreeTestStrokes.h"
 
 #include <gtest/gtest.h>
@@ -21,6 +22,8 @@
 #include <vector>
 
 using namespace plantmorph;
+using tree_test::MergeOntoBranch3;
+using tree_test::SkeletonOf;
 
 namespace
 {
@@ -208,15 +211,9 @@ TEST(TreePieces, MergedTreeAndForest)
   TreeParameters second = Template(2, 2);
   Tree other;
   ASSERT_EQ(BuildTree(second, {}, other), "");
-  std::vector<SkeletonBranch> skeleton;
-  for (const TreeBranch& b : other.branches)
-    skeleton.push_back({ b.id, b.parentId, b.centre, b.radii });
+  const std::vector<SkeletonBranch> skeleton = SkeletonOf(other);
   TreeParameters m = Template(1, 2);
-  m.mergeParent = 3;
-  m.mergeU = 0.3;
-  m.mergeAngle = 40.0;
-  m.mergeRotation = 70.0;
-  m.mergeScale = 0.5;
+  MergeOntoBranch3(m); // a child of the trunk
   Tree merged;
   ASSERT_EQ(BuildTree(m, {}, &skeleton, merged), "");
   ExpectPiecesMakeTheWhole(merged, m.sides, Joints::Welded, "merged tree");
@@ -225,13 +222,11 @@ TEST(TreePieces, MergedTreeAndForest)
   Tree first;
   TreeParameters f = Template(2, 2);
   ASSERT_EQ(BuildTree(f, {}, first), "");
-  skeleton.clear();
-  for (const TreeBranch& b : first.branches)
-    skeleton.push_back({ b.id, b.parentId, b.centre, b.radii });
+  const std::vector<SkeletonBranch> twin = SkeletonOf(first);
   f.mergeParent = -1;
   f.mergeOffset = Eigen::Vector3d(30.0, 0.0, 0.0);
   Tree forest;
-  ASSERT_EQ(BuildTree(f, {}, &skeleton, forest), "");
+  ASSERT_EQ(BuildTree(f, {}, &twin, forest), "");
   ASSERT_EQ(forest.branches.size(), 2 * first.branches.size());
   const std::vector<int> plan = PlanPieces(TreeTubeInputs(forest), MergedRoots(forest), 2);
   for (std::size_t t = 0; t < forest.branches.size(); ++t)
