@@ -598,7 +598,7 @@ void CastPackets(RTCScene scene, const double* centre, const double* box, double
   for (std::size_t first = 0; first < count; first += W)
   {
     BeamContext beams;
-    alignas(64) RTCRayHitNt<W> packet;
+    alignas(64) RTCRayHitNt<W> packet{}; // inactive lanes zero, never stale
     alignas(64) int valid[W];
     int active = 0;
     for (unsigned i = 0; i < W; ++i)
