@@ -21,6 +21,8 @@ Eigen::Vector3d Barycentric(
   return Eigen::Vector3d(SignedArea(p, b, c), SignedArea(a, p, c), SignedArea(a, b, p)) / area;
 }
 
+} // namespace
+
 Eigen::Vector2d ClosestOnSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b)
 {
   const Eigen::Vector2d d = b - a;
@@ -28,7 +30,6 @@ Eigen::Vector2d ClosestOnSegment(const Eigen::Vector2d& p, const Eigen::Vector2d
   const double t = length2 > 0.0 ? std::clamp((p - a).dot(d) / length2, 0.0, 1.0) : 0.0;
   return a + t * d;
 }
-} // namespace
 
 std::array<int, 2> BladeLocator::Grid::Cell(const Eigen::Vector2d& p) const
 {

@@ -21,6 +21,9 @@ struct VenationBlade
   std::vector<std::array<int, 3>> triangles;
 };
 
+/// The point of the segment [a, b] nearest p (a when the segment has no length).
+Eigen::Vector2d ClosestOnSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+
 /// Where a point fell: its triangle and barycentric weights (summing to 1).
 struct BladeLocation
 {

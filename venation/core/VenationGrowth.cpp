@@ -153,11 +153,9 @@ int Grower::NodeAt(const Eigen::Vector2d& x)
   const auto& edges = this->Graph.Edges();
   for (std::size_t e = 0; e < edges.size(); ++e)
   {
-    const Eigen::Vector2d a = nodes[edges[e].a], b = nodes[edges[e].b];
-    const Eigen::Vector2d d = b - a;
-    const double t = std::clamp((x - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
-    if ((a + t * d - x).norm() <= tolerance)
-      return this->Graph.SplitEdge(static_cast<int>(e), a + t * d);
+    const Eigen::Vector2d foot = ClosestOnSegment(x, nodes[edges[e].a], nodes[edges[e].b]);
+    if ((foot - x).norm() <= tolerance)
+      return this->Graph.SplitEdge(static_cast<int>(e), foot);
   }
   return this->Graph.AddNode(x);
 }
@@ -489,11 +487,7 @@ void Grower::BuildPrimaryDistance()
       const Eigen::Vector2d c = low + this->DistanceCell * Eigen::Vector2d(x + 0.5, y + 0.5);
       double best = std::numeric_limits<double>::max();
       for (const auto& [a, b] : primaries)
-      {
-        const Eigen::Vector2d d = b - a;
-        const double t = std::clamp((c - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
-        best = std::min(best, (a + t * d - c).norm());
-      }
+        best = std::min(best, (ClosestOnSegment(c, a, b) - c).norm());
       this->PrimaryDistance[static_cast<std::size_t>(y) * n + x] = best;
       if (this->Inside(c))
         this->DistanceFar = std::max(this->DistanceFar, best);
@@ -830,14 +824,13 @@ void Grower::GrowFlankSecondaries()
       const int order = this->Graph.Order(edges[e].vein);
       if (order != VeinOrderPrimary && order != VeinOrderSecondary)
         continue;
-      const Eigen::Vector2d a = nodes[edges[e].a], d = nodes[edges[e].b] - a;
-      const double t = std::clamp((point - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
-      const double r = (a + t * d - point).norm();
+      const Eigen::Vector2d foot = ClosestOnSegment(point, nodes[edges[e].a], nodes[edges[e].b]);
+      const double r = (foot - point).norm();
       if (r < best)
       {
         best = r;
         bestEdge = static_cast<int>(e);
-        bestFoot = a + t * d;
+        bestFoot = foot;
       }
     }
   };
