@@ -23,10 +23,11 @@
 //   BM_CastBeams/tris:N/beams:B/threads:T
 //                                      the plugin's casting layer: scanner/core CastBeams (pattern, Embree, double
 //                                      refinement, normals, intensity, compaction into the cloud).
-//   BM_Filter/tris:N/beams:B           the whole filter: vtkVirtualScanner on a vtkPolyData re-run after a
+//   BM_Filter/tris:N/beams:B/labels:L  the whole filter: vtkVirtualScanner on a vtkPolyData re-run after a
 //                                      property change (the triangulation and the caster kept from the untimed
 //                                      first run, whose wall time is first_run_s): the cast on vtkSMPTools'
-//                                      STDThread backend, every core, and the output stage (the cloud, its arrays).
+//                                      STDThread backend, every core, and the output stage (the cloud, its arrays);
+//                                      L = 4: the input carries four int cell labels (LabelledPolyData), carried.
 //   BM_CasterOptions/geometry:G/quality:Q/tris:N/width:W
 //                                      RayCaster's choices, 10^6 beams, one thread: G = 0 Embree's triangles + the
 //                                      double-precision filter (the default), 1 the exact user geometry; Q Embree's
@@ -47,6 +48,8 @@
 #include "vtkCellArray.h"
 #include "vtkGenericCell.h"
 #include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkCellData.h"
 #include "vtkNew.h"
 #include "vtkOBBTree.h"
 #include "vtkPoints.h"
@@ -76,6 +79,7 @@ struct Scene
   std::vector<double> points;
   std::vector<std::int64_t> triangles;
   vtkSmartPointer<vtkPolyData> polyData; // made on demand (VTK families, the filter)
+  vtkSmartPointer<vtkPolyData> labelled; // the same with four integer cell labels, made on demand (the filter)
 };
 
 /// One UV sphere of `rings` rings and 2 * rings segments (4 rings^2 - 4 rings triangles), appended to `scene`.
@@ -152,6 +156,30 @@ vtkPolyData* PolyData(Scene& scene)
     scene.polyData->SetPolys(polys);
   }
   return scene.polyData;
+}
+
+/// The scene with the labels a tree with leaves carries (Region, BranchId, Depth, LeafId: one int per cell, all
+/// carried to the cloud): each sphere a leaf of its own branch.
+vtkPolyData* LabelledPolyData(Scene& scene)
+{
+  if (!scene.labelled)
+  {
+    scene.labelled = vtkSmartPointer<vtkPolyData>::New();
+    scene.labelled->ShallowCopy(PolyData(scene));
+    const vtkIdType cells = scene.labelled->GetNumberOfCells();
+    const vtkIdType perSphere = cells / 16;
+    const char* names[] = { "Region", "BranchId", "Depth", "LeafId" };
+    for (int a = 0; a < 4; ++a)
+    {
+      vtkNew<vtkIntArray> label;
+      label->SetName(names[a]);
+      label->SetNumberOfTuples(cells);
+      for (vtkIdType c = 0; c < cells; ++c)
+        label->SetValue(c, a == 0 ? 2 : (a == 2 ? 3 : static_cast<int>(c / perSphere)));
+      scene.labelled->GetCellData()->AddArray(label);
+    }
+  }
+  return scene.labelled;
 }
 
 /// The scan: a terrestrial scanner 3 from the centre, 45 x 45 degrees, about `beams` beams.
@@ -567,7 +595,7 @@ void BM_CastBeams(benchmark::State& state)
 void BM_Filter(benchmark::State& state)
 {
   Scene& scene = Field(state.range(0));
-  vtkPolyData* input = PolyData(scene);
+  vtkPolyData* input = state.range(2) > 0 ? LabelledPolyData(scene) : PolyData(scene);
   const plantmorph::ScannerParameters p = Scan(state.range(1));
   vtkNew<vtkVirtualScanner> filter;
   filter->SetInputData(input);
@@ -699,8 +727,8 @@ BENCHMARK(BM_CastBeams)
   ->Unit(benchmark::kMillisecond)
   ->UseRealTime();
 BENCHMARK(BM_Filter)
-  ->ArgNames({ "tris", "beams" })
-  ->ArgsProduct({ { 10000, 1000000, 10000000 }, { 100000, 1000000, 10000000 } })
+  ->ArgNames({ "tris", "beams", "labels" })
+  ->ArgsProduct({ { 10000, 1000000, 10000000 }, { 100000, 1000000, 10000000 }, { 0, 4 } })
   ->Unit(benchmark::kMillisecond)
   ->UseRealTime();
 BENCHMARK(BM_VtkStaticCellLocator)

@@ -247,14 +247,15 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
           if (r.triangle < 0)
             continue;
           std::copy(r.point, r.point + 3, &out.points[3 * j]);
-          std::copy(r.normal, r.normal + 3, &out.normals[3 * j]);
+          for (std::size_t k = 0; k < 3; ++k)
+            out.normals[3 * j + k] = static_cast<float>(r.normal[k]);
           out.range[j] = r.range;
           out.intensity[j] = r.intensity;
-          out.pose[j] = r.pose;
+          out.pose[j] = static_cast<std::int32_t>(r.pose); // poses are held in memory: far fewer than 2^31
           out.triangle[j] = r.triangle;
           out.barycentric[2 * j] = r.u;
           out.barycentric[2 * j + 1] = r.v;
-          out.beam[j] = first + i;
+          out.beam[j] = static_cast<long long>(first + i);
           ++j;
         }
       }

@@ -6,64 +6,33 @@
 
 #include "ScanPattern.h"
 #include "RayCaster.h"
+#include "CloudArray.h"
 
 #include <plantmorph/ParallelFor.h>
 
 #include <cstdint>
 #include <functional>
-#include <memory>
-#include <new>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace plantmorph
 {
 
-/// An allocator whose resize() leaves new numbers unset instead of zeroing them: the cloud's arrays are sized before
-/// the threads fill every entry, so zeroing them would be a serial pass over the whole cloud (and its page faults).
-template <class T>
-struct UninitializedAllocator : std::allocator<T>
-{
-  template <class U>
-  struct rebind
-  {
-    using other = UninitializedAllocator<U>;
-  };
-  UninitializedAllocator() = default;
-  template <class U>
-  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept
-  {
-  }
-  template <class U>
-  void construct(U* p) noexcept
-  {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args)
-  {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-
-/// A vector of numbers that resize() does not zero (every entry is written before it is read).
-template <class T>
-using CloudArray = std::vector<T, UninitializedAllocator<T>>;
-
 /// The cloud, one entry per returned beam.
 struct ScanPoints
 {
-  CloudArray<double> points;         ///< x, y, z: origin + measured range * beam direction
-  CloudArray<double> normals;        ///< unit normal of the triangle hit, facing the scanner
-  CloudArray<double> range;          ///< measured range (the true one plus noise, never below 0)
-  CloudArray<double> intensity;      ///< cos(incidence), over the true range squared when intensityFalloff
-  CloudArray<std::int64_t> pose;     ///< the scanner pose (ScanPattern.h: position, fan or turntable step)
-  CloudArray<std::int64_t> triangle; ///< index of the input triangle hit
-  CloudArray<double> barycentric;    ///< u, v of the hit in that triangle (its own vertex order)
-  CloudArray<std::uint64_t> beam;    ///< index of the beam in the pattern (BeamPattern::Beam)
-  std::uint64_t beams = 0;           ///< beams cast (this share's)
-  std::uint64_t dropped = 0;         ///< beams that hit but were dropped (DropoutProbability)
+  // The types are those of the VTK wrapper's output arrays, which adopt these (CloudArray::Release) uncopied:
+  // long long is the type of VTK's ids.
+  CloudArray<double> points;      ///< x, y, z: origin + measured range * beam direction
+  CloudArray<float> normals;      ///< unit normal of the triangle hit, facing the scanner
+  CloudArray<double> range;       ///< measured range (the true one plus noise, never below 0)
+  CloudArray<double> intensity;   ///< cos(incidence), over the true range squared when intensityFalloff
+  CloudArray<std::int32_t> pose;  ///< the scanner pose (ScanPattern.h: position, fan or turntable step)
+  CloudArray<long long> triangle; ///< index of the input triangle hit
+  CloudArray<double> barycentric; ///< u, v of the hit in that triangle (its own vertex order)
+  CloudArray<long long> beam;     ///< index of the beam in the pattern (BeamPattern::Beam)
+  std::uint64_t beams = 0;        ///< beams cast (this share's)
+  std::uint64_t dropped = 0;      ///< beams that hit but were dropped (DropoutProbability)
 
   std::size_t Size() const { return this->range.size(); }
   void Clear();

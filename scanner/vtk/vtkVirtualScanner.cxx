@@ -26,6 +26,8 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
+#include "vtkTypeInt32Array.h"
+#include "vtkTypeInt64Array.h"
 
 #include <cmath>
 #include <algorithm>
@@ -34,7 +36,9 @@
 #include <memory>
 #include <mutex>
 #include <sstream>
+#include <limits>
 #include <string>
+#include <type_traits>
 
 vtkStandardNewMacro(vtkVirtualScanner);
 
@@ -93,7 +97,7 @@ bool Reserved(const char* name)
   return false;
 }
 
-/// Arrays whose tuples threads may write side by side (plain arrays of values; not bit arrays, not implicit ones).
+/// Arrays whose tuples threads may read and write side by side as plain memory (not bit arrays, not implicit ones).
 bool Contiguous(vtkAbstractArray* array)
 {
   return array->GetArrayType() == vtkAbstractArray::AoSDataArrayTemplate;
@@ -112,149 +116,184 @@ vtkSmartPointer<vtkAbstractArray> LikeWithTuples(vtkAbstractArray* source, vtkId
   return values;
 }
 
-/// Port 0: the cloud with its arrays and the hit cells' arrays. One threaded pass writes every array, sized once,
-/// through raw pointers (each point i is written by one thread only, so the output does not depend on the threads).
-void WriteCloud(
-  const plantmorph::ScanPoints& scan, const std::vector<vtkIdType>& cellOf, vtkPolyData* input, vtkPolyData* cloud)
+/// A VTK array of `components` per tuple that takes over the memory of `values` (no copy; VTK frees it with
+/// std::free). `values` is left empty.
+template <class ArrayT, class T>
+vtkSmartPointer<ArrayT> Adopt(plantmorph::CloudArray<T>& values, int components, const char* name)
 {
-  const auto n = static_cast<vtkIdType>(scan.Size());
-  vtkNew<vtkDoubleArray> xyz;
-  xyz->SetNumberOfComponents(3);
-  xyz->SetNumberOfTuples(n);
-  vtkNew<vtkFloatArray> normals;
-  normals->SetName("Normals");
-  normals->SetNumberOfComponents(3);
-  normals->SetNumberOfTuples(n);
-  vtkNew<vtkDoubleArray> range, intensity;
-  range->SetName("Range");
-  range->SetNumberOfTuples(n);
-  intensity->SetName("Intensity");
-  intensity->SetNumberOfTuples(n);
-  vtkNew<vtkIntArray> pose;
-  pose->SetName("ScanPosition");
-  pose->SetNumberOfTuples(n);
-  vtkNew<vtkIdTypeArray> hitCell, beam, offsets, connectivity;
-  hitCell->SetName("HitCellId");
-  hitCell->SetNumberOfTuples(n);
-  beam->SetName("BeamId");
-  beam->SetNumberOfTuples(n);
+  static_assert(std::is_same<typename ArrayT::ValueType, T>::value, "the cloud's type is the output's");
+  auto array = vtkSmartPointer<ArrayT>::New();
+  if (name)
+    array->SetName(name);
+  array->SetNumberOfComponents(components);
+  const auto size = static_cast<vtkIdType>(values.size());
+  if (T* held = values.Release())
+    array->SetArray(held, size, 0, ArrayT::VTK_DATA_ARRAY_FREE);
+  return array;
+}
+
+/// One vertex cell per point, 0 .. n - 1 (32-bit ids when they fit: half the memory).
+template <class IdArray>
+vtkNew<vtkCellArray> PointVertices(vtkIdType n)
+{
+  vtkNew<IdArray> offsets, connectivity;
   offsets->SetNumberOfTuples(n + 1);
   connectivity->SetNumberOfTuples(n);
-  double* x = xyz->GetPointer(0);
-  float* normal = normals->GetPointer(0);
-  double *r = range->GetPointer(0), *in = intensity->GetPointer(0);
-  int* ps = pose->GetPointer(0);
-  vtkIdType *cell = hitCell->GetPointer(0), *b = beam->GetPointer(0), *off = offsets->GetPointer(0),
-            *conn = connectivity->GetPointer(0);
+  auto* off = offsets->GetPointer(0);
+  auto* conn = connectivity->GetPointer(0);
+  using Id = typename IdArray::ValueType;
   vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType i = begin; i < end; ++i)
-    {
-      const auto s = static_cast<std::size_t>(i);
-      for (std::size_t k = 0; k < 3; ++k)
-      {
-        x[3 * s + k] = scan.points[3 * s + k];
-        normal[3 * s + k] = static_cast<float>(scan.normals[3 * s + k]);
-      }
-      r[s] = scan.range[s];
-      in[s] = scan.intensity[s];
-      ps[s] = static_cast<int>(scan.pose[s]);
-      cell[s] = cellOf[static_cast<std::size_t>(scan.triangle[s])];
-      b[s] = static_cast<vtkIdType>(scan.beam[s]);
-      off[s] = i;
-      conn[s] = i;
-    }
+      off[i] = conn[i] = static_cast<Id>(i);
   });
-  off[n] = n;
-  vtkNew<vtkPoints> points;
-  points->SetData(xyz);
+  off[n] = static_cast<Id>(n);
   vtkNew<vtkCellArray> verts;
   verts->SetData(offsets, connectivity);
-  cloud->SetPoints(points);
-  cloud->SetVerts(verts);
-  vtkPointData* pd = cloud->GetPointData();
-  pd->SetNormals(normals);
-  pd->AddArray(range);
-  pd->AddArray(intensity);
-  pd->AddArray(pose);
-  pd->AddArray(hitCell);
-  pd->AddArray(beam);
-  pd->SetActiveScalars("Range");
-  vtkCellData* cd = input->GetCellData();
-  for (int a = 0; a < cd->GetNumberOfArrays(); ++a)
+  return verts;
+}
+
+/// values[i] = source[from(i)] for the n tuples, `from` giving tuple indices in [0, source's tuple count): threaded
+/// as plain bytes when both are plain arrays, else serial through VTK.
+template <class From>
+void GatherTuples(vtkAbstractArray* source, vtkAbstractArray* values, vtkIdType n, const From& from)
+{
+  if (Contiguous(source) && Contiguous(values))
   {
-    vtkAbstractArray* source = cd->GetAbstractArray(a);
-    if (!source || Reserved(source->GetName()))
-      continue;
-    vtkSmartPointer<vtkAbstractArray> carried = LikeWithTuples(source, n);
-    auto* data = vtkDataArray::SafeDownCast(carried);
-    if (data && Contiguous(carried)) // numbers: copied in parallel, tuple by tuple
-    {
-      vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-        for (vtkIdType i = begin; i < end; ++i)
-          data->SetTuple(i, cell[i], source);
-      });
-    }
-    else if (n > 0) // strings, variants, bits: serial
-    {
-      vtkNew<vtkIdList> from, to;
-      from->SetNumberOfIds(n);
-      to->SetNumberOfIds(n);
-      for (vtkIdType i = 0; i < n; ++i)
-      {
-        from->SetId(i, cell[i]);
-        to->SetId(i, i);
-      }
-      carried->InsertTuples(to, from, source);
-    }
-    pd->AddArray(carried);
+    const auto bytes = static_cast<std::size_t>(source->GetNumberOfComponents() * source->GetDataTypeSize());
+    const auto* in = static_cast<const unsigned char*>(source->GetVoidPointer(0));
+    auto* out = static_cast<unsigned char*>(values->GetVoidPointer(0));
+    vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+        std::memcpy(out + static_cast<std::size_t>(i) * bytes, in + static_cast<std::size_t>(from(i)) * bytes, bytes);
+    });
+    return;
   }
+  if (n == 0) // strings, variants, bits
+    return;
+  vtkNew<vtkIdList> fromIds, toIds;
+  fromIds->SetNumberOfIds(n);
+  toIds->SetNumberOfIds(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    fromIds->SetId(i, from(i));
+    toIds->SetId(i, i);
+  }
+  values->InsertTuples(toIds, fromIds, source);
 }
 
 /// The input's point arrays at the hits, for those not named like ours or like a carried cell array: floating-point
 /// arrays interpolated with the hit's barycentric weights (LeafUV, TCoords: exact on the triangle hit), integer
 /// arrays (labels) taken from the triangle's vertex nearest the hit. Threaded over the points.
-void InterpolatePointArrays(const plantmorph::ScanPoints& scan, const std::vector<std::int64_t>& triangles,
-  vtkPolyData* input, vtkPolyData* cloud)
+std::vector<vtkSmartPointer<vtkAbstractArray>> InterpolatePointArrays(
+  const plantmorph::ScanPoints& scan, const std::vector<std::int64_t>& triangles, vtkPolyData* input)
 {
   const auto n = static_cast<vtkIdType>(scan.Size());
+  std::vector<vtkSmartPointer<vtkAbstractArray>> interpolated;
   vtkPointData* in = input->GetPointData();
-  vtkPointData* pd = cloud->GetPointData();
   for (int a = 0; a < in->GetNumberOfArrays(); ++a)
   {
     vtkDataArray* source = in->GetArray(a);
-    if (!source || Reserved(source->GetName()) || pd->GetAbstractArray(source->GetName()))
+    if (!source || Reserved(source->GetName()) || input->GetCellData()->GetAbstractArray(source->GetName()) ||
+      source->GetNumberOfTuples() < input->GetNumberOfPoints())
       continue;
     vtkSmartPointer<vtkDataArray> values = vtkDataArray::SafeDownCast(LikeWithTuples(source, n));
     const int components = source->GetNumberOfComponents();
-    const bool real = source->GetDataType() == VTK_FLOAT || source->GetDataType() == VTK_DOUBLE;
-    const auto interpolate = [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        const auto s = static_cast<std::size_t>(i);
-        const std::int64_t* t = &triangles[3 * static_cast<std::size_t>(scan.triangle[s])];
-        const double u = scan.barycentric[2 * s], v = scan.barycentric[2 * s + 1];
-        const double w[3] = { 1.0 - u - v, u, v };
-        if (!real)
-        {
-          const int k = w[0] >= w[1] && w[0] >= w[2] ? 0 : (w[1] >= w[2] ? 1 : 2);
-          values->SetTuple(i, static_cast<vtkIdType>(t[k]), source);
-          continue;
-        }
-        for (int c = 0; c < components; ++c)
-        {
-          values->SetComponent(i, c,
-            w[0] * source->GetComponent(static_cast<vtkIdType>(t[0]), c) +
-              w[1] * source->GetComponent(static_cast<vtkIdType>(t[1]), c) +
-              w[2] * source->GetComponent(static_cast<vtkIdType>(t[2]), c));
-        }
-      }
+    const auto corner = [&](vtkIdType i, int k) {
+      return static_cast<vtkIdType>(triangles[3 * static_cast<std::size_t>(scan.triangle[i]) + k]);
+    };
+    if (source->GetDataType() != VTK_FLOAT && source->GetDataType() != VTK_DOUBLE)
+    {
+      GatherTuples(source, values, n, [&](vtkIdType i) {
+        const double u = scan.barycentric[2 * i], v = scan.barycentric[2 * i + 1], w = 1.0 - u - v;
+        return corner(i, w >= u && w >= v ? 0 : (u >= v ? 1 : 2));
+      });
+      interpolated.emplace_back(values);
+      continue;
+    }
+    const auto weights = [&](vtkIdType i, double w[3]) {
+      w[1] = scan.barycentric[2 * i];
+      w[2] = scan.barycentric[2 * i + 1];
+      w[0] = 1.0 - w[1] - w[2];
     };
     if (Contiguous(values) && Contiguous(source))
-      vtkSMPTools::For(0, n, interpolate);
-    else
-      interpolate(0, n);
-    pd->AddArray(values);
+    {
+      const auto plain = [&](auto* in, auto* out) { // the same type: float or double
+        vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+          for (vtkIdType i = begin; i < end; ++i)
+          {
+            double w[3];
+            weights(i, w);
+            const auto* a = in + components * corner(i, 0);
+            const auto* b = in + components * corner(i, 1);
+            const auto* c = in + components * corner(i, 2);
+            for (int k = 0; k < components; ++k)
+              out[components * i + k] = static_cast<std::remove_reference_t<decltype(*out)>>(
+                w[0] * static_cast<double>(a[k]) + w[1] * static_cast<double>(b[k]) + w[2] * static_cast<double>(c[k]));
+          }
+        });
+      };
+      if (source->GetDataType() == VTK_FLOAT)
+        plain(static_cast<const float*>(source->GetVoidPointer(0)), static_cast<float*>(values->GetVoidPointer(0)));
+      else
+        plain(static_cast<const double*>(source->GetVoidPointer(0)), static_cast<double*>(values->GetVoidPointer(0)));
+    }
+    else // not plain memory: serial, through VTK
+    {
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        double w[3];
+        weights(i, w);
+        for (int c = 0; c < components; ++c)
+          values->SetComponent(i, c,
+            w[0] * source->GetComponent(corner(i, 0), c) + w[1] * source->GetComponent(corner(i, 1), c) +
+              w[2] * source->GetComponent(corner(i, 2), c));
+      }
+    }
+    interpolated.emplace_back(values);
   }
+  return interpolated;
+}
+
+/// Port 0: the cloud with its arrays, the hit cells' arrays and the input's point arrays at the hits. The scan's
+/// arrays become the output's (adopted, not copied: `scan` is left empty); the triangle indices become the hit cells'
+/// ids in place. Each point is written by one thread only, so the output does not depend on the threads.
+void WriteCloud(plantmorph::ScanPoints& scan, const std::vector<vtkIdType>& cellOf,
+  const std::vector<std::int64_t>& triangles, vtkPolyData* input, vtkPolyData* cloud)
+{
+  const auto n = static_cast<vtkIdType>(scan.Size());
+  const std::vector<vtkSmartPointer<vtkAbstractArray>> interpolated = InterpolatePointArrays(scan, triangles, input);
+  long long* cell = scan.triangle.data();
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+      cell[i] = cellOf[static_cast<std::size_t>(cell[i])];
+  });
+  vtkNew<vtkPoints> points;
+  points->SetData(Adopt<vtkDoubleArray>(scan.points, 3, nullptr));
+  cloud->SetPoints(points);
+  if (n < std::numeric_limits<std::int32_t>::max())
+    cloud->SetVerts(PointVertices<vtkTypeInt32Array>(n));
+  else
+    cloud->SetVerts(PointVertices<vtkTypeInt64Array>(n));
+  vtkPointData* pd = cloud->GetPointData();
+  pd->SetNormals(Adopt<vtkFloatArray>(scan.normals, 3, "Normals"));
+  pd->AddArray(Adopt<vtkDoubleArray>(scan.range, 1, "Range"));
+  pd->AddArray(Adopt<vtkDoubleArray>(scan.intensity, 1, "Intensity"));
+  pd->AddArray(Adopt<vtkIntArray>(scan.pose, 1, "ScanPosition"));
+  pd->AddArray(Adopt<vtkIdTypeArray>(scan.triangle, 1, "HitCellId"));
+  pd->AddArray(Adopt<vtkIdTypeArray>(scan.beam, 1, "BeamId"));
+  pd->SetActiveScalars("Range");
+  vtkCellData* cd = input->GetCellData();
+  for (int a = 0; a < cd->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* source = cd->GetAbstractArray(a);
+    if (!source || Reserved(source->GetName()) || source->GetNumberOfTuples() < input->GetNumberOfCells())
+      continue;
+    vtkSmartPointer<vtkAbstractArray> carried = LikeWithTuples(source, n);
+    GatherTuples(source, carried, n, [cell](vtkIdType i) { return static_cast<vtkIdType>(cell[i]); });
+    pd->AddArray(carried);
+  }
+  for (const auto& values : interpolated)
+    pd->AddArray(values);
 }
 
 /// Port 1: the set-up as lines, with the pose of each.
@@ -495,8 +534,7 @@ int vtkVirtualScanner::RequestData(
       plantmorph::Progress(this, 0.1, 0.9), share(rank), share(rank + 1));
     if (error.empty()) // the output stage on the same threads
     {
-      WriteCloud(scan, cellOf, input, cloud);
-      InterpolatePointArrays(scan, triangles, input, cloud);
+      WriteCloud(scan, cellOf, triangles, input, cloud);
     }
   });
   if (!error.empty())
@@ -504,7 +542,7 @@ int vtkVirtualScanner::RequestData(
     return fail(error);
   }
   // Totals over the ranks in field data (every rank holds them).
-  double local[2] = { static_cast<double>(scan.Size()), static_cast<double>(scan.dropped) };
+  double local[2] = { static_cast<double>(cloud->GetNumberOfPoints()), static_cast<double>(scan.dropped) };
   double total[2] = { local[0], local[1] };
   if (ranks > 1)
   {

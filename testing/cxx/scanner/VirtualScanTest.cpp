@@ -170,7 +170,7 @@ double Dot3(const double* a, const double* b)
 template <class Array>
 bool SameBits(const Array& a, const Array& b)
 {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(*a.data())) == 0);
 }
 } // namespace
 
@@ -561,7 +561,7 @@ TEST(VirtualScan, SphereFromOutsideGivesTheVisibleCapAndItsSolidAngle)
   for (std::size_t i = 0; i < out.Size(); ++i)
   {
     const double* x = &out.points[3 * i];
-    const double* n = &out.normals[3 * i];
+    const double n[3] = { out.normals[3 * i], out.normals[3 * i + 1], out.normals[3 * i + 2] };
     const double r = std::sqrt(Dot3(x, x));
     EXPECT_GE(r, rIn - 1e-12);
     EXPECT_LE(r, R + 1e-12);
@@ -923,9 +923,9 @@ TEST(VirtualScan, SharesOfTheBeamsConcatenateToTheWholeScan)
                   b * (r + 1) / ranks),
         "");
       EXPECT_EQ(piece.beams, b * (r + 1) / ranks - b * r / ranks);
-      joined.points.insert(joined.points.end(), piece.points.begin(), piece.points.end());
-      joined.range.insert(joined.range.end(), piece.range.begin(), piece.range.end());
-      joined.beam.insert(joined.beam.end(), piece.beam.begin(), piece.beam.end());
+      joined.points.append(piece.points.begin(), piece.points.end());
+      joined.range.append(piece.range.begin(), piece.range.end());
+      joined.beam.append(piece.beam.begin(), piece.beam.end());
     }
     EXPECT_TRUE(SameBits(whole.points, joined.points)) << ranks << " shares";
     EXPECT_TRUE(SameBits(whole.range, joined.range));

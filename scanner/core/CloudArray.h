@@ -1,0 +1,114 @@
+// The arrays of a scanned cloud: numbers that are left unset when the array grows (the threads write every entry
+// before anything reads it, so zeroing them would be a serial pass over the whole cloud and its page faults), held
+// in memory from std::malloc that can be handed over: the VTK wrapper adopts the cloud's arrays as its output arrays
+// (freed there with std::free) instead of copying them.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdlib>
+#include <cstring>
+#include <initializer_list>
+#include <new>
+#include <type_traits>
+#include <utility>
+
+namespace plantmorph
+{
+
+template <class T>
+class CloudArray
+{
+  static_assert(std::is_trivially_copyable<T>::value, "a cloud array holds plain numbers");
+
+public:
+  CloudArray() = default;
+  CloudArray(std::initializer_list<T> values) { this->assign(values.begin(), values.end()); }
+  CloudArray(const CloudArray& other) { this->assign(other.begin(), other.end()); }
+  CloudArray(CloudArray&& other) noexcept { this->swap(other); }
+  CloudArray& operator=(CloudArray other) noexcept
+  {
+    this->swap(other);
+    return *this;
+  }
+  ~CloudArray() { std::free(this->values); }
+
+  std::size_t size() const { return this->count; }
+  std::size_t capacity() const { return this->room; }
+  bool empty() const { return this->count == 0; }
+  T* data() { return this->values; }
+  const T* data() const { return this->values; }
+  T* begin() { return this->values; }
+  T* end() { return this->values + this->count; }
+  const T* begin() const { return this->values; }
+  const T* end() const { return this->values + this->count; }
+  T& operator[](std::size_t i) { return this->values[i]; }
+  const T& operator[](std::size_t i) const { return this->values[i]; }
+
+  /// Room for `n` numbers (the ones held are kept; new memory is untouched until written).
+  void reserve(std::size_t n)
+  {
+    if (n <= this->room)
+      return;
+    T* grown = static_cast<T*>(std::malloc(n * sizeof(T)));
+    if (!grown)
+      throw std::bad_alloc();
+    if (this->count > 0)
+      std::memcpy(grown, this->values, this->count * sizeof(T));
+    std::free(this->values);
+    this->values = grown;
+    this->room = n;
+  }
+  /// `n` numbers; those beyond the old size are unset.
+  void resize(std::size_t n)
+  {
+    if (n > this->room)
+      this->reserve(std::max(n, 2 * this->room));
+    this->count = n;
+  }
+  void push_back(T value)
+  {
+    this->resize(this->count + 1);
+    this->values[this->count - 1] = value;
+  }
+  /// The numbers [first, last) added at the end.
+  void append(const T* first, const T* last)
+  {
+    const std::size_t old = this->count;
+    this->resize(old + static_cast<std::size_t>(last - first));
+    std::copy(first, last, this->values + old);
+  }
+  void assign(const T* first, const T* last)
+  {
+    this->count = 0;
+    this->append(first, last);
+  }
+  /// Hands the memory over (to be freed with std::free); the array is left empty. nullptr when it holds nothing.
+  T* Release()
+  {
+    T* held = this->count > 0 ? this->values : nullptr;
+    if (!held)
+      std::free(this->values);
+    this->values = nullptr;
+    this->count = this->room = 0;
+    return held;
+  }
+  void swap(CloudArray& other) noexcept
+  {
+    std::swap(this->values, other.values);
+    std::swap(this->count, other.count);
+    std::swap(this->room, other.room);
+  }
+  friend bool operator==(const CloudArray& a, const CloudArray& b)
+  {
+    return a.count == b.count && std::equal(a.begin(), a.end(), b.begin());
+  }
+  friend bool operator!=(const CloudArray& a, const CloudArray& b) { return !(a == b); }
+
+private:
+  T* values = nullptr;
+  std::size_t count = 0;
+  std::size_t room = 0;
+};
+
+} // namespace plantmorph
