@@ -583,7 +583,7 @@ void BM_CastBeams(benchmark::State& state)
   plantmorph::ScanPoints out;
   for (auto _ : state)
   {
-    plantmorph::CastBeams(p, pattern, scene.points, scene.triangles, caster, out, parallel);
+    plantmorph::CastBeams(p, pattern, caster, out, parallel);
     benchmark::DoNotOptimize(out.points.data());
   }
   cpu.Report(state);

@@ -120,6 +120,11 @@ bool IntersectTriangle(
   hit.u = e1 * inverse;
   hit.v = e2 * inverse;
   hit.triangle = index;
+  const double u[3] = { vb[0] - va[0], vb[1] - va[1], vb[2] - va[2] };
+  const double w[3] = { vc[0] - va[0], vc[1] - va[1], vc[2] - va[2] };
+  hit.normal[0] = u[1] * w[2] - u[2] * w[1];
+  hit.normal[1] = u[2] * w[0] - u[0] * w[2];
+  hit.normal[2] = u[0] * w[1] - u[1] * w[0];
   return true;
 }
 

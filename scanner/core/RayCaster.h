@@ -42,6 +42,9 @@ struct TriangleHit
   std::int64_t triangle = -1;
   double u = 0.0;
   double v = 0.0;
+  /// (v1 - v0) x (v2 - v0) of the triangle hit, in its own vertex order and double precision (not unit length):
+  /// RayCaster fills it from its copy of the vertices, already in cache, so callers need not read the surface again.
+  double normal[3] = { 0.0, 0.0, 0.0 };
   bool Hit() const { return this->triangle >= 0; }
 };
 

@@ -66,8 +66,8 @@ void MakeBeam(const ScannerParameters& p, const BeamPattern& pattern, std::uint6
 }
 
 /// What beam `beam` returns given its nearest hit: dropout, the normal facing the scanner, noise, intensity.
-void Finish(const ScannerParameters& p, const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
-  std::uint64_t beam, const double origin[3], const double d[3], const TriangleHit& hit, BeamResult& r)
+void Finish(const ScannerParameters& p, std::uint64_t beam, const double origin[3], const double d[3],
+  const TriangleHit& hit, BeamResult& r)
 {
   r.triangle = -1;
   r.dropped = false;
@@ -78,13 +78,7 @@ void Finish(const ScannerParameters& p, const std::vector<double>& points, const
     r.dropped = true;
     return;
   }
-  const std::int64_t* t = &triangles[3 * static_cast<std::size_t>(hit.triangle)];
-  const double* a = &points[3 * static_cast<std::size_t>(t[0])];
-  const double* b = &points[3 * static_cast<std::size_t>(t[1])];
-  const double* c = &points[3 * static_cast<std::size_t>(t[2])];
-  const double e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
-  const double e2[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
-  double n[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0] };
+  const double* n = hit.normal;
   const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   double cosine = -(n[0] * d[0] + n[1] * d[1] + n[2] * d[2]) / length;
   const double flip = cosine < 0.0 ? -1.0 : 1.0;
@@ -109,9 +103,8 @@ void Finish(const ScannerParameters& p, const std::vector<double>& points, const
 
 /// Beams first + [begin, end) into block[begin, end), RayCaster::PacketSize at a time (each beam's hit does not
 /// depend on its packet, so neither does the cloud).
-void CastRange(const ScannerParameters& p, const BeamPattern& pattern, const std::vector<double>& points,
-  const std::vector<std::int64_t>& triangles, const RayCaster& caster, std::uint64_t first, std::size_t begin,
-  std::size_t end, BeamResult* block)
+void CastRange(const ScannerParameters& p, const BeamPattern& pattern, const RayCaster& caster, std::uint64_t first,
+  std::size_t begin, std::size_t end, BeamResult* block)
 {
   constexpr std::size_t W = RayCaster::PacketSize;
   double origins[3 * W], directions[3 * W];
@@ -123,7 +116,7 @@ void CastRange(const ScannerParameters& p, const BeamPattern& pattern, const std
       MakeBeam(p, pattern, first + i + j, origins + 3 * j, directions + 3 * j, block[i + j].pose);
     caster.Intersect(n, origins, directions, p.maximumRange, hits);
     for (std::size_t j = 0; j < n; ++j)
-      Finish(p, points, triangles, first + i + j, origins + 3 * j, directions + 3 * j, hits[j], block[i + j]);
+      Finish(p, first + i + j, origins + 3 * j, directions + 3 * j, hits[j], block[i + j]);
   }
 }
 } // namespace
@@ -169,9 +162,9 @@ std::string ValidateSurface(const std::vector<double>& points, const std::vector
   return {};
 }
 
-std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, const std::vector<double>& points,
-  const std::vector<std::int64_t>& triangles, const RayCaster& caster, ScanPoints& out, const ParallelFor& parallel,
-  const std::function<bool(double)>& progress, std::uint64_t firstBeam, std::uint64_t endBeam)
+std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, const RayCaster& caster, ScanPoints& out,
+  const ParallelFor& parallel, const std::function<bool(double)>& progress, std::uint64_t firstBeam,
+  std::uint64_t endBeam)
 {
   out.Clear();
   const std::uint64_t end = std::min(endBeam, pattern.BeamCount());
@@ -196,7 +189,7 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
       for (std::size_t piece = begin; piece < end; ++piece)
       {
         const std::size_t b = piece * Piece, e = std::min(count, b + Piece);
-        CastRange(p, pattern, points, triangles, caster, first, b, e, block.data());
+        CastRange(p, pattern, caster, first, b, e, block.data());
         for (std::size_t i = b; i < e; ++i)
         {
           returned[piece] += block[i].triangle >= 0 ? 1 : 0;
@@ -282,7 +275,7 @@ std::string VirtualScan(const ScannerParameters& p, const std::vector<double>& p
   error = caster.Build(points, triangles);
   if (!error.empty())
     return error;
-  return CastBeams(p, pattern, points, triangles, caster, out, parallel, progress);
+  return CastBeams(p, pattern, caster, out, parallel, progress);
 }
 
 } // namespace plantmorph

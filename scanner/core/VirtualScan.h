@@ -42,12 +42,11 @@ struct ScanPoints
 std::string ValidateSurface(const std::vector<double>& points, const std::vector<std::int64_t>& triangles);
 
 /// Casts the beams [firstBeam, endBeam) (clamped to the pattern's count; default all) of `pattern` (Setup already
-/// succeeded) against `caster` (built on `points`, `triangles`): a share of the beams gives exactly the points the
-/// whole scan gives for them, so ranks casting consecutive shares concatenate to the whole cloud.
+/// succeeded) against `caster` (built on the surface): a share of the beams gives exactly the points the whole scan
+/// gives for them, so ranks casting consecutive shares concatenate to the whole cloud.
 /// `progress(fraction)` is called between blocks of beams; returning false stops the scan (the cloud is cleared and
 /// "aborted" returned).
-std::string CastBeams(const ScannerParameters& parameters, const BeamPattern& pattern,
-  const std::vector<double>& points, const std::vector<std::int64_t>& triangles, const RayCaster& caster,
+std::string CastBeams(const ScannerParameters& parameters, const BeamPattern& pattern, const RayCaster& caster,
   ScanPoints& out, const ParallelFor& parallel = SerialFor, const std::function<bool(double)>& progress = {},
   std::uint64_t firstBeam = 0, std::uint64_t endBeam = ~std::uint64_t(0));
 

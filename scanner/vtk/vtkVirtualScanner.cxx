@@ -326,8 +326,7 @@ struct vtkVirtualScanner::PreparedSurface
 {
   const vtkPolyData* input = nullptr; // identity only, never dereferenced
   vtkMTimeType time = 0;
-  std::vector<double> points;
-  std::vector<std::int64_t> triangles;
+  std::vector<std::int64_t> triangles; // the points are the caster's copy only
   std::vector<vtkIdType> cellOf;
   plantmorph::RayCaster caster;
 };
@@ -500,10 +499,11 @@ int vtkVirtualScanner::RequestData(
   {
     this->Prepared.reset(); // its memory first
     auto prepared = std::make_shared<PreparedSurface>();
-    error = Triangulate(input, prepared->points, prepared->triangles, prepared->cellOf);
+    std::vector<double> points;
+    error = Triangulate(input, points, prepared->triangles, prepared->cellOf);
     if (error.empty())
     {
-      error = prepared->caster.Build(prepared->points, prepared->triangles);
+      error = prepared->caster.Build(points, prepared->triangles);
     }
     if (!error.empty())
     {
@@ -514,7 +514,6 @@ int vtkVirtualScanner::RequestData(
     this->Prepared = prepared;
     Keep(prepared);
   }
-  const std::vector<double>& points = this->Prepared->points;
   const std::vector<std::int64_t>& triangles = this->Prepared->triangles;
   const std::vector<vtkIdType>& cellOf = this->Prepared->cellOf;
   const plantmorph::RayCaster& caster = this->Prepared->caster;
@@ -530,8 +529,8 @@ int vtkVirtualScanner::RequestData(
   const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
   const std::string backend = current == "Sequential" ? "STDThread" : current;
   vtkSMPTools::LocalScope(vtkSMPTools::Config{ 0, backend, false }, [&]() {
-    error = plantmorph::CastBeams(p, pattern, points, triangles, caster, scan, plantmorph::SMPFor(2),
-      plantmorph::Progress(this, 0.1, 0.9), share(rank), share(rank + 1));
+    error = plantmorph::CastBeams(p, pattern, caster, scan, plantmorph::SMPFor(2), plantmorph::Progress(this, 0.1, 0.9),
+      share(rank), share(rank + 1));
     if (error.empty()) // the output stage on the same threads
     {
       WriteCloud(scan, cellOf, triangles, input, cloud);

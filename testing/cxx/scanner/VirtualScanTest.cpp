@@ -910,7 +910,7 @@ TEST(VirtualScan, SharesOfTheBeamsConcatenateToTheWholeScan)
   RayCaster caster;
   ASSERT_EQ(caster.Build(sphere.points, sphere.triangles), "");
   ScanPoints whole;
-  ASSERT_EQ(CastBeams(p, pattern, sphere.points, sphere.triangles, caster, whole), "");
+  ASSERT_EQ(CastBeams(p, pattern, caster, whole), "");
   ASSERT_GT(whole.Size(), 1000u);
   for (std::uint64_t ranks : { 2u, 3u, 4u })
   {
@@ -919,9 +919,7 @@ TEST(VirtualScan, SharesOfTheBeamsConcatenateToTheWholeScan)
     {
       ScanPoints piece;
       const std::uint64_t b = pattern.BeamCount();
-      ASSERT_EQ(CastBeams(p, pattern, sphere.points, sphere.triangles, caster, piece, SerialFor, {}, b * r / ranks,
-                  b * (r + 1) / ranks),
-        "");
+      ASSERT_EQ(CastBeams(p, pattern, caster, piece, SerialFor, {}, b * r / ranks, b * (r + 1) / ranks), "");
       EXPECT_EQ(piece.beams, b * (r + 1) / ranks - b * r / ranks);
       joined.points.append(piece.points.begin(), piece.points.end());
       joined.range.append(piece.range.begin(), piece.range.end());
