@@ -13,6 +13,10 @@
 #include <type_traits>
 #include <utility>
 
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
+
 namespace plantmorph
 {
 
@@ -50,9 +54,7 @@ public:
   {
     if (n <= this->room)
       return;
-    T* grown = static_cast<T*>(std::malloc(n * sizeof(T)));
-    if (!grown)
-      throw std::bad_alloc();
+    T* grown = Allocate(n * sizeof(T));
     if (this->count > 0)
       std::memcpy(grown, this->values, this->count * sizeof(T));
     std::free(this->values);
@@ -106,6 +108,29 @@ public:
   friend bool operator!=(const CloudArray& a, const CloudArray& b) { return !(a == b); }
 
 private:
+  /// Memory for `bytes` (freed with std::free). Large arrays are aligned to 2 MiB and asked for transparent huge
+  /// pages (Linux, where enabled "madvise"): a cloud of 10^7 points is written into fresh memory on every run, and
+  /// its page faults, one per 4 KiB, were a tenth of the filter's time.
+  static T* Allocate(std::size_t bytes)
+  {
+    void* memory = nullptr;
+#ifdef __linux__
+    constexpr std::size_t Huge = std::size_t(2) << 20;
+    if (bytes >= 2 * Huge)
+    {
+      if (posix_memalign(&memory, Huge, bytes) != 0)
+        memory = nullptr;
+      else
+        madvise(memory, bytes, MADV_HUGEPAGE);
+    }
+    else
+#endif
+      memory = std::malloc(bytes);
+    if (!memory)
+      throw std::bad_alloc();
+    return static_cast<T*>(memory);
+  }
+
   T* values = nullptr;
   std::size_t count = 0;
   std::size_t room = 0;

@@ -212,12 +212,13 @@ void TriangleIntersect(const RTCIntersectFunctionNArguments* args)
   }
 }
 
-/// Triangle `index` of the Triangles surface through the exact test.
-bool TestIndexed(const Surface& s, const ShearedRay& r, std::uint32_t index, TriangleHit& best)
+/// Embree's primitive `primitive` of the Triangles surface (input triangle order[primitive]) through the exact test.
+bool TestIndexed(const Surface& s, const ShearedRay& r, std::uint32_t primitive, TriangleHit& best)
 {
-  const std::uint32_t* t = &s.indices[3 * static_cast<std::size_t>(index)];
+  const std::uint32_t* t = &s.indices[3 * static_cast<std::size_t>(primitive)];
   return IntersectTriangle(r, &s.points[3 * static_cast<std::size_t>(t[0])],
-    &s.points[3 * static_cast<std::size_t>(t[1])], &s.points[3 * static_cast<std::size_t>(t[2])], index, best);
+    &s.points[3 * static_cast<std::size_t>(t[1])], &s.points[3 * static_cast<std::size_t>(t[2])],
+    static_cast<std::int64_t>(s.order[primitive]), best);
 }
 
 /// Embree's intersection filter on the single-precision (enlarged) triangles: a candidate is kept only when the
@@ -315,9 +316,10 @@ std::string RayCaster::Build(
 
 namespace
 {
-/// ExactUser: the triangles' vertices in double precision, nine per triangle, in the Morton order of their centroids.
-void CopyMortonOrdered(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
-  const double lo[3], double size, Surface& surface)
+/// The input indices of the triangles in the Morton order of their centroids (30-bit codes over the box `lo`,
+/// `size`; ties by index).
+std::vector<std::uint32_t> MortonOrder(
+  const std::vector<double>& points, const std::vector<std::int64_t>& triangles, const double lo[3], double size)
 {
   const std::size_t nt = triangles.size() / 3;
   std::vector<std::uint64_t> keys(nt);
@@ -333,25 +335,56 @@ void CopyMortonOrdered(const std::vector<double>& points, const std::vector<std:
     keys[i] = (static_cast<std::uint64_t>(code) << 32) | i;
   }
   std::sort(keys.begin(), keys.end());
-  surface.order.resize(nt);
+  std::vector<std::uint32_t> order(nt);
+  for (std::size_t i = 0; i < nt; ++i)
+    order[i] = static_cast<std::uint32_t>(keys[i] & 0xFFFFFFFFu);
+  return order;
+}
+
+/// ExactUser: the triangles' vertices in double precision, nine per triangle, in the Morton order of their centroids.
+void CopyMortonOrdered(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
+  const double lo[3], double size, Surface& surface)
+{
+  const std::size_t nt = triangles.size() / 3;
+  surface.order = MortonOrder(points, triangles, lo, size);
   surface.vertices.resize(9 * nt);
   for (std::size_t i = 0; i < nt; ++i)
   {
-    const auto t = static_cast<std::uint32_t>(keys[i] & 0xFFFFFFFFu);
-    surface.order[i] = t;
+    const std::uint32_t t = surface.order[i];
     for (int j = 0; j < 3; ++j)
       for (int k = 0; k < 3; ++k)
         surface.vertices[9 * i + 3 * j + k] = points[3 * static_cast<std::size_t>(triangles[3 * t + j]) + k];
   }
 }
 
-/// Triangles: the points in double precision and the indices.
-void CopyIndexed(const std::vector<double>& points, const std::vector<std::int64_t>& triangles, Surface& surface)
+/// Triangles: the triangles in the Morton order of their centroids (Embree's primitive i is input triangle
+/// order[i]) and their points renumbered in the order of first use, so that triangles near in space are near in
+/// memory: the intersection filter reads them in the order the beams meet them (at 10^7 triangles its cache misses
+/// on the input's order were a fifth of the scan's time). The vertices' values and order in each triangle are the
+/// input's.
+void CopyIndexed(const std::vector<double>& points, const std::vector<std::int64_t>& triangles, const double lo[3],
+  double size, Surface& surface)
 {
-  surface.points = points;
-  surface.indices.resize(triangles.size());
-  for (std::size_t i = 0; i < triangles.size(); ++i)
-    surface.indices[i] = static_cast<std::uint32_t>(triangles[i]);
+  const std::size_t nt = triangles.size() / 3;
+  surface.order = MortonOrder(points, triangles, lo, size);
+  constexpr std::uint32_t Unused = ~std::uint32_t(0);
+  std::vector<std::uint32_t> renumbered(points.size() / 3, Unused);
+  surface.indices.resize(3 * nt);
+  surface.points.clear();
+  surface.points.reserve(points.size());
+  for (std::size_t i = 0; i < nt; ++i)
+  {
+    for (int j = 0; j < 3; ++j)
+    {
+      const auto v = static_cast<std::size_t>(triangles[3 * static_cast<std::size_t>(surface.order[i]) + j]);
+      if (renumbered[v] == Unused)
+      {
+        renumbered[v] = static_cast<std::uint32_t>(surface.points.size() / 3);
+        surface.points.insert(surface.points.end(), &points[3 * v], &points[3 * v] + 3);
+      }
+      surface.indices[3 * i + j] = renumbered[v];
+    }
+  }
 }
 
 /// Triangle `t` relative to `centre`, its edges moved outwards in its plane by `grow` (each vertex along its angle's
@@ -440,7 +473,7 @@ std::string RayCaster::Build(
   if (parameters.geometry == RayCasterParameters::Geometry::ExactUser)
     CopyMortonOrdered(points, triangles, lo, size, surface);
   else
-    CopyIndexed(points, triangles, surface);
+    CopyIndexed(points, triangles, lo, size, surface);
   error = this->BuildScene(points, triangles);
   if (error.empty())
     this->Count = nt;
@@ -492,7 +525,8 @@ std::string RayCaster::BuildScene(const std::vector<double>& points, const std::
     // single-precision candidate, so Embree's test proposes it (no slip at shared vertices and edges).
     for (std::size_t i = 0; i < nt; ++i)
     {
-      EnlargedTriangle(points, &triangles[3 * i], this->Centre, this->Pad, vertices + 9 * i);
+      const std::int64_t* t = &triangles[3 * static_cast<std::size_t>(surface.order[i])]; // Morton order
+      EnlargedTriangle(points, t, this->Centre, this->Pad, vertices + 9 * i);
       for (unsigned j = 0; j < 3; ++j)
         indices[3 * i + j] = static_cast<unsigned>(3 * i + j);
     }

@@ -74,7 +74,7 @@ public:
   RayCaster& operator=(const RayCaster&) = delete;
 
   /// Builds over `triangles` (three point indices each) of `points` (x, y, z each), copying what it needs (the
-  /// vertices in double precision; Triangles also in single precision, with the triangles around each vertex).
+  /// vertices in double precision; Triangles also in single precision, both in the Morton order of the triangles).
   /// Degenerate triangles are never hit. An empty string on success, else the parameters' or Embree's error (the
   /// caster is then empty: every beam misses). Indices out of range are the caller's error (ValidateSurface).
   std::string Build(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,

@@ -103,16 +103,27 @@ bool Contiguous(vtkAbstractArray* array)
   return array->GetArrayType() == vtkAbstractArray::AoSDataArrayTemplate;
 }
 
-/// An empty array like `source` (type, name, components and their names) with n tuples.
+/// An array like `source` (type, name, components and their names) with n tuples, unset. Plain arrays get
+/// CloudArray memory (huge pages for large ones: the cloud's arrays are fresh memory on every run).
 vtkSmartPointer<vtkAbstractArray> LikeWithTuples(vtkAbstractArray* source, vtkIdType n)
 {
   vtkSmartPointer<vtkAbstractArray> values = vtk::TakeSmartPointer(source->NewInstance());
   values->SetName(source->GetName());
-  values->SetNumberOfComponents(source->GetNumberOfComponents());
-  for (int c = 0; c < source->GetNumberOfComponents(); ++c)
+  const int components = source->GetNumberOfComponents();
+  values->SetNumberOfComponents(components);
+  for (int c = 0; c < components; ++c)
     if (source->GetComponentName(c))
       values->SetComponentName(c, source->GetComponentName(c));
-  values->SetNumberOfTuples(n);
+  if (Contiguous(values) && n > 0)
+  {
+    plantmorph::CloudArray<unsigned char> memory;
+    memory.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(components * source->GetDataTypeSize()));
+    values->SetVoidArray(memory.Release(), n * components, 0, vtkAbstractArray::VTK_DATA_ARRAY_FREE);
+  }
+  else
+  {
+    values->SetNumberOfTuples(n);
+  }
   return values;
 }
 
@@ -132,23 +143,24 @@ vtkSmartPointer<ArrayT> Adopt(plantmorph::CloudArray<T>& values, int components,
   return array;
 }
 
-/// One vertex cell per point, 0 .. n - 1 (32-bit ids when they fit: half the memory).
+/// One vertex cell per point, 0 .. n - 1 (32-bit ids when they fit: half the memory), in CloudArray memory (huge
+/// pages) adopted by VTK.
 template <class IdArray>
 vtkNew<vtkCellArray> PointVertices(vtkIdType n)
 {
-  vtkNew<IdArray> offsets, connectivity;
-  offsets->SetNumberOfTuples(n + 1);
-  connectivity->SetNumberOfTuples(n);
-  auto* off = offsets->GetPointer(0);
-  auto* conn = connectivity->GetPointer(0);
   using Id = typename IdArray::ValueType;
+  plantmorph::CloudArray<Id> offsets, connectivity;
+  offsets.resize(static_cast<std::size_t>(n) + 1);
+  connectivity.resize(static_cast<std::size_t>(n));
+  Id* off = offsets.data();
+  Id* conn = connectivity.data();
   vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType i = begin; i < end; ++i)
       off[i] = conn[i] = static_cast<Id>(i);
   });
   off[n] = static_cast<Id>(n);
   vtkNew<vtkCellArray> verts;
-  verts->SetData(offsets, connectivity);
+  verts->SetData(Adopt<IdArray>(offsets, 1, nullptr), Adopt<IdArray>(connectivity, 1, nullptr));
   return verts;
 }
 
