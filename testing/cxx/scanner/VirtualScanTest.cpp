@@ -211,6 +211,14 @@ TEST(RayCaster, NearestHitEqualsBruteForce)
         hit.v * scene.points[3 * t[2] + k];
       EXPECT_NEAR(x, o[k] + hit.t * d[k], 1e-9);
     }
+    // Its normal is that triangle's (v1 - v0) x (v2 - v0) from the input's own numbers, exactly.
+    const double* a = &scene.points[3 * t[0]];
+    const double* b = &scene.points[3 * t[1]];
+    const double* c = &scene.points[3 * t[2]];
+    const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] }, w[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+    EXPECT_EQ(hit.normal[0], u[1] * w[2] - u[2] * w[1]) << "ray " << i;
+    EXPECT_EQ(hit.normal[1], u[2] * w[0] - u[0] * w[2]) << "ray " << i;
+    EXPECT_EQ(hit.normal[2], u[0] * w[1] - u[1] * w[0]) << "ray " << i;
   }
   EXPECT_GT(hits, 1000);
 }
