@@ -344,13 +344,39 @@ std::string BeamPattern::SetupLine(const ScannerParameters& p)
 
 void BeamPattern::Beam(std::uint64_t index, double origin[3], double direction[3], std::int64_t& pose) const
 {
-  const std::uint64_t poseIndex = index / this->PerPose;
-  const std::uint64_t local = index % this->PerPose;
+  this->Beams(index, 1, origin, direction, &pose);
+}
+
+void BeamPattern::Beams(
+  std::uint64_t first, std::size_t count, double* origins, double* directions, std::int64_t* poses) const
+{
+  if (count == 0)
+    return;
+  std::uint64_t pose = first / this->PerPose;
+  const std::uint64_t local = first % this->PerPose;
+  std::uint64_t row = local / this->Columns, column = local % this->Columns;
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const ScannerPose& frame = this->Poses[pose];
+    poses[i] = static_cast<std::int64_t>(pose);
+    for (int k = 0; k < 3; ++k)
+      origins[3 * i + k] = frame.origin[k];
+    this->Direction(pose, row, column, directions + 3 * i);
+    if (++column == this->Columns) // the next beam: row-major within a pose
+    {
+      column = 0;
+      if (++row == this->Rows)
+      {
+        row = 0;
+        ++pose;
+      }
+    }
+  }
+}
+
+void BeamPattern::Direction(std::uint64_t poseIndex, std::uint64_t row, std::uint64_t column, double direction[3]) const
+{
   const ScannerPose& frame = this->Poses[poseIndex];
-  pose = static_cast<std::int64_t>(poseIndex);
-  for (int k = 0; k < 3; ++k)
-    origin[k] = frame.origin[k];
-  const std::uint64_t row = local / this->Columns, column = local % this->Columns;
   Vec3 d;
   switch (this->Type)
   {

@@ -83,6 +83,9 @@ public:
 
   /// Beam `index` (< BeamCount()): its origin, unit direction and pose index.
   void Beam(std::uint64_t index, double origin[3], double direction[3], std::int64_t& pose) const;
+  /// Beams first .. first + count - 1 (< BeamCount()), exactly as Beam gives them, x y z each in `origins` and
+  /// `directions`, their poses in `poses`: the pose, row and column are divided out once, not per beam.
+  void Beams(std::uint64_t first, std::size_t count, double* origins, double* directions, std::int64_t* poses) const;
 
   /// The scanner set-up to draw: for each pose (at most `maxPoses`, spread evenly) the beams at the corners of its
   /// field (the two ends of a line scanner's fan) and its central beam, each `length` long, as segments (x0 y0 z0 x1 y1 z1) with their pose, and for a
@@ -91,6 +94,8 @@ public:
     double length, std::size_t maxPoses, std::vector<double>& segments, std::vector<std::int64_t>& pose) const;
 
 private:
+  /// The direction of the beam at (row, column) of pose `pose`.
+  void Direction(std::uint64_t pose, std::uint64_t row, std::uint64_t column, double direction[3]) const;
   ScannerType Type = ScannerType::Terrestrial;
   std::vector<ScannerPose> Poses;
   std::vector<Vec3> Path;

@@ -38,31 +38,26 @@ struct BeamResult
   bool dropped;
 };
 
-/// Beam `beam` as cast: the pattern's origin and direction, the angular jitter drawn (unit direction).
-void MakeBeam(const ScannerParameters& p, const BeamPattern& pattern, std::uint64_t beam, double origin[3], double d[3],
-  std::int64_t& pose)
+/// Beam `beam`'s direction `d` (unit) as cast: the pattern's, turned by the angular jitter drawn.
+void Jitter(const ScannerParameters& p, std::uint64_t beam, double d[3])
 {
-  pattern.Beam(beam, origin, d, pose);
-  if (p.angularJitter > 0.0)
+  // Two normal deviations about two axes orthogonal to the beam (Duff et al. 2017's branchless basis).
+  const double sign = std::copysign(1.0, d[2]);
+  const double a = -1.0 / (sign + d[2]), b = d[0] * d[1] * a;
+  const double e1[3] = { 1.0 + sign * d[0] * d[0] * a, sign * b, -sign * d[0] };
+  const double e2[3] = { b, sign + d[1] * d[1] * a, -d[1] };
+  double n0, n1;
+  BeamNormals(p.seed, beam, SlotJitter, n0, n1);
+  const double s = p.angularJitter * Pi / 180.0;
+  double length = 0.0;
+  for (int k = 0; k < 3; ++k)
   {
-    // Two normal deviations about two axes orthogonal to the beam (Duff et al. 2017's branchless basis).
-    const double sign = std::copysign(1.0, d[2]);
-    const double a = -1.0 / (sign + d[2]), b = d[0] * d[1] * a;
-    const double e1[3] = { 1.0 + sign * d[0] * d[0] * a, sign * b, -sign * d[0] };
-    const double e2[3] = { b, sign + d[1] * d[1] * a, -d[1] };
-    double n0, n1;
-    BeamNormals(p.seed, beam, SlotJitter, n0, n1);
-    const double s = p.angularJitter * Pi / 180.0;
-    double length = 0.0;
-    for (int k = 0; k < 3; ++k)
-    {
-      d[k] += s * (n0 * e1[k] + n1 * e2[k]);
-      length += d[k] * d[k];
-    }
-    length = std::sqrt(length);
-    for (int k = 0; k < 3; ++k)
-      d[k] /= length;
+    d[k] += s * (n0 * e1[k] + n1 * e2[k]);
+    length += d[k] * d[k];
   }
+  length = std::sqrt(length);
+  for (int k = 0; k < 3; ++k)
+    d[k] /= length;
 }
 
 /// What beam `beam` returns given its nearest hit: dropout, the normal facing the scanner, noise, intensity.
@@ -108,12 +103,18 @@ void CastRange(const ScannerParameters& p, const BeamPattern& pattern, const Ray
 {
   constexpr std::size_t W = RayCaster::PacketSize;
   double origins[3 * W], directions[3 * W];
+  std::int64_t poses[W];
   TriangleHit hits[W];
   for (std::size_t i = begin; i < end; i += W)
   {
     const std::size_t n = std::min(W, end - i);
+    pattern.Beams(first + i, n, origins, directions, poses);
     for (std::size_t j = 0; j < n; ++j)
-      MakeBeam(p, pattern, first + i + j, origins + 3 * j, directions + 3 * j, block[i + j].pose);
+    {
+      block[i + j].pose = poses[j];
+      if (p.angularJitter > 0.0)
+        Jitter(p, first + i + j, directions + 3 * j);
+    }
     caster.Intersect(n, origins, directions, p.maximumRange, hits);
     for (std::size_t j = 0; j < n; ++j)
       Finish(p, first + i + j, origins + 3 * j, directions + 3 * j, hits[j], block[i + j]);

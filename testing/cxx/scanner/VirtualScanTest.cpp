@@ -834,6 +834,47 @@ TEST(VirtualScan, MaximumRangeAndIntensity)
   EXPECT_NEAR(static_cast<double>(out.Size()), static_cast<double>(expected), 2.0);
 }
 
+TEST(BeamPattern, RunsOfBeamsEqualSingleBeamsAcrossRowsAndPoses)
+{
+  // Beams() steps row, column and pose from its first beam; Beam() divides them out of each index.
+  ScannerParameters terrestrial;
+  terrestrial.positions = { Vec3{ 0, -3, 0 }, Vec3{ 3, 0, 0.5 } };
+  terrestrial.horizontalFieldOfView = 7;
+  terrestrial.verticalFieldOfView = 5;
+  terrestrial.angularStep = 1;
+  ScannerParameters camera = terrestrial;
+  camera.type = ScannerType::DepthCamera;
+  camera.resolution[0] = 5;
+  camera.resolution[1] = 3;
+  ScannerParameters turntable = terrestrial;
+  turntable.type = ScannerType::Line;
+  turntable.lineMotion = LineMotion::Turntable;
+  turntable.turntableSteps = 4;
+  for (const ScannerParameters& p : { terrestrial, camera, turntable })
+  {
+    BeamPattern pattern;
+    ASSERT_EQ(pattern.Setup(p), "");
+    const std::uint64_t beams = pattern.BeamCount();
+    ASSERT_GT(pattern.PoseCount(), 1u);
+    for (std::uint64_t first : { std::uint64_t(0), std::uint64_t(3), pattern.BeamsPerPose() - 2 })
+    {
+      const auto count = static_cast<std::size_t>(beams - first);
+      std::vector<double> origins(3 * count), directions(3 * count);
+      std::vector<std::int64_t> poses(count);
+      pattern.Beams(first, count, origins.data(), directions.data(), poses.data());
+      for (std::size_t i = 0; i < count; ++i)
+      {
+        double o[3], d[3];
+        std::int64_t pose;
+        pattern.Beam(first + i, o, d, pose);
+        EXPECT_EQ(pose, poses[i]) << "beam " << first + i;
+        EXPECT_EQ(std::memcmp(o, &origins[3 * i], sizeof o), 0) << "beam " << first + i;
+        EXPECT_EQ(std::memcmp(d, &directions[3 * i], sizeof d), 0) << "beam " << first + i;
+      }
+    }
+  }
+}
+
 TEST(VirtualScan, LineScannerOnAPathAndOnATurntable)
 {
   // A fan moving along x over the plane z = 0, looking straight down: fans every 0.1 over a path of 1.
