@@ -47,16 +47,46 @@ namespace
 const char* const OwnArrays[] = { "Normals", "Range", "Intensity", "ScanPosition", "HitCellId", "BeamId" };
 const char* const TypeNames[] = { "Terrestrial", "Line", "Depth camera" };
 
+/// The input cell of each triangle: when every polygon is a triangle and there are no strips (the usual surface),
+/// triangle t is cell first + t and nothing is stored (80 MB at 10^7 triangles); else one id per triangle.
+struct TriangleCells
+{
+  vtkIdType first = 0;
+  std::vector<vtkIdType> ids; // empty: cell first + t
+
+  vtkIdType operator()(std::size_t t) const
+  {
+    return this->ids.empty() ? this->first + static_cast<vtkIdType>(t) : this->ids[t];
+  }
+  /// Triangle `t` (the next one) comes from `cell`.
+  void Add(std::size_t t, vtkIdType cell)
+  {
+    if (this->ids.empty() && cell == this->first + static_cast<vtkIdType>(t))
+      return;
+    for (std::size_t k = this->ids.size(); k < t; ++k) // the identity so far, written out
+      this->ids.push_back(this->first + static_cast<vtkIdType>(k));
+    this->ids.push_back(cell);
+  }
+};
+
 /// The input's polygons and strips as triangles (fans and strip triangles), each with its cell id in the input.
 std::string Triangulate(
-  vtkPolyData* input, std::vector<double>& points, std::vector<std::int64_t>& triangles, std::vector<vtkIdType>& cellOf)
+  vtkPolyData* input, std::vector<double>& points, std::vector<std::int64_t>& triangles, TriangleCells& cellOf)
 {
   const vtkIdType n = input->GetNumberOfPoints();
   points.resize(3 * static_cast<std::size_t>(n));
   for (vtkIdType i = 0; i < n; ++i)
     input->GetPoint(i, &points[3 * static_cast<std::size_t>(i)]);
-  vtkIdType cellId = input->GetNumberOfVerts() + input->GetNumberOfLines();
-  auto polygons = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+  vtkCellArray* polys = input->GetPolys();
+  vtkCellArray* stripCells = input->GetStrips();
+  // Exactly the triangles' indices: a polygon of m points makes m - 2, and so does a strip.
+  triangles.reserve(static_cast<std::size_t>(std::max<vtkIdType>(0,
+    3 *
+      (polys->GetNumberOfConnectivityIds() - 2 * polys->GetNumberOfCells() + stripCells->GetNumberOfConnectivityIds() -
+        2 * stripCells->GetNumberOfCells()))));
+  cellOf.first = input->GetNumberOfVerts() + input->GetNumberOfLines();
+  vtkIdType cellId = cellOf.first;
+  auto polygons = vtk::TakeSmartPointer(polys->NewIterator());
   for (polygons->GoToFirstCell(); !polygons->IsDoneWithTraversal(); polygons->GoToNextCell(), ++cellId)
   {
     vtkIdType size;
@@ -64,11 +94,11 @@ std::string Triangulate(
     polygons->GetCurrentCell(size, ids);
     for (vtkIdType k = 1; k + 1 < size; ++k)
     {
+      cellOf.Add(triangles.size() / 3, cellId);
       triangles.insert(triangles.end(), { ids[0], ids[k], ids[k + 1] });
-      cellOf.push_back(cellId);
     }
   }
-  auto strips = vtk::TakeSmartPointer(input->GetStrips()->NewIterator());
+  auto strips = vtk::TakeSmartPointer(stripCells->NewIterator());
   for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell(), ++cellId)
   {
     vtkIdType size;
@@ -76,11 +106,11 @@ std::string Triangulate(
     strips->GetCurrentCell(size, ids);
     for (vtkIdType k = 0; k + 2 < size; ++k)
     {
+      cellOf.Add(triangles.size() / 3, cellId);
       if (k % 2 == 0)
         triangles.insert(triangles.end(), { ids[k], ids[k + 1], ids[k + 2] });
       else
         triangles.insert(triangles.end(), { ids[k + 1], ids[k], ids[k + 2] });
-      cellOf.push_back(cellId);
     }
   }
   return plantmorph::ValidateSurface(points, triangles);
@@ -269,15 +299,15 @@ std::vector<vtkSmartPointer<vtkAbstractArray>> InterpolatePointArrays(
 /// Port 0: the cloud with its arrays, the hit cells' arrays and the input's point arrays at the hits. The scan's
 /// arrays become the output's (adopted, not copied: `scan` is left empty); the triangle indices become the hit cells'
 /// ids in place. Each point is written by one thread only, so the output does not depend on the threads.
-void WriteCloud(plantmorph::ScanPoints& scan, const std::vector<vtkIdType>& cellOf,
-  const std::vector<std::int64_t>& triangles, vtkPolyData* input, vtkPolyData* cloud)
+void WriteCloud(plantmorph::ScanPoints& scan, const TriangleCells& cellOf, const std::vector<std::int64_t>& triangles,
+  vtkPolyData* input, vtkPolyData* cloud)
 {
   const auto n = static_cast<vtkIdType>(scan.Size());
   const std::vector<vtkSmartPointer<vtkAbstractArray>> interpolated = InterpolatePointArrays(scan, triangles, input);
   long long* cell = scan.triangle.data();
   vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType i = begin; i < end; ++i)
-      cell[i] = cellOf[static_cast<std::size_t>(cell[i])];
+      cell[i] = cellOf(static_cast<std::size_t>(cell[i]));
   });
   vtkNew<vtkPoints> points;
   points->SetData(Adopt<vtkDoubleArray>(scan.points, 3, nullptr));
@@ -339,7 +369,7 @@ struct vtkVirtualScanner::PreparedSurface
   const vtkPolyData* input = nullptr; // identity only, never dereferenced
   vtkMTimeType time = 0;
   std::vector<std::int64_t> triangles; // the points are the caster's copy only
-  std::vector<vtkIdType> cellOf;
+  TriangleCells cellOf;
   plantmorph::RayCaster caster;
 };
 
@@ -527,7 +557,7 @@ int vtkVirtualScanner::RequestData(
     Keep(prepared);
   }
   const std::vector<std::int64_t>& triangles = this->Prepared->triangles;
-  const std::vector<vtkIdType>& cellOf = this->Prepared->cellOf;
+  const TriangleCells& cellOf = this->Prepared->cellOf;
   const plantmorph::RayCaster& caster = this->Prepared->caster;
   this->UpdateProgress(0.1);
   plantmorph::ScanPoints scan;
