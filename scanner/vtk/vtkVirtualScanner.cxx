@@ -127,6 +127,25 @@ bool Reserved(const char* name)
   return false;
 }
 
+/// The input's cell and point arrays with fewer tuples than cells or points (a malformed input): named in a warning
+/// and not carried to the cloud. Empty when there are none.
+std::string ShortArrays(vtkPolyData* input)
+{
+  std::ostringstream names;
+  const auto check = [&](vtkFieldData* data, vtkIdType needed, const char* kind) {
+    for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+    {
+      vtkAbstractArray* array = data->GetAbstractArray(a);
+      if (array && !Reserved(array->GetName()) && array->GetNumberOfTuples() < needed)
+        names << (names.tellp() > 0 ? ", " : "") << kind << " array " << array->GetName() << " ("
+              << array->GetNumberOfTuples() << " tuples for " << needed << ")";
+    }
+  };
+  check(input->GetCellData(), input->GetNumberOfCells(), "cell");
+  check(input->GetPointData(), input->GetNumberOfPoints(), "point");
+  return names.str();
+}
+
 /// Arrays whose tuples threads may read and write side by side as plain memory (not bit arrays, not implicit ones).
 bool Contiguous(vtkAbstractArray* array)
 {
@@ -558,6 +577,12 @@ int vtkVirtualScanner::RequestData(
   }
   const std::vector<std::int64_t>& triangles = this->Prepared->triangles;
   const TriangleCells& cellOf = this->Prepared->cellOf;
+  const std::string shortArrays = ShortArrays(input);
+  if (!shortArrays.empty() && rank == 0)
+  {
+    vtkWarningMacro(<< "Input: not carried to the cloud, fewer tuples than the input has cells or points: "
+                    << shortArrays);
+  }
   const plantmorph::RayCaster& caster = this->Prepared->caster;
   this->UpdateProgress(0.1);
   plantmorph::ScanPoints scan;

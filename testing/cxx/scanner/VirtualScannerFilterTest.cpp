@@ -312,6 +312,29 @@ TEST(VirtualScanner, BadInputIsNamedAndGivesEmptyOutputs)
   }
 }
 
+TEST(VirtualScanner, ShortInputArraysAreNamedInAWarningAndNotCarried)
+{
+  // A cell array with fewer tuples than cells (a malformed input) would be read past its end: it is left out and
+  // named, and the rest of the cloud is as usual.
+  vtkSmartPointer<vtkPolyData> scene = TwoSpheres();
+  vtkNew<vtkIntArray> shortLabels;
+  shortLabels->SetName("ShortLabels");
+  shortLabels->SetNumberOfTuples(5);
+  shortLabels->FillValue(1);
+  scene->GetCellData()->AddArray(shortLabels);
+  vtkNew<vtkVirtualScanner> scanner;
+  vtkNew<plantmorph::testing::ErrorCatcher> catcher;
+  scanner->AddObserver(vtkCommand::WarningEvent, catcher);
+  scanner->SetInputData(scene);
+  scanner->SetAngularStep(1.0);
+  scanner->Update();
+  EXPECT_NE(catcher->Messages.find("ShortLabels"), std::string::npos) << "got: " << catcher->Messages;
+  vtkPolyData* cloud = scanner->GetOutput(0);
+  EXPECT_GT(cloud->GetNumberOfPoints(), 100);
+  EXPECT_EQ(cloud->GetPointData()->GetAbstractArray("ShortLabels"), nullptr);
+  EXPECT_NE(cloud->GetPointData()->GetArray("LeafId"), nullptr);
+}
+
 TEST(VirtualScanner, SameSeedSameCloud)
 {
   vtkSmartPointer<vtkPolyData> scene = TwoSpheres();
