@@ -318,10 +318,10 @@ namespace
 {
 /// The input indices of the triangles in the Morton order of their centroids (30-bit codes over the box `lo`,
 /// `size`; ties by index).
+template <class Index>
 std::vector<std::uint32_t> MortonOrder(
-  const std::vector<double>& points, const std::vector<std::int64_t>& triangles, const double lo[3], double size)
+  const double* points, const Index* triangles, std::size_t nt, const double lo[3], double size)
 {
-  const std::size_t nt = triangles.size() / 3;
   std::vector<std::uint64_t> keys(nt);
   for (std::size_t i = 0; i < nt; ++i)
   {
@@ -342,11 +342,11 @@ std::vector<std::uint32_t> MortonOrder(
 }
 
 /// ExactUser: the triangles' vertices in double precision, nine per triangle, in the Morton order of their centroids.
-void CopyMortonOrdered(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
-  const double lo[3], double size, Surface& surface)
+template <class Index>
+void CopyMortonOrdered(
+  const double* points, const Index* triangles, std::size_t nt, const double lo[3], double size, Surface& surface)
 {
-  const std::size_t nt = triangles.size() / 3;
-  surface.order = MortonOrder(points, triangles, lo, size);
+  surface.order = MortonOrder(points, triangles, nt, lo, size);
   surface.vertices.resize(9 * nt);
   for (std::size_t i = 0; i < nt; ++i)
   {
@@ -362,16 +362,16 @@ void CopyMortonOrdered(const std::vector<double>& points, const std::vector<std:
 /// memory: the intersection filter reads them in the order the beams meet them (at 10^7 triangles its cache misses
 /// on the input's order were a fifth of the scan's time). The vertices' values and order in each triangle are the
 /// input's.
-void CopyIndexed(const std::vector<double>& points, const std::vector<std::int64_t>& triangles, const double lo[3],
-  double size, Surface& surface)
+template <class Index>
+void CopyIndexed(const double* points, std::size_t pointCount, const Index* triangles, std::size_t nt,
+  const double lo[3], double size, Surface& surface)
 {
-  const std::size_t nt = triangles.size() / 3;
-  surface.order = MortonOrder(points, triangles, lo, size);
+  surface.order = MortonOrder(points, triangles, nt, lo, size);
   constexpr std::uint32_t Unused = ~std::uint32_t(0);
-  std::vector<std::uint32_t> renumbered(points.size() / 3, Unused);
+  std::vector<std::uint32_t> renumbered(pointCount, Unused);
   surface.indices.resize(3 * nt);
   surface.points.clear();
-  surface.points.reserve(points.size());
+  surface.points.reserve(3 * pointCount);
   for (std::size_t i = 0; i < nt; ++i)
   {
     for (int j = 0; j < 3; ++j)
@@ -380,7 +380,7 @@ void CopyIndexed(const std::vector<double>& points, const std::vector<std::int64
       if (renumbered[v] == Unused)
       {
         renumbered[v] = static_cast<std::uint32_t>(surface.points.size() / 3);
-        surface.points.insert(surface.points.end(), &points[3 * v], &points[3 * v] + 3);
+        surface.points.insert(surface.points.end(), points + 3 * v, points + 3 * v + 3);
       }
       surface.indices[3 * i + j] = renumbered[v];
     }
@@ -389,8 +389,7 @@ void CopyIndexed(const std::vector<double>& points, const std::vector<std::int64
 
 /// Triangle `t` relative to `centre`, its edges moved outwards in its plane by `grow` (each vertex along its angle's
 /// bisector by grow / sin(angle / 2), at most 1000 grow), in single precision: nine floats.
-void EnlargedTriangle(
-  const std::vector<double>& points, const std::int64_t* t, const double* centre, double grow, float* out)
+void EnlargedTriangle(const double* points, const std::uint32_t* t, const double* centre, double grow, float* out)
 {
   double v[3][3];
   for (int j = 0; j < 3; ++j)
@@ -428,6 +427,19 @@ void EnlargedTriangle(
 std::string RayCaster::Build(
   const std::vector<double>& points, const std::vector<std::int64_t>& triangles, const RayCasterParameters& parameters)
 {
+  return this->BuildFrom(points.data(), points.size() / 3, triangles.data(), triangles.size() / 3, parameters);
+}
+
+std::string RayCaster::Build(const double* points, std::size_t pointCount, const std::uint32_t* triangles,
+  std::size_t triangleCount, const RayCasterParameters& parameters)
+{
+  return this->BuildFrom(points, pointCount, triangles, triangleCount, parameters);
+}
+
+template <class Index>
+std::string RayCaster::BuildFrom(const double* points, std::size_t pointCount, const Index* triangles, std::size_t nt,
+  const RayCasterParameters& parameters)
+{
   this->Release();
   this->Impl = new Embree;
   this->User = new Callbacks;
@@ -436,18 +448,17 @@ std::string RayCaster::Build(
   std::string error = ValidateRayCasterParameters(parameters);
   if (!error.empty())
     return error;
-  const std::size_t nt = triangles.size() / 3;
-  if (3 * nt >= (std::size_t(1) << 32) || points.size() / 3 >= (std::size_t(1) << 32))
+  if (3 * nt >= (std::size_t(1) << 32) || pointCount >= (std::size_t(1) << 32))
     return "Input: more than 2^32 / 3 triangles or 2^32 points";
   // The bounding box of the triangles' vertices; the single-precision boxes are relative to its centre.
   double lo[3] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
     std::numeric_limits<double>::infinity() };
   double hi[3] = { -lo[0], -lo[1], -lo[2] };
-  for (std::int64_t i : triangles)
+  for (std::size_t c = 0; c < 3 * nt; ++c)
     for (int k = 0; k < 3; ++k)
     {
-      lo[k] = std::min(lo[k], points[3 * static_cast<std::size_t>(i) + k]);
-      hi[k] = std::max(hi[k], points[3 * static_cast<std::size_t>(i) + k]);
+      lo[k] = std::min(lo[k], points[3 * static_cast<std::size_t>(triangles[c]) + k]);
+      hi[k] = std::max(hi[k], points[3 * static_cast<std::size_t>(triangles[c]) + k]);
     }
   double size = 0.0;
   for (int k = 0; k < 3; ++k)
@@ -470,19 +481,20 @@ std::string RayCaster::Build(
   Surface& surface = this->User->surface;
   surface.centre = this->Centre;
   surface.pad = pad;
+  // The caster's own copy first: the scene is built from it alone, so a caller may drop its arrays before
+  // Embree's build, the peak of the memory.
   if (parameters.geometry == RayCasterParameters::Geometry::ExactUser)
-    CopyMortonOrdered(points, triangles, lo, size, surface);
+    CopyMortonOrdered(points, triangles, nt, lo, size, surface);
   else
-    CopyIndexed(points, triangles, lo, size, surface);
-  error = this->BuildScene(points, triangles);
+    CopyIndexed(points, pointCount, triangles, nt, lo, size, surface);
+  error = this->BuildScene(nt);
   if (error.empty())
     this->Count = nt;
   return error;
 }
 
-std::string RayCaster::BuildScene(const std::vector<double>& points, const std::vector<std::int64_t>& triangles)
+std::string RayCaster::BuildScene(std::size_t nt)
 {
-  const std::size_t nt = triangles.size() / 3;
   const std::string config = "threads=" + std::to_string(std::max(0, this->Settings.buildThreads));
   RTCDevice device = rtcNewDevice(config.c_str());
   if (!device)
@@ -528,8 +540,7 @@ std::string RayCaster::BuildScene(const std::vector<double>& points, const std::
     // single-precision candidate, so Embree's test proposes it (no slip at shared vertices and edges).
     for (std::size_t i = 0; i < nt; ++i)
     {
-      const std::int64_t* t = &triangles[3 * static_cast<std::size_t>(surface.order[i])]; // Morton order
-      EnlargedTriangle(points, t, this->Centre, this->Pad, vertices + 9 * i);
+      EnlargedTriangle(surface.points.data(), &surface.indices[3 * i], this->Centre, this->Pad, vertices + 9 * i);
       for (unsigned j = 0; j < 3; ++j)
         indices[3 * i + j] = static_cast<unsigned>(3 * i + j);
     }

@@ -79,6 +79,10 @@ public:
   /// caster is then empty: every beam misses). Indices out of range are the caller's error (ValidateSurface).
   std::string Build(const std::vector<double>& points, const std::vector<std::int64_t>& triangles,
     const RayCasterParameters& parameters);
+  /// The same over raw arrays: `pointCount` points (x, y, z each) and `triangleCount` triangles of 32-bit point
+  /// indices (the VTK wrapper's, half the memory of 64-bit ones); nothing points at them once Build returns.
+  std::string Build(const double* points, std::size_t pointCount, const std::uint32_t* triangles,
+    std::size_t triangleCount, const RayCasterParameters& parameters);
   /// The default parameters with `buildThreads` build threads.
   std::string Build(
     const std::vector<double>& points, const std::vector<std::int64_t>& triangles, int buildThreads = 0);
@@ -111,7 +115,10 @@ public:
 
 private:
   void Release();
-  std::string BuildScene(const std::vector<double>& points, const std::vector<std::int64_t>& triangles);
+  template <class Index>
+  std::string BuildFrom(const double* points, std::size_t pointCount, const Index* triangles, std::size_t nt,
+    const RayCasterParameters& parameters);
+  std::string BuildScene(std::size_t triangleCount); // from the caster's own copy of the surface
   Embree* Impl = nullptr;
   Callbacks* User = nullptr;
   std::size_t Count = 0; // triangles

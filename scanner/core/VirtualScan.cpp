@@ -135,9 +135,13 @@ void ScanPoints::Clear()
   *this = ScanPoints{};
 }
 
-std::string ValidateSurface(const std::vector<double>& points, const std::vector<std::int64_t>& triangles)
+namespace
 {
-  for (std::size_t i = 0; i < points.size(); ++i)
+template <class Index>
+std::string CheckSurface(
+  const double* points, std::size_t pointCount, const Index* triangles, std::size_t triangleCount)
+{
+  for (std::size_t i = 0; i < 3 * pointCount; ++i)
   {
     if (!std::isfinite(points[i]))
     {
@@ -146,21 +150,34 @@ std::string ValidateSurface(const std::vector<double>& points, const std::vector
       return s.str();
     }
   }
-  const auto count = static_cast<std::int64_t>(points.size() / 3);
-  for (std::size_t i = 0; i < triangles.size(); ++i)
+  const auto count = static_cast<std::int64_t>(pointCount);
+  for (std::size_t i = 0; i < 3 * triangleCount; ++i)
   {
-    if (triangles[i] < 0 || triangles[i] >= count)
+    const auto index = static_cast<std::int64_t>(triangles[i]);
+    if (index < 0 || index >= count)
     {
       std::ostringstream s;
-      s << "Input: triangle " << i / 3 << " refers to point " << triangles[i] << ", outside [0, " << count - 1 << "]";
+      s << "Input: triangle " << i / 3 << " refers to point " << index << ", outside [0, " << count - 1 << "]";
       return s.str();
     }
   }
-  if (triangles.empty())
+  if (triangleCount == 0)
     return "Input: the surface has no polygons to scan (give a surface: triangles, polygons or strips)";
-  if (triangles.size() / 3 >= (std::uint64_t(1) << 32))
+  if (triangleCount >= (std::uint64_t(1) << 32))
     return "Input: more than 2^32 triangles";
   return {};
+}
+} // namespace
+
+std::string ValidateSurface(const std::vector<double>& points, const std::vector<std::int64_t>& triangles)
+{
+  return CheckSurface(points.data(), points.size() / 3, triangles.data(), triangles.size() / 3);
+}
+
+std::string ValidateSurface(
+  const double* points, std::size_t pointCount, const std::uint32_t* triangles, std::size_t triangleCount)
+{
+  return CheckSurface(points, pointCount, triangles, triangleCount);
 }
 
 std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, const RayCaster& caster, ScanPoints& out,

@@ -40,6 +40,9 @@ struct ScanPoints
 
 /// Checks a surface: finite points, triangle indices in range. An empty string when it can be scanned.
 std::string ValidateSurface(const std::vector<double>& points, const std::vector<std::int64_t>& triangles);
+/// The same over raw arrays (`pointCount` points, `triangleCount` triangles of 32-bit indices: the VTK wrapper's).
+std::string ValidateSurface(
+  const double* points, std::size_t pointCount, const std::uint32_t* triangles, std::size_t triangleCount);
 
 /// Casts the beams [firstBeam, endBeam) (clamped to the pattern's count; default all) of `pattern` (Setup already
 /// succeeded) against `caster` (built on the surface): a share of the beams gives exactly the points the whole scan

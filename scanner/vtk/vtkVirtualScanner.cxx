@@ -69,14 +69,34 @@ struct TriangleCells
   }
 };
 
-/// The input's polygons and strips as triangles (fans and strip triangles), each with its cell id in the input.
-std::string Triangulate(
-  vtkPolyData* input, std::vector<double>& points, std::vector<std::int64_t>& triangles, TriangleCells& cellOf)
+/// A point id as a 32-bit index; ids outside [0, n) become n, which ValidateSurface names as out of range.
+std::uint32_t Index32(vtkIdType id, vtkIdType n)
+{
+  return static_cast<std::uint32_t>(id >= 0 && id < n ? id : n);
+}
+
+/// The input's points in double precision: its own array when it holds plain doubles (no copy), else a copy made in
+/// `copy`. nullptr when there are none.
+const double* DoublePoints(vtkPolyData* input, std::vector<double>& copy)
 {
   const vtkIdType n = input->GetNumberOfPoints();
-  points.resize(3 * static_cast<std::size_t>(n));
+  auto* doubles = input->GetPoints() ? vtkDoubleArray::SafeDownCast(input->GetPoints()->GetData()) : nullptr;
+  if (doubles && doubles->GetNumberOfComponents() == 3 && n > 0)
+    return doubles->GetPointer(0);
+  copy.resize(3 * static_cast<std::size_t>(n));
   for (vtkIdType i = 0; i < n; ++i)
-    input->GetPoint(i, &points[3 * static_cast<std::size_t>(i)]);
+    input->GetPoint(i, &copy[3 * static_cast<std::size_t>(i)]);
+  return copy.empty() ? nullptr : copy.data();
+}
+
+/// The input's polygons and strips as triangles (fans and strip triangles) of 32-bit point indices (half the memory
+/// of VTK's ids; the caster needs fewer than 2^32 points anyway), each with its cell id in the input.
+std::string Triangulate(
+  vtkPolyData* input, const double* points, std::vector<std::uint32_t>& triangles, TriangleCells& cellOf)
+{
+  const vtkIdType n = input->GetNumberOfPoints();
+  if (static_cast<std::uint64_t>(n) >= (std::uint64_t(1) << 32))
+    return "Input: more than 2^32 - 1 points";
   vtkCellArray* polys = input->GetPolys();
   vtkCellArray* stripCells = input->GetStrips();
   // Exactly the triangles' indices: a polygon of m points makes m - 2, and so does a strip.
@@ -95,7 +115,7 @@ std::string Triangulate(
     for (vtkIdType k = 1; k + 1 < size; ++k)
     {
       cellOf.Add(triangles.size() / 3, cellId);
-      triangles.insert(triangles.end(), { ids[0], ids[k], ids[k + 1] });
+      triangles.insert(triangles.end(), { Index32(ids[0], n), Index32(ids[k], n), Index32(ids[k + 1], n) });
     }
   }
   auto strips = vtk::TakeSmartPointer(stripCells->NewIterator());
@@ -108,12 +128,12 @@ std::string Triangulate(
     {
       cellOf.Add(triangles.size() / 3, cellId);
       if (k % 2 == 0)
-        triangles.insert(triangles.end(), { ids[k], ids[k + 1], ids[k + 2] });
+        triangles.insert(triangles.end(), { Index32(ids[k], n), Index32(ids[k + 1], n), Index32(ids[k + 2], n) });
       else
-        triangles.insert(triangles.end(), { ids[k + 1], ids[k], ids[k + 2] });
+        triangles.insert(triangles.end(), { Index32(ids[k + 1], n), Index32(ids[k], n), Index32(ids[k + 2], n) });
     }
   }
-  return plantmorph::ValidateSurface(points, triangles);
+  return plantmorph::ValidateSurface(points, static_cast<std::size_t>(n), triangles.data(), triangles.size() / 3);
 }
 
 /// True when `name` is one of the cloud's own arrays or the ghost array: not carried from the input.
@@ -246,7 +266,7 @@ void GatherTuples(vtkAbstractArray* source, vtkAbstractArray* values, vtkIdType 
 /// arrays interpolated with the hit's barycentric weights (LeafUV, TCoords: exact on the triangle hit), integer
 /// arrays (labels) taken from the triangle's vertex nearest the hit. Threaded over the points.
 std::vector<vtkSmartPointer<vtkAbstractArray>> InterpolatePointArrays(
-  const plantmorph::ScanPoints& scan, const std::vector<std::int64_t>& triangles, vtkPolyData* input)
+  const plantmorph::ScanPoints& scan, const std::vector<std::uint32_t>& triangles, vtkPolyData* input)
 {
   const auto n = static_cast<vtkIdType>(scan.Size());
   std::vector<vtkSmartPointer<vtkAbstractArray>> interpolated;
@@ -318,7 +338,7 @@ std::vector<vtkSmartPointer<vtkAbstractArray>> InterpolatePointArrays(
 /// Port 0: the cloud with its arrays, the hit cells' arrays and the input's point arrays at the hits. The scan's
 /// arrays become the output's (adopted, not copied: `scan` is left empty); the triangle indices become the hit cells'
 /// ids in place. Each point is written by one thread only, so the output does not depend on the threads.
-void WriteCloud(plantmorph::ScanPoints& scan, const TriangleCells& cellOf, const std::vector<std::int64_t>& triangles,
+void WriteCloud(plantmorph::ScanPoints& scan, const TriangleCells& cellOf, const std::vector<std::uint32_t>& triangles,
   vtkPolyData* input, vtkPolyData* cloud)
 {
   const auto n = static_cast<vtkIdType>(scan.Size());
@@ -387,7 +407,7 @@ struct vtkVirtualScanner::PreparedSurface
 {
   const vtkPolyData* input = nullptr; // identity only, never dereferenced
   vtkMTimeType time = 0;
-  std::vector<std::int64_t> triangles; // the points are the caster's copy only
+  std::vector<std::uint32_t> triangles; // for the point arrays at the hits; the points are the caster's copy only
   TriangleCells cellOf;
   plantmorph::RayCaster caster;
 };
@@ -560,11 +580,13 @@ int vtkVirtualScanner::RequestData(
   {
     this->Prepared.reset(); // its memory first
     auto prepared = std::make_shared<PreparedSurface>();
-    std::vector<double> points;
+    std::vector<double> copy; // only when the input's points are not plain doubles
+    const double* points = DoublePoints(input, copy);
     error = Triangulate(input, points, prepared->triangles, prepared->cellOf);
     if (error.empty())
     {
-      error = prepared->caster.Build(points, prepared->triangles);
+      error = prepared->caster.Build(points, static_cast<std::size_t>(input->GetNumberOfPoints()),
+        prepared->triangles.data(), prepared->triangles.size() / 3, plantmorph::RayCasterParameters{});
     }
     if (!error.empty())
     {
@@ -575,7 +597,7 @@ int vtkVirtualScanner::RequestData(
     this->Prepared = prepared;
     Keep(prepared);
   }
-  const std::vector<std::int64_t>& triangles = this->Prepared->triangles;
+  const std::vector<std::uint32_t>& triangles = this->Prepared->triangles;
   const TriangleCells& cellOf = this->Prepared->cellOf;
   const std::string shortArrays = ShortArrays(input);
   if (!shortArrays.empty() && rank == 0)
