@@ -132,7 +132,9 @@ double BeamUniform(std::uint64_t seed, std::uint64_t beam, std::uint64_t slot)
 
 void ScanPoints::Clear()
 {
+  const bool uv = this->withBarycentric;
   *this = ScanPoints{};
+  this->withBarycentric = uv;
 }
 
 namespace
@@ -237,7 +239,7 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
       out.intensity.reserve(capacity);
       out.pose.reserve(capacity);
       out.triangle.reserve(capacity);
-      out.barycentric.reserve(2 * capacity);
+      out.barycentric.reserve(out.withBarycentric ? 2 * capacity : 0);
       out.beam.reserve(capacity);
     }
     out.points.resize(3 * n);
@@ -246,8 +248,9 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
     out.intensity.resize(n);
     out.pose.resize(n);
     out.triangle.resize(n);
-    out.barycentric.resize(2 * n);
+    out.barycentric.resize(out.withBarycentric ? 2 * n : 0);
     out.beam.resize(n);
+    const bool uv = out.withBarycentric;
     parallel(pieces, [&](std::size_t begin, std::size_t end) {
       for (std::size_t piece = begin; piece < end; ++piece)
       {
@@ -264,8 +267,11 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
           out.intensity[j] = r.intensity;
           out.pose[j] = static_cast<std::int32_t>(r.pose); // poses are held in memory: far fewer than 2^31
           out.triangle[j] = r.triangle;
-          out.barycentric[2 * j] = r.u;
-          out.barycentric[2 * j + 1] = r.v;
+          if (uv)
+          {
+            out.barycentric[2 * j] = r.u;
+            out.barycentric[2 * j + 1] = r.v;
+          }
           out.beam[j] = static_cast<long long>(first + i);
           ++j;
         }

@@ -29,13 +29,16 @@ struct ScanPoints
   CloudArray<double> intensity;   ///< cos(incidence), over the true range squared when intensityFalloff
   CloudArray<std::int32_t> pose;  ///< the scanner pose (ScanPattern.h: position, fan or turntable step)
   CloudArray<long long> triangle; ///< index of the input triangle hit
-  CloudArray<double> barycentric; ///< u, v of the hit in that triangle (its own vertex order)
+  CloudArray<double> barycentric; ///< u, v of the hit in that triangle (its own vertex order), if withBarycentric
   CloudArray<long long> beam;     ///< index of the beam in the pattern (BeamPattern::Beam)
   std::uint64_t beams = 0;        ///< beams cast (this share's)
   std::uint64_t dropped = 0;      ///< beams that hit but were dropped (DropoutProbability)
 
+  /// Set before CastBeams: false leaves `barycentric` empty (16 bytes a point less, when nothing is interpolated).
+  bool withBarycentric = true;
+
   std::size_t Size() const { return this->range.size(); }
-  void Clear();
+  void Clear(); ///< empties the cloud (withBarycentric kept)
 };
 
 /// Checks a surface: finite points, triangle indices in range. An empty string when it can be scanned.

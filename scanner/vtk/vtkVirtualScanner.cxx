@@ -262,6 +262,23 @@ void GatherTuples(vtkAbstractArray* source, vtkAbstractArray* values, vtkIdType 
   values->InsertTuples(toIds, fromIds, source);
 }
 
+/// True when the input's point array `source` is carried to the cloud at the hits (InterpolatePointArrays): not
+/// named like ours or like a cell array, and with a tuple per point.
+bool Interpolated(vtkPolyData* input, vtkDataArray* source)
+{
+  return source && !Reserved(source->GetName()) && !input->GetCellData()->GetAbstractArray(source->GetName()) &&
+    source->GetNumberOfTuples() >= input->GetNumberOfPoints();
+}
+
+/// True when some point array of the input is carried (the scan then keeps each hit's barycentric coordinates).
+bool AnyInterpolated(vtkPolyData* input)
+{
+  for (int a = 0; a < input->GetPointData()->GetNumberOfArrays(); ++a)
+    if (Interpolated(input, input->GetPointData()->GetArray(a)))
+      return true;
+  return false;
+}
+
 /// The input's point arrays at the hits, for those not named like ours or like a carried cell array: floating-point
 /// arrays interpolated with the hit's barycentric weights (LeafUV, TCoords: exact on the triangle hit), integer
 /// arrays (labels) taken from the triangle's vertex nearest the hit. Threaded over the points.
@@ -274,8 +291,7 @@ std::vector<vtkSmartPointer<vtkAbstractArray>> InterpolatePointArrays(
   for (int a = 0; a < in->GetNumberOfArrays(); ++a)
   {
     vtkDataArray* source = in->GetArray(a);
-    if (!source || Reserved(source->GetName()) || input->GetCellData()->GetAbstractArray(source->GetName()) ||
-      source->GetNumberOfTuples() < input->GetNumberOfPoints())
+    if (!Interpolated(input, source))
       continue;
     vtkSmartPointer<vtkDataArray> values = vtkDataArray::SafeDownCast(LikeWithTuples(source, n));
     const int components = source->GetNumberOfComponents();
@@ -608,6 +624,7 @@ int vtkVirtualScanner::RequestData(
   const plantmorph::RayCaster& caster = this->Prepared->caster;
   this->UpdateProgress(0.1);
   plantmorph::ScanPoints scan;
+  scan.withBarycentric = AnyInterpolated(input);
   const std::uint64_t beams = pattern.BeamCount();
   const auto share = [&](int r) {
     // beams <= 4e9 (AbsoluteMaximumBeams), so beams * rank fits in 64 bits for any rank count MPI runs.

@@ -669,6 +669,7 @@ TEST(VirtualScan, NoiseAndDropoutAreSeededAndThreadIndependent)
     EXPECT_TRUE(SameBits(serial.range, parallel.range));
     EXPECT_TRUE(SameBits(serial.normals, parallel.normals));
     EXPECT_EQ(serial.beam, parallel.beam);
+    EXPECT_TRUE(SameBits(serial.barycentric, parallel.barycentric));
   }
   ScanPoints again;
   ASSERT_EQ(VirtualScan(p, plane.points, plane.triangles, again), "");
@@ -703,6 +704,28 @@ TEST(VirtualScan, NoiseAndDropoutAreSeededAndThreadIndependent)
   const double n = static_cast<double>(noisy.Size());
   EXPECT_NEAR(sum / n, 0.0, 5 * 0.01 / std::sqrt(n));
   EXPECT_NEAR(std::sqrt(sum2 / n), 0.01, 0.01 * 5 / std::sqrt(2 * n));
+}
+
+TEST(VirtualScan, WithoutBarycentricsTheCloudIsTheSame)
+{
+  // A scan that keeps no barycentric coordinates (nothing to interpolate) gives the same points, bit for bit.
+  const Mesh sphere = Icosphere(3, 1.0);
+  ScannerParameters p;
+  p.positions = { Vec3{ 0, -3, 0.2 } };
+  p.angularStep = 0.5;
+  p.rangeNoise = 0.01;
+  ScanPoints with, without;
+  without.withBarycentric = false;
+  ASSERT_EQ(VirtualScan(p, sphere.points, sphere.triangles, with, Threads(2)), "");
+  ASSERT_EQ(VirtualScan(p, sphere.points, sphere.triangles, without, Threads(2)), "");
+  ASSERT_GT(with.Size(), 100u);
+  EXPECT_EQ(with.barycentric.size(), 2 * with.Size());
+  EXPECT_TRUE(without.barycentric.empty());
+  EXPECT_FALSE(without.withBarycentric); // kept through the scan's Clear
+  EXPECT_TRUE(SameBits(with.points, without.points));
+  EXPECT_TRUE(SameBits(with.normals, without.normals));
+  EXPECT_EQ(with.triangle, without.triangle);
+  EXPECT_EQ(with.beam, without.beam);
 }
 
 TEST(VirtualScan, BadInputIsRefusedWithThePropertyNamed)
