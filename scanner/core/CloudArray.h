@@ -68,11 +68,6 @@ public:
       this->reserve(std::max(n, 2 * this->room));
     this->count = n;
   }
-  void push_back(T value)
-  {
-    this->resize(this->count + 1);
-    this->values[this->count - 1] = value;
-  }
   /// The numbers [first, last) added at the end.
   void append(const T* first, const T* last)
   {
@@ -105,7 +100,6 @@ public:
   {
     return a.count == b.count && std::equal(a.begin(), a.end(), b.begin());
   }
-  friend bool operator!=(const CloudArray& a, const CloudArray& b) { return !(a == b); }
 
 private:
   /// Memory for `bytes` (freed with std::free). Large arrays are aligned to 2 MiB and asked for transparent huge

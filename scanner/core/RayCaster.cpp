@@ -140,11 +140,10 @@ struct BeamContext
   double slack[RayCaster::PacketSize]; // added to its far distance (covers its rounding and the padding)
 };
 
-/// The data the callbacks see: the triangles' vertices copied in double precision, nine per triangle, in the
-/// Morton order of their centroids (Embree's primitive i is input triangle order[i]), so the triangles of one box of
-/// the hierarchy lie close together in memory.
-/// Triangles: the input's points in double precision and the triangles' point indices (Embree's primitive i is
-/// input triangle i).
+/// The data the callbacks see, in the Morton order of the triangles' centroids (Embree's primitive i is input
+/// triangle order[i]), so the triangles of one box of the hierarchy lie close together in memory. ExactUser: the
+/// triangles' vertices in double precision, nine per triangle (CopyMortonOrdered). Triangles: the points in double
+/// precision, renumbered in the order of first use, and the triangles' indices into them (CopyIndexed).
 struct Surface
 {
   std::vector<double> vertices;
