@@ -233,23 +233,9 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
       const auto expected = static_cast<std::size_t>(1.05 * rate * static_cast<double>(end - start)) + 1024;
       const auto share = static_cast<std::size_t>(end - start);
       const std::size_t capacity = std::max(n, share <= (std::size_t(1) << 26) ? share : std::min(expected, share));
-      out.points.reserve(3 * capacity);
-      out.normals.reserve(3 * capacity);
-      out.range.reserve(capacity);
-      out.intensity.reserve(capacity);
-      out.pose.reserve(capacity);
-      out.triangle.reserve(capacity);
-      out.barycentric.reserve(out.withBarycentric ? 2 * capacity : 0);
-      out.beam.reserve(capacity);
+      out.Reserve(capacity);
     }
-    out.points.resize(3 * n);
-    out.normals.resize(3 * n);
-    out.range.resize(n);
-    out.intensity.resize(n);
-    out.pose.resize(n);
-    out.triangle.resize(n);
-    out.barycentric.resize(out.withBarycentric ? 2 * n : 0);
-    out.beam.resize(n);
+    out.Resize(n);
     const bool uv = out.withBarycentric;
     parallel(pieces, [&](std::size_t begin, std::size_t end) {
       for (std::size_t piece = begin; piece < end; ++piece)

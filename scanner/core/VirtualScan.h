@@ -39,6 +39,31 @@ struct ScanPoints
 
   std::size_t Size() const { return this->range.size(); }
   void Clear(); ///< empties the cloud (withBarycentric kept)
+  /// Room for `n` points in every array (address space; barycentric only withBarycentric).
+  void Reserve(std::size_t n)
+  {
+    this->ForEachArray([n](auto& array, std::size_t components) { array.reserve(components * n); });
+  }
+  /// `n` points in every array, those beyond the old size unset (barycentric only withBarycentric).
+  void Resize(std::size_t n)
+  {
+    this->ForEachArray([n](auto& array, std::size_t components) { array.resize(components * n); });
+  }
+
+private:
+  /// f(array, numbers per point) for each array of the cloud.
+  template <class F>
+  void ForEachArray(const F& f)
+  {
+    f(this->points, 3);
+    f(this->normals, 3);
+    f(this->range, 1);
+    f(this->intensity, 1);
+    f(this->pose, 1);
+    f(this->triangle, 1);
+    f(this->barycentric, this->withBarycentric ? 2 : 0);
+    f(this->beam, 1);
+  }
 };
 
 /// Checks a surface: finite points, triangle indices in range. An empty string when it can be scanned.
