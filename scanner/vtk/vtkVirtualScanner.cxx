@@ -147,6 +147,13 @@ bool Reserved(const char* name)
   return false;
 }
 
+/// True when the input's array `array`, which needs `needed` tuples (one per cell or point), is carried to the cloud:
+/// not one of ours, and not short (ShortArrays names the short ones).
+bool Carried(vtkAbstractArray* array, vtkIdType needed)
+{
+  return array && !Reserved(array->GetName()) && array->GetNumberOfTuples() >= needed;
+}
+
 /// The input's cell and point arrays with fewer tuples than cells or points (a malformed input): named in a warning
 /// and not carried to the cloud. Empty when there are none.
 std::string ShortArrays(vtkPolyData* input)
@@ -156,7 +163,7 @@ std::string ShortArrays(vtkPolyData* input)
     for (int a = 0; a < data->GetNumberOfArrays(); ++a)
     {
       vtkAbstractArray* array = data->GetAbstractArray(a);
-      if (array && !Reserved(array->GetName()) && array->GetNumberOfTuples() < needed)
+      if (array && !Reserved(array->GetName()) && !Carried(array, needed))
         names << (names.tellp() > 0 ? ", " : "") << kind << " array " << array->GetName() << " ("
               << array->GetNumberOfTuples() << " tuples for " << needed << ")";
     }
@@ -266,8 +273,7 @@ void GatherTuples(vtkAbstractArray* source, vtkAbstractArray* values, vtkIdType 
 /// named like ours or like a cell array, and with a tuple per point.
 bool Interpolated(vtkPolyData* input, vtkDataArray* source)
 {
-  return source && !Reserved(source->GetName()) && !input->GetCellData()->GetAbstractArray(source->GetName()) &&
-    source->GetNumberOfTuples() >= input->GetNumberOfPoints();
+  return Carried(source, input->GetNumberOfPoints()) && !input->GetCellData()->GetAbstractArray(source->GetName());
 }
 
 /// True when some point array of the input is carried (the scan then keeps each hit's barycentric coordinates).
@@ -383,7 +389,7 @@ void WriteCloud(plantmorph::ScanPoints& scan, const TriangleCells& cellOf, const
   for (int a = 0; a < cd->GetNumberOfArrays(); ++a)
   {
     vtkAbstractArray* source = cd->GetAbstractArray(a);
-    if (!source || Reserved(source->GetName()) || source->GetNumberOfTuples() < input->GetNumberOfCells())
+    if (!Carried(source, input->GetNumberOfCells()))
       continue;
     vtkSmartPointer<vtkAbstractArray> carried = LikeWithTuples(source, n);
     GatherTuples(source, carried, n, [cell](vtkIdType i) { return static_cast<vtkIdType>(cell[i]); });
