@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Peak memory of a benchmark's measured runs, shared by every benchmark program.
 //
 // Start() (untimed, before the timed loop) hands freed heap pages back to the kernel with malloc_trim(0), records

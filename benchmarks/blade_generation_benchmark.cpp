@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Blade generation cost versus Resolution: the whole plantmorph::BuildDeformedRectangleLeaf call for the ginkgo
 // preset (b_y = 5), in quality mode (CGAL Delaunay refinement) and paper mode (plain constrained Delaunay of the
 // boundary samples), next to CGAL alone on the very same boundary as the baseline to compare with.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """CloudCompare's command-line C2M (cloud-to-mesh distance) next to CloudComparisonFilter on the same data:
 a sphere of about 2*10^5 triangles and 10^6 points on it with 1% noise in random order (the "scan-like" case of
 cloud_comparison_benchmark.cpp). Writes both inputs, runs `CloudCompare -SILENT ... -C2M_DIST` (under

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // wilting_convergence: the Cucumber preset's tip trajectory across leaf sizes and Resolutions (issue 23; the table
 // in benchmarks/README.md "wilting convergence" and docs/methods/wilting.md).
 //

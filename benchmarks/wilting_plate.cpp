@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // wilting_plate: the VegaFEM 4.0 cross-check and Newmark speed benchmark of WiltingSimulator (docs/methods/wilting.md).
 //
 //   wilting_plate NX NY STEPS [--solver auto|cholesky|cg] [--threads N] [--cg-tolerance EPS] [--clamp]

@@ -1,7 +1,8 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The two target shapes every method uses (included by the top-level CMakeLists.txt).
 #
-# A method lives in one folder: <method>/core (and sometimes a second algorithm folder such as leaf/blade or
-# wilting/solver) holds the plain C++17 algorithm layer (Eigen, CGAL, no VTK headers), <method>/vtk the thin VTK
+# A method lives in one folder: <method>/core (and sometimes a second algorithm folder such as sources/leaf/blade or
+# filters/wilting/solver) holds the plain C++17 algorithm layer (Eigen, CGAL, no VTK headers), <method>/vtk the thin VTK
 # classes, their vtk.module and their server-manager XML.
 
 # plantmorph_add_algorithm(<library> [DEPENDS <targets>...] [PRIVATE_DEPENDS <targets>...])

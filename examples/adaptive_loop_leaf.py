@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Paper 003: adaptive Loop subdivision of a curled leaf. A coarse cucumber blade (LeafOutlineSource, Model
 "B-spline") curled by LeafCurlFilter, then AdaptiveLoopFilter two levels deep: uniformly (every triangle split
 each level, as VTK's Loop filter), with the paper's dihedral and flatness rules, and with the Surface error rule

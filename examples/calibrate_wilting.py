@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Fits WiltingSimulator's load and material parameters to a measured leaf-tip trajectory (paper 001 Table 1).
 
     pvpython examples/calibrate_wilting.py --plugin build/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so \
@@ -140,7 +141,7 @@ if arguments.resolution:
 if arguments.duration:
     SETTINGS["Duration"] = arguments.duration
 
-# name, start value (the Cucumber preset's, wilting/core/WiltingPresets.cpp), positive (fitted as a logarithm),
+# name, start value (the Cucumber preset's, filters/wilting/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
     ("DroopForce", 10018.0, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A scanned soybean leaf becomes a PlantMorph leaf: fit, traits, venation on the fitted leaf, distances coloured.
 
     xvfb-run -a pvbatch examples/compare_scanned_leaf.py [--plugin build/.../PlantMorph.so] [--output output]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Paper 003, Fig. 7: curling a leaf. An elliptic B-spline leaf (LeafOutlineSource, Model "B-spline") flat and curled
 by LeafCurlFilter: two longitudinal curls (the halves rolling about the midvein) and a transverse one (apex and base
 bending about the mid-line), plus both together. A checkerboard texture mapped through TCoords, computed on the flat

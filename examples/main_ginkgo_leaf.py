@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The ginkgo leaf of paper 000, eq. (1): LeafOutlineSource's blade and outline, written as .vtp files and rendered.
 
     xvfb-run -a pvbatch examples/main_ginkgo_leaf.py --plugin build/.../PlantMorph.so --output output/

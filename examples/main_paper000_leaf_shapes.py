@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Paper 000, Figs. 1 and 2: the margin types (entire, serrate, lobed, parted) and base/apex shapes (acute/acute,
 rounded/acuminate, cordate/rounded, acuminate/emarginate) of the deformed-rectangle model, side by side.
 

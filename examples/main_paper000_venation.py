@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Paper 000, sec. 3: venation (VenationFilter) on LeafOutlineSource blades.
 
 - paper000_venation_figures.png: the paper's three figures from the presets: paper mulberry (Fig. 10, pinnate

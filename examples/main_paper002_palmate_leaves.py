@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Paper 002, Fig. 8: growing palmate leaves (LeafOutlineSource, Model "Space curve", the Fig. 8 presets), 3 and 5
 lobes, each at half-margin lengths S = 1.5, 2.5, 3.5: with mu held fixed every lobe grows as a similar copy, so the
 whole leaf does. Each lobe's midvein is drawn in dark green.

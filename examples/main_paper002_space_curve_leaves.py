@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Paper 002, Figs. 1-6: space-curve leaves (LeafOutlineSource, Model "Space curve"), each preset at three
 half-margin lengths S = 2, 3.5, 5 to show growth: Figs. 1, 2, 4, 5 and 6 grow as exact similar copies (their mu
 and eta are held fixed), Fig. 3's exponential curvature with fixed u3 turns as it grows.

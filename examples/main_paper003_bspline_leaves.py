@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Paper 003: B-spline leaves (LeafOutlineSource, Model "B-spline"): the elliptic, cucumber and pin oak presets, and
 a custom leaf from control points typed in (as a user would trace them over a photograph), each meshed with CGAL
 (quality mode) and drawn with its margins and midvein.

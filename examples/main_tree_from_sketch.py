@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Paper 004's trees: Table 1's three template trees with leaves, and a tree sketched from strokes.
 
 tree_templates.png: the left (monopodial 3/8, 8 children), middle (sympodial 1/3, 3 children) and right (monopodial

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Paper 001: a cucumber leaf of the measured size wilting (WiltingSimulator, Cucumber preset) with its veins.
 
 LeafOutlineSource's cucumber blade (20.1 x 22.1 cm, paper 001 sec. 3) -> VenationFilter (palmate) -> WiltingSimulator

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """What every PlantMorph example script shares: its arguments, loading the plugin, a white render view, writing .vtp
 files that this ParaView can read back, and saving the pipeline as a ParaView state file (.pvsm) next to them."""
 import argparse

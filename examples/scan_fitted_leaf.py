@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The comparison loop of issue 24: fit a leaf to a measured scan, scan the fitted leaf the way a close-range scanner
 scans a leaf, and compare the simulated cloud with the measured one.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Scan a tree with leaves from three positions and write a labelled point cloud for segmentation training.
 
     xvfb-run -a pvbatch examples/scan_tree.py [--plugin build/.../PlantMorph.so] [--output output] [--step 0.15]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Tracing a leaf: three Poly Line sources (left margin, right margin, midvein) combined with Append Geometry drive
 LeafOutlineSource's B-spline model through its ControlPoints input. In the GUI the three polylines are drawn over a
 photograph with the Poly Line widget (docs/tracing-a-leaf-photo.md); here their points are typed in.

@@ -1,10 +1,11 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Writes the plugin's help page of every proxy, PlantMorph.<Proxy>.html: what it does, its paper and pictures (from
 docs/proxy-pages.json) and the table of the properties its panel shows, read from the proxy's server-manager XML
 (each property's tooltip and, below it, the long explanation in its Documentation's long_help), so the page never
 disagrees with the panel's tooltips. Run by the build (paraview_plugin/CMakeLists.txt) into the help folder ParaView
 compiles.
 
-    python3 write_proxy_help_pages.py --xml-dir leaf/vtk tree/vtk ... --pages docs/proxy-pages.json --out build/.../paraview_help
+    python3 write_proxy_help_pages.py --xml-dir sources/leaf/vtk sources/tree/vtk ... --pages docs/proxy-pages.json --out build/.../paraview_help
 """
 import argparse
 import html

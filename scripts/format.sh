@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Formats the tracked C++ files (.h, .hpp, .cpp, .cxx) with clang-format and the repository's .clang-format.
 #   scripts/format.sh           rewrite the files in place
 #   scripts/format.sh --check   change nothing; exit 1 and list the differences if a file is not formatted (CI,

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Lists the C++ functions longer than a limit (default 200 lines), tests and benchmarks excluded (issue 18).
 
 A function's length runs from the first line of its signature to its closing brace, as `ctags` start and end lines

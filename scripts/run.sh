@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The main job: set up and build if needed, then run the example pipeline(s) in pvbatch, writing .vtp files and PNG
 # renders into output/ (or the folder given as the first argument). It builds only the plugin (CMake target
 # PlantMorph), not the tests and benchmarks: scripts/test.sh builds those.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Installs what PlantMorph needs from Debian 12 (only what is missing), then configures and builds it in build/.
 # Sourced by scripts/run.sh and scripts/test.sh; safe to run again and again.
 # PLANTMORPH_TARGETS: the CMake targets to build, separated by spaces (default: all of them, tests and benchmarks
@@ -54,7 +55,12 @@ plantmorph_build() {
   mkdir -p "$dir"
   # ccache, when the machine has it, makes a rebuild after `git pull` or a fresh clone's build cheap.
   local launcher=()
-  command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  # CCACHE_BASEDIR makes the cached paths relative to the clone, so a second clone or worktree (CI's fresh clone
+  # among them) hits the same cache.
+  if command -v ccache >/dev/null; then
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+    export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PLANTMORPH_ROOT}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
+  fi
   cmake -S "$PLANTMORPH_ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" "$@" >"$dir/configure.log" 2>&1 ||
     { cat "$dir/configure.log"; echo "setup: configuring failed (log above)"; return 1; }
   local targets

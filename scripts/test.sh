@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # All tests: set up and build if needed, then ctest (GoogleTest unit tests, pvpython pipeline and state-file tests,
 # the MPI test). Then the C++ tests again in an AddressSanitizer + UBSan build (build-asan/); skip that with
 # PLANTMORPH_SKIP_SANITIZERS=1.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Regenerates the shipped state files examples/states/<name>.pvsm: runs the main job (every examples/main_*.py,
 # rendered, so each state keeps its figure's cameras) into a scratch folder and copies the .pvsm files it saved.
 # Run after changing an example; the ctest python.example_state.* tests fail while a state file is stale.

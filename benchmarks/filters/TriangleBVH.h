@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The project's own bounding volume hierarchy over triangles, the virtual scanner's first ray caster, kept here only
-// as virtual_scanner_benchmark's comparison: Embree (scanner/core/RayCaster.h) measured faster and replaced it in
+// as virtual_scanner_benchmark's comparison: Embree (filters/scanner/core/RayCaster.h) measured faster and replaced it in
 // the plugin (issue 24: "whichever measures faster, the other kept out"). Built once per surface (binned SAH, double
 // precision), then traversed by many beams at once, each beam independently.
 //

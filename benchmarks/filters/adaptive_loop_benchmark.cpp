@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // AdaptiveLoopFilter against the alternatives, in one run (see benchmarks/README.md, "adaptive_loop_benchmark").
 //
 // Uniform mode (EdgeAngleThreshold 180, FlatnessThreshold 1, FeatureRule Loop: plain Loop subdivision) on

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // CloudComparisonFilter against VTK's own distance filters on the same data, in the same run
 // (docs/methods/comparison.md, "Performance"): 10^6 measured points against a sphere of radius 1 with about 2*10^5
 // triangles (vtkSphereSource, 317 x 317), ONE poly-vertex cell each. Two clouds (argument scan): 0 = vtkPointSource's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Leaf Cloud Reader's read rate (issue 25, deliverable 4): a text point cloud written like the shipped scans
 // (data/leaf-clouds/) read by the reader as ParaView runs it, and by its VTK-free parser alone.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // TreeFromSketchSource benchmark (docs/methods/tree-from-sketch.md): segments per second and bytes per segment from
 // 10^3 to 10^6 skeleton segments, for the algorithm layer (template growth + watertight tubes, serial) and for the
 // whole VTK source (template, tubes through vtkSMPTools, arrays, skeleton, no leaves); second argument: the joints, 0

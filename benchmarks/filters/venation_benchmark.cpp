@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Venation growth cost versus network size (issue 5): plantmorph::GrowVenation with the paper mulberry preset
 // (brochidodromous secondaries, reticulate tertiaries) on one fixed blade, AreoleSize halved step by step so the
 // network grows from about 10^3 to 10^6 vein segments. The cost per segment should stay flat: every crossing test

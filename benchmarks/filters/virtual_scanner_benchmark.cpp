@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // VirtualScanner's ray casting (docs/methods/virtual-scanner.md, issue 24): Embree (the plugin's caster,
-// scanner/core/RayCaster.h), the project's own BVH it replaced (filters/TriangleBVH.h, kept here as the comparison)
+// filters/scanner/core/RayCaster.h), the project's own BVH it replaced (filters/TriangleBVH.h, kept here as the comparison)
 // and VTK's locators, on the same scenes and beams in the same run.
 //
 // Scene: a field of 16 UV spheres (radius 0.22, a 4 x 4 grid 0.5 apart in the plane y = 0), N triangles in all
@@ -21,7 +22,7 @@
 //                                      4/8/16 rtcIntersect4/8/16 (packets of consecutive beams), 0 rtcIntersect1M
 //                                      (a stream of 64 beams, coherent flag); double-precision refinement not done.
 //   BM_CastBeams/tris:N/beams:B/threads:T
-//                                      the plugin's casting layer: scanner/core CastBeams (pattern, Embree, double
+//                                      the plugin's casting layer: filters/scanner/core CastBeams (pattern, Embree, double
 //                                      refinement, normals, intensity, compaction into the cloud).
 //   BM_Filter/tris:N/beams:B/labels:L  the whole filter: vtkVirtualScanner on a vtkPolyData re-run after a
 //                                      property change (the triangulation and the caster kept from the untimed

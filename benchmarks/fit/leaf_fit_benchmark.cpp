@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // LeafFit (fit/): fit time against point count (10^3 to 10^6 points on one leaf) and against leaf count (threaded
 // over leaves), on synthetic scans of LeafOutlineSource's elliptic Model C leaf (100 mm long, 45 mm wide) curled by
 // LeafCurl (40 degrees longitudinal, 30 transverse), noise 0.2 mm along the normal and 1 % outliers. Counters give

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Wall time and per-rank peak memory of Leaf Cloud Reader + CloudComparisonFilter by rank count (issue 21 items 1-2).
 
     pvpython benchmarks/scaling/cloud_scaling.py --plugin PlantMorph.so --generate /tmp/scan.txt [--points 2000000]

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Runs benchmarks/scaling/scaling.py under `mpirun -np N pvbatch` for N in RANKS, one thread per rank
 # (VTK_SMP_MAX_THREADS=1), each step group in its own pvbatch (so each group's peak memory is its own), REPEAT times,
 # and prints a table: in-script seconds (the faster run), whole pvbatch seconds, every rank's peak memory.

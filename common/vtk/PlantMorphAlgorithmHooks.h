@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The VTK side of the algorithm layers' two hooks (header-only, for the VTK modules):
 // - SMPFor(): vtkSMPTools behind plantmorph::ParallelFor (common/include/plantmorph/ParallelFor.h), so the plain C++
 //   algorithms run threaded inside ParaView with the thread count and backend it is configured with;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Field data the VTK layers write: each source and filter records its parameters and results as one-value arrays
 // (spec README: "each source writes its parameters as field data"). Header-only, for the VTK modules (the rest of
 // common/ is VTK-free).

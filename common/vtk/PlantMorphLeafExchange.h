@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Filters that need one whole leaf (VenationFilter, WiltingSimulator) on an input of several leaves: each leaf is
 // processed on one MPI rank (pvbatch, pvserver) instead of all on rank 0. Header-only, for the VTK modules.
 //
@@ -13,7 +14,7 @@
 //
 // The plan (LeafPlan), the same on every rank: every leaf gets one owner rank, the leaves taken largest first (by
 // points; ties: the smaller LeafId first), each to the least loaded rank so far (ties: the lower rank): LeafOwners,
-// the one copy of the rule, which LeafFitFilter's exchange (fit/vtk/LeafFitExchange.h) uses too. A leaf held by one
+// the one copy of the rule, which LeafFitFilter's exchange (filters/leaf_fit/vtk/LeafFitExchange.h) uses too. A leaf held by one
 // rank moves whole to its owner (nothing moves when that is its owner); a leaf whose points are on several ranks is
 // gathered on its owner, the pieces appended in rank order and their exactly coincident points merged. A leaf taken
 // out of a piece keeps the input's point and cell order and every point, cell and field array, so a leaf alone and
@@ -243,7 +244,7 @@ inline void SumLeafCounts(
   }
 }
 
-/// The owner plan, the one rule of every per-leaf filter (LeafPlan here, LeafFitFilter's fit/vtk/LeafFitExchange):
+/// The owner plan, the one rule of every per-leaf filter (LeafPlan here, LeafFitFilter's filters/leaf_fit/vtk/LeafFitExchange):
 /// `points[k]` is leaf k's point count over all ranks, the leaves in ascending LeafId; returns each leaf's owner
 /// rank. The leaves are taken largest first (ties: the smaller LeafId first), each given to the least loaded rank so
 /// far (ties: the lower rank), a rank's load being the points of the leaves it owns.

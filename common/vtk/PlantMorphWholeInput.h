@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Filters that need the whole leaf (its venation, its subdivision, its simulation, a distance to all of it) gather
 // their input on rank 0 when ParaView runs them on several MPI ranks (pvbatch, pvserver). Our sources make the leaf
 // on rank 0 only, so usually nothing moves; a leaf split over ranks (D3, RedistributeDataSet, a partitioned reader)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @class   vtkSICountedDoubleVectorProperty
  * @brief   A repeatable double property that also tells its VTK object how many numbers the user gave.

@@ -1,4 +1,5 @@
-// libFuzzer harness: Leaf Cloud Reader's text parser (comparison/core/PointCloudText.cpp) on arbitrary bytes, read
+// SPDX-License-Identifier: GPL-3.0-or-later
+// libFuzzer harness: Leaf Cloud Reader's text parser (sources/leaf_cloud/core/PointCloudText.cpp) on arbitrary bytes, read
 // through the same stream path as the reader, whole and by pieces (MPI ranks' byte ranges), and the first-lines
 // probe (CanReadFile). On success the values form whole rows of 3..1000 finite columns, and the pieces' values in
 // order are the same; on error nothing is kept.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # ctest's short fuzz run (label `fuzz`): run_fuzzer.sh FUZZER SECONDS WORK_DIR [-libFuzzer options] [seed dirs]
 # Exits 77 (ctest: skipped) when the harness was not built (no clang++ with libFuzzer on this machine). New inputs
 # go to WORK_DIR (in the build tree); the seed directories are only read. A crash, hang (-timeout), leak or

@@ -1,4 +1,5 @@
-// libFuzzer harness: ParseStrokeCsv (tree/core/StrokeFiles.cpp) on arbitrary bytes. It must return, and either
+// SPDX-License-Identifier: GPL-3.0-or-later
+// libFuzzer harness: ParseStrokeCsv (sources/tree/core/StrokeFiles.cpp) on arbitrary bytes. It must return, and either
 // give an error with no strokes or strokes of finite points, none of them empty.
 #include "StrokeFiles.h"
 

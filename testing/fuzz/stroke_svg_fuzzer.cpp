@@ -1,4 +1,5 @@
-// libFuzzer harness: ParseStrokeSvg (tree/core/StrokeFiles.cpp) on arbitrary bytes. It must return (no crash,
+// SPDX-License-Identifier: GPL-3.0-or-later
+// libFuzzer harness: ParseStrokeSvg (sources/tree/core/StrokeFiles.cpp) on arbitrary bytes. It must return (no crash,
 // hang, leak or undefined behaviour), and either an error with no strokes or strokes of finite points.
 #include "StrokeFiles.h"
 

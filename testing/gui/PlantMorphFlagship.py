@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """ParaView macro for the GUI test (testing/gui/run_gui_test.py installs it in the test's own Macros folder).
 
 The menus have built LeafOutlineSource1 -> AdaptiveLoopFilter1 -> VenationFilter1, TreeFromSketchSource1 and

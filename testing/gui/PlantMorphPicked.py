@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """ParaView macro for the GUI test: records the filters just made from the PlantMorph menu that are not part of the
 flagship pipeline (Leaf Curl), removes them before they are applied, and makes the tree the active source again so
 the next menu item is enabled (an unapplied active source disables the Filters menu)."""

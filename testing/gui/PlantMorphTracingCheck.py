@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """ParaView macro for the tracing GUI test: writes what the clicks built to $PLANTMORPH_GUI_CHECK (JSON): every
 source's label, inputs (in order), Poly Line points and output sizes, the tree's Mode, the render view's size, and
 per skeleton branch its BranchId, ParentId and end points. Then it shows the tree in front of the photograph and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """ParaView macro for the tracing GUI test (testing/gui/run_tracing_test.py): step 2 of docs/tracing-a-tree-photo.md.
 Opens the photograph ($PLANTMORPH_TRACING_PHOTO, what File > Open does), scales it to centimetres with a Transform
 (0.05 cm per pixel, the trunk's foot at the origin), and shows it coloured by its PNGImage array."""

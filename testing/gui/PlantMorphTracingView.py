@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """ParaView macro for the tracing GUI test: the view a user sets before tracing (the 2-D interaction mode, looking
 from +Z at the photograph), with the exact parallel camera $PLANTMORPH_TRACING_VIEW = "x,y,half height" that
 run_tracing_test.py computed its clicks for. Run again after each new Poly Line's first Apply, which may reset the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs the real ParaView GUI under Xvfb with PlantMorph loaded and plays a QtTesting XML event file: what both GUI
 tests (run_gui_test.py, run_tracing_test.py) share.
 

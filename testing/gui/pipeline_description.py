@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """What the GUI tests' check macros report of a pipeline object (gui_playback puts this folder on the macros'
 PYTHONPATH): its label, its inputs in order ("Property=source:port") and per output port [points, cells], or
 [rows, rows] for a table."""

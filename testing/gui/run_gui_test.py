@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The GUI test: the real ParaView GUI (under Xvfb) loads PlantMorph, flagship_pipeline.xml clicks the flagship
 pipeline together through the PlantMorph menus and the Properties panel's Apply, the PlantMorphFlagship macro wires
 the second inputs and frames the scene, and ParaView's test utility compares the render view with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The tracing GUI test: docs/tracing-a-tree-photo.md clicked through in the real ParaView GUI (under Xvfb).
 
 A drawing of a tree (three strokes: a trunk and two branches) is written as a PNG "photograph". ParaView opens it

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Helpers shared by the pvpython tests: argument parsing, plugin loading, fingerprints of outputs, and the
 state-file round trip."""
 import argparse

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Client-server: pvpython connected to `mpirun -np 2 pvserver` on localhost runs PlantMorph's pipelines on the
 server (the plugin loaded on both sides) and gets the same data as the built-in session, once, not once per rank.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: an example's shipped state file (examples/states/<name>.pvsm) loads in a fresh pvpython and gives the
 same data as the example script.
 

@@ -1,10 +1,11 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The plugin's ParaView help has a page for every proxy, and the overview page with its pictures.
 
 ParaView builds one help page per proxy from the server-manager XML, but splits them apart as a CMake list: an
 unbalanced square bracket in any proxy's documentation (a half-open range such as "(0, 1]") silently merges every
 later page into the one before. This test catches that.
 
-    python3 test_help_pages.py --xml-dir leaf/vtk tree/vtk ... --help-dir build/paraview_plugin/paraview_help
+    python3 test_help_pages.py --xml-dir sources/leaf/vtk sources/tree/vtk ... --help-dir build/paraview_plugin/paraview_help
 """
 import argparse
 import os

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """examples/calibrate_wilting.py on two MPI ranks gives the serial result, bit for bit, with the candidates split.
 
 A tiny calibration (Resolution 6, 3 s, two fitted parameters: seconds per run): once serially (pvpython) and once as

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A text scan read by pieces and compared on every rank: 1, 2 and 4 ranks give the serial results.
 
 The scan (a cucumber blade's points moved off the leaf and perturbed, with comment lines, a header, blank lines and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvbatch under MPI: every PlantMorph source and filter gives, on 1, 2 or 4 ranks, the result of a serial run, once.
 
 Sources make their data on rank 0 (piece 0), except TreeFromSketchSource's branches and leaves, made by pieces and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """VenationFilter and WiltingSimulator on several leaves: each leaf is processed alone, on one MPI rank, and the
 results are the serial run's, bit for bit.
 

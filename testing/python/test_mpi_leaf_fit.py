@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """LeafFitFilter under MPI: each rank fits its own leaves, and the results are the serial run's, bit for bit.
 
 The shipped scans appended with a LeafId (read by pieces, each rank its byte range of each file), once as they come and once split

@@ -1,6 +1,7 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvbatch under MPI: TreeFromSketchSource made by pieces (issue 21 item 3) gives the serial tree.
 
-Each rank builds its piece of the branches (tree/tubes/BranchPieces.h); gathered, the Branches and Leaves outputs
+Each rank builds its piece of the branches (sources/tree/tubes/BranchPieces.h); gathered, the Branches and Leaves outputs
 must hold the serial run's triangles exactly once: compared as a sorted set of triangles written out by their
 corners' exact coordinates, Normals and TCoords with the cell arrays (BranchId, ParentId, Depth), so point ids and
 cell order may differ but not one bit of a triangle. The Skeleton is whole on rank 0. On 2 and 4 ranks every rank

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Every PlantMorph proxy gives a tidy Properties panel (plain python3 over the server-manager XML):
 
 - it is in the PlantMorph menu (Sources or Filters), or, for a reader, opens its files from File > Open;
@@ -17,7 +18,7 @@
 - a text property of several strings (not a list) is not shown: ParaView 5.11 gives it one text box that shows
   none of its values (use one property per string, e.g. a column menu with an ArrayListDomain).
 
-    python3 test_property_panels.py --xml-dir leaf/vtk tree/vtk ...
+    python3 test_property_panels.py --xml-dir sources/leaf/vtk sources/tree/vtk ...
 """
 import argparse
 import os

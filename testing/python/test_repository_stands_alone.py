@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The repository stands alone: no tracked file reads or names the team's workbench folder beside the clone.
 
 Everything a user needs (measured data in data/, references in docs/references.md, method notes in docs/methods/)

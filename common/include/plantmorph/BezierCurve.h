@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Bezier curves of any degree in 2-D or 3-D (paper 004 sec. 3.1: a traced stroke's smoothed centre line; the willow
 // leaf twig). Evaluation by de Casteljau's algorithm, which is numerically stable for every degree and returns the
 // first and last control points exactly at t = 0 and t = 1. Plain C++ (Eigen), no VTK.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Interpolating cubic B-spline curves in 2-D and 3-D (docs/methods/leaf-outline.md, paper 003 sec. 2.1: leaf margins
 // and midveins; also sketched strokes). The curve passes THROUGH its control points Q_0..Q_{n-1}; the B-spline's own
 // control polygon is called the de Boor points P_j here, to keep the two apart.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Curvature and torsion functions of paper 002 (eqs. (4)-(8), (10); docs/methods/leaf-outline.md), each a function of
 // arc length s on [0, S] with one peak.
 //

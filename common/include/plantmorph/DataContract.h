@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The data contract every PlantMorph source and filter shares (spec README, "The data contract between the
 // filters"): array names and Region codes. Plain C++, no VTK, so algorithm code and VTK wrappers use the same names.
 #pragma once

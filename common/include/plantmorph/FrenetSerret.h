@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Space curves from curvature and torsion: the Frenet-Serret equations in arc length (paper 002 eq. (1), with the
 // OCR's psi*beta corrected to psi*gamma, docs/methods/leaf-outline.md):
 //

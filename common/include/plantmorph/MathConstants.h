@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Mathematical constants the algorithm layers share (C++17 has no std::numbers). Plain C++, no VTK.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The parallel-loop hook of the algorithm layers: plain C++ code takes a ParallelFor and runs its loops through
 // it, so the VTK layer can hand in vtkSMPTools (or tests a thread pool) while the algorithm stays VTK-free and its
 // results do not depend on how the range is cut.

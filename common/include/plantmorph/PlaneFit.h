@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The least-squares plane of a point set: what a leaf's mesher and the venation filter use to find the plane a
 // curved or tilted blade lies in. Plain C++17 (Eigen), no VTK.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Deterministic random numbers from the one `Seed` property (spec README, "Randomness").
 //
 // A RandomStream is std::mt19937_64 seeded from (seed, stream) through SplitMix64, so independent parts of an

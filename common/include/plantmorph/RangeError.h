@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The one phrasing of a bad-parameter message, shared by every method's validators and wrappers:
 //   "<Property> = <value> is outside the accepted range <range>[ (<note>)]"
 // `range` is written as the user reads it: "[3, 256]", "(0, 1e6]", "{3, 5}". Plain C++, no VTK.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Rotation-minimising frames along a polyline (docs/methods/tree-from-sketch.md: tube rings transported without twist).
 //
 // The double reflection method of Wang, Juettler, Zheng and Liu, "Computation of rotation minimizing frames", ACM TOG

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Bounded, locale-independent scanning of decimal numbers for the plugin's text parsers (stroke files, point-cloud
 // text). Plain C++17, no VTK.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Bezier curves and the stroke control-point rule (paper 004 sec. 3.1).
 #include <plantmorph/BezierCurve.h>
 

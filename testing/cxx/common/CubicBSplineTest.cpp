@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Interpolating cubic B-splines (docs/methods/leaf-outline.md): interpolation, C2, not-a-knot ends, exact lines and
 // cubics, fourth-order convergence on a circle, derivatives, arc-length sampling, bad input, and size.
 #include <plantmorph/CubicBSpline.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Frenet-Serret integration and the curvature families of paper 002: closed forms (circle, helix), RK4's order,
 // RK45's error control, the similarity theorem and its failure for the exponential family.
 #include <plantmorph/CurvatureFamily.h>

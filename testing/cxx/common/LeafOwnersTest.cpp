@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The one leaf-owner rule of the per-leaf filters (LeafFitFilter, VenationFilter, WiltingSimulator):
 // plantmorph::LeafOwners in common/vtk/PlantMorphLeafExchange.h. A worked example (largest first, ties: the smaller
 // LeafId; each to the least loaded rank, ties: the lower rank), and on random leaf sizes for 1-5 ranks the list

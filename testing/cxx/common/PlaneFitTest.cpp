@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // PlaneFit: a tilted, noisy-free planar point set gives its own plane exactly (normal up to rounding, zero
 // deviation); a bumped set reports the bump as its largest deviation; the normal always points to +Z.
 #include <plantmorph/PlaneFit.h>

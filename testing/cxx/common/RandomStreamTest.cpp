@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // RandomStream: one seed gives the same numbers every time, streams are independent, and the distributions have
 // the right range and moments.
 #include <plantmorph/RandomStream.h>

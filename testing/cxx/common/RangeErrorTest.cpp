@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // RangeError: every bad-parameter message has the same shape, so users (and tests) can rely on it.
 #include <plantmorph/RangeError.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Rotation-minimising frames by double reflection: orthonormal, no twist on planar curves, and on a helix the
 // normal turns against the Frenet frame by -(torsion * arc length), the RMF's defining property.
 #include <plantmorph/RotationMinimizingFrames.h>

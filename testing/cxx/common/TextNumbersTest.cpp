@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // TextNumbers: the bounded number scanner agrees with strtod on ordinary numbers (bit for bit) and refuses what
 // the text parsers must refuse.
 #include <plantmorph/TextNumbers.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The VTK layer of CloudComparisonFilter: every cell layout of a measured cloud (one poly-vertex as vtkPointSource
 // makes it, one vertex per point, no cells, an unstructured grid) gives the same distances, equal to VTK's own exact
 // closest-point search (vtkStaticCellLocator) and to vtkDistancePolyDataFilter; a cloud sampled from the reference

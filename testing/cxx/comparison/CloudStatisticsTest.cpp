@@ -1,4 +1,5 @@
-// CloudStatistics (comparison/core): closed forms on small sets (mean, population std, RMS^2 = mean^2 + std^2,
+// SPDX-License-Identifier: GPL-3.0-or-later
+// CloudStatistics (filters/comparison/core): closed forms on small sets (mean, population std, RMS^2 = mean^2 + std^2,
 // numpy-type-7 percentiles), the outlier cut-off, NaN handling, and histograms that count every kept value once.
 #include "CloudStatistics.h"
 

@@ -1,4 +1,5 @@
-// PointSurfaceDistance (comparison/core): the BVH's distances equal brute force over every triangle computed by an
+// SPDX-License-Identifier: GPL-3.0-or-later
+// PointSurfaceDistance (filters/comparison/core): the BVH's distances equal brute force over every triangle computed by an
 // independent oracle (projection + clamped segments); clouds sampled from a surface are at distance 0; points moved
 // off a flat leaf blade by t are at distance t with signed distance +t / -t; signs on a closed cube and sphere
 // (corners and edges included: pseudo-normals, not the nearest face's normal); nearest neighbours in cloud mode;

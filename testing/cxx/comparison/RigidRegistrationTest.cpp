@@ -1,4 +1,5 @@
-// RigidRegistration (comparison/core): Umeyama recovers a known similarity from exact pairs; ICP recovers a known rigid
+// SPDX-License-Identifier: GPL-3.0-or-later
+// RigidRegistration (filters/comparison/core): Umeyama recovers a known similarity from exact pairs; ICP recovers a known rigid
 // transform (and a rigid transform with scale) of a cloud sampled from a curved, asymmetric leaf surface; the
 // landmark subset is reproducible from the seed; bad settings are refused. Symmetric mode (issue 19): a flat leaf
 // turned and scaled in its plane is recovered, Rigid + scale cannot collapse, a size mismatch does not make Rigid

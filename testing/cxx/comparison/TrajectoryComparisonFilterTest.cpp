@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The VTK layer of TrajectoryComparisonFilter: paper 001 Table 1 from tables (columns by name) and from point sets
 // gives 1.76, 0.69, 2.52, 1.89, 2.92 cm and 6.1 degrees in the outputs and field data; times are carried; a missing
 // column is an error naming the property and the available columns, with empty outputs. The default columns (auto)

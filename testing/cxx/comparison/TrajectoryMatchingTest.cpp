@@ -1,4 +1,5 @@
-// TrajectoryMatching (comparison/core): paper 001 Table 1 gives the per-sample distances 1.76, 0.69, 2.52, 1.89,
+// SPDX-License-Identifier: GPL-3.0-or-later
+// TrajectoryMatching (filters/comparison/core): paper 001 Table 1 gives the per-sample distances 1.76, 0.69, 2.52, 1.89,
 // 2.92 cm, the x/y/z differences the paper prints, and the 6.1 degree angle between the motion directions (the
 // paper prints 19.1; its own unit vectors give 6.1). The monotone matching is checked against brute-force
 // enumeration of every increasing assignment, and differs from closest-sample matching where it must.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Model C (B-spline leaf, paper 003): blades of every preset are manifold disks that tile their outline, the margins
 // pass through their control points, LeafUV is exact on the outline and a mean-value interpolation inside, bad
 // control points are refused with the property's name.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Model A end to end: the blade is a manifold disk that tiles the outline exactly, with LeafUV, Region and TCoords as
 // the data contract says, for every preset and both meshing modes.
 #include "DeformedRectangleLeaf.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Model A (deformed rectangle, paper 000 eq. (1)): the map, its derivatives, its inverse, and parameter checks.
 #include "DeformedRectangleModel.h"
 #include "DeformedRectanglePresets.h"

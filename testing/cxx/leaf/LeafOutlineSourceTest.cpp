@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The VTK layer: vtkLeafOutlineSource's outputs follow the data contract, pieces other than 0 stay empty, and bad
 // properties give an error naming the property, with empty outputs.
 #include "VtkErrorCatcher.h"

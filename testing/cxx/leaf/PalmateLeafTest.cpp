@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Palmate leaves (paper 002 sec. 4, Fig. 8): the lobes' union is one manifold blade that tiles its outline exactly
 // (no overlapping triangles where the lobes overlap), every lobe's midvein is a feature line from the base to its
 // tip, the leaf is mirror-symmetric, grows as an exact similarity, and bad lobe parameters are refused.

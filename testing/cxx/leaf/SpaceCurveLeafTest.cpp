@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Model B (space-curve leaf, paper 002): the strip mesh is a manifold disk, flat leaves are mirror-symmetric and
 // face +Z, growth at fixed mu is an exact similarity, the symmetry plane mirrors the margins, bad input is refused.
 #include "MeshInvariants.h"

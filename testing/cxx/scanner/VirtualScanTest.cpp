@@ -1,4 +1,5 @@
-// The virtual scanner's algorithm layer (scanner/core): the BVH against brute force, watertightness, the sphere's
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The virtual scanner's algorithm layer (filters/scanner/core): the BVH against brute force, watertightness, the sphere's
 // visible cap and its solid angle, an exact shadow, determinism per seed and thread count, bad input, the budget.
 #include "ScanPattern.h"
 #include "RayCaster.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // vtkVirtualScanner: labels carried from the hit cell, HitCellId through polygons and strips, normals facing the
 // scanner, the set-up port, and bad input (each error names its property; the outputs are empty).
 #include "vtkVirtualScanner.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The VTK layer of AdaptiveLoopFilter. The oracle: with adaptivity off (EdgeAngleThreshold 180, FlatnessThreshold 1,
 // FeatureRule Loop, boundary features only) it gives vtkLoopSubdivisionFilter's points (and interpolated point
 // data) on a closed sphere and an open leaf blade, several levels. Then: arrays, precision and field data on a

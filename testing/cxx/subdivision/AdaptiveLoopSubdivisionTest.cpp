@@ -1,4 +1,5 @@
-// AdaptiveLoopSubdivide (subdivision/core) on flat arrays: the oracle (with adaptivity off it is plain Loop subdivision,
+// SPDX-License-Identifier: GPL-3.0-or-later
+// AdaptiveLoopSubdivide (filters/subdivision/core) on flat arrays: the oracle (with adaptivity off it is plain Loop subdivision,
 // checked against a brute-force reference written here with std::map edges), conformity after random adaptive
 // levels, flat regions left alone, the Fixed rule keeping margin and midvein bit-identical, point data following the
 // position stencils, the Region rule, and the refusals (non-manifold, bad settings, budget, abort).

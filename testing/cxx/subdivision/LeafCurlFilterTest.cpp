@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The VTK layer of LeafCurlFilter: on a real LeafOutlineSource blade it moves the points exactly as the core does,
 // keeps their precision, passes every other array through (TCoords still the active texture coordinates), turns
 // the normals with the surface, and refuses bad properties or input with an error naming them and an empty output.

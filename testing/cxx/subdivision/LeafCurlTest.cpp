@@ -1,4 +1,5 @@
-// LeafCurl (subdivision/core): the longitudinal and transverse curl of paper 003 Fig. 7 on real blades from
+// SPDX-License-Identifier: GPL-3.0-or-later
+// LeafCurl (filters/subdivision/core): the longitudinal and transverse curl of paper 003 Fig. 7 on real blades from
 // LeafOutlineSource's core. Bending is isometric (edge lengths within 1%), the midvein stays put, angle 0 is the
 // identity bit for bit, 180 degrees gives half circles with the margin at 2W/pi, curls combine in the documented order,
 // relief and normals ride along the bend, and bad input is refused with the property's name.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Invariants of a flat triangle mesh, computed by brute force for the tests.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Collects the text of a VTK object's error events, so a test can assert the message a bad property produces.
 //
 //   vtkNew<ErrorCatcher> catcher;

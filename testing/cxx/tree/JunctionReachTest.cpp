@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // How far the welded junctions reach from the skeleton (issue 23 item 4; BranchJunctions.h): every point of the
 // welded surface must lie within 1.6 local radii of the skeleton, on Table 1's templates, stroke trees at every
 // StrokeSubtreeDepth, edited and merged trees, and the surface stays one closed, oriented, manifold piece per tree.

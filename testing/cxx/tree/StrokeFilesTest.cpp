@@ -1,4 +1,5 @@
-// Stroke files (tree/core/StrokeFiles.h): SVG as drawing programs write it, with exact expected points, and
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Stroke files (sources/tree/core/StrokeFiles.h): SVG as drawing programs write it, with exact expected points, and
 // hostile files refused with a clear error and no strokes.
 #include "StrokeFiles.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // vtkTreeFromSketchSource (docs/methods/tree-from-sketch.md): outputs and arrays, closed manifold branch surface,
 // strokes from the input port and a CSV file, leaf instances, one piece under MPI, determinism, errors, empty outputs.
 #include "VtkErrorCatcher.h"

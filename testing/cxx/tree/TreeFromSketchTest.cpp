@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // TreeFromSketchSource's algorithm layer (docs/methods/tree-from-sketch.md, paper 004): template counts and formulas,
 // stable ids, overrides, watertight tubes (closed, manifold, oriented, exact volumes, mitre rings on both cylinders),
 // strokes (projection, eq. (3), angle choice, attachment, ties), leaves, determinism, bad input.

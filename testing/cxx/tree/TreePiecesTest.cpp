@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A tree built by pieces (issue 21 item 3; BranchPieces.h): for 1..5 pieces, the pieces' triangles together are the
 // whole build's, each exactly once (compared as a sorted multiset of triangles written out by their corners' exact
 // coordinates, normals and TCoords, with the owning tube: point ids may differ), on a template tree and a stroke

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The merge the tree tests share: another tree's skeleton and the placement that grafts it onto this tree.
 #pragma once
 

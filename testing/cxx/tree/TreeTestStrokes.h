@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The drawn strokes the tree tests share (testing/python/tree/test_tree_from_sketch.py draws the same): a trunk and
 // three branches in the z = 0 plane, trunk first.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // vtkVenationFilter in a VTK pipeline: the veins of LeafOutlineSource's blades carry the data contract's arrays and
 // statistics, lie on the surface (flat or 3-D blades), emboss the blade when asked, repeat bit for bit, and bad
 // input gives a message and empty outputs.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Palmate (actinodromous) venation follows the blade (docs/methods/venation.md "Palmate veins by leaf growth", issue 22 item 1), on
 // the project's own blades: on entire blades the primaries fan over at least 80 degrees seen from the base; on
 // paper 002's lobed leaves one primary runs into each lobe and reaches within 3 % of the leaf length of its tip

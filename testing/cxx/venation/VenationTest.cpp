@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Venation (paper 000 sec. 3, docs/methods/venation.md) on real blades from LeafOutlineSource's models: veins stay on
 // the blade and inside its outline, the network is connected through veins of equal or lower order, growth junctions
 // keep their angles, areoles are closed and scale with AreoleSize, every pattern builds, palmate growth forks

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // NewmarkIntegrator and MassSpringSystem against closed forms (docs/methods/wilting.md) and against VegaFEM
 // 4.0's implicitNewmarkSparse on the benchmarks/wilting_plate problem.
 #include "MassSpringSystem.h"

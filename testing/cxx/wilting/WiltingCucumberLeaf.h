@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The cucumber blade of paper 001's measurement, as LeafOutlineSource builds it (B-spline Cucumber preset, 7 control
 // points per margin, quality mesh of Resolution 30), scaled to a blade length (20.1 cm: the measured leaf, 22.1 cm
 // wide), with its LeafUV and its midvein and margin Region, and the palmate veins examples/calibrate_wilting.py

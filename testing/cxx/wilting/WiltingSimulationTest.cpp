@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // WiltingSimulator's algorithm layer: voxeliser (exact triangle-box test), embedding exactness, a drooping leaf
 // with its anchors fixed, loads, determinism and bad input (docs/methods/wilting.md).
 #include "WiltingEmbedding.h"

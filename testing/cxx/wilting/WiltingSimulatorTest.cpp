@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The VTK layer of WiltingSimulator on a small triangulated plate (4 x 10 cm, LeafUV, Region, TCoords and an extra
 // array): the time steps it advertises on every port, the frame at t = 0 equal to the input with every array passed
 // through, the frame cache (other times are served without simulating again; a property change simulates again),

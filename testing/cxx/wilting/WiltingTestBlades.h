@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Flat grid blades for the wilting unit tests: one builder, the Region rule given by the test.
 #pragma once
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: the comparison filters as users build them, on the real data in data/. Leaf Cloud Reader reads a
 soybean scan (x, y, z, normals, colours, scalar) exactly as numpy reads the file, and a sugar-beet scan (x, y, z
 only); Cloud Comparison Filter on the real scan: distances to a subsampled, moved copy equal numpy's brute-force

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: LeafOutlineSource as users build it. Every preset yields a blade and an outline with the data contract's
 arrays; bad properties give an error and empty outputs."""
 from plantmorph_testing import Checks, load_plugin, parse_arguments

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: a LeafOutlineSource pipeline saved as a state file loads in a fresh pvpython with the same properties
 and bit-identical output."""
 import json

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: what a new user trips over (issue 20), each check one that failed before its fix.
 
 1. A source's optional inputs stay empty when another source is active (paraview.simple connects the active source

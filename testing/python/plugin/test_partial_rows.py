@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: a row-list property whose numbers do not fill whole rows is refused (issue 20 item 10).
 
 ParaView pushes a repeat_command property row by row and drops a partial last row before the filter sees it, so

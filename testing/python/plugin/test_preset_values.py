@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: with a named preset the panel shows what the preset chose (issue 20 item 9).
 
 VenationFilter, TreeFromSketchSource, LeafOutlineSource and WiltingSimulator grey out (not hide) the properties a named preset overrides, and show a

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: examples/scan_fitted_leaf.py, the comparison loop, runs as users run it (a fresh pvbatch) and its numbers
 are sane. LeafFitFilter fits the shipped soybean scan, VirtualScanner's line scanner scans the fitted blade at the
 scan's spacing with the fit residual as range noise, CloudComparisonFilter compares the clouds. Checked: the outputs

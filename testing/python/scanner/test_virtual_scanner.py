@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: VirtualScanner as users build it. The proxy is in the PlantMorph menu with its documented defaults; a
 leaf scanned from above and from below gives points on the blade carrying the hit cell's Region, normals facing the
 scanner and ranges equal to the distances; a tree with leaves scanned from three positions carries every cell label

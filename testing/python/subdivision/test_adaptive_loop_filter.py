@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: AdaptiveLoopFilter as users build it. LeafOutlineSource -> (Calculator bend) -> AdaptiveLoopFilter:
 the proxy's label and defaults, a flat blade left alone, uniform Loop counts (4^L), adaptive counts between, the
 data contract's arrays interpolated (LeafUV, TCoords active, Region codes, unit Normals, cell Region), the Fixed rule

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: LeafOutlineSource -> LeafCurlFilter as users run it. The proxy is in the PlantMorph menu with its
 documented defaults; the curl keeps the mesh and every array (TCoords still active), keeps the midvein, keeps edge
 lengths (longitudinal curl alone), puts the margin 2W/pi above the midvein at 180 degrees; bad values give an empty

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: the chain LeafOutlineSource -> AdaptiveLoopFilter -> LeafCurlFilter, as a user builds it (issue 4).
 Each filter has its own test; this one checks what only the chain shows:
 

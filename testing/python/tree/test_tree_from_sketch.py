@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: TreeFromSketchSource as users run it. The proxy is in the PlantMorph menu with its documented defaults;
 Table 1's presets give the closed-form branch counts with the contract arrays; strokes drawn as Poly Line sources
 and appended in order become lifted branches that project back onto them; a CSV stroke file gives the same tree;

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: LeafOutlineSource -> VenationFilter -> Tube as users build it. The proxy is in the PlantMorph menu with
 its documented defaults; every preset and pattern grows veins with the data contract's arrays and statistics; Tube
 turns them into vein tubes of their width; bad values give empty outputs; and a pipeline with custom venation

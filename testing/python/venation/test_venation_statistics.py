@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: VenationFilter's Statistics port (one row of network measures) and Areole histogram port, as users
 read them, against numbers derived without the filter's measuring code:
 

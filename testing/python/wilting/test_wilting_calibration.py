@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: the Cucumber preset's calibration against paper 001's measured tip (Table 1,
 data/cucumber-wilting-tip.csv), the table of docs/wilting-calibration.md and README.md.
 

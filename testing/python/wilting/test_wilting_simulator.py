@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: LeafOutlineSource -> WiltingSimulator as users build it: the proxy and its defaults, time steps
 advertised, frames served from the cache (scrubbing does not re-simulate), the leaf equal to the input at t = 0
 with every array kept, drooping later with the anchored voxel nodes fixed, the voxel grid and the trajectory table,

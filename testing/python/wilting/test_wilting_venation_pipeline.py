@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: LeafOutlineSource -> VenationFilter -> WiltingSimulator, the way the README's pipeline builds it: the
 blade (VenationFilter's port 1) on Input, the veins (port 0) on Veins. Checked: the proxy has the optional Veins
 input and a Veins output; at t = 0 both outputs are their inputs exactly; later the veins droop with the blade and

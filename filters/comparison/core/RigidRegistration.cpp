@@ -1,0 +1,506 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "RigidRegistration.h"
+
+#include <plantmorph/RandomStream.h>
+#include <plantmorph/RangeError.h>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <vector>
+
+namespace plantmorph
+{
+
+//------------------------------------------------------------------------------
+std::string ValidateRegistrationParameters(const RegistrationParameters& settings)
+{
+  std::ostringstream message;
+  if (settings.maximumIterations < 1 || settings.maximumIterations > 10000)
+  {
+    message << plantmorph::OutOfRange("RegistrationIterations", settings.maximumIterations, "[1, 10000]");
+  }
+  else if (!(settings.tolerance > 0.0 && settings.tolerance < 1.0))
+  {
+    message << plantmorph::OutOfRange("RegistrationTolerance", settings.tolerance, "(0, 1)");
+  }
+  else if (settings.maximumLandmarks < 3)
+  {
+    message << plantmorph::OutOfRange("RegistrationLandmarks", settings.maximumLandmarks, "[3, inf)");
+  }
+  else if (std::isnan(settings.rejectDistance))
+  {
+    message << "the registration's rejection distance is NaN";
+  }
+  return message.str();
+}
+
+//------------------------------------------------------------------------------
+bool FitSimilarity(const double* source, const double* target, std::size_t count, bool withScale, double matrix[16])
+{
+  if (count < 3)
+  {
+    return false;
+  }
+  const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> src(source, 3, static_cast<Eigen::Index>(count));
+  const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> dst(target, 3, static_cast<Eigen::Index>(count));
+  const Eigen::Vector3d mean = src.rowwise().mean();
+  if ((src.colwise() - mean).squaredNorm() <= 0.0)
+  {
+    return false;
+  }
+  const Eigen::Matrix4d m = Eigen::umeyama(src, dst, withScale);
+  if (!m.allFinite())
+  {
+    return false;
+  }
+  for (int r = 0; r < 4; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      matrix[4 * r + c] = m(r, c);
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void ApplyTransform(const double m[16], const double* in, double* out, std::size_t count)
+{
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const double x = in[3 * i];
+    const double y = in[3 * i + 1];
+    const double z = in[3 * i + 2];
+    out[3 * i] = m[0] * x + m[1] * y + m[2] * z + m[3];
+    out[3 * i + 1] = m[4] * x + m[5] * y + m[6] * z + m[7];
+    out[3 * i + 2] = m[8] * x + m[9] * y + m[10] * z + m[11];
+  }
+}
+
+namespace
+{
+/// Every k-th of `count` triples so that at most `limit` remain (all when count <= limit), in order.
+std::vector<double> Strided(const double* xyz, std::size_t count, std::size_t limit)
+{
+  const std::size_t stride = std::max<std::size_t>(1, (count + limit - 1) / std::max<std::size_t>(limit, 1));
+  std::vector<double> out;
+  for (std::size_t i = 0; i < count; i += stride)
+    out.insert(out.end(), xyz + 3 * i, xyz + 3 * i + 3);
+  return out;
+}
+
+/// The symmetric mean distance of the landmarks moved by `matrix` and the reference (see RegistrationResult).
+double SymmetricDistance(const double matrix[16], const std::vector<double>& landmarks,
+  const std::vector<double>& referencePoints, const PointSurfaceDistance& reference, const ParallelFor& parallelFor)
+{
+  const std::size_t n = landmarks.size() / 3, m = referencePoints.size() / 3;
+  std::vector<double> moved(landmarks.size()), forward(n), backward(m);
+  ApplyTransform(matrix, landmarks.data(), moved.data(), n);
+  reference.QueryMany(moved.data(), n, forward.data(), nullptr, nullptr, nullptr, parallelFor);
+  PointSurfaceDistance cloud;
+  if (!cloud.BuildCloud(moved.data(), n, parallelFor).empty())
+    return std::numeric_limits<double>::infinity();
+  cloud.QueryMany(referencePoints.data(), m, backward.data(), nullptr, nullptr, nullptr, parallelFor);
+  const double f = std::accumulate(forward.begin(), forward.end(), 0.0) / static_cast<double>(n);
+  const double b = std::accumulate(backward.begin(), backward.end(), 0.0) / static_cast<double>(m);
+  return 0.5 * (f + b);
+}
+
+/// Symmetric point-to-point ICP (RegisterPoints' symmetric mode) from the identity; fills matrix, iterations,
+/// converged, landmarks (the caller guards and finishes the result).
+void SymmetricICP(const std::vector<double>& landmarks, const std::vector<double>& referencePoints,
+  const PointSurfaceDistance& reference, const RegistrationParameters& settings, const ParallelFor& parallelFor,
+  RegistrationResult& result)
+{
+  const std::size_t n = landmarks.size() / 3, m = referencePoints.size() / 3;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    lo = lo.cwiseMin(Eigen::Vector3d(landmarks[3 * i], landmarks[3 * i + 1], landmarks[3 * i + 2]));
+    hi = hi.cwiseMax(Eigen::Vector3d(landmarks[3 * i], landmarks[3 * i + 1], landmarks[3 * i + 2]));
+  }
+  const double stepLimit = settings.tolerance * std::max((hi - lo).norm(), 1e-300);
+  std::vector<double> moved(3 * n), next(3 * n), closest(3 * n), forward(n), backward(m), source, target;
+  std::vector<std::int64_t> nearest(m);
+  double matrix[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+  for (int iteration = 1; iteration <= settings.maximumIterations; ++iteration)
+  {
+    ApplyTransform(matrix, landmarks.data(), moved.data(), n);
+    reference.QueryMany(moved.data(), n, forward.data(), nullptr, closest.data(), nullptr, parallelFor);
+    PointSurfaceDistance cloud;
+    if (!cloud.BuildCloud(moved.data(), n, parallelFor).empty())
+      break;
+    cloud.QueryMany(referencePoints.data(), m, backward.data(), nullptr, nullptr, nearest.data(), parallelFor);
+    source.clear();
+    target.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      if (settings.rejectDistance < 0.0 || forward[i] <= settings.rejectDistance)
+      {
+        source.insert(source.end(), landmarks.begin() + 3 * i, landmarks.begin() + 3 * i + 3);
+        target.insert(target.end(), closest.begin() + 3 * i, closest.begin() + 3 * i + 3);
+      }
+    for (std::size_t j = 0; j < m; ++j)
+      if (settings.rejectDistance < 0.0 || backward[j] <= settings.rejectDistance)
+      {
+        const std::size_t k = static_cast<std::size_t>(nearest[j]);
+        source.insert(source.end(), landmarks.begin() + 3 * k, landmarks.begin() + 3 * k + 3);
+        target.insert(target.end(), referencePoints.begin() + 3 * j, referencePoints.begin() + 3 * j + 3);
+      }
+    double fitted[16];
+    if (!FitSimilarity(source.data(), target.data(), source.size() / 3, settings.withScale, fitted))
+    {
+      std::ostringstream message;
+      message << "registration failed at iteration " << iteration << ": " << source.size() / 3
+              << " landmark pairs within the rejection distance (at least 3 distinct points are needed)";
+      result.error = message.str();
+      return;
+    }
+    result.iterations = iteration;
+    ApplyTransform(fitted, landmarks.data(), next.data(), n);
+    double step2 = 0.0;
+    for (std::size_t i = 0; i < 3 * n; i += 3)
+      step2 = std::max(step2,
+        (Eigen::Vector3d(next[i], next[i + 1], next[i + 2]) - Eigen::Vector3d(moved[i], moved[i + 1], moved[i + 2]))
+          .squaredNorm());
+    std::copy(fitted, fitted + 16, matrix);
+    if (std::sqrt(step2) <= stepLimit)
+    {
+      result.converged = true;
+      break;
+    }
+  }
+  std::copy(matrix, matrix + 16, result.matrix);
+}
+
+RegistrationResult RegisterOneSided(const double* points, std::size_t count, const PointSurfaceDistance& reference,
+  const RegistrationParameters& settings, const ParallelFor& parallelFor);
+} // namespace
+
+//------------------------------------------------------------------------------
+RegistrationResult RegisterPoints(const double* points, std::size_t count, const PointSurfaceDistance& reference,
+  const RegistrationParameters& settings, const ParallelFor& parallelFor)
+{
+  if (!settings.referencePoints || settings.referenceCount == 0)
+    return RegisterOneSided(points, count, reference, settings, parallelFor);
+  RegistrationResult result;
+  result.error = ValidateRegistrationParameters(settings);
+  if (result.error.empty() && reference.IsEmpty())
+    result.error = "registration: the reference is empty";
+  if (result.error.empty() && count < 3)
+    result.error = "registration needs at least 3 measured points";
+  for (std::size_t i = 0; result.error.empty() && i < 3 * count; ++i)
+    if (!std::isfinite(points[i]))
+      result.error = "registration: a measured point has a non-finite coordinate";
+  if (!result.error.empty())
+    return result;
+  const std::vector<double> landmarks = Strided(points, count, settings.maximumLandmarks);
+  const std::vector<double> referencePoints =
+    Strided(settings.referencePoints, settings.referenceCount, settings.maximumLandmarks);
+  result.landmarks = landmarks.size() / 3;
+  SymmetricICP(landmarks, referencePoints, reference, settings, parallelFor, result);
+  if (!result.error.empty())
+    return result;
+  // Polish: rigid point-to-plane ICP from there (fast, exact where the surfaces match; the scale stays), kept only
+  // if the symmetric distance does not grow (point-to-plane alone may slide a mismatched leaf along itself).
+  {
+    std::vector<double> moved(landmarks.size());
+    ApplyTransform(result.matrix, landmarks.data(), moved.data(), result.landmarks);
+    RegistrationParameters rigid = settings;
+    rigid.withScale = false;
+    const RegistrationResult polish = RegisterOneSided(moved.data(), result.landmarks, reference, rigid, parallelFor);
+    if (polish.error.empty())
+    {
+      const Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> a(result.matrix), b(polish.matrix);
+      double composed[16];
+      Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> product(composed);
+      product = b * a;
+      if (SymmetricDistance(composed, landmarks, referencePoints, reference, parallelFor) <=
+        SymmetricDistance(result.matrix, landmarks, referencePoints, reference, parallelFor))
+      {
+        std::copy(composed, composed + 16, result.matrix);
+        result.iterations += polish.iterations;
+        result.converged = result.converged || polish.converged;
+      }
+    }
+  }
+  const double identity[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+  result.symmetricBefore = SymmetricDistance(identity, landmarks, referencePoints, reference, parallelFor);
+  result.symmetricAfter = SymmetricDistance(result.matrix, landmarks, referencePoints, reference, parallelFor);
+  if (!(result.symmetricAfter <= result.symmetricBefore))
+  {
+    std::ostringstream message;
+    message << "registration made the fit worse (symmetric mean distance " << result.symmetricAfter << " instead of "
+            << result.symmetricBefore << " without it): the measured points are left unregistered";
+    result.warning = message.str();
+    result.worse = true;
+    std::copy(identity, identity + 16, result.matrix);
+  }
+  Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> m(result.matrix);
+  if (!settings.withScale && !result.worse)
+  {
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m.topLeftCorner<3, 3>(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+    m.topLeftCorner<3, 3>() = svd.matrixU() * svd.matrixV().transpose();
+  }
+  result.scale = std::cbrt(m.topLeftCorner<3, 3>().determinant());
+  std::vector<double> moved(landmarks.size()), distance(result.landmarks);
+  ApplyTransform(result.matrix, landmarks.data(), moved.data(), result.landmarks);
+  reference.QueryMany(moved.data(), result.landmarks, distance.data(), nullptr, nullptr, nullptr, parallelFor);
+  double sum = 0.0;
+  std::size_t kept = 0;
+  for (double d : distance)
+    if (settings.rejectDistance < 0.0 || d <= settings.rejectDistance)
+    {
+      sum += d * d;
+      ++kept;
+    }
+  result.rms = kept ? std::sqrt(sum / static_cast<double>(kept)) : 0.0;
+  return result;
+}
+
+namespace
+{
+//------------------------------------------------------------------------------
+/// RegisterOneSided's landmarks: all points, or a seeded random subset (partial Fisher-Yates), kept in input order,
+/// copied to `original`; `stepLimit` is the tolerance times their bounding-box diagonal. The error or "".
+std::string ChooseLandmarks(const double* points, std::size_t count, const RegistrationParameters& settings,
+  std::vector<double>& original, double& stepLimit)
+{
+  std::vector<std::size_t> chosen;
+  if (count <= settings.maximumLandmarks)
+  {
+    chosen.resize(count);
+    std::iota(chosen.begin(), chosen.end(), std::size_t{ 0 });
+  }
+  else
+  {
+    std::vector<std::size_t> all(count);
+    std::iota(all.begin(), all.end(), std::size_t{ 0 });
+    RandomStream random(settings.seed, 0x1C9);
+    for (std::size_t i = 0; i < settings.maximumLandmarks; ++i)
+    {
+      const auto j =
+        static_cast<std::size_t>(random.Integer(static_cast<std::int64_t>(i), static_cast<std::int64_t>(count - 1)));
+      std::swap(all[i], all[j]);
+    }
+    chosen.assign(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(settings.maximumLandmarks));
+    std::sort(chosen.begin(), chosen.end());
+  }
+  const std::size_t n = chosen.size();
+  original.assign(3 * n, 0.0);
+  double lo[3] = { points[3 * chosen[0]], points[3 * chosen[0] + 1], points[3 * chosen[0] + 2] };
+  double hi[3] = { lo[0], lo[1], lo[2] };
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const double x = points[3 * chosen[i] + k];
+      if (!std::isfinite(x))
+      {
+        return "registration: a measured point has a non-finite coordinate";
+      }
+      original[3 * i + k] = x;
+      lo[k] = std::min(lo[k], x);
+      hi[k] = std::max(hi[k], x);
+    }
+  }
+  const double diagonal = std::sqrt(
+    (hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  stepLimit = settings.tolerance * std::max(diagonal, 1e-300);
+  return {};
+}
+
+/// One point-to-plane ICP step: the linearised motion about the moved landmarks' centroid g,
+///   x' = g + (1 + s) R(w) (x - g) + t,  residual n . (x' - c), unknowns (w, t[, s]),
+/// composed with `matrix` into `fitted`. False when fewer than 3 pairs are kept or the step is not usable.
+bool PointToPlaneStep(const std::vector<double>& moved, const std::vector<double>& closest,
+  const std::vector<double>& distance, const std::vector<std::int64_t>& primitive,
+  const PointSurfaceDistance& reference, const RegistrationParameters& settings, const double matrix[16],
+  double fitted[16], std::size_t& pairs)
+{
+  const std::size_t n = distance.size();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    g += Eigen::Vector3d(moved[3 * i], moved[3 * i + 1], moved[3 * i + 2]);
+  }
+  g /= static_cast<double>(n);
+  Eigen::Matrix<double, 7, 7> a = Eigen::Matrix<double, 7, 7>::Zero();
+  Eigen::Matrix<double, 7, 1> b = Eigen::Matrix<double, 7, 1>::Zero();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (settings.rejectDistance >= 0.0 && distance[i] > settings.rejectDistance)
+    {
+      continue;
+    }
+    double normal[3];
+    reference.GetTriangleNormal(primitive[i], normal);
+    const Eigen::Vector3d nn(normal[0], normal[1], normal[2]);
+    const Eigen::Vector3d x = Eigen::Vector3d(moved[3 * i], moved[3 * i + 1], moved[3 * i + 2]) - g;
+    const Eigen::Vector3d c = Eigen::Vector3d(closest[3 * i], closest[3 * i + 1], closest[3 * i + 2]) - g;
+    Eigen::Matrix<double, 7, 1> j;
+    j << x.cross(nn), nn, settings.withScale ? nn.dot(x) : 0.0;
+    const double r = nn.dot(x - c);
+    a += j * j.transpose();
+    b -= j * r;
+    ++pairs;
+  }
+  if (pairs < 3)
+  {
+    return false;
+  }
+  // A tiny ridge keeps directions the surface does not constrain (sliding on a plane) at zero.
+  const double ridge = 1e-12 * std::max(a.trace(), 1e-300);
+  for (int k = 0; k < 7; ++k)
+  {
+    a(k, k) += ridge;
+  }
+  const Eigen::Matrix<double, 7, 1> step = a.ldlt().solve(b);
+  if (!step.allFinite())
+  {
+    return false;
+  }
+  const Eigen::Vector3d w = step.head<3>();
+  const double angle = w.norm();
+  const Eigen::Matrix3d rotation =
+    angle > 0.0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  const double s = settings.withScale ? 1.0 + step(6) : 1.0;
+  Eigen::Matrix4d delta = Eigen::Matrix4d::Identity();
+  delta.topLeftCorner<3, 3>() = s * rotation;
+  delta.topRightCorner<3, 1>() = g - s * rotation * g + step.segment<3>(3);
+  const Eigen::Matrix4d current = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(matrix);
+  Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> composed(fitted);
+  composed = delta * current;
+  return s > 0.0;
+}
+
+/// One point-to-point ICP step: the closed-form similarity between the original landmarks and their closest
+/// reference points (pairs beyond the rejection distance left out), into `fitted`.
+bool PointToPointStep(const std::vector<double>& original, const std::vector<double>& closest,
+  const std::vector<double>& distance, const RegistrationParameters& settings, double fitted[16], std::size_t& pairs)
+{
+  std::vector<double> fitSource, fitTarget;
+  for (std::size_t i = 0; i < distance.size(); ++i)
+  {
+    if (settings.rejectDistance >= 0.0 && distance[i] > settings.rejectDistance)
+    {
+      continue;
+    }
+    fitSource.insert(fitSource.end(), original.begin() + 3 * i, original.begin() + 3 * i + 3);
+    fitTarget.insert(fitTarget.end(), closest.begin() + 3 * i, closest.begin() + 3 * i + 3);
+  }
+  pairs = fitSource.size() / 3;
+  return FitSimilarity(fitSource.data(), fitTarget.data(), pairs, settings.withScale, fitted);
+}
+
+/// The end of RegisterOneSided: the rotation re-orthonormalised in rigid mode, the scale, and the RMS of the kept
+/// pairs under the final transform.
+void FinishOneSided(const std::vector<double>& original, const PointSurfaceDistance& reference,
+  const RegistrationParameters& settings, const ParallelFor& parallelFor, double matrix[16], RegistrationResult& result)
+{
+  const std::size_t n = original.size() / 3;
+  if (!settings.withScale)
+  {
+    // Re-orthonormalise the composed rotation (rounding of many compositions), keeping the translation.
+    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> m(matrix);
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m.topLeftCorner<3, 3>(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+    m.topLeftCorner<3, 3>() = svd.matrixU() * svd.matrixV().transpose();
+  }
+  std::copy(matrix, matrix + 16, result.matrix);
+  result.scale = std::cbrt(
+    Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(matrix).topLeftCorner<3, 3>().determinant());
+  std::vector<double> moved(3 * n), distance(n);
+  ApplyTransform(matrix, original.data(), moved.data(), n);
+  reference.QueryMany(moved.data(), n, distance.data(), nullptr, nullptr, nullptr, parallelFor);
+  double sum = 0.0;
+  std::size_t kept = 0;
+  for (double d : distance)
+  {
+    if (settings.rejectDistance < 0.0 || d <= settings.rejectDistance)
+    {
+      sum += d * d;
+      ++kept;
+    }
+  }
+  result.rms = kept ? std::sqrt(sum / static_cast<double>(kept)) : 0.0;
+}
+
+//------------------------------------------------------------------------------
+RegistrationResult RegisterOneSided(const double* points, std::size_t count, const PointSurfaceDistance& reference,
+  const RegistrationParameters& settings, const ParallelFor& parallelFor)
+{
+  RegistrationResult result;
+  result.error = ValidateRegistrationParameters(settings);
+  if (!result.error.empty())
+  {
+    return result;
+  }
+  if (reference.IsEmpty())
+  {
+    result.error = "registration: the reference is empty";
+    return result;
+  }
+  if (count < 3)
+  {
+    result.error = "registration needs at least 3 measured points";
+    return result;
+  }
+  std::vector<double> original;
+  double stepLimit = 0.0;
+  result.landmarks = std::min(count, settings.maximumLandmarks);
+  result.error = ChooseLandmarks(points, count, settings, original, stepLimit);
+  if (!result.error.empty())
+  {
+    return result;
+  }
+  const std::size_t n = original.size() / 3;
+  std::vector<double> moved(3 * n), closest(3 * n), distance(n), next(3 * n);
+  std::vector<std::int64_t> primitive(n);
+  double matrix[16];
+  std::copy(result.matrix, result.matrix + 16, matrix);
+  const bool pointToPlane = reference.IsSurface();
+  for (int iteration = 1; iteration <= settings.maximumIterations; ++iteration)
+  {
+    ApplyTransform(matrix, original.data(), moved.data(), n);
+    reference.QueryMany(moved.data(), n, distance.data(), nullptr, closest.data(), primitive.data(), parallelFor);
+    double fitted[16];
+    std::size_t pairs = 0;
+    const bool solved = pointToPlane
+      ? PointToPlaneStep(moved, closest, distance, primitive, reference, settings, matrix, fitted, pairs)
+      : PointToPointStep(original, closest, distance, settings, fitted, pairs);
+    if (!solved)
+    {
+      std::ostringstream message;
+      message << "registration failed at iteration " << iteration << ": " << pairs
+              << " landmark pairs within the rejection distance (at least 3 distinct points are needed)";
+      result.error = message.str();
+      return result;
+    }
+    result.iterations = iteration;
+    ApplyTransform(fitted, original.data(), next.data(), n);
+    double step2 = 0.0;
+    for (std::size_t i = 0; i < 3 * n; i += 3)
+    {
+      const double dx = next[i] - moved[i];
+      const double dy = next[i + 1] - moved[i + 1];
+      const double dz = next[i + 2] - moved[i + 2];
+      step2 = std::max(step2, dx * dx + dy * dy + dz * dz);
+    }
+    std::copy(fitted, fitted + 16, matrix);
+    if (std::sqrt(step2) <= stepLimit)
+    {
+      result.converged = true;
+      break;
+    }
+  }
+  FinishOneSided(original, reference, settings, parallelFor, matrix, result);
+  return result;
+}
+} // namespace
+
+} // namespace plantmorph

@@ -1,0 +1,779 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkCloudComparisonFilter.h"
+#include "PlantMorphAlgorithmHooks.h"
+
+#include "PlantMorphFieldData.h"
+#include "PlantMorphWholeInput.h"
+#include "CloudComparisonExchange.h"
+#include "CloudStatistics.h"
+#include "PointSurfaceDistance.h"
+#include "RigidRegistration.h"
+
+#include <plantmorph/RangeError.h>
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellType.h"
+#include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolygon.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTable.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using plantmorph::AddFieldValue;
+
+vtkStandardNewMacro(vtkCloudComparisonFilter);
+
+namespace
+{
+/// The points of a point set as flat doubles (read in parallel; GetPoint into a local buffer is thread-safe).
+std::vector<double> FlatPoints(vtkPointSet* data)
+{
+  const vtkIdType n = data->GetNumberOfPoints();
+  std::vector<double> xyz(3 * static_cast<std::size_t>(n));
+  vtkPoints* points = data->GetPoints();
+  if (n == 0 || !points)
+  {
+    return xyz;
+  }
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      points->GetPoint(i, xyz.data() + 3 * i);
+    }
+  });
+  return xyz;
+}
+
+/// Appends the triangles of one polygon (n >= 3 point ids): fan for triangles and quads, ear cutting above.
+void AppendPolygon(vtkIdType n, const vtkIdType* ids, vtkPoints* points, vtkPolygon* polygon, vtkIdList* triangleIds,
+  vtkPoints* scratch, std::vector<std::int64_t>& triangles)
+{
+  if (n < 3)
+  {
+    return;
+  }
+  if (n <= 4)
+  {
+    for (vtkIdType k = 1; k + 1 < n; ++k)
+    {
+      triangles.insert(triangles.end(), { ids[0], ids[k], ids[k + 1] });
+    }
+    return;
+  }
+  polygon->PointIds->SetNumberOfIds(n);
+  polygon->Points->SetNumberOfPoints(n);
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    polygon->PointIds->SetId(k, ids[k]);
+    polygon->Points->SetPoint(k, points->GetPoint(ids[k]));
+  }
+  triangleIds->Reset();
+  if (polygon->Triangulate(0, triangleIds, scratch) && triangleIds->GetNumberOfIds() >= 3)
+  {
+    for (vtkIdType k = 0; k + 2 < triangleIds->GetNumberOfIds(); k += 3)
+    {
+      triangles.insert(
+        triangles.end(), { triangleIds->GetId(k), triangleIds->GetId(k + 1), triangleIds->GetId(k + 2) });
+    }
+    return;
+  }
+  for (vtkIdType k = 1; k + 1 < n; ++k) // degenerate polygon: a fan still covers it
+  {
+    triangles.insert(triangles.end(), { ids[0], ids[k], ids[k + 1] });
+  }
+}
+
+void AppendStrip(vtkIdType n, const vtkIdType* ids, std::vector<std::int64_t>& triangles)
+{
+  for (vtkIdType k = 0; k + 2 < n; ++k)
+  {
+    if (k % 2 == 0)
+    {
+      triangles.insert(triangles.end(), { ids[k], ids[k + 1], ids[k + 2] });
+    }
+    else
+    {
+      triangles.insert(triangles.end(), { ids[k + 1], ids[k], ids[k + 2] });
+    }
+  }
+}
+
+/// The 2-D cells of a point set as triangles (empty: treat it as a point cloud).
+std::vector<std::int64_t> Triangles(vtkPointSet* data)
+{
+  std::vector<std::int64_t> triangles;
+  vtkNew<vtkPolygon> polygon;
+  vtkNew<vtkIdList> triangleIds;
+  vtkNew<vtkPoints> scratch;
+  vtkPoints* points = data->GetPoints();
+  if (auto* poly = vtkPolyData::SafeDownCast(data))
+  {
+    if (poly->GetPolys())
+    {
+      triangles.reserve(3 * static_cast<std::size_t>(poly->GetNumberOfPolys()));
+      auto it = vtk::TakeSmartPointer(poly->GetPolys()->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdType n = 0;
+        const vtkIdType* ids = nullptr;
+        it->GetCurrentCell(n, ids);
+        AppendPolygon(n, ids, points, polygon, triangleIds, scratch, triangles);
+      }
+    }
+    if (poly->GetStrips())
+    {
+      auto it = vtk::TakeSmartPointer(poly->GetStrips()->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdType n = 0;
+        const vtkIdType* ids = nullptr;
+        it->GetCurrentCell(n, ids);
+        AppendStrip(n, ids, triangles);
+      }
+    }
+    return triangles;
+  }
+  vtkNew<vtkIdList> cellIds;
+  for (vtkIdType c = 0; c < data->GetNumberOfCells(); ++c)
+  {
+    const int type = data->GetCellType(c);
+    if (type != VTK_TRIANGLE && type != VTK_QUAD && type != VTK_POLYGON && type != VTK_TRIANGLE_STRIP &&
+      type != VTK_PIXEL)
+    {
+      continue;
+    }
+    data->GetCellPoints(c, cellIds);
+    const vtkIdType n = cellIds->GetNumberOfIds();
+    const vtkIdType* ids = cellIds->GetPointer(0);
+    if (type == VTK_TRIANGLE_STRIP)
+    {
+      AppendStrip(n, ids, triangles);
+    }
+    else if (type == VTK_PIXEL && n == 4)
+    {
+      const vtkIdType quad[4] = { ids[0], ids[1], ids[3], ids[2] };
+      AppendPolygon(4, quad, points, polygon, triangleIds, scratch, triangles);
+    }
+    else
+    {
+      AppendPolygon(n, ids, points, polygon, triangleIds, scratch, triangles);
+    }
+  }
+  return triangles;
+}
+
+void AddColumn(vtkTable* table, vtkFieldData* fd, const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> column;
+  column->SetName(name);
+  column->SetNumberOfTuples(1);
+  column->SetValue(0, value);
+  table->AddColumn(column);
+  if (fd)
+  {
+    AddFieldValue(fd, name, value);
+  }
+}
+
+/// vtkSMPTools over blocks of at least 2048 points (a query is cheap: smaller blocks cost more than they balance).
+plantmorph::ParallelFor BlockSMPFor()
+{
+  return plantmorph::SMPFor(2048);
+}
+
+/// Builds the distance structure over a point set (its pointCount points as flat doubles in xyz): a surface if it
+/// has 2-D cells, else its points.
+std::string BuildStructure(
+  vtkPointSet* data, const double* xyz, std::size_t pointCount, plantmorph::PointSurfaceDistance& out)
+{
+  const std::vector<std::int64_t> triangles = Triangles(data);
+  if (!triangles.empty())
+  {
+    return out.BuildSurface(xyz, pointCount, triangles.data(), triangles.size() / 3, BlockSMPFor());
+  }
+  return out.BuildCloud(xyz, pointCount, BlockSMPFor());
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkCloudComparisonFilter::vtkCloudComparisonFilter()
+{
+  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfOutputPorts(3);
+}
+
+//------------------------------------------------------------------------------
+void vtkCloudComparisonFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Scale: " << this->Scale << "\n";
+  os << indent << "Registration: " << this->Registration << "\n";
+  os << indent << "RegistrationIterations: " << this->RegistrationIterations << "\n";
+  os << indent << "RegistrationTolerance: " << this->RegistrationTolerance << "\n";
+  os << indent << "RegistrationLandmarks: " << this->RegistrationLandmarks << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "UseMaximumDistance: " << this->UseMaximumDistance << "\n";
+  os << indent << "MaximumDistance: " << this->MaximumDistance << "\n";
+  os << indent << "Symmetric: " << this->Symmetric << "\n";
+  os << indent << "HistogramBins: " << this->HistogramBins << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}
+
+//------------------------------------------------------------------------------
+int vtkCloudComparisonFilter::FillInputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  (void)port;
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkCloudComparisonFilter::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkPolyData" : "vtkTable");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkCloudComparisonFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPointSet* measured = vtkPointSet::GetData(inputVector[0], 0);
+  vtkPointSet* reference = vtkPointSet::GetData(inputVector[1], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkTable* histogram = vtkTable::GetData(outputVector, 1);
+  vtkTable* statistics = vtkTable::GetData(outputVector, 2);
+  output->Initialize();
+  histogram->Initialize();
+  statistics->Initialize();
+  if (!measured)
+  {
+    return 1;
+  }
+  if (this->NumberOfThreads < 0 || this->NumberOfThreads > 256)
+  {
+    vtkErrorMacro(<< plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
+    return 1;
+  }
+  // Under MPI the measured points stay on their ranks, each rank comparing its own; the reference (small) is
+  // gathered and broadcast, so every rank holds it whole (CloudComparisonExchange.h).
+  const vtkSmartPointer<vtkPointSet> wholeReference =
+    plantmorph::cloudmpi::Replicate(plantmorph::cloudmpi::Parallel(), reference);
+  reference = wholeReference.Get();
+  const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
+  const std::string backend = (current == "Sequential" && this->NumberOfThreads != 1) ? "STDThread" : current;
+  int status = 1;
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ this->NumberOfThreads, backend, false },
+    [&]() { status = this->Execute(measured, reference, output, histogram, statistics); });
+  if (status != 1)
+  {
+    output->Initialize(); // never half an output
+    histogram->Initialize();
+    statistics->Initialize();
+  }
+  return 1;
+}
+
+namespace
+{
+/// Step 1 of Execute: the properties that must hold before anything is computed, and the registration settings
+/// they give. The message naming the first bad property, or "".
+std::string CheckProperties(vtkCloudComparisonFilter* self, plantmorph::RegistrationParameters& registration)
+{
+  using namespace plantmorph;
+  std::ostringstream m;
+  const double scale = self->GetScale(), maximumDistance = self->GetMaximumDistance();
+  const int mode = self->GetRegistration(), landmarks = self->GetRegistrationLandmarks();
+  if (!std::isfinite(scale) || scale <= 0.0)
+  {
+    m << OutOfRange("Scale", scale, "(0, inf)", "e.g. 0.1 for a scan in mm against a model in cm");
+    return m.str();
+  }
+  if (self->GetUseMaximumDistance() && (!std::isfinite(maximumDistance) || maximumDistance < 0.0))
+  {
+    m << OutOfRange("MaximumDistance", maximumDistance, "[0, inf)");
+    return m.str();
+  }
+  if (self->GetHistogramBins() < 1 || self->GetHistogramBins() > 100000)
+  {
+    m << OutOfRange("HistogramBins", self->GetHistogramBins(), "[1, 100000]");
+    return m.str();
+  }
+  if (mode < vtkCloudComparisonFilter::REGISTRATION_NONE || mode > vtkCloudComparisonFilter::REGISTRATION_RIGID_SCALE)
+  {
+    m << OutOfRange("Registration", mode, "{0, 1, 2}", "0 none, 1 rigid, 2 rigid + uniform scale");
+    return m.str();
+  }
+  registration.withScale = mode == vtkCloudComparisonFilter::REGISTRATION_RIGID_SCALE;
+  registration.maximumIterations = self->GetRegistrationIterations();
+  registration.tolerance = self->GetRegistrationTolerance();
+  registration.maximumLandmarks = landmarks < 3 || landmarks > 100000000 ? 0 : landmarks;
+  registration.rejectDistance = self->GetUseMaximumDistance() ? maximumDistance : -1.0;
+  // Seed is ignored: the filter's registration is always the symmetric one, which subsamples by stride.
+  if (mode != vtkCloudComparisonFilter::REGISTRATION_NONE)
+  {
+    if (registration.maximumLandmarks == 0)
+    {
+      m << OutOfRange("RegistrationLandmarks", landmarks, "[3, 100000000]");
+      return m.str();
+    }
+    return ValidateRegistrationParameters(registration);
+  }
+  return {};
+}
+
+/// Step 2: the measured points, scaled, as flat doubles in `xyz`; every coordinate must be finite. When nothing
+/// moves them (Scale 1, no registration) and the input holds them as contiguous doubles, its own array is read in
+/// place; else a copy (24 bytes a point, a sixth of the filter's peak memory on 10^6 points) is made in `moved`
+/// and scaled. `transform` gets the scale.
+std::string ReadMeasured(vtkPointSet* measured, double scale, bool registering, std::vector<double>& moved,
+  const double*& xyz, double transform[16])
+{
+  const vtkIdType count = measured->GetNumberOfPoints();
+  auto* inputDoubles = measured->GetPoints()
+    ? vtkArrayDownCast<vtkAOSDataArrayTemplate<double>>(measured->GetPoints()->GetData())
+    : nullptr; // an MPI rank's empty piece
+  if (inputDoubles && inputDoubles->GetNumberOfComponents() == 3 && scale == 1.0 && !registering)
+  {
+    xyz = inputDoubles->GetPointer(0);
+  }
+  else
+  {
+    moved = FlatPoints(measured);
+    xyz = moved.data();
+  }
+  for (std::size_t i = 0; i < 3 * static_cast<std::size_t>(count); ++i)
+  {
+    if (!std::isfinite(xyz[i]))
+    {
+      std::ostringstream m;
+      m << "the Measured input's point " << i / 3 << " has a non-finite coordinate (NaN or infinite)";
+      return m.str();
+    }
+  }
+  const double scaling[16] = { scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, 1 };
+  std::copy(scaling, scaling + 16, transform);
+  if (scale != 1.0)
+  {
+    plantmorph::ApplyTransform(transform, moved.data(), moved.data(), static_cast<std::size_t>(count));
+  }
+  return {};
+}
+
+/// Step 3: symmetric, guarded registration of the measured points (`moved`, in place) onto the reference; the
+/// registration's matrix is composed into `transform`. The error message or "".
+/// The registration is fitted to `landmarks` (`landmarkCount` points: the measured points themselves when serial,
+/// under MPI every rank's strided landmarks gathered, which RegisterPoints takes whole as it would have taken them
+/// from all the points), then applied to this rank's `moved`.
+std::string RegisterMeasured(plantmorph::RegistrationParameters registration, const std::vector<double>& referenceXYZ,
+  const plantmorph::PointSurfaceDistance& referenceDistance, const plantmorph::ParallelFor& parallelFor,
+  const double* landmarks, std::size_t landmarkCount, std::vector<double>& moved, double transform[16],
+  plantmorph::RegistrationResult& registered)
+{
+  using namespace plantmorph;
+  const std::size_t count = moved.size() / 3;
+  // Symmetric and guarded: the reference's points take part (no collapse, in-plane sliding seen by the outline),
+  // and a registration that fits worse than none is not used.
+  registration.referencePoints = referenceXYZ.data();
+  registration.referenceCount = referenceXYZ.size() / 3;
+  registered = RegisterPoints(landmarks, landmarkCount, referenceDistance, registration, parallelFor);
+  if (!registered.error.empty())
+  {
+    return registered.error;
+  }
+  ApplyTransform(registered.matrix, moved.data(), moved.data(), count);
+  double total[16];
+  for (int r = 0; r < 4; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      total[4 * r + c] = 0.0;
+      for (int k = 0; k < 4; ++k)
+      {
+        total[4 * r + c] += registered.matrix[4 * r + k] * transform[4 * k + c];
+      }
+    }
+  }
+  std::copy(total, total + 16, transform);
+  return {};
+}
+
+/// Step 5, output 0: the measured points (moved when scaled or registered: `moved`), one vertex each when the
+/// input has no cells, with the distance arrays (`signedDistance` when the reference is a surface) and, with a
+/// maximum distance, Outlier.
+void FillPoints(vtkPointSet* measured, const std::vector<double>& moved, bool movedPoints, vtkDoubleArray* distance,
+  vtkDoubleArray* signedDistance, vtkDoubleArray* closest, double maximumDistance, bool useMaximumDistance,
+  vtkPolyData* output)
+{
+  const vtkIdType count = measured->GetNumberOfPoints();
+  if (auto* poly = vtkPolyData::SafeDownCast(measured))
+  {
+    output->ShallowCopy(poly);
+  }
+  else
+  {
+    output->SetPoints(measured->GetPoints());
+    output->GetPointData()->ShallowCopy(measured->GetPointData());
+    output->GetFieldData()->ShallowCopy(measured->GetFieldData());
+  }
+  if (output->GetNumberOfCells() == 0)
+  {
+    vtkNew<vtkIdTypeArray> offsets;
+    vtkNew<vtkIdTypeArray> connectivity;
+    offsets->SetNumberOfTuples(count + 1);
+    connectivity->SetNumberOfTuples(count);
+    vtkSMPTools::For(0, count + 1, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        offsets->SetValue(i, i);
+        if (i < count)
+        {
+          connectivity->SetValue(i, i);
+        }
+      }
+    });
+    vtkNew<vtkCellArray> verts;
+    verts->SetData(offsets, connectivity);
+    output->SetVerts(verts);
+  }
+  if (movedPoints)
+  {
+    vtkNew<vtkDoubleArray> coordinates;
+    coordinates->SetNumberOfComponents(3);
+    coordinates->SetNumberOfTuples(count);
+    std::copy(moved.begin(), moved.end(), coordinates->GetPointer(0));
+    vtkNew<vtkPoints> points;
+    points->SetData(coordinates);
+    output->SetPoints(points);
+  }
+  vtkPointData* pd = output->GetPointData();
+  pd->AddArray(distance);
+  pd->SetActiveScalars("Distance");
+  if (signedDistance)
+  {
+    pd->AddArray(signedDistance);
+  }
+  else
+  {
+    pd->RemoveArray("SignedDistance"); // a stale one from an earlier comparison would mislead
+  }
+  pd->AddArray(closest);
+  if (useMaximumDistance)
+  {
+    vtkNew<vtkUnsignedCharArray> outlier;
+    outlier->SetName("Outlier");
+    outlier->SetNumberOfTuples(count);
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      outlier->SetValue(i, distance->GetValue(i) > maximumDistance ? 1 : 0);
+    }
+    pd->AddArray(outlier);
+  }
+  else
+  {
+    pd->RemoveArray("Outlier");
+  }
+}
+
+/// Field data of output 0: the total transform and, when registering, the registration's numbers.
+void FillTransform(const double transform[16], const plantmorph::RegistrationResult* registered, vtkFieldData* fd)
+{
+  vtkNew<vtkDoubleArray> matrix;
+  matrix->SetName("PlantMorph.MeasuredTransform");
+  matrix->SetNumberOfComponents(16);
+  matrix->SetNumberOfTuples(1);
+  matrix->SetTypedTuple(0, transform);
+  fd->AddArray(matrix);
+  if (registered)
+  {
+    AddFieldValue(fd, "PlantMorph.RegistrationScale", registered->scale);
+    AddFieldValue(fd, "PlantMorph.RegistrationIterations", registered->iterations);
+    AddFieldValue(fd, "PlantMorph.RegistrationConverged", registered->converged ? 1.0 : 0.0);
+    AddFieldValue(fd, "PlantMorph.RegistrationRMS", registered->rms);
+    AddFieldValue(fd, "PlantMorph.RegistrationSymmetricBefore", registered->symmetricBefore);
+    AddFieldValue(fd, "PlantMorph.RegistrationSymmetricAfter", registered->symmetricAfter);
+    AddFieldValue(fd, "PlantMorph.RegistrationRejected", registered->worse ? 1.0 : 0.0);
+  }
+}
+
+/// Output 2 (and field data): statistics of the distances, and of the reverse ones when `reverse` is given.
+void FillStatistics(const plantmorph::DistanceStatistics& s, double cutOff, bool surface,
+  const std::vector<double>* reverse, vtkTable* statistics, vtkFieldData* fd)
+{
+  using namespace plantmorph;
+  AddColumn(statistics, fd, "Count", static_cast<double>(s.count));
+  AddColumn(statistics, fd, "Outliers", static_cast<double>(s.outliers));
+  AddColumn(statistics, fd, "Minimum", s.minimum);
+  AddColumn(statistics, fd, "Maximum", s.maximum);
+  AddColumn(statistics, fd, "Mean", s.mean);
+  AddColumn(statistics, fd, "StandardDeviation", s.standardDeviation);
+  AddColumn(statistics, fd, "RMS", s.rms);
+  AddColumn(statistics, fd, "Percentile50", s.p50);
+  AddColumn(statistics, fd, "Percentile68", s.p68);
+  AddColumn(statistics, fd, "Percentile75", s.p75);
+  AddColumn(statistics, fd, "Percentile95", s.p95);
+  AddColumn(statistics, fd, "Percentile99", s.p99);
+  AddColumn(statistics, fd, "Hausdorff", s.maximum);
+  AddColumn(statistics, fd, "ReferenceIsSurface", surface ? 1.0 : 0.0);
+  if (reverse)
+  {
+    const DistanceStatistics r = ComputeDistanceStatistics(reverse->data(), reverse->size(), cutOff);
+    AddColumn(statistics, fd, "ReverseCount", static_cast<double>(r.count));
+    AddColumn(statistics, fd, "ReverseMean", r.mean);
+    AddColumn(statistics, fd, "ReverseHausdorff", r.maximum);
+    AddColumn(statistics, fd, "SymmetricHausdorff", std::max(s.maximum, r.maximum));
+    AddColumn(statistics, fd, "Chamfer", 0.5 * (s.mean + r.mean));
+  }
+}
+
+/// Output 1: the histogram of the distances (`counted`: the statistics' count, for the fractions).
+void FillHistogram(const plantmorph::DistanceHistogram& h, std::size_t counted, vtkTable* histogram)
+{
+  const vtkIdType n = static_cast<vtkIdType>(h.count.size());
+  vtkNew<vtkDoubleArray> centers;
+  centers->SetName("bin_extents");
+  vtkNew<vtkIdTypeArray> values;
+  values->SetName("bin_values");
+  vtkNew<vtkDoubleArray> starts;
+  starts->SetName("BinStart");
+  vtkNew<vtkDoubleArray> ends;
+  ends->SetName("BinEnd");
+  vtkNew<vtkDoubleArray> fraction;
+  fraction->SetName("Fraction");
+  for (vtkDataArray* a : { static_cast<vtkDataArray*>(centers), static_cast<vtkDataArray*>(values),
+         static_cast<vtkDataArray*>(starts), static_cast<vtkDataArray*>(ends), static_cast<vtkDataArray*>(fraction) })
+  {
+    a->SetNumberOfTuples(n);
+  }
+  for (vtkIdType b = 0; b < n; ++b)
+  {
+    centers->SetValue(b, h.binCenter[b]);
+    values->SetValue(b, static_cast<vtkIdType>(h.count[b]));
+    starts->SetValue(b, h.binStart[b]);
+    ends->SetValue(b, h.binEnd[b]);
+    fraction->SetValue(b, counted ? static_cast<double>(h.count[b]) / static_cast<double>(counted) : 0.0);
+  }
+  histogram->AddColumn(centers);
+  histogram->AddColumn(values);
+  histogram->AddColumn(starts);
+  histogram->AddColumn(ends);
+  histogram->AddColumn(fraction);
+}
+
+/// The reverse direction: every reference point's distance to the measured data, as a surface if it has 2-D
+/// cells, else its points. Under MPI each rank measures to its own piece (as a surface when any rank's piece has
+/// 2-D cells, as serially the whole would be) and the minimum over the ranks is taken. The error message or "".
+std::string ReverseDistances(vtkMultiProcessController* controller, vtkPointSet* measured, const double* xyz,
+  std::size_t count, const std::vector<double>& referenceXYZ, const plantmorph::ParallelFor& parallelFor,
+  std::vector<double>& reverse)
+{
+  using namespace plantmorph;
+  const std::vector<std::int64_t> triangles = count ? Triangles(measured) : std::vector<std::int64_t>();
+  const bool surface = cloudmpi::AnyRank(controller, !triangles.empty());
+  reverse.assign(referenceXYZ.size() / 3, std::numeric_limits<double>::infinity());
+  std::string error;
+  if (count > 0 && (!surface || !triangles.empty()))
+  {
+    PointSurfaceDistance measuredDistance;
+    error = surface ? measuredDistance.BuildSurface(xyz, count, triangles.data(), triangles.size() / 3, BlockSMPFor())
+                    : measuredDistance.BuildCloud(xyz, count, BlockSMPFor());
+    if (error.empty())
+    {
+      measuredDistance.QueryMany(
+        referenceXYZ.data(), reverse.size(), reverse.data(), nullptr, nullptr, nullptr, parallelFor);
+    }
+  }
+  if (cloudmpi::AnyRank(controller, !error.empty()))
+  {
+    return error.empty() ? std::string("(failed on another MPI rank)") : error;
+  }
+  cloudmpi::MinimumOverRanks(controller, reverse);
+  return {};
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+int vtkCloudComparisonFilter::Execute(
+  vtkPointSet* measured, vtkPointSet* reference, vtkPolyData* output, vtkTable* histogram, vtkTable* statistics)
+{
+  using namespace plantmorph;
+  // Under MPI (controller not null) every step runs on every rank, each on its own measured points; the steps
+  // that may fail on one rank only are followed by a collective check, so that all ranks stop together (the
+  // failing rank says why).
+  vtkMultiProcessController* controller = cloudmpi::Parallel();
+  const bool first = IsFirstRank();
+  const auto failed = [&](const std::string& error, const char* prefix) {
+    if (!cloudmpi::AnyRank(controller, !error.empty()))
+    {
+      return false;
+    }
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< prefix << error);
+    }
+    return true;
+  };
+  const auto aborted = [&]() { return cloudmpi::AnyRank(controller, this->GetAbortExecute() != 0); };
+  // 1. Properties (the same on every rank, as is the replicated reference).
+  RegistrationParameters registration;
+  if (const std::string error = CheckProperties(this, registration); !error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+  if (!reference || reference->GetNumberOfPoints() == 0)
+  {
+    vtkErrorMacro(<< "the Reference input (port 1) is missing or has no point: connect a surface (polygons) or a "
+                     "point set to compare the Measured points with");
+    return 0;
+  }
+  const vtkIdType count = measured->GetNumberOfPoints();
+  const cloudmpi::PointLayout layout = cloudmpi::Layout(controller, static_cast<std::uint64_t>(count));
+  if (layout.total == 0)
+  {
+    if (first)
+    {
+      vtkWarningMacro(<< "the Input (Measured points, port 0) is empty (no points): nothing to compare, the outputs "
+                         "are empty");
+    }
+    return 1;
+  }
+
+  // 2. The measured points, scaled.
+  const bool registering = this->Registration != REGISTRATION_NONE;
+  std::vector<double> moved;
+  const double* xyz = nullptr;
+  double transform[16];
+  if (failed(ReadMeasured(measured, this->Scale, registering, moved, xyz, transform), ""))
+  {
+    return 0;
+  }
+  this->UpdateProgress(0.05);
+
+  // The reference structure.
+  const std::vector<double> referenceXYZ = FlatPoints(reference);
+  PointSurfaceDistance referenceDistance;
+  if (const std::string error =
+        BuildStructure(reference, referenceXYZ.data(), referenceXYZ.size() / 3, referenceDistance);
+      !error.empty())
+  {
+    vtkErrorMacro(<< "Reference input: " << error);
+    return 0;
+  }
+  this->UpdateProgress(0.15);
+  if (aborted())
+  {
+    return 0;
+  }
+  const ParallelFor parallelFor = BlockSMPFor();
+
+  // 3. Registration: on the whole cloud's landmarks (the same on every rank), applied to each rank's points.
+  RegistrationResult registered;
+  if (registering)
+  {
+    const std::vector<double> gathered = controller
+      ? cloudmpi::Landmarks(controller, layout, moved.data(), registration.maximumLandmarks)
+      : std::vector<double>();
+    const std::vector<double>& landmarks = controller ? gathered : moved;
+    if (const std::string error = RegisterMeasured(registration, referenceXYZ, referenceDistance, parallelFor,
+          landmarks.data(), landmarks.size() / 3, moved, transform, registered);
+        !error.empty())
+    {
+      vtkErrorMacro(<< "Registration: " << error);
+      return 0;
+    }
+    if (registered.worse && first)
+    {
+      vtkWarningMacro(<< "Registration: " << registered.warning);
+    }
+  }
+  this->UpdateProgress(0.3);
+  if (aborted())
+  {
+    return 0;
+  }
+
+  // 4. Distances, in blocks with progress and abort.
+  const bool surface = referenceDistance.IsSurface();
+  vtkNew<vtkDoubleArray> distance;
+  distance->SetName("Distance");
+  distance->SetNumberOfTuples(count);
+  vtkNew<vtkDoubleArray> signedDistance;
+  signedDistance->SetName("SignedDistance");
+  if (surface)
+  {
+    signedDistance->SetNumberOfTuples(count);
+  }
+  vtkNew<vtkDoubleArray> closest;
+  closest->SetName("ClosestPoint");
+  closest->SetNumberOfComponents(3);
+  closest->SetNumberOfTuples(count);
+  // One QueryMany over all points (one Morton order: the most coherent), reporting progress between its blocks.
+  if (count > 0)
+  {
+    referenceDistance.QueryMany(xyz, static_cast<std::size_t>(count), distance->GetPointer(0),
+      surface ? signedDistance->GetPointer(0) : nullptr, closest->GetPointer(0), nullptr, parallelFor,
+      plantmorph::Progress(this, 0.3, 0.9));
+  }
+  if (aborted())
+  {
+    return 0;
+  }
+  referenceDistance = PointSurfaceDistance(); // not needed any more: its memory back before what follows
+
+  // Reverse direction: the reference's points against the measured data (as a surface if it has polygons).
+  const double cutOff = this->UseMaximumDistance ? this->MaximumDistance : -1.0;
+  std::vector<double> reverse;
+  if (this->Symmetric &&
+    failed(
+      ReverseDistances(controller, measured, xyz, static_cast<std::size_t>(count), referenceXYZ, parallelFor, reverse),
+      "Measured input (reverse direction): "))
+  {
+    return 0;
+  }
+  this->UpdateProgress(0.95);
+
+  // 5. The outputs: each rank's points; the statistics and histogram of all ranks' distances (the tables on rank 0,
+  // the field data on every rank).
+  FillPoints(measured, moved, this->Scale != 1.0 || registering, distance, surface ? signedDistance.Get() : nullptr,
+    closest, this->MaximumDistance, this->UseMaximumDistance != 0, output);
+  vtkFieldData* fd = output->GetFieldData();
+  FillTransform(transform, registering ? &registered : nullptr, fd);
+  const DistanceStatistics s =
+    cloudmpi::Statistics(controller, distance->GetPointer(0), static_cast<std::size_t>(count), cutOff);
+  FillStatistics(s, cutOff, surface, this->Symmetric ? &reverse : nullptr, statistics, fd);
+  FillHistogram(cloudmpi::Histogram(controller, distance->GetPointer(0), static_cast<std::size_t>(count),
+                  static_cast<std::size_t>(this->HistogramBins), cutOff, s),
+    s.count, histogram);
+  if (!first)
+  {
+    statistics->Initialize(); // one row in all, rank 0's
+    histogram->Initialize();
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}

@@ -1,0 +1,403 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "LeafFit.h"
+#include "LeafFitInternal.h"
+#include "PointGrid.h"
+
+#include "BSplineLeaf.h"
+#include "BladeMesher.h"
+#include "LeafGeometry.h"
+
+#include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace plantmorph
+{
+namespace
+{
+using fit::Frame;
+using fit::Outline;
+
+double Median(std::vector<double> v)
+{
+  if (v.empty())
+    return 0.0;
+  const std::size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + m, v.end());
+  return v[m];
+}
+
+struct Fitted
+{
+  Frame frame;
+  fit::CrossSections sections;
+  Outline outline;
+  TensorSurface surface;
+  std::vector<int> kept;              // ids of the points the cleaning kept
+  std::vector<Eigen::Vector3d> local; // their local coordinates
+  std::vector<Eigen::Vector2d> ts;    // their (t, s)
+  std::vector<double> residual;       // their distances to the surface
+  double sigma = 0.0;                 // robust scale of the final residuals
+};
+
+/// The largest distance to the surface an inlier may have.
+double InlierLimit(const Fitted& f, double spacing)
+{
+  return std::max(5.0 * f.sigma, spacing);
+}
+
+/// The penalised, Huber-reweighted surface through the kept points.
+std::string FitSurface(const LeafFitParameters& options, double spacing, Fitted& f)
+{
+  Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& p : f.ts)
+  {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  // The domain reaches beyond the points by more than the outline's tips may be extrapolated (4 spacings).
+  const double pad = 6.0 * spacing;
+  const Eigen::Vector2d tRange(lo.x() - pad, hi.x() + pad), sRange(lo.y() - pad, hi.y() + pad);
+  const double length = sRange[1] - sRange[0], width = tRange[1] - tRange[0];
+  const double n = static_cast<double>(f.ts.size());
+  const int ns = std::clamp(static_cast<int>(std::lround(std::sqrt(n / 5.0 * length / width))), 6, 40);
+  const int nt = std::clamp(static_cast<int>(std::lround(ns * width / length)), 4, 30);
+  const double lambda = 0.01 * options.surfaceSmoothing;
+  std::vector<double> w(f.ts.size(), 1.0);
+  std::vector<double>& residual = f.residual;
+  residual.resize(f.ts.size());
+  for (int pass = 0; pass < 2; ++pass)
+  {
+    if (pass > 0)
+    {
+      // Project every point onto the surface (two Gauss-Newton steps on its (t, s)): a point's noise along a
+      // tilted normal must not move it along the leaf, or the outermost samples reach beyond the margin and tips.
+      for (std::size_t i = 0; i < f.ts.size(); ++i)
+        for (int step = 0; step < 2; ++step)
+        {
+          Eigen::Vector3d dt, ds;
+          f.surface.Derivatives(f.ts[i].x(), f.ts[i].y(), dt, ds);
+          Eigen::Matrix<double, 3, 2> J;
+          J << dt, ds;
+          const Eigen::Vector3d r = f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y());
+          const Eigen::Vector2d delta = (J.transpose() * J).ldlt().solve(J.transpose() * r);
+          if (delta.allFinite() && delta.norm() < 10.0 * spacing)
+            f.ts[i] += delta;
+        }
+    }
+    for (int iteration = 0; iteration < 3; ++iteration)
+    {
+      if (!f.surface.Fit(tRange, sRange, nt, ns, f.ts, f.local, w, lambda))
+        return "no leaf shape: the surface could not be fitted";
+      for (std::size_t i = 0; i < f.ts.size(); ++i)
+        residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm();
+      f.sigma = 1.4826 * Median(residual);
+      const double k = 2.0 * std::max(f.sigma, 1e-6 * spacing);
+      for (std::size_t i = 0; i < f.ts.size(); ++i)
+        w[i] = residual[i] <= k ? 1.0 : k / residual[i];
+    }
+  }
+  if (f.sigma > 0.05 * width)
+  {
+    std::ostringstream message;
+    message << "no leaf shape: the points scatter " << f.sigma << " around the best smooth surface, more than 5 % of "
+            << "the leaf's width " << width;
+    return message.str();
+  }
+  return {};
+}
+
+/// Samples (x = t, y = s - s0) of one margin at about `spacing` from the base to the apex, ends included.
+std::vector<Eigen::Vector2d> SampleMargin(const Outline& outline, bool right, double spacing)
+{
+  const int dense = 4000;
+  const double L = outline.s1 - outline.s0;
+  std::vector<Eigen::Vector2d> curve(dense + 1);
+  std::vector<double> arc(dense + 1, 0.0);
+  for (int i = 0; i <= dense; ++i)
+  {
+    const double y = L * i / dense;
+    const double s = outline.s0 + y;
+    curve[i] = { i == 0 || i == dense ? 0.0 : (right ? outline.Right(s) : outline.Left(s)), y };
+    if (i > 0)
+      arc[i] = arc[i - 1] + (curve[i] - curve[i - 1]).norm();
+  }
+  const int pieces = std::max(2, static_cast<int>(std::lround(arc.back() / spacing)));
+  std::vector<Eigen::Vector2d> samples;
+  int j = 0;
+  for (int k = 0; k <= pieces; ++k)
+  {
+    const double target = arc.back() * k / pieces;
+    while (j + 1 < dense && arc[j + 1] < target)
+      ++j;
+    const double f = arc[j + 1] > arc[j] ? std::clamp((target - arc[j]) / (arc[j + 1] - arc[j]), 0.0, 1.0) : 0.0;
+    samples.push_back((1.0 - f) * curve[j] + f * curve[j + 1]);
+  }
+  samples.front() = curve.front();
+  samples.back() = curve.back();
+  return samples;
+}
+
+/// The blade: the outline in (t, s) meshed by LeafOutlineSource's mesher, mapped to 3-D.
+std::string MeshFittedBlade(const LeafFitParameters& options, const Fitted& f, LeafFitResult& result)
+{
+  const Outline& o = f.outline;
+  const double L = o.s1 - o.s0;
+  const double h = L / options.resolution;
+  BladeOutline outline;
+  auto add = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& uv, int region) {
+    outline.points.push_back(p);
+    outline.uv.push_back(uv);
+    outline.region.push_back(region);
+    return static_cast<int>(outline.points.size() - 1);
+  };
+  for (int k = 0; k <= options.resolution; ++k)
+    result.midvein.push_back(
+      add({ 0.0, L * k / options.resolution }, { 0.0, static_cast<double>(k) / options.resolution }, RegionMidvein));
+  for (int side = 0; side < 2; ++side)
+  {
+    const std::vector<Eigen::Vector2d> samples = SampleMargin(o, side == 1, h);
+    std::vector<int>& margin = side == 0 ? result.leftMargin : result.rightMargin;
+    margin.push_back(result.midvein.front());
+    for (std::size_t i = 1; i + 1 < samples.size(); ++i)
+      margin.push_back(add(samples[i], { side == 0 ? -0.5 : 0.5, samples[i].y() / L }, RegionMargin));
+    margin.push_back(result.midvein.back());
+  }
+  outline.boundary.assign(result.rightMargin.begin(), result.rightMargin.end() - 1);
+  outline.boundary.insert(outline.boundary.end(), result.leftMargin.rbegin(), result.leftMargin.rend() - 1);
+  outline.midvein = result.midvein;
+  auto solveUV = [&](const Eigen::Vector2d& p, const Eigen::Vector2d&) {
+    const double s = o.s0 + p.y();
+    const double u = p.x() >= 0.0 ? 0.5 * p.x() / o.Right(s) : -0.5 * p.x() / o.Left(s);
+    return Eigen::Vector2d(std::clamp(u, -0.5, 0.5), std::clamp(p.y() / L, 0.0, 1.0));
+  };
+  BladeMeshParameters meshOptions;
+  meshOptions.quality = true;
+  meshOptions.maxEdgeLength = h;
+  BladeMesh mesh;
+  const std::string error = MeshBlade(outline, meshOptions, solveUV, mesh);
+  if (!error.empty())
+    return "meshing the fitted outline: " + error;
+  result.flat = mesh.points;
+  result.leafUV = mesh.uv;
+  result.region = mesh.region;
+  result.triangles = mesh.triangles;
+  result.tcoords = BoundingBoxTextureCoordinates(mesh.points);
+  result.points.resize(mesh.points.size());
+  for (std::size_t i = 0; i < mesh.points.size(); ++i)
+    result.points[i] = f.frame.World(f.surface(mesh.points[i].x(), o.s0 + mesh.points[i].y()));
+  result.normals = VertexNormals(result.points, result.triangles);
+  return {};
+}
+
+/// FitDistance, Inlier and (t, s) of every input point; Support of every blade point.
+void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, double spacing, LeafFitResult& result)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  result.fitDistance.assign(points.size(), nan);
+  result.inlier.assign(points.size(), 0);
+  result.intrinsic.assign(points.size(), Eigen::Vector2d(nan, nan));
+  const double limit = InlierLimit(f, spacing);
+  std::vector<Eigen::Vector3d> inliers;
+  for (std::size_t k = 0; k < f.kept.size(); ++k)
+  {
+    const int i = f.kept[k];
+    const Eigen::Vector2d& ts = f.ts[k];
+    const Eigen::Vector3d d = f.local[k] - f.surface(ts.x(), ts.y());
+    result.fitDistance[i] = d.dot(f.surface.Normal(ts.x(), ts.y()));
+    result.intrinsic[i] = { ts.x(), ts.y() - f.outline.s0 };
+    result.inlier[i] = f.residual[k] <= limit ? 1 : 0;
+    if (result.inlier[i])
+      inliers.push_back(points[i]);
+  }
+  // Dropped points: the distance to the nearest blade vertex, signed by the side of the blade's normal there.
+  const PointGrid blade(result.points, PointGrid::CellFor(result.points, 4.0));
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (std::isnan(result.fitDistance[i]))
+    {
+      const auto nb = blade.Nearest(points[i], 1);
+      const Eigen::Vector3d d = points[i] - result.points[nb.front().second];
+      result.fitDistance[i] = std::copysign(d.norm(), d.dot(result.normals[nb.front().second]));
+    }
+  const PointGrid scan(inliers, PointGrid::CellFor(inliers, 4.0));
+  result.support.resize(result.points.size());
+  for (std::size_t i = 0; i < result.points.size(); ++i)
+    result.support[i] = std::sqrt(scan.Nearest(result.points[i], 1).front().first);
+}
+
+/// Model C control points: the midvein at `count` stations base to apex (half-way between the margins), each margin at `count` inner stations
+/// equally spaced along its arc length in (t, s) (so the rounded ends, where a margin turns fast, get their share).
+void ModelControlPoints(int m, const Fitted& f, LeafFitResult& result)
+{
+  const Outline& o = f.outline;
+  for (auto* points : { &result.modelMidvein, &result.modelLeftMargin, &result.modelRightMargin, &result.flatMidvein,
+         &result.flatLeftMargin, &result.flatRightMargin })
+    points->clear();
+  for (int k = 0; k < m; ++k)
+  {
+    // The model's midvein runs half-way between the margins (the fitted one, t = 0, may run close to a margin
+    // where a narrow petiole meets the blade, and an interpolating spline through it would cross that margin).
+    const double s = o.s0 + (o.s1 - o.s0) * k / (m - 1);
+    const double t = k == 0 || k == m - 1 ? 0.0 : 0.5 * (o.Left(s) + o.Right(s));
+    result.modelMidvein.push_back(f.frame.World(f.surface(t, s)));
+    result.flatMidvein.emplace_back(t, s - o.s0, 0.0);
+  }
+  for (int side = 0; side < 2; ++side)
+  {
+    const std::vector<Eigen::Vector2d> samples = SampleMargin(o, side == 1, (o.s1 - o.s0) / 4000.0);
+    std::vector<double> arc(samples.size(), 0.0);
+    for (std::size_t i = 1; i < samples.size(); ++i)
+      arc[i] = arc[i - 1] + (samples[i] - samples[i - 1]).norm();
+    std::size_t j = 0;
+    for (int k = 1; k <= m; ++k)
+    {
+      const double target = arc.back() * k / (m + 1);
+      while (j + 1 < samples.size() && arc[j + 1] < target)
+        ++j;
+      const Eigen::Vector2d& p = samples[j];
+      (side == 0 ? result.modelLeftMargin : result.modelRightMargin)
+        .push_back(f.frame.World(f.surface(p.x(), o.s0 + p.y())));
+      (side == 0 ? result.flatLeftMargin : result.flatRightMargin).emplace_back(p.x(), p.y(), 0.0);
+    }
+  }
+}
+
+/// The model control points, checked: LeafOutlineSource interpolates them, and where a margin runs close to the
+/// midvein (a narrow petiole, a margin the scan barely reaches) an interpolating spline through many points may
+/// cross it, and the outline folds. The flat model is built (LeafOutlineSource's own B-spline leaf, unrefined);
+/// while it folds, two control points fewer per curve are tried (smoother splines), down to 3. If none builds, the
+/// requested count is kept and `modelWarning` says why the model will not rebuild.
+void RebuildableModel(const LeafFitParameters& options, const Fitted& f, LeafFitResult& result)
+{
+  std::string first;
+  for (int m = options.modelControlPoints; m >= 3; m -= 2)
+  {
+    ModelControlPoints(m, f, result);
+    // At the fit's own resolution (the recipe's) and a fine one: whether the sampled outline folds depends on it.
+    std::string error;
+    for (int resolution : { options.resolution, 240 })
+    {
+      LeafMeshParameters check;
+      check.resolution = resolution;
+      check.quality = false;
+      LeafGeometry rebuilt;
+      if (error.empty())
+        error = BuildBSplineLeaf({ result.flatMidvein, result.flatLeftMargin, result.flatRightMargin }, check, rebuilt);
+    }
+    if (error.empty())
+    {
+      result.modelControlPoints = m;
+      return;
+    }
+    if (first.empty())
+      first = error;
+  }
+  ModelControlPoints(options.modelControlPoints, f, result);
+  result.modelControlPoints = options.modelControlPoints;
+  result.modelWarning = "the fitted model does not rebuild in LeafOutlineSource with " +
+    std::to_string(options.modelControlPoints) + " or fewer control points (" + first + ")";
+}
+
+std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, LeafFitResult& result)
+{
+  std::string error = ValidateLeafFitParameters(options);
+  if (error.empty())
+    error = fit::ValidateCloud(points);
+  if (!error.empty())
+    return error;
+  std::vector<unsigned char> keep;
+  double spacing = 0.0;
+  error = fit::CleanCloud(points, options.outlierSigma, keep, spacing);
+  if (!error.empty())
+    return error;
+  Fitted f;
+  std::vector<Eigen::Vector3d> kept;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (keep[i])
+    {
+      f.kept.push_back(static_cast<int>(i));
+      kept.push_back(points[i]);
+    }
+  f.frame = fit::LeafFrame(kept, options, result.traits.baseFrom);
+  for (const auto& p : kept)
+    f.local.push_back(f.frame.Local(p));
+  error = f.sections.Build(f.local);
+  if (!error.empty())
+    return error;
+  for (const auto& q : f.local)
+    f.ts.push_back(f.sections.Intrinsic(q));
+  error = FitSurface(options, spacing, f);
+  if (!error.empty())
+    return error;
+  // The outline from the points on the surface only (an outlier beside the leaf must not widen it).
+  std::vector<Eigen::Vector2d> onSurface;
+  for (std::size_t k = 0; k < f.ts.size(); ++k)
+    if (f.residual[k] <= InlierLimit(f, spacing))
+      onSurface.push_back(f.ts[k]);
+  error = fit::FitOutline(onSurface, options, spacing, f.outline);
+  if (error.empty())
+    error = MeshFittedBlade(options, f, result);
+  if (!error.empty())
+    return error;
+  ScanArrays(points, f, spacing, result);
+  RebuildableModel(options, f, result);
+  result.traits.spacing = spacing;
+  result.traits.points = static_cast<double>(points.size());
+  fit::ComputeTraits(f.surface, f.outline, options, f.frame.axes, result);
+  return {};
+}
+} // namespace
+
+std::string ValidateLeafFitParameters(const LeafFitParameters& o)
+{
+  std::ostringstream m;
+  if (!o.up.allFinite() || !(o.up.norm() > 0.0))
+    m << "UpAxis: must be a non-zero direction";
+  else if (o.basePoint && !o.basePoint->allFinite())
+    m << "BasePoint: must be finite";
+  else if (!(o.surfaceSmoothing >= 0.0 && o.surfaceSmoothing <= 1e6))
+    m << OutOfRange("SurfaceSmoothing", o.surfaceSmoothing, "[0, 1e6]");
+  else if (!(o.outlineSmoothing >= 0.0 && o.outlineSmoothing <= 1e6))
+    m << OutOfRange("OutlineSmoothing", o.outlineSmoothing, "[0, 1e6]");
+  else if (o.outlineControlPoints < 4 || o.outlineControlPoints > 200)
+    m << OutOfRange("OutlineControlPoints", o.outlineControlPoints, "[4, 200]");
+  else if (!(o.outlierSigma >= 1.0 && o.outlierSigma <= 100.0))
+    m << OutOfRange("OutlierSigma", o.outlierSigma, "[1, 100]");
+  else if (o.resolution < 4 || o.resolution > 1000)
+    m << OutOfRange("Resolution", o.resolution, "[4, 1000]");
+  else if (o.modelControlPoints < 3 || o.modelControlPoints > 100)
+    m << OutOfRange("ModelControlPoints", o.modelControlPoints, "[3, 100]");
+  return m.str();
+}
+
+LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options)
+{
+  LeafFitResult result;
+  LeafFitParameters normalized = options;
+  if (normalized.up.allFinite() && normalized.up.norm() > 0.0)
+    normalized.up.normalize();
+  const std::string error = Fit(points, normalized, result);
+  if (!error.empty())
+  {
+    result = LeafFitResult();
+    result.error = error;
+  }
+  return result;
+}
+
+std::vector<LeafFitResult> FitLeaves(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
+  const LeafFitParameters& options, const ParallelFor& parallel)
+{
+  std::vector<LeafFitResult> results(leaves.size());
+  parallel(leaves.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      results[i] = FitLeaf(leaves[i], options);
+  });
+  return results;
+}
+
+} // namespace plantmorph

@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// LeafFitFilter's algorithm (docs/methods/leaf-fit.md): a scanned leaf (a point cloud) becomes a PlantMorph leaf and its traits.
+// Plain C++17 (Eigen, the sources' blade mesher), no VTK.
+//
+// The method, per leaf:
+//  1. Check: enough points, finite coordinates, not a line, not a blob (the cloud must be a sheet).
+//  2. Clean: statistical outlier removal on the k nearest neighbours (mean neighbour distance beyond the median by
+//     more than OutlierSigma robust deviations), then the largest connected component of a radius graph.
+//  3. Frame: principal axes; the base is the end nearest BasePoint when one is given, else the end nearer the
+//     widest cross-section (ovate leaves), unless one end is a narrow stalk (a petiole), which is then the base.
+//  4. Intrinsic coordinates: the cloud is cut in slices across its length; in every slice a quadratic
+//     cross-section curve (in the slice's own principal frame, so tilted and twisted sections fit) and its centre;
+//     the curves' parameters are smoothed along the length. The midvein is the curve through the centres; every
+//     point gets s (arc length along the midvein from the base) and t (signed arc length along its cross-section
+//     from the midvein, positive to the right looking at the upper side with the apex up). Rolled and bent leaves
+//     thus flatten into the plane (t, s) the way LeafOutlineSource lays a flat blade out (x = t, y = s).
+//  5. Outline: in the plane (t, s), the outermost point of each of many thin slices across s, moved out by the
+//     expected gap between the outermost sample and the true margin (the spacing of the slice's samples), fitted by
+//     a penalised B-spline t = phi(s) g(s) (phi = sqrt of the distance to both ends, so rounded and acute tips
+//     fit). Base and apex: extrapolated from the order statistics of s (the last samples never reach a tip).
+//  6. Surface: a tensor cubic B-spline (s, t) -> 3-D, fitted by penalised least squares (second differences of
+//     the control points in both directions) and iteratively reweighted (Huber) against remaining outliers.
+//  7. Mesh: plantmorph::MeshBlade (LeafOutlineSource's blade mesher, quality mode) on the outline in (t, s),
+//     mapped to 3-D by the surface. LeafUV: v = (s - s_base) / (s_apex - s_base), u = t scaled so the margins are at
+//     +-0.5.
+// Everything is deterministic: no random numbers, no dependence on threads (leaves are fitted independently).
+#pragma once
+
+#include <plantmorph/ParallelFor.h>
+
+#include <Eigen/Core>
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+
+struct LeafFitParameters
+{
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ(); ///< unit vertical, for Inclination, Azimuth, HorizontalArea
+  std::optional<Eigen::Vector3d> basePoint;      ///< the scan end nearest it is the base
+  double surfaceSmoothing = 1.0; ///< [0, 1e6]: weight of the surface's bending penalty (1: the default balance)
+  double outlineSmoothing = 1.0; ///< [0, 1e6]: weight of the margins' curvature penalty
+  int outlineControlPoints = 16; ///< [4, 200]: B-spline control points per margin
+  double outlierSigma = 3.0; ///< [1, 100]: robust deviations of the neighbour distance beyond which a point is dropped
+  int resolution = 60;       ///< [4, 1000]: segments along the midvein of the output mesh
+  int modelControlPoints = 20; ///< [3, 100]: Model C control points per margin in the fitted model (at most:
+                               ///< fewer when that many fold the flat model, LeafFitResult::modelControlPoints)
+};
+
+/// Empty when every option is finite and in range; otherwise the message naming the option and its range.
+std::string ValidateLeafFitParameters(const LeafFitParameters& options);
+
+inline constexpr int MinLeafPoints = 50;
+
+struct LeafTraits
+{
+  double length = 0, width = 0, projectedLength = 0, projectedWidth = 0;
+  double area = 0, projectedArea = 0, horizontalArea = 0, perimeter = 0, aspectRatio = 0;
+  double bending = 0;          ///< degrees between the midvein's base and apex tangents
+  double rolling = 0;          ///< degrees the cross-section turns from margin to margin (mean along the leaf)
+  double rollingCurvature = 0; ///< mean cross-section curvature (1 / length unit), signed: + rolls up
+  double inclination = 0;      ///< degrees between the blade's mean normal and `up` (0: the blade lies horizontal)
+  double azimuth = 0; ///< degrees of the midvein (base to apex) in the horizontal plane, from the first horizontal axis
+  double midveinInclination = 0; ///< degrees of the midvein's base tangent above the horizontal plane
+  double points = 0, inliers = 0;
+  double fitRMS = 0, fitP95 = 0, fitMax = 0; ///< scan-to-blade distances of the inliers
+  double coverage = 0;                       ///< fraction of blade area whose Support is below twice the point spacing
+  double spacing = 0;                        ///< median nearest-neighbour distance of the inliers
+  int baseFrom = 0;                          ///< 0: the shape, 1: BasePoint
+};
+
+/// Names of the traits, in the order TraitValues() lists them (the Traits table's columns after LeafId).
+std::vector<std::string> TraitNames();
+std::vector<double> TraitValues(const LeafTraits& traits);
+
+struct LeafFitResult
+{
+  std::string error; ///< empty on success; then everything below is filled, else everything is empty
+  // The scan, one entry per input point.
+  std::vector<double> fitDistance; ///< signed distance to the blade (along its normal); NaN for dropped points
+  std::vector<unsigned char> inlier;
+  std::vector<Eigen::Vector2d> intrinsic; ///< (t, s) of every point (NaN for dropped points)
+  // The blade: the mesher's output mapped to 3-D.
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> flat; ///< (t, s - s_base) of every blade point: the blade laid flat
+  std::vector<Eigen::Vector2d> leafUV;
+  std::vector<Eigen::Vector2d> tcoords; ///< eq. (6) of the flat blade
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<int> region;
+  std::vector<double> support; ///< distance to the nearest inlier
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<int> leftMargin, rightMargin, midvein; ///< base to apex, ids into points
+  // The model LeafOutlineSource rebuilds (Model C, Custom preset): 3-D control points.
+  std::vector<Eigen::Vector3d> modelMidvein, modelLeftMargin, modelRightMargin;
+  /// The same leaf laid flat (x = t, y = s - s_base, z = 0: the intrinsic layout, base at the origin, midvein along
+  /// +Y, as LeafOutlineSource makes leaves): always a valid flat Model C leaf, also when the 3-D one folds in the
+  /// least-squares plane LeafOutlineSource meshes 3-D control points in.
+  std::vector<Eigen::Vector3d> flatMidvein, flatLeftMargin, flatRightMargin;
+  /// Control points per curve in the model: `modelControlPoints` of the options, or fewer (by twos) when the flat
+  /// model folded in LeafOutlineSource with that many (its interpolating margin crossed the midvein).
+  int modelControlPoints = 0;
+  /// Empty when the flat model rebuilds in LeafOutlineSource; else why it does not (the model is still given).
+  std::string modelWarning;
+  LeafTraits traits;
+};
+
+/// Fits one leaf. Never throws for bad input: the result's error says what is wrong.
+LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options);
+
+/// Fits several leaves (each its own point set) through `parallel`; results in the leaves' order, identical to
+/// fitting them one by one.
+std::vector<LeafFitResult> FitLeaves(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
+  const LeafFitParameters& options, const ParallelFor& parallel = SerialFor);
+
+} // namespace plantmorph

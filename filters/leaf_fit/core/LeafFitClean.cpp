@@ -1,0 +1,231 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// FitLeaf's first steps: checking the cloud, removing outliers, and the leaf's frame.
+#include "LeafFitInternal.h"
+#include "PointGrid.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+namespace plantmorph
+{
+namespace fit
+{
+namespace
+{
+double Median(std::vector<double> v)
+{
+  if (v.empty())
+    return 0.0;
+  const std::size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + m, v.end());
+  return v[m];
+}
+
+/// Eigenvalues (ascending) and eigenvectors of the points' covariance.
+Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> Principal(
+  const std::vector<Eigen::Vector3d>& points, Eigen::Vector3d& centroid)
+{
+  centroid.setZero();
+  for (const Eigen::Vector3d& p : points)
+    centroid += p;
+  centroid /= static_cast<double>(points.size());
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : points)
+    C += (p - centroid) * (p - centroid).transpose();
+  C /= static_cast<double>(points.size());
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C);
+}
+
+int Find(std::vector<int>& parent, int i)
+{
+  while (parent[i] != i)
+    i = parent[i] = parent[parent[i]];
+  return i;
+}
+} // namespace
+
+std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points)
+{
+  std::ostringstream message;
+  if (points.size() < static_cast<std::size_t>(MinLeafPoints))
+  {
+    message << "too few points: " << points.size() << " (a leaf needs at least " << MinLeafPoints << ")";
+    return message.str();
+  }
+  std::size_t bad = 0;
+  for (const Eigen::Vector3d& p : points)
+    bad += p.allFinite() ? 0 : 1;
+  if (bad > 0)
+  {
+    message << bad << " point(s) with a NaN or infinite coordinate (remove them before fitting)";
+    return message.str();
+  }
+  Eigen::Vector3d centroid;
+  const auto eig = Principal(points, centroid);
+  const Eigen::Vector3d l = eig.eigenvalues().cwiseMax(0.0);
+  if (!(l[2] > 0.0) || std::sqrt(l[1] / l[2]) < 1e-3)
+    return "the points lie on a line (or a point): no leaf blade to fit";
+  if (std::sqrt(l[0] / l[2]) > 0.6)
+    return "no leaf shape: the cloud is about as thick as it is long (not a sheet of points)";
+  return {};
+}
+
+std::string CleanCloud(
+  const std::vector<Eigen::Vector3d>& points, double outlierSigma, std::vector<unsigned char>& keep, double& spacing)
+{
+  const int n = static_cast<int>(points.size());
+  const int k = 8;
+  const double cell = PointGrid::CellFor(points, 4.0);
+  const PointGrid grid(points, cell);
+  // Neighbours are looked for within 8 cells (about 16 point spacings on the sheet; the search cost grows with the
+  // cube of the reach): a point with fewer than k there counts its missing neighbours at that distance, beyond the
+  // outlier limit below.
+  const double reach = 8.0 * cell;
+  std::vector<double> meanDistance(n), nearest(n);
+  std::vector<std::pair<double, int>> neighbours(static_cast<std::size_t>(n) * k, { 0.0, -1 });
+  for (int i : grid.SortedIds()) // cell by cell: neighbouring queries share cells, so memory stays in cache
+  {
+    const auto nb = grid.Nearest(points[i], k, i, reach);
+    double sum = (k - static_cast<double>(nb.size())) * reach;
+    for (std::size_t j = 0; j < nb.size(); ++j)
+    {
+      sum += std::sqrt(nb[j].first);
+      neighbours[static_cast<std::size_t>(i) * k + j] = { std::sqrt(nb[j].first), nb[j].second };
+    }
+    meanDistance[i] = sum / k;
+    nearest[i] = nb.empty() ? reach : std::sqrt(nb.front().first);
+  }
+  // Statistical outlier removal, robust: a point is dropped when its mean neighbour distance is beyond the median
+  // by OutlierSigma robust deviations AND five times the median. Points on the margin have about 1.4 times the
+  // median, and at a sharp tip, whose neighbours all lie in a narrow wedge, up to sqrt(pi / half-angle) times it:
+  // they must stay, or the outline shrinks. Points off the surface closer than that go in the surface's robust fit.
+  const double median = Median(meanDistance);
+  std::vector<double> deviation(n);
+  for (int i = 0; i < n; ++i)
+    deviation[i] = std::abs(meanDistance[i] - median);
+  const double sigma = 1.4826 * Median(deviation);
+  const double limit = std::min(std::max(median + outlierSigma * sigma, 5.0 * median), 0.9 * reach);
+  keep.assign(n, 0);
+  for (int i = 0; i < n; ++i)
+    keep[i] = meanDistance[i] <= limit ? 1 : 0;
+  // Connected parts of the graph of k nearest neighbours closer than three median distances: keep the largest and
+  // every part of at least 5 % of it (a scan with a gap across it is still one leaf).
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  const double radius = 3.0 * median;
+  for (int i = 0; i < n; ++i)
+  {
+    if (!keep[i])
+      continue;
+    for (int j = 0; j < k; ++j)
+    {
+      const auto& nb = neighbours[static_cast<std::size_t>(i) * k + j];
+      if (nb.second >= 0 && keep[nb.second] && nb.first <= radius)
+      {
+        const int a = Find(parent, i), b = Find(parent, nb.second);
+        if (a != b)
+          parent[std::max(a, b)] = std::min(a, b);
+      }
+    }
+  }
+  std::vector<int> size(n, 0);
+  for (int i = 0; i < n; ++i)
+    if (keep[i])
+      ++size[Find(parent, i)];
+  const int largest = *std::max_element(size.begin(), size.end());
+  std::vector<double> kept;
+  for (int i = 0; i < n; ++i)
+  {
+    if (keep[i] && size[Find(parent, i)] * 20 < largest)
+      keep[i] = 0;
+    if (keep[i])
+      kept.push_back(nearest[i]);
+  }
+  if (kept.size() < static_cast<std::size_t>(MinLeafPoints))
+  {
+    std::ostringstream message;
+    message << "too few points after outlier removal: " << kept.size() << " of " << n << " (a leaf needs at least "
+            << MinLeafPoints << ")";
+    return message.str();
+  }
+  spacing = Median(kept);
+  if (!(spacing > 0.0))
+    return "the points are duplicates of each other (zero spacing)";
+  return {};
+}
+
+Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, int& baseFrom)
+{
+  Eigen::Vector3d centroid;
+  const auto eig = Principal(points, centroid);
+  Frame frame;
+  frame.origin = centroid;
+  Eigen::Vector3d Y = eig.eigenvectors().col(2), Z = eig.eigenvectors().col(0);
+  // The base end.
+  std::vector<double> along(points.size()), across(points.size());
+  double lo = 0.0, hi = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    along[i] = (points[i] - centroid).dot(Y);
+    across[i] = (points[i] - centroid).dot(eig.eigenvectors().col(1));
+    lo = std::min(lo, along[i]);
+    hi = std::max(hi, along[i]);
+  }
+  bool flip = false;
+  if (options.basePoint)
+  {
+    const double b = (*options.basePoint - centroid).dot(Y);
+    flip = std::abs(b - hi) < std::abs(b - lo);
+    baseFrom = 1;
+  }
+  else
+  {
+    // Widths of 20 slices; the petiole test looks at the end slices, the ovate test at the widest slice.
+    const int slices = 20;
+    std::vector<double> minA(slices, 1e300), maxA(slices, -1e300);
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      const int k = std::clamp(static_cast<int>((along[i] - lo) / (hi - lo) * slices), 0, slices - 1);
+      minA[k] = std::min(minA[k], across[i]);
+      maxA[k] = std::max(maxA[k], across[i]);
+    }
+    std::vector<double> width(slices, 0.0);
+    for (int k = 0; k < slices; ++k)
+      width[k] = maxA[k] >= minA[k] ? maxA[k] - minA[k] : 0.0;
+    const double widest = *std::max_element(width.begin(), width.end());
+    // A stalk: the two end slices (10 % of the length) both narrower than a tenth of the widest (an acute apex of
+    // a broad leaf widens faster than that).
+    const bool stalkLow = width[0] < 0.06 * widest && width[1] < 0.1 * widest;
+    const bool stalkHigh = width[slices - 1] < 0.06 * widest && width[slices - 2] < 0.1 * widest;
+    if (stalkLow != stalkHigh)
+      flip = stalkHigh;
+    else
+    {
+      // Width-weighted centre of the slices, relative to the middle: ovate leaves are wider towards the base.
+      double sum = 0.0, moment = 0.0;
+      for (int k = 0; k < slices; ++k)
+      {
+        sum += width[k];
+        moment += width[k] * (k + 0.5 - 0.5 * slices);
+      }
+      flip = sum > 0.0 && moment > 0.0;
+    }
+    baseFrom = 0;
+  }
+  if (flip)
+    Y = -Y;
+  if (Z.dot(options.up) < 0.0)
+    Z = -Z;
+  const Eigen::Vector3d X = Y.cross(Z).normalized();
+  frame.axes.col(0) = X;
+  frame.axes.col(1) = Y.normalized();
+  frame.axes.col(2) = X.cross(Y).normalized();
+  return frame;
+}
+
+} // namespace fit
+} // namespace plantmorph

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Internal steps of plantmorph::FitLeaf (LeafFit.h), shared by its source files. Not installed, not API.
+#pragma once
+
+#include "LeafFit.h"
+#include "LeafFitSplines.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+namespace fit
+{
+
+/// The leaf's local frame: X to the right, Y from the base to the apex, Z the upper side (X x Y = Z).
+struct Frame
+{
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity(); ///< columns X, Y, Z
+  Eigen::Vector3d Local(const Eigen::Vector3d& p) const { return this->axes.transpose() * (p - this->origin); }
+  Eigen::Vector3d World(const Eigen::Vector3d& q) const { return this->origin + this->axes * q; }
+};
+
+/// Checks the raw points: count, finite coordinates, not a line, not a blob. Empty string: usable.
+std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points);
+
+/// Statistical outlier removal and the largest connected parts; keep[i] = 1 for kept points. Sets `spacing` (the
+/// median nearest-neighbour distance of the kept points).
+std::string CleanCloud(
+  const std::vector<Eigen::Vector3d>& points, double outlierSigma, std::vector<unsigned char>& keep, double& spacing);
+
+/// The frame of the kept points (principal axes, base chosen as LeafFit.h says); baseFrom 0 shape, 1 base point.
+Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, int& baseFrom);
+
+/// Smoothed cross-sections along the leaf (in local coordinates) and the intrinsic coordinates they give.
+class CrossSections
+{
+public:
+  /// From local points (X, Y, Z). Empty string on success.
+  std::string Build(const std::vector<Eigen::Vector3d>& local);
+  /// (t, s) of a local point.
+  Eigen::Vector2d Intrinsic(const Eigen::Vector3d& q) const;
+
+private:
+  void Section(double Y, double& angle, double& c0, double& c1, double& c2, double& centre) const;
+  Eigen::Vector3d MidveinAt(double Y) const;
+  PenalizedSpline1D Angle, C0, C1, C2, Centre;
+  double Y0 = 0.0, Y1 = 1.0;
+  std::vector<double> TableY, TableS; // the midvein's arc length from Y0
+};
+
+/// The outline in (t, s): margins t = phi(s) g(s) between the base s0 and the apex s1.
+struct Outline
+{
+  double s0 = 0.0, s1 = 1.0;
+  PenalizedSpline1D right, left; // g for the right margin (> 0) and for minus the left margin (> 0)
+  double Phi(double s) const;
+  double Right(double s) const;
+  double Left(double s) const; ///< negative
+};
+
+/// Fits the outline to intrinsic coordinates (t, s) of the kept points.
+std::string FitOutline(
+  const std::vector<Eigen::Vector2d>& ts, const LeafFitParameters& options, double spacing, Outline& outline);
+
+/// Fills result.traits from the finished blade (points, triangles, margins, Support, FitDistance, Inlier) and the
+/// surface (in the local frame whose axes, in world coordinates, are the columns of `axes`).
+void ComputeTraits(const TensorSurface& surface, const Outline& outline, const LeafFitParameters& options,
+  const Eigen::Matrix3d& axes, LeafFitResult& result);
+
+} // namespace fit
+} // namespace plantmorph

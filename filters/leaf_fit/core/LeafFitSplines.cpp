@@ -1,0 +1,218 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "LeafFitSplines.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
+
+#include <algorithm>
+#include <cmath>
+
+namespace plantmorph
+{
+
+UniformBasis::UniformBasis(double a, double b, int intervals, double x)
+{
+  const double h = (b - a) / intervals;
+  const double u = (x - a) / h;
+  this->first = std::clamp(static_cast<int>(std::floor(u)), 0, intervals - 1);
+  const double f = u - this->first;
+  const double g = 1.0 - f;
+  this->value = { g * g * g / 6.0, (3.0 * f * f * f - 6.0 * f * f + 4.0) / 6.0,
+    (-3.0 * f * f * f + 3.0 * f * f + 3.0 * f + 1.0) / 6.0, f * f * f / 6.0 };
+  this->derivative = { -g * g / 2.0 / h, (3.0 * f * f - 4.0 * f) / 2.0 / h, (-3.0 * f * f + 2.0 * f + 1.0) / 2.0 / h,
+    f * f / 2.0 / h };
+}
+
+namespace
+{
+/// Adds lambda * D2^T D2 along one direction of a grid of n0 x n1 controls (index i + n0 * j); dir 0 or 1.
+void AddSecondDifferences(Eigen::MatrixXd& M, int n0, int n1, int dir, double lambda)
+{
+  for (int j = 0; j < n1; ++j)
+    for (int i = 0; i < n0; ++i)
+    {
+      if ((dir == 0 && i + 2 >= n0) || (dir == 1 && j + 2 >= n1))
+        continue;
+      const int step = dir == 0 ? 1 : n0;
+      const int id[3] = { i + n0 * j, i + n0 * j + step, i + n0 * j + 2 * step };
+      const double c[3] = { 1.0, -2.0, 1.0 };
+      for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < 3; ++q)
+          M(id[p], id[q]) += lambda * c[p] * c[q];
+    }
+}
+} // namespace
+
+bool PenalizedSpline1D::Fit(double a, double b, int intervals, const std::vector<double>& x,
+  const std::vector<double>& y, const std::vector<double>& w, const std::vector<double>& factor, double lambda)
+{
+  this->A = a;
+  this->B = b;
+  this->Intervals = std::max(1, intervals);
+  const int n = this->Intervals + 3;
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
+  double total = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+  {
+    const UniformBasis basis(a, b, this->Intervals, x[i]);
+    const double f = factor.empty() ? 1.0 : factor[i];
+    for (int p = 0; p < 4; ++p)
+    {
+      r[basis.first + p] += w[i] * f * basis.value[p] * y[i];
+      for (int q = 0; q < 4; ++q)
+        M(basis.first + p, basis.first + q) += w[i] * f * f * basis.value[p] * basis.value[q];
+    }
+    total += w[i];
+  }
+  if (!(total > 0.0))
+    return false;
+  AddSecondDifferences(M, n, 1, 0, lambda * total / n);
+  M.diagonal().array() += 1e-12 * total / n;
+  Eigen::LDLT<Eigen::MatrixXd> ldlt(M);
+  if (ldlt.info() != Eigen::Success)
+    return false;
+  this->Control = ldlt.solve(r);
+  return this->Control.allFinite();
+}
+
+void PenalizedSpline1D::SetConstant(double a, double b, double value)
+{
+  this->A = a;
+  this->B = b;
+  this->Intervals = 1;
+  this->Control = Eigen::VectorXd::Constant(4, value);
+}
+
+double PenalizedSpline1D::operator()(double x) const
+{
+  const UniformBasis basis(this->A, this->B, this->Intervals, x);
+  double v = 0.0;
+  for (int p = 0; p < 4; ++p)
+    v += basis.value[p] * this->Control[basis.first + p];
+  return v;
+}
+
+double PenalizedSpline1D::Derivative(double x) const
+{
+  const UniformBasis basis(this->A, this->B, this->Intervals, x);
+  double v = 0.0;
+  for (int p = 0; p < 4; ++p)
+    v += basis.derivative[p] * this->Control[basis.first + p];
+  return v;
+}
+
+bool TensorSurface::Fit(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sRange, int nt, int ns,
+  const std::vector<Eigen::Vector2d>& ts, const std::vector<Eigen::Vector3d>& X, const std::vector<double>& w,
+  double lambda)
+{
+  this->T = tRange;
+  this->S = sRange;
+  this->Nt = std::max(1, nt);
+  this->Ns = std::max(1, ns);
+  const int n0 = this->Nt + 3, n1 = this->Ns + 3, n = n0 * n1;
+  // The normal equations: each point adds a 16 x 16 block over the 4 x 4 controls of its knot cell. Blocks are
+  // summed per cell first (contiguous memory: on 10^6 points scattered updates of the big matrix were memory-bound),
+  // then added into the matrix, which is solved as the sparse system it is.
+  const int cells = std::max(1, (n0 - 3) * (n1 - 3));
+  std::vector<double> gram(static_cast<std::size_t>(cells) * 256, 0.0), rhs(static_cast<std::size_t>(cells) * 48, 0.0);
+  std::vector<int> firstT(cells, -1), firstS(cells, -1);
+  double total = 0.0;
+  for (std::size_t i = 0; i < ts.size(); ++i)
+  {
+    if (!(w[i] > 0.0))
+      continue;
+    const UniformBasis bt(this->T[0], this->T[1], this->Nt, ts[i].x());
+    const UniformBasis bs(this->S[0], this->S[1], this->Ns, ts[i].y());
+    const int cell = bt.first + (n0 - 3) * bs.first;
+    firstT[cell] = bt.first;
+    firstS[cell] = bs.first;
+    double v[16];
+    for (int q = 0; q < 4; ++q)
+      for (int p = 0; p < 4; ++p)
+        v[p + 4 * q] = bt.value[p] * bs.value[q];
+    double* g = &gram[static_cast<std::size_t>(cell) * 256];
+    double* r = &rhs[static_cast<std::size_t>(cell) * 48];
+    for (int a = 0; a < 16; ++a)
+    {
+      const double wa = w[i] * v[a];
+      for (int c = 0; c < 3; ++c)
+        r[3 * a + c] += wa * X[i][c];
+      for (int b = 0; b < 16; ++b)
+        g[16 * a + b] += wa * v[b];
+    }
+    total += w[i];
+  }
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(n, 3);
+  for (int cell = 0; cell < cells; ++cell)
+  {
+    if (firstT[cell] < 0)
+      continue;
+    int id[16];
+    for (int q = 0; q < 4; ++q)
+      for (int p = 0; p < 4; ++p)
+        id[p + 4 * q] = firstT[cell] + p + n0 * (firstS[cell] + q);
+    const double* g = &gram[static_cast<std::size_t>(cell) * 256];
+    const double* h = &rhs[static_cast<std::size_t>(cell) * 48];
+    for (int a = 0; a < 16; ++a)
+    {
+      for (int c = 0; c < 3; ++c)
+        r(id[a], c) += h[3 * a + c];
+      for (int b = 0; b < 16; ++b)
+        M(id[a], id[b]) += g[16 * a + b];
+    }
+  }
+  if (!(total > 0.0))
+    return false;
+  const double scale = lambda * total / n;
+  AddSecondDifferences(M, n0, n1, 0, scale);
+  AddSecondDifferences(M, n0, n1, 1, scale);
+  M.diagonal().array() += 1e-10 * total / n;
+  const Eigen::SparseMatrix<double> sparse = M.sparseView();
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(sparse);
+  if (solver.info() != Eigen::Success)
+    return false;
+  this->Control = solver.solve(r);
+  return solver.info() == Eigen::Success && this->Control.allFinite();
+}
+
+Eigen::Vector3d TensorSurface::operator()(double t, double s) const
+{
+  const UniformBasis bt(this->T[0], this->T[1], this->Nt, t);
+  const UniformBasis bs(this->S[0], this->S[1], this->Ns, s);
+  const int n0 = this->Nt + 3;
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  for (int q = 0; q < 4; ++q)
+    for (int p = 0; p < 4; ++p)
+      x += bt.value[p] * bs.value[q] * this->Control.row(bt.first + p + n0 * (bs.first + q)).transpose();
+  return x;
+}
+
+void TensorSurface::Derivatives(double t, double s, Eigen::Vector3d& dt, Eigen::Vector3d& ds) const
+{
+  const UniformBasis bt(this->T[0], this->T[1], this->Nt, t);
+  const UniformBasis bs(this->S[0], this->S[1], this->Ns, s);
+  const int n0 = this->Nt + 3;
+  dt.setZero();
+  ds.setZero();
+  for (int q = 0; q < 4; ++q)
+    for (int p = 0; p < 4; ++p)
+    {
+      const Eigen::Vector3d c = this->Control.row(bt.first + p + n0 * (bs.first + q)).transpose();
+      dt += bt.derivative[p] * bs.value[q] * c;
+      ds += bt.value[p] * bs.derivative[q] * c;
+    }
+}
+
+Eigen::Vector3d TensorSurface::Normal(double t, double s) const
+{
+  Eigen::Vector3d dt, ds;
+  this->Derivatives(t, s, dt, ds);
+  const Eigen::Vector3d n = dt.cross(ds);
+  const double norm = n.norm();
+  return norm > 0.0 ? Eigen::Vector3d(n / norm) : Eigen::Vector3d::UnitZ();
+}
+
+} // namespace plantmorph

@@ -1,0 +1,175 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// FitLeaf's traits: what plant scientists measure on a leaf, from the fitted surface and blade.
+#include "LeafFitInternal.h"
+
+#include <plantmorph/MathConstants.h>
+#include <plantmorph/PlaneFit.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace plantmorph
+{
+namespace fit
+{
+namespace
+{
+constexpr double Degrees = 180.0 / Pi;
+
+double AngleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+{
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * Degrees;
+}
+
+/// Arc length of S(t, s) over t in [a, b] at fixed s.
+double CrossLength(const TensorSurface& S, double s, double a, double b, int samples)
+{
+  double length = 0.0;
+  Eigen::Vector3d previous = S(a, s);
+  for (int i = 1; i <= samples; ++i)
+  {
+    const Eigen::Vector3d x = S(a + (b - a) * i / samples, s);
+    length += (x - previous).norm();
+    previous = x;
+  }
+  return length;
+}
+
+void ShapeTraits(const TensorSurface& S, const Outline& o, LeafTraits& traits)
+{
+  const double L = o.s1 - o.s0;
+  double length = 0.0;
+  Eigen::Vector3d previous = S(0.0, o.s0);
+  for (int i = 1; i <= 2000; ++i)
+  {
+    const Eigen::Vector3d x = S(0.0, o.s0 + L * i / 2000);
+    length += (x - previous).norm();
+    previous = x;
+  }
+  traits.length = length;
+  double width = 0.0, rolling = 0.0, curvature = 0.0;
+  int stations = 0;
+  for (int k = 1; k < 400; ++k)
+  {
+    const double s = o.s0 + L * k / 400;
+    const double across = CrossLength(S, s, o.Left(s), o.Right(s), 100);
+    width = std::max(width, across);
+    const double xi = static_cast<double>(k) / 400;
+    if (xi < 0.2 || xi > 0.8 || !(across > 0.0))
+      continue;
+    // Rolling: the turn of the normal from the left margin to the right one, about the midvein's tangent;
+    // positive when the halves roll up (towards the upper side).
+    Eigen::Vector3d dt, ds;
+    S.Derivatives(0.0, s, dt, ds);
+    const Eigen::Vector3d nL = S.Normal(o.Left(s), s), nR = S.Normal(o.Right(s), s);
+    const double angle = -std::atan2(nL.cross(nR).dot(ds.normalized()), nL.dot(nR));
+    rolling += angle;
+    curvature += angle / across;
+    ++stations;
+  }
+  traits.width = width;
+  traits.aspectRatio = width > 0.0 ? length / width : 0.0;
+  traits.rolling = stations > 0 ? rolling / stations * Degrees : 0.0;
+  traits.rollingCurvature = stations > 0 ? curvature / stations : 0.0;
+}
+
+void BladeTraits(const LeafFitParameters& options, LeafFitResult& r)
+{
+  LeafTraits& traits = r.traits;
+  const FittedPlane plane = FitPlane(r.points);
+  Eigen::Vector3d meanNormal = Eigen::Vector3d::Zero();
+  double area = 0.0, projected = 0.0, horizontal = 0.0, covered = 0.0;
+  for (const auto& tri : r.triangles)
+  {
+    const Eigen::Vector3d a = 0.5 * (r.points[tri[1]] - r.points[tri[0]]).cross(r.points[tri[2]] - r.points[tri[0]]);
+    area += a.norm();
+    projected += std::abs(a.dot(plane.normal));
+    horizontal += std::abs(a.dot(options.up));
+    meanNormal += a;
+    const double support = (r.support[tri[0]] + r.support[tri[1]] + r.support[tri[2]]) / 3.0;
+    if (support < 2.0 * traits.spacing)
+      covered += a.norm();
+  }
+  traits.area = area;
+  traits.projectedArea = projected;
+  traits.horizontalArea = horizontal;
+  traits.coverage = area > 0.0 ? covered / area : 0.0;
+  traits.inclination = AngleBetween(meanNormal, options.up);
+  traits.inclination = std::min(traits.inclination, 180.0 - traits.inclination);
+  double lo[2] = { 1e300, 1e300 }, hi[2] = { -1e300, -1e300 };
+  const Eigen::Vector3d minor = plane.normal.cross(plane.major);
+  for (const auto& p : r.points)
+  {
+    const double c[2] = { (p - plane.centroid).dot(plane.major), (p - plane.centroid).dot(minor) };
+    for (int a = 0; a < 2; ++a)
+    {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  }
+  traits.projectedLength = hi[0] - lo[0];
+  traits.projectedWidth = hi[1] - lo[1];
+  double perimeter = 0.0;
+  for (const std::vector<int>* margin : { &r.leftMargin, &r.rightMargin })
+    for (std::size_t i = 1; i < margin->size(); ++i)
+      perimeter += (r.points[(*margin)[i]] - r.points[(*margin)[i - 1]]).norm();
+  traits.perimeter = perimeter;
+  // Fit statistics over the inliers.
+  std::vector<double> distances;
+  for (std::size_t i = 0; i < r.inlier.size(); ++i)
+    if (r.inlier[i])
+      distances.push_back(std::abs(r.fitDistance[i]));
+  traits.inliers = static_cast<double>(distances.size());
+  double sum = 0.0;
+  for (double d : distances)
+    sum += d * d;
+  std::sort(distances.begin(), distances.end());
+  traits.fitRMS = distances.empty() ? 0.0 : std::sqrt(sum / distances.size());
+  traits.fitP95 = distances.empty()
+    ? 0.0
+    : distances[std::min(distances.size() - 1, static_cast<std::size_t>(0.95 * distances.size()))];
+  traits.fitMax = distances.empty() ? 0.0 : distances.back();
+}
+} // namespace
+
+void ComputeTraits(const TensorSurface& surface, const Outline& outline, const LeafFitParameters& options,
+  const Eigen::Matrix3d& axes, LeafFitResult& result)
+{
+  LeafTraits& traits = result.traits;
+  ShapeTraits(surface, outline, traits);
+  BladeTraits(options, result);
+  // Angles of the midvein: bending between its end tangents; its direction and base tangent against `up`.
+  const double L = outline.s1 - outline.s0, d = 0.02 * L;
+  const Eigen::Vector3d t0 = axes * (surface(0.0, outline.s0 + d) - surface(0.0, outline.s0));
+  const Eigen::Vector3d t1 = axes * (surface(0.0, outline.s1) - surface(0.0, outline.s1 - d));
+  traits.bending = AngleBetween(t0, t1);
+  traits.midveinInclination = 90.0 - AngleBetween(t0, options.up);
+  const Eigen::Vector3d direction = axes * (surface(0.0, outline.s1) - surface(0.0, outline.s0));
+  Eigen::Vector3d h1 = Eigen::Vector3d::UnitX() - options.up.x() * options.up;
+  if (h1.norm() < 1e-6)
+    h1 = Eigen::Vector3d::UnitY() - options.up.y() * options.up;
+  h1.normalize();
+  const Eigen::Vector3d h2 = options.up.cross(h1);
+  traits.azimuth = std::atan2(direction.dot(h2), direction.dot(h1)) * Degrees;
+  if (traits.azimuth < 0.0)
+    traits.azimuth += 360.0;
+}
+
+} // namespace fit
+
+std::vector<std::string> TraitNames()
+{
+  return { "Length", "Width", "ProjectedLength", "ProjectedWidth", "Area", "ProjectedArea", "HorizontalArea",
+    "Perimeter", "AspectRatio", "Bending", "Rolling", "RollingCurvature", "Inclination", "Azimuth",
+    "MidveinInclination", "Points", "Inliers", "FitRMS", "FitP95", "FitMax", "Coverage", "Spacing", "BaseFrom" };
+}
+
+std::vector<double> TraitValues(const LeafTraits& t)
+{
+  return { t.length, t.width, t.projectedLength, t.projectedWidth, t.area, t.projectedArea, t.horizontalArea,
+    t.perimeter, t.aspectRatio, t.bending, t.rolling, t.rollingCurvature, t.inclination, t.azimuth,
+    t.midveinInclination, t.points, t.inliers, t.fitRMS, t.fitP95, t.fitMax, t.coverage, t.spacing,
+    static_cast<double>(t.baseFrom) };
+}
+
+} // namespace plantmorph

@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkLeafFitFilter
+ * @brief   A scanned leaf (a point cloud) becomes a PlantMorph leaf and its traits (docs/methods/leaf-fit.md).
+ *
+ * Input: any vtkPointSet with one leaf, or several told apart by the integer point array named by LeafIdArray
+ * (empty: the whole input is one leaf). Only its points are used; coordinates are multiplied by Scale first.
+ * Every leaf is fitted by plantmorph::FitLeaf (filters/leaf_fit/core/LeafFit.h; leaves in parallel with vtkSMPTools).
+ *
+ * Output port 0, **Blade**: one triangulated blade per leaf, with point arrays `LeafUV`, `TCoords`, `Region`,
+ * `Normals` (the data contract), `LeafId` and `Support` (distance to the nearest inlier scan point), cell arrays
+ * `Region` and `LeafId`. Field data: for every leaf, its fitted Model C control points,
+ * `PlantMorph.FitModel.<LeafId>.MidveinPoints`, `.LeftMarginPoints`, `.RightMarginPoints` (3-component arrays,
+ * base to apex): LeafOutlineSource with Model B-spline, BSplinePreset Custom and these three lists rebuilds the
+ * leaf where its curvature lets LeafOutlineSource mesh it in one plane; `.FlatMidveinPoints`,
+ * `.FlatLeftMarginPoints`, `.FlatRightMarginPoints` give the same leaf laid flat (intrinsic coordinates, base at
+ * the origin, midvein along +Y), which rebuilds (then curl it with LeafCurlFilter): when ModelControlPoints
+ * interpolating points fold it (a margin close to the midvein), fewer are given (by twos, down to 3; the count used
+ * is `.ControlPoints`), and if none rebuilds a warning names the leaf. Port 1, **Outline**: left margin, right margin and midvein of each leaf (cell `Region` 4, 4, 1, `LeafId`).
+ * Port 2, **Traits**: a vtkTable, one row per leaf (LeafId, then plantmorph::TraitNames()). Port 3, **Scan**: the
+ * input points (scaled) with their point data and `FitDistance`, `Inlier`, `LeafId`.
+ *
+ * Under MPI each rank fits its own leaves (LeafFitExchange.h): every leaf gets one owner rank (largest leaves
+ * first, each to the least loaded rank), its points are sent there from every rank that holds some, and it is
+ * fitted there; Blade and Outline stay on the owner, Scan on the ranks holding the points (the owners send
+ * FitDistance and Inlier back), and the Traits rows are gathered onto rank 0 in LeafId order. Each leaf is fitted on
+ * its points in lexicographic order of their coordinates, so the results are bit-identical to a serial run
+ * whatever the ranks and however the points were split. Bad input (too few points, a line, NaN, no leaf shape, a
+ * missing LeafIdArray, properties out of range) gives an error naming the problem and empty outputs.
+ */
+#ifndef vtkLeafFitFilter_h
+#define vtkLeafFitFilter_h
+
+#include "PlantMorphFitVTKModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <string> // for LeafIdArray
+
+class PLANTMORPHFITVTK_EXPORT vtkLeafFitFilter : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkLeafFitFilter* New();
+  vtkTypeMacro(vtkLeafFitFilter, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Factor applied to the input coordinates (0.1 for a scan in mm and a model in cm). Finite, > 0. Default 1.
+  vtkSetMacro(Scale, double);
+  vtkGetMacro(Scale, double);
+
+  /// Point array telling leaves apart (integer values; empty: one leaf). Default empty.
+  void SetLeafIdArray(const char* name);
+  const char* GetLeafIdArray() const { return this->LeafIdArray.c_str(); }
+
+  /// Vertical axis: 0 X, 1 Y, 2 Z (default). For Inclination, Azimuth, HorizontalArea and the upper side.
+  vtkSetClampMacro(UpAxis, int, 0, 2);
+  vtkGetMacro(UpAxis, int);
+
+  /// With UseBasePoint, the scan end nearest BasePoint (in scaled coordinates) is the leaf's base; otherwise the
+  /// base is found from the shape. Default off.
+  vtkSetMacro(UseBasePoint, int);
+  vtkGetMacro(UseBasePoint, int);
+  vtkSetVector3Macro(BasePoint, double);
+  vtkGetVector3Macro(BasePoint, double);
+
+  ///@{
+  /// Fit controls (plantmorph::LeafFitParameters): SurfaceSmoothing [0, 1e6] (default 1), OutlineSmoothing [0, 1e6]
+  /// (default 1), OutlineControlPoints [4, 200] (default 16), OutlierSigma [1, 100] (default 3), Resolution
+  /// [4, 1000] segments along the midvein (default 60), ModelControlPoints [3, 100] (default 20).
+  vtkSetMacro(SurfaceSmoothing, double);
+  vtkGetMacro(SurfaceSmoothing, double);
+  vtkSetMacro(OutlineSmoothing, double);
+  vtkGetMacro(OutlineSmoothing, double);
+  vtkSetMacro(OutlineControlPoints, int);
+  vtkGetMacro(OutlineControlPoints, int);
+  vtkSetMacro(OutlierSigma, double);
+  vtkGetMacro(OutlierSigma, double);
+  vtkSetMacro(Resolution, int);
+  vtkGetMacro(Resolution, int);
+  vtkSetMacro(ModelControlPoints, int);
+  vtkGetMacro(ModelControlPoints, int);
+  ///@}
+
+protected:
+  vtkLeafFitFilter();
+  ~vtkLeafFitFilter() override = default;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double Scale = 1.0;
+  std::string LeafIdArray;
+  int UpAxis = 2;
+  int UseBasePoint = 0;
+  double BasePoint[3] = { 0.0, 0.0, 0.0 };
+  double SurfaceSmoothing = 1.0;
+  double OutlineSmoothing = 1.0;
+  int OutlineControlPoints = 16;
+  double OutlierSigma = 3.0;
+  int Resolution = 60;
+  int ModelControlPoints = 20;
+
+private:
+  vtkLeafFitFilter(const vtkLeafFitFilter&) = delete;
+  void operator=(const vtkLeafFitFilter&) = delete;
+};
+
+#endif

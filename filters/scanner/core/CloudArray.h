@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The arrays of a scanned cloud: numbers that are left unset when the array grows (the threads write every entry
+// before anything reads it, so zeroing them would be a serial pass over the whole cloud and its page faults), held
+// in memory from std::malloc that can be handed over: the VTK wrapper adopts the cloud's arrays as its output arrays
+// (freed there with std::free) instead of copying them.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdlib>
+#include <cstring>
+#include <initializer_list>
+#include <new>
+#include <type_traits>
+#include <utility>
+
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
+
+namespace plantmorph
+{
+
+template <class T>
+class CloudArray
+{
+  static_assert(std::is_trivially_copyable<T>::value, "a cloud array holds plain numbers");
+
+public:
+  CloudArray() = default;
+  CloudArray(std::initializer_list<T> values) { this->assign(values.begin(), values.end()); }
+  CloudArray(const CloudArray& other) { this->assign(other.begin(), other.end()); }
+  CloudArray(CloudArray&& other) noexcept { this->swap(other); }
+  CloudArray& operator=(CloudArray other) noexcept
+  {
+    this->swap(other);
+    return *this;
+  }
+  ~CloudArray() { std::free(this->values); }
+
+  std::size_t size() const { return this->count; }
+  std::size_t capacity() const { return this->room; }
+  bool empty() const { return this->count == 0; }
+  T* data() { return this->values; }
+  const T* data() const { return this->values; }
+  T* begin() { return this->values; }
+  T* end() { return this->values + this->count; }
+  const T* begin() const { return this->values; }
+  const T* end() const { return this->values + this->count; }
+  T& operator[](std::size_t i) { return this->values[i]; }
+  const T& operator[](std::size_t i) const { return this->values[i]; }
+
+  /// Room for `n` numbers (the ones held are kept; new memory is untouched until written).
+  void reserve(std::size_t n)
+  {
+    if (n <= this->room)
+      return;
+    T* grown = Allocate(n * sizeof(T));
+    if (this->count > 0)
+      std::memcpy(grown, this->values, this->count * sizeof(T));
+    std::free(this->values);
+    this->values = grown;
+    this->room = n;
+  }
+  /// `n` numbers; those beyond the old size are unset.
+  void resize(std::size_t n)
+  {
+    if (n > this->room)
+      this->reserve(std::max(n, 2 * this->room));
+    this->count = n;
+  }
+  /// The numbers [first, last) added at the end.
+  void append(const T* first, const T* last)
+  {
+    const std::size_t old = this->count;
+    this->resize(old + static_cast<std::size_t>(last - first));
+    std::copy(first, last, this->values + old);
+  }
+  void assign(const T* first, const T* last)
+  {
+    this->count = 0;
+    this->append(first, last);
+  }
+  /// Hands the memory over (to be freed with std::free); the array is left empty. nullptr when it holds nothing.
+  T* Release()
+  {
+    T* held = this->count > 0 ? this->values : nullptr;
+    if (!held)
+      std::free(this->values);
+    this->values = nullptr;
+    this->count = this->room = 0;
+    return held;
+  }
+  void swap(CloudArray& other) noexcept
+  {
+    std::swap(this->values, other.values);
+    std::swap(this->count, other.count);
+    std::swap(this->room, other.room);
+  }
+  friend bool operator==(const CloudArray& a, const CloudArray& b)
+  {
+    return a.count == b.count && std::equal(a.begin(), a.end(), b.begin());
+  }
+
+private:
+  /// Memory for `bytes` (freed with std::free). Large arrays are aligned to 2 MiB and asked for transparent huge
+  /// pages (Linux, where enabled "madvise"): a cloud of 10^7 points is written into fresh memory on every run, and
+  /// its page faults, one per 4 KiB, were a tenth of the filter's time.
+  static T* Allocate(std::size_t bytes)
+  {
+    void* memory = nullptr;
+#ifdef __linux__
+    constexpr std::size_t Huge = std::size_t(2) << 20;
+    if (bytes >= 2 * Huge)
+    {
+      if (posix_memalign(&memory, Huge, bytes) != 0)
+        memory = nullptr;
+      else
+        madvise(memory, bytes, MADV_HUGEPAGE);
+    }
+    else
+#endif
+      memory = std::malloc(bytes);
+    if (!memory)
+      throw std::bad_alloc();
+    return static_cast<T*>(memory);
+  }
+
+  T* values = nullptr;
+  std::size_t count = 0;
+  std::size_t room = 0;
+};
+
+} // namespace plantmorph

@@ -1,0 +1,699 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkVirtualScanner.h"
+#include "PlantMorphAlgorithmHooks.h"
+
+#include "PlantMorphFieldData.h"
+#include "PlantMorphWholeInput.h"
+
+#include <plantmorph/RangeError.h>
+#include "VirtualScan.h"
+
+#include "vtkAbstractArray.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkCommunicator.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPTools.h"
+#include "vtkTypeInt32Array.h"
+#include "vtkTypeInt64Array.h"
+
+#include <cmath>
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+vtkStandardNewMacro(vtkVirtualScanner);
+
+namespace
+{
+const char* const OwnArrays[] = { "Normals", "Range", "Intensity", "ScanPosition", "HitCellId", "BeamId" };
+const char* const TypeNames[] = { "Terrestrial", "Line", "Depth camera" };
+
+/// The input cell of each triangle: when every polygon is a triangle and there are no strips (the usual surface),
+/// triangle t is cell first + t and nothing is stored (80 MB at 10^7 triangles); else one id per triangle.
+struct TriangleCells
+{
+  vtkIdType first = 0;
+  std::vector<vtkIdType> ids; // empty: cell first + t
+
+  vtkIdType operator()(std::size_t t) const
+  {
+    return this->ids.empty() ? this->first + static_cast<vtkIdType>(t) : this->ids[t];
+  }
+  /// Triangle `t` (the next one) comes from `cell`.
+  void Add(std::size_t t, vtkIdType cell)
+  {
+    if (this->ids.empty() && cell == this->first + static_cast<vtkIdType>(t))
+      return;
+    for (std::size_t k = this->ids.size(); k < t; ++k) // the identity so far, written out
+      this->ids.push_back(this->first + static_cast<vtkIdType>(k));
+    this->ids.push_back(cell);
+  }
+};
+
+/// A point id as a 32-bit index; ids outside [0, n) become n, which ValidateSurface names as out of range.
+std::uint32_t Index32(vtkIdType id, vtkIdType n)
+{
+  return static_cast<std::uint32_t>(id >= 0 && id < n ? id : n);
+}
+
+/// The input's points in double precision: its own array when it holds plain doubles (no copy), else a copy made in
+/// `copy`. nullptr when there are none.
+const double* DoublePoints(vtkPolyData* input, std::vector<double>& copy)
+{
+  const vtkIdType n = input->GetNumberOfPoints();
+  auto* doubles = input->GetPoints() ? vtkDoubleArray::SafeDownCast(input->GetPoints()->GetData()) : nullptr;
+  if (doubles && doubles->GetNumberOfComponents() == 3 && n > 0)
+    return doubles->GetPointer(0);
+  copy.resize(3 * static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+    input->GetPoint(i, &copy[3 * static_cast<std::size_t>(i)]);
+  return copy.empty() ? nullptr : copy.data();
+}
+
+/// The input's polygons and strips as triangles (fans and strip triangles) of 32-bit point indices (half the memory
+/// of VTK's ids; the caster needs fewer than 2^32 points anyway), each with its cell id in the input.
+std::string Triangulate(
+  vtkPolyData* input, const double* points, std::vector<std::uint32_t>& triangles, TriangleCells& cellOf)
+{
+  const vtkIdType n = input->GetNumberOfPoints();
+  if (static_cast<std::uint64_t>(n) >= (std::uint64_t(1) << 32))
+    return "Input: more than 2^32 - 1 points";
+  vtkCellArray* polys = input->GetPolys();
+  vtkCellArray* stripCells = input->GetStrips();
+  // Exactly the triangles' indices: a polygon of m points makes m - 2, and so does a strip.
+  triangles.reserve(static_cast<std::size_t>(std::max<vtkIdType>(0,
+    3 *
+      (polys->GetNumberOfConnectivityIds() - 2 * polys->GetNumberOfCells() + stripCells->GetNumberOfConnectivityIds() -
+        2 * stripCells->GetNumberOfCells()))));
+  cellOf.first = input->GetNumberOfVerts() + input->GetNumberOfLines();
+  vtkIdType cellId = cellOf.first;
+  auto polygons = vtk::TakeSmartPointer(polys->NewIterator());
+  for (polygons->GoToFirstCell(); !polygons->IsDoneWithTraversal(); polygons->GoToNextCell(), ++cellId)
+  {
+    vtkIdType size;
+    const vtkIdType* ids;
+    polygons->GetCurrentCell(size, ids);
+    for (vtkIdType k = 1; k + 1 < size; ++k)
+    {
+      cellOf.Add(triangles.size() / 3, cellId);
+      triangles.insert(triangles.end(), { Index32(ids[0], n), Index32(ids[k], n), Index32(ids[k + 1], n) });
+    }
+  }
+  auto strips = vtk::TakeSmartPointer(stripCells->NewIterator());
+  for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell(), ++cellId)
+  {
+    vtkIdType size;
+    const vtkIdType* ids;
+    strips->GetCurrentCell(size, ids);
+    for (vtkIdType k = 0; k + 2 < size; ++k)
+    {
+      cellOf.Add(triangles.size() / 3, cellId);
+      if (k % 2 == 0)
+        triangles.insert(triangles.end(), { Index32(ids[k], n), Index32(ids[k + 1], n), Index32(ids[k + 2], n) });
+      else
+        triangles.insert(triangles.end(), { Index32(ids[k + 1], n), Index32(ids[k], n), Index32(ids[k + 2], n) });
+    }
+  }
+  return plantmorph::ValidateSurface(points, static_cast<std::size_t>(n), triangles.data(), triangles.size() / 3);
+}
+
+/// True when `name` is one of the cloud's own arrays or the ghost array: not carried from the input.
+bool Reserved(const char* name)
+{
+  if (!name || std::strcmp(name, vtkDataSetAttributes::GhostArrayName()) == 0)
+    return true;
+  for (const char* ours : OwnArrays)
+    if (std::strcmp(name, ours) == 0)
+      return true;
+  return false;
+}
+
+/// True when the input's array `array`, which needs `needed` tuples (one per cell or point), is carried to the cloud:
+/// not one of ours, and not short (ShortArrays names the short ones).
+bool Carried(vtkAbstractArray* array, vtkIdType needed)
+{
+  return array && !Reserved(array->GetName()) && array->GetNumberOfTuples() >= needed;
+}
+
+/// The input's cell and point arrays with fewer tuples than cells or points (a malformed input): named in a warning
+/// and not carried to the cloud. Empty when there are none.
+std::string ShortArrays(vtkPolyData* input)
+{
+  std::ostringstream names;
+  const auto check = [&](vtkFieldData* data, vtkIdType needed, const char* kind) {
+    for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+    {
+      vtkAbstractArray* array = data->GetAbstractArray(a);
+      if (array && !Reserved(array->GetName()) && !Carried(array, needed))
+        names << (names.tellp() > 0 ? ", " : "") << kind << " array " << array->GetName() << " ("
+              << array->GetNumberOfTuples() << " tuples for " << needed << ")";
+    }
+  };
+  check(input->GetCellData(), input->GetNumberOfCells(), "cell");
+  check(input->GetPointData(), input->GetNumberOfPoints(), "point");
+  return names.str();
+}
+
+/// Arrays whose tuples threads may read and write side by side as plain memory (not bit arrays, not implicit ones).
+bool Contiguous(vtkAbstractArray* array)
+{
+  return array->GetArrayType() == vtkAbstractArray::AoSDataArrayTemplate;
+}
+
+/// An array like `source` (type, name, components and their names) with n tuples, unset. Plain arrays get
+/// CloudArray memory (huge pages for large ones: the cloud's arrays are fresh memory on every run).
+vtkSmartPointer<vtkAbstractArray> LikeWithTuples(vtkAbstractArray* source, vtkIdType n)
+{
+  vtkSmartPointer<vtkAbstractArray> values = vtk::TakeSmartPointer(source->NewInstance());
+  values->SetName(source->GetName());
+  const int components = source->GetNumberOfComponents();
+  values->SetNumberOfComponents(components);
+  for (int c = 0; c < components; ++c)
+    if (source->GetComponentName(c))
+      values->SetComponentName(c, source->GetComponentName(c));
+  if (Contiguous(values) && n > 0)
+  {
+    plantmorph::CloudArray<unsigned char> memory;
+    memory.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(components * source->GetDataTypeSize()));
+    values->SetVoidArray(memory.Release(), n * components, 0, vtkAbstractArray::VTK_DATA_ARRAY_FREE);
+  }
+  else
+  {
+    values->SetNumberOfTuples(n);
+  }
+  return values;
+}
+
+/// A VTK array of `components` per tuple that takes over the memory of `values` (no copy; VTK frees it with
+/// std::free). `values` is left empty.
+template <class ArrayT, class T>
+vtkSmartPointer<ArrayT> Adopt(plantmorph::CloudArray<T>& values, int components, const char* name)
+{
+  static_assert(std::is_same<typename ArrayT::ValueType, T>::value, "the cloud's type is the output's");
+  auto array = vtkSmartPointer<ArrayT>::New();
+  if (name)
+    array->SetName(name);
+  array->SetNumberOfComponents(components);
+  const auto size = static_cast<vtkIdType>(values.size());
+  if (T* held = values.Release())
+    array->SetArray(held, size, 0, ArrayT::VTK_DATA_ARRAY_FREE);
+  return array;
+}
+
+/// One vertex cell per point, 0 .. n - 1 (32-bit ids when they fit: half the memory), in CloudArray memory (huge
+/// pages) adopted by VTK.
+template <class IdArray>
+vtkNew<vtkCellArray> PointVertices(vtkIdType n)
+{
+  using Id = typename IdArray::ValueType;
+  plantmorph::CloudArray<Id> offsets, connectivity;
+  offsets.resize(static_cast<std::size_t>(n) + 1);
+  connectivity.resize(static_cast<std::size_t>(n));
+  Id* off = offsets.data();
+  Id* conn = connectivity.data();
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+      off[i] = conn[i] = static_cast<Id>(i);
+  });
+  off[n] = static_cast<Id>(n);
+  vtkNew<vtkCellArray> verts;
+  verts->SetData(Adopt<IdArray>(offsets, 1, nullptr), Adopt<IdArray>(connectivity, 1, nullptr));
+  return verts;
+}
+
+/// values[i] = source[from(i)] for the n tuples, `from` giving tuple indices in [0, source's tuple count): threaded
+/// as plain bytes when both are plain arrays, else serial through VTK.
+template <class From>
+void GatherTuples(vtkAbstractArray* source, vtkAbstractArray* values, vtkIdType n, const From& from)
+{
+  if (Contiguous(source) && Contiguous(values))
+  {
+    const auto bytes = static_cast<std::size_t>(source->GetNumberOfComponents() * source->GetDataTypeSize());
+    const auto* in = static_cast<const unsigned char*>(source->GetVoidPointer(0));
+    auto* out = static_cast<unsigned char*>(values->GetVoidPointer(0));
+    vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+        std::memcpy(out + static_cast<std::size_t>(i) * bytes, in + static_cast<std::size_t>(from(i)) * bytes, bytes);
+    });
+    return;
+  }
+  if (n == 0) // strings, variants, bits
+    return;
+  vtkNew<vtkIdList> fromIds, toIds;
+  fromIds->SetNumberOfIds(n);
+  toIds->SetNumberOfIds(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    fromIds->SetId(i, from(i));
+    toIds->SetId(i, i);
+  }
+  values->InsertTuples(toIds, fromIds, source);
+}
+
+/// True when the input's point array `source` is carried to the cloud at the hits (InterpolatePointArrays): not
+/// named like ours or like a cell array, and with a tuple per point.
+bool Interpolated(vtkPolyData* input, vtkDataArray* source)
+{
+  return Carried(source, input->GetNumberOfPoints()) && !input->GetCellData()->GetAbstractArray(source->GetName());
+}
+
+/// True when some point array of the input is carried (the scan then keeps each hit's barycentric coordinates).
+bool AnyInterpolated(vtkPolyData* input)
+{
+  for (int a = 0; a < input->GetPointData()->GetNumberOfArrays(); ++a)
+    if (Interpolated(input, input->GetPointData()->GetArray(a)))
+      return true;
+  return false;
+}
+
+/// The input's point arrays at the hits, for those not named like ours or like a carried cell array: floating-point
+/// arrays interpolated with the hit's barycentric weights (LeafUV, TCoords: exact on the triangle hit), integer
+/// arrays (labels) taken from the triangle's vertex nearest the hit. Threaded over the points.
+std::vector<vtkSmartPointer<vtkAbstractArray>> InterpolatePointArrays(
+  const plantmorph::ScanPoints& scan, const std::vector<std::uint32_t>& triangles, vtkPolyData* input)
+{
+  const auto n = static_cast<vtkIdType>(scan.Size());
+  std::vector<vtkSmartPointer<vtkAbstractArray>> interpolated;
+  vtkPointData* in = input->GetPointData();
+  for (int a = 0; a < in->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* source = in->GetArray(a);
+    if (!Interpolated(input, source))
+      continue;
+    vtkSmartPointer<vtkDataArray> values = vtkDataArray::SafeDownCast(LikeWithTuples(source, n));
+    const int components = source->GetNumberOfComponents();
+    const auto corner = [&](vtkIdType i, int k) {
+      return static_cast<vtkIdType>(triangles[3 * static_cast<std::size_t>(scan.triangle[i]) + k]);
+    };
+    if (source->GetDataType() != VTK_FLOAT && source->GetDataType() != VTK_DOUBLE)
+    {
+      GatherTuples(source, values, n, [&](vtkIdType i) {
+        const double u = scan.barycentric[2 * i], v = scan.barycentric[2 * i + 1], w = 1.0 - u - v;
+        return corner(i, w >= u && w >= v ? 0 : (u >= v ? 1 : 2));
+      });
+      interpolated.emplace_back(values);
+      continue;
+    }
+    const auto weights = [&](vtkIdType i, double w[3]) {
+      w[1] = scan.barycentric[2 * i];
+      w[2] = scan.barycentric[2 * i + 1];
+      w[0] = 1.0 - w[1] - w[2];
+    };
+    if (Contiguous(values) && Contiguous(source))
+    {
+      const auto plain = [&](auto* in, auto* out) { // the same type: float or double
+        vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+          for (vtkIdType i = begin; i < end; ++i)
+          {
+            double w[3];
+            weights(i, w);
+            const auto* a = in + components * corner(i, 0);
+            const auto* b = in + components * corner(i, 1);
+            const auto* c = in + components * corner(i, 2);
+            for (int k = 0; k < components; ++k)
+              out[components * i + k] = static_cast<std::remove_reference_t<decltype(*out)>>(
+                w[0] * static_cast<double>(a[k]) + w[1] * static_cast<double>(b[k]) + w[2] * static_cast<double>(c[k]));
+          }
+        });
+      };
+      if (source->GetDataType() == VTK_FLOAT)
+        plain(static_cast<const float*>(source->GetVoidPointer(0)), static_cast<float*>(values->GetVoidPointer(0)));
+      else
+        plain(static_cast<const double*>(source->GetVoidPointer(0)), static_cast<double*>(values->GetVoidPointer(0)));
+    }
+    else // not plain memory: serial, through VTK
+    {
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        double w[3];
+        weights(i, w);
+        for (int c = 0; c < components; ++c)
+          values->SetComponent(i, c,
+            w[0] * source->GetComponent(corner(i, 0), c) + w[1] * source->GetComponent(corner(i, 1), c) +
+              w[2] * source->GetComponent(corner(i, 2), c));
+      }
+    }
+    interpolated.emplace_back(values);
+  }
+  return interpolated;
+}
+
+/// Port 0: the cloud with its arrays, the hit cells' arrays and the input's point arrays at the hits. The scan's
+/// arrays become the output's (adopted, not copied: `scan` is left empty); the triangle indices become the hit cells'
+/// ids in place. Each point is written by one thread only, so the output does not depend on the threads.
+void WriteCloud(plantmorph::ScanPoints& scan, const TriangleCells& cellOf, const std::vector<std::uint32_t>& triangles,
+  vtkPolyData* input, vtkPolyData* cloud)
+{
+  const auto n = static_cast<vtkIdType>(scan.Size());
+  const std::vector<vtkSmartPointer<vtkAbstractArray>> interpolated = InterpolatePointArrays(scan, triangles, input);
+  long long* cell = scan.triangle.data();
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+      cell[i] = cellOf(static_cast<std::size_t>(cell[i]));
+  });
+  vtkNew<vtkPoints> points;
+  points->SetData(Adopt<vtkDoubleArray>(scan.points, 3, nullptr));
+  cloud->SetPoints(points);
+  if (n < std::numeric_limits<std::int32_t>::max())
+    cloud->SetVerts(PointVertices<vtkTypeInt32Array>(n));
+  else
+    cloud->SetVerts(PointVertices<vtkTypeInt64Array>(n));
+  vtkPointData* pd = cloud->GetPointData();
+  pd->SetNormals(Adopt<vtkFloatArray>(scan.normals, 3, "Normals"));
+  pd->AddArray(Adopt<vtkDoubleArray>(scan.range, 1, "Range"));
+  pd->AddArray(Adopt<vtkDoubleArray>(scan.intensity, 1, "Intensity"));
+  pd->AddArray(Adopt<vtkIntArray>(scan.pose, 1, "ScanPosition"));
+  pd->AddArray(Adopt<vtkIdTypeArray>(scan.triangle, 1, "HitCellId"));
+  pd->AddArray(Adopt<vtkIdTypeArray>(scan.beam, 1, "BeamId"));
+  pd->SetActiveScalars("Range");
+  vtkCellData* cd = input->GetCellData();
+  for (int a = 0; a < cd->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* source = cd->GetAbstractArray(a);
+    if (!Carried(source, input->GetNumberOfCells()))
+      continue;
+    vtkSmartPointer<vtkAbstractArray> carried = LikeWithTuples(source, n);
+    GatherTuples(source, carried, n, [cell](vtkIdType i) { return static_cast<vtkIdType>(cell[i]); });
+    pd->AddArray(carried);
+  }
+  for (const auto& values : interpolated)
+    pd->AddArray(values);
+}
+
+/// Port 1: the set-up as lines, with the pose of each.
+void WriteSetup(const plantmorph::BeamPattern& pattern, double length, vtkPolyData* setup)
+{
+  std::vector<double> segments;
+  std::vector<std::int64_t> poses;
+  pattern.SetupLines(length, 200, segments, poses);
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIntArray> pose;
+  pose->SetName("ScanPosition");
+  for (std::size_t i = 0; i < poses.size(); ++i)
+  {
+    const vtkIdType a = points->InsertNextPoint(&segments[6 * i]);
+    const vtkIdType b = points->InsertNextPoint(&segments[6 * i + 3]);
+    const vtkIdType ids[2] = { a, b };
+    lines->InsertNextCell(2, ids);
+    pose->InsertNextValue(static_cast<int>(poses[i]));
+  }
+  setup->SetPoints(points);
+  setup->SetLines(lines);
+  setup->GetCellData()->AddArray(pose);
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+struct vtkVirtualScanner::PreparedSurface
+{
+  const vtkPolyData* input = nullptr; // identity only, never dereferenced
+  vtkMTimeType time = 0;
+  std::vector<std::uint32_t> triangles; // for the point arrays at the hits; the points are the caster's copy only
+  TriangleCells cellOf;
+  plantmorph::RayCaster caster;
+};
+
+namespace
+{
+/// The kept surfaces of every filter, released by an exit handler: a filter still alive when the process ends
+/// (ParaView deletes its proxies in its static destructors) would otherwise release its Embree device after
+/// Embree's thread pool is gone, which aborts or hangs.
+struct KeptSurfaces
+{
+  std::mutex lock;
+  std::vector<std::weak_ptr<vtkVirtualScanner::PreparedSurface>> all;
+};
+
+KeptSurfaces& Kept()
+{
+  static KeptSurfaces* kept = new KeptSurfaces; // never destroyed: the exit handler may run after statics
+  return *kept;
+}
+
+void ReleaseKeptSurfaces()
+{
+  std::lock_guard<std::mutex> guard(Kept().lock);
+  for (auto& weak : Kept().all)
+  {
+    if (auto prepared = weak.lock())
+    {
+      prepared->caster.Clear();
+    }
+  }
+  Kept().all.clear();
+}
+
+void Keep(const std::shared_ptr<vtkVirtualScanner::PreparedSurface>& prepared)
+{
+  static std::once_flag once;
+  std::call_once(once, [] { std::atexit(ReleaseKeptSurfaces); });
+  std::lock_guard<std::mutex> guard(Kept().lock);
+  auto& all = Kept().all;
+  all.erase(std::remove_if(all.begin(), all.end(), [](const auto& w) { return w.expired(); }), all.end());
+  all.push_back(prepared);
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkVirtualScanner::vtkVirtualScanner()
+{
+  this->SetNumberOfOutputPorts(2);
+}
+
+//------------------------------------------------------------------------------
+void vtkVirtualScanner::ClearPositions()
+{
+  if (!this->Positions.empty())
+  {
+    this->Positions.clear();
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkVirtualScanner::AddPosition(double x, double y, double z)
+{
+  this->Positions.insert(this->Positions.end(), { x, y, z });
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+int vtkVirtualScanner::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkVirtualScanner::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* original = input;
+  vtkPolyData* cloud = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* setup = vtkPolyData::GetData(outputVector, 1);
+  if (!input || !cloud || !setup)
+  {
+    return 0;
+  }
+  cloud->Initialize();
+  setup->Initialize();
+  // Under MPI the whole surface (gathered on rank 0 if it was split over ranks) is replicated on every rank, and
+  // each rank casts its consecutive share of the beams: the ranks' pieces in rank order are the serial cloud.
+  vtkSmartPointer<vtkPolyData> whole = plantmorph::GatherOnFirstRank(input);
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const int ranks = controller ? controller->GetNumberOfProcesses() : 1;
+  const int rank = controller ? controller->GetLocalProcessId() : 0;
+  if (ranks > 1)
+  {
+    vtkNew<vtkPolyData> replica;
+    if (rank == 0)
+    {
+      replica->ShallowCopy(whole);
+    }
+    controller->Broadcast(replica, 0);
+    whole = replica.Get();
+  }
+  input = whole.Get();
+  auto fail = [&](const std::string& message) {
+    if (rank == 0) // every rank finds the same error: report it once
+    {
+      vtkErrorMacro(<< message);
+    }
+    cloud->Initialize();
+    setup->Initialize();
+    return 1;
+  };
+
+  // The parameters first, with the beam budget: nothing is built or cast when they fail.
+  plantmorph::ScannerParameters p;
+  if (this->ScannerType < 0 || this->ScannerType > 2)
+  {
+    std::ostringstream message;
+    message << plantmorph::OutOfRange(
+      "ScannerType", this->ScannerType, "{0, 1, 2}", "0 Terrestrial, 1 Line, 2 Depth camera");
+    return fail(message.str());
+  }
+  if (this->LineMotion < 0 || this->LineMotion > 1)
+  {
+    std::ostringstream message;
+    message << plantmorph::OutOfRange("LineMotion", this->LineMotion, "{0, 1}", "0 Path, 1 Turntable");
+    return fail(message.str());
+  }
+  if (!(this->MaximumBeams >= 1.0 && this->MaximumBeams <= 4e9))
+  {
+    std::ostringstream message;
+    message << plantmorph::OutOfRange("MaximumBeams", this->MaximumBeams, "[1, 4e9]");
+    return fail(message.str());
+  }
+  p.type = static_cast<plantmorph::ScannerType>(this->ScannerType);
+  p.positions.clear();
+  for (std::size_t i = 0; i + 2 < this->Positions.size(); i += 3)
+    p.positions.push_back({ this->Positions[i], this->Positions[i + 1], this->Positions[i + 2] });
+  p.lookAt = { this->LookAt[0], this->LookAt[1], this->LookAt[2] };
+  p.up = { this->Up[0], this->Up[1], this->Up[2] };
+  p.horizontalFieldOfView = this->HorizontalFieldOfView;
+  p.verticalFieldOfView = this->VerticalFieldOfView;
+  p.angularStep = this->AngularStep;
+  p.resolution[0] = this->Resolution[0];
+  p.resolution[1] = this->Resolution[1];
+  p.lineMotion = static_cast<plantmorph::LineMotion>(this->LineMotion);
+  p.lineSpacing = this->LineSpacing;
+  p.turntableSteps = this->TurntableSteps;
+  p.turntableAxis = { this->TurntableAxis[0], this->TurntableAxis[1], this->TurntableAxis[2] };
+  p.rangeNoise = this->RangeNoise;
+  p.angularJitter = this->AngularJitter;
+  p.dropoutProbability = this->DropoutProbability;
+  p.maximumRange = this->MaximumRange;
+  p.intensityFalloff = this->IntensityFalloff;
+  p.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
+  p.maximumBeams = static_cast<std::uint64_t>(this->MaximumBeams);
+  plantmorph::BeamPattern pattern;
+  std::string error = pattern.Setup(p);
+  if (!error.empty())
+  {
+    return fail(error);
+  }
+
+  // The triangulation and the caster's build, unless the same input (unchanged) was prepared by the last run.
+  const vtkMTimeType inputTime = original->GetMTime();
+  if (!this->Prepared || ranks > 1 || this->Prepared->input != original || this->Prepared->time != inputTime)
+  {
+    this->Prepared.reset(); // its memory first
+    auto prepared = std::make_shared<PreparedSurface>();
+    std::vector<double> copy; // only when the input's points are not plain doubles
+    const double* points = DoublePoints(input, copy);
+    error = Triangulate(input, points, prepared->triangles, prepared->cellOf);
+    if (error.empty())
+    {
+      error = prepared->caster.Build(points, static_cast<std::size_t>(input->GetNumberOfPoints()),
+        prepared->triangles.data(), prepared->triangles.size() / 3, plantmorph::RayCasterParameters{});
+    }
+    if (!error.empty())
+    {
+      return fail(error);
+    }
+    prepared->input = original;
+    prepared->time = inputTime;
+    this->Prepared = prepared;
+    Keep(prepared);
+  }
+  const std::vector<std::uint32_t>& triangles = this->Prepared->triangles;
+  const TriangleCells& cellOf = this->Prepared->cellOf;
+  const std::string shortArrays = ShortArrays(input);
+  if (!shortArrays.empty() && rank == 0)
+  {
+    vtkWarningMacro(<< "Input: not carried to the cloud, fewer tuples than the input has cells or points: "
+                    << shortArrays);
+  }
+  const plantmorph::RayCaster& caster = this->Prepared->caster;
+  this->UpdateProgress(0.1);
+  plantmorph::ScanPoints scan;
+  scan.withBarycentric = AnyInterpolated(input);
+  const std::uint64_t beams = pattern.BeamCount();
+  const auto share = [&](int r) {
+    // beams <= 4e9 (AbsoluteMaximumBeams), so beams * rank fits in 64 bits for any rank count MPI runs.
+    return beams * static_cast<std::uint64_t>(r) / static_cast<std::uint64_t>(ranks);
+  };
+  // Every core: ParaView's default Sequential SMP backend (Debian's) is replaced by STDThread for the cast, as
+  // CloudComparisonFilter does; the output does not depend on the thread count.
+  const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
+  const std::string backend = current == "Sequential" ? "STDThread" : current;
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ 0, backend, false }, [&]() {
+    error = plantmorph::CastBeams(p, pattern, caster, scan, plantmorph::SMPFor(2), plantmorph::Progress(this, 0.1, 0.9),
+      share(rank), share(rank + 1));
+    if (error.empty()) // the output stage on the same threads
+    {
+      WriteCloud(scan, cellOf, triangles, input, cloud);
+    }
+  });
+  if (!error.empty())
+  {
+    return fail(error);
+  }
+  // Totals over the ranks in field data (every rank holds them).
+  double local[2] = { static_cast<double>(cloud->GetNumberOfPoints()), static_cast<double>(scan.dropped) };
+  double total[2] = { local[0], local[1] };
+  if (ranks > 1)
+  {
+    controller->AllReduce(local, total, 2, vtkCommunicator::SUM_OP);
+  }
+  vtkFieldData* fd = cloud->GetFieldData();
+  plantmorph::AddFieldValue(fd, "PlantMorph.Beams", static_cast<double>(beams));
+  plantmorph::AddFieldValue(fd, "PlantMorph.Returns", total[0]);
+  plantmorph::AddFieldValue(fd, "PlantMorph.Dropped", total[1]);
+  plantmorph::AddFieldValue(fd, "PlantMorph.Seed", this->Seed);
+  plantmorph::AddFieldString(fd, "PlantMorph.ScannerType", TypeNames[this->ScannerType]);
+  const double dx = p.lookAt[0] - p.positions[0][0], dy = p.lookAt[1] - p.positions[0][1],
+               dz = p.lookAt[2] - p.positions[0][2];
+  if (rank == 0) // the set-up once
+  {
+    WriteSetup(pattern, std::sqrt(dx * dx + dy * dy + dz * dz), setup);
+  }
+  if (ranks > 1) // rebuilt every run under MPI: not kept
+  {
+    this->Prepared.reset();
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkVirtualScanner::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ScannerType: " << this->ScannerType << "\n";
+  os << indent << "Positions: " << this->GetNumberOfPositions() << "\n";
+  os << indent << "LookAt: " << this->LookAt[0] << " " << this->LookAt[1] << " " << this->LookAt[2] << "\n";
+  os << indent << "FieldOfView: " << this->HorizontalFieldOfView << " x " << this->VerticalFieldOfView << "\n";
+  os << indent << "AngularStep: " << this->AngularStep << "\n";
+  os << indent << "Resolution: " << this->Resolution[0] << " x " << this->Resolution[1] << "\n";
+  os << indent << "LineMotion: " << this->LineMotion << "\n";
+  os << indent << "RangeNoise: " << this->RangeNoise << "\n";
+  os << indent << "DropoutProbability: " << this->DropoutProbability << "\n";
+  os << indent << "MaximumRange: " << this->MaximumRange << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "MaximumBeams: " << this->MaximumBeams << "\n";
+}

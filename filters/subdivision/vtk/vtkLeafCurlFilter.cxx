@@ -1,0 +1,203 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkLeafCurlFilter.h"
+
+#include "PlantMorphFieldData.h"
+#include "PlantMorphWholeInput.h"
+#include "LeafCurl.h"
+
+#include <plantmorph/DataContract.h>
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolygon.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+using plantmorph::AddFieldValue;
+
+vtkStandardNewMacro(vtkLeafCurlFilter);
+
+namespace
+{
+/// Recomputes the cell normals of the polygons (triangles, quads, polygons) from the curled points.
+void RecomputePolygonNormals(vtkPolyData* output, vtkDataArray* cellNormals)
+{
+  const vtkIdType first = output->GetNumberOfVerts() + output->GetNumberOfLines();
+  vtkPoints* points = output->GetPoints();
+  auto polys = vtk::TakeSmartPointer(output->GetPolys()->NewIterator());
+  vtkIdType cellId = first;
+  for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell(), ++cellId)
+  {
+    vtkIdType size = 0;
+    const vtkIdType* ids = nullptr;
+    polys->GetCurrentCell(size, ids);
+    double n[3] = { 0.0, 0.0, 0.0 };
+    vtkPolygon::ComputeNormal(points, static_cast<int>(size), ids, n);
+    cellNormals->SetTuple(cellId, n);
+  }
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkLeafCurlFilter::vtkLeafCurlFilter() = default;
+
+//------------------------------------------------------------------------------
+void vtkLeafCurlFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "LongitudinalAngle: " << this->LongitudinalAngle << "\n";
+  os << indent << "TransverseAngle: " << this->TransverseAngle << "\n";
+  os << indent << "TransverseCenter: " << this->TransverseCenter << "\n";
+}
+
+//------------------------------------------------------------------------------
+int vtkLeafCurlFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  output->Initialize();
+  if (!input)
+  {
+    return 1;
+  }
+
+  plantmorph::LeafCurlParameters parameters;
+  parameters.longitudinalAngle = this->LongitudinalAngle;
+  parameters.transverseAngle = this->TransverseAngle;
+  parameters.transverseCenter = this->TransverseCenter;
+  const std::string parameterError = plantmorph::ValidateLeafCurl(parameters);
+  if (!parameterError.empty())
+  {
+    vtkErrorMacro(<< parameterError);
+    return 1;
+  }
+  // Under MPI the blade curls once, on rank 0, whole (gathered there if it was split over ranks).
+  const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
+  input = wholeBlade.Get();
+  const vtkIdType count = input->GetNumberOfPoints();
+  if (count == 0)
+  {
+    // An empty piece (MPI ranks other than rank 0) is expected; an empty whole input is said.
+    if (plantmorph::IsFirstRank())
+    {
+      vtkWarningMacro(<< "the Input is empty (no points): nothing to curl, the output is empty");
+    }
+    return 1;
+  }
+  vtkDataArray* leafUV = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
+  if (!leafUV || leafUV->GetNumberOfComponents() != 2)
+  {
+    vtkErrorMacro(<< "the input has no point array " << plantmorph::arrays::LeafUV
+                  << " with 2 components (u in [-0.5, 0.5] across the blade, 0 on the midvein; v in [0, 1] along "
+                     "it), which LeafCurlFilter needs to find the midvein: curl a LeafOutlineSource blade, or a "
+                     "filter's output that passed LeafUV on");
+    return 1;
+  }
+
+  // Flat copies of the points and LeafUV for the core (read in parallel: GetTuple into a local buffer is
+  // thread-safe).
+  vtkPoints* inPoints = input->GetPoints();
+  std::vector<double> xyz(3 * static_cast<std::size_t>(count));
+  std::vector<double> uv(2 * static_cast<std::size_t>(count));
+  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      inPoints->GetPoint(i, xyz.data() + 3 * i);
+      leafUV->GetTuple(i, uv.data() + 2 * i);
+    }
+  });
+  plantmorph::LeafCurl curl;
+  const std::string inputError = curl.Setup(parameters, static_cast<std::size_t>(count), xyz.data(), uv.data());
+  if (!inputError.empty())
+  {
+    vtkErrorMacro(<< inputError);
+    return 1;
+  }
+  this->UpdateProgress(0.1);
+
+  output->ShallowCopy(input);
+  vtkFieldData* fd = output->GetFieldData();
+  AddFieldValue(fd, "PlantMorph.LongitudinalAngle", this->LongitudinalAngle);
+  AddFieldValue(fd, "PlantMorph.TransverseAngle", this->TransverseAngle);
+  AddFieldValue(fd, "PlantMorph.TransverseCenter", this->TransverseCenter);
+  if (curl.IsIdentity())
+  {
+    this->UpdateProgress(1.0);
+    return 1; // the input's own points: bit-identical
+  }
+
+  // New points of the input's precision, and new normals of the normals' type (the input's are shared with it).
+  vtkNew<vtkPoints> outPoints;
+  outPoints->SetDataType(inPoints->GetDataType());
+  outPoints->SetNumberOfPoints(count);
+  vtkDataArray* inNormals = input->GetPointData()->GetNormals();
+  vtkSmartPointer<vtkDataArray> outNormals;
+  if (inNormals && inNormals->GetNumberOfComponents() == 3)
+  {
+    outNormals = vtk::TakeSmartPointer(inNormals->NewInstance());
+    outNormals->SetName(inNormals->GetName());
+    outNormals->SetNumberOfComponents(3);
+    outNormals->SetNumberOfTuples(count);
+  }
+
+  // The mapping, in blocks: each block in parallel, progress and abort between blocks.
+  const vtkIdType block = std::max<vtkIdType>(65536, count / 20);
+  for (vtkIdType start = 0; start < count; start += block)
+  {
+    const vtkIdType stop = std::min(count, start + block);
+    vtkSMPTools::For(start, stop, [&](vtkIdType begin, vtkIdType end) {
+      double out[3];
+      double normal[3];
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        if (outNormals)
+        {
+          inNormals->GetTuple(i, normal);
+        }
+        curl.Map(static_cast<std::size_t>(i), xyz.data() + 3 * i, out, outNormals ? normal : nullptr);
+        outPoints->SetPoint(i, out);
+        if (outNormals)
+        {
+          outNormals->SetTuple(i, normal);
+        }
+      }
+    });
+    this->UpdateProgress(0.1 + 0.85 * static_cast<double>(stop) / static_cast<double>(count));
+    if (this->GetAbortExecute())
+    {
+      output->Initialize();
+      return 1;
+    }
+  }
+  output->SetPoints(outPoints);
+  if (outNormals)
+  {
+    output->GetPointData()->SetNormals(outNormals);
+  }
+  vtkDataArray* inCellNormals = input->GetCellData()->GetNormals();
+  if (inCellNormals && inCellNormals->GetNumberOfComponents() == 3 && output->GetNumberOfPolys() > 0)
+  {
+    auto outCellNormals = vtk::TakeSmartPointer(inCellNormals->NewInstance());
+    outCellNormals->DeepCopy(inCellNormals);
+    RecomputePolygonNormals(output, outCellNormals);
+    output->GetCellData()->SetNormals(outCellNormals);
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}

@@ -1,0 +1,740 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkVenationFilter.h"
+#include "PlantMorphAlgorithmHooks.h"
+
+#include "PlantMorphFieldData.h"
+#include "PlantMorphLeafExchange.h"
+#include "PlantMorphWholeInput.h"
+#include "VeinNetworkMeasures.h"
+#include "VenationGrowth.h"
+
+#include <plantmorph/DataContract.h>
+#include <plantmorph/PlaneFit.h>
+#include <plantmorph/RangeError.h>
+
+#include "vtkAppendPolyData.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStringArray.h"
+#include "vtkTable.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+using plantmorph::AddFieldString;
+using plantmorph::AddFieldValue;
+
+vtkStandardNewMacro(vtkVenationFilter);
+
+namespace
+{
+/// The 2-D plane the veins grow in: the blade's own plane when it is flat, else LeafUV scaled by the blade's mean
+/// stretch along u and v.
+std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& points,
+  const std::vector<Eigen::Vector2d>& uv, const std::vector<std::array<int, 3>>& triangles, bool& flat)
+{
+  std::vector<Eigen::Vector2d> plane(points.size());
+  flat = true;
+  if (plantmorph::AllAtSameHeight(points))
+  {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      plane[i] = points[i].head<2>();
+    return plane;
+  }
+  Eigen::Vector3d low = points.front(), high = points.front();
+  for (const Eigen::Vector3d& x : points)
+  {
+    low = low.cwiseMin(x);
+    high = high.cwiseMax(x);
+  }
+  const plantmorph::FittedPlane fitted = plantmorph::FitPlane(points);
+  if (fitted.maxDeviation <= 1e-6 * (high - low).norm())
+  {
+    const Eigen::Vector3d e1 = fitted.major;
+    const Eigen::Vector3d e2 = fitted.normal.cross(e1);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      plane[i] = Eigen::Vector2d((points[i] - fitted.centroid).dot(e1), (points[i] - fitted.centroid).dot(e2));
+    return plane;
+  }
+  // Curved: |dP|^2 ~ a du^2 + b dv^2 over the edges, least squares for a and b.
+  flat = false;
+  Eigen::Matrix2d normalMatrix = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+  for (const auto& t : triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int i = t[k], j = t[(k + 1) % 3];
+      const Eigen::Vector2d row(
+        (uv[i].x() - uv[j].x()) * (uv[i].x() - uv[j].x()), (uv[i].y() - uv[j].y()) * (uv[i].y() - uv[j].y()));
+      normalMatrix += row * row.transpose();
+      rhs += row * (points[i] - points[j]).squaredNorm();
+    }
+  }
+  Eigen::Vector2d ab = normalMatrix.ldlt().solve(rhs);
+  const double fallback = (high - low).norm();
+  const double su = ab.x() > 0.0 && std::isfinite(ab.x()) ? std::sqrt(ab.x()) : fallback;
+  const double sv = ab.y() > 0.0 && std::isfinite(ab.y()) ? std::sqrt(ab.y()) : fallback;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    plane[i] = Eigen::Vector2d(su * uv[i].x(), sv * uv[i].y());
+  return plane;
+}
+/// The parameters a venation grows with, by property name (a named preset's own, or the properties for Custom).
+std::vector<std::pair<const char*, double>> ParameterValues(const plantmorph::VenationParameters& p)
+{
+  return { { "Pattern", static_cast<double>(p.pattern) }, { "PrimaryCount", p.primaries },
+    { "PrimarySpread", p.primarySpread }, { "ParallelVeins", p.parallelVeins }, { "ParallelSpread", p.parallelSpread },
+    { "SecondarySpacing", p.secondarySpacing }, { "DivergenceAngle", p.divergenceAngle },
+    { "DivergenceAngleApex", p.divergenceAngleApex }, { "SecondaryCurvatureBase", p.curvatureBase },
+    { "SecondaryCurvatureApex", p.curvatureApex }, { "ForkFraction", p.forkFraction },
+    { "BranchCurvature", p.branchCurvature }, { "Tertiary", p.tertiary ? 1.0 : 0.0 }, { "AreoleSize", p.areoleSize },
+    { "AreoleGradient", p.areoleGradient }, { "MinJunctionAngle", p.minJunctionAngle },
+    { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
+    { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
+    { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels },
+    { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) }, { "SubLobeVeins", p.subLobeVeins ? 1.0 : 0.0 },
+    { "FlankSecondaries", p.flankSecondaries ? 1.0 : 0.0 }, { "ForkSize", p.forkSize },
+    { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth },
+    { "PrimaryTaper", p.primaryTaper }, { "SecondaryWidthRatio", p.secondaryWidthRatio },
+    { "TertiaryWidthRatio", p.tertiaryWidthRatio }, { "VeinletWidthRatio", p.veinletWidthRatio } };
+}
+
+/// The parameters the venation grew with, one field value per property as PlantMorph.Venation.<property>: what a
+/// preset chose, visible in the Information panel.
+void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
+{
+  for (const auto& [name, value] : ParameterValues(p))
+  {
+    AddFieldValue(fd, (std::string("PlantMorph.Venation.") + name).c_str(), value);
+  }
+}
+/// The input blade as flat arrays: points, LeafUV, triangles.
+struct InputBlade
+{
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+/// Reads the blade's points, LeafUV and triangles; a message naming what is wrong when it cannot be used.
+std::string ReadBlade(vtkPolyData* input, InputBlade& blade)
+{
+  vtkDataArray* uvArray = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
+  if (!uvArray || uvArray->GetNumberOfComponents() != 2)
+  {
+    return "Input: the blade needs the point array LeafUV with 2 components (LeafOutlineSource's blades have it)";
+  }
+  const vtkIdType n = input->GetNumberOfPoints();
+  blade.points.resize(static_cast<std::size_t>(n));
+  blade.uv.resize(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    input->GetPoint(i, blade.points[i].data());
+    blade.uv[i] = Eigen::Vector2d(uvArray->GetComponent(i, 0), uvArray->GetComponent(i, 1));
+  }
+  vtkCellArray* polys = input->GetPolys();
+  vtkNew<vtkIdList> ids;
+  vtkIdType cell = 0;
+  for (polys->InitTraversal(); polys->GetNextCell(ids); ++cell)
+  {
+    if (ids->GetNumberOfIds() != 3)
+    {
+      std::ostringstream message;
+      message << "Input: polygon " << cell << " has " << ids->GetNumberOfIds()
+              << " points; the blade must be triangles (apply Triangulate first)";
+      return message.str();
+    }
+    blade.triangles.push_back(
+      { static_cast<int>(ids->GetId(0)), static_cast<int>(ids->GetId(1)), static_cast<int>(ids->GetId(2)) });
+  }
+  if (input->GetNumberOfStrips() > 0)
+  {
+    return "Input: the blade has triangle strips; apply Triangulate first";
+  }
+  if (blade.triangles.empty())
+  {
+    return "Input: the blade has no triangles";
+  }
+  return {};
+}
+
+/// Port 0's geometry: the network's points mapped onto the surface (with VeinWidth, Region, LeafUV and the
+/// blade's TCoords interpolated) and one polyline per vein (VeinOrder, Region).
+std::string WriteVeins(
+  vtkPolyData* input, const InputBlade& blade, const plantmorph::VenationResult& result, vtkPolyData* veins)
+{
+  const std::size_t count = result.nodes.size();
+  vtkNew<vtkPoints> veinPoints;
+  veinPoints->SetDataType(input->GetPoints()->GetDataType());
+  veinPoints->SetNumberOfPoints(static_cast<vtkIdType>(count));
+  vtkNew<vtkDoubleArray> width, veinUV;
+  width->SetName(plantmorph::arrays::VeinWidth);
+  width->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  veinUV->SetName(plantmorph::arrays::LeafUV);
+  veinUV->SetNumberOfComponents(2);
+  veinUV->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  vtkNew<vtkIntArray> pointRegion;
+  pointRegion->SetName(plantmorph::arrays::Region);
+  pointRegion->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  vtkDataArray* tcoords = input->GetPointData()->GetTCoords();
+  vtkNew<vtkFloatArray> veinTCoords;
+  if (tcoords && tcoords->GetNumberOfComponents() == 2)
+  {
+    veinTCoords->SetName(tcoords->GetName() ? tcoords->GetName() : plantmorph::arrays::TCoords);
+    veinTCoords->SetNumberOfComponents(2);
+    veinTCoords->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  }
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const plantmorph::BladeLocation& at = result.location[i];
+    if (at.triangle < 0)
+    {
+      return "internal: a vein point fell outside the blade";
+    }
+    const auto& t = blade.triangles[at.triangle];
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    Eigen::Vector2d w = Eigen::Vector2d::Zero(), tc = Eigen::Vector2d::Zero();
+    for (int k = 0; k < 3; ++k)
+    {
+      x += at.weights[k] * blade.points[t[k]];
+      w += at.weights[k] * blade.uv[t[k]];
+      if (veinTCoords->GetNumberOfTuples() > 0)
+        tc += at.weights[k] * Eigen::Vector2d(tcoords->GetComponent(t[k], 0), tcoords->GetComponent(t[k], 1));
+    }
+    veinPoints->SetPoint(static_cast<vtkIdType>(i), x.data());
+    width->SetValue(static_cast<vtkIdType>(i), result.width[i]);
+    veinUV->SetTuple2(static_cast<vtkIdType>(i), w.x(), w.y());
+    pointRegion->SetValue(static_cast<vtkIdType>(i), std::min<int>(result.order[i], plantmorph::RegionTertiaryVein));
+    if (veinTCoords->GetNumberOfTuples() > 0)
+      veinTCoords->SetTuple2(static_cast<vtkIdType>(i), tc.x(), tc.y());
+  }
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIntArray> veinOrder, cellRegion;
+  veinOrder->SetName(plantmorph::arrays::VeinOrder);
+  cellRegion->SetName(plantmorph::arrays::Region);
+  for (const auto& line : result.veins)
+  {
+    lines->InsertNextCell(static_cast<vtkIdType>(line.nodes.size()));
+    for (int id : line.nodes)
+      lines->InsertCellPoint(id);
+    veinOrder->InsertNextValue(line.order);
+    cellRegion->InsertNextValue(std::min<int>(line.order, plantmorph::RegionTertiaryVein));
+  }
+  veins->SetPoints(veinPoints);
+  veins->SetLines(lines);
+  veins->GetPointData()->AddArray(width);
+  veins->GetPointData()->SetActiveScalars(plantmorph::arrays::VeinWidth);
+  veins->GetPointData()->AddArray(pointRegion);
+  veins->GetPointData()->AddArray(veinUV);
+  if (veinTCoords->GetNumberOfTuples() > 0)
+    veins->GetPointData()->SetTCoords(veinTCoords);
+  veins->GetCellData()->AddArray(veinOrder);
+  veins->GetCellData()->AddArray(cellRegion);
+  return {};
+}
+
+/// Port 1: the blade passed through, its points raised along the normals over the veins when depth is not 0.
+void WriteBlade(vtkPolyData* input, const InputBlade& blade, const plantmorph::VenationBlade& plane,
+  const plantmorph::VenationResult& result, double depth, vtkPolyData* bladeOut)
+{
+  bladeOut->ShallowCopy(input);
+  if (depth != 0.0)
+  {
+    const std::vector<double> heights = plantmorph::VeinReliefHeights(plane, result, depth);
+    const vtkIdType n = input->GetNumberOfPoints();
+    std::vector<Eigen::Vector3d> normals(blade.points.size(), Eigen::Vector3d::Zero());
+    vtkDataArray* given = input->GetPointData()->GetNormals();
+    if (given && given->GetNumberOfComponents() == 3)
+    {
+      for (vtkIdType i = 0; i < n; ++i)
+        given->GetTuple(i, normals[i].data());
+    }
+    else
+    {
+      for (const auto& t : blade.triangles)
+      {
+        const Eigen::Vector3d face =
+          (blade.points[t[1]] - blade.points[t[0]]).cross(blade.points[t[2]] - blade.points[t[0]]);
+        for (int k = 0; k < 3; ++k)
+          normals[t[k]] += face;
+      }
+    }
+    vtkNew<vtkPoints> raised;
+    raised->SetDataType(input->GetPoints()->GetDataType());
+    raised->SetNumberOfPoints(n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      const double length = normals[i].norm();
+      const Eigen::Vector3d up = length > 0.0 ? Eigen::Vector3d(normals[i] / length) : Eigen::Vector3d::UnitZ();
+      const Eigen::Vector3d x = blade.points[i] + heights[i] * up;
+      raised->SetPoint(i, x.data());
+    }
+    bladeOut->SetPoints(raised);
+  }
+  AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", depth);
+}
+
+/// Field data on port 0: the network's measures and what the veins grew with (parameters, seed, preset, plane).
+/// The counts are the Statistics port's (one set of numbers); AreoleAreaStd is the population standard deviation.
+void WriteVeinFieldData(vtkFieldData* fd, const plantmorph::VenationResult& result,
+  const plantmorph::VeinNetworkMeasures& m, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset,
+  int seed, bool flat)
+{
+  vtkNew<vtkDoubleArray> lengths;
+  lengths->SetName("PlantMorph.VeinLength");
+  lengths->SetNumberOfComponents(5);
+  lengths->SetComponentName(0, "Primary");
+  lengths->SetComponentName(1, "Secondary");
+  lengths->SetComponentName(2, "Tertiary");
+  lengths->SetComponentName(3, "Quaternary");
+  lengths->SetComponentName(4, "Veinlet");
+  const double perOrder[5] = { m.length[1], m.length[2], m.length[3], m.length[4], m.length[5] };
+  lengths->InsertNextTuple(perOrder);
+  fd->AddArray(lengths);
+  AddFieldValue(fd, "PlantMorph.VeinDensity", m.vla);
+  AddFieldValue(fd, "PlantMorph.BladeArea", m.bladeArea);
+  AddFieldValue(fd, "PlantMorph.AreoleCount", static_cast<double>(m.areoles));
+  AddFieldValue(fd, "PlantMorph.AreoleAreaMean", m.areoleMean);
+  AddFieldValue(fd, "PlantMorph.AreoleAreaStd", m.areoleCV * m.areoleMean);
+  AddFieldValue(fd, "PlantMorph.BranchPoints", static_cast<double>(m.branchPoints));
+  AddFieldValue(fd, "PlantMorph.FreeEnds", static_cast<double>(m.freeEnds));
+  AddFieldValue(fd, "PlantMorph.VeinSegments", static_cast<double>(result.statistics.segments));
+  AddFieldValue(fd, "PlantMorph.Seed", seed);
+  AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
+  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
+  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
+  AddParameters(fd, p);
+  AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
+}
+
+/// Port 2, Statistics: one row, the measures of the network (VeinNetworkMeasures.h), lengths and areas in the
+/// blade's units (VLA in units^-1, i.e. mm/mm^2 for a blade in mm).
+void WriteStatistics(const plantmorph::VeinNetworkMeasures& m, vtkTable* statistics)
+{
+  const auto addValue = [&](const char* name, double value) {
+    vtkNew<vtkDoubleArray> column;
+    column->SetName(name);
+    column->InsertNextValue(value);
+    statistics->AddColumn(column);
+  };
+  const auto addCount = [&](const char* name, std::size_t value) {
+    vtkNew<vtkIdTypeArray> column;
+    column->SetName(name);
+    column->InsertNextValue(static_cast<vtkIdType>(value));
+    statistics->AddColumn(column);
+  };
+  addValue("VLA", m.vla);
+  addValue("TotalLength", m.totalLength);
+  addValue("BladeArea", m.bladeArea);
+  addCount("AreoleCount", m.areoles);
+  addValue("AreoleAreaMean", m.areoleMean);
+  addValue("AreoleAreaMedian", m.areoleMedian);
+  addValue("AreoleAreaCV", m.areoleCV);
+  addValue("Loopiness", m.loopiness);
+  addCount("BranchPoints", m.branchPoints);
+  addValue("BranchPointsPerArea", m.branchPointsPerArea);
+  addCount("FreeEnds", m.freeEnds);
+  addValue("FreeEndsPerArea", m.freeEndsPerArea);
+  const char* const orders[] = { "Primary", "Secondary", "Tertiary", "Quaternary", "Veinlet" };
+  for (int o = 1; o <= 5; ++o)
+    addValue(("Length" + std::string(orders[o - 1])).c_str(), m.length[o]);
+  for (int o = 1; o <= 5; ++o)
+    addValue(("MeanWidth" + std::string(orders[o - 1])).c_str(), m.meanWidth[o]);
+}
+
+/// Port 3, Areole histogram: one row per bin, its lower and upper area edges and how many areoles it holds.
+void WriteHistogram(const plantmorph::AreoleHistogram& h, vtkTable* histogram)
+{
+  vtkNew<vtkDoubleArray> lower, upper;
+  lower->SetName("BinLower");
+  upper->SetName("BinUpper");
+  vtkNew<vtkIdTypeArray> count;
+  count->SetName("Count");
+  for (std::size_t b = 0; b < h.count.size(); ++b)
+  {
+    lower->InsertNextValue(h.lower[b]);
+    upper->InsertNextValue(h.upper[b]);
+    count->InsertNextValue(static_cast<vtkIdType>(h.count[b]));
+  }
+  histogram->AddColumn(lower);
+  histogram->AddColumn(upper);
+  histogram->AddColumn(count);
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkVenationFilter::vtkVenationFilter()
+{
+  this->SetNumberOfOutputPorts(4);
+}
+
+//------------------------------------------------------------------------------
+int vtkVenationFilter::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkVenationFilter::GetPresetValues()
+{
+  std::ostringstream text;
+  if (this->Preset <= 0 || this->Preset >= plantmorph::VenationPresetCount)
+  {
+    text << (this->Preset == 0 ? "Custom: the properties below are used as set."
+                               : "Preset is out of range: no veins grow.");
+  }
+  else
+  {
+    const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
+    const plantmorph::VenationParameters p = plantmorph::MakeVenationPreset(preset);
+    text << plantmorph::VenationPresetName(preset) << " sets (the greyed properties are not used):";
+    for (const auto& [name, value] : ParameterValues(p))
+    {
+      text << "\n" << name << " = ";
+      if (std::string(name) == "Pattern")
+      {
+        text << plantmorph::VenationPatternName(p.pattern);
+      }
+      else
+      {
+        text << value;
+      }
+    }
+  }
+  this->PresetValues = text.str();
+  return this->PresetValues.c_str();
+}
+
+//------------------------------------------------------------------------------
+void vtkVenationFilter::WarnAboutPresetOverrides()
+{
+  if (this->Preset == 0)
+  {
+    return;
+  }
+  vtkNew<vtkVenationFilter> defaults;
+  std::ostringstream ignored;
+  const auto check = [&](const char* name, bool changed) {
+    if (changed)
+    {
+      ignored << (ignored.tellp() > 0 ? ", " : "") << name;
+    }
+  };
+#define PLANTMORPH_CHECK(name) check(#name, this->name != defaults->name)
+  PLANTMORPH_CHECK(Pattern);
+  PLANTMORPH_CHECK(PrimaryCount);
+  PLANTMORPH_CHECK(PrimarySpread);
+  PLANTMORPH_CHECK(ParallelVeins);
+  PLANTMORPH_CHECK(ParallelSpread);
+  PLANTMORPH_CHECK(SecondarySpacing);
+  PLANTMORPH_CHECK(DivergenceAngle);
+  PLANTMORPH_CHECK(DivergenceAngleApex);
+  PLANTMORPH_CHECK(SecondaryCurvatureBase);
+  PLANTMORPH_CHECK(SecondaryCurvatureApex);
+  PLANTMORPH_CHECK(ForkFraction);
+  PLANTMORPH_CHECK(BranchCurvature);
+  PLANTMORPH_CHECK(Tertiary);
+  PLANTMORPH_CHECK(AreoleSize);
+  PLANTMORPH_CHECK(AreoleGradient);
+  PLANTMORPH_CHECK(MinJunctionAngle);
+  PLANTMORPH_CHECK(JunctionAngleDeviation);
+  PLANTMORPH_CHECK(Veinlets);
+  PLANTMORPH_CHECK(VeinletLength);
+  PLANTMORPH_CHECK(PalmateVeins);
+  PLANTMORPH_CHECK(PalmateEnds);
+  PLANTMORPH_CHECK(ForkLevels);
+  PLANTMORPH_CHECK(PalmateSecondaries);
+  PLANTMORPH_CHECK(SubLobeVeins);
+  PLANTMORPH_CHECK(FlankSecondaries);
+  PLANTMORPH_CHECK(ForkSize);
+  PLANTMORPH_CHECK(KillDistance);
+  PLANTMORPH_CHECK(AttractionDistance);
+  PLANTMORPH_CHECK(SourceDensity);
+  PLANTMORPH_CHECK(MurrayExponent);
+  PLANTMORPH_CHECK(GrowthStart);
+  PLANTMORPH_CHECK(ClosedVenation);
+  PLANTMORPH_CHECK(MarginalGrowth);
+  PLANTMORPH_CHECK(PrimaryWidth);
+  PLANTMORPH_CHECK(PrimaryTaper);
+  PLANTMORPH_CHECK(SecondaryWidthRatio);
+  PLANTMORPH_CHECK(TertiaryWidthRatio);
+  PLANTMORPH_CHECK(VeinletWidthRatio);
+#undef PLANTMORPH_CHECK
+  if (ignored.tellp() > 0)
+  {
+    vtkWarningMacro(<< "these properties are changed from their defaults but not used, because Preset is a named "
+                       "preset that sets them itself: "
+                    << ignored.str() << ". Set Preset to Custom (0) to use them.");
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkVenationFilter::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port < 2 ? "vtkPolyData" : "vtkTable");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
+{
+  if (this->Preset < 0 || this->Preset >= plantmorph::VenationPresetCount)
+  {
+    return plantmorph::OutOfRange(
+      "Preset", this->Preset, "[0, " + std::to_string(plantmorph::VenationPresetCount - 1) + "]");
+  }
+  if (!std::isfinite(this->EmbossDepth) || std::abs(this->EmbossDepth) > 1e3)
+  {
+    return plantmorph::OutOfRange("EmbossDepth", this->EmbossDepth, "[-1e3, 1e3]");
+  }
+  if (this->MaxSegments < 100 || this->MaxSegments > 100000000)
+  {
+    return plantmorph::OutOfRange("MaxSegments", this->MaxSegments, "[100, 1e8]");
+  }
+  if (this->AreoleHistogramBins < 1 || this->AreoleHistogramBins > 10000)
+  {
+    return plantmorph::OutOfRange("AreoleHistogramBins", this->AreoleHistogramBins, "[1, 10000]");
+  }
+  const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
+  this->WarnAboutPresetOverrides();
+  p = plantmorph::MakeVenationPreset(preset);
+  if (preset == plantmorph::VenationPreset::Custom)
+  {
+    p.pattern = static_cast<plantmorph::VenationPattern>(this->Pattern);
+    p.primaries = this->PrimaryCount;
+    p.primarySpread = this->PrimarySpread;
+    p.parallelVeins = this->ParallelVeins;
+    p.parallelSpread = this->ParallelSpread;
+    p.secondarySpacing = this->SecondarySpacing;
+    p.divergenceAngle = this->DivergenceAngle;
+    p.divergenceAngleApex = this->DivergenceAngleApex;
+    p.curvatureBase = this->SecondaryCurvatureBase;
+    p.curvatureApex = this->SecondaryCurvatureApex;
+    p.forkFraction = this->ForkFraction;
+    p.branchCurvature = this->BranchCurvature;
+    p.tertiary = this->Tertiary;
+    p.areoleSize = this->AreoleSize;
+    p.areoleGradient = this->AreoleGradient;
+    p.minJunctionAngle = this->MinJunctionAngle;
+    p.junctionAngleDeviation = this->JunctionAngleDeviation;
+    p.veinlets = this->Veinlets;
+    p.veinletLength = this->VeinletLength;
+    p.palmateVeins = this->PalmateVeins;
+    p.palmateFan = this->PalmateEnds != 0;
+    p.forkLevels = this->ForkLevels;
+    p.palmateSecondaries = static_cast<plantmorph::PalmateSecondaries>(this->PalmateSecondaries);
+    p.subLobeVeins = this->SubLobeVeins != 0;
+    p.flankSecondaries = this->FlankSecondaries != 0;
+    p.forkSize = this->ForkSize;
+    p.killDistance = this->KillDistance;
+    p.attractionDistance = this->AttractionDistance;
+    p.sourceDensity = this->SourceDensity;
+    p.murrayExponent = this->MurrayExponent;
+    p.growthStart = this->GrowthStart;
+    p.closedVenation = this->ClosedVenation;
+    p.marginalGrowth = this->MarginalGrowth;
+    p.primaryWidth = this->PrimaryWidth;
+    p.primaryTaper = this->PrimaryTaper;
+    p.secondaryWidthRatio = this->SecondaryWidthRatio;
+    p.tertiaryWidthRatio = this->TertiaryWidthRatio;
+    p.veinletWidthRatio = this->VeinletWidthRatio;
+  }
+  p.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
+  p.maxSegments = static_cast<std::size_t>(this->MaxSegments);
+  return {};
+}
+
+namespace
+{
+/// The venation of one whole leaf, `input`: the four outputs filled, or a message naming what went wrong.
+std::string GrowOnLeaf(vtkVenationFilter* self, vtkPolyData* input, const plantmorph::VenationParameters& p,
+  double progressBegin, double progressEnd, vtkPolyData* veins, vtkPolyData* bladeOut, vtkTable* statistics,
+  vtkTable* histogram)
+{
+  InputBlade blade;
+  std::string error = ReadBlade(input, blade);
+  if (!error.empty())
+    return error;
+  bool flat = true;
+  const plantmorph::VenationBlade plane{ WorkingPlane(blade.points, blade.uv, blade.triangles, flat), blade.uv,
+    blade.triangles };
+  plantmorph::VenationResult result;
+  error = plantmorph::GrowVenation(plane, p, result, plantmorph::Progress(self, progressBegin, progressEnd));
+  plantmorph::VeinNetworkMeasures measures;
+  if (error.empty())
+    error = plantmorph::MeasureVenation(plane, result, measures);
+  if (error.empty())
+    error = WriteVeins(input, blade, result, veins);
+  if (!error.empty())
+    return error;
+  WriteVeinFieldData(veins->GetFieldData(), result, measures, p,
+    static_cast<plantmorph::VenationPreset>(self->GetPreset()), self->GetSeed(), flat);
+  WriteStatistics(measures, statistics);
+  WriteHistogram(plantmorph::MakeAreoleHistogram(measures.areoleAreas, self->GetAreoleHistogramBins()), histogram);
+  WriteBlade(input, blade, plane, result, self->GetEmbossDepth(), bladeOut);
+  return {};
+}
+
+/// Field data of the veins of several leaves: what every leaf grew with (each leaf's measures are its Statistics
+/// row) and how many leaves the whole input has.
+void WriteLeavesFieldData(vtkFieldData* fd, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset,
+  int seed, std::size_t leaves)
+{
+  AddFieldValue(fd, "PlantMorph.LeafCount", static_cast<double>(leaves));
+  AddFieldValue(fd, "PlantMorph.Seed", seed);
+  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
+  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
+  AddParameters(fd, p);
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+int vtkVenationFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
+  vtkPolyData* veins = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* bladeOut = vtkPolyData::GetData(outputVector, 1);
+  vtkTable* statistics = vtkTable::GetData(outputVector, 2);
+  vtkTable* histogram = vtkTable::GetData(outputVector, 3);
+  if (!input || !veins || !bladeOut || !statistics || !histogram)
+  {
+    return 0;
+  }
+  veins->Initialize();
+  bladeOut->Initialize();
+  statistics->Initialize();
+  histogram->Initialize();
+  // Several leaves (PlantMorphLeafExchange.h: a LeafId array, or connected blades): each grows on one rank.
+  const plantmorph::LeafPlan plan(input);
+  if (plan.AnyRank(!plan.Error().empty()))
+  {
+    if (!plan.Error().empty())
+      vtkErrorMacro(<< plan.Error());
+    return 1;
+  }
+  if (plan.LeafIds().size() > 1)
+  {
+    return this->GrowLeaves(plan, veins, bladeOut, statistics, histogram);
+  }
+  // One leaf: under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split).
+  const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
+  input = wholeBlade.Get();
+  if (input->GetNumberOfPoints() == 0)
+  {
+    // Another rank: the blade is on rank 0, nothing to grow here, no error. On rank 0 the whole blade is empty.
+    if (plantmorph::IsFirstRank())
+    {
+      vtkWarningMacro(<< "the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
+    }
+    return 1;
+  }
+  plantmorph::VenationParameters p;
+  std::string error = this->MakeParameters(p);
+  if (error.empty())
+    error = GrowOnLeaf(this, input, p, 0.0, 0.95, veins, bladeOut, statistics, histogram);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    veins->Initialize();
+    bladeOut->Initialize();
+    statistics->Initialize();
+    histogram->Initialize();
+    return 1;
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkVenationFilter::GrowLeaves(const plantmorph::LeafPlan& plan, vtkPolyData* veins, vtkPolyData* bladeOut,
+  vtkTable* statistics, vtkTable* histogram)
+{
+  // Collective: the leaves this rank owns, whole; each grows as it would alone (same parameters, same Seed).
+  const std::vector<vtkSmartPointer<vtkPolyData>> leaves = plan.Leaves();
+  const std::vector<int> owned = plan.Owned();
+  plantmorph::VenationParameters p;
+  std::string error = owned.empty() ? std::string() : this->MakeParameters(p);
+  vtkNew<vtkAppendPolyData> appendVeins, appendBlades;
+  vtkNew<vtkTable> statisticsRows, histogramRows;
+  for (std::size_t k = 0; k < leaves.size() && error.empty(); ++k)
+  {
+    vtkNew<vtkPolyData> leafVeins, leafBlade;
+    vtkNew<vtkTable> leafStatistics, leafHistogram;
+    const double share = 0.95 / static_cast<double>(leaves.size());
+    error =
+      GrowOnLeaf(this, leaves[k], p, k * share, (k + 1) * share, leafVeins, leafBlade, leafStatistics, leafHistogram);
+    if (!error.empty())
+    {
+      error = "leaf " + std::to_string(owned[k]) + ": " + error;
+      break;
+    }
+    plantmorph::MarkLeaf(leafVeins, owned[k]);
+    plantmorph::MarkLeaf(leafBlade, owned[k]);
+    appendVeins->AddInputData(leafVeins);
+    appendBlades->AddInputData(leafBlade);
+    plantmorph::AppendRows(statisticsRows, plantmorph::WithLeafColumn(leafStatistics, owned[k]));
+    plantmorph::AppendRows(histogramRows, plantmorph::WithLeafColumn(leafHistogram, owned[k]));
+  }
+  if (!error.empty())
+    vtkErrorMacro(<< error);
+  if (plan.AnyRank(!error.empty()))
+    return 1; // every rank's outputs stay empty
+  if (!leaves.empty())
+  {
+    appendVeins->Update();
+    appendBlades->Update();
+    veins->ShallowCopy(appendVeins->GetOutput());
+    bladeOut->ShallowCopy(appendBlades->GetOutput());
+    WriteLeavesFieldData(veins->GetFieldData(), p, static_cast<plantmorph::VenationPreset>(this->Preset), this->Seed,
+      plan.LeafIds().size());
+    AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", this->EmbossDepth);
+  }
+  // Collective: the tables' rows (one Statistics row per leaf, its histogram's rows) on rank 0, in LeafId order.
+  statistics->ShallowCopy(plan.GatherRows(statisticsRows));
+  histogram->ShallowCopy(plan.GatherRows(histogramRows));
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkVenationFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Preset: " << this->Preset << "\n";
+  os << indent << "Pattern: " << this->Pattern << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "SecondarySpacing: " << this->SecondarySpacing << "\n";
+  os << indent << "DivergenceAngle: " << this->DivergenceAngle << " .. " << this->DivergenceAngleApex << "\n";
+  os << indent << "Tertiary: " << this->Tertiary << " (AreoleSize " << this->AreoleSize << ")\n";
+  os << indent << "Veinlets: " << this->Veinlets << "\n";
+  os << indent << "PalmateVeins: " << this->PalmateVeins << " (ForkLevels " << this->ForkLevels << ")\n";
+  os << indent << "KillDistance: " << this->KillDistance << " (AttractionDistance " << this->AttractionDistance
+     << ", SourceDensity " << this->SourceDensity << ", MurrayExponent " << this->MurrayExponent << ", GrowthStart "
+     << this->GrowthStart << ", MarginalGrowth " << this->MarginalGrowth << ")\n";
+  os << indent << "EmbossDepth: " << this->EmbossDepth << "\n";
+  os << indent << "MaxSegments: " << this->MaxSegments << "\n";
+  os << indent << "AreoleHistogramBins: " << this->AreoleHistogramBins << "\n";
+}

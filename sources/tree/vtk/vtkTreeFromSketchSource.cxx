@@ -1,0 +1,884 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkTreeFromSketchSource.h"
+#include "PlantMorphAlgorithmHooks.h"
+
+#include "PlantMorphFieldData.h"
+#include "PlantMorphWholeInput.h"
+#include "BranchJunctions.h"
+#include "BranchPieces.h"
+#include "BranchTubes.h"
+#include "TreeMerge.h"
+#include "TreeStrokes.h"
+#include "TreeTemplate.h"
+
+#include <plantmorph/DataContract.h>
+#include <plantmorph/RangeError.h>
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPTools.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <string>
+
+using plantmorph::AddFieldString;
+using plantmorph::AddFieldValue;
+
+vtkStandardNewMacro(vtkTreeFromSketchSource);
+
+namespace
+{
+vtkSmartPointer<vtkIntArray> IntArray(const char* name, vtkIdType count)
+{
+  auto a = vtkSmartPointer<vtkIntArray>::New();
+  a->SetName(name);
+  a->SetNumberOfTuples(count);
+  return a;
+}
+
+/// The Merge input as skeleton branches: one per line cell, BranchId and ParentId from its cell arrays (whole
+/// numbers), Radius from the point array. Returns an error naming what is missing.
+std::string ReadSkeleton(vtkPolyData* input, std::vector<plantmorph::SkeletonBranch>& branches)
+{
+  const std::string hint =
+    " (connect a tree skeleton: another TreeFromSketchSource's Skeleton output, port 1, or polylines with cell arrays "
+    "BranchId and ParentId and a point array Radius)";
+  vtkCellArray* lines = input->GetLines();
+  if (!lines || lines->GetNumberOfCells() == 0)
+  {
+    return "Merge input is not a tree: it has no lines" + hint;
+  }
+  vtkDataArray* ids = input->GetCellData()->GetArray("BranchId");
+  vtkDataArray* parents = input->GetCellData()->GetArray("ParentId");
+  vtkDataArray* radius = input->GetPointData()->GetArray("Radius");
+  if (!ids || !parents || !radius)
+  {
+    return std::string("Merge input is not a tree: it has no ") +
+      (!ids          ? "cell array BranchId"
+          : !parents ? "cell array ParentId"
+                     : "point array Radius") +
+      hint;
+  }
+  // Line cells come after vertex cells in a polydata's cell numbering.
+  const vtkIdType first = input->GetNumberOfVerts();
+  vtkNew<vtkIdList> pointIds;
+  vtkIdType cell = first;
+  for (lines->InitTraversal(); lines->GetNextCell(pointIds); ++cell)
+  {
+    const double id = ids->GetComponent(cell, 0), parent = parents->GetComponent(cell, 0);
+    if (!std::isfinite(id) || id != std::floor(id) || !std::isfinite(parent) || parent != std::floor(parent) ||
+      std::abs(id) > 4e9 || std::abs(parent) > 4e9)
+    {
+      return "Merge input is not a tree: line " + std::to_string(cell - first) +
+        " has a BranchId or ParentId that is not a whole number" + hint;
+    }
+    plantmorph::SkeletonBranch b;
+    b.id = static_cast<long long>(id);
+    b.parentId = static_cast<long long>(parent);
+    for (vtkIdType k = 0; k < pointIds->GetNumberOfIds(); ++k)
+    {
+      double p[3];
+      input->GetPoint(pointIds->GetId(k), p);
+      b.centre.emplace_back(p[0], p[1], p[2]);
+      b.radii.push_back(radius->GetComponent(pointIds->GetId(k), 0));
+    }
+    branches.push_back(std::move(b));
+  }
+  return {};
+}
+
+/// The strokes: the Strokes input's lines (their x and y), else the StrokeFile's; "" or why they cannot be read.
+std::string ReadStrokes(
+  vtkPolyData* strokeInput, const std::string& strokeFile, std::vector<std::vector<Eigen::Vector3d>>& strokes)
+{
+  if (strokeInput)
+  {
+    vtkCellArray* lines = strokeInput->GetLines();
+    vtkNew<vtkIdList> ids;
+    for (lines->InitTraversal(); lines->GetNextCell(ids);)
+    {
+      std::vector<Eigen::Vector3d> stroke;
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      {
+        double p[3];
+        strokeInput->GetPoint(ids->GetId(k), p);
+        stroke.emplace_back(p[0], p[1], 0.0);
+      }
+      strokes.push_back(std::move(stroke));
+    }
+  }
+  else if (!strokeFile.empty())
+  {
+    return plantmorph::ReadStrokeFile(strokeFile, strokes);
+  }
+  return {};
+}
+
+/// The Leaf input, checked before anything is written: "" or why it cannot be used; its length and lowest y.
+std::string ValidateLeafInput(vtkPolyData* leafInput, const plantmorph::Tree& tree, const plantmorph::TreeParameters& s,
+  double& leafLength, double& leafMinY)
+{
+  if (leafInput->GetNumberOfPolys() == 0 || leafInput->GetNumberOfPoints() == 0)
+  {
+    return "Leaf input has no polygons: connect a leaf mesh (e.g. LeafOutlineSource's Blade) or "
+           "disconnect it for textured quads";
+  }
+  double bounds[6];
+  leafInput->GetBounds(bounds);
+  leafMinY = bounds[2];
+  leafLength = bounds[3] - bounds[2];
+  if (!(leafLength > 0.0) || !std::isfinite(leafLength))
+  {
+    return "Leaf input has no extent along +Y (its length must be positive and finite)";
+  }
+  const double total = static_cast<double>(tree.leaves.size()) * leafInput->GetNumberOfPoints();
+  if (total > static_cast<double>(s.maxSegments) * 8.0)
+  {
+    std::ostringstream message;
+    message << "the leaves would have " << total
+            << " points, more than 8 * MaxSegments = " << 8.0 * static_cast<double>(s.maxSegments)
+            << " (lower LeafCount or use a coarser Leaf input)";
+    return message.str();
+  }
+  return {};
+}
+
+/// Port 0: the branch surfaces, with Normals, TCoords and each triangle's BranchId, ParentId and Depth.
+void WriteBranches(const plantmorph::TubeMesh& mesh, const plantmorph::Tree& tree, vtkPolyData* branchesOut)
+{
+  const vtkIdType np = static_cast<vtkIdType>(mesh.PointCount());
+  const vtkIdType nt = static_cast<vtkIdType>(mesh.TriangleCount());
+  vtkNew<vtkDoubleArray> coordinates;
+  coordinates->SetNumberOfComponents(3);
+  coordinates->SetNumberOfTuples(np);
+  std::copy(mesh.points.begin(), mesh.points.end(), coordinates->GetPointer(0));
+  vtkNew<vtkPoints> points;
+  points->SetData(coordinates);
+  vtkNew<vtkFloatArray> normals;
+  normals->SetName(plantmorph::arrays::Normals);
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(np);
+  std::copy(mesh.normals.begin(), mesh.normals.end(), normals->GetPointer(0));
+  vtkNew<vtkFloatArray> tcoords;
+  tcoords->SetName(plantmorph::arrays::TCoords);
+  tcoords->SetNumberOfComponents(2);
+  tcoords->SetNumberOfTuples(np);
+  std::copy(mesh.tcoords.begin(), mesh.tcoords.end(), tcoords->GetPointer(0));
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(nt + 1);
+  connectivity->SetNumberOfTuples(3 * nt);
+  vtkIdType* o = offsets->GetPointer(0);
+  vtkIdType* c = connectivity->GetPointer(0);
+  vtkSMPTools::For(0, nt + 1, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      o[i] = 3 * i;
+      if (i < nt)
+      {
+        c[3 * i] = mesh.triangles[3 * static_cast<std::size_t>(i)];
+        c[3 * i + 1] = mesh.triangles[3 * static_cast<std::size_t>(i) + 1];
+        c[3 * i + 2] = mesh.triangles[3 * static_cast<std::size_t>(i) + 2];
+      }
+    }
+  });
+  vtkNew<vtkCellArray> polys;
+  polys->SetData(offsets, connectivity);
+  auto branchId = IntArray("BranchId", nt), parentId = IntArray("ParentId", nt), depth = IntArray("Depth", nt);
+  plantmorph::SMPFor()(tree.branches.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+    {
+      const plantmorph::TreeBranch& b = tree.branches[t];
+      for (auto f = mesh.triangleOffsets[t]; f < mesh.triangleOffsets[t + 1]; ++f)
+      {
+        branchId->SetValue(f, b.id);
+        parentId->SetValue(f, b.parentId);
+        depth->SetValue(f, b.depth);
+      }
+    }
+  });
+  branchesOut->SetPoints(points);
+  branchesOut->SetPolys(polys);
+  branchesOut->GetPointData()->SetNormals(normals);
+  branchesOut->GetPointData()->SetTCoords(tcoords);
+  branchesOut->GetCellData()->AddArray(branchId);
+  branchesOut->GetCellData()->AddArray(parentId);
+  branchesOut->GetCellData()->AddArray(depth);
+}
+
+/// Port 1: the skeleton, one polyline per branch with its Radius, BranchId, ParentId and Depth.
+void WriteSkeleton(const plantmorph::Tree& tree, vtkPolyData* skeletonOut)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> radius;
+  radius->SetName("Radius");
+  vtkNew<vtkCellArray> lines;
+  const vtkIdType nb = static_cast<vtkIdType>(tree.branches.size());
+  auto branchId = IntArray("BranchId", nb), parentId = IntArray("ParentId", nb), depth = IntArray("Depth", nb);
+  vtkIdType next = 0;
+  for (vtkIdType t = 0; t < nb; ++t)
+  {
+    const plantmorph::TreeBranch& b = tree.branches[static_cast<std::size_t>(t)];
+    lines->InsertNextCell(static_cast<vtkIdType>(b.centre.size()));
+    for (std::size_t k = 0; k < b.centre.size(); ++k)
+    {
+      points->InsertNextPoint(b.centre[k].data());
+      radius->InsertNextValue(b.radii[k]);
+      lines->InsertCellPoint(next++);
+    }
+    branchId->SetValue(t, b.id);
+    parentId->SetValue(t, b.parentId);
+    depth->SetValue(t, b.depth);
+  }
+  skeletonOut->SetPoints(points);
+  skeletonOut->SetLines(lines);
+  skeletonOut->GetPointData()->AddArray(radius);
+  skeletonOut->GetPointData()->SetActiveScalars("Radius");
+  skeletonOut->GetCellData()->AddArray(branchId);
+  skeletonOut->GetCellData()->AddArray(parentId);
+  skeletonOut->GetCellData()->AddArray(depth);
+}
+
+/// Port 2: the leaves, copies of the Leaf input (or textured quads without one) at each leaf's place.
+void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, const plantmorph::TreeParameters& s,
+  vtkPolyData* leafInput, double leafLength, double leafMinY, vtkPolyData* leavesOut)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkFloatArray> tcoords;
+  tcoords->SetName(plantmorph::arrays::TCoords);
+  tcoords->SetNumberOfComponents(2);
+  vtkNew<vtkFloatArray> normals;
+  normals->SetName(plantmorph::arrays::Normals);
+  normals->SetNumberOfComponents(3);
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkIntArray> branchId;
+  branchId->SetName("BranchId");
+  const double scale = leafInput ? s.leafScale / leafLength : s.leafScale;
+  vtkDataArray* leafTCoords = leafInput ? leafInput->GetPointData()->GetTCoords() : nullptr;
+  if (leafInput && !leafTCoords)
+  {
+    leafTCoords = leafInput->GetPointData()->GetArray(plantmorph::arrays::TCoords);
+  }
+  vtkDataArray* leafNormals = leafInput ? leafInput->GetPointData()->GetNormals() : nullptr;
+  vtkNew<vtkIdList> ids;
+  for (const plantmorph::TreeLeaf& leaf : leaves)
+  {
+    const vtkIdType first = points->GetNumberOfPoints();
+    const Eigen::Vector3d n = leaf.axes.col(2);
+    if (!leafInput)
+    {
+      const double half = 0.5 * scale;
+      const Eigen::Vector3d x = leaf.axes.col(0), y = leaf.axes.col(1);
+      const Eigen::Vector3d corners[4] = { leaf.origin - half * x, leaf.origin + half * x,
+        leaf.origin + half * x + scale * y, leaf.origin - half * x + scale * y };
+      const float uv[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
+      polys->InsertNextCell(4);
+      for (int k = 0; k < 4; ++k)
+      {
+        points->InsertNextPoint(corners[k].data());
+        tcoords->InsertNextTuple2(uv[k][0], uv[k][1]);
+        normals->InsertNextTuple3(n.x(), n.y(), n.z());
+        polys->InsertCellPoint(first + k);
+      }
+      branchId->InsertNextValue(leaf.branchId);
+      continue;
+    }
+    for (vtkIdType k = 0; k < leafInput->GetNumberOfPoints(); ++k)
+    {
+      double p[3];
+      leafInput->GetPoint(k, p);
+      const Eigen::Vector3d local(p[0], p[1] - leafMinY, p[2]);
+      const Eigen::Vector3d world = leaf.origin + leaf.axes * (scale * local);
+      points->InsertNextPoint(world.data());
+      if (leafTCoords && leafTCoords->GetNumberOfComponents() >= 2)
+      {
+        tcoords->InsertNextTuple2(leafTCoords->GetComponent(k, 0), leafTCoords->GetComponent(k, 1));
+      }
+      else
+      {
+        tcoords->InsertNextTuple2(0.5 + local.x() / leafLength, local.y() / leafLength);
+      }
+      Eigen::Vector3d normal = n;
+      if (leafNormals && leafNormals->GetNumberOfComponents() == 3)
+      {
+        normal = leaf.axes *
+          Eigen::Vector3d(
+            leafNormals->GetComponent(k, 0), leafNormals->GetComponent(k, 1), leafNormals->GetComponent(k, 2));
+      }
+      normals->InsertNextTuple3(normal.x(), normal.y(), normal.z());
+    }
+    vtkCellArray* cells = leafInput->GetPolys();
+    for (cells->InitTraversal(); cells->GetNextCell(ids);)
+    {
+      polys->InsertNextCell(ids->GetNumberOfIds());
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      {
+        polys->InsertCellPoint(first + ids->GetId(k));
+      }
+      branchId->InsertNextValue(leaf.branchId);
+    }
+  }
+  leavesOut->SetPoints(points);
+  leavesOut->SetPolys(polys);
+  leavesOut->GetPointData()->SetTCoords(tcoords);
+  leavesOut->GetPointData()->SetNormals(normals);
+  leavesOut->GetCellData()->AddArray(branchId);
+}
+
+/// A small input (strokes, a leaf, a skeleton to merge) whole on every rank, for a tree made by pieces. Collective:
+/// every rank calls it for the same connected ports. Rank 0's input is broadcast when no other rank holds different
+/// data (our sources make it on rank 0 alone; a programmable source makes it on every rank, the same); an input split
+/// over the ranks (D3, a partitioned reader) is first gathered on rank 0 (PlantMorphWholeInput.h). Serially the input
+/// itself.
+vtkSmartPointer<vtkPolyData> WholeOnEveryRank(vtkPolyData* piece)
+{
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+  {
+    return piece;
+  }
+  const int ranks = controller->GetNumberOfProcesses();
+  const vtkIdType mine[2] = { piece ? piece->GetNumberOfPoints() : 0, piece ? piece->GetNumberOfCells() : 0 };
+  std::vector<vtkIdType> all(2 * static_cast<std::size_t>(ranks));
+  controller->AllGather(mine, all.data(), 2);
+  bool split = false;
+  for (int rank = 1; rank < ranks; ++rank)
+  {
+    const std::size_t r = 2 * static_cast<std::size_t>(rank);
+    split = split || (all[r] > 0 && (all[r] != all[0] || all[r + 1] != all[1]));
+  }
+  vtkSmartPointer<vtkPolyData> whole = piece;
+  if (split)
+  {
+    whole = plantmorph::GatherOnFirstRank(piece);
+  }
+  if (controller->GetLocalProcessId() != 0 || !whole)
+  {
+    whole = vtkSmartPointer<vtkPolyData>::New();
+  }
+  controller->Broadcast(whole, 0);
+  return whole;
+}
+
+/// The piece this request asks for; pieces below 1 (a request without them) mean the whole tree.
+void RequestedPiece(vtkInformation* info, int& piece, int& pieces)
+{
+  piece = info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    ? info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    : 0;
+  pieces = info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (pieces < 1)
+  {
+    piece = 0, pieces = 1;
+  }
+}
+
+/// The leaves on the selected branches (all of them without a selection), in the tree's order.
+std::vector<plantmorph::TreeLeaf> LeavesOf(const plantmorph::Tree& tree, const std::vector<char>* selected)
+{
+  if (!selected)
+  {
+    return tree.leaves;
+  }
+  std::set<int> ids;
+  for (std::size_t t = 0; t < tree.branches.size(); ++t)
+  {
+    if ((*selected)[t])
+    {
+      ids.insert(tree.branches[t].id);
+    }
+  }
+  std::vector<plantmorph::TreeLeaf> leaves;
+  for (const plantmorph::TreeLeaf& leaf : tree.leaves)
+  {
+    if (ids.count(leaf.branchId))
+    {
+      leaves.push_back(leaf);
+    }
+  }
+  return leaves;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkTreeFromSketchSource::vtkTreeFromSketchSource()
+{
+  this->SetNumberOfInputPorts(3);
+  this->SetNumberOfOutputPorts(3);
+}
+
+void vtkTreeFromSketchSource::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Mode: " << this->Mode << "\n"
+     << indent << "Preset: " << this->Preset << "\n"
+     << indent << "TreeType: " << this->TreeType << "\n"
+     << indent << "Length: " << this->Length << "\n"
+     << indent << "Radius: " << this->Radius << "\n"
+     << indent << "Depth: " << this->Depth << "\n"
+     << indent << "Phyllotaxis: " << this->PhyllotaxisA << "/" << this->PhyllotaxisB << "\n"
+     << indent << "ChildCount: " << this->ChildCount << "\n"
+     << indent << "Ratio: " << this->Ratio << "\n"
+     << indent << "SegmentsPerBranch: " << this->SegmentsPerBranch << "\n"
+     << indent << "Sides: " << this->Sides << "\n"
+     << indent << "Joints: " << this->Joints << "\n"
+     << indent << "StrokeFile: " << this->StrokeFile << "\n"
+     << indent << "Leaves: " << this->Leaves << " type " << this->LeafType << " count " << this->LeafCount << "\n"
+     << indent << "Seed: " << this->Seed << "\n"
+     << indent << "Merge: parent " << this->MergeParentBranch << " u " << this->MergeU << " angle " << this->MergeAngle
+     << " rotation " << this->MergeRotation << " scale " << this->MergeScale << "\n"
+     << indent << "DeletedBranches: " << this->DeletedBranches.size() << "\n"
+     << indent << "BranchOverrides: " << this->BranchOverrides.size() / 6 << "\n";
+}
+
+void vtkTreeFromSketchSource::SetStrokeFile(const char* path)
+{
+  const std::string value = path ? path : "";
+  if (value != this->StrokeFile)
+  {
+    this->StrokeFile = value;
+    this->Modified();
+  }
+}
+
+void vtkTreeFromSketchSource::ClearDeletedBranches()
+{
+  if (!this->DeletedBranches.empty())
+  {
+    this->DeletedBranches.clear();
+    this->Modified();
+  }
+}
+
+void vtkTreeFromSketchSource::AddDeletedBranch(int id)
+{
+  this->DeletedBranches.push_back(id);
+  this->Modified();
+}
+
+void vtkTreeFromSketchSource::ClearBranchOverrides()
+{
+  this->BranchOverridesElementCount = -1;
+  if (!this->BranchOverrides.empty())
+  {
+    this->BranchOverrides.clear();
+    this->Modified();
+  }
+}
+
+void vtkTreeFromSketchSource::AddBranchOverride(
+  double id, double length, double radius, double u, double angle, double rotation)
+{
+  this->BranchOverrides.insert(this->BranchOverrides.end(), { id, length, radius, u, angle, rotation });
+  this->Modified();
+}
+
+void vtkTreeFromSketchSource::SetBranchOverridesElementCount(int count)
+{
+  if (count != this->BranchOverridesElementCount)
+  {
+    this->BranchOverridesElementCount = count;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkTreeFromSketchSource::SetStrokesConnection(int, vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(0, output);
+}
+
+void vtkTreeFromSketchSource::SetLeafConnection(int, vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(1, output);
+}
+
+void vtkTreeFromSketchSource::SetMergeTreeConnection(int, vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(2, output);
+}
+
+void vtkTreeFromSketchSource::WarnAboutPresetOverrides(const plantmorph::TreeParameters& used)
+{
+  if (this->Preset == 0)
+  {
+    return;
+  }
+  // A property the user changed from its default while a named preset is on is not what the output has: say so.
+  vtkNew<vtkTreeFromSketchSource> defaults;
+  std::ostringstream ignored;
+  const auto check = [&](const char* name, double set, double byDefault, double byPreset) {
+    if (set != byDefault && set != byPreset)
+    {
+      ignored << (ignored.tellp() > 0 ? ", " : "") << name << " = " << set << " (the preset's: " << byPreset << ")";
+    }
+  };
+  check("TreeType", this->TreeType, defaults->TreeType, static_cast<int>(used.type));
+  check("Length", this->Length, defaults->Length, used.length);
+  check("Radius", this->Radius, defaults->Radius, used.radius);
+  check("Depth", this->Depth, defaults->Depth, used.depth);
+  check("PhyllotaxisA", this->PhyllotaxisA, defaults->PhyllotaxisA, used.phyllotaxisA);
+  check("PhyllotaxisB", this->PhyllotaxisB, defaults->PhyllotaxisB, used.phyllotaxisB);
+  check("ChildCount", this->ChildCount, defaults->ChildCount, used.childCount);
+  check("Ratio", this->Ratio, defaults->Ratio, used.ratio);
+  if (ignored.tellp() > 0)
+  {
+    vtkWarningMacro(<< "Preset \"" << plantmorph::TreePresetName(this->Preset) << "\" sets TreeType, Length, Radius, "
+                    << "Depth, PhyllotaxisA/B, ChildCount and Ratio, so these values are not used: " << ignored.str()
+                    << ". Set Preset to Custom (0) to use them.");
+  }
+}
+
+const char* vtkTreeFromSketchSource::GetPresetValues()
+{
+  std::ostringstream text;
+  if (this->Preset <= 0 || this->Preset >= plantmorph::TreePresetCount)
+  {
+    text << (this->Preset == 0 ? "Custom: the template properties are used as set." : "Preset is out of range.");
+  }
+  else
+  {
+    plantmorph::TreeParameters s;
+    plantmorph::ApplyTreePreset(this->Preset, s);
+    text << plantmorph::TreePresetName(this->Preset) << " sets (the greyed properties are not used):\nTreeType = "
+         << (s.type == plantmorph::TreeType::Monopodial ? "Monopodial" : "Sympodial") << "\nLength = " << s.length
+         << "\nRadius = " << s.radius << "\nDepth = " << s.depth << "\nPhyllotaxisA = " << s.phyllotaxisA
+         << "\nPhyllotaxisB = " << s.phyllotaxisB << "\nChildCount = " << s.childCount << "\nRatio = " << s.ratio;
+  }
+  this->PresetValues = text.str();
+  return this->PresetValues.c_str();
+}
+
+int vtkTreeFromSketchSource::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+int vtkTreeFromSketchSource::RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* out)
+{
+  for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
+  {
+    out->GetInformationObject(port)->Set(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST(), 1);
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+bool vtkTreeFromSketchSource::ReadProperties(plantmorph::TreeParameters& s)
+{
+  if (this->BranchOverridesElementCount >= 0 &&
+    static_cast<std::size_t>(this->BranchOverridesElementCount) != this->BranchOverrides.size())
+  {
+    // ParaView pushed only the whole rows: a partial row means the user's list is not rows of six.
+    vtkErrorMacro(<< plantmorph::OutOfRange("BranchOverrides",
+                    std::to_string(this->BranchOverridesElementCount) + " numbers", "{0, 6, 12, ...}",
+                    "rows of six: BranchId, length, radius, u, angle, rotation; the last row has " +
+                      std::to_string(this->BranchOverridesElementCount % 6)));
+    return false;
+  }
+  if (this->Preset < 0 || this->Preset >= plantmorph::TreePresetCount)
+  {
+    vtkErrorMacro(<< plantmorph::OutOfRange("Preset", this->Preset, "[0, 3]", "0 Custom, 1-3 Table 1"));
+    return false;
+  }
+  s.mode = static_cast<plantmorph::TreeMode>(this->Mode);
+  s.type = static_cast<plantmorph::TreeType>(this->TreeType);
+  s.length = this->Length;
+  s.radius = this->Radius;
+  s.depth = this->Depth;
+  s.phyllotaxisA = this->PhyllotaxisA;
+  s.phyllotaxisB = this->PhyllotaxisB;
+  s.childCount = this->ChildCount;
+  s.ratio = this->Ratio;
+  plantmorph::ApplyTreePreset(this->Preset, s);
+  this->WarnAboutPresetOverrides(s);
+  s.lengthScale = this->LengthScale;
+  s.monopodialAngle = this->MonopodialAngle;
+  s.sympodialAngle = this->SympodialAngle;
+  s.segmentsPerBranch = this->SegmentsPerBranch;
+  s.twigScale = this->TwigScale;
+  s.sides = this->Sides;
+  s.maxSegments = this->MaxSegments;
+  s.strokeControlPoints = this->StrokeControlPoints;
+  s.strokeLengthRatio = this->StrokeLengthRatio;
+  s.strokesOnly = this->StrokesOnly != 0;
+  s.strokeSubtreeDepth = this->StrokeSubtreeDepth;
+  s.leaves = this->Leaves != 0;
+  s.leafType = static_cast<plantmorph::LeafType>(this->LeafType);
+  s.leafCount = this->LeafCount;
+  s.leafRatio = this->LeafRatio;
+  s.leafScale = this->LeafScale;
+  s.leafAngle = this->LeafAngle;
+  s.seed = static_cast<std::uint64_t>(static_cast<std::int64_t>(this->Seed));
+  s.mergeParent = this->MergeParentBranch;
+  s.mergeU = this->MergeU;
+  s.mergeAngle = this->MergeAngle;
+  s.mergeRotation = this->MergeRotation;
+  s.mergeScale = this->MergeScale;
+  s.mergeOffset = Eigen::Vector3d(this->MergeOffset[0], this->MergeOffset[1], this->MergeOffset[2]);
+  s.deletedBranches.insert(this->DeletedBranches.begin(), this->DeletedBranches.end());
+  for (std::size_t r = 0; r + 6 <= this->BranchOverrides.size(); r += 6)
+  {
+    const double id = this->BranchOverrides[r];
+    if (!std::isfinite(id) || id < 0 || id > std::numeric_limits<int>::max() || id != std::floor(id))
+    {
+      vtkErrorMacro("BranchOverrides row "
+        << r / 6 << ": " << plantmorph::OutOfRange("BranchId", id, "[0, 2147483647]", "a whole number"));
+      return false;
+    }
+    // NaN or <= -1000 keeps: ParaView 5.11 state files do not keep NaN (it loads as 0), so -1000 is the
+    // spelling that survives a save and a load.
+    const auto keep = [](double v) { return v <= -1000.0 ? std::numeric_limits<double>::quiet_NaN() : v; };
+    plantmorph::BranchOverride& o = s.overrides[static_cast<int>(id)];
+    o.length = keep(this->BranchOverrides[r + 1]);
+    o.radius = keep(this->BranchOverrides[r + 2]);
+    o.u = keep(this->BranchOverrides[r + 3]);
+    o.angle = keep(this->BranchOverrides[r + 4]);
+    o.rotation = keep(this->BranchOverrides[r + 5]);
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkTreeFromSketchSource::FillFieldData(vtkFieldData* parameters, const plantmorph::TreeParameters& s,
+  const plantmorph::Tree& tree, std::size_t strokeCount, const plantmorph::JointReport& joints,
+  const plantmorph::JunctionReport& junctions) const
+{
+  AddFieldString(parameters, "PlantMorph.Model", "TreeFromSketch");
+  AddFieldString(parameters, "PlantMorph.TreePreset", plantmorph::TreePresetName(this->Preset));
+  AddFieldValue(parameters, "PlantMorph.Mode", this->Mode);
+  AddFieldValue(parameters, "PlantMorph.TreeType", static_cast<int>(s.type));
+  AddFieldValue(parameters, "PlantMorph.Length", s.length);
+  AddFieldValue(parameters, "PlantMorph.Radius", s.radius);
+  AddFieldValue(parameters, "PlantMorph.Depth", s.depth);
+  AddFieldValue(parameters, "PlantMorph.PhyllotaxisA", s.phyllotaxisA);
+  AddFieldValue(parameters, "PlantMorph.PhyllotaxisB", s.phyllotaxisB);
+  AddFieldValue(parameters, "PlantMorph.ChildCount", s.childCount);
+  AddFieldValue(parameters, "PlantMorph.Ratio", s.ratio);
+  AddFieldValue(parameters, "PlantMorph.SegmentsPerBranch", s.segmentsPerBranch);
+  AddFieldValue(parameters, "PlantMorph.Seed", this->Seed);
+  AddFieldValue(parameters, "PlantMorph.BranchCount", static_cast<double>(tree.branches.size()));
+  AddFieldValue(parameters, "PlantMorph.SegmentCount", static_cast<double>(tree.SegmentCount()));
+  AddFieldValue(parameters, "PlantMorph.LeafCount", static_cast<double>(tree.leaves.size()));
+  AddFieldValue(parameters, "PlantMorph.StrokeCount", static_cast<double>(strokeCount));
+  AddFieldValue(parameters, "PlantMorph.MergeIdBase", static_cast<double>(tree.mergeIdBase));
+  {
+    vtkNew<vtkDoubleArray> seating;
+    seating->SetName("PlantMorph.JointRingVertices");
+    seating->SetNumberOfComponents(4);
+    seating->SetComponentName(0, "Seated");
+    seating->SetComponentName(1, "Missed");
+    seating->SetComponentName(2, "Clamped");
+    seating->SetComponentName(3, "Buried");
+    const double row[4] = { double(joints.seated), double(joints.missed), double(joints.clamped),
+      double(joints.buried) };
+    seating->InsertNextTuple(row);
+    parameters->AddArray(seating);
+  }
+  AddFieldValue(parameters, "PlantMorph.Joints", this->Joints);
+  {
+    vtkNew<vtkDoubleArray> welding;
+    welding->SetName("PlantMorph.Junctions");
+    welding->SetNumberOfComponents(6);
+    const char* names[6] = { "Junctions", "Welded", "Merged", "AtEnds", "Narrowed", "Fallback" };
+    for (int c = 0; c < 6; ++c)
+      welding->SetComponentName(c, names[c]);
+    const double row[6] = { double(junctions.junctions), double(junctions.welded), double(junctions.merged),
+      double(junctions.endJunctions), double(junctions.narrowed), double(junctions.fallback) };
+    welding->InsertNextTuple(row);
+    parameters->AddArray(welding);
+  }
+  {
+    vtkNew<vtkDoubleArray> report;
+    report->SetName("PlantMorph.Strokes");
+    report->SetNumberOfComponents(6);
+    report->SetComponentName(0, "BranchId");
+    report->SetComponentName(1, "ParentId");
+    report->SetComponentName(2, "Lambda");
+    report->SetComponentName(3, "RecommendedTheta");
+    report->SetComponentName(4, "Theta");
+    report->SetComponentName(5, "RotationAngle");
+    for (const plantmorph::StrokeReport& r : tree.strokes)
+    {
+      const double row[6] = { double(r.branchId), double(r.parentId), r.lambda, r.recommendedTheta, r.theta,
+        r.rotation };
+      report->InsertNextTuple(row);
+    }
+    parameters->AddArray(report);
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkTreeFromSketchSource::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* branchesOut = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* skeletonOut = vtkPolyData::GetData(outputVector, 1);
+  vtkPolyData* leavesOut = vtkPolyData::GetData(outputVector, 2);
+  branchesOut->Initialize();
+  skeletonOut->Initialize();
+  leavesOut->Initialize();
+  // Pieces (see the class documentation): every piece builds the same skeleton and makes its own branches.
+  // The piece asked of the port this update is for (the other ports' requests may be absent or stale).
+  int piece = 0, pieces = 1;
+  const int port = request->Has(vtkExecutive::FROM_OUTPUT_PORT()) ? request->Get(vtkExecutive::FROM_OUTPUT_PORT()) : 0;
+  RequestedPiece(outputVector->GetInformationObject(port >= 0 && port < 3 ? port : 0), piece, pieces);
+  if (piece < 0 || piece >= pieces)
+  {
+    return 1; // no such piece: nothing (a streaming request beyond the last piece)
+  }
+  // The small inputs whole on every rank (collective: before anything may return on one rank but not another).
+  vtkSmartPointer<vtkPolyData> inputs[3];
+  for (int port = 0; port < 3; ++port)
+  {
+    inputs[port] = this->GetNumberOfInputConnections(port) > 0
+      ? WholeOnEveryRank(vtkPolyData::GetData(inputVector[port], 0))
+      : nullptr;
+  }
+
+  // Properties -> parameters.
+  plantmorph::TreeParameters s;
+  if (!this->ReadProperties(s))
+  {
+    return 1;
+  }
+
+  // Strokes: the input's lines, else the file.
+  std::vector<std::vector<Eigen::Vector3d>> strokes;
+  std::string error =
+    s.mode == plantmorph::TreeMode::Template ? std::string() : ReadStrokes(inputs[0], this->StrokeFile, strokes);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 1;
+  }
+  // A second tree to merge: a skeleton (lines) with BranchId and ParentId on its cells and Radius on its points.
+  std::vector<plantmorph::SkeletonBranch> second;
+  vtkPolyData* mergeInput = inputs[2];
+  if (mergeInput)
+  {
+    const std::string refused = ReadSkeleton(mergeInput, second);
+    if (!refused.empty())
+    {
+      vtkErrorMacro(<< refused);
+      return 1;
+    }
+  }
+  this->UpdateProgress(0.05);
+
+  if (this->Joints != 0 && this->Joints != 1)
+  {
+    vtkErrorMacro(<< plantmorph::OutOfRange("Joints", this->Joints, "[0, 1]", "0 Welded, 1 Seated tubes"));
+    return 1;
+  }
+  plantmorph::Tree tree;
+  error = plantmorph::BuildTree(s, strokes, mergeInput ? &second : nullptr, tree);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 1;
+  }
+  this->UpdateProgress(0.3);
+  if (this->GetAbortExecute())
+  {
+    return 1;
+  }
+
+  // Branch surfaces: welded by convex-hull junctions into one closed surface per tree (default), or each branch its
+  // own closed tube with its base ring seated on its parent. A piece builds the branches the plan gives it.
+  std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree);
+  std::vector<char> selected;
+  if (pieces > 1)
+  {
+    selected = plantmorph::TubesOfPiece(plantmorph::PlanPieces(tubes, plantmorph::MergedRoots(tree), pieces), piece);
+  }
+  const std::vector<char>* only = pieces > 1 ? &selected : nullptr;
+  plantmorph::TubeMesh mesh;
+  plantmorph::JointReport joints;
+  plantmorph::JunctionReport junctions;
+  error = this->Joints == 0 ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &junctions, only)
+                            : plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &joints, only);
+  tubes.clear();
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 1;
+  }
+  this->UpdateProgress(0.6);
+
+  // Leaf geometry input: validated before anything is written.
+  vtkPolyData* leafInput = inputs[1];
+  double leafLength = 0.0, leafMinY = 0.0;
+  if (s.leaves && leafInput)
+  {
+    error = ValidateLeafInput(leafInput, tree, s, leafLength, leafMinY);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< error);
+      return 1;
+    }
+  }
+
+  vtkNew<vtkFieldData> parameters;
+  this->FillFieldData(parameters, s, tree, strokes.size(), joints, junctions);
+  if (pieces > 1)
+  {
+    vtkNew<vtkIntArray> where;
+    where->SetName("PlantMorph.Piece");
+    where->SetNumberOfComponents(2);
+    where->SetComponentName(0, "Piece");
+    where->SetComponentName(1, "Pieces");
+    where->InsertNextTuple2(piece, pieces);
+    parameters->AddArray(where);
+  }
+  WriteBranches(mesh, tree, branchesOut);
+  mesh = plantmorph::TubeMesh();
+  this->UpdateProgress(0.8);
+  if (piece == 0)
+  {
+    WriteSkeleton(tree, skeletonOut); // small: whole on piece 0 (see the class documentation)
+  }
+  const std::vector<plantmorph::TreeLeaf> leaves = LeavesOf(tree, only);
+  if (s.leaves && !leaves.empty())
+  {
+    WriteLeaves(leaves, s, leafInput, leafLength, leafMinY, leavesOut);
+  }
+
+  for (vtkPolyData* output : { branchesOut, skeletonOut, leavesOut })
+  {
+    for (int a = 0; a < parameters->GetNumberOfArrays(); ++a)
+    {
+      output->GetFieldData()->AddArray(parameters->GetAbstractArray(a));
+    }
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}

@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The VTK layer of Leaf Cloud Reader over its VTK-free parser (sources/leaf_cloud/core/PointCloudText): the soybean layout's
+// arrays, progress up to 1, and the issue-25 files (one line of 2*10^6 columns, binary junk) refused with an error
+// naming FileName and the line, and empty outputs.
+#include "VtkErrorCatcher.h"
+#include "vtkLeafCloudReader.h"
+
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkTable.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+using plantmorph::testing::ErrorCatcher;
+
+std::string WriteFile(const std::string& name, const std::string& text)
+{
+  const std::string path = (std::filesystem::temp_directory_path() / ("plantmorph_leafcloud_" + name)).string();
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+class ProgressRecorder : public vtkCommand
+{
+public:
+  static ProgressRecorder* New() { return new ProgressRecorder; }
+  void Execute(vtkObject*, unsigned long, void* data) override { this->Values.push_back(*static_cast<double*>(data)); }
+  std::vector<double> Values;
+};
+
+TEST(LeafCloudReader, SoybeanLayoutArraysAndProgress)
+{
+  const std::string path = WriteFile("soybean.txt",
+    "x,y,z,nx,ny,nz,r,g,b,s\n3.821000,28.178904,108.244029,0.510049,0.127189,-0.850690,0.176471,0.247059,0.141176,"
+    "0.470588\n# a comment\n5.295000,28.651904,110.582029,0.510422,-0.054324,-0.858207,0.160784,0.400000,0.000000,"
+    "0.231373\n");
+  vtkNew<vtkLeafCloudReader> reader;
+  vtkNew<ProgressRecorder> progress;
+  reader->AddObserver(vtkCommand::ProgressEvent, progress);
+  reader->SetFileName(path.c_str());
+  EXPECT_EQ(reader->CanReadFile(path.c_str()), 1);
+  reader->Update();
+  vtkPolyData* cloud = reader->GetOutput();
+  ASSERT_EQ(cloud->GetNumberOfPoints(), 2);
+  EXPECT_EQ(cloud->GetNumberOfVerts(), 2);
+  double p[3];
+  cloud->GetPoint(1, p);
+  EXPECT_EQ(p[0], 5.295);
+  EXPECT_EQ(p[2], 110.582029);
+  EXPECT_EQ(cloud->GetPointData()->GetNormals()->GetComponent(0, 2), -0.850690);
+  auto* colors = vtkUnsignedCharArray::SafeDownCast(cloud->GetPointData()->GetScalars());
+  ASSERT_NE(colors, nullptr);
+  EXPECT_EQ(colors->GetValue(4), 102); // 0.4 * 255 = 102
+  EXPECT_EQ(cloud->GetPointData()->GetArray("Scalar")->GetComponent(1, 0), 0.231373);
+  vtkTable* table = vtkTable::SafeDownCast(reader->GetOutputDataObject(1));
+  ASSERT_NE(table, nullptr);
+  EXPECT_EQ(table->GetNumberOfColumns(), 10);
+  EXPECT_NE(table->GetColumnByName("nz"), nullptr);
+  ASSERT_FALSE(progress.Get()->Values.empty());
+  EXPECT_EQ(progress.Get()->Values.back(), 1.0);
+  std::filesystem::remove(path);
+}
+
+TEST(LeafCloudReader, HostileFilesAreRefusedWithEmptyOutputs)
+{
+  std::string wide;
+  for (int i = 0; i < 2000000; ++i)
+    wide += "1.5 ";
+  std::string junk;
+  for (int i = 0; i < 300000; ++i)
+    junk += static_cast<char>((static_cast<unsigned>(i) * 7919u + 13u) % 256u);
+  const std::vector<std::pair<std::string, std::string>> cases = { { wide + "\n", "line 1: longer than" },
+    { wide.substr(0, 100000) + "\n", "line 1: more than 1000 columns" },
+    { "1 2 3\n4 5 1e999\n", "line 2: column 3 is a number beyond the range of a double" }, { junk, "line " } };
+  for (const auto& [text, words] : cases)
+  {
+    const std::string path = WriteFile("hostile.txt", text);
+    vtkNew<vtkLeafCloudReader> reader;
+    vtkNew<ErrorCatcher> catcher;
+    reader->AddObserver(vtkCommand::ErrorEvent, catcher);
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    EXPECT_NE(catcher.Get()->Messages.find("FileName '" + path + "', " + words), std::string::npos)
+      << catcher.Get()->Messages;
+    EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 0);
+    EXPECT_EQ(vtkTable::SafeDownCast(reader->GetOutputDataObject(1))->GetNumberOfColumns(), 0);
+    EXPECT_EQ(reader->CanReadFile(path.c_str()), text.compare(0, 6, "1 2 3\n") == 0 ? 1 : 0); // the first 20 lines
+    std::filesystem::remove(path);
+  }
+}
+TEST(LeafCloudReader, PiecesHoldTheWholeFileInOrder)
+{
+  // Each piece (as an MPI rank asks for it) reads its byte range; together, in piece order, the serial points, arrays
+  // and table rows, bit for bit. (The colour scale is decided per piece when the pieces are read in one process,
+  // as here; under MPI the ranks agree on it: test_mpi_cloud_comparison.py.)
+  std::string text = "# a scan\nx y z nx ny nz r g b\n";
+  for (int i = 0; i < 3000; ++i)
+  {
+    text += std::to_string(i * 0.001) + " " + std::to_string(-i) + " 1e-3 0 0 1 " + (i % 100 == 7 ? "200" : "0.5") +
+      " 0.25 1\n" + (i % 333 == 0 ? "// comment\n" : "");
+  }
+  const std::string path = WriteFile("pieces.txt", text);
+  vtkNew<vtkLeafCloudReader> whole;
+  whole->SetFileName(path.c_str());
+  whole->Update();
+  const vtkIdType n = whole->GetOutput()->GetNumberOfPoints();
+  ASSERT_EQ(n, 3000);
+  for (int pieces : { 2, 3, 7 })
+  {
+    std::vector<double> points, normals, rows;
+    for (int piece = 0; piece < pieces; ++piece)
+    {
+      vtkNew<vtkLeafCloudReader> reader;
+      reader->SetFileName(path.c_str());
+      reader->UpdatePiece(piece, pieces, 0);
+      vtkPolyData* part = reader->GetOutput();
+      EXPECT_EQ(part->GetNumberOfVerts(), part->GetNumberOfPoints());
+      for (vtkIdType i = 0; i < part->GetNumberOfPoints(); ++i)
+      {
+        double p[3];
+        part->GetPoint(i, p);
+        points.insert(points.end(), p, p + 3);
+        normals.push_back(part->GetPointData()->GetArray("Normals")->GetComponent(i, 2));
+      }
+      vtkTable* table = vtkTable::SafeDownCast(reader->GetOutputDataObject(1));
+      EXPECT_EQ(table->GetNumberOfRows(), part->GetNumberOfPoints());
+      for (vtkIdType i = 0; i < table->GetNumberOfRows(); ++i)
+      {
+        rows.push_back(table->GetValue(i, 1).ToDouble());
+      }
+    }
+    ASSERT_EQ(points.size(), 3u * static_cast<std::size_t>(n)) << pieces << " pieces";
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      double p[3];
+      whole->GetOutput()->GetPoint(i, p);
+      EXPECT_TRUE(p[0] == points[3 * i] && p[1] == points[3 * i + 1] && p[2] == points[3 * i + 2]) << i;
+      EXPECT_EQ(rows[static_cast<std::size_t>(i)], p[1]);
+    }
+    EXPECT_EQ(normals, std::vector<double>(static_cast<std::size_t>(n), 1.0));
+  }
+}
+
+} // namespace
