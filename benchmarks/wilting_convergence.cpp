@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// wilting_convergence: the Cucumber preset's tip trajectory across leaf sizes and Resolutions (issue 23; the table
+// wilting_convergence: the Cucumber preset's tip trajectory across leaf sizes and Resolutions (physical units: the same
+// leaf at any voxel size and size; the table
 // in benchmarks/README.md "wilting convergence" and docs/methods/wilting.md).
 //
 //   wilting_convergence [--sizes 8,20,30] [--resolutions 10,14,18,22] [--duration 10] [--legacy] [--anchor-cm 3]
@@ -7,15 +8,15 @@
 //
 // The cucumber blade (testing/cxx/wilting/WiltingCucumberLeaf.h: LeafOutlineSource's B-spline Cucumber, midvein and
 // margin regions, no VenationFilter veins) of each blade length L (cm), WiltingSimulation with the Cucumber preset,
-// AnchorRadius 3 cm x L / 20.1 (geometrically similar leaves; --anchor-cm A: A cm at every size, the issue's
-// setting), TimeStep 1/60 s, one Newton iteration, frames of 0.1 s. --legacy: the model before issue 23 (the fit's
-// lattice values at the 20 cm leaf's Resolution 14 edge h0, stiffness scaled by h/h0 and loads by (h/h0)^3).
+// AnchorRadius 3 cm x L / 20.1 (geometrically similar leaves; --anchor-cm A: A cm at every size, the setting before
+// physical units), TimeStep 1/60 s, one Newton iteration, frames of 0.1 s. --legacy: the model before physical units
+// (the fit's lattice values at the 20 cm leaf's Resolution 14 edge h0, stiffness scaled by h/h0 and loads by (h/h0)^3).
 // Prints per run: "rises back" (the largest rise of the tip's height after its lowest point so far, / L), the lowest
 // tip height / L, the tip's displacement / L at the end, the largest distance (/ L) of the tip path from the finest
 // Resolution's of that size, the blow-up time, the integrator sub-steps and the wall time. --track FILE: every run's
 // tip positions (cm, in the input's frame) as lines "L R t x y z". --substeps N: N integrator steps per TimeStep
-// (default 0: WiltingParameters' automatic choice). --set NAME=VALUE: a Cucumber value replaced (the property names
-// of examples/calibrate_wilting.py, physical units), for exploring a refit.
+// (default 0: WiltingParameters' automatic choice). --set NAME=VALUE: a Cucumber value replaced (the property names of
+// examples/calibrate_wilting.py, physical units), for exploring a refit.
 #include "WiltingCucumberLeaf.h"
 #include "WiltingPresets.h"
 
@@ -39,7 +40,7 @@ std::vector<double> ParseList(const char* text)
   return values;
 }
 
-/// The model before issue 23: the Cucumber fit in lattice units at the 20 cm leaf's edge, rescaled by h / h0.
+/// The model before physical units: the Cucumber fit in lattice units at the 20 cm leaf's edge, rescaled by h / h0.
 void MakeLegacy(plantmorph::WiltingParameters& p)
 {
   const double h0 = 22.3079 / 14.0;

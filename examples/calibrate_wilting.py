@@ -16,7 +16,7 @@ the Length/Width properties belong to the other models and do not size it) -> Ve
 cucumber's five primaries) -> WiltingSimulator with the blade on Input and the veins on Veins, at the settings the
 Cucumber preset was fitted at (SETTINGS below: Resolution 14, AnchorRadius 3, TimeStep 1/60 s, one Newton
 iteration, 10 s). The properties are in physical units (Units Physical: Young's moduli and pressures in dyn/cm^2,
-strains; issue 23), so a fit carries over to other Resolutions (14-30 verified) and leaf sizes; `--resolution`
+strains), so a fit carries over to other Resolutions (14-30 verified) and leaf sizes; `--resolution`
 fits at another one. `--max-rise F` penalises a tip that rises back more than F leaf lengths after falling.
 
 The parameters (PARAMETERS below, each a physical property of the filter): DroopForce, ContractionForce (towards the
@@ -91,7 +91,7 @@ parser.add_argument("--margin", type=float, default=0.02,
                          "so a fit aims strictly below the paper's")
 parser.add_argument("--max-rise", type=float, default=None,
                     help="F: add 100 cm times the amount (in leaf lengths) by which the tip rises back after its "
-                         "lowest point so far beyond F (issue 23: the measured tip never rises)")
+                         "lowest point so far beyond F (the measured tip never rises)")
 parser.add_argument("--max-angle", type=float, default=None,
                     help="with --beat-paper: also add W times 0.1 cm per degree the direction difference exceeds this")
 parser.add_argument("--leave-one-out", action="store_true",

@@ -24,7 +24,7 @@ from paraview import servermanager  # noqa: E402
 
 BLADE = [0.72, 0.86, 0.45]
 VEIN = [0.18, 0.38, 0.08]
-TIMES = [0.0, 1.0, 1.6, 3.4, 10.0]  # the frames matched to samples 2-4 (issue 23 refit: 0.8-8.1 s for 1-5), then hanging
+TIMES = [0.0, 1.0, 1.6, 3.4, 10.0]  # the frames matched to samples 2-4 (physical-units refit: 0.8-8.1 s for 1-5), then hanging
 # What the Cucumber preset was calibrated at (examples/calibrate_wilting.py SETTINGS).
 SETTINGS = dict(Resolution=14, AnchorRadius=3.0, Duration=10.0, FrameInterval=0.1, TimeStep=1.0 / 60.0,
                 NewtonIterations=1)

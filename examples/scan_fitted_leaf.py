@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The comparison loop of issue 24: fit a leaf to a measured scan, scan the fitted leaf the way a close-range scanner
+"""The comparison loop of measured and simulated plants: fit a leaf to a measured scan, scan the fitted leaf the way a close-range scanner
 scans a leaf, and compare the simulated cloud with the measured one.
 
     pvbatch examples/scan_fitted_leaf.py [--plugin build/.../PlantMorph.so] [--scan data/leaf-clouds/soybean_..txt]

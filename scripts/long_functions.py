@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Lists the C++ functions longer than a limit (default 200 lines), tests and benchmarks excluded (issue 18).
+"""Lists the C++ functions longer than a limit (default 200 lines), tests and benchmarks excluded (a long function hides its steps; split it into named ones).
 
 A function's length runs from the first line of its signature to its closing brace, as `ctags` start and end lines
 do. The scan is a brace counter over the tracked .h/.cpp/.cxx files with comments, string and character literals
@@ -17,7 +17,7 @@ import re
 import subprocess
 import sys
 
-# "path:function" entries exempt from the limit. Empty on purpose: issue 18 wants no function over the limit.
+# "path:function" entries exempt from the limit. Empty on purpose: no function may exceed the limit.
 ALLOWED = set()
 
 EXCLUDED_PREFIXES = ("testing/", "benchmarks/")

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The project's own bounding volume hierarchy over triangles, the virtual scanner's first ray caster, kept here only
-// as virtual_scanner_benchmark's comparison: Embree (filters/scanner/core/RayCaster.h) measured faster and replaced it in
-// the plugin (issue 24: "whichever measures faster, the other kept out"). Built once per surface (binned SAH, double
-// precision), then traversed by many beams at once, each beam independently.
+// The project's own bounding volume hierarchy over triangles, the virtual scanner's first ray caster, kept here only as
+// virtual_scanner_benchmark's comparison: Embree (filters/scanner/core/RayCaster.h) measured faster and replaced it in
+// the plugin (whichever caster measures faster is the one kept in the plugin). Built once per surface (binned SAH,
+// double precision), then traversed by many beams at once, each beam independently.
 //
 // Exactness: the ray-triangle test is Woop, Benthin and Wald's watertight intersection (JCGT 2(1), 2013): the ray is
 // sheared so it runs along +z, and the three edge functions are evaluated on the sheared vertices, each vertex

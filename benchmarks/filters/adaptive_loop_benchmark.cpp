@@ -336,8 +336,8 @@ vtkSmartPointer<vtkPolyData> MakeBlade(int kind)
   if (kind == PinOakCurledB)
     return CurledBSpline(3, 32, -40.0, 45.0);
   vtkNew<vtkLeafOutlineSource> source;
-  // Paper 000's ginkgo at b_y = 5: a blade 5 (1.6 + 0.05 sin(-1.5)) = 7.75 long (Length is the blade's length since
-  // issue 20), the size the bend below and the README's measured ratios are for.
+  // Paper 000's ginkgo at b_y = 5: a blade 5 (1.6 + 0.05 sin(-1.5)) = 7.75 long (Length is the blade's length, base to
+  // apex), the size the bend below and the README's measured ratios are for.
   source->SetLength(5.0 * (1.6 + 0.05 * std::sin(-1.5)));
   source->SetResolution(24);
   source->Update();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Leaf Cloud Reader's read rate (issue 25, deliverable 4): a text point cloud written like the shipped scans
-// (data/leaf-clouds/) read by the reader as ParaView runs it, and by its VTK-free parser alone.
+// Leaf Cloud Reader's read rate (is a 10^7-point scan read at a disk-like rate, in linear time?): a text point cloud
+// written like the shipped scans (data/leaf-clouds/) read by the reader as ParaView runs it, and by its VTK-free parser
+// alone.
 //
 // Families (see benchmarks/README.md, "leaf_cloud_reader_benchmark"):
 //   BM_LeafCloudReader/points:N/columns:C   vtkLeafCloudReader::Update() on a file of N points: C = 3 is the sugar

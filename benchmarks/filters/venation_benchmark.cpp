@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Venation growth cost versus network size (issue 5): plantmorph::GrowVenation with the paper mulberry preset
-// (brochidodromous secondaries, reticulate tertiaries) on one fixed blade, AreoleSize halved step by step so the
-// network grows from about 10^3 to 10^6 vein segments. The cost per segment should stay flat: every crossing test
-// goes through the vein graph's uniform grid and touches only the cells a new segment passes.
+// Venation growth cost versus network size (is growth linear in the network's size?): plantmorph::GrowVenation with the
+// paper mulberry preset (brochidodromous secondaries, reticulate tertiaries) on one fixed blade, AreoleSize halved step
+// by step so the network grows from about 10^3 to 10^6 vein segments. The cost per segment should stay flat: every
+// crossing test goes through the vein graph's uniform grid and touches only the cells a new segment passes.
 //
 // Families (argument: AreoleSize in units of 1e-5 leaf lengths):
 //   BM_Venation            the plugin's growth (grid cells of about one areole)

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// VirtualScanner's ray casting (docs/methods/virtual-scanner.md, issue 24): Embree (the plugin's caster,
+// VirtualScanner's ray casting (docs/methods/virtual-scanner.md): Embree (the plugin's caster,
 // filters/scanner/core/RayCaster.h), the project's own BVH it replaced (filters/TriangleBVH.h, kept here as the comparison)
 // and VTK's locators, on the same scenes and beams in the same run.
 //

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Wall time and per-rank peak memory of Leaf Cloud Reader + CloudComparisonFilter by rank count (issue 21 items 1-2).
+"""Wall time and per-rank peak memory of Leaf Cloud Reader + CloudComparisonFilter by rank count (both data-parallel: each rank reads and compares its own share).
 
     pvpython benchmarks/scaling/cloud_scaling.py --plugin PlantMorph.so --generate /tmp/scan.txt [--points 2000000]
     VTK_SMP_MAX_THREADS=1 mpirun -np N pvbatch --symmetric benchmarks/scaling/cloud_scaling.py \

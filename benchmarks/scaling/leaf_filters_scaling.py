@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Wall time of VenationFilter on many leaves and WiltingSimulator on a few, by rank count (issue 21 item 4).
+"""Wall time of VenationFilter on many leaves and WiltingSimulator on a few, by rank count (each leaf processed on one rank).
 
     VTK_SMP_MAX_THREADS=1 mpirun -np N pvbatch benchmarks/scaling/leaf_filters_scaling.py --plugin PlantMorph.so \
         [--venation-leaves 16] [--wilting-leaves 4] [--repeat 2]

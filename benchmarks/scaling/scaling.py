@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Scaling on ParaView's MPI (issue 21 item 6): wall time and every rank's peak memory of the main steps.
+"""Scaling on ParaView's MPI (what a cluster user gains from more ranks): wall time and every rank's peak memory of the main steps.
 
     mpirun -np N pvbatch benchmarks/scaling/scaling.py --plugin PlantMorph.so --work DIR --steps read,compare
 

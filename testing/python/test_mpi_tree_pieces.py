@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""pvbatch under MPI: TreeFromSketchSource made by pieces (issue 21 item 3) gives the serial tree.
+"""pvbatch under MPI: TreeFromSketchSource made by pieces (one per rank) gives the serial tree.
 
 Each rank builds its piece of the branches (sources/tree/tubes/BranchPieces.h); gathered, the Branches and Leaves outputs
 must hold the serial run's triangles exactly once: compared as a sorted set of triangles written out by their

@@ -63,9 +63,9 @@ public:
   vtkGetVector3Macro(BasePoint, double);
 
   ///@{
-  /// Fit controls (plantmorph::LeafFitParameters): SurfaceSmoothing [0, 1e6] (default 1), OutlineSmoothing [0, 1e6]
-  /// (default 1), OutlineControlPoints [4, 200] (default 16), OutlierSigma [1, 100] (default 3), Resolution
-  /// [4, 1000] segments along the midvein (default 60), ModelControlPoints [3, 100] (default 20).
+  /// Fit controls (plantmorph::LeafFitParameters): SurfaceSmoothing, OutlineSmoothing, OutlineControlPoints,
+  /// OutlierSigma, Resolution (segments along the midvein), ModelControlPoints. Their ranges and defaults are the
+  /// proxy's (xml/LeafFitFilter.xml, shown on its help page).
   vtkSetMacro(SurfaceSmoothing, double);
   vtkGetMacro(SurfaceSmoothing, double);
   vtkSetMacro(OutlineSmoothing, double);

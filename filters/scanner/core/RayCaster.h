@@ -3,8 +3,8 @@
 // efficient CPU ray tracing", ACM TOG 33(4), 2014) builds the hierarchy once per surface and traverses it, beams in
 // packets (rtcIntersect4/8/16, RayCasterParameters::packetWidth), from any number of threads at once. It measured
 // 1.2-1.8 times the project's own BVH per CPU second on the same beams (benchmarks/README.md
-// "virtual_scanner_benchmark"; issue 24: "whichever measures faster, the other kept out"), which is now in
-// benchmarks/ only.
+// "virtual_scanner_benchmark"; whichever measures faster is kept in the plugin), which is now in benchmarks/
+// only.
 //
 // Two ways of running the triangle test (RayCasterParameters::geometry; benchmarks/README.md measures both):
 // - Triangles (the default): Embree's own single-precision triangles (RTC_GEOMETRY_TYPE_TRIANGLE, robust mode, SIMD

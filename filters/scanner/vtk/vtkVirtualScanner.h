@@ -2,7 +2,8 @@
 /**
  * @class   vtkVirtualScanner
  * @brief   Simulated scans of any surface: a terrestrial laser scanner, a line (profile) scanner on a path or a
- *          turntable, or a depth camera, with occlusion, range noise, jitter and dropout (docs/methods/virtual-scanner.md, issue 24).
+ *          turntable, or a depth camera, with occlusion, range noise, jitter and dropout
+ *          (docs/methods/virtual-scanner.md).
  *
  * Input: a vtkPolyData surface (polygons and triangle strips; vertices and lines are not scanned), e.g. a leaf, a
  * wilting frame, a tree with leaves, several plants appended. Every beam of the scanner's pattern is cast through

@@ -85,7 +85,8 @@ public:
   ///@{
   /**
    * Where the mid-line of the transverse curl crosses the midvein, as LeafUV v (0 base, 1 apex). The base part
-   * (below it) and the apex part (above it) both turn through TransverseAngle. Range [0, 1]. Default 0.5.
+   * (below it) and the apex part (above it) both turn through TransverseAngle. Range and default:
+   * xml/LeafCurlFilter.xml (the help page).
    */
   vtkSetMacro(TransverseCenter, double);
   vtkGetMacro(TransverseCenter, double);

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The measures plant scientists report for a vein network (issue 22 item 4; docs/methods/venation.md "Statistics"; LEAF GUI,
+// The measures plant scientists report for a vein network (docs/methods/venation.md "Statistics"; LEAF GUI,
 // phenoVein, Green & Losada 2023), computed from the network alone, so they apply to any VenationResult.
 //
 // - Lengths: total vein length, length per VeinOrder, and VLA (vein length per blade area; in mm/mm^2 when the

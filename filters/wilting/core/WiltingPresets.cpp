@@ -29,7 +29,7 @@ namespace
 /// sample held below the paper's (about 900; docs/wilting-calibration.md).
 namespace CucumberFit
 {
-// Issue 23 refit in physical units (the five marked *; examples/calibrate_wilting.py --fit
+// The refit in physical units (the five marked *; examples/calibrate_wilting.py --fit
 // ContractionTime,ContractionForce,CurlTime,DroopForce,LoadTime --yaw --beat-paper 1 --max-angle 3 --max-rise 0.04,
 // 50 runs from the stage-6 values below with ContractionTime 6): the tip no longer rises back after falling.
 constexpr double droopPressure = 10018.0;      // * dyn/cm^2 (stage 6: 27613 dyn per 1.593 cm voxel = 10876)

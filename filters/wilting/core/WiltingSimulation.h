@@ -122,7 +122,7 @@ enum class WiltingCurlDirection : int
 /// dashpot as a retardation time, droop and contraction as pressures (force per area of leaf), curl as the strain
 /// difference across the thickness; WiltingLatticeOf turns them into the springs and per-voxel loads of a voxel
 /// edge h so that the plate's bending stiffness, mass and loads per area and its intrinsic curvature do not depend
-/// on h. Lattice: per spring and per voxel, as given (the model before issue 23; referenceVoxelSize applies).
+/// on h. Lattice: per spring and per voxel, as given (the model before physical units; referenceVoxelSize applies).
 enum class WiltingUnits : int
 {
   Physical = 0,

@@ -74,7 +74,7 @@
  * Cucumber preset was fitted to paper 001's measured tip trajectory (docs/wilting-calibration.md) at this filter's
  * defaults (Resolution 14, AnchorRadius 3, TimeStep 1/60 s, one Newton iteration) on a 20.1 x 22.1 cm leaf.
  *
- * Units (issue 23; docs/methods/wilting.md "Physical units"): with Units Physical (the default, and every preset)
+ * Units (docs/methods/wilting.md "Physical units"): with Units Physical (the default, and every preset)
  * the materials and loads describe the lamina, not the voxels: Density per volume of the lamina, Stiffness its
  * Young's modulus E (dyn/cm^2 with cm, = 0.1 Pa), Damping a retardation time (s), DroopForce and ContractionForce
  * pressures (force per area of leaf), CurlStrain the strain difference across BladeThickness (curvature
@@ -82,7 +82,7 @@
  * plantmorph::WiltingLatticeOf turns them into per-spring and per-voxel values for the voxel edge used, so the
  * plate's bending stiffness E t^3 / 12, its mass and loads per area and its curvature are the same at every
  * Resolution, and sub-steps TimeStep when the voxels are finer than the blade is thick. Units Lattice is the
- * model before: per spring (dyn/cm) and per voxel (dyn), for state files saved before issue 23 with Custom values.
+ * model before: per spring (dyn/cm) and per voxel (dyn), for state files saved before Units existed with Custom values.
  *
  * Errors (a vtkErrorMacro naming the property and its accepted range, and empty outputs, never a crash): any
  * property out of range or not finite, an input without triangles, a non-finite coordinate, a model larger than

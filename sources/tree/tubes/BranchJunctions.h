@@ -31,7 +31,7 @@
 // the tubes, which now start/stop at those rings and share their points. So the surface is closed and consistently
 // oriented, with no internal faces and no ledge, and it contains every tube (the hull contains the dropped parts).
 // The hull is convex: where branches meet at a small angle it is a blob larger than the exact union (the tests
-// measure the volume against the union of two cylinders). Reach (issue 23): no point of the welded surface is farther
+// measure the volume against the union of two cylinders). Reach: no point of the welded surface is farther
 // than 1.6 local radii from the skeleton on Table 1's templates, stroke trees and edited and merged trees
 // (testing/cxx/tree/JunctionReachTest.cpp measures 1.24-1.57); before the tilted rings and the crowded-sibling rule,
 // merged junctions pulled their rings out until each cleared the parent's far ring and its siblings, and the hull

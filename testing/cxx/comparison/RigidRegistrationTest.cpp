@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// RigidRegistration (filters/comparison/core): Umeyama recovers a known similarity from exact pairs; ICP recovers a known rigid
-// transform (and a rigid transform with scale) of a cloud sampled from a curved, asymmetric leaf surface; the
-// landmark subset is reproducible from the seed; bad settings are refused. Symmetric mode (issue 19): a flat leaf
-// turned and scaled in its plane is recovered, Rigid + scale cannot collapse, a size mismatch does not make Rigid
-// slide along the leaf, and a registration that fits worse is refused with a warning.
+// RigidRegistration (filters/comparison/core): Umeyama recovers a known similarity from exact pairs; ICP recovers a
+// known rigid transform (and a rigid transform with scale) of a cloud sampled from a curved, asymmetric leaf surface;
+// the landmark subset is reproducible from the seed; bad settings are refused. Symmetric mode: a flat leaf turned and
+// scaled in its plane is recovered, Rigid + scale cannot collapse, a size mismatch does not make Rigid slide along the
+// leaf, and a registration that fits worse is refused with a warning.
 #include "RigidRegistration.h"
 
 #include "DeformedRectangleLeaf.h"
@@ -245,7 +245,8 @@ RegistrationParameters Symmetric(const Surface& s, bool withScale)
   return settings;
 }
 
-// Issue 19: a flat leaf turned 6 degrees in its plane and scaled 1.08 came back as the identity from Rigid + scale.
+// Before symmetric ICP, a flat leaf turned 6 degrees in its plane and scaled 1.08 came back as the identity from Rigid
+// + scale.
 TEST(RigidRegistration, SymmetricIcpRecoversAnInPlaneTurnAndScaleOfAFlatLeaf)
 {
   const Surface surface = FlatBlade();
@@ -278,8 +279,8 @@ TEST(RigidRegistration, SymmetricIcpRecoversAnInPlaneTurnAndScaleOfAFlatLeaf)
   EXPECT_LT(result.symmetricAfter, 0.5 * result.symmetricBefore);
 }
 
-// Issue 19: Rigid + scale shrank a measured cloud to a point (zeros on the matrix's diagonal, distances 0). A noisy
-// scan of a slightly different leaf is the case: shrinking it lowers every point-to-plane distance.
+// Before symmetric ICP, Rigid + scale shrank a measured cloud to a point (zeros on the matrix's diagonal, distances 0).
+// A noisy scan of a slightly different leaf is the case: shrinking it lowers every point-to-plane distance.
 TEST(RigidRegistration, SymmetricIcpWithScaleCannotCollapse)
 {
   const Surface surface = CurvedBlade();
@@ -299,8 +300,8 @@ TEST(RigidRegistration, SymmetricIcpWithScaleCannotCollapse)
   EXPECT_LE(result.symmetricAfter, result.symmetricBefore);
 }
 
-// Issue 19: Rigid ICP with a few per cent size mismatch slid a curled blade along itself and fitted worse than no
-// registration. Symmetric pairs keep it centred, and the guard never returns a worse fit.
+// Before symmetric ICP, Rigid ICP with a few per cent size mismatch slid a curled blade along itself and fitted worse
+// than no registration. Symmetric pairs keep it centred, and the guard never returns a worse fit.
 TEST(RigidRegistration, RigidIcpWithASizeMismatchNeverFitsWorse)
 {
   const Surface surface = CurvedBlade();
@@ -318,7 +319,7 @@ TEST(RigidRegistration, RigidIcpWithASizeMismatchNeverFitsWorse)
     EXPECT_LE(result.symmetricAfter, result.symmetricBefore) << mismatch;
     EXPECT_NEAR(result.scale, 1.0, 1e-9);
     // No sliding along the leaf: the registered cloud's centroid lands on the true cloud's (the leaf's own), within
-    // 5 % of the blade's length of 5 (3.4 % at a 10 % mismatch; the issue's scan slid 4.9 cm along its leaf).
+    // 5 % of the blade's length of 5 (3.4 % at a 10 % mismatch; the shipped scan used to slide 4.9 cm along its leaf).
     const std::vector<double> truth = Sample(surface, 3000, 4);
     Eigen::Vector3d centre = Eigen::Vector3d::Zero(), after = Eigen::Vector3d::Zero();
     std::vector<double> moved(measured.size());

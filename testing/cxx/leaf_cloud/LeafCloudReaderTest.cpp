@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The VTK layer of Leaf Cloud Reader over its VTK-free parser (sources/leaf_cloud/core/PointCloudText): the soybean layout's
-// arrays, progress up to 1, and the issue-25 files (one line of 2*10^6 columns, binary junk) refused with an error
-// naming FileName and the line, and empty outputs.
+// The VTK layer of Leaf Cloud Reader over its VTK-free parser (sources/leaf_cloud/core/PointCloudText): the soybean
+// layout's arrays, progress up to 1, and the hostile files (one line of 2*10^6 columns, binary junk) refused with an
+// error naming FileName and the line, and empty outputs.
 #include "VtkErrorCatcher.h"
 #include "vtkLeafCloudReader.h"
 

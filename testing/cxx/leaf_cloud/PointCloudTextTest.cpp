@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// PointCloudText (filters/comparison/core): Leaf Cloud Reader's text format. Every value read back exactly, lines across the
-// reader's 64 KiB blocks, the header and comment conventions, and hostile files refused with the line and reason.
+// PointCloudText (sources/leaf_cloud/core): Leaf Cloud Reader's text format. Every value read back exactly, lines
+// across the reader's 64 KiB blocks, the header and comment conventions, and hostile files refused with the line and
+// reason.
 #include "PointCloudText.h"
 
 #include <gtest/gtest.h>
@@ -93,7 +94,7 @@ TEST(PointCloudText, InconsistentFilesAreErrorsWithTheLine)
 
 TEST(PointCloudText, HostileFilesAreRefused)
 {
-  // The hang: one line of 2*10^6 columns (8 MB).
+  // The former hang: one line of 2*10^6 columns (8 MB).
   std::string wide;
   for (int i = 0; i < 2000000; ++i)
     wide += "1.5 ";

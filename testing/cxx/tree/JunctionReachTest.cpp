@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// How far the welded junctions reach from the skeleton (issue 23 item 4; BranchJunctions.h): every point of the
+// How far the welded junctions reach from the skeleton (BranchJunctions.h "Reach"): every point of the
 // welded surface must lie within 1.6 local radii of the skeleton, on Table 1's templates, stroke trees at every
 // StrokeSubtreeDepth, edited and merged trees, and the surface stays one closed, oriented, manifold piece per tree.
 //
@@ -189,7 +189,7 @@ double CheckTree(const Tree& tree, int sides, const std::string& what)
 
 constexpr double Bound = 1.6;
 
-/// The issue's tree: the first three sample strokes (testing/python/tree/test_tree_from_sketch.py's), trunk first.
+/// The measured tree: the first three sample strokes (testing/python/tree/test_tree_from_sketch.py's), trunk first.
 std::vector<std::vector<Eigen::Vector3d>> ThreeStrokes()
 {
   auto strokes = tree_test::SampleStrokes();

@@ -296,7 +296,7 @@ TEST(StrokeFiles, ViewBoxAspectRatio)
 
 TEST(StrokeFiles, LongElementsAsDigitisersWriteThem)
 {
-  // The crashes: 2,000-point polyline (27 KB), 5,000-command path (60 KB).
+  // The former crashes: 2,000-point polyline (27 KB), 5,000-command path (60 KB).
   std::string points;
   for (int i = 0; i < 2000; ++i)
   {

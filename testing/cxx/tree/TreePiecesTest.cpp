@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// A tree built by pieces (issue 21 item 3; BranchPieces.h): for 1..5 pieces, the pieces' triangles together are the
+// A tree built by pieces (one per MPI rank; BranchPieces.h): for 1..5 pieces, the pieces' triangles together are the
 // whole build's, each exactly once (compared as a sorted multiset of triangles written out by their corners' exact
 // coordinates, normals and TCoords, with the owning tube: point ids may differ), on a template tree and a stroke
 // tree, welded and seated; each piece is a valid mesh by itself (ids in range, every point used, no directed edge
@@ -235,7 +235,7 @@ TEST(TreePieces, MergedTreeAndForest)
   ExpectPiecesMakeTheWhole(forest, f.sides, Joints::Welded, "forest");
 }
 
-// The real cost of a piece is the triangles it writes (issue 21: the two ranks' CPU per piece was measured equal
+// The real cost of a piece is the triangles it writes (measured: the two ranks' CPU per piece was measured equal
 // to 1 %, 1,423,097 and 1,422,999 triangles of the Depth 5 tree). The plan weighs tubes by segments, so check that
 // this proxy holds: each piece's triangles (the welded whole mesh's, by owning tube) are within one tube's
 // triangles of an equal share, for the benchmark's Custom template (ChildCount 8) and the presets.

@@ -22,7 +22,7 @@ inline std::vector<Eigen::Vector3d> Line(std::initializer_list<std::pair<double,
   return line;
 }
 
-/// The four sample strokes; the first three are the tree of issue 23's junction measurements.
+/// The four sample strokes; the first three are the tree of the junction reach measurements.
 inline std::vector<std::vector<Eigen::Vector3d>> SampleStrokes()
 {
   return { Line({ { 0, 0 }, { 0.2, 3 }, { -0.1, 6 }, { 0.1, 9 }, { 0, 12 } }),

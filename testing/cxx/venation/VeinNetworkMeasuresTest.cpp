@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The network measures (issue 22 item 4, VeinNetworkMeasures.h) against hand counts on small networks: a 2 x 2 grid
+// The network measures (VeinNetworkMeasures.h) against hand counts on small networks: a 2 x 2 grid
 // of unit squares, two rectangles of areas 1 and 3 side by side, a star with one arm ending on the margin, and the
 // pipe-model tree of space colonization (a tree: loopiness 1, no areoles); the areole histogram's bins and counts,
 // and MeasureVenation's blade area and margin on a rectangle.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// True vein orders (issue 22; docs/methods/venation.md "Vein orders"): 1 primary, 2 secondary, 3 tertiary (a
+// True vein orders (docs/methods/venation.md "Vein orders"): 1 primary, 2 secondary, 3 tertiary (a
 // reticulum vein joining primaries or secondaries at both ends), 4 the finer reticulum (veins that only subdivide
 // areoles), 5 free-ending veinlets. Checked on a hand-built network against a hand count, and on presets as
 // invariants: both reticulum orders occur, mean widths do not increase with order, and every vein of order 2 or

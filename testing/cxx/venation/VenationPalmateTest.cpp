@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Palmate (actinodromous) venation follows the blade (docs/methods/venation.md "Palmate veins by leaf growth", issue 22 item 1), on
+// Palmate (actinodromous) venation follows the blade (docs/methods/venation.md "Palmate veins by leaf growth"), on
 // the project's own blades: on entire blades the primaries fan over at least 80 degrees seen from the base; on
 // paper 002's lobed leaves one primary runs into each lobe and reaches within 3 % of the leaf length of its tip
 // (the tips are the Outline's lobe midveins' ends, which the venation never sees); on cordate blades (the cucumber,
@@ -311,7 +311,7 @@ TEST(PalmateVenation, GinkgoDichotomiesFillTheFan)
   std::sort(distances.begin(), distances.end());
   const double p95 = distances[distances.size() * 95 / 100];
   std::cout << "ginkgo: 95th percentile distance to a vein " << p95 << " L, largest " << distances.back() << " L\n";
-  // The issue's space-colonization bound: 95 % of the fan within 0.03 L of a vein (with the ends spread in angle:
+  // The required space-colonization bound: 95 % of the fan within 0.03 L of a vein (with the ends spread in angle:
   // 0.077 L, and 0.135 L at most, on the bare lower flanks below the outermost veins).
   EXPECT_LE(p95, 0.03);
   EXPECT_LE(distances.back(), 0.08);

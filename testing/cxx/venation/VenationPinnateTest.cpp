@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Pinnate venation reaches out (issue 22 item 2, docs/methods/venation.md "Secondary veins"): on the entire blade the paper
+// Pinnate venation reaches out (docs/methods/venation.md "Secondary veins"): on the entire blade the paper
 // mulberry preset's secondaries leave the midvein at the preset's divergence angle (45 deg at the base to 70 at the
 // apex), run out into the outer part of the half-blade before they loop (brochidodromous), and craspedodromous
 // secondaries end on the margin. The blade is symmetric about x = 0 with its midvein on it, so the half-width at a

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Space colonization venation (Runions et al. 2005, open venation; issue 22 item 3, SpaceColonization.h) on the
+// Space colonization venation (Runions et al. 2005, open venation; SpaceColonization.h) on the
 // project's own blades: the veins cover the blade (95 % of its points within 3 % of the leaf length of a vein), the
 // network is a tree, widths obey the pipe model with the chosen Murray exponent, the same seed gives the same
 // network bit for bit, and bad distances are refused with a message naming the property.

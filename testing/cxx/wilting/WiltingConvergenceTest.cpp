@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The Cucumber preset in physical units converges as the voxels shrink and means the same on leaves of other sizes
-// (issue 23): the cucumber blade with its palmate veins (WiltingCucumberLeaf.h, the calibration's leaf), 10 s, the
-// preset's settings (TimeStep 1/60 s, one Newton iteration), AnchorRadius 3 cm x L / 20.1. The full table (R 14-30,
-// 5-40 cm) is benchmarks/wilting_convergence's (benchmarks/README.md "wilting convergence").
+// (docs/methods/wilting.md "Physical units"): the cucumber blade with its palmate veins (WiltingCucumberLeaf.h, the
+// calibration's leaf), 10 s, the preset's settings (TimeStep 1/60 s, one Newton iteration), AnchorRadius 3 cm x L /
+// 20.1. The full table (R 14-30, 5-40 cm) is benchmarks/wilting_convergence's (benchmarks/README.md "wilting
+// convergence").
 #include "WiltingCucumberLeaf.h"
 #include "WiltingPresets.h"
 

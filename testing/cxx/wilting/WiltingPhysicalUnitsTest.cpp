@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// WiltingSimulation in physical units (issue 23; WiltingLatticeOf, docs/methods/wilting.md "Physical units"): the
+// WiltingSimulation in physical units (WiltingLatticeOf, docs/methods/wilting.md "Physical units"): the
 // conversion's closed forms, a cantilever strip under its own weight against beam theory at several voxel sizes, the
 // size scaling of geometrically similar leaves, and a curl whose arc does not depend on the voxel size.
 #include "WiltingPresets.h"

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""pvpython: what a new user trips over (issue 20), each check one that failed before its fix.
+"""pvpython: what a new user trips over, each check one that failed before its fix.
 
 1. A source's optional inputs stay empty when another source is active (paraview.simple connects the active source
    to a new proxy's input property of port_index 0), and setting one to None disconnects it.

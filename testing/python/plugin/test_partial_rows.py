@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""pvpython: a row-list property whose numbers do not fill whole rows is refused (issue 20 item 10).
+"""pvpython: a row-list property whose numbers do not fill whole rows is refused, with an error naming the property.
 
 ParaView pushes a repeat_command property row by row and drops a partial last row before the filter sees it, so
 `Terms` of 9 numbers used to give a leaf from the first 7 and `BranchOverrides = [1, 2, 3]` was ignored. Now the

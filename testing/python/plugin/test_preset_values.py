@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""pvpython: with a named preset the panel shows what the preset chose (issue 20 item 9).
+"""pvpython: with a named preset the panel shows what the preset chose.
 
 VenationFilter, TreeFromSketchSource, LeafOutlineSource and WiltingSimulator grey out (not hide) the properties a named preset overrides, and show a
 read-only PresetValues box (an information_only property, which ParaView 5.11's panel shows disabled and refreshes
@@ -90,7 +90,7 @@ blade = LeafOutlineSource()
 named = WiltingSimulator(Input=blade, Preset="Cucumber", Duration=0.5, Resolution=8)
 values, title = shown(named)
 checks.check("greyed" in title and len(values) == 26, "wilting Cucumber: the box lists 26 values (%d) %r" % (len(values), title))
-# The Cucumber's values are physical (Units Physical: per area and per thickness, issue 23), so a Custom run with the
+# The Cucumber's values are physical (Units Physical: per area and per thickness), so a Custom run with the
 # box's numbers at the same Resolution is the same model whatever the voxel size.
 checks.check(values.get("Units") == "0", "wilting Cucumber: the box says its units are Physical (0): %r" % values.get("Units"))
 custom = WiltingSimulator(Input=blade, Preset="Custom", Duration=0.5, Resolution=8)

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""pvpython: the chain LeafOutlineSource -> AdaptiveLoopFilter -> LeafCurlFilter, as a user builds it (issue 4).
+"""pvpython: the chain LeafOutlineSource -> AdaptiveLoopFilter -> LeafCurlFilter, as a user builds it.
 Each filter has its own test; this one checks what only the chain shows:
 
 - AdaptiveLoopFilter on the flat blade, every edge split (EdgeAngleThreshold 180, FlatnessThreshold 1, FeatureRule

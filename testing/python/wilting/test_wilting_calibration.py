@@ -5,7 +5,7 @@ data/cucumber-wilting-tip.csv), the table of docs/wilting-calibration.md and REA
 The pipeline of examples/calibrate_wilting.py --evaluate-preset: the cucumber blade of the measured size (20.1 x
 22.1 cm) -> palmate veins -> WiltingSimulator, Cucumber preset, at the settings it was fitted at (Resolution 14,
 AnchorRadius 3, TimeStep 1/60 s, one Newton iteration, 10 s in frames of 0.1 s), the simulated track compared as
-it is and turned about the vertical through the petiole-blade junction by the documented yaw (3.14 deg since the issue 23
+it is and turned about the vertical through the petiole-blade junction by the documented yaw (3.14 deg since the
 refit in physical units) (the leaf's azimuth
 in the digitiser's frame, which the CSV does not give; calibrate_wilting.py --yaw fits it). Checked: the
 per-sample time-monotone and closest-sample errors and the direction difference are the documented ones (to 0.02
