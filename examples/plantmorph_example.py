@@ -26,13 +26,27 @@ def start(description):
 RENDER = True
 
 
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
 def save_state(arguments, name):
     """Saves the whole pipeline, views included, as <output>/<name>.pvsm: File > Load State in ParaView (after loading
     the plugin) rebuilds the figure. examples/states/ holds these files as shipped (scripts/update_example_states.sh
-    writes them; the ctest example_state.* tests check they still give the scripts' data)."""
+    writes them; the ctest example_state.* tests check they still give the scripts' data).
+
+    A data file the pipeline reads from the repository (data/...) is named relative to the repository's folder, so
+    the state is the same wherever the repository is: load it with the repository's folder as the current one, or
+    say where it is (pvpython: LoadState(path, data_directory=REPOSITORY); the GUI's Load State dialog: "Search
+    files under specified directory")."""
     from paraview.simple import SaveState
     path = os.path.join(arguments.output, name + ".pvsm")
     SaveState(path)
+    with open(path) as f:
+        text = f.read()
+    relative = text.replace('value="%s/' % ROOT, 'value="')
+    if relative != text:
+        with open(path, "w") as f:
+            f.write(relative)
     print("wrote", path)
 
 

@@ -60,7 +60,9 @@ from paraview.simple import LoadState  # noqa: E402
 
 checks = Checks()
 load_plugin(arguments.plugin, globals())
-LoadState(arguments.load)
+# Data files are named relative to the repository in a shipped state (examples/plantmorph_example.py save_state):
+# ParaView finds them under the repository's folder.
+LoadState(arguments.load, data_directory=os.path.dirname(os.path.dirname(os.path.abspath(arguments.example))))
 with open(expected_file) as f:
     expected = json.load(f)
 actual = fingerprints()
