@@ -98,7 +98,7 @@ def save_png(view, path, top_down=True):
         view.CameraParallelProjection = 1
     ResetCamera(view)
     Render(view)
-    SaveScreenshot(path, view, ImageResolution=list(view.ViewSize))
+    SaveScreenshot(path, view, ImageResolution=list(view.ViewSize), CompressionLevel="9")
     print("wrote", path)
 
 
@@ -115,5 +115,5 @@ def save_framed_png(view, path, focal, position, view_up, half_height):
     view.CameraParallelProjection = 1
     view.CameraParallelScale = half_height
     Render(view)
-    SaveScreenshot(path, view, ImageResolution=list(view.ViewSize))
+    SaveScreenshot(path, view, ImageResolution=list(view.ViewSize), CompressionLevel="9")
     print("wrote", path)
