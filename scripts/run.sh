@@ -1,30 +1,41 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# The main job: set up and build if needed, then run the example pipeline(s) in pvbatch, writing .vtp files and PNG
-# renders into output/ (or the folder given as the first argument). It builds only the plugin (CMake target
-# PlantMorph), not the tests and benchmarks: scripts/test.sh builds those.
+# The main job: set up and build if needed, then run the example pipelines (every examples/main_*.py) in pvbatch,
+# writing .vtp files, PNG renders and state files into output/ (or the folder given as the first argument). Names
+# after the folder run only those examples (e.g. `run.sh out main_measured_leaf.py`). It builds only the plugin
+# (CMake target PlantMorph), not the tests and benchmarks: scripts/test.sh builds those.
 set -euo pipefail
 PLANTMORPH_TARGETS=PlantMorph
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/setup.sh"
 OUTPUT="$(mkdir -p "${1:-$PLANTMORPH_ROOT/output}" && cd "${1:-$PLANTMORPH_ROOT/output}" && pwd)"
+MAIN_EXAMPLES=""
+for name in "${@:2}"; do
+  [ -f "$PLANTMORPH_ROOT/examples/$(basename "$name")" ] || { echo "run: no examples/$(basename "$name")" >&2; exit 1; }
+  MAIN_EXAMPLES+="$PLANTMORPH_ROOT/examples/$(basename "$name")"$'\n'
+done
+MAIN_EXAMPLES="${MAIN_EXAMPLES:-$(printf '%s\n' "$PLANTMORPH_ROOT"/examples/main_*.py)}"  # one a line
 # pvbatch renders only with an X server: use the one we have, or one virtual server for all the examples (one
 # xvfb-run per example races with other X clients starting on the machine: "bad X server connection").
 # On this kind of machine a render window's connection to Xvfb now and then fails ("bad X server connection",
 # pvbatch aborts at once); an example that aborts is run again, up to three times.
 EXAMPLES='set -uo pipefail
-for example in "$PLANTMORPH_ROOT"/examples/main_*.py; do
+while IFS= read -r example; do
+  [ -n "$example" ] || continue
   for attempt in 1 2 3; do
     echo "run: $(basename "$example")"
-    pvbatch "$example" --plugin "$PLANTMORPH_PLUGIN" --output "$OUTPUT" && break
+    pvbatch "$example" --plugin "$PLANTMORPH_PLUGIN" --output "$OUTPUT" < /dev/null && break
     [ "$attempt" = 3 ] && exit 1
     echo "run: $(basename "$example") failed, running it again"
   done
-done'
-export PLANTMORPH_ROOT PLANTMORPH_PLUGIN OUTPUT
+done <<< "$MAIN_EXAMPLES"'
+export PLANTMORPH_ROOT PLANTMORPH_PLUGIN OUTPUT MAIN_EXAMPLES
 if [ -n "${DISPLAY:-}" ]; then
   bash -c "$EXAMPLES"
 else
   xvfb-run -a -s "-screen 0 1920x1080x24" bash -c "$EXAMPLES"
 fi
 echo "run: results written to $OUTPUT"
-ls -1 "$OUTPUT"
+echo "run: pictures"
+ls -1 "$OUTPUT"/*.png
+echo "run: data (.vtp), state files (.pvsm) and tables"
+ls -1 "$OUTPUT" | grep -v '\.png$' || true
