@@ -10,7 +10,7 @@
    branches behind them, as in a real terrestrial scan, and every point carries its hit cell's labels.
 3. The cloud is written as scan_tree.vtp (every array) and scan_tree.csv (x, y, z, normal, range, intensity, scan
    position and every label: the plain table point-cloud segmentation tools read), and rendered to
-   scan_tree.png coloured by scan position beside the set-up lines.
+   scan_tree.png from the side, the whole tree in frame, each point coloured by the scan position that saw it.
 """
 import argparse
 import math
@@ -78,8 +78,10 @@ csv = os.path.join(arguments.output, "scan_tree.csv")
 numpy.savetxt(csv, table, delimiter=",", header=header, comments="", fmt="%.9g")
 print("wrote", vtp, "and", csv, "columns:", header)
 
+# The picture: the cloud seen from the side (the tree grows along +y), between two scan positions, the whole tree
+# in frame, each point coloured by the position that saw it.
 view = CreateView("RenderView")
-view.ViewSize = [900, 700]
+view.ViewSize = [800, 600]
 view.OrientationAxesVisibility = 0
 view.Background = [1, 1, 1]
 try:
@@ -91,15 +93,24 @@ display.SetRepresentationType("Points")
 display.PointSize = 2
 ColorBy(display, ("POINTS", "ScanPosition"))
 lut = GetColorTransferFunction("ScanPosition")
-lut.ApplyPreset("Rainbow Uniform", True)
-setup = Show(OutputPort(scanner, 1), view)
-setup.DiffuseColor = [0.3, 0.3, 0.3]
-setup.AmbientColor = [0.3, 0.3, 0.3]
-setup.ColorArrayName = ["POINTS", ""]
-view.CameraPosition = [centre[0] + 0.8 * distance, centre[1] + 1.6 * distance, centre[2] + 2.0 * distance]
+lut.InterpretValuesAsCategories = 1
+lut.Annotations = ["0", "position 1", "1", "position 2", "2", "position 3"]
+lut.IndexedColors = [0.85, 0.37, 0.01, 0.46, 0.44, 0.70, 0.11, 0.62, 0.47]  # colour-blind safe (Dark2)
+bar = GetScalarBar(lut, view)
+bar.Title = "seen from"
+bar.ComponentTitle = ""
+bar.TitleColor = bar.LabelColor = [0.1, 0.1, 0.1]
+bar.TitleFontSize = 15
+bar.LabelFontSize = 15
+bar.WindowLocation = "Upper Right Corner"
+display.SetScalarBarVisibility(view, True)
+Render(view)  # the first render resets the camera: set ours after it
+side = math.pi / 3  # halfway between the first two positions
 view.CameraFocalPoint = centre
+view.CameraPosition = [centre[0] + 4 * distance * math.cos(side), centre[1], centre[2] + 4 * distance * math.sin(side)]
 view.CameraViewUp = [0, 1, 0]
-view.ResetCamera()
+view.CameraParallelProjection = 1
+view.CameraParallelScale = 0.56 * height
 picture = os.path.join(arguments.output, "scan_tree.png")
-SaveScreenshot(picture, view, ImageResolution=[900, 700])
+SaveScreenshot(picture, view, ImageResolution=[800, 600], CompressionLevel="9")
 print("wrote", picture)
