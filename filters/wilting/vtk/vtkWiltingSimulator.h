@@ -116,6 +116,7 @@
 namespace plantmorph
 {
 struct WiltingParameters;
+class WiltingSimulation;
 class LeafPlan;
 }
 
@@ -326,6 +327,16 @@ protected:
   /// With a named Preset, warns (once per simulation) about each property the preset sets that was changed from
   /// its default (it is not what the output has).
   void WarnAboutPresetOverrides();
+  /// Reads `leaf` and `veins` (may be null) into `simulation` and sets it up; false (the error reported, prefixed by
+  /// `label`) when it cannot be. What had to be assumed about the input is warned about.
+  bool SetUpSimulation(plantmorph::WiltingSimulation& simulation, vtkPolyData* leaf, vtkPolyData* veins,
+    const plantmorph::WiltingParameters& parameters, const std::string& label);
+  /// Runs a set-up simulation, its progress shown over [progressBegin, progressEnd]; false when aborted. A blow-up
+  /// is reported (prefixed by `label`); the frames before it are kept.
+  bool RunSimulation(
+    plantmorph::WiltingSimulation& simulation, const std::string& label, double progressBegin, double progressEnd);
+  /// One leaf: wilts it on rank 0, whole, and serves the requested time.
+  int WiltLeaf(vtkInformation* request, vtkPolyData* input, vtkPolyData* veins, vtkInformationVector* outputVector);
   /// Runs the simulation unless the cache holds it for these inputs and properties; false when it failed or was
   /// aborted (nothing to serve; the error is reported).
   bool Simulate(vtkPolyData* input, vtkPolyData* veins, const plantmorph::WiltingParameters& parameters,
