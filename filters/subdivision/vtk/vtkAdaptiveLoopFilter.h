@@ -72,6 +72,13 @@
 #include "PlantMorphSubdivisionVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <string> // for MakeSettings
+
+namespace plantmorph
+{
+struct AdaptiveLoopParameters;
+}
+
 class PLANTMORPHSUBDIVISIONVTK_EXPORT vtkAdaptiveLoopFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -218,6 +225,8 @@ protected:
 
 private:
   int Execute(vtkPolyData* input, vtkPolyData* output);
+  /// The properties as the core's settings; "" or a message naming the property out of range.
+  std::string MakeSettings(plantmorph::AdaptiveLoopParameters& settings);
 
   vtkAdaptiveLoopFilter(const vtkAdaptiveLoopFilter&) = delete;
   void operator=(const vtkAdaptiveLoopFilter&) = delete;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkLeafCurlFilter.h"
 
+#include "PlantMorphAlgorithmHooks.h"
 #include "PlantMorphFieldData.h"
 #include "PlantMorphWholeInput.h"
 #include "LeafCurl.h"
@@ -25,6 +26,7 @@
 #include "vtkSmartPointer.h"
 
 #include <algorithm>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,6 +51,95 @@ void RecomputePolygonNormals(vtkPolyData* output, vtkDataArray* cellNormals)
     double n[3] = { 0.0, 0.0, 0.0 };
     vtkPolygon::ComputeNormal(points, static_cast<int>(size), ids, n);
     cellNormals->SetTuple(cellId, n);
+  }
+}
+
+/// The blade's points and LeafUV as flat arrays for the core (read in parallel: GetTuple into a local buffer is
+/// thread-safe); "" or why the blade cannot be curled.
+std::string ReadBlade(vtkPolyData* input, std::vector<double>& xyz, std::vector<double>& uv)
+{
+  vtkDataArray* leafUV = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
+  if (!leafUV || leafUV->GetNumberOfComponents() != 2)
+  {
+    return std::string("the input has no point array ") + plantmorph::arrays::LeafUV +
+      " with 2 components (u in [-0.5, 0.5] across the blade, 0 on the midvein; v in [0, 1] along it), which "
+      "LeafCurlFilter needs to find the midvein: curl a LeafOutlineSource blade, or a filter's output that passed "
+      "LeafUV on";
+  }
+  const vtkIdType count = input->GetNumberOfPoints();
+  vtkPoints* points = input->GetPoints();
+  xyz.resize(3 * static_cast<std::size_t>(count));
+  uv.resize(2 * static_cast<std::size_t>(count));
+  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      points->GetPoint(i, xyz.data() + 3 * i);
+      leafUV->GetTuple(i, uv.data() + 2 * i);
+    }
+  });
+  return {};
+}
+
+/// A new array of `count` 3-component tuples of the type and name of `normals`, or null when `normals` is not a
+/// 3-component array.
+vtkSmartPointer<vtkDataArray> NewNormalsLike(vtkDataArray* normals, vtkIdType count)
+{
+  if (!normals || normals->GetNumberOfComponents() != 3)
+  {
+    return nullptr;
+  }
+  auto result = vtk::TakeSmartPointer(normals->NewInstance());
+  result->SetName(normals->GetName());
+  result->SetNumberOfComponents(3);
+  result->SetNumberOfTuples(count);
+  return result;
+}
+
+/// Every point curled into `outPoints`, and its normal from `inNormals` into `outNormals` when that is not null;
+/// in blocks, each in parallel, `progress` (fraction done) told between blocks. False when it asks to stop.
+bool CurlPoints(const plantmorph::LeafCurl& curl, const std::vector<double>& xyz, vtkDataArray* inNormals,
+  vtkPoints* outPoints, vtkDataArray* outNormals, const std::function<bool(double)>& progress)
+{
+  const vtkIdType count = outPoints->GetNumberOfPoints();
+  const vtkIdType block = std::max<vtkIdType>(65536, count / 20);
+  for (vtkIdType start = 0; start < count; start += block)
+  {
+    const vtkIdType stop = std::min(count, start + block);
+    vtkSMPTools::For(start, stop, [&](vtkIdType begin, vtkIdType end) {
+      double out[3];
+      double normal[3];
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        if (outNormals)
+        {
+          inNormals->GetTuple(i, normal);
+        }
+        curl.Map(static_cast<std::size_t>(i), xyz.data() + 3 * i, out, outNormals ? normal : nullptr);
+        outPoints->SetPoint(i, out);
+        if (outNormals)
+        {
+          outNormals->SetTuple(i, normal);
+        }
+      }
+    });
+    if (!progress(static_cast<double>(stop) / static_cast<double>(count)))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// The input's cell normals, those of the polygons recomputed from the curled points (others kept).
+void CurlCellNormals(vtkPolyData* input, vtkPolyData* output)
+{
+  vtkDataArray* inCellNormals = input->GetCellData()->GetNormals();
+  if (inCellNormals && inCellNormals->GetNumberOfComponents() == 3 && output->GetNumberOfPolys() > 0)
+  {
+    auto outCellNormals = vtk::TakeSmartPointer(inCellNormals->NewInstance());
+    outCellNormals->DeepCopy(inCellNormals);
+    RecomputePolygonNormals(output, outCellNormals);
+    output->GetCellData()->SetNormals(outCellNormals);
   }
 }
 } // namespace
@@ -76,7 +167,6 @@ int vtkLeafCurlFilter::RequestData(
   {
     return 1;
   }
-
   plantmorph::LeafCurlParameters parameters;
   parameters.longitudinalAngle = this->LongitudinalAngle;
   parameters.transverseAngle = this->TransverseAngle;
@@ -89,9 +179,7 @@ int vtkLeafCurlFilter::RequestData(
   }
   // Under MPI the blade curls once, on rank 0, whole (gathered there if it was split over ranks).
   const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
-  input = wholeBlade.Get();
-  const vtkIdType count = input->GetNumberOfPoints();
-  if (count == 0)
+  if (wholeBlade->GetNumberOfPoints() == 0)
   {
     // An empty piece (MPI ranks other than rank 0) is expected; an empty whole input is said.
     if (plantmorph::IsFirstRank())
@@ -100,37 +188,30 @@ int vtkLeafCurlFilter::RequestData(
     }
     return 1;
   }
-  vtkDataArray* leafUV = input->GetPointData()->GetArray(plantmorph::arrays::LeafUV);
-  if (!leafUV || leafUV->GetNumberOfComponents() != 2)
+  const std::string error = this->Curl(parameters, wholeBlade, output);
+  if (!error.empty())
   {
-    vtkErrorMacro(<< "the input has no point array " << plantmorph::arrays::LeafUV
-                  << " with 2 components (u in [-0.5, 0.5] across the blade, 0 on the midvein; v in [0, 1] along "
-                     "it), which LeafCurlFilter needs to find the midvein: curl a LeafOutlineSource blade, or a "
-                     "filter's output that passed LeafUV on");
-    return 1;
+    vtkErrorMacro(<< error);
   }
+  return 1;
+}
 
-  // Flat copies of the points and LeafUV for the core (read in parallel: GetTuple into a local buffer is
-  // thread-safe).
-  vtkPoints* inPoints = input->GetPoints();
-  std::vector<double> xyz(3 * static_cast<std::size_t>(count));
-  std::vector<double> uv(2 * static_cast<std::size_t>(count));
-  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
-    {
-      inPoints->GetPoint(i, xyz.data() + 3 * i);
-      leafUV->GetTuple(i, uv.data() + 2 * i);
-    }
-  });
+//------------------------------------------------------------------------------
+std::string vtkLeafCurlFilter::Curl(
+  const plantmorph::LeafCurlParameters& parameters, vtkPolyData* input, vtkPolyData* output)
+{
+  std::vector<double> xyz, uv;
   plantmorph::LeafCurl curl;
-  const std::string inputError = curl.Setup(parameters, static_cast<std::size_t>(count), xyz.data(), uv.data());
-  if (!inputError.empty())
+  std::string error = ReadBlade(input, xyz, uv);
+  if (error.empty())
   {
-    vtkErrorMacro(<< inputError);
-    return 1;
+    error = curl.Setup(parameters, static_cast<std::size_t>(input->GetNumberOfPoints()), xyz.data(), uv.data());
+  }
+  if (!error.empty())
+  {
+    return error;
   }
   this->UpdateProgress(0.1);
-
   output->ShallowCopy(input);
   vtkFieldData* fd = output->GetFieldData();
   AddFieldValue(fd, "PlantMorph.LongitudinalAngle", this->LongitudinalAngle);
@@ -139,65 +220,25 @@ int vtkLeafCurlFilter::RequestData(
   if (curl.IsIdentity())
   {
     this->UpdateProgress(1.0);
-    return 1; // the input's own points: bit-identical
+    return {}; // the input's own points: bit-identical
   }
-
   // New points of the input's precision, and new normals of the normals' type (the input's are shared with it).
   vtkNew<vtkPoints> outPoints;
-  outPoints->SetDataType(inPoints->GetDataType());
-  outPoints->SetNumberOfPoints(count);
+  outPoints->SetDataType(input->GetPoints()->GetDataType());
+  outPoints->SetNumberOfPoints(input->GetNumberOfPoints());
   vtkDataArray* inNormals = input->GetPointData()->GetNormals();
-  vtkSmartPointer<vtkDataArray> outNormals;
-  if (inNormals && inNormals->GetNumberOfComponents() == 3)
+  const vtkSmartPointer<vtkDataArray> outNormals = NewNormalsLike(inNormals, input->GetNumberOfPoints());
+  if (!CurlPoints(curl, xyz, inNormals, outPoints, outNormals, plantmorph::Progress(this, 0.1, 0.95)))
   {
-    outNormals = vtk::TakeSmartPointer(inNormals->NewInstance());
-    outNormals->SetName(inNormals->GetName());
-    outNormals->SetNumberOfComponents(3);
-    outNormals->SetNumberOfTuples(count);
-  }
-
-  // The mapping, in blocks: each block in parallel, progress and abort between blocks.
-  const vtkIdType block = std::max<vtkIdType>(65536, count / 20);
-  for (vtkIdType start = 0; start < count; start += block)
-  {
-    const vtkIdType stop = std::min(count, start + block);
-    vtkSMPTools::For(start, stop, [&](vtkIdType begin, vtkIdType end) {
-      double out[3];
-      double normal[3];
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        if (outNormals)
-        {
-          inNormals->GetTuple(i, normal);
-        }
-        curl.Map(static_cast<std::size_t>(i), xyz.data() + 3 * i, out, outNormals ? normal : nullptr);
-        outPoints->SetPoint(i, out);
-        if (outNormals)
-        {
-          outNormals->SetTuple(i, normal);
-        }
-      }
-    });
-    this->UpdateProgress(0.1 + 0.85 * static_cast<double>(stop) / static_cast<double>(count));
-    if (this->GetAbortExecute())
-    {
-      output->Initialize();
-      return 1;
-    }
+    output->Initialize();
+    return {};
   }
   output->SetPoints(outPoints);
   if (outNormals)
   {
     output->GetPointData()->SetNormals(outNormals);
   }
-  vtkDataArray* inCellNormals = input->GetCellData()->GetNormals();
-  if (inCellNormals && inCellNormals->GetNumberOfComponents() == 3 && output->GetNumberOfPolys() > 0)
-  {
-    auto outCellNormals = vtk::TakeSmartPointer(inCellNormals->NewInstance());
-    outCellNormals->DeepCopy(inCellNormals);
-    RecomputePolygonNormals(output, outCellNormals);
-    output->GetCellData()->SetNormals(outCellNormals);
-  }
+  CurlCellNormals(input, output);
   this->UpdateProgress(1.0);
-  return 1;
+  return {};
 }

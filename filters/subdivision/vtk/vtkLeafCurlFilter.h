@@ -52,6 +52,13 @@
 #include "PlantMorphSubdivisionVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <string> // for Curl
+
+namespace plantmorph
+{
+struct LeafCurlParameters;
+}
+
 class PLANTMORPHSUBDIVISIONVTK_EXPORT vtkLeafCurlFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -96,6 +103,8 @@ protected:
   ~vtkLeafCurlFilter() override = default;
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// Curls the whole blade `input` into `output` (empty when aborted); "" or why it cannot be curled.
+  std::string Curl(const plantmorph::LeafCurlParameters& parameters, vtkPolyData* input, vtkPolyData* output);
 
   double LongitudinalAngle = 90.0;
   double TransverseAngle = 0.0;
