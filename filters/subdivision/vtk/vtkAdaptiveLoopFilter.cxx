@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkAdaptiveLoopFilter.h"
 #include "PlantMorphAlgorithmHooks.h"
-
-#include "PlantMorphWholeInput.h"
+#include "PlantMorphLayer.h"
 
 #include "AdaptiveLoopSubdivision.h"
 
@@ -15,8 +14,6 @@
 #include "vtkFloatArray.h"
 #include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
-#include "vtkInformation.h"
-#include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -33,6 +30,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -42,6 +40,9 @@ vtkStandardNewMacro(vtkAdaptiveLoopFilter);
 
 namespace
 {
+/// Under MPI the surface is subdivided once, on rank 0, whole: pieces subdivided apart would treat their seams as
+/// boundaries.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::WholeOnFirstRank;
 
 /// Reads component c of every tuple of `array` into out[stride * i + offset + c] (fast paths for float and double).
 void Gather(vtkDataArray* array, std::vector<double>& out, int stride, int offset)
@@ -427,39 +428,56 @@ void vtkAdaptiveLoopFilter::PrintSelf(ostream& os, vtkIndent indent)
 
 //------------------------------------------------------------------------------
 int vtkAdaptiveLoopFilter::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  output->Initialize();
+  return plantmorph::RunRequestData(this, Policy, "the subdivided surface", request, inputVector, outputVector,
+    [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+void vtkAdaptiveLoopFilter::Execute(plantmorph::Run& run)
+{
+  vtkPolyData* input = run.Input<vtkPolyData>(0);
+  vtkPolyData* output = run.Output<vtkPolyData>(0);
   if (!input)
   {
-    return 1;
+    return;
   }
   if (this->NumberOfThreads < 0 || this->NumberOfThreads > 256)
   {
-    vtkErrorMacro(<< plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
-    return 1;
+    run.Fail(plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
   }
-  // Under MPI the surface is subdivided once, on rank 0, whole (gathered there if it was split over ranks: pieces
-  // subdivided apart would treat their seams as boundaries).
-  const vtkSmartPointer<vtkPolyData> wholeSurface = plantmorph::GatherOnFirstRank(input);
-  input = wholeSurface.Get();
+  if (input->GetNumberOfPoints() == 0)
+  {
+    run.Warn("the Input is empty (no points): nothing to subdivide, the output is empty");
+    return;
+  }
   // Small outputs run serially: starting threads costs more than the work (about 1 ms against 0.4 ms for 1e4
   // output triangles on the benchmark machine).
   const double estimate = static_cast<double>(input->GetNumberOfPolys() + input->GetNumberOfStrips()) *
     std::pow(4.0, std::clamp(this->MaximumLevel, 0, 10));
-  const int threads = estimate < 2e5 ? 1 : this->NumberOfThreads;
-  const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
-  const std::string backend = threads == 1 ? "Sequential" : (current == "Sequential" ? "STDThread" : current);
-  int status = 1;
-  vtkSMPTools::LocalScope(
-    vtkSMPTools::Config{ threads, backend, false }, [&]() { status = this->Execute(input, output); });
-  if (status != 1)
+  std::string error;
+  bool aborted = false;
+  std::exception_ptr failure; // thrown out of the threads' scope only, so that it restores the thread settings
+  run.Threaded(estimate < 2e5 ? 1 : this->NumberOfThreads, [&]() {
+    try
+    {
+      error = this->Subdivide(input, output, aborted);
+    }
+    catch (...)
+    {
+      failure = std::current_exception();
+    }
+  });
+  if (failure)
   {
-    output->Initialize(); // never half an output
+    std::rethrow_exception(failure);
   }
-  return 1;
+  run.Check(error);
+  if (aborted)
+  {
+    run.Stop();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -528,17 +546,8 @@ void WriteMesh(vtkAlgorithm* self, vtkPolyData* input, const PointArrays& read, 
 } // namespace
 
 //------------------------------------------------------------------------------
-int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
+std::string vtkAdaptiveLoopFilter::Subdivide(vtkPolyData* input, vtkPolyData* output, bool& aborted)
 {
-  if (input->GetNumberOfPoints() == 0)
-  {
-    // The other MPI ranks' empty pieces are expected; an empty whole input is said, and gives an empty output.
-    if (plantmorph::IsFirstRank())
-    {
-      vtkWarningMacro(<< "the Input is empty (no points): nothing to subdivide, the output is empty");
-    }
-    return 1;
-  }
   plantmorph::AdaptiveLoopParameters settings;
   plantmorph::AdaptiveLoopMesh mesh;
   std::vector<vtkIdType> cellOf;
@@ -547,24 +556,15 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
   if (error.empty())
     error = ReadMesh(input, this->TriangulateNonTriangles, this->LineFeatures, mesh, cellOf, read);
   if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 0;
-  }
+    return error;
   this->UpdateProgress(0.05);
   settings.parallelFor = plantmorph::SMPFor();
   settings.progress = plantmorph::Progress(this, 0.05, 0.85);
   plantmorph::AdaptiveLoopResult result = plantmorph::AdaptiveLoopSubdivide(std::move(mesh), settings);
-  if (!result.error.empty())
-  {
-    vtkErrorMacro(<< result.error);
-    return 0;
-  }
-  if (result.aborted)
-  {
-    return 0;
-  }
+  aborted = result.aborted;
+  if (!result.error.empty() || result.aborted)
+    return result.error;
   WriteMesh(this, input, read, cellOf, result, output);
   this->UpdateProgress(1.0);
-  return 1;
+  return {};
 }

@@ -72,11 +72,12 @@
 #include "PlantMorphSubdivisionVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
-#include <string> // for MakeSettings
+#include <string> // for MakeSettings and Subdivide
 
 namespace plantmorph
 {
 struct AdaptiveLoopParameters;
+class Run;
 }
 
 class PLANTMORPHSUBDIVISIONVTK_EXPORT vtkAdaptiveLoopFilter : public vtkPolyDataAlgorithm
@@ -224,7 +225,10 @@ protected:
   int NumberOfThreads = 0;
 
 private:
-  int Execute(vtkPolyData* input, vtkPolyData* output);
+  /// RequestData's body (PlantMorphLayer.h): the whole surface subdivided on rank 0.
+  void Execute(plantmorph::Run& run);
+  /// `input` (not empty) subdivided into `output`; "" or why it cannot be, `aborted` when the user stopped it.
+  std::string Subdivide(vtkPolyData* input, vtkPolyData* output, bool& aborted);
   /// The properties as the core's settings; "" or a message naming the property out of range.
   std::string MakeSettings(plantmorph::AdaptiveLoopParameters& settings);
 

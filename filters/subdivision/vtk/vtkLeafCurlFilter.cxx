@@ -1,9 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkLeafCurlFilter.h"
 
-#include "PlantMorphAlgorithmHooks.h"
-#include "PlantMorphFieldData.h"
-#include "PlantMorphWholeInput.h"
+#include "PlantMorphLayer.h"
 #include "LeafCurl.h"
 
 #include <plantmorph/DataContract.h>
@@ -12,10 +10,6 @@
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
-#include "vtkDoubleArray.h"
-#include "vtkFieldData.h"
-#include "vtkInformation.h"
-#include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -30,12 +24,13 @@
 #include <string>
 #include <vector>
 
-using plantmorph::AddFieldValue;
-
 vtkStandardNewMacro(vtkLeafCurlFilter);
 
 namespace
 {
+/// Under MPI the blade curls once, on rank 0, whole: the curl follows the midvein and half-widths of the whole blade.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::WholeOnFirstRank;
+
 /// Recomputes the cell normals of the polygons (triangles, quads, polygons) from the curled points.
 void RecomputePolygonNormals(vtkPolyData* output, vtkDataArray* cellNormals)
 {
@@ -142,6 +137,30 @@ void CurlCellNormals(vtkPolyData* input, vtkPolyData* output)
     output->GetCellData()->SetNormals(outCellNormals);
   }
 }
+
+/// The curled points (new points of the input's precision) and normals (new, of the normals' type: the input's are
+/// shared with it) of `input` into `output`, and its polygons' cell normals recomputed; false when `progress` asks
+/// to stop.
+bool CurlInto(const plantmorph::LeafCurl& curl, const std::vector<double>& xyz, vtkPolyData* input, vtkPolyData* output,
+  const std::function<bool(double)>& progress)
+{
+  vtkNew<vtkPoints> outPoints;
+  outPoints->SetDataType(input->GetPoints()->GetDataType());
+  outPoints->SetNumberOfPoints(input->GetNumberOfPoints());
+  vtkDataArray* inNormals = input->GetPointData()->GetNormals();
+  const vtkSmartPointer<vtkDataArray> outNormals = NewNormalsLike(inNormals, input->GetNumberOfPoints());
+  if (!CurlPoints(curl, xyz, inNormals, outPoints, outNormals, progress))
+  {
+    return false;
+  }
+  output->SetPoints(outPoints);
+  if (outNormals)
+  {
+    output->GetPointData()->SetNormals(outNormals);
+  }
+  CurlCellNormals(input, output);
+  return true;
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -158,87 +177,46 @@ void vtkLeafCurlFilter::PrintSelf(ostream& os, vtkIndent indent)
 
 //------------------------------------------------------------------------------
 int vtkLeafCurlFilter::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  output->Initialize();
+  return plantmorph::RunRequestData(this, Policy, "the curled leaf", request, inputVector, outputVector,
+    [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+void vtkLeafCurlFilter::Execute(plantmorph::Run& run)
+{
+  vtkPolyData* input = run.Input<vtkPolyData>(0);
+  vtkPolyData* output = run.Output<vtkPolyData>(0);
   if (!input)
   {
-    return 1;
+    return;
   }
   plantmorph::LeafCurlParameters parameters;
   parameters.longitudinalAngle = this->LongitudinalAngle;
   parameters.transverseAngle = this->TransverseAngle;
   parameters.transverseCenter = this->TransverseCenter;
-  const std::string parameterError = plantmorph::ValidateLeafCurl(parameters);
-  if (!parameterError.empty())
+  run.Check(plantmorph::ValidateLeafCurl(parameters));
+  if (input->GetNumberOfPoints() == 0)
   {
-    vtkErrorMacro(<< parameterError);
-    return 1;
+    run.Warn("the Input is empty (no points): nothing to curl, the output is empty");
+    return;
   }
-  // Under MPI the blade curls once, on rank 0, whole (gathered there if it was split over ranks).
-  const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
-  if (wholeBlade->GetNumberOfPoints() == 0)
-  {
-    // An empty piece (MPI ranks other than rank 0) is expected; an empty whole input is said.
-    if (plantmorph::IsFirstRank())
-    {
-      vtkWarningMacro(<< "the Input is empty (no points): nothing to curl, the output is empty");
-    }
-    return 1;
-  }
-  const std::string error = this->Curl(parameters, wholeBlade, output);
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-  }
-  return 1;
-}
-
-//------------------------------------------------------------------------------
-std::string vtkLeafCurlFilter::Curl(
-  const plantmorph::LeafCurlParameters& parameters, vtkPolyData* input, vtkPolyData* output)
-{
   std::vector<double> xyz, uv;
+  run.Check(ReadBlade(input, xyz, uv));
   plantmorph::LeafCurl curl;
-  std::string error = ReadBlade(input, xyz, uv);
-  if (error.empty())
-  {
-    error = curl.Setup(parameters, static_cast<std::size_t>(input->GetNumberOfPoints()), xyz.data(), uv.data());
-  }
-  if (!error.empty())
-  {
-    return error;
-  }
-  this->UpdateProgress(0.1);
+  run.Check(curl.Setup(parameters, static_cast<std::size_t>(input->GetNumberOfPoints()), xyz.data(), uv.data()));
+  run.UpdateProgress(0.1);
   output->ShallowCopy(input);
-  vtkFieldData* fd = output->GetFieldData();
-  AddFieldValue(fd, "PlantMorph.LongitudinalAngle", this->LongitudinalAngle);
-  AddFieldValue(fd, "PlantMorph.TransverseAngle", this->TransverseAngle);
-  AddFieldValue(fd, "PlantMorph.TransverseCenter", this->TransverseCenter);
-  if (curl.IsIdentity())
+  plantmorph::FieldRecord record;
+  record.Add("LongitudinalAngle", this->LongitudinalAngle);
+  record.Add("TransverseAngle", this->TransverseAngle);
+  record.Add("TransverseCenter", this->TransverseCenter);
+  record.WriteTo(output);
+  // An identity curl keeps the input's own points: bit-identical.
+  if (!curl.IsIdentity() && !CurlInto(curl, xyz, input, output, run.Progress(0.1, 0.95)))
   {
-    this->UpdateProgress(1.0);
-    return {}; // the input's own points: bit-identical
+    run.Stop();
   }
-  // New points of the input's precision, and new normals of the normals' type (the input's are shared with it).
-  vtkNew<vtkPoints> outPoints;
-  outPoints->SetDataType(input->GetPoints()->GetDataType());
-  outPoints->SetNumberOfPoints(input->GetNumberOfPoints());
-  vtkDataArray* inNormals = input->GetPointData()->GetNormals();
-  const vtkSmartPointer<vtkDataArray> outNormals = NewNormalsLike(inNormals, input->GetNumberOfPoints());
-  if (!CurlPoints(curl, xyz, inNormals, outPoints, outNormals, plantmorph::Progress(this, 0.1, 0.95)))
-  {
-    output->Initialize();
-    return {};
-  }
-  output->SetPoints(outPoints);
-  if (outNormals)
-  {
-    output->GetPointData()->SetNormals(outNormals);
-  }
-  CurlCellNormals(input, output);
-  this->UpdateProgress(1.0);
-  return {};
+  run.UpdateProgress(1.0);
 }

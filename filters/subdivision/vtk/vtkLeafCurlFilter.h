@@ -52,11 +52,9 @@
 #include "PlantMorphSubdivisionVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
-#include <string> // for Curl
-
 namespace plantmorph
 {
-struct LeafCurlParameters;
+class Run;
 }
 
 class PLANTMORPHSUBDIVISIONVTK_EXPORT vtkLeafCurlFilter : public vtkPolyDataAlgorithm
@@ -103,8 +101,8 @@ protected:
   ~vtkLeafCurlFilter() override = default;
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  /// Curls the whole blade `input` into `output` (empty when aborted); "" or why it cannot be curled.
-  std::string Curl(const plantmorph::LeafCurlParameters& parameters, vtkPolyData* input, vtkPolyData* output);
+  /// RequestData's body (PlantMorphLayer.h): the whole blade curled on rank 0.
+  void Execute(plantmorph::Run& run);
 
   double LongitudinalAngle = 90.0;
   double TransverseAngle = 0.0;
