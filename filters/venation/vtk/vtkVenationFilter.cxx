@@ -2,7 +2,7 @@
 #include "vtkVenationFilter.h"
 #include "PlantMorphAlgorithmHooks.h"
 
-#include "PlantMorphFieldData.h"
+#include "PlantMorphLayer.h"
 #include "PlantMorphLeafExchange.h"
 #include "PlantMorphWholeInput.h"
 #include "VeinNetworkMeasures.h"
@@ -39,22 +39,27 @@
 #include <utility>
 #include <vector>
 
-using plantmorph::AddFieldString;
-using plantmorph::AddFieldValue;
-
 vtkStandardNewMacro(vtkVenationFilter);
 
 namespace
 {
-/// The parameters the venation grew with, one field value per property as PlantMorph.Venation.<property>: what a
-/// preset chose, visible in the Information panel.
-void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
+/// Under MPI each leaf grows whole on one rank (PlantMorphLeafExchange.h), one leaf on rank 0: the growth needs
+/// the whole blade.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::LeafPerRank;
+
+/// What the veins grew with: the pattern, the preset and one value per parameter as
+/// PlantMorph.Venation.<property> (what a preset chose, visible in the Information panel).
+void AddGrowth(
+  plantmorph::FieldRecord& record, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset)
 {
+  record.Add("VenationPattern", plantmorph::VenationPatternName(p.pattern));
+  record.Add("VenationPreset", plantmorph::VenationPresetName(preset));
   for (const auto& [name, value] : plantmorph::VenationParameterValues(p))
   {
-    AddFieldValue(fd, (std::string("PlantMorph.Venation.") + name).c_str(), value);
+    record.Add(std::string("Venation.") + name, value);
   }
 }
+
 /// The input blade as flat arrays: points, LeafUV, triangles.
 struct InputBlade
 {
@@ -219,40 +224,33 @@ void WriteBlade(vtkPolyData* input, const InputBlade& blade, const plantmorph::V
       points->SetPoint(i, raised[i].data());
     bladeOut->SetPoints(points);
   }
-  AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", depth);
+  plantmorph::FieldRecord record;
+  record.Add("EmbossDepth", depth);
+  record.WriteTo(bladeOut);
 }
 
 /// Field data on port 0: the network's measures and what the veins grew with (parameters, seed, preset, plane).
 /// The counts are the Statistics port's (one set of numbers); AreoleAreaStd is the population standard deviation.
-void WriteVeinFieldData(vtkFieldData* fd, const plantmorph::VenationResult& result,
+void WriteVeinFieldData(vtkPolyData* veins, const plantmorph::VenationResult& result,
   const plantmorph::VeinNetworkMeasures& m, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset,
   int seed, bool flat)
 {
-  vtkNew<vtkDoubleArray> lengths;
-  lengths->SetName("PlantMorph.VeinLength");
-  lengths->SetNumberOfComponents(5);
-  lengths->SetComponentName(0, "Primary");
-  lengths->SetComponentName(1, "Secondary");
-  lengths->SetComponentName(2, "Tertiary");
-  lengths->SetComponentName(3, "Quaternary");
-  lengths->SetComponentName(4, "Veinlet");
-  const double perOrder[5] = { m.length[1], m.length[2], m.length[3], m.length[4], m.length[5] };
-  lengths->InsertNextTuple(perOrder);
-  fd->AddArray(lengths);
-  AddFieldValue(fd, "PlantMorph.VeinDensity", m.vla);
-  AddFieldValue(fd, "PlantMorph.BladeArea", m.bladeArea);
-  AddFieldValue(fd, "PlantMorph.AreoleCount", static_cast<double>(m.areoles));
-  AddFieldValue(fd, "PlantMorph.AreoleAreaMean", m.areoleMean);
-  AddFieldValue(fd, "PlantMorph.AreoleAreaStd", m.areoleCV * m.areoleMean);
-  AddFieldValue(fd, "PlantMorph.BranchPoints", static_cast<double>(m.branchPoints));
-  AddFieldValue(fd, "PlantMorph.FreeEnds", static_cast<double>(m.freeEnds));
-  AddFieldValue(fd, "PlantMorph.VeinSegments", static_cast<double>(result.statistics.segments));
-  AddFieldValue(fd, "PlantMorph.Seed", seed);
-  AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
-  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
-  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
-  AddParameters(fd, p);
-  AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
+  plantmorph::FieldRecord record;
+  record.AddTuple("VeinLength", { "Primary", "Secondary", "Tertiary", "Quaternary", "Veinlet" },
+    { m.length[1], m.length[2], m.length[3], m.length[4], m.length[5] });
+  record.Add("VeinDensity", m.vla);
+  record.Add("BladeArea", m.bladeArea);
+  record.Add("AreoleCount", static_cast<double>(m.areoles));
+  record.Add("AreoleAreaMean", m.areoleMean);
+  record.Add("AreoleAreaStd", m.areoleCV * m.areoleMean);
+  record.Add("BranchPoints", static_cast<double>(m.branchPoints));
+  record.Add("FreeEnds", static_cast<double>(m.freeEnds));
+  record.Add("VeinSegments", static_cast<double>(result.statistics.segments));
+  record.Add("Seed", static_cast<double>(seed));
+  record.Add("LeafLength", result.leafLength);
+  AddGrowth(record, p, preset);
+  record.Add("VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
+  record.WriteTo(veins);
 }
 
 /// Port 2, Statistics: one row, the measures of the network (VeinNetworkMeasures.h), lengths and areas in the
@@ -348,59 +346,46 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
     return;
   }
   vtkNew<vtkVenationFilter> defaults;
-  std::ostringstream ignored;
-  const auto check = [&](const char* name, bool changed) {
-    if (changed)
-    {
-      ignored << (ignored.tellp() > 0 ? ", " : "") << name;
-    }
-  };
-#define PLANTMORPH_CHECK(name) check(#name, this->name != defaults->name)
-  PLANTMORPH_CHECK(Pattern);
-  PLANTMORPH_CHECK(PrimaryCount);
-  PLANTMORPH_CHECK(PrimarySpread);
-  PLANTMORPH_CHECK(ParallelVeins);
-  PLANTMORPH_CHECK(ParallelSpread);
-  PLANTMORPH_CHECK(SecondarySpacing);
-  PLANTMORPH_CHECK(DivergenceAngle);
-  PLANTMORPH_CHECK(DivergenceAngleApex);
-  PLANTMORPH_CHECK(SecondaryCurvatureBase);
-  PLANTMORPH_CHECK(SecondaryCurvatureApex);
-  PLANTMORPH_CHECK(ForkFraction);
-  PLANTMORPH_CHECK(BranchCurvature);
-  PLANTMORPH_CHECK(Tertiary);
-  PLANTMORPH_CHECK(AreoleSize);
-  PLANTMORPH_CHECK(AreoleGradient);
-  PLANTMORPH_CHECK(MinJunctionAngle);
-  PLANTMORPH_CHECK(JunctionAngleDeviation);
-  PLANTMORPH_CHECK(Veinlets);
-  PLANTMORPH_CHECK(VeinletLength);
-  PLANTMORPH_CHECK(PalmateVeins);
-  PLANTMORPH_CHECK(PalmateEnds);
-  PLANTMORPH_CHECK(ForkLevels);
-  PLANTMORPH_CHECK(PalmateSecondaries);
-  PLANTMORPH_CHECK(SubLobeVeins);
-  PLANTMORPH_CHECK(FlankSecondaries);
-  PLANTMORPH_CHECK(ForkSize);
-  PLANTMORPH_CHECK(KillDistance);
-  PLANTMORPH_CHECK(AttractionDistance);
-  PLANTMORPH_CHECK(SourceDensity);
-  PLANTMORPH_CHECK(MurrayExponent);
-  PLANTMORPH_CHECK(GrowthStart);
-  PLANTMORPH_CHECK(ClosedVenation);
-  PLANTMORPH_CHECK(MarginalGrowth);
-  PLANTMORPH_CHECK(PrimaryWidth);
-  PLANTMORPH_CHECK(PrimaryTaper);
-  PLANTMORPH_CHECK(SecondaryWidthRatio);
-  PLANTMORPH_CHECK(TertiaryWidthRatio);
-  PLANTMORPH_CHECK(VeinletWidthRatio);
-#undef PLANTMORPH_CHECK
-  if (ignored.tellp() > 0)
-  {
-    vtkWarningMacro(<< "these properties are changed from their defaults but not used, because Preset is a named "
-                       "preset that sets them itself: "
-                    << ignored.str() << ". Set Preset to Custom (0) to use them.");
-  }
+  plantmorph::PresetOverrides overrides("Preset");
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, Pattern);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PrimaryCount);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PrimarySpread);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ParallelVeins);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ParallelSpread);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SecondarySpacing);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, DivergenceAngle);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, DivergenceAngleApex);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SecondaryCurvatureBase);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SecondaryCurvatureApex);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ForkFraction);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, BranchCurvature);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, Tertiary);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, AreoleSize);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, AreoleGradient);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, MinJunctionAngle);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, JunctionAngleDeviation);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, Veinlets);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, VeinletLength);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PalmateVeins);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PalmateEnds);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ForkLevels);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PalmateSecondaries);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SubLobeVeins);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, FlankSecondaries);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ForkSize);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, KillDistance);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, AttractionDistance);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SourceDensity);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, MurrayExponent);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, GrowthStart);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ClosedVenation);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, MarginalGrowth);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PrimaryWidth);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PrimaryTaper);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SecondaryWidthRatio);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, TertiaryWidthRatio);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, VeinletWidthRatio);
+  overrides.Warn(this);
 }
 
 //------------------------------------------------------------------------------
@@ -520,8 +505,8 @@ std::string GrowOnLeaf(vtkVenationFilter* self, vtkPolyData* input, const plantm
   if (!error.empty())
     return error;
   WriteVeinLines(result, veins);
-  WriteVeinFieldData(veins->GetFieldData(), result, measures, p,
-    static_cast<plantmorph::VenationPreset>(self->GetPreset()), self->GetSeed(), flat);
+  WriteVeinFieldData(
+    veins, result, measures, p, static_cast<plantmorph::VenationPreset>(self->GetPreset()), self->GetSeed(), flat);
   WriteStatistics(measures, statistics);
   WriteHistogram(plantmorph::MakeAreoleHistogram(measures.areoleAreas, self->GetAreoleHistogramBins()), histogram);
   WriteBlade(input, blade, plane, result, self->GetEmbossDepth(), bladeOut);
@@ -529,79 +514,66 @@ std::string GrowOnLeaf(vtkVenationFilter* self, vtkPolyData* input, const plantm
 }
 
 /// Field data of the veins of several leaves: what every leaf grew with (each leaf's measures are its Statistics
-/// row) and how many leaves the whole input has.
-void WriteLeavesFieldData(vtkFieldData* fd, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset,
-  int seed, std::size_t leaves)
+/// row) and how many leaves the whole input has; the blades' EmbossDepth.
+void WriteLeavesFieldData(vtkPolyData* veins, vtkPolyData* blades, const plantmorph::VenationParameters& p,
+  plantmorph::VenationPreset preset, int seed, std::size_t leaves, double depth)
 {
-  AddFieldValue(fd, "PlantMorph.LeafCount", static_cast<double>(leaves));
-  AddFieldValue(fd, "PlantMorph.Seed", seed);
-  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
-  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
-  AddParameters(fd, p);
+  plantmorph::FieldRecord record;
+  record.Add("LeafCount", static_cast<double>(leaves));
+  record.Add("Seed", static_cast<double>(seed));
+  AddGrowth(record, p, preset);
+  record.WriteTo(veins);
+  plantmorph::FieldRecord blade;
+  blade.Add("EmbossDepth", depth);
+  blade.WriteTo(blades);
 }
 } // namespace
 
 //------------------------------------------------------------------------------
 int vtkVenationFilter::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
-  vtkPolyData* veins = vtkPolyData::GetData(outputVector, 0);
-  vtkPolyData* bladeOut = vtkPolyData::GetData(outputVector, 1);
-  vtkTable* statistics = vtkTable::GetData(outputVector, 2);
-  vtkTable* histogram = vtkTable::GetData(outputVector, 3);
-  if (!input || !veins || !bladeOut || !statistics || !histogram)
+  return plantmorph::RunRequestData(this, Policy, "the venation", request, inputVector, outputVector,
+    [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+void vtkVenationFilter::Execute(plantmorph::Run& run)
+{
+  vtkPolyData* input = run.Input<vtkPolyData>(0);
+  if (!input)
   {
-    return 0;
+    return;
   }
-  veins->Initialize();
-  bladeOut->Initialize();
-  statistics->Initialize();
-  histogram->Initialize();
   // Several leaves (PlantMorphLeafExchange.h: a LeafId array, or connected blades): each grows on one rank.
   const plantmorph::LeafPlan plan(input);
   if (plan.AnyRank(!plan.Error().empty()))
   {
-    if (!plan.Error().empty())
-      vtkErrorMacro(<< plan.Error());
-    return 1;
+    run.CheckHere(plan.Error());
+    run.Stop();
   }
   if (plan.LeafIds().size() > 1)
   {
-    return this->GrowLeaves(plan, veins, bladeOut, statistics, histogram);
+    this->GrowLeaves(run, plan);
+    return;
   }
   // One leaf: under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split).
   const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
-  input = wholeBlade.Get();
-  if (input->GetNumberOfPoints() == 0)
+  if (wholeBlade->GetNumberOfPoints() == 0)
   {
     // Another rank: the blade is on rank 0, nothing to grow here, no error. On rank 0 the whole blade is empty.
-    if (plantmorph::IsFirstRank())
-    {
-      vtkWarningMacro(<< "the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
-    }
-    return 1;
+    run.Warn("the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
+    return;
   }
   plantmorph::VenationParameters p;
-  std::string error = this->MakeParameters(p);
-  if (error.empty())
-    error = GrowOnLeaf(this, input, p, 0.0, 0.95, veins, bladeOut, statistics, histogram);
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    veins->Initialize();
-    bladeOut->Initialize();
-    statistics->Initialize();
-    histogram->Initialize();
-    return 1;
-  }
-  this->UpdateProgress(1.0);
-  return 1;
+  run.CheckHere(this->MakeParameters(p));
+  run.CheckHere(GrowOnLeaf(this, wholeBlade, p, 0.0, 0.95, run.Output<vtkPolyData>(0), run.Output<vtkPolyData>(1),
+    run.Output<vtkTable>(2), run.Output<vtkTable>(3)));
+  run.UpdateProgress(1.0);
 }
 
 //------------------------------------------------------------------------------
-int vtkVenationFilter::GrowLeaves(const plantmorph::LeafPlan& plan, vtkPolyData* veins, vtkPolyData* bladeOut,
-  vtkTable* statistics, vtkTable* histogram)
+void vtkVenationFilter::GrowLeaves(plantmorph::Run& run, const plantmorph::LeafPlan& plan)
 {
   // Collective: the leaves this rank owns, whole; each grows as it would alone (same parameters, same Seed).
   const std::vector<vtkSmartPointer<vtkPolyData>> leaves = plan.Leaves();
@@ -629,25 +601,24 @@ int vtkVenationFilter::GrowLeaves(const plantmorph::LeafPlan& plan, vtkPolyData*
     plantmorph::AppendRows(statisticsRows, plantmorph::WithLeafColumn(leafStatistics, owned[k]));
     plantmorph::AppendRows(histogramRows, plantmorph::WithLeafColumn(leafHistogram, owned[k]));
   }
-  if (!error.empty())
-    vtkErrorMacro(<< error);
   if (plan.AnyRank(!error.empty()))
-    return 1; // every rank's outputs stay empty
+  {
+    run.CheckHere(error);
+    run.Stop(); // every rank's outputs stay empty
+  }
   if (!leaves.empty())
   {
     appendVeins->Update();
     appendBlades->Update();
-    veins->ShallowCopy(appendVeins->GetOutput());
-    bladeOut->ShallowCopy(appendBlades->GetOutput());
-    WriteLeavesFieldData(veins->GetFieldData(), p, static_cast<plantmorph::VenationPreset>(this->Preset), this->Seed,
-      plan.LeafIds().size());
-    AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", this->EmbossDepth);
+    run.Output(0)->ShallowCopy(appendVeins->GetOutput());
+    run.Output(1)->ShallowCopy(appendBlades->GetOutput());
+    WriteLeavesFieldData(run.Output<vtkPolyData>(0), run.Output<vtkPolyData>(1), p,
+      static_cast<plantmorph::VenationPreset>(this->Preset), this->Seed, plan.LeafIds().size(), this->EmbossDepth);
   }
   // Collective: the tables' rows (one Statistics row per leaf, its histogram's rows) on rank 0, in LeafId order.
-  statistics->ShallowCopy(plan.GatherRows(statisticsRows));
-  histogram->ShallowCopy(plan.GatherRows(histogramRows));
-  this->UpdateProgress(1.0);
-  return 1;
+  run.Output(2)->ShallowCopy(plan.GatherRows(statisticsRows));
+  run.Output(3)->ShallowCopy(plan.GatherRows(histogramRows));
+  run.UpdateProgress(1.0);
 }
 
 //------------------------------------------------------------------------------
