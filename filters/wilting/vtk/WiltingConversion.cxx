@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "WiltingConversion.h"
 
+#include "PlantMorphLayer.h"
 #include "PlantMorphLeafExchange.h"
 #include "WiltingFrames.h"
 #include "WiltingPresets.h"
@@ -22,6 +23,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
@@ -432,11 +434,11 @@ void AppendedWiltedLeaves::Add(
   AppendRows(this->rows, WithLeafColumn(frames, leafId));
 }
 
-void AppendedWiltedLeaves::Write(int simulationCount, vtkInformationVector* outputVector)
+void AppendedWiltedLeaves::Write(int simulationCount, const WiltingLeafOutputs& out)
 {
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  vtkUnstructuredGrid* voxelOutput = vtkUnstructuredGrid::GetData(outputVector, 1);
-  vtkPolyData* movedVeins = vtkPolyData::GetData(outputVector, 3);
+  vtkPolyData* output = out.leaf;
+  vtkUnstructuredGrid* voxelOutput = out.voxels;
+  vtkPolyData* movedVeins = out.veins;
   if (this->leaves->GetNumberOfInputConnections(0) > 0)
   {
     this->leaves->Update();
@@ -453,6 +455,33 @@ void AppendedWiltedLeaves::Write(int simulationCount, vtkInformationVector* outp
     movedVeins->ShallowCopy(this->veins->GetOutput());
     movedVeins->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), this->served);
   }
+}
+
+double RequestedTime(vtkInformation* request, const Run& run)
+{
+  int port = request && request->Has(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT())
+    ? request->Get(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT())
+    : 0;
+  if (port < 0 || port >= run.NumberOfOutputs())
+  {
+    port = 0;
+  }
+  vtkInformation* outInfo = run.OutputInformation(port);
+  if (!outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  {
+    outInfo = run.OutputInformation(0);
+  }
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  {
+    return outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+  }
+  return 0.0;
+}
+
+WiltingLeafOutputs WiltingOutputsOf(const Run& run)
+{
+  return { run.Output<vtkPolyData>(0), run.Output<vtkUnstructuredGrid>(1), run.Output<vtkTable>(2),
+    run.Output<vtkPolyData>(3) };
 }
 
 } // namespace plantmorph

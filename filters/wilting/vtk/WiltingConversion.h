@@ -14,13 +14,18 @@
 
 #include <string>
 
-class vtkInformationVector;
+class vtkInformation;
 class vtkPolyData;
 class vtkUnstructuredGrid;
 class vtkWiltingSimulator;
 
 namespace plantmorph
 {
+class Run;
+
+/// The time asked of the port that asked (a request through the veins' or the voxels' port leaves port 0's time
+/// stale), else port 0's; 0 when no time is asked. (Run does not give the requesting port: `request` does.)
+double RequestedTime(vtkInformation* request, const Run& run);
 
 /// The properties as the simulation's parameters, a named Preset's values in place of the ones it sets (the
 /// enumerations clamped to their ranges).
@@ -46,6 +51,9 @@ struct WiltingLeafOutputs
   vtkPolyData* veins;
 };
 
+/// The run's four outputs.
+WiltingLeafOutputs WiltingOutputsOf(const Run& run);
+
 /// One leaf's outputs at `time` (linear between frames) from its simulation of `leaf` and `veins` (may be null);
 /// the simulation has frames. Returns the time served.
 double WriteWiltedLeaf(const WiltingSimulation& simulation, vtkPolyData* leaf, vtkPolyData* veins, double time,
@@ -57,8 +65,9 @@ class AppendedWiltedLeaves
 public:
   /// A leaf's outputs at `time`, marked `leafId` (its veins may be null).
   void Add(const WiltingSimulation& simulation, vtkPolyData* leaf, vtkPolyData* leafVeins, int leafId, double time);
-  /// Ports 0, 1 and 3 (port 0's field data with `simulationCount`), when any leaf was added.
-  void Write(int simulationCount, vtkInformationVector* outputVector);
+  /// Ports 0, 1 and 3 of `out` (port 0's field data with `simulationCount`), when any leaf was added; `out.frames`
+  /// is not used (the rows are gathered by the caller).
+  void Write(int simulationCount, const WiltingLeafOutputs& out);
   /// The frame tables' rows, a first column LeafId (port 2, to gather).
   vtkTable* Rows() { return this->rows; }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkWiltingSimulator.h"
 #include "PlantMorphAlgorithmHooks.h"
+#include "PlantMorphLayer.h"
 
 #include "PlantMorphLeafExchange.h"
 #include "PlantMorphWholeInput.h"
@@ -21,8 +22,8 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <array>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -55,29 +56,15 @@ struct vtkWiltingSimulator::Cache
 
 namespace
 {
-/// The time asked of the port that asked (a request through the veins' or the voxels' port leaves port 0's time
-/// stale), else port 0's; 0 when no time is asked.
-double RequestedTime(vtkInformation* request, vtkInformationVector* outputVector)
-{
-  int port = request && request->Has(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT())
-    ? request->Get(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT())
-    : 0;
-  if (port < 0 || port >= outputVector->GetNumberOfInformationObjects())
-  {
-    port = 0;
-  }
-  vtkInformation* outInfo = outputVector->GetInformationObject(port);
-  if (!outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-  {
-    outInfo = outputVector->GetInformationObject(0);
-  }
-  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-  {
-    return outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
-  }
-  return 0.0;
-}
+/// Under MPI each leaf wilts whole on one rank (PlantMorphLeafExchange.h), one leaf on rank 0: the voxel model needs
+/// the whole blade.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::LeafPerRank;
 
+/// A material property's three values, comparable.
+std::array<double, 3> Triple(const double values[3])
+{
+  return { values[0], values[1], values[2] };
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -204,48 +191,34 @@ void vtkWiltingSimulator::WarnAboutPresetOverrides()
     return;
   }
   vtkNew<vtkWiltingSimulator> defaults;
-  std::ostringstream ignored;
-  const auto check = [&](const char* name, bool changed) {
-    if (changed)
-    {
-      ignored << (ignored.tellp() > 0 ? ", " : "") << name;
-    }
-  };
-  const auto differ = [](const double a[3], const double b[3]) { return !std::equal(a, a + 3, b); };
-#define PLANTMORPH_CHECK(name) check(#name, this->name != defaults->name)
-  check("BladeMaterial", differ(this->BladeMaterial, defaults->BladeMaterial));
-  check("VeinMaterial", differ(this->VeinMaterial, defaults->VeinMaterial));
-  check("MarginMaterial", differ(this->MarginMaterial, defaults->MarginMaterial));
-  check("PetioleMaterial", differ(this->PetioleMaterial, defaults->PetioleMaterial));
-  PLANTMORPH_CHECK(Gravity);
-  PLANTMORPH_CHECK(DroopForce);
-  PLANTMORPH_CHECK(ContractionForce);
-  PLANTMORPH_CHECK(DroopAsymmetry);
-  PLANTMORPH_CHECK(ContractionAsymmetry);
-  PLANTMORPH_CHECK(ShrinkageStrain);
-  PLANTMORPH_CHECK(ShrinkageAsymmetry);
-  PLANTMORPH_CHECK(ShrinkageTime);
-  PLANTMORPH_CHECK(CurlStrain);
-  PLANTMORPH_CHECK(CurlAsymmetry);
-  PLANTMORPH_CHECK(CurlRelaxation);
-  PLANTMORPH_CHECK(CurlRelaxationTime);
-  PLANTMORPH_CHECK(CurlTime);
-  PLANTMORPH_CHECK(CurlDirection);
-  PLANTMORPH_CHECK(ContractionSide);
-  PLANTMORPH_CHECK(ContractionTarget);
-  PLANTMORPH_CHECK(LoadProfile);
-  PLANTMORPH_CHECK(LoadTime);
-  PLANTMORPH_CHECK(ContractionTime);
-  PLANTMORPH_CHECK(RayleighAlpha);
-  PLANTMORPH_CHECK(RayleighBeta);
-  PLANTMORPH_CHECK(Units);
-#undef PLANTMORPH_CHECK
-  if (ignored.tellp() > 0)
-  {
-    vtkWarningMacro(<< "these properties are changed from their defaults but not used, because Preset is a named "
-                       "preset that sets them itself: "
-                    << ignored.str() << ". Set Preset to Custom (0) to use them.");
-  }
+  plantmorph::PresetOverrides overrides("Preset");
+  overrides.Check("BladeMaterial", Triple(this->BladeMaterial), Triple(defaults->BladeMaterial));
+  overrides.Check("VeinMaterial", Triple(this->VeinMaterial), Triple(defaults->VeinMaterial));
+  overrides.Check("MarginMaterial", Triple(this->MarginMaterial), Triple(defaults->MarginMaterial));
+  overrides.Check("PetioleMaterial", Triple(this->PetioleMaterial), Triple(defaults->PetioleMaterial));
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, Gravity);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, DroopForce);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ContractionForce);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, DroopAsymmetry);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ContractionAsymmetry);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ShrinkageStrain);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ShrinkageAsymmetry);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ShrinkageTime);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, CurlStrain);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, CurlAsymmetry);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, CurlRelaxation);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, CurlRelaxationTime);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, CurlTime);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, CurlDirection);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ContractionSide);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ContractionTarget);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, LoadProfile);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, LoadTime);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ContractionTime);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, RayleighAlpha);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, RayleighBeta);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, Units);
+  overrides.Warn(this);
 }
 
 //------------------------------------------------------------------------------
@@ -313,36 +286,36 @@ bool vtkWiltingSimulator::Simulate(vtkPolyData* input, vtkPolyData* veins,
 int vtkWiltingSimulator::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
-  vtkPolyData* veins = vtkPolyData::GetData(inputVector[1], 0);
-  vtkPolyData::GetData(outputVector, 0)->Initialize();
-  vtkUnstructuredGrid::GetData(outputVector, 1)->Initialize();
-  vtkTable::GetData(outputVector, 2)->Initialize();
-  vtkPolyData::GetData(outputVector, 3)->Initialize();
+  return plantmorph::RunRequestData(this, Policy, "the wilting simulation", request, inputVector, outputVector,
+    [this, request](plantmorph::Run& run) { this->Execute(run, plantmorph::RequestedTime(request, run)); });
+}
+
+//------------------------------------------------------------------------------
+void vtkWiltingSimulator::Execute(plantmorph::Run& run, double time)
+{
+  vtkPolyData* input = run.Input<vtkPolyData>(0);
+  vtkPolyData* veins = run.Input<vtkPolyData>(1);
   if (!input)
   {
-    return 1;
+    return;
   }
   // Several leaves (PlantMorphLeafExchange.h: a LeafId array, or connected blades): each wilts alone, on one rank.
   const plantmorph::LeafPlan plan(input);
   if (plan.AnyRank(!plan.Error().empty()))
   {
-    if (!plan.Error().empty())
-    {
-      vtkErrorMacro(<< plan.Error());
-    }
-    return 1;
+    run.CheckHere(plan.Error());
+    run.Stop();
   }
   if (plan.LeafIds().size() > 1)
   {
-    return this->WiltLeaves(plan, request, input, veins, outputVector);
+    this->WiltLeaves(run, plan, time, input, veins);
+    return;
   }
-  return this->WiltLeaf(request, input, veins, outputVector);
+  this->WiltLeaf(run, time, input, veins);
 }
 
 //------------------------------------------------------------------------------
-int vtkWiltingSimulator::WiltLeaf(
-  vtkInformation* request, vtkPolyData* input, vtkPolyData* veins, vtkInformationVector* outputVector)
+void vtkWiltingSimulator::WiltLeaf(plantmorph::Run& run, double time, vtkPolyData* input, vtkPolyData* veins)
 {
   // Under MPI the leaf wilts once, on rank 0, whole (blade and veins gathered there if they were split over ranks).
   // The cache stays keyed on this rank's own inputs' times, so scrubbing a gathered leaf does not re-simulate.
@@ -353,34 +326,29 @@ int vtkWiltingSimulator::WiltLeaf(
   if (wholeLeaf->GetNumberOfPoints() == 0)
   {
     // An empty piece on another rank is expected; on rank 0 the whole leaf is empty.
-    if (plantmorph::IsFirstRank())
-    {
-      vtkWarningMacro(<< "the Input (the leaf) is empty (no points): nothing to wilt, the outputs are empty");
-    }
-    return 1;
+    run.Warn("the Input (the leaf) is empty (no points): nothing to wilt, the outputs are empty");
+    return;
   }
   plantmorph::WiltingParameters parameters;
   const std::string error = plantmorph::CheckedWiltingParameters(this, parameters);
   if (!error.empty())
   {
-    vtkErrorMacro(<< error);
     this->Cached->valid = false;
-    return 1;
+    run.FailHere(error);
   }
   // Simulate (or reuse the cached frames), then serve the requested time.
-  if (!this->Simulate(wholeLeaf, wholeVeins, parameters, pieceTime, veinsPieceTime) ||
-    this->Cached->simulation.Frames().empty())
+  if (!this->Simulate(wholeLeaf, wholeVeins, parameters, pieceTime, veinsPieceTime))
   {
-    return 1;
+    run.Stop(); // the error, if any, is said
   }
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  const double served =
-    plantmorph::WriteWiltedLeaf(this->Cached->simulation, wholeLeaf, wholeVeins, RequestedTime(request, outputVector),
-      { output, vtkUnstructuredGrid::GetData(outputVector, 1), vtkTable::GetData(outputVector, 2),
-        vtkPolyData::GetData(outputVector, 3) });
-  plantmorph::WriteSimulationFieldData(this->SimulationCount, served, output);
-  this->UpdateProgress(1.0);
-  return 1;
+  if (this->Cached->simulation.Frames().empty())
+  {
+    return;
+  }
+  const plantmorph::WiltingLeafOutputs out = plantmorph::WiltingOutputsOf(run);
+  const double served = plantmorph::WriteWiltedLeaf(this->Cached->simulation, wholeLeaf, wholeVeins, time, out);
+  plantmorph::WriteSimulationFieldData(this->SimulationCount, served, out.leaf);
+  run.UpdateProgress(1.0);
 }
 
 //------------------------------------------------------------------------------
@@ -426,20 +394,18 @@ bool vtkWiltingSimulator::SimulateLeaves(const std::vector<vtkSmartPointer<vtkPo
 }
 
 //------------------------------------------------------------------------------
-int vtkWiltingSimulator::WiltLeaves(const plantmorph::LeafPlan& plan, vtkInformation* request, vtkPolyData* input,
-  vtkPolyData* veins, vtkInformationVector* outputVector)
+void vtkWiltingSimulator::WiltLeaves(
+  plantmorph::Run& run, const plantmorph::LeafPlan& plan, double time, vtkPolyData* input, vtkPolyData* veins)
 {
   // Collective: the veins split by their LeafId point array; each leaf and its veins sent to the leaf's owner.
   std::vector<int> veinLeafOf;
   const bool veinsKnown = plantmorph::LeafIdsOfPoints(veins, veinLeafOf);
-  if (!veinsKnown)
-  {
-    vtkErrorMacro(<< "Veins: with several leaves the veins need a one-component point array LeafId naming the leaf of "
-                     "each vein point (VenationFilter's veins of several leaves have it)");
-  }
   if (plan.AnyRank(!veinsKnown))
   {
-    return 1;
+    run.CheckHere(veinsKnown ? std::string()
+                             : "Veins: with several leaves the veins need a one-component point array LeafId naming "
+                               "the leaf of each vein point (VenationFilter's veins of several leaves have it)");
+    run.Stop();
   }
   vtkNew<vtkPolyData> noVeins;
   const std::vector<vtkSmartPointer<vtkPolyData>> leaves = plan.Leaves();
@@ -448,24 +414,21 @@ int vtkWiltingSimulator::WiltLeaves(const plantmorph::LeafPlan& plan, vtkInforma
   const std::vector<int> owned = plan.Owned();
   // Properties -> parameters, checked where leaves wilt; then every owned leaf wilts alone (or comes from the cache).
   plantmorph::WiltingParameters parameters;
-  const std::string error = plantmorph::CheckedWiltingParameters(this, parameters);
-  if (!owned.empty() && !error.empty())
+  std::string error = plantmorph::CheckedWiltingParameters(this, parameters);
+  error = owned.empty() ? std::string() : error;
+  if (plan.AnyRank(!error.empty()))
   {
-    vtkErrorMacro(<< error);
-    this->Cached->leavesValid = false;
-  }
-  if (plan.AnyRank(!owned.empty() && !error.empty()))
-  {
-    return 1;
+    this->Cached->leavesValid = this->Cached->leavesValid && error.empty();
+    run.CheckHere(error);
+    run.Stop();
   }
   const bool simulated = owned.empty() ||
     this->SimulateLeaves(leaves, leafVeins, owned, parameters, input->GetMTime(), veins ? veins->GetMTime() : 0);
   if (plan.AnyRank(!simulated))
   {
-    return 1;
+    run.Stop(); // the error, if any, is said where it happened
   }
   // Every owned leaf at the requested time, appended in LeafId order and marked with LeafId.
-  const double time = RequestedTime(request, outputVector);
   plantmorph::AppendedWiltedLeaves appended;
   for (std::size_t k = 0; k < owned.size(); ++k)
   {
@@ -476,11 +439,10 @@ int vtkWiltingSimulator::WiltLeaves(const plantmorph::LeafPlan& plan, vtkInforma
         simulation, leaves[k], leafVeins[k]->GetNumberOfPoints() > 0 ? leafVeins[k].Get() : nullptr, owned[k], time);
     }
   }
-  appended.Write(this->SimulationCount, outputVector);
+  appended.Write(this->SimulationCount, plantmorph::WiltingOutputsOf(run));
   // Collective: the frame tables' rows on rank 0, in LeafId order (each leaf's frames in time order).
-  vtkTable::GetData(outputVector, 2)->ShallowCopy(plan.GatherRows(appended.Rows()));
-  this->UpdateProgress(1.0);
-  return 1;
+  run.Output(2)->ShallowCopy(plan.GatherRows(appended.Rows()));
+  run.UpdateProgress(1.0);
 }
 
 //------------------------------------------------------------------------------

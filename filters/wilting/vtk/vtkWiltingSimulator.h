@@ -118,6 +118,7 @@ namespace plantmorph
 struct WiltingParameters;
 class WiltingSimulation;
 class LeafPlan;
+class Run;
 }
 
 class PLANTMORPHWILTINGVTK_EXPORT vtkWiltingSimulator : public vtkPolyDataAlgorithm
@@ -335,16 +336,19 @@ protected:
   /// is reported (prefixed by `label`); the frames before it are kept.
   bool RunSimulation(
     plantmorph::WiltingSimulation& simulation, const std::string& label, double progressBegin, double progressEnd);
-  /// One leaf: wilts it on rank 0, whole, and serves the requested time.
-  int WiltLeaf(vtkInformation* request, vtkPolyData* input, vtkPolyData* veins, vtkInformationVector* outputVector);
+  /// RequestData's body (PlantMorphLayer.h): the leaves found (one, or several each on its rank) wilt, served at
+  /// `time`.
+  void Execute(plantmorph::Run& run, double time);
+  /// One leaf: wilts it on rank 0, whole, and serves `time`.
+  void WiltLeaf(plantmorph::Run& run, double time, vtkPolyData* input, vtkPolyData* veins);
   /// Runs the simulation unless the cache holds it for these inputs and properties; false when it failed or was
   /// aborted (nothing to serve; the error is reported).
   bool Simulate(vtkPolyData* input, vtkPolyData* veins, const plantmorph::WiltingParameters& parameters,
     vtkMTimeType pieceTime, vtkMTimeType veinsTime);
   /// Several leaves (collective): each leaf `plan` gives this rank wilts alone with its own veins; outputs appended
   /// in LeafId order, the frame tables' rows gathered on rank 0.
-  int WiltLeaves(const plantmorph::LeafPlan& plan, vtkInformation* request, vtkPolyData* input, vtkPolyData* veins,
-    vtkInformationVector* outputVector);
+  void WiltLeaves(
+    plantmorph::Run& run, const plantmorph::LeafPlan& plan, double time, vtkPolyData* input, vtkPolyData* veins);
   /// Simulate for the leaves this rank owns, one simulation each (cached like Simulate's).
   bool SimulateLeaves(const std::vector<vtkSmartPointer<vtkPolyData>>& leaves,
     const std::vector<vtkSmartPointer<vtkPolyData>>& veins, const std::vector<int>& leafIds,
