@@ -22,7 +22,8 @@ endfunction()
 # plantmorph_add_vtk_module(<module> ALGORITHMS <libraries>...)
 #   Called from a method's vtk/CMakeLists.txt (the plugin's module scan adds that folder through its vtk.module):
 #   the VTK module of every vtk<Name>.{h,cxx} class in the folder (collected, so a new proxy needs no edit here),
-#   linked privately to the method's algorithm libraries, with the VTK helpers of common/vtk. PRIVATE_SOURCES and
+#   linked privately to the method's algorithm libraries and to the VTK layer of common/vtk (module
+#   PlantMorph::VTKCommon: RunRequestData, the MPI policies and exchanges, field data, preset warning). PRIVATE_SOURCES and
 #   PRIVATE_HEADERS: the folder's helpers that are no VTK class (neither wrapped nor installed as API).
 function(plantmorph_add_vtk_module module)
   cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "ALGORITHMS;PRIVATE_SOURCES;PRIVATE_HEADERS")
@@ -36,4 +37,7 @@ function(plantmorph_add_vtk_module module)
     PRIVATE_HEADERS ${arg_PRIVATE_HEADERS})
   vtk_module_include(${module} PRIVATE "${PROJECT_SOURCE_DIR}/common/vtk")
   vtk_module_link(${module} PRIVATE ${arg_ALGORITHMS} plantmorph_warnings)
+  if (NOT module MATCHES "^PlantMorph::(VTKCommon|ServerManager)$")
+    vtk_module_link(${module} PRIVATE PlantMorph::VTKCommon)
+  endif ()
 endfunction()

@@ -1,77 +1,30 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Field data the VTK layers write: each source and filter records its parameters and results as one-value arrays
-// (spec README: "each source writes its parameters as field data"). Header-only, for the VTK modules (the rest of
-// common/ is VTK-free).
+// (spec README: "each source writes its parameters as field data"). Module PlantMorph::VTKCommon; a wrapper usually
+// writes them through plantmorph::FieldRecord (PlantMorphLayer.h), which uses these.
 #pragma once
 
-#include "vtkDoubleArray.h"
+#include "PlantMorphVTKCommonModule.h" // for export macro
+
+#include "vtkDoubleArray.h" // what the wrappers writing field data used to get from here
 #include "vtkFieldData.h"
 #include "vtkNew.h"
 #include "vtkStringArray.h"
 
-#include <sstream>
 #include <string>
 
 namespace plantmorph
 {
 
 /// Adds (or replaces) the one-value double array `name`.
-inline void AddFieldValue(vtkFieldData* fd, const char* name, double value)
-{
-  vtkNew<vtkDoubleArray> array;
-  array->SetName(name);
-  array->InsertNextValue(value);
-  fd->AddArray(array);
-}
+PLANTMORPHVTKCOMMON_EXPORT void AddFieldValue(vtkFieldData* fd, const char* name, double value);
 
 /// Adds (or replaces) the one-value string array `name`.
-inline void AddFieldString(vtkFieldData* fd, const char* name, const std::string& value)
-{
-  vtkNew<vtkStringArray> array;
-  array->SetName(name);
-  array->InsertNextValue(value);
-  fd->AddArray(array);
-}
+PLANTMORPHVTKCOMMON_EXPORT void AddFieldString(vtkFieldData* fd, const char* name, const std::string& value);
 
 /// The PlantMorph.* parameters of `fd` as text, one "Name = value" a line ("PlantMorph." dropped): a one-value
 /// array as its value, a tuple with component names as one line per component (PlantMorph.Curvature's Mu ->
 /// "CurvatureMu = ..."), other arrays as their tuples in parentheses. For the panels' read-only PresetValues boxes.
-inline std::string FormatParameters(vtkFieldData* fd)
-{
-  std::ostringstream text;
-  const std::string prefix = "PlantMorph.";
-  for (int a = 0; a < fd->GetNumberOfArrays(); ++a)
-  {
-    vtkAbstractArray* array = fd->GetAbstractArray(a);
-    const std::string full = array && array->GetName() ? array->GetName() : "";
-    if (full.compare(0, prefix.size(), prefix) != 0 || array->GetNumberOfTuples() == 0)
-      continue;
-    const std::string name = full.substr(prefix.size());
-    const int components = array->GetNumberOfComponents();
-    if (array->GetNumberOfTuples() == 1 && components == 1)
-    {
-      text << name << " = " << array->GetVariantValue(0).ToString() << "\n";
-    }
-    else if (array->GetNumberOfTuples() == 1 && array->GetComponentName(0))
-    {
-      for (int c = 0; c < components; ++c)
-        text << name << (array->GetComponentName(c) ? array->GetComponentName(c) : std::to_string(c).c_str()) << " = "
-             << array->GetVariantValue(c).ToString() << "\n";
-    }
-    else
-    {
-      text << name << " =";
-      for (vtkIdType t = 0; t < array->GetNumberOfTuples(); ++t)
-      {
-        text << (t ? ", (" : " (");
-        for (int c = 0; c < components; ++c)
-          text << (c ? " " : "") << array->GetVariantValue(t * components + c).ToString();
-        text << ")";
-      }
-      text << "\n";
-    }
-  }
-  return text.str();
-}
+PLANTMORPHVTKCOMMON_EXPORT std::string FormatParameters(vtkFieldData* fd);
 
 } // namespace plantmorph

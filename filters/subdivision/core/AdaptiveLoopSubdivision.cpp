@@ -1170,4 +1170,31 @@ AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveL
   return result;
 }
 
+void NormalizeAttributeVectors(AdaptiveLoopMesh& mesh, int offset, const ParallelForFunction& parallelFor)
+{
+  const std::size_t stride = static_cast<std::size_t>(mesh.attributeComponents);
+  const std::size_t count = stride > 0 ? mesh.attributes.size() / stride : 0; // the points may be freed already
+  const auto body = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      double* n = mesh.attributes.data() + stride * i + static_cast<std::size_t>(offset);
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (len > 0.0)
+      {
+        n[0] /= len;
+        n[1] /= len;
+        n[2] /= len;
+      }
+    }
+  };
+  if (parallelFor)
+  {
+    parallelFor(count, body);
+  }
+  else
+  {
+    body(0, count);
+  }
+}
+
 } // namespace plantmorph

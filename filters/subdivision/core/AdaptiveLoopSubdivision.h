@@ -165,4 +165,8 @@ std::string ValidateAdaptiveLoopParameters(const AdaptiveLoopParameters& setting
 /// Takes `input` by value: pass std::move(mesh) when it is no longer needed, to save a copy.
 AdaptiveLoopResult AdaptiveLoopSubdivide(AdaptiveLoopMesh input, const AdaptiveLoopParameters& settings);
 
+/// Scales the 3-component attribute at `offset` of every point of `mesh` (every tuple of `attributes`) to unit length (interpolated normals are
+/// shorter than 1); a zero vector stays zero. `parallelFor` empty: serial.
+void NormalizeAttributeVectors(AdaptiveLoopMesh& mesh, int offset, const ParallelForFunction& parallelFor = {});
+
 } // namespace plantmorph

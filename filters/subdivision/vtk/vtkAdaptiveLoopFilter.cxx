@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkAdaptiveLoopFilter.h"
 #include "PlantMorphAlgorithmHooks.h"
-
-#include "PlantMorphWholeInput.h"
+#include "PlantMorphLayer.h"
 
 #include "AdaptiveLoopSubdivision.h"
 
@@ -15,8 +14,6 @@
 #include "vtkFloatArray.h"
 #include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
-#include "vtkInformation.h"
-#include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -33,6 +30,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -42,6 +40,9 @@ vtkStandardNewMacro(vtkAdaptiveLoopFilter);
 
 namespace
 {
+/// Under MPI the surface is subdivided once, on rank 0, whole: pieces subdivided apart would treat their seams as
+/// boundaries.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::WholeOnFirstRank;
 
 /// Reads component c of every tuple of `array` into out[stride * i + offset + c] (fast paths for float and double).
 void Gather(vtkDataArray* array, std::vector<double>& out, int stride, int offset)
@@ -131,6 +132,103 @@ void AddIdList(vtkFieldData* fd, const char* name, const std::vector<std::size_t
   fd->AddArray(array);
 }
 
+/// A message: input cell `cellId` (`what`) is not a triangle and TriangulateNonTriangles is off.
+std::string NotATriangle(vtkIdType cellId, const std::string& what)
+{
+  std::ostringstream message;
+  message << "input cell " << cellId << " is " << what
+          << "; AdaptiveLoopFilter subdivides triangles only: turn TriangulateNonTriangles on or apply Triangulate "
+             "first";
+  return message.str();
+}
+
+/// Appends triangle (a, b, c) of input cell `cellId`.
+void AddTriangle(plantmorph::AdaptiveLoopMesh& mesh, std::vector<vtkIdType>& cellOf, vtkIdType cellId, vtkIdType a,
+  vtkIdType b, vtkIdType c)
+{
+  mesh.triangles.insert(mesh.triangles.end(), { static_cast<int>(a), static_cast<int>(b), static_cast<int>(c) });
+  cellOf.push_back(cellId);
+}
+
+/// Polygons that are all triangles, straight from the connectivity array, in parallel.
+void ReadOnlyTriangles(
+  vtkCellArray* polys, vtkIdType polyStart, plantmorph::AdaptiveLoopMesh& mesh, std::vector<vtkIdType>& cellOf)
+{
+  const vtkIdType nPolys = polys->GetNumberOfCells();
+  mesh.triangles.resize(3 * static_cast<std::size_t>(nPolys));
+  cellOf.resize(static_cast<std::size_t>(nPolys));
+  vtkDataArray* connectivity = polys->GetConnectivityArray();
+  vtkSMPTools::For(0, nPolys, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+        mesh.triangles[3 * i + c] = static_cast<int>(connectivity->GetComponent(3 * i + c, 0));
+      cellOf[i] = polyStart + i;
+    }
+  });
+}
+
+/// Polygons of any size: triangles as they are, larger ones triangulated (or refused), smaller ones skipped.
+std::string ReadPolygons(vtkPolyData* input, vtkIdType polyStart, bool triangulate, plantmorph::AdaptiveLoopMesh& mesh,
+  std::vector<vtkIdType>& cellOf)
+{
+  vtkNew<vtkPolygon> polygon;
+  vtkNew<vtkIdList> local;
+  auto it = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType npts;
+    const vtkIdType* pts;
+    it->GetCurrentCell(npts, pts);
+    const vtkIdType cellId = polyStart + it->GetCurrentCellId();
+    if (npts < 3)
+      continue; // a polygon of fewer than three points has no area: skipped
+    if (npts == 3)
+    {
+      AddTriangle(mesh, cellOf, cellId, pts[0], pts[1], pts[2]);
+      continue;
+    }
+    if (!triangulate)
+      return NotATriangle(cellId, "a polygon with " + std::to_string(npts) + " points");
+    polygon->Initialize(static_cast<int>(npts), pts, input->GetPoints());
+    local->Reset();
+    polygon->Triangulate(local);
+    for (vtkIdType k = 0; k + 2 < local->GetNumberOfIds(); k += 3)
+      AddTriangle(mesh, cellOf, cellId, pts[local->GetId(k)], pts[local->GetId(k + 1)], pts[local->GetId(k + 2)]);
+  }
+  return {};
+}
+
+/// Triangle strips decomposed into their triangles (or refused), the zero-area turning triangles skipped.
+std::string ReadStrips(vtkPolyData* input, vtkIdType stripStart, bool triangulate, plantmorph::AdaptiveLoopMesh& mesh,
+  std::vector<vtkIdType>& cellOf)
+{
+  vtkCellArray* strips = input->GetStrips();
+  if (!strips || strips->GetNumberOfCells() == 0)
+    return {};
+  if (!triangulate)
+    return NotATriangle(stripStart, "a triangle strip");
+  vtkNew<vtkCellArray> triangles;
+  auto it = vtk::TakeSmartPointer(strips->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType npts;
+    const vtkIdType* pts;
+    it->GetCurrentCell(npts, pts);
+    triangles->Reset();
+    vtkTriangleStrip::DecomposeStrip(static_cast<int>(npts), pts, triangles);
+    vtkIdType tn;
+    const vtkIdType* tp;
+    for (triangles->InitTraversal(); triangles->GetNextCell(tn, tp);)
+    {
+      if (tn != 3 || tp[0] == tp[1] || tp[1] == tp[2] || tp[0] == tp[2])
+        continue; // strips repeat points to turn: skip those zero-area triangles
+      AddTriangle(mesh, cellOf, stripStart + it->GetCurrentCellId(), tp[0], tp[1], tp[2]);
+    }
+  }
+  return {};
+}
+
 /// The input's polygons and strips as triangles, each remembering its input cell in `cellOf` (cell ids count verts,
 /// lines, polys, strips in that order); "" or why the input cannot be subdivided.
 std::string ReadTriangles(
@@ -141,93 +239,14 @@ std::string ReadTriangles(
   const vtkIdType nPolys = polys ? polys->GetNumberOfCells() : 0;
   if (nPolys > 0 && polys->IsHomogeneous() == 3)
   {
-    mesh.triangles.resize(3 * static_cast<std::size_t>(nPolys));
-    cellOf.resize(static_cast<std::size_t>(nPolys));
-    vtkDataArray* connectivity = polys->GetConnectivityArray();
-    vtkSMPTools::For(0, nPolys, [&](vtkIdType b, vtkIdType e) {
-      for (vtkIdType i = b; i < e; ++i)
-      {
-        for (int c = 0; c < 3; ++c)
-          mesh.triangles[3 * i + c] = static_cast<int>(connectivity->GetComponent(3 * i + c, 0));
-        cellOf[i] = polyStart + i;
-      }
-    });
+    ReadOnlyTriangles(polys, polyStart, mesh, cellOf);
   }
   else if (nPolys > 0)
   {
-    vtkNew<vtkPolygon> polygon;
-    vtkNew<vtkIdList> local;
-    auto it = vtk::TakeSmartPointer(polys->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-    {
-      vtkIdType npts;
-      const vtkIdType* pts;
-      it->GetCurrentCell(npts, pts);
-      const vtkIdType cellId = polyStart + it->GetCurrentCellId();
-      if (npts == 3)
-      {
-        mesh.triangles.insert(
-          mesh.triangles.end(), { static_cast<int>(pts[0]), static_cast<int>(pts[1]), static_cast<int>(pts[2]) });
-        cellOf.push_back(cellId);
-        continue;
-      }
-      if (npts < 3)
-      {
-        continue; // a polygon of fewer than three points has no area: skipped
-      }
-      if (!triangulate)
-      {
-        std::ostringstream message;
-        message << "input cell " << cellId << " is a polygon with " << npts
-                << " points; AdaptiveLoopFilter subdivides triangles only: turn TriangulateNonTriangles on "
-                   "or apply Triangulate first";
-        return message.str();
-      }
-      polygon->Initialize(static_cast<int>(npts), pts, input->GetPoints());
-      local->Reset();
-      polygon->Triangulate(local);
-      for (vtkIdType k = 0; k + 2 < local->GetNumberOfIds(); k += 3)
-      {
-        mesh.triangles.insert(mesh.triangles.end(),
-          { static_cast<int>(pts[local->GetId(k)]), static_cast<int>(pts[local->GetId(k + 1)]),
-            static_cast<int>(pts[local->GetId(k + 2)]) });
-        cellOf.push_back(cellId);
-      }
-    }
+    if (std::string error = ReadPolygons(input, polyStart, triangulate, mesh, cellOf); !error.empty())
+      return error;
   }
-  vtkCellArray* strips = input->GetStrips();
-  if (strips && strips->GetNumberOfCells() > 0)
-  {
-    if (!triangulate)
-    {
-      std::ostringstream message;
-      message << "input cell " << polyStart + nPolys
-              << " is a triangle strip; AdaptiveLoopFilter subdivides triangles only: turn "
-                 "TriangulateNonTriangles on or apply Triangulate first";
-      return message.str();
-    }
-    vtkNew<vtkCellArray> triangles;
-    auto it = vtk::TakeSmartPointer(strips->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-    {
-      vtkIdType npts;
-      const vtkIdType* pts;
-      it->GetCurrentCell(npts, pts);
-      triangles->Reset();
-      vtkTriangleStrip::DecomposeStrip(static_cast<int>(npts), pts, triangles);
-      vtkIdType tn;
-      const vtkIdType* tp;
-      for (triangles->InitTraversal(); triangles->GetNextCell(tn, tp);)
-      {
-        if (tn != 3 || tp[0] == tp[1] || tp[1] == tp[2] || tp[0] == tp[2])
-          continue; // strips repeat points to turn: skip those zero-area triangles
-        mesh.triangles.insert(
-          mesh.triangles.end(), { static_cast<int>(tp[0]), static_cast<int>(tp[1]), static_cast<int>(tp[2]) });
-        cellOf.push_back(polyStart + nPolys + it->GetCurrentCellId());
-      }
-    }
-  }
-  return {};
+  return ReadStrips(input, polyStart + nPolys, triangulate, mesh, cellOf);
 }
 
 /// The numeric point arrays passed through the subdivision, and Region (kept apart: propagated, not interpolated).
@@ -336,22 +355,7 @@ void WritePointData(vtkPolyData* input, const PointArrays& read, plantmorph::Ada
   for (std::size_t a = 0; a < read.attributeArrays.size(); ++a)
   {
     if (read.attributeArrays[a] == inNormals && inNormals->GetNumberOfComponents() == 3)
-    {
-      const int stride = out.attributeComponents, offset = read.attributeOffsets[a];
-      vtkSMPTools::For(0, nOutPoints, [&](vtkIdType b, vtkIdType e) {
-        for (vtkIdType i = b; i < e; ++i)
-        {
-          double* n = out.attributes.data() + static_cast<std::size_t>(stride) * i + offset;
-          const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-          if (len > 0.0)
-          {
-            n[0] /= len;
-            n[1] /= len;
-            n[2] /= len;
-          }
-        }
-      });
-    }
+      plantmorph::NormalizeAttributeVectors(out, read.attributeOffsets[a], plantmorph::SMPFor());
     outPD->AddArray(
       Scatter(read.attributeArrays[a], out.attributes, out.attributeComponents, read.attributeOffsets[a], nOutPoints));
   }
@@ -424,57 +428,61 @@ void vtkAdaptiveLoopFilter::PrintSelf(ostream& os, vtkIndent indent)
 
 //------------------------------------------------------------------------------
 int vtkAdaptiveLoopFilter::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  output->Initialize();
+  return plantmorph::RunRequestData(this, Policy, "the subdivided surface", request, inputVector, outputVector,
+    [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+void vtkAdaptiveLoopFilter::Execute(plantmorph::Run& run)
+{
+  vtkPolyData* input = run.Input<vtkPolyData>(0);
+  vtkPolyData* output = run.Output<vtkPolyData>(0);
   if (!input)
   {
-    return 1;
+    return;
   }
   if (this->NumberOfThreads < 0 || this->NumberOfThreads > 256)
   {
-    vtkErrorMacro(<< plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
-    return 1;
+    run.Fail(plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
   }
-  // Under MPI the surface is subdivided once, on rank 0, whole (gathered there if it was split over ranks: pieces
-  // subdivided apart would treat their seams as boundaries).
-  const vtkSmartPointer<vtkPolyData> wholeSurface = plantmorph::GatherOnFirstRank(input);
-  input = wholeSurface.Get();
+  if (input->GetNumberOfPoints() == 0)
+  {
+    run.Warn("the Input is empty (no points): nothing to subdivide, the output is empty");
+    return;
+  }
   // Small outputs run serially: starting threads costs more than the work (about 1 ms against 0.4 ms for 1e4
   // output triangles on the benchmark machine).
   const double estimate = static_cast<double>(input->GetNumberOfPolys() + input->GetNumberOfStrips()) *
     std::pow(4.0, std::clamp(this->MaximumLevel, 0, 10));
-  const int threads = estimate < 2e5 ? 1 : this->NumberOfThreads;
-  const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
-  const std::string backend = threads == 1 ? "Sequential" : (current == "Sequential" ? "STDThread" : current);
-  int status = 1;
-  vtkSMPTools::LocalScope(
-    vtkSMPTools::Config{ threads, backend, false }, [&]() { status = this->Execute(input, output); });
-  if (status != 1)
+  std::string error;
+  bool aborted = false;
+  std::exception_ptr failure; // thrown out of the threads' scope only, so that it restores the thread settings
+  run.Threaded(estimate < 2e5 ? 1 : this->NumberOfThreads, [&]() {
+    try
+    {
+      error = this->Subdivide(input, output, aborted);
+    }
+    catch (...)
+    {
+      failure = std::current_exception();
+    }
+  });
+  if (failure)
   {
-    output->Initialize(); // never half an output
+    std::rethrow_exception(failure);
   }
-  return 1;
+  run.Check(error);
+  if (aborted)
+  {
+    run.Stop();
+  }
 }
 
 //------------------------------------------------------------------------------
-int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
+std::string vtkAdaptiveLoopFilter::MakeSettings(plantmorph::AdaptiveLoopParameters& settings)
 {
-  using namespace plantmorph;
-  const vtkIdType nPoints = input->GetNumberOfPoints();
-  if (nPoints == 0)
-  {
-    // The other MPI ranks' empty pieces are expected; an empty whole input is said, and gives an empty output.
-    if (plantmorph::IsFirstRank())
-    {
-      vtkWarningMacro(<< "the Input is empty (no points): nothing to subdivide, the output is empty");
-    }
-    return 1;
-  }
-
-  AdaptiveLoopParameters settings;
   settings.maximumLevel = this->MaximumLevel;
   settings.edgeAngleThreshold = this->EdgeAngleThreshold;
   settings.flatnessThreshold = this->FlatnessThreshold;
@@ -482,74 +490,81 @@ int vtkAdaptiveLoopFilter::Execute(vtkPolyData* input, vtkPolyData* output)
   settings.refinementRule = static_cast<plantmorph::RefinementRule>(this->RefinementRule);
   settings.errorTolerance = this->ErrorTolerance;
   settings.midveinIsFeature = this->MidveinFeatures != 0;
-  if (this->MaximumTriangles < 1 || static_cast<std::size_t>(this->MaximumTriangles) > MaxAdaptiveLoopTriangles)
+  if (this->MaximumTriangles < 1 ||
+    static_cast<std::size_t>(this->MaximumTriangles) > plantmorph::MaxAdaptiveLoopTriangles)
   {
-    vtkErrorMacro(<< plantmorph::OutOfRange("MaximumTriangles", this->MaximumTriangles,
-                    "[1, " + std::to_string(MaxAdaptiveLoopTriangles) + "]"));
-    return 0;
+    return plantmorph::OutOfRange(
+      "MaximumTriangles", this->MaximumTriangles, "[1, " + std::to_string(plantmorph::MaxAdaptiveLoopTriangles) + "]");
   }
   settings.maximumTriangles = static_cast<std::size_t>(this->MaximumTriangles);
-  if (const std::string error = ValidateAdaptiveLoopParameters(settings); !error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 0;
-  }
+  return plantmorph::ValidateAdaptiveLoopParameters(settings);
+}
 
-  // Input -> mesh: triangles, each remembering its input cell; points and their arrays; line features.
-  AdaptiveLoopMesh mesh;
-  std::vector<vtkIdType> cellOf;
-  if (const std::string error = ReadTriangles(input, this->TriangulateNonTriangles, mesh, cellOf); !error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 0;
-  }
+namespace
+{
+/// The input as the core's mesh: triangles (each remembering its input cell in `cellOf`), points and their arrays
+/// (`read`), and the lines as feature edges when `lineFeatures`; "" or why it cannot be subdivided.
+std::string ReadMesh(vtkPolyData* input, bool triangulate, bool lineFeatures, plantmorph::AdaptiveLoopMesh& mesh,
+  std::vector<vtkIdType>& cellOf, PointArrays& read)
+{
+  const vtkIdType nPoints = input->GetNumberOfPoints();
+  if (std::string error = ReadTriangles(input, triangulate, mesh, cellOf); !error.empty())
+    return error;
+  std::ostringstream message;
   if (mesh.triangles.empty())
-  {
-    vtkErrorMacro(<< "the input has " << nPoints
-                  << " points but no polygons or triangle strips: AdaptiveLoopFilter needs a triangle surface");
-    return 0;
-  }
-  if (nPoints >= std::numeric_limits<int>::max() / 2)
-  {
-    vtkErrorMacro(<< "the input has " << nPoints << " points; at most " << std::numeric_limits<int>::max() / 2
-                  << " are supported");
-    return 0;
-  }
-
-  const PointArrays read = ReadPoints(input, mesh);
-  if (this->LineFeatures && input->GetNumberOfLines() > 0)
-  {
+    message << "the input has " << nPoints
+            << " points but no polygons or triangle strips: AdaptiveLoopFilter needs a triangle surface";
+  else if (nPoints >= std::numeric_limits<int>::max() / 2)
+    message << "the input has " << nPoints << " points; at most " << std::numeric_limits<int>::max() / 2
+            << " are supported";
+  if (message.tellp() > 0)
+    return message.str();
+  read = ReadPoints(input, mesh);
+  if (lineFeatures && input->GetNumberOfLines() > 0)
     ReadLineFeatures(input, mesh);
-  }
-  this->UpdateProgress(0.05);
+  return {};
+}
 
-  settings.parallelFor = plantmorph::SMPFor();
-  settings.progress = plantmorph::Progress(this, 0.05, 0.85);
-  AdaptiveLoopResult result = AdaptiveLoopSubdivide(std::move(mesh), settings);
-  if (!result.error.empty())
-  {
-    vtkErrorMacro(<< result.error);
-    return 0;
-  }
-  if (result.aborted)
-  {
-    return 0;
-  }
-  AdaptiveLoopMesh& out = result.mesh;
-
-  // Mesh -> output (each writer frees the mesh's part it has written).
+/// The subdivided mesh into `output` with the input's arrays carried over, and the counts per level.
+void WriteMesh(vtkAlgorithm* self, vtkPolyData* input, const PointArrays& read, const std::vector<vtkIdType>& cellOf,
+  plantmorph::AdaptiveLoopResult& result, vtkPolyData* output)
+{
+  // Each writer frees the mesh's part it has written.
+  plantmorph::AdaptiveLoopMesh& out = result.mesh;
   const vtkIdType nOutPoints = static_cast<vtkIdType>(out.NumberOfPoints());
   const vtkIdType nOutTriangles = static_cast<vtkIdType>(out.NumberOfTriangles());
   WritePoints(input, out, nOutPoints, output);
   WriteTriangles(out, nOutTriangles, output);
   WritePointData(input, read, out, nOutPoints, output);
-  this->UpdateProgress(0.95);
+  self->UpdateProgress(0.95);
   WriteCellData(input, cellOf, out, nOutTriangles, output);
-
   // Field data: the input's, and the counts per level.
   output->GetFieldData()->PassData(input->GetFieldData());
   AddIdList(output->GetFieldData(), "AdaptiveLoop.TrianglesPerLevel", result.trianglesPerLevel);
   AddIdList(output->GetFieldData(), "AdaptiveLoop.PointsPerLevel", result.pointsPerLevel);
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+std::string vtkAdaptiveLoopFilter::Subdivide(vtkPolyData* input, vtkPolyData* output, bool& aborted)
+{
+  plantmorph::AdaptiveLoopParameters settings;
+  plantmorph::AdaptiveLoopMesh mesh;
+  std::vector<vtkIdType> cellOf;
+  PointArrays read;
+  std::string error = this->MakeSettings(settings);
+  if (error.empty())
+    error = ReadMesh(input, this->TriangulateNonTriangles, this->LineFeatures, mesh, cellOf, read);
+  if (!error.empty())
+    return error;
+  this->UpdateProgress(0.05);
+  settings.parallelFor = plantmorph::SMPFor();
+  settings.progress = plantmorph::Progress(this, 0.05, 0.85);
+  plantmorph::AdaptiveLoopResult result = plantmorph::AdaptiveLoopSubdivide(std::move(mesh), settings);
+  aborted = result.aborted;
+  if (!result.error.empty() || result.aborted)
+    return result.error;
+  WriteMesh(this, input, read, cellOf, result, output);
   this->UpdateProgress(1.0);
-  return 1;
+  return {};
 }

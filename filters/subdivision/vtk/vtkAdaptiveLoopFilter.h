@@ -72,6 +72,14 @@
 #include "PlantMorphSubdivisionVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <string> // for MakeSettings and Subdivide
+
+namespace plantmorph
+{
+struct AdaptiveLoopParameters;
+class Run;
+}
+
 class PLANTMORPHSUBDIVISIONVTK_EXPORT vtkAdaptiveLoopFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -217,7 +225,12 @@ protected:
   int NumberOfThreads = 0;
 
 private:
-  int Execute(vtkPolyData* input, vtkPolyData* output);
+  /// RequestData's body (PlantMorphLayer.h): the whole surface subdivided on rank 0.
+  void Execute(plantmorph::Run& run);
+  /// `input` (not empty) subdivided into `output`; "" or why it cannot be, `aborted` when the user stopped it.
+  std::string Subdivide(vtkPolyData* input, vtkPolyData* output, bool& aborted);
+  /// The properties as the core's settings; "" or a message naming the property out of range.
+  std::string MakeSettings(plantmorph::AdaptiveLoopParameters& settings);
 
   vtkAdaptiveLoopFilter(const vtkAdaptiveLoopFilter&) = delete;
   void operator=(const vtkAdaptiveLoopFilter&) = delete;

@@ -52,6 +52,11 @@
 #include "PlantMorphSubdivisionVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+namespace plantmorph
+{
+class Run;
+}
+
 class PLANTMORPHSUBDIVISIONVTK_EXPORT vtkLeafCurlFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -97,6 +102,8 @@ protected:
   ~vtkLeafCurlFilter() override = default;
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// RequestData's body (PlantMorphLayer.h): the whole blade curled on rank 0.
+  void Execute(plantmorph::Run& run);
 
   double LongitudinalAngle = 90.0;
   double TransverseAngle = 0.0;

@@ -1,6 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "VenationBlade.h"
 
+#include <plantmorph/PlaneFit.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,6 +13,80 @@
 
 namespace plantmorph
 {
+
+std::vector<Eigen::Vector2d> VenationWorkingPlane(const std::vector<Eigen::Vector3d>& points,
+  const std::vector<Eigen::Vector2d>& uv, const std::vector<std::array<int, 3>>& triangles, bool& flat)
+{
+  std::vector<Eigen::Vector2d> plane(points.size());
+  flat = true;
+  if (AllAtSameHeight(points))
+  {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      plane[i] = points[i].head<2>();
+    return plane;
+  }
+  Eigen::Vector3d low = points.front(), high = points.front();
+  for (const Eigen::Vector3d& x : points)
+  {
+    low = low.cwiseMin(x);
+    high = high.cwiseMax(x);
+  }
+  const FittedPlane fitted = FitPlane(points);
+  if (fitted.maxDeviation <= 1e-6 * (high - low).norm())
+  {
+    const Eigen::Vector3d e1 = fitted.major;
+    const Eigen::Vector3d e2 = fitted.normal.cross(e1);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      plane[i] = Eigen::Vector2d((points[i] - fitted.centroid).dot(e1), (points[i] - fitted.centroid).dot(e2));
+    return plane;
+  }
+  // Curved: |dP|^2 ~ a du^2 + b dv^2 over the edges, least squares for a and b.
+  flat = false;
+  Eigen::Matrix2d normalMatrix = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+  for (const auto& t : triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int i = t[k], j = t[(k + 1) % 3];
+      const Eigen::Vector2d row(
+        (uv[i].x() - uv[j].x()) * (uv[i].x() - uv[j].x()), (uv[i].y() - uv[j].y()) * (uv[i].y() - uv[j].y()));
+      normalMatrix += row * row.transpose();
+      rhs += row * (points[i] - points[j]).squaredNorm();
+    }
+  }
+  Eigen::Vector2d ab = normalMatrix.ldlt().solve(rhs);
+  const double fallback = (high - low).norm();
+  const double su = ab.x() > 0.0 && std::isfinite(ab.x()) ? std::sqrt(ab.x()) : fallback;
+  const double sv = ab.y() > 0.0 && std::isfinite(ab.y()) ? std::sqrt(ab.y()) : fallback;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    plane[i] = Eigen::Vector2d(su * uv[i].x(), sv * uv[i].y());
+  return plane;
+}
+
+std::vector<Eigen::Vector3d> RaisedAlongNormals(const std::vector<Eigen::Vector3d>& points,
+  const std::vector<std::array<int, 3>>& triangles, std::vector<Eigen::Vector3d> normals,
+  const std::vector<double>& heights)
+{
+  if (normals.size() != points.size())
+  {
+    normals.assign(points.size(), Eigen::Vector3d::Zero());
+    for (const auto& t : triangles)
+    {
+      const Eigen::Vector3d face = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+      for (int k = 0; k < 3; ++k)
+        normals[t[k]] += face;
+    }
+  }
+  std::vector<Eigen::Vector3d> raised(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const double length = normals[i].norm();
+    const Eigen::Vector3d up = length > 0.0 ? Eigen::Vector3d(normals[i] / length) : Eigen::Vector3d::UnitZ();
+    raised[i] = points[i] + heights[i] * up;
+  }
+  return raised;
+}
 namespace
 {
 double SignedArea(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c)

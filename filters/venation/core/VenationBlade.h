@@ -3,6 +3,10 @@
 // LeafUV (docs/methods/venation.md). Point location in both spaces goes through uniform grids of triangles, so mapping
 // a vein point costs the same however fine the blade.
 //
+// The blade as given (3-D points, LeafUV, triangles) becomes the working plane by VenationWorkingPlane; vein points
+// found in the working plane go back onto the 3-D surface by their triangle and barycentric weights (InterpolateAt),
+// and the relief raises the surface's points along its normals (RaisedAlongNormals).
+//
 // Plain C++17 + Eigen, no VTK.
 #pragma once
 
@@ -22,6 +26,14 @@ struct VenationBlade
   std::vector<std::array<int, 3>> triangles;
 };
 
+/// The 2-D working plane of a blade given by its 3-D `points`, their LeafUV `uv` and its `triangles`: the points'
+/// own (x, y) when they all have the same z; else, when they lie in one plane (within 1e-6 of the bounding box's
+/// diagonal), their coordinates along that plane's major axis and the axis normal to it; else (`flat` false: a
+/// curved blade) LeafUV scaled by the blade's mean stretch along u and v, su and sv from the least-squares fit of
+/// |dP|^2 = su^2 du^2 + sv^2 dv^2 over the triangles' edges (a scale not positive and finite: the diagonal).
+std::vector<Eigen::Vector2d> VenationWorkingPlane(const std::vector<Eigen::Vector3d>& points,
+  const std::vector<Eigen::Vector2d>& uv, const std::vector<std::array<int, 3>>& triangles, bool& flat);
+
 /// The point of the segment [a, b] nearest p (a when the segment has no length).
 Eigen::Vector2d ClosestOnSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
 
@@ -31,6 +43,24 @@ struct BladeLocation
   int triangle = -1;
   Eigen::Vector3d weights = Eigen::Vector3d::Zero();
 };
+
+/// Per-vertex `values` (Eigen vectors) of the mesh `triangles` interpolated at `at` (a location with a triangle):
+/// the weighted values summed from zero in the triangle's vertex order.
+template <typename T>
+T InterpolateAt(const std::vector<std::array<int, 3>>& triangles, const std::vector<T>& values, const BladeLocation& at)
+{
+  const auto& t = triangles[static_cast<std::size_t>(at.triangle)];
+  T sum = T::Zero();
+  for (int k = 0; k < 3; ++k)
+    sum += at.weights[k] * values[t[k]];
+  return sum;
+}
+
+/// Each of `points` moved `heights` along its unit normal: `normals` when given (one per point), else the sum of
+/// the cross products of its triangles' edges (area-weighted); a zero normal raises along +z.
+std::vector<Eigen::Vector3d> RaisedAlongNormals(const std::vector<Eigen::Vector3d>& points,
+  const std::vector<std::array<int, 3>>& triangles, std::vector<Eigen::Vector3d> normals,
+  const std::vector<double>& heights);
 
 class BladeLocator
 {

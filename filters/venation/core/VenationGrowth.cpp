@@ -1505,4 +1505,39 @@ std::vector<double> VeinReliefHeights(const VenationBlade& blade, const Venation
   return height;
 }
 
+std::vector<std::pair<const char*, double>> VenationParameterValues(const VenationParameters& p)
+{
+  return { { "Pattern", static_cast<double>(p.pattern) }, { "PrimaryCount", p.primaries },
+    { "PrimarySpread", p.primarySpread }, { "ParallelVeins", p.parallelVeins }, { "ParallelSpread", p.parallelSpread },
+    { "SecondarySpacing", p.secondarySpacing }, { "DivergenceAngle", p.divergenceAngle },
+    { "DivergenceAngleApex", p.divergenceAngleApex }, { "SecondaryCurvatureBase", p.curvatureBase },
+    { "SecondaryCurvatureApex", p.curvatureApex }, { "ForkFraction", p.forkFraction },
+    { "BranchCurvature", p.branchCurvature }, { "Tertiary", p.tertiary ? 1.0 : 0.0 }, { "AreoleSize", p.areoleSize },
+    { "AreoleGradient", p.areoleGradient }, { "MinJunctionAngle", p.minJunctionAngle },
+    { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
+    { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
+    { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels },
+    { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) }, { "SubLobeVeins", p.subLobeVeins ? 1.0 : 0.0 },
+    { "FlankSecondaries", p.flankSecondaries ? 1.0 : 0.0 }, { "ForkSize", p.forkSize },
+    { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth },
+    { "PrimaryTaper", p.primaryTaper }, { "SecondaryWidthRatio", p.secondaryWidthRatio },
+    { "TertiaryWidthRatio", p.tertiaryWidthRatio }, { "VeinletWidthRatio", p.veinletWidthRatio } };
+}
+
+std::string DescribeVenationPreset(VenationPreset preset)
+{
+  const VenationParameters p = MakeVenationPreset(preset);
+  std::ostringstream text;
+  text << VenationPresetName(preset) << " sets (the greyed properties are not used):";
+  for (const auto& [name, value] : VenationParameterValues(p))
+  {
+    text << "\n" << name << " = ";
+    if (std::string(name) == "Pattern")
+      text << VenationPatternName(p.pattern);
+    else
+      text << value;
+  }
+  return text.str();
+}
+
 } // namespace plantmorph

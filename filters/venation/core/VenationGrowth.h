@@ -71,6 +71,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace plantmorph
@@ -177,6 +178,12 @@ inline constexpr int VenationPresetCount = 7;
 VenationParameters MakeVenationPreset(VenationPreset preset);
 std::string VenationPresetName(VenationPreset preset);
 std::string VenationPatternName(VenationPattern pattern);
+/// The parameters a venation grows with that a named preset sets, by VenationFilter's property names, in the
+/// order of its panel (booleans and enumerations as numbers).
+std::vector<std::pair<const char*, double>> VenationParameterValues(const VenationParameters& parameters);
+/// What a named preset sets, for the read-only PresetValues box of VenationFilter's panel: a title line, then one
+/// "Property = value" line per VenationParameterValues entry (Pattern by name).
+std::string DescribeVenationPreset(VenationPreset preset);
 
 /// Empty when every parameter is in range; otherwise the message naming the property and its accepted range.
 std::string ValidateVenationParameters(const VenationParameters& parameters);

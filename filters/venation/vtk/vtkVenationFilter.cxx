@@ -2,14 +2,13 @@
 #include "vtkVenationFilter.h"
 #include "PlantMorphAlgorithmHooks.h"
 
-#include "PlantMorphFieldData.h"
+#include "PlantMorphLayer.h"
 #include "PlantMorphLeafExchange.h"
 #include "PlantMorphWholeInput.h"
 #include "VeinNetworkMeasures.h"
 #include "VenationGrowth.h"
 
 #include <plantmorph/DataContract.h>
-#include <plantmorph/PlaneFit.h>
 #include <plantmorph/RangeError.h>
 
 #include "vtkAppendPolyData.h"
@@ -32,8 +31,6 @@
 #include "vtkStringArray.h"
 #include "vtkTable.h"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -42,93 +39,27 @@
 #include <utility>
 #include <vector>
 
-using plantmorph::AddFieldString;
-using plantmorph::AddFieldValue;
-
 vtkStandardNewMacro(vtkVenationFilter);
 
 namespace
 {
-/// The 2-D plane the veins grow in: the blade's own plane when it is flat, else LeafUV scaled by the blade's mean
-/// stretch along u and v.
-std::vector<Eigen::Vector2d> WorkingPlane(const std::vector<Eigen::Vector3d>& points,
-  const std::vector<Eigen::Vector2d>& uv, const std::vector<std::array<int, 3>>& triangles, bool& flat)
+/// Under MPI each leaf grows whole on one rank (PlantMorphLeafExchange.h), one leaf on rank 0: the growth needs
+/// the whole blade.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::LeafPerRank;
+
+/// What the veins grew with: the pattern, the preset and one value per parameter as
+/// PlantMorph.Venation.<property> (what a preset chose, visible in the Information panel).
+void AddGrowth(
+  plantmorph::FieldRecord& record, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset)
 {
-  std::vector<Eigen::Vector2d> plane(points.size());
-  flat = true;
-  if (plantmorph::AllAtSameHeight(points))
+  record.Add("VenationPattern", plantmorph::VenationPatternName(p.pattern));
+  record.Add("VenationPreset", plantmorph::VenationPresetName(preset));
+  for (const auto& [name, value] : plantmorph::VenationParameterValues(p))
   {
-    for (std::size_t i = 0; i < points.size(); ++i)
-      plane[i] = points[i].head<2>();
-    return plane;
+    record.Add(std::string("Venation.") + name, value);
   }
-  Eigen::Vector3d low = points.front(), high = points.front();
-  for (const Eigen::Vector3d& x : points)
-  {
-    low = low.cwiseMin(x);
-    high = high.cwiseMax(x);
-  }
-  const plantmorph::FittedPlane fitted = plantmorph::FitPlane(points);
-  if (fitted.maxDeviation <= 1e-6 * (high - low).norm())
-  {
-    const Eigen::Vector3d e1 = fitted.major;
-    const Eigen::Vector3d e2 = fitted.normal.cross(e1);
-    for (std::size_t i = 0; i < points.size(); ++i)
-      plane[i] = Eigen::Vector2d((points[i] - fitted.centroid).dot(e1), (points[i] - fitted.centroid).dot(e2));
-    return plane;
-  }
-  // Curved: |dP|^2 ~ a du^2 + b dv^2 over the edges, least squares for a and b.
-  flat = false;
-  Eigen::Matrix2d normalMatrix = Eigen::Matrix2d::Zero();
-  Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
-  for (const auto& t : triangles)
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      const int i = t[k], j = t[(k + 1) % 3];
-      const Eigen::Vector2d row(
-        (uv[i].x() - uv[j].x()) * (uv[i].x() - uv[j].x()), (uv[i].y() - uv[j].y()) * (uv[i].y() - uv[j].y()));
-      normalMatrix += row * row.transpose();
-      rhs += row * (points[i] - points[j]).squaredNorm();
-    }
-  }
-  Eigen::Vector2d ab = normalMatrix.ldlt().solve(rhs);
-  const double fallback = (high - low).norm();
-  const double su = ab.x() > 0.0 && std::isfinite(ab.x()) ? std::sqrt(ab.x()) : fallback;
-  const double sv = ab.y() > 0.0 && std::isfinite(ab.y()) ? std::sqrt(ab.y()) : fallback;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    plane[i] = Eigen::Vector2d(su * uv[i].x(), sv * uv[i].y());
-  return plane;
-}
-/// The parameters a venation grows with, by property name (a named preset's own, or the properties for Custom).
-std::vector<std::pair<const char*, double>> ParameterValues(const plantmorph::VenationParameters& p)
-{
-  return { { "Pattern", static_cast<double>(p.pattern) }, { "PrimaryCount", p.primaries },
-    { "PrimarySpread", p.primarySpread }, { "ParallelVeins", p.parallelVeins }, { "ParallelSpread", p.parallelSpread },
-    { "SecondarySpacing", p.secondarySpacing }, { "DivergenceAngle", p.divergenceAngle },
-    { "DivergenceAngleApex", p.divergenceAngleApex }, { "SecondaryCurvatureBase", p.curvatureBase },
-    { "SecondaryCurvatureApex", p.curvatureApex }, { "ForkFraction", p.forkFraction },
-    { "BranchCurvature", p.branchCurvature }, { "Tertiary", p.tertiary ? 1.0 : 0.0 }, { "AreoleSize", p.areoleSize },
-    { "AreoleGradient", p.areoleGradient }, { "MinJunctionAngle", p.minJunctionAngle },
-    { "JunctionAngleDeviation", p.junctionAngleDeviation }, { "Veinlets", p.veinlets ? 1.0 : 0.0 },
-    { "VeinletLength", p.veinletLength }, { "PalmateVeins", p.palmateVeins },
-    { "PalmateEnds", p.palmateFan ? 1.0 : 0.0 }, { "ForkLevels", p.forkLevels },
-    { "PalmateSecondaries", static_cast<double>(p.palmateSecondaries) }, { "SubLobeVeins", p.subLobeVeins ? 1.0 : 0.0 },
-    { "FlankSecondaries", p.flankSecondaries ? 1.0 : 0.0 }, { "ForkSize", p.forkSize },
-    { "MarginalGrowth", p.marginalGrowth ? 1.0 : 0.0 }, { "PrimaryWidth", p.primaryWidth },
-    { "PrimaryTaper", p.primaryTaper }, { "SecondaryWidthRatio", p.secondaryWidthRatio },
-    { "TertiaryWidthRatio", p.tertiaryWidthRatio }, { "VeinletWidthRatio", p.veinletWidthRatio } };
 }
 
-/// The parameters the venation grew with, one field value per property as PlantMorph.Venation.<property>: what a
-/// preset chose, visible in the Information panel.
-void AddParameters(vtkFieldData* fd, const plantmorph::VenationParameters& p)
-{
-  for (const auto& [name, value] : ParameterValues(p))
-  {
-    AddFieldValue(fd, (std::string("PlantMorph.Venation.") + name).c_str(), value);
-  }
-}
 /// The input blade as flat arrays: points, LeafUV, triangles.
 struct InputBlade
 {
@@ -179,56 +110,79 @@ std::string ReadBlade(vtkPolyData* input, InputBlade& blade)
   return {};
 }
 
-/// Port 0's geometry: the network's points mapped onto the surface (with VeinWidth, Region, LeafUV and the
-/// blade's TCoords interpolated) and one polyline per vein (VeinOrder, Region).
-std::string WriteVeins(
+/// The blade's texture coordinates (2 components) as a per-point vector, or empty.
+std::vector<Eigen::Vector2d> TCoordsOf(vtkPolyData* input)
+{
+  std::vector<Eigen::Vector2d> result;
+  vtkDataArray* tcoords = input->GetPointData()->GetTCoords();
+  if (tcoords && tcoords->GetNumberOfComponents() == 2)
+  {
+    result.resize(static_cast<std::size_t>(tcoords->GetNumberOfTuples()));
+    for (vtkIdType i = 0; i < tcoords->GetNumberOfTuples(); ++i)
+      result[i] = Eigen::Vector2d(tcoords->GetComponent(i, 0), tcoords->GetComponent(i, 1));
+  }
+  return result;
+}
+
+/// A new double array of `count` tuples of `components`, named `name`.
+vtkSmartPointer<vtkDoubleArray> NewDoubleArray(const char* name, int components, std::size_t count)
+{
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetName(name);
+  array->SetNumberOfComponents(components);
+  array->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  return array;
+}
+
+/// Port 0's points: the network's points mapped onto the surface, with VeinWidth (active scalars), Region, LeafUV
+/// and the blade's TCoords interpolated; "" or an internal error.
+std::string WriteVeinPoints(
   vtkPolyData* input, const InputBlade& blade, const plantmorph::VenationResult& result, vtkPolyData* veins)
 {
   const std::size_t count = result.nodes.size();
   vtkNew<vtkPoints> veinPoints;
   veinPoints->SetDataType(input->GetPoints()->GetDataType());
   veinPoints->SetNumberOfPoints(static_cast<vtkIdType>(count));
-  vtkNew<vtkDoubleArray> width, veinUV;
-  width->SetName(plantmorph::arrays::VeinWidth);
-  width->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  veinUV->SetName(plantmorph::arrays::LeafUV);
-  veinUV->SetNumberOfComponents(2);
-  veinUV->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  auto width = NewDoubleArray(plantmorph::arrays::VeinWidth, 1, count);
+  auto veinUV = NewDoubleArray(plantmorph::arrays::LeafUV, 2, count);
   vtkNew<vtkIntArray> pointRegion;
   pointRegion->SetName(plantmorph::arrays::Region);
   pointRegion->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  vtkDataArray* tcoords = input->GetPointData()->GetTCoords();
+  const std::vector<Eigen::Vector2d> tcoords = TCoordsOf(input);
+  const bool withTCoords = !tcoords.empty() && count > 0;
   vtkNew<vtkFloatArray> veinTCoords;
-  if (tcoords && tcoords->GetNumberOfComponents() == 2)
-  {
-    veinTCoords->SetName(tcoords->GetName() ? tcoords->GetName() : plantmorph::arrays::TCoords);
-    veinTCoords->SetNumberOfComponents(2);
-    veinTCoords->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  }
+  veinTCoords->SetNumberOfComponents(2);
+  veinTCoords->SetNumberOfTuples(withTCoords ? static_cast<vtkIdType>(count) : 0);
   for (std::size_t i = 0; i < count; ++i)
   {
     const plantmorph::BladeLocation& at = result.location[i];
     if (at.triangle < 0)
-    {
       return "internal: a vein point fell outside the blade";
-    }
-    const auto& t = blade.triangles[at.triangle];
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    Eigen::Vector2d w = Eigen::Vector2d::Zero(), tc = Eigen::Vector2d::Zero();
-    for (int k = 0; k < 3; ++k)
-    {
-      x += at.weights[k] * blade.points[t[k]];
-      w += at.weights[k] * blade.uv[t[k]];
-      if (veinTCoords->GetNumberOfTuples() > 0)
-        tc += at.weights[k] * Eigen::Vector2d(tcoords->GetComponent(t[k], 0), tcoords->GetComponent(t[k], 1));
-    }
-    veinPoints->SetPoint(static_cast<vtkIdType>(i), x.data());
-    width->SetValue(static_cast<vtkIdType>(i), result.width[i]);
-    veinUV->SetTuple2(static_cast<vtkIdType>(i), w.x(), w.y());
-    pointRegion->SetValue(static_cast<vtkIdType>(i), std::min<int>(result.order[i], plantmorph::RegionTertiaryVein));
-    if (veinTCoords->GetNumberOfTuples() > 0)
-      veinTCoords->SetTuple2(static_cast<vtkIdType>(i), tc.x(), tc.y());
+    const auto id = static_cast<vtkIdType>(i);
+    veinPoints->SetPoint(id, plantmorph::InterpolateAt(blade.triangles, blade.points, at).data());
+    veinUV->SetTuple(id, plantmorph::InterpolateAt(blade.triangles, blade.uv, at).data());
+    width->SetValue(id, result.width[i]);
+    pointRegion->SetValue(id, std::min<int>(result.order[i], plantmorph::RegionTertiaryVein));
+    if (withTCoords)
+      veinTCoords->SetTuple(id, plantmorph::InterpolateAt(blade.triangles, tcoords, at).data());
   }
+  veins->SetPoints(veinPoints);
+  veins->GetPointData()->AddArray(width);
+  veins->GetPointData()->SetActiveScalars(plantmorph::arrays::VeinWidth);
+  veins->GetPointData()->AddArray(pointRegion);
+  veins->GetPointData()->AddArray(veinUV);
+  if (withTCoords)
+  {
+    vtkDataArray* given = input->GetPointData()->GetTCoords();
+    veinTCoords->SetName(given->GetName() ? given->GetName() : plantmorph::arrays::TCoords);
+    veins->GetPointData()->SetTCoords(veinTCoords);
+  }
+  return {};
+}
+
+/// Port 0's cells: one polyline per vein, with VeinOrder and Region.
+void WriteVeinLines(const plantmorph::VenationResult& result, vtkPolyData* veins)
+{
   vtkNew<vtkCellArray> lines;
   vtkNew<vtkIntArray> veinOrder, cellRegion;
   veinOrder->SetName(plantmorph::arrays::VeinOrder);
@@ -241,17 +195,9 @@ std::string WriteVeins(
     veinOrder->InsertNextValue(line.order);
     cellRegion->InsertNextValue(std::min<int>(line.order, plantmorph::RegionTertiaryVein));
   }
-  veins->SetPoints(veinPoints);
   veins->SetLines(lines);
-  veins->GetPointData()->AddArray(width);
-  veins->GetPointData()->SetActiveScalars(plantmorph::arrays::VeinWidth);
-  veins->GetPointData()->AddArray(pointRegion);
-  veins->GetPointData()->AddArray(veinUV);
-  if (veinTCoords->GetNumberOfTuples() > 0)
-    veins->GetPointData()->SetTCoords(veinTCoords);
   veins->GetCellData()->AddArray(veinOrder);
   veins->GetCellData()->AddArray(cellRegion);
-  return {};
 }
 
 /// Port 1: the blade passed through, its points raised along the normals over the veins when depth is not 0.
@@ -261,71 +207,50 @@ void WriteBlade(vtkPolyData* input, const InputBlade& blade, const plantmorph::V
   bladeOut->ShallowCopy(input);
   if (depth != 0.0)
   {
-    const std::vector<double> heights = plantmorph::VeinReliefHeights(plane, result, depth);
-    const vtkIdType n = input->GetNumberOfPoints();
-    std::vector<Eigen::Vector3d> normals(blade.points.size(), Eigen::Vector3d::Zero());
+    std::vector<Eigen::Vector3d> normals;
     vtkDataArray* given = input->GetPointData()->GetNormals();
     if (given && given->GetNumberOfComponents() == 3)
     {
-      for (vtkIdType i = 0; i < n; ++i)
+      normals.resize(blade.points.size());
+      for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
         given->GetTuple(i, normals[i].data());
     }
-    else
-    {
-      for (const auto& t : blade.triangles)
-      {
-        const Eigen::Vector3d face =
-          (blade.points[t[1]] - blade.points[t[0]]).cross(blade.points[t[2]] - blade.points[t[0]]);
-        for (int k = 0; k < 3; ++k)
-          normals[t[k]] += face;
-      }
-    }
-    vtkNew<vtkPoints> raised;
-    raised->SetDataType(input->GetPoints()->GetDataType());
-    raised->SetNumberOfPoints(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      const double length = normals[i].norm();
-      const Eigen::Vector3d up = length > 0.0 ? Eigen::Vector3d(normals[i] / length) : Eigen::Vector3d::UnitZ();
-      const Eigen::Vector3d x = blade.points[i] + heights[i] * up;
-      raised->SetPoint(i, x.data());
-    }
-    bladeOut->SetPoints(raised);
+    const std::vector<Eigen::Vector3d> raised = plantmorph::RaisedAlongNormals(
+      blade.points, blade.triangles, std::move(normals), plantmorph::VeinReliefHeights(plane, result, depth));
+    vtkNew<vtkPoints> points;
+    points->SetDataType(input->GetPoints()->GetDataType());
+    points->SetNumberOfPoints(input->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+      points->SetPoint(i, raised[i].data());
+    bladeOut->SetPoints(points);
   }
-  AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", depth);
+  plantmorph::FieldRecord record;
+  record.Add("EmbossDepth", depth);
+  record.WriteTo(bladeOut);
 }
 
 /// Field data on port 0: the network's measures and what the veins grew with (parameters, seed, preset, plane).
 /// The counts are the Statistics port's (one set of numbers); AreoleAreaStd is the population standard deviation.
-void WriteVeinFieldData(vtkFieldData* fd, const plantmorph::VenationResult& result,
+void WriteVeinFieldData(vtkPolyData* veins, const plantmorph::VenationResult& result,
   const plantmorph::VeinNetworkMeasures& m, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset,
   int seed, bool flat)
 {
-  vtkNew<vtkDoubleArray> lengths;
-  lengths->SetName("PlantMorph.VeinLength");
-  lengths->SetNumberOfComponents(5);
-  lengths->SetComponentName(0, "Primary");
-  lengths->SetComponentName(1, "Secondary");
-  lengths->SetComponentName(2, "Tertiary");
-  lengths->SetComponentName(3, "Quaternary");
-  lengths->SetComponentName(4, "Veinlet");
-  const double perOrder[5] = { m.length[1], m.length[2], m.length[3], m.length[4], m.length[5] };
-  lengths->InsertNextTuple(perOrder);
-  fd->AddArray(lengths);
-  AddFieldValue(fd, "PlantMorph.VeinDensity", m.vla);
-  AddFieldValue(fd, "PlantMorph.BladeArea", m.bladeArea);
-  AddFieldValue(fd, "PlantMorph.AreoleCount", static_cast<double>(m.areoles));
-  AddFieldValue(fd, "PlantMorph.AreoleAreaMean", m.areoleMean);
-  AddFieldValue(fd, "PlantMorph.AreoleAreaStd", m.areoleCV * m.areoleMean);
-  AddFieldValue(fd, "PlantMorph.BranchPoints", static_cast<double>(m.branchPoints));
-  AddFieldValue(fd, "PlantMorph.FreeEnds", static_cast<double>(m.freeEnds));
-  AddFieldValue(fd, "PlantMorph.VeinSegments", static_cast<double>(result.statistics.segments));
-  AddFieldValue(fd, "PlantMorph.Seed", seed);
-  AddFieldValue(fd, "PlantMorph.LeafLength", result.leafLength);
-  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
-  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
-  AddParameters(fd, p);
-  AddFieldString(fd, "PlantMorph.VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
+  plantmorph::FieldRecord record;
+  record.AddTuple("VeinLength", { "Primary", "Secondary", "Tertiary", "Quaternary", "Veinlet" },
+    { m.length[1], m.length[2], m.length[3], m.length[4], m.length[5] });
+  record.Add("VeinDensity", m.vla);
+  record.Add("BladeArea", m.bladeArea);
+  record.Add("AreoleCount", static_cast<double>(m.areoles));
+  record.Add("AreoleAreaMean", m.areoleMean);
+  record.Add("AreoleAreaStd", m.areoleCV * m.areoleMean);
+  record.Add("BranchPoints", static_cast<double>(m.branchPoints));
+  record.Add("FreeEnds", static_cast<double>(m.freeEnds));
+  record.Add("VeinSegments", static_cast<double>(result.statistics.segments));
+  record.Add("Seed", static_cast<double>(seed));
+  record.Add("LeafLength", result.leafLength);
+  AddGrowth(record, p, preset);
+  record.Add("VenationPlane", flat ? "BladePlane" : "ScaledLeafUV");
+  record.WriteTo(veins);
 }
 
 /// Port 2, Statistics: one row, the measures of the network (VeinNetworkMeasures.h), lengths and areas in the
@@ -407,21 +332,7 @@ const char* vtkVenationFilter::GetPresetValues()
   }
   else
   {
-    const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
-    const plantmorph::VenationParameters p = plantmorph::MakeVenationPreset(preset);
-    text << plantmorph::VenationPresetName(preset) << " sets (the greyed properties are not used):";
-    for (const auto& [name, value] : ParameterValues(p))
-    {
-      text << "\n" << name << " = ";
-      if (std::string(name) == "Pattern")
-      {
-        text << plantmorph::VenationPatternName(p.pattern);
-      }
-      else
-      {
-        text << value;
-      }
-    }
+    text << plantmorph::DescribeVenationPreset(static_cast<plantmorph::VenationPreset>(this->Preset));
   }
   this->PresetValues = text.str();
   return this->PresetValues.c_str();
@@ -435,59 +346,46 @@ void vtkVenationFilter::WarnAboutPresetOverrides()
     return;
   }
   vtkNew<vtkVenationFilter> defaults;
-  std::ostringstream ignored;
-  const auto check = [&](const char* name, bool changed) {
-    if (changed)
-    {
-      ignored << (ignored.tellp() > 0 ? ", " : "") << name;
-    }
-  };
-#define PLANTMORPH_CHECK(name) check(#name, this->name != defaults->name)
-  PLANTMORPH_CHECK(Pattern);
-  PLANTMORPH_CHECK(PrimaryCount);
-  PLANTMORPH_CHECK(PrimarySpread);
-  PLANTMORPH_CHECK(ParallelVeins);
-  PLANTMORPH_CHECK(ParallelSpread);
-  PLANTMORPH_CHECK(SecondarySpacing);
-  PLANTMORPH_CHECK(DivergenceAngle);
-  PLANTMORPH_CHECK(DivergenceAngleApex);
-  PLANTMORPH_CHECK(SecondaryCurvatureBase);
-  PLANTMORPH_CHECK(SecondaryCurvatureApex);
-  PLANTMORPH_CHECK(ForkFraction);
-  PLANTMORPH_CHECK(BranchCurvature);
-  PLANTMORPH_CHECK(Tertiary);
-  PLANTMORPH_CHECK(AreoleSize);
-  PLANTMORPH_CHECK(AreoleGradient);
-  PLANTMORPH_CHECK(MinJunctionAngle);
-  PLANTMORPH_CHECK(JunctionAngleDeviation);
-  PLANTMORPH_CHECK(Veinlets);
-  PLANTMORPH_CHECK(VeinletLength);
-  PLANTMORPH_CHECK(PalmateVeins);
-  PLANTMORPH_CHECK(PalmateEnds);
-  PLANTMORPH_CHECK(ForkLevels);
-  PLANTMORPH_CHECK(PalmateSecondaries);
-  PLANTMORPH_CHECK(SubLobeVeins);
-  PLANTMORPH_CHECK(FlankSecondaries);
-  PLANTMORPH_CHECK(ForkSize);
-  PLANTMORPH_CHECK(KillDistance);
-  PLANTMORPH_CHECK(AttractionDistance);
-  PLANTMORPH_CHECK(SourceDensity);
-  PLANTMORPH_CHECK(MurrayExponent);
-  PLANTMORPH_CHECK(GrowthStart);
-  PLANTMORPH_CHECK(ClosedVenation);
-  PLANTMORPH_CHECK(MarginalGrowth);
-  PLANTMORPH_CHECK(PrimaryWidth);
-  PLANTMORPH_CHECK(PrimaryTaper);
-  PLANTMORPH_CHECK(SecondaryWidthRatio);
-  PLANTMORPH_CHECK(TertiaryWidthRatio);
-  PLANTMORPH_CHECK(VeinletWidthRatio);
-#undef PLANTMORPH_CHECK
-  if (ignored.tellp() > 0)
-  {
-    vtkWarningMacro(<< "these properties are changed from their defaults but not used, because Preset is a named "
-                       "preset that sets them itself: "
-                    << ignored.str() << ". Set Preset to Custom (0) to use them.");
-  }
+  plantmorph::PresetOverrides overrides("Preset");
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, Pattern);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PrimaryCount);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PrimarySpread);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ParallelVeins);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ParallelSpread);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SecondarySpacing);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, DivergenceAngle);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, DivergenceAngleApex);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SecondaryCurvatureBase);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SecondaryCurvatureApex);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ForkFraction);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, BranchCurvature);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, Tertiary);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, AreoleSize);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, AreoleGradient);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, MinJunctionAngle);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, JunctionAngleDeviation);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, Veinlets);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, VeinletLength);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PalmateVeins);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PalmateEnds);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ForkLevels);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PalmateSecondaries);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SubLobeVeins);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, FlankSecondaries);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ForkSize);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, KillDistance);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, AttractionDistance);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SourceDensity);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, MurrayExponent);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, GrowthStart);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, ClosedVenation);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, MarginalGrowth);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PrimaryWidth);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, PrimaryTaper);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, SecondaryWidthRatio);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, TertiaryWidthRatio);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, VeinletWidthRatio);
+  overrides.Warn(this);
 }
 
 //------------------------------------------------------------------------------
@@ -498,7 +396,7 @@ int vtkVenationFilter::FillOutputPortInformation(int port, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
-std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
+std::string vtkVenationFilter::ValidateSettings()
 {
   if (this->Preset < 0 || this->Preset >= plantmorph::VenationPresetCount)
   {
@@ -517,49 +415,65 @@ std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
   {
     return plantmorph::OutOfRange("AreoleHistogramBins", this->AreoleHistogramBins, "[1, 10000]");
   }
+  return {};
+}
+
+//------------------------------------------------------------------------------
+void vtkVenationFilter::ReadCustomParameters(plantmorph::VenationParameters& p)
+{
+  p.pattern = static_cast<plantmorph::VenationPattern>(this->Pattern);
+  p.primaries = this->PrimaryCount;
+  p.primarySpread = this->PrimarySpread;
+  p.parallelVeins = this->ParallelVeins;
+  p.parallelSpread = this->ParallelSpread;
+  p.secondarySpacing = this->SecondarySpacing;
+  p.divergenceAngle = this->DivergenceAngle;
+  p.divergenceAngleApex = this->DivergenceAngleApex;
+  p.curvatureBase = this->SecondaryCurvatureBase;
+  p.curvatureApex = this->SecondaryCurvatureApex;
+  p.forkFraction = this->ForkFraction;
+  p.branchCurvature = this->BranchCurvature;
+  p.tertiary = this->Tertiary;
+  p.areoleSize = this->AreoleSize;
+  p.areoleGradient = this->AreoleGradient;
+  p.minJunctionAngle = this->MinJunctionAngle;
+  p.junctionAngleDeviation = this->JunctionAngleDeviation;
+  p.veinlets = this->Veinlets;
+  p.veinletLength = this->VeinletLength;
+  p.palmateVeins = this->PalmateVeins;
+  p.palmateFan = this->PalmateEnds != 0;
+  p.forkLevels = this->ForkLevels;
+  p.palmateSecondaries = static_cast<plantmorph::PalmateSecondaries>(this->PalmateSecondaries);
+  p.subLobeVeins = this->SubLobeVeins != 0;
+  p.flankSecondaries = this->FlankSecondaries != 0;
+  p.forkSize = this->ForkSize;
+  p.killDistance = this->KillDistance;
+  p.attractionDistance = this->AttractionDistance;
+  p.sourceDensity = this->SourceDensity;
+  p.murrayExponent = this->MurrayExponent;
+  p.growthStart = this->GrowthStart;
+  p.closedVenation = this->ClosedVenation;
+  p.marginalGrowth = this->MarginalGrowth;
+  p.primaryWidth = this->PrimaryWidth;
+  p.primaryTaper = this->PrimaryTaper;
+  p.secondaryWidthRatio = this->SecondaryWidthRatio;
+  p.tertiaryWidthRatio = this->TertiaryWidthRatio;
+  p.veinletWidthRatio = this->VeinletWidthRatio;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkVenationFilter::MakeParameters(plantmorph::VenationParameters& p)
+{
+  if (std::string error = this->ValidateSettings(); !error.empty())
+  {
+    return error;
+  }
   const auto preset = static_cast<plantmorph::VenationPreset>(this->Preset);
   this->WarnAboutPresetOverrides();
   p = plantmorph::MakeVenationPreset(preset);
   if (preset == plantmorph::VenationPreset::Custom)
   {
-    p.pattern = static_cast<plantmorph::VenationPattern>(this->Pattern);
-    p.primaries = this->PrimaryCount;
-    p.primarySpread = this->PrimarySpread;
-    p.parallelVeins = this->ParallelVeins;
-    p.parallelSpread = this->ParallelSpread;
-    p.secondarySpacing = this->SecondarySpacing;
-    p.divergenceAngle = this->DivergenceAngle;
-    p.divergenceAngleApex = this->DivergenceAngleApex;
-    p.curvatureBase = this->SecondaryCurvatureBase;
-    p.curvatureApex = this->SecondaryCurvatureApex;
-    p.forkFraction = this->ForkFraction;
-    p.branchCurvature = this->BranchCurvature;
-    p.tertiary = this->Tertiary;
-    p.areoleSize = this->AreoleSize;
-    p.areoleGradient = this->AreoleGradient;
-    p.minJunctionAngle = this->MinJunctionAngle;
-    p.junctionAngleDeviation = this->JunctionAngleDeviation;
-    p.veinlets = this->Veinlets;
-    p.veinletLength = this->VeinletLength;
-    p.palmateVeins = this->PalmateVeins;
-    p.palmateFan = this->PalmateEnds != 0;
-    p.forkLevels = this->ForkLevels;
-    p.palmateSecondaries = static_cast<plantmorph::PalmateSecondaries>(this->PalmateSecondaries);
-    p.subLobeVeins = this->SubLobeVeins != 0;
-    p.flankSecondaries = this->FlankSecondaries != 0;
-    p.forkSize = this->ForkSize;
-    p.killDistance = this->KillDistance;
-    p.attractionDistance = this->AttractionDistance;
-    p.sourceDensity = this->SourceDensity;
-    p.murrayExponent = this->MurrayExponent;
-    p.growthStart = this->GrowthStart;
-    p.closedVenation = this->ClosedVenation;
-    p.marginalGrowth = this->MarginalGrowth;
-    p.primaryWidth = this->PrimaryWidth;
-    p.primaryTaper = this->PrimaryTaper;
-    p.secondaryWidthRatio = this->SecondaryWidthRatio;
-    p.tertiaryWidthRatio = this->TertiaryWidthRatio;
-    p.veinletWidthRatio = this->VeinletWidthRatio;
+    this->ReadCustomParameters(p);
   }
   p.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
   p.maxSegments = static_cast<std::size_t>(this->MaxSegments);
@@ -578,19 +492,21 @@ std::string GrowOnLeaf(vtkVenationFilter* self, vtkPolyData* input, const plantm
   if (!error.empty())
     return error;
   bool flat = true;
-  const plantmorph::VenationBlade plane{ WorkingPlane(blade.points, blade.uv, blade.triangles, flat), blade.uv,
-    blade.triangles };
+  const plantmorph::VenationBlade plane{
+    plantmorph::VenationWorkingPlane(blade.points, blade.uv, blade.triangles, flat), blade.uv, blade.triangles
+  };
   plantmorph::VenationResult result;
   error = plantmorph::GrowVenation(plane, p, result, plantmorph::Progress(self, progressBegin, progressEnd));
   plantmorph::VeinNetworkMeasures measures;
   if (error.empty())
     error = plantmorph::MeasureVenation(plane, result, measures);
   if (error.empty())
-    error = WriteVeins(input, blade, result, veins);
+    error = WriteVeinPoints(input, blade, result, veins);
   if (!error.empty())
     return error;
-  WriteVeinFieldData(veins->GetFieldData(), result, measures, p,
-    static_cast<plantmorph::VenationPreset>(self->GetPreset()), self->GetSeed(), flat);
+  WriteVeinLines(result, veins);
+  WriteVeinFieldData(
+    veins, result, measures, p, static_cast<plantmorph::VenationPreset>(self->GetPreset()), self->GetSeed(), flat);
   WriteStatistics(measures, statistics);
   WriteHistogram(plantmorph::MakeAreoleHistogram(measures.areoleAreas, self->GetAreoleHistogramBins()), histogram);
   WriteBlade(input, blade, plane, result, self->GetEmbossDepth(), bladeOut);
@@ -598,79 +514,66 @@ std::string GrowOnLeaf(vtkVenationFilter* self, vtkPolyData* input, const plantm
 }
 
 /// Field data of the veins of several leaves: what every leaf grew with (each leaf's measures are its Statistics
-/// row) and how many leaves the whole input has.
-void WriteLeavesFieldData(vtkFieldData* fd, const plantmorph::VenationParameters& p, plantmorph::VenationPreset preset,
-  int seed, std::size_t leaves)
+/// row) and how many leaves the whole input has; the blades' EmbossDepth.
+void WriteLeavesFieldData(vtkPolyData* veins, vtkPolyData* blades, const plantmorph::VenationParameters& p,
+  plantmorph::VenationPreset preset, int seed, std::size_t leaves, double depth)
 {
-  AddFieldValue(fd, "PlantMorph.LeafCount", static_cast<double>(leaves));
-  AddFieldValue(fd, "PlantMorph.Seed", seed);
-  AddFieldString(fd, "PlantMorph.VenationPattern", plantmorph::VenationPatternName(p.pattern));
-  AddFieldString(fd, "PlantMorph.VenationPreset", plantmorph::VenationPresetName(preset));
-  AddParameters(fd, p);
+  plantmorph::FieldRecord record;
+  record.Add("LeafCount", static_cast<double>(leaves));
+  record.Add("Seed", static_cast<double>(seed));
+  AddGrowth(record, p, preset);
+  record.WriteTo(veins);
+  plantmorph::FieldRecord blade;
+  blade.Add("EmbossDepth", depth);
+  blade.WriteTo(blades);
 }
 } // namespace
 
 //------------------------------------------------------------------------------
 int vtkVenationFilter::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
-  vtkPolyData* veins = vtkPolyData::GetData(outputVector, 0);
-  vtkPolyData* bladeOut = vtkPolyData::GetData(outputVector, 1);
-  vtkTable* statistics = vtkTable::GetData(outputVector, 2);
-  vtkTable* histogram = vtkTable::GetData(outputVector, 3);
-  if (!input || !veins || !bladeOut || !statistics || !histogram)
+  return plantmorph::RunRequestData(this, Policy, "the venation", request, inputVector, outputVector,
+    [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+void vtkVenationFilter::Execute(plantmorph::Run& run)
+{
+  vtkPolyData* input = run.Input<vtkPolyData>(0);
+  if (!input)
   {
-    return 0;
+    return;
   }
-  veins->Initialize();
-  bladeOut->Initialize();
-  statistics->Initialize();
-  histogram->Initialize();
   // Several leaves (PlantMorphLeafExchange.h: a LeafId array, or connected blades): each grows on one rank.
   const plantmorph::LeafPlan plan(input);
   if (plan.AnyRank(!plan.Error().empty()))
   {
-    if (!plan.Error().empty())
-      vtkErrorMacro(<< plan.Error());
-    return 1;
+    run.CheckHere(plan.Error());
+    run.Stop();
   }
   if (plan.LeafIds().size() > 1)
   {
-    return this->GrowLeaves(plan, veins, bladeOut, statistics, histogram);
+    this->GrowLeaves(run, plan);
+    return;
   }
   // One leaf: under MPI the veins grow once, on rank 0, on the whole blade (gathered there if it was split).
   const vtkSmartPointer<vtkPolyData> wholeBlade = plantmorph::GatherOnFirstRank(input);
-  input = wholeBlade.Get();
-  if (input->GetNumberOfPoints() == 0)
+  if (wholeBlade->GetNumberOfPoints() == 0)
   {
     // Another rank: the blade is on rank 0, nothing to grow here, no error. On rank 0 the whole blade is empty.
-    if (plantmorph::IsFirstRank())
-    {
-      vtkWarningMacro(<< "the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
-    }
-    return 1;
+    run.Warn("the Input (the blade) is empty (no points): no veins grow, the outputs are empty");
+    return;
   }
   plantmorph::VenationParameters p;
-  std::string error = this->MakeParameters(p);
-  if (error.empty())
-    error = GrowOnLeaf(this, input, p, 0.0, 0.95, veins, bladeOut, statistics, histogram);
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    veins->Initialize();
-    bladeOut->Initialize();
-    statistics->Initialize();
-    histogram->Initialize();
-    return 1;
-  }
-  this->UpdateProgress(1.0);
-  return 1;
+  run.CheckHere(this->MakeParameters(p));
+  run.CheckHere(GrowOnLeaf(this, wholeBlade, p, 0.0, 0.95, run.Output<vtkPolyData>(0), run.Output<vtkPolyData>(1),
+    run.Output<vtkTable>(2), run.Output<vtkTable>(3)));
+  run.UpdateProgress(1.0);
 }
 
 //------------------------------------------------------------------------------
-int vtkVenationFilter::GrowLeaves(const plantmorph::LeafPlan& plan, vtkPolyData* veins, vtkPolyData* bladeOut,
-  vtkTable* statistics, vtkTable* histogram)
+void vtkVenationFilter::GrowLeaves(plantmorph::Run& run, const plantmorph::LeafPlan& plan)
 {
   // Collective: the leaves this rank owns, whole; each grows as it would alone (same parameters, same Seed).
   const std::vector<vtkSmartPointer<vtkPolyData>> leaves = plan.Leaves();
@@ -698,25 +601,24 @@ int vtkVenationFilter::GrowLeaves(const plantmorph::LeafPlan& plan, vtkPolyData*
     plantmorph::AppendRows(statisticsRows, plantmorph::WithLeafColumn(leafStatistics, owned[k]));
     plantmorph::AppendRows(histogramRows, plantmorph::WithLeafColumn(leafHistogram, owned[k]));
   }
-  if (!error.empty())
-    vtkErrorMacro(<< error);
   if (plan.AnyRank(!error.empty()))
-    return 1; // every rank's outputs stay empty
+  {
+    run.CheckHere(error);
+    run.Stop(); // every rank's outputs stay empty
+  }
   if (!leaves.empty())
   {
     appendVeins->Update();
     appendBlades->Update();
-    veins->ShallowCopy(appendVeins->GetOutput());
-    bladeOut->ShallowCopy(appendBlades->GetOutput());
-    WriteLeavesFieldData(veins->GetFieldData(), p, static_cast<plantmorph::VenationPreset>(this->Preset), this->Seed,
-      plan.LeafIds().size());
-    AddFieldValue(bladeOut->GetFieldData(), "PlantMorph.EmbossDepth", this->EmbossDepth);
+    run.Output(0)->ShallowCopy(appendVeins->GetOutput());
+    run.Output(1)->ShallowCopy(appendBlades->GetOutput());
+    WriteLeavesFieldData(run.Output<vtkPolyData>(0), run.Output<vtkPolyData>(1), p,
+      static_cast<plantmorph::VenationPreset>(this->Preset), this->Seed, plan.LeafIds().size(), this->EmbossDepth);
   }
   // Collective: the tables' rows (one Statistics row per leaf, its histogram's rows) on rank 0, in LeafId order.
-  statistics->ShallowCopy(plan.GatherRows(statisticsRows));
-  histogram->ShallowCopy(plan.GatherRows(histogramRows));
-  this->UpdateProgress(1.0);
-  return 1;
+  run.Output(2)->ShallowCopy(plan.GatherRows(statisticsRows));
+  run.Output(3)->ShallowCopy(plan.GatherRows(histogramRows));
+  run.UpdateProgress(1.0);
 }
 
 //------------------------------------------------------------------------------

@@ -97,6 +97,7 @@ namespace plantmorph
 {
 struct VenationParameters;
 class LeafPlan;
+class Run;
 }
 
 class PLANTMORPHVENATIONVTK_EXPORT vtkVenationFilter : public vtkPolyDataAlgorithm
@@ -325,10 +326,16 @@ protected:
   /// The parameters to grow with (the named preset's, or the properties for Custom); a message naming the first
   /// out-of-range property of the wrapper's own, else empty (the algorithm validates the rest).
   std::string MakeParameters(plantmorph::VenationParameters& parameters);
+  /// The wrapper's own settings (Preset, EmbossDepth, MaxSegments, AreoleHistogramBins): "" or a message naming the
+  /// first out of range.
+  std::string ValidateSettings();
+  /// The growth properties into `parameters` (Custom).
+  void ReadCustomParameters(plantmorph::VenationParameters& parameters);
   /// Several leaves: grows the veins of each leaf `plan` gives this rank, alone, and appends them; the tables'
   /// rows gathered on rank 0 in LeafId order (collective).
-  int GrowLeaves(const plantmorph::LeafPlan& plan, vtkPolyData* veins, vtkPolyData* bladeOut, vtkTable* statistics,
-    vtkTable* histogram);
+  void GrowLeaves(plantmorph::Run& run, const plantmorph::LeafPlan& plan);
+  /// RequestData's body (PlantMorphLayer.h): the leaves found (one, or several each on its rank) grow their veins.
+  void Execute(plantmorph::Run& run);
 
   std::string PresetValues;
   int Preset = 1;

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "WiltingPresets.h"
 
+#include <charconv>
+#include <sstream>
+
 namespace plantmorph
 {
 
@@ -153,6 +156,58 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
     default:
       break;
   }
+}
+
+namespace
+{
+/// The shortest text that reads back as exactly `value`, so the box shows what the preset uses, digit for digit.
+std::string Exact(double value)
+{
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof(buffer), value).ptr;
+  return std::string(buffer, end);
+}
+} // namespace
+
+std::string DescribeWiltingPreset(WiltingPreset preset)
+{
+  WiltingParameters p;
+  ApplyWiltingPreset(preset, p);
+  std::ostringstream text;
+  const auto line = [&](const char* name, double value) { text << "\n" << name << " = " << Exact(value); };
+  const auto material = [&](const char* name, const WiltingMaterial& m) {
+    text << "\n" << name << " = " << Exact(m.density) << ", " << Exact(m.stiffness) << ", " << Exact(m.damping);
+  };
+  text << WiltingPresetName(preset) << " sets (the greyed properties are not used):";
+  material("BladeMaterial", p.materials[WiltingBlade]);
+  material("VeinMaterial", p.materials[WiltingVein]);
+  material("MarginMaterial", p.materials[WiltingMargin]);
+  material("PetioleMaterial", p.materials[WiltingPetiole]);
+  line("Gravity", p.gravity);
+  line("DroopForce", p.droopForce);
+  line("ContractionForce", p.contractionForce);
+  line("DroopAsymmetry", p.droopAsymmetry);
+  line("ContractionAsymmetry", p.contractionAsymmetry);
+  line("ShrinkageStrain", p.shrinkageStrain);
+  line("ShrinkageAsymmetry", p.shrinkageAsymmetry);
+  line("ShrinkageTime", p.shrinkageTime);
+  line("CurlStrain", p.curlStrain);
+  line("CurlAsymmetry", p.curlAsymmetry);
+  line("CurlRelaxation", p.curlRelaxation);
+  line("CurlRelaxationTime", p.curlRelaxationTime);
+  line("CurlTime", p.curlTime);
+  line("CurlDirection", static_cast<int>(p.curlDirection));
+  line("ContractionSide", static_cast<int>(p.contractionSide));
+  line("ContractionTarget", static_cast<int>(p.contractionTarget));
+  line("LoadProfile", static_cast<int>(p.loadProfile));
+  line("LoadTime", p.loadTime);
+  line("ContractionTime", p.contractionTime);
+  line("RayleighAlpha", p.newmark.rayleighMass);
+  line("RayleighBeta", p.newmark.rayleighStiffness);
+  line("Units", static_cast<int>(p.units));
+  text << "\n(Physical units: Young's moduli and pressures in dyn/cm^2, densities in g/cm^3, for a blade of "
+          "BladeThickness, 0: the leaf's longest side / 14)";
+  return text.str();
 }
 
 } // namespace plantmorph

@@ -32,5 +32,9 @@ inline constexpr int WiltingPresetCount = 4;
 std::string WiltingPresetName(WiltingPreset preset);
 /// Sets the preset's materials, loads, profile and damping in `parameters` (Custom leaves them alone).
 void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& parameters);
+/// What a named preset sets, for the read-only PresetValues box of WiltingSimulator's panel: a title line, then one
+/// "Property = value" line per property it sets (materials as density, stiffness, damping; enumerations as their
+/// numbers), each value the shortest text that reads back as exactly the preset's, then a line on the units.
+std::string DescribeWiltingPreset(WiltingPreset preset);
 
 } // namespace plantmorph

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 
 namespace plantmorph
@@ -26,6 +27,44 @@ int WiltingMaterialOf(int region)
     default:
       return WiltingBlade;
   }
+}
+
+std::size_t CountNonManifoldEdges(const std::vector<std::array<int, 3>>& triangles)
+{
+  std::map<std::pair<int, int>, int> edgeUse;
+  for (const auto& t : triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int a = t[k], b = t[(k + 1) % 3];
+      ++edgeUse[{ std::min(a, b), std::max(a, b) }];
+    }
+  }
+  return static_cast<std::size_t>(
+    std::count_if(edgeUse.begin(), edgeUse.end(), [](const auto& e) { return e.second > 2; }));
+}
+
+std::string WiltingInputAssumptions(const WiltingInput& input, bool surfaceHasRegion)
+{
+  std::ostringstream assumed;
+  if (input.leafUV.empty())
+  {
+    assumed << "the Input has no LeafUV point array (2 components), so its base is taken as its lowest point (least "
+               "y) and its tip as its point farthest from the base. ";
+  }
+  if (!surfaceHasRegion)
+  {
+    assumed << "the Input has no Region point array, so every point of it counts as blade (no margin or midvein "
+               "material). ";
+  }
+  const std::size_t shared = CountNonManifoldEdges(input.triangles);
+  if (shared > 0)
+  {
+    assumed << "the Input is not a manifold surface (" << shared << " edge(s) shared by more than two triangles): it "
+            << "is voxelised as it is, each triangle on its own. ";
+  }
+  std::string text = assumed.str();
+  return text.empty() ? text : text.substr(0, text.size() - 1);
 }
 
 std::string ValidateWilting(const WiltingParameters& p)

@@ -250,6 +250,14 @@ struct WiltingInput
   std::vector<Eigen::Vector2d> leafUV;       ///< one per point, or empty
 };
 
+/// The point pairs that are edges of more than two of `triangles` (a non-manifold surface has some).
+std::size_t CountNonManifoldEdges(const std::vector<std::array<int, 3>>& triangles);
+
+/// What the simulation has to assume about `input`, as sentences for a warning, or "": no LeafUV (the base is the
+/// lowest point, the tip the point farthest from it), no Region on the surface (`surfaceHasRegion` false: every
+/// surface point is blade), edges shared by more than two triangles (voxelised as it is).
+std::string WiltingInputAssumptions(const WiltingInput& input, bool surfaceHasRegion);
+
 struct WiltingFrame
 {
   double time = 0.0;

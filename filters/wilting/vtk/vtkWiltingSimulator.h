@@ -116,7 +116,9 @@
 namespace plantmorph
 {
 struct WiltingParameters;
+class WiltingSimulation;
 class LeafPlan;
+class Run;
 }
 
 class PLANTMORPHWILTINGVTK_EXPORT vtkWiltingSimulator : public vtkPolyDataAlgorithm
@@ -326,14 +328,27 @@ protected:
   /// With a named Preset, warns (once per simulation) about each property the preset sets that was changed from
   /// its default (it is not what the output has).
   void WarnAboutPresetOverrides();
+  /// Reads `leaf` and `veins` (may be null) into `simulation` and sets it up; false (the error reported, prefixed by
+  /// `label`) when it cannot be. What had to be assumed about the input is warned about.
+  bool SetUpSimulation(plantmorph::WiltingSimulation& simulation, vtkPolyData* leaf, vtkPolyData* veins,
+    const plantmorph::WiltingParameters& parameters, const std::string& label);
+  /// Runs a set-up simulation, its progress shown over [progressBegin, progressEnd]; false when aborted. A blow-up
+  /// is reported (prefixed by `label`); the frames before it are kept.
+  bool RunSimulation(
+    plantmorph::WiltingSimulation& simulation, const std::string& label, double progressBegin, double progressEnd);
+  /// RequestData's body (PlantMorphLayer.h): the leaves found (one, or several each on its rank) wilt, served at
+  /// `time`.
+  void Execute(plantmorph::Run& run, double time);
+  /// One leaf: wilts it on rank 0, whole, and serves `time`.
+  void WiltLeaf(plantmorph::Run& run, double time, vtkPolyData* input, vtkPolyData* veins);
   /// Runs the simulation unless the cache holds it for these inputs and properties; false when it failed or was
   /// aborted (nothing to serve; the error is reported).
   bool Simulate(vtkPolyData* input, vtkPolyData* veins, const plantmorph::WiltingParameters& parameters,
     vtkMTimeType pieceTime, vtkMTimeType veinsTime);
   /// Several leaves (collective): each leaf `plan` gives this rank wilts alone with its own veins; outputs appended
   /// in LeafId order, the frame tables' rows gathered on rank 0.
-  int WiltLeaves(const plantmorph::LeafPlan& plan, vtkInformation* request, vtkPolyData* input, vtkPolyData* veins,
-    vtkInformationVector* outputVector);
+  void WiltLeaves(
+    plantmorph::Run& run, const plantmorph::LeafPlan& plan, double time, vtkPolyData* input, vtkPolyData* veins);
   /// Simulate for the leaves this rank owns, one simulation each (cached like Simulate's).
   bool SimulateLeaves(const std::vector<vtkSmartPointer<vtkPolyData>>& leaves,
     const std::vector<vtkSmartPointer<vtkPolyData>>& veins, const std::vector<int>& leafIds,

@@ -1083,3 +1083,26 @@ TEST(AdaptiveLoopSubdivision, ChordErrorMovesEveryPointWhoseLimitOffsetReachesTh
 
 } // namespace
 } // namespace plantmorph
+
+TEST(AdaptiveLoopSubdivision, NormalizeAttributeVectorsScalesOnlyItsVectorToUnitLength)
+{
+  // Three points, five attribute components each: a scalar, the vector at offset 1, a scalar.
+  plantmorph::AdaptiveLoopMesh mesh;
+  mesh.attributeComponents = 5;
+  mesh.attributes = { 7.0, 3.0, 0.0, 4.0, -1.0, /**/ 8.0, 0.0, 0.0, 0.0, -2.0, /**/ 9.0, 0.0, -0.5, 0.0, -3.0 };
+  const std::vector<double> expected = { 7.0, 0.6, 0.0, 0.8, -1.0, /**/ 8.0, 0.0, 0.0, 0.0, -2.0, /**/ 9.0, 0.0, -1.0,
+    0.0, -3.0 };
+  plantmorph::AdaptiveLoopMesh serial = mesh;
+  plantmorph::NormalizeAttributeVectors(serial, 1);
+  for (std::size_t k = 0; k < expected.size(); ++k)
+    EXPECT_DOUBLE_EQ(serial.attributes[k], expected[k]) << k;
+  // A ParallelFor cutting the range one point at a time gives the same values.
+  int calls = 0;
+  const plantmorph::ParallelForFunction onePointAtATime = [&calls](std::size_t count, const auto& body) {
+    for (std::size_t i = 0; i < count; ++i, ++calls)
+      body(i, i + 1);
+  };
+  plantmorph::NormalizeAttributeVectors(mesh, 1, onePointAtATime);
+  EXPECT_EQ(calls, 3);
+  EXPECT_EQ(mesh.attributes, serial.attributes);
+}
