@@ -362,6 +362,11 @@ void Run::StopIfAborted() const
   }
 }
 
+void Run::Error(const std::string& message) const
+{
+  this->Report(message, true);
+}
+
 void Run::Warn(const std::string& message) const
 {
   if (!this->Parallel || this->Parallel->GetLocalProcessId() == 0)

@@ -212,6 +212,10 @@ public:
   void Building(const std::string& what) { this->What = what; }
   const std::string& Building() const { return this->What; }
 
+  /// An error said once (by the first rank) that does not stop the run: only for an output port the class refuses
+  /// and empties itself while its other ports stay valid (LeafCloudReader's points of a table without x, y, z
+  /// columns; its table port is still the file). Anything else stops with Fail.
+  void Error(const std::string& message) const;
   /// A warning said once (by the first rank).
   void Warn(const std::string& message) const;
   /// A warning said by this rank (about its own data).
