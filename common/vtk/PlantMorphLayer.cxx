@@ -9,7 +9,6 @@
 #include "vtkCommunicator.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
-#include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -219,11 +218,10 @@ Run::Run(vtkAlgorithm* algorithm, MPIPolicy policy, std::string building, vtkInf
   , Inputs(inputs)
   , Outputs(outputs)
 {
-  // The piece asked of the port this update is for (the other ports' requests may be absent or stale).
-  int port =
-    request && request->Has(vtkExecutive::FROM_OUTPUT_PORT()) ? request->Get(vtkExecutive::FROM_OUTPUT_PORT()) : 0;
-  port = port >= 0 && port < outputs->GetNumberOfInformationObjects() ? port : 0;
-  vtkInformation* info = outputs->GetNumberOfInformationObjects() > 0 ? outputs->GetInformationObject(port) : nullptr;
+  // The piece asked of output port 0, as every rank sees it (a class whose ports are asked for different pieces
+  // reads its own request, as TreeFromSketchSource does).
+  this->Request = request;
+  vtkInformation* info = outputs->GetNumberOfInformationObjects() > 0 ? outputs->GetInformationObject(0) : nullptr;
   if (info && info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()))
   {
     this->PieceNumber = info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
@@ -480,10 +478,6 @@ int RunRequestData(vtkAlgorithm* algorithm, MPIPolicy policy, const std::string&
   {
     failed = true;
     run.Report("failed building " + run.Building() + " (an unknown exception)", false);
-  }
-  if (policy != MPIPolicy::WholeOnFirstRank)
-  {
-    failed = run.AnyRank(failed); // collective: a failure anywhere empties every rank's outputs
   }
   if (failed)
   {
