@@ -306,17 +306,18 @@ bool Run::AnyRank(bool failed) const
 
 vtkSmartPointer<vtkPolyData> Run::Replicated(vtkPolyData* piece) const
 {
-  if (!this->Parallel)
+  vtkMultiProcessController* controller = SeveralRanks(); // every rank, as GatherOnFirstRank
+  if (!controller)
   {
     return piece;
   }
   const vtkSmartPointer<vtkPolyData> whole = GatherOnFirstRank(piece);
   auto replica = vtkSmartPointer<vtkPolyData>::New();
-  if (this->Parallel->GetLocalProcessId() == 0)
+  if (controller->GetLocalProcessId() == 0)
   {
     replica->ShallowCopy(whole);
   }
-  this->Parallel->Broadcast(replica, 0);
+  controller->Broadcast(replica, 0);
   return replica;
 }
 
