@@ -9,7 +9,6 @@
 #include "vtkCommunicator.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
-#include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -219,11 +218,10 @@ Run::Run(vtkAlgorithm* algorithm, MPIPolicy policy, std::string building, vtkInf
   , Inputs(inputs)
   , Outputs(outputs)
 {
-  // The piece asked of the port this update is for (the other ports' requests may be absent or stale).
-  int port =
-    request && request->Has(vtkExecutive::FROM_OUTPUT_PORT()) ? request->Get(vtkExecutive::FROM_OUTPUT_PORT()) : 0;
-  port = port >= 0 && port < outputs->GetNumberOfInformationObjects() ? port : 0;
-  vtkInformation* info = outputs->GetNumberOfInformationObjects() > 0 ? outputs->GetInformationObject(port) : nullptr;
+  // The piece asked of output port 0, as every rank sees it (a class whose ports are asked for different pieces
+  // reads its own request, as TreeFromSketchSource does).
+  this->Request = request;
+  vtkInformation* info = outputs->GetNumberOfInformationObjects() > 0 ? outputs->GetInformationObject(0) : nullptr;
   if (info && info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()))
   {
     this->PieceNumber = info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
@@ -308,17 +306,18 @@ bool Run::AnyRank(bool failed) const
 
 vtkSmartPointer<vtkPolyData> Run::Replicated(vtkPolyData* piece) const
 {
-  if (!this->Parallel)
+  vtkMultiProcessController* controller = SeveralRanks(); // every rank, as GatherOnFirstRank
+  if (!controller)
   {
     return piece;
   }
   const vtkSmartPointer<vtkPolyData> whole = GatherOnFirstRank(piece);
   auto replica = vtkSmartPointer<vtkPolyData>::New();
-  if (this->Parallel->GetLocalProcessId() == 0)
+  if (controller->GetLocalProcessId() == 0)
   {
     replica->ShallowCopy(whole);
   }
-  this->Parallel->Broadcast(replica, 0);
+  controller->Broadcast(replica, 0);
   return replica;
 }
 
@@ -360,6 +359,11 @@ void Run::StopIfAborted() const
   {
     this->Stop();
   }
+}
+
+void Run::Error(const std::string& message) const
+{
+  this->Report(message, true);
 }
 
 void Run::Warn(const std::string& message) const
@@ -475,10 +479,6 @@ int RunRequestData(vtkAlgorithm* algorithm, MPIPolicy policy, const std::string&
   {
     failed = true;
     run.Report("failed building " + run.Building() + " (an unknown exception)", false);
-  }
-  if (policy != MPIPolicy::WholeOnFirstRank)
-  {
-    failed = run.AnyRank(failed); // collective: a failure anywhere empties every rank's outputs
   }
   if (failed)
   {

@@ -14,7 +14,7 @@
 // RunRequestData empties every output port, applies the policy, runs the body and catches what it throws: a
 // plantmorph::RunFailure (run.Fail, run.FailHere, run.Check, plantmorph::Fail), std::bad_alloc ("ran out of memory
 // building <what>") or any other exception. On any failure the error is reported once and every output port is left
-// empty: never half an output.
+// empty: never half an output. (Under MPI the ranks that must fail together agree first: run.AnyRank.)
 #pragma once
 
 #include "PlantMorphVTKCommonModule.h" // for export macro
@@ -180,8 +180,10 @@ public:
   int NumberOfOutputs() const;
   /// The pipeline information of output port `port` (time requests, ...).
   vtkInformation* OutputInformation(int port) const;
+  /// The pipeline request of this RequestData (which port it is for: vtkExecutive::FROM_OUTPUT_PORT).
+  vtkInformation* RequestInformation() const { return this->Request; }
 
-  /// The piece asked of the port this update is for (of port 0 when the request names none), and of how many.
+  /// The piece asked of output port 0, and of how many.
   int Piece() const { return this->PieceNumber; }
   int Pieces() const { return this->PieceCount; }
   /// The MPI controller when this process is one of several ranks and the pieces are the ranks (piece == rank);
@@ -193,8 +195,8 @@ public:
   bool IsFirstRank() const;
   /// Collective under Controller(): true on every rank when `failed` is true on any (false serially if not failed).
   bool AnyRank(bool failed) const;
-  /// Collective under Controller(): the whole of `piece` (gathered on rank 0, its pieces merged, and broadcast) on
-  /// every rank; `piece` itself serially. For the small inputs of data-parallel wrappers (a surface to scan).
+  /// Collective over every rank (the global controller, as GatherOnFirstRank): the whole of `piece` (gathered on
+  /// rank 0, its pieces merged, and broadcast) on every rank; `piece` itself serially. For the small inputs of data-parallel wrappers (a surface to scan).
   vtkSmartPointer<vtkPolyData> Replicated(vtkPolyData* piece) const;
 
   /// Stops the run: an error every rank finds alike (a property, a replicated input), reported by the first rank.
@@ -212,6 +214,10 @@ public:
   void Building(const std::string& what) { this->What = what; }
   const std::string& Building() const { return this->What; }
 
+  /// An error said once (by the first rank) that does not stop the run: only for an output port the class refuses
+  /// and empties itself while its other ports stay valid (LeafCloudReader's points of a table without x, y, z
+  /// columns; its table port is still the file). Anything else stops with Fail.
+  void Error(const std::string& message) const;
   /// A warning said once (by the first rank).
   void Warn(const std::string& message) const;
   /// A warning said by this rank (about its own data).
@@ -239,6 +245,7 @@ private:
   vtkAlgorithm* Self;
   MPIPolicy Mode;
   std::string What;
+  vtkInformation* Request = nullptr;
   vtkInformationVector** Inputs;
   vtkInformationVector* Outputs;
   int PieceNumber = 0;
@@ -250,9 +257,10 @@ private:
 
 /// RequestData's boundary (see the top of this file): empties every output port; under WholeOnFirstRank gathers
 /// the inputs and runs `execute` only where the output is made; catches every failure, reports it once and empties
-/// every output port. Under LeafPerRank and DataParallel with several ranks the ranks agree at the end (collective):
-/// when one failed, every rank's outputs are emptied. `building` names what the run makes ("the leaf blade"), for
-/// the out-of-memory message. Returns 1 (the error, if any, is reported; the pipeline carries on).
+/// every output port of the rank that failed. It adds no collective call of its own after the body: under
+/// LeafPerRank and DataParallel a body whose ranks may fail apart agrees first (run.AnyRank, LeafPlan::AnyRank) and
+/// then fails on every rank, as the wrappers do. `building` names what the run makes ("the leaf blade"), for the
+/// out-of-memory message. Returns 1 (the error, if any, is reported; the pipeline carries on).
 PLANTMORPHVTKCOMMON_EXPORT int RunRequestData(vtkAlgorithm* algorithm, MPIPolicy policy, const std::string& building,
   vtkInformation* request, vtkInformationVector** inputs, vtkInformationVector* outputs,
   const std::function<void(Run&)>& execute);

@@ -258,6 +258,60 @@ std::vector<double> Landmarks(
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+/// Collective: the ranks' compensated partial sums added in rank order.
+CompensatedSum SumOverRanks(vtkMultiProcessController* controller, const CompensatedSum& mine)
+{
+  const double sums[2] = { mine.Sum, mine.Compensation };
+  const std::vector<double> allSums = GatherAll(controller, sums, 2);
+  CompensatedSum sum;
+  for (std::size_t q = 0; q < allSums.size(); q += 2)
+  {
+    sum.Add(CompensatedSum{ allSums[q], allSums[q + 1] });
+  }
+  return sum;
+}
+
+/// Collective: the standard deviation and RMS of the counted distances of every rank (s.count, s.mean known).
+void Spread(vtkMultiProcessController* controller, const double* distances, std::size_t count, double maximumDistance,
+  DistanceStatistics& s)
+{
+  CompensatedSum squares, deviations;
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const double d = distances[i];
+    if (std::isfinite(d) && (maximumDistance < 0.0 || d <= maximumDistance))
+    {
+      squares.Add(d * d);
+      deviations.Add((d - s.mean) * (d - s.mean));
+    }
+  }
+  const double n = static_cast<double>(s.count);
+  s.standardDeviation = std::sqrt(SumOverRanks(controller, deviations).Value() / n);
+  s.rms = std::sqrt(SumOverRanks(controller, squares).Value() / n);
+}
+
+/// Collective: the percentiles, their order statistics selected exactly over all ranks (`keys`: this rank's).
+void Percentiles(vtkMultiProcessController* controller, std::vector<std::uint64_t>& keys, DistanceStatistics& s)
+{
+  std::size_t ranks[2 * kPercentiles];
+  double fractions[kPercentiles];
+  PercentileRanks(s.count, ranks, fractions);
+  RadixSort(keys);
+  const std::vector<double> values = OrderStatistics(
+    controller, keys, std::vector<unsigned long long>(ranks, ranks + 2 * kPercentiles), s.minimum, s.maximum);
+  double* targets[kPercentiles] = { &s.p50, &s.p68, &s.p75, &s.p95, &s.p99 };
+  for (std::size_t i = 0; i < kPercentiles; ++i)
+  {
+    const double low = values[2 * i];
+    const double high = values[2 * i + 1];
+    *targets[i] = low + fractions[i] * (high - low);
+  }
+}
+} // namespace
+
+//------------------------------------------------------------------------------
 DistanceStatistics Statistics(
   vtkMultiProcessController* controller, const double* distances, std::size_t count, double maximumDistance)
 {
@@ -278,51 +332,9 @@ DistanceStatistics Statistics(
   }
   controller->AllReduce(&part.minimum, &s.minimum, 1, vtkCommunicator::MIN_OP);
   controller->AllReduce(&part.maximum, &s.maximum, 1, vtkCommunicator::MAX_OP);
-  // The sums: each rank's compensated partial sums, added in rank order.
-  const double sums[2] = { part.sum.Sum, part.sum.Compensation };
-  const std::vector<double> allSums = GatherAll(controller, sums, 2);
-  CompensatedSum sum;
-  for (std::size_t q = 0; q < allSums.size(); q += 2)
-  {
-    sum.Add(CompensatedSum{ allSums[q], allSums[q + 1] });
-  }
-  const double n = static_cast<double>(s.count);
-  s.mean = sum.Value() / n;
-  CompensatedSum squares, deviations;
-  for (std::size_t i = 0; i < count; ++i)
-  {
-    const double d = distances[i];
-    if (std::isfinite(d) && (maximumDistance < 0.0 || d <= maximumDistance))
-    {
-      squares.Add(d * d);
-      deviations.Add((d - s.mean) * (d - s.mean));
-    }
-  }
-  const double mine[4] = { squares.Sum, squares.Compensation, deviations.Sum, deviations.Compensation };
-  const std::vector<double> all = GatherAll(controller, mine, 4);
-  squares = CompensatedSum();
-  deviations = CompensatedSum();
-  for (std::size_t q = 0; q < all.size(); q += 4)
-  {
-    squares.Add(CompensatedSum{ all[q], all[q + 1] });
-    deviations.Add(CompensatedSum{ all[q + 2], all[q + 3] });
-  }
-  s.standardDeviation = std::sqrt(deviations.Value() / n);
-  s.rms = std::sqrt(squares.Value() / n);
-  // The percentiles: their order statistics selected exactly over all ranks.
-  std::size_t ranks[2 * kPercentiles];
-  double fractions[kPercentiles];
-  PercentileRanks(s.count, ranks, fractions);
-  RadixSort(part.keys);
-  const std::vector<double> values = OrderStatistics(
-    controller, part.keys, std::vector<unsigned long long>(ranks, ranks + 2 * kPercentiles), s.minimum, s.maximum);
-  double* targets[kPercentiles] = { &s.p50, &s.p68, &s.p75, &s.p95, &s.p99 };
-  for (std::size_t i = 0; i < kPercentiles; ++i)
-  {
-    const double low = values[2 * i];
-    const double high = values[2 * i + 1];
-    *targets[i] = low + fractions[i] * (high - low);
-  }
+  s.mean = SumOverRanks(controller, part.sum).Value() / static_cast<double>(s.count);
+  Spread(controller, distances, count, maximumDistance, s);
+  Percentiles(controller, part.keys, s);
   return s;
 }
 

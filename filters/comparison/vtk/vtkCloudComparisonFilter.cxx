@@ -3,6 +3,7 @@
 #include "PlantMorphAlgorithmHooks.h"
 
 #include "PlantMorphFieldData.h"
+#include "PlantMorphLayer.h"
 #include "PlantMorphWholeInput.h"
 #include "CloudComparisonExchange.h"
 #include "CloudStatistics.h"
@@ -122,6 +123,39 @@ void AppendStrip(vtkIdType n, const vtkIdType* ids, std::vector<std::int64_t>& t
   }
 }
 
+/// The polygons and strips of polygonal data as triangles.
+std::vector<std::int64_t> PolyDataTriangles(vtkPolyData* poly)
+{
+  std::vector<std::int64_t> triangles;
+  vtkNew<vtkPolygon> polygon;
+  vtkNew<vtkIdList> triangleIds;
+  vtkNew<vtkPoints> scratch;
+  if (poly->GetPolys())
+  {
+    triangles.reserve(3 * static_cast<std::size_t>(poly->GetNumberOfPolys()));
+    auto it = vtk::TakeSmartPointer(poly->GetPolys()->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    {
+      vtkIdType n = 0;
+      const vtkIdType* ids = nullptr;
+      it->GetCurrentCell(n, ids);
+      AppendPolygon(n, ids, poly->GetPoints(), polygon, triangleIds, scratch, triangles);
+    }
+  }
+  if (poly->GetStrips())
+  {
+    auto it = vtk::TakeSmartPointer(poly->GetStrips()->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    {
+      vtkIdType n = 0;
+      const vtkIdType* ids = nullptr;
+      it->GetCurrentCell(n, ids);
+      AppendStrip(n, ids, triangles);
+    }
+  }
+  return triangles;
+}
+
 /// The 2-D cells of a point set as triangles (empty: treat it as a point cloud).
 std::vector<std::int64_t> Triangles(vtkPointSet* data)
 {
@@ -132,30 +166,7 @@ std::vector<std::int64_t> Triangles(vtkPointSet* data)
   vtkPoints* points = data->GetPoints();
   if (auto* poly = vtkPolyData::SafeDownCast(data))
   {
-    if (poly->GetPolys())
-    {
-      triangles.reserve(3 * static_cast<std::size_t>(poly->GetNumberOfPolys()));
-      auto it = vtk::TakeSmartPointer(poly->GetPolys()->NewIterator());
-      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-      {
-        vtkIdType n = 0;
-        const vtkIdType* ids = nullptr;
-        it->GetCurrentCell(n, ids);
-        AppendPolygon(n, ids, points, polygon, triangleIds, scratch, triangles);
-      }
-    }
-    if (poly->GetStrips())
-    {
-      auto it = vtk::TakeSmartPointer(poly->GetStrips()->NewIterator());
-      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-      {
-        vtkIdType n = 0;
-        const vtkIdType* ids = nullptr;
-        it->GetCurrentCell(n, ids);
-        AppendStrip(n, ids, triangles);
-      }
-    }
-    return triangles;
+    return PolyDataTriangles(poly);
   }
   vtkNew<vtkIdList> cellIds;
   for (vtkIdType c = 0; c < data->GetNumberOfCells(); ++c)
@@ -255,46 +266,6 @@ int vtkCloudComparisonFilter::FillInputPortInformation(int port, vtkInformation*
 int vtkCloudComparisonFilter::FillOutputPortInformation(int port, vtkInformation* info)
 {
   info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkPolyData" : "vtkTable");
-  return 1;
-}
-
-//------------------------------------------------------------------------------
-int vtkCloudComparisonFilter::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  vtkPointSet* measured = vtkPointSet::GetData(inputVector[0], 0);
-  vtkPointSet* reference = vtkPointSet::GetData(inputVector[1], 0);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  vtkTable* histogram = vtkTable::GetData(outputVector, 1);
-  vtkTable* statistics = vtkTable::GetData(outputVector, 2);
-  output->Initialize();
-  histogram->Initialize();
-  statistics->Initialize();
-  if (!measured)
-  {
-    return 1;
-  }
-  if (this->NumberOfThreads < 0 || this->NumberOfThreads > 256)
-  {
-    vtkErrorMacro(<< plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
-    return 1;
-  }
-  // Under MPI the measured points stay on their ranks, each rank comparing its own; the reference (small) is
-  // gathered and broadcast, so every rank holds it whole (CloudComparisonExchange.h).
-  const vtkSmartPointer<vtkPointSet> wholeReference =
-    plantmorph::cloudmpi::Replicate(plantmorph::cloudmpi::Parallel(), reference);
-  reference = wholeReference.Get();
-  const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
-  const std::string backend = (current == "Sequential" && this->NumberOfThreads != 1) ? "STDThread" : current;
-  int status = 1;
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ this->NumberOfThreads, backend, false },
-    [&]() { status = this->Execute(measured, reference, output, histogram, statistics); });
-  if (status != 1)
-  {
-    output->Initialize(); // never half an output
-    histogram->Initialize();
-    statistics->Initialize();
-  }
   return 1;
 }
 
@@ -422,6 +393,47 @@ std::string RegisterMeasured(plantmorph::RegistrationParameters registration, co
   return {};
 }
 
+/// One vertex cell per point of `output` (a measured cloud without cells).
+void AddVertexCells(vtkPolyData* output, vtkIdType count)
+{
+  vtkNew<vtkIdTypeArray> offsets;
+  vtkNew<vtkIdTypeArray> connectivity;
+  offsets->SetNumberOfTuples(count + 1);
+  connectivity->SetNumberOfTuples(count);
+  vtkSMPTools::For(0, count + 1, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      offsets->SetValue(i, i);
+      if (i < count)
+      {
+        connectivity->SetValue(i, i);
+      }
+    }
+  });
+  vtkNew<vtkCellArray> verts;
+  verts->SetData(offsets, connectivity);
+  output->SetVerts(verts);
+}
+
+/// The Outlier point array (1 where the distance exceeds `maximumDistance`); none when it is negative (no cut-off).
+void SetOutlier(vtkPointData* pd, vtkDoubleArray* distance, double maximumDistance)
+{
+  if (maximumDistance < 0.0)
+  {
+    pd->RemoveArray("Outlier");
+    return;
+  }
+  const vtkIdType count = distance->GetNumberOfTuples();
+  vtkNew<vtkUnsignedCharArray> outlier;
+  outlier->SetName("Outlier");
+  outlier->SetNumberOfTuples(count);
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    outlier->SetValue(i, distance->GetValue(i) > maximumDistance ? 1 : 0);
+  }
+  pd->AddArray(outlier);
+}
+
 /// Step 5, output 0: the measured points (moved when scaled or registered: `moved`), one vertex each when the
 /// input has no cells, with the distance arrays (`signedDistance` when the reference is a surface) and, with a
 /// maximum distance, Outlier.
@@ -442,23 +454,7 @@ void FillPoints(vtkPointSet* measured, const std::vector<double>& moved, bool mo
   }
   if (output->GetNumberOfCells() == 0)
   {
-    vtkNew<vtkIdTypeArray> offsets;
-    vtkNew<vtkIdTypeArray> connectivity;
-    offsets->SetNumberOfTuples(count + 1);
-    connectivity->SetNumberOfTuples(count);
-    vtkSMPTools::For(0, count + 1, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        offsets->SetValue(i, i);
-        if (i < count)
-        {
-          connectivity->SetValue(i, i);
-        }
-      }
-    });
-    vtkNew<vtkCellArray> verts;
-    verts->SetData(offsets, connectivity);
-    output->SetVerts(verts);
+    AddVertexCells(output, count);
   }
   if (movedPoints)
   {
@@ -482,21 +478,7 @@ void FillPoints(vtkPointSet* measured, const std::vector<double>& moved, bool mo
     pd->RemoveArray("SignedDistance"); // a stale one from an earlier comparison would mislead
   }
   pd->AddArray(closest);
-  if (useMaximumDistance)
-  {
-    vtkNew<vtkUnsignedCharArray> outlier;
-    outlier->SetName("Outlier");
-    outlier->SetNumberOfTuples(count);
-    for (vtkIdType i = 0; i < count; ++i)
-    {
-      outlier->SetValue(i, distance->GetValue(i) > maximumDistance ? 1 : 0);
-    }
-    pd->AddArray(outlier);
-  }
-  else
-  {
-    pd->RemoveArray("Outlier");
-  }
+  SetOutlier(pd, distance, useMaximumDistance ? maximumDistance : -1.0);
 }
 
 /// Field data of output 0: the total transform and, when registering, the registration's numbers.
@@ -617,163 +599,218 @@ std::string ReverseDistances(vtkMultiProcessController* controller, vtkPointSet*
 } // namespace
 
 //------------------------------------------------------------------------------
-int vtkCloudComparisonFilter::Execute(
-  vtkPointSet* measured, vtkPointSet* reference, vtkPolyData* output, vtkTable* histogram, vtkTable* statistics)
+namespace
+{
+/// Under MPI the measured points stay on their ranks, each rank comparing its own; the reference (small) is
+/// replicated on every rank (CloudComparisonExchange.h).
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::DataParallel;
+
+/// Collective: stops every rank together when `error` is not empty on some rank; the rank that found it says why.
+void StopTogether(const plantmorph::Run& run, vtkMultiProcessController* controller, const std::string& error,
+  const std::string& prefix)
+{
+  if (!plantmorph::cloudmpi::AnyRank(controller, !error.empty()))
+  {
+    return;
+  }
+  if (!error.empty())
+  {
+    run.FailHere(prefix + error);
+  }
+  run.Stop();
+}
+
+/// Collective: stops every rank together when the user pressed Abort on any.
+void StopIfAnyAborted(vtkAlgorithm* self, const plantmorph::Run& run, vtkMultiProcessController* controller)
+{
+  if (plantmorph::cloudmpi::AnyRank(controller, self->GetAbortExecute() != 0))
+  {
+    run.Stop();
+  }
+}
+
+/// The measured points as compared: read and scaled (ReadMeasured), then registered (RegisterMeasured).
+struct MeasuredPoints
+{
+  bool registering = false;
+  std::vector<double> moved;
+  const double* xyz = nullptr;
+  double transform[16];
+  plantmorph::RegistrationResult registered;
+};
+
+/// The reference: its points as flat doubles and its distance structure.
+struct Reference
+{
+  std::vector<double> xyz;
+  plantmorph::PointSurfaceDistance distance;
+};
+
+/// Step 3: the registration, fitted to the whole cloud's landmarks (the same on every rank), applied to this rank's
+/// points.
+void Register(const plantmorph::Run& run, vtkMultiProcessController* controller,
+  const plantmorph::cloudmpi::PointLayout& layout, const plantmorph::RegistrationParameters& registration,
+  const Reference& reference, const plantmorph::ParallelFor& parallelFor, MeasuredPoints& m)
 {
   using namespace plantmorph;
-  // Under MPI (controller not null) every step runs on every rank, each on its own measured points; the steps
-  // that may fail on one rank only are followed by a collective check, so that all ranks stop together (the
-  // failing rank says why).
-  vtkMultiProcessController* controller = cloudmpi::Parallel();
-  const bool first = IsFirstRank();
-  const auto failed = [&](const std::string& error, const char* prefix) {
-    if (!cloudmpi::AnyRank(controller, !error.empty()))
-    {
-      return false;
-    }
-    if (!error.empty())
-    {
-      vtkErrorMacro(<< prefix << error);
-    }
-    return true;
-  };
-  const auto aborted = [&]() { return cloudmpi::AnyRank(controller, this->GetAbortExecute() != 0); };
-  // 1. Properties (the same on every rank, as is the replicated reference).
-  RegistrationParameters registration;
-  if (const std::string error = CheckProperties(this, registration); !error.empty())
+  const std::vector<double> gathered = controller
+    ? cloudmpi::Landmarks(controller, layout, m.moved.data(), registration.maximumLandmarks)
+    : std::vector<double>();
+  const std::vector<double>& landmarks = controller ? gathered : m.moved;
+  const std::string error = RegisterMeasured(registration, reference.xyz, reference.distance, parallelFor,
+    landmarks.data(), landmarks.size() / 3, m.moved, m.transform, m.registered);
+  if (!error.empty())
   {
-    vtkErrorMacro(<< error);
-    return 0;
+    run.Fail("Registration: " + error);
   }
+  if (m.registered.worse)
+  {
+    run.Warn("Registration: " + m.registered.warning);
+  }
+}
+
+/// The distance arrays of output 0.
+struct Distances
+{
+  vtkNew<vtkDoubleArray> distance;
+  vtkNew<vtkDoubleArray> signedDistance;
+  vtkNew<vtkDoubleArray> closest;
+};
+
+/// Step 4: the measured points' distances to the reference, one QueryMany over all of them (one Morton order: the
+/// most coherent), reporting progress between its blocks.
+void QueryDistances(vtkAlgorithm* self, const plantmorph::PointSurfaceDistance& reference, const double* xyz,
+  vtkIdType count, const plantmorph::ParallelFor& parallelFor, Distances& d)
+{
+  const bool surface = reference.IsSurface();
+  d.distance->SetName("Distance");
+  d.distance->SetNumberOfTuples(count);
+  d.signedDistance->SetName("SignedDistance");
+  if (surface)
+  {
+    d.signedDistance->SetNumberOfTuples(count);
+  }
+  d.closest->SetName("ClosestPoint");
+  d.closest->SetNumberOfComponents(3);
+  d.closest->SetNumberOfTuples(count);
+  if (count > 0)
+  {
+    reference.QueryMany(xyz, static_cast<std::size_t>(count), d.distance->GetPointer(0),
+      surface ? d.signedDistance->GetPointer(0) : nullptr, d.closest->GetPointer(0), nullptr, parallelFor,
+      plantmorph::Progress(self, 0.3, 0.9));
+  }
+}
+
+/// Step 5, the outputs: each rank's points; the statistics and histogram of all ranks' distances (collective; the
+/// tables on rank 0, the field data on every rank).
+void WriteOutputs(vtkCloudComparisonFilter* self, const plantmorph::Run& run, vtkMultiProcessController* controller,
+  vtkPointSet* measured, const MeasuredPoints& m, Distances& d, bool surface, const std::vector<double>& reverse)
+{
+  using namespace plantmorph;
+  const double cutOff = self->GetUseMaximumDistance() ? self->GetMaximumDistance() : -1.0;
+  const std::size_t count = static_cast<std::size_t>(measured->GetNumberOfPoints());
+  vtkPolyData* output = run.Output<vtkPolyData>(0);
+  vtkTable* histogram = run.Output<vtkTable>(1);
+  vtkTable* statistics = run.Output<vtkTable>(2);
+  FillPoints(measured, m.moved, self->GetScale() != 1.0 || m.registering, d.distance,
+    surface ? d.signedDistance.Get() : nullptr, d.closest, self->GetMaximumDistance(),
+    self->GetUseMaximumDistance() != 0, output);
+  vtkFieldData* fd = output->GetFieldData();
+  FillTransform(m.transform, m.registering ? &m.registered : nullptr, fd);
+  const DistanceStatistics s = cloudmpi::Statistics(controller, d.distance->GetPointer(0), count, cutOff);
+  FillStatistics(s, cutOff, surface, self->GetSymmetric() ? &reverse : nullptr, statistics, fd);
+  FillHistogram(cloudmpi::Histogram(controller, d.distance->GetPointer(0), count,
+                  static_cast<std::size_t>(self->GetHistogramBins()), cutOff, s),
+    s.count, histogram);
+  if (!IsFirstRank())
+  {
+    statistics->Initialize(); // one row in all, rank 0's
+    histogram->Initialize();
+  }
+}
+
+/// The comparison (on the threads RunThreaded gives). Under MPI (controller not null) every step runs on every
+/// rank, each on its own measured points; the steps that may fail on one rank only are followed by a collective
+/// check, so that all ranks stop together (the failing rank says why).
+void Compare(vtkCloudComparisonFilter* self, const plantmorph::Run& run, vtkPointSet* measured, vtkPointSet* reference)
+{
+  using namespace plantmorph;
+  vtkMultiProcessController* controller = cloudmpi::Parallel();
+  RegistrationParameters registration;
+  run.Check(CheckProperties(self, registration)); // the same on every rank, as is the replicated reference
   if (!reference || reference->GetNumberOfPoints() == 0)
   {
-    vtkErrorMacro(<< "the Reference input (port 1) is missing or has no point: connect a surface (polygons) or a "
-                     "point set to compare the Measured points with");
-    return 0;
+    run.Fail("the Reference input (port 1) is missing or has no point: connect a surface (polygons) or a point set to "
+             "compare the Measured points with");
   }
   const vtkIdType count = measured->GetNumberOfPoints();
   const cloudmpi::PointLayout layout = cloudmpi::Layout(controller, static_cast<std::uint64_t>(count));
   if (layout.total == 0)
   {
-    if (first)
-    {
-      vtkWarningMacro(<< "the Input (Measured points, port 0) is empty (no points): nothing to compare, the outputs "
-                         "are empty");
-    }
-    return 1;
+    run.Warn("the Input (Measured points, port 0) is empty (no points): nothing to compare, the outputs are empty");
+    return;
   }
-
-  // 2. The measured points, scaled.
-  const bool registering = this->Registration != REGISTRATION_NONE;
-  std::vector<double> moved;
-  const double* xyz = nullptr;
-  double transform[16];
-  if (failed(ReadMeasured(measured, this->Scale, registering, moved, xyz, transform), ""))
+  MeasuredPoints m;
+  m.registering = self->GetRegistration() != vtkCloudComparisonFilter::REGISTRATION_NONE;
+  StopTogether(
+    run, controller, ReadMeasured(measured, self->GetScale(), m.registering, m.moved, m.xyz, m.transform), "");
+  self->UpdateProgress(0.05);
+  Reference ref;
+  ref.xyz = FlatPoints(reference);
+  const std::string built = BuildStructure(reference, ref.xyz.data(), ref.xyz.size() / 3, ref.distance);
+  if (!built.empty())
   {
-    return 0;
+    run.Fail("Reference input: " + built);
   }
-  this->UpdateProgress(0.05);
-
-  // The reference structure.
-  const std::vector<double> referenceXYZ = FlatPoints(reference);
-  PointSurfaceDistance referenceDistance;
-  if (const std::string error =
-        BuildStructure(reference, referenceXYZ.data(), referenceXYZ.size() / 3, referenceDistance);
-      !error.empty())
-  {
-    vtkErrorMacro(<< "Reference input: " << error);
-    return 0;
-  }
-  this->UpdateProgress(0.15);
-  if (aborted())
-  {
-    return 0;
-  }
+  self->UpdateProgress(0.15);
+  StopIfAnyAborted(self, run, controller);
   const ParallelFor parallelFor = BlockSMPFor();
-
-  // 3. Registration: on the whole cloud's landmarks (the same on every rank), applied to each rank's points.
-  RegistrationResult registered;
-  if (registering)
+  if (m.registering)
   {
-    const std::vector<double> gathered = controller
-      ? cloudmpi::Landmarks(controller, layout, moved.data(), registration.maximumLandmarks)
-      : std::vector<double>();
-    const std::vector<double>& landmarks = controller ? gathered : moved;
-    if (const std::string error = RegisterMeasured(registration, referenceXYZ, referenceDistance, parallelFor,
-          landmarks.data(), landmarks.size() / 3, moved, transform, registered);
-        !error.empty())
-    {
-      vtkErrorMacro(<< "Registration: " << error);
-      return 0;
-    }
-    if (registered.worse && first)
-    {
-      vtkWarningMacro(<< "Registration: " << registered.warning);
-    }
+    Register(run, controller, layout, registration, ref, parallelFor, m);
   }
-  this->UpdateProgress(0.3);
-  if (aborted())
-  {
-    return 0;
-  }
-
-  // 4. Distances, in blocks with progress and abort.
-  const bool surface = referenceDistance.IsSurface();
-  vtkNew<vtkDoubleArray> distance;
-  distance->SetName("Distance");
-  distance->SetNumberOfTuples(count);
-  vtkNew<vtkDoubleArray> signedDistance;
-  signedDistance->SetName("SignedDistance");
-  if (surface)
-  {
-    signedDistance->SetNumberOfTuples(count);
-  }
-  vtkNew<vtkDoubleArray> closest;
-  closest->SetName("ClosestPoint");
-  closest->SetNumberOfComponents(3);
-  closest->SetNumberOfTuples(count);
-  // One QueryMany over all points (one Morton order: the most coherent), reporting progress between its blocks.
-  if (count > 0)
-  {
-    referenceDistance.QueryMany(xyz, static_cast<std::size_t>(count), distance->GetPointer(0),
-      surface ? signedDistance->GetPointer(0) : nullptr, closest->GetPointer(0), nullptr, parallelFor,
-      plantmorph::Progress(this, 0.3, 0.9));
-  }
-  if (aborted())
-  {
-    return 0;
-  }
-  referenceDistance = PointSurfaceDistance(); // not needed any more: its memory back before what follows
-
-  // Reverse direction: the reference's points against the measured data (as a surface if it has polygons).
-  const double cutOff = this->UseMaximumDistance ? this->MaximumDistance : -1.0;
+  self->UpdateProgress(0.3);
+  StopIfAnyAborted(self, run, controller);
+  Distances d;
+  QueryDistances(self, ref.distance, m.xyz, count, parallelFor, d);
+  StopIfAnyAborted(self, run, controller);
+  const bool surface = ref.distance.IsSurface();
+  ref.distance = PointSurfaceDistance(); // not needed any more: its memory back before what follows
   std::vector<double> reverse;
-  if (this->Symmetric &&
-    failed(
-      ReverseDistances(controller, measured, xyz, static_cast<std::size_t>(count), referenceXYZ, parallelFor, reverse),
-      "Measured input (reverse direction): "))
+  if (self->GetSymmetric())
   {
-    return 0;
+    StopTogether(run, controller,
+      ReverseDistances(controller, measured, m.xyz, static_cast<std::size_t>(count), ref.xyz, parallelFor, reverse),
+      "Measured input (reverse direction): ");
   }
-  this->UpdateProgress(0.95);
+  self->UpdateProgress(0.95);
+  WriteOutputs(self, run, controller, measured, m, d, surface, reverse);
+  self->UpdateProgress(1.0);
+}
+} // namespace
 
-  // 5. The outputs: each rank's points; the statistics and histogram of all ranks' distances (the tables on rank 0,
-  // the field data on every rank).
-  FillPoints(measured, moved, this->Scale != 1.0 || registering, distance, surface ? signedDistance.Get() : nullptr,
-    closest, this->MaximumDistance, this->UseMaximumDistance != 0, output);
-  vtkFieldData* fd = output->GetFieldData();
-  FillTransform(transform, registering ? &registered : nullptr, fd);
-  const DistanceStatistics s =
-    cloudmpi::Statistics(controller, distance->GetPointer(0), static_cast<std::size_t>(count), cutOff);
-  FillStatistics(s, cutOff, surface, this->Symmetric ? &reverse : nullptr, statistics, fd);
-  FillHistogram(cloudmpi::Histogram(controller, distance->GetPointer(0), static_cast<std::size_t>(count),
-                  static_cast<std::size_t>(this->HistogramBins), cutOff, s),
-    s.count, histogram);
-  if (!first)
+//------------------------------------------------------------------------------
+int vtkCloudComparisonFilter::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  return plantmorph::RunRequestData(this, Policy, "the cloud comparison", request, inputVector, outputVector,
+    [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+void vtkCloudComparisonFilter::Execute(plantmorph::Run& run)
+{
+  vtkPointSet* measured = run.Input<vtkPointSet>(0);
+  if (!measured)
   {
-    statistics->Initialize(); // one row in all, rank 0's
-    histogram->Initialize();
+    return;
   }
-  this->UpdateProgress(1.0);
-  return 1;
+  if (this->NumberOfThreads < 0 || this->NumberOfThreads > 256)
+  {
+    run.Fail(plantmorph::OutOfRange("NumberOfThreads", this->NumberOfThreads, "[0, 256]", "0: all cores"));
+  }
+  // The reference (small) gathered and broadcast, so every rank holds it whole (collective).
+  const vtkSmartPointer<vtkPointSet> reference =
+    plantmorph::cloudmpi::Replicate(plantmorph::cloudmpi::Parallel(), run.Input<vtkPointSet>(1));
+  run.Threaded(this->NumberOfThreads, [&]() { Compare(this, run, measured, reference); });
 }

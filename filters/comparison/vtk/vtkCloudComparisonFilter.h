@@ -90,9 +90,10 @@
 #include "PlantMorphComparisonVTKModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
-class vtkPointSet;
-class vtkPolyData;
-class vtkTable;
+namespace plantmorph
+{
+class Run;
+}
 
 class PLANTMORPHCOMPARISONVTK_EXPORT vtkCloudComparisonFilter : public vtkPolyDataAlgorithm
 {
@@ -205,8 +206,9 @@ protected:
   int NumberOfThreads = 0;
 
 private:
-  int Execute(
-    vtkPointSet* measured, vtkPointSet* reference, vtkPolyData* output, vtkTable* histogram, vtkTable* statistics);
+  /// RequestData's body (plantmorph::RunRequestData): checks NumberOfThreads, replicates the reference and compares
+  /// on the threads asked for.
+  void Execute(plantmorph::Run& run);
 
   vtkCloudComparisonFilter(const vtkCloudComparisonFilter&) = delete;
   void operator=(const vtkCloudComparisonFilter&) = delete;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkTrajectoryComparisonFilter.h"
 
-#include "PlantMorphWholeInput.h"
+#include "PlantMorphLayer.h"
 #include "TrajectoryMatching.h"
 
 #include "vtkDataArray.h"
@@ -75,90 +75,90 @@ std::string TimeColumnOf(vtkTable* table, const std::string& timeName)
   return {};
 }
 
-/// Reads x, y, z (and time) from a table's columns or a point set's points. Empty string or an error. `port` is
-/// "Measured" or "Simulated"; "auto" columns are looked up among KnownLayouts.
-std::string ReadTrajectory(
-  vtkDataObject* data, const std::string named[3], const std::string& timeName, const char* port, Trajectory& out)
+/// The columns of `table` as " 'a' 'b' ...", for messages.
+std::string ColumnList(vtkTable* table)
 {
-  std::ostringstream message;
-  const bool measured = std::string(port) == "Measured";
-  const char* inputName = measured ? "Input (measured)" : "Simulated";
-  if (auto* points = vtkPointSet::SafeDownCast(data))
+  std::string list;
+  for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
   {
-    const vtkIdType n = points->GetNumberOfPoints();
-    out.xyz.resize(3 * static_cast<std::size_t>(n));
+    list += " '" + std::string(table->GetColumnName(c) ? table->GetColumnName(c) : "") + "'";
+  }
+  return list;
+}
+
+/// x, y, z (and time, a point array named `timeName` or with "auto" time, Time or t) of a point set's points.
+void ReadPointTrajectory(vtkPointSet* points, const std::string& timeName, Trajectory& out)
+{
+  const vtkIdType n = points->GetNumberOfPoints();
+  out.xyz.resize(3 * static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    points->GetPoint(i, out.xyz.data() + 3 * i);
+  }
+  vtkDataArray* time = IsAuto(timeName) ? nullptr : points->GetPointData()->GetArray(timeName.c_str());
+  for (const char* name : { "time", "Time", "t" })
+  {
+    time = time || !IsAuto(timeName) ? time : points->GetPointData()->GetArray(name);
+  }
+  if (time && time->GetNumberOfComponents() == 1)
+  {
+    out.time.resize(static_cast<std::size_t>(n));
     for (vtkIdType i = 0; i < n; ++i)
     {
-      points->GetPoint(i, out.xyz.data() + 3 * i);
+      out.time[i] = time->GetComponent(i, 0);
     }
-    vtkDataArray* time = IsAuto(timeName) ? nullptr : points->GetPointData()->GetArray(timeName.c_str());
-    for (const char* name : { "time", "Time", "t" })
-    {
-      time = time || !IsAuto(timeName) ? time : points->GetPointData()->GetArray(name);
-    }
-    if (time && time->GetNumberOfComponents() == 1)
-    {
-      out.time.resize(static_cast<std::size_t>(n));
-      for (vtkIdType i = 0; i < n; ++i)
-      {
-        out.time[i] = time->GetComponent(i, 0);
-      }
-    }
+  }
+}
+
+/// The x, y, z columns to read: the named ones, or with all three "auto" the first known layout the table has.
+/// Empty string or an error.
+std::string ChooseColumns(vtkTable* table, const std::string named[3], const char* port, const char* inputName,
+  bool measured, std::vector<std::string>& columns)
+{
+  columns.assign(named, named + 3);
+  if (!(IsAuto(named[0]) && IsAuto(named[1]) && IsAuto(named[2])))
+  {
     return {};
   }
-  auto* table = vtkTable::SafeDownCast(data);
-  if (!table)
+  for (const auto& layout : KnownLayouts(measured))
   {
-    message << "the " << inputName << " input is missing or is neither a table nor a point set";
-    return message.str();
+    if (HasNumericColumn(table, layout[0]) && HasNumericColumn(table, layout[1]) && HasNumericColumn(table, layout[2]))
+    {
+      columns = layout;
+      return {};
+    }
   }
-  std::vector<std::string> columns(named, named + 3);
-  if (IsAuto(named[0]) && IsAuto(named[1]) && IsAuto(named[2]))
+  std::ostringstream message;
+  message << port << "X/Y/Z: auto found none of the known x, y, z column layouts in the " << inputName << " table (";
+  const char* separator = "";
+  for (const auto& layout : KnownLayouts(measured))
   {
-    columns.clear();
-    for (const auto& layout : KnownLayouts(measured))
-    {
-      if (HasNumericColumn(table, layout[0]) && HasNumericColumn(table, layout[1]) &&
-        HasNumericColumn(table, layout[2]))
-      {
-        columns = layout;
-        break;
-      }
-    }
-    if (columns.empty())
-    {
-      message << port << "X/Y/Z: auto found none of the known x, y, z column layouts in the " << inputName
-              << " table (";
-      const char* separator = "";
-      for (const auto& layout : KnownLayouts(measured))
-      {
-        message << separator << layout[0] << "/" << layout[1] << "/" << layout[2];
-        separator = ", ";
-      }
-      message << "); choose its columns in " << port << "X, " << port << "Y and " << port << "Z (its columns:";
-      for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
-      {
-        message << " '" << (table->GetColumnName(c) ? table->GetColumnName(c) : "") << "'";
-      }
-      message << ")";
-      return message.str();
-    }
+    message << separator << layout[0] << "/" << layout[1] << "/" << layout[2];
+    separator = ", ";
+  }
+  message << "); choose its columns in " << port << "X, " << port << "Y and " << port
+          << "Z (its columns:" << ColumnList(table) << ")";
+  return message.str();
+}
+
+/// x, y, z (and time) from a table's columns. Empty string or an error.
+std::string ReadTableTrajectory(vtkTable* table, const std::string named[3], const std::string& timeName,
+  const char* port, const char* inputName, bool measured, Trajectory& out)
+{
+  std::vector<std::string> columns;
+  const std::string error = ChooseColumns(table, named, port, inputName, measured, columns);
+  if (!error.empty())
+  {
+    return error;
   }
   vtkDataArray* xyz[3] = { nullptr, nullptr, nullptr };
   for (int k = 0; k < 3; ++k)
   {
-    vtkAbstractArray* column = table->GetColumnByName(columns[k].c_str());
-    xyz[k] = vtkDataArray::SafeDownCast(column);
+    xyz[k] = vtkDataArray::SafeDownCast(table->GetColumnByName(columns[k].c_str()));
     if (!xyz[k] || xyz[k]->GetNumberOfComponents() != 1)
     {
-      message << port << "XYZ"[k] << ": the " << inputName << " table has no numeric column '" << columns[k]
-              << "' (its columns:";
-      for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
-      {
-        message << " '" << (table->GetColumnName(c) ? table->GetColumnName(c) : "") << "'";
-      }
-      message << ")";
-      return message.str();
+      return std::string(port) + "XYZ"[k] + ": the " + inputName + " table has no numeric column '" + columns[k] +
+        "' (its columns:" + ColumnList(table) + ")";
     }
   }
   const vtkIdType n = table->GetNumberOfRows();
@@ -182,6 +182,26 @@ std::string ReadTrajectory(
     }
   }
   return {};
+}
+
+/// Reads x, y, z (and time) from a table's columns or a point set's points. Empty string or an error. `port` is
+/// "Measured" or "Simulated"; "auto" columns are looked up among KnownLayouts.
+std::string ReadTrajectory(
+  vtkDataObject* data, const std::string named[3], const std::string& timeName, const char* port, Trajectory& out)
+{
+  const bool measured = std::string(port) == "Measured";
+  const char* inputName = measured ? "Input (measured)" : "Simulated";
+  if (auto* points = vtkPointSet::SafeDownCast(data))
+  {
+    ReadPointTrajectory(points, timeName, out);
+    return {};
+  }
+  auto* table = vtkTable::SafeDownCast(data);
+  if (!table)
+  {
+    return "the " + std::string(inputName) + " input is missing or is neither a table nor a point set";
+  }
+  return ReadTableTrajectory(table, named, timeName, port, inputName, measured, out);
 }
 
 vtkDoubleArray* NewColumn(vtkTable* table, const std::string& name, vtkIdType rows)
@@ -310,78 +330,28 @@ int vtkTrajectoryComparisonFilter::FillInputPortInformation(int, vtkInformation*
 }
 
 //------------------------------------------------------------------------------
-int vtkTrajectoryComparisonFilter::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+namespace
 {
-  vtkTable* samples = vtkTable::GetData(outputVector, 0);
-  vtkTable* summary = vtkTable::GetData(outputVector, 1);
-  samples->Initialize();
-  summary->Initialize();
-  // Tables (a reader's, which under MPI reads its file by pieces) are gathered whole on rank 0 (collective).
-  vtkSmartPointer<vtkDataObject> wholeMeasured = vtkDataObject::GetData(inputVector[0], 0);
-  vtkSmartPointer<vtkDataObject> wholeSimulated = vtkDataObject::GetData(inputVector[1], 0);
-  if (auto* table = vtkTable::SafeDownCast(wholeMeasured))
-  {
-    wholeMeasured = plantmorph::GatherRowsOnFirstRank(table);
-  }
-  if (auto* table = vtkTable::SafeDownCast(wholeSimulated))
-  {
-    wholeSimulated = plantmorph::GatherRowsOnFirstRank(table);
-  }
-  vtkDataObject* measuredData = wholeMeasured;
-  vtkDataObject* simulatedData = wholeSimulated;
-  // Both inputs empty: another MPI rank's share (readers and sources put their data on rank 0), nothing to compare
-  // and nothing wrong. A single empty input is still reported below.
+/// Tables (a reader's, which under MPI reads its file by pieces) and point sets are gathered whole on rank 0, which
+/// compares them alone.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::WholeOnFirstRank;
+
+/// Both inputs empty (no rows or points): nothing to compare and nothing wrong.
+bool BothEmpty(vtkDataObject* measured, vtkDataObject* simulated)
+{
   const auto empty = [](vtkDataObject* data) {
     auto* table = vtkTable::SafeDownCast(data);
     auto* points = vtkPointSet::SafeDownCast(data);
     return !data || (table && table->GetNumberOfRows() == 0) || (points && points->GetNumberOfPoints() == 0);
   };
-  if (empty(measuredData) && empty(simulatedData))
-  {
-    if (plantmorph::IsFirstRank())
-    {
-      vtkWarningMacro(<< "the Input (measured) and Simulated inputs are both empty (no rows or points): nothing to "
-                         "compare, the outputs are empty");
-    }
-    return 1;
-  }
+  return empty(measured) && empty(simulated);
+}
 
-  Trajectory measured;
-  Trajectory simulated;
-  const std::string measuredColumns[3] = { this->GetMeasuredColumn(0), this->GetMeasuredColumn(1),
-    this->GetMeasuredColumn(2) };
-  const std::string simulatedColumns[3] = { this->GetSimulatedColumn(0), this->GetSimulatedColumn(1),
-    this->GetSimulatedColumn(2) };
-  std::string error = ReadTrajectory(measuredData, measuredColumns, this->TimeColumn, "Measured", measured);
-  if (error.empty())
-  {
-    error = ReadTrajectory(simulatedData, simulatedColumns, this->TimeColumn, "Simulated", simulated);
-  }
-  const std::size_t n = measured.xyz.size() / 3;
-  const std::size_t m = simulated.xyz.size() / 3;
-  plantmorph::TrajectoryComparison comparison;
-  if (error.empty())
-  {
-    comparison = plantmorph::CompareTrajectories(
-      measured.xyz.data(), n, simulated.xyz.data(), m, static_cast<std::size_t>(MaxMonotonePairs));
-    error = comparison.error.empty() ? "" : "Input (measured) / Simulated: " + comparison.error;
-  }
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    samples->Initialize();
-    summary->Initialize();
-    return 1;
-  }
-  if (!comparison.hasMonotone)
-  {
-    vtkWarningMacro(<< "time-monotone matching skipped: it needs at least as many simulated samples (" << m
-                    << ") as measured ones (" << n << ") and at most " << MaxMonotonePairs << " pairs");
-  }
-  this->UpdateProgress(0.8);
-
-  const auto rows = static_cast<vtkIdType>(n);
+/// Port 0: one row per measured sample with its matches; port 1 (and port 0's field data): the summary.
+void WriteComparison(const Trajectory& measured, const Trajectory& simulated,
+  const plantmorph::TrajectoryComparison& comparison, vtkTable* samples, vtkTable* summary)
+{
+  const auto rows = static_cast<vtkIdType>(measured.xyz.size() / 3);
   vtkNew<vtkIdTypeArray> sample;
   sample->SetName("Sample");
   sample->SetNumberOfTuples(rows);
@@ -403,8 +373,8 @@ int vtkTrajectoryComparisonFilter::RequestData(
   }
   WriteMatch(samples, "Closest", comparison.closest, simulated);
   vtkFieldData* fd = samples->GetFieldData();
-  AddSummary(summary, fd, "MeasuredSamples", static_cast<double>(n));
-  AddSummary(summary, fd, "SimulatedSamples", static_cast<double>(m));
+  AddSummary(summary, fd, "MeasuredSamples", static_cast<double>(rows));
+  AddSummary(summary, fd, "SimulatedSamples", static_cast<double>(simulated.xyz.size() / 3));
   AddSummary(summary, fd, "ClosestMeanDistance", comparison.closest.meanDistance);
   AddSummary(summary, fd, "ClosestMaxDistance", comparison.closest.maxDistance);
   AddSummary(summary, fd, "ClosestDirectionAngle", comparison.closest.directionAngle);
@@ -415,6 +385,50 @@ int vtkTrajectoryComparisonFilter::RequestData(
     AddSummary(summary, fd, "MonotoneMaxDistance", comparison.monotone.maxDistance);
     AddSummary(summary, fd, "MonotoneDirectionAngle", comparison.monotone.directionAngle);
   }
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+int vtkTrajectoryComparisonFilter::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  return plantmorph::RunRequestData(this, Policy, "the trajectory comparison", request, inputVector, outputVector,
+    [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+void vtkTrajectoryComparisonFilter::Execute(plantmorph::Run& run)
+{
+  vtkDataObject* measuredData = run.Input(0);
+  vtkDataObject* simulatedData = run.Input(1);
+  if (BothEmpty(measuredData, simulatedData))
+  {
+    run.Warn("the Input (measured) and Simulated inputs are both empty (no rows or points): nothing to compare, the "
+             "outputs are empty");
+    return;
+  }
+  Trajectory measured;
+  Trajectory simulated;
+  const std::string measuredColumns[3] = { this->GetMeasuredColumn(0), this->GetMeasuredColumn(1),
+    this->GetMeasuredColumn(2) };
+  const std::string simulatedColumns[3] = { this->GetSimulatedColumn(0), this->GetSimulatedColumn(1),
+    this->GetSimulatedColumn(2) };
+  run.Check(ReadTrajectory(measuredData, measuredColumns, this->TimeColumn, "Measured", measured));
+  run.Check(ReadTrajectory(simulatedData, simulatedColumns, this->TimeColumn, "Simulated", simulated));
+  const std::size_t n = measured.xyz.size() / 3;
+  const std::size_t m = simulated.xyz.size() / 3;
+  const plantmorph::TrajectoryComparison comparison = plantmorph::CompareTrajectories(
+    measured.xyz.data(), n, simulated.xyz.data(), m, static_cast<std::size_t>(MaxMonotonePairs));
+  if (!comparison.error.empty())
+  {
+    run.Fail("Input (measured) / Simulated: " + comparison.error);
+  }
+  if (!comparison.hasMonotone)
+  {
+    vtkWarningMacro(<< "time-monotone matching skipped: it needs at least as many simulated samples (" << m
+                    << ") as measured ones (" << n << ") and at most " << MaxMonotonePairs << " pairs");
+  }
+  this->UpdateProgress(0.8);
+  WriteComparison(measured, simulated, comparison, run.Output<vtkTable>(0), run.Output<vtkTable>(1));
   this->UpdateProgress(1.0);
-  return 1;
 }

@@ -51,6 +51,11 @@
 
 #include <string>
 
+namespace plantmorph
+{
+class Run;
+}
+
 class PLANTMORPHCOMPARISONVTK_EXPORT vtkTrajectoryComparisonFilter : public vtkTableAlgorithm
 {
 public:
@@ -115,6 +120,8 @@ protected:
   std::string TimeColumn = "auto";
 
 private:
+  /// RequestData's body (plantmorph::RunRequestData): reads both trajectories, compares them, writes both ports.
+  void Execute(plantmorph::Run& run);
   vtkTrajectoryComparisonFilter(const vtkTrajectoryComparisonFilter&) = delete;
   void operator=(const vtkTrajectoryComparisonFilter&) = delete;
 };

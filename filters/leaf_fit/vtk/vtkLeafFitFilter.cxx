@@ -5,6 +5,7 @@
 #include "LeafFit.h"
 #include "LeafFitExchange.h"
 #include "PlantMorphFieldData.h"
+#include "PlantMorphLayer.h"
 
 #include <plantmorph/DataContract.h>
 #include <plantmorph/RangeError.h>
@@ -302,51 +303,31 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, std::vector<E
 
 } // namespace
 
-int vtkLeafFitFilter::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+namespace
 {
-  vtkPointSet* input = vtkPointSet::GetData(inputVector[0], 0);
-  vtkPolyData* blade = vtkPolyData::GetData(outputVector, 0);
-  vtkPolyData* outline = vtkPolyData::GetData(outputVector, 1);
-  vtkTable* traits = vtkTable::GetData(outputVector, 2);
-  vtkPolyData* scan = vtkPolyData::GetData(outputVector, 3);
-  if (!input || !blade || !outline || !traits || !scan)
-    return 0;
+/// Each leaf is fitted whole on one owner rank (LeafFitExchange.h); the Scan output stays where its points are.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::LeafPerRank;
 
-  // The local piece's leaves; then (collective, LeafFitExchange.h) each leaf's owner, and the points of the leaves
-  // this rank owns. Every rank takes part even when its piece is empty or wrong.
-  std::vector<Eigen::Vector3d> all;
-  std::vector<int> leafOf;
-  plantmorph::fitmpi::LocalLeaves members;
-  const std::string error = ReadLeaves(this, input, all, leafOf, members);
-  if (!error.empty())
-    vtkErrorMacro(<< error);
-  const plantmorph::fitmpi::LeafExchange exchange(vtkMultiProcessController::GetGlobalController(), members);
-  if (exchange.AnyRank(!error.empty()))
-    return 0;
-  if (exchange.LeafIds().empty())
-    return 1; // no points on any rank: empty outputs, no error
-  const std::vector<std::size_t> owned = exchange.Owned();
-  const std::vector<std::vector<Eigen::Vector3d>> leaves = exchange.SendPoints(members, all);
-  std::vector<std::vector<double>> values;
-  const std::vector<plantmorph::LeafFitResult> results = FitOwned(leaves, Options(this), values);
-  bool failed = false;
+/// The failed fits of this rank's leaves, one line each ("leaf <id> (<n> points): <error>"); empty when none failed.
+std::string FitErrors(const plantmorph::fitmpi::LeafExchange& exchange, const std::vector<std::size_t>& owned,
+  const std::vector<std::vector<Eigen::Vector3d>>& leaves, const std::vector<plantmorph::LeafFitResult>& results)
+{
+  std::ostringstream message;
   for (std::size_t k = 0; k < results.size(); ++k)
     if (!results[k].error.empty())
-    {
-      std::ostringstream message;
-      message << "leaf " << exchange.LeafIds()[owned[k]] << " (" << leaves[k].size()
-              << " points): " << results[k].error;
-      vtkErrorMacro(<< message.str());
-      failed = true;
-    }
-  if (exchange.AnyRank(failed))
-    return 0;
-  for (std::size_t k = 0; k < results.size(); ++k)
-    if (!results[k].modelWarning.empty())
-      vtkWarningMacro(<< "leaf " << exchange.LeafIds()[owned[k]] << ": " << results[k].modelWarning);
+      message << (message.tellp() > 0 ? "\n" : "") << "leaf " << exchange.LeafIds()[owned[k]] << " ("
+              << leaves[k].size() << " points): " << results[k].error;
+  return message.str();
+}
 
-  // Blade and Outline of the leaves this rank fitted; their traits rows, gathered on rank 0 in LeafId order.
+/// Blade and Outline of the leaves this rank fitted; their Traits rows, gathered on rank 0 in LeafId order
+/// (collective).
+void WriteFits(const plantmorph::fitmpi::LeafExchange& exchange, const std::vector<std::size_t>& owned,
+  const std::vector<plantmorph::LeafFitResult>& results, double scale, const plantmorph::Run& run)
+{
+  vtkPolyData* blade = run.Output<vtkPolyData>(0);
+  vtkPolyData* outline = run.Output<vtkPolyData>(1);
+  vtkTable* traits = run.Output<vtkTable>(2);
   PrepareOutputs(blade, outline, traits);
   vtkNew<vtkPoints> points, outlinePoints;
   points->SetDataTypeToDouble();
@@ -365,15 +346,57 @@ int vtkLeafFitFilter::RequestData(
   blade->SetPolys(triangles);
   outline->SetPoints(outlinePoints);
   outline->SetLines(lines);
-  plantmorph::AddFieldValue(blade->GetFieldData(), "PlantMorph.Scale", this->Scale);
+  plantmorph::FieldRecord record;
+  record.Add("Scale", scale);
+  record.WriteTo(blade);
   const int width = static_cast<int>(plantmorph::TraitNames().size()) + 1;
   FillTraits(exchange.GatherRows(rows, width), traits);
+}
+} // namespace
 
+int vtkLeafFitFilter::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  return plantmorph::RunRequestData(this, Policy, "the leaf fits", request, inputVector, outputVector,
+    [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+void vtkLeafFitFilter::Execute(plantmorph::Run& run)
+{
+  vtkPointSet* input = run.Input<vtkPointSet>(0);
+  // The local piece's leaves; then (collective, LeafFitExchange.h) each leaf's owner, and the points of the leaves
+  // this rank owns. Every rank takes part even when its piece is empty or wrong; the ranks stop together, each
+  // saying its own error.
+  std::vector<Eigen::Vector3d> all;
+  std::vector<int> leafOf;
+  plantmorph::fitmpi::LocalLeaves members;
+  const std::string error = ReadLeaves(this, input, all, leafOf, members);
+  const plantmorph::fitmpi::LeafExchange exchange(vtkMultiProcessController::GetGlobalController(), members);
+  if (exchange.AnyRank(!error.empty()))
+  {
+    run.CheckHere(error);
+    run.Stop();
+  }
+  if (exchange.LeafIds().empty())
+    return; // no points on any rank: empty outputs, no error
+  const std::vector<std::size_t> owned = exchange.Owned();
+  const std::vector<std::vector<Eigen::Vector3d>> leaves = exchange.SendPoints(members, all);
+  std::vector<std::vector<double>> values;
+  const std::vector<plantmorph::LeafFitResult> results = FitOwned(leaves, Options(this), values);
+  const std::string fitErrors = FitErrors(exchange, owned, leaves, results);
+  if (exchange.AnyRank(!fitErrors.empty()))
+  {
+    run.CheckHere(fitErrors);
+    run.Stop();
+  }
+  for (std::size_t k = 0; k < results.size(); ++k)
+    if (!results[k].modelWarning.empty())
+      run.WarnHere("leaf " + std::to_string(exchange.LeafIds()[owned[k]]) + ": " + results[k].modelWarning);
+  WriteFits(exchange, owned, results, this->Scale, run);
   // Scan: stays where its points are; the owners send each point's FitDistance and Inlier back.
   const std::vector<double> pointValues = exchange.ReturnValues(members, static_cast<vtkIdType>(all.size()), values, 2);
   if (!all.empty())
-    FillScan(input, all, leafOf, pointValues, scan);
-  return 1;
+    FillScan(input, all, leafOf, pointValues, run.Output<vtkPolyData>(3));
 }
 
 void vtkLeafFitFilter::PrintSelf(ostream& os, vtkIndent indent)

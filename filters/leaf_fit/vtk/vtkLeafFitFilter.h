@@ -36,6 +36,11 @@
 
 #include <string> // for LeafIdArray
 
+namespace plantmorph
+{
+class Run;
+}
+
 class PLANTMORPHFITVTK_EXPORT vtkLeafFitFilter : public vtkPolyDataAlgorithm
 {
 public:
@@ -101,6 +106,8 @@ protected:
   int ModelControlPoints = 20;
 
 private:
+  /// RequestData's body (plantmorph::RunRequestData): reads the leaves, fits each on its owner rank, writes the ports.
+  void Execute(plantmorph::Run& run);
   vtkLeafFitFilter(const vtkLeafFitFilter&) = delete;
   void operator=(const vtkLeafFitFilter&) = delete;
 };

@@ -2,8 +2,7 @@
 #include "vtkVirtualScanner.h"
 #include "PlantMorphAlgorithmHooks.h"
 
-#include "PlantMorphFieldData.h"
-#include "PlantMorphWholeInput.h"
+#include "PlantMorphLayer.h"
 
 #include <plantmorph/RangeError.h>
 #include "VirtualScan.h"
@@ -21,6 +20,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -286,6 +286,52 @@ bool AnyInterpolated(vtkPolyData* input)
   return false;
 }
 
+/// A floating-point point array at the hits: each hit's triangle corners (`corner(i, k)`) weighted by its
+/// barycentric coordinates (exact on the triangle hit). Threaded when both arrays are plain memory.
+template <class Corner>
+void InterpolateFloating(
+  const plantmorph::ScanPoints& scan, vtkDataArray* source, vtkDataArray* values, vtkIdType n, const Corner& corner)
+{
+  const int components = source->GetNumberOfComponents();
+  const auto weights = [&](vtkIdType i, double w[3]) {
+    w[1] = scan.barycentric[2 * i];
+    w[2] = scan.barycentric[2 * i + 1];
+    w[0] = 1.0 - w[1] - w[2];
+  };
+  if (Contiguous(values) && Contiguous(source))
+  {
+    const auto plain = [&](auto* in, auto* out) { // the same type: float or double
+      vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          double w[3];
+          weights(i, w);
+          const auto* a = in + components * corner(i, 0);
+          const auto* b = in + components * corner(i, 1);
+          const auto* c = in + components * corner(i, 2);
+          for (int k = 0; k < components; ++k)
+            out[components * i + k] = static_cast<std::remove_reference_t<decltype(*out)>>(
+              w[0] * static_cast<double>(a[k]) + w[1] * static_cast<double>(b[k]) + w[2] * static_cast<double>(c[k]));
+        }
+      });
+    };
+    if (source->GetDataType() == VTK_FLOAT)
+      plain(static_cast<const float*>(source->GetVoidPointer(0)), static_cast<float*>(values->GetVoidPointer(0)));
+    else
+      plain(static_cast<const double*>(source->GetVoidPointer(0)), static_cast<double*>(values->GetVoidPointer(0)));
+    return;
+  }
+  for (vtkIdType i = 0; i < n; ++i) // not plain memory: serial, through VTK
+  {
+    double w[3];
+    weights(i, w);
+    for (int c = 0; c < components; ++c)
+      values->SetComponent(i, c,
+        w[0] * source->GetComponent(corner(i, 0), c) + w[1] * source->GetComponent(corner(i, 1), c) +
+          w[2] * source->GetComponent(corner(i, 2), c));
+  }
+}
+
 /// The input's point arrays at the hits, for those not named like ours or like a carried cell array: floating-point
 /// arrays interpolated with the hit's barycentric weights (LeafUV, TCoords: exact on the triangle hit), integer
 /// arrays (labels) taken from the triangle's vertex nearest the hit. Threaded over the points.
@@ -295,63 +341,25 @@ std::vector<vtkSmartPointer<vtkAbstractArray>> InterpolatePointArrays(
   const auto n = static_cast<vtkIdType>(scan.Size());
   std::vector<vtkSmartPointer<vtkAbstractArray>> interpolated;
   vtkPointData* in = input->GetPointData();
+  const auto corner = [&](vtkIdType i, int k) {
+    return static_cast<vtkIdType>(triangles[3 * static_cast<std::size_t>(scan.triangle[i]) + k]);
+  };
   for (int a = 0; a < in->GetNumberOfArrays(); ++a)
   {
     vtkDataArray* source = in->GetArray(a);
     if (!Interpolated(input, source))
       continue;
     vtkSmartPointer<vtkDataArray> values = vtkDataArray::SafeDownCast(LikeWithTuples(source, n));
-    const int components = source->GetNumberOfComponents();
-    const auto corner = [&](vtkIdType i, int k) {
-      return static_cast<vtkIdType>(triangles[3 * static_cast<std::size_t>(scan.triangle[i]) + k]);
-    };
     if (source->GetDataType() != VTK_FLOAT && source->GetDataType() != VTK_DOUBLE)
     {
       GatherTuples(source, values, n, [&](vtkIdType i) {
         const double u = scan.barycentric[2 * i], v = scan.barycentric[2 * i + 1], w = 1.0 - u - v;
         return corner(i, w >= u && w >= v ? 0 : (u >= v ? 1 : 2));
       });
-      interpolated.emplace_back(values);
-      continue;
     }
-    const auto weights = [&](vtkIdType i, double w[3]) {
-      w[1] = scan.barycentric[2 * i];
-      w[2] = scan.barycentric[2 * i + 1];
-      w[0] = 1.0 - w[1] - w[2];
-    };
-    if (Contiguous(values) && Contiguous(source))
+    else
     {
-      const auto plain = [&](auto* in, auto* out) { // the same type: float or double
-        vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-          for (vtkIdType i = begin; i < end; ++i)
-          {
-            double w[3];
-            weights(i, w);
-            const auto* a = in + components * corner(i, 0);
-            const auto* b = in + components * corner(i, 1);
-            const auto* c = in + components * corner(i, 2);
-            for (int k = 0; k < components; ++k)
-              out[components * i + k] = static_cast<std::remove_reference_t<decltype(*out)>>(
-                w[0] * static_cast<double>(a[k]) + w[1] * static_cast<double>(b[k]) + w[2] * static_cast<double>(c[k]));
-          }
-        });
-      };
-      if (source->GetDataType() == VTK_FLOAT)
-        plain(static_cast<const float*>(source->GetVoidPointer(0)), static_cast<float*>(values->GetVoidPointer(0)));
-      else
-        plain(static_cast<const double*>(source->GetVoidPointer(0)), static_cast<double*>(values->GetVoidPointer(0)));
-    }
-    else // not plain memory: serial, through VTK
-    {
-      for (vtkIdType i = 0; i < n; ++i)
-      {
-        double w[3];
-        weights(i, w);
-        for (int c = 0; c < components; ++c)
-          values->SetComponent(i, c,
-            w[0] * source->GetComponent(corner(i, 0), c) + w[1] * source->GetComponent(corner(i, 1), c) +
-              w[2] * source->GetComponent(corner(i, 2), c));
-      }
+      InterpolateFloating(scan, source, values, n, corner);
     }
     interpolated.emplace_back(values);
   }
@@ -507,66 +515,69 @@ int vtkVirtualScanner::FillInputPortInformation(int, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
-int vtkVirtualScanner::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+namespace
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
-  vtkPolyData* original = input;
-  vtkPolyData* cloud = vtkPolyData::GetData(outputVector, 0);
-  vtkPolyData* setup = vtkPolyData::GetData(outputVector, 1);
-  if (!input || !cloud || !setup)
-  {
-    return 0;
-  }
-  cloud->Initialize();
-  setup->Initialize();
-  // Under MPI the whole surface (gathered on rank 0 if it was split over ranks) is replicated on every rank, and
-  // each rank casts its consecutive share of the beams: the ranks' pieces in rank order are the serial cloud.
-  vtkSmartPointer<vtkPolyData> whole = plantmorph::GatherOnFirstRank(input);
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  const int ranks = controller ? controller->GetNumberOfProcesses() : 1;
-  const int rank = controller ? controller->GetLocalProcessId() : 0;
-  if (ranks > 1)
-  {
-    vtkNew<vtkPolyData> replica;
-    if (rank == 0)
-    {
-      replica->ShallowCopy(whole);
-    }
-    controller->Broadcast(replica, 0);
-    whole = replica.Get();
-  }
-  input = whole.Get();
-  auto fail = [&](const std::string& message) {
-    if (rank == 0) // every rank finds the same error: report it once
-    {
-      vtkErrorMacro(<< message);
-    }
-    cloud->Initialize();
-    setup->Initialize();
-    return 1;
-  };
+/// Under MPI the whole surface (gathered on rank 0 if it was split over ranks) is replicated on every rank, and each
+/// rank casts its consecutive share of the beams: the ranks' pieces in rank order are the serial cloud.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::DataParallel;
 
-  // The parameters first, with the beam budget: nothing is built or cast when they fail.
-  plantmorph::ScannerParameters p;
+/// The global controller and this rank (serial: null, 0 of 1).
+struct Ranks
+{
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  int count = controller ? controller->GetNumberOfProcesses() : 1;
+  int rank = controller ? controller->GetLocalProcessId() : 0;
+};
+
+/// The field data of the cloud (totals over the ranks, which every rank holds) and, on rank 0, the set-up port.
+void WriteTotals(vtkVirtualScanner* self, const Ranks& ranks, const plantmorph::ScannerParameters& p,
+  const plantmorph::BeamPattern& pattern, std::size_t dropped, vtkPolyData* cloud, vtkPolyData* setup)
+{
+  double local[2] = { static_cast<double>(cloud->GetNumberOfPoints()), static_cast<double>(dropped) };
+  double total[2] = { local[0], local[1] };
+  if (ranks.count > 1)
+  {
+    ranks.controller->AllReduce(local, total, 2, vtkCommunicator::SUM_OP);
+  }
+  plantmorph::FieldRecord record;
+  record.Add("Beams", static_cast<double>(pattern.BeamCount()));
+  record.Add("Returns", total[0]);
+  record.Add("Dropped", total[1]);
+  record.Add("Seed", self->GetSeed());
+  record.Add("ScannerType", std::string(TypeNames[self->GetScannerType()]));
+  record.WriteTo(cloud);
+  const double dx = p.lookAt[0] - p.positions[0][0], dy = p.lookAt[1] - p.positions[0][1],
+               dz = p.lookAt[2] - p.positions[0][2];
+  if (ranks.rank == 0) // the set-up once
+  {
+    WriteSetup(pattern, std::sqrt(dx * dx + dy * dy + dz * dz), setup);
+  }
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+int vtkVirtualScanner::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  return plantmorph::RunRequestData(
+    this, Policy, "the scan", request, inputVector, outputVector, [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+std::string vtkVirtualScanner::ReadParameters(plantmorph::ScannerParameters& p) const
+{
   if (this->ScannerType < 0 || this->ScannerType > 2)
   {
-    std::ostringstream message;
-    message << plantmorph::OutOfRange(
+    return plantmorph::OutOfRange(
       "ScannerType", this->ScannerType, "{0, 1, 2}", "0 Terrestrial, 1 Line, 2 Depth camera");
-    return fail(message.str());
   }
   if (this->LineMotion < 0 || this->LineMotion > 1)
   {
-    std::ostringstream message;
-    message << plantmorph::OutOfRange("LineMotion", this->LineMotion, "{0, 1}", "0 Path, 1 Turntable");
-    return fail(message.str());
+    return plantmorph::OutOfRange("LineMotion", this->LineMotion, "{0, 1}", "0 Path, 1 Turntable");
   }
   if (!(this->MaximumBeams >= 1.0 && this->MaximumBeams <= 4e9))
   {
-    std::ostringstream message;
-    message << plantmorph::OutOfRange("MaximumBeams", this->MaximumBeams, "[1, 4e9]");
-    return fail(message.str());
+    return plantmorph::OutOfRange("MaximumBeams", this->MaximumBeams, "[1, 4e9]");
   }
   p.type = static_cast<plantmorph::ScannerType>(this->ScannerType);
   p.positions.clear();
@@ -590,94 +601,73 @@ int vtkVirtualScanner::RequestData(
   p.intensityFalloff = this->IntensityFalloff;
   p.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
   p.maximumBeams = static_cast<std::uint64_t>(this->MaximumBeams);
-  plantmorph::BeamPattern pattern;
-  std::string error = pattern.Setup(p);
-  if (!error.empty())
-  {
-    return fail(error);
-  }
+  return {};
+}
 
+//------------------------------------------------------------------------------
+void vtkVirtualScanner::Prepare(plantmorph::Run& run, vtkPolyData* original, vtkPolyData* input, int ranks)
+{
   // The triangulation and the caster's build, unless the same input (unchanged) was prepared by the last run.
   const vtkMTimeType inputTime = original->GetMTime();
-  if (!this->Prepared || ranks > 1 || this->Prepared->input != original || this->Prepared->time != inputTime)
+  if (this->Prepared && ranks == 1 && this->Prepared->input == original && this->Prepared->time == inputTime)
   {
-    this->Prepared.reset(); // its memory first
-    auto prepared = std::make_shared<PreparedSurface>();
-    std::vector<double> copy; // only when the input's points are not plain doubles
-    const double* points = DoublePoints(input, copy);
-    error = Triangulate(input, points, prepared->triangles, prepared->cellOf);
-    if (error.empty())
-    {
-      error = prepared->caster.Build(points, static_cast<std::size_t>(input->GetNumberOfPoints()),
-        prepared->triangles.data(), prepared->triangles.size() / 3, plantmorph::RayCasterParameters{});
-    }
-    if (!error.empty())
-    {
-      return fail(error);
-    }
-    prepared->input = original;
-    prepared->time = inputTime;
-    this->Prepared = prepared;
-    Keep(prepared);
+    return;
   }
-  const std::vector<std::uint32_t>& triangles = this->Prepared->triangles;
-  const TriangleCells& cellOf = this->Prepared->cellOf;
+  this->Prepared.reset(); // its memory first
+  run.Building("the ray caster of the surface");
+  auto prepared = std::make_shared<PreparedSurface>();
+  std::vector<double> copy; // only when the input's points are not plain doubles
+  const double* points = DoublePoints(input, copy);
+  run.Check(Triangulate(input, points, prepared->triangles, prepared->cellOf));
+  run.Check(prepared->caster.Build(points, static_cast<std::size_t>(input->GetNumberOfPoints()),
+    prepared->triangles.data(), prepared->triangles.size() / 3, plantmorph::RayCasterParameters{}));
+  prepared->input = original;
+  prepared->time = inputTime;
+  this->Prepared = prepared;
+  Keep(prepared);
+}
+
+//------------------------------------------------------------------------------
+void vtkVirtualScanner::Execute(plantmorph::Run& run)
+{
+  vtkPolyData* original = run.Input<vtkPolyData>(0);
+  const vtkSmartPointer<vtkPolyData> whole = run.Replicated(original); // collective
+  vtkPolyData* input = whole.Get();
+  const Ranks ranks;
+  // The parameters first, with the beam budget: nothing is built or cast when they fail. Every rank finds the same
+  // errors (the surface is replicated): said once.
+  plantmorph::ScannerParameters p;
+  run.Check(this->ReadParameters(p));
+  plantmorph::BeamPattern pattern;
+  run.Check(pattern.Setup(p));
+  this->Prepare(run, original, input, ranks.count);
   const std::string shortArrays = ShortArrays(input);
-  if (!shortArrays.empty() && rank == 0)
+  if (!shortArrays.empty())
   {
-    vtkWarningMacro(<< "Input: not carried to the cloud, fewer tuples than the input has cells or points: "
-                    << shortArrays);
+    run.Warn("Input: not carried to the cloud, fewer tuples than the input has cells or points: " + shortArrays);
   }
-  const plantmorph::RayCaster& caster = this->Prepared->caster;
   this->UpdateProgress(0.1);
+  run.Building("the scanned cloud");
   plantmorph::ScanPoints scan;
   scan.withBarycentric = AnyInterpolated(input);
   const std::uint64_t beams = pattern.BeamCount();
   const auto share = [&](int r) {
     // beams <= 4e9 (AbsoluteMaximumBeams), so beams * rank fits in 64 bits for any rank count MPI runs.
-    return beams * static_cast<std::uint64_t>(r) / static_cast<std::uint64_t>(ranks);
+    return beams * static_cast<std::uint64_t>(r) / static_cast<std::uint64_t>(ranks.count);
   };
-  // Every core: ParaView's default Sequential SMP backend (Debian's) is replaced by STDThread for the cast, as
-  // CloudComparisonFilter does; the output does not depend on the thread count.
-  const std::string current = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
-  const std::string backend = current == "Sequential" ? "STDThread" : current;
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ 0, backend, false }, [&]() {
-    error = plantmorph::CastBeams(p, pattern, caster, scan, plantmorph::SMPFor(2), plantmorph::Progress(this, 0.1, 0.9),
-      share(rank), share(rank + 1));
-    if (error.empty()) // the output stage on the same threads
-    {
-      WriteCloud(scan, cellOf, triangles, input, cloud);
-    }
+  vtkPolyData* cloud = run.Output<vtkPolyData>(0);
+  // Every core (RunThreaded replaces a Sequential backend by STDThread); the output does not depend on the threads.
+  run.Threaded(0, [&]() {
+    run.Check(plantmorph::CastBeams(p, pattern, this->Prepared->caster, scan, plantmorph::SMPFor(2),
+      plantmorph::Progress(this, 0.1, 0.9), share(ranks.rank), share(ranks.rank + 1)));
+    WriteCloud(scan, this->Prepared->cellOf, this->Prepared->triangles, input, cloud); // on the same threads
   });
-  if (!error.empty())
-  {
-    return fail(error);
-  }
-  // Totals over the ranks in field data (every rank holds them).
-  double local[2] = { static_cast<double>(cloud->GetNumberOfPoints()), static_cast<double>(scan.dropped) };
-  double total[2] = { local[0], local[1] };
-  if (ranks > 1)
-  {
-    controller->AllReduce(local, total, 2, vtkCommunicator::SUM_OP);
-  }
-  vtkFieldData* fd = cloud->GetFieldData();
-  plantmorph::AddFieldValue(fd, "PlantMorph.Beams", static_cast<double>(beams));
-  plantmorph::AddFieldValue(fd, "PlantMorph.Returns", total[0]);
-  plantmorph::AddFieldValue(fd, "PlantMorph.Dropped", total[1]);
-  plantmorph::AddFieldValue(fd, "PlantMorph.Seed", this->Seed);
-  plantmorph::AddFieldString(fd, "PlantMorph.ScannerType", TypeNames[this->ScannerType]);
-  const double dx = p.lookAt[0] - p.positions[0][0], dy = p.lookAt[1] - p.positions[0][1],
-               dz = p.lookAt[2] - p.positions[0][2];
-  if (rank == 0) // the set-up once
-  {
-    WriteSetup(pattern, std::sqrt(dx * dx + dy * dy + dz * dz), setup);
-  }
-  if (ranks > 1) // rebuilt every run under MPI: not kept
+  WriteTotals(this, ranks, p, pattern, scan.dropped, cloud, run.Output<vtkPolyData>(1));
+  if (ranks.count > 1) // rebuilt every run under MPI: not kept
   {
     this->Prepared.reset();
   }
   this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

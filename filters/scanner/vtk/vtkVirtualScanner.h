@@ -43,7 +43,14 @@
 #include "vtkPolyDataAlgorithm.h"
 
 #include <memory> // for the prepared surface
+#include <string> // for error messages
 #include <vector> // for the positions
+
+namespace plantmorph
+{
+class Run;
+struct ScannerParameters;
+}
 
 class PLANTMORPHSCANNERVTK_EXPORT vtkVirtualScanner : public vtkPolyDataAlgorithm
 {
@@ -185,6 +192,14 @@ public:
   struct PreparedSurface; // the triangulated input and its caster, kept while the input is unchanged (internal)
 
 private:
+  /// RequestData's body (plantmorph::RunRequestData): the parameters, the prepared surface, the cast, both ports.
+  void Execute(plantmorph::Run& run);
+  /// The scanner parameters from the properties; "" or the message naming the first bad one.
+  std::string ReadParameters(plantmorph::ScannerParameters& p) const;
+  /// Triangulates `input` (the replicated `original`) and builds its ray caster, unless the last run prepared the
+  /// same unchanged input (serial runs only).
+  void Prepare(plantmorph::Run& run, vtkPolyData* original, vtkPolyData* input, int ranks);
+
   std::shared_ptr<PreparedSurface> Prepared;
 
   vtkVirtualScanner(const vtkVirtualScanner&) = delete;

@@ -272,4 +272,80 @@ std::string BuildBSplineLeaf(
   return BuildAllOrNothing(leaf, [&] { return BuildLeaf(parameters, settings, leaf); });
 }
 
+namespace
+{
+/// The margin on the left of the base-to-apex direction seen from +Z first (the larger summed cross product).
+void OrderMargins(const Eigen::Vector3d& base, const Eigen::Vector3d& apex, std::vector<Eigen::Vector3d> margins[2])
+{
+  const auto side = [&](const std::vector<Eigen::Vector3d>& margin) {
+    double sum = 0.0;
+    const Eigen::Vector3d d = apex - base;
+    for (const Eigen::Vector3d& x : margin)
+      sum += d.x() * (x.y() - base.y()) - d.y() * (x.x() - base.x());
+    return sum;
+  };
+  if (side(margins[0]) < side(margins[1]))
+    std::swap(margins[0], margins[1]);
+}
+
+/// The midvein and the two margins of the lines, by Region or by position; "" or the message.
+std::string PickLines(const std::vector<std::vector<Eigen::Vector3d>>& lines, const std::vector<int>* regions,
+  std::vector<Eigen::Vector3d>& midvein, std::vector<Eigen::Vector3d> margins[2])
+{
+  if (!regions)
+  {
+    if (lines.size() != 3)
+    {
+      std::ostringstream message;
+      message << "without a Region cell array it needs exactly 3 polylines (left margin, right margin, midvein), got "
+              << lines.size();
+      return message.str();
+    }
+    margins[0] = lines[0];
+    margins[1] = lines[1];
+    midvein = lines[2];
+    return {};
+  }
+  int found = 0;
+  for (std::size_t k = 0; k < lines.size() && k < regions->size(); ++k)
+  {
+    if ((*regions)[k] == RegionMidvein && midvein.empty())
+      midvein = lines[k];
+    else if ((*regions)[k] == RegionMargin && found < 2)
+      margins[found++] = lines[k];
+  }
+  if (midvein.empty() || found < 2)
+    return "needs one polyline with Region 1 (midvein) and two with Region 4 (margins)";
+  return {};
+}
+} // namespace
+
+std::string ControlPointsFromLines(const std::vector<std::vector<Eigen::Vector3d>>& lines,
+  const std::vector<int>* regions, double scale, BSplineLeafParameters& parameters)
+{
+  std::vector<Eigen::Vector3d> margins[2];
+  const std::string error = PickLines(lines, regions, parameters.midvein, margins);
+  if (!error.empty())
+    return error;
+  if (parameters.midvein.size() < 2)
+    return "the midvein polyline needs at least 2 points";
+  const Eigen::Vector3d base = parameters.midvein.front(), apex = parameters.midvein.back();
+  for (std::vector<Eigen::Vector3d>& margin : margins)
+  {
+    if (!margin.empty() && (margin.front() - base).norm() > (margin.back() - base).norm())
+      std::reverse(margin.begin(), margin.end());
+  }
+  if (regions)
+    OrderMargins(base, apex, margins);
+  const auto scaled = [&](std::vector<Eigen::Vector3d> points) {
+    for (Eigen::Vector3d& x : points)
+      x = base + scale * (x - base);
+    return points;
+  };
+  parameters.midvein = scaled(parameters.midvein);
+  parameters.leftMargin = scaled(margins[0]);
+  parameters.rightMargin = scaled(margins[1]);
+  return {};
+}
+
 } // namespace plantmorph

@@ -50,6 +50,14 @@ inline constexpr int BSplinePresetCount = 4;
 BSplineLeafParameters MakeBSplinePreset(BSplinePreset preset, double length, double width, int count);
 std::string BSplinePresetName(BSplinePreset preset);
 
+/// The control points from three drawn polylines (LeafOutlineSource's ControlPoints input), into `parameters`'
+/// midvein and margins, scaled by `scale` about the midvein's base. With `regions` (one per line: 1 midvein, 4
+/// margin) the first midvein and the first two margins are taken and the left margin is the one on the left of the
+/// base-to-apex direction seen from +Z; without, exactly three lines: left margin, right margin, midvein. Each
+/// margin is turned to run from the base. "" or the message.
+std::string ControlPointsFromLines(const std::vector<std::vector<Eigen::Vector3d>>& lines,
+  const std::vector<int>* regions, double scale, BSplineLeafParameters& parameters);
+
 /// Empty on success; otherwise a message naming the property at fault, and `leaf` is empty.
 std::string BuildBSplineLeaf(
   const BSplineLeafParameters& parameters, const LeafMeshParameters& settings, LeafGeometry& leaf);

@@ -2,7 +2,7 @@
 #include "vtkLeafOutlineSource.h"
 #include "PlantMorphAlgorithmHooks.h"
 
-#include "PlantMorphFieldData.h"
+#include "PlantMorphLayer.h"
 #include "DeformedRectangleLeaf.h"
 #include "DeformedRectanglePresets.h"
 #include "BSplineLeaf.h"
@@ -32,9 +32,6 @@
 #include <cmath>
 #include <sstream>
 #include <string>
-
-using plantmorph::AddFieldString;
-using plantmorph::AddFieldValue;
 
 vtkStandardNewMacro(vtkLeafOutlineSource);
 
@@ -171,9 +168,13 @@ std::vector<Eigen::Vector3d> ScaledPoints(const std::vector<double>& xyz, double
   return points;
 }
 
-/// The B-spline model's control points from polylines (see the class documentation), scaled about the base.
+/// The B-spline model's control points from the polylines of the ControlPoints input (ControlPointsFromLines).
 std::string ControlPointsFromPolylines(vtkPolyData* input, double scale, plantmorph::BSplineLeafParameters& p)
 {
+  if (!input || input->GetNumberOfLines() == 0)
+  {
+    return "BSplinePreset 'ControlPoints input' needs polylines connected to the ControlPoints input";
+  }
   std::vector<std::vector<Eigen::Vector3d>> lines;
   std::vector<int> regions;
   vtkDataArray* region = input->GetCellData()->GetArray(plantmorph::arrays::Region);
@@ -192,75 +193,18 @@ std::string ControlPointsFromPolylines(vtkPolyData* input, double scale, plantmo
     lines.push_back(line);
     regions.push_back(region ? static_cast<int>(region->GetTuple1(firstLine + k)) : -1);
   }
-  std::vector<Eigen::Vector3d> margins[2];
-  if (region)
-  {
-    int found = 0;
-    for (std::size_t k = 0; k < lines.size(); ++k)
-    {
-      if (regions[k] == plantmorph::RegionMidvein && p.midvein.empty())
-        p.midvein = lines[k];
-      else if (regions[k] == plantmorph::RegionMargin && found < 2)
-        margins[found++] = lines[k];
-    }
-    if (p.midvein.empty() || found < 2)
-      return "needs one polyline with Region 1 (midvein) and two with Region 4 (margins)";
-  }
-  else
-  {
-    if (lines.size() != 3)
-    {
-      std::ostringstream message;
-      message << "without a Region cell array it needs exactly 3 polylines (left margin, right margin, midvein), got "
-              << lines.size();
-      return message.str();
-    }
-    margins[0] = lines[0];
-    margins[1] = lines[1];
-    p.midvein = lines[2];
-  }
-  if (p.midvein.size() < 2)
-    return "the midvein polyline needs at least 2 points";
-  const Eigen::Vector3d base = p.midvein.front(), apex = p.midvein.back();
-  for (std::vector<Eigen::Vector3d>& margin : margins)
-  {
-    if (!margin.empty() && (margin.front() - base).norm() > (margin.back() - base).norm())
-      std::reverse(margin.begin(), margin.end());
-  }
-  if (region)
-  {
-    // Left is the margin on the left of the base-to-apex direction seen from +Z (positive cross product).
-    auto side = [&](const std::vector<Eigen::Vector3d>& margin) {
-      double sum = 0.0;
-      const Eigen::Vector3d d = apex - base;
-      for (const Eigen::Vector3d& x : margin)
-        sum += d.x() * (x.y() - base.y()) - d.y() * (x.x() - base.x());
-      return sum;
-    };
-    if (side(margins[0]) < side(margins[1]))
-      std::swap(margins[0], margins[1]);
-  }
-  auto scaled = [&](std::vector<Eigen::Vector3d> points) {
-    for (Eigen::Vector3d& x : points)
-      x = base + scale * (x - base);
-    return points;
-  };
-  p.midvein = scaled(p.midvein);
-  p.leftMargin = scaled(margins[0]);
-  p.rightMargin = scaled(margins[1]);
-  return {};
+  const std::string error = plantmorph::ControlPointsFromLines(lines, region ? &regions : nullptr, scale, p);
+  return error.empty() ? error : "ControlPoints input: " + error;
 }
 
-void AddPointList(vtkFieldData* fd, const char* name, const std::vector<Eigen::Vector3d>& points)
+void AddPointList(plantmorph::FieldRecord& fd, const char* name, const std::vector<Eigen::Vector3d>& points)
 {
-  vtkNew<vtkDoubleArray> a;
-  a->SetName(name);
-  a->SetNumberOfComponents(3);
+  std::vector<double> xyz;
   for (const Eigen::Vector3d& p : points)
   {
-    a->InsertNextTuple(p.data());
+    xyz.insert(xyz.end(), { p.x(), p.y(), p.z() });
   }
-  fd->AddArray(a);
+  fd.AddRows(name, 3, xyz);
 }
 } // namespace
 
@@ -333,72 +277,25 @@ int vtkLeafOutlineSource::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
-int vtkLeafOutlineSource::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+namespace
 {
-  vtkPolyData* blade = vtkPolyData::GetData(outputVector, 0);
-  vtkPolyData* outline = vtkPolyData::GetData(outputVector, 1);
-  blade->Initialize();
-  outline->Initialize();
+/// The leaf is one piece: made whole on piece 0, the other pieces stay empty (no duplicates under MPI).
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::WholeOnFirstRank;
 
-  // The leaf is one piece: piece 0 makes it, the others stay empty (no duplicates under MPI).
-  const int piece = outputVector->GetInformationObject(0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
-  if (piece > 0)
+/// The growth time asked of the output (clamped to [0, 1]; 0 when none is asked) and the size it gives.
+void GrowthOf(vtkInformation* info, double initialScale, double& time, double& scale)
+{
+  if (info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
   {
-    return 1;
+    time = std::clamp(info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()), 0.0, 1.0);
   }
+  scale = initialScale + (1.0 - initialScale) * time;
+}
 
-  if (this->TermsElementCount >= 0 && static_cast<std::size_t>(this->TermsElementCount) != this->Terms.size())
-  {
-    // ParaView pushed only the whole rows: a partial row means the user's list is not rows of seven.
-    vtkErrorMacro(
-      << plantmorph::OutOfRange("Terms", std::to_string(this->TermsElementCount) + " numbers", "{0, 7, 14, ...}",
-           "rows of seven: Target, Scale, Amplitude, Multiplier, Frequency, Variable, Phase; the last row has " +
-             std::to_string(this->TermsElementCount % 7)));
-    return 1;
-  }
-  if (this->MaxVertices < 3)
-  {
-    vtkErrorMacro(<< plantmorph::OutOfRange("MaxVertices", this->MaxVertices, "[3, inf)"));
-    return 1;
-  }
-  // Growth: the requested time (clamped to [0, 1]) sets the size.
-  double scale = 1.0;
-  double time = 0.0;
-  if (this->Growth)
-  {
-    const std::string growthError = this->ValidateGrowth();
-    if (!growthError.empty())
-    {
-      vtkErrorMacro(<< growthError);
-      return 1;
-    }
-    vtkInformation* info = outputVector->GetInformationObject(0);
-    if (info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-    {
-      time = std::clamp(info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()), 0.0, 1.0);
-    }
-    scale = this->GrowthInitialScale + (1.0 - this->GrowthInitialScale) * time;
-  }
-  vtkNew<vtkFieldData> parameters;
-  LeafGeometry leaf;
-  vtkPolyData* controlPoints =
-    inputVector[0]->GetNumberOfInformationObjects() > 0 ? vtkPolyData::GetData(inputVector[0], 0) : nullptr;
-  this->WarnAboutPresetOverrides();
-  this->LastParameters.clear();
-  const std::string error = this->BuildLeaf(leaf, parameters, scale, controlPoints);
-  if (!error.empty())
-  {
-    if (error != "aborted")
-    {
-      vtkErrorMacro(<< error);
-    }
-    return 1;
-  }
-
-  // Port 0: the blade.
-  const vtkIdType numberOfPoints = static_cast<vtkIdType>(leaf.blade.points.size());
-  FillPoints(leaf, numberOfPoints, blade);
+/// Port 0: the blade's points and triangles, every triangle of Region blade.
+void WriteBlade(const LeafGeometry& leaf, vtkPolyData* blade)
+{
+  FillPoints(leaf, static_cast<vtkIdType>(leaf.blade.points.size()), blade);
   vtkNew<vtkCellArray> triangles;
   triangles->AllocateExact(
     static_cast<vtkIdType>(leaf.blade.triangles.size()), 3 * static_cast<vtkIdType>(leaf.blade.triangles.size()));
@@ -413,9 +310,12 @@ int vtkLeafOutlineSource::RequestData(
   bladeRegion->SetNumberOfTuples(triangles->GetNumberOfCells());
   bladeRegion->FillValue(plantmorph::RegionBlade);
   blade->GetCellData()->AddArray(bladeRegion);
-  this->UpdateProgress(0.95);
+}
 
-  // Port 1: the outline polylines. Their points are the blade's first points (the mesher keeps the outline's).
+/// Port 1: the outline polylines (margins, midvein, lobe midveins). Their points are the blade's first points (the
+/// mesher keeps the outline's).
+void WriteOutline(const LeafGeometry& leaf, vtkPolyData* outline)
+{
   vtkIdType outlinePoints = 0;
   std::vector<std::pair<const std::vector<int>*, int>> polylines = { { &leaf.leftMargin, plantmorph::RegionMargin },
     { &leaf.rightMargin, plantmorph::RegionMargin }, { &leaf.midvein, plantmorph::RegionMidvein } };
@@ -442,13 +342,61 @@ int vtkLeafOutlineSource::RequestData(
   }
   outline->SetLines(lines);
   outline->GetCellData()->AddArray(lineRegion);
+}
+} // namespace
 
+//------------------------------------------------------------------------------
+int vtkLeafOutlineSource::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  return plantmorph::RunRequestData(this, Policy, "the leaf blade", request, inputVector, outputVector,
+    [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+void vtkLeafOutlineSource::Execute(plantmorph::Run& run)
+{
+  if (this->TermsElementCount >= 0 && static_cast<std::size_t>(this->TermsElementCount) != this->Terms.size())
+  {
+    // ParaView pushed only the whole rows: a partial row means the user's list is not rows of seven.
+    run.Fail(plantmorph::OutOfRange("Terms", std::to_string(this->TermsElementCount) + " numbers", "{0, 7, 14, ...}",
+      "rows of seven: Target, Scale, Amplitude, Multiplier, Frequency, Variable, Phase; the last row has " +
+        std::to_string(this->TermsElementCount % 7)));
+  }
+  if (this->MaxVertices < 3)
+  {
+    run.Fail(plantmorph::OutOfRange("MaxVertices", this->MaxVertices, "[3, inf)"));
+  }
+  // Growth: the requested time (clamped to [0, 1]) sets the size.
+  double scale = 1.0;
+  double time = 0.0;
   if (this->Growth)
   {
-    AddFieldValue(parameters, "PlantMorph.GrowthFraction", time);
-    AddFieldValue(parameters, "PlantMorph.GrowthScale", scale);
+    run.Check(this->ValidateGrowth());
+    GrowthOf(run.OutputInformation(0), this->GrowthInitialScale, time, scale);
   }
-  this->LastParameters = plantmorph::FormatParameters(parameters);
+  plantmorph::FieldRecord parameters;
+  LeafGeometry leaf;
+  this->WarnAboutPresetOverrides();
+  this->LastParameters.clear();
+  const std::string error = this->BuildLeaf(leaf, parameters, scale, run.Input<vtkPolyData>(0));
+  if (error == "aborted")
+  {
+    run.Stop();
+  }
+  run.Check(error);
+  run.Building("the leaf's outputs");
+  vtkPolyData* blade = run.Output<vtkPolyData>(0);
+  vtkPolyData* outline = run.Output<vtkPolyData>(1);
+  WriteBlade(leaf, blade);
+  this->UpdateProgress(0.95);
+  WriteOutline(leaf, outline);
+  if (this->Growth)
+  {
+    parameters.Add("PlantMorph.GrowthFraction", time);
+    parameters.Add("PlantMorph.GrowthScale", scale);
+  }
+  this->LastParameters = parameters.Text();
   // Parameters as field data on both outputs, and the time they show.
   for (vtkPolyData* output : { blade, outline })
   {
@@ -456,10 +404,7 @@ int vtkLeafOutlineSource::RequestData(
     {
       output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), time);
     }
-    for (int a = 0; a < parameters->GetNumberOfArrays(); ++a)
-    {
-      output->GetFieldData()->AddArray(parameters->GetAbstractArray(a));
-    }
+    parameters.WriteTo(output);
   }
   if (leaf.uvInversionFailures > 0)
   {
@@ -467,7 +412,6 @@ int vtkLeafOutlineSource::RequestData(
                     << " interior points got an approximate LeafUV (the map could not be inverted there)");
   }
   this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -505,72 +449,157 @@ std::string vtkLeafOutlineSource::MeshParameters(plantmorph::LeafMeshParameters&
 void vtkLeafOutlineSource::WarnAboutPresetOverrides()
 {
   vtkNew<vtkLeafOutlineSource> defaults;
-  std::ostringstream ignored;
-  const auto check = [&](const char* name, bool changed) {
-    if (changed)
-    {
-      ignored << (ignored.tellp() > 0 ? ", " : "") << name;
-    }
-  };
-#define PLANTMORPH_CHECK(name) check(#name, this->name != defaults->name)
-  std::string presetName;
-  if (this->Model == DEFORMED_RECTANGLE && this->Preset != 0)
+  const int preset = this->Model == SPACE_CURVE ? this->SpaceCurvePreset
+    : this->Model == B_SPLINE                   ? this->BSplinePreset
+                                                : this->Preset;
+  plantmorph::PresetOverrides overrides(this->Model == SPACE_CURVE ? "SpaceCurvePreset"
+      : this->Model == B_SPLINE                                    ? "BSplinePreset"
+                                                                   : "Preset");
+  if (preset == 0 || this->Model < DEFORMED_RECTANGLE || this->Model > B_SPLINE)
   {
-    presetName = "Preset";
-    PLANTMORPH_CHECK(Width);
-    PLANTMORPH_CHECK(Terms);
+    return;
   }
-  else if (this->Model == SPACE_CURVE && this->SpaceCurvePreset != 0)
-  {
-    presetName = "SpaceCurvePreset";
-    PLANTMORPH_CHECK(CurvatureFunction);
-    PLANTMORPH_CHECK(CurvatureMu);
-    PLANTMORPH_CHECK(CurvatureLambda);
-    PLANTMORPH_CHECK(CurvatureN1);
-    PLANTMORPH_CHECK(CurvatureN2);
-    PLANTMORPH_CHECK(CurvatureB1);
-    PLANTMORPH_CHECK(CurvatureU3);
-    PLANTMORPH_CHECK(CurvatureBeta);
-    PLANTMORPH_CHECK(CurvatureAlpha4);
-    PLANTMORPH_CHECK(CurvatureLambda2);
-    PLANTMORPH_CHECK(TorsionFunction);
-    PLANTMORPH_CHECK(TorsionEta);
-    PLANTMORPH_CHECK(TorsionLambda);
-    PLANTMORPH_CHECK(TorsionN1);
-    PLANTMORPH_CHECK(TorsionN2);
-    PLANTMORPH_CHECK(TorsionB1);
-    PLANTMORPH_CHECK(TorsionU3);
-    PLANTMORPH_CHECK(TorsionBeta);
-    PLANTMORPH_CHECK(TorsionAlpha4);
-    PLANTMORPH_CHECK(TorsionLambda2);
-    PLANTMORPH_CHECK(MidveinStretchZ);
-    PLANTMORPH_CHECK(MidveinStretchXY);
-    PLANTMORPH_CHECK(Lobes);
-    PLANTMORPH_CHECK(LobeStart);
-    PLANTMORPH_CHECK(LobeAngle);
-    PLANTMORPH_CHECK(LobeScale);
-    PLANTMORPH_CHECK(SubLobes);
-    PLANTMORPH_CHECK(SubLobeDepth);
-  }
-  else if (this->Model == B_SPLINE && this->BSplinePreset != 0)
-  {
-    presetName = "BSplinePreset";
-    PLANTMORPH_CHECK(MidveinPoints);
-    PLANTMORPH_CHECK(LeftMarginPoints);
-    PLANTMORPH_CHECK(RightMarginPoints);
-  }
+  // Each model's properties that only its Custom preset uses.
+#define PLANTMORPH_CHECK(model, name)                                                                                  \
+  if (this->Model == (model))                                                                                          \
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, name)
+  PLANTMORPH_CHECK(DEFORMED_RECTANGLE, Width);
+  PLANTMORPH_CHECK(DEFORMED_RECTANGLE, Terms);
+  PLANTMORPH_CHECK(SPACE_CURVE, CurvatureFunction);
+  PLANTMORPH_CHECK(SPACE_CURVE, CurvatureMu);
+  PLANTMORPH_CHECK(SPACE_CURVE, CurvatureLambda);
+  PLANTMORPH_CHECK(SPACE_CURVE, CurvatureN1);
+  PLANTMORPH_CHECK(SPACE_CURVE, CurvatureN2);
+  PLANTMORPH_CHECK(SPACE_CURVE, CurvatureB1);
+  PLANTMORPH_CHECK(SPACE_CURVE, CurvatureU3);
+  PLANTMORPH_CHECK(SPACE_CURVE, CurvatureBeta);
+  PLANTMORPH_CHECK(SPACE_CURVE, CurvatureAlpha4);
+  PLANTMORPH_CHECK(SPACE_CURVE, CurvatureLambda2);
+  PLANTMORPH_CHECK(SPACE_CURVE, TorsionFunction);
+  PLANTMORPH_CHECK(SPACE_CURVE, TorsionEta);
+  PLANTMORPH_CHECK(SPACE_CURVE, TorsionLambda);
+  PLANTMORPH_CHECK(SPACE_CURVE, TorsionN1);
+  PLANTMORPH_CHECK(SPACE_CURVE, TorsionN2);
+  PLANTMORPH_CHECK(SPACE_CURVE, TorsionB1);
+  PLANTMORPH_CHECK(SPACE_CURVE, TorsionU3);
+  PLANTMORPH_CHECK(SPACE_CURVE, TorsionBeta);
+  PLANTMORPH_CHECK(SPACE_CURVE, TorsionAlpha4);
+  PLANTMORPH_CHECK(SPACE_CURVE, TorsionLambda2);
+  PLANTMORPH_CHECK(SPACE_CURVE, MidveinStretchZ);
+  PLANTMORPH_CHECK(SPACE_CURVE, MidveinStretchXY);
+  PLANTMORPH_CHECK(SPACE_CURVE, Lobes);
+  PLANTMORPH_CHECK(SPACE_CURVE, LobeStart);
+  PLANTMORPH_CHECK(SPACE_CURVE, LobeAngle);
+  PLANTMORPH_CHECK(SPACE_CURVE, LobeScale);
+  PLANTMORPH_CHECK(SPACE_CURVE, SubLobes);
+  PLANTMORPH_CHECK(SPACE_CURVE, SubLobeDepth);
+  PLANTMORPH_CHECK(B_SPLINE, MidveinPoints);
+  PLANTMORPH_CHECK(B_SPLINE, LeftMarginPoints);
+  PLANTMORPH_CHECK(B_SPLINE, RightMarginPoints);
 #undef PLANTMORPH_CHECK
-  if (ignored.tellp() > 0)
-  {
-    vtkWarningMacro(<< "these properties are changed from their defaults but not used, because " << presetName
-                    << " is a named preset that sets them itself: " << ignored.str() << ". Set " << presetName
-                    << " to Custom (0) to use them.");
-  }
+  overrides.Warn(this);
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+/// The Custom space curve's parameters from the properties (curvature, torsion, stretches, lobes).
+void ReadCustomSpaceCurve(vtkLeafOutlineSource* self, plantmorph::SpaceCurveParameters& parameters)
+{
+  plantmorph::CurvatureFamily& k = parameters.curvature;
+  k.type = static_cast<plantmorph::CurvatureFamily::Type>(self->GetCurvatureFunction());
+  k.mu = self->GetCurvatureMu();
+  k.lambda = self->GetCurvatureLambda();
+  k.n1 = self->GetCurvatureN1();
+  k.n2 = self->GetCurvatureN2();
+  k.b1 = self->GetCurvatureB1();
+  k.u3 = self->GetCurvatureU3();
+  k.beta = self->GetCurvatureBeta();
+  k.alpha4 = self->GetCurvatureAlpha4();
+  k.lambda2 = self->GetCurvatureLambda2();
+  plantmorph::CurvatureFamily& t = parameters.torsion;
+  t.type = static_cast<plantmorph::CurvatureFamily::Type>(self->GetTorsionFunction());
+  t.mu = self->GetTorsionEta();
+  t.lambda = self->GetTorsionLambda();
+  t.n1 = self->GetTorsionN1();
+  t.n2 = self->GetTorsionN2();
+  t.b1 = self->GetTorsionB1();
+  t.u3 = self->GetTorsionU3();
+  t.beta = self->GetTorsionBeta();
+  t.alpha4 = self->GetTorsionAlpha4();
+  t.lambda2 = self->GetTorsionLambda2();
+  parameters.midveinStretchZ = self->GetMidveinStretchZ();
+  parameters.midveinStretchXY = self->GetMidveinStretchXY();
+  parameters.lobes = self->GetLobes();
+  parameters.lobeStart = self->GetLobeStart();
+  parameters.lobeAngle = self->GetLobeAngle();
+  parameters.lobeScale = self->GetLobeScale();
+  parameters.subLobes = self->GetSubLobes();
+  parameters.subLobeDepth = self->GetSubLobeDepth();
+}
+
+/// The space-curve leaf's PlantMorph.* field data.
+void RecordSpaceCurve(vtkLeafOutlineSource* self, plantmorph::SpaceCurvePreset preset,
+  const plantmorph::SpaceCurveParameters& parameters, plantmorph::FieldRecord& fd)
+{
+  fd.Add("PlantMorph.Model", "SpaceCurve");
+  fd.Add("PlantMorph.Preset", plantmorph::SpaceCurvePresetName(preset));
+  fd.Add("PlantMorph.CurveLength", parameters.length);
+  for (const auto& family : { std::make_pair("PlantMorph.Curvature", &parameters.curvature),
+         std::make_pair("PlantMorph.Torsion", &parameters.torsion) })
+  {
+    const plantmorph::CurvatureFamily& f = *family.second;
+    fd.AddTuple(family.first, { "Function", "Mu", "Lambda", "N1", "N2", "B1", "U3", "Beta", "Alpha4", "Lambda2" },
+      { static_cast<double>(f.type), f.mu, f.lambda, f.n1, f.n2, f.b1, f.u3, f.beta, f.alpha4, f.lambda2 });
+  }
+  fd.Add("PlantMorph.Opening", parameters.opening);
+  fd.Add("PlantMorph.MidveinStretchZ", parameters.midveinStretchZ);
+  fd.Add("PlantMorph.MidveinStretchXY", parameters.midveinStretchXY);
+  fd.Add("PlantMorph.InitialAngle", parameters.initialAngle);
+  fd.Add("PlantMorph.IntegrationMethod", self->GetIntegrationMethod());
+  fd.Add("PlantMorph.Resolution", self->GetResolution());
+  fd.Add("PlantMorph.StripColumns", self->GetStripColumns());
+  fd.Add("PlantMorph.Lobes", parameters.lobes);
+  if (parameters.lobes > 1)
+  {
+    fd.Add("PlantMorph.LobeStart", parameters.lobeStart);
+    fd.Add("PlantMorph.LobeAngle", parameters.lobeAngle);
+    fd.Add("PlantMorph.LobeScale", parameters.lobeScale);
+    if (parameters.subLobes > 0) // only then, so blades without sub-lobes keep their field data
+    {
+      fd.Add("PlantMorph.SubLobes", parameters.subLobes);
+      fd.Add("PlantMorph.SubLobeDepth", parameters.subLobeDepth);
+    }
+    fd.Add("PlantMorph.MeshQuality", self->GetMeshQuality());
+  }
+}
+
+/// A named B-spline preset's control points from BladeLength, BladeWidth and ControlPointCount; "" or the message.
+std::string MakeBSpline(vtkLeafOutlineSource* self, plantmorph::BSplinePreset preset, double scale,
+  plantmorph::BSplineLeafParameters& parameters)
+{
+  const double length = self->GetBladeLength(), width = self->GetBladeWidth();
+  const int count = self->GetControlPointCount();
+  if (!(std::isfinite(length) && length > 0 && length <= 1e6))
+  {
+    return plantmorph::OutOfRange("BladeLength", length, "(0, 1e6]");
+  }
+  if (!(std::isfinite(width) && width > 0 && width <= 1e6))
+  {
+    return plantmorph::OutOfRange("BladeWidth", width, "(0, 1e6]");
+  }
+  if (count < 3 || count > 1000)
+  {
+    return plantmorph::OutOfRange("ControlPointCount", count, "[3, 1000]");
+  }
+  parameters = plantmorph::MakeBSplinePreset(preset, scale * length, scale * width, count);
+  return {};
+}
+} // namespace
+
+//------------------------------------------------------------------------------
 std::string vtkLeafOutlineSource::BuildLeaf(
-  LeafGeometry& leaf, vtkFieldData* fd, double scale, vtkPolyData* controlPoints)
+  LeafGeometry& leaf, plantmorph::FieldRecord& fd, double scale, vtkPolyData* controlPoints)
 {
   if (this->Model == DEFORMED_RECTANGLE)
   {
@@ -592,20 +621,17 @@ std::string vtkLeafOutlineSource::BuildLeaf(
 
 //------------------------------------------------------------------------------
 // Paper 000: the deformed rectangle.
-std::string vtkLeafOutlineSource::BuildDeformedRectangle(LeafGeometry& leaf, vtkFieldData* fd, double scale)
+std::string vtkLeafOutlineSource::BuildDeformedRectangle(LeafGeometry& leaf, plantmorph::FieldRecord& fd, double scale)
 {
-  std::ostringstream message;
   if (this->Preset < 0 || this->Preset >= plantmorph::DeformedRectanglePresetCount)
   {
-    message << plantmorph::OutOfRange(
+    return plantmorph::OutOfRange(
       "Preset", this->Preset, "[0, " + std::to_string(plantmorph::DeformedRectanglePresetCount - 1) + "]");
-    return message.str();
   }
   const double bladeLength = scale * this->Length;
   if (!(std::isfinite(bladeLength) && bladeLength > 0.0 && bladeLength <= 1e6))
   {
-    message << plantmorph::OutOfRange("Length", this->Length, "(0, 1e6]", "the blade's length from base to apex");
-    return message.str();
+    return plantmorph::OutOfRange("Length", this->Length, "(0, 1e6]", "the blade's length from base to apex");
   }
   const auto preset = static_cast<plantmorph::DeformedRectanglePreset>(this->Preset);
   // The rectangle first at b_y = Length (a_x: the preset's proportion, or Width for Custom), then a_x and b_y
@@ -641,35 +667,28 @@ std::string vtkLeafOutlineSource::BuildDeformedRectangle(LeafGeometry& leaf, vtk
   {
     return error;
   }
-  AddFieldString(fd, "PlantMorph.Model", "DeformedRectangle");
-  AddFieldString(fd, "PlantMorph.Preset", plantmorph::PresetName(preset));
-  AddFieldValue(fd, "PlantMorph.Length", bladeLength);
-  AddFieldValue(fd, "PlantMorph.RectangleWidth", parameters.width);
-  AddFieldValue(fd, "PlantMorph.RectangleHeight", parameters.length);
-  AddFieldValue(fd, "PlantMorph.Bending", parameters.bending);
-  AddFieldValue(fd, "PlantMorph.Asymmetry", parameters.asymmetry);
-  AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
-  AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
-  vtkNew<vtkDoubleArray> terms;
-  terms->SetName("PlantMorph.Terms");
-  terms->SetNumberOfComponents(plantmorph::TermColumns);
-  const std::vector<double> flat = plantmorph::FlattenTerms(parameters.terms);
-  terms->SetNumberOfTuples(static_cast<vtkIdType>(parameters.terms.size()));
-  std::copy(flat.begin(), flat.end(), terms->GetPointer(0));
-  fd->AddArray(terms);
+  fd.Add("PlantMorph.Model", "DeformedRectangle");
+  fd.Add("PlantMorph.Preset", plantmorph::PresetName(preset));
+  fd.Add("PlantMorph.Length", bladeLength);
+  fd.Add("PlantMorph.RectangleWidth", parameters.width);
+  fd.Add("PlantMorph.RectangleHeight", parameters.length);
+  fd.Add("PlantMorph.Bending", parameters.bending);
+  fd.Add("PlantMorph.Asymmetry", parameters.asymmetry);
+  fd.Add("PlantMorph.Resolution", this->Resolution);
+  fd.Add("PlantMorph.MeshQuality", this->MeshQuality);
+  fd.AddRows("PlantMorph.Terms", plantmorph::TermColumns, plantmorph::FlattenTerms(parameters.terms));
   return {};
 }
 
 //------------------------------------------------------------------------------
 // Paper 002: the space curve (and palmate) leaf.
-std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldData* fd, double scale)
+std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, plantmorph::FieldRecord& fd, double scale)
 {
   std::ostringstream message;
   if (this->SpaceCurvePreset < 0 || this->SpaceCurvePreset >= plantmorph::SpaceCurvePresetCount)
   {
-    message << plantmorph::OutOfRange(
+    return plantmorph::OutOfRange(
       "SpaceCurvePreset", this->SpaceCurvePreset, "[0, " + std::to_string(plantmorph::SpaceCurvePresetCount - 1) + "]");
-    return message.str();
   }
   if (this->IntegrationMethod != 0 && this->IntegrationMethod != 1)
   {
@@ -680,36 +699,7 @@ std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldDa
   plantmorph::SpaceCurveParameters parameters = plantmorph::MakeSpaceCurvePreset(preset, scale * this->CurveLength);
   if (preset == plantmorph::SpaceCurvePreset::Custom)
   {
-    plantmorph::CurvatureFamily& k = parameters.curvature;
-    k.type = static_cast<plantmorph::CurvatureFamily::Type>(this->CurvatureFunction);
-    k.mu = this->CurvatureMu;
-    k.lambda = this->CurvatureLambda;
-    k.n1 = this->CurvatureN1;
-    k.n2 = this->CurvatureN2;
-    k.b1 = this->CurvatureB1;
-    k.u3 = this->CurvatureU3;
-    k.beta = this->CurvatureBeta;
-    k.alpha4 = this->CurvatureAlpha4;
-    k.lambda2 = this->CurvatureLambda2;
-    plantmorph::CurvatureFamily& t = parameters.torsion;
-    t.type = static_cast<plantmorph::CurvatureFamily::Type>(this->TorsionFunction);
-    t.mu = this->TorsionEta;
-    t.lambda = this->TorsionLambda;
-    t.n1 = this->TorsionN1;
-    t.n2 = this->TorsionN2;
-    t.b1 = this->TorsionB1;
-    t.u3 = this->TorsionU3;
-    t.beta = this->TorsionBeta;
-    t.alpha4 = this->TorsionAlpha4;
-    t.lambda2 = this->TorsionLambda2;
-    parameters.midveinStretchZ = this->MidveinStretchZ;
-    parameters.midveinStretchXY = this->MidveinStretchXY;
-    parameters.lobes = this->Lobes;
-    parameters.lobeStart = this->LobeStart;
-    parameters.lobeAngle = this->LobeAngle;
-    parameters.lobeScale = this->LobeScale;
-    parameters.subLobes = this->SubLobes;
-    parameters.subLobeDepth = this->SubLobeDepth;
+    ReadCustomSpaceCurve(this, parameters);
   }
   parameters.opening = this->Opening;
   parameters.initialAngle = this->InitialAngle;
@@ -732,80 +722,30 @@ std::string vtkLeafOutlineSource::BuildSpaceCurve(LeafGeometry& leaf, vtkFieldDa
   {
     return error;
   }
-  AddFieldString(fd, "PlantMorph.Model", "SpaceCurve");
-  AddFieldString(fd, "PlantMorph.Preset", plantmorph::SpaceCurvePresetName(preset));
-  AddFieldValue(fd, "PlantMorph.CurveLength", parameters.length);
-  for (const auto& family : { std::make_pair("PlantMorph.Curvature", &parameters.curvature),
-         std::make_pair("PlantMorph.Torsion", &parameters.torsion) })
-  {
-    const plantmorph::CurvatureFamily& f = *family.second;
-    vtkNew<vtkDoubleArray> values;
-    values->SetName(family.first);
-    values->SetNumberOfComponents(10);
-    values->SetComponentName(0, "Function");
-    values->SetComponentName(1, "Mu");
-    values->SetComponentName(2, "Lambda");
-    values->SetComponentName(3, "N1");
-    values->SetComponentName(4, "N2");
-    values->SetComponentName(5, "B1");
-    values->SetComponentName(6, "U3");
-    values->SetComponentName(7, "Beta");
-    values->SetComponentName(8, "Alpha4");
-    values->SetComponentName(9, "Lambda2");
-    const double tuple[10] = { static_cast<double>(f.type), f.mu, f.lambda, f.n1, f.n2, f.b1, f.u3, f.beta, f.alpha4,
-      f.lambda2 };
-    values->InsertNextTuple(tuple);
-    fd->AddArray(values);
-  }
-  AddFieldValue(fd, "PlantMorph.Opening", parameters.opening);
-  AddFieldValue(fd, "PlantMorph.MidveinStretchZ", parameters.midveinStretchZ);
-  AddFieldValue(fd, "PlantMorph.MidveinStretchXY", parameters.midveinStretchXY);
-  AddFieldValue(fd, "PlantMorph.InitialAngle", parameters.initialAngle);
-  AddFieldValue(fd, "PlantMorph.IntegrationMethod", this->IntegrationMethod);
-  AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
-  AddFieldValue(fd, "PlantMorph.StripColumns", this->StripColumns);
-  AddFieldValue(fd, "PlantMorph.Lobes", parameters.lobes);
-  if (parameters.lobes > 1)
-  {
-    AddFieldValue(fd, "PlantMorph.LobeStart", parameters.lobeStart);
-    AddFieldValue(fd, "PlantMorph.LobeAngle", parameters.lobeAngle);
-    AddFieldValue(fd, "PlantMorph.LobeScale", parameters.lobeScale);
-    if (parameters.subLobes > 0) // only then, so blades without sub-lobes keep their field data
-    {
-      AddFieldValue(fd, "PlantMorph.SubLobes", parameters.subLobes);
-      AddFieldValue(fd, "PlantMorph.SubLobeDepth", parameters.subLobeDepth);
-    }
-    AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
-  }
+  RecordSpaceCurve(this, preset, parameters, fd);
   return {};
 }
 
 //------------------------------------------------------------------------------
 // Paper 003: the B-spline leaf (Model C).
 std::string vtkLeafOutlineSource::BuildBSpline(
-  LeafGeometry& leaf, vtkFieldData* fd, double scale, vtkPolyData* controlPoints)
+  LeafGeometry& leaf, plantmorph::FieldRecord& fd, double scale, vtkPolyData* controlPoints)
 {
-  std::ostringstream message;
   // One past the algorithm's presets: the control points come from the input port.
   const int fromInput = plantmorph::BSplinePresetCount;
   if (this->BSplinePreset < 0 || this->BSplinePreset > fromInput)
   {
-    message << plantmorph::OutOfRange("BSplinePreset", this->BSplinePreset, "[0, " + std::to_string(fromInput) + "]");
-    return message.str();
+    return plantmorph::OutOfRange("BSplinePreset", this->BSplinePreset, "[0, " + std::to_string(fromInput) + "]");
   }
   const auto preset = static_cast<plantmorph::BSplinePreset>(this->BSplinePreset);
   plantmorph::BSplineLeafParameters parameters;
   std::string source = this->BSplinePreset == fromInput ? "ControlPointsInput" : plantmorph::BSplinePresetName(preset);
   if (this->BSplinePreset == fromInput)
   {
-    if (!controlPoints || controlPoints->GetNumberOfLines() == 0)
-    {
-      return "BSplinePreset 'ControlPoints input' needs polylines connected to the ControlPoints input";
-    }
     const std::string inputError = ControlPointsFromPolylines(controlPoints, scale, parameters);
     if (!inputError.empty())
     {
-      return "ControlPoints input: " + inputError;
+      return inputError;
     }
   }
   else if (preset == plantmorph::BSplinePreset::Custom)
@@ -819,23 +759,11 @@ std::string vtkLeafOutlineSource::BuildBSpline(
   }
   else
   {
-    if (!(std::isfinite(this->BladeLength) && this->BladeLength > 0 && this->BladeLength <= 1e6))
+    const std::string presetError = MakeBSpline(this, preset, scale, parameters);
+    if (!presetError.empty())
     {
-      message << plantmorph::OutOfRange("BladeLength", this->BladeLength, "(0, 1e6]");
-      return message.str();
+      return presetError;
     }
-    if (!(std::isfinite(this->BladeWidth) && this->BladeWidth > 0 && this->BladeWidth <= 1e6))
-    {
-      message << plantmorph::OutOfRange("BladeWidth", this->BladeWidth, "(0, 1e6]");
-      return message.str();
-    }
-    if (this->ControlPointCount < 3 || this->ControlPointCount > 1000)
-    {
-      message << plantmorph::OutOfRange("ControlPointCount", this->ControlPointCount, "[3, 1000]");
-      return message.str();
-    }
-    parameters = plantmorph::MakeBSplinePreset(
-      preset, scale * this->BladeLength, scale * this->BladeWidth, this->ControlPointCount);
   }
   plantmorph::LeafMeshParameters settings;
   const std::string settingsError = this->MeshParameters(settings);
@@ -848,13 +776,13 @@ std::string vtkLeafOutlineSource::BuildBSpline(
   {
     return error;
   }
-  AddFieldString(fd, "PlantMorph.Model", "BSpline");
-  AddFieldString(fd, "PlantMorph.Preset", source);
+  fd.Add("PlantMorph.Model", "BSpline");
+  fd.Add("PlantMorph.Preset", source);
   AddPointList(fd, "PlantMorph.MidveinPoints", parameters.midvein);
   AddPointList(fd, "PlantMorph.LeftMarginPoints", parameters.leftMargin);
   AddPointList(fd, "PlantMorph.RightMarginPoints", parameters.rightMargin);
-  AddFieldValue(fd, "PlantMorph.Resolution", this->Resolution);
-  AddFieldValue(fd, "PlantMorph.MeshQuality", this->MeshQuality);
+  fd.Add("PlantMorph.Resolution", this->Resolution);
+  fd.Add("PlantMorph.MeshQuality", this->MeshQuality);
   return {};
 }
 

@@ -54,10 +54,11 @@
 #include <string> // for error messages
 #include <vector> // for the term list
 
-class vtkFieldData;
 class vtkPolyData;
 namespace plantmorph
 {
+class FieldRecord;
+class Run;
 struct LeafGeometry;
 struct LeafMeshParameters;
 }
@@ -418,14 +419,16 @@ protected:
   double GrowthInitialScale = 0.2;
 
 private:
+  /// RequestData's body (plantmorph::RunRequestData): checks the properties, builds the leaf, writes both ports.
+  void Execute(plantmorph::Run& run);
   /// Builds the chosen model's leaf and describes its parameters as field data; returns an error message or "".
   std::string BuildLeaf(
-    plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale, vtkPolyData* controlPoints);
+    plantmorph::LeafGeometry& leaf, plantmorph::FieldRecord& parameters, double scale, vtkPolyData* controlPoints);
   /// The three models' leaves, one each (BuildLeaf picks by Model); `scale` converts Units to the output's.
-  std::string BuildDeformedRectangle(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale);
-  std::string BuildSpaceCurve(plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale);
+  std::string BuildDeformedRectangle(plantmorph::LeafGeometry& leaf, plantmorph::FieldRecord& parameters, double scale);
+  std::string BuildSpaceCurve(plantmorph::LeafGeometry& leaf, plantmorph::FieldRecord& parameters, double scale);
   std::string BuildBSpline(
-    plantmorph::LeafGeometry& leaf, vtkFieldData* parameters, double scale, vtkPolyData* controlPoints);
+    plantmorph::LeafGeometry& leaf, plantmorph::FieldRecord& parameters, double scale, vtkPolyData* controlPoints);
   /// Mesh settings of the CGAL-meshed models (Resolution, MeshQuality, MaxVertices, progress and abort).
   std::string MeshParameters(plantmorph::LeafMeshParameters& settings);
   /// Empty when the growth properties are valid, else the message.

@@ -3,6 +3,8 @@
 
 #include "PointCloudText.h"
 
+#include "PlantMorphLayer.h"
+
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -270,90 +272,71 @@ int vtkLeafCloudReader::RequestInformation(vtkInformation*, vtkInformationVector
 }
 
 //------------------------------------------------------------------------------
-int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+namespace
 {
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  vtkTable* table = vtkTable::GetData(outputVector, 1);
-  output->Initialize();
-  table->Initialize();
-  // Piece p of N reads the lines whose preceding newline lies in bytes [p S / N, (p + 1) S / N) of the file (S
-  // bytes): every line once, in file order over the pieces. Under MPI (one piece per rank) the pieces agree on
-  // errors, the colour scaling and the line numbers of messages (collective).
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  const int piece = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
-    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
-    : 0;
-  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
-    ? std::max(1, outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
-    : 1;
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (!controller || pieces < 2 || controller->GetNumberOfProcesses() != pieces ||
-    controller->GetLocalProcessId() != piece)
-  {
-    controller = nullptr; // pieces read in one process (or serial): each piece alone
-  }
-  const bool first = piece == 0;
-  // Only errors every piece finds alike are said by the first piece alone.
-  const bool say = first || !controller;
-  if (!this->FileName || !*this->FileName)
-  {
-    if (say)
-    {
-      vtkErrorMacro(<< "FileName is not set: give a leaf point-cloud text file (x, y, z [, nx, ny, nz [, r, g, b]])");
-    }
-    return 1;
-  }
-  std::ifstream file(this->FileName, std::ios::binary | std::ios::ate);
-  const bool opened = static_cast<bool>(file);
+/// Piece p of N reads the lines whose preceding newline lies in bytes [p S / N, (p + 1) S / N) of the file (S
+/// bytes): every line once, in file order over the pieces. Under MPI (one piece per rank) the pieces agree on errors,
+/// the colour scaling and the line numbers of messages (collective).
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::DataParallel;
+
+/// This piece of the file read into `cloud` (`range`: its byte range and line numbers); "" or the message.
+std::string ReadPiece(vtkLeafCloudReader* self, const plantmorph::Run& run, bool& opened,
+  plantmorph::PointCloudTextPiece& range, plantmorph::PointCloudText& cloud)
+{
+  const int piece = run.Piece(), pieces = run.Pieces();
+  std::ifstream file(self->GetFileName(), std::ios::binary | std::ios::ate);
+  opened = static_cast<bool>(file);
   const std::uint64_t bytes = file ? static_cast<std::uint64_t>(std::max<std::streamoff>(0, file.tellg())) : 0;
   file.seekg(0);
-  plantmorph::PointCloudText cloud;
-  plantmorph::PointCloudTextPiece range;
   range.begin = bytes * static_cast<std::uint64_t>(piece) / static_cast<std::uint64_t>(pieces);
   range.end = piece + 1 == pieces ? UINT64_MAX : bytes * static_cast<std::uint64_t>(piece + 1) / pieces;
   const double span = static_cast<double>(std::max<std::uint64_t>(1, std::min(range.end, bytes) - range.begin));
+  const bool parallel = run.Controller() != nullptr;
   const auto progress = [&](std::uint64_t done) {
-    this->UpdateProgress(0.9 * std::min(1.0, static_cast<double>(done) / span));
-    return controller || !this->CheckAbort(); // under MPI a read is not aborted on one rank alone
+    self->UpdateProgress(0.9 * std::min(1.0, static_cast<double>(done) / span));
+    return parallel || !self->CheckAbort(); // under MPI a read is not aborted on one rank alone
   };
-  std::string error = !opened ? std::string("cannot be opened")
-    : pieces == 1             ? plantmorph::ReadPointCloudText(file, cloud, progress)
-                              : plantmorph::ReadPointCloudTextPiece(file, range, cloud, progress);
+  const std::string error = !opened ? std::string("cannot be opened")
+    : pieces == 1                   ? plantmorph::ReadPointCloudText(file, cloud, progress)
+                                    : plantmorph::ReadPointCloudTextPiece(file, range, cloud, progress);
   if (pieces == 1)
   {
     range.firstNumber = 1;
     range.found = error.empty();
   }
-  const PieceSummary summary = Summarize(controller, range, error, cloud);
-  if (summary.failed || (controller && summary.rows == 0) || (pieces > 1 && !controller && !error.empty()))
+  return error;
+}
+
+/// Stops the run when some piece failed (each failure said by the piece that found it, with the file's line number),
+/// or when the pieces of one read hold no data line at all.
+void StopOnFailure(vtkLeafCloudReader* self, const plantmorph::Run& run, bool opened,
+  const plantmorph::PointCloudTextPiece& range, const std::string& error, const PieceSummary& summary)
+{
+  vtkMultiProcessController* controller = run.Controller();
+  if (!summary.failed && !(controller && summary.rows == 0) && !(run.Pieces() > 1 && !controller && !error.empty()))
   {
-    if (!summary.error.empty() || (!controller && !error.empty()))
-    {
-      const std::string what = summary.error.empty() ? error : summary.error;
-      vtkErrorMacro(<< "FileName '" << this->FileName << (opened ? "', " : "' ") << what
-                    << (!controller && !range.errorNumberInFile
-                           ? " (counted from piece " + std::to_string(piece) + "'s first line)"
-                           : std::string()));
-    }
-    else if (!summary.failed && first)
-    {
-      vtkErrorMacro(<< "FileName '" << this->FileName << "', no data line");
-    }
-    return 1;
+    return;
   }
-  const std::vector<double>& values = cloud.values;
+  if (!summary.error.empty() || (!controller && !error.empty()))
+  {
+    const std::string what = summary.error.empty() ? error : summary.error;
+    run.FailHere("FileName '" + std::string(self->GetFileName()) + (opened ? "', " : "' ") + what +
+      (!controller && !range.errorNumberInFile
+          ? " (counted from piece " + std::to_string(run.Piece()) + "'s first line)"
+          : std::string()));
+  }
+  if (!summary.failed)
+  {
+    run.Fail("FileName '" + std::string(self->GetFileName()) + "', no data line");
+  }
+  run.Stop(); // another piece failed and said why
+}
+
+/// Port 1: every column as a table, named by `names` (one per column) or Column<c>.
+void WriteTable(const plantmorph::PointCloudText& cloud, const std::vector<std::string>& names, vtkTable* table)
+{
   const std::size_t columns = cloud.columns;
-  if (columns == 0)
-  {
-    return 1; // a piece before the file's first data line: nothing of its own
-  }
-  const auto n = static_cast<vtkIdType>(values.size() / columns);
-  // Port 1: every column as a table, named by the header line when it has one name per column.
-  std::vector<std::string> names = plantmorph::SplitHeaderNames(cloud.header);
-  if (names.size() != columns)
-  {
-    names.clear();
-  }
+  const auto n = static_cast<vtkIdType>(cloud.values.size() / columns);
   for (std::size_t c = 0; c < columns; ++c)
   {
     vtkNew<vtkDoubleArray> column;
@@ -362,29 +345,32 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
     column->SetNumberOfTuples(n);
     for (vtkIdType i = 0; i < n; ++i)
     {
-      column->SetValue(i, values[i * columns + c]);
+      column->SetValue(i, cloud.values[i * columns + c]);
     }
     table->AddColumn(column);
   }
+}
 
-  // Port 0: the points. A header naming the columns must name x, y, z (or P_x, P_y, P_z): points read by position
-  // from a table such as the tip CSV (sample, measured_x, measured_y, ...) would be silently wrong.
-  std::size_t xyz[3] = { 0, 1, 2 };
-  if (!names.empty() && !NamedCoordinates(names, xyz))
+/// The error of a header that names the columns but no x, y, z among them.
+std::string NoCoordinatesMessage(const char* fileName, const std::vector<std::string>& names)
+{
+  std::ostringstream list;
+  for (const auto& name : names)
   {
-    std::ostringstream list;
-    for (const auto& name : names)
-    {
-      list << (list.tellp() > 0 ? ", " : "") << "'" << name << "'";
-    }
-    if (say)
-    {
-      vtkErrorMacro(<< "FileName '" << this->FileName << "': its header names the columns (" << list.str()
-                    << ") but none are x, y, z or P_x, P_y, P_z (e.g. measured_x, measured_y, measured_z), so the "
-                       "points are not read (output port 0 is empty; port 1 has the table)");
-    }
-    return 1;
+    list << (list.tellp() > 0 ? ", " : "") << "'" << name << "'";
   }
+  return "FileName '" + std::string(fileName) + "': its header names the columns (" + list.str() +
+    ") but none are x, y, z or P_x, P_y, P_z (e.g. measured_x, measured_y, measured_z), so the points are not read "
+    "(output port 0 is empty; port 1 has the table)";
+}
+
+/// Port 0: the points (columns `xyz`), one vertex each, and the other columns as point arrays.
+void WritePoints(const plantmorph::PointCloudText& cloud, const std::vector<std::string>& names,
+  const std::size_t xyz[3], bool fractions, vtkPolyData* output)
+{
+  const std::vector<double>& values = cloud.values;
+  const std::size_t columns = cloud.columns;
+  const auto n = static_cast<vtkIdType>(values.size() / columns);
   vtkNew<vtkDoubleArray> coordinates;
   coordinates->SetNumberOfComponents(3);
   coordinates->SetNumberOfTuples(n);
@@ -400,13 +386,12 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
   output->SetPoints(points);
   if (xyz[0] == 0 && xyz[1] == 1 && xyz[2] == 2)
   {
-    AddPositionalArrays(output, values, columns, n, summary.fractions);
+    AddPositionalArrays(output, values, columns, n, fractions);
   }
   else
   {
     AddNamedArrays(output, values, names, xyz, n);
   }
-
   vtkNew<vtkIdTypeArray> offsets;
   vtkNew<vtkIdTypeArray> connectivity;
   offsets->SetNumberOfTuples(n + 1);
@@ -422,11 +407,52 @@ int vtkLeafCloudReader::RequestData(vtkInformation*, vtkInformationVector**, vtk
   vtkNew<vtkCellArray> verts;
   verts->SetData(offsets, connectivity);
   output->SetVerts(verts);
+}
+} // namespace
 
-  vtkNew<vtkStringArray> source;
-  source->SetName("PlantMorph.SourceFile");
-  source->InsertNextValue(this->FileName);
-  output->GetFieldData()->AddArray(source);
+//------------------------------------------------------------------------------
+int vtkLeafCloudReader::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  return plantmorph::RunRequestData(this, Policy, "the point cloud", request, inputVector, outputVector,
+    [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+void vtkLeafCloudReader::Execute(plantmorph::Run& run)
+{
+  if (!this->FileName || !*this->FileName)
+  {
+    run.Fail("FileName is not set: give a leaf point-cloud text file (x, y, z [, nx, ny, nz [, r, g, b]])");
+  }
+  bool opened = false;
+  plantmorph::PointCloudText cloud;
+  plantmorph::PointCloudTextPiece range;
+  const std::string error = ReadPiece(this, run, opened, range, cloud);
+  const PieceSummary summary = Summarize(run.Controller(), range, error, cloud);
+  StopOnFailure(this, run, opened, range, error, summary);
+  if (cloud.columns == 0)
+  {
+    return; // a piece before the file's first data line: nothing of its own
+  }
+  std::vector<std::string> names = plantmorph::SplitHeaderNames(cloud.header);
+  if (names.size() != cloud.columns)
+  {
+    names.clear();
+  }
+  WriteTable(cloud, names, run.Output<vtkTable>(1));
+  // A header naming the columns must name x, y, z (or P_x, P_y, P_z): points read by position from a table such as
+  // the tip CSV (sample, measured_x, measured_y, ...) would be silently wrong.
+  std::size_t xyz[3] = { 0, 1, 2 };
+  if (!names.empty() && !NamedCoordinates(names, xyz))
+  {
+    run.Error(NoCoordinatesMessage(this->FileName, names));
+    return;
+  }
+  vtkPolyData* output = run.Output<vtkPolyData>(0);
+  WritePoints(cloud, names, xyz, summary.fractions, output);
+  plantmorph::FieldRecord record;
+  record.Add("SourceFile", std::string(this->FileName));
+  record.WriteTo(output);
   this->UpdateProgress(1.0);
-  return 1;
 }

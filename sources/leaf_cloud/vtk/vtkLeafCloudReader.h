@@ -59,6 +59,11 @@
 
 #include <string>
 
+namespace plantmorph
+{
+class Run;
+}
+
 class PLANTMORPHLEAFCLOUDVTK_EXPORT vtkLeafCloudReader : public vtkPolyDataAlgorithm
 {
 public:
@@ -86,6 +91,9 @@ protected:
   char* FileName = nullptr;
 
 private:
+  /// RequestData's body (plantmorph::RunRequestData): reads this piece, writes the points and the table.
+  void Execute(plantmorph::Run& run);
+
   vtkLeafCloudReader(const vtkLeafCloudReader&) = delete;
   void operator=(const vtkLeafCloudReader&) = delete;
 };

@@ -2,7 +2,7 @@
 #include "vtkTreeFromSketchSource.h"
 #include "PlantMorphAlgorithmHooks.h"
 
-#include "PlantMorphFieldData.h"
+#include "PlantMorphLayer.h"
 #include "PlantMorphWholeInput.h"
 #include "BranchJunctions.h"
 #include "BranchPieces.h"
@@ -43,9 +43,6 @@
 #include <set>
 #include <sstream>
 #include <string>
-
-using plantmorph::AddFieldString;
-using plantmorph::AddFieldValue;
 
 vtkStandardNewMacro(vtkTreeFromSketchSource);
 
@@ -262,91 +259,115 @@ void WriteSkeleton(const plantmorph::Tree& tree, vtkPolyData* skeletonOut)
   skeletonOut->GetCellData()->AddArray(depth);
 }
 
+/// The leaves port's arrays while WriteLeaves fills them.
+struct LeafArrays
+{
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkFloatArray> tcoords;
+  vtkNew<vtkFloatArray> normals;
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkIntArray> branchId;
+};
+
+/// A textured quad of side `scale` at the leaf's place (no Leaf input).
+void AppendQuadLeaf(const plantmorph::TreeLeaf& leaf, double scale, LeafArrays& out)
+{
+  const vtkIdType first = out.points->GetNumberOfPoints();
+  const Eigen::Vector3d n = leaf.axes.col(2);
+  const double half = 0.5 * scale;
+  const Eigen::Vector3d x = leaf.axes.col(0), y = leaf.axes.col(1);
+  const Eigen::Vector3d corners[4] = { leaf.origin - half * x, leaf.origin + half * x,
+    leaf.origin + half * x + scale * y, leaf.origin - half * x + scale * y };
+  const float uv[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
+  out.polys->InsertNextCell(4);
+  for (int k = 0; k < 4; ++k)
+  {
+    out.points->InsertNextPoint(corners[k].data());
+    out.tcoords->InsertNextTuple2(uv[k][0], uv[k][1]);
+    out.normals->InsertNextTuple3(n.x(), n.y(), n.z());
+    out.polys->InsertCellPoint(first + k);
+  }
+  out.branchId->InsertNextValue(leaf.branchId);
+}
+
+/// A copy of the Leaf input (its base at y = leafMinY, scaled by `scale`) at the leaf's place, with its TCoords and
+/// Normals (turned) when it has them.
+void AppendInputLeaf(const plantmorph::TreeLeaf& leaf, vtkPolyData* leafInput, double scale, double leafLength,
+  double leafMinY, LeafArrays& out)
+{
+  const vtkIdType first = out.points->GetNumberOfPoints();
+  const Eigen::Vector3d n = leaf.axes.col(2);
+  vtkDataArray* leafTCoords = leafInput->GetPointData()->GetTCoords();
+  if (!leafTCoords)
+  {
+    leafTCoords = leafInput->GetPointData()->GetArray(plantmorph::arrays::TCoords);
+  }
+  vtkDataArray* leafNormals = leafInput->GetPointData()->GetNormals();
+  for (vtkIdType k = 0; k < leafInput->GetNumberOfPoints(); ++k)
+  {
+    double p[3];
+    leafInput->GetPoint(k, p);
+    const Eigen::Vector3d local(p[0], p[1] - leafMinY, p[2]);
+    const Eigen::Vector3d world = leaf.origin + leaf.axes * (scale * local);
+    out.points->InsertNextPoint(world.data());
+    if (leafTCoords && leafTCoords->GetNumberOfComponents() >= 2)
+    {
+      out.tcoords->InsertNextTuple2(leafTCoords->GetComponent(k, 0), leafTCoords->GetComponent(k, 1));
+    }
+    else
+    {
+      out.tcoords->InsertNextTuple2(0.5 + local.x() / leafLength, local.y() / leafLength);
+    }
+    Eigen::Vector3d normal = n;
+    if (leafNormals && leafNormals->GetNumberOfComponents() == 3)
+    {
+      normal = leaf.axes *
+        Eigen::Vector3d(
+          leafNormals->GetComponent(k, 0), leafNormals->GetComponent(k, 1), leafNormals->GetComponent(k, 2));
+    }
+    out.normals->InsertNextTuple3(normal.x(), normal.y(), normal.z());
+  }
+  vtkNew<vtkIdList> ids;
+  vtkCellArray* cells = leafInput->GetPolys();
+  for (cells->InitTraversal(); cells->GetNextCell(ids);)
+  {
+    out.polys->InsertNextCell(ids->GetNumberOfIds());
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+    {
+      out.polys->InsertCellPoint(first + ids->GetId(k));
+    }
+    out.branchId->InsertNextValue(leaf.branchId);
+  }
+}
+
 /// Port 2: the leaves, copies of the Leaf input (or textured quads without one) at each leaf's place.
 void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, const plantmorph::TreeParameters& s,
   vtkPolyData* leafInput, double leafLength, double leafMinY, vtkPolyData* leavesOut)
 {
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  vtkNew<vtkFloatArray> tcoords;
-  tcoords->SetName(plantmorph::arrays::TCoords);
-  tcoords->SetNumberOfComponents(2);
-  vtkNew<vtkFloatArray> normals;
-  normals->SetName(plantmorph::arrays::Normals);
-  normals->SetNumberOfComponents(3);
-  vtkNew<vtkCellArray> polys;
-  vtkNew<vtkIntArray> branchId;
-  branchId->SetName("BranchId");
+  LeafArrays out;
+  out.points->SetDataTypeToDouble();
+  out.tcoords->SetName(plantmorph::arrays::TCoords);
+  out.tcoords->SetNumberOfComponents(2);
+  out.normals->SetName(plantmorph::arrays::Normals);
+  out.normals->SetNumberOfComponents(3);
+  out.branchId->SetName("BranchId");
   const double scale = leafInput ? s.leafScale / leafLength : s.leafScale;
-  vtkDataArray* leafTCoords = leafInput ? leafInput->GetPointData()->GetTCoords() : nullptr;
-  if (leafInput && !leafTCoords)
-  {
-    leafTCoords = leafInput->GetPointData()->GetArray(plantmorph::arrays::TCoords);
-  }
-  vtkDataArray* leafNormals = leafInput ? leafInput->GetPointData()->GetNormals() : nullptr;
-  vtkNew<vtkIdList> ids;
   for (const plantmorph::TreeLeaf& leaf : leaves)
   {
-    const vtkIdType first = points->GetNumberOfPoints();
-    const Eigen::Vector3d n = leaf.axes.col(2);
-    if (!leafInput)
+    if (leafInput)
     {
-      const double half = 0.5 * scale;
-      const Eigen::Vector3d x = leaf.axes.col(0), y = leaf.axes.col(1);
-      const Eigen::Vector3d corners[4] = { leaf.origin - half * x, leaf.origin + half * x,
-        leaf.origin + half * x + scale * y, leaf.origin - half * x + scale * y };
-      const float uv[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
-      polys->InsertNextCell(4);
-      for (int k = 0; k < 4; ++k)
-      {
-        points->InsertNextPoint(corners[k].data());
-        tcoords->InsertNextTuple2(uv[k][0], uv[k][1]);
-        normals->InsertNextTuple3(n.x(), n.y(), n.z());
-        polys->InsertCellPoint(first + k);
-      }
-      branchId->InsertNextValue(leaf.branchId);
-      continue;
+      AppendInputLeaf(leaf, leafInput, scale, leafLength, leafMinY, out);
     }
-    for (vtkIdType k = 0; k < leafInput->GetNumberOfPoints(); ++k)
+    else
     {
-      double p[3];
-      leafInput->GetPoint(k, p);
-      const Eigen::Vector3d local(p[0], p[1] - leafMinY, p[2]);
-      const Eigen::Vector3d world = leaf.origin + leaf.axes * (scale * local);
-      points->InsertNextPoint(world.data());
-      if (leafTCoords && leafTCoords->GetNumberOfComponents() >= 2)
-      {
-        tcoords->InsertNextTuple2(leafTCoords->GetComponent(k, 0), leafTCoords->GetComponent(k, 1));
-      }
-      else
-      {
-        tcoords->InsertNextTuple2(0.5 + local.x() / leafLength, local.y() / leafLength);
-      }
-      Eigen::Vector3d normal = n;
-      if (leafNormals && leafNormals->GetNumberOfComponents() == 3)
-      {
-        normal = leaf.axes *
-          Eigen::Vector3d(
-            leafNormals->GetComponent(k, 0), leafNormals->GetComponent(k, 1), leafNormals->GetComponent(k, 2));
-      }
-      normals->InsertNextTuple3(normal.x(), normal.y(), normal.z());
-    }
-    vtkCellArray* cells = leafInput->GetPolys();
-    for (cells->InitTraversal(); cells->GetNextCell(ids);)
-    {
-      polys->InsertNextCell(ids->GetNumberOfIds());
-      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-      {
-        polys->InsertCellPoint(first + ids->GetId(k));
-      }
-      branchId->InsertNextValue(leaf.branchId);
+      AppendQuadLeaf(leaf, scale, out);
     }
   }
-  leavesOut->SetPoints(points);
-  leavesOut->SetPolys(polys);
-  leavesOut->GetPointData()->SetTCoords(tcoords);
-  leavesOut->GetPointData()->SetNormals(normals);
-  leavesOut->GetCellData()->AddArray(branchId);
+  leavesOut->SetPoints(out.points);
+  leavesOut->SetPolys(out.polys);
+  leavesOut->GetPointData()->SetTCoords(out.tcoords);
+  leavesOut->GetPointData()->SetNormals(out.normals);
+  leavesOut->GetCellData()->AddArray(out.branchId);
 }
 
 /// A small input (strokes, a leaf, a skeleton to merge) whole on every rank, for a tree made by pieces. Collective:
@@ -423,6 +444,30 @@ std::vector<plantmorph::TreeLeaf> LeavesOf(const plantmorph::Tree& tree, const s
     }
   }
   return leaves;
+}
+/// BranchOverrides' rows of six (BranchId, length, radius, u, angle, rotation) into `s.overrides`; "" or the
+/// message naming the bad row.
+std::string ReadBranchOverrides(const std::vector<double>& rows, plantmorph::TreeParameters& s)
+{
+  for (std::size_t r = 0; r + 6 <= rows.size(); r += 6)
+  {
+    const double id = rows[r];
+    if (!std::isfinite(id) || id < 0 || id > std::numeric_limits<int>::max() || id != std::floor(id))
+    {
+      return "BranchOverrides row " + std::to_string(r / 6) + ": " +
+        plantmorph::OutOfRange("BranchId", id, "[0, 2147483647]", "a whole number");
+    }
+    // NaN or <= -1000 keeps: ParaView 5.11 state files do not keep NaN (it loads as 0), so -1000 is the
+    // spelling that survives a save and a load.
+    const auto keep = [](double v) { return v <= -1000.0 ? std::numeric_limits<double>::quiet_NaN() : v; };
+    plantmorph::BranchOverride& o = s.overrides[static_cast<int>(id)];
+    o.length = keep(rows[r + 1]);
+    o.radius = keep(rows[r + 2]);
+    o.u = keep(rows[r + 3]);
+    o.angle = keep(rows[r + 4]);
+    o.rotation = keep(rows[r + 5]);
+  }
+  return {};
 }
 } // namespace
 
@@ -592,22 +637,20 @@ int vtkTreeFromSketchSource::RequestInformation(vtkInformation*, vtkInformationV
 }
 
 //------------------------------------------------------------------------------
-bool vtkTreeFromSketchSource::ReadProperties(plantmorph::TreeParameters& s)
+std::string vtkTreeFromSketchSource::ReadProperties(plantmorph::TreeParameters& s)
 {
   if (this->BranchOverridesElementCount >= 0 &&
     static_cast<std::size_t>(this->BranchOverridesElementCount) != this->BranchOverrides.size())
   {
     // ParaView pushed only the whole rows: a partial row means the user's list is not rows of six.
-    vtkErrorMacro(<< plantmorph::OutOfRange("BranchOverrides",
-                    std::to_string(this->BranchOverridesElementCount) + " numbers", "{0, 6, 12, ...}",
-                    "rows of six: BranchId, length, radius, u, angle, rotation; the last row has " +
-                      std::to_string(this->BranchOverridesElementCount % 6)));
-    return false;
+    return plantmorph::OutOfRange("BranchOverrides", std::to_string(this->BranchOverridesElementCount) + " numbers",
+      "{0, 6, 12, ...}",
+      "rows of six: BranchId, length, radius, u, angle, rotation; the last row has " +
+        std::to_string(this->BranchOverridesElementCount % 6));
   }
   if (this->Preset < 0 || this->Preset >= plantmorph::TreePresetCount)
   {
-    vtkErrorMacro(<< plantmorph::OutOfRange("Preset", this->Preset, "[0, 3]", "0 Custom, 1-3 Table 1"));
-    return false;
+    return plantmorph::OutOfRange("Preset", this->Preset, "[0, 3]", "0 Custom, 1-3 Table 1");
   }
   s.mode = static_cast<plantmorph::TreeMode>(this->Mode);
   s.type = static_cast<plantmorph::TreeType>(this->TreeType);
@@ -645,240 +688,195 @@ bool vtkTreeFromSketchSource::ReadProperties(plantmorph::TreeParameters& s)
   s.mergeScale = this->MergeScale;
   s.mergeOffset = Eigen::Vector3d(this->MergeOffset[0], this->MergeOffset[1], this->MergeOffset[2]);
   s.deletedBranches.insert(this->DeletedBranches.begin(), this->DeletedBranches.end());
-  for (std::size_t r = 0; r + 6 <= this->BranchOverrides.size(); r += 6)
-  {
-    const double id = this->BranchOverrides[r];
-    if (!std::isfinite(id) || id < 0 || id > std::numeric_limits<int>::max() || id != std::floor(id))
-    {
-      vtkErrorMacro("BranchOverrides row "
-        << r / 6 << ": " << plantmorph::OutOfRange("BranchId", id, "[0, 2147483647]", "a whole number"));
-      return false;
-    }
-    // NaN or <= -1000 keeps: ParaView 5.11 state files do not keep NaN (it loads as 0), so -1000 is the
-    // spelling that survives a save and a load.
-    const auto keep = [](double v) { return v <= -1000.0 ? std::numeric_limits<double>::quiet_NaN() : v; };
-    plantmorph::BranchOverride& o = s.overrides[static_cast<int>(id)];
-    o.length = keep(this->BranchOverrides[r + 1]);
-    o.radius = keep(this->BranchOverrides[r + 2]);
-    o.u = keep(this->BranchOverrides[r + 3]);
-    o.angle = keep(this->BranchOverrides[r + 4]);
-    o.rotation = keep(this->BranchOverrides[r + 5]);
-  }
-  return true;
+  return ReadBranchOverrides(this->BranchOverrides, s);
 }
 
 //------------------------------------------------------------------------------
-void vtkTreeFromSketchSource::FillFieldData(vtkFieldData* parameters, const plantmorph::TreeParameters& s,
+void vtkTreeFromSketchSource::FillFieldData(plantmorph::FieldRecord& parameters, const plantmorph::TreeParameters& s,
   const plantmorph::Tree& tree, std::size_t strokeCount, const plantmorph::JointReport& joints,
   const plantmorph::JunctionReport& junctions) const
 {
-  AddFieldString(parameters, "PlantMorph.Model", "TreeFromSketch");
-  AddFieldString(parameters, "PlantMorph.TreePreset", plantmorph::TreePresetName(this->Preset));
-  AddFieldValue(parameters, "PlantMorph.Mode", this->Mode);
-  AddFieldValue(parameters, "PlantMorph.TreeType", static_cast<int>(s.type));
-  AddFieldValue(parameters, "PlantMorph.Length", s.length);
-  AddFieldValue(parameters, "PlantMorph.Radius", s.radius);
-  AddFieldValue(parameters, "PlantMorph.Depth", s.depth);
-  AddFieldValue(parameters, "PlantMorph.PhyllotaxisA", s.phyllotaxisA);
-  AddFieldValue(parameters, "PlantMorph.PhyllotaxisB", s.phyllotaxisB);
-  AddFieldValue(parameters, "PlantMorph.ChildCount", s.childCount);
-  AddFieldValue(parameters, "PlantMorph.Ratio", s.ratio);
-  AddFieldValue(parameters, "PlantMorph.SegmentsPerBranch", s.segmentsPerBranch);
-  AddFieldValue(parameters, "PlantMorph.Seed", this->Seed);
-  AddFieldValue(parameters, "PlantMorph.BranchCount", static_cast<double>(tree.branches.size()));
-  AddFieldValue(parameters, "PlantMorph.SegmentCount", static_cast<double>(tree.SegmentCount()));
-  AddFieldValue(parameters, "PlantMorph.LeafCount", static_cast<double>(tree.leaves.size()));
-  AddFieldValue(parameters, "PlantMorph.StrokeCount", static_cast<double>(strokeCount));
-  AddFieldValue(parameters, "PlantMorph.MergeIdBase", static_cast<double>(tree.mergeIdBase));
+  parameters.Add("Model", "TreeFromSketch");
+  parameters.Add("TreePreset", plantmorph::TreePresetName(this->Preset));
+  parameters.Add("Mode", this->Mode);
+  parameters.Add("TreeType", static_cast<int>(s.type));
+  parameters.Add("Length", s.length);
+  parameters.Add("Radius", s.radius);
+  parameters.Add("Depth", s.depth);
+  parameters.Add("PhyllotaxisA", s.phyllotaxisA);
+  parameters.Add("PhyllotaxisB", s.phyllotaxisB);
+  parameters.Add("ChildCount", s.childCount);
+  parameters.Add("Ratio", s.ratio);
+  parameters.Add("SegmentsPerBranch", s.segmentsPerBranch);
+  parameters.Add("Seed", this->Seed);
+  parameters.Add("BranchCount", static_cast<double>(tree.branches.size()));
+  parameters.Add("SegmentCount", static_cast<double>(tree.SegmentCount()));
+  parameters.Add("LeafCount", static_cast<double>(tree.leaves.size()));
+  parameters.Add("StrokeCount", static_cast<double>(strokeCount));
+  parameters.Add("MergeIdBase", static_cast<double>(tree.mergeIdBase));
+  parameters.AddTuple("JointRingVertices", { "Seated", "Missed", "Clamped", "Buried" },
+    { double(joints.seated), double(joints.missed), double(joints.clamped), double(joints.buried) });
+  parameters.Add("Joints", this->Joints);
+  parameters.AddTuple("Junctions", { "Junctions", "Welded", "Merged", "AtEnds", "Narrowed", "Fallback" },
+    { double(junctions.junctions), double(junctions.welded), double(junctions.merged), double(junctions.endJunctions),
+      double(junctions.narrowed), double(junctions.fallback) });
+  std::vector<double> strokes;
+  for (const plantmorph::StrokeReport& r : tree.strokes)
   {
-    vtkNew<vtkDoubleArray> seating;
-    seating->SetName("PlantMorph.JointRingVertices");
-    seating->SetNumberOfComponents(4);
-    seating->SetComponentName(0, "Seated");
-    seating->SetComponentName(1, "Missed");
-    seating->SetComponentName(2, "Clamped");
-    seating->SetComponentName(3, "Buried");
-    const double row[4] = { double(joints.seated), double(joints.missed), double(joints.clamped),
-      double(joints.buried) };
-    seating->InsertNextTuple(row);
-    parameters->AddArray(seating);
+    strokes.insert(
+      strokes.end(), { double(r.branchId), double(r.parentId), r.lambda, r.recommendedTheta, r.theta, r.rotation });
   }
-  AddFieldValue(parameters, "PlantMorph.Joints", this->Joints);
-  {
-    vtkNew<vtkDoubleArray> welding;
-    welding->SetName("PlantMorph.Junctions");
-    welding->SetNumberOfComponents(6);
-    const char* names[6] = { "Junctions", "Welded", "Merged", "AtEnds", "Narrowed", "Fallback" };
-    for (int c = 0; c < 6; ++c)
-      welding->SetComponentName(c, names[c]);
-    const double row[6] = { double(junctions.junctions), double(junctions.welded), double(junctions.merged),
-      double(junctions.endJunctions), double(junctions.narrowed), double(junctions.fallback) };
-    welding->InsertNextTuple(row);
-    parameters->AddArray(welding);
-  }
-  {
-    vtkNew<vtkDoubleArray> report;
-    report->SetName("PlantMorph.Strokes");
-    report->SetNumberOfComponents(6);
-    report->SetComponentName(0, "BranchId");
-    report->SetComponentName(1, "ParentId");
-    report->SetComponentName(2, "Lambda");
-    report->SetComponentName(3, "RecommendedTheta");
-    report->SetComponentName(4, "Theta");
-    report->SetComponentName(5, "RotationAngle");
-    for (const plantmorph::StrokeReport& r : tree.strokes)
-    {
-      const double row[6] = { double(r.branchId), double(r.parentId), r.lambda, r.recommendedTheta, r.theta,
-        r.rotation };
-      report->InsertNextTuple(row);
-    }
-    parameters->AddArray(report);
-  }
+  parameters.AddRows(
+    "Strokes", 6, strokes, { "BranchId", "ParentId", "Lambda", "RecommendedTheta", "Theta", "RotationAngle" });
 }
 
 //------------------------------------------------------------------------------
-int vtkTreeFromSketchSource::RequestData(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+namespace
 {
-  vtkPolyData* branchesOut = vtkPolyData::GetData(outputVector, 0);
-  vtkPolyData* skeletonOut = vtkPolyData::GetData(outputVector, 1);
-  vtkPolyData* leavesOut = vtkPolyData::GetData(outputVector, 2);
-  branchesOut->Initialize();
-  skeletonOut->Initialize();
-  leavesOut->Initialize();
-  // Pieces (see the class documentation): every piece builds the same skeleton and makes its own branches.
-  // The piece asked of the port this update is for (the other ports' requests may be absent or stale).
-  int piece = 0, pieces = 1;
-  const int port = request->Has(vtkExecutive::FROM_OUTPUT_PORT()) ? request->Get(vtkExecutive::FROM_OUTPUT_PORT()) : 0;
-  RequestedPiece(outputVector->GetInformationObject(port >= 0 && port < 3 ? port : 0), piece, pieces);
-  if (piece < 0 || piece >= pieces)
-  {
-    return 1; // no such piece: nothing (a streaming request beyond the last piece)
-  }
-  // The small inputs whole on every rank (collective: before anything may return on one rank but not another).
-  vtkSmartPointer<vtkPolyData> inputs[3];
-  for (int port = 0; port < 3; ++port)
-  {
-    inputs[port] = this->GetNumberOfInputConnections(port) > 0
-      ? WholeOnEveryRank(vtkPolyData::GetData(inputVector[port], 0))
-      : nullptr;
-  }
+/// Every piece builds the same (small) skeleton and then its own share of the branch surfaces
+/// (sources/tree/tubes/BranchPieces.h); the small inputs are made whole on every rank first.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::DataParallel;
 
-  // Properties -> parameters.
-  plantmorph::TreeParameters s;
-  if (!this->ReadProperties(s))
-  {
-    return 1;
-  }
-
-  // Strokes: the input's lines, else the file.
-  std::vector<std::vector<Eigen::Vector3d>> strokes;
-  std::string error =
-    s.mode == plantmorph::TreeMode::Template ? std::string() : ReadStrokes(inputs[0], this->StrokeFile, strokes);
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 1;
-  }
-  // A second tree to merge: a skeleton (lines) with BranchId and ParentId on its cells and Radius on its points.
-  std::vector<plantmorph::SkeletonBranch> second;
-  vtkPolyData* mergeInput = inputs[2];
-  if (mergeInput)
-  {
-    const std::string refused = ReadSkeleton(mergeInput, second);
-    if (!refused.empty())
-    {
-      vtkErrorMacro(<< refused);
-      return 1;
-    }
-  }
-  this->UpdateProgress(0.05);
-
-  if (this->Joints != 0 && this->Joints != 1)
-  {
-    vtkErrorMacro(<< plantmorph::OutOfRange("Joints", this->Joints, "[0, 1]", "0 Welded, 1 Seated tubes"));
-    return 1;
-  }
-  plantmorph::Tree tree;
-  error = plantmorph::BuildTree(s, strokes, mergeInput ? &second : nullptr, tree);
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 1;
-  }
-  this->UpdateProgress(0.3);
-  if (this->GetAbortExecute())
-  {
-    return 1;
-  }
-
-  // Branch surfaces: welded by convex-hull junctions into one closed surface per tree (default), or each branch its
-  // own closed tube with its base ring seated on its parent. A piece builds the branches the plan gives it.
-  std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree);
-  std::vector<char> selected;
-  if (pieces > 1)
-  {
-    selected = plantmorph::TubesOfPiece(plantmorph::PlanPieces(tubes, plantmorph::MergedRoots(tree), pieces), piece);
-  }
-  const std::vector<char>* only = pieces > 1 ? &selected : nullptr;
+/// The branch surfaces of this piece (all of them with one piece) and the build's reports.
+struct Surfaces
+{
   plantmorph::TubeMesh mesh;
   plantmorph::JointReport joints;
   plantmorph::JunctionReport junctions;
-  error = this->Joints == 0 ? plantmorph::BuildWeldedTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &junctions, only)
-                            : plantmorph::BuildTubes(tubes, s.sides, mesh, plantmorph::SMPFor(), &joints, only);
-  tubes.clear();
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 1;
-  }
-  this->UpdateProgress(0.6);
+  std::vector<char> selected; // the branches of this piece; empty: all
+};
 
-  // Leaf geometry input: validated before anything is written.
-  vtkPolyData* leafInput = inputs[1];
-  double leafLength = 0.0, leafMinY = 0.0;
-  if (s.leaves && leafInput)
-  {
-    error = ValidateLeafInput(leafInput, tree, s, leafLength, leafMinY);
-    if (!error.empty())
-    {
-      vtkErrorMacro(<< error);
-      return 1;
-    }
-  }
-
-  vtkNew<vtkFieldData> parameters;
-  this->FillFieldData(parameters, s, tree, strokes.size(), joints, junctions);
+/// Welded by convex-hull junctions into one closed surface per tree (Joints 0), or each branch its own closed tube
+/// with its base ring seated on its parent (Joints 1). A piece builds the branches the plan gives it.
+void BuildSurfaces(const plantmorph::Run& run, const plantmorph::Tree& tree, const plantmorph::TreeParameters& s,
+  int joints, int piece, int pieces, Surfaces& out)
+{
+  const std::vector<plantmorph::TubeInput> tubes = plantmorph::TreeTubeInputs(tree);
   if (pieces > 1)
+  {
+    out.selected =
+      plantmorph::TubesOfPiece(plantmorph::PlanPieces(tubes, plantmorph::MergedRoots(tree), pieces), piece);
+  }
+  const std::vector<char>* only = pieces > 1 ? &out.selected : nullptr;
+  run.Check(joints == 0
+      ? plantmorph::BuildWeldedTubes(tubes, s.sides, out.mesh, plantmorph::SMPFor(), &out.junctions, only)
+      : plantmorph::BuildTubes(tubes, s.sides, out.mesh, plantmorph::SMPFor(), &out.joints, only));
+}
+
+/// Which piece (of how many) the port this update is for asks (the other ports' requests may be absent or stale).
+void PieceAsked(const plantmorph::Run& run, int& piece, int& pieces)
+{
+  vtkInformation* request = run.RequestInformation();
+  const int port =
+    request && request->Has(vtkExecutive::FROM_OUTPUT_PORT()) ? request->Get(vtkExecutive::FROM_OUTPUT_PORT()) : 0;
+  RequestedPiece(run.OutputInformation(port >= 0 && port < 3 ? port : 0), piece, pieces);
+}
+
+/// The Leaf input with its length and base (ValidateLeafInput), and this piece.
+struct LeafInput
+{
+  vtkPolyData* data;
+  double length;
+  double minY;
+};
+struct Piece
+{
+  int number;
+  int count;
+};
+
+/// The three ports and their PlantMorph.* field data.
+void WriteOutputs(vtkAlgorithm* self, plantmorph::Run& run, const plantmorph::TreeParameters& s,
+  const plantmorph::Tree& tree, Surfaces& surfaces, const LeafInput& leafInput, const Piece& piece,
+  plantmorph::FieldRecord& parameters)
+{
+  if (piece.count > 1)
   {
     vtkNew<vtkIntArray> where;
     where->SetName("PlantMorph.Piece");
     where->SetNumberOfComponents(2);
     where->SetComponentName(0, "Piece");
     where->SetComponentName(1, "Pieces");
-    where->InsertNextTuple2(piece, pieces);
-    parameters->AddArray(where);
+    where->InsertNextTuple2(piece.number, piece.count);
+    parameters.AddArray(where);
   }
-  WriteBranches(mesh, tree, branchesOut);
-  mesh = plantmorph::TubeMesh();
-  this->UpdateProgress(0.8);
-  if (piece == 0)
+  run.Building("the tree's outputs");
+  WriteBranches(surfaces.mesh, tree, run.Output<vtkPolyData>(0));
+  surfaces.mesh = plantmorph::TubeMesh();
+  self->UpdateProgress(0.8);
+  if (piece.number == 0)
   {
-    WriteSkeleton(tree, skeletonOut); // small: whole on piece 0 (see the class documentation)
+    WriteSkeleton(tree, run.Output<vtkPolyData>(1)); // small: whole on piece 0 (see the class documentation)
   }
-  const std::vector<plantmorph::TreeLeaf> leaves = LeavesOf(tree, only);
+  const std::vector<plantmorph::TreeLeaf> leaves = LeavesOf(tree, piece.count > 1 ? &surfaces.selected : nullptr);
   if (s.leaves && !leaves.empty())
   {
-    WriteLeaves(leaves, s, leafInput, leafLength, leafMinY, leavesOut);
+    WriteLeaves(leaves, s, leafInput.data, leafInput.length, leafInput.minY, run.Output<vtkPolyData>(2));
   }
+  run.WriteToEveryOutput(parameters);
+}
+} // namespace
 
-  for (vtkPolyData* output : { branchesOut, skeletonOut, leavesOut })
+//------------------------------------------------------------------------------
+int vtkTreeFromSketchSource::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  return plantmorph::RunRequestData(
+    this, Policy, "the tree", request, inputVector, outputVector, [this](plantmorph::Run& run) { this->Execute(run); });
+}
+
+//------------------------------------------------------------------------------
+void vtkTreeFromSketchSource::Execute(plantmorph::Run& run)
+{
+  int piece = 0, pieces = 1;
+  PieceAsked(run, piece, pieces);
+  if (piece < 0 || piece >= pieces)
   {
-    for (int a = 0; a < parameters->GetNumberOfArrays(); ++a)
-    {
-      output->GetFieldData()->AddArray(parameters->GetAbstractArray(a));
-    }
+    return; // no such piece: nothing (a streaming request beyond the last piece)
   }
+  // The small inputs whole on every rank (collective: before anything may stop on one rank but not another).
+  vtkSmartPointer<vtkPolyData> inputs[3];
+  for (int port = 0; port < 3; ++port)
+  {
+    inputs[port] =
+      this->GetNumberOfInputConnections(port) > 0 ? WholeOnEveryRank(run.Input<vtkPolyData>(port)) : nullptr;
+  }
+  plantmorph::TreeParameters s;
+  run.Check(this->ReadProperties(s));
+  // Strokes: the input's lines, else the file. A second tree to merge: a skeleton (lines) with BranchId and
+  // ParentId on its cells and Radius on its points.
+  std::vector<std::vector<Eigen::Vector3d>> strokes;
+  if (s.mode != plantmorph::TreeMode::Template)
+  {
+    run.Check(ReadStrokes(inputs[0], this->StrokeFile, strokes));
+  }
+  std::vector<plantmorph::SkeletonBranch> second;
+  vtkPolyData* mergeInput = inputs[2];
+  if (mergeInput)
+  {
+    run.Check(ReadSkeleton(mergeInput, second));
+  }
+  this->UpdateProgress(0.05);
+  if (this->Joints != 0 && this->Joints != 1)
+  {
+    run.Fail(plantmorph::OutOfRange("Joints", this->Joints, "[0, 1]", "0 Welded, 1 Seated tubes"));
+  }
+  plantmorph::Tree tree;
+  run.Check(plantmorph::BuildTree(s, strokes, mergeInput ? &second : nullptr, tree));
+  this->UpdateProgress(0.3);
+  run.StopIfAborted();
+  run.Building("the tree's branch surfaces");
+  Surfaces surfaces;
+  BuildSurfaces(run, tree, s, this->Joints, piece, pieces, surfaces);
+  this->UpdateProgress(0.6);
+  // Leaf geometry input: validated before anything is written.
+  double leafLength = 0.0, leafMinY = 0.0;
+  if (s.leaves && inputs[1])
+  {
+    run.Check(ValidateLeafInput(inputs[1], tree, s, leafLength, leafMinY));
+  }
+  plantmorph::FieldRecord parameters;
+  this->FillFieldData(parameters, s, tree, strokes.size(), surfaces.joints, surfaces.junctions);
+  WriteOutputs(this, run, s, tree, surfaces, { inputs[1], leafLength, leafMinY }, { piece, pieces }, parameters);
   this->UpdateProgress(1.0);
-  return 1;
 }

@@ -96,6 +96,8 @@
 
 namespace plantmorph
 {
+class FieldRecord;
+class Run;
 struct JointReport;
 struct JunctionReport;
 struct Tree;
@@ -267,10 +269,10 @@ protected:
   /// With a named Preset, warns about each preset-set property changed from its default to a value the preset
   /// overrides (it is not what the output has).
   void WarnAboutPresetOverrides(const plantmorph::TreeParameters& used);
-  /// Properties -> parameters (the Preset applied); false, with the error reported, when one is out of range.
-  bool ReadProperties(plantmorph::TreeParameters& parameters);
+  /// Properties -> parameters (the Preset applied); "" or the message naming the property out of range.
+  std::string ReadProperties(plantmorph::TreeParameters& parameters);
   /// The PlantMorph.* field data every output carries: the parameters used and the build's reports.
-  void FillFieldData(vtkFieldData* fieldData, const plantmorph::TreeParameters& parameters,
+  void FillFieldData(plantmorph::FieldRecord& fieldData, const plantmorph::TreeParameters& parameters,
     const plantmorph::Tree& tree, std::size_t strokeCount, const plantmorph::JointReport& joints,
     const plantmorph::JunctionReport& junctions) const;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -318,6 +320,9 @@ protected:
   std::string PresetValues;
 
 private:
+  /// RequestData's body (plantmorph::RunRequestData): this piece's tree, its three ports and field data.
+  void Execute(plantmorph::Run& run);
+
   vtkTreeFromSketchSource(const vtkTreeFromSketchSource&) = delete;
   void operator=(const vtkTreeFromSketchSource&) = delete;
 };

@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The VTK layer (common/vtk/PlantMorphLayer.h): RunRequestData leaves every output port empty and says the error
+// once whatever the body throws, out of memory included; FieldRecord prefixes its names; PresetOverrides lists only
+// the changed properties.
+#include "PlantMorphLayer.h"
+#include "VtkErrorCatcher.h"
+
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataAlgorithm.h"
+#include "vtkSMPTools.h"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <new>
+#include <stdexcept>
+#include <string>
+
+namespace
+{
+using plantmorph::testing::ErrorCatcher;
+
+/// A source of two ports whose body fills both, then does what the test asks (nothing, fail, throw).
+class LayerProbe : public vtkPolyDataAlgorithm
+{
+public:
+  static LayerProbe* New();
+  vtkTypeMacro(LayerProbe, vtkPolyDataAlgorithm);
+  std::function<void(plantmorph::Run&)> Then = [](plantmorph::Run&) {};
+
+protected:
+  LayerProbe()
+  {
+    this->SetNumberOfInputPorts(0);
+    this->SetNumberOfOutputPorts(2);
+  }
+  int RequestData(vtkInformation* request, vtkInformationVector** in, vtkInformationVector* out) override
+  {
+    return plantmorph::RunRequestData(this, plantmorph::MPIPolicy::WholeOnFirstRank, "the probe's points", request, in,
+      out, [this](plantmorph::Run& run) {
+        for (int port = 0; port < 2; ++port)
+        {
+          vtkNew<vtkPoints> points;
+          points->InsertNextPoint(0.0, 0.0, 0.0);
+          run.Output<vtkPolyData>(port)->SetPoints(points);
+        }
+        plantmorph::FieldRecord record;
+        record.Add("Probe", 1.0);
+        run.WriteToEveryOutput(record);
+        this->Then(run);
+      });
+  }
+};
+vtkStandardNewMacro(LayerProbe);
+
+/// Runs the probe with `then`; the error text it reported.
+std::string RunProbe(LayerProbe* probe, std::function<void(plantmorph::Run&)> then)
+{
+  vtkNew<ErrorCatcher> catcher;
+  probe->AddObserver(vtkCommand::ErrorEvent, catcher);
+  probe->Then = std::move(then);
+  probe->Modified();
+  probe->Update();
+  probe->RemoveAllObservers();
+  return catcher->Messages;
+}
+
+bool Empty(LayerProbe* probe)
+{
+  return probe->GetOutput(0)->GetNumberOfPoints() == 0 && probe->GetOutput(1)->GetNumberOfPoints() == 0 &&
+    probe->GetOutput(0)->GetFieldData()->GetNumberOfArrays() == 0;
+}
+} // namespace
+
+TEST(VtkLayer, ASuccessfulRunKeepsEveryOutputAndItsFieldData)
+{
+  vtkNew<LayerProbe> probe;
+  EXPECT_EQ(RunProbe(probe, [](plantmorph::Run&) {}), "");
+  EXPECT_EQ(probe->GetOutput(0)->GetNumberOfPoints(), 1);
+  EXPECT_EQ(probe->GetOutput(1)->GetNumberOfPoints(), 1);
+  EXPECT_NE(probe->GetOutput(1)->GetFieldData()->GetArray("PlantMorph.Probe"), nullptr);
+}
+
+TEST(VtkLayer, AFailureSaysItsMessageOnceAndEmptiesEveryPort)
+{
+  vtkNew<LayerProbe> probe;
+  const std::string said = RunProbe(probe, [](plantmorph::Run& run) { run.Fail("Width = -1 is outside the range"); });
+  EXPECT_NE(said.find("Width = -1 is outside the range"), std::string::npos) << said;
+  EXPECT_EQ(said.find("Width", said.find("Width") + 1), std::string::npos) << "said once: " << said;
+  EXPECT_TRUE(Empty(probe));
+}
+
+TEST(VtkLayer, OutOfMemoryNamesWhatWasBeingBuiltAndEmptiesEveryPort)
+{
+  vtkNew<LayerProbe> probe;
+  const std::string said = RunProbe(probe, [](plantmorph::Run& run) {
+    run.Building("the probe's mesh");
+    throw std::bad_alloc();
+  });
+  EXPECT_NE(said.find("ran out of memory building the probe's mesh"), std::string::npos) << said;
+  EXPECT_TRUE(Empty(probe));
+  // The next run is whole again.
+  EXPECT_EQ(RunProbe(probe, [](plantmorph::Run&) {}), "");
+  EXPECT_EQ(probe->GetOutput(1)->GetNumberOfPoints(), 1);
+}
+
+TEST(VtkLayer, AnyOtherExceptionAndAStopAlsoEmptyEveryPort)
+{
+  vtkNew<LayerProbe> probe;
+  const std::string said = RunProbe(probe, [](plantmorph::Run&) { throw std::runtime_error("index out of range"); });
+  EXPECT_NE(said.find("failed building the probe's points: index out of range"), std::string::npos) << said;
+  EXPECT_TRUE(Empty(probe));
+  EXPECT_EQ(RunProbe(probe, [](plantmorph::Run& run) { run.Stop(); }), "") << "a stop says nothing";
+  EXPECT_TRUE(Empty(probe));
+}
+
+TEST(VtkLayer, RunThreadedRestoresTheBackendAfterAThrow)
+{
+  const std::string before = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "";
+  EXPECT_THROW(plantmorph::RunThreaded(2, [] { plantmorph::Fail("stop"); }), plantmorph::RunFailure);
+  EXPECT_EQ(std::string(vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : ""), before);
+}
+
+TEST(VtkLayer, FieldRecordPrefixesNamesOnce)
+{
+  plantmorph::FieldRecord record;
+  record.Add("Length", 2.5);
+  record.Add("PlantMorph.Model", "BSpline");
+  record.AddTuple("Curvature", { "Mu", "Lambda" }, { 1.0, 2.0 });
+  EXPECT_NE(record.Data()->GetArray("PlantMorph.Length"), nullptr);
+  EXPECT_NE(record.Data()->GetAbstractArray("PlantMorph.Model"), nullptr);
+  EXPECT_EQ(record.Data()->GetAbstractArray("PlantMorph.PlantMorph.Model"), nullptr);
+  EXPECT_EQ(record.Text(), "Length = 2.5\nModel = BSpline\nCurvatureMu = 1\nCurvatureLambda = 2\n");
+}
+
+TEST(VtkLayer, PresetOverridesListsOnlyTheChangedProperties)
+{
+  plantmorph::PresetOverrides overrides("SpaceCurvePreset");
+  overrides.Check("CurvatureMu", 2.0, 2.0);
+  EXPECT_EQ(overrides.Message(), "") << "nothing changed: no warning";
+  overrides.Check("Lobes", 3, 1);
+  overrides.Check("Terms", std::vector<double>{ 1.0 }, std::vector<double>{});
+  EXPECT_EQ(overrides.Message(),
+    "these properties are changed from their defaults but not used, because SpaceCurvePreset is a named preset that "
+    "sets them itself: Lobes, Terms. Set SpaceCurvePreset to Custom (0) to use them.");
+}
