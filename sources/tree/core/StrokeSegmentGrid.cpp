@@ -13,9 +13,11 @@ namespace plantmorph
 namespace
 {
 constexpr double kDomain = 1073741824.0; // 2^30 cells either way
+/// Cells' worth of rounding allowed for in cell coordinates (below 2^30, a double's rounding is under 1e-6 cells).
+constexpr double kSlack = 1e-4;
 
-/// Calls visit(major, minor) for the cells crossed by (ua, va)-(ub, vb) in cell units (u the major axis), with one
-/// cell of margin each way; stops (returning false) after `most` cells.
+/// Calls visit(major, minor) for the cells crossed by (ua, va)-(ub, vb) in cell units (u the major axis), with a
+/// margin of kSlack cells each way (rounding); stops (returning false) after `most` cells.
 template <typename Visit>
 bool Rasterize(double ua, double va, double ub, double vb, std::size_t most, Visit&& visit)
 {
@@ -25,18 +27,20 @@ bool Rasterize(double ua, double va, double ub, double vb, std::size_t most, Vis
     std::swap(va, vb);
   }
   std::size_t count = 0;
-  const auto first = static_cast<std::int64_t>(std::floor(ua)) - 1, last = static_cast<std::int64_t>(std::floor(ub)) + 1;
+  const auto first = static_cast<std::int64_t>(std::floor(ua - kSlack));
+  const auto last = static_cast<std::int64_t>(std::floor(ub + kSlack));
   for (std::int64_t m = first; m <= last; ++m)
   {
-    const double m0 = std::clamp(static_cast<double>(m), ua, ub), m1 = std::clamp(static_cast<double>(m + 1), ua, ub);
+    const double m0 = std::clamp(static_cast<double>(m) - kSlack, ua, ub);
+    const double m1 = std::clamp(static_cast<double>(m + 1) + kSlack, ua, ub);
     double v0 = va, v1 = vb;
     if (ub > ua)
     {
       v0 = va + (m0 - ua) * (vb - va) / (ub - ua);
       v1 = va + (m1 - ua) * (vb - va) / (ub - ua);
     }
-    const auto low = static_cast<std::int64_t>(std::floor(std::min(v0, v1))) - 1;
-    const auto high = static_cast<std::int64_t>(std::floor(std::max(v0, v1))) + 1;
+    const auto low = static_cast<std::int64_t>(std::floor(std::min(v0, v1) - kSlack));
+    const auto high = static_cast<std::int64_t>(std::floor(std::max(v0, v1) + kSlack));
     for (std::int64_t n = low; n <= high; ++n)
     {
       if (++count > most)
@@ -64,8 +68,8 @@ StrokeSegmentGrid::StrokeSegmentGrid(const std::vector<Eigen::Vector2d>& points,
   }
   const Eigen::Vector2d extent = high - low;
   const double count = static_cast<double>(std::max<std::size_t>(1, expectedSegments));
-  // About two segments' area per cell; never so small that the extent spans more cells than segments.
-  double size = std::max(std::sqrt(2.0 * extent.x() * extent.y() / count), extent.maxCoeff() / count);
+  // About one segment's area per cell; never so small that the extent spans more cells than segments.
+  double size = std::max(std::sqrt(extent.x() * extent.y() / count), extent.maxCoeff() / count);
   if (!(size > 0.0) || !std::isfinite(size))
   {
     size = std::isfinite(extent.maxCoeff()) && extent.maxCoeff() > 0.0 ? extent.maxCoeff() : 1.0;
@@ -108,7 +112,8 @@ void StrokeSegmentGrid::Add(std::size_t branch, const Eigen::Vector2d& a, const 
   const bool steep = std::abs(vb - va) > std::abs(ub - ua);
   const auto noop = [](std::int64_t, std::int64_t) {};
   if (!this->Cell(a, ax, ay) || !this->Cell(b, bx, by) ||
-    !(steep ? Rasterize(va, ua, vb, ub, kMaxCellsPerSegment, noop) : Rasterize(ua, va, ub, vb, kMaxCellsPerSegment, noop)))
+    !(steep ? Rasterize(va, ua, vb, ub, kMaxCellsPerSegment, noop)
+            : Rasterize(ua, va, ub, vb, kMaxCellsPerSegment, noop)))
   {
     this->Everywhere.push_back(id);
     return;
@@ -196,12 +201,13 @@ bool StrokeSegmentGrid::Nearest(
   std::size_t visited = 0;
   if (this->High[0] >= this->Low[0])
   {
-    const std::int64_t outside = std::max({ std::int64_t(0), this->Low[0] - cx, cx - this->High[0],
-      this->Low[1] - cy, cy - this->High[1] });
+    const std::int64_t outside =
+      std::max({ std::int64_t(0), this->Low[0] - cx, cx - this->High[0], this->Low[1] - cy, cy - this->High[1] });
     for (std::int64_t r = outside;; ++r)
     {
-      // Every point of a cell on ring r is at least (r - 1) cells from p (one more for rounding).
-      if (static_cast<double>(r - 2) * this->Size > nearest + margin)
+      // A segment in no cell of rings 0 .. r - 1 crosses only cells r or more from p's: it is at least r - 1 cells
+      // from p (less the rounding).
+      if ((static_cast<double>(r - 1) - 2.0 * kSlack) * this->Size > nearest + margin)
       {
         break;
       }

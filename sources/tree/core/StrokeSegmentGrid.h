@@ -2,7 +2,7 @@
 // A uniform grid over the image-plane segments of a tree's centre lines, for eq. (2) of TreeStrokes.h: the segments
 // nearest to a stroke's first point without visiting every segment (plain C++, no VTK).
 //
-// Each segment (a, b) is registered in every cell it crosses (with one cell of margin, so rounding cannot lose it);
+// Each segment (a, b) is registered in every cell it crosses (with 1e-4 cells of margin, so rounding cannot lose it);
 // a segment crossing more than kMaxCellsPerSegment cells, or outside the grid's domain (2^30 cells either way), is
 // kept in a list that every query reads. A query visits square rings of cells around the point's cell, clipped to
 // the occupied cells, until the ring's distance exceeds the nearest distance found plus the margin: it returns the
@@ -25,7 +25,7 @@ class StrokeSegmentGrid
 {
 public:
   /// The cell size follows the extent of `points` (every stroke point and existing centre-line point) and the
-  /// expected number of segments: about two segments' worth of area per cell.
+  /// expected number of segments: about one segment's worth of area per cell.
   StrokeSegmentGrid(const std::vector<Eigen::Vector2d>& points, std::size_t expectedSegments);
 
   /// Registers segment (a, b) of branch `branch`.

@@ -26,7 +26,8 @@ TreeParameters Settings(std::uint64_t seed)
 }
 
 /// Both searches on the same strokes; every branch and report compared exactly.
-void ExpectSameTrees(const TreeParameters& s, const std::vector<std::vector<Eigen::Vector3d>>& strokes, const Tree& start)
+void ExpectSameTrees(
+  const TreeParameters& s, const std::vector<std::vector<Eigen::Vector3d>>& strokes, const Tree& start)
 {
   Tree grid = start, exhaustive = start;
   const std::string a = AddStrokes(s, strokes, grid, StrokeSearch::Grid);
