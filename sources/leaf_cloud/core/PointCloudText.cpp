@@ -93,7 +93,9 @@ public:
     {
       return this->Fail("longer than " + std::to_string(kMaxPointCloudLineLength) + " characters");
     }
-    if (this->Number == 1 && StartsWithByteOrderMark(begin, end))
+    const bool fileStart = this->FileStart;
+    this->FileStart = false;
+    if (fileStart && StartsWithByteOrderMark(begin, end))
     {
       begin += 3; // the UTF-8 byte order mark is not part of the first line
     }
@@ -147,6 +149,7 @@ public:
   std::vector<double> Row;
   std::size_t Number = 0;
   bool FirstLine = true;
+  bool FileStart = true; ///< the next line is the file's first (at offset 0): a byte order mark there is skipped
   std::string Error;
   std::string What;
 };
@@ -506,6 +509,7 @@ std::string ReadPointCloudTextPiece(std::istream& in, PointCloudTextPiece& piece
   // 3. The piece's own lines (those before the first data line are the head's: comments or the header).
   CloudBuilder builder(cloud);
   builder.FirstLine = piece.begin == 0;
+  builder.FileStart = piece.begin == 0;
   builder.Number = piece.firstNumber ? piece.firstNumber - 1 : 0;
   const ScanStop stop = ScanLines(
     in, first, piece.end,

@@ -301,6 +301,27 @@ TEST(PointCloudText, PiecesReportTheWholeFilesErrorWithItsLineNumber)
   EXPECT_EQ(ReadByPieces(early, EvenCuts(early.size(), 4)).error, expected);
 }
 
+TEST(PointCloudText, OnlyTheFilesFirstLineLosesAByteOrderMarkInPiecesToo)
+{
+  // Found by the fuzzer: a piece whose first line is not the file's must not skip a byte order mark there.
+  const std::string text = "\xEF\xBB\xBF"
+                           "1 2 3\n\n\xEF\xBB\xBF";
+  ExpectRefused(text, "line 3: ");
+  for (std::size_t count = 1; count <= 8; ++count)
+  {
+    const ByPieces pieces = ReadByPieces(text, EvenCuts(text.size(), count));
+    EXPECT_GE(pieces.failures, 1) << count << " pieces";
+  }
+  const std::string good = "\xEF\xBB\xBF"
+                           "x y z\n1 2 3\n4 5 6\n";
+  for (std::size_t count = 1; count <= 8; ++count)
+  {
+    const ByPieces pieces = ReadByPieces(good, EvenCuts(good.size(), count));
+    EXPECT_EQ(pieces.failures, 0) << count << " pieces: " << pieces.error;
+    EXPECT_EQ(pieces.values, (std::vector<double>{ 1, 2, 3, 4, 5, 6 })) << count << " pieces";
+  }
+}
+
 TEST(PointCloudText, LooksLikeAPointCloud)
 {
   const auto looks = [](const std::string& text) {
