@@ -10,6 +10,7 @@
 //   tree_benchmark --benchmark_counters_tabular=true
 #include "BranchJunctions.h"
 #include "BranchTubes.h"
+#include "TreeStrokes.h"
 #include "TreeTemplate.h"
 
 #include "vtkTreeFromSketchSource.h"
@@ -23,6 +24,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <random>
 
 using plantmorph_benchmarks::PeakMemoryProbe;
 
@@ -166,8 +168,48 @@ void BM_TreeTubesJoints(benchmark::State& state)
   state.counters["fallback"] = static_cast<double>(junctions.fallback);
 }
 
+/// Eq. (2) for n two-point strokes (a stroke file of rows stroke_id, x, y): a trunk, then each stroke starts within
+/// 0.5 of a random point of an earlier one and runs 1 to 20 in a random direction. Args: n, search (0 the grid,
+/// 1 exhaustive).
+void BM_StrokeAttach(benchmark::State& state)
+{
+  const auto n = static_cast<std::size_t>(state.range(0));
+  std::mt19937_64 random(42);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<std::vector<Eigen::Vector3d>> strokes = { { Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 100, 0) } };
+  while (strokes.size() < n)
+  {
+    const auto& from = strokes[static_cast<std::size_t>(unit(random) * double(strokes.size())) % strokes.size()];
+    const Eigen::Vector3d start =
+      from[unit(random) < 0.5 ? 0 : 1] + Eigen::Vector3d(unit(random) - 0.5, unit(random) - 0.5, 0);
+    const double angle = 6.283185307179586 * unit(random), length = 1.0 + 19.0 * unit(random);
+    strokes.push_back({ start, start + length * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0) });
+  }
+  plantmorph::TreeParameters s;
+  s.mode = plantmorph::TreeMode::Strokes;
+  s.strokesOnly = true;
+  s.leaves = false;
+  const auto search = state.range(1) ? plantmorph::StrokeSearch::Exhaustive : plantmorph::StrokeSearch::Grid;
+  for (auto _ : state)
+  {
+    plantmorph::Tree tree;
+    if (!plantmorph::AddStrokes(s, strokes, tree, search).empty())
+    {
+      state.SkipWithError("AddStrokes failed");
+    }
+    benchmark::DoNotOptimize(tree.branches.data());
+  }
+  state.counters["strokes"] = static_cast<double>(n);
+}
+
 BENCHMARK(BM_TreeCore)->ArgsProduct({ { 0, 1, 2, 3 }, { 0, 1 } })->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TreeTubesJoints)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_TreeSource)->ArgsProduct({ { 0, 1, 2, 3 }, { 0, 1 } })->Unit(benchmark::kMillisecond)->UseRealTime();
+
+BENCHMARK(BM_StrokeAttach)
+  ->ArgsProduct({ { 10000, 40000, 100000 }, { 0, 1 } })
+  ->Unit(benchmark::kMillisecond)
+  ->Iterations(1)
+  ->UseRealTime();
 
 BENCHMARK_MAIN();

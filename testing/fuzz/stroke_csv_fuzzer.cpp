@@ -8,12 +8,28 @@
 #include <cstdint>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   const std::string text(reinterpret_cast<const char*>(data), size);
   std::vector<std::vector<Eigen::Vector3d>> strokes;
-  const std::string error = plantmorph::ParseStrokeCsv(text, strokes);
+  std::vector<std::string> origins; // where each stroke comes from: one per stroke, none on error
+  const std::string error = plantmorph::ParseStrokeCsv(text, strokes, &origins);
+  if (origins.size() != strokes.size())
+  {
+    std::abort();
+  }
+  if (!strokes.empty())
+  {
+    const std::size_t k = strokes.size() - 1;
+    const std::string said =
+      plantmorph::StrokeFileError("Strokes input, stroke " + std::to_string(k) + ": zero length", "f", origins);
+    if (said.find(origins[k]) == std::string::npos || said.rfind("StrokeFile 'f', stroke ", 0) != 0)
+    {
+      std::abort();
+    }
+  }
   if (!error.empty() && !strokes.empty())
   {
     std::abort();

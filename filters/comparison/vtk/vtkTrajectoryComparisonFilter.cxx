@@ -110,6 +110,36 @@ void ReadPointTrajectory(vtkPointSet* points, const std::string& timeName, Traje
   }
 }
 
+/// A known layout whose three columns the table has, one of them not numeric (a text column, as ParaView's CSV reader
+/// makes of values it cannot parse): the message saying which, else empty.
+std::string NonNumericLayout(vtkTable* table, const char* port, const char* inputName, bool measured)
+{
+  for (const auto& layout : KnownLayouts(measured))
+  {
+    vtkAbstractArray* columns[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      columns[k] = table->GetColumnByName(layout[static_cast<std::size_t>(k)].c_str());
+    }
+    if (!columns[0] || !columns[1] || !columns[2])
+    {
+      continue;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      if (!HasNumericColumn(table, layout[static_cast<std::size_t>(k)]))
+      {
+        return std::string(port) + "X/Y/Z: the " + inputName + " table's column '" +
+          layout[static_cast<std::size_t>(k)] + "' is not numeric (a " + columns[k]->GetClassName() + " of " +
+          std::to_string(columns[k]->GetNumberOfComponents()) +
+          " component(s)): its values are text, e.g. decimal commas or quoted numbers; read the file with Leaf Cloud "
+          "Reader or convert that column";
+      }
+    }
+  }
+  return {};
+}
+
 /// The x, y, z columns to read: the named ones, or with all three "auto" the first known layout the table has.
 /// Empty string or an error.
 std::string ChooseColumns(vtkTable* table, const std::string named[3], const char* port, const char* inputName,
@@ -127,6 +157,10 @@ std::string ChooseColumns(vtkTable* table, const std::string named[3], const cha
       columns = layout;
       return {};
     }
+  }
+  if (std::string nonNumeric = NonNumericLayout(table, port, inputName, measured); !nonNumeric.empty())
+  {
+    return nonNumeric;
   }
   std::ostringstream message;
   message << port << "X/Y/Z: auto found none of the known x, y, z column layouts in the " << inputName << " table (";

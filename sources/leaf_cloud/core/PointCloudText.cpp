@@ -16,6 +16,66 @@ bool IsBlank(char c)
   return c == ' ' || c == '\t' || c == '\r';
 }
 
+/// The UTF-8 byte order mark some editors write at the start of a file.
+constexpr char kByteOrderMark[] = "\xEF\xBB\xBF";
+
+bool StartsWithByteOrderMark(const char* begin, const char* end)
+{
+  return end - begin >= 3 && std::memcmp(begin, kByteOrderMark, 3) == 0;
+}
+
+/// A carriage return inside the line (not only before its end): the file's lines end in CR alone.
+bool HasInnerCarriageReturn(const char* begin, const char* end)
+{
+  while (end > begin && end[-1] == '\r')
+  {
+    --end;
+  }
+  return std::memchr(begin, '\r', static_cast<std::size_t>(end - begin)) != nullptr;
+}
+
+/// A field digits,digits on a line that, split at blanks and semicolons, has two or more fields and no '.' or
+/// exponent in any: a decimal comma ("1,5 2,5 3,5" or "1,5;2,5;3,5"), which would read as two numbers. Empty when
+/// there is none. (A line with decimal points, "0.5 1,2", uses commas as separators.)
+std::string DecimalCommaField(const char* begin, const char* end)
+{
+  const auto separator = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == ';'; };
+  std::size_t fields = 0;
+  std::string found;
+  for (const char* p = begin; p < end;)
+  {
+    while (p < end && separator(*p))
+    {
+      ++p;
+    }
+    const char* q = p;
+    while (q < end && !separator(*q))
+    {
+      ++q;
+    }
+    if (q == p)
+    {
+      break;
+    }
+    ++fields;
+    if (std::find_if(p, q, [](char c) { return c == '.' || c == 'e' || c == 'E'; }) != q)
+    {
+      return {};
+    }
+    const char* d = p + (*p == '+' || *p == '-');
+    const char* comma = static_cast<const char*>(std::memchr(d, ',', static_cast<std::size_t>(q - d)));
+    const auto digits = [](const char* a, const char* b) {
+      return a < b && std::all_of(a, b, [](char c) { return c >= '0' && c <= '9'; });
+    };
+    if (found.empty() && comma && digits(d, comma) && digits(comma + 1, q))
+    {
+      found.assign(p, q);
+    }
+    p = q;
+  }
+  return fields >= 2 ? found : std::string();
+}
+
 /// The reader's state between lines.
 class CloudBuilder
 {
@@ -32,6 +92,17 @@ public:
     if (static_cast<std::size_t>(end - begin) > kMaxPointCloudLineLength)
     {
       return this->Fail("longer than " + std::to_string(kMaxPointCloudLineLength) + " characters");
+    }
+    const bool fileStart = this->FileStart;
+    this->FileStart = false;
+    if (fileStart && StartsWithByteOrderMark(begin, end))
+    {
+      begin += 3; // the UTF-8 byte order mark is not part of the first line
+    }
+    if (std::memchr(begin, '\r', static_cast<std::size_t>(end - begin)) && HasInnerCarriageReturn(begin, end))
+    {
+      return this->Fail("its lines end in a carriage return alone (old Mac line ends), which are not read: convert "
+                        "the file to LF or CRLF line ends");
     }
     std::string why;
     const CloudLineKind kind = ParseCloudLine(begin, end, this->Row, why);
@@ -78,6 +149,7 @@ public:
   std::vector<double> Row;
   std::size_t Number = 0;
   bool FirstLine = true;
+  bool FileStart = true; ///< the next line is the file's first (at offset 0): a byte order mark there is skipped
   std::string Error;
   std::string What;
 };
@@ -199,6 +271,7 @@ CloudLineKind ParseCloudLine(const char* begin, const char* end, std::vector<dou
   {
     return CloudLineKind::Skip;
   }
+  bool commaChecked = false;
   while (p < end)
   {
     while (p < end && IsBlank(*p))
@@ -230,6 +303,17 @@ CloudLineKind ParseCloudLine(const char* begin, const char* end, std::vector<dou
     }
     values.push_back(v);
     p = next;
+    if (p < end && *p == ',' && !commaChecked)
+    {
+      commaChecked = true;
+      if (const std::string field = DecimalCommaField(begin, end); !field.empty())
+      {
+        why = "decimal commas ('" + field +
+          "' would read as two numbers): write decimals with '.'; commas, "
+          "semicolons, spaces and tabs separate the columns";
+        return CloudLineKind::Refused;
+      }
+    }
     while (p < end && IsBlank(*p))
     {
       ++p;
@@ -251,16 +335,28 @@ CloudLineKind ParseCloudLine(const char* begin, const char* end, std::vector<dou
 std::vector<std::string> SplitHeaderNames(const std::string& header)
 {
   std::vector<std::string> names;
+  // Separated by commas, semicolons or tabs when it has any, else by runs of spaces.
+  const bool delimited = header.find_first_of(",;\t") != std::string::npos;
+  const auto separator = [&](char c) { return delimited ? c == ',' || c == ';' || c == '\t' : c == ' '; };
   std::size_t start = 0;
   for (std::size_t i = 0; i <= header.size(); ++i)
   {
-    if (i == header.size() || header[i] == ',' || header[i] == ';' || header[i] == '\t')
+    if (i == header.size() || separator(header[i]))
     {
       std::size_t b = start, e = i;
       while (b < e && (header[b] == ' ' || header[b] == '\r'))
         ++b;
       while (e > b && (header[e - 1] == ' ' || header[e - 1] == '\r'))
         --e;
+      if (e - b >= 2 && (header[b] == '"' || header[b] == '\'') && header[e - 1] == header[b])
+      {
+        ++b, --e; // a quoted name
+      }
+      if (!delimited && e == b)
+      {
+        start = i + 1;
+        continue; // runs of spaces
+      }
       names.emplace_back(header, b, e - b);
       start = i + 1;
     }
@@ -413,6 +509,7 @@ std::string ReadPointCloudTextPiece(std::istream& in, PointCloudTextPiece& piece
   // 3. The piece's own lines (those before the first data line are the head's: comments or the header).
   CloudBuilder builder(cloud);
   builder.FirstLine = piece.begin == 0;
+  builder.FileStart = piece.begin == 0;
   builder.Number = piece.firstNumber ? piece.firstNumber - 1 : 0;
   const ScanStop stop = ScanLines(
     in, first, piece.end,
@@ -470,7 +567,7 @@ bool LooksLikePointCloudText(std::istream& in)
   }
   std::vector<double> values;
   std::string why;
-  std::size_t start = 0;
+  std::size_t start = StartsWithByteOrderMark(text.data(), text.data() + text.size()) ? 3 : 0;
   for (int line = 0; line < 20 && start < text.size(); ++line)
   {
     std::size_t newline = text.find('\n', start);

@@ -24,6 +24,10 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <array>
+#include <filesystem>
+#include <initializer_list>
+#include <limits>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -54,7 +58,7 @@ std::string Lower(std::string text)
 }
 
 /// The x, y, z columns a header names: x, y, z (any case), else the first prefix P with P_x, P_y, P_z (e.g.
-/// measured_x, measured_y, measured_z). False when it names none.
+/// measured_x, measured_y, measured_z; not normal_ or n_, the normals). False when it names none.
 bool NamedCoordinates(const std::vector<std::string>& names, std::size_t xyz[3])
 {
   const auto find = [&](const std::string& wanted) {
@@ -67,12 +71,16 @@ bool NamedCoordinates(const std::vector<std::string>& names, std::size_t xyz[3])
     }
     return names.size();
   };
+  xyz[0] = find("x"), xyz[1] = find("y"), xyz[2] = find("z");
+  if (xyz[0] < names.size() && xyz[1] < names.size() && xyz[2] < names.size())
+  {
+    return true;
+  }
   for (std::size_t c = 0; c < names.size(); ++c)
   {
     const std::string name = Lower(names[c]);
-    const bool bare = name == "x";
     const bool suffixed = name.size() > 2 && name.compare(name.size() - 2, 2, "_x") == 0;
-    if (!bare && !suffixed)
+    if (!suffixed || name == "normal_x" || name == "n_x")
     {
       continue;
     }
@@ -88,88 +96,150 @@ bool NamedCoordinates(const std::vector<std::string>& names, std::size_t xyz[3])
   return false;
 }
 
-/// Columns after x, y, z by position (files without a header naming the columns, or naming x, y, z first):
-/// normals, colours, scalars.
-void AddPositionalArrays(
-  vtkPolyData* output, const std::vector<double>& values, std::size_t columns, vtkIdType n, bool fractions)
+/// Which column is what: the header's names, or the positional layout of files without one.
+struct ColumnLayout
 {
-  std::size_t next = 3;
-  if (columns >= 6)
+  static constexpr std::size_t None = std::numeric_limits<std::size_t>::max();
+  std::vector<std::string> names; ///< one per column, or empty (no header naming every column)
+  std::size_t xyz[3] = { 0, 1, 2 };
+  std::size_t normals[3] = { None, None, None };
+  std::size_t rgb[3] = { None, None, None };
+  bool coordinatesFound = true;
+};
+
+/// The first triple of `names` (lower case) that names three columns, in `found`; false when none does.
+bool NamedTriple(const std::vector<std::string>& names, std::initializer_list<std::array<const char*, 3>> triples,
+  std::size_t found[3])
+{
+  for (const auto& triple : triples)
   {
-    vtkDoubleArray* normals = NewArray(output, "Normals", 3, n);
-    for (vtkIdType i = 0; i < n; ++i)
+    std::size_t at[3];
+    for (int k = 0; k < 3; ++k)
     {
-      for (int k = 0; k < 3; ++k)
-      {
-        normals->SetTypedComponent(i, k, values[i * columns + 3 + k]);
-      }
+      at[k] = std::find(names.begin(), names.end(), triple[static_cast<std::size_t>(k)]) - names.begin();
     }
-    output->GetPointData()->SetNormals(normals);
-    next = 6;
-  }
-  if (columns >= 9)
-  {
-    vtkDoubleArray* rgb = NewArray(output, "RGB", 3, n);
-    for (vtkIdType i = 0; i < n; ++i)
+    if (at[0] < names.size() && at[1] < names.size() && at[2] < names.size())
     {
-      for (int k = 0; k < 3; ++k)
-      {
-        rgb->SetTypedComponent(i, k, values[i * columns + 6 + k]);
-      }
-    }
-    vtkNew<vtkUnsignedCharArray> colors;
-    colors->SetName("Colors");
-    colors->SetNumberOfComponents(3);
-    colors->SetNumberOfTuples(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        const double v = rgb->GetTypedComponent(i, k) * (fractions ? 255.0 : 1.0);
-        colors->SetTypedComponent(i, k, static_cast<unsigned char>(std::lround(std::clamp(v, 0.0, 255.0))));
-      }
-    }
-    output->GetPointData()->SetScalars(colors);
-    next = 9;
-  }
-  for (std::size_t c = next; c < columns; ++c)
-  {
-    const std::string name = c == 9 ? std::string("Scalar") : "Column" + std::to_string(c);
-    vtkDoubleArray* column = NewArray(output, name, 1, n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      column->SetValue(i, values[i * columns + c]);
+      std::copy(at, at + 3, found);
+      return true;
     }
   }
+  return false;
 }
 
-/// Every column but x, y, z as a point array named by the header (x, y, z named elsewhere than columns 0-2).
-void AddNamedArrays(vtkPolyData* output, const std::vector<double>& values, const std::vector<std::string>& names,
-  const std::size_t xyz[3], vtkIdType n)
+/// The layout: by the header's names when it names every column (x, y, z in any order; r, g, b or red, green, blue
+/// the colours; nx, ny, nz or normal_x, normal_y, normal_z the normals; any other name its own array), else by
+/// position (x, y, z, normals, colours).
+ColumnLayout LayoutOf(const plantmorph::PointCloudText& cloud)
 {
-  const std::size_t columns = names.size();
+  ColumnLayout layout;
+  layout.names = plantmorph::SplitHeaderNames(cloud.header);
+  if (layout.names.size() != cloud.columns)
+  {
+    layout.names.clear();
+  }
+  if (layout.names.empty())
+  {
+    for (std::size_t k = 0; k < 3; ++k)
+    {
+      layout.normals[k] = cloud.columns >= 6 ? 3 + k : ColumnLayout::None;
+      layout.rgb[k] = cloud.columns >= 9 ? 6 + k : ColumnLayout::None;
+    }
+    return layout;
+  }
+  std::vector<std::string> lower;
+  for (const auto& name : layout.names)
+  {
+    lower.push_back(Lower(name));
+  }
+  layout.coordinatesFound = NamedCoordinates(layout.names, layout.xyz);
+  NamedTriple(lower, { { "r", "g", "b" }, { "red", "green", "blue" } }, layout.rgb);
+  NamedTriple(lower,
+    { { "nx", "ny", "nz" }, { "normal_x", "normal_y", "normal_z" }, { "normalx", "normaly", "normalz" },
+      { "n_x", "n_y", "n_z" } },
+    layout.normals);
+  return layout;
+}
+
+/// A point array of the columns `at` (1 or 3 components).
+vtkDoubleArray* AddColumns(vtkPolyData* output, const std::vector<double>& values, std::size_t columns,
+  const std::string& name, const std::size_t* at, int components, vtkIdType n)
+{
+  vtkDoubleArray* array = NewArray(output, name, components, n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    for (int k = 0; k < components; ++k)
+    {
+      array->SetTypedComponent(i, k, values[static_cast<std::size_t>(i) * columns + at[k]]);
+    }
+  }
+  return array;
+}
+
+/// `RGB` (the file's values) and `Colors` (unsigned char, the active scalars; fractions scaled by 255).
+void AddColours(vtkPolyData* output, const std::vector<double>& values, std::size_t columns, const std::size_t rgb[3],
+  vtkIdType n, bool fractions)
+{
+  vtkDoubleArray* file = AddColumns(output, values, columns, "RGB", rgb, 3, n);
+  vtkNew<vtkUnsignedCharArray> colors;
+  colors->SetName("Colors");
+  colors->SetNumberOfComponents(3);
+  colors->SetNumberOfTuples(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const double v = file->GetTypedComponent(i, k) * (fractions ? 255.0 : 1.0);
+      colors->SetTypedComponent(i, k, static_cast<unsigned char>(std::lround(std::clamp(v, 0.0, 255.0))));
+    }
+  }
+  output->GetPointData()->SetScalars(colors);
+}
+
+/// Every column but x, y, z as point arrays: normals and colours as the layout says, the others by name (the
+/// header's, else Column<c>; the unnamed tenth column of the scans `Scalar`).
+void AddArrays(vtkPolyData* output, const std::vector<double>& values, const ColumnLayout& layout, std::size_t columns,
+  vtkIdType n, bool fractions)
+{
+  if (layout.normals[0] != ColumnLayout::None)
+  {
+    output->GetPointData()->SetNormals(AddColumns(output, values, columns, "Normals", layout.normals, 3, n));
+  }
+  if (layout.rgb[0] != ColumnLayout::None)
+  {
+    AddColours(output, values, columns, layout.rgb, n, fractions);
+  }
+  const auto used = [&](std::size_t c) {
+    for (const std::size_t* triple : { layout.xyz, layout.normals, layout.rgb })
+    {
+      if (c == triple[0] || c == triple[1] || c == triple[2])
+      {
+        return true;
+      }
+    }
+    return false;
+  };
   for (std::size_t c = 0; c < columns; ++c)
   {
-    if (c == xyz[0] || c == xyz[1] || c == xyz[2])
+    if (!used(c))
     {
-      continue;
-    }
-    vtkDoubleArray* column = NewArray(output, names[c].empty() ? "Column" + std::to_string(c) : names[c], 1, n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      column->SetValue(i, values[i * columns + c]);
+      const bool named = !layout.names.empty() && !layout.names[c].empty();
+      const std::string name = named     ? layout.names[c]
+        : c == 9 && layout.names.empty() ? std::string("Scalar")
+                                         : "Column" + std::to_string(c);
+      AddColumns(output, values, columns, name, &c, 1, n);
     }
   }
 }
 
-/// Whether the colour columns (6-8) are all within [0, 1] (fractions, scaled by 255), on this piece.
-bool ColourFractions(const std::vector<double>& values, std::size_t columns)
+/// Whether the colour columns are all within [0, 1] (fractions, scaled by 255), on this piece.
+bool ColourFractions(const std::vector<double>& values, std::size_t columns, const std::size_t rgb[3])
 {
-  for (std::size_t i = 0; columns >= 9 && i < values.size(); i += columns)
+  for (std::size_t i = 0; rgb[0] != ColumnLayout::None && i < values.size(); i += columns)
   {
-    for (std::size_t k = 6; k < 9; ++k)
+    for (std::size_t k = 0; k < 3; ++k)
     {
-      if (!(values[i + k] >= 0.0 && values[i + k] <= 1.0))
+      if (!(values[i + rgb[k]] >= 0.0 && values[i + rgb[k]] <= 1.0))
       {
         return false;
       }
@@ -188,7 +258,7 @@ struct PieceSummary
 };
 
 PieceSummary Summarize(vtkMultiProcessController* controller, const plantmorph::PointCloudTextPiece& piece,
-  const std::string& error, const plantmorph::PointCloudText& cloud)
+  const std::string& error, const plantmorph::PointCloudText& cloud, const ColumnLayout& layout)
 {
   PieceSummary summary;
   const unsigned long long mine[6] = { error.empty() ? 0ULL : 1ULL, cloud.Rows(), piece.lines, piece.firstNumber,
@@ -219,7 +289,7 @@ PieceSummary Summarize(vtkMultiProcessController* controller, const plantmorph::
     summary.rows += r[1];
     number += r[2];
   }
-  int fractions = ColourFractions(cloud.values, cloud.columns) ? 1 : 0, all01 = fractions;
+  int fractions = ColourFractions(cloud.values, cloud.columns, layout.rgb) ? 1 : 0, all01 = fractions;
   if (controller)
   {
     controller->AllReduce(&fractions, &all01, 1, vtkCommunicator::MIN_OP);
@@ -259,7 +329,12 @@ void vtkLeafCloudReader::PrintSelf(ostream& os, vtkIndent indent)
 //------------------------------------------------------------------------------
 int vtkLeafCloudReader::CanReadFile(const char* name)
 {
-  std::ifstream file(name ? name : "", std::ios::binary);
+  std::error_code failed;
+  if (!name || std::filesystem::is_directory(name, failed))
+  {
+    return 0;
+  }
+  std::ifstream file(name, std::ios::binary);
   return file && plantmorph::LooksLikePointCloudText(file) ? 1 : 0;
 }
 
@@ -284,8 +359,10 @@ std::string ReadPiece(vtkLeafCloudReader* self, const plantmorph::Run& run, bool
   plantmorph::PointCloudTextPiece& range, plantmorph::PointCloudText& cloud)
 {
   const int piece = run.Piece(), pieces = run.Pieces();
+  std::error_code failed;
+  const bool directory = std::filesystem::is_directory(self->GetFileName(), failed);
   std::ifstream file(self->GetFileName(), std::ios::binary | std::ios::ate);
-  opened = static_cast<bool>(file);
+  opened = static_cast<bool>(file) && !directory;
   const std::uint64_t bytes = file ? static_cast<std::uint64_t>(std::max<std::streamoff>(0, file.tellg())) : 0;
   file.seekg(0);
   range.begin = bytes * static_cast<std::uint64_t>(piece) / static_cast<std::uint64_t>(pieces);
@@ -296,9 +373,10 @@ std::string ReadPiece(vtkLeafCloudReader* self, const plantmorph::Run& run, bool
     self->UpdateProgress(0.9 * std::min(1.0, static_cast<double>(done) / span));
     return parallel || !self->CheckAbort(); // under MPI a read is not aborted on one rank alone
   };
-  const std::string error = !opened ? std::string("cannot be opened")
-    : pieces == 1                   ? plantmorph::ReadPointCloudText(file, cloud, progress)
-                                    : plantmorph::ReadPointCloudTextPiece(file, range, cloud, progress);
+  const std::string error = directory ? std::string("is a directory, not a point-cloud text file")
+    : !opened                         ? std::string("cannot be opened")
+    : pieces == 1                     ? plantmorph::ReadPointCloudText(file, cloud, progress)
+                                      : plantmorph::ReadPointCloudTextPiece(file, range, cloud, progress);
   if (pieces == 1)
   {
     range.firstNumber = 1;
@@ -365,9 +443,10 @@ std::string NoCoordinatesMessage(const char* fileName, const std::vector<std::st
 }
 
 /// Port 0: the points (columns `xyz`), one vertex each, and the other columns as point arrays.
-void WritePoints(const plantmorph::PointCloudText& cloud, const std::vector<std::string>& names,
-  const std::size_t xyz[3], bool fractions, vtkPolyData* output)
+void WritePoints(
+  const plantmorph::PointCloudText& cloud, const ColumnLayout& layout, bool fractions, vtkPolyData* output)
 {
+  const std::size_t* xyz = layout.xyz;
   const std::vector<double>& values = cloud.values;
   const std::size_t columns = cloud.columns;
   const auto n = static_cast<vtkIdType>(values.size() / columns);
@@ -384,14 +463,7 @@ void WritePoints(const plantmorph::PointCloudText& cloud, const std::vector<std:
   vtkNew<vtkPoints> points;
   points->SetData(coordinates);
   output->SetPoints(points);
-  if (xyz[0] == 0 && xyz[1] == 1 && xyz[2] == 2)
-  {
-    AddPositionalArrays(output, values, columns, n, fractions);
-  }
-  else
-  {
-    AddNamedArrays(output, values, names, xyz, n);
-  }
+  AddArrays(output, values, layout, columns, n, fractions);
   vtkNew<vtkIdTypeArray> offsets;
   vtkNew<vtkIdTypeArray> connectivity;
   offsets->SetNumberOfTuples(n + 1);
@@ -429,28 +501,23 @@ void vtkLeafCloudReader::Execute(plantmorph::Run& run)
   plantmorph::PointCloudText cloud;
   plantmorph::PointCloudTextPiece range;
   const std::string error = ReadPiece(this, run, opened, range, cloud);
-  const PieceSummary summary = Summarize(run.Controller(), range, error, cloud);
+  const ColumnLayout layout = LayoutOf(cloud);
+  const PieceSummary summary = Summarize(run.Controller(), range, error, cloud, layout);
   StopOnFailure(this, run, opened, range, error, summary);
   if (cloud.columns == 0)
   {
     return; // a piece before the file's first data line: nothing of its own
   }
-  std::vector<std::string> names = plantmorph::SplitHeaderNames(cloud.header);
-  if (names.size() != cloud.columns)
-  {
-    names.clear();
-  }
-  WriteTable(cloud, names, run.Output<vtkTable>(1));
+  WriteTable(cloud, layout.names, run.Output<vtkTable>(1));
   // A header naming the columns must name x, y, z (or P_x, P_y, P_z): points read by position from a table such as
   // the tip CSV (sample, measured_x, measured_y, ...) would be silently wrong.
-  std::size_t xyz[3] = { 0, 1, 2 };
-  if (!names.empty() && !NamedCoordinates(names, xyz))
+  if (!layout.coordinatesFound)
   {
-    run.Error(NoCoordinatesMessage(this->FileName, names));
+    run.Error(NoCoordinatesMessage(this->FileName, layout.names));
     return;
   }
   vtkPolyData* output = run.Output<vtkPolyData>(0);
-  WritePoints(cloud, names, xyz, summary.fractions, output);
+  WritePoints(cloud, layout, summary.fractions, output);
   plantmorph::FieldRecord record;
   record.Add("SourceFile", std::string(this->FileName));
   record.WriteTo(output);

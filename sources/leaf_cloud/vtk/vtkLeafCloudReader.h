@@ -22,12 +22,18 @@
  * - further columns: `Column10`, `Column11`, ... (double).
  * Files with 4 or 5 columns keep the columns after z as `Column3`, `Column4`; 7 or 8 columns keep 6, 7 the same way.
  *
- * A header naming every column (comma-, semicolon- or tab-separated) must name the coordinates: `x`, `y`, `z` (any
- * case) or `P_x`, `P_y`, `P_z` for a prefix P (the first found; e.g. measured_x, measured_y, measured_z of
- * data/cucumber-wilting-tip.csv). Named as the first three columns, the columns above apply by position; named
- * elsewhere, the points come from them and every other column becomes a point array named by the header. A header
- * naming none of them is refused (an error listing the names, and an empty port 0; port 1 still has the table):
- * reading (sample, measured_x, measured_y) as x, y, z would be silently wrong.
+ * A header naming every column (comma-, semicolon- or tab-separated, else space-separated; a UTF-8 byte order mark
+ * and quotes are dropped) names them, and then no column is taken by position: the coordinates are `x`, `y`, `z`
+ * (any case, any order) or `P_x`, `P_y`, `P_z` for a prefix P (the first found, not normal_; e.g. measured_x,
+ * measured_y, measured_z of data/cucumber-wilting-tip.csv); `r`, `g`, `b` or `red`, `green`, `blue` are the colour
+ * (`Colors` and `RGB` as above); `nx`, `ny`, `nz`, `normal_x`, `normal_y`, `normal_z` (or normalx.., n_x..) the
+ * normal (`Normals`); every other column (intensity, classification, LeafId, ...) a point array named by the header.
+ * A header naming no coordinates is refused (an error listing the names, and an empty port 0; port 1 still has the
+ * table): reading (sample, measured_x, measured_y) as x, y, z would be silently wrong.
+ *
+ * Refused with the reason rather than misread: decimal commas (a data line that, split at blanks and semicolons, has
+ * two or more fields, none with '.' or an exponent, one of the form digits,digits: `1,5 2,5 3,5`, `1,5;2,5;3,5`),
+ * lines ending in a carriage return alone (old Mac line ends), and a FileName that is a directory.
  *
  * Each point gets one vertex cell (so ParaView draws it). Units are the file's (the soybean scans are in mm: set
  * CloudComparisonFilter's Scale to 0.1 to compare them with a model in cm). Field data `PlantMorph.SourceFile`

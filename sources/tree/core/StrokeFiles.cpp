@@ -382,6 +382,33 @@ bool ViewportTransform(const pugi::xml_node& svg, Affine& result, std::string& e
   return true;
 }
 
+/// A nested <svg>'s viewport: its x, y (lengths; percentages count 0) and its own viewBox mapping, as SVG draws it.
+bool NestedViewport(const pugi::xml_node& svg, Affine& result, std::string& error)
+{
+  double offset[2] = { 0.0, 0.0 };
+  const char* names[2] = { "x", "y" };
+  for (int i = 0; i < 2; ++i)
+  {
+    const char* text = svg.attribute(names[i]).value();
+    bool known = false;
+    if (*text && !ParseLength(text, offset[i], known))
+    {
+      error = std::string("StrokeFile: a nested <svg> has ") + names[i] + " '" +
+        Excerpt(text, text + std::strlen(text)) +
+        "' that is not a length (a number with px, mm, cm, in, pt, pc or no unit)";
+      return false;
+    }
+    offset[i] = known ? offset[i] : 0.0;
+  }
+  Affine viewBox;
+  if (!ViewportTransform(svg, viewBox, error))
+  {
+    return false;
+  }
+  result = Matrix(1, 0, 0, 1, offset[0], offset[1]).Then(viewBox);
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // SVG: path data to user-space polylines
 
@@ -475,9 +502,10 @@ bool PathFlattener::Arc(const Point& p0, double rx, double ry, double angle, boo
   {
     return true; // omitted
   }
-  if (rx == 0.0 || ry == 0.0)
+  if (rx == 0.0 || ry == 0.0 || !std::isfinite(rx * rx * ry * ry))
   {
-    return this->Add(p1); // a straight line
+    return this->Add(p1); // a straight line (radii so large that their products overflow: straight to a double's
+                          // precision, as drawn)
   }
   const double phi = angle * Pi / 180.0;
   const double cp = std::cos(phi), sp = std::sin(phi);
@@ -772,7 +800,7 @@ bool IsHidden(const std::string& name)
 
 /// Appends the element's strokes (its polylines through `ctm`, y flipped).
 std::string AddElement(const pugi::xml_node& node, const std::string& name, const Affine& ctm, std::size_t& budget,
-  const std::string& text, Strokes& strokes)
+  const std::string& text, Strokes& strokes, std::vector<std::string>* origins)
 {
   const double stretch = ctm.Stretch();
   const double tolerance = stretch > 0.0 && std::isfinite(stretch) ? kSvgCurveTolerance / stretch : HUGE_VAL;
@@ -797,12 +825,18 @@ std::string AddElement(const pugi::xml_node& node, const std::string& name, cons
       stroke.emplace_back(q.x(), -q.y(), 0.0);
     }
     strokes.push_back(std::move(stroke));
+    if (origins)
+    {
+      origins->push_back("the SVG element " + Describe(node, text) +
+        (polylines.size() > 1 ? ", subpath " + std::to_string(&polyline - polylines.data() + 1) : ""));
+    }
   }
   return {};
 }
 
 /// Walks the tree in document order without recursion, composing transforms.
-std::string WalkSvg(const pugi::xml_node& root, const Affine& viewport, const std::string& text, Strokes& strokes)
+std::string WalkSvg(const pugi::xml_node& root, const Affine& viewport, const std::string& text, Strokes& strokes,
+  std::vector<std::string>* origins)
 {
   std::size_t budget = StrokePointBudget(text.size());
   std::vector<Affine> ctms; // ctms[k]: the transform of the element at depth k + 1
@@ -825,10 +859,20 @@ std::string WalkSvg(const pugi::xml_node& root, const Affine& viewport, const st
             Excerpt(transform, transform + std::strlen(transform)) +
             "' that is not a list of matrix, translate, scale, rotate, skewX, skewY";
         }
+        if (name == "svg" && depth > 1)
+        {
+          Affine nested; // a nested viewport: its x, y and viewBox (SVG 1.1 sec. 7.9)
+          std::string error;
+          if (!NestedViewport(node, nested, error))
+          {
+            return error + " (" + Describe(node, text) + ")";
+          }
+          local = local.Then(nested);
+        }
         const Affine ctm = parent.Then(local);
         if (name == "path" || name == "polyline" || name == "polygon" || name == "line")
         {
-          const std::string error = AddElement(node, name, ctm, budget, text, strokes);
+          const std::string error = AddElement(node, name, ctm, budget, text, strokes, origins);
           if (!error.empty())
           {
             return error;
@@ -875,9 +919,14 @@ std::size_t StrokePointBudget(std::size_t bytes)
     : std::min(kMaxStrokeFilePoints, kStrokePointsFloor + kStrokePointsPerByte * bytes);
 }
 
-std::string ParseStrokeCsv(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes)
+std::string ParseStrokeCsv(
+  const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes, std::vector<std::string>* origins)
 {
   strokes.clear();
+  if (origins)
+  {
+    origins->clear();
+  }
   std::unordered_map<std::string, std::size_t> order;
   std::vector<std::string> fields;
   std::size_t number = 0;
@@ -892,6 +941,10 @@ std::string ParseStrokeCsv(const std::string& text, std::vector<std::vector<Eige
     ++number;
     const auto fail = [&](const std::string& what) {
       strokes.clear();
+      if (origins)
+      {
+        origins->clear();
+      }
       return LineError(number, what);
     };
     if (static_cast<std::size_t>(lineEnd - line) > kMaxStrokeLineLength)
@@ -938,6 +991,11 @@ std::string ParseStrokeCsv(const std::string& text, std::vector<std::vector<Eige
     if (inserted)
     {
       strokes.emplace_back();
+      if (origins)
+      {
+        origins->push_back("stroke_id '" + Excerpt(fields[0].data(), fields[0].data() + fields[0].size()) +
+          "' from line " + std::to_string(number));
+      }
     }
     if (++points > kMaxStrokeFilePoints)
     {
@@ -948,9 +1006,14 @@ std::string ParseStrokeCsv(const std::string& text, std::vector<std::vector<Eige
   return {};
 }
 
-std::string ParseStrokeSvg(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes)
+std::string ParseStrokeSvg(
+  const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes, std::vector<std::string>* origins)
 {
   strokes.clear();
+  if (origins)
+  {
+    origins->clear();
+  }
   const auto nul = text.find('\0');
   if (nul != std::string::npos)
   {
@@ -979,10 +1042,14 @@ std::string ParseStrokeSvg(const std::string& text, std::vector<std::vector<Eige
   {
     return error;
   }
-  error = WalkSvg(root, viewport, text, strokes);
+  error = WalkSvg(root, viewport, text, strokes, origins);
   if (!error.empty())
   {
     strokes.clear();
+    if (origins)
+    {
+      origins->clear();
+    }
     return error;
   }
   if (strokes.empty())
@@ -993,7 +1060,8 @@ std::string ParseStrokeSvg(const std::string& text, std::vector<std::vector<Eige
   return {};
 }
 
-std::string ReadStrokeFile(const std::string& path, std::vector<std::vector<Eigen::Vector3d>>& strokes)
+std::string ReadStrokeFile(
+  const std::string& path, std::vector<std::vector<Eigen::Vector3d>>& strokes, std::vector<std::string>* origins)
 {
   strokes.clear();
   std::string extension = path.size() >= 4 ? path.substr(path.size() - 4) : std::string();
@@ -1019,7 +1087,33 @@ std::string ReadStrokeFile(const std::string& path, std::vector<std::vector<Eige
   {
     return "StrokeFile: cannot read '" + path + "'";
   }
-  return extension == ".svg" ? ParseStrokeSvg(content, strokes) : ParseStrokeCsv(content, strokes);
+  return extension == ".svg" ? ParseStrokeSvg(content, strokes, origins) : ParseStrokeCsv(content, strokes, origins);
+}
+
+std::string StrokeFileError(const std::string& error, const std::string& path, const std::vector<std::string>& origins)
+{
+  const std::string input = "Strokes input";
+  if (error.compare(0, input.size(), input) != 0)
+  {
+    return error;
+  }
+  std::string rest = error.substr(input.size());
+  const std::string stroke = ", stroke ";
+  if (rest.compare(0, stroke.size(), stroke) == 0)
+  {
+    std::size_t digits = stroke.size();
+    while (digits < rest.size() && rest[digits] >= '0' && rest[digits] <= '9')
+    {
+      ++digits;
+    }
+    const std::string number = rest.substr(stroke.size(), digits - stroke.size());
+    const std::size_t k = number.empty() || number.size() > 18 ? origins.size() : std::stoull(number);
+    if (k < origins.size())
+    {
+      rest = ", stroke " + number + " (" + origins[k] + ")" + rest.substr(digits);
+    }
+  }
+  return "StrokeFile '" + path + "'" + rest;
 }
 
 } // namespace plantmorph

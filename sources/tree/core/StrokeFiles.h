@@ -27,7 +27,10 @@
 // rotate, skewX, skewY, lists of them) applies. The outermost <svg>'s viewBox maps user units onto its width and
 // height (px, mm, cm, in, pt, pc; a missing, percent or em size takes the viewBox's) with preserveAspectRatio
 // (default xMidYMid meet), so output units are CSS pixels (1/96 in) of the drawing's page; without a viewBox
-// they are the file's user units (as before). y is flipped (SVG's y axis points down).
+// they are the file's user units (as before). A nested <svg> is a viewport as SVG draws it: its x, y translate and
+// its own viewBox maps onto its width and height (a missing or percent size takes its viewBox's). An arc whose
+// radii are so large that their products overflow a double (about 1e77 and more) is the straight line it is drawn
+// as. y is flipped (SVG's y axis points down).
 #pragma once
 
 #include <Eigen/Core>
@@ -58,11 +61,19 @@ constexpr int kMaxSvgDepth = 256;
 /// Largest stroke file read, in bytes.
 constexpr std::size_t kMaxStrokeFileBytes = std::size_t(512) << 20;
 
-/// Strokes from CSV text (see above). Returns an empty string or a message with the line at fault.
-std::string ParseStrokeCsv(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes);
+/// Strokes from CSV text (see above). Returns an empty string or a message with the line at fault. `origins`
+/// (optional) gets where each stroke comes from: "stroke_id '7' from line 2".
+std::string ParseStrokeCsv(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes,
+  std::vector<std::string>* origins = nullptr);
 /// Strokes from SVG text (see above). Returns an empty string or a message with the element or position at fault.
-std::string ParseStrokeSvg(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes);
+/// `origins` (optional): "the SVG element <path id="a"> (line 12)" and ", subpath 2" for a path's later subpaths.
+std::string ParseStrokeSvg(const std::string& text, std::vector<std::vector<Eigen::Vector3d>>& strokes,
+  std::vector<std::string>* origins = nullptr);
 /// Reads a .svg file, or a .csv or .txt file as CSV (by extension, case-insensitive), with the parsers above.
-std::string ReadStrokeFile(const std::string& path, std::vector<std::vector<Eigen::Vector3d>>& strokes);
+std::string ReadStrokeFile(const std::string& path, std::vector<std::vector<Eigen::Vector3d>>& strokes,
+  std::vector<std::string>* origins = nullptr);
+/// An error of AddStrokes about strokes read from the file `path` ("Strokes input, stroke N: ..."), said of the
+/// file: "StrokeFile 'path', stroke N (stroke_id '7' from line 2): ...". Other errors are returned unchanged.
+std::string StrokeFileError(const std::string& error, const std::string& path, const std::vector<std::string>& origins);
 
 } // namespace plantmorph

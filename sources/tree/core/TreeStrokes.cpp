@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "TreeStrokes.h"
 
+#include "StrokeSegmentGrid.h"
+
 #include <plantmorph/MathConstants.h>
 #include <plantmorph/BezierCurve.h>
 #include <plantmorph/RandomStream.h>
@@ -137,11 +139,93 @@ std::vector<Candidate> NearestSegments(const Tree& tree, const Eigen::Vector2d& 
   return nearest;
 }
 
+/// NearestSegments through the grid: the same candidates in the same order and the same `best`. The grid gives the
+/// smallest distance D and the branches within D + 4 tol; their segments are searched in (branch, segment) order.
+/// When every segment within D + 4 tol is within D + tol, the exhaustive search keeps exactly those (its running
+/// best is the first one's distance, and nothing farther than D + 4 tol enters or resets it); otherwise (near-ties
+/// at the 1e-12 scale that its order decides) the exhaustive search itself answers.
+std::vector<Candidate> NearestSegmentsIndexed(
+  const Tree& tree, StrokeSegmentGrid& grid, const Eigen::Vector2d& p, double& best)
+{
+  const double tolerance = 1e-12 * (1.0 + p.norm());
+  double low = 0.0;
+  std::vector<std::size_t> branches;
+  if (!grid.Nearest(p, 4.0 * tolerance, low, branches))
+  {
+    return NearestSegments(tree, p, best);
+  }
+  std::vector<Candidate> nearest;
+  for (std::size_t bi : branches)
+  {
+    const TreeBranch& b = tree.branches[bi];
+    for (std::size_t j = 0; j + 1 < b.centre.size(); ++j)
+    {
+      double mu = 0.0;
+      const double d = PointSegmentDistance(p, b.centre[j].head<2>(), b.centre[j + 1].head<2>(), mu);
+      if (d <= low + 4.0 * tolerance)
+      {
+        if (d > low + tolerance)
+        {
+          return NearestSegments(tree, p, best);
+        }
+        best = nearest.empty() ? d : best;
+        nearest.push_back({ bi, j, mu });
+      }
+    }
+  }
+  if (nearest.empty())
+  {
+    return NearestSegments(tree, p, best);
+  }
+  return nearest;
+}
+
+/// Registers every segment of branch `bi` in the grid.
+void AddToGrid(const Tree& tree, std::size_t bi, StrokeSegmentGrid& grid)
+{
+  const TreeBranch& b = tree.branches[bi];
+  for (std::size_t j = 0; j + 1 < b.centre.size(); ++j)
+  {
+    grid.Add(bi, b.centre[j].head<2>(), b.centre[j + 1].head<2>());
+  }
+}
+
+/// A grid over the tree's segments, sized for the strokes to come.
+StrokeSegmentGrid MakeGrid(
+  const TreeParameters& s, const std::vector<std::vector<Eigen::Vector3d>>& strokes, const Tree& tree)
+{
+  std::vector<Eigen::Vector2d> points;
+  std::size_t segments = 0;
+  for (const auto& stroke : strokes)
+  {
+    for (const auto& x : stroke)
+    {
+      points.push_back(x.head<2>());
+    }
+  }
+  for (const auto& b : tree.branches)
+  {
+    for (const auto& x : b.centre)
+    {
+      points.push_back(x.head<2>());
+    }
+    segments += b.centre.size();
+  }
+  segments += strokes.size() * static_cast<std::size_t>(std::max(1, s.segmentsPerBranch));
+  StrokeSegmentGrid grid(points, segments);
+  for (std::size_t bi = 0; bi < tree.branches.size(); ++bi)
+  {
+    AddToGrid(tree, bi, grid);
+  }
+  return grid;
+}
+
 /// Attaches stroke `k` at the chosen nearest point: C (`c3`) and the parent's radius there, C inserted into the
 /// parent's centre line (unless u is overridden: the branch moves, and its own base is inserted instead); ties
 /// broken by the seeded generator. Returns the parent.
 TreeBranch* AttachToNearest(const TreeParameters& s, std::size_t k, const std::vector<Candidate>& nearest, double best,
-  const BranchOverride& edit, Tree& tree, StrokeReport& report, Eigen::Vector3d& c3, double& parentRadiusAtC)
+  const BranchOverride& edit, Tree& tree, StrokeReport& report, Eigen::Vector3d& c3, double& parentRadiusAtC,
+  StrokeSegmentGrid* grid)
 {
   std::size_t pick = 0;
   if (nearest.size() > 1)
@@ -172,6 +256,10 @@ TreeBranch* AttachToNearest(const TreeParameters& s, std::size_t k, const std::v
     {
       host.centre.insert(host.centre.begin() + static_cast<std::ptrdiff_t>(chosen.segment) + 1, c3);
       host.radii.insert(host.radii.begin() + static_cast<std::ptrdiff_t>(chosen.segment) + 1, parentRadiusAtC);
+      if (grid)
+      {
+        grid->Split(chosen.branch, a.head<2>(), c3.head<2>(), b.head<2>());
+      }
     }
   }
   report.lambda = 1.0 - mu;
@@ -323,8 +411,8 @@ void LiftStroke(const std::vector<Eigen::Vector2d>& q, const Eigen::Vector3d& c3
 }
 
 /// An overridden u: the branch moved so its base is the parent's centre-line point at u, inserted there.
-void MoveToOverriddenU(
-  const BranchOverride& edit, TreeBranch& host, Eigen::Vector3d& c3, double& parentRadiusAtC, TreeBranch& branch)
+void MoveToOverriddenU(const BranchOverride& edit, TreeBranch& host, Eigen::Vector3d& c3, double& parentRadiusAtC,
+  TreeBranch& branch, StrokeSegmentGrid* grid, std::size_t hostIndex)
 {
   // Move the branch so its base is the parent's centre-line point at u, and insert that point there.
   std::vector<double> arc(host.centre.size(), 0.0);
@@ -351,6 +439,10 @@ void MoveToOverriddenU(
   {
     host.centre.insert(host.centre.begin() + static_cast<std::ptrdiff_t>(j) + 1, moved);
     host.radii.insert(host.radii.begin() + static_cast<std::ptrdiff_t>(j) + 1, parentRadiusAtC);
+    if (grid)
+    {
+      grid->Split(hostIndex, host.centre[j].head<2>(), moved.head<2>(), host.centre[j + 2].head<2>());
+    }
   }
   for (Eigen::Vector3d& x : branch.centre)
   {
@@ -432,7 +524,8 @@ void FinishStrokeBranch(const TreeParameters& s, const TreeBranch* parent, doubl
 }
 } // namespace
 
-std::string AddStrokes(const TreeParameters& s, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree)
+std::string AddStrokes(
+  const TreeParameters& s, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree, StrokeSearch search)
 {
   if (std::string error = ValidateStrokes(strokes); !error.empty())
   {
@@ -449,6 +542,8 @@ std::string AddStrokes(const TreeParameters& s, const std::vector<std::vector<Ei
   const double ratio = s.StrokeRatio();
   std::vector<std::size_t> strokeBranches;
   tree.strokes.assign(strokes.size(), StrokeReport());
+  StrokeSegmentGrid grid = search == StrokeSearch::Grid ? MakeGrid(s, strokes, tree) : StrokeSegmentGrid({}, 0);
+  StrokeSegmentGrid* indexed = search == StrokeSearch::Grid ? &grid : nullptr;
 
   for (std::size_t k = 0; k < strokes.size(); ++k)
   {
@@ -470,7 +565,8 @@ std::string AddStrokes(const TreeParameters& s, const std::vector<std::vector<Ei
 
     // Eq. (2): the nearest existing branch segment in the image plane; exact ties by the seeded generator.
     double best = 0.0;
-    const std::vector<Candidate> nearest = NearestSegments(tree, p, best);
+    const std::vector<Candidate> nearest =
+      indexed ? NearestSegmentsIndexed(tree, grid, p, best) : NearestSegments(tree, p, best);
 
     // BranchOverrides of this stroke branch (see TreeStrokes.h: u, angle and rotation_angle need a parent).
     BranchOverride edit;
@@ -489,7 +585,7 @@ std::string AddStrokes(const TreeParameters& s, const std::vector<std::vector<Ei
     double parentRadiusAtC = 0.0;
     if (!nearest.empty())
     {
-      parent = AttachToNearest(s, k, nearest, best, edit, tree, report, c3, parentRadiusAtC);
+      parent = AttachToNearest(s, k, nearest, best, edit, tree, report, c3, parentRadiusAtC, indexed);
     }
     // Arc-length position of C on the parent.
     if (parent)
@@ -515,8 +611,8 @@ std::string AddStrokes(const TreeParameters& s, const std::vector<std::vector<Ei
     LiftStroke(q, c3, slope, edit, branch);
     if (parent && !std::isnan(edit.u))
     {
-      MoveToOverriddenU(
-        edit, tree.branches[static_cast<std::size_t>(parent - tree.branches.data())], c3, parentRadiusAtC, branch);
+      const auto host = static_cast<std::size_t>(parent - tree.branches.data());
+      MoveToOverriddenU(edit, tree.branches[host], c3, parentRadiusAtC, branch, indexed, host);
     }
     if (parent && !std::isnan(edit.angle))
     {
@@ -525,6 +621,10 @@ std::string AddStrokes(const TreeParameters& s, const std::vector<std::vector<Ei
     FinishStrokeBranch(s, parent, parentRadiusAtC, edit, phi, q.size(), branch);
     tree.branches.push_back(std::move(branch));
     strokeBranches.push_back(tree.branches.size() - 1);
+    if (indexed)
+    {
+      AddToGrid(tree, tree.branches.size() - 1, grid);
+    }
   }
   for (std::size_t index : strokeBranches)
   {

@@ -55,10 +55,19 @@
 namespace plantmorph
 {
 
+/// How eq. (2) finds the nearest segments: a uniform grid over the segments (StrokeSegmentGrid.h; about
+/// O(n log n) for n strokes), or every segment of the tree for every stroke (O(n^2); the grid's oracle in the tests).
+/// Both give the same attachments.
+enum class StrokeSearch
+{
+  Grid,
+  Exhaustive,
+};
+
 /// Adds the strokes' branches (and their subtrees) to `tree` (see above). Returns an empty string or an error
 /// naming the Strokes input and the stroke; the caller then discards the tree.
-std::string AddStrokes(
-  const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes, Tree& tree);
+std::string AddStrokes(const TreeParameters& settings, const std::vector<std::vector<Eigen::Vector3d>>& strokes,
+  Tree& tree, StrokeSearch search = StrokeSearch::Grid);
 
 /// Eq. (2): distance from p to segment ab, with mu in [0, 1] the position of the closest point (0 at a).
 double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double& mu);

@@ -108,8 +108,8 @@ std::string ReadSkeleton(vtkPolyData* input, std::vector<plantmorph::SkeletonBra
 }
 
 /// The strokes: the Strokes input's lines (their x and y), else the StrokeFile's; "" or why they cannot be read.
-std::string ReadStrokes(
-  vtkPolyData* strokeInput, const std::string& strokeFile, std::vector<std::vector<Eigen::Vector3d>>& strokes)
+std::string ReadStrokes(vtkPolyData* strokeInput, const std::string& strokeFile,
+  std::vector<std::vector<Eigen::Vector3d>>& strokes, std::vector<std::string>& origins)
 {
   if (strokeInput)
   {
@@ -129,7 +129,7 @@ std::string ReadStrokes(
   }
   else if (!strokeFile.empty())
   {
-    return plantmorph::ReadStrokeFile(strokeFile, strokes);
+    return plantmorph::ReadStrokeFile(strokeFile, strokes, &origins);
   }
   return {};
 }
@@ -846,9 +846,10 @@ void vtkTreeFromSketchSource::Execute(plantmorph::Run& run)
   // Strokes: the input's lines, else the file. A second tree to merge: a skeleton (lines) with BranchId and
   // ParentId on its cells and Radius on its points.
   std::vector<std::vector<Eigen::Vector3d>> strokes;
+  std::vector<std::string> origins; // where each stroke of the StrokeFile comes from, for errors
   if (s.mode != plantmorph::TreeMode::Template)
   {
-    run.Check(ReadStrokes(inputs[0], this->StrokeFile, strokes));
+    run.Check(ReadStrokes(inputs[0], this->StrokeFile, strokes, origins));
   }
   std::vector<plantmorph::SkeletonBranch> second;
   vtkPolyData* mergeInput = inputs[2];
@@ -862,7 +863,9 @@ void vtkTreeFromSketchSource::Execute(plantmorph::Run& run)
     run.Fail(plantmorph::OutOfRange("Joints", this->Joints, "[0, 1]", "0 Welded, 1 Seated tubes"));
   }
   plantmorph::Tree tree;
-  run.Check(plantmorph::BuildTree(s, strokes, mergeInput ? &second : nullptr, tree));
+  const std::string built = plantmorph::BuildTree(s, strokes, mergeInput ? &second : nullptr, tree);
+  run.Check(
+    inputs[0] || this->StrokeFile.empty() ? built : plantmorph::StrokeFileError(built, this->StrokeFile, origins));
   this->UpdateProgress(0.3);
   run.StopIfAborted();
   run.Building("the tree's branch surfaces");

@@ -16,6 +16,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
 #include "vtkTable.h"
 
 #include <gtest/gtest.h>
@@ -212,6 +213,25 @@ TEST(TrajectoryComparisonFilter, DefaultColumnsRecogniseTheKnownLayouts)
   filter->Update();
   EXPECT_NE(catcher->Messages.find("MeasuredX/Y/Z: auto found none"), std::string::npos) << catcher->Messages;
   EXPECT_NE(catcher->Messages.find("'a' 'b' 'c'"), std::string::npos) << catcher->Messages;
+  EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(0))->GetNumberOfRows(), 0);
+
+  // Text columns named like a known layout: the message names the column that is not numeric.
+  vtkNew<vtkTable> text;
+  for (const char* name : { "x", "y", "z" })
+  {
+    vtkNew<vtkStringArray> column;
+    column->SetName(name);
+    column->SetNumberOfValues(3);
+    for (vtkIdType i = 0; i < 3; ++i)
+      column->SetValue(i, "1,5");
+    text->AddColumn(column);
+  }
+  catcher->Messages.clear();
+  filter->SetInputData(0, text);
+  filter->Update();
+  EXPECT_NE(catcher->Messages.find("MeasuredX/Y/Z: the "), std::string::npos) << catcher->Messages;
+  EXPECT_NE(catcher->Messages.find("column 'x' is not numeric (a vtkStringArray"), std::string::npos)
+    << catcher->Messages;
   EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(0))->GetNumberOfRows(), 0);
 }
 

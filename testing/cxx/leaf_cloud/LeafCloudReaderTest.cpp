@@ -63,8 +63,8 @@ TEST(LeafCloudReader, SoybeanLayoutArraysAndProgress)
   EXPECT_EQ(cloud->GetPointData()->GetNormals()->GetComponent(0, 2), -0.850690);
   auto* colors = vtkUnsignedCharArray::SafeDownCast(cloud->GetPointData()->GetScalars());
   ASSERT_NE(colors, nullptr);
-  EXPECT_EQ(colors->GetValue(4), 102); // 0.4 * 255 = 102
-  EXPECT_EQ(cloud->GetPointData()->GetArray("Scalar")->GetComponent(1, 0), 0.231373);
+  EXPECT_EQ(colors->GetValue(4), 102);                                           // 0.4 * 255 = 102
+  EXPECT_EQ(cloud->GetPointData()->GetArray("s")->GetComponent(1, 0), 0.231373); // the header's name
   vtkTable* table = vtkTable::SafeDownCast(reader->GetOutputDataObject(1));
   ASSERT_NE(table, nullptr);
   EXPECT_EQ(table->GetNumberOfColumns(), 10);
@@ -101,6 +101,142 @@ TEST(LeafCloudReader, HostileFilesAreRefusedWithEmptyOutputs)
     std::filesystem::remove(path);
   }
 }
+namespace
+{
+/// Reads `text`; the error messages in `messages`.
+vtkPolyData* ReadText(vtkLeafCloudReader* reader, const std::string& text, std::string& messages)
+{
+  const std::string path = WriteFile("columns.txt", text);
+  vtkNew<ErrorCatcher> catcher;
+  reader->AddObserver(vtkCommand::ErrorEvent, catcher);
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  messages = catcher.Get()->Messages;
+  std::filesystem::remove(path);
+  return reader->GetOutput();
+}
+
+/// The points' coordinates, flattened.
+std::vector<double> Coordinates(vtkPolyData* cloud)
+{
+  std::vector<double> xyz;
+  for (vtkIdType i = 0; i < cloud->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    cloud->GetPoint(i, p);
+    xyz.insert(xyz.end(), p, p + 3);
+  }
+  return xyz;
+}
+} // namespace
+
+TEST(LeafCloudReader, HeaderNamesTheColumnsInEverySeparator)
+{
+  std::string messages;
+  {
+    // x,y,z,r,g,b: the colours are Colors (unsigned char, active scalars), never normals.
+    vtkNew<vtkLeafCloudReader> reader;
+    vtkPolyData* cloud = ReadText(reader, "x,y,z,r,g,b\n1,2,3,255,0,0\n4,5,6,0,128,255\n", messages);
+    EXPECT_EQ(messages, "");
+    EXPECT_EQ(cloud->GetPointData()->GetNormals(), nullptr);
+    EXPECT_EQ(cloud->GetPointData()->GetArray("Normals"), nullptr);
+    auto* colors = vtkUnsignedCharArray::SafeDownCast(cloud->GetPointData()->GetScalars());
+    ASSERT_NE(colors, nullptr);
+    EXPECT_STREQ(colors->GetName(), "Colors");
+    EXPECT_EQ(colors->GetValue(0), 255);
+    EXPECT_EQ(colors->GetValue(5), 255);
+    EXPECT_EQ(colors->GetValue(4), 128);
+    EXPECT_EQ(Coordinates(cloud), (std::vector<double>{ 1, 2, 3, 4, 5, 6 }));
+  }
+  // Space-, comma-, semicolon- and tab-separated headers; x, y, z in any order; unknown columns by their names.
+  const std::vector<std::pair<std::string, std::vector<double>>> cases = {
+    { "id x y z\n7 1 2 3\n", { 1, 2, 3 } },
+    { "z y id x\n1 2 7 3\n", { 3, 2, 1 } },
+    { "z;id;y;x\n1;7;2;3\n", { 3, 2, 1 } },
+    { "x\tid\ty\tz\n1\t7\t2\t3\n", { 1, 2, 3 } },
+    { "x,y,z,id\n1,2,3,7\n", { 1, 2, 3 } },
+    { "id,x,y,z\n7,1,2,3\n", { 1, 2, 3 } },
+  };
+  for (const auto& [text, xyz] : cases)
+  {
+    vtkNew<vtkLeafCloudReader> reader;
+    vtkPolyData* cloud = ReadText(reader, text, messages);
+    EXPECT_EQ(messages, "") << text;
+    EXPECT_EQ(Coordinates(cloud), xyz) << text;
+    ASSERT_NE(cloud->GetPointData()->GetArray("id"), nullptr) << text;
+    EXPECT_EQ(cloud->GetPointData()->GetArray("id")->GetComponent(0, 0), 7.0) << text;
+    EXPECT_EQ(cloud->GetPointData()->GetNormals(), nullptr) << text;
+  }
+  {
+    // Known names in any order: normals and colours (fractions scaled), intensity and classification kept by name.
+    vtkNew<vtkLeafCloudReader> reader;
+    vtkPolyData* cloud = ReadText(reader,
+      "intensity;red;green;blue;normal_x;normal_y;normal_z;classification;X;Y;Z\n"
+      "0.5;1;0.5;0;0;0;1;2;10;20;30\n",
+      messages);
+    EXPECT_EQ(messages, "");
+    EXPECT_EQ(Coordinates(cloud), (std::vector<double>{ 10, 20, 30 }));
+    ASSERT_NE(cloud->GetPointData()->GetNormals(), nullptr);
+    EXPECT_EQ(cloud->GetPointData()->GetNormals()->GetComponent(0, 2), 1.0);
+    auto* colors = vtkUnsignedCharArray::SafeDownCast(cloud->GetPointData()->GetScalars());
+    ASSERT_NE(colors, nullptr);
+    EXPECT_EQ(colors->GetValue(1), 128); // 0.5 * 255 rounded
+    EXPECT_EQ(cloud->GetPointData()->GetArray("intensity")->GetComponent(0, 0), 0.5);
+    EXPECT_EQ(cloud->GetPointData()->GetArray("classification")->GetComponent(0, 0), 2.0);
+  }
+  {
+    // No header: the positional layout as before (normals, colours, Scalar).
+    vtkNew<vtkLeafCloudReader> reader;
+    vtkPolyData* cloud = ReadText(reader, "1 2 3 0 0 1 1 0 0 9 8\n", messages);
+    EXPECT_EQ(messages, "");
+    ASSERT_NE(cloud->GetPointData()->GetNormals(), nullptr);
+    EXPECT_EQ(cloud->GetPointData()->GetArray("Scalar")->GetComponent(0, 0), 9.0);
+    EXPECT_EQ(cloud->GetPointData()->GetArray("Column10")->GetComponent(0, 0), 8.0);
+  }
+}
+
+TEST(LeafCloudReader, ByteOrderMarkDecimalCommasLineEndsAndDirectories)
+{
+  std::string messages;
+  {
+    vtkNew<vtkLeafCloudReader> reader;
+    EXPECT_EQ(Coordinates(ReadText(reader,
+                "\xEF\xBB\xBF"
+                "1 2 3\n4 5 6\n",
+                messages)),
+      (std::vector<double>{ 1, 2, 3, 4, 5, 6 }));
+    EXPECT_EQ(messages, "");
+  }
+  {
+    vtkNew<vtkLeafCloudReader> reader;
+    EXPECT_EQ(Coordinates(ReadText(reader, "\xEF\xBB\xBFz,y,x\n1,2,3\n", messages)), (std::vector<double>{ 3, 2, 1 }));
+    EXPECT_EQ(messages, "");
+  }
+  const std::vector<std::pair<std::string, std::string>> refused = {
+    { "1,5 2,5 3,5\n4,5 5,5 6,5\n", "', line 1: decimal commas ('1,5' would read as two numbers)" },
+    { "x;y;z\n1,5;2,5;3,5\n", "', line 2: decimal commas" },
+    { "x y z\r1 2 3\r4 5 6\r", "', line 1: its lines end in a carriage return alone (old Mac line ends)" },
+  };
+  for (const auto& [text, words] : refused)
+  {
+    vtkNew<vtkLeafCloudReader> reader;
+    vtkPolyData* cloud = ReadText(reader, text, messages);
+    EXPECT_NE(messages.find(words), std::string::npos) << messages;
+    EXPECT_EQ(cloud->GetNumberOfPoints(), 0);
+    EXPECT_EQ(vtkTable::SafeDownCast(reader->GetOutputDataObject(1))->GetNumberOfColumns(), 0);
+  }
+  const std::string directory = std::filesystem::temp_directory_path().string();
+  vtkNew<vtkLeafCloudReader> reader;
+  vtkNew<ErrorCatcher> catcher;
+  reader->AddObserver(vtkCommand::ErrorEvent, catcher);
+  reader->SetFileName(directory.c_str());
+  EXPECT_EQ(reader->CanReadFile(directory.c_str()), 0);
+  reader->Update();
+  EXPECT_NE(catcher.Get()->Messages.find("FileName '" + directory + "' is a directory"), std::string::npos)
+    << catcher.Get()->Messages;
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 0);
+}
+
 TEST(LeafCloudReader, PiecesHoldTheWholeFileInOrder)
 {
   // Each piece (as an MPI rank asks for it) reads its byte range; together, in piece order, the serial points, arrays

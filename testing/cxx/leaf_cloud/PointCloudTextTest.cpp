@@ -45,6 +45,61 @@ TEST(PointCloudText, ScanFormatWithHeaderCommentsAndMixedSeparators)
   EXPECT_EQ(SplitHeaderNames("a,,b\r"), (std::vector<std::string>{ "a", "", "b" }));
 }
 
+TEST(PointCloudText, HeaderNamesInEverySeparatorAndQuoted)
+{
+  const std::vector<std::string> xyz{ "id", "x", "y", "z" };
+  EXPECT_EQ(SplitHeaderNames("id x y z"), xyz);
+  EXPECT_EQ(SplitHeaderNames("  id   x y  z\r"), xyz);
+  EXPECT_EQ(SplitHeaderNames("id,x,y,z"), xyz);
+  EXPECT_EQ(SplitHeaderNames("id;x;y;z"), xyz);
+  EXPECT_EQ(SplitHeaderNames("id\tx\ty\tz"), xyz);
+  EXPECT_EQ(SplitHeaderNames("\"id\",\"x\", 'y' ,z"), xyz);
+}
+
+TEST(PointCloudText, ByteOrderMarkIsSkipped)
+{
+  PointCloudText cloud;
+  ASSERT_EQ(Read("\xEF\xBB\xBF"
+                 "1 2 3\n4 5 6\n",
+              cloud),
+    "");
+  EXPECT_EQ(cloud.values, (std::vector<double>{ 1, 2, 3, 4, 5, 6 })); // the first data line kept
+  EXPECT_EQ(cloud.header, "");
+  ASSERT_EQ(Read("\xEF\xBB\xBFx,y,z\n1,2,3\n", cloud), "");
+  EXPECT_EQ(cloud.header, "x,y,z");
+  EXPECT_EQ(SplitHeaderNames(cloud.header)[0], "x");
+  std::istringstream in("\xEF\xBB\xBF"
+                        "1 2 3\n");
+  EXPECT_TRUE(LooksLikePointCloudText(in));
+}
+
+TEST(PointCloudText, CarriageReturnOnlyLineEndsAreRefusedWithTheReason)
+{
+  ExpectRefused("x y z\r1 2 3\r4 5 6\r", "line 1: its lines end in a carriage return alone (old Mac line ends)");
+  ExpectRefused("1 2 3\r4 5 6\r", "line 1: its lines end in a carriage return alone");
+  ExpectRefused("1 2 3\n4 5 6\r7 8 9\n", "line 2: its lines end in a carriage return alone");
+  PointCloudText cloud;
+  ASSERT_EQ(Read("x y z\r\n1 2 3\r\n4 5 6\r\r\n", cloud), ""); // CRLF (and a stray CR before it) still read
+  EXPECT_EQ(cloud.Rows(), 2u);
+}
+
+TEST(PointCloudText, DecimalCommasAreRefusedWithTheReason)
+{
+  ExpectRefused("1,5 2,5 3,5\n", "line 1: decimal commas ('1,5' would read as two numbers)");
+  ExpectRefused("x;y;z\n1,5;2,5;3,5\n", "line 2: decimal commas ('1,5'");
+  ExpectRefused("1 2 3\n4 -2,25\t6\n", "line 2: decimal commas ('-2,25'");
+  ExpectRefused("x y z\n1.5 2 3\n1 2,5 3\n", "line 3: decimal commas ('2,5'");
+  ExpectRefused("1,5 2 3,5\n", "line 1: decimal commas ('1,5'");
+  // Commas as column separators, with or without spaces, are not decimal commas.
+  PointCloudText cloud;
+  for (const char* text :
+    { "1,5,2\n", "1, 5, 2\n", "1.5,2.5, 3.5\n", "1 ,2 ,3\n", "10,20,30,40\n", "0.5 -0,1\n", "1e3 2,3\n" })
+  {
+    EXPECT_EQ(Read(text, cloud), "") << text;
+    EXPECT_GE(cloud.columns, 3u) << text;
+  }
+}
+
 TEST(PointCloudText, ValuesAcrossBlocksEqualPrintf)
 {
   // About 3 MB: lines straddle the 64 KiB read blocks; every value comes back as printf's %.17g round trip.
@@ -244,6 +299,27 @@ TEST(PointCloudText, PiecesReportTheWholeFilesErrorWithItsLineNumber)
   PointCloudText whole;
   const std::string expected = Read(early, whole);
   EXPECT_EQ(ReadByPieces(early, EvenCuts(early.size(), 4)).error, expected);
+}
+
+TEST(PointCloudText, OnlyTheFilesFirstLineLosesAByteOrderMarkInPiecesToo)
+{
+  // Found by the fuzzer: a piece whose first line is not the file's must not skip a byte order mark there.
+  const std::string text = "\xEF\xBB\xBF"
+                           "1 2 3\n\n\xEF\xBB\xBF";
+  ExpectRefused(text, "line 3: ");
+  for (std::size_t count = 1; count <= 8; ++count)
+  {
+    const ByPieces pieces = ReadByPieces(text, EvenCuts(text.size(), count));
+    EXPECT_GE(pieces.failures, 1) << count << " pieces";
+  }
+  const std::string good = "\xEF\xBB\xBF"
+                           "x y z\n1 2 3\n4 5 6\n";
+  for (std::size_t count = 1; count <= 8; ++count)
+  {
+    const ByPieces pieces = ReadByPieces(good, EvenCuts(good.size(), count));
+    EXPECT_EQ(pieces.failures, 0) << count << " pieces: " << pieces.error;
+    EXPECT_EQ(pieces.values, (std::vector<double>{ 1, 2, 3, 4, 5, 6 })) << count << " pieces";
+  }
 }
 
 TEST(PointCloudText, LooksLikeAPointCloud)

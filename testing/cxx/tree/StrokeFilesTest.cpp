@@ -223,6 +223,56 @@ TEST(StrokeFiles, ArcsLieOnTheirEllipse)
   EXPECT_EQ(strokes[0].back(), Eigen::Vector3d(10, -5, 0));
 }
 
+TEST(StrokeFiles, ArcsOfHugeRadiusAreStraightLines)
+{
+  Strokes strokes;
+  for (const char* radius : { "1e155", "1e200", "1e300", "1e80" })
+  {
+    const std::string d = std::string("M 0,0 A ") + radius + "," + radius + " 0 0 1 10,0 L 10,10";
+    ASSERT_EQ(ParseStrokeSvg(Plain("<path d=\"" + d + "\"/>"), strokes), "") << radius;
+    ASSERT_EQ(strokes.size(), 1u);
+    EXPECT_EQ(strokes[0], (std::vector<Eigen::Vector3d>{ { 0, 0, 0 }, { 10, 0, 0 }, { 10, -10, 0 } })) << radius;
+  }
+}
+
+TEST(StrokeFiles, NestedSvgViewportsApplyTheirPositionAndViewBox)
+{
+  Strokes strokes;
+  // The inner viewport at (100, 50) maps its viewBox 0 0 10 10 onto 20 x 20: scale 2.
+  ASSERT_EQ(ParseStrokeSvg(Plain(R"~(<svg x="100" y="50" width="20" height="20" viewBox="0 0 10 10">
+      <line x1="1" y1="2" x2="3" y2="4"/></svg>
+    <svg x="5"><line x1="0" y1="0" x2="1" y2="0"/></svg>)~"),
+              strokes),
+    "");
+  ASSERT_EQ(strokes.size(), 2u);
+  ExpectNear(strokes[0][0], Eigen::Vector3d(102, -54, 0));
+  ExpectNear(strokes[0][1], Eigen::Vector3d(106, -58, 0));
+  ExpectNear(strokes[1][0], Eigen::Vector3d(5, 0, 0));
+  EXPECT_NE(ParseStrokeSvg(Plain(R"~(<svg viewBox="0 0 -1 1"><line x1="0" y1="0" x2="1" y2="0"/></svg>)~"), strokes)
+              .find("viewBox"),
+    std::string::npos);
+  EXPECT_TRUE(strokes.empty());
+}
+
+TEST(StrokeFiles, ErrorsAboutStrokesNameTheFileAndTheirLineOrElement)
+{
+  Strokes strokes;
+  std::vector<std::string> origins;
+  ASSERT_EQ(ParseStrokeCsv("stroke_id,x,y\n7,0,0\n7,0,1\n# c\n3,2,2\n3,2,2\n", strokes, &origins), "");
+  ASSERT_EQ(origins, (std::vector<std::string>{ "stroke_id '7' from line 2", "stroke_id '3' from line 5" }));
+  EXPECT_EQ(StrokeFileError("Strokes input, stroke 1: has zero length", "a.csv", origins),
+    "StrokeFile 'a.csv', stroke 1 (stroke_id '3' from line 5): has zero length");
+  EXPECT_EQ(StrokeFileError("Strokes input: no strokes", "a.csv", origins), "StrokeFile 'a.csv': no strokes");
+  EXPECT_EQ(StrokeFileError("Angle is out of range", "a.csv", origins), "Angle is out of range");
+  ASSERT_EQ(ParseStrokeSvg(
+              Plain("<path id=\"p\" d=\"M 0 0 L 1 1 M 2 2 L 3 3\"/>\n<line x1=\"1\" x2=\"1\"/>"), strokes, &origins),
+    "");
+  ASSERT_EQ(origins.size(), 3u);
+  EXPECT_EQ(origins[1].rfind("the SVG element <path id=\"p\"> (line ", 0), 0u) << origins[1];
+  EXPECT_NE(origins[1].find(", subpath 2"), std::string::npos) << origins[1];
+  EXPECT_EQ(origins[2].rfind("the SVG element <line> (line ", 0), 0u) << origins[2];
+}
+
 TEST(StrokeFiles, NestedTransformsAndElements)
 {
   Strokes strokes;

@@ -460,6 +460,26 @@ TEST(TreeFromSketchSource, WeldedBranchesAreOneClosedManifoldPerTreeAndSeatedTub
   }
 }
 
+TEST(TreeFromSketchSource, StrokeErrorsOfAFileNameTheFileAndTheLine)
+{
+  const std::string file = testing::TempDir() + "zero_stroke.csv";
+  std::ofstream(file) << "stroke_id,x,y\n1,0,0\n1,0,10\n2,0,5\n2,0,5\n";
+  vtkNew<vtkTreeFromSketchSource> source;
+  vtkNew<ErrorCatcher> catcher;
+  source->AddObserver(vtkCommand::ErrorEvent, catcher);
+  source->SetMode(1);
+  source->SetStrokesOnly(1);
+  source->SetStrokeFile(file.c_str());
+  source->Update();
+  EXPECT_NE(
+    catcher->Messages.find("StrokeFile '" + file + "', stroke 1 (stroke_id '2' from line 4): "), std::string::npos)
+    << catcher->Messages;
+  EXPECT_EQ(catcher->Messages.find("Strokes input"), std::string::npos) << catcher->Messages;
+  for (int port = 0; port < 3; ++port)
+    EXPECT_EQ(Output(source, port)->GetNumberOfPoints(), 0);
+  std::remove(file.c_str());
+}
+
 TEST(TreeFromSketchSource, StrokeFilesOfIssue25BuildTreesOrFailCleanly)
 {
   // Files that crashed the regex reader (a 2,000-point polyline, a 5,000-command path, a file cut inside a long
