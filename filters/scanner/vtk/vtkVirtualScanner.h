@@ -75,6 +75,10 @@ public:
   void ClearPositions();
   void AddPosition(double x, double y, double z);
   int GetNumberOfPositions() const { return static_cast<int>(this->Positions.size() / 3); }
+  /// The number of values the Positions property held (its server-side helper, vtkSICountedDoubleVectorProperty,
+  /// sets it after the rows): a count that is not a multiple of three is refused when the filter runs. -1 (set by
+  /// ClearPositions): not given, the rows added are all there is.
+  void SetPositionsElementCount(int count);
   ///@}
 
   ///@{
@@ -170,6 +174,7 @@ protected:
 
   int ScannerType = 0;
   std::vector<double> Positions{ 0.0, -5.0, 1.0 };
+  int PositionsElementCount = -1;
   double LookAt[3] = { 0.0, 0.0, 0.0 };
   double Up[3] = { 0.0, 0.0, 1.0 };
   double HorizontalFieldOfView = 60.0;
