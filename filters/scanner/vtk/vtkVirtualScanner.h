@@ -82,7 +82,11 @@ public:
   ///@}
 
   ///@{
-  /** The point every scanner looks at (a line scanner on a path keeps the direction from its first position). */
+  /**
+   * The point the scanners look at. A line scanner on a path looks at it from its first position and keeps that
+   * direction: fan k looks at LookAt + (its origin - the first position), so the fans sweep side by side (looking at
+   * the one point from every position would put every fan, which spans Up, through the same line of the surface).
+   */
   vtkSetVector3Macro(LookAt, double);
   vtkGetVector3Macro(LookAt, double);
   ///@}

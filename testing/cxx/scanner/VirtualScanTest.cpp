@@ -934,6 +934,26 @@ TEST(VirtualScan, LineScannerOnAPathAndOnATurntable)
   EXPECT_EQ(shown.size(), 2u + 4u * 3u);
   EXPECT_EQ(std::count(shown.begin(), shown.end(), -1), 2);
   EXPECT_EQ(std::count(shown.begin(), shown.end(), 10), 3); // the last fan is among those shown
+  // LookAt on a path (docs/methods/virtual-scanner.md, "What LookAt means"): fan k looks at LookAt moved with the
+  // scanner, LookAt + (origin_k - first position), here obliquely; so the fans' central beams land side by side
+  // on the plane, 0.1 apart like the fans, not all on the line through LookAt along Up.
+  {
+    ScannerParameters oblique = p;
+    oblique.lookAt = { -0.2, 0.3, 0.0 };
+    BeamPattern path;
+    ASSERT_EQ(path.Setup(oblique), "");
+    ASSERT_EQ(path.PoseCount(), 11u);
+    for (std::uint64_t k = 0; k < path.PoseCount(); ++k)
+    {
+      double origin[3], direction[3];
+      std::int64_t pose;
+      path.Beam(k * path.BeamsPerPose() + path.BeamsPerPose() / 2, origin, direction, pose); // the central beam
+      ASSERT_EQ(pose, static_cast<std::int64_t>(k));
+      const double t = -origin[2] / direction[2]; // to z = 0
+      EXPECT_NEAR(origin[0] + t * direction[0], -0.2 + 0.1 * static_cast<double>(k), 1e-12) << k;
+      EXPECT_NEAR(origin[1] + t * direction[1], 0.3, 1e-12) << k;
+    }
+  }
   // Turntable: a sphere turned 8 times a full turn in front of a fan sees every side of it.
   const Mesh sphere = Icosphere(3, 0.5);
   p.lineMotion = LineMotion::Turntable;
