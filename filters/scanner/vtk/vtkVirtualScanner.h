@@ -138,7 +138,8 @@ public:
   ///@{
   /**
    * Noise: RangeNoise, the standard deviation of the range (model units, [0, 1e6]); AngularJitter, of each beam's
-   * direction (degrees, [0, 10]); DropoutProbability, of a hit returning nothing ([0, 1]). All from Seed.
+   * direction (degrees, [0, 10]); DropoutProbability, of a hit returning nothing ([0, 1]). All from Seed
+   * ([0, 1000000]; outside it the filter refuses to run, naming Seed).
    */
   vtkSetMacro(RangeNoise, double);
   vtkGetMacro(RangeNoise, double);
