@@ -20,7 +20,9 @@ namespace plantmorph
 {
 
 /// vtkSMPTools::For behind a ParallelFor. `grain` is vtkSMPTools' grain (0: the backend chooses); the algorithms
-/// give the same results however the range is cut, so it is a speed setting only.
+/// give the same results however the range is cut, so it is a speed setting only. An exception the body throws on
+/// a worker thread (std::bad_alloc) is thrown again on the calling thread once the loop ends (the chunks not yet
+/// started are skipped), never left to end the process.
 PLANTMORPHVTKCOMMON_EXPORT ParallelFor SMPFor(vtkIdType grain = 0);
 
 /// A progress callback for `algorithm`: fraction f of the work done shows as begin + (end - begin) * f; the callback

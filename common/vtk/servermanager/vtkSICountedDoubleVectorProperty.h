@@ -14,6 +14,12 @@
  * the object gets the usual clean and row commands, then `SetTermsElementCount(n)` with the property's raw number
  * of elements, and can refuse a partial row with an error naming the property. The panel (a table with one column
  * per number) and state files are unchanged: the proxy side of the property is ParaView's own.
+ *
+ * On a fixed-size property (no repeat_command, number_of_elements="3": a point), a state file with another count
+ * would make ParaView call the set method with the wrong arguments ("could not find requested method ... Aborting
+ * execution"), which drops the rest of the proxy's state, its Input among it. With this helper the values are not
+ * pushed: the object gets `element_count_command(n)` (and can refuse to run, naming the property), or without one
+ * the helper reports an error naming the property; the rest of the state loads.
  */
 #ifndef vtkSICountedDoubleVectorProperty_h
 #define vtkSICountedDoubleVectorProperty_h
@@ -42,6 +48,7 @@ private:
   void operator=(const vtkSICountedDoubleVectorProperty&) = delete;
 
   std::string ElementCountCommand;
+  int FixedCount = -1; ///< number_of_elements of a property that is not repeated; -1 for a repeated one
 };
 
 #endif

@@ -183,11 +183,46 @@ RegistrationResult RegisterOneSided(const double* points, std::size_t count, con
 } // namespace
 
 //------------------------------------------------------------------------------
+std::string UndeterminedRegistration(const double* points, std::size_t count, bool withScale)
+{
+  // Distinct points, up to the number of unknowns (6 rigid, 7 with scale): fewer leave the motion free.
+  const std::size_t unknowns = withScale ? 7 : 6;
+  std::vector<Eigen::Vector3d> distinct;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const Eigen::Vector3d x(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+    mean += x;
+    if (distinct.size() < unknowns && std::find(distinct.begin(), distinct.end(), x) == distinct.end())
+      distinct.push_back(x);
+  }
+  mean /= static_cast<double>(std::max<std::size_t>(count, 1));
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const Eigen::Vector3d d = Eigen::Vector3d(points[3 * i], points[3 * i + 1], points[3 * i + 2]) - mean;
+    covariance += d * d.transpose();
+  }
+  const Eigen::Vector3d spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();
+  std::ostringstream message;
+  message << "registration is not determined by the measured points: ";
+  if (distinct.size() <= 1 || !(spread(2) > 0.0))
+    message << "all " << count << " are the same point (a rotation about it moves none of them)";
+  else if (spread(1) <= 1e-12 * spread(2))
+    message << "all " << count << " lie on one line (a rotation about the line moves none of them)";
+  else if (distinct.size() < unknowns)
+    message << "only " << distinct.size() << " distinct points for the " << unknowns
+            << " unknowns of the transform (at least " << unknowns << " are needed)";
+  else
+    return {};
+  message << "; the measured points are left unregistered (identity transform, RegistrationConverged = 0)";
+  return message.str();
+}
+
+//------------------------------------------------------------------------------
 RegistrationResult RegisterPoints(const double* points, std::size_t count, const PointSurfaceDistance& reference,
   const RegistrationParameters& settings, const ParallelFor& parallelFor)
 {
-  if (!settings.referencePoints || settings.referenceCount == 0)
-    return RegisterOneSided(points, count, reference, settings, parallelFor);
   RegistrationResult result;
   result.error = ValidateRegistrationParameters(settings);
   if (result.error.empty() && reference.IsEmpty())
@@ -199,6 +234,21 @@ RegistrationResult RegisterPoints(const double* points, std::size_t count, const
       result.error = "registration: a measured point has a non-finite coordinate";
   if (!result.error.empty())
     return result;
+  result.warning = UndeterminedRegistration(points, count, settings.withScale);
+  if (!result.warning.empty())
+  {
+    // The identity, as no registration: the distances are those of the points as they are.
+    result.landmarks = count;
+    std::vector<double> distance(count);
+    reference.QueryMany(points, count, distance.data(), nullptr, nullptr, nullptr, parallelFor);
+    double sum = 0.0;
+    for (double d : distance)
+      sum += d * d;
+    result.rms = std::sqrt(sum / static_cast<double>(count));
+    return result;
+  }
+  if (!settings.referencePoints || settings.referenceCount == 0)
+    return RegisterOneSided(points, count, reference, settings, parallelFor);
   const std::vector<double> landmarks = Strided(points, count, settings.maximumLandmarks);
   const std::vector<double> referencePoints =
     Strided(settings.referencePoints, settings.referenceCount, settings.maximumLandmarks);
@@ -207,12 +257,16 @@ RegistrationResult RegisterPoints(const double* points, std::size_t count, const
   if (!result.error.empty())
     return result;
   // Polish: rigid point-to-plane ICP from there (fast, exact where the surfaces match; the scale stays), kept only
-  // if the symmetric distance does not grow (point-to-plane alone may slide a mismatched leaf along itself).
+  // if the symmetric distance does not grow (point-to-plane alone may slide a mismatched leaf along itself). It
+  // shares the RegistrationIterations budget (none left: no polish), and when it is kept its own convergence is the
+  // result's: the transform is then the polish's.
+  if (result.iterations < settings.maximumIterations)
   {
     std::vector<double> moved(landmarks.size());
     ApplyTransform(result.matrix, landmarks.data(), moved.data(), result.landmarks);
     RegistrationParameters rigid = settings;
     rigid.withScale = false;
+    rigid.maximumIterations = settings.maximumIterations - result.iterations;
     const RegistrationResult polish = RegisterOneSided(moved.data(), result.landmarks, reference, rigid, parallelFor);
     if (polish.error.empty())
     {
@@ -225,7 +279,7 @@ RegistrationResult RegisterPoints(const double* points, std::size_t count, const
       {
         std::copy(composed, composed + 16, result.matrix);
         result.iterations += polish.iterations;
-        result.converged = result.converged || polish.converged;
+        result.converged = polish.converged;
       }
     }
   }

@@ -49,6 +49,9 @@ struct RegistrationParameters
 
 struct RegistrationResult
 {
+  // iterations never exceed maximumIterations (the symmetric stage and its polish share them); converged is true
+  // only when the stage whose transform is returned met the tolerance. Measured points that cannot determine a
+  // transform (UndeterminedRegistration) give the identity, 0 iterations, converged false and `warning`.
   /// Row-major 4x4 homogeneous matrix taking a measured point x to s R x + t (last row 0 0 0 1).
   double matrix[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
   double scale = 1.0;
@@ -72,6 +75,11 @@ std::string ValidateRegistrationParameters(const RegistrationParameters& setting
 /// Least-squares similarity (or rigid motion) taking source[i] to target[i] (x,y,z triples), Umeyama's closed form.
 /// Returns false (matrix untouched) if fewer than 3 pairs or the problem is degenerate (all points coincide).
 bool FitSimilarity(const double* source, const double* target, std::size_t count, bool withScale, double matrix[16]);
+
+/// Empty when `count` measured points (x,y,z triples) can determine a registration; else the warning saying why
+/// not: all the same point, all on one line, or fewer distinct points than the transform's unknowns (6 rigid, 7
+/// with scale). RegisterPoints then keeps the identity with that warning and converged false.
+std::string UndeterminedRegistration(const double* points, std::size_t count, bool withScale);
 
 /// Applies a row-major 4x4 matrix to count x,y,z triples (in may equal out).
 void ApplyTransform(const double matrix[16], const double* in, double* out, std::size_t count);

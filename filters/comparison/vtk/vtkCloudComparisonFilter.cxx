@@ -663,7 +663,7 @@ void Register(const plantmorph::Run& run, vtkMultiProcessController* controller,
   {
     run.Fail("Registration: " + error);
   }
-  if (m.registered.worse)
+  if (!m.registered.warning.empty()) // a worse fit refused, or measured points that cannot determine a transform
   {
     run.Warn("Registration: " + m.registered.warning);
   }

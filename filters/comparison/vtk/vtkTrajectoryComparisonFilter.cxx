@@ -17,6 +17,9 @@
 #include "vtkPoints.h"
 #include "vtkTable.h"
 
+#include <algorithm>
+#include <cmath>
+#include <numeric>
 #include <sstream>
 #include <vector>
 
@@ -29,7 +32,8 @@ constexpr double MaxMonotonePairs = 2e7;
 struct Trajectory
 {
   std::vector<double> xyz;
-  std::vector<double> time; ///< empty when there is none
+  std::vector<double> time;     ///< empty when there is none
+  std::vector<std::size_t> row; ///< the input row of each sample once sorted by time; empty: row i is sample i
 };
 
 bool IsAuto(const std::string& name)
@@ -238,6 +242,43 @@ std::string ReadTrajectory(
   return ReadTableTrajectory(table, named, timeName, port, inputName, measured, out);
 }
 
+/// The samples of `t` in time order: a stable sort by its time when some row comes before an earlier time (the
+/// matchings take the samples in the order given). "" when already in order or without times, else the warning
+/// that says it sorted, naming the first row out of order. A time that is not finite is an error in `error`.
+std::string SortByTime(Trajectory& t, const char* inputName, std::string& error)
+{
+  const std::size_t n = t.time.size();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (!std::isfinite(t.time[i]))
+    {
+      error = "the " + std::string(inputName) + " input's time at row " + std::to_string(i) +
+        " is not finite (TimeColumn; rows are numbered from 0)";
+      return {};
+    }
+  }
+  std::size_t late = 1;
+  while (late < n && t.time[late - 1] <= t.time[late])
+    ++late;
+  if (late >= n)
+    return {};
+  std::ostringstream warning;
+  warning << "the " << inputName << " input's rows are not in time order (row " << late << ", time " << t.time[late]
+          << ", follows row " << late - 1 << ", time " << t.time[late - 1]
+          << "; rows numbered from 0): its samples are sorted by time (stable) before matching; the Sample and "
+             "Index columns give the input rows";
+  t.row.resize(n);
+  std::iota(t.row.begin(), t.row.end(), std::size_t{ 0 });
+  std::stable_sort(t.row.begin(), t.row.end(), [&](std::size_t a, std::size_t b) { return t.time[a] < t.time[b]; });
+  const std::vector<double> xyz = t.xyz, time = t.time;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    t.time[i] = time[t.row[i]];
+    std::copy(xyz.begin() + 3 * t.row[i], xyz.begin() + 3 * t.row[i] + 3, t.xyz.begin() + 3 * i);
+  }
+  return warning.str();
+}
+
 vtkDoubleArray* NewColumn(vtkTable* table, const std::string& name, vtkIdType rows)
 {
   vtkNew<vtkDoubleArray> column;
@@ -266,7 +307,7 @@ void WriteMatch(
   for (vtkIdType i = 0; i < rows; ++i)
   {
     const std::size_t j = match.simulatedIndex[i];
-    index->SetValue(i, static_cast<vtkIdType>(j));
+    index->SetValue(i, static_cast<vtkIdType>(simulated.row.empty() ? j : simulated.row[j]));
     if (time)
     {
       time->SetValue(i, simulated.time[j]);
@@ -396,7 +437,7 @@ void WriteComparison(const Trajectory& measured, const Trajectory& simulated,
   vtkDoubleArray* mt = measured.time.empty() ? nullptr : NewColumn(samples, "MeasuredTime", rows);
   for (vtkIdType i = 0; i < rows; ++i)
   {
-    sample->SetValue(i, i);
+    sample->SetValue(i, measured.row.empty() ? i : static_cast<vtkIdType>(measured.row[i]));
     mx->SetValue(i, measured.xyz[3 * i]);
     my->SetValue(i, measured.xyz[3 * i + 1]);
     mz->SetValue(i, measured.xyz[3 * i + 2]);
@@ -411,14 +452,32 @@ void WriteComparison(const Trajectory& measured, const Trajectory& simulated,
   AddSummary(summary, fd, "SimulatedSamples", static_cast<double>(simulated.xyz.size() / 3));
   AddSummary(summary, fd, "ClosestMeanDistance", comparison.closest.meanDistance);
   AddSummary(summary, fd, "ClosestMaxDistance", comparison.closest.maxDistance);
-  AddSummary(summary, fd, "ClosestDirectionAngle", comparison.closest.directionAngle);
+  // An angle with a direction that is the zero vector (a trajectory that does not move) is left out (Execute warns).
+  if (!std::isnan(comparison.closest.directionAngle))
+    AddSummary(summary, fd, "ClosestDirectionAngle", comparison.closest.directionAngle);
   if (comparison.hasMonotone)
   {
     WriteMatch(samples, "Monotone", comparison.monotone, simulated);
     AddSummary(summary, fd, "MonotoneMeanDistance", comparison.monotone.meanDistance);
     AddSummary(summary, fd, "MonotoneMaxDistance", comparison.monotone.maxDistance);
-    AddSummary(summary, fd, "MonotoneDirectionAngle", comparison.monotone.directionAngle);
+    if (!std::isnan(comparison.monotone.directionAngle))
+      AddSummary(summary, fd, "MonotoneDirectionAngle", comparison.monotone.directionAngle);
   }
+}
+
+/// The warning for the direction angles left out (NaN: a direction that is the zero vector); "" when none is.
+std::string UndefinedAngles(const plantmorph::TrajectoryComparison& comparison)
+{
+  std::string left;
+  if (std::isnan(comparison.closest.directionAngle))
+    left = "ClosestDirectionAngle";
+  if (comparison.hasMonotone && std::isnan(comparison.monotone.directionAngle))
+    left += std::string(left.empty() ? "" : " and ") + "MonotoneDirectionAngle";
+  if (left.empty())
+    return {};
+  return left +
+    " left out of the summary: the measured trajectory's first and last samples coincide, or those of "
+    "the simulated samples matched to them (a trajectory that does not move has no direction)";
 }
 } // namespace
 
@@ -449,6 +508,15 @@ void vtkTrajectoryComparisonFilter::Execute(plantmorph::Run& run)
     this->GetSimulatedColumn(2) };
   run.Check(ReadTrajectory(measuredData, measuredColumns, this->TimeColumn, "Measured", measured));
   run.Check(ReadTrajectory(simulatedData, simulatedColumns, this->TimeColumn, "Simulated", simulated));
+  for (auto* trajectory : { &measured, &simulated })
+  {
+    std::string error;
+    const std::string sorted =
+      SortByTime(*trajectory, trajectory == &measured ? "Input (measured)" : "Simulated", error);
+    run.Check(error);
+    if (!sorted.empty())
+      run.Warn(sorted);
+  }
   const std::size_t n = measured.xyz.size() / 3;
   const std::size_t m = simulated.xyz.size() / 3;
   const plantmorph::TrajectoryComparison comparison = plantmorph::CompareTrajectories(
@@ -462,6 +530,9 @@ void vtkTrajectoryComparisonFilter::Execute(plantmorph::Run& run)
     vtkWarningMacro(<< "time-monotone matching skipped: it needs at least as many simulated samples (" << m
                     << ") as measured ones (" << n << ") and at most " << MaxMonotonePairs << " pairs");
   }
+  const std::string undefined = UndefinedAngles(comparison);
+  if (!undefined.empty())
+    run.Warn(undefined);
   this->UpdateProgress(0.8);
   WriteComparison(measured, simulated, comparison, run.Output<vtkTable>(0), run.Output<vtkTable>(1));
   this->UpdateProgress(1.0);

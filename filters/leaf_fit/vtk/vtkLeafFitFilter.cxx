@@ -276,6 +276,10 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, std::vector<E
   const double scale = self->GetScale();
   const std::string leafIdArray = self->GetLeafIdArray();
   std::string error = plantmorph::ValidateLeafFitParameters(Options(self));
+  const int baseCount = self->GetBasePointElementCount();
+  if (baseCount >= 0 && baseCount != 3)
+    error = plantmorph::OutOfRange(
+      "BasePoint", std::to_string(baseCount) + " numbers", "3 numbers (x, y, z)", "the value given was not set");
   if (error.empty() && !(std::isfinite(scale) && scale > 0.0))
     error = plantmorph::OutOfRange("Scale", scale, "(0, inf)");
   vtkDataArray* ids = nullptr;

@@ -66,6 +66,11 @@ public:
   vtkGetMacro(UseBasePoint, int);
   vtkSetVector3Macro(BasePoint, double);
   vtkGetVector3Macro(BasePoint, double);
+  /// The number of values the BasePoint property held (its server-side helper, vtkSICountedDoubleVectorProperty,
+  /// sets it; a state file with another count than 3 is not pushed, and the filter then refuses to run naming
+  /// BasePoint). -1: not given.
+  vtkSetMacro(BasePointElementCount, int);
+  vtkGetMacro(BasePointElementCount, int);
 
   ///@{
   /// Fit controls (plantmorph::LeafFitParameters): SurfaceSmoothing, OutlineSmoothing, OutlineControlPoints,
@@ -98,6 +103,7 @@ protected:
   int UpAxis = 2;
   int UseBasePoint = 0;
   double BasePoint[3] = { 0.0, 0.0, 0.0 };
+  int BasePointElementCount = -1;
   double SurfaceSmoothing = 1.0;
   double OutlineSmoothing = 1.0;
   int OutlineControlPoints = 16;

@@ -50,7 +50,8 @@ std::string DeviceError(RTCDevice device, const char* what)
 {
   const RTCError code = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
   std::ostringstream s;
-  s << "Embree: " << what << " failed (error " << static_cast<int>(code) << ")";
+  s << "Embree: " << what << " failed (error " << static_cast<int>(code)
+    << (code == RTC_ERROR_OUT_OF_MEMORY ? ": out of memory for the surface's ray-casting hierarchy" : "") << ")";
   return s.str();
 }
 

@@ -6,7 +6,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <new>
 #include <sstream>
+
+#ifdef __linux__
+#include <sys/resource.h>
+#include <unistd.h>
+#endif
 
 namespace plantmorph
 {
@@ -183,6 +193,125 @@ std::string ValidateSurface(
   return CheckSurface(points, pointCount, triangles, triangleCount);
 }
 
+std::size_t CloudBytesPerPoint(bool withBarycentric)
+{
+  // points, normals (float), range, intensity, pose (int32), triangle, beam; u, v
+  return 3 * sizeof(double) + 3 * sizeof(float) + 2 * sizeof(double) + sizeof(std::int32_t) + 2 * sizeof(long long) +
+    (withBarycentric ? 2 * sizeof(double) : 0);
+}
+
+std::string BeamCountProperties(const ScannerParameters& p)
+{
+  switch (p.type)
+  {
+    case ScannerType::Terrestrial:
+      return "AngularStep, HorizontalFieldOfView, VerticalFieldOfView, Positions";
+    case ScannerType::DepthCamera:
+      return "Resolution, Positions";
+    case ScannerType::Line:
+      return p.lineMotion == LineMotion::Path ? "AngularStep, VerticalFieldOfView, LineSpacing, Positions"
+                                              : "AngularStep, VerticalFieldOfView, TurntableSteps, Positions";
+  }
+  return "AngularStep";
+}
+
+namespace
+{
+/// A field of /proc/meminfo in bytes (0 when absent).
+std::size_t MemInfo(const char* field)
+{
+  std::ifstream file("/proc/meminfo");
+  std::string name;
+  double kilobytes = 0.0;
+  std::string unit;
+  while (file >> name >> kilobytes)
+  {
+    std::getline(file, unit);
+    if (name == field)
+      return static_cast<std::size_t>(kilobytes * 1024.0);
+  }
+  return 0;
+}
+
+std::string Gigabytes(double bytes)
+{
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(bytes < 1e9 ? 3 : 1) << bytes / 1e9 << " GB";
+  return s.str();
+}
+
+/// The error of a cloud that does not fit: `points` points of `bytesPerPoint` bytes against `available` (0:
+/// unknown, an allocation failed).
+std::string MemoryError(const ScannerParameters& p, std::uint64_t beams, double points, std::size_t bytesPerPoint,
+  std::size_t available, const char* how)
+{
+  std::ostringstream s;
+  s << std::setprecision(3) << "MaximumBeams / " << BeamCountProperties(p) << ": the scan casts " << double(beams)
+    << " beams and its cloud of " << how << " " << points << " points needs "
+    << Gigabytes(points * static_cast<double>(bytesPerPoint)) << " (" << bytesPerPoint << " bytes a point)";
+  if (available > 0)
+    s << ", more than the " << Gigabytes(static_cast<double>(available))
+      << " this process can still allocate (its address-space limit, ulimit -v, or the machine's memory and swap)";
+  else
+    s << ": out of memory";
+  s << "; cast fewer beams (a coarser AngularStep or Resolution, a narrower field of view, fewer Positions) or lower "
+       "MaximumBeams to refuse such a set-up";
+  return s.str();
+}
+} // namespace
+
+std::size_t AvailableMemory()
+{
+  std::size_t available = std::numeric_limits<std::size_t>::max();
+#ifdef __linux__
+  const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  if (pages > 0)
+    available = static_cast<std::size_t>(pages) * page + MemInfo("SwapTotal:");
+  rlimit limit{};
+  if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+  {
+    std::size_t mapped = 0;
+    if (std::FILE* statm = std::fopen("/proc/self/statm", "r"))
+    {
+      unsigned long size = 0;
+      if (std::fscanf(statm, "%lu", &size) == 1)
+        mapped = static_cast<std::size_t>(size) * page;
+      std::fclose(statm);
+    }
+    const auto cap = static_cast<std::size_t>(limit.rlim_cur);
+    available = std::min(available, cap > mapped ? cap - mapped : 0);
+  }
+#endif
+  return available;
+}
+
+std::string CheckCloudMemory(const ScannerParameters& p, const BeamPattern& pattern, const RayCaster& caster,
+  bool withBarycentric, std::size_t extraBytesPerPoint, std::size_t available, std::uint64_t firstBeam,
+  std::uint64_t endBeam)
+{
+  const std::uint64_t end = std::min(endBeam, pattern.BeamCount());
+  const std::uint64_t start = std::min(firstBeam, end);
+  const std::uint64_t beams = end - start;
+  const std::size_t bytes = CloudBytesPerPoint(withBarycentric) + extraBytesPerPoint;
+  if (beams == 0 || static_cast<double>(beams) * static_cast<double>(bytes) <= static_cast<double>(available))
+    return {}; // fits even if every beam returns: nothing to estimate
+  const std::uint64_t samples = std::min<std::uint64_t>(beams, 4096);
+  std::uint64_t hits = 0;
+  for (std::uint64_t k = 0; k < samples; ++k)
+  {
+    double origin[3], direction[3];
+    std::int64_t pose;
+    pattern.Beams(start + k * beams / samples, 1, origin, direction, &pose);
+    hits += caster.Intersect(origin, direction, p.maximumRange).Hit() ? 1 : 0;
+  }
+  const double points = (1.0 - p.dropoutProbability) * static_cast<double>(hits) / static_cast<double>(samples) *
+    static_cast<double>(beams);
+  if (points * static_cast<double>(bytes) <= static_cast<double>(available))
+    return {};
+  return MemoryError(p, beams, points, bytes, available, "about");
+}
+
 std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, const RayCaster& caster, ScanPoints& out,
   const ParallelFor& parallel, const std::function<bool(double)>& progress, std::uint64_t firstBeam,
   std::uint64_t endBeam)
@@ -191,79 +320,99 @@ std::string CastBeams(const ScannerParameters& p, const BeamPattern& pattern, co
   const std::uint64_t end = std::min(endBeam, pattern.BeamCount());
   const std::uint64_t start = std::min(firstBeam, end);
   const std::uint64_t beams = end - start;
-  std::vector<BeamResult> block(static_cast<std::size_t>(std::min(beams, Block)));
-  // Each block in pieces of Piece beams: a piece is cast and counts its returns in parallel, the pieces' places in
-  // the cloud follow (a short serial sum), then the pieces copy their returns in parallel.
-  constexpr std::size_t Piece = 1024;
-  std::vector<std::size_t> place(static_cast<std::size_t>(Block / Piece) + 1);
-  for (std::uint64_t first = start; first < end; first += Block)
+  std::size_t wanted = 0; // the points the cloud was asked to hold, for the out-of-memory error
+  try
   {
-    if (progress && !progress(static_cast<double>(first - start) / static_cast<double>(beams)))
+    std::vector<BeamResult> block(static_cast<std::size_t>(std::min(beams, Block)));
+    // Each block in pieces of Piece beams: a piece is cast and counts its returns in parallel, the pieces' places in
+    // the cloud follow (a short serial sum), then the pieces copy their returns in parallel.
+    constexpr std::size_t Piece = 1024;
+    std::vector<std::size_t> place(static_cast<std::size_t>(Block / Piece) + 1);
+    for (std::uint64_t first = start; first < end; first += Block)
     {
-      out.Clear();
-      return "aborted";
-    }
-    const std::size_t count = static_cast<std::size_t>(std::min(Block, end - first));
-    const std::size_t pieces = (count + Piece - 1) / Piece;
-    std::vector<std::size_t> returned(pieces, 0), dropped(pieces, 0);
-    parallel(pieces, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t piece = begin; piece < end; ++piece)
+      if (progress && !progress(static_cast<double>(first - start) / static_cast<double>(beams)))
       {
-        const std::size_t b = piece * Piece, e = std::min(count, b + Piece);
-        CastRange(p, pattern, caster, first, b, e, block.data());
-        for (std::size_t i = b; i < e; ++i)
-        {
-          returned[piece] += block[i].triangle >= 0 ? 1 : 0;
-          dropped[piece] += block[i].dropped ? 1 : 0;
-        }
+        out.Clear();
+        return "aborted";
       }
-    });
-    std::size_t n = out.Size();
-    for (std::size_t piece = 0; piece < pieces; ++piece)
-    {
-      place[piece] = n;
-      n += returned[piece];
-      out.dropped += dropped[piece];
-    }
-    if (n > out.range.capacity())
-    {
-      // Room for every beam of the share up to 2^26 (address space only: pages are touched as points arrive), so a
-      // cloud of that size is never copied to a larger allocation (serial work: run 3 of the benchmark); beyond,
-      // room for the rest of the scan at the return rate so far.
-      const double rate = static_cast<double>(n) / static_cast<double>(first + count - start);
-      const auto expected = static_cast<std::size_t>(1.05 * rate * static_cast<double>(end - start)) + 1024;
-      const auto share = static_cast<std::size_t>(end - start);
-      const std::size_t capacity = std::max(n, share <= (std::size_t(1) << 26) ? share : std::min(expected, share));
-      out.Reserve(capacity);
-    }
-    out.Resize(n);
-    const bool uv = out.withBarycentric;
-    parallel(pieces, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t piece = begin; piece < end; ++piece)
-      {
-        std::size_t j = place[piece];
-        for (std::size_t i = piece * Piece; i < std::min(count, (piece + 1) * Piece); ++i)
+      const std::size_t count = static_cast<std::size_t>(std::min(Block, end - first));
+      const std::size_t pieces = (count + Piece - 1) / Piece;
+      std::vector<std::size_t> returned(pieces, 0), dropped(pieces, 0);
+      parallel(pieces, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t piece = begin; piece < end; ++piece)
         {
-          const BeamResult& r = block[i];
-          if (r.triangle < 0)
-            continue;
-          std::copy(r.point, r.point + 3, &out.points[3 * j]);
-          for (std::size_t k = 0; k < 3; ++k)
-            out.normals[3 * j + k] = static_cast<float>(r.normal[k]);
-          out.range[j] = r.range;
-          out.intensity[j] = r.intensity;
-          out.pose[j] = static_cast<std::int32_t>(r.pose); // poses are held in memory: far fewer than 2^31
-          out.triangle[j] = r.triangle;
-          if (uv)
+          const std::size_t b = piece * Piece, e = std::min(count, b + Piece);
+          CastRange(p, pattern, caster, first, b, e, block.data());
+          for (std::size_t i = b; i < e; ++i)
           {
-            out.barycentric[2 * j] = r.u;
-            out.barycentric[2 * j + 1] = r.v;
+            returned[piece] += block[i].triangle >= 0 ? 1 : 0;
+            dropped[piece] += block[i].dropped ? 1 : 0;
           }
-          out.beam[j] = static_cast<long long>(first + i);
-          ++j;
+        }
+      });
+      std::size_t n = out.Size();
+      for (std::size_t piece = 0; piece < pieces; ++piece)
+      {
+        place[piece] = n;
+        n += returned[piece];
+        out.dropped += dropped[piece];
+      }
+      if (n > out.range.capacity())
+      {
+        // Room for every beam of the share up to 2^26 (address space only: pages are touched as points arrive), so a
+        // cloud of that size is never copied to a larger allocation (serial work: run 3 of the benchmark); beyond,
+        // room for the rest of the scan at the return rate so far.
+        const double rate = static_cast<double>(n) / static_cast<double>(first + count - start);
+        const auto expected = static_cast<std::size_t>(1.05 * rate * static_cast<double>(end - start)) + 1024;
+        const auto share = static_cast<std::size_t>(end - start);
+        wanted = std::max(n, share <= (std::size_t(1) << 26) ? share : std::min(expected, share));
+        try
+        {
+          out.Reserve(wanted);
+        }
+        catch (const std::bad_alloc&)
+        {
+          // The room for the whole share is address space only, but under an address-space limit (ulimit -v) even
+          // that may not be had: then room at the return rate, as for a larger share.
+          wanted = std::max(n, std::min(expected, share));
+          out.Reserve(wanted);
         }
       }
-    });
+      wanted = std::max(wanted, n);
+      out.Resize(n);
+      const bool uv = out.withBarycentric;
+      parallel(pieces, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t piece = begin; piece < end; ++piece)
+        {
+          std::size_t j = place[piece];
+          for (std::size_t i = piece * Piece; i < std::min(count, (piece + 1) * Piece); ++i)
+          {
+            const BeamResult& r = block[i];
+            if (r.triangle < 0)
+              continue;
+            std::copy(r.point, r.point + 3, &out.points[3 * j]);
+            for (std::size_t k = 0; k < 3; ++k)
+              out.normals[3 * j + k] = static_cast<float>(r.normal[k]);
+            out.range[j] = r.range;
+            out.intensity[j] = r.intensity;
+            out.pose[j] = static_cast<std::int32_t>(r.pose); // poses are held in memory: far fewer than 2^31
+            out.triangle[j] = r.triangle;
+            if (uv)
+            {
+              out.barycentric[2 * j] = r.u;
+              out.barycentric[2 * j + 1] = r.v;
+            }
+            out.beam[j] = static_cast<long long>(first + i);
+            ++j;
+          }
+        }
+      });
+    }
+  }
+  catch (const std::bad_alloc&)
+  {
+    out.Clear();
+    return MemoryError(p, beams, static_cast<double>(wanted), CloudBytesPerPoint(out.withBarycentric), 0, "up to");
   }
   out.beams = beams;
   if (progress)

@@ -77,10 +77,32 @@ std::string ValidateSurface(
 /// succeeded) against `caster` (built on the surface): a share of the beams gives exactly the points the whole scan
 /// gives for them, so ranks casting consecutive shares concatenate to the whole cloud.
 /// `progress(fraction)` is called between blocks of beams; returning false stops the scan (the cloud is cleared and
-/// "aborted" returned).
+/// "aborted" returned). Memory that cannot be had for the cloud (std::bad_alloc, on this thread or a worker of
+/// `parallel`, which must hand it back: SMPFor does) empties the cloud and returns an error naming MaximumBeams, the
+/// properties that set the beam count and the memory asked for.
 std::string CastBeams(const ScannerParameters& parameters, const BeamPattern& pattern, const RayCaster& caster,
   ScanPoints& out, const ParallelFor& parallel = SerialFor, const std::function<bool(double)>& progress = {},
   std::uint64_t firstBeam = 0, std::uint64_t endBeam = ~std::uint64_t(0));
+
+/// The numbers a returned point takes in the cloud (ScanPoints' arrays; 88 with barycentric, 72 without).
+std::size_t CloudBytesPerPoint(bool withBarycentric);
+
+/// The properties that set the beam count of `parameters`' scanner type, for messages ("AngularStep,
+/// HorizontalFieldOfView, VerticalFieldOfView, Positions" for a terrestrial scanner; MaximumBeams caps them all).
+std::string BeamCountProperties(const ScannerParameters& parameters);
+
+/// The bytes this process can still allocate: the address-space limit (RLIMIT_AS, `ulimit -v`) less what it maps
+/// now, and at most the machine's memory and swap. The largest size_t where neither is known.
+std::size_t AvailableMemory();
+
+/// Refuses a scan whose cloud clearly cannot fit before casting it: the return rate of up to 4096 beams spread
+/// evenly over [firstBeam, endBeam) (their hits, less the dropout) times the share's beams is the expected number
+/// of points, each taking CloudBytesPerPoint + `extraBytesPerPoint` (what the caller adds per point: the output's
+/// vertices, carried arrays). "" when that fits in `available` bytes, else the error naming MaximumBeams, the
+/// properties that set the beam count, the memory needed and the memory available.
+std::string CheckCloudMemory(const ScannerParameters& parameters, const BeamPattern& pattern, const RayCaster& caster,
+  bool withBarycentric, std::size_t extraBytesPerPoint, std::size_t available, std::uint64_t firstBeam = 0,
+  std::uint64_t endBeam = ~std::uint64_t(0));
 
 /// The whole scan: parameters and the beam budget checked first (nothing built or cast when they fail), then the
 /// surface checked, the hierarchy built and the beams cast.

@@ -36,6 +36,7 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <sstream>
 #include <limits>
 #include <string>
@@ -493,6 +494,7 @@ vtkVirtualScanner::vtkVirtualScanner()
 //------------------------------------------------------------------------------
 void vtkVirtualScanner::ClearPositions()
 {
+  this->PositionsElementCount = -1;
   if (!this->Positions.empty())
   {
     this->Positions.clear();
@@ -505,6 +507,16 @@ void vtkVirtualScanner::AddPosition(double x, double y, double z)
 {
   this->Positions.insert(this->Positions.end(), { x, y, z });
   this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkVirtualScanner::SetPositionsElementCount(int count)
+{
+  if (count != this->PositionsElementCount)
+  {
+    this->PositionsElementCount = count;
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -555,6 +567,46 @@ void WriteTotals(vtkVirtualScanner* self, const Ranks& ranks, const plantmorph::
 }
 } // namespace
 
+namespace
+{
+/// The bytes the output adds to each point of the scan's cloud: its vertex cell (32-bit offset and connectivity)
+/// and the input's arrays carried to it (cell arrays at the hit cells, point arrays at the hits).
+std::size_t CarriedBytesPerPoint(vtkPolyData* input)
+{
+  std::size_t bytes = 2 * sizeof(std::int32_t);
+  vtkCellData* cd = input->GetCellData();
+  for (int a = 0; a < cd->GetNumberOfArrays(); ++a)
+    if (vtkAbstractArray* array = cd->GetAbstractArray(a))
+      if (Carried(array, input->GetNumberOfCells()))
+        bytes += static_cast<std::size_t>(array->GetNumberOfComponents() * array->GetDataTypeSize());
+  vtkPointData* pd = input->GetPointData();
+  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+    if (vtkDataArray* array = pd->GetArray(a))
+      if (Interpolated(input, array))
+        bytes += static_cast<std::size_t>(array->GetNumberOfComponents() * array->GetDataTypeSize());
+  return bytes;
+}
+
+/// Stops the run on every rank when `error` (one rank's) is not empty: the rank that found it says it, the others
+/// stop quietly (they have waited here for it; an error left to one rank would hang the others' collective calls).
+void AgreeOnFailure(plantmorph::Run& run, const std::string& error)
+{
+  if (run.AnyRank(!error.empty()))
+  {
+    if (!error.empty())
+      run.FailHere(error);
+    run.Stop();
+  }
+}
+
+/// Casts this rank's beams [first, end) into `cloud` (port 0) on every core: refused first when its cloud clearly
+/// cannot fit in memory; memory that runs out while casting or writing the output is an error naming the
+/// properties that set the beam count, agreed by every rank. Returns the beams that hit but were dropped.
+std::uint64_t ScanShare(plantmorph::Run& run, vtkAlgorithm* self, const plantmorph::ScannerParameters& p,
+  const plantmorph::BeamPattern& pattern, const vtkVirtualScanner::PreparedSurface& prepared, vtkPolyData* input,
+  std::uint64_t first, std::uint64_t end, vtkPolyData* cloud);
+} // namespace
+
 //------------------------------------------------------------------------------
 int vtkVirtualScanner::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
@@ -578,6 +630,17 @@ std::string vtkVirtualScanner::ReadParameters(plantmorph::ScannerParameters& p) 
   if (!(this->MaximumBeams >= 1.0 && this->MaximumBeams <= 4e9))
   {
     return plantmorph::OutOfRange("MaximumBeams", this->MaximumBeams, "[1, 4e9]");
+  }
+  if (this->Seed < 0 || this->Seed > 1000000)
+  {
+    return plantmorph::OutOfRange("Seed", this->Seed, "[0, 1000000]");
+  }
+  if (this->PositionsElementCount >= 0 &&
+    static_cast<std::size_t>(this->PositionsElementCount) != this->Positions.size())
+  {
+    // ParaView pushed only the whole rows: a partial row means the list is not rows of x, y, z.
+    return plantmorph::OutOfRange("Positions", std::to_string(this->PositionsElementCount) + " numbers",
+      "{3, 6, 9, ...}", "rows of x, y, z; the last row has " + std::to_string(this->PositionsElementCount % 3));
   }
   p.type = static_cast<plantmorph::ScannerType>(this->ScannerType);
   p.positions.clear();
@@ -647,28 +710,63 @@ void vtkVirtualScanner::Execute(plantmorph::Run& run)
     run.Warn("Input: not carried to the cloud, fewer tuples than the input has cells or points: " + shortArrays);
   }
   this->UpdateProgress(0.1);
-  run.Building("the scanned cloud");
-  plantmorph::ScanPoints scan;
-  scan.withBarycentric = AnyInterpolated(input);
   const std::uint64_t beams = pattern.BeamCount();
   const auto share = [&](int r) {
     // beams <= 4e9 (AbsoluteMaximumBeams), so beams * rank fits in 64 bits for any rank count MPI runs.
     return beams * static_cast<std::uint64_t>(r) / static_cast<std::uint64_t>(ranks.count);
   };
   vtkPolyData* cloud = run.Output<vtkPolyData>(0);
-  // Every core (RunThreaded replaces a Sequential backend by STDThread); the output does not depend on the threads.
-  run.Threaded(0, [&]() {
-    run.Check(plantmorph::CastBeams(p, pattern, this->Prepared->caster, scan, plantmorph::SMPFor(2),
-      plantmorph::Progress(this, 0.1, 0.9), share(ranks.rank), share(ranks.rank + 1)));
-    WriteCloud(scan, this->Prepared->cellOf, this->Prepared->triangles, input, cloud); // on the same threads
-  });
-  WriteTotals(this, ranks, p, pattern, scan.dropped, cloud, run.Output<vtkPolyData>(1));
+  const std::uint64_t dropped =
+    ScanShare(run, this, p, pattern, *this->Prepared, input, share(ranks.rank), share(ranks.rank + 1), cloud);
+  WriteTotals(this, ranks, p, pattern, dropped, cloud, run.Output<vtkPolyData>(1));
   if (ranks.count > 1) // rebuilt every run under MPI: not kept
   {
     this->Prepared.reset();
   }
   this->UpdateProgress(1.0);
 }
+
+//------------------------------------------------------------------------------
+namespace
+{
+std::uint64_t ScanShare(plantmorph::Run& run, vtkAlgorithm* self, const plantmorph::ScannerParameters& p,
+  const plantmorph::BeamPattern& pattern, const vtkVirtualScanner::PreparedSurface& prepared, vtkPolyData* input,
+  std::uint64_t first, std::uint64_t end, vtkPolyData* cloud)
+{
+  run.Building("the scanned cloud (its size is set by MaximumBeams, " + plantmorph::BeamCountProperties(p) + ")");
+  plantmorph::ScanPoints scan;
+  scan.withBarycentric = AnyInterpolated(input);
+  const std::size_t extra = CarriedBytesPerPoint(input);
+  AgreeOnFailure(run,
+    plantmorph::CheckCloudMemory(
+      p, pattern, prepared.caster, scan.withBarycentric, extra, plantmorph::AvailableMemory(), first, end));
+  std::string error;
+  // Every core (RunThreaded replaces a Sequential backend by STDThread); the output does not depend on the threads.
+  run.Threaded(0, [&]() {
+    error = plantmorph::CastBeams(
+      p, pattern, prepared.caster, scan, plantmorph::SMPFor(2), plantmorph::Progress(self, 0.1, 0.9), first, end);
+    if (!error.empty())
+      return;
+    const double points = static_cast<double>(scan.Size());
+    try
+    {
+      WriteCloud(scan, prepared.cellOf, prepared.triangles, input, cloud); // on the same threads
+    }
+    catch (const std::bad_alloc&)
+    {
+      cloud->Initialize();
+      std::ostringstream message;
+      message << "MaximumBeams / " << plantmorph::BeamCountProperties(p) << ": out of memory writing the output of "
+              << points << " points ("
+              << (points * static_cast<double>(plantmorph::CloudBytesPerPoint(scan.withBarycentric) + extra) / 1e9)
+              << " GB with the scan's arrays); cast fewer beams";
+      error = message.str();
+    }
+  });
+  AgreeOnFailure(run, error);
+  return scan.dropped;
+}
+} // namespace
 
 //------------------------------------------------------------------------------
 void vtkVirtualScanner::PrintSelf(ostream& os, vtkIndent indent)

@@ -75,10 +75,18 @@ public:
   void ClearPositions();
   void AddPosition(double x, double y, double z);
   int GetNumberOfPositions() const { return static_cast<int>(this->Positions.size() / 3); }
+  /// The number of values the Positions property held (its server-side helper, vtkSICountedDoubleVectorProperty,
+  /// sets it after the rows): a count that is not a multiple of three is refused when the filter runs. -1 (set by
+  /// ClearPositions): not given, the rows added are all there is.
+  void SetPositionsElementCount(int count);
   ///@}
 
   ///@{
-  /** The point every scanner looks at (a line scanner on a path keeps the direction from its first position). */
+  /**
+   * The point the scanners look at. A line scanner on a path looks at it from its first position and keeps that
+   * direction: fan k looks at LookAt + (its origin - the first position), so the fans sweep side by side (looking at
+   * the one point from every position would put every fan, which spans Up, through the same line of the surface).
+   */
   vtkSetVector3Macro(LookAt, double);
   vtkGetVector3Macro(LookAt, double);
   ///@}
@@ -130,7 +138,8 @@ public:
   ///@{
   /**
    * Noise: RangeNoise, the standard deviation of the range (model units, [0, 1e6]); AngularJitter, of each beam's
-   * direction (degrees, [0, 10]); DropoutProbability, of a hit returning nothing ([0, 1]). All from Seed.
+   * direction (degrees, [0, 10]); DropoutProbability, of a hit returning nothing ([0, 1]). All from Seed
+   * ([0, 1000000]; outside it the filter refuses to run, naming Seed).
    */
   vtkSetMacro(RangeNoise, double);
   vtkGetMacro(RangeNoise, double);
@@ -170,6 +179,7 @@ protected:
 
   int ScannerType = 0;
   std::vector<double> Positions{ 0.0, -5.0, 1.0 };
+  int PositionsElementCount = -1;
   double LookAt[3] = { 0.0, 0.0, 0.0 };
   double Up[3] = { 0.0, 0.0, 1.0 };
   double HorizontalFieldOfView = 60.0;

@@ -2,6 +2,7 @@
 // The VTK layer (common/vtk/PlantMorphLayer.h): RunRequestData leaves every output port empty and says the error
 // once whatever the body throws, out of memory included; FieldRecord prefixes its names; PresetOverrides lists only
 // the changed properties.
+#include "PlantMorphAlgorithmHooks.h"
 #include "PlantMorphLayer.h"
 #include "VtkErrorCatcher.h"
 
@@ -17,10 +18,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace
 {
@@ -125,6 +128,33 @@ TEST(VtkLayer, RunThreadedRestoresTheBackendAfterAThrow)
   const std::string before = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "";
   EXPECT_THROW(plantmorph::RunThreaded(2, [] { plantmorph::Fail("stop"); }), plantmorph::RunFailure);
   EXPECT_EQ(std::string(vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : ""), before);
+}
+
+// An exception thrown on a vtkSMPTools worker thread used to end the process (std::terminate: a VirtualScanner
+// out of memory aborted ParaView). SMPFor hands it to the calling thread, where RunRequestData reports it.
+TEST(VtkLayer, AnExceptionOnAWorkerThreadReachesTheBoundary)
+{
+  vtkNew<LayerProbe> probe;
+  const std::string said = RunProbe(probe, [](plantmorph::Run& run) {
+    run.Building("the probe's cloud");
+    run.Threaded(4, [] {
+      plantmorph::SMPFor(1)(64, [](std::size_t begin, std::size_t) {
+        if (begin >= 32) // not the calling thread's first chunk alone
+          throw std::bad_alloc();
+      });
+    });
+  });
+  EXPECT_NE(said.find("ran out of memory building the probe's cloud"), std::string::npos) << said;
+  EXPECT_TRUE(Empty(probe));
+  // Every chunk once when nothing throws.
+  std::vector<int> seen(1000, 0);
+  plantmorph::RunThreaded(4, [&] {
+    plantmorph::SMPFor(7)(seen.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        ++seen[i];
+    });
+  });
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), 1000);
 }
 
 TEST(VtkLayer, FieldRecordPrefixesNamesOnce)

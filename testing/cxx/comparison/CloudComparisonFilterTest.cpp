@@ -346,6 +346,70 @@ TEST(CloudComparisonFilter, RigidIcpRecoversAKnownTransform)
   EXPECT_EQ(after.points->GetFieldData()->GetArray("PlantMorph.RegistrationConverged")->GetTuple1(0), 1.0);
 }
 
+// The Registration* field data tell what happened: RegistrationIterations = 1 used to report 2 iterations and
+// Converged = 1 with a sliver of the turn recovered; measured points all on one line or all the same point cannot
+// determine a transform: the identity, 0 iterations, Converged 0 and a warning saying why.
+TEST(CloudComparisonFilter, RegistrationFieldDataTellWhatHappened)
+{
+  vtkNew<vtkLeafOutlineSource> leaf;
+  leaf->SetResolution(40);
+  leaf->Update();
+  vtkNew<vtkPolyData> bent;
+  bent->DeepCopy(leaf->GetOutput(0));
+  for (vtkIdType i = 0; i < bent->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    bent->GetPoint(i, p);
+    p[2] = 0.4 * std::sin(0.9 * p[0] + 0.3) * std::cos(0.5 * p[1]) + 0.08 * p[0] * p[0];
+    bent->GetPoints()->SetPoint(i, p);
+  }
+  vtkNew<vtkTransform> turn;
+  turn->RotateWXYZ(0.05 * 180.0 / 3.14159265358979, 0.0, 0.0, 1.0);
+  vtkNew<vtkTransformPolyDataFilter> moved;
+  moved->SetInputData(bent);
+  moved->SetTransform(turn);
+  moved->SetOutputPointsPrecision(vtkAlgorithm::DOUBLE_PRECISION);
+  moved->Update();
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(moved->GetOutput()->GetPoints());
+  const auto field = [](const Result& r, const char* name) {
+    vtkDataArray* a = r.points->GetFieldData()->GetArray(name);
+    return a ? a->GetTuple1(0) : std::numeric_limits<double>::quiet_NaN();
+  };
+  const Result one = Compare(cloud, bent, [](vtkCloudComparisonFilter* f) {
+    f->SetRegistration(vtkCloudComparisonFilter::REGISTRATION_RIGID);
+    f->SetRegistrationIterations(1);
+  });
+  ASSERT_EQ(one.errors, "");
+  EXPECT_EQ(field(one, "PlantMorph.RegistrationIterations"), 1.0);
+  EXPECT_EQ(field(one, "PlantMorph.RegistrationConverged"), 0.0);
+  for (const bool identical : { true, false })
+  {
+    vtkNew<vtkPoints> points;
+    for (int i = 0; i < 500; ++i)
+      points->InsertNextPoint(identical ? 0.3 : 0.01 * i, identical ? 0.4 : 0.5 + 0.02 * i, 0.1);
+    vtkNew<vtkPolyData> degenerate;
+    degenerate->SetPoints(points);
+    vtkNew<vtkCloudComparisonFilter> filter;
+    vtkNew<ErrorCatcher> warnings;
+    filter->AddObserver(vtkCommand::WarningEvent, warnings);
+    filter->SetInputData(0, degenerate);
+    filter->SetReferenceData(bent);
+    filter->SetRegistration(vtkCloudComparisonFilter::REGISTRATION_RIGID);
+    filter->Update();
+    EXPECT_NE(warnings->Messages.find(identical ? "are the same point" : "lie on one line"), std::string::npos)
+      << warnings->Messages;
+    vtkFieldData* fd = filter->GetOutput(0)->GetFieldData();
+    ASSERT_NE(fd->GetArray("PlantMorph.RegistrationConverged"), nullptr);
+    EXPECT_EQ(fd->GetArray("PlantMorph.RegistrationConverged")->GetTuple1(0), 0.0);
+    EXPECT_EQ(fd->GetArray("PlantMorph.RegistrationIterations")->GetTuple1(0), 0.0);
+    vtkDataArray* matrix = fd->GetArray("PlantMorph.MeasuredTransform");
+    ASSERT_NE(matrix, nullptr);
+    for (int k = 0; k < 16; ++k)
+      EXPECT_EQ(matrix->GetComponent(0, k), k % 5 == 0 ? 1.0 : 0.0) << k;
+  }
+}
+
 TEST(CloudComparisonFilter, ScaleAndPointCloudReference)
 {
   vtkSmartPointer<vtkPolyData> a = RandomBall(300, 1.0);

@@ -380,7 +380,89 @@ TEST(RigidRegistration, BadSettings)
   const std::vector<double> cloud = { 10, 10, 10, 11, 10, 10, 10, 11, 10 };
   ASSERT_EQ(far.BuildCloud(cloud.data(), 3), "");
   settings.rejectDistance = 0.5;
-  EXPECT_NE(RegisterPoints(points.data(), 3, far, settings).error.find("landmark pairs"), std::string::npos);
+  const std::vector<double> spread = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 0, 1, 0, 1, 0, 1, 1, 1, 1, 1 };
+  EXPECT_NE(RegisterPoints(spread.data(), 8, far, settings).error.find("landmark pairs"), std::string::npos);
+}
+
+/// The rotation angle of a row-major 4x4 matrix's upper-left block (radians).
+double RotationAngle(const double matrix[16])
+{
+  const Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> m(matrix);
+  return Eigen::AngleAxisd(Eigen::Matrix3d(m.topLeftCorner<3, 3>())).angle();
+}
+
+// The count and the flag tell what happened: RegistrationIterations = 1 used to report 2 iterations and converged
+// with 0.0011 of a 0.05 rad turn recovered, the default 100 reported 101 (the symmetric stage's and the polish's
+// counts added, their flags or-ed). Now the count never exceeds the budget and converged means the transform
+// returned met the tolerance, so a converged result has recovered the turn.
+TEST(RigidRegistration, IterationsStayWithinTheBudgetAndConvergedMeansRecovered)
+{
+  const Surface surface = CurvedBlade();
+  PointSurfaceDistance reference;
+  ASSERT_EQ(reference.BuildSurface(
+              surface.points.data(), surface.points.size() / 3, surface.triangles.data(), surface.triangles.size() / 3),
+    "");
+  Eigen::Matrix4d truth = Eigen::Matrix4d::Identity();
+  truth.topLeftCorner<3, 3>() = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const std::vector<double> measured = MoveBy(Sample(surface, 3000, 21), truth);
+  for (const int budget : { 1, 2, 5, 100, 300 })
+  {
+    RegistrationParameters settings = Symmetric(surface, false);
+    settings.maximumIterations = budget;
+    settings.tolerance = 1e-7;
+    const RegistrationResult result = RegisterPoints(measured.data(), 3000, reference, settings);
+    ASSERT_EQ(result.error, "");
+    EXPECT_GE(result.iterations, 1) << budget;
+    EXPECT_LE(result.iterations, budget);
+    const double angle = RotationAngle(result.matrix);
+    if (result.converged)
+      EXPECT_NEAR(angle, 0.05, 1e-3) << budget << " iterations: converged but " << angle << " rad recovered";
+    if (budget == 1)
+      EXPECT_FALSE(result.converged) << "one iteration recovered " << angle << " rad of 0.05";
+  }
+  // One-sided (no reference points) likewise.
+  RegistrationParameters oneSided;
+  oneSided.maximumIterations = 1;
+  const RegistrationResult one = RegisterPoints(measured.data(), 3000, reference, oneSided);
+  ASSERT_EQ(one.error, "");
+  EXPECT_EQ(one.iterations, 1);
+}
+
+// Measured points that cannot determine a transform (on a line, 3 points, 500 copies of one point) keep the
+// identity with a warning saying why, converged false: any rotation about the line or point fits them as well.
+TEST(RigidRegistration, UndeterminedMeasuredCloudsKeepTheIdentityWithAWarning)
+{
+  const Surface surface = CurvedBlade();
+  PointSurfaceDistance reference;
+  ASSERT_EQ(reference.BuildSurface(
+              surface.points.data(), surface.points.size() / 3, surface.triangles.data(), surface.triangles.size() / 3),
+    "");
+  std::vector<double> line, identical, three = { 0.1, 0.2, 0.0, 1.0, 0.3, 0.1, 0.5, 1.2, 0.2 };
+  for (int i = 0; i < 200; ++i)
+    line.insert(line.end(), { 0.01 * i, 0.02 * i + 0.5, 0.1 });
+  for (int i = 0; i < 500; ++i)
+    identical.insert(identical.end(), { 0.3, 0.4, 0.2 });
+  const struct
+  {
+    const std::vector<double>& points;
+    const char* says;
+  } cases[] = { { line, "lie on one line" }, { three, "only 3 distinct points" }, { identical, "the same point" } };
+  for (const auto& c : cases)
+  {
+    for (const bool symmetric : { false, true })
+    {
+      RegistrationParameters settings = symmetric ? Symmetric(surface, false) : RegistrationParameters();
+      const RegistrationResult result = RegisterPoints(c.points.data(), c.points.size() / 3, reference, settings);
+      ASSERT_EQ(result.error, "") << c.says;
+      EXPECT_NE(result.warning.find(c.says), std::string::npos) << result.warning;
+      EXPECT_NE(result.warning.find("not determined"), std::string::npos) << result.warning;
+      EXPECT_FALSE(result.converged) << c.says;
+      EXPECT_EQ(result.iterations, 0) << c.says;
+      for (int i = 0; i < 16; ++i)
+        EXPECT_EQ(result.matrix[i], (i % 5 == 0) ? 1.0 : 0.0) << c.says;
+    }
+  }
+  EXPECT_EQ(UndeterminedRegistration(surface.points.data(), surface.points.size() / 3, true), "");
 }
 
 } // namespace

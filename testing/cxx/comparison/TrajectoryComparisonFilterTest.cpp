@@ -21,6 +21,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -246,6 +247,96 @@ TEST(TrajectoryComparisonFilter, OneSampleIsAnErrorNotANaNAngle)
   EXPECT_NE(catcher->Messages.find("Input (measured)"), std::string::npos) << catcher->Messages;
   EXPECT_NE(catcher->Messages.find("at least 2"), std::string::npos) << catcher->Messages;
   EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(1))->GetNumberOfRows(), 0);
+}
+
+/// Points with the given times (a "time" point array).
+vtkSmartPointer<vtkPolyData> TimedPoints(const double (*xyz)[3], const double* times, const int* order, int n)
+{
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> time;
+  time->SetName("time");
+  for (int i = 0; i < n; ++i)
+  {
+    points->InsertNextPoint(xyz[order[i]]);
+    time->InsertNextValue(times[order[i]]);
+  }
+  data->SetPoints(points);
+  data->GetPointData()->AddArray(time);
+  return data;
+}
+
+// Rows out of time order (with a time column) used to be matched in the order given: a monotone mean of 3.3 and a
+// direction angle of 180 degrees instead of the ordered rows' values. They are sorted by time with a warning, so the
+// numbers are those of the ordered rows, and Sample / ClosestIndex give the input rows.
+TEST(TrajectoryComparisonFilter, RowsOutOfTimeOrderAreSortedWithAWarning)
+{
+  const double times[5] = { 0.0, 2.5, 5.0, 7.5, 10.0 };
+  const int inOrder[5] = { 0, 1, 2, 3, 4 }, shuffled[5] = { 3, 0, 4, 2, 1 };
+  vtkNew<vtkTrajectoryComparisonFilter> ordered;
+  ordered->SetInputData(0, TimedPoints(Measured, times, inOrder, 5));
+  ordered->SetSimulatedData(TimedPoints(Simulated, times, inOrder, 5));
+  ordered->Update();
+  ExpectPaperNumbers(ordered);
+  vtkNew<vtkTrajectoryComparisonFilter> filter;
+  vtkNew<ErrorCatcher> warnings;
+  filter->AddObserver(vtkCommand::WarningEvent, warnings);
+  filter->SetInputData(0, TimedPoints(Measured, times, shuffled, 5));
+  filter->SetSimulatedData(TimedPoints(Simulated, times, shuffled, 5));
+  filter->Update();
+  EXPECT_NE(warnings->Messages.find("Input (measured) input's rows are not in time order (row 1"), std::string::npos)
+    << warnings->Messages;
+  EXPECT_NE(warnings->Messages.find("Simulated input's rows are not in time order"), std::string::npos)
+    << warnings->Messages;
+  EXPECT_NE(warnings->Messages.find("sorted by time"), std::string::npos) << warnings->Messages;
+  vtkTable* a = vtkTable::SafeDownCast(ordered->GetOutputDataObject(1));
+  vtkTable* b = vtkTable::SafeDownCast(filter->GetOutputDataObject(1));
+  for (const char* name : { "ClosestMeanDistance", "ClosestDirectionAngle", "MonotoneMeanDistance",
+         "MonotoneMaxDistance", "MonotoneDirectionAngle" })
+    EXPECT_DOUBLE_EQ(b->GetValueByName(0, name).ToDouble(), a->GetValueByName(0, name).ToDouble()) << name;
+  EXPECT_NEAR(b->GetValueByName(0, "MonotoneDirectionAngle").ToDouble(), 6.1, 0.05);
+  vtkTable* samples = vtkTable::SafeDownCast(filter->GetOutputDataObject(0));
+  for (int i = 0; i < 5; ++i)
+  {
+    // Sample i (time order) is input row k with shuffled[k] == i; it matches simulated sample i, input row k too.
+    const int row = static_cast<int>(std::find(shuffled, shuffled + 5, i) - shuffled);
+    EXPECT_EQ(samples->GetValueByName(i, "Sample").ToInt(), row);
+    EXPECT_EQ(samples->GetValueByName(i, "MonotoneIndex").ToInt(), row);
+    EXPECT_EQ(samples->GetValueByName(i, "MeasuredTime").ToDouble(), times[i]);
+  }
+  // A time that is not finite cannot be ordered: an error naming the row.
+  double bad[5] = { 0.0, 2.5, std::nan(""), 7.5, 10.0 };
+  vtkNew<ErrorCatcher> errors;
+  filter->AddObserver(vtkCommand::ErrorEvent, errors);
+  filter->SetInputData(0, TimedPoints(Measured, bad, inOrder, 5));
+  filter->Update();
+  EXPECT_NE(errors->Messages.find("time at row 2 is not finite"), std::string::npos) << errors->Messages;
+  EXPECT_EQ(vtkTable::SafeDownCast(filter->GetOutputDataObject(1))->GetNumberOfRows(), 0);
+}
+
+// A trajectory that does not move has no direction: the angle used to be NaN. It is left out with a warning, and no
+// summary value is NaN.
+TEST(TrajectoryComparisonFilter, AStillTrajectoryHasNoDirectionAngleAndAWarning)
+{
+  const double still[5][3] = { { 1, 2, 3 }, { 1, 2, 3 }, { 1, 2, 3 }, { 1, 2, 3 }, { 1, 2, 3 } };
+  vtkNew<vtkTrajectoryComparisonFilter> filter;
+  vtkNew<ErrorCatcher> warnings, errors;
+  filter->AddObserver(vtkCommand::WarningEvent, warnings);
+  filter->AddObserver(vtkCommand::ErrorEvent, errors);
+  filter->SetInputData(0, Points(still, 5, false));
+  filter->SetSimulatedData(Points(Simulated, 5, false));
+  filter->Update();
+  EXPECT_EQ(errors->Messages, "");
+  EXPECT_NE(warnings->Messages.find("ClosestDirectionAngle and MonotoneDirectionAngle left out"), std::string::npos)
+    << warnings->Messages;
+  vtkTable* summary = vtkTable::SafeDownCast(filter->GetOutputDataObject(1));
+  ASSERT_EQ(summary->GetNumberOfRows(), 1);
+  EXPECT_EQ(summary->GetColumnByName("ClosestDirectionAngle"), nullptr);
+  EXPECT_EQ(summary->GetColumnByName("MonotoneDirectionAngle"), nullptr);
+  for (vtkIdType c = 0; c < summary->GetNumberOfColumns(); ++c)
+    EXPECT_FALSE(std::isnan(summary->GetValue(0, c).ToDouble())) << summary->GetColumnName(c);
+  EXPECT_GT(summary->GetValueByName(0, "ClosestMeanDistance").ToDouble(), 0.0);
 }
 
 } // namespace

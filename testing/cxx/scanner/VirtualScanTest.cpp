@@ -11,10 +11,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <map>
 #include <thread>
+
+#include <sys/resource.h>
+#include <unistd.h>
 #include <utility>
 
 using namespace plantmorph;
@@ -930,6 +934,26 @@ TEST(VirtualScan, LineScannerOnAPathAndOnATurntable)
   EXPECT_EQ(shown.size(), 2u + 4u * 3u);
   EXPECT_EQ(std::count(shown.begin(), shown.end(), -1), 2);
   EXPECT_EQ(std::count(shown.begin(), shown.end(), 10), 3); // the last fan is among those shown
+  // LookAt on a path (docs/methods/virtual-scanner.md, "What LookAt means"): fan k looks at LookAt moved with the
+  // scanner, LookAt + (origin_k - first position), here obliquely; so the fans' central beams land side by side
+  // on the plane, 0.1 apart like the fans, not all on the line through LookAt along Up.
+  {
+    ScannerParameters oblique = p;
+    oblique.lookAt = { -0.2, 0.3, 0.0 };
+    BeamPattern path;
+    ASSERT_EQ(path.Setup(oblique), "");
+    ASSERT_EQ(path.PoseCount(), 11u);
+    for (std::uint64_t k = 0; k < path.PoseCount(); ++k)
+    {
+      double origin[3], direction[3];
+      std::int64_t pose;
+      path.Beam(k * path.BeamsPerPose() + path.BeamsPerPose() / 2, origin, direction, pose); // the central beam
+      ASSERT_EQ(pose, static_cast<std::int64_t>(k));
+      const double t = -origin[2] / direction[2]; // to z = 0
+      EXPECT_NEAR(origin[0] + t * direction[0], -0.2 + 0.1 * static_cast<double>(k), 1e-12) << k;
+      EXPECT_NEAR(origin[1] + t * direction[1], 0.3, 1e-12) << k;
+    }
+  }
   // Turntable: a sphere turned 8 times a full turn in front of a fan sees every side of it.
   const Mesh sphere = Icosphere(3, 0.5);
   p.lineMotion = LineMotion::Turntable;
@@ -1002,4 +1026,98 @@ TEST(VirtualScan, SharesOfTheBeamsConcatenateToTheWholeScan)
     EXPECT_TRUE(SameBits(whole.range, joined.range));
     EXPECT_EQ(whole.beam, joined.beam);
   }
+}
+
+namespace
+{
+/// A terrestrial scanner at the centre of a unit icosphere seeing all of it, `step` degrees apart: every beam hits.
+ScannerParameters InsideSphere(double step)
+{
+  ScannerParameters p;
+  p.positions = { Vec3{ 0.0, 0.0, 0.0 } };
+  p.lookAt = { 1.0, 0.0, 0.0 };
+  p.horizontalFieldOfView = 360.0;
+  p.verticalFieldOfView = 180.0;
+  p.angularStep = step;
+  p.maximumBeams = AbsoluteMaximumBeams;
+  return p;
+}
+/// In a child process: limits the address space to what it maps plus `headroom`, scans on two threads and exits
+/// with 0 when the scan returned the out-of-memory error naming its properties and an empty cloud (1 otherwise).
+void CastUnderALimit(
+  const ScannerParameters& p, const BeamPattern& pattern, const RayCaster& caster, std::size_t headroom)
+{
+  long pages = 0;
+  if (std::FILE* statm = std::fopen("/proc/self/statm", "r"))
+  {
+    if (std::fscanf(statm, "%ld", &pages) != 1)
+      pages = 0;
+    std::fclose(statm);
+  }
+  const rlim_t mapped = static_cast<rlim_t>(pages) * static_cast<rlim_t>(sysconf(_SC_PAGESIZE));
+  const rlimit limit{ mapped + static_cast<rlim_t>(headroom), RLIM_INFINITY };
+  setrlimit(RLIMIT_AS, &limit);
+  const auto threads = [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    std::thread other([&] { body(count / 2, count); });
+    body(0, count / 2);
+    other.join();
+  };
+  ScanPoints scan;
+  scan.withBarycentric = false;
+  const std::string error = CastBeams(p, pattern, caster, scan, threads);
+  std::fprintf(stderr, "%s\n", error.c_str());
+  const bool named = error.find("MaximumBeams") != std::string::npos &&
+    error.find("AngularStep") != std::string::npos && error.find("out of memory") != std::string::npos;
+  std::_Exit(named && scan.Size() == 0 ? 0 : 1);
+}
+} // namespace
+
+// Before casting, a cloud that clearly cannot fit is refused naming MaximumBeams, the properties that set the beam
+// count and the memory needed; what fits (even only because few beams return) is not refused.
+TEST(VirtualScan, CheckCloudMemoryRefusesOnlyWhatCannotFit)
+{
+  const Mesh sphere = Icosphere(3);
+  RayCaster caster;
+  ASSERT_EQ(caster.Build(sphere.points, sphere.triangles), "");
+  BeamPattern inside;
+  ASSERT_EQ(inside.Setup(InsideSphere(1.0)), "");
+  const auto beams = static_cast<std::size_t>(inside.BeamCount());
+  const std::size_t bytes = CloudBytesPerPoint(false) + 8;
+  EXPECT_EQ(CloudBytesPerPoint(false), 72u);
+  EXPECT_EQ(CloudBytesPerPoint(true), 88u);
+  EXPECT_EQ(CheckCloudMemory(InsideSphere(1.0), inside, caster, false, 8, beams * bytes), "");
+  const std::string refused = CheckCloudMemory(InsideSphere(1.0), inside, caster, false, 8, beams * bytes / 2);
+  for (const char* word : { "MaximumBeams", "AngularStep", "HorizontalFieldOfView", "VerticalFieldOfView", "needs",
+         " GB", "80 bytes a point" })
+    EXPECT_NE(refused.find(word), std::string::npos) << word << ": " << refused;
+  // From outside, a quarter or so of the beams hit: room for the hits is enough, though not for every beam.
+  ScannerParameters outside = InsideSphere(1.0);
+  outside.positions = { Vec3{ 0.0, -3.0, 0.0 } };
+  outside.lookAt = { 0.0, 0.0, 0.0 };
+  BeamPattern far;
+  ASSERT_EQ(far.Setup(outside), "");
+  ScanPoints scan;
+  scan.withBarycentric = false;
+  ASSERT_EQ(CastBeams(outside, far, caster, scan), "");
+  ASSERT_LT(2 * scan.Size(), beams);
+  EXPECT_EQ(CheckCloudMemory(outside, far, caster, false, 8, (scan.Size() * 11 / 10) * bytes), "");
+  EXPECT_NE(CheckCloudMemory(outside, far, caster, false, 8, (scan.Size() * 9 / 10) * bytes), "");
+  ScannerParameters camera = outside;
+  camera.type = ScannerType::DepthCamera;
+  EXPECT_EQ(BeamCountProperties(camera), "Resolution, Positions");
+}
+
+// Memory that runs out while casting (here an address-space limit below the cloud's size, in a child process) is an
+// error naming MaximumBeams and the properties that set the beam count, with an empty cloud: not std::terminate.
+TEST(VirtualScan, RunningOutOfMemoryWhileCastingIsAnErrorNotAnAbort)
+{
+  const Mesh sphere = Icosphere(2);
+  RayCaster caster;
+  ASSERT_EQ(caster.Build(sphere.points, sphere.triangles), "");
+  const ScannerParameters p = InsideSphere(0.05); // 7200 x 3601 beams, a cloud of 1.9 GB
+  BeamPattern pattern;
+  ASSERT_EQ(pattern.Setup(p), "");
+  ::testing::GTEST_FLAG(death_test_style) = "threadsafe"; // the caster's build started threads
+  EXPECT_EXIT(CastUnderALimit(p, pattern, caster, std::size_t(512) << 20), ::testing::ExitedWithCode(0),
+    "MaximumBeams / AngularStep");
 }

@@ -71,6 +71,31 @@ with Messages(tree) as messages:
     counts = sizes(tree, (0, 1))
 checks.check(not messages.errors and counts[0] > 0 and counts[1] > 0, "a whole row: a tree %s" % messages.errors)
 
+# The scanner's Positions: a partial row was a silent single position.
+SetActiveSource(None)
+scan_leaf = Sphere(Radius=1.0)
+scanner = VirtualScanner(Input=scan_leaf, ScannerType="Depth camera", Resolution=[40, 30], Positions=[0, -5, 1, 2])
+with Messages(scanner) as messages:
+    counts = sizes(scanner, (0, 1))
+checks.check(messages.said("Positions = 4 numbers", "{3, 6, 9, ...}", "last row has 1", kind="error"),
+             "Positions of 4 numbers: an error naming Positions %s" % messages.errors)
+checks.check(counts == [0, 0], "... and empty outputs %s" % counts)
+scanner.Positions = [0, -5, 1, 1, -5, 1]
+with Messages(scanner) as messages:
+    counts = sizes(scanner, (0,))
+checks.check(not messages.errors and counts[0] > 0, "two whole rows: a cloud %s" % messages.errors)
+for seed in (-1, -5, 1000001):
+    scanner.Seed = seed
+    with Messages(scanner) as messages:
+        counts = sizes(scanner, (0, 1))
+    checks.check(messages.said("Seed = %d" % seed, "[0, 1000000]", kind="error") and counts == [0, 0],
+                 "Seed %d: refused, naming Seed, empty outputs %s %s" % (seed, messages.errors, counts))
+scanner.Seed = 1000000
+with Messages(scanner) as messages:
+    counts = sizes(scanner, (0,))
+checks.check(not messages.errors and counts[0] > 0, "Seed 1000000: accepted %s" % messages.errors)
+scanner.Positions = [0, -5, 1, 2]
+
 # A state file stores every number: the partial row is refused after loading too, the whole rows give the same leaf.
 leaf.Terms = TWO_ROWS[:9]
 state = os.path.join(arguments.work, "partial_rows.pvsm")
@@ -89,4 +114,11 @@ if loaded:
     with Messages(loaded[0]) as messages:
         reloaded = fetch(loaded[0])
     checks.check(not messages.errors and fingerprint(reloaded) == good_print, "... and gives the same leaf once whole")
+scanners = [p for p in GetSources().values() if p.GetXMLName() == "VirtualScanner"]
+checks.check(len(scanners) == 1, "the state holds the scanner")
+if scanners:
+    with Messages(scanners[0]) as messages:
+        counts = sizes(scanners[0], (0,))
+    checks.check(messages.said("Positions = 4 numbers", kind="error") and counts == [0],
+                 "the loaded state refuses the partial Positions row too %s" % messages.errors)
 checks.finish()

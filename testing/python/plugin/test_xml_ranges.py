@@ -172,7 +172,6 @@ GUI_HINTS = {
     ("VenationFilter", "EmbossDepth"): CLASS_WIDER,
     ("VirtualScanner", "HorizontalFieldOfView", "min"): CLASS_WIDER + " (any angle > 0)",
     ("VirtualScanner", "VerticalFieldOfView", "min"): CLASS_WIDER + " (any angle > 0)",
-    ("VirtualScanner", "Seed"): "any integer seeds the generator",
     ("WiltingSimulator", "MaximumVoxels", "max"): CLASS_WIDER,
 }
 # Bounds refused at the bound itself, with the reason.
