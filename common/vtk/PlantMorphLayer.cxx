@@ -353,6 +353,15 @@ void Run::CheckHere(const std::string& error) const
   }
 }
 
+void Run::StopIfAnyRankFailed(bool anyRankFailed, const std::string& error) const
+{
+  if (anyRankFailed)
+  {
+    this->CheckHere(error);
+    this->Stop();
+  }
+}
+
 void Run::StopIfAborted() const
 {
   if (this->Self->GetAbortExecute())

@@ -208,6 +208,10 @@ public:
   /// Fail(error) / FailHere(error) unless `error` is empty.
   void Check(const std::string& error) const;
   void CheckHere(const std::string& error) const;
+  /// After a collective that told every rank whether any failed (`anyRankFailed`: AnyRank here, or a LeafPlan's or
+  /// exchange's own): the rank with an `error` reports it (FailHere), every rank stops; nothing when none failed. An
+  /// error left to one rank would hang the others' next collective call.
+  void StopIfAnyRankFailed(bool anyRankFailed, const std::string& error) const;
   /// Stop() when the user pressed Abort.
   void StopIfAborted() const;
   /// What the run is building now, for the out-of-memory message ("ran out of memory building <what>").

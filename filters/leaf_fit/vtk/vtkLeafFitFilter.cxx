@@ -376,11 +376,7 @@ void vtkLeafFitFilter::Execute(plantmorph::Run& run)
   plantmorph::fitmpi::LocalLeaves members;
   const std::string error = ReadLeaves(this, input, all, leafOf, members);
   const plantmorph::fitmpi::LeafExchange exchange(vtkMultiProcessController::GetGlobalController(), members);
-  if (exchange.AnyRank(!error.empty()))
-  {
-    run.CheckHere(error);
-    run.Stop();
-  }
+  run.StopIfAnyRankFailed(exchange.AnyRank(!error.empty()), error);
   if (exchange.LeafIds().empty())
     return; // no points on any rank: empty outputs, no error
   const std::vector<std::size_t> owned = exchange.Owned();
@@ -388,11 +384,7 @@ void vtkLeafFitFilter::Execute(plantmorph::Run& run)
   std::vector<std::vector<double>> values;
   const std::vector<plantmorph::LeafFitResult> results = FitOwned(leaves, Options(this), values);
   const std::string fitErrors = FitErrors(exchange, owned, leaves, results);
-  if (exchange.AnyRank(!fitErrors.empty()))
-  {
-    run.CheckHere(fitErrors);
-    run.Stop();
-  }
+  run.StopIfAnyRankFailed(exchange.AnyRank(!fitErrors.empty()), fitErrors);
   for (std::size_t k = 0; k < results.size(); ++k)
     if (!results[k].modelWarning.empty())
       run.WarnHere("leaf " + std::to_string(exchange.LeafIds()[owned[k]]) + ": " + results[k].modelWarning);

@@ -587,18 +587,6 @@ std::size_t CarriedBytesPerPoint(vtkPolyData* input)
   return bytes;
 }
 
-/// Stops the run on every rank when `error` (one rank's) is not empty: the rank that found it says it, the others
-/// stop quietly (they have waited here for it; an error left to one rank would hang the others' collective calls).
-void AgreeOnFailure(plantmorph::Run& run, const std::string& error)
-{
-  if (run.AnyRank(!error.empty()))
-  {
-    if (!error.empty())
-      run.FailHere(error);
-    run.Stop();
-  }
-}
-
 /// Casts this rank's beams [first, end) into `cloud` (port 0) on every core: refused first when its cloud clearly
 /// cannot fit in memory; memory that runs out while casting or writing the output is an error naming the
 /// properties that set the beam count, agreed by every rank. Returns the beams that hit but were dropped.
@@ -737,9 +725,9 @@ std::uint64_t ScanShare(plantmorph::Run& run, vtkAlgorithm* self, const plantmor
   plantmorph::ScanPoints scan;
   scan.withBarycentric = AnyInterpolated(input);
   const std::size_t extra = CarriedBytesPerPoint(input);
-  AgreeOnFailure(run,
-    plantmorph::CheckCloudMemory(
-      p, pattern, prepared.caster, scan.withBarycentric, extra, plantmorph::AvailableMemory(), first, end));
+  const std::string tooLarge = plantmorph::CheckCloudMemory(
+    p, pattern, prepared.caster, scan.withBarycentric, extra, plantmorph::AvailableMemory(), first, end);
+  run.StopIfAnyRankFailed(run.AnyRank(!tooLarge.empty()), tooLarge);
   std::string error;
   // Every core (RunThreaded replaces a Sequential backend by STDThread); the output does not depend on the threads.
   run.Threaded(0, [&]() {
@@ -763,7 +751,7 @@ std::uint64_t ScanShare(plantmorph::Run& run, vtkAlgorithm* self, const plantmor
       error = message.str();
     }
   });
-  AgreeOnFailure(run, error);
+  run.StopIfAnyRankFailed(run.AnyRank(!error.empty()), error);
   return scan.dropped;
 }
 } // namespace

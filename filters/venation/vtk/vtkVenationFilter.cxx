@@ -547,11 +547,7 @@ void vtkVenationFilter::Execute(plantmorph::Run& run)
   }
   // Several leaves (PlantMorphLeafExchange.h: a LeafId array, or connected blades): each grows on one rank.
   const plantmorph::LeafPlan plan(input);
-  if (plan.AnyRank(!plan.Error().empty()))
-  {
-    run.CheckHere(plan.Error());
-    run.Stop();
-  }
+  run.StopIfAnyRankFailed(plan.AnyRank(!plan.Error().empty()), plan.Error());
   if (plan.LeafIds().size() > 1)
   {
     this->GrowLeaves(run, plan);

@@ -301,11 +301,7 @@ void vtkWiltingSimulator::Execute(plantmorph::Run& run, double time)
   }
   // Several leaves (PlantMorphLeafExchange.h: a LeafId array, or connected blades): each wilts alone, on one rank.
   const plantmorph::LeafPlan plan(input);
-  if (plan.AnyRank(!plan.Error().empty()))
-  {
-    run.CheckHere(plan.Error());
-    run.Stop();
-  }
+  run.StopIfAnyRankFailed(plan.AnyRank(!plan.Error().empty()), plan.Error());
   if (plan.LeafIds().size() > 1)
   {
     this->WiltLeaves(run, plan, time, input, veins);
