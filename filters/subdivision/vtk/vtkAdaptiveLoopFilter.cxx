@@ -30,7 +30,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -458,21 +457,7 @@ void vtkAdaptiveLoopFilter::Execute(plantmorph::Run& run)
     std::pow(4.0, std::clamp(this->MaximumLevel, 0, 10));
   std::string error;
   bool aborted = false;
-  std::exception_ptr failure; // thrown out of the threads' scope only, so that it restores the thread settings
-  run.Threaded(estimate < 2e5 ? 1 : this->NumberOfThreads, [&]() {
-    try
-    {
-      error = this->Subdivide(input, output, aborted);
-    }
-    catch (...)
-    {
-      failure = std::current_exception();
-    }
-  });
-  if (failure)
-  {
-    std::rethrow_exception(failure);
-  }
+  run.Threaded(estimate < 2e5 ? 1 : this->NumberOfThreads, [&]() { error = this->Subdivide(input, output, aborted); });
   run.Check(error);
   if (aborted)
   {
