@@ -2,6 +2,7 @@
 // libFuzzer harness: ParseStrokeCsv (sources/tree/core/StrokeFiles.cpp) on arbitrary bytes. It must return, and either
 // give an error with no strokes or strokes of finite points, none of them empty.
 #include "StrokeFiles.h"
+#include "StrokeFuzzChecks.h"
 
 #include <cmath>
 #include <cstddef>
@@ -16,20 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::vector<std::vector<Eigen::Vector3d>> strokes;
   std::vector<std::string> origins; // where each stroke comes from: one per stroke, none on error
   const std::string error = plantmorph::ParseStrokeCsv(text, strokes, &origins);
-  if (origins.size() != strokes.size())
-  {
-    std::abort();
-  }
-  if (!strokes.empty())
-  {
-    const std::size_t k = strokes.size() - 1;
-    const std::string said =
-      plantmorph::StrokeFileError("Strokes input, stroke " + std::to_string(k) + ": zero length", "f", origins);
-    if (said.find(origins[k]) == std::string::npos || said.rfind("StrokeFile 'f', stroke ", 0) != 0)
-    {
-      std::abort();
-    }
-  }
+  CheckStrokeOrigins(strokes, origins);
   if (!error.empty() && !strokes.empty())
   {
     std::abort();
