@@ -41,6 +41,25 @@
 
 namespace
 {
+
+/// The ginkgo blade (Resolution 40), bent into an asymmetric dome ICP cannot slide along: the registration tests'
+/// reference surface.
+vtkSmartPointer<vtkPolyData> BentGinkgo()
+{
+  vtkNew<vtkLeafOutlineSource> leaf;
+  leaf->SetResolution(40);
+  leaf->Update();
+  vtkNew<vtkPolyData> bent;
+  bent->DeepCopy(leaf->GetOutput(0));
+  for (vtkIdType i = 0; i < bent->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    bent->GetPoint(i, p);
+    p[2] = 0.4 * std::sin(0.9 * p[0] + 0.3) * std::cos(0.5 * p[1]) + 0.08 * p[0] * p[0];
+    bent->GetPoints()->SetPoint(i, p);
+  }
+  return bent;
+}
 using plantmorph::testing::ErrorCatcher;
 
 vtkSmartPointer<vtkPolyData> SphereSurface(int resolution = 40)
@@ -302,18 +321,7 @@ TEST(CloudComparisonFilter, HistogramStatisticsAndCutOff)
 
 TEST(CloudComparisonFilter, RigidIcpRecoversAKnownTransform)
 {
-  vtkNew<vtkLeafOutlineSource> leaf; // the ginkgo blade, bent into an asymmetric dome ICP cannot slide along
-  leaf->SetResolution(40);
-  leaf->Update();
-  vtkNew<vtkPolyData> bent;
-  bent->DeepCopy(leaf->GetOutput(0));
-  for (vtkIdType i = 0; i < bent->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    bent->GetPoint(i, p);
-    p[2] = 0.4 * std::sin(0.9 * p[0] + 0.3) * std::cos(0.5 * p[1]) + 0.08 * p[0] * p[0];
-    bent->GetPoints()->SetPoint(i, p);
-  }
+  vtkSmartPointer<vtkPolyData> bent = BentGinkgo();
   vtkNew<vtkTransform> truth;
   truth->Translate(0.1, -0.2, 0.15);
   truth->RotateWXYZ(6.0, 0.3, 0.2, 1.0);
@@ -351,18 +359,7 @@ TEST(CloudComparisonFilter, RigidIcpRecoversAKnownTransform)
 // determine a transform: the identity, 0 iterations, Converged 0 and a warning saying why.
 TEST(CloudComparisonFilter, RegistrationFieldDataTellWhatHappened)
 {
-  vtkNew<vtkLeafOutlineSource> leaf;
-  leaf->SetResolution(40);
-  leaf->Update();
-  vtkNew<vtkPolyData> bent;
-  bent->DeepCopy(leaf->GetOutput(0));
-  for (vtkIdType i = 0; i < bent->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    bent->GetPoint(i, p);
-    p[2] = 0.4 * std::sin(0.9 * p[0] + 0.3) * std::cos(0.5 * p[1]) + 0.08 * p[0] * p[0];
-    bent->GetPoints()->SetPoint(i, p);
-  }
+  vtkSmartPointer<vtkPolyData> bent = BentGinkgo();
   vtkNew<vtkTransform> turn;
   turn->RotateWXYZ(0.05 * 180.0 / 3.14159265358979, 0.0, 0.0, 1.0);
   vtkNew<vtkTransformPolyDataFilter> moved;

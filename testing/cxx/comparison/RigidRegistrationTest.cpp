@@ -416,9 +416,13 @@ TEST(RigidRegistration, IterationsStayWithinTheBudgetAndConvergedMeansRecovered)
     EXPECT_LE(result.iterations, budget);
     const double angle = RotationAngle(result.matrix);
     if (result.converged)
+    {
       EXPECT_NEAR(angle, 0.05, 1e-3) << budget << " iterations: converged but " << angle << " rad recovered";
+    }
     if (budget == 1)
+    {
       EXPECT_FALSE(result.converged) << "one iteration recovered " << angle << " rad of 0.05";
+    }
   }
   // One-sided (no reference points) likewise.
   RegistrationParameters oneSided;
