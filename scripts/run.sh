@@ -14,8 +14,9 @@ for name in "${@:2}"; do
   MAIN_EXAMPLES+="$PLANTMORPH_ROOT/examples/$(basename "$name")"$'\n'
 done
 MAIN_EXAMPLES="${MAIN_EXAMPLES:-$(printf '%s\n' "$PLANTMORPH_ROOT"/examples/main_*.py)}"  # one a line
-# pvbatch renders only with an X server: use the one we have, or one virtual server for all the examples (one
-# xvfb-run per example races with other X clients starting on the machine: "bad X server connection").
+# pvbatch renders only with an X server: use the one we have, or one private Xvfb server for all the examples
+# (testing/python/virtual_display.py: Xvfb picks its display itself; xvfb-run -a races with other X servers
+# starting on the machine, "bad X server connection").
 # On this kind of machine a render window's connection to Xvfb now and then fails ("bad X server connection",
 # pvbatch aborts at once); an example that aborts is run again, up to three times.
 EXAMPLES='set -uo pipefail
@@ -32,7 +33,7 @@ export PLANTMORPH_ROOT PLANTMORPH_PLUGIN OUTPUT MAIN_EXAMPLES
 if [ -n "${DISPLAY:-}" ]; then
   bash -c "$EXAMPLES"
 else
-  xvfb-run -a -s "-screen 0 1920x1080x24" bash -c "$EXAMPLES"
+  python3 "$PLANTMORPH_ROOT/testing/python/virtual_display.py" -- bash -c "$EXAMPLES"
 fi
 echo "run: results written to $OUTPUT"
 echo "run: pictures"

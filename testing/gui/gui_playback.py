@@ -9,8 +9,12 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 
-SCREEN = "-screen 0 1600x1000x24"  # the main window's layout, and so the render view's size, follow from it
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+from virtual_display import VirtualDisplay  # noqa: E402
+
+SCREEN = "1600x1000x24"  # the main window's layout, and so the render view's size, follow from it
 
 
 def play(paraview, plugin_dir, events, work, macros, environment=None, extra_arguments=(), fresh_files=()):
@@ -28,7 +32,7 @@ def play(paraview, plugin_dir, events, work, macros, environment=None, extra_arg
     # the macros import this folder's pipeline_description
     here = os.path.dirname(os.path.abspath(__file__))
     env["PYTHONPATH"] = here + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
-    command = ["xvfb-run", "-a", "-s", SCREEN, paraview, "--dr", "--plugin-search-paths=" + plugin_dir,
+    command = [paraview, "--dr", "--plugin-search-paths=" + plugin_dir,
                "--plugins=PlantMorph", "--test-script=" + events, "--test-directory=" + work]
     command += list(extra_arguments) + ["--exit"]
     print(" ".join(command))
@@ -36,7 +40,9 @@ def play(paraview, plugin_dir, events, work, macros, environment=None, extra_arg
         for stale in fresh_files:
             if os.path.exists(stale):
                 os.remove(stale)
-        run = subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=600)
+        with VirtualDisplay(SCREEN) as server:  # a server of its own each time: xvfb-run -a races (virtual_display.py)
+            run = subprocess.run(command, env=server.environment(env), stdout=subprocess.PIPE,
+                                 stderr=subprocess.STDOUT, timeout=600)
         log = run.stdout.decode(errors="replace")
         if "X server" not in log and "cannot open display" not in log.lower():
             break

@@ -11,15 +11,19 @@ examples; the main_ ones run in their python.example_state.NAME tests (examples/
 entry here fails its test, and repo.examples_registered fails until every example has an entry and a test.
 
 The example runs in a fresh folder DIR/NAME (its --output, and the current folder), under its interpreter: pvbatch
-for the scripts that render (under xvfb-run when there is no X server; a run that aborts on "bad X server
-connection", which happens now and then on these machines, is run again, up to three times), pvpython for the
-others. The test fails if the script exits non-zero or any file it must write is missing or empty."""
+for the scripts that render (on a private Xvfb server when there is no X server, virtual_display.py; a run that
+still aborts on "bad X server connection" is run again, up to three times), pvpython for the others. The test fails
+if the script exits non-zero or any file it must write is missing or empty."""
 import argparse
+import contextlib
 import os
 import shutil
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from virtual_display import VirtualDisplay  # noqa: E402
 
 # name: (interpreter, arguments after --plugin ({output}: its output folder), files it must write there, ctest method
 # labels). Interpreter "state": a main_ example, run by its example_state test. The arguments keep each test short.
@@ -51,13 +55,16 @@ HELPER = "plantmorph_example.py"  # the module the examples share, not an exampl
 
 
 def run(command, cwd, render):
-    """Runs the command (under xvfb-run if it renders and there is no X server), again after an X abort."""
-    if render and not os.environ.get("DISPLAY"):
-        command = ["xvfb-run", "-a", "-s", "-screen 0 1920x1080x24"] + command
+    """Runs the command (on a private Xvfb server if it renders and there is no X server), again after an X abort."""
     for attempt in range(1, 4):
         print("run (attempt %d): %s" % (attempt, " ".join(command)), flush=True)
-        result = subprocess.run(command, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, universal_newlines=True, timeout=900)
+        with contextlib.ExitStack() as stack:
+            environment = None
+            if render and not os.environ.get("DISPLAY"):
+                environment = stack.enter_context(VirtualDisplay()).environment()
+            result = subprocess.run(command, cwd=cwd, env=environment, stdin=subprocess.DEVNULL,
+                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
+                                    timeout=900)
         print(result.stdout, flush=True)
         if result.returncode == 0 or "bad X server connection" not in result.stdout:
             return result.returncode
