@@ -195,7 +195,7 @@ std::string ChooseScale(const LasCloud& cloud, const LasWriteOptions& options, L
     if (options.scale > 0)
     {
       report.scale[k] = options.scale;
-      report.offset[k] = std::round(0.5 * (lo[k] + hi[k]) / options.scale) * options.scale;
+      report.offset[k] = std::round(0.5 * (lo[k] + hi[k]) / options.scale) * options.scale + 0.0;
     }
     if (!fits(report.scale[k], report.offset[k], k))
     {
@@ -275,7 +275,7 @@ void LasAutoScale(double lo, double hi, double& scale, double& offset)
   const double middle = 0.5 * lo + 0.5 * hi;
   for (double candidate : powers)
   {
-    offset = std::round(middle / candidate) * candidate;
+    offset = std::round(middle / candidate) * candidate + 0.0; // + 0.0: never -0
     const double reach = std::max(std::fabs(hi - offset), std::fabs(lo - offset)) / candidate;
     scale = candidate;
     if (reach < 2.0e9)
@@ -363,7 +363,7 @@ std::string WriteLas(std::ostream& out, const LasCloud& cloud, const LasWriteOpt
   for (int k = 0; k < 3; ++k)
   {
     const auto quantised = [&](double v) {
-      return r.offset[k] + r.scale[k] * std::round((v - r.offset[k]) / r.scale[k]);
+      return r.offset[k] + r.scale[k] * std::round((v - r.offset[k]) / r.scale[k]) + 0.0;
     };
     PutDouble(h + 131 + 8 * k, r.scale[k]);
     PutDouble(h + 155 + 8 * k, r.offset[k]);
