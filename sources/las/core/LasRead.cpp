@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 namespace plantmorph
@@ -474,29 +475,27 @@ std::string ReadPoints(std::istream& in, const RawHeader& r, std::uint64_t point
 {
   int standardCount = 0;
   const las::StandardSlot* standard = las::StandardSlots(r.formatByte, standardCount);
-  // The standard fields first (their order is the slots'), then the extra ones ParseExtraBytes appended.
-  std::vector<LasField> fields;
+  // The standard fields first (their order is the slots'), then the extra ones ParseExtraBytes appended; every
+  // field's values reserved once (the count is checked against the file's size), so memory is the arrays alone.
+  std::vector<LasField> fields(static_cast<std::size_t>(standardCount));
   for (int s = 0; s < standardCount; ++s)
   {
-    LasField field;
+    LasField& field = fields[static_cast<std::size_t>(s)];
     field.name = standard[s].name;
     field.type = standard[s].type;
     field.components = standard[s].components;
-    field.values.reserve(static_cast<std::size_t>(points) * static_cast<std::size_t>(field.components));
-    fields.push_back(std::move(field));
   }
   std::vector<ExtraSlot> moved = slots;
   for (ExtraSlot& slot : moved)
   {
-    if (slot.keep)
-    {
-      LasField& field = cloud.fields[slot.field];
-      field.values.reserve(static_cast<std::size_t>(points) * static_cast<std::size_t>(field.components));
-      slot.field += static_cast<std::size_t>(standardCount);
-    }
+    slot.field += slot.keep ? static_cast<std::size_t>(standardCount) : 0;
   }
-  fields.insert(fields.end(), cloud.fields.begin(), cloud.fields.end());
+  std::move(cloud.fields.begin(), cloud.fields.end(), std::back_inserter(fields));
   cloud.fields = std::move(fields);
+  for (LasField& field : cloud.fields)
+  {
+    field.values.reserve(static_cast<std::size_t>(points) * static_cast<std::size_t>(field.components));
+  }
   cloud.xyz.reserve(static_cast<std::size_t>(points) * 3);
   const std::size_t perBlock = std::max<std::size_t>(1, kLasBlockBytes / r.recordLength);
   std::vector<unsigned char> block(perBlock * r.recordLength);
