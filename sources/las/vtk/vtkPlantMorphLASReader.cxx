@@ -123,7 +123,7 @@ void WriteCloud(const plantmorph::LasCloud& cloud, vtkPolyData* output)
   for (const plantmorph::LasField& field : cloud.fields)
   {
     output->GetPointData()->AddArray(MakeArray(field, n));
-    if (field.name == "RGB" && field.components == 3 && !field.extra)
+    if (field.name == "RGB" && field.components == 3 && !field.extra && !cloud.Find("Colors"))
     {
       output->GetPointData()->SetScalars(DisplayColors(field, n));
     }

@@ -10,7 +10,7 @@
  * ClassificationFlags (bit 0 synthetic, 1 key-point, 2 withheld, 3 overlap), ScannerChannel (formats 6-10),
  * ScanAngleRank (degrees, formats 0-5) or ScanAngle (0.006 degree units, formats 6-10), UserData, PointSourceId,
  * GpsTime, RGB (unsigned short x3, the file's values) with Colors (unsigned char x3, RGB / 257 when any value
- * exceeds 255, the active scalars) and NIR, in the storage types of the format. Every dimension the Extra Bytes
+ * exceeds 255, the active scalars, unless an extra-bytes dimension is named Colors) and NIR, in the storage types of the format. Every dimension the Extra Bytes
  * VLR describes (user LASF_Spec, record 4; PlantMorph's labels LeafId, Organ, BranchId, BeamId, ScanPosition among
  * them) becomes an array of its type (double when it has a scale or offset); dimensions Name_X, Name_Y, Name_Z
  * (or Name_0, Name_1, ...) of one type become one array Name of several components, as the LAS writer splits them.
