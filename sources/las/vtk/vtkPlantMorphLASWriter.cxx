@@ -13,6 +13,7 @@
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <new>
@@ -108,6 +109,9 @@ plantmorph::LasCloud CloudOf(vtkPointSet* input, std::vector<std::string>& skipp
     rgb.type = plantmorph::LasType::UInt16;
     cloud.fields.push_back(std::move(rgb));
   }
+  // By name: the extra bytes' order does not depend on the order of the arrays (MPI's gathering sorts them).
+  std::stable_sort(cloud.fields.begin(), cloud.fields.end(),
+    [](const plantmorph::LasField& a, const plantmorph::LasField& b) { return a.name < b.name; });
   vtkFieldData* fd = input->GetFieldData();
   vtkDataArray* scale = fd ? fd->GetArray("PlantMorph.LASScale") : nullptr;
   vtkDataArray* offset = fd ? fd->GetArray("PlantMorph.LASOffset") : nullptr;

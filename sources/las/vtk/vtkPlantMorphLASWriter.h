@@ -10,7 +10,8 @@
  * range go there; RGB may also come from Colors (unsigned char, x 257) when there is no RGB array. Every other
  * numeric point array (PlantMorph's labels LeafId, Organ, BranchId, BeamId, ScanPosition, VirtualScanner's Range
  * and Intensity, Normals as Normals_X, _Y, _Z, ...) is an extra-bytes dimension of its own type, described in the
- * Extra Bytes VLR so that other tools (CloudCompare, PDAL, lasinfo) see it. Arrays whose names start with "vtk" and
+ * Extra Bytes VLR so that other tools (CloudCompare, PDAL, lasinfo) see it, in the order of their names (so the
+ * file does not depend on the order of the arrays, which gathering the pieces under MPI changes). Arrays whose names start with "vtk" and
  * string arrays are not written. Cells, cell data and field data other than the scale and offset are not written.
  *
  * Version 1.4 (default) or 1.2; PointFormat -1 (default) picks the smallest format of the version that holds the
