@@ -46,6 +46,9 @@ second = os.path.join(arguments.work, "las_scan_again.las")
 for path in (first, second):
     if os.path.exists(path):
         os.remove(path)
+# File > Save Data's list of file types for the scan (the writer factory the dialog asks) offers LAS.
+offered = servermanager.vtkSMProxyManager.GetProxyManager().GetWriterFactory().GetSupportedFileTypes(labels.SMProxy)
+checks.check("LAS point cloud (PlantMorph)(*.las )" in offered, "Save Data offers LAS for the scan: %s" % offered)
 SaveData(first, proxy=labels)
 checks.check(os.path.isfile(first), "SaveData wrote %s with the LAS writer" % first)
 with open(first, "rb") as f:
