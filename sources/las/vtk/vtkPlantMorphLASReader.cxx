@@ -96,7 +96,9 @@ vtkSmartPointer<vtkUnsignedCharArray> DisplayColors(const plantmorph::LasField& 
   return colors;
 }
 
-void WriteCloud(const plantmorph::LasCloud& cloud, vtkPolyData* output)
+/// The cloud as points with a vertex each and its fields as point arrays; each field's values are freed once its
+/// array is made, so the peak holds one field twice at most.
+void WriteCloud(plantmorph::LasCloud& cloud, vtkPolyData* output)
 {
   const auto n = static_cast<vtkIdType>(cloud.Size());
   vtkNew<vtkDoubleArray> xyz;
@@ -120,13 +122,16 @@ void WriteCloud(const plantmorph::LasCloud& cloud, vtkPolyData* output)
   vtkNew<vtkCellArray> verts;
   verts->SetData(offsets, connectivity);
   output->SetVerts(verts);
-  for (const plantmorph::LasField& field : cloud.fields)
+  std::vector<double>().swap(cloud.xyz);
+  const bool display = !cloud.Find("Colors");
+  for (plantmorph::LasField& field : cloud.fields)
   {
     output->GetPointData()->AddArray(MakeArray(field, n));
-    if (field.name == "RGB" && field.components == 3 && !field.extra && !cloud.Find("Colors"))
+    if (field.name == "RGB" && field.components == 3 && !field.extra && display)
     {
       output->GetPointData()->SetScalars(DisplayColors(field, n));
     }
+    std::vector<double>().swap(field.values);
   }
 }
 
