@@ -566,3 +566,20 @@ TEST(LasFile, WriterRefusesBadOptionsAndCoordinates)
   options.scale = 1e-12;
   EXPECT_NE(plantmorph::WriteLas(out, cloud, options).find("Scale asked for"), std::string::npos);
 }
+
+TEST(LasFile, OffsetsAndExtentsAreNeverNegativeZero)
+{
+  // A cloud around the origin: the offset rounds to zero and must be written +0 (a -0 made a re-written file differ
+  // from the first in its header).
+  LasCloud cloud = TestCloud(6, 20, 4);
+  for (std::size_t i = 0; i < cloud.xyz.size(); ++i)
+  {
+    cloud.xyz[i] = (i % 2 ? -1e-12 : 0.0);
+  }
+  plantmorph::LasWriteReport report;
+  const std::string b = Write(cloud, plantmorph::LasWriteOptions(), &report);
+  for (std::size_t at = 155; at < 227; at += 8)
+  {
+    EXPECT_FALSE(std::signbit(D(b, at))) << "header double at byte " << at;
+  }
+}

@@ -132,6 +132,18 @@ TEST(LasVtk, RefusedReadsLeaveAnEmptyOutputNamingTheFile)
   EXPECT_NE(catcher->Messages.find("not-las.las"), std::string::npos) << catcher->Messages;
   EXPECT_NE(catcher->Messages.find("File Signature"), std::string::npos) << catcher->Messages;
   std::remove(path.c_str());
+  // A .laz file that is not LAS at all still gets the hint that LAZ needs decompressing.
+  const std::string laz = TemporaryPath("scan.laz");
+  {
+    FILE* file = std::fopen(laz.c_str(), "wb");
+    std::fputs("LASF", file);
+    std::fclose(file);
+  }
+  catcher->Messages.clear();
+  reader->SetFileName(laz.c_str());
+  reader->Update();
+  EXPECT_NE(catcher->Messages.find("LASzip-compressed"), std::string::npos) << catcher->Messages;
+  std::remove(laz.c_str());
   catcher->Messages.clear();
   reader->SetFileName(TemporaryPath("missing.las").c_str());
   reader->Update();
