@@ -80,6 +80,11 @@ struct LasField
 /// GpsTime, RGB (3 components), NIR.
 extern const char* const kLasStandardNames[15];
 
+/// The description the writer gives an extra-bytes dimension written in place of a standard attribute of the same
+/// name whose values do not fit it (a double Intensity): the reader then gives it the name and drops the standard
+/// attribute (left zero); an extra dimension named like a standard attribute without it is read as Name_extra.
+extern const char* const kLasInPlaceOf;
+
 /// The header fields kept with a cloud (read from a file; the writer takes them when it can).
 struct LasHeaderInfo
 {
@@ -144,8 +149,8 @@ struct LasWriteReport
 };
 
 /// Writes `cloud` as LAS. A field named like a standard attribute of the chosen format, with integer values in its
-/// range (and 3 components for RGB), is written there; every other field (and a standard one out of range) as an
-/// extra-bytes dimension under its name (at most 32 characters: longer ones are cut; a component k of a field with
+/// range (and 3 components for RGB), is written there; every other field (and a standard one out of range, then
+/// described kLasInPlaceOf) as an extra-bytes dimension under its name (at most 32 characters: longer ones are cut; a component k of a field with
 /// several is the dimension Name_X, Name_Y, Name_Z for 3 components, Name_k otherwise). Returns "" or the error
 /// (non-finite coordinates, a field of the wrong size, too many extra bytes for a record).
 std::string WriteLas(

@@ -11,6 +11,8 @@ const char* const kLasStandardNames[15] = { "Intensity", "ReturnNumber", "Number
   "EdgeOfFlightLine", "Classification", "ClassificationFlags", "ScannerChannel", "ScanAngleRank", "ScanAngle",
   "UserData", "PointSourceId", "GpsTime", "RGB", "NIR" };
 
+const char* const kLasInPlaceOf = "in place of the LAS attribute";
+
 std::size_t LasTypeSize(LasType type)
 {
   switch (type)

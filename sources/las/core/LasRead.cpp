@@ -386,14 +386,6 @@ void DecodeRecords(const unsigned char* block, std::size_t count, const RawHeade
   }
 }
 
-bool AllZero(const std::vector<double>& values)
-{
-  return std::all_of(values.begin(), values.end(), [](double v) { return v == 0; });
-}
-
-/// An extra dimension named like a standard attribute: it takes the name when the standard attribute is all zero
-/// (PlantMorph's writer leaves it so), else it is renamed Name_extra. Then runs of extra dimensions Name_X, Name_Y,
-/// Name_Z or Name_0, Name_1, ... of one type become one field Name of several components (the writer's split).
 void SettleNames(LasCloud& cloud)
 {
   std::vector<LasField>& fields = cloud.fields;
@@ -407,7 +399,7 @@ void SettleNames(LasCloud& cloud)
     {
       if (!fields[s].extra && fields[s].name == extra.name)
       {
-        if (AllZero(fields[s].values))
+        if (extra.description.rfind(kLasInPlaceOf, 0) == 0)
         {
           fields[s].name.clear(); // dropped below
         }

@@ -25,6 +25,7 @@ struct Placement
   std::size_t offset = 0;                  ///< the extra dimension's byte in the record
   LasType type = LasType::Double;          ///< the extra dimension's type
   std::string name;                        ///< the extra dimension's name
+  bool inPlaceOf = false;                  ///< the extra dimension has the name of a standard attribute of the format
 };
 
 /// Whether `field` fits `slot`: its components, integer values within the slot's bits or type.
@@ -115,6 +116,7 @@ std::string Place(const LasCloud& cloud, int format, std::vector<Placement>& pla
         ? field.type
         : LasType::Double;
       p.name = ComponentName(field, c);
+      p.inPlaceOf = slot != nullptr && field.components == 1;
       recordLength += LasTypeSize(p.type);
       placements.push_back(p);
     }
@@ -149,7 +151,7 @@ std::vector<unsigned char> ExtraBytesRecord(const std::vector<Placement>& placem
       PutDouble(d + 112, p.field->scale[static_cast<std::size_t>(p.component)]);
       PutDouble(d + 136, p.field->offset[static_cast<std::size_t>(p.component)]);
     }
-    PutText(d + 160, p.field->description, 32);
+    PutText(d + 160, p.inPlaceOf ? std::string(kLasInPlaceOf) : p.field->description, 32);
     record.insert(record.end(), d, d + kLasExtraBytesDescriptorSize);
   }
   PutUnsigned(record.data() + 20, record.size() - kLasVlrHeaderSize, 2);

@@ -583,3 +583,42 @@ TEST(LasFile, OffsetsAndExtentsAreNeverNegativeZero)
     EXPECT_FALSE(std::signbit(D(b, at))) << "header double at byte " << at;
   }
 }
+
+TEST(LasFile, AnExtraDimensionTakesAStandardNameOnlyWhenItSaysSo)
+{
+  // A double Intensity does not fit LAS's 16-bit one: written as extra bytes "in place of" it, read back under its
+  // name, the zero standard attribute dropped.
+  LasCloud cloud = TestCloud(6, 30, 8);
+  LasField* intensity = nullptr;
+  for (LasField& field : cloud.fields)
+  {
+    intensity = field.name == "Intensity" ? &field : intensity;
+  }
+  intensity->type = LasType::Double;
+  intensity->values[3] = 0.25;
+  const std::string bytes = Write(cloud, plantmorph::LasWriteOptions());
+  LasCloud back;
+  ASSERT_EQ(Read(bytes, back), "");
+  ASSERT_NE(back.Find("Intensity"), nullptr);
+  EXPECT_TRUE(back.Find("Intensity")->extra);
+  EXPECT_EQ(back.Find("Intensity")->values, intensity->values);
+  EXPECT_EQ(back.Find("Intensity_extra"), nullptr);
+  // The same file with another description (another tool's dimension of that name): both are kept, the extra one
+  // renamed.
+  std::string other = bytes;
+  const std::size_t descriptions = 375 + 54;
+  bool found = false;
+  for (std::size_t d = descriptions; d + 192 <= 375 + 54 + U(bytes, 375 + 20, 2); d += 192)
+  {
+    if (bytes.substr(d + 4, 10) == std::string("Intensity\0", 10))
+    {
+      other.replace(d + 160, 5, "hits!");
+      found = true;
+    }
+  }
+  ASSERT_TRUE(found);
+  ASSERT_EQ(Read(other, back), "");
+  ASSERT_NE(back.Find("Intensity_extra"), nullptr);
+  EXPECT_EQ(back.Find("Intensity_extra")->values, intensity->values);
+  EXPECT_FALSE(back.Find("Intensity")->extra);
+}
