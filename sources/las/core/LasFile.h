@@ -92,6 +92,7 @@ struct LasHeaderInfo
   int versionMinor = 4;
   int pointFormat = 6;
   std::uint16_t pointRecordLength = 0;
+  std::uint64_t pointCount = 0; ///< the file's point records (every piece's)
   std::uint16_t fileSourceId = 0;
   std::uint16_t globalEncoding = 0;
   std::uint16_t creationDay = 0;
@@ -112,11 +113,21 @@ struct LasCloud
   const LasField* Find(const std::string& name) const;
 };
 
-/// Reads a whole LAS file of `fileSize` bytes from `in` (at its start). `progress` (optional) gets the fraction
-/// read after each block and returns false to stop (an error then). Returns "" or the error naming the header
-/// field, VLR or point record at fault (for the caller to prefix with the file's name); `cloud` is then empty.
-std::string ReadLas(
-  std::istream& in, std::uint64_t fileSize, LasCloud& cloud, const std::function<bool(double)>& progress = {});
+/// Which point records to read: piece `piece` of `pieces` holds records [N piece / pieces, N (piece + 1) / pieces)
+/// of the file's N, so the pieces in order hold every record once, in file order (MPI ranks' pieces).
+struct LasPiece
+{
+  int piece = 0;
+  int pieces = 1;
+};
+
+/// Reads a LAS file of `fileSize` bytes from `in`: the header and the VLRs and EVLRs whole, and the point records of
+/// `piece` (all by default). `progress` (optional) gets the fraction read after each block and returns false to
+/// stop (an error then). Returns "" or the error naming the header field, VLR or point record at fault (for the
+/// caller to prefix with the file's name); `cloud` is then empty. A header's error is every piece's alike; only a
+/// read that is stopped, or a file that shrinks while it is read, fails one piece alone.
+std::string ReadLas(std::istream& in, std::uint64_t fileSize, LasCloud& cloud,
+  const std::function<bool(double)>& progress = {}, LasPiece piece = {});
 
 /// True if the stream starts with the signature "LASF".
 bool LooksLikeLas(std::istream& in);

@@ -462,8 +462,9 @@ void SettleNames(LasCloud& cloud)
   }
 }
 
-std::string ReadPoints(std::istream& in, const RawHeader& r, std::uint64_t points, const std::vector<ExtraSlot>& slots,
-  LasCloud& cloud, const std::function<bool(double)>& progress)
+/// Reads `points` records from record `first` on.
+std::string ReadPoints(std::istream& in, const RawHeader& r, std::uint64_t first, std::uint64_t points,
+  const std::vector<ExtraSlot>& slots, LasCloud& cloud, const std::function<bool(double)>& progress)
 {
   int standardCount = 0;
   const las::StandardSlot* standard = las::StandardSlots(r.formatByte, standardCount);
@@ -492,21 +493,21 @@ std::string ReadPoints(std::istream& in, const RawHeader& r, std::uint64_t point
   const std::size_t perBlock = std::max<std::size_t>(1, kLasBlockBytes / r.recordLength);
   std::vector<unsigned char> block(perBlock * r.recordLength);
   in.clear();
-  in.seekg(static_cast<std::streamoff>(r.offsetToPoints));
+  in.seekg(static_cast<std::streamoff>(r.offsetToPoints + first * r.recordLength));
   for (std::uint64_t done = 0; done < points;)
   {
     const std::size_t count = static_cast<std::size_t>(std::min<std::uint64_t>(perBlock, points - done));
     in.read(reinterpret_cast<char*>(block.data()), static_cast<std::streamsize>(count * r.recordLength));
     if (static_cast<std::size_t>(in.gcount()) != count * r.recordLength)
     {
-      return "point record " + std::to_string(done + static_cast<std::uint64_t>(in.gcount()) / r.recordLength) +
+      return "point record " + std::to_string(first + done + static_cast<std::uint64_t>(in.gcount()) / r.recordLength) +
         ": the file ends inside it";
     }
     DecodeRecords(block.data(), count, r, standard, standardCount, moved, cloud);
     done += count;
     if (progress && !progress(static_cast<double>(done) / static_cast<double>(points)))
     {
-      return "reading stopped at point record " + std::to_string(done);
+      return "reading stopped at point record " + std::to_string(first + done);
     }
   }
   return "";
@@ -521,8 +522,8 @@ bool LooksLikeLas(std::istream& in)
   return in.gcount() == 4 && std::string(signature, 4) == "LASF";
 }
 
-std::string ReadLas(
-  std::istream& in, std::uint64_t fileSize, LasCloud& cloud, const std::function<bool(double)>& progress)
+std::string ReadLas(std::istream& in, std::uint64_t fileSize, LasCloud& cloud,
+  const std::function<bool(double)>& progress, LasPiece piece)
 {
   cloud = LasCloud();
   unsigned char h[kLasHeaderSize14] = {};
@@ -547,7 +548,11 @@ std::string ReadLas(
   }
   if (error.empty())
   {
-    error = ReadPoints(in, r, points, slots, cloud, progress);
+    const auto pieces = static_cast<std::uint64_t>(std::max(1, piece.pieces));
+    const auto p = static_cast<std::uint64_t>(std::min(std::max(0, piece.piece), std::max(1, piece.pieces) - 1));
+    // points * k / pieces without overflowing 64 bits.
+    const auto cut = [&](std::uint64_t k) { return points / pieces * k + points % pieces * k / pieces; };
+    error = ReadPoints(in, r, cut(p), cut(p + 1) - cut(p), slots, cloud, progress);
   }
   if (!error.empty())
   {
@@ -559,6 +564,7 @@ std::string ReadLas(
   cloud.header.versionMinor = r.versionMinor;
   cloud.header.pointFormat = r.formatByte;
   cloud.header.pointRecordLength = r.recordLength;
+  cloud.header.pointCount = points;
   for (int k = 0; k < 3; ++k)
   {
     cloud.header.scale[static_cast<std::size_t>(k)] = r.scale[k];

@@ -622,3 +622,35 @@ TEST(LasFile, AnExtraDimensionTakesAStandardNameOnlyWhenItSaysSo)
   EXPECT_EQ(back.Find("Intensity_extra")->values, intensity->values);
   EXPECT_FALSE(back.Find("Intensity")->extra);
 }
+
+TEST(LasFile, PiecesInOrderAreTheWholeFile)
+{
+  const std::string bytes = Write(TestCloud(8, 1001, 12), plantmorph::LasWriteOptions());
+  LasCloud whole;
+  ASSERT_EQ(Read(bytes, whole), "");
+  EXPECT_EQ(whole.header.pointCount, 1001u);
+  for (int pieces = 1; pieces <= 7; ++pieces)
+  {
+    std::vector<double> xyz;
+    std::vector<std::vector<double>> values(whole.fields.size());
+    for (int piece = 0; piece < pieces; ++piece)
+    {
+      std::istringstream in(bytes);
+      LasCloud part;
+      ASSERT_EQ(plantmorph::ReadLas(in, bytes.size(), part, {}, plantmorph::LasPiece{ piece, pieces }), "");
+      EXPECT_EQ(part.Size(), 1001u * (piece + 1) / pieces - 1001u * piece / pieces);
+      ASSERT_EQ(part.fields.size(), whole.fields.size());
+      xyz.insert(xyz.end(), part.xyz.begin(), part.xyz.end());
+      for (std::size_t f = 0; f < part.fields.size(); ++f)
+      {
+        EXPECT_EQ(part.fields[f].name, whole.fields[f].name);
+        values[f].insert(values[f].end(), part.fields[f].values.begin(), part.fields[f].values.end());
+      }
+    }
+    EXPECT_EQ(xyz, whole.xyz) << pieces << " pieces";
+    for (std::size_t f = 0; f < values.size(); ++f)
+    {
+      EXPECT_EQ(values[f], whole.fields[f].values) << whole.fields[f].name << ", " << pieces << " pieces";
+    }
+  }
+}
