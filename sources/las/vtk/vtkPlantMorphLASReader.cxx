@@ -8,6 +8,8 @@
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -28,12 +30,15 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 vtkStandardNewMacro(vtkPlantMorphLASReader);
 
 namespace
 {
-constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::WholeOnFirstRank;
+/// Piece p of N reads point records [R p / N, R (p + 1) / N) of the file's R (every rank reads the header): the
+/// pieces in rank order are the file's records in order. Under MPI the ranks agree on failures (collective).
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::DataParallel;
 
 template <class ArrayT>
 vtkSmartPointer<vtkDataArray> Filled(const plantmorph::LasField& field, vtkIdType n)
@@ -149,6 +154,30 @@ plantmorph::FieldRecord HeaderRecord(const plantmorph::LasHeaderInfo& h, const c
   record.Add("LASFileSourceId", static_cast<double>(h.fileSourceId));
   return record;
 }
+/// This piece's point records of the file `name` (every record serially); "" or the error.
+std::string ReadPiece(const std::string& name, const plantmorph::Run& run, plantmorph::LasCloud& cloud)
+{
+  std::error_code failed;
+  if (std::filesystem::is_directory(name, failed))
+  {
+    return "is a directory, not a LAS file";
+  }
+  std::ifstream file(name, std::ios::binary | std::ios::ate);
+  if (!file)
+  {
+    return "cannot be opened";
+  }
+  const auto size = static_cast<std::uint64_t>(std::max<std::streamoff>(0, file.tellg()));
+  const std::string extension = name.size() >= 4 ? name.substr(name.size() - 4) : name;
+  // Under MPI a read is not stopped on one rank alone (Abort acts serially).
+  const std::function<bool(double)> progress = run.Controller() ? std::function<bool(double)>() : run.Progress(0, 0.9);
+  std::string error = plantmorph::ReadLas(file, size, cloud, progress, { run.Piece(), run.Pieces() });
+  if (!error.empty() && (extension == ".laz" || extension == ".LAZ") && error.find("LAZ") == std::string::npos)
+  {
+    error += " (a .laz file is LASzip-compressed: decompress it first, laszip -i file.laz -o file.las)";
+  }
+  return error;
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -183,6 +212,15 @@ int vtkPlantMorphLASReader::CanReadFile(const char* name)
 }
 
 //------------------------------------------------------------------------------
+int vtkPlantMorphLASReader::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  // Any piece of the file can be read alone (its share of the point records): under MPI each rank reads its own.
+  outputVector->GetInformationObject(0)->Set(CAN_HANDLE_PIECE_REQUEST(), 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 int vtkPlantMorphLASReader::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -198,26 +236,20 @@ void vtkPlantMorphLASReader::Execute(plantmorph::Run& run)
     run.Fail("FileName is not set: give a LAS point-cloud file (.las)");
   }
   const std::string name = this->FileName;
-  std::error_code failed;
-  if (std::filesystem::is_directory(name, failed))
-  {
-    run.Fail("FileName '" + name + "' is a directory, not a LAS file");
-  }
-  std::ifstream file(name, std::ios::binary | std::ios::ate);
-  if (!file)
-  {
-    run.Fail("FileName '" + name + "' cannot be opened");
-  }
-  const auto size = static_cast<std::uint64_t>(std::max<std::streamoff>(0, file.tellg()));
-  const std::string lower = name.size() >= 4 ? name.substr(name.size() - 4) : name;
   plantmorph::LasCloud cloud;
   run.Building("the points of '" + name + "'");
-  std::string error = plantmorph::ReadLas(file, size, cloud, run.Progress(0.0, 0.9));
-  if (!error.empty() && (lower == ".laz" || lower == ".LAZ") && error.find("LAZ") == std::string::npos)
+  std::string error = ReadPiece(name, run, cloud);
+  // Collective under MPI: a failure of every rank (the header's, the same on all) is said once; a piece's own
+  // failure (a read stopped, a file that shrank) by the rank that met it; either way every rank stops.
+  if (run.AnyRank(!error.empty()))
   {
-    error += " (a .laz file is LASzip-compressed: decompress it first, laszip -i file.laz -o file.las)";
+    error = error.empty() ? error : "FileName '" + name + "', " + error;
+    if (!run.AnyRank(error.empty()))
+    {
+      run.Fail(error);
+    }
+    run.StopIfAnyRankFailed(true, error);
   }
-  run.Check(error.empty() ? error : "FileName '" + name + "', " + error);
   vtkPolyData* output = run.Output<vtkPolyData>(0);
   WriteCloud(cloud, output);
   HeaderRecord(cloud.header, this->FileName).WriteTo(output);

@@ -21,7 +21,9 @@
  * Errors (naming FileName and the header field, VLR or point record at fault; the output empty): no FileName, a
  * file that cannot be opened, a wrong signature, a header, VLR or point count the file's size cannot hold (never
  * a huge allocation), a record shorter than its format, a LAZ (compressed) file. The file is read once, in blocks
- * (sources/las/core/LasFile.h). Under MPI the whole cloud is read on rank 0.
+ * (sources/las/core/LasFile.h). Pieces (MPI: one per rank): piece p of N reads the header and point records
+ * [R p / N, R (p + 1) / N) of the file's R, so the pieces in rank order hold every point once, in file order; the
+ * ranks agree on failures (a header's error is said once).
  */
 #ifndef vtkPlantMorphLASReader_h
 #define vtkPlantMorphLASReader_h
@@ -54,6 +56,7 @@ protected:
   vtkPlantMorphLASReader();
   ~vtkPlantMorphLASReader() override;
 
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   char* FileName = nullptr;
