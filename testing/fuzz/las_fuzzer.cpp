@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer harness: the LAS reader (sources/las/core/LasRead.cpp) on arbitrary bytes, read through a stream as
 // LASReader reads a file, and the writer (LasWrite.cpp) on what it read. On success the cloud is whole (3 coordinates
-// per point, every field `components` values per point); on error nothing is kept. A cloud read is written as LAS
+// per point, every field `components` values per point), and the pieces MPI ranks read are, in order, the whole;
+// on error nothing is kept. A cloud read is written as LAS
 // 1.4 and read again: the write either succeeds or says why, and a written file reads back with the same points
 // and the same standard attributes, bit for bit.
 #include "LasFile.h"
@@ -12,6 +13,7 @@
 #include <cstring>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace
 {
@@ -51,6 +53,25 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   CheckWhole(cloud);
+  // The same bytes read by pieces (MPI ranks' shares of the records, 1-4 pieces): in order, the whole read.
+  const int pieces = 1 + data[size / 2] % 4;
+  std::vector<double> xyz;
+  for (int p = 0; p < pieces; ++p)
+  {
+    std::istringstream again(bytes);
+    plantmorph::LasCloud part;
+    if (!plantmorph::ReadLas(again, size, part, {}, plantmorph::LasPiece{ p, pieces }).empty() ||
+      part.fields.size() != cloud.fields.size())
+    {
+      std::abort();
+    }
+    CheckWhole(part);
+    xyz.insert(xyz.end(), part.xyz.begin(), part.xyz.end());
+  }
+  if (!SameBits(xyz, cloud.xyz))
+  {
+    std::abort();
+  }
   std::ostringstream out;
   if (!plantmorph::WriteLas(out, cloud, plantmorph::LasWriteOptions()).empty())
   {
