@@ -386,6 +386,66 @@ void DecodeRecords(const unsigned char* block, std::size_t count, const RawHeade
   }
 }
 
+bool EndsWith(const LasField& f, const std::string& end)
+{
+  return f.extra && f.components == 1 && f.name.size() > end.size() &&
+    f.name.compare(f.name.size() - end.size(), end.size(), end) == 0;
+}
+
+/// The number of extra dimensions from `i` on named Name_X, Name_Y, Name_Z (exactly 3) or Name_0, Name_1, ... (2 or
+/// more) of one type, one component each; 1 when there is no such run.
+std::size_t ComponentRun(const std::vector<LasField>& fields, std::size_t i)
+{
+  const bool xyz = EndsWith(fields[i], "_X");
+  if (!xyz && !EndsWith(fields[i], "_0"))
+  {
+    return 1;
+  }
+  const std::string base = fields[i].name.substr(0, fields[i].name.size() - 2);
+  const auto label = [xyz](
+                       std::size_t c) { return xyz ? std::string(1, static_cast<char>('X' + c)) : std::to_string(c); };
+  std::size_t run = 1;
+  while (i + run < fields.size() && (!xyz || run < 3) && fields[i + run].extra && fields[i + run].components == 1 &&
+    fields[i + run].type == fields[i].type && fields[i + run].name == base + "_" + label(run))
+  {
+    ++run;
+  }
+  return xyz && run != 3 ? 1 : run;
+}
+
+/// The `run` one-component fields from `i` on as one field of `run` components named without the suffix (their
+/// values freed).
+LasField Merged(std::vector<LasField>& fields, std::size_t i, std::size_t run, std::size_t n)
+{
+  LasField merged;
+  merged.name = fields[i].name.substr(0, fields[i].name.size() - 2);
+  merged.type = fields[i].type;
+  merged.extra = true;
+  merged.description = fields[i].description;
+  merged.components = static_cast<int>(run);
+  merged.values.assign(n * run, 0.0);
+  for (std::size_t c = 0; c < run; ++c)
+  {
+    LasField& part = fields[i + c];
+    merged.scaled = merged.scaled || part.scaled;
+    for (std::size_t p = 0; p < n; ++p)
+    {
+      merged.values[p * run + c] = part.values[p];
+    }
+    std::vector<double>().swap(part.values);
+  }
+  if (merged.scaled)
+  {
+    merged.type = LasType::Double; // scaled components: the values are doubles already
+  }
+  return merged;
+}
+
+/// An extra dimension named like a standard attribute takes its name when its description says it stands in for it
+/// (kLasInPlaceOf: PlantMorph's writer, which leaves the standard attribute zero), else it is renamed Name_extra; the
+/// rule reads the header alone, never the values, so every piece of a file names its arrays alike. Then runs of
+/// extra dimensions Name_X, Name_Y, Name_Z or Name_0, Name_1, ... of one type become one field Name of several
+/// components (the writer's split).
 void SettleNames(LasCloud& cloud)
 {
   std::vector<LasField>& fields = cloud.fields;
@@ -413,53 +473,21 @@ void SettleNames(LasCloud& cloud)
   }
   fields.erase(
     std::remove_if(fields.begin(), fields.end(), [](const LasField& f) { return f.name.empty(); }), fields.end());
-  const std::size_t n = cloud.Size();
-  const auto suffix = [](const LasField& f, const std::string& s) {
-    return f.extra && f.components == 1 && f.name.size() > s.size() &&
-      f.name.compare(f.name.size() - s.size(), s.size(), s) == 0;
-  };
-  for (std::size_t i = 0; i < fields.size(); ++i)
+  // One pass (a run merged moves on past it), so a file of thousands of such dimensions stays linear.
+  std::vector<LasField> settled;
+  settled.reserve(fields.size());
+  for (std::size_t i = 0; i < fields.size();)
   {
-    const bool xyz = suffix(fields[i], "_X");
-    if (!xyz && !suffix(fields[i], "_0"))
+    const std::size_t run = ComponentRun(fields, i);
+    if (run < 2)
     {
+      settled.push_back(std::move(fields[i++]));
       continue;
     }
-    const std::string base = fields[i].name.substr(0, fields[i].name.size() - 2);
-    const auto label = [xyz](std::size_t c) {
-      return xyz ? std::string(1, static_cast<char>('X' + c)) : std::to_string(c);
-    };
-    std::size_t run = 1;
-    while (i + run < fields.size() && (!xyz || run < 3) && fields[i + run].extra && fields[i + run].components == 1 &&
-      fields[i + run].type == fields[i].type && fields[i + run].name == base + "_" + label(run))
-    {
-      ++run;
-    }
-    if (run < 2 || (xyz && run != 3))
-    {
-      continue;
-    }
-    LasField merged = fields[i];
-    merged.name = base;
-    merged.components = static_cast<int>(run);
-    merged.scaled = false;
-    merged.values.assign(n * run, 0.0);
-    for (std::size_t c = 0; c < run; ++c)
-    {
-      merged.scaled = merged.scaled || fields[i + c].scaled;
-      for (std::size_t p = 0; p < n; ++p)
-      {
-        merged.values[p * run + c] = fields[i + c].values[p];
-      }
-    }
-    if (merged.scaled)
-    {
-      merged.type = LasType::Double; // scaled components: the values are doubles already
-    }
-    fields.erase(
-      fields.begin() + static_cast<std::ptrdiff_t>(i), fields.begin() + static_cast<std::ptrdiff_t>(i + run));
-    fields.insert(fields.begin() + static_cast<std::ptrdiff_t>(i), std::move(merged));
+    settled.push_back(Merged(fields, i, run, cloud.Size()));
+    i += run;
   }
+  fields = std::move(settled);
 }
 
 /// Reads `points` records from record `first` on.
@@ -478,10 +506,16 @@ std::string ReadPoints(std::istream& in, const RawHeader& r, std::uint64_t first
     field.type = standard[s].type;
     field.components = standard[s].components;
   }
-  std::vector<ExtraSlot> moved = slots;
-  for (ExtraSlot& slot : moved)
+  // Only the described dimensions are decoded (each has a byte at least, so the work per record is bounded by its
+  // length; undocumented ones may be any number of zero-byte descriptors).
+  std::vector<ExtraSlot> moved;
+  for (ExtraSlot slot : slots)
   {
-    slot.field += slot.keep ? static_cast<std::size_t>(standardCount) : 0;
+    if (slot.keep)
+    {
+      slot.field += static_cast<std::size_t>(standardCount);
+      moved.push_back(slot);
+    }
   }
   std::move(cloud.fields.begin(), cloud.fields.end(), std::back_inserter(fields));
   cloud.fields = std::move(fields);
