@@ -3,7 +3,7 @@
 by the extension) and read back by LASReader keeps its points within half the scale and its labels and scan arrays
 exactly (ScanPosition, BeamId, HitCellId, Range, Intensity, Normals, and a LeafId/Organ pair added by a Calculator);
 saving the read cloud again gives the same bytes (the reader keeps the scale and offset for the writer); LAS 1.2
-and a chosen point format are honoured; a file that is not LAS, a truncated one and a LAZ file are refused with the
+and a chosen point format are honoured; File > Save Data lists LAS for the scan and File > Open picks LASReader; a file that is not LAS, a truncated one and a LAZ file are refused with the
 field named and an empty output.
 
     pvpython test_las_files.py --plugin PlantMorph.so --work DIR
@@ -58,6 +58,12 @@ checks.check(struct.unpack_from("<H", header, 94)[0] == 375, "its header size is
 checks.check(header[104] == 6, "point format 6 (the scan has no colour)")
 checks.check(struct.unpack_from("<Q", header, 247)[0] == n, "its point count is the scan's")
 
+# File > Open's choice (the reader factory, as OpenDataFile asks it): LASReader for a .las file.
+opened = OpenDataFile(first)
+checks.check(opened is not None and opened.GetXMLName() == "LASReader",
+             "File > Open picks LASReader for .las (%s)" % (opened.GetXMLName() if opened else None))
+if opened is not None:
+    Delete(opened)
 reader = LASReader(FileName=first)
 back = fetch(reader)
 checks.check(back.GetNumberOfPoints() == n, "LASReader reads %d points (%d)" % (n, back.GetNumberOfPoints()))
