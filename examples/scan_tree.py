@@ -8,8 +8,9 @@
 2. VirtualScanner (Terrestrial) scans it from three positions 120 degrees apart around the trunk, at the tree's
    mid-height (the tree grows along y), with 1 mm-like range noise (0.1 % of the tree's height) and 5 % dropout: leaves hide the leaves and
    branches behind them, as in a real terrestrial scan, and every point carries its hit cell's labels.
-3. The cloud is written as scan_tree.vtp (every array) and scan_tree.csv (x, y, z, normal, range, intensity, scan
-   position and every label: the plain table point-cloud segmentation tools read), and rendered to
+3. The cloud is written as scan_tree.vtp (every array), scan_tree.las (LAS 1.4 for lidar tools: every array, the
+   labels among them, as a described extra-bytes dimension; docs/formats/las.md) and scan_tree.csv (x, y, z, normal,
+   range, intensity, scan position and every label: the plain table point-cloud segmentation tools read), and rendered to
    scan_tree.png from the side, the whole tree in frame, each point coloured by the scan position that saw it.
 """
 import argparse
@@ -58,6 +59,8 @@ print("%d beams, %d points" % (cloud.GetFieldData().GetArray("PlantMorph.Beams")
 
 vtp = os.path.join(arguments.output, "scan_tree.vtp")
 SaveData(vtp, proxy=OutputPort(scanner, 0))
+las = os.path.join(arguments.output, "scan_tree.las")
+SaveData(las, proxy=OutputPort(scanner, 0))
 
 # The CSV: one row per point, every point array (vectors split into _x, _y, _z columns).
 pd = cloud.GetPointData()
@@ -76,7 +79,7 @@ table = numpy.hstack(values)
 header = ",".join(name for group in columns for name in group)
 csv = os.path.join(arguments.output, "scan_tree.csv")
 numpy.savetxt(csv, table, delimiter=",", header=header, comments="", fmt="%.9g")
-print("wrote", vtp, "and", csv, "columns:", header)
+print("wrote", vtp, las, "and", csv, "columns:", header)
 
 # The picture: the cloud seen from the side (the tree grows along +y), between two scan positions, the whole tree
 # in frame, each point coloured by the position that saw it.

@@ -26,7 +26,8 @@ for name, path in sorted((n, os.path.join(d, n)) for d in arguments.xml_dir for 
     root = ElementTree.parse(path).getroot()
     for group in root.iter("ProxyGroup"):
         for proxy in group:
-            if proxy.get("name"):
+            # internal_* groups (a writer's own proxy under its gathering writer) are not shown to users.
+            if proxy.get("name") and not group.get("name").startswith("internal_"):
                 expected.append("%s.%s.html" % (group.get("name"), proxy.get("name")))
                 proxies[proxy.get("name")] = [p.get("name") for p in proxy if p.tag.endswith("Property")
                                               and p.get("information_only") != "1"
