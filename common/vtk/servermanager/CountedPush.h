@@ -38,8 +38,7 @@ inline void ReadCountAttributes(vtkPVXMLElement* element, std::string& countComm
 /// it with the rows it received. `invoke` runs a stream on the server.
 inline bool CountedPush(const char* name, int count, int fixedCount, bool informationOnly,
   const std::string& countCommand, vtkObjectBase* object, const std::function<bool()>& push,
-  const std::function<bool(vtkClientServerStream&)>& invoke,
-  const std::function<void(const std::string&)>& report)
+  const std::function<bool(vtkClientServerStream&)>& invoke, const std::function<void(const std::string&)>& report)
 {
   const bool wrongCount = fixedCount > 0 && count != fixedCount && !informationOnly;
   if (wrongCount && countCommand.empty())
