@@ -13,6 +13,7 @@
 #include <numeric>
 #include <queue>
 #include <sstream>
+#include <tuple>
 
 namespace plantmorph
 {
@@ -136,8 +137,10 @@ Graph NeighbourGraph(const std::vector<Eigen::Vector3d>& points, double spacing,
   return graph;
 }
 
-/// Joins the graph's components to the one holding the lowest point across gaps up to GapReach spacings, nearest gaps
-/// first (passes until none joins); returns, per point, whether it is in the joined tree. Bridges are added as edges.
+/// Joins the graph's components to the one holding the base across gaps up to GapReach spacings: candidate bridges
+/// between components meeting in neighbouring voxels of that size (the closest pair of up to 16 points of each in the
+/// two voxels), then Kruskal's shortest-first union. Returns, per point, whether it is in the joined tree; the bridges
+/// used are added to the graph.
 std::vector<unsigned char> JoinComponents(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& up,
   double spacing, const ParallelFor& parallel, Graph& graph)
 {
@@ -146,101 +149,119 @@ std::vector<unsigned char> JoinComponents(const std::vector<Eigen::Vector3d>& po
   for (std::size_t i = 0; i < n; ++i)
     for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
       sets.Join(static_cast<int>(i), graph.target[e]);
-  std::vector<int> root(n);
+  std::vector<int> root(n), size(n, 0);
   for (std::size_t i = 0; i < n; ++i)
-    root[i] = sets.Find(static_cast<int>(i));
+    ++size[root[i] = sets.Find(static_cast<int>(i))];
   // The base component: the largest among those reaching within a few spacings of the lowest point.
-  std::vector<int> size(n, 0);
-  for (int r : root)
-    ++size[r];
   std::size_t lowest = 0;
   for (std::size_t i = 1; i < n; ++i)
     if (points[i].dot(up) < points[lowest].dot(up))
       lowest = i;
   int base = root[lowest];
-  const double low = points[lowest].dot(up);
   for (std::size_t i = 0; i < n; ++i)
-    if (points[i].dot(up) < low + 10.0 * spacing && size[root[i]] > size[base])
+    if (points[i].dot(up) < points[lowest].dot(up) + 10.0 * spacing && size[root[i]] > size[base])
       base = root[i];
-  std::vector<unsigned char> in(n, 0);
-  std::vector<std::pair<int, int>> bridges;
-  for (int pass = 0; pass < 64; ++pass)
+  // Voxels of side GapReach spacings: (voxel key, component, point), sorted.
+  const double cell = GapReach * spacing;
+  auto key = [&](const Eigen::Vector3d& p, int dx, int dy, int dz) {
+    const auto f = [&](double v, int d) { return static_cast<std::int64_t>(std::floor(v / cell)) + d + (1 << 20); };
+    return (f(p.x(), dx) << 42) | (f(p.y(), dy) << 21) | f(p.z(), dz);
+  };
+  std::vector<std::tuple<std::int64_t, int, int>> cells;
+  for (std::size_t i = 0; i < n; ++i)
+    if (size[root[i]] >= MinComponent)
+      cells.emplace_back(key(points[i], 0, 0, 0), root[i], static_cast<int>(i));
+  std::sort(cells.begin(), cells.end());
+  // Runs of one (voxel, component): [begin, end) in cells.
+  std::vector<std::pair<int, int>> runs;
+  for (std::size_t k = 0; k < cells.size();)
   {
-    std::vector<Eigen::Vector3d> attached;
-    std::vector<int> attachedId;
-    for (std::size_t i = 0; i < n; ++i)
-      if (root[i] == base || in[i])
-      {
-        in[i] = 1;
-        attached.push_back(points[i]);
-        attachedId.push_back(static_cast<int>(i));
-      }
-    std::vector<int> candidates;
-    for (std::size_t i = 0; i < n; ++i)
-      if (!in[i] && size[root[i]] >= MinComponent)
-        candidates.push_back(static_cast<int>(i));
-    if (candidates.empty())
-      break;
-    PointGrid grid(attached, 2.0 * spacing);
-    std::vector<std::pair<double, int>> best(candidates.size(), { std::numeric_limits<double>::infinity(), -1 });
-    parallel(candidates.size(), [&](std::size_t b, std::size_t e) {
-      for (std::size_t c = b; c < e; ++c)
-      {
-        const auto near = grid.Nearest(points[candidates[c]], 1, -1, GapReach * spacing);
-        if (!near.empty())
-          best[c] = { near[0].first, attachedId[near[0].second] };
-      }
-    });
-    // Per component, its shortest bridge.
-    std::vector<std::pair<double, std::pair<int, int>>> link(
-      n, { std::numeric_limits<double>::infinity(), { -1, -1 } });
-    for (std::size_t c = 0; c < candidates.size(); ++c)
-    {
-      const int r = root[candidates[c]];
-      if (best[c].second >= 0 && best[c].first < link[r].first)
-        link[r] = { best[c].first, { candidates[c], best[c].second } };
-    }
-    bool joined = false;
-    std::vector<unsigned char> joinRoot(n, 0);
-    for (std::size_t r = 0; r < n; ++r)
-      if (link[r].second.first >= 0)
-      {
-        bridges.push_back(link[r].second);
-        joinRoot[r] = 1;
-        joined = true;
-      }
-    if (!joined)
-      break;
-    for (std::size_t i = 0; i < n; ++i)
-      if (joinRoot[root[i]])
-        in[i] = 1;
+    std::size_t e = k;
+    while (e < cells.size() && std::get<0>(cells[e]) == std::get<0>(cells[k]) &&
+      std::get<1>(cells[e]) == std::get<1>(cells[k]))
+      ++e;
+    runs.emplace_back(static_cast<int>(k), static_cast<int>(e));
+    k = e;
   }
-  if (!bridges.empty())
-  {
-    std::vector<std::vector<std::pair<int, double>>> extra(n);
-    for (const auto& [a, b] : bridges)
+  auto runOf = [&](std::int64_t voxel) {
+    return std::lower_bound(runs.begin(), runs.end(), voxel,
+      [&](const std::pair<int, int>& r, std::int64_t v) { return std::get<0>(cells[r.first]) < v; });
+  };
+  std::vector<std::vector<std::tuple<double, int, int>>> found(runs.size());
+  parallel(runs.size(), [&](std::size_t b, std::size_t e) {
+    for (std::size_t r = b; r < e; ++r)
     {
-      const double d = (points[a] - points[b]).norm();
-      extra[a].emplace_back(b, d);
-      extra[b].emplace_back(a, d);
+      const auto [begin, end] = runs[r];
+      const Eigen::Vector3d& p0 = points[std::get<2>(cells[begin])];
+      const int component = std::get<1>(cells[begin]);
+      const std::int64_t self = std::get<0>(cells[begin]);
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz)
+          {
+            const std::int64_t voxel = key(p0, dx, dy, dz);
+            if (voxel < self)
+              continue; // each pair of voxels once
+            for (auto it = runOf(voxel); it != runs.end() && std::get<0>(cells[it->first]) == voxel; ++it)
+            {
+              const int other = std::get<1>(cells[it->first]);
+              if (other == component || (voxel == self && other < component))
+                continue;
+              std::tuple<double, int, int> best{ std::numeric_limits<double>::infinity(), -1, -1 };
+              const int stepA = std::max(1, (end - begin) / 16), stepB = std::max(1, (it->second - it->first) / 16);
+              for (int x = begin; x < end; x += stepA)
+                for (int y = it->first; y < it->second; y += stepB)
+                {
+                  const int i = std::get<2>(cells[x]), j = std::get<2>(cells[y]);
+                  best =
+                    std::min(best, std::make_tuple((points[i] - points[j]).norm(), std::min(i, j), std::max(i, j)));
+                }
+              if (std::get<0>(best) <= cell)
+                found[r].push_back(best);
+            }
+          }
     }
-    Graph joinedGraph;
-    joinedGraph.offset.assign(n + 1, 0);
+  });
+  std::vector<std::tuple<double, int, int>> bridges;
+  for (const auto& f : found)
+    bridges.insert(bridges.end(), f.begin(), f.end());
+  std::sort(bridges.begin(), bridges.end());
+  UnionFind joined(n);
+  std::vector<std::vector<std::pair<int, double>>> extra(n);
+  bool any = false;
+  for (const auto& [d, i, j] : bridges)
+  {
+    const int a = joined.Find(root[i]), b = joined.Find(root[j]);
+    if (a == b)
+      continue;
+    joined.Join(a, b);
+    extra[i].emplace_back(j, d);
+    extra[j].emplace_back(i, d);
+    any = true;
+  }
+  std::vector<unsigned char> in(n, 0);
+  const int baseSet = joined.Find(base);
+  for (std::size_t i = 0; i < n; ++i)
+    in[i] = size[root[i]] >= MinComponent && joined.Find(root[i]) == baseSet ? 1 : 0;
+  if (any)
+  {
+    Graph withBridges;
+    withBridges.offset.assign(n + 1, 0);
     for (std::size_t i = 0; i < n; ++i)
     {
       for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
       {
-        joinedGraph.target.push_back(graph.target[e]);
-        joinedGraph.weight.push_back(graph.weight[e]);
+        withBridges.target.push_back(graph.target[e]);
+        withBridges.weight.push_back(graph.weight[e]);
       }
       for (const auto& [j, d] : extra[i])
       {
-        joinedGraph.target.push_back(j);
-        joinedGraph.weight.push_back(d);
+        withBridges.target.push_back(j);
+        withBridges.weight.push_back(d);
       }
-      joinedGraph.offset[i + 1] = static_cast<int>(joinedGraph.target.size());
+      withBridges.offset[i + 1] = static_cast<int>(withBridges.target.size());
     }
-    graph = std::move(joinedGraph);
+    graph = std::move(withBridges);
   }
   return in;
 }

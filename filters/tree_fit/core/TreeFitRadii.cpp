@@ -21,6 +21,8 @@ constexpr double MaxScaleRadius = 0.35; // residual scale / radius
 constexpr double ModelFactor = 2.0;     // a measured radius this far from the model is not trusted...
 constexpr double StrongCoverage = 240.0, StrongRadiusNoise = 10.0; // ...unless the fit is this good
 constexpr int MinStrongPoints = 50;
+constexpr double ContinueShare = 0.25; // of the heaviest child's carried volume
+constexpr double SameDirection = 0.02; // cosines this close: the heavier child continues
 
 double Median(std::vector<double> values)
 {
@@ -85,12 +87,54 @@ void AssignBranches(TreeFitResult& result, const std::vector<double>& radius)
     if (cylinders[k].parent >= 0)
       carried[cylinders[k].parent] += carried[k];
   }
-  std::vector<int> continuing(n, -1);
+  // At a fork the branch goes on into the straightest child among those carrying at least ContinueShare of what the
+  // heaviest carries (a leader goes on past a heavy lateral); within a few degrees, the heavier. Directions are
+  // chords over about four parent radii: the parent's from below the fork (the cylinders at a fork hold both branches
+  // and lean towards the child), each child's forward along its straightest path.
+  std::vector<int> heavy(n, -1), straight(n, -1);
+  std::vector<double> straightCosine(n, -2.0);
   for (std::size_t k = 0; k < n; ++k)
   {
     const int p = cylinders[k].parent;
-    if (p >= 0 && (continuing[p] < 0 || carried[k] > carried[continuing[p]]))
+    if (p < 0)
+      continue;
+    if (heavy[p] < 0 || carried[k] > carried[heavy[p]])
+      heavy[p] = static_cast<int>(k);
+    const double cosine =
+      (cylinders[p].end - cylinders[p].start).normalized().dot((cylinders[k].end - cylinders[k].start).normalized());
+    if (cosine > straightCosine[p])
+    {
+      straightCosine[p] = cosine;
+      straight[p] = static_cast<int>(k);
+    }
+  }
+  std::vector<int> continuing(n, -1);
+  std::vector<double> bestCosine(n, -2.0);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const int p = cylinders[k].parent;
+    if (p < 0 || carried[k] < ContinueShare * carried[heavy[p]])
+      continue;
+    const double reach = std::max(4.0 * radius[p], 2.0 * cylinders[p].length);
+    // The parent's direction from below the junction: between half a reach and two reaches back from the fork.
+    int near = p, far = p, ahead = static_cast<int>(k);
+    for (double along = cylinders[p].length; cylinders[near].parent >= 0 && along < 0.5 * reach;)
+      along += cylinders[near = cylinders[near].parent].length;
+    far = near;
+    for (double along = 0; cylinders[far].parent >= 0 && along < 1.5 * reach;)
+      along += cylinders[far = cylinders[far].parent].length;
+    for (double along = cylinders[k].length; straight[ahead] >= 0 && along < reach;)
+      along += cylinders[ahead = straight[ahead]].length;
+    Eigen::Vector3d dp = cylinders[near].end - cylinders[far].start;
+    dp = dp.norm() > 0 ? dp.normalized() : (cylinders[p].end - cylinders[p].start).normalized().eval();
+    const double cosine = dp.dot((cylinders[ahead].end - cylinders[k].start).normalized());
+    const int best = continuing[p];
+    if (best < 0 || cosine > bestCosine[p] + SameDirection ||
+      (cosine > bestCosine[p] - SameDirection && carried[k] > carried[best]))
+    {
+      bestCosine[p] = best >= 0 && cosine <= bestCosine[p] + SameDirection ? std::max(cosine, bestCosine[p]) : cosine;
       continuing[p] = static_cast<int>(k);
+    }
   }
   result.branches.clear();
   for (std::size_t k = 0; k < n; ++k)

@@ -73,6 +73,22 @@ Eigen::Vector3d BaseDirection(const std::vector<TreeCylinder>& cylinders, const 
   return d.norm() > 0 ? d.normalized() : (first.end - first.start).normalized();
 }
 
+/// The parent's direction coming into a fork: the chord over its cylinders between half and two reaches (four of its
+/// radii) back from cylinder `at`. The cylinders at the fork itself hold the start of the child too and lean towards
+/// it; a fork at a branch's end has no "after".
+Eigen::Vector3d ParentDirection(const std::vector<TreeCylinder>& cylinders, int at)
+{
+  const double reach = 4.0 * cylinders[at].radius;
+  int near = at;
+  for (double along = cylinders[at].length; cylinders[near].parent >= 0 && along < 0.5 * reach;)
+    along += cylinders[near = cylinders[near].parent].length;
+  int far = near;
+  for (double along = 0; cylinders[far].parent >= 0 && along < 1.5 * reach;)
+    along += cylinders[far = cylinders[far].parent].length;
+  const Eigen::Vector3d d = cylinders[near].end - cylinders[far].start;
+  return d.norm() > 0 ? d.normalized() : (cylinders[at].end - cylinders[at].start).normalized();
+}
+
 void BranchRows(const Eigen::Vector3d& up, double low, TreeFitResult& result)
 {
   Eigen::Vector3d e1, e2;
@@ -95,8 +111,7 @@ void BranchRows(const Eigen::Vector3d& up, double low, TreeFitResult& result)
     branch.angle = std::numeric_limits<double>::quiet_NaN();
     if (first.parent >= 0)
     {
-      const TreeCylinder& parent = cylinders[first.parent];
-      const Eigen::Vector3d dp = (parent.end - parent.start).normalized();
+      const Eigen::Vector3d dp = ParentDirection(cylinders, first.parent);
       branch.angle = std::acos(std::clamp(d.dot(dp), -1.0, 1.0)) * Degrees;
     }
   }
