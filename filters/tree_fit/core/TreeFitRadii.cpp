@@ -22,6 +22,7 @@ constexpr double ModelFactor = 2.0;     // a measured radius this far from the m
 constexpr double StrongCoverage = 240.0, StrongRadiusNoise = 10.0; // ...unless the fit is this good
 constexpr int MinStrongPoints = 50;
 constexpr double ContinueShare = 0.25; // of the heaviest child's carried volume
+constexpr double ContinueAngle = 20.0; // degrees: no child turning more continues its parent's branch
 constexpr double SameDirection = 0.02; // cosines this close: the heavier child continues
 
 double Median(std::vector<double> values)
@@ -88,16 +89,18 @@ void AssignBranches(TreeFitResult& result, const std::vector<double>& radius)
       carried[cylinders[k].parent] += carried[k];
   }
   // At a fork the branch goes on into the straightest child among those carrying at least ContinueShare of what the
-  // heaviest carries (a leader goes on past a heavy lateral); within a few degrees, the heavier. Directions are
+  // heaviest carries (a leader goes on past a heavy lateral) and turning less than ContinueAngle (children that all
+  // diverge, a sympodial fork, end the branch); within a few degrees, the heavier. Directions are
   // chords over about four parent radii: the parent's from below the fork (the cylinders at a fork hold both branches
   // and lean towards the child), each child's forward along its straightest path.
-  std::vector<int> heavy(n, -1), straight(n, -1);
+  std::vector<int> heavy(n, -1), straight(n, -1), forks(n, 0);
   std::vector<double> straightCosine(n, -2.0);
   for (std::size_t k = 0; k < n; ++k)
   {
     const int p = cylinders[k].parent;
     if (p < 0)
       continue;
+    ++forks[p];
     if (heavy[p] < 0 || carried[k] > carried[heavy[p]])
       heavy[p] = static_cast<int>(k);
     const double cosine =
@@ -117,7 +120,7 @@ void AssignBranches(TreeFitResult& result, const std::vector<double>& radius)
       continue;
     const double reach = std::max(4.0 * radius[p], 2.0 * cylinders[p].length);
     // The parent's direction from below the junction: between half a reach and two reaches back from the fork.
-    int near = p, far = p, ahead = static_cast<int>(k);
+    int near = cylinders[p].parent >= 0 ? cylinders[p].parent : p, far = p, ahead = static_cast<int>(k);
     for (double along = cylinders[p].length; cylinders[near].parent >= 0 && along < 0.5 * reach;)
       along += cylinders[near = cylinders[near].parent].length;
     far = near;
@@ -128,6 +131,8 @@ void AssignBranches(TreeFitResult& result, const std::vector<double>& radius)
     Eigen::Vector3d dp = cylinders[near].end - cylinders[far].start;
     dp = dp.norm() > 0 ? dp.normalized() : (cylinders[p].end - cylinders[p].start).normalized().eval();
     const double cosine = dp.dot((cylinders[ahead].end - cylinders[k].start).normalized());
+    if (forks[p] > 1 && cosine < std::cos(ContinueAngle * M_PI / 180.0))
+      continue; // a fork into diverging children (sympodial): the branch ends here
     const int best = continuing[p];
     if (best < 0 || cosine > bestCosine[p] + SameDirection ||
       (cosine > bestCosine[p] - SameDirection && carried[k] > carried[best]))

@@ -79,7 +79,7 @@ Eigen::Vector3d BaseDirection(const std::vector<TreeCylinder>& cylinders, const 
 Eigen::Vector3d ParentDirection(const std::vector<TreeCylinder>& cylinders, int at)
 {
   const double reach = 4.0 * cylinders[at].radius;
-  int near = at;
+  int near = cylinders[at].parent >= 0 ? cylinders[at].parent : at; // never the fork's own cylinder
   for (double along = cylinders[at].length; cylinders[near].parent >= 0 && along < 0.5 * reach;)
     along += cylinders[near = cylinders[near].parent].length;
   int far = near;

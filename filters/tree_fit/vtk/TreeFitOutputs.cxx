@@ -36,7 +36,8 @@ vtkSmartPointer<T> NewArray(const char* name, int components = 1)
 
 const char* const CylinderInts[] = { "CylinderId", "ParentId", "BranchId", "BranchOrder", "SegmentId", "TreeId",
   "Measured" };
-const char* const CylinderDoubles[] = { "Radius", "Length", "FitRMS", "Support", "GrowthLength" };
+const char* const CylinderDoubles[] = { "Radius", "Length", "FitRMS", "Support", "GrowthLength", "StartX", "StartY",
+  "StartZ", "EndX", "EndY", "EndZ" };
 
 /// The cell values of cylinder `c` of tree `t`, appended `cells` times.
 void AppendCylinderData(const FittedTree& t, int c, vtkIdType cells, vtkCellData* data)
@@ -44,15 +45,14 @@ void AppendCylinderData(const FittedTree& t, int c, vtkIdType cells, vtkCellData
   const TreeCylinder& cyl = t.result.cylinders[c];
   const int ints[] = { t.cylinderBase + c, cyl.parent >= 0 ? t.cylinderBase + cyl.parent : -1,
     t.branchBase + cyl.branch, cyl.order, cyl.segment, t.treeId, cyl.measured ? 1 : 0 };
-  const double doubles[] = { cyl.radius, cyl.length, cyl.fitRMS, cyl.support, cyl.growthLength };
+  const double doubles[] = { cyl.radius, cyl.length, cyl.fitRMS, cyl.support, cyl.growthLength, cyl.start.x(),
+    cyl.start.y(), cyl.start.z(), cyl.end.x(), cyl.end.y(), cyl.end.z() };
   for (vtkIdType k = 0; k < cells; ++k)
   {
     for (int a = 0; a < 7; ++a)
       data->GetArray(CylinderInts[a])->InsertNextTuple1(ints[a]);
-    for (int a = 0; a < 5; ++a)
+    for (int a = 0; a < 11; ++a)
       data->GetArray(CylinderDoubles[a])->InsertNextTuple1(doubles[a]);
-    data->GetArray("Start")->InsertNextTuple(cyl.start.data());
-    data->GetArray("End")->InsertNextTuple(cyl.end.data());
   }
 }
 
@@ -96,8 +96,6 @@ void WriteCylinders(const std::vector<FittedTree>& trees, bool tubes, int sides,
     output->GetCellData()->AddArray(NewArray<vtkIntArray>(name));
   for (const char* name : CylinderDoubles)
     output->GetCellData()->AddArray(NewArray<vtkDoubleArray>(name));
-  output->GetCellData()->AddArray(NewArray<vtkDoubleArray>("Start", 3));
-  output->GetCellData()->AddArray(NewArray<vtkDoubleArray>("End", 3));
   for (const FittedTree& t : trees)
     for (std::size_t c = 0; c < t.result.cylinders.size(); ++c)
     {

@@ -121,20 +121,43 @@ TEST(TreeFit, ForkGivesTwoBranchesAtTheirAngle)
     const auto truth = Fork(half);
     const TreeFitResult r = FitTree(Scan(truth, 0.006, 0.0005), {}, TreeFitParameters());
     ASSERT_EQ(r.error, "");
-    ASSERT_EQ(r.branches.size(), 2u) << "half angle " << half;
-    EXPECT_EQ(r.branches[1].order, 1);
-    EXPECT_EQ(r.branches[1].parent, 0);
-    // The longer, thicker child continues the trunk; the other is the first-order branch.
-    EXPECT_NEAR(r.branches[0].length, 2.2, 0.1);
-    EXPECT_NEAR(r.branches[1].length, 1.0, 0.12);
-    EXPECT_NEAR(r.branches[1].angle, half, 5.0) << "half angle " << half;
-    EXPECT_NEAR(r.branches[1].azimuth, 180.0, 5.0);
-    EXPECT_NEAR(r.branches[1].height, 1.0, 0.15); // seated on the junction's surface, above the axes' crossing
+    // Both children turn away from the trunk: the trunk ends at the fork, each child is a first-order branch.
+    ASSERT_EQ(r.branches.size(), 3u) << "half angle " << half;
+    EXPECT_NEAR(r.branches[0].length, 1.0, 0.15); // the junction, where the children still touch, is the trunk's
+    double azimuths = 0;
+    for (int b : { 1, 2 })
+    {
+      const TreeBranchRow& branch = r.branches[b];
+      EXPECT_EQ(branch.order, 1);
+      EXPECT_EQ(branch.parent, 0);
+      EXPECT_NEAR(branch.angle, half, 5.0) << "half angle " << half;
+      EXPECT_NEAR(branch.height, 1.0, 0.15); // seated on the junction's surface, above the axes' crossing
+      const bool right = std::abs(branch.azimuth) < 90.0;
+      EXPECT_NEAR(branch.length, right ? 1.2 : 1.0, 0.15);
+      EXPECT_NEAR(std::abs(branch.azimuth), right ? 0.0 : 180.0, 5.0);
+      azimuths += right ? 1 : 0;
+    }
+    EXPECT_EQ(azimuths, 1); // one to each side
     double volume = 0;
     for (const auto& c : truth)
       volume += Volume(c);
     EXPECT_NEAR(r.traits.totalVolume, volume, 0.06 * volume);
   }
+}
+
+TEST(TreeFit, LeaderGoesOnPastAHeavierLateral)
+{
+  // A leader (straight on, thinner) and a lateral at 35 degrees carrying more volume: the trunk follows the leader.
+  const Eigen::Vector3d top(0, 0, 1.0);
+  const double a = 35.0 * M_PI / 180.0;
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, top, 0.07 }, { top, top + Eigen::Vector3d(0, 0, 1.0), 0.035 },
+    { top, top + 1.6 * Eigen::Vector3d(std::sin(a), 0, std::cos(a)), 0.05 } };
+  const TreeFitResult r = FitTree(Scan(tree, 0.006, 0.0005), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.branches.size(), 2u);
+  EXPECT_NEAR(r.branches[0].length, 2.0, 0.1);
+  EXPECT_NEAR(r.branches[1].angle, 35.0, 5.0);
+  EXPECT_GT(r.branches[1].volume, M_PI * 0.035 * 0.035 * 1.0); // the lateral is the heavier child
 }
 
 TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
@@ -187,7 +210,7 @@ TEST(TreeFit, PipeModelSharesTheParentsAreaAmongEqualChildren)
     { top, top + 1.0 * Eigen::Vector3d(-std::sin(a), 0, std::cos(a)), 0.004 } };
   const TreeFitResult r = FitTree(Scan(tree, 0.006, 0.002), {}, TreeFitParameters());
   ASSERT_EQ(r.error, "");
-  ASSERT_EQ(r.branches.size(), 2u);
+  ASSERT_EQ(r.branches.size(), 3u); // both children turn 30 degrees: the stem ends at the fork
   for (const TreeCylinder& c : r.cylinders)
   {
     if (c.parent >= 0 && r.cylinders[c.parent].segment != c.segment && !r.cylinders[c.parent].measured)
