@@ -68,10 +68,12 @@ bool CircleFit(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, 
   return true;
 }
 
-/// Huber-weighted Gauss-Newton (Levenberg-Marquardt) on the 5 (or, with fixed direction, 3) parameters.
+/// Robustly weighted Gauss-Newton (Levenberg-Marquardt) on the 5 (or, with fixed direction, 3) parameters: Huber
+/// weights, or with `redescending` Tukey's biweight (points far off the surface, such as a child branch's start in a
+/// junction piece, get no weight at all; started from the Huber fit).
 Eigen::Matrix<double, 5, 1> Refine(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c,
   const Eigen::Vector3d& u, const Eigen::Vector3d& v, const Eigen::Vector3d& axis0, Eigen::Matrix<double, 5, 1> x,
-  bool fixDirection, double floor)
+  bool fixDirection, double floor, bool redescending = false)
 {
   Eigen::VectorXd res, trial;
   double lambda = 1e-3;
@@ -81,10 +83,14 @@ Eigen::Matrix<double, 5, 1> Refine(const std::vector<Eigen::Vector3d>& q, const 
     std::vector<double> absolute(static_cast<std::size_t>(res.size()));
     for (Eigen::Index i = 0; i < res.size(); ++i)
       absolute[static_cast<std::size_t>(i)] = std::abs(res[i]);
-    const double k = 1.345 * std::max(1.4826 * Median(absolute), floor);
+    const double sigma = std::max(1.4826 * Median(absolute), floor);
+    const double k = (redescending ? 4.685 : 1.345) * sigma;
     Eigen::VectorXd w(res.size());
     for (Eigen::Index i = 0; i < res.size(); ++i)
-      w[i] = std::abs(res[i]) <= k ? 1.0 : k / std::abs(res[i]);
+    {
+      const double t = std::abs(res[i]) / k;
+      w[i] = redescending ? (t < 1.0 ? (1 - t * t) * (1 - t * t) : 0.0) : (t <= 1.0 ? 1.0 : 1.0 / t);
+    }
     Eigen::MatrixXd jac(res.size(), 5);
     const double h = 1e-7 * std::max(1.0, std::abs(x[4]));
     for (int p = 0; p < 5; ++p)
@@ -148,6 +154,7 @@ CylinderFit FitCylinder(const std::vector<Eigen::Vector3d>& q, const Eigen::Vect
   x0 << circle[0], circle[1], 0.0, 0.0, circle[2];
   const double floor = 0.05 * spacing;
   Eigen::Matrix<double, 5, 1> x = Refine(q, c, u, v, axis0, x0, false, floor);
+  x = Refine(q, c, u, v, axis0, x, false, floor, true);
   Eigen::Vector3d d = (axis0 + x[2] * u + x[3] * v).normalized();
   if (!x.allFinite() || std::acos(std::min(1.0, std::abs(d.dot(axis0)))) > MaxTilt * M_PI / 180.0 || !(x[4] > 0.0))
   {

@@ -21,9 +21,9 @@ constexpr double MaxScaleRadius = 0.35; // residual scale / radius
 constexpr double ModelFactor = 2.0;     // a measured radius this far from the model is not trusted...
 constexpr double StrongCoverage = 240.0, StrongRadiusNoise = 10.0; // ...unless the fit is this good
 constexpr int MinStrongPoints = 50;
-constexpr double ContinueShare = 0.25; // of the heaviest child's carried volume
-constexpr double ContinueAngle = 20.0; // degrees: no child turning more continues its parent's branch
-constexpr double SameDirection = 0.02; // cosines this close: the heavier child continues
+constexpr double ContinueShare = 0.25;  // of the heaviest child's carried volume
+constexpr double CodominantShare = 0.5; // of the heaviest child's carried volume
+constexpr double ForkMargin = 10.0;     // degrees: codominant children turning less apart than this end the branch
 
 double Median(std::vector<double> values)
 {
@@ -76,6 +76,85 @@ void FitModel(const std::vector<TreeCylinder>& cylinders, double& a, double& b)
   }
 }
 
+/// The direction from the start of cylinder `k` to a point `distance` further along the tree, at every fork taking the
+/// child that keeps the chord straightest: over a long stretch the lean of the junction cylinders averages out.
+Eigen::Vector3d FarDirection(
+  const std::vector<TreeCylinder>& cylinders, const std::vector<std::vector<int>>& children, int k, double distance)
+{
+  const Eigen::Vector3d origin = cylinders[k].start;
+  int at = k;
+  for (double along = cylinders[k].length; along < distance && !children[at].empty();)
+  {
+    const Eigen::Vector3d chord = (cylinders[at].end - origin).normalized();
+    int best = children[at].front();
+    for (int c : children[at])
+      if ((cylinders[c].end - origin).normalized().dot(chord) > (cylinders[best].end - origin).normalized().dot(chord))
+        best = c;
+    at = best;
+    along += cylinders[at].length;
+  }
+  const Eigen::Vector3d d = cylinders[at].end - origin;
+  return d.norm() > 0 ? d.normalized() : Eigen::Vector3d(cylinders[k].end - cylinders[k].start).normalized();
+}
+
+/// Per cylinder, the child that continues its branch (-1: none; the branch ends there). A single child always does.
+/// At a fork, the straightest child among those carrying at least ContinueShare of what the heaviest carries (a
+/// leader goes on past a heavier lateral), unless two codominant children (each carrying at least CodominantShare of
+/// the heaviest) turn alike (within ForkMargin): a sympodial fork or a Y ends the branch, each child a branch of the
+/// next order. Directions are chords over a few parent radii, away from the junction (whose cylinders hold both
+/// branches and lean): the parent's from below it, each child's ahead of it (FarDirection).
+std::vector<int> ContinuingChildren(
+  const std::vector<TreeCylinder>& cylinders, const std::vector<double>& radius, const std::vector<double>& carried)
+{
+  const std::size_t n = cylinders.size();
+  std::vector<std::vector<int>> children(n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const int p = cylinders[k].parent;
+    if (p < 0)
+      continue;
+    children[p].push_back(static_cast<int>(k));
+  }
+  std::vector<int> continuing(n, -1);
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    if (children[p].size() == 1)
+      continuing[p] = children[p].front();
+    if (children[p].size() < 2)
+      continue;
+    const double reach = std::max(4.0 * radius[p], 2.0 * cylinders[p].length);
+    int near = cylinders[p].parent >= 0 ? cylinders[p].parent : static_cast<int>(p);
+    for (double along = cylinders[p].length; cylinders[near].parent >= 0 && along < 0.5 * reach;)
+      along += cylinders[near = cylinders[near].parent].length;
+    int far = near;
+    for (double along = 0; cylinders[far].parent >= 0 && along < 2.0 * reach;)
+      along += cylinders[far = cylinders[far].parent].length;
+    Eigen::Vector3d dp = cylinders[near].end - cylinders[far].start;
+    dp = dp.norm() > 0 ? dp.normalized() : (cylinders[p].end - cylinders[p].start).normalized().eval();
+    double heaviest = 0;
+    for (int k : children[p])
+      heaviest = std::max(heaviest, carried[k]);
+    std::vector<std::pair<double, int>> angles; // (degrees, child)
+    for (int k : children[p])
+    {
+      if (carried[k] < ContinueShare * heaviest)
+        continue;
+      const Eigen::Vector3d d = FarDirection(cylinders, children, k, 2.0 * reach);
+      angles.emplace_back(std::acos(std::clamp(d.dot(dp), -1.0, 1.0)) * 180.0 / M_PI, k);
+    }
+    std::sort(angles.begin(), angles.end());
+    if (angles.empty())
+      continue;
+    // Codominant children (each carrying at least half the heaviest) turning alike: the branch ends at the fork.
+    const auto codominant = [&](int k) { return carried[k] >= CodominantShare * heaviest; };
+    const bool fork = angles.size() > 1 && codominant(angles[0].second) && codominant(angles[1].second) &&
+      angles[1].first - angles[0].first < ForkMargin;
+    if (!fork)
+      continuing[p] = angles[0].second;
+  }
+  return continuing;
+}
+
 /// Branches: the trunk from the base, at every fork the child carrying the most volume continues its parent's branch.
 void AssignBranches(TreeFitResult& result, const std::vector<double>& radius)
 {
@@ -88,59 +167,7 @@ void AssignBranches(TreeFitResult& result, const std::vector<double>& radius)
     if (cylinders[k].parent >= 0)
       carried[cylinders[k].parent] += carried[k];
   }
-  // At a fork the branch goes on into the straightest child among those carrying at least ContinueShare of what the
-  // heaviest carries (a leader goes on past a heavy lateral) and turning less than ContinueAngle (children that all
-  // diverge, a sympodial fork, end the branch); within a few degrees, the heavier. Directions are
-  // chords over about four parent radii: the parent's from below the fork (the cylinders at a fork hold both branches
-  // and lean towards the child), each child's forward along its straightest path.
-  std::vector<int> heavy(n, -1), straight(n, -1), forks(n, 0);
-  std::vector<double> straightCosine(n, -2.0);
-  for (std::size_t k = 0; k < n; ++k)
-  {
-    const int p = cylinders[k].parent;
-    if (p < 0)
-      continue;
-    ++forks[p];
-    if (heavy[p] < 0 || carried[k] > carried[heavy[p]])
-      heavy[p] = static_cast<int>(k);
-    const double cosine =
-      (cylinders[p].end - cylinders[p].start).normalized().dot((cylinders[k].end - cylinders[k].start).normalized());
-    if (cosine > straightCosine[p])
-    {
-      straightCosine[p] = cosine;
-      straight[p] = static_cast<int>(k);
-    }
-  }
-  std::vector<int> continuing(n, -1);
-  std::vector<double> bestCosine(n, -2.0);
-  for (std::size_t k = 0; k < n; ++k)
-  {
-    const int p = cylinders[k].parent;
-    if (p < 0 || carried[k] < ContinueShare * carried[heavy[p]])
-      continue;
-    const double reach = std::max(4.0 * radius[p], 2.0 * cylinders[p].length);
-    // The parent's direction from below the junction: between half a reach and two reaches back from the fork.
-    int near = cylinders[p].parent >= 0 ? cylinders[p].parent : p, far = p, ahead = static_cast<int>(k);
-    for (double along = cylinders[p].length; cylinders[near].parent >= 0 && along < 0.5 * reach;)
-      along += cylinders[near = cylinders[near].parent].length;
-    far = near;
-    for (double along = 0; cylinders[far].parent >= 0 && along < 1.5 * reach;)
-      along += cylinders[far = cylinders[far].parent].length;
-    for (double along = cylinders[k].length; straight[ahead] >= 0 && along < reach;)
-      along += cylinders[ahead = straight[ahead]].length;
-    Eigen::Vector3d dp = cylinders[near].end - cylinders[far].start;
-    dp = dp.norm() > 0 ? dp.normalized() : (cylinders[p].end - cylinders[p].start).normalized().eval();
-    const double cosine = dp.dot((cylinders[ahead].end - cylinders[k].start).normalized());
-    if (forks[p] > 1 && cosine < std::cos(ContinueAngle * M_PI / 180.0))
-      continue; // a fork into diverging children (sympodial): the branch ends here
-    const int best = continuing[p];
-    if (best < 0 || cosine > bestCosine[p] + SameDirection ||
-      (cosine > bestCosine[p] - SameDirection && carried[k] > carried[best]))
-    {
-      bestCosine[p] = best >= 0 && cosine <= bestCosine[p] + SameDirection ? std::max(cosine, bestCosine[p]) : cosine;
-      continuing[p] = static_cast<int>(k);
-    }
-  }
+  const std::vector<int> continuing = ContinuingChildren(cylinders, radius, carried);
   result.branches.clear();
   for (std::size_t k = 0; k < n; ++k)
   {
