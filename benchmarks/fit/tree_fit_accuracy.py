@@ -190,7 +190,7 @@ for name, properties in TREES:
                           ResultArrayType="Int")
         leaves = Calculator(Input=OutputPort(tree, 2), AttributeType="Cell Data", ResultArrayName="IsWood",
                             Function="0", ResultArrayType="Int")
-        surface = AppendPolyData(Input=[wood, leaves])
+        surface = AppendGeometry(Input=[wood, leaves])
     scanner = scan(surface, truth)
     scanner.UpdatePipeline()
     cloud = servermanager.Fetch(scanner)
