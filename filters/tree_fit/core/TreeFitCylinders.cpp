@@ -30,9 +30,9 @@ double Median(std::vector<double> values)
 
 void Frame(const Eigen::Vector3d& axis, Eigen::Vector3d& u, Eigen::Vector3d& v)
 {
-  const Eigen::Vector3d helper =
+  const Eigen::Vector3d reference =
     std::abs(axis.x()) < 0.9 ? Eigen::Vector3d::UnitX().eval() : Eigen::Vector3d::UnitY().eval();
-  u = axis.cross(helper).normalized();
+  u = axis.cross(reference).normalized();
   v = axis.cross(u);
 }
 
