@@ -48,6 +48,10 @@ leaf_cloud = VirtualScanner(Input=leaf, Resolution=[60, 40])
 other_cloud = VirtualScanner(Input=leaf, Resolution=[50, 30], Positions=[1, -5, 1])
 second_tree = TreeFromSketchSource(Preset="Custom", Depth=1, ChildCount=2, Leaves=0)
 strokes_tree = {"Mode": "Strokes", "StrokeFile": STROKES_CSV}
+tree_cloud = VirtualScanner(Input=TreeFromSketchSource(Preset="Custom", Depth=1, ChildCount=3, Length=4, Radius=0.12,
+                                                       Leaves=0, Sides=16),
+                            Positions=[6, 1.5, 0, -3, 1.5, 5, -3, 1.5, -5], LookAt=[0, 2.5, 0], Up=[0, 1, 0],
+                            HorizontalFieldOfView=50, VerticalFieldOfView=60, AngularStep=0.1, RangeNoise=0.002)
 
 # How each proxy is made for the runs: a small valid input, settings that keep a run short.
 BASES = {
@@ -62,6 +66,7 @@ BASES = {
     "LeafCloudReader": None,  # no range
     "LeafFitFilter": lambda: LeafFitFilter(Input=leaf_cloud),
     "VirtualScanner": lambda: VirtualScanner(Input=leaf, Resolution=[40, 30]),
+    "TreeFitFilter": lambda: TreeFitFilter(Input=tree_cloud, UpAxis="Y"),
 }
 # (proxy, property): settings the property needs besides its panel decorators, for every run of it (values by
 # property name; a bound may also name its own: (proxy, property, "min"/"max")).

@@ -1,0 +1,246 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""pvpython: TreeFitFilter against exact truth. TreeFromSketchSource trees (templates of both types and two sizes) are
+scanned by VirtualScanner from four terrestrial positions with range noise and fitted with the filter's defaults;
+the fit is compared with the tree's own skeleton (radius at every skeleton point, branch ids, parents, depth).
+
+Truth and how it is compared (benchmarks/README.md, "tree_fit_accuracy"):
+  * volumes: the skeleton's frusta (pi/3 (r0^2 + r0 r1 + r1^2) L per skeleton segment); the welded surface the scanner
+    sees (MeshVolume, vtkMassProperties of the Branches output) is printed too: junctions make it smaller;
+  * trunk: the branch with ParentId -1; DBH at BreastHeight above the lowest point; height: the surface's extent
+    along the up axis (+Y for TreeFromSketchSource);
+  * first-order branches found: a true child of the trunk is found when a fitted branch (any order >= 1) passes
+    within max(3 base radii, 5 % of its length) of the true branch's point at a quarter of its length and of its
+    point at three quarters; its angle (the chord over the first third against the parent's axis, as the filter
+    measures it) is compared with the true one.
+
+    pvpython tree_fit_accuracy.py --plugin build/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so [--quick]
+                                  [--leaves] [--json out.json]
+"""
+import argparse
+import json
+import math
+import time
+
+import numpy
+
+parser = argparse.ArgumentParser()
+parser.add_argument("--plugin", required=True)
+parser.add_argument("--quick", action="store_true", help="two trees only")
+parser.add_argument("--leaves", action="store_true", help="scan the trees with their leaves (WoodArray separates)")
+parser.add_argument("--noise", type=float, default=0.003, help="range noise deviation (m)")
+parser.add_argument("--json", default=None)
+arguments = parser.parse_args()
+
+from paraview.simple import *  # noqa: E402,F401,F403
+from paraview import servermanager  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+from vtkmodules.vtkFiltersCore import vtkMassProperties, vtkTriangleFilter  # noqa: E402
+
+LoadPlugin(arguments.plugin, ns=globals())
+
+# (name, TreeFromSketchSource properties): the templates, two sizes each, and variations of angle and phyllotaxis.
+TREES = [
+    ("mono-small", dict(TreeType="Monopodial", Length=6.0, Radius=0.15, Depth=2, ChildCount=6)),
+    ("mono-large", dict(TreeType="Monopodial", Length=12.0, Radius=0.3, Depth=2, ChildCount=8)),
+    ("sym-small", dict(TreeType="Sympodial", Length=3.0, Radius=0.12, Depth=3, ChildCount=2, Ratio=0.0)),
+    ("sym-large", dict(TreeType="Sympodial", Length=5.0, Radius=0.3, Depth=3, ChildCount=3, Ratio=0.0)),
+    ("mono-wide", dict(TreeType="Monopodial", Length=8.0, Radius=0.2, Depth=2, ChildCount=7, MonopodialAngle=50.0)),
+    ("mono-58", dict(TreeType="Monopodial", Length=10.0, Radius=0.25, Depth=2, ChildCount=10, PhyllotaxisA=5,
+                     PhyllotaxisB=8, Ratio=0.6)),
+    ("sym-narrow", dict(TreeType="Sympodial", Length=4.0, Radius=0.2, Depth=3, ChildCount=2, Ratio=0.0,
+                        SympodialAngle=35.0)),
+    ("mono-deep", dict(TreeType="Monopodial", Length=8.0, Radius=0.25, Depth=3, ChildCount=5)),
+    ("sym-wide", dict(TreeType="Sympodial", Length=4.0, Radius=0.25, Depth=3, ChildCount=3, Ratio=0.0,
+                      SympodialAngle=65.0)),
+    ("mono-short", dict(TreeType="Monopodial", Length=4.0, Radius=0.1, Depth=2, ChildCount=6)),
+]
+if arguments.quick:
+    TREES = TREES[:2]
+UP = numpy.array([0.0, 1.0, 0.0])
+BREAST = 1.3
+
+
+def polylines(data):
+    """Each line cell's point coordinates and point ids."""
+    points = vtk_to_numpy(data.GetPoints().GetData())
+    lines = []
+    ids = data.GetLines()
+    ids.InitTraversal()
+    import vtk
+    cell = vtk.vtkIdList()
+    while ids.GetNextCell(cell):
+        lines.append([cell.GetId(k) for k in range(cell.GetNumberOfIds())])
+    return points, lines
+
+
+def truth_of(tree):
+    skeleton = servermanager.Fetch(tree, idx=1)
+    points, lines = polylines(skeleton)
+    radius = vtk_to_numpy(skeleton.GetPointData().GetArray("Radius"))
+    branch_id = vtk_to_numpy(skeleton.GetCellData().GetArray("BranchId"))
+    parent_id = vtk_to_numpy(skeleton.GetCellData().GetArray("ParentId"))
+    branches = {}
+    for c, line in enumerate(lines):
+        p, r = points[line], radius[line]
+        seg = numpy.linalg.norm(numpy.diff(p, axis=0), axis=1)
+        volume = float(numpy.sum(math.pi / 3 * seg * (r[:-1] ** 2 + r[:-1] * r[1:] + r[1:] ** 2)))
+        branches[int(branch_id[c])] = dict(points=p, radii=r, parent=int(parent_id[c]), length=float(seg.sum()),
+                                           volume=volume)
+    trunk = [b for b in branches.values() if b["parent"] < 0][0]
+    surface = servermanager.Fetch(tree, idx=0)
+    triangles = vtkTriangleFilter()
+    triangles.SetInputData(surface)
+    mass = vtkMassProperties()
+    mass.SetInputConnection(triangles.GetOutputPort())
+    mass.Update()
+    bounds = surface.GetBounds()
+    low = bounds[2]
+    heights = trunk["points"] @ UP - low
+    dbh = 2 * float(numpy.interp(BREAST, heights, trunk["radii"])) if heights[-1] > BREAST else float("nan")
+    trunk_id = [k for k, b in branches.items() if b["parent"] < 0][0]
+    return dict(branches=branches, trunk=trunk_id, total=sum(b["volume"] for b in branches.values()),
+                trunk_volume=trunk["volume"], mesh=mass.GetVolume(), height=bounds[3] - bounds[2], dbh=dbh,
+                branch_length=sum(b["length"] for k, b in branches.items() if k != trunk_id), low=low)
+
+
+def at_fraction(p, f):
+    seg = numpy.linalg.norm(numpy.diff(p, axis=0), axis=1)
+    s = numpy.concatenate([[0], numpy.cumsum(seg)])
+    t = f * s[-1]
+    return numpy.array([numpy.interp(t, s, p[:, k]) for k in range(3)])
+
+
+def distance_to_polyline(q, p):
+    best = float("inf")
+    for a, b in zip(p[:-1], p[1:]):
+        ab = b - a
+        t = numpy.clip(numpy.dot(q - a, ab) / max(numpy.dot(ab, ab), 1e-300), 0, 1)
+        best = min(best, numpy.linalg.norm(q - a - t * ab))
+    return best
+
+
+def base_angle(p, parent_points):
+    """The chord over the first third against the parent's axis nearest the base, degrees (as the filter)."""
+    d = at_fraction(p, 1 / 3) - p[0]
+    d /= numpy.linalg.norm(d)
+    k = numpy.argmin([distance_to_polyline(p[0], parent_points[i:i + 2]) for i in range(len(parent_points) - 1)])
+    dp = parent_points[k + 1] - parent_points[k]
+    dp /= numpy.linalg.norm(dp)
+    return math.degrees(math.acos(max(-1.0, min(1.0, float(numpy.dot(d, dp))))))
+
+
+def fitted_branches(fit):
+    skeleton = servermanager.Fetch(fit, idx=1)
+    points, lines = polylines(skeleton)
+    ids = vtk_to_numpy(skeleton.GetCellData().GetArray("BranchId"))
+    table = servermanager.Fetch(fit, idx=3)
+    column = {table.GetColumnName(c): vtk_to_numpy(table.GetColumn(c)) for c in range(table.GetNumberOfColumns())}
+    rows = {int(column["BranchId"][k]): k for k in range(table.GetNumberOfRows())}
+    out = {}
+    for c, line in enumerate(lines):
+        k = rows[int(ids[c])]
+        out[int(ids[c])] = dict(points=points[line], order=int(column["Order"][k]), angle=float(column["Angle"][k]))
+    return out
+
+
+def match_first_order(truth, fitted):
+    found, errors = 0, []
+    first = [b for b in truth["branches"].values() if b["parent"] == truth["trunk"]]
+    trunk_points = truth["branches"][truth["trunk"]]["points"]
+    for b in first:
+        tolerance = max(3 * b["radii"][0], 0.05 * b["length"])
+        q1, q3 = at_fraction(b["points"], 0.25), at_fraction(b["points"], 0.75)
+        best = None
+        for f in fitted.values():
+            if f["order"] < 1:
+                continue
+            d1, d3 = distance_to_polyline(q1, f["points"]), distance_to_polyline(q3, f["points"])
+            if d1 < tolerance and d3 < tolerance and (best is None or d1 + d3 < best[0]):
+                best = (d1 + d3, f)
+        if best is not None:
+            found += 1
+            errors.append(best[1]["angle"] - base_angle(b["points"], trunk_points))
+    return len(first), found, errors
+
+
+def scan(tree, truth):
+    height = truth["height"]
+    distance = max(8.0, 1.2 * height)
+    centre = [0.0, truth["low"] + 0.5 * height, 0.0]
+    positions = []
+    for k in range(4):
+        a = 2 * math.pi * (k + 0.125) / 4
+        positions += [distance * math.cos(a), truth["low"] + 1.5, distance * math.sin(a)]
+    field = 2 * math.degrees(math.atan(0.6 * height / distance)) + 10
+    step = math.degrees(0.012 / distance)  # about 1.2 cm between beams at the tree
+    return VirtualScanner(Input=tree, ScannerType="Terrestrial", Positions=positions, LookAt=centre, Up=[0, 1, 0],
+                          HorizontalFieldOfView=field, VerticalFieldOfView=field, AngularStep=step,
+                          RangeNoise=arguments.noise, Seed=1, MaximumBeams=4e8)
+
+
+rows = []
+for name, properties in TREES:
+    tree = TreeFromSketchSource(Preset="Custom", Leaves=1 if arguments.leaves else 0, Sides=32, Joints="Seated tubes",
+                                **properties)
+    tree.UpdatePipeline()
+    truth = truth_of(tree)
+    surface = tree
+    if arguments.leaves:  # wood and leaves in one surface, each cell labelled; the scanner carries the label
+        wood = Calculator(Input=tree, AttributeType="Cell Data", ResultArrayName="IsWood", Function="1",
+                          ResultArrayType="Int")
+        leaves = Calculator(Input=OutputPort(tree, 2), AttributeType="Cell Data", ResultArrayName="IsWood",
+                            Function="0", ResultArrayType="Int")
+        surface = AppendGeometry(Input=[wood, leaves])
+    scanner = scan(surface, truth)
+    scanner.UpdatePipeline()
+    cloud = servermanager.Fetch(scanner)
+    fit = TreeFitFilter(Input=scanner, UpAxis="Y", WoodArray="IsWood" if arguments.leaves else "None")
+    start, cpu = time.perf_counter(), time.process_time()
+    fit.UpdatePipeline()
+    seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
+    table = servermanager.Fetch(fit, idx=2)
+    if table.GetNumberOfRows() == 0:
+        print(f"{name}: the fit failed")
+        rows.append(dict(tree=name, failed=True))
+        continue
+    traits = {table.GetColumnName(c): table.GetValue(0, c).ToDouble() for c in range(2, table.GetNumberOfColumns())}
+    total_first, found, angle_errors = match_first_order(truth, fitted_branches(fit))
+    row = dict(tree=name, points=cloud.GetNumberOfPoints(), seconds=seconds, cpu=cpu,
+               total=100 * (traits["TotalVolume"] / truth["total"] - 1),
+               trunk=100 * (traits["TrunkVolume"] / truth["trunk_volume"] - 1),
+               branch=100 * (traits["BranchVolume"] / (truth["total"] - truth["trunk_volume"]) - 1),
+               mesh_total=100 * (traits["TotalVolume"] / truth["mesh"] - 1),
+               dbh=100 * (traits["DBH"] / truth["dbh"] - 1), height=100 * (traits["Height"] / truth["height"] - 1),
+               branch_length=100 * (traits["TotalBranchLength"] / truth["branch_length"] - 1),
+               first_true=total_first, first_found=found,
+               angle_rms=math.sqrt(sum(e * e for e in angle_errors) / len(angle_errors)) if angle_errors else float("nan"),
+               measured=traits["MeasuredVolumeFraction"], true_branches=len(truth["branches"]) - 1,
+               fitted_branches=traits["BranchCount"])
+    rows.append(row)
+    print(f"{name:11s} pts {row['points']:8d} t {seconds:6.2f}s cpu {cpu:6.2f}s total {row['total']:+6.1f}% trunk {row['trunk']:+6.1f}% "
+          f"branch {row['branch']:+7.1f}% (mesh {row['mesh_total']:+6.1f}%) DBH {row['dbh']:+5.1f}% "
+          f"H {row['height']:+5.1f}% BL {row['branch_length']:+6.1f}% 1st {found}/{total_first} "
+          f"angle {row['angle_rms']:5.1f} branches {int(row['fitted_branches'])}/{row['true_branches']} "
+          f"measured {row['measured']:.2f}", flush=True)
+    for proxy in (fit, scanner):
+        Delete(proxy)
+
+ok = [r for r in rows if not r.get("failed")]
+if ok:
+    def rms(key):
+        return math.sqrt(sum(r[key] ** 2 for r in ok) / len(ok))
+
+    def mean(key):
+        return sum(r[key] for r in ok) / len(ok)
+
+    print(f"over {len(ok)} trees ({len(rows) - len(ok)} failed): total volume mean {mean('total'):+.1f}% "
+          f"rRMSE {rms('total'):.1f}%; trunk rRMSE {rms('trunk'):.1f}%; branch mean {mean('branch'):+.1f}% "
+          f"rRMSE {rms('branch'):.1f}%; DBH rRMSE {rms('dbh'):.1f}%; height rRMSE {rms('height'):.1f}%; "
+          f"branch length mean {mean('branch_length'):+.1f}%; first-order found "
+          f"{sum(r['first_found'] for r in ok)}/{sum(r['first_true'] for r in ok)}; angle RMS "
+          f"{math.sqrt(numpy.nanmean([r['angle_rms'] ** 2 for r in ok])):.1f} deg; time "
+          f"{sum(r['seconds'] for r in ok):.1f} s wall, {sum(r['cpu'] for r in ok):.1f} s CPU for "
+          f"{sum(r['points'] for r in ok)} points")
+if arguments.json:
+    with open(arguments.json, "w") as f:
+        json.dump(rows, f, indent=1)

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// TreeFitFilter's algorithm, the steps put together (TreeFit.h describes the method).
+#include "TreeFitInternal.h"
+
+#include <plantmorph/RangeError.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace plantmorph
+{
+
+std::string ValidateTreeFitParameters(const TreeFitParameters& o)
+{
+  if (!o.up.allFinite() || std::abs(o.up.norm() - 1.0) > 1e-9)
+    return "Up must be a unit vector";
+  std::string error = CheckRange(std::isfinite(o.outlierSigma) && o.outlierSigma >= 1.0 && o.outlierSigma <= 100.0,
+    "OutlierSigma", o.outlierSigma, "[1, 100]");
+  if (error.empty())
+    error = CheckRange(std::isfinite(o.breastHeight) && o.breastHeight > 0.0 && o.breastHeight <= 1e6, "BreastHeight",
+      o.breastHeight, "(0, 1e6]");
+  return error;
+}
+
+std::vector<std::string> TreeTraitNames()
+{
+  return { "Height", "DBH", "TrunkVolume", "BranchVolume", "TotalVolume", "TrunkLength", "TotalBranchLength",
+    "BranchCount", "BranchesOrder1", "BranchesOrder2", "BranchesOrder3", "BranchesOrder4Plus", "CrownProjectedArea",
+    "CrownBaseHeight", "Points", "WoodPoints", "Cylinders", "FitRMS", "Spacing", "Noise", "MeasuredVolumeFraction" };
+}
+
+std::vector<double> TreeTraitValues(const TreeTraits& t)
+{
+  return { t.height, t.dbh, t.trunkVolume, t.branchVolume, t.totalVolume, t.trunkLength, t.totalBranchLength,
+    t.branchCount, t.order1, t.order2, t.order3, t.order4Plus, t.crownProjectedArea, t.crownBaseHeight, t.points,
+    t.woodPoints, t.cylinders, t.fitRMS, t.spacing, t.noise, t.measuredVolumeFraction };
+}
+
+namespace
+{
+constexpr double MaxRelativeDistance = 0.3; // median |distance| / radius beyond which the points are no wood surface
+
+/// "" or why the input cannot be a tree before any fitting (sizes, NaN, too few points).
+std::string CheckInput(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel, std::vector<int>& candidates)
+{
+  if (!woodLabel.empty() && woodLabel.size() != points.size())
+    return "the wood labels do not match the points in number";
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!points[i].allFinite())
+    {
+      std::ostringstream message;
+      message << "point " << i << " has a coordinate that is not a finite number (NaN or infinite)";
+      return message.str();
+    }
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (woodLabel.empty() || woodLabel[i] != 0)
+      candidates.push_back(static_cast<int>(i));
+  if (candidates.size() < static_cast<std::size_t>(MinTreePoints))
+  {
+    std::ostringstream message;
+    message << (woodLabel.empty() ? "" : "wood ") << "points: " << candidates.size() << ", at least " << MinTreePoints
+            << " needed";
+    return message.str();
+  }
+  return {};
+}
+
+/// Per input point: its cylinder, branch, wood flag and distance to its cylinder's surface; each cylinder's FitRMS.
+/// "" or why the points do not lie on the cylinders (a volume of noise).
+std::string PointValues(const std::vector<Eigen::Vector3d>& points, const treefit::Wood& wood,
+  const std::vector<int>& woodCylinder, TreeFitResult& result)
+{
+  const std::size_t n = points.size();
+  result.pointCylinder.assign(n, -1);
+  result.pointBranch.assign(n, -1);
+  result.wood.assign(n, 0);
+  result.fitDistance.assign(n, std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> sum(result.cylinders.size(), 0.0), relative;
+  std::vector<int> count(result.cylinders.size(), 0);
+  for (std::size_t i = 0; i < wood.points.size(); ++i)
+  {
+    const int c = woodCylinder[i], id = wood.input[i];
+    result.wood[id] = 1;
+    if (c < 0)
+      continue;
+    const TreeCylinder& cyl = result.cylinders[c];
+    const Eigen::Vector3d axis = (cyl.end - cyl.start).normalized();
+    const double d = (wood.points[i] - cyl.start).cross(axis).norm() - cyl.radius;
+    result.pointCylinder[id] = c;
+    result.pointBranch[id] = cyl.branch;
+    result.fitDistance[id] = d;
+    sum[c] += d * d;
+    ++count[c];
+    relative.push_back(std::abs(d) / cyl.radius);
+  }
+  for (std::size_t c = 0; c < result.cylinders.size(); ++c)
+    result.cylinders[c].fitRMS = count[c] > 0 ? std::sqrt(sum[c] / count[c]) : 0.0;
+  const std::size_t mid = relative.size() / 2;
+  std::nth_element(relative.begin(), relative.begin() + static_cast<std::ptrdiff_t>(mid), relative.end());
+  if (relative.empty() || relative[mid] > MaxRelativeDistance)
+  {
+    std::ostringstream message;
+    message << "the points do not lie on cylinder surfaces (median distance "
+            << (relative.empty() ? 0.0 : relative[mid]) << " radii): a volume of scattered points, not a tree";
+    return message.str();
+  }
+  return {};
+}
+} // namespace
+
+TreeFitResult FitTree(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel,
+  const TreeFitParameters& options, const ParallelFor& parallel)
+{
+  TreeFitResult result;
+  std::vector<int> candidates;
+  result.error = ValidateTreeFitParameters(options);
+  if (result.error.empty())
+    result.error = CheckInput(points, woodLabel, candidates);
+  treefit::Wood wood;
+  if (result.error.empty())
+    result.error = treefit::CleanAndConnect(points, candidates, options, parallel, wood);
+  std::vector<int> woodCylinder;
+  if (result.error.empty())
+  {
+    const treefit::Skeleton skeleton = treefit::BuildSkeleton(wood);
+    result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder);
+  }
+  if (result.error.empty())
+    result.error = PointValues(points, wood, woodCylinder, result);
+  if (!result.error.empty())
+  {
+    TreeFitResult failed;
+    failed.error = result.error;
+    return failed;
+  }
+  treefit::ComputeTraits(points, wood, options, result);
+  return result;
+}
+
+} // namespace plantmorph

@@ -1,0 +1,319 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Step 4 of the tree fit (TreeFit.h): robust cylinders along the skeleton's segments.
+#include "TreeFitInternal.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace plantmorph
+{
+namespace treefit
+{
+namespace
+{
+constexpr double MaxTilt = 35.0; // degrees the fitted axis may turn from the skeleton's direction
+constexpr int PieceMinNodes = 2, PieceMaxNodes = 8;
+
+double Median(std::vector<double> values)
+{
+  if (values.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
+  return values[mid];
+}
+
+void Frame(const Eigen::Vector3d& axis, Eigen::Vector3d& u, Eigen::Vector3d& v)
+{
+  const Eigen::Vector3d reference =
+    std::abs(axis.x()) < 0.9 ? Eigen::Vector3d::UnitX().eval() : Eigen::Vector3d::UnitY().eval();
+  u = axis.cross(reference).normalized();
+  v = axis.cross(u);
+}
+
+/// Residuals (distance to the axis minus radius) for parameters (a, b, alpha, beta, r) about (c, u, v, axis0).
+void Residuals(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
+  const Eigen::Vector3d& v, const Eigen::Vector3d& axis0, const Eigen::Matrix<double, 5, 1>& x, Eigen::VectorXd& res)
+{
+  const Eigen::Vector3d p = c + x[0] * u + x[1] * v;
+  const Eigen::Vector3d d = (axis0 + x[2] * u + x[3] * v).normalized();
+  res.resize(static_cast<Eigen::Index>(q.size()));
+  for (std::size_t i = 0; i < q.size(); ++i)
+    res[static_cast<Eigen::Index>(i)] = (q[i] - p).cross(d).norm() - x[4];
+}
+
+/// Kasa's algebraic circle fit of the points projected on the plane normal to axis0 through c: (a, b, r).
+bool CircleFit(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
+  const Eigen::Vector3d& v, Eigen::Vector3d& circle)
+{
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+  for (const auto& p : q)
+  {
+    const double x = (p - c).dot(u), y = (p - c).dot(v);
+    const Eigen::Vector3d row(x, y, 1.0);
+    ata += row * row.transpose();
+    atb -= row * (x * x + y * y);
+  }
+  const Eigen::Vector3d s = ata.ldlt().solve(atb);
+  const double a = -s[0] / 2, b = -s[1] / 2, r2 = a * a + b * b - s[2];
+  if (!s.allFinite() || !(r2 > 0.0))
+    return false;
+  circle = Eigen::Vector3d(a, b, std::sqrt(r2));
+  return true;
+}
+
+/// Robustly weighted Gauss-Newton (Levenberg-Marquardt) on the 5 (or, with fixed direction, 3) parameters: Huber
+/// weights, or with `redescending` Tukey's biweight (points far off the surface, such as a child branch's start in a
+/// junction piece, get no weight at all; started from the Huber fit).
+Eigen::Matrix<double, 5, 1> Refine(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c,
+  const Eigen::Vector3d& u, const Eigen::Vector3d& v, const Eigen::Vector3d& axis0, Eigen::Matrix<double, 5, 1> x,
+  bool fixDirection, double floor, bool redescending = false)
+{
+  Eigen::VectorXd res, trial;
+  double lambda = 1e-3;
+  for (int iteration = 0; iteration < 30; ++iteration)
+  {
+    Residuals(q, c, u, v, axis0, x, res);
+    std::vector<double> absolute(static_cast<std::size_t>(res.size()));
+    for (Eigen::Index i = 0; i < res.size(); ++i)
+      absolute[static_cast<std::size_t>(i)] = std::abs(res[i]);
+    const double sigma = std::max(1.4826 * Median(absolute), floor);
+    const double k = (redescending ? 4.685 : 1.345) * sigma;
+    Eigen::VectorXd w(res.size());
+    for (Eigen::Index i = 0; i < res.size(); ++i)
+    {
+      const double t = std::abs(res[i]) / k;
+      w[i] = redescending ? (t < 1.0 ? (1 - t * t) * (1 - t * t) : 0.0) : (t <= 1.0 ? 1.0 : 1.0 / t);
+    }
+    Eigen::MatrixXd jac(res.size(), 5);
+    const double h = 1e-7 * std::max(1.0, std::abs(x[4]));
+    for (int p = 0; p < 5; ++p)
+    {
+      Eigen::Matrix<double, 5, 1> xp = x;
+      xp[p] += p == 2 || p == 3 ? 1e-7 : h;
+      Residuals(q, c, u, v, axis0, xp, trial);
+      jac.col(p) = (trial - res) / (xp[p] - x[p]);
+    }
+    if (fixDirection)
+      jac.col(2).setZero(), jac.col(3).setZero();
+    Eigen::Matrix<double, 5, 5> a = jac.transpose() * w.asDiagonal() * jac;
+    const Eigen::Matrix<double, 5, 1> g = jac.transpose() * w.asDiagonal() * res;
+    const double cost = res.dot(w.asDiagonal() * res);
+    bool improved = false;
+    for (int attempt = 0; attempt < 8 && !improved; ++attempt)
+    {
+      Eigen::Matrix<double, 5, 5> damped = a;
+      for (int p = 0; p < 5; ++p)
+        damped(p, p) += lambda * (a(p, p) + 1e-12);
+      if (fixDirection)
+        damped(2, 2) = damped(3, 3) = 1.0;
+      const Eigen::Matrix<double, 5, 1> step = damped.ldlt().solve(-g);
+      if (!step.allFinite())
+        break;
+      Residuals(q, c, u, v, axis0, x + step, trial);
+      if (trial.dot(w.asDiagonal() * trial) < cost)
+      {
+        x += step;
+        lambda = std::max(lambda / 4, 1e-9);
+        improved = true;
+        if (step.norm() < 1e-10 * (1.0 + x.norm()))
+          return x;
+      }
+      else
+        lambda *= 8;
+    }
+    if (!improved)
+      break;
+  }
+  return x;
+}
+} // namespace
+
+CylinderFit FitCylinder(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& axis0In, double spacing)
+{
+  CylinderFit fit;
+  if (q.size() < 6 || !(axis0In.norm() > 0.0))
+    return fit;
+  const Eigen::Vector3d axis0 = axis0In.normalized();
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : q)
+    c += p;
+  c /= static_cast<double>(q.size());
+  Eigen::Vector3d u, v;
+  Frame(axis0, u, v);
+  Eigen::Vector3d circle;
+  if (!CircleFit(q, c, u, v, circle))
+    return fit;
+  Eigen::Matrix<double, 5, 1> x0;
+  x0 << circle[0], circle[1], 0.0, 0.0, circle[2];
+  const double floor = 0.05 * spacing;
+  Eigen::Matrix<double, 5, 1> x = Refine(q, c, u, v, axis0, x0, false, floor);
+  x = Refine(q, c, u, v, axis0, x, false, floor, true);
+  Eigen::Vector3d d = (axis0 + x[2] * u + x[3] * v).normalized();
+  if (!x.allFinite() || std::acos(std::min(1.0, std::abs(d.dot(axis0)))) > MaxTilt * M_PI / 180.0 || !(x[4] > 0.0))
+  {
+    x = Refine(q, c, u, v, axis0, x0, true, floor);
+    d = axis0;
+  }
+  if (!x.allFinite() || !(x[4] > 0.0))
+    return fit;
+  fit.point = c + x[0] * u + x[1] * v;
+  fit.axis = d.dot(axis0) < 0 ? (-d).eval() : d;
+  fit.radius = x[4];
+  Eigen::VectorXd res;
+  Residuals(q, c, u, v, axis0, x, res);
+  std::vector<double> absolute(static_cast<std::size_t>(res.size()));
+  for (Eigen::Index i = 0; i < res.size(); ++i)
+    absolute[static_cast<std::size_t>(i)] = std::abs(res[i]);
+  fit.rms = std::sqrt(res.squaredNorm() / static_cast<double>(res.size()));
+  fit.scale = 1.4826 * Median(absolute);
+  // Coverage: 10-degree sectors around the axis holding an inlier.
+  Eigen::Vector3d fu, fv;
+  Frame(fit.axis, fu, fv);
+  std::array<bool, 36> seen{};
+  const double band = std::max(3.0 * fit.scale, 0.5 * spacing);
+  for (std::size_t i = 0; i < q.size(); ++i)
+    if (std::abs(res[static_cast<Eigen::Index>(i)]) <= band)
+    {
+      const Eigen::Vector3d r = q[i] - fit.point;
+      const double angle = std::atan2(r.dot(fv), r.dot(fu)) + M_PI;
+      seen[static_cast<std::size_t>(std::min(35.0, std::floor(angle / (2 * M_PI) * 36.0)))] = true;
+    }
+  fit.coverage = 10.0 * static_cast<double>(std::count(seen.begin(), seen.end(), true));
+  fit.ok = true;
+  return fit;
+}
+
+namespace
+{
+/// One piece of a segment: its nodes (consecutive) and the direction to start its fit from.
+struct Piece
+{
+  int segment = 0;
+  std::vector<int> nodes;
+  Eigen::Vector3d axis0 = Eigen::Vector3d::UnitZ();
+};
+
+/// The direction of a run of nodes: last centroid minus first (the run widened by one node each side if short).
+Eigen::Vector3d ChainDirection(const Skeleton& s, const std::vector<int>& chain, std::size_t first, std::size_t last)
+{
+  for (int widen = 0; widen < 3; ++widen)
+  {
+    const std::size_t a = first >= static_cast<std::size_t>(widen) ? first - widen : 0;
+    const std::size_t b = std::min(chain.size() - 1, last + widen);
+    const Eigen::Vector3d d = s.nodes[chain[b]].centroid - s.nodes[chain[a]].centroid;
+    if (d.norm() > 0.75 * s.binWidth * static_cast<double>(b - a))
+      return d.normalized();
+  }
+  return Eigen::Vector3d::Zero();
+}
+
+/// The pieces: each segment cut into runs about two radii long (PieceMinNodes to PieceMaxNodes nodes).
+std::vector<Piece> CutSegments(const Wood& wood, const Skeleton& s, const Eigen::Vector3d& up)
+{
+  std::vector<Piece> pieces;
+  std::vector<Eigen::Vector3d> segmentAxis(s.segments.size(), up);
+  for (std::size_t g = 0; g < s.segments.size(); ++g)
+  {
+    const auto& chain = s.segments[g];
+    Eigen::Vector3d axis = ChainDirection(s, chain, 0, chain.size() - 1);
+    if (axis.isZero())
+      axis = s.segmentParent[g] >= 0 ? segmentAxis[s.segmentParent[g]] : up;
+    if (axis.isZero() || !axis.allFinite())
+      axis = up;
+    segmentAxis[g] = axis;
+    std::vector<double> radii;
+    for (int node : chain)
+    {
+      std::vector<double> distance;
+      for (int i : s.nodes[node].points)
+        if (s.fitted[i])
+          distance.push_back((wood.points[i] - s.nodes[node].centroid).cross(axis).norm());
+      if (!distance.empty())
+        radii.push_back(Median(distance));
+    }
+    const double radius = radii.empty() ? s.binWidth : Median(radii);
+    const int per = std::clamp(static_cast<int>(std::lround(2.0 * radius / s.binWidth)), PieceMinNodes, PieceMaxNodes);
+    const int count = std::max(1, static_cast<int>(std::lround(static_cast<double>(chain.size()) / per)));
+    for (int k = 0; k < count; ++k)
+    {
+      Piece piece;
+      piece.segment = static_cast<int>(g);
+      const std::size_t first = chain.size() * k / count, last = chain.size() * (k + 1) / count - 1;
+      piece.nodes.assign(
+        chain.begin() + static_cast<std::ptrdiff_t>(first), chain.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+      piece.axis0 = ChainDirection(s, chain, first, last);
+      if (piece.axis0.isZero())
+        piece.axis0 = axis;
+      pieces.push_back(piece);
+    }
+  }
+  return pieces;
+}
+} // namespace
+
+std::string FitCylinders(const Wood& wood, const Skeleton& s, const TreeFitParameters& options,
+  const ParallelFor& parallel, TreeFitResult& result, std::vector<int>& woodCylinder)
+{
+  const std::vector<Piece> pieces = CutSegments(wood, s, options.up);
+  std::vector<CylinderFit> fits(pieces.size());
+  std::vector<int> counts(pieces.size(), 0);
+  parallel(pieces.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+    {
+      std::vector<Eigen::Vector3d> q;
+      for (int node : pieces[k].nodes)
+        for (int i : s.nodes[node].points)
+          if (s.fitted[i])
+            q.push_back(wood.points[i]);
+      counts[k] = static_cast<int>(q.size());
+      fits[k] = FitCylinder(q, pieces[k].axis0, wood.spacing);
+    }
+  });
+  std::vector<int> nodeCylinder(s.nodes.size(), -1), lastOfSegment(s.segments.size(), -1);
+  result.cylinders.resize(pieces.size());
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+  {
+    const Piece& piece = pieces[k];
+    TreeCylinder& cyl = result.cylinders[k];
+    const Eigen::Vector3d& first = s.nodes[piece.nodes.front()].centroid;
+    const Eigen::Vector3d& last = s.nodes[piece.nodes.back()].centroid;
+    Eigen::Vector3d point = 0.5 * (first + last), axis = piece.axis0;
+    if (fits[k].ok)
+    {
+      point = fits[k].point;
+      axis = fits[k].axis;
+    }
+    const double t0 = (first - point).dot(axis) - 0.5 * s.binWidth, t1 = (last - point).dot(axis) + 0.5 * s.binWidth;
+    cyl.start = point + t0 * axis;
+    cyl.end = point + t1 * axis;
+    cyl.length = t1 - t0;
+    cyl.fittedRadius = fits[k].ok ? fits[k].radius : std::numeric_limits<double>::quiet_NaN();
+    cyl.coverage = fits[k].ok ? fits[k].coverage : 0.0;
+    cyl.fitRMS = fits[k].ok ? fits[k].scale : std::numeric_limits<double>::quiet_NaN(); // robust; replaced later
+    cyl.points = counts[k];
+    cyl.support = cyl.length > 0 ? counts[k] / cyl.length : 0.0;
+    cyl.segment = piece.segment;
+    const int previous = lastOfSegment[piece.segment];
+    cyl.parent = previous >= 0
+      ? previous
+      : (s.segmentParent[piece.segment] >= 0 ? lastOfSegment[s.segmentParent[piece.segment]] : -1);
+    lastOfSegment[piece.segment] = static_cast<int>(k);
+    for (int node : piece.nodes)
+      nodeCylinder[node] = static_cast<int>(k);
+  }
+  woodCylinder.assign(wood.points.size(), -1);
+  for (std::size_t i = 0; i < wood.points.size(); ++i)
+    if (s.nodeOf[i] >= 0)
+      woodCylinder[i] = nodeCylinder[s.nodeOf[i]];
+  return ModelRadii(wood.spacing, result);
+}
+
+} // namespace treefit
+} // namespace plantmorph

@@ -1,0 +1,391 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Steps 1-3 of the tree fit (TreeFit.h): spacing, outliers, the neighbour graph, joining its components across
+// occlusion gaps, geodesic distances from the base.
+#include "PointGrid.h"
+#include "TreeFitInternal.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <queue>
+#include <sstream>
+#include <tuple>
+
+namespace plantmorph
+{
+namespace treefit
+{
+namespace
+{
+constexpr int SpacingNeighbours = 6;
+constexpr int GraphNeighbours = 10;
+constexpr double GraphReach = 8.0; // spacings
+constexpr double GapReach = 25.0;  // spacings
+constexpr int MinComponent = 5;    // points
+
+double Median(std::vector<double> values)
+{
+  if (values.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
+  return values[mid];
+}
+
+/// Mean distance of every point to its k nearest neighbours (infinite when it has none).
+std::vector<double> MeanNeighbourDistance(
+  const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, int k, const ParallelFor& parallel)
+{
+  std::vector<double> mean(points.size(), std::numeric_limits<double>::infinity());
+  const std::vector<int>& order = grid.SortedIds();
+  parallel(order.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end; ++j)
+    {
+      const int i = order[j];
+      const auto near = grid.Nearest(points[i], k, i);
+      if (near.empty())
+        continue;
+      double sum = 0;
+      for (const auto& n : near)
+        sum += std::sqrt(n.first);
+      mean[i] = sum / static_cast<double>(near.size());
+    }
+  });
+  return mean;
+}
+
+struct UnionFind
+{
+  std::vector<int> up;
+  explicit UnionFind(std::size_t n)
+    : up(n)
+  {
+    std::iota(up.begin(), up.end(), 0);
+  }
+  int Find(int a)
+  {
+    while (up[a] != a)
+      a = up[a] = up[up[a]];
+    return a;
+  }
+  void Join(int a, int b)
+  {
+    a = Find(a);
+    b = Find(b);
+    if (a != b)
+      up[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+/// Not a line, not a plane: the smallest principal extent must be a fair share of the middle one.
+std::string CheckShape(const std::vector<Eigen::Vector3d>& points, double spacing)
+{
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : points)
+    mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : points)
+    cov += (p - mean) * (p - mean).transpose();
+  cov /= static_cast<double>(points.size());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  const Eigen::Vector3d sd = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt(); // ascending
+  if (!(sd[2] > 0.0))
+    return "the points are all at one place";
+  if (sd[1] < 1e-3 * sd[2] || sd[1] < 2.0 * spacing)
+    return "the points lie on a line (no tree: a tree has a cross-section)";
+  if (sd[0] < 1e-3 * sd[2] || sd[0] < 2.0 * spacing)
+    return "the points lie in a plane (no tree: a tree has extent in three directions)";
+  return {};
+}
+
+/// The graph: each point linked to its GraphNeighbours nearest within GraphReach spacings (symmetrised).
+Graph NeighbourGraph(const std::vector<Eigen::Vector3d>& points, double spacing, const ParallelFor& parallel)
+{
+  PointGrid grid(points, 2.0 * spacing);
+  std::vector<std::vector<std::pair<double, int>>> near(points.size());
+  parallel(points.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      near[i] = grid.Nearest(points[i], GraphNeighbours, static_cast<int>(i), GraphReach * spacing);
+  });
+  std::vector<std::vector<std::pair<int, double>>> adjacency(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (const auto& n : near[i])
+    {
+      const double d = std::sqrt(n.first);
+      adjacency[i].emplace_back(n.second, d);
+      adjacency[static_cast<std::size_t>(n.second)].emplace_back(static_cast<int>(i), d);
+    }
+  Graph graph;
+  graph.offset.assign(points.size() + 1, 0);
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    auto& a = adjacency[i];
+    std::sort(a.begin(), a.end());
+    a.erase(std::unique(a.begin(), a.end(), [](const auto& x, const auto& y) { return x.first == y.first; }), a.end());
+    graph.offset[i + 1] = graph.offset[i] + static_cast<int>(a.size());
+    for (const auto& [j, d] : a)
+    {
+      graph.target.push_back(j);
+      graph.weight.push_back(d);
+    }
+  }
+  return graph;
+}
+
+/// Joins the graph's components to the one holding the base across gaps up to GapReach spacings: candidate bridges
+/// between components meeting in neighbouring voxels of that size (the closest pair of up to 16 points of each in the
+/// two voxels), then Kruskal's shortest-first union. Returns, per point, whether it is in the joined tree; the bridges
+/// used are added to the graph.
+std::vector<unsigned char> JoinComponents(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& up,
+  double spacing, const ParallelFor& parallel, Graph& graph)
+{
+  const std::size_t n = points.size();
+  UnionFind sets(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
+      sets.Join(static_cast<int>(i), graph.target[e]);
+  std::vector<int> root(n), size(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    ++size[root[i] = sets.Find(static_cast<int>(i))];
+  // The base component: the largest among those reaching within a few spacings of the lowest point.
+  std::size_t lowest = 0;
+  for (std::size_t i = 1; i < n; ++i)
+    if (points[i].dot(up) < points[lowest].dot(up))
+      lowest = i;
+  int base = root[lowest];
+  for (std::size_t i = 0; i < n; ++i)
+    if (points[i].dot(up) < points[lowest].dot(up) + 10.0 * spacing && size[root[i]] > size[base])
+      base = root[i];
+  // Voxels of side GapReach spacings: (voxel key, component, point), sorted.
+  const double cell = GapReach * spacing;
+  auto key = [&](const Eigen::Vector3d& p, int dx, int dy, int dz) {
+    const auto f = [&](double v, int d) { return static_cast<std::int64_t>(std::floor(v / cell)) + d + (1 << 20); };
+    return (f(p.x(), dx) << 42) | (f(p.y(), dy) << 21) | f(p.z(), dz);
+  };
+  std::vector<std::tuple<std::int64_t, int, int>> cells;
+  for (std::size_t i = 0; i < n; ++i)
+    if (size[root[i]] >= MinComponent)
+      cells.emplace_back(key(points[i], 0, 0, 0), root[i], static_cast<int>(i));
+  std::sort(cells.begin(), cells.end());
+  // Runs of one (voxel, component): [begin, end) in cells.
+  std::vector<std::pair<int, int>> runs;
+  for (std::size_t k = 0; k < cells.size();)
+  {
+    std::size_t e = k;
+    while (e < cells.size() && std::get<0>(cells[e]) == std::get<0>(cells[k]) &&
+      std::get<1>(cells[e]) == std::get<1>(cells[k]))
+      ++e;
+    runs.emplace_back(static_cast<int>(k), static_cast<int>(e));
+    k = e;
+  }
+  auto runOf = [&](std::int64_t voxel) {
+    return std::lower_bound(runs.begin(), runs.end(), voxel,
+      [&](const std::pair<int, int>& r, std::int64_t v) { return std::get<0>(cells[r.first]) < v; });
+  };
+  std::vector<std::vector<std::tuple<double, int, int>>> found(runs.size());
+  parallel(runs.size(), [&](std::size_t b, std::size_t e) {
+    for (std::size_t r = b; r < e; ++r)
+    {
+      const auto [begin, end] = runs[r];
+      const Eigen::Vector3d& p0 = points[std::get<2>(cells[begin])];
+      const int component = std::get<1>(cells[begin]);
+      const std::int64_t self = std::get<0>(cells[begin]);
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz)
+          {
+            const std::int64_t voxel = key(p0, dx, dy, dz);
+            if (voxel < self)
+              continue; // each pair of voxels once
+            for (auto it = runOf(voxel); it != runs.end() && std::get<0>(cells[it->first]) == voxel; ++it)
+            {
+              const int other = std::get<1>(cells[it->first]);
+              if (other == component || (voxel == self && other < component))
+                continue;
+              std::tuple<double, int, int> best{ std::numeric_limits<double>::infinity(), -1, -1 };
+              const int stepA = std::max(1, (end - begin) / 16), stepB = std::max(1, (it->second - it->first) / 16);
+              for (int x = begin; x < end; x += stepA)
+                for (int y = it->first; y < it->second; y += stepB)
+                {
+                  const int i = std::get<2>(cells[x]), j = std::get<2>(cells[y]);
+                  best =
+                    std::min(best, std::make_tuple((points[i] - points[j]).norm(), std::min(i, j), std::max(i, j)));
+                }
+              if (std::get<0>(best) <= cell)
+                found[r].push_back(best);
+            }
+          }
+    }
+  });
+  std::vector<std::tuple<double, int, int>> bridges;
+  for (const auto& f : found)
+    bridges.insert(bridges.end(), f.begin(), f.end());
+  std::sort(bridges.begin(), bridges.end());
+  UnionFind joined(n);
+  std::vector<std::vector<std::pair<int, double>>> extra(n);
+  bool any = false;
+  for (const auto& [d, i, j] : bridges)
+  {
+    const int a = joined.Find(root[i]), b = joined.Find(root[j]);
+    if (a == b)
+      continue;
+    joined.Join(a, b);
+    extra[i].emplace_back(j, d);
+    extra[j].emplace_back(i, d);
+    any = true;
+  }
+  std::vector<unsigned char> in(n, 0);
+  const int baseSet = joined.Find(base);
+  for (std::size_t i = 0; i < n; ++i)
+    in[i] = size[root[i]] >= MinComponent && joined.Find(root[i]) == baseSet ? 1 : 0;
+  if (any)
+  {
+    Graph withBridges;
+    withBridges.offset.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
+      {
+        withBridges.target.push_back(graph.target[e]);
+        withBridges.weight.push_back(graph.weight[e]);
+      }
+      for (const auto& [j, d] : extra[i])
+      {
+        withBridges.target.push_back(j);
+        withBridges.weight.push_back(d);
+      }
+      withBridges.offset[i + 1] = static_cast<int>(withBridges.target.size());
+    }
+    graph = std::move(withBridges);
+  }
+  return in;
+}
+
+/// The subgraph on the points with keep[i] (renumbered by `index`: old id -> new id or -1).
+Graph Subgraph(const Graph& graph, const std::vector<int>& kept, const std::vector<int>& index)
+{
+  Graph sub;
+  sub.offset.assign(kept.size() + 1, 0);
+  for (std::size_t k = 0; k < kept.size(); ++k)
+  {
+    const int i = kept[k];
+    for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
+      if (index[graph.target[e]] >= 0)
+      {
+        sub.target.push_back(index[graph.target[e]]);
+        sub.weight.push_back(graph.weight[e]);
+      }
+    sub.offset[k + 1] = static_cast<int>(sub.target.size());
+  }
+  return sub;
+}
+
+/// Dijkstra from every point within `band` of the lowest one (ties broken by point id: deterministic).
+void Geodesic(const std::vector<Eigen::Vector3d>& points, const Graph& graph, const Eigen::Vector3d& up, double band,
+  std::vector<double>& distance, std::vector<int>& previous)
+{
+  const std::size_t n = points.size();
+  distance.assign(n, std::numeric_limits<double>::infinity());
+  previous.assign(n, -1);
+  double low = std::numeric_limits<double>::infinity();
+  for (const auto& p : points)
+    low = std::min(low, p.dot(up));
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (std::size_t i = 0; i < n; ++i)
+    if (points[i].dot(up) <= low + band)
+    {
+      distance[i] = 0.0;
+      queue.emplace(0.0, static_cast<int>(i));
+    }
+  while (!queue.empty())
+  {
+    const auto [d, i] = queue.top();
+    queue.pop();
+    if (d > distance[i])
+      continue;
+    for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
+    {
+      const int j = graph.target[e];
+      const double nd = d + graph.weight[e];
+      if (nd < distance[j])
+      {
+        distance[j] = nd;
+        previous[j] = i;
+        queue.emplace(nd, j);
+      }
+    }
+  }
+}
+} // namespace
+
+double PointSpacing(const std::vector<Eigen::Vector3d>& points, const ParallelFor& parallel)
+{
+  PointGrid grid(points, PointGrid::CellFor(points, 4.0));
+  return Median(MeanNeighbourDistance(points, grid, SpacingNeighbours, parallel));
+}
+
+std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& all, const std::vector<int>& candidates,
+  const TreeFitParameters& options, const ParallelFor& parallel, Wood& wood)
+{
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(candidates.size());
+  for (int i : candidates)
+    points.push_back(all[i]);
+  PointGrid grid(points, PointGrid::CellFor(points, 4.0));
+  const std::vector<double> mean = MeanNeighbourDistance(points, grid, SpacingNeighbours, parallel);
+  const double spacing = Median(mean);
+  if (!(spacing > 0.0) || !std::isfinite(spacing))
+    return "the points have no spacing (all at one place?)";
+  if (std::string shape = CheckShape(points, spacing); !shape.empty())
+    return shape;
+  // Outliers on a log scale of the mean neighbour distance.
+  std::vector<double> logs;
+  for (double m : mean)
+    if (std::isfinite(m) && m > 0.0)
+      logs.push_back(std::log(m));
+  const double centre = Median(logs);
+  std::vector<double> deviation;
+  for (double l : logs)
+    deviation.push_back(std::abs(l - centre));
+  const double mad = std::max(1.4826 * Median(deviation), 0.05);
+  std::vector<int> inliers;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (std::isfinite(mean[i]) && mean[i] > 0.0 && std::log(mean[i]) <= centre + options.outlierSigma * mad)
+      inliers.push_back(static_cast<int>(i));
+  std::vector<Eigen::Vector3d> clean;
+  for (int i : inliers)
+    clean.push_back(points[i]);
+  Graph graph = NeighbourGraph(clean, spacing, parallel);
+  const std::vector<unsigned char> in = JoinComponents(clean, options.up, spacing, parallel, graph);
+  std::vector<int> kept, index(clean.size(), -1);
+  for (std::size_t i = 0; i < clean.size(); ++i)
+    if (in[i])
+    {
+      index[i] = static_cast<int>(kept.size());
+      kept.push_back(static_cast<int>(i));
+    }
+  if (kept.size() < static_cast<std::size_t>(MinTreePoints))
+  {
+    std::ostringstream message;
+    message << "only " << kept.size() << " points are connected to the base (at least " << MinTreePoints << " needed)";
+    return message.str();
+  }
+  wood.spacing = spacing;
+  wood.graph = Subgraph(graph, kept, index);
+  for (int k : kept)
+  {
+    wood.points.push_back(clean[k]);
+    wood.input.push_back(candidates[inliers[k]]);
+  }
+  Geodesic(wood.points, wood.graph, options.up, 6.0 * spacing, wood.geodesic, wood.previous);
+  return {};
+}
+
+} // namespace treefit
+} // namespace plantmorph

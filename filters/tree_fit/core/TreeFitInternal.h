@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The tree fit's internal steps (TreeFit.h describes the method). Plain C++17 (Eigen), no VTK.
+#pragma once
+
+#include "TreeFit.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+namespace treefit
+{
+
+/// A symmetric weighted graph in compressed rows: the neighbours of i are target[offset[i]] .. target[offset[i+1]-1].
+struct Graph
+{
+  std::vector<int> offset, target;
+  std::vector<double> weight;
+};
+
+/// The cleaned wood of one tree: its points (a subset of the input), their ids in the input, the neighbour graph,
+/// geodesic distances from the base and each point's predecessor on its shortest path (-1 at the base).
+struct Wood
+{
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> input;
+  double spacing = 0;
+  Graph graph;
+  std::vector<double> geodesic;
+  std::vector<int> previous;
+};
+
+/// Median over the points of the mean distance to their 6 nearest neighbours.
+double PointSpacing(const std::vector<Eigen::Vector3d>& points, const ParallelFor& parallel);
+
+/// Steps 1-2 and the geodesic distances of step 3: "" or why the cloud is no tree.
+std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& candidates,
+  const TreeFitParameters& options, const ParallelFor& parallel, Wood& wood);
+
+/// A level-set node: the points (ids into Wood::points) of one connected component of one bin.
+struct Node
+{
+  int bin = 0, parent = -1;
+  std::vector<int> points;
+  std::vector<int> children;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+};
+
+struct Skeleton
+{
+  double binWidth = 0;
+  std::vector<Node> nodes;
+  std::vector<std::vector<int>> segments; ///< node chains, base to tip; segment 0 starts at the root
+  std::vector<int> segmentParent;         ///< the segment whose last node a segment's first node hangs from
+  std::vector<int> nodeOf;                ///< per wood point: its node (pruned points: the fork node)
+  std::vector<unsigned char> fitted;      ///< per wood point: used in the cylinder fits (0 for pruned side chains)
+};
+
+/// Step 3 on the cleaned wood.
+Skeleton BuildSkeleton(const Wood& wood);
+
+/// One cylinder fit on points: axis through `point` along unit `axis`, `radius`; residual statistics.
+struct CylinderFit
+{
+  Eigen::Vector3d point = Eigen::Vector3d::Zero(), axis = Eigen::Vector3d::UnitZ();
+  double radius = 0, rms = 0, scale = 0, coverage = 0;
+  bool ok = false;
+};
+
+/// A robust cylinder through `points` started from direction `axis0` (step 4). ok is false when it cannot be fitted.
+CylinderFit FitCylinder(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& axis0, double spacing);
+
+/// Steps 4-6 (everything but the traits): cylinders, branches and the points' cylinder; "" or why no radius could
+/// be measured anywhere.
+std::string FitCylinders(const Wood& wood, const Skeleton& skeleton, const TreeFitParameters& options,
+  const ParallelFor& parallel, TreeFitResult& result, std::vector<int>& woodCylinder);
+
+/// Step 5-6 on the fitted cylinders (fitRMS holding each fit's robust residual scale): the noise, which radii are
+/// measured, the growth-length model for the others, branches and orders; "" or why no radius is measured.
+std::string ModelRadii(double spacing, TreeFitResult& result);
+
+/// The trait table and the branch rows' angles, heights and volumes from the cylinders.
+void ComputeTraits(const std::vector<Eigen::Vector3d>& points, const Wood& wood, const TreeFitParameters& options,
+  TreeFitResult& result);
+
+} // namespace treefit
+} // namespace plantmorph

@@ -1,0 +1,334 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Steps 5-6 of the tree fit (TreeFit.h): which fitted radii the points support, the growth-length (pipe model)
+// radius everywhere else, and the branches.
+#include "TreeFitInternal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace plantmorph
+{
+namespace treefit
+{
+namespace
+{
+constexpr int MinMeasuredPoints = 12;
+constexpr double MinCoverage = 150.0;   // degrees
+constexpr double MinArcSpacings = 5.0;  // the arc seen, in spacings
+constexpr double MinRadiusNoise = 3.0;  // noise deviations
+constexpr double MaxScaleRadius = 0.35; // residual scale / radius
+constexpr double ModelFactor = 2.0;     // a measured radius this far from the model is not trusted...
+constexpr double StrongCoverage = 240.0, StrongRadiusNoise = 10.0; // ...unless the fit is this good
+constexpr int MinStrongPoints = 50;
+constexpr double ContinueShare = 0.25;  // of the heaviest child's carried volume
+constexpr double CodominantShare = 0.5; // of the heaviest child's carried volume
+constexpr double ForkMargin = 10.0;     // degrees: codominant children turning less apart than this end the branch
+
+double Median(std::vector<double> values)
+{
+  if (values.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
+  return values[mid];
+}
+
+/// log r = a + b log GL fitted (Huber IRLS, weights sqrt(points)) to the measured cylinders; b = 1/2 (the pipe model:
+/// area proportional to what is carried) when they do not span a factor 3 of growth length or are fewer than 5.
+void FitModel(const std::vector<TreeCylinder>& cylinders, double& a, double& b)
+{
+  std::vector<double> x, y, w;
+  for (const auto& c : cylinders)
+    if (c.measured)
+    {
+      x.push_back(std::log(c.growthLength));
+      y.push_back(std::log(c.fittedRadius));
+      w.push_back(std::sqrt(static_cast<double>(c.points)));
+    }
+  b = 0.5;
+  const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
+  const bool spans = x.size() >= 5 && *hi - *lo >= std::log(3.0);
+  std::vector<double> weight = w;
+  for (int iteration = 0; iteration < 20; ++iteration)
+  {
+    if (spans)
+    {
+      double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+      for (std::size_t i = 0; i < x.size(); ++i)
+      {
+        sw += weight[i], sx += weight[i] * x[i], sy += weight[i] * y[i];
+        sxx += weight[i] * x[i] * x[i], sxy += weight[i] * x[i] * y[i];
+      }
+      const double det = sw * sxx - sx * sx;
+      b = det > 0 ? std::clamp((sw * sxy - sx * sy) / det, 0.25, 1.0) : 0.5;
+    }
+    double sw = 0, sr = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      sw += weight[i], sr += weight[i] * (y[i] - b * x[i]);
+    a = sr / sw;
+    std::vector<double> absolute;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      absolute.push_back(std::abs(y[i] - a - b * x[i]));
+    const double k = 1.345 * std::max(1.4826 * Median(absolute), 0.05);
+    for (std::size_t i = 0; i < x.size(); ++i)
+      weight[i] = w[i] * std::min(1.0, k / std::max(absolute[i], 1e-12));
+  }
+}
+
+/// The direction from the start of cylinder `k` to a point `distance` further along the tree, at every fork taking the
+/// child that keeps the chord straightest: over a long stretch the lean of the junction cylinders averages out.
+Eigen::Vector3d FarDirection(
+  const std::vector<TreeCylinder>& cylinders, const std::vector<std::vector<int>>& children, int k, double distance)
+{
+  const Eigen::Vector3d origin = cylinders[k].start;
+  int at = k;
+  for (double along = cylinders[k].length; along < distance && !children[at].empty();)
+  {
+    const Eigen::Vector3d chord = (cylinders[at].end - origin).normalized();
+    int best = children[at].front();
+    for (int c : children[at])
+      if ((cylinders[c].end - origin).normalized().dot(chord) > (cylinders[best].end - origin).normalized().dot(chord))
+        best = c;
+    at = best;
+    along += cylinders[at].length;
+  }
+  const Eigen::Vector3d d = cylinders[at].end - origin;
+  return d.norm() > 0 ? d.normalized() : Eigen::Vector3d(cylinders[k].end - cylinders[k].start).normalized();
+}
+
+/// Per cylinder, the child that continues its branch (-1: none; the branch ends there). A single child always does.
+/// At a fork, the straightest child among those carrying at least ContinueShare of what the heaviest carries (a
+/// leader goes on past a heavier lateral), unless two codominant children (each carrying at least CodominantShare of
+/// the heaviest) turn alike (within ForkMargin): a sympodial fork or a Y ends the branch, each child a branch of the
+/// next order. Directions are chords over a few parent radii, away from the junction (whose cylinders hold both
+/// branches and lean): the parent's from below it, each child's ahead of it (FarDirection).
+std::vector<int> ContinuingChildren(
+  const std::vector<TreeCylinder>& cylinders, const std::vector<double>& radius, const std::vector<double>& carried)
+{
+  const std::size_t n = cylinders.size();
+  std::vector<std::vector<int>> children(n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const int p = cylinders[k].parent;
+    if (p < 0)
+      continue;
+    children[p].push_back(static_cast<int>(k));
+  }
+  std::vector<int> continuing(n, -1);
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    if (children[p].size() == 1)
+      continuing[p] = children[p].front();
+    if (children[p].size() < 2)
+      continue;
+    const double reach = std::max(4.0 * radius[p], 2.0 * cylinders[p].length);
+    int near = cylinders[p].parent >= 0 ? cylinders[p].parent : static_cast<int>(p);
+    for (double along = cylinders[p].length; cylinders[near].parent >= 0 && along < 0.5 * reach;)
+      along += cylinders[near = cylinders[near].parent].length;
+    int far = near;
+    for (double along = 0; cylinders[far].parent >= 0 && along < 2.0 * reach;)
+      along += cylinders[far = cylinders[far].parent].length;
+    Eigen::Vector3d dp = cylinders[near].end - cylinders[far].start;
+    dp = dp.norm() > 0 ? dp.normalized() : (cylinders[p].end - cylinders[p].start).normalized().eval();
+    double heaviest = 0;
+    for (int k : children[p])
+      heaviest = std::max(heaviest, carried[k]);
+    std::vector<std::pair<double, int>> angles; // (degrees, child)
+    for (int k : children[p])
+    {
+      if (carried[k] < ContinueShare * heaviest)
+        continue;
+      const Eigen::Vector3d d = FarDirection(cylinders, children, k, 2.0 * reach);
+      angles.emplace_back(std::acos(std::clamp(d.dot(dp), -1.0, 1.0)) * 180.0 / M_PI, k);
+    }
+    std::sort(angles.begin(), angles.end());
+    if (angles.empty())
+      continue;
+    // Codominant children (each carrying at least half the heaviest) turning alike: the branch ends at the fork.
+    const auto codominant = [&](int k) { return carried[k] >= CodominantShare * heaviest; };
+    const bool fork = angles.size() > 1 && codominant(angles[0].second) && codominant(angles[1].second) &&
+      angles[1].first - angles[0].first < ForkMargin;
+    if (!fork)
+      continuing[p] = angles[0].second;
+  }
+  return continuing;
+}
+
+/// Branches: the trunk from the base, at every fork the child carrying the most volume continues its parent's branch.
+void AssignBranches(TreeFitResult& result, const std::vector<double>& radius)
+{
+  auto& cylinders = result.cylinders;
+  const std::size_t n = cylinders.size();
+  std::vector<double> carried(n, 0.0);
+  for (std::size_t k = n; k-- > 0;)
+  {
+    carried[k] += M_PI * radius[k] * radius[k] * cylinders[k].length;
+    if (cylinders[k].parent >= 0)
+      carried[cylinders[k].parent] += carried[k];
+  }
+  const std::vector<int> continuing = ContinuingChildren(cylinders, radius, carried);
+  result.branches.clear();
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    TreeCylinder& c = cylinders[k];
+    if (c.parent >= 0 && continuing[c.parent] == static_cast<int>(k))
+    {
+      c.branch = cylinders[c.parent].branch;
+      c.order = cylinders[c.parent].order;
+    }
+    else
+    {
+      TreeBranchRow row;
+      row.id = static_cast<int>(result.branches.size());
+      row.parent = c.parent >= 0 ? cylinders[c.parent].branch : -1;
+      row.order = c.parent >= 0 ? cylinders[c.parent].order + 1 : 0;
+      result.branches.push_back(row);
+      c.branch = row.id;
+      c.order = row.order;
+    }
+    result.branches[c.branch].cylinders.push_back(static_cast<int>(k));
+  }
+}
+
+double SegmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+{
+  const Eigen::Vector3d ab = b - a;
+  const double t = std::clamp((x - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+  return (x - a - t * ab).norm();
+}
+
+/// A child branch leaves the level sets only where its surface parts from its parent's, some way past the fork: its
+/// first cylinder is extended back along its axis to the parent's surface (the parent's cylinders near the fork).
+void SeatBranches(TreeFitResult& result)
+{
+  auto& cylinders = result.cylinders;
+  std::vector<std::vector<int>> children(cylinders.size());
+  for (std::size_t k = 0; k < cylinders.size(); ++k)
+    if (cylinders[k].parent >= 0)
+      children[cylinders[k].parent].push_back(static_cast<int>(k));
+  for (const TreeBranchRow& branch : result.branches)
+  {
+    TreeCylinder& first = cylinders[branch.cylinders.front()];
+    if (first.parent < 0)
+      continue;
+    std::vector<int> near;
+    for (int q = first.parent, back = 0; q >= 0 && back < 4; q = cylinders[q].parent, ++back)
+      near.push_back(q);
+    for (int q = first.parent, ahead = 0; ahead < 3;)
+    {
+      int next = -1;
+      for (int c : children[q])
+        if (cylinders[c].branch == cylinders[first.parent].branch)
+          next = c;
+      if (next < 0)
+        break;
+      near.push_back(next);
+      q = next;
+      ++ahead;
+    }
+    const Eigen::Vector3d d = (first.end - first.start).normalized();
+    const double reach = 2.0 * std::max(first.length, 3.0 * cylinders[first.parent].radius);
+    const double step = std::max(reach / 200.0, 1e-9);
+    for (double t = 0; t <= reach; t += step)
+    {
+      const Eigen::Vector3d x = first.start - t * d;
+      const bool inside = std::any_of(near.begin(), near.end(),
+        [&](int q) { return SegmentDistance(x, cylinders[q].start, cylinders[q].end) <= cylinders[q].radius; });
+      if (inside)
+      {
+        first.start = x;
+        first.length += t;
+        break;
+      }
+    }
+  }
+}
+} // namespace
+
+std::string ModelRadii(double spacing, TreeFitResult& result)
+{
+  auto& cylinders = result.cylinders;
+  const std::size_t n = cylinders.size();
+  // The scan's noise: the residual scale of the well-covered fits.
+  std::vector<double> scales, all;
+  for (const auto& c : cylinders)
+    if (std::isfinite(c.fittedRadius))
+    {
+      all.push_back(c.fitRMS);
+      if (c.points >= 30 && c.coverage >= 180.0)
+        scales.push_back(c.fitRMS);
+    }
+  double noise = !scales.empty() ? Median(scales) : !all.empty() ? Median(all) : 0.5 * spacing;
+  noise = std::max(noise, 1e-3 * spacing);
+  result.traits.noise = noise;
+  for (auto& c : cylinders)
+  {
+    const double r = c.fittedRadius;
+    c.measured = std::isfinite(r) && c.points >= MinMeasuredPoints && c.coverage >= MinCoverage &&
+      r * c.coverage * M_PI / 180.0 >= MinArcSpacings * spacing && r >= MinRadiusNoise * noise &&
+      c.fitRMS <= MaxScaleRadius * r;
+  }
+  for (std::size_t k = n; k-- > 0;)
+  {
+    cylinders[k].growthLength += std::max(cylinders[k].length, 1e-12);
+    if (cylinders[k].parent >= 0)
+      cylinders[cylinders[k].parent].growthLength += cylinders[k].growthLength;
+  }
+  double a = 0, b = 0.5;
+  for (int round = 0; round < 3; ++round)
+  {
+    if (std::none_of(cylinders.begin(), cylinders.end(), [](const TreeCylinder& c) { return c.measured; }))
+      return "no part of the cloud has points enough to measure a radius: too sparse, too noisy, or not a tree";
+    FitModel(cylinders, a, b);
+    for (auto& c : cylinders)
+    {
+      if (!c.measured)
+        continue;
+      const double model = std::exp(a + b * std::log(c.growthLength));
+      const double ratio = c.fittedRadius / model;
+      const bool strong =
+        c.coverage >= StrongCoverage && c.points >= MinStrongPoints && c.fittedRadius >= StrongRadiusNoise * noise;
+      if (!strong && (ratio > ModelFactor || ratio < 1.0 / ModelFactor))
+        c.measured = false;
+    }
+  }
+  std::vector<double> model(n), first(n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    model[k] = std::exp(a + b * std::log(cylinders[k].growthLength));
+    first[k] = cylinders[k].measured ? cylinders[k].fittedRadius : model[k];
+  }
+  AssignBranches(result, first);
+  // Each branch's level: the geometric mean of its measured / model ratios, else its parent branch's.
+  std::vector<double> level(result.branches.size(), 1.0);
+  for (const auto& branch : result.branches)
+  {
+    double sum = 0, count = 0;
+    for (int k : branch.cylinders)
+      if (cylinders[k].measured)
+      {
+        sum += std::log(cylinders[k].fittedRadius / model[k]);
+        count += 1;
+      }
+    level[branch.id] = count > 0 ? std::exp(std::clamp(sum / count, -std::log(ModelFactor), std::log(ModelFactor)))
+                                 : (branch.parent >= 0 ? level[branch.parent] : 1.0);
+  }
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    TreeCylinder& c = cylinders[k];
+    if (c.measured)
+      c.radius = c.fittedRadius;
+    else
+    {
+      c.radius = level[c.branch] * model[k];
+      if (c.parent >= 0)
+        c.radius = std::min(c.radius, cylinders[c.parent].radius); // no modelled cylinder wider than what carries it
+    }
+  }
+  SeatBranches(result);
+  return {};
+}
+
+} // namespace treefit
+} // namespace plantmorph

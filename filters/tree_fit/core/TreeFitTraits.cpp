@@ -1,0 +1,186 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The tree fit's tables (TreeFit.h): per branch its length, volume, base diameter, angles and height; per tree the
+// traits foresters read from a QSM.
+#include "TreeFitInternal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace plantmorph
+{
+namespace treefit
+{
+namespace
+{
+constexpr double Degrees = 180.0 / M_PI;
+
+void Horizontal(const Eigen::Vector3d& up, Eigen::Vector3d& e1, Eigen::Vector3d& e2)
+{
+  Eigen::Vector3d x = Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX().dot(up) * up;
+  if (x.norm() < 1e-6)
+    x = Eigen::Vector3d::UnitY() - Eigen::Vector3d::UnitY().dot(up) * up;
+  e1 = x.normalized();
+  e2 = up.cross(e1);
+}
+
+/// Area of the 2-D convex hull (Andrew's monotone chain).
+double HullArea(std::vector<Eigen::Vector2d> p)
+{
+  if (p.size() < 3)
+    return 0.0;
+  std::sort(p.begin(), p.end(),
+    [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y(); });
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  std::vector<Eigen::Vector2d> hull(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+  {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 0)
+      --k;
+    hull[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i)
+  {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], p[i - 1]) <= 0)
+      --k;
+    hull[k++] = p[i - 1];
+  }
+  double area = 0;
+  for (std::size_t i = 0; i + 1 < k; ++i)
+    area += hull[i].x() * hull[i + 1].y() - hull[i + 1].x() * hull[i].y();
+  return 0.5 * std::abs(area);
+}
+
+/// The direction of a branch's base: the chord from its start over the first third of its length (at least its first
+/// cylinder).
+Eigen::Vector3d BaseDirection(const std::vector<TreeCylinder>& cylinders, const TreeBranchRow& branch)
+{
+  const TreeCylinder& first = cylinders[branch.cylinders.front()];
+  const double target = std::max(branch.length / 3.0, first.length);
+  double along = 0;
+  Eigen::Vector3d end = first.end;
+  for (int k : branch.cylinders)
+  {
+    end = cylinders[k].end;
+    along += cylinders[k].length;
+    if (along >= target)
+      break;
+  }
+  const Eigen::Vector3d d = end - first.start;
+  return d.norm() > 0 ? d.normalized() : (first.end - first.start).normalized();
+}
+
+/// The parent's direction coming into a fork: the chord over its cylinders between half and two reaches (four of its
+/// radii) back from cylinder `at`. The cylinders at the fork itself hold the start of the child too and lean towards
+/// it; a fork at a branch's end has no "after".
+Eigen::Vector3d ParentDirection(const std::vector<TreeCylinder>& cylinders, int at)
+{
+  const double reach = 4.0 * cylinders[at].radius;
+  int near = cylinders[at].parent >= 0 ? cylinders[at].parent : at; // never the fork's own cylinder
+  for (double along = cylinders[at].length; cylinders[near].parent >= 0 && along < 0.5 * reach;)
+    along += cylinders[near = cylinders[near].parent].length;
+  int far = near;
+  for (double along = 0; cylinders[far].parent >= 0 && along < 1.5 * reach;)
+    along += cylinders[far = cylinders[far].parent].length;
+  const Eigen::Vector3d d = cylinders[near].end - cylinders[far].start;
+  return d.norm() > 0 ? d.normalized() : (cylinders[at].end - cylinders[at].start).normalized();
+}
+
+void BranchRows(const Eigen::Vector3d& up, double low, TreeFitResult& result)
+{
+  Eigen::Vector3d e1, e2;
+  Horizontal(up, e1, e2);
+  const auto& cylinders = result.cylinders;
+  for (TreeBranchRow& branch : result.branches)
+  {
+    branch.length = branch.volume = 0;
+    for (int k : branch.cylinders)
+    {
+      branch.length += cylinders[k].length;
+      branch.volume += M_PI * cylinders[k].radius * cylinders[k].radius * cylinders[k].length;
+    }
+    const TreeCylinder& first = cylinders[branch.cylinders.front()];
+    branch.baseDiameter = 2.0 * first.radius;
+    branch.height = first.start.dot(up) - low;
+    const Eigen::Vector3d d = BaseDirection(cylinders, branch);
+    branch.azimuth = std::atan2(d.dot(e2), d.dot(e1)) * Degrees;
+    branch.inclination = std::asin(std::clamp(d.dot(up), -1.0, 1.0)) * Degrees;
+    branch.angle = std::numeric_limits<double>::quiet_NaN();
+    if (first.parent >= 0)
+    {
+      const Eigen::Vector3d dp = ParentDirection(cylinders, first.parent);
+      branch.angle = std::acos(std::clamp(d.dot(dp), -1.0, 1.0)) * Degrees;
+    }
+  }
+}
+} // namespace
+
+void ComputeTraits(
+  const std::vector<Eigen::Vector3d>& points, const Wood& wood, const TreeFitParameters& options, TreeFitResult& result)
+{
+  const Eigen::Vector3d& up = options.up;
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (const auto& p : wood.points)
+  {
+    low = std::min(low, p.dot(up));
+    high = std::max(high, p.dot(up));
+  }
+  BranchRows(up, low, result);
+  TreeTraits& t = result.traits;
+  t.height = high - low;
+  t.dbh = std::numeric_limits<double>::quiet_NaN();
+  double longestFirst = 0;
+  for (const auto& branch : result.branches)
+    if (branch.order == 1)
+      longestFirst = std::max(longestFirst, branch.length);
+  t.crownBaseHeight = std::numeric_limits<double>::quiet_NaN();
+  double measuredVolume = 0;
+  for (const auto& branch : result.branches)
+  {
+    if (branch.order == 0)
+    {
+      t.trunkVolume += branch.volume;
+      t.trunkLength += branch.length;
+      for (int k : branch.cylinders)
+      {
+        const TreeCylinder& c = result.cylinders[k];
+        const double h0 = c.start.dot(up) - low, h1 = c.end.dot(up) - low;
+        if (std::isnan(t.dbh) && std::min(h0, h1) <= options.breastHeight && std::max(h0, h1) >= options.breastHeight)
+          t.dbh = 2.0 * c.radius;
+      }
+      continue;
+    }
+    t.branchVolume += branch.volume;
+    t.totalBranchLength += branch.length;
+    t.branchCount += 1;
+    (branch.order == 1 ? t.order1 : branch.order == 2 ? t.order2 : branch.order == 3 ? t.order3 : t.order4Plus) += 1;
+    if (branch.order == 1 && branch.length >= 0.1 * longestFirst)
+      t.crownBaseHeight = std::isnan(t.crownBaseHeight) ? branch.height : std::min(t.crownBaseHeight, branch.height);
+  }
+  t.totalVolume = t.trunkVolume + t.branchVolume;
+  for (const auto& c : result.cylinders)
+    if (c.measured)
+      measuredVolume += M_PI * c.radius * c.radius * c.length;
+  t.measuredVolumeFraction = t.totalVolume > 0 ? measuredVolume / t.totalVolume : 0.0;
+  Eigen::Vector3d e1, e2;
+  Horizontal(up, e1, e2);
+  std::vector<Eigen::Vector2d> plan;
+  for (const auto& p : wood.points)
+    plan.emplace_back(p.dot(e1), p.dot(e2));
+  t.crownProjectedArea = HullArea(plan);
+  t.points = static_cast<double>(points.size());
+  t.woodPoints = static_cast<double>(wood.points.size());
+  t.spacing = wood.spacing;
+  t.cylinders = static_cast<double>(result.cylinders.size());
+  double sum = 0, count = 0;
+  for (double d : result.fitDistance)
+    if (std::isfinite(d))
+      sum += d * d, count += 1;
+  t.fitRMS = count > 0 ? std::sqrt(sum / count) : 0.0;
+}
+
+} // namespace treefit
+} // namespace plantmorph

@@ -1,0 +1,309 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// TreeFit (filters/tree_fit/core): synthetic scans of trees made of exact cylinders, whose truth is known: a
+// cylinder's radius and volume, a Y fork's branches and angle, twigs too thin to measure getting pipe-model radii
+// instead of inflated fits, deterministic threaded results, and the bad inputs (noise, a plane, a line, too few
+// points, NaN) refused with a clear message.
+#include "TreeFit.h"
+
+#include <plantmorph/RandomStream.h>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <thread>
+#include <vector>
+
+namespace plantmorph
+{
+namespace
+{
+struct TrueCylinder
+{
+  Eigen::Vector3d start, end;
+  double radius;
+};
+
+bool Inside(const TrueCylinder& c, const Eigen::Vector3d& p)
+{
+  const Eigen::Vector3d axis = c.end - c.start;
+  const double t = (p - c.start).dot(axis) / axis.squaredNorm();
+  return t > 0.0 && t < 1.0 && (p - c.start - t * axis).norm() < c.radius * 0.999;
+}
+
+/// The union of the cylinders' side surfaces sampled about `spacing` apart (points inside another cylinder dropped),
+/// with Gaussian noise of deviation `noise` along the surface normal.
+std::vector<Eigen::Vector3d> Scan(
+  const std::vector<TrueCylinder>& cylinders, double spacing, double noise, std::uint64_t seed = 7)
+{
+  RandomStream random(seed);
+  std::vector<Eigen::Vector3d> points;
+  for (std::size_t k = 0; k < cylinders.size(); ++k)
+  {
+    const TrueCylinder& c = cylinders[k];
+    const Eigen::Vector3d axis = (c.end - c.start).normalized();
+    const double length = (c.end - c.start).norm();
+    const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
+    const auto count = static_cast<std::size_t>(2.0 * M_PI * c.radius * length / (spacing * spacing));
+    for (std::size_t i = 0; i < std::max<std::size_t>(count, 1); ++i)
+    {
+      const double t = random.Uniform(0.0, length), phi = random.Uniform(0.0, 2.0 * M_PI);
+      const Eigen::Vector3d normal = std::cos(phi) * u + std::sin(phi) * v;
+      const Eigen::Vector3d p = c.start + t * axis + (c.radius + random.Normal(0.0, noise)) * normal;
+      bool hidden = false;
+      for (std::size_t j = 0; j < cylinders.size() && !hidden; ++j)
+        hidden = j != k && Inside(cylinders[j], p);
+      if (!hidden)
+        points.push_back(p);
+    }
+  }
+  return points;
+}
+
+double Volume(const TrueCylinder& c)
+{
+  return M_PI * c.radius * c.radius * (c.end - c.start).norm();
+}
+
+TEST(TreeFit, CylinderGivesItsRadiusAndVolume)
+{
+  const TrueCylinder stem{ { 0, 0, 0 }, { 0, 0, 2.0 }, 0.1 };
+  const TreeFitResult r = FitTree(Scan({ stem }, 0.01, 0.001), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_NEAR(r.traits.totalVolume, Volume(stem), 0.03 * Volume(stem));
+  EXPECT_NEAR(r.traits.dbh, 0.2, 0.2 * 0.02);
+  EXPECT_NEAR(r.traits.height, 2.0, 0.01 * 2.0);
+  EXPECT_NEAR(r.traits.trunkLength, 2.0, 0.03 * 2.0);
+  EXPECT_EQ(r.traits.branchCount, 0);
+  EXPECT_LT(r.traits.noise, 0.003); // the deviation of the noise, not the radius
+  for (const TreeCylinder& c : r.cylinders)
+  {
+    EXPECT_TRUE(c.measured);
+    EXPECT_NEAR(c.radius, 0.1, 0.005);
+    EXPECT_LT(std::abs((c.end - c.start).normalized().z()), 1.0 + 1e-12);
+    EXPECT_GT(std::abs((c.end - c.start).normalized().z()), std::cos(2.0 * M_PI / 180.0));
+  }
+  // Every point lies on its cylinder: FitDistance about the noise.
+  double sum = 0;
+  int count = 0;
+  for (double d : r.fitDistance)
+    if (std::isfinite(d))
+      sum += d * d, ++count;
+  EXPECT_GT(count, 0.95 * static_cast<double>(r.fitDistance.size()));
+  EXPECT_LT(std::sqrt(sum / count), 0.003);
+}
+
+TEST(TreeFit, TiltedCylinderKeepsItsRadius)
+{
+  const TrueCylinder stem{ { 0, 0, 0 }, { 0.6, 0.3, 1.8 }, 0.05 };
+  const TreeFitResult r = FitTree(Scan({ stem }, 0.006, 0.0005), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_NEAR(r.traits.totalVolume, Volume(stem), 0.04 * Volume(stem));
+  EXPECT_NEAR(r.traits.trunkLength, (stem.end - stem.start).norm(), 0.04 * (stem.end - stem.start).norm());
+}
+
+/// A Y: a trunk and two children at +-`half` degrees from the vertical, the pipe model's radii.
+std::vector<TrueCylinder> Fork(double half)
+{
+  const double a = half * M_PI / 180.0;
+  const Eigen::Vector3d top(0, 0, 1.0);
+  return { { { 0, 0, 0 }, top, 0.06 }, { top, top + 1.2 * Eigen::Vector3d(std::sin(a), 0, std::cos(a)), 0.045 },
+    { top, top + 1.0 * Eigen::Vector3d(-std::sin(a), 0, std::cos(a)), 0.04 } };
+}
+
+TEST(TreeFit, ForkGivesTwoBranchesAtTheirAngle)
+{
+  for (double half : { 25.0, 40.0 })
+  {
+    const auto truth = Fork(half);
+    const TreeFitResult r = FitTree(Scan(truth, 0.006, 0.0005), {}, TreeFitParameters());
+    ASSERT_EQ(r.error, "");
+    // Both children turn away from the trunk: the trunk ends at the fork, each child is a first-order branch.
+    ASSERT_EQ(r.branches.size(), 3u) << "half angle " << half;
+    EXPECT_NEAR(r.branches[0].length, 1.0, 0.15); // the junction, where the children still touch, is the trunk's
+    double azimuths = 0;
+    for (int b : { 1, 2 })
+    {
+      const TreeBranchRow& branch = r.branches[b];
+      EXPECT_EQ(branch.order, 1);
+      EXPECT_EQ(branch.parent, 0);
+      EXPECT_NEAR(branch.angle, half, 5.0) << "half angle " << half;
+      EXPECT_NEAR(branch.height, 1.0, 0.15); // seated on the junction's surface, above the axes' crossing
+      const bool right = std::abs(branch.azimuth) < 90.0;
+      EXPECT_NEAR(branch.length, right ? 1.2 : 1.0, 0.15);
+      EXPECT_NEAR(std::abs(branch.azimuth), right ? 0.0 : 180.0, 5.0);
+      azimuths += right ? 1 : 0;
+    }
+    EXPECT_EQ(azimuths, 1); // one to each side
+    double volume = 0;
+    for (const auto& c : truth)
+      volume += Volume(c);
+    EXPECT_NEAR(r.traits.totalVolume, volume, 0.06 * volume);
+  }
+}
+
+TEST(TreeFit, LeaderGoesOnPastAHeavierLateral)
+{
+  // A leader (straight on, thinner) and a lateral at 35 degrees carrying more volume: the trunk follows the leader.
+  const Eigen::Vector3d top(0, 0, 1.0);
+  const double a = 35.0 * M_PI / 180.0;
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, top, 0.07 }, { top, top + Eigen::Vector3d(0, 0, 1.0), 0.035 },
+    { top, top + 1.6 * Eigen::Vector3d(std::sin(a), 0, std::cos(a)), 0.05 } };
+  const TreeFitResult r = FitTree(Scan(tree, 0.006, 0.0005), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.branches.size(), 2u);
+  EXPECT_NEAR(r.branches[0].length, 2.0, 0.1);
+  EXPECT_NEAR(r.branches[1].angle, 35.0, 5.0);
+  EXPECT_GT(r.branches[1].volume, M_PI * 0.035 * 0.035 * 1.0); // the lateral is the heavier child
+}
+
+TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
+{
+  // A stem that follows the pipe model (each 0.3-long piece carries the area of the twigs above it: radius 5 mm times
+  // the square root of their number) with six twigs of 5 mm, 0.6 long, sampled 8 mm apart with 1 mm noise: the twigs
+  // are too thin to measure (their circumference is less than 5 spacings), so their radii come from the model the
+  // measured stem gives instead of circle fits of a few noisy points.
+  std::vector<TrueCylinder> tree;
+  for (int k = 0; k < 7; ++k)
+    tree.push_back({ { 0, 0, 0.3 * k }, { 0, 0, 0.3 * (k + 1) }, 0.005 * std::sqrt(7.0 - k) });
+  for (int k = 0; k < 6; ++k)
+  {
+    const double phi = k * 2.0 * M_PI * 0.382;
+    const Eigen::Vector3d base(0, 0, 0.3 * (k + 1));
+    const Eigen::Vector3d dir(std::cos(phi) * 0.8, std::sin(phi) * 0.8, 0.6);
+    tree.push_back({ base, base + 0.6 * dir.normalized(), 0.005 });
+  }
+  const TreeFitResult r = FitTree(Scan(tree, 0.008, 0.001), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.traits.order1, 6);
+  double twigVolume = 0, stemVolume = 0, fittedTwigVolume = 0;
+  for (std::size_t k = 0; k < tree.size(); ++k)
+    (k < 7 ? stemVolume : twigVolume) += Volume(tree[k]);
+  for (const TreeCylinder& c : r.cylinders)
+  {
+    if (c.order == 1)
+    {
+      EXPECT_FALSE(c.measured);
+      EXPECT_GT(c.radius, 0.4 * 0.005); // the model tapers towards the tips: growth length falls to zero there
+      EXPECT_LT(c.radius, 1.5 * 0.005);
+      if (std::isfinite(c.fittedRadius))
+        fittedTwigVolume += M_PI * c.fittedRadius * c.fittedRadius * c.length;
+    }
+  }
+  EXPECT_NEAR(r.traits.branchVolume, twigVolume, 0.4 * twigVolume);
+  EXPECT_NEAR(r.traits.trunkVolume, stemVolume, 0.15 * stemVolume);
+  std::cout << "twigs: true volume " << twigVolume << ", modelled " << r.traits.branchVolume << ", circle fits "
+            << fittedTwigVolume << "\n";
+}
+
+TEST(TreeFit, PipeModelSharesTheParentsAreaAmongEqualChildren)
+{
+  // A measured stem forks into two equal thin children: their modelled radii follow the stem's growth-length model
+  // (b = 1/2: area proportional to the length carried), so the children's areas add up to about the stem's top.
+  const Eigen::Vector3d top(0, 0, 1.5);
+  const double a = 30.0 * M_PI / 180.0;
+  std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, top, 0.04 },
+    { top, top + 1.0 * Eigen::Vector3d(std::sin(a), 0, std::cos(a)), 0.004 },
+    { top, top + 1.0 * Eigen::Vector3d(-std::sin(a), 0, std::cos(a)), 0.004 } };
+  const TreeFitResult r = FitTree(Scan(tree, 0.006, 0.002), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.branches.size(), 3u); // both children turn 30 degrees: the stem ends at the fork
+  for (const TreeCylinder& c : r.cylinders)
+  {
+    if (c.parent >= 0 && r.cylinders[c.parent].segment != c.segment && !r.cylinders[c.parent].measured)
+      continue;
+    if (c.measured || c.parent < 0 || r.cylinders[c.parent].segment == c.segment)
+      continue;
+    // First cylinder of a child: pipe model against its measured parent.
+    const TreeCylinder& p = r.cylinders[c.parent];
+    EXPECT_NEAR(c.radius * c.radius, p.radius * p.radius * c.growthLength / p.growthLength,
+      0.5 * p.radius * p.radius * c.growthLength / p.growthLength);
+  }
+  for (const TreeCylinder& c : r.cylinders)
+  {
+    if (!c.measured)
+    {
+      EXPECT_LE(c.radius, r.cylinders[c.parent].radius + 1e-12);
+    }
+  }
+}
+
+TEST(TreeFit, ThreadsGiveTheSameResult)
+{
+  const auto points = Scan(Fork(30.0), 0.008, 0.001);
+  const TreeFitResult serial = FitTree(points, {}, TreeFitParameters());
+  const ParallelFor threads = [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    std::vector<std::thread> pool;
+    const std::size_t parts = 4;
+    for (std::size_t k = 0; k < parts; ++k)
+      pool.emplace_back(body, count * k / parts, count * (k + 1) / parts);
+    for (auto& t : pool)
+      t.join();
+  };
+  const TreeFitResult parallel = FitTree(points, {}, TreeFitParameters(), threads);
+  ASSERT_EQ(serial.error, "");
+  ASSERT_EQ(serial.cylinders.size(), parallel.cylinders.size());
+  for (std::size_t k = 0; k < serial.cylinders.size(); ++k)
+  {
+    EXPECT_EQ(serial.cylinders[k].radius, parallel.cylinders[k].radius);
+    EXPECT_EQ(serial.cylinders[k].start, parallel.cylinders[k].start);
+  }
+  EXPECT_EQ(serial.traits.totalVolume, parallel.traits.totalVolume);
+}
+
+TEST(TreeFit, WoodLabelsKeepOnlyTheWood)
+{
+  const TrueCylinder stem{ { 0, 0, 0 }, { 0, 0, 1.5 }, 0.08 };
+  std::vector<Eigen::Vector3d> points = Scan({ stem }, 0.01, 0.001);
+  std::vector<int> wood(points.size(), 1);
+  RandomStream random(3);
+  for (int k = 0; k < 2000; ++k) // "leaves": a cloud beside the stem, labelled not wood
+  {
+    points.emplace_back(random.Uniform(0.3, 0.8), random.Uniform(-0.3, 0.3), random.Uniform(0.5, 1.5));
+    wood.push_back(0);
+  }
+  const TreeFitResult r = FitTree(points, wood, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_NEAR(r.traits.totalVolume, Volume(stem), 0.03 * Volume(stem));
+  for (std::size_t i = points.size() - 2000; i < points.size(); ++i)
+  {
+    EXPECT_EQ(r.wood[i], 0);
+    EXPECT_TRUE(std::isnan(r.fitDistance[i]));
+  }
+}
+
+TEST(TreeFit, BadInputGivesAnErrorAndNoResult)
+{
+  RandomStream random(11);
+  std::vector<Eigen::Vector3d> noise, plane, line;
+  for (int k = 0; k < 20000; ++k)
+  {
+    noise.emplace_back(random.Uniform(-1, 1), random.Uniform(-1, 1), random.Uniform(0, 2));
+    plane.emplace_back(random.Uniform(-1, 1), random.Uniform(-1, 1), 0.0);
+    line.emplace_back(0.0, 0.0, random.Uniform(0, 2));
+  }
+  auto expectError = [](const std::vector<Eigen::Vector3d>& points, const std::string& words) {
+    const TreeFitResult r = FitTree(points, {}, TreeFitParameters());
+    EXPECT_NE(r.error.find(words), std::string::npos) << r.error;
+    EXPECT_TRUE(r.cylinders.empty());
+    EXPECT_TRUE(r.branches.empty());
+    EXPECT_TRUE(r.fitDistance.empty());
+  };
+  expectError(noise, "not a tree");
+  expectError(plane, "plane");
+  expectError(line, "line");
+  expectError(std::vector<Eigen::Vector3d>(noise.begin(), noise.begin() + 50), "at least 100");
+  auto withNaN = Scan({ { { 0, 0, 0 }, { 0, 0, 1 }, 0.05 } }, 0.01, 0.0);
+  withNaN[17].y() = std::numeric_limits<double>::quiet_NaN();
+  expectError(withNaN, "point 17");
+  TreeFitParameters bad;
+  bad.outlierSigma = 0.5;
+  EXPECT_NE(FitTree(Scan({ { { 0, 0, 0 }, { 0, 0, 1 }, 0.05 } }, 0.01, 0.0), {}, bad).error.find("OutlierSigma"),
+    std::string::npos);
+}
+
+} // namespace
+} // namespace plantmorph
