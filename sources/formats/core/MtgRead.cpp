@@ -158,6 +158,10 @@ bool MtgParser::Line(const std::string& line, std::size_t number)
 bool MtgParser::TableLine(const std::string& trimmed)
 {
   const std::vector<std::string> words = Words(trimmed);
+  if (words.empty())
+  {
+    return true; // only white space Trim keeps (form feeds, vertical tabs)
+  }
   const bool first = !this->TableHeaderSeen;
   this->TableHeaderSeen = true;
   switch (this->Current)

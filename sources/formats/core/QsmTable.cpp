@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace plantmorph
 {
@@ -240,7 +241,7 @@ struct QsmParser
     if (this->Table.columns == 0)
     {
       this->Table.columns = fields.size();
-      if (fields.size() < 9)
+      if (fields.size() != 14 && fields.size() != 17)
       {
         return this->Fail("no header and " + std::to_string(fields.size()) +
           " columns: TreeQSM's cylinder table has 14 or 17 (a CSV needs a header naming its columns)");
@@ -249,9 +250,7 @@ struct QsmParser
       const std::vector<std::string>& standard = TreeQsmNames(fields.size());
       for (std::size_t c = 0; c < fields.size(); ++c)
       {
-        this->Table.names.push_back(c < standard.size() && (c < 13 || fields.size() == 14 || fields.size() == 17)
-            ? standard[c]
-            : "Column" + std::to_string(c + 1));
+        this->Table.names.push_back(standard[c]);
       }
     }
     if (fields.size() != this->Table.columns)
@@ -337,6 +336,79 @@ std::string WriteQsmTable(std::ostream& out, const std::vector<QsmCylinder>& cyl
     out << '\n';
   }
   return out ? std::string() : std::string("the file could not be written");
+}
+
+namespace
+{
+/// The depth of polyline `i` below its root (parents by branchId; a cycle stops the walk).
+double DepthOf(std::size_t i, const std::vector<QsmPolyline>& lines, const std::vector<long long>& parentLine)
+{
+  double depth = 0;
+  for (long long p = parentLine[i]; p >= 0 && depth <= static_cast<double>(lines.size()); p = parentLine[p])
+  {
+    ++depth;
+  }
+  return depth;
+}
+} // namespace
+
+std::vector<QsmCylinder> CylindersOfPolylines(const std::vector<QsmPolyline>& lines, std::vector<std::size_t>& lineOf)
+{
+  std::map<double, std::size_t> byId;
+  for (std::size_t i = 0; i < lines.size(); ++i)
+  {
+    byId.emplace(lines[i].branchId, i);
+  }
+  std::vector<long long> parentLine(lines.size(), -1);
+  std::vector<double> firstCylinder(lines.size(), 0);
+  double next = 1;
+  for (std::size_t i = 0; i < lines.size(); ++i)
+  {
+    const auto p = byId.find(lines[i].parentId);
+    parentLine[i] = p == byId.end() || p->second == i ? -1 : static_cast<long long>(p->second);
+    firstCylinder[i] = next;
+    next += lines[i].points.size() > 1 ? static_cast<double>(lines[i].points.size() - 1) : 0.0;
+  }
+  std::vector<QsmCylinder> cylinders;
+  lineOf.clear();
+  for (std::size_t i = 0; i < lines.size(); ++i)
+  {
+    const QsmPolyline& line = lines[i];
+    double parent = 0;
+    if (parentLine[i] >= 0 && !line.points.empty())
+    {
+      const QsmPolyline& p = lines[static_cast<std::size_t>(parentLine[i])];
+      std::size_t nearest = 0;
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < p.points.size(); ++k)
+      {
+        const double dx = p.points[k][0] - line.points[0][0], dy = p.points[k][1] - line.points[0][1],
+                     dz = p.points[k][2] - line.points[0][2];
+        const double d = dx * dx + dy * dy + dz * dz;
+        nearest = d < best ? k : nearest;
+        best = std::min(best, d);
+      }
+      parent = p.points.size() > 1
+        ? firstCylinder[static_cast<std::size_t>(parentLine[i])] + static_cast<double>(nearest > 0 ? nearest - 1 : 0)
+        : 0.0;
+    }
+    const double order = std::isfinite(line.order) ? line.order : DepthOf(i, lines, parentLine);
+    for (std::size_t k = 0; k + 1 < line.points.size(); ++k)
+    {
+      QsmCylinder c;
+      c.id = firstCylinder[i] + static_cast<double>(k);
+      c.parent = k == 0 ? parent : c.id - 1;
+      c.start = line.points[k];
+      c.end = line.points[k + 1];
+      c.radius = k + 1 < line.radii.size() ? 0.5 * (line.radii[k] + line.radii[k + 1])
+                                           : std::numeric_limits<double>::quiet_NaN();
+      c.branch = line.branchId;
+      c.branchOrder = order;
+      cylinders.push_back(c);
+      lineOf.push_back(i);
+    }
+  }
+  return cylinders;
 }
 
 void CylinderTube(const std::array<double, 3>& start, const std::array<double, 3>& end, double radius, int sides,

@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <initializer_list>
 #include <istream>
+#include <limits>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -62,6 +63,22 @@ const std::vector<std::string>& QsmStandardColumns();
 /// (`extraValues` row-major, one row per cylinder), numbers in their shortest exact form. "" or the reason.
 std::string WriteQsmTable(std::ostream& out, const std::vector<QsmCylinder>& cylinders,
   const std::vector<std::string>& extra = {}, const std::vector<double>& extraValues = {});
+
+/// One polyline of a tree skeleton (TreeFromSketchSource's Skeleton: BranchId, ParentId, Radius per point).
+struct QsmPolyline
+{
+  double branchId = 0;
+  double parentId = -1; ///< a branchId of another polyline, or anything else for none
+  double order = std::numeric_limits<double>::quiet_NaN(); ///< branch order; NaN: the depth below its root
+  std::vector<std::array<double, 3>> points;
+  std::vector<double> radii; ///< one per point
+};
+
+/// The polylines' segments as cylinders, in order (`lineOf`: each cylinder's polyline): ids 1, 2, ...; a segment's
+/// parent the segment before it, a polyline's first segment's the parent polyline's segment ending at its point
+/// nearest to the first point (its first segment for its first point; 0 for none); radius the mean of the two
+/// points'; branch the polyline's branchId.
+std::vector<QsmCylinder> CylindersOfPolylines(const std::vector<QsmPolyline>& lines, std::vector<std::size_t>& lineOf);
 
 /// A closed tube for one cylinder: `sides` points around each end, the side quads and the two end polygons
 /// (`polygons`: point counts then indices, as VTK's legacy cell layout, the indices from `first`).
