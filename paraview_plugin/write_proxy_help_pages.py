@@ -79,6 +79,8 @@ def main():
         hints = proxy.find("Hints")
         if hints is not None and hints.find("ReaderFactory") is not None:
             menu = "File &gt; Open (a reader)"
+        elif group == "writers":
+            menu = "File &gt; Save Data (a writer)"
         else:
             menu = "%s &gt; PlantMorph &gt; %s" % ("Sources" if group == "sources" else "Filters", label)
         pictures = "\n".join('<p><img src="images/%s" width="700"/></p>' % p for p in page["pictures"])

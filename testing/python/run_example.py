@@ -40,6 +40,8 @@ EXAMPLES = {
                                                  "scan_fitted_leaf.json"], ["scanner", "leaf_fit"]),
     "scan_tree.py": ("pvbatch", OUTPUT, ["scan_tree.vtp", "scan_tree.csv", "scan_tree.png"], ["scanner", "tree"]),
     "trace_leaf_outline.py": ("pvbatch", OUTPUT, ["traced_leaf.vtp", "traced_leaf.png"], ["leaf"]),
+    "tree_formats.py": ("pvbatch", OUTPUT, ["tree_formats.mtg", "tree_formats.csv", "tree_formats.png"],
+                        ["formats", "tree"]),
     "main_ginkgo_leaf.py": ("state", [], [], ["leaf"]),
     "main_measured_leaf.py": ("state", [], [], ["leaf_fit", "comparison"]),
     "main_paper000_leaf_shapes.py": ("state", [], [], ["leaf"]),
