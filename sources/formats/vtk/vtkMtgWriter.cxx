@@ -4,16 +4,19 @@
 #include "MtgText.h"
 
 #include "PlantMorphLayer.h"
+#include "WriterPieces.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkIdList.h"
 #include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 
 #include <cmath>
 #include <fstream>
@@ -95,6 +98,18 @@ int vtkMtgWriter::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
   return 1;
+}
+
+//------------------------------------------------------------------------------
+vtkTypeBool vtkMtgWriter::ProcessRequest(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (request->Has(vtkStreamingDemandDrivenPipeline::REQUEST_UPDATE_EXTENT()))
+  {
+    plantmorph::RequestRankPiece(inputVector[0]->GetInformationObject(0));
+    return 1;
+  }
+  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
 }
 
 //------------------------------------------------------------------------------

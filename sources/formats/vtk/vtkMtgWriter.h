@@ -44,6 +44,8 @@ protected:
   ~vtkMtgWriter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  /// Under MPI asks the input for this rank's piece (WriterPieces.h), then as vtkWriter.
+  vtkTypeBool ProcessRequest(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   void WriteData() override {} // RequestData writes (through plantmorph::RunRequestData)
 

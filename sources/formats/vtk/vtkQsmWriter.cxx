@@ -5,16 +5,19 @@
 #include "QsmTable.h"
 
 #include "PlantMorphLayer.h"
+#include "WriterPieces.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkIdList.h"
 #include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 
 #include <algorithm>
 #include <cmath>
@@ -182,6 +185,18 @@ int vtkQsmWriter::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
   return 1;
+}
+
+//------------------------------------------------------------------------------
+vtkTypeBool vtkQsmWriter::ProcessRequest(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (request->Has(vtkStreamingDemandDrivenPipeline::REQUEST_UPDATE_EXTENT()))
+  {
+    plantmorph::RequestRankPiece(inputVector[0]->GetInformationObject(0));
+    return 1;
+  }
+  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
 }
 
 //------------------------------------------------------------------------------

@@ -52,6 +52,8 @@ protected:
   ~vtkQsmWriter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  /// Under MPI asks the input for this rank's piece (WriterPieces.h), then as vtkWriter.
+  vtkTypeBool ProcessRequest(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   void WriteData() override {} // RequestData writes (through plantmorph::RunRequestData)
 
