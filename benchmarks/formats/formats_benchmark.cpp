@@ -33,8 +33,8 @@ std::vector<plantmorph::MtgTreeBranch> Tree(std::size_t segments)
     const double angle = 2.39996 * static_cast<double>(b);
     for (int k = 0; k < 8; ++k)
     {
-      branch.points.push_back({ start[0] + 0.1 * k * std::cos(angle), start[1] + 0.3 * k,
-        start[2] + 0.1 * k * std::sin(angle) });
+      branch.points.push_back(
+        { start[0] + 0.1 * k * std::cos(angle), start[1] + 0.3 * k, start[2] + 0.1 * k * std::sin(angle) });
       branch.radii.push_back(0.1 / (1.0 + 0.1 * k + std::log2(1.0 + static_cast<double>(b))));
     }
   }
