@@ -107,8 +107,9 @@ private:
   bool TableLine(const std::string& trimmed);
   bool Header(const std::string& line);
   bool Data(const std::string& line);
-  bool Code(const std::string& code, std::size_t column, long long& last);
+  bool Code(const std::string& code, std::size_t column, long long& last, long long& support);
   bool Relate(long long from, char relation, const std::string& symbol, long long index, long long& made);
+  bool Component(long long from, const std::string& symbol, long long index, long long& made);
   long long Ancestor(long long e, int scale) const;
   bool NewEntity(MtgEntity entity, long long& made);
   bool Values(const std::vector<std::string>& fields, long long entity);
@@ -122,6 +123,7 @@ private:
   std::size_t CodeColumns = 0;                      ///< columns before the first feature column
   std::vector<std::pair<std::size_t, int>> Columns; ///< feature columns: (field index, feature)
   std::vector<long long> LastInColumn;              ///< the last entity of the latest line in each column (-1: none)
+  std::vector<long long> SupportInColumn;           ///< the finest entity that line stands on (Code's `support`)
 };
 
 bool MtgParser::Line(const std::string& line, std::size_t number)
@@ -311,7 +313,34 @@ long long MtgParser::Ancestor(long long e, int scale) const
   return e >= 0 && this->Graph.entities[static_cast<std::size_t>(e)].scale == scale ? e : -1;
 }
 
-/// A new entity `symbol``index` related to `from` by `relation` ('/', '<', '+').
+/// A component of `from` one scale finer (`symbol` empty: an unnamed complex '/' skipped): its parent at its scale
+/// is the finer entity `from`'s relation waits to carry down (pendingParent), if any.
+bool MtgParser::Component(long long from, const std::string& symbol, long long index, long long& made)
+{
+  std::vector<MtgEntity>& all = this->Graph.entities;
+  MtgEntity e;
+  e.symbol = symbol;
+  e.index = index;
+  e.scale = all[static_cast<std::size_t>(from)].scale + 1;
+  e.complex = from;
+  const long long p = all[static_cast<std::size_t>(from)].pendingParent;
+  if (p >= 0)
+  {
+    const char edge = all[static_cast<std::size_t>(from)].pendingEdge;
+    e.edge = edge;
+    e.parent = all[static_cast<std::size_t>(p)].scale == e.scale ? p : this->Ancestor(p, e.scale);
+    if (all[static_cast<std::size_t>(p)].scale > e.scale)
+    {
+      e.pendingParent = p, e.pendingEdge = edge;
+    }
+    all[static_cast<std::size_t>(from)].pendingParent = -1;
+  }
+  return this->NewEntity(std::move(e), made);
+}
+
+/// A new entity `symbol``index` related to `from` by `relation` ('/', '<', '+'). As openalea.mtg reads it, a '/' to a
+/// scale not finer than `from`'s makes a component of `from`'s complex one scale coarser (a new plant "/P2" after
+/// a plant's internodes), and a '/' that skips scales makes unnamed complexes at the scales between.
 bool MtgParser::Relate(long long from, char relation, const std::string& symbol, long long index, long long& made)
 {
   const int scale = this->ScaleOf(symbol);
@@ -324,76 +353,77 @@ bool MtgParser::Relate(long long from, char relation, const std::string& symbol,
     return this->Fail("symbol '" + symbol + "' has scale 0, the root's: only entities of scales 1 and more are coded");
   }
   std::vector<MtgEntity>& all = this->Graph.entities;
-  MtgEntity& source = all[static_cast<std::size_t>(from)];
+  if (relation == '/')
+  {
+    long long complex = all[static_cast<std::size_t>(from)].scale >= scale ? this->Ancestor(from, scale - 1) : from;
+    if (complex < 0)
+    {
+      return this->Fail("'/" + symbol + "': " + all[static_cast<std::size_t>(from)].Label() +
+        " has no complex at scale " + std::to_string(scale - 1));
+    }
+    while (all[static_cast<std::size_t>(complex)].scale + 1 < scale)
+    {
+      if (!this->Component(complex, std::string(), -1, complex))
+      {
+        return false;
+      }
+    }
+    return this->Component(complex, symbol, index, made);
+  }
+  const MtgEntity& source = all[static_cast<std::size_t>(from)];
+  if (scale > source.scale)
+  {
+    return this->Fail(std::string("'") + relation + symbol + "' relates " + source.Label() + " (scale " +
+      std::to_string(source.scale) + ") to the finer scale " + std::to_string(scale) + ": use '/' to go finer");
+  }
+  const long long up = scale == source.scale ? from : this->Ancestor(from, scale);
+  if (up < 0)
+  {
+    return this->Fail(std::string("'") + relation + symbol + "': " + source.Label() + " has no complex at scale " +
+      std::to_string(scale));
+  }
   MtgEntity e;
   e.symbol = symbol;
   e.index = index;
   e.scale = scale;
-  e.edge = relation == '/' ? 0 : relation;
-  if (relation == '/')
+  e.edge = relation;
+  e.parent = up;
+  e.complex = all[static_cast<std::size_t>(up)].complex;
+  if (up != from)
   {
-    if (scale != source.scale + 1)
-    {
-      return this->Fail("'/" + symbol + "' decomposes " + source.Label() + " (scale " + std::to_string(source.scale) +
-        ") into scale " + std::to_string(scale) + ": a component is one scale finer");
-    }
-    e.complex = from;
-    if (source.pendingParent >= 0)
-    {
-      const long long p = source.pendingParent;
-      e.edge = source.pendingEdge;
-      e.parent = all[static_cast<std::size_t>(p)].scale == scale ? p : this->Ancestor(p, scale);
-      if (all[static_cast<std::size_t>(p)].scale > scale)
-      {
-        e.pendingParent = p, e.pendingEdge = source.pendingEdge;
-      }
-      source.pendingParent = -1;
-    }
-  }
-  else
-  {
-    if (scale > source.scale)
-    {
-      return this->Fail(std::string("'") + relation + symbol + "' relates " + source.Label() + " (scale " +
-        std::to_string(source.scale) + ") to the finer scale " + std::to_string(scale) + ": use '/' to go finer");
-    }
-    const long long up = scale == source.scale ? from : this->Ancestor(from, scale);
-    if (up < 0)
-    {
-      return this->Fail(std::string("'") + relation + symbol + "': " + source.Label() + " has no complex at scale " +
-        std::to_string(scale));
-    }
-    e.parent = up;
-    e.complex = all[static_cast<std::size_t>(up)].complex;
-    if (up != from)
-    {
-      e.pendingParent = from, e.pendingEdge = relation;
-    }
+    e.pendingParent = from, e.pendingEdge = relation;
   }
   return this->NewEntity(std::move(e), made);
 }
 
-/// One code: "[^]rel label rel label ...", starting in `column`; `last` gets its last entity.
-bool MtgParser::Code(const std::string& code, std::size_t column, long long& last)
+/// One code: "[^]rel label rel label ...", starting in `column`; `last` gets its last entity and `support` the finest
+/// entity the line stands on (its last, or, when the line went to a coarser scale ("^+B31", "^<U2"), the one it
+/// started from: a later '^<S4' in that column follows that one, as openalea.mtg's bracket rewriting does).
+bool MtgParser::Code(const std::string& code, std::size_t column, long long& last, long long& support)
 {
   std::size_t pos = 0;
   const bool caret = code[0] == '^';
   pos += caret ? 1 : 0;
   long long current = 0; // the root
-  if (caret || column > 0)
+  const std::size_t from = caret || column == 0 ? column : column - 1;
+  const bool known = from < this->LastInColumn.size() && this->LastInColumn[from] >= 0;
+  if (!known && (caret || column > 0))
   {
-    const std::size_t from = caret ? column : column - 1;
-    if (from >= this->LastInColumn.size() || this->LastInColumn[from] < 0)
-    {
-      return this->Fail(caret ? "'^' in column " + std::to_string(column) + ", but no earlier line has a code there"
-                              : "a code in column " + std::to_string(column) +
-            " without '^' starts from the latest line in column " + std::to_string(column - 1) + ", and there is none");
-    }
-    current = this->LastInColumn[from];
+    return this->Fail(caret ? "'^' in column " + std::to_string(column) + ", but no earlier line has a code there"
+                            : "a code in column " + std::to_string(column) +
+          " without '^' starts from the latest line in column " + std::to_string(column - 1) + ", and there is none");
   }
+  current = known ? this->LastInColumn[from] : 0; // column 0 without '^' goes on from the line above, as '^'
+  support = known ? this->SupportInColumn[from] : 0;
+  const std::vector<MtgEntity>& all = this->Graph.entities;
+  bool first = true;
   while (pos < code.size())
   {
     const char r = code[pos];
+    if (r == '*')
+    {
+      return this->Fail("'*' (the dated observations of a dynamic MTG) is not read");
+    }
     if (r != '/' && r != '<' && r != '+')
     {
       return this->Fail(
@@ -422,6 +452,13 @@ bool MtgParser::Code(const std::string& code, std::size_t column, long long& las
       return this->Fail("a label is a symbol and an index of at most 15 digits: '" + code.substr(0, 60) + "'");
     }
     const long long index = pos > digitStart ? std::stoll(code.substr(digitStart, pos - digitStart)) : -1;
+    const int target = this->ScaleOf(symbol);
+    if (first && r != '/' && target > all[static_cast<std::size_t>(current)].scale &&
+      all[static_cast<std::size_t>(support)].scale >= target)
+    {
+      current = this->Ancestor(support, target);
+    }
+    first = false;
     if (range)
     {
       const MtgEntity& from = this->Graph.entities[static_cast<std::size_t>(current)];
@@ -444,6 +481,7 @@ bool MtgParser::Code(const std::string& code, std::size_t column, long long& las
     }
   }
   last = current;
+  support = all[static_cast<std::size_t>(last)].scale >= all[static_cast<std::size_t>(support)].scale ? last : support;
   return true;
 }
 
@@ -501,16 +539,18 @@ bool MtgParser::Data(const std::string& line)
       return this->Fail("two codes on one line (columns " + std::to_string(column) + " and " + std::to_string(i) + ")");
     }
   }
-  long long last = -1;
-  if (!this->Code(Trim(fields[column]), column, last) || !this->Values(fields, last))
+  long long last = -1, support = 0;
+  if (!this->Code(Trim(fields[column]), column, last, support) || !this->Values(fields, last))
   {
     return false;
   }
   if (column >= this->LastInColumn.size())
   {
     this->LastInColumn.resize(column + 1, -1);
+    this->SupportInColumn.resize(column + 1, 0);
   }
   this->LastInColumn[column] = last;
+  this->SupportInColumn[column] = support;
   return true;
 }
 

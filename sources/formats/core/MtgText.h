@@ -10,9 +10,12 @@
 // labels (symbol + index) joined by '/' (the next entity is a component of the previous, one scale finer), '<' (it
 // follows the previous), '+' (it branches on the previous) and '<<' (E1<<E4 is E1<E2<E3<E4). A code starting with
 // '^' starts from the last entity of the latest line in the same column; any other from the last entity of the latest
-// line one column to the left (column 0: the root, '$'). A '<' or '+' to a coarser scale relates the coarser
-// entities, and the first component of the new entity at the finer scale gets the same relation (as openalea.mtg
-// does: "^<U2/E6" makes U2 follow U1 and E6 follow the E5 the line started from).
+// line one column to the left (column 0: as '^', the root '$' for the first line). A '<' or '+' to a coarser scale
+// relates the coarser entities, and the first component of the new entity at the finer scale gets the same relation
+// (as openalea.mtg does: "^<U2/E6" makes U2 follow U1 and E6 follow the E5 the line started from); a line that went
+// coarser so stands on the finer entity it started from, which a later '<' or '+' to that scale in its column
+// follows. A '/' to a scale not finer than its start makes a component of the complex one scale coarser ("/P2": a
+// new plant); a '/' that skips scales makes unnamed complexes between.
 //
 // Reading is one pass, linear in the file; a line of at most kMaxMtgLineLength characters is held, every entity
 // costs one record plus one value per feature, and a '<<' range creates at most kMaxMtgRange entities. Errors are
@@ -108,12 +111,14 @@ struct MtgGeometry
   std::vector<MtgAxis> axes;
   /// Per entity (indexed as graph.entities): its point; only the entities of `scale` are set.
   std::vector<std::array<double, 3>> positions;
-  std::size_t placedWithoutCoordinates = 0; ///< entities of `scale` without XX YY ZZ, put at their parent's point
+  std::size_t placedWithoutCoordinates = 0; ///< entities of `scale` without XX YY ZZ, placed on their axis
   std::string warning;                      ///< "" or what the caller should say (default layout, missing points)
 };
 
 /// The axes and points. With XX, YY, ZZ features (each entity's point, as openalea.mtg's PlantFrame reads them), the
-/// finest scale where any entity has all three; an entity of that scale lacking them sits at its parent's point.
+/// finest scale where any entity has all three; an entity of that scale lacking them is placed on its axis between
+/// the measured entities around it, linearly by rank (from the bearer's point before the first measured one, at the
+/// last measured point after it): a digitised "E1<<E35" run measured at E35 only is spread along the axis.
 /// Without them the default layout in the XY plane (y up, the image plane of TreeFromSketchSource's strokes): axes
 /// without bearer grow from the origin along +y, a branch from its bearer's point at 45 degrees to its bearer's axis,
 /// alternately to the left and right; each entity one step further, the step its Length (or length) feature when

@@ -94,6 +94,50 @@ void DefaultLayout(const MtgGraph& graph, MtgGeometry& g)
     }
   }
 }
+/// The points of one axis: the entities with XX, YY, ZZ at theirs; the others between the measured ones around them,
+/// linearly by rank (before the first measured one from the bearer's point, after the last one at it).
+template <typename Located>
+void PlaceAxis(const MtgGraph& graph, const MtgAxis& axis, const Located& located, MtgGeometry& g)
+{
+  const int xx = graph.FeatureIndex("XX"), yy = graph.FeatureIndex("YY"), zz = graph.FeatureIndex("ZZ");
+  const std::size_t n = axis.entities.size();
+  // The last measured point before the run and its rank (-1: the bearer's point, before the first entity).
+  bool havePrevious = axis.bearer >= 0;
+  Point previous = havePrevious ? g.positions[static_cast<std::size_t>(axis.bearer)] : Point{ 0.0, 0.0, 0.0 };
+  double previousRank = -1.0;
+  std::size_t k = 0;
+  while (k < n)
+  {
+    std::size_t next = k;
+    while (next < n && !located(static_cast<std::size_t>(axis.entities[next])))
+    {
+      ++next;
+    }
+    const Point end = next < n ? Point{ Value(graph, xx, static_cast<std::size_t>(axis.entities[next])),
+      Value(graph, yy, static_cast<std::size_t>(axis.entities[next])),
+      Value(graph, zz, static_cast<std::size_t>(axis.entities[next])) }
+                               : previous;
+    const Point start = havePrevious ? previous : end;
+    for (std::size_t j = k; j < next; ++j) // the unmeasured run [k, next)
+    {
+      const double t = next < n && havePrevious
+        ? (static_cast<double>(j) - previousRank) / (static_cast<double>(next) - previousRank)
+        : 0.0;
+      Point& p = g.positions[static_cast<std::size_t>(axis.entities[j])];
+      for (std::size_t c = 0; c < 3; ++c)
+      {
+        p[c] = start[c] + t * (end[c] - start[c]);
+      }
+      ++g.placedWithoutCoordinates;
+    }
+    if (next < n)
+    {
+      g.positions[static_cast<std::size_t>(axis.entities[next])] = end;
+      previous = end, previousRank = static_cast<double>(next), havePrevious = true;
+    }
+    k = next + 1;
+  }
+}
 } // namespace
 
 MtgGeometry BuildMtgGeometry(const MtgGraph& graph)
@@ -126,26 +170,13 @@ MtgGeometry BuildMtgGeometry(const MtgGraph& graph)
   }
   for (const MtgAxis& axis : g.axes)
   {
-    long long previous = axis.bearer;
-    for (const long long e : axis.entities)
-    {
-      const auto u = static_cast<std::size_t>(e);
-      if (located(u))
-      {
-        g.positions[u] = { Value(graph, xx, u), Value(graph, yy, u), Value(graph, zz, u) };
-      }
-      else
-      {
-        g.positions[u] = previous >= 0 ? g.positions[static_cast<std::size_t>(previous)] : Point{ 0.0, 0.0, 0.0 };
-        ++g.placedWithoutCoordinates;
-      }
-      previous = e;
-    }
+    PlaceAxis(graph, axis, located, g);
   }
   if (g.placedWithoutCoordinates)
   {
     g.warning = std::to_string(g.placedWithoutCoordinates) + " entities of scale " + std::to_string(g.scale) +
-      " have no XX, YY, ZZ: each is placed at the point of the entity before it";
+      " have no XX, YY, ZZ: each is placed on its axis between the measured entities around it (linearly by rank; "
+      "from its bearer's point before the first, at the last measured point after it)";
   }
   return g;
 }

@@ -8,7 +8,8 @@
  * PlantFrame takes them): entities joined by '<' form an axis, '+' starts one. Without coordinates anywhere the
  * finest scale is laid out by default in the XY plane (y up; each entity one Length, else 1, further; a branch at 45
  * degrees to its bearer's axis, alternately left and right) and a warning says so. An entity of the geometry scale
- * without coordinates sits at the point of the entity before it (a warning counts them).
+ * without coordinates is placed on its axis between the measured ones around it, linearly by rank (a warning counts
+ * them).
  *
  * Output: one polyline per axis, in file order (a bearer's axis before its branches). With ConnectBranches (default
  * on) a branch's polyline starts at its bearer's point, so it touches its parent: the form TreeFromSketchSource's
@@ -24,7 +25,7 @@
  *
  * Errors (an error naming FileName and the line, and an empty output): no FileName, a file that cannot be opened,
  * anything the grammar does not allow (an undeclared symbol or feature, '^' with no line above in its column, a value
- * that is not of its feature's type, a '/' that skips a scale, a line of more than 65536 characters, a NUL byte).
+ * that is not of its feature's type, a '<' or '+' to a finer scale, a line of more than 65536 characters, a NUL byte).
  * One linear pass over the file (the parser is sources/formats/core/MtgText.h). The tree is made on the first rank.
  */
 #ifndef vtkMtgReader_h

@@ -194,6 +194,56 @@ TEST(MtgText, WriterRefusesCyclesAndNegativeIds)
   EXPECT_NE(WriteMtg(out, cycle).find("negative"), std::string::npos);
 }
 
+/// The rules openalea.mtg's reader follows beyond the grammar's plain cases (its own data files use them).
+TEST(MtgText, OpenAleaReadingRules)
+{
+  const auto read = [](const std::string& rows, MtgGraph& g) {
+    const std::string whole = fixtures::ExplicitMtg;
+    return Read(whole.substr(0, whole.find("ENTITY-CODE")) + "ENTITY-CODE\t\t\t\tXX\tYY\tZZ\n" + rows, g);
+  };
+  MtgGraph g;
+  // A '/' that skips a scale makes an unnamed complex between.
+  ASSERT_EQ(read("/P1/E1\n", g), "");
+  const MtgEntity& skipped = g.entities[static_cast<std::size_t>(g.entities[3].complex)];
+  EXPECT_EQ(skipped.scale, 2);
+  EXPECT_EQ(skipped.symbol, "");
+  EXPECT_EQ(skipped.complex, Find(g, "P1"));
+  // Column 0 without '^' goes on from the line above; a '/' to a coarser scale starts a new plant.
+  ASSERT_EQ(read("/P1/U1\n/E1<E2\n/P2/U1/E1\n", g), "");
+  EXPECT_EQ(g.entities[static_cast<std::size_t>(Find(g, "E1"))].complex, Find(g, "U1"));
+  EXPECT_EQ(g.entities[static_cast<std::size_t>(Find(g, "P2"))].complex, 0);
+  EXPECT_EQ(g.entities[static_cast<std::size_t>(Find(g, "E1", 1))].parent, -1);
+  // After a line that went coarser ("^+U2"), a '^<E3' in its column follows the internode that line stood on.
+  ASSERT_EQ(read("/P1\n\t/U1\n\t\t/E1\n\t\t^<E2\n\t\t^+U2\n\t\t\t/E1\n\t\t\t^<E2\n\t\t^<E3\n", g), "");
+  const MtgEntity& e3 = g.entities[static_cast<std::size_t>(Find(g, "E3"))];
+  EXPECT_EQ(e3.parent, Find(g, "E2"));
+  EXPECT_EQ(e3.edge, '<');
+  EXPECT_EQ(e3.complex, Find(g, "U1"));
+  EXPECT_EQ(g.entities[static_cast<std::size_t>(Find(g, "E1", 1))].parent, Find(g, "E2"));
+  EXPECT_EQ(g.entities[static_cast<std::size_t>(Find(g, "E1", 1))].edge, '+');
+}
+
+TEST(MtgText, UnmeasuredEntitiesAreSpreadAlongTheirAxis)
+{
+  MtgGraph g;
+  const std::string whole = fixtures::ExplicitMtg;
+  const std::string head = whole.substr(0, whole.find("/P1/U1/E1"));
+  // E2..E4 of the run E2<<E5 measured at E5 only; E6 after the last measured one; a branch measured at its end.
+  ASSERT_EQ(Read(head + "/P1/U1/E1\t\t\t0\t0\t0\n^<E2<<E5\t\t\t0\t0\t4\n\t+E1<E2\t\t2\t0\t4\n^<E6\n", g), "");
+  const MtgGeometry geometry = BuildMtgGeometry(g);
+  EXPECT_EQ(geometry.placedWithoutCoordinates, 5u);
+  EXPECT_NE(geometry.warning.find("5 entities of scale 3 have no XX, YY, ZZ"), std::string::npos) << geometry.warning;
+  const auto at = [&](const char* label, int n = 0) {
+    return geometry.positions[static_cast<std::size_t>(Find(g, label, n))];
+  };
+  EXPECT_EQ(at("E2"), (std::array<double, 3>{ 0, 0, 1 }));
+  EXPECT_EQ(at("E3"), (std::array<double, 3>{ 0, 0, 2 }));
+  EXPECT_EQ(at("E4"), (std::array<double, 3>{ 0, 0, 3 }));
+  EXPECT_EQ(at("E6"), (std::array<double, 3>{ 0, 0, 4 }));
+  // The branch on E5 (0, 0, 4): its E1 halfway to its measured E2 (2, 0, 4).
+  EXPECT_EQ(at("E1", 1), (std::array<double, 3>{ 1, 0, 4 }));
+}
+
 void ExpectRefused(const std::string& text, const std::string& words)
 {
   MtgGraph g;
@@ -216,10 +266,10 @@ TEST(MtgText, MalformedFilesNameTheLineAndKeepNothing)
   ExpectRefused(WithRows("/P1/U1/E1\n\t^<E2\n"), "line 30: '^' in column 1, but no earlier line");
   ExpectRefused(WithRows("/P1/U1/E1\t\t\tone\n"), "line 29: feature 'XX' is REAL but its value is 'one'");
   ExpectRefused(WithRows("/P1/U1/E1\t\t\t0\t0\t1\t1\tx\t2.5\n"), "line 29: feature 'nb' is INT");
-  ExpectRefused(WithRows("/P1/E1\n"), "line 29: '/E' decomposes P1 (scale 1) into scale 3");
   ExpectRefused(WithRows("/P1/U1/E1\n^+U2\n^/E2<<E1\n"), "line 31: '<<E1' continues E2");
   ExpectRefused(WithRows("/P1/U1/E1\n^<E2<<E999999\n"), "at most 100000 further");
   ExpectRefused(WithRows("/P1/U1/E1\n^E2\n"), "line 30: expected '/', '<' or '+'");
+  ExpectRefused(WithRows("/P1/U1/E1\n^<E2\n*(Date=1/1/21)\n"), "line 31: '*' (the dated observations");
   ExpectRefused(WithRows("/P1/U1/E1\t\t\t0\t0\t1\t1\tx\t2\t1/1/1\textra\n"), "line 29: a value in column 10");
   ExpectRefused(WithRows("/P1/U1/E1\t+E2\n"), "line 29: two codes on one line");
   ExpectRefused(WithRows("/P1/U1/E1\n^<E2\n^+E3++E5\n"), "line 31: '++'");
