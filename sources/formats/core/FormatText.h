@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // What the MTG and QSM parsers share: a bounded line reader (one pass over the stream in 64 KiB blocks, at most one
-// line held) and the small text helpers (fields split at a separator, trimming, name normalisation, numbers written
+// line held) and the small text functions (fields split at a separator, trimming, name normalisation, numbers written
 // so that they read back bit for bit). Plain C++17, no VTK.
 #pragma once
 
