@@ -84,7 +84,8 @@ start = centre + (s.min() - 0.1 * length) * e_length + height * normal
 end = centre + (s.max() + 0.1 * length) * e_length + height * normal
 fan = 2.0 * math.degrees(math.atan(0.6 * width / height))
 scanner = VirtualScanner(Input=OutputPort(fit, 0), ScannerType="Line", LineMotion="Path",
-                         Positions=list(start) + list(end), LookAt=list(start - height * normal), Up=list(e_width),
+                         Positions=list(start) + list(end), LookAt=list(0.5 * (start + end) - height * normal),
+                         Up=list(e_width),
                          VerticalFieldOfView=fan, AngularStep=math.degrees(spacing / height), LineSpacing=spacing,
                          RangeNoise=residual["RMS"], Seed=1)
 simulated = servermanager.Fetch(scanner)

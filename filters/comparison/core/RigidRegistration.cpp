@@ -126,17 +126,28 @@ void SymmetricICP(const std::vector<double>& landmarks, const std::vector<double
     hi = hi.cwiseMax(Eigen::Vector3d(landmarks[3 * i], landmarks[3 * i + 1], landmarks[3 * i + 2]));
   }
   const double stepLimit = settings.tolerance * std::max((hi - lo).norm(), 1e-300);
-  std::vector<double> moved(3 * n), next(3 * n), closest(3 * n), forward(n), backward(m), source, target;
+  std::vector<double> moved(3 * n), next(3 * n), closest(3 * n), forward(n), backward(m), pulled(3 * m), source, target;
   std::vector<std::int64_t> nearest(m);
+  // The transform is a similarity, which keeps nearest neighbours: the nearest moved landmark of a reference point
+  // r is the nearest original landmark of M^-1 r, and its distance s times that one's. So the landmarks' search
+  // structure is built once, not once per iteration.
+  PointSurfaceDistance cloud;
+  if (!cloud.BuildCloud(landmarks.data(), n, parallelFor).empty())
+    return;
   double matrix[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
   for (int iteration = 1; iteration <= settings.maximumIterations; ++iteration)
   {
     ApplyTransform(matrix, landmarks.data(), moved.data(), n);
     reference.QueryMany(moved.data(), n, forward.data(), nullptr, closest.data(), nullptr, parallelFor);
-    PointSurfaceDistance cloud;
-    if (!cloud.BuildCloud(moved.data(), n, parallelFor).empty())
-      break;
-    cloud.QueryMany(referencePoints.data(), m, backward.data(), nullptr, nullptr, nearest.data(), parallelFor);
+    const Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> current(matrix);
+    double inverse[16];
+    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> back(inverse);
+    back = current.inverse();
+    ApplyTransform(inverse, referencePoints.data(), pulled.data(), m);
+    cloud.QueryMany(pulled.data(), m, backward.data(), nullptr, nullptr, nearest.data(), parallelFor);
+    const double scale = std::cbrt(current.topLeftCorner<3, 3>().determinant());
+    for (double& d : backward)
+      d *= scale;
     source.clear();
     target.clear();
     for (std::size_t i = 0; i < n; ++i)

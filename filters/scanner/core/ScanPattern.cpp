@@ -165,6 +165,20 @@ std::string Budget(double beams, const ScannerParameters& p)
   return {};
 }
 
+/// The point at arc length `s` along the polyline through `path` (its first point for s <= 0 or a single point).
+Vec3 PointAlong(const std::vector<Vec3>& path, double s)
+{
+  for (std::size_t i = 1; i < path.size(); ++i)
+  {
+    const Vec3 d = Sub(path[i], path[i - 1]);
+    const double l = Norm(d);
+    if (s <= l || i + 1 == path.size())
+      return l > 0.0 ? Add(path[i - 1], Scale(d, std::min(1.0, std::max(0.0, s / l)))) : path[i - 1];
+    s -= l;
+  }
+  return path.front();
+}
+
 /// The viewing direction from `position` to LookAt, or an error naming the position.
 std::string Towards(const ScannerParameters& p, std::size_t i, Vec3& forward)
 {
@@ -304,13 +318,15 @@ std::string BeamPattern::SetupLine(const ScannerParameters& p)
   {
     if (!(p.lineSpacing > 0.0 && std::isfinite(p.lineSpacing)))
       return Range("LineSpacing", p.lineSpacing, "(0, inf) model units");
-    Vec3 forward;
-    const std::string error = Towards(p, 0, forward);
-    if (!error.empty())
-      return error;
     double length = 0.0;
     for (std::size_t i = 1; i < p.positions.size(); ++i)
       length += Norm(Sub(p.positions[i], p.positions[i - 1]));
+    // Every fan looks in the direction from the middle of the path to LookAt: the middle fan looks at LookAt and
+    // the strip the fans sweep is centred on it.
+    const Vec3 middle = PointAlong(p.positions, 0.5 * length);
+    const Vec3 forward = Sub(p.lookAt, middle);
+    if (Norm(forward) == 0.0)
+      return "LookAt: it coincides with the middle of the path; the line scanner needs a direction to look in";
     const double fans = std::floor(length / p.lineSpacing + 1e-9) + 1.0;
     const std::string over = Budget(fans * static_cast<double>(this->Rows), p);
     if (!over.empty())

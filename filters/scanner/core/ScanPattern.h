@@ -9,9 +9,9 @@
 // Depth camera: per position, a pinhole looking at LookAt with Up upwards, Resolution[0] x Resolution[1] pixels over
 //   the two fields of view, one beam through each pixel centre. Beam order: position, row (top first), column.
 // Line, path: a fan of beams (AngularStep apart over VerticalFieldOfView, in the plane of the viewing direction and
-//   Up) moved along the polyline through Positions, one fan every LineSpacing of arc length; the fan keeps the
-//   direction from the first position to LookAt, i.e. fan k looks at LookAt + (its origin - the first position):
-//   LookAt moves with the scanner (a fan looking at the fixed point from every origin would, spanning Up, sweep the
+//   Up) moved along the polyline through Positions, one fan every LineSpacing of arc length; every fan looks in the
+//   direction from the middle of the path (half its arc length) to LookAt, so the middle fan looks at LookAt and the
+//   swept strip is centred on it (a fan looking at the fixed point from every origin would, spanning Up, sweep the
 //   one line through LookAt along Up). Pose: the fan's index along the path.
 // Line, turntable: the object turns about the axis TurntableAxis through LookAt, TurntableSteps times a full turn;
 //   as the points are reported in the object's frame, the scanner (a fan at each position looking at LookAt) turns

@@ -83,8 +83,8 @@ public:
 
   ///@{
   /**
-   * The point the scanners look at. A line scanner on a path looks at it from its first position and keeps that
-   * direction: fan k looks at LookAt + (its origin - the first position), so the fans sweep side by side (looking at
+   * The point the scanners look at. A line scanner on a path looks at it from the middle of the path and keeps that
+   * direction, so the middle fan looks at LookAt and the fans sweep a strip centred on it side by side (looking at
    * the one point from every position would put every fan, which spans Up, through the same line of the surface).
    */
   vtkSetVector3Macro(LookAt, double);

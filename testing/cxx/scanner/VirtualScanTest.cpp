@@ -910,7 +910,7 @@ TEST(VirtualScan, LineScannerOnAPathAndOnATurntable)
   ScannerParameters p;
   p.type = ScannerType::Line;
   p.positions = { Vec3{ -0.5, 0, 1 }, Vec3{ 0.0, 0, 1 }, Vec3{ 0.5, 0, 1 } };
-  p.lookAt = { -0.5, 0, 0 };
+  p.lookAt = { 0, 0, 0 }; // below the middle of the path
   p.up = { 0, 1, 0 };
   p.verticalFieldOfView = 40;
   p.angularStep = 1;
@@ -934,12 +934,12 @@ TEST(VirtualScan, LineScannerOnAPathAndOnATurntable)
   EXPECT_EQ(shown.size(), 2u + 4u * 3u);
   EXPECT_EQ(std::count(shown.begin(), shown.end(), -1), 2);
   EXPECT_EQ(std::count(shown.begin(), shown.end(), 10), 3); // the last fan is among those shown
-  // LookAt on a path (docs/methods/virtual-scanner.md, "What LookAt means"): fan k looks at LookAt moved with the
-  // scanner, LookAt + (origin_k - first position), here obliquely; so the fans' central beams land side by side
-  // on the plane, 0.1 apart like the fans, not all on the line through LookAt along Up.
+  // LookAt on a path (docs/methods/virtual-scanner.md, "What LookAt means"): every fan looks in the direction from
+  // the middle of the path to LookAt, here obliquely; so the middle fan's central beam lands on LookAt and the
+  // others side by side on the plane, 0.1 apart like the fans, not all on the line through LookAt along Up.
   {
     ScannerParameters oblique = p;
-    oblique.lookAt = { -0.2, 0.3, 0.0 };
+    oblique.lookAt = { 0.3, 0.3, 0.0 };
     BeamPattern path;
     ASSERT_EQ(path.Setup(oblique), "");
     ASSERT_EQ(path.PoseCount(), 11u);
@@ -950,9 +950,24 @@ TEST(VirtualScan, LineScannerOnAPathAndOnATurntable)
       path.Beam(k * path.BeamsPerPose() + path.BeamsPerPose() / 2, origin, direction, pose); // the central beam
       ASSERT_EQ(pose, static_cast<std::int64_t>(k));
       const double t = -origin[2] / direction[2]; // to z = 0
-      EXPECT_NEAR(origin[0] + t * direction[0], -0.2 + 0.1 * static_cast<double>(k), 1e-12) << k;
+      EXPECT_NEAR(origin[0] + t * direction[0], 0.3 + 0.1 * (static_cast<double>(k) - 5.0), 1e-12) << k;
       EXPECT_NEAR(origin[1] + t * direction[1], 0.3, 1e-12) << k;
     }
+    // A LookAt at the middle of the path gives no direction: an error that says so, not a scan.
+    oblique.lookAt = { 0.0, 0.0, 1.0 };
+    EXPECT_NE(path.Setup(oblique).find("LookAt: it coincides with the middle of the path"), std::string::npos);
+    // A path whose middle lies inside a segment other than the first: a bent path of arc length 3, middle at
+    // (1, 0.5, 1); LookAt straight below it gives a vertical middle fan.
+    oblique.positions = { Vec3{ 0, 0, 1 }, Vec3{ 1, 0, 1 }, Vec3{ 1, 2, 1 } };
+    oblique.lookAt = { 1.0, 0.5, 0.0 };
+    oblique.lineSpacing = 0.5;
+    ASSERT_EQ(path.Setup(oblique), "");
+    double origin[3], direction[3];
+    std::int64_t pose;
+    path.Beam(3 * path.BeamsPerPose() + path.BeamsPerPose() / 2, origin, direction, pose); // fan 3, at s = 1.5
+    EXPECT_NEAR(origin[0], 1.0, 1e-12);
+    EXPECT_NEAR(origin[1], 0.5, 1e-12);
+    EXPECT_NEAR(direction[2], -1.0, 1e-12);
   }
   // Turntable: a sphere turned 8 times a full turn in front of a fan sees every side of it.
   const Mesh sphere = Icosphere(3, 0.5);

@@ -108,7 +108,7 @@ checks.check(setup.GetNumberOfLines() == 5, "the set-up: the central beam and fo
 # Three scanner types run; a line scanner on a path across the leaf gives one fan per LineSpacing.
 scanner.ScannerType = "Line"
 scanner.Positions = [bounds[0], centre[1], centre[2] + 2 * size, bounds[1], centre[1], centre[2] + 2 * size]
-scanner.LookAt = [bounds[0], centre[1], centre[2]]
+scanner.LookAt = [0.5 * (bounds[0] + bounds[1]), centre[1], centre[2]]  # below the middle of the path
 scanner.LineSpacing = (bounds[1] - bounds[0]) / 50
 scanner.AngularStep = 0.5
 line = fetch(scanner)

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# First and warm updates, ours against VTK's, each case in fresh processes (benchmarks/README.md, "first run").
+#   benchmarks/first_run.sh BUILD_DIR [REPEATS]        (default 3 fresh processes per case, 3 warm updates each)
+# Prints per case the median first update, the median warm update (over every warm update of every process), and
+# the VTK peer's time over ours for both.
+set -euo pipefail
+program="${1:?usage: first_run.sh BUILD_DIR [REPEATS]}/bin/first_run_benchmark"
+repeats="${2:-3}"
+median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+declare -A first warm
+for case in loop vtkloop distance vtkdistance; do
+  runs=""
+  for _ in $(seq "$repeats"); do
+    runs+="$("$program" "$case" 3)"$'\n'
+  done
+  first[$case]="$(awk '$2 == 0 { print $3 }' <<< "$runs" | median)"
+  warm[$case]="$(awk '$2 > 0 { print $3 }' <<< "$runs" | median)"
+  echo "$case: first ${first[$case]} s, warm ${warm[$case]} s"
+done
+for pair in "loop vtkloop" "distance vtkdistance"; do
+  read -r ours peer <<< "$pair"
+  awk -v o="${first[$ours]}" -v p="${first[$peer]}" -v wo="${warm[$ours]}" -v wp="${warm[$peer]}" -v n="$ours" \
+    'BEGIN { printf "%s: VTK / ours, first run %.1fx, warm %.1fx\n", n, p / o, wp / wo }'
+done
