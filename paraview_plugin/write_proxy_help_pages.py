@@ -79,7 +79,7 @@ def main():
         hints = proxy.find("Hints")
         if hints is not None and hints.find("ReaderFactory") is not None:
             menu = "File &gt; Open (a reader)"
-        elif hints is not None and hints.find("WriterFactory") is not None:
+        elif group == "writers" or (hints is not None and hints.find("WriterFactory") is not None):
             menu = "File &gt; Save Data (a writer)"
         else:
             menu = "%s &gt; PlantMorph &gt; %s" % ("Sources" if group == "sources" else "Filters", label)

@@ -41,6 +41,8 @@ EXAMPLES = {
     "scan_tree.py": ("pvbatch", OUTPUT, ["scan_tree.vtp", "scan_tree.las", "scan_tree.csv", "scan_tree.png"],
                      ["scanner", "tree", "las"]),
     "trace_leaf_outline.py": ("pvbatch", OUTPUT, ["traced_leaf.vtp", "traced_leaf.png"], ["leaf"]),
+    "tree_formats.py": ("pvbatch", OUTPUT, ["tree_formats.mtg", "tree_formats.csv", "tree_formats.png"],
+                        ["formats", "tree"]),
     "main_ginkgo_leaf.py": ("state", [], [], ["leaf"]),
     "main_measured_leaf.py": ("state", [], [], ["leaf_fit", "comparison"]),
     "main_paper000_leaf_shapes.py": ("state", [], [], ["leaf"]),

@@ -42,6 +42,9 @@ TERMS = [0, 0, 0.2, 0, 1, 1, 0, 1, 1, 0.05, 1, 2, 0, 0]
 STROKES_CSV = os.path.join(arguments.work, "xml_ranges_strokes.csv")
 with open(STROKES_CSV, "w") as f:
     f.write("stroke_id,x,y\n0,0,0\n0,0,5\n0,0,10\n1,0,6\n1,3,9\n")
+QSM_CSV = os.path.join(arguments.work, "xml_ranges_cylinders.csv")
+with open(QSM_CSV, "w") as f:
+    f.write("ID,parentID,startX,startY,startZ,endX,endY,endZ,radius\n1,0,0,0,0,0,0,1,0.1\n")
 SetActiveSource(None)
 leaf = LeafOutlineSource(Resolution=12)
 leaf_cloud = VirtualScanner(Input=leaf, Resolution=[60, 40])
@@ -67,6 +70,8 @@ BASES = {
     "LeafFitFilter": lambda: LeafFitFilter(Input=leaf_cloud),
     "VirtualScanner": lambda: VirtualScanner(Input=leaf, Resolution=[40, 30]),
     "TreeFitFilter": lambda: TreeFitFilter(Input=tree_cloud, UpAxis="Y"),
+
+    "QsmReader": lambda: QSMReader(FileName=QSM_CSV, Tubes=1),
 }
 # (proxy, property): settings the property needs besides its panel decorators, for every run of it (values by
 # property name; a bound may also name its own: (proxy, property, "min"/"max")).
