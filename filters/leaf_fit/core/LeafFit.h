@@ -89,8 +89,8 @@ struct LeafFitResult
   // The scan, one entry per input point.
   std::vector<double> fitDistance; ///< signed distance to the blade (along its normal); NaN for dropped points
   std::vector<unsigned char> inlier;
-  std::vector<Eigen::Vector2d> intrinsic; ///< (t, s) of every point (NaN for dropped points)
-  std::vector<unsigned char> petiole;     ///< 1 for the points of the petiole (not fitted: Inlier 0)
+  std::vector<Eigen::Vector2d> intrinsic;   ///< (t, s) of every point (NaN for dropped points)
+  std::vector<unsigned char> petiole;       ///< 1 for the points of the petiole (not fitted: Inlier 0)
   std::vector<Eigen::Vector3d> petioleLine; ///< the petiole's centre line, junction to far end (empty: none)
   // The blade: the mesher's output mapped to 3-D.
   std::vector<Eigen::Vector3d> points;

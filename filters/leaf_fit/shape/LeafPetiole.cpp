@@ -172,7 +172,7 @@ std::vector<Trail> Trails(const std::vector<Eigen::Vector3d>& points, const Poin
 }
 
 /// The trail in bins of distance from the blade: each bin's centroid, point count (empty bins: count 0) and
-/// spread (standard deviation along its widest direction).
+/// spread (standard deviation across the trail, along its widest direction).
 struct Bins
 {
   double width = 1.0;
@@ -180,12 +180,15 @@ struct Bins
   std::vector<int> count;
   std::vector<double> spread;
 
-  /// The median spread of the non-empty bins from `first` on.
+  /// Whether a bin's spread is measured (it holds two points or more).
+  bool Measured(std::size_t k) const { return this->count[k] >= 2; }
+
+  /// The median spread of the measured bins from `first` on.
   double Spread(std::size_t first) const
   {
     std::vector<double> s;
     for (std::size_t k = first; k < this->count.size(); ++k)
-      if (this->count[k] > 0)
+      if (this->Measured(k))
         s.push_back(this->spread[k]);
     if (s.empty())
       return 0.0;
@@ -205,73 +208,59 @@ Bins CentreLine(const std::vector<Eigen::Vector3d>& points, const Trail& trail, 
   for (const auto& m : members)
   {
     b.count.push_back(static_cast<int>(m.size()));
-    b.spread.push_back(0.0);
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (const auto& p : m)
       mean += p;
-    mean /= std::max<double>(1.0, static_cast<double>(m.size()));
-    b.centre.push_back(mean);
-    if (m.empty())
+    b.centre.push_back(mean / std::max<double>(1.0, static_cast<double>(m.size())));
+  }
+  // The spread across the trail (perpendicular to the line through the neighbouring bins' centres): along it, a
+  // bin's extent is the bin's, not the trail's width.
+  b.spread.assign(members.size(), 0.0);
+  for (std::size_t k = 0; k < members.size(); ++k)
+  {
+    if (members[k].size() < 2)
       continue;
+    std::size_t before = k, after = k;
+    while (before > 0 && (before == k || members[before].empty()))
+      --before;
+    while (after + 1 < members.size() && (after == k || members[after].empty()))
+      ++after;
+    Eigen::Vector3d t = b.centre[after] - b.centre[before];
+    if (members[before].empty() || members[after].empty() || !(t.norm() > 0.0))
+      t = Eigen::Vector3d::Zero();
+    else
+      t.normalize();
     Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-    for (const auto& p : m)
-      C += (p - mean) * (p - mean).transpose();
-    C /= static_cast<double>(m.size());
-    b.spread.back() = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[2]));
+    for (const auto& p : members[k])
+    {
+      Eigen::Vector3d r = p - b.centre[k];
+      r -= r.dot(t) * t;
+      C += r * r.transpose();
+    }
+    C /= static_cast<double>(members[k].size());
+    b.spread[k] = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[2]));
   }
   return b;
 }
 
-/// The first bin of the stalk: from the far end inwards, bins hold about the stalk's count (the median of the
-/// outer half's bins); the first bin from which on every bin holds at most 1.5 times that (plus one point).
-std::size_t FirstStalkBin(const Bins& b)
+/// The first bin of the stalk: the stalk keeps its width (its bins' spread; the median over the outer half of the
+/// trail's bins), while the blade's end the opening left out beside it (a margin, an acute or cuneate base) is
+/// wider. From the blade outwards, the first bin no wider than 1.5 times the stalk's spread plus half a spacing.
+/// (Counts would not do: a stalk scanned from the side thins out along its length.)
+std::size_t FirstStalkBin(const Bins& b, double spacing)
 {
   const std::size_t n = b.count.size();
-  std::vector<int> outer(b.count.begin() + static_cast<std::ptrdiff_t>(n / 2), b.count.end());
-  std::nth_element(outer.begin(), outer.begin() + outer.size() / 2, outer.end());
-  const double stalk = outer[outer.size() / 2];
-  std::size_t start = n;
-  while (start > 0 && b.count[start - 1] <= 1.5 * stalk + 1.0)
-    --start;
-  return std::min(start, n - 1);
-}
-
-/// Where the stalk proper starts, as a distance from the blade: the blade's opening leaves out the blade's own
-/// narrow end beside the stalk (an acute or cuneate base), which widens towards the blade: the bins before the
-/// first stalk bin. Its counts fall linearly towards its tip (a wedge), which lies under the stalk's first bins:
-/// the stalk starts where the line through the narrow end's last counts reaches zero (at most two bins into it).
-double StalkStart(const Bins& b)
-{
-  const std::size_t start = FirstStalkBin(b);
-  std::vector<double> d, c;
-  for (std::size_t k = start >= 3 ? start - 3 : 0; k < start; ++k)
-    if (b.count[k] > 0)
-    {
-      d.push_back((k + 0.5) * b.width);
-      c.push_back(b.count[k]);
-    }
-  const double from = start * b.width;
-  if (d.size() < 2)
-    return from;
-  const double n = static_cast<double>(d.size());
-  const double md = std::accumulate(d.begin(), d.end(), 0.0) / n, mc = std::accumulate(c.begin(), c.end(), 0.0) / n;
-  double sdd = 0.0, sdc = 0.0;
-  for (std::size_t k = 0; k < d.size(); ++k)
-  {
-    sdd += (d[k] - md) * (d[k] - md);
-    sdc += (d[k] - md) * (c[k] - mc);
-  }
-  const double slope = sdc / sdd;
-  if (!(slope < 0.0))
-    return from;
-  return std::clamp(md - mc / slope, from, from + 2.0 * b.width);
+  const double stalk = b.Spread(n / 2);
+  std::size_t start = 0;
+  while (start + 1 < n && (!b.Measured(start) || b.spread[start] > 1.5 * stalk + 0.5 * spacing))
+    ++start;
+  return start;
 }
 
 /// The stalk's end at the blade. Near the blade the left-out part may still hold the blade's last samples (a
 /// rounded end the ball did not quite reach): they lie farther from the stalk's axis than its own points do (its
 /// half-width: the 80th percentile of the distances to the axis of the points of its next bins); those, and every
-/// point nearer the blade than the farthest of them, go back to the blade. The junction is the axis's point level
-/// with the stalk's innermost remaining point.
+/// point nearer the blade than the farthest of them, go back to the blade.
 void JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail, const Bins& b, std::size_t start,
   double spacing, Petiole& petiole)
 {
@@ -317,27 +306,49 @@ void JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail,
   for (std::size_t k = 0; k < trail.ids.size(); ++k)
     if (trail.distance[k] < near && trail.distance[k] <= cut)
       petiole.member[trail.ids[k]] = 0;
-  double innermost = 0.0;
+  // The junction: the stalk's points nearest the blade (within half a bin of the nearest), averaged.
+  double nearest = 1e300;
   for (std::size_t k = 0; k < trail.ids.size(); ++k)
-    if (petiole.member[trail.ids[k]] && trail.distance[k] < near)
-      innermost = std::max(innermost, (points[trail.ids[k]] - origin).dot(u));
-  petiole.junction = origin + innermost * u;
+    if (petiole.member[trail.ids[k]])
+      nearest = std::min(nearest, trail.distance[k]);
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < trail.ids.size(); ++k)
+    if (petiole.member[trail.ids[k]] && trail.distance[k] <= nearest + 0.5 * b.width)
+    {
+      petiole.junction += points[trail.ids[k]];
+      ++count;
+    }
+  petiole.junction /= static_cast<double>(std::max<std::size_t>(1, count));
 }
 
-/// True when the trail is a stalk: at least 5 spacings of bins with its thin count, thin (a sparsely sampled patch
-/// of blade the ball did not fit is wide; the ball leaves out strips up to 8 spacings wide, whose spread is at most
-/// 2.3 spacings), and not thinning out like a wedge (a tip, a tooth): the outer half of those bins holds at least
-/// 45 % of what the inner half holds (a wedge: a third).
-bool IsStalk(const Bins& bins, double spacing)
+/// True when the trail is a stalk: at least 6 spacings of stalk bins, thin (their spread at most 2.5 spacings, what
+/// a strip the ball cannot fit in has, or a tenth of the blade's width: a stalk scanned from the side is sparser
+/// than the blade, so wider in spacings; a sparsely sampled patch of blade is wider still), and not narrowing like
+/// a wedge (a tip, a tooth): the first third of those bins (that hold enough points to measure) at most 1.6 times
+/// as wide as the last third, or, on a stalk of 15 spacings or more (whose first part may taper: a winged petiole),
+/// the middle third at most 1.25 times as wide as the last.
+bool IsStalk(const Bins& bins, double spacing, double bladeWidth)
 {
-  const std::size_t start = FirstStalkBin(bins), n = bins.count.size();
-  if (static_cast<double>(n - start) * bins.width < 5.0 * spacing || bins.Spread(start) > 2.5 * spacing)
+  const std::size_t start = FirstStalkBin(bins, spacing), n = bins.count.size();
+  if (static_cast<double>(n - start) * bins.width < 6.0 * spacing ||
+    bins.Spread(start) > std::max(2.5 * spacing, 0.1 * bladeWidth))
     return false;
-  double inner = 0.0, outer = 0.0;
+  std::vector<double> measured;
   for (std::size_t k = start; k < n; ++k)
-    (2 * (k - start) < n - start ? inner : outer) += bins.count[k];
-  const double innerBins = static_cast<double>((n - start + 1) / 2), outerBins = static_cast<double>((n - start) / 2);
-  return outer / std::max(1.0, outerBins) >= 0.45 * inner / std::max(1.0, innerBins);
+    if (bins.Measured(k))
+      measured.push_back(bins.spread[k]);
+  const std::size_t third = measured.size() / 3;
+  if (third == 0)
+    return false;
+  const double inner = std::accumulate(measured.begin(), measured.begin() + third, 0.0) / third;
+  const double middle = std::accumulate(measured.begin() + third, measured.end() - third, 0.0) /
+    static_cast<double>(measured.size() - 2 * third);
+  const double outer = std::accumulate(measured.end() - third, measured.end(), 0.0) / third;
+  if (inner <= 1.6 * outer + 0.25 * spacing)
+    return true;
+  // A long stalk whose first part tapers (a winged petiole) keeps its width from its middle on.
+  const double length = static_cast<double>(n - start) * bins.width;
+  return length >= 15.0 * spacing && middle <= 1.4 * outer + 0.1 * spacing;
 }
 } // namespace
 
@@ -350,12 +361,24 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing)
   spacing = std::max(spacing, DensitySpacing(points));
   // The ball: 4 spacings (about 50 points inside the sheet; a trail up to 4 points wide holds at most 60 % of that,
   // a margin half of it).
-  const double radius = 4.0 * spacing, link = 2.5 * spacing;
+  const double radius = 4.0 * spacing, link = 4.0 * spacing;
   const PointGrid grid(points, radius);
   const std::vector<unsigned char> blade = Opening(points, grid, radius);
   const std::size_t bladeCount = static_cast<std::size_t>(std::count(blade.begin(), blade.end(), 1));
   if (bladeCount < points.size() / 2)
     return petiole; // no blade the ball fits in (a narrow leaf): nothing to tell a petiole from
+  // The blade's width: four standard deviations across it (an ellipse's width).
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (blade[i])
+      mean += points[i];
+  mean /= static_cast<double>(bladeCount);
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (blade[i])
+      C += (points[i] - mean) * (points[i] - mean).transpose();
+  const double bladeWidth =
+    4.0 * std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C / bladeCount).eigenvalues()[1]));
   const std::vector<Trail> trails = Trails(points, grid, blade, link);
   const Trail* best = nullptr;
   Bins bestBins;
@@ -364,7 +387,7 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing)
     if (trail.extent < 5.0 * spacing || trail.ids.size() < 5)
       continue;
     Bins bins = CentreLine(points, trail, 1.5 * spacing);
-    if (IsStalk(bins, spacing) && (!best || trail.extent > best->extent))
+    if (IsStalk(bins, spacing, bladeWidth) && (!best || trail.extent > best->extent))
     {
       best = &trail;
       bestBins = std::move(bins);
@@ -373,8 +396,8 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing)
   if (!best)
     return petiole;
   // The stalk proper, from its junction with the blade (bins before it are the blade's narrow end).
-  const double from = StalkStart(bestBins);
-  const std::size_t start = static_cast<std::size_t>(from / bestBins.width);
+  const std::size_t start = FirstStalkBin(bestBins, spacing);
+  const double from = start * bestBins.width;
   if (best->extent - from < 5.0 * spacing)
     return petiole;
   petiole.found = true;
@@ -383,8 +406,8 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing)
       petiole.member[best->ids[k]] = 1;
   JunctionEnd(points, *best, bestBins, start, spacing, petiole);
   // The centre line: the junction, the centroids of the stalk's bins after the first, and its farthest point.
-  const std::size_t far = static_cast<std::size_t>(
-    std::max_element(best->distance.begin(), best->distance.end()) - best->distance.begin());
+  const std::size_t far =
+    static_cast<std::size_t>(std::max_element(best->distance.begin(), best->distance.end()) - best->distance.begin());
   petiole.line.push_back(petiole.junction);
   for (std::size_t k = start + 1; k < bestBins.centre.size(); ++k)
     if (bestBins.count[k] > 0)

@@ -30,10 +30,10 @@ namespace fit
 struct Petiole
 {
   bool found = false;
-  std::vector<unsigned char> member; ///< per input point: 1 for the petiole's points
+  std::vector<unsigned char> member;                  ///< per input point: 1 for the petiole's points
   Eigen::Vector3d junction = Eigen::Vector3d::Zero(); ///< where the petiole meets the blade
-  std::vector<Eigen::Vector3d> line; ///< the petiole's centre line, from the junction to its far end
-  double length = 0.0;               ///< arc length of `line`
+  std::vector<Eigen::Vector3d> line;                  ///< the petiole's centre line, from the junction to its far end
+  double length = 0.0;                                ///< arc length of `line`
 };
 
 /// Finds the petiole of a leaf's points (outliers already removed; `spacing` their median nearest-neighbour
