@@ -172,8 +172,8 @@ Eigen::Vector3d Nearest(const std::vector<Eigen::Vector3d>& points, const Eigen:
 }
 
 /// Without a base or apex given or found: true when the base is at the +Y end of the axis Y (through the centroid,
-/// X across it): an end that is a narrow stalk is the base, else the end nearer the widest cross-section (ovate
-/// leaves are wider towards the base).
+/// X across it): an end that is a narrow stalk is the base; else a blade widest at one end (a fan) has its apex
+/// there; else the base is the end nearer the widest cross-section (ovate leaves are wider towards the base).
 bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& centroid, const Eigen::Vector3d& Y,
   const Eigen::Vector3d& X)
 {
@@ -205,6 +205,13 @@ bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector
   const bool stalkHigh = width[slices - 1] < 0.06 * widest && width[slices - 2] < 0.1 * widest;
   if (stalkLow != stalkHigh)
     return stalkHigh;
+  // A blade widest at one end (the last 15 % of its length: a fan, a truncate or notched apex) has its apex there and
+  // narrows to its base.
+  const int widestSlice = static_cast<int>(std::max_element(width.begin(), width.end()) - width.begin());
+  if (widestSlice >= slices - 3)
+    return false;
+  if (widestSlice <= 2)
+    return true;
   // Width-weighted centre of the slices, relative to the middle.
   double sum = 0.0, moment = 0.0;
   for (int k = 0; k < slices; ++k)

@@ -94,17 +94,23 @@ Eigen::Vector3d SymmetryAxis(const std::vector<Eigen::Vector3d>& points, const E
   const PlaneGrid grid(plane, spacing);
   // Mirror at most 4000 of the points (every k-th): the score is a mean, and 4000 samples pin it well enough.
   const std::size_t stride = std::max<std::size_t>(1, plane.size() / 4000);
-  // Mean distance of the mirrored points to the nearest point, capped (a locally asymmetric part, a bite or a
-  // missing patch, must not outweigh the rest), plus a small preference for the hint's direction.
+  // The fraction of mirrored points that land off the blade (farther than 2 spacings from every point: the area the
+  // blade and its mirror image do not share), a tenth of their mean distance to the nearest point (capped at 5
+  // spacings, in units of that cap) to rank lines that share the same area, and a small preference for the hint's
+  // direction (an ellipse is symmetric about both its axes).
   const double cap = 5.0 * spacing;
   auto score = [&](double angle) {
     const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
-    double sum = 0.0;
+    double sum = 0.0, off = 0.0;
     std::size_t count = 0;
     for (std::size_t i = 0; i < plane.size(); i += stride, ++count)
-      sum += grid.Distance(2.0 * plane[i].dot(u) * u - plane[i], cap);
-    const double s = std::sin(angle);
-    return sum / static_cast<double>(count) + 0.3 * spacing * s * s;
+    {
+      const double d = grid.Distance(2.0 * plane[i].dot(u) * u - plane[i], cap);
+      sum += d;
+      off += d > 2.0 * spacing ? 1.0 : 0.0;
+    }
+    const double s = std::sin(angle), n = static_cast<double>(count);
+    return off / n + 0.1 * sum / (n * cap) + 0.02 * s * s;
   };
   const double pi = 3.14159265358979323846;
   const int steps = 90;

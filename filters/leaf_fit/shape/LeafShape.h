@@ -11,7 +11,7 @@
 // petiole. Its junction is where it touches the blade; its length is measured along the trail's centre line.
 //
 // Axis: the blade's points, seen in their best plane, mirrored across a line through the base: the line whose
-// mirror image fits the points best is the midvein axis (a symmetric blade of any outline, wide fans and cordate
+// mirror image leaves the blade least (the fewest mirrored points off it) is the midvein axis (a symmetric blade of any outline, wide fans and cordate
 // and lobed blades included, maps onto itself across its midvein, and across no other line through its base).
 // Without a known base, lines through the blade's centroid are tried, and among equally symmetric lines (an
 // ellipse has two) the one nearest the blade's longest principal axis is taken.

@@ -47,6 +47,23 @@ vtkSmartPointer<T> NewArray(const char* name, int components)
   return array;
 }
 
+/// The petiole's centre line (Region 5, LeafUV 0), junction to far end, appended to the Outline; nothing without one.
+void AppendPetiole(
+  const plantmorph::LeafFitResult& r, int leafId, vtkPoints* outlinePoints, vtkCellArray* lines, vtkPolyData* outline)
+{
+  if (r.petioleLine.size() < 2)
+    return;
+  lines->InsertNextCell(static_cast<vtkIdType>(r.petioleLine.size()));
+  for (const auto& p : r.petioleLine)
+  {
+    lines->InsertCellPoint(outlinePoints->InsertNextPoint(p.data()));
+    outline->GetPointData()->GetArray(plantmorph::arrays::LeafUV)->InsertNextTuple2(0.0, 0.0);
+    outline->GetPointData()->GetArray("LeafId")->InsertNextTuple1(leafId);
+  }
+  outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(plantmorph::RegionPetiole);
+  outline->GetCellData()->GetArray("LeafId")->InsertNextTuple1(leafId);
+}
+
 /// The blade and outline of one leaf appended to the outputs.
 void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* points, vtkCellArray* triangles,
   vtkPolyData* blade, vtkPoints* outlinePoints, vtkCellArray* lines, vtkPolyData* outline)
@@ -86,19 +103,7 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* point
     outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(regions[k]);
     outline->GetCellData()->GetArray("LeafId")->InsertNextTuple1(leafId);
   }
-  // The petiole's centre line (Region 5), junction to far end.
-  if (r.petioleLine.size() >= 2)
-  {
-    lines->InsertNextCell(static_cast<vtkIdType>(r.petioleLine.size()));
-    for (const auto& p : r.petioleLine)
-    {
-      lines->InsertCellPoint(outlinePoints->InsertNextPoint(p.data()));
-      outline->GetPointData()->GetArray(plantmorph::arrays::LeafUV)->InsertNextTuple2(0.0, 0.0);
-      outline->GetPointData()->GetArray("LeafId")->InsertNextTuple1(leafId);
-    }
-    outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(plantmorph::RegionPetiole);
-    outline->GetCellData()->GetArray("LeafId")->InsertNextTuple1(leafId);
-  }
+  AppendPetiole(r, leafId, outlinePoints, lines, outline);
   // The fitted Model C control points, for LeafOutlineSource (B-spline, Custom).
   const std::vector<Eigen::Vector3d>* model[6] = { &r.modelMidvein, &r.modelLeftMargin, &r.modelRightMargin,
     &r.flatMidvein, &r.flatLeftMargin, &r.flatRightMargin };

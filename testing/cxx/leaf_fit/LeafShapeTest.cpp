@@ -246,6 +246,17 @@ TEST(LeafShape, LobedBladeIsFittedAlongItsMidvein)
   ExpectShape(scan, Tilted(), e);
 }
 
+TEST(LeafShape, FanWithoutPetioleOrHintsIsFittedAlongItsMidvein)
+{
+  // No petiole, no BasePoint: the axis of symmetry through the centroid (not the principal axis across the fan), the
+  // base at the narrow end (the fan is widest at its top).
+  const Synthetic scan = Scan(Blade(1, 50.0), 8000, 0.05, 0.0, Straight(0.0), 0, Tilted());
+  Expected e;
+  e.baseTolerance = 0.03;
+  e.lengthTolerance = 0.07; // the apex is a notch between two lobes: the outline's tip reaches the lobes' tips
+  ExpectShape(scan, Tilted(), e);
+}
+
 TEST(LeafShape, SymmetryAxisOfAFanThroughItsBase)
 {
   // The core step alone: points of the ginkgo fan, the axis through its base, hinted across the fan.
