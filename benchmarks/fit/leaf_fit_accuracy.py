@@ -89,6 +89,8 @@ def run(name, properties, curled, view, petiole):
     centre = points.mean(axis=0)
     _, _, axes = numpy.linalg.svd(points - centre, full_matrices=False)
     e_length, e_width = axes[0], axes[1]
+    if e_length.dot(t["direction"]) < 0:  # the scan runs from beyond the base (and the petiole) to the apex
+        e_length = -e_length
     normal = numpy.cross(e_length, e_width)
     if normal.dot(t["normal"]) < 0:
         normal, e_width = -normal, -e_width
