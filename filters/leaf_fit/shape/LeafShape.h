@@ -4,15 +4,17 @@
 //
 // Petiole: the blade is what a ball of a few point spacings rolled inside the cloud covers (a morphological opening:
 // the points whose ball holds most of the points a ball inside the sheet holds, and every point within such a ball).
-// What the opening leaves out are thin parts: a petiole (a trail of constant width, one to a few points wide), acute
-// tips and teeth (wedges, narrowing to nothing away from the blade). A left-out part touching the blade is a
-// petiole when it is long (several spacings) and does not narrow away from the blade (its points per unit of length
-// in its outer half at least half of those in its inner half: a wedge has a third); the longest such part is the
-// petiole. Its junction is where it touches the blade; its length is measured along the trail's centre line.
+// What the opening leaves out are thin parts: a petiole (a trail one to a few points wide, or sparser and wider
+// where a stalk is seen from the side), acute tips and teeth (wedges). A left-out part touching the blade is a
+// petiole when it keeps its width (measured across the trail, in bins of distance from the blade) over at least 6
+// spacings, is narrow, and does not narrow away from the blade like a wedge (a winged petiole may taper first); the
+// longest such part is the petiole. Its junction is its first points at the blade; its length is measured along the
+// trail's centre line (the bins' centroids).
 //
 // Axis: the blade's points, seen in their best plane, mirrored across a line through the base: the line whose
-// mirror image leaves the blade least (the fewest mirrored points off it) is the midvein axis (a symmetric blade of any outline, wide fans and cordate
-// and lobed blades included, maps onto itself across its midvein, and across no other line through its base).
+// mirror image leaves the blade least (the fewest mirrored points off it) is the midvein axis (a symmetric blade of
+// any outline, wide fans and cordate and lobed blades included, maps onto itself across its midvein, and across no
+// other line through its base).
 // Without a known base, lines through the blade's centroid are tried, and among equally symmetric lines (an
 // ellipse has two) the one nearest the blade's longest principal axis is taken.
 #pragma once
