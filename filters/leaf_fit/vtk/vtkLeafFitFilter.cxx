@@ -47,6 +47,23 @@ vtkSmartPointer<T> NewArray(const char* name, int components)
   return array;
 }
 
+/// The petiole's centre line (Region 5, LeafUV 0), junction to far end, appended to the Outline; nothing without one.
+void AppendPetiole(
+  const plantmorph::LeafFitResult& r, int leafId, vtkPoints* outlinePoints, vtkCellArray* lines, vtkPolyData* outline)
+{
+  if (r.petioleLine.size() < 2)
+    return;
+  lines->InsertNextCell(static_cast<vtkIdType>(r.petioleLine.size()));
+  for (const auto& p : r.petioleLine)
+  {
+    lines->InsertCellPoint(outlinePoints->InsertNextPoint(p.data()));
+    outline->GetPointData()->GetArray(plantmorph::arrays::LeafUV)->InsertNextTuple2(0.0, 0.0);
+    outline->GetPointData()->GetArray("LeafId")->InsertNextTuple1(leafId);
+  }
+  outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(plantmorph::RegionPetiole);
+  outline->GetCellData()->GetArray("LeafId")->InsertNextTuple1(leafId);
+}
+
 /// The blade and outline of one leaf appended to the outputs.
 void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* points, vtkCellArray* triangles,
   vtkPolyData* blade, vtkPoints* outlinePoints, vtkCellArray* lines, vtkPolyData* outline)
@@ -86,6 +103,7 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* point
     outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(regions[k]);
     outline->GetCellData()->GetArray("LeafId")->InsertNextTuple1(leafId);
   }
+  AppendPetiole(r, leafId, outlinePoints, lines, outline);
   // The fitted Model C control points, for LeafOutlineSource (B-spline, Custom).
   const std::vector<Eigen::Vector3d>* model[6] = { &r.modelMidvein, &r.modelLeftMargin, &r.modelRightMargin,
     &r.flatMidvein, &r.flatLeftMargin, &r.flatRightMargin };
@@ -134,6 +152,9 @@ int vtkLeafFitFilter::FillOutputPortInformation(int port, vtkInformation* info)
 
 namespace
 {
+/// Per-point values the owners send back for the Scan port: FitDistance, Inlier, Region.
+constexpr int ScanValues = 3;
+
 /// The leaf's points in lexicographic order of their coordinates (ties keep their order: they are equal points), so
 /// that a fit does not depend on the order the points arrive in (input order, or pieces gathered from MPI ranks).
 std::vector<std::size_t> CanonicalOrder(const std::vector<Eigen::Vector3d>& points)
@@ -149,7 +170,7 @@ std::vector<std::size_t> CanonicalOrder(const std::vector<Eigen::Vector3d>& poin
 }
 
 /// Fits the leaves this rank owns (threaded over leaves), each on its points in canonical order; `values` gets,
-/// per leaf, FitDistance and Inlier of every point in the order the points came.
+/// per leaf, FitDistance, Inlier and Region (5 on the petiole, else 0) of every point in the order the points came.
 std::vector<plantmorph::LeafFitResult> FitOwned(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
   const plantmorph::LeafFitParameters& options, std::vector<std::vector<double>>& values)
 {
@@ -168,11 +189,13 @@ std::vector<plantmorph::LeafFitResult> FitOwned(const std::vector<std::vector<Ei
   {
     if (!results[k].error.empty())
       continue;
-    values[k].assign(2 * leaves[k].size(), 0.0);
+    values[k].assign(ScanValues * leaves[k].size(), 0.0);
     for (std::size_t j = 0; j < orders[k].size(); ++j)
     {
-      values[k][2 * orders[k][j]] = results[k].fitDistance[j];
-      values[k][2 * orders[k][j] + 1] = results[k].inlier[j];
+      values[k][ScanValues * orders[k][j]] = results[k].fitDistance[j];
+      values[k][ScanValues * orders[k][j] + 1] = results[k].inlier[j];
+      values[k][ScanValues * orders[k][j] + 2] =
+        results[k].petiole[j] ? plantmorph::RegionPetiole : plantmorph::RegionBlade;
     }
   }
   return results;
@@ -210,8 +233,8 @@ void FillTraits(const std::vector<double>& rows, vtkTable* traits)
   }
 }
 
-/// Scan: the scaled input points, their data, and the fit's per-point arrays (`values`: FitDistance and Inlier of
-/// every point).
+/// Scan: the scaled input points, their data, and the fit's per-point arrays (`values`: FitDistance, Inlier and
+/// Region of every point).
 void FillScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, const std::vector<int>& leafOf,
   const std::vector<double>& values, vtkPolyData* scan)
 {
@@ -222,6 +245,8 @@ void FillScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, const
   vtkNew<vtkCellArray> verts;
   auto distance = NewArray<vtkDoubleArray>("FitDistance", 1);
   auto inlier = NewArray<vtkUnsignedCharArray>("Inlier", 1);
+  auto region = NewArray<vtkIntArray>(plantmorph::arrays::Region, 1);
+  region->SetNumberOfTuples(n);
   auto leafId = NewArray<vtkIntArray>("LeafId", 1);
   distance->SetNumberOfTuples(n);
   inlier->SetNumberOfTuples(n);
@@ -230,8 +255,10 @@ void FillScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, const
   {
     scanPoints->SetPoint(i, all[i].data());
     verts->InsertNextCell(1, &i);
-    distance->SetValue(i, values[2 * i]);
-    inlier->SetValue(i, values[2 * i + 1] != 0.0 ? 1 : 0);
+    distance->SetValue(i, values[ScanValues * i]);
+    inlier->SetValue(i, values[ScanValues * i + 1] != 0.0 ? 1 : 0);
+    region->SetValue(
+      i, values[ScanValues * i + 2] == plantmorph::RegionPetiole ? plantmorph::RegionPetiole : plantmorph::RegionBlade);
     leafId->SetValue(i, leafOf[i]);
   }
   scan->SetPoints(scanPoints);
@@ -239,6 +266,7 @@ void FillScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, const
   scan->GetPointData()->PassData(input->GetPointData());
   scan->GetPointData()->AddArray(distance);
   scan->GetPointData()->AddArray(inlier);
+  scan->GetPointData()->AddArray(region);
   scan->GetPointData()->AddArray(leafId);
   scan->GetPointData()->SetActiveScalars("FitDistance");
 }
@@ -255,6 +283,11 @@ plantmorph::LeafFitParameters Options(vtkLeafFitFilter* self)
   {
     const double* base = self->GetBasePoint();
     options.basePoint = Eigen::Vector3d(base[0], base[1], base[2]);
+  }
+  if (self->GetUseApexPoint())
+  {
+    const double* apex = self->GetApexPoint();
+    options.apexPoint = Eigen::Vector3d(apex[0], apex[1], apex[2]);
   }
   options.surfaceSmoothing = self->GetSurfaceSmoothing();
   options.outlineSmoothing = self->GetOutlineSmoothing();
@@ -280,6 +313,10 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, std::vector<E
   if (baseCount >= 0 && baseCount != 3)
     error = plantmorph::OutOfRange(
       "BasePoint", std::to_string(baseCount) + " numbers", "3 numbers (x, y, z)", "the value given was not set");
+  const int apexCount = self->GetApexPointElementCount();
+  if (error.empty() && apexCount >= 0 && apexCount != 3)
+    error = plantmorph::OutOfRange(
+      "ApexPoint", std::to_string(apexCount) + " numbers", "3 numbers (x, y, z)", "the value given was not set");
   if (error.empty() && !(std::isfinite(scale) && scale > 0.0))
     error = plantmorph::OutOfRange("Scale", scale, "(0, inf)");
   vtkDataArray* ids = nullptr;
@@ -389,8 +426,9 @@ void vtkLeafFitFilter::Execute(plantmorph::Run& run)
     if (!results[k].modelWarning.empty())
       run.WarnHere("leaf " + std::to_string(exchange.LeafIds()[owned[k]]) + ": " + results[k].modelWarning);
   WriteFits(exchange, owned, results, this->Scale, run);
-  // Scan: stays where its points are; the owners send each point's FitDistance and Inlier back.
-  const std::vector<double> pointValues = exchange.ReturnValues(members, static_cast<vtkIdType>(all.size()), values, 2);
+  // Scan: stays where its points are; the owners send each point's FitDistance, Inlier and Region back.
+  const std::vector<double> pointValues =
+    exchange.ReturnValues(members, static_cast<vtkIdType>(all.size()), values, ScanValues);
   if (!all.empty())
     FillScan(input, all, leafOf, pointValues, run.Output<vtkPolyData>(3));
 }
@@ -402,6 +440,7 @@ void vtkLeafFitFilter::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "LeafIdArray: " << this->LeafIdArray << "\n"
      << indent << "UpAxis: " << this->UpAxis << "\n"
      << indent << "UseBasePoint: " << this->UseBasePoint << "\n"
+     << indent << "UseApexPoint: " << this->UseApexPoint << "\n"
      << indent << "SurfaceSmoothing: " << this->SurfaceSmoothing << "\n"
      << indent << "OutlineSmoothing: " << this->OutlineSmoothing << "\n"
      << indent << "OutlineControlPoints: " << this->OutlineControlPoints << "\n"
