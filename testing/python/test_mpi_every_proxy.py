@@ -10,6 +10,7 @@ the totals over all ranks equal the serial counts (nothing duplicated, nothing l
 ranks is bit-identical to the serial output. Run once serially with --write-reference (pvpython), then as
 `mpirun -np N pvbatch test_mpi_every_proxy.py ... --ranks N`."""
 import glob
+import math
 import os
 
 from plantmorph_testing import (check_rank_count, Checks, fingerprint, load_plugin, load_reference,
@@ -64,6 +65,15 @@ leaf_centre = [(leaf_bounds[2 * k] + leaf_bounds[2 * k + 1]) / 2 for k in range(
 leaf_size = max(leaf_bounds[1] - leaf_bounds[0], leaf_bounds[3] - leaf_bounds[2])
 split_scan = VirtualScanner(Input=split, ScannerType="Depth camera", Resolution=[64, 64], LookAt=leaf_centre,
                             Positions=[leaf_centre[0], leaf_centre[1], leaf_centre[2] + 2 * leaf_size])
+# TreeFitFilter on a distributed scan of a leafless tree from three tripods: the points gathered on rank 0, which
+# fits the tree.
+wood = TreeFromSketchSource(Preset="Custom", TreeType="Monopodial", Length=4.0, Radius=0.12, Depth=1, ChildCount=4,
+                            Sides=24, Joints="Seated tubes", Leaves=0)
+tripods = [coordinate for k in range(3) for coordinate in (7 * math.cos(2 * math.pi * (k + 0.1) / 3), 1.5,
+                                                           7 * math.sin(2 * math.pi * (k + 0.1) / 3))]
+wood_scan = VirtualScanner(Input=wood, Positions=tripods, LookAt=[0, 2.0, 0], Up=[0, 1, 0], HorizontalFieldOfView=50,
+                           VerticalFieldOfView=60, AngularStep=0.15, RangeNoise=0.003, Seed=3)
+tree_fit = TreeFitFilter(Input=wood_scan, UpAxis="Y")
 SPLIT = {"split_curl": split_curl, "split_loop": split_loop, "split_scan": split_scan}
 
 OUTPUTS = {
@@ -80,6 +90,8 @@ OUTPUTS = {
     "fit_blade": (leaf_fit, 0), "fit_outline": (leaf_fit, 1), "fit_traits": (leaf_fit, 2), "fit_scan": (leaf_fit, 3),
     "trajectory_samples": (trajectory, 0), "trajectory_summary": (trajectory, 1),
     "scanner_cloud": (scan, 0), "scanner_setup": (scan, 1),
+    "tree_fit_cylinders": (tree_fit, 0), "tree_fit_skeleton": (tree_fit, 1), "tree_fit_trees": (tree_fit, 2),
+    "tree_fit_branches": (tree_fit, 3),
 }
 TIMED = {"wilting_leaf", "wilting_voxels", "wilting_veins"}
 
