@@ -242,7 +242,6 @@ void WriteBranches(const plantmorph::TubeMesh& mesh, const plantmorph::Tree& tre
   branchesOut->GetCellData()->AddArray(branchId);
   branchesOut->GetCellData()->AddArray(parentId);
   branchesOut->GetCellData()->AddArray(depth);
-  AddConstantOrganArrays(branchesOut, OrganWood, -1);
 }
 
 /// Port 1: the skeleton, one polyline per branch with its Radius, BranchId, ParentId and Depth.
@@ -315,6 +314,8 @@ void AppendQuadLeaf(const plantmorph::TreeLeaf& leaf, double scale, LeafArrays& 
   out.cellOrgan->InsertNextValue(OrganLeaf);
 }
 
+void AppendLeafCells(const plantmorph::TreeLeaf& leaf, vtkPolyData* leafInput, vtkIdType first, LeafArrays& out);
+
 /// A copy of the Leaf input (its base at y = leafMinY, scaled by `scale`) at the leaf's place, with its TCoords and
 /// Normals (turned) when it has them.
 void AppendInputLeaf(const plantmorph::TreeLeaf& leaf, vtkPolyData* leafInput, double scale, double leafLength,
@@ -352,10 +353,16 @@ void AppendInputLeaf(const plantmorph::TreeLeaf& leaf, vtkPolyData* leafInput, d
     }
     out.normals->InsertNextTuple3(normal.x(), normal.y(), normal.z());
   }
+  AppendLeafCells(leaf, leafInput, first, out);
+}
+
+/// The Leaf input's polygons of one leaf copy (its points from `first` on), with BranchId, LeafId and Organ: a cell
+/// of Region petiole (the Leaf input's cell array, when it has one) is petiole, and its points unless a blade cell
+/// uses them too.
+void AppendLeafCells(const plantmorph::TreeLeaf& leaf, vtkPolyData* leafInput, vtkIdType first, LeafArrays& out)
+{
   vtkNew<vtkIdList> ids;
   vtkCellArray* cells = leafInput->GetPolys();
-  // A cell of Region petiole (the Leaf input's cell array, when it has one) is petiole; its points are petiole
-  // unless a blade cell uses them too.
   vtkDataArray* region = leafInput->GetCellData()->GetArray(plantmorph::arrays::Region);
   std::vector<int> pointOrgan(static_cast<std::size_t>(leafInput->GetNumberOfPoints()), -1);
   vtkIdType cell = leafInput->GetNumberOfVerts() + leafInput->GetNumberOfLines();
@@ -851,6 +858,7 @@ void WriteOutputs(vtkAlgorithm* self, plantmorph::Run& run, const plantmorph::Tr
   }
   run.Building("the tree's outputs");
   WriteBranches(surfaces.mesh, tree, run.Output<vtkPolyData>(0));
+  AddConstantOrganArrays(run.Output<vtkPolyData>(0), OrganWood, -1);
   surfaces.mesh = plantmorph::TubeMesh();
   self->UpdateProgress(0.8);
   if (piece.number == 0)
