@@ -39,6 +39,8 @@ EXAMPLES = {
     "scan_fitted_leaf.py": ("pvpython", OUTPUT, ["scan_fitted_leaf_simulated.vtp", "scan_fitted_leaf_blade.vtp",
                                                  "scan_fitted_leaf.json"], ["scanner", "leaf_fit"]),
     "scan_tree.py": ("pvbatch", OUTPUT, ["scan_tree.vtp", "scan_tree.csv", "scan_tree.png"], ["scanner", "tree"]),
+    "segment_plant.py": ("pvbatch", OUTPUT, ["segment_plant.vtp", "segment_plant.csv", "segment_plant.png"],
+                         ["segmentation", "leaf_fit", "scanner"]),
     "trace_leaf_outline.py": ("pvbatch", OUTPUT, ["traced_leaf.vtp", "traced_leaf.png"], ["leaf"]),
     "main_ginkgo_leaf.py": ("state", [], [], ["leaf"]),
     "main_measured_leaf.py": ("state", [], [], ["leaf_fit", "comparison"]),
