@@ -13,9 +13,9 @@
 //     thin at both scales (spread below 0.2: twigs and petioles stop it) nor from a point on a crease (surface
 //     variation above the plant's median by CreaseVariation: where two leaves cross, a fold, a junction).
 //  3. Classification of each region from its own covariance and normals: a leaf is a sheet (its points' normals
-//     agree with the region's plane normal on average by more than SheetCoherence), thin (its spread across its
-//     plane under 0.15 of its width's), not a long strip (its length over width below MaximumLeafElongation) and
-//     wider than the features' neighbourhood (2r); the rest is wood. Points of regions too small to judge take
+//     agree with the region's plane normal on average by more than SheetCoherence) that is not a long strip (its
+//     length over width below MaximumLeafElongation) and is wider than the features' neighbourhood (2r); the rest
+//     is wood. Points of regions too small to judge take
 //     the organ of the nearest judged region (breadth-first over the radius graph), linear ones are wood.
 //  4. Leaf instances. Small wood pieces (fewer than MinimumLeafPoints points) touching one leaf region only are
 //     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at

@@ -21,10 +21,6 @@ namespace
 {
 /// Regions with fewer points are not judged on their own shape.
 constexpr std::size_t JudgedRegionPoints = 12;
-/// A leaf is thin: its spread across its plane (sqrt l3) under this fraction of its spread across its length
-/// (sqrt l2). A patch of a tube or a junction's facets is thicker; a flat or gently cupped leaf, even under range
-/// noise of a percent of its length, is well below.
-constexpr double MaximumLeafThickness = 0.15;
 
 /// What a region is, from its points' covariance and normals.
 struct RegionVerdict
@@ -70,9 +66,7 @@ std::vector<RegionVerdict> JudgeRegions(const std::vector<Eigen::Vector3d>& poin
     RegionVerdict& v = verdicts[r];
     v.judged = true;
     const double width = 2.0 * std::sqrt(3.0 * l[1]); // a uniform rectangle's width from its variance
-    const double thickness = l[1] > 0.0 ? std::sqrt(l[0] / l[1]) : 1.0;
-    v.leaf = coherence > p.sheetCoherence && elongation < p.maximumLeafElongation && width >= minimumWidth &&
-      thickness < MaximumLeafThickness;
+    v.leaf = coherence > p.sheetCoherence && elongation < p.maximumLeafElongation && width >= minimumWidth;
     const double margin = v.leaf ? (coherence - p.sheetCoherence) / (1.0 - p.sheetCoherence)
                                  : std::max({ elongation >= p.maximumLeafElongation ? 1.0 : 0.0,
                                      (p.sheetCoherence - coherence) / p.sheetCoherence, 1.0 - width / minimumWidth });

@@ -3,7 +3,7 @@
 defaults; a simulated plant (TreeFromSketchSource's wood and leaves, scanned by VirtualScanner from two sides, the
 scan carrying the true Organ and LeafId) comes out with Organ, LeafId and SegmentationConfidence on every point,
 close to the truth, a Leaves row per leaf and a Plants row; two plants told apart by PlantIdArray are segmented each
-on its own; and bad input (a PlantIdArray the input lacks, one point, a NaN point, wood only, leaves only) gives an
+on its own; and bad input (a PlantIdArray the input lacks, one point, a NaN point, a bare stem, a leaf alone) gives an
 error naming the problem and empty outputs on all three ports.
 
     pvpython test_plant_segmentation.py --plugin PlantMorph.so --work DIR
@@ -135,7 +135,10 @@ refused(PlantSegmentationFilter(Input=cloud_source([[0.0, 0.0, 0.0]])), ["1 poin
 coordinates = vtk_to_numpy(servermanager.Fetch(scan).GetPoints().GetData()).copy()
 coordinates[5, 1] = numpy.nan
 refused(PlantSegmentationFilter(Input=cloud_source(coordinates)), ["point 5", "non-finite"], "a NaN point")
-refused(PlantSegmentationFilter(Input=scanned(tree, leaves=False), UpAxis="Y"), ["no leaf found"], "wood only")
+stem = Cylinder(Resolution=64, Capping=0, Height=4.0, Radius=0.1)
+stem_scan = VirtualScanner(Input=stem, Positions=[3, 0, 0, -3, 0, 0], LookAt=[0, 0, 0], Up=[0, 1, 0],
+                           HorizontalFieldOfView=20, VerticalFieldOfView=80, AngularStep=0.1)
+refused(PlantSegmentationFilter(Input=stem_scan, UpAxis="Y"), ["no leaf found"], "wood only (a stem)")
 leaf_scan = VirtualScanner(Input=LeafOutlineSource(), Positions=[0, 2.5, 8], LookAt=[0, 2.5, 0], Up=[0, 1, 0],
                            HorizontalFieldOfView=60, VerticalFieldOfView=60, AngularStep=0.2)
 refused(PlantSegmentationFilter(Input=leaf_scan), ["no wood found"], "a leaf only")
