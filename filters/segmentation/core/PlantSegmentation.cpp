@@ -23,7 +23,7 @@ std::string ValidateSegmentationParameters(const SegmentationParameters& p)
   };
   check(std::isfinite(p.featureScale) && p.featureScale >= 2.0 && p.featureScale <= 50.0, "FeatureScale",
     p.featureScale, "[2, 50]");
-  check(std::isfinite(p.linkScale) && p.linkScale >= 1.0 && p.linkScale <= 20.0, "LinkScale", p.linkScale, "[1, 20]");
+  check(std::isfinite(p.linkScale) && p.linkScale >= 1.5 && p.linkScale <= 20.0, "LinkScale", p.linkScale, "[1.5, 20]");
   check(std::isfinite(p.normalAngle) && p.normalAngle > 0.0 && p.normalAngle < 90.0, "NormalAngle", p.normalAngle,
     "(0, 90)");
   check(std::isfinite(p.creaseVariation) && p.creaseVariation > 0.0 && p.creaseVariation < 1.0, "CreaseVariation",
