@@ -53,7 +53,7 @@ struct SegmentationParameters
 {
   int upAxis = 2;                      ///< 0 X, 1 Y, 2 Z: the vertical, for heights and the plant's base
   double featureScale = 4.0;           ///< [2, 50] spacings: radius of the covariance features (and twice it)
-  double linkScale = 2.5;              ///< [1, 20] spacings: neighbours closer than this are linked
+  double linkScale = 2.5;              ///< [1.5, 20] spacings: neighbours closer than this are linked
   double normalAngle = 25.0;           ///< (0, 90) degrees: largest normal turn between linked points of a sheet
   double creaseVariation = 0.02;       ///< (0, 1): surface variation above the median that stops the growing
   double sheetCoherence = 0.8;         ///< (0, 1): mean |n . region normal| above which a region is a sheet
