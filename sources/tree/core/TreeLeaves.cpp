@@ -83,6 +83,7 @@ std::string PlaceLeaves(const TreeParameters& s, Tree& tree)
       BranchFrameAt(b, pos, point, frame, radius);
       TreeLeaf leaf;
       leaf.branchId = b.id;
+      leaf.id = static_cast<int>(tree.leaves.size());
       leaf.axes = frame * RotationY(rotation) * RotationZ(s.leafAngle);
       leaf.origin =
         point + radius * (frame * Eigen::Vector3d(-std::cos(rotation * Degree), 0.0, std::sin(rotation * Degree)));

@@ -158,6 +158,7 @@ struct TreeBranch
 struct TreeLeaf
 {
   int branchId = 0;
+  int id = 0; ///< LeafId: the leaf's index in Tree::leaves (unique over the tree, the same for the same seed)
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();   ///< the leaf's base on its twig's surface
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity(); ///< columns: across the blade, along the midrib, normal (unit)
 };

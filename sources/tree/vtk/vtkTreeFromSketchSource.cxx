@@ -163,6 +163,25 @@ std::string ValidateLeafInput(vtkPolyData* leafInput, const plantmorph::Tree& tr
   return {};
 }
 
+/// The Organ codes of the outputs' `Organ` arrays (the truth a scan of the tree carries to its points).
+constexpr int OrganWood = 0, OrganLeaf = 1, OrganPetiole = 2;
+
+/// `Organ` = organ and `LeafId` = leafId on every point and cell of `out` (the wood: 0 and -1), so that the wood
+/// and the leaves appended keep both arrays (AppendGeometry keeps the arrays all its inputs have).
+void AddConstantOrganArrays(vtkPolyData* out, int organ, int leafId)
+{
+  const vtkIdType counts[2] = { out->GetNumberOfPoints(), out->GetNumberOfCells() };
+  vtkDataSetAttributes* data[2] = { out->GetPointData(), out->GetCellData() };
+  for (int k = 0; k < 2; ++k)
+  {
+    auto organs = IntArray("Organ", counts[k]), leaves = IntArray("LeafId", counts[k]);
+    organs->FillValue(organ);
+    leaves->FillValue(leafId);
+    data[k]->AddArray(organs);
+    data[k]->AddArray(leaves);
+  }
+}
+
 /// Port 0: the branch surfaces, with Normals, TCoords and each triangle's BranchId, ParentId and Depth.
 void WriteBranches(const plantmorph::TubeMesh& mesh, const plantmorph::Tree& tree, vtkPolyData* branchesOut)
 {
@@ -267,6 +286,7 @@ struct LeafArrays
   vtkNew<vtkFloatArray> normals;
   vtkNew<vtkCellArray> polys;
   vtkNew<vtkIntArray> branchId;
+  vtkNew<vtkIntArray> cellLeafId, cellOrgan, pointLeafId, pointOrgan;
 };
 
 /// A textured quad of side `scale` at the leaf's place (no Leaf input).
@@ -286,9 +306,15 @@ void AppendQuadLeaf(const plantmorph::TreeLeaf& leaf, double scale, LeafArrays& 
     out.tcoords->InsertNextTuple2(uv[k][0], uv[k][1]);
     out.normals->InsertNextTuple3(n.x(), n.y(), n.z());
     out.polys->InsertCellPoint(first + k);
+    out.pointLeafId->InsertNextValue(leaf.id);
+    out.pointOrgan->InsertNextValue(OrganLeaf);
   }
   out.branchId->InsertNextValue(leaf.branchId);
+  out.cellLeafId->InsertNextValue(leaf.id);
+  out.cellOrgan->InsertNextValue(OrganLeaf);
 }
+
+void AppendLeafCells(const plantmorph::TreeLeaf& leaf, vtkPolyData* leafInput, vtkIdType first, LeafArrays& out);
 
 /// A copy of the Leaf input (its base at y = leafMinY, scaled by `scale`) at the leaf's place, with its TCoords and
 /// Normals (turned) when it has them.
@@ -327,16 +353,38 @@ void AppendInputLeaf(const plantmorph::TreeLeaf& leaf, vtkPolyData* leafInput, d
     }
     out.normals->InsertNextTuple3(normal.x(), normal.y(), normal.z());
   }
+  AppendLeafCells(leaf, leafInput, first, out);
+}
+
+/// The Leaf input's polygons of one leaf copy (its points from `first` on), with BranchId, LeafId and Organ: a cell
+/// of Region petiole (the Leaf input's cell array, when it has one) is petiole, and its points unless a blade cell
+/// uses them too.
+void AppendLeafCells(const plantmorph::TreeLeaf& leaf, vtkPolyData* leafInput, vtkIdType first, LeafArrays& out)
+{
   vtkNew<vtkIdList> ids;
   vtkCellArray* cells = leafInput->GetPolys();
-  for (cells->InitTraversal(); cells->GetNextCell(ids);)
+  vtkDataArray* region = leafInput->GetCellData()->GetArray(plantmorph::arrays::Region);
+  std::vector<int> pointOrgan(static_cast<std::size_t>(leafInput->GetNumberOfPoints()), -1);
+  vtkIdType cell = leafInput->GetNumberOfVerts() + leafInput->GetNumberOfLines();
+  for (cells->InitTraversal(); cells->GetNextCell(ids); ++cell)
   {
+    const bool petiole = region && region->GetNumberOfTuples() > cell &&
+      region->GetComponent(cell, 0) == static_cast<double>(plantmorph::RegionPetiole);
     out.polys->InsertNextCell(ids->GetNumberOfIds());
     for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
     {
       out.polys->InsertCellPoint(first + ids->GetId(k));
+      int& organ = pointOrgan[static_cast<std::size_t>(ids->GetId(k))];
+      organ = petiole ? (organ == -1 ? OrganPetiole : organ) : OrganLeaf;
     }
     out.branchId->InsertNextValue(leaf.branchId);
+    out.cellLeafId->InsertNextValue(leaf.id);
+    out.cellOrgan->InsertNextValue(petiole ? OrganPetiole : OrganLeaf);
+  }
+  for (const int organ : pointOrgan)
+  {
+    out.pointLeafId->InsertNextValue(leaf.id);
+    out.pointOrgan->InsertNextValue(organ == OrganPetiole ? OrganPetiole : OrganLeaf);
   }
 }
 
@@ -351,6 +399,10 @@ void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, const plantmor
   out.normals->SetName(plantmorph::arrays::Normals);
   out.normals->SetNumberOfComponents(3);
   out.branchId->SetName("BranchId");
+  out.cellLeafId->SetName("LeafId");
+  out.cellOrgan->SetName("Organ");
+  out.pointLeafId->SetName("LeafId");
+  out.pointOrgan->SetName("Organ");
   const double scale = leafInput ? s.leafScale / leafLength : s.leafScale;
   for (const plantmorph::TreeLeaf& leaf : leaves)
   {
@@ -368,6 +420,10 @@ void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, const plantmor
   leavesOut->GetPointData()->SetTCoords(out.tcoords);
   leavesOut->GetPointData()->SetNormals(out.normals);
   leavesOut->GetCellData()->AddArray(out.branchId);
+  leavesOut->GetCellData()->AddArray(out.cellLeafId);
+  leavesOut->GetCellData()->AddArray(out.cellOrgan);
+  leavesOut->GetPointData()->AddArray(out.pointLeafId);
+  leavesOut->GetPointData()->AddArray(out.pointOrgan);
 }
 
 /// A small input (strokes, a leaf, a skeleton to merge) whole on every rank, for a tree made by pieces. Collective:
@@ -802,6 +858,7 @@ void WriteOutputs(vtkAlgorithm* self, plantmorph::Run& run, const plantmorph::Tr
   }
   run.Building("the tree's outputs");
   WriteBranches(surfaces.mesh, tree, run.Output<vtkPolyData>(0));
+  AddConstantOrganArrays(run.Output<vtkPolyData>(0), OrganWood, -1);
   surfaces.mesh = plantmorph::TubeMesh();
   self->UpdateProgress(0.8);
   if (piece.number == 0)

@@ -17,6 +17,10 @@
  * ParaView's Tube filter, cell arrays `BranchId`, `ParentId`, `Depth`. Port 2, **Leaves**: one textured quad per
  * leaf (`LeafScale` a side, TCoords 0..1) or, when the Leaf input is connected, one copy of the leaf geometry per
  * leaf (its TCoords carried, scaled so its length along +Y is LeafScale), cell array `BranchId` of the twig.
+ * The truth a scan of the tree carries to its points (VirtualScanner): `LeafId` on the cells and points of the
+ * leaves (each leaf its own, unique over the tree and the same for the same properties and Seed: the leaf's index
+ * in the tree's order; -1 on the branches) and `Organ` on the cells and points of both (0 wood, 1 leaf blade, 2
+ * petiole: the Leaf input's cells of Region petiole, when it has a cell array Region).
  * All outputs carry the parameters as field data (`PlantMorph.Model` = "TreeFromSketch", `PlantMorph.TreePreset`...).
  *
  * Optional input port 0, **Strokes**: polydata whose lines (each line or polyline cell one stroke, in the order

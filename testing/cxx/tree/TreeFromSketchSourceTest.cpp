@@ -530,3 +530,70 @@ TEST(TreeFromSketchSource, StrokeFilesOfIssue25BuildTreesOrFailCleanly)
     std::remove(file.c_str());
   }
 }
+
+TEST(TreeFromSketchSource, EveryLeafHasItsOwnLeafIdAndEveryCellItsOrgan)
+{
+  // A two-triangle leaf: a blade triangle and a petiole triangle (cell array Region, 5 the petiole).
+  vtkNew<vtkPolyData> leaf;
+  vtkNew<vtkPoints> points;
+  points->InsertNextPoint(-0.5, 0.2, 0);
+  points->InsertNextPoint(0.5, 0.2, 0);
+  points->InsertNextPoint(0, 2, 0);
+  points->InsertNextPoint(0, 0, 0);
+  vtkNew<vtkCellArray> cells;
+  const vtkIdType blade[3] = { 0, 1, 2 }, petiole[3] = { 3, 1, 0 };
+  cells->InsertNextCell(3, blade);
+  cells->InsertNextCell(3, petiole);
+  vtkNew<vtkIntArray> region;
+  region->SetName("Region");
+  region->InsertNextValue(0);
+  region->InsertNextValue(5);
+  leaf->SetPoints(points);
+  leaf->SetPolys(cells);
+  leaf->GetCellData()->AddArray(region);
+  vtkNew<vtkTreeFromSketchSource> source;
+  source->SetPreset(2); // sympodial: 3^6 twigs
+  source->SetLeafCount(2);
+  source->SetInputData(1, leaf);
+  source->Update();
+  vtkPolyData* leaves = Output(source, 2);
+  vtkPolyData* wood = Output(source, 0);
+  const vtkIdType count = 729 * 2;
+  ASSERT_EQ(leaves->GetNumberOfCells(), 2 * count);
+  auto* cellLeaf = vtkIntArray::SafeDownCast(leaves->GetCellData()->GetArray("LeafId"));
+  auto* cellOrgan = vtkIntArray::SafeDownCast(leaves->GetCellData()->GetArray("Organ"));
+  auto* pointLeaf = vtkIntArray::SafeDownCast(leaves->GetPointData()->GetArray("LeafId"));
+  auto* pointOrgan = vtkIntArray::SafeDownCast(leaves->GetPointData()->GetArray("Organ"));
+  ASSERT_TRUE(cellLeaf && cellOrgan && pointLeaf && pointOrgan);
+  std::set<int> ids;
+  for (vtkIdType c = 0; c < leaves->GetNumberOfCells(); ++c)
+  {
+    ids.insert(cellLeaf->GetValue(c));
+    EXPECT_EQ(cellLeaf->GetValue(c), c / 2); // the leaf's index in the tree's order
+    EXPECT_EQ(cellOrgan->GetValue(c), c % 2 == 0 ? 1 : 2);
+  }
+  EXPECT_EQ(ids.size(), static_cast<std::size_t>(count));
+  for (vtkIdType p = 0; p < leaves->GetNumberOfPoints(); ++p)
+  {
+    EXPECT_EQ(pointLeaf->GetValue(p), p / 4);
+    EXPECT_EQ(pointOrgan->GetValue(p), p % 4 == 3 ? 2 : 1); // only the petiole's own point is petiole
+  }
+  for (const char* name : { "LeafId", "Organ" })
+  {
+    double range[2];
+    wood->GetCellData()->GetArray(name)->GetRange(range);
+    EXPECT_EQ(range[0], name[0] == 'L' ? -1.0 : 0.0);
+    EXPECT_EQ(range[1], range[0]);
+    ASSERT_NE(wood->GetPointData()->GetArray(name), nullptr);
+  }
+  // Pieces keep the serial ids: each leaf once, with the same LeafId.
+  std::multiset<int> pieceIds;
+  for (int piece = 0; piece < 3; ++piece)
+  {
+    source->UpdatePiece(piece, 3, 0);
+    vtkDataArray* mine = Output(source, 2)->GetCellData()->GetArray("LeafId");
+    for (vtkIdType c = 0; mine && c < mine->GetNumberOfTuples(); c += 2)
+      pieceIds.insert(static_cast<int>(mine->GetComponent(c, 0)));
+  }
+  EXPECT_EQ(pieceIds, std::multiset<int>(ids.begin(), ids.end()));
+}

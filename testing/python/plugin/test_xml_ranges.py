@@ -55,6 +55,11 @@ tree_cloud = VirtualScanner(Input=TreeFromSketchSource(Preset="Custom", Depth=1,
                                                        Leaves=0, Sides=16),
                             Positions=[6, 1.5, 0, -3, 1.5, 5, -3, 1.5, -5], LookAt=[0, 2.5, 0], Up=[0, 1, 0],
                             HorizontalFieldOfView=50, VerticalFieldOfView=60, AngularStep=0.1, RangeNoise=0.002)
+plant = TreeFromSketchSource(Preset="Custom", Depth=1, ChildCount=3, Length=4.0, Radius=0.08, LeafCount=3,
+                             LeafScale=1.5)
+plant_cloud = VirtualScanner(Input=AppendGeometry(Input=[OutputPort(plant, 0), OutputPort(plant, 2)]),
+                             Positions=[8, 3, 0, -8, 3, 0], LookAt=[0, 3, 0], Up=[0, 1, 0], AngularStep=0.25,
+                             HorizontalFieldOfView=60, VerticalFieldOfView=60)
 
 # How each proxy is made for the runs: a small valid input, settings that keep a run short.
 BASES = {
@@ -72,6 +77,7 @@ BASES = {
     "TreeFitFilter": lambda: TreeFitFilter(Input=tree_cloud, UpAxis="Y"),
 
     "QsmReader": lambda: QSMReader(FileName=QSM_CSV, Tubes=1),
+    "PlantSegmentationFilter": lambda: PlantSegmentationFilter(Input=plant_cloud, UpAxis=1),
 }
 # (proxy, property): settings the property needs besides its panel decorators, for every run of it (values by
 # property name; a bound may also name its own: (proxy, property, "min"/"max")).
@@ -180,6 +186,9 @@ GUI_HINTS = {
     ("TreeFromSketchSource", "MergeParentBranch", "max"): "checked against the tree's branch ids, not a range",
     ("VenationFilter", "Seed"): "any integer seeds the generator",
     ("VenationFilter", "EmbossDepth"): CLASS_WIDER,
+    ("PlantSegmentationFilter", "NormalAngle"): CLASS_WIDER + " ((0, 90))",
+    ("PlantSegmentationFilter", "CreaseVariation"): CLASS_WIDER + " ((0, 1))",
+    ("PlantSegmentationFilter", "SheetCoherence"): CLASS_WIDER + " ((0, 1))",
     ("VirtualScanner", "HorizontalFieldOfView", "min"): CLASS_WIDER + " (any angle > 0)",
     ("VirtualScanner", "VerticalFieldOfView", "min"): CLASS_WIDER + " (any angle > 0)",
     ("WiltingSimulator", "MaximumVoxels", "max"): CLASS_WIDER,
@@ -203,6 +212,9 @@ VALUE_AT_BOUND = {
     ("VenationFilter", "MaxSegments", "min"): "the default AreoleSize needs more vein segments",
     ("VenationFilter", "KillDistance", "max"): "AttractionDistance (default 0.1) must be at least KillDistance",
     ("VenationFilter", "AttractionDistance", "min"): "must be at least KillDistance (default 0.01)",
+    ("PlantSegmentationFilter", "FeatureScale", "max"): "features 50 spacings wide blur the test plant's leaves "
+                                                        "into its stem: no leaf found",
+    ("PlantSegmentationFilter", "MaximumLeafElongation", "min"): "no region is rounder than a disk: no leaf found",
     ("VirtualScanner", "AngularStep", "min"): "the scan casts more beams than the default MaximumBeams",
     ("VirtualScanner", "MaximumBeams", "min"): "any scan casts more than one beam",
     ("VirtualScanner", "TurntableSteps", "max"): "the scan casts more beams than the default MaximumBeams",

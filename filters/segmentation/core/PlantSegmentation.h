@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// PlantSegmentationFilter's algorithm (docs/methods/segmentation.md): a scanned plant (a point cloud) becomes its
+// organs, wood and leaves, and its leaf instances. Plain C++17 (Eigen), no VTK, no training data.
+//
+// Per plant, every length a multiple of the cloud's own point spacing s (the median nearest-neighbour distance,
+// MedianSpacing):
+//  1. Features (threaded): the covariance of the points within r and 2r of each point, r = FeatureScale * s, or
+//     12 times the range noise when that is wider (the noise: the lower quartile of the plane-fit residual); its
+//     eigenvalues l1 >= l2 >= l3 give the spread sqrt(l2) / radius across the main axis, the surface variation
+//     l3 / (l1 + l2 + l3) and the normal (the eigenvector of l3, at scale r).
+//  2. Sheets: region growing over the radius graph (edges shorter than LinkScale * s) from the flattest points,
+//     joining a neighbour whose normal is within NormalAngle of the current point's, never through a point that is
+//     thin at both scales (spread below 0.2: twigs and petioles stop it) nor from a point on a crease (surface
+//     variation above the plant's median by CreaseVariation: where two leaves cross, a fold, a junction).
+//  3. Classification of each region from its own covariance and normals: a leaf is a sheet (its points' normals
+//     agree with the region's plane normal on average by more than SheetCoherence) that is not a long strip (its
+//     length over width below MaximumLeafElongation) and is wider than the features' neighbourhood (2r); the rest
+//     is wood. Points of regions too small to judge take
+//     the organ of the nearest judged region (breadth-first over the radius graph), linear ones are wood.
+//  4. Leaf instances. Small wood pieces (fewer than MinimumLeafPoints points) touching one leaf region only are
+//     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at
+//     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base
+//     nearest along the region. Each leaf region of at least MinimumLeafPoints points is then a leaf; LeafId numbers
+//     them over all plants in the order of their lowest point index (deterministic). Smaller leaf regions stay leaf
+//     points with LeafId -1. Each leaf's base is its point nearest the wood along the link graph; the branch it
+//     grows on is the wood segment (a wood region, or a connected piece of thin wood, numbered per plant) of that
+//     wood point; its area is the area of the cells of side 2s its points occupy in its own principal plane (a
+//     first estimate: occluded parts are missing, a curled leaf is seen flattened).
+//  5. Confidence in [0, 1]: how far the region's coherence is from the leaf/wood threshold, for judged regions;
+//     half that for points that took their organ from a neighbour.
+// Everything is deterministic: the same cloud gives the same labels whatever the threads.
+#pragma once
+
+#include <plantmorph/ParallelFor.h>
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+
+/// Organ codes of the `Organ` array (the same as TreeFromSketchSource's truth).
+enum Organ : int
+{
+  OrganWood = 0,
+  OrganLeaf = 1,
+  OrganPetiole = 2
+};
+
+struct SegmentationParameters
+{
+  int upAxis = 2;                      ///< 0 X, 1 Y, 2 Z: the vertical, for heights and the plant's base
+  double featureScale = 4.0;           ///< [2, 50] spacings: radius of the covariance features (and twice it)
+  double linkScale = 2.5;              ///< [1.5, 20] spacings: neighbours closer than this are linked
+  double normalAngle = 25.0;           ///< (0, 90) degrees: largest normal turn between linked points of a sheet
+  double creaseVariation = 0.02;       ///< (0, 1): surface variation above the median that stops the growing
+  double sheetCoherence = 0.8;         ///< (0, 1): mean |n . region normal| above which a region is a sheet
+  double maximumLeafElongation = 12.0; ///< [1, 1000]: length over width of a leaf (longer strips are wood)
+  int minimumLeafPoints = 50;          ///< [1, 1e9]: a leaf region with fewer points gets no LeafId
+};
+
+/// Empty when every parameter is finite and in range; otherwise the message naming it and its range.
+std::string ValidateSegmentationParameters(const SegmentationParameters& parameters);
+
+/// One leaf instance (a row of the leaves table).
+struct SegmentedLeaf
+{
+  int leafId = -1;
+  int plantId = 0;
+  long long points = 0;
+  double area = 0.0;                              ///< first estimate: occupied cells in the leaf's principal plane
+  Eigen::Vector3d base = Eigen::Vector3d::Zero(); ///< the leaf's point nearest the wood
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  int branch = -1;      ///< the wood segment of the wood point nearest the base (-1: the plant has no wood)
+  double baseGap = 0.0; ///< distance from the base to that wood point
+};
+
+/// One plant (a row of the plants table).
+struct SegmentedPlant
+{
+  int plantId = 0;
+  long long points = 0, woodPoints = 0, leafPoints = 0, unassignedLeafPoints = 0;
+  int leafCount = 0;
+  double height = 0.0;  ///< extent along the up axis
+  double spacing = 0.0; ///< MedianSpacing: the spacing the thresholds derive from
+};
+
+struct SegmentationResult
+{
+  std::vector<int> organ;         ///< per point, Organ
+  std::vector<int> leafId;        ///< per point, -1 off the leaves
+  std::vector<double> confidence; ///< per point, [0, 1]
+  std::vector<SegmentedLeaf> leaves;
+  std::vector<SegmentedPlant> plants;
+  std::string error; ///< non-empty: nothing else is filled
+};
+
+/// Segments `points` (the plants told apart by `plantOf`, one value per point; empty: one plant, id 0). Errors
+/// (returned in `error`, the rest empty): a non-finite coordinate, a plant with fewer than MinimumPlantPoints
+/// points, a plant where no wood or no leaf is found, bad parameters.
+SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& plantOf,
+  const SegmentationParameters& parameters, const ParallelFor& parallel = SerialFor);
+
+inline constexpr int MinimumPlantPoints = 20;
+
+/// The point spacing s: the median nearest-neighbour distance (0 excluded) over a deterministic sample of at most
+/// 20000 of the points.
+double MedianSpacing(const std::vector<Eigen::Vector3d>& points);
+
+} // namespace plantmorph

@@ -1,0 +1,484 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Steps 3 to 5 of the segmentation (PlantSegmentation.h): each region judged leaf or wood, the points of small
+// regions labelled from their neighbours, the leaf instances with their base, branch and area, the plant's row.
+#include "SegmentationSteps.h"
+
+#include "PointGrid.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <set>
+
+namespace plantmorph
+{
+namespace segmentation
+{
+namespace
+{
+/// Regions with fewer points are not judged on their own shape.
+constexpr std::size_t JudgedRegionPoints = 12;
+
+/// What a region is, from its points' covariance and normals.
+struct RegionVerdict
+{
+  bool judged = false;
+  bool leaf = false;
+  double confidence = 0.0;
+};
+
+std::vector<RegionVerdict> JudgeRegions(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
+  const std::vector<int>& region, int count, const SegmentationParameters& p)
+{
+  // A sheet narrower than the features' neighbourhood (2r across) cannot be told from a strip of a tube's surface.
+  const double minimumWidth = 2.0 * f.radius;
+  std::vector<std::vector<int>> members(static_cast<std::size_t>(count));
+  for (std::size_t i = 0; i < region.size(); ++i)
+    if (region[i] >= 0)
+      members[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
+  std::vector<RegionVerdict> verdicts(static_cast<std::size_t>(count));
+  for (std::size_t r = 0; r < members.size(); ++r)
+  {
+    const std::vector<int>& ids = members[r];
+    if (ids.size() < JudgedRegionPoints)
+      continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int j : ids)
+      mean += points[static_cast<std::size_t>(j)];
+    mean /= static_cast<double>(ids.size());
+    Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+    for (int j : ids)
+    {
+      const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
+      c += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(c / static_cast<double>(ids.size()));
+    const Eigen::Vector3d l = solver.eigenvalues().cwiseMax(0.0);
+    const Eigen::Vector3d normal = solver.eigenvectors().col(0);
+    double coherence = 0.0;
+    for (int j : ids)
+      coherence += std::abs(f.normal[static_cast<std::size_t>(j)].dot(normal));
+    coherence /= static_cast<double>(ids.size());
+    const double elongation = l[1] > 0.0 ? std::sqrt(l[2] / l[1]) : std::numeric_limits<double>::infinity();
+    RegionVerdict& v = verdicts[r];
+    v.judged = true;
+    const double width = 2.0 * std::sqrt(3.0 * l[1]); // a uniform rectangle's width from its variance
+    v.leaf = coherence > p.sheetCoherence && elongation < p.maximumLeafElongation && width >= minimumWidth;
+    const double margin = v.leaf ? (coherence - p.sheetCoherence) / (1.0 - p.sheetCoherence)
+                                 : std::max({ elongation >= p.maximumLeafElongation ? 1.0 : 0.0,
+                                     (p.sheetCoherence - coherence) / p.sheetCoherence, 1.0 - width / minimumWidth });
+    v.confidence = std::clamp(0.5 + 0.5 * margin, 0.0, 1.0);
+  }
+  return verdicts;
+}
+
+/// Breadth-first from the judged points over the unjudged, non-linear ones: each takes the region (and so the
+/// organ) of the judged point it is reached from first. Sources in index order: deterministic.
+void SpreadRegions(const PointFeatures& f, const LinkGraph& graph, const std::vector<RegionVerdict>& verdicts,
+  std::vector<int>& region, std::vector<char>& judged)
+{
+  const std::size_t n = region.size();
+  judged.assign(n, 0);
+  std::deque<int> queue;
+  for (std::size_t i = 0; i < n; ++i)
+    if (region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].judged)
+    {
+      judged[i] = 1;
+      queue.push_back(static_cast<int>(i));
+    }
+  std::vector<char> reached(judged);
+  while (!queue.empty())
+  {
+    const auto q = static_cast<std::size_t>(queue.front());
+    queue.pop_front();
+    for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+    {
+      const auto j = static_cast<std::size_t>(graph.neighbours[e]);
+      if (!reached[j] && !IsLinear(f, j))
+      {
+        reached[j] = 1;
+        region[j] = region[q];
+        queue.push_back(static_cast<int>(j));
+      }
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (!reached[i])
+      region[i] = -1; // linear points and points cut off from every judged region
+}
+
+/// The occupied cells of side `cell` in the leaf's principal plane, times the cell's area.
+double PlaneArea(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, double cell)
+{
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int j : ids)
+    mean += points[static_cast<std::size_t>(j)];
+  mean /= static_cast<double>(ids.size());
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  for (int j : ids)
+  {
+    const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
+    c += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(c);
+  const Eigen::Vector3d u = solver.eigenvectors().col(2), v = solver.eigenvectors().col(1);
+  std::set<std::pair<long long, long long>> cells;
+  for (int j : ids)
+  {
+    const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
+    cells.emplace(
+      static_cast<long long>(std::floor(d.dot(u) / cell)), static_cast<long long>(std::floor(d.dot(v) / cell)));
+  }
+  return static_cast<double>(cells.size()) * cell * cell;
+}
+
+/// Hops from the wood over the link graph (multi-source breadth-first, sources in index order) and, per point,
+/// the wood point it is reached from (-1: not connected to the wood).
+void DistanceFromWood(
+  const LinkGraph& graph, const std::vector<int>& organ, std::vector<int>& hops, std::vector<int>& source)
+{
+  const std::size_t n = organ.size();
+  hops.assign(n, std::numeric_limits<int>::max());
+  source.assign(n, -1);
+  std::deque<int> queue;
+  for (std::size_t i = 0; i < n; ++i)
+    if (organ[i] == OrganWood)
+    {
+      hops[i] = 0;
+      source[i] = static_cast<int>(i);
+      queue.push_back(static_cast<int>(i));
+    }
+  while (!queue.empty())
+  {
+    const auto q = static_cast<std::size_t>(queue.front());
+    queue.pop_front();
+    for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+    {
+      const auto j = static_cast<std::size_t>(graph.neighbours[e]);
+      if (hops[j] == std::numeric_limits<int>::max())
+      {
+        hops[j] = hops[q] + 1;
+        source[j] = source[q];
+        queue.push_back(static_cast<int>(j));
+      }
+    }
+  }
+}
+
+/// Small wood pieces (connected wood points fewer than MinimumLeafPoints) touching one leaf region and no other
+/// region are that leaf's margins, tips or folds (linear at the features' scale): they join the leaf.
+void AbsorbWoodFragments(const LinkGraph& graph, const std::vector<RegionVerdict>& verdicts,
+  const SegmentationParameters& p, std::vector<int>& region, std::vector<int>& organ)
+{
+  const std::size_t n = organ.size();
+  std::vector<char> seen(n, 0);
+  std::vector<int> piece;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (organ[seed] != OrganWood || seen[seed])
+      continue;
+    piece.assign(1, static_cast<int>(seed));
+    seen[seed] = 1;
+    std::set<int> touched; // the regions next to the piece (-1: a wood point of a judged wood region)
+    for (std::size_t k = 0; k < piece.size(); ++k)
+    {
+      const auto q = static_cast<std::size_t>(piece[k]);
+      for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+      {
+        const auto j = static_cast<std::size_t>(graph.neighbours[e]);
+        if (organ[j] == OrganWood && !seen[j])
+        {
+          seen[j] = 1;
+          piece.push_back(static_cast<int>(j));
+        }
+        else if (organ[j] != OrganWood)
+          touched.insert(region[j]);
+      }
+    }
+    if (piece.size() >= static_cast<std::size_t>(p.minimumLeafPoints) || touched.size() != 1 || *touched.begin() < 0 ||
+      !verdicts[static_cast<std::size_t>(*touched.begin())].leaf)
+      continue;
+    for (int j : piece)
+    {
+      organ[static_cast<std::size_t>(j)] = OrganLeaf;
+      region[static_cast<std::size_t>(j)] = *touched.begin();
+    }
+  }
+}
+
+/// Wood segments: each judged wood region its own, then the connected components of the other wood points.
+std::vector<int> WoodSegments(const LinkGraph& graph, const std::vector<int>& organ, const std::vector<int>& region)
+{
+  const std::size_t n = organ.size();
+  std::vector<int> segment(n, -1), number(n, -1);
+  int next = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (organ[i] != OrganWood || region[i] < 0)
+      continue;
+    int& r = number[static_cast<std::size_t>(region[i])];
+    if (r < 0)
+      r = next++;
+    segment[i] = r;
+  }
+  std::deque<int> queue;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (organ[seed] != OrganWood || segment[seed] >= 0)
+      continue;
+    segment[seed] = next;
+    queue.push_back(static_cast<int>(seed));
+    while (!queue.empty())
+    {
+      const auto q = static_cast<std::size_t>(queue.front());
+      queue.pop_front();
+      for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+      {
+        const auto j = static_cast<std::size_t>(graph.neighbours[e]);
+        if (organ[j] == OrganWood && segment[j] < 0 && region[j] < 0)
+        {
+          segment[j] = next;
+          queue.push_back(static_cast<int>(j));
+        }
+      }
+    }
+    ++next;
+  }
+  return segment;
+}
+
+/// A leaf region touching the wood at several places is several leaves touching each other: its points near the
+/// wood (within ContactHops links) fall in connected groups (those closer than `reach` merged: one base broken by a
+/// gap), and each point goes to the group it is nearest to along the region (breadth-first from every group at
+/// once). One group or none: the region as it is.
+/// Contact groups whose centres are closer than `reach` (single linkage) are one base: a leaf's base broken by a gap.
+std::vector<std::vector<int>> MergeNearGroups(
+  const std::vector<Eigen::Vector3d>& points, std::vector<std::vector<int>> groups, double reach)
+{
+  bool merged = true;
+  while (merged && groups.size() > 1)
+  {
+    merged = false;
+    std::vector<Eigen::Vector3d> centres;
+    for (const std::vector<int>& g : groups)
+    {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int j : g)
+        c += points[static_cast<std::size_t>(j)];
+      centres.push_back(c / static_cast<double>(g.size()));
+    }
+    for (std::size_t a = 0; a < groups.size() && !merged; ++a)
+      for (std::size_t b = a + 1; b < groups.size() && !merged; ++b)
+        if ((centres[a] - centres[b]).norm() < reach)
+        {
+          groups[a].insert(groups[a].end(), groups[b].begin(), groups[b].end());
+          groups.erase(groups.begin() + static_cast<std::ptrdiff_t>(b));
+          merged = true;
+        }
+  }
+  return groups;
+}
+
+std::vector<std::vector<int>> SplitAtBases(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
+  const std::vector<int>& ids, const std::vector<int>& hops, double reach, std::vector<int>& owner)
+{
+  constexpr int ContactHops = 2;
+  constexpr std::size_t ContactPoints = 3; // fewer: a stray touch, not a leaf's base
+  for (int j : ids)
+    owner[static_cast<std::size_t>(j)] = hops[static_cast<std::size_t>(j)] <= ContactHops ? -2 : -3;
+  std::deque<int> queue;
+  std::vector<std::vector<int>> groups;
+  for (int seed : ids)
+  {
+    if (owner[static_cast<std::size_t>(seed)] != -2)
+      continue;
+    std::vector<int> group = { seed };
+    owner[static_cast<std::size_t>(seed)] = -4;
+    for (std::size_t k = 0; k < group.size(); ++k)
+    {
+      const auto q = static_cast<std::size_t>(group[k]);
+      for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+        if (owner[static_cast<std::size_t>(graph.neighbours[e])] == -2)
+        {
+          owner[static_cast<std::size_t>(graph.neighbours[e])] = -4;
+          group.push_back(graph.neighbours[e]);
+        }
+    }
+    if (group.size() >= ContactPoints)
+      groups.push_back(std::move(group));
+  }
+  groups = MergeNearGroups(points, std::move(groups), reach);
+  std::vector<std::vector<int>> parts;
+  if (groups.size() < 2)
+  {
+    for (int j : ids)
+      owner[static_cast<std::size_t>(j)] = -1;
+    parts.push_back(ids);
+    return parts;
+  }
+  for (int j : ids)
+    owner[static_cast<std::size_t>(j)] = -3; // in the region, not reached yet
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    for (int j : groups[g])
+    {
+      owner[static_cast<std::size_t>(j)] = static_cast<int>(g);
+      queue.push_back(j);
+    }
+  while (!queue.empty())
+  {
+    const auto q = static_cast<std::size_t>(queue.front());
+    queue.pop_front();
+    for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+    {
+      const auto j = static_cast<std::size_t>(graph.neighbours[e]);
+      if (owner[j] == -3)
+      {
+        owner[j] = owner[q];
+        queue.push_back(static_cast<int>(j));
+      }
+    }
+  }
+  parts.assign(groups.size() + 1, {});
+  for (int j : ids) // points the groups do not reach (cut off inside the region) stay together
+    parts[owner[static_cast<std::size_t>(j)] >= 0 ? static_cast<std::size_t>(owner[static_cast<std::size_t>(j)])
+                                                  : groups.size()]
+      .push_back(j);
+  for (int j : ids)
+    owner[static_cast<std::size_t>(j)] = -1;
+  parts.erase(
+    std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
+  std::sort(parts.begin(), parts.end()); // by lowest point index: deterministic numbering
+  return parts;
+}
+
+/// The leaf instances: leaf regions of at least MinimumLeafPoints points, numbered by their lowest point index.
+void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const std::vector<int>& region,
+  double spacing, double radius, const SegmentationParameters& p, PlantLabels& labels)
+{
+  const std::size_t n = points.size();
+  std::vector<std::vector<int>> members;
+  std::vector<int> instance(n, -1), leafOfRegion;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (labels.organ[i] != OrganLeaf || region[i] < 0)
+      continue;
+    const auto r = static_cast<std::size_t>(region[i]);
+    if (r >= leafOfRegion.size())
+      leafOfRegion.resize(r + 1, -1);
+    if (leafOfRegion[r] < 0)
+    {
+      leafOfRegion[r] = static_cast<int>(members.size());
+      members.emplace_back();
+    }
+    members[static_cast<std::size_t>(leafOfRegion[r])].push_back(static_cast<int>(i));
+  }
+  std::vector<int> hops, source;
+  DistanceFromWood(graph, labels.organ, hops, source);
+  const std::vector<int> segment = WoodSegments(graph, labels.organ, region);
+  std::vector<Eigen::Vector3d> wood;
+  std::vector<int> woodIds;
+  for (std::size_t i = 0; i < n; ++i)
+    if (labels.organ[i] == OrganWood)
+    {
+      wood.push_back(points[i]);
+      woodIds.push_back(static_cast<int>(i));
+    }
+  const PointGrid woodGrid(wood, PointGrid::CellFor(wood, 4.0));
+  std::vector<std::vector<int>> leaves;
+  std::vector<int> owner(n, -1);
+  for (const std::vector<int>& ids : members)
+    for (std::vector<int>& part : SplitAtBases(points, graph, ids, hops, 4.0 * radius, owner))
+      leaves.push_back(std::move(part));
+  std::sort(leaves.begin(), leaves.end());
+  for (const std::vector<int>& ids : leaves)
+  {
+    if (ids.size() < static_cast<std::size_t>(p.minimumLeafPoints))
+      continue;
+    SegmentedLeaf leaf;
+    leaf.leafId = static_cast<int>(labels.leaves.size());
+    leaf.points = static_cast<long long>(ids.size());
+    leaf.area = PlaneArea(points, ids, 2.0 * spacing);
+    int base = ids.front();
+    for (int j : ids)
+    {
+      leaf.centre += points[static_cast<std::size_t>(j)];
+      if (hops[static_cast<std::size_t>(j)] < hops[static_cast<std::size_t>(base)])
+        base = j;
+      labels.leaf[static_cast<std::size_t>(j)] = leaf.leafId;
+    }
+    leaf.centre /= static_cast<double>(ids.size());
+    int woodPoint = source[static_cast<std::size_t>(base)];
+    if (woodPoint < 0 && !wood.empty()) // cut off from the wood: the wood point nearest the centre
+    {
+      const auto nearest = woodGrid.Nearest(leaf.centre, 1);
+      woodPoint = nearest.empty() ? -1 : woodIds[static_cast<std::size_t>(nearest[0].second)];
+    }
+    leaf.base = points[static_cast<std::size_t>(base)];
+    if (woodPoint >= 0)
+    {
+      leaf.branch = segment[static_cast<std::size_t>(woodPoint)];
+      leaf.baseGap = (points[static_cast<std::size_t>(woodPoint)] - leaf.base).norm();
+    }
+    labels.leaves.push_back(leaf);
+  }
+}
+} // namespace
+
+std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const SegmentationParameters& p,
+  const ParallelFor& parallel, PlantLabels& labels)
+{
+  const std::size_t n = points.size();
+  if (n < static_cast<std::size_t>(MinimumPlantPoints))
+    return "the cloud has " + std::to_string(n) + " points; a plant needs at least " +
+      std::to_string(MinimumPlantPoints);
+  const double spacing = MedianSpacing(points);
+  if (!(spacing > 0.0))
+    return "the points all coincide: no spacing to derive the neighbourhoods from";
+  PointFeatures f;
+  LinkGraph graph;
+  ComputeFeatures(points, spacing, p, parallel, f, graph);
+  std::vector<int> region;
+  const int count = GrowRegions(f, graph, p, region);
+  const std::vector<RegionVerdict> verdicts = JudgeRegions(points, f, region, count, p);
+  std::vector<char> judged;
+  SpreadRegions(f, graph, verdicts, region, judged);
+  labels.organ.assign(n, OrganWood);
+  labels.leaf.assign(n, -1);
+  labels.confidence.assign(n, 0.5);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (region[i] < 0)
+      continue; // linear, or cut off from every judged region: wood
+    const RegionVerdict& v = verdicts[static_cast<std::size_t>(region[i])];
+    labels.organ[i] = v.leaf ? OrganLeaf : OrganWood;
+    labels.confidence[i] = judged[i] ? v.confidence : 0.5 * v.confidence;
+  }
+  AbsorbWoodFragments(graph, verdicts, p, region, labels.organ);
+  SegmentedPlant& plant = labels.plant;
+  plant.points = static_cast<long long>(n);
+  plant.spacing = spacing;
+  for (std::size_t i = 0; i < n; ++i)
+    (labels.organ[i] == OrganWood ? plant.woodPoints : plant.leafPoints) += 1;
+  if (plant.leafPoints == 0)
+    return "no leaf found in " + std::to_string(n) + " points (the cloud is all wood or all thin lines)";
+  if (plant.woodPoints == 0)
+    return "no wood found in " + std::to_string(n) +
+      " points (a cloud of leaves alone: fit them with LeafFitFilter directly)";
+  MakeLeaves(points, graph, region, spacing, f.radius, p, labels);
+  plant.leafCount = static_cast<int>(labels.leaves.size());
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    low = std::min(low, points[i][p.upAxis]);
+    high = std::max(high, points[i][p.upAxis]);
+    plant.unassignedLeafPoints += labels.organ[i] == OrganLeaf && labels.leaf[i] < 0 ? 1 : 0;
+  }
+  plant.height = high - low;
+  return {};
+}
+
+} // namespace segmentation
+} // namespace plantmorph

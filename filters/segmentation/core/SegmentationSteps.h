@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The steps of one plant's segmentation (PlantSegmentation.h explains the method). Internal to the method.
+#pragma once
+
+#include "PlantSegmentation.h"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+namespace segmentation
+{
+
+/// Per point of one plant: the covariance features at the two scales.
+struct PointFeatures
+{
+  std::vector<Eigen::Vector3d> normal; ///< unit, at scale r
+  std::vector<float> spread;           ///< width across the main axis over the radius, at r and 2r: the larger
+  std::vector<float> variation;        ///< l3 / (l1 + l2 + l3) at r: 0 on a plane
+  double radius = 0.0;                 ///< r: FeatureScale spacings, or wider on a noisy cloud
+};
+
+/// The radius graph: each point's neighbours closer than LinkScale * s, in ascending index (CSR).
+struct LinkGraph
+{
+  std::vector<std::size_t> offsets;
+  std::vector<int> neighbours;
+};
+
+/// One plant's labels: per point organ, leaf (index in `leaves`, -1 off them) and confidence.
+struct PlantLabels
+{
+  std::vector<int> organ, leaf;
+  std::vector<double> confidence;
+  std::vector<SegmentedLeaf> leaves; ///< leafId: the index in this plant
+  SegmentedPlant plant;
+};
+
+/// The lower quartile of the plane-fit residual (sqrt of the smallest covariance eigenvalue) within r over a
+/// sample of the points: the range noise on the flattest quarter of the cloud (leaves, wide trunks).
+double NoiseLevel(const std::vector<Eigen::Vector3d>& points, double r, const ParallelFor& parallel);
+
+/// Features and the link graph (threaded, deterministic).
+void ComputeFeatures(const std::vector<Eigen::Vector3d>& points, double spacing, const SegmentationParameters& p,
+  const ParallelFor& parallel, PointFeatures& features, LinkGraph& graph);
+
+/// A point too thin to carry a sheet: its neighbourhood narrow at both scales (a twig or petiole thinner than
+/// about 0.4 r; a leaf's margin, a half disk, spreads 0.26).
+inline bool IsLinear(const PointFeatures& f, std::size_t i)
+{
+  return f.spread[i] < 0.2f;
+}
+
+/// Region growing of smooth sheets: each point's region (-1: linear points, never grown); returns the count.
+int GrowRegions(
+  const PointFeatures& features, const LinkGraph& graph, const SegmentationParameters& p, std::vector<int>& region);
+
+/// The whole segmentation of one plant; "" or the reason it cannot be segmented.
+std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const SegmentationParameters& p,
+  const ParallelFor& parallel, PlantLabels& labels);
+
+} // namespace segmentation
+} // namespace plantmorph

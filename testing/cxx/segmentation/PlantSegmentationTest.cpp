@@ -1,0 +1,275 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// plantmorph::SegmentPlants (filters/segmentation/core/PlantSegmentation.h) against synthetic truth: a stem (a
+// cylinder) with flat elliptic leaves attached around it, every point's organ and leaf known. Wood and leaf IoU,
+// one instance per leaf, the same labels whatever the threads and whatever the unit (thresholds follow the spacing),
+// several plants, and bad input.
+#include "PlantSegmentation.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+#include <atomic>
+#include <functional>
+#include <thread>
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+struct Truth
+{
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> organ, leaf; // leaf: -1 on the stem
+};
+
+/// A stem of radius `radius` and height `height` along z, sampled all around at spacing h, with `leaves` elliptic
+/// leaves (length 0.3, width 0.15) rising at 40 degrees from its surface, 137.5 degrees apart; Gaussian noise of
+/// sigma `noise` along every axis.
+Truth SyntheticPlant(int leaves, double h = 0.005, double noise = 0.0002, double radius = 0.05, double height = 0.9,
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero())
+{
+  Truth t;
+  std::mt19937 random(7);
+  std::normal_distribution<double> gauss(0.0, noise);
+  const auto add = [&](const Eigen::Vector3d& p, int organ, int leaf) {
+    t.points.push_back(p + offset + Eigen::Vector3d(gauss(random), gauss(random), gauss(random)));
+    t.organ.push_back(organ);
+    t.leaf.push_back(leaf);
+  };
+  const int around = static_cast<int>(std::round(2.0 * Pi * radius / h));
+  for (int k = 0; k * h <= height; ++k)
+    for (int a = 0; a < around; ++a)
+    {
+      const double angle = 2.0 * Pi * (a + 0.5 * (k % 2)) / around;
+      add(Eigen::Vector3d(radius * std::cos(angle), radius * std::sin(angle), k * h), plantmorph::OrganWood, -1);
+    }
+  const double length = 0.3, width = 0.15, rise = 40.0 * Pi / 180.0;
+  for (int l = 0; l < leaves; ++l)
+  {
+    const double azimuth = l * 137.5 * Pi / 180.0, z = 0.15 + 0.6 * l / std::max(1, leaves - 1);
+    const Eigen::Vector3d out(std::cos(azimuth), std::sin(azimuth), 0.0);
+    const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(out);
+    const Eigen::Vector3d base = radius * out + Eigen::Vector3d(0.0, 0.0, z);
+    for (double s = 0.0; s <= length; s += h)
+      for (double w = -width / 2; w <= width / 2; w += h)
+      {
+        const double u = (s - length / 2) / (length / 2), v = w / (width / 2);
+        if (u * u + v * v <= 1.0)
+          add(base + s * along + w * across, plantmorph::OrganLeaf, l);
+      }
+  }
+  return t;
+}
+
+double OrganIoU(const Truth& t, const plantmorph::SegmentationResult& r, int organ)
+{
+  long long both = 0, either = 0;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+  {
+    both += t.organ[i] == organ && r.organ[i] == organ;
+    either += t.organ[i] == organ || r.organ[i] == organ;
+  }
+  return either ? static_cast<double>(both) / static_cast<double>(either) : 0.0;
+}
+
+/// Each true leaf's best instance IoU (0: no instance overlaps it).
+std::vector<double> InstanceIoU(const Truth& t, const plantmorph::SegmentationResult& r, int leaves)
+{
+  std::vector<double> best(static_cast<std::size_t>(leaves), 0.0);
+  std::map<int, long long> found;
+  std::map<std::pair<int, int>, long long> overlap;
+  std::vector<long long> size(static_cast<std::size_t>(leaves), 0);
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+  {
+    if (r.leafId[i] >= 0)
+      ++found[r.leafId[i]];
+    if (t.leaf[i] >= 0)
+      ++size[static_cast<std::size_t>(t.leaf[i])];
+    if (t.leaf[i] >= 0 && r.leafId[i] >= 0)
+      ++overlap[{ t.leaf[i], r.leafId[i] }];
+  }
+  for (const auto& [key, inter] : overlap)
+  {
+    const double iou = static_cast<double>(inter) /
+      static_cast<double>(size[static_cast<std::size_t>(key.first)] + found[key.second] - inter);
+    best[static_cast<std::size_t>(key.first)] = std::max(best[static_cast<std::size_t>(key.first)], iou);
+  }
+  return best;
+}
+
+/// A ParallelFor on `threads` std::threads, cutting the range in many small chunks.
+plantmorph::ParallelFor Threads(int threads)
+{
+  return [threads](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    std::vector<std::thread> pool;
+    const std::size_t chunk = std::max<std::size_t>(1, count / (8 * static_cast<std::size_t>(threads)));
+    std::atomic<std::size_t> next{ 0 };
+    for (int k = 0; k < threads; ++k)
+      pool.emplace_back([&]() {
+        for (std::size_t begin; (begin = next.fetch_add(chunk)) < count;)
+          body(begin, std::min(count, begin + chunk));
+      });
+    for (std::thread& t : pool)
+      t.join();
+  };
+}
+} // namespace
+
+TEST(PlantSegmentation, MedianSpacingOfAGridIsItsStep)
+{
+  std::vector<Eigen::Vector3d> grid;
+  for (int i = 0; i < 50; ++i)
+    for (int j = 0; j < 40; ++j)
+      grid.emplace_back(0.02 * i, 0.02 * j, 1.0);
+  EXPECT_NEAR(plantmorph::MedianSpacing(grid), 0.02, 1e-12);
+  grid.push_back(grid.front()); // a duplicate point does not make the spacing 0
+  EXPECT_NEAR(plantmorph::MedianSpacing(grid), 0.02, 1e-12);
+}
+
+TEST(PlantSegmentation, StemAndLeavesAreFoundWithOneInstancePerLeaf)
+{
+  const int leaves = 7;
+  const Truth t = SyntheticPlant(leaves);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_GT(OrganIoU(t, r, plantmorph::OrganLeaf), 0.97);
+  EXPECT_GT(OrganIoU(t, r, plantmorph::OrganWood), 0.95);
+  ASSERT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
+  for (double iou : InstanceIoU(t, r, leaves))
+    EXPECT_GT(iou, 0.95);
+  ASSERT_EQ(r.plants.size(), 1u);
+  EXPECT_EQ(r.plants[0].leafCount, leaves);
+  EXPECT_NEAR(r.plants[0].spacing, 0.005, 0.001);
+  EXPECT_EQ(r.plants[0].woodPoints + r.plants[0].leafPoints, static_cast<long long>(t.points.size()));
+  double low = 1e9, high = -1e9;
+  for (const Eigen::Vector3d& p : t.points)
+    low = std::min(low, p.z()), high = std::max(high, p.z());
+  EXPECT_DOUBLE_EQ(r.plants[0].height, high - low);
+  // Each leaf's row: its base near the stem, a first area estimate near the ellipse's (pi/4 * 0.3 * 0.15), the
+  // confidences in [0, 1].
+  for (const plantmorph::SegmentedLeaf& leaf : r.leaves)
+  {
+    EXPECT_LT(std::hypot(leaf.base.x(), leaf.base.y()), 0.05 + 0.03) << "leaf " << leaf.leafId;
+    EXPECT_NEAR(leaf.area, Pi / 4 * 0.3 * 0.15, 0.15 * Pi / 4 * 0.3 * 0.15) << "leaf " << leaf.leafId;
+    EXPECT_GE(leaf.branch, 0);
+  }
+  for (double c : r.confidence)
+  {
+    EXPECT_GE(c, 0.0);
+    EXPECT_LE(c, 1.0);
+  }
+}
+
+TEST(PlantSegmentation, SameLabelsWhateverTheThreads)
+{
+  const Truth t = SyntheticPlant(5);
+  const plantmorph::SegmentationResult serial = plantmorph::SegmentPlants(t.points, {}, {});
+  const plantmorph::SegmentationResult threaded = plantmorph::SegmentPlants(t.points, {}, {}, Threads(4));
+  ASSERT_EQ(serial.error, "");
+  EXPECT_EQ(serial.organ, threaded.organ);
+  EXPECT_EQ(serial.leafId, threaded.leafId);
+  EXPECT_EQ(serial.confidence, threaded.confidence);
+}
+
+TEST(PlantSegmentation, ThresholdsFollowTheSpacingNotTheUnit)
+{
+  // The same plant in millimetres: every threshold is a multiple of the spacing, so the labels are the same.
+  Truth t = SyntheticPlant(5);
+  const plantmorph::SegmentationResult metres = plantmorph::SegmentPlants(t.points, {}, {});
+  for (Eigen::Vector3d& p : t.points)
+    p *= 1000.0;
+  const plantmorph::SegmentationResult millimetres = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(millimetres.error, "");
+  EXPECT_EQ(metres.organ, millimetres.organ);
+  EXPECT_EQ(metres.leafId, millimetres.leafId);
+  // And a coarser scan (twice the spacing) of the same plant still finds every leaf.
+  const Truth coarse = SyntheticPlant(5, 0.01, 0.0004);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(coarse.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.leaves.size(), 5u);
+  EXPECT_GT(OrganIoU(coarse, r, plantmorph::OrganLeaf), 0.95);
+}
+
+TEST(PlantSegmentation, NoisyScanWidensTheFeaturesAndStillFindsTheLeaves)
+{
+  // Range noise of 1 % of a leaf's length (3 mm, 0.6 spacings): the features' radius grows with the noise.
+  const Truth t = SyntheticPlant(5, 0.005, 0.003);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_GT(OrganIoU(t, r, plantmorph::OrganLeaf), 0.9);
+  EXPECT_EQ(r.leaves.size(), 5u);
+}
+
+TEST(PlantSegmentation, SeveralPlantsAreSegmentedEachOnItsOwnWithLeafIdsUniqueOverAll)
+{
+  Truth a = SyntheticPlant(4);
+  const Truth b = SyntheticPlant(6, 0.005, 0.0002, 0.05, 0.9, Eigen::Vector3d(2.0, 0.0, 0.0));
+  std::vector<int> plantOf(a.points.size(), 3);
+  a.points.insert(a.points.end(), b.points.begin(), b.points.end());
+  plantOf.insert(plantOf.end(), b.points.size(), 8);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(a.points, plantOf, {});
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.plants.size(), 2u);
+  EXPECT_EQ(r.plants[0].plantId, 3);
+  EXPECT_EQ(r.plants[1].plantId, 8);
+  EXPECT_EQ(r.plants[0].leafCount, 4);
+  EXPECT_EQ(r.plants[1].leafCount, 6);
+  std::set<int> ids;
+  for (const plantmorph::SegmentedLeaf& leaf : r.leaves)
+  {
+    EXPECT_TRUE(ids.insert(leaf.leafId).second);
+    EXPECT_EQ(leaf.plantId, leaf.leafId < 4 ? 3 : 8);
+  }
+  for (std::size_t i = 0; i < a.points.size(); ++i)
+  {
+    if (r.leafId[i] >= 0)
+    {
+      EXPECT_EQ(r.leaves[static_cast<std::size_t>(r.leafId[i])].plantId, plantOf[i]);
+    }
+  }
+}
+
+TEST(PlantSegmentation, BadInputIsNamedAndGivesNothing)
+{
+  const auto fails = [](const std::vector<Eigen::Vector3d>& points, const std::vector<int>& plants,
+                       const plantmorph::SegmentationParameters& p, const std::string& words) {
+    const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(points, plants, p);
+    EXPECT_NE(r.error.find(words), std::string::npos) << "error: '" << r.error << "', expected '" << words << "'";
+    EXPECT_TRUE(r.organ.empty() && r.leafId.empty() && r.leaves.empty() && r.plants.empty());
+  };
+  fails({}, {}, {}, "no points");
+  fails({ Eigen::Vector3d(1, 2, 3) }, {}, {}, "1 points");
+  Truth t = SyntheticPlant(3);
+  Truth nan = t;
+  nan.points[17].y() = std::nan("");
+  fails(nan.points, {}, {}, "point 17 has a non-finite coordinate");
+  Truth stem;
+  Truth leaf;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+    (t.organ[i] == plantmorph::OrganWood ? stem : leaf).points.push_back(t.points[i]);
+  fails(stem.points, {}, {}, "no leaf found");
+  std::vector<Eigen::Vector3d> oneLeaf;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+    if (t.leaf[i] == 0)
+      oneLeaf.push_back(t.points[i]);
+  fails(oneLeaf, {}, {}, "no wood found");
+  fails(t.points, std::vector<int>(3, 0), {}, "not one per point");
+  std::vector<int> plants(t.points.size(), 0);
+  plants[0] = 1; // a plant of one point
+  fails(t.points, plants, {}, "plant 1: the cloud has 1 points");
+  plantmorph::SegmentationParameters p;
+  p.featureScale = 1.0;
+  fails(t.points, {}, p, "FeatureScale");
+  p = {};
+  p.normalAngle = std::nan("");
+  fails(t.points, {}, p, "NormalAngle");
+  p = {};
+  p.minimumLeafPoints = 0;
+  fails(t.points, {}, p, "MinimumLeafPoints");
+}

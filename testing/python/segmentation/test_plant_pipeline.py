@@ -1,0 +1,73 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""pvpython: the whole-plant pipeline with the filters' defaults. A simulated herb (TreeFromSketchSource, nine
+LeafOutlineSource blades) scanned by VirtualScanner from four sides, PlantSegmentationFilter, the leaf points
+(LeafId >= 0) to LeafFitFilter with LeafIdArray = LeafId: one Traits row per leaf found, each found leaf matches one
+true leaf (the truth the scan carried), and the fitted areas of the leaves matched are within 6 % of the true area
+(median within 3 %).
+
+    pvpython test_plant_pipeline.py --plugin PlantMorph.so --work DIR
+"""
+import math
+
+from plantmorph_testing import Checks, load_plugin, parse_arguments
+
+arguments = parse_arguments([("--pvpython", dict(default=None))])
+
+from paraview.simple import *  # noqa: E402,F401,F403
+from paraview import servermanager  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+import numpy  # noqa: E402
+
+load_plugin(arguments.plugin, globals())
+checks = Checks()
+
+blade = LeafOutlineSource()
+tree = TreeFromSketchSource(Preset="Custom", Depth=1, ChildCount=3, Ratio=0.6, Length=4.0, Radius=0.08, LeafCount=3,
+                            LeafScale=1.5, LeafAngle=50.0, Sides=12)
+tree.Leaf = OutputPort(blade, 0)
+plant = AppendGeometry(Input=[OutputPort(tree, 0), OutputPort(tree, 2)])
+plant.UpdatePipeline()
+b = servermanager.Fetch(plant).GetBounds()
+centre = [(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2]
+size = max(b[1] - b[0], b[3] - b[2], b[5] - b[4])
+positions = []
+for k in range(4):
+    angle = 0.5 * math.pi * k + 0.3
+    positions += [centre[0] + size * math.cos(angle), centre[1] + 0.3 * size, centre[2] + size * math.sin(angle)]
+scan = VirtualScanner(Input=plant, Positions=positions, LookAt=centre, Up=[0, 1, 0], HorizontalFieldOfView=80,
+                      VerticalFieldOfView=80, AngularStep=0.12, RangeNoise=0.0015, Seed=1, MaximumRange=5 * size)
+truth = Calculator(Input=scan, ResultArrayName="TrueLeafId", ResultArrayType="Int", Function="LeafId")
+segmentation = PlantSegmentationFilter(Input=truth, UpAxis="Y")
+leaf_points = Threshold(Input=segmentation, Scalars=["POINTS", "LeafId"], LowerThreshold=0, UpperThreshold=1e9)
+fit = LeafFitFilter(Input=leaf_points, LeafIdArray="LeafId", UpAxis="Y")
+fit.UpdatePipeline()
+traits = servermanager.Fetch(fit, idx=2)
+leaves_table = servermanager.Fetch(segmentation, idx=1)
+checks.check(traits.GetNumberOfRows() == leaves_table.GetNumberOfRows() and traits.GetNumberOfRows() >= 9,
+             "one Traits row per leaf found (%d rows, %d leaves)" % (traits.GetNumberOfRows(),
+                                                                   leaves_table.GetNumberOfRows()))
+cloud = servermanager.Fetch(segmentation)
+found = vtk_to_numpy(cloud.GetPointData().GetArray("LeafId"))
+true_leaf = vtk_to_numpy(cloud.GetPointData().GetArray("TrueLeafId"))
+leaves = servermanager.Fetch(tree, idx=2)
+points = vtk_to_numpy(leaves.GetPoints().GetData())
+cells = vtk_to_numpy(leaves.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+a, b3, c = points[cells[:, 0]], points[cells[:, 1]], points[cells[:, 2]]
+true_area = numpy.bincount(vtk_to_numpy(leaves.GetCellData().GetArray("LeafId")),
+                           weights=0.5 * numpy.linalg.norm(numpy.cross(b3 - a, c - a), axis=1))
+fitted = dict(zip(vtk_to_numpy(traits.GetColumnByName("LeafId")).tolist(),
+                  vtk_to_numpy(traits.GetColumnByName("Area")).tolist())) if traits.GetNumberOfRows() else {}
+errors, matched = [], set()
+for k in range(leaves_table.GetNumberOfRows()):
+    ids, counts = numpy.unique(true_leaf[found == k], return_counts=True)
+    best = int(ids[counts.argmax()])
+    inter = counts.max()
+    iou = inter / (numpy.count_nonzero(found == k) + numpy.count_nonzero(true_leaf == best) - inter)
+    if best >= 0 and iou > 0.5:
+        matched.add(best)
+        errors.append(abs(fitted.get(k, float("nan")) - true_area[best]) / true_area[best])
+checks.check(len(matched) == 9, "every true leaf matched once at IoU > 0.5 (%s)" % sorted(matched))
+errors = numpy.array(errors)
+checks.check(bool(numpy.all(errors < 0.06)) and numpy.median(errors) < 0.03,
+             "fitted areas within 6 %%, median %.1f %% (%s)" % (100 * numpy.median(errors), (100 * errors).round(1)))
+checks.finish()
