@@ -1,0 +1,278 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Leaf ids, separate blades, the plant's summary and the columns' units (LeafPlant.h).
+#include "LeafPlant.h"
+#include "PointGrid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+namespace plantmorph
+{
+namespace
+{
+int Find(std::vector<int>& parent, int i)
+{
+  while (parent[i] != i)
+  {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+double Median(std::vector<double> v)
+{
+  if (v.empty())
+    return 0.0;
+  const std::size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + m, v.end());
+  return v[m];
+}
+} // namespace
+
+std::string LeafIdOf(double value, const std::string& array, std::int64_t& id)
+{
+  // 2^63 is exact in double; every double below it in magnitude that is an integer converts exactly.
+  const double limit = 9223372036854775808.0;
+  if (std::isfinite(value) && std::floor(value) == value && value >= -limit && value < limit)
+  {
+    id = static_cast<std::int64_t>(value);
+    return {};
+  }
+  std::ostringstream message;
+  message.precision(17);
+  message << "LeafIdArray: '" << array << "' holds " << value
+          << (std::isfinite(value) ? ", not an integer" : ", not a number")
+          << ": leaf ids must be integers (an integer array, or whole numbers in a floating-point one)";
+  return message.str();
+}
+
+LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points)
+{
+  LeafSeparation result;
+  const int n = static_cast<int>(points.size());
+  result.leafOf.assign(points.size(), 0);
+  result.count = 1;
+  std::vector<int> finite;
+  std::vector<Eigen::Vector3d> finitePoints;
+  for (int i = 0; i < n; ++i)
+    if (points[i].allFinite())
+    {
+      finite.push_back(i);
+      finitePoints.push_back(points[i]);
+    }
+  if (finitePoints.size() < 2)
+    return result;
+  const PointGrid grid(finitePoints, PointGrid::CellFor(finitePoints, 4.0));
+  std::vector<double> nearest;
+  for (std::size_t i = 0; i < finitePoints.size(); ++i)
+  {
+    const auto nb = grid.Nearest(finitePoints[i], 1, static_cast<int>(i));
+    if (!nb.empty() && nb.front().first > 0.0)
+      nearest.push_back(std::sqrt(nb.front().first));
+  }
+  result.radius = SeparationSpacings * Median(nearest);
+  if (!(result.radius > 0.0))
+    return result;
+  const int m = static_cast<int>(finitePoints.size());
+  std::vector<int> parent(m);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<int> within;
+  for (int i : grid.SortedIds())
+  {
+    grid.Within(finitePoints[i], result.radius, within);
+    for (int j : within)
+    {
+      const int a = Find(parent, i), b = Find(parent, j);
+      if (a != b)
+        parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  std::vector<int> size(m, 0);
+  for (int i = 0; i < m; ++i)
+    ++size[Find(parent, i)];
+  const int largest = *std::max_element(size.begin(), size.end());
+  // The large parts, numbered in the order of their first point (a root is its part's smallest index).
+  std::vector<int> leafOfRoot(m, -1);
+  int count = 0;
+  for (int i = 0; i < m; ++i)
+    if (Find(parent, i) == i && size[i] >= MinLeafPoints && size[i] * 20 >= largest)
+      leafOfRoot[i] = count++;
+  if (count <= 1)
+    return result;
+  std::vector<Eigen::Vector3d> leafPoints;
+  std::vector<int> leafIds;
+  for (int i = 0; i < m; ++i)
+    if (leafOfRoot[Find(parent, i)] >= 0)
+    {
+      leafPoints.push_back(finitePoints[i]);
+      leafIds.push_back(leafOfRoot[Find(parent, i)]);
+    }
+  const PointGrid leaves(leafPoints, PointGrid::CellFor(leafPoints, 4.0));
+  for (int i = 0; i < m; ++i)
+  {
+    const int root = Find(parent, i);
+    int leaf = leafOfRoot[root];
+    if (leaf < 0)
+    {
+      leaf = leafIds[leaves.Nearest(finitePoints[i], 1).front().second];
+      if (root == i)
+        ++result.strayParts;
+    }
+    result.leafOf[finite[i]] = leaf;
+  }
+  result.count = count;
+  return result;
+}
+
+BetaFit FitBetaDistribution(const std::vector<double>& degrees)
+{
+  BetaFit beta;
+  std::vector<double> t;
+  for (double d : degrees)
+    if (std::isfinite(d))
+      t.push_back(std::clamp(d / 90.0, 0.0, 1.0));
+  if (t.size() < 2)
+    return beta;
+  const double n = static_cast<double>(t.size());
+  const double mean = std::accumulate(t.begin(), t.end(), 0.0) / n;
+  double variance = 0.0;
+  for (double x : t)
+    variance += (x - mean) * (x - mean);
+  variance /= n;
+  if (!(variance > 0.0) || !(mean > 0.0 && mean < 1.0))
+    return beta;
+  const double common = mean * (1.0 - mean) / variance - 1.0;
+  if (!(common > 0.0))
+    return beta; // more spread than any beta distribution has (all angles at 0 and 90)
+  beta.nu = mean * common;
+  beta.mu = (1.0 - mean) * common;
+  beta.valid = true;
+  return beta;
+}
+
+double BetaDensity(const BetaFit& beta, double degrees)
+{
+  const double t = degrees / 90.0;
+  if (!beta.valid || !(t > 0.0 && t < 1.0))
+    return 0.0;
+  const double logB = std::lgamma(beta.mu) + std::lgamma(beta.nu) - std::lgamma(beta.mu + beta.nu);
+  return std::exp((beta.nu - 1.0) * std::log(t) + (beta.mu - 1.0) * std::log1p(-t) - logB) / 90.0;
+}
+
+PlantSummary SummarizePlant(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted)
+{
+  PlantSummary plant;
+  plant.inclinationFraction.assign(InclinationClasses, 0.0);
+  std::vector<double> angles;
+  for (std::size_t i = 0; i < traits.size(); ++i)
+  {
+    if (i < fitted.size() && !fitted[i])
+    {
+      ++plant.failed;
+      continue;
+    }
+    ++plant.leaves;
+    plant.totalArea += traits[i].area;
+    angles.push_back(traits[i].inclination);
+  }
+  if (plant.leaves == 0)
+  {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    plant.meanArea = plant.meanInclination = nan;
+    return plant;
+  }
+  plant.meanArea = plant.totalArea / plant.leaves;
+  plant.meanInclination = std::accumulate(angles.begin(), angles.end(), 0.0) / plant.leaves;
+  for (double a : angles)
+  {
+    const int k = std::clamp(static_cast<int>(std::floor(a / 10.0)), 0, InclinationClasses - 1);
+    plant.inclinationFraction[k] += 1.0 / plant.leaves;
+  }
+  plant.beta = FitBetaDistribution(angles);
+  return plant;
+}
+
+std::vector<std::string> PlantColumnNames()
+{
+  std::vector<std::string> names = { "LeafCount", "FailedLeaves", "TotalLeafArea", "MeanLeafArea",
+    "MeanLeafInclination", "InclinationBetaMu", "InclinationBetaNu" };
+  for (int k = 0; k < InclinationClasses; ++k)
+    names.push_back("Inclination" + std::to_string(10 * k) + "_" + std::to_string(10 * k + 10));
+  return names;
+}
+
+std::vector<double> PlantColumnValues(const PlantSummary& plant)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> values = { static_cast<double>(plant.leaves), static_cast<double>(plant.failed),
+    plant.totalArea, plant.meanArea, plant.meanInclination, plant.beta.valid ? plant.beta.mu : nan,
+    plant.beta.valid ? plant.beta.nu : nan };
+  for (int k = 0; k < InclinationClasses; ++k)
+    values.push_back(k < static_cast<int>(plant.inclinationFraction.size()) ? plant.inclinationFraction[k] : nan);
+  return values;
+}
+
+std::string ColumnUnit(const std::string& column, const std::string& lengthUnit)
+{
+  const std::string L = lengthUnit.empty() ? "L" : lengthUnit;
+  static const std::map<std::string, int> kinds = {
+    // 0 length, 1 area, 2 1/length, 3 degrees, 4 dimensionless, 5 count, 6 code or id, 7 text
+    { "Length", 0 }, { "Width", 0 }, { "ProjectedLength", 0 }, { "ProjectedWidth", 0 }, { "Perimeter", 0 },
+    { "FitRMS", 0 }, { "FitP95", 0 }, { "FitMax", 0 }, { "Spacing", 0 }, { "PetioleLength", 0 }, { "Area", 1 },
+    { "ProjectedArea", 1 }, { "HorizontalArea", 1 }, { "TotalLeafArea", 1 }, { "MeanLeafArea", 1 },
+    { "RollingCurvature", 2 }, { "Bending", 3 }, { "Rolling", 3 }, { "Inclination", 3 }, { "Azimuth", 3 },
+    { "MidveinInclination", 3 }, { "MeanLeafInclination", 3 }, { "AspectRatio", 4 }, { "Coverage", 4 },
+    { "InclinationBetaMu", 4 }, { "InclinationBetaNu", 4 }, { "Points", 5 }, { "Inliers", 5 },
+    { "LeafCount", 5 }, { "FailedLeaves", 5 }, { "LeafId", 6 }, { "BaseFrom", 6 }, { "Status", 6 },
+    { "Message", 7 }, { "LengthUnit", 7 } };
+  const auto it = kinds.find(column);
+  if (it == kinds.end())
+    return column.rfind("Inclination", 0) == 0 && column.find('_') != std::string::npos ? "1" : "";
+  switch (it->second)
+  {
+    case 0:
+      return L;
+    case 1:
+      return L + "^2";
+    case 2:
+      return "1/" + L;
+    case 3:
+      return "degrees";
+    case 4:
+      return "1";
+    case 5:
+      return "count";
+    case 6:
+      return "code";
+    default:
+      return "text";
+  }
+}
+
+std::string ScaledUnit(const std::string& unit, double scale)
+{
+  if (unit.empty() || !(scale > 0.0) || !std::isfinite(scale))
+    return {};
+  static const std::vector<std::pair<std::string, double>> metres = { { "km", 1e3 }, { "m", 1.0 }, { "dm", 0.1 },
+    { "cm", 1e-2 }, { "mm", 1e-3 }, { "um", 1e-6 }, { "nm", 1e-9 } };
+  double size = 0.0;
+  for (const auto& u : metres)
+    if (u.first == unit)
+      size = u.second;
+  if (scale == 1.0)
+    return unit;
+  if (size > 0.0)
+    for (const auto& u : metres)
+      if (std::abs(size / scale / u.second - 1.0) < 1e-9)
+        return u.first;
+  std::ostringstream name;
+  name.precision(12);
+  name << "(" << 1.0 / scale << " " << unit << ")";
+  return name.str();
+}
+
+} // namespace plantmorph
