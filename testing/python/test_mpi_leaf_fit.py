@@ -41,9 +41,15 @@ def array(data, name):
     return vtk_to_numpy(data.GetPointData().GetArray(name))
 
 
+def column_values(column):
+    """A column's values: floats, or strings for the text columns (Message, LengthUnit)."""
+    if column.IsA("vtkStringArray"):
+        return numpy.array([column.GetValue(i) for i in range(column.GetNumberOfValues())], dtype=str)
+    return vtk_to_numpy(column).astype(numpy.float64)
+
+
 def table_columns(table):
-    return {table.GetColumnName(c): vtk_to_numpy(table.GetColumn(c)).astype(numpy.float64)
-            for c in range(table.GetNumberOfColumns())}
+    return {table.GetColumnName(c): column_values(table.GetColumn(c)) for c in range(table.GetNumberOfColumns())}
 
 
 def blades(fit):
