@@ -62,15 +62,17 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
             << "): the blade spreads over empty space (a hole, a petiole or several leaves fitted as one?)";
     warnings.push_back(message.str());
   }
-  const double model = FlatModelArea(fit, resolution), blade = FlatBladeArea(fit);
-  if (std::isfinite(model) && blade > 0.0 && std::abs(model / blade - 1.0) > MaxModelAreaError)
+  // The flat model against the fitted blade's area (the Area trait): laying a curved blade flat in its intrinsic
+  // coordinates changes its area, and a user who rebuilds and curls the model expects the leaf measured.
+  const double model = FlatModelArea(fit, resolution), area = fit.traits.area;
+  if (std::isfinite(model) && area > 0.0 && std::abs(model / area - 1.0) > MaxModelAreaError)
   {
     std::ostringstream message;
     message.precision(4);
-    message << "the rebuildable flat model (Model C, " << fit.modelControlPoints << " control points per curve) has area "
-            << model << ", the fitted blade laid flat " << blade << " (" << std::showpos
-            << 100.0 * (model / blade - 1.0) << std::noshowpos << " %; Area in 3-D " << fit.traits.area
-            << "): LeafOutlineSource rebuilds another leaf than the one fitted";
+    message << "the rebuildable flat model (Model C, " << fit.modelControlPoints
+            << " control points per curve) has area " << model << " against the fitted blade's " << area << " ("
+            << std::showpos << 100.0 * (model / area - 1.0) << std::noshowpos << " %; the blade laid flat has "
+            << FlatBladeArea(fit) << "): LeafOutlineSource rebuilds a leaf of another size than the one measured";
     warnings.push_back(message.str());
   }
   return warnings;

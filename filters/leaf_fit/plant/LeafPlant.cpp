@@ -208,8 +208,8 @@ std::vector<std::string> PlantColumnNames()
 std::vector<double> PlantColumnValues(const PlantSummary& plant)
 {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> values = { static_cast<double>(plant.leaves), static_cast<double>(plant.failed),
-    plant.totalArea, plant.meanArea, plant.meanInclination, plant.beta.valid ? plant.beta.mu : nan,
+  std::vector<double> values = { static_cast<double>(plant.leaves), static_cast<double>(plant.failed), plant.totalArea,
+    plant.meanArea, plant.meanInclination, plant.beta.valid ? plant.beta.mu : nan,
     plant.beta.valid ? plant.beta.nu : nan };
   for (int k = 0; k < InclinationClasses; ++k)
     values.push_back(k < static_cast<int>(plant.inclinationFraction.size()) ? plant.inclinationFraction[k] : nan);
@@ -226,9 +226,9 @@ std::string ColumnUnit(const std::string& column, const std::string& lengthUnit)
     { "ProjectedArea", 1 }, { "HorizontalArea", 1 }, { "TotalLeafArea", 1 }, { "MeanLeafArea", 1 },
     { "RollingCurvature", 2 }, { "Bending", 3 }, { "Rolling", 3 }, { "Inclination", 3 }, { "Azimuth", 3 },
     { "MidveinInclination", 3 }, { "MeanLeafInclination", 3 }, { "AspectRatio", 4 }, { "Coverage", 4 },
-    { "InclinationBetaMu", 4 }, { "InclinationBetaNu", 4 }, { "Points", 5 }, { "Inliers", 5 },
-    { "LeafCount", 5 }, { "FailedLeaves", 5 }, { "LeafId", 6 }, { "BaseFrom", 6 }, { "Status", 6 },
-    { "Message", 7 }, { "LengthUnit", 7 } };
+    { "InclinationBetaMu", 4 }, { "InclinationBetaNu", 4 }, { "Points", 5 }, { "Inliers", 5 }, { "LeafCount", 5 },
+    { "FailedLeaves", 5 }, { "LeafId", 6 }, { "BaseFrom", 6 }, { "Status", 6 }, { "Message", 7 }, { "LengthUnit", 7 }
+  };
   const auto it = kinds.find(column);
   if (it == kinds.end())
     return column.rfind("Inclination", 0) == 0 && column.find('_') != std::string::npos ? "1" : "";

@@ -217,7 +217,8 @@ TEST(LeafPlant, AGoodFitPassesItsChecksAndAFlapDoesNot)
   const LeafFitResult fit = FitLeaf(Ellipse({ 0.0, 0.0, 0.0 }, 2.0, 5.0, 0.1, 0.005, 4), LeafFitParameters());
   ASSERT_EQ(fit.error, "");
   EXPECT_GT(fit.traits.coverage, MinCoverage);
-  EXPECT_NEAR(FlatModelArea(fit, 60) / FlatBladeArea(fit), 1.0, MaxModelAreaError);
+  EXPECT_NEAR(FlatModelArea(fit, 60) / fit.traits.area, 1.0, MaxModelAreaError);
+  EXPECT_NEAR(FlatBladeArea(fit) / fit.traits.area, 1.0, 1e-3); // flat: laid flat, the same area
   EXPECT_TRUE(CheckFittedLeaf(fit, 60).empty());
   // The same fit with its Support made large over most of the blade: Coverage below the limit gives a warning.
   LeafFitResult flap = fit;
