@@ -61,8 +61,8 @@ void GatherOnFirst(vtkMultiProcessController* c, std::vector<T>& send, std::vect
     offsets[q] = offsets[q - 1] + lengths[q - 1];
   received.assign(static_cast<std::size_t>(offsets.back() + lengths.back()), T{});
   static thread_local T dummy{};
-  c->GatherV(send.empty() ? &dummy : send.data(), received.empty() ? &dummy : received.data(), mine,
-    lengths.data(), offsets.data(), 0);
+  c->GatherV(send.empty() ? &dummy : send.data(), received.empty() ? &dummy : received.data(), mine, lengths.data(),
+    offsets.data(), 0);
 }
 } // namespace
 
@@ -89,8 +89,8 @@ std::vector<std::int64_t> UnionOfIds(vtkMultiProcessController* controller, cons
     offsets[q] = offsets[q - 1] + lengths[q - 1];
   all.assign(static_cast<std::size_t>(offsets.back() + lengths.back()), 0);
   vtkTypeInt64 dummy = 0;
-  controller->AllGatherV(send.empty() ? &dummy : send.data(), all.empty() ? &dummy : all.data(), mine,
-    lengths.data(), offsets.data());
+  controller->AllGatherV(
+    send.empty() ? &dummy : send.data(), all.empty() ? &dummy : all.data(), mine, lengths.data(), offsets.data());
   std::sort(all.begin(), all.end());
   all.erase(std::unique(all.begin(), all.end()), all.end());
   return std::vector<std::int64_t>(all.begin(), all.end());
