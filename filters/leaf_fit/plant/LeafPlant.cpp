@@ -4,6 +4,7 @@
 #include "PointGrid.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -31,6 +32,100 @@ double Median(std::vector<double> v)
   std::nth_element(v.begin(), v.begin() + m, v.end());
   return v[m];
 }
+
+/// The median distance from (at most 20000, evenly strided) points to their nearest other point, zero distances
+/// (duplicates) left out.
+double MedianSpacing(const std::vector<Eigen::Vector3d>& points)
+{
+  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 20000);
+  std::vector<double> nearest;
+  for (std::size_t i = 0; i < points.size(); i += stride)
+  {
+    const auto nb = grid.Nearest(points[i], 1, static_cast<int>(i));
+    if (!nb.empty() && nb.front().first > 0.0)
+      nearest.push_back(std::sqrt(nb.front().first));
+  }
+  return Median(nearest);
+}
+
+/// Cubes of side radius / sqrt(3): the points of one cube are within `radius` of each other. The occupied cubes in
+/// lexicographic order of their (i, j, k); a cube's points are members[offsets[c], offsets[c + 1]).
+struct Cubes
+{
+  using Cell = std::array<std::int64_t, 3>;
+  std::vector<Cell> cells;
+  std::vector<int> offsets, members;
+
+  Cubes(const std::vector<Eigen::Vector3d>& points, double side)
+  {
+    std::vector<std::pair<Cell, int>> keyed(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      keyed[i] = { { static_cast<std::int64_t>(std::floor(points[i].x() / side)),
+                     static_cast<std::int64_t>(std::floor(points[i].y() / side)),
+                     static_cast<std::int64_t>(std::floor(points[i].z() / side)) },
+        static_cast<int>(i) };
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t i = 0; i < keyed.size(); ++i)
+    {
+      if (i == 0 || keyed[i].first != keyed[i - 1].first)
+      {
+        this->cells.push_back(keyed[i].first);
+        this->offsets.push_back(static_cast<int>(i));
+      }
+      this->members.push_back(keyed[i].second);
+    }
+    this->offsets.push_back(static_cast<int>(keyed.size()));
+  }
+};
+
+/// True when a point of cube a is within sqrt(r2) of a point of cube b.
+bool Near(const std::vector<Eigen::Vector3d>& points, const Cubes& cubes, int a, int b, double r2)
+{
+  for (int i = cubes.offsets[a]; i < cubes.offsets[a + 1]; ++i)
+    for (int j = cubes.offsets[b]; j < cubes.offsets[b + 1]; ++j)
+      if ((points[cubes.members[i]] - points[cubes.members[j]]).squaredNorm() <= r2)
+        return true;
+  return false;
+}
+
+/// Connected parts of the points at `radius`, as parts of the cubes (a cube's points are one part): two cubes up to
+/// two apart along each axis are joined when any of their points are within `radius`, looked for only while they are
+/// apart. The adjacent cubes first, so that on a continuous sheet the farther ones are already joined. Each offset
+/// is one merge-like walk over the sorted cubes (adding an offset keeps their order): no hashing, memory in order.
+std::vector<int> CubeParts(const std::vector<Eigen::Vector3d>& points, const Cubes& cubes, double radius)
+{
+  const int m = static_cast<int>(cubes.cells.size());
+  std::vector<int> parent(m);
+  std::iota(parent.begin(), parent.end(), 0);
+  const double r2 = radius * radius;
+  for (std::int64_t reach = 1; reach <= 2; ++reach)
+    for (std::int64_t dx = 0; dx <= reach; ++dx)
+      for (std::int64_t dy = -reach; dy <= reach; ++dy)
+        for (std::int64_t dz = -reach; dz <= reach; ++dz)
+        {
+          // Each pair once: the offsets after (0, 0, 0) in lexicographic order, at this reach exactly.
+          const Cubes::Cell d = { dx, dy, dz };
+          if (d <= Cubes::Cell{ 0, 0, 0 } || std::max({ std::abs(dx), std::abs(dy), std::abs(dz) }) != reach)
+            continue;
+          int b = 0;
+          for (int a = 0; a < m; ++a)
+          {
+            const Cubes::Cell& c = cubes.cells[a];
+            const Cubes::Cell target = { c[0] + dx, c[1] + dy, c[2] + dz };
+            while (b < m && cubes.cells[b] < target)
+              ++b;
+            if (b == m)
+              break;
+            if (cubes.cells[b] != target)
+              continue;
+            const int ra = Find(parent, a), rb = Find(parent, b);
+            if (ra != rb && Near(points, cubes, a, b, r2))
+              parent[std::max(ra, rb)] = std::min(ra, rb);
+          }
+        }
+  return parent;
+}
 } // namespace
 
 std::string LeafIdOf(double value, const std::string& array, std::int64_t& id)
@@ -53,74 +148,61 @@ std::string LeafIdOf(double value, const std::string& array, std::int64_t& id)
 LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points)
 {
   LeafSeparation result;
-  const int n = static_cast<int>(points.size());
   result.leafOf.assign(points.size(), 0);
   result.count = 1;
   std::vector<int> finite;
   std::vector<Eigen::Vector3d> finitePoints;
-  for (int i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < points.size(); ++i)
     if (points[i].allFinite())
     {
-      finite.push_back(i);
+      finite.push_back(static_cast<int>(i));
       finitePoints.push_back(points[i]);
     }
   if (finitePoints.size() < 2)
     return result;
-  const PointGrid grid(finitePoints, PointGrid::CellFor(finitePoints, 4.0));
-  std::vector<double> nearest;
-  for (std::size_t i = 0; i < finitePoints.size(); ++i)
-  {
-    const auto nb = grid.Nearest(finitePoints[i], 1, static_cast<int>(i));
-    if (!nb.empty() && nb.front().first > 0.0)
-      nearest.push_back(std::sqrt(nb.front().first));
-  }
-  result.radius = SeparationSpacings * Median(nearest);
+  result.radius = SeparationSpacings * MedianSpacing(finitePoints);
   if (!(result.radius > 0.0))
     return result;
+  const Cubes cubes(finitePoints, result.radius / std::sqrt(3.0));
+  std::vector<int> parent = CubeParts(finitePoints, cubes, result.radius);
   const int m = static_cast<int>(finitePoints.size());
-  std::vector<int> parent(m);
-  std::iota(parent.begin(), parent.end(), 0);
-  std::vector<int> within;
-  for (int i : grid.SortedIds())
-  {
-    grid.Within(finitePoints[i], result.radius, within);
-    for (int j : within)
-    {
-      const int a = Find(parent, i), b = Find(parent, j);
-      if (a != b)
-        parent[std::max(a, b)] = std::min(a, b);
-    }
-  }
-  std::vector<int> size(m, 0);
+  std::vector<int> partOf(m);
+  for (int c = 0; c < static_cast<int>(cubes.cells.size()); ++c)
+    for (int k = cubes.offsets[c]; k < cubes.offsets[c + 1]; ++k)
+      partOf[cubes.members[k]] = Find(parent, c);
+  std::vector<int> size(cubes.cells.size(), 0);
   for (int i = 0; i < m; ++i)
-    ++size[Find(parent, i)];
+    ++size[partOf[i]];
   const int largest = *std::max_element(size.begin(), size.end());
-  // The large parts, numbered in the order of their first point (a root is its part's smallest index).
-  std::vector<int> leafOfRoot(m, -1);
+  // The large parts, numbered in the order of their first point.
+  std::vector<int> leafOfPart(cubes.cells.size(), -1);
   int count = 0;
-  for (int i = 0; i < m; ++i)
-    if (Find(parent, i) == i && size[i] >= MinLeafPoints && size[i] * 20 >= largest)
-      leafOfRoot[i] = count++;
-  if (count <= 1)
-    return result;
   std::vector<Eigen::Vector3d> leafPoints;
   std::vector<int> leafIds;
   for (int i = 0; i < m; ++i)
-    if (leafOfRoot[Find(parent, i)] >= 0)
+  {
+    const int part = partOf[i];
+    if (leafOfPart[part] < 0 && size[part] >= MinLeafPoints && size[part] * 20 >= largest)
+      leafOfPart[part] = count++;
+    if (leafOfPart[part] >= 0)
     {
       leafPoints.push_back(finitePoints[i]);
-      leafIds.push_back(leafOfRoot[Find(parent, i)]);
+      leafIds.push_back(leafOfPart[part]);
     }
+  }
+  if (count <= 1)
+    return result;
+  // The small parts' points go with the nearest leaf.
   const PointGrid leaves(leafPoints, PointGrid::CellFor(leafPoints, 4.0));
+  std::vector<unsigned char> seen(cubes.cells.size(), 0);
   for (int i = 0; i < m; ++i)
   {
-    const int root = Find(parent, i);
-    int leaf = leafOfRoot[root];
+    int leaf = leafOfPart[partOf[i]];
     if (leaf < 0)
     {
       leaf = leafIds[leaves.Nearest(finitePoints[i], 1).front().second];
-      if (root == i)
-        ++result.strayParts;
+      result.strayParts += seen[partOf[i]] ? 0 : 1;
+      seen[partOf[i]] = 1;
     }
     result.leafOf[finite[i]] = leaf;
   }
