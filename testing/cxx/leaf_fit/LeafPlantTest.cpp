@@ -64,6 +64,51 @@ TEST(LeafPlant, TwoEllipsesThreeUnitsApartAreTwoLeavesOfTheRightArea)
   }
 }
 
+/// A flat 10 x 10 grid of step 1 (median spacing 1, so the joining radius is 6) at `corner`.
+void AddSquare(std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& corner)
+{
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      points.push_back(corner + Eigen::Vector3d(i, j, 0.0));
+}
+
+TEST(LeafPlant, SeparationIsTheConnectedPartsAtItsRadius)
+{
+  // Square B 5.9 beyond A (joined), C 6.1 beyond B (apart), D diagonally off C's corner by (4.2, 4.2, 0.5), 5.96
+  // apart (joined: cubes two apart along two axes are looked at), E 6.05 above D (apart).
+  std::vector<Eigen::Vector3d> points;
+  AddSquare(points, { 0.0, 0.0, 0.0 });    // A
+  AddSquare(points, { 14.9, 0.0, 0.0 });   // B: 5.9 from A's last column (x = 9)
+  AddSquare(points, { 30.0, 0.0, 0.0 });   // C: 6.1 from B's last column (x = 23.9)
+  AddSquare(points, { 43.2, 13.2, 0.5 });  // D: from C's corner (39, 9, 0) by (4.2, 4.2, 0.5)
+  AddSquare(points, { 43.2, 13.2, 6.55 }); // E: 6.05 above D
+  const LeafSeparation cut = SeparateLeaves(points);
+  EXPECT_DOUBLE_EQ(cut.radius, 6.0);
+  // The oracle: every pair within the radius, joined.
+  const int n = static_cast<int>(points.size());
+  std::vector<int> label(n);
+  for (int i = 0; i < n; ++i)
+    label[i] = i;
+  for (bool changed = true; changed;)
+  {
+    changed = false;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if ((points[i] - points[j]).norm() <= 6.0 && label[j] < label[i])
+        {
+          label[i] = label[j];
+          changed = true;
+        }
+  }
+  ASSERT_EQ(cut.count, 3); // A + B, C + D, E
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; j += 7)
+      EXPECT_EQ(cut.leafOf[i] == cut.leafOf[j], label[i] == label[j]) << i << " " << j;
+  EXPECT_EQ(cut.leafOf[0], 0);
+  EXPECT_EQ(cut.leafOf[200], 1);
+  EXPECT_EQ(cut.leafOf[400], 2);
+}
+
 TEST(LeafPlant, OneLeafWithStraysStaysOneLeaf)
 {
   std::vector<Eigen::Vector3d> points = Ellipse({ 0.0, 0.0, 0.0 }, 2.0, 5.0, 0.1, 0.005, 3);
