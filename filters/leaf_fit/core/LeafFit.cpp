@@ -314,15 +314,31 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   error = fit::CleanCloud(points, options.outlierSigma, keep, spacing);
   if (!error.empty())
     return error;
-  Fitted f;
-  std::vector<Eigen::Vector3d> kept;
+  // The petiole is set apart: the blade alone is fitted, and every blade trait is the blade's.
+  std::vector<int> cleaned;
+  std::vector<Eigen::Vector3d> cleanPoints;
   for (std::size_t i = 0; i < points.size(); ++i)
     if (keep[i])
     {
-      f.kept.push_back(static_cast<int>(i));
-      kept.push_back(points[i]);
+      cleaned.push_back(static_cast<int>(i));
+      cleanPoints.push_back(points[i]);
     }
-  f.frame = fit::LeafFrame(kept, options, result.traits.baseFrom);
+  const fit::Petiole petiole = fit::FindPetiole(cleanPoints, spacing);
+  result.petiole.assign(points.size(), 0);
+  Fitted f;
+  std::vector<Eigen::Vector3d> kept;
+  for (std::size_t k = 0; k < cleaned.size(); ++k)
+    if (petiole.member[k])
+      result.petiole[cleaned[k]] = 1;
+    else
+    {
+      f.kept.push_back(cleaned[k]);
+      kept.push_back(cleanPoints[k]);
+    }
+  if (kept.size() < static_cast<std::size_t>(MinLeafPoints))
+    return "too few blade points beside the petiole: " + std::to_string(kept.size()) + " (a leaf needs at least " +
+      std::to_string(MinLeafPoints) + ")";
+  f.frame = fit::LeafFrame(kept, options, spacing, petiole, result.traits.baseFrom);
   for (const auto& p : kept)
     f.local.push_back(f.frame.Local(p));
   error = f.sections.Build(f.local);
@@ -348,6 +364,8 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   result.traits.spacing = spacing;
   result.traits.points = static_cast<double>(points.size());
   fit::ComputeTraits(f.surface, f.outline, options, f.frame.axes, result);
+  result.petioleLine = petiole.line;
+  result.traits.petioleLength = petiole.length;
   return {};
 }
 } // namespace
@@ -359,6 +377,8 @@ std::string ValidateLeafFitParameters(const LeafFitParameters& o)
     m << "UpAxis: must be a non-zero direction";
   else if (o.basePoint && !o.basePoint->allFinite())
     m << "BasePoint: must be finite";
+  else if (o.apexPoint && !o.apexPoint->allFinite())
+    m << "ApexPoint: must be finite";
   else if (!(o.surfaceSmoothing >= MinSurfaceSmoothing && o.surfaceSmoothing <= 1e6))
     m << OutOfRange("SurfaceSmoothing", o.surfaceSmoothing, "[0.1, 1e6]",
       "below 0.1 the surface leaves the points where they are sparse (at 0 the traits grow 20-160 fold)");

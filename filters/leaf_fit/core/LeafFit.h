@@ -6,8 +6,12 @@
 //  1. Check: enough points, finite coordinates, not a line, not a blob (the cloud must be a sheet).
 //  2. Clean: statistical outlier removal on the k nearest neighbours (mean neighbour distance beyond the median by
 //     more than OutlierSigma robust deviations), then the largest connected component of a radius graph.
-//  3. Frame: principal axes; the base is the end nearest BasePoint when one is given, else the end nearer the
-//     widest cross-section (ovate leaves), unless one end is a narrow stalk (a petiole), which is then the base.
+//  3. Petiole and frame (shape/LeafShape.h): a thin trail of points leaving the blade is the petiole; it is set
+//     apart (PetioleLength, Region 5 on the scan) and the blade alone is fitted. The base is the blade point nearest
+//     BasePoint when one is given, else the petiole's junction with the blade; the midvein axis is the line through
+//     the base across which the blade is most nearly its own mirror image (so wide, fan-shaped, cordate and lobed
+//     blades get their real midvein), or the line to ApexPoint when one is given. Without either hint, the axis of
+//     symmetry through the blade's centroid, its base end the one nearer the widest cross-section (ovate leaves).
 //  4. Intrinsic coordinates: the cloud is cut in slices across its length; in every slice a quadratic
 //     cross-section curve (in the slice's own principal frame, so tilted and twisted sections fit) and its centre;
 //     the curves' parameters are smoothed along the length. The midvein is the curve through the centres; every
@@ -41,7 +45,8 @@ namespace plantmorph
 struct LeafFitParameters
 {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ(); ///< unit vertical, for Inclination, Azimuth, HorizontalArea
-  std::optional<Eigen::Vector3d> basePoint;      ///< the scan end nearest it is the base
+  std::optional<Eigen::Vector3d> basePoint;      ///< the blade point nearest it is the base
+  std::optional<Eigen::Vector3d> apexPoint;      ///< the blade point nearest it is on the midvein's apex side
   double surfaceSmoothing = 1.0; ///< [0.1, 1e6]: weight of the surface's bending penalty (1: the default balance)
   double outlineSmoothing = 1.0; ///< [0, 1e6]: weight of the margins' curvature penalty
   int outlineControlPoints = 16; ///< [4, 200]: B-spline control points per margin
@@ -74,7 +79,8 @@ struct LeafTraits
   double fitRMS = 0, fitP95 = 0, fitMax = 0; ///< scan-to-blade distances of the inliers
   double coverage = 0;                       ///< fraction of blade area whose Support is below twice the point spacing
   double spacing = 0;                        ///< median nearest-neighbour distance of the inliers
-  int baseFrom = 0;                          ///< 0: the shape, 1: BasePoint
+  int baseFrom = 0;                          ///< 0: the shape, 1: BasePoint, 2: the petiole's junction
+  double petioleLength = 0;                  ///< arc length of the petiole's centre line (0: no petiole found)
 };
 
 /// Names of the traits, in the order TraitValues() lists them (the Traits table's columns after LeafId).
@@ -87,7 +93,9 @@ struct LeafFitResult
   // The scan, one entry per input point.
   std::vector<double> fitDistance; ///< signed distance to the blade (along its normal); NaN for dropped points
   std::vector<unsigned char> inlier;
-  std::vector<Eigen::Vector2d> intrinsic; ///< (t, s) of every point (NaN for dropped points)
+  std::vector<Eigen::Vector2d> intrinsic;   ///< (t, s) of every point (NaN for dropped points)
+  std::vector<unsigned char> petiole;       ///< 1 for the points of the petiole (not fitted: Inlier 0)
+  std::vector<Eigen::Vector3d> petioleLine; ///< the petiole's centre line, junction to far end (empty: none)
   // The blade: the mesher's output mapped to 3-D.
   std::vector<Eigen::Vector3d> points;
   std::vector<Eigen::Vector2d> flat; ///< (t, s - s_base) of every blade point: the blade laid flat

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 namespace plantmorph
@@ -158,66 +159,109 @@ std::string CleanCloud(
   return {};
 }
 
-Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, int& baseFrom)
+namespace
 {
-  Eigen::Vector3d centroid;
-  const auto eig = Principal(points, centroid);
-  Frame frame;
-  frame.origin = centroid;
-  Eigen::Vector3d Y = eig.eigenvectors().col(2), Z = eig.eigenvectors().col(0);
-  // The base end.
+/// The blade point nearest q.
+Eigen::Vector3d Nearest(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& q)
+{
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < points.size(); ++i)
+    if ((points[i] - q).squaredNorm() < (points[best] - q).squaredNorm())
+      best = i;
+  return points[best];
+}
+
+/// Without a base or apex given or found: true when the base is at the +Y end of the axis Y (through the centroid,
+/// X across it): an end that is a narrow stalk is the base; else a blade widest at one end (a fan) has its apex
+/// there; else the base is the end nearer the widest cross-section (ovate leaves are wider towards the base).
+bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& centroid, const Eigen::Vector3d& Y,
+  const Eigen::Vector3d& X)
+{
   std::vector<double> along(points.size()), across(points.size());
   double lo = 0.0, hi = 0.0;
   for (std::size_t i = 0; i < points.size(); ++i)
   {
     along[i] = (points[i] - centroid).dot(Y);
-    across[i] = (points[i] - centroid).dot(eig.eigenvectors().col(1));
+    across[i] = (points[i] - centroid).dot(X);
     lo = std::min(lo, along[i]);
     hi = std::max(hi, along[i]);
   }
-  bool flip = false;
+  // Widths of 20 slices; the petiole test looks at the end slices, the ovate test at the widest slice.
+  const int slices = 20;
+  std::vector<double> minA(slices, 1e300), maxA(slices, -1e300);
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const int k = std::clamp(static_cast<int>((along[i] - lo) / (hi - lo) * slices), 0, slices - 1);
+    minA[k] = std::min(minA[k], across[i]);
+    maxA[k] = std::max(maxA[k], across[i]);
+  }
+  std::vector<double> width(slices, 0.0);
+  for (int k = 0; k < slices; ++k)
+    width[k] = maxA[k] >= minA[k] ? maxA[k] - minA[k] : 0.0;
+  const double widest = *std::max_element(width.begin(), width.end());
+  // A stalk: the two end slices (10 % of the length) both narrower than a tenth of the widest (an acute apex of
+  // a broad leaf widens faster than that).
+  const bool stalkLow = width[0] < 0.06 * widest && width[1] < 0.1 * widest;
+  const bool stalkHigh = width[slices - 1] < 0.06 * widest && width[slices - 2] < 0.1 * widest;
+  if (stalkLow != stalkHigh)
+    return stalkHigh;
+  // A blade widest at one end (the last 15 % of its length: a fan, a truncate or notched apex) has its apex there and
+  // narrows to its base.
+  const int widestSlice = static_cast<int>(std::max_element(width.begin(), width.end()) - width.begin());
+  if (widestSlice >= slices - 3)
+    return false;
+  if (widestSlice <= 2)
+    return true;
+  // Width-weighted centre of the slices, relative to the middle.
+  double sum = 0.0, moment = 0.0;
+  for (int k = 0; k < slices; ++k)
+  {
+    sum += width[k];
+    moment += width[k] * (k + 0.5 - 0.5 * slices);
+  }
+  return sum > 0.0 && moment > 0.0;
+}
+} // namespace
+
+Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
+  const Petiole& petiole, int& baseFrom)
+{
+  Eigen::Vector3d centroid;
+  const auto eig = Principal(points, centroid);
+  Frame frame;
+  frame.origin = centroid;
+  const Eigen::Vector3d normal = eig.eigenvectors().col(0), principal = eig.eigenvectors().col(2);
+  // The base: given, or the petiole's junction; the apex side: given. The axis: to the apex, or the blade's axis of
+  // symmetry through what is known (never the principal axes alone: a fan is wider than long).
+  std::optional<Eigen::Vector3d> base, apex;
+  baseFrom = 0;
   if (options.basePoint)
   {
-    const double b = (*options.basePoint - centroid).dot(Y);
-    flip = std::abs(b - hi) < std::abs(b - lo);
+    base = Nearest(points, *options.basePoint);
     baseFrom = 1;
   }
+  else if (petiole.found)
+  {
+    base = petiole.junction;
+    baseFrom = 2;
+  }
+  if (options.apexPoint)
+    apex = Nearest(points, *options.apexPoint);
+  Eigen::Vector3d Y;
+  if (base && apex && (*apex - *base).norm() > spacing)
+    Y = (*apex - *base).normalized();
+  else if (base)
+    Y = SymmetryAxis(points, *base, normal, centroid - *base, spacing);
+  else if (apex)
+    Y = -SymmetryAxis(points, *apex, normal, centroid - *apex, spacing);
   else
   {
-    // Widths of 20 slices; the petiole test looks at the end slices, the ovate test at the widest slice.
-    const int slices = 20;
-    std::vector<double> minA(slices, 1e300), maxA(slices, -1e300);
-    for (std::size_t i = 0; i < points.size(); ++i)
-    {
-      const int k = std::clamp(static_cast<int>((along[i] - lo) / (hi - lo) * slices), 0, slices - 1);
-      minA[k] = std::min(minA[k], across[i]);
-      maxA[k] = std::max(maxA[k], across[i]);
-    }
-    std::vector<double> width(slices, 0.0);
-    for (int k = 0; k < slices; ++k)
-      width[k] = maxA[k] >= minA[k] ? maxA[k] - minA[k] : 0.0;
-    const double widest = *std::max_element(width.begin(), width.end());
-    // A stalk: the two end slices (10 % of the length) both narrower than a tenth of the widest (an acute apex of
-    // a broad leaf widens faster than that).
-    const bool stalkLow = width[0] < 0.06 * widest && width[1] < 0.1 * widest;
-    const bool stalkHigh = width[slices - 1] < 0.06 * widest && width[slices - 2] < 0.1 * widest;
-    if (stalkLow != stalkHigh)
-      flip = stalkHigh;
-    else
-    {
-      // Width-weighted centre of the slices, relative to the middle: ovate leaves are wider towards the base.
-      double sum = 0.0, moment = 0.0;
-      for (int k = 0; k < slices; ++k)
-      {
-        sum += width[k];
-        moment += width[k] * (k + 0.5 - 0.5 * slices);
-      }
-      flip = sum > 0.0 && moment > 0.0;
-    }
-    baseFrom = 0;
+    Y = SymmetryAxis(points, centroid, normal, principal, spacing);
+    if (BaseAtPlusY(points, centroid, Y, normal.cross(Y).normalized()))
+      Y = -Y;
   }
-  if (flip)
-    Y = -Y;
+  Eigen::Vector3d Z = normal - normal.dot(Y) * Y;
+  Z.normalize();
   if (Z.dot(options.up) < 0.0)
     Z = -Z;
   const Eigen::Vector3d X = Y.cross(Z).normalized();

@@ -4,6 +4,7 @@
 
 #include "LeafFit.h"
 #include "LeafFitSplines.h"
+#include "LeafShape.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -33,8 +34,10 @@ std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points);
 std::string CleanCloud(
   const std::vector<Eigen::Vector3d>& points, double outlierSigma, std::vector<unsigned char>& keep, double& spacing);
 
-/// The frame of the kept points (principal axes, base chosen as LeafFit.h says); baseFrom 0 shape, 1 base point.
-Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, int& baseFrom);
+/// The frame of the blade's points (base and axis chosen as LeafFit.h says; `petiole` found on them and the
+/// petiole's points); baseFrom 0 shape, 1 base point, 2 petiole.
+Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
+  const Petiole& petiole, int& baseFrom);
 
 /// Smoothed cross-sections along the leaf (in local coordinates) and the intrinsic coordinates they give.
 class CrossSections

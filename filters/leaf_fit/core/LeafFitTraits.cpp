@@ -184,7 +184,8 @@ std::vector<std::string> TraitNames()
 {
   return { "Length", "Width", "ProjectedLength", "ProjectedWidth", "Area", "ProjectedArea", "HorizontalArea",
     "Perimeter", "AspectRatio", "Bending", "Rolling", "RollingCurvature", "Inclination", "Azimuth",
-    "MidveinInclination", "Points", "Inliers", "FitRMS", "FitP95", "FitMax", "Coverage", "Spacing", "BaseFrom" };
+    "MidveinInclination", "Points", "Inliers", "FitRMS", "FitP95", "FitMax", "Coverage", "Spacing", "BaseFrom",
+    "PetioleLength" };
 }
 
 std::vector<double> TraitValues(const LeafTraits& t)
@@ -192,7 +193,7 @@ std::vector<double> TraitValues(const LeafTraits& t)
   return { t.length, t.width, t.projectedLength, t.projectedWidth, t.area, t.projectedArea, t.horizontalArea,
     t.perimeter, t.aspectRatio, t.bending, t.rolling, t.rollingCurvature, t.inclination, t.azimuth,
     t.midveinInclination, t.points, t.inliers, t.fitRMS, t.fitP95, t.fitMax, t.coverage, t.spacing,
-    static_cast<double>(t.baseFrom) };
+    static_cast<double>(t.baseFrom), t.petioleLength };
 }
 
 } // namespace plantmorph

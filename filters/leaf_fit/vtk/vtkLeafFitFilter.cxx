@@ -50,6 +50,23 @@ vtkSmartPointer<T> NewArray(const char* name, int components)
   return array;
 }
 
+/// The petiole's centre line (Region 5, LeafUV 0), junction to far end, appended to the Outline; nothing without one.
+void AppendPetiole(const plantmorph::LeafFitResult& r, std::int64_t leafId, vtkPoints* outlinePoints,
+  vtkCellArray* lines, vtkPolyData* outline)
+{
+  if (r.petioleLine.size() < 2)
+    return;
+  lines->InsertNextCell(static_cast<vtkIdType>(r.petioleLine.size()));
+  for (const auto& p : r.petioleLine)
+  {
+    lines->InsertCellPoint(outlinePoints->InsertNextPoint(p.data()));
+    outline->GetPointData()->GetArray(plantmorph::arrays::LeafUV)->InsertNextTuple2(0.0, 0.0);
+    vtkTypeInt64Array::SafeDownCast(outline->GetPointData()->GetArray("LeafId"))->InsertNextValue(leafId);
+  }
+  outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(plantmorph::RegionPetiole);
+  vtkTypeInt64Array::SafeDownCast(outline->GetCellData()->GetArray("LeafId"))->InsertNextValue(leafId);
+}
+
 /// The blade and outline of one leaf appended to the outputs.
 void AppendLeaf(const plantmorph::LeafFitResult& r, std::int64_t leafId, vtkPoints* points, vtkCellArray* triangles,
   vtkPolyData* blade, vtkPoints* outlinePoints, vtkCellArray* lines, vtkPolyData* outline)
@@ -92,6 +109,7 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, std::int64_t leafId, vtkPoin
     outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(regions[k]);
     addId(outline->GetCellData());
   }
+  AppendPetiole(r, leafId, outlinePoints, lines, outline);
   // The fitted Model C control points, for LeafOutlineSource (B-spline, Custom).
   const std::vector<Eigen::Vector3d>* model[6] = { &r.modelMidvein, &r.modelLeftMargin, &r.modelRightMargin,
     &r.flatMidvein, &r.flatLeftMargin, &r.flatRightMargin };
@@ -150,6 +168,10 @@ int vtkLeafFitFilter::FillOutputPortInformation(int port, vtkInformation* info)
 
 namespace
 {
+/// Per-point values the owners send back for the Scan port: FitDistance, Inlier, Region, and the blade the point
+/// belongs to when the points are cut into separate blades.
+constexpr int ScanValues = 4;
+
 /// The leaf's points in lexicographic order of their coordinates (ties keep their order: they are equal points), so
 /// that a fit does not depend on the order the points arrive in (input order, or pieces gathered from MPI ranks).
 std::vector<std::size_t> CanonicalOrder(const std::vector<Eigen::Vector3d>& points)
@@ -176,7 +198,7 @@ struct Piece
 };
 
 /// What this rank fitted: the pieces, and per owned leaf FitDistance, Inlier and piece of every point, in the order
-/// the points came (LeafFitExchange::ReturnValues, width 3).
+/// the points came (LeafFitExchange::ReturnValues, width ScanValues).
 struct OwnedFits
 {
   std::vector<Piece> pieces;
@@ -227,16 +249,17 @@ OwnedFits FitOwned(
   owned.values.assign(leaves.size(), {});
   for (std::size_t k = 0; k < leaves.size(); ++k)
   {
-    owned.values[k].assign(3 * leaves[k].size(), 0.0);
+    owned.values[k].assign(ScanValues * leaves[k].size(), 0.0);
     for (std::size_t j = 0; j < orders[k].size(); ++j)
     {
       const std::size_t q = firstPiece[k] + static_cast<std::size_t>(pieceOf[k][j]);
       const plantmorph::LeafFitResult& fit = owned.pieces[q].fit;
       const std::size_t at = next[q]++;
-      double* v = &owned.values[k][3 * orders[k][j]];
+      double* v = &owned.values[k][ScanValues * orders[k][j]];
       v[0] = fit.error.empty() ? fit.fitDistance[at] : std::numeric_limits<double>::quiet_NaN();
       v[1] = fit.error.empty() ? fit.inlier[at] : 0.0;
-      v[2] = pieceOf[k][j];
+      v[2] = fit.error.empty() && fit.petiole[at] ? plantmorph::RegionPetiole : plantmorph::RegionBlade;
+      v[3] = pieceOf[k][j];
     }
   }
   return owned;
@@ -272,8 +295,8 @@ struct LeafInput
   std::int64_t OutputId(std::size_t leaf, int piece) const { return this->separate ? piece : this->leafIds[leaf]; }
 };
 
-/// Scan: the scaled input points, their data, and the fit's per-point arrays (`values`: FitDistance, Inlier and
-/// piece of every point).
+/// Scan: the scaled input points, their data, and the fit's per-point arrays (`values`: FitDistance, Inlier, Region
+/// and piece of every point).
 void FillScan(vtkPointSet* input, const LeafInput& in, const std::vector<double>& values, vtkPolyData* scan)
 {
   const auto n = static_cast<vtkIdType>(in.points.size());
@@ -283,6 +306,8 @@ void FillScan(vtkPointSet* input, const LeafInput& in, const std::vector<double>
   vtkNew<vtkCellArray> verts;
   auto distance = NewArray<vtkDoubleArray>("FitDistance", 1);
   auto inlier = NewArray<vtkUnsignedCharArray>("Inlier", 1);
+  auto region = NewArray<vtkIntArray>(plantmorph::arrays::Region, 1);
+  region->SetNumberOfTuples(n);
   auto leafId = NewArray<vtkTypeInt64Array>("LeafId", 1);
   distance->SetNumberOfTuples(n);
   inlier->SetNumberOfTuples(n);
@@ -291,15 +316,18 @@ void FillScan(vtkPointSet* input, const LeafInput& in, const std::vector<double>
   {
     scanPoints->SetPoint(i, in.points[i].data());
     verts->InsertNextCell(1, &i);
-    distance->SetValue(i, values[3 * i]);
-    inlier->SetValue(i, values[3 * i + 1] == 1.0 ? 1 : 0);
-    leafId->SetValue(i, in.separate ? static_cast<std::int64_t>(values[3 * i + 2]) : in.ids[i]);
+    distance->SetValue(i, values[ScanValues * i]);
+    inlier->SetValue(i, values[ScanValues * i + 1] == 1.0 ? 1 : 0);
+    region->SetValue(
+      i, values[ScanValues * i + 2] == plantmorph::RegionPetiole ? plantmorph::RegionPetiole : plantmorph::RegionBlade);
+    leafId->SetValue(i, in.separate ? static_cast<std::int64_t>(values[ScanValues * i + 3]) : in.ids[i]);
   }
   scan->SetPoints(scanPoints);
   scan->SetVerts(verts);
   scan->GetPointData()->PassData(input->GetPointData());
   scan->GetPointData()->AddArray(distance);
   scan->GetPointData()->AddArray(inlier);
+  scan->GetPointData()->AddArray(region);
   scan->GetPointData()->AddArray(leafId);
   scan->GetPointData()->SetActiveScalars("FitDistance");
 }
@@ -316,6 +344,11 @@ plantmorph::LeafFitParameters Options(vtkLeafFitFilter* self)
   {
     const double* base = self->GetBasePoint();
     options.basePoint = Eigen::Vector3d(base[0], base[1], base[2]);
+  }
+  if (self->GetUseApexPoint())
+  {
+    const double* apex = self->GetApexPoint();
+    options.apexPoint = Eigen::Vector3d(apex[0], apex[1], apex[2]);
   }
   options.surfaceSmoothing = self->GetSurfaceSmoothing();
   options.outlineSmoothing = self->GetOutlineSmoothing();
@@ -334,6 +367,10 @@ std::string CheckProperties(vtkLeafFitFilter* self)
   if (baseCount >= 0 && baseCount != 3)
     error = plantmorph::OutOfRange(
       "BasePoint", std::to_string(baseCount) + " numbers", "3 numbers (x, y, z)", "the value given was not set");
+  const int apexCount = self->GetApexPointElementCount();
+  if (error.empty() && apexCount >= 0 && apexCount != 3)
+    error = plantmorph::OutOfRange(
+      "ApexPoint", std::to_string(apexCount) + " numbers", "3 numbers (x, y, z)", "the value given was not set");
   const double scale = self->GetScale();
   if (error.empty() && !(std::isfinite(scale) && scale > 0.0))
     error = plantmorph::OutOfRange("Scale", scale, "(0, inf)");
@@ -512,9 +549,9 @@ void vtkLeafFitFilter::Execute(plantmorph::Run& run)
     run.WarnHere("not fitted (the other leaves are; their Traits rows have Status 2 and the reason):\n" + errors);
   const std::string unit = plantmorph::ScaledUnit(this->InputUnit, this->Scale);
   WriteFits(in, owned, fits, rows, unit, this->Scale, run);
-  // Scan: stays where its points are; the owners send each point's FitDistance, Inlier and blade back.
+  // Scan: stays where its points are; the owners send each point's FitDistance, Inlier, Region and blade back.
   const std::vector<double> pointValues =
-    exchange.ReturnValues(in.members, static_cast<vtkIdType>(in.points.size()), fits.values, 3);
+    exchange.ReturnValues(in.members, static_cast<vtkIdType>(in.points.size()), fits.values, ScanValues);
   if (!in.points.empty())
     FillScan(input, in, pointValues, run.Output<vtkPolyData>(3));
 }
@@ -527,6 +564,7 @@ void vtkLeafFitFilter::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "InputUnit: " << this->InputUnit << "\n"
      << indent << "UpAxis: " << this->UpAxis << "\n"
      << indent << "UseBasePoint: " << this->UseBasePoint << "\n"
+     << indent << "UseApexPoint: " << this->UseApexPoint << "\n"
      << indent << "SurfaceSmoothing: " << this->SurfaceSmoothing << "\n"
      << indent << "OutlineSmoothing: " << this->OutlineSmoothing << "\n"
      << indent << "OutlineControlPoints: " << this->OutlineControlPoints << "\n"

@@ -74,8 +74,8 @@ public:
   vtkSetClampMacro(UpAxis, int, 0, 2);
   vtkGetMacro(UpAxis, int);
 
-  /// With UseBasePoint, the scan end nearest BasePoint (in scaled coordinates) is the leaf's base; otherwise the
-  /// base is found from the shape. Default off.
+  /// With UseBasePoint, the blade point nearest BasePoint (in scaled coordinates) is the leaf's base; otherwise the
+  /// base is the petiole's junction with the blade, or found from the shape. Default off.
   vtkSetMacro(UseBasePoint, int);
   vtkGetMacro(UseBasePoint, int);
   vtkSetVector3Macro(BasePoint, double);
@@ -85,6 +85,15 @@ public:
   /// BasePoint). -1: not given.
   vtkSetMacro(BasePointElementCount, int);
   vtkGetMacro(BasePointElementCount, int);
+  /// With UseApexPoint, the blade point nearest ApexPoint (in scaled coordinates) is on the midvein's apex side
+  /// (with a base, the midvein runs from the base towards it). Default off.
+  vtkSetMacro(UseApexPoint, int);
+  vtkGetMacro(UseApexPoint, int);
+  vtkSetVector3Macro(ApexPoint, double);
+  vtkGetVector3Macro(ApexPoint, double);
+  /// As BasePointElementCount, for ApexPoint.
+  vtkSetMacro(ApexPointElementCount, int);
+  vtkGetMacro(ApexPointElementCount, int);
 
   ///@{
   /// Fit controls (plantmorph::LeafFitParameters): SurfaceSmoothing, OutlineSmoothing, OutlineControlPoints,
@@ -119,6 +128,9 @@ protected:
   int UseBasePoint = 0;
   double BasePoint[3] = { 0.0, 0.0, 0.0 };
   int BasePointElementCount = -1;
+  int UseApexPoint = 0;
+  double ApexPoint[3] = { 0.0, 0.0, 0.0 };
+  int ApexPointElementCount = -1;
   double SurfaceSmoothing = 1.0;
   double OutlineSmoothing = 1.0;
   int OutlineControlPoints = 16;

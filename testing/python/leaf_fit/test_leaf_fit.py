@@ -75,7 +75,8 @@ for path in SCANS:
     for array in ("LeafUV", "TCoords", "Region", "Normals", "LeafId", "Support"):
         checks.check(blade.GetPointData().GetArray(array) is not None, name + ": blade has " + array)
     checks.check(blade.GetNumberOfPolys() > 500, name + ": blade is a mesh")
-    checks.check(outline.GetNumberOfLines() == 3, name + ": left, right margin and midvein")
+    lines = 4 if row.get("PetioleLength", 0) > 0 else 3
+    checks.check(outline.GetNumberOfLines() == lines, name + ": left, right margin, midvein (and the petiole)")
     n = fetch(reader).GetNumberOfPoints()
     checks.check(scan.GetNumberOfPoints() == n and row.get("Points") == n, name + ": Scan has every input point")
     for array in ("FitDistance", "Inlier", "LeafId"):
@@ -85,7 +86,9 @@ for path in SCANS:
     limit = 0.8 if "pot1_1." in path and "soybean" in path else 0.45
     checks.check(row.get("FitRMS", 1e9) < limit, "%s: FitRMS %.3f mm < %.2f" % (name, row.get("FitRMS", -1), limit))
     checks.check(row.get("FitP95", 1e9) < 2.2 * limit, "%s: FitP95 %.3f mm" % (name, row.get("FitP95", -1)))
-    checks.check(row.get("Inliers", 0) > 0.95 * n, name + ": over 95 % inliers")
+    region = scan.GetPointData().GetArray("Region")
+    petiole = int((vtk_to_numpy(region) == 5).sum()) if region is not None else 0
+    checks.check(row.get("Inliers", 0) > 0.95 * (n - petiole), name + ": over 95 % of the blade's points inliers")
     checks.check(row.get("Area", 0) > 300 and row.get("Length", 0) > 30, name + ": a leaf-sized blade")
     Delete(fit)
     Delete(reader)
@@ -153,10 +156,10 @@ for path, row in zip(SCANS, single):
     blade = fetch(fit)
     source, rebuilt, _ = rebuild(blade, "Flat")
     checks.check(rebuilt.GetNumberOfPolys() > 100, os.path.basename(path)[:24] + ": flat recipe rebuilds the leaf")
-    # The sugar-beet leaf of 30 August folds with 20 control points (its margin runs along the midvein for a third of
-    # the leaf, and the interpolating splines cross): the fit gives it fewer, and says how many.
+    # With the petiole set apart, every blade rebuilds with the 20 control points asked for (the sugar-beet leaf of 30
+    # August folded with them while its petiole was fitted as blade: a margin along the midvein for a third of it).
     used = blade.GetFieldData().GetArray("PlantMorph.FitModel.0.ControlPoints").GetValue(0)
-    checks.check(3 <= used <= 20 and (used < 20) == ("20170830T140748" in path),
+    checks.check(used == 20,
                  os.path.basename(path)[:24] + ": %d control points in the model" % used)
     Delete(source)
     Delete(fit)

@@ -1,0 +1,157 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""LeafFitFilter's accuracy on leaves scanned as users scan them, against exact truth.
+
+    pvbatch benchmarks/fit/leaf_fit_accuracy.py [--plugin build/.../PlantMorph.so] [--output FILE.json]
+                                                 [--noise 0.003] [--points 10000] [--leaf NAME ...]
+
+Every leaf is a LeafOutlineSource preset (its own size), flat or curled and bent (LeafCurlFilter, 30 degrees along
+and 30 across), with or without a petiole (a tube of radius 1 % of the blade's length, 30 % as long, leaving the
+base 30 degrees below the blade's plane in line with the midvein), scanned by VirtualScanner's line scanner passing
+over the leaf along its length, looking straight down ("above") or tilted 35 degrees about the leaf's length
+("oblique"), range noise `--noise` times the blade's length, the line spacing and angular step giving about
+`--points` points on the blade. LeafFitFilter runs with its defaults. Truth: the curled blade's midvein (Region 1
+points in LeafUV v order) gives Length, the base (v = 0) and the midvein's direction at the base (to v = 0.2); its
+triangles give Area; the petiole's axis its length. Printed (and written to --output): per case the fitted
+Length and Area errors (%), the midvein direction error (degrees), the base error (% of the length) and the
+PetioleLength error (%).
+"""
+import argparse
+import json
+import math
+import os
+
+import numpy
+
+from paraview.simple import *  # noqa: F401,F403 (the pvpython way)
+from paraview import servermanager
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+parser = argparse.ArgumentParser()
+parser.add_argument("--plugin", default=os.path.join(HERE, "..", "..", "build", "lib", "paraview-5.11", "plugins",
+                                                     "PlantMorph", "PlantMorph.so"))
+parser.add_argument("--output", default=None)
+parser.add_argument("--noise", type=float, default=0.003)
+parser.add_argument("--points", type=int, default=10000)
+parser.add_argument("--leaf", action="append", help="only these presets (repeatable); default all")
+arguments = parser.parse_args()
+LoadPlugin(os.path.abspath(arguments.plugin), remote=False, ns=globals())
+
+PRESETS = [("elliptic", dict(Model=2, BSplinePreset=1)), ("ginkgo", dict(Model=0, Preset=1)),
+           ("cucumber", dict(Model=2, BSplinePreset=2)), ("pin oak", dict(Model=2, BSplinePreset=3)),
+           ("watermelon", dict(Model=1, SpaceCurvePreset=9))]
+
+
+def truth(blade):
+    points = vtk_to_numpy(blade.GetPoints().GetData()).astype(float)
+    uv = vtk_to_numpy(blade.GetPointData().GetArray("LeafUV"))
+    region = vtk_to_numpy(blade.GetPointData().GetArray("Region"))
+    mid = numpy.where((region == 1) & (numpy.abs(uv[:, 0]) < 1e-9))[0]  # the midvein (not a lobe's primary)
+    mid = mid[numpy.argsort(uv[mid, 1])]
+    line = points[mid]
+    length = float(numpy.linalg.norm(numpy.diff(line, axis=0), axis=1).sum())
+    tri = vtk_to_numpy(blade.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    a, b, c = points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]]
+    area = float(0.5 * numpy.linalg.norm(numpy.cross(b - a, c - a), axis=1).sum())
+    fifth = line[numpy.searchsorted(uv[mid, 1], 0.2)]
+    direction = (fifth - line[0]) / numpy.linalg.norm(fifth - line[0])
+    normals = numpy.cross(b - a, c - a)
+    normal = normals.sum(axis=0)
+    normal /= numpy.linalg.norm(normal)
+    return dict(points=points, length=length, area=area, base=line[0], direction=direction, normal=normal)
+
+
+def outline_lines(outline):
+    regions = vtk_to_numpy(outline.GetCellData().GetArray("Region"))
+    points = vtk_to_numpy(outline.GetPoints().GetData())
+    offsets = vtk_to_numpy(outline.GetLines().GetOffsetsArray())
+    conn = vtk_to_numpy(outline.GetLines().GetConnectivityArray())
+    return [(int(regions[k]), points[conn[offsets[k]:offsets[k + 1]]]) for k in range(len(regions))]
+
+
+def run(name, properties, curled, view, petiole):
+    source = LeafOutlineSource(**properties)
+    leaf = LeafCurlFilter(Input=source, LongitudinalAngle=30.0 if curled else 0.0,
+                          TransverseAngle=30.0 if curled else 0.0)
+    t = truth(servermanager.Fetch(leaf))
+    L = t["length"]
+    scene = leaf
+    petiole_length = 0.0
+    if petiole:
+        petiole_length = 0.3 * L
+        down = -t["normal"]
+        axis = -math.cos(math.radians(30)) * t["direction"] + math.sin(math.radians(30)) * down
+        end = t["base"] + petiole_length * axis
+        line = Line(Point1=list(t["base"]), Point2=list(end), Resolution=20)
+        tube = Tube(Input=line, Radius=0.01 * L, NumberofSides=12, Capping=0)
+        scene = AppendGeometry(Input=[Triangulate(Input=ExtractSurface(Input=leaf)), Triangulate(Input=tube)])
+    points = t["points"]
+    centre = points.mean(axis=0)
+    _, _, axes = numpy.linalg.svd(points - centre, full_matrices=False)
+    e_length, e_width = axes[0], axes[1]
+    if e_length.dot(t["direction"]) < 0:  # the scan runs from beyond the base (and the petiole) to the apex
+        e_length = -e_length
+    normal = numpy.cross(e_length, e_width)
+    if normal.dot(t["normal"]) < 0:
+        normal, e_width = -normal, -e_width
+    if view == "oblique":
+        tilt = math.radians(35.0)
+        normal = math.cos(tilt) * normal + math.sin(tilt) * e_width
+        e_width = numpy.cross(normal, e_length)
+    s = (points - centre) @ e_length
+    w = (points - centre) @ e_width
+    length, width = s.max() - s.min(), w.max() - w.min()
+    spacing = math.sqrt(t["area"] / arguments.points)
+    height = 2.0 * length
+    start = centre + (s.min() - 0.45 * length) * e_length + height * normal
+    stop = centre + (s.max() + 0.1 * length) * e_length + height * normal
+    fan = 2.0 * math.degrees(math.atan(0.7 * width / height))
+    scanner = VirtualScanner(Input=scene, ScannerType="Line", LineMotion="Path",
+                             Positions=list(start) + list(stop), LookAt=list(start - height * normal),
+                             Up=list(e_width), VerticalFieldOfView=fan, AngularStep=math.degrees(spacing / height),
+                             LineSpacing=spacing, RangeNoise=arguments.noise * L, Seed=3)
+    fit = LeafFitFilter(Input=scanner)
+    fit.UpdatePipeline()
+    table = servermanager.Fetch(fit, idx=2)
+    result = dict(leaf=name, curled=curled, view=view, petiole=petiole, true_length=L, true_area=t["area"],
+                  scan_points=servermanager.Fetch(scanner).GetNumberOfPoints())
+    if table.GetNumberOfRows() == 1:
+        row = {table.GetColumnName(c): table.GetValue(0, c).ToDouble() for c in range(table.GetNumberOfColumns())}
+        mid = [p for r, p in outline_lines(servermanager.Fetch(fit, idx=1)) if r == 1][0]
+        arc = numpy.concatenate([[0.0], numpy.cumsum(numpy.linalg.norm(numpy.diff(mid, axis=0), axis=1))])
+        fifth = mid[numpy.searchsorted(arc, 0.2 * arc[-1])]
+        direction = (fifth - mid[0]) / numpy.linalg.norm(fifth - mid[0])
+        result.update(length_error=100.0 * (row["Length"] / L - 1.0), area_error=100.0 * (row["Area"] / t["area"] - 1.0),
+                      direction_error=math.degrees(math.acos(max(-1.0, min(1.0, float(direction @ t["direction"]))))),
+                      base_error=100.0 * float(numpy.linalg.norm(mid[0] - t["base"])) / L,
+                      petiole_length=row.get("PetioleLength", float("nan")), base_from=row.get("BaseFrom"),
+                      fit_rms=row["FitRMS"] / L * 100.0)
+        result["petiole_error"] = (100.0 * (row.get("PetioleLength", 0.0) / petiole_length - 1.0) if petiole
+                                   else row.get("PetioleLength", 0.0) / L * 100.0)
+    for proxy in (fit, scanner):
+        Delete(proxy)
+    return result
+
+
+results = []
+print("%-10s %-6s %-7s %-3s %7s %8s %8s %8s %8s %8s" % ("leaf", "shape", "view", "pet", "points", "Length%",
+                                                      "Area%", "dir deg", "base%", "petiole%"))
+for name, properties in PRESETS:
+    if arguments.leaf and name not in arguments.leaf:
+        continue
+    for curled in (False, True):
+        for view in ("above", "oblique"):
+            for petiole in (True, False):
+                r = run(name, properties, curled, view, petiole)
+                results.append(r)
+                if "length_error" in r:
+                    print("%-10s %-6s %-7s %-3s %7d %+8.2f %+8.2f %8.2f %8.2f %+8.2f" % (
+                        name, "curled" if curled else "flat", view, "yes" if petiole else "no", r["scan_points"],
+                        r["length_error"], r["area_error"], r["direction_error"], r["base_error"],
+                        r["petiole_error"]))
+                else:
+                    print("%-10s %-6s %-7s %-3s %7d  no fit" % (name, "curled" if curled else "flat", view,
+                                                                 "yes" if petiole else "no", r["scan_points"]))
+if arguments.output:
+    with open(arguments.output, "w") as out:
+        json.dump(results, out, indent=1)

@@ -1,0 +1,422 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The petiole of a scanned leaf (LeafShape.h): the thin trail the blade's opening leaves out.
+#include "LeafShape.h"
+#include "PointGrid.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numeric>
+#include <queue>
+
+namespace plantmorph
+{
+namespace fit
+{
+namespace
+{
+/// One part the opening left out, measured along its trail from the blade.
+struct Trail
+{
+  std::vector<int> ids;         // point ids
+  std::vector<double> distance; // graph distance from the blade, per id
+  std::vector<int> contact;     // positions in ids of the points touching the blade
+  double extent = 0.0;
+};
+
+int Find(std::vector<int>& parent, int i)
+{
+  while (parent[i] != i)
+    i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+/// The sheet's spacing from its density (the nearest-neighbour distance is half of it on randomly placed samples,
+/// all of it on a scanner's grid): the median distance r to the 8th neighbour holds 8 points in pi r^2.
+double DensitySpacing(const std::vector<Eigen::Vector3d>& points)
+{
+  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
+  std::vector<double> r8;
+  for (std::size_t i = 0; i < points.size(); i += std::max<std::size_t>(1, points.size() / 2000))
+  {
+    const auto nb = grid.Nearest(points[i], 8, static_cast<int>(i));
+    if (nb.size() == 8)
+      r8.push_back(std::sqrt(nb.back().first));
+  }
+  if (r8.empty())
+    return 0.0;
+  std::nth_element(r8.begin(), r8.begin() + r8.size() / 2, r8.end());
+  return r8[r8.size() / 2] * std::sqrt(3.14159265358979323846 / 8.0);
+}
+
+/// Which points the blade's opening covers: a point whose ball of radius `radius` holds at least 70 % of what a
+/// ball inside the sheet holds (the 90th percentile of the counts) is a centre; every point within `radius` of a
+/// centre is blade.
+std::vector<unsigned char> Opening(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double radius)
+{
+  const std::size_t n = points.size();
+  std::vector<int> count(n, 0);
+  std::vector<int> near;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    grid.Within(points[i], radius, near);
+    count[i] = static_cast<int>(near.size());
+  }
+  std::vector<int> sorted = count;
+  const std::size_t q = static_cast<std::size_t>(0.9 * static_cast<double>(n - 1));
+  std::nth_element(sorted.begin(), sorted.begin() + q, sorted.end());
+  const double full = sorted[q];
+  std::vector<unsigned char> blade(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (count[i] >= 0.7 * full)
+    {
+      grid.Within(points[i], radius, near);
+      for (int j : near)
+        blade[j] = 1;
+    }
+  return blade;
+}
+
+/// Graph distances from the trail's contact points along its own points (Dijkstra, neighbours closer than `link`).
+void Distances(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid,
+  const std::vector<unsigned char>& blade, const std::vector<int>& position, double link, Trail& trail)
+{
+  trail.distance.assign(trail.ids.size(), 1e300);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (int k : trail.contact)
+  {
+    trail.distance[k] = 0.0;
+    queue.emplace(0.0, k);
+  }
+  std::vector<int> near;
+  while (!queue.empty())
+  {
+    const auto [d, k] = queue.top();
+    queue.pop();
+    if (d > trail.distance[k])
+      continue;
+    grid.Within(points[trail.ids[k]], link, near);
+    for (int j : near)
+    {
+      const int m = position[j];
+      if (blade[j] || m < 0 || trail.ids[m] != j)
+        continue;
+      const double e = d + (points[j] - points[trail.ids[k]]).norm();
+      if (e < trail.distance[m])
+      {
+        trail.distance[m] = e;
+        queue.emplace(e, m);
+      }
+    }
+  }
+  trail.extent = *std::max_element(trail.distance.begin(), trail.distance.end());
+}
+
+/// The connected thin parts (neighbours closer than `link`) that touch the blade, each with its points' graph
+/// distances from the blade.
+std::vector<Trail> Trails(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid,
+  const std::vector<unsigned char>& blade, double link)
+{
+  const int n = static_cast<int>(points.size());
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<unsigned char> touches(n, 0);
+  std::vector<int> near;
+  for (int i = 0; i < n; ++i)
+  {
+    if (blade[i])
+      continue;
+    grid.Within(points[i], link, near);
+    for (int j : near)
+      if (blade[j])
+        touches[i] = 1;
+      else if (j != i)
+      {
+        const int a = Find(parent, i), b = Find(parent, j);
+        if (a != b)
+          parent[std::max(a, b)] = std::min(a, b);
+      }
+  }
+  std::vector<int> slot(n, -1);
+  std::vector<Trail> trails;
+  for (int i = 0; i < n; ++i)
+    if (!blade[i])
+    {
+      const int root = Find(parent, i);
+      if (slot[root] < 0)
+      {
+        slot[root] = static_cast<int>(trails.size());
+        trails.emplace_back();
+      }
+      trails[slot[root]].ids.push_back(i);
+    }
+  std::vector<Trail> touching;
+  std::vector<int> position(n, -1);
+  for (Trail& trail : trails)
+  {
+    for (std::size_t k = 0; k < trail.ids.size(); ++k)
+    {
+      position[trail.ids[k]] = static_cast<int>(k);
+      if (touches[trail.ids[k]])
+        trail.contact.push_back(static_cast<int>(k));
+    }
+    if (trail.contact.empty())
+      continue;
+    Distances(points, grid, blade, position, link, trail);
+    touching.push_back(std::move(trail));
+  }
+  return touching;
+}
+
+/// The trail in bins of distance from the blade: each bin's centroid, point count (empty bins: count 0) and
+/// spread (standard deviation across the trail, along its widest direction).
+struct Bins
+{
+  double width = 1.0;
+  std::vector<Eigen::Vector3d> centre;
+  std::vector<int> count;
+  std::vector<double> spread;
+
+  /// Whether a bin's spread is measured (it holds two points or more).
+  bool Measured(std::size_t k) const { return this->count[k] >= 2; }
+
+  /// The median spread of the measured bins from `first` on.
+  double Spread(std::size_t first) const
+  {
+    std::vector<double> s;
+    for (std::size_t k = first; k < this->count.size(); ++k)
+      if (this->Measured(k))
+        s.push_back(this->spread[k]);
+    if (s.empty())
+      return 0.0;
+    std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
+    return s[s.size() / 2];
+  }
+};
+
+Bins CentreLine(const std::vector<Eigen::Vector3d>& points, const Trail& trail, double width)
+{
+  Bins b;
+  b.width = width;
+  const int bins = std::max(1, static_cast<int>(std::ceil(trail.extent / width)));
+  std::vector<std::vector<Eigen::Vector3d>> members(bins);
+  for (std::size_t k = 0; k < trail.ids.size(); ++k)
+    members[std::min(bins - 1, static_cast<int>(trail.distance[k] / width))].push_back(points[trail.ids[k]]);
+  for (const auto& m : members)
+  {
+    b.count.push_back(static_cast<int>(m.size()));
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& p : m)
+      mean += p;
+    b.centre.push_back(mean / std::max<double>(1.0, static_cast<double>(m.size())));
+  }
+  // The spread across the trail (perpendicular to the line through the neighbouring bins' centres): along it, a
+  // bin's extent is the bin's, not the trail's width.
+  b.spread.assign(members.size(), 0.0);
+  for (std::size_t k = 0; k < members.size(); ++k)
+  {
+    if (members[k].size() < 2)
+      continue;
+    std::size_t before = k, after = k;
+    while (before > 0 && (before == k || members[before].empty()))
+      --before;
+    while (after + 1 < members.size() && (after == k || members[after].empty()))
+      ++after;
+    Eigen::Vector3d t = b.centre[after] - b.centre[before];
+    if (members[before].empty() || members[after].empty() || !(t.norm() > 0.0))
+      t = Eigen::Vector3d::Zero();
+    else
+      t.normalize();
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    for (const auto& p : members[k])
+    {
+      Eigen::Vector3d r = p - b.centre[k];
+      r -= r.dot(t) * t;
+      C += r * r.transpose();
+    }
+    C /= static_cast<double>(members[k].size());
+    b.spread[k] = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[2]));
+  }
+  return b;
+}
+
+/// The first bin of the stalk: the stalk keeps its width (its bins' spread; the median over the outer half of the
+/// trail's bins), while the blade's end the opening left out beside it (a margin, an acute or cuneate base) is
+/// wider. From the blade outwards, the first bin no wider than 1.5 times the stalk's spread plus half a spacing.
+/// (Counts would not do: a stalk scanned from the side thins out along its length.)
+std::size_t FirstStalkBin(const Bins& b, double spacing)
+{
+  const std::size_t n = b.count.size();
+  const double stalk = b.Spread(n / 2);
+  std::size_t start = 0;
+  while (start + 1 < n && (!b.Measured(start) || b.spread[start] > 1.5 * stalk + 0.5 * spacing))
+    ++start;
+  return start;
+}
+
+/// The stalk's end at the blade. Near the blade the left-out part may still hold the blade's last samples (a
+/// rounded end the ball did not quite reach): they lie farther from the stalk's axis than its own points do (its
+/// half-width: the 80th percentile of the distances to the axis of the points of its next bins); those, and every
+/// point nearer the blade than the farthest of them, go back to the blade.
+void JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail, const Bins& b, std::size_t start,
+  double spacing, Petiole& petiole)
+{
+  std::size_t k1 = start + 1;
+  while (k1 < b.count.size() && b.count[k1] == 0)
+    ++k1;
+  const std::size_t k2 = std::min(b.count.size() - 1, k1 + 4);
+  const double from = start * b.width, near = from + 2.0 * b.width;
+  if (k1 >= b.count.size() || k2 <= k1 || b.count[k2] == 0 || !((b.centre[k1] - b.centre[k2]).norm() > 0.0))
+  {
+    // Too short to have an axis: the mean of the stalk's points nearest the blade.
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < trail.ids.size(); ++k)
+      if (petiole.member[trail.ids[k]] && trail.distance[k] < from + b.width)
+      {
+        petiole.junction += points[trail.ids[k]];
+        ++n;
+      }
+    petiole.junction /= static_cast<double>(std::max<std::size_t>(1, n));
+    return;
+  }
+  const Eigen::Vector3d origin = b.centre[k1], u = (b.centre[k1] - b.centre[k2]).normalized(); // towards the blade
+  auto lateral = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d r = p - origin;
+    return (r - r.dot(u) * u).norm();
+  };
+  std::vector<double> own;
+  for (std::size_t k = 0; k < trail.ids.size(); ++k)
+    if (trail.distance[k] >= from + b.width && trail.distance[k] < from + 6.0 * b.width)
+      own.push_back(lateral(points[trail.ids[k]]));
+  double half = 0.0;
+  if (!own.empty())
+  {
+    const std::size_t q = static_cast<std::size_t>(0.8 * static_cast<double>(own.size() - 1));
+    std::nth_element(own.begin(), own.begin() + q, own.end());
+    half = own[q];
+  }
+  // The blade reaches as far from it as its farthest sample wider than the stalk: everything nearer is blade.
+  double cut = -1.0;
+  for (std::size_t k = 0; k < trail.ids.size(); ++k)
+    if (petiole.member[trail.ids[k]] && trail.distance[k] < near && lateral(points[trail.ids[k]]) > half + spacing)
+      cut = std::max(cut, trail.distance[k]);
+  for (std::size_t k = 0; k < trail.ids.size(); ++k)
+    if (trail.distance[k] < near && trail.distance[k] <= cut)
+      petiole.member[trail.ids[k]] = 0;
+  // The junction: the stalk's points nearest the blade (within half a bin of the nearest), averaged.
+  double nearest = 1e300;
+  for (std::size_t k = 0; k < trail.ids.size(); ++k)
+    if (petiole.member[trail.ids[k]])
+      nearest = std::min(nearest, trail.distance[k]);
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < trail.ids.size(); ++k)
+    if (petiole.member[trail.ids[k]] && trail.distance[k] <= nearest + 0.5 * b.width)
+    {
+      petiole.junction += points[trail.ids[k]];
+      ++count;
+    }
+  petiole.junction /= static_cast<double>(std::max<std::size_t>(1, count));
+}
+
+/// True when the trail is a stalk: at least 6 spacings of stalk bins, thin (their spread at most 2.5 spacings, what
+/// a strip the ball cannot fit in has, or a tenth of the blade's width: a stalk scanned from the side is sparser
+/// than the blade, so wider in spacings; a sparsely sampled patch of blade is wider still), and not narrowing like
+/// a wedge (a tip, a tooth): the first third of those bins (that hold enough points to measure) at most 1.6 times
+/// as wide as the last third, or, on a stalk of 15 spacings or more (whose first part may taper: a winged petiole),
+/// the middle third at most 1.25 times as wide as the last.
+bool IsStalk(const Bins& bins, double spacing, double bladeWidth)
+{
+  const std::size_t start = FirstStalkBin(bins, spacing), n = bins.count.size();
+  if (static_cast<double>(n - start) * bins.width < 6.0 * spacing ||
+    bins.Spread(start) > std::max(2.5 * spacing, 0.1 * bladeWidth))
+    return false;
+  std::vector<double> measured;
+  for (std::size_t k = start; k < n; ++k)
+    if (bins.Measured(k))
+      measured.push_back(bins.spread[k]);
+  const std::size_t third = measured.size() / 3;
+  if (third == 0)
+    return false;
+  const double inner = std::accumulate(measured.begin(), measured.begin() + third, 0.0) / third;
+  const double middle = std::accumulate(measured.begin() + third, measured.end() - third, 0.0) /
+    static_cast<double>(measured.size() - 2 * third);
+  const double outer = std::accumulate(measured.end() - third, measured.end(), 0.0) / third;
+  if (inner <= 1.6 * outer + 0.25 * spacing)
+    return true;
+  // A long stalk whose first part tapers (a winged petiole) keeps its width from its middle on.
+  const double length = static_cast<double>(n - start) * bins.width;
+  return length >= 15.0 * spacing && middle <= 1.4 * outer + 0.1 * spacing;
+}
+} // namespace
+
+Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing)
+{
+  Petiole petiole;
+  petiole.member.assign(points.size(), 0);
+  if (points.size() < 20 || !(spacing > 0.0))
+    return petiole;
+  spacing = std::max(spacing, DensitySpacing(points));
+  // The ball: 4 spacings (about 50 points inside the sheet; a trail up to 4 points wide holds at most 60 % of that,
+  // a margin half of it).
+  const double radius = 4.0 * spacing, link = 4.0 * spacing;
+  const PointGrid grid(points, radius);
+  const std::vector<unsigned char> blade = Opening(points, grid, radius);
+  const std::size_t bladeCount = static_cast<std::size_t>(std::count(blade.begin(), blade.end(), 1));
+  if (bladeCount < points.size() / 2)
+    return petiole; // no blade the ball fits in (a narrow leaf): nothing to tell a petiole from
+  // The blade's width: four standard deviations across it (an ellipse's width).
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (blade[i])
+      mean += points[i];
+  mean /= static_cast<double>(bladeCount);
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (blade[i])
+      C += (points[i] - mean) * (points[i] - mean).transpose();
+  const double bladeWidth =
+    4.0 * std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C / bladeCount).eigenvalues()[1]));
+  const std::vector<Trail> trails = Trails(points, grid, blade, link);
+  const Trail* best = nullptr;
+  Bins bestBins;
+  for (const Trail& trail : trails)
+  {
+    if (trail.extent < 5.0 * spacing || trail.ids.size() < 5)
+      continue;
+    Bins bins = CentreLine(points, trail, 1.5 * spacing);
+    if (IsStalk(bins, spacing, bladeWidth) && (!best || trail.extent > best->extent))
+    {
+      best = &trail;
+      bestBins = std::move(bins);
+    }
+  }
+  if (!best)
+    return petiole;
+  // The stalk proper, from its junction with the blade (bins before it are the blade's narrow end).
+  const std::size_t start = FirstStalkBin(bestBins, spacing);
+  const double from = start * bestBins.width;
+  if (best->extent - from < 5.0 * spacing)
+    return petiole;
+  petiole.found = true;
+  for (std::size_t k = 0; k < best->ids.size(); ++k)
+    if (best->distance[k] >= from)
+      petiole.member[best->ids[k]] = 1;
+  JunctionEnd(points, *best, bestBins, start, spacing, petiole);
+  // The centre line: the junction, the centroids of the stalk's bins after the first, and its farthest point.
+  const std::size_t far =
+    static_cast<std::size_t>(std::max_element(best->distance.begin(), best->distance.end()) - best->distance.begin());
+  petiole.line.push_back(petiole.junction);
+  for (std::size_t k = start + 1; k < bestBins.centre.size(); ++k)
+    if (bestBins.count[k] > 0)
+      petiole.line.push_back(bestBins.centre[k]);
+  petiole.line.push_back(points[best->ids[far]]);
+  for (std::size_t k = 1; k < petiole.line.size(); ++k)
+    petiole.length += (petiole.line[k] - petiole.line[k - 1]).norm();
+  return petiole;
+}
+
+} // namespace fit
+} // namespace plantmorph

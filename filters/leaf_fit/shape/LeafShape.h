@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The leaf's shape before the surface fit (docs/methods/leaf-fit.md): where the petiole leaves the blade, and the
+// blade's midvein axis from its base and its symmetry. Plain C++17 (Eigen), no VTK.
+//
+// Petiole: the blade is what a ball of a few point spacings rolled inside the cloud covers (a morphological opening:
+// the points whose ball holds most of the points a ball inside the sheet holds, and every point within such a ball).
+// What the opening leaves out are thin parts: a petiole (a trail one to a few points wide, or sparser and wider
+// where a stalk is seen from the side), acute tips and teeth (wedges). A left-out part touching the blade is a
+// petiole when it keeps its width (measured across the trail, in bins of distance from the blade) over at least 6
+// spacings, is narrow, and does not narrow away from the blade like a wedge (a winged petiole may taper first); the
+// longest such part is the petiole. Its junction is its first points at the blade; its length is measured along the
+// trail's centre line (the bins' centroids).
+//
+// Axis: the blade's points, seen in their best plane, mirrored across a line through the base: the line whose
+// mirror image leaves the blade least (the fewest mirrored points off it) is the midvein axis (a symmetric blade of
+// any outline, wide fans and cordate and lobed blades included, maps onto itself across its midvein, and across no
+// other line through its base).
+// Without a known base, lines through the blade's centroid are tried, and among equally symmetric lines (an
+// ellipse has two) the one nearest the blade's longest principal axis is taken.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <vector>
+
+namespace plantmorph
+{
+namespace fit
+{
+
+struct Petiole
+{
+  bool found = false;
+  std::vector<unsigned char> member;                  ///< per input point: 1 for the petiole's points
+  Eigen::Vector3d junction = Eigen::Vector3d::Zero(); ///< where the petiole meets the blade
+  std::vector<Eigen::Vector3d> line;                  ///< the petiole's centre line, from the junction to its far end
+  double length = 0.0;                                ///< arc length of `line`
+};
+
+/// Finds the petiole of a leaf's points (outliers already removed; `spacing` their median nearest-neighbour
+/// distance). `found` is false when no thin trail leaves the blade.
+Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing);
+
+/// The unit direction, in the blade's best plane (unit normal `normal`), of the line through `through` across
+/// which the blade's points are most nearly mirror images of each other. `hint`: the direction to prefer among
+/// equally symmetric lines; the result points the same way as `hint` (positive dot product).
+Eigen::Vector3d SymmetryAxis(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& through,
+  const Eigen::Vector3d& normal, const Eigen::Vector3d& hint, double spacing);
+
+} // namespace fit
+} // namespace plantmorph

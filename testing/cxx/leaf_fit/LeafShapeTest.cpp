@@ -1,0 +1,300 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The leaf's shape before the fit (filters/leaf_fit/shape): petiole, base and midvein axis, on synthetic scans whose
+// truth is exact. A LeafOutlineSource blade (base at the origin, midvein along +Y) is sampled uniformly by area with
+// noise; a petiole of known length leaves its base as a strip one or two points wide. The fit must put the base at
+// the junction (within 2 % of the length), measure the petiole (within 5 %), keep it out of the blade's Length, and
+// find the midvein's direction (within 3 degrees) on narrow, wide (fan), cordate and lobed blades.
+#include "LeafFit.h"
+#include "LeafShape.h"
+
+#include "BSplineLeaf.h"
+#include "DeformedRectangleLeaf.h"
+#include "DeformedRectanglePresets.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <functional>
+#include <random>
+#include <vector>
+
+namespace plantmorph
+{
+namespace
+{
+struct Synthetic
+{
+  std::vector<Eigen::Vector3d> points;
+  std::vector<unsigned char> petiole; ///< 1 for the petiole's samples
+  double length = 0.0;                ///< the blade's midvein, base to apex
+  double petioleLength = 0.0;
+};
+
+LeafGeometry Blade(int preset, double length)
+{
+  LeafMeshParameters settings;
+  settings.resolution = 120;
+  LeafGeometry leaf;
+  std::string error;
+  if (preset == 0)
+    error = BuildBSplineLeaf(MakeBSplinePreset(BSplinePreset::Elliptic, length, 0.45 * length, 9), settings, leaf);
+  else if (preset == 1)
+    error =
+      BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, length), settings, leaf);
+  else if (preset == 2)
+    error = BuildBSplineLeaf(MakeBSplinePreset(BSplinePreset::PinOak, length, 0.8 * length, 9), settings, leaf);
+  else
+    error =
+      BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, length), settings, leaf);
+  EXPECT_EQ(error, "");
+  return leaf;
+}
+
+/// `count` points uniform by area on the flat blade (noise `sigma` along Z), then a petiole from the base along the
+/// curve `stalk` (arc-length parametrised from the base, `petiole` long), sampled at the blade's spacing in a strip
+/// `across` points wide; everything moved by `pose`.
+Synthetic Scan(const LeafGeometry& leaf, int count, double sigma, double petiole,
+  const std::function<Eigen::Vector3d(double)>& stalk, int across, const Eigen::Isometry3d& pose, unsigned seed = 3)
+{
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const auto& P = leaf.blade.points;
+  std::vector<double> cdf;
+  double total = 0.0;
+  for (const auto& t : leaf.blade.triangles)
+  {
+    const Eigen::Vector2d a = P[t[1]] - P[t[0]], b = P[t[2]] - P[t[0]];
+    total += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+    cdf.push_back(total);
+  }
+  Synthetic scan;
+  for (int i = 0; i < count; ++i)
+  {
+    const std::size_t k = std::lower_bound(cdf.begin(), cdf.end(), uniform(random) * total) - cdf.begin();
+    const auto& t = leaf.blade.triangles[std::min(k, cdf.size() - 1)];
+    double a = uniform(random), b = uniform(random);
+    if (a + b > 1.0)
+    {
+      a = 1.0 - a;
+      b = 1.0 - b;
+    }
+    const Eigen::Vector2d p = P[t[0]] + a * (P[t[1]] - P[t[0]]) + b * (P[t[2]] - P[t[0]]);
+    scan.points.push_back(pose * Eigen::Vector3d(p.x(), p.y(), sigma * gauss(random)));
+    scan.petiole.push_back(0);
+  }
+  const double spacing = std::sqrt(total / count);
+  for (double s = 0.5 * spacing; s <= petiole; s += spacing)
+  {
+    const Eigen::Vector3d c = stalk(s), d = (stalk(s + 1e-3) - c).normalized();
+    const Eigen::Vector3d side = d.cross(Eigen::Vector3d::UnitZ()).normalized();
+    for (int j = 0; j < across; ++j)
+    {
+      const double offset = (j - 0.5 * (across - 1)) * spacing + 0.2 * spacing * (uniform(random) - 0.5);
+      scan.points.push_back(pose * (c + offset * side + sigma * gauss(random) * Eigen::Vector3d::UnitZ()));
+      scan.petiole.push_back(1);
+    }
+  }
+  for (std::size_t i = 1; i < leaf.midvein.size(); ++i)
+    scan.length += (P[leaf.midvein[i]] - P[leaf.midvein[i - 1]]).norm();
+  scan.petioleLength = petiole;
+  return scan;
+}
+
+/// A straight petiole from the base, leaving it at `angle` degrees below the blade's plane, pointing along -Y.
+std::function<Eigen::Vector3d(double)> Straight(double angle)
+{
+  const double a = angle * 3.14159265358979323846 / 180.0;
+  return [a](double s) { return Eigen::Vector3d(0.0, -s * std::cos(a), -s * std::sin(a)); };
+}
+
+struct Expected
+{
+  double baseTolerance = 0.02;    // of the length
+  double lengthTolerance = 0.01;  // relative
+  double degrees = 3.0;           // midvein direction
+  double petioleTolerance = 0.05; // relative
+};
+
+/// Fits `scan` (moved by `pose`) and checks base, midvein direction, Length and PetioleLength against the truth.
+void ExpectShape(const Synthetic& scan, const Eigen::Isometry3d& pose, const Expected& e,
+  const LeafFitParameters& options = LeafFitParameters())
+{
+  const LeafFitResult fit = FitLeaf(scan.points, options);
+  ASSERT_EQ(fit.error, "");
+  const Eigen::Vector3d base = fit.points[fit.midvein.front()];
+  EXPECT_LT((base - pose * Eigen::Vector3d::Zero()).norm(), e.baseTolerance * scan.length)
+    << "base " << base.transpose();
+  // The midvein's direction: from the base to the point a fifth along it (the blade may curve further on).
+  const Eigen::Vector3d along = (fit.points[fit.midvein[fit.midvein.size() / 5]] - base).normalized();
+  const double degrees = std::acos(std::clamp(along.dot(pose.linear() * Eigen::Vector3d::UnitY()), -1.0, 1.0)) * 180.0 /
+    3.14159265358979323846;
+  EXPECT_LT(degrees, e.degrees);
+  EXPECT_NEAR(fit.traits.length, scan.length, e.lengthTolerance * scan.length);
+  if (scan.petioleLength > 0.0)
+  {
+    EXPECT_EQ(fit.traits.baseFrom, options.basePoint ? 1 : 2);
+    EXPECT_NEAR(fit.traits.petioleLength, scan.petioleLength, e.petioleTolerance * scan.petioleLength);
+    // The petiole's samples are the petiole, the blade's are not.
+    std::size_t missed = 0, wrong = 0, petiole = 0;
+    for (std::size_t i = 0; i < scan.points.size(); ++i)
+    {
+      petiole += scan.petiole[i];
+      missed += scan.petiole[i] && !fit.petiole[i] ? 1 : 0;
+      wrong += !scan.petiole[i] && fit.petiole[i] ? 1 : 0;
+    }
+    EXPECT_LT(missed, petiole * e.petioleTolerance * 2 + 3);
+    EXPECT_LT(wrong, petiole * e.petioleTolerance * 2 + 3);
+    ASSERT_GE(fit.petioleLine.size(), 2u);
+    EXPECT_LT((fit.petioleLine.front() - base).norm(), e.baseTolerance * scan.length);
+  }
+  else
+  {
+    EXPECT_EQ(fit.traits.petioleLength, 0.0);
+    EXPECT_TRUE(fit.petioleLine.empty());
+  }
+}
+
+Eigen::Isometry3d Tilted()
+{
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, 0.5, 0.8).normalized()));
+  pose.translation() = Eigen::Vector3d(12.0, -40.0, 5.0);
+  return pose;
+}
+
+TEST(LeafShape, PetioleInThePlaneIsFoundAndLeftOutOfTheBlade)
+{
+  // In the blade's plane and in line with the midvein, the blade's narrow end and the stalk's first samples cannot
+  // be told apart: the base is placed within a point spacing (0.8 % of the length here) of the junction, and the
+  // Length is within 2 %.
+  const Synthetic scan = Scan(Blade(0, 100.0), 6000, 0.1, 30.0, Straight(0.0), 2, Eigen::Isometry3d::Identity());
+  Expected e;
+  e.lengthTolerance = 0.02;
+  ExpectShape(scan, Eigen::Isometry3d::Identity(), e);
+}
+
+TEST(LeafShape, PetioleOnePointWideLeavingTheBladeDownwards)
+{
+  const Eigen::Isometry3d pose = Tilted();
+  const Synthetic scan = Scan(Blade(0, 100.0), 6000, 0.1, 40.0, Straight(35.0), 1, pose);
+  ExpectShape(scan, pose, Expected());
+}
+
+TEST(LeafShape, CurvedPetioleAtAnAngleToTheMidvein)
+{
+  // An arc of radius 30 turning from -Y towards +X and down: 45 long.
+  const auto arc = [](double s) {
+    const double r = 30.0, a = s / r;
+    return Eigen::Vector3d(r * (1.0 - std::cos(a)), -r * std::sin(a), -0.2 * s);
+  };
+  // The arc's true length with its slope: sqrt(1 + 0.04) per unit of s.
+  Synthetic scan = Scan(Blade(0, 100.0), 6000, 0.1, 45.0, arc, 2, Eigen::Isometry3d::Identity());
+  scan.petioleLength = 45.0 * std::sqrt(1.04);
+  Expected e;
+  e.lengthTolerance = 0.02; // leaves the base in the blade's plane (as above)
+  ExpectShape(scan, Eigen::Isometry3d::Identity(), e);
+}
+
+TEST(LeafShape, BladeWithoutPetioleHasNone)
+{
+  // The elliptic blade's acute tips are wedges, not petioles.
+  const Synthetic scan = Scan(Blade(0, 100.0), 6000, 0.1, 0.0, Straight(0.0), 0, Eigen::Isometry3d::Identity());
+  const LeafFitResult fit = FitLeaf(scan.points, LeafFitParameters());
+  ASSERT_EQ(fit.error, "");
+  EXPECT_EQ(fit.traits.petioleLength, 0.0);
+  EXPECT_EQ(std::count(fit.petiole.begin(), fit.petiole.end(), 1), 0);
+  EXPECT_NEAR(fit.traits.length, scan.length, 0.01 * scan.length);
+}
+
+TEST(LeafShape, FanIsFittedAlongItsMidveinNotAcrossIt)
+{
+  // The ginkgo fan is wider (110) than long (77.5): its principal axis runs across it. Its base is a cusp (both
+  // margins leave it along the midvein, the blade narrower than the stalk for its first 4 units), which the samples
+  // leave a gap at: the stalk starts 2 units inside the blade. The cusp's first units count to the stalk: base
+  // within 6 % of the length, PetioleLength within 20 %; the midvein's direction within 3 degrees.
+  const auto straight = Straight(20.0);
+  Synthetic scan = Scan(
+    Blade(1, 50.0), 8000, 0.05, 22.0, [&](double s) { return straight(s - 2.0); }, 2, Tilted());
+  scan.petioleLength = 20.0;
+  Expected e;
+  e.baseTolerance = 0.06;
+  e.lengthTolerance = 0.06;
+  e.petioleTolerance = 0.2;
+  ExpectShape(scan, Tilted(), e);
+}
+
+TEST(LeafShape, FanWithBasePointIsFittedAlongItsMidvein)
+{
+  // Without a petiole, BasePoint gives the base; the axis is still the fan's symmetry, not its principal axis.
+  const Synthetic scan = Scan(Blade(1, 50.0), 8000, 0.05, 0.0, Straight(0.0), 0, Tilted());
+  LeafFitParameters options;
+  options.basePoint = Tilted() * Eigen::Vector3d(0.0, -1.0, 0.0);
+  Expected e;
+  e.baseTolerance = 0.03;   // the cusp's samples are sparse: its end is extrapolated from few of them
+  e.lengthTolerance = 0.03; // the apex is a notch between two lobes: the outline's tip reaches past it
+  ExpectShape(scan, Tilted(), e, options);
+}
+
+TEST(LeafShape, LobedBladeIsFittedAlongItsMidvein)
+{
+  const Synthetic scan = Scan(Blade(2, 100.0), 10000, 0.1, 25.0, Straight(10.0), 2, Tilted());
+  Expected e;
+  e.lengthTolerance = 0.03;
+  ExpectShape(scan, Tilted(), e);
+}
+
+TEST(LeafShape, FanWithoutPetioleOrHintsIsFittedAlongItsMidvein)
+{
+  // No petiole, no BasePoint: the axis of symmetry through the centroid (not the principal axis across the fan), the
+  // base at the narrow end (the fan is widest at its top).
+  const Synthetic scan = Scan(Blade(1, 50.0), 8000, 0.05, 0.0, Straight(0.0), 0, Tilted());
+  Expected e;
+  e.baseTolerance = 0.03;
+  e.lengthTolerance = 0.07; // the apex is a notch between two lobes: the outline's tip reaches the lobes' tips
+  ExpectShape(scan, Tilted(), e);
+}
+
+TEST(LeafShape, SymmetryAxisOfAFanThroughItsBase)
+{
+  // The core step alone: points of the ginkgo fan, the axis through its base, hinted across the fan.
+  const LeafGeometry leaf = Blade(1, 50.0);
+  std::vector<Eigen::Vector3d> points;
+  for (const auto& p : leaf.blade.points)
+    points.emplace_back(p.x(), p.y(), 0.0);
+  const Eigen::Vector3d axis =
+    fit::SymmetryAxis(points, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d(1.0, 0.2, 0.0), 0.5);
+  EXPECT_GT(std::abs(axis.y()), std::cos(2.0 * 3.14159265358979323846 / 180.0));
+}
+
+TEST(LeafShape, ApexPointTurnsASymmetricBladeAround)
+{
+  // An ellipse is symmetric end to end: the apex hint decides which end is the base.
+  const Synthetic scan = Scan(Blade(0, 100.0), 5000, 0.1, 0.0, Straight(0.0), 0, Eigen::Isometry3d::Identity());
+  for (double apexY : { 100.0, 0.0 })
+  {
+    LeafFitParameters options;
+    options.apexPoint = Eigen::Vector3d(0.0, apexY, 0.0);
+    const LeafFitResult fit = FitLeaf(scan.points, options);
+    ASSERT_EQ(fit.error, "");
+    EXPECT_LT((fit.points[fit.midvein.back()] - *options.apexPoint).norm(), 2.0);
+    EXPECT_LT((fit.points[fit.midvein.front()] - Eigen::Vector3d(0.0, 100.0 - apexY, 0.0)).norm(), 2.0);
+  }
+}
+
+TEST(LeafShape, BasePointAtThePetiolesEndGivesTheJunction)
+{
+  const Synthetic scan = Scan(Blade(3, 100.0), 6000, 0.1, 30.0, Straight(0.0), 2, Eigen::Isometry3d::Identity());
+  LeafFitParameters options;
+  options.basePoint = Eigen::Vector3d(0.0, -30.0, 0.0);
+  const LeafFitResult fit = FitLeaf(scan.points, options);
+  ASSERT_EQ(fit.error, "");
+  EXPECT_EQ(fit.traits.baseFrom, 1);
+  EXPECT_LT(fit.points[fit.midvein.front()].norm(), 2.0);
+  EXPECT_NEAR(fit.traits.petioleLength, 30.0, 1.5);
+}
+
+} // namespace
+} // namespace plantmorph
