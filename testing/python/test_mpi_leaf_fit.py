@@ -7,7 +7,9 @@ over the ranks by D3 (each leaf's points then start on several ranks). On 1, 2 a
 - every leaf's blade lies on one rank only, the leaves are spread over min(ranks, leaves) ranks, and each blade is
   the serial blade bit for bit (points, normals, support);
 - Scan stays where its points are (rank 0 for the unsplit input, several ranks for the split one) and every point's
-  FitDistance and Inlier equal the serial run's.
+  FitDistance and Inlier equal the serial run's;
+- without LeafIdArray (the scans moved 300 mm apart, split over the ranks by D3) the separate blades are found
+  whatever the ranks: six rows, the serial table bit for bit, and every Scan point's LeafId the serial one.
 Run once serially with --write-reference (pvpython), then as `mpirun -np N pvbatch test_mpi_leaf_fit.py ... --ranks N`.
 """
 import glob
@@ -35,15 +37,27 @@ for leaf_id, scan in zip(LEAF_IDS, SCANS):
 appended = AppendDatasets(Input=parts)
 FITS = {"whole": LeafFitFilter(Input=appended, LeafIdArray="LeafId"),
         "split": LeafFitFilter(Input=D3(Input=appended, BoundaryMode="Assign cells uniquely"), LeafIdArray="LeafId")}
+moved = []
+for k, part in enumerate(parts):
+    move = Transform(Input=part)
+    move.Transform.Translate = [300.0 * k, 0.0, 0.0]
+    moved.append(move)
+BLADES = LeafFitFilter(Input=D3(Input=AppendDatasets(Input=moved), BoundaryMode="Assign cells uniquely"))
 
 
 def array(data, name):
     return vtk_to_numpy(data.GetPointData().GetArray(name))
 
 
+def column_values(column):
+    """A column's values: floats, or strings for the text columns (Message, LengthUnit)."""
+    if column.IsA("vtkStringArray"):
+        return numpy.array([column.GetValue(i) for i in range(column.GetNumberOfValues())], dtype=str)
+    return vtk_to_numpy(column).astype(numpy.float64)
+
+
 def table_columns(table):
-    return {table.GetColumnName(c): vtk_to_numpy(table.GetColumn(c)).astype(numpy.float64)
-            for c in range(table.GetNumberOfColumns())}
+    return {table.GetColumnName(c): column_values(table.GetColumn(c)) for c in range(table.GetNumberOfColumns())}
 
 
 def blades(fit):
@@ -72,6 +86,8 @@ if arguments.write_reference:
         saved.update({"blade_points_%d" % leaf_id: points, "blade_normals_%d" % leaf_id: normals,
                       "blade_support_%d" % leaf_id: support})
     saved["scan"] = scan_rows(fit)[0]
+    saved.update({"blades_traits_" + k: v for k, v in table_columns(servermanager.Fetch(BLADES, idx=2)).items()})
+    saved["blades_scan"] = scan_rows(BLADES)[0]
     save_reference(reference_file, saved)
     raise SystemExit(0)
 
@@ -110,4 +126,13 @@ for name, fit in FITS.items():
                      "reads a piece of each scan): %s" % sorted(holders))
     elif ranks > 1:
         checks.check(len(holders) > 1, "split: Scan stays on the ranks holding the points: %s" % sorted(holders))
+traits = table_columns(servermanager.Fetch(BLADES, idx=2))
+expected = {k[len("blades_traits_"):]: reference[k] for k in reference.files if k.startswith("blades_traits_")}
+checks.check(list(traits["LeafId"]) == list(range(len(SCANS))), "blades: one row per scan, LeafId 0 to %d: %s" % (
+    len(SCANS) - 1, list(traits["LeafId"])))
+checks.check(set(traits) == set(expected) and all(numpy.array_equal(traits[k], v) for k, v in expected.items()),
+             "blades: the Traits table on %d ranks is the serial one bit for bit (differing: %s)" % (
+                 ranks, [k for k, v in expected.items() if not numpy.array_equal(traits.get(k), v)]))
+checks.check(numpy.array_equal(scan_rows(BLADES)[0], reference["blades_scan"]),
+             "blades: every scan point's LeafId, FitDistance and Inlier as in the serial run")
 checks.finish()

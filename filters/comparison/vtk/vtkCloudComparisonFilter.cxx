@@ -729,6 +729,55 @@ void WriteOutputs(vtkCloudComparisonFilter* self, const plantmorph::Run& run, vt
   }
 }
 
+/// Size ratio beyond which the two inputs are taken for a unit mismatch.
+constexpr double UnitMismatchRatio = 5.0;
+
+/// Warns when the measured points (after Scale) and the reference differ in size (their bounding boxes' diagonals)
+/// by more than UnitMismatchRatio times: a scan in mm against a model in cm with the wrong Scale gives distances
+/// that are all about the larger size. Collective under MPI (the measured bounds are reduced over the ranks).
+void WarnIfSizesDiffer(const plantmorph::Run& run, vtkMultiProcessController* controller, const double* xyz,
+  vtkIdType count, const std::vector<double>& reference, double scale)
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  // Per axis the minimum and minus the maximum, so one minimum over the ranks gives both.
+  std::vector<double> bounds(6, inf);
+  for (vtkIdType i = 0; i < count; ++i)
+    for (int a = 0; a < 3; ++a)
+    {
+      bounds[a] = std::min(bounds[a], xyz[3 * i + a]);
+      bounds[3 + a] = std::min(bounds[3 + a], -xyz[3 * i + a]);
+    }
+  plantmorph::cloudmpi::MinimumOverRanks(controller, bounds);
+  std::vector<double> own(6, inf);
+  for (std::size_t i = 0; i + 2 < reference.size(); i += 3)
+    for (int a = 0; a < 3; ++a)
+    {
+      own[a] = std::min(own[a], reference[i + a]);
+      own[3 + a] = std::min(own[3 + a], -reference[i + a]);
+    }
+  double measuredSize = 0.0, referenceSize = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    measuredSize += (bounds[3 + a] + bounds[a]) * (bounds[3 + a] + bounds[a]);
+    referenceSize += (own[3 + a] + own[a]) * (own[3 + a] + own[a]);
+  }
+  measuredSize = std::sqrt(measuredSize);
+  referenceSize = std::sqrt(referenceSize);
+  const double ratio = std::max(measuredSize, referenceSize) / std::min(measuredSize, referenceSize);
+  if (std::isfinite(measuredSize) && std::isfinite(referenceSize) && measuredSize > 0.0 && referenceSize > 0.0 &&
+    ratio > UnitMismatchRatio)
+  {
+    std::ostringstream message;
+    message.precision(4);
+    message << "the Measured points (after Scale = " << scale << ") span " << measuredSize
+            << " (bounding-box diagonal) and the Reference " << referenceSize << ": " << ratio
+            << " times apart in size, more than " << UnitMismatchRatio
+            << ". A unit mismatch? Set Scale to bring the measured points into the reference's unit (e.g. 0.1 for a "
+               "scan in mm against a model in cm); the distances below mostly measure the difference in size";
+    run.Warn(message.str());
+  }
+}
+
 /// The comparison (on the threads RunThreaded gives). Under MPI (controller not null) every step runs on every
 /// rank, each on its own measured points; the steps that may fail on one rank only are followed by a collective
 /// check, so that all ranks stop together (the failing rank says why).
@@ -757,6 +806,7 @@ void Compare(vtkCloudComparisonFilter* self, const plantmorph::Run& run, vtkPoin
   self->UpdateProgress(0.05);
   Reference ref;
   ref.xyz = FlatPoints(reference);
+  WarnIfSizesDiffer(run, controller, m.xyz, count, ref.xyz, self->GetScale());
   const std::string built = BuildStructure(reference, ref.xyz.data(), ref.xyz.size() / 3, ref.distance);
   if (!built.empty())
   {

@@ -379,8 +379,9 @@ std::string ValidateLeafFitParameters(const LeafFitParameters& o)
     m << "BasePoint: must be finite";
   else if (o.apexPoint && !o.apexPoint->allFinite())
     m << "ApexPoint: must be finite";
-  else if (!(o.surfaceSmoothing >= 0.0 && o.surfaceSmoothing <= 1e6))
-    m << OutOfRange("SurfaceSmoothing", o.surfaceSmoothing, "[0, 1e6]");
+  else if (!(o.surfaceSmoothing >= MinSurfaceSmoothing && o.surfaceSmoothing <= 1e6))
+    m << OutOfRange("SurfaceSmoothing", o.surfaceSmoothing, "[0.1, 1e6]",
+      "below 0.1 the surface leaves the points where they are sparse (at 0 the traits grow 20-160 fold)");
   else if (!(o.outlineSmoothing >= 0.0 && o.outlineSmoothing <= 1e6))
     m << OutOfRange("OutlineSmoothing", o.outlineSmoothing, "[0, 1e6]");
   else if (o.outlineControlPoints < 4 || o.outlineControlPoints > 200)

@@ -73,6 +73,30 @@ void ShapeTraits(const TensorSurface& S, const Outline& o, LeafTraits& traits)
   traits.rollingCurvature = stations > 0 ? curvature / stations : 0.0;
 }
 
+/// Bending: the turn of the midvein's tangent about the blade's own across direction, summed from base to apex
+/// (the integral of the midvein's normal curvature), in degrees, its magnitude. The turn about the blade's normal
+/// (a midvein curved within a flat blade) is not bending: a flat leaf gives 0 whatever its shape.
+double OutOfPlaneBending(const TensorSurface& S, const Outline& o)
+{
+  const int steps = 400;
+  double turn = 0.0;
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  for (int i = 0; i <= steps; ++i)
+  {
+    Eigen::Vector3d dt, ds;
+    const double s = o.s0 + (o.s1 - o.s0) * i / steps;
+    S.Derivatives(0.0, s, dt, ds);
+    const Eigen::Vector3d tangent = ds.normalized();
+    if (i > 0 && tangent.allFinite() && previous.allFinite())
+    {
+      const Eigen::Vector3d across = S.Normal(0.0, s).cross(tangent).normalized();
+      turn += std::atan2(previous.cross(tangent).dot(across), previous.dot(tangent));
+    }
+    previous = tangent;
+  }
+  return std::abs(turn) * Degrees;
+}
+
 void BladeTraits(const LeafFitParameters& options, LeafFitResult& r)
 {
   LeafTraits& traits = r.traits;
@@ -138,11 +162,10 @@ void ComputeTraits(const TensorSurface& surface, const Outline& outline, const L
   LeafTraits& traits = result.traits;
   ShapeTraits(surface, outline, traits);
   BladeTraits(options, result);
-  // Angles of the midvein: bending between its end tangents; its direction and base tangent against `up`.
+  // Angles of the midvein: its out-of-plane bending; its direction and base tangent against `up`.
   const double L = outline.s1 - outline.s0, d = 0.02 * L;
   const Eigen::Vector3d t0 = axes * (surface(0.0, outline.s0 + d) - surface(0.0, outline.s0));
-  const Eigen::Vector3d t1 = axes * (surface(0.0, outline.s1) - surface(0.0, outline.s1 - d));
-  traits.bending = AngleBetween(t0, t1);
+  traits.bending = OutOfPlaneBending(surface, outline);
   traits.midveinInclination = 90.0 - AngleBetween(t0, options.up);
   const Eigen::Vector3d direction = axes * (surface(0.0, outline.s1) - surface(0.0, outline.s0));
   Eigen::Vector3d h1 = Eigen::Vector3d::UnitX() - options.up.x() * options.up;

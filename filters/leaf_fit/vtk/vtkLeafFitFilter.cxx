@@ -4,6 +4,8 @@
 
 #include "LeafFit.h"
 #include "LeafFitExchange.h"
+#include "LeafFitTables.h"
+#include "LeafPlant.h"
 #include "PlantMorphFieldData.h"
 #include "PlantMorphLayer.h"
 
@@ -26,6 +28,7 @@
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
 #include "vtkTable.h"
+#include "vtkTypeInt64Array.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
@@ -48,8 +51,8 @@ vtkSmartPointer<T> NewArray(const char* name, int components)
 }
 
 /// The petiole's centre line (Region 5, LeafUV 0), junction to far end, appended to the Outline; nothing without one.
-void AppendPetiole(
-  const plantmorph::LeafFitResult& r, int leafId, vtkPoints* outlinePoints, vtkCellArray* lines, vtkPolyData* outline)
+void AppendPetiole(const plantmorph::LeafFitResult& r, std::int64_t leafId, vtkPoints* outlinePoints,
+  vtkCellArray* lines, vtkPolyData* outline)
 {
   if (r.petioleLine.size() < 2)
     return;
@@ -58,18 +61,21 @@ void AppendPetiole(
   {
     lines->InsertCellPoint(outlinePoints->InsertNextPoint(p.data()));
     outline->GetPointData()->GetArray(plantmorph::arrays::LeafUV)->InsertNextTuple2(0.0, 0.0);
-    outline->GetPointData()->GetArray("LeafId")->InsertNextTuple1(leafId);
+    vtkTypeInt64Array::SafeDownCast(outline->GetPointData()->GetArray("LeafId"))->InsertNextValue(leafId);
   }
   outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(plantmorph::RegionPetiole);
-  outline->GetCellData()->GetArray("LeafId")->InsertNextTuple1(leafId);
+  vtkTypeInt64Array::SafeDownCast(outline->GetCellData()->GetArray("LeafId"))->InsertNextValue(leafId);
 }
 
 /// The blade and outline of one leaf appended to the outputs.
-void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* points, vtkCellArray* triangles,
+void AppendLeaf(const plantmorph::LeafFitResult& r, std::int64_t leafId, vtkPoints* points, vtkCellArray* triangles,
   vtkPolyData* blade, vtkPoints* outlinePoints, vtkCellArray* lines, vtkPolyData* outline)
 {
   const vtkIdType offset = points->GetNumberOfPoints();
   auto get = [](vtkPolyData* pd, const char* name) { return pd->GetPointData()->GetArray(name); };
+  auto addId = [leafId](vtkFieldData* data) {
+    vtkTypeInt64Array::SafeDownCast(data->GetArray("LeafId"))->InsertNextValue(leafId);
+  };
   for (std::size_t i = 0; i < r.points.size(); ++i)
   {
     points->InsertNextPoint(r.points[i].data());
@@ -77,7 +83,7 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* point
     get(blade, plantmorph::arrays::TCoords)->InsertNextTuple2(r.tcoords[i].x(), r.tcoords[i].y());
     get(blade, plantmorph::arrays::Region)->InsertNextTuple1(r.region[i]);
     get(blade, plantmorph::arrays::Normals)->InsertNextTuple3(r.normals[i].x(), r.normals[i].y(), r.normals[i].z());
-    get(blade, "LeafId")->InsertNextTuple1(leafId);
+    addId(blade->GetPointData());
     get(blade, "Support")->InsertNextTuple1(r.support[i]);
   }
   for (const auto& t : r.triangles)
@@ -85,7 +91,7 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* point
     const vtkIdType ids[3] = { offset + t[0], offset + t[1], offset + t[2] };
     triangles->InsertNextCell(3, ids);
     blade->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(plantmorph::RegionBlade);
-    blade->GetCellData()->GetArray("LeafId")->InsertNextTuple1(leafId);
+    addId(blade->GetCellData());
   }
   const std::vector<int>* polylines[3] = { &r.leftMargin, &r.rightMargin, &r.midvein };
   const int regions[3] = { plantmorph::RegionMargin, plantmorph::RegionMargin, plantmorph::RegionMidvein };
@@ -98,10 +104,10 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* point
       outline->GetPointData()
         ->GetArray(plantmorph::arrays::LeafUV)
         ->InsertNextTuple2(r.leafUV[id].x(), r.leafUV[id].y());
-      outline->GetPointData()->GetArray("LeafId")->InsertNextTuple1(leafId);
+      addId(outline->GetPointData());
     }
     outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(regions[k]);
-    outline->GetCellData()->GetArray("LeafId")->InsertNextTuple1(leafId);
+    addId(outline->GetCellData());
   }
   AppendPetiole(r, leafId, outlinePoints, lines, outline);
   // The fitted Model C control points, for LeafOutlineSource (B-spline, Custom).
@@ -125,7 +131,7 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, int leafId, vtkPoints* point
 vtkLeafFitFilter::vtkLeafFitFilter()
 {
   this->SetNumberOfInputPorts(1);
-  this->SetNumberOfOutputPorts(4);
+  this->SetNumberOfOutputPorts(5);
 }
 
 void vtkLeafFitFilter::SetLeafIdArray(const char* name)
@@ -138,6 +144,16 @@ void vtkLeafFitFilter::SetLeafIdArray(const char* name)
   }
 }
 
+void vtkLeafFitFilter::SetInputUnit(const char* unit)
+{
+  const std::string value = unit ? unit : "";
+  if (value != this->InputUnit)
+  {
+    this->InputUnit = value;
+    this->Modified();
+  }
+}
+
 int vtkLeafFitFilter::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
@@ -146,14 +162,15 @@ int vtkLeafFitFilter::FillInputPortInformation(int, vtkInformation* info)
 
 int vtkLeafFitFilter::FillOutputPortInformation(int port, vtkInformation* info)
 {
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 2 ? "vtkTable" : "vtkPolyData");
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 2 || port == 4 ? "vtkTable" : "vtkPolyData");
   return 1;
 }
 
 namespace
 {
-/// Per-point values the owners send back for the Scan port: FitDistance, Inlier, Region.
-constexpr int ScanValues = 3;
+/// Per-point values the owners send back for the Scan port: FitDistance, Inlier, Region, and the blade the point
+/// belongs to when the points are cut into separate blades.
+constexpr int ScanValues = 4;
 
 /// The leaf's points in lexicographic order of their coordinates (ties keep their order: they are equal points), so
 /// that a fit does not depend on the order the points arrive in (input order, or pieces gathered from MPI ranks).
@@ -169,76 +186,120 @@ std::vector<std::size_t> CanonicalOrder(const std::vector<Eigen::Vector3d>& poin
   return order;
 }
 
-/// Fits the leaves this rank owns (threaded over leaves), each on its points in canonical order; `values` gets,
-/// per leaf, FitDistance, Inlier and Region (5 on the petiole, else 0) of every point in the order the points came.
-std::vector<plantmorph::LeafFitResult> FitOwned(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
-  const plantmorph::LeafFitParameters& options, std::vector<std::vector<double>>& values)
+/// One leaf fitted on this rank: a leaf of the exchange (`group`, an index into the owned leaves) or, without
+/// LeafIdArray, one of the separate blades its points form (`piece`).
+struct Piece
 {
+  std::size_t group = 0;
+  int piece = 0;
+  std::size_t points = 0;
+  plantmorph::LeafFitResult fit;
+  std::vector<std::string> warnings;
+};
+
+/// What this rank fitted: the pieces, and per owned leaf FitDistance, Inlier and piece of every point, in the order
+/// the points came (LeafFitExchange::ReturnValues, width ScanValues).
+struct OwnedFits
+{
+  std::vector<Piece> pieces;
+  std::vector<std::vector<double>> values;
+  std::vector<plantmorph::LeafSeparation> separations; // per owned leaf when separating
+};
+
+/// Fits the leaves this rank owns (threaded over leaves), each on its points in canonical order; with `separate`
+/// (no LeafIdArray) each leaf's points are first cut into their separate blades, each fitted as a leaf.
+OwnedFits FitOwned(
+  const std::vector<std::vector<Eigen::Vector3d>>& leaves, const plantmorph::LeafFitParameters& options, bool separate)
+{
+  OwnedFits owned;
   std::vector<std::vector<std::size_t>> orders(leaves.size());
-  std::vector<std::vector<Eigen::Vector3d>> sorted(leaves.size());
+  std::vector<std::vector<int>> pieceOf(leaves.size());
+  std::vector<std::vector<Eigen::Vector3d>> sorted;
   for (std::size_t k = 0; k < leaves.size(); ++k)
   {
     orders[k] = CanonicalOrder(leaves[k]);
+    std::vector<Eigen::Vector3d> points;
     for (std::size_t i : orders[k])
-      sorted[k].push_back(leaves[k][i]);
+      points.push_back(leaves[k][i]);
+    owned.separations.push_back(separate ? plantmorph::SeparateLeaves(points) : plantmorph::LeafSeparation());
+    plantmorph::LeafSeparation& cut = owned.separations.back();
+    if (!separate)
+      cut.leafOf.assign(points.size(), 0);
+    const std::size_t first = sorted.size();
+    sorted.resize(first + std::max(cut.count, 1));
+    for (int p = 0; p < std::max(cut.count, 1); ++p)
+      owned.pieces.push_back({ k, p, 0, {}, {} });
+    for (std::size_t j = 0; j < points.size(); ++j)
+      sorted[first + cut.leafOf[j]].push_back(points[j]);
+    pieceOf[k] = cut.leafOf;
   }
   const plantmorph::ParallelFor smp = plantmorph::SMPFor(1); // one leaf per task: leaves differ in size
   std::vector<plantmorph::LeafFitResult> results = plantmorph::FitLeaves(sorted, options, smp);
-  values.assign(leaves.size(), {});
+  std::vector<std::size_t> firstPiece(leaves.size(), 0), next(sorted.size(), 0);
+  for (std::size_t q = 0; q < results.size(); ++q)
+  {
+    Piece& piece = owned.pieces[q];
+    if (piece.piece == 0)
+      firstPiece[piece.group] = q;
+    piece.points = sorted[q].size();
+    piece.fit = std::move(results[q]);
+    if (piece.fit.error.empty())
+      piece.warnings = plantmorph::CheckFittedLeaf(piece.fit, options.resolution);
+  }
+  owned.values.assign(leaves.size(), {});
   for (std::size_t k = 0; k < leaves.size(); ++k)
   {
-    if (!results[k].error.empty())
-      continue;
-    values[k].assign(ScanValues * leaves[k].size(), 0.0);
+    owned.values[k].assign(ScanValues * leaves[k].size(), 0.0);
     for (std::size_t j = 0; j < orders[k].size(); ++j)
     {
-      values[k][ScanValues * orders[k][j]] = results[k].fitDistance[j];
-      values[k][ScanValues * orders[k][j] + 1] = results[k].inlier[j];
-      values[k][ScanValues * orders[k][j] + 2] =
-        results[k].petiole[j] ? plantmorph::RegionPetiole : plantmorph::RegionBlade;
+      const std::size_t q = firstPiece[k] + static_cast<std::size_t>(pieceOf[k][j]);
+      const plantmorph::LeafFitResult& fit = owned.pieces[q].fit;
+      const std::size_t at = next[q]++;
+      double* v = &owned.values[k][ScanValues * orders[k][j]];
+      v[0] = fit.error.empty() ? fit.fitDistance[at] : std::numeric_limits<double>::quiet_NaN();
+      v[1] = fit.error.empty() ? fit.inlier[at] : 0.0;
+      v[2] = fit.error.empty() && fit.petiole[at] ? plantmorph::RegionPetiole : plantmorph::RegionBlade;
+      v[3] = pieceOf[k][j];
     }
   }
-  return results;
+  return owned;
 }
 
-void PrepareOutputs(vtkPolyData* blade, vtkPolyData* outline, vtkTable* traits)
+void PrepareOutputs(vtkPolyData* blade, vtkPolyData* outline)
 {
   blade->GetPointData()->AddArray(NewArray<vtkDoubleArray>(plantmorph::arrays::LeafUV, 2));
   blade->GetPointData()->SetTCoords(NewArray<vtkFloatArray>(plantmorph::arrays::TCoords, 2));
   blade->GetPointData()->AddArray(NewArray<vtkIntArray>(plantmorph::arrays::Region, 1));
   blade->GetPointData()->SetNormals(NewArray<vtkFloatArray>(plantmorph::arrays::Normals, 3));
-  blade->GetPointData()->AddArray(NewArray<vtkIntArray>("LeafId", 1));
+  blade->GetPointData()->AddArray(NewArray<vtkTypeInt64Array>("LeafId", 1));
   blade->GetPointData()->AddArray(NewArray<vtkDoubleArray>("Support", 1));
   blade->GetCellData()->AddArray(NewArray<vtkIntArray>(plantmorph::arrays::Region, 1));
-  blade->GetCellData()->AddArray(NewArray<vtkIntArray>("LeafId", 1));
+  blade->GetCellData()->AddArray(NewArray<vtkTypeInt64Array>("LeafId", 1));
   outline->GetPointData()->AddArray(NewArray<vtkDoubleArray>(plantmorph::arrays::LeafUV, 2));
-  outline->GetPointData()->AddArray(NewArray<vtkIntArray>("LeafId", 1));
+  outline->GetPointData()->AddArray(NewArray<vtkTypeInt64Array>("LeafId", 1));
   outline->GetCellData()->AddArray(NewArray<vtkIntArray>(plantmorph::arrays::Region, 1));
-  outline->GetCellData()->AddArray(NewArray<vtkIntArray>("LeafId", 1));
-  traits->AddColumn(NewArray<vtkIntArray>("LeafId", 1));
-  for (const std::string& name : plantmorph::TraitNames())
-    traits->AddColumn(NewArray<vtkDoubleArray>(name.c_str(), 1));
+  outline->GetCellData()->AddArray(NewArray<vtkTypeInt64Array>("LeafId", 1));
 }
 
-/// The Traits table from rows of (LeafId, TraitValues...).
-void FillTraits(const std::vector<double>& rows, vtkTable* traits)
+/// The leaves of the local piece: scaled points, each point's leaf id (64 bits; 0 without LeafIdArray) and, once
+/// the ranks agreed on every id (UnionOfIds), each leaf's point ids keyed by the index of its id.
+struct LeafInput
 {
-  const std::vector<std::string> names = plantmorph::TraitNames();
-  const std::size_t width = names.size() + 1;
-  for (std::size_t at = 0; at + width <= rows.size(); at += width)
-  {
-    vtkIntArray::SafeDownCast(traits->GetColumn(0))->InsertNextValue(static_cast<int>(rows[at]));
-    for (std::size_t c = 0; c < names.size(); ++c)
-      vtkDoubleArray::SafeDownCast(traits->GetColumn(static_cast<vtkIdType>(c + 1)))->InsertNextValue(rows[at + 1 + c]);
-  }
-}
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::int64_t> ids;
+  bool separate = false; ///< no LeafIdArray: the points are cut into their separate blades
+  std::vector<std::int64_t> leafIds;
+  plantmorph::fitmpi::LocalLeaves members;
 
-/// Scan: the scaled input points, their data, and the fit's per-point arrays (`values`: FitDistance, Inlier and
-/// Region of every point).
-void FillScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, const std::vector<int>& leafOf,
-  const std::vector<double>& values, vtkPolyData* scan)
+  /// The LeafId a fitted piece gets: its blade's number when separating, else its leaf's id.
+  std::int64_t OutputId(std::size_t leaf, int piece) const { return this->separate ? piece : this->leafIds[leaf]; }
+};
+
+/// Scan: the scaled input points, their data, and the fit's per-point arrays (`values`: FitDistance, Inlier, Region
+/// and piece of every point).
+void FillScan(vtkPointSet* input, const LeafInput& in, const std::vector<double>& values, vtkPolyData* scan)
 {
-  const auto n = static_cast<vtkIdType>(all.size());
+  const auto n = static_cast<vtkIdType>(in.points.size());
   vtkNew<vtkPoints> scanPoints;
   scanPoints->SetDataTypeToDouble();
   scanPoints->SetNumberOfPoints(n);
@@ -247,19 +308,19 @@ void FillScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, const
   auto inlier = NewArray<vtkUnsignedCharArray>("Inlier", 1);
   auto region = NewArray<vtkIntArray>(plantmorph::arrays::Region, 1);
   region->SetNumberOfTuples(n);
-  auto leafId = NewArray<vtkIntArray>("LeafId", 1);
+  auto leafId = NewArray<vtkTypeInt64Array>("LeafId", 1);
   distance->SetNumberOfTuples(n);
   inlier->SetNumberOfTuples(n);
   leafId->SetNumberOfTuples(n);
   for (vtkIdType i = 0; i < n; ++i)
   {
-    scanPoints->SetPoint(i, all[i].data());
+    scanPoints->SetPoint(i, in.points[i].data());
     verts->InsertNextCell(1, &i);
     distance->SetValue(i, values[ScanValues * i]);
-    inlier->SetValue(i, values[ScanValues * i + 1] != 0.0 ? 1 : 0);
+    inlier->SetValue(i, values[ScanValues * i + 1] == 1.0 ? 1 : 0);
     region->SetValue(
       i, values[ScanValues * i + 2] == plantmorph::RegionPetiole ? plantmorph::RegionPetiole : plantmorph::RegionBlade);
-    leafId->SetValue(i, leafOf[i]);
+    leafId->SetValue(i, in.separate ? static_cast<std::int64_t>(values[ScanValues * i + 3]) : in.ids[i]);
   }
   scan->SetPoints(scanPoints);
   scan->SetVerts(verts);
@@ -298,16 +359,9 @@ plantmorph::LeafFitParameters Options(vtkLeafFitFilter* self)
   return options;
 }
 
-/// The local piece's points (scaled), each point's LeafId and each leaf's point ids; an error message for bad
-/// properties or a missing LeafIdArray (nothing is checked on an empty piece).
-std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, std::vector<Eigen::Vector3d>& all,
-  std::vector<int>& leafOf, std::map<int, std::vector<vtkIdType>>& members)
+/// The properties' error (empty when they are fine).
+std::string CheckProperties(vtkLeafFitFilter* self)
 {
-  const vtkIdType n = input->GetNumberOfPoints();
-  if (n == 0)
-    return {}; // an empty piece (MPI ranks without leaves): nothing to check
-  const double scale = self->GetScale();
-  const std::string leafIdArray = self->GetLeafIdArray();
   std::string error = plantmorph::ValidateLeafFitParameters(Options(self));
   const int baseCount = self->GetBasePointElementCount();
   if (baseCount >= 0 && baseCount != 3)
@@ -317,31 +371,61 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, std::vector<E
   if (error.empty() && apexCount >= 0 && apexCount != 3)
     error = plantmorph::OutOfRange(
       "ApexPoint", std::to_string(apexCount) + " numbers", "3 numbers (x, y, z)", "the value given was not set");
+  const double scale = self->GetScale();
   if (error.empty() && !(std::isfinite(scale) && scale > 0.0))
     error = plantmorph::OutOfRange("Scale", scale, "(0, inf)");
+  return error;
+}
+
+/// The local piece's points (scaled) and each point's leaf id; an error message for bad properties, a missing
+/// LeafIdArray or ids that are not integers (nothing is checked on an empty piece).
+std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, LeafInput& in)
+{
+  const vtkIdType n = input->GetNumberOfPoints();
+  const std::string leafIdArray = self->GetLeafIdArray();
+  in.separate = leafIdArray.empty() || leafIdArray == "None"; // "None": the XML menu's entry for no array
+  if (n == 0)
+    return {}; // an empty piece (MPI ranks without leaves): nothing to check
+  std::string error = CheckProperties(self);
   vtkDataArray* ids = nullptr;
-  if (error.empty() && !leafIdArray.empty())
+  if (error.empty() && !in.separate)
   {
     ids = input->GetPointData()->GetArray(leafIdArray.c_str());
     if (!ids || ids->GetNumberOfComponents() != 1)
       error = "LeafIdArray: the input has no one-component point array named '" + leafIdArray + "'";
   }
+  if (error.empty() && ids)
+    error = plantmorph::fittable::ReadLeafIds(ids, leafIdArray, in.ids);
   if (!error.empty())
+  {
+    in.ids.clear();
     return error;
-  all.resize(n);
-  leafOf.assign(n, 0);
+  }
+  if (!ids)
+    in.ids.assign(static_cast<std::size_t>(n), 0);
+  in.points.resize(n);
   for (vtkIdType i = 0; i < n; ++i)
   {
     double p[3];
     input->GetPoint(i, p);
-    all[i] = scale * Eigen::Vector3d(p[0], p[1], p[2]);
-    const double id = ids ? ids->GetComponent(i, 0) : 0.0;
-    leafOf[i] = std::isfinite(id) ? static_cast<int>(std::lround(id)) : -1;
-    members[leafOf[i]].push_back(i);
+    in.points[i] = self->GetScale() * Eigen::Vector3d(p[0], p[1], p[2]);
   }
   return {};
 }
 
+/// Collective: the ranks agree on every leaf id; each local leaf's points are keyed by the index of its id.
+void IndexLeaves(vtkMultiProcessController* controller, LeafInput& in)
+{
+  std::vector<std::int64_t> distinct = in.ids;
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  in.leafIds = plantmorph::fittable::UnionOfIds(controller, distinct);
+  for (std::size_t i = 0; i < in.ids.size(); ++i)
+  {
+    const auto at = std::lower_bound(in.leafIds.begin(), in.leafIds.end(), in.ids[i]) - in.leafIds.begin();
+    in.members[static_cast<int>(at)].push_back(static_cast<vtkIdType>(i));
+  }
+}
 } // namespace
 
 namespace
@@ -349,49 +433,85 @@ namespace
 /// Each leaf is fitted whole on one owner rank (LeafFitExchange.h); the Scan output stays where its points are.
 constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::LeafPerRank;
 
-/// The failed fits of this rank's leaves, one line each ("leaf <id> (<n> points): <error>"); empty when none failed.
-std::string FitErrors(const plantmorph::fitmpi::LeafExchange& exchange, const std::vector<std::size_t>& owned,
-  const std::vector<std::vector<Eigen::Vector3d>>& leaves, const std::vector<plantmorph::LeafFitResult>& results)
+/// The Traits rows of this rank's pieces; their failures and warnings said here (WarnHere). `errors` gets the
+/// failures, one line each ("leaf <id> (<n> points): <error>").
+std::vector<plantmorph::fittable::Row> PieceRows(const LeafInput& in, const std::vector<std::size_t>& owned,
+  const OwnedFits& fits, const plantmorph::Run& run, std::string& errors)
 {
-  std::ostringstream message;
-  for (std::size_t k = 0; k < results.size(); ++k)
-    if (!results[k].error.empty())
-      message << (message.tellp() > 0 ? "\n" : "") << "leaf " << exchange.LeafIds()[owned[k]] << " ("
-              << leaves[k].size() << " points): " << results[k].error;
-  return message.str();
+  std::vector<plantmorph::fittable::Row> rows;
+  const std::size_t width = plantmorph::TraitNames().size();
+  for (const Piece& piece : fits.pieces)
+  {
+    plantmorph::fittable::Row row;
+    row.leafId = in.OutputId(owned[piece.group], piece.piece);
+    const std::string leaf = "leaf " + std::to_string(row.leafId) + " (" + std::to_string(piece.points) + " points)";
+    if (!piece.fit.error.empty())
+    {
+      row.status = static_cast<int>(plantmorph::LeafStatus::Failed);
+      row.values.assign(width, std::numeric_limits<double>::quiet_NaN());
+      row.message = piece.fit.error;
+      errors += (errors.empty() ? "" : "\n") + leaf + ": " + piece.fit.error;
+    }
+    else
+    {
+      row.values = plantmorph::TraitValues(piece.fit.traits);
+      for (const std::string& warning : piece.warnings)
+        row.message += (row.message.empty() ? "" : "; ") + warning;
+      row.status =
+        static_cast<int>(row.message.empty() ? plantmorph::LeafStatus::Fitted : plantmorph::LeafStatus::Warning);
+      if (!row.message.empty())
+        run.WarnHere(leaf + ": " + row.message);
+    }
+    rows.push_back(row);
+  }
+  return rows;
 }
 
-/// Blade and Outline of the leaves this rank fitted; their Traits rows, gathered on rank 0 in LeafId order
-/// (collective).
-void WriteFits(const plantmorph::fitmpi::LeafExchange& exchange, const std::vector<std::size_t>& owned,
-  const std::vector<plantmorph::LeafFitResult>& results, double scale, const plantmorph::Run& run)
+/// Says, as a warning, how the points were cut into separate blades (without LeafIdArray).
+void WarnSeparation(const LeafInput& in, const OwnedFits& fits, const plantmorph::Run& run)
+{
+  for (const plantmorph::LeafSeparation& cut : fits.separations)
+    if (in.separate && cut.count > 1)
+    {
+      std::ostringstream message;
+      message << "LeafIdArray is empty and the points form " << cut.count << " separate blades (points closer than "
+              << cut.radius << " joined): each is fitted as a leaf, LeafId 0 to " << cut.count - 1
+              << "; name a LeafIdArray to say which points are one leaf";
+      run.WarnHere(message.str());
+    }
+}
+
+/// Blade and Outline of the leaves this rank fitted; the Traits and Plant tables from every rank's rows, gathered on
+/// rank 0 in LeafId order (collective).
+void WriteFits(const LeafInput& in, const std::vector<std::size_t>& owned, const OwnedFits& fits,
+  const std::vector<plantmorph::fittable::Row>& rows, const std::string& lengthUnit, double scale,
+  const plantmorph::Run& run)
 {
   vtkPolyData* blade = run.Output<vtkPolyData>(0);
   vtkPolyData* outline = run.Output<vtkPolyData>(1);
-  vtkTable* traits = run.Output<vtkTable>(2);
-  PrepareOutputs(blade, outline, traits);
+  PrepareOutputs(blade, outline);
   vtkNew<vtkPoints> points, outlinePoints;
   points->SetDataTypeToDouble();
   outlinePoints->SetDataTypeToDouble();
   vtkNew<vtkCellArray> triangles, lines;
-  std::vector<double> rows;
-  for (std::size_t k = 0; k < results.size(); ++k)
-  {
-    const int leafId = exchange.LeafIds()[owned[k]];
-    AppendLeaf(results[k], leafId, points, triangles, blade, outlinePoints, lines, outline);
-    rows.push_back(leafId);
-    const std::vector<double> row = plantmorph::TraitValues(results[k].traits);
-    rows.insert(rows.end(), row.begin(), row.end());
-  }
+  for (const Piece& piece : fits.pieces)
+    if (piece.fit.error.empty())
+      AppendLeaf(piece.fit, in.OutputId(owned[piece.group], piece.piece), points, triangles, blade, outlinePoints,
+        lines, outline);
   blade->SetPoints(points);
   blade->SetPolys(triangles);
   outline->SetPoints(outlinePoints);
   outline->SetLines(lines);
   plantmorph::FieldRecord record;
   record.Add("Scale", scale);
+  record.Add("LengthUnit", lengthUnit);
   record.WriteTo(blade);
-  const int width = static_cast<int>(plantmorph::TraitNames().size()) + 1;
-  FillTraits(exchange.GatherRows(rows, width), traits);
+  const std::vector<plantmorph::fittable::Row> all =
+    plantmorph::fittable::GatherRows(vtkMultiProcessController::GetGlobalController(), rows);
+  if (run.Rank() != 0)
+    return;
+  plantmorph::fittable::FillTraitsTable(all, lengthUnit, run.Output<vtkTable>(2));
+  plantmorph::fittable::FillPlantTable(all, lengthUnit, run.Output<vtkTable>(4));
 }
 } // namespace
 
@@ -405,32 +525,35 @@ int vtkLeafFitFilter::RequestData(
 void vtkLeafFitFilter::Execute(plantmorph::Run& run)
 {
   vtkPointSet* input = run.Input<vtkPointSet>(0);
-  // The local piece's leaves; then (collective, LeafFitExchange.h) each leaf's owner, and the points of the leaves
-  // this rank owns. Every rank takes part even when its piece is empty or wrong; the ranks stop together, each
-  // saying its own error.
-  std::vector<Eigen::Vector3d> all;
-  std::vector<int> leafOf;
-  plantmorph::fitmpi::LocalLeaves members;
-  const std::string error = ReadLeaves(this, input, all, leafOf, members);
-  const plantmorph::fitmpi::LeafExchange exchange(vtkMultiProcessController::GetGlobalController(), members);
+  // The local piece's leaves; then (collective) every leaf's id, each leaf's owner (LeafFitExchange.h), and the
+  // points of the leaves this rank owns. Every rank takes part even when its piece is empty or wrong; the ranks stop
+  // together, each saying its own error.
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  LeafInput in;
+  const std::string error = ReadLeaves(this, input, in);
+  IndexLeaves(controller, in);
+  const plantmorph::fitmpi::LeafExchange exchange(controller, in.members);
   run.StopIfAnyRankFailed(exchange.AnyRank(!error.empty()), error);
   if (exchange.LeafIds().empty())
     return; // no points on any rank: empty outputs, no error
   const std::vector<std::size_t> owned = exchange.Owned();
-  const std::vector<std::vector<Eigen::Vector3d>> leaves = exchange.SendPoints(members, all);
-  std::vector<std::vector<double>> values;
-  const std::vector<plantmorph::LeafFitResult> results = FitOwned(leaves, Options(this), values);
-  const std::string fitErrors = FitErrors(exchange, owned, leaves, results);
-  run.StopIfAnyRankFailed(exchange.AnyRank(!fitErrors.empty()), fitErrors);
-  for (std::size_t k = 0; k < results.size(); ++k)
-    if (!results[k].modelWarning.empty())
-      run.WarnHere("leaf " + std::to_string(exchange.LeafIds()[owned[k]]) + ": " + results[k].modelWarning);
-  WriteFits(exchange, owned, results, this->Scale, run);
-  // Scan: stays where its points are; the owners send each point's FitDistance, Inlier and Region back.
+  const OwnedFits fits = FitOwned(exchange.SendPoints(in.members, in.points), Options(this), in.separate);
+  WarnSeparation(in, fits, run);
+  std::string errors;
+  const std::vector<plantmorph::fittable::Row> rows = PieceRows(in, owned, fits, run, errors);
+  const bool fittedHere =
+    std::any_of(fits.pieces.begin(), fits.pieces.end(), [](const Piece& piece) { return piece.fit.error.empty(); });
+  // No leaf fitted anywhere: an error (each rank says its leaves'); else the failed leaves get their rows.
+  run.StopIfAnyRankFailed(!exchange.AnyRank(fittedHere), errors);
+  if (!errors.empty())
+    run.WarnHere("not fitted (the other leaves are; their Traits rows have Status 2 and the reason):\n" + errors);
+  const std::string unit = plantmorph::ScaledUnit(this->InputUnit, this->Scale);
+  WriteFits(in, owned, fits, rows, unit, this->Scale, run);
+  // Scan: stays where its points are; the owners send each point's FitDistance, Inlier, Region and blade back.
   const std::vector<double> pointValues =
-    exchange.ReturnValues(members, static_cast<vtkIdType>(all.size()), values, ScanValues);
-  if (!all.empty())
-    FillScan(input, all, leafOf, pointValues, run.Output<vtkPolyData>(3));
+    exchange.ReturnValues(in.members, static_cast<vtkIdType>(in.points.size()), fits.values, ScanValues);
+  if (!in.points.empty())
+    FillScan(input, in, pointValues, run.Output<vtkPolyData>(3));
 }
 
 void vtkLeafFitFilter::PrintSelf(ostream& os, vtkIndent indent)
@@ -438,6 +561,7 @@ void vtkLeafFitFilter::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Scale: " << this->Scale << "\n"
      << indent << "LeafIdArray: " << this->LeafIdArray << "\n"
+     << indent << "InputUnit: " << this->InputUnit << "\n"
      << indent << "UpAxis: " << this->UpAxis << "\n"
      << indent << "UseBasePoint: " << this->UseBasePoint << "\n"
      << indent << "UseApexPoint: " << this->UseApexPoint << "\n"

@@ -17,8 +17,16 @@
  * the origin, midvein along +Y), which rebuilds (then curl it with LeafCurlFilter): when ModelControlPoints
  * interpolating points fold it (a margin close to the midvein), fewer are given (by twos, down to 3; the count used
  * is `.ControlPoints`), and if none rebuilds a warning names the leaf. Port 1, **Outline**: left margin, right margin and midvein of each leaf (cell `Region` 4, 4, 1, `LeafId`).
- * Port 2, **Traits**: a vtkTable, one row per leaf (LeafId, then plantmorph::TraitNames()). Port 3, **Scan**: the
- * input points (scaled) with their point data and `FitDistance`, `Inlier`, `LeafId`.
+ * Port 2, **Traits**: a vtkTable, one row per leaf, fitted or not (LeafId, plantmorph::TraitNames(), Status,
+ * Message, LengthUnit; LeafFitTables.h). Port 3, **Scan**: the input points (scaled) with their point data and
+ * `FitDistance`, `Inlier`, `LeafId`. Port 4, **Plant**: one row for the whole input (leaf count, total and mean
+ * area, the leaf inclination angle distribution: plantmorph::PlantColumnNames()).
+ *
+ * Without LeafIdArray the points are cut into the separate blades they form (plantmorph::SeparateLeaves, a warning
+ * says how many), each fitted as a leaf. A leaf that cannot be fitted gets a row with Status 2, NaN traits and the
+ * reason in Message, and a warning; the others are fitted as usual (only when no leaf fits is it an error). A
+ * fitted leaf whose checks fail (plantmorph::CheckFittedLeaf: low Coverage, a flat model of another area) gets
+ * Status 1, the warning in Message, and the warning said.
  *
  * Under MPI each rank fits its own leaves (LeafFitExchange.h): every leaf gets one owner rank (largest leaves
  * first, each to the least loaded rank), its points are sent there from every rank that holds some, and it is
@@ -52,9 +60,15 @@ public:
   vtkSetMacro(Scale, double);
   vtkGetMacro(Scale, double);
 
-  /// Point array telling leaves apart (integer values; empty: one leaf). Default empty.
+  /// Point array telling leaves apart (integer values of any type, read as 64-bit integers; floating-point values
+  /// must be whole numbers). Empty or "None" (default): the separate blades the points form are the leaves.
   void SetLeafIdArray(const char* name);
   const char* GetLeafIdArray() const { return this->LeafIdArray.c_str(); }
+
+  /// The unit of the input coordinates ("mm", the default; "" unknown): with Scale it gives the output length unit
+  /// written with the tables (their LengthUnit column and PlantMorph.ColumnUnits field data).
+  void SetInputUnit(const char* unit);
+  const char* GetInputUnit() const { return this->InputUnit.c_str(); }
 
   /// Vertical axis: 0 X, 1 Y, 2 Z (default). For Inclination, Azimuth, HorizontalArea and the upper side.
   vtkSetClampMacro(UpAxis, int, 0, 2);
@@ -108,7 +122,8 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double Scale = 1.0;
-  std::string LeafIdArray;
+  std::string LeafIdArray = "None";
+  std::string InputUnit = "mm";
   int UpAxis = 2;
   int UseBasePoint = 0;
   double BasePoint[3] = { 0.0, 0.0, 0.0 };

@@ -11,7 +11,7 @@ import os
 
 import numpy
 
-from plantmorph_testing import Checks, load_plugin, parse_arguments
+from plantmorph_testing import Checks, load_plugin, Messages, parse_arguments
 
 from paraview.simple import *  # noqa: F401,F403 (the pvpython way)
 from paraview import servermanager
@@ -102,6 +102,19 @@ scaled_points = vtk_to_numpy(servermanager.Fetch(scaled).GetPoints().GetData())
 checks.check(numpy.allclose(scaled_points, 0.1 * expected[:, 0:3], rtol=0, atol=1e-12), "Scale 0.1: points in cm")
 checks.check(servermanager.Fetch(scaled).GetPointData().GetArray("SignedDistance") is not None,
              "signed distance against a surface")
+# A unit mismatch: the same scan without Scale (mm against cm) is about 10 times the leaf's size, and a warning says
+# so with both sizes; with Scale 0.1 (same size) no such warning.
+mismatched = CloudComparisonFilter(Input=reader, Reference=leaf)
+with Messages(mismatched) as said:
+    mismatched.UpdatePipeline()
+checks.check(said.said("unit mismatch", "Scale", kind="warning"), "mm against cm without Scale: a unit-mismatch warning "
+             "(%s)" % said.warnings)
+with Messages(scaled) as said:
+    scaled.Scale = 0.1000001
+    scaled.UpdatePipeline()
+checks.check(not said.said("unit mismatch"), "Scale 0.1: no unit-mismatch warning (%s)" % said.warnings)
+scaled.Scale = 0.1
+Delete(mismatched)
 
 # --- Trajectory Comparison Filter on the cucumber tip file, read through the reader's table port.
 tip = LeafCloudReader(FileName=tip_file)

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The checks that say when a fitted leaf is not to be trusted (LeafPlant.h: CheckFittedLeaf).
+#include "LeafPlant.h"
+
+#include "BSplineLeaf.h"
+#include "LeafGeometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace plantmorph
+{
+namespace
+{
+double Area2D(const std::vector<Eigen::Vector2d>& points, const std::vector<std::array<int, 3>>& triangles)
+{
+  double area = 0.0;
+  for (const auto& t : triangles)
+  {
+    const Eigen::Vector2d a = points[t[1]] - points[t[0]], b = points[t[2]] - points[t[0]];
+    area += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+  }
+  return area;
+}
+} // namespace
+
+double FlatModelArea(const LeafFitResult& fit, int resolution)
+{
+  if (fit.flatMidvein.size() < 2 || fit.flatLeftMargin.empty() || fit.flatRightMargin.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  LeafMeshParameters settings;
+  settings.resolution = std::max(resolution, 4);
+  settings.quality = false;
+  LeafGeometry rebuilt;
+  if (!BuildBSplineLeaf({ fit.flatMidvein, fit.flatLeftMargin, fit.flatRightMargin }, settings, rebuilt).empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  return Area2D(rebuilt.blade.points, rebuilt.blade.triangles);
+}
+
+double FlatBladeArea(const LeafFitResult& fit)
+{
+  return Area2D(fit.flat, fit.triangles);
+}
+
+std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolution)
+{
+  std::vector<std::string> warnings;
+  if (!fit.modelWarning.empty())
+    warnings.push_back(fit.modelWarning);
+  if (fit.traits.coverage < MinCoverage)
+  {
+    double support = 0.0;
+    for (double s : fit.support)
+      support = std::max(support, s);
+    std::ostringstream message;
+    message.precision(3);
+    message << "Coverage " << fit.traits.coverage << ": only " << 100.0 * fit.traits.coverage
+            << " % of the blade lies within two point spacings (" << 2.0 * fit.traits.spacing
+            << ") of the scan (Support up to " << support
+            << "): the blade spreads over empty space (a hole, a petiole or several leaves fitted as one?)";
+    warnings.push_back(message.str());
+  }
+  // The flat model against the fitted blade's area (the Area trait): laying a curved blade flat in its intrinsic
+  // coordinates changes its area, and a user who rebuilds and curls the model expects the leaf measured.
+  const double model = FlatModelArea(fit, resolution), area = fit.traits.area;
+  if (std::isfinite(model) && area > 0.0 && std::abs(model / area - 1.0) > MaxModelAreaError)
+  {
+    std::ostringstream message;
+    message.precision(4);
+    message << "the rebuildable flat model (Model C, " << fit.modelControlPoints
+            << " control points per curve) has area " << model << " against the fitted blade's " << area << " ("
+            << std::showpos << 100.0 * (model / area - 1.0) << std::noshowpos << " %; the blade laid flat has "
+            << FlatBladeArea(fit) << "): LeafOutlineSource rebuilds a leaf of another size than the one measured";
+    warnings.push_back(message.str());
+  }
+  return warnings;
+}
+
+} // namespace plantmorph

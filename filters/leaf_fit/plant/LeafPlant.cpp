@@ -1,0 +1,360 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Leaf ids, separate blades, the plant's summary and the columns' units (LeafPlant.h).
+#include "LeafPlant.h"
+#include "PointGrid.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+namespace plantmorph
+{
+namespace
+{
+int Find(std::vector<int>& parent, int i)
+{
+  while (parent[i] != i)
+  {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+double Median(std::vector<double> v)
+{
+  if (v.empty())
+    return 0.0;
+  const std::size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + m, v.end());
+  return v[m];
+}
+
+/// The median distance from (at most 20000, evenly strided) points to their nearest other point, zero distances
+/// (duplicates) left out.
+double MedianSpacing(const std::vector<Eigen::Vector3d>& points)
+{
+  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 20000);
+  std::vector<double> nearest;
+  for (std::size_t i = 0; i < points.size(); i += stride)
+  {
+    const auto nb = grid.Nearest(points[i], 1, static_cast<int>(i));
+    if (!nb.empty() && nb.front().first > 0.0)
+      nearest.push_back(std::sqrt(nb.front().first));
+  }
+  return Median(nearest);
+}
+
+/// Cubes of side radius / sqrt(3): the points of one cube are within `radius` of each other. The occupied cubes in
+/// lexicographic order of their (i, j, k); a cube's points are members[offsets[c], offsets[c + 1]).
+struct Cubes
+{
+  using Cell = std::array<std::int64_t, 3>;
+  std::vector<Cell> cells;
+  std::vector<int> offsets, members;
+
+  Cubes(const std::vector<Eigen::Vector3d>& points, double side)
+  {
+    std::vector<std::pair<Cell, int>> keyed(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      keyed[i] = { { static_cast<std::int64_t>(std::floor(points[i].x() / side)),
+                     static_cast<std::int64_t>(std::floor(points[i].y() / side)),
+                     static_cast<std::int64_t>(std::floor(points[i].z() / side)) },
+        static_cast<int>(i) };
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t i = 0; i < keyed.size(); ++i)
+    {
+      if (i == 0 || keyed[i].first != keyed[i - 1].first)
+      {
+        this->cells.push_back(keyed[i].first);
+        this->offsets.push_back(static_cast<int>(i));
+      }
+      this->members.push_back(keyed[i].second);
+    }
+    this->offsets.push_back(static_cast<int>(keyed.size()));
+  }
+};
+
+/// True when a point of cube a is within sqrt(r2) of a point of cube b.
+bool Near(const std::vector<Eigen::Vector3d>& points, const Cubes& cubes, int a, int b, double r2)
+{
+  for (int i = cubes.offsets[a]; i < cubes.offsets[a + 1]; ++i)
+    for (int j = cubes.offsets[b]; j < cubes.offsets[b + 1]; ++j)
+      if ((points[cubes.members[i]] - points[cubes.members[j]]).squaredNorm() <= r2)
+        return true;
+  return false;
+}
+
+/// Connected parts of the points at `radius`, as parts of the cubes (a cube's points are one part): two cubes up to
+/// two apart along each axis are joined when any of their points are within `radius`, looked for only while they are
+/// apart. The adjacent cubes first, so that on a continuous sheet the farther ones are already joined. Each offset
+/// is one merge-like walk over the sorted cubes (adding an offset keeps their order): no hashing, memory in order.
+std::vector<int> CubeParts(const std::vector<Eigen::Vector3d>& points, const Cubes& cubes, double radius)
+{
+  const int m = static_cast<int>(cubes.cells.size());
+  std::vector<int> parent(m);
+  std::iota(parent.begin(), parent.end(), 0);
+  const double r2 = radius * radius;
+  for (std::int64_t reach = 1; reach <= 2; ++reach)
+    for (std::int64_t dx = 0; dx <= reach; ++dx)
+      for (std::int64_t dy = -reach; dy <= reach; ++dy)
+        for (std::int64_t dz = -reach; dz <= reach; ++dz)
+        {
+          // Each pair once: the offsets after (0, 0, 0) in lexicographic order, at this reach exactly.
+          const Cubes::Cell d = { dx, dy, dz };
+          if (d <= Cubes::Cell{ 0, 0, 0 } || std::max({ std::abs(dx), std::abs(dy), std::abs(dz) }) != reach)
+            continue;
+          int b = 0;
+          for (int a = 0; a < m; ++a)
+          {
+            const Cubes::Cell& c = cubes.cells[a];
+            const Cubes::Cell target = { c[0] + dx, c[1] + dy, c[2] + dz };
+            while (b < m && cubes.cells[b] < target)
+              ++b;
+            if (b == m)
+              break;
+            if (cubes.cells[b] != target)
+              continue;
+            const int ra = Find(parent, a), rb = Find(parent, b);
+            if (ra != rb && Near(points, cubes, a, b, r2))
+              parent[std::max(ra, rb)] = std::min(ra, rb);
+          }
+        }
+  return parent;
+}
+} // namespace
+
+std::string LeafIdOf(double value, const std::string& array, std::int64_t& id)
+{
+  // 2^63 is exact in double; every double below it in magnitude that is an integer converts exactly.
+  const double limit = 9223372036854775808.0;
+  if (std::isfinite(value) && std::floor(value) == value && value >= -limit && value < limit)
+  {
+    id = static_cast<std::int64_t>(value);
+    return {};
+  }
+  std::ostringstream message;
+  message.precision(17);
+  message << "LeafIdArray: '" << array << "' holds " << value
+          << (std::isfinite(value) ? ", not an integer" : ", not a number")
+          << ": leaf ids must be integers (an integer array, or whole numbers in a floating-point one)";
+  return message.str();
+}
+
+LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points)
+{
+  LeafSeparation result;
+  result.leafOf.assign(points.size(), 0);
+  result.count = 1;
+  std::vector<int> finite;
+  std::vector<Eigen::Vector3d> finitePoints;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (points[i].allFinite())
+    {
+      finite.push_back(static_cast<int>(i));
+      finitePoints.push_back(points[i]);
+    }
+  if (finitePoints.size() < 2)
+    return result;
+  result.radius = SeparationSpacings * MedianSpacing(finitePoints);
+  if (!(result.radius > 0.0))
+    return result;
+  const Cubes cubes(finitePoints, result.radius / std::sqrt(3.0));
+  std::vector<int> parent = CubeParts(finitePoints, cubes, result.radius);
+  const int m = static_cast<int>(finitePoints.size());
+  std::vector<int> partOf(m);
+  for (int c = 0; c < static_cast<int>(cubes.cells.size()); ++c)
+    for (int k = cubes.offsets[c]; k < cubes.offsets[c + 1]; ++k)
+      partOf[cubes.members[k]] = Find(parent, c);
+  std::vector<int> size(cubes.cells.size(), 0);
+  for (int i = 0; i < m; ++i)
+    ++size[partOf[i]];
+  const int largest = *std::max_element(size.begin(), size.end());
+  // The large parts, numbered in the order of their first point.
+  std::vector<int> leafOfPart(cubes.cells.size(), -1);
+  int count = 0;
+  std::vector<Eigen::Vector3d> leafPoints;
+  std::vector<int> leafIds;
+  for (int i = 0; i < m; ++i)
+  {
+    const int part = partOf[i];
+    if (leafOfPart[part] < 0 && size[part] >= MinLeafPoints && size[part] * 20 >= largest)
+      leafOfPart[part] = count++;
+    if (leafOfPart[part] >= 0)
+    {
+      leafPoints.push_back(finitePoints[i]);
+      leafIds.push_back(leafOfPart[part]);
+    }
+  }
+  if (count <= 1)
+    return result;
+  // The small parts' points go with the nearest leaf.
+  const PointGrid leaves(leafPoints, PointGrid::CellFor(leafPoints, 4.0));
+  std::vector<unsigned char> seen(cubes.cells.size(), 0);
+  for (int i = 0; i < m; ++i)
+  {
+    int leaf = leafOfPart[partOf[i]];
+    if (leaf < 0)
+    {
+      leaf = leafIds[leaves.Nearest(finitePoints[i], 1).front().second];
+      result.strayParts += seen[partOf[i]] ? 0 : 1;
+      seen[partOf[i]] = 1;
+    }
+    result.leafOf[finite[i]] = leaf;
+  }
+  result.count = count;
+  return result;
+}
+
+BetaFit FitBetaDistribution(const std::vector<double>& degrees)
+{
+  BetaFit beta;
+  std::vector<double> t;
+  for (double d : degrees)
+    if (std::isfinite(d))
+      t.push_back(std::clamp(d / 90.0, 0.0, 1.0));
+  if (t.size() < 2)
+    return beta;
+  const double n = static_cast<double>(t.size());
+  const double mean = std::accumulate(t.begin(), t.end(), 0.0) / n;
+  double variance = 0.0;
+  for (double x : t)
+    variance += (x - mean) * (x - mean);
+  variance /= n;
+  if (!(variance > 0.0) || !(mean > 0.0 && mean < 1.0))
+    return beta;
+  const double common = mean * (1.0 - mean) / variance - 1.0;
+  if (!(common > 0.0))
+    return beta; // more spread than any beta distribution has (all angles at 0 and 90)
+  beta.nu = mean * common;
+  beta.mu = (1.0 - mean) * common;
+  beta.valid = true;
+  return beta;
+}
+
+double BetaDensity(const BetaFit& beta, double degrees)
+{
+  const double t = degrees / 90.0;
+  if (!beta.valid || !(t > 0.0 && t < 1.0))
+    return 0.0;
+  const double logB = std::lgamma(beta.mu) + std::lgamma(beta.nu) - std::lgamma(beta.mu + beta.nu);
+  return std::exp((beta.nu - 1.0) * std::log(t) + (beta.mu - 1.0) * std::log1p(-t) - logB) / 90.0;
+}
+
+PlantSummary SummarizePlant(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted)
+{
+  PlantSummary plant;
+  plant.inclinationFraction.assign(InclinationClasses, 0.0);
+  std::vector<double> angles;
+  for (std::size_t i = 0; i < traits.size(); ++i)
+  {
+    if (i < fitted.size() && !fitted[i])
+    {
+      ++plant.failed;
+      continue;
+    }
+    ++plant.leaves;
+    plant.totalArea += traits[i].area;
+    angles.push_back(traits[i].inclination);
+  }
+  if (plant.leaves == 0)
+  {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    plant.meanArea = plant.meanInclination = nan;
+    return plant;
+  }
+  plant.meanArea = plant.totalArea / plant.leaves;
+  plant.meanInclination = std::accumulate(angles.begin(), angles.end(), 0.0) / plant.leaves;
+  for (double a : angles)
+  {
+    const int k = std::clamp(static_cast<int>(std::floor(a / 10.0)), 0, InclinationClasses - 1);
+    plant.inclinationFraction[k] += 1.0 / plant.leaves;
+  }
+  plant.beta = FitBetaDistribution(angles);
+  return plant;
+}
+
+std::vector<std::string> PlantColumnNames()
+{
+  std::vector<std::string> names = { "LeafCount", "FailedLeaves", "TotalLeafArea", "MeanLeafArea",
+    "MeanLeafInclination", "InclinationBetaMu", "InclinationBetaNu" };
+  for (int k = 0; k < InclinationClasses; ++k)
+    names.push_back("Inclination" + std::to_string(10 * k) + "_" + std::to_string(10 * k + 10));
+  return names;
+}
+
+std::vector<double> PlantColumnValues(const PlantSummary& plant)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> values = { static_cast<double>(plant.leaves), static_cast<double>(plant.failed), plant.totalArea,
+    plant.meanArea, plant.meanInclination, plant.beta.valid ? plant.beta.mu : nan,
+    plant.beta.valid ? plant.beta.nu : nan };
+  for (int k = 0; k < InclinationClasses; ++k)
+    values.push_back(k < static_cast<int>(plant.inclinationFraction.size()) ? plant.inclinationFraction[k] : nan);
+  return values;
+}
+
+std::string ColumnUnit(const std::string& column, const std::string& lengthUnit)
+{
+  const std::string L = lengthUnit.empty() ? "L" : lengthUnit;
+  static const std::map<std::string, int> kinds = {
+    // 0 length, 1 area, 2 1/length, 3 degrees, 4 dimensionless, 5 count, 6 code or id, 7 text
+    { "Length", 0 }, { "Width", 0 }, { "ProjectedLength", 0 }, { "ProjectedWidth", 0 }, { "Perimeter", 0 },
+    { "FitRMS", 0 }, { "FitP95", 0 }, { "FitMax", 0 }, { "Spacing", 0 }, { "PetioleLength", 0 }, { "Area", 1 },
+    { "ProjectedArea", 1 }, { "HorizontalArea", 1 }, { "TotalLeafArea", 1 }, { "MeanLeafArea", 1 },
+    { "RollingCurvature", 2 }, { "Bending", 3 }, { "Rolling", 3 }, { "Inclination", 3 }, { "Azimuth", 3 },
+    { "MidveinInclination", 3 }, { "MeanLeafInclination", 3 }, { "AspectRatio", 4 }, { "Coverage", 4 },
+    { "InclinationBetaMu", 4 }, { "InclinationBetaNu", 4 }, { "Points", 5 }, { "Inliers", 5 }, { "LeafCount", 5 },
+    { "FailedLeaves", 5 }, { "LeafId", 6 }, { "BaseFrom", 6 }, { "Status", 6 }, { "Message", 7 }, { "LengthUnit", 7 }
+  };
+  const auto it = kinds.find(column);
+  if (it == kinds.end())
+    return column.rfind("Inclination", 0) == 0 && column.find('_') != std::string::npos ? "1" : "";
+  switch (it->second)
+  {
+    case 0:
+      return L;
+    case 1:
+      return L + "^2";
+    case 2:
+      return "1/" + L;
+    case 3:
+      return "degrees";
+    case 4:
+      return "1";
+    case 5:
+      return "count";
+    case 6:
+      return "code";
+    default:
+      return "text";
+  }
+}
+
+std::string ScaledUnit(const std::string& unit, double scale)
+{
+  if (unit.empty() || !(scale > 0.0) || !std::isfinite(scale))
+    return {};
+  static const std::vector<std::pair<std::string, double>> metres = { { "km", 1e3 }, { "m", 1.0 }, { "dm", 0.1 },
+    { "cm", 1e-2 }, { "mm", 1e-3 }, { "um", 1e-6 }, { "nm", 1e-9 } };
+  double size = 0.0;
+  for (const auto& u : metres)
+    if (u.first == unit)
+      size = u.second;
+  if (scale == 1.0)
+    return unit;
+  if (size > 0.0)
+    for (const auto& u : metres)
+      if (std::abs(size / scale / u.second - 1.0) < 1e-9)
+        return u.first;
+  std::ostringstream name;
+  name.precision(12);
+  name << "(" << 1.0 / scale << " " << unit << ")";
+  return name.str();
+}
+
+} // namespace plantmorph

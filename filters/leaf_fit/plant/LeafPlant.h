@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// LeafFitFilter on a plant (docs/methods/leaf-fit.md, "Several leaves" and "Trait reference"): which points are one
+// leaf, the checks that say when a fitted leaf is not to be trusted, and the plant's own table.
+// Plain C++17 (Eigen), no VTK.
+//
+// - Leaf ids: a LeafId is read as the integer it is (64 bits); a floating-point value that is not an integer (or is
+//   NaN, infinite, or beyond 64 bits) is refused, never rounded into another leaf.
+// - Separate blades: without leaf ids, the points are cut into the connected parts of the graph joining points
+//   closer than SeparationRadius (a few point spacings). Parts too small to be a leaf (fewer than MinLeafPoints, or
+//   under 5 % of the largest part: the fit's own cleaning rule) go with the nearest large part, where the fit's
+//   cleaning drops them as strays. The large parts are the leaves, numbered in the order of their first point.
+// - Checks of a fitted leaf: Coverage (the blade spreading over empty space) and the flat model's area against the
+//   fitted blade's.
+// - The plant: leaf count, total and mean area, the leaf inclination angle distribution (a histogram of 10-degree
+//   classes and the beta distribution fitted by the method of moments, as Goel and Strebel 1984 and Wang et al.
+//   2007 report it).
+#pragma once
+
+#include "LeafFit.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace plantmorph
+{
+
+/// The integer a LeafId value stands for; an error (naming `array` and the value) when it is NaN, infinite, not an
+/// integer or outside the 64-bit integers.
+std::string LeafIdOf(double value, const std::string& array, std::int64_t& id);
+
+/// The radius at which points are one blade: SeparationSpacings times the median nearest-neighbour distance.
+inline constexpr double SeparationSpacings = 6.0;
+
+struct LeafSeparation
+{
+  std::vector<int> leafOf; ///< for every point, its leaf 0 .. count-1
+  int count = 0;           ///< number of leaves
+  double radius = 0.0;     ///< the joining radius used
+  int strayParts = 0;      ///< small parts given to the nearest leaf
+};
+
+/// The separate blades of `points` (rules above). Points with non-finite coordinates go to leaf 0 (the fit then
+/// refuses them by name).
+LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points);
+
+/// Status of a Traits row.
+enum class LeafStatus
+{
+  Fitted = 0,  ///< fitted, nothing to say
+  Warning = 1, ///< fitted, but a check below failed: the Message says which
+  Failed = 2   ///< not fitted (the Message says why); the traits are NaN
+};
+
+/// Coverage below which a fitted blade is said to spread over empty space. On the shipped scans: 0.997 and 0.999
+/// (soybean leaflets 15 and 36), 0.924 (sugar beet 29 August); below it 0.879 (4 September, a flap spread over the
+/// petiole), 0.813 (30 August, the petiole taken for the apex), 0.854 (soybean leaflet 1).
+inline constexpr double MinCoverage = 0.9;
+/// Relative difference of areas beyond which the flat model is said not to be the fitted blade.
+inline constexpr double MaxModelAreaError = 0.02;
+
+/// The warnings of a successful fit, one sentence each: the model's own (modelWarning), low Coverage, and the flat
+/// Model C leaf (flatMidvein, flatLeftMargin, flatRightMargin rebuilt by LeafOutlineSource's B-spline leaf at
+/// `resolution`) whose area differs from the fitted blade's (the Area trait) by more than MaxModelAreaError.
+std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolution);
+
+/// The area of the flat Model C leaf of `fit` as LeafOutlineSource rebuilds it (NaN when it does not rebuild).
+double FlatModelArea(const LeafFitResult& fit, int resolution);
+/// The area of the fitted blade laid flat (its (t, s) mesh).
+double FlatBladeArea(const LeafFitResult& fit);
+
+/// A beta distribution of t = angle / 90 degrees, density t^(nu - 1) (1 - t)^(mu - 1) / B(mu, nu) (Goel and
+/// Strebel 1984): mean nu / (mu + nu).
+struct BetaFit
+{
+  double mu = 0.0, nu = 0.0;
+  bool valid = false; ///< false with fewer than 2 angles, or none strictly inside (0, 90), or no spread
+};
+
+/// Method of moments on angles in degrees [0, 90] (Wang et al. 2007): with m and v the mean and the (population)
+/// variance of t, nu = m (m (1 - m) / v - 1), mu = (1 - m) (m (1 - m) / v - 1).
+BetaFit FitBetaDistribution(const std::vector<double>& degrees);
+
+/// The density of `beta` at angle `degrees` per degree (the density of t divided by 90).
+double BetaDensity(const BetaFit& beta, double degrees);
+
+inline constexpr int InclinationClasses = 9; ///< 10-degree classes over [0, 90]
+
+struct PlantSummary
+{
+  int leaves = 0;       ///< leaves fitted
+  int failed = 0;       ///< leaves not fitted
+  double totalArea = 0; ///< sum of the fitted leaves' Area
+  double meanArea = 0;  ///< totalArea / leaves
+  double meanInclination = 0;
+  std::vector<double> inclinationFraction; ///< fraction of fitted leaves per 10-degree class (90 in the last)
+  BetaFit beta;
+};
+
+/// The plant's summary from its leaves' traits; `fitted[i]` false for leaves that were not fitted.
+PlantSummary SummarizePlant(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted);
+
+/// The plant table's column names and values, in the same order ("LeafCount", ...).
+std::vector<std::string> PlantColumnNames();
+std::vector<double> PlantColumnValues(const PlantSummary& plant);
+
+/// The unit of a Traits or Plant column, `lengthUnit` standing for the output length unit ("mm" gives "mm^2" for
+/// areas, "1/mm" for curvatures); "" for a name this does not know.
+std::string ColumnUnit(const std::string& column, const std::string& lengthUnit);
+
+/// The output length unit of input coordinates in `unit` multiplied by `scale`: a metric unit's name when the
+/// product is one ("mm" and 0.1 give "cm"), the unit itself for scale 1, else "(<1/scale> <unit>)"; "" for an
+/// empty unit.
+std::string ScaledUnit(const std::string& unit, double scale);
+
+} // namespace plantmorph

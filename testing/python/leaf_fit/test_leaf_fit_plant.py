@@ -1,0 +1,177 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""pvpython: LeafFitFilter on inputs of several leaves, as a plant scan gives them.
+
+- Two flat 10 x 4 ellipses 3 units apart, no LeafIdArray: two rows of area 10 pi (not one invented leaf), a warning
+  saying how many blades were found; the Plant port counts them.
+- LeafId as the integer it is: ids 0 and 2^32 (int64 array) stay two leaves on every port; a fraction or NaN in a
+  floating-point LeafId array is an error naming the array and the value, with empty outputs.
+- One leaf that cannot be fitted (10 points) gets a row with Status 2 and the reason, a warning, and the other
+  leaves' rows are what they are alone.
+- The Plant table: three leaves tilted by known angles give the inclination classes and the beta distribution the
+  method of moments gives on the Traits' own Inclination column (computed here independently).
+- Units: LengthUnit mm, cm with Scale 0.1; PlantMorph.ColumnUnits in field data.
+- LeafIdArray is a menu of the input's point arrays (None first); SurfaceSmoothing below 0.1 is refused.
+
+    pvpython test_leaf_fit_plant.py --plugin PlantMorph.so --work DIR
+"""
+import math
+
+from plantmorph_testing import Checks, load_plugin, Messages, parse_arguments
+
+arguments = parse_arguments()
+
+from paraview.simple import *  # noqa: E402,F401,F403
+from paraview import servermanager  # noqa: E402
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkPolyData  # noqa: E402
+import numpy  # noqa: E402
+
+load_plugin(arguments.plugin, globals())
+checks = Checks()
+random = numpy.random.default_rng(7)
+
+
+def ellipse(centre, tilt=0.0, a=2.0, b=5.0, h=0.1):
+    """A flat ellipse of semi-axes a (x) and b (y) sampled on a jittered grid, tilted by `tilt` degrees about x."""
+    x, y = numpy.meshgrid(numpy.arange(-a, a + h, h), numpy.arange(-b, b + h, h))
+    p = numpy.c_[x.ravel(), y.ravel()] + random.uniform(-0.03, 0.03, (x.size, 2))
+    p = p[(p[:, 0] / a) ** 2 + (p[:, 1] / b) ** 2 <= 1.0]
+    z = random.normal(0.0, 0.005, len(p))
+    c, s = math.cos(math.radians(tilt)), math.sin(math.radians(tilt))
+    return numpy.c_[p[:, 0], c * p[:, 1] - s * z, s * p[:, 1] + c * z] + numpy.asarray(centre)
+
+
+def source(points, ids=None, dtype=None):
+    data = vtkPolyData()
+    vtk_points = vtkPoints()
+    vtk_points.SetData(numpy_to_vtk(numpy.ascontiguousarray(points), deep=1))
+    data.SetPoints(vtk_points)
+    if ids is not None:
+        array = numpy_to_vtk(numpy.ascontiguousarray(ids, dtype=dtype), deep=1)
+        array.SetName("Leaf")
+        data.GetPointData().AddArray(array)
+    producer = TrivialProducer()
+    producer.GetClientSideObject().SetOutput(data)
+    return producer
+
+
+def fetch(proxy, port=0):
+    proxy.UpdatePipeline()
+    return servermanager.Fetch(proxy, idx=port)
+
+
+def rows(fit, port=2):
+    table = fetch(fit, port)
+    names = [table.GetColumnName(c) for c in range(table.GetNumberOfColumns())]
+    return [{n: (table.GetColumnByName(n).GetValue(r) if table.GetColumnByName(n).IsA("vtkStringArray")
+                 else table.GetValueByName(r, n).ToDouble()) for n in names} for r in range(table.GetNumberOfRows())]
+
+
+def run(fit):
+    with Messages(fit) as said:
+        fit.UpdatePipeline()
+    return said
+
+
+AREA = 10.0 * math.pi
+first, second = ellipse((0.0, 0.0, 0.0)), ellipse((7.0, 0.0, 0.0))
+both = numpy.r_[first, second]
+
+# Two blades, no LeafIdArray: two leaves.
+fit = LeafFitFilter(Input=source(both))
+said = run(fit)
+traits = rows(fit)
+checks.check(len(traits) == 2, "two blades without LeafIdArray: two rows (%d)" % len(traits))
+checks.check(all(abs(r["Area"] / AREA - 1.0) < 0.02 for r in traits),
+             "each of area 10 pi within 2 %%: %s" % [round(r["Area"], 2) for r in traits])
+checks.check([r["LeafId"] for r in traits] == [0, 1] and all(r["Status"] == 0 for r in traits),
+             "LeafId 0 and 1, Status 0")
+checks.check(said.said("2 separate blades", kind="warning"), "a warning says how many blades (%s)" % said.warnings)
+scan_ids = vtk_to_numpy(fetch(fit, 3).GetPointData().GetArray("LeafId"))
+checks.check(numpy.array_equal(scan_ids, numpy.r_[numpy.zeros(len(first)), numpy.ones(len(second))]),
+             "Scan: each point's LeafId is its blade's")
+plant = rows(fit, 4)
+checks.check(len(plant) == 1 and plant[0]["LeafCount"] == 2 and plant[0]["FailedLeaves"] == 0,
+             "Plant: one row, two leaves")
+checks.check(abs(plant[0]["TotalLeafArea"] - sum(r["Area"] for r in traits)) < 1e-9
+             and abs(plant[0]["MeanLeafArea"] - 0.5 * plant[0]["TotalLeafArea"]) < 1e-9, "Plant: total and mean area")
+checks.check(traits[0]["LengthUnit"] == "mm" and plant[0]["LengthUnit"] == "mm", "LengthUnit mm by default")
+units = fetch(fit, 2).GetFieldData().GetAbstractArray("PlantMorph.ColumnUnits")
+table = fetch(fit, 2)
+unit_of = {table.GetColumnName(c): units.GetValue(c) for c in range(table.GetNumberOfColumns())}
+checks.check(unit_of.get("Area") == "mm^2" and unit_of.get("Length") == "mm" and unit_of.get("Bending") == "degrees",
+             "PlantMorph.ColumnUnits: %s" % {k: unit_of.get(k) for k in ("Area", "Length", "Bending")})
+fit.Scale = 0.1
+checks.check(rows(fit)[0]["LengthUnit"] == "cm", "Scale 0.1 on mm: LengthUnit cm")
+Delete(fit)
+
+# The LeafIdArray menu lists the input's point arrays.
+ids = numpy.r_[numpy.zeros(len(first)), numpy.full(len(second), 2.0 ** 32)]
+fit = LeafFitFilter(Input=source(both, ids, numpy.int64))
+domain = fit.GetProperty("LeafIdArray").SMProperty.GetDomain("array_list")
+menu = [domain.GetString(i) for i in range(domain.GetNumberOfStrings())]
+checks.check(fit.LeafIdArray == "None" and "Leaf" in menu, "LeafIdArray: default None, menu %s" % menu)
+
+# Ids 0 and 2^32 stay apart.
+fit.LeafIdArray = "Leaf"
+traits = rows(fit)
+checks.check([r["LeafId"] for r in traits] == [0, 2 ** 32], "ids 0 and 2^32: two rows %s" % [
+    r["LeafId"] for r in traits])
+blade_ids = set(vtk_to_numpy(fetch(fit, 0).GetPointData().GetArray("LeafId")).tolist())
+checks.check(blade_ids == {0, 2 ** 32}, "Blade LeafId 0 and 2^32: %s" % blade_ids)
+alone = [rows(LeafFitFilter(Input=source(leaf)))[0] for leaf in (first, second)]
+checks.check(all(abs(r["Area"] - a["Area"]) < 1e-9 for r, a in zip(traits, alone)),
+             "each leaf's row is the leaf's alone")
+
+# Fractions and NaN: errors naming the array and a value, empty outputs.
+for value, word in ((0.4, "0.4"), (float("nan"), "nan")):
+    bad_ids = ids.copy()
+    bad_ids[5] = value
+    bad = LeafFitFilter(Input=source(both, bad_ids, numpy.float64), LeafIdArray="Leaf")
+    said = run(bad)
+    checks.check(said.said("'Leaf'", word, kind="error") and fetch(bad, 2).GetNumberOfRows() == 0
+                 and fetch(bad, 0).GetNumberOfPoints() == 0, "LeafId %s: an error naming the array and the value, "
+                 "empty outputs (%s)" % (word, said.errors))
+    Delete(bad)
+
+# One leaf that cannot be fitted: its row says why, the others are fitted.
+few = random.uniform(40.0, 41.0, (10, 3))
+with_bad = LeafFitFilter(Input=source(numpy.r_[both, few], numpy.r_[ids, numpy.full(10, 5)], numpy.int64),
+                         LeafIdArray="Leaf")
+said = run(with_bad)
+traits = rows(with_bad)
+checks.check([r["LeafId"] for r in traits] == [0, 5, 2 ** 32], "three rows in LeafId order: %s" % [
+    r["LeafId"] for r in traits])
+checks.check(traits[1]["Status"] == 2 and "too few points" in traits[1]["Message"]
+             and math.isnan(traits[1]["Area"]), "the bad leaf: Status 2, the reason, NaN traits")
+checks.check(traits[0]["Area"] == alone[0]["Area"] and traits[2]["Area"] == alone[1]["Area"],
+             "the other leaves fitted as alone")
+checks.check(said.said("leaf 5", "too few points", kind="warning") and not said.errors,
+             "a warning names the bad leaf, no error (%s %s)" % (said.warnings, said.errors))
+checks.check(rows(with_bad, 4)[0]["LeafCount"] == 2 and rows(with_bad, 4)[0]["FailedLeaves"] == 1,
+             "Plant: two leaves fitted, one failed")
+Delete(with_bad)
+
+# A plant of three leaves tilted by 15, 35 and 65 degrees: the inclination distribution.
+tilts = [15.0, 35.0, 65.0]
+plant_points = numpy.r_[tuple(ellipse((20.0 * k, 0.0, 0.0), tilt) for k, tilt in enumerate(tilts))]
+fit = LeafFitFilter(Input=source(plant_points))
+traits = rows(fit)
+angles = numpy.array([r["Inclination"] for r in traits])
+checks.check(len(traits) == 3 and numpy.allclose(angles, tilts, atol=1.0), "inclinations %s" % angles)
+plant = rows(fit, 4)[0]
+t = angles / 90.0
+common = t.mean() * (1.0 - t.mean()) / t.var() - 1.0
+checks.check(abs(plant["InclinationBetaNu"] - t.mean() * common) < 1e-9
+             and abs(plant["InclinationBetaMu"] - (1.0 - t.mean()) * common) < 1e-9,
+             "beta by the method of moments: mu %.4f nu %.4f" % (plant["InclinationBetaMu"], plant["InclinationBetaNu"]))
+classes = [plant["Inclination%d_%d" % (10 * k, 10 * k + 10)] for k in range(9)]
+checks.check(numpy.allclose(classes, [0, 1 / 3, 0, 1 / 3, 0, 0, 1 / 3, 0, 0]), "inclination classes %s" % classes)
+checks.check(abs(plant["MeanLeafInclination"] - angles.mean()) < 1e-9, "mean inclination")
+# SurfaceSmoothing below 0.1 lets the surface leave the points: refused.
+fit.SurfaceSmoothing = 0.0
+said = run(fit)
+checks.check(said.said("SurfaceSmoothing", kind="error") and fetch(fit, 2).GetNumberOfRows() == 0,
+             "SurfaceSmoothing 0: an error naming it (%s)" % said.errors)
+checks.finish()
