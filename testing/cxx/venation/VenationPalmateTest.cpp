@@ -213,6 +213,32 @@ TEST(PalmateVenation, OnePrimaryRunsIntoEachLobeAndReachesItsTip)
   }
 }
 
+TEST(PalmateVenation, LobedBladesPrimariesDoNotForkWhateverForkLevels)
+{
+  // ForkLevels makes the dichotomous fan of an entire blade; on a lobed blade each primary still runs undivided to
+  // its lobe's tip (forked, its two branches ended on both sides of the tip and the farthest tip was 0.82 leaf
+  // lengths from any primary).
+  for (const SpaceCurvePreset preset : { SpaceCurvePreset::Figure8ThreeLobes, SpaceCurvePreset::Figure8FiveLobes })
+  {
+    SCOPED_TRACE(SpaceCurvePresetName(preset));
+    const LeafGeometry leaf = Lobed(preset);
+    std::vector<Eigen::Vector2d> tips = { leaf.blade.points[leaf.midvein.back()] };
+    for (const std::vector<int>& lobe : leaf.lobeMidveins)
+      tips.push_back(leaf.blade.points[lobe.back()]);
+    for (int levels : { 1, 2 })
+    {
+      VenationParameters p = Palmate(4);
+      p.forkLevels = levels;
+      const VenationResult r = Grow(leaf, p);
+      EXPECT_EQ(Ends(r, VeinOrderPrimary).size(), tips.size()) << levels << " fork levels";
+      for (const Eigen::Vector2d& tip : tips)
+        EXPECT_LE(DistanceToVeins(r, VeinOrderPrimary, tip) / r.leafLength, 0.03) << levels << " fork levels";
+    }
+  }
+  // The filter's default is undivided primaries.
+  EXPECT_EQ(VenationParameters().forkLevels, 0);
+}
+
 TEST(PalmateVenation, BasalPrimariesRunIntoTheBasalLobesOfCordateBlades)
 {
   const LeafGeometry cucumber = Cucumber(),
