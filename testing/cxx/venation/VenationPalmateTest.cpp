@@ -600,6 +600,26 @@ TEST(PalmateVenation, WatermelonVeinsReachEveryLobeAtEverySeed)
   }
 }
 
+TEST(PalmateVenation, PrimariesReachEveryLobeOfThePinnatifidWatermelon)
+{
+  // LeafOutlineSource's pinnatifid watermelon (sinuses cut to 0.2 of the shorter lobe from the base): with the
+  // Watermelon preset and with Custom palmate veins (any ForkLevels), one primary to each of the five lobe tips.
+  const LeafGeometry leaf = Lobed(SpaceCurvePreset::WatermelonPinnatifid);
+  ASSERT_FALSE(leaf.blade.points.empty());
+  std::vector<Eigen::Vector2d> tips = { leaf.blade.points[leaf.midvein.back()] };
+  for (const std::vector<int>& lobe : leaf.lobeMidveins)
+    tips.push_back(leaf.blade.points[lobe.back()]);
+  ASSERT_EQ(tips.size(), 5u);
+  VenationParameters custom = Palmate(4);
+  custom.forkLevels = 1;
+  for (const VenationParameters& p : { MakeVenationPreset(VenationPreset::Watermelon), custom })
+  {
+    const VenationResult r = Grow(leaf, p);
+    for (const Eigen::Vector2d& tip : tips)
+      EXPECT_LE(DistanceToVeins(r, VeinOrderPrimary, tip) / r.leafLength, 0.03);
+  }
+}
+
 /// A sub-lobed watermelon blade (LeafOutlineSource's Watermelon preset) at Resolution 60.
 LeafGeometry SubLobedWatermelon()
 {

@@ -101,7 +101,7 @@ CONTEXT = {
     ("WiltingSimulator", "CurlStrain"): {"Resolution": 14},
     # Lobes: the curvature of the 3-lobed preset (Paper 002 Fig. 8), as the Custom defaults fold a lobed leaf.
     **{("LeafOutlineSource", name): {"CurvatureMu": 3.0, "CurvatureLambda": 0.5}
-       for name in ("LobeStart", "LobeAngle", "LobeScale", "SubLobes", "SubLobeDepth")},
+       for name in ("LobeStart", "LobeAngle", "LobeScale", "SubLobes", "SubLobeDepth", "SinusDepth")},
 }
 # (proxy, property, "min"/"max"): why that bound is not run at all (its run takes minutes).
 COSTLY = {
@@ -186,6 +186,8 @@ VALUE_AT_BOUND = {
     ("LeafOutlineSource", "BladeLength", "max"): "the default control points fold a blade this long and narrow",
     ("LeafOutlineSource", "BladeWidth", "min"): "the default control points fold a blade this narrow",
     ("LeafOutlineSource", "Asymmetry"): "the Custom outline folds at +-0.9",
+    ("LeafOutlineSource", "SinusDepth", "max"): "a sinus cut to 0.05 of the shorter lobe parts a lobe that starts a "
+                                                "fifth of the way up the previous one (LobeStart 0.2)",
     ("WiltingSimulator", "Resolution", "min"): "Physical units refuse voxels coarser than the blade is thick: "
                                                "below 14 with the default thickness",
     ("TreeFromSketchSource", "Length", "min"): EXCLUSIVE,
