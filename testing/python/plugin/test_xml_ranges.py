@@ -186,8 +186,6 @@ VALUE_AT_BOUND = {
     ("LeafOutlineSource", "BladeLength", "max"): "the default control points fold a blade this long and narrow",
     ("LeafOutlineSource", "BladeWidth", "min"): "the default control points fold a blade this narrow",
     ("LeafOutlineSource", "Asymmetry"): "the Custom outline folds at +-0.9",
-    ("LeafOutlineSource", "SinusDepth", "max"): "a sinus cut to 0.05 of the shorter lobe parts a lobe that starts a "
-                                                "fifth of the way up the previous one (LobeStart 0.2)",
     ("WiltingSimulator", "Resolution", "min"): "Physical units refuse voxels coarser than the blade is thick: "
                                                "below 14 with the default thickness",
     ("TreeFromSketchSource", "Length", "min"): EXCLUSIVE,
