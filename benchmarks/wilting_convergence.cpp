@@ -8,8 +8,8 @@
 //
 // The cucumber blade (testing/cxx/wilting/WiltingCucumberLeaf.h: LeafOutlineSource's B-spline Cucumber, midvein and
 // margin regions, no VenationFilter veins) of each blade length L (cm), WiltingSimulation with the Cucumber preset,
-// AnchorRadius 3 cm x L / 20.1 (geometrically similar leaves; --anchor-cm A: A cm at every size, the setting before
-// physical units), TimeStep 1/60 s, one Newton iteration, frames of 0.1 s. --legacy: the model before physical units
+// held as the preset holds it (3 / 22.308 of the leaf's longest side, 3 cm x L / 20.1; --anchor-cm A: A cm at every
+// size, what a preset did before it held the leaf in leaf lengths), TimeStep 1/60 s, one Newton iteration, frames of 0.1 s. --legacy: the model before physical units
 // (the fit's lattice values at the 20 cm leaf's Resolution 14 edge h0, stiffness scaled by h/h0 and loads by (h/h0)^3).
 // Prints per run: "rises back" (the largest rise of the tip's height after its lowest point so far, / L), the lowest
 // tip height / L, the tip's displacement / L at the end, the largest distance (/ L) of the tip path from the finest
@@ -146,7 +146,13 @@ int main(int argc, char** argv)
       if (legacy)
         MakeLegacy(p);
       p.resolution = static_cast<int>(r);
-      p.anchorRadius = anchorCm > 0.0 ? anchorCm : 3.0 * length / 20.1;
+      if (anchorCm > 0.0 || legacy)
+      {
+        p.anchorFraction = 0.0; // a radius in cm, as before the presets held the leaf in leaf lengths
+        p.anchorRadius = anchorCm > 0.0 ? anchorCm : 3.0 * length / 20.1;
+      }
+      if (legacy)
+        p.referenceLength = 0.0; // before elastic similarity
       p.duration = duration;
       p.frameInterval = 0.1;
       p.newmark.timeStep = 1.0 / 60.0;

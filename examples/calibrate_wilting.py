@@ -273,7 +273,7 @@ def best_yaw(track, score):
 leaf = LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength=arguments.length,
                          BladeWidth=arguments.width, Resolution=30)
 veins = VenationFilter(Input=leaf, Preset="Custom", Pattern="Palmate (actinodromous)",
-                       PalmateEnds="Along the far edge (paper 000)")  # the veins the Cucumber preset was fitted on
+                       PalmateEnds="Along the far edge (paper 000)", ForkLevels=1)  # the veins the Cucumber preset was fitted on
 wilt = WiltingSimulator(Input=OutputPort(veins, 1), Veins=OutputPort(veins, 0), Preset="Custom", Units="Physical",
                         LoadProfile="Sigmoid", ContractionSide="Bottom", ContractionTarget="Base",
                         RayleighBeta=0.01, **SETTINGS)

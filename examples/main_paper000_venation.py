@@ -14,7 +14,8 @@
 - venation_wilting_species.png: the presets of the wilting species on their blades: cucumber (palmate to the lobe
   and basal-lobe tips, craspedodromous secondaries off each primary, a hierarchical reticulum), watermelon (palmate,
   one primary per lobe with secondaries into its flanks and one to each sub-lobe tip, on LeafOutlineSource's
-  Watermelon blade: paper 002's five lobes, each with two sub-lobes a side) and a tomato leaflet
+  Watermelon blade: paper 002's five lobes, each with two sub-lobes a side), the same venation on the pinnatifid
+  watermelon blade (SinusDepth 0.8: sinuses nearly to the base, the middle lobe longest) and a tomato leaflet
   (pinnate semicraspedodromous, on a serrate blade).
 Each figure's veins and blade are written as .vtp files.
 
@@ -109,22 +110,28 @@ for k, ((name, leaf, closed), x) in enumerate(zip(colonized, [0.0, 6.0, 14.0, 22
 save_framed_png(view, os.path.join(arguments.output, "venation_space_colonization.png"), [11.0, 2.2, 0.0],
                 [11.0, 2.2, 50.0], [0.0, 1.0, 0.0], 3.9)
 
-# The wilting species' presets on their blades.
-view = white_view(1500, 560)
+# The wilting species' presets on their blades; the watermelon twice: the sub-lobed union of paper 002's five lobes
+# (shallow sinuses) and the pinnatifid outline (SinusDepth: sinuses nearly to the base, the middle lobe longest).
+view = white_view(1900, 560)
 species = [("Cucumber (palmate)", LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength=5.0,
                                                     BladeWidth=5.5, Resolution=80, MeshQuality="Quality"), "Cucumber"),
            ("Watermelon (palmate, lobed)", LeafOutlineSource(Model="Space curve",
                                                              SpaceCurvePreset="Watermelon (5 lobes, sub-lobed)",
                                                              Length=5.0,
                                                              Resolution=80, MeshQuality="Quality"), "Watermelon"),
+           ("Watermelon (palmate, lobed)", LeafOutlineSource(Model="Space curve",
+                                                             SpaceCurvePreset="Watermelon, pinnatifid (deep sinuses)",
+                                                             Resolution=80, MeshQuality="Quality"),
+            "Watermelon pinnatifid"),
            ("Tomato (pinnate leaflet)", LeafOutlineSource(Preset="Serrate", Length=5.0, Resolution=80,
                                                           MeshQuality="Quality"), "Tomato leaflet")]
-for k, ((preset, leaf, title), x) in enumerate(zip(species, [0.0, 9.0, 16.5])):
+for k, ((preset, leaf, title), x) in enumerate(zip(species, [0.0, 9.0, 17.5, 24.5])):
     venation = VenationFilter(Input=OutputPort(leaf, 0), Preset=preset, Seed=1)
-    save_vtp(venation, os.path.join(arguments.output, "venation_%s_veins.vtp" % title.split(" ")[0].lower()), port=0)
+    save_vtp(venation, os.path.join(arguments.output, "venation_%s_veins.vtp" % "_".join(
+        title.split(" ")[:2 if "pinnatifid" in title else 1]).lower()), port=0)
     offset = [x, 0.0]
     show_leaf(leaf, venation, view, offset)
     caption(view, title, [offset[0] - 1.6, -1.5, 0.0], 0.3)
-save_framed_png(view, os.path.join(arguments.output, "venation_wilting_species.png"), [8.0, 1.9, 0.0],
-                [8.0, 1.9, 50.0], [0.0, 1.0, 0.0], 4.15)
+save_framed_png(view, os.path.join(arguments.output, "venation_wilting_species.png"), [12.2, 1.9, 0.0],
+                [12.2, 1.9, 50.0], [0.0, 1.0, 0.0], 4.45)
 save_state(arguments, "paper000_venation")

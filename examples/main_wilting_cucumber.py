@@ -34,7 +34,7 @@ leaf = LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength
 # The Cucumber preset was fitted on paper 000's palmate construction (vein ends along the far edge), so the example
 # grows that one; the default, veins fanned over the blade, awaits the preset's refit.
 venation = VenationFilter(Input=OutputPort(leaf, 0), Preset="Custom", Pattern="Palmate (actinodromous)", Seed=1,
-                          PalmateEnds="Along the far edge (paper 000)")
+                          PalmateEnds="Along the far edge (paper 000)", ForkLevels=1)
 wilt = WiltingSimulator(Input=OutputPort(venation, 1), Veins=OutputPort(venation, 0), Preset="Cucumber", **SETTINGS)
 wilt.UpdatePipeline(0.0)
 

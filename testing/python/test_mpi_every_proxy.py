@@ -39,7 +39,7 @@ loop = AdaptiveLoopFilter(Input=spline, MaximumLevel=1)
 curl = LeafCurlFilter(Input=loop, LongitudinalAngle=60.0, TransverseAngle=40.0)
 spline_veins = VenationFilter(Input=spline, Preset="Custom", Pattern="Palmate (actinodromous)")
 wilt = WiltingSimulator(Input=OutputPort(spline_veins, 1), Veins=OutputPort(spline_veins, 0), Preset="Cucumber",
-                        Resolution=8, Duration=WILT_TIME, FrameInterval=0.25)
+                        Resolution=14, Duration=WILT_TIME, FrameInterval=0.25)
 tree = TreeFromSketchSource()
 cloud = LeafCloudReader(FileName=soybean_file)
 comparison = CloudComparisonFilter(Input=cloud, Reference=spline, Scale=0.1)

@@ -4,7 +4,7 @@ results are the serial run's, bit for bit.
 
 Four LeafOutlineSource blades (three models, side by side) appended on rank 0, without a LeafId: the leaves are the
 connected blades, numbered 0-3 in the order they were appended. VenationFilter grows the veins of each; its Blade and
-Veins (which carry LeafId) feed WiltingSimulator (Resolution 6, 0.5 s: coarse, so the test is quick).
+Veins (which carry LeafId) feed WiltingSimulator (Resolution 14, the coarsest the Cucumber preset accepts, 0.5 s: quick).
 Serially (--write-reference, pvpython), besides writing the reference: every leaf's veins, statistics row, histogram
 rows, wilted points and frame rows are those of the leaf run alone, bit for bit.
 On 1, 2 and 4 ranks (`mpirun -np N pvbatch test_mpi_leaf_filters.py ... --ranks N`):
@@ -27,7 +27,7 @@ import numpy  # noqa: E402
 
 load_plugin(arguments.plugin, globals())
 MODELS = ("Deformed rectangle", "B-spline", "Space curve", "B-spline")
-WILTING = dict(Resolution=6, Duration=0.5, FrameInterval=0.1)
+WILTING = dict(Resolution=14, Duration=0.5, FrameInterval=0.1)
 END = WILTING["Duration"]
 
 

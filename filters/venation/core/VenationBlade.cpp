@@ -14,6 +14,35 @@
 namespace plantmorph
 {
 
+namespace
+{
+/// Whether the blade projects onto its least-squares plane one to one and nearly true to size: every triangle keeps
+/// its orientation and a non-zero area, and the projected area is at least 0.8 of the surface's (a tilt of at most
+/// about 37 degrees on average).
+bool ProjectsOneToOne(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles, const FittedPlane& fit)
+{
+  if (triangles.empty())
+    return false;
+  double surface = 0.0, projected = 0.0;
+  int positive = 0, negative = 0;
+  for (const auto& t : triangles)
+  {
+    const Eigen::Vector3d face = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+    const double along = face.dot(fit.normal);
+    if (!(face.norm() > 0.0))
+      continue; // a degenerate triangle (a collapsed base) has no orientation to keep
+    surface += face.norm();
+    projected += std::abs(along);
+    if (along > 1e-12 * face.norm())
+      ++positive;
+    else if (along < -1e-12 * face.norm())
+      ++negative;
+  }
+  return (positive == 0 || negative == 0) && positive + negative > 0 && projected >= 0.8 * surface;
+}
+} // namespace
+
 std::vector<Eigen::Vector2d> VenationWorkingPlane(const std::vector<Eigen::Vector3d>& points,
   const std::vector<Eigen::Vector2d>& uv, const std::vector<std::array<int, 3>>& triangles, bool& flat)
 {
@@ -33,6 +62,17 @@ std::vector<Eigen::Vector2d> VenationWorkingPlane(const std::vector<Eigen::Vecto
   }
   const FittedPlane fitted = FitPlane(points);
   if (fitted.maxDeviation <= 1e-6 * (high - low).norm())
+  {
+    const Eigen::Vector3d e1 = fitted.major;
+    const Eigen::Vector3d e2 = fitted.normal.cross(e1);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      plane[i] = Eigen::Vector2d((points[i] - fitted.centroid).dot(e1), (points[i] - fitted.centroid).dot(e2));
+    return plane;
+  }
+  // Curved but one-to-one onto its least-squares plane (a fitted scan, a gently bent blade): that projection, which
+  // keeps the blade's own shape (its lobes, its width along its length) where LeafUV need not (LeafFitFilter's u
+  // is +-0.5 at both margins at every height, a rectangle).
+  if (ProjectsOneToOne(points, triangles, fitted))
   {
     const Eigen::Vector3d e1 = fitted.major;
     const Eigen::Vector3d e2 = fitted.normal.cross(e1);

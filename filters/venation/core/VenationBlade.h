@@ -28,8 +28,10 @@ struct VenationBlade
 
 /// The 2-D working plane of a blade given by its 3-D `points`, their LeafUV `uv` and its `triangles`: the points'
 /// own (x, y) when they all have the same z; else, when they lie in one plane (within 1e-6 of the bounding box's
-/// diagonal), their coordinates along that plane's major axis and the axis normal to it; else (`flat` false: a
-/// curved blade) LeafUV scaled by the blade's mean stretch along u and v, su and sv from the least-squares fit of
+/// diagonal), their coordinates along that plane's major axis and the axis normal to it; else, when the blade
+/// projects onto its least-squares plane one to one (every triangle keeping its orientation) and its projected area
+/// is at least 0.8 of its area, that projection (a fitted scan's LeafUV is a rectangle: u is +-0.5 at both margins);
+/// else (`flat` false: a strongly curved blade) LeafUV scaled by the blade's mean stretch along u and v, su and sv from the least-squares fit of
 /// |dP|^2 = su^2 du^2 + sv^2 dv^2 over the triangles' edges (a scale not positive and finite: the diagonal).
 std::vector<Eigen::Vector2d> VenationWorkingPlane(const std::vector<Eigen::Vector3d>& points,
   const std::vector<Eigen::Vector2d>& uv, const std::vector<std::array<int, 3>>& triangles, bool& flat);

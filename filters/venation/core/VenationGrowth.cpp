@@ -670,13 +670,20 @@ void Grower::GrowPalmate()
   // End points on the blade's margin, fanned over its angular extent seen from the base, one group per primary
   // (PalmateFan.h: lobe tips, basal lobes of cordate blades, an even spread on entire blades).
   // Without the fan (paper 000): evenly along the canonical leaf's far edge v = 1, grown in LeafUV.
+  // A lobed blade's primaries run each to its lobe's tip undivided: dichotomous forks (ForkLevels) are the fan of an
+  // entire blade (the ginkgo); forked, a lobe's vein would end on both sides of its tip and none at it.
   PalmateFanParameters settings;
   settings.primaries = this->P.palmateVeins;
   settings.levels = this->P.forkLevels;
-  const PalmateFan fan = this->P.palmateFan
+  PalmateFan fan = this->P.palmateFan
     ? FindPalmateFan(this->Blade, this->Locator, this->Base, this->Axis, this->Length, settings)
     : PalmateFan{};
-  const int levels = this->P.forkLevels;
+  if (!fan.lobeTips.empty() && settings.levels > 0)
+  {
+    settings.levels = 0;
+    fan = FindPalmateFan(this->Blade, this->Locator, this->Base, this->Axis, this->Length, settings);
+  }
+  const int levels = settings.levels;
   const int groups = this->P.palmateFan ? static_cast<int>(fan.ends.size()) : this->P.palmateVeins;
   const int count = groups << levels;
   std::vector<Eigen::Vector2d> ends(count), endsUV(count);

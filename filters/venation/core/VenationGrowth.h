@@ -140,7 +140,8 @@ struct VenationParameters
   /// palmate: one secondary from the nearest primary to every sub-lobe tip of the margin (a local maximum of the
   /// distance from the primaries with a sinus at least 0.02 L deep on both sides; docs/methods/venation.md)
   bool subLobeVeins = false;
-  int forkLevels = 1;
+  /// palmate: dichotomous forks along each primary of an entire blade (the ginkgo's fan); 0: undivided primaries
+  int forkLevels = 0;
   double forkSize = 0.3;       ///< growth fraction of the first dichotomous fork, (0, 1)
   double primaryWidth = 0.015; ///< in leaf lengths
   double primaryTaper = 0.3;   ///< width at the end of a primary, as a fraction of its width at the base

@@ -361,7 +361,7 @@ protected:
   double VeinletLength = 0.4;
   int PalmateVeins = 4;
   int PalmateEnds = 1;
-  int ForkLevels = 1;
+  int ForkLevels = 0;
   int PalmateSecondaries = 0;
   int SubLobeVeins = 0;
   int FlankSecondaries = 0;

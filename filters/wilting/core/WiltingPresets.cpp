@@ -55,6 +55,9 @@ constexpr double curlRelaxation = 0.9097;        // most of it goes again as the
 constexpr double curlRelaxationTime = 6.506;     // ... over this sigmoid
 /// The voxel edge of the fit: the leaf's longest side (22.308 cm along y, cordate lobes included) / Resolution 14.
 constexpr double voxelSize = 22.3079 / 14.0;
+/// The fit held the leaf within AnchorRadius 3 cm of its base, on that 22.308 cm longest side.
+constexpr double anchorFraction = 3.0 / 22.3079;
+constexpr double longestSide = 22.3079;
 } // namespace CucumberFit
 
 /// Physical units (WiltingLatticeOf) of the lattice values k (dyn/cm per spring) and F (dyn per voxel) a preset was
@@ -106,6 +109,11 @@ void ApplyWiltingPreset(WiltingPreset preset, WiltingParameters& p)
   p.curlRelaxationTime = 0.0;
   p.curlDirection = WiltingCurlDirection::Isotropic;
   p.referenceVoxelSize = 0.0;
+  // Held as the fitted leaf was, in leaf lengths: the same fraction of any leaf (AnchorRadius is not used).
+  p.anchorFraction = CucumberFit::anchorFraction;
+  // The moduli and pressures below are those of the leaf they were given for (the fitted 20.1 cm cucumber, the
+  // 10 cm leaf of the others), scaled to the leaf's size by elastic similarity (WiltingParameters::referenceLength).
+  p.referenceLength = preset == WiltingPreset::Cucumber ? CucumberFit::longestSide : 10.0;
   switch (preset)
   {
     case WiltingPreset::Cucumber:
@@ -205,6 +213,9 @@ std::string DescribeWiltingPreset(WiltingPreset preset)
   line("RayleighAlpha", p.newmark.rayleighMass);
   line("RayleighBeta", p.newmark.rayleighStiffness);
   line("Units", static_cast<int>(p.units));
+  text << "\n(AnchorRadius is not used: the leaf is held within " << Exact(p.anchorFraction)
+       << " of its longest side of the base; the moduli and pressures are for a leaf whose longest side is "
+       << Exact(p.referenceLength) << ", scaled in proportion to the leaf's)";
   text << "\n(Physical units: Young's moduli and pressures in dyn/cm^2, densities in g/cm^3, for a blade of "
           "BladeThickness, 0: the leaf's longest side / 14)";
   return text.str();

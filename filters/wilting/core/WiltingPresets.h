@@ -4,7 +4,9 @@
 //             nodes, earlier than the droop; the -x half drooping a little more), fitted to the paper's measured tip trajectory on a leaf of the
 //             measured size (examples/calibrate_wilting.py; docs/wilting-calibration.md) at Resolution 14 on a 20 cm
 //             leaf, AnchorRadius 3, TimeStep 1/60 s, one Newton iteration; in physical units (WiltingUnits), so
-//             verified at Resolution 14-30 on 5-40 cm leaves (AnchorRadius scaled with the leaf).
+//             verified at Resolution 14-30 on 5-40 cm leaves. Every preset holds the leaf as the fit did, within
+//             3 / 22.308 of its longest side of the base (anchorFraction; AnchorRadius is not used), so the same
+//             preset gives the same wilting in leaf lengths and seconds on leaves of any size.
 //   Tomato:   the margin curls up (loads on the top nodes), less droop.
 //   Watermelon: a lobed leaf (feed it a palmate LeafOutlineSource blade); droop, lobes curling down.
 // The paper's fitted triples (mass, stiffness, damping) print as veins "1000, 20000, 500", margin "5000, 8000,

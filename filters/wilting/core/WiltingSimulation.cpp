@@ -159,6 +159,14 @@ std::string ValidateWilting(const WiltingParameters& p)
   {
     message << OutOfRange("AnchorRadius", p.anchorRadius, "[0, inf)");
   }
+  else if (!(p.referenceLength >= 0.0) || !std::isfinite(p.referenceLength))
+  {
+    message << OutOfRange("referenceLength", p.referenceLength, "[0, inf)", "0: the materials as given");
+  }
+  else if (!(p.anchorFraction >= 0.0 && p.anchorFraction <= 10.0))
+  {
+    message << OutOfRange("anchorFraction", p.anchorFraction, "[0, 10]", "0: AnchorRadius");
+  }
   else if (!(p.petioleLength >= 0.0 && p.petioleLength <= 1e4))
   {
     message << OutOfRange("PetioleLength", p.petioleLength, "[0, 10000]", "0: no petiole");
@@ -524,6 +532,50 @@ void ComputeFullLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint, c
 }
 } // namespace
 
+WiltingParameters SimilarTo(const WiltingParameters& parameters, double longest)
+{
+  WiltingParameters similar = parameters;
+  if (parameters.units != WiltingUnits::Physical || !(parameters.referenceLength > 0.0))
+  {
+    return similar;
+  }
+  const double scale = longest / parameters.referenceLength;
+  for (WiltingMaterial& material : similar.materials)
+  {
+    material.stiffness *= scale;
+  }
+  similar.droopForce *= scale;
+  similar.contractionForce *= scale;
+  similar.referenceLength = 0.0;
+  return similar;
+}
+
+std::string CoarseVoxelError(const WiltingParameters& parameters, double h, double thickness, double longest)
+{
+  if (h <= thickness * (1.0 + 1e-9))
+  {
+    return std::string();
+  }
+  // One voxel layer thicker than the lamina it stands for: the curl's strains (d h / t across the layer) and the
+  // through-thickness springs ((h / t)^2 stiffer) leave the range where the lattice is the plate, and the runs
+  // invert voxels or swing back (benchmarks/README.md "wilting convergence").
+  std::ostringstream message;
+  message << "the voxels (edge " << h << ") are coarser than the blade is thick (BladeThickness " << thickness
+          << (parameters.bladeThickness > 0.0 ? "" : ", the leaf's longest side / 14")
+          << "): Physical units need a voxel edge of at most the thickness, ";
+  if (parameters.voxelSize > 0.0)
+  {
+    message << "VoxelSize at most " << thickness;
+  }
+  else
+  {
+    message << "the smallest Resolution that holds is "
+            << static_cast<int>(std::ceil(longest / thickness * (1.0 - 1e-9)));
+  }
+  message << " (or a larger BladeThickness)";
+  return message.str();
+}
+
 double WiltingBladeThickness(const WiltingParameters& parameters, double longest)
 {
   return parameters.bladeThickness > 0.0 ? parameters.bladeThickness : longest / 14.0;
@@ -638,8 +690,17 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   }
   const bool physical = parameters.units == WiltingUnits::Physical;
   this->Thickness = physical ? WiltingBladeThickness(parameters, (high - low).maxCoeff()) : 0.0;
+  if (physical)
+  {
+    error = CoarseVoxelError(parameters, h, this->Thickness, (high - low).maxCoeff());
+    if (!error.empty())
+    {
+      return error;
+    }
+  }
   double faceShare = 1.0;
-  this->Params = WiltingLatticeOf(parameters, h, this->Thickness, &faceShare, &this->SubstepCount);
+  this->Params = WiltingLatticeOf(
+    SimilarTo(parameters, (high - low).maxCoeff()), h, this->Thickness, &faceShare, &this->SubstepCount);
   if (physical && !(std::abs(this->Params.curlStrain) <= 1.0))
   {
     std::ostringstream message;
@@ -654,7 +715,9 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
 
   // Anchors: the petiole's far end, or the input's petiole points, or the blade's base.
   AnchorPlan anchors = PlanAnchors(input, parameters, this->PetioleCells, base);
-  const std::size_t fixedCount = FixNodesNearAnchors(grid, anchors.anchors, parameters.anchorRadius, this->Springs);
+  this->Radius =
+    parameters.anchorFraction > 0.0 ? parameters.anchorFraction * (high - low).maxCoeff() : parameters.anchorRadius;
+  const std::size_t fixedCount = FixNodesNearAnchors(grid, anchors.anchors, this->Radius, this->Springs);
   error = this->Embed.Bind(grid, input.points, parameters.tricubic);
   if (!error.empty())
   {

@@ -209,7 +209,17 @@ struct WiltingParameters
   double loadTime = 5.0; ///< ramp / sigmoid duration (s)
   /// The contraction's own ramp / sigmoid duration (s); 0: loadTime. * The paper sees the margins change first.
   double contractionTime = 0.0;
-  double anchorRadius = 1.0; ///< model units
+  double anchorRadius = 1.0; ///< model units (used when anchorFraction is 0)
+  /// > 0: the anchor radius is this fraction of the leaf's longest side (the bounding box's, as BladeThickness), in
+  /// place of anchorRadius: how far a preset's fitted leaf was held, carried over to leaves of any size (a radius in
+  /// model units holds a small leaf over much of its length and a large one by a stub). 0: anchorRadius.
+  double anchorFraction = 0.0;
+  /// Physical units, > 0: the materials' Young's moduli and the droop and contraction pressures are those of a leaf
+  /// whose longest side is this long (a preset's fitted leaf); Setup scales them by the leaf's longest side over it
+  /// (elastic similarity: a leaf k times as long has k times the modulus and pressures, so with the default
+  /// thickness, which also grows k times, its own weight bends it by the same fraction of its length and the
+  /// droop and contraction move it by the same fraction; otherwise gravity's share grows as the length). 0: as given.
+  double referenceLength = 0.0;
   /// > 0: a petiole of this length (model units, whole voxels) from the blade's base along -y, held at its far end
   /// (AddPetiole); 0: none, the blade held at its base.
   double petioleLength = 0.0;
@@ -235,6 +245,15 @@ std::string ValidateWilting(const WiltingParameters& parameters);
 /// (a strain difference across t, curvature d / t) strains the lattice's faces by -+ d h / (2 t); dashpots tau k.
 WiltingParameters WiltingLatticeOf(const WiltingParameters& parameters, double h, double thickness,
   double* faceShare = nullptr, int* substeps = nullptr);
+
+/// Physical units with a referenceLength: the parameters with the moduli and pressures scaled to a leaf whose
+/// longest side is `longest` (elastic similarity) and referenceLength 0; otherwise the parameters as they are.
+WiltingParameters SimilarTo(const WiltingParameters& parameters, double longest);
+
+/// Physical units: empty when a voxel edge h holds the lamina of `thickness` (h at most the thickness), else the
+/// refusal naming the smallest Resolution that holds (the largest VoxelSize when one was given); `longest` is the
+/// leaf's longest side.
+std::string CoarseVoxelError(const WiltingParameters& parameters, double h, double thickness, double longest);
 
 /// The blade thickness Physical units use for a leaf whose bounding box's longest side is `longest`.
 double WiltingBladeThickness(const WiltingParameters& parameters, double longest);
@@ -279,6 +298,8 @@ public:
   /// Integrator steps per TimeStep (Physical units; 1 for Lattice) and the blade thickness used (0: Lattice).
   int Substeps() const { return this->SubstepCount; }
   double BladeThickness() const { return this->Thickness; }
+  /// The anchor radius used (model units: anchorRadius, or anchorFraction of the leaf's longest side).
+  double AnchorRadius() const { return this->Radius; }
 
   const std::vector<WiltingFrame>& Frames() const { return this->FrameList; }
   /// The frame times the run will produce (known after Setup).
@@ -323,6 +344,7 @@ private:
   int Tip = 0;
   int SubstepCount = 1;
   double Thickness = 0.0;
+  double Radius = 0.0;
   int StepsPerFrame = 1;
   int FrameCount = 1;
   std::vector<WiltingFrame> FrameList;

@@ -218,6 +218,7 @@ void vtkWiltingSimulator::WarnAboutPresetOverrides()
   PLANTMORPH_PRESET_CHECK(overrides, this, defaults, RayleighAlpha);
   PLANTMORPH_PRESET_CHECK(overrides, this, defaults, RayleighBeta);
   PLANTMORPH_PRESET_CHECK(overrides, this, defaults, Units);
+  PLANTMORPH_PRESET_CHECK(overrides, this, defaults, AnchorRadius);
   overrides.Warn(this);
 }
 

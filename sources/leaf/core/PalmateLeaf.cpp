@@ -316,9 +316,83 @@ std::string LobePolygons(const std::vector<Lobe>& lobes, std::map<Key, VertexRol
   return {};
 }
 
-/// The union's outline, counter-clockwise, from the base; crossings of lobe margins are new vertices.
+Eigen::Vector2d ToVector(const ExactKernel::Point_2& x)
+{
+  return { CGAL::to_double(CGAL::exact(x.x())), CGAL::to_double(CGAL::exact(x.y())) };
+}
+
+/// SinusDepth d > 0: every sinus between two lobes whose tips follow each other along the outline (its bottom: the
+/// outline vertex nearest the base between them) that is farther from the base than (1 - d) times the nearer of
+/// the two tips is cut towards the base by a thin wedge along the ray from the base through it, to that distance
+/// (the sinus reaches (1 - d) of the shorter lobe's length from the base; deeper sinuses stay). The wedge is half as wide at the old bottom as that
+/// bottom's distance from the nearer of the two lines from the base to the lobes' tips, and closes to a point at the
+/// new bottom, so it stays between the two lobes' midveins. The lobes stay joined at the base.
+std::string CarveSinuses(double depth, const std::map<Key, VertexRole>& roles, ExactPolygonWithHoles& blade)
+{
+  if (!(depth > 0.0))
+    return {};
+  std::vector<Eigen::Vector2d> outline;
+  std::vector<int> tip;
+  std::size_t base = 0;
+  for (auto v = blade.outer_boundary().vertices_begin(); v != blade.outer_boundary().vertices_end(); ++v)
+  {
+    outline.push_back(ToVector(*v));
+    const auto known = roles.find(KeyOf(outline.back()));
+    tip.push_back(known != roles.end() ? known->second.tip : -1);
+    if (known != roles.end() && known->second.base)
+      base = outline.size() - 1;
+  }
+  const std::size_t n = outline.size();
+  std::vector<ExactPolygon> wedges;
+  int previous = -1; // outline position (from the base) of the last tip met
+  for (std::size_t k = 1; k < n; ++k)
+  {
+    const std::size_t i = (base + k) % n;
+    if (tip[i] < 0)
+      continue;
+    if (previous >= 0)
+    {
+      std::size_t bottom = (base + previous + 1) % n;
+      for (std::size_t m = previous + 1; m < k; ++m)
+      {
+        if (outline[(base + m) % n].norm() < outline[bottom].norm())
+          bottom = (base + m) % n;
+      }
+      const Eigen::Vector2d s = outline[bottom];
+      const Eigen::Vector2d a = outline[(base + previous) % n].normalized(), b = outline[i].normalized();
+      const double target = (1.0 - depth) * std::min(outline[(base + previous) % n].norm(), outline[i].norm());
+      const auto off = [&](const Eigen::Vector2d& unit) { return std::abs(unit.x() * s.y() - unit.y() * s.x()); };
+      const double half = 0.5 * std::min(off(a), off(b));
+      if (s.norm() > target && half > 0.0)
+      {
+        const Eigen::Vector2d along = s.normalized(), across(-along.y(), along.x());
+        const Eigen::Vector2d corners[3] = { target * along, s + half * (across + along),
+          s + half * (-across + along) };
+        ExactPolygon wedge;
+        for (const Eigen::Vector2d& x : corners)
+          wedge.push_back(ExactKernel::Point_2(x.x(), x.y()));
+        if (wedge.orientation() == CGAL::CLOCKWISE)
+          wedge.reverse_orientation();
+        wedges.push_back(wedge);
+      }
+    }
+    previous = static_cast<int>(k);
+  }
+  for (const ExactPolygon& wedge : wedges)
+  {
+    std::vector<ExactPolygonWithHoles> pieces;
+    CGAL::difference(blade, wedge, std::back_inserter(pieces));
+    if (pieces.size() != 1 || pieces.front().number_of_holes() > 0)
+      return "SinusDepth: a sinus cut the blade apart; lower SinusDepth";
+    blade = pieces.front();
+  }
+  return {};
+}
+
+/// The union's outline, counter-clockwise, from the base; crossings of lobe margins (and the corners of sinuses cut
+/// deeper, SinusDepth) are new vertices.
 std::string UnionOutline(const std::vector<ExactPolygon>& polygons, const std::map<Key, VertexRole>& roles,
-  std::vector<OutlineVertex>& vertices)
+  double sinusDepth, std::vector<OutlineVertex>& vertices)
 {
   std::vector<ExactPolygonWithHoles> unions;
   CGAL::join(polygons.begin(), polygons.end(), std::back_inserter(unions));
@@ -326,6 +400,8 @@ std::string UnionOutline(const std::vector<ExactPolygon>& polygons, const std::m
     return "LobeStart/LobeAngle: the lobes do not join into one blade";
   if (unions.front().number_of_holes() > 0)
     return "LobeAngle/LobeScale: the lobes enclose a hole; lower LobeAngle";
+  if (const std::string error = CarveSinuses(sinusDepth, roles, unions.front()); !error.empty())
+    return error;
 
   for (auto v = unions.front().outer_boundary().vertices_begin(); v != unions.front().outer_boundary().vertices_end();
        ++v)
@@ -645,7 +721,7 @@ std::string Build(const SpaceCurveParameters& p, const SpaceCurveMeshParameters&
   if (error = LobePolygons(lobes, roles, polygons, tipPoints); !error.empty())
     return error;
   std::vector<OutlineVertex> vertices;
-  if (error = UnionOutline(polygons, roles, vertices); !error.empty())
+  if (error = UnionOutline(polygons, roles, p.sinusDepth, vertices); !error.empty())
     return error;
   DropSlivers(spacing, vertices);
   TipLayout tips;

@@ -57,6 +57,9 @@ std::string ValidateSpaceCurveParameters(const SpaceCurveParameters& p, const Sp
     !(e = Check(p.subLobes >= 0 && p.subLobes <= 8, "SubLobes", p.subLobes, "[0, 8]")).empty() ||
     !(e = Check(std::isfinite(p.subLobeDepth) && p.subLobeDepth > 0 && p.subLobeDepth <= 0.9, "SubLobeDepth",
         p.subLobeDepth, "(0, 0.9]"))
+       .empty() ||
+    !(e = Check(std::isfinite(p.sinusDepth) && p.sinusDepth >= 0 && p.sinusDepth <= 0.95, "SinusDepth", p.sinusDepth,
+        "[0, 0.95]"))
        .empty())
     return e;
   if (p.torsion.mu != 0.0 || p.opening != 0.0)

@@ -59,6 +59,10 @@ struct SpaceCurveParameters
   /// 0 (the default) leaves the lobes entire (PalmateLeaf.h).
   int subLobes = 0;
   double subLobeDepth = 0.5; ///< the sinuses' depth, a fraction of the lobe's half-width there, (0, 0.9]
+  /// Palmate leaves: every sinus between neighbouring lobes cut towards the base to (1 - sinusDepth) of the shorter
+  /// lobe's length (its tip's distance from the base) when it is not that deep already, [0, 0.95]; 0 (the default)
+  /// keeps the lobes' union as it is (PalmateLeaf.h).
+  double sinusDepth = 0.0;
 
   SpaceCurveParameters() { torsion.mu = 0.0; }
 };

@@ -72,6 +72,18 @@ SpaceCurveParameters MakeSpaceCurvePreset(SpaceCurvePreset preset, double length
       p.subLobes = 2;
       p.subLobeDepth = 0.5;
       break;
+    case SpaceCurvePreset::WatermelonPinnatifid:
+      // A watermelon leaf is pinnatifid: its sinuses reach nearly to the midrib and the middle lobe is the longest.
+      // The union of Fig. 8's lobes leaves shallow sinuses (their bottoms 0.7 of the tips' distance from the base)
+      // and longer side lobes (they start a fifth of the way up lobe 1's margin): here the lobes start near the
+      // common base (LobeStart 0.03), each side lobe 0.8 times the size of the one inside it, and the sinuses are
+      // cut to 0.2 of the shorter lobe's length from the base (the middle lobe 4.28, its neighbours 3.59, the
+      // outer 2.99 for a CurveLength of 5; the sinuses 0.72 from the base, a sixth of the leaf's length).
+      p = MakeSpaceCurvePreset(SpaceCurvePreset::Watermelon, length);
+      p.lobeStart = 0.03;
+      p.lobeScale = 0.8;
+      p.sinusDepth = 0.8;
+      break;
   }
   return p;
 }
@@ -80,7 +92,7 @@ std::string SpaceCurvePresetName(SpaceCurvePreset preset)
 {
   static const char* const names[SpaceCurvePresetCount] = { "Custom", "Paper002Figure1", "Paper002Figure2",
     "Paper002Figure3", "Paper002Figure4", "Paper002Figure5", "Paper002Figure6", "Paper002Figure8ThreeLobes",
-    "Paper002Figure8FiveLobes", "Watermelon" };
+    "Paper002Figure8FiveLobes", "Watermelon", "WatermelonPinnatifid" };
   const int index = static_cast<int>(preset);
   return index >= 0 && index < SpaceCurvePresetCount ? names[index] : "Unknown";
 }

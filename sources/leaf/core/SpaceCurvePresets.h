@@ -22,9 +22,10 @@ enum class SpaceCurvePreset : int
   Figure8ThreeLobes = 7, ///< palmate, 3 lobes (Fig. 8; numbers chosen, the paper prints none)
   Figure8FiveLobes = 8,  ///< palmate, 5 lobes (Fig. 8; numbers chosen, the paper prints none)
   Watermelon = 9,        ///< Fig. 8's five lobes, each pinnately lobed: two sub-lobes a side (not in the paper)
+  WatermelonPinnatifid = 10, ///< the same, deeply lobed: sinuses cut nearly to the base, the middle lobe longest
 };
 
-inline constexpr int SpaceCurvePresetCount = 10;
+inline constexpr int SpaceCurvePresetCount = 11;
 
 /// The preset's parameters for a half-margin of arc length `length` (Custom: the default parameters).
 SpaceCurveParameters MakeSpaceCurvePreset(SpaceCurvePreset preset, double length);

@@ -493,6 +493,7 @@ void vtkLeafOutlineSource::WarnAboutPresetOverrides()
   PLANTMORPH_CHECK(SPACE_CURVE, LobeScale);
   PLANTMORPH_CHECK(SPACE_CURVE, SubLobes);
   PLANTMORPH_CHECK(SPACE_CURVE, SubLobeDepth);
+  PLANTMORPH_CHECK(SPACE_CURVE, SinusDepth);
   PLANTMORPH_CHECK(B_SPLINE, MidveinPoints);
   PLANTMORPH_CHECK(B_SPLINE, LeftMarginPoints);
   PLANTMORPH_CHECK(B_SPLINE, RightMarginPoints);
@@ -536,6 +537,7 @@ void ReadCustomSpaceCurve(vtkLeafOutlineSource* self, plantmorph::SpaceCurvePara
   parameters.lobeScale = self->GetLobeScale();
   parameters.subLobes = self->GetSubLobes();
   parameters.subLobeDepth = self->GetSubLobeDepth();
+  parameters.sinusDepth = self->GetSinusDepth();
 }
 
 /// The space-curve leaf's PlantMorph.* field data.
@@ -570,6 +572,8 @@ void RecordSpaceCurve(vtkLeafOutlineSource* self, plantmorph::SpaceCurvePreset p
       fd.Add("PlantMorph.SubLobes", parameters.subLobes);
       fd.Add("PlantMorph.SubLobeDepth", parameters.subLobeDepth);
     }
+    if (parameters.sinusDepth > 0.0) // only then, so blades with the union's sinuses keep their field data
+      fd.Add("PlantMorph.SinusDepth", parameters.sinusDepth);
     fd.Add("PlantMorph.MeshQuality", self->GetMeshQuality());
   }
 }

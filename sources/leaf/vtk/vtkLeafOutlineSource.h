@@ -280,6 +280,16 @@ public:
 
   ///@{
   /**
+   * Palmate leaves: SinusDepth [0, 0.95] cuts every sinus between neighbouring lobes towards the base, to
+   * (1 - SinusDepth) of the shorter lobe's length from it (plantmorph::SpaceCurveParameters::sinusDepth, PalmateLeaf.h); 0 (the default) keeps
+   * the lobes' union. The pinnatifid Watermelon preset sets it.
+   */
+  vtkSetMacro(SinusDepth, double);
+  vtkGetMacro(SinusDepth, double);
+  ///@}
+
+  ///@{
+  /**
    * B-spline model (paper 003). BSplinePreset: 0 Custom (MidveinPoints, LeftMarginPoints, RightMarginPoints),
    * 1 Elliptic (ControlPointCount points per margin), 2 Cucumber, 3 Pin oak (plantmorph::BSplinePreset), 4 the
    * ControlPoints input's polylines; the
@@ -405,6 +415,7 @@ protected:
   double LobeScale = 0.85;
   int SubLobes = 0;
   double SubLobeDepth = 0.5;
+  double SinusDepth = 0.0;
 
   int BSplinePreset = 2;
   double BladeLength = 8.0;

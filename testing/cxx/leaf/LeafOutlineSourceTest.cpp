@@ -301,9 +301,9 @@ TEST(vtkLeafOutlineSource, SpaceCurveBadPropertiesGiveAMessage)
   EXPECT_NE(catcher->Messages.find("Opening = 1"), std::string::npos) << catcher->Messages;
   catcher->Messages.clear();
   source->SetOpening(0.0);
-  source->SetSpaceCurvePreset(10);
+  source->SetSpaceCurvePreset(11);
   source->Update();
-  EXPECT_NE(catcher->Messages.find("SpaceCurvePreset = 10"), std::string::npos) << catcher->Messages;
+  EXPECT_NE(catcher->Messages.find("SpaceCurvePreset = 11"), std::string::npos) << catcher->Messages;
   catcher->Messages.clear();
   source->SetSpaceCurvePreset(0);
   source->SetLobes(4);

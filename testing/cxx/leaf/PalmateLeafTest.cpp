@@ -196,7 +196,8 @@ INSTANTIATE_TEST_SUITE_P(PalmateLeaf, EveryPalmatePreset,
   ::testing::Values(Case{ SpaceCurvePreset::Figure8ThreeLobes, true },
     Case{ SpaceCurvePreset::Figure8ThreeLobes, false }, Case{ SpaceCurvePreset::Figure8FiveLobes, true },
     Case{ SpaceCurvePreset::Figure8FiveLobes, false }, Case{ SpaceCurvePreset::Watermelon, true },
-    Case{ SpaceCurvePreset::Watermelon, false }),
+    Case{ SpaceCurvePreset::Watermelon, false }, Case{ SpaceCurvePreset::WatermelonPinnatifid, true },
+    Case{ SpaceCurvePreset::WatermelonPinnatifid, false }),
   [](const ::testing::TestParamInfo<Case>& info) {
     return SpaceCurvePresetName(info.param.preset) + (info.param.quality ? "Quality" : "Paper");
   });
@@ -282,6 +283,68 @@ TEST(PalmateLeaf, SubLobesCutSinusesBetweenTipsThatStayOnTheEntireLobes)
       nearest = std::min(nearest, (fine.blade.points[id] - lobed.blade.points[other]).norm());
     EXPECT_LT(nearest, length / 60.0);
   }
+}
+
+/// Each lobe's length (its tip's distance from the base), lobe 1 first, and each sinus's depth: the distance from
+/// the base of the outline point nearest it between two tips that follow each other along the outline, over the
+/// shorter of the two lobes' lengths.
+void LobesAndSinuses(const LeafGeometry& leaf, std::vector<double>& lengths, std::vector<double>& sinuses)
+{
+  const Eigen::Vector2d base = leaf.blade.points[leaf.midvein.front()];
+  std::vector<Eigen::Vector2d> tips = { leaf.blade.points[leaf.midvein.back()] };
+  for (const std::vector<int>& lobe : leaf.lobeMidveins)
+    tips.push_back(leaf.blade.points[lobe.back()]);
+  for (const Eigen::Vector2d& tip : tips)
+    lengths.push_back((tip - base).norm());
+  const std::vector<Eigen::Vector2d> outline = OutlinePolygon(leaf); // from the base round the outline
+  std::vector<std::size_t> at;
+  for (std::size_t i = 0; i < outline.size(); ++i)
+  {
+    for (const Eigen::Vector2d& tip : tips)
+    {
+      if (outline[i] == tip)
+        at.push_back(i);
+    }
+  }
+  ASSERT_EQ(at.size(), tips.size());
+  for (std::size_t k = 0; k + 1 < at.size(); ++k)
+  {
+    double nearest = std::numeric_limits<double>::max();
+    for (std::size_t i = at[k] + 1; i < at[k + 1]; ++i)
+      nearest = std::min(nearest, (outline[i] - base).norm());
+    sinuses.push_back(nearest / std::min((outline[at[k]] - base).norm(), (outline[at[k + 1]] - base).norm()));
+  }
+}
+
+TEST(PalmateLeaf, PinnatifidWatermelonHasSinusesNearlyToTheBaseAndTheLongestMiddleLobe)
+{
+  // A watermelon leaf is pinnatifid: the sinuses between its lobes reach nearly to the midrib and the middle lobe is
+  // the longest. The union of Fig. 8's lobes (the Watermelon preset) has its inner sinuses at 0.69 of the shorter
+  // lobe's length from the base and the side lobes longer than the middle one; the pinnatifid preset (SinusDepth
+  // 0.8) cuts every sinus to at most 0.2 of it, and its middle lobe is at least 15 % longer than any other.
+  for (const bool quality : { true, false })
+  {
+    std::vector<double> lengths, sinuses;
+    LobesAndSinuses(
+      Build(MakeSpaceCurvePreset(SpaceCurvePreset::WatermelonPinnatifid, 5.0), quality), lengths, sinuses);
+    ASSERT_EQ(lengths.size(), 5u);
+    ASSERT_EQ(sinuses.size(), 4u);
+    for (std::size_t k = 1; k < lengths.size(); ++k)
+      EXPECT_GT(lengths[0], 1.15 * lengths[k]) << "lobe " << k + 1;
+    for (const double sinus : sinuses)
+      EXPECT_LE(sinus, 0.2 + 1e-9);
+    std::vector<double> shallowLengths, shallow;
+    LobesAndSinuses(Build(MakeSpaceCurvePreset(SpaceCurvePreset::Watermelon, 5.0), quality), shallowLengths, shallow);
+    EXPECT_GT(*std::max_element(shallow.begin(), shallow.end()), 0.6);
+    EXPECT_LT(shallowLengths[0], shallowLengths[1]);
+  }
+  // SinusDepth out of range is refused by name, with no leaf.
+  SpaceCurveParameters p = MakeSpaceCurvePreset(SpaceCurvePreset::WatermelonPinnatifid, 5.0);
+  p.sinusDepth = 0.96;
+  SpaceCurveMeshParameters settings;
+  LeafGeometry leaf;
+  EXPECT_NE(BuildSpaceCurveLeaf(p, settings, leaf).find("SinusDepth"), std::string::npos);
+  EXPECT_TRUE(leaf.blade.points.empty());
 }
 
 TEST(PalmateLeaf, BadLobeParametersGiveAMessageNamingThePropertyAndNoLeaf)

@@ -213,6 +213,32 @@ TEST(PalmateVenation, OnePrimaryRunsIntoEachLobeAndReachesItsTip)
   }
 }
 
+TEST(PalmateVenation, LobedBladesPrimariesDoNotForkWhateverForkLevels)
+{
+  // ForkLevels makes the dichotomous fan of an entire blade; on a lobed blade each primary still runs undivided to
+  // its lobe's tip (forked, its two branches ended on both sides of the tip and the farthest tip was 0.82 leaf
+  // lengths from any primary).
+  for (const SpaceCurvePreset preset : { SpaceCurvePreset::Figure8ThreeLobes, SpaceCurvePreset::Figure8FiveLobes })
+  {
+    SCOPED_TRACE(SpaceCurvePresetName(preset));
+    const LeafGeometry leaf = Lobed(preset);
+    std::vector<Eigen::Vector2d> tips = { leaf.blade.points[leaf.midvein.back()] };
+    for (const std::vector<int>& lobe : leaf.lobeMidveins)
+      tips.push_back(leaf.blade.points[lobe.back()]);
+    for (int levels : { 1, 2 })
+    {
+      VenationParameters p = Palmate(4);
+      p.forkLevels = levels;
+      const VenationResult r = Grow(leaf, p);
+      EXPECT_EQ(Ends(r, VeinOrderPrimary).size(), tips.size()) << levels << " fork levels";
+      for (const Eigen::Vector2d& tip : tips)
+        EXPECT_LE(DistanceToVeins(r, VeinOrderPrimary, tip) / r.leafLength, 0.03) << levels << " fork levels";
+    }
+  }
+  // The filter's default is undivided primaries.
+  EXPECT_EQ(VenationParameters().forkLevels, 0);
+}
+
 TEST(PalmateVenation, BasalPrimariesRunIntoTheBasalLobesOfCordateBlades)
 {
   const LeafGeometry cucumber = Cucumber(),
@@ -571,6 +597,26 @@ TEST(PalmateVenation, WatermelonVeinsReachEveryLobeAtEverySeed)
               << " L, largest " << d.back() << " L\n";
     EXPECT_LE(d[d.size() * 99 / 100], 0.03);
     EXPECT_LE(d.back(), 0.05);
+  }
+}
+
+TEST(PalmateVenation, PrimariesReachEveryLobeOfThePinnatifidWatermelon)
+{
+  // LeafOutlineSource's pinnatifid watermelon (sinuses cut to 0.2 of the shorter lobe from the base): with the
+  // Watermelon preset and with Custom palmate veins (any ForkLevels), one primary to each of the five lobe tips.
+  const LeafGeometry leaf = Lobed(SpaceCurvePreset::WatermelonPinnatifid);
+  ASSERT_FALSE(leaf.blade.points.empty());
+  std::vector<Eigen::Vector2d> tips = { leaf.blade.points[leaf.midvein.back()] };
+  for (const std::vector<int>& lobe : leaf.lobeMidveins)
+    tips.push_back(leaf.blade.points[lobe.back()]);
+  ASSERT_EQ(tips.size(), 5u);
+  VenationParameters custom = Palmate(4);
+  custom.forkLevels = 1;
+  for (const VenationParameters& p : { MakeVenationPreset(VenationPreset::Watermelon), custom })
+  {
+    const VenationResult r = Grow(leaf, p);
+    for (const Eigen::Vector2d& tip : tips)
+      EXPECT_LE(DistanceToVeins(r, VeinOrderPrimary, tip) / r.leafLength, 0.03);
   }
 }
 

@@ -73,25 +73,55 @@ TEST(VenationWorkingPlane, TiltedPlaneBladeKeepsItsDistances)
 
 TEST(VenationWorkingPlane, CurvedBladeIsLeafUVScaledByItsStretch)
 {
-  // A rectangle 4 wide and 10 long rolled about the y axis into a cylinder arc of radius 5: lengths along y and along
-  // the arc are kept, so the stretch is close to the width along u and the length along v.
+  // A rectangle 4 wide and 10 long rolled about the y axis into a cylinder arc of radius 1.5 (a rolled leaf, too
+  // curved to project onto a plane near its size: 0.73 of its area): lengths along y and along the arc are kept,
+  // so the stretch is close to the width along u and the length along v.
   Grid g = Rectangle(4.0, 10.0, 16, 10);
   for (auto& x : g.points)
   {
-    const double angle = (x.x() - 2.0) / 5.0;
-    x = Eigen::Vector3d(5.0 * std::sin(angle), x.y(), 5.0 * (1.0 - std::cos(angle)));
+    const double angle = (x.x() - 2.0) / 1.5;
+    x = Eigen::Vector3d(1.5 * std::sin(angle), x.y(), 1.5 * (1.0 - std::cos(angle)));
   }
   bool flat = true;
   const std::vector<Eigen::Vector2d> plane = VenationWorkingPlane(g.points, g.uv, g.triangles, flat);
   EXPECT_FALSE(flat);
   const double su = plane[1].x() / g.uv[1].x(), sv = plane.back().y() / g.uv.back().y();
-  EXPECT_NEAR(su, 4.0, 0.01); // chords of 0.25 on an arc of radius 5 are 0.9998 of their arcs
+  EXPECT_NEAR(su, 4.0, 0.01); // chords of 0.25 on an arc of radius 1.5 are 0.9988 of their arcs
   EXPECT_NEAR(sv, 10.0, 0.01);
   for (std::size_t i = 0; i < g.points.size(); ++i)
   {
     EXPECT_DOUBLE_EQ(plane[i].x(), su * g.uv[i].x());
     EXPECT_DOUBLE_EQ(plane[i].y(), sv * g.uv[i].y());
   }
+}
+
+TEST(VenationWorkingPlane, GentlyBentFittedBladeKeepsItsShapeNotItsLeafUVRectangle)
+{
+  // A blade tapering from 4 wide at its base to 0.4 at its apex, 10 long, bent along its length (z = 0.03 y^2)
+  // and across (z += 0.05 x^2), with LeafUV as LeafFitFilter gives it: u = +-0.5 at both margins at every height.
+  // Scaled LeafUV would make it a rectangle (secondaries then grow nearly across it); it projects onto its plane one
+  // to one, so the working plane is that projection: 0.55 as wide at mid-length as at the base, 0.1 at the apex.
+  Grid g = Rectangle(4.0, 10.0, 16, 20);
+  for (auto& x : g.points)
+  {
+    const double taper = 1.0 - 0.9 * x.y() / 10.0, across = (x.x() - 2.0) * taper;
+    x = Eigen::Vector3d(across, x.y(), 0.03 * x.y() * x.y() + 0.05 * across * across);
+  }
+  bool flat = false;
+  const std::vector<Eigen::Vector2d> plane = VenationWorkingPlane(g.points, g.uv, g.triangles, flat);
+  EXPECT_TRUE(flat);
+  // The extent of the rows v = 0, 0.5 and 1 in the working plane.
+  const auto extent = [&](double v) {
+    double best = 0.0;
+    for (std::size_t i = 0; i < g.uv.size(); ++i)
+      for (std::size_t j = 0; j < g.uv.size(); ++j)
+        if (std::abs(g.uv[i].y() - v) < 1e-9 && std::abs(g.uv[j].y() - v) < 1e-9)
+          best = std::max(best, (plane[i] - plane[j]).norm());
+    return best;
+  };
+  EXPECT_NEAR(extent(0.5) / extent(0.0), 0.55, 0.03);
+  EXPECT_NEAR(extent(1.0) / extent(0.0), 0.1, 0.01);
+  EXPECT_NEAR(extent(0.0), 4.0, 0.1);
 }
 
 TEST(VenationBlade, InterpolateAtIsTheBarycentricCombination)

@@ -20,12 +20,47 @@
 namespace plantmorph
 {
 
-/// The blade of length `length` (width 22.1 / 20.1 of it), with its veins unless `veins` is false; empty points on
-/// failure.
-inline WiltingInput CucumberBlade(double length, bool veins = true)
+/// `in` (a blade with LeafUV) with the palmate veins examples/calibrate_wilting.py grows on the cucumber blade
+/// (VenationFilter Custom, Palmate, ForkLevels 1, PalmateEnds "Along the far edge") appended as points with Region
+/// min(VeinOrder, 3), as WiltingSimulator's Veins input adds them; empty points on failure.
+inline WiltingInput WithPalmateVeins(WiltingInput in)
+{
+  VenationParameters venation; // VenationFilter's Custom defaults, with the fit's fork
+  venation.pattern = VenationPattern::Palmate;
+  venation.palmateFan = false;
+  venation.forkLevels = 1;
+  std::vector<Eigen::Vector3d> blade = in.points;
+  std::vector<Eigen::Vector2d> uv = in.leafUV;
+  bool flat = true;
+  const VenationBlade plane{ VenationWorkingPlane(blade, uv, in.triangles, flat), uv, in.triangles };
+  VenationResult result;
+  if (!GrowVenation(plane, venation, result).empty())
+  {
+    return WiltingInput();
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t n = 0; n < result.nodes.size(); ++n)
+  {
+    const auto& t = in.triangles[static_cast<std::size_t>(result.location[n].triangle)];
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k)
+    {
+      x += result.location[n].weights[k] * blade[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])];
+    }
+    in.points.push_back(x);
+    in.regions.push_back(std::min(result.order[n], 3));
+    in.leafUV.emplace_back(nan, nan);
+  }
+  return in;
+}
+
+/// The blade of length `length` (width 22.1 / 20.1 of it, or `width` when that is > 0), with its veins unless
+/// `veins` is false; empty points on failure.
+inline WiltingInput CucumberBlade(double length, bool veins = true, double width = 0.0)
 {
   WiltingInput in;
-  const BSplineLeafParameters controls = MakeBSplinePreset(BSplinePreset::Cucumber, length, length * 22.1 / 20.1, 7);
+  const BSplineLeafParameters controls =
+    MakeBSplinePreset(BSplinePreset::Cucumber, length, width > 0.0 ? width : length * 22.1 / 20.1, 7);
   LeafMeshParameters settings;
   settings.resolution = 30;
   settings.quality = true;
@@ -42,33 +77,7 @@ inline WiltingInput CucumberBlade(double length, bool veins = true)
   in.triangles = leaf.blade.triangles;
   in.regions = leaf.blade.region;
   in.leafUV = leaf.blade.uv;
-  if (!veins)
-  {
-    return in;
-  }
-  VenationParameters venation; // VenationFilter's Custom defaults
-  venation.pattern = VenationPattern::Palmate;
-  venation.palmateFan = false;
-  const VenationBlade plane{ leaf.blade.points, leaf.blade.uv, leaf.blade.triangles };
-  VenationResult result;
-  if (!GrowVenation(plane, venation, result).empty())
-  {
-    return WiltingInput();
-  }
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t n = 0; n < result.nodes.size(); ++n)
-  {
-    const auto& t = leaf.blade.triangles[static_cast<std::size_t>(result.location[n].triangle)];
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k)
-    {
-      x += result.location[n].weights[k] * in.points[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])];
-    }
-    in.points.push_back(x);
-    in.regions.push_back(std::min(result.order[n], 3));
-    in.leafUV.emplace_back(nan, nan);
-  }
-  return in;
+  return veins ? WithPalmateVeins(in) : in;
 }
 
 /// A run's tip metrics, lengths over the blade length L: the largest rise of the tip's height after its lowest

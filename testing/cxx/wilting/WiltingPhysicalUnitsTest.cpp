@@ -153,7 +153,9 @@ TEST(WiltingPhysicalUnits, BiggerLeavesDroopMoreAsTheScalingSays)
   const double sagBig = -TipDisplacement(big, bigP)[2] / (2.0 * length);
   EXPECT_GT(sagSmall, 0.0);
   EXPECT_NEAR(sagBig / sagSmall, 2.0, 0.06);
-  bigP.bladeThickness = t; // the small strip's default, now fixed
+  bigP.bladeThickness = t; // the small strip's default, now fixed: voxels at most t thick (CoarseVoxelError)
+  bigP.resolution = 28;
+  bigP.anchorRadius = 0.75 * 2.0 * length / 28.0;
   const double sagBigThin = -TipDisplacement(big, bigP)[2] / (2.0 * length);
   EXPECT_NEAR(sagBigThin / sagSmall, 8.0, 0.5);
 }

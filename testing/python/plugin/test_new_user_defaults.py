@@ -165,7 +165,7 @@ checks.check(not messages.errors and [round(d, 2) for d in distances] == [1.76, 
 checks.check(value(samples, "MeasuredX") == 0.46, "measured_x read as the measured x")
 blade = LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength=20.1, BladeWidth=22.1,
                           Resolution=12)
-wilt = WiltingSimulator(Input=blade, Duration=0.5, Resolution=6, Gravity=500)
+wilt = WiltingSimulator(Input=blade, Duration=0.5, Resolution=14, Gravity=500)
 with Messages(wilt) as messages:
     wilt.UpdatePipeline()
 checks.check(messages.said("Gravity", "Preset", "Custom", kind="warning") and
@@ -173,7 +173,7 @@ checks.check(messages.said("Gravity", "Preset", "Custom", kind="warning") and
              "2: Gravity under the Cucumber preset: a warning naming it (not Duration) %s" % messages.warnings)
 # 2, the other way: a proxy left at its defaults names no property as changed (the class's own defaults equal the
 # XML's; WiltingSimulator's materials did not, and every default wilting run warned about them).
-for name, make in (("WiltingSimulator", lambda: WiltingSimulator(Input=blade, Duration=0.5, Resolution=6)),
+for name, make in (("WiltingSimulator", lambda: WiltingSimulator(Input=blade, Duration=0.5, Resolution=14)),
                    ("VenationFilter", lambda: VenationFilter(Input=blade)),
                    ("LeafOutlineSource", lambda: LeafOutlineSource()),
                    ("TreeFromSketchSource", lambda: TreeFromSketchSource())):
@@ -232,7 +232,7 @@ Delete(wilt)
 # Three quads on one edge (x = z = 0, y in [0, 1]), their coincident points merged.
 wings = [Plane(Origin=[0, 0, 0], Point1=list(p1), Point2=[0, 4, 0]) for p1 in ((3, 0, 0), (-3, 0, 0), (0, 0, 3))]
 fin = Clean(Input=AppendGeometry(Input=wings))
-bare = WiltingSimulator(Input=fin, Duration=0.1, Resolution=4)
+bare = WiltingSimulator(Input=fin, Duration=0.1, Resolution=14)
 with Messages(bare) as messages:
     bare.UpdatePipeline()
 checks.check(messages.said("no LeafUV", "lowest point", kind="warning") and messages.said("no Region", kind="warning"),

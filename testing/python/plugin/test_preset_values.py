@@ -10,6 +10,8 @@ the Preset, and Custom says the properties are used. (The greying itself is chec
 
     pvpython test_preset_values.py --plugin PlantMorph.so --work DIR
 """
+import re
+
 from plantmorph_testing import Checks, load_plugin, parse_arguments
 
 arguments = parse_arguments()
@@ -87,15 +89,25 @@ checks.check(not values and title.startswith("Custom"), "leaf Custom: the box sa
 
 SetActiveSource(None)
 blade = LeafOutlineSource()
-named = WiltingSimulator(Input=blade, Preset="Cucumber", Duration=0.5, Resolution=8)
+named = WiltingSimulator(Input=blade, Preset="Cucumber", Duration=0.5, Resolution=14)
 values, title = shown(named)
 checks.check("greyed" in title and len(values) == 26, "wilting Cucumber: the box lists 26 values (%d) %r" % (len(values), title))
 # The Cucumber's values are physical (Units Physical: per area and per thickness), so a Custom run with the
-# box's numbers at the same Resolution is the same model whatever the voxel size.
+# box's numbers at the same Resolution is the same model whatever the voxel size, once it holds the leaf and scales
+# the moduli and pressures to the leaf's size as the box's last line says the preset does.
 checks.check(values.get("Units") == "0", "wilting Cucumber: the box says its units are Physical (0): %r" % values.get("Units"))
-custom = WiltingSimulator(Input=blade, Preset="Custom", Duration=0.5, Resolution=8)
+custom = WiltingSimulator(Input=blade, Preset="Custom", Duration=0.5, Resolution=14)
+note = re.search(r"held within (\S+) of its longest side.* longest side is (\S+), scaled", str(named.PresetValues))
+checks.check(note is not None, "wilting Cucumber: the box says how the preset holds and scales the leaf")
+fraction, reference = float(note.group(1)), float(note.group(2))
+bounds = servermanager.Fetch(blade).GetBounds()
+longest = max(bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4])
+SCALED = ("BladeMaterial", "VeinMaterial", "MarginMaterial", "PetioleMaterial", "DroopForce", "ContractionForce")
+custom.AnchorRadius = fraction * longest
 for name, text in values.items():
     numbers = [float(v) for v in text.split(",")]
+    if name in SCALED:  # the Young's modulus (a material's second value) and the pressures
+        numbers[1 if len(numbers) > 1 else 0] *= longest / reference
     current = custom.GetPropertyValue(name)
     if name in ("CurlDirection", "ContractionSide", "ContractionTarget", "LoadProfile", "Units"):
         custom.GetProperty(name).SetData(int(numbers[0]))

@@ -68,7 +68,7 @@ BASES = {
     "VenationFilter": lambda: VenationFilter(Input=leaf),
     "AdaptiveLoopFilter": lambda: AdaptiveLoopFilter(Input=leaf, MaximumLevel=1),
     "LeafCurlFilter": lambda: LeafCurlFilter(Input=leaf),
-    "WiltingSimulator": lambda: WiltingSimulator(Input=leaf, Resolution=5, Duration=0.05, FrameInterval=0.05),
+    "WiltingSimulator": lambda: WiltingSimulator(Input=leaf, Resolution=14, Duration=0.05, FrameInterval=0.05),
     "CloudComparisonFilter": lambda: CloudComparisonFilter(Input=leaf_cloud, Reference=other_cloud),
     "TrajectoryComparisonFilter": None,  # no range
     "LeafCloudReader": None,  # no range
@@ -117,7 +117,7 @@ CONTEXT = {
     ("WiltingSimulator", "CurlStrain"): {"Resolution": 14},
     # Lobes: the curvature of the 3-lobed preset (Paper 002 Fig. 8), as the Custom defaults fold a lobed leaf.
     **{("LeafOutlineSource", name): {"CurvatureMu": 3.0, "CurvatureLambda": 0.5}
-       for name in ("LobeStart", "LobeAngle", "LobeScale", "SubLobes", "SubLobeDepth")},
+       for name in ("LobeStart", "LobeAngle", "LobeScale", "SubLobes", "SubLobeDepth", "SinusDepth")},
 }
 # (proxy, property, "min"/"max"): why that bound is not run at all (its run takes minutes).
 COSTLY = {
@@ -205,6 +205,8 @@ VALUE_AT_BOUND = {
     ("LeafOutlineSource", "BladeLength", "max"): "the default control points fold a blade this long and narrow",
     ("LeafOutlineSource", "BladeWidth", "min"): "the default control points fold a blade this narrow",
     ("LeafOutlineSource", "Asymmetry"): "the Custom outline folds at +-0.9",
+    ("WiltingSimulator", "Resolution", "min"): "Physical units refuse voxels coarser than the blade is thick: "
+                                               "below 14 with the default thickness",
     ("TreeFromSketchSource", "Length", "min"): EXCLUSIVE,
     ("TreeFromSketchSource", "Radius", "min"): EXCLUSIVE,
     ("TreeFromSketchSource", "MergeParentBranch", "max"): "a branch id the tree has (this one has 7)",

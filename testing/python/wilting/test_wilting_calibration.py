@@ -76,7 +76,7 @@ def angle(a0, a1, b0, b1):
 
 leaf = LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength=20.1, BladeWidth=22.1, Resolution=30)
 veins = VenationFilter(Input=leaf, Preset="Custom", Pattern="Palmate (actinodromous)",
-                       PalmateEnds="Along the far edge (paper 000)")  # as calibrate_wilting.py
+                       PalmateEnds="Along the far edge (paper 000)", ForkLevels=1)  # as calibrate_wilting.py
 wilt = WiltingSimulator(Input=OutputPort(veins, 1), Veins=OutputPort(veins, 0), Preset="Cucumber", Resolution=14,
                         AnchorRadius=3.0, Duration=10.0, FrameInterval=0.1, TimeStep=1.0 / 60.0, NewtonIterations=1,
                         Threads=1)

@@ -37,7 +37,7 @@ if arguments.load is None:
                  wilt.AnchorRadius == 3.0 and wilt.NewtonIterations == 1 and abs(wilt.TimeStep - 1.0 / 60.0) < 1e-15,
                  "defaults: the Cucumber preset at the settings it was fitted at, clamp on")
     wilt.Duration = 3.0
-    wilt.Resolution = 13
+    wilt.Resolution = 14
     wilt.UpdatePipelineInformation()
     times = list(wilt.TimestepValues)
     checks.check(len(times) == 31 and abs(times[-1] - 3.0) < 1e-9, "31 frames advertised up to 3 s: %d" % len(times))

@@ -31,7 +31,7 @@ def points(data):
 
 leaf = LeafOutlineSource(Model="B-spline", BSplinePreset="Cucumber", BladeLength=20.1, BladeWidth=22.1,
                          Resolution=24)
-veins = VenationFilter(Input=leaf, Preset="Custom", Pattern="Palmate (actinodromous)")
+veins = VenationFilter(Input=leaf, Preset="Custom", Pattern="Palmate (actinodromous)", ForkLevels=1)
 wilt = WiltingSimulator(Input=OutputPort(veins, 1), Veins=OutputPort(veins, 0), Preset="Cucumber", Resolution=14,
                         AnchorRadius=3.0, Duration=2.0, FrameInterval=0.1, TimeStep=1.0 / 60.0, NewtonIterations=1)
 checks.check(wilt.GetProperty("Veins") is not None, "the proxy has a Veins input")
