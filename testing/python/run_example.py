@@ -16,6 +16,7 @@ still aborts on "bad X server connection" is run again, up to three times), pvpy
 if the script exits non-zero or any file it must write is missing or empty."""
 import argparse
 import contextlib
+import json
 import os
 import shutil
 import subprocess
@@ -30,7 +31,7 @@ from virtual_display import VirtualDisplay  # noqa: E402
 OUTPUT = ["--output", "{output}"]
 EXAMPLES = {
     "adaptive_loop_leaf.py": ("pvbatch", OUTPUT, ["adaptive_loop_leaf.png"], ["subdivision"]),
-    "calibrate_wilting.py": ("pvpython", ["--fit", "DroopForce", "--evaluations", "4", "--resolution", "8",
+    "calibrate_wilting.py": ("pvpython", ["--fit", "DroopForce", "--evaluations", "4", "--resolution", "14",
                                           "--duration", "3", "--result", "{output}/calibrate_wilting.json"],
                              ["calibrate_wilting.json"], ["wilting"]),
     "compare_scanned_leaf.py": ("pvbatch", OUTPUT, ["compare_scanned_leaf.png"], ["leaf_fit", "comparison"]),
@@ -113,6 +114,12 @@ def main():
         print("%s: %d bytes" % (file, size))
         if size == 0:
             failures.append("examples/%s wrote no %s (or an empty one) into %s" % (name, file, output))
+        elif file.endswith(".json"):
+            # A calibration whose every simulation failed scores 1e9 (its penalty): a result, but not a calibration.
+            with open(path) as f:
+                best = json.load(f).get("best_objective")
+            if best is not None and not best < 1e9:
+                failures.append("examples/%s: every simulation failed (best objective %s)" % (name, best))
     print("examples/%s: %.1f s" % (name, time.time() - started))
     for failure in failures:
         print("FAIL:", failure)

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """examples/calibrate_wilting.py on two MPI ranks gives the serial result, bit for bit, with the candidates split.
 
-A tiny calibration (Resolution 6, 3 s, two fitted parameters: seconds per run): once serially (pvpython) and once as
+A tiny calibration (Resolution 14, the coarsest the presets accept; 3 s; two fitted parameters): once serially
+(pvpython) and once as
 `mpirun -np 2 pvbatch --symmetric`, each writing its result (--result, JSON):
 - an ensemble of 5 candidates: the same candidates and objectives (floats compared exactly), the same best; the
   two ranks ran 3 and 2 of the 5 simulations (round-robin), which add up to the serial run's 5;
@@ -21,7 +22,7 @@ from plantmorph_testing import Checks, parse_arguments
 arguments = parse_arguments([("--mpiexec", dict(default=shutil.which("mpirun") or "mpirun")),
                              ("--pvbatch", dict(default=shutil.which("pvbatch") or "pvbatch"))])
 SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "calibrate_wilting.py")
-COMMON = ["--plugin", arguments.plugin, "--fit", "DroopForce,LoadTime", "--resolution", "6", "--duration", "3"]
+COMMON = ["--plugin", arguments.plugin, "--fit", "DroopForce,LoadTime", "--resolution", "14", "--duration", "3"]
 RUNS = {"ensemble": ["--ensemble", "5", "--seed", "3"], "fit": ["--evaluations", "6"]}
 checks = Checks()
 # pvpython has initialised MPI itself: its OMPI_/PMIX_ variables would make a nested mpirun think it is part of this
