@@ -18,14 +18,14 @@ MAIN_EXAMPLES="${MAIN_EXAMPLES:-$(printf '%s\n' "$PLANTMORPH_ROOT"/examples/main
 # (testing/python/virtual_display.py: Xvfb picks its display itself; xvfb-run -a races with other X servers
 # starting on the machine, "bad X server connection").
 # On this kind of machine a render window's connection to Xvfb now and then fails ("bad X server connection",
-# pvbatch aborts at once); an example that aborts is run again, up to three times.
+# pvbatch aborts at once); an example that aborts is run again, up to six times.
 EXAMPLES='set -uo pipefail
 while IFS= read -r example; do
   [ -n "$example" ] || continue
-  for attempt in 1 2 3; do
+  for attempt in 1 2 3 4 5 6; do
     echo "run: $(basename "$example")"
     pvbatch "$example" --plugin "$PLANTMORPH_PLUGIN" --output "$OUTPUT" < /dev/null && break
-    [ "$attempt" = 3 ] && exit 1
+    [ "$attempt" = 6 ] && exit 1
     echo "run: $(basename "$example") failed, running it again"
   done
 done <<< "$MAIN_EXAMPLES"'

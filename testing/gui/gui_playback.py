@@ -4,7 +4,7 @@ tests (run_gui_test.py, run_tracing_test.py) share.
 
 ParaView gets a home of its own (no user settings; the given macros in its Macros folder, where the XML events can
 pick them from the Macros menu). On this kind of machine an X connection to Xvfb now and then fails at once ("bad X
-server connection"); such a run says nothing about PlantMorph, so it is run again, up to three times."""
+server connection"); such a run says nothing about PlantMorph, so it is run again on a new server, up to six times."""
 import json
 import os
 import shutil
@@ -36,7 +36,7 @@ def play(paraview, plugin_dir, events, work, macros, environment=None, extra_arg
                "--plugins=PlantMorph", "--test-script=" + events, "--test-directory=" + work]
     command += list(extra_arguments) + ["--exit"]
     print(" ".join(command))
-    for attempt in range(3):
+    for attempt in range(6):
         for stale in fresh_files:
             if os.path.exists(stale):
                 os.remove(stale)

@@ -12,8 +12,8 @@ entry here fails its test, and repo.examples_registered fails until every exampl
 
 The example runs in a fresh folder DIR/NAME (its --output, and the current folder), under its interpreter: pvbatch
 for the scripts that render (on a private Xvfb server when there is no X server, virtual_display.py; a run that
-still aborts on "bad X server connection" is run again, up to three times), pvpython for the others. The test fails
-if the script exits non-zero or any file it must write is missing or empty."""
+still aborts on "bad X server connection" is run again on a new server, up to six times), pvpython for the
+others. The test fails if the script exits non-zero or any file it must write is missing or empty."""
 import argparse
 import contextlib
 import json
@@ -62,7 +62,7 @@ HELPER = "plantmorph_example.py"  # the module the examples share, not an exampl
 
 def run(command, cwd, render):
     """Runs the command (on a private Xvfb server if it renders and there is no X server), again after an X abort."""
-    for attempt in range(1, 4):
+    for attempt in range(1, 7):
         print("run (attempt %d): %s" % (attempt, " ".join(command)), flush=True)
         with contextlib.ExitStack() as stack:
             environment = None
