@@ -22,6 +22,23 @@ namespace
 /// Regions with fewer points are not judged on their own shape.
 constexpr std::size_t JudgedRegionPoints = 12;
 
+/// The mean of points[ids] (into `mean`) and their scatter matrix about it (the sum of the outer products; divided by
+/// the count it is their covariance). Every point is used, unlike the sampled per-point features.
+Eigen::Matrix3d Scatter(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, Eigen::Vector3d& mean)
+{
+  mean = Eigen::Vector3d::Zero();
+  for (int j : ids)
+    mean += points[static_cast<std::size_t>(j)];
+  mean /= static_cast<double>(ids.size());
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  for (int j : ids)
+  {
+    const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
+    c += d * d.transpose();
+  }
+  return c;
+}
+
 /// What a region is, from its points' covariance and normals.
 struct RegionVerdict
 {
@@ -45,17 +62,9 @@ std::vector<RegionVerdict> JudgeRegions(const std::vector<Eigen::Vector3d>& poin
     const std::vector<int>& ids = members[r];
     if (ids.size() < JudgedRegionPoints)
       continue;
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (int j : ids)
-      mean += points[static_cast<std::size_t>(j)];
-    mean /= static_cast<double>(ids.size());
-    Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
-    for (int j : ids)
-    {
-      const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
-      c += d * d.transpose();
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(c / static_cast<double>(ids.size()));
+    Eigen::Vector3d mean;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(
+      Scatter(points, ids, mean) / static_cast<double>(ids.size()));
     const Eigen::Vector3d l = solver.eigenvalues().cwiseMax(0.0);
     const Eigen::Vector3d normal = solver.eigenvectors().col(0);
     double coherence = 0.0;
@@ -113,17 +122,8 @@ void SpreadRegions(const PointFeatures& f, const LinkGraph& graph, const std::ve
 /// The occupied cells of side `cell` in the leaf's principal plane, times the cell's area.
 double PlaneArea(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, double cell)
 {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int j : ids)
-    mean += points[static_cast<std::size_t>(j)];
-  mean /= static_cast<double>(ids.size());
-  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
-  for (int j : ids)
-  {
-    const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
-    c += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(c);
+  Eigen::Vector3d mean;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, ids, mean));
   const Eigen::Vector3d u = solver.eigenvectors().col(2), v = solver.eigenvectors().col(1);
   std::set<std::pair<long long, long long>> cells;
   for (int j : ids)
