@@ -480,7 +480,7 @@ TEST(TreeFromSketchSource, StrokeErrorsOfAFileNameTheFileAndTheLine)
   std::remove(file.c_str());
 }
 
-TEST(TreeFromSketchSource, StrokeFilesOfIssue25BuildTreesOrFailCleanly)
+TEST(TreeFromSketchSource, LongAndCutStrokeFilesBuildTreesOrFailCleanly)
 {
   // Files that crashed the regex reader (a 2,000-point polyline, a 5,000-command path, a file cut inside a long
   // attribute) and the bow that came out straight.
