@@ -67,6 +67,21 @@ std::string WiltingInputAssumptions(const WiltingInput& input, bool surfaceHasRe
   return text.empty() ? text : text.substr(0, text.size() - 1);
 }
 
+std::string FittedBladeWarning(const WiltingInput& input, const WiltingParameters& parameters)
+{
+  if (!input.fitted || !(parameters.anchorFraction > 0.0) || parameters.voxelSize > 0.0 ||
+    parameters.resolution >= FittedBladeResolution)
+  {
+    return std::string();
+  }
+  std::ostringstream message;
+  message << "the Input is a fitted blade (LeafFitFilter): its base is the bottom of its fitted outline (a cordate "
+             "leaf's sinus is filled in), where the preset holds it, lower than a petiole would; on fitted cucumber "
+             "scans of 5-40 cm Resolution 14 inverted a voxel at 6-9 s: the smallest Resolution that held is "
+          << FittedBladeResolution << " (Resolution " << parameters.resolution << " asked)";
+  return message.str();
+}
+
 std::string ValidateWilting(const WiltingParameters& p)
 {
   std::ostringstream message;

@@ -177,3 +177,24 @@ TEST(WiltingCarryOver, TheMidveinIsTwoVoxelsWideWhereverItLies)
   EXPECT_LT(moved.risesBack, 0.03);
   EXPECT_LT(TrackDistance(moved.track, symmetric.track), 0.01);
 }
+
+TEST(WiltingCarryOver, PresetsOnFittedBladesWarnBelowTheResolutionThatHeld)
+{
+  // A fitted blade's base is the bottom of its fitted outline (a cordate sinus filled in): on fitted cucumber scans
+  // the preset inverted a voxel at Resolution 14 and ran at 18 (benchmarks/README.md "Fitted scans"). A preset on
+  // a fitted blade below 18 warns naming 18; at 18, on a blade LeafOutlineSource made, with VoxelSize or with the
+  // Custom preset's AnchorRadius it does not.
+  WiltingInput fitted = CucumberBlade(20.1, false);
+  fitted.fitted = true;
+  const std::string warning = FittedBladeWarning(fitted, Cucumber(14));
+  EXPECT_NE(warning.find("the smallest Resolution that held is 18"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("fitted blade"), std::string::npos) << warning;
+  EXPECT_EQ(FittedBladeWarning(fitted, Cucumber(18)), "");
+  EXPECT_EQ(FittedBladeWarning(CucumberBlade(20.1, false), Cucumber(14)), "");
+  WiltingParameters sized = Cucumber(14);
+  sized.voxelSize = 1.0;
+  EXPECT_EQ(FittedBladeWarning(fitted, sized), "");
+  WiltingParameters custom = Cucumber(14);
+  custom.anchorFraction = 0.0;
+  EXPECT_EQ(FittedBladeWarning(fitted, custom), "");
+}
