@@ -69,15 +69,17 @@ std::vector<std::size_t> LobeTips(const View& view, double prominence)
   return tips;
 }
 
-/// Where the ray from `base` at angle `phi` leaves the blade's outer loop for the last time; the boundary vertex
-/// nearest in angle (among those at least `near` from the base) when the ray meets nothing.
+/// Where the ray from `base` at angle `phi` leaves the blade's outer loop: for the first time (beyond `near`) when
+/// that is at least 0.8 of the way to the last time (a serration's notch: the straight vein from the base stays
+/// on the blade, so every primary may be straight and leave the base at its own angle), else for the last time; the
+/// boundary vertex nearest in angle (among those at least `near` from the base) when the ray meets nothing.
 Eigen::Vector2d RayEnd(
   const View& view, const Eigen::Vector2d& base, const Eigen::Vector2d& axis, double phi, double near)
 {
   const Eigen::Vector2d left(-axis.y(), axis.x());
   const Eigen::Vector2d direction = std::cos(phi) * axis + std::sin(phi) * left;
   const std::size_t n = view.points.size();
-  double farthest = -1.0;
+  double farthest = -1.0, first = std::numeric_limits<double>::max();
   for (std::size_t i = 1; i + 1 < n; ++i) // the two edges at the base vertex are left out
   {
     const Eigen::Vector2d a = view.points[i], b = view.points[i + 1];
@@ -88,10 +90,13 @@ Eigen::Vector2d RayEnd(
     const double t = Cross(a - base, e) / denominator;
     const double s = Cross(a - base, direction) / denominator;
     if (t > near && s >= 0.0 && s <= 1.0)
+    {
       farthest = std::max(farthest, t);
+      first = std::min(first, t);
+    }
   }
   if (farthest > 0.0)
-    return base + farthest * direction;
+    return base + (first >= 0.8 * farthest ? first : farthest) * direction;
   std::size_t best = 0;
   double gap = std::numeric_limits<double>::max();
   for (std::size_t i = 0; i < n; ++i)

@@ -267,6 +267,9 @@ struct WiltingInput
   std::vector<std::array<int, 3>> triangles; ///< the surface, voxelised
   std::vector<int> regions;                  ///< one per point, or empty
   std::vector<Eigen::Vector2d> leafUV;       ///< one per point, or empty
+  /// The surface is a LeafFitFilter blade (its field data has PlantMorph.FitModel.*): its base (LeafUV v = 0) is the
+  /// bottom of its fitted outline, which fills a cordate leaf's sinus.
+  bool fitted = false;
 };
 
 /// The point pairs that are edges of more than two of `triangles` (a non-manifold surface has some).
@@ -276,6 +279,15 @@ std::size_t CountNonManifoldEdges(const std::vector<std::array<int, 3>>& triangl
 /// lowest point, the tip the point farthest from it), no Region on the surface (`surfaceHasRegion` false: every
 /// surface point is blade), edges shared by more than two triangles (voxelised as it is).
 std::string WiltingInputAssumptions(const WiltingInput& input, bool surfaceHasRegion);
+
+/// The smallest Resolution that ran without inverting a voxel on fitted blades, for a preset (held in leaf lengths)
+/// on a fitted blade (benchmarks/README.md "Fitted scans": LeafOutlineSource's cucumber blade of 5-40 cm scanned and
+/// fitted inverted a voxel at Resolution 14 every time, and ran at 18).
+inline constexpr int FittedBladeResolution = 18;
+
+/// A preset (anchorFraction > 0) run on a fitted blade (input.fitted) at a Resolution below FittedBladeResolution
+/// (VoxelSize 0): the warning naming that Resolution and why; otherwise "".
+std::string FittedBladeWarning(const WiltingInput& input, const WiltingParameters& parameters);
 
 struct WiltingFrame
 {

@@ -332,6 +332,39 @@ std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vect
   return std::string();
 }
 
+void WidenMidvein(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<std::size_t>& midvein, int across, VoxelGrid& grid)
+{
+  for (const std::size_t p : midvein)
+  {
+    const Eigen::Vector3d local = (points[p] - grid.origin) / grid.h;
+    std::array<int, 2> range[3];
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      // Across: the two cells nearest the point (whose shared face is its nearest); along and in z: the cells
+      // holding it (closed, as Voxelize's regions).
+      const double f = std::floor(axis == across ? local[axis] - 0.5 : local[axis]);
+      const int cell = static_cast<int>(f);
+      range[axis] = axis == across ? std::array<int, 2>{ cell, cell + 1 }
+                                   : std::array<int, 2>{ local[axis] == f ? cell - 1 : cell, cell };
+    }
+    for (int k = range[2][0]; k <= range[2][1]; ++k)
+    {
+      for (int j = range[1][0]; j <= range[1][1]; ++j)
+      {
+        for (int i = range[0][0]; i <= range[0][1]; ++i)
+        {
+          const int v = grid.VoxelAt(i, j, k);
+          if (v >= 0 && RegionPriority(grid.regions[static_cast<std::size_t>(v)]) < RegionPriority(1))
+          {
+            grid.regions[static_cast<std::size_t>(v)] = 1;
+          }
+        }
+      }
+    }
+  }
+}
+
 std::string AddPetiole(
   VoxelGrid& grid, const Eigen::Vector3d& base, double length, std::size_t maxVoxels, PetiolePlacement& petiole)
 {

@@ -10,6 +10,7 @@
 #include <plantmorph/DataContract.h>
 #include <plantmorph/RangeError.h>
 
+#include "vtkAbstractArray.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
@@ -384,6 +385,12 @@ std::string WiltingInputOf(vtkPolyData* input, vtkPolyData* veins, WiltingInput&
   ReadTriangles(input, in);
   const bool surfaceHasRegion = ReadRegions(input, veins, in);
   ReadLeafUV(input, in);
+  vtkFieldData* field = input->GetFieldData();
+  for (int a = 0; field && a < field->GetNumberOfArrays() && !in.fitted; ++a)
+  {
+    const char* name = field->GetAbstractArray(a) ? field->GetAbstractArray(a)->GetName() : nullptr;
+    in.fitted = name && std::string(name).rfind("PlantMorph.FitModel.", 0) == 0;
+  }
   return WiltingInputAssumptions(in, surfaceHasRegion);
 }
 

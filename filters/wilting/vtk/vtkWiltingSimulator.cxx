@@ -232,6 +232,11 @@ bool vtkWiltingSimulator::SetUpSimulation(plantmorph::WiltingSimulation& simulat
   {
     vtkWarningMacro(<< label << assumed);
   }
+  const std::string fitted = plantmorph::FittedBladeWarning(in, parameters);
+  if (!fitted.empty())
+  {
+    vtkWarningMacro(<< label << fitted);
+  }
   const std::string error = simulation.Setup(in, parameters);
   if (!error.empty())
   {

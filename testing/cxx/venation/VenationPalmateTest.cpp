@@ -187,6 +187,89 @@ TEST(PalmateVenation, PrimariesFanOverAtLeast80DegreesOnEntireBlades)
   }
 }
 
+/// Where each primary is a `fraction` of its own length (along it) from its start at the base: the directions in
+/// which the primaries leave the base (their ends say where they arrive, which a curved vein's do not).
+std::vector<Eigen::Vector2d> LeavingPoints(const VenationResult& r, double fraction)
+{
+  std::vector<Eigen::Vector2d> points;
+  for (const auto& vein : r.veins)
+  {
+    if (vein.order != VeinOrderPrimary)
+      continue;
+    double length = 0.0;
+    for (std::size_t i = 0; i + 1 < vein.nodes.size(); ++i)
+      length += (r.nodes[vein.nodes[i + 1]] - r.nodes[vein.nodes[i]]).norm();
+    double walked = 0.0;
+    for (std::size_t i = 0; i + 1 < vein.nodes.size(); ++i)
+    {
+      const Eigen::Vector2d a = r.nodes[vein.nodes[i]], b = r.nodes[vein.nodes[i + 1]];
+      const double piece = (b - a).norm();
+      if (walked + piece >= fraction * length)
+      {
+        points.push_back(a + (fraction * length - walked) / std::max(piece, 1e-300) * (b - a));
+        break;
+      }
+      walked += piece;
+    }
+  }
+  return points;
+}
+
+/// The blade's own angular extent seen from the base (degrees) at the distance of `points` from it: the span of
+/// its margin vertices within 0.03 of the leaf length of their mean distance.
+double BladeExtentAt(const LeafGeometry& leaf, const Frame& frame, const std::vector<Eigen::Vector2d>& points)
+{
+  double distance = 0.0;
+  for (const Eigen::Vector2d& x : points)
+    distance += (x - frame.base).norm() / points.size();
+  const double length = (leaf.blade.points[leaf.midvein.back()] - frame.base).norm();
+  std::vector<Eigen::Vector2d> margin;
+  for (const std::vector<int>* side : { &leaf.rightMargin, &leaf.leftMargin })
+  {
+    for (int id : *side)
+    {
+      if (std::abs((leaf.blade.points[id] - frame.base).norm() - distance) <= 0.03 * length)
+        margin.push_back(leaf.blade.points[id]);
+    }
+  }
+  return Span(frame, margin);
+}
+
+TEST(PalmateVenation, PrimariesLeaveTheBaseFannedOverAtLeast80DegreesOnEntireBlades)
+{
+  // The fan as a botanist reads it: the spread of the primaries' directions as they leave the base, measured a fifth
+  // of each primary's length from the base (and a tenth, nearer still), not where they end. On the serrate blade
+  // they left over 45-58 degrees with 4 and 5 veins: a ray ending beyond a tooth left the blade at the notch, so
+  // every primary grew curved in LeafUV; now a primary ends at the notch's margin and stays straight.
+  for (const DeformedRectanglePreset preset : { DeformedRectanglePreset::Entire, DeformedRectanglePreset::Ginkgo,
+         DeformedRectanglePreset::Serrate, DeformedRectanglePreset::RoundedBaseAcuminateApex })
+  {
+    const LeafGeometry leaf = DeformedRectangle(preset);
+    const Frame frame = FrameOf(leaf);
+    for (int veins : { 3, 4, 5, 7 })
+    {
+      SCOPED_TRACE(PresetName(preset) + ", " + std::to_string(veins) + " veins");
+      const VenationResult r = Grow(leaf, Palmate(veins));
+      for (const double fraction : { 0.1, 0.2 })
+      {
+        const std::vector<Eigen::Vector2d> leaving = LeavingPoints(r, fraction);
+        ASSERT_EQ(leaving.size(), static_cast<std::size_t>(veins));
+        const double span = Span(frame, leaving);
+        const double room = BladeExtentAt(leaf, frame, leaving);
+        std::cout << PresetName(preset) << " " << veins << " palmate veins: leaving the base (at " << fraction
+                  << " of their length) over " << span << " deg, the blade there over " << room << " deg\n";
+        // The ginkgo's cuneate base is narrower than 80 degrees seen from the base (51 at a tenth of the length, 71
+        // at a fifth): its veins leave bunched (7 and 20 degrees) and fan out higher up; the goal holds where the
+        // blade leaves room for it.
+        if (room >= 80.0)
+        {
+          EXPECT_GE(span, 80.0) << "at " << fraction << " of their length";
+        }
+      }
+    }
+  }
+}
+
 TEST(PalmateVenation, OnePrimaryRunsIntoEachLobeAndReachesItsTip)
 {
   for (const SpaceCurvePreset preset : { SpaceCurvePreset::Figure8ThreeLobes, SpaceCurvePreset::Figure8FiveLobes })
