@@ -58,24 +58,19 @@ std::vector<unsigned char> Opening(const std::vector<Eigen::Vector3d>& points, c
 {
   const std::size_t n = points.size();
   std::vector<int> count(n, 0);
-  std::vector<int> near;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    grid.Within(points[i], radius, near);
-    count[i] = static_cast<int>(near.size());
-  }
+  for (int i : grid.SortedIds()) // cell by cell: neighbouring queries share cells, so memory stays in cache
+    count[i] = static_cast<int>(grid.CountWithin(points[i], radius));
   std::vector<int> sorted = count;
   const std::size_t q = static_cast<std::size_t>(0.9 * static_cast<double>(n - 1));
   std::nth_element(sorted.begin(), sorted.begin() + q, sorted.end());
   const double full = sorted[q];
-  std::vector<unsigned char> blade(n, 0);
+  std::vector<unsigned char> centre(n, 0);
   for (std::size_t i = 0; i < n; ++i)
-    if (count[i] >= 0.7 * full)
-    {
-      grid.Within(points[i], radius, near);
-      for (int j : near)
-        blade[j] = 1;
-    }
+    centre[i] = count[i] >= 0.7 * full ? 1 : 0;
+  // A point is blade when a centre lies within `radius` of it: itself, or the first centre its search meets.
+  std::vector<unsigned char> blade(n, 0);
+  for (int i : grid.SortedIds())
+    blade[i] = centre[i] || grid.AnyWithin(points[i], radius, centre) ? 1 : 0;
   return blade;
 }
 
