@@ -99,13 +99,36 @@ std::vector<Eigen::Vector3d> Scan(int count, unsigned seed)
   return points;
 }
 
+unsigned Threads()
+{
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+/// One thread per core, each taking every Threads()-th index.
+ParallelFor Pool()
+{
+  const unsigned threads = Threads();
+  return [threads](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    std::vector<std::thread> workers;
+    for (unsigned w = 0; w < threads; ++w)
+      workers.emplace_back([&, w] {
+        for (std::size_t i = w; i < count; i += threads)
+          body(i, i + 1);
+      });
+    for (auto& t : workers)
+      t.join();
+  };
+}
+
+/// One leaf of range(0) points, serial (range(1) = 0) or its searches and per-point steps threaded (1).
 void BM_FitOneLeaf(benchmark::State& state)
 {
   const std::vector<Eigen::Vector3d> scan = Scan(static_cast<int>(state.range(0)), 1);
+  const ParallelFor parallel = state.range(1) ? Pool() : ParallelFor(SerialFor);
   LeafFitResult fit;
   for (auto _ : state)
   {
-    fit = FitLeaf(scan, LeafFitParameters());
+    fit = FitLeaf(scan, LeafFitParameters(), parallel);
     benchmark::DoNotOptimize(fit.points.data());
   }
   if (!fit.error.empty())
@@ -117,8 +140,12 @@ void BM_FitOneLeaf(benchmark::State& state)
   state.counters["area_err"] = fit.traits.area / TheTruth().area - 1.0;
   state.counters["length_err"] = fit.traits.length / TheTruth().length - 1.0;
   state.counters["fit_rms"] = fit.traits.fitRMS;
+  state.counters["threads"] = state.range(1) ? Threads() : 1;
 }
-BENCHMARK(BM_FitOneLeaf)->RangeMultiplier(10)->Range(1000, 1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FitOneLeaf)
+  ->ArgsProduct({ { 1000, 10000, 100000, 1000000 }, { 0, 1 } })
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime();
 
 /// Leaves of 10^4 points each, fitted with one thread per leaf (range(1) = 1) or serially (0).
 void BM_FitLeaves(benchmark::State& state)
@@ -126,17 +153,8 @@ void BM_FitLeaves(benchmark::State& state)
   std::vector<std::vector<Eigen::Vector3d>> leaves;
   for (int k = 0; k < state.range(0); ++k)
     leaves.push_back(Scan(10000, 10 + k));
-  const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-  const ParallelFor pool = [threads](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::vector<std::thread> workers;
-    for (unsigned w = 0; w < threads; ++w)
-      workers.emplace_back([&, w] {
-        for (std::size_t i = w; i < count; i += threads)
-          body(i, i + 1);
-      });
-    for (auto& t : workers)
-      t.join();
-  };
+  const unsigned threads = Threads();
+  const ParallelFor pool = Pool();
   for (auto _ : state)
   {
     const auto results = FitLeaves(leaves, LeafFitParameters(), state.range(1) ? pool : ParallelFor(SerialFor));

@@ -51,7 +51,7 @@ double InlierLimit(const Fitted& f, double spacing)
 }
 
 /// The penalised, Huber-reweighted surface through the kept points.
-std::string FitSurface(const LeafFitParameters& options, double spacing, Fitted& f)
+std::string FitSurface(const LeafFitParameters& options, double spacing, const ParallelFor& parallel, Fitted& f)
 {
   Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
   for (const auto& p : f.ts)
@@ -76,7 +76,7 @@ std::string FitSurface(const LeafFitParameters& options, double spacing, Fitted&
     {
       // Project every point onto the surface (two Gauss-Newton steps on its (t, s)): a point's noise along a
       // tilted normal must not move it along the leaf, or the outermost samples reach beyond the margin and tips.
-      for (std::size_t i = 0; i < f.ts.size(); ++i)
+      ForEachIndex(parallel, f.ts.size(), [&](std::size_t i) {
         for (int step = 0; step < 2; ++step)
         {
           Eigen::Vector3d dt, ds;
@@ -88,13 +88,14 @@ std::string FitSurface(const LeafFitParameters& options, double spacing, Fitted&
           if (delta.allFinite() && delta.norm() < 10.0 * spacing)
             f.ts[i] += delta;
         }
+      });
     }
     for (int iteration = 0; iteration < 3; ++iteration)
     {
       if (!f.surface.Fit(tRange, sRange, nt, ns, f.ts, f.local, w, lambda))
         return "no leaf shape: the surface could not be fitted";
-      for (std::size_t i = 0; i < f.ts.size(); ++i)
-        residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm();
+      ForEachIndex(parallel, f.ts.size(),
+        [&](std::size_t i) { residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm(); });
       f.sigma = 1.4826 * Median(residual);
       const double k = 2.0 * std::max(f.sigma, 1e-6 * spacing);
       for (std::size_t i = 0; i < f.ts.size(); ++i)
@@ -195,7 +196,8 @@ std::string MeshFittedBlade(const LeafFitParameters& options, const Fitted& f, L
 }
 
 /// FitDistance, Inlier and (t, s) of every input point; Support of every blade point.
-void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, double spacing, LeafFitResult& result)
+void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, double spacing,
+  const ParallelFor& parallel, LeafFitResult& result)
 {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   result.fitDistance.assign(points.size(), nan);
@@ -216,17 +218,18 @@ void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, dou
   }
   // Dropped points: the distance to the nearest blade vertex, signed by the side of the blade's normal there.
   const PointGrid blade(result.points, PointGrid::CellFor(result.points, 4.0));
-  for (std::size_t i = 0; i < points.size(); ++i)
+  ForEachIndex(parallel, points.size(), [&](std::size_t i) {
     if (std::isnan(result.fitDistance[i]))
     {
       const auto nb = blade.Nearest(points[i], 1);
       const Eigen::Vector3d d = points[i] - result.points[nb.front().second];
       result.fitDistance[i] = std::copysign(d.norm(), d.dot(result.normals[nb.front().second]));
     }
+  });
   const PointGrid scan(inliers, PointGrid::CellFor(inliers, 4.0));
   result.support.resize(result.points.size());
-  for (std::size_t i = 0; i < result.points.size(); ++i)
-    result.support[i] = std::sqrt(scan.Nearest(result.points[i], 1).front().first);
+  ForEachIndex(parallel, result.points.size(),
+    [&](std::size_t i) { result.support[i] = std::sqrt(scan.Nearest(result.points[i], 1).front().first); });
 }
 
 /// Model C control points: the midvein at `count` stations base to apex (half-way between the margins), each margin at `count` inner stations
@@ -302,7 +305,8 @@ void RebuildableModel(const LeafFitParameters& options, const Fitted& f, LeafFit
     std::to_string(options.modelControlPoints) + " or fewer control points (" + first + ")";
 }
 
-std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, LeafFitResult& result)
+std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options,
+  const ParallelFor& parallel, LeafFitResult& result)
 {
   std::string error = ValidateLeafFitParameters(options);
   if (error.empty())
@@ -311,7 +315,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     return error;
   std::vector<unsigned char> keep;
   double spacing = 0.0;
-  error = fit::CleanCloud(points, options.outlierSigma, keep, spacing);
+  error = fit::CleanCloud(points, options.outlierSigma, keep, spacing, parallel);
   if (!error.empty())
     return error;
   // The petiole is set apart: the blade alone is fitted, and every blade trait is the blade's.
@@ -323,7 +327,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
       cleaned.push_back(static_cast<int>(i));
       cleanPoints.push_back(points[i]);
     }
-  const fit::Petiole petiole = fit::FindPetiole(cleanPoints, spacing);
+  const fit::Petiole petiole = fit::FindPetiole(cleanPoints, spacing, parallel);
   result.petiole.assign(points.size(), 0);
   Fitted f;
   std::vector<Eigen::Vector3d> kept;
@@ -346,7 +350,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     return error;
   for (const auto& q : f.local)
     f.ts.push_back(f.sections.Intrinsic(q));
-  error = FitSurface(options, spacing, f);
+  error = FitSurface(options, spacing, parallel, f);
   if (!error.empty())
     return error;
   // The outline from the points on the surface only (an outlier beside the leaf must not widen it).
@@ -359,7 +363,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     error = MeshFittedBlade(options, f, result);
   if (!error.empty())
     return error;
-  ScanArrays(points, f, spacing, result);
+  ScanArrays(points, f, spacing, parallel, result);
   RebuildableModel(options, f, result);
   result.traits.spacing = spacing;
   result.traits.points = static_cast<double>(points.size());
@@ -395,13 +399,14 @@ std::string ValidateLeafFitParameters(const LeafFitParameters& o)
   return m.str();
 }
 
-LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options)
+LeafFitResult FitLeaf(
+  const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, const ParallelFor& parallel)
 {
   LeafFitResult result;
   LeafFitParameters normalized = options;
   if (normalized.up.allFinite() && normalized.up.norm() > 0.0)
     normalized.up.normalize();
-  const std::string error = Fit(points, normalized, result);
+  const std::string error = Fit(points, normalized, parallel, result);
   if (!error.empty())
   {
     result = LeafFitResult();
@@ -414,6 +419,11 @@ std::vector<LeafFitResult> FitLeaves(const std::vector<std::vector<Eigen::Vector
   const LeafFitParameters& options, const ParallelFor& parallel)
 {
   std::vector<LeafFitResult> results(leaves.size());
+  if (leaves.size() == 1)
+  {
+    results[0] = FitLeaf(leaves[0], options, parallel);
+    return results;
+  }
   parallel(leaves.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       results[i] = FitLeaf(leaves[i], options);

@@ -120,11 +120,13 @@ struct LeafFitResult
   LeafTraits traits;
 };
 
-/// Fits one leaf. Never throws for bad input: the result's error says what is wrong.
-LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options);
+/// Fits one leaf. Never throws for bad input: the result's error says what is wrong. Its point searches and
+/// per-point steps run through `parallel`; the result does not depend on it.
+LeafFitResult FitLeaf(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options,
+  const ParallelFor& parallel = SerialFor);
 
 /// Fits several leaves (each its own point set) through `parallel`; results in the leaves' order, identical to
-/// fitting them one by one.
+/// fitting them one by one. A single leaf is fitted with `parallel` inside it.
 std::vector<LeafFitResult> FitLeaves(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
   const LeafFitParameters& options, const ParallelFor& parallel = SerialFor);
 

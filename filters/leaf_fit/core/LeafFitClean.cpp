@@ -75,8 +75,8 @@ std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points)
   return {};
 }
 
-std::string CleanCloud(
-  const std::vector<Eigen::Vector3d>& points, double outlierSigma, std::vector<unsigned char>& keep, double& spacing)
+std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlierSigma,
+  std::vector<unsigned char>& keep, double& spacing, const ParallelFor& parallel)
 {
   const int n = static_cast<int>(points.size());
   const int k = 8;
@@ -88,8 +88,9 @@ std::string CleanCloud(
   const double reach = 8.0 * cell;
   std::vector<double> meanDistance(n), nearest(n);
   std::vector<std::pair<double, int>> neighbours(static_cast<std::size_t>(n) * k, { 0.0, -1 });
-  for (int i : grid.SortedIds()) // cell by cell: neighbouring queries share cells, so memory stays in cache
-  {
+  const std::vector<int>& ids = grid.SortedIds(); // cell by cell: neighbouring queries share cells (and cache)
+  ForEachIndex(parallel, ids.size(), [&](std::size_t at) {
+    const int i = ids[at];
     const auto nb = grid.Nearest(points[i], k, i, reach);
     double sum = (k - static_cast<double>(nb.size())) * reach;
     for (std::size_t j = 0; j < nb.size(); ++j)
@@ -99,7 +100,7 @@ std::string CleanCloud(
     }
     meanDistance[i] = sum / k;
     nearest[i] = nb.empty() ? reach : std::sqrt(nb.front().first);
-  }
+  });
   // Statistical outlier removal, robust: a point is dropped when its mean neighbour distance is beyond the median
   // by OutlierSigma robust deviations AND five times the median. Points on the margin have about 1.4 times the
   // median, and at a sharp tip, whose neighbours all lie in a narrow wedge, up to sqrt(pi / half-angle) times it:

@@ -31,8 +31,9 @@ std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points);
 
 /// Statistical outlier removal and the largest connected parts; keep[i] = 1 for kept points. Sets `spacing` (the
 /// median nearest-neighbour distance of the kept points).
-std::string CleanCloud(
-  const std::vector<Eigen::Vector3d>& points, double outlierSigma, std::vector<unsigned char>& keep, double& spacing);
+/// The neighbour searches run through `parallel`.
+std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlierSigma,
+  std::vector<unsigned char>& keep, double& spacing, const ParallelFor& parallel = SerialFor);
 
 /// The frame of the blade's points (base and axis chosen as LeafFit.h says; `petiole` found on them and the
 /// petiole's points); baseFrom 0 shape, 1 base point, 2 petiole.

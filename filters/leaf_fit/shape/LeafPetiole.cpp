@@ -54,28 +54,27 @@ double DensitySpacing(const std::vector<Eigen::Vector3d>& points)
 /// Which points the blade's opening covers: a point whose ball of radius `radius` holds at least 70 % of what a
 /// ball inside the sheet holds (the 90th percentile of the counts) is a centre; every point within `radius` of a
 /// centre is blade.
-std::vector<unsigned char> Opening(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double radius)
+std::vector<unsigned char> Opening(
+  const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double radius, const ParallelFor& parallel)
 {
   const std::size_t n = points.size();
+  const std::vector<int>& ids = grid.SortedIds(); // cell by cell: neighbouring queries share cells (and cache)
   std::vector<int> count(n, 0);
-  std::vector<int> near;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    grid.Within(points[i], radius, near);
-    count[i] = static_cast<int>(near.size());
-  }
+  ForEachIndex(
+    parallel, n, [&](std::size_t k) { count[ids[k]] = static_cast<int>(grid.CountWithin(points[ids[k]], radius)); });
   std::vector<int> sorted = count;
   const std::size_t q = static_cast<std::size_t>(0.9 * static_cast<double>(n - 1));
   std::nth_element(sorted.begin(), sorted.begin() + q, sorted.end());
   const double full = sorted[q];
-  std::vector<unsigned char> blade(n, 0);
+  std::vector<unsigned char> centre(n, 0);
   for (std::size_t i = 0; i < n; ++i)
-    if (count[i] >= 0.7 * full)
-    {
-      grid.Within(points[i], radius, near);
-      for (int j : near)
-        blade[j] = 1;
-    }
+    centre[i] = count[i] >= 0.7 * full ? 1 : 0;
+  // A point is blade when a centre lies within `radius` of it: itself, or the first centre its search meets.
+  std::vector<unsigned char> blade(n, 0);
+  ForEachIndex(parallel, n, [&](std::size_t k) {
+    const int i = ids[k];
+    blade[i] = centre[i] || grid.AnyWithin(points[i], radius, centre) ? 1 : 0;
+  });
   return blade;
 }
 
@@ -352,7 +351,7 @@ bool IsStalk(const Bins& bins, double spacing, double bladeWidth)
 }
 } // namespace
 
-Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing)
+Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, const ParallelFor& parallel)
 {
   Petiole petiole;
   petiole.member.assign(points.size(), 0);
@@ -363,7 +362,7 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing)
   // a margin half of it).
   const double radius = 4.0 * spacing, link = 4.0 * spacing;
   const PointGrid grid(points, radius);
-  const std::vector<unsigned char> blade = Opening(points, grid, radius);
+  const std::vector<unsigned char> blade = Opening(points, grid, radius, parallel);
   const std::size_t bladeCount = static_cast<std::size_t>(std::count(blade.begin(), blade.end(), 1));
   if (bladeCount < points.size() / 2)
     return petiole; // no blade the ball fits in (a narrow leaf): nothing to tell a petiole from

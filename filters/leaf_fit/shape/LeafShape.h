@@ -20,6 +20,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <plantmorph/ParallelFor.h>
 
 #include <optional>
 #include <vector>
@@ -40,7 +41,8 @@ struct Petiole
 
 /// Finds the petiole of a leaf's points (outliers already removed; `spacing` their median nearest-neighbour
 /// distance). `found` is false when no thin trail leaves the blade.
-Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing);
+Petiole FindPetiole(
+  const std::vector<Eigen::Vector3d>& points, double spacing, const ParallelFor& parallel = SerialFor);
 
 /// The unit direction, in the blade's best plane (unit normal `normal`), of the line through `through` across
 /// which the blade's points are most nearly mirror images of each other. `hint`: the direction to prefer among

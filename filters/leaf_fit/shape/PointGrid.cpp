@@ -36,16 +36,88 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell)
   std::sort(keyed.begin(), keyed.end());
   this->Order.resize(keyed.size());
   this->Sorted.resize(keyed.size());
+  std::size_t cells = 0;
   for (std::size_t i = 0; i < keyed.size(); ++i)
   {
     this->Order[i] = keyed[i].second;
     this->Sorted[i] = points[keyed[i].second];
-    auto it = this->Ranges.find(keyed[i].first);
-    if (it == this->Ranges.end())
-      this->Ranges.emplace(keyed[i].first, std::make_pair(static_cast<int>(i), static_cast<int>(i + 1)));
-    else
-      it->second.second = static_cast<int>(i + 1);
+    cells += i == 0 || keyed[i].first != keyed[i - 1].first ? 1 : 0;
   }
+  // A table of at least twice as many slots as cells (a power of two), filled by linear probing.
+  int bits = 4;
+  while ((std::size_t{ 1 } << bits) < 2 * cells)
+    ++bits;
+  this->SlotShift = 64 - bits;
+  this->SlotMask = (std::uint64_t{ 1 } << bits) - 1;
+  this->SlotKey.assign(std::size_t{ 1 } << bits, -1);
+  this->SlotRange.assign(std::size_t{ 1 } << bits, { 0, 0 });
+  for (std::size_t i = 0; i < keyed.size();)
+  {
+    std::size_t end = i + 1;
+    while (end < keyed.size() && keyed[end].first == keyed[i].first)
+      ++end;
+    std::uint64_t slot = (static_cast<std::uint64_t>(keyed[i].first) * 0x9E3779B97F4A7C15ull) >> this->SlotShift;
+    while (this->SlotKey[slot] != -1)
+      slot = (slot + 1) & this->SlotMask;
+    this->SlotKey[slot] = keyed[i].first;
+    this->SlotRange[slot] = { static_cast<int>(i), static_cast<int>(end) };
+    i = end;
+  }
+  const double budget = 64.0 * static_cast<double>(keyed.size()) + 65536.0;
+  for (;; ++this->BlockShift)
+  {
+    for (int a = 0; a < 3; ++a)
+      this->Blocks[a] = ((this->Extent[a] - 1) >> this->BlockShift) + 1;
+    if (static_cast<double>(this->Blocks[0]) * this->Blocks[1] * this->Blocks[2] <= budget)
+      break;
+  }
+  this->Occupied.assign((static_cast<std::size_t>(this->Blocks[0]) * this->Blocks[1] * this->Blocks[2] + 63) / 64, 0);
+  for (const Eigen::Vector3d& p : this->Sorted)
+  {
+    const Eigen::Vector3i c = this->CellOf(p);
+    const std::size_t b = this->BlockOf(c[0], c[1], c[2]);
+    this->Occupied[b >> 6] |= std::uint64_t{ 1 } << (b & 63);
+  }
+}
+
+std::size_t PointGrid::BlockOf(int i, int j, int k) const
+{
+  return (static_cast<std::size_t>(i >> this->BlockShift) * this->Blocks[1] + (j >> this->BlockShift)) *
+    this->Blocks[2] +
+    (k >> this->BlockShift);
+}
+
+const std::pair<int, int>* PointGrid::Range(int i, int j, int k) const
+{
+  const std::size_t b = this->BlockOf(i, j, k);
+  if (!(this->Occupied[b >> 6] >> (b & 63) & 1))
+    return nullptr;
+  const Key key = this->KeyOf(i, j, k);
+  std::uint64_t slot = (static_cast<std::uint64_t>(key) * 0x9E3779B97F4A7C15ull) >> this->SlotShift;
+  for (;; slot = (slot + 1) & this->SlotMask)
+  {
+    const Key at = this->SlotKey[slot];
+    if (at == key)
+      return &this->SlotRange[slot];
+    if (at == -1)
+      return nullptr;
+  }
+}
+
+template <typename Visit>
+void PointGrid::ForCellsAround(const Eigen::Vector3d& q, double radius, Visit&& visit) const
+{
+  if (this->Sorted.empty())
+    return;
+  const Eigen::Vector3i lo = this->CellOf(q - Eigen::Vector3d::Constant(radius));
+  const Eigen::Vector3i hi = this->CellOf(q + Eigen::Vector3d::Constant(radius));
+  for (int i = lo[0]; i <= hi[0]; ++i)
+    for (int j = lo[1]; j <= hi[1]; ++j)
+      for (int l = lo[2]; l <= hi[2]; ++l)
+        if (const std::pair<int, int>* range = this->Range(i, j, l))
+          for (int o = range->first; o < range->second; ++o)
+            if (!visit(o))
+              return;
 }
 
 PointGrid::Key PointGrid::KeyOf(std::int64_t i, std::int64_t j, std::int64_t k) const
@@ -68,15 +140,32 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
   if (k <= 0 || this->Sorted.empty())
     return best;
   const Eigen::Vector3i c = this->CellOf(q);
-  // q may lie outside the grid (its cell clamped): the shells' reach then starts that far behind.
-  double outside = 0.0;
+  // q may lie outside the grid (its cell clamped): the shells' reach then starts that far behind. Inside its cell,
+  // q is `inner` from the cell's nearest wall: every point beyond shell r is farther than r cells plus that.
+  double outside = 0.0, inner = this->Cell;
   for (int a = 0; a < 3; ++a)
   {
     const double lo = this->Origin[a] + c[a] * this->Cell, hi = lo + this->Cell;
     const double d = std::max({ lo - q[a], q[a] - hi, 0.0 });
     outside += d * d;
+    inner = std::min({ inner, std::max(q[a] - lo, 0.0), std::max(hi - q[a], 0.0) });
   }
   outside = std::sqrt(outside);
+  if (outside > 0.0)
+    inner = 0.0;
+  const double reach2 = reach * reach;
+  // The squared distance from q to cell (i, j, l)'s box: a cell farther than the k-th best (or the reach) is skipped.
+  auto boxDistance2 = [&](int i, int j, int l) {
+    const int cell[3] = { i, j, l };
+    double d2 = 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double lo = this->Origin[a] + cell[a] * this->Cell;
+      const double d = std::max({ lo - q[a], q[a] - lo - this->Cell, 0.0 });
+      d2 += d * d;
+    }
+    return d2;
+  };
   const int maxRing = this->Extent.maxCoeff() + 1;
   for (int r = 0; r <= maxRing; ++r)
   {
@@ -94,16 +183,22 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
         {
           if (l < 0 || l >= this->Extent[2])
             continue;
-          auto it = this->Ranges.find(this->KeyOf(i, j, l));
-          if (it == this->Ranges.end())
+          const std::pair<int, int>* range = this->Range(i, j, l);
+          if (!range)
             continue;
-          for (int o = it->second.first; o < it->second.second; ++o)
+          if (r > 0)
+          {
+            const double box = boxDistance2(i, j, l);
+            if (box > reach2 || (static_cast<int>(best.size()) == k && box > best.front().first))
+              continue;
+          }
+          for (int o = range->first; o < range->second; ++o)
           {
             const int id = this->Order[o];
             if (id == skip)
               continue;
             const double d2 = (this->Sorted[o] - q).squaredNorm();
-            if (d2 > reach * reach)
+            if (d2 > reach2)
               continue;
             if (static_cast<int>(best.size()) < k)
             {
@@ -121,7 +216,7 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
       }
     }
     // Every point not yet visited is farther than r cells (minus q's offset within its cell).
-    const double covered = r * this->Cell - outside;
+    const double covered = r * this->Cell + inner - outside;
     if (covered >= reach)
       break;
     if (static_cast<int>(best.size()) == k && covered > 0.0 && best.front().first <= covered * covered)
@@ -134,20 +229,34 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
 void PointGrid::Within(const Eigen::Vector3d& q, double radius, std::vector<int>& out) const
 {
   out.clear();
-  const Eigen::Vector3i lo = this->CellOf(q - Eigen::Vector3d::Constant(radius));
-  const Eigen::Vector3i hi = this->CellOf(q + Eigen::Vector3d::Constant(radius));
   const double r2 = radius * radius;
-  for (int i = lo[0]; i <= hi[0]; ++i)
-    for (int j = lo[1]; j <= hi[1]; ++j)
-      for (int l = lo[2]; l <= hi[2]; ++l)
-      {
-        auto it = this->Ranges.find(this->KeyOf(i, j, l));
-        if (it == this->Ranges.end())
-          continue;
-        for (int o = it->second.first; o < it->second.second; ++o)
-          if ((this->Sorted[o] - q).squaredNorm() <= r2)
-            out.push_back(this->Order[o]);
-      }
+  this->ForCellsAround(q, radius, [&](int o) {
+    if ((this->Sorted[o] - q).squaredNorm() <= r2)
+      out.push_back(this->Order[o]);
+    return true;
+  });
+}
+
+std::size_t PointGrid::CountWithin(const Eigen::Vector3d& q, double radius) const
+{
+  std::size_t count = 0;
+  const double r2 = radius * radius;
+  this->ForCellsAround(q, radius, [&](int o) {
+    count += (this->Sorted[o] - q).squaredNorm() <= r2 ? 1 : 0;
+    return true;
+  });
+  return count;
+}
+
+bool PointGrid::AnyWithin(const Eigen::Vector3d& q, double radius, const std::vector<unsigned char>& flag) const
+{
+  bool found = false;
+  const double r2 = radius * radius;
+  this->ForCellsAround(q, radius, [&](int o) {
+    found = flag[this->Order[o]] && (this->Sorted[o] - q).squaredNorm() <= r2;
+    return !found;
+  });
+  return found;
 }
 
 double PointGrid::CellFor(const std::vector<Eigen::Vector3d>& points, double perCell)

@@ -7,7 +7,6 @@
 
 #include <cstdint>
 #include <limits>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -30,6 +29,12 @@ public:
   /// Indices of every point within `radius` of q.
   void Within(const Eigen::Vector3d& q, double radius, std::vector<int>& out) const;
 
+  /// How many points lie within `radius` of q (Within's count, without the list).
+  std::size_t CountWithin(const Eigen::Vector3d& q, double radius) const;
+
+  /// Whether any point with flag[id] != 0 lies within `radius` of q (stops at the first).
+  bool AnyWithin(const Eigen::Vector3d& q, double radius, const std::vector<unsigned char>& flag) const;
+
   /// The point ids sorted by cell: queries made in this order reuse the cells (and memory) the previous query
   /// touched, which on large clouds is most of their cost.
   const std::vector<int>& SortedIds() const { return this->Order; }
@@ -42,13 +47,30 @@ private:
   using Key = std::int64_t;
   Key KeyOf(std::int64_t i, std::int64_t j, std::int64_t k) const;
   Eigen::Vector3i CellOf(const Eigen::Vector3d& p) const;
+  /// The [begin, end) range in Order of cell (i, j, k), or nullptr when the cell holds no point.
+  const std::pair<int, int>* Range(int i, int j, int k) const;
+  /// Calls visit(o) for every position o in Order of a point in the cells that cover the box q +- radius.
+  template <typename Visit>
+  void ForCellsAround(const Eigen::Vector3d& q, double radius, Visit&& visit) const;
 
   double Cell;
   Eigen::Vector3d Origin;
-  std::vector<int> Order;                              // point ids sorted by cell
-  std::vector<Eigen::Vector3d> Sorted;                 // the points in that order: a cell's points contiguous
-  std::unordered_map<Key, std::pair<int, int>> Ranges; // cell -> [begin, end) in Order
-  Eigen::Vector3i Extent = Eigen::Vector3i::Zero();    // cells per axis
+  std::vector<int> Order;              // point ids sorted by cell
+  std::vector<Eigen::Vector3d> Sorted; // the points in that order: a cell's points contiguous
+  // The occupied cells in an open-addressing table on flat arrays (a node-based hash map made the lookups of 10^6
+  // points cache misses): SlotKey -1 is an empty slot, SlotRange the cell's [begin, end) in Order.
+  std::vector<Key> SlotKey;
+  std::vector<std::pair<int, int>> SlotRange;
+  std::uint64_t SlotMask = 0;
+  int SlotShift = 64;
+  // Occupancy bits of blocks of 2^BlockShift cells a side (the smallest blocks whose bits take at most 8 bytes a
+  // point): an empty cell is mostly told by one bit, without a probe of the table (a sheet of points leaves most
+  // cells of its box empty, and an outlier's search visits thousands of them).
+  std::vector<std::uint64_t> Occupied;
+  int BlockShift = 0;
+  Eigen::Vector3i Blocks = Eigen::Vector3i::Zero();
+  std::size_t BlockOf(int i, int j, int k) const;
+  Eigen::Vector3i Extent = Eigen::Vector3i::Zero(); // cells per axis
 };
 
 } // namespace plantmorph

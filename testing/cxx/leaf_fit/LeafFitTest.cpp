@@ -448,6 +448,34 @@ TEST(LeafFit, LeavesFitInParallelAsOneByOne)
   EXPECT_NE(parallel[0].traits.area, parallel[1].traits.area);
 }
 
+TEST(LeafFit, OneLeafThreadedInsideIsTheSerialFit)
+{
+  // 2*10^4 points: several blocks of the per-point loops, handed out in reverse order on two threads.
+  const std::vector<Eigen::Vector3d> scan = Scan(MakeLeaf(Model::EllipticC, 80.0, 30.0, 0.0), 20000, 0.1, 200, 4);
+  const ParallelFor reversed = [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    std::thread other([&] {
+      for (std::size_t i = count; i-- > 0;)
+        if (i % 2 == 1)
+          body(i, i + 1);
+    });
+    for (std::size_t i = count; i-- > 0;)
+      if (i % 2 == 0)
+        body(i, i + 1);
+    other.join();
+  };
+  const LeafFitResult serial = FitLeaf(scan, LeafFitParameters());
+  const LeafFitResult threaded = FitLeaves({ scan }, LeafFitParameters(), reversed).front();
+  ASSERT_EQ(serial.error, "");
+  ASSERT_EQ(threaded.error, "");
+  EXPECT_EQ(TraitValues(threaded.traits), TraitValues(serial.traits));
+  EXPECT_EQ(threaded.points, serial.points);
+  EXPECT_EQ(threaded.support, serial.support);
+  EXPECT_EQ(threaded.inlier, serial.inlier);
+  EXPECT_EQ(threaded.petiole, serial.petiole);
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    ASSERT_EQ(threaded.fitDistance[i], serial.fitDistance[i]) << "point " << i;
+}
+
 void ExpectError(const std::vector<Eigen::Vector3d>& points, const std::string& words,
   const LeafFitParameters& options = LeafFitParameters())
 {
