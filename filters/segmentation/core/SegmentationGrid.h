@@ -59,8 +59,10 @@ public:
           ++last;
         if (first == last)
           continue;
-        block.begin[block.runs] = static_cast<std::size_t>(this->Start[static_cast<std::size_t>(first - this->Keys.begin())]);
-        block.end[block.runs++] = static_cast<std::size_t>(this->Start[static_cast<std::size_t>(last - this->Keys.begin())]);
+        block.begin[block.runs] =
+          static_cast<std::size_t>(this->Start[static_cast<std::size_t>(first - this->Keys.begin())]);
+        block.end[block.runs++] =
+          static_cast<std::size_t>(this->Start[static_cast<std::size_t>(last - this->Keys.begin())]);
       }
   }
 
@@ -70,7 +72,8 @@ public:
 private:
   static std::uint64_t Key(int i, int j, int k)
   {
-    return (static_cast<std::uint64_t>(i) << 42) | (static_cast<std::uint64_t>(j) << 21) | static_cast<std::uint64_t>(k);
+    return (static_cast<std::uint64_t>(i) << 42) | (static_cast<std::uint64_t>(j) << 21) |
+      static_cast<std::uint64_t>(k);
   }
   Eigen::Array3i CellOf(const Eigen::Vector3d& q) const;
 
