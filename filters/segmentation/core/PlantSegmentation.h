@@ -100,7 +100,9 @@ struct SegmentationResult
 
 /// Segments `points` (the plants told apart by `plantOf`, one value per point; empty: one plant, id 0). Errors
 /// (returned in `error`, the rest empty): a non-finite coordinate, a plant with fewer than MinimumPlantPoints
-/// points, a plant where no wood or no leaf is found, bad parameters.
+/// points, a plant where no wood or no leaf is found, a plant whose points lie on one plane (their spread off it
+/// below half the features' radius: a board or the ground scanned in lines looks like twigs and leaves), bad
+/// parameters.
 SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& plantOf,
   const SegmentationParameters& parameters, const ParallelFor& parallel = SerialFor);
 
