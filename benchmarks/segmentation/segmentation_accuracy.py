@@ -8,7 +8,7 @@ leaf's length, segmented with the filter's defaults, scored point by point again
 
 Scores per run: leaf IoU and wood IoU (points), leaf instance precision and recall matched at IoU 0.5 (recall over
 the true leaves with at least 100 scanned points; precision over every predicted leaf), the points, the true and
-found leaves, and the segmentation's wall time. Prints a Markdown table (benchmarks/README.md keeps it).
+found leaves, and the segmentation's wall and CPU time (the process's, all threads). Prints a Markdown table (benchmarks/README.md keeps it).
 """
 import argparse
 import math
@@ -109,9 +109,9 @@ for name in arguments.plants.split(","):
         for noise in [float(v) for v in arguments.noise.split(",")]:
             scanner = scan(plant, surface, positions, noise * leaf_length, step)
             segmentation = PlantSegmentationFilter(Input=scanner, UpAxis=1)
-            start = time.time()
+            start, cpu_start = time.time(), time.process_time()
             segmentation.UpdatePipeline()
-            seconds = time.time() - start
+            seconds, cpu = time.time() - start, time.process_time() - cpu_start
             cloud = servermanager.Fetch(segmentation)
             pd = cloud.GetPointData()
             if pd.GetArray("Organ") is None:
@@ -123,18 +123,20 @@ for name in arguments.plants.split(","):
             truth = servermanager.Fetch(scanner).GetPointData()
             s = scores(vtk_to_numpy(truth.GetArray("Organ")), vtk_to_numpy(truth.GetArray("LeafId")), get("Organ"),
                        get("LeafId"))
-            s.update(plant=name, positions=positions, noise=noise, points=cloud.GetNumberOfPoints(), seconds=seconds)
+            s.update(plant=name, positions=positions, noise=noise, points=cloud.GetNumberOfPoints(), seconds=seconds,
+                     cpu=cpu)
             rows.append(s)
             print("%(plant)s positions %(positions)d noise %(noise)g: %(points)d points, leaf IoU %(leaf_iou).3f, "
                   "wood IoU %(wood_iou).3f, precision %(precision).3f, recall %(recall).3f "
-                  "(%(found_leaves)d found, %(true_leaves)d true with >= 100 points), %(seconds).1f s" % s, flush=True)
+                  "(%(found_leaves)d found, %(true_leaves)d true with >= 100 points), %(seconds).1f s wall, %(cpu).1f s CPU"
+                  % s, flush=True)
             Delete(segmentation)
             Delete(scanner)
 
 print()
 print("| plant | positions | noise (of leaf length) | points | leaf IoU | wood IoU | precision | recall | leaves "
-      "found / true | time (s) |")
-print("|---|---|---|---|---|---|---|---|---|---|")
+      "found / true | wall (s) | CPU (s) |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
 for s in rows:
     print("| %(plant)s | %(positions)d | %(noise)g | %(points)d | %(leaf_iou).3f | %(wood_iou).3f | %(precision).3f | "
-          "%(recall).3f | %(found_leaves)d / %(true_leaves)d | %(seconds).1f |" % s)
+          "%(recall).3f | %(found_leaves)d / %(true_leaves)d | %(seconds).1f | %(cpu).1f |" % s)

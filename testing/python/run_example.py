@@ -41,8 +41,6 @@ EXAMPLES = {
                                                  "scan_fitted_leaf.json"], ["scanner", "leaf_fit"]),
     "scan_tree.py": ("pvbatch", OUTPUT, ["scan_tree.vtp", "scan_tree.las", "scan_tree.csv", "scan_tree.png"],
                      ["scanner", "tree", "las"]),
-    "segment_plant.py": ("pvbatch", OUTPUT, ["segment_plant.vtp", "segment_plant.csv", "segment_plant.png"],
-                         ["segmentation", "leaf_fit", "scanner"]),
     "trace_leaf_outline.py": ("pvbatch", OUTPUT, ["traced_leaf.vtp", "traced_leaf.png"], ["leaf"]),
     "tree_formats.py": ("pvbatch", OUTPUT, ["tree_formats.mtg", "tree_formats.csv", "tree_formats.png"],
                         ["formats", "tree"]),
@@ -54,6 +52,7 @@ EXAMPLES = {
     "main_paper002_space_curve_leaves.py": ("state", [], [], ["leaf"]),
     "main_paper003_bspline_leaves.py": ("state", [], [], ["leaf"]),
     "main_scanned_plant.py": ("state", [], [], ["scanner", "tree"]),
+    "main_segment_plant.py": ("state", [], [], ["segmentation", "leaf_fit", "scanner"]),
     "main_tree_from_sketch.py": ("state", [], [], ["tree"]),
     "main_wilting_cucumber.py": ("state", [], [], ["wilting"]),
 }

@@ -7,7 +7,8 @@
 //  1. Features (threaded): the covariance of the points within r and 2r of each point, r = FeatureScale * s, or
 //     12 times the range noise when that is wider (the noise: the lower quartile of the plane-fit residual); its
 //     eigenvalues l1 >= l2 >= l3 give the spread sqrt(l2) / radius across the main axis, the surface variation
-//     l3 / (l1 + l2 + l3) and the normal (the eigenvector of l3, at scale r).
+//     l3 / (l1 + l2 + l3) and the normal (the eigenvector of l3, at scale r). The covariances are summed from the
+//     moments of grid cells (side r / 8 at r, r / 2 at 2r; SegmentationGrid.h), once per cell: linear in the points.
 //  2. Sheets: region growing over the radius graph (edges shorter than LinkScale * s) from the flattest points,
 //     joining a neighbour whose normal is within NormalAngle of the current point's, never through a point that is
 //     thin at both scales (spread below 0.2: twigs and petioles stop it) nor from a point on a crease (surface
@@ -99,7 +100,9 @@ struct SegmentationResult
 
 /// Segments `points` (the plants told apart by `plantOf`, one value per point; empty: one plant, id 0). Errors
 /// (returned in `error`, the rest empty): a non-finite coordinate, a plant with fewer than MinimumPlantPoints
-/// points, a plant where no wood or no leaf is found, bad parameters.
+/// points, a plant where no wood or no leaf is found, a plant whose points lie on one plane (their spread off it
+/// below half the features' radius: a board or the ground scanned in lines looks like twigs and leaves), bad
+/// parameters.
 SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& plantOf,
   const SegmentationParameters& parameters, const ParallelFor& parallel = SerialFor);
 

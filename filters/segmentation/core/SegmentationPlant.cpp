@@ -425,6 +425,25 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
     labels.leaves.push_back(leaf);
   }
 }
+/// A flat surface is no plant: a board, a wall, the ground alone, scanned in lines (closer along a line than
+/// across, so that at the features' scale the lines look like twigs and the strips between them like leaves). ""
+/// or the reason: the points' spread off their best plane (the square root of the covariance's smallest eigenvalue)
+/// below half the features' radius, where the features cannot tell a twig from a strip of the surface.
+std::string RefuseFlat(const std::vector<Eigen::Vector3d>& points, double radius)
+{
+  std::vector<int> all(points.size());
+  for (std::size_t i = 0; i < all.size(); ++i)
+    all[i] = static_cast<int>(i);
+  Eigen::Vector3d mean;
+  const Eigen::Matrix3d covariance = Scatter(points, all, mean) / static_cast<double>(points.size());
+  const double thickness =
+    std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues()[0]));
+  if (thickness >= 0.5 * radius)
+    return {};
+  return "the " + std::to_string(points.size()) + " points lie on one plane (their spread off it, " +
+    std::to_string(thickness) + ", is below half the features' radius, " + std::to_string(radius) +
+    "): a flat surface, not a plant; a cloud of one flat leaf goes to LeafFitFilter directly";
+}
 } // namespace
 
 std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const SegmentationParameters& p,
@@ -467,6 +486,9 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   if (plant.woodPoints == 0)
     return "no wood found in " + std::to_string(n) +
       " points (a cloud of leaves alone: fit them with LeafFitFilter directly)";
+  const std::string flat = RefuseFlat(points, f.radius);
+  if (!flat.empty())
+    return flat;
   MakeLeaves(points, graph, region, spacing, f.radius, p, labels);
   plant.leafCount = static_cast<int>(labels.leaves.size());
   double low = std::numeric_limits<double>::infinity(), high = -low;

@@ -259,6 +259,18 @@ TEST(PlantSegmentation, BadInputIsNamedAndGivesNothing)
     if (t.leaf[i] == 0)
       oneLeaf.push_back(t.points[i]);
   fails(oneLeaf, {}, {}, "no wood found");
+  // A flat square sampled in lines, closer along a line than across and the gap widening across (as a scanner sees
+  // a board at an angle): the wide-apart lines look like twigs at the features' scale, the dense strips like leaves
+  // (both are found, or another message would come); it is refused as a plane.
+  std::vector<Eigen::Vector3d> square;
+  double x = 0.0;
+  for (int i = 0; i < 150; ++i)
+  {
+    x += 0.003 + 0.008 * i / 150.0;
+    for (int j = 0; j < 400; ++j)
+      square.emplace_back(x, 0.003 * j, 1e-5 * ((i * 7 + j * 13) % 5));
+  }
+  fails(square, {}, {}, "points lie on one plane");
   fails(t.points, std::vector<int>(3, 0), {}, "not one per point");
   std::vector<int> plants(t.points.size(), 0);
   plants[0] = 1; // a plant of one point

@@ -13,15 +13,15 @@ checked against the truth the scanner carried.
 
 Prints, per found leaf, the true leaf it matches, its points, the segmentation's first area, LeafFitFilter's Area
 and the true leaf's area (segment_plant.csv), then the plant's row. segment_plant.png shows the cloud coloured by
-the LeafId found (wood brown).
+the LeafId found (wood brown); segment_plant.pvsm is the pipeline as a state file (File > Load State).
 
-    xvfb-run -a pvbatch examples/segment_plant.py --plugin build/.../PlantMorph.so --output output/
+    xvfb-run -a pvbatch examples/main_segment_plant.py --plugin build/.../PlantMorph.so --output output/
 """
 import math
 import os
 
 import plantmorph_example
-from plantmorph_example import save_framed_png, save_vtp, start, white_view
+from plantmorph_example import save_framed_png, save_state, save_vtp, start, white_view
 
 arguments = start(__doc__)
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -112,3 +112,4 @@ if plantmorph_example.RENDER:
     save_framed_png(view, os.path.join(arguments.output, "segment_plant.png"), middle,
                     [middle[0] + 4 * size * math.cos(side), middle[1], middle[2] + 4 * size * math.sin(side)],
                     [0.0, 1.0, 0.0], 0.56 * (ymax - ymin))
+save_state(arguments, "segment_plant")
