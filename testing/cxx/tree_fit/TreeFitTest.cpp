@@ -254,6 +254,35 @@ TEST(TreeFit, ThreadsGiveTheSameResult)
   EXPECT_EQ(serial.traits.totalVolume, parallel.traits.totalVolume);
 }
 
+TEST(TreeFit, PointOrderDoesNotChangeTheFit)
+{
+  // A cloud gathered from MPI ranks or written in another order is the same tree: the same cylinders bit for bit,
+  // and every point keeps its own values.
+  const auto points = Scan(Fork(30.0), 0.008, 0.001);
+  std::vector<std::size_t> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = order.size() - 1 - i; // reversed
+  std::vector<Eigen::Vector3d> shuffled(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    shuffled[i] = points[order[i]];
+  const TreeFitResult a = FitTree(points, {}, TreeFitParameters());
+  const TreeFitResult b = FitTree(shuffled, {}, TreeFitParameters());
+  ASSERT_EQ(a.error, "");
+  ASSERT_EQ(a.cylinders.size(), b.cylinders.size());
+  for (std::size_t k = 0; k < a.cylinders.size(); ++k)
+  {
+    EXPECT_EQ(a.cylinders[k].radius, b.cylinders[k].radius);
+    EXPECT_EQ(a.cylinders[k].start, b.cylinders[k].start);
+    EXPECT_EQ(a.cylinders[k].end, b.cylinders[k].end);
+  }
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    EXPECT_EQ(a.pointCylinder[order[i]], b.pointCylinder[i]);
+    EXPECT_TRUE(a.fitDistance[order[i]] == b.fitDistance[i] ||
+      (std::isnan(a.fitDistance[order[i]]) && std::isnan(b.fitDistance[i])));
+  }
+}
+
 TEST(TreeFit, WoodLabelsKeepOnlyTheWood)
 {
   const TrueCylinder stem{ { 0, 0, 0 }, { 0, 0, 1.5 }, 0.08 };
