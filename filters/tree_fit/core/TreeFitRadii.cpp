@@ -177,10 +177,17 @@ std::vector<int> ContinuingChildren(
   const auto degrees = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     return std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180.0 / M_PI;
   };
-  // How much the chain turns where single child k follows p: its first reach against p's incoming direction.
+  // How much the chain turns where single child k follows p: its first reach against p's incoming direction, and
+  // the same from half a reach to one and a half (0 when the chain forks or ends before): a junction's cylinders
+  // lean towards the child that leaves there, but the stem past them goes on straight.
   const auto turn = [&](int p, int k) {
-    Eigen::Vector3d d;
-    return ChainChord(cylinders, children, k, 0.0, reachOf(p), d) ? degrees(d, incoming(p)) : 0.0;
+    Eigen::Vector3d d, far;
+    const double reach = reachOf(p);
+    if (!ChainChord(cylinders, children, k, 0.0, reach, d) ||
+      !ChainChord(cylinders, children, k, 0.5 * reach, 1.5 * reach, far))
+      return 0.0;
+    const Eigen::Vector3d in = incoming(p);
+    return std::min(degrees(d, in), degrees(far, in));
   };
   for (std::size_t p = 0; p < n; ++p)
   {
