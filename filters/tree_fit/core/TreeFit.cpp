@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <sstream>
+#include <tuple>
 
 namespace plantmorph
 {
@@ -42,19 +44,12 @@ namespace
 {
 constexpr double MaxRelativeDistance = 0.3; // median |distance| / radius beyond which the points are no wood surface
 
-/// "" or why the input cannot be a tree before any fitting (sizes, NaN, too few points).
+/// "" or why the input cannot be a tree before any fitting (sizes, too few points; FitTree checks for NaN).
 std::string CheckInput(
   const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel, std::vector<int>& candidates)
 {
   if (!woodLabel.empty() && woodLabel.size() != points.size())
     return "the wood labels do not match the points in number";
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (!points[i].allFinite())
-    {
-      std::ostringstream message;
-      message << "point " << i << " has a coordinate that is not a finite number (NaN or infinite)";
-      return message.str();
-    }
   for (std::size_t i = 0; i < points.size(); ++i)
     if (woodLabel.empty() || woodLabel[i] != 0)
       candidates.push_back(static_cast<int>(i));
@@ -111,7 +106,10 @@ std::string PointValues(const std::vector<Eigen::Vector3d>& points, const treefi
 }
 } // namespace
 
-TreeFitResult FitTree(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel,
+namespace
+{
+/// The fit on the points in their canonical order (FitTree sorts them first).
+TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel,
   const TreeFitParameters& options, const ParallelFor& parallel)
 {
   TreeFitResult result;
@@ -137,6 +135,59 @@ TreeFitResult FitTree(const std::vector<Eigen::Vector3d>& points, const std::vec
     return failed;
   }
   treefit::ComputeTraits(points, wood, options, result);
+  return result;
+}
+
+/// Per-point results put back in the input's order: sorted[k] is input point order[k].
+template <typename T>
+void Unsort(std::vector<T>& values, const std::vector<std::size_t>& order)
+{
+  if (values.empty())
+    return;
+  std::vector<T> input(values.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    input[order[k]] = values[k];
+  values = std::move(input);
+}
+} // namespace
+
+TreeFitResult FitTree(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel,
+  const TreeFitParameters& options, const ParallelFor& parallel)
+{
+  // The canonical order (coordinates, then label, then input position for exact duplicates, which give the same
+  // result either way): the fit does not depend on the order the points come in (a cloud gathered from MPI ranks,
+  // a file written in another order).
+  for (std::size_t i = 0; i < points.size(); ++i) // before sorting: the message names the input's point
+    if (!points[i].allFinite())
+    {
+      TreeFitResult failed;
+      std::ostringstream message;
+      message << "point " << i << " has a coordinate that is not a finite number (NaN or infinite)";
+      failed.error = message.str();
+      return failed;
+    }
+  std::vector<std::size_t> order(points.size());
+  std::iota(order.begin(), order.end(), std::size_t{ 0 });
+  const bool labelled = woodLabel.size() == points.size();
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const auto key = [&](std::size_t i) {
+      return std::make_tuple(points[i].x(), points[i].y(), points[i].z(), labelled ? woodLabel[i] : 0, i);
+    };
+    return key(a) < key(b);
+  });
+  std::vector<Eigen::Vector3d> sorted(points.size());
+  std::vector<int> labels(labelled ? points.size() : 0);
+  for (std::size_t k = 0; k < order.size(); ++k)
+  {
+    sorted[k] = points[order[k]];
+    if (labelled)
+      labels[k] = woodLabel[order[k]];
+  }
+  TreeFitResult result = FitSorted(sorted, labelled ? labels : woodLabel, options, parallel);
+  Unsort(result.pointCylinder, order);
+  Unsort(result.pointBranch, order);
+  Unsort(result.wood, order);
+  Unsort(result.fitDistance, order);
   return result;
 }
 

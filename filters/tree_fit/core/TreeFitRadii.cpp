@@ -24,6 +24,11 @@ constexpr int MinStrongPoints = 50;
 constexpr double ContinueShare = 0.25;  // of the heaviest child's carried volume
 constexpr double CodominantShare = 0.5; // of the heaviest child's carried volume
 constexpr double ForkMargin = 10.0;     // degrees: codominant children turning less apart than this end the branch
+constexpr double BulgeFactor = 1.05;    // a measured cylinder this much wider than its parent is a junction
+constexpr double KinkAngle = 25.0;
+constexpr double TaperMargin = 1.15; // a measured cylinder near a fork this much above its branch's taper...
+constexpr std::size_t TaperCylinders =
+  5; // ...fitted over this many measured cylinders before it, is a junction      // degrees: a child turning more than this from its parent starts a branch
 
 double Median(std::vector<double> values)
 {
@@ -77,18 +82,23 @@ void FitModel(const std::vector<TreeCylinder>& cylinders, double& a, double& b)
 }
 
 /// The direction from the start of cylinder `k` to a point `distance` further along the tree, at every fork taking the
-/// child that keeps the chord straightest: over a long stretch the lean of the junction cylinders averages out.
-Eigen::Vector3d FarDirection(
-  const std::vector<TreeCylinder>& cylinders, const std::vector<std::vector<int>>& children, int k, double distance)
+/// child whose end lies nearest the direction `reference` (the parent's, coming in): over a long stretch the lean of
+/// the junction cylinders averages out, and a junction leaning towards a lateral does not lead the chord into it.
+/// With `throughForks` false it stops at the next fork; `travelled` is the length it went.
+Eigen::Vector3d FarDirection(const std::vector<TreeCylinder>& cylinders, const std::vector<std::vector<int>>& children,
+  int k, double distance, const Eigen::Vector3d& reference, bool throughForks, double& travelled)
 {
   const Eigen::Vector3d origin = cylinders[k].start;
   int at = k;
-  for (double along = cylinders[k].length; along < distance && !children[at].empty();)
+  travelled = cylinders[k].length;
+  for (double& along = travelled; along < distance && !children[at].empty();)
   {
-    const Eigen::Vector3d chord = (cylinders[at].end - origin).normalized();
+    if (!throughForks && children[at].size() > 1)
+      break;
     int best = children[at].front();
     for (int c : children[at])
-      if ((cylinders[c].end - origin).normalized().dot(chord) > (cylinders[best].end - origin).normalized().dot(chord))
+      if ((cylinders[c].end - origin).normalized().dot(reference) >
+        (cylinders[best].end - origin).normalized().dot(reference))
         best = c;
     at = best;
     along += cylinders[at].length;
@@ -97,12 +107,44 @@ Eigen::Vector3d FarDirection(
   return d.norm() > 0 ? d.normalized() : Eigen::Vector3d(cylinders[k].end - cylinders[k].start).normalized();
 }
 
-/// Per cylinder, the child that continues its branch (-1: none; the branch ends there). A single child always does.
-/// At a fork, the straightest child among those carrying at least ContinueShare of what the heaviest carries (a
-/// leader goes on past a heavier lateral), unless two codominant children (each carrying at least CodominantShare of
-/// the heaviest) turn alike (within ForkMargin): a sympodial fork or a Y ends the branch, each child a branch of the
-/// next order. Directions are chords over a few parent radii, away from the junction (whose cylinders hold both
-/// branches and lean): the parent's from below it, each child's ahead of it (FarDirection).
+/// The unit chord of the chain of single children from cylinder `k` between the lengths `from` and `to` along it
+/// (cylinder ends); false when the chain forks or ends before `to`.
+bool ChainChord(const std::vector<TreeCylinder>& cylinders, const std::vector<std::vector<int>>& children, int k,
+  double from, double to, Eigen::Vector3d& chord)
+{
+  Eigen::Vector3d first = cylinders[k].start;
+  bool started = false;
+  for (double along = 0;;)
+  {
+    along += cylinders[k].length;
+    if (!started && along >= from)
+    {
+      first = cylinders[k].end;
+      started = true;
+    }
+    else if (started && along >= to)
+    {
+      chord = cylinders[k].end - first;
+      if (!(chord.norm() > 0))
+        return false;
+      chord.normalize();
+      return true;
+    }
+    if (children[k].size() != 1)
+      return false;
+    k = children[k].front();
+  }
+}
+
+/// Per cylinder, the child that continues its branch (-1: none; the branch ends there). At a fork, the straightest
+/// child among those carrying at least ContinueShare of what the heaviest carries (a leader goes on past a heavier
+/// lateral), unless two codominant children (each carrying at least CodominantShare of the heaviest) turn alike
+/// (within ForkMargin): a sympodial fork or a Y ends the branch, each child a branch of the next order. A child, single
+/// or chosen, that turns more than KinkAngle from its parent does not continue it either: a branch does not bend
+/// sharply, a lateral at a leader's thin tip does (its first cylinders would otherwise lengthen the leader).
+/// Directions are chords over a few parent radii, away from the junction (whose cylinders hold both branches and
+/// lean): the parent's from below it and never across its own branch's start (parents are decided first: cylinder
+/// ids grow from the base), each child's ahead of it (FarDirection).
 std::vector<int> ContinuingChildren(
   const std::vector<TreeCylinder>& cylinders, const std::vector<double>& radius, const std::vector<double>& carried)
 {
@@ -116,34 +158,68 @@ std::vector<int> ContinuingChildren(
     children[p].push_back(static_cast<int>(k));
   }
   std::vector<int> continuing(n, -1);
-  for (std::size_t p = 0; p < n; ++p)
-  {
-    if (children[p].size() == 1)
-      continuing[p] = children[p].front();
-    if (children[p].size() < 2)
-      continue;
-    const double reach = std::max(4.0 * radius[p], 2.0 * cylinders[p].length);
-    int near = cylinders[p].parent >= 0 ? cylinders[p].parent : static_cast<int>(p);
-    for (double along = cylinders[p].length; cylinders[near].parent >= 0 && along < 0.5 * reach;)
+  // Whether cylinder q continues its parent's branch (false at a branch's first cylinder).
+  const auto continues = [&](int q) { return cylinders[q].parent >= 0 && continuing[cylinders[q].parent] == q; };
+  const auto reachOf = [&](int p) { return std::max(4.0 * radius[p], 2.0 * cylinders[p].length); };
+  // The direction coming into the end of cylinder p: the chord from two reaches to half a reach below it, within
+  // its branch so far.
+  const auto incoming = [&](int p) {
+    const double reach = reachOf(p);
+    int near = continues(p) ? cylinders[p].parent : p;
+    for (double along = cylinders[p].length; continues(near) && along < 0.5 * reach;)
       along += cylinders[near = cylinders[near].parent].length;
     int far = near;
-    for (double along = 0; cylinders[far].parent >= 0 && along < 2.0 * reach;)
+    for (double along = 0; continues(far) && along < 2.0 * reach;)
       along += cylinders[far = cylinders[far].parent].length;
-    Eigen::Vector3d dp = cylinders[near].end - cylinders[far].start;
-    dp = dp.norm() > 0 ? dp.normalized() : (cylinders[p].end - cylinders[p].start).normalized().eval();
+    const Eigen::Vector3d d = cylinders[near].end - cylinders[far].start;
+    return d.norm() > 0 ? d.normalized() : (cylinders[p].end - cylinders[p].start).normalized().eval();
+  };
+  const auto degrees = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180.0 / M_PI;
+  };
+  // How much the chain turns where single child k follows p: its first reach against p's incoming direction, and
+  // the same from half a reach to one and a half (0 when the chain forks or ends before): a junction's cylinders
+  // lean towards the child that leaves there, but the stem past them goes on straight.
+  const auto turn = [&](int p, int k) {
+    Eigen::Vector3d d, far;
+    const double reach = reachOf(p);
+    if (!ChainChord(cylinders, children, k, 0.0, reach, d) ||
+      !ChainChord(cylinders, children, k, 0.5 * reach, 1.5 * reach, far))
+      return 0.0;
+    const Eigen::Vector3d in = incoming(p);
+    return std::min(degrees(d, in), degrees(far, in));
+  };
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    if (children[p].empty())
+      continue;
+    const double reach = reachOf(static_cast<int>(p));
+    const Eigen::Vector3d dp = incoming(static_cast<int>(p));
     double heaviest = 0;
     for (int k : children[p])
       heaviest = std::max(heaviest, carried[k]);
+    const auto angle = [&](const Eigen::Vector3d& d) { return degrees(d, dp); };
+    double travelled = 0;
+    if (children[p].size() == 1)
+    {
+      // A kink: the chain turns sharply here, and more than at the next link (a bend seen from a reach before it
+      // is placed where it is).
+      const int k = children[p].front();
+      continuing[p] = k;
+      const double here = turn(static_cast<int>(p), k);
+      if (here > KinkAngle && !(children[k].size() == 1 && turn(k, children[k].front()) > here))
+        continuing[p] = -1;
+      continue;
+    }
     std::vector<std::pair<double, int>> angles; // (degrees, child)
     for (int k : children[p])
     {
       if (carried[k] < ContinueShare * heaviest)
         continue;
-      const Eigen::Vector3d d = FarDirection(cylinders, children, k, 2.0 * reach);
-      angles.emplace_back(std::acos(std::clamp(d.dot(dp), -1.0, 1.0)) * 180.0 / M_PI, k);
+      angles.emplace_back(angle(FarDirection(cylinders, children, k, 2.0 * reach, dp, true, travelled)), k);
     }
     std::sort(angles.begin(), angles.end());
-    if (angles.empty())
+    if (angles.empty() || angles[0].first > KinkAngle)
       continue;
     // Codominant children (each carrying at least half the heaviest) turning alike: the branch ends at the fork.
     const auto codominant = [&](int k) { return carried[k] >= CodominantShare * heaviest; };
@@ -244,6 +320,121 @@ void SeatBranches(TreeFitResult& result)
     }
   }
 }
+/// Junctions: where a child branch leaves, its first points fall in the parent's level sets, and the cylinder fitted
+/// there is wider than the branch and leans towards the child (a bulge). A measured cylinder that is its parent's only
+/// child and wider than it by more than BulgeFactor (and two noise deviations) is such a junction: its radius is not
+/// measured (the model gives it, never wider than its parent) and it goes on along its parent's axis.
+void FlattenBulges(double noise, std::vector<TreeCylinder>& cylinders)
+{
+  std::vector<int> childCount(cylinders.size(), 0);
+  for (const auto& c : cylinders)
+    if (c.parent >= 0)
+      ++childCount[c.parent];
+  std::vector<double> width(cylinders.size(), std::numeric_limits<double>::quiet_NaN()); // measured or carried on
+  for (std::size_t k = 0; k < cylinders.size(); ++k)
+  {
+    TreeCylinder& c = cylinders[k];
+    if (c.measured)
+      width[k] = c.fittedRadius;
+    const int p = c.parent;
+    if (p < 0 || childCount[p] != 1 || !c.measured || !std::isfinite(width[p]))
+      continue;
+    if (c.fittedRadius <= BulgeFactor * width[p] + 2.0 * noise)
+      continue;
+    c.measured = false;
+    width[k] = width[p];
+    const Eigen::Vector3d axis = (cylinders[p].end - cylinders[p].start).normalized();
+    c.start = cylinders[p].end;
+    c.end = c.start + c.length * axis;
+  }
+}
+/// FlattenBulges along the branches, once they are known, with the branch's own taper: near a fork (within two
+/// cylinders of one), a measured cylinder wider than the taper of the measured cylinders before it allows
+/// (TaperMargin and two noise deviations; the taper a least-squares line over the last TaperCylinders of them,
+/// never rising, never below half the last width) is a junction: a stem carrying laterals thicker than itself can
+/// hold several in a row, each narrower than the one before but all wider than the stem. Away from forks a stem may
+/// taper unevenly (butt swell): nothing is flagged there.
+void FlattenBranchBulges(double noise, TreeFitResult& result)
+{
+  auto& cylinders = result.cylinders;
+  std::vector<int> childCount(cylinders.size(), 0);
+  for (const auto& c : cylinders)
+    if (c.parent >= 0)
+      ++childCount[c.parent];
+  for (const TreeBranchRow& branch : result.branches)
+  {
+    const auto& ids = branch.cylinders;
+    const auto nearFork = [&](std::size_t j) {
+      for (std::size_t i = j >= 2 ? j - 2 : 0; i <= std::min(ids.size() - 1, j + 2); ++i)
+        if (childCount[ids[i]] > 1)
+          return true;
+      return j < 2 && cylinders[ids[0]].parent >= 0 && childCount[cylinders[ids[0]].parent] > 1;
+    };
+    std::vector<std::pair<double, double>> taper; // (length along the branch to the middle, radius), accepted
+    double along = 0;
+    for (std::size_t j = 0; j < ids.size(); along += cylinders[ids[j]].length, ++j)
+    {
+      TreeCylinder& c = cylinders[ids[j]];
+      if (!c.measured)
+        continue;
+      const double s = along + 0.5 * c.length;
+      if (!taper.empty() && nearFork(j))
+      {
+        const std::size_t first = taper.size() > TaperCylinders ? taper.size() - TaperCylinders : 0;
+        double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+        for (std::size_t i = first; i < taper.size(); ++i)
+          sw += 1, sx += taper[i].first, sy += taper[i].second, sxx += taper[i].first * taper[i].first,
+            sxy += taper[i].first * taper[i].second;
+        const double det = sw * sxx - sx * sx;
+        const double slope = det > 1e-12 ? std::min(0.0, (sw * sxy - sx * sy) / det) : 0.0;
+        const double last = taper.back().second;
+        const double expected = std::max(last + slope * (s - taper.back().first), 0.5 * last);
+        if (c.fittedRadius > TaperMargin * expected + 2.0 * noise)
+        {
+          c.measured = false;
+          if (j > 0)
+          {
+            const TreeCylinder& before = cylinders[ids[j - 1]];
+            c.start = before.end;
+            c.end = c.start + c.length * (before.end - before.start).normalized();
+          }
+          continue;
+        }
+      }
+      taper.emplace_back(s, c.fittedRadius);
+    }
+  }
+}
+
+/// Along each branch, a run of cylinders whose radius is not measured, between two that are, follows the taper
+/// between them (linear in the length along the branch): a junction or an occluded stretch of a stem.
+void InterpolateTaper(TreeFitResult& result)
+{
+  auto& cylinders = result.cylinders;
+  for (const TreeBranchRow& branch : result.branches)
+  {
+    const auto& ids = branch.cylinders;
+    std::vector<double> middle(ids.size(), 0.0); // length along the branch to each cylinder's middle
+    double along = 0;
+    for (std::size_t j = 0; j < ids.size(); ++j)
+    {
+      middle[j] = along + 0.5 * cylinders[ids[j]].length;
+      along += cylinders[ids[j]].length;
+    }
+    for (std::size_t j = 0, last = ids.size(); j < ids.size(); ++j)
+    {
+      if (!cylinders[ids[j]].measured)
+        continue;
+      if (last < j && j - last > 1)
+        for (std::size_t i = last + 1; i < j; ++i)
+        {
+          const double t = (middle[i] - middle[last]) / (middle[j] - middle[last]);
+          cylinders[ids[i]].radius = (1 - t) * cylinders[ids[last]].radius + t * cylinders[ids[j]].radius;
+        }
+      last = j;
+    }
+  }
+}
 } // namespace
 
 std::string ModelRadii(double spacing, TreeFitResult& result)
@@ -269,6 +460,7 @@ std::string ModelRadii(double spacing, TreeFitResult& result)
       r * c.coverage * M_PI / 180.0 >= MinArcSpacings * spacing && r >= MinRadiusNoise * noise &&
       c.fitRMS <= MaxScaleRadius * r;
   }
+  FlattenBulges(noise, cylinders);
   for (std::size_t k = n; k-- > 0;)
   {
     cylinders[k].growthLength += std::max(cylinders[k].length, 1e-12);
@@ -300,6 +492,7 @@ std::string ModelRadii(double spacing, TreeFitResult& result)
     first[k] = cylinders[k].measured ? cylinders[k].fittedRadius : model[k];
   }
   AssignBranches(result, first);
+  FlattenBranchBulges(noise, result);
   // Each branch's level: the geometric mean of its measured / model ratios, else its parent branch's.
   std::vector<double> level(result.branches.size(), 1.0);
   for (const auto& branch : result.branches)
@@ -326,6 +519,7 @@ std::string ModelRadii(double spacing, TreeFitResult& result)
         c.radius = std::min(c.radius, cylinders[c.parent].radius); // no modelled cylinder wider than what carries it
     }
   }
+  InterpolateTaper(result);
   SeatBranches(result);
   return {};
 }

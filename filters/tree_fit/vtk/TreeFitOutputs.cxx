@@ -188,8 +188,8 @@ void WriteTables(const std::vector<FittedTree>& trees, vtkTable* treeTable, vtkT
   }
 }
 
-void WriteScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, const std::vector<FittedTree>& trees,
-  vtkPolyData* output)
+void WriteScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, const std::vector<int>& treeOf,
+  const std::vector<double>& values, const std::map<int, std::pair<int, int>>& bases, vtkPolyData* output)
 {
   const auto n = static_cast<vtkIdType>(all.size());
   vtkNew<vtkPoints> points;
@@ -204,28 +204,19 @@ void WriteScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, cons
   for (auto* array : { static_cast<vtkDataArray*>(treeId), static_cast<vtkDataArray*>(cylinder),
          static_cast<vtkDataArray*>(branch), static_cast<vtkDataArray*>(wood), static_cast<vtkDataArray*>(distance) })
     array->SetNumberOfTuples(n);
-  cylinder->FillValue(-1);
-  branch->FillValue(-1);
-  wood->FillValue(0);
-  distance->FillValue(std::numeric_limits<double>::quiet_NaN());
   for (vtkIdType i = 0; i < n; ++i)
   {
     points->SetPoint(i, all[i].data());
     verts->InsertNextCell(1, &i);
+    const double* v = values.data() + 4 * i;
+    const auto base = bases.find(treeOf[i]);
+    const bool known = base != bases.end();
+    treeId->SetValue(i, treeOf[i]);
+    cylinder->SetValue(i, known && v[0] >= 0 ? base->second.first + static_cast<int>(v[0]) : -1);
+    branch->SetValue(i, known && v[1] >= 0 ? base->second.second + static_cast<int>(v[1]) : -1);
+    wood->SetValue(i, v[2] == 1.0 ? 1 : 0);
+    distance->SetValue(i, v[3]);
   }
-  for (const FittedTree& t : trees)
-    for (std::size_t j = 0; j < t.members.size(); ++j)
-    {
-      const vtkIdType i = t.members[j];
-      treeId->SetValue(i, t.treeId);
-      if (!t.result.error.empty())
-        continue;
-      const int c = t.result.pointCylinder[j], b = t.result.pointBranch[j];
-      cylinder->SetValue(i, c >= 0 ? t.cylinderBase + c : -1);
-      branch->SetValue(i, b >= 0 ? t.branchBase + b : -1);
-      wood->SetValue(i, t.result.wood[j]);
-      distance->SetValue(i, t.result.fitDistance[j]);
-    }
   output->SetPoints(points);
   output->SetVerts(verts);
   output->GetPointData()->PassData(input->GetPointData());

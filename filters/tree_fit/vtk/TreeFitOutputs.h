@@ -8,6 +8,8 @@
 
 #include <Eigen/Core>
 
+#include <map>
+#include <utility>
 #include <vector>
 
 class vtkPointSet;
@@ -34,9 +36,11 @@ void WriteCylinders(const std::vector<FittedTree>& trees, bool tubes, int sides,
 void WriteSkeleton(const std::vector<FittedTree>& trees, vtkPolyData* output);
 /// Ports 2 and 3: the Trees and Branches tables.
 void WriteTables(const std::vector<FittedTree>& trees, vtkTable* treeTable, vtkTable* branchTable);
-/// Port 4: the (scaled) input points with their data and the per-point results.
-void WriteScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& points, const std::vector<FittedTree>& trees,
-  vtkPolyData* output);
+/// Port 4: the (scaled) input points with their data and the per-point results: `treeOf` each point's TreeId,
+/// `values` four per point (its cylinder and branch in its tree, -1 for none; wood 0/1; FitDistance), `bases` each
+/// tree's first cylinder and branch id.
+void WriteScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& treeOf,
+  const std::vector<double>& values, const std::map<int, std::pair<int, int>>& bases, vtkPolyData* output);
 
 } // namespace treefitvtk
 } // namespace plantmorph

@@ -160,6 +160,40 @@ TEST(TreeFit, LeaderGoesOnPastAHeavierLateral)
   EXPECT_GT(r.branches[1].volume, M_PI * 0.035 * 0.035 * 1.0); // the lateral is the heavier child
 }
 
+TEST(TreeFit, JunctionsDoNotWidenTheTrunk)
+{
+  // A lateral at 35 degrees, thicker than the trunk where it leaves (as a monopodial template's): the cylinders at the
+  // junction hold the lateral's first points too; they must not be fitted wider than the trunk.
+  const Eigen::Vector3d fork(0, 0, 1.0);
+  const double a = 35.0 * M_PI / 180.0;
+  const TrueCylinder trunk{ { 0, 0, 0 }, { 0, 0, 2.0 }, 0.05 };
+  const std::vector<TrueCylinder> tree{ trunk,
+    { fork, fork + 1.2 * Eigen::Vector3d(std::sin(a), 0, std::cos(a)), 0.06 } };
+  const TreeFitResult r = FitTree(Scan(tree, 0.006, 0.0005), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.branches.size(), 2u);
+  EXPECT_NEAR(r.branches[0].length, 2.0, 0.1);
+  for (int k : r.branches[0].cylinders)
+    EXPECT_LT(r.cylinders[k].radius, 1.08 * trunk.radius) << "trunk cylinder " << k;
+  EXPECT_NEAR(r.traits.trunkVolume, Volume(trunk), 0.05 * Volume(trunk));
+}
+
+TEST(TreeFit, ALateralAtTheLeadersTipIsABranch)
+{
+  // A leader thinning at its top, a lateral leaving its tip at 35 degrees with no fork: a branch does not bend that
+  // sharply, so the trunk ends at the tip and the lateral is a first-order branch.
+  const Eigen::Vector3d tip(0, 0, 1.6);
+  const double a = 35.0 * M_PI / 180.0;
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, { 0, 0, 1.2 }, 0.06 }, { { 0, 0, 1.2 }, tip, 0.03 },
+    { tip, tip + 1.0 * Eigen::Vector3d(std::sin(a), 0, std::cos(a)), 0.03 } };
+  const TreeFitResult r = FitTree(Scan(tree, 0.006, 0.0005), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.branches.size(), 2u);
+  EXPECT_NEAR(r.branches[0].length, 1.6, 0.1);
+  EXPECT_EQ(r.branches[1].order, 1);
+  EXPECT_NEAR(r.branches[1].angle, 35.0, 6.0);
+}
+
 TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
 {
   // A stem that follows the pipe model (each 0.3-long piece carries the area of the twigs above it: radius 5 mm times
@@ -252,6 +286,35 @@ TEST(TreeFit, ThreadsGiveTheSameResult)
     EXPECT_EQ(serial.cylinders[k].start, parallel.cylinders[k].start);
   }
   EXPECT_EQ(serial.traits.totalVolume, parallel.traits.totalVolume);
+}
+
+TEST(TreeFit, PointOrderDoesNotChangeTheFit)
+{
+  // A cloud gathered from MPI ranks or written in another order is the same tree: the same cylinders bit for bit,
+  // and every point keeps its own values.
+  const auto points = Scan(Fork(30.0), 0.008, 0.001);
+  std::vector<std::size_t> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = order.size() - 1 - i; // reversed
+  std::vector<Eigen::Vector3d> shuffled(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    shuffled[i] = points[order[i]];
+  const TreeFitResult a = FitTree(points, {}, TreeFitParameters());
+  const TreeFitResult b = FitTree(shuffled, {}, TreeFitParameters());
+  ASSERT_EQ(a.error, "");
+  ASSERT_EQ(a.cylinders.size(), b.cylinders.size());
+  for (std::size_t k = 0; k < a.cylinders.size(); ++k)
+  {
+    EXPECT_EQ(a.cylinders[k].radius, b.cylinders[k].radius);
+    EXPECT_EQ(a.cylinders[k].start, b.cylinders[k].start);
+    EXPECT_EQ(a.cylinders[k].end, b.cylinders[k].end);
+  }
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    EXPECT_EQ(a.pointCylinder[order[i]], b.pointCylinder[i]);
+    EXPECT_TRUE(a.fitDistance[order[i]] == b.fitDistance[i] ||
+      (std::isnan(a.fitDistance[order[i]]) && std::isnan(b.fitDistance[i])));
+  }
 }
 
 TEST(TreeFit, WoodLabelsKeepOnlyTheWood)
