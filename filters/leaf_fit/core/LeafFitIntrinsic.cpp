@@ -308,6 +308,8 @@ std::string FitOutline(
   if (!outline.right.Fit(outline.s0, outline.s1, intervals, sR, tR, w, phiR, lambda) ||
     !outline.left.Fit(outline.s0, outline.s1, intervals, sL, tL, w, phiL, lambda))
     return "no leaf shape: the margins could not be fitted";
+  outline.base = outline.s0;
+  outline.apex = outline.s1;
   return {};
 }
 
