@@ -273,14 +273,17 @@ void ModelControlPoints(int m, const Fitted& f, LeafFitResult& result)
   {
     // The model's midvein runs half-way between the margins (the fitted one, t = 0, may run close to a margin
     // where a narrow petiole meets the blade, and an interpolating spline through it would cross that margin).
-    const double s = o.s0 + (o.s1 - o.s0) * k / (m - 1);
+    const double s = o.base + (o.apex - o.base) * k / (m - 1);
     const double t = k == 0 || k == m - 1 ? 0.0 : 0.5 * (o.Left(s) + o.Right(s));
     result.modelMidvein.push_back(f.frame.World(f.surface(t, s)));
-    result.flatMidvein.emplace_back(t, s - o.s0, 0.0);
+    result.flatMidvein.emplace_back(t, s - o.base, 0.0);
   }
   for (int side = 0; side < 2; ++side)
   {
-    const std::vector<Eigen::Vector2d> samples = SampleMargin(o, side == 1, (o.s1 - o.s0) / 4000.0);
+    // The blade's own margins (laid flat, base at the origin), so the model has its lobes and sinuses.
+    std::vector<Eigen::Vector2d> samples;
+    for (int id : side == 0 ? result.leftMargin : result.rightMargin)
+      samples.push_back(result.flat[id]);
     std::vector<double> arc(samples.size(), 0.0);
     for (std::size_t i = 1; i < samples.size(); ++i)
       arc[i] = arc[i - 1] + (samples[i] - samples[i - 1]).norm();
@@ -290,9 +293,10 @@ void ModelControlPoints(int m, const Fitted& f, LeafFitResult& result)
       const double target = arc.back() * k / (m + 1);
       while (j + 1 < samples.size() && arc[j + 1] < target)
         ++j;
-      const Eigen::Vector2d& p = samples[j];
+      const double along = arc[j + 1] > arc[j] ? std::clamp((target - arc[j]) / (arc[j + 1] - arc[j]), 0.0, 1.0) : 0.0;
+      const Eigen::Vector2d p = (1.0 - along) * samples[j] + along * samples[std::min(j + 1, samples.size() - 1)];
       (side == 0 ? result.modelLeftMargin : result.modelRightMargin)
-        .push_back(f.frame.World(f.surface(p.x(), o.s0 + p.y())));
+        .push_back(f.frame.World(f.surface(p.x(), o.base + p.y())));
       (side == 0 ? result.flatLeftMargin : result.flatRightMargin).emplace_back(p.x(), p.y(), 0.0);
     }
   }
@@ -391,12 +395,13 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     return error;
   // The blade's outline as its points draw it (lobes and sinuses kept); where that loop does not mesh (a sinus
   // narrower than the mesh's edges), the smooth margins.
-  // Snapped to the smooth margins where it follows them, else as traced, else the smooth margins alone.
+  // Snapped to the smooth margins where it follows them, else as traced when it has sinuses, notches or lobes the
+  // smooth margins do not follow, else the smooth margins alone.
   error = "no contour";
   for (int attempt = 0; attempt < 2 && !error.empty(); ++attempt)
   {
     const fit::Contour contour = fit::TraceContour(onSurface, spacing, attempt == 0, f.outline);
-    if (!contour.right.empty())
+    if (!contour.right.empty() && (attempt == 0 || contour.features))
       error = MeshFittedBlade(options, f, contour, result);
   }
   if (!error.empty())

@@ -134,8 +134,8 @@ std::vector<std::vector<Eigen::Vector2d>> LevelLoops(
     const int other = edge % 2 == 0 ? node + 1 : node + nx;
     const double a = F[node] - level, b = F[other] - level;
     const double f = a / (a - b);
-    return Eigen::Vector2d(origin.x() + cell * (i + (edge % 2 == 0 ? f : 0.0)),
-      origin.y() + cell * (j + (edge % 2 == 1 ? f : 0.0)));
+    return Eigen::Vector2d(
+      origin.x() + cell * (i + (edge % 2 == 0 ? f : 0.0)), origin.y() + cell * (j + (edge % 2 == 1 ? f : 0.0)));
   };
   std::map<int, int> next; // segment from edge a to edge b, the region F > level on its left
   for (int j = 0; j + 1 < ny; ++j)
@@ -151,21 +151,52 @@ std::vector<std::vector<Eigen::Vector2d>> LevelLoops(
       auto link = [&](int from, int to) { next[edges[from]] = edges[to]; };
       switch (code)
       {
-        case 1: link(3, 0); break;
-        case 2: link(0, 1); break;
-        case 3: link(3, 1); break;
-        case 4: link(1, 2); break;
-        case 5: link(3, 2); link(1, 0); break; // saddle: the two inside corners kept apart
-        case 6: link(0, 2); break;
-        case 7: link(3, 2); break;
-        case 8: link(2, 3); break;
-        case 9: link(2, 0); break;
-        case 10: link(0, 3); link(2, 1); break;
-        case 11: link(2, 1); break;
-        case 12: link(1, 3); break;
-        case 13: link(1, 0); break;
-        case 14: link(0, 3); break;
-        default: break;
+        case 1:
+          link(3, 0);
+          break;
+        case 2:
+          link(0, 1);
+          break;
+        case 3:
+          link(3, 1);
+          break;
+        case 4:
+          link(1, 2);
+          break;
+        case 5:
+          link(3, 2);
+          link(1, 0);
+          break; // saddle: the two inside corners kept apart
+        case 6:
+          link(0, 2);
+          break;
+        case 7:
+          link(3, 2);
+          break;
+        case 8:
+          link(2, 3);
+          break;
+        case 9:
+          link(2, 0);
+          break;
+        case 10:
+          link(0, 3);
+          link(2, 1);
+          break;
+        case 11:
+          link(2, 1);
+          break;
+        case 12:
+          link(1, 3);
+          break;
+        case 13:
+          link(1, 0);
+          break;
+        case 14:
+          link(0, 3);
+          break;
+        default:
+          break;
       }
     }
   std::vector<std::vector<Eigen::Vector2d>> loops;
@@ -263,8 +294,8 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
     std::vector<std::vector<Eigen::Vector2d>> loops = LevelLoops(F, nx, ny, level, origin, cell);
     if (loops.empty())
       return std::vector<Eigen::Vector2d>();
-    std::vector<Eigen::Vector2d> loop = *std::max_element(loops.begin(), loops.end(),
-      [](const auto& a, const auto& b) { return SignedArea(a) < SignedArea(b); });
+    std::vector<Eigen::Vector2d> loop = *std::max_element(
+      loops.begin(), loops.end(), [](const auto& a, const auto& b) { return SignedArea(a) < SignedArea(b); });
     if (!(SignedArea(loop) > 0.0))
       return std::vector<Eigen::Vector2d>();
     SmoothLoop(loop, 4);
@@ -299,8 +330,8 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
         nearest = q;
       }
     const double xi = (p.y() - outline.s0) / L;
-    const bool inside = xi > 0.0 && xi < 1.0 &&
-      std::abs(p.x()) < (p.x() > 0.0 ? outline.Right(p.y()) : -outline.Left(p.y()));
+    const bool inside =
+      xi > 0.0 && xi < 1.0 && std::abs(p.x()) < (p.x() > 0.0 ? outline.Right(p.y()) : -outline.Left(p.y()));
     return inside ? std::sqrt(best) : -std::sqrt(best);
   };
   std::vector<double> gaps;
@@ -355,19 +386,67 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
   const double baseCut = baseTip ? outline.s0 + 6.0 * spacing : -1e300;
   const double apexCut = apexTip ? outline.s1 - 6.0 * spacing : 1e300;
   // The loop from the base to the apex on the right (t > 0, counter-clockwise) and on the left (clockwise).
+  // Where the loop runs along the smooth margin, the smooth margin: it is the better estimate of a margin the points
+  // reach (its stations know their own density). The loop is kept where it departs from it by a real feature: a run
+  // of the loop's points off the band (from a spacing outside the smooth margin to `band` inside it) that reaches
+  // 4 spacings (twice the band) away somewhere (a sinus, a notch, a lobe the smooth margins do not follow); shallower runs are the
+  // ragged edge of a real scan's points and are snapped too.
+  std::vector<Eigen::Vector2d> nearest(n);
+  std::vector<double> depth(n);
+  for (std::size_t i = 0; i < n; ++i)
+    depth[i] = inwards(loop[i], nearest[i]);
+  std::vector<unsigned char> snapped(n, 1);
+  auto off = [&](std::size_t i) { return !(depth[i] > -spacing && depth[i] < band); };
+  std::size_t first = 0; // a point on the band to start the runs from
+  while (first < n && off(first))
+    ++first;
+  if (first == n)
+  {
+    contour.features = true;
+    snapped.assign(n, 0);
+  }
+  else
+    for (std::size_t k = 0; k < n;)
+    {
+      const std::size_t i = (first + k) % n;
+      if (!off(i))
+      {
+        ++k;
+        continue;
+      }
+      std::size_t length = 0;
+      double deepest = 0.0;
+      while (k + length < n && off((first + k + length) % n))
+      {
+        const double d = depth[(first + k + length) % n];
+        deepest = std::max(deepest, std::isnan(d) ? 1e300 : std::abs(d));
+        ++length;
+      }
+      if (deepest >= std::max(4.0 * spacing, 2.0 * band))
+      {
+        contour.features = true;
+        for (std::size_t j = 0; j < length; ++j)
+          snapped[(first + k + j) % n] = 0;
+      }
+      k += length;
+    }
+  if (!snap)
+    snapped.assign(n, 0);
+  // Snapped points go up the smooth margin from base to apex (nearest points may fall back where the loop turns
+  // sharply: those are left out, or the margin would cross itself).
   auto walk = [&](std::size_t from, std::size_t to, bool forward) {
     std::vector<Eigen::Vector2d> path;
     std::size_t i = forward ? (from + 1) % n : from;
     const std::size_t stop = forward ? (to + 1) % n : to;
+    double highest = -1e300;
     while (i != stop)
     {
-      // Where the loop runs along the smooth margin (within a spacing outside it to three inside), the smooth
-      // margin: it is the better estimate of a margin the points reach (its stations know their own density);
-      // the loop is kept in sinuses and notches, and around lobes the smooth margins do not follow.
-      Eigen::Vector2d q;
-      const double d = inwards(loop[i], q);
-      if (loop[i].y() > baseCut && loop[i].y() < apexCut)
-        path.push_back(snap && d > -spacing && d < band ? q : loop[i]);
+      if (loop[i].y() > baseCut && loop[i].y() < apexCut && !(snapped[i] && nearest[i].y() <= highest))
+      {
+        path.push_back(snapped[i] ? nearest[i] : loop[i]);
+        if (snapped[i])
+          highest = nearest[i].y();
+      }
       i = forward ? (i + 1) % n : (i + n - 1) % n;
     }
     return path;

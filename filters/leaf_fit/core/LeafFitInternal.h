@@ -76,6 +76,7 @@ std::string FitOutline(
 struct Contour
 {
   std::vector<Eigen::Vector2d> right, left;
+  bool features = false; ///< the loop departs from the smooth margins somewhere (a sinus, a notch, a lobe)
 };
 
 /// The boundary of the points (t, s) (the closing of discs of 2.5 spacings about them, holes filled, moved out by
