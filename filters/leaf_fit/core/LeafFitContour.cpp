@@ -247,6 +247,49 @@ void SmoothLoop(std::vector<Eigen::Vector2d>& loop, int iterations)
     loop.swap(moved);
   }
 }
+/// Which points of a loop are snapped to the smooth margin (1): all but the runs off the band (from a spacing
+/// outside the smooth margin to `band` inside it, `depth` the distance inwards) that reach max(4 spacings, twice
+/// the band) away somewhere. `features`: whether such a run (or no point on the band) was found.
+std::vector<unsigned char> SnapFlags(const std::vector<double>& depth, double spacing, double band, bool& features)
+{
+  const std::size_t n = depth.size();
+  std::vector<unsigned char> snapped(n, 1);
+  auto off = [&](std::size_t i) { return !(depth[i] > -spacing && depth[i] < band); };
+  std::size_t first = 0; // a point on the band to start the runs from
+  while (first < n && off(first))
+    ++first;
+  if (first == n)
+  {
+    features = true;
+    snapped.assign(n, 0);
+  }
+  else
+    for (std::size_t k = 0; k < n;)
+    {
+      const std::size_t i = (first + k) % n;
+      if (!off(i))
+      {
+        ++k;
+        continue;
+      }
+      std::size_t length = 0;
+      double deepest = 0.0;
+      while (k + length < n && off((first + k + length) % n))
+      {
+        const double d = depth[(first + k + length) % n];
+        deepest = std::max(deepest, std::isnan(d) ? 1e300 : std::abs(d));
+        ++length;
+      }
+      if (deepest >= std::max(4.0 * spacing, 2.0 * band))
+      {
+        features = true;
+        for (std::size_t j = 0; j < length; ++j)
+          snapped[(first + k + j) % n] = 0;
+      }
+      k += length;
+    }
+  return snapped;
+}
 } // namespace
 
 Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline)
@@ -395,41 +438,7 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
   std::vector<double> depth(n);
   for (std::size_t i = 0; i < n; ++i)
     depth[i] = inwards(loop[i], nearest[i]);
-  std::vector<unsigned char> snapped(n, 1);
-  auto off = [&](std::size_t i) { return !(depth[i] > -spacing && depth[i] < band); };
-  std::size_t first = 0; // a point on the band to start the runs from
-  while (first < n && off(first))
-    ++first;
-  if (first == n)
-  {
-    contour.features = true;
-    snapped.assign(n, 0);
-  }
-  else
-    for (std::size_t k = 0; k < n;)
-    {
-      const std::size_t i = (first + k) % n;
-      if (!off(i))
-      {
-        ++k;
-        continue;
-      }
-      std::size_t length = 0;
-      double deepest = 0.0;
-      while (k + length < n && off((first + k + length) % n))
-      {
-        const double d = depth[(first + k + length) % n];
-        deepest = std::max(deepest, std::isnan(d) ? 1e300 : std::abs(d));
-        ++length;
-      }
-      if (deepest >= std::max(4.0 * spacing, 2.0 * band))
-      {
-        contour.features = true;
-        for (std::size_t j = 0; j < length; ++j)
-          snapped[(first + k + j) % n] = 0;
-      }
-      k += length;
-    }
+  std::vector<unsigned char> snapped = SnapFlags(depth, spacing, band, contour.features);
   if (!snap)
     snapped.assign(n, 0);
   // Snapped points go up the smooth margin from base to apex (nearest points may fall back where the loop turns
