@@ -107,7 +107,7 @@ def run(name, properties, curled, view, petiole):
     stop = centre + (s.max() + 0.1 * length) * e_length + height * normal
     fan = 2.0 * math.degrees(math.atan(0.7 * width / height))
     scanner = VirtualScanner(Input=scene, ScannerType="Line", LineMotion="Path",
-                             Positions=list(start) + list(stop), LookAt=list(start - height * normal),
+                             Positions=list(start) + list(stop), LookAt=list(0.5 * (start + stop) - height * normal),
                              Up=list(e_width), VerticalFieldOfView=fan, AngularStep=math.degrees(spacing / height),
                              LineSpacing=spacing, RangeNoise=arguments.noise * L, Seed=3)
     fit = LeafFitFilter(Input=scanner)

@@ -18,10 +18,13 @@
 //     point gets s (arc length along the midvein from the base) and t (signed arc length along its cross-section
 //     from the midvein, positive to the right looking at the upper side with the apex up). Rolled and bent leaves
 //     thus flatten into the plane (t, s) the way LeafOutlineSource lays a flat blade out (x = t, y = s).
-//  5. Outline: in the plane (t, s), the outermost point of each of many thin slices across s, moved out by the
-//     expected gap between the outermost sample and the true margin (the spacing of the slice's samples), fitted by
+//  5. Outline: in the plane (t, s), the outermost point of each slice across s (two point spacings thick), moved
+//     out by the expected gap between the outermost sample and the true margin (from the slice's density), fitted by
 //     a penalised B-spline t = phi(s) g(s) (phi = sqrt of the distance to both ends, so rounded and acute tips
 //     fit). Base and apex: extrapolated from the order statistics of s (the last samples never reach a tip).
+//     The mesh's outline is the points' own boundary (LeafFitContour.cpp), snapped to these margins where it runs
+//     along them: sinuses, notches and lobes (also below a cordate base) are kept, and the midvein runs from the
+//     basal sinus (or the base's tip) to the apex (or the bottom of an apical notch).
 //  6. Surface: a tensor cubic B-spline (s, t) -> 3-D, fitted by penalised least squares (second differences of
 //     the control points in both directions) and iteratively reweighted (Huber) against remaining outliers.
 //  7. Mesh: plantmorph::MeshBlade (LeafOutlineSource's blade mesher, quality mode) on the outline in (t, s),
