@@ -171,7 +171,9 @@ std::string MeshFittedBlade(
 {
   const Outline& o = f.outline;
   const double L = o.apex - o.base;
-  const double h = L / options.resolution;
+  // The mesh's step from the blade's extent (the points' own, never from the midvein alone, which a wrong apex
+  // could make short), and the mesh's size bounded before it is built.
+  const double h = std::max(L, o.s1 - o.s0) / options.resolution;
   result.midvein.clear();
   result.leftMargin.clear();
   result.rightMargin.clear();
@@ -208,9 +210,20 @@ std::string MeshFittedBlade(
     const double u = p.x() >= 0.0 ? 0.5 * p.x() / o.Right(s) : -0.5 * p.x() / o.Left(s);
     return Eigen::Vector2d(std::clamp(u, -0.5, 0.5), std::clamp(p.y() / L, 0.0, 1.0));
   };
+  // About 1.2 vertices per h^2 of blade in quality mode (edges near h, angles above 20 degrees), plus the outline's.
+  const double expected = 1.2 * std::abs(PolygonArea(outline.points, outline.boundary)) / (h * h) +
+    static_cast<double>(outline.points.size());
+  if (!(expected <= static_cast<double>(MaxBladeVertices)))
+  {
+    std::ostringstream message;
+    message << "Resolution " << options.resolution << ": the blade's mesh would need about " << std::lround(expected)
+            << " vertices, more than " << MaxBladeVertices << "; lower Resolution";
+    return message.str();
+  }
   BladeMeshParameters meshOptions;
   meshOptions.quality = true;
   meshOptions.maxEdgeLength = h;
+  meshOptions.maxVertices = MaxBladeVertices;
   BladeMesh mesh;
   const std::string error = MeshBlade(outline, meshOptions, solveUV, mesh);
   if (!error.empty())
@@ -394,7 +407,13 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   for (std::size_t k = 0; k < f.ts.size(); ++k)
     if (f.residual[k] <= InlierLimit(f, spacing))
       onSurface.push_back(f.ts[k]);
-  error = fit::FitOutline(onSurface, options, spacing, f.outline);
+  // The outline's spacing: the gaps the points leave on the blade, which on a line scan (points much closer along
+  // a line than the lines are) is the distance between the lines, not the nearest-neighbour spacing.
+  std::vector<Eigen::Vector3d> flat;
+  for (const auto& p : onSurface)
+    flat.emplace_back(p.x(), p.y(), 0.0);
+  const double outlineSpacing = std::max(spacing, 0.5 * CrossSpacing(flat));
+  error = fit::FitOutline(onSurface, options, outlineSpacing, f.outline);
   if (!error.empty())
     return error;
   // The blade's outline as its points draw it (lobes and sinuses kept); where that loop does not mesh (a sinus
@@ -404,7 +423,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   error = "no contour";
   for (int attempt = 0; attempt < 2 && !error.empty(); ++attempt)
   {
-    const fit::Contour contour = fit::TraceContour(onSurface, spacing, attempt == 0, f.outline);
+    const fit::Contour contour = fit::TraceContour(onSurface, outlineSpacing, attempt == 0, f.outline);
     if (!contour.right.empty() && (attempt == 0 || contour.features))
       error = MeshFittedBlade(options, f, contour, result);
   }

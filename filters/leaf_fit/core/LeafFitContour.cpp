@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // FitLeaf's outline as the points draw it (LeafFitInternal.h, TraceContour): lobes, sinuses and a cordate base.
 #include "LeafFitInternal.h"
+#include "PointGrid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -415,19 +416,35 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
     if ((p.x() > 0.0) != (q.x() > 0.0))
       crossings.push_back({ p.y() + (q.y() - p.y()) * p.x() / (p.x() - q.x()), i });
   }
-  if (crossings.size() < 2)
+  if (crossings.size() < 2 || crossings.size() % 2 != 0)
     return contour;
   std::sort(crossings.begin(), crossings.end());
-  const auto apex = crossings.back(), base = crossings[crossings.size() - 2];
+  // Along t = 0 the loop's inside is the pieces between crossings 0-1, 2-3, ...: the midvein is the longest (a
+  // cordate blade's lobes overlapping below the sinus, or a tooth hooked over the apex, make shorter ones).
+  std::size_t longest = 0;
+  for (std::size_t k = 2; k + 1 < crossings.size(); k += 2)
+    if (crossings[k + 1].first - crossings[k].first > crossings[longest + 1].first - crossings[longest].first)
+      longest = k;
+  const auto base = crossings[longest], apex = crossings[longest + 1];
+  // The midvein spans most of the blade's extent: a piece shorter than half of it is not a midvein this outline
+  // describes (the smooth margins are taken).
+  const double extent = outline.s1 - outline.s0;
+  if (!(apex.first - base.first > 0.5 * extent))
+    return contour;
   // A tip (not a notch) extends beyond the last points by more than the gap, and the loop rounds it off: near a
   // tip (within 6 spacings) the smooth margins, whose tips are extrapolated from the last points (TipBeyond), are
-  // taken instead.
-  const bool baseTip = std::abs(base.first - outline.s0) < 4.0 * spacing;
-  const bool apexTip = std::abs(apex.first - outline.s1) < 4.0 * spacing;
+  // taken instead. A notch or sinus counts only when deeper than MinNotchDepth of the blade's extent (and 4
+  // spacings): shallower ones are the tip's own margin.
+  const double shallow = std::max(4.0 * spacing, MinNotchDepth * extent);
+  const bool baseTip = std::abs(base.first - outline.s0) < shallow;
+  const bool apexTip = std::abs(apex.first - outline.s1) < shallow;
   const double baseS = baseTip ? outline.s0 : base.first;
   const double apexS = apexTip ? outline.s1 : apex.first;
-  const double baseCut = baseTip ? outline.s0 + 6.0 * spacing : -1e300;
-  const double apexCut = apexTip ? outline.s1 - 6.0 * spacing : 1e300;
+  // (A shallow notch's walls are left out with the tip: the cut reaches 2 spacings below its bottom.)
+  const double baseCut =
+    baseTip ? outline.s0 + std::max(6.0 * spacing, base.first - outline.s0 + 2.0 * spacing) : -1e300;
+  const double apexCut =
+    apexTip ? outline.s1 - std::max(6.0 * spacing, outline.s1 - apex.first + 2.0 * spacing) : 1e300;
   // The loop from the base to the apex on the right (t > 0, counter-clockwise) and on the left (clockwise).
   // Where the loop runs along the smooth margin, the smooth margin: it is the better estimate of a margin the points
   // reach (its stations know their own density). The loop is kept where it departs from it by a real feature: a run
@@ -494,4 +511,36 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
 }
 
 } // namespace fit
+
+double CrossSpacing(const std::vector<Eigen::Vector3d>& points)
+{
+  if (points.size() < 3)
+    return 0.0;
+  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 5000);
+  std::vector<double> across;
+  for (std::size_t i = 0; i < points.size(); i += stride)
+  {
+    // 48 neighbours reach the next line of a line scan whose points are up to about 20 times closer along a line.
+    const auto nb = grid.Nearest(points[i], 48, static_cast<int>(i));
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    for (const auto& [d2, j] : nb)
+    {
+      const Eigen::Vector3d d = points[j] - points[i];
+      if (!(d2 > 0.0))
+        continue;
+      if (u.isZero())
+        u = d.normalized();
+      else if (std::abs(u.dot(d.normalized())) < 0.5)
+      {
+        across.push_back(std::sqrt(d2));
+        break;
+      }
+    }
+  }
+  if (across.empty())
+    return 0.0;
+  std::nth_element(across.begin(), across.begin() + across.size() / 2, across.end());
+  return across[across.size() / 2];
+}
 } // namespace plantmorph

@@ -275,6 +275,51 @@ TEST(LeafShape, CordateBladeIsMeasuredFromItsSinusWithItsLobes)
   EXPECT_NEAR(fit.traits.area, BladeArea(leaf), 0.01 * BladeArea(leaf));
 }
 
+/// The scan without the points for which `cut(x, y)` holds (in the blade's plane, before the pose), then posed.
+Synthetic Without(Synthetic scan, const std::function<bool(double, double)>& cut, const Eigen::Isometry3d& pose)
+{
+  Synthetic kept = scan;
+  kept.points.clear();
+  kept.petiole.clear();
+  for (std::size_t i = 0; i < scan.points.size(); ++i)
+    if (!cut(scan.points[i].x(), scan.points[i].y()))
+    {
+      kept.points.push_back(pose * scan.points[i]);
+      kept.petiole.push_back(scan.petiole[i]);
+    }
+  return kept;
+}
+
+TEST(LeafShape, ToothHookedOverTheMidveinLeavesTheMidveinFromTheBase)
+{
+  // An elliptic blade 100 long (a petiole 25 long at its base says which end is the base) with a slit 2 wide, 4 to
+  // 6 below the tip, cut from the left margin across the midvein: the tooth above it is hooked over the midvein, and
+  // the traced outline crosses the midvein four times. The midvein is the longest piece of it inside the blade,
+  // from the base (to the slit, or to the tip): the top two crossings made it the piece above the slit, 2 long.
+  const Synthetic scan = Scan(Blade(0, 100.0), 10000, 0.1, 25.0, Straight(10.0), 2, Eigen::Isometry3d::Identity());
+  const double tip = scan.length;
+  const Synthetic slit = Without(
+    scan, [&](double x, double y) { return y > tip - 6.0 && y < tip - 4.0 && x < 2.0; }, Tilted());
+  const LeafFitResult fit = FitLeaf(slit.points, LeafFitParameters());
+  ASSERT_EQ(fit.error, "");
+  EXPECT_LT((fit.points[fit.midvein.front()] - Tilted() * Eigen::Vector3d::Zero()).norm(), 0.02 * tip);
+  EXPECT_GT(fit.traits.length, 0.93 * tip);
+  EXPECT_LT(fit.traits.length, 1.01 * tip);
+}
+
+TEST(LeafShape, DeepApicalNotchIsTheApex)
+{
+  // The same blade with a notch 10 deep (10 % of it) on the midvein: a real notch, the midvein ends at its bottom.
+  const Synthetic scan = Scan(Blade(0, 100.0), 10000, 0.1, 25.0, Straight(10.0), 2, Eigen::Isometry3d::Identity());
+  const double tip = scan.length;
+  Synthetic notched = Without(
+    scan, [&](double x, double y) { return y > tip - 10.0 + 2.0 * std::abs(x); }, Tilted());
+  notched.length = tip - 10.0;
+  Expected e;
+  e.lengthTolerance = 0.02;
+  ExpectShape(notched, Tilted(), e);
+}
+
 TEST(LeafShape, FanWithoutPetioleOrHintsIsFittedAlongItsMidvein)
 {
   // No petiole, no BasePoint: the axis of symmetry through the centroid (not the principal axis across the fan), the
