@@ -291,6 +291,33 @@ std::vector<unsigned char> SnapFlags(const std::vector<double>& depth, double sp
     }
   return snapped;
 }
+/// The midvein's ends on a counter-clockwise loop: the crossings of t = 0 (s, index of the edge's first point) that
+/// bound the longest piece of t = 0 inside the loop (between crossings 0-1, 2-3, ... in s order): the apex and the
+/// base (a cordate blade's basal sinus, or its lowest point). A cordate blade's lobes overlapping below the sinus, or
+/// a tooth hooked over the apex, make shorter pieces. False when the loop does not cross t = 0 in pairs.
+bool MidveinEnds(
+  const std::vector<Eigen::Vector2d>& loop, std::pair<double, std::size_t>& base, std::pair<double, std::size_t>& apex)
+{
+  const std::size_t n = loop.size();
+  std::vector<std::pair<double, std::size_t>> crossings;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const Eigen::Vector2d& p = loop[i];
+    const Eigen::Vector2d& q = loop[(i + 1) % n];
+    if ((p.x() > 0.0) != (q.x() > 0.0))
+      crossings.push_back({ p.y() + (q.y() - p.y()) * p.x() / (p.x() - q.x()), i });
+  }
+  if (crossings.size() < 2 || crossings.size() % 2 != 0)
+    return false;
+  std::sort(crossings.begin(), crossings.end());
+  std::size_t longest = 0;
+  for (std::size_t k = 2; k + 1 < crossings.size(); k += 2)
+    if (crossings[k + 1].first - crossings[k].first > crossings[longest + 1].first - crossings[longest].first)
+      longest = k;
+  base = crossings[longest];
+  apex = crossings[longest + 1];
+  return true;
+}
 } // namespace
 
 Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline)
@@ -405,27 +432,11 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
     if (loop.empty())
       return contour;
   }
-  // The midvein's ends: the crossings of t = 0 by the loop; the apex the highest, the base the next one below it
-  // (the top of the basal sinus of a cordate blade, or its lowest point).
+  // The midvein's ends: crossings of t = 0 by the loop (MidveinEnds).
   const std::size_t n = loop.size();
-  std::vector<std::pair<double, std::size_t>> crossings; // (s, index of the edge's first point)
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const Eigen::Vector2d& p = loop[i];
-    const Eigen::Vector2d& q = loop[(i + 1) % n];
-    if ((p.x() > 0.0) != (q.x() > 0.0))
-      crossings.push_back({ p.y() + (q.y() - p.y()) * p.x() / (p.x() - q.x()), i });
-  }
-  if (crossings.size() < 2 || crossings.size() % 2 != 0)
+  std::pair<double, std::size_t> base, apex;
+  if (!MidveinEnds(loop, base, apex))
     return contour;
-  std::sort(crossings.begin(), crossings.end());
-  // Along t = 0 the loop's inside is the pieces between crossings 0-1, 2-3, ...: the midvein is the longest (a
-  // cordate blade's lobes overlapping below the sinus, or a tooth hooked over the apex, make shorter ones).
-  std::size_t longest = 0;
-  for (std::size_t k = 2; k + 1 < crossings.size(); k += 2)
-    if (crossings[k + 1].first - crossings[k].first > crossings[longest + 1].first - crossings[longest].first)
-      longest = k;
-  const auto base = crossings[longest], apex = crossings[longest + 1];
   // The midvein spans most of the blade's extent: a piece shorter than half of it is not a midvein this outline
   // describes (the smooth margins are taken).
   const double extent = outline.s1 - outline.s0;
