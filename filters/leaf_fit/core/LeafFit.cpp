@@ -438,6 +438,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   ScanArrays(points, f, spacing, parallel, result);
   RebuildableModel(options, f, result);
   result.traits.spacing = spacing;
+  result.traits.coverageSpacing = outlineSpacing;
   result.traits.points = static_cast<double>(points.size());
   fit::ComputeTraits(f.surface, f.outline, options, f.frame.axes, result);
   result.petioleLine = petiole.line;

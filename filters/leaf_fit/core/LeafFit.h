@@ -100,6 +100,9 @@ struct LeafTraits
   double spacing = 0;                        ///< median nearest-neighbour distance of the inliers
   int baseFrom = 0;                          ///< 0: the shape, 1: BasePoint, 2: the petiole's junction
   double petioleLength = 0;                  ///< arc length of the petiole's centre line (0: no petiole found)
+  /// The spacing Coverage is measured in: the larger of `spacing` and half the spacing across a line scan's lines
+  /// (CrossSpacing), the gaps a scan leaves on the blade (not a column of the table).
+  double coverageSpacing = 0;
 };
 
 /// Names of the traits, in the order TraitValues() lists them (the Traits table's columns after LeafId).

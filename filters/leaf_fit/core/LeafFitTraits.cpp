@@ -112,7 +112,7 @@ void BladeTraits(const LeafFitParameters& options, LeafFitResult& r)
     horizontal += std::abs(a.dot(options.up));
     meanNormal += a;
     const double support = (r.support[tri[0]] + r.support[tri[1]] + r.support[tri[2]]) / 3.0;
-    if (support < 2.0 * traits.spacing)
+    if (support < 2.0 * std::max(traits.spacing, traits.coverageSpacing))
       covered += a.norm();
   }
   traits.area = area;
