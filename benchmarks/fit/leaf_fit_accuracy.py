@@ -7,9 +7,9 @@
 Every leaf is a LeafOutlineSource preset (its own size), flat or curled and bent (LeafCurlFilter, 30 degrees along
 and 30 across), with or without a petiole (a tube of radius 1 % of the blade's length, 30 % as long, leaving the
 base 30 degrees below the blade's plane in line with the midvein), scanned by VirtualScanner's line scanner passing
-over the leaf along its length, looking straight down ("above") or tilted 35 degrees about the leaf's length
-("oblique"), range noise `--noise` times the blade's length, the line spacing and angular step giving about
-`--points` points on the blade. LeafFitFilter runs with its defaults. Truth: the curled blade's midvein (Region 1
+over the leaf along its length, looking straight down ("above"), tilted 35 degrees about the leaf's length
+("oblique"), or twice, tilted 35 degrees to either side, the two clouds appended ("two"), range noise `--noise`
+times the blade's length, the line spacing and angular step giving about `--points` points on the blade (per pass). LeafFitFilter runs with its defaults. Truth: the curled blade's midvein (Region 1
 points in LeafUV v order) gives Length, the base (v = 0) and the midvein's direction at the base (to v = 0.2); its
 triangles give Area; the petiole's axis its length. Printed (and written to --output): per case the fitted
 Length and Area errors (%), the midvein direction error (degrees), the base error (% of the length) and the
@@ -69,6 +69,28 @@ def outline_lines(outline):
     return [(int(regions[k]), points[conn[offsets[k]:offsets[k + 1]]]) for k in range(len(regions))]
 
 
+def line_scan(scene, points, t, e_length, e_width, normal, tilt, L):
+    """VirtualScanner's line scanner passing over the leaf along its length, its view tilted by `tilt` degrees about
+    the length, about --points points on the blade."""
+    if tilt != 0.0:
+        a = math.radians(tilt)
+        normal = math.cos(a) * normal + math.sin(a) * e_width
+        e_width = numpy.cross(normal, e_length)
+    centre = points.mean(axis=0)
+    s = (points - centre) @ e_length
+    w = (points - centre) @ e_width
+    length, width = s.max() - s.min(), w.max() - w.min()
+    spacing = math.sqrt(t["area"] / arguments.points)
+    height = 2.0 * length
+    start = centre + (s.min() - 0.45 * length) * e_length + height * normal
+    stop = centre + (s.max() + 0.1 * length) * e_length + height * normal
+    fan = 2.0 * math.degrees(math.atan(0.7 * width / height))
+    return VirtualScanner(Input=scene, ScannerType="Line", LineMotion="Path",
+                          Positions=list(start) + list(stop), LookAt=list(0.5 * (start + stop) - height * normal),
+                          Up=list(e_width), VerticalFieldOfView=fan, AngularStep=math.degrees(spacing / height),
+                          LineSpacing=spacing, RangeNoise=arguments.noise * L, Seed=3 if tilt >= 0.0 else 4)
+
+
 def run(name, properties, curled, view, petiole):
     source = LeafOutlineSource(**properties)
     leaf = LeafCurlFilter(Input=source, LongitudinalAngle=30.0 if curled else 0.0,
@@ -94,22 +116,11 @@ def run(name, properties, curled, view, petiole):
     normal = numpy.cross(e_length, e_width)
     if normal.dot(t["normal"]) < 0:
         normal, e_width = -normal, -e_width
-    if view == "oblique":
-        tilt = math.radians(35.0)
-        normal = math.cos(tilt) * normal + math.sin(tilt) * e_width
-        e_width = numpy.cross(normal, e_length)
-    s = (points - centre) @ e_length
-    w = (points - centre) @ e_width
-    length, width = s.max() - s.min(), w.max() - w.min()
-    spacing = math.sqrt(t["area"] / arguments.points)
-    height = 2.0 * length
-    start = centre + (s.min() - 0.45 * length) * e_length + height * normal
-    stop = centre + (s.max() + 0.1 * length) * e_length + height * normal
-    fan = 2.0 * math.degrees(math.atan(0.7 * width / height))
-    scanner = VirtualScanner(Input=scene, ScannerType="Line", LineMotion="Path",
-                             Positions=list(start) + list(stop), LookAt=list(start - height * normal),
-                             Up=list(e_width), VerticalFieldOfView=fan, AngularStep=math.degrees(spacing / height),
-                             LineSpacing=spacing, RangeNoise=arguments.noise * L, Seed=3)
+    # "above": one pass looking straight down; "oblique": one pass tilted 35 degrees about the leaf's length; "two":
+    # two passes tilted 35 degrees to either side, their points appended (each at the one-pass settings).
+    tilts = {"above": [0.0], "oblique": [35.0], "two": [35.0, -35.0]}[view]
+    scanners = [line_scan(scene, points, t, e_length, e_width, normal, tilt, L) for tilt in tilts]
+    scanner = scanners[0] if len(scanners) == 1 else AppendDatasets(Input=scanners)
     fit = LeafFitFilter(Input=scanner)
     fit.UpdatePipeline()
     table = servermanager.Fetch(fit, idx=2)
@@ -128,7 +139,7 @@ def run(name, properties, curled, view, petiole):
                       fit_rms=row["FitRMS"] / L * 100.0)
         result["petiole_error"] = (100.0 * (row.get("PetioleLength", 0.0) / petiole_length - 1.0) if petiole
                                    else row.get("PetioleLength", 0.0) / L * 100.0)
-    for proxy in (fit, scanner):
+    for proxy in [fit] + ([scanner] if len(scanners) > 1 else []) + scanners:
         Delete(proxy)
     return result
 
@@ -140,7 +151,7 @@ for name, properties in PRESETS:
     if arguments.leaf and name not in arguments.leaf:
         continue
     for curled in (False, True):
-        for view in ("above", "oblique"):
+        for view in ("above", "oblique", "two"):
             for petiole in (True, False):
                 r = run(name, properties, curled, view, petiole)
                 results.append(r)

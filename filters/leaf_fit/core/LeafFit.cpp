@@ -143,12 +143,40 @@ std::vector<Eigen::Vector2d> SampleMargin(const Outline& outline, bool right, do
   return samples;
 }
 
-/// The blade: the outline in (t, s) meshed by LeafOutlineSource's mesher, mapped to 3-D.
-std::string MeshFittedBlade(const LeafFitParameters& options, const Fitted& f, LeafFitResult& result)
+/// A polyline resampled at about `step` along its arc length, its ends kept.
+std::vector<Eigen::Vector2d> Resample(const std::vector<Eigen::Vector2d>& line, double step)
+{
+  std::vector<double> arc(line.size(), 0.0);
+  for (std::size_t i = 1; i < line.size(); ++i)
+    arc[i] = arc[i - 1] + (line[i] - line[i - 1]).norm();
+  const int pieces = std::max(2, static_cast<int>(std::lround(arc.back() / step)));
+  std::vector<Eigen::Vector2d> samples{ line.front() };
+  std::size_t j = 0;
+  for (int k = 1; k < pieces; ++k)
+  {
+    const double target = arc.back() * k / pieces;
+    while (j + 2 < line.size() && arc[j + 1] < target)
+      ++j;
+    const double f = arc[j + 1] > arc[j] ? std::clamp((target - arc[j]) / (arc[j + 1] - arc[j]), 0.0, 1.0) : 0.0;
+    samples.push_back((1.0 - f) * line[j] + f * line[j + 1]);
+  }
+  samples.push_back(line.back());
+  return samples;
+}
+
+/// The blade: the outline in (t, s) (the points' contour when there is one, else the smooth margins) meshed by
+/// LeafOutlineSource's mesher, laid out with its base at the origin, mapped to 3-D.
+std::string MeshFittedBlade(
+  const LeafFitParameters& options, const Fitted& f, const fit::Contour& contour, LeafFitResult& result)
 {
   const Outline& o = f.outline;
-  const double L = o.s1 - o.s0;
-  const double h = L / options.resolution;
+  const double L = o.apex - o.base;
+  // The mesh's step from the blade's extent (the points' own, never from the midvein alone, which a wrong apex
+  // could make short), and the mesh's size bounded before it is built.
+  const double h = std::max(L, o.s1 - o.s0) / options.resolution;
+  result.midvein.clear();
+  result.leftMargin.clear();
+  result.rightMargin.clear();
   BladeOutline outline;
   auto add = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& uv, int region) {
     outline.points.push_back(p);
@@ -161,24 +189,41 @@ std::string MeshFittedBlade(const LeafFitParameters& options, const Fitted& f, L
       add({ 0.0, L * k / options.resolution }, { 0.0, static_cast<double>(k) / options.resolution }, RegionMidvein));
   for (int side = 0; side < 2; ++side)
   {
-    const std::vector<Eigen::Vector2d> samples = SampleMargin(o, side == 1, h);
+    std::vector<Eigen::Vector2d> samples;
+    if (contour.right.empty())
+      samples = SampleMargin(o, side == 1, h);
+    else
+      for (Eigen::Vector2d p : Resample(side == 1 ? contour.right : contour.left, h))
+        samples.push_back(p - Eigen::Vector2d(0.0, o.base));
     std::vector<int>& margin = side == 0 ? result.leftMargin : result.rightMargin;
     margin.push_back(result.midvein.front());
     for (std::size_t i = 1; i + 1 < samples.size(); ++i)
-      margin.push_back(add(samples[i], { side == 0 ? -0.5 : 0.5, samples[i].y() / L }, RegionMargin));
+      margin.push_back(
+        add(samples[i], { side == 0 ? -0.5 : 0.5, std::clamp(samples[i].y() / L, 0.0, 1.0) }, RegionMargin));
     margin.push_back(result.midvein.back());
   }
   outline.boundary.assign(result.rightMargin.begin(), result.rightMargin.end() - 1);
   outline.boundary.insert(outline.boundary.end(), result.leftMargin.rbegin(), result.leftMargin.rend() - 1);
   outline.midvein = result.midvein;
   auto solveUV = [&](const Eigen::Vector2d& p, const Eigen::Vector2d&) {
-    const double s = o.s0 + p.y();
+    const double s = o.base + p.y();
     const double u = p.x() >= 0.0 ? 0.5 * p.x() / o.Right(s) : -0.5 * p.x() / o.Left(s);
     return Eigen::Vector2d(std::clamp(u, -0.5, 0.5), std::clamp(p.y() / L, 0.0, 1.0));
   };
+  // About 1.2 vertices per h^2 of blade in quality mode (edges near h, angles above 20 degrees), plus the outline's.
+  const double expected = 1.2 * std::abs(PolygonArea(outline.points, outline.boundary)) / (h * h) +
+    static_cast<double>(outline.points.size());
+  if (!(expected <= static_cast<double>(MaxBladeVertices)))
+  {
+    std::ostringstream message;
+    message << "Resolution " << options.resolution << ": the blade's mesh would need about " << std::lround(expected)
+            << " vertices, more than " << MaxBladeVertices << "; lower Resolution";
+    return message.str();
+  }
   BladeMeshParameters meshOptions;
   meshOptions.quality = true;
   meshOptions.maxEdgeLength = h;
+  meshOptions.maxVertices = MaxBladeVertices;
   BladeMesh mesh;
   const std::string error = MeshBlade(outline, meshOptions, solveUV, mesh);
   if (!error.empty())
@@ -190,7 +235,7 @@ std::string MeshFittedBlade(const LeafFitParameters& options, const Fitted& f, L
   result.tcoords = BoundingBoxTextureCoordinates(mesh.points);
   result.points.resize(mesh.points.size());
   for (std::size_t i = 0; i < mesh.points.size(); ++i)
-    result.points[i] = f.frame.World(f.surface(mesh.points[i].x(), o.s0 + mesh.points[i].y()));
+    result.points[i] = f.frame.World(f.surface(mesh.points[i].x(), o.base + mesh.points[i].y()));
   result.normals = VertexNormals(result.points, result.triangles);
   return {};
 }
@@ -211,7 +256,7 @@ void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, dou
     const Eigen::Vector2d& ts = f.ts[k];
     const Eigen::Vector3d d = f.local[k] - f.surface(ts.x(), ts.y());
     result.fitDistance[i] = d.dot(f.surface.Normal(ts.x(), ts.y()));
-    result.intrinsic[i] = { ts.x(), ts.y() - f.outline.s0 };
+    result.intrinsic[i] = { ts.x(), ts.y() - f.outline.base };
     result.inlier[i] = f.residual[k] <= limit ? 1 : 0;
     if (result.inlier[i])
       inliers.push_back(points[i]);
@@ -244,14 +289,17 @@ void ModelControlPoints(int m, const Fitted& f, LeafFitResult& result)
   {
     // The model's midvein runs half-way between the margins (the fitted one, t = 0, may run close to a margin
     // where a narrow petiole meets the blade, and an interpolating spline through it would cross that margin).
-    const double s = o.s0 + (o.s1 - o.s0) * k / (m - 1);
+    const double s = o.base + (o.apex - o.base) * k / (m - 1);
     const double t = k == 0 || k == m - 1 ? 0.0 : 0.5 * (o.Left(s) + o.Right(s));
     result.modelMidvein.push_back(f.frame.World(f.surface(t, s)));
-    result.flatMidvein.emplace_back(t, s - o.s0, 0.0);
+    result.flatMidvein.emplace_back(t, s - o.base, 0.0);
   }
   for (int side = 0; side < 2; ++side)
   {
-    const std::vector<Eigen::Vector2d> samples = SampleMargin(o, side == 1, (o.s1 - o.s0) / 4000.0);
+    // The blade's own margins (laid flat, base at the origin), so the model has its lobes and sinuses.
+    std::vector<Eigen::Vector2d> samples;
+    for (int id : side == 0 ? result.leftMargin : result.rightMargin)
+      samples.push_back(result.flat[id]);
     std::vector<double> arc(samples.size(), 0.0);
     for (std::size_t i = 1; i < samples.size(); ++i)
       arc[i] = arc[i - 1] + (samples[i] - samples[i - 1]).norm();
@@ -261,9 +309,10 @@ void ModelControlPoints(int m, const Fitted& f, LeafFitResult& result)
       const double target = arc.back() * k / (m + 1);
       while (j + 1 < samples.size() && arc[j + 1] < target)
         ++j;
-      const Eigen::Vector2d& p = samples[j];
+      const double along = arc[j + 1] > arc[j] ? std::clamp((target - arc[j]) / (arc[j + 1] - arc[j]), 0.0, 1.0) : 0.0;
+      const Eigen::Vector2d p = (1.0 - along) * samples[j] + along * samples[std::min(j + 1, samples.size() - 1)];
       (side == 0 ? result.modelLeftMargin : result.modelRightMargin)
-        .push_back(f.frame.World(f.surface(p.x(), o.s0 + p.y())));
+        .push_back(f.frame.World(f.surface(p.x(), o.base + p.y())));
       (side == 0 ? result.flatLeftMargin : result.flatRightMargin).emplace_back(p.x(), p.y(), 0.0);
     }
   }
@@ -358,14 +407,38 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   for (std::size_t k = 0; k < f.ts.size(); ++k)
     if (f.residual[k] <= InlierLimit(f, spacing))
       onSurface.push_back(f.ts[k]);
-  error = fit::FitOutline(onSurface, options, spacing, f.outline);
-  if (error.empty())
-    error = MeshFittedBlade(options, f, result);
+  // The outline's spacing: the gaps the points leave on the blade, which on a line scan (points much closer along
+  // a line than the lines are) is the distance between the lines, not the nearest-neighbour spacing.
+  std::vector<Eigen::Vector3d> flat;
+  for (const auto& p : onSurface)
+    flat.emplace_back(p.x(), p.y(), 0.0);
+  const double outlineSpacing = std::max(spacing, 0.5 * CrossSpacing(flat));
+  error = fit::FitOutline(onSurface, options, outlineSpacing, f.outline);
+  if (!error.empty())
+    return error;
+  // The blade's outline as its points draw it (lobes and sinuses kept); where that loop does not mesh (a sinus
+  // narrower than the mesh's edges), the smooth margins.
+  // Snapped to the smooth margins where it follows them, else as traced when it has sinuses, notches or lobes the
+  // smooth margins do not follow, else the smooth margins alone.
+  error = "no contour";
+  for (int attempt = 0; attempt < 2 && !error.empty(); ++attempt)
+  {
+    const fit::Contour contour = fit::TraceContour(onSurface, outlineSpacing, attempt == 0, f.outline);
+    if (!contour.right.empty() && (attempt == 0 || contour.features))
+      error = MeshFittedBlade(options, f, contour, result);
+  }
+  if (!error.empty())
+  {
+    f.outline.base = f.outline.s0;
+    f.outline.apex = f.outline.s1;
+    error = MeshFittedBlade(options, f, fit::Contour(), result);
+  }
   if (!error.empty())
     return error;
   ScanArrays(points, f, spacing, parallel, result);
   RebuildableModel(options, f, result);
   result.traits.spacing = spacing;
+  result.traits.coverageSpacing = outlineSpacing;
   result.traits.points = static_cast<double>(points.size());
   fit::ComputeTraits(f.surface, f.outline, options, f.frame.axes, result);
   result.petioleLine = petiole.line;

@@ -18,10 +18,13 @@
 //     point gets s (arc length along the midvein from the base) and t (signed arc length along its cross-section
 //     from the midvein, positive to the right looking at the upper side with the apex up). Rolled and bent leaves
 //     thus flatten into the plane (t, s) the way LeafOutlineSource lays a flat blade out (x = t, y = s).
-//  5. Outline: in the plane (t, s), the outermost point of each of many thin slices across s, moved out by the
-//     expected gap between the outermost sample and the true margin (the spacing of the slice's samples), fitted by
+//  5. Outline: in the plane (t, s), the outermost point of each slice across s (two point spacings thick), moved
+//     out by the expected gap between the outermost sample and the true margin (from the slice's density), fitted by
 //     a penalised B-spline t = phi(s) g(s) (phi = sqrt of the distance to both ends, so rounded and acute tips
 //     fit). Base and apex: extrapolated from the order statistics of s (the last samples never reach a tip).
+//     The mesh's outline is the points' own boundary (LeafFitContour.cpp), snapped to these margins where it runs
+//     along them: sinuses, notches and lobes (also below a cordate base) are kept, and the midvein runs from the
+//     basal sinus (or the base's tip) to the apex (or the bottom of an apical notch).
 //  6. Surface: a tensor cubic B-spline (s, t) -> 3-D, fitted by penalised least squares (second differences of
 //     the control points in both directions) and iteratively reweighted (Huber) against remaining outliers.
 //  7. Mesh: plantmorph::MeshBlade (LeafOutlineSource's blade mesher, quality mode) on the outline in (t, s),
@@ -65,6 +68,22 @@ std::string ValidateLeafFitParameters(const LeafFitParameters& options);
 
 inline constexpr int MinLeafPoints = 50;
 
+/// The points' spacing across their densest direction: the median, over the points (a subsample of at most 5000),
+/// of the distance to the nearest neighbour lying more than 60 degrees away from the direction of the point's own
+/// nearest neighbour. About the nearest-neighbour spacing on a regular grid, 1.7 times it on random points, and the
+/// distance between the lines of a line scan whose points along a line are much closer than the lines (where the
+/// nearest-neighbour spacing says nothing about the gaps the points leave). 0 for fewer than 3 points.
+double CrossSpacing(const std::vector<Eigen::Vector3d>& points);
+
+/// The most vertices a fitted blade's mesh may have: a blade needing more (a Resolution too fine for it) is refused
+/// with a message, so that no input makes the mesher run for minutes.
+inline constexpr std::size_t MaxBladeVertices = 400000;
+
+/// The shallowest apical notch (or basal sinus) taken for the midvein's end, as a fraction of the blade's extent
+/// along it (the default ginkgo's apical notch is 2.7 %): shallower indentations at a tip (a tooth, the gap between
+/// two scan lines) are part of the margin, and the midvein ends at the tip's envelope.
+inline constexpr double MinNotchDepth = 0.02;
+
 struct LeafTraits
 {
   double length = 0, width = 0, projectedLength = 0, projectedWidth = 0;
@@ -81,6 +100,9 @@ struct LeafTraits
   double spacing = 0;                        ///< median nearest-neighbour distance of the inliers
   int baseFrom = 0;                          ///< 0: the shape, 1: BasePoint, 2: the petiole's junction
   double petioleLength = 0;                  ///< arc length of the petiole's centre line (0: no petiole found)
+  /// The spacing Coverage is measured in: the larger of `spacing` and half the spacing across a line scan's lines
+  /// (CrossSpacing), the gaps a scan leaves on the blade (not a column of the table).
+  double coverageSpacing = 0;
 };
 
 /// Names of the traits, in the order TraitValues() lists them (the Traits table's columns after LeafId).

@@ -134,6 +134,25 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
       }
     }
   }
+  // On a line scan a point's k nearest neighbours all lie on its own line: the lines are joined where points lie
+  // within twice the spacing across them (CrossSpacing), or a line beyond a wider gap is dropped as a stray part.
+  const double across = 2.0 * CrossSpacing(points);
+  if (across > radius)
+  {
+    std::vector<int> near;
+    for (int i = 0; i < n; ++i)
+      if (keep[i])
+      {
+        grid.Within(points[i], across, near);
+        for (int j : near)
+          if (keep[j])
+          {
+            const int a = Find(parent, i), b = Find(parent, j);
+            if (a != b)
+              parent[std::max(a, b)] = std::min(a, b);
+          }
+      }
+  }
   std::vector<int> size(n, 0);
   for (int i = 0; i < n; ++i)
     if (keep[i])

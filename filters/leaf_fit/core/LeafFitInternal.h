@@ -60,7 +60,8 @@ private:
 /// The outline in (t, s): margins t = phi(s) g(s) between the base s0 and the apex s1.
 struct Outline
 {
-  double s0 = 0.0, s1 = 1.0;
+  double s0 = 0.0, s1 = 1.0;     ///< the smooth margins' ends (the blade's lowest and highest s)
+  double base = 0.0, apex = 1.0; ///< the midvein's ends (a cordate blade's base is at its sinus, above s0)
   PenalizedSpline1D right, left; // g for the right margin (> 0) and for minus the left margin (> 0)
   double Phi(double s) const;
   double Right(double s) const;
@@ -70,6 +71,21 @@ struct Outline
 /// Fits the outline to intrinsic coordinates (t, s) of the kept points.
 std::string FitOutline(
   const std::vector<Eigen::Vector2d>& ts, const LeafFitParameters& options, double spacing, Outline& outline);
+
+/// The outline as the points draw it, in (t, s): the right margin (t > 0) and the left one (t < 0), each from the
+/// base (0, base) to the apex (0, apex). Empty when the points' boundary is not one such loop.
+struct Contour
+{
+  std::vector<Eigen::Vector2d> right, left;
+  bool features = false; ///< the loop departs from the smooth margins somewhere (a sinus, a notch, a lobe)
+};
+
+/// The boundary of the points (t, s) (the closing of discs of 2.5 spacings about them, holes filled, moved out by
+/// the expected gap to the margin), so lobes, sinuses and a cordate base are kept and not bridged. Sets
+/// outline.base and outline.apex: the crossings of the midvein (t = 0) that bound it, a tip's end from the smooth
+/// outline's extrapolated s0 or s1 (the last points never reach a tip). `snap`: where the loop runs along the
+/// smooth margins (from a spacing outside to three inside), their points are taken.
+Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline);
 
 /// Fills result.traits from the finished blade (points, triangles, margins, Support, FitDistance, Inlier) and the
 /// surface (in the local frame whose axes, in world coordinates, are the columns of `axes`).

@@ -37,12 +37,13 @@ double CrossLength(const TensorSurface& S, double s, double a, double b, int sam
 
 void ShapeTraits(const TensorSurface& S, const Outline& o, LeafTraits& traits)
 {
-  const double L = o.s1 - o.s0;
+  // Length along the midvein from the base (a cordate blade's sinus) to the apex; the width over the whole blade.
+  const double L = o.s1 - o.s0, midvein = o.apex - o.base;
   double length = 0.0;
-  Eigen::Vector3d previous = S(0.0, o.s0);
+  Eigen::Vector3d previous = S(0.0, o.base);
   for (int i = 1; i <= 2000; ++i)
   {
-    const Eigen::Vector3d x = S(0.0, o.s0 + L * i / 2000);
+    const Eigen::Vector3d x = S(0.0, o.base + midvein * i / 2000);
     length += (x - previous).norm();
     previous = x;
   }
@@ -84,7 +85,7 @@ double OutOfPlaneBending(const TensorSurface& S, const Outline& o)
   for (int i = 0; i <= steps; ++i)
   {
     Eigen::Vector3d dt, ds;
-    const double s = o.s0 + (o.s1 - o.s0) * i / steps;
+    const double s = o.base + (o.apex - o.base) * i / steps;
     S.Derivatives(0.0, s, dt, ds);
     const Eigen::Vector3d tangent = ds.normalized();
     if (i > 0 && tangent.allFinite() && previous.allFinite())
@@ -111,7 +112,7 @@ void BladeTraits(const LeafFitParameters& options, LeafFitResult& r)
     horizontal += std::abs(a.dot(options.up));
     meanNormal += a;
     const double support = (r.support[tri[0]] + r.support[tri[1]] + r.support[tri[2]]) / 3.0;
-    if (support < 2.0 * traits.spacing)
+    if (support < 2.0 * std::max(traits.spacing, traits.coverageSpacing))
       covered += a.norm();
   }
   traits.area = area;
@@ -163,11 +164,11 @@ void ComputeTraits(const TensorSurface& surface, const Outline& outline, const L
   ShapeTraits(surface, outline, traits);
   BladeTraits(options, result);
   // Angles of the midvein: its out-of-plane bending; its direction and base tangent against `up`.
-  const double L = outline.s1 - outline.s0, d = 0.02 * L;
-  const Eigen::Vector3d t0 = axes * (surface(0.0, outline.s0 + d) - surface(0.0, outline.s0));
+  const double L = outline.apex - outline.base, d = 0.02 * L;
+  const Eigen::Vector3d t0 = axes * (surface(0.0, outline.base + d) - surface(0.0, outline.base));
   traits.bending = OutOfPlaneBending(surface, outline);
   traits.midveinInclination = 90.0 - AngleBetween(t0, options.up);
-  const Eigen::Vector3d direction = axes * (surface(0.0, outline.s1) - surface(0.0, outline.s0));
+  const Eigen::Vector3d direction = axes * (surface(0.0, outline.apex) - surface(0.0, outline.base));
   Eigen::Vector3d h1 = Eigen::Vector3d::UnitX() - options.up.x() * options.up;
   if (h1.norm() < 1e-6)
     h1 = Eigen::Vector3d::UnitY() - options.up.y() * options.up;

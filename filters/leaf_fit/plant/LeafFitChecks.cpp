@@ -57,9 +57,9 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
     std::ostringstream message;
     message.precision(3);
     message << "Coverage " << fit.traits.coverage << ": only " << 100.0 * fit.traits.coverage
-            << " % of the blade lies within two point spacings (" << 2.0 * fit.traits.spacing
-            << ") of the scan (Support up to " << support
-            << "): the blade spreads over empty space (a hole, a petiole or several leaves fitted as one?)";
+            << " % of the blade lies within two point spacings ("
+            << 2.0 * std::max(fit.traits.spacing, fit.traits.coverageSpacing) << ") of the scan (Support up to "
+            << support << "): the blade spreads over empty space (a hole, a petiole or several leaves fitted as one?)";
     warnings.push_back(message.str());
   }
   // The flat model against the fitted blade's area (the Area trait): laying a curved blade flat in its intrinsic

@@ -160,7 +160,9 @@ LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points)
     }
   if (finitePoints.size() < 2)
     return result;
-  result.radius = SeparationSpacings * MedianSpacing(finitePoints);
+  // The spacing across the points' densest direction as well: a line scan's points are much closer along a line
+  // than the lines are, and a radius from the nearest-neighbour spacing alone cuts one leaf into its lines.
+  result.radius = SeparationSpacings * std::max(MedianSpacing(finitePoints), CrossSpacing(finitePoints));
   if (!(result.radius > 0.0))
     return result;
   const Cubes cubes(finitePoints, result.radius / std::sqrt(3.0));

@@ -6,7 +6,7 @@
 // - Leaf ids: a LeafId is read as the integer it is (64 bits); a floating-point value that is not an integer (or is
 //   NaN, infinite, or beyond 64 bits) is refused, never rounded into another leaf.
 // - Separate blades: without leaf ids, the points are cut into the connected parts of the graph joining points
-//   closer than SeparationRadius (a few point spacings). Parts too small to be a leaf (fewer than MinLeafPoints, or
+//   closer than SeparationRadius (a few point spacings, across a line scan's lines as well as along them). Parts too small to be a leaf (fewer than MinLeafPoints, or
 //   under 5 % of the largest part: the fit's own cleaning rule) go with the nearest large part, where the fit's
 //   cleaning drops them as strays. The large parts are the leaves, numbered in the order of their first point.
 // - Checks of a fitted leaf: Coverage (the blade spreading over empty space) and the flat model's area against the
@@ -31,7 +31,8 @@ namespace plantmorph
 /// integer or outside the 64-bit integers.
 std::string LeafIdOf(double value, const std::string& array, std::int64_t& id);
 
-/// The radius at which points are one blade: SeparationSpacings times the median nearest-neighbour distance.
+/// The radius at which points are one blade: SeparationSpacings times the larger of the median nearest-neighbour
+/// distance and CrossSpacing (the distance between a line scan's lines).
 inline constexpr double SeparationSpacings = 6.0;
 
 struct LeafSeparation

@@ -534,8 +534,8 @@ void vtkLeafFitFilter::Execute(plantmorph::Run& run)
   IndexLeaves(controller, in);
   const plantmorph::fitmpi::LeafExchange exchange(controller, in.members);
   run.StopIfAnyRankFailed(exchange.AnyRank(!error.empty()), error);
-  if (exchange.LeafIds().empty())
-    return; // no points on any rank: empty outputs, no error
+  if (exchange.LeafIds().empty()) // no points on any rank (every rank finds it alike): empty outputs
+    run.Fail("Input: the point cloud has no points (LeafFitFilter fits the points of one or more scanned leaves)");
   const std::vector<std::size_t> owned = exchange.Owned();
   const OwnedFits fits = FitOwned(exchange.SendPoints(in.members, in.points), Options(this), in.separate);
   WarnSeparation(in, fits, run);

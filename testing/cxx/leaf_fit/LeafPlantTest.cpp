@@ -38,6 +38,63 @@ std::vector<Eigen::Vector3d> Ellipse(
   return points;
 }
 
+/// Points on a flat ellipse (semi-axes a along X, b along Y) along lines y = const `gap` apart, `step` apart on a line
+/// (a line scanner's pattern: the nearest-neighbour spacing is the step, the gaps between lines are much wider).
+std::vector<Eigen::Vector3d> LineScannedEllipse(
+  const Eigen::Vector3d& centre, double a, double b, double step, double gap)
+{
+  std::vector<Eigen::Vector3d> points;
+  for (double y = -b + 0.5 * gap; y < b; y += gap)
+    for (double x = -a; x <= a; x += step)
+      if ((x / a) * (x / a) + (y / b) * (y / b) <= 1.0)
+        points.push_back(centre + Eigen::Vector3d(x, y, 0.0));
+  return points;
+}
+
+TEST(LeafPlant, ALineScannedLeafIsOneLeaf)
+{
+  // Lines 0.2 apart, points 0.02 apart along them: a radius from the nearest-neighbour spacing alone (6 x 0.02) cut
+  // the leaf into its 50 lines; the spacing across the lines (0.2) keeps it one leaf. Two such leaves with margins
+  // 3 apart stay two.
+  std::vector<Eigen::Vector3d> points = LineScannedEllipse({ 0.0, 0.0, 0.0 }, 2.0, 5.0, 0.02, 0.2);
+  EXPECT_NEAR(CrossSpacing(points), 0.2, 0.01);
+  LeafSeparation cut = SeparateLeaves(points);
+  EXPECT_EQ(cut.count, 1);
+  EXPECT_EQ(cut.strayParts, 0);
+  const std::vector<Eigen::Vector3d> second = LineScannedEllipse({ 7.0, 0.0, 0.0 }, 2.0, 5.0, 0.02, 0.2);
+  points.insert(points.end(), second.begin(), second.end());
+  cut = SeparateLeaves(points);
+  EXPECT_EQ(cut.count, 2);
+  EXPECT_LT(cut.radius, 3.0);
+}
+
+TEST(LeafPlant, ALineScannedLeafIsFittedWhole)
+{
+  // The line-scanned ellipse (semi-axes 2 and 5, lines 0.2 apart across it, points 0.02 apart along them): the
+  // traced outline joins the lines (its discs from the spacing across them: from the 0.02 along them, it left the
+  // lines' ends apart, Area 19.8). Length 10 and Area 10 pi within 3 % (the first and last lines are 0.1 inside the
+  // tips), a mesh of a few thousand vertices.
+  const std::vector<Eigen::Vector3d> points = LineScannedEllipse({ 0.0, 0.0, 0.0 }, 2.0, 5.0, 0.02, 0.2);
+  const LeafFitResult fit = FitLeaf(points, LeafFitParameters());
+  ASSERT_EQ(fit.error, "");
+  EXPECT_NEAR(fit.traits.length, 10.0, 0.3);
+  EXPECT_NEAR(fit.traits.area, 10.0 * Pi, 0.03 * 10.0 * Pi);
+  EXPECT_LT(fit.points.size(), 20000u);
+}
+
+TEST(LeafPlant, AMeshTooLargeForTheBladeIsRefused)
+{
+  // A round blade (radius 5) at Resolution 1000 would need about 10^6 vertices: refused before meshing, with a
+  // message naming Resolution (the mesh's size is bounded by MaxBladeVertices, whatever the input).
+  const std::vector<Eigen::Vector3d> points = LineScannedEllipse({ 0.0, 0.0, 0.0 }, 5.0, 5.0, 0.05, 0.1);
+  LeafFitParameters options;
+  options.resolution = 1000;
+  const LeafFitResult fit = FitLeaf(points, options);
+  EXPECT_NE(fit.error.find("Resolution 1000"), std::string::npos) << fit.error;
+  EXPECT_NE(fit.error.find("lower Resolution"), std::string::npos) << fit.error;
+  EXPECT_TRUE(fit.points.empty());
+}
+
 TEST(LeafPlant, TwoEllipsesThreeUnitsApartAreTwoLeavesOfTheRightArea)
 {
   // Two 10 x 4 ellipses (semi-axes 5 and 2, area 10 pi) side by side, their margins 3 units apart.

@@ -45,6 +45,8 @@ LeafGeometry Blade(int preset, double length)
       BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Ginkgo, length), settings, leaf);
   else if (preset == 2)
     error = BuildBSplineLeaf(MakeBSplinePreset(BSplinePreset::PinOak, length, 0.8 * length, 9), settings, leaf);
+  else if (preset == 4)
+    error = BuildBSplineLeaf(MakeBSplinePreset(BSplinePreset::Cucumber, length, 0.9 * length, 9), settings, leaf);
   else
     error =
       BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, length), settings, leaf);
@@ -233,8 +235,8 @@ TEST(LeafShape, FanWithBasePointIsFittedAlongItsMidvein)
   LeafFitParameters options;
   options.basePoint = Tilted() * Eigen::Vector3d(0.0, -1.0, 0.0);
   Expected e;
-  e.baseTolerance = 0.03;   // the cusp's samples are sparse: its end is extrapolated from few of them
-  e.lengthTolerance = 0.03; // the apex is a notch between two lobes: the outline's tip reaches past it
+  e.baseTolerance = 0.03;    // the cusp's samples are sparse: its end is extrapolated from few of them
+  e.lengthTolerance = 0.025; // the apex is a notch between two lobes: the midvein ends at its (rounded) bottom
   ExpectShape(scan, Tilted(), e, options);
 }
 
@@ -246,6 +248,78 @@ TEST(LeafShape, LobedBladeIsFittedAlongItsMidvein)
   ExpectShape(scan, Tilted(), e);
 }
 
+/// The area of a flat blade (its triangles).
+double BladeArea(const LeafGeometry& leaf)
+{
+  double area = 0.0;
+  for (const auto& t : leaf.blade.triangles)
+  {
+    const Eigen::Vector2d a = leaf.blade.points[t[1]] - leaf.blade.points[t[0]];
+    const Eigen::Vector2d b = leaf.blade.points[t[2]] - leaf.blade.points[t[0]];
+    area += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+  }
+  return area;
+}
+
+TEST(LeafShape, CordateBladeIsMeasuredFromItsSinusWithItsLobes)
+{
+  // The cucumber's basal lobes reach below its base (the sinus, at the origin): Length runs from the sinus, and the
+  // lobes are in the blade (Area), the sinus is not.
+  const LeafGeometry leaf = Blade(4, 100.0);
+  const Synthetic scan = Scan(leaf, 10000, 0.1, 0.0, Straight(0.0), 0, Tilted());
+  Expected e;
+  e.lengthTolerance = 0.02;
+  ExpectShape(scan, Tilted(), e);
+  const LeafFitResult fit = FitLeaf(scan.points, LeafFitParameters());
+  ASSERT_EQ(fit.error, "");
+  EXPECT_NEAR(fit.traits.area, BladeArea(leaf), 0.01 * BladeArea(leaf));
+}
+
+/// The scan without the points for which `cut(x, y)` holds (in the blade's plane, before the pose), then posed.
+Synthetic Without(Synthetic scan, const std::function<bool(double, double)>& cut, const Eigen::Isometry3d& pose)
+{
+  Synthetic kept = scan;
+  kept.points.clear();
+  kept.petiole.clear();
+  for (std::size_t i = 0; i < scan.points.size(); ++i)
+    if (!cut(scan.points[i].x(), scan.points[i].y()))
+    {
+      kept.points.push_back(pose * scan.points[i]);
+      kept.petiole.push_back(scan.petiole[i]);
+    }
+  return kept;
+}
+
+TEST(LeafShape, ToothHookedOverTheMidveinLeavesTheMidveinFromTheBase)
+{
+  // An elliptic blade 100 long (a petiole 25 long at its base says which end is the base) with a slit 2 wide, 4 to
+  // 6 below the tip, cut from the left margin across the midvein: the tooth above it is hooked over the midvein, and
+  // the traced outline crosses the midvein four times. The midvein is the longest piece of it inside the blade,
+  // from the base (to the slit, or to the tip): the top two crossings made it the piece above the slit, 2 long.
+  const Synthetic scan = Scan(Blade(0, 100.0), 10000, 0.1, 25.0, Straight(10.0), 2, Eigen::Isometry3d::Identity());
+  const double tip = scan.length;
+  const Synthetic slit = Without(
+    scan, [&](double x, double y) { return y > tip - 6.0 && y < tip - 4.0 && x < 2.0; }, Tilted());
+  const LeafFitResult fit = FitLeaf(slit.points, LeafFitParameters());
+  ASSERT_EQ(fit.error, "");
+  EXPECT_LT((fit.points[fit.midvein.front()] - Tilted() * Eigen::Vector3d::Zero()).norm(), 0.02 * tip);
+  EXPECT_GT(fit.traits.length, 0.93 * tip);
+  EXPECT_LT(fit.traits.length, 1.01 * tip);
+}
+
+TEST(LeafShape, DeepApicalNotchIsTheApex)
+{
+  // The same blade with a notch 10 deep (10 % of it) on the midvein: a real notch, the midvein ends at its bottom.
+  const Synthetic scan = Scan(Blade(0, 100.0), 10000, 0.1, 25.0, Straight(10.0), 2, Eigen::Isometry3d::Identity());
+  const double tip = scan.length;
+  Synthetic notched = Without(
+    scan, [&](double x, double y) { return y > tip - 10.0 + 2.0 * std::abs(x); }, Tilted());
+  notched.length = tip - 10.0;
+  Expected e;
+  e.lengthTolerance = 0.02;
+  ExpectShape(notched, Tilted(), e);
+}
+
 TEST(LeafShape, FanWithoutPetioleOrHintsIsFittedAlongItsMidvein)
 {
   // No petiole, no BasePoint: the axis of symmetry through the centroid (not the principal axis across the fan), the
@@ -253,7 +327,7 @@ TEST(LeafShape, FanWithoutPetioleOrHintsIsFittedAlongItsMidvein)
   const Synthetic scan = Scan(Blade(1, 50.0), 8000, 0.05, 0.0, Straight(0.0), 0, Tilted());
   Expected e;
   e.baseTolerance = 0.03;
-  e.lengthTolerance = 0.07; // the apex is a notch between two lobes: the outline's tip reaches the lobes' tips
+  e.lengthTolerance = 0.025; // the apex is a notch between two lobes: the midvein ends at its (rounded) bottom
   ExpectShape(scan, Tilted(), e);
 }
 

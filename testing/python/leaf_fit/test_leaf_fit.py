@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: LeafCloudReader -> LeafFitFilter on the shipped leaf scans (data/leaf-clouds/, millimetres), as users run
 it with the defaults. Every scan gives a blade with the data contract's arrays, one Traits row and the Scan port;
-the fit lies on the scan (FitRMS and FitP95 within about twice the scans' noise); several scans appended with a LeafId array give
+the fit lies on the scan (FitRMS and FitP95 within about twice the scans' noise; no blade triangle more than 3
+point spacings from it on four of the six); several scans appended with a LeafId array give
 one row each, equal to the single fits; LeafOutlineSource rebuilds a leaf from the fitted Model C control points in
-field data (the documented recipe); bad input gives an error and empty outputs; a state file round-trips.
+field data (the documented recipe); bad input (an empty cloud too) gives an error and empty outputs; a state file
+round-trips.
 
     pvpython test_leaf_fit.py --plugin PlantMorph.so --work DIR
 """
@@ -12,13 +14,14 @@ import json
 import os
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
+from plantmorph_testing import Checks, fingerprint, load_plugin, Messages, parse_arguments, reload_in_fresh_pvpython
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkPolyData  # noqa: E402
 import numpy  # noqa: E402
 
 load_plugin(arguments.plugin, globals())
@@ -90,6 +93,19 @@ for path in SCANS:
     petiole = int((vtk_to_numpy(region) == 5).sum()) if region is not None else 0
     checks.check(row.get("Inliers", 0) > 0.95 * (n - petiole), name + ": over 95 % of the blade's points inliers")
     checks.check(row.get("Area", 0) > 300 and row.get("Length", 0) > 30, name + ": a leaf-sized blade")
+    # No blade triangle (its vertices' mean Support) more than 3 point spacings from the scan. Holds on four scans
+    # (none has a hole the blade bridges); not yet on the first soybean leaflet (150 of 8514 triangles, up to 6.2
+    # spacings, near its base) and the sugar beet of 30 August (231 of 5869, up to 8.8, the base half's margin):
+    # printed for those two.
+    support = vtk_to_numpy(blade.GetPointData().GetArray("Support"))
+    triangles = vtk_to_numpy(blade.GetPolys().GetData()).reshape(-1, 4)[:, 1:]
+    far = int((support[triangles].mean(axis=1) > 3.0 * row.get("Spacing", 0.0)).sum())
+    known = ("soybean" in path and "pot1_1." in path) or "20170830" in path
+    if known:
+        print("%s: %d of %d triangles more than 3 spacings from the scan (known gap)" % (name, far, len(triangles)))
+    else:
+        checks.check(far == 0, "%s: %d of %d triangles more than 3 spacings from the scan" % (
+            name, far, len(triangles)))
     Delete(fit)
     Delete(reader)
 
@@ -180,6 +196,16 @@ for what, source in bad.items():
     checks.check(all(fetch(f, p).GetNumberOfPoints() == 0 for p in (0, 1, 3)) and fetch(f, 2).GetNumberOfRows() == 0,
                  what + ": empty outputs")
     Delete(f)
+# An empty input (a cloud with no points): an error naming the input, every output empty.
+empty_cloud = TrivialProducer()
+empty_cloud.GetClientSideObject().SetOutput(vtkPolyData())
+nothing = LeafFitFilter(Input=empty_cloud)
+with Messages(nothing) as said:
+    nothing.UpdatePipeline()
+checks.check(said.said("Input", "no points", kind="error"), "an empty input: an error naming it (%s)" % said.errors)
+checks.check(all(fetch(nothing, p).GetNumberOfPoints() == 0 for p in (0, 1, 3))
+             and fetch(nothing, 2).GetNumberOfRows() == 0 and fetch(nothing, 4).GetNumberOfRows() == 0,
+             "an empty input: empty outputs")
 fit.Scale = -1.0
 checks.check(fetch(fit, 0).GetNumberOfPoints() == 0, "Scale -1: empty output")
 

@@ -1,0 +1,557 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// FitLeaf's outline as the points draw it (LeafFitInternal.h, TraceContour): lobes, sinuses and a cordate base.
+#include "LeafFitInternal.h"
+#include "PointGrid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace plantmorph
+{
+namespace fit
+{
+namespace
+{
+/// Squared Euclidean distance transform along one line (Felzenszwalb and Huttenlocher): f in, d out.
+void DistanceLine(const std::vector<double>& f, std::vector<double>& d, std::vector<int>& v, std::vector<double>& z)
+{
+  const int n = static_cast<int>(f.size());
+  int k = 0;
+  v[0] = 0;
+  z[0] = -1e300;
+  z[1] = 1e300;
+  for (int q = 1; q < n; ++q)
+  {
+    double s = 0.0;
+    while (true)
+    {
+      s = ((f[q] + double(q) * q) - (f[v[k]] + double(v[k]) * v[k])) / (2.0 * q - 2.0 * v[k]);
+      if (s > z[k] || k == 0)
+        break;
+      --k;
+    }
+    if (s <= z[k])
+    {
+      v[0] = q;
+      z[0] = -1e300;
+      z[1] = 1e300;
+      k = 0;
+      continue;
+    }
+    ++k;
+    v[k] = q;
+    z[k] = s;
+    z[k + 1] = 1e300;
+  }
+  k = 0;
+  for (int q = 0; q < n; ++q)
+  {
+    while (z[k + 1] < q)
+      ++k;
+    d[q] = (double(q) - v[k]) * (double(q) - v[k]) + f[v[k]];
+  }
+}
+
+/// Distance (in cells) from every cell to the nearest cell where `target` is 1; grid nx x ny, index i + nx * j.
+std::vector<double> DistanceTo(const std::vector<unsigned char>& target, int nx, int ny)
+{
+  const double far = 1e20;
+  std::vector<double> g(target.size());
+  for (std::size_t c = 0; c < target.size(); ++c)
+    g[c] = target[c] ? 0.0 : far;
+  const int n = std::max(nx, ny);
+  std::vector<double> f(n), d(n), z(n + 1);
+  std::vector<int> v(n);
+  for (int j = 0; j < ny; ++j)
+  {
+    f.resize(nx);
+    d.resize(nx);
+    for (int i = 0; i < nx; ++i)
+      f[i] = g[i + nx * j];
+    DistanceLine(f, d, v, z);
+    for (int i = 0; i < nx; ++i)
+      g[i + nx * j] = d[i];
+  }
+  for (int i = 0; i < nx; ++i)
+  {
+    f.resize(ny);
+    d.resize(ny);
+    for (int j = 0; j < ny; ++j)
+      f[j] = g[i + nx * j];
+    DistanceLine(f, d, v, z);
+    for (int j = 0; j < ny; ++j)
+      g[i + nx * j] = std::sqrt(d[j]);
+  }
+  return g;
+}
+
+/// Marks every 0 cell not reachable from the grid's border through 0 cells as 1 (holes are filled).
+void FillHoles(std::vector<unsigned char>& inside, int nx, int ny)
+{
+  std::vector<unsigned char> outside(inside.size(), 0);
+  std::vector<int> stack;
+  auto push = [&](int i, int j) {
+    const int c = i + nx * j;
+    if (i >= 0 && j >= 0 && i < nx && j < ny && !inside[c] && !outside[c])
+    {
+      outside[c] = 1;
+      stack.push_back(c);
+    }
+  };
+  for (int i = 0; i < nx; ++i)
+  {
+    push(i, 0);
+    push(i, ny - 1);
+  }
+  for (int j = 0; j < ny; ++j)
+  {
+    push(0, j);
+    push(nx - 1, j);
+  }
+  while (!stack.empty())
+  {
+    const int c = stack.back();
+    stack.pop_back();
+    const int i = c % nx, j = c / nx;
+    push(i - 1, j);
+    push(i + 1, j);
+    push(i, j - 1);
+    push(i, j + 1);
+  }
+  for (std::size_t c = 0; c < inside.size(); ++c)
+    inside[c] = outside[c] ? 0 : 1;
+}
+
+/// The closed loops of the level set F = level by marching squares (node values F, grid nx x ny, node (i, j) at
+/// origin + cell (i, j)); each loop counter-clockwise around the region F > level.
+std::vector<std::vector<Eigen::Vector2d>> LevelLoops(
+  const std::vector<double>& F, int nx, int ny, double level, const Eigen::Vector2d& origin, double cell)
+{
+  // Edge ids: horizontal edge (i, j)-(i+1, j) is 2 (i + nx j), vertical edge (i, j)-(i, j+1) is 2 (i + nx j) + 1.
+  auto crossing = [&](int edge) {
+    const int node = edge / 2, i = node % nx, j = node / nx;
+    const int other = edge % 2 == 0 ? node + 1 : node + nx;
+    const double a = F[node] - level, b = F[other] - level;
+    const double f = a / (a - b);
+    return Eigen::Vector2d(
+      origin.x() + cell * (i + (edge % 2 == 0 ? f : 0.0)), origin.y() + cell * (j + (edge % 2 == 1 ? f : 0.0)));
+  };
+  std::map<int, int> next; // segment from edge a to edge b, the region F > level on its left
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i)
+    {
+      const int n0 = i + nx * j, n1 = n0 + 1, n2 = n0 + 1 + nx, n3 = n0 + nx;
+      const int bottom = 2 * n0, right = 2 * n1 + 1, top = 2 * n3, left = 2 * n0 + 1;
+      const bool in[4] = { F[n0] > level, F[n1] > level, F[n2] > level, F[n3] > level };
+      const int code = in[0] + 2 * in[1] + 4 * in[2] + 8 * in[3];
+      // Counter-clockwise corners 0 (i, j), 1 (i+1, j), 2 (i+1, j+1), 3 (i, j+1); edges between corners k and k+1:
+      // bottom, right, top, left. A link runs with the inside on its right (reversed below).
+      const int edges[4] = { bottom, right, top, left };
+      auto link = [&](int from, int to) { next[edges[from]] = edges[to]; };
+      switch (code)
+      {
+        case 1:
+          link(3, 0);
+          break;
+        case 2:
+          link(0, 1);
+          break;
+        case 3:
+          link(3, 1);
+          break;
+        case 4:
+          link(1, 2);
+          break;
+        case 5:
+          link(3, 2);
+          link(1, 0);
+          break; // saddle: the two inside corners kept apart
+        case 6:
+          link(0, 2);
+          break;
+        case 7:
+          link(3, 2);
+          break;
+        case 8:
+          link(2, 3);
+          break;
+        case 9:
+          link(2, 0);
+          break;
+        case 10:
+          link(0, 3);
+          link(2, 1);
+          break;
+        case 11:
+          link(2, 1);
+          break;
+        case 12:
+          link(1, 3);
+          break;
+        case 13:
+          link(1, 0);
+          break;
+        case 14:
+          link(0, 3);
+          break;
+        default:
+          break;
+      }
+    }
+  std::vector<std::vector<Eigen::Vector2d>> loops;
+  while (!next.empty())
+  {
+    const int start = next.begin()->first;
+    std::vector<Eigen::Vector2d> loop;
+    int edge = start;
+    while (true)
+    {
+      const auto it = next.find(edge);
+      if (it == next.end())
+        break;
+      loop.push_back(crossing(edge));
+      edge = it->second;
+      next.erase(it);
+      if (edge == start)
+        break;
+    }
+    if (loop.size() >= 3)
+      loops.emplace_back(loop.rbegin(), loop.rend()); // the links run clockwise around the inside
+  }
+  return loops;
+}
+
+double SignedArea(const std::vector<Eigen::Vector2d>& loop)
+{
+  double a = 0.0;
+  for (std::size_t i = 0; i < loop.size(); ++i)
+  {
+    const Eigen::Vector2d& p = loop[i];
+    const Eigen::Vector2d& q = loop[(i + 1) % loop.size()];
+    a += p.x() * q.y() - p.y() * q.x();
+  }
+  return 0.5 * a;
+}
+
+/// Taubin's smoothing (lambda, mu): removes the marching squares' steps without shrinking the loop.
+void SmoothLoop(std::vector<Eigen::Vector2d>& loop, int iterations)
+{
+  const std::size_t n = loop.size();
+  std::vector<Eigen::Vector2d> moved(n);
+  for (int k = 0; k < 2 * iterations; ++k)
+  {
+    const double factor = k % 2 == 0 ? 0.5 : -0.53;
+    for (std::size_t i = 0; i < n; ++i)
+      moved[i] = loop[i] + factor * (0.5 * (loop[(i + n - 1) % n] + loop[(i + 1) % n]) - loop[i]);
+    loop.swap(moved);
+  }
+}
+/// Which points of a loop are snapped to the smooth margin (1): all but the runs off the band (from a spacing
+/// outside the smooth margin to `band` inside it, `depth` the distance inwards) that reach max(4 spacings, twice
+/// the band) away somewhere. `features`: whether such a run (or no point on the band) was found.
+std::vector<unsigned char> SnapFlags(const std::vector<double>& depth, double spacing, double band, bool& features)
+{
+  const std::size_t n = depth.size();
+  std::vector<unsigned char> snapped(n, 1);
+  auto off = [&](std::size_t i) { return !(depth[i] > -spacing && depth[i] < band); };
+  std::size_t first = 0; // a point on the band to start the runs from
+  while (first < n && off(first))
+    ++first;
+  if (first == n)
+  {
+    features = true;
+    snapped.assign(n, 0);
+  }
+  else
+    for (std::size_t k = 0; k < n;)
+    {
+      const std::size_t i = (first + k) % n;
+      if (!off(i))
+      {
+        ++k;
+        continue;
+      }
+      std::size_t length = 0;
+      double deepest = 0.0;
+      while (k + length < n && off((first + k + length) % n))
+      {
+        const double d = depth[(first + k + length) % n];
+        deepest = std::max(deepest, std::isnan(d) ? 1e300 : std::abs(d));
+        ++length;
+      }
+      if (deepest >= std::max(4.0 * spacing, 2.0 * band))
+      {
+        features = true;
+        for (std::size_t j = 0; j < length; ++j)
+          snapped[(first + k + j) % n] = 0;
+      }
+      k += length;
+    }
+  return snapped;
+}
+/// The midvein's ends on a counter-clockwise loop: the crossings of t = 0 (s, index of the edge's first point) that
+/// bound the longest piece of t = 0 inside the loop (between crossings 0-1, 2-3, ... in s order): the apex and the
+/// base (a cordate blade's basal sinus, or its lowest point). A cordate blade's lobes overlapping below the sinus, or
+/// a tooth hooked over the apex, make shorter pieces. False when the loop does not cross t = 0 in pairs.
+bool MidveinEnds(
+  const std::vector<Eigen::Vector2d>& loop, std::pair<double, std::size_t>& base, std::pair<double, std::size_t>& apex)
+{
+  const std::size_t n = loop.size();
+  std::vector<std::pair<double, std::size_t>> crossings;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const Eigen::Vector2d& p = loop[i];
+    const Eigen::Vector2d& q = loop[(i + 1) % n];
+    if ((p.x() > 0.0) != (q.x() > 0.0))
+      crossings.push_back({ p.y() + (q.y() - p.y()) * p.x() / (p.x() - q.x()), i });
+  }
+  if (crossings.size() < 2 || crossings.size() % 2 != 0)
+    return false;
+  std::sort(crossings.begin(), crossings.end());
+  std::size_t longest = 0;
+  for (std::size_t k = 2; k + 1 < crossings.size(); k += 2)
+    if (crossings[k + 1].first - crossings[k].first > crossings[longest + 1].first - crossings[longest].first)
+      longest = k;
+  base = crossings[longest];
+  apex = crossings[longest + 1];
+  return true;
+}
+} // namespace
+
+Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline)
+{
+  Contour contour;
+  outline.base = outline.s0;
+  outline.apex = outline.s1;
+  if (ts.size() < 3 || !(spacing > 0.0))
+    return contour;
+  Eigen::Vector2d lo = ts.front(), hi = ts.front();
+  for (const auto& p : ts)
+  {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  // The points' region: the union of discs of radius r about the points, its holes filled (bridged), closed
+  // (eroded back by r: concave notches wider than about 2 r stay open) and grown by the expected gap between the
+  // outermost points and the margin.
+  const double r = 2.5 * spacing;
+  const Eigen::Vector2d span = hi - lo;
+  const double cell = std::max(0.5 * spacing, std::sqrt(span.x() * span.y() / 4e6));
+  const Eigen::Vector2d origin = lo - Eigen::Vector2d::Constant(r + 3.0 * cell);
+  const int nx = static_cast<int>((span.x() + 2.0 * r) / cell) + 7;
+  const int ny = static_cast<int>((span.y() + 2.0 * r) / cell) + 7;
+  std::vector<unsigned char> hit(static_cast<std::size_t>(nx) * ny, 0);
+  for (const auto& p : ts)
+  {
+    const int i = static_cast<int>(std::lround((p.x() - origin.x()) / cell));
+    const int j = static_cast<int>(std::lround((p.y() - origin.y()) / cell));
+    hit[std::clamp(i, 0, nx - 1) + nx * std::clamp(j, 0, ny - 1)] = 1;
+  }
+  std::vector<double> toPoint = DistanceTo(hit, nx, ny);
+  std::vector<unsigned char> inside(hit.size()), outside(hit.size());
+  for (std::size_t c = 0; c < hit.size(); ++c)
+    inside[c] = toPoint[c] * cell <= r ? 1 : 0;
+  FillHoles(inside, nx, ny);
+  for (std::size_t c = 0; c < hit.size(); ++c)
+    outside[c] = inside[c] ? 0 : 1;
+  const std::vector<double> toOutside = DistanceTo(outside, nx, ny);
+  std::vector<double> F(hit.size());
+  for (std::size_t c = 0; c < hit.size(); ++c)
+    F[c] = toOutside[c] * cell;
+  // The largest loop at a level (counter-clockwise, smoothed), empty when there is none.
+  auto outer = [&](double level) {
+    std::vector<std::vector<Eigen::Vector2d>> loops = LevelLoops(F, nx, ny, level, origin, cell);
+    if (loops.empty())
+      return std::vector<Eigen::Vector2d>();
+    std::vector<Eigen::Vector2d> loop = *std::max_element(
+      loops.begin(), loops.end(), [](const auto& a, const auto& b) { return SignedArea(a) < SignedArea(b); });
+    if (!(SignedArea(loop) > 0.0))
+      return std::vector<Eigen::Vector2d>();
+    SmoothLoop(loop, 4);
+    return loop;
+  };
+  // The closing's boundary runs through the outermost points; the margin lies beyond them by a gap that depends on
+  // how the points are spread (about a quarter of the spacing on a scanner's regular grid, about one spacing for
+  // random points). It is measured against the smooth margins (whose stations estimate it from their own density)
+  // where the two agree within two spacings (away from sinuses, which the smooth margins bridge): the median
+  // distance, along the smooth margin's normal, from the loop to it.
+  std::vector<Eigen::Vector2d> loop = outer(r);
+  if (loop.empty())
+    return contour;
+  // The distance from a point of the loop inwards to the smooth margin of its side (negative outside it) and the
+  // nearest point of that margin (sampled densely).
+  const double L = outline.s1 - outline.s0;
+  std::vector<Eigen::Vector2d> smoothRight, smoothLeft;
+  const int samples = 2000;
+  for (int k = 0; k <= samples; ++k)
+  {
+    const double y = outline.s0 + L * k / samples;
+    smoothRight.push_back({ outline.Right(y), y });
+    smoothLeft.push_back({ outline.Left(y), y });
+  }
+  auto inwards = [&](const Eigen::Vector2d& p, Eigen::Vector2d& nearest) {
+    const std::vector<Eigen::Vector2d>& margin = p.x() > 0.0 ? smoothRight : smoothLeft;
+    double best = 1e300;
+    for (const auto& q : margin)
+      if ((q - p).squaredNorm() < best)
+      {
+        best = (q - p).squaredNorm();
+        nearest = q;
+      }
+    const double xi = (p.y() - outline.s0) / L;
+    const bool inside =
+      xi > 0.0 && xi < 1.0 && std::abs(p.x()) < (p.x() > 0.0 ? outline.Right(p.y()) : -outline.Left(p.y()));
+    return inside ? std::sqrt(best) : -std::sqrt(best);
+  };
+  std::vector<double> gaps;
+  double band = spacing; // where the loop is taken as running along the smooth margin (inwards of it)
+  for (const auto& p : loop)
+  {
+    Eigen::Vector2d q;
+    const double xi = (p.y() - outline.s0) / L, d = inwards(p, q);
+    if (xi > 0.1 && xi < 0.9 && std::abs(d) < 3.0 * spacing)
+      gaps.push_back(d);
+  }
+  if (gaps.size() >= 10)
+  {
+    std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+    const double median = gaps[gaps.size() / 2];
+    const double gap = std::clamp(median, 0.0, 3.0 * spacing);
+    // How far the loop wanders about the smooth margin (robust deviation): random points leave deeper dents
+    // between them than a scanner's regular grid does.
+    // Only the loop's points within 1.5 spacings of the median count (a lobed blade's sinuses are no wandering).
+    std::vector<double> deviation;
+    for (double d : gaps)
+      if (std::abs(d - median) < 1.5 * spacing)
+        deviation.push_back(std::abs(d - median));
+    std::nth_element(deviation.begin(), deviation.begin() + deviation.size() / 2, deviation.end());
+    band = std::clamp(2.5 * 1.4826 * deviation[deviation.size() / 2], spacing, 3.0 * spacing);
+    loop = outer(r - gap);
+    if (loop.empty())
+      return contour;
+  }
+  // The midvein's ends: crossings of t = 0 by the loop (MidveinEnds).
+  const std::size_t n = loop.size();
+  std::pair<double, std::size_t> base, apex;
+  if (!MidveinEnds(loop, base, apex))
+    return contour;
+  // The midvein spans most of the blade's extent: a piece shorter than half of it is not a midvein this outline
+  // describes (the smooth margins are taken).
+  const double extent = outline.s1 - outline.s0;
+  if (!(apex.first - base.first > 0.5 * extent))
+    return contour;
+  // A tip (not a notch) extends beyond the last points by more than the gap, and the loop rounds it off: near a
+  // tip (within 6 spacings) the smooth margins, whose tips are extrapolated from the last points (TipBeyond), are
+  // taken instead. A notch or sinus counts only when deeper than MinNotchDepth of the blade's extent (and 4
+  // spacings): shallower ones are the tip's own margin.
+  const double shallow = std::max(4.0 * spacing, MinNotchDepth * extent);
+  const bool baseTip = std::abs(base.first - outline.s0) < shallow;
+  const bool apexTip = std::abs(apex.first - outline.s1) < shallow;
+  const double baseS = baseTip ? outline.s0 : base.first;
+  const double apexS = apexTip ? outline.s1 : apex.first;
+  // (A shallow notch's walls are left out with the tip: the cut reaches 2 spacings below its bottom.)
+  const double baseCut =
+    baseTip ? outline.s0 + std::max(6.0 * spacing, base.first - outline.s0 + 2.0 * spacing) : -1e300;
+  const double apexCut =
+    apexTip ? outline.s1 - std::max(6.0 * spacing, outline.s1 - apex.first + 2.0 * spacing) : 1e300;
+  // The loop from the base to the apex on the right (t > 0, counter-clockwise) and on the left (clockwise).
+  // Where the loop runs along the smooth margin, the smooth margin: it is the better estimate of a margin the points
+  // reach (its stations know their own density). The loop is kept where it departs from it by a real feature: a run
+  // of the loop's points off the band (from a spacing outside the smooth margin to `band` inside it) that reaches
+  // 4 spacings (twice the band) away somewhere (a sinus, a notch, a lobe the smooth margins do not follow); shallower runs are the
+  // ragged edge of a real scan's points and are snapped too.
+  std::vector<Eigen::Vector2d> nearest(n);
+  std::vector<double> depth(n);
+  for (std::size_t i = 0; i < n; ++i)
+    depth[i] = inwards(loop[i], nearest[i]);
+  std::vector<unsigned char> snapped = SnapFlags(depth, spacing, band, contour.features);
+  if (!snap)
+    snapped.assign(n, 0);
+  // Snapped points go up the smooth margin from base to apex (nearest points may fall back where the loop turns
+  // sharply: those are left out, or the margin would cross itself).
+  auto walk = [&](std::size_t from, std::size_t to, bool forward) {
+    std::vector<Eigen::Vector2d> path;
+    std::size_t i = forward ? (from + 1) % n : from;
+    const std::size_t stop = forward ? (to + 1) % n : to;
+    double highest = -1e300;
+    while (i != stop)
+    {
+      if (loop[i].y() > baseCut && loop[i].y() < apexCut && !(snapped[i] && nearest[i].y() <= highest))
+      {
+        path.push_back(snapped[i] ? nearest[i] : loop[i]);
+        if (snapped[i])
+          highest = nearest[i].y();
+      }
+      i = forward ? (i + 1) % n : (i + n - 1) % n;
+    }
+    return path;
+  };
+  auto smooth = [&](std::vector<Eigen::Vector2d>& side, bool right, double from, double to) {
+    const int steps = std::max(2, static_cast<int>(std::ceil(std::abs(to - from) / (0.25 * spacing))));
+    for (int k = 1; k < steps; ++k)
+    {
+      const double y = from + (to - from) * k / steps;
+      side.push_back({ right ? outline.Right(y) : outline.Left(y), y });
+    }
+  };
+  for (int side = 0; side < 2; ++side)
+  {
+    std::vector<Eigen::Vector2d>& path = side == 0 ? contour.right : contour.left;
+    path.push_back({ 0.0, baseS });
+    if (baseTip)
+      smooth(path, side == 0, baseS, baseCut);
+    for (const auto& p : walk(base.second, apex.second, side == 0))
+      path.push_back(p);
+    if (apexTip)
+      smooth(path, side == 0, apexCut, apexS);
+    path.push_back({ 0.0, apexS });
+  }
+  // Both sides must keep to their side of t = 0 (a loop that crosses it elsewhere between the two ends is not
+  // a blade this outline describes).
+  for (std::size_t i = 1; i + 1 < contour.right.size(); ++i)
+    if (contour.right[i].x() < 0.0)
+      return Contour();
+  for (std::size_t i = 1; i + 1 < contour.left.size(); ++i)
+    if (contour.left[i].x() > 0.0)
+      return Contour();
+  outline.base = baseS;
+  outline.apex = apexS;
+  return contour;
+}
+
+} // namespace fit
+
+double CrossSpacing(const std::vector<Eigen::Vector3d>& points)
+{
+  if (points.size() < 3)
+    return 0.0;
+  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 5000);
+  std::vector<double> across;
+  for (std::size_t i = 0; i < points.size(); i += stride)
+  {
+    // 48 neighbours reach the next line of a line scan whose points are up to about 20 times closer along a line.
+    const auto nb = grid.Nearest(points[i], 48, static_cast<int>(i));
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    for (const auto& [d2, j] : nb)
+    {
+      const Eigen::Vector3d d = points[j] - points[i];
+      if (!(d2 > 0.0))
+        continue;
+      if (u.isZero())
+        u = d.normalized();
+      else if (std::abs(u.dot(d.normalized())) < 0.5)
+      {
+        across.push_back(std::sqrt(d2));
+        break;
+      }
+    }
+  }
+  if (across.empty())
+    return 0.0;
+  std::nth_element(across.begin(), across.begin() + across.size() / 2, across.end());
+  return across[across.size() / 2];
+}
+} // namespace plantmorph
