@@ -183,7 +183,8 @@ public:
   /// The pipeline request of this RequestData (which port it is for: vtkExecutive::FROM_OUTPUT_PORT).
   vtkInformation* RequestInformation() const { return this->Request; }
 
-  /// The piece asked of output port 0, and of how many.
+  /// The piece asked of the port this update is for (the first port with a piece request when the request names
+  /// none; a source's port other than 0 only when it can make pieces), and of how many.
   int Piece() const { return this->PieceNumber; }
   int Pieces() const { return this->PieceCount; }
   /// The MPI controller when this process is one of several ranks and the pieces are the ranks (piece == rank);

@@ -507,7 +507,7 @@ void WriteFits(const LeafInput& in, const std::vector<std::size_t>& owned, const
   record.Add("LengthUnit", lengthUnit);
   record.WriteTo(blade);
   const std::vector<plantmorph::fittable::Row> all =
-    plantmorph::fittable::GatherRows(vtkMultiProcessController::GetGlobalController(), rows);
+    plantmorph::fittable::GatherRows(run.Controller(), rows);
   if (run.Rank() != 0)
     return;
   plantmorph::fittable::FillTraitsTable(all, lengthUnit, run.Output<vtkTable>(2));
@@ -528,7 +528,7 @@ void vtkLeafFitFilter::Execute(plantmorph::Run& run)
   // The local piece's leaves; then (collective) every leaf's id, each leaf's owner (LeafFitExchange.h), and the
   // points of the leaves this rank owns. Every rank takes part even when its piece is empty or wrong; the ranks stop
   // together, each saying its own error.
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  vtkMultiProcessController* controller = run.Controller();
   LeafInput in;
   const std::string error = ReadLeaves(this, input, in);
   IndexLeaves(controller, in);

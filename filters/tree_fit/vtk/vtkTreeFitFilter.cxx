@@ -261,8 +261,7 @@ void vtkTreeFitFilter::Execute(plantmorph::Run& run)
   vtkPointSet* input = run.Input<vtkPointSet>(0);
   LocalInput in;
   const std::string error = ReadTrees(this, input, in);
-  // The global controller, not run.Controller(): a request for one port (Scan alone) leaves port 0 without pieces.
-  const plantmorph::treefitvtk::TreeExchange exchange(vtkMultiProcessController::GetGlobalController(), in.trees);
+  const plantmorph::treefitvtk::TreeExchange exchange(run.Controller(), in.trees);
   run.StopIfAnyRankFailed(exchange.AnyRank(!error.empty()), error);
   if (exchange.TreeIds().empty())
     run.Fail("the input has no points");
