@@ -188,8 +188,8 @@ std::map<int, vtkSmartPointer<vtkPolyData>> ExtractLeaves(
   return result;
 }
 
-std::vector<std::map<int, vtkIdType>> LeafCountsOfRanks(
-  vtkMultiProcessController* controller, const std::map<int, vtkIdType>& mine)
+std::vector<std::map<vtkTypeInt64, vtkIdType>> LeafCountsOfRanks(
+  vtkMultiProcessController* controller, const std::map<vtkTypeInt64, vtkIdType>& mine)
 {
   if (!controller || controller->GetNumberOfProcesses() < 2)
     return { mine };
@@ -208,17 +208,17 @@ std::vector<std::map<int, vtkIdType>> LeafCountsOfRanks(
   std::vector<long long> all(static_cast<std::size_t>(offsets.back() + lengths.back()) + 1, 0); // +1: never null
   flat.push_back(0);
   controller->AllGatherV(flat.data(), all.data(), length, lengths.data(), offsets.data());
-  std::vector<std::map<int, vtkIdType>> result(lengths.size());
+  std::vector<std::map<vtkTypeInt64, vtkIdType>> result(lengths.size());
   for (std::size_t q = 0; q < lengths.size(); ++q)
     for (vtkIdType k = offsets[q]; k + 1 < offsets[q] + lengths[q]; k += 2)
-      result[q][static_cast<int>(all[k])] += static_cast<vtkIdType>(all[k + 1]);
+      result[q][static_cast<vtkTypeInt64>(all[k])] += static_cast<vtkIdType>(all[k + 1]);
   return result;
 }
 
-void SumLeafCounts(
-  const std::vector<std::map<int, vtkIdType>>& ranks, std::vector<int>& ids, std::vector<vtkIdType>& points)
+void SumLeafCounts(const std::vector<std::map<vtkTypeInt64, vtkIdType>>& ranks, std::vector<vtkTypeInt64>& ids,
+  std::vector<vtkIdType>& points)
 {
-  std::map<int, vtkIdType> total;
+  std::map<vtkTypeInt64, vtkIdType> total;
   for (const auto& rank : ranks)
     for (const auto& leaf : rank)
       total[leaf.first] += leaf.second;
@@ -395,7 +395,10 @@ vtkSmartPointer<vtkTable> LeafPlan::GatherRows(vtkTable* rows) const
 void LeafPlan::Plan(const std::map<int, vtkIdType>& counts)
 {
   std::vector<vtkIdType> points;
-  SumLeafCounts(LeafCountsOfRanks(this->Controller, counts), this->Ids, points);
+  const std::map<vtkTypeInt64, vtkIdType> wide(counts.begin(), counts.end());
+  std::vector<vtkTypeInt64> ids;
+  SumLeafCounts(LeafCountsOfRanks(this->Controller, wide), ids, points);
+  this->Ids.assign(ids.begin(), ids.end());
   this->Owners = LeafOwners(points, this->Ranks);
 }
 

@@ -14,7 +14,7 @@
 //
 // The plan (LeafPlan), the same on every rank: every leaf gets one owner rank, the leaves taken largest first (by
 // points; ties: the smaller LeafId first), each to the least loaded rank so far (ties: the lower rank): LeafOwners,
-// the one copy of the rule, which LeafFitFilter's exchange (filters/leaf_fit/vtk/LeafFitExchange.h) uses too. A leaf held by one
+// the one copy of the rule, which the fitters' exchange (PlantMorphOwnerExchange.h) uses too. A leaf held by one
 // rank moves whole to its owner (nothing moves when that is its owner); a leaf whose points are on several ranks is
 // gathered on its owner, the pieces appended in rank order and their exactly coincident points merged. A leaf taken
 // out of a piece keeps the input's point and cell order and every point, cell and field array, so a leaf alone and
@@ -69,15 +69,16 @@ PLANTMORPHVTKCOMMON_EXPORT std::map<int, vtkSmartPointer<vtkPolyData>> ExtractLe
 
 /// Collective: every rank's (LeafId, point count) pairs, on every rank: element q is rank q's `mine`. `controller`
 /// null (serial): just `mine`.
-PLANTMORPHVTKCOMMON_EXPORT std::vector<std::map<int, vtkIdType>> LeafCountsOfRanks(
-  vtkMultiProcessController* controller, const std::map<int, vtkIdType>& mine);
+PLANTMORPHVTKCOMMON_EXPORT std::vector<std::map<vtkTypeInt64, vtkIdType>> LeafCountsOfRanks(
+  vtkMultiProcessController* controller, const std::map<vtkTypeInt64, vtkIdType>& mine);
 
 /// The leaves of every rank's counts (LeafCountsOfRanks) in ascending LeafId: their ids and their point counts summed
 /// over the ranks, appended to `ids` and `points` (the input of LeafOwners).
-PLANTMORPHVTKCOMMON_EXPORT void SumLeafCounts(
-  const std::vector<std::map<int, vtkIdType>>& ranks, std::vector<int>& ids, std::vector<vtkIdType>& points);
+PLANTMORPHVTKCOMMON_EXPORT void SumLeafCounts(const std::vector<std::map<vtkTypeInt64, vtkIdType>>& ranks,
+  std::vector<vtkTypeInt64>& ids, std::vector<vtkIdType>& points);
 
-/// The owner plan, the one rule of every per-leaf filter (LeafPlan here, LeafFitFilter's filters/leaf_fit/vtk/LeafFitExchange):
+/// The owner plan, the one rule of every per-leaf filter (LeafPlan here, the fitters' OwnerExchange of
+/// PlantMorphOwnerExchange.h):
 /// `points[k]` is leaf k's point count over all ranks, the leaves in ascending LeafId; returns each leaf's owner
 /// rank. The leaves are taken largest first (ties: the smaller LeafId first), each given to the least loaded rank so
 /// far (ties: the lower rank), a rank's load being the points of the leaves it owns.

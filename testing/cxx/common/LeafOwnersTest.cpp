@@ -2,14 +2,17 @@
 // The one leaf-owner rule of the per-leaf filters (LeafFitFilter, VenationFilter, WiltingSimulator):
 // plantmorph::LeafOwners in common/vtk/PlantMorphLeafExchange.h. A worked example (largest first, ties: the smaller
 // LeafId; each to the least loaded rank, ties: the lower rank), and on random leaf sizes for 1-5 ranks the list
-// scheduling bound (the most and the least loaded rank differ by at most the largest leaf) and determinism.
+// scheduling bound (the most and the least loaded rank differ by at most the largest leaf) and determinism. The
+// fitters' OwnerExchange (common/vtk/PlantMorphOwnerExchange.h) serially: 64-bit ids kept apart, values round-trip.
 #include "vtkType.h"
 
 #include "PlantMorphLeafExchange.h"
+#include "PlantMorphOwnerExchange.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -54,8 +57,34 @@ TEST(LeafOwners, LoadsDifferByAtMostTheLargestLeaf)
 
 TEST(LeafCountsOfRanks, SerialIsThisRankAlone)
 {
-  const std::map<int, vtkIdType> mine{ { 3, 10 }, { 7, 2 } };
+  const std::map<vtkTypeInt64, vtkIdType> mine{ { 3, 10 }, { 7, 2 }, { (vtkTypeInt64(1) << 40) + 1, 5 } };
   const auto all = plantmorph::LeafCountsOfRanks(nullptr, mine);
   ASSERT_EQ(all.size(), 1u);
   EXPECT_EQ(all[0], mine);
+}
+
+TEST(OwnerExchange, SerialKeepsSixtyFourBitIdsApartAndRoundTrips)
+{
+  // Groups 5 and 5 + 2^32 (the same int after a cast) and -1: three groups, in ascending id order.
+  const vtkTypeInt64 high = 5 + (vtkTypeInt64(1) << 32);
+  const plantmorph::LocalGroups local{ { high, { 0, 3 } }, { 5, { 1 } }, { -1, { 2, 4 } } };
+  const plantmorph::OwnerExchange exchange(nullptr, local);
+  ASSERT_EQ(exchange.Ids(), (std::vector<vtkTypeInt64>{ -1, 5, high }));
+  ASSERT_EQ(exchange.Owned(), (std::vector<std::size_t>{ 0, 1, 2 }));
+  EXPECT_FALSE(exchange.AnyRank(false));
+  EXPECT_TRUE(exchange.AnyRank(true));
+  // Two values per point; each group gets its points' values in input order.
+  const std::vector<double> values{ 0, 0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 4.5 };
+  const std::vector<std::vector<double>> sent = exchange.SendValues(local, values, 2);
+  ASSERT_EQ(sent.size(), 3u);
+  EXPECT_EQ(sent[0], (std::vector<double>{ 2, 2.5, 4, 4.5 }));
+  EXPECT_EQ(sent[1], (std::vector<double>{ 1, 1.5 }));
+  EXPECT_EQ(sent[2], (std::vector<double>{ 0, 0.5, 3, 3.5 }));
+  // Back: every point's values where it was, NaN for a point of no group.
+  const std::vector<double> back = exchange.ReturnValues(local, 6, sent, 2);
+  ASSERT_EQ(back.size(), 12u);
+  EXPECT_EQ(std::vector<double>(back.begin(), back.begin() + 10), values);
+  EXPECT_TRUE(std::isnan(back[10]) && std::isnan(back[11]));
+  EXPECT_EQ(exchange.GatherRows({ 1, 2, 3 }, 1), (std::vector<double>{ 1, 2, 3 }));
+  EXPECT_EQ(exchange.GatherBlocks({ { 1 }, {}, { 2, 3 } }), (std::vector<std::vector<double>>{ { 1 }, {}, { 2, 3 } }));
 }
