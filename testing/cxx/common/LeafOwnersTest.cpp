@@ -4,7 +4,17 @@
 // LeafId; each to the least loaded rank, ties: the lower rank), and on random leaf sizes for 1-5 ranks the list
 // scheduling bound (the most and the least loaded rank differ by at most the largest leaf) and determinism. The
 // fitters' OwnerExchange (common/vtk/PlantMorphOwnerExchange.h) serially: 64-bit ids kept apart, values round-trip.
+// The per-leaf filters' LeafPlan (VenationFilter, WiltingSimulator): LeafIds above 2^31 read exactly, kept apart from
+// the int they would wrap to, and written back exactly.
+#include "vtkCellArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkTable.h"
 #include "vtkType.h"
+#include "vtkTypeInt64Array.h"
 
 #include "PlantMorphLeafExchange.h"
 #include "PlantMorphOwnerExchange.h"
@@ -87,4 +97,71 @@ TEST(OwnerExchange, SerialKeepsSixtyFourBitIdsApartAndRoundTrips)
   EXPECT_TRUE(std::isnan(back[10]) && std::isnan(back[11]));
   EXPECT_EQ(exchange.GatherRows({ 1, 2, 3 }, 1), (std::vector<double>{ 1, 2, 3 }));
   EXPECT_EQ(exchange.GatherBlocks({ { 1 }, {}, { 2, 3 } }), (std::vector<std::vector<double>>{ { 1 }, {}, { 2, 3 } }));
+}
+
+TEST(LeafPlan, LeafIdsAboveTheIntRangeStayApartAndSurvive)
+{
+  // Six points in three leaves by a 64-bit point array LeafId: 5, 5 + 2^32 (5 again after a cast to int) and 2^40;
+  // three triangles, one per leaf.
+  const vtkTypeInt64 wrap = 5 + (vtkTypeInt64(1) << 32), high = vtkTypeInt64(1) << 40;
+  vtkNew<vtkPolyData> piece;
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> triangles;
+  vtkNew<vtkTypeInt64Array> ids;
+  ids->SetName("LeafId");
+  const vtkTypeInt64 leaves[3] = { 5, wrap, high };
+  for (int leaf = 0; leaf < 3; ++leaf)
+  {
+    const vtkIdType first = points->GetNumberOfPoints();
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      points->InsertNextPoint(leaf, corner == 1 ? 1.0 : 0.0, corner == 2 ? 1.0 : 0.0);
+      ids->InsertNextValue(leaves[leaf]);
+    }
+    const vtkIdType cell[3] = { first, first + 1, first + 2 };
+    triangles->InsertNextCell(3, cell);
+  }
+  piece->SetPoints(points);
+  piece->SetPolys(triangles);
+  piece->GetPointData()->AddArray(ids);
+  std::vector<plantmorph::LeafIdType> leafOf;
+  ASSERT_EQ(plantmorph::IdentifyLeaves(piece, leafOf), "");
+  EXPECT_EQ(leafOf, (std::vector<plantmorph::LeafIdType>{ 5, 5, 5, wrap, wrap, wrap, high, high, high }));
+  ASSERT_TRUE(plantmorph::LeafIdsOfPoints(piece, leafOf));
+  EXPECT_EQ(leafOf[4], wrap);
+  const plantmorph::LeafPlan plan(piece); // serially: every leaf owned here
+  EXPECT_EQ(plan.LeafIds(), (std::vector<plantmorph::LeafIdType>{ 5, wrap, high }));
+  EXPECT_EQ(plan.Owned(), plan.LeafIds());
+  EXPECT_TRUE(plan.WideIds());
+  const std::vector<vtkSmartPointer<vtkPolyData>> whole = plan.Leaves();
+  ASSERT_EQ(whole.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k)
+  {
+    EXPECT_EQ(whole[k]->GetNumberOfPoints(), 3);
+    EXPECT_EQ(whole[k]->GetNumberOfCells(), 1);
+  }
+  // Marked as the filters mark their outputs: a 64-bit array with the exact id; the rows keep their id order.
+  vtkNew<vtkPolyData> marked;
+  marked->ShallowCopy(whole[1]);
+  marked->GetPointData()->RemoveArray("LeafId");
+  plantmorph::MarkLeaf(marked, wrap, plan.WideIds());
+  auto* mark = vtkTypeInt64Array::SafeDownCast(marked->GetPointData()->GetArray("LeafId"));
+  ASSERT_NE(mark, nullptr);
+  EXPECT_EQ(mark->GetValue(2), wrap);
+  vtkNew<vtkTable> rows;
+  vtkNew<vtkDoubleArray> value;
+  value->SetName("Value");
+  value->InsertNextValue(1.0);
+  rows->AddColumn(value);
+  vtkNew<vtkTable> all;
+  plantmorph::AppendRows(all, plantmorph::WithLeafColumn(rows, high, true));
+  plantmorph::AppendRows(all, plantmorph::WithLeafColumn(rows, wrap, true));
+  EXPECT_EQ(plantmorph::LeafIdValue(vtkDataArray::SafeDownCast(all->GetColumn(0)), 0), high);
+  EXPECT_EQ(plantmorph::LeafIdValue(vtkDataArray::SafeDownCast(all->GetColumn(0)), 1), wrap);
+  // Ids of a floating-point array are rounded; not finite: no leaf.
+  vtkNew<vtkDoubleArray> real;
+  real->InsertNextValue(3.0e9 + 0.2);
+  real->InsertNextValue(std::nan(""));
+  EXPECT_EQ(plantmorph::LeafIdValue(real, 0), vtkTypeInt64(3000000000));
+  EXPECT_EQ(plantmorph::LeafIdValue(real, 1), plantmorph::NoLeaf);
 }
