@@ -348,7 +348,7 @@ vtkSmartPointer<vtkPolyData> Run::Replicated(vtkPolyData* piece) const
   {
     return piece;
   }
-  const vtkSmartPointer<vtkPolyData> whole = GatherOnFirstRank(piece);
+  const vtkSmartPointer<vtkPolyData> whole = AppendOnFirstRank(piece);
   auto replica = vtkSmartPointer<vtkPolyData>::New();
   if (controller->GetLocalProcessId() == 0)
   {

@@ -197,7 +197,8 @@ public:
   /// Collective under Controller(): true on every rank when `failed` is true on any (false serially if not failed).
   bool AnyRank(bool failed) const;
   /// Collective over every rank (the global controller, as GatherOnFirstRank): the whole of `piece` (gathered on
-  /// rank 0, its pieces merged, and broadcast) on every rank; `piece` itself serially. For the small inputs of data-parallel wrappers (a surface to scan).
+  /// rank 0, its pieces appended without merging points, AppendOnFirstRank, and broadcast) on every rank; `piece`
+  /// itself serially. For the small inputs of data-parallel wrappers (a surface to scan).
   vtkSmartPointer<vtkPolyData> Replicated(vtkPolyData* piece) const;
 
   /// Stops the run: an error every rank finds alike (a property, a replicated input), reported by the first rank.
