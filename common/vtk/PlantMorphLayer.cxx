@@ -9,6 +9,7 @@
 #include "vtkCommunicator.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -53,6 +54,41 @@ bool IsSource(vtkAlgorithm* algorithm)
   }
   vtkInformation* info = algorithm->GetInputPortInformation(0);
   return info && info->Has(vtkAlgorithm::INPUT_IS_OPTIONAL()) && info->Get(vtkAlgorithm::INPUT_IS_OPTIONAL()) != 0;
+}
+
+/// The output information holding the piece request of this update: the requested port's, else the first port's
+/// that has one (null when none has). A source's port other than 0 counts only when it says it can make pieces
+/// (CAN_HANDLE_PIECE_REQUEST): LeafCloudReader's table port, asked for piece k of N, is still the whole file on
+/// every rank.
+vtkInformation* PieceRequest(vtkAlgorithm* algorithm, vtkInformation* request, vtkInformationVector* outputs)
+{
+  const int ports = outputs->GetNumberOfInformationObjects();
+  const bool source = IsSource(algorithm);
+  const auto asks = [&](int port) -> vtkInformation* {
+    vtkInformation* info = port >= 0 && port < ports ? outputs->GetInformationObject(port) : nullptr;
+    if (!info || !info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()))
+    {
+      return nullptr;
+    }
+    const bool splits = port == 0 || !source ||
+      (info->Has(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST()) && info->Get(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST()));
+    return splits ? info : nullptr;
+  };
+  if (request && request->Has(vtkExecutive::FROM_OUTPUT_PORT()))
+  {
+    if (vtkInformation* info = asks(request->Get(vtkExecutive::FROM_OUTPUT_PORT())))
+    {
+      return info;
+    }
+  }
+  for (int port = 0; port < ports; ++port)
+  {
+    if (vtkInformation* info = asks(port))
+    {
+      return info;
+    }
+  }
+  return nullptr;
 }
 
 /// The whole of `piece` on rank 0 (collective; the piece itself serially): point sets and tables.
@@ -218,11 +254,12 @@ Run::Run(vtkAlgorithm* algorithm, MPIPolicy policy, std::string building, vtkInf
   , Inputs(inputs)
   , Outputs(outputs)
 {
-  // The piece asked of output port 0, as every rank sees it (a class whose ports are asked for different pieces
-  // reads its own request, as TreeFromSketchSource does).
+  // The piece asked of the port this update is for (vtkExecutive::FROM_OUTPUT_PORT); without one, of the first
+  // port that has a piece request (PieceRequest). A request through another port than 0 (a fetch or view of a later
+  // port alone) leaves port 0 without pieces or with a stale one, and the MPI controller would be lost.
   this->Request = request;
-  vtkInformation* info = outputs->GetNumberOfInformationObjects() > 0 ? outputs->GetInformationObject(0) : nullptr;
-  if (info && info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()))
+  vtkInformation* info = PieceRequest(algorithm, request, outputs);
+  if (info)
   {
     this->PieceNumber = info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
   }
@@ -311,7 +348,7 @@ vtkSmartPointer<vtkPolyData> Run::Replicated(vtkPolyData* piece) const
   {
     return piece;
   }
-  const vtkSmartPointer<vtkPolyData> whole = GatherOnFirstRank(piece);
+  const vtkSmartPointer<vtkPolyData> whole = AppendOnFirstRank(piece);
   auto replica = vtkSmartPointer<vtkPolyData>::New();
   if (controller->GetLocalProcessId() == 0)
   {

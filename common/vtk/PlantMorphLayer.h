@@ -183,7 +183,8 @@ public:
   /// The pipeline request of this RequestData (which port it is for: vtkExecutive::FROM_OUTPUT_PORT).
   vtkInformation* RequestInformation() const { return this->Request; }
 
-  /// The piece asked of output port 0, and of how many.
+  /// The piece asked of the port this update is for (the first port with a piece request when the request names
+  /// none; a source's port other than 0 only when it can make pieces), and of how many.
   int Piece() const { return this->PieceNumber; }
   int Pieces() const { return this->PieceCount; }
   /// The MPI controller when this process is one of several ranks and the pieces are the ranks (piece == rank);
@@ -196,7 +197,8 @@ public:
   /// Collective under Controller(): true on every rank when `failed` is true on any (false serially if not failed).
   bool AnyRank(bool failed) const;
   /// Collective over every rank (the global controller, as GatherOnFirstRank): the whole of `piece` (gathered on
-  /// rank 0, its pieces merged, and broadcast) on every rank; `piece` itself serially. For the small inputs of data-parallel wrappers (a surface to scan).
+  /// rank 0, its pieces appended without merging points, AppendOnFirstRank, and broadcast) on every rank; `piece`
+  /// itself serially. For the small inputs of data-parallel wrappers (a surface to scan).
   vtkSmartPointer<vtkPolyData> Replicated(vtkPolyData* piece) const;
 
   /// Stops the run: an error every rank finds alike (a property, a replicated input), reported by the first rank.

@@ -15,6 +15,8 @@
 #include "vtkFieldData.h"
 #include "vtkIdList.h"
 #include "vtkIntArray.h"
+#include "vtkTypeInt64Array.h"
+#include "vtkVariant.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -27,6 +29,7 @@
 #include <array>
 #include <climits>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <string>
@@ -35,17 +38,30 @@
 namespace plantmorph
 {
 
-std::string IdentifyLeaves(vtkPolyData* piece, std::vector<int>& leafOf)
+LeafIdType LeafIdValue(vtkDataArray* ids, vtkIdType i)
+{
+  if (ids->GetDataType() != VTK_FLOAT && ids->GetDataType() != VTK_DOUBLE) // an integer array: exact
+  {
+    bool valid = false;
+    const LeafIdType value = ids->GetVariantValue(i).ToTypeInt64(&valid);
+    return valid ? value : NoLeaf;
+  }
+  const double value = ids->GetComponent(i, 0);
+  // 2^63 is the first double beyond the range; -2^63 is NoLeaf itself.
+  return std::isfinite(value) && std::abs(value) < 9223372036854775808.0 ? static_cast<LeafIdType>(std::llround(value))
+                                                                         : NoLeaf;
+}
+
+std::string IdentifyLeaves(vtkPolyData* piece, std::vector<LeafIdType>& leafOf)
 {
   const vtkIdType n = piece->GetNumberOfPoints();
   leafOf.assign(static_cast<std::size_t>(n), NoLeaf);
-  const auto id = [](double value) { return std::isfinite(value) ? static_cast<int>(std::lround(value)) : NoLeaf; };
   if (vtkDataArray* ids = piece->GetPointData()->GetArray("LeafId"))
   {
     if (ids->GetNumberOfComponents() != 1)
       return "Input: the point array LeafId must have one component";
     for (vtkIdType i = 0; i < n; ++i)
-      leafOf[static_cast<std::size_t>(i)] = id(ids->GetComponent(i, 0));
+      leafOf[static_cast<std::size_t>(i)] = LeafIdValue(ids, i);
     return {};
   }
   vtkDataArray* cellIds = piece->GetCellData()->GetArray("LeafId");
@@ -68,7 +84,7 @@ std::string IdentifyLeaves(vtkPolyData* piece, std::vector<int>& leafOf)
     {
       const vtkIdType p = points->GetId(k);
       if (cellIds && !used[p])
-        leafOf[p] = id(cellIds->GetComponent(c, 0));
+        leafOf[p] = LeafIdValue(cellIds, c);
       used[p] = true;
       if (!cellIds && k > 0)
         parent[root(p)] = root(points->GetId(0));
@@ -76,10 +92,10 @@ std::string IdentifyLeaves(vtkPolyData* piece, std::vector<int>& leafOf)
   }
   if (cellIds)
     return {};
-  std::map<vtkIdType, int> blade; // root -> number, in the order of the blades' first points
+  std::map<vtkIdType, LeafIdType> blade; // root -> number, in the order of the blades' first points
   for (vtkIdType i = 0; i < n; ++i)
     if (used[i])
-      leafOf[i] = blade.emplace(root(i), static_cast<int>(blade.size())).first->second;
+      leafOf[i] = blade.emplace(root(i), static_cast<LeafIdType>(blade.size())).first->second;
   return {};
 }
 
@@ -162,13 +178,13 @@ vtkSmartPointer<vtkPolyData> AssembleLeaf(vtkPolyData* piece, const LeafParts& p
 }
 } // namespace
 
-std::map<int, vtkSmartPointer<vtkPolyData>> ExtractLeaves(
-  vtkPolyData* piece, const std::vector<int>& leafOf, const std::vector<int>& wanted)
+std::map<LeafIdType, vtkSmartPointer<vtkPolyData>> ExtractLeaves(
+  vtkPolyData* piece, const std::vector<LeafIdType>& leafOf, const std::vector<LeafIdType>& wanted)
 {
-  std::map<int, vtkSmartPointer<vtkPolyData>> result;
+  std::map<LeafIdType, vtkSmartPointer<vtkPolyData>> result;
   if (wanted.empty())
     return result;
-  const auto indexOf = [&](int leaf) {
+  const auto indexOf = [&](LeafIdType leaf) {
     const auto at = std::lower_bound(wanted.begin(), wanted.end(), leaf);
     return at != wanted.end() && *at == leaf ? static_cast<int>(at - wanted.begin()) : -1;
   };
@@ -188,8 +204,8 @@ std::map<int, vtkSmartPointer<vtkPolyData>> ExtractLeaves(
   return result;
 }
 
-std::vector<std::map<int, vtkIdType>> LeafCountsOfRanks(
-  vtkMultiProcessController* controller, const std::map<int, vtkIdType>& mine)
+std::vector<std::map<vtkTypeInt64, vtkIdType>> LeafCountsOfRanks(
+  vtkMultiProcessController* controller, const std::map<vtkTypeInt64, vtkIdType>& mine)
 {
   if (!controller || controller->GetNumberOfProcesses() < 2)
     return { mine };
@@ -208,17 +224,17 @@ std::vector<std::map<int, vtkIdType>> LeafCountsOfRanks(
   std::vector<long long> all(static_cast<std::size_t>(offsets.back() + lengths.back()) + 1, 0); // +1: never null
   flat.push_back(0);
   controller->AllGatherV(flat.data(), all.data(), length, lengths.data(), offsets.data());
-  std::vector<std::map<int, vtkIdType>> result(lengths.size());
+  std::vector<std::map<vtkTypeInt64, vtkIdType>> result(lengths.size());
   for (std::size_t q = 0; q < lengths.size(); ++q)
     for (vtkIdType k = offsets[q]; k + 1 < offsets[q] + lengths[q]; k += 2)
-      result[q][static_cast<int>(all[k])] += static_cast<vtkIdType>(all[k + 1]);
+      result[q][static_cast<vtkTypeInt64>(all[k])] += static_cast<vtkIdType>(all[k + 1]);
   return result;
 }
 
-void SumLeafCounts(
-  const std::vector<std::map<int, vtkIdType>>& ranks, std::vector<int>& ids, std::vector<vtkIdType>& points)
+void SumLeafCounts(const std::vector<std::map<vtkTypeInt64, vtkIdType>>& ranks, std::vector<vtkTypeInt64>& ids,
+  std::vector<vtkIdType>& points)
 {
-  std::map<int, vtkIdType> total;
+  std::map<vtkTypeInt64, vtkIdType> total;
   for (const auto& rank : ranks)
     for (const auto& leaf : rank)
       total[leaf.first] += leaf.second;
@@ -265,13 +281,13 @@ LeafPlan::LeafPlan(vtkPolyData* piece)
   this->Gathered = all[0] > 1 && all[1] > 0;
   if (this->Gathered)
     owned = GatherOnFirstRank(owned.Get());
-  std::map<int, vtkIdType> counts;
+  std::map<LeafIdType, vtkIdType> counts;
   if (owned && owned->GetNumberOfPoints() > 0)
   {
     this->ErrorText = IdentifyLeaves(owned, this->LeafOf);
     if (this->ErrorText.empty())
     {
-      for (int leaf : this->LeafOf)
+      for (LeafIdType leaf : this->LeafOf)
         if (leaf != NoLeaf)
           ++counts[leaf];
       this->Piece = owned;
@@ -289,21 +305,28 @@ bool LeafPlan::AnyRank(bool failed) const
   return any != 0;
 }
 
-std::vector<int> LeafPlan::Owned() const
+std::vector<LeafIdType> LeafPlan::Owned() const
 {
-  std::vector<int> owned;
+  std::vector<LeafIdType> owned;
   for (std::size_t leaf = 0; leaf < this->Ids.size(); ++leaf)
     if (this->Owners[leaf] == this->MyRank)
       owned.push_back(this->Ids[leaf]);
   return owned;
 }
 
-std::vector<vtkSmartPointer<vtkPolyData>> LeafPlan::Distribute(vtkPolyData* piece, const std::vector<int>& leafOf) const
+bool LeafPlan::WideIds() const
+{
+  return std::any_of(this->Ids.begin(), this->Ids.end(),
+    [](LeafIdType id) { return id < std::numeric_limits<int>::min() || id > std::numeric_limits<int>::max(); });
+}
+
+std::vector<vtkSmartPointer<vtkPolyData>> LeafPlan::Distribute(
+  vtkPolyData* piece, const std::vector<LeafIdType>& leafOf) const
 {
   std::vector<vtkSmartPointer<vtkPolyData>> result;
   // Which ranks hold points of which leaf.
   std::vector<int> mine(this->Ids.size(), 0), holders(this->Ids.size() * this->Ranks, 0);
-  for (int leaf : leafOf)
+  for (LeafIdType leaf : leafOf)
   {
     const auto at = std::lower_bound(this->Ids.begin(), this->Ids.end(), leaf);
     if (leaf != NoLeaf && at != this->Ids.end() && *at == leaf)
@@ -313,11 +336,11 @@ std::vector<vtkSmartPointer<vtkPolyData>> LeafPlan::Distribute(vtkPolyData* piec
     this->Controller->AllGather(mine.data(), holders.data(), static_cast<vtkIdType>(mine.size()));
   else
     holders = mine;
-  std::vector<int> held;
+  std::vector<LeafIdType> held;
   for (std::size_t leaf = 0; leaf < this->Ids.size(); ++leaf)
     if (mine[leaf])
       held.push_back(this->Ids[leaf]);
-  std::map<int, vtkSmartPointer<vtkPolyData>> parts = ExtractLeaves(piece, leafOf, held);
+  std::map<LeafIdType, vtkSmartPointer<vtkPolyData>> parts = ExtractLeaves(piece, leafOf, held);
   for (std::size_t leaf = 0; leaf < this->Ids.size(); ++leaf)
   {
     const int owner = this->Owners[leaf];
@@ -364,7 +387,7 @@ vtkSmartPointer<vtkTable> LeafPlan::GatherRows(vtkTable* rows) const
   if (this->MyRank != 0)
     return result;
   // (LeafId, table, row), sorted stably by LeafId: a leaf's rows are contiguous in its owner's table.
-  std::vector<std::pair<int, std::pair<vtkTable*, vtkIdType>>> order;
+  std::vector<std::pair<LeafIdType, std::pair<vtkTable*, vtkIdType>>> order;
   vtkTable* model = nullptr;
   for (const auto& object : tables)
   {
@@ -374,7 +397,7 @@ vtkSmartPointer<vtkTable> LeafPlan::GatherRows(vtkTable* rows) const
     model = model ? model : table;
     vtkDataArray* ids = vtkDataArray::SafeDownCast(table->GetColumn(0));
     for (vtkIdType r = 0; r < table->GetNumberOfRows(); ++r)
-      order.push_back({ ids ? static_cast<int>(ids->GetComponent(r, 0)) : 0, { table, r } });
+      order.push_back({ ids ? LeafIdValue(ids, r) : 0, { table, r } });
   }
   if (!model)
     return result;
@@ -392,14 +415,14 @@ vtkSmartPointer<vtkTable> LeafPlan::GatherRows(vtkTable* rows) const
   return result;
 }
 
-void LeafPlan::Plan(const std::map<int, vtkIdType>& counts)
+void LeafPlan::Plan(const std::map<LeafIdType, vtkIdType>& counts)
 {
   std::vector<vtkIdType> points;
   SumLeafCounts(LeafCountsOfRanks(this->Controller, counts), this->Ids, points);
   this->Owners = LeafOwners(points, this->Ranks);
 }
 
-bool LeafIdsOfPoints(vtkPolyData* data, std::vector<int>& leafOf)
+bool LeafIdsOfPoints(vtkPolyData* data, std::vector<LeafIdType>& leafOf)
 {
   const vtkIdType n = data ? data->GetNumberOfPoints() : 0;
   leafOf.assign(static_cast<std::size_t>(n), NoLeaf);
@@ -407,36 +430,49 @@ bool LeafIdsOfPoints(vtkPolyData* data, std::vector<int>& leafOf)
   if (n > 0 && (!ids || ids->GetNumberOfComponents() != 1))
     return false;
   for (vtkIdType i = 0; i < n; ++i)
-  {
-    const double value = ids->GetComponent(i, 0);
-    leafOf[i] = std::isfinite(value) ? static_cast<int>(std::lround(value)) : NoLeaf;
-  }
+    leafOf[i] = LeafIdValue(ids, i);
   return true;
 }
 
-void MarkLeaf(vtkDataSet* data, int leaf)
+namespace
 {
-  const auto add = [leaf](vtkDataSetAttributes* attributes, vtkIdType count) {
-    if (attributes->GetArray("LeafId"))
-      return;
-    vtkNew<vtkIntArray> ids;
-    ids->SetName("LeafId");
-    ids->SetNumberOfTuples(count);
-    ids->FillValue(leaf);
-    attributes->AddArray(ids);
+/// `count` values `leaf` in an array LeafId: int, or 64-bit when `wide`.
+vtkSmartPointer<vtkDataArray> LeafIdArray(LeafIdType leaf, vtkIdType count, bool wide)
+{
+  vtkSmartPointer<vtkDataArray> ids;
+  if (wide)
+  {
+    auto wideIds = vtkSmartPointer<vtkTypeInt64Array>::New();
+    wideIds->SetNumberOfTuples(count);
+    wideIds->FillValue(leaf);
+    ids = wideIds;
+  }
+  else
+  {
+    auto intIds = vtkSmartPointer<vtkIntArray>::New();
+    intIds->SetNumberOfTuples(count);
+    intIds->FillValue(static_cast<int>(leaf));
+    ids = intIds;
+  }
+  ids->SetName("LeafId");
+  return ids;
+}
+} // namespace
+
+void MarkLeaf(vtkDataSet* data, LeafIdType leaf, bool wide)
+{
+  const auto add = [leaf, wide](vtkDataSetAttributes* attributes, vtkIdType count) {
+    if (!attributes->GetArray("LeafId"))
+      attributes->AddArray(LeafIdArray(leaf, count, wide));
   };
   add(data->GetPointData(), data->GetNumberOfPoints());
   add(data->GetCellData(), data->GetNumberOfCells());
 }
 
-vtkSmartPointer<vtkTable> WithLeafColumn(vtkTable* table, int leaf)
+vtkSmartPointer<vtkTable> WithLeafColumn(vtkTable* table, LeafIdType leaf, bool wide)
 {
   auto result = vtkSmartPointer<vtkTable>::New();
-  vtkNew<vtkIntArray> ids;
-  ids->SetName("LeafId");
-  ids->SetNumberOfTuples(table->GetNumberOfRows());
-  ids->FillValue(leaf);
-  result->AddColumn(ids);
+  result->AddColumn(LeafIdArray(leaf, table->GetNumberOfRows(), wide));
   for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
     result->AddColumn(table->GetColumn(c));
   return result;

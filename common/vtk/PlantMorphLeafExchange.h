@@ -14,7 +14,7 @@
 //
 // The plan (LeafPlan), the same on every rank: every leaf gets one owner rank, the leaves taken largest first (by
 // points; ties: the smaller LeafId first), each to the least loaded rank so far (ties: the lower rank): LeafOwners,
-// the one copy of the rule, which LeafFitFilter's exchange (filters/leaf_fit/vtk/LeafFitExchange.h) uses too. A leaf held by one
+// the one copy of the rule, which the fitters' exchange (PlantMorphOwnerExchange.h) uses too. A leaf held by one
 // rank moves whole to its owner (nothing moves when that is its owner); a leaf whose points are on several ranks is
 // gathered on its owner, the pieces appended in rank order and their exactly coincident points merged. A leaf taken
 // out of a piece keeps the input's point and cell order and every point, cell and field array, so a leaf alone and
@@ -48,6 +48,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -55,29 +56,38 @@
 namespace plantmorph
 {
 
+/// A LeafId: a 64-bit integer, read exactly from any integer array (a LeafId above 2^31 is its own leaf) and rounded
+/// from a floating-point one.
+using LeafIdType = vtkTypeInt64;
+
 /// The LeafId of a point that belongs to no leaf.
-constexpr int NoLeaf = INT_MIN;
+constexpr LeafIdType NoLeaf = std::numeric_limits<LeafIdType>::min();
+
+/// Value `i` of a one-component LeafId array as a LeafId: exact for integer arrays, rounded for floating-point ones
+/// (NoLeaf for a value that is not finite or is beyond the 64-bit range).
+PLANTMORPHVTKCOMMON_EXPORT LeafIdType LeafIdValue(vtkDataArray* ids, vtkIdType i);
 
 /// Each point's LeafId by the rules above; an error message for a LeafId array of more than one component.
-PLANTMORPHVTKCOMMON_EXPORT std::string IdentifyLeaves(vtkPolyData* piece, std::vector<int>& leafOf);
+PLANTMORPHVTKCOMMON_EXPORT std::string IdentifyLeaves(vtkPolyData* piece, std::vector<LeafIdType>& leafOf);
 
 /// The leaves `wanted` (ascending) of `piece`, each with its points (in the piece's order) and the cells all of
 /// whose points are in it (in the piece's order, by type), with every point, cell and field array. One pass over the
 /// piece for all of them.
-PLANTMORPHVTKCOMMON_EXPORT std::map<int, vtkSmartPointer<vtkPolyData>> ExtractLeaves(
-  vtkPolyData* piece, const std::vector<int>& leafOf, const std::vector<int>& wanted);
+PLANTMORPHVTKCOMMON_EXPORT std::map<LeafIdType, vtkSmartPointer<vtkPolyData>> ExtractLeaves(
+  vtkPolyData* piece, const std::vector<LeafIdType>& leafOf, const std::vector<LeafIdType>& wanted);
 
 /// Collective: every rank's (LeafId, point count) pairs, on every rank: element q is rank q's `mine`. `controller`
 /// null (serial): just `mine`.
-PLANTMORPHVTKCOMMON_EXPORT std::vector<std::map<int, vtkIdType>> LeafCountsOfRanks(
-  vtkMultiProcessController* controller, const std::map<int, vtkIdType>& mine);
+PLANTMORPHVTKCOMMON_EXPORT std::vector<std::map<vtkTypeInt64, vtkIdType>> LeafCountsOfRanks(
+  vtkMultiProcessController* controller, const std::map<vtkTypeInt64, vtkIdType>& mine);
 
 /// The leaves of every rank's counts (LeafCountsOfRanks) in ascending LeafId: their ids and their point counts summed
 /// over the ranks, appended to `ids` and `points` (the input of LeafOwners).
-PLANTMORPHVTKCOMMON_EXPORT void SumLeafCounts(
-  const std::vector<std::map<int, vtkIdType>>& ranks, std::vector<int>& ids, std::vector<vtkIdType>& points);
+PLANTMORPHVTKCOMMON_EXPORT void SumLeafCounts(const std::vector<std::map<vtkTypeInt64, vtkIdType>>& ranks,
+  std::vector<vtkTypeInt64>& ids, std::vector<vtkIdType>& points);
 
-/// The owner plan, the one rule of every per-leaf filter (LeafPlan here, LeafFitFilter's filters/leaf_fit/vtk/LeafFitExchange):
+/// The owner plan, the one rule of every per-leaf filter (LeafPlan here, the fitters' OwnerExchange of
+/// PlantMorphOwnerExchange.h):
 /// `points[k]` is leaf k's point count over all ranks, the leaves in ascending LeafId; returns each leaf's owner
 /// rank. The leaves are taken largest first (ties: the smaller LeafId first), each given to the least loaded rank so
 /// far (ties: the lower rank), a rank's load being the points of the leaves it owns.
@@ -96,10 +106,13 @@ public:
 
   const std::string& Error() const { return this->ErrorText; }
   /// Every leaf's id over all ranks, ascending.
-  const std::vector<int>& LeafIds() const { return this->Ids; }
+  const std::vector<LeafIdType>& LeafIds() const { return this->Ids; }
   int Owner(std::size_t leaf) const { return this->Owners[leaf]; }
   /// The ids of the leaves this rank owns, ascending.
-  std::vector<int> Owned() const;
+  std::vector<LeafIdType> Owned() const;
+  /// True when a LeafId is beyond the int range: the LeafId arrays the filters add (MarkLeaf, WithLeafColumn) are
+  /// then 64-bit for every leaf, else int as before.
+  bool WideIds() const;
   /// True when rule 3 made the input gather on rank 0 first.
   bool GatheredFirst() const { return this->Gathered; }
 
@@ -109,7 +122,7 @@ public:
   /// Collective: another dataset split by its LeafId point array (`leafOf` per point, NoLeaf for none; e.g. the
   /// veins of the leaves), each leaf's part sent to that leaf's owner: one dataset per owned leaf, in Owned() order
   /// (empty where no rank holds a part). Parts of leaves the plan does not know are dropped.
-  std::vector<vtkSmartPointer<vtkPolyData>> Distribute(vtkPolyData* piece, const std::vector<int>& leafOf) const;
+  std::vector<vtkSmartPointer<vtkPolyData>> Distribute(vtkPolyData* piece, const std::vector<LeafIdType>& leafOf) const;
 
   /// Collective: `rows` (the rows of the leaves this rank owns, in Owned() order; its first column a LeafId) from
   /// every rank onto rank 0, the rows in LeafId order; an empty table on the other ranks.
@@ -117,7 +130,7 @@ public:
 
 private:
   /// Every rank's (LeafId, count) pairs, then the owners (LeafOwners).
-  void Plan(const std::map<int, vtkIdType>& counts);
+  void Plan(const std::map<LeafIdType, vtkIdType>& counts);
 
   vtkMultiProcessController* Controller = nullptr; // null when serial
   int Ranks = 1;
@@ -125,20 +138,23 @@ private:
   bool Gathered = false;
   std::string ErrorText;
   vtkSmartPointer<vtkPolyData> Piece = vtkSmartPointer<vtkPolyData>::New();
-  std::vector<int> LeafOf;
-  std::vector<int> Ids;
+  std::vector<LeafIdType> LeafOf;
+  std::vector<LeafIdType> Ids;
   std::vector<int> Owners;
 };
 
 /// Each point's LeafId from a dataset's one-component LeafId point array (NoLeaf where it has none); false when it
 /// has points but no such array.
-PLANTMORPHVTKCOMMON_EXPORT bool LeafIdsOfPoints(vtkPolyData* data, std::vector<int>& leafOf);
+PLANTMORPHVTKCOMMON_EXPORT bool LeafIdsOfPoints(vtkPolyData* data, std::vector<LeafIdType>& leafOf);
 
-/// Adds a one-component int point array and cell array LeafId of value `leaf` to `data` (where it has none).
-PLANTMORPHVTKCOMMON_EXPORT void MarkLeaf(vtkDataSet* data, int leaf);
+/// Adds a one-component point array and cell array LeafId of value `leaf` to `data` (where it has none): int, or
+/// 64-bit with `wide` (LeafPlan::WideIds).
+PLANTMORPHVTKCOMMON_EXPORT void MarkLeaf(vtkDataSet* data, LeafIdType leaf, bool wide = false);
 
-/// A copy of `table` with a first column LeafId of value `leaf` (one row per row of the table).
-PLANTMORPHVTKCOMMON_EXPORT vtkSmartPointer<vtkTable> WithLeafColumn(vtkTable* table, int leaf);
+/// A copy of `table` with a first column LeafId of value `leaf` (one row per row of the table): int, or 64-bit with
+/// `wide`.
+PLANTMORPHVTKCOMMON_EXPORT vtkSmartPointer<vtkTable> WithLeafColumn(
+  vtkTable* table, LeafIdType leaf, bool wide = false);
 
 /// Appends the rows of `from` to `into` (which takes `from`'s columns when it has none).
 PLANTMORPHVTKCOMMON_EXPORT void AppendRows(vtkTable* into, vtkTable* from);

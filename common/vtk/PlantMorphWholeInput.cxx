@@ -81,7 +81,8 @@ Gathered GatherPieces(vtkPointSet* piece, std::vector<vtkSmartPointer<vtkDataObj
   return rankZero ? Gathered::Pieces : Gathered::Nothing;
 }
 /// Polygonal pieces appended in the given order, coincident points merged (tolerance 0), cells kept as they are.
-vtkSmartPointer<vtkPolyData> MergePolyPieces(const std::vector<vtkSmartPointer<vtkDataObject>>& pieces)
+vtkSmartPointer<vtkPolyData> MergePolyPieces(
+  const std::vector<vtkSmartPointer<vtkDataObject>>& pieces, bool mergePoints)
 {
   vtkNew<vtkAppendPolyData> append;
   for (const auto& received : pieces)
@@ -91,6 +92,11 @@ vtkSmartPointer<vtkPolyData> MergePolyPieces(const std::vector<vtkSmartPointer<v
     {
       append->AddInputData(polyData);
     }
+  }
+  if (!mergePoints)
+  {
+    append->Update();
+    return append->GetOutput();
   }
   vtkNew<vtkCleanPolyData> merge;
   merge->SetInputConnection(append->GetOutputPort());
@@ -123,6 +129,21 @@ vtkSmartPointer<vtkPolyData> GatherOnFirstRank(vtkPolyData* piece)
       break;
   }
   return detail::MergePolyPieces(pieces);
+}
+
+vtkSmartPointer<vtkPolyData> AppendOnFirstRank(vtkPolyData* piece)
+{
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  switch (detail::GatherPieces(piece, pieces))
+  {
+    case detail::Gathered::Piece:
+      return piece;
+    case detail::Gathered::Nothing:
+      return vtkSmartPointer<vtkPolyData>::New();
+    case detail::Gathered::Pieces:
+      break;
+  }
+  return detail::MergePolyPieces(pieces, false);
 }
 
 /// The same for any point set (a measured cloud may come as an unstructured grid): polygonal data as above, other

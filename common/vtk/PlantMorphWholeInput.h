@@ -32,9 +32,10 @@ namespace detail
 /// comes from the one rank that owns it. The piece itself when it has none.
 PLANTMORPHVTKCOMMON_EXPORT vtkSmartPointer<vtkDataObject> WithoutGhostCells(vtkPointSet* piece);
 
-/// Polygonal pieces appended in the given order, coincident points merged (tolerance 0), cells kept as they are.
+/// Polygonal pieces appended in the given order, coincident points merged (tolerance 0) unless `mergePoints` is
+/// false, cells kept as they are.
 PLANTMORPHVTKCOMMON_EXPORT vtkSmartPointer<vtkPolyData> MergePolyPieces(
-  const std::vector<vtkSmartPointer<vtkDataObject>>& pieces);
+  const std::vector<vtkSmartPointer<vtkDataObject>>& pieces, bool mergePoints = true);
 } // namespace detail
 
 /// Collective over the global controller's ranks (every rank must call it, as every rank runs the filter): returns
@@ -43,6 +44,11 @@ PLANTMORPHVTKCOMMON_EXPORT vtkSmartPointer<vtkPolyData> MergePolyPieces(
 /// appended in rank order and their exactly coincident points merged (their point order then differs from the
 /// unsplit dataset's).
 PLANTMORPHVTKCOMMON_EXPORT vtkSmartPointer<vtkPolyData> GatherOnFirstRank(vtkPolyData* piece);
+
+/// The same gather with the pieces only appended, no point merged: every cell keeps its own corners and their point
+/// data. For a surface that is only looked at cell by cell (VirtualScanner's rays): a tube's seam has two points at
+/// one place with two texture coordinates (0 and 1 around it), which merging would make one.
+PLANTMORPHVTKCOMMON_EXPORT vtkSmartPointer<vtkPolyData> AppendOnFirstRank(vtkPolyData* piece);
 
 /// The same for any point set (a measured cloud may come as an unstructured grid): polygonal data as above, other
 /// point sets appended into an unstructured grid with coincident points merged.

@@ -2,7 +2,8 @@
 // LeafFitFilter's leaf ids and tables (docs/methods/leaf-fit.md, "Several leaves" and "Trait reference").
 //
 // - Leaf ids are read as 64-bit integers (any integer array type; a floating-point array's values must be whole
-//   numbers: plantmorph::LeafIdOf). Ranks agree on the sorted union of the ids (collective), and LeafFitExchange
+//   numbers: plantmorph::LeafIdOf). Ranks agree on the sorted union of the ids (collective), and the owner exchange
+//   (PlantMorphOwnerExchange.h)
 //   works on each id's index in it, so ids beyond the int range (0 and 2^32) stay apart.
 // - The rows: every leaf the filter meets gets one row, fitted or not; a rank's rows (trait values, 64-bit ids and
 //   messages) are gathered onto rank 0 (collective) and sorted by LeafId.

@@ -3,8 +3,8 @@
 #include "PlantMorphAlgorithmHooks.h"
 
 #include "LeafFit.h"
-#include "LeafFitExchange.h"
 #include "LeafFitTables.h"
+#include "PlantMorphOwnerExchange.h"
 #include "LeafPlant.h"
 #include "PlantMorphFieldData.h"
 #include "PlantMorphLayer.h"
@@ -198,7 +198,7 @@ struct Piece
 };
 
 /// What this rank fitted: the pieces, and per owned leaf FitDistance, Inlier and piece of every point, in the order
-/// the points came (LeafFitExchange::ReturnValues, width ScanValues).
+/// the points came (OwnerExchange::ReturnValues, width ScanValues).
 struct OwnedFits
 {
   std::vector<Piece> pieces;
@@ -289,7 +289,7 @@ struct LeafInput
   std::vector<std::int64_t> ids;
   bool separate = false; ///< no LeafIdArray: the points are cut into their separate blades
   std::vector<std::int64_t> leafIds;
-  plantmorph::fitmpi::LocalLeaves members;
+  plantmorph::LocalGroups members;
 
   /// The LeafId a fitted piece gets: its blade's number when separating, else its leaf's id.
   std::int64_t OutputId(std::size_t leaf, int piece) const { return this->separate ? piece : this->leafIds[leaf]; }
@@ -423,14 +423,33 @@ void IndexLeaves(vtkMultiProcessController* controller, LeafInput& in)
   for (std::size_t i = 0; i < in.ids.size(); ++i)
   {
     const auto at = std::lower_bound(in.leafIds.begin(), in.leafIds.end(), in.ids[i]) - in.leafIds.begin();
-    in.members[static_cast<int>(at)].push_back(static_cast<vtkIdType>(i));
+    in.members[static_cast<vtkTypeInt64>(at)].push_back(static_cast<vtkIdType>(i));
   }
+}
+
+/// Collective: the points of every leaf this rank owns (Owned() order), each the concatenation over ranks, in rank
+/// order, of that rank's points of the leaf in its input order.
+std::vector<std::vector<Eigen::Vector3d>> SendPoints(const plantmorph::OwnerExchange& exchange, const LeafInput& in)
+{
+  std::vector<double> flat;
+  flat.reserve(3 * in.points.size());
+  for (const Eigen::Vector3d& p : in.points)
+    flat.insert(flat.end(), { p.x(), p.y(), p.z() });
+  std::vector<std::vector<Eigen::Vector3d>> leaves;
+  for (const std::vector<double>& values : exchange.SendValues(in.members, flat, 3))
+  {
+    leaves.emplace_back();
+    for (std::size_t j = 0; j + 2 < values.size(); j += 3)
+      leaves.back().emplace_back(values[j], values[j + 1], values[j + 2]);
+  }
+  return leaves;
 }
 } // namespace
 
 namespace
 {
-/// Each leaf is fitted whole on one owner rank (LeafFitExchange.h); the Scan output stays where its points are.
+/// Each leaf is fitted whole on one owner rank (common/vtk/PlantMorphOwnerExchange.h); the Scan output stays where
+/// its points are.
 constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::LeafPerRank;
 
 /// The Traits rows of this rank's pieces; their failures and warnings said here (WarnHere). `errors` gets the
@@ -506,8 +525,7 @@ void WriteFits(const LeafInput& in, const std::vector<std::size_t>& owned, const
   record.Add("Scale", scale);
   record.Add("LengthUnit", lengthUnit);
   record.WriteTo(blade);
-  const std::vector<plantmorph::fittable::Row> all =
-    plantmorph::fittable::GatherRows(vtkMultiProcessController::GetGlobalController(), rows);
+  const std::vector<plantmorph::fittable::Row> all = plantmorph::fittable::GatherRows(run.Controller(), rows);
   if (run.Rank() != 0)
     return;
   plantmorph::fittable::FillTraitsTable(all, lengthUnit, run.Output<vtkTable>(2));
@@ -525,19 +543,19 @@ int vtkLeafFitFilter::RequestData(
 void vtkLeafFitFilter::Execute(plantmorph::Run& run)
 {
   vtkPointSet* input = run.Input<vtkPointSet>(0);
-  // The local piece's leaves; then (collective) every leaf's id, each leaf's owner (LeafFitExchange.h), and the
+  // The local piece's leaves; then (collective) every leaf's id, each leaf's owner (PlantMorphOwnerExchange.h), and the
   // points of the leaves this rank owns. Every rank takes part even when its piece is empty or wrong; the ranks stop
   // together, each saying its own error.
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  vtkMultiProcessController* controller = run.Controller();
   LeafInput in;
   const std::string error = ReadLeaves(this, input, in);
   IndexLeaves(controller, in);
-  const plantmorph::fitmpi::LeafExchange exchange(controller, in.members);
+  const plantmorph::OwnerExchange exchange(controller, in.members);
   run.StopIfAnyRankFailed(exchange.AnyRank(!error.empty()), error);
-  if (exchange.LeafIds().empty()) // no points on any rank (every rank finds it alike): empty outputs
+  if (exchange.Ids().empty()) // no points on any rank (every rank finds it alike): empty outputs
     run.Fail("Input: the point cloud has no points (LeafFitFilter fits the points of one or more scanned leaves)");
   const std::vector<std::size_t> owned = exchange.Owned();
-  const OwnedFits fits = FitOwned(exchange.SendPoints(in.members, in.points), Options(this), in.separate);
+  const OwnedFits fits = FitOwned(SendPoints(exchange, in), Options(this), in.separate);
   WarnSeparation(in, fits, run);
   std::string errors;
   const std::vector<plantmorph::fittable::Row> rows = PieceRows(in, owned, fits, run, errors);

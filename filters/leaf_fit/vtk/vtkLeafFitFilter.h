@@ -28,9 +28,9 @@
  * fitted leaf whose checks fail (plantmorph::CheckFittedLeaf: low Coverage, a flat model of another area) gets
  * Status 1, the warning in Message, and the warning said.
  *
- * Under MPI each rank fits its own leaves (LeafFitExchange.h): every leaf gets one owner rank (largest leaves
- * first, each to the least loaded rank), its points are sent there from every rank that holds some, and it is
- * fitted there; Blade and Outline stay on the owner, Scan on the ranks holding the points (the owners send
+ * Under MPI each rank fits its own leaves (common/vtk/PlantMorphOwnerExchange.h): every leaf gets one owner rank
+ * (largest leaves first, each to the least loaded rank), its points are sent there from every rank that holds some,
+ * and it is fitted there; Blade and Outline stay on the owner, Scan on the ranks holding the points (the owners send
  * FitDistance and Inlier back), and the Traits rows are gathered onto rank 0 in LeafId order. Each leaf is fitted on
  * its points in lexicographic order of their coordinates, so the results are bit-identical to a serial run
  * whatever the ranks and however the points were split. Bad input (too few points, a line, NaN, no leaf shape, a

@@ -134,7 +134,7 @@ TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::v
     failed.error = result.error;
     return failed;
   }
-  treefit::ComputeTraits(points, wood, options, result);
+  treefit::ComputeTraits(points, candidates, wood, options, result);
   return result;
 }
 

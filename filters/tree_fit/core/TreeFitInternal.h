@@ -83,9 +83,10 @@ std::string FitCylinders(const Wood& wood, const Skeleton& skeleton, const TreeF
 /// measured, the growth-length model for the others, branches and orders; "" or why no radius is measured.
 std::string ModelRadii(double spacing, TreeFitResult& result);
 
-/// The trait table and the branch rows' angles, heights and volumes from the cylinders.
-void ComputeTraits(const std::vector<Eigen::Vector3d>& points, const Wood& wood, const TreeFitParameters& options,
-  TreeFitResult& result);
+/// The trait table and the branch rows' angles, heights and volumes from the cylinders; the height reaches the sparse
+/// last points of a tip above the cleaned wood (`candidates`: the points that may be wood, ids into `points`).
+void ComputeTraits(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& candidates, const Wood& wood,
+  const TreeFitParameters& options, TreeFitResult& result);
 
 } // namespace treefit
 } // namespace plantmorph

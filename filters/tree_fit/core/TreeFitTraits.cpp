@@ -116,10 +116,44 @@ void BranchRows(const Eigen::Vector3d& up, double low, TreeFitResult& result)
     }
   }
 }
+/// How far apart (in point spacings) the last points of a thin tip may lie and still continue the wood.
+constexpr double TipReach = 4.0;
+
+/// The top of the wood along `up`: above the cleaned wood's highest point (`high`), the candidate points strung from
+/// it, each within TipReach spacings of the wood or of a point already taken. The last points of a thin tip lie in a
+/// sparse line (their nearest neighbours are far, along it), so the outlier test drops them and the graph may not
+/// join them; they are still the tree's top. Points above the wood that no such chain reaches (noise) are not.
+double WoodTop(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& candidates, const Wood& wood,
+  const Eigen::Vector3d& up, double high)
+{
+  const double reach = TipReach * wood.spacing;
+  std::vector<Eigen::Vector3d> taken, above;
+  for (const auto& p : wood.points)
+    if (p.dot(up) > high - reach)
+      taken.push_back(p);
+  for (int i : candidates)
+    if (points[i].dot(up) > high)
+      above.push_back(points[i]);
+  const auto lower = [&up](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return a.dot(up) < b.dot(up); };
+  std::sort(taken.begin(), taken.end(), lower);
+  std::stable_sort(above.begin(), above.end(), lower);
+  double top = high;
+  for (const auto& p : above) // ascending: every point that could reach p is already taken or not
+  {
+    bool joined = false;
+    for (std::size_t j = taken.size(); j-- > 0 && taken[j].dot(up) >= p.dot(up) - reach && !joined;)
+      joined = (taken[j] - p).norm() <= reach;
+    if (!joined)
+      continue;
+    taken.push_back(p);
+    top = p.dot(up);
+  }
+  return top;
+}
 } // namespace
 
-void ComputeTraits(
-  const std::vector<Eigen::Vector3d>& points, const Wood& wood, const TreeFitParameters& options, TreeFitResult& result)
+void ComputeTraits(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& candidates, const Wood& wood,
+  const TreeFitParameters& options, TreeFitResult& result)
 {
   const Eigen::Vector3d& up = options.up;
   double low = std::numeric_limits<double>::infinity(), high = -low;
@@ -130,7 +164,7 @@ void ComputeTraits(
   }
   BranchRows(up, low, result);
   TreeTraits& t = result.traits;
-  t.height = high - low;
+  t.height = WoodTop(points, candidates, wood, up, high) - low;
   t.dbh = std::numeric_limits<double>::quiet_NaN();
   double longestFirst = 0;
   for (const auto& branch : result.branches)

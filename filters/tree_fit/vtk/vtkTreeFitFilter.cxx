@@ -4,6 +4,7 @@
 #include "PlantMorphAlgorithmHooks.h"
 #include "PlantMorphLayer.h"
 #include "TreeFit.h"
+#include "PlantMorphOwnerExchange.h"
 #include "TreeFitExchange.h"
 #include "TreeFitOutputs.h"
 
@@ -66,8 +67,8 @@ int vtkTreeFitFilter::FillOutputPortInformation(int port, vtkInformation* info)
 
 namespace
 {
-/// Each tree is fitted whole on one owner rank (TreeFitExchange.h); the Scan output stays where its points are, the
-/// fitted trees are gathered on rank 0.
+/// Each tree is fitted whole on one owner rank (common/vtk/PlantMorphOwnerExchange.h); the Scan output stays where
+/// its points are, the fitted trees are gathered on rank 0.
 constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::LeafPerRank;
 /// Values per point sent to the owners (x, y, z, wood label) and back (cylinder, branch, wood, distance).
 constexpr int SendWidth = 4, ReturnWidth = 4;
@@ -105,7 +106,7 @@ struct LocalInput
   std::vector<Eigen::Vector3d> points;
   std::vector<double> sent; ///< SendWidth values per point
   std::vector<int> treeOf;
-  plantmorph::treefitvtk::LocalTrees trees;
+  plantmorph::LocalGroups trees;
 };
 
 /// Reads this rank's piece (none, or no points: nothing, no error); "" or the missing array.
@@ -173,9 +174,8 @@ std::vector<plantmorph::TreeFitResult> FitOwned(const std::vector<std::vector<do
 
 /// On rank 0: every tree's fit (from the gathered blocks), numbered over the whole output; "" or, when no tree could
 /// be fitted, every tree's error; `warning` the failed trees when some could.
-std::string Assemble(const plantmorph::treefitvtk::TreeExchange& exchange,
-  const std::vector<std::vector<double>>& blocks, std::vector<plantmorph::treefitvtk::FittedTree>& trees,
-  std::string& warning)
+std::string Assemble(const plantmorph::OwnerExchange& exchange, const std::vector<std::vector<double>>& blocks,
+  std::vector<plantmorph::treefitvtk::FittedTree>& trees, std::string& warning)
 {
   int cylinders = 0, branches = 0;
   std::size_t failed = 0;
@@ -184,7 +184,7 @@ std::string Assemble(const plantmorph::treefitvtk::TreeExchange& exchange,
   {
     trees.emplace_back();
     auto& t = trees.back();
-    t.treeId = exchange.TreeIds()[k];
+    t.treeId = static_cast<int>(exchange.Ids()[k]);
     t.result = plantmorph::treefitvtk::UnpackFit(std::vector<double>(blocks[k].begin() + 1, blocks[k].end()));
     t.cylinderBase = cylinders;
     t.branchBase = branches;
@@ -206,7 +206,7 @@ std::string Assemble(const plantmorph::treefitvtk::TreeExchange& exchange,
 /// Collective: rank 0 numbers the trees and writes Cylinders, Skeleton, Trees and Branches; every rank writes the
 /// Scan of its own points with the values their trees' owners send back. Stops on every rank when no tree was fitted.
 void WriteOutputs(vtkTreeFitFilter* self, plantmorph::Run& run, vtkPointSet* input, const LocalInput& in,
-  const plantmorph::treefitvtk::TreeExchange& exchange, const std::vector<std::vector<double>>& blocks,
+  const plantmorph::OwnerExchange& exchange, const std::vector<std::vector<double>>& blocks,
   const std::vector<std::vector<double>>& values)
 {
   std::vector<plantmorph::treefitvtk::FittedTree> trees;
@@ -239,8 +239,9 @@ void WriteOutputs(vtkTreeFitFilter* self, plantmorph::Run& run, vtkPointSet* inp
     record.WriteTo(run.Output<vtkPolyData>(1));
   }
   std::map<int, std::pair<int, int>> bases;
-  for (std::size_t k = 0; k < exchange.TreeIds().size(); ++k)
-    bases[exchange.TreeIds()[k]] = { static_cast<int>(shared[1 + 2 * k]), static_cast<int>(shared[2 + 2 * k]) };
+  for (std::size_t k = 0; k < exchange.Ids().size(); ++k)
+    bases[static_cast<int>(exchange.Ids()[k])] = { static_cast<int>(shared[1 + 2 * k]),
+      static_cast<int>(shared[2 + 2 * k]) };
   if (!in.points.empty())
     plantmorph::treefitvtk::WriteScan(input, in.points, in.treeOf, pointValues, bases, run.Output<vtkPolyData>(4));
 }
@@ -261,10 +262,9 @@ void vtkTreeFitFilter::Execute(plantmorph::Run& run)
   vtkPointSet* input = run.Input<vtkPointSet>(0);
   LocalInput in;
   const std::string error = ReadTrees(this, input, in);
-  // The global controller, not run.Controller(): a request for one port (Scan alone) leaves port 0 without pieces.
-  const plantmorph::treefitvtk::TreeExchange exchange(vtkMultiProcessController::GetGlobalController(), in.trees);
+  const plantmorph::OwnerExchange exchange(run.Controller(), in.trees);
   run.StopIfAnyRankFailed(exchange.AnyRank(!error.empty()), error);
-  if (exchange.TreeIds().empty())
+  if (exchange.Ids().empty())
     run.Fail("the input has no points");
   run.Building("the tree fits");
   std::vector<std::vector<double>> values;

@@ -25,8 +25,8 @@
  * A tree that cannot be fitted gets its Trees row with the reason in Status (NaN traits) and a warning; the others
  * go on. When no tree can be fitted (or a property is out of range, or an array is missing) the filter reports the
  * error and every output is empty. Under MPI each tree is fitted whole on one owner rank (LeafPerRank, as
- * LeafFitFilter; TreeFitExchange.h): the Scan output stays where its points are, the other ports are gathered on rank
- * 0 in TreeId order; the outputs do not depend on the number of ranks.
+ * LeafFitFilter; common/vtk/PlantMorphOwnerExchange.h): the Scan output stays where its points are, the other ports
+ * are gathered on rank 0 in TreeId order; the outputs do not depend on the number of ranks.
  */
 #ifndef vtkTreeFitFilter_h
 #define vtkTreeFitFilter_h

@@ -573,7 +573,8 @@ void vtkVenationFilter::GrowLeaves(plantmorph::Run& run, const plantmorph::LeafP
 {
   // Collective: the leaves this rank owns, whole; each grows as it would alone (same parameters, same Seed).
   const std::vector<vtkSmartPointer<vtkPolyData>> leaves = plan.Leaves();
-  const std::vector<int> owned = plan.Owned();
+  const std::vector<plantmorph::LeafIdType> owned = plan.Owned();
+  const bool wide = plan.WideIds();
   plantmorph::VenationParameters p;
   std::string error = owned.empty() ? std::string() : this->MakeParameters(p);
   vtkNew<vtkAppendPolyData> appendVeins, appendBlades;
@@ -590,12 +591,12 @@ void vtkVenationFilter::GrowLeaves(plantmorph::Run& run, const plantmorph::LeafP
       error = "leaf " + std::to_string(owned[k]) + ": " + error;
       break;
     }
-    plantmorph::MarkLeaf(leafVeins, owned[k]);
-    plantmorph::MarkLeaf(leafBlade, owned[k]);
+    plantmorph::MarkLeaf(leafVeins, owned[k], wide);
+    plantmorph::MarkLeaf(leafBlade, owned[k], wide);
     appendVeins->AddInputData(leafVeins);
     appendBlades->AddInputData(leafBlade);
-    plantmorph::AppendRows(statisticsRows, plantmorph::WithLeafColumn(leafStatistics, owned[k]));
-    plantmorph::AppendRows(histogramRows, plantmorph::WithLeafColumn(leafHistogram, owned[k]));
+    plantmorph::AppendRows(statisticsRows, plantmorph::WithLeafColumn(leafStatistics, owned[k], wide));
+    plantmorph::AppendRows(histogramRows, plantmorph::WithLeafColumn(leafHistogram, owned[k], wide));
   }
   if (plan.AnyRank(!error.empty()))
   {

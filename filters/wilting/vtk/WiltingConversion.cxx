@@ -421,7 +421,7 @@ double WriteWiltedLeaf(const WiltingSimulation& simulation, vtkPolyData* leaf, v
 }
 
 void AppendedWiltedLeaves::Add(
-  const WiltingSimulation& simulation, vtkPolyData* leaf, vtkPolyData* leafVeins, int leafId, double time)
+  const WiltingSimulation& simulation, vtkPolyData* leaf, vtkPolyData* leafVeins, vtkTypeInt64 leafId, double time)
 {
   vtkNew<vtkPolyData> moved, movedVeins;
   vtkNew<vtkUnstructuredGrid> leafVoxels;
@@ -430,7 +430,7 @@ void AppendedWiltedLeaves::Add(
   for (vtkDataSet* part :
     { static_cast<vtkDataSet*>(moved), static_cast<vtkDataSet*>(movedVeins), static_cast<vtkDataSet*>(leafVoxels) })
   {
-    MarkLeaf(part, leafId);
+    MarkLeaf(part, leafId, this->wide);
   }
   this->leaves->AddInputData(moved);
   if (leafVeins && leafVeins->GetNumberOfPoints() > 0)
@@ -438,7 +438,7 @@ void AppendedWiltedLeaves::Add(
     this->veins->AddInputData(movedVeins);
   }
   this->voxels->AddInputData(leafVoxels);
-  AppendRows(this->rows, WithLeafColumn(frames, leafId));
+  AppendRows(this->rows, WithLeafColumn(frames, leafId, this->wide));
 }
 
 void AppendedWiltedLeaves::Write(int simulationCount, const WiltingLeafOutputs& out)

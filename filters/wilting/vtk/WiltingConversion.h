@@ -63,8 +63,14 @@ double WriteWiltedLeaf(const WiltingSimulation& simulation, vtkPolyData* leaf, v
 class AppendedWiltedLeaves
 {
 public:
+  /// `wide`: the LeafId arrays 64-bit (LeafPlan::WideIds), else int.
+  explicit AppendedWiltedLeaves(bool wide = false)
+    : wide(wide)
+  {
+  }
   /// A leaf's outputs at `time`, marked `leafId` (its veins may be null).
-  void Add(const WiltingSimulation& simulation, vtkPolyData* leaf, vtkPolyData* leafVeins, int leafId, double time);
+  void Add(
+    const WiltingSimulation& simulation, vtkPolyData* leaf, vtkPolyData* leafVeins, vtkTypeInt64 leafId, double time);
   /// Ports 0, 1 and 3 of `out` (port 0's field data with `simulationCount`), when any leaf was added; `out.frames`
   /// is not used (the rows are gathered by the caller).
   void Write(int simulationCount, const WiltingLeafOutputs& out);
@@ -76,6 +82,7 @@ private:
   vtkNew<vtkAppendFilter> voxels;
   vtkNew<vtkTable> rows;
   double served = 0.0;
+  bool wide = false;
 };
 
 } // namespace plantmorph

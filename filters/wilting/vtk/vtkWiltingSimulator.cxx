@@ -36,7 +36,7 @@ struct vtkWiltingSimulator::Cache
   struct Key
   {
     vtkMTimeType input = 0, veins = 0, self = 0;
-    std::vector<int> leafIds;
+    std::vector<plantmorph::LeafIdType> leafIds;
     std::vector<vtkIdType> veinPoints;
     bool operator==(const Key& o) const
     {
@@ -355,7 +355,7 @@ void vtkWiltingSimulator::WiltLeaf(plantmorph::Run& run, double time, vtkPolyDat
 
 //------------------------------------------------------------------------------
 bool vtkWiltingSimulator::SimulateLeaves(const std::vector<vtkSmartPointer<vtkPolyData>>& leaves,
-  const std::vector<vtkSmartPointer<vtkPolyData>>& veins, const std::vector<int>& leafIds,
+  const std::vector<vtkSmartPointer<vtkPolyData>>& veins, const std::vector<plantmorph::LeafIdType>& leafIds,
   const plantmorph::WiltingParameters& parameters, vtkMTimeType pieceTime, vtkMTimeType veinsTime)
 {
   Cache& cache = *this->Cached;
@@ -400,7 +400,7 @@ void vtkWiltingSimulator::WiltLeaves(
   plantmorph::Run& run, const plantmorph::LeafPlan& plan, double time, vtkPolyData* input, vtkPolyData* veins)
 {
   // Collective: the veins split by their LeafId point array; each leaf and its veins sent to the leaf's owner.
-  std::vector<int> veinLeafOf;
+  std::vector<plantmorph::LeafIdType> veinLeafOf;
   const bool veinsKnown = plantmorph::LeafIdsOfPoints(veins, veinLeafOf);
   if (plan.AnyRank(!veinsKnown))
   {
@@ -413,7 +413,7 @@ void vtkWiltingSimulator::WiltLeaves(
   const std::vector<vtkSmartPointer<vtkPolyData>> leaves = plan.Leaves();
   const std::vector<vtkSmartPointer<vtkPolyData>> leafVeins =
     plan.Distribute(veins ? veins : noVeins.Get(), veinLeafOf);
-  const std::vector<int> owned = plan.Owned();
+  const std::vector<plantmorph::LeafIdType> owned = plan.Owned();
   // Properties -> parameters, checked where leaves wilt; then every owned leaf wilts alone (or comes from the cache).
   plantmorph::WiltingParameters parameters;
   std::string error = plantmorph::CheckedWiltingParameters(this, parameters);
@@ -431,7 +431,7 @@ void vtkWiltingSimulator::WiltLeaves(
     run.Stop(); // the error, if any, is said where it happened
   }
   // Every owned leaf at the requested time, appended in LeafId order and marked with LeafId.
-  plantmorph::AppendedWiltedLeaves appended;
+  plantmorph::AppendedWiltedLeaves appended(plan.WideIds());
   for (std::size_t k = 0; k < owned.size(); ++k)
   {
     const plantmorph::WiltingSimulation& simulation = *this->Cached->leaves[k];

@@ -351,7 +351,7 @@ protected:
     plantmorph::Run& run, const plantmorph::LeafPlan& plan, double time, vtkPolyData* input, vtkPolyData* veins);
   /// Simulate for the leaves this rank owns, one simulation each (cached like Simulate's).
   bool SimulateLeaves(const std::vector<vtkSmartPointer<vtkPolyData>>& leaves,
-    const std::vector<vtkSmartPointer<vtkPolyData>>& veins, const std::vector<int>& leafIds,
+    const std::vector<vtkSmartPointer<vtkPolyData>>& veins, const std::vector<vtkTypeInt64>& leafIds,
     const plantmorph::WiltingParameters& parameters, vtkMTimeType pieceTime, vtkMTimeType veinsTime);
 
   int Preset = PRESET_CUCUMBER;

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // TreeFit (filters/tree_fit/core): synthetic scans of trees made of exact cylinders, whose truth is known: a
 // cylinder's radius and volume, a Y fork's branches and angle, twigs too thin to measure getting pipe-model radii
-// instead of inflated fits, deterministic threaded results, and the bad inputs (noise, a plane, a line, too few
-// points, NaN) refused with a clear message.
+// instead of inflated fits, the height up to the sparse last points of a tip, deterministic threaded results, and the
+// bad inputs (noise, a plane, a line, too few points, NaN) refused with a clear message.
 #include "TreeFit.h"
 
 #include <plantmorph/RandomStream.h>
@@ -94,6 +94,21 @@ TEST(TreeFit, CylinderGivesItsRadiusAndVolume)
       sum += d * d, ++count;
   EXPECT_GT(count, 0.95 * static_cast<double>(r.fitDistance.size()));
   EXPECT_LT(std::sqrt(sum / count), 0.003);
+}
+
+TEST(TreeFit, HeightReachesTheSparseLastPointsOfATip)
+{
+  // A stem 2 m tall and, on its rim, the last points of a thin tip: five points 2 cm apart in a line up to 2.10 m,
+  // which the outlier test drops (their neighbours are far, along the line). The height is the tip's, not the
+  // cleaned wood's top; a lone point 40 cm above the tip is noise and not the top.
+  const TrueCylinder stem{ { 0, 0, 0 }, { 0, 0, 2.0 }, 0.1 };
+  std::vector<Eigen::Vector3d> points = Scan({ stem }, 0.01, 0.001);
+  for (int k = 1; k <= 5; ++k)
+    points.emplace_back(0.1, 0.0, 2.0 + 0.02 * k);
+  points.emplace_back(0.1, 0.0, 2.5);
+  const TreeFitResult r = FitTree(points, {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_NEAR(r.traits.height, 2.10, 0.005);
 }
 
 TEST(TreeFit, TiltedCylinderKeepsItsRadius)
