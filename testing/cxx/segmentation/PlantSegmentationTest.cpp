@@ -166,6 +166,29 @@ TEST(PlantSegmentation, StemAndLeavesAreFoundWithOneInstancePerLeaf)
   }
 }
 
+TEST(PlantSegmentation, ALeafCurvedAlongItsLengthIsLeafNotWood)
+{
+  // A stem and one blade (0.3 wide) leaving it and bending down along its length through 160 degrees (an arc of
+  // radius 0.2): its normals turn too far for one sheet (their mean agreement with the blade's plane is 0.7; it was
+  // all wood, and the plant refused as leafless), yet they share no axis along the blade's length as a branch's
+  // do; it is a leaf bent (or leaves grown into one), not wood. Each piece regrown with normals near its seed's is
+  // a sheet.
+  Truth t = SyntheticPlant(0);
+  const double h = 0.005, radius = 0.2, width = 0.3, turn = 160.0 * Pi / 180.0;
+  const Eigen::Vector3d centre(0.05, 0.0, 0.6 - radius); // the blade leaves the stem horizontally at z = 0.6
+  for (double a = 0.0; a <= turn; a += h / radius)
+    for (double w = -width / 2; w <= width / 2 + 1e-12; w += h)
+    {
+      t.points.push_back(centre + Eigen::Vector3d(radius * std::sin(a), w, radius * std::cos(a)));
+      t.organ.push_back(plantmorph::OrganLeaf);
+      t.leaf.push_back(0);
+    }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_GT(OrganIoU(t, r, plantmorph::OrganLeaf), 0.9);
+  EXPECT_GT(OrganIoU(t, r, plantmorph::OrganWood), 0.9);
+}
+
 TEST(PlantSegmentation, SameLabelsWhateverTheThreads)
 {
   const Truth t = SyntheticPlant(5);
