@@ -25,7 +25,9 @@
 //  4. Leaf instances. Small wood pieces (fewer than MinimumLeafPoints points) touching one leaf region only are
 //     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at
 //     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base
-//     nearest along the region. Each leaf region of at least MinimumLeafPoints points is then a leaf; LeafId numbers
+//     nearest along the region. A part under a quarter of the plant's median part (a leaf's tip or rim cut off by
+//     a fold or crease) that touches other leaf parts joins the one it shares the most links with, smallest first.
+//     Each leaf part of at least MinimumLeafPoints points is then a leaf; LeafId numbers
 //     them over all plants in the order of their lowest point index (deterministic). Smaller leaf regions stay leaf
 //     points with LeafId -1. Each leaf's base is its point nearest the wood along the link graph; the branch it
 //     grows on is the wood segment (a wood region, or a connected piece of thin wood, numbered per plant) of that

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <map>
 #include <set>
 
 namespace plantmorph
@@ -433,6 +434,67 @@ std::vector<std::vector<int>> SplitAtBases(const std::vector<Eigen::Vector3d>& p
   return parts;
 }
 
+/// A leaf part under this fraction of the plant's median leaf part is a piece of a leaf (JoinPieces).
+constexpr double PieceFraction = 0.25;
+
+/// Pieces of one leaf: a leaf part much smaller than the plant's typical leaf (under `fraction` of the median part
+/// of at least MinimumLeafPoints points) that touches other leaf parts over the link graph joins the one it shares
+/// the most links with (smallest first, so a chain of pieces gathers into its leaf): a leaf cut by a crease, a fold
+/// or its own noise into a blade and a few rims. Pieces touching no other part (a leaf seen in parts behind
+/// another) stay apart.
+void JoinPieces(const LinkGraph& graph, double fraction, int minimumLeafPoints, std::vector<std::vector<int>>& parts)
+{
+  std::vector<std::size_t> sizes;
+  for (const std::vector<int>& ids : parts)
+    if (ids.size() >= static_cast<std::size_t>(minimumLeafPoints))
+      sizes.push_back(ids.size());
+  if (sizes.empty())
+    return;
+  std::nth_element(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2), sizes.end());
+  const double small = fraction * static_cast<double>(sizes[sizes.size() / 2]);
+  std::size_t n = 0;
+  for (const std::vector<int>& ids : parts)
+    for (int j : ids)
+      n = std::max(n, static_cast<std::size_t>(j) + 1);
+  std::vector<int> partOf(n, -1);
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    for (int j : parts[k])
+      partOf[static_cast<std::size_t>(j)] = static_cast<int>(k);
+  std::vector<std::size_t> order(parts.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    order[k] = k;
+  std::stable_sort(
+    order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return parts[a].size() < parts[b].size(); });
+  for (std::size_t k : order)
+  {
+    if (parts[k].empty() || static_cast<double>(parts[k].size()) >= small)
+      continue;
+    std::map<int, int> links; // per neighbouring part: the links to it
+    for (int j : parts[k])
+      for (std::size_t e = graph.offsets[static_cast<std::size_t>(j)];
+           e < graph.offsets[static_cast<std::size_t>(j) + 1]; ++e)
+      {
+        const auto q = static_cast<std::size_t>(graph.neighbours[e]);
+        if (q < n && partOf[q] >= 0 && partOf[q] != static_cast<int>(k))
+          ++links[partOf[q]];
+      }
+    if (links.empty())
+      continue;
+    int best = links.begin()->first; // the most links; ties to the lowest part (deterministic)
+    for (const auto& [part, count] : links)
+      if (count > links[best])
+        best = part;
+    std::vector<int>& into = parts[static_cast<std::size_t>(best)];
+    for (int j : parts[k])
+      partOf[static_cast<std::size_t>(j)] = best;
+    into.insert(into.end(), parts[k].begin(), parts[k].end());
+    std::sort(into.begin(), into.end());
+    parts[k].clear();
+  }
+  parts.erase(
+    std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
+}
+
 /// The leaf instances: leaf regions of at least MinimumLeafPoints points, numbered by their lowest point index.
 void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const std::vector<int>& region,
   double spacing, double radius, const SegmentationParameters& p, PlantLabels& labels)
@@ -471,6 +533,7 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
   for (const std::vector<int>& ids : members)
     for (std::vector<int>& part : SplitAtBases(points, graph, ids, hops, 4.0 * radius, owner))
       leaves.push_back(std::move(part));
+  JoinPieces(graph, PieceFraction, p.minimumLeafPoints, leaves);
   std::sort(leaves.begin(), leaves.end());
   for (const std::vector<int>& ids : leaves)
   {
