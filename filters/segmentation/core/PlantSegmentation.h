@@ -15,13 +15,19 @@
 //     variation above the plant's median by CreaseVariation: where two leaves cross, a fold, a junction).
 //  3. Classification of each region from its own covariance and normals: a leaf is a sheet (its points' normals
 //     agree with the region's plane normal on average by more than SheetCoherence) that is not a long strip (its
-//     length over width below MaximumLeafElongation) and is wider than the features' neighbourhood (2r); the rest
-//     is wood. Points of regions too small to judge take
+//     length over width below MaximumLeafElongation), is wider than the features' neighbourhood (2r) and is no
+//     piece of a cylinder (normals sharing an axis along the region's length within 25 degrees and turning around
+//     it by an arc of about 80 degrees or more); the rest is wood. A region that is no sheet (incoherent) yet wide,
+//     not a strip and no cylinder is several leaves grown into one: it is grown again inside itself with every
+//     point's normal within NormalAngle of its piece's seed (no drift from leaf to leaf), and its pieces are judged
+//     in turn. Points of regions too small to judge take
 //     the organ of the nearest judged region (breadth-first over the radius graph), linear ones are wood.
 //  4. Leaf instances. Small wood pieces (fewer than MinimumLeafPoints points) touching one leaf region only are
 //     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at
 //     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base
-//     nearest along the region. Each leaf region of at least MinimumLeafPoints points is then a leaf; LeafId numbers
+//     nearest along the region. A part under a quarter of the plant's median part (a leaf's tip or rim cut off by
+//     a fold or crease) that touches other leaf parts joins the one it shares the most links with, smallest first.
+//     Each leaf part of at least MinimumLeafPoints points is then a leaf; LeafId numbers
 //     them over all plants in the order of their lowest point index (deterministic). Smaller leaf regions stay leaf
 //     points with LeafId -1. Each leaf's base is its point nearest the wood along the link graph; the branch it
 //     grows on is the wood segment (a wood region, or a connected piece of thin wood, numbered per plant) of that

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <map>
 #include <set>
 
 namespace plantmorph
@@ -44,11 +45,39 @@ struct RegionVerdict
 {
   bool judged = false;
   bool leaf = false;
+  bool mixed = false; ///< incoherent yet no cylinder: several sheets grown into one (SplitMixedRegions)
   double confidence = 0.0;
 };
 
+/// The second moments of the normals of points[ids]: for the surface of a cylinder (a branch) the normals lie in
+/// the plane across its axis, so the moments' smallest eigenvector is the axis, along the points' own long axis,
+/// and their middle eigenvalue is the spread of the normals around it; a flat leaf has one normal (middle
+/// eigenvalue near 0); several leaves grown into one have normals with no common axis along their length.
+struct NormalSpread
+{
+  double axisAlongLength = 0.0; ///< |cos| between the normals' common axis and the points' long axis
+  double middle = 0.0;          ///< the middle eigenvalue (the spread of the normals around that axis)
+};
+
+NormalSpread SpreadOfNormals(const PointFeatures& f, const std::vector<int>& ids, const Eigen::Vector3d& longAxis)
+{
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  for (int j : ids)
+    m += f.normal[static_cast<std::size_t>(j)] * f.normal[static_cast<std::size_t>(j)].transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(m / static_cast<double>(ids.size()));
+  NormalSpread s;
+  s.axisAlongLength = std::abs(solver.eigenvectors().col(0).dot(longAxis));
+  s.middle = solver.eigenvalues()[1];
+  return s;
+}
+
+/// A cylinder's piece: its normals share an axis along its length (within about 25 degrees) and turn around it by
+/// more than a folded leaf's (mean squared sine of their angle to the mean normal above 0.15: an arc of about 80
+/// degrees or more of a tube).
+constexpr double CylinderAxisCosine = 0.9, CylinderNormalSpread = 0.15;
+
 std::vector<RegionVerdict> JudgeRegions(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
-  const std::vector<int>& region, int count, const SegmentationParameters& p)
+  const std::vector<int>& region, int count, const SegmentationParameters& p, bool allowMixed)
 {
   // A sheet narrower than the features' neighbourhood (2r across) cannot be told from a strip of a tube's surface.
   const double minimumWidth = 2.0 * f.radius;
@@ -75,13 +104,64 @@ std::vector<RegionVerdict> JudgeRegions(const std::vector<Eigen::Vector3d>& poin
     RegionVerdict& v = verdicts[r];
     v.judged = true;
     const double width = 2.0 * std::sqrt(3.0 * l[1]); // a uniform rectangle's width from its variance
-    v.leaf = coherence > p.sheetCoherence && elongation < p.maximumLeafElongation && width >= minimumWidth;
+    const NormalSpread spread = SpreadOfNormals(f, ids, solver.eigenvectors().col(2));
+    const bool cylinder = spread.axisAlongLength >= CylinderAxisCosine && spread.middle >= CylinderNormalSpread;
+    v.leaf = !cylinder && coherence > p.sheetCoherence && elongation < p.maximumLeafElongation && width >= minimumWidth;
+    v.mixed = allowMixed && !cylinder && coherence <= p.sheetCoherence && elongation < p.maximumLeafElongation &&
+      width >= minimumWidth;
     const double margin = v.leaf ? (coherence - p.sheetCoherence) / (1.0 - p.sheetCoherence)
                                  : std::max({ elongation >= p.maximumLeafElongation ? 1.0 : 0.0,
                                      (p.sheetCoherence - coherence) / p.sheetCoherence, 1.0 - width / minimumWidth });
     v.confidence = std::clamp(0.5 + 0.5 * margin, 0.0, 1.0);
   }
   return verdicts;
+}
+
+/// Regions judged mixed (incoherent, wide, not a cylinder: leaves grown into each other through a smooth contact,
+/// or one leaf into the next over a crease too gentle to stop it) are grown again inside themselves, each piece's
+/// normals now within NormalAngle of its seed's (the flattest point not yet taken), not only of their neighbour's:
+/// the normals can no longer drift from one leaf to the next. New region numbers from `count` on; returns the count.
+int SplitMixedRegions(const PointFeatures& f, const LinkGraph& graph, const SegmentationParameters& p,
+  const std::vector<RegionVerdict>& verdicts, std::vector<int>& region, int count)
+{
+  const std::size_t n = region.size();
+  const double cosine = std::cos(p.normalAngle * 3.14159265358979323846 / 180.0);
+  std::vector<int> order;
+  for (std::size_t i = 0; i < n; ++i)
+    if (region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].mixed)
+    {
+      order.push_back(static_cast<int>(i));
+      region[i] = -2 - region[i]; // not yet regrown: -2 - its old region
+    }
+  std::stable_sort(order.begin(), order.end(),
+    [&](int a, int b) { return f.variation[static_cast<std::size_t>(a)] < f.variation[static_cast<std::size_t>(b)]; });
+  std::deque<int> queue;
+  for (int seed : order)
+  {
+    const int old = region[static_cast<std::size_t>(seed)];
+    if (old >= 0)
+      continue;
+    const Eigen::Vector3d& axis = f.normal[static_cast<std::size_t>(seed)];
+    region[static_cast<std::size_t>(seed)] = count;
+    queue.push_back(seed);
+    while (!queue.empty())
+    {
+      const auto q = static_cast<std::size_t>(queue.front());
+      queue.pop_front();
+      for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+      {
+        const auto j = static_cast<std::size_t>(graph.neighbours[e]);
+        if (region[j] == old && std::abs(f.normal[q].dot(f.normal[j])) >= cosine &&
+          std::abs(axis.dot(f.normal[j])) >= cosine)
+        {
+          region[j] = count;
+          queue.push_back(static_cast<int>(j));
+        }
+      }
+    }
+    ++count;
+  }
+  return count;
 }
 
 /// Breadth-first from the judged points over the unjudged, non-linear ones: each takes the region (and so the
@@ -354,6 +434,67 @@ std::vector<std::vector<int>> SplitAtBases(const std::vector<Eigen::Vector3d>& p
   return parts;
 }
 
+/// A leaf part under this fraction of the plant's median leaf part is a piece of a leaf (JoinPieces).
+constexpr double PieceFraction = 0.25;
+
+/// Pieces of one leaf: a leaf part much smaller than the plant's typical leaf (under `fraction` of the median part
+/// of at least MinimumLeafPoints points) that touches other leaf parts over the link graph joins the one it shares
+/// the most links with (smallest first, so a chain of pieces gathers into its leaf): a leaf cut by a crease, a fold
+/// or its own noise into a blade and a few rims. Pieces touching no other part (a leaf seen in parts behind
+/// another) stay apart.
+void JoinPieces(const LinkGraph& graph, double fraction, int minimumLeafPoints, std::vector<std::vector<int>>& parts)
+{
+  std::vector<std::size_t> sizes;
+  for (const std::vector<int>& ids : parts)
+    if (ids.size() >= static_cast<std::size_t>(minimumLeafPoints))
+      sizes.push_back(ids.size());
+  if (sizes.empty())
+    return;
+  std::nth_element(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2), sizes.end());
+  const double small = fraction * static_cast<double>(sizes[sizes.size() / 2]);
+  std::size_t n = 0;
+  for (const std::vector<int>& ids : parts)
+    for (int j : ids)
+      n = std::max(n, static_cast<std::size_t>(j) + 1);
+  std::vector<int> partOf(n, -1);
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    for (int j : parts[k])
+      partOf[static_cast<std::size_t>(j)] = static_cast<int>(k);
+  std::vector<std::size_t> order(parts.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    order[k] = k;
+  std::stable_sort(
+    order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return parts[a].size() < parts[b].size(); });
+  for (std::size_t k : order)
+  {
+    if (parts[k].empty() || static_cast<double>(parts[k].size()) >= small)
+      continue;
+    std::map<int, int> links; // per neighbouring part: the links to it
+    for (int j : parts[k])
+      for (std::size_t e = graph.offsets[static_cast<std::size_t>(j)];
+           e < graph.offsets[static_cast<std::size_t>(j) + 1]; ++e)
+      {
+        const auto q = static_cast<std::size_t>(graph.neighbours[e]);
+        if (q < n && partOf[q] >= 0 && partOf[q] != static_cast<int>(k))
+          ++links[partOf[q]];
+      }
+    if (links.empty())
+      continue;
+    int best = links.begin()->first; // the most links; ties to the lowest part (deterministic)
+    for (const auto& [part, count] : links)
+      if (count > links[best])
+        best = part;
+    std::vector<int>& into = parts[static_cast<std::size_t>(best)];
+    for (int j : parts[k])
+      partOf[static_cast<std::size_t>(j)] = best;
+    into.insert(into.end(), parts[k].begin(), parts[k].end());
+    std::sort(into.begin(), into.end());
+    parts[k].clear();
+  }
+  parts.erase(
+    std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
+}
+
 /// The leaf instances: leaf regions of at least MinimumLeafPoints points, numbered by their lowest point index.
 void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const std::vector<int>& region,
   double spacing, double radius, const SegmentationParameters& p, PlantLabels& labels)
@@ -392,6 +533,7 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
   for (const std::vector<int>& ids : members)
     for (std::vector<int>& part : SplitAtBases(points, graph, ids, hops, 4.0 * radius, owner))
       leaves.push_back(std::move(part));
+  JoinPieces(graph, PieceFraction, p.minimumLeafPoints, leaves);
   std::sort(leaves.begin(), leaves.end());
   for (const std::vector<int>& ids : leaves)
   {
@@ -460,8 +602,13 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   LinkGraph graph;
   ComputeFeatures(points, spacing, p, parallel, f, graph);
   std::vector<int> region;
-  const int count = GrowRegions(f, graph, p, region);
-  const std::vector<RegionVerdict> verdicts = JudgeRegions(points, f, region, count, p);
+  int count = GrowRegions(f, graph, p, region);
+  std::vector<RegionVerdict> verdicts = JudgeRegions(points, f, region, count, p, true);
+  if (std::any_of(verdicts.begin(), verdicts.end(), [](const RegionVerdict& v) { return v.mixed; }))
+  {
+    count = SplitMixedRegions(f, graph, p, verdicts, region, count);
+    verdicts = JudgeRegions(points, f, region, count, p, false);
+  }
   std::vector<char> judged;
   SpreadRegions(f, graph, verdicts, region, judged);
   labels.organ.assign(n, OrganWood);
