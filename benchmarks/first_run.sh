@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # First and warm updates, ours against VTK's, each case in fresh processes (benchmarks/README.md, "first run").
 #   benchmarks/first_run.sh BUILD_DIR [REPEATS]        (default 3 fresh processes per case, 3 warm updates each)
-# Prints per case the median first update, the median warm update (over every warm update of every process), and
-# the VTK peer's time over ours for both.
+# Prints per case the median first update, the median warm update (over every warm update of every process), wall
+# and CPU (the process's, every thread), first / warm in CPU time (what the first update pays, meaningful under
+# load too), and the VTK peer's time over ours for both.
 set -euo pipefail
 program="${1:?usage: first_run.sh BUILD_DIR [REPEATS]}/bin/first_run_benchmark"
 repeats="${2:-3}"
@@ -16,7 +17,10 @@ for case in loop vtkloop distance vtkdistance; do
   done
   first[$case]="$(awk '$2 == 0 { print $3 }' <<< "$runs" | median)"
   warm[$case]="$(awk '$2 > 0 { print $3 }' <<< "$runs" | median)"
-  echo "$case: first ${first[$case]} s, warm ${warm[$case]} s"
+  first_cpu="$(awk '$2 == 0 { print $4 }' <<< "$runs" | median)"
+  warm_cpu="$(awk '$2 > 0 { print $4 }' <<< "$runs" | median)"
+  echo "$case: first ${first[$case]} s, warm ${warm[$case]} s; CPU first $first_cpu s, warm $warm_cpu s," \
+    "first / warm $(awk -v f="$first_cpu" -v w="$warm_cpu" 'BEGIN { printf "%.2f", f / w }')"
 done
 for pair in "loop vtkloop" "distance vtkdistance"; do
   read -r ours peer <<< "$pair"

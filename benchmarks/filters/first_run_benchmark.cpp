@@ -9,7 +9,9 @@
 // CASE: loop (AdaptiveLoopFilter, uniform Loop, 3 levels of a 19,600-triangle sphere: 1,254,400 triangles),
 // vtkloop (vtkLoopSubdivisionFilter, the same), distance (CloudComparisonFilter, 10^6 points against a
 // 203,520-triangle sphere), vtkdistance (vtkImplicitPolyDataDistance over the same points: VTK's own point-to-surface
-// distance, serial). Prints one line per update: `CASE run SECONDS` (run 0 is the first), inputs built untimed.
+// distance, serial). Prints one line per update: `CASE run SECONDS CPU_SECONDS PAGE_FAULTS` (run 0 is the first;
+// wall time, the process's CPU time over all its threads, its minor page faults), inputs built untimed. On a loaded
+// machine compare the CPU times: first / warm is then still what the first update pays.
 #include "vtkAdaptiveLoopFilter.h"
 #include "vtkCloudComparisonFilter.h"
 
@@ -31,6 +33,8 @@
 #include <functional>
 #include <random>
 #include <string>
+
+#include <sys/resource.h>
 
 namespace
 {
@@ -65,11 +69,30 @@ vtkSmartPointer<vtkPolyData> Cloud()
   return cloud;
 }
 
-double Time(const std::function<void()>& run)
+struct Cost
 {
+  double wall, cpu, faults;
+};
+
+/// The process's CPU seconds (every thread) and minor page faults so far.
+void Usage(double& cpu, double& faults)
+{
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  cpu = static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+    1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  faults = static_cast<double>(u.ru_minflt);
+}
+
+Cost Time(const std::function<void()>& run)
+{
+  double cpu0 = 0.0, faults0 = 0.0, cpu1 = 0.0, faults1 = 0.0;
+  Usage(cpu0, faults0);
   const auto start = std::chrono::steady_clock::now();
   run();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  Usage(cpu1, faults1);
+  return { wall, cpu1 - cpu0, faults1 - faults0 };
 }
 
 std::function<void()> Case(const std::string& name)
@@ -129,6 +152,9 @@ int main(int argc, char** argv)
     return 2;
   }
   for (int i = 0; i <= warm; ++i)
-    std::printf("%s %d %.4f\n", name.c_str(), i, Time(run));
+  {
+    const Cost cost = Time(run);
+    std::printf("%s %d %.4f %.4f %.0f\n", name.c_str(), i, cost.wall, cost.cpu, cost.faults);
+  }
   return 0;
 }

@@ -92,7 +92,7 @@ std::string FitSurface(const LeafFitParameters& options, double spacing, const P
     }
     for (int iteration = 0; iteration < 3; ++iteration)
     {
-      if (!f.surface.Fit(tRange, sRange, nt, ns, f.ts, f.local, w, lambda))
+      if (!f.surface.Fit(tRange, sRange, nt, ns, f.ts, f.local, w, lambda, parallel))
         return "no leaf shape: the surface could not be fitted";
       ForEachIndex(parallel, f.ts.size(),
         [&](std::size_t i) { residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm(); });

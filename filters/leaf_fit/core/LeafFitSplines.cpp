@@ -105,7 +105,7 @@ double PenalizedSpline1D::Derivative(double x) const
 
 bool TensorSurface::Fit(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sRange, int nt, int ns,
   const std::vector<Eigen::Vector2d>& ts, const std::vector<Eigen::Vector3d>& X, const std::vector<double>& w,
-  double lambda)
+  double lambda, const ParallelFor& parallel)
 {
   this->T = tRange;
   this->S = sRange;
@@ -114,46 +114,81 @@ bool TensorSurface::Fit(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sR
   const int n0 = this->Nt + 3, n1 = this->Ns + 3, n = n0 * n1;
   // The normal equations: each point adds a 16 x 16 block over the 4 x 4 controls of its knot cell. Blocks are
   // summed per cell first (contiguous memory: on 10^6 points scattered updates of the big matrix were memory-bound),
-  // then added into the matrix, which is solved as the sparse system it is.
+  // then added into the matrix, which is solved as the sparse system it is. The cells are summed in parallel, each
+  // cell's points in index order, so every cell's sum is the serial one, bit for bit.
   const int cells = std::max(1, (n0 - 3) * (n1 - 3));
-  std::vector<double> gram(static_cast<std::size_t>(cells) * 256, 0.0), rhs(static_cast<std::size_t>(cells) * 48, 0.0);
-  std::vector<int> firstT(cells, -1), firstS(cells, -1);
-  double total = 0.0;
-  for (std::size_t i = 0; i < ts.size(); ++i)
-  {
+  const std::size_t count = ts.size();
+  std::vector<int> cellOf(count);
+  ForEachIndex(parallel, count, [&](std::size_t i) {
     if (!(w[i] > 0.0))
-      continue;
+    {
+      cellOf[i] = -1;
+      return;
+    }
     const UniformBasis bt(this->T[0], this->T[1], this->Nt, ts[i].x());
     const UniformBasis bs(this->S[0], this->S[1], this->Ns, ts[i].y());
-    const int cell = bt.first + (n0 - 3) * bs.first;
-    firstT[cell] = bt.first;
-    firstS[cell] = bs.first;
-    double v[16];
-    for (int q = 0; q < 4; ++q)
-      for (int p = 0; p < 4; ++p)
-        v[p + 4 * q] = bt.value[p] * bs.value[q];
-    double* g = &gram[static_cast<std::size_t>(cell) * 256];
-    double* r = &rhs[static_cast<std::size_t>(cell) * 48];
-    for (int a = 0; a < 16; ++a)
+    cellOf[i] = bt.first + (n0 - 3) * bs.first;
+  });
+  std::vector<std::size_t> start(static_cast<std::size_t>(cells) + 1, 0);
+  double total = 0.0;
+  for (std::size_t i = 0; i < count; ++i)
+    if (cellOf[i] >= 0)
     {
-      const double wa = w[i] * v[a];
-      for (int c = 0; c < 3; ++c)
-        r[3 * a + c] += wa * X[i][c];
-      for (int b = 0; b < 16; ++b)
-        g[16 * a + b] += wa * v[b];
+      ++start[static_cast<std::size_t>(cellOf[i]) + 1];
+      total += w[i];
     }
-    total += w[i];
+  for (int cell = 0; cell < cells; ++cell)
+    start[cell + 1] += start[cell];
+  // Stripes of consecutive cells with about equal point counts; each stripe reads the points in index order and
+  // sums those of its cells (sequential reads; every cell's points in the serial order).
+  constexpr int Stripes = 8;
+  std::vector<int> stripeFirst(Stripes + 1, cells);
+  stripeFirst[0] = 0;
+  for (int k = 1, cell = 0; k < Stripes; ++k)
+  {
+    while (cell < cells && start[cell] * Stripes < start.back() * k)
+      ++cell;
+    stripeFirst[k] = cell;
   }
+  std::vector<double> gram(static_cast<std::size_t>(cells) * 256, 0.0), rhs(static_cast<std::size_t>(cells) * 48, 0.0);
+  parallel(Stripes, [&](std::size_t firstStripe, std::size_t lastStripe) {
+    const int lo = stripeFirst[firstStripe], hi = stripeFirst[lastStripe];
+    if (lo >= hi)
+      return;
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      const int cell = cellOf[i];
+      if (cell < lo || cell >= hi)
+        continue;
+      const UniformBasis bt(this->T[0], this->T[1], this->Nt, ts[i].x());
+      const UniformBasis bs(this->S[0], this->S[1], this->Ns, ts[i].y());
+      double v[16];
+      for (int q = 0; q < 4; ++q)
+        for (int p = 0; p < 4; ++p)
+          v[p + 4 * q] = bt.value[p] * bs.value[q];
+      double* g = &gram[static_cast<std::size_t>(cell) * 256];
+      double* r = &rhs[static_cast<std::size_t>(cell) * 48];
+      for (int a = 0; a < 16; ++a)
+      {
+        const double wa = w[i] * v[a];
+        for (int c = 0; c < 3; ++c)
+          r[3 * a + c] += wa * X[i][c];
+        for (int b = 0; b < 16; ++b)
+          g[16 * a + b] += wa * v[b];
+      }
+    }
+  });
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
   Eigen::MatrixXd r = Eigen::MatrixXd::Zero(n, 3);
   for (int cell = 0; cell < cells; ++cell)
   {
-    if (firstT[cell] < 0)
+    if (start[cell] == start[cell + 1])
       continue;
+    const int firstT = cell % (n0 - 3), firstS = cell / (n0 - 3);
     int id[16];
     for (int q = 0; q < 4; ++q)
       for (int p = 0; p < 4; ++p)
-        id[p + 4 * q] = firstT[cell] + p + n0 * (firstS[cell] + q);
+        id[p + 4 * q] = firstT + p + n0 * (firstS + q);
     const double* g = &gram[static_cast<std::size_t>(cell) * 256];
     const double* h = &rhs[static_cast<std::size_t>(cell) * 48];
     for (int a = 0; a < 16; ++a)

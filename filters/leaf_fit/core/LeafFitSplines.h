@@ -5,6 +5,8 @@
 // Plain C++17 (Eigen), no VTK.
 #pragma once
 
+#include <plantmorph/ParallelFor.h>
+
 #include <Eigen/Core>
 
 #include <array>
@@ -47,10 +49,12 @@ class TensorSurface
 {
 public:
   /// Fits S on [t0, t1] x [s0, s1] with nt x ns intervals to samples X_i ~ S(t_i, s_i), weights w_i; penalty as
-  /// PenalizedSpline1D's, second differences along both parameters. False when singular.
+  /// PenalizedSpline1D's, second differences along both parameters. False when singular. The normal equations are
+  /// summed knot cell by knot cell through `parallel`, each cell's points in index order: the same numbers however
+  /// the cells are spread over threads.
   bool Fit(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sRange, int nt, int ns,
     const std::vector<Eigen::Vector2d>& ts, const std::vector<Eigen::Vector3d>& X, const std::vector<double>& w,
-    double lambda);
+    double lambda, const ParallelFor& parallel = SerialFor);
   Eigen::Vector3d operator()(double t, double s) const;
   /// dS/dt and dS/ds at (t, s).
   void Derivatives(double t, double s, Eigen::Vector3d& dt, Eigen::Vector3d& ds) const;

@@ -7,7 +7,7 @@
 
 #include "ScanPattern.h"
 #include "RayCaster.h"
-#include "CloudArray.h"
+#include <plantmorph/memory/CloudArray.h>
 
 #include <plantmorph/ParallelFor.h>
 

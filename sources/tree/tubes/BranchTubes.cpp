@@ -111,9 +111,8 @@ Eigen::Vector3d MitreOffset(const Eigen::Vector3d& w, const Eigen::Vector3d& d, 
   return w - (w.dot(plane) / denominator) * d;
 }
 
-std::size_t TubeTriangles(std::vector<std::int32_t>& triangles, std::size_t q, std::int64_t firstRing,
-  std::size_t rings, int sides, std::int64_t baseCentre, std::int64_t end, bool apex,
-  const std::vector<char>* bandAfter)
+std::size_t TubeTriangles(MeshArray<std::int32_t>& triangles, std::size_t q, std::int64_t firstRing, std::size_t rings,
+  int sides, std::int64_t baseCentre, std::int64_t end, bool apex, const std::vector<char>* bandAfter)
 {
   const auto tri = [&](std::int64_t a, std::int64_t b, std::int64_t d) {
     triangles[q++] = static_cast<std::int32_t>(a);

@@ -43,6 +43,7 @@
 #pragma once
 
 #include <plantmorph/ParallelFor.h>
+#include <plantmorph/memory/CloudArray.h>
 
 #include <Eigen/Core>
 
@@ -73,12 +74,17 @@ struct JointReport
   std::int64_t buried = 0;  ///< ring 1 itself is inside the parent: left in place (inside)
 };
 
+/// The mesh's arrays: malloc memory, unset when sized, plain pages.
+template <class T>
+using MeshArray = CloudArray<T, false>;
+
 struct TubeMesh
 {
-  std::vector<double> points;          ///< x, y, z
-  std::vector<float> normals;          ///< x, y, z per point
-  std::vector<float> tcoords;          ///< u, v per point
-  std::vector<std::int32_t> triangles; ///< three point ids each
+  // Unset when sized (the threads write every entry) and handed over uncopied to the VTK output (CloudArray::Release).
+  MeshArray<double> points;          ///< x, y, z
+  MeshArray<float> normals;          ///< x, y, z per point
+  MeshArray<float> tcoords;          ///< u, v per point
+  MeshArray<std::int32_t> triangles; ///< three point ids each
   /// Tube t owns points [pointOffsets[t], pointOffsets[t + 1]) and triangles likewise; size tubes + 1.
   std::vector<std::int64_t> pointOffsets;
   std::vector<std::int64_t> triangleOffsets;
@@ -118,9 +124,8 @@ Eigen::Vector3d MitreOffset(const Eigen::Vector3d& w, const Eigen::Vector3d& d, 
 /// >= 0), the strips between rings k and k + 1 (all, or those with bandAfter[k] when it is given), and a fan from
 /// ring `rings - 1` to point `end` (when >= 0: an apex when `apex`, else the end cap's centre), all facing outwards.
 /// Ring k is the `sides` consecutive point ids from firstRing + k sides. Returns the index after the last written.
-std::size_t TubeTriangles(std::vector<std::int32_t>& triangles, std::size_t q, std::int64_t firstRing,
-  std::size_t rings, int sides, std::int64_t baseCentre, std::int64_t end, bool apex,
-  const std::vector<char>* bandAfter = nullptr);
+std::size_t TubeTriangles(MeshArray<std::int32_t>& triangles, std::size_t q, std::int64_t firstRing, std::size_t rings,
+  int sides, std::int64_t baseCentre, std::int64_t end, bool apex, const std::vector<char>* bandAfter = nullptr);
 
 /// Builds all tubes (in parallel through `parallel` when given: offsets are computed first, so the result does
 /// not depend on how the range is cut). Returns an empty string or a message (sides out of [3, 256], a tube with

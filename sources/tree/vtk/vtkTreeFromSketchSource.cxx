@@ -35,6 +35,7 @@
 #include "vtkSMPTools.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
+#include "vtkTypeInt32Array.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,17 +44,43 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <type_traits>
 
 vtkStandardNewMacro(vtkTreeFromSketchSource);
 
 namespace
 {
+/// A VTK array of `components` per tuple that takes over the memory of `values` (no copy; VTK frees it with
+/// std::free). `values` is left empty.
+template <class ArrayT, class T, bool HugePages>
+vtkSmartPointer<ArrayT> Adopt(plantmorph::CloudArray<T, HugePages>& values, int components, const char* name)
+{
+  static_assert(std::is_same<typename ArrayT::ValueType, T>::value, "the mesh's type is the output's");
+  auto array = vtkSmartPointer<ArrayT>::New();
+  if (name)
+    array->SetName(name);
+  array->SetNumberOfComponents(components);
+  const auto size = static_cast<vtkIdType>(values.size());
+  if (T* held = values.Release())
+    array->SetArray(held, size, 0, ArrayT::VTK_DATA_ARRAY_FREE);
+  return array;
+}
+
+/// `count` ints, unset (every caller writes them all, from threads: no serial zeroing pass, no page faults on the
+/// calling thread).
 vtkSmartPointer<vtkIntArray> IntArray(const char* name, vtkIdType count)
 {
-  auto a = vtkSmartPointer<vtkIntArray>::New();
-  a->SetName(name);
-  a->SetNumberOfTuples(count);
-  return a;
+  plantmorph::MeshArray<int> values;
+  values.resize(static_cast<std::size_t>(count));
+  return Adopt<vtkIntArray>(values, 1, name);
+}
+
+/// Every value of `a` set to `value`, in parallel.
+void Fill(vtkIntArray* a, int value)
+{
+  int* v = a->GetPointer(0);
+  vtkSMPTools::For(
+    0, a->GetNumberOfValues(), [v, value](vtkIdType begin, vtkIdType end) { std::fill(v + begin, v + end, value); });
 }
 
 /// The Merge input as skeleton branches: one per line cell, BranchId and ParentId from its cell arrays (whole
@@ -175,73 +202,74 @@ void AddConstantOrganArrays(vtkPolyData* out, int organ, int leafId)
   for (int k = 0; k < 2; ++k)
   {
     auto organs = IntArray("Organ", counts[k]), leaves = IntArray("LeafId", counts[k]);
-    organs->FillValue(organ);
-    leaves->FillValue(leafId);
+    Fill(organs, organ);
+    Fill(leaves, leafId);
     data[k]->AddArray(organs);
     data[k]->AddArray(leaves);
   }
 }
 
-/// Port 0: the branch surfaces, with Normals, TCoords and each triangle's BranchId, ParentId and Depth.
-void WriteBranches(const plantmorph::TubeMesh& mesh, const plantmorph::Tree& tree, vtkPolyData* branchesOut)
+/// The triangles as VTK cells: the mesh's 32-bit connectivity adopted as it is, offsets 0, 3, 6, ... (32-bit too,
+/// while 3 * triangles fits; else both 64-bit, copied).
+vtkNew<vtkCellArray> Triangles(plantmorph::MeshArray<std::int32_t>& triangles)
 {
-  const vtkIdType np = static_cast<vtkIdType>(mesh.PointCount());
-  const vtkIdType nt = static_cast<vtkIdType>(mesh.TriangleCount());
-  vtkNew<vtkDoubleArray> coordinates;
-  coordinates->SetNumberOfComponents(3);
-  coordinates->SetNumberOfTuples(np);
-  std::copy(mesh.points.begin(), mesh.points.end(), coordinates->GetPointer(0));
-  vtkNew<vtkPoints> points;
-  points->SetData(coordinates);
-  vtkNew<vtkFloatArray> normals;
-  normals->SetName(plantmorph::arrays::Normals);
-  normals->SetNumberOfComponents(3);
-  normals->SetNumberOfTuples(np);
-  std::copy(mesh.normals.begin(), mesh.normals.end(), normals->GetPointer(0));
-  vtkNew<vtkFloatArray> tcoords;
-  tcoords->SetName(plantmorph::arrays::TCoords);
-  tcoords->SetNumberOfComponents(2);
-  tcoords->SetNumberOfTuples(np);
-  std::copy(mesh.tcoords.begin(), mesh.tcoords.end(), tcoords->GetPointer(0));
+  const vtkIdType nt = static_cast<vtkIdType>(triangles.size() / 3);
+  vtkNew<vtkCellArray> polys;
+  if (3 * nt <= std::numeric_limits<std::int32_t>::max())
+  {
+    plantmorph::MeshArray<std::int32_t> offsets;
+    offsets.resize(static_cast<std::size_t>(nt) + 1);
+    std::int32_t* o = offsets.data();
+    vtkSMPTools::For(0, nt + 1, [o](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+        o[i] = static_cast<std::int32_t>(3 * i);
+    });
+    polys->SetData(Adopt<vtkTypeInt32Array>(offsets, 1, nullptr), Adopt<vtkTypeInt32Array>(triangles, 1, nullptr));
+    return polys;
+  }
   vtkNew<vtkIdTypeArray> offsets, connectivity;
   offsets->SetNumberOfTuples(nt + 1);
   connectivity->SetNumberOfTuples(3 * nt);
   vtkIdType* o = offsets->GetPointer(0);
   vtkIdType* c = connectivity->GetPointer(0);
+  const std::int32_t* t = triangles.data();
   vtkSMPTools::For(0, nt + 1, [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType i = begin; i < end; ++i)
-    {
       o[i] = 3 * i;
-      if (i < nt)
-      {
-        c[3 * i] = mesh.triangles[3 * static_cast<std::size_t>(i)];
-        c[3 * i + 1] = mesh.triangles[3 * static_cast<std::size_t>(i) + 1];
-        c[3 * i + 2] = mesh.triangles[3 * static_cast<std::size_t>(i) + 2];
-      }
-    }
+    std::copy(t + 3 * begin, t + 3 * std::min(end, nt), c + 3 * begin);
   });
-  vtkNew<vtkCellArray> polys;
   polys->SetData(offsets, connectivity);
+  triangles = plantmorph::MeshArray<std::int32_t>();
+  return polys;
+}
+
+/// Port 0: the branch surfaces, with Normals, TCoords and each triangle's BranchId, ParentId and Depth. The mesh's
+/// arrays are handed over to the output uncopied (`mesh` is left empty).
+void WriteBranches(plantmorph::TubeMesh& mesh, const plantmorph::Tree& tree, vtkPolyData* branchesOut)
+{
+  const vtkIdType nt = static_cast<vtkIdType>(mesh.TriangleCount());
   auto branchId = IntArray("BranchId", nt), parentId = IntArray("ParentId", nt), depth = IntArray("Depth", nt);
+  int* ids[3] = { branchId->GetPointer(0), parentId->GetPointer(0), depth->GetPointer(0) };
   plantmorph::SMPFor()(tree.branches.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
     {
       const plantmorph::TreeBranch& b = tree.branches[t];
-      for (auto f = mesh.triangleOffsets[t]; f < mesh.triangleOffsets[t + 1]; ++f)
-      {
-        branchId->SetValue(f, b.id);
-        parentId->SetValue(f, b.parentId);
-        depth->SetValue(f, b.depth);
-      }
+      const auto first = mesh.triangleOffsets[t], last = mesh.triangleOffsets[t + 1];
+      std::fill(ids[0] + first, ids[0] + last, b.id);
+      std::fill(ids[1] + first, ids[1] + last, b.parentId);
+      std::fill(ids[2] + first, ids[2] + last, b.depth);
     }
   });
+  vtkNew<vtkPoints> points;
+  points->SetData(Adopt<vtkDoubleArray>(mesh.points, 3, nullptr));
   branchesOut->SetPoints(points);
-  branchesOut->SetPolys(polys);
-  branchesOut->GetPointData()->SetNormals(normals);
-  branchesOut->GetPointData()->SetTCoords(tcoords);
+  branchesOut->SetPolys(Triangles(mesh.triangles));
+  branchesOut->GetPointData()->SetNormals(Adopt<vtkFloatArray>(mesh.normals, 3, plantmorph::arrays::Normals));
+  branchesOut->GetPointData()->SetTCoords(Adopt<vtkFloatArray>(mesh.tcoords, 2, plantmorph::arrays::TCoords));
   branchesOut->GetCellData()->AddArray(branchId);
   branchesOut->GetCellData()->AddArray(parentId);
   branchesOut->GetCellData()->AddArray(depth);
+  mesh = plantmorph::TubeMesh();
 }
 
 /// Port 1: the skeleton, one polyline per branch with its Radius, BranchId, ParentId and Depth.
@@ -857,9 +885,8 @@ void WriteOutputs(vtkAlgorithm* self, plantmorph::Run& run, const plantmorph::Tr
     parameters.AddArray(where);
   }
   run.Building("the tree's outputs");
-  WriteBranches(surfaces.mesh, tree, run.Output<vtkPolyData>(0));
+  WriteBranches(surfaces.mesh, tree, run.Output<vtkPolyData>(0)); // hands the mesh over: left empty
   AddConstantOrganArrays(run.Output<vtkPolyData>(0), OrganWood, -1);
-  surfaces.mesh = plantmorph::TubeMesh();
   self->UpdateProgress(0.8);
   if (piece.number == 0)
   {

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The arrays of a scanned cloud: numbers that are left unset when the array grows (the threads write every entry
-// before anything reads it, so zeroing them would be a serial pass over the whole cloud and its page faults), held
-// in memory from std::malloc that can be handed over: the VTK wrapper adopts the cloud's arrays as its output arrays
-// (freed there with std::free) instead of copying them.
+// Big output arrays (a scanned cloud, a tree's branch mesh): numbers that are left unset when the array grows (the
+// threads write every entry before anything reads it, so zeroing them would be a serial pass over the whole array and
+// its page faults), held in memory from std::malloc that can be handed over: the VTK wrappers adopt these arrays as
+// their output arrays (freed there with std::free) instead of copying them.
 #pragma once
 
 #include <algorithm>
@@ -21,12 +21,19 @@
 namespace plantmorph
 {
 
-template <class T>
+/// `HugePages`: large arrays are asked for transparent huge pages (see Allocate). Off for arrays that are written
+/// once and handed over (a tree's mesh): there the kernel's compaction for huge pages measured slower and erratic
+/// (system time 0.25-1.2 s where plain pages took 0.35 s for 400 MB, 2026-11-29, loaded machine).
+template <class T, bool HugePages = true>
 class CloudArray
 {
   static_assert(std::is_trivially_copyable<T>::value, "a cloud array holds plain numbers");
 
 public:
+  using value_type = T;
+  using iterator = T*;
+  using const_iterator = const T*;
+
   CloudArray() = default;
   CloudArray(std::initializer_list<T> values) { this->assign(values.begin(), values.end()); }
   CloudArray(const CloudArray& other) { this->assign(other.begin(), other.end()); }
@@ -111,7 +118,7 @@ private:
     void* memory = nullptr;
 #ifdef __linux__
     constexpr std::size_t Huge = std::size_t(2) << 20;
-    if (bytes >= 2 * Huge)
+    if (HugePages && bytes >= 2 * Huge)
     {
       if (posix_memalign(&memory, Huge, bytes) != 0)
         memory = nullptr;
