@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Field data the VTK layers write: each source and filter records its parameters and results as one-value arrays
-// (spec README: "each source writes its parameters as field data"). Module PlantMorph::VTKCommon; a wrapper usually
-// writes them through plantmorph::FieldRecord (PlantMorphLayer.h), which uses these.
+// (spec README: "each source writes its parameters as field data"). Module PlantMorph::VTKCommon; a wrapper usually writes them
+// through plantmorph::FieldRecord (PlantMorphLayer.h), which uses these. Also how a core's large arrays become VTK
+// arrays without a copy (AdoptArray).
 #pragma once
 
 #include "PlantMorphVTKCommonModule.h" // for export macro
@@ -9,9 +10,13 @@
 #include "vtkDoubleArray.h" // what the wrappers writing field data used to get from here
 #include "vtkFieldData.h"
 #include "vtkNew.h"
+#include "vtkSmartPointer.h"
 #include "vtkStringArray.h"
 
+#include "plantmorph/memory/CloudArray.h"
+
 #include <string>
+#include <type_traits>
 
 namespace plantmorph
 {
@@ -26,5 +31,22 @@ PLANTMORPHVTKCOMMON_EXPORT void AddFieldString(vtkFieldData* fd, const char* nam
 /// array as its value, a tuple with component names as one line per component (PlantMorph.Curvature's Mu ->
 /// "CurvatureMu = ..."), other arrays as their tuples in parentheses. For the panels' read-only PresetValues boxes.
 PLANTMORPHVTKCOMMON_EXPORT std::string FormatParameters(vtkFieldData* fd);
+
+/// A VTK array of `components` per tuple that takes over the memory of `values` (no copy; VTK frees it with
+/// std::free, as CloudArray's memory is meant to be). `values` is left empty. VirtualScanner's cloud and
+/// TreeFromSketchSource's mesh reach their outputs this way.
+template <class ArrayT, class T, bool HugePages>
+vtkSmartPointer<ArrayT> AdoptArray(CloudArray<T, HugePages>& values, int components, const char* name)
+{
+  static_assert(std::is_same<typename ArrayT::ValueType, T>::value, "the core's type is the output's");
+  auto array = vtkSmartPointer<ArrayT>::New();
+  if (name)
+    array->SetName(name);
+  array->SetNumberOfComponents(components);
+  const auto size = static_cast<vtkIdType>(values.size());
+  if (T* held = values.Release())
+    array->SetArray(held, size, 0, ArrayT::VTK_DATA_ARRAY_FREE);
+  return array;
+}
 
 } // namespace plantmorph

@@ -111,12 +111,11 @@ vtkSmartPointer<vtkPolyData> MergePolyPieces(
 
 } // namespace detail
 
-/// Collective over the global controller's ranks (every rank must call it, as every rank runs the filter): returns
-/// the whole dataset on rank 0 and an empty one on the other ranks. In serial, or when only rank 0 holds data, it
-/// returns `piece` itself (no copy), so the result is bit-identical to a serial run. Pieces from several ranks are
-/// appended in rank order and their exactly coincident points merged (their point order then differs from the
-/// unsplit dataset's).
-vtkSmartPointer<vtkPolyData> GatherOnFirstRank(vtkPolyData* piece)
+namespace
+{
+/// GatherOnFirstRank and AppendOnFirstRank (PlantMorphWholeInput.h): the pieces gathered on rank 0, appended in rank
+/// order, their coincident points merged when `mergePoints`.
+vtkSmartPointer<vtkPolyData> CollectOnFirstRank(vtkPolyData* piece, bool mergePoints)
 {
   std::vector<vtkSmartPointer<vtkDataObject>> pieces;
   switch (detail::GatherPieces(piece, pieces))
@@ -128,22 +127,18 @@ vtkSmartPointer<vtkPolyData> GatherOnFirstRank(vtkPolyData* piece)
     case detail::Gathered::Pieces:
       break;
   }
-  return detail::MergePolyPieces(pieces);
+  return detail::MergePolyPieces(pieces, mergePoints);
+}
+} // namespace
+
+vtkSmartPointer<vtkPolyData> GatherOnFirstRank(vtkPolyData* piece)
+{
+  return CollectOnFirstRank(piece, true);
 }
 
 vtkSmartPointer<vtkPolyData> AppendOnFirstRank(vtkPolyData* piece)
 {
-  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
-  switch (detail::GatherPieces(piece, pieces))
-  {
-    case detail::Gathered::Piece:
-      return piece;
-    case detail::Gathered::Nothing:
-      return vtkSmartPointer<vtkPolyData>::New();
-    case detail::Gathered::Pieces:
-      break;
-  }
-  return detail::MergePolyPieces(pieces, false);
+  return CollectOnFirstRank(piece, false);
 }
 
 /// The same for any point set (a measured cloud may come as an unstructured grid): polygonal data as above, other

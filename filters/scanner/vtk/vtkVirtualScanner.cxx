@@ -2,6 +2,7 @@
 #include "vtkVirtualScanner.h"
 #include "PlantMorphAlgorithmHooks.h"
 
+#include "PlantMorphFieldData.h" // AdoptArray
 #include "PlantMorphLayer.h"
 
 #include <plantmorph/RangeError.h>
@@ -205,22 +206,6 @@ vtkSmartPointer<vtkAbstractArray> LikeWithTuples(vtkAbstractArray* source, vtkId
   return values;
 }
 
-/// A VTK array of `components` per tuple that takes over the memory of `values` (no copy; VTK frees it with
-/// std::free). `values` is left empty.
-template <class ArrayT, class T>
-vtkSmartPointer<ArrayT> Adopt(plantmorph::CloudArray<T>& values, int components, const char* name)
-{
-  static_assert(std::is_same<typename ArrayT::ValueType, T>::value, "the cloud's type is the output's");
-  auto array = vtkSmartPointer<ArrayT>::New();
-  if (name)
-    array->SetName(name);
-  array->SetNumberOfComponents(components);
-  const auto size = static_cast<vtkIdType>(values.size());
-  if (T* held = values.Release())
-    array->SetArray(held, size, 0, ArrayT::VTK_DATA_ARRAY_FREE);
-  return array;
-}
-
 /// One vertex cell per point, 0 .. n - 1 (32-bit ids when they fit: half the memory), in CloudArray memory (huge
 /// pages) adopted by VTK.
 template <class IdArray>
@@ -238,7 +223,8 @@ vtkNew<vtkCellArray> PointVertices(vtkIdType n)
   });
   off[n] = static_cast<Id>(n);
   vtkNew<vtkCellArray> verts;
-  verts->SetData(Adopt<IdArray>(offsets, 1, nullptr), Adopt<IdArray>(connectivity, 1, nullptr));
+  verts->SetData(
+    plantmorph::AdoptArray<IdArray>(offsets, 1, nullptr), plantmorph::AdoptArray<IdArray>(connectivity, 1, nullptr));
   return verts;
 }
 
@@ -381,19 +367,19 @@ void WriteCloud(plantmorph::ScanPoints& scan, const TriangleCells& cellOf, const
       cell[i] = cellOf(static_cast<std::size_t>(cell[i]));
   });
   vtkNew<vtkPoints> points;
-  points->SetData(Adopt<vtkDoubleArray>(scan.points, 3, nullptr));
+  points->SetData(plantmorph::AdoptArray<vtkDoubleArray>(scan.points, 3, nullptr));
   cloud->SetPoints(points);
   if (n < std::numeric_limits<std::int32_t>::max())
     cloud->SetVerts(PointVertices<vtkTypeInt32Array>(n));
   else
     cloud->SetVerts(PointVertices<vtkTypeInt64Array>(n));
   vtkPointData* pd = cloud->GetPointData();
-  pd->SetNormals(Adopt<vtkFloatArray>(scan.normals, 3, "Normals"));
-  pd->AddArray(Adopt<vtkDoubleArray>(scan.range, 1, "Range"));
-  pd->AddArray(Adopt<vtkDoubleArray>(scan.intensity, 1, "Intensity"));
-  pd->AddArray(Adopt<vtkIntArray>(scan.pose, 1, "ScanPosition"));
-  pd->AddArray(Adopt<vtkIdTypeArray>(scan.triangle, 1, "HitCellId"));
-  pd->AddArray(Adopt<vtkIdTypeArray>(scan.beam, 1, "BeamId"));
+  pd->SetNormals(plantmorph::AdoptArray<vtkFloatArray>(scan.normals, 3, "Normals"));
+  pd->AddArray(plantmorph::AdoptArray<vtkDoubleArray>(scan.range, 1, "Range"));
+  pd->AddArray(plantmorph::AdoptArray<vtkDoubleArray>(scan.intensity, 1, "Intensity"));
+  pd->AddArray(plantmorph::AdoptArray<vtkIntArray>(scan.pose, 1, "ScanPosition"));
+  pd->AddArray(plantmorph::AdoptArray<vtkIdTypeArray>(scan.triangle, 1, "HitCellId"));
+  pd->AddArray(plantmorph::AdoptArray<vtkIdTypeArray>(scan.beam, 1, "BeamId"));
   pd->SetActiveScalars("Range");
   vtkCellData* cd = input->GetCellData();
   for (int a = 0; a < cd->GetNumberOfArrays(); ++a)

@@ -2,6 +2,7 @@
 #include "vtkTreeFromSketchSource.h"
 #include "PlantMorphAlgorithmHooks.h"
 
+#include "PlantMorphFieldData.h" // AdoptArray
 #include "PlantMorphLayer.h"
 #include "PlantMorphWholeInput.h"
 #include "BranchJunctions.h"
@@ -50,29 +51,13 @@ vtkStandardNewMacro(vtkTreeFromSketchSource);
 
 namespace
 {
-/// A VTK array of `components` per tuple that takes over the memory of `values` (no copy; VTK frees it with
-/// std::free). `values` is left empty.
-template <class ArrayT, class T, bool HugePages>
-vtkSmartPointer<ArrayT> Adopt(plantmorph::CloudArray<T, HugePages>& values, int components, const char* name)
-{
-  static_assert(std::is_same<typename ArrayT::ValueType, T>::value, "the mesh's type is the output's");
-  auto array = vtkSmartPointer<ArrayT>::New();
-  if (name)
-    array->SetName(name);
-  array->SetNumberOfComponents(components);
-  const auto size = static_cast<vtkIdType>(values.size());
-  if (T* held = values.Release())
-    array->SetArray(held, size, 0, ArrayT::VTK_DATA_ARRAY_FREE);
-  return array;
-}
-
 /// `count` ints, unset (every caller writes them all, from threads: no serial zeroing pass, no page faults on the
 /// calling thread).
 vtkSmartPointer<vtkIntArray> IntArray(const char* name, vtkIdType count)
 {
   plantmorph::MeshArray<int> values;
   values.resize(static_cast<std::size_t>(count));
-  return Adopt<vtkIntArray>(values, 1, name);
+  return plantmorph::AdoptArray<vtkIntArray>(values, 1, name);
 }
 
 /// Every value of `a` set to `value`, in parallel.
@@ -224,7 +209,8 @@ vtkNew<vtkCellArray> Triangles(plantmorph::MeshArray<std::int32_t>& triangles)
       for (vtkIdType i = begin; i < end; ++i)
         o[i] = static_cast<std::int32_t>(3 * i);
     });
-    polys->SetData(Adopt<vtkTypeInt32Array>(offsets, 1, nullptr), Adopt<vtkTypeInt32Array>(triangles, 1, nullptr));
+    polys->SetData(plantmorph::AdoptArray<vtkTypeInt32Array>(offsets, 1, nullptr),
+      plantmorph::AdoptArray<vtkTypeInt32Array>(triangles, 1, nullptr));
     return polys;
   }
   vtkNew<vtkIdTypeArray> offsets, connectivity;
@@ -261,11 +247,13 @@ void WriteBranches(plantmorph::TubeMesh& mesh, const plantmorph::Tree& tree, vtk
     }
   });
   vtkNew<vtkPoints> points;
-  points->SetData(Adopt<vtkDoubleArray>(mesh.points, 3, nullptr));
+  points->SetData(plantmorph::AdoptArray<vtkDoubleArray>(mesh.points, 3, nullptr));
   branchesOut->SetPoints(points);
   branchesOut->SetPolys(Triangles(mesh.triangles));
-  branchesOut->GetPointData()->SetNormals(Adopt<vtkFloatArray>(mesh.normals, 3, plantmorph::arrays::Normals));
-  branchesOut->GetPointData()->SetTCoords(Adopt<vtkFloatArray>(mesh.tcoords, 2, plantmorph::arrays::TCoords));
+  branchesOut->GetPointData()->SetNormals(
+    plantmorph::AdoptArray<vtkFloatArray>(mesh.normals, 3, plantmorph::arrays::Normals));
+  branchesOut->GetPointData()->SetTCoords(
+    plantmorph::AdoptArray<vtkFloatArray>(mesh.tcoords, 2, plantmorph::arrays::TCoords));
   branchesOut->GetCellData()->AddArray(branchId);
   branchesOut->GetCellData()->AddArray(parentId);
   branchesOut->GetCellData()->AddArray(depth);
