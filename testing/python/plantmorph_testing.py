@@ -181,3 +181,29 @@ class Messages:
         """True when one error (kind "error"), warning ("warning") or either holds every word."""
         texts = {"error": self.errors, "warning": self.warnings}.get(kind, self.errors + self.warnings)
         return any(all(word in text for word in words) for text in texts)
+
+
+def skeleton_truth(skeleton, bounds):
+    """What a TreeFromSketchSource tree is, from its Skeleton port (`skeleton`, polylines with Radius, ParentId and
+    BranchId) and its surface's bounds (Y up): total volume (the frusta between skeleton points, m3), DBH (twice the
+    trunk's radius 1.3 m above the base), height (the surface's Y extent) and the number of first-order branches (the
+    lines whose parent is the trunk)."""
+    import math
+    import numpy
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    points = vtk_to_numpy(skeleton.GetPoints().GetData()).astype(float)
+    radius = vtk_to_numpy(skeleton.GetPointData().GetArray("Radius")).astype(float)
+    offsets = vtk_to_numpy(skeleton.GetLines().GetOffsetsArray())
+    connectivity = vtk_to_numpy(skeleton.GetLines().GetConnectivityArray())
+    parents = vtk_to_numpy(skeleton.GetCellData().GetArray("ParentId"))
+    branch_ids = vtk_to_numpy(skeleton.GetCellData().GetArray("BranchId"))
+    volume, trunk = 0.0, None
+    for c in range(len(offsets) - 1):
+        ids = connectivity[offsets[c]:offsets[c + 1]]
+        p, r = points[ids], radius[ids]
+        seg = numpy.linalg.norm(numpy.diff(p, axis=0), axis=1)
+        volume += float(numpy.sum(math.pi / 3 * seg * (r[:-1] ** 2 + r[:-1] * r[1:] + r[1:] ** 2)))
+        if parents[c] < 0:
+            trunk = (p, r, branch_ids[c])
+    return dict(volume=volume, dbh=2 * float(numpy.interp(1.3 + bounds[2], trunk[0][:, 1], trunk[1])),
+                height=bounds[3] - bounds[2], first_order=int(numpy.sum(parents == trunk[2])))

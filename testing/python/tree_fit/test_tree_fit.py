@@ -12,7 +12,7 @@ a missing array) gives an error and empty outputs.
 import math
 import os
 
-from plantmorph_testing import Checks, Messages, load_plugin, parse_arguments
+from plantmorph_testing import Checks, Messages, load_plugin, parse_arguments, skeleton_truth
 
 arguments = parse_arguments([("--pvpython", dict(default=None))])
 
@@ -38,27 +38,6 @@ def rows(fit, port=2):
              for n in names} for r in range(table.GetNumberOfRows())]
 
 
-def skeleton_truth(tree):
-    """Volume (frusta), trunk base radius profile and height of a TreeFromSketchSource tree from its Skeleton."""
-    skeleton = fetch(tree, 1)
-    points = vtk_to_numpy(skeleton.GetPoints().GetData()).astype(float)
-    radius = vtk_to_numpy(skeleton.GetPointData().GetArray("Radius")).astype(float)
-    lines = vtk_to_numpy(skeleton.GetLines().GetConnectivityArray())
-    offsets = vtk_to_numpy(skeleton.GetLines().GetOffsetsArray())
-    parents = vtk_to_numpy(skeleton.GetCellData().GetArray("ParentId"))
-    volume, trunk = 0.0, None
-    for c in range(len(offsets) - 1):
-        ids = lines[offsets[c]:offsets[c + 1]]
-        p, r = points[ids], radius[ids]
-        seg = numpy.linalg.norm(numpy.diff(p, axis=0), axis=1)
-        volume += float(numpy.sum(math.pi / 3 * seg * (r[:-1] ** 2 + r[:-1] * r[1:] + r[1:] ** 2)))
-        if parents[c] < 0:
-            trunk = (p, r)
-    bounds = fetch(tree, 0).GetBounds()
-    dbh = 2 * float(numpy.interp(1.3 + bounds[2], trunk[0][:, 1], trunk[1]))
-    return volume, dbh, bounds[3] - bounds[2]
-
-
 def scanned(tree, centre_height, distance=7.0):
     positions = []
     for k in range(3):
@@ -78,7 +57,8 @@ def outputs_empty(fit):
 TREE = dict(Preset="Custom", TreeType="Monopodial", Length=4.0, Radius=0.12, Depth=1, ChildCount=4, Sides=24,
             Joints="Seated tubes", Leaves=0)
 tree = TreeFromSketchSource(**TREE)
-volume, dbh, height = skeleton_truth(tree)
+truth = skeleton_truth(fetch(tree, 1), fetch(tree, 0).GetBounds())
+volume, dbh, height = truth["volume"], truth["dbh"], truth["height"]
 scan = scanned(tree, 2.5)
 fit = TreeFitFilter(Input=scan, UpAxis="Y")
 cylinders, skeleton, scan_out = fetch(fit, 0), fetch(fit, 1), fetch(fit, 4)

@@ -6,10 +6,9 @@ from (its skeleton, rebuilt here with the generator's parameters): height, DBH, 
 
     pvpython test_tree_fit_data.py --plugin PlantMorph.so --work DIR
 """
-import math
 import os
 
-from plantmorph_testing import Checks, load_plugin, parse_arguments
+from plantmorph_testing import Checks, load_plugin, parse_arguments, skeleton_truth
 
 arguments = parse_arguments([("--pvpython", dict(default=None))])
 
@@ -44,24 +43,8 @@ checks.check(numpy.mean(numpy.isfinite(distance)) > 0.9, "over 90 %% of the poin
 
 # The truth: the generating tree's skeleton (frusta, its trunk's radius at breast height, its surface's height).
 tree = TreeFromSketchSource(**TREE)
-skeleton = servermanager.Fetch(tree, idx=1)
-points = vtk_to_numpy(skeleton.GetPoints().GetData()).astype(float)
-radius = vtk_to_numpy(skeleton.GetPointData().GetArray("Radius")).astype(float)
-offsets = vtk_to_numpy(skeleton.GetLines().GetOffsetsArray())
-connectivity = vtk_to_numpy(skeleton.GetLines().GetConnectivityArray())
-parents = vtk_to_numpy(skeleton.GetCellData().GetArray("ParentId"))
-branch_ids = vtk_to_numpy(skeleton.GetCellData().GetArray("BranchId"))
-volume, trunk = 0.0, None
-for c in range(len(offsets) - 1):
-    ids = connectivity[offsets[c]:offsets[c + 1]]
-    p, r = points[ids], radius[ids]
-    seg = numpy.linalg.norm(numpy.diff(p, axis=0), axis=1)
-    volume += float(numpy.sum(math.pi / 3 * seg * (r[:-1] ** 2 + r[:-1] * r[1:] + r[1:] ** 2)))
-    if parents[c] < 0:
-        trunk = (p, r, branch_ids[c])
-first_order = int(numpy.sum(parents == trunk[2]))
-bounds = servermanager.Fetch(tree).GetBounds()
-height, dbh = bounds[3] - bounds[2], 2 * float(numpy.interp(1.3 + bounds[2], trunk[0][:, 1], trunk[1]))
+truth = skeleton_truth(servermanager.Fetch(tree, idx=1), servermanager.Fetch(tree).GetBounds())
+volume, dbh, height, first_order = truth["volume"], truth["dbh"], truth["height"], truth["first_order"]
 # At this beam spacing (2.8 cm at the tree) the top twigs' thin tips are hardly hit: the height comes out 3 % short.
 checks.check(abs(value["Height"] / height - 1) < 0.05, "height %.2f m within 5 %% of %.2f" % (value["Height"], height))
 checks.check(abs(value["DBH"] / dbh - 1) < 0.03, "DBH %.3f m within 3 %% of %.3f" % (value["DBH"], dbh))
