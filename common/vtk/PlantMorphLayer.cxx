@@ -330,15 +330,20 @@ bool Run::IsFirstRank() const
   return plantmorph::IsFirstRank();
 }
 
-bool Run::AnyRank(bool failed) const
+bool AnyRank(vtkMultiProcessController* controller, bool failed)
 {
   const int mine = failed ? 1 : 0;
   int any = mine;
-  if (this->Parallel)
+  if (controller)
   {
-    this->Parallel->AllReduce(&mine, &any, 1, vtkCommunicator::MAX_OP);
+    controller->AllReduce(&mine, &any, 1, vtkCommunicator::MAX_OP);
   }
   return any != 0;
+}
+
+bool Run::AnyRank(bool failed) const
+{
+  return plantmorph::AnyRank(this->Parallel, failed);
 }
 
 vtkSmartPointer<vtkPolyData> Run::Replicated(vtkPolyData* piece) const

@@ -48,8 +48,8 @@ enum class MPIPolicy
   /// pieces empty; a filter gets every input gathered whole on rank 0 first (collective, PlantMorphWholeInput.h) and
   /// runs there alone, the other ranks' outputs staying empty. Serially the body runs once on the input as it is.
   WholeOnFirstRank,
-  /// Each leaf of the input is processed whole on one owner rank (PlantMorphLeafExchange.h's LeafPlan, or
-  /// LeafFitFilter's own exchange); the body runs on every rank and does the exchange itself.
+  /// Each leaf of the input is processed whole on one owner rank (PlantMorphLeafExchange.h's LeafPlan, or the
+  /// fitters' OwnerExchange of PlantMorphOwnerExchange.h); the body runs on every rank and does the exchange itself.
   LeafPerRank,
   /// Every rank computes its own piece (a byte range of a file, its own measured points, its share of the beams or
   /// branches), small inputs replicated where needed (Run::Replicated); the body runs on every rank.
@@ -58,6 +58,11 @@ enum class MPIPolicy
 
 /// "WholeOnFirstRank", "LeafPerRank" or "DataParallel".
 PLANTMORPHVTKCOMMON_EXPORT const char* PolicyName(MPIPolicy policy);
+
+/// Collective over `controller`'s ranks: true on every rank when `failed` is true on any (a maximum of flags, the same
+/// on any number of ranks); `failed` itself when `controller` is null (serial). Run, LeafPlan, OwnerExchange and the
+/// cloud comparison's exchange all ask through this.
+PLANTMORPHVTKCOMMON_EXPORT bool AnyRank(vtkMultiProcessController* controller, bool failed);
 
 /// What a run throws to stop: caught by RunRequestData, which reports `what()` (unless empty) and empties every
 /// output. `everyRank`: every rank finds the same failure (a property, a replicated input), so only the first

@@ -2,6 +2,7 @@
 #include "PlantMorphLeafExchange.h"
 
 #include "PlantMorphWholeInput.h"
+#include "PlantMorphLayer.h" // AnyRank
 
 #include "vtkAbstractArray.h"
 #include "vtkCellArray.h"
@@ -298,11 +299,7 @@ LeafPlan::LeafPlan(vtkPolyData* piece)
 
 bool LeafPlan::AnyRank(bool failed) const
 {
-  const int mine = failed ? 1 : 0;
-  int any = mine;
-  if (this->Controller)
-    this->Controller->AllReduce(&mine, &any, 1, vtkCommunicator::MAX_OP);
-  return any != 0;
+  return plantmorph::AnyRank(this->Controller, failed);
 }
 
 std::vector<LeafIdType> LeafPlan::Owned() const

@@ -2,6 +2,7 @@
 #include "PlantMorphOwnerExchange.h"
 
 #include "PlantMorphLeafExchange.h"
+#include "PlantMorphLayer.h" // AnyRank
 
 #include "vtkCommunicator.h"
 #include "vtkMultiProcessController.h"
@@ -56,12 +57,7 @@ OwnerExchange::OwnerExchange(vtkMultiProcessController* controller, const LocalG
 
 bool OwnerExchange::AnyRank(bool failed) const
 {
-  if (!this->Controller)
-    return failed;
-  const int mine = failed ? 1 : 0;
-  int any = 0;
-  this->Controller->AllReduce(&mine, &any, 1, vtkCommunicator::MAX_OP);
-  return any != 0;
+  return plantmorph::AnyRank(this->Controller, failed);
 }
 
 std::vector<std::size_t> OwnerExchange::OwnedBy(int rank) const

@@ -170,18 +170,6 @@ vtkMultiProcessController* Parallel()
 }
 
 //------------------------------------------------------------------------------
-bool AnyRank(vtkMultiProcessController* controller, bool failed)
-{
-  if (!controller)
-  {
-    return failed;
-  }
-  int mine = failed ? 1 : 0, any = 0;
-  controller->AllReduce(&mine, &any, 1, vtkCommunicator::MAX_OP);
-  return any != 0;
-}
-
-//------------------------------------------------------------------------------
 vtkSmartPointer<vtkPointSet> Replicate(vtkMultiProcessController* controller, vtkPointSet* piece)
 {
   vtkSmartPointer<vtkPointSet> whole = GatherOnFirstRank(piece);

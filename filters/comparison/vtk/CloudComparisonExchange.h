@@ -39,9 +39,6 @@ namespace cloudmpi
 /// The global controller when this process is one of several MPI ranks, else null (serial: nothing is exchanged).
 vtkMultiProcessController* Parallel();
 
-/// True on every rank when `failed` is true on any.
-bool AnyRank(vtkMultiProcessController* controller, bool failed);
-
 /// The whole reference on every rank: gathered onto rank 0 (as PlantMorphWholeInput.h does) and broadcast.
 vtkSmartPointer<vtkPointSet> Replicate(vtkMultiProcessController* controller, vtkPointSet* piece);
 

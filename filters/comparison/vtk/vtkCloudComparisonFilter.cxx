@@ -575,7 +575,7 @@ std::string ReverseDistances(vtkMultiProcessController* controller, vtkPointSet*
 {
   using namespace plantmorph;
   const std::vector<std::int64_t> triangles = count ? Triangles(measured) : std::vector<std::int64_t>();
-  const bool surface = cloudmpi::AnyRank(controller, !triangles.empty());
+  const bool surface = plantmorph::AnyRank(controller, !triangles.empty());
   reverse.assign(referenceXYZ.size() / 3, std::numeric_limits<double>::infinity());
   std::string error;
   if (count > 0 && (!surface || !triangles.empty()))
@@ -589,7 +589,7 @@ std::string ReverseDistances(vtkMultiProcessController* controller, vtkPointSet*
         referenceXYZ.data(), reverse.size(), reverse.data(), nullptr, nullptr, nullptr, parallelFor);
     }
   }
-  if (cloudmpi::AnyRank(controller, !error.empty()))
+  if (plantmorph::AnyRank(controller, !error.empty()))
   {
     return error.empty() ? std::string("(failed on another MPI rank)") : error;
   }
@@ -609,7 +609,7 @@ constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::DataParallel;
 void StopTogether(const plantmorph::Run& run, vtkMultiProcessController* controller, const std::string& error,
   const std::string& prefix)
 {
-  if (!plantmorph::cloudmpi::AnyRank(controller, !error.empty()))
+  if (!plantmorph::AnyRank(controller, !error.empty()))
   {
     return;
   }
@@ -623,7 +623,7 @@ void StopTogether(const plantmorph::Run& run, vtkMultiProcessController* control
 /// Collective: stops every rank together when the user pressed Abort on any.
 void StopIfAnyAborted(vtkAlgorithm* self, const plantmorph::Run& run, vtkMultiProcessController* controller)
 {
-  if (plantmorph::cloudmpi::AnyRank(controller, self->GetAbortExecute() != 0))
+  if (plantmorph::AnyRank(controller, self->GetAbortExecute() != 0))
   {
     run.Stop();
   }
