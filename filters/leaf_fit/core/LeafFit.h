@@ -68,13 +68,6 @@ std::string ValidateLeafFitParameters(const LeafFitParameters& options);
 
 inline constexpr int MinLeafPoints = 50;
 
-/// The points' spacing across their densest direction: the median, over the points (a subsample of at most 5000),
-/// of the distance to the nearest neighbour lying more than 60 degrees away from the direction of the point's own
-/// nearest neighbour. About the nearest-neighbour spacing on a regular grid, 1.7 times it on random points, and the
-/// distance between the lines of a line scan whose points along a line are much closer than the lines (where the
-/// nearest-neighbour spacing says nothing about the gaps the points leave). 0 for fewer than 3 points.
-double CrossSpacing(const std::vector<Eigen::Vector3d>& points);
-
 /// The most vertices a fitted blade's mesh may have: a blade needing more (a Resolution too fine for it) is refused
 /// with a message, so that no input makes the mesher run for minutes.
 inline constexpr std::size_t MaxBladeVertices = 400000;

@@ -523,35 +523,4 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
 
 } // namespace fit
 
-double CrossSpacing(const std::vector<Eigen::Vector3d>& points)
-{
-  if (points.size() < 3)
-    return 0.0;
-  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
-  const std::size_t stride = std::max<std::size_t>(1, points.size() / 5000);
-  std::vector<double> across;
-  for (std::size_t i = 0; i < points.size(); i += stride)
-  {
-    // 48 neighbours reach the next line of a line scan whose points are up to about 20 times closer along a line.
-    const auto nb = grid.Nearest(points[i], 48, static_cast<int>(i));
-    Eigen::Vector3d u = Eigen::Vector3d::Zero();
-    for (const auto& [d2, j] : nb)
-    {
-      const Eigen::Vector3d d = points[j] - points[i];
-      if (!(d2 > 0.0))
-        continue;
-      if (u.isZero())
-        u = d.normalized();
-      else if (std::abs(u.dot(d.normalized())) < 0.5)
-      {
-        across.push_back(std::sqrt(d2));
-        break;
-      }
-    }
-  }
-  if (across.empty())
-    return 0.0;
-  std::nth_element(across.begin(), across.begin() + across.size() / 2, across.end());
-  return across[across.size() / 2];
-}
 } // namespace plantmorph

@@ -24,31 +24,6 @@ int Find(std::vector<int>& parent, int i)
   return i;
 }
 
-double Median(std::vector<double> v)
-{
-  if (v.empty())
-    return 0.0;
-  const std::size_t m = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + m, v.end());
-  return v[m];
-}
-
-/// The median distance from (at most 20000, evenly strided) points to their nearest other point, zero distances
-/// (duplicates) left out.
-double MedianSpacing(const std::vector<Eigen::Vector3d>& points)
-{
-  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
-  const std::size_t stride = std::max<std::size_t>(1, points.size() / 20000);
-  std::vector<double> nearest;
-  for (std::size_t i = 0; i < points.size(); i += stride)
-  {
-    const auto nb = grid.Nearest(points[i], 1, static_cast<int>(i));
-    if (!nb.empty() && nb.front().first > 0.0)
-      nearest.push_back(std::sqrt(nb.front().first));
-  }
-  return Median(nearest);
-}
-
 /// Cubes of side radius / sqrt(3): the points of one cube are within `radius` of each other. The occupied cubes in
 /// lexicographic order of their (i, j, k); a cube's points are members[offsets[c], offsets[c + 1]).
 struct Cubes

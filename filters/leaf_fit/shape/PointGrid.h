@@ -73,4 +73,15 @@ private:
   Eigen::Vector3i Extent = Eigen::Vector3i::Zero(); // cells per axis
 };
 
+/// The point spacing: the median nearest-neighbour distance (0 excluded) over a deterministic sample of at most
+/// 20000 of the points. 0 for fewer than 2 points.
+double MedianSpacing(const std::vector<Eigen::Vector3d>& points);
+
+/// The points' spacing across their densest direction: the median, over the points (a subsample of at most 5000),
+/// of the distance to the nearest neighbour lying more than 60 degrees away from the direction of the point's own
+/// nearest neighbour. About the nearest-neighbour spacing on a regular grid, 1.7 times it on random points, and the
+/// distance between the lines of a line scan whose points along a line are much closer than the lines (where the
+/// nearest-neighbour spacing says nothing about the gaps the points leave). 0 for fewer than 3 points.
+double CrossSpacing(const std::vector<Eigen::Vector3d>& points);
+
 } // namespace plantmorph

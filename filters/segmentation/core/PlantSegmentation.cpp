@@ -37,25 +37,6 @@ std::string ValidateSegmentationParameters(const SegmentationParameters& p)
   return error;
 }
 
-double MedianSpacing(const std::vector<Eigen::Vector3d>& points)
-{
-  if (points.size() < 2)
-    return 0.0;
-  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
-  const std::size_t step = std::max<std::size_t>(1, points.size() / 20000);
-  std::vector<double> distances;
-  for (std::size_t i = 0; i < points.size(); i += step)
-  {
-    const auto nearest = grid.Nearest(points[i], 1, static_cast<int>(i));
-    if (!nearest.empty() && nearest[0].first > 0.0)
-      distances.push_back(std::sqrt(nearest[0].first));
-  }
-  if (distances.empty())
-    return 0.0;
-  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
-  return distances[distances.size() / 2];
-}
-
 namespace
 {
 /// The plants' point ids, in ascending plant id; an error for a non-finite coordinate.

@@ -114,8 +114,4 @@ SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, con
 
 inline constexpr int MinimumPlantPoints = 20;
 
-/// The point spacing s: the median nearest-neighbour distance (0 excluded) over a deterministic sample of at most
-/// 20000 of the points.
-double MedianSpacing(const std::vector<Eigen::Vector3d>& points);
-
 } // namespace plantmorph

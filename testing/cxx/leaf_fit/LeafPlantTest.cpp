@@ -4,6 +4,7 @@
 // the checks of a fitted leaf and the columns' units.
 #include "LeafFit.h"
 #include "LeafPlant.h"
+#include "PointGrid.h" // CrossSpacing
 
 #include <plantmorph/MathConstants.h>
 

@@ -4,6 +4,7 @@
 // one instance per leaf, the same labels whatever the threads and whatever the unit (thresholds follow the spacing),
 // several plants, and bad input.
 #include "PlantSegmentation.h"
+#include "PointGrid.h" // MedianSpacing
 
 #include <gtest/gtest.h>
 
