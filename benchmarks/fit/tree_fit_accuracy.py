@@ -29,6 +29,7 @@ parser.add_argument("--quick", action="store_true", help="two trees only")
 parser.add_argument("--leaves", action="store_true", help="scan the trees with their leaves (WoodArray separates)")
 parser.add_argument("--noise", type=float, default=0.003, help="range noise deviation (m)")
 parser.add_argument("--json", default=None)
+parser.add_argument("--trees", default=None, help="comma-separated names: only these trees")
 arguments = parser.parse_args()
 
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -56,6 +57,8 @@ TREES = [
 ]
 if arguments.quick:
     TREES = TREES[:2]
+if arguments.trees:
+    TREES = [t for t in TREES if t[0] in arguments.trees.split(",")]
 UP = numpy.array([0.0, 1.0, 0.0])
 BREAST = 1.3
 
@@ -98,6 +101,10 @@ def truth_of(tree):
     heights = trunk["points"] @ UP - low
     dbh = 2 * float(numpy.interp(BREAST, heights, trunk["radii"])) if heights[-1] > BREAST else float("nan")
     trunk_id = [k for k, b in branches.items() if b["parent"] < 0][0]
+    for b in branches.values():  # orders: steps up the parents to the trunk
+        b["order"], q = 0, b
+        while q["parent"] >= 0:
+            b["order"], q = b["order"] + 1, branches[q["parent"]]
     return dict(branches=branches, trunk=trunk_id, total=sum(b["volume"] for b in branches.values()),
                 trunk_volume=trunk["volume"], mesh=mass.GetVolume(), height=bounds[3] - bounds[2], dbh=dbh,
                 branch_length=sum(b["length"] for k, b in branches.items() if k != trunk_id), low=low)
@@ -143,20 +150,39 @@ def fitted_branches(fit):
     return out
 
 
+def passes_along(b, f):
+    """Whether fitted branch f passes within max(3 base radii, 5 % of its length) of true branch b at a quarter and at
+    three quarters of its length; the sum of both distances."""
+    tolerance = max(3 * b["radii"][0], 0.05 * b["length"])
+    d1 = distance_to_polyline(at_fraction(b["points"], 0.25), f["points"])
+    d3 = distance_to_polyline(at_fraction(b["points"], 0.75), f["points"])
+    return d1 + d3 if d1 < tolerance and d3 < tolerance else None
+
+
+def match_orders(truth, fitted):
+    """Per order: (true branches, fitted branches, true branches matched by a fitted branch of the same order)."""
+    top = max([b["order"] for b in truth["branches"].values()] + [f["order"] for f in fitted.values()])
+    out = []
+    for order in range(top + 1):
+        true = [b for b in truth["branches"].values() if b["order"] == order]
+        same = [f for f in fitted.values() if f["order"] == order]
+        found = sum(1 for b in true if any(passes_along(b, f) is not None for f in same))
+        out.append((len(true), len(same), found))
+    return out
+
+
 def match_first_order(truth, fitted):
     found, errors = 0, []
     first = [b for b in truth["branches"].values() if b["parent"] == truth["trunk"]]
     trunk_points = truth["branches"][truth["trunk"]]["points"]
     for b in first:
-        tolerance = max(3 * b["radii"][0], 0.05 * b["length"])
-        q1, q3 = at_fraction(b["points"], 0.25), at_fraction(b["points"], 0.75)
         best = None
         for f in fitted.values():
             if f["order"] < 1:
                 continue
-            d1, d3 = distance_to_polyline(q1, f["points"]), distance_to_polyline(q3, f["points"])
-            if d1 < tolerance and d3 < tolerance and (best is None or d1 + d3 < best[0]):
-                best = (d1 + d3, f)
+            d = passes_along(b, f)
+            if d is not None and (best is None or d < best[0]):
+                best = (d, f)
         if best is not None:
             found += 1
             errors.append(best[1]["angle"] - base_angle(b["points"], trunk_points))
@@ -204,7 +230,9 @@ for name, properties in TREES:
         rows.append(dict(tree=name, failed=True))
         continue
     traits = {table.GetColumnName(c): table.GetValue(0, c).ToDouble() for c in range(2, table.GetNumberOfColumns())}
-    total_first, found, angle_errors = match_first_order(truth, fitted_branches(fit))
+    fitted = fitted_branches(fit)
+    total_first, found, angle_errors = match_first_order(truth, fitted)
+    orders = match_orders(truth, fitted)
     row = dict(tree=name, points=cloud.GetNumberOfPoints(), seconds=seconds, cpu=cpu,
                total=100 * (traits["TotalVolume"] / truth["total"] - 1),
                trunk=100 * (traits["TrunkVolume"] / truth["trunk_volume"] - 1),
@@ -215,13 +243,15 @@ for name, properties in TREES:
                first_true=total_first, first_found=found,
                angle_rms=math.sqrt(sum(e * e for e in angle_errors) / len(angle_errors)) if angle_errors else float("nan"),
                measured=traits["MeasuredVolumeFraction"], true_branches=len(truth["branches"]) - 1,
-               fitted_branches=traits["BranchCount"])
+               fitted_branches=traits["BranchCount"], orders=orders)
     rows.append(row)
     print(f"{name:11s} pts {row['points']:8d} t {seconds:6.2f}s cpu {cpu:6.2f}s total {row['total']:+6.1f}% trunk {row['trunk']:+6.1f}% "
           f"branch {row['branch']:+7.1f}% (mesh {row['mesh_total']:+6.1f}%) DBH {row['dbh']:+5.1f}% "
           f"H {row['height']:+5.1f}% BL {row['branch_length']:+6.1f}% 1st {found}/{total_first} "
           f"angle {row['angle_rms']:5.1f} branches {int(row['fitted_branches'])}/{row['true_branches']} "
           f"measured {row['measured']:.2f}", flush=True)
+    print("  per order, found/true (fitted): " + ", ".join(
+        f"{k}: {found}/{true} ({count})" for k, (true, count, found) in enumerate(orders)), flush=True)
     for proxy in (fit, scanner):
         Delete(proxy)
 
@@ -237,7 +267,9 @@ if ok:
           f"rRMSE {rms('total'):.1f}%; trunk rRMSE {rms('trunk'):.1f}%; branch mean {mean('branch'):+.1f}% "
           f"rRMSE {rms('branch'):.1f}%; DBH rRMSE {rms('dbh'):.1f}%; height rRMSE {rms('height'):.1f}%; "
           f"branch length mean {mean('branch_length'):+.1f}%; first-order found "
-          f"{sum(r['first_found'] for r in ok)}/{sum(r['first_true'] for r in ok)}; angle RMS "
+          f"{sum(r['first_found'] for r in ok)}/{sum(r['first_true'] for r in ok)}; same order found "
+          f"{sum(o[2] for r in ok for o in r['orders'])}/{sum(o[0] for r in ok for o in r['orders'])}, fitted "
+          f"{sum(o[1] for r in ok for o in r['orders'])}; angle RMS "
           f"{math.sqrt(numpy.nanmean([r['angle_rms'] ** 2 for r in ok])):.1f} deg; time "
           f"{sum(r['seconds'] for r in ok):.1f} s wall, {sum(r['cpu'] for r in ok):.1f} s CPU for "
           f"{sum(r['points'] for r in ok)} points")

@@ -23,9 +23,10 @@
 //     measured cylinders in log space (b = 1/2, area proportional to what is carried, when they do not determine
 //     it), times the branch's own level (the geometric mean of its measured/model ratios): twigs are never fitted
 //     from a handful of noisy points, so they are not inflated.
-//  6. Branches: the trunk starts at the base; at every fork it goes on into the straightest child among those carrying
-//     a fair share of the volume (two codominant children turning alike end it), and it ends where it would turn
-//     sharply (more than 25 degrees: a lateral at a leader's thin tip is a branch); each other child starts a branch
+//  6. Branches: the trunk starts at the base; at every fork it goes on into the child most aligned with it and
+//     carrying most among those turning under 25 degrees (two codominant children turning alike end it), and it ends
+//     where it would turn sharply (more than 25 degrees: a lateral at a leader's thin tip is a branch), but a straight
+//     stem stays one branch however heavy the laterals leaving it; each other child starts a branch
 //     of order parent + 1. Junctions: a cylinder near a fork wider than its branch's taper before it holds the
 //     child's first points, not the branch: its radius follows the taper between the measured cylinders either side.
 //     Traits and the branch table follow.

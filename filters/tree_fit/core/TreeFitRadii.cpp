@@ -26,7 +26,9 @@ constexpr double CodominantShare = 0.5; // of the heaviest child's carried volum
 constexpr double ForkMargin = 10.0;     // degrees: codominant children turning less apart than this end the branch
 constexpr double BulgeFactor = 1.05;    // a measured cylinder this much wider than its parent is a junction
 constexpr double KinkAngle = 25.0;
-constexpr double TaperMargin = 1.15; // a measured cylinder near a fork this much above its branch's taper...
+constexpr double IncomingReaches = 2.5; // a branch's incoming direction is its own past this length (reaches)
+constexpr double KinkReaches = 4.0;     // a kink still turns this far on (reaches): a junction's wiggle does not
+constexpr double TaperMargin = 1.15;    // a measured cylinder near a fork this much above its branch's taper...
 constexpr std::size_t TaperCylinders =
   5; // ...fitted over this many measured cylinders before it, is a junction      // degrees: a child turning more than this from its parent starts a branch
 
@@ -136,15 +138,19 @@ bool ChainChord(const std::vector<TreeCylinder>& cylinders, const std::vector<st
   }
 }
 
-/// Per cylinder, the child that continues its branch (-1: none; the branch ends there). At a fork, the straightest
-/// child among those carrying at least ContinueShare of what the heaviest carries (a leader goes on past a heavier
-/// lateral), unless two codominant children (each carrying at least CodominantShare of the heaviest) turn alike
-/// (within ForkMargin): a sympodial fork or a Y ends the branch, each child a branch of the next order. A child, single
-/// or chosen, that turns more than KinkAngle from its parent does not continue it either: a branch does not bend
-/// sharply, a lateral at a leader's thin tip does (its first cylinders would otherwise lengthen the leader).
-/// Directions are chords over a few parent radii, away from the junction (whose cylinders hold both branches and
-/// lean): the parent's from below it and never across its own branch's start (parents are decided first: cylinder
-/// ids grow from the base), each child's ahead of it (FarDirection).
+/// Per cylinder, the child that continues its branch (-1: none; the branch ends there). At a fork, the children
+/// that go on within KinkAngle of the parent are the candidates (as AdTree and the QSM tools: the continuation is the
+/// child most aligned with the stem and carrying most), light ones (under ContinueShare of the heaviest candidate:
+/// a sliver of the stem's level sets) left out; of those within ForkMargin of the straightest, the one carrying most
+/// goes on, however light beside a lateral turning away (a leader goes on past a heavier lateral, and a straight
+/// stem stays one branch), unless two codominant children (each carrying at least CodominantShare of the heaviest
+/// child) turn alike (within ForkMargin): a sympodial fork or a Y ends the branch, each child a branch of the next
+/// order. A single child that turns more than KinkAngle from its parent, and still does KinkReaches on, does not
+/// continue it either: a branch does not bend sharply, a lateral at a leader's thin tip does (its first cylinders
+/// would otherwise lengthen the leader); a branch younger than IncomingReaches has no direction of its own to turn
+/// from yet. Directions are chords over a few parent radii, away from the junction (whose cylinders hold both
+/// branches and lean): the parent's from below it and never across its own branch's start (parents are decided
+/// first: cylinder ids grow from the base), each child's ahead of it (FarDirection).
 std::vector<int> ContinuingChildren(
   const std::vector<TreeCylinder>& cylinders, const std::vector<double>& radius, const std::vector<double>& carried)
 {
@@ -173,6 +179,15 @@ std::vector<int> ContinuingChildren(
       along += cylinders[far = cylinders[far].parent].length;
     const Eigen::Vector3d d = cylinders[near].end - cylinders[far].start;
     return d.norm() > 0 ? d.normalized() : (cylinders[p].end - cylinders[p].start).normalized().eval();
+  };
+  // The length of p's branch up to p's end: under IncomingReaches reaches, its incoming direction is that of its
+  // first cylinders, which at a junction still follow the parent's axis (a young branch measured from there turns by
+  // its own branching angle at every link, and cut at each it would climb an order each time).
+  const auto history = [&](int p) {
+    double along = cylinders[p].length;
+    for (int q = p; continues(q);)
+      along += cylinders[q = cylinders[q].parent].length;
+    return along;
   };
   const auto degrees = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     return std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180.0 / M_PI;
@@ -207,31 +222,48 @@ std::vector<int> ContinuingChildren(
       const int k = children[p].front();
       continuing[p] = k;
       const double here = turn(static_cast<int>(p), k);
-      if (here > KinkAngle && !(children[k].size() == 1 && turn(k, children[k].front()) > here))
+      if (here > KinkAngle && history(static_cast<int>(p)) >= IncomingReaches * reach &&
+        angle(FarDirection(cylinders, children, k, KinkReaches * reach, dp, true, travelled)) > KinkAngle &&
+        !(children[k].size() == 1 && turn(k, children[k].front()) > here))
         continuing[p] = -1;
       continue;
     }
-    std::vector<std::pair<double, int>> angles; // (degrees, child)
+    // The children that go on within KinkAngle of the parent's direction; among those carrying at least
+    // ContinueShare of the heaviest of them (a split sliver of the stem is not its continuation), the straightest
+    // ones (within ForkMargin of the straightest) and of them the one carrying most.
+    std::vector<std::pair<double, int>> angles; // (degrees, child), aligned children
+    double heaviestAligned = 0;
     for (int k : children[p])
     {
-      if (carried[k] < ContinueShare * heaviest)
-        continue;
-      angles.emplace_back(angle(FarDirection(cylinders, children, k, 2.0 * reach, dp, true, travelled)), k);
+      const double a = angle(FarDirection(cylinders, children, k, 2.0 * reach, dp, true, travelled));
+      if (a <= KinkAngle)
+      {
+        angles.emplace_back(a, k);
+        heaviestAligned = std::max(heaviestAligned, carried[k]);
+      }
     }
+    angles.erase(std::remove_if(angles.begin(), angles.end(),
+                   [&](const auto& a) { return carried[a.second] < ContinueShare * heaviestAligned; }),
+      angles.end());
     std::sort(angles.begin(), angles.end());
-    if (angles.empty() || angles[0].first > KinkAngle)
+    if (angles.empty())
       continue;
+    int chosen = angles[0].second;
+    for (const auto& [a, k] : angles)
+      if (a <= angles[0].first + ForkMargin && carried[k] > carried[chosen])
+        chosen = k;
     // Codominant children (each carrying at least half the heaviest) turning alike: the branch ends at the fork.
     const auto codominant = [&](int k) { return carried[k] >= CodominantShare * heaviest; };
     const bool fork = angles.size() > 1 && codominant(angles[0].second) && codominant(angles[1].second) &&
       angles[1].first - angles[0].first < ForkMargin;
     if (!fork)
-      continuing[p] = angles[0].second;
+      continuing[p] = chosen;
   }
   return continuing;
 }
 
-/// Branches: the trunk from the base, at every fork the child carrying the most volume continues its parent's branch.
+/// Branches: the trunk from the base, at every fork the aligned child carrying the most volume continues its parent's
+/// branch (ContinuingChildren).
 void AssignBranches(TreeFitResult& result, const std::vector<double>& radius)
 {
   auto& cylinders = result.cylinders;

@@ -175,6 +175,23 @@ TEST(TreeFit, LeaderGoesOnPastAHeavierLateral)
   EXPECT_GT(r.branches[1].volume, M_PI * 0.035 * 0.035 * 1.0); // the lateral is the heavier child
 }
 
+TEST(TreeFit, AStraightStemStaysOneBranchPastAHeavyLateral)
+{
+  // A leader whose thin tip goes on straight past a lateral at 35 degrees carrying twenty times its volume (the top of
+  // a monopodial crown): the continuation is the aligned child, however light, so the stem stays one branch and the
+  // lateral is the only first-order branch (the tip is not a branch of its own, one order up).
+  const Eigen::Vector3d fork(0, 0, 2.0);
+  const double a = 35.0 * M_PI / 180.0;
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, fork, 0.06 }, { fork, { 0, 0, 2.4 }, 0.02 },
+    { fork, fork + 1.6 * Eigen::Vector3d(std::sin(a), 0, std::cos(a)), 0.05 } };
+  const TreeFitResult r = FitTree(Scan(tree, 0.006, 0.0005), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.branches.size(), 2u);
+  EXPECT_NEAR(r.branches[0].length, 2.4, 0.1);
+  EXPECT_EQ(r.branches[1].order, 1);
+  EXPECT_NEAR(r.branches[1].angle, 35.0, 8.0); // the junction leans towards the thicker lateral
+}
+
 TEST(TreeFit, JunctionsDoNotWidenTheTrunk)
 {
   // A lateral at 35 degrees, thicker than the trunk where it leaves (as a monopodial template's): the cylinders at the
