@@ -103,37 +103,76 @@ std::string CheckShape(const std::vector<Eigen::Vector3d>& points, double spacin
   return {};
 }
 
-/// The graph: each point linked to its GraphNeighbours nearest within GraphReach spacings (symmetrised).
+/// The graph: each point linked to its GraphNeighbours nearest within GraphReach spacings (symmetrised), searched in
+/// a grid of cells 3 spacings wide (2 made the search visit more empty cells: 20 % slower on 10^6 points). The
+/// queries run in the grid's cell order (on 10^6 points, queries in the points' order were cache misses, and the
+/// cost per point grew with the cloud); the rows are built in flat arrays, each sorted by neighbour on its own
+/// (in parallel: a row's content does not depend on the threads).
 Graph NeighbourGraph(const std::vector<Eigen::Vector3d>& points, double spacing, const ParallelFor& parallel)
 {
-  PointGrid grid(points, 2.0 * spacing);
-  std::vector<std::vector<std::pair<double, int>>> near(points.size());
-  parallel(points.size(), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-      near[i] = grid.Nearest(points[i], GraphNeighbours, static_cast<int>(i), GraphReach * spacing);
+  const std::size_t n = points.size();
+  constexpr std::size_t K = GraphNeighbours;
+  PointGrid grid(points, 4.0 * spacing);
+  const std::vector<int>& order = grid.SortedIds();
+  std::vector<int> nearId(n * K, -1);
+  std::vector<double> nearDistance(n * K, 0.0);
+  parallel(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t o = begin; o < end; ++o)
+    {
+      const auto i = static_cast<std::size_t>(order[o]);
+      const auto near = grid.Nearest(points[i], GraphNeighbours, static_cast<int>(i), GraphReach * spacing);
+      for (std::size_t t = 0; t < near.size(); ++t)
+      {
+        nearId[i * K + t] = near[t].second;
+        nearDistance[i * K + t] = std::sqrt(near[t].first);
+      }
+    }
   });
-  std::vector<std::vector<std::pair<int, double>>> adjacency(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-    for (const auto& n : near[i])
+  // Both directions of every link, row by row: (neighbour, distance).
+  std::vector<int> offset(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t t = i * K; t < i * K + K && nearId[t] >= 0; ++t)
     {
-      const double d = std::sqrt(n.first);
-      adjacency[i].emplace_back(n.second, d);
-      adjacency[static_cast<std::size_t>(n.second)].emplace_back(static_cast<int>(i), d);
+      ++offset[i + 1];
+      ++offset[static_cast<std::size_t>(nearId[t]) + 1];
     }
+  for (std::size_t i = 0; i < n; ++i)
+    offset[i + 1] += offset[i];
+  std::vector<std::pair<int, double>> links(static_cast<std::size_t>(offset[n]));
+  std::vector<int> fill(offset.begin(), offset.end() - 1);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t t = i * K; t < i * K + K && nearId[t] >= 0; ++t)
+    {
+      const int j = nearId[t];
+      links[static_cast<std::size_t>(fill[i]++)] = { j, nearDistance[t] };
+      links[static_cast<std::size_t>(fill[j]++)] = { static_cast<int>(i), nearDistance[t] };
+    }
+  // Each row sorted, a neighbour kept once (both directions give the same distance).
+  std::vector<int> size(n, 0);
+  parallel(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      const auto first = links.begin() + offset[i], last = links.begin() + offset[i + 1];
+      std::sort(first, last);
+      size[i] = static_cast<int>(
+        std::unique(first, last, [](const auto& x, const auto& y) { return x.first == y.first; }) - first);
+    }
+  });
   Graph graph;
-  graph.offset.assign(points.size() + 1, 0);
-  for (std::size_t i = 0; i < points.size(); ++i)
-  {
-    auto& a = adjacency[i];
-    std::sort(a.begin(), a.end());
-    a.erase(std::unique(a.begin(), a.end(), [](const auto& x, const auto& y) { return x.first == y.first; }), a.end());
-    graph.offset[i + 1] = graph.offset[i] + static_cast<int>(a.size());
-    for (const auto& [j, d] : a)
-    {
-      graph.target.push_back(j);
-      graph.weight.push_back(d);
-    }
-  }
+  graph.offset.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    graph.offset[i + 1] = graph.offset[i] + size[i];
+  graph.target.resize(static_cast<std::size_t>(graph.offset[n]));
+  graph.weight.resize(graph.target.size());
+  parallel(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      for (int e = 0; e < size[i]; ++e)
+      {
+        const auto& [j, d] = links[static_cast<std::size_t>(offset[i] + e)];
+        graph.target[static_cast<std::size_t>(graph.offset[i] + e)] = j;
+        graph.weight[static_cast<std::size_t>(graph.offset[i] + e)] = d;
+      }
+  });
   return graph;
 }
 
