@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -138,6 +139,34 @@ TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::v
   return result;
 }
 
+/// Per point, the Morton code of its cell in a grid of 1024 cells a side over the points' bounding box (which does not
+/// depend on their order): sorting by it first keeps points near each other in space near each other in memory, so
+/// that the neighbour searches, the graph and the geodesic distances of 10^6 points do not miss the cache at every
+/// step (in the coordinates' order, a point's neighbours lay a whole slab of the cloud away).
+std::vector<std::uint32_t> MortonCells(const std::vector<Eigen::Vector3d>& points)
+{
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& p : points)
+  {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double side = std::max((hi - lo).maxCoeff(), 1e-300) / 1023.0;
+  std::vector<std::uint32_t> code(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    std::uint32_t c = 0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const auto v = static_cast<std::uint32_t>(std::clamp((points[i][a] - lo[a]) / side, 0.0, 1023.0));
+      for (int bit = 0; bit < 10; ++bit)
+        c |= ((v >> bit) & 1u) << (3 * bit + a);
+    }
+    code[i] = c;
+  }
+  return code;
+}
+
 /// Per-point results put back in the input's order: sorted[k] is input point order[k].
 template <typename T>
 void Unsort(std::vector<T>& values, const std::vector<std::size_t>& order)
@@ -154,9 +183,9 @@ void Unsort(std::vector<T>& values, const std::vector<std::size_t>& order)
 TreeFitResult FitTree(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel,
   const TreeFitParameters& options, const ParallelFor& parallel)
 {
-  // The canonical order (coordinates, then label, then input position for exact duplicates, which give the same
-  // result either way): the fit does not depend on the order the points come in (a cloud gathered from MPI ranks,
-  // a file written in another order).
+  // The canonical order (Morton cell, coordinates, then label, then input position for exact duplicates, which give
+  // the same result either way): the fit does not depend on the order the points come in (a cloud gathered from MPI
+  // ranks, a file written in another order), and points near each other are near each other in memory.
   for (std::size_t i = 0; i < points.size(); ++i) // before sorting: the message names the input's point
     if (!points[i].allFinite())
     {
@@ -169,9 +198,10 @@ TreeFitResult FitTree(const std::vector<Eigen::Vector3d>& points, const std::vec
   std::vector<std::size_t> order(points.size());
   std::iota(order.begin(), order.end(), std::size_t{ 0 });
   const bool labelled = woodLabel.size() == points.size();
+  const std::vector<std::uint32_t> cell = MortonCells(points);
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     const auto key = [&](std::size_t i) {
-      return std::make_tuple(points[i].x(), points[i].y(), points[i].z(), labelled ? woodLabel[i] : 0, i);
+      return std::make_tuple(cell[i], points[i].x(), points[i].y(), points[i].z(), labelled ? woodLabel[i] : 0, i);
     };
     return key(a) < key(b);
   });
