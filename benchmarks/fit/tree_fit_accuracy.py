@@ -239,6 +239,8 @@ for name, properties in TREES:
                branch=100 * (traits["BranchVolume"] / (truth["total"] - truth["trunk_volume"]) - 1),
                mesh_total=100 * (traits["TotalVolume"] / truth["mesh"] - 1),
                dbh=100 * (traits["DBH"] / truth["dbh"] - 1), height=100 * (traits["Height"] / truth["height"] - 1),
+               scan_top=100 * ((vtk_to_numpy(cloud.GetPoints().GetData()) @ UP).max() - truth["low"]) / truth["height"]
+               - 100,
                branch_length=100 * (traits["TotalBranchLength"] / truth["branch_length"] - 1),
                first_true=total_first, first_found=found,
                angle_rms=math.sqrt(sum(e * e for e in angle_errors) / len(angle_errors)) if angle_errors else float("nan"),
@@ -247,7 +249,7 @@ for name, properties in TREES:
     rows.append(row)
     print(f"{name:11s} pts {row['points']:8d} t {seconds:6.2f}s cpu {cpu:6.2f}s total {row['total']:+6.1f}% trunk {row['trunk']:+6.1f}% "
           f"branch {row['branch']:+7.1f}% (mesh {row['mesh_total']:+6.1f}%) DBH {row['dbh']:+5.1f}% "
-          f"H {row['height']:+5.1f}% BL {row['branch_length']:+6.1f}% 1st {found}/{total_first} "
+          f"H {row['height']:+5.1f}% (scan top {row['scan_top']:+5.1f}%) BL {row['branch_length']:+6.1f}% 1st {found}/{total_first} "
           f"angle {row['angle_rms']:5.1f} branches {int(row['fitted_branches'])}/{row['true_branches']} "
           f"measured {row['measured']:.2f}", flush=True)
     print("  per order, found/true (fitted): " + ", ".join(

@@ -116,8 +116,10 @@ void BranchRows(const Eigen::Vector3d& up, double low, TreeFitResult& result)
     }
   }
 }
-/// How far apart (in point spacings) the last points of a thin tip may lie and still continue the wood.
-constexpr double TipReach = 4.0;
+/// How far apart (in point spacings) the last points of a thin tip may lie and still continue the wood: on a cone tip
+/// a millimetre or two thick, beams a spacing apart hit it only here and there (a benchmark tree's last hits had a gap
+/// of 6 spacings below its top three); a lone point farther above the wood is noise.
+constexpr double TipReach = 8.0;
 
 /// The top of the wood along `up`: above the cleaned wood's highest point (`high`), the candidate points strung from
 /// it, each within TipReach spacings of the wood or of a point already taken. The last points of a thin tip lie in a
