@@ -305,22 +305,34 @@ std::vector<unsigned char> JoinComponents(const std::vector<Eigen::Vector3d>& po
   return in;
 }
 
-/// The subgraph on the points with keep[i] (renumbered by `index`: old id -> new id or -1).
-Graph Subgraph(const Graph& graph, const std::vector<int>& kept, const std::vector<int>& index)
+/// The subgraph on the points `kept` (renumbered by `index`: old id -> new id or -1); rows counted and filled in
+/// parallel (each row its own: the same graph on any number of threads).
+Graph Subgraph(
+  const Graph& graph, const std::vector<int>& kept, const std::vector<int>& index, const ParallelFor& parallel)
 {
   Graph sub;
   sub.offset.assign(kept.size() + 1, 0);
+  parallel(kept.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+      for (int e = graph.offset[kept[k]]; e < graph.offset[kept[k] + 1]; ++e)
+        sub.offset[k + 1] += index[graph.target[e]] >= 0 ? 1 : 0;
+  });
   for (std::size_t k = 0; k < kept.size(); ++k)
-  {
-    const int i = kept[k];
-    for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
-      if (index[graph.target[e]] >= 0)
-      {
-        sub.target.push_back(index[graph.target[e]]);
-        sub.weight.push_back(graph.weight[e]);
-      }
-    sub.offset[k + 1] = static_cast<int>(sub.target.size());
-  }
+    sub.offset[k + 1] += sub.offset[k];
+  sub.target.resize(static_cast<std::size_t>(sub.offset[kept.size()]));
+  sub.weight.resize(sub.target.size());
+  parallel(kept.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+    {
+      auto at = static_cast<std::size_t>(sub.offset[k]);
+      for (int e = graph.offset[kept[k]]; e < graph.offset[kept[k] + 1]; ++e)
+        if (index[graph.target[e]] >= 0)
+        {
+          sub.target[at] = index[graph.target[e]];
+          sub.weight[at++] = graph.weight[e];
+        }
+    }
+  });
   return sub;
 }
 
@@ -416,7 +428,7 @@ std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& all, const std::
     return message.str();
   }
   wood.spacing = spacing;
-  wood.graph = Subgraph(graph, kept, index);
+  wood.graph = Subgraph(graph, kept, index, parallel);
   for (int k : kept)
   {
     wood.points.push_back(clean[k]);
