@@ -148,9 +148,10 @@ bool ChainChord(const std::vector<TreeCylinder>& cylinders, const std::vector<st
 /// order. A single child that turns more than KinkAngle from its parent, and still does KinkReaches on, does not
 /// continue it either: a branch does not bend sharply, a lateral at a leader's thin tip does (its first cylinders
 /// would otherwise lengthen the leader); a branch younger than IncomingReaches has no direction of its own to turn
-/// from yet. Directions are chords over a few parent radii, away from the junction (whose cylinders hold both
-/// branches and lean): the parent's from below it and never across its own branch's start (parents are decided
-/// first: cylinder ids grow from the base), each child's ahead of it (FarDirection).
+/// from yet: it does not kink, and at a fork its heaviest child goes on. Directions are chords over a few parent
+/// radii, away from the junction (whose cylinders hold both branches and lean): the parent's from below it and never
+/// across its own branch's start (parents are decided first: cylinder ids grow from the base), each child's ahead of
+/// it (FarDirection).
 std::vector<int> ContinuingChildren(
   const std::vector<TreeCylinder>& cylinders, const std::vector<double>& radius, const std::vector<double>& carried)
 {
@@ -231,12 +232,15 @@ std::vector<int> ContinuingChildren(
     // The children that go on within KinkAngle of the parent's direction; among those carrying at least
     // ContinueShare of the heaviest of them (a split sliver of the stem is not its continuation), the straightest
     // ones (within ForkMargin of the straightest) and of them the one carrying most.
+    // A branch younger than IncomingReaches has no direction of its own yet (its first cylinders follow its
+    // parent's axis): every child is a candidate and the heaviest goes on.
+    const bool young = history(static_cast<int>(p)) < IncomingReaches * reach;
     std::vector<std::pair<double, int>> angles; // (degrees, child), aligned children
     double heaviestAligned = 0;
     for (int k : children[p])
     {
       const double a = angle(FarDirection(cylinders, children, k, 2.0 * reach, dp, true, travelled));
-      if (a <= KinkAngle)
+      if (a <= KinkAngle || young)
       {
         angles.emplace_back(a, k);
         heaviestAligned = std::max(heaviestAligned, carried[k]);
@@ -250,7 +254,7 @@ std::vector<int> ContinuingChildren(
       continue;
     int chosen = angles[0].second;
     for (const auto& [a, k] : angles)
-      if (a <= angles[0].first + ForkMargin && carried[k] > carried[chosen])
+      if ((young || a <= angles[0].first + ForkMargin) && carried[k] > carried[chosen])
         chosen = k;
     // Codominant children (each carrying at least half the heaviest) turning alike: the branch ends at the fork.
     const auto codominant = [&](int k) { return carried[k] >= CodominantShare * heaviest; };

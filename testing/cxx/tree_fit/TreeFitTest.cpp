@@ -4,6 +4,7 @@
 // instead of inflated fits, the height up to the sparse last points of a tip, deterministic threaded results, and the
 // bad inputs (noise, a plane, a line, too few points, NaN) refused with a clear message.
 #include "TreeFit.h"
+#include "TreeFitInternal.h"
 
 #include <plantmorph/RandomStream.h>
 
@@ -205,6 +206,48 @@ TEST(TreeFit, AStraightStemStaysOneBranchPastAHeavyLateral)
   EXPECT_NEAR(r.branches[0].length, 2.4, 0.1);
   EXPECT_EQ(r.branches[1].order, 1);
   EXPECT_NEAR(r.branches[1].angle, 35.0, 8.0); // the junction leans towards the thicker lateral
+}
+
+TEST(TreeFit, AYoungBranchForkingGoesOnIntoItsHeavierChild)
+{
+  // The branch step alone, on cylinders as the fit leaves them (all measured, 10 cm long): a trunk, and a lateral whose
+  // first cylinder, at the junction, leans only 10 degrees off the trunk before the lateral goes on at 40 degrees
+  // and, right there, a sub-branch leaves at 75. Against the lateral's direction so far (its first cylinder's) both
+  // children turn more than 25 degrees; a branch that young has no direction of its own yet, so the heavier child
+  // goes on: the lateral is one first-order branch, the sub-branch of order 2 (not two branches one order up).
+  TreeFitResult result;
+  const auto add = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& direction, double radius, int parent) {
+    TreeCylinder c;
+    c.start = start;
+    c.length = 0.1;
+    c.end = start + 0.1 * direction.normalized();
+    c.fittedRadius = radius;
+    c.points = 100;
+    c.coverage = 360.0;
+    c.fitRMS = 0.0005;
+    c.parent = parent;
+    result.cylinders.push_back(c);
+    return static_cast<int>(result.cylinders.size()) - 1;
+  };
+  const auto tilted = [](double degrees, double side) {
+    const double a = degrees * M_PI / 180.0;
+    return Eigen::Vector3d(std::sin(a) * std::cos(side), std::sin(a) * std::sin(side), std::cos(a));
+  };
+  int at = -1;
+  for (int k = 0; k < 20; ++k)
+    at = add(Eigen::Vector3d(0, 0, 0.1 * k), Eigen::Vector3d::UnitZ(), 0.06, k == 0 ? -1 : at);
+  int lateral = add(Eigen::Vector3d(0, 0, 1.0), tilted(10.0, 0.0), 0.03, 9); // the junction's lean
+  const int first = lateral;
+  int sub = lateral;
+  for (int k = 0; k < 12; ++k)
+    lateral = add(result.cylinders[lateral].end, tilted(40.0, 0.0), 0.03, lateral);
+  for (int k = 0; k < 4; ++k)
+    sub = add(result.cylinders[sub].end, tilted(75.0, 0.0), 0.012, sub);
+  ASSERT_EQ(treefit::ModelRadii(0.006, result), "");
+  ASSERT_EQ(result.branches.size(), 3u);
+  EXPECT_EQ(result.cylinders[first].branch, result.cylinders[lateral].branch);
+  EXPECT_EQ(result.cylinders[lateral].order, 1);
+  EXPECT_EQ(result.cylinders[sub].order, 2);
 }
 
 TEST(TreeFit, JunctionsDoNotWidenTheTrunk)
