@@ -17,7 +17,8 @@ import math
 import os
 
 from plantmorph_testing import (check_rank_count, Checks, fingerprint, load_plugin, load_reference,
-                               MPI_EQUALITY_ARGUMENTS, parse_arguments, save_reference)
+                               moved_copies, MPI_EQUALITY_ARGUMENTS, parse_arguments, save_reference,
+                               sorted_point_rows)
 
 arguments = parse_arguments(MPI_EQUALITY_ARGUMENTS)
 
@@ -36,25 +37,14 @@ for angle in (0.3, 0.3 + math.pi):
     positions += [6.0 * math.cos(angle), 3.0, 6.0 * math.sin(angle)]
 scan = VirtualScanner(Input=plant, Positions=positions, LookAt=[0, 2.5, 0], Up=[0, 1, 0], HorizontalFieldOfView=80,
                       VerticalFieldOfView=80, AngularStep=0.25, RangeNoise=0.0015, Seed=2)
-parts = []
-for k in range(3):
-    moved = Transform(Input=scan)
-    moved.Transform.Translate = [8.0 * k, 0.0, 0.0]
-    moved.Transform.Rotate = [0.0, 40.0 * k, 0.0]
-    parts.append(Calculator(Input=moved, ResultArrayName="Plant", Function="%d" % (10 + k), ResultArrayType="Int"))
-stand = AppendDatasets(Input=parts)
+stand = AppendDatasets(Input=moved_copies(scan, 3, "Plant", 10, 8.0))
 segmentation = PlantSegmentationFilter(Input=stand, PlantIdArray="Plant", UpAxis="Y")
 TABLES = {"leaves": 1, "plants": 2}
 POINT_ARRAYS = ["Plant", "Organ", "LeafId", "SegmentationConfidence"]
 
 
 def point_rows(data):
-    """Every output point as a row (x, y, z, then POINT_ARRAYS), the rows sorted: the ranks' order is not kept."""
-    columns = [vtk_to_numpy(data.GetPoints().GetData()).astype(numpy.float64)]
-    for name in POINT_ARRAYS:
-        columns.append(vtk_to_numpy(data.GetPointData().GetArray(name)).astype(numpy.float64).reshape(-1, 1))
-    rows = numpy.hstack(columns)
-    return rows[numpy.lexsort(rows.T[::-1])]
+    return sorted_point_rows(data, POINT_ARRAYS)
 
 
 reference_file = os.path.join(arguments.work, "mpi_segmentation_reference.npz")
