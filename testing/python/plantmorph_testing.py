@@ -109,6 +109,33 @@ def reload_in_fresh_pvpython(state, expected, expected_file, arguments, script):
     return subprocess.run(command, timeout=600).returncode
 
 
+def moved_copies(source, count, array, first_id, step):
+    """`count` copies of `source` (a paraview.simple proxy), the k-th moved by k * `step` along x and turned by 40 k
+    degrees about y, each with an integer point array `array` of value first_id + k: a stand of plants or trees for
+    the MPI tests of the per-group filters."""
+    from paraview.simple import Calculator, Transform
+    parts = []
+    for k in range(count):
+        moved = Transform(Input=source)
+        moved.Transform.Translate = [step * k, 0.0, 0.0]
+        moved.Transform.Rotate = [0.0, 40.0 * k, 0.0]
+        parts.append(Calculator(Input=moved, ResultArrayName=array, Function="%d" % (first_id + k),
+                                ResultArrayType="Int"))
+    return parts
+
+
+def sorted_point_rows(data, arrays):
+    """Every point of `data` as a row (x, y, z, then the one-component point `arrays`), the rows sorted: an MPI
+    run's outputs appended over the ranks do not keep the serial order."""
+    import numpy
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    columns = [vtk_to_numpy(data.GetPoints().GetData()).astype(numpy.float64)]
+    for name in arrays:
+        columns.append(vtk_to_numpy(data.GetPointData().GetArray(name)).astype(numpy.float64).reshape(-1, 1))
+    rows = numpy.hstack(columns)
+    return rows[numpy.lexsort(rows.T[::-1])]
+
+
 def fingerprint(dataset):
     """A SHA-256 of everything a source or filter computes: points, every point and cell array (by name), every cell
     array's connectivity, and for tables every column; equal fingerprints mean bit-identical outputs. Field data is

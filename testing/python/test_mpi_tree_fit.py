@@ -16,13 +16,13 @@ import math
 import os
 
 from plantmorph_testing import (check_rank_count, Checks, fingerprint, load_plugin, load_reference,
-                               MPI_EQUALITY_ARGUMENTS, parse_arguments, save_reference)
+                               moved_copies, MPI_EQUALITY_ARGUMENTS, parse_arguments, save_reference,
+                               sorted_point_rows)
 
 arguments = parse_arguments(MPI_EQUALITY_ARGUMENTS)
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
-from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 import numpy  # noqa: E402
 
 load_plugin(arguments.plugin, globals())
@@ -33,12 +33,7 @@ tripods = [coordinate for k in range(3) for coordinate in (7 * math.cos(2 * math
                                                            7 * math.sin(2 * math.pi * (k + 0.1) / 3))]
 scan = VirtualScanner(Input=wood, Positions=tripods, LookAt=[0, 2.0, 0], Up=[0, 1, 0], HorizontalFieldOfView=50,
                       VerticalFieldOfView=60, AngularStep=0.2, RangeNoise=0.003, Seed=3)
-parts = []
-for k in range(3):
-    moved = Transform(Input=scan)
-    moved.Transform.Translate = [6.0 * k, 0.0, 0.0]
-    moved.Transform.Rotate = [0.0, 40.0 * k, 0.0]
-    parts.append(Calculator(Input=moved, ResultArrayName="Tree", Function="%d" % (10 + k), ResultArrayType="Int"))
+parts = moved_copies(scan, 3, "Tree", 10, 6.0)
 line = Line(Point1=[-5.0, 0.0, 0.0], Point2=[-5.0, 3.0, 0.0], Resolution=500)
 parts.append(Calculator(Input=line, ResultArrayName="Tree", Function="3", ResultArrayType="Int"))
 stand = AppendDatasets(Input=parts)
@@ -48,12 +43,7 @@ SCAN_ARRAYS = ["TreeId", "CylinderId", "BranchId", "Wood", "FitDistance"]
 
 
 def scan_rows(data):
-    """Every Scan point as a row (x, y, z, then SCAN_ARRAYS), the rows sorted: the order the ranks give is not kept."""
-    columns = [vtk_to_numpy(data.GetPoints().GetData()).astype(numpy.float64)]
-    for name in SCAN_ARRAYS:
-        columns.append(vtk_to_numpy(data.GetPointData().GetArray(name)).astype(numpy.float64).reshape(-1, 1))
-    rows = numpy.hstack(columns)
-    return rows[numpy.lexsort(rows.T[::-1])]
+    return sorted_point_rows(data, SCAN_ARRAYS)
 
 
 def table_rows(table):

@@ -26,7 +26,9 @@
 //     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at
 //     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base
 //     nearest along the region. A part under a quarter of the plant's median part (a leaf's tip or rim cut off by
-//     a fold or crease) that touches other leaf parts joins the one it shares the most links with, smallest first.
+//     a fold or crease) that touches other leaf parts joins the one it shares the most links with, smallest first;
+//     then a larger part joins the touching part it shares the most links with among those continuing its sheet
+//     (planes within NormalAngle, both together off their common plane by under r): a leaf cut in two by a crease.
 //     Each leaf part of at least MinimumLeafPoints points is then a leaf; LeafId numbers
 //     them over all plants in the order of their lowest point index (deterministic). Smaller leaf regions stay leaf
 //     points with LeafId -1. Each leaf's base is its point nearest the wood along the link graph; the branch it

@@ -2,6 +2,7 @@
 #include "vtkPlantSegmentationFilter.h"
 #include "PlantMorphAlgorithmHooks.h"
 #include "PlantMorphLayer.h"
+#include "PlantMorphOwnerExchange.h"
 #include "PlantSegmentation.h"
 
 #include "vtkCellArray.h"
@@ -17,6 +18,7 @@
 #include "vtkTable.h"
 
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -24,8 +26,12 @@ vtkStandardNewMacro(vtkPlantSegmentationFilter);
 
 namespace
 {
-/// The input is gathered whole on rank 0 and segmented there.
-constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::WholeOnFirstRank;
+/// Each plant (each PlantIdArray value) is segmented whole on one owner rank (common/vtk/PlantMorphOwnerExchange.h);
+/// the Points output stays where its points are, the Leaves and Plants tables are gathered on rank 0.
+constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::LeafPerRank;
+/// Values per point sent to the owners (x, y, z) and back (organ, leaf index in its plant, confidence); per plant
+/// gathered on rank 0: its row (PlantValues), then LeafValues per leaf.
+constexpr int SendWidth = 3, ReturnWidth = 3, PlantValues = 8, LeafValues = 10;
 
 template <typename T>
 vtkSmartPointer<T> NewArray(const char* name, int components, vtkIdType tuples)
@@ -37,40 +43,118 @@ vtkSmartPointer<T> NewArray(const char* name, int components, vtkIdType tuples)
   return array;
 }
 
-/// The input's points, and each point's plant id (empty without PlantIdArray); "" or the error.
-std::string ReadPoints(
-  vtkPointSet* input, const std::string& plantIdArray, std::vector<Eigen::Vector3d>& points, std::vector<int>& plantOf)
+/// This rank's piece: its coordinates (SendWidth per point), each point's plant id and the plants' members.
+struct LocalInput
+{
+  std::vector<double> xyz;
+  std::vector<int> plantOf;
+  plantmorph::LocalGroups plants;
+};
+
+/// Reads this rank's piece (none, or no points: nothing, no error); "" or the error (a missing PlantIdArray, a plant
+/// id that is no whole number, a non-finite coordinate: point numbers are the piece's).
+std::string ReadPoints(vtkPointSet* input, const std::string& plantIdArray, LocalInput& in)
 {
   const vtkIdType n = input ? input->GetNumberOfPoints() : 0;
   vtkDataArray* ids = nullptr;
-  if (!plantIdArray.empty() && plantIdArray != "None")
+  if (n > 0 && !plantIdArray.empty() && plantIdArray != "None")
   {
-    ids = input ? input->GetPointData()->GetArray(plantIdArray.c_str()) : nullptr;
+    ids = input->GetPointData()->GetArray(plantIdArray.c_str());
     if (!ids || ids->GetNumberOfComponents() != 1)
       return "PlantIdArray: the input has no one-component point array named '" + plantIdArray + "'";
   }
-  points.resize(static_cast<std::size_t>(n));
-  plantOf.assign(ids ? static_cast<std::size_t>(n) : 0, 0);
   for (vtkIdType i = 0; i < n; ++i)
   {
     double p[3];
     input->GetPoint(i, p);
-    points[static_cast<std::size_t>(i)] = Eigen::Vector3d(p[0], p[1], p[2]);
-    if (ids)
-    {
-      const double id = ids->GetComponent(i, 0);
-      if (!std::isfinite(id) || std::abs(id) > 2e9)
-        return "PlantIdArray '" + plantIdArray + "': point " + std::to_string(i) + " has no whole plant id";
-      plantOf[static_cast<std::size_t>(i)] = static_cast<int>(std::lround(id));
-    }
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      return "point " + std::to_string(i) + " has a non-finite coordinate (" + std::to_string(p[0]) + ", " +
+        std::to_string(p[1]) + ", " + std::to_string(p[2]) + "): remove NaN and infinite points first";
+    const double id = ids ? ids->GetComponent(i, 0) : 0.0;
+    if (!std::isfinite(id) || std::abs(id) > 2e9)
+      return "PlantIdArray '" + plantIdArray + "': point " + std::to_string(i) + " has no whole plant id";
+    in.plantOf.push_back(static_cast<int>(std::lround(id)));
+    in.plants[in.plantOf.back()].push_back(i);
+    in.xyz.insert(in.xyz.end(), { p[0], p[1], p[2] });
   }
   return {};
 }
 
-/// Port 0: the points as vertices with the input's point data and the labels.
-void WritePoints(vtkPointSet* input, const plantmorph::SegmentationResult& r, vtkPolyData* out)
+/// Segments the plants this rank owns (each threaded inside): per plant, ReturnWidth values per point (`values`) and
+/// a block, its row and its leaves' rows (`blocks`); "" or the first failing plant's error.
+std::string SegmentOwned(const plantmorph::OwnerExchange& exchange, const std::vector<std::vector<double>>& sent,
+  const plantmorph::SegmentationParameters& p, std::vector<std::vector<double>>& values,
+  std::vector<std::vector<double>>& blocks)
 {
-  const auto n = static_cast<vtkIdType>(r.organ.size());
+  const std::vector<std::size_t> owned = exchange.Owned();
+  for (std::size_t k = 0; k < sent.size(); ++k)
+  {
+    std::vector<Eigen::Vector3d> points(sent[k].size() / SendWidth);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      points[i] = Eigen::Vector3d(sent[k][SendWidth * i], sent[k][SendWidth * i + 1], sent[k][SendWidth * i + 2]);
+    const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(points, {}, p, plantmorph::SMPFor());
+    const auto id = static_cast<long long>(exchange.Ids()[owned[k]]);
+    if (!r.error.empty())
+      return (exchange.Ids().size() > 1 ? "plant " + std::to_string(id) + ": " : std::string()) + r.error;
+    values.emplace_back();
+    for (std::size_t i = 0; i < points.size(); ++i)
+      values.back().insert(values.back().end(), { double(r.organ[i]), double(r.leafId[i]), r.confidence[i] });
+    const plantmorph::SegmentedPlant& plant = r.plants.front();
+    blocks.push_back({ double(id), double(plant.leafCount), double(plant.points), double(plant.woodPoints),
+      double(plant.leafPoints), double(plant.unassignedLeafPoints), plant.height, plant.spacing });
+    for (const plantmorph::SegmentedLeaf& leaf : r.leaves)
+      blocks.back().insert(blocks.back().end(),
+        { double(leaf.points), double(leaf.branch), leaf.area, leaf.baseGap, leaf.base.x(), leaf.base.y(),
+          leaf.base.z(), leaf.centre.x(), leaf.centre.y(), leaf.centre.z() });
+  }
+  return {};
+}
+
+/// On rank 0: the plants' and leaves' rows from the gathered blocks (plants in ascending id, their leaves numbered
+/// on in that order); returns each plant's first LeafId (Ids() order), then the leaf count.
+std::vector<double> Assemble(const std::vector<std::vector<double>>& blocks, plantmorph::SegmentationResult& r)
+{
+  std::vector<double> firstLeaf;
+  for (const std::vector<double>& b : blocks)
+  {
+    firstLeaf.push_back(static_cast<double>(r.leaves.size()));
+    plantmorph::SegmentedPlant plant;
+    plant.plantId = static_cast<int>(b[0]);
+    plant.leafCount = static_cast<int>(b[1]);
+    plant.points = static_cast<long long>(b[2]);
+    plant.woodPoints = static_cast<long long>(b[3]);
+    plant.leafPoints = static_cast<long long>(b[4]);
+    plant.unassignedLeafPoints = static_cast<long long>(b[5]);
+    plant.height = b[6];
+    plant.spacing = b[7];
+    r.plants.push_back(plant);
+    for (std::size_t at = PlantValues; at + LeafValues <= b.size(); at += LeafValues)
+    {
+      plantmorph::SegmentedLeaf leaf;
+      leaf.leafId = static_cast<int>(r.leaves.size());
+      leaf.plantId = plant.plantId;
+      leaf.points = static_cast<long long>(b[at]);
+      leaf.branch = static_cast<int>(b[at + 1]);
+      leaf.area = b[at + 2];
+      leaf.baseGap = b[at + 3];
+      leaf.base = Eigen::Vector3d(b[at + 4], b[at + 5], b[at + 6]);
+      leaf.centre = Eigen::Vector3d(b[at + 7], b[at + 8], b[at + 9]);
+      r.leaves.push_back(leaf);
+    }
+  }
+  firstLeaf.push_back(static_cast<double>(r.leaves.size()));
+  return firstLeaf;
+}
+
+/// Port 0: this rank's points as vertices with their point data and the labels their owners sent back (`values`,
+/// ReturnWidth per point; the leaf index numbered on from its plant's first LeafId).
+void WritePoints(vtkPointSet* input, const LocalInput& in, const plantmorph::OwnerExchange& exchange,
+  const std::vector<double>& values, const std::vector<double>& firstLeaf, vtkPolyData* out)
+{
+  const auto n = static_cast<vtkIdType>(in.plantOf.size());
+  std::map<vtkTypeInt64, double> first;
+  for (std::size_t k = 0; k < exchange.Ids().size(); ++k)
+    first[exchange.Ids()[k]] = firstLeaf[k];
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(n);
@@ -80,13 +164,12 @@ void WritePoints(vtkPointSet* input, const plantmorph::SegmentationResult& r, vt
   auto confidence = NewArray<vtkDoubleArray>("SegmentationConfidence", 1, n);
   for (vtkIdType i = 0; i < n; ++i)
   {
-    double p[3];
-    input->GetPoint(i, p);
-    points->SetPoint(i, p);
+    points->SetPoint(i, &in.xyz[static_cast<std::size_t>(SendWidth * i)]);
     verts->InsertNextCell(1, &i);
-    organ->SetValue(i, r.organ[static_cast<std::size_t>(i)]);
-    leaf->SetValue(i, r.leafId[static_cast<std::size_t>(i)]);
-    confidence->SetValue(i, r.confidence[static_cast<std::size_t>(i)]);
+    const double* v = &values[static_cast<std::size_t>(ReturnWidth * i)];
+    organ->SetValue(i, static_cast<int>(v[0]));
+    leaf->SetValue(i, v[1] >= 0.0 ? static_cast<int>(first[in.plantOf[static_cast<std::size_t>(i)]] + v[1]) : -1);
+    confidence->SetValue(i, v[2]);
   }
   out->SetPoints(points);
   out->SetVerts(verts);
@@ -203,21 +286,39 @@ void vtkPlantSegmentationFilter::Execute(plantmorph::Run& run)
   p.maximumLeafElongation = this->MaximumLeafElongation;
   p.minimumLeafPoints = this->MinimumLeafPoints;
   run.Check(plantmorph::ValidateSegmentationParameters(p));
+  // Every rank takes part in every exchange, even with an empty or wrong piece; the ranks stop together.
   vtkPointSet* input = run.Input<vtkPointSet>(0);
-  std::vector<Eigen::Vector3d> points;
-  std::vector<int> plantOf;
-  run.Check(ReadPoints(input, this->PlantIdArray, points, plantOf));
-  run.Building("the segmentation of " + std::to_string(points.size()) + " points");
-  plantmorph::SegmentationResult result;
-  run.Threaded(0, [&]() { result = plantmorph::SegmentPlants(points, plantOf, p, plantmorph::SMPFor()); });
-  run.Check(result.error);
+  LocalInput in;
+  const std::string error = ReadPoints(input, this->PlantIdArray, in);
+  const plantmorph::OwnerExchange exchange(run.Controller(), in.plants);
+  run.StopIfAnyRankFailed(exchange.AnyRank(!error.empty()), error);
+  if (exchange.Ids().empty())
+    run.Fail("the input has no points");
+  run.Building("the segmentation of the plants");
+  const auto sent = exchange.SendValues(in.plants, in.xyz, SendWidth);
+  std::vector<std::vector<double>> values, blocks;
+  std::string failed;
+  run.Threaded(0, [&]() { failed = SegmentOwned(exchange, sent, p, values, blocks); });
+  run.StopIfAnyRankFailed(exchange.AnyRank(!failed.empty()), failed);
   this->UpdateProgress(0.9);
-  WritePoints(input, result, run.Output<vtkPolyData>(0));
-  WriteLeaves(result, run.Output<vtkTable>(1));
-  WritePlants(result, run.Output<vtkTable>(2));
+  plantmorph::SegmentationResult result;
+  std::vector<double> firstLeaf;
+  const std::vector<std::vector<double>> gathered = exchange.GatherBlocks(blocks);
+  if (exchange.Rank() == 0)
+    firstLeaf = Assemble(gathered, result);
+  exchange.Broadcast(firstLeaf);
+  const std::vector<double> pointValues =
+    exchange.ReturnValues(in.plants, static_cast<vtkIdType>(in.plantOf.size()), values, ReturnWidth);
+  if (!in.plantOf.empty())
+    WritePoints(input, in, exchange, pointValues, firstLeaf, run.Output<vtkPolyData>(0));
+  if (exchange.Rank() == 0)
+  {
+    WriteLeaves(result, run.Output<vtkTable>(1));
+    WritePlants(result, run.Output<vtkTable>(2));
+  }
   plantmorph::FieldRecord record;
   record.Add("Model", "PlantSegmentation");
-  record.Add("LeafCount", static_cast<double>(result.leaves.size()));
-  record.Add("PlantCount", static_cast<double>(result.plants.size()));
+  record.Add("LeafCount", firstLeaf.back());
+  record.Add("PlantCount", static_cast<double>(exchange.Ids().size()));
   run.WriteToEveryOutput(record);
 }

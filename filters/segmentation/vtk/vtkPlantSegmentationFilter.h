@@ -17,7 +17,9 @@
  * segment it grows on), BaseGap. Port 2, **Plants**: one row per plant: PlantId, LeafCount, Height (along UpAxis),
  * Points, WoodPoints, LeafPoints, UnassignedLeafPoints, Spacing.
  *
- * Under MPI the input is gathered on rank 0 and segmented there (WholeOnFirstRank). Bad input (no points, fewer
+ * Under MPI each plant is segmented whole on one owner rank (LeafPerRank, as LeafFitFilter does with leaves;
+ * common/vtk/PlantMorphOwnerExchange.h): Points stays where its points are, Leaves and Plants are gathered on rank 0;
+ * the labels and tables do not depend on the number of ranks. Bad input (no points, fewer
  * than 20 in a plant, NaN, a plant without wood or without leaves, a missing PlantIdArray, properties out of range)
  * gives an error naming the problem and empty outputs.
  */
