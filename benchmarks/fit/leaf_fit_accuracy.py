@@ -103,6 +103,7 @@ def run(name, properties, curled, view, petiole):
         petiole_length = 0.3 * L
         down = -t["normal"]
         axis = -math.cos(math.radians(30)) * t["direction"] + math.sin(math.radians(30)) * down
+        axis /= numpy.linalg.norm(axis)  # on a curled blade the base's direction is not in the mean plane: |axis| < 1
         end = t["base"] + petiole_length * axis
         line = Line(Point1=list(t["base"]), Point2=list(end), Resolution=20)
         tube = Tube(Input=line, Radius=0.01 * L, NumberofSides=12, Capping=0)
@@ -119,7 +120,11 @@ def run(name, properties, curled, view, petiole):
     # "above": one pass looking straight down; "oblique": one pass tilted 35 degrees about the leaf's length; "two":
     # two passes tilted 35 degrees to either side, their points appended (each at the one-pass settings).
     tilts = {"above": [0.0], "oblique": [35.0], "two": [35.0, -35.0]}[view]
-    scanners = [line_scan(scene, points, t, e_length, e_width, normal, tilt, L) for tilt in tilts]
+    # The scan covers the whole scene, the petiole too (its far end was outside the field on the ginkgo and the
+    # curled blades, so the petiole the fit could see was up to 40 % shorter than the truth).
+    seen = points if not petiole else numpy.vstack([points, t["base"] + numpy.outer(numpy.linspace(0.0, 1.0, 21),
+                                                                                   end - t["base"])])
+    scanners = [line_scan(scene, seen, t, e_length, e_width, normal, tilt, L) for tilt in tilts]
     scanner = scanners[0] if len(scanners) == 1 else AppendDatasets(Input=scanners)
     fit = LeafFitFilter(Input=scanner)
     fit.UpdatePipeline()

@@ -260,7 +260,14 @@ std::size_t FirstStalkBin(const Bins& b, double spacing)
 /// rounded end the ball did not quite reach): they lie farther from the stalk's axis than its own points do (its
 /// half-width: the 80th percentile of the distances to the axis of the points of its next bins); those, and every
 /// point nearer the blade than the farthest of them, go back to the blade.
-void JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail, const Bins& b, std::size_t start,
+struct StalkAxis
+{
+  bool valid = false;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero(), towardsBlade = Eigen::Vector3d::Zero();
+  double half = 0.0; ///< the stalk's half-width about the axis
+};
+
+StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail, const Bins& b, std::size_t start,
   double spacing, Petiole& petiole)
 {
   std::size_t k1 = start + 1;
@@ -279,7 +286,7 @@ void JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail,
         ++n;
       }
     petiole.junction /= static_cast<double>(std::max<std::size_t>(1, n));
-    return;
+    return {};
   }
   const Eigen::Vector3d origin = b.centre[k1], u = (b.centre[k1] - b.centre[k2]).normalized(); // towards the blade
   auto lateral = [&](const Eigen::Vector3d& p) {
@@ -318,6 +325,108 @@ void JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail,
       ++count;
     }
   petiole.junction /= static_cast<double>(std::max<std::size_t>(1, count));
+  return { !own.empty(), origin, u, half };
+}
+
+/// Where the stalk's axis, from `position` on, meets the blade: the plane of the points around `position` off the
+/// axis (the blade's end, or the basal lobes around a sinus). Below a cordate base those reach the axis before
+/// the stalk meets the blade, which lies on in the lobes' plane. Only a stalk leaving that plane at 15 degrees or
+/// more is followed there (in or near the plane, the line would meet it anywhere); the stalk's points on the way
+/// join the petiole.
+void MeetBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing, const StalkAxis& axis,
+  const Eigen::Vector3d& position, Petiole& petiole)
+{
+  const Eigen::Vector3d& u = axis.towardsBlade;
+  const double narrow = axis.half + 0.75 * spacing, reach = axis.half + 6.0 * spacing;
+  std::vector<int> near, around;
+  grid.Within(position, reach, near);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int j : near)
+  {
+    const Eigen::Vector3d r = points[j] - position;
+    if (!petiole.member[j] && (r - r.dot(u) * u).norm() > narrow)
+    {
+      around.push_back(j);
+      mean += points[j];
+    }
+  }
+  if (around.size() < 10)
+    return;
+  mean /= static_cast<double>(around.size());
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (int j : around)
+    C += (points[j] - mean) * (points[j] - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+  const Eigen::Vector3d n = eig.eigenvectors().col(0);
+  // A plane: its thickness well below its extent (a sheet, not the stalk's surroundings in 3-D).
+  if (!(eig.eigenvalues()[0] < 0.1 * eig.eigenvalues()[1]) ||
+    std::abs(u.dot(n)) < std::sin(15.0 * 3.14159265358979323846 / 180.0))
+    return;
+  const double lambda = (mean - position).dot(n) / u.dot(n);
+  if (!(lambda > 0.0 && lambda < reach))
+    return;
+  for (int j : near)
+  {
+    const Eigen::Vector3d r = points[j] - position;
+    const double along = r.dot(u);
+    if (along >= 0.0 && along <= lambda && (r - along * u).norm() <= narrow)
+      petiole.member[j] = 1;
+  }
+  petiole.junction = position + lambda * u;
+}
+
+/// The opening's ball covers the stalk's first few spacings beside the blade (and, below a cordate base, the stalk
+/// between the basal lobes): from the junction found so far, the stalk is followed along its axis towards the blade
+/// in slices one spacing thick while each slice's points within 2 spacings of the axis all lie within the stalk's
+/// width, centred on the axis (the blade, a lobe, the blade's end, reaches further from the axis); those points join the petiole and the
+/// junction moves to the last such slice. A gap (an empty slice) ends the stalk too: beyond it, on the axis,
+/// lies the end of a wedge-shaped blade.
+void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
+  const StalkAxis& axis, Petiole& petiole)
+{
+  if (!axis.valid)
+    return;
+  const Eigen::Vector3d& u = axis.towardsBlade;
+  const double narrow = axis.half + 0.75 * spacing, look = axis.half + 2.0 * spacing;
+  Eigen::Vector3d position = petiole.junction;
+  std::vector<int> near, slice;
+  for (int step = 0; step < 10000; ++step)
+  {
+    const Eigen::Vector3d centre = position + 0.5 * spacing * u;
+    grid.Within(centre, std::hypot(look, 0.5 * spacing), near);
+    slice.clear();
+    bool wide = false;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int j : near)
+    {
+      const Eigen::Vector3d r = points[j] - centre;
+      const double along = r.dot(u), lateral = (r - along * u).norm();
+      if (std::abs(along) > 0.5 * spacing || lateral > look)
+        continue;
+      if (lateral > narrow)
+        wide = true;
+      else
+      {
+        slice.push_back(j);
+        mean += points[j];
+      }
+    }
+    if (wide || slice.empty())
+    {
+      MeetBlade(points, grid, spacing, axis, position, petiole);
+      break;
+    }
+    // A stalk's slice is centred on its axis; the blade's end beyond the junction leaves it at the stalk's angle to
+    // the blade (the end of a wedge-shaped base is as narrow as the stalk).
+    mean /= static_cast<double>(slice.size());
+    const Eigen::Vector3d r = mean - centre;
+    if ((r - r.dot(u) * u).norm() > spacing)
+      break;
+    for (int j : slice)
+      petiole.member[j] = 1;
+    petiole.junction = mean;
+    position += spacing * u;
+  }
 }
 
 /// True when the trail is a stalk: at least 6 spacings of stalk bins, thin (their spread at most 2.5 spacings, what
@@ -403,7 +512,7 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
   for (std::size_t k = 0; k < best->ids.size(); ++k)
     if (best->distance[k] >= from)
       petiole.member[best->ids[k]] = 1;
-  JunctionEnd(points, *best, bestBins, start, spacing, petiole);
+  FollowStalkToBlade(points, grid, spacing, JunctionEnd(points, *best, bestBins, start, spacing, petiole), petiole);
   // The centre line: the junction, the centroids of the stalk's bins after the first, and its farthest point.
   const std::size_t far =
     static_cast<std::size_t>(std::max_element(best->distance.begin(), best->distance.end()) - best->distance.begin());
