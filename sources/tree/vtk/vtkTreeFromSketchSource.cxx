@@ -36,6 +36,7 @@
 #include "vtkSMPTools.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
+#include "vtkTriangleFilter.h"
 #include "vtkTypeInt32Array.h"
 
 #include <algorithm>
@@ -144,6 +145,22 @@ std::string ReadStrokes(vtkPolyData* strokeInput, const std::string& strokeFile,
     return plantmorph::ReadStrokeFile(strokeFile, strokes, &origins);
   }
   return {};
+}
+
+/// The Leaf input's surface as polygons: triangle strips (a Tube filter's output, for one) become triangles with
+/// their cell data, so no part of the leaf is left out; the input itself is returned when it has no strips.
+vtkSmartPointer<vtkPolyData> LeafPolygons(vtkPolyData* leafInput)
+{
+  if (!leafInput || leafInput->GetNumberOfStrips() == 0)
+  {
+    return leafInput;
+  }
+  vtkNew<vtkTriangleFilter> triangles;
+  triangles->SetInputData(leafInput);
+  triangles->PassVertsOff();
+  triangles->PassLinesOff();
+  triangles->Update();
+  return triangles->GetOutput();
 }
 
 /// The Leaf input, checked before anything is written: "" or why it cannot be used; its length and lowest y.
@@ -913,6 +930,7 @@ void vtkTreeFromSketchSource::Execute(plantmorph::Run& run)
     inputs[port] =
       this->GetNumberOfInputConnections(port) > 0 ? WholeOnEveryRank(run.Input<vtkPolyData>(port)) : nullptr;
   }
+  inputs[1] = LeafPolygons(inputs[1]);
   plantmorph::TreeParameters s;
   run.Check(this->ReadProperties(s));
   // Strokes: the input's lines, else the file. A second tree to merge: a skeleton (lines) with BranchId and

@@ -133,6 +133,38 @@ blade_data = fetch(blade, 0)
 checks.check(leaves.GetNumberOfPolys() == 729 * 2 * blade_data.GetNumberOfPolys(),
              "one blade per leaf: %d polys" % leaves.GetNumberOfPolys())
 
+
+
+def polygon_area(polydata):
+    """The summed area of the polygons (triangulated by their fan; the leaves here are triangles)."""
+    from vtkmodules.vtkCommonCore import vtkIdList
+    points = vtk_to_numpy(polydata.GetPoints().GetData()).astype(float)
+    ids, total = vtkIdList(), 0.0
+    polys = polydata.GetPolys()
+    polys.InitTraversal()
+    while polys.GetNextCell(ids):
+        corner = [points[ids.GetId(k)] for k in range(ids.GetNumberOfIds())]
+        for k in range(1, len(corner) - 1):
+            total += 0.5 * numpy.linalg.norm(numpy.cross(corner[k] - corner[0], corner[k + 1] - corner[0]))
+    return total
+
+
+# A Leaf input of triangle strips (as the Triangle Strips and Tube filters give) is instanced whole.
+SetActiveSource(None)
+strips = TriangleStrips(registrationName="BladeStrips", Input=blade)
+strips_data = fetch(strips, 0)
+SetActiveSource(None)
+leafy_strips = TreeFromSketchSource(registrationName="LeafyStrips", Leaf=strips,
+                                    Preset="Table 1 middle: sympodial 1/3", LeafCount=2)
+strip_leaves = fetch(leafy_strips, 2)
+area, strip_area = polygon_area(leaves), polygon_area(strip_leaves)
+checks.check(strips_data.GetNumberOfStrips() > 0 and strips_data.GetNumberOfPolys() == 0
+             and abs(strip_area - area) <= 1e-6 * area,
+             "a blade of %d triangle strips gives the leaves' area of its triangles: %.6g against %.6g"
+             % (strips_data.GetNumberOfStrips(), strip_area, area))
+Delete(leafy_strips)
+Delete(strips)
+
 # Bad values: empty outputs.
 SetActiveSource(None)
 bad = TreeFromSketchSource(registrationName="Bad", Preset="Custom", Length=-1.0)
