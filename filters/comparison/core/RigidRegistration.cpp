@@ -345,7 +345,7 @@ void SymmetricICP(const std::vector<double>& landmarks, const std::vector<double
     // surface can overshoot). Near the minimum the pairs' own jitter keeps
     // the steps from shrinking below the tolerance: three transforms in a row that do not lower it by 0.1 % end the
     // stage with the best transform seen.
-    if (mean < best)
+    if (mean < best || iteration == 1)
     {
       refused = 0;
       const bool progress = mean < (1.0 - 1e-3) * best;
