@@ -87,14 +87,17 @@ void ApplyTransform(const double matrix[16], const double* in, double* out, std:
 /// ICP of `count` points (x,y,z triples) onto `reference` (built). Threads the closest-point queries with
 /// `parallelFor`.
 ///
-/// With settings.referencePoints (symmetric mode): point-to-point ICP whose pairs go both ways, each measured
-/// landmark to its closest point on the reference AND each reference point (a strided subset of at most
-/// maximumLandmarks) to its nearest moved landmark, solved by Umeyama's similarity (rigid or with scale) each
-/// iteration. The second half of the pairs makes the measured cloud cover the whole reference: scale cannot
-/// collapse (a shrunken cloud leaves the reference's far points far away), and a flat leaf turned or scaled within
-/// its plane is brought back by its outline (point-to-plane terms cannot see that). Then the guard: the symmetric
-/// mean distance with and without the transform; if registration made it worse, the identity is returned with
-/// `worse` and a warning.
+/// With settings.referencePoints (symmetric mode): ICP whose pairs go both ways, each measured landmark to its
+/// closest point on the reference AND each reference point (a strided subset of at most maximumLandmarks) to its
+/// nearest moved landmark. The second half of the pairs makes the measured cloud cover the whole reference: scale
+/// cannot collapse (a shrunken cloud leaves the reference's far points far away), and a flat leaf turned or scaled
+/// within its plane is brought back by its outline (one-sided point-to-plane terms cannot see that). On a surface
+/// each iteration is a Gauss-Newton step with the surface's tangent planes (the offsets along the surface of
+/// reference points within the landmarks' cover in the gradient only), taken back and halved when it does not lower
+/// the symmetric mean distance, and the stage ends with the best transform after three iterations without a 0.1 %
+/// gain (or a step below the tolerance); on a point cloud, Umeyama's similarity of the pairs, then a one-sided
+/// polish. Then the guard: the symmetric mean distance with and without the transform; if registration made it
+/// worse, the identity is returned with `worse` and a warning.
 RegistrationResult RegisterPoints(const double* points, std::size_t count, const PointSurfaceDistance& reference,
   const RegistrationParameters& settings, const ParallelFor& parallelFor = SerialFor);
 

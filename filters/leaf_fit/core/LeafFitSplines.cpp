@@ -168,12 +168,14 @@ bool TensorSurface::Fit(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sR
           v[p + 4 * q] = bt.value[p] * bs.value[q];
       double* g = &gram[static_cast<std::size_t>(cell) * 256];
       double* r = &rhs[static_cast<std::size_t>(cell) * 48];
+      // The lower triangle (b <= a) only: the solver reads the lower triangle (SimplicialLDLT's default), which
+      // is mirrored below, so the fit is the one summed over the whole block, bit for bit, at half the work.
       for (int a = 0; a < 16; ++a)
       {
         const double wa = w[i] * v[a];
         for (int c = 0; c < 3; ++c)
           r[3 * a + c] += wa * X[i][c];
-        for (int b = 0; b < 16; ++b)
+        for (int b = 0; b <= a; ++b)
           g[16 * a + b] += wa * v[b];
       }
     }
@@ -195,10 +197,11 @@ bool TensorSurface::Fit(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sR
     {
       for (int c = 0; c < 3; ++c)
         r(id[a], c) += h[3 * a + c];
-      for (int b = 0; b < 16; ++b)
-        M(id[a], id[b]) += g[16 * a + b];
+      for (int b = 0; b <= a; ++b)
+        M(id[a], id[b]) += g[16 * a + b]; // id[b] <= id[a]: the lower triangle
     }
   }
+  M.triangularView<Eigen::StrictlyUpper>() = M.transpose();
   if (!(total > 0.0))
     return false;
   const double scale = lambda * total / n;

@@ -44,9 +44,9 @@ constexpr double ChordErrorLimitOffsetShare = 0.5;
 struct EdgeTable
 {
   std::vector<int> vertexCornerOffsets;         ///< nV + 1
-  std::vector<int> vertexCorners;               ///< corner ids (3 t + c), ascending per vertex
+  LoopArray<int> vertexCorners;                 ///< corner ids (3 t + c), ascending per vertex
   std::vector<int> edgeOffsets;                 ///< nV + 1: edges (v, w), w > v, of vertex v
-  std::vector<int> edgeOther;                   ///< w of every edge, ascending per v
+  LoopArray<int> edgeOther;                     ///< w of every edge, ascending per v
   std::vector<int> edgeUses;                    ///< number of triangles using the edge
   std::vector<int> edgeTriangles;               ///< 2 per edge, -1 when absent
   std::vector<int> edgeOpposite;                ///< the opposite vertex in each of those triangles
@@ -67,8 +67,7 @@ struct EdgeTable
 };
 
 /// Neighbours of v with larger id (larger = true) or all of them, sorted and unique, into `out`.
-void GatherNeighbours(
-  const std::vector<int>& tri, const EdgeTable& table, int v, bool largerOnly, std::vector<int>& out)
+void GatherNeighbours(const LoopArray<int>& tri, const EdgeTable& table, int v, bool largerOnly, std::vector<int>& out)
 {
   out.clear();
   for (int i = table.vertexCornerOffsets[v]; i < table.vertexCornerOffsets[v + 1]; ++i)
@@ -109,8 +108,7 @@ void ExclusiveScan(std::vector<int>& counts)
   }
 }
 
-void BuildEdgeTable(
-  const std::vector<int>& tri, std::size_t nV, const ParallelForFunction& parallelFor, EdgeTable& table)
+void BuildEdgeTable(const LoopArray<int>& tri, std::size_t nV, const ParallelForFunction& parallelFor, EdgeTable& table)
 {
   const std::size_t nCorners = tri.size();
   const std::size_t nT = nCorners / 3;
@@ -273,7 +271,7 @@ std::string ValidateManifoldEdges(std::size_t nV, const EdgeTable& table)
 }
 
 /// Number of triangles in the fan around v reached from its first triangle by crossing shared edges.
-int CountFan(const std::vector<int>& tri, const EdgeTable& table, int v)
+int CountFan(const LoopArray<int>& tri, const EdgeTable& table, int v)
 {
   const int k = table.vertexCornerOffsets[v + 1] - table.vertexCornerOffsets[v];
   if (k == 0)
@@ -305,7 +303,7 @@ int CountFan(const std::vector<int>& tri, const EdgeTable& table, int v)
 }
 
 std::string ValidateManifoldVertices(
-  const std::vector<int>& tri, std::size_t nV, const EdgeTable& table, const ParallelForFunction& parallelFor)
+  const LoopArray<int>& tri, std::size_t nV, const EdgeTable& table, const ParallelForFunction& parallelFor)
 {
   std::vector<unsigned char> bad(nV, 0);
   parallelFor(nV, [&](std::size_t begin, std::size_t end) {
@@ -492,7 +490,7 @@ void ComputeTriangleNormals(
   const AdaptiveLoopMesh& mesh, const SplitRules& rules, const ParallelForFunction& parallelFor, LevelState& s)
 {
   const std::size_t nT = mesh.NumberOfTriangles();
-  const std::vector<int>& tri = mesh.triangles;
+  const LoopArray<int>& tri = mesh.triangles;
   const double* P = mesh.points.data();
   const bool needNormals = rules.byError || !rules.splitAll || rules.lambda < 1.0;
   std::vector<double>& normals = s.normals;
@@ -566,7 +564,7 @@ void EstimateLimitOffsets(const AdaptiveLoopMesh& mesh, const EdgeTable& table, 
 {
   const std::size_t nV = mesh.NumberOfPoints();
   const std::size_t nE = table.NumberOfEdges();
-  const std::vector<int>& tri = mesh.triangles;
+  const LoopArray<int>& tri = mesh.triangles;
   const double* P = mesh.points.data();
   const bool byError = rules.byError, byChord = rules.byChord;
   s.limitOffset.assign(byError ? nV : 0, 0.0);
@@ -824,7 +822,7 @@ std::string CountChildren(const EdgeTable& table, std::size_t nT, const std::vec
 void WriteEvenPoints(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const SplitRules& rules, const LevelState& s,
   const StencilWriter& writer, const ParallelForFunction& parallelFor, AdaptiveLoopMesh& next)
 {
-  const std::vector<int>& tri = mesh.triangles;
+  const LoopArray<int>& tri = mesh.triangles;
   parallelFor(mesh.NumberOfPoints(), [&](std::size_t begin, std::size_t end) {
     std::vector<int> ids;
     std::vector<double> weights;
@@ -932,7 +930,7 @@ void WriteOddPoints(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const 
 void WriteChildren(const AdaptiveLoopMesh& mesh, const EdgeTable& table, const std::vector<int>& oddId,
   const std::vector<int>& childOffsets, const ParallelForFunction& parallelFor, AdaptiveLoopMesh& next)
 {
-  const std::vector<int>& tri = mesh.triangles;
+  const LoopArray<int>& tri = mesh.triangles;
   const double* Q = next.points.data();
   parallelFor(mesh.NumberOfTriangles(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)

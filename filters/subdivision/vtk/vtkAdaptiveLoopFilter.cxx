@@ -44,7 +44,7 @@ namespace
 constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::WholeOnFirstRank;
 
 /// Reads component c of every tuple of `array` into out[stride * i + offset + c] (fast paths for float and double).
-void Gather(vtkDataArray* array, std::vector<double>& out, int stride, int offset)
+void Gather(vtkDataArray* array, plantmorph::LoopArray<double>& out, int stride, int offset)
 {
   const vtkIdType n = array->GetNumberOfTuples();
   const int nc = array->GetNumberOfComponents();
@@ -77,7 +77,7 @@ void Gather(vtkDataArray* array, std::vector<double>& out, int stride, int offse
 /// A new array like `like` (same type, name, components) with `n` tuples from in[stride * i + offset + c]; integer
 /// types are rounded and clamped to their range.
 vtkSmartPointer<vtkDataArray> Scatter(
-  vtkDataArray* like, const std::vector<double>& in, int stride, int offset, vtkIdType n)
+  vtkDataArray* like, const plantmorph::LoopArray<double>& in, int stride, int offset, vtkIdType n)
 {
   vtkSmartPointer<vtkDataArray> array = vtk::TakeSmartPointer(like->NewInstance());
   const int nc = like->GetNumberOfComponents();
@@ -319,7 +319,7 @@ void WritePoints(vtkPolyData* input, plantmorph::AdaptiveLoopMesh& out, vtkIdTyp
     data->SetName(input->GetPoints()->GetData()->GetName());
     points->SetData(data);
   }
-  std::vector<double>().swap(out.points);
+  plantmorph::LoopArray<double>().swap(out.points);
   output->SetPoints(points);
 }
 
@@ -338,7 +338,7 @@ void WriteTriangles(plantmorph::AdaptiveLoopMesh& out, vtkIdType nOutTriangles, 
       o[i] = static_cast<vtkTypeInt32>(3 * i);
   });
   vtkSMPTools::For(0, 3 * nOutTriangles, [&](vtkIdType b, vtkIdType e) { std::copy(t + b, t + e, c + b); });
-  std::vector<int>().swap(out.triangles);
+  plantmorph::LoopArray<int>().swap(out.triangles);
   vtkNew<vtkCellArray> cells;
   cells->SetData(offsets, connectivity);
   output->SetPolys(cells);
@@ -358,7 +358,7 @@ void WritePointData(vtkPolyData* input, const PointArrays& read, plantmorph::Ada
     outPD->AddArray(
       Scatter(read.attributeArrays[a], out.attributes, out.attributeComponents, read.attributeOffsets[a], nOutPoints));
   }
-  std::vector<double>().swap(out.attributes);
+  plantmorph::LoopArray<double>().swap(out.attributes);
   if (read.regionArray)
   {
     vtkSmartPointer<vtkDataArray> region = vtk::TakeSmartPointer(read.regionArray->NewInstance());

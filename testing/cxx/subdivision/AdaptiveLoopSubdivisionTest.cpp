@@ -188,7 +188,7 @@ AdaptiveLoopMesh ReferenceLoopLevel(const AdaptiveLoopMesh& in)
 }
 
 /// Triangles with their smallest id first (orientation kept), sorted.
-std::vector<Tri> CanonicalTriangles(const std::vector<int>& triangles)
+std::vector<Tri> CanonicalTriangles(const LoopArray<int>& triangles)
 {
   std::vector<Tri> out;
   for (std::size_t i = 0; i < triangles.size(); i += 3)
@@ -201,7 +201,7 @@ std::vector<Tri> CanonicalTriangles(const std::vector<int>& triangles)
   return out;
 }
 
-testing::Triangles AsTriangles(const std::vector<int>& triangles)
+testing::Triangles AsTriangles(const LoopArray<int>& triangles)
 {
   testing::Triangles out;
   for (std::size_t i = 0; i < triangles.size(); i += 3)
@@ -209,7 +209,7 @@ testing::Triangles AsTriangles(const std::vector<int>& triangles)
   return out;
 }
 
-double MaxDifference(const std::vector<double>& a, const std::vector<double>& b)
+double MaxDifference(const LoopArray<double>& a, const LoopArray<double>& b)
 {
   EXPECT_EQ(a.size(), b.size());
   double d = 0.0;
@@ -431,7 +431,7 @@ TEST(AdaptiveLoopSubdivision, AttributesFollowThePositionStencils)
   AdaptiveLoopMesh input = Blade(12);
   // Attribute = the position itself, plus the old LeafUV: after any adaptive run it must equal the output positions.
   input.attributeComponents = 5;
-  std::vector<double> attributes;
+  LoopArray<double> attributes;
   for (std::size_t v = 0; v < input.NumberOfPoints(); ++v)
   {
     attributes.insert(attributes.end(), input.points.begin() + 3 * v, input.points.begin() + 3 * v + 3);
