@@ -46,8 +46,9 @@ View Look(
   return view;
 }
 
-/// Loop indices of the lobe tips: local maxima of the distance with at least `prominence`.
-std::vector<std::size_t> LobeTips(const View& view, double prominence)
+/// Loop indices of the lobe tips: local maxima of the distance with at least `prominence` whose lobe (the margin
+/// between its two sinuses, closed by their chord) has an area of at least `area`.
+std::vector<std::size_t> LobeTips(const View& view, double prominence, double area)
 {
   const std::vector<double>& d = view.distance;
   const std::size_t n = d.size();
@@ -57,13 +58,35 @@ std::vector<std::size_t> LobeTips(const View& view, double prominence)
     const double previous = d[i - 1], next = i + 1 < n ? d[i + 1] : d[0];
     if (!(d[i] > previous && d[i] >= next))
       continue;
-    // The lowest point on each side before the walk meets a higher point or returns to the base (d = 0 there).
+    // The lowest point on each side before the walk meets a higher point or returns to the base (d = 0 there); of
+    // two equally high maxima (the two teeth beside a serrate lobe's tip) the walk to the left stops at the other,
+    // so only the first of them is a lobe.
     double left = d[i], right = d[i];
-    for (std::size_t j = i; j-- > 0 && d[j] <= d[i];)
-      left = std::min(left, d[j]);
+    std::size_t from = i, to = i;
+    for (std::size_t j = i; j-- > 0 && d[j] < d[i];)
+    {
+      if (d[j] < left)
+      {
+        left = d[j];
+        from = j;
+      }
+    }
     for (std::size_t j = i + 1; j <= n && (j == n ? 0.0 : d[j]) <= d[i]; ++j)
-      right = std::min(right, j == n ? 0.0 : d[j]);
-    if (d[i] - std::max(left, right) >= prominence)
+    {
+      if ((j == n ? 0.0 : d[j]) < right)
+      {
+        right = j == n ? 0.0 : d[j];
+        to = j;
+      }
+    }
+    if (d[i] - std::max(left, right) < prominence)
+      continue;
+    // The lobe's area (shoelace over the margin from one sinus to the other; the base closes a walk that reached it).
+    double twice = 0.0;
+    for (std::size_t j = from; j < to; ++j)
+      twice += Cross(view.points[j], view.points[(j + 1) % n]);
+    twice += Cross(view.points[to % n], view.points[from]);
+    if (0.5 * std::abs(twice) >= area)
       tips.push_back(i);
   }
   return tips;
@@ -129,7 +152,8 @@ PalmateFan FindPalmateFan(const VenationBlade& blade, const BladeLocator& locato
   const double near = 0.05 * length;
 
   // Lobes, basal lobes, and the angular extent.
-  const std::vector<std::size_t> tips = LobeTips(view, settings.lobeProminence * length);
+  const std::vector<std::size_t> tips =
+    LobeTips(view, settings.lobeProminence * length, settings.lobeArea * length * length);
   int basal[2] = { -1, -1 }; // right (phi < 0), left
   double low = 0.0, high = 0.0, lowest = 0.0, highest = 0.0;
   for (std::size_t i = 0; i < n; ++i)
@@ -163,18 +187,13 @@ PalmateFan FindPalmateFan(const VenationBlade& blade, const BladeLocator& locato
       fan.lobeTips.push_back(view.points[i]);
     }
   }
+  // On a lobed blade the lobes are the prominent maxima alone: a basal lobe is one of them when its sinus is deep
+  // enough, and the lowest margin point behind the base is no lobe of its own (on a fitted scan it is a bump of the
+  // noisy margin beside the petiole, and a primary there would end a few per cent of the length from the base).
   if (cordate)
   {
     for (int side : { 0, 1 })
-    {
-      const Eigen::Vector2d tip = view.points[basal[side]];
-      fan.basalTips.push_back(tip);
-      bool known = false;
-      for (const Primary& p : primaries)
-        known = known || (p.tip - tip).norm() < 2.0 * settings.lobeProminence * length;
-      if (lobed && !known)
-        primaries.push_back({ view.angle[basal[side]], true, tip });
-    }
+      fan.basalTips.push_back(view.points[basal[side]]);
   }
   const int m = std::max(1, settings.primaries);
   if (!lobed && cordate && m >= 2)

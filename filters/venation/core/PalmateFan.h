@@ -6,12 +6,14 @@
 // Seen from the base B along the leaf axis (B to the apex), every vertex of the outer boundary loop has a distance
 // d and a signed angle phi (positive to the left). Walking the loop from the base:
 // - Lobes: local maxima of d whose prominence (d minus the higher of the two lowest points before a higher one is
-//   met on either side, the base counting as d = 0) is at least `lobeProminence` leaf lengths. A blade with three
-//   or more lobes is lobed: one primary ends at each lobe tip (serrations and a ginkgo's notch are too small or too
-//   few to count).
+//   met on either side, the base counting as d = 0) is at least `lobeProminence` leaf lengths and whose lobe (the
+//   margin from one of those sinuses to the other, closed by their chord) covers at least `lobeArea` squared leaf
+//   lengths. A blade with three or more lobes is lobed: one primary ends at each lobe tip (serrations, scan noise,
+//   a fitted margin's thin flap beside the petiole and a ginkgo's notch are too shallow, too small or too few).
 // - Basal lobes: on each side, the boundary vertex farthest behind the base (the lowest, seen along the axis), if
-//   it lies more than `basalDepth` leaf lengths behind it. A blade with one on each side is cordate (or sagittate, hastate): its two outermost
-//   primaries end at their tips, and the other primaries spread evenly in angle between them.
+//   it lies more than `basalDepth` leaf lengths behind it. A blade with one on each side is cordate (or sagittate,
+//   hastate); if it is not lobed, its two outermost primaries end at their tips (on a lobed blade a basal lobe
+//   is a primary's only when it is one of the lobes above), and the other primaries spread evenly in angle between them.
 // - Otherwise (an entire blade) the m primaries' angles spread evenly over the angular extent [low, high] of the
 //   boundary vertices at least `extentDistance` leaf lengths from the base, low + (high - low)*(i + 1/4)/(m - 1/2)
 //   (the outermost a quarter of a gap inside the extent), each ending where the ray from the base at its angle
@@ -34,6 +36,7 @@ struct PalmateFanParameters
   int primaries = 4;            ///< primaries on a blade without lobes (a lobed blade has one per lobe)
   int levels = 0;               ///< dichotomous fork levels: 2^levels end points per primary
   double lobeProminence = 0.08; ///< in leaf lengths
+  double lobeArea = 0.03;       ///< a lobe's area beyond its sinuses, in squared leaf lengths
   double basalDepth = 0.04;     ///< in leaf lengths
   double extentDistance = 0.15; ///< in leaf lengths
 };

@@ -72,6 +72,7 @@ private:
   bool KeepGoing(double fraction) const { return !this->Progress || this->Progress(fraction); }
 
   int NodeAt(const Eigen::Vector2d& x);
+  void OrientPrimariesFromTheBase(std::vector<std::vector<int>>& paths) const;
   void AddMargin();
   /// Traces the primary u = const from the base; returns its node path.
   std::vector<int> TracePrimary(double u, int vein);
@@ -159,6 +160,18 @@ int Grower::NodeAt(const Eigen::Vector2d& x)
       return this->Graph.SplitEdge(static_cast<int>(e), foot);
   }
   return this->Graph.AddNode(x);
+}
+
+void Grower::OrientPrimariesFromTheBase(std::vector<std::vector<int>>& paths) const
+{
+  // A primary runs from its end nearer the base out (the base, or where it branches off a neighbour).
+  const auto& nodes = this->Graph.Nodes();
+  for (int vein : this->PrimaryVeins)
+  {
+    std::vector<int>& path = paths[static_cast<std::size_t>(vein)];
+    if (path.size() >= 2 && (nodes[path.back()] - this->Base).norm() < (nodes[path.front()] - this->Base).norm())
+      std::reverse(path.begin(), path.end());
+  }
 }
 
 void Grower::AddMargin()
@@ -770,6 +783,24 @@ void Grower::GrowPalmate()
     return std::max(2, static_cast<int>(std::ceil(2.0 * (g1 - g0) * this->Length / this->Step)));
   };
   // Straight paths only if every one stays inside the blade (all or none, so paths of both kinds never cross).
+  // An unforked vein whose ray from the base leaves the blade (a fitted scan's notch beside the petiole, a lobe
+  // behind a deep sinus, a basal lobe behind the base) may instead branch off a neighbour's ray, the one nearer the
+  // axis first, at the first of 40 points along it (every 0.02 of it) from which the straight segment to its end
+  // stays inside: `branch[j]` is that neighbour, `from[j]` the point. Only if some vein can do neither do all grow
+  // in LeafUV (a fitted blade's LeafUV near the base is too narrow for them: they stopped at the margin there).
+  auto inside = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const int n = std::max(2, static_cast<int>(std::ceil(2.0 * (b - a).norm() / this->Step)));
+    for (int k = 1; k <= n; ++k)
+    {
+      if (this->Locator.Locate(a + std::min(static_cast<double>(k) / n, 1.0 - 1e-6) * (b - a), 1e-6 * this->Length)
+            .triangle < 0)
+        return false;
+    }
+    return true;
+  };
+  std::vector<int> branch(count, -1);
+  std::vector<Eigen::Vector2d> from(count, this->Base);
+  std::vector<char> straight(count, 1);
   for (int j = 0; j < count && plane; ++j)
   {
     for (int d = 0; d <= levels && plane; ++d)
@@ -777,12 +808,35 @@ void Grower::GrowPalmate()
       const int size = 1 << (levels - d), first = (j / size) * size;
       const double g0 = forkTime[d], g1 = d == levels ? 1.0 : forkTime[d + 1];
       const int n = pieces(d);
-      for (int k = 1; k <= n && plane; ++k)
+      for (int k = 1; k <= n && straight[j]; ++k)
       {
         const double g = std::min(g0 + (g1 - g0) * k / n, 1.0 - 1e-6);
-        plane = this->Locator.Locate(at(d, first, size, g), 1e-6 * this->Length).triangle >= 0;
+        straight[j] = this->Locator.Locate(at(d, first, size, g), 1e-6 * this->Length).triangle >= 0;
+      }
+      plane = straight[j] || levels == 0;
+    }
+  }
+  for (int j = 0; j < count && plane; ++j)
+  {
+    if (straight[j])
+      continue;
+    // Its neighbours in the ends' order (right to left), the one nearer the axis first.
+    const int axisward = Left(this->Axis).dot(ends[j] - this->Base) < 0.0 ? j + 1 : j - 1;
+    for (int o : { axisward, 2 * j - axisward })
+    {
+      if (o < 0 || o >= count || !straight[o])
+        continue;
+      for (int k = 1; k <= 40 && branch[j] < 0; ++k)
+      {
+        const Eigen::Vector2d q = this->Base + (0.02 * k) * (ends[o] - this->Base);
+        if (inside(q, ends[j]))
+        {
+          branch[j] = o;
+          from[j] = q;
+        }
       }
     }
+    plane = branch[j] >= 0;
   }
   if (!plane)
     space = fanned && levels > 0 ? &evenUV : &endsUV;
@@ -802,7 +856,22 @@ void Grower::GrowPalmate()
     grow(d + 1, first + size / 2, size / 2, step.node);
   };
   for (int r = 0; r < groups; ++r)
-    grow(0, r << levels, 1 << levels, this->BaseNode);
+  {
+    if (!plane || straight[r << levels])
+      grow(0, r << levels, 1 << levels, this->BaseNode);
+  }
+  for (int r = 0; r < count && plane && levels == 0; ++r)
+  {
+    if (straight[r])
+      continue;
+    const int n = std::max(2, static_cast<int>(std::ceil(2.0 * (ends[r] - from[r]).norm() / this->Step)));
+    std::vector<Eigen::Vector2d> points;
+    for (int k = 1; k <= n; ++k)
+      points.push_back(from[r] + (static_cast<double>(k) / n) * (ends[r] - from[r]));
+    const int vein = this->Graph.AddVein(VeinOrderPrimary);
+    this->PrimaryVeins.push_back(vein);
+    this->GrowCurve(this->NodeAt(from[r]), points, vein, 1e-7 * this->Length);
+  }
 }
 
 void Grower::GrowFlankSecondaries()
@@ -1072,14 +1141,12 @@ std::string Grower::Run(VenationResult& result)
     this->GrowPalmate();
     if (this->P.palmateSecondaries != PalmateSecondaries::None || this->P.subLobeVeins)
     {
-      const std::vector<std::vector<int>> paths = this->Graph.VeinPaths();
+      std::vector<std::vector<int>> paths = this->Graph.VeinPaths();
+      this->OrientPrimariesFromTheBase(paths);
       std::vector<std::vector<int>> hosts;
       for (int vein : this->PrimaryVeins)
       {
-        std::vector<int> path = paths[vein];
-        if (path.size() >= 2 && path.back() == this->BaseNode)
-          std::reverse(path.begin(), path.end()); // from the base out
-        hosts.push_back(path);
+        hosts.push_back(paths[vein]);
       }
       if (this->P.subLobeVeins)
         this->GrowSubLobeVeins(hosts);
@@ -1150,7 +1217,8 @@ void Grower::Finish(VenationResult& result)
   result.leafLength = this->Length;
   result.junctionAngles = this->JunctionAngles;
   const auto& nodes = this->Graph.Nodes();
-  const std::vector<std::vector<int>> paths = this->Graph.VeinPaths();
+  std::vector<std::vector<int>> paths = this->Graph.VeinPaths();
+  this->OrientPrimariesFromTheBase(paths);
   std::vector<int> id(nodes.size(), -1);
   const double widest = this->P.primaryWidth * this->Length;
   VenationStatistics& stats = result.statistics;
