@@ -207,9 +207,9 @@ int TerminalLobe(const std::vector<double>& width, double widest, bool high)
 }
 
 /// Without a base or apex given or found: true when the base is at the +Y end of the axis Y (through the centroid,
-/// X across it): an end that is a terminal lobe (a palmately or pinnately lobed blade's; the longer one) is the apex; else an end
-/// that is a narrow stalk is the base; else a blade widest at one end (a fan) has its apex
-/// there; else the base is the end nearer the widest cross-section (ovate leaves are wider towards the base).
+/// X across it): an end that is a terminal lobe (a palmately or pinnately lobed blade's; the longer one) is the apex;
+/// else an end that is a narrow stalk is the base; else a blade widest at one end (a fan) has its apex there; else
+/// the base is the end nearer the widest cross-section (ovate leaves are wider towards the base).
 bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& centroid, const Eigen::Vector3d& Y,
   const Eigen::Vector3d& X)
 {
