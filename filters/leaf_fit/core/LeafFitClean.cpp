@@ -191,9 +191,25 @@ Eigen::Vector3d Nearest(const std::vector<Eigen::Vector3d>& points, const Eigen:
   return points[best];
 }
 
+/// The length in slices of a terminal lobe at the end of the slice widths `width` (the high end when `high`), or 0:
+/// a narrow end (under 0.35 of the widest slice) for two to six slices, after which the blade widens by more than
+/// 0.4 of the widest within two slices (10 % of the length), where the lateral lobes begin beyond the sinuses beside
+/// it. A base widens steadily from a wedge (a fan, a cuneate base), or is a sinus (wide), or is where the lobes meet,
+/// narrow for fewer slices than the terminal lobe (the lateral lobes reach back beside it).
+int TerminalLobe(const std::vector<double>& width, double widest, bool high)
+{
+  const int n = static_cast<int>(width.size());
+  const auto at = [&](int k) { return width[high ? n - 1 - k : k] / widest; };
+  int run = 0;
+  while (run < 7 && at(run) < 0.35)
+    ++run;
+  return run >= 2 && run < 7 && at(run + 1) - at(run - 1) > 0.4 ? run : 0;
+}
+
 /// Without a base or apex given or found: true when the base is at the +Y end of the axis Y (through the centroid,
-/// X across it): an end that is a narrow stalk is the base; else a blade widest at one end (a fan) has its apex
-/// there; else the base is the end nearer the widest cross-section (ovate leaves are wider towards the base).
+/// X across it): an end that is a terminal lobe (a palmately or pinnately lobed blade's; the longer one) is the apex;
+/// else an end that is a narrow stalk is the base; else a blade widest at one end (a fan) has its apex there; else
+/// the base is the end nearer the widest cross-section (ovate leaves are wider towards the base).
 bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& centroid, const Eigen::Vector3d& Y,
   const Eigen::Vector3d& X)
 {
@@ -219,6 +235,10 @@ bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector
   for (int k = 0; k < slices; ++k)
     width[k] = maxA[k] >= minA[k] ? maxA[k] - minA[k] : 0.0;
   const double widest = *std::max_element(width.begin(), width.end());
+  // The longer terminal lobe is the apex (a curled or obliquely seen palmate base can look like a short one).
+  const int lobeLow = TerminalLobe(width, widest, false), lobeHigh = TerminalLobe(width, widest, true);
+  if (lobeLow != lobeHigh)
+    return lobeLow > lobeHigh;
   // A stalk: the two end slices (10 % of the length) both narrower than a tenth of the widest (an acute apex of
   // a broad leaf widens faster than that).
   const bool stalkLow = width[0] < 0.06 * widest && width[1] < 0.1 * widest;
