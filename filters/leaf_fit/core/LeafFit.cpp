@@ -7,6 +7,7 @@
 #include "BladeMesher.h"
 #include "LeafGeometry.h"
 
+#include <plantmorph/Median.h>
 #include <plantmorph/DataContract.h>
 #include <plantmorph/RangeError.h>
 
@@ -21,15 +22,6 @@ namespace
 {
 using fit::Frame;
 using fit::Outline;
-
-double Median(std::vector<double> v)
-{
-  if (v.empty())
-    return 0.0;
-  const std::size_t m = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + m, v.end());
-  return v[m];
-}
 
 struct Fitted
 {
@@ -96,7 +88,7 @@ std::string FitSurface(const LeafFitParameters& options, double spacing, const P
         return "no leaf shape: the surface could not be fitted";
       ForEachIndex(parallel, f.ts.size(),
         [&](std::size_t i) { residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm(); });
-      f.sigma = 1.4826 * Median(residual);
+      f.sigma = 1.4826 * Median(residual, 0.0);
       const double k = 2.0 * std::max(f.sigma, 1e-6 * spacing);
       for (std::size_t i = 0; i < f.ts.size(); ++i)
         w[i] = residual[i] <= k ? 1.0 : k / residual[i];

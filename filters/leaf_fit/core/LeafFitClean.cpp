@@ -3,6 +3,7 @@
 #include "LeafFitInternal.h"
 #include "PointGrid.h"
 
+#include <plantmorph/Median.h>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -17,15 +18,6 @@ namespace fit
 {
 namespace
 {
-double Median(std::vector<double> v)
-{
-  if (v.empty())
-    return 0.0;
-  const std::size_t m = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + m, v.end());
-  return v[m];
-}
-
 /// Eigenvalues (ascending) and eigenvectors of the points' covariance.
 Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> Principal(
   const std::vector<Eigen::Vector3d>& points, Eigen::Vector3d& centroid)
@@ -105,11 +97,11 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   // by OutlierSigma robust deviations AND five times the median. Points on the margin have about 1.4 times the
   // median, and at a sharp tip, whose neighbours all lie in a narrow wedge, up to sqrt(pi / half-angle) times it:
   // they must stay, or the outline shrinks. Points off the surface closer than that go in the surface's robust fit.
-  const double median = Median(meanDistance);
+  const double median = Median(meanDistance, 0.0);
   std::vector<double> deviation(n);
   for (int i = 0; i < n; ++i)
     deviation[i] = std::abs(meanDistance[i] - median);
-  const double sigma = 1.4826 * Median(deviation);
+  const double sigma = 1.4826 * Median(deviation, 0.0);
   const double limit = std::min(std::max(median + outlierSigma * sigma, 5.0 * median), 0.9 * reach);
   keep.assign(n, 0);
   for (int i = 0; i < n; ++i)
@@ -173,7 +165,7 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
             << MinLeafPoints << ")";
     return message.str();
   }
-  spacing = Median(kept);
+  spacing = Median(kept, 0.0);
   if (!(spacing > 0.0))
     return "the points are duplicates of each other (zero spacing)";
   return {};

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "PointGrid.h"
 
+#include <plantmorph/Median.h>
+
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace plantmorph
 {
@@ -289,10 +292,7 @@ double MedianSpacing(const std::vector<Eigen::Vector3d>& points)
     if (!nearest.empty() && nearest[0].first > 0.0)
       distances.push_back(std::sqrt(nearest[0].first));
   }
-  if (distances.empty())
-    return 0.0;
-  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
-  return distances[distances.size() / 2];
+  return Median(std::move(distances), 0.0);
 }
 
 double CrossSpacing(const std::vector<Eigen::Vector3d>& points)
@@ -321,10 +321,7 @@ double CrossSpacing(const std::vector<Eigen::Vector3d>& points)
       }
     }
   }
-  if (across.empty())
-    return 0.0;
-  std::nth_element(across.begin(), across.begin() + across.size() / 2, across.end());
-  return across[across.size() / 2];
+  return Median(std::move(across), 0.0);
 }
 
 } // namespace plantmorph

@@ -2,6 +2,7 @@
 // Step 4 of the tree fit (TreeFit.h): robust cylinders along the skeleton's segments.
 #include "TreeFitInternal.h"
 
+#include <plantmorph/Median.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
@@ -18,15 +19,6 @@ namespace
 {
 constexpr double MaxTilt = 35.0; // degrees the fitted axis may turn from the skeleton's direction
 constexpr int PieceMinNodes = 2, PieceMaxNodes = 8;
-
-double Median(std::vector<double> values)
-{
-  if (values.empty())
-    return std::numeric_limits<double>::quiet_NaN();
-  const std::size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
-  return values[mid];
-}
 
 void Frame(const Eigen::Vector3d& axis, Eigen::Vector3d& u, Eigen::Vector3d& v)
 {

@@ -4,6 +4,7 @@
 #include "PointGrid.h"
 #include "TreeFitInternal.h"
 
+#include <plantmorph/Median.h>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -26,15 +27,6 @@ constexpr int GraphNeighbours = 10;
 constexpr double GraphReach = 8.0; // spacings
 constexpr double GapReach = 25.0;  // spacings
 constexpr int MinComponent = 5;    // points
-
-double Median(std::vector<double> values)
-{
-  if (values.empty())
-    return std::numeric_limits<double>::quiet_NaN();
-  const std::size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
-  return values[mid];
-}
 
 /// Mean distance of every point to its k nearest neighbours (infinite when it has none).
 std::vector<double> MeanNeighbourDistance(

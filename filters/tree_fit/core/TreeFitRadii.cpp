@@ -3,6 +3,7 @@
 // radius everywhere else, and the branches.
 #include "TreeFitInternal.h"
 
+#include <plantmorph/Median.h>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -31,15 +32,6 @@ constexpr double KinkReaches = 4.0;     // a kink still turns this far on (reach
 constexpr double TaperMargin = 1.15;    // a measured cylinder near a fork this much above its branch's taper...
 constexpr std::size_t TaperCylinders =
   5; // ...fitted over this many measured cylinders before it, is a junction      // degrees: a child turning more than this from its parent starts a branch
-
-double Median(std::vector<double> values)
-{
-  if (values.empty())
-    return std::numeric_limits<double>::quiet_NaN();
-  const std::size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
-  return values[mid];
-}
 
 /// log r = a + b log GL fitted (Huber IRLS, weights sqrt(points)) to the measured cylinders; b = 1/2 (the pipe model:
 /// area proportional to what is carried) when they do not span a factor 3 of growth length or are fewer than 5.
