@@ -136,7 +136,6 @@ struct AdaptiveLoopParameters
 inline constexpr int MaxAdaptiveLoopLevel = 10;
 inline constexpr std::size_t MaxAdaptiveLoopTriangles = 500000000; ///< ids stay within int
 
-/// A triangle surface on flat arrays.
 /// std::allocator whose vectors leave new numbers unset when they grow (resize default-initialises): each level's
 /// output arrays are written whole by the threads, and zero-filling them first was a serial pass over fresh memory
 /// (about a fifth of a first update, whose memory is all fresh). Elements given a value (assign, the fill
@@ -170,6 +169,7 @@ struct UnsetAllocator : std::allocator<T>
 template <class T>
 using LoopArray = std::vector<T, UnsetAllocator<T>>;
 
+/// A triangle surface on flat arrays.
 struct AdaptiveLoopMesh
 {
   LoopArray<double> points;                     ///< x, y, z of every point
