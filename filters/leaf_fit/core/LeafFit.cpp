@@ -7,7 +7,7 @@
 #include "BladeMesher.h"
 #include "LeafGeometry.h"
 
-#include <plantmorph/Median.h>
+#include <plantmorph/statistics/Median.h>
 #include <plantmorph/DataContract.h>
 #include <plantmorph/RangeError.h>
 

@@ -3,7 +3,7 @@
 #include "LeafFitInternal.h"
 #include "PointGrid.h"
 
-#include <plantmorph/Median.h>
+#include <plantmorph/statistics/Median.h>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>

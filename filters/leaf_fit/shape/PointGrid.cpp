@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "PointGrid.h"
 
-#include <plantmorph/Median.h>
+#include <plantmorph/statistics/Median.h>
 
 #include <algorithm>
 #include <cmath>

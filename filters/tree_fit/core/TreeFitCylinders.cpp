@@ -2,7 +2,7 @@
 // Step 4 of the tree fit (TreeFit.h): robust cylinders along the skeleton's segments.
 #include "TreeFitInternal.h"
 
-#include <plantmorph/Median.h>
+#include <plantmorph/statistics/Median.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 

@@ -4,7 +4,7 @@
 #include "PointGrid.h"
 #include "TreeFitInternal.h"
 
-#include <plantmorph/Median.h>
+#include <plantmorph/statistics/Median.h>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>

@@ -3,7 +3,7 @@
 // radius everywhere else, and the branches.
 #include "TreeFitInternal.h"
 
-#include <plantmorph/Median.h>
+#include <plantmorph/statistics/Median.h>
 #include <algorithm>
 #include <cmath>
 #include <limits>
