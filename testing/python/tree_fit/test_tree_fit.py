@@ -75,6 +75,14 @@ checks.check(abs(row.get("DBH", 0) / dbh - 1) < 0.05, "DBH %.4f within 5 %% of %
 checks.check(abs(row.get("Height", 0) / height - 1) < 0.02, "height %.3f within 2 %% of %.3f" % (row.get("Height", 0), height))
 checks.check(row.get("BranchesOrder1", 0) >= 3, "at least 3 of the 4 first-order branches")
 checks.check(len(branches) == int(row.get("BranchCount", -1)) + 1, "one Branches row per branch and the trunk")
+for name in ("TreeId", "BranchId", "ParentId", "Order", "Length", "Volume", "BaseDiameter", "Angle", "Azimuth",
+             "Inclination", "Height"):
+    checks.check(all(name in b for b in branches), "Branches has " + name)
+checks.check(abs(sum(b.get("Volume", 0) for b in branches) / row.get("TotalVolume", 1) - 1) < 1e-9,
+             "the branch volumes add up to the tree's")
+checks.check(all(b.get("ParentId") == -1 for b in branches if b.get("Order") == 0)
+             and all(0 <= b.get("Height", -1) <= row.get("Height", 0) for b in branches),
+             "the trunk has no parent, every branch's base lies within the tree's height")
 checks.check(all(b["Order"] == 0 or 15 < b["Angle"] < 60 for b in branches), "first-order angles near the 34.4 degrees")
 n = cylinders.GetNumberOfCells()
 checks.check(n > 10 and cylinders.GetNumberOfLines() == n, "Cylinders: one line cell per cylinder")
