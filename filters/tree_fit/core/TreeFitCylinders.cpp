@@ -15,11 +15,6 @@ namespace plantmorph
 {
 namespace treefit
 {
-namespace
-{
-constexpr double MaxTilt = 35.0; // degrees the fitted axis may turn from the skeleton's direction
-constexpr int PieceMinNodes = 2, PieceMaxNodes = 8;
-
 void Frame(const Eigen::Vector3d& axis, Eigen::Vector3d& u, Eigen::Vector3d& v)
 {
   const Eigen::Vector3d reference =
@@ -28,18 +23,6 @@ void Frame(const Eigen::Vector3d& axis, Eigen::Vector3d& u, Eigen::Vector3d& v)
   v = axis.cross(u);
 }
 
-/// Residuals (distance to the axis minus radius) for parameters (a, b, alpha, beta, r) about (c, u, v, axis0).
-void Residuals(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
-  const Eigen::Vector3d& v, const Eigen::Vector3d& axis0, const Eigen::Matrix<double, 5, 1>& x, Eigen::VectorXd& res)
-{
-  const Eigen::Vector3d p = c + x[0] * u + x[1] * v;
-  const Eigen::Vector3d d = (axis0 + x[2] * u + x[3] * v).normalized();
-  res.resize(static_cast<Eigen::Index>(q.size()));
-  for (std::size_t i = 0; i < q.size(); ++i)
-    res[static_cast<Eigen::Index>(i)] = (q[i] - p).cross(d).norm() - x[4];
-}
-
-/// Kasa's algebraic circle fit of the points projected on the plane normal to axis0 through c: (a, b, r).
 bool CircleFit(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
   const Eigen::Vector3d& v, Eigen::Vector3d& circle)
 {
@@ -58,6 +41,22 @@ bool CircleFit(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, 
     return false;
   circle = Eigen::Vector3d(a, b, std::sqrt(r2));
   return true;
+}
+
+namespace
+{
+constexpr double MaxTilt = 35.0; // degrees the fitted axis may turn from the skeleton's direction
+constexpr int PieceMinNodes = 2, PieceMaxNodes = 8;
+
+/// Residuals (distance to the axis minus radius) for parameters (a, b, alpha, beta, r) about (c, u, v, axis0).
+void Residuals(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
+  const Eigen::Vector3d& v, const Eigen::Vector3d& axis0, const Eigen::Matrix<double, 5, 1>& x, Eigen::VectorXd& res)
+{
+  const Eigen::Vector3d p = c + x[0] * u + x[1] * v;
+  const Eigen::Vector3d d = (axis0 + x[2] * u + x[3] * v).normalized();
+  res.resize(static_cast<Eigen::Index>(q.size()));
+  for (std::size_t i = 0; i < q.size(); ++i)
+    res[static_cast<Eigen::Index>(i)] = (q[i] - p).cross(d).norm() - x[4];
 }
 
 /// Robustly weighted Gauss-Newton (Levenberg-Marquardt) on the 5 (or, with fixed direction, 3) parameters: Huber

@@ -63,6 +63,14 @@ struct Skeleton
 /// Step 3 on the cleaned wood.
 Skeleton BuildSkeleton(const Wood& wood);
 
+/// A unit frame (u, v) normal to unit `axis`.
+void Frame(const Eigen::Vector3d& axis, Eigen::Vector3d& u, Eigen::Vector3d& v);
+
+/// Kasa's algebraic circle fit of the points projected on the plane through c spanned by (u, v): circle = (a, b, r)
+/// in that plane; false when the points determine no circle.
+bool CircleFit(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
+  const Eigen::Vector3d& v, Eigen::Vector3d& circle);
+
 /// One cylinder fit on points: axis through `point` along unit `axis`, `radius`; residual statistics.
 struct CylinderFit
 {

@@ -4,6 +4,7 @@
 #include "TreeFitInternal.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -16,6 +17,11 @@ namespace
 {
 constexpr double BinSpacings = 6.0;
 constexpr int MinSideBins = 3;
+constexpr double OneStemTolerance = 0.3; // of the joint circle's radius (at least 1.5 spacings): a point on it
+constexpr double OneStemShare = 0.85;    // share of each of the two nodes' points that must lie on the joint circle
+constexpr double OneStemWidth = 1.5;     // the joint circle's radius within this factor of the stem's below
+constexpr double OneStemArc = 150.0;     // degrees of the joint circle the two nodes' points cover together
+constexpr int ParallelBins = 4;          // bins two chains that both go on must run side by side to be one stem
 
 int FindRoot(std::vector<int>& up, int a)
 {
@@ -95,6 +101,138 @@ void LinkNodes(const Wood& wood, const std::vector<int>& nodeOf, std::vector<Nod
     nodes[nodes[k].parent].children.push_back(static_cast<int>(k));
 }
 
+Eigen::Vector3d Mean(const Wood& wood, const std::vector<int>& a, const std::vector<int>& b = {})
+{
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int i : a)
+    sum += wood.points[i];
+  for (int i : b)
+    sum += wood.points[i];
+  return sum / static_cast<double>(std::max<std::size_t>(1, a.size() + b.size()));
+}
+
+/// The circle about `axis` that fits the points (ids into the wood) best: its centre and radius; false if none.
+bool CrossSection(
+  const Wood& wood, const std::vector<int>& ids, const Eigen::Vector3d& axis, Eigen::Vector3d& centre, double& radius)
+{
+  std::vector<Eigen::Vector3d> q;
+  for (int i : ids)
+    q.push_back(wood.points[i]);
+  const Eigen::Vector3d c = Mean(wood, ids);
+  Eigen::Vector3d u, v, circle;
+  Frame(axis, u, v);
+  if (q.size() < 6 || !CircleFit(q, c, u, v, circle))
+    return false;
+  centre = c + circle[0] * u + circle[1] * v;
+  radius = circle[2];
+  return true;
+}
+
+/// Whether the points of two nodes of one bin lie on one circle about `axis`, as the two sides of one stem do, and
+/// not two branches side by side: the circle is about as wide as the stem below (`stemRadius`, within OneStemWidth),
+/// OneStemShare of each node's points lie within OneStemTolerance of it, and together they cover OneStemArc of it.
+bool OnOneCircle(const Wood& wood, const Node& a, const Node& b, const Eigen::Vector3d& axis, double stemRadius)
+{
+  std::vector<int> both = a.points;
+  both.insert(both.end(), b.points.begin(), b.points.end());
+  Eigen::Vector3d centre;
+  double radius = 0;
+  if (!CrossSection(wood, both, axis, centre, radius) || radius > OneStemWidth * stemRadius ||
+    radius < stemRadius / OneStemWidth)
+    return false;
+  const double tolerance = std::max(OneStemTolerance * radius, 1.5 * wood.spacing);
+  Eigen::Vector3d u, v;
+  Frame(axis, u, v);
+  std::array<bool, 36> seen{};
+  const auto share = [&](const Node& node) {
+    std::size_t on = 0;
+    for (int i : node.points)
+    {
+      const Eigen::Vector3d r = wood.points[i] - centre;
+      if (std::abs(r.cross(axis).norm() - radius) > tolerance)
+        continue;
+      ++on;
+      const double angle = std::atan2(r.dot(v), r.dot(u)) + M_PI;
+      seen[static_cast<std::size_t>(std::min(35.0, std::floor(angle / (2 * M_PI) * 36.0)))] = true;
+    }
+    return static_cast<double>(on) / static_cast<double>(node.points.size());
+  };
+  const bool on = share(a) >= OneStemShare && share(b) >= OneStemShare;
+  return on && 10.0 * static_cast<double>(std::count(seen.begin(), seen.end(), true)) >= OneStemArc;
+}
+
+/// Two chains leaving one node that are one stem whose level sets split side by side (a side occluded, a gap in the
+/// scan, a junction): bin by bin, while each goes on one node a bin, both nodes lie on one circle about the stem's
+/// axis. One stem when one chain ends within that walk (the two reunite, or one side's points stop) or when both run
+/// so for ParallelBins bins; then the node pairs, else nothing (a fork: the chains part within a few bins).
+std::vector<std::pair<int, int>> SideBySide(const Wood& wood, const std::vector<Node>& nodes, int fork, int a, int b)
+{
+  std::vector<Eigen::Vector3d> centres; // the stem's centre line below the fork (up to three nodes), then the pairs'
+  for (int k = fork, n = 0; k >= 0 && n < 3; k = nodes[k].parent, ++n)
+    centres.insert(centres.begin(), Mean(wood, nodes[k].points));
+  Eigen::Vector3d stemCentre;
+  double stemRadius = 0;
+  const Eigen::Vector3d stemAxis = Mean(wood, nodes[a].points, nodes[b].points) - centres.front();
+  if (!(stemAxis.norm() > 0.0) ||
+    !CrossSection(wood, nodes[fork].points, stemAxis.normalized(), stemCentre, stemRadius))
+    return {};
+  std::vector<std::pair<int, int>> pairs;
+  while (true)
+  {
+    if (nodes[a].bin != nodes[b].bin)
+      return {};
+    const Eigen::Vector3d centre = Mean(wood, nodes[a].points, nodes[b].points);
+    const Eigen::Vector3d axis = centre - centres[centres.size() >= 3 ? centres.size() - 3 : 0];
+    if (!(axis.norm() > 0.0) || !OnOneCircle(wood, nodes[a], nodes[b], axis.normalized(), stemRadius))
+      return {};
+    centres.push_back(centre);
+    pairs.emplace_back(a, b);
+    if (nodes[a].children.size() != 1 || nodes[b].children.size() != 1)
+    {
+      const bool ends = nodes[a].children.empty() || nodes[b].children.empty();
+      return ends || pairs.size() >= static_cast<std::size_t>(ParallelBins) ? pairs : decltype(pairs){};
+    }
+    a = nodes[a].children.front();
+    b = nodes[b].children.front();
+  }
+}
+
+/// Chains that are one stem split side by side (SideBySide) become one chain: each pair's second node's points join
+/// the first, and what hung from the last second node hangs from the last first one. Without this, the lighter of
+/// the two becomes a short child branch at a few degrees, one order up, and both sides are fitted as half cylinders.
+void MergeSideBySide(const Wood& wood, std::vector<Node>& nodes, std::vector<int>& nodeOf)
+{
+  for (std::size_t k = 0; k < nodes.size(); ++k) // parents before children: ids go by bin
+    for (std::size_t x = 0; x < nodes[k].children.size(); ++x)
+      for (std::size_t y = x + 1; y < nodes[k].children.size();)
+      {
+        const auto pairs = SideBySide(wood, nodes, static_cast<int>(k), nodes[k].children[x], nodes[k].children[y]);
+        if (pairs.empty())
+        {
+          ++y;
+          continue;
+        }
+        for (auto [keep, gone] : pairs)
+        {
+          for (int i : nodes[gone].points)
+            nodeOf[i] = keep;
+          nodes[keep].points.insert(nodes[keep].points.end(), nodes[gone].points.begin(), nodes[gone].points.end());
+          nodes[gone].points.clear();
+          nodes[gone].parent = -2; // removed
+        }
+        const auto [last, lastGone] = pairs.back();
+        for (int c : nodes[lastGone].children)
+        {
+          nodes[c].parent = last;
+          nodes[last].children.push_back(c);
+        }
+        for (auto [keep, gone] : pairs)
+          nodes[gone].children.clear();
+        std::sort(nodes[last].children.begin(), nodes[last].children.end());
+        nodes[k].children.erase(nodes[k].children.begin() + static_cast<std::ptrdiff_t>(y));
+      }
+}
+
 /// Collects the nodes of the subtree under `node` (itself included).
 void Subtree(const std::vector<Node>& nodes, int node, std::vector<int>& out)
 {
@@ -114,7 +252,8 @@ void Prune(std::vector<Node>& nodes, std::vector<int>& nodeOf, std::vector<unsig
 {
   std::vector<int> reach(nodes.size(), 1);
   for (std::size_t k = nodes.size(); k-- > 1;) // children have higher bins, hence higher ids
-    reach[nodes[k].parent] = std::max(reach[nodes[k].parent], reach[k] + nodes[k].bin - nodes[nodes[k].parent].bin);
+    if (nodes[k].parent >= 0)
+      reach[nodes[k].parent] = std::max(reach[nodes[k].parent], reach[k] + nodes[k].bin - nodes[nodes[k].parent].bin);
   for (std::size_t k = 0; k < nodes.size(); ++k)
   {
     Node& node = nodes[k];
@@ -158,6 +297,7 @@ Skeleton BuildSkeleton(const Wood& wood)
   s.binWidth = BinSpacings * wood.spacing;
   s.nodes = BinComponents(wood, s.binWidth, s.nodeOf);
   LinkNodes(wood, s.nodeOf, s.nodes);
+  MergeSideBySide(wood, s.nodes, s.nodeOf);
   s.fitted.assign(wood.points.size(), 1);
   Prune(s.nodes, s.nodeOf, s.fitted);
   for (Node& node : s.nodes)

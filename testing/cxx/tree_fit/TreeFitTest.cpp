@@ -97,6 +97,47 @@ TEST(TreeFit, CylinderGivesItsRadiusAndVolume)
   EXPECT_LT(std::sqrt(sum / count), 0.003);
 }
 
+TEST(TreeFit, AStemWhoseLevelSetsSplitSideBySideIsOneBranch)
+{
+  // A stem occluded along two sides over half a metre (two strips of 50 degrees without points, as between scanner
+  // positions): there its level sets are two arcs side by side, two chains that reunite above. They are one stem:
+  // one branch, and its cylinders fitted on both sides (not two half cylinders, one of them a child branch at 0
+  // degrees, one order up).
+  const TrueCylinder stem{ { 0, 0, 0 }, { 0, 0, 2.0 }, 0.15 };
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector3d& p : Scan({ stem }, 0.008, 0.001))
+  {
+    const double phi = std::atan2(p.y(), p.x()) * 180.0 / M_PI; // (-180, 180]
+    const bool strip = std::abs(std::abs(phi) - 90.0) < 25.0;
+    if (!(strip && p.z() > 0.7 && p.z() < 1.2))
+      points.push_back(p);
+  }
+  const TreeFitResult r = FitTree(points, {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.branches.size(), 1u);
+  EXPECT_NEAR(r.traits.trunkLength, 2.0, 0.03 * 2.0);
+  EXPECT_NEAR(r.traits.totalVolume, Volume(stem), 0.03 * Volume(stem));
+  for (const TreeCylinder& c : r.cylinders)
+    EXPECT_NEAR(c.radius, 0.15, 0.01) << "cylinder at height " << c.start.z();
+}
+
+TEST(TreeFit, TwoBranchesSideBySideStayTwo)
+{
+  // Two stems of 4 cm standing 13 cm apart on a common base, parallel (a narrow fork whose branches run side by side):
+  // their level sets are two circles, not one stem's two sides; both stay branches.
+  const Eigen::Vector3d fork(0, 0, 1.0);
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, fork, 0.1 },
+    { fork + Eigen::Vector3d(0.065, 0, -0.05), fork + Eigen::Vector3d(0.065, 0, 1.0), 0.04 },
+    { fork + Eigen::Vector3d(-0.065, 0, -0.05), fork + Eigen::Vector3d(-0.065, 0, 0.9), 0.04 } };
+  const TreeFitResult r = FitTree(Scan(tree, 0.006, 0.0005), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.branches.size(), 3u);
+  double volume = 0;
+  for (const auto& c : tree)
+    volume += Volume(c);
+  EXPECT_NEAR(r.traits.totalVolume, volume, 0.1 * volume);
+}
+
 TEST(TreeFit, HeightReachesTheSparseLastPointsOfATip)
 {
   // A stem 2 m tall and, on its rim, the last points of a thin tip: five points 2 cm apart in a line up to 2.10 m,
