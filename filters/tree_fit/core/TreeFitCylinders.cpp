@@ -154,6 +154,13 @@ CylinderFit FitCylinder(const std::vector<Eigen::Vector3d>& q, const Eigen::Vect
   }
   if (!x.allFinite() || !(x[4] > 0.0))
     return fit;
+  // A circle far wider than the points (a few points on a nearly flat patch) has its axis metres away: neither a
+  // radius nor a position for a cylinder of the tree.
+  double extent = 0;
+  for (const auto& p : q)
+    extent = std::max(extent, (p - c).cross(axis0).norm());
+  if (Eigen::Vector2d(x[0], x[1]).norm() > 2.0 * extent)
+    return fit;
   fit.point = c + x[0] * u + x[1] * v;
   fit.axis = d.dot(axis0) < 0 ? (-d).eval() : d;
   fit.radius = x[4];
