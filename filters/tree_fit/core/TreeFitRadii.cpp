@@ -130,6 +130,35 @@ bool ChainChord(const std::vector<TreeCylinder>& cylinders, const std::vector<st
   }
 }
 
+/// Where a branch ends at a fork, the child (-1: none) that is still the junction: its chain forks again within
+/// `reach` (one reach of the parent: the children's surfaces still touch there). Where three or more branches leave
+/// one point (a sympodial whorl), the level sets part them one after the other, and the stub between the first and
+/// the second parting would be a branch of its own, a cylinder long, its children one order too deep. It goes on
+/// from the branch that ends, so that every branch leaving the whorl is of the next order. The heaviest such child
+/// whose own fork is codominant (its two heaviest children each carrying at least CodominantShare of the other): a
+/// lateral whose first sub-branch leaves near its base is no whorl, and the branch does not run on into it.
+int JunctionStub(const std::vector<TreeCylinder>& cylinders, const std::vector<std::vector<int>>& children,
+  const std::vector<double>& carried, int p, double reach)
+{
+  int stub = -1;
+  for (int k : children[p])
+  {
+    double along = cylinders[k].length;
+    int at = k;
+    while (children[at].size() == 1 && along <= reach)
+      along += cylinders[at = children[at].front()].length;
+    if (children[at].size() < 2 || along > reach || (stub >= 0 && carried[k] <= carried[stub]))
+      continue;
+    std::vector<double> loads; // the stub's own fork is a whorl's too: its two heaviest children codominant
+    for (int c : children[at])
+      loads.push_back(carried[c]);
+    std::sort(loads.rbegin(), loads.rend());
+    if (loads[1] >= CodominantShare * loads[0])
+      stub = k;
+  }
+  return stub;
+}
+
 /// Per cylinder, the child that continues its branch (-1: none; the branch ends there). At a fork, the children
 /// that go on within KinkAngle of the parent are the candidates (as AdTree and the QSM tools: the continuation is the
 /// child most aligned with the stem and carrying most), light ones (under ContinueShare of the heaviest candidate:
@@ -242,18 +271,21 @@ std::vector<int> ContinuingChildren(
                    [&](const auto& a) { return carried[a.second] < ContinueShare * heaviestAligned; }),
       angles.end());
     std::sort(angles.begin(), angles.end());
-    if (angles.empty())
-      continue;
-    int chosen = angles[0].second;
-    for (const auto& [a, k] : angles)
-      if ((young || a <= angles[0].first + ForkMargin) && carried[k] > carried[chosen])
-        chosen = k;
-    // Codominant children (each carrying at least half the heaviest) turning alike: the branch ends at the fork.
-    const auto codominant = [&](int k) { return carried[k] >= CodominantShare * heaviest; };
-    const bool fork = angles.size() > 1 && codominant(angles[0].second) && codominant(angles[1].second) &&
-      angles[1].first - angles[0].first < ForkMargin;
-    if (!fork)
-      continuing[p] = chosen;
+    if (!angles.empty())
+    {
+      int chosen = angles[0].second;
+      for (const auto& [a, k] : angles)
+        if ((young || a <= angles[0].first + ForkMargin) && carried[k] > carried[chosen])
+          chosen = k;
+      // Codominant children (each carrying at least half the heaviest) turning alike: the branch ends at the fork.
+      const auto codominant = [&](int k) { return carried[k] >= CodominantShare * heaviest; };
+      const bool fork = angles.size() > 1 && codominant(angles[0].second) && codominant(angles[1].second) &&
+        angles[1].first - angles[0].first < ForkMargin;
+      if (!fork)
+        continuing[p] = chosen;
+    }
+    if (continuing[p] < 0)
+      continuing[p] = JunctionStub(cylinders, children, carried, static_cast<int>(p), reach);
   }
   return continuing;
 }

@@ -291,6 +291,78 @@ TEST(TreeFit, AYoungBranchForkingGoesOnIntoItsHeavierChild)
   EXPECT_EQ(result.cylinders[sub].order, 2);
 }
 
+TEST(TreeFit, AWhorlSplitInTwoStepsGivesBranchesOfOneOrder)
+{
+  // The branch step alone, on cylinders as the fit leaves them where three branches leave one point at 55 degrees (a
+  // sympodial whorl): the level sets part one child first, and the other two a cylinder later, so the stem's last
+  // cylinder forks into a child and a stub 5 cm long that forks again. The stub is the junction: the three children
+  // are branches of order 1 (not one of order 1 and two of order 2 hanging from a one-cylinder branch).
+  TreeFitResult result;
+  const auto add = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& direction, double length, double radius,
+                     int parent) {
+    TreeCylinder c;
+    c.start = start;
+    c.length = length;
+    c.end = start + length * direction.normalized();
+    c.fittedRadius = radius;
+    c.points = 100;
+    c.coverage = 360.0;
+    c.fitRMS = 0.0005;
+    c.parent = parent;
+    result.cylinders.push_back(c);
+    return static_cast<int>(result.cylinders.size()) - 1;
+  };
+  const auto tilted = [](double degrees, double side) {
+    const double a = degrees * M_PI / 180.0;
+    return Eigen::Vector3d(std::sin(a) * std::cos(side), std::sin(a) * std::sin(side), std::cos(a));
+  };
+  int stem = -1;
+  for (int k = 0; k < 10; ++k)
+    stem = add(Eigen::Vector3d(0, 0, 0.1 * k), Eigen::Vector3d::UnitZ(), 0.1, 0.08, stem);
+  const int stub = add(result.cylinders[stem].end, tilted(25.0, M_PI), 0.05, 0.06, stem);
+  std::vector<int> tips;
+  for (int child = 0; child < 3; ++child)
+  {
+    const double side = child * 2.0 * M_PI / 3.0;
+    int at = child == 0 ? stem : stub;
+    for (int k = 0; k < 8; ++k)
+      at = add(k == 0 ? result.cylinders[child == 0 ? stem : stub].end : result.cylinders[at].end, tilted(55.0, side),
+        0.1, 0.05, at);
+    tips.push_back(at);
+  }
+  ASSERT_EQ(treefit::ModelRadii(0.006, result), "");
+  for (int tip : tips)
+    EXPECT_EQ(result.cylinders[tip].order, 1);
+  EXPECT_EQ(result.branches.size(), 4u); // the stem (the stub its end) and the three children
+  EXPECT_EQ(result.cylinders[stub].branch, result.cylinders[stem].branch);
+}
+
+TEST(TreeFit, ACircleFarWiderThanItsPointsIsNoCylinder)
+{
+  // A few points on a nearly flat patch (10 by 5 cm of a surface curved with a 5 m radius, as a piece at a junction
+  // can hold): a circle fit finds the 5 m circle, whose axis lies metres away from the points. That is no cylinder
+  // of the tree, neither its radius nor its position.
+  RandomStream random(3);
+  std::vector<Eigen::Vector3d> patch;
+  for (int i = 0; i < 60; ++i)
+  {
+    const double phi = random.Uniform(-0.005, 0.005), z = random.Uniform(0.0, 0.1);
+    patch.emplace_back(5.0 * std::cos(phi) - 5.0, 5.0 * std::sin(phi), z);
+  }
+  const treefit::CylinderFit fit = treefit::FitCylinder(patch, Eigen::Vector3d::UnitZ(), 0.006);
+  EXPECT_FALSE(fit.ok) << "radius " << fit.radius << " about " << fit.point.transpose();
+  // A proper arc of a 5 cm cylinder is one.
+  std::vector<Eigen::Vector3d> arc;
+  for (int i = 0; i < 60; ++i)
+  {
+    const double phi = random.Uniform(0.0, 2.5), z = random.Uniform(0.0, 0.1);
+    arc.emplace_back(0.05 * std::cos(phi), 0.05 * std::sin(phi), z);
+  }
+  const treefit::CylinderFit good = treefit::FitCylinder(arc, Eigen::Vector3d::UnitZ(), 0.006);
+  EXPECT_TRUE(good.ok);
+  EXPECT_NEAR(good.radius, 0.05, 1e-3);
+}
+
 TEST(TreeFit, JunctionsDoNotWidenTheTrunk)
 {
   // A lateral at 35 degrees, thicker than the trunk where it leaves (as a monopodial template's): the cylinders at the
