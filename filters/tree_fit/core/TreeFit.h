@@ -12,8 +12,9 @@
 //     occlusion gaps of a scan); what stays apart is not wood of this tree.
 //  3. Skeleton: geodesic (Dijkstra) distance from the base (the lowest bin width of points), points binned by it into
 //     level sets of width 6 s; the connected components of each bin are nodes; each node's parent is the node its
-//     nearest-to-base point's shortest path comes from (a tree by construction). Side chains shorter than 3 bins are
-//     pruned (their points go to the fork). Chains of nodes between forks are segments.
+//     nearest-to-base point's shortest path comes from (a tree by construction). Two chains that are one stem's
+//     level sets split side by side (both sides on one circle, bin by bin) become one. Side chains shorter than 3
+//     bins are pruned (their points go to the fork). Chains of nodes between forks are segments.
 //  4. Cylinders: each segment is cut into pieces about two radii long; each piece gets a robust cylinder (circle fit
 //     of the cross-section about the chain's direction, then Gauss-Newton on axis and radius with Huber weights).
 //  5. Radii: a fit is "measured" only where the points support it (enough points, an arc of the circle seen of at
@@ -26,7 +27,8 @@
 //  6. Branches: the trunk starts at the base; at every fork it goes on into the child most aligned with it and
 //     carrying most among those turning under 25 degrees (two codominant children turning alike end it), and it ends
 //     where it would turn sharply (more than 25 degrees: a lateral at a leader's thin tip is a branch), but a straight
-//     stem stays one branch however heavy the laterals leaving it; each other child starts a branch
+//     stem stays one branch however heavy the laterals leaving it (a whorl's stub, parted from the first child one
+//     cylinder before the others, goes on from the branch ending there); each other child starts a branch
 //     of order parent + 1. Junctions: a cylinder near a fork wider than its branch's taper before it holds the
 //     child's first points, not the branch: its radius follows the taper between the measured cylinders either side.
 //     Traits and the branch table follow.
