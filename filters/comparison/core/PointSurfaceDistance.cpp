@@ -146,6 +146,178 @@ void Cross(const double a[3], const double b[3], double out[3])
   out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
+/// Asks for the cache line holding `address` (for writing or reading) ahead of its use; nothing where the compiler
+/// has no prefetch.
+inline void Prefetch(const double* address, bool write)
+{
+#if defined(__GNUC__)
+  if (write)
+  {
+    __builtin_prefetch(address, 1);
+  }
+  else
+  {
+    __builtin_prefetch(address, 0);
+  }
+#else
+  (void)address;
+  (void)write;
+#endif
+}
+
+/// The squared distance from p to a non-degenerate triangle (ap = p - a, edges ab and ac, unit normal n), branch
+/// free: the squared plane distance inside the face, else the nearest of the three edges. The same operations in the
+/// same order as the lanes of the query's leaf pass (PointSurfaceDistanceSearch.inc); the search uses it only for
+/// the starting hint's bound.
+inline double RegularDistance2(const double ap[3], const double ab[3], const double ac[3], const double n[3])
+{
+  const double bc[3] = { ac[0] - ab[0], ac[1] - ab[1], ac[2] - ab[2] };
+  const double bp[3] = { ap[0] - ab[0], ap[1] - ab[1], ap[2] - ab[2] };
+  const double cp[3] = { ap[0] - ac[0], ap[1] - ac[1], ap[2] - ac[2] };
+  const double d1 = Dot(ab, ap);
+  const double d2 = Dot(ac, ap);
+  const double d3 = Dot(ab, bp);
+  const double d4 = Dot(ac, bp);
+  const double d5 = Dot(ab, cp);
+  const double d6 = Dot(ac, cp);
+  const double va = d3 * d6 - d5 * d4;
+  const double vb = d5 * d2 - d1 * d6;
+  const double vc = d1 * d4 - d3 * d2;
+  const double plane = Dot(n, ap);
+  const auto clamp01 = [](double t) { // as max(t, 0) then min(t, 1) of the lanes (maxpd, minpd), signed zeros too
+    t = t > 0.0 ? t : 0.0;
+    return t < 1.0 ? t : 1.0;
+  };
+  const double tab = clamp01(d1 / Dot(ab, ab));
+  const double tac = clamp01(d2 / Dot(ac, ac));
+  const double tbc = clamp01(Dot(bc, bp) / Dot(bc, bc));
+  const double eab[3] = { ap[0] - tab * ab[0], ap[1] - tab * ab[1], ap[2] - tab * ab[2] };
+  const double eac[3] = { ap[0] - tac * ac[0], ap[1] - tac * ac[1], ap[2] - tac * ac[2] };
+  const double ebc[3] = { bp[0] - tbc * bc[0], bp[1] - tbc * bc[1], bp[2] - tbc * bc[2] };
+  const double edge = std::min(std::min(Dot(eab, eab), Dot(eac, eac)), Dot(ebc, ebc));
+  return va > 0.0 && vb > 0.0 && vc > 0.0 ? plane * plane : edge;
+}
+
+/// Ericson's squared distance from p (ap = p - a) to the triangle (a, ab, ac): for degenerate triangles.
+inline double EricsonDistance2(const double ap[3], const double ab[3], const double ac[3])
+{
+  double v = 0.0;
+  double w = 0.0;
+  TriangleFeature feature;
+  int index = 0;
+  ClosestOnTriangle(ap, ab, ac, v, w, feature, index);
+  const double d[3] = { v * ab[0] + w * ac[0] - ap[0], v * ab[1] + w * ac[1] - ap[1], v * ab[2] + w * ac[2] - ap[2] };
+  return Dot(d, d);
+}
+
+/// The keys of QueryMany's visiting order: 30-bit Morton code << 32 | input index, sorted by an LSD radix sort on
+/// the code's three 10-bit digits (stable: equal codes stay in input order). Every pass runs on the ParallelFor's
+/// threads over fixed blocks of the points (each block's digit counts, then each block scattering its keys in
+/// order from its own offsets), so the order is the serial sort's whatever the threads.
+std::vector<std::uint64_t> MortonOrder(const double* points, std::size_t count, const ParallelFor& parallelFor)
+{
+  constexpr std::size_t Digits = 1024;
+  const std::size_t blockSize = std::max<std::size_t>(std::size_t(1) << 14, (count + 63) / 64);
+  const std::size_t blocks = (count + blockSize - 1) / blockSize;
+  // Runs f(block, first, last) for every block, the blocks spread over the ParallelFor's ranges.
+  const auto forBlocks = [&](const auto& f) {
+    parallelFor(count, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t b = (begin + blockSize - 1) / blockSize; b < blocks && b * blockSize < end; ++b)
+      {
+        f(b, b * blockSize, std::min(count, (b + 1) * blockSize));
+      }
+    });
+  };
+  // The finite coordinates' bounds, per block and then over the blocks (min and max: exact in any order).
+  std::vector<double> blockBounds(6 * blocks);
+  forBlocks([&](std::size_t b, std::size_t first, std::size_t last) {
+    double* bound = blockBounds.data() + 6 * b;
+    for (int k = 0; k < 3; ++k)
+    {
+      bound[k] = Infinity;
+      bound[3 + k] = -Infinity;
+    }
+    for (std::size_t i = first; i < last; ++i)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const double x = points[3 * i + k];
+        if (std::isfinite(x))
+        {
+          bound[k] = std::min(bound[k], x);
+          bound[3 + k] = std::max(bound[3 + k], x);
+        }
+      }
+    }
+  });
+  double lo[3] = { Infinity, Infinity, Infinity };
+  double hi[3] = { -Infinity, -Infinity, -Infinity };
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      lo[k] = std::min(lo[k], blockBounds[6 * b + k]);
+      hi[k] = std::max(hi[k], blockBounds[6 * b + 3 + k]);
+    }
+  }
+  const auto spread = [](std::uint64_t v) { // 10 bits -> every third bit
+    v &= 0x3ff;
+    v = (v | v << 16) & 0x30000ffULL;
+    v = (v | v << 8) & 0x300f00fULL;
+    v = (v | v << 4) & 0x30c30c3ULL;
+    v = (v | v << 2) & 0x9249249ULL;
+    return v;
+  };
+  std::vector<std::uint64_t> order(count);
+  parallelFor(count, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      std::uint64_t code = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double extent = hi[k] - lo[k];
+        const double x = points[3 * i + k];
+        const double t = extent > 0.0 && std::isfinite(x) ? (x - lo[k]) / extent : 0.0;
+        code |= spread(static_cast<std::uint64_t>(std::clamp(t, 0.0, 1.0) * 1023.0)) << k;
+      }
+      order[i] = code << 32 | static_cast<std::uint64_t>(i);
+    }
+  });
+  std::vector<std::uint64_t> buffer(count);
+  std::vector<std::size_t> offsets(blocks * Digits);
+  for (int shift = 32; shift < 62; shift += 10)
+  {
+    forBlocks([&](std::size_t b, std::size_t first, std::size_t last) {
+      std::size_t* counts = offsets.data() + b * Digits;
+      std::fill(counts, counts + Digits, std::size_t(0));
+      for (std::size_t i = first; i < last; ++i)
+      {
+        ++counts[(order[i] >> shift) & (Digits - 1)];
+      }
+    });
+    std::size_t sum = 0; // digit by digit, block by block: where each block's keys of each digit start
+    for (std::size_t d = 0; d < Digits; ++d)
+    {
+      for (std::size_t b = 0; b < blocks; ++b)
+      {
+        const std::size_t n = offsets[b * Digits + d];
+        offsets[b * Digits + d] = sum;
+        sum += n;
+      }
+    }
+    forBlocks([&](std::size_t b, std::size_t first, std::size_t last) {
+      std::size_t* next = offsets.data() + b * Digits;
+      for (std::size_t i = first; i < last; ++i)
+      {
+        const std::uint64_t key = order[i];
+        buffer[next[(key >> shift) & (Digits - 1)]++] = key;
+      }
+    });
+    order.swap(buffer);
+  }
+  return order;
+}
+
 bool AllFinite(const double* values, std::size_t count)
 {
   for (std::size_t i = 0; i < count; ++i)
@@ -405,12 +577,19 @@ void PointSurfaceDistance::CollapseToWideNodes()
   // lie together in memory, as its queries need them.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pending;
   this->WideNodes.reserve(this->Nodes.size() / 2 + 1);
+  this->Packs.clear();
+  this->Packs.reserve(this->Nodes.size() / 2 + 1);
   this->WideNodes.emplace_back();
   emptyLanes(this->WideNodes[0]);
   // Lane j of wide node `wideIndex` becomes binary node `binary`: its bounds, and a leaf range or a new wide node.
   const auto fillLane = [&](std::uint32_t wideIndex, int j, std::uint32_t binary) {
     const Node& c = this->Nodes[binary];
     std::uint32_t start = c.start;
+    if (c.count > 0 && this->Surface)
+    {
+      start = static_cast<std::uint32_t>(this->Packs.size());
+      this->Packs.push_back(this->MakePack(c.start, c.count));
+    }
     if (c.count == 0)
     {
       start = static_cast<std::uint32_t>(this->WideNodes.size());
@@ -460,7 +639,33 @@ void PointSurfaceDistance::CollapseToWideNodes()
     }
   }
   this->WideNodes.shrink_to_fit();
+  this->Packs.shrink_to_fit();
   this->Nodes = std::vector<Node>();
+}
+
+//------------------------------------------------------------------------------
+PointSurfaceDistance::TrianglePack PointSurfaceDistance::MakePack(std::uint32_t first, std::uint32_t count) const
+{
+  TrianglePack pack{};
+  pack.first = first;
+  pack.irregular = 0;
+  for (std::uint32_t j = 0; j < 4; ++j)
+  {
+    const std::uint32_t i = first + (j < count ? j : 0);
+    const Triangle& tri = this->Triangles[i];
+    for (int k = 0; k < 3; ++k)
+    {
+      pack.a[k][j] = tri.a[k];
+      pack.ab[k][j] = tri.ab[k];
+      pack.ac[k][j] = tri.ac[k];
+      pack.n[k][j] = tri.n[k];
+    }
+    if (!this->Regular[i])
+    {
+      pack.irregular |= 1u << j;
+    }
+  }
+  return pack;
 }
 
 //------------------------------------------------------------------------------
@@ -520,6 +725,7 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
   // Triangles in leaf order, and their unit normals.
   std::vector<double> faceNormals(3 * triangleCount);
   this->Triangles.resize(triangleCount);
+  this->Regular.resize(triangleCount);
   parallelFor(triangleCount, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
     {
@@ -541,6 +747,8 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
         tri.n[k] = length > 0.0 ? tri.n[k] / length : 0.0;
         faceNormals[3 * t + k] = tri.n[k];
       }
+      const double bc[3] = { tri.ac[0] - tri.ab[0], tri.ac[1] - tri.ab[1], tri.ac[2] - tri.ab[2] };
+      this->Regular[i] = length > 0.0 && Dot(tri.ab, tri.ab) > 0.0 && Dot(tri.ac, tri.ac) > 0.0 && Dot(bc, bc) > 0.0;
     }
   });
   this->BuildSlabs(nodeRange, parallelFor);
@@ -679,7 +887,7 @@ std::string PointSurfaceDistance::BuildCloud(
 }
 
 //------------------------------------------------------------------------------
-inline double PointSurfaceDistance::PrimitiveDistance2(std::size_t leafIndex, const double p[3], double best2) const
+inline double PointSurfaceDistance::PrimitiveDistance2(std::size_t leafIndex, const double p[3]) const
 {
   if (!this->Surface)
   {
@@ -689,19 +897,7 @@ inline double PointSurfaceDistance::PrimitiveDistance2(std::size_t leafIndex, co
   }
   const Triangle& tri = this->Triangles[leafIndex];
   const double ap[3] = { p[0] - tri.a[0], p[1] - tri.a[1], p[2] - tri.a[2] };
-  const double plane = Dot(ap, tri.n);
-  if (plane * plane > best2 * (1.0 + 1e-12))
-  {
-    return Infinity; // the triangle's plane alone is farther than the best so far (a tie is computed, never skipped)
-  }
-  double v = 0.0;
-  double w = 0.0;
-  TriangleFeature feature;
-  int index = 0;
-  ClosestOnTriangle(ap, tri.ab, tri.ac, v, w, feature, index);
-  const double d[3] = { v * tri.ab[0] + w * tri.ac[0] - ap[0], v * tri.ab[1] + w * tri.ac[1] - ap[1],
-    v * tri.ab[2] + w * tri.ac[2] - ap[2] };
-  return Dot(d, d);
+  return this->Regular[leafIndex] ? RegularDistance2(ap, tri.ab, tri.ac, tri.n) : EricsonDistance2(ap, tri.ab, tri.ac);
 }
 
 //------------------------------------------------------------------------------
@@ -807,67 +1003,15 @@ void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, do
   const bool sorted = count >= 4096 && count < std::numeric_limits<std::uint32_t>::max();
   if (sorted)
   {
-    double lo[3] = { Infinity, Infinity, Infinity };
-    double hi[3] = { -Infinity, -Infinity, -Infinity };
-    for (std::size_t i = 0; i < count; ++i)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        const double x = points[3 * i + k];
-        if (std::isfinite(x))
-        {
-          lo[k] = std::min(lo[k], x);
-          hi[k] = std::max(hi[k], x);
-        }
-      }
-    }
-    const auto spread = [](std::uint64_t v) { // 10 bits -> every third bit
-      v &= 0x3ff;
-      v = (v | v << 16) & 0x30000ffULL;
-      v = (v | v << 8) & 0x300f00fULL;
-      v = (v | v << 4) & 0x30c30c3ULL;
-      v = (v | v << 2) & 0x9249249ULL;
-      return v;
-    };
-    order.resize(count);
-    parallelFor(count, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
-      {
-        std::uint64_t code = 0;
-        for (int k = 0; k < 3; ++k)
-        {
-          const double extent = hi[k] - lo[k];
-          const double x = points[3 * i + k];
-          const double t = extent > 0.0 && std::isfinite(x) ? (x - lo[k]) / extent : 0.0;
-          code |= spread(static_cast<std::uint64_t>(std::clamp(t, 0.0, 1.0) * 1023.0)) << k;
-        }
-        order[i] = code << 32 | static_cast<std::uint64_t>(i);
-      }
-    });
-    std::vector<std::uint64_t> buffer(count);
-    for (int shift = 32; shift < 62; shift += 10)
-    {
-      std::size_t bucket[1025] = {};
-      for (const std::uint64_t key : order)
-      {
-        ++bucket[((key >> shift) & 1023) + 1];
-      }
-      for (int b = 0; b < 1024; ++b)
-      {
-        bucket[b + 1] += bucket[b];
-      }
-      for (const std::uint64_t key : order)
-      {
-        buffer[bucket[(key >> shift) & 1023]++] = key;
-      }
-      order.swap(buffer);
-    }
-    buffer = std::vector<std::uint64_t>(); // not kept through the queries (8 bytes a point)
+    order = MortonOrder(points, count, parallelFor);
   }
   // Batches of queries: the batch's points are first gathered from the input into a small buffer and its results
   // scattered back after, each in a tight loop of its own (random accesses the processor overlaps), rather than one
   // random read and several random writes between two searches (15% of the time on a randomly ordered cloud).
   constexpr std::size_t Batch = 1024;
+  // In input order the batch's points and results are scattered over the arrays: each loop asks for the cache lines
+  // of the point `Ahead` places on, so their misses (and those of the results' first writes) overlap.
+  constexpr std::size_t Ahead = 16;
   const auto body = [&](std::size_t offset) {
     return [&, offset](std::size_t begin, std::size_t end) {
       std::int64_t hint = -1;
@@ -881,6 +1025,10 @@ void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, do
         const std::size_t size = std::min(Batch, offset + end - first);
         for (std::size_t j = 0; j < size; ++j)
         {
+          if (sorted && j + Ahead < size)
+          {
+            Prefetch(points + 3 * inputIndex(first + j + Ahead), false);
+          }
           const double* p = points + 3 * inputIndex(first + j);
           batchPoints[3 * j] = p[0]; // element by element: std::copy_n here became a memmove call
           batchPoints[3 * j + 1] = p[1];
@@ -893,6 +1041,22 @@ void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, do
         }
         for (std::size_t j = 0; j < size; ++j)
         {
+          if (sorted && j + Ahead < size)
+          {
+            const std::size_t next = inputIndex(first + j + Ahead);
+            for (double* out : { distance, signedDistance })
+            {
+              if (out)
+              {
+                Prefetch(out + next, true);
+              }
+            }
+            if (closest)
+            {
+              Prefetch(closest + 3 * next, true);
+              Prefetch(closest + 3 * next + 2, true); // the triple may straddle two cache lines
+            }
+          }
           const std::size_t i = inputIndex(first + j);
           const DistanceQueryResult& r = results[j];
           if (distance)
@@ -944,6 +1108,7 @@ std::size_t PointSurfaceDistance::MemoryBytes() const
 {
   return this->WideNodes.capacity() * sizeof(WideNode) + this->PrimitiveIds.capacity() * sizeof(std::uint32_t) +
     this->LeafOf.capacity() * sizeof(std::uint32_t) + this->Triangles.capacity() * sizeof(Triangle) +
+    this->Regular.capacity() + this->Packs.capacity() * sizeof(TrianglePack) +
     this->CloudPoints.capacity() * sizeof(double) + this->TriangleVertices.capacity() * sizeof(std::int64_t) +
     this->EdgeNormals.capacity() * sizeof(double) + this->VertexNormals.capacity() * sizeof(double);
 }

@@ -29,6 +29,15 @@
 // Cloud mode (BuildCloud). The reference is a point set: the distance is to the nearest reference point (Euclidean),
 // the closest point is that point, and there is no signed distance (the query reports it equal to the distance).
 //
+// Leaves (surface mode). A leaf's triangles are also stored side by side (TrianglePack), and a query reaching the
+// leaf computes their squared distances in one branch-free pass (AVX: all four at once; SSE2: two at a time): inside
+// the face (all three of Ericson's barycentric numerators positive) the squared distance to the plane, else the
+// smallest squared distance to the three edges (clamped projections). This selects the nearest triangle; its
+// distance, closest point and sign are then computed by Ericson's method as described above, so a reported distance
+// is always Ericson's for the triangle chosen. A degenerate triangle (zero normal or a zero edge) gets Ericson's
+// value in its lane instead. The starting hint only sets a bound (its squared distance by the same formulas, plus
+// 1e-12 relative): its leaf is visited like any other, so the choice does not depend on it.
+//
 // The BVH: binary, built by median splits on the longest axis of the primitives' centroid bounds, leaves of up to
 // four triangles (eight points), with double-precision boxes, built one level at a time with the nodes of a level
 // in parallel (the same tree as a serial build). Queries walk a 4-wide tree collapsed from it (each wide node holds
@@ -174,17 +183,30 @@ private:
     double ac[3];
     double n[3];
   };
+  /// A leaf's triangles side by side (lane j of every array is its triangle `first + j`; unused lanes repeat lane
+  /// 0), so the query computes their squared distances at once, without branches (surface mode; a leaf lane of a
+  /// wide node then holds the pack's index in `start`).
+  struct alignas(32) TrianglePack
+  {
+    double a[3][4];
+    double ab[3][4];
+    double ac[3][4];
+    double n[3][4];
+    std::uint32_t first;     ///< the leaf's first triangle, in leaf order
+    std::uint32_t irregular; ///< bit j: triangle j is degenerate (its distance is Ericson's, computed on its own)
+  };
 
   std::string BuildTree(std::vector<double>& lo, std::vector<double>& hi, std::vector<double>& centroid,
     std::size_t count, std::size_t leafSize, std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor);
   void BuildSlabs(const std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor);
   void CollapseToWideNodes();
+  TrianglePack MakePack(std::uint32_t first, std::uint32_t count) const;
   // The traversal (PointSurfaceDistanceSearch.inc) compiled for SSE2 and for AVX (x86-64 only), and the result
   // from the nearest primitive it found.
   DistanceQueryResult SearchSse2(const double p[3], std::int64_t hint) const;
   DistanceQueryResult SearchAvx(const double p[3], std::int64_t hint) const;
   DistanceQueryResult QueryResult(const double p[3], double best2, std::size_t bestLeaf) const;
-  double PrimitiveDistance2(std::size_t leafIndex, const double p[3], double best2) const;
+  double PrimitiveDistance2(std::size_t leafIndex, const double p[3]) const;
 
   bool Surface = false;
   bool SlabBounds = true;
@@ -194,6 +216,8 @@ private:
   std::vector<std::uint32_t> PrimitiveIds; ///< leaf order -> original triangle or point index
   std::vector<std::uint32_t> LeafOf;       ///< original index -> leaf order
   std::vector<Triangle> Triangles;         ///< surface mode, leaf order
+  std::vector<std::uint8_t> Regular;       ///< surface mode, leaf order: 1 unless degenerate (see TrianglePack)
+  std::vector<TrianglePack> Packs;         ///< surface mode, one per leaf
   std::vector<double> CloudPoints;         ///< cloud mode, leaf order, x,y,z
   // Signed distance data (surface mode, by original triangle index): vertex ids, edge pseudo-normals; vertex
   // pseudo-normals by point index.

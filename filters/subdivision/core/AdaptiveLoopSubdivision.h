@@ -84,16 +84,13 @@
 #pragma once
 
 #include <plantmorph/ParallelFor.h>
+#include <plantmorph/memory/CloudArray.h>
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
-#include <memory>
-#include <new>
 #include <string>
-#include <type_traits>
-#include <utility>
 #include <vector>
 
 namespace plantmorph
@@ -136,38 +133,12 @@ struct AdaptiveLoopParameters
 inline constexpr int MaxAdaptiveLoopLevel = 10;
 inline constexpr std::size_t MaxAdaptiveLoopTriangles = 500000000; ///< ids stay within int
 
-/// std::allocator whose vectors leave new numbers unset when they grow (resize default-initialises): each level's
-/// output arrays are written whole by the threads, and zero-filling them first was a serial pass over fresh memory
-/// (about a fifth of a first update, whose memory is all fresh). Elements given a value (assign, the fill
-/// constructor, push_back) get it as usual.
+/// The mesh's big arrays: numbers left unset when an array grows (each level's output arrays are written whole by
+/// the threads, and zero-filling them first was a serial pass over fresh memory, about a fifth of a first update,
+/// whose memory is all fresh), in memory the VTK wrapper adopts as its output arrays instead of copying them
+/// (plantmorph::CloudArray; plain pages: the arrays are written once and handed over).
 template <class T>
-struct UnsetAllocator : std::allocator<T>
-{
-  template <class U>
-  struct rebind
-  {
-    using other = UnsetAllocator<U>;
-  };
-  UnsetAllocator() = default;
-  template <class U>
-  UnsetAllocator(const UnsetAllocator<U>&) noexcept
-  {
-  }
-  template <class U>
-  void construct(U* p) noexcept(std::is_nothrow_default_constructible<U>::value)
-  {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args)
-  {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-
-/// The mesh's big arrays: std::vector without the zero-filling of resize (UnsetAllocator).
-template <class T>
-using LoopArray = std::vector<T, UnsetAllocator<T>>;
+using LoopArray = CloudArray<T, false>;
 
 /// A triangle surface on flat arrays.
 struct AdaptiveLoopMesh

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkAdaptiveLoopFilter.h"
 #include "PlantMorphAlgorithmHooks.h"
+#include "PlantMorphFieldData.h"
 #include "PlantMorphLayer.h"
 
 #include "AdaptiveLoopSubdivision.h"
@@ -309,14 +310,21 @@ void ReadLineFeatures(vtkPolyData* input, plantmorph::AdaptiveLoopMesh& mesh)
   }
 }
 
-/// The output's points, in the input's precision.
+/// The output's points, in the input's precision: double points adopt the core's array (no copy), float ones are
+/// converted.
 void WritePoints(vtkPolyData* input, plantmorph::AdaptiveLoopMesh& out, vtkIdType nOutPoints, vtkPolyData* output)
 {
   vtkNew<vtkPoints> points;
-  points->SetDataType(input->GetPoints()->GetDataType() == VTK_DOUBLE ? VTK_DOUBLE : VTK_FLOAT);
+  vtkDataArray* inData = input->GetPoints()->GetData();
+  if (input->GetPoints()->GetDataType() == VTK_DOUBLE)
   {
+    points->SetData(plantmorph::AdoptArray<vtkDoubleArray>(out.points, 3, inData->GetName()));
+  }
+  else
+  {
+    points->SetDataType(VTK_FLOAT);
     vtkSmartPointer<vtkDataArray> data = Scatter(points->GetData(), out.points, 3, 0, nOutPoints);
-    data->SetName(input->GetPoints()->GetData()->GetName());
+    data->SetName(inData->GetName());
     points->SetData(data);
   }
   plantmorph::LoopArray<double>().swap(out.points);
@@ -327,18 +335,15 @@ void WritePoints(vtkPolyData* input, plantmorph::AdaptiveLoopMesh& out, vtkIdTyp
 void WriteTriangles(plantmorph::AdaptiveLoopMesh& out, vtkIdType nOutTriangles, vtkPolyData* output)
 {
   vtkNew<vtkTypeInt32Array> offsets;
-  vtkNew<vtkTypeInt32Array> connectivity;
   offsets->SetNumberOfValues(nOutTriangles + 1);
-  connectivity->SetNumberOfValues(3 * nOutTriangles);
   vtkTypeInt32* o = offsets->GetPointer(0);
-  vtkTypeInt32* c = connectivity->GetPointer(0);
-  const int* t = out.triangles.data();
   vtkSMPTools::For(0, nOutTriangles + 1, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType i = b; i < e; ++i)
       o[i] = static_cast<vtkTypeInt32>(3 * i);
   });
-  vtkSMPTools::For(0, 3 * nOutTriangles, [&](vtkIdType b, vtkIdType e) { std::copy(t + b, t + e, c + b); });
-  plantmorph::LoopArray<int>().swap(out.triangles);
+  // The connectivity is the core's triangle array, adopted (no copy).
+  vtkSmartPointer<vtkTypeInt32Array> connectivity =
+    plantmorph::AdoptArray<vtkTypeInt32Array>(out.triangles, 1, nullptr);
   vtkNew<vtkCellArray> cells;
   cells->SetData(offsets, connectivity);
   output->SetPolys(cells);
@@ -353,10 +358,21 @@ void WritePointData(vtkPolyData* input, const PointArrays& read, plantmorph::Ada
   vtkDataArray* inNormals = inPD->GetNormals();
   for (std::size_t a = 0; a < read.attributeArrays.size(); ++a)
   {
-    if (read.attributeArrays[a] == inNormals && inNormals->GetNumberOfComponents() == 3)
+    vtkDataArray* in = read.attributeArrays[a];
+    if (in == inNormals && inNormals->GetNumberOfComponents() == 3)
       plantmorph::NormalizeAttributeVectors(out, read.attributeOffsets[a], plantmorph::SMPFor());
-    outPD->AddArray(
-      Scatter(read.attributeArrays[a], out.attributes, out.attributeComponents, read.attributeOffsets[a], nOutPoints));
+    if (read.attributeArrays.size() == 1 && vtkDoubleArray::FastDownCast(in))
+    {
+      // The one double array is the attribute block itself: adopted (no copy), named like the input's.
+      vtkSmartPointer<vtkDoubleArray> array =
+        plantmorph::AdoptArray<vtkDoubleArray>(out.attributes, out.attributeComponents, in->GetName());
+      for (int c = 0; c < in->GetNumberOfComponents(); ++c)
+        if (const char* name = in->GetComponentName(c))
+          array->SetComponentName(c, name);
+      outPD->AddArray(array);
+      continue;
+    }
+    outPD->AddArray(Scatter(in, out.attributes, out.attributeComponents, read.attributeOffsets[a], nOutPoints));
   }
   plantmorph::LoopArray<double>().swap(out.attributes);
   if (read.regionArray)

@@ -492,3 +492,51 @@ TEST(AdaptiveLoopFilter, EmptyInputGivesEmptyOutputWithoutError)
 }
 
 } // namespace
+
+TEST(AdaptiveLoopFilter, AdoptedArraysEqualConvertedOnes)
+{
+  // Double points and one double point array: the output adopts the core's points, attribute block and triangles.
+  // With a second (float) point array the attribute block is converted array by array instead: the same numbers.
+  const vtkSmartPointer<vtkPolyData> alone = Sphere(VTK_DOUBLE);
+  alone->GetPointData()->SetNormals(nullptr);
+  while (alone->GetPointData()->GetNumberOfArrays() > 1)
+    alone->GetPointData()->RemoveArray(alone->GetPointData()->GetArrayName(0) == std::string("Position") ? 1 : 0);
+  ASSERT_NE(alone->GetPointData()->GetArray("Position"), nullptr);
+  alone->GetPointData()->GetArray("Position")->SetComponentName(2, "height");
+  auto withFloat = vtkSmartPointer<vtkPolyData>::New();
+  withFloat->DeepCopy(alone);
+  vtkNew<vtkFloatArray> extra;
+  extra->SetName("Extra");
+  extra->SetNumberOfTuples(withFloat->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < withFloat->GetNumberOfPoints(); ++i)
+    extra->SetValue(i, static_cast<float>(i % 7));
+  withFloat->GetPointData()->AddArray(extra);
+  const auto configure = [](vtkAdaptiveLoopFilter* f) { PlainLoop(f, 2); };
+  const FilterRun adopted = Subdivide(alone, configure);
+  const FilterRun converted = Subdivide(withFloat, configure);
+  ASSERT_EQ(adopted.errors, "");
+  ExpectSamePoints(adopted.output, converted.output);
+  EXPECT_EQ(adopted.output->GetPoints()->GetDataType(), VTK_DOUBLE);
+  vtkDataArray* a = adopted.output->GetPointData()->GetArray("Position");
+  vtkDataArray* c = converted.output->GetPointData()->GetArray("Position");
+  ASSERT_TRUE(a && c && vtkDoubleArray::SafeDownCast(a));
+  ASSERT_EQ(a->GetNumberOfComponents(), 3);
+  EXPECT_STREQ(a->GetComponentName(2), "height");
+  ASSERT_EQ(a->GetNumberOfTuples(), adopted.output->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(a->GetComponent(i, k), c->GetComponent(i, k)) << i;
+  vtkCellArray* ta = adopted.output->GetPolys();
+  vtkCellArray* tc = converted.output->GetPolys();
+  ASSERT_EQ(ta->GetNumberOfCells(), tc->GetNumberOfCells());
+  ASSERT_EQ(ta->GetNumberOfConnectivityIds(), 3 * ta->GetNumberOfCells());
+  vtkNew<vtkIdList> ia, ic;
+  for (vtkIdType t = 0; t < ta->GetNumberOfCells(); ++t)
+  {
+    ta->GetCellAtId(t, ia);
+    tc->GetCellAtId(t, ic);
+    ASSERT_EQ(ia->GetNumberOfIds(), 3);
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(ia->GetId(k), ic->GetId(k)) << t;
+  }
+}

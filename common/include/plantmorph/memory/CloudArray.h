@@ -88,6 +88,37 @@ public:
     this->count = 0;
     this->append(first, last);
   }
+  /// One number added at the end (the room doubles when full, as std::vector's).
+  void push_back(const T& value)
+  {
+    const T copy = value; // `value` may be one of the numbers held, moved by the growth
+    this->resize(this->count + 1);
+    this->values[this->count - 1] = copy;
+  }
+  template <class... Args>
+  T& emplace_back(Args&&... args)
+  {
+    this->push_back(T(std::forward<Args>(args)...));
+    return this->values[this->count - 1];
+  }
+  /// The numbers [first, last) (not from this array) inserted before `at`; returns where the first one went.
+  T* insert(const T* at, const T* first, const T* last)
+  {
+    const std::size_t offset = static_cast<std::size_t>(at - this->values);
+    const std::size_t n = static_cast<std::size_t>(last - first);
+    const std::size_t old = this->count;
+    if (n == 0)
+      return this->values + offset;
+    this->resize(old + n);
+    std::memmove(this->values + offset + n, this->values + offset, (old - offset) * sizeof(T));
+    std::copy(first, last, this->values + offset);
+    return this->values + offset;
+  }
+  T* insert(const T* at, std::initializer_list<T> values) { return this->insert(at, values.begin(), values.end()); }
+  /// No number left; the memory is kept.
+  void clear() { this->count = 0; }
+  T& back() { return this->values[this->count - 1]; }
+  const T& back() const { return this->values[this->count - 1]; }
   /// Hands the memory over (to be freed with std::free); the array is left empty. nullptr when it holds nothing.
   T* Release()
   {
