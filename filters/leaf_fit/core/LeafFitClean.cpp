@@ -186,8 +186,10 @@ Eigen::Vector3d Nearest(const std::vector<Eigen::Vector3d>& points, const Eigen:
 /// The length in slices of a terminal lobe at the end of the slice widths `width` (the high end when `high`), or 0:
 /// a narrow end (under 0.35 of the widest slice) for two to six slices, after which the blade widens by more than
 /// 0.4 of the widest within two slices (10 % of the length), where the lateral lobes begin beyond the sinuses beside
-/// it. A base widens steadily from a wedge (a fan, a cuneate base), or is a sinus (wide), or is where the lobes meet,
-/// narrow for fewer slices than the terminal lobe (the lateral lobes reach back beside it).
+/// it, or, on a shallowly lobed blade, narrows again by more than 0.05 of the widest and then widens beyond the lobe
+/// within the next six slices (the sinuses between the terminal lobe and the first lateral lobes). A base widens steadily from
+/// a wedge (a fan, a cuneate base), or is a sinus (wide), or is where the lobes meet, narrow for fewer slices than the
+/// terminal lobe (the lateral lobes reach back beside it).
 int TerminalLobe(const std::vector<double>& width, double widest, bool high)
 {
   const int n = static_cast<int>(width.size());
@@ -195,7 +197,24 @@ int TerminalLobe(const std::vector<double>& width, double widest, bool high)
   int run = 0;
   while (run < 7 && at(run) < 0.35)
     ++run;
-  return run >= 2 && run < 7 && at(run + 1) - at(run - 1) > 0.4 ? run : 0;
+  if (run < 2 || run >= 7)
+    return 0;
+  if (at(run + 1) - at(run - 1) > 0.4)
+    return run;
+  // A sinus: the width falls from the lobe's widest by over 0.05 of the widest, then widens beyond it.
+  double lobe = at(run - 1), dip = 1e300;
+  for (int k = run; k < std::min(n, run + 6); ++k)
+  {
+    if (dip > 1.0 && at(k) < lobe - 0.05)
+      dip = at(k);
+    else if (dip > 1.0)
+      lobe = std::max(lobe, at(k));
+    else if (at(k) > lobe)
+      return run;
+    else
+      dip = std::min(dip, at(k));
+  }
+  return 0;
 }
 
 /// Without a base or apex given or found: true when the base is at the +Y end of the axis Y (through the centroid,

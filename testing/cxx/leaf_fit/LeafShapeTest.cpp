@@ -58,6 +58,20 @@ LeafGeometry Blade(int preset, double length)
   else if (preset == 6)
     error = BuildDeformedRectangleLeaf(
       MakeDeformedRectanglePreset(DeformedRectanglePreset::CordateBaseRoundedApex, length), settings, leaf);
+  else if (preset == 7)
+    error = BuildDeformedRectangleLeaf(
+      MakeDeformedRectanglePreset(DeformedRectanglePreset::RoundedBaseAcuminateApex, length), settings, leaf);
+  else if (preset == 8)
+    error =
+      BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Lobed, length), settings, leaf);
+  else if (preset == 9 || preset == 10)
+  {
+    SpaceCurveMeshParameters curveSettings;
+    curveSettings.resolution = settings.resolution;
+    error = BuildSpaceCurveLeaf(
+      MakeSpaceCurvePreset(preset == 9 ? SpaceCurvePreset::Figure1 : SpaceCurvePreset::Figure2, length), curveSettings,
+      leaf);
+  }
   else
     error =
       BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Entire, length), settings, leaf);
@@ -449,6 +463,45 @@ TEST(LeafShape, CordateBladeWithoutPetioleHasItsBaseAtTheSinus)
       Expected e;
       e.lengthTolerance = 0.02;
       ExpectShape(scan, pose, e);
+    }
+  }
+}
+
+TEST(LeafShape, ShallowlyLobedBladeWithoutPetioleHasItsApexAtItsTerminalLobe)
+{
+  // Paper 000's shallowly lobed blade (Fig. 1c), no petiole and no hints, turned every way. Its apex is a blunt
+  // terminal lobe, narrow enough (its two end slices 0.05 and 0.09 of the widest) to pass for a stalk; the sinuses
+  // beside it (the width falls from 0.52 to 0.46 of the widest, then rises to the lateral lobes) make it the apex.
+  const LeafGeometry leaf = Blade(8, 100.0);
+  for (const Eigen::Isometry3d& pose : ArbitraryPoses())
+    ExpectShape(Scan(leaf, 8000, 0.1, 0.0, Straight(0.0), 0, pose), pose, Expected());
+}
+
+TEST(LeafShape, BladesTheOutlineCannotOrientTakeTheirHint)
+{
+  // Three blades whose points, laid in their plane, give no sign of which end is the base: paper 000's rounded base
+  // with an acuminate apex (Fig. 2b; scanned, the drawn-out tip's last thin tenth has almost no points and the slice
+  // widths read 0.02, 0.05, 0.10, 0.17 ... 1 ... 0.36 of the widest from the tip, the ginkgo fan's from its base),
+  // and paper 002's Fig. 1 and 2 blades (obovate: an ovate blade turned round). ApexPoint at the true apex (or
+  // BasePoint at the base) puts them right in every pose.
+  for (int preset : { 7, 9, 10 })
+  {
+    const LeafGeometry leaf = Blade(preset, 100.0);
+    const auto poses = ArbitraryPoses();
+    for (std::size_t k = 0; k < poses.size(); k += 2)
+    {
+      const Synthetic scan = Scan(leaf, 8000, 0.1, 0.0, Straight(0.0), 0, poses[k]);
+      LeafFitParameters options;
+      if (k % 4 == 0)
+      {
+        const Eigen::Vector2d tip = leaf.blade.points[leaf.midvein.back()];
+        options.apexPoint = poses[k] * Eigen::Vector3d(tip.x(), tip.y(), 0.0);
+      }
+      else
+        options.basePoint = poses[k] * Eigen::Vector3d::Zero();
+      Expected e;
+      e.lengthTolerance = preset == 7 ? 0.15 : 0.01; // the acuminate tip's last thin tenth is hardly scanned
+      ExpectShape(scan, poses[k], e, options);
     }
   }
 }
