@@ -69,7 +69,7 @@ std::string ValidateLeafFitParameters(const LeafFitParameters& options);
 inline constexpr int MinLeafPoints = 50;
 
 /// The most points a leaf is fitted on: a denser leaf is fitted on a deterministic sample of about this many
-/// (PointGrid.h's SampleIds), which holds area and length within 0.2 % on the benchmark's leaf, and its other points
+/// (PointGrid.h's SampleIds), which holds area and length within 0.25 % on the benchmark's leaf, and its other points
 /// get their FitDistance, Inlier, (t, s) and petiole from that fit, so the cost grows linearly above it.
 inline constexpr std::size_t MaxFitPoints = 100000;
 

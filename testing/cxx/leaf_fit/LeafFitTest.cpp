@@ -321,6 +321,22 @@ TEST(LeafFit, RolledBentSpaceCurveLeaf)
   ExpectAccurate({ Model::BroadB, 40.0, 30.0, 0.003, 15000 });
 }
 
+/// The blocks of the per-point loops handed out in reverse order on two threads.
+ParallelFor ReversedOnTwoThreads()
+{
+  return [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    std::thread other([&] {
+      for (std::size_t i = count; i-- > 0;)
+        if (i % 2 == 1)
+          body(i, i + 1);
+    });
+    for (std::size_t i = count; i-- > 0;)
+      if (i % 2 == 0)
+        body(i, i + 1);
+    other.join();
+  };
+}
+
 TEST(LeafFit, ADenseLeafIsFittedOnASampleAsAccurately)
 {
   // 3 x 10^5 points, three times MaxFitPoints: the fit runs on a sample and every other point follows it (the
@@ -335,17 +351,7 @@ TEST(LeafFit, ADenseLeafThreadedIsTheSerialFitAndEveryPointHasItsOutputs)
 {
   const TrueLeaf truth = MakeLeaf(Model::OvateA, 80.0, 30.0, 0.0);
   const std::vector<Eigen::Vector3d> scan = Scan(truth, 2 * static_cast<int>(MaxFitPoints), 0.1, 2000, 5);
-  const ParallelFor reversed = [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::thread other([&] {
-      for (std::size_t i = count; i-- > 0;)
-        if (i % 2 == 1)
-          body(i, i + 1);
-    });
-    for (std::size_t i = count; i-- > 0;)
-      if (i % 2 == 0)
-        body(i, i + 1);
-    other.join();
-  };
+  const ParallelFor reversed = ReversedOnTwoThreads();
   const LeafFitResult serial = FitLeaf(scan, LeafFitParameters());
   const LeafFitResult threaded = FitLeaf(scan, LeafFitParameters(), reversed);
   ASSERT_EQ(serial.error, "");
@@ -503,17 +509,7 @@ TEST(LeafFit, OneLeafThreadedInsideIsTheSerialFit)
 {
   // 2*10^4 points: several blocks of the per-point loops, handed out in reverse order on two threads.
   const std::vector<Eigen::Vector3d> scan = Scan(MakeLeaf(Model::EllipticC, 80.0, 30.0, 0.0), 20000, 0.1, 200, 4);
-  const ParallelFor reversed = [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::thread other([&] {
-      for (std::size_t i = count; i-- > 0;)
-        if (i % 2 == 1)
-          body(i, i + 1);
-    });
-    for (std::size_t i = count; i-- > 0;)
-      if (i % 2 == 0)
-        body(i, i + 1);
-    other.join();
-  };
+  const ParallelFor reversed = ReversedOnTwoThreads();
   const LeafFitResult serial = FitLeaf(scan, LeafFitParameters());
   const LeafFitResult threaded = FitLeaves({ scan }, LeafFitParameters(), reversed).front();
   ASSERT_EQ(serial.error, "");
