@@ -42,6 +42,23 @@ double InlierLimit(const Fitted& f, double spacing)
   return std::max(5.0 * f.sigma, spacing);
 }
 
+/// Moves (t, s) towards the foot of the local point q on the surface: two Gauss-Newton steps, a step longer than
+/// 10 spacings refused.
+void Project(const TensorSurface& surface, const Eigen::Vector3d& q, double spacing, Eigen::Vector2d& ts)
+{
+  for (int step = 0; step < 2; ++step)
+  {
+    Eigen::Vector3d dt, ds;
+    surface.Derivatives(ts.x(), ts.y(), dt, ds);
+    Eigen::Matrix<double, 3, 2> J;
+    J << dt, ds;
+    const Eigen::Vector3d r = q - surface(ts.x(), ts.y());
+    const Eigen::Vector2d delta = (J.transpose() * J).ldlt().solve(J.transpose() * r);
+    if (delta.allFinite() && delta.norm() < 10.0 * spacing)
+      ts += delta;
+  }
+}
+
 /// The penalised, Huber-reweighted surface through the kept points.
 std::string FitSurface(const LeafFitParameters& options, double spacing, const ParallelFor& parallel, Fitted& f)
 {
@@ -68,19 +85,7 @@ std::string FitSurface(const LeafFitParameters& options, double spacing, const P
     {
       // Project every point onto the surface (two Gauss-Newton steps on its (t, s)): a point's noise along a
       // tilted normal must not move it along the leaf, or the outermost samples reach beyond the margin and tips.
-      ForEachIndex(parallel, f.ts.size(), [&](std::size_t i) {
-        for (int step = 0; step < 2; ++step)
-        {
-          Eigen::Vector3d dt, ds;
-          f.surface.Derivatives(f.ts[i].x(), f.ts[i].y(), dt, ds);
-          Eigen::Matrix<double, 3, 2> J;
-          J << dt, ds;
-          const Eigen::Vector3d r = f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y());
-          const Eigen::Vector2d delta = (J.transpose() * J).ldlt().solve(J.transpose() * r);
-          if (delta.allFinite() && delta.norm() < 10.0 * spacing)
-            f.ts[i] += delta;
-        }
-      });
+      ForEachIndex(parallel, f.ts.size(), [&](std::size_t i) { Project(f.surface, f.local[i], spacing, f.ts[i]); });
     }
     for (int iteration = 0; iteration < 3; ++iteration)
     {
@@ -232,14 +237,43 @@ std::string MeshFittedBlade(
   return {};
 }
 
+/// The points the fit did not run on (a cloud above MaxFitPoints is fitted on a sample, `sampled`): each takes the
+/// part of a cleaned sample point (`cleanPoints`, input ids `cleanIds`) within `reach` (PointGrid::Near), blade or petiole,
+/// and is dropped as a stray when there is none; a blade point gets its (t, s) on the surface (the cross-sections'
+/// coordinates, then projected as the fitted points are), FitDistance and Inlier. `kept` marks every point the
+/// cleaning would keep (blade and petiole).
+void ScanUnsampled(const std::vector<Eigen::Vector3d>& points, const std::vector<unsigned char>& sampled,
+  const std::vector<Eigen::Vector3d>& cleanPoints, const std::vector<int>& cleanIds, const Fitted& f, double spacing,
+  double reach, const ParallelFor& parallel, LeafFitResult& result, std::vector<unsigned char>& kept)
+{
+  const double limit = InlierLimit(f, spacing);
+  const PointGrid grid(cleanPoints, reach); // cells of the reach: a point's own cell nearly always holds one
+  ForEachIndex(parallel, points.size(), [&](std::size_t i) {
+    if (sampled[i])
+      return;
+    const int near = grid.Near(points[i], reach);
+    if (near < 0)
+      return;
+    kept[i] = 1;
+    if (result.petiole[cleanIds[near]])
+    {
+      result.petiole[i] = 1;
+      return;
+    }
+    const Eigen::Vector3d q = f.frame.Local(points[i]);
+    Eigen::Vector2d ts = f.sections.Intrinsic(q);
+    Project(f.surface, q, spacing, ts);
+    const Eigen::Vector3d d = q - f.surface(ts.x(), ts.y());
+    result.fitDistance[i] = d.dot(f.surface.Normal(ts.x(), ts.y()));
+    result.intrinsic[i] = { ts.x(), ts.y() - f.outline.base };
+    result.inlier[i] = d.norm() <= limit ? 1 : 0;
+  });
+}
+
 /// FitDistance, Inlier and (t, s) of every input point; Support of every blade point.
 void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, double spacing,
   const ParallelFor& parallel, LeafFitResult& result)
 {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  result.fitDistance.assign(points.size(), nan);
-  result.inlier.assign(points.size(), 0);
-  result.intrinsic.assign(points.size(), Eigen::Vector2d(nan, nan));
   const double limit = InlierLimit(f, spacing);
   std::vector<Eigen::Vector3d> inliers;
   for (std::size_t k = 0; k < f.kept.size(); ++k)
@@ -254,11 +288,16 @@ void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, dou
       inliers.push_back(points[i]);
   }
   // Dropped points: the distance to the nearest blade vertex, signed by the side of the blade's normal there.
-  const PointGrid blade(result.points, PointGrid::CellFor(result.points, 4.0));
+  // A far stray's search on the fine grid visits the cube of the cells it is away: beyond 8 cells the nearest
+  // vertex is found on a grid 16 times coarser (the same vertex: both searches are exact).
+  const double cell = PointGrid::CellFor(result.points, 4.0);
+  const PointGrid blade(result.points, cell), coarse(result.points, 16.0 * cell);
   ForEachIndex(parallel, points.size(), [&](std::size_t i) {
     if (std::isnan(result.fitDistance[i]))
     {
-      const auto nb = blade.Nearest(points[i], 1);
+      auto nb = blade.Nearest(points[i], 1, -1, 8.0 * cell);
+      if (nb.empty())
+        nb = coarse.Nearest(points[i], 1);
       const Eigen::Vector3d d = points[i] - result.points[nb.front().second];
       result.fitDistance[i] = std::copysign(d.norm(), d.dot(result.normals[nb.front().second]));
     }
@@ -354,19 +393,28 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     error = fit::ValidateCloud(points);
   if (!error.empty())
     return error;
+  // A dense cloud is fitted on a sample of MaxFitPoints (the surface's knots, the outline and the traits need no
+  // more; the cost of the fit's searches and sums then stops growing), and its other points follow the fit.
+  const std::vector<int> sampleIds = SampleIds(points, MaxFitPoints);
+  const bool thinned = sampleIds.size() < points.size();
+  std::vector<Eigen::Vector3d> sample;
+  if (thinned)
+    for (int id : sampleIds)
+      sample.push_back(points[id]);
+  const std::vector<Eigen::Vector3d>& fitted = thinned ? sample : points;
   std::vector<unsigned char> keep;
   double spacing = 0.0;
-  error = fit::CleanCloud(points, options.outlierSigma, keep, spacing, parallel);
+  error = fit::CleanCloud(fitted, options.outlierSigma, keep, spacing, parallel);
   if (!error.empty())
     return error;
   // The petiole is set apart: the blade alone is fitted, and every blade trait is the blade's.
-  std::vector<int> cleaned;
+  std::vector<int> cleaned; // input ids
   std::vector<Eigen::Vector3d> cleanPoints;
-  for (std::size_t i = 0; i < points.size(); ++i)
+  for (std::size_t i = 0; i < fitted.size(); ++i)
     if (keep[i])
     {
-      cleaned.push_back(static_cast<int>(i));
-      cleanPoints.push_back(points[i]);
+      cleaned.push_back(thinned ? sampleIds[i] : static_cast<int>(i));
+      cleanPoints.push_back(fitted[i]);
     }
   const fit::Petiole petiole = fit::FindPetiole(cleanPoints, spacing, parallel);
   result.petiole.assign(points.size(), 0);
@@ -427,9 +475,29 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   }
   if (!error.empty())
     return error;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  result.fitDistance.assign(points.size(), nan);
+  result.inlier.assign(points.size(), 0);
+  result.intrinsic.assign(points.size(), Eigen::Vector2d(nan, nan));
+  result.traits.spacing = spacing;
+  if (thinned)
+  {
+    // The points beside the sample: within 4 of its spacings of a kept one (a stray farther than that is dropped).
+    std::vector<unsigned char> sampled(points.size(), 0), kept(points.size(), 0);
+    for (int id : sampleIds)
+      sampled[id] = 1;
+    for (int id : cleaned)
+      kept[id] = 1;
+    ScanUnsampled(points, sampled, cleanPoints, cleaned, f, spacing, 4.0 * outlineSpacing, parallel, result, kept);
+    // The Spacing trait is the scan's own (the kept points'), not the sample's.
+    std::vector<Eigen::Vector3d> keptPoints;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (kept[i])
+        keptPoints.push_back(points[i]);
+    result.traits.spacing = MedianSpacing(keptPoints);
+  }
   ScanArrays(points, f, spacing, parallel, result);
   RebuildableModel(options, f, result);
-  result.traits.spacing = spacing;
   result.traits.coverageSpacing = outlineSpacing;
   result.traits.points = static_cast<double>(points.size());
   fit::ComputeTraits(f.surface, f.outline, options, f.frame.axes, result);

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <numeric>
 #include <utility>
 
 namespace plantmorph
@@ -229,6 +231,31 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
   return best;
 }
 
+int PointGrid::Near(const Eigen::Vector3d& q, double reach) const
+{
+  if (this->Sorted.empty())
+    return -1;
+  const Eigen::Vector3i c = this->CellOf(q);
+  if (const std::pair<int, int>* range = this->Range(c[0], c[1], c[2]))
+  {
+    double best = reach * reach;
+    int id = -1;
+    for (int o = range->first; o < range->second; ++o)
+    {
+      const double d2 = (this->Sorted[o] - q).squaredNorm();
+      if (d2 < best || (id < 0 && d2 <= best))
+      {
+        best = d2;
+        id = this->Order[o];
+      }
+    }
+    if (id >= 0)
+      return id;
+  }
+  const auto nearest = this->Nearest(q, 1, -1, reach);
+  return nearest.empty() ? -1 : nearest.front().second;
+}
+
 void PointGrid::Within(const Eigen::Vector3d& q, double radius, std::vector<int>& out) const
 {
   out.clear();
@@ -277,6 +304,47 @@ double PointGrid::CellFor(const std::vector<Eigen::Vector3d>& points, double per
   const double area = std::max(e[2] * e[1], e[2] * e[2] * 1e-6);
   const double cell = std::sqrt(area * perCell / static_cast<double>(points.size()));
   return cell > 0.0 ? cell : 1.0;
+}
+
+namespace
+{
+std::uint64_t Mix(std::uint64_t x)
+{
+  // splitmix64's finaliser: every input bit moves every output bit.
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+} // namespace
+
+std::vector<int> SampleIds(const std::vector<Eigen::Vector3d>& points, std::size_t target)
+{
+  std::vector<int> ids;
+  if (points.size() <= target)
+  {
+    ids.resize(points.size());
+    std::iota(ids.begin(), ids.end(), 0);
+    return ids;
+  }
+  // 2^64 times the fraction kept (below 1).
+  const auto limit = static_cast<std::uint64_t>(
+    static_cast<double>(target) / static_cast<double>(points.size()) * 18446744073709551616.0);
+  ids.reserve(target + target / 8);
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    std::uint64_t h = 0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double x = points[i][a] + 0.0; // -0 and +0 alike
+      std::uint64_t bits;
+      std::memcpy(&bits, &x, sizeof bits);
+      h = Mix(h ^ bits);
+    }
+    if (h < limit)
+      ids.push_back(static_cast<int>(i));
+  }
+  return ids;
 }
 
 double MedianSpacing(const std::vector<Eigen::Vector3d>& points)

@@ -26,6 +26,10 @@ public:
   std::vector<std::pair<double, int>> Nearest(
     const Eigen::Vector3d& q, int k, int skip = -1, double reach = std::numeric_limits<double>::infinity()) const;
 
+  /// The id of a point within `reach` of q, or -1 when none is: the nearest of q's own cell when one there is that
+  /// close (one cell read, which on a dense cloud answers nearly every query), else the nearest (Nearest).
+  int Near(const Eigen::Vector3d& q, double reach) const;
+
   /// Indices of every point within `radius` of q.
   void Within(const Eigen::Vector3d& q, double radius, std::vector<int>& out) const;
 
@@ -72,6 +76,12 @@ private:
   std::size_t BlockOf(int i, int j, int k) const;
   Eigen::Vector3i Extent = Eigen::Vector3i::Zero(); // cells per axis
 };
+
+/// A deterministic sample of about `target` of the points (all of them when there are no more): point i is taken
+/// when a hash of its coordinates' bits falls below target / size, so the sample depends neither on the points'
+/// order nor on a thread count, and thins any arrangement (a scanner's lines, a grid) evenly, without aliasing.
+/// Ids ascending.
+std::vector<int> SampleIds(const std::vector<Eigen::Vector3d>& points, std::size_t target);
 
 /// The point spacing: the median nearest-neighbour distance (0 excluded) over a deterministic sample of at most
 /// 20000 of the points. 0 for fewer than 2 points.

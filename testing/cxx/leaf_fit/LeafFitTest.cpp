@@ -321,6 +321,62 @@ TEST(LeafFit, RolledBentSpaceCurveLeaf)
   ExpectAccurate({ Model::BroadB, 40.0, 30.0, 0.003, 15000 });
 }
 
+/// The blocks of the per-point loops handed out in reverse order on two threads.
+ParallelFor ReversedOnTwoThreads()
+{
+  return [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    std::thread other([&] {
+      for (std::size_t i = count; i-- > 0;)
+        if (i % 2 == 1)
+          body(i, i + 1);
+    });
+    for (std::size_t i = count; i-- > 0;)
+      if (i % 2 == 0)
+        body(i, i + 1);
+    other.join();
+  };
+}
+
+TEST(LeafFit, ADenseLeafIsFittedOnASampleAsAccurately)
+{
+  // 3 x 10^5 points, three times MaxFitPoints: the fit runs on a sample and every other point follows it (the
+  // inlier, FitRMS and outlier checks count all of them).
+  ASSERT_GT(300000u, 2 * MaxFitPoints);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, 2.0, 0.5).normalized()));
+  ExpectAccurate({ Model::EllipticC, 40.0, 30.0, 0.002, 300000 }, pose);
+}
+
+TEST(LeafFit, ADenseLeafThreadedIsTheSerialFitAndEveryPointHasItsOutputs)
+{
+  const TrueLeaf truth = MakeLeaf(Model::OvateA, 80.0, 30.0, 0.0);
+  const std::vector<Eigen::Vector3d> scan = Scan(truth, 2 * static_cast<int>(MaxFitPoints), 0.1, 2000, 5);
+  const ParallelFor reversed = ReversedOnTwoThreads();
+  const LeafFitResult serial = FitLeaf(scan, LeafFitParameters());
+  const LeafFitResult threaded = FitLeaf(scan, LeafFitParameters(), reversed);
+  ASSERT_EQ(serial.error, "");
+  ASSERT_EQ(threaded.error, "");
+  EXPECT_EQ(TraitValues(threaded.traits), TraitValues(serial.traits));
+  EXPECT_EQ(threaded.points, serial.points);
+  EXPECT_EQ(threaded.inlier, serial.inlier);
+  int inliers = 0, placed = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i)
+  {
+    ASSERT_EQ(threaded.fitDistance[i], serial.fitDistance[i]) << "point " << i;
+    ASSERT_TRUE(std::isfinite(serial.fitDistance[i])) << "point " << i;
+    placed += std::isfinite(serial.intrinsic[i].x()) ? 1 : 0;
+    inliers += serial.inlier[i];
+  }
+  // Every blade point (the sample's and the others) has its (t, s) and is an inlier, the outliers are not.
+  EXPECT_GE(placed, 0.995 * (scan.size() - 2000)) << placed;
+  EXPECT_GE(inliers, 0.99 * (scan.size() - 2000)) << inliers;
+  EXPECT_LE(inliers, scan.size() - 2000 + 200) << inliers;
+  EXPECT_EQ(static_cast<double>(inliers), serial.traits.inliers);
+  // The fit is the truth's: FitRMS the noise, the area within 1 %.
+  EXPECT_NEAR(serial.traits.fitRMS / 0.1, 1.0, 0.15);
+  EXPECT_NEAR(serial.traits.area / truth.Area(), 1.0, 0.01);
+}
+
 TEST(LeafFit, SmallScansStayWithinTheirDocumentedRange)
 {
   // The verified point-count range (docs/methods/leaf-fit.md, "Limits, measured"): each tip is placed from its few
@@ -453,17 +509,7 @@ TEST(LeafFit, OneLeafThreadedInsideIsTheSerialFit)
 {
   // 2*10^4 points: several blocks of the per-point loops, handed out in reverse order on two threads.
   const std::vector<Eigen::Vector3d> scan = Scan(MakeLeaf(Model::EllipticC, 80.0, 30.0, 0.0), 20000, 0.1, 200, 4);
-  const ParallelFor reversed = [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::thread other([&] {
-      for (std::size_t i = count; i-- > 0;)
-        if (i % 2 == 1)
-          body(i, i + 1);
-    });
-    for (std::size_t i = count; i-- > 0;)
-      if (i % 2 == 0)
-        body(i, i + 1);
-    other.join();
-  };
+  const ParallelFor reversed = ReversedOnTwoThreads();
   const LeafFitResult serial = FitLeaf(scan, LeafFitParameters());
   const LeafFitResult threaded = FitLeaves({ scan }, LeafFitParameters(), reversed).front();
   ASSERT_EQ(serial.error, "");

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -50,6 +51,34 @@ std::vector<Eigen::Vector3d> LineScannedEllipse(
       if ((x / a) * (x / a) + (y / b) * (y / b) <= 1.0)
         points.push_back(centre + Eigen::Vector3d(x, y, 0.0));
   return points;
+}
+
+TEST(LeafPlant, SampleIdsAreEvenAndDependOnThePointsOnly)
+{
+  // A regular grid of 500 x 400 points thinned to about 20000: the same points whatever their order, about the
+  // target count, spread evenly (each 50 x 40 block keeps about 200) and without the grid's aliasing.
+  std::vector<Eigen::Vector3d> grid;
+  for (int i = 0; i < 500; ++i)
+    for (int j = 0; j < 400; ++j)
+      grid.emplace_back(0.1 * i, 0.1 * j, 0.0);
+  const std::vector<int> ids = SampleIds(grid, 20000);
+  EXPECT_NEAR(static_cast<double>(ids.size()), 20000.0, 600.0);
+  EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()));
+  std::vector<int> blocks(100, 0);
+  for (int id : ids)
+    ++blocks[(id / 400) / 50 * 10 + (id % 400) / 40];
+  for (int count : blocks)
+  {
+    EXPECT_GT(count, 140);
+    EXPECT_LT(count, 260);
+  }
+  const std::vector<Eigen::Vector3d> reversed(grid.rbegin(), grid.rend());
+  std::vector<int> back;
+  for (int id : SampleIds(reversed, 20000))
+    back.push_back(static_cast<int>(grid.size()) - 1 - id);
+  std::sort(back.begin(), back.end());
+  EXPECT_EQ(back, ids);
+  EXPECT_EQ(SampleIds(grid, grid.size()).size(), grid.size());
 }
 
 TEST(LeafPlant, ALineScannedLeafIsOneLeaf)
