@@ -20,7 +20,10 @@
 //     it by an arc of about 80 degrees or more); the rest is wood. A region that is no sheet (incoherent) yet wide,
 //     not a strip and no cylinder is several leaves grown into one: it is grown again inside itself with every
 //     point's normal within NormalAngle of its piece's seed (no drift from leaf to leaf), and its pieces are judged
-//     in turn. Points of regions too small to judge take
+//     in turn. A flat strip (coherent, no cylinder, judged wood only for being narrower than 2r or long) is leaf
+//     when the points within three links around it lie in its plane (under r / 10 off it) or there are none: a
+//     tube's facet has the next facets turning away around it. Alone, such a strip gets no LeafId. Points of
+//     regions too small to judge take
 //     the organ of the nearest judged region (breadth-first over the radius graph), linear ones are wood.
 //  4. Leaf instances. Small wood pieces (fewer than MinimumLeafPoints points) touching one leaf region only are
 //     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at

@@ -45,7 +45,9 @@ struct RegionVerdict
 {
   bool judged = false;
   bool leaf = false;
-  bool mixed = false; ///< incoherent yet no cylinder: several sheets grown into one (SplitMixedRegions)
+  bool mixed = false;     ///< incoherent yet no cylinder: several sheets grown into one (SplitMixedRegions)
+  bool strip = false;     ///< a flat sheet (coherent, no cylinder) judged wood only for being narrow or long
+  bool flatStrip = false; ///< such a strip with flat surroundings: leaf, but no leaf instance on its own
   double confidence = 0.0;
 };
 
@@ -107,6 +109,7 @@ std::vector<RegionVerdict> JudgeRegions(const std::vector<Eigen::Vector3d>& poin
     const NormalSpread spread = SpreadOfNormals(f, ids, solver.eigenvectors().col(2));
     const bool cylinder = spread.axisAlongLength >= CylinderAxisCosine && spread.middle >= CylinderNormalSpread;
     v.leaf = !cylinder && coherence > p.sheetCoherence && elongation < p.maximumLeafElongation && width >= minimumWidth;
+    v.strip = !v.leaf && !cylinder && coherence > p.sheetCoherence;
     v.mixed = allowMixed && !cylinder && coherence <= p.sheetCoherence && elongation < p.maximumLeafElongation &&
       width >= minimumWidth;
     const double margin = v.leaf ? (coherence - p.sheetCoherence) / (1.0 - p.sheetCoherence)
@@ -162,6 +165,111 @@ int SplitMixedRegions(const PointFeatures& f, const LinkGraph& graph, const Segm
     ++count;
   }
   return count;
+}
+
+/// The moments of a leaf part's points (count, mean, scatter about the mean), merged in constant time when two
+/// parts join: its best plane and its spread off it.
+struct PartMoments
+{
+  double count = 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+
+  PartMoments Merged(const PartMoments& o) const
+  {
+    PartMoments m;
+    m.count = count + o.count;
+    const Eigen::Vector3d d = o.mean - mean;
+    m.mean = mean + d * (o.count / m.count);
+    m.scatter = scatter + o.scatter + d * d.transpose() * (count * o.count / m.count);
+    return m;
+  }
+  /// The normal of the best plane (unit) and the spread off it (the root mean square distance).
+  Eigen::Vector3d Normal(double& spread) const
+  {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter / count);
+    spread = std::sqrt(std::max(0.0, solver.eigenvalues()[0]));
+    return solver.eigenvectors().col(0);
+  }
+};
+
+/// Links around a strip within which its surroundings are looked at (StripIsFlatSheet): 3 links of LinkScale (2.5)
+/// spacings reach about 2r at the default FeatureScale, across a twig's next facets.
+constexpr int StripRingLinks = 3;
+/// A strip's surroundings lie in its plane when their root mean square distance off it is under this fraction of
+/// the features' radius r (r is at least 12 times the range noise, so a flat ring's noise stays under it).
+constexpr double StripRingFlatness = 0.1;
+
+/// Whether a flat strip is a sheet and not a facet of wood: the points within StripRingLinks links around it
+/// (outside it) lie in its plane (root mean square off it under StripRingFlatness r), or there are none. Wood is
+/// curved around an axis: around a facet of a tube the next facets turn away from its plane (on the simulated tree
+/// their points are 0.3 r to 1 r off it); around a leaf seen at a grazing angle in a few rows, or alone, the
+/// surroundings are the leaf's own plane or nothing. `mark` is scratch (all -1 in and out).
+bool StripIsFlatSheet(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const std::vector<int>& ids,
+  const PartMoments& moments, double radius, std::vector<int>& mark)
+{
+  double spread = 0.0;
+  const Eigen::Vector3d normal = moments.Normal(spread);
+  for (int j : ids)
+    mark[static_cast<std::size_t>(j)] = 1;
+  std::vector<int> front = ids, next, ring;
+  for (int k = 0; k < StripRingLinks; ++k)
+  {
+    next.clear();
+    for (int q : front)
+      for (std::size_t e = graph.offsets[static_cast<std::size_t>(q)];
+           e < graph.offsets[static_cast<std::size_t>(q) + 1]; ++e)
+      {
+        const int j = graph.neighbours[e];
+        if (mark[static_cast<std::size_t>(j)] < 0)
+        {
+          mark[static_cast<std::size_t>(j)] = 1;
+          next.push_back(j);
+          ring.push_back(j);
+        }
+      }
+    front.swap(next);
+  }
+  double off = 0.0;
+  for (int j : ring)
+  {
+    const double d = (points[static_cast<std::size_t>(j)] - moments.mean).dot(normal);
+    off += d * d;
+  }
+  for (int j : ids)
+    mark[static_cast<std::size_t>(j)] = -1;
+  for (int j : ring)
+    mark[static_cast<std::size_t>(j)] = -1;
+  return ring.empty() || std::sqrt(off / static_cast<double>(ring.size())) < StripRingFlatness * radius;
+}
+
+/// Flat strips are leaf unless they are a piece of a curved surface: a region judged wood only for being narrower
+/// than 2r or longer than MaximumLeafElongation widths, yet a flat sheet (coherent, no cylinder), is a leaf when
+/// its surroundings are flat (StripIsFlatSheet). Returns the points that became leaf.
+std::size_t FlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, double radius,
+  std::vector<RegionVerdict>& verdicts, const std::vector<int>& region)
+{
+  std::vector<std::vector<int>> members(verdicts.size());
+  for (std::size_t i = 0; i < region.size(); ++i)
+    if (region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].strip)
+      members[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
+  std::vector<int> mark(points.size(), -1);
+  std::size_t leaves = 0;
+  for (std::size_t r = 0; r < verdicts.size(); ++r)
+  {
+    if (!verdicts[r].strip)
+      continue;
+    PartMoments m;
+    m.count = static_cast<double>(members[r].size());
+    m.scatter = Scatter(points, members[r], m.mean);
+    if (!StripIsFlatSheet(points, graph, members[r], m, radius, mark))
+      continue;
+    verdicts[r].strip = false;
+    verdicts[r].leaf = true;
+    verdicts[r].flatStrip = true;
+    leaves += members[r].size();
+  }
+  return leaves;
 }
 
 /// Breadth-first from the judged points over the unjudged, non-linear ones: each takes the region (and so the
@@ -437,32 +545,6 @@ std::vector<std::vector<int>> SplitAtBases(const std::vector<Eigen::Vector3d>& p
 /// A leaf part under this fraction of the plant's median leaf part is a piece of a leaf (JoinPieces).
 constexpr double PieceFraction = 0.25;
 
-/// The moments of a leaf part's points (count, mean, scatter about the mean), merged in constant time when two
-/// parts join: its best plane and its spread off it.
-struct PartMoments
-{
-  double count = 0.0;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-
-  PartMoments Merged(const PartMoments& o) const
-  {
-    PartMoments m;
-    m.count = count + o.count;
-    const Eigen::Vector3d d = o.mean - mean;
-    m.mean = mean + d * (o.count / m.count);
-    m.scatter = scatter + o.scatter + d * d.transpose() * (count * o.count / m.count);
-    return m;
-  }
-  /// The normal of the best plane (unit) and the spread off it (the root mean square distance).
-  Eigen::Vector3d Normal(double& spread) const
-  {
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter / count);
-    spread = std::sqrt(std::max(0.0, solver.eigenvalues()[0]));
-    return solver.eigenvectors().col(0);
-  }
-};
-
 /// Whether two touching leaf parts continue one sheet: their planes within `cosine` of each other (NormalAngle) and
 /// the points of both together off their common plane by under `thickness` (the features' radius). On the
 /// simulated tree (four positions) 73 of 80 touching pairs cut from one leaf pass, 3 of 231 pairs of two leaves do:
@@ -547,7 +629,8 @@ void JoinPieces(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
 
 /// The leaf instances: leaf regions of at least MinimumLeafPoints points, numbered by their lowest point index.
 void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const std::vector<int>& region,
-  double spacing, double radius, const SegmentationParameters& p, PlantLabels& labels)
+  const std::vector<RegionVerdict>& verdicts, double spacing, double radius, const SegmentationParameters& p,
+  PlantLabels& labels)
 {
   const std::size_t n = points.size();
   std::vector<std::vector<int>> members;
@@ -588,7 +671,11 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
   std::sort(leaves.begin(), leaves.end());
   for (const std::vector<int>& ids : leaves)
   {
-    if (ids.size() < static_cast<std::size_t>(p.minimumLeafPoints))
+    // a part made only of flat strips (narrower than 2r or a long strip) has no leaf shape to fit: leaf, no LeafId
+    if (ids.size() < static_cast<std::size_t>(p.minimumLeafPoints) || std::all_of(ids.begin(), ids.end(), [&](int j) {
+          const int r = region[static_cast<std::size_t>(j)];
+          return r >= 0 && verdicts[static_cast<std::size_t>(r)].flatStrip;
+        }))
       continue;
     SegmentedLeaf leaf;
     leaf.leafId = static_cast<int>(labels.leaves.size());
@@ -660,6 +747,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
     count = SplitMixedRegions(f, graph, p, verdicts, region, count);
     verdicts = JudgeRegions(points, f, region, count, p, false);
   }
+  FlatStripsAreLeaves(points, graph, f.radius, verdicts, region);
   std::vector<char> judged;
   SpreadRegions(f, graph, verdicts, region, judged);
   labels.organ.assign(n, OrganWood);
@@ -687,7 +775,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   const std::string flat = RefuseFlat(points, f.radius);
   if (!flat.empty())
     return flat;
-  MakeLeaves(points, graph, region, spacing, f.radius, p, labels);
+  MakeLeaves(points, graph, region, verdicts, spacing, f.radius, p, labels);
   plant.leafCount = static_cast<int>(labels.leaves.size());
   double low = std::numeric_limits<double>::infinity(), high = -low;
   for (std::size_t i = 0; i < n; ++i)

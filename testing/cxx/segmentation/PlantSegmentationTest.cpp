@@ -239,6 +239,55 @@ TEST(PlantSegmentation, ALeafCutInTwoAlongOneSheetIsOneInstance)
     EXPECT_GT(iou, 0.9);
 }
 
+TEST(PlantSegmentation, AFlatStripApartIsLeafATwigsFacetsAreWood)
+{
+  // The plant of seven leaves, with beside it a leaf seen at a grazing angle: a flat strip 0.3 long and 0.03 wide
+  // (six rows, narrower than the features' neighbourhood 2r = 0.04), linked to nothing; and a branch of 12 flat
+  // sides (circumradius 0.06, so each side is a flat strip 0.031 wide, 0.5 long). The strip was wood for being
+  // narrow and long, as a side of the branch is; the strip's surroundings are flat (there are none), the branch's
+  // sides have the next sides turning off their plane around them: the strip is leaf, the branch wood. The strip
+  // has no leaf shape to fit: no LeafId.
+  const int leaves = 7;
+  Truth t = SyntheticPlant(leaves);
+  const double h = 0.005;
+  const std::size_t strip = t.points.size();
+  for (double s = 0.0; s <= 0.3 + 1e-12; s += h)
+    for (double w = 0.0; w <= 0.03 - h + 1e-12; w += h)
+    {
+      t.points.emplace_back(0.6 + w, 0.0, 0.2 + s);
+      t.organ.push_back(plantmorph::OrganLeaf);
+      t.leaf.push_back(-1);
+    }
+  const std::size_t branch = t.points.size();
+  const double circumradius = 0.06, side = 2.0 * circumradius * std::sin(Pi / 12);
+  for (int k = 0; k < 12; ++k)
+  {
+    const Eigen::Vector3d a(circumradius * std::cos(k * Pi / 6), circumradius * std::sin(k * Pi / 6), 0.0);
+    const Eigen::Vector3d b(circumradius * std::cos((k + 1) * Pi / 6), circumradius * std::sin((k + 1) * Pi / 6), 0.0);
+    const int across = static_cast<int>(std::round(side / h));
+    for (double z = 0.0; z <= 0.5 + 1e-12; z += h)
+      for (int w = 0; w < across; ++w)
+      {
+        t.points.push_back(Eigen::Vector3d(-0.6, 0.0, 0.2 + z) + a + (b - a) * (w + 0.5) / across);
+        t.organ.push_back(plantmorph::OrganWood);
+        t.leaf.push_back(-1);
+      }
+  }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  std::size_t stripLeaf = 0, branchWood = 0;
+  for (std::size_t i = strip; i < branch; ++i)
+  {
+    stripLeaf += r.organ[i] == plantmorph::OrganLeaf;
+    EXPECT_EQ(r.leafId[i], -1);
+  }
+  for (std::size_t i = branch; i < t.points.size(); ++i)
+    branchWood += r.organ[i] == plantmorph::OrganWood;
+  EXPECT_GT(static_cast<double>(stripLeaf), 0.95 * static_cast<double>(branch - strip));
+  EXPECT_GT(static_cast<double>(branchWood), 0.95 * static_cast<double>(t.points.size() - branch));
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
+}
+
 TEST(PlantSegmentation, SameLabelsWhateverTheThreads)
 {
   const Truth t = SyntheticPlant(5);

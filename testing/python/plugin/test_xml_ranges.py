@@ -216,7 +216,6 @@ VALUE_AT_BOUND = {
     ("VenationFilter", "AttractionDistance", "min"): "must be at least KillDistance (default 0.01)",
     ("PlantSegmentationFilter", "FeatureScale", "max"): "features 50 spacings wide blur the test plant's leaves "
                                                         "into its stem: no leaf found",
-    ("PlantSegmentationFilter", "MaximumLeafElongation", "min"): "no region is rounder than a disk: no leaf found",
     ("VirtualScanner", "AngularStep", "min"): "the scan casts more beams than the default MaximumBeams",
     ("VirtualScanner", "MaximumBeams", "min"): "any scan casts more than one beam",
     ("VirtualScanner", "TurntableSteps", "max"): "the scan casts more beams than the default MaximumBeams",
