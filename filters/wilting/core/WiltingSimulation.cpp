@@ -337,21 +337,40 @@ AnchorPlan PlanAnchors(
   return plan;
 }
 
-/// Fixes the nodes within `radius` of an anchor; their number.
-std::size_t FixNodesNearAnchors(
+/// Fixes every node of each voxel whose centre lies within `radius` of an anchor: the leaf is held by whole voxels,
+/// so no voxel is held by a single node or edge of its own and swings about it (a hold node by node did that where
+/// the circle crosses the grid, and turned such a voxel inside out). Returns the number of nodes fixed.
+std::size_t FixVoxelsNearAnchors(
   const VoxelGrid& grid, const std::vector<Eigen::Vector3d>& anchors, double radius, MassSpringSystem& springs)
 {
-  std::size_t fixedCount = 0;
-  for (std::size_t n = 0; n < grid.nodes.size(); ++n)
+  std::vector<char> fixed(grid.nodes.size(), 0);
+  for (const std::array<int, 8>& corners : grid.corners)
   {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int node : corners)
+    {
+      centre += grid.nodes[static_cast<std::size_t>(node)];
+    }
+    centre /= 8.0;
     for (const Eigen::Vector3d& anchor : anchors)
     {
-      if ((grid.nodes[n] - anchor).norm() <= radius)
+      if ((centre - anchor).norm() <= radius)
       {
-        springs.SetFixed(static_cast<int>(n), true);
-        ++fixedCount;
+        for (int node : corners)
+        {
+          fixed[static_cast<std::size_t>(node)] = 1;
+        }
         break;
       }
+    }
+  }
+  std::size_t fixedCount = 0;
+  for (std::size_t n = 0; n < fixed.size(); ++n)
+  {
+    if (fixed[n] != 0)
+    {
+      springs.SetFixed(static_cast<int>(n), true);
+      ++fixedCount;
     }
   }
   return fixedCount;
@@ -755,7 +774,7 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   AnchorPlan anchors = PlanAnchors(input, parameters, this->PetioleCells, base);
   this->Radius =
     parameters.anchorFraction > 0.0 ? parameters.anchorFraction * (high - low).maxCoeff() : parameters.anchorRadius;
-  const std::size_t fixedCount = FixNodesNearAnchors(grid, anchors.anchors, this->Radius, this->Springs);
+  const std::size_t fixedCount = FixVoxelsNearAnchors(grid, anchors.anchors, this->Radius, this->Springs);
   error = this->Embed.Bind(grid, input.points, parameters.tricubic);
   if (!error.empty())
   {

@@ -11,13 +11,14 @@
 //   Density (mass per unit voxel volume; * the voxel's mass is Density h^3, lumped 1/8 to each corner), Stiffness
 //   (k of each spring, force per unit length) and Damping (c of each spring's dashpot).
 // - Anchors: * the input points with Region 5 (petiole), or else the blade's base (the point with the smallest
-//   LeafUV v, or the smallest y without LeafUV); every node within AnchorRadius of one is fixed (at least the
-//   nodes of the base point's voxel).
+//   LeafUV v, or the smallest y without LeafUV); * the leaf is held by whole voxels: every node of each voxel whose
+//   centre is within AnchorRadius of one is fixed (at least the nodes of the base point's voxel), so no voxel hangs
+//   on a fixed node or edge of its own.
 // - Petiole (* not in the paper; PetioleLength 0, the default, adds none): a detached leaf on a stand hangs from
 //   its petiole, which bends and twists. PetioleLength > 0 adds a straight petiole of round(PetioleLength / h) >= 1
 //   voxels from the base along -y in the blade's plane, one or two voxels wide and thick (the cells around the
 //   base, AddPetiole), with the Petiole material; the blade's cells on its path become petiole. The stand holds its
-//   far end: the nodes within AnchorRadius of the end's centre, and at least the end face's, are the anchors instead
+//   far end: the voxels within AnchorRadius of the end's centre, and at least the end face's nodes, are the anchors instead
 //   of those above, so the blade itself is free and can roll, yaw and pitch on the petiole. The petiole carries
 //   gravity but none of the wilting loads, shrinkage or curl (the blade wilts, the petiole holds it), and the
 //   output's surface has none: it shows in the voxel model (Region 5). The blade's voxels are those without a

@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
+#include <utility>
 
 namespace
 {
@@ -56,15 +58,16 @@ WiltingInput Transformed(const WiltingInput& reference, double length)
 
 TEST(WiltingCarryOver, CucumberWiltsAlikeOnEverySizeMakerAndResolution)
 {
-  // Blades of 5, 12 and 40 cm made two ways, at Resolution 14 (the coarsest accepted) and 18: no blow-up, all
-  // 101 frames, the tip never rises back more than 3 % of the length after falling, it falls by more than half a
-  // length, and its path in leaf lengths is within 0.03 of the 20.1 cm blade's at that Resolution.
+  // Blades of 5, 8 and 40 cm made two ways, at Resolution 14 (the coarsest accepted), 15 (other voxels are held
+  // there: the hold of whole voxels is a staircase of the held disc) and 18: no blow-up, all 101 frames, the tip never rises back more than 3 % of the length after falling, it falls by more than half a length,
+  // and its path in leaf lengths is within 0.03 of the 20.1 cm blade's at that Resolution. (The fitted scan, the
+  // third maker, needs LeafFitFilter: benchmarks/wilting_fitted_scan.py.)
   const WiltingInput veined = CucumberBlade(20.1);
   ASSERT_FALSE(veined.points.empty());
-  for (const int r : { 14, 18 })
+  for (const int r : { 14, 15, 18 })
   {
     const WiltingTipMetrics builtReference = CucumberTip(veined, 20.1, r);
-    for (const double length : { 5.0, 12.0, 40.0 })
+    for (const double length : { 5.0, 8.0, 40.0 })
     {
       const struct
       {
@@ -197,4 +200,64 @@ TEST(WiltingCarryOver, PresetsOnFittedBladesWarnBelowTheResolutionThatHeld)
   WiltingParameters custom = Cucumber(14);
   custom.anchorFraction = 0.0;
   EXPECT_EQ(FittedBladeWarning(fitted, custom), "");
+}
+
+TEST(WiltingCarryOver, TheLeafIsHeldByWholeVoxels)
+{
+  // The hold fixes every node of each voxel whose centre is within the anchor radius, so every fixed node is a
+  // corner of a voxel held whole: no voxel hangs on a fixed node or edge of its own, which it swings about (held
+  // node by node, a voxel on the held circle's edge turned inside out at 8.30 s on 5 and 40 cm blades, Resolution
+  // 14). The held area in the leaf's plane (the disc about the base, less the cordate sinus) changes with the
+  // Resolution by at most a ring of voxels (2 pi r h + pi h^2) about the finest one's, so the hold converges as h
+  // shrinks, and it never exceeds the disc by more than that ring.
+  const WiltingInput leaf = CucumberBlade(20.1, false);
+  ASSERT_FALSE(leaf.points.empty());
+  double finestArea = 0.0, finestH = 0.0;
+  for (const int r : { 22, 14, 15, 16, 17, 18 })
+  {
+    WiltingSimulation simulation;
+    ASSERT_EQ(simulation.Setup(leaf, Cucumber(r)), "") << r;
+    const VoxelGrid& grid = simulation.Grid();
+    const MassSpringSystem& system = simulation.System();
+    std::vector<char> inWholeHeldVoxel(grid.nodes.size(), 0);
+    std::set<std::pair<int, int>> heldColumns; // (i, j) of the voxels held whole: their area in the leaf's plane
+    for (std::size_t v = 0; v < grid.corners.size(); ++v)
+    {
+      const std::array<int, 8>& corners = grid.corners[v];
+      bool whole = true;
+      for (const int n : corners)
+      {
+        whole = whole && system.IsFixed(static_cast<std::size_t>(n));
+      }
+      if (whole)
+      {
+        for (const int n : corners)
+        {
+          inWholeHeldVoxel[static_cast<std::size_t>(n)] = 1;
+        }
+        heldColumns.insert({ grid.voxels[v][0], grid.voxels[v][1] });
+      }
+    }
+    std::size_t fixedCount = 0;
+    for (std::size_t n = 0; n < grid.nodes.size(); ++n)
+    {
+      if (system.IsFixed(n))
+      {
+        ++fixedCount;
+        EXPECT_TRUE(inWholeHeldVoxel[n]) << "R " << r << ": node " << n << " fixed outside a voxel held whole";
+      }
+    }
+    EXPECT_GE(fixedCount, 8u) << "R " << r;
+    const double heldArea = static_cast<double>(heldColumns.size()) * grid.h * grid.h;
+    const double radius = simulation.AnchorRadius();
+    const double disc = M_PI * radius * radius;
+    const double ring = 2.0 * M_PI * radius * grid.h + M_PI * grid.h * grid.h;
+    EXPECT_LT(heldArea, disc + ring) << "R " << r;
+    if (r == 22)
+    {
+      finestArea = heldArea;
+      finestH = grid.h;
+    }
+    EXPECT_LE(std::abs(heldArea - finestArea), ring + 2.0 * M_PI * radius * finestH) << "R " << r;
+  }
 }
