@@ -63,7 +63,8 @@ TREES = [
                       SympodialAngle=65.0)),
     ("mono-short", dict(TreeType="Monopodial", Length=4.0, Radius=0.1, Depth=2, ChildCount=6)),
 ]
-# Strokes traced in the XY plane, trunk first (examples/main_tree_from_sketch.py's), 16 m tall; scaled for the sizes.
+# Strokes traced in the XY plane, trunk first, 16 m tall; scaled for the sizes. A copy of the example's
+# (examples/main_tree_from_sketch.py) on purpose: the benchmark's trees must not change when the example does.
 STROKES = [
     [0, 0, 0, 0.3, 4, 0, -0.2, 8, 0, 0.2, 12, 0, 0, 16, 0],
     [0.2, 7, 0, 2, 8.5, 0, 4, 9.5, 0, 6.5, 11.5, 0],
