@@ -146,11 +146,12 @@ double ChainTop(std::vector<Eigen::Vector3d>& taken, const std::vector<Eigen::Ve
 constexpr int LeafTopNeighbours = 4;
 constexpr double LeafTopRadius = 3.0;
 
-/// The highest point not labelled wood that lies above `woodTop` in a sheet (LeafTopNeighbours points within
-/// LeafTopRadius spacings), or `woodTop`. Leaves are not strung from the wood: on a leafy crown the twigs that carry
-/// the highest leaves are hidden by them, and the leaves hang apart, centimetres of air between them.
-double LeafTop(const std::vector<Eigen::Vector3d>& points, const std::vector<char>& isCandidate, const Wood& wood,
-  const Eigen::Vector3d& up, double woodTop)
+/// The highest point that lies above `woodTop` in a sheet (LeafTopNeighbours points within LeafTopRadius spacings),
+/// or `woodTop`; called when some points are labelled leaves. Leaves are not strung from the wood: on a leafy crown
+/// the twigs that carry the highest leaves are hidden by them, and the leaves hang apart, centimetres of air between
+/// them. Points labelled wood count too: a segmentation labels some leaf points wood, and they are no wood the fit
+/// kept (that ends at `woodTop`).
+double LeafTop(const std::vector<Eigen::Vector3d>& points, const Wood& wood, const Eigen::Vector3d& up, double woodTop)
 {
   const double radius = LeafTopRadius * wood.spacing;
   std::vector<int> above; // every point above woodTop - radius: the neighbours of the leaf points above woodTop
@@ -169,8 +170,6 @@ double LeafTop(const std::vector<Eigen::Vector3d>& points, const std::vector<cha
   {
     if (points[i].dot(up) <= woodTop)
       break;
-    if (isCandidate[i])
-      continue;
     const std::array<long long, 3> c = cell(points[i]);
     int near = 0;
     for (long long dx = -1; dx <= 1 && near < LeafTopNeighbours; ++dx)
@@ -192,8 +191,8 @@ double LeafTop(const std::vector<Eigen::Vector3d>& points, const std::vector<cha
 /// Above the cleaned wood's highest point (`high`), the candidate points strung from it, each within TipReach
 /// spacings of the wood or of a point already taken. The last points of a thin tip lie in a sparse line (their nearest
 /// neighbours are far, along it), so the outlier test drops them and the graph may not join them; they are still the
-/// tree's top. Points above the wood that no such chain reaches (noise) are not. The tree's top is the highest leaf
-/// in a sheet above it (LeafTop). Without leaf points both are the same.
+/// tree's top. Points above the wood that no such chain reaches (noise) are not. With leaf points the tree's top is
+/// the highest point in a sheet above it (LeafTop); without, both are the same.
 std::pair<double, double> Tops(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& candidates,
   const Wood& wood, const Eigen::Vector3d& up, double high)
 {
@@ -211,10 +210,7 @@ std::pair<double, double> Tops(const std::vector<Eigen::Vector3d>& points, const
   const double woodTop = ChainTop(taken, above, up, reach, high);
   if (candidates.size() == points.size())
     return { woodTop, woodTop };
-  std::vector<char> isCandidate(points.size(), 0);
-  for (int i : candidates)
-    isCandidate[i] = 1;
-  return { woodTop, LeafTop(points, isCandidate, wood, up, woodTop) };
+  return { woodTop, LeafTop(points, wood, up, woodTop) };
 }
 } // namespace
 
