@@ -13,6 +13,13 @@ Truth and how it is compared (benchmarks/README.md, "tree_fit_accuracy"):
     point at three quarters; its angle (the chord over the first third against the parent's axis, as the filter
     measures it) is compared with the true one.
 
+  * stroke trees: TreeFromSketchSource in Strokes mode on strokes traced in its XY plane (the example's seven
+    strokes at two sizes, and the same strokes alone), lifted to 3-D by its phyllotaxis rule;
+  * with --leaves the trees carry their leaves and the scan the surfaces' Organ label (0 wood, 1 leaf, 2 petiole);
+    each scan is fitted twice: with WoodArray the scanner's Organ ("label": the exact wood) and behind
+    PlantSegmentationFilter with WoodArray its Organ ("segmented": what a user without labels runs). Height is then
+    compared with the top of the tree, leaves included (foresters' height), WoodHeight with the wood's.
+
     pvpython tree_fit_accuracy.py --plugin build/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so [--quick]
                                   [--leaves] [--json out.json]
 """
@@ -26,7 +33,8 @@ import numpy
 parser = argparse.ArgumentParser()
 parser.add_argument("--plugin", required=True)
 parser.add_argument("--quick", action="store_true", help="two trees only")
-parser.add_argument("--leaves", action="store_true", help="scan the trees with their leaves (WoodArray separates)")
+parser.add_argument("--leaves", action="store_true", help="scan the trees with their leaves; fit with the scan's "
+                    "Organ label and behind PlantSegmentationFilter")
 parser.add_argument("--noise", type=float, default=0.003, help="range noise deviation (m)")
 parser.add_argument("--json", default=None)
 parser.add_argument("--trees", default=None, help="comma-separated names: only these trees")
@@ -55,8 +63,27 @@ TREES = [
                       SympodialAngle=65.0)),
     ("mono-short", dict(TreeType="Monopodial", Length=4.0, Radius=0.1, Depth=2, ChildCount=6)),
 ]
+# Strokes traced in the XY plane, trunk first, 16 m tall; scaled for the sizes. A copy of the example's
+# (examples/main_tree_from_sketch.py) on purpose: the benchmark's trees must not change when the example does.
+STROKES = [
+    [0, 0, 0, 0.3, 4, 0, -0.2, 8, 0, 0.2, 12, 0, 0, 16, 0],
+    [0.2, 7, 0, 2, 8.5, 0, 4, 9.5, 0, 6.5, 11.5, 0],
+    [-0.1, 6, 0, -2, 7, 0, -4.5, 8, 0, -6, 10, 0],
+    [0.1, 11, 0, 1.5, 12.5, 0, 3, 14.5, 0],
+    [0, 10, 0, -1.5, 11.5, 0, -3.5, 13.5, 0, -4, 15, 0],
+    [4, 9.5, 0, 5, 8.5, 0, 6.5, 8.2, 0],
+    [-4.5, 8, 0, -5.5, 7, 0, -7, 6.8, 0],
+]
+STROKE_TREES = [
+    ("stroke-small", 0.4, dict(Radius=0.12, StrokeSubtreeDepth=1, ChildCount=4)),
+    ("stroke-large", 0.75, dict(Radius=0.25, StrokeSubtreeDepth=1, ChildCount=4)),
+    ("stroke-only", 0.5, dict(Radius=0.15, StrokesOnly=1)),
+]
+TREES += [(name, dict(properties, Mode="Strokes", TreeType="Monopodial", PhyllotaxisA=2, PhyllotaxisB=5,
+                      SegmentsPerBranch=16, Ratio=0.6, _strokes=[[scale * v for v in stroke] for stroke in STROKES]))
+          for name, scale, properties in STROKE_TREES]
 if arguments.quick:
-    TREES = TREES[:2]
+    TREES = TREES[:2] + TREES[-1:]
 if arguments.trees:
     TREES = [t for t in TREES if t[0] in arguments.trees.split(",")]
 UP = numpy.array([0.0, 1.0, 0.0])
@@ -190,7 +217,7 @@ def match_first_order(truth, fitted):
 
 
 def scan(tree, truth):
-    height = truth["height"]
+    height = truth["tree_height"]
     distance = max(8.0, 1.2 * height)
     centre = [0.0, truth["low"] + 0.5 * height, 0.0]
     positions = []
@@ -204,77 +231,122 @@ def scan(tree, truth):
                           RangeNoise=arguments.noise, Seed=1, MaximumBeams=4e8)
 
 
-rows = []
-for name, properties in TREES:
-    tree = TreeFromSketchSource(Preset="Custom", Leaves=1 if arguments.leaves else 0, Sides=32, Joints="Seated tubes",
-                                **properties)
-    tree.UpdatePipeline()
-    truth = truth_of(tree)
-    surface = tree
-    if arguments.leaves:  # wood and leaves in one surface, each cell labelled; the scanner carries the label
-        wood = Calculator(Input=tree, AttributeType="Cell Data", ResultArrayName="IsWood", Function="1",
-                          ResultArrayType="Int")
-        leaves = Calculator(Input=OutputPort(tree, 2), AttributeType="Cell Data", ResultArrayName="IsWood",
-                            Function="0", ResultArrayType="Int")
-        surface = AppendGeometry(Input=[wood, leaves])
-    scanner = scan(surface, truth)
-    scanner.UpdatePipeline()
-    cloud = servermanager.Fetch(scanner)
-    fit = TreeFitFilter(Input=scanner, UpAxis="Y", WoodArray="IsWood" if arguments.leaves else "None")
+def build_tree(properties):
+    """TreeFromSketchSource from the template properties, or from strokes (key _strokes) in Strokes mode."""
+    properties = dict(properties)
+    strokes = properties.pop("_strokes", None)
+    if strokes is not None:
+        lines = [PolyLineSource(Points=points) for points in strokes]
+        properties["Strokes"] = AppendGeometry(Input=lines)  # the trunk first
+    return TreeFromSketchSource(Preset="Custom", Leaves=1 if arguments.leaves else 0, Sides=32,
+                                Joints="Seated tubes", **properties)
+
+
+def wood_scores(cloud, labelled):
+    """Of the scan's truly wood points, the share the fit took as wood; of its leaf points, the share taken as wood."""
+    organ = vtk_to_numpy(cloud.GetPointData().GetArray("Organ"))
+    wood = vtk_to_numpy(labelled.GetPointData().GetArray("Wood"))
+    true_wood = organ == 0
+    return (float(numpy.mean(wood[true_wood] != 0)) if true_wood.any() else float("nan"),
+            float(numpy.mean(wood[~true_wood] != 0)) if (~true_wood).any() else float("nan"))
+
+
+def evaluate(name, variant, fit, truth, cloud):
+    """One fit against the truth: its row (printed), or a failed row."""
     start, cpu = time.perf_counter(), time.process_time()
     fit.UpdatePipeline()
     seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     table = servermanager.Fetch(fit, idx=2)
     if table.GetNumberOfRows() == 0:
-        print(f"{name}: the fit failed")
-        rows.append(dict(tree=name, failed=True))
-        continue
+        print(f"{name} ({variant}): the fit failed")
+        return dict(tree=name, variant=variant, failed=True)
     traits = {table.GetColumnName(c): table.GetValue(0, c).ToDouble() for c in range(2, table.GetNumberOfColumns())}
     fitted = fitted_branches(fit)
     total_first, found, angle_errors = match_first_order(truth, fitted)
     orders = match_orders(truth, fitted)
-    row = dict(tree=name, points=cloud.GetNumberOfPoints(), seconds=seconds, cpu=cpu,
+    wood_kept, leaf_taken = wood_scores(cloud, servermanager.Fetch(fit, idx=4)) if arguments.leaves else (1.0, 0.0)
+    row = dict(tree=name, variant=variant, points=cloud.GetNumberOfPoints(), seconds=seconds, cpu=cpu,
                total=100 * (traits["TotalVolume"] / truth["total"] - 1),
                trunk=100 * (traits["TrunkVolume"] / truth["trunk_volume"] - 1),
                branch=100 * (traits["BranchVolume"] / (truth["total"] - truth["trunk_volume"]) - 1),
                mesh_total=100 * (traits["TotalVolume"] / truth["mesh"] - 1),
-               dbh=100 * (traits["DBH"] / truth["dbh"] - 1), height=100 * (traits["Height"] / truth["height"] - 1),
-               scan_top=100 * ((vtk_to_numpy(cloud.GetPoints().GetData()) @ UP).max() - truth["low"]) / truth["height"]
-               - 100,
+               dbh=100 * (traits["DBH"] / truth["dbh"] - 1),
+               height=100 * (traits["Height"] / truth["tree_height"] - 1),
+               wood_height=100 * (traits["WoodHeight"] / truth["height"] - 1),
+               scan_top=100 * ((vtk_to_numpy(cloud.GetPoints().GetData()) @ UP).max() - truth["low"])
+               / truth["tree_height"] - 100,
                branch_length=100 * (traits["TotalBranchLength"] / truth["branch_length"] - 1),
                first_true=total_first, first_found=found,
                angle_rms=math.sqrt(sum(e * e for e in angle_errors) / len(angle_errors)) if angle_errors else float("nan"),
                measured=traits["MeasuredVolumeFraction"], true_branches=len(truth["branches"]) - 1,
-               fitted_branches=traits["BranchCount"], orders=orders)
-    rows.append(row)
-    print(f"{name:11s} pts {row['points']:8d} t {seconds:6.2f}s cpu {cpu:6.2f}s total {row['total']:+6.1f}% trunk {row['trunk']:+6.1f}% "
-          f"branch {row['branch']:+7.1f}% (mesh {row['mesh_total']:+6.1f}%) DBH {row['dbh']:+5.1f}% "
-          f"H {row['height']:+5.1f}% (scan top {row['scan_top']:+5.1f}%) BL {row['branch_length']:+6.1f}% 1st {found}/{total_first} "
+               fitted_branches=traits["BranchCount"], orders=orders, wood_kept=wood_kept, leaf_taken=leaf_taken)
+    print(f"{name:12s} {variant:9s} pts {row['points']:8d} t {seconds:6.2f}s cpu {cpu:6.2f}s total {row['total']:+6.1f}% "
+          f"trunk {row['trunk']:+6.1f}% branch {row['branch']:+7.1f}% (mesh {row['mesh_total']:+6.1f}%) "
+          f"DBH {row['dbh']:+5.1f}% H {row['height']:+5.1f}% (scan top {row['scan_top']:+5.1f}%) "
+          f"woodH {row['wood_height']:+5.1f}% BL {row['branch_length']:+6.1f}% 1st {found}/{total_first} "
           f"angle {row['angle_rms']:5.1f} branches {int(row['fitted_branches'])}/{row['true_branches']} "
-          f"measured {row['measured']:.2f}", flush=True)
+          f"measured {row['measured']:.2f} wood kept {wood_kept:.3f} leaf as wood {leaf_taken:.4f}", flush=True)
     print("  per order, found/true (fitted): " + ", ".join(
         f"{k}: {found}/{true} ({count})" for k, (true, count, found) in enumerate(orders)), flush=True)
-    for proxy in (fit, scanner):
-        Delete(proxy)
+    return row
 
-ok = [r for r in rows if not r.get("failed")]
-if ok:
+
+rows = []
+for name, properties in TREES:
+    tree = build_tree(properties)
+    tree.UpdatePipeline()
+    truth = truth_of(tree)
+    surface = tree
+    if arguments.leaves:  # wood and leaves in one surface; the scanner carries each cell's Organ (0 wood)
+        surface = AppendGeometry(Input=[tree, OutputPort(tree, 2)])
+        top = max(tree.GetDataInformation().GetBounds()[3], OutputPort(tree, 2).GetDataInformation().GetBounds()[3])
+        truth["tree_height"] = top - truth["low"]
+    else:
+        truth["tree_height"] = truth["height"]
+    scanner = scan(surface, truth)
+    scanner.UpdatePipeline()
+    cloud = servermanager.Fetch(scanner)
+    if arguments.leaves:
+        fits = [("label", TreeFitFilter(Input=scanner, UpAxis="Y", WoodArray="Organ"))]
+        segmentation = PlantSegmentationFilter(Input=scanner, UpAxis="Y")
+        fits.append(("segmented", TreeFitFilter(Input=segmentation, UpAxis="Y", WoodArray="Organ")))
+    else:
+        fits = [("bare", TreeFitFilter(Input=scanner, UpAxis="Y"))]
+    for variant, fit in fits:
+        if variant == "segmented":  # the segmentation's time is its own, not the fit's
+            start, cpu = time.perf_counter(), time.process_time()
+            segmentation.UpdatePipeline()
+            print(f"  segmentation {time.perf_counter() - start:.2f} s wall, {time.process_time() - cpu:.2f} s CPU",
+                  flush=True)
+        rows.append(evaluate(name, variant, fit, truth, cloud))
+        Delete(fit)
+    if arguments.leaves:
+        Delete(segmentation)
+    Delete(scanner)
+
+for variant in sorted({r["variant"] for r in rows}):
+    ok = [r for r in rows if not r.get("failed") and r["variant"] == variant]
+    if not ok:
+        continue
+
     def rms(key):
         return math.sqrt(sum(r[key] ** 2 for r in ok) / len(ok))
 
     def mean(key):
         return sum(r[key] for r in ok) / len(ok)
 
-    print(f"over {len(ok)} trees ({len(rows) - len(ok)} failed): total volume mean {mean('total'):+.1f}% "
+    failed = sum(1 for r in rows if r.get("failed") and r["variant"] == variant)
+    print(f"{variant}: over {len(ok)} trees ({failed} failed): total volume mean {mean('total'):+.1f}% "
           f"rRMSE {rms('total'):.1f}%; trunk rRMSE {rms('trunk'):.1f}%; branch mean {mean('branch'):+.1f}% "
-          f"rRMSE {rms('branch'):.1f}%; DBH rRMSE {rms('dbh'):.1f}%; height rRMSE {rms('height'):.1f}%; "
+          f"rRMSE {rms('branch'):.1f}%; DBH rRMSE {rms('dbh'):.1f}%; height rRMSE {rms('height'):.1f}% "
+          f"(mean {mean('height'):+.1f}%); wood height rRMSE {rms('wood_height'):.1f}%; "
           f"branch length mean {mean('branch_length'):+.1f}%; first-order found "
           f"{sum(r['first_found'] for r in ok)}/{sum(r['first_true'] for r in ok)}; same order found "
           f"{sum(o[2] for r in ok for o in r['orders'])}/{sum(o[0] for r in ok for o in r['orders'])}, fitted "
           f"{sum(o[1] for r in ok for o in r['orders'])}; angle RMS "
-          f"{math.sqrt(numpy.nanmean([r['angle_rms'] ** 2 for r in ok])):.1f} deg; time "
-          f"{sum(r['seconds'] for r in ok):.1f} s wall, {sum(r['cpu'] for r in ok):.1f} s CPU for "
-          f"{sum(r['points'] for r in ok)} points")
+          f"{math.sqrt(numpy.nanmean([r['angle_rms'] ** 2 for r in ok])):.1f} deg; wood kept {mean('wood_kept'):.3f}, "
+          f"leaf as wood {mean('leaf_taken'):.4f}; time {sum(r['seconds'] for r in ok):.1f} s wall, "
+          f"{sum(r['cpu'] for r in ok):.1f} s CPU for {sum(r['points'] for r in ok)} points")
 if arguments.json:
     with open(arguments.json, "w") as f:
         json.dump(rows, f, indent=1)

@@ -31,14 +31,15 @@ std::vector<std::string> TreeTraitNames()
 {
   return { "Height", "DBH", "TrunkVolume", "BranchVolume", "TotalVolume", "TrunkLength", "TotalBranchLength",
     "BranchCount", "BranchesOrder1", "BranchesOrder2", "BranchesOrder3", "BranchesOrder4Plus", "CrownProjectedArea",
-    "CrownBaseHeight", "Points", "WoodPoints", "Cylinders", "FitRMS", "Spacing", "Noise", "MeasuredVolumeFraction" };
+    "CrownBaseHeight", "Points", "WoodPoints", "Cylinders", "FitRMS", "Spacing", "Noise", "MeasuredVolumeFraction",
+    "WoodHeight" };
 }
 
 std::vector<double> TreeTraitValues(const TreeTraits& t)
 {
   return { t.height, t.dbh, t.trunkVolume, t.branchVolume, t.totalVolume, t.trunkLength, t.totalBranchLength,
     t.branchCount, t.order1, t.order2, t.order3, t.order4Plus, t.crownProjectedArea, t.crownBaseHeight, t.points,
-    t.woodPoints, t.cylinders, t.fitRMS, t.spacing, t.noise, t.measuredVolumeFraction };
+    t.woodPoints, t.cylinders, t.fitRMS, t.spacing, t.noise, t.measuredVolumeFraction, t.woodHeight };
 }
 
 namespace

@@ -94,6 +94,9 @@ struct TreeTraits
   double crownProjectedArea = 0, crownBaseHeight = 0;
   double points = 0, woodPoints = 0, fitRMS = 0, spacing = 0, noise = 0, cylinders = 0;
   double measuredVolumeFraction = 0; ///< share of the volume whose radius was measured
+  /// `height` is the tree's (its top, leaves included, above the wood's lowest point, as foresters measure it);
+  /// this is the wood's alone (the same without leaf points)
+  double woodHeight = 0;
 };
 
 /// Names of the traits, in the order TreeTraitValues() lists them (the Trees table's columns after TreeId).

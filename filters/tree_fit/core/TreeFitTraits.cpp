@@ -4,8 +4,10 @@
 #include "TreeFitInternal.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace plantmorph
 {
@@ -121,12 +123,78 @@ void BranchRows(const Eigen::Vector3d& up, double low, TreeFitResult& result)
 /// of 6 spacings below its top three); a lone point farther above the wood is noise.
 constexpr double TipReach = 8.0;
 
-/// The top of the wood along `up`: above the cleaned wood's highest point (`high`), the candidate points strung from
-/// it, each within TipReach spacings of the wood or of a point already taken. The last points of a thin tip lie in a
-/// sparse line (their nearest neighbours are far, along it), so the outlier test drops them and the graph may not
-/// join them; they are still the tree's top. Points above the wood that no such chain reaches (noise) are not.
-double WoodTop(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& candidates, const Wood& wood,
-  const Eigen::Vector3d& up, double high)
+/// The highest of the points `above` (ascending along `up`) strung from `taken` (ascending), each within `reach` of a
+/// point taken or already strung; the points strung are added to `taken`. `top` if none is.
+double ChainTop(std::vector<Eigen::Vector3d>& taken, const std::vector<Eigen::Vector3d>& above,
+  const Eigen::Vector3d& up, double reach, double top)
+{
+  for (const auto& p : above) // ascending: every point that could reach p is already taken or not
+  {
+    bool joined = false;
+    for (std::size_t j = taken.size(); j-- > 0 && taken[j].dot(up) >= p.dot(up) - reach && !joined;)
+      joined = (taken[j] - p).norm() <= reach;
+    if (!joined)
+      continue;
+    taken.push_back(p);
+    top = p.dot(up);
+  }
+  return top;
+}
+
+/// A leaf point is part of the crown's top when at least this many other points lie within LeafTopRadius spacings:
+/// a leaf is a sheet of points, a stray return (a mixed pixel, noise) is alone.
+constexpr int LeafTopNeighbours = 4;
+constexpr double LeafTopRadius = 3.0;
+
+/// The highest point that lies above `woodTop` in a sheet (LeafTopNeighbours points within LeafTopRadius spacings),
+/// or `woodTop`; called when some points are labelled leaves. Leaves are not strung from the wood: on a leafy crown
+/// the twigs that carry the highest leaves are hidden by them, and the leaves hang apart, centimetres of air between
+/// them. Points labelled wood count too: a segmentation labels some leaf points wood, and they are no wood the fit
+/// kept (that ends at `woodTop`).
+double LeafTop(const std::vector<Eigen::Vector3d>& points, const Wood& wood, const Eigen::Vector3d& up, double woodTop)
+{
+  const double radius = LeafTopRadius * wood.spacing;
+  std::vector<int> above; // every point above woodTop - radius: the neighbours of the leaf points above woodTop
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (points[i].dot(up) > woodTop - radius)
+      above.push_back(static_cast<int>(i));
+  const auto cell = [radius](const Eigen::Vector3d& p) {
+    return std::array<long long, 3>{ static_cast<long long>(std::floor(p.x() / radius)),
+      static_cast<long long>(std::floor(p.y() / radius)), static_cast<long long>(std::floor(p.z() / radius)) };
+  };
+  std::map<std::array<long long, 3>, std::vector<int>> grid;
+  for (int i : above)
+    grid[cell(points[i])].push_back(i);
+  std::sort(above.begin(), above.end(), [&](int a, int b) { return points[a].dot(up) > points[b].dot(up); });
+  for (int i : above)
+  {
+    if (points[i].dot(up) <= woodTop)
+      break;
+    const std::array<long long, 3> c = cell(points[i]);
+    int near = 0;
+    for (long long dx = -1; dx <= 1 && near < LeafTopNeighbours; ++dx)
+      for (long long dy = -1; dy <= 1 && near < LeafTopNeighbours; ++dy)
+        for (long long dz = -1; dz <= 1 && near < LeafTopNeighbours; ++dz)
+        {
+          const auto found = grid.find({ c[0] + dx, c[1] + dy, c[2] + dz });
+          if (found != grid.end())
+            for (int j : found->second)
+              near += j != i && (points[j] - points[i]).norm() <= radius ? 1 : 0;
+        }
+    if (near >= LeafTopNeighbours)
+      return points[i].dot(up);
+  }
+  return woodTop;
+}
+
+/// The top of the wood along `up` (first) and of the tree (second: its leaves too, the points not labelled wood).
+/// Above the cleaned wood's highest point (`high`), the candidate points strung from it, each within TipReach
+/// spacings of the wood or of a point already taken. The last points of a thin tip lie in a sparse line (their nearest
+/// neighbours are far, along it), so the outlier test drops them and the graph may not join them; they are still the
+/// tree's top. Points above the wood that no such chain reaches (noise) are not. With leaf points the tree's top is
+/// the highest point in a sheet above it (LeafTop); without, both are the same.
+std::pair<double, double> Tops(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& candidates,
+  const Wood& wood, const Eigen::Vector3d& up, double high)
 {
   const double reach = TipReach * wood.spacing;
   std::vector<Eigen::Vector3d> taken, above;
@@ -139,18 +207,10 @@ double WoodTop(const std::vector<Eigen::Vector3d>& points, const std::vector<int
   const auto lower = [&up](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return a.dot(up) < b.dot(up); };
   std::sort(taken.begin(), taken.end(), lower);
   std::stable_sort(above.begin(), above.end(), lower);
-  double top = high;
-  for (const auto& p : above) // ascending: every point that could reach p is already taken or not
-  {
-    bool joined = false;
-    for (std::size_t j = taken.size(); j-- > 0 && taken[j].dot(up) >= p.dot(up) - reach && !joined;)
-      joined = (taken[j] - p).norm() <= reach;
-    if (!joined)
-      continue;
-    taken.push_back(p);
-    top = p.dot(up);
-  }
-  return top;
+  const double woodTop = ChainTop(taken, above, up, reach, high);
+  if (candidates.size() == points.size())
+    return { woodTop, woodTop };
+  return { woodTop, LeafTop(points, wood, up, woodTop) };
 }
 } // namespace
 
@@ -166,7 +226,9 @@ void ComputeTraits(const std::vector<Eigen::Vector3d>& points, const std::vector
   }
   BranchRows(up, low, result);
   TreeTraits& t = result.traits;
-  t.height = WoodTop(points, candidates, wood, up, high) - low;
+  const auto [woodTop, treeTop] = Tops(points, candidates, wood, up, high);
+  t.height = treeTop - low;
+  t.woodHeight = woodTop - low;
   t.dbh = std::numeric_limits<double>::quiet_NaN();
   double longestFirst = 0;
   for (const auto& branch : result.branches)

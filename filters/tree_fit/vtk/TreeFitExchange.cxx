@@ -85,10 +85,10 @@ TreeFitResult UnpackFit(const std::vector<double>& packed)
       k = in.Int();
   }
   TreeTraits& t = fit.traits;
-  for (double* value :
-    { &t.height, &t.dbh, &t.trunkVolume, &t.branchVolume, &t.totalVolume, &t.trunkLength, &t.totalBranchLength,
-      &t.branchCount, &t.order1, &t.order2, &t.order3, &t.order4Plus, &t.crownProjectedArea, &t.crownBaseHeight,
-      &t.points, &t.woodPoints, &t.cylinders, &t.fitRMS, &t.spacing, &t.noise, &t.measuredVolumeFraction })
+  for (double* value : { &t.height, &t.dbh, &t.trunkVolume, &t.branchVolume, &t.totalVolume, &t.trunkLength,
+         &t.totalBranchLength, &t.branchCount, &t.order1, &t.order2, &t.order3, &t.order4Plus, &t.crownProjectedArea,
+         &t.crownBaseHeight, &t.points, &t.woodPoints, &t.cylinders, &t.fitRMS, &t.spacing, &t.noise,
+         &t.measuredVolumeFraction, &t.woodHeight })
     *value = in.Next();
   return fit;
 }

@@ -120,6 +120,9 @@ std::string ReadTrees(vtkTreeFitFilter* self, vtkPointSet* input, LocalInput& in
   vtkDataArray* labels = NamedArray(input, self->GetWoodArray(), "WoodArray", error);
   if (!error.empty())
     return error;
+  // Which value is wood: PlantMorph's Organ label (scanner truth, segmentation) marks wood by 0, a wood flag by 1.
+  const int mode = self->GetWoodValues();
+  const bool zeroIsWood = mode == 2 || (mode == 0 && std::string(self->GetWoodArray()) == "Organ");
   in.points.resize(static_cast<std::size_t>(n));
   for (vtkIdType i = 0; i < n; ++i)
   {
@@ -131,7 +134,7 @@ std::string ReadTrees(vtkTreeFitFilter* self, vtkPointSet* input, LocalInput& in
     in.trees[in.treeOf.back()].push_back(i);
     in.sent.insert(in.sent.end(),
       { in.points[i].x(), in.points[i].y(), in.points[i].z(),
-        labels && labels->GetComponent(i, 0) == 0.0 ? 0.0 : 1.0 });
+        !labels || ((labels->GetComponent(i, 0) == 0.0) == zeroIsWood) ? 1.0 : 0.0 });
   }
   return {};
 }
@@ -288,6 +291,7 @@ void vtkTreeFitFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Scale: " << this->Scale << "\n"
      << indent << "TreeIdArray: " << this->TreeIdArray << "\n"
      << indent << "WoodArray: " << this->WoodArray << "\n"
+     << indent << "WoodValues: " << this->WoodValues << "\n"
      << indent << "UpAxis: " << this->UpAxis << "\n"
      << indent << "Tubes: " << this->Tubes << "\n"
      << indent << "TubeSides: " << this->TubeSides << "\n"

@@ -7,7 +7,9 @@
  * Input: any vtkPointSet with one tree, or several told apart by the integer point array named by TreeIdArray
  * (empty: the whole input is one tree). Coordinates are multiplied by Scale first; every length of the outputs is in
  * those scaled units (volumes in their cube, areas in their square, angles in degrees). WoodArray (optional) names a
- * point array whose nonzero values mark wood (VirtualScanner's labels, a segmentation): only those points are fitted.
+ * point array telling wood from leaves: PlantMorph's Organ (VirtualScanner's truth, PlantSegmentationFilter: 0 wood)
+ * marks wood by 0, any other array by a nonzero value (WoodValues overrides): only wood is fitted, and the leaves
+ * count for the tree's Height (its top, leaves included; WoodHeight is the wood's).
  * Each tree is fitted by plantmorph::FitTree (filters/tree_fit/core/TreeFit.h), its loops threaded with vtkSMPTools.
  *
  * Output port 0, **Cylinders**: one line cell per cylinder (start to end), or with Tubes a capped tube of TubeSides
@@ -56,9 +58,15 @@ public:
   void SetTreeIdArray(const char* name);
   const char* GetTreeIdArray() const { return this->TreeIdArray.c_str(); }
 
-  /// Point array marking wood (nonzero) and leaves (0); "None" or empty: every point is wood. Default "None".
+  /// Point array telling wood from leaves (WoodValues says which values are wood); "None" or empty: every point is
+  /// wood. Default "None".
   void SetWoodArray(const char* name);
   const char* GetWoodArray() const { return this->WoodArray.c_str(); }
+
+  /// Which values of WoodArray are wood: 0 automatic (default: an array named "Organ", PlantMorph's organ label,
+  /// marks wood by 0; any other array by a nonzero value), 1 nonzero is wood, 2 zero is wood.
+  vtkSetClampMacro(WoodValues, int, 0, 2);
+  vtkGetMacro(WoodValues, int);
 
   /// Vertical axis: 0 X, 1 Y, 2 Z (default).
   vtkSetClampMacro(UpAxis, int, 0, 2);
@@ -89,6 +97,7 @@ protected:
   double Scale = 1.0;
   std::string TreeIdArray = "None";
   std::string WoodArray = "None";
+  int WoodValues = 0;
   int UpAxis = 2;
   int Tubes = 0;
   int TubeSides = 12;

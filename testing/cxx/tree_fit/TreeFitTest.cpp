@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -166,6 +167,37 @@ TEST(TreeFit, HeightReachesTipPointsAcrossTheGapsOfAThinTip)
   const TreeFitResult r = FitTree(points, {}, TreeFitParameters());
   ASSERT_EQ(r.error, "");
   EXPECT_NEAR(r.traits.height, 2.14, 0.005);
+}
+
+TEST(TreeFit, HeightIsTheTopOfTheLeavesAboveTheWood)
+{
+  // A stem 2 m tall with a leaf (a patch 10 cm square, labelled not wood) from its tip up to 2.1 m and another leaf
+  // 10 cm above it, apart (its twig hidden): foresters' height is the top of the tree, the upper leaf's, 2.25;
+  // WoodHeight is the wood's, 2.00. A lone leaf point 25 cm above is a stray return, not the top.
+  const TrueCylinder stem{ { 0, 0, 0 }, { 0, 0, 2.0 }, 0.1 };
+  std::vector<Eigen::Vector3d> points = Scan({ stem }, 0.01, 0.001);
+  std::vector<int> wood(points.size(), 1);
+  for (double x = 0.0; x <= 0.1001; x += 0.01)
+    for (double z = 1.99; z <= 2.1001; z += 0.01)
+    {
+      points.emplace_back(x, 0.1, z);
+      points.emplace_back(x + 0.2, 0.1, z + 0.15);
+      wood.insert(wood.end(), { 0, 0 });
+    }
+  points.emplace_back(0.0, 0.1, 2.5);
+  wood.push_back(0);
+  const TreeFitResult r = FitTree(points, wood, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_NEAR(r.traits.height, 2.25, 0.005);
+  EXPECT_NEAR(r.traits.woodHeight, 2.00, 0.005);
+  // Without the leaf both heights are the wood's.
+  const std::vector<Eigen::Vector3d> bare(points.begin(),
+    points.begin() + static_cast<std::ptrdiff_t>(wood.size()) -
+      static_cast<std::ptrdiff_t>(std::count(wood.begin(), wood.end(), 0)));
+  const TreeFitResult b = FitTree(bare, {}, TreeFitParameters());
+  ASSERT_EQ(b.error, "");
+  EXPECT_NEAR(b.traits.height, 2.00, 0.005);
+  EXPECT_EQ(b.traits.height, b.traits.woodHeight);
 }
 
 TEST(TreeFit, TiltedCylinderKeepsItsRadius)

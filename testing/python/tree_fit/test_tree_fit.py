@@ -3,8 +3,9 @@
 of exact tubes (seated, 24 sides) scanned from three positions with 2 mm noise: the five ports and their arrays,
 volume, DBH and height against the tree's own skeleton, the cylinders on the points (median |FitDistance| about the
 noise), the CSV writer's cylinder table, tubes; several trees told apart by TreeIdArray (one too small to fit: its
-row says why, the others are fitted as alone); WoodArray; the Skeleton rebuilt by TreeFromSketchSource as its merged
-tree (the documented recipe), with leaves, scanned again, and compared with the scan by CloudComparisonFilter; bad
+row says why, the others are fitted as alone); WoodArray, an Organ array (0 wood) and WoodValues; the Skeleton rebuilt
+by TreeFromSketchSource as its merged tree (the documented recipe), with leaves, scanned again, compared with the scan
+by CloudComparisonFilter, and edited (a measured branch deleted, one's length halved); bad
 input (noise, a plane, a line, a few points, NaN, a missing array) gives an error and empty outputs.
 
     pvpython test_tree_fit.py --plugin PlantMorph.so --work DIR
@@ -67,8 +68,9 @@ checks.check(len(trees) == 1 and trees[0]["Status"] == "ok", "one Trees row, sta
 row = trees[0] if trees else {}
 for name in ("Height", "DBH", "TrunkVolume", "BranchVolume", "TotalVolume", "TrunkLength", "TotalBranchLength",
              "BranchCount", "BranchesOrder1", "CrownProjectedArea", "CrownBaseHeight", "Points", "WoodPoints",
-             "FitRMS", "MeasuredVolumeFraction"):
+             "FitRMS", "MeasuredVolumeFraction", "WoodHeight"):
     checks.check(name in row, "Trees has " + name)
+checks.check(row.get("WoodHeight") == row.get("Height"), "without leaf points the tree's height is its wood's")
 checks.check(abs(row.get("TotalVolume", 0) / volume - 1) < 0.15,
              "total volume %.4f within 15 %% of the skeleton's %.4f" % (row.get("TotalVolume", 0), volume))
 checks.check(abs(row.get("DBH", 0) / dbh - 1) < 0.05, "DBH %.4f within 5 %% of %.4f" % (row.get("DBH", 0), dbh))
@@ -137,6 +139,48 @@ again = rows(refit)
 checks.check(len(again) == 1 and abs(again[0]["TotalVolume"] / row.get("TotalVolume", 1) - 1) < 0.15,
              "the rebuilt tree fits to the same volume within 15 %")
 
+# Edits on the measured tree (TreeFromSketchSource's DeletedBranches and BranchOverrides address a merged branch as
+# PlantMorph.MergeIdBase + its fitted BranchId): the heaviest first-order branch deleted takes its subtree with it,
+# and a refit finds one first-order branch fewer and about that subtree's volume less; its length halved gives a
+# branch half as long.
+base = int(fetch(bare, 1).GetFieldData().GetArray("PlantMorph.MergeIdBase").GetValue(0))
+first = max((b for b in branches if b["Order"] == 1), key=lambda b: b["Volume"])
+subtree, grown = {int(first["BranchId"])}, True
+while grown:
+    more = {int(b["BranchId"]) for b in branches if int(b["ParentId"]) in subtree}
+    grown, subtree = not more <= subtree, subtree | more
+removed = sum(b["Volume"] for b in branches if int(b["BranchId"]) in subtree)
+pruned = TreeFromSketchSource(MergeTree=OutputPort(fit, 1), Leaves=0, Joints="Seated tubes",
+                              **dict(RECIPE, DeletedBranches=[0, base + int(first["BranchId"])]))
+pruned_ids = set(vtk_to_numpy(fetch(pruned, 1).GetCellData().GetArray("BranchId")).tolist())
+checks.check(len(pruned_ids) == skeleton.GetNumberOfLines() - len(subtree)
+             and not {base + k for k in subtree} & pruned_ids,
+             "a deleted measured branch takes its %d-branch subtree with it" % len(subtree))
+before, after = rows(refit)[0], rows(TreeFitFilter(Input=scanned(pruned, 2.5), UpAxis="Y"))[0]
+checks.check(after["BranchesOrder1"] == before["BranchesOrder1"] - 1,
+             "the pruned tree refits with one first-order branch fewer (%d, %d)"
+             % (after["BranchesOrder1"], before["BranchesOrder1"]))
+lost = before["TotalVolume"] - after["TotalVolume"]
+checks.check(abs(lost / removed - 1) < 0.3, "the pruned tree's volume falls by the subtree's: %.5f for %.5f"
+             % (lost, removed))
+
+
+def branch_length(skeleton_data, branch_id):
+    points = vtk_to_numpy(skeleton_data.GetPoints().GetData())
+    ids = vtk_to_numpy(skeleton_data.GetCellData().GetArray("BranchId"))
+    cell = skeleton_data.GetCell(int(numpy.nonzero(ids == branch_id)[0][0]))
+    line = points[[cell.GetPointId(k) for k in range(cell.GetNumberOfPoints())]]
+    return float(numpy.linalg.norm(numpy.diff(line, axis=0), axis=1).sum())
+
+
+merged_id = base + int(first["BranchId"])
+shorter = TreeFromSketchSource(MergeTree=OutputPort(fit, 1), Leaves=0, Joints="Seated tubes",
+                               BranchOverrides=[merged_id, 0.5 * first["Length"], -1000, -1000, -1000, -1000],
+                               **RECIPE)
+was, now = branch_length(fetch(bare, 1), merged_id), branch_length(fetch(shorter, 1), merged_id)
+checks.check(abs(now / was - 0.5) < 0.02 and abs(was / first["Length"] - 1) < 0.02,
+             "BranchOverrides halves a measured branch's length: %.3f from %.3f" % (now, was))
+
 # Several trees: the same scan twice, the second moved, and a third of a few points; TreeId tells them apart.
 moved = Transform(Input=scan)
 moved.Transform.Translate = [20, 0, 0]
@@ -166,6 +210,20 @@ none = TreeFitFilter(Input=Calculator(Input=scan, ResultArrayName="IsWood", Func
 with Messages(none) as messages:
     checks.check(outputs_empty(none), "no wood: empty outputs")
 checks.check(messages.said("wood points", kind="error"), "no wood: an error says so")
+
+
+# WoodArray named Organ (PlantMorph's label, VirtualScanner's truth, PlantSegmentationFilter's output: 0 wood):
+# 0 is wood by default; WoodValues turns any array's meaning.
+organ = Calculator(Input=scan, ResultArrayName="Organ", Function="0", ResultArrayType="Int")
+checks.check(abs(rows(TreeFitFilter(Input=organ, UpAxis="Y", WoodArray="Organ"))[0]["TotalVolume"]
+                 / row.get("TotalVolume", 1) - 1) < 1e-9, "Organ 0 everywhere: all wood, the same fit")
+flag = TreeFitFilter(Input=organ, UpAxis="Y", WoodArray="Organ", WoodValues="Nonzero is wood")
+with Messages(flag) as messages:
+    checks.check(outputs_empty(flag), "Organ 0 read as a wood flag (Nonzero is wood): no wood, empty outputs")
+zero = TreeFitFilter(Input=Calculator(Input=scan, ResultArrayName="Leafy", Function="0", ResultArrayType="Int"),
+                     UpAxis="Y", WoodArray="Leafy", WoodValues="Zero is wood")
+checks.check(abs(rows(zero)[0]["TotalVolume"] / row.get("TotalVolume", 1) - 1) < 1e-9,
+             "Zero is wood on any array: all wood, the same fit")
 
 
 # Bad input: an error naming the problem, every output empty, no crash.
