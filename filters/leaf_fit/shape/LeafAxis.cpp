@@ -45,20 +45,43 @@ public:
       this->Ids[at[key[i]]++] = static_cast<int>(i);
   }
 
-  /// Distance from q to the nearest point, or `cap` when none is nearer.
+  /// Distance from q to the nearest point, or `cap` when none is nearer. Rings of cells outward from q's cell: every
+  /// cell of ring r or beyond is at least r - 1 cells away, so the search stops once the nearest found is that close (a
+  /// mirrored point on the blade stops after a ring or two instead of reading every cell within the cap; exact).
   double Distance(const Eigen::Vector2d& q, double cap) const
   {
     const int ci = static_cast<int>(std::floor((q.x() - this->Low.x()) / this->Cell));
     const int cj = static_cast<int>(std::floor((q.y() - this->Low.y()) / this->Cell));
     const int reach = static_cast<int>(std::ceil(cap / this->Cell));
     double best = cap * cap;
-    for (int i = std::max(0, ci - reach); i <= std::min(this->Nx - 1, ci + reach); ++i)
-      for (int j = std::max(0, cj - reach); j <= std::min(this->Ny - 1, cj + reach); ++j)
+    auto visit = [&](int i, int j) {
+      if (i < 0 || i >= this->Nx || j < 0 || j >= this->Ny)
+        return;
+      const int c = i * this->Ny + j;
+      for (int k = this->Start[c]; k < this->Start[c + 1]; ++k)
+        best = std::min(best, (this->Points[this->Ids[k]] - q).squaredNorm());
+    };
+    for (int r = 0; r <= reach; ++r)
+    {
+      const double covered = (r - 1) * this->Cell; // ring r lies r - 1 whole cells beyond q's cell
+      if (r > 1 && best <= covered * covered)
+        break;
+      if (r == 0)
       {
-        const int c = i * this->Ny + j;
-        for (int k = this->Start[c]; k < this->Start[c + 1]; ++k)
-          best = std::min(best, (this->Points[this->Ids[k]] - q).squaredNorm());
+        visit(ci, cj);
+        continue;
       }
+      for (int i = ci - r; i <= ci + r; ++i)
+      {
+        visit(i, cj - r);
+        visit(i, cj + r);
+      }
+      for (int j = cj - r + 1; j <= cj + r - 1; ++j)
+      {
+        visit(ci - r, j);
+        visit(ci + r, j);
+      }
+    }
     return std::sqrt(best);
   }
 

@@ -156,6 +156,10 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
     inner = std::min({ inner, std::max(q[a] - lo, 0.0), std::max(hi - q[a], 0.0) });
   }
   outside = std::sqrt(outside);
+  // Every point lies in the grid's box, and `outside` is q's distance from it: a query farther than its reach finds
+  // nothing (without this, a far stray walked every ring of cells out to the grid, the cube of its distance).
+  if (outside > reach)
+    return best;
   if (outside > 0.0)
     inner = 0.0;
   const double reach2 = reach * reach;
