@@ -75,9 +75,9 @@ std::string FittedBladeWarning(const WiltingInput& input, const WiltingParameter
     return std::string();
   }
   std::ostringstream message;
-  message << "the Input is a fitted blade (LeafFitFilter): its base is the bottom of its fitted outline (a cordate "
-             "leaf's sinus is filled in), where the preset holds it, lower than a petiole would; on fitted cucumber "
-             "scans of 5-40 cm Resolution 14 inverted a voxel at 6-9 s: the smallest Resolution that held is "
+  message << "the Input is a fitted blade (LeafFitFilter) and the preset is verified on fitted cucumber scans of "
+             "5-40 cm from Resolution "
+          << FittedBladeResolution << " on (no voxel inverted, no rise-back): the smallest Resolution that holds is "
           << FittedBladeResolution << " (Resolution " << parameters.resolution << " asked)";
   return message.str();
 }

@@ -281,10 +281,12 @@ std::size_t CountNonManifoldEdges(const std::vector<std::array<int, 3>>& triangl
 /// surface point is blade), edges shared by more than two triangles (voxelised as it is).
 std::string WiltingInputAssumptions(const WiltingInput& input, bool surfaceHasRegion);
 
-/// The smallest Resolution that ran without inverting a voxel on fitted blades, for a preset (held in leaf lengths)
-/// on a fitted blade (benchmarks/README.md "Fitted scans": LeafOutlineSource's cucumber blade of 5-40 cm scanned and
-/// fitted inverted a voxel at Resolution 14 every time, and ran at 18).
-inline constexpr int FittedBladeResolution = 18;
+/// The smallest Resolution that holds for a preset (held in leaf lengths) on a fitted blade: on the sweep of
+/// benchmarks/README.md "Fitted scans" (LeafOutlineSource's cucumber blade of 5-40 cm scanned and fitted, held by
+/// whole voxels) every Resolution from 14 ran its 10 s without inverting a voxel and without rising back, as on the
+/// source's blade. It is the coarsest the default BladeThickness (longest side / 14) accepts, so only a preset with a
+/// thicker BladeThickness can run a fitted blade below it, where nothing was verified.
+inline constexpr int FittedBladeResolution = 14;
 
 /// A preset (anchorFraction > 0) run on a fitted blade (input.fitted) at a Resolution below FittedBladeResolution
 /// (VoxelSize 0): the warning naming that Resolution and why; otherwise "".

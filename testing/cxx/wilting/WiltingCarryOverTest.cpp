@@ -181,23 +181,32 @@ TEST(WiltingCarryOver, TheMidveinIsTwoVoxelsWideWhereverItLies)
   EXPECT_LT(TrackDistance(moved.track, symmetric.track), 0.01);
 }
 
-TEST(WiltingCarryOver, PresetsOnFittedBladesWarnBelowTheResolutionThatHeld)
+TEST(WiltingCarryOver, PresetsOnFittedBladesWarnOnlyBelowTheResolutionThatHolds)
 {
-  // A fitted blade's base is the bottom of its fitted outline (a cordate sinus filled in): on fitted cucumber scans
-  // the preset inverted a voxel at Resolution 14 and ran at 18 (benchmarks/README.md "Fitted scans"). A preset on
-  // a fitted blade below 18 warns naming 18; at 18, on a blade LeafOutlineSource made, with VoxelSize or with the
-  // Custom preset's AnchorRadius it does not.
+  // Held by whole voxels, fitted cucumber scans of 5-40 cm ran their 10 s at every Resolution from 14 (benchmarks/
+  // README.md "Fitted scans"), which is the coarsest the default thickness accepts: a preset on a fitted blade
+  // warns only below 14 (possible with a thicker BladeThickness), naming 14, and at 13 with the default thickness
+  // Setup refuses naming the same 14, so no Resolution that runs silently is one the sweep did not hold.
   WiltingInput fitted = CucumberBlade(20.1, false);
   fitted.fitted = true;
-  const std::string warning = FittedBladeWarning(fitted, Cucumber(14));
-  EXPECT_NE(warning.find("the smallest Resolution that held is 18"), std::string::npos) << warning;
+  for (const int r : { 14, 15, 16, 18, 22 })
+  {
+    EXPECT_EQ(FittedBladeWarning(fitted, Cucumber(r)), "") << r;
+  }
+  WiltingParameters thick = Cucumber(12);
+  thick.bladeThickness = 22.308 / 12.0; // accepts Resolution 12 on the 20.1 cm blade (longest side 22.308 cm)
+  const std::string warning = FittedBladeWarning(fitted, thick);
+  EXPECT_NE(warning.find("the smallest Resolution that holds is 14"), std::string::npos) << warning;
   EXPECT_NE(warning.find("fitted blade"), std::string::npos) << warning;
-  EXPECT_EQ(FittedBladeWarning(fitted, Cucumber(18)), "");
-  EXPECT_EQ(FittedBladeWarning(CucumberBlade(20.1, false), Cucumber(14)), "");
-  WiltingParameters sized = Cucumber(14);
+  WiltingSimulation refused;
+  const std::string error = refused.Setup(fitted, Cucumber(13));
+  EXPECT_NE(error.find("the smallest Resolution that holds is 14"), std::string::npos) << error;
+  EXPECT_NE(FittedBladeWarning(fitted, Cucumber(13)), "");
+  EXPECT_EQ(FittedBladeWarning(CucumberBlade(20.1, false), thick), "");
+  WiltingParameters sized = thick;
   sized.voxelSize = 1.0;
   EXPECT_EQ(FittedBladeWarning(fitted, sized), "");
-  WiltingParameters custom = Cucumber(14);
+  WiltingParameters custom = thick;
   custom.anchorFraction = 0.0;
   EXPECT_EQ(FittedBladeWarning(fitted, custom), "");
 }
