@@ -70,6 +70,31 @@ double Volume(const TrueCylinder& c)
   return M_PI * c.radius * c.radius * (c.end - c.start).norm();
 }
 
+/// Appends a well-measured cylinder (100 points all round, 0.5 mm RMS) of `length` along `direction` from `start`
+/// under `parent` to the fit's cylinders, as the fit leaves them before the branch step; returns its index.
+int AddMeasuredCylinder(TreeFitResult& result, const Eigen::Vector3d& start, const Eigen::Vector3d& direction,
+  double length, double radius, int parent)
+{
+  TreeCylinder c;
+  c.start = start;
+  c.length = length;
+  c.end = start + length * direction.normalized();
+  c.fittedRadius = radius;
+  c.points = 100;
+  c.coverage = 360.0;
+  c.fitRMS = 0.0005;
+  c.parent = parent;
+  result.cylinders.push_back(c);
+  return static_cast<int>(result.cylinders.size()) - 1;
+}
+
+/// The unit direction `degrees` off the vertical, turned by `side` radians about it.
+Eigen::Vector3d Tilted(double degrees, double side)
+{
+  const double a = degrees * M_PI / 180.0;
+  return Eigen::Vector3d(std::sin(a) * std::cos(side), std::sin(a) * std::sin(side), std::cos(a));
+}
+
 TEST(TreeFit, CylinderGivesItsRadiusAndVolume)
 {
   const TrueCylinder stem{ { 0, 0, 0 }, { 0, 0, 2.0 }, 0.1 };
@@ -290,32 +315,18 @@ TEST(TreeFit, AYoungBranchForkingGoesOnIntoItsHeavierChild)
   // goes on: the lateral is one first-order branch, the sub-branch of order 2 (not two branches one order up).
   TreeFitResult result;
   const auto add = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& direction, double radius, int parent) {
-    TreeCylinder c;
-    c.start = start;
-    c.length = 0.1;
-    c.end = start + 0.1 * direction.normalized();
-    c.fittedRadius = radius;
-    c.points = 100;
-    c.coverage = 360.0;
-    c.fitRMS = 0.0005;
-    c.parent = parent;
-    result.cylinders.push_back(c);
-    return static_cast<int>(result.cylinders.size()) - 1;
-  };
-  const auto tilted = [](double degrees, double side) {
-    const double a = degrees * M_PI / 180.0;
-    return Eigen::Vector3d(std::sin(a) * std::cos(side), std::sin(a) * std::sin(side), std::cos(a));
+    return AddMeasuredCylinder(result, start, direction, 0.1, radius, parent);
   };
   int at = -1;
   for (int k = 0; k < 20; ++k)
     at = add(Eigen::Vector3d(0, 0, 0.1 * k), Eigen::Vector3d::UnitZ(), 0.06, k == 0 ? -1 : at);
-  int lateral = add(Eigen::Vector3d(0, 0, 1.0), tilted(10.0, 0.0), 0.03, 9); // the junction's lean
+  int lateral = add(Eigen::Vector3d(0, 0, 1.0), Tilted(10.0, 0.0), 0.03, 9); // the junction's lean
   const int first = lateral;
   int sub = lateral;
   for (int k = 0; k < 12; ++k)
-    lateral = add(result.cylinders[lateral].end, tilted(40.0, 0.0), 0.03, lateral);
+    lateral = add(result.cylinders[lateral].end, Tilted(40.0, 0.0), 0.03, lateral);
   for (int k = 0; k < 4; ++k)
-    sub = add(result.cylinders[sub].end, tilted(75.0, 0.0), 0.012, sub);
+    sub = add(result.cylinders[sub].end, Tilted(75.0, 0.0), 0.012, sub);
   ASSERT_EQ(treefit::ModelRadii(0.006, result), "");
   ASSERT_EQ(result.branches.size(), 3u);
   EXPECT_EQ(result.cylinders[first].branch, result.cylinders[lateral].branch);
@@ -331,34 +342,18 @@ TEST(TreeFit, AWhorlSplitInTwoStepsGivesBranchesOfOneOrder)
   // are branches of order 1 (not one of order 1 and two of order 2 hanging from a one-cylinder branch).
   TreeFitResult result;
   const auto add = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& direction, double length, double radius,
-                     int parent) {
-    TreeCylinder c;
-    c.start = start;
-    c.length = length;
-    c.end = start + length * direction.normalized();
-    c.fittedRadius = radius;
-    c.points = 100;
-    c.coverage = 360.0;
-    c.fitRMS = 0.0005;
-    c.parent = parent;
-    result.cylinders.push_back(c);
-    return static_cast<int>(result.cylinders.size()) - 1;
-  };
-  const auto tilted = [](double degrees, double side) {
-    const double a = degrees * M_PI / 180.0;
-    return Eigen::Vector3d(std::sin(a) * std::cos(side), std::sin(a) * std::sin(side), std::cos(a));
-  };
+                     int parent) { return AddMeasuredCylinder(result, start, direction, length, radius, parent); };
   int stem = -1;
   for (int k = 0; k < 10; ++k)
     stem = add(Eigen::Vector3d(0, 0, 0.1 * k), Eigen::Vector3d::UnitZ(), 0.1, 0.08, stem);
-  const int stub = add(result.cylinders[stem].end, tilted(25.0, M_PI), 0.05, 0.06, stem);
+  const int stub = add(result.cylinders[stem].end, Tilted(25.0, M_PI), 0.05, 0.06, stem);
   std::vector<int> tips;
   for (int child = 0; child < 3; ++child)
   {
     const double side = child * 2.0 * M_PI / 3.0;
     int at = child == 0 ? stem : stub;
     for (int k = 0; k < 8; ++k)
-      at = add(k == 0 ? result.cylinders[child == 0 ? stem : stub].end : result.cylinders[at].end, tilted(55.0, side),
+      at = add(k == 0 ? result.cylinders[child == 0 ? stem : stub].end : result.cylinders[at].end, Tilted(55.0, side),
         0.1, 0.05, at);
     tips.push_back(at);
   }
