@@ -1,13 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The tree fit's tables (TreeFit.h): per branch its length, volume, base diameter, angles and height; per tree the
 // traits foresters read from a QSM.
+#include "PointGrid.h"
 #include "TreeFitInternal.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
-#include <map>
 
 namespace plantmorph
 {
@@ -154,35 +153,19 @@ constexpr double LeafTopRadius = 3.0;
 double LeafTop(const std::vector<Eigen::Vector3d>& points, const Wood& wood, const Eigen::Vector3d& up, double woodTop)
 {
   const double radius = LeafTopRadius * wood.spacing;
-  std::vector<int> above; // every point above woodTop - radius: the neighbours of the leaf points above woodTop
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (points[i].dot(up) > woodTop - radius)
-      above.push_back(static_cast<int>(i));
-  const auto cell = [radius](const Eigen::Vector3d& p) {
-    return std::array<long long, 3>{ static_cast<long long>(std::floor(p.x() / radius)),
-      static_cast<long long>(std::floor(p.y() / radius)), static_cast<long long>(std::floor(p.z() / radius)) };
-  };
-  std::map<std::array<long long, 3>, std::vector<int>> grid;
-  for (int i : above)
-    grid[cell(points[i])].push_back(i);
-  std::sort(above.begin(), above.end(), [&](int a, int b) { return points[a].dot(up) > points[b].dot(up); });
-  for (int i : above)
+  // Every point above woodTop - radius: the neighbours of the leaf points above woodTop.
+  std::vector<Eigen::Vector3d> above;
+  for (const auto& p : points)
+    if (p.dot(up) > woodTop - radius)
+      above.push_back(p);
+  const PointGrid grid(above, radius);
+  std::sort(above.begin(), above.end(), [&](const auto& a, const auto& b) { return a.dot(up) > b.dot(up); });
+  for (const auto& p : above)
   {
-    if (points[i].dot(up) <= woodTop)
+    if (p.dot(up) <= woodTop)
       break;
-    const std::array<long long, 3> c = cell(points[i]);
-    int near = 0;
-    for (long long dx = -1; dx <= 1 && near < LeafTopNeighbours; ++dx)
-      for (long long dy = -1; dy <= 1 && near < LeafTopNeighbours; ++dy)
-        for (long long dz = -1; dz <= 1 && near < LeafTopNeighbours; ++dz)
-        {
-          const auto found = grid.find({ c[0] + dx, c[1] + dy, c[2] + dz });
-          if (found != grid.end())
-            for (int j : found->second)
-              near += j != i && (points[j] - points[i]).norm() <= radius ? 1 : 0;
-        }
-    if (near >= LeafTopNeighbours)
-      return points[i].dot(up);
+    if (grid.CountWithin(p, radius) >= static_cast<std::size_t>(LeafTopNeighbours) + 1) // itself, and the others
+      return p.dot(up);
   }
   return woodTop;
 }
