@@ -109,6 +109,26 @@ def reload_in_fresh_pvpython(state, expected, expected_file, arguments, script):
     return subprocess.run(command, timeout=600).returncode
 
 
+def loaded_state(checks, arguments, expected_file, name, kind="filter"):
+    """The second half of reload_in_fresh_pvpython's round trip, in the fresh pvpython: loads the state
+    `arguments.load`, checks that it holds the proxy `name` (a `kind`, "filter" or "source", in the message) and
+    returns that proxy and the description the first half wrote to `expected_file`."""
+    from paraview.simple import FindSource, LoadState
+    LoadState(arguments.load)
+    proxy = FindSource(name)
+    checks.check(proxy is not None, "the state file holds the %s '%s'" % (kind, name))
+    with open(expected_file) as f:
+        return proxy, json.load(f)
+
+
+def check_same_properties(checks, actual, expected, same=lambda after, before: after == before):
+    """One check per property of `expected["properties"]`: its value in `actual["properties"]` after loading the
+    state is the same (`same(after, before)`) as before saving it."""
+    for name, before in expected["properties"].items():
+        after = actual["properties"][name]
+        checks.check(same(after, before), "property %s: %r after loading, %r before" % (name, after, before))
+
+
 def moved_copies(source, count, array, first_id, step):
     """`count` copies of `source` (a paraview.simple proxy), the k-th moved by k * `step` along x and turned by 40 k
     degrees about y, each with an integer point array `array` of value first_id + k: a stand of plants or trees for

@@ -1,11 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """pvpython: a LeafOutlineSource pipeline saved as a state file loads in a fresh pvpython with the same properties
 and bit-identical output."""
-import json
 import os
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
+from plantmorph_testing import (check_same_properties, Checks, fingerprint, load_plugin, loaded_state, parse_arguments,
+                                reload_in_fresh_pvpython)
 
 arguments = parse_arguments([("--pvpython", dict(required=True)), ("--load", dict(default=None))])
 
@@ -85,15 +85,9 @@ if arguments.load is None:
 
 # Second process: a fresh pvpython loads the state and compares.
 checks = Checks()
-LoadState(arguments.load)
-leaf = FindSource("Leaf")
-checks.check(leaf is not None, "the state file holds the source 'Leaf'")
-with open(expected_file) as f:
-    expected = json.load(f)
+leaf, expected = loaded_state(checks, arguments, expected_file, "Leaf", "source")
 actual = describe(leaf)
-for name, value in expected["properties"].items():
-    checks.check(actual["properties"][name] == value,
-                 "property %s: %r after loading, %r before" % (name, actual["properties"][name], value))
+check_same_properties(checks, actual, expected)
 checks.check(actual["points"] == expected["points"] and actual["points"] > 0, "same number of points")
 checks.check(actual["blade"] == expected["blade"], "blade bit-identical after the round trip")
 checks.check(actual["outline"] == expected["outline"], "outline bit-identical after the round trip")

@@ -10,11 +10,11 @@ round-trips.
     pvpython test_leaf_fit.py --plugin PlantMorph.so --work DIR
 """
 import glob
-import json
 import os
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, Messages, parse_arguments, reload_in_fresh_pvpython
+from plantmorph_testing import (Checks, fingerprint, load_plugin, loaded_state, Messages, parse_arguments,
+                                reload_in_fresh_pvpython)
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -51,11 +51,7 @@ def describe(fit):
 
 checks = Checks()
 if arguments.load is not None:
-    LoadState(arguments.load)
-    fit = FindSource("FittedLeaf")
-    checks.check(fit is not None, "the state file holds the filter 'FittedLeaf'")
-    with open(expected_file) as f:
-        expected = json.load(f)
+    fit, expected = loaded_state(checks, arguments, expected_file, "FittedLeaf")
     actual = describe(fit)
     checks.check(actual["properties"] == expected["properties"], "properties survive the round trip")
     checks.check(actual["fingerprints"] == expected["fingerprints"], "all four outputs bit-identical after loading")

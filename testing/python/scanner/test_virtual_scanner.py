@@ -8,12 +8,12 @@ file, loads in a fresh pvpython with a bit-identical cloud.
 
     pvpython test_virtual_scanner.py --plugin PlantMorph.so --work DIR
 """
-import json
 import math
 import os
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
+from plantmorph_testing import (check_same_properties, Checks, fingerprint, load_plugin, loaded_state, parse_arguments,
+                                reload_in_fresh_pvpython)
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -53,16 +53,11 @@ def array(data, name, cells=False):
 checks = Checks()
 
 if arguments.load is not None:
-    LoadState(arguments.load)
-    scanner = FindSource("Scan")
-    checks.check(scanner is not None, "the state file holds the filter 'Scan'")
-    with open(expected_file) as f:
-        expected = json.load(f)
+    scanner, expected = loaded_state(checks, arguments, expected_file, "Scan")
     actual = describe(scanner)
-    for name, value_before in expected["properties"].items():
-        after = actual["properties"][name]
-        same = (numpy.allclose(after, value_before) if isinstance(value_before, list) else after == value_before)
-        checks.check(same, "property %s: %r after loading, %r before" % (name, after, value_before))
+    check_same_properties(checks, actual, expected,
+                          lambda after, before: numpy.allclose(after, before) if isinstance(before, list) else
+                          after == before)
     checks.check(actual["points"] == expected["points"] and actual["points"] > 0, "same number of points")
     checks.check(actual["cloud"] == expected["cloud"], "cloud bit-identical after the round trip")
     checks.check(actual["setup"] == expected["setup"], "set-up lines identical after the round trip")

@@ -7,12 +7,12 @@ properties and bit-identical output.
 
     pvpython test_leaf_curl.py --plugin PlantMorph.so --work DIR
 """
-import json
 import math
 import os
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
+from plantmorph_testing import (check_same_properties, Checks, fingerprint, load_plugin, loaded_state, parse_arguments,
+                                reload_in_fresh_pvpython)
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -42,15 +42,9 @@ checks = Checks()
 
 if arguments.load is not None:
     # Second process: a fresh pvpython loads the state saved by the first and compares.
-    LoadState(arguments.load)
-    curl = FindSource("CurledLeaf")
-    checks.check(curl is not None, "the state file holds the filter 'CurledLeaf'")
-    with open(expected_file) as f:
-        expected = json.load(f)
+    curl, expected = loaded_state(checks, arguments, expected_file, "CurledLeaf")
     actual = describe(curl)
-    for name, value in expected["properties"].items():
-        checks.check(actual["properties"][name] == value,
-                     "property %s: %r after loading, %r before" % (name, actual["properties"][name], value))
+    check_same_properties(checks, actual, expected)
     checks.check(actual["points"] == expected["points"] and actual["points"] > 0, "same number of points")
     checks.check(actual["fingerprint"] == expected["fingerprint"], "curled leaf bit-identical after the round trip")
     checks.finish()

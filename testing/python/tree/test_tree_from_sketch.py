@@ -13,7 +13,8 @@ import json
 import os
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
+from plantmorph_testing import (check_same_properties, Checks, fingerprint, load_plugin, loaded_state, parse_arguments,
+                                reload_in_fresh_pvpython)
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -47,15 +48,9 @@ def describe(tree):
 checks = Checks()
 
 if arguments.load is not None:
-    LoadState(arguments.load)
-    tree = FindSource("EditedTree")
-    checks.check(tree is not None, "the state file holds the source 'EditedTree'")
-    with open(expected_file) as f:
-        expected = json.load(f)
+    tree, expected = loaded_state(checks, arguments, expected_file, "EditedTree", "source")
     actual = json.loads(json.dumps(describe(tree)))
-    for name, value in expected["properties"].items():
-        got = actual["properties"][name]
-        checks.check(got == value, "property %s: %r after loading, %r before" % (name, got, value))
+    check_same_properties(checks, actual, expected)
     checks.check(actual["cells"] == expected["cells"] and actual["cells"] > 0, "same number of cells")
     checks.check(actual["branch_ids"] == expected["branch_ids"], "the same BranchIds (merged ones too) after loading")
     checks.check(actual["fingerprints"] == expected["fingerprints"], "all three outputs bit-identical after loading")

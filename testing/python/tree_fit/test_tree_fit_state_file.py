@@ -6,11 +6,11 @@ Tubes, TubeSides).
 
     pvpython test_tree_fit_state_file.py --plugin PlantMorph.so --work DIR
 """
-import json
 import os
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
+from plantmorph_testing import (check_same_properties, Checks, fingerprint, load_plugin, loaded_state, parse_arguments,
+                                reload_in_fresh_pvpython)
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -38,15 +38,9 @@ checks = Checks()
 
 if arguments.load is not None:
     # Second process: a fresh pvpython loads the state saved by the first and compares.
-    LoadState(arguments.load)
-    fit = FindSource("FittedTree")
-    checks.check(fit is not None, "the state file holds the filter 'FittedTree'")
-    with open(expected_file) as f:
-        expected = json.load(f)
+    fit, expected = loaded_state(checks, arguments, expected_file, "FittedTree")
     actual = describe(fit)
-    for name, value in expected["properties"].items():
-        checks.check(actual["properties"][name] == value,
-                     "property %s: %r after loading, %r before" % (name, actual["properties"][name], value))
+    check_same_properties(checks, actual, expected)
     for port, name in enumerate(PORTS):
         checks.check(actual["sizes"][port] == expected["sizes"][port] and actual["sizes"][port] > 0,
                      "%s: %d rows or cells after loading, %d before" % (name, actual["sizes"][port],

@@ -6,11 +6,11 @@ properties, saved as a state file, loads in a fresh pvpython with bit-identical 
 
     pvpython test_venation_filter.py --plugin PlantMorph.so --work DIR
 """
-import json
 import os
 import sys
 
-from plantmorph_testing import Checks, fingerprint, load_plugin, parse_arguments, reload_in_fresh_pvpython
+from plantmorph_testing import (check_same_properties, Checks, fingerprint, load_plugin, loaded_state, parse_arguments,
+                                reload_in_fresh_pvpython)
 
 arguments = parse_arguments([("--load", dict(default=None)), ("--pvpython", dict(default=None))])
 
@@ -46,15 +46,9 @@ checks = Checks()
 
 if arguments.load is not None:
     # Second process: a fresh pvpython loads the state saved by the first and compares.
-    LoadState(arguments.load)
-    venation = FindSource("Veins")
-    checks.check(venation is not None, "the state file holds the filter 'Veins'")
-    with open(expected_file) as f:
-        expected = json.load(f)
+    venation, expected = loaded_state(checks, arguments, expected_file, "Veins")
     actual = describe(venation)
-    for name, value in expected["properties"].items():
-        checks.check(actual["properties"][name] == value,
-                     "property %s: %r after loading, %r before" % (name, actual["properties"][name], value))
+    check_same_properties(checks, actual, expected)
     checks.check(actual["points"] == expected["points"] and actual["points"] > 0, "same number of vein points")
     checks.check(actual["veins"] == expected["veins"], "veins bit-identical after the round trip")
     checks.check(actual["blade"] == expected["blade"], "embossed blade bit-identical after the round trip")
