@@ -487,14 +487,56 @@ std::string PointSurfaceDistance::BuildTree(std::vector<double>& lo, std::vector
 }
 
 //------------------------------------------------------------------------------
+std::vector<std::uint8_t> PointSurfaceDistance::WideLanes() const
+{
+  // The binary nodes CollapseToWideNodes makes lanes of (the same walk): a root that is a leaf, else every child of
+  // a collapsed node that is a leaf and the grandchildren under every inner child, collapsed in turn when inner.
+  std::vector<std::uint8_t> lane(this->Nodes.size(), 0);
+  if (this->Nodes[0].count > 0)
+  {
+    lane[0] = 1;
+    return lane;
+  }
+  std::vector<std::uint32_t> pending{ 0 };
+  const auto take = [&](std::uint32_t node) {
+    lane[node] = 1;
+    if (this->Nodes[node].count == 0)
+    {
+      pending.push_back(node);
+    }
+  };
+  while (!pending.empty())
+  {
+    const std::uint32_t binary = pending.back();
+    pending.pop_back();
+    for (const std::uint32_t child : { binary + 1, this->Nodes[binary].start })
+    {
+      if (this->Nodes[child].count > 0)
+      {
+        lane[child] = 1;
+      }
+      else
+      {
+        take(child + 1);
+        take(this->Nodes[child].start);
+      }
+    }
+  }
+  return lane;
+}
+
+//------------------------------------------------------------------------------
 void PointSurfaceDistance::BuildSlabs(const std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor)
 {
+  // Only the nodes that become lanes of the wide tree need a coin (about half: the collapse skips every other
+  // level); the others get none.
+  const std::vector<std::uint8_t> lane = this->WideLanes();
   parallelFor(this->Nodes.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
     {
       Node& node = this->Nodes[i];
       const std::size_t first = nodeRange[2 * i];
-      const std::size_t last = nodeRange[2 * i + 1];
+      const std::size_t last = lane[i] ? nodeRange[2 * i + 1] : first;
       double n[3] = { 0.0, 0.0, 0.0 };
       for (std::size_t t = first; t < last; ++t)
       {
@@ -555,10 +597,11 @@ void PointSurfaceDistance::BuildSlabs(const std::vector<std::uint32_t>& nodeRang
 }
 
 //------------------------------------------------------------------------------
-void PointSurfaceDistance::CollapseToWideNodes()
+void PointSurfaceDistance::CollapseToWideNodes(const ParallelFor& parallelFor)
 {
   // Every wide node takes the grandchildren of a binary inner node as its children (a child that is a leaf stays
-  // one lane), so the 4-wide tree has half the levels. Serial: it only copies bounds.
+  // one lane), so the 4-wide tree has half the levels. Serial: it only copies bounds; the leaves' triangle packs
+  // are filled after it, in parallel.
   this->WideNodes.clear();
   const auto emptyLanes = [](WideNode& wide) {
     for (int j = 0; j < 4; ++j)
@@ -577,8 +620,7 @@ void PointSurfaceDistance::CollapseToWideNodes()
   // lie together in memory, as its queries need them.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pending;
   this->WideNodes.reserve(this->Nodes.size() / 2 + 1);
-  this->Packs.clear();
-  this->Packs.reserve(this->Nodes.size() / 2 + 1);
+  std::vector<std::uint32_t> packLeaf; // pack -> its binary leaf
   this->WideNodes.emplace_back();
   emptyLanes(this->WideNodes[0]);
   // Lane j of wide node `wideIndex` becomes binary node `binary`: its bounds, and a leaf range or a new wide node.
@@ -587,8 +629,8 @@ void PointSurfaceDistance::CollapseToWideNodes()
     std::uint32_t start = c.start;
     if (c.count > 0 && this->Surface)
     {
-      start = static_cast<std::uint32_t>(this->Packs.size());
-      this->Packs.push_back(this->MakePack(c.start, c.count));
+      start = static_cast<std::uint32_t>(packLeaf.size());
+      packLeaf.push_back(binary);
     }
     if (c.count == 0)
     {
@@ -639,7 +681,14 @@ void PointSurfaceDistance::CollapseToWideNodes()
     }
   }
   this->WideNodes.shrink_to_fit();
-  this->Packs.shrink_to_fit();
+  this->Packs.resize(packLeaf.size());
+  parallelFor(packLeaf.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      const Node& leaf = this->Nodes[packLeaf[i]];
+      this->Packs[i] = this->MakePack(leaf.start, leaf.count);
+    }
+  });
   this->Nodes = std::vector<Node>();
 }
 
@@ -753,7 +802,7 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
   });
   this->BuildSlabs(nodeRange, parallelFor);
   nodeRange = std::vector<std::uint32_t>();
-  this->CollapseToWideNodes();
+  this->CollapseToWideNodes(parallelFor);
 
   // Pseudo-normals, from the corners around each vertex (a counting sort of the 3 * triangleCount corners by
   // vertex, in corner order, so every sum below adds its terms in triangle order whatever the threads).
@@ -870,7 +919,7 @@ std::string PointSurfaceDistance::BuildCloud(
   std::vector<double> centroid = lo;
   std::vector<std::uint32_t> nodeRange;
   this->BuildTree(lo, hi, centroid, pointCount, PointLeafSize, nodeRange, parallelFor);
-  this->CollapseToWideNodes();
+  this->CollapseToWideNodes(parallelFor);
   this->Surface = false;
   this->CloudPoints.resize(3 * pointCount);
   parallelFor(pointCount, [&](std::size_t begin, std::size_t end) {

@@ -47,9 +47,10 @@
 // edge vectors and unit normal so a query touches contiguous memory. A query descends nearest child first with an
 // explicit stack and prunes children (and, in leaves, triangle planes) no nearer than the best distance so far.
 //
-// Slab bounds (surface mode). Besides its box, every node holds a "coin", a flat cylinder around its triangles: its
-// axis is the unit mean normal n of the triangles, its centre o is placed so that n . (x - o) over their vertices
-// spans [-h, h], and r is the largest distance of a vertex from the axis. The coin is convex and holds every vertex,
+// Slab bounds (surface mode). Besides its box, every lane of a wide node holds a "coin", a flat cylinder around its
+// triangles (the binary nodes the collapse skips get none): its axis is the unit mean normal n of the triangles, its
+// centre o is placed so that n . (x - o) over their vertices spans [-h, h], and r is the largest distance of a
+// vertex from the axis. The coin is convex and holds every vertex,
 // so it holds every triangle of the node, and the distance from p to the node is at least
 // max(box distance, sqrt(max(0, |a| - h)^2 + max(0, l - r)^2)), a = n . (p - o) and l = |n x (p - o)| the axial and
 // lateral coordinates of p. On a curved surface the box of a tilted patch reaches far off the surface, so from
@@ -198,8 +199,9 @@ private:
 
   std::string BuildTree(std::vector<double>& lo, std::vector<double>& hi, std::vector<double>& centroid,
     std::size_t count, std::size_t leafSize, std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor);
+  std::vector<std::uint8_t> WideLanes() const;
   void BuildSlabs(const std::vector<std::uint32_t>& nodeRange, const ParallelFor& parallelFor);
-  void CollapseToWideNodes();
+  void CollapseToWideNodes(const ParallelFor& parallelFor);
   TrianglePack MakePack(std::uint32_t first, std::uint32_t count) const;
   // The traversal (PointSurfaceDistanceSearch.inc) compiled for SSE2 and for AVX (x86-64 only), and the result
   // from the nearest primitive it found.
