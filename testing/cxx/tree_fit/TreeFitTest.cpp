@@ -463,6 +463,65 @@ TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
             << fittedTwigVolume << "\n";
 }
 
+/// A flat sheet, a leaf blade: `length` along `along` from `base`, `width` across (along `across`), sampled about
+/// `spacing` apart with Gaussian noise of deviation `noise` along its normal.
+std::vector<Eigen::Vector3d> Sheet(const Eigen::Vector3d& base, const Eigen::Vector3d& along,
+  const Eigen::Vector3d& across, double length, double width, double spacing, double noise, std::uint64_t seed)
+{
+  RandomStream random(seed);
+  const Eigen::Vector3d a = along.normalized(), b = (across - across.dot(a) * a).normalized(), n = a.cross(b);
+  std::vector<Eigen::Vector3d> points;
+  const auto count = static_cast<std::size_t>(length * width / (spacing * spacing));
+  for (std::size_t i = 0; i < count; ++i)
+    points.push_back(
+      base + random.Uniform(0.0, length) * a + random.Uniform(-0.5, 0.5) * width * b + random.Normal(0.0, noise) * n);
+  return points;
+}
+
+TEST(TreeFit, LeafSheetsLabelledWoodAreNoBranches)
+{
+  // The twig tree of TwigsTooThinToMeasureGetPipeModelRadii with five leaf blades (20 by 8 cm, flat within 1 mm)
+  // hanging from the stem between the twigs, all labelled wood, as a segmentation that takes a few leaves for wood
+  // hands them over. Each blade is a side chain of the skeleton as long as a twig; its level sets are flat strips
+  // across it, wider than a twig's section: the blades go back to the leaves, the twigs stay, and the volume is the
+  // wood's.
+  std::vector<TrueCylinder> tree;
+  for (int k = 0; k < 7; ++k)
+    tree.push_back({ { 0, 0, 0.3 * k }, { 0, 0, 0.3 * (k + 1) }, 0.005 * std::sqrt(7.0 - k) });
+  for (int k = 0; k < 6; ++k)
+  {
+    const double phi = k * 2.0 * M_PI * 0.382;
+    const Eigen::Vector3d base(0, 0, 0.3 * (k + 1));
+    const Eigen::Vector3d dir(std::cos(phi) * 0.8, std::sin(phi) * 0.8, 0.6);
+    tree.push_back({ base, base + 0.6 * dir.normalized(), 0.005 });
+  }
+  std::vector<Eigen::Vector3d> points = Scan(tree, 0.008, 0.001);
+  const std::size_t woodPoints = points.size();
+  for (int k = 0; k < 5; ++k)
+  {
+    const double phi = (k + 0.5) * 2.0 * M_PI * 0.382 + M_PI;
+    const Eigen::Vector3d out(std::cos(phi), std::sin(phi), -0.3);
+    const Eigen::Vector3d base = Eigen::Vector3d(0, 0, 0.3 * k + 0.45) + 0.006 * out.normalized();
+    const auto blade = Sheet(base, out, Eigen::Vector3d(-std::sin(phi), std::cos(phi), 0.4), 0.2, 0.08, 0.008, 0.001,
+      11 + static_cast<std::uint64_t>(k));
+    points.insert(points.end(), blade.begin(), blade.end());
+  }
+  const TreeFitResult r = FitTree(points, std::vector<int>(points.size(), 1), TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.traits.order1, 6);
+  EXPECT_EQ(r.traits.branchCount, 6);
+  double twigVolume = 0, stemVolume = 0;
+  for (std::size_t k = 0; k < tree.size(); ++k)
+    (k < 7 ? stemVolume : twigVolume) += Volume(tree[k]);
+  EXPECT_NEAR(r.traits.branchVolume, twigVolume, 0.4 * twigVolume);
+  EXPECT_NEAR(r.traits.trunkVolume, stemVolume, 0.15 * stemVolume);
+  std::size_t bladeWood = 0, woodKept = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    (i < woodPoints ? woodKept : bladeWood) += r.wood[i];
+  EXPECT_LT(bladeWood, (points.size() - woodPoints) / 5); // those in the stem's level sets stay with its nodes
+  EXPECT_GT(woodKept, woodPoints * 9 / 10);
+}
+
 TEST(TreeFit, PipeModelSharesTheParentsAreaAmongEqualChildren)
 {
   // A measured stem forks into two equal thin children: their modelled radii follow the stem's growth-length model
