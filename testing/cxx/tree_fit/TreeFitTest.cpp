@@ -424,6 +424,31 @@ TEST(TreeFit, ALateralAtTheLeadersTipIsABranch)
   EXPECT_NEAR(r.branches[1].angle, 35.0, 6.0);
 }
 
+TEST(TreeFit, ABranchJoinedAtItsTipIsStillFittedFromItsBase)
+{
+  // A lateral leaves the leader's tip at 35 degrees, 3 cm above it (its junction hidden: leaves in front of it), and
+  // its tip touches the tip of a lower lateral. The nearest-neighbour graph has no link across the 3.6 cm gap at its
+  // base (each point's 10 nearest lie on its own surface), so the shortest paths reached it through the other
+  // branch's tip and the skeleton ran down it backwards: a branch of order 2 at about 150 degrees. The gap is
+  // bridged: the lateral is a first-order branch at its own angle.
+  const Eigen::Vector3d base(0, 0, 2.03), tip = base + 1.0 * Tilted(35.0, 0.0);
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, { 0, 0, 2.0 }, 0.05 }, { base, tip, 0.03 },
+    { { 0, 0, 1.0 }, tip, 0.02 } };
+  const TreeFitResult r = FitTree(Scan(tree, 0.01, 0.0005), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  int found = 0;
+  for (const TreeBranchRow& b : r.branches)
+  {
+    if (b.order > 0)
+    {
+      EXPECT_LT(b.angle, 90.0) << "branch " << b.id << " at height " << b.height;
+    }
+    if (b.height > 1.9 && b.height < 2.2 && b.order == 1 && std::abs(b.angle - 35.0) < 10.0)
+      ++found;
+  }
+  EXPECT_EQ(found, 1);
+}
+
 TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
 {
   // A stem that follows the pipe model (each 0.3-long piece carries the area of the twigs above it: radius 5 mm times
