@@ -278,19 +278,28 @@ bool IsSheet(const Wood& wood, const Node& node, const std::vector<unsigned char
 }
 
 /// Side chains that are leaves, not wood (a segmentation labels some leaf points wood: blade margins and petioles
-/// beside the twigs): at every fork, a child whose subtree has at least SheetShare of its points in flat sheets
-/// (IsSheet) is returned to the leaves with everything it carries: its points get no node and are no wood. Without
+/// beside the twigs): at every fork, a child that leaves it as a flat sheet (IsSheet) and whose subtree has at least
+/// SheetShare of its points in sheets is returned to the leaves with everything it carries: its points get no node and are no wood. Without
 /// this each such sheet becomes a twig of its own, whose pipe-model radius adds volume and whose growth length
 /// widens the model radii of the branches carrying it.
 void ReturnLeafSheets(
   const Wood& wood, std::vector<Node>& nodes, std::vector<int>& nodeOf, std::vector<unsigned char>& fitted)
 {
   std::vector<double> sheet(nodes.size(), 0.0), all(nodes.size(), 0.0);
+  std::vector<unsigned char> flat(nodes.size(), 0);
   for (std::size_t k = 0; k < nodes.size(); ++k)
   {
     all[k] = static_cast<double>(nodes[k].points.size());
-    sheet[k] = IsSheet(wood, nodes[k], fitted) ? all[k] : 0.0;
+    flat[k] = IsSheet(wood, nodes[k], fitted) ? 1 : 0;
+    sheet[k] = flat[k] ? all[k] : 0.0;
   }
+  // Where a side chain leaves its fork: its first node with points enough to tell a sheet from a tube. A twig leaves
+  // as a tube, whatever leaves (labelled wood) it carries further on; a blade strip hangs from its margin.
+  const auto leavesAsSheet = [&](int c) {
+    while (nodes[c].points.size() < static_cast<std::size_t>(SheetMinPoints) && nodes[c].children.size() == 1)
+      c = nodes[c].children.front();
+    return flat[c] != 0;
+  };
   for (std::size_t k = nodes.size(); k-- > 1;) // children have higher bins, hence higher ids
     if (nodes[k].parent >= 0)
     {
@@ -304,7 +313,7 @@ void ReturnLeafSheets(
     std::vector<int> keep;
     for (int c : nodes[k].children)
     {
-      if (!(sheet[c] >= SheetShare * all[c]))
+      if (!(sheet[c] >= SheetShare * all[c]) || !leavesAsSheet(c))
       {
         keep.push_back(c);
         continue;
