@@ -170,6 +170,29 @@ Graph NeighbourGraph(const std::vector<Eigen::Vector3d>& points, double spacing,
   return graph;
 }
 
+/// The graph with extra links (per point: (neighbour, length), both directions listed), each row's own links first.
+Graph WithLinks(const Graph& graph, const std::vector<std::vector<std::pair<int, double>>>& extra)
+{
+  const std::size_t n = extra.size();
+  Graph linked;
+  linked.offset.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
+    {
+      linked.target.push_back(graph.target[e]);
+      linked.weight.push_back(graph.weight[e]);
+    }
+    for (const auto& [j, d] : extra[i])
+    {
+      linked.target.push_back(j);
+      linked.weight.push_back(d);
+    }
+    linked.offset[i + 1] = static_cast<int>(linked.target.size());
+  }
+  return linked;
+}
+
 /// Joins the graph's components to the one holding the base across gaps up to GapReach spacings: candidate bridges
 /// between components meeting in neighbouring voxels of that size (the closest pair of up to 16 points of each in the
 /// two voxels), then Kruskal's shortest-first union. Returns, per point, whether it is in the joined tree; the bridges
@@ -277,25 +300,7 @@ std::vector<unsigned char> JoinComponents(const std::vector<Eigen::Vector3d>& po
   for (std::size_t i = 0; i < n; ++i)
     in[i] = size[root[i]] >= MinComponent && joined.Find(root[i]) == baseSet ? 1 : 0;
   if (any)
-  {
-    Graph withBridges;
-    withBridges.offset.assign(n + 1, 0);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
-      {
-        withBridges.target.push_back(graph.target[e]);
-        withBridges.weight.push_back(graph.weight[e]);
-      }
-      for (const auto& [j, d] : extra[i])
-      {
-        withBridges.target.push_back(j);
-        withBridges.weight.push_back(d);
-      }
-      withBridges.offset[i + 1] = static_cast<int>(withBridges.target.size());
-    }
-    graph = std::move(withBridges);
-  }
+    graph = WithLinks(graph, extra);
   return in;
 }
 
@@ -413,23 +418,7 @@ bool AddShortcuts(const Wood& wood, const ParallelFor& parallel, Graph& graph)
       extra[i].push_back(link[i]);
       extra[static_cast<std::size_t>(link[i].first)].emplace_back(static_cast<int>(i), link[i].second);
     }
-  Graph linked;
-  linked.offset.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
-    {
-      linked.target.push_back(graph.target[e]);
-      linked.weight.push_back(graph.weight[e]);
-    }
-    for (const auto& [j, d] : extra[i])
-    {
-      linked.target.push_back(j);
-      linked.weight.push_back(d);
-    }
-    linked.offset[i + 1] = static_cast<int>(linked.target.size());
-  }
-  graph = std::move(linked);
+  graph = WithLinks(graph, extra);
   return true;
 }
 } // namespace

@@ -253,6 +253,28 @@ void Subtree(const std::vector<Node>& nodes, int node, std::vector<int>& out)
   }
 }
 
+/// Removes the subtree under `node` (itself included): each of its points goes to node `to` (-1: none) unfitted, and
+/// its nodes are marked removed. The caller drops `node` from its parent's children.
+void CutSubtree(
+  std::vector<Node>& nodes, int node, int to, std::vector<int>& nodeOf, std::vector<unsigned char>& fitted)
+{
+  std::vector<int> cut;
+  Subtree(nodes, node, cut);
+  for (int m : cut)
+  {
+    for (int i : nodes[m].points)
+    {
+      nodeOf[i] = to;
+      fitted[i] = 0;
+      if (to >= 0)
+        nodes[to].points.push_back(i);
+    }
+    nodes[m].points.clear();
+    nodes[m].children.clear();
+    nodes[m].parent = -2; // removed
+  }
+}
+
 /// Whether a node's points lie in a flat sheet wider than a twig's section (a leaf, or a strip of one): the smallest
 /// principal deviation under SheetFlatness of the middle one, which is at least SheetWidth spacings. A twig's level
 /// set is a short tube (its two smaller deviations about equal, or an arc's when one side is scanned, at least 0.3
@@ -318,19 +340,7 @@ void ReturnLeafSheets(
         keep.push_back(c);
         continue;
       }
-      std::vector<int> cut;
-      Subtree(nodes, c, cut);
-      for (int m : cut)
-      {
-        for (int i : nodes[m].points)
-        {
-          nodeOf[i] = -1;
-          fitted[i] = 0;
-        }
-        nodes[m].points.clear();
-        nodes[m].children.clear();
-        nodes[m].parent = -2; // removed
-      }
+      CutSubtree(nodes, c, -1, nodeOf, fitted);
     }
     nodes[k].children = keep;
   }
@@ -360,20 +370,7 @@ void Prune(std::vector<Node>& nodes, std::vector<int>& nodeOf, std::vector<unsig
         keep.push_back(c);
         continue;
       }
-      std::vector<int> cut;
-      Subtree(nodes, c, cut);
-      for (int m : cut)
-      {
-        for (int i : nodes[m].points)
-        {
-          nodeOf[i] = static_cast<int>(k);
-          fitted[i] = 0;
-          node.points.push_back(i);
-        }
-        nodes[m].points.clear();
-        nodes[m].children.clear();
-        nodes[m].parent = -2; // removed
-      }
+      CutSubtree(nodes, c, static_cast<int>(k), nodeOf, fitted);
     }
     node.children = keep;
   }

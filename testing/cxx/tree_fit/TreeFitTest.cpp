@@ -449,12 +449,10 @@ TEST(TreeFit, ABranchJoinedAtItsTipIsStillFittedFromItsBase)
   EXPECT_EQ(found, 1);
 }
 
-TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
+/// A stem of seven 0.3-long pieces that follows the pipe model (radius 5 mm times the square root of the twigs above
+/// it) with six twigs of 5 mm, 0.6 long, one at the top of each of its first six pieces; the stem first.
+std::vector<TrueCylinder> TwigTree()
 {
-  // A stem that follows the pipe model (each 0.3-long piece carries the area of the twigs above it: radius 5 mm times
-  // the square root of their number) with six twigs of 5 mm, 0.6 long, sampled 8 mm apart with 1 mm noise: the twigs
-  // are too thin to measure (their circumference is less than 5 spacings), so their radii come from the model the
-  // measured stem gives instead of circle fits of a few noisy points.
   std::vector<TrueCylinder> tree;
   for (int k = 0; k < 7; ++k)
     tree.push_back({ { 0, 0, 0.3 * k }, { 0, 0, 0.3 * (k + 1) }, 0.005 * std::sqrt(7.0 - k) });
@@ -465,6 +463,16 @@ TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
     const Eigen::Vector3d dir(std::cos(phi) * 0.8, std::sin(phi) * 0.8, 0.6);
     tree.push_back({ base, base + 0.6 * dir.normalized(), 0.005 });
   }
+  return tree;
+}
+
+TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
+{
+  // A stem that follows the pipe model (each 0.3-long piece carries the area of the twigs above it: radius 5 mm times
+  // the square root of their number) with six twigs of 5 mm, 0.6 long, sampled 8 mm apart with 1 mm noise: the twigs
+  // are too thin to measure (their circumference is less than 5 spacings), so their radii come from the model the
+  // measured stem gives instead of circle fits of a few noisy points.
+  const std::vector<TrueCylinder> tree = TwigTree();
   const TreeFitResult r = FitTree(Scan(tree, 0.008, 0.001), {}, TreeFitParameters());
   ASSERT_EQ(r.error, "");
   EXPECT_EQ(r.traits.order1, 6);
@@ -510,16 +518,7 @@ TEST(TreeFit, LeafSheetsLabelledWoodAreNoBranches)
   // hands them over. Each blade is a side chain of the skeleton as long as a twig; its level sets are flat strips
   // across it, wider than a twig's section: the blades go back to the leaves, the twigs stay, and the volume is the
   // wood's.
-  std::vector<TrueCylinder> tree;
-  for (int k = 0; k < 7; ++k)
-    tree.push_back({ { 0, 0, 0.3 * k }, { 0, 0, 0.3 * (k + 1) }, 0.005 * std::sqrt(7.0 - k) });
-  for (int k = 0; k < 6; ++k)
-  {
-    const double phi = k * 2.0 * M_PI * 0.382;
-    const Eigen::Vector3d base(0, 0, 0.3 * (k + 1));
-    const Eigen::Vector3d dir(std::cos(phi) * 0.8, std::sin(phi) * 0.8, 0.6);
-    tree.push_back({ base, base + 0.6 * dir.normalized(), 0.005 });
-  }
+  const std::vector<TrueCylinder> tree = TwigTree();
   std::vector<Eigen::Vector3d> points = Scan(tree, 0.008, 0.001);
   const std::size_t woodPoints = points.size();
   for (int k = 0; k < 5; ++k)
