@@ -26,6 +26,7 @@ Truth and how it is compared (benchmarks/README.md, "tree_fit_accuracy"):
 import argparse
 import json
 import math
+import os
 import time
 
 import numpy
@@ -38,12 +39,15 @@ parser.add_argument("--leaves", action="store_true", help="scan the trees with t
 parser.add_argument("--noise", type=float, default=0.003, help="range noise deviation (m)")
 parser.add_argument("--json", default=None)
 parser.add_argument("--trees", default=None, help="comma-separated names: only these trees")
+parser.add_argument("--cache", default=None, help="folder: each scan (and its segmentation) is written there once "
+                    "and read back on later runs, so that two versions of the fit see the same points")
 arguments = parser.parse_args()
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 from vtkmodules.vtkFiltersCore import vtkMassProperties, vtkTriangleFilter  # noqa: E402
+from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter  # noqa: E402
 
 LoadPlugin(arguments.plugin, ns=globals())
 
@@ -291,6 +295,28 @@ def evaluate(name, variant, fit, truth, cloud):
     return row
 
 
+def cached_scan(scanner, path):
+    """The scan read from `path`, written there first (with PlantSegmentationFilter's Organ as SegmentedOrgan when
+    the trees have leaves) if it is not there yet."""
+    if not os.path.exists(path):
+        data = scanner
+        if arguments.leaves:
+            segmentation = PlantSegmentationFilter(Input=scanner, UpAxis="Y")
+            labels = servermanager.Fetch(segmentation).GetPointData().GetArray("Organ")
+            data = servermanager.Fetch(scanner)
+            labels.SetName("SegmentedOrgan")
+            data.GetPointData().AddArray(labels)
+            Delete(segmentation)
+        else:
+            data = servermanager.Fetch(scanner)
+        writer = vtkXMLPolyDataWriter()
+        writer.SetFileName(path)
+        writer.SetInputData(data)
+        writer.Write()
+    Delete(scanner)
+    return XMLPolyDataReader(FileName=[path])
+
+
 rows = []
 for name, properties in TREES:
     tree = build_tree(properties)
@@ -304,23 +330,30 @@ for name, properties in TREES:
     else:
         truth["tree_height"] = truth["height"]
     scanner = scan(surface, truth)
+    if arguments.cache:
+        scanner = cached_scan(scanner, f"{arguments.cache}/{name}{'-leaves' if arguments.leaves else ''}.vtp")
     scanner.UpdatePipeline()
     cloud = servermanager.Fetch(scanner)
     if arguments.leaves:
         fits = [("label", TreeFitFilter(Input=scanner, UpAxis="Y", WoodArray="Organ"))]
-        segmentation = PlantSegmentationFilter(Input=scanner, UpAxis="Y")
-        fits.append(("segmented", TreeFitFilter(Input=segmentation, UpAxis="Y", WoodArray="Organ")))
+        if arguments.cache:  # the cached scan holds the segmentation's label as SegmentedOrgan (0 wood)
+            segmentation = None
+            fits.append(("segmented", TreeFitFilter(Input=scanner, UpAxis="Y", WoodArray="SegmentedOrgan",
+                                                    WoodValues="Zero is wood")))
+        else:
+            segmentation = PlantSegmentationFilter(Input=scanner, UpAxis="Y")
+            fits.append(("segmented", TreeFitFilter(Input=segmentation, UpAxis="Y", WoodArray="Organ")))
     else:
         fits = [("bare", TreeFitFilter(Input=scanner, UpAxis="Y"))]
     for variant, fit in fits:
-        if variant == "segmented":  # the segmentation's time is its own, not the fit's
+        if variant == "segmented" and segmentation is not None:  # the segmentation's time is its own, not the fit's
             start, cpu = time.perf_counter(), time.process_time()
             segmentation.UpdatePipeline()
             print(f"  segmentation {time.perf_counter() - start:.2f} s wall, {time.process_time() - cpu:.2f} s CPU",
                   flush=True)
         rows.append(evaluate(name, variant, fit, truth, cloud))
         Delete(fit)
-    if arguments.leaves:
+    if arguments.leaves and segmentation is not None:
         Delete(segmentation)
     Delete(scanner)
 

@@ -110,6 +110,34 @@ std::string PointValues(const std::vector<Eigen::Vector3d>& points, const treefi
 
 namespace
 {
+/// The skeleton's leaf sheets (points without a node) are no wood: out of the cleaned wood (whose graph is no longer
+/// used), its points' cylinders, and the candidates the tip's height is strung from.
+void ReturnToLeaves(
+  const std::vector<int>& nodeOf, treefit::Wood& wood, std::vector<int>& woodCylinder, std::vector<int>& candidates)
+{
+  if (std::find(nodeOf.begin(), nodeOf.end(), -1) == nodeOf.end())
+    return;
+  std::vector<unsigned char> leaf(*std::max_element(candidates.begin(), candidates.end()) + 1, 0);
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < wood.points.size(); ++i)
+    if (nodeOf[i] < 0)
+      leaf[wood.input[i]] = 1;
+    else
+    {
+      wood.points[kept] = wood.points[i];
+      woodCylinder[kept] = woodCylinder[i];
+      wood.input[kept++] = wood.input[i];
+    }
+  wood.points.resize(kept);
+  woodCylinder.resize(kept);
+  wood.input.resize(kept);
+  wood.graph = {};
+  wood.geodesic.clear();
+  wood.previous.clear();
+  candidates.erase(
+    std::remove_if(candidates.begin(), candidates.end(), [&](int i) { return leaf[i] != 0; }), candidates.end());
+}
+
 /// The fit on the points in their canonical order (FitTree sorts them first).
 TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel,
   const TreeFitParameters& options, const ParallelFor& parallel)
@@ -127,6 +155,8 @@ TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::v
   {
     const treefit::Skeleton skeleton = treefit::BuildSkeleton(wood);
     result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder);
+    if (result.error.empty())
+      ReturnToLeaves(skeleton.nodeOf, wood, woodCylinder, candidates);
   }
   if (result.error.empty())
     result.error = PointValues(points, wood, woodCylinder, result);

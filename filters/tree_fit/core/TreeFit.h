@@ -9,12 +9,15 @@
 //  2. Clean: points whose mean neighbour distance is an outlier on a log scale (density falls with the distance to
 //     the scanner, multiplicatively) are dropped; the neighbour graph (10 nearest within 8 s) is split into
 //     connected components, and components are joined to the one holding the base across gaps up to 25 s (the
-//     occlusion gaps of a scan); what stays apart is not wood of this tree.
+//     occlusion gaps of a scan); what stays apart is not wood of this tree. Inside a component, a gap of up to 4 s at
+//     a chain's far end is bridged where the shortest path round it is 50 s longer (a junction hidden by leaves).
 //  3. Skeleton: geodesic (Dijkstra) distance from the base (the lowest bin width of points), points binned by it into
 //     level sets of width 6 s; the connected components of each bin are nodes; each node's parent is the node its
 //     nearest-to-base point's shortest path comes from (a tree by construction). Two chains that are one stem's
 //     level sets split side by side (both sides on one circle, bin by bin) become one. Side chains shorter than 3
-//     bins are pruned (their points go to the fork). Chains of nodes between forks are segments.
+//     bins are pruned (their points go to the fork). Side chains that leave their fork as flat sheets wider than a
+//     twig's section, and lie at least half in sheets, are leaves labelled wood: they go back to the leaves. Chains of
+//     nodes between forks are segments.
 //  4. Cylinders: each segment is cut into pieces about two radii long; each piece gets a robust cylinder (circle fit
 //     of the cross-section about the chain's direction, then Gauss-Newton on axis and radius with Huber weights).
 //  5. Radii: a fit is "measured" only where the points support it (enough points, an arc of the circle seen of at

@@ -24,9 +24,11 @@ namespace
 {
 constexpr int SpacingNeighbours = 6;
 constexpr int GraphNeighbours = 10;
-constexpr double GraphReach = 8.0; // spacings
-constexpr double GapReach = 25.0;  // spacings
-constexpr int MinComponent = 5;    // points
+constexpr double GraphReach = 8.0;      // spacings
+constexpr double GapReach = 25.0;       // spacings
+constexpr int MinComponent = 5;         // points
+constexpr double ShortcutReach = 4.0;   // spacings: a gap the nearest-neighbour graph leaves between two surfaces...
+constexpr double ShortcutSaving = 50.0; // ...is bridged when the shortest path round it is this many spacings longer
 
 /// Mean distance of every point to its k nearest neighbours (infinite when it has none).
 std::vector<double> MeanNeighbourDistance(
@@ -168,6 +170,29 @@ Graph NeighbourGraph(const std::vector<Eigen::Vector3d>& points, double spacing,
   return graph;
 }
 
+/// The graph with extra links (per point: (neighbour, length), both directions listed), each row's own links first.
+Graph WithLinks(const Graph& graph, const std::vector<std::vector<std::pair<int, double>>>& extra)
+{
+  const std::size_t n = extra.size();
+  Graph linked;
+  linked.offset.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
+    {
+      linked.target.push_back(graph.target[e]);
+      linked.weight.push_back(graph.weight[e]);
+    }
+    for (const auto& [j, d] : extra[i])
+    {
+      linked.target.push_back(j);
+      linked.weight.push_back(d);
+    }
+    linked.offset[i + 1] = static_cast<int>(linked.target.size());
+  }
+  return linked;
+}
+
 /// Joins the graph's components to the one holding the base across gaps up to GapReach spacings: candidate bridges
 /// between components meeting in neighbouring voxels of that size (the closest pair of up to 16 points of each in the
 /// two voxels), then Kruskal's shortest-first union. Returns, per point, whether it is in the joined tree; the bridges
@@ -275,25 +300,7 @@ std::vector<unsigned char> JoinComponents(const std::vector<Eigen::Vector3d>& po
   for (std::size_t i = 0; i < n; ++i)
     in[i] = size[root[i]] >= MinComponent && joined.Find(root[i]) == baseSet ? 1 : 0;
   if (any)
-  {
-    Graph withBridges;
-    withBridges.offset.assign(n + 1, 0);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
-      {
-        withBridges.target.push_back(graph.target[e]);
-        withBridges.weight.push_back(graph.weight[e]);
-      }
-      for (const auto& [j, d] : extra[i])
-      {
-        withBridges.target.push_back(j);
-        withBridges.weight.push_back(d);
-      }
-      withBridges.offset[i + 1] = static_cast<int>(withBridges.target.size());
-    }
-    graph = std::move(withBridges);
-  }
+    graph = WithLinks(graph, extra);
   return in;
 }
 
@@ -365,6 +372,55 @@ void Geodesic(const std::vector<Eigen::Vector3d>& points, const Graph& graph, co
     }
   }
 }
+/// Shortcuts across the gaps the neighbour graph leaves inside a component: the 10 nearest neighbours of a point on a
+/// densely scanned surface all lie on that surface, so two surfaces a few spacings apart (a branch's base and the
+/// leader's tip it leaves, where leaves hid the junction) are not linked; when the two are joined elsewhere (the
+/// branch's far end touching another branch's twigs), the shortest paths reach the branch from its tip and the
+/// skeleton runs down it backwards, a branch of the wrong order at an angle over 90 degrees. At every local maximum
+/// of the geodesic distance (a chain's far end), a point within ShortcutReach spacings whose path plus the gap is
+/// ShortcutSaving spacings shorter is linked to it. Returns whether any link was added.
+bool AddShortcuts(const Wood& wood, const ParallelFor& parallel, Graph& graph)
+{
+  const std::size_t n = wood.points.size();
+  const double reach = ShortcutReach * wood.spacing, saving = ShortcutSaving * wood.spacing;
+  const PointGrid grid(wood.points, reach);
+  std::vector<std::pair<int, double>> link(n, { -1, 0.0 });
+  parallel(n, [&](std::size_t begin, std::size_t end) {
+    std::vector<int> near;
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      const double g = wood.geodesic[i];
+      bool top = std::isfinite(g);
+      for (int e = graph.offset[i]; e < graph.offset[i + 1] && top; ++e)
+        top = wood.geodesic[graph.target[e]] <= g;
+      if (!top)
+        continue;
+      near.clear();
+      grid.Within(wood.points[i], reach, near);
+      double best = g - saving;
+      for (int j : near)
+      {
+        const double d = (wood.points[j] - wood.points[i]).norm();
+        if (wood.geodesic[j] + d < best)
+        {
+          best = wood.geodesic[j] + d;
+          link[i] = { j, d };
+        }
+      }
+    }
+  });
+  if (std::none_of(link.begin(), link.end(), [](const auto& l) { return l.first >= 0; }))
+    return false;
+  std::vector<std::vector<std::pair<int, double>>> extra(n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (link[i].first >= 0)
+    {
+      extra[i].push_back(link[i]);
+      extra[static_cast<std::size_t>(link[i].first)].emplace_back(static_cast<int>(i), link[i].second);
+    }
+  graph = WithLinks(graph, extra);
+  return true;
+}
 } // namespace
 
 double PointSpacing(const std::vector<Eigen::Vector3d>& points, const ParallelFor& parallel)
@@ -427,6 +483,8 @@ std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& all, const std::
     wood.input.push_back(candidates[inliers[k]]);
   }
   Geodesic(wood.points, wood.graph, options.up, 6.0 * spacing, wood.geodesic, wood.previous);
+  if (AddShortcuts(wood, parallel, wood.graph))
+    Geodesic(wood.points, wood.graph, options.up, 6.0 * spacing, wood.geodesic, wood.previous);
   return {};
 }
 

@@ -3,6 +3,8 @@
 // node tree, pruning of short side chains, segments.
 #include "TreeFitInternal.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -22,6 +24,10 @@ constexpr double OneStemShare = 0.85;    // share of each of the two nodes' poin
 constexpr double OneStemWidth = 1.5;     // the joint circle's radius within this factor of the stem's below
 constexpr double OneStemArc = 150.0;     // degrees of the joint circle the two nodes' points cover together
 constexpr int ParallelBins = 4;          // bins two chains that both go on must run side by side to be one stem
+constexpr double SheetFlatness = 0.2;    // a node's smallest principal deviation under this share of its middle one...
+constexpr double SheetWidth = 1.0;       // ...which is at least this many spacings: a flat sheet (a leaf's strip)
+constexpr int SheetMinPoints = 10;       // points a node needs to be called a sheet
+constexpr double SheetShare = 0.5;       // share of a side chain's points in sheets that makes it leaves, not wood
 
 int FindRoot(std::vector<int>& up, int a)
 {
@@ -247,6 +253,99 @@ void Subtree(const std::vector<Node>& nodes, int node, std::vector<int>& out)
   }
 }
 
+/// Removes the subtree under `node` (itself included): each of its points goes to node `to` (-1: none) unfitted, and
+/// its nodes are marked removed. The caller drops `node` from its parent's children.
+void CutSubtree(
+  std::vector<Node>& nodes, int node, int to, std::vector<int>& nodeOf, std::vector<unsigned char>& fitted)
+{
+  std::vector<int> cut;
+  Subtree(nodes, node, cut);
+  for (int m : cut)
+  {
+    for (int i : nodes[m].points)
+    {
+      nodeOf[i] = to;
+      fitted[i] = 0;
+      if (to >= 0)
+        nodes[to].points.push_back(i);
+    }
+    nodes[m].points.clear();
+    nodes[m].children.clear();
+    nodes[m].parent = -2; // removed
+  }
+}
+
+/// Whether a node's points lie in a flat sheet wider than a twig's section (a leaf, or a strip of one): the smallest
+/// principal deviation under SheetFlatness of the middle one, which is at least SheetWidth spacings. A twig's level
+/// set is a short tube (its two smaller deviations about equal, or an arc's when one side is scanned, at least 0.3
+/// of the larger), a thick stem's a ring; a blade's is a strip across the blade, flat within the scan's noise.
+bool IsSheet(const Wood& wood, const Node& node, const std::vector<unsigned char>& fitted)
+{
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (int i : node.points)
+    if (fitted[i])
+      mean += wood.points[i], ++count;
+  if (count < SheetMinPoints)
+    return false;
+  mean /= count;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (int i : node.points)
+    if (fitted[i])
+      covariance += (wood.points[i] - mean) * (wood.points[i] - mean).transpose();
+  const Eigen::Vector3d ev =
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance / count, Eigen::EigenvaluesOnly).eigenvalues();
+  const double thin = std::sqrt(std::max(ev[0], 0.0)), middle = std::sqrt(std::max(ev[1], 0.0));
+  return middle >= SheetWidth * wood.spacing && thin <= SheetFlatness * middle;
+}
+
+/// Side chains that are leaves, not wood (a segmentation labels some leaf points wood: blade margins and petioles
+/// beside the twigs): at every fork, a child that leaves it as a flat sheet (IsSheet) and whose subtree has at least
+/// SheetShare of its points in sheets is returned to the leaves with everything it carries: its points get no node and are no wood. Without
+/// this each such sheet becomes a twig of its own, whose pipe-model radius adds volume and whose growth length
+/// widens the model radii of the branches carrying it.
+void ReturnLeafSheets(
+  const Wood& wood, std::vector<Node>& nodes, std::vector<int>& nodeOf, std::vector<unsigned char>& fitted)
+{
+  std::vector<double> sheet(nodes.size(), 0.0), all(nodes.size(), 0.0);
+  std::vector<unsigned char> flat(nodes.size(), 0);
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+  {
+    all[k] = static_cast<double>(nodes[k].points.size());
+    flat[k] = IsSheet(wood, nodes[k], fitted) ? 1 : 0;
+    sheet[k] = flat[k] ? all[k] : 0.0;
+  }
+  // Where a side chain leaves its fork: its first node with points enough to tell a sheet from a tube. A twig leaves
+  // as a tube, whatever leaves (labelled wood) it carries further on; a blade strip hangs from its margin.
+  const auto leavesAsSheet = [&](int c) {
+    while (nodes[c].points.size() < static_cast<std::size_t>(SheetMinPoints) && nodes[c].children.size() == 1)
+      c = nodes[c].children.front();
+    return flat[c] != 0;
+  };
+  for (std::size_t k = nodes.size(); k-- > 1;) // children have higher bins, hence higher ids
+    if (nodes[k].parent >= 0)
+    {
+      sheet[nodes[k].parent] += sheet[k];
+      all[nodes[k].parent] += all[k];
+    }
+  for (std::size_t k = 0; k < nodes.size(); ++k) // parents first; removed nodes have no children left
+  {
+    if (nodes[k].children.size() < 2)
+      continue;
+    std::vector<int> keep;
+    for (int c : nodes[k].children)
+    {
+      if (!(sheet[c] >= SheetShare * all[c]) || !leavesAsSheet(c))
+      {
+        keep.push_back(c);
+        continue;
+      }
+      CutSubtree(nodes, c, -1, nodeOf, fitted);
+    }
+    nodes[k].children = keep;
+  }
+}
+
 /// Side chains shorter than MinSideBins bins are cut off at their fork: their points go to the fork node, unfitted.
 void Prune(std::vector<Node>& nodes, std::vector<int>& nodeOf, std::vector<unsigned char>& fitted)
 {
@@ -271,20 +370,7 @@ void Prune(std::vector<Node>& nodes, std::vector<int>& nodeOf, std::vector<unsig
         keep.push_back(c);
         continue;
       }
-      std::vector<int> cut;
-      Subtree(nodes, c, cut);
-      for (int m : cut)
-      {
-        for (int i : nodes[m].points)
-        {
-          nodeOf[i] = static_cast<int>(k);
-          fitted[i] = 0;
-          node.points.push_back(i);
-        }
-        nodes[m].points.clear();
-        nodes[m].children.clear();
-        nodes[m].parent = -2; // removed
-      }
+      CutSubtree(nodes, c, static_cast<int>(k), nodeOf, fitted);
     }
     node.children = keep;
   }
@@ -299,6 +385,7 @@ Skeleton BuildSkeleton(const Wood& wood)
   LinkNodes(wood, s.nodeOf, s.nodes);
   MergeSideBySide(wood, s.nodes, s.nodeOf);
   s.fitted.assign(wood.points.size(), 1);
+  ReturnLeafSheets(wood, s.nodes, s.nodeOf, s.fitted);
   Prune(s.nodes, s.nodeOf, s.fitted);
   for (Node& node : s.nodes)
   {

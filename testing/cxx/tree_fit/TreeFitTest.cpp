@@ -424,12 +424,35 @@ TEST(TreeFit, ALateralAtTheLeadersTipIsABranch)
   EXPECT_NEAR(r.branches[1].angle, 35.0, 6.0);
 }
 
-TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
+TEST(TreeFit, ABranchJoinedAtItsTipIsStillFittedFromItsBase)
 {
-  // A stem that follows the pipe model (each 0.3-long piece carries the area of the twigs above it: radius 5 mm times
-  // the square root of their number) with six twigs of 5 mm, 0.6 long, sampled 8 mm apart with 1 mm noise: the twigs
-  // are too thin to measure (their circumference is less than 5 spacings), so their radii come from the model the
-  // measured stem gives instead of circle fits of a few noisy points.
+  // A lateral leaves the leader's tip at 35 degrees, 3 cm above it (its junction hidden: leaves in front of it), and
+  // its tip touches the tip of a lower lateral. The nearest-neighbour graph has no link across the 3.6 cm gap at its
+  // base (each point's 10 nearest lie on its own surface), so the shortest paths reached it through the other
+  // branch's tip and the skeleton ran down it backwards: a branch of order 2 at about 150 degrees. The gap is
+  // bridged: the lateral is a first-order branch at its own angle.
+  const Eigen::Vector3d base(0, 0, 2.03), tip = base + 1.0 * Tilted(35.0, 0.0);
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, { 0, 0, 2.0 }, 0.05 }, { base, tip, 0.03 },
+    { { 0, 0, 1.0 }, tip, 0.02 } };
+  const TreeFitResult r = FitTree(Scan(tree, 0.01, 0.0005), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  int found = 0;
+  for (const TreeBranchRow& b : r.branches)
+  {
+    if (b.order > 0)
+    {
+      EXPECT_LT(b.angle, 90.0) << "branch " << b.id << " at height " << b.height;
+    }
+    if (b.height > 1.9 && b.height < 2.2 && b.order == 1 && std::abs(b.angle - 35.0) < 10.0)
+      ++found;
+  }
+  EXPECT_EQ(found, 1);
+}
+
+/// A stem of seven 0.3-long pieces that follows the pipe model (radius 5 mm times the square root of the twigs above
+/// it) with six twigs of 5 mm, 0.6 long, one at the top of each of its first six pieces; the stem first.
+std::vector<TrueCylinder> TwigTree()
+{
   std::vector<TrueCylinder> tree;
   for (int k = 0; k < 7; ++k)
     tree.push_back({ { 0, 0, 0.3 * k }, { 0, 0, 0.3 * (k + 1) }, 0.005 * std::sqrt(7.0 - k) });
@@ -440,6 +463,16 @@ TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
     const Eigen::Vector3d dir(std::cos(phi) * 0.8, std::sin(phi) * 0.8, 0.6);
     tree.push_back({ base, base + 0.6 * dir.normalized(), 0.005 });
   }
+  return tree;
+}
+
+TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
+{
+  // A stem that follows the pipe model (each 0.3-long piece carries the area of the twigs above it: radius 5 mm times
+  // the square root of their number) with six twigs of 5 mm, 0.6 long, sampled 8 mm apart with 1 mm noise: the twigs
+  // are too thin to measure (their circumference is less than 5 spacings), so their radii come from the model the
+  // measured stem gives instead of circle fits of a few noisy points.
+  const std::vector<TrueCylinder> tree = TwigTree();
   const TreeFitResult r = FitTree(Scan(tree, 0.008, 0.001), {}, TreeFitParameters());
   ASSERT_EQ(r.error, "");
   EXPECT_EQ(r.traits.order1, 6);
@@ -461,6 +494,56 @@ TEST(TreeFit, TwigsTooThinToMeasureGetPipeModelRadii)
   EXPECT_NEAR(r.traits.trunkVolume, stemVolume, 0.15 * stemVolume);
   std::cout << "twigs: true volume " << twigVolume << ", modelled " << r.traits.branchVolume << ", circle fits "
             << fittedTwigVolume << "\n";
+}
+
+/// A flat sheet, a leaf blade: `length` along `along` from `base`, `width` across (along `across`), sampled about
+/// `spacing` apart with Gaussian noise of deviation `noise` along its normal.
+std::vector<Eigen::Vector3d> Sheet(const Eigen::Vector3d& base, const Eigen::Vector3d& along,
+  const Eigen::Vector3d& across, double length, double width, double spacing, double noise, std::uint64_t seed)
+{
+  RandomStream random(seed);
+  const Eigen::Vector3d a = along.normalized(), b = (across - across.dot(a) * a).normalized(), n = a.cross(b);
+  std::vector<Eigen::Vector3d> points;
+  const auto count = static_cast<std::size_t>(length * width / (spacing * spacing));
+  for (std::size_t i = 0; i < count; ++i)
+    points.push_back(
+      base + random.Uniform(0.0, length) * a + random.Uniform(-0.5, 0.5) * width * b + random.Normal(0.0, noise) * n);
+  return points;
+}
+
+TEST(TreeFit, LeafSheetsLabelledWoodAreNoBranches)
+{
+  // The twig tree of TwigsTooThinToMeasureGetPipeModelRadii with five leaf blades (20 by 8 cm, flat within 1 mm)
+  // hanging from the stem between the twigs, all labelled wood, as a segmentation that takes a few leaves for wood
+  // hands them over. Each blade is a side chain of the skeleton as long as a twig; its level sets are flat strips
+  // across it, wider than a twig's section: the blades go back to the leaves, the twigs stay, and the volume is the
+  // wood's.
+  const std::vector<TrueCylinder> tree = TwigTree();
+  std::vector<Eigen::Vector3d> points = Scan(tree, 0.008, 0.001);
+  const std::size_t woodPoints = points.size();
+  for (int k = 0; k < 5; ++k)
+  {
+    const double phi = (k + 0.5) * 2.0 * M_PI * 0.382 + M_PI;
+    const Eigen::Vector3d out(std::cos(phi), std::sin(phi), -0.3);
+    const Eigen::Vector3d base = Eigen::Vector3d(0, 0, 0.3 * k + 0.45) + 0.006 * out.normalized();
+    const auto blade = Sheet(base, out, Eigen::Vector3d(-std::sin(phi), std::cos(phi), 0.4), 0.2, 0.08, 0.008, 0.001,
+      11 + static_cast<std::uint64_t>(k));
+    points.insert(points.end(), blade.begin(), blade.end());
+  }
+  const TreeFitResult r = FitTree(points, std::vector<int>(points.size(), 1), TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.traits.order1, 6);
+  EXPECT_EQ(r.traits.branchCount, 6);
+  double twigVolume = 0, stemVolume = 0;
+  for (std::size_t k = 0; k < tree.size(); ++k)
+    (k < 7 ? stemVolume : twigVolume) += Volume(tree[k]);
+  EXPECT_NEAR(r.traits.branchVolume, twigVolume, 0.4 * twigVolume);
+  EXPECT_NEAR(r.traits.trunkVolume, stemVolume, 0.15 * stemVolume);
+  std::size_t bladeWood = 0, woodKept = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    (i < woodPoints ? woodKept : bladeWood) += r.wood[i];
+  EXPECT_LT(bladeWood, (points.size() - woodPoints) / 5); // those in the stem's level sets stay with its nodes
+  EXPECT_GT(woodKept, woodPoints * 9 / 10);
 }
 
 TEST(TreeFit, PipeModelSharesTheParentsAreaAmongEqualChildren)
