@@ -32,6 +32,9 @@
 //     a fold or crease) that touches other leaf parts joins the one it shares the most links with, smallest first;
 //     then a larger part joins the touching part it shares the most links with among those continuing its sheet
 //     (planes within NormalAngle, both together off their common plane by under r): a leaf cut in two by a crease.
+//     Parts that do not touch join when they lie in one plane (planes within half of NormalAngle, both off their
+//     common plane by under r / 4) within 4r of each other, nearest first: a leaf seen in pieces through a gap in
+//     the scan (the shadow of a leaf or twig in front of it).
 //     Each leaf part of at least MinimumLeafPoints points is then a leaf; LeafId numbers
 //     them over all plants in the order of their lowest point index (deterministic). Smaller leaf regions stay leaf
 //     points with LeafId -1. Each leaf's base is its point nearest the wood along the link graph; the branch it

@@ -239,6 +239,48 @@ TEST(PlantSegmentation, ALeafCutInTwoAlongOneSheetIsOneInstance)
     EXPECT_GT(iou, 0.9);
 }
 
+TEST(PlantSegmentation, ALeafSeenInTwoPiecesAcrossAGapIsOneInstanceAParallelLeafIsNot)
+{
+  // The plant of seven leaves, the first with a band across it left unscanned (six spacings wide, its middle: the
+  // shadow of a twig in front of it): its two pieces share no link, each is a leaf part of its own (it gave two
+  // instances, the leaf matched at IoU 0.5 or under). Both lie in one plane within a few radii of each other: they
+  // join. A second leaf parallel to the second one, two radii above it (not in its plane), stays apart.
+  const int leaves = 7;
+  Truth t = SyntheticPlant(leaves);
+  const double rise = 40.0 * Pi / 180.0, h = 0.005, r = 4.0 * h;
+  const Eigen::Vector3d out(1.0, 0.0, 0.0), up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * up, across = up.cross(out);
+  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, 0.15), normal = along.cross(across);
+  Truth cut;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+  {
+    const double s = (t.points[i] - base).dot(along);
+    if (t.leaf[i] == 0 && s > 0.12 && s < 0.12 + 6.0 * h)
+      continue;
+    cut.points.push_back(t.points[i]);
+    cut.organ.push_back(t.organ[i]);
+    cut.leaf.push_back(t.leaf[i]);
+  }
+  const plantmorph::SegmentationResult r1 = plantmorph::SegmentPlants(cut.points, {}, {});
+  ASSERT_EQ(r1.error, "");
+  EXPECT_EQ(r1.leaves.size(), static_cast<std::size_t>(leaves));
+  for (double iou : InstanceIoU(cut, r1, leaves))
+    EXPECT_GT(iou, 0.9);
+  // the parallel leaf: a copy of the first leaf's outer piece, two radii off its plane
+  for (std::size_t i = 0, n = cut.points.size(); i < n; ++i)
+    if (cut.leaf[i] == 0 && (cut.points[i] - base).dot(along) > 0.12)
+    {
+      cut.points.push_back(cut.points[i] + 2.0 * r * normal);
+      cut.organ.push_back(plantmorph::OrganLeaf);
+      cut.leaf.push_back(leaves);
+    }
+  const plantmorph::SegmentationResult r2 = plantmorph::SegmentPlants(cut.points, {}, {});
+  ASSERT_EQ(r2.error, "");
+  EXPECT_EQ(r2.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  for (double iou : InstanceIoU(cut, r2, leaves + 1))
+    EXPECT_GT(iou, 0.9);
+}
+
 TEST(PlantSegmentation, AFlatStripApartIsLeafATwigsFacetsAreWood)
 {
   // The plant of seven leaves, with beside it a leaf seen at a grazing angle: a flat strip 0.3 long and 0.03 wide
