@@ -25,6 +25,9 @@
 //     tube's facet has the next facets turning away around it. Alone, such a strip gets no LeafId. Points of
 //     regions too small to judge take
 //     the organ of the nearest judged region (breadth-first over the radius graph), linear ones are wood.
+//     Points whose whole component of the radius graph has fewer than 12 points (a surface at a grazing angle, its
+//     rows farther apart than the links) take the organ most other points within r around them have, leaf when
+//     there are none (a leaf turned edge on; a branch is scanned along its length in a line of linked points).
 //  4. Leaf instances. Small wood pieces (fewer than MinimumLeafPoints points) touching one leaf region only are
 //     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at
 //     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base
