@@ -25,6 +25,9 @@
 //     tube's facet has the next facets turning away around it. Alone, such a strip gets no LeafId. Points of
 //     regions too small to judge take
 //     the organ of the nearest judged region (breadth-first over the radius graph), linear ones are wood.
+//     Points whose whole component of the radius graph has fewer than 12 points (a surface at a grazing angle, its
+//     rows farther apart than the links) take the organ most other points within r around them have, leaf when
+//     there are none (a leaf turned edge on; a branch is scanned along its length in a line of linked points).
 //  4. Leaf instances. Small wood pieces (fewer than MinimumLeafPoints points) touching one leaf region only are
 //     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at
 //     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base
@@ -32,6 +35,9 @@
 //     a fold or crease) that touches other leaf parts joins the one it shares the most links with, smallest first;
 //     then a larger part joins the touching part it shares the most links with among those continuing its sheet
 //     (planes within NormalAngle, both together off their common plane by under r): a leaf cut in two by a crease.
+//     Parts that do not touch join when they lie in one plane (planes within half of NormalAngle, both off their
+//     common plane by under r / 4) within 4r of each other, nearest first: a leaf seen in pieces through a gap in
+//     the scan (the shadow of a leaf or twig in front of it).
 //     Each leaf part of at least MinimumLeafPoints points is then a leaf; LeafId numbers
 //     them over all plants in the order of their lowest point index (deterministic). Smaller leaf regions stay leaf
 //     points with LeafId -1. Each leaf's base is its point nearest the wood along the link graph; the branch it

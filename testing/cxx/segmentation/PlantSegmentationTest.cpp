@@ -239,6 +239,102 @@ TEST(PlantSegmentation, ALeafCutInTwoAlongOneSheetIsOneInstance)
     EXPECT_GT(iou, 0.9);
 }
 
+TEST(PlantSegmentation, ALeafSeenInTwoPiecesAcrossAGapIsOneInstanceAParallelLeafIsNot)
+{
+  // The plant of seven leaves, the first with a band across it left unscanned (six spacings wide, its middle: the
+  // shadow of a twig in front of it): its two pieces share no link, each is a leaf part of its own (it gave two
+  // instances, the leaf matched at IoU 0.5 or under). Both lie in one plane within a few radii of each other: they
+  // join. A second leaf parallel to the second one, two radii above it (not in its plane), stays apart.
+  const int leaves = 7;
+  Truth t = SyntheticPlant(leaves);
+  const double rise = 40.0 * Pi / 180.0, h = 0.005, r = 4.0 * h;
+  const Eigen::Vector3d out(1.0, 0.0, 0.0), up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * up, across = up.cross(out);
+  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, 0.15), normal = along.cross(across);
+  Truth cut;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+  {
+    const double s = (t.points[i] - base).dot(along);
+    if (t.leaf[i] == 0 && s > 0.12 && s < 0.12 + 6.0 * h)
+      continue;
+    cut.points.push_back(t.points[i]);
+    cut.organ.push_back(t.organ[i]);
+    cut.leaf.push_back(t.leaf[i]);
+  }
+  const plantmorph::SegmentationResult r1 = plantmorph::SegmentPlants(cut.points, {}, {});
+  ASSERT_EQ(r1.error, "");
+  EXPECT_EQ(r1.leaves.size(), static_cast<std::size_t>(leaves));
+  for (double iou : InstanceIoU(cut, r1, leaves))
+    EXPECT_GT(iou, 0.9);
+  // the parallel leaf: a copy of the first leaf's outer piece, two radii off its plane
+  for (std::size_t i = 0, n = cut.points.size(); i < n; ++i)
+    if (cut.leaf[i] == 0 && (cut.points[i] - base).dot(along) > 0.12)
+    {
+      cut.points.push_back(cut.points[i] + 2.0 * r * normal);
+      cut.organ.push_back(plantmorph::OrganLeaf);
+      cut.leaf.push_back(leaves);
+    }
+  const plantmorph::SegmentationResult r2 = plantmorph::SegmentPlants(cut.points, {}, {});
+  ASSERT_EQ(r2.error, "");
+  EXPECT_EQ(r2.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  for (double iou : InstanceIoU(cut, r2, leaves + 1))
+    EXPECT_GT(iou, 0.9);
+}
+
+TEST(PlantSegmentation, ScatteredPointsOfALeafEdgeOnAreLeafThoseBesideTheStemAreWood)
+{
+  // The plant of seven leaves and two sparse patches, each sampled every three spacings (farther apart than the
+  // links: each point is linked to none), as a scanner hits a surface at a grazing angle: a leaf turned edge on,
+  // away from everything (an ellipse 0.2 by 0.1, 0.3 out from the stem), and a band of the stem's own flank (30
+  // degrees of it, 0.1 high, in place of its dense points). Both were wood (cut off from every judged region). The
+  // leaf's points have nothing else within the features' radius: leaf. The flank's points lie beside the stem's
+  // judged points: wood.
+  const int leaves = 7;
+  const double h = 0.005, radius = 0.05;
+  Truth plant = SyntheticPlant(leaves);
+  Truth t;
+  const auto inBand = [&](const Eigen::Vector3d& p) {
+    return p.z() > 0.05 && p.z() < 0.15 && std::abs(std::atan2(p.y(), p.x()) - Pi) < 15.0 * Pi / 180.0;
+  };
+  for (std::size_t i = 0; i < plant.points.size(); ++i)
+    if (plant.leaf[i] >= 0 || !inBand(plant.points[i]) ||
+      std::hypot(plant.points[i].x(), plant.points[i].y()) < 0.9 * radius)
+    {
+      t.points.push_back(plant.points[i]);
+      t.organ.push_back(plant.organ[i]);
+      t.leaf.push_back(plant.leaf[i]);
+    }
+  const std::size_t first = t.points.size();
+  for (double u = -0.1; u <= 0.1; u += 3.0 * h) // the leaf edge on: in the plane x = -0.35, seen along x
+    for (double v = -0.05; v <= 0.05; v += 3.0 * h)
+      if ((u / 0.1) * (u / 0.1) + (v / 0.05) * (v / 0.05) <= 1.0)
+      {
+        t.points.emplace_back(-0.35, v, 0.5 + u);
+        t.organ.push_back(plantmorph::OrganLeaf);
+        t.leaf.push_back(leaves);
+      }
+  const std::size_t flank = t.points.size();
+  for (double z = 0.05 + h; z < 0.15; z += 3.0 * h)
+    for (double a = Pi - 15.0 * Pi / 180.0; a <= Pi + 15.0 * Pi / 180.0; a += 3.0 * h / radius)
+    {
+      t.points.emplace_back(radius * std::cos(a), radius * std::sin(a), z);
+      t.organ.push_back(plantmorph::OrganWood);
+      t.leaf.push_back(-1);
+    }
+  ASSERT_GT(flank - first, 30u);
+  ASSERT_GT(t.points.size() - flank, 10u);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  std::size_t leafHere = 0, woodThere = 0;
+  for (std::size_t i = first; i < flank; ++i)
+    leafHere += r.organ[i] == plantmorph::OrganLeaf && r.leafId[i] < 0;
+  for (std::size_t i = flank; i < t.points.size(); ++i)
+    woodThere += r.organ[i] == plantmorph::OrganWood;
+  EXPECT_EQ(leafHere, flank - first);
+  EXPECT_EQ(woodThere, t.points.size() - flank);
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
+}
+
 TEST(PlantSegmentation, AFlatStripApartIsLeafATwigsFacetsAreWood)
 {
   // The plant of seven leaves, with beside it a leaf seen at a grazing angle: a flat strip 0.3 long and 0.03 wide
