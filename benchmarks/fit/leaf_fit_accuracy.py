@@ -12,8 +12,8 @@ over the leaf along its length, looking straight down ("above"), tilted 35 degre
 times the blade's length, the line spacing and angular step giving about `--points` points on the blade (per pass). LeafFitFilter runs with its defaults. Truth: the curled blade's midvein (Region 1
 points in LeafUV v order) gives Length, the base (v = 0) and the midvein's direction at the base (to v = 0.2); its
 triangles give Area; the petiole's axis its length. Printed (and written to --output): per case the fitted
-Length and Area errors (%), the midvein direction error (degrees), the base error (% of the length) and the
-PetioleLength error (%).
+Length and Area errors (%), the midvein direction error (degrees), the base error (% of the length), the
+PetioleLength error (%) and the petiole's junction's distance from the true base (% of the length).
 """
 import argparse
 import json
@@ -133,7 +133,9 @@ def run(name, properties, curled, view, petiole):
                   scan_points=servermanager.Fetch(scanner).GetNumberOfPoints())
     if table.GetNumberOfRows() == 1:
         row = {table.GetColumnName(c): table.GetValue(0, c).ToDouble() for c in range(table.GetNumberOfColumns())}
-        mid = [p for r, p in outline_lines(servermanager.Fetch(fit, idx=1)) if r == 1][0]
+        lines = outline_lines(servermanager.Fetch(fit, idx=1))
+        mid = [p for r, p in lines if r == 1][0]
+        stalk = [p for r, p in lines if r == 5]
         arc = numpy.concatenate([[0.0], numpy.cumsum(numpy.linalg.norm(numpy.diff(mid, axis=0), axis=1))])
         fifth = mid[numpy.searchsorted(arc, 0.2 * arc[-1])]
         direction = (fifth - mid[0]) / numpy.linalg.norm(fifth - mid[0])
@@ -141,7 +143,9 @@ def run(name, properties, curled, view, petiole):
                       direction_error=math.degrees(math.acos(max(-1.0, min(1.0, float(direction @ t["direction"]))))),
                       base_error=100.0 * float(numpy.linalg.norm(mid[0] - t["base"])) / L,
                       petiole_length=row.get("PetioleLength", float("nan")), base_from=row.get("BaseFrom"),
-                      fit_rms=row["FitRMS"] / L * 100.0)
+                      fit_rms=row["FitRMS"] / L * 100.0,
+                      junction_error=(100.0 * float(numpy.linalg.norm(stalk[0][0] - t["base"])) / L if stalk
+                                      else float("nan")))
         result["petiole_error"] = (100.0 * (row.get("PetioleLength", 0.0) / petiole_length - 1.0) if petiole
                                    else row.get("PetioleLength", 0.0) / L * 100.0)
     for proxy in [fit] + ([scanner] if len(scanners) > 1 else []) + scanners:
@@ -150,8 +154,8 @@ def run(name, properties, curled, view, petiole):
 
 
 results = []
-print("%-10s %-6s %-7s %-3s %7s %8s %8s %8s %8s %8s" % ("leaf", "shape", "view", "pet", "points", "Length%",
-                                                      "Area%", "dir deg", "base%", "petiole%"))
+print("%-10s %-6s %-7s %-3s %7s %8s %8s %8s %8s %8s %8s" % ("leaf", "shape", "view", "pet", "points", "Length%",
+                                                           "Area%", "dir deg", "base%", "petiole%", "junct%"))
 for name, properties in PRESETS:
     if arguments.leaf and name not in arguments.leaf:
         continue
@@ -161,10 +165,10 @@ for name, properties in PRESETS:
                 r = run(name, properties, curled, view, petiole)
                 results.append(r)
                 if "length_error" in r:
-                    print("%-10s %-6s %-7s %-3s %7d %+8.2f %+8.2f %8.2f %8.2f %+8.2f" % (
+                    print("%-10s %-6s %-7s %-3s %7d %+8.2f %+8.2f %8.2f %8.2f %+8.2f %8.2f" % (
                         name, "curled" if curled else "flat", view, "yes" if petiole else "no", r["scan_points"],
                         r["length_error"], r["area_error"], r["direction_error"], r["base_error"],
-                        r["petiole_error"]))
+                        r["petiole_error"], r["junction_error"]))
                 else:
                     print("%-10s %-6s %-7s %-3s %7d  no fit" % (name, "curled" if curled else "flat", view,
                                                                  "yes" if petiole else "no", r["scan_points"]))

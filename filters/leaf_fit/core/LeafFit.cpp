@@ -456,6 +456,12 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   error = fit::FitOutline(onSurface, options, outlineSpacing, f.outline);
   if (!error.empty())
     return error;
+  if (petiole.found && result.traits.baseFrom == 2)
+  {
+    const Eigen::Vector2d junction = f.sections.Intrinsic(f.frame.Local(petiole.junction));
+    if (std::abs(junction.x()) < 2.0 * outlineSpacing)
+      f.outline.junction = junction.y();
+  }
   // The blade's outline as its points draw it (lobes and sinuses kept); where that loop does not mesh (a sinus
   // narrower than the mesh's edges), the smooth margins.
   // Snapped to the smooth margins where it follows them, else as traced when it has sinuses, notches or lobes the

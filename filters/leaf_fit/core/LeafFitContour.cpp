@@ -318,6 +318,16 @@ bool MidveinEnds(
   apex = crossings[longest + 1];
   return true;
 }
+
+/// The midvein's base at a sinus, where the loop crosses t = 0 at `crossing`. The closing's discs round the sinus's
+/// bottom off, so the loop crosses below it (by about the discs' radius times 1 / sin of the walls' angle to the
+/// midvein, less one): a petiole's junction above that crossing, by less than a notch's depth (`shallow`), is the
+/// bottom, where the stalk meets the blade.
+double SinusBottom(const Outline& outline, double crossing, double shallow)
+{
+  return outline.junction > crossing && outline.junction < crossing + shallow ? outline.junction : crossing;
+}
+
 } // namespace
 
 Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline)
@@ -449,7 +459,7 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
   const double shallow = std::max(4.0 * spacing, MinNotchDepth * extent);
   const bool baseTip = std::abs(base.first - outline.s0) < shallow;
   const bool apexTip = std::abs(apex.first - outline.s1) < shallow;
-  const double baseS = baseTip ? outline.s0 : base.first;
+  const double baseS = baseTip ? outline.s0 : SinusBottom(outline, base.first, shallow);
   const double apexS = apexTip ? outline.s1 : apex.first;
   // (A shallow notch's walls are left out with the tip: the cut reaches 2 spacings below its bottom.)
   const double baseCut =

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,9 @@ struct Outline
 {
   double s0 = 0.0, s1 = 1.0;     ///< the smooth margins' ends (the blade's lowest and highest s)
   double base = 0.0, apex = 1.0; ///< the midvein's ends (a cordate blade's base is at its sinus, above s0)
+  /// s of the petiole's junction with the blade when the petiole gives the base (NaN otherwise): at a sinus, where
+  /// the loop the points draw rounds the bottom off, the midvein starts there.
+  double junction = std::numeric_limits<double>::quiet_NaN();
   PenalizedSpline1D right, left; // g for the right margin (> 0) and for minus the left margin (> 0)
   double Phi(double s) const;
   double Right(double s) const;
@@ -83,7 +87,8 @@ struct Contour
 /// The boundary of the points (t, s) (the closing of discs of 2.5 spacings about them, holes filled, moved out by
 /// the expected gap to the margin), so lobes, sinuses and a cordate base are kept and not bridged. Sets
 /// outline.base and outline.apex: the crossings of the midvein (t = 0) that bound it, a tip's end from the smooth
-/// outline's extrapolated s0 or s1 (the last points never reach a tip). `snap`: where the loop runs along the
+/// outline's extrapolated s0 or s1 (the last points never reach a tip), a sinus's from outline.junction when that
+/// lies a little above the crossing (the discs round its bottom off). `snap`: where the loop runs along the
 /// smooth margins (from a spacing outside to three inside), their points are taken.
 Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline);
 

@@ -265,7 +265,18 @@ struct StalkAxis
   bool valid = false;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero(), towardsBlade = Eigen::Vector3d::Zero();
   double half = 0.0; ///< the stalk's half-width about the axis
+  double gap = 0.0;  ///< the largest gap between the stalk's own samples along the axis (a line scan's lines)
 };
+
+/// The largest gap between consecutive values of `along` (sorted here).
+double LargestGap(std::vector<double>& along)
+{
+  std::sort(along.begin(), along.end());
+  double gap = 0.0;
+  for (std::size_t k = 1; k < along.size(); ++k)
+    gap = std::max(gap, along[k] - along[k - 1]);
+  return gap;
+}
 
 StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail, const Bins& b, std::size_t start,
   double spacing, Petiole& petiole)
@@ -293,10 +304,13 @@ StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& t
     const Eigen::Vector3d r = p - origin;
     return (r - r.dot(u) * u).norm();
   };
-  std::vector<double> own;
+  std::vector<double> own, along;
   for (std::size_t k = 0; k < trail.ids.size(); ++k)
     if (trail.distance[k] >= from + b.width && trail.distance[k] < from + 6.0 * b.width)
+    {
       own.push_back(lateral(points[trail.ids[k]]));
+      along.push_back((points[trail.ids[k]] - origin).dot(u));
+    }
   double half = 0.0;
   if (!own.empty())
   {
@@ -325,7 +339,7 @@ StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& t
       ++count;
     }
   petiole.junction /= static_cast<double>(std::max<std::size_t>(1, count));
-  return { !own.empty(), origin, u, half };
+  return { !own.empty(), origin, u, half, LargestGap(along) };
 }
 
 /// Where the stalk's axis, from `position` on, meets the blade: the plane of the points around `position` off the
@@ -379,8 +393,10 @@ void MeetBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid
 /// between the basal lobes): from the junction found so far, the stalk is followed along its axis towards the blade
 /// in slices one spacing thick while each slice's points within 2 spacings of the axis all lie within the stalk's
 /// width, centred on the axis (the blade, a lobe, the blade's end, reaches further from the axis); those points join the petiole and the
-/// junction moves to the last such slice. A gap (an empty slice) ends the stalk too: beyond it, on the axis,
-/// lies the end of a wedge-shaped blade.
+/// junction moves to the last such slice. A gap ends the stalk too (beyond it, on the axis, lies the end of a
+/// wedge-shaped blade), but only one wider than the gaps between the stalk's own samples along its axis: a line
+/// scan crosses a stalk in lines that may lie more than a slice apart, and an empty slice between two of them is
+/// still the stalk (the walk stopped there, up to 5 spacings short of the blade, whose ball covered the rest).
 void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
   const StalkAxis& axis, Petiole& petiole)
 {
@@ -390,6 +406,8 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
   const double narrow = axis.half + 0.75 * spacing, look = axis.half + 2.0 * spacing;
   Eigen::Vector3d position = petiole.junction;
   std::vector<int> near, slice;
+  const int skippable = static_cast<int>(std::floor(axis.gap / spacing)); // empty slices a stalk's gap spans
+  int empty = 0;
   for (int step = 0; step < 10000; ++step)
   {
     const Eigen::Vector3d centre = position + 0.5 * spacing * u;
@@ -411,11 +429,18 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
         mean += points[j];
       }
     }
+    if (!wide && slice.empty() && empty < skippable)
+    {
+      ++empty; // between two of the stalk's lines: the junction stays at the last slice with points
+      position += spacing * u;
+      continue;
+    }
     if (wide || slice.empty())
     {
-      MeetBlade(points, grid, spacing, axis, position, petiole);
+      MeetBlade(points, grid, spacing, axis, position - empty * spacing * u, petiole);
       break;
     }
+    empty = 0;
     // A stalk's slice is centred on its axis; the blade's end beyond the junction leaves it at the stalk's angle to
     // the blade (the end of a wedge-shaped base is as narrow as the stalk).
     mean /= static_cast<double>(slice.size());
