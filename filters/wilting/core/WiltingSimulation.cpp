@@ -719,12 +719,21 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   options.voxelSize = parameters.voxelSize;
   options.resolution = parameters.resolution;
   options.maxVoxels = parameters.maxVoxels;
+  // * From a Resolution, a node plane through the base across the leaf: the midvein runs between two voxel columns
+  // at every Resolution. Centred on the bounding box, a symmetric blade's midvein ran along a node plane at even
+  // Resolutions and through the middle of a voxel column at odd ones, two lattices that fold differently along the
+  // midvein (the odd Resolutions' tip paths converged apart from the even ones'). A VoxelSize grid stays centred.
+  const std::size_t base = input.points.empty() ? 0 : BasePoint(input);
+  if (!input.points.empty() && !(parameters.voxelSize > 0.0))
+  {
+    options.align[static_cast<std::size_t>(AcrossAxis(input, base))] = true;
+    options.alignAt = input.points[base];
+  }
   std::string error = Voxelize(input.points, input.triangles, input.regions, options, this->Voxels);
   if (!error.empty())
   {
     return error;
   }
-  const std::size_t base = BasePoint(input);
   WidenMidvein(input.points, MidveinPoints(input), AcrossAxis(input, base), this->Voxels);
   this->PetioleCells = PetiolePlacement();
   if (parameters.petioleLength > 0.0)

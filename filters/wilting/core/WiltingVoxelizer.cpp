@@ -240,6 +240,16 @@ std::string Voxelize(const std::vector<Eigen::Vector3d>& points, const std::vect
   {
     origin[axis] = 0.5 * (low[axis] + high[axis]) - 0.5 * h * dims[axis];
   }
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const double local = (options.alignAt[axis] - origin[axis]) / h;
+    const double offset = local - std::round(local);
+    if (options.align[static_cast<std::size_t>(axis)] && std::abs(offset) > 1e-9)
+    {
+      origin[axis] += (offset > 0.0 ? offset - 1.0 : offset) * h;
+      dims[axis] += 1;
+    }
+  }
   grid.origin = origin;
   grid.h = h;
   grid.dims = dims;

@@ -62,6 +62,10 @@ struct VoxelizeParameters
   double voxelSize = 0.0; ///< > 0: the cube edge; 0: from resolution
   int resolution = 20;    ///< cubes along the bounding box's longest side when voxelSize is 0
   std::size_t maxVoxels = 2000000;
+  /// Axes along which the grid is shifted (by less than a cell, one cell added) so that a node plane passes through
+  /// alignAt; the others centre the grid on the bounding box.
+  std::array<bool, 3> align{ false, false, false };
+  Eigen::Vector3d alignAt = Eigen::Vector3d::Zero();
 };
 
 /// Voxelises the triangles (point ids into `points`). `regions` may be empty (everything blade) or one per point.

@@ -36,14 +36,16 @@ WiltingTipMetrics CucumberRun(const WiltingInput& leaf, double length, int resol
 
 TEST(WiltingConvergence, CucumberTipPathConvergesAsResolutionGrows)
 {
-  // R 14, 18, 22 on the measured leaf (20.1 cm): no blow-up, 101 frames, the tip never rises back more than 5 % of
-  // the length after falling, and the tip paths (in leaf lengths) draw together: the largest distance between
-  // R 18's and R 22's is smaller than between R 14's and R 22's, and below 0.1 leaf lengths.
+  // R 14, 15, 18, 22 on the measured leaf (20.1 cm): no blow-up, 101 frames, the tip never rises back more than 5 %
+  // of the length after falling, and the tip paths (in leaf lengths) draw together: the largest distance between
+  // R 18's and R 22's is smaller than between R 14's and R 22's, and below 0.1 leaf lengths. R 15, odd, within 0.15
+  // of R 22's path: 0.26 when the grid was centred on the leaf and the midvein ran through a voxel column's middle
+  // at odd Resolutions (0.13 with a node plane through the base).
   const double length = 20.1;
   const WiltingInput leaf = CucumberBlade(length);
   ASSERT_FALSE(leaf.points.empty());
   std::vector<WiltingTipMetrics> runs;
-  for (const int r : { 14, 18, 22 })
+  for (const int r : { 14, 15, 18, 22 })
   {
     runs.push_back(CucumberRun(leaf, length, r));
     const WiltingTipMetrics& m = runs.back();
@@ -52,10 +54,11 @@ TEST(WiltingConvergence, CucumberTipPathConvergesAsResolutionGrows)
     EXPECT_LT(m.risesBack, 0.05) << "R " << r;
     EXPECT_LT(m.lowest, -0.5) << "R " << r << ": the leaf wilts";
   }
-  const double coarse = TrackDistance(runs[0].track, runs[2].track);
-  const double fine = TrackDistance(runs[1].track, runs[2].track);
+  const double coarse = TrackDistance(runs[0].track, runs[3].track);
+  const double fine = TrackDistance(runs[2].track, runs[3].track);
   EXPECT_LT(fine, coarse);
   EXPECT_LT(fine, 0.1);
+  EXPECT_LT(TrackDistance(runs[1].track, runs[3].track), 0.15) << "R 15";
 }
 
 TEST(WiltingConvergence, CucumberMeansTheSameOnSmallAndLargeLeaves)

@@ -87,6 +87,39 @@ TEST(WiltingVoxelizer, FlatLeafIsOneLayerWithSharedNodes)
   EXPECT_EQ(margins, 20);
 }
 
+TEST(WiltingVoxelizer, AlignedGridPutsANodePlaneThroughThePointAndCoversTheLeaf)
+{
+  // The 4 x 10 rectangle (x in [-2, 2]) at Resolution 11: centred on the box, x = 0 is the middle of a cell column
+  // (11 columns of 10/11); aligned across (x) on the base (0, 0), a node plane passes through x = 0, one column is
+  // added, and the grid still covers the rectangle.
+  const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
+  VoxelizeParameters options;
+  options.resolution = 11;
+  VoxelGrid centred;
+  ASSERT_EQ(Voxelize(in.points, in.triangles, in.regions, options, centred), "");
+  const double h = 10.0 / 11.0;
+  const auto nodePlaneOffset = [&](const VoxelGrid& grid) {
+    const double local = (0.0 - grid.origin[0]) / h;
+    return std::abs(local - std::round(local));
+  };
+  EXPECT_NEAR(nodePlaneOffset(centred), 0.5, 1e-9) << "odd columns across: x = 0 mid-cell";
+  options.align = { true, false, false };
+  VoxelGrid aligned;
+  ASSERT_EQ(Voxelize(in.points, in.triangles, in.regions, options, aligned), "");
+  EXPECT_NEAR(nodePlaneOffset(aligned), 0.0, 1e-9);
+  EXPECT_EQ(aligned.dims[0], centred.dims[0] + 1);
+  EXPECT_EQ(aligned.dims[1], centred.dims[1]);
+  EXPECT_DOUBLE_EQ(aligned.origin[1], centred.origin[1]) << "only the aligned axis moves";
+  EXPECT_LE(aligned.origin[0], -2.0);
+  EXPECT_GE(aligned.origin[0] + h * aligned.dims[0], 2.0);
+  // Already on a node plane (Resolution 10: 1 cm cells, x = 0 a face): nothing moves.
+  options.resolution = 10;
+  VoxelGrid even;
+  ASSERT_EQ(Voxelize(in.points, in.triangles, in.regions, options, even), "");
+  EXPECT_EQ(even.dims[0], 4);
+  EXPECT_DOUBLE_EQ(even.origin[0], -2.0);
+}
+
 TEST(WiltingVoxelizer, PetioleGrowsTheGridBelowTheBaseAndKeepsTheBlade)
 {
   const WiltingInput in = Rectangle(4.0, 10.0, 8, 20);
