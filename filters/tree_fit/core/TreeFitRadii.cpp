@@ -335,15 +335,22 @@ double SegmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const
   return (x - a - t * ab).norm();
 }
 
+/// Per cylinder, its children's ids.
+std::vector<std::vector<int>> ChildLists(const std::vector<TreeCylinder>& cylinders)
+{
+  std::vector<std::vector<int>> children(cylinders.size());
+  for (std::size_t k = 0; k < cylinders.size(); ++k)
+    if (cylinders[k].parent >= 0)
+      children[cylinders[k].parent].push_back(static_cast<int>(k));
+  return children;
+}
+
 /// A child branch leaves the level sets only where its surface parts from its parent's, some way past the fork: its
 /// first cylinder is extended back along its axis to the parent's surface (the parent's cylinders near the fork).
 void SeatBranches(TreeFitResult& result)
 {
   auto& cylinders = result.cylinders;
-  std::vector<std::vector<int>> children(cylinders.size());
-  for (std::size_t k = 0; k < cylinders.size(); ++k)
-    if (cylinders[k].parent >= 0)
-      children[cylinders[k].parent].push_back(static_cast<int>(k));
+  const std::vector<std::vector<int>> children = ChildLists(cylinders);
   for (const TreeBranchRow& branch : result.branches)
   {
     TreeCylinder& first = cylinders[branch.cylinders.front()];
@@ -511,10 +518,7 @@ void InterpolateTaper(TreeFitResult& result)
 void CapUnmeasuredEnds(TreeFitResult& result)
 {
   auto& cylinders = result.cylinders;
-  std::vector<std::vector<int>> children(cylinders.size());
-  for (std::size_t k = 0; k < cylinders.size(); ++k)
-    if (cylinders[k].parent >= 0)
-      children[cylinders[k].parent].push_back(static_cast<int>(k));
+  const std::vector<std::vector<int>> children = ChildLists(cylinders);
   const auto baseRadius = [&](int first, bool& measured) {
     const auto& ids = result.branches[cylinders[first].branch].cylinders;
     for (std::size_t j = 0; j < std::min(ids.size(), ChildBaseCylinders); ++j)
