@@ -27,9 +27,10 @@ constexpr double CodominantShare = 0.5; // of the heaviest child's carried volum
 constexpr double ForkMargin = 10.0;     // degrees: codominant children turning less apart than this end the branch
 constexpr double BulgeFactor = 1.05;    // a measured cylinder this much wider than its parent is a junction
 constexpr double KinkAngle = 25.0;
-constexpr double IncomingReaches = 2.5; // a branch's incoming direction is its own past this length (reaches)
-constexpr double KinkReaches = 4.0;     // a kink still turns this far on (reaches): a junction's wiggle does not
-constexpr double TaperMargin = 1.15;    // a measured cylinder near a fork this much above its branch's taper...
+constexpr double IncomingReaches = 2.5;       // a branch's incoming direction is its own past this length (reaches)
+constexpr double KinkReaches = 4.0;           // a kink still turns this far on (reaches): a junction's wiggle does not
+constexpr std::size_t ChildBaseCylinders = 3; // a child's base radius: its first measured cylinder among these
+constexpr double TaperMargin = 1.15;          // a measured cylinder near a fork this much above its branch's taper...
 constexpr std::size_t TaperCylinders =
   5; // ...fitted over this many measured cylinders before it, is a junction      // degrees: a child turning more than this from its parent starts a branch
 
@@ -334,15 +335,22 @@ double SegmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const
   return (x - a - t * ab).norm();
 }
 
+/// Per cylinder, its children's ids.
+std::vector<std::vector<int>> ChildLists(const std::vector<TreeCylinder>& cylinders)
+{
+  std::vector<std::vector<int>> children(cylinders.size());
+  for (std::size_t k = 0; k < cylinders.size(); ++k)
+    if (cylinders[k].parent >= 0)
+      children[cylinders[k].parent].push_back(static_cast<int>(k));
+  return children;
+}
+
 /// A child branch leaves the level sets only where its surface parts from its parent's, some way past the fork: its
 /// first cylinder is extended back along its axis to the parent's surface (the parent's cylinders near the fork).
 void SeatBranches(TreeFitResult& result)
 {
   auto& cylinders = result.cylinders;
-  std::vector<std::vector<int>> children(cylinders.size());
-  for (std::size_t k = 0; k < cylinders.size(); ++k)
-    if (cylinders[k].parent >= 0)
-      children[cylinders[k].parent].push_back(static_cast<int>(k));
+  const std::vector<std::vector<int>> children = ChildLists(cylinders);
   for (const TreeBranchRow& branch : result.branches)
   {
     TreeCylinder& first = cylinders[branch.cylinders.front()];
@@ -495,6 +503,82 @@ void InterpolateTaper(TreeFitResult& result)
     }
   }
 }
+
+/// The stretch at a branch's end that the points did not support (its cylinders after its last measured one, all of
+/// them when none is measured: wood a segmentation called leaf, or hidden) ends at a fork whose children's bases
+/// were measured: there the branch carries no more cross-section than they do (the pipe model: its end radius at
+/// most the square root of the sum of their squared radii, a child's taken at its first measured cylinder within
+/// ChildBaseCylinders, else its own). The stretch follows the taper from the last measured radius to that end
+/// radius; with none measured, the pipe model down the branch from its end: at each cylinder the cross-section of
+/// the side branches leaving it is added, a measured one's own, another's the end's share of its growth length
+/// (their modelled radii are the inflated ones); never wider than the model made it. Without
+/// this the stretch takes its parent branch's level of the model, and the model's growth length counts whatever
+/// hangs from the stretch: sym-small behind the segmentation, first-order branches at 0.081 m to their ends for
+/// 0.062.
+void CapUnmeasuredEnds(TreeFitResult& result)
+{
+  auto& cylinders = result.cylinders;
+  const std::vector<std::vector<int>> children = ChildLists(cylinders);
+  const auto baseRadius = [&](int first, bool& measured) {
+    const auto& ids = result.branches[cylinders[first].branch].cylinders;
+    for (std::size_t j = 0; j < std::min(ids.size(), ChildBaseCylinders); ++j)
+      if (cylinders[ids[j]].measured)
+        return measured = true, cylinders[ids[j]].radius;
+    return cylinders[first].radius;
+  };
+  for (const TreeBranchRow& branch : result.branches)
+  {
+    const auto& ids = branch.cylinders;
+    const int end = ids.back();
+    if (children[end].empty() || cylinders[end].measured)
+      continue;
+    double area = 0, endLength = 0; // the end's children: cross-section and growth length
+    bool anyMeasured = false;
+    for (int c : children[end])
+    {
+      endLength += cylinders[c].growthLength;
+      bool measured = false;
+      const double r = baseRadius(c, measured);
+      area += r * r;
+      anyMeasured = anyMeasured || measured;
+    }
+    const double cap = std::sqrt(area);
+    if (!anyMeasured || !(cap < cylinders[end].radius))
+      continue;
+    std::size_t last = ids.size(); // the last measured cylinder of the branch
+    for (std::size_t j = 0; j < ids.size(); ++j)
+      if (cylinders[ids[j]].measured)
+        last = j;
+    std::vector<double> middle(ids.size()); // length along the branch to each cylinder's middle
+    double along = 0;
+    for (std::size_t j = 0; j < ids.size(); along += cylinders[ids[j]].length, ++j)
+      middle[j] = along + 0.5 * cylinders[ids[j]].length;
+    if (last < ids.size())
+    {
+      for (std::size_t j = last + 1; j < ids.size(); ++j)
+      {
+        const double t = (middle[j] - middle[last]) / std::max(along - middle[last], 1e-300);
+        TreeCylinder& c = cylinders[ids[j]];
+        c.radius = std::min(c.radius, (1 - t) * cylinders[ids[last]].radius + t * cap);
+      }
+      continue;
+    }
+    double carried = cap * cap; // the cross-section carried, from the end down: what leaves on the way adds to it
+    for (std::size_t j = ids.size(); j-- > 0;)
+    {
+      TreeCylinder& c = cylinders[ids[j]];
+      if (j + 1 < ids.size())
+        for (int k : children[ids[j]])
+          if (k != ids[j + 1])
+          {
+            bool measured = false;
+            const double r = baseRadius(k, measured);
+            carried += measured ? r * r : cap * cap * cylinders[k].growthLength / endLength;
+          }
+      c.radius = std::min(c.radius, std::sqrt(carried));
+    }
+  }
+}
 } // namespace
 
 std::string ModelRadii(double spacing, TreeFitResult& result)
@@ -580,6 +664,7 @@ std::string ModelRadii(double spacing, TreeFitResult& result)
     }
   }
   InterpolateTaper(result);
+  CapUnmeasuredEnds(result);
   SeatBranches(result);
   return {};
 }

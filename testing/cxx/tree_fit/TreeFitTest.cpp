@@ -334,6 +334,55 @@ TEST(TreeFit, AYoungBranchForkingGoesOnIntoItsHeavierChild)
   EXPECT_EQ(result.cylinders[sub].order, 2);
 }
 
+TEST(TreeFit, AnUnmeasuredBranchEndsNoWiderThanItsMeasuredChildren)
+{
+  // The radius step alone, on cylinders as the fit leaves them: a measured trunk (6 cm), a lateral 1.2 m long (3 cm)
+  // none of whose cylinders was measured (a segmentation called its wood leaf: a few points on one side), forking at
+  // its end into two measured children of 2.1 cm (together the lateral's cross-section: the pipe model), and a thin
+  // unmeasured twig halfway along it. Without the measured children's radii the lateral takes the trunk's level of
+  // the growth-length model; with them it ends no wider than they carry, and its volume is the true one.
+  TreeFitResult result;
+  const auto add = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& direction, double radius, int parent) {
+    return AddMeasuredCylinder(result, start, direction, 0.1, radius, parent);
+  };
+  const auto hide = [&](int k) {
+    result.cylinders[k].fittedRadius = std::numeric_limits<double>::quiet_NaN();
+    result.cylinders[k].points = 4;
+    result.cylinders[k].coverage = 60.0;
+  };
+  int at = -1;
+  for (int k = 0; k < 20; ++k)
+    at = add(Eigen::Vector3d(0, 0, 0.1 * k), Eigen::Vector3d::UnitZ(), 0.06, k == 0 ? -1 : at);
+  std::vector<int> lateral;
+  for (int k = 0, parent = 9; k < 12; ++k)
+  {
+    lateral.push_back(
+      add(k == 0 ? Eigen::Vector3d(0, 0, 1.0) : result.cylinders[parent].end, Tilted(45.0, 0.0), 0.03, parent));
+    hide(parent = lateral.back());
+  }
+  for (int k = 0, parent = lateral[5]; k < 6; ++k)
+    hide(parent = add(result.cylinders[parent].end, Tilted(80.0, M_PI / 2), 0.004, parent));
+  for (double side : { -1.0, 1.0 })
+    for (int k = 0, parent = lateral.back(); k < 8; ++k)
+      parent = add(result.cylinders[parent].end, Tilted(45.0 + side * 30.0, 0.0), 0.021, parent);
+  ASSERT_EQ(treefit::ModelRadii(0.006, result), "");
+  const double pipe = 0.021 * std::sqrt(2.0);
+  double volume = 0, length = 0;
+  for (int k : lateral)
+  {
+    const TreeCylinder& c = result.cylinders[k];
+    EXPECT_FALSE(c.measured);
+    volume += M_PI * c.radius * c.radius * c.length;
+    length += c.length;
+    EXPECT_GE(c.radius, 0.021); // never narrower than a child it carries, never 20 % wider than it is
+    EXPECT_LE(c.radius, 1.2 * 0.03);
+  }
+  EXPECT_LE(result.cylinders[lateral.back()].radius, pipe + 1e-9);
+  // The twig's share below it is its growth length's (0.6 m against the children's 1.6 m: too wide for 4 mm).
+  EXPECT_NEAR(volume, M_PI * 0.03 * 0.03 * length, 0.2 * M_PI * 0.03 * 0.03 * length);
+  std::cout << "unmeasured lateral: volume " << volume << ", true " << M_PI * 0.03 * 0.03 * length << "\n";
+}
+
 TEST(TreeFit, AWhorlSplitInTwoStepsGivesBranchesOfOneOrder)
 {
   // The branch step alone, on cylinders as the fit leaves them where three branches leave one point at 55 degrees (a
