@@ -145,7 +145,7 @@ if arguments.duration:
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
     ("DroopForce", 13306.0, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)
-    ("ContractionForce", 3355.0, True, 1.0),  # dyn/cm^2 on the lower face
+    ("ContractionForce", 2500.0, True, 1.0),  # dyn/cm^2 on the lower face
     ("BladeStiffness", 1034750.0, True, 1.0),  # Young's modulus, dyn/cm^2, of a blade of BladeThickness
     ("VeinStiffness", 4507280.0, True, 1.0),
     ("MarginStiffness", 1118350.0, True, 1.0),
