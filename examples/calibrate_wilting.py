@@ -144,19 +144,19 @@ if arguments.duration:
 # name, start value (the Cucumber preset's, filters/wilting/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
-    ("DroopForce", 10129.0, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)
-    ("ContractionForce", 1832.0, True, 1.0),  # dyn/cm^2 on the lower face
+    ("DroopForce", 13306.0, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)
+    ("ContractionForce", 2500.0, True, 1.0),  # dyn/cm^2 on the lower face
     ("BladeStiffness", 1034750.0, True, 1.0),  # Young's modulus, dyn/cm^2, of a blade of BladeThickness
     ("VeinStiffness", 4507280.0, True, 1.0),
     ("MarginStiffness", 1118350.0, True, 1.0),
-    ("LoadTime", 16.591, True, 1.0),
-    ("ContractionTime", 7.1368, True, 1.0),
+    ("LoadTime", 13.113, True, 1.0),
+    ("ContractionTime", 8.9111, True, 1.0),
     ("RayleighAlpha", 1.16, True, 1.0),
     ("DroopAsymmetry", -0.00744, False, 0.5),
     ("ContractionAsymmetry", -0.0404, False, 0.5),
-    ("ShrinkageStrain", 0.03682, False, 0.03),
+    ("ShrinkageStrain", 0.046546, False, 0.03),
     ("ShrinkageAsymmetry", 0.1916, False, 0.5),
-    ("CurlStrain", 0.2168, False, 0.1),  # strain difference across BladeThickness
+    ("CurlStrain", 0.22165, False, 0.1),  # strain difference across BladeThickness
     ("CurlAsymmetry", -0.00975, False, 0.5),
     ("CurlRelaxation", 0.9097, False, 0.3),
     ("CurlRelaxationTime", 6.506, True, 1.0),

@@ -337,30 +337,103 @@ AnchorPlan PlanAnchors(
   return plan;
 }
 
-/// Fixes every node of each voxel whose centre lies within `radius` of an anchor: the leaf is held by whole voxels,
-/// so no voxel is held by a single node or edge of its own and swings about it (a hold node by node did that where
-/// the circle crosses the grid, and turned such a voxel inside out). Returns the number of nodes fixed.
-std::size_t FixVoxelsNearAnchors(
-  const VoxelGrid& grid, const std::vector<Eigen::Vector3d>& anchors, double radius, MassSpringSystem& springs)
+/// The distance of a point from the nearest anchor.
+double AnchorDistance(const Eigen::Vector3d& x, const std::vector<Eigen::Vector3d>& anchors)
 {
-  std::vector<char> fixed(grid.nodes.size(), 0);
-  for (const std::array<int, 8>& corners : grid.corners)
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& anchor : anchors)
   {
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    for (int node : corners)
+    nearest = std::min(nearest, (x - anchor).norm());
+  }
+  return nearest;
+}
+
+/// The share of the voxel with corners `corners` within `radius` of an anchor, sampled at 6 x 6 x 6 points.
+double HeldShare(
+  const VoxelGrid& grid, const std::array<int, 8>& corners, const std::vector<Eigen::Vector3d>& anchors, double radius)
+{
+  constexpr int samples = 6;
+  Eigen::Vector3d low = grid.nodes[static_cast<std::size_t>(corners[0])], high = low;
+  for (int node : corners)
+  {
+    low = low.cwiseMin(grid.nodes[static_cast<std::size_t>(node)]);
+    high = high.cwiseMax(grid.nodes[static_cast<std::size_t>(node)]);
+  }
+  if (AnchorDistance(0.5 * (low + high), anchors) > radius + (high - low).norm())
+  {
+    return 0.0;
+  }
+  int inside = 0;
+  for (int a = 0; a < samples; ++a)
+  {
+    for (int b = 0; b < samples; ++b)
     {
-      centre += grid.nodes[static_cast<std::size_t>(node)];
-    }
-    centre /= 8.0;
-    for (const Eigen::Vector3d& anchor : anchors)
-    {
-      if ((centre - anchor).norm() <= radius)
+      for (int c = 0; c < samples; ++c)
       {
-        for (int node : corners)
+        const Eigen::Vector3d at = (Eigen::Vector3d(a, b, c) + Eigen::Vector3d::Constant(0.5)) / samples;
+        inside += AnchorDistance(low + at.cwiseProduct(high - low), anchors) <= radius ? 1 : 0;
+      }
+    }
+  }
+  return static_cast<double>(inside) / (samples * samples * samples);
+}
+
+/// Holds the leaf within `radius` of the anchors in proportion to each voxel's share f of the held ball: every node
+/// of a voxel wholly inside (f = 1) is fixed, so the leaf is held by whole voxels and no voxel hangs on a fixed node
+/// or edge of its own (a hold node by node did that where the circle crosses the grid, and turned such a voxel
+/// inside out); a voxel partly inside has its 28 springs stiffened by f / (1 - f) of their own stiffness and
+/// damping, so it goes from free to rigid as the ball covers it. Holding whole the voxels whose centres were in the
+/// ball made the held region jump by a ring of voxels with the Resolution, and the tip path with it (0.26 leaf
+/// lengths from Resolution 22's at 15, 0.16 at 20). A ball too small to hold a whole voxel holds whole the voxels
+/// whose centres it holds. Returns the number of nodes fixed.
+std::size_t HoldVoxelsNearAnchors(const VoxelGrid& grid, const std::vector<Eigen::Vector3d>& anchors, double radius,
+  const WiltingParameters& parameters, double springScale, MassSpringSystem& springs)
+{
+  std::vector<double> shares;
+  bool graded = false;
+  for (const std::array<int, 8>& c : grid.corners)
+  {
+    shares.push_back(HeldShare(grid, c, anchors, radius));
+    graded = graded || shares.back() >= 1.0;
+  }
+  std::vector<char> fixed(grid.nodes.size(), 0);
+  for (std::size_t v = 0; v < grid.corners.size(); ++v)
+  {
+    const std::array<int, 8>& c = grid.corners[v];
+    const double share = shares[v];
+    if (!graded)
+    {
+      // A ball that holds no whole voxel cannot grade the hold: the voxels whose centres it holds are held whole.
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (int node : c)
+      {
+        centre += grid.nodes[static_cast<std::size_t>(node)];
+      }
+      for (int node : c)
+      {
+        fixed[static_cast<std::size_t>(node)] |= AnchorDistance(centre / 8.0, anchors) <= radius ? 1 : 0;
+      }
+    }
+    else if (share >= 1.0)
+    {
+      for (int node : c)
+      {
+        fixed[static_cast<std::size_t>(node)] = 1;
+      }
+    }
+    else if (share > 0.0)
+    {
+      const WiltingMaterial& material =
+        parameters.materials[static_cast<std::size_t>(WiltingMaterialOf(grid.regions[v]))];
+      const double extra = share / (1.0 - share) * springScale;
+      for (int a = 0; a < 8; ++a)
+      {
+        for (int b = a + 1; b < 8; ++b)
         {
-          fixed[static_cast<std::size_t>(node)] = 1;
+          const double factor = (OnOneFace(a, b) ? 1.0 : parameters.throughStiffness) * extra;
+          springs.AddSpring(c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], factor * material.stiffness,
+            factor * material.damping);
         }
-        break;
       }
     }
   }
@@ -547,10 +620,11 @@ void AccumulateVoxelLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoin
 }
 
 /// The loads at full load (FullLoads) for the finalised system: gravity from the lumped masses, the voxels' loads,
-/// none on fixed nodes; the strains divided by each spring's stiffness.
+/// none on fixed nodes; the strains divided by each spring's stiffness from its voxels (`voxelStiffness`, without
+/// the hold's: a partly held voxel is stiffer, its rest shape is the lamina's).
 void ComputeFullLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint, const WiltingParameters& parameters,
   double springScale, double loadScale, double faceShare, const std::vector<int>& voxelSprings,
-  const MassSpringSystem& springs, FullLoads& loads)
+  const std::vector<double>& voxelStiffness, const MassSpringSystem& springs, FullLoads& loads)
 {
   const std::size_t n = grid.nodes.size();
   loads.gravity.assign(3 * n, 0.0);
@@ -582,7 +656,7 @@ void ComputeFullLoads(const VoxelGrid& grid, const Eigen::Vector3d& basePoint, c
   {
     for (std::size_t e = 0; e < strains->size(); ++e)
     {
-      (*strains)[e] /= springs.Springs()[e].stiffness;
+      (*strains)[e] /= voxelStiffness[e];
     }
   }
 }
@@ -719,14 +793,18 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   options.voxelSize = parameters.voxelSize;
   options.resolution = parameters.resolution;
   options.maxVoxels = parameters.maxVoxels;
-  // * From a Resolution, a node plane through the base across the leaf: the midvein runs between two voxel columns
-  // at every Resolution. Centred on the bounding box, a symmetric blade's midvein ran along a node plane at even
-  // Resolutions and through the middle of a voxel column at odd ones, two lattices that fold differently along the
-  // midvein (the odd Resolutions' tip paths converged apart from the even ones'). A VoxelSize grid stays centred.
+  // * From a Resolution, node planes through the base across and along the leaf: the midvein runs between two
+  // voxel columns and the held ball is centred on a node at every Resolution. Centred on the bounding box, a
+  // symmetric blade's midvein ran along a node plane at even Resolutions and through the middle of a voxel column at
+  // odd ones, two lattices that fold differently along the midvein (the odd Resolutions' tip paths converged apart
+  // from the even ones'), and the held voxels' shares of the ball changed with where the base fell in its cell. A
+  // VoxelSize grid stays centred.
   const std::size_t base = input.points.empty() ? 0 : BasePoint(input);
   if (!input.points.empty() && !(parameters.voxelSize > 0.0))
   {
-    options.align[static_cast<std::size_t>(AcrossAxis(input, base))] = true;
+    const int across = AcrossAxis(input, base);
+    options.align[static_cast<std::size_t>(across)] = true;
+    options.align[static_cast<std::size_t>(1 - across)] = true;
     options.alignAt = input.points[base];
   }
   std::string error = Voxelize(input.points, input.triangles, input.regions, options, this->Voxels);
@@ -778,12 +856,18 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   const double springScale = ratio;
   const double loadScale = ratio * ratio * ratio;
   const std::vector<int> voxelSprings = AddVoxelSprings(grid, this->Params, springScale, this->Springs);
+  std::vector<double> voxelStiffness;
+  for (const MassSpringSpring& spring : this->Springs.Springs())
+  {
+    voxelStiffness.push_back(spring.stiffness);
+  }
 
   // Anchors: the petiole's far end, or the input's petiole points, or the blade's base.
   AnchorPlan anchors = PlanAnchors(input, parameters, this->PetioleCells, base);
   this->Radius =
     parameters.anchorFraction > 0.0 ? parameters.anchorFraction * (high - low).maxCoeff() : parameters.anchorRadius;
-  const std::size_t fixedCount = FixVoxelsNearAnchors(grid, anchors.anchors, this->Radius, this->Springs);
+  const std::size_t fixedCount =
+    HoldVoxelsNearAnchors(grid, anchors.anchors, this->Radius, this->Params, springScale, this->Springs);
   error = this->Embed.Bind(grid, input.points, parameters.tricubic);
   if (!error.empty())
   {
@@ -808,8 +892,8 @@ std::string WiltingSimulation::Setup(const WiltingInput& input, const WiltingPar
   // Forces at full load.
   FullLoads loads{ this->GravityForce, this->LoadForce, this->ContractionLoad, this->SpringShrinkage,
     this->SpringCurl };
-  ComputeFullLoads(
-    grid, input.points[base], this->Params, springScale, loadScale, faceShare, voxelSprings, this->Springs, loads);
+  ComputeFullLoads(grid, input.points[base], this->Params, springScale, loadScale, faceShare, voxelSprings,
+    voxelStiffness, this->Springs, loads);
   error = this->Newmark.Setup(this->Springs, this->Params.newmark);
   if (!error.empty())
   {

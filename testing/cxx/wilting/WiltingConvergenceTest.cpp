@@ -36,16 +36,17 @@ WiltingTipMetrics CucumberRun(const WiltingInput& leaf, double length, int resol
 
 TEST(WiltingConvergence, CucumberTipPathConvergesAsResolutionGrows)
 {
-  // R 14, 15, 18, 22 on the measured leaf (20.1 cm): no blow-up, 101 frames, the tip never rises back more than 5 %
-  // of the length after falling, and the tip paths (in leaf lengths) draw together: the largest distance between
-  // R 18's and R 22's is smaller than between R 14's and R 22's, and below 0.1 leaf lengths. R 15, odd, within 0.15
-  // of R 22's path: 0.26 when the grid was centred on the leaf and the midvein ran through a voxel column's middle
-  // at odd Resolutions (0.13 with a node plane through the base).
+  // R 14, 15, 18, 19, 22 on the measured leaf (20.1 cm): no blow-up, 101 frames, the tip never rises back more than
+  // 5 % of the length after falling, and the tip paths (in leaf lengths) draw together: the largest distance from
+  // R 22's path falls from R 14 to 18 and from R 15 to 19, below 0.1 leaf lengths at 18 and 19, and the odd
+  // Resolutions lie with the even ones (R 15 within 1.2 times R 14's distance, R 19 within 1.5 times R 18's).
+  // Held by whole voxels whose centres were in the ball, R 15 was 0.26 L from R 22 where R 14 was 0.055; with the
+  // graded hold on a grid centred on the leaf (the midvein mid-column at odd R), R 19 was 0.081 where R 18 was 0.033.
   const double length = 20.1;
   const WiltingInput leaf = CucumberBlade(length);
   ASSERT_FALSE(leaf.points.empty());
   std::vector<WiltingTipMetrics> runs;
-  for (const int r : { 14, 15, 18, 22 })
+  for (const int r : { 14, 15, 18, 19, 22 })
   {
     runs.push_back(CucumberRun(leaf, length, r));
     const WiltingTipMetrics& m = runs.back();
@@ -54,11 +55,17 @@ TEST(WiltingConvergence, CucumberTipPathConvergesAsResolutionGrows)
     EXPECT_LT(m.risesBack, 0.05) << "R " << r;
     EXPECT_LT(m.lowest, -0.5) << "R " << r << ": the leaf wilts";
   }
-  const double coarse = TrackDistance(runs[0].track, runs[3].track);
-  const double fine = TrackDistance(runs[2].track, runs[3].track);
-  EXPECT_LT(fine, coarse);
-  EXPECT_LT(fine, 0.1);
-  EXPECT_LT(TrackDistance(runs[1].track, runs[3].track), 0.15) << "R 15";
+  std::vector<double> distance; // from R 22's path: R 14, 15, 18, 19
+  for (std::size_t k = 0; k + 1 < runs.size(); ++k)
+  {
+    distance.push_back(TrackDistance(runs[k].track, runs.back().track));
+  }
+  EXPECT_LT(distance[2], distance[0]) << "R 18 closer than R 14";
+  EXPECT_LT(distance[3], distance[1]) << "R 19 closer than R 15";
+  EXPECT_LT(distance[2], 0.1);
+  EXPECT_LT(distance[3], 0.1);
+  EXPECT_LT(distance[1], 1.2 * distance[0]) << "R 15 with R 14";
+  EXPECT_LT(distance[3], 1.5 * distance[2]) << "R 19 with R 18";
 }
 
 TEST(WiltingConvergence, CucumberMeansTheSameOnSmallAndLargeLeaves)
