@@ -58,8 +58,9 @@ WiltingInput Transformed(const WiltingInput& reference, double length)
 
 TEST(WiltingCarryOver, CucumberWiltsAlikeOnEverySizeMakerAndResolution)
 {
-  // Blades of 5, 8 and 40 cm made two ways, at Resolution 14 (the coarsest accepted), 15 (other voxels are held
-  // there: the hold of whole voxels is a staircase of the held disc) and 18: no blow-up, all 101 frames, the tip never rises back more than 3 % of the length after falling, it falls by more than half a length,
+  // Blades of 5, 8 and 40 cm made two ways, at Resolution 14 (the coarsest accepted), 15 (an odd Resolution: the
+  // held disc covers other voxels, in part) and 18: no blow-up, all 101 frames, the tip never rises back more than
+  // 3 % of the length after falling, it falls by more than half a length,
   // and its path in leaf lengths is within 0.03 of the 20.1 cm blade's at that Resolution. (The fitted scan, the
   // third maker, needs LeafFitFilter: benchmarks/wilting_fitted_scan.py.)
   const WiltingInput veined = CucumberBlade(20.1);
