@@ -5,6 +5,7 @@
 //
 //   wilting_convergence [--sizes 8,20,30] [--resolutions 10,14,18,22] [--duration 10] [--legacy] [--anchor-cm 3]
 //                       [--threads N] [--track FILE] [--substeps N] [--set NAME=VALUE ...]
+//                       [--preset Cucumber|Tomato|Watermelon]
 //
 // The cucumber blade (testing/cxx/wilting/WiltingCucumberLeaf.h: LeafOutlineSource's B-spline Cucumber, midvein and
 // margin regions, no VenationFilter veins) of each blade length L (cm), WiltingSimulation with the Cucumber preset,
@@ -84,6 +85,7 @@ int main(int argc, char** argv)
   bool legacy = false;
   FILE* track = nullptr;
   int threads = 1, substeps = 0;
+  plantmorph::WiltingPreset preset = plantmorph::WiltingPreset::Cucumber;
   std::vector<std::pair<std::string, double>> overrides;
   for (int a = 1; a < argc; ++a)
   {
@@ -102,6 +104,13 @@ int main(int argc, char** argv)
       const std::size_t equals = item.find('=');
       overrides.emplace_back(item.substr(0, equals), std::atof(item.c_str() + equals + 1));
     }
+    else if (!std::strcmp(argv[a], "--preset") && more)
+    {
+      const std::string name = argv[++a];
+      preset = name == "Tomato" ? plantmorph::WiltingPreset::Tomato
+        : name == "Watermelon"  ? plantmorph::WiltingPreset::Watermelon
+                                : plantmorph::WiltingPreset::Cucumber;
+    }
     else if (!std::strcmp(argv[a], "--substeps") && more)
       substeps = std::atoi(argv[++a]);
     else if (!std::strcmp(argv[a], "--threads") && more)
@@ -114,7 +123,8 @@ int main(int argc, char** argv)
     {
       std::fprintf(stderr,
         "usage: %s [--sizes L,...] [--resolutions R,...] [--duration S] [--legacy] "
-        "[--anchor-cm A] [--threads N] [--track FILE] [--substeps N] [--set NAME=VALUE]\n",
+        "[--anchor-cm A] [--threads N] [--track FILE] [--substeps N] [--set NAME=VALUE] "
+        "[--preset Cucumber|Tomato|Watermelon]\n",
         argv[0]);
       return 2;
     }
@@ -134,7 +144,7 @@ int main(int argc, char** argv)
     for (double r : resolutions)
     {
       plantmorph::WiltingParameters p;
-      plantmorph::ApplyWiltingPreset(plantmorph::WiltingPreset::Cucumber, p);
+      plantmorph::ApplyWiltingPreset(preset, p);
       for (const auto& [name, value] : overrides)
       {
         if (!Override(name, value, p))
