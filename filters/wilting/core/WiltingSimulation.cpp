@@ -409,9 +409,10 @@ std::size_t HoldVoxelsNearAnchors(const VoxelGrid& grid, const std::vector<Eigen
       {
         centre += grid.nodes[static_cast<std::size_t>(node)];
       }
+      const char held = AnchorDistance(centre / 8.0, anchors) <= radius ? 1 : 0;
       for (int node : c)
       {
-        fixed[static_cast<std::size_t>(node)] |= AnchorDistance(centre / 8.0, anchors) <= radius ? 1 : 0;
+        fixed[static_cast<std::size_t>(node)] |= held;
       }
     }
     else if (share >= 1.0)
