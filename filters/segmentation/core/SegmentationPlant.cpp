@@ -8,14 +8,12 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
 #include <deque>
 #include <limits>
 #include <map>
 #include <set>
 #include <tuple>
-#include <unordered_set>
 
 namespace plantmorph
 {
@@ -350,28 +348,8 @@ std::size_t IsolatedPiecesByTheirSurroundings(const std::vector<Eigen::Vector3d>
   }
   if (pieces.empty())
     return 0;
-  // the other points that can lie within r of a piece: those in the cells of side r around its points
-  const auto key = [radius](const Eigen::Vector3d& x) {
-    const Eigen::Vector3d c = (x / radius).array().floor();
-    return (static_cast<std::int64_t>(c.x()) * 73856093) ^ (static_cast<std::int64_t>(c.y()) * 19349663) ^
-      (static_cast<std::int64_t>(c.z()) * 83492791);
-  };
-  std::unordered_set<std::int64_t> cells;
-  for (const std::vector<int>& ids : pieces)
-    for (int j : ids)
-      for (int dx = -1; dx <= 1; ++dx)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dz = -1; dz <= 1; ++dz)
-            cells.insert(key(points[static_cast<std::size_t>(j)] + radius * Eigen::Vector3d(dx, dy, dz)));
-  std::vector<Eigen::Vector3d> around;
-  std::vector<int> aroundOrgan;
-  for (std::size_t i = 0; i < n; ++i)
-    if (!tiny[i] && cells.count(key(points[i])))
-    {
-      around.push_back(points[i]);
-      aroundOrgan.push_back(organ[i]);
-    }
-  const PointGrid grid(around, radius);
+  // the other points within r of each piece's points (a grid of every point; the tiny pieces' own do not vote)
+  const PointGrid grid(points, radius);
   std::vector<int> near;
   std::size_t count = 0;
   for (const std::vector<int>& ids : pieces)
@@ -379,11 +357,10 @@ std::size_t IsolatedPiecesByTheirSurroundings(const std::vector<Eigen::Vector3d>
     std::size_t leaf = 0, wood = 0;
     for (int j : ids)
     {
-      if (around.empty())
-        break; // no other point near any piece: every piece is leaf
       grid.Within(points[static_cast<std::size_t>(j)], radius, near);
       for (int q : near)
-        (aroundOrgan[static_cast<std::size_t>(q)] == OrganWood ? wood : leaf) += 1;
+        if (!tiny[static_cast<std::size_t>(q)])
+          (organ[static_cast<std::size_t>(q)] == OrganWood ? wood : leaf) += 1;
     }
     if (wood > leaf)
       continue;
