@@ -6,6 +6,8 @@
 #include "PointGrid.h"
 #include "SegmentationGrid.h"
 
+#include <plantmorph/MathConstants.h>
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -192,7 +194,7 @@ int GrowRegions(
   const PointFeatures& f, const LinkGraph& graph, const SegmentationParameters& p, std::vector<int>& region)
 {
   const std::size_t n = f.normal.size();
-  const double cosine = std::cos(p.normalAngle * 3.14159265358979323846 / 180.0);
+  const double cosine = std::cos(p.normalAngle * Pi / 180.0);
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),

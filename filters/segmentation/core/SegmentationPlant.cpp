@@ -5,6 +5,8 @@
 
 #include "PointGrid.h"
 
+#include <plantmorph/MathConstants.h>
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -129,7 +131,7 @@ int SplitMixedRegions(const PointFeatures& f, const LinkGraph& graph, const Segm
   const std::vector<RegionVerdict>& verdicts, std::vector<int>& region, int count)
 {
   const std::size_t n = region.size();
-  const double cosine = std::cos(p.normalAngle * 3.14159265358979323846 / 180.0);
+  const double cosine = std::cos(p.normalAngle * Pi / 180.0);
   std::vector<int> order;
   for (std::size_t i = 0; i < n; ++i)
     if (region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].mixed)
@@ -828,10 +830,8 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
   for (const std::vector<int>& ids : members)
     for (std::vector<int>& part : SplitAtBases(points, graph, ids, hops, 4.0 * radius, owner))
       leaves.push_back(std::move(part));
-  JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints,
-    std::cos(p.normalAngle * 3.14159265358979323846 / 180.0), radius, leaves);
-  JoinAcrossGaps(points, radius, std::cos(GapAngleFraction * p.normalAngle * 3.14159265358979323846 / 180.0),
-    p.minimumLeafPoints, leaves);
+  JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
+  JoinAcrossGaps(points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
   std::sort(leaves.begin(), leaves.end());
   for (const std::vector<int>& ids : leaves)
   {
