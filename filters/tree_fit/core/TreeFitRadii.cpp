@@ -160,6 +160,16 @@ int JunctionStub(const std::vector<TreeCylinder>& cylinders, const std::vector<s
   return stub;
 }
 
+/// Per cylinder, its children's ids.
+std::vector<std::vector<int>> ChildLists(const std::vector<TreeCylinder>& cylinders)
+{
+  std::vector<std::vector<int>> children(cylinders.size());
+  for (std::size_t k = 0; k < cylinders.size(); ++k)
+    if (cylinders[k].parent >= 0)
+      children[cylinders[k].parent].push_back(static_cast<int>(k));
+  return children;
+}
+
 /// Per cylinder, the child that continues its branch (-1: none; the branch ends there). At a fork, the children
 /// that go on within KinkAngle of the parent are the candidates (as AdTree and the QSM tools: the continuation is the
 /// child most aligned with the stem and carrying most), light ones (under ContinueShare of the heaviest candidate:
@@ -178,14 +188,7 @@ std::vector<int> ContinuingChildren(
   const std::vector<TreeCylinder>& cylinders, const std::vector<double>& radius, const std::vector<double>& carried)
 {
   const std::size_t n = cylinders.size();
-  std::vector<std::vector<int>> children(n);
-  for (std::size_t k = 0; k < n; ++k)
-  {
-    const int p = cylinders[k].parent;
-    if (p < 0)
-      continue;
-    children[p].push_back(static_cast<int>(k));
-  }
+  const std::vector<std::vector<int>> children = ChildLists(cylinders);
   std::vector<int> continuing(n, -1);
   // Whether cylinder q continues its parent's branch (false at a branch's first cylinder).
   const auto continues = [&](int q) { return cylinders[q].parent >= 0 && continuing[cylinders[q].parent] == q; };
@@ -333,16 +336,6 @@ double SegmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const
   const Eigen::Vector3d ab = b - a;
   const double t = std::clamp((x - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
   return (x - a - t * ab).norm();
-}
-
-/// Per cylinder, its children's ids.
-std::vector<std::vector<int>> ChildLists(const std::vector<TreeCylinder>& cylinders)
-{
-  std::vector<std::vector<int>> children(cylinders.size());
-  for (std::size_t k = 0; k < cylinders.size(); ++k)
-    if (cylinders[k].parent >= 0)
-      children[cylinders[k].parent].push_back(static_cast<int>(k));
-  return children;
 }
 
 /// A child branch leaves the level sets only where its surface parts from its parent's, some way past the fork: its
