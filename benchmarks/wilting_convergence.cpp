@@ -106,10 +106,17 @@ int main(int argc, char** argv)
     }
     else if (!std::strcmp(argv[a], "--preset") && more)
     {
+      // A named preset (WiltingPresetName's spelling); any other name is an error, not a silent Cucumber.
       const std::string name = argv[++a];
-      preset = name == "Tomato" ? plantmorph::WiltingPreset::Tomato
-        : name == "Watermelon"  ? plantmorph::WiltingPreset::Watermelon
-                                : plantmorph::WiltingPreset::Cucumber;
+      int found = 0;
+      for (int k = 1; k < plantmorph::WiltingPresetCount && !found; ++k)
+        found = plantmorph::WiltingPresetName(static_cast<plantmorph::WiltingPreset>(k)) == name ? k : 0;
+      if (!found)
+      {
+        std::fprintf(stderr, "--preset: unknown name %s (Cucumber, Tomato or Watermelon)\n", name.c_str());
+        return 2;
+      }
+      preset = static_cast<plantmorph::WiltingPreset>(found);
     }
     else if (!std::strcmp(argv[a], "--substeps") && more)
       substeps = std::atoi(argv[++a]);
