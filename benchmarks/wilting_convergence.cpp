@@ -17,7 +17,7 @@
 // Resolution's of that size, the blow-up time, the integrator sub-steps and the wall time. --track FILE: every run's
 // tip positions (cm, in the input's frame) as lines "L R t x y z". --substeps N: N integrator steps per TimeStep
 // (default 0: WiltingParameters' automatic choice). --set NAME=VALUE: a Cucumber value replaced (the property names of
-// examples/calibrate_wilting.py, physical units), for exploring a refit.
+// examples/calibrate_wilting.py, physical units; Gravity in cm/s^2), for exploring a refit.
 #include "WiltingCucumberLeaf.h"
 #include "WiltingPresets.h"
 
@@ -61,10 +61,10 @@ bool Override(const std::string& name, double value, plantmorph::WiltingParamete
   double* targets[] = { &p.droopForce, &p.contractionForce, &p.loadTime, &p.contractionTime, &p.newmark.rayleighMass,
     &p.curlStrain, &p.curlTime, &p.curlRelaxation, &p.curlRelaxationTime, &p.shrinkageStrain, &p.shrinkageTime,
     &p.materials[M::WiltingBlade].stiffness, &p.materials[M::WiltingVein].stiffness,
-    &p.materials[M::WiltingMargin].stiffness, &p.bladeThickness };
+    &p.materials[M::WiltingMargin].stiffness, &p.bladeThickness, &p.gravity };
   const char* names[] = { "DroopForce", "ContractionForce", "LoadTime", "ContractionTime", "RayleighAlpha",
     "CurlStrain", "CurlTime", "CurlRelaxation", "CurlRelaxationTime", "ShrinkageStrain", "ShrinkageTime",
-    "BladeStiffness", "VeinStiffness", "MarginStiffness", "BladeThickness" };
+    "BladeStiffness", "VeinStiffness", "MarginStiffness", "BladeThickness", "Gravity" };
   for (std::size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
   {
     if (name == names[k])
