@@ -23,7 +23,10 @@
 //   gravity but none of the wilting loads, shrinkage or curl (the blade wilts, the petiole holds it), and the
 //   output's surface has none: it shows in the voxel model (Region 5). The blade's voxels are those without a
 //   petiole (the grid grows by whole cells).
-// - Loads at time t (all scaled by LoadFactor(t) except gravity): gravity m g (0, 0, -1) per node; droop: a pull
+// - Loads at time t (gravity and droop scaled by LoadFactor(t), the contraction by its own): gravity m g (0, 0, -1)
+//   per node (* it comes in with the droop: the turgid leaf carries its weight at t = 0, its shape the input's, and
+//   wilting withdraws that support; applied at once it dropped a large soft leaf below its end, which swung back
+//   11-17 % of its length; Constant, the paper's profile: at once); droop: a pull
 //   DroopForce (0, 0, -1) per voxel (* not the petiole's, Region 5: the blade wilts); contraction: ContractionForce per voxel towards the midvein plane x = x_base
 //   (* the plane through the base along +Y; voxels whose centre is within h/2 of it get none), or with
 //   ContractionTarget Base towards the base point in the XY plane (voxels within h/2 of it get none), each voxel's
@@ -66,8 +69,8 @@
 //   margins change first, and the cucumber fit wants the curl earlier than the droop.
 // - Integration: NewmarkIntegrator (Rayleigh damping, Newton, compression clamp, Cholesky or CG).
 // - Blow-up guard: a non-finite value, an inverted voxel (a corner Jacobian <= 0, relative to rest), or mechanical
-//   energy (kinetic + spring + gravity, from rest) above twice the work the droop and contraction loads have done
-//   plus the work gravity can do stops the run with a message naming the step; the frames so far are kept.
+//   energy (kinetic + spring + gravity, from rest) above twice the work the droop and contraction loads and the
+//   support of the weight not yet withdrawn have done plus the work gravity can do stops the run with a message naming the step; the frames so far are kept.
 // - Frames: the state every FrameInterval (rounded to whole steps) from 0 to Duration.
 #pragma once
 
