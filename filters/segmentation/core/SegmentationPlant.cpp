@@ -235,16 +235,9 @@ constexpr int StripRingLinks = 3;
 /// the features' radius r (r is at least 12 times the range noise, so a flat ring's noise stays under it).
 constexpr double StripRingFlatness = 0.1;
 
-/// Whether a flat strip is a sheet and not a facet of wood: the points within StripRingLinks links around it
-/// (outside it) lie in its plane (root mean square off it under StripRingFlatness r), or there are none. Wood is
-/// curved around an axis: around a facet of a tube the next facets turn away from its plane (on the simulated tree
-/// their points are 0.3 r to 1 r off it); around a leaf seen at a grazing angle in a few rows, or alone, the
-/// surroundings are the leaf's own plane or nothing. `mark` is scratch (all -1 in and out).
-bool StripIsFlatSheet(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const std::vector<int>& ids,
-  const PartMoments& moments, double radius, std::vector<int>& mark)
+/// The points within StripRingLinks links around points[ids] (outside them). `mark` is scratch (all -1 in and out).
+std::vector<int> RingAround(const LinkGraph& graph, const std::vector<int>& ids, std::vector<int>& mark)
 {
-  double spread = 0.0;
-  const Eigen::Vector3d normal = moments.Normal(spread);
   for (int j : ids)
     mark[static_cast<std::size_t>(j)] = 1;
   std::vector<int> front = ids, next, ring;
@@ -265,17 +258,122 @@ bool StripIsFlatSheet(const std::vector<Eigen::Vector3d>& points, const LinkGrap
       }
     front.swap(next);
   }
+  for (int j : ids)
+    mark[static_cast<std::size_t>(j)] = -1;
+  for (int j : ring)
+    mark[static_cast<std::size_t>(j)] = -1;
+  return ring;
+}
+
+/// Whether a flat strip is a sheet and not a facet of wood: the points within StripRingLinks links around it
+/// (outside it) lie in its plane (root mean square off it under StripRingFlatness r), or there are none. Wood is
+/// curved around an axis: around a facet of a tube the next facets turn away from its plane (on the simulated tree
+/// their points are 0.3 r to 1 r off it); around a leaf seen at a grazing angle in a few rows, or alone, the
+/// surroundings are the leaf's own plane or nothing. `mark` is scratch (all -1 in and out).
+bool StripIsFlatSheet(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const std::vector<int>& ids,
+  const PartMoments& moments, double radius, std::vector<int>& mark)
+{
+  double spread = 0.0;
+  const Eigen::Vector3d normal = moments.Normal(spread);
+  const std::vector<int> ring = RingAround(graph, ids, mark);
   double off = 0.0;
   for (int j : ring)
   {
     const double d = (points[static_cast<std::size_t>(j)] - moments.mean).dot(normal);
     off += d * d;
   }
-  for (int j : ids)
-    mark[static_cast<std::size_t>(j)] = -1;
-  for (int j : ring)
-    mark[static_cast<std::size_t>(j)] = -1;
   return ring.empty() || std::sqrt(off / static_cast<double>(ring.size())) < StripRingFlatness * radius;
+}
+
+/// A blade folded along its midrib by more than about 60 degrees grows into two regions, one per half, each
+/// narrower than 2r and its surroundings (the other half) turning away: two strips. Two strips that lie within
+/// StripRingLinks links of each other are the halves of one folded blade when together they are a V along their
+/// length (their normals share an axis along the pair's long axis and turn around it as far as a cylinder's, but
+/// in two groups: kurtosis under CylinderKurtosis), as wide as a leaf and no long strip, and the points around the
+/// pair (the crease between the halves among them) lie in one half's plane or the other's (root mean square off the
+/// nearer under StripRingFlatness r). A branch's facets fail it: the facet between two facets that far apart lies
+/// in neither plane. The pair becomes one leaf region (the first's number), with the points around it in either
+/// plane that no leaf region holds (the crease along the midrib). Returns the pairs joined.
+int JoinFoldedStrips(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
+  const SegmentationParameters& p, std::vector<RegionVerdict>& verdicts, std::vector<int>& region)
+{
+  std::vector<std::vector<int>> members(verdicts.size());
+  for (std::size_t i = 0; i < region.size(); ++i)
+    if (region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].strip)
+      members[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
+  std::vector<int> mark(points.size(), -1);
+  int joined = 0;
+  for (std::size_t a = 0; a < verdicts.size(); ++a)
+  {
+    if (!verdicts[a].strip)
+      continue;
+    const auto moved = [&](std::size_t r) { // points an earlier pair took as its crease
+      members[r].erase(std::remove_if(members[r].begin(), members[r].end(),
+                         [&](int j) { return region[static_cast<std::size_t>(j)] != static_cast<int>(r); }),
+        members[r].end());
+    };
+    moved(a);
+    if (members[a].size() < JudgedRegionPoints)
+      continue;
+    std::map<int, int> near; // the other strips around it, with their points there
+    for (int j : RingAround(graph, members[a], mark))
+    {
+      const int r = region[static_cast<std::size_t>(j)];
+      if (r >= 0 && static_cast<std::size_t>(r) != a && verdicts[static_cast<std::size_t>(r)].strip)
+        ++near[r];
+    }
+    if (near.empty())
+      continue;
+    const auto b =
+      static_cast<std::size_t>(std::max_element(near.begin(), near.end(), [](const auto& x, const auto& y) {
+        return x.second < y.second;
+      })->first);
+    moved(b);
+    std::vector<int> pair = members[a];
+    pair.insert(pair.end(), members[b].begin(), members[b].end());
+    PartMoments halves[2], both;
+    halves[0].count = static_cast<double>(members[a].size());
+    halves[0].scatter = Scatter(points, members[a], halves[0].mean);
+    halves[1].count = static_cast<double>(members[b].size());
+    halves[1].scatter = Scatter(points, members[b], halves[1].mean);
+    both = halves[0].Merged(halves[1]);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(both.scatter / both.count);
+    const Eigen::Vector3d l = solver.eigenvalues().cwiseMax(0.0);
+    const NormalSpread spread = SpreadOfNormals(f, pair, solver.eigenvectors().col(2));
+    if (spread.axisAlongLength < CylinderAxisCosine || spread.middle < CylinderNormalSpread ||
+      spread.kurtosis >= CylinderKurtosis || 2.0 * std::sqrt(3.0 * l[1]) < 2.0 * f.radius ||
+      !(l[1] > 0.0 && std::sqrt(l[2] / l[1]) < p.maximumLeafElongation))
+      continue;
+    double unused = 0.0, off = 0.0;
+    const Eigen::Vector3d normals[2] = { halves[0].Normal(unused), halves[1].Normal(unused) };
+    const std::vector<int> ring = RingAround(graph, pair, mark);
+    std::vector<int> crease; // the ring's points of other strips or of regions too small to judge, in the V
+    for (int j : ring)
+    {
+      const Eigen::Vector3d& q = points[static_cast<std::size_t>(j)];
+      const double d =
+        std::min(std::abs((q - halves[0].mean).dot(normals[0])), std::abs((q - halves[1].mean).dot(normals[1])));
+      off += d * d;
+      const int r = region[static_cast<std::size_t>(j)];
+      if (r >= 0 && !verdicts[static_cast<std::size_t>(r)].leaf && d < StripRingFlatness * f.radius)
+        crease.push_back(j);
+    }
+    if (!ring.empty() && std::sqrt(off / static_cast<double>(ring.size())) >= StripRingFlatness * f.radius)
+      continue;
+    for (int j : members[b])
+      region[static_cast<std::size_t>(j)] = static_cast<int>(a);
+    for (int j : crease)
+      region[static_cast<std::size_t>(j)] = static_cast<int>(a);
+    pair.insert(pair.end(), crease.begin(), crease.end());
+    members[a] = std::move(pair);
+    members[b].clear();
+    verdicts[b].strip = false;
+    verdicts[b].judged = false;
+    verdicts[a].strip = false;
+    verdicts[a].leaf = true;
+    ++joined;
+  }
+  return joined;
 }
 
 /// Flat strips are leaf unless they are a piece of a curved surface: a region judged wood only for being narrower
@@ -943,6 +1041,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
     count = SplitMixedRegions(f, graph, p, verdicts, region, count);
     verdicts = JudgeRegions(points, f, region, count, p, false);
   }
+  JoinFoldedStrips(points, f, graph, p, verdicts, region);
   FlatStripsAreLeaves(points, graph, f.radius, verdicts, region);
   std::vector<char> judged;
   SpreadRegions(f, graph, verdicts, region, judged);
