@@ -18,6 +18,7 @@ namespace
 constexpr double InsideRadii = 0.5; // a point this share of a cylinder's radius outside its surface is still on it...
 constexpr double InsideSpacings = 2.0; // ...or this many point spacings (thin cylinders, noise)
 constexpr double InsideShare = 0.8;    // share of a chain's points on or in other branches' cylinders: it is theirs
+constexpr double AlongAngle = 20.0;    // degrees: a chain's cylinder inside another runs along it, either way
 
 constexpr int MinCirclePoints = 12;     // a circle fitted through this many points...
 constexpr double MaxCircleScale = 0.35; // ...within this share of its radius (residual scale) is the wood's extent
@@ -166,17 +167,26 @@ bool MergeInsideChains(const Wood& wood, const TreeFitResult& fit, Skeleton& s)
     }
     if (candidates.empty())
       continue;
-    const auto mostInside = [&](std::size_t count, auto&& at) { // InsideShare of them, the count stopped early
-      const auto allowed = static_cast<std::size_t>((1.0 - InsideShare) * static_cast<double>(count));
-      std::size_t outside = 0;
-      for (std::size_t j = 0; j < count && outside <= allowed; ++j)
-        outside += Nearest(at(j), candidates, cylinders, wood.spacing).second > 1.0 ? 1 : 0;
-      return outside <= allowed;
-    };
-    const auto& own = ownPoints[g];
+    // Most of the chain's cylinders (the middles of their axes) lie in candidates and run along them (a strip of
+    // a stem runs along it; a lateral's base in its parent's junction does not), and most of its points.
     const auto& ks = segmentCylinders[g];
-    if (!mostInside(ks.size(), [&](std::size_t j) { return 0.5 * (cylinders[ks[j]].start + cylinders[ks[j]].end); }) ||
-      !mostInside(own.size(), [&](std::size_t j) { return wood.points[own[j]]; }))
+    std::size_t along = 0;
+    for (int k : ks)
+    {
+      const Eigen::Vector3d axis = (cylinders[k].end - cylinders[k].start).normalized();
+      const auto [host, outside] =
+        Nearest(0.5 * (cylinders[k].start + cylinders[k].end), candidates, cylinders, wood.spacing);
+      const Eigen::Vector3d hostAxis = (cylinders[host].end - cylinders[host].start).normalized();
+      along += outside <= 1.0 && std::abs(axis.dot(hostAxis)) >= std::cos(AlongAngle * M_PI / 180.0) ? 1 : 0;
+    }
+    if (static_cast<double>(along) < InsideShare * static_cast<double>(ks.size()))
+      continue;
+    const auto& own = ownPoints[g];
+    const auto allowed = static_cast<std::size_t>((1.0 - InsideShare) * static_cast<double>(own.size()));
+    std::size_t outside = 0; // stops once the chain cannot be inside
+    for (std::size_t j = 0; j < own.size() && outside <= allowed; ++j)
+      outside += Nearest(wood.points[own[j]], candidates, cylinders, wood.spacing).second > 1.0 ? 1 : 0;
+    if (outside > allowed)
       continue;
     MergeChain(wood, cylinders, cylinderNodes, candidates, g, s);
     removed[g] = 1;
