@@ -203,7 +203,10 @@ def match_orders(truth, fitted):
 
 
 def match_first_order(truth, fitted):
-    found, errors = 0, []
+    """True first-order branches, those found, their angle errors, and per branch (in the JSON, "first"): the height
+    of its base, its true angle, the angle of the fitted branch found for it (None when none is) and the orders of
+    the fitted branches that pass along it (of any order: a branch found at the wrong order, or not at all)."""
+    found, errors, detail = 0, [], []
     first = [b for b in truth["branches"].values() if b["parent"] == truth["trunk"]]
     trunk_points = truth["branches"][truth["trunk"]]["points"]
     for b in first:
@@ -214,10 +217,14 @@ def match_first_order(truth, fitted):
             d = passes_along(b, f)
             if d is not None and (best is None or d < best[0]):
                 best = (d, f)
+        true_angle = base_angle(b["points"], trunk_points)
         if best is not None:
             found += 1
-            errors.append(best[1]["angle"] - base_angle(b["points"], trunk_points))
-    return len(first), found, errors
+            errors.append(best[1]["angle"] - true_angle)
+        detail.append(dict(height=float(b["points"][0] @ UP - truth["low"]), length=b["length"], angle=true_angle,
+                           fitted_angle=best[1]["angle"] if best is not None else None,
+                           orders=sorted(f["order"] for f in fitted.values() if passes_along(b, f) is not None)))
+    return len(first), found, errors, detail
 
 
 def scan(tree, truth):
@@ -266,7 +273,7 @@ def evaluate(name, variant, fit, truth, cloud):
         return dict(tree=name, variant=variant, failed=True)
     traits = {table.GetColumnName(c): table.GetValue(0, c).ToDouble() for c in range(2, table.GetNumberOfColumns())}
     fitted = fitted_branches(fit)
-    total_first, found, angle_errors = match_first_order(truth, fitted)
+    total_first, found, angle_errors, first_detail = match_first_order(truth, fitted)
     orders = match_orders(truth, fitted)
     wood_kept, leaf_taken = wood_scores(cloud, servermanager.Fetch(fit, idx=4)) if arguments.leaves else (1.0, 0.0)
     row = dict(tree=name, variant=variant, points=cloud.GetNumberOfPoints(), seconds=seconds, cpu=cpu,
@@ -283,7 +290,8 @@ def evaluate(name, variant, fit, truth, cloud):
                first_true=total_first, first_found=found,
                angle_rms=math.sqrt(sum(e * e for e in angle_errors) / len(angle_errors)) if angle_errors else float("nan"),
                measured=traits["MeasuredVolumeFraction"], true_branches=len(truth["branches"]) - 1,
-               fitted_branches=traits["BranchCount"], orders=orders, wood_kept=wood_kept, leaf_taken=leaf_taken)
+               fitted_branches=traits["BranchCount"], orders=orders, wood_kept=wood_kept, leaf_taken=leaf_taken,
+               first=first_detail)
     print(f"{name:12s} {variant:9s} pts {row['points']:8d} t {seconds:6.2f}s cpu {cpu:6.2f}s total {row['total']:+6.1f}% "
           f"trunk {row['trunk']:+6.1f}% branch {row['branch']:+7.1f}% (mesh {row['mesh_total']:+6.1f}%) "
           f"DBH {row['dbh']:+5.1f}% H {row['height']:+5.1f}% (scan top {row['scan_top']:+5.1f}%) "

@@ -45,6 +45,7 @@ std::vector<double> TreeTraitValues(const TreeTraits& t)
 namespace
 {
 constexpr double MaxRelativeDistance = 0.3; // median |distance| / radius beyond which the points are no wood surface
+constexpr int MergePasses = 2; // chains inside other branches merged, the cylinders fitted again, at most this often
 
 /// "" or why the input cannot be a tree before any fitting (sizes, too few points; FitTree checks for NaN).
 std::string CheckInput(
@@ -153,8 +154,14 @@ TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::v
   std::vector<int> woodCylinder;
   if (result.error.empty())
   {
-    const treefit::Skeleton skeleton = treefit::BuildSkeleton(wood);
+    treefit::Skeleton skeleton = treefit::BuildSkeleton(wood);
     result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder);
+    for (int pass = 0; pass < MergePasses && result.error.empty() && treefit::MergeInsideChains(wood, result, skeleton);
+         ++pass)
+    {
+      result = TreeFitResult();
+      result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder);
+    }
     if (result.error.empty())
       ReturnToLeaves(skeleton.nodeOf, wood, woodCylinder, candidates);
   }

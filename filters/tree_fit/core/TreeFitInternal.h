@@ -63,6 +63,9 @@ struct Skeleton
 /// Step 3 on the cleaned wood.
 Skeleton BuildSkeleton(const Wood& wood);
 
+/// The nodes' centroids (of their fitted points) and the segments, from the node tree as it stands.
+void Segments(const Wood& wood, Skeleton& s);
+
 /// A unit frame (u, v) normal to unit `axis`.
 void Frame(const Eigen::Vector3d& axis, Eigen::Vector3d& u, Eigen::Vector3d& v);
 
@@ -86,6 +89,12 @@ CylinderFit FitCylinder(const std::vector<Eigen::Vector3d>& points, const Eigen:
 /// be measured anywhere.
 std::string FitCylinders(const Wood& wood, const Skeleton& skeleton, const TreeFitParameters& options,
   const ParallelFor& parallel, TreeFitResult& result, std::vector<int>& woodCylinder);
+
+/// Chains whose fitted points lie (InsideShare of them) on or in the cylinders of branches not hanging from them,
+/// within half a radius or two spacings of their surfaces: strips of one stem's surface that became chains side by
+/// side. The lighter first, each joins those cylinders' nodes (its points and the chains hanging from it); the
+/// segments are made again. Whether any chain was merged (then the cylinders are to be fitted again).
+bool MergeInsideChains(const Wood& wood, const TreeFitResult& fit, Skeleton& s);
 
 /// Step 5-6 on the fitted cylinders (fitRMS holding each fit's robust residual scale): the noise, which radii are
 /// measured, the growth-length model for the others, branches and orders; "" or why no radius is measured.

@@ -387,6 +387,12 @@ Skeleton BuildSkeleton(const Wood& wood)
   s.fitted.assign(wood.points.size(), 1);
   ReturnLeafSheets(wood, s.nodes, s.nodeOf, s.fitted);
   Prune(s.nodes, s.nodeOf, s.fitted);
+  Segments(wood, s);
+  return s;
+}
+
+void Segments(const Wood& wood, Skeleton& s)
+{
   for (Node& node : s.nodes)
   {
     node.centroid.setZero();
@@ -401,6 +407,8 @@ Skeleton BuildSkeleton(const Wood& wood)
       node.centroid /= count;
   }
   // Segments: chains between forks, depth first from the base.
+  s.segments.clear();
+  s.segmentParent.clear();
   std::vector<std::pair<int, int>> stack{ { 0, -1 } }; // (first node, parent segment)
   while (!stack.empty())
   {
@@ -416,7 +424,6 @@ Skeleton BuildSkeleton(const Wood& wood)
     for (auto c = children.rbegin(); c != children.rend(); ++c)
       stack.emplace_back(*c, id);
   }
-  return s;
 }
 
 } // namespace treefit

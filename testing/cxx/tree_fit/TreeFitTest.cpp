@@ -147,6 +147,40 @@ TEST(TreeFit, AStemWhoseLevelSetsSplitSideBySideIsOneBranch)
     EXPECT_NEAR(c.radius, 0.15, 0.01) << "cylinder at height " << c.start.z();
 }
 
+/// A stem standing on the origin along z whose surface above `from` is scanned only in `strips` strips `width`
+/// degrees wide, evenly spread round it (leaves hide the rest; a segmentation leaves such strips of a stem as wood).
+std::vector<Eigen::Vector3d> StripScan(const TrueCylinder& stem, double from, int strips, double width)
+{
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector3d& p : Scan({ stem }, 0.008, 0.001))
+  {
+    const double phi = std::atan2(p.y(), p.x()) * 180.0 / M_PI + 180.0; // [0, 360)
+    const double pitch = 360.0 / strips, off = std::fmod(phi, pitch);
+    if (p.z() < from || std::min(off, pitch - off) < 0.5 * width)
+      points.push_back(p);
+  }
+  return points;
+}
+
+TEST(TreeFit, AStemScannedAsSeparateStripsIsOneBranch)
+{
+  // A stem 12 cm in radius whose surface above 0.3 m is scanned only in three strips of 60 degrees, 12.6 cm apart
+  // round it (over 8 spacings: no neighbour links across). The strips are chains of the skeleton side by side, each
+  // fitted on an arc too narrow to measure (its circle the stem's, its radius the model's: 2 to 7 cm), each a branch
+  // inside the others' cylinders; the points lay a radius off those and the cloud was refused as scattered points.
+  // They are one stem: one branch, its cylinders fitted on all three strips, its volume the stem's.
+  const TrueCylinder stem{ { 0, 0, 0 }, { 0, 0, 2.0 }, 0.12 };
+  for (const auto& [strips, width] : { std::pair<int, double>{ 3, 60.0 } })
+  {
+    const TreeFitResult r = FitTree(StripScan(stem, 0.3, strips, width), {}, TreeFitParameters());
+    ASSERT_EQ(r.error, "") << strips << " strips";
+    EXPECT_EQ(r.branches.size(), 1u) << strips << " strips";
+    EXPECT_NEAR(r.traits.totalVolume, Volume(stem), 0.05 * Volume(stem)) << strips << " strips";
+    std::cout << strips << " strips: " << r.branches.size() << " branches, volume " << r.traits.totalVolume << " for "
+              << Volume(stem) << "\n";
+  }
+}
+
 TEST(TreeFit, TwoBranchesSideBySideStayTwo)
 {
   // Two stems of 4 cm standing 13 cm apart on a common base, parallel (a narrow fork whose branches run side by side):
