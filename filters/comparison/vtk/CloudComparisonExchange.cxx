@@ -300,12 +300,12 @@ void Percentiles(vtkMultiProcessController* controller, std::vector<std::uint64_
 } // namespace
 
 //------------------------------------------------------------------------------
-DistanceStatistics Statistics(
-  vtkMultiProcessController* controller, const double* distances, std::size_t count, double maximumDistance)
+DistanceStatistics Statistics(vtkMultiProcessController* controller, const double* distances, std::size_t count,
+  double maximumDistance, const ParallelFor& tasks)
 {
   if (!controller)
   {
-    return ComputeDistanceStatistics(distances, count, maximumDistance);
+    return ComputeDistanceStatistics(distances, count, maximumDistance, tasks);
   }
   LocalPart part = Local(distances, count, maximumDistance);
   DistanceStatistics s;

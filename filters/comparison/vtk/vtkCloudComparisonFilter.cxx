@@ -716,7 +716,8 @@ void WriteOutputs(vtkCloudComparisonFilter* self, const plantmorph::Run& run, vt
     self->GetUseMaximumDistance() != 0, output);
   vtkFieldData* fd = output->GetFieldData();
   FillTransform(m.transform, m.registering ? &m.registered : nullptr, fd);
-  const DistanceStatistics s = cloudmpi::Statistics(controller, d.distance->GetPointer(0), count, cutOff);
+  // The statistics' two parts (sums; percentiles) at once, one a thread: the serial tail of the update.
+  const DistanceStatistics s = cloudmpi::Statistics(controller, d.distance->GetPointer(0), count, cutOff, SMPFor(1));
   FillStatistics(s, cutOff, surface, self->GetSymmetric() ? &reverse : nullptr, statistics, fd);
   FillHistogram(cloudmpi::Histogram(controller, d.distance->GetPointer(0), count,
                   static_cast<std::size_t>(self->GetHistogramBins()), cutOff, s),
