@@ -98,9 +98,9 @@ struct DistanceHistogram
 DistanceHistogram ComputeDistanceHistogram(
   const double* distances, std::size_t count, std::size_t bins, double maximumDistance = -1.0);
 
-/// The same over a given range [lo, hi] (lo <= hi: the kept distances' minimum and maximum over all MPI ranks);
-/// kept distances outside it are not counted.
-DistanceHistogram ComputeDistanceHistogramOver(
-  const double* distances, std::size_t count, std::size_t bins, double maximumDistance, double lo, double hi);
+/// The same over a given range [lo, hi] (lo <= hi: the kept distances' minimum and maximum, over all MPI ranks);
+/// kept distances outside it are not counted. The counting runs on `parallelFor` (the same counts either way).
+DistanceHistogram ComputeDistanceHistogramOver(const double* distances, std::size_t count, std::size_t bins,
+  double maximumDistance, double lo, double hi, const ParallelFor& parallelFor = SerialFor);
 
 } // namespace plantmorph

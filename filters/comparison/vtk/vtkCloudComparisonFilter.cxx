@@ -716,11 +716,12 @@ void WriteOutputs(vtkCloudComparisonFilter* self, const plantmorph::Run& run, vt
     self->GetUseMaximumDistance() != 0, output);
   vtkFieldData* fd = output->GetFieldData();
   FillTransform(m.transform, m.registering ? &m.registered : nullptr, fd);
-  // The statistics' two parts (sums; percentiles) at once, one a thread: the serial tail of the update.
+  // The statistics' two parts (sums; percentiles) at once, and the histogram's blocks, one a thread: the serial
+  // tail of the update.
   const DistanceStatistics s = cloudmpi::Statistics(controller, d.distance->GetPointer(0), count, cutOff, SMPFor(1));
   FillStatistics(s, cutOff, surface, self->GetSymmetric() ? &reverse : nullptr, statistics, fd);
   FillHistogram(cloudmpi::Histogram(controller, d.distance->GetPointer(0), count,
-                  static_cast<std::size_t>(self->GetHistogramBins()), cutOff, s),
+                  static_cast<std::size_t>(self->GetHistogramBins()), cutOff, s, SMPFor(1)),
     s.count, histogram);
   if (!IsFirstRank())
   {

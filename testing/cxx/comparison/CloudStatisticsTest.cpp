@@ -21,11 +21,12 @@ namespace plantmorph
 namespace
 {
 // The two parts of the statistics on two threads at once give the serial result bit for bit, with NaN, infinite,
-// outlying and equal distances among them; and the parts are really independent (each alone on its thread).
+// outlying and equal distances among them; and the parts are really independent (each alone on its thread). The
+// histogram over the statistics' range, its blocks on two threads, equals the serial histogram.
 TEST(CloudStatistics, TwoThreadsGiveTheSerialResult)
 {
   RandomStream random(39);
-  std::vector<double> d(50001);
+  std::vector<double> d(150001); // three of the histogram's blocks
   for (double& x : d)
   {
     x = std::fabs(random.Normal(1.0, 0.5));
@@ -63,6 +64,13 @@ TEST(CloudStatistics, TwoThreadsGiveTheSerialResult)
     EXPECT_EQ(threaded.p50, SortedPercentile(kept, 50.0));
     EXPECT_EQ(threaded.minimum, kept.front());
     EXPECT_EQ(threaded.maximum, kept.back());
+    const DistanceHistogram histogram = ComputeDistanceHistogram(d.data(), d.size(), 17, cutOff);
+    const DistanceHistogram over =
+      ComputeDistanceHistogramOver(d.data(), d.size(), 17, cutOff, threaded.minimum, threaded.maximum, twoThreads);
+    EXPECT_EQ(histogram.count, over.count);
+    EXPECT_EQ(histogram.binStart, over.binStart);
+    EXPECT_EQ(histogram.binEnd, over.binEnd);
+    EXPECT_EQ(std::accumulate(over.count.begin(), over.count.end(), std::size_t(0)), threaded.count);
   }
 }
 
