@@ -9,9 +9,12 @@
 // CASE: loop (AdaptiveLoopFilter, uniform Loop, 3 levels of a 19,600-triangle sphere: 1,254,400 triangles),
 // vtkloop (vtkLoopSubdivisionFilter, the same), distance (CloudComparisonFilter, 10^6 points against a
 // 203,520-triangle sphere), vtkdistance (vtkImplicitPolyDataDistance over the same points: VTK's own point-to-surface
-// distance, serial). Prints one line per update: `CASE run SECONDS CPU_SECONDS PAGE_FAULTS` (run 0 is the first;
-// wall time, the process's CPU time over all its threads, its minor page faults), inputs built untimed. On a loaded
-// machine compare the CPU times: first / warm is then still what the first update pays.
+// distance, serial). Prints one line per update: `CASE run SECONDS CPU_SECONDS PAGE_FAULTS CALLING_CPU` (run 0 is the
+// first; wall time, the process's CPU time over all its threads, its minor page faults, and the CPU time of the
+// calling thread alone), inputs built untimed. On a loaded machine compare the CPU times: first / warm is then still
+// what the first update pays. vtkSMPTools' threads do the parallel loops while the calling thread waits, so the
+// calling thread's CPU time is the update's serial part: on an idle machine with T cores the wall time is about
+// CALLING_CPU + (CPU_SECONDS - CALLING_CPU) / T.
 #include "vtkAdaptiveLoopFilter.h"
 #include "vtkCloudComparisonFilter.h"
 
@@ -71,14 +74,15 @@ vtkSmartPointer<vtkPolyData> Cloud()
 
 struct Cost
 {
-  double wall, cpu, faults;
+  double wall, cpu, faults, calling;
 };
 
-/// The process's CPU seconds (every thread) and minor page faults so far.
-void Usage(double& cpu, double& faults)
+/// The CPU seconds (user and system) of `who` (RUSAGE_SELF: every thread; RUSAGE_THREAD: the calling one), and its
+/// minor page faults so far.
+void Usage(int who, double& cpu, double& faults)
 {
   rusage u{};
-  getrusage(RUSAGE_SELF, &u);
+  getrusage(who, &u);
   cpu = static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
     1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
   faults = static_cast<double>(u.ru_minflt);
@@ -86,13 +90,15 @@ void Usage(double& cpu, double& faults)
 
 Cost Time(const std::function<void()>& run)
 {
-  double cpu0 = 0.0, faults0 = 0.0, cpu1 = 0.0, faults1 = 0.0;
-  Usage(cpu0, faults0);
+  double cpu0 = 0.0, faults0 = 0.0, cpu1 = 0.0, faults1 = 0.0, calling0 = 0.0, calling1 = 0.0, unused = 0.0;
+  Usage(RUSAGE_SELF, cpu0, faults0);
+  Usage(RUSAGE_THREAD, calling0, unused);
   const auto start = std::chrono::steady_clock::now();
   run();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  Usage(cpu1, faults1);
-  return { wall, cpu1 - cpu0, faults1 - faults0 };
+  Usage(RUSAGE_SELF, cpu1, faults1);
+  Usage(RUSAGE_THREAD, calling1, unused);
+  return { wall, cpu1 - cpu0, faults1 - faults0, calling1 - calling0 };
 }
 
 std::function<void()> Case(const std::string& name)
@@ -154,7 +160,7 @@ int main(int argc, char** argv)
   for (int i = 0; i <= warm; ++i)
   {
     const Cost cost = Time(run);
-    std::printf("%s %d %.4f %.4f %.0f\n", name.c_str(), i, cost.wall, cost.cpu, cost.faults);
+    std::printf("%s %d %.4f %.4f %.0f %.4f\n", name.c_str(), i, cost.wall, cost.cpu, cost.faults, cost.calling);
   }
   return 0;
 }

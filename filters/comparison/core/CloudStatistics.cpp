@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace plantmorph
 {
@@ -15,15 +16,6 @@ bool Kept(double d, double maximumDistance)
   return std::isfinite(d) && (maximumDistance < 0.0 || d <= maximumDistance);
 }
 } // namespace
-
-//------------------------------------------------------------------------------
-void CompensatedSum::Add(double value)
-{
-  const double total = this->Sum + value;
-  this->Compensation +=
-    std::fabs(this->Sum) >= std::fabs(value) ? (this->Sum - total) + value : (value - total) + this->Sum;
-  this->Sum = total;
-}
 
 //------------------------------------------------------------------------------
 double SortedPercentile(const std::vector<double>& sorted, double p)
@@ -40,77 +32,117 @@ double SortedPercentile(const std::vector<double>& sorted, double p)
 }
 
 //------------------------------------------------------------------------------
-DistanceStatistics ComputeDistanceStatistics(const double* distances, std::size_t count, double maximumDistance)
+DistanceStatistics ComputeDistanceStatistics(
+  const double* distances, std::size_t count, double maximumDistance, const ParallelFor& tasks)
 {
+  // Two independent parts, each writing its own members of s (all zero when nothing is kept): the sums and
+  // extremes over the kept distances in input order (part 0), and the counts and percentiles (part 1, on the kept
+  // distances gathered, which it reorders).
   DistanceStatistics s;
-  std::vector<double> kept;
-  kept.reserve(count);
-  for (std::size_t i = 0; i < count; ++i)
-  {
-    const double d = distances[i];
-    if (!std::isfinite(d))
+  const auto sums = [&]() {
+    // Two passes for the mean and the deviation (no cancellation), in a fixed order (deterministic).
+    // Compensated sums: within about one rounding of the exact sums, so that per-rank partial sums (MPI) added in
+    // rank order give the same statistics to ~1e-16 relative, whatever the split.
+    CompensatedSum sum;
+    std::size_t kept = 0;
+    double minimum = std::numeric_limits<double>::infinity();
+    double maximum = -minimum;
+    for (std::size_t i = 0; i < count; ++i)
     {
-      ++s.invalid;
+      const double d = distances[i];
+      if (Kept(d, maximumDistance))
+      {
+        sum.Add(d);
+        ++kept;
+        minimum = std::min(minimum, d);
+        maximum = std::max(maximum, d);
+      }
     }
-    else if (!Kept(d, maximumDistance))
+    if (kept == 0)
     {
-      ++s.outliers;
+      return;
     }
-    else
+    const double n = static_cast<double>(kept);
+    const double mean = sum.Value() / n;
+    CompensatedSum squares;
+    CompensatedSum deviations;
+    for (std::size_t i = 0; i < count; ++i)
     {
-      kept.push_back(d);
+      const double d = distances[i];
+      if (Kept(d, maximumDistance))
+      {
+        squares.Add(d * d);
+        deviations.Add((d - mean) * (d - mean));
+      }
     }
-  }
-  s.count = kept.size();
-  if (kept.empty())
-  {
-    return s;
-  }
-  // Two passes for the mean and the deviation (no cancellation), in a fixed order (deterministic).
-  // Compensated sums: within about one rounding of the exact sums, so that per-rank partial sums (MPI) added in
-  // rank order give the same statistics to ~1e-16 relative, whatever the split.
-  CompensatedSum sum;
-  for (double d : kept)
-  {
-    sum.Add(d);
-  }
-  const double n = static_cast<double>(kept.size());
-  s.mean = sum.Value() / n;
-  CompensatedSum squares;
-  CompensatedSum deviations;
-  for (double d : kept)
-  {
-    squares.Add(d * d);
-    deviations.Add((d - s.mean) * (d - s.mean));
-  }
-  s.standardDeviation = std::sqrt(deviations.Value() / n);
-  s.rms = std::sqrt(squares.Value() / n);
-  s.minimum = *std::min_element(kept.begin(), kept.end());
-  s.maximum = *std::max_element(kept.begin(), kept.end());
-  // The percentiles need only the order statistics at their two ranks: place those by nth_element, each on the
-  // part above the previous one (O(n) each instead of a full O(n log n) sort; the values are the same).
-  double* targets[5] = { &s.p50, &s.p68, &s.p75, &s.p95, &s.p99 };
-  // Ranks are asked in non-decreasing order; kept[placed - 1] is the last one placed, nothing before it is larger,
-  // and a rank below `placed` is always one placed before (its position is never touched again).
-  std::size_t placed = 0;
-  const auto orderStatistic = [&](std::size_t rank) {
-    if (rank >= placed)
-    {
-      std::nth_element(kept.begin() + static_cast<std::ptrdiff_t>(placed),
-        kept.begin() + static_cast<std::ptrdiff_t>(rank), kept.end());
-      placed = rank + 1;
-    }
-    return kept[rank];
+    s.mean = mean;
+    s.standardDeviation = std::sqrt(deviations.Value() / n);
+    s.rms = std::sqrt(squares.Value() / n);
+    s.minimum = minimum;
+    s.maximum = maximum;
   };
-  std::size_t ranks[2 * kPercentiles];
-  double fractions[kPercentiles];
-  PercentileRanks(kept.size(), ranks, fractions);
-  for (std::size_t i = 0; i < kPercentiles; ++i)
-  {
-    const double low = orderStatistic(ranks[2 * i]);
-    const double high = orderStatistic(ranks[2 * i + 1]);
-    *targets[i] = low + fractions[i] * (high - low);
-  }
+  const auto percentiles = [&]() {
+    std::vector<double> order;
+    order.reserve(count);
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      const double d = distances[i];
+      if (!std::isfinite(d))
+      {
+        ++s.invalid;
+      }
+      else if (!Kept(d, maximumDistance))
+      {
+        ++s.outliers;
+      }
+      else
+      {
+        order.push_back(d);
+      }
+    }
+    s.count = order.size();
+    if (order.empty())
+    {
+      return;
+    }
+    // The percentiles need only the order statistics at their two ranks: place those by nth_element, each on the
+    // part above the previous one (O(n) each instead of a full O(n log n) sort; the values are the same).
+    double* targets[5] = { &s.p50, &s.p68, &s.p75, &s.p95, &s.p99 };
+    // Ranks are asked in non-decreasing order; order[placed - 1] is the last one placed, nothing before it is
+    // larger, and a rank below `placed` is always one placed before (its position is never touched again).
+    std::size_t placed = 0;
+    const auto orderStatistic = [&](std::size_t rank) {
+      if (rank >= placed)
+      {
+        std::nth_element(order.begin() + static_cast<std::ptrdiff_t>(placed),
+          order.begin() + static_cast<std::ptrdiff_t>(rank), order.end());
+        placed = rank + 1;
+      }
+      return order[rank];
+    };
+    std::size_t ranks[2 * kPercentiles];
+    double fractions[kPercentiles];
+    PercentileRanks(order.size(), ranks, fractions);
+    for (std::size_t i = 0; i < kPercentiles; ++i)
+    {
+      const double low = orderStatistic(ranks[2 * i]);
+      const double high = orderStatistic(ranks[2 * i + 1]);
+      *targets[i] = low + fractions[i] * (high - low);
+    }
+  };
+  tasks(2, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t part = begin; part < end; ++part)
+    {
+      if (part == 0)
+      {
+        sums();
+      }
+      else
+      {
+        percentiles();
+      }
+    }
+  });
   return s;
 }
 
@@ -174,8 +206,8 @@ DistanceHistogram ComputeDistanceHistogram(
 }
 
 //------------------------------------------------------------------------------
-DistanceHistogram ComputeDistanceHistogramOver(
-  const double* distances, std::size_t count, std::size_t bins, double maximumDistance, double lo, double hi)
+DistanceHistogram ComputeDistanceHistogramOver(const double* distances, std::size_t count, std::size_t bins,
+  double maximumDistance, double lo, double hi, const ParallelFor& parallelFor)
 {
   DistanceHistogram h;
   if (bins == 0)
@@ -193,19 +225,36 @@ DistanceHistogram ComputeDistanceHistogramOver(
     h.binEnd[b] = b + 1 == bins ? hi : lo + width * static_cast<double>(b + 1);
     h.binCenter[b] = 0.5 * (h.binStart[b] + h.binEnd[b]);
   }
-  for (std::size_t i = 0; i < count; ++i)
+  // Counted in fixed blocks of the distances, each into its own counts, added after: exact, whatever the threads.
+  constexpr std::size_t Block = std::size_t(1) << 16;
+  const std::size_t blocks = (count + Block - 1) / Block;
+  std::vector<std::size_t> counts(blocks * bins, 0);
+  ForEachIndex(
+    parallelFor, blocks,
+    [&](std::size_t block) {
+      std::size_t* own = counts.data() + block * bins;
+      for (std::size_t i = block * Block; i < std::min(count, (block + 1) * Block); ++i)
+      {
+        const double d = distances[i];
+        if (!Kept(d, maximumDistance) || d < lo || d > hi)
+        {
+          continue;
+        }
+        std::size_t b = 0;
+        if (width > 0.0)
+        {
+          b = std::min(bins - 1, static_cast<std::size_t>((d - lo) / width));
+        }
+        ++own[b];
+      }
+    },
+    1);
+  for (std::size_t block = 0; block < blocks; ++block)
   {
-    const double d = distances[i];
-    if (!Kept(d, maximumDistance) || d < lo || d > hi)
+    for (std::size_t b = 0; b < bins; ++b)
     {
-      continue;
+      h.count[b] += counts[block * bins + b];
     }
-    std::size_t b = 0;
-    if (width > 0.0)
-    {
-      b = std::min(bins - 1, static_cast<std::size_t>((d - lo) / width));
-    }
-    ++h.count[b];
   }
   return h;
 }

@@ -13,6 +13,9 @@
 //   (as ParaView's Histogram filter does); all values equal gives one range of zero width and every value in bin 0.
 #pragma once
 
+#include <plantmorph/ParallelFor.h>
+
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -44,7 +47,13 @@ struct CompensatedSum
 {
   double Sum = 0.0;
   double Compensation = 0.0;
-  void Add(double value);
+  void Add(double value) // inline: the statistics call it three times a distance
+  {
+    const double total = this->Sum + value;
+    this->Compensation +=
+      std::fabs(this->Sum) >= std::fabs(value) ? (this->Sum - total) + value : (value - total) + this->Sum;
+    this->Sum = total;
+  }
   /// Adds another part's sum (its sum, then its compensation).
   void Add(const CompensatedSum& part)
   {
@@ -67,8 +76,11 @@ void PercentileRanks(std::size_t kept, std::size_t ranks[2 * kPercentiles], doub
 std::uint64_t OrderKey(double value);
 double FromOrderKey(std::uint64_t key);
 
-/// Statistics of `count` distances; maximumDistance < 0 means no cut-off. All zero when nothing is kept.
-DistanceStatistics ComputeDistanceStatistics(const double* distances, std::size_t count, double maximumDistance = -1.0);
+/// Statistics of `count` distances; maximumDistance < 0 means no cut-off. All zero when nothing is kept. `tasks`
+/// runs its two independent parts (the sums, extremes, mean and spread; the percentiles), indices 0 and 1, possibly
+/// at once (a ParallelFor that gives each index its own range); the results are the same either way.
+DistanceStatistics ComputeDistanceStatistics(
+  const double* distances, std::size_t count, double maximumDistance = -1.0, const ParallelFor& tasks = SerialFor);
 
 /// The p-th percentile (0 <= p <= 100) of already sorted values, linear interpolation at rank p/100 (n - 1).
 double SortedPercentile(const std::vector<double>& sorted, double p);
@@ -86,9 +98,9 @@ struct DistanceHistogram
 DistanceHistogram ComputeDistanceHistogram(
   const double* distances, std::size_t count, std::size_t bins, double maximumDistance = -1.0);
 
-/// The same over a given range [lo, hi] (lo <= hi: the kept distances' minimum and maximum over all MPI ranks);
-/// kept distances outside it are not counted.
-DistanceHistogram ComputeDistanceHistogramOver(
-  const double* distances, std::size_t count, std::size_t bins, double maximumDistance, double lo, double hi);
+/// The same over a given range [lo, hi] (lo <= hi: the kept distances' minimum and maximum, over all MPI ranks);
+/// kept distances outside it are not counted. The counting runs on `parallelFor` (the same counts either way).
+DistanceHistogram ComputeDistanceHistogramOver(const double* distances, std::size_t count, std::size_t bins,
+  double maximumDistance, double lo, double hi, const ParallelFor& parallelFor = SerialFor);
 
 } // namespace plantmorph

@@ -10,6 +10,11 @@
 #include <utility>
 #include <vector>
 
+#include <cstdlib>
+
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -214,7 +219,7 @@ inline double EricsonDistance2(const double ap[3], const double ab[3], const dou
 /// the code's three 10-bit digits (stable: equal codes stay in input order). Every pass runs on the ParallelFor's
 /// threads over fixed blocks of the points (each block's digit counts, then each block scattering its keys in
 /// order from its own offsets), so the order is the serial sort's whatever the threads.
-std::vector<std::uint64_t> MortonOrder(const double* points, std::size_t count, const ParallelFor& parallelFor)
+UnsetVector<std::uint64_t> MortonOrder(const double* points, std::size_t count, const ParallelFor& parallelFor)
 {
   constexpr std::size_t Digits = 1024;
   const std::size_t blockSize = std::max<std::size_t>(std::size_t(1) << 14, (count + 63) / 64);
@@ -268,7 +273,7 @@ std::vector<std::uint64_t> MortonOrder(const double* points, std::size_t count, 
     v = (v | v << 2) & 0x9249249ULL;
     return v;
   };
-  std::vector<std::uint64_t> order(count);
+  UnsetVector<std::uint64_t> order(count);
   parallelFor(count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
     {
@@ -283,7 +288,7 @@ std::vector<std::uint64_t> MortonOrder(const double* points, std::size_t count, 
       order[i] = code << 32 | static_cast<std::uint64_t>(i);
     }
   });
-  std::vector<std::uint64_t> buffer(count);
+  UnsetVector<std::uint64_t> buffer(count);
   std::vector<std::size_t> offsets(blocks * Digits);
   for (int shift = 32; shift < 62; shift += 10)
   {
@@ -342,6 +347,34 @@ const bool CpuHasAvx = DetectAvx();
 } // namespace
 
 //------------------------------------------------------------------------------
+void* AllocateOnHugePages(std::size_t bytes)
+{
+  void* memory = nullptr;
+#ifdef __linux__
+  if (posix_memalign(&memory, std::size_t(2) << 20, bytes) != 0)
+  {
+    memory = nullptr;
+  }
+  else
+  {
+    madvise(memory, bytes, MADV_HUGEPAGE);
+  }
+#else
+  (void)bytes; // UnsetAllocator asks for huge pages on Linux only
+#endif
+  if (!memory)
+  {
+    throw std::bad_alloc();
+  }
+  return memory;
+}
+
+void FreeHugePages(void* memory) noexcept
+{
+  std::free(memory);
+}
+
+//------------------------------------------------------------------------------
 void ClosestPointOnTriangle(const double p[3], const double a[3], const double b[3], const double c[3],
   double closest[3], TriangleFeature& feature, int& index)
 {
@@ -358,8 +391,8 @@ void ClosestPointOnTriangle(const double p[3], const double a[3], const double b
 }
 
 //------------------------------------------------------------------------------
-std::string PointSurfaceDistance::BuildTree(std::vector<double>& lo, std::vector<double>& hi,
-  std::vector<double>& centroid, std::size_t count, std::size_t leafSize, std::vector<std::uint32_t>& nodeRange,
+std::string PointSurfaceDistance::BuildTree(const UnsetVector<double>& lo, const UnsetVector<double>& hi,
+  const UnsetVector<double>& centroid, std::size_t count, std::size_t leafSize, std::vector<std::uint32_t>& nodeRange,
   const ParallelFor& parallelFor)
 {
   // The shape of the tree depends only on the sizes (a range of m > leafSize splits into m / 2 and m - m / 2), so
@@ -396,7 +429,7 @@ std::string PointSurfaceDistance::BuildTree(std::vector<double>& lo, std::vector
   const std::size_t total = nodeCount.at(count);
   std::vector<std::uint32_t> order(count);
   std::iota(order.begin(), order.end(), 0u);
-  this->Nodes.assign(total, Node{});
+  this->Nodes.resize(total); // every node is written by its task below
   nodeRange.assign(2 * total, 0);
 
   struct Task
@@ -423,7 +456,9 @@ std::string PointSurfaceDistance::BuildTree(std::vector<double>& lo, std::vector
         {
           node.lo[k] = Infinity;
           node.hi[k] = -Infinity;
+          node.o[k] = node.n[k] = 0.0; // no coin (BuildSlabs sets them on a surface)
         }
+        node.h = node.r = 0.0;
         for (std::size_t i = task.begin; i < task.end; ++i)
         {
           const std::size_t id = order[i];
@@ -689,7 +724,7 @@ void PointSurfaceDistance::CollapseToWideNodes(const ParallelFor& parallelFor)
       this->Packs[i] = this->MakePack(leaf.start, leaf.count);
     }
   });
-  this->Nodes = std::vector<Node>();
+  this->Nodes = UnsetVector<Node>();
 }
 
 //------------------------------------------------------------------------------
@@ -748,9 +783,9 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
     }
   }
 
-  std::vector<double> lo(3 * triangleCount);
-  std::vector<double> hi(3 * triangleCount);
-  std::vector<double> centroid(3 * triangleCount);
+  UnsetVector<double> lo(3 * triangleCount);
+  UnsetVector<double> hi(3 * triangleCount);
+  UnsetVector<double> centroid(3 * triangleCount);
   parallelFor(triangleCount, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
     {
@@ -766,13 +801,13 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
   });
   std::vector<std::uint32_t> nodeRange;
   this->BuildTree(lo, hi, centroid, triangleCount, TriangleLeafSize, nodeRange, parallelFor);
-  lo = std::vector<double>();
-  hi = std::vector<double>();
-  centroid = std::vector<double>();
+  lo = UnsetVector<double>();
+  hi = UnsetVector<double>();
+  centroid = UnsetVector<double>();
   this->Surface = true;
 
   // Triangles in leaf order, and their unit normals.
-  std::vector<double> faceNormals(3 * triangleCount);
+  UnsetVector<double> faceNormals(3 * triangleCount);
   this->Triangles.resize(triangleCount);
   this->Regular.resize(triangleCount);
   parallelFor(triangleCount, [&](std::size_t begin, std::size_t end) {
@@ -806,7 +841,10 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
 
   // Pseudo-normals, from the corners around each vertex (a counting sort of the 3 * triangleCount corners by
   // vertex, in corner order, so every sum below adds its terms in triangle order whatever the threads).
-  this->TriangleVertices.assign(triangles, triangles + 3 * triangleCount);
+  this->TriangleVertices.resize(3 * triangleCount);
+  parallelFor(triangleCount, [&](std::size_t begin, std::size_t end) {
+    std::copy(triangles + 3 * begin, triangles + 3 * end, this->TriangleVertices.begin() + 3 * begin);
+  });
   std::vector<std::size_t> cornerStart(pointCount + 1, 0);
   for (std::size_t i = 0; i < 3 * triangleCount; ++i)
   {
@@ -816,7 +854,7 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
   {
     cornerStart[v + 1] += cornerStart[v];
   }
-  std::vector<std::size_t> corners(3 * triangleCount); // 3 * triangle + corner, grouped by vertex
+  UnsetVector<std::size_t> corners(3 * triangleCount); // 3 * triangle + corner, grouped by vertex
   {
     std::vector<std::size_t> fill(cornerStart.begin(), cornerStart.end() - 1);
     for (std::size_t i = 0; i < 3 * triangleCount; ++i)
@@ -825,11 +863,12 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
     }
   }
   // Vertices: angle-weighted sums of the unit face normals around them.
-  this->VertexNormals.assign(3 * pointCount, 0.0);
+  this->VertexNormals.resize(3 * pointCount);
   parallelFor(pointCount, [&](std::size_t begin, std::size_t end) {
     for (std::size_t v = begin; v < end; ++v)
     {
       double* sum = this->VertexNormals.data() + 3 * v;
+      sum[0] = sum[1] = sum[2] = 0.0;
       for (std::size_t j = cornerStart[v]; j < cornerStart[v + 1]; ++j)
       {
         const std::size_t t = corners[j] / 3;
@@ -856,10 +895,11 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
   // Edges: sums of the unit normals of the faces sharing them (the triangles around the edge's first vertex that
   // also hold its second; each triangle once). An edge from a vertex to itself (a degenerate triangle's) is shared
   // only by degenerate triangles, whose normals are zero.
-  this->EdgeNormals.assign(9 * triangleCount, 0.0);
+  this->EdgeNormals.resize(9 * triangleCount);
   parallelFor(triangleCount, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
     {
+      std::fill_n(this->EdgeNormals.data() + 9 * t, 9, 0.0);
       for (int e = 0; e < 3; ++e)
       {
         const std::int64_t u = triangles[3 * t + e];
@@ -914,9 +954,9 @@ std::string PointSurfaceDistance::BuildCloud(
   {
     return "the reference point set has a non-finite (NaN or infinite) coordinate";
   }
-  std::vector<double> lo(points, points + 3 * pointCount);
-  std::vector<double> hi = lo;
-  std::vector<double> centroid = lo;
+  const UnsetVector<double> lo(points, points + 3 * pointCount);
+  const UnsetVector<double>& hi = lo;
+  const UnsetVector<double>& centroid = lo;
   std::vector<std::uint32_t> nodeRange;
   this->BuildTree(lo, hi, centroid, pointCount, PointLeafSize, nodeRange, parallelFor);
   this->CollapseToWideNodes(parallelFor);
@@ -1048,7 +1088,7 @@ void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, do
   // starts from its predecessor's nearest primitive as a tight first bound. Results go to the input order.
   // The order: key = 30-bit Morton code (10 bits an axis) << 32 | input index, sorted by an LSD radix sort on the
   // code's three 10-bit digits (stable, so equal codes stay in input order).
-  std::vector<std::uint64_t> order;
+  UnsetVector<std::uint64_t> order;
   const bool sorted = count >= 4096 && count < std::numeric_limits<std::uint32_t>::max();
   if (sorted)
   {

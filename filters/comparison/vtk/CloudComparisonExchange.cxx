@@ -300,12 +300,12 @@ void Percentiles(vtkMultiProcessController* controller, std::vector<std::uint64_
 } // namespace
 
 //------------------------------------------------------------------------------
-DistanceStatistics Statistics(
-  vtkMultiProcessController* controller, const double* distances, std::size_t count, double maximumDistance)
+DistanceStatistics Statistics(vtkMultiProcessController* controller, const double* distances, std::size_t count,
+  double maximumDistance, const ParallelFor& tasks)
 {
   if (!controller)
   {
-    return ComputeDistanceStatistics(distances, count, maximumDistance);
+    return ComputeDistanceStatistics(distances, count, maximumDistance, tasks);
   }
   LocalPart part = Local(distances, count, maximumDistance);
   DistanceStatistics s;
@@ -328,18 +328,19 @@ DistanceStatistics Statistics(
 
 //------------------------------------------------------------------------------
 DistanceHistogram Histogram(vtkMultiProcessController* controller, const double* distances, std::size_t count,
-  std::size_t bins, double maximumDistance, const DistanceStatistics& whole)
+  std::size_t bins, double maximumDistance, const DistanceStatistics& whole, const ParallelFor& parallelFor)
 {
-  if (!controller)
-  {
-    return ComputeDistanceHistogram(distances, count, bins, maximumDistance);
-  }
-  if (whole.count == 0)
+  if (whole.count == 0 || bins == 0)
   {
     return {};
   }
+  // Over the kept distances' range, which the statistics hold (serial: ComputeDistanceHistogram's own range).
   DistanceHistogram h =
-    ComputeDistanceHistogramOver(distances, count, bins, maximumDistance, whole.minimum, whole.maximum);
+    ComputeDistanceHistogramOver(distances, count, bins, maximumDistance, whole.minimum, whole.maximum, parallelFor);
+  if (!controller)
+  {
+    return h;
+  }
   std::vector<unsigned long long> mine(h.count.begin(), h.count.end()), total(mine.size());
   controller->AllReduce(Data(mine), Data(total), static_cast<vtkIdType>(mine.size()), vtkCommunicator::SUM_OP);
   std::copy(total.begin(), total.end(), h.count.begin());

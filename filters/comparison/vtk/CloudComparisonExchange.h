@@ -56,13 +56,16 @@ PointLayout Layout(vtkMultiProcessController* controller, std::uint64_t count);
 std::vector<double> Landmarks(
   vtkMultiProcessController* controller, const PointLayout& layout, const double* xyz, std::size_t limit);
 
-/// ComputeDistanceStatistics of the distances of every rank (`count` here), the same result on every rank.
-DistanceStatistics Statistics(
-  vtkMultiProcessController* controller, const double* distances, std::size_t count, double maximumDistance);
+/// ComputeDistanceStatistics of the distances of every rank (`count` here), the same result on every rank. `tasks`
+/// runs the serial case's two parts (see ComputeDistanceStatistics).
+DistanceStatistics Statistics(vtkMultiProcessController* controller, const double* distances, std::size_t count,
+  double maximumDistance, const ParallelFor& tasks = SerialFor);
 
-/// ComputeDistanceHistogram of the distances of every rank; `whole` is Statistics' result (its range).
+/// ComputeDistanceHistogram of the distances of every rank; `whole` is Statistics' result (its range). The counting
+/// runs on `parallelFor`.
 DistanceHistogram Histogram(vtkMultiProcessController* controller, const double* distances, std::size_t count,
-  std::size_t bins, double maximumDistance, const DistanceStatistics& whole);
+  std::size_t bins, double maximumDistance, const DistanceStatistics& whole,
+  const ParallelFor& parallelFor = SerialFor);
 
 /// Every element replaced by its minimum over the ranks (the same length on every rank).
 void MinimumOverRanks(vtkMultiProcessController* controller, std::vector<double>& values);

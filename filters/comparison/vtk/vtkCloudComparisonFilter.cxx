@@ -50,6 +50,59 @@ vtkStandardNewMacro(vtkCloudComparisonFilter);
 
 namespace
 {
+/// Blocks of values the wrapper's own loops over the measured points split into (fixed, so results do not depend on
+/// the threads).
+constexpr std::size_t ScanBlock = std::size_t(1) << 16;
+
+/// The index of the first non-finite value among `count`, or `count` when all are finite (blocks on the threads).
+std::size_t FirstNonFinite(const double* values, std::size_t count)
+{
+  const std::size_t blocks = (count + ScanBlock - 1) / ScanBlock;
+  std::vector<std::size_t> first(blocks, count);
+  plantmorph::ForEachIndex(
+    plantmorph::SMPFor(1), blocks,
+    [&](std::size_t b) {
+      const std::size_t end = std::min(count, (b + 1) * ScanBlock);
+      for (std::size_t i = b * ScanBlock; i < end; ++i)
+      {
+        if (!std::isfinite(values[i]))
+        {
+          first[b] = i;
+          return;
+        }
+      }
+    },
+    1);
+  return first.empty() ? count : *std::min_element(first.begin(), first.end());
+}
+
+/// Per axis the minimum and minus the maximum of `count` points (flat xyz; blocks on the threads), so that one
+/// minimum over MPI ranks gives both.
+std::vector<double> NegatedBounds(const double* xyz, std::size_t count)
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::size_t blocks = (count + ScanBlock - 1) / ScanBlock;
+  std::vector<double> part(6 * blocks, inf);
+  plantmorph::ForEachIndex(
+    plantmorph::SMPFor(1), blocks,
+    [&](std::size_t b) {
+      double local[6] = { inf, inf, inf, inf, inf, inf };
+      for (std::size_t i = b * ScanBlock; i < std::min(count, (b + 1) * ScanBlock); ++i)
+        for (int a = 0; a < 3; ++a)
+        {
+          local[a] = std::min(local[a], xyz[3 * i + a]);
+          local[3 + a] = std::min(local[3 + a], -xyz[3 * i + a]);
+        }
+      std::copy(local, local + 6, part.begin() + static_cast<std::ptrdiff_t>(6 * b));
+    },
+    1);
+  std::vector<double> bounds(6, inf);
+  for (std::size_t b = 0; b < blocks; ++b)
+    for (int k = 0; k < 6; ++k)
+      bounds[k] = std::min(bounds[k], part[6 * b + k]);
+  return bounds;
+}
+
 /// The points of a point set as flat doubles (read in parallel; GetPoint into a local buffer is thread-safe).
 std::vector<double> FlatPoints(vtkPointSet* data)
 {
@@ -337,14 +390,12 @@ std::string ReadMeasured(vtkPointSet* measured, double scale, bool registering, 
     moved = FlatPoints(measured);
     xyz = moved.data();
   }
-  for (std::size_t i = 0; i < 3 * static_cast<std::size_t>(count); ++i)
+  const std::size_t bad = FirstNonFinite(xyz, 3 * static_cast<std::size_t>(count));
+  if (bad < 3 * static_cast<std::size_t>(count))
   {
-    if (!std::isfinite(xyz[i]))
-    {
-      std::ostringstream m;
-      m << "the Measured input's point " << i / 3 << " has a non-finite coordinate (NaN or infinite)";
-      return m.str();
-    }
+    std::ostringstream m;
+    m << "the Measured input's point " << bad / 3 << " has a non-finite coordinate (NaN or infinite)";
+    return m.str();
   }
   const double scaling[16] = { scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, 1 };
   std::copy(scaling, scaling + 16, transform);
@@ -716,10 +767,12 @@ void WriteOutputs(vtkCloudComparisonFilter* self, const plantmorph::Run& run, vt
     self->GetUseMaximumDistance() != 0, output);
   vtkFieldData* fd = output->GetFieldData();
   FillTransform(m.transform, m.registering ? &m.registered : nullptr, fd);
-  const DistanceStatistics s = cloudmpi::Statistics(controller, d.distance->GetPointer(0), count, cutOff);
+  // The statistics' two parts (sums; percentiles) at once, and the histogram's blocks, one a thread: the serial
+  // tail of the update.
+  const DistanceStatistics s = cloudmpi::Statistics(controller, d.distance->GetPointer(0), count, cutOff, SMPFor(1));
   FillStatistics(s, cutOff, surface, self->GetSymmetric() ? &reverse : nullptr, statistics, fd);
   FillHistogram(cloudmpi::Histogram(controller, d.distance->GetPointer(0), count,
-                  static_cast<std::size_t>(self->GetHistogramBins()), cutOff, s),
+                  static_cast<std::size_t>(self->GetHistogramBins()), cutOff, s, SMPFor(1)),
     s.count, histogram);
   if (!IsFirstRank())
   {
@@ -737,23 +790,9 @@ constexpr double UnitMismatchRatio = 5.0;
 void WarnIfSizesDiffer(const plantmorph::Run& run, vtkMultiProcessController* controller, const double* xyz,
   vtkIdType count, const std::vector<double>& reference, double scale)
 {
-  const double inf = std::numeric_limits<double>::infinity();
-  // Per axis the minimum and minus the maximum, so one minimum over the ranks gives both.
-  std::vector<double> bounds(6, inf);
-  for (vtkIdType i = 0; i < count; ++i)
-    for (int a = 0; a < 3; ++a)
-    {
-      bounds[a] = std::min(bounds[a], xyz[3 * i + a]);
-      bounds[3 + a] = std::min(bounds[3 + a], -xyz[3 * i + a]);
-    }
+  std::vector<double> bounds = NegatedBounds(xyz, static_cast<std::size_t>(count));
   plantmorph::cloudmpi::MinimumOverRanks(controller, bounds);
-  std::vector<double> own(6, inf);
-  for (std::size_t i = 0; i + 2 < reference.size(); i += 3)
-    for (int a = 0; a < 3; ++a)
-    {
-      own[a] = std::min(own[a], reference[i + a]);
-      own[3 + a] = std::min(own[3 + a], -reference[i + a]);
-    }
+  const std::vector<double> own = NegatedBounds(reference.data(), reference.size() / 3);
   double measuredSize = 0.0, referenceSize = 0.0;
   for (int a = 0; a < 3; ++a)
   {

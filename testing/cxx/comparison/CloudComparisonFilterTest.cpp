@@ -460,6 +460,11 @@ TEST(CloudComparisonFilter, BadInputGivesAnErrorAndEmptyOutputs)
   nan->DeepCopy(ball);
   nan->GetPoints()->SetPoint(42, 0.0, std::nan(""), 0.0);
   expectEmpty(Compare(nan, surface), "point 42");
+  // The first non-finite point named when there are several, in different blocks of the threads' scan.
+  vtkSmartPointer<vtkPolyData> big = RandomBall(150000);
+  big->GetPoints()->SetPoint(140000, std::nan(""), 0.0, 0.0);
+  big->GetPoints()->SetPoint(70001, 0.0, 0.0, std::numeric_limits<double>::infinity());
+  expectEmpty(Compare(big, surface), "point 70001 ");
   // An empty measured piece: no error, empty outputs.
   const Result none = Compare(empty, surface);
   EXPECT_EQ(none.errors, "");

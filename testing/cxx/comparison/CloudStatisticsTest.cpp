@@ -9,14 +9,71 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <iterator>
 #include <limits>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 namespace plantmorph
 {
 namespace
 {
+// The two parts of the statistics on two threads at once give the serial result bit for bit, with NaN, infinite,
+// outlying and equal distances among them; and the parts are really independent (each alone on its thread). The
+// histogram over the statistics' range, its blocks on two threads, equals the serial histogram.
+TEST(CloudStatistics, TwoThreadsGiveTheSerialResult)
+{
+  RandomStream random(39);
+  std::vector<double> d(150001); // three of the histogram's blocks
+  for (double& x : d)
+  {
+    x = std::fabs(random.Normal(1.0, 0.5));
+  }
+  d[7] = std::numeric_limits<double>::quiet_NaN();
+  d[70] = std::numeric_limits<double>::infinity();
+  std::fill(d.begin() + 100, d.begin() + 200, 0.25);
+  const ParallelFor twoThreads = [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    std::thread other([&]() { body(1, count); });
+    body(0, 1);
+    other.join();
+  };
+  for (const double cutOff : { -1.0, 1.5 })
+  {
+    const DistanceStatistics serial = ComputeDistanceStatistics(d.data(), d.size(), cutOff);
+    const DistanceStatistics threaded = ComputeDistanceStatistics(d.data(), d.size(), cutOff, twoThreads);
+    EXPECT_EQ(serial.count, threaded.count);
+    EXPECT_EQ(serial.outliers, threaded.outliers);
+    EXPECT_EQ(serial.invalid, threaded.invalid);
+    EXPECT_EQ(serial.invalid, 2u);
+    EXPECT_EQ(serial.count + serial.outliers + serial.invalid, d.size());
+    const double DistanceStatistics::*values[] = { &DistanceStatistics::minimum, &DistanceStatistics::maximum,
+      &DistanceStatistics::mean, &DistanceStatistics::standardDeviation, &DistanceStatistics::rms,
+      &DistanceStatistics::p50, &DistanceStatistics::p68, &DistanceStatistics::p75, &DistanceStatistics::p95,
+      &DistanceStatistics::p99 };
+    for (const auto value : values)
+    {
+      EXPECT_EQ(serial.*value, threaded.*value);
+    }
+    // The median against a full sort of the kept values.
+    std::vector<double> kept;
+    std::copy_if(d.begin(), d.end(), std::back_inserter(kept),
+      [&](double x) { return std::isfinite(x) && (cutOff < 0.0 || x <= cutOff); });
+    std::sort(kept.begin(), kept.end());
+    EXPECT_EQ(threaded.p50, SortedPercentile(kept, 50.0));
+    EXPECT_EQ(threaded.minimum, kept.front());
+    EXPECT_EQ(threaded.maximum, kept.back());
+    const DistanceHistogram histogram = ComputeDistanceHistogram(d.data(), d.size(), 17, cutOff);
+    const DistanceHistogram over =
+      ComputeDistanceHistogramOver(d.data(), d.size(), 17, cutOff, threaded.minimum, threaded.maximum, twoThreads);
+    EXPECT_EQ(histogram.count, over.count);
+    EXPECT_EQ(histogram.binStart, over.binStart);
+    EXPECT_EQ(histogram.binEnd, over.binEnd);
+    EXPECT_EQ(std::accumulate(over.count.begin(), over.count.end(), std::size_t(0)), threaded.count);
+  }
+}
+
 TEST(CloudStatistics, ClosedFormsOnOneToTen)
 {
   std::vector<double> d(10);

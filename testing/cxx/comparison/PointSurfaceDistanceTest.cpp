@@ -302,6 +302,62 @@ TEST(PointSurfaceDistance, AgreesWithBruteForceOnRandomTriangleSoups)
   }
 }
 
+// A surface big enough that the structure's arrays (triangles, leaf packs, tree nodes, Morton keys) are allocated on
+// huge pages and left unset until written: a 160 x 160 sphere (50,880 triangles) with a duplicated and a degenerate
+// triangle and points no triangle uses. Distances equal brute force, signs the side of the sphere, and the Morton-
+// ordered QueryMany equals one query at a time bit for bit, at random points, far points, vertices and edge midpoints
+// (exact ties between the triangles around them).
+TEST(PointSurfaceDistance, LargeSurfaceOnHugePagesAgreesWithBruteForce)
+{
+  Mesh mesh = Sphere(1.0, 160, 160);
+  const std::int64_t unused = static_cast<std::int64_t>(mesh.PointCount());
+  mesh.points.insert(mesh.points.end(), { 5.0, 5.0, 5.0, -5.0, 0.0, 0.0 }); // used by no triangle
+  mesh.triangles.insert(mesh.triangles.end(), { mesh.triangles[300], mesh.triangles[301], mesh.triangles[302] });
+  mesh.triangles.insert(mesh.triangles.end(), { 7, 7, 8 });   // degenerate: a segment
+  ASSERT_GT(mesh.TriangleCount() * 96, std::size_t(4) << 20); // the triangles in leaf order take 96 bytes each
+  const PointSurfaceDistance distance = Build(mesh);
+  RandomStream random(2026);
+  std::vector<double> queries;
+  for (int q = 0; q < 3000; ++q)
+  {
+    const double scale = q % 10 == 0 ? 4.0 : 1.3;
+    queries.insert(
+      queries.end(), { random.Uniform(-scale, scale), random.Uniform(-scale, scale), random.Uniform(-scale, scale) });
+  }
+  for (std::size_t t = 0; t < mesh.TriangleCount(); t += 17)
+  {
+    const double* a = &mesh.points[3 * mesh.triangles[3 * t]];
+    const double* b = &mesh.points[3 * mesh.triangles[3 * t + 1]];
+    queries.insert(queries.end(), { a[0], a[1], a[2], 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2]) });
+  }
+  queries.insert(queries.end(), { mesh.points[3 * unused], mesh.points[3 * unused + 1], mesh.points[3 * unused + 2] });
+  const std::size_t n = queries.size() / 3;
+  std::vector<double> d(n), signedDistance(n), closest(3 * n);
+  std::vector<std::int64_t> primitive(n);
+  distance.QueryMany(queries.data(), n, d.data(), signedDistance.data(), closest.data(), primitive.data());
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double* p = &queries[3 * i];
+    const DistanceQueryResult one = distance.Query(p);
+    ASSERT_EQ(one.primitive, primitive[i]) << "query " << i;
+    EXPECT_EQ(one.distance, d[i]);
+    EXPECT_EQ(one.signedDistance, signedDistance[i]);
+    EXPECT_EQ(one.closest[0], closest[3 * i]);
+    EXPECT_EQ(one.closest[1], closest[3 * i + 1]);
+    EXPECT_EQ(one.closest[2], closest[3 * i + 2]);
+    if (i % 11 == 0) // brute force over every triangle for every eleventh query
+    {
+      const double expected = BruteForce(mesh, p);
+      ASSERT_NEAR(d[i], expected, 1e-12 * (1 + expected)) << "query " << i;
+    }
+    const double radius = std::sqrt(Dot3(p, p));
+    if (std::fabs(radius - 1.0) > 1e-2) // clear of the tessellation's sagitta
+    {
+      EXPECT_EQ(signedDistance[i] > 0.0, radius > 1.0) << "query " << i;
+    }
+  }
+}
+
 TEST(PointSurfaceDistance, QueryManyEqualsSingleQueriesWhateverTheOrder)
 {
   RandomStream random(11);
