@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "CloudStatistics.h"
 
+#include <plantmorph/memory/CloudArray.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -82,7 +84,9 @@ DistanceStatistics ComputeDistanceStatistics(
     s.maximum = maximum;
   };
   const auto percentiles = [&]() {
-    std::vector<double> order;
+    // On transparent huge pages from 4 MiB (CloudArray): 10^6 distances gathered into fresh 4 KiB pages took 2 k
+    // page faults on the first update, in this part alone while the other waits.
+    CloudArray<double> order;
     order.reserve(count);
     for (std::size_t i = 0; i < count; ++i)
     {

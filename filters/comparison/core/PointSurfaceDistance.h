@@ -280,7 +280,7 @@ private:
   bool SlabBounds = true;
   bool Avx = true;
   UnsetVector<Node> Nodes;                 ///< binary tree, during the build only
-  std::vector<WideNode> WideNodes;         ///< the tree the queries walk; root 0
+  UnsetVector<WideNode> WideNodes;         ///< the tree the queries walk; root 0 (room beyond it untouched)
   std::vector<std::uint32_t> PrimitiveIds; ///< leaf order -> original triangle or point index
   std::vector<std::uint32_t> LeafOf;       ///< original index -> leaf order
   UnsetVector<Triangle> Triangles;         ///< surface mode, leaf order
