@@ -351,7 +351,9 @@ void* AllocateOnHugePages(std::size_t bytes)
 {
   void* memory = nullptr;
 #ifdef __linux__
-  if (posix_memalign(&memory, std::size_t(2) << 20, bytes) != 0)
+  constexpr std::size_t Huge = std::size_t(2) << 20;
+  bytes = (bytes + Huge - 1) / Huge * Huge;
+  if (posix_memalign(&memory, Huge, bytes) != 0)
   {
     memory = nullptr;
   }

@@ -95,8 +95,23 @@ namespace plantmorph
 /// on its first update, 2-6 k on the next).
 /// Memory for `bytes`, aligned to 2 MiB and asked for transparent huge pages (std::bad_alloc when there is none);
 /// freed with FreeHugePages.
+/// The memory is rounded up to whole huge pages: the kernel backs only whole aligned 2 MiB pages with huge pages, so
+/// the tail of an array of 8,000,000 bytes (1.6 MiB) would otherwise still fault once per 4 KiB.
 void* AllocateOnHugePages(std::size_t bytes);
 void FreeHugePages(void* memory) noexcept;
+
+/// Room for at least `n` elements of `size` bytes that fills whole 2 MiB pages when it is 4 MiB or more (n itself
+/// when less), for arrays put on huge pages elsewhere (CloudArray reserves exactly the room asked for).
+inline std::size_t HugePageRoom(std::size_t n, std::size_t size)
+{
+  constexpr std::size_t Huge = std::size_t(2) << 20;
+  const std::size_t bytes = n * size;
+  if (bytes < 2 * Huge)
+  {
+    return n;
+  }
+  return ((bytes + Huge - 1) / Huge * Huge) / size;
+}
 
 template <class T>
 struct UnsetAllocator
