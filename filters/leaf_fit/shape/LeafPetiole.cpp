@@ -454,6 +454,52 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
   }
 }
 
+/// A stalk that leaves the blade's plane ends where its axis meets that plane. On a blade whose base narrows to a
+/// cusp (a cuneate base, the ginkgo's) the cusp is as narrow as the stalk and lies on in line with it, so the trail
+/// and the walk along it run on into the blade; the cusp lies in the blade's plane, the stalk below or above it.
+/// The blade's plane: its points (not the stalk's, farther from the axis than the stalk's width) within 12 spacings
+/// of the junction. When the axis meets it behind the junction (towards the stalk's far end), the junction moves
+/// back there and the points beyond it go back to the blade.
+void BackToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
+  const StalkAxis& axis, Petiole& petiole)
+{
+  if (!axis.valid)
+    return;
+  const Eigen::Vector3d& u = axis.towardsBlade;
+  const Eigen::Vector3d q = axis.origin + (petiole.junction - axis.origin).dot(u) * u;
+  const double narrow = axis.half + 0.75 * spacing, radius = 12.0 * spacing;
+  std::vector<int> near, around;
+  grid.Within(q, radius, near);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int j : near)
+  {
+    const Eigen::Vector3d r = points[j] - q;
+    if (!petiole.member[j] && (r - r.dot(u) * u).norm() > narrow)
+    {
+      around.push_back(j);
+      mean += points[j];
+    }
+  }
+  if (around.size() < 20)
+    return;
+  mean /= static_cast<double>(around.size());
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (int j : around)
+    C += (points[j] - mean) * (points[j] - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+  const Eigen::Vector3d n = eig.eigenvectors().col(0);
+  if (!(eig.eigenvalues()[0] < 0.1 * eig.eigenvalues()[1]) ||
+    std::abs(u.dot(n)) < std::sin(15.0 * 3.14159265358979323846 / 180.0))
+    return;
+  const double lambda = (mean - q).dot(n) / u.dot(n);
+  if (!(lambda < -2.0 * spacing && lambda > -radius))
+    return;
+  for (std::size_t j = 0; j < points.size(); ++j)
+    if (petiole.member[j] && (points[j] - q).dot(u) > lambda)
+      petiole.member[j] = 0;
+  petiole.junction = q + lambda * u;
+}
+
 /// True when the trail is a stalk: at least 6 spacings of stalk bins, thin (their spread at most 2.5 spacings, what
 /// a strip the ball cannot fit in has, or a tenth of the blade's width: a stalk scanned from the side is sparser
 /// than the blade, so wider in spacings; a sparsely sampled patch of blade is wider still), and not narrowing like
@@ -537,7 +583,9 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
   for (std::size_t k = 0; k < best->ids.size(); ++k)
     if (best->distance[k] >= from)
       petiole.member[best->ids[k]] = 1;
-  FollowStalkToBlade(points, grid, spacing, JunctionEnd(points, *best, bestBins, start, spacing, petiole), petiole);
+  const StalkAxis axis = JunctionEnd(points, *best, bestBins, start, spacing, petiole);
+  FollowStalkToBlade(points, grid, spacing, axis, petiole);
+  BackToPlane(points, grid, spacing, axis, petiole);
   // The centre line: the junction, the centroids of the stalk's bins after the first, and its farthest point.
   const std::size_t far =
     static_cast<std::size_t>(std::max_element(best->distance.begin(), best->distance.end()) - best->distance.begin());
