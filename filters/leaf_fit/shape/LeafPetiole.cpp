@@ -387,6 +387,7 @@ void MeetBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid
       petiole.member[j] = 1;
   }
   petiole.junction = position + lambda * u;
+  petiole.meetsPlane = true;
 }
 
 /// The opening's ball covers the stalk's first few spacings beside the blade (and, below a cordate base, the stalk
@@ -498,6 +499,7 @@ void BackToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& gr
     if (petiole.member[j] && (points[j] - q).dot(u) > lambda)
       petiole.member[j] = 0;
   petiole.junction = q + lambda * u;
+  petiole.meetsPlane = true;
 }
 
 /// True when the trail is a stalk: at least 6 spacings of stalk bins, thin (their spread at most 2.5 spacings, what

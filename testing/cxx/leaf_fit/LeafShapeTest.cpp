@@ -380,6 +380,20 @@ TEST(LeafShape, StalkBelowACuneateBaseEndsWhereItsAxisMeetsTheBlade)
   EXPECT_NEAR(petiole.length, scan.petioleLength, 0.05 * scan.petioleLength);
 }
 
+TEST(LeafShape, CuspBaseAboveAStalkIsMeasuredFromTheJunction)
+{
+  // The same scan, fitted: the cusp is narrower than the closing's discs, so the loop the points draw crosses the
+  // midvein a few percent of the length above the base, and the smooth margins' tip, extrapolated past the cusp's
+  // last points, lies beyond the junction. The cusp runs on along the midvein down to the junction, where the
+  // stalk's axis meets the blade: the midvein starts there (it started at the loop's crossing: base 3.9 % of the
+  // length off, Length -3.7 %).
+  const Eigen::Isometry3d pose = Tilted();
+  const LeafGeometry leaf = Blade(1, 100.0);
+  const double length = GridScan(leaf, 1.0, 0.0, 0.0, Straight(30.0), 0, pose).length;
+  const Synthetic scan = GridScan(leaf, 0.009 * length, 0.003 * length, 0.3 * length, Straight(30.0), 3, pose);
+  ExpectShape(scan, pose, Expected());
+}
+
 /// The scan without the points for which `cut(x, y)` holds (in the blade's plane, before the pose), then posed.
 Synthetic Without(Synthetic scan, const std::function<bool(double, double)>& cut, const Eigen::Isometry3d& pose)
 {
