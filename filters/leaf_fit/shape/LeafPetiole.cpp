@@ -588,12 +588,14 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
   const StalkAxis axis = JunctionEnd(points, *best, bestBins, start, spacing, petiole);
   FollowStalkToBlade(points, grid, spacing, axis, petiole);
   BackToPlane(points, grid, spacing, axis, petiole);
-  // The centre line: the junction, the centroids of the stalk's bins after the first, and its farthest point.
+  // The centre line: the junction, the centroids of the stalk's bins after the first that lie beyond the junction
+  // along the stalk's axis (a junction moved back to the blade's plane leaves bins of the cusp behind it), and its
+  // farthest point.
   const std::size_t far =
     static_cast<std::size_t>(std::max_element(best->distance.begin(), best->distance.end()) - best->distance.begin());
   petiole.line.push_back(petiole.junction);
   for (std::size_t k = start + 1; k < bestBins.centre.size(); ++k)
-    if (bestBins.count[k] > 0)
+    if (bestBins.count[k] > 0 && !(axis.valid && (bestBins.centre[k] - petiole.junction).dot(axis.towardsBlade) > 0.0))
       petiole.line.push_back(bestBins.centre[k]);
   petiole.line.push_back(points[best->ids[far]]);
   for (std::size_t k = 1; k < petiole.line.size(); ++k)
