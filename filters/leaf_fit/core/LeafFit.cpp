@@ -460,7 +460,10 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   {
     const Eigen::Vector2d junction = f.sections.Intrinsic(f.frame.Local(petiole.junction));
     if (std::abs(junction.x()) < 2.0 * outlineSpacing)
+    {
       f.outline.junction = junction.y();
+      f.outline.junctionMeetsPlane = petiole.meetsPlane;
+    }
   }
   // The blade's outline as its points draw it (lobes and sinuses kept); where that loop does not mesh (a sinus
   // narrower than the mesh's edges), the smooth margins.

@@ -328,6 +328,51 @@ double SinusBottom(const Outline& outline, double crossing, double shallow)
   return outline.junction > crossing && outline.junction < crossing + shallow ? outline.junction : crossing;
 }
 
+/// Whether the blade's points run on along the midvein from the loop's crossing at `crossing` down to a petiole's
+/// junction below it (a cusp or cuneate base narrower than the closing's discs, which the loop does not follow):
+/// points within 2 spacings of t = 0 with no gap along s wider than 3 spacings from the junction to the crossing.
+bool BaseRunsToJunction(const std::vector<Eigen::Vector2d>& ts, double junction, double crossing, double spacing)
+{
+  if (!(junction < crossing))
+    return false;
+  std::vector<double> along;
+  for (const auto& p : ts)
+    if (p.y() > junction - spacing && p.y() < crossing && std::abs(p.x()) < 4.0 * spacing)
+    {
+      if (std::abs(p.x()) >= 2.0 * spacing)
+        return false; // wider than a strip along the midvein (lobes overlapping below a sinus)
+      along.push_back(p.y());
+    }
+  along.push_back(junction);
+  along.push_back(crossing);
+  std::sort(along.begin(), along.end());
+  for (std::size_t k = 1; k < along.size(); ++k)
+    if (along[k] - along[k - 1] > 3.0 * spacing)
+      return false;
+  return true;
+}
+
+/// The midvein's base end `baseS` where the loop crosses t = 0 at `crossing`; true when it is a tip. Within
+/// `shallow` of the smooth margins' tip s0, that tip. A base narrower than the closing's discs (a cusp) that runs on
+/// along the midvein below the crossing down to a petiole's junction, where the stalk's axis meets the blade's
+/// plane, is a tip at that junction. Else a sinus (SinusBottom).
+bool BaseEnd(const std::vector<Eigen::Vector2d>& ts, const Outline& outline, double crossing, double shallow,
+  double spacing, double& baseS)
+{
+  if (std::abs(crossing - outline.s0) < shallow)
+  {
+    baseS = outline.s0;
+    return true;
+  }
+  if (outline.junctionMeetsPlane && BaseRunsToJunction(ts, outline.junction, crossing, spacing))
+  {
+    baseS = outline.junction;
+    return true;
+  }
+  baseS = SinusBottom(outline, crossing, shallow);
+  return false;
+}
+
 } // namespace
 
 Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline)
@@ -457,13 +502,12 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
   // taken instead. A notch or sinus counts only when deeper than MinNotchDepth of the blade's extent (and 4
   // spacings): shallower ones are the tip's own margin.
   const double shallow = std::max(4.0 * spacing, MinNotchDepth * extent);
-  const bool baseTip = std::abs(base.first - outline.s0) < shallow;
+  double baseS = outline.s0;
+  const bool baseTip = BaseEnd(ts, outline, base.first, shallow, spacing, baseS);
   const bool apexTip = std::abs(apex.first - outline.s1) < shallow;
-  const double baseS = baseTip ? outline.s0 : SinusBottom(outline, base.first, shallow);
   const double apexS = apexTip ? outline.s1 : apex.first;
   // (A shallow notch's walls are left out with the tip: the cut reaches 2 spacings below its bottom.)
-  const double baseCut =
-    baseTip ? outline.s0 + std::max(6.0 * spacing, base.first - outline.s0 + 2.0 * spacing) : -1e300;
+  const double baseCut = baseTip ? baseS + std::max(6.0 * spacing, base.first - baseS + 2.0 * spacing) : -1e300;
   const double apexCut =
     apexTip ? outline.s1 - std::max(6.0 * spacing, outline.s1 - apex.first + 2.0 * spacing) : 1e300;
   // The loop from the base to the apex on the right (t > 0, counter-clockwise) and on the left (clockwise).

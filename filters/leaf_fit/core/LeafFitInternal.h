@@ -66,6 +66,9 @@ struct Outline
   /// s of the petiole's junction with the blade when the petiole gives the base (NaN otherwise): at a sinus, where
   /// the loop the points draw rounds the bottom off, the midvein starts there.
   double junction = std::numeric_limits<double>::quiet_NaN();
+  /// Whether that junction is where the stalk's axis meets the blade's plane (a stalk leaving the blade at an angle),
+  /// not only where the thin trail of points ends.
+  bool junctionMeetsPlane = false;
   PenalizedSpline1D right, left; // g for the right margin (> 0) and for minus the left margin (> 0)
   double Phi(double s) const;
   double Right(double s) const;

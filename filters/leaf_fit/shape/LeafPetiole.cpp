@@ -9,6 +9,7 @@
 #include <cmath>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <queue>
 
 namespace plantmorph
@@ -342,6 +343,41 @@ StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& t
   return { !own.empty(), origin, u, half, LargestGap(along) };
 }
 
+/// Where the line through `centre` along the unit vector `u` (the stalk's axis) meets the plane of the points within
+/// `radius` of `centre` that are not the petiole's and lie farther than `narrow` from the line: the distance along
+/// `u`, or none when they are fewer than `least`, are not a sheet (their thickness well below their extent, not the
+/// stalk's surroundings in 3-D), or the line lies within 15 degrees of their plane (in or near the plane, it would
+/// meet it anywhere). `near`: the points within `radius`.
+std::optional<double> AxisMeetsPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid,
+  const Eigen::Vector3d& centre, const Eigen::Vector3d& u, double radius, double narrow, std::size_t least,
+  const Petiole& petiole, std::vector<int>& near)
+{
+  std::vector<int> around;
+  grid.Within(centre, radius, near);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int j : near)
+  {
+    const Eigen::Vector3d r = points[j] - centre;
+    if (!petiole.member[j] && (r - r.dot(u) * u).norm() > narrow)
+    {
+      around.push_back(j);
+      mean += points[j];
+    }
+  }
+  if (around.size() < least)
+    return std::nullopt;
+  mean /= static_cast<double>(around.size());
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (int j : around)
+    C += (points[j] - mean) * (points[j] - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+  const Eigen::Vector3d n = eig.eigenvectors().col(0);
+  if (!(eig.eigenvalues()[0] < 0.1 * eig.eigenvalues()[1]) ||
+    std::abs(u.dot(n)) < std::sin(15.0 * 3.14159265358979323846 / 180.0))
+    return std::nullopt;
+  return (mean - centre).dot(n) / u.dot(n);
+}
+
 /// Where the stalk's axis, from `position` on, meets the blade: the plane of the points around `position` off the
 /// axis (the blade's end, or the basal lobes around a sinus). Below a cordate base those reach the axis before
 /// the stalk meets the blade, which lies on in the lobes' plane. Only a stalk leaving that plane at 15 degrees or
@@ -352,31 +388,11 @@ void MeetBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid
 {
   const Eigen::Vector3d& u = axis.towardsBlade;
   const double narrow = axis.half + 0.75 * spacing, reach = axis.half + 6.0 * spacing;
-  std::vector<int> near, around;
-  grid.Within(position, reach, near);
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int j : near)
-  {
-    const Eigen::Vector3d r = points[j] - position;
-    if (!petiole.member[j] && (r - r.dot(u) * u).norm() > narrow)
-    {
-      around.push_back(j);
-      mean += points[j];
-    }
-  }
-  if (around.size() < 10)
+  std::vector<int> near;
+  const std::optional<double> meets = AxisMeetsPlane(points, grid, position, u, reach, narrow, 10, petiole, near);
+  if (!meets)
     return;
-  mean /= static_cast<double>(around.size());
-  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-  for (int j : around)
-    C += (points[j] - mean) * (points[j] - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
-  const Eigen::Vector3d n = eig.eigenvectors().col(0);
-  // A plane: its thickness well below its extent (a sheet, not the stalk's surroundings in 3-D).
-  if (!(eig.eigenvalues()[0] < 0.1 * eig.eigenvalues()[1]) ||
-    std::abs(u.dot(n)) < std::sin(15.0 * 3.14159265358979323846 / 180.0))
-    return;
-  const double lambda = (mean - position).dot(n) / u.dot(n);
+  const double lambda = *meets;
   if (!(lambda > 0.0 && lambda < reach))
     return;
   for (int j : near)
@@ -387,6 +403,7 @@ void MeetBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid
       petiole.member[j] = 1;
   }
   petiole.junction = position + lambda * u;
+  petiole.meetsPlane = true;
 }
 
 /// The opening's ball covers the stalk's first few spacings beside the blade (and, below a cordate base, the stalk
@@ -452,6 +469,34 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
     petiole.junction = mean;
     position += spacing * u;
   }
+}
+
+/// A stalk that leaves the blade's plane ends where its axis meets that plane. On a blade whose base narrows to a
+/// cusp (a cuneate base, the ginkgo's) the cusp is as narrow as the stalk and lies on in line with it, so the trail
+/// and the walk along it run on into the blade; the cusp lies in the blade's plane, the stalk below or above it.
+/// The blade's plane: its points (not the stalk's, farther from the axis than the stalk's width) within 12 spacings
+/// of the junction. When the axis meets it behind the junction (towards the stalk's far end), the junction moves
+/// back there and the points beyond it go back to the blade.
+void BackToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
+  const StalkAxis& axis, Petiole& petiole)
+{
+  if (!axis.valid)
+    return;
+  const Eigen::Vector3d& u = axis.towardsBlade;
+  const Eigen::Vector3d q = axis.origin + (petiole.junction - axis.origin).dot(u) * u;
+  const double narrow = axis.half + 0.75 * spacing, radius = 12.0 * spacing;
+  std::vector<int> near;
+  const std::optional<double> meets = AxisMeetsPlane(points, grid, q, u, radius, narrow, 20, petiole, near);
+  if (!meets)
+    return;
+  const double lambda = *meets;
+  if (!(lambda < -2.0 * spacing && lambda > -radius))
+    return;
+  for (std::size_t j = 0; j < points.size(); ++j)
+    if (petiole.member[j] && (points[j] - q).dot(u) > lambda)
+      petiole.member[j] = 0;
+  petiole.junction = q + lambda * u;
+  petiole.meetsPlane = true;
 }
 
 /// True when the trail is a stalk: at least 6 spacings of stalk bins, thin (their spread at most 2.5 spacings, what
@@ -537,13 +582,17 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
   for (std::size_t k = 0; k < best->ids.size(); ++k)
     if (best->distance[k] >= from)
       petiole.member[best->ids[k]] = 1;
-  FollowStalkToBlade(points, grid, spacing, JunctionEnd(points, *best, bestBins, start, spacing, petiole), petiole);
-  // The centre line: the junction, the centroids of the stalk's bins after the first, and its farthest point.
+  const StalkAxis axis = JunctionEnd(points, *best, bestBins, start, spacing, petiole);
+  FollowStalkToBlade(points, grid, spacing, axis, petiole);
+  BackToPlane(points, grid, spacing, axis, petiole);
+  // The centre line: the junction, the centroids of the stalk's bins after the first that lie beyond the junction
+  // along the stalk's axis (a junction moved back to the blade's plane leaves bins of the cusp behind it), and its
+  // farthest point.
   const std::size_t far =
     static_cast<std::size_t>(std::max_element(best->distance.begin(), best->distance.end()) - best->distance.begin());
   petiole.line.push_back(petiole.junction);
   for (std::size_t k = start + 1; k < bestBins.centre.size(); ++k)
-    if (bestBins.count[k] > 0)
+    if (bestBins.count[k] > 0 && !(axis.valid && (bestBins.centre[k] - petiole.junction).dot(axis.towardsBlade) > 0.0))
       petiole.line.push_back(bestBins.centre[k]);
   petiole.line.push_back(points[best->ids[far]]);
   for (std::size_t k = 1; k < petiole.line.size(); ++k)

@@ -37,6 +37,9 @@ struct Petiole
   Eigen::Vector3d junction = Eigen::Vector3d::Zero(); ///< where the petiole meets the blade
   std::vector<Eigen::Vector3d> line;                  ///< the petiole's centre line, from the junction to its far end
   double length = 0.0;                                ///< arc length of `line`
+  /// The junction is where the stalk's axis meets the blade's plane (a stalk leaving the blade at 15 degrees or
+  /// more), not only where the thin trail ends.
+  bool meetsPlane = false;
 };
 
 /// Finds the petiole of a leaf's points (outliers already removed; `spacing` their median nearest-neighbour
