@@ -17,7 +17,9 @@ cucumber's five primaries) -> WiltingSimulator with the blade on Input and the v
 Cucumber preset was fitted at (SETTINGS below: Resolution 14, AnchorRadius 3, TimeStep 1/60 s, one Newton
 iteration, 10 s). The properties are in physical units (Units Physical: Young's moduli and pressures in dyn/cm^2,
 strains), so a fit carries over to other Resolutions (14-30 verified) and leaf sizes; `--resolution`
-fits at another one. `--max-rise F` penalises a tip that rises back more than F leaf lengths after falling.
+fits at another one. `--max-rise F` penalises a tip that rises back more than F leaf lengths after falling;
+`--swing W` adds W times the tip's swing: the sum over the frames of every increase of its horizontal distance from
+the base and of its height, in cm (beyond `--swing-allowance` cm), as a wilting tip only comes in and goes down.
 
 The parameters (PARAMETERS below, each a physical property of the filter): DroopForce, ContractionForce (towards the
 base on the voxels' bottom nodes: the margins and apex curl down), blade, vein and margin stiffness, LoadTime (the
@@ -92,6 +94,12 @@ parser.add_argument("--margin", type=float, default=0.02,
 parser.add_argument("--max-rise", type=float, default=None,
                     help="F: add 100 cm times the amount (in leaf lengths) by which the tip rises back after its "
                          "lowest point so far beyond F (the measured tip never rises)")
+parser.add_argument("--swing", type=float, default=0.0,
+                    help="W > 0: add W times the tip's swing (cm): the sum over the frames of every increase of the "
+                         "tip's horizontal distance from the base and of its height (a wilting tip only comes in "
+                         "and down)")
+parser.add_argument("--swing-allowance", type=float, default=0.0,
+                    help="with --swing: the swing (cm) counted only beyond this")
 parser.add_argument("--max-angle", type=float, default=None,
                     help="with --beat-paper: also add W times 0.1 cm per degree the direction difference exceeds this")
 parser.add_argument("--leave-one-out", action="store_true",
@@ -243,6 +251,35 @@ def rises_back(track):
     return rise / arguments.length
 
 
+def swing(track):
+    """The tip's swing back (cm): the sum of every frame-to-frame increase of its horizontal distance from the base
+    (sqrt(x^2 + y^2), the base at the origin) and of its height. 0 for a tip that only comes in and goes down; the yaw
+    does not change it."""
+    out, up = 0.0, 0.0
+    for a, b in zip(track, track[1:]):
+        out += max(0.0, math.hypot(b[0], b[1]) - math.hypot(a[0], a[1]))
+        up += max(0.0, b[2] - a[2])
+    return out, up
+
+
+def swings_out(track, least=0.1):
+    """The tip's moves back out: each run of frames over which its horizontal distance from the base grows, as
+    (start s, end s, from cm, to cm), those of at least `least` cm."""
+    r = [math.hypot(p[0], p[1]) for p in track]
+    runs, i = [], 0
+    while i + 1 < len(r):
+        if r[i + 1] > r[i]:
+            j = i + 1
+            while j + 1 < len(r) and r[j + 1] > r[j]:
+                j += 1
+            if r[j] - r[i] >= least:
+                runs.append((i * SETTINGS["FrameInterval"], j * SETTINGS["FrameInterval"], r[i], r[j]))
+            i = j
+        else:
+            i += 1
+    return runs
+
+
 def turned(track, degrees):
     c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
     return [(c * x - s * y, s * x + c * y, z) for x, y, z in track]
@@ -382,6 +419,8 @@ def objective_for(targets):
         value = score(turned(track, best_yaw(track, score)))
         if arguments.max_rise is not None:
             value += 100.0 * max(0.0, rises_back(track) - arguments.max_rise)
+        if arguments.swing > 0.0:
+            value += arguments.swing * max(0.0, sum(swing(track)) - arguments.swing_allowance)
         if os.environ.get("CALIBRATE_WILTING_TRACK"):
             print("    run %d: %.4f %s" % (runs[0], value, describe(values_of(x))), flush=True)
         return value
@@ -450,6 +489,9 @@ def report(track, title):
     yaw = best_yaw(track, objective_for(measured).score)
     print("\n%s" % title)
     print("  the tip rises back %.3f leaf lengths after its lowest point so far" % rises_back(track))
+    print("  swing: the tip moves back out %.2f cm and up %.2f cm in all (frame-to-frame increases)" % swing(track))
+    for start, end, a, b in swings_out(track):
+        print("    out from %.2f to %.2f cm (+%.2f) between %.1f and %.1f s" % (a, b, b - a, start, end))
     variants = [("raw (yaw 0)", track)]
     if arguments.yaw:
         variants.append(("turned by the best yaw %.2f deg" % yaw, turned(track, yaw)))
