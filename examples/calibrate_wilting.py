@@ -81,7 +81,7 @@ parser.add_argument("--width", type=float, default=22.1, help="leaf width (cm), 
 parser.add_argument("--yaw", action="store_true", help="also turn the simulated track about the vertical")
 parser.add_argument("--yaw-angle", type=float, default=None,
                     help="turn the simulated track by this yaw (deg) instead of searching it (implies --yaw; the "
-                         "Cucumber preset's: 3.33)")
+                         "Cucumber preset's: 3.02)")
 parser.add_argument("--frame-interval", type=float, default=None,
                     help="seconds between the simulated tip samples compared with the measurements (default: "
                          "SETTINGS' FrameInterval)")
@@ -152,23 +152,23 @@ if arguments.duration:
 # name, start value (the Cucumber preset's, filters/wilting/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
-    ("DroopForce", 13306.0, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)
+    ("DroopForce", 10179.0, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)
     ("ContractionForce", 2500.0, True, 1.0),  # dyn/cm^2 on the lower face
     ("BladeStiffness", 1034750.0, True, 1.0),  # Young's modulus, dyn/cm^2, of a blade of BladeThickness
     ("VeinStiffness", 4507280.0, True, 1.0),
     ("MarginStiffness", 1118350.0, True, 1.0),
-    ("LoadTime", 13.113, True, 1.0),
-    ("ContractionTime", 8.9111, True, 1.0),
+    ("LoadTime", 9.6427, True, 1.0),
+    ("ContractionTime", 11.546, True, 1.0),
     ("RayleighAlpha", 1.16, True, 1.0),
     ("DroopAsymmetry", -0.00744, False, 0.5),
     ("ContractionAsymmetry", -0.0404, False, 0.5),
-    ("ShrinkageStrain", 0.046546, False, 0.03),
+    ("ShrinkageStrain", 0.050521, False, 0.03),
     ("ShrinkageAsymmetry", 0.1916, False, 0.5),
-    ("CurlStrain", 0.22165, False, 0.1),  # strain difference across BladeThickness
+    ("CurlStrain", 0.22276, False, 0.1),  # strain difference across BladeThickness
     ("CurlAsymmetry", -0.00975, False, 0.5),
-    ("CurlRelaxation", 0.9097, False, 0.3),
-    ("CurlRelaxationTime", 6.506, True, 1.0),
-    ("CurlTime", 2.6623, True, 1.0),
+    ("CurlRelaxation", 0.80755, False, 0.3),
+    ("CurlRelaxationTime", 6.7684, True, 1.0),
+    ("CurlTime", 4.0657, True, 1.0),
     ("ShrinkageTime", 1.06, True, 1.0),
     ("PetioleLength", 0.0, False, 2.0),
     ("PetioleStiffness", 22536400.0, True, 1.0),
