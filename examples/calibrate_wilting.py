@@ -17,7 +17,9 @@ cucumber's five primaries) -> WiltingSimulator with the blade on Input and the v
 Cucumber preset was fitted at (SETTINGS below: Resolution 14, AnchorRadius 3, TimeStep 1/60 s, one Newton
 iteration, 10 s). The properties are in physical units (Units Physical: Young's moduli and pressures in dyn/cm^2,
 strains), so a fit carries over to other Resolutions (14-30 verified) and leaf sizes; `--resolution`
-fits at another one. `--max-rise F` penalises a tip that rises back more than F leaf lengths after falling.
+fits at another one. `--max-rise F` penalises a tip that rises back more than F leaf lengths after falling;
+`--swing W` adds W times the tip's swing: the sum over the frames of every increase of its horizontal distance from
+the base and of its height, in cm (beyond `--swing-allowance` cm), as a wilting tip only comes in and goes down.
 
 The parameters (PARAMETERS below, each a physical property of the filter): DroopForce, ContractionForce (towards the
 base on the voxels' bottom nodes: the margins and apex curl down), blade, vein and margin stiffness, LoadTime (the
@@ -79,7 +81,7 @@ parser.add_argument("--width", type=float, default=22.1, help="leaf width (cm), 
 parser.add_argument("--yaw", action="store_true", help="also turn the simulated track about the vertical")
 parser.add_argument("--yaw-angle", type=float, default=None,
                     help="turn the simulated track by this yaw (deg) instead of searching it (implies --yaw; the "
-                         "Cucumber preset's: 3.33)")
+                         "Cucumber preset's: 3.02)")
 parser.add_argument("--frame-interval", type=float, default=None,
                     help="seconds between the simulated tip samples compared with the measurements (default: "
                          "SETTINGS' FrameInterval)")
@@ -92,6 +94,12 @@ parser.add_argument("--margin", type=float, default=0.02,
 parser.add_argument("--max-rise", type=float, default=None,
                     help="F: add 100 cm times the amount (in leaf lengths) by which the tip rises back after its "
                          "lowest point so far beyond F (the measured tip never rises)")
+parser.add_argument("--swing", type=float, default=0.0,
+                    help="W > 0: add W times the tip's swing (cm): the sum over the frames of every increase of the "
+                         "tip's horizontal distance from the base and of its height (a wilting tip only comes in "
+                         "and down)")
+parser.add_argument("--swing-allowance", type=float, default=0.0,
+                    help="with --swing: the swing (cm) counted only beyond this")
 parser.add_argument("--max-angle", type=float, default=None,
                     help="with --beat-paper: also add W times 0.1 cm per degree the direction difference exceeds this")
 parser.add_argument("--leave-one-out", action="store_true",
@@ -144,23 +152,23 @@ if arguments.duration:
 # name, start value (the Cucumber preset's, filters/wilting/core/WiltingPresets.cpp), positive (fitted as a logarithm),
 # Nelder-Mead step relative to the --step of the log-parameters.
 PARAMETERS = (
-    ("DroopForce", 13306.0, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)
+    ("DroopForce", 10179.0, True, 1.0),  # dyn/cm^2 of leaf (Units Physical, as every property below)
     ("ContractionForce", 2500.0, True, 1.0),  # dyn/cm^2 on the lower face
     ("BladeStiffness", 1034750.0, True, 1.0),  # Young's modulus, dyn/cm^2, of a blade of BladeThickness
     ("VeinStiffness", 4507280.0, True, 1.0),
     ("MarginStiffness", 1118350.0, True, 1.0),
-    ("LoadTime", 13.113, True, 1.0),
-    ("ContractionTime", 8.9111, True, 1.0),
+    ("LoadTime", 9.6427, True, 1.0),
+    ("ContractionTime", 11.546, True, 1.0),
     ("RayleighAlpha", 1.16, True, 1.0),
     ("DroopAsymmetry", -0.00744, False, 0.5),
     ("ContractionAsymmetry", -0.0404, False, 0.5),
-    ("ShrinkageStrain", 0.046546, False, 0.03),
+    ("ShrinkageStrain", 0.050521, False, 0.03),
     ("ShrinkageAsymmetry", 0.1916, False, 0.5),
-    ("CurlStrain", 0.22165, False, 0.1),  # strain difference across BladeThickness
+    ("CurlStrain", 0.22276, False, 0.1),  # strain difference across BladeThickness
     ("CurlAsymmetry", -0.00975, False, 0.5),
-    ("CurlRelaxation", 0.9097, False, 0.3),
-    ("CurlRelaxationTime", 6.506, True, 1.0),
-    ("CurlTime", 2.6623, True, 1.0),
+    ("CurlRelaxation", 0.80755, False, 0.3),
+    ("CurlRelaxationTime", 6.7684, True, 1.0),
+    ("CurlTime", 4.0657, True, 1.0),
     ("ShrinkageTime", 1.06, True, 1.0),
     ("PetioleLength", 0.0, False, 2.0),
     ("PetioleStiffness", 22536400.0, True, 1.0),
@@ -241,6 +249,35 @@ def rises_back(track):
         lowest = min(lowest, point[2])
         rise = max(rise, point[2] - lowest)
     return rise / arguments.length
+
+
+def swing(track):
+    """The tip's swing back (cm): the sum of every frame-to-frame increase of its horizontal distance from the base
+    (sqrt(x^2 + y^2), the base at the origin) and of its height. 0 for a tip that only comes in and goes down; the yaw
+    does not change it."""
+    out, up = 0.0, 0.0
+    for a, b in zip(track, track[1:]):
+        out += max(0.0, math.hypot(b[0], b[1]) - math.hypot(a[0], a[1]))
+        up += max(0.0, b[2] - a[2])
+    return out, up
+
+
+def swings_out(track, least=0.1):
+    """The tip's moves back out: each run of frames over which its horizontal distance from the base grows, as
+    (start s, end s, from cm, to cm), those of at least `least` cm."""
+    r = [math.hypot(p[0], p[1]) for p in track]
+    runs, i = [], 0
+    while i + 1 < len(r):
+        if r[i + 1] > r[i]:
+            j = i + 1
+            while j + 1 < len(r) and r[j + 1] > r[j]:
+                j += 1
+            if r[j] - r[i] >= least:
+                runs.append((i * SETTINGS["FrameInterval"], j * SETTINGS["FrameInterval"], r[i], r[j]))
+            i = j
+        else:
+            i += 1
+    return runs
 
 
 def turned(track, degrees):
@@ -382,6 +419,8 @@ def objective_for(targets):
         value = score(turned(track, best_yaw(track, score)))
         if arguments.max_rise is not None:
             value += 100.0 * max(0.0, rises_back(track) - arguments.max_rise)
+        if arguments.swing > 0.0:
+            value += arguments.swing * max(0.0, sum(swing(track)) - arguments.swing_allowance)
         if os.environ.get("CALIBRATE_WILTING_TRACK"):
             print("    run %d: %.4f %s" % (runs[0], value, describe(values_of(x))), flush=True)
         return value
@@ -450,6 +489,9 @@ def report(track, title):
     yaw = best_yaw(track, objective_for(measured).score)
     print("\n%s" % title)
     print("  the tip rises back %.3f leaf lengths after its lowest point so far" % rises_back(track))
+    print("  swing: the tip moves back out %.2f cm and up %.2f cm in all (frame-to-frame increases)" % swing(track))
+    for start, end, a, b in swings_out(track):
+        print("    out from %.2f to %.2f cm (+%.2f) between %.1f and %.1f s" % (a, b, b - a, start, end))
     variants = [("raw (yaw 0)", track)]
     if arguments.yaw:
         variants.append(("turned by the best yaw %.2f deg" % yaw, turned(track, yaw)))

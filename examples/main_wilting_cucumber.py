@@ -5,7 +5,7 @@ LeafOutlineSource's cucumber blade (20.1 x 22.1 cm, paper 001 sec. 3) -> Venatio
 (blade on Input, veins on Veins) at the settings the Cucumber preset was calibrated at (examples/calibrate_wilting.py,
 docs/wilting-calibration.md). Writes:
 
-- wilting_cucumber_frames.png: the leaf at t = 0, 1.0, 1.6, 3.4 and 10 s side by side, seen from the front and above,
+- wilting_cucumber_frames.png: the leaf at t = 0, 1.4, 2.2, 3.5 and 10 s side by side, seen from the front and above,
   veins as tubes of their VeinWidth;
 - wilting_cucumber_side.png: the same frames superimposed, seen from the side (the +X axis), with the paper's five
   measured tip positions (red spheres) and the simulated tip trajectory (dark line);
@@ -24,7 +24,7 @@ from paraview import servermanager  # noqa: E402
 
 BLADE = [0.72, 0.86, 0.45]
 VEIN = [0.18, 0.38, 0.08]
-TIMES = [0.0, 1.0, 1.6, 3.4, 10.0]  # the frames matched to samples 2-4 (physical-units refit: 0.8-8.1 s for 1-5), then hanging
+TIMES = [0.0, 1.4, 2.2, 3.5, 10.0]  # the frames matched to samples 2-5 (refit against the swing: 1.2-10 s for 1-5)
 # What the Cucumber preset was calibrated at (examples/calibrate_wilting.py SETTINGS).
 SETTINGS = dict(Resolution=14, AnchorRadius=3.0, Duration=10.0, FrameInterval=0.1, TimeStep=1.0 / 60.0,
                 NewtonIterations=1)

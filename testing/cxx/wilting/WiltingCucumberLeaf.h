@@ -89,7 +89,8 @@ struct WiltingTipMetrics
   Eigen::Vector3d end = Eigen::Vector3d::Zero();
   double blowUp = -1.0;
   std::string message;
-  std::vector<Eigen::Vector3d> track; ///< the tip's displacement / L per frame
+  std::vector<Eigen::Vector3d> track;              ///< the tip's displacement / L per frame
+  Eigen::Vector3d start = Eigen::Vector3d::Zero(); ///< the tip's position at t = 0 (cm)
 };
 
 inline WiltingTipMetrics TipMetrics(const WiltingSimulation& simulation, double length, const std::string& error)
@@ -101,6 +102,7 @@ inline WiltingTipMetrics TipMetrics(const WiltingSimulation& simulation, double 
     return m;
   }
   const Eigen::Vector3d start = frames.front().tip;
+  m.start = start;
   double lowest = start[2];
   for (const WiltingFrame& frame : frames)
   {

@@ -5,8 +5,8 @@ data/cucumber-wilting-tip.csv), the table of docs/wilting-calibration.md and REA
 The pipeline of examples/calibrate_wilting.py --evaluate-preset: the cucumber blade of the measured size (20.1 x
 22.1 cm) -> palmate veins -> WiltingSimulator, Cucumber preset, at the settings it was fitted at (Resolution 14,
 AnchorRadius 3, TimeStep 1/60 s, one Newton iteration, 10 s in frames of 0.1 s), the simulated track compared as
-it is and turned about the vertical through the petiole-blade junction by the documented yaw (3.80 deg since the
-leaf's weight comes in with the droop) (the leaf's azimuth
+it is and turned about the vertical through the petiole-blade junction by the documented yaw (3.02 deg, the refit's
+against the tip swinging back out) (the leaf's azimuth
 in the digitiser's frame, which the CSV does not give; calibrate_wilting.py --yaw fits it). Checked: the
 per-sample time-monotone and closest-sample errors and the direction difference are the documented ones (to 0.02
 cm and 0.2 deg: the solver may change the last digits), and the goals the preset meets stay met: mean below the
@@ -29,8 +29,8 @@ checks = Checks()
 DATA = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "data"))
 # The preset's documented numbers (docs/wilting-calibration.md, examples/calibrate_wilting.py --evaluate-preset).
 # (yaw in degrees, monotone errors, closest errors, direction difference in degrees) as it is and turned by the yaw.
-EXPECTED = ((0.0, (0.65, 1.61, 1.87, 0.51, 1.05), (0.65, 1.61, 1.87, 0.51, 1.05), 0.29),
-            (3.80, (1.54, 0.42, 1.14, 0.48, 1.16), (1.54, 0.42, 1.14, 0.48, 1.16), 2.47))
+EXPECTED = ((0.0, (0.62, 1.63, 1.93, 0.25, 1.04), (0.62, 1.63, 1.93, 0.25, 1.04), 0.25),
+            (3.02, (1.27, 0.67, 1.35, 0.22, 1.11), (1.27, 0.67, 1.35, 0.22, 1.11), 1.84))
 
 with open(os.path.join(DATA, "cucumber-wilting-tip.csv")) as f:
     rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
