@@ -46,6 +46,7 @@ bool CircleFit(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, 
 namespace
 {
 constexpr double PathTilt = 20.0; // degrees a piece's fitted axis may turn from the skeleton's path (PathDirection)
+constexpr double PathLean = 10.0; // degrees a piece's start direction may lean from that path and be trusted
 constexpr int PieceMinNodes = 2, PieceMaxNodes = 8;
 constexpr int PathNodes = 9; // centroids the skeleton's direction through a piece is fitted to (PathDirection)
 
@@ -311,9 +312,12 @@ std::string FitCylinders(const Wood& wood, const Skeleton& s, const TreeFitParam
             q.push_back(wood.points[i]);
       counts[k] = static_cast<int>(q.size());
       fits[k] = FitCylinder(q, pieces[k].axis0, wood.spacing);
-      // Fitted across the stem's path (the junction of a strip joined to it, a lopsided cross-section): fitted again
-      // from the path, turning from it by at most PathTilt.
-      if (fits[k].ok && std::abs(fits[k].axis.dot(pieces[k].path)) < std::cos(PathTilt * M_PI / 180.0))
+      // Started from a chord that leans off the path and fitted across the path (the junction of a strip joined to
+      // a stem, its centroids swinging): fitted again from the path, turning from it by at most PathTilt. Where the
+      // chord follows the path, a fit turning from it follows the branch's own bend.
+      const double leanCos = std::cos(PathLean * M_PI / 180.0), tiltCos = std::cos(PathTilt * M_PI / 180.0);
+      if (fits[k].ok && std::abs(pieces[k].axis0.dot(pieces[k].path)) < leanCos &&
+        std::abs(fits[k].axis.dot(pieces[k].path)) < tiltCos)
         fits[k] = FitCylinder(q, pieces[k].path, wood.spacing, PathTilt);
     }
   });
