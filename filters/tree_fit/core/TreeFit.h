@@ -75,6 +75,9 @@ struct TreeCylinder
   double coverage = 0;     ///< degrees of the circle its points cover
   bool measured = false;   ///< radius from the fit (else from the taper and pipe model)
   double growthLength = 0; ///< its length plus every length it carries
+  /// unit direction of the skeleton through it: the line fitted to its nodes' centroids (widened along its chain);
+  /// zero when not known
+  Eigen::Vector3d path = Eigen::Vector3d::Zero();
 };
 
 struct TreeBranchRow

@@ -45,8 +45,10 @@ bool CircleFit(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, 
 
 namespace
 {
-constexpr double MaxTilt = 35.0; // degrees the fitted axis may turn from the skeleton's direction
+constexpr double PathTilt = 20.0; // degrees a piece's fitted axis may turn from the skeleton's path (PathDirection)
+constexpr double PathLean = 10.0; // degrees a piece's start direction may lean from that path and be trusted
 constexpr int PieceMinNodes = 2, PieceMaxNodes = 8;
+constexpr int PathNodes = 9; // centroids the skeleton's direction through a piece is fitted to (PathDirection)
 
 /// Residuals (distance to the axis minus radius) for parameters (a, b, alpha, beta, r) about (c, u, v, axis0).
 void Residuals(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
@@ -126,7 +128,8 @@ Eigen::Matrix<double, 5, 1> Refine(const std::vector<Eigen::Vector3d>& q, const 
 }
 } // namespace
 
-CylinderFit FitCylinder(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& axis0In, double spacing)
+CylinderFit FitCylinder(
+  const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& axis0In, double spacing, double maxTilt)
 {
   CylinderFit fit;
   if (q.size() < 6 || !(axis0In.norm() > 0.0))
@@ -147,7 +150,7 @@ CylinderFit FitCylinder(const std::vector<Eigen::Vector3d>& q, const Eigen::Vect
   Eigen::Matrix<double, 5, 1> x = Refine(q, c, u, v, axis0, x0, false, floor);
   x = Refine(q, c, u, v, axis0, x, false, floor, true);
   Eigen::Vector3d d = (axis0 + x[2] * u + x[3] * v).normalized();
-  if (!x.allFinite() || std::acos(std::min(1.0, std::abs(d.dot(axis0)))) > MaxTilt * M_PI / 180.0 || !(x[4] > 0.0))
+  if (!x.allFinite() || std::acos(std::min(1.0, std::abs(d.dot(axis0)))) > maxTilt * M_PI / 180.0 || !(x[4] > 0.0))
   {
     x = Refine(q, c, u, v, axis0, x0, true, floor);
     d = axis0;
@@ -196,6 +199,7 @@ struct Piece
   int segment = 0;
   std::vector<int> nodes;
   Eigen::Vector3d axis0 = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d path = Eigen::Vector3d::UnitZ(); ///< PathDirection
 };
 
 /// The direction of a run of nodes: last centroid minus first (the run widened by one node each side if short).
@@ -210,6 +214,41 @@ Eigen::Vector3d ChainDirection(const Skeleton& s, const std::vector<int>& chain,
       return d.normalized();
   }
   return Eigen::Vector3d::Zero();
+}
+
+/// The skeleton's direction through a run of nodes: the principal direction of their centroids, the run widened
+/// along the chain to PathNodes nodes (a stem's level sets can swing from side to side bin by bin, where strips of it
+/// were joined: a line through many centroids follows the stem, a chord between two does not); `fallback` when the
+/// chain is too short or its centroids do not line up.
+Eigen::Vector3d PathDirection(const Skeleton& s, const std::vector<int>& chain, std::size_t first, std::size_t last,
+  const Eigen::Vector3d& fallback)
+{
+  std::size_t a = first, b = last;
+  while (b - a + 1 < static_cast<std::size_t>(PathNodes) && (a > 0 || b + 1 < chain.size()))
+  {
+    if (a > 0)
+      --a;
+    if (b + 1 < chain.size() && b - a + 1 < static_cast<std::size_t>(PathNodes))
+      ++b;
+  }
+  if (b - a + 1 < 3)
+    return fallback;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::size_t m = a; m <= b; ++m)
+    mean += s.nodes[chain[m]].centroid;
+  mean /= static_cast<double>(b - a + 1);
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (std::size_t m = a; m <= b; ++m)
+  {
+    const Eigen::Vector3d r = s.nodes[chain[m]].centroid - mean;
+    scatter += r * r.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  Eigen::Vector3d d = eigen.eigenvectors().col(2);
+  const Eigen::Vector3d chord = s.nodes[chain[b]].centroid - s.nodes[chain[a]].centroid;
+  if (!d.allFinite() || !(eigen.eigenvalues()[2] > 4.0 * eigen.eigenvalues()[1]) || !(std::abs(d.dot(chord)) > 0.0))
+    return fallback;
+  return d.dot(chord) < 0 ? (-d).eval() : d;
 }
 
 /// The pieces: each segment cut into runs about two radii long (PieceMinNodes to PieceMaxNodes nodes).
@@ -249,6 +288,7 @@ std::vector<Piece> CutSegments(const Wood& wood, const Skeleton& s, const Eigen:
       piece.axis0 = ChainDirection(s, chain, first, last);
       if (piece.axis0.isZero())
         piece.axis0 = axis;
+      piece.path = PathDirection(s, chain, first, last, piece.axis0);
       pieces.push_back(piece);
     }
   }
@@ -272,6 +312,13 @@ std::string FitCylinders(const Wood& wood, const Skeleton& s, const TreeFitParam
             q.push_back(wood.points[i]);
       counts[k] = static_cast<int>(q.size());
       fits[k] = FitCylinder(q, pieces[k].axis0, wood.spacing);
+      // Started from a chord that leans off the path and fitted across the path (the junction of a strip joined to
+      // a stem, its centroids swinging): fitted again from the path, turning from it by at most PathTilt. Where the
+      // chord follows the path, a fit turning from it follows the branch's own bend.
+      const double leanCos = std::cos(PathLean * M_PI / 180.0), tiltCos = std::cos(PathTilt * M_PI / 180.0);
+      if (fits[k].ok && std::abs(pieces[k].axis0.dot(pieces[k].path)) < leanCos &&
+        std::abs(fits[k].axis.dot(pieces[k].path)) < tiltCos)
+        fits[k] = FitCylinder(q, pieces[k].path, wood.spacing, PathTilt);
     }
   });
   std::vector<int> nodeCylinder(s.nodes.size(), -1), lastOfSegment(s.segments.size(), -1);
@@ -298,6 +345,7 @@ std::string FitCylinders(const Wood& wood, const Skeleton& s, const TreeFitParam
     cyl.points = counts[k];
     cyl.support = cyl.length > 0 ? counts[k] / cyl.length : 0.0;
     cyl.segment = piece.segment;
+    cyl.path = piece.path;
     const int previous = lastOfSegment[piece.segment];
     cyl.parent = previous >= 0
       ? previous

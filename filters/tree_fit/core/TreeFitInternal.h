@@ -82,8 +82,10 @@ struct CylinderFit
   bool ok = false;
 };
 
-/// A robust cylinder through `points` started from direction `axis0` (step 4). ok is false when it cannot be fitted.
-CylinderFit FitCylinder(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& axis0, double spacing);
+/// A robust cylinder through `points` started from direction `axis0` (step 4), its axis turning at most `maxTilt`
+/// degrees from it (else fitted along axis0). ok is false when it cannot be fitted.
+CylinderFit FitCylinder(
+  const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& axis0, double spacing, double maxTilt = 35.0);
 
 /// Steps 4-6 (everything but the traits): cylinders, branches and the points' cylinder; "" or why no radius could
 /// be measured anywhere.

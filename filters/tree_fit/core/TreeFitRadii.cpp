@@ -34,6 +34,17 @@ constexpr double TaperMargin = 1.15;          // a measured cylinder near a fork
 constexpr std::size_t TaperCylinders =
   5; // ...fitted over this many measured cylinders before it, is a junction      // degrees: a child turning more than this from its parent starts a branch
 
+constexpr double PathAngle = 20.0; // degrees: a cylinder turning more from the skeleton's path is not followed
+
+/// The direction an unmeasured cylinder c (a junction) goes on in from `before`, the cylinder under it: along its
+/// axis, unless that turns from c's path by more than PathAngle (a cylinder fitted tilted: the ones above would
+/// lean with it, the stem does not); then along the path (when known).
+Eigen::Vector3d Onward(const TreeCylinder& before, const TreeCylinder& c)
+{
+  const Eigen::Vector3d axis = (before.end - before.start).normalized();
+  return c.path.isZero() || axis.dot(c.path) >= std::cos(PathAngle * M_PI / 180.0) ? axis : c.path;
+}
+
 /// log r = a + b log GL fitted (Huber IRLS, weights sqrt(points)) to the measured cylinders; b = 1/2 (the pipe model:
 /// area proportional to what is carried) when they do not span a factor 3 of growth length or are fewer than 5.
 void FitModel(const std::vector<TreeCylinder>& cylinders, double& a, double& b)
@@ -404,9 +415,8 @@ void FlattenBulges(double noise, std::vector<TreeCylinder>& cylinders)
       continue;
     c.measured = false;
     width[k] = width[p];
-    const Eigen::Vector3d axis = (cylinders[p].end - cylinders[p].start).normalized();
     c.start = cylinders[p].end;
-    c.end = c.start + c.length * axis;
+    c.end = c.start + c.length * Onward(cylinders[p], c);
   }
 }
 /// FlattenBulges along the branches, once they are known, with the branch's own taper: near a fork (within two
@@ -457,7 +467,7 @@ void FlattenBranchBulges(double noise, TreeFitResult& result)
           {
             const TreeCylinder& before = cylinders[ids[j - 1]];
             c.start = before.end;
-            c.end = c.start + c.length * (before.end - before.start).normalized();
+            c.end = c.start + c.length * Onward(before, c);
           }
           continue;
         }

@@ -79,6 +79,7 @@ int AddMeasuredCylinder(TreeFitResult& result, const Eigen::Vector3d& start, con
   c.start = start;
   c.length = length;
   c.end = start + length * direction.normalized();
+  c.path = direction.normalized();
   c.fittedRadius = radius;
   c.points = 100;
   c.coverage = 360.0;
@@ -178,6 +179,35 @@ TEST(TreeFit, AStemScannedAsSeparateStripsIsOneBranch)
     EXPECT_NEAR(r.traits.totalVolume, Volume(stem), 0.05 * Volume(stem)) << strips << " strips";
     std::cout << strips << " strips: " << r.branches.size() << " branches, volume " << r.traits.totalVolume << " for "
               << Volume(stem) << "\n";
+  }
+}
+
+TEST(TreeFit, JunctionsAboveATiltedCylinderFollowTheStem)
+{
+  // The radius step alone, on cylinders as the fit leaves them on a vertical stem (20 cm, tapering) whose skeleton
+  // runs straight up: one cylinder at 2 m is fitted tilted 39 degrees (a strip of the stem joined to it, its level
+  // sets swinging from side to side) and narrower than the stem, and the five above it are fitted wider than the
+  // taper allows (junctions: their radii not measured). Those junctions were laid along the tilted cylinder's axis,
+  // the stem 39 degrees off the vertical from 2 m up; they follow the skeleton's path, the vertical, and no cylinder
+  // above the tilted one leans more than 5 degrees.
+  TreeFitResult result;
+  int at = -1;
+  for (int k = 0; k < 7; ++k)
+    at =
+      AddMeasuredCylinder(result, Eigen::Vector3d(0, 0, 0.3 * k), Eigen::Vector3d::UnitZ(), 0.3, 0.2 - 0.005 * k, at);
+  const int tilted = at = AddMeasuredCylinder(result, result.cylinders[at].end, Tilted(39.0, 0.5), 0.3, 0.16, at);
+  result.cylinders[tilted].path = Eigen::Vector3d::UnitZ();
+  for (int k = 0; k < 5; ++k)
+  {
+    at = AddMeasuredCylinder(result, Eigen::Vector3d(0, 0, 2.4 + 0.3 * k), Tilted(39.0, 0.5), 0.3, 0.2, at);
+    result.cylinders[at].path = Eigen::Vector3d::UnitZ();
+  }
+  ASSERT_EQ(treefit::ModelRadii(0.006, result), "");
+  for (int k = tilted + 1; k < static_cast<int>(result.cylinders.size()); ++k)
+  {
+    const TreeCylinder& c = result.cylinders[k];
+    EXPECT_FALSE(c.measured) << "cylinder " << k;
+    EXPECT_GT((c.end - c.start).normalized().z(), std::cos(5.0 * M_PI / 180.0)) << "cylinder " << k;
   }
 }
 
