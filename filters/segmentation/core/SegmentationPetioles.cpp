@@ -41,6 +41,15 @@ constexpr double ThickerReachRadii = 3.0;
 /// A petiole is at most this many times its leaf's length (the blade's extent along its main axis).
 constexpr double PetioleLengthLeaves = 1.0;
 
+/// The mean of points[ids] (ids not empty).
+Eigen::Vector3d MeanOf(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
+{
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int j : ids)
+    mean += points[static_cast<std::size_t>(j)];
+  return mean / static_cast<double>(ids.size());
+}
+
 /// The width across its main axis of the points cloud[near] (every k-th, at most ThinSample): sqrt(2 l2), l2 the
 /// covariance's middle eigenvalue; a tube's radius for points spread around it, 0.7 r for a disk of radius r.
 double Width(const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& near)
@@ -97,10 +106,7 @@ std::vector<char> ThinWood(
 bool MeetsThickerWood(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const PlantLabels& labels,
   const std::vector<char>& thin, const std::vector<int>& contacts, double radius, std::vector<char>& mark)
 {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int j : contacts)
-    mean += points[static_cast<std::size_t>(j)];
-  mean /= static_cast<double>(contacts.size());
+  const Eigen::Vector3d mean = MeanOf(points, contacts);
   const auto thick = [&](std::size_t j) { return labels.organ[j] == OrganWood && !thin[j]; };
   std::vector<int> reached;
   std::deque<int> queue;
@@ -249,20 +255,14 @@ TubeEnd FitTubeEnd(
   const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, const std::vector<int>& end, double reach)
 {
   TubeEnd tube;
-  Eigen::Vector3d contact = Eigen::Vector3d::Zero();
-  for (int j : end)
-    contact += points[static_cast<std::size_t>(j)];
-  contact /= static_cast<double>(end.size());
+  const Eigen::Vector3d contact = MeanOf(points, end);
   std::vector<int> near;
   for (int j : ids)
     if ((points[static_cast<std::size_t>(j)] - contact).norm() < reach)
       near.push_back(j);
   if (near.size() < 6)
     return tube;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int j : near)
-    mean += points[static_cast<std::size_t>(j)];
-  mean /= static_cast<double>(near.size());
+  const Eigen::Vector3d mean = MeanOf(points, near);
   Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
   for (int j : near)
     c += (points[static_cast<std::size_t>(j)] - mean) * (points[static_cast<std::size_t>(j)] - mean).transpose();
@@ -336,10 +336,7 @@ std::vector<int> FollowTube(const std::vector<Eigen::Vector3d>& points, const Li
 /// The extent of points[ids] along their main axis: a petiole's length (its chord when it curves).
 double Extent(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
 {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int j : ids)
-    mean += points[static_cast<std::size_t>(j)];
-  mean /= static_cast<double>(ids.size());
+  const Eigen::Vector3d mean = MeanOf(points, ids);
   Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
   for (int j : ids)
     c += (points[static_cast<std::size_t>(j)] - mean) * (points[static_cast<std::size_t>(j)] - mean).transpose();
@@ -359,10 +356,7 @@ double Extent(const std::vector<Eigen::Vector3d>& points, const std::vector<int>
 void MoveBase(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const PlantLabels& labels,
   const std::vector<int>& end, SegmentedLeaf& leaf)
 {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int j : end)
-    mean += points[static_cast<std::size_t>(j)];
-  mean /= static_cast<double>(end.size());
+  const Eigen::Vector3d mean = MeanOf(points, end);
   double best = std::numeric_limits<double>::infinity();
   for (int q : end)
     for (std::size_t e = graph.offsets[static_cast<std::size_t>(q)]; e < graph.offsets[static_cast<std::size_t>(q) + 1];
@@ -381,10 +375,7 @@ void MoveBase(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph
 /// The largest distance of points[ids] from their mean.
 double Reach(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
 {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int j : ids)
-    mean += points[static_cast<std::size_t>(j)];
-  mean /= static_cast<double>(ids.size());
+  const Eigen::Vector3d mean = MeanOf(points, ids);
   double reach = 0.0;
   for (int j : ids)
     reach = std::max(reach, (points[static_cast<std::size_t>(j)] - mean).norm());
