@@ -11,8 +11,6 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <random>
 #include <set>
@@ -563,10 +561,6 @@ TEST(PlantSegmentation, APetioleIsOrganTwoABareTwigAndALeafOnTheStemHaveNone)
   AddBlade(t, Eigen::Vector3d(0.05, 0.0, 0.15), 30.0 * Pi / 180.0, {}, 1, noise);
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
-  if (std::getenv("PETDIAG"))
-    for (std::size_t i = 0; i < t.points.size(); ++i)
-      if (t.organ[i] == 2 || r.organ[i] == 2)
-        std::printf("D %d %d %.4f\n", t.organ[i], r.organ[i], (t.points[i] - petioleStart).dot(slope));
   EXPECT_GT(OrganIoU(t, r, plantmorph::OrganPetiole), 0.7);
   EXPECT_GT(OrganIoU(t, r, plantmorph::OrganWood), 0.9);
   EXPECT_GT(OrganIoU(t, r, plantmorph::OrganLeaf), 0.95);
