@@ -47,7 +47,14 @@
 //     grows on is the wood segment (a wood region, or a connected piece of thin wood, numbered per plant) of that
 //     wood point; its area is the area of the cells of side 2s its points occupy in its own principal plane (a
 //     first estimate: occluded parts are missing, a curled leaf is seen flattened).
-//  5. Confidence in [0, 1]: how far the region's coherence is from the leaf/wood threshold, for judged regions;
+//  5. Petioles (Organ 2): a connected piece of thin wood (the wood within t = FeatureScale * s around each point,
+//     leaf points left out, a tube of radius under t / 2) that touches one leaf instance only, beside its base,
+//     meets thicker wood at one place (wood that is not thin going on farther than 3t: not a fork of twigs), reaches
+//     no farther from it than the leaf contact (nothing beyond the leaf) and is 3t to one leaf length long; its tube
+//     is followed on past both ends into the blade and the stem, where the features saw their surface beside it.
+//     Petiole points have LeafId -1; the leaf's base moves to the blade's; PetioleLength is their extent along
+//     their main axis.
+//  6. Confidence in [0, 1]: how far the region's coherence is from the leaf/wood threshold, for judged regions;
 //     half that for points that took their organ from a neighbour.
 // Everything is deterministic: the same cloud gives the same labels whatever the threads.
 #pragma once
@@ -94,8 +101,9 @@ struct SegmentedLeaf
   double area = 0.0;                              ///< first estimate: occupied cells in the leaf's principal plane
   Eigen::Vector3d base = Eigen::Vector3d::Zero(); ///< the leaf's point nearest the wood
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  int branch = -1;      ///< the wood segment of the wood point nearest the base (-1: the plant has no wood)
-  double baseGap = 0.0; ///< distance from the base to that wood point
+  int branch = -1;            ///< the wood segment of the wood point nearest the base (-1: the plant has no wood)
+  double baseGap = 0.0;       ///< distance from the base to that wood point
+  double petioleLength = 0.0; ///< from the base to where its petiole meets thicker wood (0: no petiole found)
 };
 
 /// One plant (a row of the plants table).
@@ -103,6 +111,7 @@ struct SegmentedPlant
 {
   int plantId = 0;
   long long points = 0, woodPoints = 0, leafPoints = 0, unassignedLeafPoints = 0;
+  long long petiolePoints = 0; ///< Organ 2 (counted in neither woodPoints nor leafPoints)
   int leafCount = 0;
   double height = 0.0;  ///< extent along the up axis
   double spacing = 0.0; ///< MedianSpacing: the spacing the thresholds derive from

@@ -1072,6 +1072,14 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   if (!flat.empty())
     return flat;
   MakeLeaves(points, graph, region, verdicts, spacing, f.radius, p, labels);
+  if (FindPetioles(points, f, graph, spacing, p, parallel, labels) > 0)
+  {
+    plant.woodPoints = plant.leafPoints = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      (labels.organ[i] == OrganWood      ? plant.woodPoints
+          : labels.organ[i] == OrganLeaf ? plant.leafPoints
+                                         : plant.petiolePoints) += 1;
+  }
   plant.leafCount = static_cast<int>(labels.leaves.size());
   double low = std::numeric_limits<double>::infinity(), high = -low;
   for (std::size_t i = 0; i < n; ++i)

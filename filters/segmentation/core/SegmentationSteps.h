@@ -58,6 +58,15 @@ inline bool IsLinear(const PointFeatures& f, std::size_t i)
 int GrowRegions(
   const PointFeatures& features, const LinkGraph& graph, const SegmentationParameters& p, std::vector<int>& region);
 
+/// Petioles (step 5 of PlantSegmentation.h; docs/methods/segmentation.md gives every threshold): each connected
+/// piece of thin wood (the wood within t = FeatureScale s around each point, leaf points left out, a tube of radius
+/// under t / 2) that touches one leaf instance only beside its base, meets thicker wood at one place (not a fork of
+/// twigs), leads to that leaf only and is 3t to one leaf length long becomes Organ 2, with the leaf's and the
+/// thicker wood's points inside its tube past its two ends. Petiole points leave their leaf (LeafId -1, the leaf's
+/// Points and base updated); the leaf's PetioleLength is the petiole's extent. Returns the points made petiole.
+std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
+  double spacing, const SegmentationParameters& p, const ParallelFor& parallel, PlantLabels& labels);
+
 /// The whole segmentation of one plant; "" or the reason it cannot be segmented.
 std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const SegmentationParameters& p,
   const ParallelFor& parallel, PlantLabels& labels);

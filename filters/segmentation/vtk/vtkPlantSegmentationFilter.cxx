@@ -31,7 +31,7 @@ namespace
 constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::LeafPerRank;
 /// Values per point sent to the owners (x, y, z) and back (organ, leaf index in its plant, confidence); per plant
 /// gathered on rank 0: its row (PlantValues), then LeafValues per leaf.
-constexpr int SendWidth = 3, ReturnWidth = 3, PlantValues = 8, LeafValues = 10;
+constexpr int SendWidth = 3, ReturnWidth = 3, PlantValues = 9, LeafValues = 11;
 
 template <typename T>
 vtkSmartPointer<T> NewArray(const char* name, int components, vtkIdType tuples)
@@ -100,12 +100,13 @@ std::string SegmentOwned(const plantmorph::OwnerExchange& exchange, const std::v
     for (std::size_t i = 0; i < points.size(); ++i)
       values.back().insert(values.back().end(), { double(r.organ[i]), double(r.leafId[i]), r.confidence[i] });
     const plantmorph::SegmentedPlant& plant = r.plants.front();
-    blocks.push_back({ double(id), double(plant.leafCount), double(plant.points), double(plant.woodPoints),
-      double(plant.leafPoints), double(plant.unassignedLeafPoints), plant.height, plant.spacing });
+    blocks.push_back(
+      { double(id), double(plant.leafCount), double(plant.points), double(plant.woodPoints), double(plant.leafPoints),
+        double(plant.unassignedLeafPoints), plant.height, plant.spacing, double(plant.petiolePoints) });
     for (const plantmorph::SegmentedLeaf& leaf : r.leaves)
       blocks.back().insert(blocks.back().end(),
         { double(leaf.points), double(leaf.branch), leaf.area, leaf.baseGap, leaf.base.x(), leaf.base.y(),
-          leaf.base.z(), leaf.centre.x(), leaf.centre.y(), leaf.centre.z() });
+          leaf.base.z(), leaf.centre.x(), leaf.centre.y(), leaf.centre.z(), leaf.petioleLength });
   }
   return {};
 }
@@ -127,6 +128,7 @@ std::vector<double> Assemble(const std::vector<std::vector<double>>& blocks, pla
     plant.unassignedLeafPoints = static_cast<long long>(b[5]);
     plant.height = b[6];
     plant.spacing = b[7];
+    plant.petiolePoints = static_cast<long long>(b[8]);
     r.plants.push_back(plant);
     for (std::size_t at = PlantValues; at + LeafValues <= b.size(); at += LeafValues)
     {
@@ -139,6 +141,7 @@ std::vector<double> Assemble(const std::vector<std::vector<double>>& blocks, pla
       leaf.baseGap = b[at + 3];
       leaf.base = Eigen::Vector3d(b[at + 4], b[at + 5], b[at + 6]);
       leaf.centre = Eigen::Vector3d(b[at + 7], b[at + 8], b[at + 9]);
+      leaf.petioleLength = b[at + 10];
       r.leaves.push_back(leaf);
     }
   }
@@ -186,7 +189,7 @@ void WriteLeaves(const plantmorph::SegmentationResult& r, vtkTable* table)
   const auto n = static_cast<vtkIdType>(r.leaves.size());
   const char* ints[] = { "LeafId", "PlantId", "Points", "Branch" };
   const char* vectors[] = { "Base", "Centre" };
-  const char* doubles[] = { "Area", "BaseGap" };
+  const char* doubles[] = { "Area", "BaseGap", "PetioleLength" };
   for (const char* name : ints)
     table->AddColumn(NewArray<vtkIntArray>(name, 1, n));
   for (const char* name : doubles)
@@ -197,8 +200,8 @@ void WriteLeaves(const plantmorph::SegmentationResult& r, vtkTable* table)
   {
     const plantmorph::SegmentedLeaf& leaf = r.leaves[static_cast<std::size_t>(k)];
     const double values[] = { double(leaf.leafId), double(leaf.plantId), double(leaf.points), double(leaf.branch),
-      leaf.area, leaf.baseGap };
-    for (int c = 0; c < 6; ++c)
+      leaf.area, leaf.baseGap, leaf.petioleLength };
+    for (int c = 0; c < 7; ++c)
       vtkDataArray::SafeDownCast(table->GetColumn(c))->SetComponent(k, 0, values[c]);
     vtkDataArray::SafeDownCast(table->GetColumnByName("Base"))->SetTuple(k, leaf.base.data());
     vtkDataArray::SafeDownCast(table->GetColumnByName("Centre"))->SetTuple(k, leaf.centre.data());
@@ -214,12 +217,13 @@ void WritePlants(const plantmorph::SegmentationResult& r, vtkTable* table)
     table->AddColumn(NewArray<vtkIntArray>(name, 1, n));
   table->AddColumn(NewArray<vtkDoubleArray>("Height", 1, n));
   table->AddColumn(NewArray<vtkDoubleArray>("Spacing", 1, n));
+  table->AddColumn(NewArray<vtkIntArray>("PetiolePoints", 1, n));
   for (vtkIdType k = 0; k < n; ++k)
   {
     const plantmorph::SegmentedPlant& p = r.plants[static_cast<std::size_t>(k)];
     const double values[] = { double(p.plantId), double(p.leafCount), double(p.points), double(p.woodPoints),
-      double(p.leafPoints), double(p.unassignedLeafPoints), p.height, p.spacing };
-    for (int c = 0; c < 8; ++c)
+      double(p.leafPoints), double(p.unassignedLeafPoints), p.height, p.spacing, double(p.petiolePoints) };
+    for (int c = 0; c < 9; ++c)
       vtkDataArray::SafeDownCast(table->GetColumn(c))->SetComponent(k, 0, values[c]);
   }
 }

@@ -10,12 +10,13 @@
  * filters/segmentation/core/PlantSegmentation.h; features threaded with vtkSMPTools, results independent of the
  * threads).
  *
- * Output port 0, **Points**: the input points as vertices with their point data and `Organ` (0 wood, 1 leaf),
+ * Output port 0, **Points**: the input points as vertices with their point data and `Organ` (0 wood, 1 leaf, 2
+ * petiole: thin wood from one leaf's base to thicker wood),
  * `LeafId` (-1 off the leaves and on leaf fragments smaller than MinimumLeafPoints) and `SegmentationConfidence`
  * ([0, 1]). Port 1, **Leaves**: a vtkTable, one row per leaf: LeafId, PlantId, Points, Area (a first estimate from
  * the points, in input units squared), Base (x, y, z: the leaf's point nearest the wood), Centre, Branch (the wood
- * segment it grows on), BaseGap. Port 2, **Plants**: one row per plant: PlantId, LeafCount, Height (along UpAxis),
- * Points, WoodPoints, LeafPoints, UnassignedLeafPoints, Spacing.
+ * segment it grows on), BaseGap, PetioleLength (0: no petiole found). Port 2, **Plants**: one row per plant: PlantId,
+ * LeafCount, Height (along UpAxis), Points, WoodPoints, LeafPoints, UnassignedLeafPoints, Spacing, PetiolePoints.
  *
  * Under MPI each plant is segmented whole on one owner rank (LeafPerRank, as LeafFitFilter does with leaves;
  * common/vtk/PlantMorphOwnerExchange.h): Points stays where its points are, Leaves and Plants are gathered on rank 0;

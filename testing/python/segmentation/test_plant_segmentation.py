@@ -80,7 +80,8 @@ for k in found:
     matched += ids[best] >= 0 and inter / union > 0.5
 checks.check(matched >= 7, "%d of the 9 leaves found at IoU > 0.5 (%d instances)" % (matched, len(found)))
 rows = {leaves.GetColumnName(c) for c in range(leaves.GetNumberOfColumns())}
-checks.check({"LeafId", "PlantId", "Points", "Area", "Base", "Branch"} <= rows, "Leaves columns: %s" % sorted(rows))
+checks.check({"LeafId", "PlantId", "Points", "Area", "Base", "Branch", "PetioleLength"} <= rows,
+             "Leaves columns: %s" % sorted(rows))
 column = lambda table, name: vtk_to_numpy(table.GetColumnByName(name))  # noqa: E731
 checks.check(bool(numpy.all(column(leaves, "Points") == [numpy.count_nonzero(leaf == k) for k in found])),
              "each row's Points is its LeafId's point count")
@@ -88,7 +89,12 @@ area = column(leaves, "Area")
 checks.check(bool(numpy.all(area < 1.5 * 1.5 * 1.1)), "first areas at most a 1.5-wide quad's: %s" % area.round(2))
 checks.check(plants.GetNumberOfRows() == 1 and column(plants, "LeafCount")[0] == len(found),
              "one Plants row with the leaf count")
-checks.check(column(plants, "WoodPoints")[0] + column(plants, "LeafPoints")[0] == n, "wood + leaf points = all")
+counted = sum(column(plants, name)[0] for name in ("WoodPoints", "LeafPoints", "PetiolePoints"))
+checks.check(counted == n, "wood + leaf + petiole points = all")
+# the herb's leaves have no petiole (its truth has no Organ 2): any petiole point would be wood or leaf called petiole
+checks.check(numpy.count_nonzero(true_organ == 2) == 0 and numpy.count_nonzero(organ == 2) == 0,
+             "no petiole on a plant without petioles (%d called)" % numpy.count_nonzero(organ == 2))
+checks.check(bool(numpy.all(column(leaves, "PetioleLength") == 0)), "no PetioleLength without petioles")
 b = points.GetBounds()
 checks.check(abs(column(plants, "Height")[0] - (b[3] - b[2])) < 1e-9, "Height is the extent along Y")
 
