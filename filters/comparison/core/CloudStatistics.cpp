@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "CloudStatistics.h"
 
-#include "PointSurfaceDistance.h" // HugePageRoom
-
 #include <plantmorph/memory/CloudArray.h>
 
 #include <algorithm>
@@ -89,7 +87,7 @@ DistanceStatistics ComputeDistanceStatistics(
     // On transparent huge pages from 4 MiB (CloudArray): 10^6 distances gathered into fresh 4 KiB pages took 2 k
     // page faults on the first update, in this part alone while the other waits.
     CloudArray<double> order;
-    order.reserve(HugePageRoom(count, sizeof(double))); // whole huge pages, tail included
+    order.reserve(count);
     for (std::size_t i = 0; i < count; ++i)
     {
       const double d = distances[i];

@@ -10,11 +10,6 @@
 #include <utility>
 #include <vector>
 
-#include <cstdlib>
-
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -345,36 +340,6 @@ bool DetectAvx()
 const bool CpuHasAvx = DetectAvx();
 #endif
 } // namespace
-
-//------------------------------------------------------------------------------
-void* AllocateOnHugePages(std::size_t bytes)
-{
-  void* memory = nullptr;
-#ifdef __linux__
-  constexpr std::size_t Huge = std::size_t(2) << 20;
-  bytes = (bytes + Huge - 1) / Huge * Huge;
-  if (posix_memalign(&memory, Huge, bytes) != 0)
-  {
-    memory = nullptr;
-  }
-  else
-  {
-    madvise(memory, bytes, MADV_HUGEPAGE);
-  }
-#else
-  (void)bytes; // UnsetAllocator asks for huge pages on Linux only
-#endif
-  if (!memory)
-  {
-    throw std::bad_alloc();
-  }
-  return memory;
-}
-
-void FreeHugePages(void* memory) noexcept
-{
-  std::free(memory);
-}
 
 //------------------------------------------------------------------------------
 void ClosestPointOnTriangle(const double p[3], const double a[3], const double b[3], const double c[3],

@@ -74,9 +74,11 @@
 #pragma once
 
 #include <plantmorph/ParallelFor.h>
+#include <plantmorph/memory/HugePages.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <functional>
 #include <memory>
 #include <new>
@@ -89,30 +91,10 @@ namespace plantmorph
 
 /// The allocator of the distance structure's big arrays. Elements of a trivial type are left unset when the array
 /// grows (value-initialisation would zero them on the calling thread: a serial pass and its page faults, before the
-/// parallel loops that write every element anyway), and arrays of 4 MiB or more are aligned to 2 MiB and asked for
-/// transparent huge pages (Linux, where enabled "madvise"): in a fresh process every page of such an array is new
-/// memory, and its first write faulted once per 4 KiB (a 10^6-point query against 203,520 triangles took 42.8 k faults
-/// on its first update, 2-6 k on the next).
-/// Memory for `bytes`, aligned to 2 MiB and asked for transparent huge pages (std::bad_alloc when there is none);
-/// freed with FreeHugePages.
-/// The memory is rounded up to whole huge pages: the kernel backs only whole aligned 2 MiB pages with huge pages, so
-/// the tail of an array of 8,000,000 bytes (1.6 MiB) would otherwise still fault once per 4 KiB.
-void* AllocateOnHugePages(std::size_t bytes);
-void FreeHugePages(void* memory) noexcept;
-
-/// Room for at least `n` elements of `size` bytes that fills whole 2 MiB pages when it is 4 MiB or more (n itself
-/// when less), for arrays put on huge pages elsewhere (CloudArray reserves exactly the room asked for).
-inline std::size_t HugePageRoom(std::size_t n, std::size_t size)
-{
-  constexpr std::size_t Huge = std::size_t(2) << 20;
-  const std::size_t bytes = n * size;
-  if (bytes < 2 * Huge)
-  {
-    return n;
-  }
-  return ((bytes + Huge - 1) / Huge * Huge) / size;
-}
-
+/// parallel loops that write every element anyway), and arrays of 4 MiB or more go on transparent huge pages
+/// (AllocateOnHugePages): in a fresh process every page of such an array is new memory, and its first write faulted
+/// once per 4 KiB (a 10^6-point query against 203,520 triangles took 42.8 k faults on its first update, 2-6 k on the
+/// next).
 template <class T>
 struct UnsetAllocator
 {
@@ -122,8 +104,7 @@ struct UnsetAllocator
   UnsetAllocator(const UnsetAllocator<U>&) noexcept
   {
   }
-  static constexpr std::size_t Huge = std::size_t(2) << 20;
-  static bool OnHugePages(std::size_t n) { return HugePagesPossible && n * sizeof(T) >= 2 * Huge; }
+  static bool OnHugePages(std::size_t n) { return HugePagesPossible && WorthHugePages(n * sizeof(T)); }
   T* allocate(std::size_t n)
   {
     if (OnHugePages(n))
@@ -136,7 +117,7 @@ struct UnsetAllocator
   {
     if (OnHugePages(n))
     {
-      FreeHugePages(p);
+      std::free(p);
       return;
     }
     std::allocator<T>().deallocate(p, n);

@@ -743,10 +743,6 @@ void QueryDistances(vtkAlgorithm* self, const plantmorph::PointSurfaceDistance& 
   const bool surface = reference.IsSurface();
   const std::size_t n = static_cast<std::size_t>(count);
   plantmorph::CloudArray<double> distance, signedDistance, closest;
-  // Room filling whole huge pages: an array's tail beyond its last whole 2 MiB page would fault per 4 KiB.
-  distance.reserve(plantmorph::HugePageRoom(n, sizeof(double)));
-  signedDistance.reserve(plantmorph::HugePageRoom(surface ? n : 0, sizeof(double)));
-  closest.reserve(plantmorph::HugePageRoom(3 * n, sizeof(double)));
   distance.resize(n);
   signedDistance.resize(surface ? n : 0);
   closest.resize(3 * n);
