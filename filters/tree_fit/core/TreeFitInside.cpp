@@ -37,10 +37,8 @@ double Extent(const TreeCylinder& c)
 /// InsideSpacings): at most 1 on or in it.
 double Outside(const Eigen::Vector3d& x, const TreeCylinder& c, double spacing)
 {
-  const Eigen::Vector3d ab = c.end - c.start;
-  const double t = std::clamp((x - c.start).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
   const double radius = Extent(c), tolerance = std::max(InsideRadii * radius, InsideSpacings * spacing);
-  return ((x - c.start - t * ab).norm() - radius) / tolerance;
+  return (SegmentDistance(x, c.start, c.end) - radius) / tolerance;
 }
 
 /// The cylinder of `candidates` that `x` lies least outside of, and how far (Outside).

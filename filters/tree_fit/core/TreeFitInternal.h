@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -91,6 +92,14 @@ CylinderFit FitCylinder(
 /// be measured anywhere.
 std::string FitCylinders(const Wood& wood, const Skeleton& skeleton, const TreeFitParameters& options,
   const ParallelFor& parallel, TreeFitResult& result, std::vector<int>& woodCylinder);
+
+/// The distance from x to the segment [a, b] (a point when a = b).
+inline double SegmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+{
+  const Eigen::Vector3d ab = b - a;
+  const double t = std::clamp((x - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+  return (x - a - t * ab).norm();
+}
 
 /// Chains whose fitted points lie (InsideShare of them) on or in the cylinders of branches not hanging from them,
 /// within half a radius or two spacings of their surfaces: strips of one stem's surface that became chains side by

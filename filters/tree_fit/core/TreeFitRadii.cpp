@@ -342,13 +342,6 @@ void AssignBranches(TreeFitResult& result, const std::vector<double>& radius)
   }
 }
 
-double SegmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
-{
-  const Eigen::Vector3d ab = b - a;
-  const double t = std::clamp((x - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
-  return (x - a - t * ab).norm();
-}
-
 /// A child branch leaves the level sets only where its surface parts from its parent's, some way past the fork: its
 /// first cylinder is extended back along its axis to the parent's surface (the parent's cylinders near the fork).
 void SeatBranches(TreeFitResult& result)
