@@ -262,11 +262,9 @@ TubeEnd FitTubeEnd(
       near.push_back(j);
   if (near.size() < 6)
     return tube;
-  const Eigen::Vector3d mean = MeanOf(points, near);
-  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
-  for (int j : near)
-    c += (points[static_cast<std::size_t>(j)] - mean) * (points[static_cast<std::size_t>(j)] - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(c / static_cast<double>(near.size()));
+  Eigen::Vector3d mean;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(
+    Scatter(points, near, mean) / static_cast<double>(near.size()));
   tube.axis = solver.eigenvectors().col(2);
   if (tube.axis.dot(contact - mean) < 0.0)
     tube.axis = -tube.axis;
@@ -336,11 +334,8 @@ std::vector<int> FollowTube(const std::vector<Eigen::Vector3d>& points, const Li
 /// The extent of points[ids] along their main axis: a petiole's length (its chord when it curves).
 double Extent(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
 {
-  const Eigen::Vector3d mean = MeanOf(points, ids);
-  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
-  for (int j : ids)
-    c += (points[static_cast<std::size_t>(j)] - mean) * (points[static_cast<std::size_t>(j)] - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(c);
+  Eigen::Vector3d mean;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, ids, mean));
   const Eigen::Vector3d axis = solver.eigenvectors().col(2);
   double low = 0.0, high = 0.0;
   for (int j : ids)

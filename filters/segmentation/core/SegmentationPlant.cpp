@@ -21,13 +21,6 @@ namespace plantmorph
 {
 namespace segmentation
 {
-namespace
-{
-/// Regions with fewer points are not judged on their own shape.
-constexpr std::size_t JudgedRegionPoints = 12;
-
-/// The mean of points[ids] (into `mean`) and their scatter matrix about it (the sum of the outer products; divided by
-/// the count it is their covariance). Every point is used, unlike the sampled per-point features.
 Eigen::Matrix3d Scatter(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, Eigen::Vector3d& mean)
 {
   mean = Eigen::Vector3d::Zero();
@@ -42,6 +35,11 @@ Eigen::Matrix3d Scatter(const std::vector<Eigen::Vector3d>& points, const std::v
   }
   return c;
 }
+
+namespace
+{
+/// Regions with fewer points are not judged on their own shape.
+constexpr std::size_t JudgedRegionPoints = 12;
 
 /// What a region is, from its points' covariance and normals.
 struct RegionVerdict

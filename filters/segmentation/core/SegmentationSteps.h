@@ -54,6 +54,10 @@ inline bool IsLinear(const PointFeatures& f, std::size_t i)
   return f.spread[i] < 0.2f;
 }
 
+/// The mean of points[ids] (into `mean`, ids not empty) and their scatter matrix about it (the sum of the outer
+/// products; divided by the count it is their covariance). Every point is used, unlike the sampled per-point features.
+Eigen::Matrix3d Scatter(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, Eigen::Vector3d& mean);
+
 /// Region growing of smooth sheets: each point's region (-1: linear points, never grown); returns the count.
 int GrowRegions(
   const PointFeatures& features, const LinkGraph& graph, const SegmentationParameters& p, std::vector<int>& region);
