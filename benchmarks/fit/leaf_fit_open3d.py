@@ -79,7 +79,7 @@ cloud.SetPoints(points)
 producer = PVTrivialProducer()
 producer.GetClientSideObject().SetOutput(cloud)
 fit = LeafFitFilter(Input=producer, InputUnit="cm")
-sigma = fit.OutlierSigma[0] if hasattr(fit.OutlierSigma, "__getitem__") else fit.OutlierSigma
+sigma = fit.OutlierSigma
 times, cpu = [], []
 for k in range(arguments.repeat + 1):
     fit.OutlierSigma = sigma * (1 + 1e-9 * k)  # a changed property: the filter runs again
