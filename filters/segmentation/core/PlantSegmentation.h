@@ -48,9 +48,12 @@
 //     wood point; its area is the area of the cells of side 2s its points occupy in its own principal plane (a
 //     first estimate: occluded parts are missing, a curled leaf is seen flattened).
 //  5. Petioles (Organ 2): a connected piece of thin wood (the wood within t = FeatureScale * s around each point,
-//     leaf points left out, a tube of radius under t / 2) that touches one leaf instance only, beside its base,
-//     meets thicker wood at one place (wood that is not thin going on farther than 3t: not a fork of twigs), reaches
-//     no farther from it than the leaf contact (nothing beyond the leaf) and is 3t to one leaf length long; its tube
+//     leaf points left out, a tube of radius under t / 2; pieces in line joined across gaps of up to 2t, and the
+//     blade or the stem reached across such a gap along the tube's axis, as a scan breaks a petiole) that touches
+//     one leaf instance only, beside its base (or anywhere, for a leaf no link joins to the wood), meets thicker
+//     wood at one place (wood that is not thin going on farther than 3t: not a fork of twigs), does not continue
+//     that wood's axis at its end (the thin tip of a twig), reaches no farther from it than the leaf contact
+//     (nothing beyond the leaf) and is 3t to one leaf length long; its tube
 //     is followed on past both ends into the blade and the stem, where the features saw their surface beside it.
 //     Petiole points have LeafId -1; the leaf's base moves to the blade's; PetioleLength is their extent along
 //     their main axis.

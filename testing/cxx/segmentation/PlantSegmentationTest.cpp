@@ -594,6 +594,76 @@ TEST(PlantSegmentation, APetioleIsOrganTwoABareTwigAndALeafOnTheStemHaveNone)
   EXPECT_EQ(onStem.petioleLength, 0.0);
 }
 
+TEST(PlantSegmentation, APetioleBrokenByScanGapsIsOneFromTheBladeToTheStem)
+{
+  // The petiole of APetioleIsOrganTwoABareTwigAndALeafOnTheStemHaveNone (a tube of radius 1.5 h leaving the stem at
+  // 45 degrees), as a scan leaves it: two bands of rings missing along it (5 spacings each, twice the link distance)
+  // and its last 4 spacings before the blade missing (the blade's shadow). No piece runs from the blade to the stem:
+  // each touches the stem, the blade or nothing, and none was a petiole. Pieces in line across gaps of up to 2
+  // FeatureScale spacings are joined, and the blade reached across the gap within 45 degrees of the tube's axis.
+  Truth t = SyntheticPlant(0);
+  const double noise = 0.0002, thin = 0.0075, length = 0.15, h = 0.005;
+  const Eigen::Vector3d slope = Eigen::Vector3d(1.0, 0.0, 1.0).normalized();
+  const Eigen::Vector3d petioleStart(0.05 - thin, 0.0, 0.55);
+  const std::size_t first = t.points.size();
+  AddTube(t, petioleStart, slope, length, thin, plantmorph::OrganPetiole, noise);
+  AddBlade(t, petioleStart + (length + thin) * slope, 30.0 * Pi / 180.0, {}, 0, noise);
+  Truth scanned;
+  std::size_t removed = 0;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+  {
+    const double along = (t.points[i] - petioleStart).dot(slope);
+    const bool gap = along > 0.05 && along < 0.05 + 5 * h;
+    const bool gap2 = along > 0.1 && along < 0.1 + 5 * h;
+    const bool shadow = along > length - 4 * h;
+    if (i >= first && t.organ[i] == plantmorph::OrganPetiole && (gap || gap2 || shadow))
+    {
+      ++removed;
+      continue;
+    }
+    scanned.points.push_back(t.points[i]);
+    scanned.organ.push_back(t.organ[i]);
+    scanned.leaf.push_back(t.leaf[i]);
+  }
+  ASSERT_GT(removed, 60u);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(scanned.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_GT(OrganIoU(scanned, r, plantmorph::OrganPetiole), 0.6);
+  EXPECT_GT(OrganIoU(scanned, r, plantmorph::OrganWood), 0.95);
+  ASSERT_EQ(r.leaves.size(), 1u);
+  EXPECT_GT(InstanceIoU(scanned, r, 1)[0], 0.9);
+  for (std::size_t i = 0; i < first; ++i) // the stem
+    EXPECT_NE(r.organ[i], plantmorph::OrganPetiole) << i;
+  // the petiole's length spans its pieces: from the stem to the blade, less the shadow
+  EXPECT_GT(r.leaves[0].petioleLength, length - 8 * h);
+  EXPECT_LT(r.leaves[0].petioleLength, length + 4 * h);
+}
+
+TEST(PlantSegmentation, ATwigTipCarryingOneLeafStaysWood)
+{
+  // A twig (radius 3 h, thicker than a petiole) leaving the stem at 45 degrees for 0.15, then its tapering tip
+  // (radius 1.2 h, thin) going on along the twig's axis for 0.1, one blade at the tip's end. Thin wood from one
+  // leaf's base to thicker wood, leading to that leaf only: a petiole to every other rule. But it continues the twig
+  // it leaves, at the twig's end, and a petiole leaves the side of its stem: wood.
+  Truth t = SyntheticPlant(0);
+  const double noise = 0.0002, h = 0.005, twig = 0.15, tip = 0.1;
+  const Eigen::Vector3d slope = Eigen::Vector3d(1.0, 0.0, 1.0).normalized();
+  const Eigen::Vector3d start(0.05 - 3 * h, 0.0, 0.45);
+  AddTube(t, start, slope, twig, 3 * h, plantmorph::OrganWood, noise);
+  AddTube(t, start + (twig + h) * slope, slope, tip, 1.2 * h, plantmorph::OrganWood, noise);
+  AddBlade(t, start + (twig + tip + 2 * h) * slope, 30.0 * Pi / 180.0, {}, 0, noise);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.leaves.size(), 1u);
+  EXPECT_GT(InstanceIoU(t, r, 1)[0], 0.9);
+  std::size_t petiole = 0;
+  for (int organ : r.organ)
+    petiole += organ == plantmorph::OrganPetiole ? 1 : 0;
+  EXPECT_EQ(petiole, 0u);
+  EXPECT_EQ(r.leaves[0].petioleLength, 0.0);
+  EXPECT_GT(OrganIoU(t, r, plantmorph::OrganWood), 0.95);
+}
+
 TEST(PlantSegmentation, SameLabelsWhateverTheThreads)
 {
   const Truth t = SyntheticPlant(5);
