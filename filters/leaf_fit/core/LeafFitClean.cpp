@@ -217,7 +217,32 @@ int TerminalLobe(const std::vector<double>& width, double widest, bool high)
   return 0;
 }
 
-/// Without a base or apex given or found: true when the base is at the +Y end of the axis Y (through the centroid,
+/// The centroid of the area the points cover, not of the points: each point weighted by the area it stands for in
+/// the plane normal to `normal` (where the blade's symmetry is sought), the squared distance to its 8th nearest
+/// neighbour there; `centroid` when they all coincide. A scanner seeing the blade obliquely samples its near side
+/// more densely than its far side, which pulls the points' centroid across the blade, and a mirror line along the
+/// midvein through that point leaves the midvein's mirror images off the blade.
+Eigen::Vector3d AreaCentroid(
+  const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal, const Eigen::Vector3d& centroid)
+{
+  std::vector<Eigen::Vector3d> flat;
+  flat.reserve(points.size());
+  for (const auto& p : points)
+    flat.push_back(p - p.dot(normal) * normal);
+  const PointGrid grid(flat, PointGrid::CellFor(flat, 4.0));
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double weight = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const auto nearest = grid.Nearest(flat[i], 8, static_cast<int>(i));
+    const double w = nearest.empty() ? 0.0 : nearest.back().first;
+    sum += w * points[i];
+    weight += w;
+  }
+  return weight > 0.0 ? Eigen::Vector3d(sum / weight) : centroid;
+}
+
+/// Without a base or apex given or found: true when the base is at the +Y end of the axis Y (through the centre,
 /// X across it): an end that is a terminal lobe (a palmately or pinnately lobed blade's; the longer one) is the apex;
 /// else an end that is a narrow stalk is the base; else a blade widest at one end (a fan) has its apex there; else
 /// the base is the end nearer the widest cross-section (ovate leaves are wider towards the base).
@@ -307,8 +332,9 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     Y = -SymmetryAxis(points, *apex, normal, centroid - *apex, spacing);
   else
   {
-    Y = SymmetryAxis(points, centroid, normal, principal, spacing);
-    if (BaseAtPlusY(points, centroid, Y, normal.cross(Y).normalized()))
+    const Eigen::Vector3d middle = points.size() > 8 ? AreaCentroid(points, normal, centroid) : centroid;
+    Y = SymmetryAxis(points, middle, normal, principal, spacing);
+    if (BaseAtPlusY(points, middle, Y, normal.cross(Y).normalized()))
       Y = -Y;
   }
   Eigen::Vector3d Z = normal - normal.dot(Y) * Y;

@@ -450,6 +450,32 @@ TEST(LeafShape, FanWithoutPetioleOrHintsIsFittedAlongItsMidvein)
   ExpectShape(scan, Tilted(), e);
 }
 
+TEST(LeafShape, BladeSampledDenserOnOneSideKeepsItsMidveinAxis)
+{
+  // A scanner seeing a blade obliquely samples its near side more densely than its far side. An elliptic blade
+  // (100 long, 45 wide) is symmetric about both its axes; sampled twice as densely at one margin as at the other,
+  // its points' centroid lies off the midvein, a mirror line along the midvein through that point leaves a band of
+  // mirror images off the blade, and the line across it looked more symmetric (Length 45, the width). No petiole
+  // and no hints: the base may be at either end (the blade is the same at both), the midvein must lie along it.
+  const Synthetic uniform = Scan(Blade(0, 100.0), 16000, 0.1, 0.0, Straight(0.0), 0, Eigen::Isometry3d::Identity());
+  Synthetic scan = uniform;
+  scan.points.clear();
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> keep(0.0, 1.0);
+  for (const auto& p : uniform.points)
+    if (keep(random) < 0.75 + 0.25 * p.x() / 22.5) // 1 at the right margin (x = 22.5), 0.5 at the left
+      scan.points.push_back(Tilted() * p);
+  const LeafFitResult fit = FitLeaf(scan.points, LeafFitParameters());
+  ASSERT_EQ(fit.error, "");
+  const Eigen::Vector3d base = fit.points[fit.midvein.front()], apex = fit.points[fit.midvein.back()];
+  const Eigen::Vector3d along = Tilted().linear() * Eigen::Vector3d::UnitY();
+  EXPECT_GT(std::abs((apex - base).normalized().dot(along)), std::cos(3.0 * 3.14159265358979323846 / 180.0));
+  EXPECT_NEAR(fit.traits.length, scan.length, 0.01 * scan.length);
+  const double toBase = (base - Tilted() * Eigen::Vector3d::Zero()).norm(),
+               toApex = (base - Tilted() * Eigen::Vector3d(0.0, 100.0, 0.0)).norm();
+  EXPECT_LT(std::min(toBase, toApex), 0.02 * scan.length);
+}
+
 TEST(LeafShape, SymmetryAxisOfAFanThroughItsBase)
 {
   // The core step alone: points of the ginkgo fan, the axis through its base, hinted across the fan.
