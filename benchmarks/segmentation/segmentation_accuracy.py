@@ -4,7 +4,7 @@ Organ on every cell), scanned by VirtualScanner from 1, 2 and 4 positions with r
 leaf's length, segmented with the filter's defaults, scored point by point against the labels each beam carried.
 
     pvpython benchmarks/segmentation/segmentation_accuracy.py [--plugin build/.../PlantMorph.so] [--quick]
-        [--plants herb,shrub,tree] [--positions 1,2,4] [--noise 0.001,0.01]
+        [--plants herb,shrub,tree] [--positions 1,2,4] [--noise 0.001,0.01] [--scans DIR]
 
 The plant kind *petioled* (not in the default set) is the shrub whose blades each sit on a petiole: a tube of
 radius 1.2 % of the blade's length, 30 % of it long, leaving the blade's base 30 degrees below the blade in line with
@@ -13,7 +13,9 @@ its midrib (cells Region 5, so the tree gives them Organ 2). `--plants petioled`
 Scores per run: leaf IoU and wood IoU (points), petiole IoU (Organ 2; on a plant without petioles, the points called
 petiole, every one an error), leaf instance precision and recall matched at IoU 0.5 (recall over
 the true leaves with at least 100 scanned points; precision over every predicted leaf), the points, the true and
-found leaves, and the segmentation's wall and CPU time (the process's, all threads). Prints a Markdown table (benchmarks/README.md keeps it).
+found leaves, the merged true leaves (unmatched although one instance holds over half of them) and the fragments
+(unmatched instances mostly of one leaf, holding no quarter of another), and the segmentation's wall and CPU time (the
+process's, all threads). Prints a Markdown table (benchmarks/README.md keeps it).
 """
 import argparse
 import math
@@ -28,6 +30,9 @@ parser.add_argument("--plants", default="herb,shrub,tree")
 parser.add_argument("--positions", default="1,2,4")
 parser.add_argument("--noise", default="0.001,0.01", help="range noise as fractions of the leaf length")
 parser.add_argument("--quick", action="store_true", help="coarser scans (a smoke run)")
+parser.add_argument("--scans", default="",
+                    help="a folder for the scans: each is read from it when there, else scanned and written to it, so "
+                         "two versions of the filter are compared on the same points without scanning again")
 arguments = parser.parse_args()
 
 from paraview.simple import *  # noqa: E402,F401,F403
@@ -101,6 +106,30 @@ def scan(plant, surface, positions, noise, step):
     return scanner
 
 
+surfaces = {}  # name: (the plant's pipeline, its surface), made when a scan needs it
+
+
+def stored_scan(name, positions, noise, step):
+    """The scan from arguments.scans when it holds it (written by an earlier run), else a new one (written there)."""
+    path = os.path.join(arguments.scans, "%s_%d_%g%s.vtp" % (name, positions, noise, "_quick" if arguments.quick else ""))
+    if arguments.scans and os.path.exists(path):
+        reader = XMLPolyDataReader(FileName=[path])
+        reader.UpdatePipeline()
+        return reader
+    if name not in surfaces:
+        plant = plant_surface(name, PLANTS[name][0])
+        surfaces[name] = (plant, servermanager.Fetch(plant))
+    scanner = scan(*surfaces[name], positions, noise * PLANTS[name][1], step)
+    if not arguments.scans:
+        return scanner
+    os.makedirs(arguments.scans, exist_ok=True)
+    SaveData(path, proxy=scanner)
+    Delete(scanner)
+    reader = XMLPolyDataReader(FileName=[path])
+    reader.UpdatePipeline()
+    return reader
+
+
 def scores(true_organ, true_leaf, organ, leaf):
     result = {}
     for name, code in (("leaf", 1), ("wood", 0), ("petiole", 2)):
@@ -114,10 +143,13 @@ def scores(true_organ, true_leaf, organ, leaf):
     big = set(true_ids[true_counts >= 100].tolist())
     sizes = dict(zip(true_ids.tolist(), true_counts.tolist()))
     pred_ids = numpy.unique(leaf[leaf >= 0])
-    matched_pred, matched_true = 0, set()
+    matched_pred, matched_true, fragments, holder = 0, set(), 0, {}
     for pid in pred_ids:
         mine = leaf == pid
         overlap_ids, overlaps = numpy.unique(true_leaf[mine & (true_leaf >= 0)], return_counts=True)
+        for tid, inter in zip(overlap_ids.tolist(), overlaps.tolist()):
+            if 2 * inter > sizes[tid]:
+                holder[tid] = int(pid)  # this instance holds over half of that leaf
         if len(overlaps) == 0:
             continue
         best = int(numpy.argmax(overlaps))
@@ -125,23 +157,28 @@ def scores(true_organ, true_leaf, organ, leaf):
         if inter / (numpy.count_nonzero(mine) + sizes[tid] - inter) > 0.5:
             matched_pred += 1
             matched_true.add(tid)
+        elif 2 * inter > numpy.count_nonzero(mine) and all(
+                4 * o < sizes[t] for t, o in zip(overlap_ids.tolist(), overlaps.tolist()) if t != tid):
+            fragments += 1  # mostly one leaf's points and no quarter of another leaf: a piece of a leaf
     result["precision"] = matched_pred / len(pred_ids) if len(pred_ids) else float("nan")
     result["recall"] = len(matched_true & big) / len(big) if big else float("nan")
     result["true_leaves"] = len(big)
     result["found_leaves"] = len(pred_ids)
+    result["matched_found"], result["matched_true"] = matched_pred, len(matched_true & big)
+    # a true leaf missed although one instance holds over half of it: merged with another leaf or with wood
+    result["merged"] = sum(1 for t in big - matched_true if t in holder)
+    result["fragments"] = fragments
     return result
 
 
 rows = []
 for name in arguments.plants.split(","):
-    properties, leaf_length, _, step = PLANTS[name]
+    step = PLANTS[name][3]
     if arguments.quick:
         step *= 2
-    plant = plant_surface(name, properties)
-    surface = servermanager.Fetch(plant)
     for positions in [int(p) for p in arguments.positions.split(",")]:
         for noise in [float(v) for v in arguments.noise.split(",")]:
-            scanner = scan(plant, surface, positions, noise * leaf_length, step)
+            scanner = stored_scan(name, positions, noise, step)
             segmentation = PlantSegmentationFilter(Input=scanner, UpAxis=1)
             start, cpu_start = time.time(), time.process_time()
             segmentation.UpdatePipeline()
@@ -171,9 +208,17 @@ for name in arguments.plants.split(","):
 
 print()
 print("| plant | positions | noise (of leaf length) | points | leaf IoU | wood IoU | petiole IoU | petiole "
-      "called / true | precision | recall | leaves found / true | wall (s) | CPU (s) |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+      "called / true | precision | recall | leaves found / true | merged | fragments | wall (s) | CPU (s) |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for s in rows:
     print("| %(plant)s | %(positions)d | %(noise)g | %(points)d | %(leaf_iou).3f | %(wood_iou).3f | "
           "%(petiole_iou).3f | %(petiole_called)d / %(petiole_true)d | %(precision).3f | %(recall).3f | "
-          "%(found_leaves)d / %(true_leaves)d | %(seconds).1f | %(cpu).1f |" % s)
+          "%(found_leaves)d / %(true_leaves)d | %(merged)d | %(fragments)d | %(seconds).1f | %(cpu).1f |" % s)
+if rows:
+    total = lambda key: sum(s[key] for s in rows)  # noqa: E731
+    print("\nPooled over the %d runs: precision %.3f (%d of %d), recall %.3f (%d of %d), mean leaf IoU %.3f, mean wood "
+          "IoU %.3f, %d merged leaves, %d fragments, CPU %.1f s"
+          % (len(rows), total("matched_found") / max(1, total("found_leaves")), total("matched_found"),
+             total("found_leaves"), total("matched_true") / max(1, total("true_leaves")), total("matched_true"),
+             total("true_leaves"), total("leaf_iou") / len(rows), total("wood_iou") / len(rows), total("merged"),
+             total("fragments"), total("cpu")))
