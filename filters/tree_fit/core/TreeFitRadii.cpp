@@ -27,8 +27,9 @@ constexpr double CodominantShare = 0.5; // of the heaviest child's carried volum
 constexpr double ForkMargin = 10.0;     // degrees: codominant children turning less apart than this end the branch
 constexpr double BulgeFactor = 1.05;    // a measured cylinder this much wider than its parent is a junction
 constexpr double KinkAngle = 25.0;
-constexpr double IncomingReaches = 2.5;       // a branch's incoming direction is its own past this length (reaches)
-constexpr double KinkReaches = 4.0;           // a kink still turns this far on (reaches): a junction's wiggle does not
+constexpr double IncomingReaches = 2.5; // a branch's incoming direction is its own past this length (reaches)
+constexpr double KinkReaches = 4.0;     // a kink still turns this far on (reaches): a junction's wiggle does not...
+constexpr double KinkKept = 0.5;        // ...by more than KinkAngle or this share of its turn at the link
 constexpr std::size_t ChildBaseCylinders = 3; // a child's base radius: its first measured cylinder among these
 constexpr double TaperMargin = 1.15;          // a measured cylinder near a fork this much above its branch's taper...
 constexpr std::size_t TaperCylinders =
@@ -188,9 +189,11 @@ std::vector<std::vector<int>> ChildLists(const std::vector<TreeCylinder>& cylind
 /// goes on, however light beside a lateral turning away (a leader goes on past a heavier lateral, and a straight
 /// stem stays one branch), unless two codominant children (each carrying at least CodominantShare of the heaviest
 /// child) turn alike (within ForkMargin): a sympodial fork or a Y ends the branch, each child a branch of the next
-/// order. A single child that turns more than KinkAngle from its parent, and still does KinkReaches on, does not
-/// continue it either: a branch does not bend sharply, a lateral at a leader's thin tip does (its first cylinders
-/// would otherwise lengthen the leader); a branch younger than IncomingReaches has no direction of its own to turn
+/// order. A single child that turns more than KinkAngle from its parent, and KinkReaches on still turns more than
+/// KinkAngle or KinkKept of that turn, does not continue it either: a branch does not bend sharply, a lateral at a
+/// leader's thin tip does (its first cylinders would otherwise lengthen the leader); a junction's leaning cylinders
+/// come back to the stem's line, while the far chord of a lateral only comes back part of the way where it follows
+/// a twig of the lateral that turns up; a branch younger than IncomingReaches has no direction of its own to turn
 /// from yet: it does not kink, and at a fork its heaviest child goes on. Directions are chords over a few parent
 /// radii, away from the junction (whose cylinders hold both branches and lean): the parent's from below it and never
 /// across its own branch's start (parents are decided first: cylinder ids grow from the base), each child's ahead of
@@ -260,7 +263,8 @@ std::vector<int> ContinuingChildren(
       continuing[p] = k;
       const double here = turn(static_cast<int>(p), k);
       if (here > KinkAngle && history(static_cast<int>(p)) >= IncomingReaches * reach &&
-        angle(FarDirection(cylinders, children, k, KinkReaches * reach, dp, true, travelled)) > KinkAngle &&
+        angle(FarDirection(cylinders, children, k, KinkReaches * reach, dp, true, travelled)) >
+          std::min(KinkAngle, KinkKept * here) &&
         !(children[k].size() == 1 && turn(k, children[k].front()) > here))
         continuing[p] = -1;
       continue;

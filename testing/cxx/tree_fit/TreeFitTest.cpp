@@ -537,6 +537,29 @@ TEST(TreeFit, ALateralAtTheLeadersTipIsABranch)
   EXPECT_NEAR(r.branches[1].angle, 35.0, 6.0);
 }
 
+TEST(TreeFit, ALateralAtTheLeadersTipIsABranchWhateverItsTwigs)
+{
+  // The same lateral leaving the leader's tip at 35 degrees, now with a twig leaving it half a metre on that turns
+  // up, 15 degrees off the vertical (the top lateral of a monopodial crown with its own laterals): followed four
+  // reaches on through the lateral's fork into the twig nearest the trunk's direction, the chain turns 18 to 22
+  // degrees, under 25, and the lateral was taken for the trunk's continuation. It still turns more than half its
+  // turn at the link: a junction's cylinders come back to the stem's line, a lateral whose twig turns up does not.
+  const Eigen::Vector3d tip(0, 0, 1.6), fork = tip + 0.5 * Tilted(35.0, 0.0);
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, { 0, 0, 1.2 }, 0.06 }, { { 0, 0, 1.2 }, tip, 0.03 },
+    { tip, tip + 1.0 * Tilted(35.0, 0.0), 0.03 }, { fork, fork + 0.6 * Tilted(15.0, M_PI / 2), 0.015 } };
+  const TreeFitResult r = FitTree(Scan(tree, 0.006, 0.0005), {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_NEAR(r.branches[0].length, 1.6, 0.1);
+  int laterals = 0;
+  for (const TreeBranchRow& b : r.branches)
+    if (b.order == 1)
+    {
+      ++laterals;
+      EXPECT_NEAR(b.angle, 35.0, 6.0);
+    }
+  EXPECT_EQ(laterals, 1);
+}
+
 TEST(TreeFit, ABranchJoinedAtItsTipIsStillFittedFromItsBase)
 {
   // A lateral leaves the leader's tip at 35 degrees, 3 cm above it (its junction hidden: leaves in front of it), and
