@@ -4,40 +4,75 @@
 #include "vtkAlgorithm.h"
 #include "vtkSMPTools.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <mutex>
 
 namespace plantmorph
 {
+namespace
+{
+/// Whether our loops must open a threaded scope of their own: the backend in use is Sequential only because nobody
+/// chose one (pvpython, pvbatch and the GUI start on it unless VTK_SMP_BACKEND_IN_USE says otherwise), and this is
+/// not a loop nested in another (that one already runs on the threads). A backend the user set in the environment
+/// is kept, Sequential included, and so is a thread count of 1 (VTK_SMP_MAX_THREADS=1, or a filter's
+/// NumberOfThreads 1 through RunThreaded).
+bool NeedsThreadedScope(int threads)
+{
+  const char* backend = vtkSMPTools::GetBackend();
+  return threads != 1 && backend && std::strcmp(backend, "Sequential") == 0 && !std::getenv("VTK_SMP_BACKEND_IN_USE") &&
+    !vtkSMPTools::IsParallelScope();
+}
+
+/// vtkSMPTools::For on the backend in use. An exception thrown on a worker thread (std::bad_alloc from an allocation
+/// in the body) would end the process (std::terminate): it is caught there, the remaining chunks are skipped, and the
+/// first one is thrown again on the calling thread, where RunRequestData reports it.
+void RunFor(vtkIdType grain, std::size_t count, const std::function<void(std::size_t, std::size_t)>& body)
+{
+  std::atomic<bool> failed{ false };
+  std::exception_ptr first;
+  std::mutex lock;
+  vtkSMPTools::For(0, static_cast<vtkIdType>(count), grain, [&](vtkIdType begin, vtkIdType end) {
+    if (failed.load(std::memory_order_relaxed))
+      return;
+    try
+    {
+      body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end));
+    }
+    catch (...)
+    {
+      std::lock_guard<std::mutex> guard(lock);
+      if (!first)
+        first = std::current_exception();
+      failed = true;
+    }
+  });
+  if (first)
+    std::rethrow_exception(first);
+}
+} // namespace
 
 ParallelFor SMPFor(vtkIdType grain)
 {
-  // An exception thrown on a worker thread (std::bad_alloc from an allocation in the body) would end the process
-  // (std::terminate): it is caught there, the remaining chunks are skipped, and the first one is thrown again on the
-  // calling thread, where RunRequestData reports it.
   return [grain](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::atomic<bool> failed{ false };
-    std::exception_ptr first;
-    std::mutex lock;
-    vtkSMPTools::For(0, static_cast<vtkIdType>(count), grain, [&](vtkIdType begin, vtkIdType end) {
-      if (failed.load(std::memory_order_relaxed))
-        return;
-      try
-      {
-        body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end));
-      }
-      catch (...)
-      {
-        std::lock_guard<std::mutex> guard(lock);
-        if (!first)
-          first = std::current_exception();
-        failed = true;
-      }
-    });
-    if (first)
-      std::rethrow_exception(first);
+    // The thread count vtkSMPTools is set to, else VTK_SMP_MAX_THREADS, else 0: every core.
+    int threads = vtk::detail::smp::vtkSMPToolsAPI::GetInstance().GetInternalDesiredNumberOfThread();
+    const char* maxThreads = std::getenv("VTK_SMP_MAX_THREADS");
+    if (threads == 0 && maxThreads)
+      threads = std::max(std::atoi(maxThreads), 0);
+    if (count < 2 || !NeedsThreadedScope(threads))
+    {
+      RunFor(grain, count, body);
+      return;
+    }
+    // Our loops run threaded whatever the process-wide default is, within a scope that puts the backend back after
+    // the loop (other filters keep theirs).
+    const vtkSMPTools::Config threaded{ threads, "STDThread", vtkSMPTools::GetNestedParallelism() };
+    vtkSMPTools::LocalScope(threaded, [&] { RunFor(grain, count, body); });
   };
 }
 

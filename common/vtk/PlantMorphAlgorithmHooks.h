@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The VTK side of the algorithm layers' two hooks (module PlantMorph::VTKCommon):
 // - SMPFor(): vtkSMPTools behind plantmorph::ParallelFor (common/include/plantmorph/ParallelFor.h), so the plain C++
-//   algorithms run threaded inside ParaView with the thread count and backend it is configured with;
+//   algorithms run threaded inside ParaView with the thread count and backend it is configured with, and threaded
+//   on STDThread when it is left on its default Sequential backend;
 // - Progress(): the progress callback every long algorithm takes (a fraction in [0, 1] in, "go on" out), reporting
 //   to the filter's progress bar over [begin, end] and answering false once the user presses Abort.
 #pragma once
@@ -20,7 +21,11 @@ namespace plantmorph
 {
 
 /// vtkSMPTools::For behind a ParallelFor. `grain` is vtkSMPTools' grain (0: the backend chooses); the algorithms
-/// give the same results however the range is cut, so it is a speed setting only. An exception the body throws on
+/// give the same results however the range is cut, so it is a speed setting only. When the backend in use is
+/// Sequential and the environment does not ask for it (VTK_SMP_BACKEND_IN_USE unset: pvpython, pvbatch and the GUI
+/// start so), the loop runs on STDThread within a vtkSMPTools::LocalScope, with the thread count vtkSMPTools is set
+/// to (every core, or VTK_SMP_MAX_THREADS); the process-wide backend is left as it is. A thread count of 1, a backend
+/// set in the environment and a loop nested in a parallel one run on the backend in use. An exception the body throws on
 /// a worker thread (std::bad_alloc) is thrown again on the calling thread once the loop ends (the chunks not yet
 /// started are skipped), never left to end the process.
 PLANTMORPHVTKCOMMON_EXPORT ParallelFor SMPFor(vtkIdType grain = 0);

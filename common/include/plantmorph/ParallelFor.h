@@ -4,8 +4,10 @@
 // results do not depend on how the range is cut.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 namespace plantmorph
 {
@@ -29,6 +31,44 @@ void ForEachIndex(const ParallelFor& parallel, std::size_t count, F&& f, std::si
     for (std::size_t i = first * block; i < end; ++i)
       f(i);
   });
+}
+
+/// Sorts `values` by `less` through `parallel`: `pieces` slices sorted each on its own, then merged pairwise, the
+/// merges of a round side by side. `less` must be a strict total order (no two values equivalent: break ties by an
+/// index), so that the result is the one std::sort gives, however the work is spread over threads.
+template <typename T, typename Less>
+void SortInParallel(const ParallelFor& parallel, std::vector<T>& values, Less less, std::size_t pieces = 16)
+{
+  const std::size_t n = values.size();
+  if (n < 8192 || pieces < 2)
+  {
+    std::sort(values.begin(), values.end(), less);
+    return;
+  }
+  std::vector<std::size_t> bounds(pieces + 1);
+  for (std::size_t k = 0; k <= pieces; ++k)
+    bounds[k] = n * k / pieces;
+  parallel(pieces, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k)
+      std::sort(values.begin() + bounds[k], values.begin() + bounds[k + 1], less);
+  });
+  std::vector<T> buffer(n);
+  std::vector<T>*from = &values, *to = &buffer;
+  for (std::size_t width = 1; width < pieces; width *= 2)
+  {
+    const auto at = [&](std::size_t k) { return bounds[std::min(k, pieces)]; };
+    parallel((pieces + 2 * width - 1) / (2 * width), [&](std::size_t first, std::size_t last) {
+      for (std::size_t m = first; m < last; ++m)
+      {
+        const std::size_t lo = at(2 * m * width), mid = at((2 * m + 1) * width), hi = at((2 * m + 2) * width);
+        std::merge(
+          from->begin() + lo, from->begin() + mid, from->begin() + mid, from->begin() + hi, to->begin() + lo, less);
+      }
+    });
+    std::swap(from, to);
+  }
+  if (from != &values)
+    values.swap(buffer);
 }
 
 } // namespace plantmorph

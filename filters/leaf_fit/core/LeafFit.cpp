@@ -247,7 +247,7 @@ void ScanUnsampled(const std::vector<Eigen::Vector3d>& points, const std::vector
   double reach, const ParallelFor& parallel, LeafFitResult& result, std::vector<unsigned char>& kept)
 {
   const double limit = InlierLimit(f, spacing);
-  const PointGrid grid(cleanPoints, reach); // cells of the reach: a point's own cell nearly always holds one
+  const PointGrid grid(cleanPoints, reach, parallel); // cells of the reach: a point's own cell nearly always holds one
   ForEachIndex(parallel, points.size(), [&](std::size_t i) {
     if (sampled[i])
       return;
@@ -302,7 +302,7 @@ void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, dou
       result.fitDistance[i] = std::copysign(d.norm(), d.dot(result.normals[nb.front().second]));
     }
   });
-  const PointGrid scan(inliers, PointGrid::CellFor(inliers, 4.0));
+  const PointGrid scan(inliers, PointGrid::CellFor(inliers, 4.0), parallel);
   result.support.resize(result.points.size());
   ForEachIndex(parallel, result.points.size(),
     [&](std::size_t i) { result.support[i] = std::sqrt(scan.Nearest(result.points[i], 1).front().first); });
@@ -452,7 +452,8 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   std::vector<Eigen::Vector3d> flat;
   for (const auto& p : onSurface)
     flat.emplace_back(p.x(), p.y(), 0.0);
-  const double outlineSpacing = std::max(spacing, 0.5 * CrossSpacing(flat));
+  const double outlineSpacing =
+    std::max(spacing, 0.5 * CrossSpacing(flat, PointGrid(flat, PointGrid::CellFor(flat, 4.0), parallel), parallel));
   error = fit::FitOutline(onSurface, options, outlineSpacing, f.outline);
   if (!error.empty())
     return error;
@@ -503,7 +504,8 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     for (std::size_t i = 0; i < points.size(); ++i)
       if (kept[i])
         keptPoints.push_back(points[i]);
-    result.traits.spacing = MedianSpacing(keptPoints);
+    result.traits.spacing =
+      MedianSpacing(keptPoints, PointGrid(keptPoints, PointGrid::CellFor(keptPoints, 4.0), parallel), parallel);
   }
   ScanArrays(points, f, spacing, parallel, result);
   RebuildableModel(options, f, result);

@@ -73,7 +73,7 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   const int n = static_cast<int>(points.size());
   const int k = 8;
   const double cell = PointGrid::CellFor(points, 4.0);
-  const PointGrid grid(points, cell);
+  const PointGrid grid(points, cell, parallel);
   // Neighbours are looked for within 8 cells (about 16 point spacings on the sheet; the search cost grows with the
   // cube of the reach): a point with fewer than k there counts its missing neighbours at that distance, beyond the
   // outlier limit below.
@@ -128,7 +128,7 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   }
   // On a line scan a point's k nearest neighbours all lie on its own line: the lines are joined where points lie
   // within twice the spacing across them (CrossSpacing), or a line beyond a wider gap is dropped as a stray part.
-  const double across = 2.0 * CrossSpacing(points);
+  const double across = 2.0 * CrossSpacing(points, grid, parallel);
   if (across > radius)
   {
     std::vector<int> near;

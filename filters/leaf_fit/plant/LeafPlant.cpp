@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -32,15 +33,18 @@ struct Cubes
   std::vector<Cell> cells;
   std::vector<int> offsets, members;
 
-  Cubes(const std::vector<Eigen::Vector3d>& points, double side)
+  Cubes(const std::vector<Eigen::Vector3d>& points, double side, const ParallelFor& parallel)
   {
     std::vector<std::pair<Cell, int>> keyed(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i)
+    ForEachIndex(parallel, points.size(), [&](std::size_t i) {
       keyed[i] = { { static_cast<std::int64_t>(std::floor(points[i].x() / side)),
                      static_cast<std::int64_t>(std::floor(points[i].y() / side)),
                      static_cast<std::int64_t>(std::floor(points[i].z() / side)) },
         static_cast<int>(i) };
-    std::sort(keyed.begin(), keyed.end());
+    });
+    // (cube, id) pairs are all different: any sort gives the one order.
+    SortInParallel(parallel, keyed, std::less<std::pair<Cell, int>>());
+    this->members.resize(keyed.size());
     for (std::size_t i = 0; i < keyed.size(); ++i)
     {
       if (i == 0 || keyed[i].first != keyed[i - 1].first)
@@ -48,7 +52,7 @@ struct Cubes
         this->cells.push_back(keyed[i].first);
         this->offsets.push_back(static_cast<int>(i));
       }
-      this->members.push_back(keyed[i].second);
+      this->members[i] = keyed[i].second;
     }
     this->offsets.push_back(static_cast<int>(keyed.size()));
   }
@@ -64,41 +68,84 @@ bool Near(const std::vector<Eigen::Vector3d>& points, const Cubes& cubes, int a,
   return false;
 }
 
-/// Connected parts of the points at `radius`, as parts of the cubes (a cube's points are one part): two cubes up to
-/// two apart along each axis are joined when any of their points are within `radius`, looked for only while they are
-/// apart. The adjacent cubes first, so that on a continuous sheet the farther ones are already joined. Each offset
-/// is one merge-like walk over the sorted cubes (adding an offset keeps their order): no hashing, memory in order.
-std::vector<int> CubeParts(const std::vector<Eigen::Vector3d>& points, const Cubes& cubes, double radius)
+/// The offsets from a cube to the cubes it may join: up to two apart along each axis, each pair once (the offsets
+/// after (0, 0, 0) in lexicographic order), the adjacent ones first, so that on a continuous sheet the farther ones
+/// are mostly joined already when they come and need no search.
+std::vector<Cubes::Cell> JoinOffsets()
 {
-  const int m = static_cast<int>(cubes.cells.size());
-  std::vector<int> parent(m);
-  std::iota(parent.begin(), parent.end(), 0);
-  const double r2 = radius * radius;
+  std::vector<Cubes::Cell> offsets;
   for (std::int64_t reach = 1; reach <= 2; ++reach)
     for (std::int64_t dx = 0; dx <= reach; ++dx)
       for (std::int64_t dy = -reach; dy <= reach; ++dy)
         for (std::int64_t dz = -reach; dz <= reach; ++dz)
         {
-          // Each pair once: the offsets after (0, 0, 0) in lexicographic order, at this reach exactly.
           const Cubes::Cell d = { dx, dy, dz };
-          if (d <= Cubes::Cell{ 0, 0, 0 } || std::max({ std::abs(dx), std::abs(dy), std::abs(dz) }) != reach)
-            continue;
-          int b = 0;
-          for (int a = 0; a < m; ++a)
-          {
-            const Cubes::Cell& c = cubes.cells[a];
-            const Cubes::Cell target = { c[0] + dx, c[1] + dy, c[2] + dz };
-            while (b < m && cubes.cells[b] < target)
-              ++b;
-            if (b == m)
-              break;
-            if (cubes.cells[b] != target)
-              continue;
-            const int ra = Find(parent, a), rb = Find(parent, b);
-            if (ra != rb && Near(points, cubes, a, b, r2))
-              parent[std::max(ra, rb)] = std::min(ra, rb);
-          }
+          if (d > Cubes::Cell{ 0, 0, 0 } && std::max({ std::abs(dx), std::abs(dy), std::abs(dz) }) == reach)
+            offsets.push_back(d);
         }
+  return offsets;
+}
+
+/// Connected parts of the points at `radius`, as parts of the cubes (a cube's points are one part): two cubes up to
+/// two apart along each axis are joined when any of their points are within `radius`, looked for only while they are
+/// apart. Each part is named by its first cube (a union keeps the smaller root), so the parts and their names do not
+/// depend on the order the pairs are joined in. The cubes are cut into blocks of consecutive cubes joined side by
+/// side: a block joins its own pairs (writing only its own cubes' parents, which stay in the block) and lists the
+/// pairs that reach a later block, joined after, one block after the other. Each offset is one merge-like walk over
+/// a block's sorted cubes (adding an offset keeps their order): no hashing, memory in order.
+std::vector<int> CubeParts(
+  const std::vector<Eigen::Vector3d>& points, const Cubes& cubes, double radius, const ParallelFor& parallel)
+{
+  const int m = static_cast<int>(cubes.cells.size());
+  std::vector<int> parent(m);
+  std::iota(parent.begin(), parent.end(), 0);
+  const double r2 = radius * radius;
+  const std::vector<Cubes::Cell> offsets = JoinOffsets();
+  const int blocks = std::clamp(m / 512, 1, 64);
+  std::vector<std::vector<std::pair<int, int>>> later(blocks);
+  parallel(static_cast<std::size_t>(blocks), [&](std::size_t firstBlock, std::size_t lastBlock) {
+    for (std::size_t block = firstBlock; block < lastBlock; ++block)
+    {
+      const int lo = static_cast<int>(static_cast<std::int64_t>(m) * block / blocks);
+      const int hi = static_cast<int>(static_cast<std::int64_t>(m) * (block + 1) / blocks);
+      for (const Cubes::Cell& d : offsets)
+      {
+        const auto shifted = [&](int a) {
+          const Cubes::Cell& c = cubes.cells[a];
+          return Cubes::Cell{ c[0] + d[0], c[1] + d[1], c[2] + d[2] };
+        };
+        int b = lo < hi ? static_cast<int>(
+                            std::lower_bound(cubes.cells.begin(), cubes.cells.end(), shifted(lo)) - cubes.cells.begin())
+                        : m;
+        for (int a = lo; a < hi && b < m; ++a)
+        {
+          const Cubes::Cell target = shifted(a);
+          while (b < m && cubes.cells[b] < target)
+            ++b;
+          if (b == m || cubes.cells[b] != target)
+            continue;
+          if (b >= hi)
+          {
+            later[block].emplace_back(a, b);
+            continue;
+          }
+          const int ra = Find(parent, a), rb = Find(parent, b);
+          if (ra != rb && Near(points, cubes, a, b, r2))
+            parent[std::max(ra, rb)] = std::min(ra, rb);
+        }
+      }
+    }
+  });
+  for (const auto& pairs : later)
+    for (const auto& [a, b] : pairs)
+    {
+      const int ra = Find(parent, a), rb = Find(parent, b);
+      if (ra != rb && Near(points, cubes, a, b, r2))
+        parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+  // Every parent precedes its cube: in cube order, a cube's root is its parent's.
+  for (int c = 0; c < m; ++c)
+    parent[c] = parent[parent[c]];
   return parent;
 }
 } // namespace
@@ -120,7 +167,7 @@ std::string LeafIdOf(double value, const std::string& array, std::int64_t& id)
   return message.str();
 }
 
-LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points)
+LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points, const ParallelFor& parallel)
 {
   LeafSeparation result;
   result.leafOf.assign(points.size(), 0);
@@ -136,17 +183,23 @@ LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points)
   if (finitePoints.size() < 2)
     return result;
   // The spacing across the points' densest direction as well: a line scan's points are much closer along a line
-  // than the lines are, and a radius from the nearest-neighbour spacing alone cuts one leaf into its lines.
-  result.radius = SeparationSpacings * std::max(MedianSpacing(finitePoints), CrossSpacing(finitePoints));
+  // than the lines are, and a radius from the nearest-neighbour spacing alone cuts one leaf into its lines. Both
+  // spacings search one grid.
+  {
+    const PointGrid grid(finitePoints, PointGrid::CellFor(finitePoints, 4.0), parallel);
+    result.radius = SeparationSpacings *
+      std::max(MedianSpacing(finitePoints, grid, parallel), CrossSpacing(finitePoints, grid, parallel));
+  }
   if (!(result.radius > 0.0))
     return result;
-  const Cubes cubes(finitePoints, result.radius / std::sqrt(3.0));
-  std::vector<int> parent = CubeParts(finitePoints, cubes, result.radius);
+  const Cubes cubes(finitePoints, result.radius / std::sqrt(3.0), parallel);
+  const std::vector<int> root = CubeParts(finitePoints, cubes, result.radius, parallel);
   const int m = static_cast<int>(finitePoints.size());
   std::vector<int> partOf(m);
-  for (int c = 0; c < static_cast<int>(cubes.cells.size()); ++c)
+  ForEachIndex(parallel, cubes.cells.size(), [&](std::size_t c) {
     for (int k = cubes.offsets[c]; k < cubes.offsets[c + 1]; ++k)
-      partOf[cubes.members[k]] = Find(parent, c);
+      partOf[cubes.members[k]] = root[c];
+  });
   std::vector<int> size(cubes.cells.size(), 0);
   for (int i = 0; i < m; ++i)
     ++size[partOf[i]];
@@ -170,7 +223,7 @@ LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points)
   if (count <= 1)
     return result;
   // The small parts' points go with the nearest leaf.
-  const PointGrid leaves(leafPoints, PointGrid::CellFor(leafPoints, 4.0));
+  const PointGrid leaves(leafPoints, PointGrid::CellFor(leafPoints, 4.0), parallel);
   std::vector<unsigned char> seen(cubes.cells.size(), 0);
   for (int i = 0; i < m; ++i)
   {

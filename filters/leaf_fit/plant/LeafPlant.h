@@ -44,8 +44,8 @@ struct LeafSeparation
 };
 
 /// The separate blades of `points` (rules above). Points with non-finite coordinates go to leaf 0 (the fit then
-/// refuses them by name).
-LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points);
+/// refuses them by name). The grids, sorts and joins run through `parallel`; the result does not depend on it.
+LeafSeparation SeparateLeaves(const std::vector<Eigen::Vector3d>& points, const ParallelFor& parallel = SerialFor);
 
 /// Status of a Traits row.
 enum class LeafStatus

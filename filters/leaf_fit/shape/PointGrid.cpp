@@ -6,13 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <numeric>
 #include <utility>
 
 namespace plantmorph
 {
 
-PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell)
+PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell, const ParallelFor& parallel)
   : Cell(cell)
 {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(0.0), hi = lo;
@@ -33,21 +34,21 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell)
   for (int a = 0; a < 3; ++a)
     this->Extent[a] = static_cast<int>(std::floor((hi[a] - lo[a]) / this->Cell)) + 1;
   std::vector<std::pair<Key, int>> keyed(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-  {
+  ForEachIndex(parallel, points.size(), [&](std::size_t i) {
     const Eigen::Vector3i c = this->CellOf(points[i]);
     keyed[i] = { this->KeyOf(c[0], c[1], c[2]), static_cast<int>(i) };
-  }
-  std::sort(keyed.begin(), keyed.end());
+  });
+  // (key, id) pairs are all different: any sort gives the one order.
+  SortInParallel(parallel, keyed, std::less<std::pair<Key, int>>());
   this->Order.resize(keyed.size());
   this->Sorted.resize(keyed.size());
-  std::size_t cells = 0;
-  for (std::size_t i = 0; i < keyed.size(); ++i)
-  {
+  ForEachIndex(parallel, keyed.size(), [&](std::size_t i) {
     this->Order[i] = keyed[i].second;
     this->Sorted[i] = points[keyed[i].second];
+  });
+  std::size_t cells = 0;
+  for (std::size_t i = 0; i < keyed.size(); ++i)
     cells += i == 0 || keyed[i].first != keyed[i - 1].first ? 1 : 0;
-  }
   // A table of at least twice as many slots as cells (a power of two), filled by linear probing.
   int bits = 4;
   while ((std::size_t{ 1 } << bits) < 2 * cells)
@@ -355,15 +356,29 @@ double MedianSpacing(const std::vector<Eigen::Vector3d>& points)
 {
   if (points.size() < 2)
     return 0.0;
-  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
+  return MedianSpacing(points, PointGrid(points, PointGrid::CellFor(points, 4.0)));
+}
+
+double MedianSpacing(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, const ParallelFor& parallel)
+{
+  if (points.size() < 2)
+    return 0.0;
   const std::size_t step = std::max<std::size_t>(1, points.size() / 20000);
+  // One slot per sampled point (-1: none found), read in order: the same list on any number of threads.
+  std::vector<double> found((points.size() + step - 1) / step, -1.0);
+  ForEachIndex(
+    parallel, found.size(),
+    [&](std::size_t k) {
+      const std::size_t i = k * step;
+      const auto nearest = grid.Nearest(points[i], 1, static_cast<int>(i));
+      if (!nearest.empty() && nearest[0].first > 0.0)
+        found[k] = std::sqrt(nearest[0].first);
+    },
+    256);
   std::vector<double> distances;
-  for (std::size_t i = 0; i < points.size(); i += step)
-  {
-    const auto nearest = grid.Nearest(points[i], 1, static_cast<int>(i));
-    if (!nearest.empty() && nearest[0].first > 0.0)
-      distances.push_back(std::sqrt(nearest[0].first));
-  }
+  for (double d : found)
+    if (d >= 0.0)
+      distances.push_back(d);
   return Median(std::move(distances), 0.0);
 }
 
@@ -371,28 +386,41 @@ double CrossSpacing(const std::vector<Eigen::Vector3d>& points)
 {
   if (points.size() < 3)
     return 0.0;
-  const PointGrid grid(points, PointGrid::CellFor(points, 4.0));
+  return CrossSpacing(points, PointGrid(points, PointGrid::CellFor(points, 4.0)));
+}
+
+double CrossSpacing(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, const ParallelFor& parallel)
+{
+  if (points.size() < 3)
+    return 0.0;
   const std::size_t stride = std::max<std::size_t>(1, points.size() / 5000);
-  std::vector<double> across;
-  for (std::size_t i = 0; i < points.size(); i += stride)
-  {
-    // 48 neighbours reach the next line of a line scan whose points are up to about 20 times closer along a line.
-    const auto nb = grid.Nearest(points[i], 48, static_cast<int>(i));
-    Eigen::Vector3d u = Eigen::Vector3d::Zero();
-    for (const auto& [d2, j] : nb)
-    {
-      const Eigen::Vector3d d = points[j] - points[i];
-      if (!(d2 > 0.0))
-        continue;
-      if (u.isZero())
-        u = d.normalized();
-      else if (std::abs(u.dot(d.normalized())) < 0.5)
+  std::vector<double> found((points.size() + stride - 1) / stride, -1.0);
+  ForEachIndex(
+    parallel, found.size(),
+    [&](std::size_t k) {
+      const std::size_t i = k * stride;
+      // 48 neighbours reach the next line of a line scan whose points are up to about 20 times closer along a line.
+      const auto nb = grid.Nearest(points[i], 48, static_cast<int>(i));
+      Eigen::Vector3d u = Eigen::Vector3d::Zero();
+      for (const auto& [d2, j] : nb)
       {
-        across.push_back(std::sqrt(d2));
-        break;
+        const Eigen::Vector3d d = points[j] - points[i];
+        if (!(d2 > 0.0))
+          continue;
+        if (u.isZero())
+          u = d.normalized();
+        else if (std::abs(u.dot(d.normalized())) < 0.5)
+        {
+          found[k] = std::sqrt(d2);
+          break;
+        }
       }
-    }
-  }
+    },
+    64);
+  std::vector<double> across;
+  for (double d : found)
+    if (d >= 0.0)
+      across.push_back(d);
   return Median(std::move(across), 0.0);
 }
 

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include <plantmorph/ParallelFor.h>
+
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -17,8 +19,9 @@ class PointGrid
 {
 public:
   /// Indexes a copy of `points` in cubes of side `cell` (> 0), stored cell by cell so that a query reads
-  /// contiguous memory (on 10^6 points, scattered reads made the queries memory-bound).
-  PointGrid(const std::vector<Eigen::Vector3d>& points, double cell);
+  /// contiguous memory (on 10^6 points, scattered reads made the queries memory-bound). The keys, their sort and
+  /// the copy run through `parallel`; the grid is the same whatever it is.
+  PointGrid(const std::vector<Eigen::Vector3d>& points, double cell, const ParallelFor& parallel = SerialFor);
 
   /// The k nearest points to q (excluding index `skip`, if >= 0) as (squared distance, index), nearest first.
   /// Only points within `reach` are looked for: fewer than k come back when fewer lie that close (the search cost
@@ -86,6 +89,10 @@ std::vector<int> SampleIds(const std::vector<Eigen::Vector3d>& points, std::size
 /// The point spacing: the median nearest-neighbour distance (0 excluded) over a deterministic sample of at most
 /// 20000 of the points. 0 for fewer than 2 points.
 double MedianSpacing(const std::vector<Eigen::Vector3d>& points);
+/// The same on a grid already built over `points` (any cell size: the searches are exact), the searches through
+/// `parallel`.
+double MedianSpacing(
+  const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, const ParallelFor& parallel = SerialFor);
 
 /// The points' spacing across their densest direction: the median, over the points (a subsample of at most 5000),
 /// of the distance to the nearest neighbour lying more than 60 degrees away from the direction of the point's own
@@ -93,5 +100,8 @@ double MedianSpacing(const std::vector<Eigen::Vector3d>& points);
 /// distance between the lines of a line scan whose points along a line are much closer than the lines (where the
 /// nearest-neighbour spacing says nothing about the gaps the points leave). 0 for fewer than 3 points.
 double CrossSpacing(const std::vector<Eigen::Vector3d>& points);
+/// The same on a grid already built over `points` (any cell size), the searches through `parallel`.
+double CrossSpacing(
+  const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, const ParallelFor& parallel = SerialFor);
 
 } // namespace plantmorph

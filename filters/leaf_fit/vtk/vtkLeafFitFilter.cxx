@@ -34,6 +34,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <sstream>
 #include <vector>
 
@@ -174,15 +175,32 @@ constexpr int ScanValues = 4;
 
 /// The leaf's points in lexicographic order of their coordinates (ties keep their order: they are equal points), so
 /// that a fit does not depend on the order the points arrive in (input order, or pieces gathered from MPI ranks).
-std::vector<std::size_t> CanonicalOrder(const std::vector<Eigen::Vector3d>& points)
+/// Sorted through `parallel` by (x, y, z, index), a total order whose sort is the stable sort by (x, y, z), when the
+/// coordinates are numbers (NaN orders nothing: then the serial stable sort, whose order the fit's error names).
+std::vector<std::size_t> CanonicalOrder(
+  const std::vector<Eigen::Vector3d>& points, const plantmorph::ParallelFor& parallel)
 {
   std::vector<std::size_t> order(points.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    const Eigen::Vector3d &p = points[a], &q = points[b];
+  const auto before = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
     return p.x() != q.x() ? p.x() < q.x() : p.y() != q.y() ? p.y() < q.y() : p.z() < q.z();
+  };
+  if (!std::all_of(points.begin(), points.end(), [](const Eigen::Vector3d& p) { return !p.hasNaN(); }))
+  {
+    std::iota(order.begin(), order.end(), std::size_t{ 0 });
+    std::stable_sort(
+      order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return before(points[a], points[b]); });
+    return order;
+  }
+  std::vector<std::pair<Eigen::Vector3d, std::size_t>> keyed(points.size());
+  plantmorph::ForEachIndex(parallel, points.size(), [&](std::size_t i) { keyed[i] = { points[i], i }; });
+  plantmorph::SortInParallel(parallel, keyed, [](const auto& a, const auto& b) {
+    const Eigen::Vector3d &p = a.first, &q = b.first;
+    return p.x() != q.x() ? p.x() < q.x()
+      : p.y() != q.y()    ? p.y() < q.y()
+      : p.z() != q.z()    ? p.z() < q.z()
+                          : a.second < b.second;
   });
+  plantmorph::ForEachIndex(parallel, points.size(), [&](std::size_t i) { order[i] = keyed[i].second; });
   return order;
 }
 
@@ -215,13 +233,13 @@ OwnedFits FitOwned(
   std::vector<std::vector<std::size_t>> orders(leaves.size());
   std::vector<std::vector<int>> pieceOf(leaves.size());
   std::vector<std::vector<Eigen::Vector3d>> sorted;
+  const plantmorph::ParallelFor smp = plantmorph::SMPFor(1); // one leaf per task: leaves differ in size
   for (std::size_t k = 0; k < leaves.size(); ++k)
   {
-    orders[k] = CanonicalOrder(leaves[k]);
-    std::vector<Eigen::Vector3d> points;
-    for (std::size_t i : orders[k])
-      points.push_back(leaves[k][i]);
-    owned.separations.push_back(separate ? plantmorph::SeparateLeaves(points) : plantmorph::LeafSeparation());
+    orders[k] = CanonicalOrder(leaves[k], smp);
+    std::vector<Eigen::Vector3d> points(orders[k].size());
+    plantmorph::ForEachIndex(smp, points.size(), [&](std::size_t j) { points[j] = leaves[k][orders[k][j]]; });
+    owned.separations.push_back(separate ? plantmorph::SeparateLeaves(points, smp) : plantmorph::LeafSeparation());
     plantmorph::LeafSeparation& cut = owned.separations.back();
     if (!separate)
       cut.leafOf.assign(points.size(), 0);
@@ -229,11 +247,12 @@ OwnedFits FitOwned(
     sorted.resize(first + std::max(cut.count, 1));
     for (int p = 0; p < std::max(cut.count, 1); ++p)
       owned.pieces.push_back({ k, p, 0, {}, {} });
+    if (cut.count <= 1)           // one blade: its points as they are
+      sorted[first].swap(points); // (leaves `points` empty)
     for (std::size_t j = 0; j < points.size(); ++j)
       sorted[first + cut.leafOf[j]].push_back(points[j]);
     pieceOf[k] = cut.leafOf;
   }
-  const plantmorph::ParallelFor smp = plantmorph::SMPFor(1); // one leaf per task: leaves differ in size
   std::vector<plantmorph::LeafFitResult> results = plantmorph::FitLeaves(sorted, options, smp);
   std::vector<std::size_t> firstPiece(leaves.size(), 0), next(sorted.size(), 0);
   for (std::size_t q = 0; q < results.size(); ++q)
@@ -431,16 +450,16 @@ void IndexLeaves(vtkMultiProcessController* controller, LeafInput& in)
 /// order, of that rank's points of the leaf in its input order.
 std::vector<std::vector<Eigen::Vector3d>> SendPoints(const plantmorph::OwnerExchange& exchange, const LeafInput& in)
 {
-  std::vector<double> flat;
-  flat.reserve(3 * in.points.size());
-  for (const Eigen::Vector3d& p : in.points)
-    flat.insert(flat.end(), { p.x(), p.y(), p.z() });
+  std::vector<double> flat(3 * in.points.size());
+  for (std::size_t i = 0; i < in.points.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      flat[3 * i + c] = in.points[i][c];
   std::vector<std::vector<Eigen::Vector3d>> leaves;
   for (const std::vector<double>& values : exchange.SendValues(in.members, flat, 3))
   {
-    leaves.emplace_back();
-    for (std::size_t j = 0; j + 2 < values.size(); j += 3)
-      leaves.back().emplace_back(values[j], values[j + 1], values[j + 2]);
+    leaves.emplace_back(values.size() / 3);
+    for (std::size_t j = 0; j < leaves.back().size(); ++j)
+      leaves.back()[j] = { values[3 * j], values[3 * j + 1], values[3 * j + 2] };
   }
   return leaves;
 }

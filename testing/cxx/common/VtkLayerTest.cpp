@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The VTK layer (common/vtk/PlantMorphLayer.h): RunRequestData leaves every output port empty and says the error
-// once whatever the body throws, out of memory included; FieldRecord prefixes its names; PresetOverrides lists only
-// the changed properties.
+// once whatever the body throws, out of memory included; SMPFor runs on threads when vtkSMPTools is left on its
+// Sequential default, and on one when one thread is asked for; FieldRecord prefixes its names; PresetOverrides lists
+// only the changed properties.
 #include "PlantMorphAlgorithmHooks.h"
 #include "PlantMorphLayer.h"
 #include "VtkErrorCatcher.h"
@@ -19,10 +20,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
 #include <functional>
+#include <mutex>
 #include <new>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace
@@ -155,6 +161,38 @@ TEST(VtkLayer, AnExceptionOnAWorkerThreadReachesTheBoundary)
     });
   });
   EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), 1000);
+}
+
+/// The threads that ran SMPFor(1)'s chunks of a 64-chunk loop (each chunk long enough for a second thread to start).
+std::set<std::thread::id> ThreadsOfALoop()
+{
+  std::mutex lock;
+  std::set<std::thread::id> threads;
+  plantmorph::SMPFor(1)(64, [&](std::size_t, std::size_t) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    std::lock_guard<std::mutex> guard(lock);
+    threads.insert(std::this_thread::get_id());
+  });
+  return threads;
+}
+
+// pvpython, pvbatch and the GUI start vtkSMPTools on its Sequential backend: our loops run on threads all the same,
+// and leave the process-wide backend as they found it; one thread asked for (a filter's NumberOfThreads 1) is one.
+TEST(VtkLayer, SMPForIsThreadedOnTheDefaultSequentialBackend)
+{
+  if (std::getenv("VTK_SMP_BACKEND_IN_USE") || std::getenv("VTK_SMP_MAX_THREADS"))
+    GTEST_SKIP() << "the environment sets the backend or the thread count: SMPFor keeps them";
+  if (std::thread::hardware_concurrency() < 2)
+    GTEST_SKIP() << "one core";
+  const std::string before = vtkSMPTools::GetBackend();
+  ASSERT_TRUE(vtkSMPTools::SetBackend("Sequential"));
+  EXPECT_GE(ThreadsOfALoop().size(), 2u);
+  EXPECT_EQ(std::string(vtkSMPTools::GetBackend()), "Sequential");
+  std::set<std::thread::id> one;
+  plantmorph::RunThreaded(1, [&] { one = ThreadsOfALoop(); });
+  EXPECT_EQ(one, std::set<std::thread::id>{ std::this_thread::get_id() });
+  EXPECT_EQ(std::string(vtkSMPTools::GetBackend()), "Sequential");
+  vtkSMPTools::SetBackend(before.c_str());
 }
 
 TEST(VtkLayer, FieldRecordPrefixesNamesOnce)

@@ -13,8 +13,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <random>
+#include <thread>
 #include <vector>
 
 namespace plantmorph
@@ -157,6 +159,47 @@ void AddSquare(std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& corn
   for (int i = 0; i < 10; ++i)
     for (int j = 0; j < 10; ++j)
       points.push_back(corner + Eigen::Vector3d(i, j, 0.0));
+}
+
+/// The tasks of a loop handed out in reverse order on two threads.
+ParallelFor ReversedOnTwoThreads()
+{
+  return [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+    std::thread other([&] {
+      for (std::size_t i = count; i-- > 0;)
+        if (i % 2 == 1)
+          body(i, i + 1);
+    });
+    for (std::size_t i = count; i-- > 0;)
+      if (i % 2 == 0)
+        body(i, i + 1);
+    other.join();
+  };
+}
+
+TEST(LeafPlant, SeparationOnThreadsIsTheSerialOne)
+{
+  // Three dense blades (2.3 x 10^5 points: the sorts and the joins cut into many pieces, the cubes into blocks),
+  // two of them 0.2 apart across the joining radius's cubes, one tilted, and a few strays near the third.
+  std::vector<Eigen::Vector3d> points = Ellipse({ 0.0, 0.0, 0.0 }, 2.0, 5.0, 0.02, 0.002, 11);
+  for (const auto& p : Ellipse({ 4.2, 0.0, 0.0 }, 2.0, 5.0, 0.02, 0.002, 12))
+    points.push_back(p);
+  for (const auto& p : Ellipse({ 0.0, 0.0, 0.0 }, 2.0, 5.0, 0.02, 0.002, 13))
+    points.emplace_back(p.x() + 10.0, 0.6 * p.y() - 0.8 * p.z(), 0.8 * p.y() + 0.6 * p.z());
+  for (int i = 0; i < 5; ++i)
+    points.emplace_back(12.3 + 0.01 * i, 0.0, 0.5);
+  const LeafSeparation serial = SeparateLeaves(points);
+  const LeafSeparation threaded = SeparateLeaves(points, ReversedOnTwoThreads());
+  EXPECT_EQ(serial.count, 3);
+  EXPECT_EQ(serial.strayParts, 1);
+  EXPECT_EQ(threaded.count, serial.count);
+  EXPECT_EQ(threaded.strayParts, serial.strayParts);
+  EXPECT_EQ(threaded.radius, serial.radius);
+  EXPECT_TRUE(threaded.leafOf == serial.leafOf);
+  // The spacings on a grid built once (any cell: the searches are exact) are the ones each builds for itself.
+  const PointGrid grid(points, 0.37, ReversedOnTwoThreads());
+  EXPECT_EQ(MedianSpacing(points, grid, ReversedOnTwoThreads()), MedianSpacing(points));
+  EXPECT_EQ(CrossSpacing(points, grid, ReversedOnTwoThreads()), CrossSpacing(points));
 }
 
 TEST(LeafPlant, SeparationIsTheConnectedPartsAtItsRadius)

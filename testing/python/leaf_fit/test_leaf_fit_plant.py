@@ -13,6 +13,9 @@
 - LeafIdArray is a menu of the input's point arrays (None first); SurfaceSmoothing below 0.1 is refused.
 - One leaf scanned by VirtualScanner along lines (its points much closer along a line than the lines are) is one
   leaf, not one per group of lines.
+- Threads: pvpython starts vtkSMPTools on its Sequential backend; the filter's loops run on threads all the same,
+  leave the process-wide backend as it was, and give the outputs of one thread (vtkSMPTools.Initialize(1)) bit for
+  bit on three dense blades.
 
     pvpython test_leaf_fit_plant.py --plugin PlantMorph.so --work DIR
 """
@@ -194,4 +197,54 @@ fit.SurfaceSmoothing = 0.0
 said = run(fit)
 checks.check(said.said("SurfaceSmoothing", kind="error") and fetch(fit, 2).GetNumberOfRows() == 0,
              "SurfaceSmoothing 0: an error naming it (%s)" % said.errors)
+
+# Threads against one thread, bit for bit: three dense blades (1.5 x 10^5 points, so that the sorts, the grids and
+# the joins of the cut into blades run in many pieces), no LeafIdArray.
+from vtkmodules.vtkCommonCore import vtkSMPTools  # noqa: E402
+
+dense = numpy.r_[ellipse((0.0, 0.0, 0.0), h=0.025), ellipse((7.0, 0.0, 0.0), tilt=30.0, h=0.025),
+                 ellipse((0.0, 14.0, 0.0), h=0.025)]
+
+
+def every_output():
+    """Every port's points, point arrays and table columns of LeafFitFilter on `dense`, as numpy arrays."""
+    fit = LeafFitFilter(Input=source(dense))
+    fit.UpdatePipeline()
+    found = {}
+    for port in range(5):
+        data = fetch(fit, port)
+        if data.IsA("vtkTable"):
+            for c in range(data.GetNumberOfColumns()):
+                column = data.GetColumn(c)
+                found[(port, data.GetColumnName(c))] = (
+                    [column.GetValue(r) for r in range(column.GetNumberOfTuples())] if column.IsA("vtkStringArray")
+                    else vtk_to_numpy(column).copy())
+            continue
+        found[(port, "points")] = vtk_to_numpy(data.GetPoints().GetData()).copy()
+        arrays = data.GetPointData()
+        for a in range(arrays.GetNumberOfArrays()):
+            found[(port, arrays.GetArrayName(a))] = vtk_to_numpy(arrays.GetArray(a)).copy()
+    Delete(fit)
+    return found
+
+
+backend = vtkSMPTools.GetBackend()
+threaded = every_output()
+vtkSMPTools.Initialize(1)
+one = every_output()
+vtkSMPTools.Initialize(0)
+checks.check(vtkSMPTools.GetBackend() == backend, "the process-wide backend stays %s" % backend)
+checks.check(len(threaded[(2, "LeafId")]) == 3, "three dense blades: three rows (%d)" % len(threaded[(2, "LeafId")]))
+
+
+def same(a, b):
+    """Equal bit for bit (NaN included): the same text, or the same type, shape and bytes."""
+    if isinstance(a, list):
+        return a == b
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+differ = [key for key in threaded if key not in one or not same(threaded[key], one[key])]
+checks.check(threaded.keys() == one.keys() and not differ and len(threaded) > 10,
+             "threads and one thread: every output equal bit for bit (%d arrays; differ: %s)" % (len(threaded), differ))
 checks.finish()
