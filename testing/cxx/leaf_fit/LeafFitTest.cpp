@@ -10,6 +10,7 @@
 #include "DeformedRectanglePresets.h"
 #include "LeafCurl.h"
 #include "PointSurfaceDistance.h"
+#include "ReversedLoops.h"
 #include "SpaceCurveLeaf.h"
 #include "SpaceCurvePresets.h"
 
@@ -26,6 +27,8 @@ namespace plantmorph
 {
 namespace
 {
+using plantmorph::testing::ReversedOnTwoThreads;
+
 /// A true leaf: its 3-D mesh, margins and midvein (point ids, base to apex).
 struct TrueLeaf
 {
@@ -319,22 +322,6 @@ TEST(LeafFit, FlatSpaceCurveLeaf)
 TEST(LeafFit, RolledBentSpaceCurveLeaf)
 {
   ExpectAccurate({ Model::BroadB, 40.0, 30.0, 0.003, 15000 });
-}
-
-/// The blocks of the per-point loops handed out in reverse order on two threads.
-ParallelFor ReversedOnTwoThreads()
-{
-  return [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::thread other([&] {
-      for (std::size_t i = count; i-- > 0;)
-        if (i % 2 == 1)
-          body(i, i + 1);
-    });
-    for (std::size_t i = count; i-- > 0;)
-      if (i % 2 == 0)
-        body(i, i + 1);
-    other.join();
-  };
 }
 
 TEST(LeafFit, ADenseLeafIsFittedOnASampleAsAccurately)

@@ -4,6 +4,7 @@
 // the checks of a fitted leaf and the columns' units.
 #include "LeafFit.h"
 #include "LeafPlant.h"
+#include "ReversedLoops.h"
 #include "PointGrid.h" // CrossSpacing
 
 #include <plantmorph/MathConstants.h>
@@ -16,13 +17,14 @@
 #include <functional>
 #include <limits>
 #include <random>
-#include <thread>
 #include <vector>
 
 namespace plantmorph
 {
 namespace
 {
+using plantmorph::testing::ReversedOnTwoThreads;
+
 /// Points on a flat ellipse of semi-axes a (along X) and b (along Y) centred at `centre` in the plane z = 0: a
 /// jittered grid of step h, with noise of `noise` along Z.
 std::vector<Eigen::Vector3d> Ellipse(
@@ -159,22 +161,6 @@ void AddSquare(std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& corn
   for (int i = 0; i < 10; ++i)
     for (int j = 0; j < 10; ++j)
       points.push_back(corner + Eigen::Vector3d(i, j, 0.0));
-}
-
-/// The tasks of a loop handed out in reverse order on two threads.
-ParallelFor ReversedOnTwoThreads()
-{
-  return [](std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
-    std::thread other([&] {
-      for (std::size_t i = count; i-- > 0;)
-        if (i % 2 == 1)
-          body(i, i + 1);
-    });
-    for (std::size_t i = count; i-- > 0;)
-      if (i % 2 == 0)
-        body(i, i + 1);
-    other.join();
-  };
 }
 
 TEST(LeafPlant, SeparationOnThreadsIsTheSerialOne)
