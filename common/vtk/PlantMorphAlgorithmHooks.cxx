@@ -11,6 +11,9 @@
 #include <cstring>
 #include <exception>
 #include <mutex>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 namespace plantmorph
 {
@@ -74,6 +77,24 @@ ParallelFor SMPFor(vtkIdType grain)
     const vtkSMPTools::Config threaded{ threads, "STDThread", vtkSMPTools::GetNestedParallelism() };
     vtkSMPTools::LocalScope(threaded, [&] { RunFor(grain, count, body); });
   };
+}
+
+bool KeepFreedMemory()
+{
+#if defined(__GLIBC__)
+  static const bool done = [] {
+    for (const char* name :
+      { "MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_", "GLIBC_TUNABLES", "PLANTMORPH_MALLOC_DEFAULTS" })
+      if (std::getenv(name))
+        return false;
+    constexpr int Megabyte = 1 << 20;
+    // 32 MB is the largest mapping threshold glibc accepts on 64-bit systems.
+    return mallopt(M_MMAP_THRESHOLD, 32 * Megabyte) == 1 && mallopt(M_TRIM_THRESHOLD, 256 * Megabyte) == 1;
+  }();
+  return done;
+#else
+  return false;
+#endif
 }
 
 std::function<bool(double)> Progress(vtkAlgorithm* algorithm, double begin, double end)

@@ -497,6 +497,7 @@ void Run::Report(const std::string& message, bool everyRank) const
 int RunRequestData(vtkAlgorithm* algorithm, MPIPolicy policy, const std::string& building, vtkInformation* request,
   vtkInformationVector** inputs, vtkInformationVector* outputs, const std::function<void(Run&)>& execute)
 {
+  KeepFreedMemory(); // before the first update's arrays are allocated
   Run run(algorithm, policy, building, request, inputs, outputs);
   run.ClearOutputs();
   bool failed = false;

@@ -118,11 +118,16 @@ std::vector<std::vector<double>> OwnerExchange::SendValues(
         Data(send), Data(received), static_cast<vtkIdType>(send.size()), lengths.data(), offsets.data(), owner);
     }
     else
-      received = send;
+      received.swap(send); // serially the buffer is the received one: no copy
     if (owner != this->MyRank)
       continue;
     // Rank q's part holds its points of each owned group in turn; a group's points are its parts in rank order.
     result.assign(owned.size(), {});
+    if (this->RankCount == 1 && owned.size() == 1)
+    {
+      result[0].swap(received); // one group on one rank: the buffer is its values
+      continue;
+    }
     for (int q = 0; q < this->RankCount; ++q)
     {
       auto at = received.begin() + offsets[q];
@@ -162,12 +167,15 @@ std::vector<double> OwnerExchange::ReturnValues(
           send.insert(send.end(), first, first + this->Counts[q][groups[k]] * width);
         }
     }
-    std::vector<double> received(static_cast<std::size_t>(lengths[this->MyRank]), 0.0);
+    std::vector<double> received;
     if (this->Controller)
+    {
+      received.assign(static_cast<std::size_t>(lengths[this->MyRank]), 0.0);
       this->Controller->ScatterV(
         Data(send), Data(received), lengths.data(), offsets.data(), lengths[this->MyRank], owner);
+    }
     else
-      received = send;
+      received.swap(send); // serially the buffer is the received one: no copy
     std::size_t at = 0;
     for (std::size_t group : groups)
     {

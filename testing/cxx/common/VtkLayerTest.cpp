@@ -2,7 +2,8 @@
 // The VTK layer (common/vtk/PlantMorphLayer.h): RunRequestData leaves every output port empty and says the error
 // once whatever the body throws, out of memory included; SMPFor runs on threads when vtkSMPTools is left on its
 // Sequential default, and on one when one thread is asked for; FieldRecord prefixes its names; PresetOverrides lists
-// only the changed properties.
+// only the changed properties; KeepFreedMemory makes a freed block's memory serve the next one without new page
+// faults.
 #include "PlantMorphAlgorithmHooks.h"
 #include "PlantMorphLayer.h"
 #include "VtkErrorCatcher.h"
@@ -30,6 +31,10 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#if defined(__GLIBC__)
+#include <sys/resource.h>
+#endif
 
 namespace
 {
@@ -194,6 +199,46 @@ TEST(VtkLayer, SMPForIsThreadedOnTheDefaultSequentialBackend)
   EXPECT_EQ(std::string(vtkSMPTools::GetBackend()), "Sequential");
   vtkSMPTools::SetBackend(before.c_str());
 }
+
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+/// Page faults of this process so far (minor: fresh memory touched the first time).
+long MinorFaults()
+{
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_minflt;
+}
+
+/// Page faults of filling a fresh `bytes`-byte array, freed before returning.
+long FaultsOfAnArray(std::size_t bytes)
+{
+  const long before = MinorFaults();
+  {
+    std::vector<unsigned char> block(bytes, 1);
+    EXPECT_EQ(block[bytes / 2], 1);
+  }
+  return MinorFaults() - before;
+}
+
+TEST(VtkLayer, KeepFreedMemoryReusesAFreedArrayWithoutPageFaults)
+{
+  for (const char* name :
+    { "MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_", "GLIBC_TUNABLES", "PLANTMORPH_MALLOC_DEFAULTS" })
+    if (std::getenv(name))
+      GTEST_SKIP() << name << " is set: malloc is left as the user tuned it";
+  ASSERT_TRUE(plantmorph::KeepFreedMemory());
+  EXPECT_TRUE(plantmorph::KeepFreedMemory()) << "once set, it stays set";
+  // 24 MB: the coordinates of 10^6 points. glibc's default maps such a block fresh and unmaps it when it is freed;
+  // its own threshold then rises only to the size of that block, so a larger one is mapped fresh again.
+  const std::size_t bytes = 24u << 20;
+  const long pages = static_cast<long>(bytes / 4096);
+  FaultsOfAnArray(bytes); // the heap grows once (its first touch faults)
+  const long again = FaultsOfAnArray(bytes);
+  EXPECT_LT(again, pages / 10) << "the freed block's memory is used again, not taken fresh from the system";
+  const long larger = FaultsOfAnArray(bytes + (4u << 20));
+  EXPECT_LT(larger, pages / 2) << "a larger block grows the heap by the difference only";
+}
+#endif
 
 TEST(VtkLayer, FieldRecordPrefixesNamesOnce)
 {
