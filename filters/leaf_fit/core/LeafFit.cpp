@@ -431,7 +431,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   if (kept.size() < static_cast<std::size_t>(MinLeafPoints))
     return "too few blade points beside the petiole: " + std::to_string(kept.size()) + " (a leaf needs at least " +
       std::to_string(MinLeafPoints) + ")";
-  f.frame = fit::LeafFrame(kept, options, spacing, petiole, result.traits.baseFrom);
+  f.frame = fit::LeafFrame(kept, options, spacing, petiole, result.traits.baseFrom, parallel);
   for (const auto& p : kept)
     f.local.push_back(f.frame.Local(p));
   error = f.sections.Build(f.local);
@@ -473,7 +473,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   error = "no contour";
   for (int attempt = 0; attempt < 2 && !error.empty(); ++attempt)
   {
-    const fit::Contour contour = fit::TraceContour(onSurface, outlineSpacing, attempt == 0, f.outline);
+    const fit::Contour contour = fit::TraceContour(onSurface, outlineSpacing, attempt == 0, f.outline, parallel);
     if (!contour.right.empty() && (attempt == 0 || contour.features))
       error = MeshFittedBlade(options, f, contour, result);
   }

@@ -222,22 +222,24 @@ int TerminalLobe(const std::vector<double>& width, double widest, bool high)
 /// neighbour there; `centroid` when they all coincide. A scanner seeing the blade obliquely samples its near side
 /// more densely than its far side, which pulls the points' centroid across the blade, and a mirror line along the
 /// midvein through that point leaves the midvein's mirror images off the blade.
-Eigen::Vector3d AreaCentroid(
-  const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal, const Eigen::Vector3d& centroid)
+Eigen::Vector3d AreaCentroid(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal,
+  const Eigen::Vector3d& centroid, const ParallelFor& parallel)
 {
-  std::vector<Eigen::Vector3d> flat;
-  flat.reserve(points.size());
-  for (const auto& p : points)
-    flat.push_back(p - p.dot(normal) * normal);
-  const PointGrid grid(flat, PointGrid::CellFor(flat, 4.0));
+  std::vector<Eigen::Vector3d> flat(points.size());
+  ForEachIndex(parallel, points.size(), [&](std::size_t i) { flat[i] = points[i] - points[i].dot(normal) * normal; });
+  const PointGrid grid(flat, PointGrid::CellFor(flat, 4.0), parallel);
+  // The weights searched on the threads, summed in index order (the sum is the serial one, bit for bit).
+  std::vector<double> weights(points.size());
+  ForEachIndex(parallel, points.size(), [&](std::size_t i) {
+    const auto nearest = grid.Nearest(flat[i], 8, static_cast<int>(i));
+    weights[i] = nearest.empty() ? 0.0 : nearest.back().first;
+  });
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   double weight = 0.0;
   for (std::size_t i = 0; i < points.size(); ++i)
   {
-    const auto nearest = grid.Nearest(flat[i], 8, static_cast<int>(i));
-    const double w = nearest.empty() ? 0.0 : nearest.back().first;
-    sum += w * points[i];
-    weight += w;
+    sum += weights[i] * points[i];
+    weight += weights[i];
   }
   return weight > 0.0 ? Eigen::Vector3d(sum / weight) : centroid;
 }
@@ -300,7 +302,7 @@ bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector
 } // namespace
 
 Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
-  const Petiole& petiole, int& baseFrom)
+  const Petiole& petiole, int& baseFrom, const ParallelFor& parallel)
 {
   Eigen::Vector3d centroid;
   const auto eig = Principal(points, centroid);
@@ -327,13 +329,13 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   if (base && apex && (*apex - *base).norm() > spacing)
     Y = (*apex - *base).normalized();
   else if (base)
-    Y = SymmetryAxis(points, *base, normal, centroid - *base, spacing);
+    Y = SymmetryAxis(points, *base, normal, centroid - *base, spacing, parallel);
   else if (apex)
-    Y = -SymmetryAxis(points, *apex, normal, centroid - *apex, spacing);
+    Y = -SymmetryAxis(points, *apex, normal, centroid - *apex, spacing, parallel);
   else
   {
-    const Eigen::Vector3d middle = points.size() > 8 ? AreaCentroid(points, normal, centroid) : centroid;
-    Y = SymmetryAxis(points, middle, normal, principal, spacing);
+    const Eigen::Vector3d middle = points.size() > 8 ? AreaCentroid(points, normal, centroid, parallel) : centroid;
+    Y = SymmetryAxis(points, middle, normal, principal, spacing, parallel);
     if (BaseAtPlusY(points, middle, Y, normal.cross(Y).normalized()))
       Y = -Y;
   }

@@ -54,36 +54,30 @@ void DistanceLine(const std::vector<double>& f, std::vector<double>& d, std::vec
   }
 }
 
-/// Distance (in cells) from every cell to the nearest cell where `target` is 1; grid nx x ny, index i + nx * j.
-std::vector<double> DistanceTo(const std::vector<unsigned char>& target, int nx, int ny)
+/// Distance (in cells) from every cell to the nearest cell where `target` is 1; grid nx x ny, index i + nx * j. The
+/// rows, then the columns, are transformed through `parallel`, each line on its own (the same result on any threads).
+std::vector<double> DistanceTo(const std::vector<unsigned char>& target, int nx, int ny, const ParallelFor& parallel)
 {
   const double far = 1e20;
   std::vector<double> g(target.size());
-  for (std::size_t c = 0; c < target.size(); ++c)
-    g[c] = target[c] ? 0.0 : far;
-  const int n = std::max(nx, ny);
-  std::vector<double> f(n), d(n), z(n + 1);
-  std::vector<int> v(n);
-  for (int j = 0; j < ny; ++j)
-  {
-    f.resize(nx);
-    d.resize(nx);
-    for (int i = 0; i < nx; ++i)
-      f[i] = g[i + nx * j];
-    DistanceLine(f, d, v, z);
-    for (int i = 0; i < nx; ++i)
-      g[i + nx * j] = d[i];
-  }
-  for (int i = 0; i < nx; ++i)
-  {
-    f.resize(ny);
-    d.resize(ny);
-    for (int j = 0; j < ny; ++j)
-      f[j] = g[i + nx * j];
-    DistanceLine(f, d, v, z);
-    for (int j = 0; j < ny; ++j)
-      g[i + nx * j] = std::sqrt(d[j]);
-  }
+  ForEachIndex(parallel, target.size(), [&](std::size_t c) { g[c] = target[c] ? 0.0 : far; });
+  // Lines of `length` cells, cell k of line `line` at line * across + k * along; `root` takes the square root.
+  auto lines = [&](int count, int length, std::size_t across, std::size_t along, bool root) {
+    parallel(static_cast<std::size_t>(count), [&](std::size_t first, std::size_t last) {
+      std::vector<double> f(length), d(length), z(length + 1);
+      std::vector<int> v(length);
+      for (std::size_t line = first; line < last; ++line)
+      {
+        for (int k = 0; k < length; ++k)
+          f[k] = g[line * across + k * along];
+        DistanceLine(f, d, v, z);
+        for (int k = 0; k < length; ++k)
+          g[line * across + k * along] = root ? std::sqrt(d[k]) : d[k];
+      }
+    });
+  };
+  lines(ny, nx, static_cast<std::size_t>(nx), 1, false);
+  lines(nx, ny, 1, static_cast<std::size_t>(nx), true);
   return g;
 }
 
@@ -375,7 +369,8 @@ bool BaseEnd(const std::vector<Eigen::Vector2d>& ts, const Outline& outline, dou
 
 } // namespace
 
-Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline)
+Contour TraceContour(
+  const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline, const ParallelFor& parallel)
 {
   Contour contour;
   outline.base = outline.s0;
@@ -404,17 +399,13 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
     const int j = static_cast<int>(std::lround((p.y() - origin.y()) / cell));
     hit[std::clamp(i, 0, nx - 1) + nx * std::clamp(j, 0, ny - 1)] = 1;
   }
-  std::vector<double> toPoint = DistanceTo(hit, nx, ny);
+  std::vector<double> toPoint = DistanceTo(hit, nx, ny, parallel);
   std::vector<unsigned char> inside(hit.size()), outside(hit.size());
-  for (std::size_t c = 0; c < hit.size(); ++c)
-    inside[c] = toPoint[c] * cell <= r ? 1 : 0;
+  ForEachIndex(parallel, hit.size(), [&](std::size_t c) { inside[c] = toPoint[c] * cell <= r ? 1 : 0; });
   FillHoles(inside, nx, ny);
-  for (std::size_t c = 0; c < hit.size(); ++c)
-    outside[c] = inside[c] ? 0 : 1;
-  const std::vector<double> toOutside = DistanceTo(outside, nx, ny);
-  std::vector<double> F(hit.size());
-  for (std::size_t c = 0; c < hit.size(); ++c)
-    F[c] = toOutside[c] * cell;
+  ForEachIndex(parallel, hit.size(), [&](std::size_t c) { outside[c] = inside[c] ? 0 : 1; });
+  std::vector<double> F = DistanceTo(outside, nx, ny, parallel);
+  ForEachIndex(parallel, F.size(), [&](std::size_t c) { F[c] *= cell; });
   // The largest loop at a level (counter-clockwise, smoothed), empty when there is none.
   auto outer = [&](double level) {
     std::vector<std::vector<Eigen::Vector2d>> loops = LevelLoops(F, nx, ny, level, origin, cell);

@@ -37,9 +37,10 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   std::vector<unsigned char>& keep, double& spacing, const ParallelFor& parallel = SerialFor);
 
 /// The frame of the blade's points (base and axis chosen as LeafFit.h says; `petiole` found on them and the
-/// petiole's points); baseFrom 0 shape, 1 base point, 2 petiole.
+/// petiole's points); baseFrom 0 shape, 1 base point, 2 petiole. Its searches run through `parallel` (the frame
+/// does not depend on the threads).
 Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
-  const Petiole& petiole, int& baseFrom);
+  const Petiole& petiole, int& baseFrom, const ParallelFor& parallel = SerialFor);
 
 /// Smoothed cross-sections along the leaf (in local coordinates) and the intrinsic coordinates they give.
 class CrossSections
@@ -92,8 +93,10 @@ struct Contour
 /// outline.base and outline.apex: the crossings of the midvein (t = 0) that bound it, a tip's end from the smooth
 /// outline's extrapolated s0 or s1 (the last points never reach a tip), a sinus's from outline.junction when that
 /// lies a little above the crossing (the discs round its bottom off). `snap`: where the loop runs along the
-/// smooth margins (from a spacing outside to three inside), their points are taken.
-Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline);
+/// smooth margins (from a spacing outside to three inside), their points are taken. The grid's distance transforms
+/// run through `parallel`, row by row and column by column (the contour does not depend on the threads).
+Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline,
+  const ParallelFor& parallel = SerialFor);
 
 /// Fills result.traits from the finished blade (points, triangles, margins, Support, FitDistance, Inlier) and the
 /// surface (in the local frame whose axes, in world coordinates, are the columns of `axes`).

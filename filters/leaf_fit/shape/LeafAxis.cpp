@@ -101,7 +101,7 @@ private:
 } // namespace
 
 Eigen::Vector3d SymmetryAxis(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& through,
-  const Eigen::Vector3d& normal, const Eigen::Vector3d& hint, double spacing)
+  const Eigen::Vector3d& normal, const Eigen::Vector3d& hint, double spacing, const ParallelFor& parallel)
 {
   const Eigen::Vector3d n = normal.normalized();
   Eigen::Vector3d e1 = hint - hint.dot(n) * n;
@@ -112,8 +112,9 @@ Eigen::Vector3d SymmetryAxis(const std::vector<Eigen::Vector3d>& points, const E
   if (points.empty() || !(spacing > 0.0))
     return e1;
   std::vector<Eigen::Vector2d> plane(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
+  ForEachIndex(parallel, points.size(), [&](std::size_t i) {
     plane[i] = { (points[i] - through).dot(e1), (points[i] - through).dot(e2) };
+  });
   const PlaneGrid grid(plane, spacing);
   // Mirror at most 4000 of the points (every k-th): the score is a mean, and 4000 samples pin it well enough.
   const std::size_t stride = std::max<std::size_t>(1, plane.size() / 4000);
@@ -137,17 +138,16 @@ Eigen::Vector3d SymmetryAxis(const std::vector<Eigen::Vector3d>& points, const E
   };
   const double pi = 3.14159265358979323846;
   const int steps = 90;
+  std::vector<double> scores(steps);
+  ForEachIndex(
+    parallel, steps, [&](std::size_t k) { scores[k] = score(-0.5 * pi + pi * double(k) / steps); }, 1);
   double bestAngle = 0.0, bestScore = 1e300;
   for (int k = 0; k < steps; ++k)
-  {
-    const double angle = -0.5 * pi + pi * k / steps;
-    const double value = score(angle);
-    if (value < bestScore)
+    if (scores[k] < bestScore) // the first of equal scores, as the loop that scored them in turn took
     {
-      bestScore = value;
-      bestAngle = angle;
+      bestScore = scores[k];
+      bestAngle = -0.5 * pi + pi * k / steps;
     }
-  }
   // Golden-section search within a step either side.
   double lo = bestAngle - pi / steps, hi = bestAngle + pi / steps;
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);

@@ -49,9 +49,10 @@ Petiole FindPetiole(
 
 /// The unit direction, in the blade's best plane (unit normal `normal`), of the line through `through` across
 /// which the blade's points are most nearly mirror images of each other. `hint`: the direction to prefer among
-/// equally symmetric lines; the result points the same way as `hint` (positive dot product).
+/// equally symmetric lines; the result points the same way as `hint` (positive dot product). The lines tried are
+/// scored through `parallel`, each on its own (the result does not depend on the threads).
 Eigen::Vector3d SymmetryAxis(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& through,
-  const Eigen::Vector3d& normal, const Eigen::Vector3d& hint, double spacing);
+  const Eigen::Vector3d& normal, const Eigen::Vector3d& hint, double spacing, const ParallelFor& parallel = SerialFor);
 
 } // namespace fit
 } // namespace plantmorph

@@ -17,6 +17,7 @@
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiProcessController.h"
@@ -33,6 +34,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -319,28 +321,32 @@ struct LeafInput
 void FillScan(vtkPointSet* input, const LeafInput& in, const std::vector<double>& values, vtkPolyData* scan)
 {
   const auto n = static_cast<vtkIdType>(in.points.size());
-  vtkNew<vtkPoints> scanPoints;
-  scanPoints->SetDataTypeToDouble();
-  scanPoints->SetNumberOfPoints(n);
-  vtkNew<vtkCellArray> verts;
+  auto coordinates = NewArray<vtkDoubleArray>("Points", 3);
   auto distance = NewArray<vtkDoubleArray>("FitDistance", 1);
   auto inlier = NewArray<vtkUnsignedCharArray>("Inlier", 1);
   auto region = NewArray<vtkIntArray>(plantmorph::arrays::Region, 1);
-  region->SetNumberOfTuples(n);
   auto leafId = NewArray<vtkTypeInt64Array>("LeafId", 1);
-  distance->SetNumberOfTuples(n);
-  inlier->SetNumberOfTuples(n);
-  leafId->SetNumberOfTuples(n);
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    scanPoints->SetPoint(i, in.points[i].data());
-    verts->InsertNextCell(1, &i);
-    distance->SetValue(i, values[ScanValues * i]);
-    inlier->SetValue(i, values[ScanValues * i + 1] == 1.0 ? 1 : 0);
-    region->SetValue(
-      i, values[ScanValues * i + 2] == plantmorph::RegionPetiole ? plantmorph::RegionPetiole : plantmorph::RegionBlade);
-    leafId->SetValue(i, in.separate ? static_cast<std::int64_t>(values[ScanValues * i + 3]) : in.ids[i]);
-  }
+  vtkNew<vtkIdTypeArray> offsets, connectivity; // one vertex cell per point
+  coordinates->SetNumberOfTuples(n);
+  for (vtkDataArray* array : std::initializer_list<vtkDataArray*>{ distance, inlier, region, leafId, connectivity })
+    array->SetNumberOfTuples(n);
+  offsets->SetNumberOfTuples(n + 1);
+  offsets->SetValue(n, n);
+  plantmorph::ForEachIndex(plantmorph::SMPFor(), static_cast<std::size_t>(n), [&](std::size_t j) {
+    const auto i = static_cast<vtkIdType>(j);
+    std::copy(in.points[j].data(), in.points[j].data() + 3, coordinates->GetPointer(3 * i));
+    offsets->SetValue(i, i);
+    connectivity->SetValue(i, i);
+    const double* v = &values[ScanValues * j];
+    distance->SetValue(i, v[0]);
+    inlier->SetValue(i, v[1] == 1.0 ? 1 : 0);
+    region->SetValue(i, v[2] == plantmorph::RegionPetiole ? plantmorph::RegionPetiole : plantmorph::RegionBlade);
+    leafId->SetValue(i, in.separate ? static_cast<std::int64_t>(v[3]) : in.ids[j]);
+  });
+  vtkNew<vtkPoints> scanPoints;
+  scanPoints->SetData(coordinates);
+  vtkNew<vtkCellArray> verts;
+  verts->SetData(offsets, connectivity);
   scan->SetPoints(scanPoints);
   scan->SetVerts(verts);
   scan->GetPointData()->PassData(input->GetPointData());
@@ -423,12 +429,13 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, LeafInput& in
   if (!ids)
     in.ids.assign(static_cast<std::size_t>(n), 0);
   in.points.resize(n);
-  for (vtkIdType i = 0; i < n; ++i)
-  {
+  const double scale = self->GetScale();
+  vtkDataArray* coordinates = input->GetPoints()->GetData();
+  plantmorph::ForEachIndex(plantmorph::SMPFor(), static_cast<std::size_t>(n), [&](std::size_t i) {
     double p[3];
-    input->GetPoint(i, p);
-    in.points[i] = self->GetScale() * Eigen::Vector3d(p[0], p[1], p[2]);
-  }
+    coordinates->GetTuple(static_cast<vtkIdType>(i), p); // the thread-safe form (into the caller's numbers)
+    in.points[i] = scale * Eigen::Vector3d(p[0], p[1], p[2]);
+  });
   return {};
 }
 
