@@ -325,6 +325,37 @@ TEST(TreeFit, HeightIsTheTopOfTheLeavesAboveTheWood)
   EXPECT_EQ(b.traits.height, b.traits.woodHeight);
 }
 
+TEST(TreeFit, HeightIsTheTopLeafsRowOfPoints)
+{
+  // The highest leaf of a crown seen from the ground is hit by a few beams at grazing incidence: a row of five points
+  // 2 cm apart (each with two others within 3 spacings), 15 cm above a leaf scanned as a sheet. It is the tree's top
+  // (2.33 m); a pair of stray points higher up is not. The top was the sheet's (2.10 m): the row's points were
+  // counted one by one, each with too few neighbours.
+  const TrueCylinder stem{ { 0, 0, 0 }, { 0, 0, 2.0 }, 0.1 };
+  std::vector<Eigen::Vector3d> points = Scan({ stem }, 0.01, 0.001);
+  std::vector<int> wood(points.size(), 1);
+  for (double x = 0.0; x <= 0.1001; x += 0.01)
+    for (double z = 1.99; z <= 2.1001; z += 0.01)
+    {
+      points.emplace_back(x, 0.1, z);
+      wood.push_back(0);
+    }
+  for (int k = 0; k < 5; ++k)
+  {
+    points.emplace_back(0.3 + 0.02 * k, 0.1, 2.25 + 0.02 * k);
+    wood.push_back(0);
+  }
+  for (double z : { 2.6, 2.62 })
+  {
+    points.emplace_back(0.0, 0.1, z);
+    wood.push_back(0);
+  }
+  const TreeFitResult r = FitTree(points, wood, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  EXPECT_NEAR(r.traits.height, 2.33, 0.005);
+  EXPECT_NEAR(r.traits.woodHeight, 2.00, 0.005);
+}
+
 TEST(TreeFit, TiltedCylinderKeepsItsRadius)
 {
   const TrueCylinder stem{ { 0, 0, 0 }, { 0.6, 0.3, 1.8 }, 0.05 };
