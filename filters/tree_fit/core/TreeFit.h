@@ -19,7 +19,9 @@
 //     twig's section, and lie at least half in sheets, are leaves labelled wood: they go back to the leaves. Chains of
 //     nodes between forks are segments.
 //  4. Cylinders: each segment is cut into pieces about two radii long; each piece gets a robust cylinder (circle fit
-//     of the cross-section about the chain's direction, then Gauss-Newton on axis and radius with Huber weights).
+//     of the cross-section about the chain's direction, then Gauss-Newton on axis and radius with Huber weights);
+//     where the chain's centroids give no direction and that fit lies off its points, it is fitted again from the
+//     line through its segment's centroids and the fit lying closer to the points is kept.
 //  5. Radii: a fit is "measured" only where the points support it (enough points, an arc of the circle seen of at
 //     least 150 degrees and at least 5 s long, radius above 3 noise deviations, residuals below half the radius, and
 //     within a factor 2 of the model below). Every other cylinder gets its radius from the pipe model: radius =

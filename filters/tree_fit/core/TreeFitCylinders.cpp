@@ -49,6 +49,13 @@ constexpr double PathTilt = 20.0; // degrees a piece's fitted axis may turn from
 constexpr double PathLean = 10.0; // degrees a piece's start direction may lean from that path and be trusted
 constexpr int PieceMinNodes = 2, PieceMaxNodes = 8;
 constexpr int PathNodes = 9; // centroids the skeleton's direction through a piece is fitted to (PathDirection)
+// A fit from the chord that lies off its points (residual scale above FarScale of its radius and above a spacing) where
+// the centroids give no path is fitted again from its segment's line when that differs by over SecondStart degrees;
+// the second fit is kept when its residual scale is below BetterScale times the first's (a wrong axis leaves
+// residuals of a sizeable share of the radius, many noise deviations; a tie keeps the chord's).
+constexpr double SecondStart = 3.0;
+constexpr double BetterScale = 0.5;
+constexpr double FarScale = 0.1; // share of its radius beyond which a fit's residual scale says it is off its points
 
 /// Residuals (distance to the axis minus radius) for parameters (a, b, alpha, beta, r) about (c, u, v, axis0).
 void Residuals(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
@@ -200,6 +207,8 @@ struct Piece
   std::vector<int> nodes;
   Eigen::Vector3d axis0 = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d path = Eigen::Vector3d::UnitZ(); ///< PathDirection
+  bool pathFound = false; ///< whether the path is the centroids' line (else it is axis0: they do not line up)
+  Eigen::Vector3d stem = Eigen::Vector3d::UnitZ(); ///< PathDirection over the piece's whole segment
 };
 
 /// The direction of a run of nodes: last centroid minus first (the run widened by one node each side if short).
@@ -265,6 +274,7 @@ std::vector<Piece> CutSegments(const Wood& wood, const Skeleton& s, const Eigen:
     if (axis.isZero() || !axis.allFinite())
       axis = up;
     segmentAxis[g] = axis;
+    const Eigen::Vector3d stem = PathDirection(s, chain, 0, chain.size() - 1, axis);
     std::vector<double> radii;
     for (int node : chain)
     {
@@ -288,7 +298,11 @@ std::vector<Piece> CutSegments(const Wood& wood, const Skeleton& s, const Eigen:
       piece.axis0 = ChainDirection(s, chain, first, last);
       if (piece.axis0.isZero())
         piece.axis0 = axis;
-      piece.path = PathDirection(s, chain, first, last, piece.axis0);
+      piece.path = PathDirection(s, chain, first, last, Eigen::Vector3d::Zero());
+      piece.pathFound = !piece.path.isZero();
+      if (!piece.pathFound)
+        piece.path = piece.axis0;
+      piece.stem = stem;
       pieces.push_back(piece);
     }
   }
@@ -314,11 +328,26 @@ std::string FitCylinders(const Wood& wood, const Skeleton& s, const TreeFitParam
       fits[k] = FitCylinder(q, pieces[k].axis0, wood.spacing);
       // Started from a chord that leans off the path and fitted across the path (the junction of a strip joined to
       // a stem, its centroids swinging): fitted again from the path, turning from it by at most PathTilt. Where the
-      // chord follows the path, a fit turning from it follows the branch's own bend.
+      // chord follows the path, a fit turning from it follows the branch's own bend. Without a path, a fit off its
+      // points is started again from the segment's line (SecondStart): a trunk whose wood label leaves its surface
+      // in strips (a segmentation calling part of it leaf) has level sets that swing from strip to strip, chords
+      // that lean 40 degrees and centroids too scattered for a path, and the fit from such a chord settles on a
+      // tilted, narrower cylinder tens of noise deviations off the points; the one from the segment's line lies on
+      // them.
       const double leanCos = std::cos(PathLean * M_PI / 180.0), tiltCos = std::cos(PathTilt * M_PI / 180.0);
-      if (fits[k].ok && std::abs(pieces[k].axis0.dot(pieces[k].path)) < leanCos &&
-        std::abs(fits[k].axis.dot(pieces[k].path)) < tiltCos)
+      const double startCos = std::cos(SecondStart * M_PI / 180.0);
+      const double lean = std::abs(pieces[k].axis0.dot(pieces[k].path));
+      if (fits[k].ok && lean < leanCos && std::abs(fits[k].axis.dot(pieces[k].path)) < tiltCos)
         fits[k] = FitCylinder(q, pieces[k].path, wood.spacing, PathTilt);
+      else if (!pieces[k].pathFound &&
+        (!fits[k].ok || fits[k].scale > std::max(FarScale * fits[k].radius, wood.spacing)) &&
+        std::abs(pieces[k].stem.dot(pieces[k].axis0)) < startCos &&
+        !(fits[k].ok && std::abs(pieces[k].stem.dot(fits[k].axis)) >= startCos))
+      {
+        const CylinderFit again = FitCylinder(q, pieces[k].stem, wood.spacing, PathTilt);
+        if (again.ok && (!fits[k].ok || again.scale < BetterScale * fits[k].scale))
+          fits[k] = again;
+      }
     }
   });
   std::vector<int> nodeCylinder(s.nodes.size(), -1), lastOfSegment(s.segments.size(), -1);

@@ -140,33 +140,50 @@ double ChainTop(std::vector<Eigen::Vector3d>& taken, const std::vector<Eigen::Ve
   return top;
 }
 
-/// A leaf point is part of the crown's top when at least this many other points lie within LeafTopRadius spacings:
-/// a leaf is a sheet of points, a stray return (a mixed pixel, noise) is alone.
-constexpr int LeafTopNeighbours = 4;
+/// A leaf point is part of the crown's top when it lies in a group of at least LeafTopPoints points, each within
+/// LeafTopRadius spacings of another: a leaf is a sheet of points, a stray return (a mixed pixel, noise) is alone or
+/// nearly. The group, not each point's neighbourhood: the highest leaves of a crown seen from the ground are hit by a
+/// few beams at grazing incidence, a short row of points (a benchmark crown's top leaf: five points, none of them with
+/// more than three others within 3 spacings, 19 cm above the next sheet).
+constexpr int LeafTopPoints = 5;
 constexpr double LeafTopRadius = 3.0;
 
-/// The highest point that lies above `woodTop` in a sheet (LeafTopNeighbours points within LeafTopRadius spacings),
-/// or `woodTop`; called when some points are labelled leaves. Leaves are not strung from the wood: on a leafy crown
-/// the twigs that carry the highest leaves are hidden by them, and the leaves hang apart, centimetres of air between
-/// them. Points labelled wood count too: a segmentation labels some leaf points wood, and they are no wood the fit
-/// kept (that ends at `woodTop`).
+/// Whether point `start` of `points` lies in a group of LeafTopPoints points linked within `radius` (a search that
+/// stops as soon as the group is that large).
+bool InGroup(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, int start, double radius)
+{
+  std::vector<int> group{ start }, near;
+  for (std::size_t next = 0; next < group.size(); ++next)
+  {
+    grid.Within(points[group[next]], radius, near);
+    for (int j : near)
+      if (std::find(group.begin(), group.end(), j) == group.end())
+      {
+        group.push_back(j);
+        if (group.size() >= static_cast<std::size_t>(LeafTopPoints))
+          return true;
+      }
+  }
+  return false;
+}
+
+/// The highest point that lies above `woodTop` in a group (InGroup), or `woodTop`; called when some points are
+/// labelled leaves. Leaves are not strung from the wood: on a leafy crown the twigs that carry the highest leaves are
+/// hidden by them, and the leaves hang apart, centimetres of air between them. Points labelled wood count too: a
+/// segmentation labels some leaf points wood, and they are no wood the fit kept (that ends at `woodTop`).
 double LeafTop(const std::vector<Eigen::Vector3d>& points, const Wood& wood, const Eigen::Vector3d& up, double woodTop)
 {
   const double radius = LeafTopRadius * wood.spacing;
-  // Every point above woodTop - radius: the neighbours of the leaf points above woodTop.
+  // Every point above woodTop - radius: the groups of the leaf points above woodTop.
   std::vector<Eigen::Vector3d> above;
   for (const auto& p : points)
     if (p.dot(up) > woodTop - radius)
       above.push_back(p);
-  const PointGrid grid(above, radius);
   std::sort(above.begin(), above.end(), [&](const auto& a, const auto& b) { return a.dot(up) > b.dot(up); });
-  for (const auto& p : above)
-  {
-    if (p.dot(up) <= woodTop)
-      break;
-    if (grid.CountWithin(p, radius) >= static_cast<std::size_t>(LeafTopNeighbours) + 1) // itself, and the others
-      return p.dot(up);
-  }
+  const PointGrid grid(above, radius);
+  for (std::size_t i = 0; i < above.size() && above[i].dot(up) > woodTop; ++i)
+    if (InGroup(above, grid, static_cast<int>(i), radius))
+      return above[i].dot(up);
   return woodTop;
 }
 
