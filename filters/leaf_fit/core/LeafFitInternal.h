@@ -45,14 +45,17 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
 class CrossSections
 {
 public:
-  /// From local points (X, Y, Z). Empty string on success.
-  std::string Build(const std::vector<Eigen::Vector3d>& local);
+  /// From local points (X, Y, Z) `spacing` apart. Empty string on success.
+  std::string Build(const std::vector<Eigen::Vector3d>& local, double spacing);
   /// (t, s) of a local point.
   Eigen::Vector2d Intrinsic(const Eigen::Vector3d& q) const;
 
 private:
   void Section(double Y, double& angle, double& c0, double& c1, double& c2, double& centre) const;
   Eigen::Vector3d MidveinAt(double Y) const;
+  /// The midvein's position across the slices (Centre), robust to a slice whose centre lies far off its neighbours'.
+  bool FitCentre(int intervals, const std::vector<double>& Y, const std::vector<double>& centre,
+    const std::vector<double>& w, double lambda, double spacing);
   PenalizedSpline1D Angle, C0, C1, C2, Centre;
   double Y0 = 0.0, Y1 = 1.0;
   std::vector<double> TableY, TableS; // the midvein's arc length from Y0
