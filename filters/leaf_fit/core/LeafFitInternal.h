@@ -37,7 +37,7 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   std::vector<unsigned char>& keep, double& spacing, const ParallelFor& parallel = SerialFor);
 
 /// The frame of the blade's points (base and axis chosen as LeafFit.h says; `petiole` found on them and the
-/// petiole's points); baseFrom 0 shape, 1 base point, 2 petiole.
+/// petiole's points); baseFrom 0 shape, 1 base point, 2 petiole, 3 a guess (the shape is the same at both ends).
 Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
   const Petiole& petiole, int& baseFrom);
 
