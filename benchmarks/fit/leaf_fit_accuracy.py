@@ -3,6 +3,8 @@
 
     pvbatch benchmarks/fit/leaf_fit_accuracy.py [--plugin build/.../PlantMorph.so] [--output FILE.json]
                                                  [--noise 0.003] [--points 10000] [--leaf NAME ...]
+                                                 [--shape flat|curled] [--view above|oblique|two ...]
+                                                 [--petiole yes|no]
 
 Every leaf is a LeafOutlineSource preset (its own size), flat or curled and bent (LeafCurlFilter, 30 degrees along
 and 30 across), with or without a petiole (a tube of radius 1 % of the blade's length, 30 % as long, leaving the
@@ -34,6 +36,9 @@ parser.add_argument("--output", default=None)
 parser.add_argument("--noise", type=float, default=0.003)
 parser.add_argument("--points", type=int, default=10000)
 parser.add_argument("--leaf", action="append", help="only these presets (repeatable); default all")
+parser.add_argument("--shape", choices=["flat", "curled"], help="only this shape; default both")
+parser.add_argument("--view", action="append", choices=["above", "oblique", "two"], help="only these views")
+parser.add_argument("--petiole", choices=["yes", "no"], help="only with or only without a petiole; default both")
 arguments = parser.parse_args()
 LoadPlugin(os.path.abspath(arguments.plugin), remote=False, ns=globals())
 
@@ -143,6 +148,7 @@ def run(name, properties, curled, view, petiole):
                       direction_error=math.degrees(math.acos(max(-1.0, min(1.0, float(direction @ t["direction"]))))),
                       base_error=100.0 * float(numpy.linalg.norm(mid[0] - t["base"])) / L,
                       petiole_length=row.get("PetioleLength", float("nan")), base_from=row.get("BaseFrom"),
+                      status=row.get("Status"),
                       fit_rms=row["FitRMS"] / L * 100.0,
                       junction_error=(100.0 * float(numpy.linalg.norm(stalk[0][0] - t["base"])) / L if stalk
                                       else float("nan")))
@@ -154,24 +160,58 @@ def run(name, properties, curled, view, petiole):
 
 
 results = []
-print("%-10s %-6s %-7s %-3s %7s %8s %8s %8s %8s %8s %8s" % ("leaf", "shape", "view", "pet", "points", "Length%",
-                                                           "Area%", "dir deg", "base%", "petiole%", "junct%"))
+print("%-10s %-6s %-7s %-3s %7s %8s %8s %8s %8s %8s %8s %5s" % ("leaf", "shape", "view", "pet", "points", "Length%",
+                                                               "Area%", "dir deg", "base%", "petiole%", "junct%",
+                                                               "base"))
 for name, properties in PRESETS:
     if arguments.leaf and name not in arguments.leaf:
         continue
     for curled in (False, True):
+        if arguments.shape and arguments.shape != ("curled" if curled else "flat"):
+            continue
         for view in ("above", "oblique", "two"):
+            if arguments.view and view not in arguments.view:
+                continue
             for petiole in (True, False):
+                if arguments.petiole and arguments.petiole != ("yes" if petiole else "no"):
+                    continue
                 r = run(name, properties, curled, view, petiole)
                 results.append(r)
                 if "length_error" in r:
-                    print("%-10s %-6s %-7s %-3s %7d %+8.2f %+8.2f %8.2f %8.2f %+8.2f %8.2f" % (
+                    print("%-10s %-6s %-7s %-3s %7d %+8.2f %+8.2f %8.2f %8.2f %+8.2f %8.2f %5s" % (
                         name, "curled" if curled else "flat", view, "yes" if petiole else "no", r["scan_points"],
                         r["length_error"], r["area_error"], r["direction_error"], r["base_error"],
-                        r["petiole_error"], r["junction_error"]))
+                        r["petiole_error"], r["junction_error"], "guess" if r["base_from"] == 3 else ""))
                 else:
                     print("%-10s %-6s %-7s %-3s %7d  no fit" % (name, "curled" if curled else "flat", view,
                                                                  "yes" if petiole else "no", r["scan_points"]))
+
+
+def goals(r):
+    """Which goals a case meets (PetioleLength only with a petiole)."""
+    if "length_error" not in r:
+        return dict(Length=False, Area=False, direction=False, base=False, PetioleLength=False if r["petiole"] else None)
+    return dict(Length=abs(r["length_error"]) <= 1.0, Area=abs(r["area_error"]) <= 1.0,
+                direction=r["direction_error"] <= 3.0, base=r["base_error"] <= 2.0,
+                PetioleLength=abs(r["petiole_error"]) <= 5.0 if r["petiole"] else None)
+
+
+# The counts per goal, one position (above, oblique) and two. A fit that says its base is a guess (BaseFrom 3: the
+# blade is the same at both ends, a warning in Status 1) is counted apart as undecidable: its direction and base
+# are a coin toss, met or not by chance.
+for label, views in (("one position", ("above", "oblique")), ("two positions", ("two",))):
+    rows = [r for r in results if r["view"] in views]
+    if not rows:
+        continue
+    met = {g: sum(1 for r in rows if goals(r)[g]) for g in ("Length", "Area", "direction", "base")}
+    with_petiole = [r for r in rows if r["petiole"]]
+    undecidable = [r for r in rows if r.get("base_from") == 3]
+    every = sum(1 for r in rows if all(v for v in goals(r).values() if v is not None))
+    print("%s (%d cases): Length %d, Area %d, direction %d, base %d, PetioleLength %d of %d, every goal %d; "
+          "undecidable (base a guess) %d, of which turned end to end %d" % (
+              label, len(rows), met["Length"], met["Area"], met["direction"], met["base"],
+              sum(1 for r in with_petiole if goals(r)["PetioleLength"]), len(with_petiole), every, len(undecidable),
+              sum(1 for r in undecidable if r.get("direction_error", 180.0) > 90.0)))
 if arguments.output:
     with open(arguments.output, "w") as out:
         json.dump(results, out, indent=1)

@@ -434,7 +434,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   f.frame = fit::LeafFrame(kept, options, spacing, petiole, result.traits.baseFrom, parallel);
   for (const auto& p : kept)
     f.local.push_back(f.frame.Local(p));
-  error = f.sections.Build(f.local);
+  error = f.sections.Build(f.local, spacing);
   if (!error.empty())
     return error;
   for (const auto& q : f.local)

@@ -96,8 +96,10 @@ struct LeafTraits
   double fitRMS = 0, fitP95 = 0, fitMax = 0; ///< scan-to-blade distances of the inliers
   double coverage = 0;                       ///< fraction of blade area whose Support is below twice the point spacing
   double spacing = 0;                        ///< median nearest-neighbour distance of the inliers
-  int baseFrom = 0;                          ///< 0: the shape, 1: BasePoint, 2: the petiole's junction
-  double petioleLength = 0;                  ///< arc length of the petiole's centre line (0: no petiole found)
+  /// 0: the shape, 1: BasePoint, 2: the petiole's junction, 3: a guess (no base point, apex point or petiole, and
+  /// the blade is the same at both ends: which end is the base cannot be told; CheckFittedLeaf warns)
+  int baseFrom = 0;
+  double petioleLength = 0; ///< arc length of the petiole's centre line (0: no petiole found)
   /// The spacing Coverage is measured in: the larger of `spacing` and half the spacing across a line scan's lines
   /// (CrossSpacing), the gaps a scan leaves on the blade (not a column of the table).
   double coverageSpacing = 0;

@@ -37,8 +37,8 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   std::vector<unsigned char>& keep, double& spacing, const ParallelFor& parallel = SerialFor);
 
 /// The frame of the blade's points (base and axis chosen as LeafFit.h says; `petiole` found on them and the
-/// petiole's points); baseFrom 0 shape, 1 base point, 2 petiole. Its searches run through `parallel` (the frame
-/// does not depend on the threads).
+/// petiole's points); baseFrom 0 shape, 1 base point, 2 petiole, 3 a guess (the shape is the same at both ends).
+/// Its searches run through `parallel` (the frame does not depend on the threads).
 Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
   const Petiole& petiole, int& baseFrom, const ParallelFor& parallel = SerialFor);
 
@@ -46,14 +46,17 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
 class CrossSections
 {
 public:
-  /// From local points (X, Y, Z). Empty string on success.
-  std::string Build(const std::vector<Eigen::Vector3d>& local);
+  /// From local points (X, Y, Z) `spacing` apart. Empty string on success.
+  std::string Build(const std::vector<Eigen::Vector3d>& local, double spacing);
   /// (t, s) of a local point.
   Eigen::Vector2d Intrinsic(const Eigen::Vector3d& q) const;
 
 private:
   void Section(double Y, double& angle, double& c0, double& c1, double& c2, double& centre) const;
   Eigen::Vector3d MidveinAt(double Y) const;
+  /// The midvein's position across the slices (Centre), robust to a slice whose centre lies far off its neighbours'.
+  bool FitCentre(int intervals, const std::vector<double>& Y, const std::vector<double>& centre,
+    const std::vector<double>& w, double lambda, double spacing);
   PenalizedSpline1D Angle, C0, C1, C2, Centre;
   double Y0 = 0.0, Y1 = 1.0;
   std::vector<double> TableY, TableS; // the midvein's arc length from Y0

@@ -97,7 +97,7 @@ SliceFit FitSlice(const std::vector<Eigen::Vector2d>& xz, double Y)
 }
 } // namespace
 
-std::string CrossSections::Build(const std::vector<Eigen::Vector3d>& local)
+std::string CrossSections::Build(const std::vector<Eigen::Vector3d>& local, double spacing)
 {
   this->Y0 = 1e300;
   this->Y1 = -1e300;
@@ -145,7 +145,7 @@ std::string CrossSections::Build(const std::vector<Eigen::Vector3d>& local)
   ok = ok && this->C0.Fit(this->Y0, this->Y1, intervals, Y, c0, w0, none, lambda);
   ok = ok && this->C1.Fit(this->Y0, this->Y1, intervals, Y, c1, w2, none, lambda);
   ok = ok && this->C2.Fit(this->Y0, this->Y1, intervals, Y, c2, w2, none, lambda);
-  ok = ok && this->Centre.Fit(this->Y0, this->Y1, intervals, Y, centre, w0, none, lambda);
+  ok = ok && this->FitCentre(intervals, Y, centre, w0, lambda, spacing);
   if (!ok)
     return "no leaf shape: the cross-sections could not be fitted";
   // The midvein's arc length along Y.
@@ -161,6 +161,37 @@ std::string CrossSections::Build(const std::vector<Eigen::Vector3d>& local)
     previous = m;
   }
   return {};
+}
+
+bool CrossSections::FitCentre(int intervals, const std::vector<double>& Y, const std::vector<double>& centre,
+  const std::vector<double>& w, double lambda, double spacing)
+{
+  // A slice through the tip of one lateral lobe and not its mirror image (a palmately lobed blade's lobes end at
+  // slightly different heights on the two sides, or between slices) spans the terminal lobe and that lobe's tip,
+  // so its centre lies far to that side (1.3 of a watermelon blade's 4.3 units of length, the slices beside it
+  // 0.02): a least-squares spline follows it and moves the midvein off the terminal lobe. The centres are fitted
+  // robustly (Huber, as a cross-section's points are): a slice farther than three robust deviations (and at least
+  // a point spacing) from the reference loses weight in proportion. The first reference is the median of the
+  // slice's own centre and its two neighbours' on either side (it follows a midvein curving in the blade, not one
+  // slice nor two adjacent ones), then the spline itself.
+  const std::size_t n = Y.size();
+  std::vector<double> residual(n), weight(w);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const std::size_t from = k < 2 ? 0 : k - 2, to = std::min(n, k + 3);
+    residual[k] = std::abs(centre[k] - Quantile(std::vector<double>(centre.begin() + from, centre.begin() + to), 0.5));
+  }
+  for (int iteration = 0; iteration < 4; ++iteration)
+  {
+    const double limit = std::max(3.0 * 1.4826 * Quantile(residual, 0.5), spacing);
+    for (std::size_t k = 0; k < n; ++k)
+      weight[k] = residual[k] <= limit ? w[k] : w[k] * limit / residual[k];
+    if (!this->Centre.Fit(this->Y0, this->Y1, intervals, Y, centre, weight, {}, lambda))
+      return false;
+    for (std::size_t k = 0; k < n; ++k)
+      residual[k] = std::abs(centre[k] - this->Centre(Y[k]));
+  }
+  return true;
 }
 
 void CrossSections::Section(double Y, double& angle, double& c0, double& c1, double& c2, double& centre) const

@@ -49,6 +49,9 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
   std::vector<std::string> warnings;
   if (!fit.modelWarning.empty())
     warnings.push_back(fit.modelWarning);
+  if (fit.traits.baseFrom == 3)
+    warnings.push_back("base and apex are a guess (BaseFrom 3): the blade is the same at both ends, so Azimuth, "
+                       "MidveinInclination and LeafUV's v may be turned end to end (give BasePoint or ApexPoint)");
   if (fit.traits.coverage < MinCoverage)
   {
     double support = 0.0;

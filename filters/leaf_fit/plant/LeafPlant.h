@@ -62,7 +62,8 @@ inline constexpr double MinCoverage = 0.9;
 /// Relative difference of areas beyond which the flat model is said not to be the fitted blade.
 inline constexpr double MaxModelAreaError = 0.02;
 
-/// The warnings of a successful fit, one sentence each: the model's own (modelWarning), low Coverage, and the flat
+/// The warnings of a successful fit, one sentence each: the model's own (modelWarning), a base that is a guess
+/// (BaseFrom 3: the blade is the same at both ends), low Coverage, and the flat
 /// Model C leaf (flatMidvein, flatLeftMargin, flatRightMargin rebuilt by LeafOutlineSource's B-spline leaf at
 /// `resolution`) whose area differs from the fitted blade's (the Area trait) by more than MaxModelAreaError.
 std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolution);

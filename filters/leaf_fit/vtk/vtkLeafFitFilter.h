@@ -25,8 +25,8 @@
  * Without LeafIdArray the points are cut into the separate blades they form (plantmorph::SeparateLeaves, a warning
  * says how many), each fitted as a leaf. A leaf that cannot be fitted gets a row with Status 2, NaN traits and the
  * reason in Message, and a warning; the others are fitted as usual (only when no leaf fits is it an error). A
- * fitted leaf whose checks fail (plantmorph::CheckFittedLeaf: low Coverage, a flat model of another area) gets
- * Status 1, the warning in Message, and the warning said.
+ * fitted leaf whose checks fail (plantmorph::CheckFittedLeaf: a base that is a guess, BaseFrom 3, low Coverage, a
+ * flat model of another area) gets Status 1, the warning in Message, and the warning said.
  *
  * Under MPI each rank fits its own leaves (common/vtk/PlantMorphOwnerExchange.h): every leaf gets one owner rank
  * (largest leaves first, each to the least loaded rank), its points are sent there from every rank that holds some,

@@ -4,6 +4,7 @@
 // and 1 % outliers in its bounding box; the fit must give the true area and length within 1 %, a surface closer to
 // the true one than the noise, and an outline within 2 % of the length (Hausdorff). Bad input gives an error.
 #include "LeafFit.h"
+#include "LeafPlant.h"
 
 #include "BSplineLeaf.h"
 #include "DeformedRectangleLeaf.h"
@@ -15,6 +16,8 @@
 #include "SpaceCurvePresets.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include <Eigen/Geometry>
 
@@ -404,9 +407,14 @@ TEST(LeafFit, TraitsOfAFlatLeafHaveTheirClosedForms)
   EXPECT_NEAR(fit.traits.horizontalArea / fit.traits.area, 1.0, 1e-3);
   EXPECT_NEAR(fit.traits.width / 45.0, 1.0, 0.02);
   EXPECT_NEAR(fit.traits.aspectRatio, fit.traits.length / fit.traits.width, 1e-12);
-  // The midvein runs along +Y or -Y (the elliptic leaf is symmetric: either end may be taken as the base).
+  // The midvein runs along +Y or -Y (the elliptic leaf is symmetric: either end may be taken as the base), and the
+  // fit says that its base is a guess (BaseFrom 3, with a warning) rather than pick an end silently.
   EXPECT_LT(std::min(std::abs(fit.traits.azimuth - 90.0), std::abs(fit.traits.azimuth - 270.0)), 1.0);
-  EXPECT_EQ(fit.traits.baseFrom, 0);
+  EXPECT_EQ(fit.traits.baseFrom, 3);
+  const std::vector<std::string> warnings = CheckFittedLeaf(fit, LeafFitParameters().resolution);
+  EXPECT_EQ(std::count_if(warnings.begin(), warnings.end(),
+              [](const std::string& w) { return w.find("same at both ends") != std::string::npos; }),
+    1);
   // The data contract: LeafUV in range, margins at +-0.5, the midvein at 0, one Region per point.
   ASSERT_EQ(fit.leafUV.size(), fit.points.size());
   ASSERT_EQ(fit.region.size(), fit.points.size());

@@ -375,8 +375,20 @@ TEST(LeafPlant, EveryColumnHasAUnit)
 
 TEST(LeafPlant, AGoodFitPassesItsChecksAndAFlapDoesNot)
 {
-  const LeafFitResult fit = FitLeaf(Ellipse({ 0.0, 0.0, 0.0 }, 2.0, 5.0, 0.1, 0.005, 4), LeafFitParameters());
+  // An ellipse is the same at both ends: without a hint its base is a guess, with the only warning saying so.
+  const std::vector<Eigen::Vector3d> points = Ellipse({ 0.0, 0.0, 0.0 }, 2.0, 5.0, 0.1, 0.005, 4);
+  const LeafFitResult guess = FitLeaf(points, LeafFitParameters());
+  ASSERT_EQ(guess.error, "");
+  EXPECT_EQ(guess.traits.baseFrom, 3);
+  const std::vector<std::string> said = CheckFittedLeaf(guess, 60);
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_NE(said[0].find("same at both ends"), std::string::npos);
+  // With its base given, the fit passes its checks.
+  LeafFitParameters hinted;
+  hinted.basePoint = Eigen::Vector3d(0.0, -5.0, 0.0);
+  const LeafFitResult fit = FitLeaf(points, hinted);
   ASSERT_EQ(fit.error, "");
+  EXPECT_EQ(fit.traits.baseFrom, 1);
   EXPECT_GT(fit.traits.coverage, MinCoverage);
   EXPECT_NEAR(FlatModelArea(fit, 60) / fit.traits.area, 1.0, MaxModelAreaError);
   EXPECT_NEAR(FlatBladeArea(fit) / fit.traits.area, 1.0, 1e-3); // flat: laid flat, the same area

@@ -5,6 +5,7 @@
 // the junction (within 2 % of the length), measure the petiole (within 5 %), keep it out of the blade's Length, and
 // find the midvein's direction (within 3 degrees) on narrow, wide (fan), cordate and lobed blades.
 #include "LeafFit.h"
+#include "LeafFitInternal.h"
 #include "LeafShape.h"
 #include "PointGrid.h"
 
@@ -613,5 +614,35 @@ TEST(LeafShape, BladesTheOutlineCannotOrientTakeTheirHint)
       ExpectShape(scan, poses[k], e, options);
     }
   }
+}
+
+TEST(LeafShape, MidveinFollowsTheTerminalLobeBesideOneLateralLobesTip)
+{
+  // An idealised palmate blade in the fit's own frame (Y along the axis, X across, Z the normal): a terminal lobe
+  // 10 wide along Y from 0 to 100, and the tips of the two lateral lobes, 55 long across, at slightly different
+  // heights (Y 61-63 on the right, 57-59 on the left), as a scan of a palmately lobed blade has them when its axis is
+  // turned by half a degree (the watermelon's lobes reach 2.9 of its 4.3 units of length sideways). Some of the
+  // cross-sections hold one tip and not the other: their centres lie some 30 units to one side. The midvein (t = 0)
+  // must stay on the terminal lobe's middle: before, the cross-sections' least-squares centre line followed the
+  // one-sided slices, and on the watermelon scanned from above the terminal lobe's tip lay off t = 0, where the loop
+  // the points draw crossed t = 0 below it (Length -6.5 %).
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<Eigen::Vector3d> local;
+  const double density = 1.5; // points per unit area
+  auto fill = [&](double x0, double x1, double y0, double y1) {
+    const int count = static_cast<int>(density * (x1 - x0) * (y1 - y0));
+    for (int i = 0; i < count; ++i)
+      local.emplace_back(x0 + (x1 - x0) * uniform(random), y0 + (y1 - y0) * uniform(random), 0.05 * gauss(random));
+  };
+  fill(-5.0, 5.0, 0.0, 100.0);
+  fill(5.0, 60.0, 61.0, 63.0);
+  fill(-60.0, -5.0, 57.0, 59.0);
+  const double spacing = 1.0 / std::sqrt(density);
+  fit::CrossSections sections;
+  ASSERT_EQ(sections.Build(local, spacing), "");
+  for (double y = 2.0; y <= 98.0; y += 2.0)
+    EXPECT_LT(std::abs(sections.Intrinsic(Eigen::Vector3d(0.0, y, 0.0)).x()), spacing) << "Y " << y;
 }
 } // namespace plantmorph

@@ -90,8 +90,10 @@ traits = rows(fit)
 checks.check(len(traits) == 2, "two blades without LeafIdArray: two rows (%d)" % len(traits))
 checks.check(all(abs(r["Area"] / AREA - 1.0) < 0.02 for r in traits),
              "each of area 10 pi within 2 %%: %s" % [round(r["Area"], 2) for r in traits])
-checks.check([r["LeafId"] for r in traits] == [0, 1] and all(r["Status"] == 0 for r in traits),
-             "LeafId 0 and 1, Status 0")
+# An ellipse is the same at both ends: each row says its base is a guess (BaseFrom 3, Status 1), nothing else.
+checks.check([r["LeafId"] for r in traits] == [0, 1] and all(
+    r["Status"] == 1 and r["BaseFrom"] == 3 and "same at both ends" in r["Message"] and ";" not in r["Message"]
+    for r in traits), "LeafId 0 and 1, Status 1 for the base's guess alone (%s)" % [r["Message"] for r in traits])
 checks.check(said.said("2 separate blades", kind="warning"), "a warning says how many blades (%s)" % said.warnings)
 scan_ids = vtk_to_numpy(fetch(fit, 3).GetPointData().GetArray("LeafId"))
 checks.check(numpy.array_equal(scan_ids, numpy.r_[numpy.zeros(len(first)), numpy.ones(len(second))]),
