@@ -32,8 +32,8 @@ Eigen::Vector3d MainAxis(const Eigen::Matrix3d& m)
 /// Each point of `ids` in one of two groups by its normal's axis (normals have no sign): the two axes start on
 /// either side of the main axis of the normals' second moments and settle like two-means. Returns false when a
 /// group is empty; `side` (per entry of ids) 0 or 1, `axes` the two groups' axes.
-bool TwoNormalGroups(
-  const std::vector<Eigen::Vector3d>& normal, const std::vector<int>& ids, std::vector<int>& side, Eigen::Vector3d axes[2])
+bool TwoNormalGroups(const std::vector<Eigen::Vector3d>& normal, const std::vector<int>& ids, std::vector<int>& side,
+  Eigen::Vector3d axes[2])
 {
   Eigen::Matrix3d all = Eigen::Matrix3d::Zero();
   for (int j : ids)
@@ -185,8 +185,8 @@ bool SeamIsShort(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gr
 }
 } // namespace
 
-std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
-  const LinkGraph& graph, double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts)
+std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
+  double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts)
 {
   std::vector<int> local(points.size(), -1), side;
   std::size_t cuts = 0;
@@ -201,7 +201,8 @@ std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const Po
       local[static_cast<std::size_t>(ids[m])] = static_cast<int>(m);
     ConnectSides(graph, ids, local, side);
     const auto first = static_cast<std::size_t>(std::count(side.begin(), side.end(), 0));
-    const bool cut = first >= smallest && ids.size() - first >= smallest && SeamIsShort(points, graph, ids, local, side);
+    const bool cut =
+      first >= smallest && ids.size() - first >= smallest && SeamIsShort(points, graph, ids, local, side);
     for (int j : ids)
       local[static_cast<std::size_t>(j)] = -1;
     if (!cut)

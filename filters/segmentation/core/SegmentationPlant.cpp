@@ -975,8 +975,14 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
       leaves.push_back(std::move(part));
   JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
   JoinAcrossGaps(points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
-  CutAtShortSeams(
-    points, f, graph, std::cos(p.normalAngle * Pi / 180.0), SmallestLeaf(leaves, p.minimumLeafPoints), leaves);
+  if (CutAtShortSeams(
+        points, f, graph, std::cos(p.normalAngle * Pi / 180.0), SmallestLeaf(leaves, p.minimumLeafPoints), leaves) > 0)
+  {
+    // a cut side may be a piece of a third leaf whose rest lies in another part: the joins again
+    JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
+    JoinAcrossGaps(
+      points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
+  }
   std::sort(leaves.begin(), leaves.end());
   for (const std::vector<int>& ids : leaves)
   {
