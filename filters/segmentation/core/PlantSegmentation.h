@@ -40,7 +40,10 @@
 //     (planes within NormalAngle, both together off their common plane by under r): a leaf cut in two by a crease.
 //     Parts that do not touch join when they lie in one plane (planes within half of NormalAngle, both off their
 //     common plane by under r / 4) within 4r of each other, nearest first: a leaf seen in pieces through a gap in
-//     the scan (the shadow of a leaf or twig in front of it).
+//     the scan (the shadow of a leaf or twig in front of it). Then a part whose normals form two groups more than
+//     NormalAngle apart, meeting over a seam shorter than 0.8 of each group's extent along it, is two leaves whose
+//     margins touch: cut there (a crease of one blade runs from margin to margin of at least one side), and the
+//     joins above run again (a side may be a piece of a third leaf).
 //     Each leaf part of at least MinimumLeafPoints points is then a leaf; LeafId numbers
 //     them over all plants in the order of their lowest point index (deterministic). Smaller leaf regions stay leaf
 //     points with LeafId -1. Each leaf's base is its point nearest the wood along the link graph; the branch it

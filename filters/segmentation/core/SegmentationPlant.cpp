@@ -919,10 +919,25 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
     std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
 }
 
+/// The fewest points a side of a cut leaf part may have: MinimumLeafPoints, or PieceFraction of the median part of
+/// at least that many when larger (a piece smaller than that is a tip or rim of a leaf, JoinPieces).
+std::size_t SmallestLeaf(const std::vector<std::vector<int>>& parts, int minimumLeafPoints)
+{
+  std::vector<std::size_t> sizes;
+  for (const std::vector<int>& ids : parts)
+    if (ids.size() >= static_cast<std::size_t>(minimumLeafPoints))
+      sizes.push_back(ids.size());
+  const auto least = static_cast<std::size_t>(minimumLeafPoints);
+  if (sizes.empty())
+    return least;
+  std::nth_element(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2), sizes.end());
+  return std::max(least, static_cast<std::size_t>(PieceFraction * static_cast<double>(sizes[sizes.size() / 2])));
+}
+
 /// The leaf instances: leaf regions of at least MinimumLeafPoints points, numbered by their lowest point index.
-void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const std::vector<int>& region,
-  const std::vector<RegionVerdict>& verdicts, double spacing, double radius, const SegmentationParameters& p,
-  PlantLabels& labels)
+void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
+  const std::vector<int>& region, const std::vector<RegionVerdict>& verdicts, double spacing, double radius,
+  const SegmentationParameters& p, PlantLabels& labels)
 {
   const std::size_t n = points.size();
   std::vector<std::vector<int>> members;
@@ -960,6 +975,14 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
       leaves.push_back(std::move(part));
   JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
   JoinAcrossGaps(points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
+  if (CutAtShortSeams(
+        points, f, graph, std::cos(p.normalAngle * Pi / 180.0), SmallestLeaf(leaves, p.minimumLeafPoints), leaves) > 0)
+  {
+    // a cut side may be a piece of a third leaf whose rest lies in another part: the joins again
+    JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
+    JoinAcrossGaps(
+      points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
+  }
   std::sort(leaves.begin(), leaves.end());
   for (const std::vector<int>& ids : leaves)
   {
@@ -1069,7 +1092,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   const std::string flat = RefuseFlat(points, f.radius);
   if (!flat.empty())
     return flat;
-  MakeLeaves(points, graph, region, verdicts, spacing, f.radius, p, labels);
+  MakeLeaves(points, f, graph, region, verdicts, spacing, f.radius, p, labels);
   if (FindPetioles(points, f, graph, spacing, p, parallel, labels) > 0)
   {
     plant.woodPoints = plant.leafPoints = 0;

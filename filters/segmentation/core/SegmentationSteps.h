@@ -72,6 +72,20 @@ int GrowRegions(
 std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   double spacing, const SegmentationParameters& p, const ParallelFor& parallel, PlantLabels& labels);
 
+/// A crease of one blade runs across a whole side of it: a seam shorter than this fraction of each side's extent
+/// along it is where two leaves touch (CutAtShortSeams). A fold, roll or bend spans a side from margin to margin
+/// (about 1 for at least one side); the 21 merged pairs of leaves looked at on the simulated tree and herb
+/// (their margins touching) give 0.04-0.76 for both.
+inline constexpr double SeamFraction = 0.8;
+
+/// Two touching leaves grown into one leaf part (their normals turn by more than NormalAngle across a smooth
+/// contact): each part of at least 2 `smallest` points whose normals form two groups with axes more than
+/// NormalAngle apart (`cosine`), each group made one linked piece, is cut between them when each side has at least
+/// `smallest` points and their seam (the points linked to the other side) is shorter than SeamFraction of each
+/// side's extent along it; each side is looked at again. Returns the cuts made.
+std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
+  double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts);
+
 /// The whole segmentation of one plant; "" or the reason it cannot be segmented.
 std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const SegmentationParameters& p,
   const ParallelFor& parallel, PlantLabels& labels);

@@ -1,0 +1,222 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Two leaves grown into one instance through the place where their margins touch (step 5 of PlantSegmentation.h;
+// docs/methods/segmentation.md gives the numbers): cut at that seam.
+#include "SegmentationSteps.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+namespace plantmorph
+{
+namespace segmentation
+{
+namespace
+{
+
+/// Iterations of the two-axis clustering of the normals (it settles in 3-4 on two planes).
+constexpr int AxisIterations = 10;
+/// Fewer seam points than this: the two sides do not touch (pieces of a leaf joined across a gap).
+constexpr std::size_t SeamPoints = 3;
+/// Quantiles bounding a set's extent along a line (robust to a few stray points).
+constexpr double SpanQuantile = 0.02;
+
+/// The unit eigenvector of the largest eigenvalue of a symmetric 3x3 matrix.
+Eigen::Vector3d MainAxis(const Eigen::Matrix3d& m)
+{
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m).eigenvectors().col(2);
+}
+
+/// Each point of `ids` in one of two groups by its normal's axis (normals have no sign): the two axes start on
+/// either side of the main axis of the normals' second moments and settle like two-means. Returns false when a
+/// group is empty; `side` (per entry of ids) 0 or 1, `axes` the two groups' axes.
+bool TwoNormalGroups(const std::vector<Eigen::Vector3d>& normal, const std::vector<int>& ids, std::vector<int>& side,
+  Eigen::Vector3d axes[2])
+{
+  Eigen::Matrix3d all = Eigen::Matrix3d::Zero();
+  for (int j : ids)
+    all += normal[static_cast<std::size_t>(j)] * normal[static_cast<std::size_t>(j)].transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(all);
+  axes[0] = (solver.eigenvectors().col(2) + solver.eigenvectors().col(1)).normalized();
+  axes[1] = (solver.eigenvectors().col(2) - solver.eigenvectors().col(1)).normalized();
+  side.assign(ids.size(), 0);
+  for (int iteration = 0; iteration < AxisIterations; ++iteration)
+  {
+    Eigen::Matrix3d moment[2] = { Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero() };
+    std::size_t count[2] = { 0, 0 };
+    for (std::size_t k = 0; k < ids.size(); ++k)
+    {
+      const Eigen::Vector3d& n = normal[static_cast<std::size_t>(ids[k])];
+      side[k] = std::abs(n.dot(axes[0])) >= std::abs(n.dot(axes[1])) ? 0 : 1;
+      moment[side[k]] += n * n.transpose();
+      ++count[side[k]];
+    }
+    if (count[0] == 0 || count[1] == 0)
+      return false;
+    axes[0] = MainAxis(moment[0]);
+    axes[1] = MainAxis(moment[1]);
+  }
+  return true;
+}
+
+/// Makes each side one piece: the largest linked component of each side's points keeps its side, the other points
+/// go to the side that reaches them first over the links within the part (breadth-first from both at once); points
+/// neither reaches (pieces joined across a gap) keep their own side. `local` maps a point to its entry in ids (-1
+/// elsewhere).
+void ConnectSides(
+  const LinkGraph& graph, const std::vector<int>& ids, const std::vector<int>& local, std::vector<int>& side)
+{
+  std::vector<int> component(ids.size(), -1);
+  std::vector<std::size_t> sizes;
+  std::size_t largest[2] = { 0, 0 };
+  int largestId[2] = { -1, -1 };
+  for (std::size_t seed = 0; seed < ids.size(); ++seed)
+  {
+    if (component[seed] >= 0)
+      continue;
+    const int c = static_cast<int>(sizes.size());
+    std::vector<std::size_t> stack = { seed };
+    component[seed] = c;
+    std::size_t size = 0;
+    while (!stack.empty())
+    {
+      const std::size_t k = stack.back();
+      stack.pop_back();
+      ++size;
+      const auto q = static_cast<std::size_t>(ids[k]);
+      for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+      {
+        const int m = local[static_cast<std::size_t>(graph.neighbours[e])];
+        if (m >= 0 && component[static_cast<std::size_t>(m)] < 0 && side[static_cast<std::size_t>(m)] == side[seed])
+        {
+          component[static_cast<std::size_t>(m)] = c;
+          stack.push_back(static_cast<std::size_t>(m));
+        }
+      }
+    }
+    sizes.push_back(size);
+    const int s = side[seed];
+    if (size > largest[s])
+    {
+      largest[s] = size;
+      largestId[s] = c;
+    }
+  }
+  std::vector<int> owner(ids.size(), -1);
+  std::deque<std::size_t> queue;
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    if (component[k] == largestId[side[k]])
+    {
+      owner[k] = side[k];
+      queue.push_back(k);
+    }
+  while (!queue.empty())
+  {
+    const std::size_t k = queue.front();
+    queue.pop_front();
+    const auto q = static_cast<std::size_t>(ids[k]);
+    for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+    {
+      const int m = local[static_cast<std::size_t>(graph.neighbours[e])];
+      if (m >= 0 && owner[static_cast<std::size_t>(m)] < 0)
+      {
+        owner[static_cast<std::size_t>(m)] = owner[k];
+        queue.push_back(static_cast<std::size_t>(m));
+      }
+    }
+  }
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    if (owner[k] >= 0)
+      side[k] = owner[k];
+}
+
+/// The extent of `values` between its SpanQuantile and 1 - SpanQuantile quantiles (values reordered).
+double Span(std::vector<double>& values)
+{
+  const auto at = [&values](double q) {
+    const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+    std::nth_element(values.begin(), values.begin() + k, values.end());
+    return values[static_cast<std::size_t>(k)];
+  };
+  return at(1.0 - SpanQuantile) - at(SpanQuantile);
+}
+
+/// Whether the seam between the two sides (their points linked to the other side) is short: its extent along its
+/// own line under SeamFraction of each side's extent along that line. A crease of one blade (a fold along the
+/// midrib, a roll across the width, a bend along the length, a folded tip) runs from margin to margin of at least
+/// one side; two leaves whose margins touch meet over part of each.
+bool SeamIsShort(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const std::vector<int>& ids,
+  const std::vector<int>& local, const std::vector<int>& side)
+{
+  std::vector<int> seam;
+  for (std::size_t k = 0; k < ids.size(); ++k)
+  {
+    const auto q = static_cast<std::size_t>(ids[k]);
+    for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+    {
+      const int m = local[static_cast<std::size_t>(graph.neighbours[e])];
+      if (m >= 0 && side[static_cast<std::size_t>(m)] != side[k])
+      {
+        seam.push_back(ids[k]);
+        break;
+      }
+    }
+  }
+  if (seam.size() < SeamPoints)
+    return false;
+  Eigen::Vector3d mean;
+  const Eigen::Vector3d line = MainAxis(Scatter(points, seam, mean));
+  std::vector<double> along;
+  for (int j : seam)
+    along.push_back((points[static_cast<std::size_t>(j)] - mean).dot(line));
+  const double seamSpan = Span(along);
+  for (int s = 0; s < 2; ++s)
+  {
+    along.clear();
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      if (side[k] == s)
+        along.push_back((points[static_cast<std::size_t>(ids[k])] - mean).dot(line));
+    if (!(seamSpan < SeamFraction * Span(along)))
+      return false;
+  }
+  return true;
+}
+} // namespace
+
+std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
+  double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts)
+{
+  std::vector<int> local(points.size(), -1), side;
+  std::size_t cuts = 0;
+  for (std::size_t k = 0; k < parts.size(); ++k) // the sides of a cut are appended and looked at in turn
+  {
+    const std::vector<int>& ids = parts[k];
+    Eigen::Vector3d axes[2];
+    if (ids.size() < 2 * smallest || !TwoNormalGroups(f.normal, ids, side, axes) ||
+      std::abs(axes[0].dot(axes[1])) >= cosine)
+      continue;
+    for (std::size_t m = 0; m < ids.size(); ++m)
+      local[static_cast<std::size_t>(ids[m])] = static_cast<int>(m);
+    ConnectSides(graph, ids, local, side);
+    const auto first = static_cast<std::size_t>(std::count(side.begin(), side.end(), 0));
+    const bool cut =
+      first >= smallest && ids.size() - first >= smallest && SeamIsShort(points, graph, ids, local, side);
+    for (int j : ids)
+      local[static_cast<std::size_t>(j)] = -1;
+    if (!cut)
+      continue;
+    std::vector<int> halves[2];
+    for (std::size_t m = 0; m < ids.size(); ++m)
+      halves[side[m]].push_back(ids[m]);
+    parts[k] = std::move(halves[0]);
+    parts.push_back(std::move(halves[1]));
+    ++cuts;
+    --k; // the first side may hold a third leaf
+  }
+  return cuts;
+}
+
+} // namespace segmentation
+} // namespace plantmorph
