@@ -3,13 +3,34 @@
 
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
 #include "vtkNew.h"
+#include "vtkSMPTools.h"
 #include "vtkStringArray.h"
 
 #include <sstream>
 
 namespace plantmorph
 {
+
+vtkSmartPointer<vtkCellArray> VertexCells(vtkIdType count)
+{
+  vtkNew<vtkIdTypeArray> offsets;
+  vtkNew<vtkIdTypeArray> connectivity;
+  offsets->SetNumberOfTuples(count + 1);
+  connectivity->SetNumberOfTuples(count);
+  vtkSMPTools::For(0, count + 1, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      offsets->SetValue(i, i);
+      if (i < count)
+        connectivity->SetValue(i, i);
+    }
+  });
+  auto verts = vtkSmartPointer<vtkCellArray>::New();
+  verts->SetData(offsets, connectivity);
+  return verts;
+}
 
 /// Adds (or replaces) the one-value double array `name`.
 void AddFieldValue(vtkFieldData* fd, const char* name, double value)

@@ -7,6 +7,7 @@
 
 #include "PlantMorphVTKCommonModule.h" // for export macro
 
+#include "vtkCellArray.h"
 #include "vtkDoubleArray.h" // what the wrappers writing field data used to get from here
 #include "vtkFieldData.h"
 #include "vtkNew.h"
@@ -31,6 +32,10 @@ PLANTMORPHVTKCOMMON_EXPORT void AddFieldString(vtkFieldData* fd, const char* nam
 /// array as its value, a tuple with component names as one line per component (PlantMorph.Curvature's Mu ->
 /// "CurvatureMu = ..."), other arrays as their tuples in parentheses. For the panels' read-only PresetValues boxes.
 PLANTMORPHVTKCOMMON_EXPORT std::string FormatParameters(vtkFieldData* fd);
+
+/// One vertex cell per point, for a cloud of `count` points (offsets and connectivity 0, 1, ..., filled threaded):
+/// what a point-cloud output needs to be drawn and picked.
+PLANTMORPHVTKCOMMON_EXPORT vtkSmartPointer<vtkCellArray> VertexCells(vtkIdType count);
 
 /// A VTK array of `components` per tuple that takes over the memory of `values` (no copy; VTK frees it with
 /// std::free, as CloudArray's memory is meant to be). `values` is left empty. VirtualScanner's cloud and

@@ -449,28 +449,6 @@ std::string RegisterMeasured(plantmorph::RegistrationParameters registration, co
   return {};
 }
 
-/// One vertex cell per point of `output` (a measured cloud without cells).
-void AddVertexCells(vtkPolyData* output, vtkIdType count)
-{
-  vtkNew<vtkIdTypeArray> offsets;
-  vtkNew<vtkIdTypeArray> connectivity;
-  offsets->SetNumberOfTuples(count + 1);
-  connectivity->SetNumberOfTuples(count);
-  vtkSMPTools::For(0, count + 1, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
-    {
-      offsets->SetValue(i, i);
-      if (i < count)
-      {
-        connectivity->SetValue(i, i);
-      }
-    }
-  });
-  vtkNew<vtkCellArray> verts;
-  verts->SetData(offsets, connectivity);
-  output->SetVerts(verts);
-}
-
 /// The Outlier point array (1 where the distance exceeds `maximumDistance`); none when it is negative (no cut-off).
 void SetOutlier(vtkPointData* pd, vtkDoubleArray* distance, double maximumDistance)
 {
@@ -510,7 +488,7 @@ void FillPoints(vtkPointSet* measured, const std::vector<double>& moved, bool mo
   }
   if (output->GetNumberOfCells() == 0)
   {
-    AddVertexCells(output, count);
+    output->SetVerts(plantmorph::VertexCells(count)); // a measured cloud without cells
   }
   if (movedPoints)
   {

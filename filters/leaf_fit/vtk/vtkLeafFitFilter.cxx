@@ -17,7 +17,6 @@
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
-#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiProcessController.h"
@@ -326,17 +325,12 @@ void FillScan(vtkPointSet* input, const LeafInput& in, const std::vector<double>
   auto inlier = NewArray<vtkUnsignedCharArray>("Inlier", 1);
   auto region = NewArray<vtkIntArray>(plantmorph::arrays::Region, 1);
   auto leafId = NewArray<vtkTypeInt64Array>("LeafId", 1);
-  vtkNew<vtkIdTypeArray> offsets, connectivity; // one vertex cell per point
   coordinates->SetNumberOfTuples(n);
-  for (vtkDataArray* array : std::initializer_list<vtkDataArray*>{ distance, inlier, region, leafId, connectivity })
+  for (vtkDataArray* array : std::initializer_list<vtkDataArray*>{ distance, inlier, region, leafId })
     array->SetNumberOfTuples(n);
-  offsets->SetNumberOfTuples(n + 1);
-  offsets->SetValue(n, n);
   plantmorph::ForEachIndex(plantmorph::SMPFor(), static_cast<std::size_t>(n), [&](std::size_t j) {
     const auto i = static_cast<vtkIdType>(j);
     std::copy(in.points[j].data(), in.points[j].data() + 3, coordinates->GetPointer(3 * i));
-    offsets->SetValue(i, i);
-    connectivity->SetValue(i, i);
     const double* v = &values[ScanValues * j];
     distance->SetValue(i, v[0]);
     inlier->SetValue(i, v[1] == 1.0 ? 1 : 0);
@@ -345,10 +339,8 @@ void FillScan(vtkPointSet* input, const LeafInput& in, const std::vector<double>
   });
   vtkNew<vtkPoints> scanPoints;
   scanPoints->SetData(coordinates);
-  vtkNew<vtkCellArray> verts;
-  verts->SetData(offsets, connectivity);
   scan->SetPoints(scanPoints);
-  scan->SetVerts(verts);
+  scan->SetVerts(plantmorph::VertexCells(n));
   scan->GetPointData()->PassData(input->GetPointData());
   scan->GetPointData()->AddArray(distance);
   scan->GetPointData()->AddArray(inlier);
