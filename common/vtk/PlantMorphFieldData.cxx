@@ -7,29 +7,44 @@
 #include "vtkNew.h"
 #include "vtkSMPTools.h"
 #include "vtkStringArray.h"
+#include "vtkTypeInt32Array.h"
+#include "vtkTypeInt64Array.h"
 
+#include <cstdint>
+#include <limits>
 #include <sstream>
 
 namespace plantmorph
 {
 
+namespace
+{
+/// The vertex cells of VertexCells with ids of IdArray's type, in CloudArray memory (huge pages) adopted by VTK.
+template <class IdArray>
+vtkSmartPointer<vtkCellArray> VertexCellsOf(vtkIdType count)
+{
+  using Id = typename IdArray::ValueType;
+  CloudArray<Id> offsets, connectivity;
+  offsets.resize(static_cast<std::size_t>(count) + 1);
+  connectivity.resize(static_cast<std::size_t>(count));
+  Id* off = offsets.data();
+  Id* conn = connectivity.data();
+  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+      off[i] = conn[i] = static_cast<Id>(i);
+  });
+  off[count] = static_cast<Id>(count);
+  auto verts = vtkSmartPointer<vtkCellArray>::New();
+  verts->SetData(AdoptArray<IdArray>(offsets, 1, nullptr), AdoptArray<IdArray>(connectivity, 1, nullptr));
+  return verts;
+}
+} // namespace
+
 vtkSmartPointer<vtkCellArray> VertexCells(vtkIdType count)
 {
-  vtkNew<vtkIdTypeArray> offsets;
-  vtkNew<vtkIdTypeArray> connectivity;
-  offsets->SetNumberOfTuples(count + 1);
-  connectivity->SetNumberOfTuples(count);
-  vtkSMPTools::For(0, count + 1, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
-    {
-      offsets->SetValue(i, i);
-      if (i < count)
-        connectivity->SetValue(i, i);
-    }
-  });
-  auto verts = vtkSmartPointer<vtkCellArray>::New();
-  verts->SetData(offsets, connectivity);
-  return verts;
+  if (count < std::numeric_limits<std::int32_t>::max())
+    return VertexCellsOf<vtkTypeInt32Array>(count);
+  return VertexCellsOf<vtkTypeInt64Array>(count);
 }
 
 /// Adds (or replaces) the one-value double array `name`.

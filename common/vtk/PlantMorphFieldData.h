@@ -34,7 +34,8 @@ PLANTMORPHVTKCOMMON_EXPORT void AddFieldString(vtkFieldData* fd, const char* nam
 PLANTMORPHVTKCOMMON_EXPORT std::string FormatParameters(vtkFieldData* fd);
 
 /// One vertex cell per point, for a cloud of `count` points (offsets and connectivity 0, 1, ..., filled threaded):
-/// what a point-cloud output needs to be drawn and picked.
+/// what a point-cloud output needs to be drawn and picked. 32-bit ids when they fit (half the memory), in memory
+/// asked for huge pages (a cloud's cells are fresh memory on every update).
 PLANTMORPHVTKCOMMON_EXPORT vtkSmartPointer<vtkCellArray> VertexCells(vtkIdType count);
 
 /// A VTK array of `components` per tuple that takes over the memory of `values` (no copy; VTK frees it with

@@ -2,7 +2,7 @@
 #include "vtkVirtualScanner.h"
 #include "PlantMorphAlgorithmHooks.h"
 
-#include "PlantMorphFieldData.h" // AdoptArray
+#include "PlantMorphFieldData.h" // AdoptArray, VertexCells
 #include "PlantMorphLayer.h"
 
 #include <plantmorph/RangeError.h>
@@ -28,8 +28,6 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
-#include "vtkTypeInt32Array.h"
-#include "vtkTypeInt64Array.h"
 
 #include <cmath>
 #include <algorithm>
@@ -206,28 +204,6 @@ vtkSmartPointer<vtkAbstractArray> LikeWithTuples(vtkAbstractArray* source, vtkId
   return values;
 }
 
-/// One vertex cell per point, 0 .. n - 1 (32-bit ids when they fit: half the memory), in CloudArray memory (huge
-/// pages) adopted by VTK.
-template <class IdArray>
-vtkNew<vtkCellArray> PointVertices(vtkIdType n)
-{
-  using Id = typename IdArray::ValueType;
-  plantmorph::CloudArray<Id> offsets, connectivity;
-  offsets.resize(static_cast<std::size_t>(n) + 1);
-  connectivity.resize(static_cast<std::size_t>(n));
-  Id* off = offsets.data();
-  Id* conn = connectivity.data();
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
-      off[i] = conn[i] = static_cast<Id>(i);
-  });
-  off[n] = static_cast<Id>(n);
-  vtkNew<vtkCellArray> verts;
-  verts->SetData(
-    plantmorph::AdoptArray<IdArray>(offsets, 1, nullptr), plantmorph::AdoptArray<IdArray>(connectivity, 1, nullptr));
-  return verts;
-}
-
 /// values[i] = source[from(i)] for the n tuples, `from` giving tuple indices in [0, source's tuple count): threaded
 /// as plain bytes when both are plain arrays, else serial through VTK.
 template <class From>
@@ -369,10 +345,7 @@ void WriteCloud(plantmorph::ScanPoints& scan, const TriangleCells& cellOf, const
   vtkNew<vtkPoints> points;
   points->SetData(plantmorph::AdoptArray<vtkDoubleArray>(scan.points, 3, nullptr));
   cloud->SetPoints(points);
-  if (n < std::numeric_limits<std::int32_t>::max())
-    cloud->SetVerts(PointVertices<vtkTypeInt32Array>(n));
-  else
-    cloud->SetVerts(PointVertices<vtkTypeInt64Array>(n));
+  cloud->SetVerts(plantmorph::VertexCells(n));
   vtkPointData* pd = cloud->GetPointData();
   pd->SetNormals(plantmorph::AdoptArray<vtkFloatArray>(scan.normals, 3, "Normals"));
   pd->AddArray(plantmorph::AdoptArray<vtkDoubleArray>(scan.range, 1, "Range"));

@@ -5,6 +5,7 @@
 #include "PlantMorphOwnerExchange.h"
 #include "PlantSegmentation.h"
 
+#include "PlantMorphFieldData.h" // VertexCells
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -161,21 +162,19 @@ void WritePoints(vtkPointSet* input, const LocalInput& in, const plantmorph::Own
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(n);
-  vtkNew<vtkCellArray> verts;
   auto organ = NewArray<vtkIntArray>("Organ", 1, n);
   auto leaf = NewArray<vtkIntArray>("LeafId", 1, n);
   auto confidence = NewArray<vtkDoubleArray>("SegmentationConfidence", 1, n);
   for (vtkIdType i = 0; i < n; ++i)
   {
     points->SetPoint(i, &in.xyz[static_cast<std::size_t>(SendWidth * i)]);
-    verts->InsertNextCell(1, &i);
     const double* v = &values[static_cast<std::size_t>(ReturnWidth * i)];
     organ->SetValue(i, static_cast<int>(v[0]));
     leaf->SetValue(i, v[1] >= 0.0 ? static_cast<int>(first[in.plantOf[static_cast<std::size_t>(i)]] + v[1]) : -1);
     confidence->SetValue(i, v[2]);
   }
   out->SetPoints(points);
-  out->SetVerts(verts);
+  out->SetVerts(plantmorph::VertexCells(n));
   out->GetPointData()->PassData(input->GetPointData());
   out->GetPointData()->AddArray(organ);
   out->GetPointData()->AddArray(leaf);

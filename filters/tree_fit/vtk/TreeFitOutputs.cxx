@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "TreeFitOutputs.h"
 
+#include "PlantMorphFieldData.h" // VertexCells
+
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDoubleArray.h"
@@ -195,7 +197,6 @@ void WriteScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, cons
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(n);
-  vtkNew<vtkCellArray> verts;
   auto treeId = NewArray<vtkIntArray>("TreeId");
   auto cylinder = NewArray<vtkIntArray>("CylinderId");
   auto branch = NewArray<vtkIntArray>("BranchId");
@@ -207,7 +208,6 @@ void WriteScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, cons
   for (vtkIdType i = 0; i < n; ++i)
   {
     points->SetPoint(i, all[i].data());
-    verts->InsertNextCell(1, &i);
     const double* v = values.data() + 4 * i;
     const auto base = bases.find(treeOf[i]);
     const bool known = base != bases.end();
@@ -218,7 +218,7 @@ void WriteScan(vtkPointSet* input, const std::vector<Eigen::Vector3d>& all, cons
     distance->SetValue(i, v[3]);
   }
   output->SetPoints(points);
-  output->SetVerts(verts);
+  output->SetVerts(plantmorph::VertexCells(n));
   output->GetPointData()->PassData(input->GetPointData());
   for (auto* array : { static_cast<vtkDataArray*>(treeId), static_cast<vtkDataArray*>(cylinder),
          static_cast<vtkDataArray*>(branch), static_cast<vtkDataArray*>(wood), static_cast<vtkDataArray*>(distance) })

@@ -4,10 +4,10 @@
 #include "LasFile.h"
 #include "PlantMorphLayer.h"
 
+#include "PlantMorphFieldData.h" // VertexCells
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
-#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
@@ -113,20 +113,7 @@ void WriteCloud(plantmorph::LasCloud& cloud, vtkPolyData* output)
   vtkNew<vtkPoints> points;
   points->SetData(xyz);
   output->SetPoints(points);
-  vtkNew<vtkIdTypeArray> offsets, connectivity;
-  offsets->SetNumberOfTuples(n + 1);
-  connectivity->SetNumberOfTuples(n);
-  for (vtkIdType i = 0; i <= n; ++i)
-  {
-    offsets->SetValue(i, i);
-    if (i < n)
-    {
-      connectivity->SetValue(i, i);
-    }
-  }
-  vtkNew<vtkCellArray> verts;
-  verts->SetData(offsets, connectivity);
-  output->SetVerts(verts);
+  output->SetVerts(plantmorph::VertexCells(n));
   std::vector<double>().swap(cloud.xyz);
   const bool display = !cloud.Find("Colors");
   for (plantmorph::LasField& field : cloud.fields)

@@ -5,10 +5,10 @@
 
 #include "PlantMorphLayer.h"
 
+#include "PlantMorphFieldData.h" // VertexCells
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
-#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkCommunicator.h"
@@ -464,21 +464,7 @@ void WritePoints(
   points->SetData(coordinates);
   output->SetPoints(points);
   AddArrays(output, values, layout, columns, n, fractions);
-  vtkNew<vtkIdTypeArray> offsets;
-  vtkNew<vtkIdTypeArray> connectivity;
-  offsets->SetNumberOfTuples(n + 1);
-  connectivity->SetNumberOfTuples(n);
-  for (vtkIdType i = 0; i <= n; ++i)
-  {
-    offsets->SetValue(i, i);
-    if (i < n)
-    {
-      connectivity->SetValue(i, i);
-    }
-  }
-  vtkNew<vtkCellArray> verts;
-  verts->SetData(offsets, connectivity);
-  output->SetVerts(verts);
+  output->SetVerts(plantmorph::VertexCells(n));
 }
 } // namespace
 
