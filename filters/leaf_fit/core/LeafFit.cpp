@@ -48,11 +48,11 @@ void Project(const TensorSurface& surface, const Eigen::Vector3d& q, double spac
 {
   for (int step = 0; step < 2; ++step)
   {
-    Eigen::Vector3d dt, ds;
-    surface.Derivatives(ts.x(), ts.y(), dt, ds);
+    Eigen::Vector3d x, dt, ds;
+    surface.Evaluate(ts.x(), ts.y(), x, dt, ds);
     Eigen::Matrix<double, 3, 2> J;
     J << dt, ds;
-    const Eigen::Vector3d r = q - surface(ts.x(), ts.y());
+    const Eigen::Vector3d r = q - x;
     const Eigen::Vector2d delta = (J.transpose() * J).ldlt().solve(J.transpose() * r);
     if (delta.allFinite() && delta.norm() < 10.0 * spacing)
       ts += delta;

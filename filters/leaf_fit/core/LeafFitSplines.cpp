@@ -13,15 +13,18 @@ namespace plantmorph
 
 UniformBasis::UniformBasis(double a, double b, int intervals, double x)
 {
-  const double h = (b - a) / intervals;
-  const double u = (x - a) / h;
+  // Multiplications by 1/h and 1/6 (one division, not nine): this runs tens of millions of times a dense fit.
+  constexpr double Sixth = 1.0 / 6.0;
+  const double perUnit = intervals / (b - a); // 1 / h
+  const double u = (x - a) * perUnit;
   this->first = std::clamp(static_cast<int>(std::floor(u)), 0, intervals - 1);
   const double f = u - this->first;
   const double g = 1.0 - f;
-  this->value = { g * g * g / 6.0, (3.0 * f * f * f - 6.0 * f * f + 4.0) / 6.0,
-    (-3.0 * f * f * f + 3.0 * f * f + 3.0 * f + 1.0) / 6.0, f * f * f / 6.0 };
-  this->derivative = { -g * g / 2.0 / h, (3.0 * f * f - 4.0 * f) / 2.0 / h, (-3.0 * f * f + 2.0 * f + 1.0) / 2.0 / h,
-    f * f / 2.0 / h };
+  const double f2 = f * f, f3 = f2 * f;
+  this->value = { g * g * g * Sixth, (3.0 * f3 - 6.0 * f2 + 4.0) * Sixth,
+    (-3.0 * f3 + 3.0 * f2 + 3.0 * f + 1.0) * Sixth, f3 * Sixth };
+  const double half = 0.5 * perUnit;
+  this->derivative = { -g * g * half, (3.0 * f2 - 4.0 * f) * half, (-3.0 * f2 + 2.0 * f + 1.0) * half, f2 * half };
 }
 
 namespace
@@ -230,15 +233,23 @@ Eigen::Vector3d TensorSurface::operator()(double t, double s) const
 
 void TensorSurface::Derivatives(double t, double s, Eigen::Vector3d& dt, Eigen::Vector3d& ds) const
 {
+  Eigen::Vector3d x;
+  this->Evaluate(t, s, x, dt, ds);
+}
+
+void TensorSurface::Evaluate(double t, double s, Eigen::Vector3d& x, Eigen::Vector3d& dt, Eigen::Vector3d& ds) const
+{
   const UniformBasis bt(this->T[0], this->T[1], this->Nt, t);
   const UniformBasis bs(this->S[0], this->S[1], this->Ns, s);
   const int n0 = this->Nt + 3;
+  x.setZero();
   dt.setZero();
   ds.setZero();
   for (int q = 0; q < 4; ++q)
     for (int p = 0; p < 4; ++p)
     {
       const Eigen::Vector3d c = this->Control.row(bt.first + p + n0 * (bs.first + q)).transpose();
+      x += bt.value[p] * bs.value[q] * c;
       dt += bt.derivative[p] * bs.value[q] * c;
       ds += bt.value[p] * bs.derivative[q] * c;
     }

@@ -58,6 +58,8 @@ public:
   Eigen::Vector3d operator()(double t, double s) const;
   /// dS/dt and dS/ds at (t, s).
   void Derivatives(double t, double s, Eigen::Vector3d& dt, Eigen::Vector3d& ds) const;
+  /// S, dS/dt and dS/ds at (t, s) from one evaluation of the bases (the same numbers as operator() and Derivatives).
+  void Evaluate(double t, double s, Eigen::Vector3d& x, Eigen::Vector3d& dt, Eigen::Vector3d& ds) const;
   /// Unit normal dS/dt x dS/ds (the upper side of a blade laid out with t to the right and s up).
   Eigen::Vector3d Normal(double t, double s) const;
 
