@@ -92,7 +92,8 @@ struct Contour
 };
 
 /// The boundary of the points (t, s) (the closing of discs of 2.5 spacings about them, holes filled, moved out by
-/// the expected gap to the margin), so lobes, sinuses and a cordate base are kept and not bridged. Sets
+/// the gap to the margin: measured against the smooth margins where it runs along them, else the level at which
+/// the contour encloses the area the points sample), so lobes, sinuses and a cordate base are kept and not bridged. Sets
 /// outline.base and outline.apex: the crossings of the midvein (t = 0) that bound it, a tip's end from the smooth
 /// outline's extrapolated s0 or s1 (the last points never reach a tip), a sinus's from outline.junction when that
 /// lies a little above the crossing (the discs round its bottom off). `snap`: where the loop runs along the

@@ -645,4 +645,55 @@ TEST(LeafShape, MidveinFollowsTheTerminalLobeBesideOneLateralLobesTip)
   for (double y = 2.0; y <= 98.0; y += 2.0)
     EXPECT_LT(std::abs(sections.Intrinsic(Eigen::Vector3d(0.0, y, 0.0)).x()), spacing) << "Y " << y;
 }
+
+/// The flat blade scanned in lines across it (along X, `across` apart along Y), each pass's points `step` apart
+/// along its lines starting at `phase` (a fraction of the step); one pass per phase, all on the same lines (as two
+/// passes tilted to either side of the leaf's length leave them), noise `sigma` along Z.
+std::vector<Eigen::Vector3d> LineScans(
+  const LeafGeometry& leaf, double across, double step, const std::vector<double>& phases, double sigma)
+{
+  std::mt19937_64 random(7);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const auto& P = leaf.blade.points;
+  std::vector<Eigen::Vector3d> points;
+  for (double phase : phases)
+    for (const auto& t : leaf.blade.triangles)
+    {
+      const Eigen::Vector2d a = P[t[0]], b = P[t[1]], c = P[t[2]];
+      const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+      if (!(std::abs(det) > 0.0))
+        continue;
+      const Eigen::Vector2d lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+      for (double x = (std::ceil(lo.x() / step - phase) + phase) * step; x < hi.x(); x += step)
+        for (double y = std::ceil(lo.y() / across) * across; y < hi.y(); y += across)
+        {
+          const Eigen::Vector2d r = Eigen::Vector2d(x, y) - a;
+          const double u = (r.x() * (c - a).y() - r.y() * (c - a).x()) / det;
+          const double v = ((b - a).x() * r.y() - (b - a).y() * r.x()) / det;
+          if (u >= 0.0 && v >= 0.0 && u + v < 1.0)
+            points.emplace_back(x, y, sigma * gauss(random));
+        }
+    }
+  return points;
+}
+
+TEST(LeafShape, LobedBladeScannedTwiceAlongTheSameLinesKeepsItsArea)
+{
+  // The pin oak's lobes, scanned as the benchmark's passes scan them (about 10^4 points a pass): lines `across`
+  // apart, points 1.2 times that apart along them (a view tilted 35 degrees), the second pass's points halfway
+  // between the first's on the same lines (the nearest neighbour half as far as the lines are apart). The loop
+  // through the outermost points lies inside the margin by a gap the smooth margins cannot measure (they do not
+  // follow the lobes): it is measured by the points' count, each point standing for 1 / density of the blade.
+  // Area within 1 % from one pass and from two (two were -2.3 % when the gap was measured against the smooth
+  // margins).
+  const LeafGeometry leaf = Blade(2, 100.0);
+  const double area = BladeArea(leaf), across = std::sqrt(area / 1e4);
+  for (const std::vector<double>& phases : { std::vector<double>{ 0.0 }, std::vector<double>{ 0.0, 0.5 } })
+  {
+    const LeafFitResult fit = FitLeaf(LineScans(leaf, across, 1.2 * across, phases, 0.1), LeafFitParameters());
+    ASSERT_EQ(fit.error, "");
+    EXPECT_NEAR(fit.traits.area, area, 0.01 * area) << "passes " << phases.size();
+  }
+}
+
 } // namespace plantmorph
