@@ -28,6 +28,11 @@
 //     tube's facet has the next facets turning away around it. Alone, such a strip gets no LeafId. Points of
 //     regions too small to judge take
 //     the organ of the nearest judged region (breadth-first over the radius graph), linear ones are wood.
+//     A thick cylinder keeps its whole surface: the judged wood is fitted, in slices of 8r along each wood region's
+//     axis, with circles of radius at least r (refitted to all the wood of the slice near them), and the leaf points
+//     on such a circle (within 3 times the range noise or a spacing, their normals within NormalAngle of its radius)
+//     become wood when they are at least a quarter of their region: a trunk's face grown into a sheet whose normals
+//     turn too little for a cylinder (an arc under 80 degrees) was a leaf; a leaf beside the trunk meets the shell in a line.
 //     Points whose whole component of the radius graph has fewer than 12 points (a surface at a grazing angle, its
 //     rows farther apart than the links) take the organ most other points within r around them have, leaf when
 //     there are none (a leaf turned edge on; a branch is scanned along its length in a line of linked points).

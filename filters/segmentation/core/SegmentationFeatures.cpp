@@ -132,8 +132,8 @@ void ComputeFeatures(const std::vector<Eigen::Vector3d>& points, double spacing,
   // The features' radius: FeatureScale spacings, or wider when the range noise is large next to it (a plane's
   // normal from points of noise sigma within r is off by about 2 sigma / r: NoiseScale sigma keeps it near 10 deg).
   constexpr double NoiseScale = 12.0;
-  const double r =
-    std::max(p.featureScale * spacing, NoiseScale * NoiseLevel(points, 2.0 * p.featureScale * spacing, parallel));
+  f.noise = NoiseLevel(points, 2.0 * p.featureScale * spacing, parallel);
+  const double r = std::max(p.featureScale * spacing, NoiseScale * f.noise);
   f.radius = r;
   // The covariances are sums of cell moments (count, mean, scatter), so that a ball costs about the same whatever
   // the density and the noise. Each is computed once per cell, at its points' mean, and shared by its points: cells

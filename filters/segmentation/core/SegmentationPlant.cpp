@@ -14,6 +14,7 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <set>
 #include <tuple>
 
@@ -436,6 +437,207 @@ void SpreadRegions(const PointFeatures& f, const LinkGraph& graph, const std::ve
   for (std::size_t i = 0; i < n; ++i)
     if (!reached[i])
       region[i] = -1; // linear points and points cut off from every judged region
+}
+
+/// A thick cylinder's pieces of wood are fitted over lengths of ThickWoodSlice r along their region's axis.
+constexpr double ThickWoodSlice = 8.0;
+/// Points kept on a thick cylinder's surface lie within this many times the range noise of it (or a spacing).
+constexpr double ThickWoodBand = 3.0;
+
+/// A circle through points given in a plane (u, v): centre and radius by the algebraic fit (Kasa: u^2 + v^2 =
+/// 2 a u + 2 b v + c, linear); false when the points determine none.
+bool FitCircle(const std::vector<Eigen::Vector2d>& q, Eigen::Vector2d& centre, double& radius)
+{
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector2d& x : q)
+  {
+    const Eigen::Vector3d row(2.0 * x[0], 2.0 * x[1], 1.0);
+    ata += row * row.transpose();
+    atb += row * x.squaredNorm();
+  }
+  const Eigen::Vector3d abc = ata.ldlt().solve(atb);
+  centre = abc.head<2>();
+  const double squared = abc[2] + centre.squaredNorm();
+  if (!std::isfinite(squared) || squared <= 0.0)
+    return false;
+  radius = std::sqrt(squared);
+  return true;
+}
+
+/// A wood region's slice that is a piece of a thick cylinder (a trunk or a wide branch): its axis, centre, radius
+/// and the span along the axis its fit holds over.
+struct CylinderSlice
+{
+  Eigen::Vector3d axis, u, v, origin; ///< the region's axis (unit), two directions across it, a point on the axis
+  Eigen::Vector2d centre;             ///< the circle's centre in (u, v) from origin
+  double radius = 0.0, from = 0.0, to = 0.0;
+};
+
+/// The slices of every judged wood region that are pieces of a thick cylinder: its points in a slice of
+/// ThickWoodSlice r along the region's main axis (the region at least its diameter long) lie on a circle across
+/// the axis of radius at least r (thinner wood is judged a cylinder whole), within `band` in root mean square / 2,
+/// over an arc whose sagitta is at least 2 `band` (the curvature resolved: a flat strip of a leaf fits no circle).
+std::vector<CylinderSlice> ThickCylinderSlices(const std::vector<Eigen::Vector3d>& points,
+  const std::vector<RegionVerdict>& verdicts, const std::vector<int>& region, double radius, double band)
+{
+  std::vector<std::vector<int>> members(verdicts.size());
+  for (std::size_t i = 0; i < region.size(); ++i)
+    if (region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].judged &&
+      !verdicts[static_cast<std::size_t>(region[i])].leaf)
+      members[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
+  std::vector<CylinderSlice> slices;
+  const double length = ThickWoodSlice * radius;
+  for (const std::vector<int>& ids : members)
+  {
+    if (ids.size() < JudgedRegionPoints)
+      continue;
+    Eigen::Vector3d mean;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, ids, mean));
+    CylinderSlice c;
+    c.axis = solver.eigenvectors().col(2);
+    c.u = solver.eigenvectors().col(1);
+    c.v = solver.eigenvectors().col(0);
+    c.origin = mean;
+    std::map<long, std::vector<Eigen::Vector2d>> cut; // the points across the axis, slice by slice
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (int j : ids)
+    {
+      const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
+      const double t = d.dot(c.axis);
+      low = std::min(low, t);
+      high = std::max(high, t);
+      cut[std::lround(std::floor(t / length))].emplace_back(d.dot(c.u), d.dot(c.v));
+    }
+    for (const auto& [k, q] : cut)
+    {
+      if (q.size() < JudgedRegionPoints || !FitCircle(q, c.centre, c.radius) || c.radius < radius ||
+        high - low < 2.0 * c.radius)
+        continue;
+      double squares = 0.0, least = c.radius;
+      for (const Eigen::Vector2d& x : q)
+      {
+        const double d = (x - c.centre).norm();
+        squares += (d - c.radius) * (d - c.radius);
+      }
+      // the sagitta: how far the chord between the arc's ends lies inside the circle
+      std::vector<double> angle;
+      const Eigen::Vector2d mid =
+        std::accumulate(q.begin(), q.end(), Eigen::Vector2d(Eigen::Vector2d::Zero())) / static_cast<double>(q.size());
+      const Eigen::Vector2d out = (mid - c.centre).normalized(), side(-out[1], out[0]);
+      for (const Eigen::Vector2d& x : q)
+        angle.push_back(std::atan2((x - c.centre).dot(side), (x - c.centre).dot(out)));
+      std::sort(angle.begin(), angle.end());
+      const double spanned = angle[angle.size() * 49 / 50] - angle[angle.size() / 50];
+      least = c.radius * (1.0 - std::cos(std::min(Pi, 0.5 * spanned)));
+      if (std::sqrt(squares / static_cast<double>(q.size())) > 0.5 * band || least < 2.0 * band)
+        continue;
+      c.from = static_cast<double>(k) * length;
+      c.to = c.from + length;
+      slices.push_back(c);
+    }
+  }
+  return slices;
+}
+
+/// The circle of a thick cylinder's slice fitted again to all the wood in the slice near it (`organ` wood,
+/// within `shell` of the circle), two rounds, the shell narrowing to 2 `band`: a region is one strip of the trunk's
+/// surface, whose arc alone puts the circle off by a tenth of its radius 60 degrees around it; the wood on every side
+/// fixes it. False when the wood there then fits no circle within `band` / 2 in root mean square.
+bool RefitSlice(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& organ, const PointGrid& grid,
+  double band, CylinderSlice& c, std::vector<int>& near)
+{
+  double shell = 0.15 * c.radius;
+  std::vector<Eigen::Vector2d> q;
+  for (int round = 0; round < 3; ++round)
+  {
+    const double half = 0.5 * (c.to - c.from);
+    const Eigen::Vector3d middle = c.origin + (c.from + half) * c.axis + c.centre[0] * c.u + c.centre[1] * c.v;
+    grid.Within(middle, std::hypot(half, c.radius + shell), near);
+    q.clear();
+    double squares = 0.0;
+    for (int j : near)
+    {
+      const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - c.origin;
+      const double t = d.dot(c.axis);
+      const Eigen::Vector2d x(d.dot(c.u), d.dot(c.v));
+      const double off = (x - c.centre).norm() - c.radius;
+      if (organ[static_cast<std::size_t>(j)] != OrganWood || t < c.from || t > c.to || std::abs(off) > shell)
+        continue;
+      q.push_back(x);
+      squares += off * off;
+    }
+    if (q.size() < JudgedRegionPoints)
+      return false;
+    if (round == 2)
+      return std::sqrt(squares / static_cast<double>(q.size())) <= 0.5 * band;
+    if (!FitCircle(q, c.centre, c.radius))
+      return false;
+    shell = std::max(2.0 * band, 0.5 * shell);
+  }
+  return false;
+}
+
+/// A thick cylinder keeps its whole surface: a trunk or wide branch is locally flat to the features, and a region
+/// grown over an arc of it too narrow for a cylinder's spread of normals (under about 80 degrees), and not long
+/// enough for a strip (a trunk's face grown on up a branch that leaves in its plane), was judged a leaf. Every leaf
+/// point within `band` of a thick cylinder fitted to the judged wood (ThickCylinderSlices, RefitSlice), inside the
+/// slice and facing out of it (its normal within NormalAngle of the radius through it), is wood when at least a
+/// quarter of its region's points are: a leaf beside the trunk, even touching it, crosses that shell in a line or a narrow
+/// band at most. Returns the points made wood.
+std::size_t ThickWoodKeepsItsSurface(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
+  const std::vector<RegionVerdict>& verdicts, const std::vector<int>& region, const SegmentationParameters& p,
+  double band, std::vector<int>& organ)
+{
+  std::vector<CylinderSlice> slices = ThickCylinderSlices(points, verdicts, region, f.radius, band);
+  if (slices.empty())
+    return 0;
+  const double cosine = std::cos(p.normalAngle * Pi / 180.0);
+  const PointGrid grid(points, f.radius);
+  std::vector<int> near, made;
+  for (CylinderSlice& c : slices)
+  {
+    if (!RefitSlice(points, organ, grid, band, c, near))
+      continue;
+    const double half = 0.5 * (c.to - c.from);
+    const Eigen::Vector3d middle = c.origin + (c.from + half) * c.axis + c.centre[0] * c.u + c.centre[1] * c.v;
+    grid.Within(middle, std::hypot(half, c.radius + band), near);
+    for (int j : near)
+    {
+      const auto i = static_cast<std::size_t>(j);
+      if (organ[i] != OrganLeaf)
+        continue;
+      const Eigen::Vector3d d = points[i] - c.origin;
+      const double t = d.dot(c.axis);
+      const Eigen::Vector2d across = Eigen::Vector2d(d.dot(c.u), d.dot(c.v)) - c.centre;
+      const double off = across.norm();
+      if (t < c.from || t > c.to || std::abs(off - c.radius) > band || off <= 0.0)
+        continue;
+      const Eigen::Vector3d radial = (across[0] * c.u + across[1] * c.v) / off;
+      if (std::abs(f.normal[i].dot(radial)) >= cosine)
+        made.push_back(j); // made wood after every slice is fitted: the fits see the labels as judged
+    }
+  }
+  // a region is bark when a quarter of its points lie on the shells; a leaf touching the trunk meets them in a line
+  // (on the simulated sym-large tree: leaf regions 9 % at most, bark regions 8-100 %, most above a quarter)
+  std::sort(made.begin(), made.end());
+  made.erase(std::unique(made.begin(), made.end()), made.end());
+  std::map<int, std::size_t> onShell, size;
+  for (int j : made)
+    ++onShell[region[static_cast<std::size_t>(j)]];
+  for (std::size_t i = 0; i < region.size(); ++i)
+    if (onShell.count(region[i]))
+      ++size[region[i]];
+  std::size_t count = 0;
+  for (int j : made)
+  {
+    const int r = region[static_cast<std::size_t>(j)];
+    if (4 * onShell[r] < size[r])
+      continue;
+    organ[static_cast<std::size_t>(j)] = OrganWood;
+    ++count;
+  }
+  return count;
 }
 
 /// Points linked to fewer than JudgedRegionPoints others in all (their whole component of the link graph is that
@@ -1077,6 +1279,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
     labels.organ[i] = v.leaf ? OrganLeaf : OrganWood;
     labels.confidence[i] = judged[i] ? v.confidence : 0.5 * v.confidence;
   }
+  ThickWoodKeepsItsSurface(points, f, verdicts, region, p, std::max(ThickWoodBand * f.noise, spacing), labels.organ);
   AbsorbWoodFragments(graph, verdicts, p, region, labels.organ);
   IsolatedPiecesByTheirSurroundings(points, graph, f.radius, labels.organ, labels.confidence);
   SegmentedPlant& plant = labels.plant;

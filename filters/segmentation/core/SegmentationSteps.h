@@ -21,6 +21,7 @@ struct PointFeatures
   std::vector<float> spread;           ///< width across the main axis over the radius, at r and 2r: the larger
   std::vector<float> variation;        ///< l3 / (l1 + l2 + l3) at r: 0 on a plane
   double radius = 0.0;                 ///< r: FeatureScale spacings, or wider on a noisy cloud
+  double noise = 0.0;                  ///< the range noise measured (NoiseLevel)
 };
 
 /// The radius graph: each point's neighbours closer than LinkScale * s, in ascending index (CSR).

@@ -589,6 +589,69 @@ TEST(PlantSegmentation, AFoldedRolledOrCurledBladeIsNotCutAtItsCrease)
     }
 }
 
+/// A trunk of radius 0.25 and height 0.9 along z (spacing 0.005, the rings staggered), scanned all around but for
+/// two shadow bands 6 degrees wide along its length (the leaves in front of it hide them), which leave an arc of
+/// `arc` degrees apart from the rest; three flat blades hang beside it, 0.02 off its surface, one in front of each
+/// band and one beside the arc, with Gaussian noise `noise`.
+Truth TrunkWithShadowedArc(double arc, double noise)
+{
+  Truth t;
+  std::mt19937 random(5);
+  std::normal_distribution<double> gauss(0.0, noise);
+  const double h = 0.005, radius = 0.25, height = 0.9, band = 6.0;
+  const int around = static_cast<int>(std::round(2.0 * Pi * radius / h));
+  for (int k = 0; k * h <= height; ++k)
+    for (int a = 0; a < around; ++a)
+    {
+      const double degrees = 360.0 * (a + 0.5 * (k % 2)) / around, angle = degrees * Pi / 180.0;
+      if ((degrees > arc && degrees < arc + band) || degrees > 360.0 - band)
+        continue;
+      t.points.push_back(Eigen::Vector3d(radius * std::cos(angle), radius * std::sin(angle), k * h) +
+        Eigen::Vector3d(gauss(random), gauss(random), gauss(random)));
+      t.organ.push_back(plantmorph::OrganWood);
+      t.leaf.push_back(-1);
+    }
+  const double hang[3] = { arc + 0.5 * band, 360.0 - 0.5 * band, 0.5 * arc };
+  for (int l = 0; l < 3; ++l)
+  {
+    const double a = hang[l] * Pi / 180.0;
+    const Eigen::Vector3d out(std::cos(a), std::sin(a), 0.0), across = Eigen::Vector3d::UnitZ().cross(out);
+    // hanging tip down, its plane tangent to the trunk, its margin's middle 0.02 off the surface
+    AddFlatBlade(t, (radius + 0.02) * out + (0.7 - 0.25 * l) * Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitZ(),
+      across, l, noise);
+  }
+  return t;
+}
+
+TEST(PlantSegmentation, AThickTrunkKeepsAnArcCutOffByShadowsAndLeavesBesideItStayLeaves)
+{
+  // A trunk ten features' radii thick is locally flat to the features; an arc of its surface cut off by two
+  // shadows is a smooth sheet on its own whose normals turn by under 80 degrees (no cylinder's spread) and which is
+  // not long enough for a strip: it was judged a leaf (every point of it leaf, a leaf instance of trunk). The wood
+  // around the rest of the trunk fits a circle of the trunk's radius slice by slice, and the arc lies on it: wood.
+  // The blades hanging beside the trunk, 0.02 off it (four spacings), stay leaves, one instance each.
+  for (const double arc : { 45.0, 60.0 })
+    for (const double noise : { 0.0002, 0.001 })
+    {
+      SCOPED_TRACE(std::to_string(arc) + " degrees, noise " + std::to_string(noise));
+      const Truth t = TrunkWithShadowedArc(arc, noise);
+      const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+      ASSERT_EQ(r.error, "");
+      std::size_t trunk = 0, trunkLeaf = 0;
+      for (std::size_t i = 0; i < t.points.size(); ++i)
+        if (t.organ[i] == plantmorph::OrganWood)
+        {
+          ++trunk;
+          trunkLeaf += r.organ[i] != plantmorph::OrganWood;
+        }
+      EXPECT_LE(trunkLeaf, trunk / 200) << trunkLeaf << " of the trunk's " << trunk << " points are not wood";
+      EXPECT_EQ(r.leaves.size(), 3u);
+      for (double iou : InstanceIoU(t, r, 3))
+        EXPECT_GT(iou, 0.9);
+      EXPECT_GT(OrganIoU(t, r, plantmorph::OrganLeaf), 0.95);
+    }
+}
+
 TEST(PlantSegmentation, ABladeFoldedAlongItsMidribIsOneLeafOnItsPetiole)
 {
   // A blade folded along its midrib into a V, its halves' normals 50 to 90 degrees apart, on a petiole (a thin tube
