@@ -21,7 +21,7 @@ Truth and how it is compared (benchmarks/README.md, "tree_fit_accuracy"):
     compared with the top of the tree, leaves included (foresters' height), WoodHeight with the wood's.
 
     pvpython tree_fit_accuracy.py --plugin build/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so [--quick]
-                                  [--leaves] [--json out.json]
+                                  [--leaves] [--json out.json] [--top-probe]
 """
 import argparse
 import json
@@ -39,6 +39,9 @@ parser.add_argument("--leaves", action="store_true", help="scan the trees with t
 parser.add_argument("--noise", type=float, default=0.003, help="range noise deviation (m)")
 parser.add_argument("--json", default=None)
 parser.add_argument("--trees", default=None, help="comma-separated names: only these trees")
+parser.add_argument("--top-probe", action="store_true", help="no fits: per tree, the highest return of scans of "
+                    "its top by the benchmark's stations, a finer step, more stations, farther ones and a raised one "
+                    "(why the scans' tops lie below the tree's; with --leaves)")
 parser.add_argument("--cache", default=None, help="folder: each scan (and its segmentation) is written there once "
                     "and read back on later runs, so that two versions of the fit see the same points")
 arguments = parser.parse_args()
@@ -242,6 +245,39 @@ def scan(tree, truth):
                           RangeNoise=arguments.noise, Seed=1, MaximumBeams=4e8)
 
 
+def top_probe(name, surface, truth):
+    """The highest return, against the tree's height, of scans through a window about the top fifth of the tree (no
+    noise), from stations around it at distance * height (at least 8 for the benchmark's own), raised by `lift`,
+    beams `mm` apart at 10 m; per set-up the best station and each station's."""
+    height, low = truth["tree_height"], truth["low"]
+    bounds = surface.GetDataInformation().GetBounds()
+    crown = max(abs(v) for v in (bounds[0], bounds[1], bounds[4], bounds[5]))
+    look = [0.0, low + 0.9 * height, 0.0]
+    benchmark_mm = 10000 * 0.012 / max(8.0, 1.2 * height)
+    probe = VirtualScanner(Input=surface, ScannerType="Terrestrial", Up=[0, 1, 0], LookAt=look, Seed=1,
+                           MaximumBeams=4e8)
+    setups = [("the benchmark's", 1.2, 4, benchmark_mm, 1.5, True), ("step / 4", 1.2, 4, benchmark_mm / 4, 1.5, True),
+              ("at 1.0 H, 6 mm", 1.0, 4, 6.0, 1.5, False), ("8 stations", 1.2, 8, benchmark_mm, 1.5, True),
+              ("24 stations", 1.2, 24, benchmark_mm, 1.5, True), ("at 2 H", 2.0, 4, benchmark_mm, 1.5, False),
+              ("at 3 H", 3.0, 4, benchmark_mm, 1.5, False), ("raised 10 m", 1.2, 4, benchmark_mm, 10.0, True)]
+    for label, factor, count, mm, lift, floor in setups:
+        distance = max(8.0, factor * height) if floor else factor * height
+        tops = []
+        for k in range(count):
+            a = 2 * math.pi * (k + 0.125) / count
+            probe.Positions = [distance * math.cos(a), low + lift, distance * math.sin(a)]
+            probe.HorizontalFieldOfView = 2 * math.degrees(math.atan((crown + 0.5) / distance)) + 2
+            probe.VerticalFieldOfView = 2 * math.degrees(math.atan(0.2 * height / math.hypot(distance, look[1] - low
+                                                                                              - lift))) + 4
+            probe.AngularStep = math.degrees(mm / 10000)
+            probe.UpdatePipeline()
+            points = vtk_to_numpy(servermanager.Fetch(probe).GetPoints().GetData())
+            tops.append(100 * ((points @ UP).max() - low) / height - 100 if len(points) else float("nan"))
+        print(f"{name:12s} top probe {label:15s} ({distance:5.1f} m, {mm:4.1f} mm at 10 m): highest return "
+              f"{max(tops):+6.2f} % of the height; per station " + " ".join(f"{t:+.1f}" for t in tops), flush=True)
+    Delete(probe)
+
+
 def build_tree(properties):
     """TreeFromSketchSource from the template properties, or from strokes (key _strokes) in Strokes mode."""
     properties = dict(properties)
@@ -337,6 +373,9 @@ for name, properties in TREES:
         truth["tree_height"] = top - truth["low"]
     else:
         truth["tree_height"] = truth["height"]
+    if arguments.top_probe:
+        top_probe(name, surface, truth)
+        continue
     scanner = scan(surface, truth)
     if arguments.cache:
         scanner = cached_scan(scanner, f"{arguments.cache}/{name}{'-leaves' if arguments.leaves else ''}.vtp")

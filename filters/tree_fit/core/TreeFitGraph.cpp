@@ -24,11 +24,14 @@ namespace
 {
 constexpr int SpacingNeighbours = 6;
 constexpr int GraphNeighbours = 10;
-constexpr double GraphReach = 8.0;      // spacings
-constexpr double GapReach = 25.0;       // spacings
-constexpr int MinComponent = 5;         // points
-constexpr double ShortcutReach = 4.0;   // spacings: a gap the nearest-neighbour graph leaves between two surfaces...
-constexpr double ShortcutSaving = 50.0; // ...is bridged when the shortest path round it is this many spacings longer
+constexpr double GraphReach = 8.0;       // spacings
+constexpr double GapReach = 25.0;        // spacings
+constexpr int MinComponent = 5;          // points
+constexpr double ShortcutReach = 4.0;    // spacings: a gap the nearest-neighbour graph leaves between two surfaces...
+constexpr double ShortcutSaving = 50.0;  // ...is bridged when the shortest path round it is this many spacings longer
+constexpr double FacingReach = GapReach; // spacings: a wider gap between two chain ends facing each other...
+constexpr double FacingCosine = 0.7071;  // ...within 45 degrees each (their directions over FlowLength spacings)
+constexpr double FlowLength = 10.0;      // spacings
 
 /// Mean distance of every point to its k nearest neighbours (infinite when it has none).
 std::vector<double> MeanNeighbourDistance(
@@ -372,41 +375,89 @@ void Geodesic(const std::vector<Eigen::Vector3d>& points, const Graph& graph, co
     }
   }
 }
+
+/// Whether every neighbour of point i is nearer the base: the far end of a chain of shortest paths.
+bool ChainEnd(const Wood& wood, const Graph& graph, std::size_t i)
+{
+  const double g = wood.geodesic[i];
+  bool end = std::isfinite(g);
+  for (int e = graph.offset[i]; e < graph.offset[i + 1] && end; ++e)
+    end = wood.geodesic[graph.target[e]] <= g;
+  return end;
+}
+
+/// The unit direction in which the shortest paths arrive at point i: from the point FlowLength spacings back along
+/// its path (zero when the path is shorter than a spacing).
+Eigen::Vector3d ArrivalDirection(const Wood& wood, int i)
+{
+  int k = i;
+  while (wood.previous[k] >= 0 && wood.geodesic[i] - wood.geodesic[k] < FlowLength * wood.spacing)
+    k = wood.previous[k];
+  const Eigen::Vector3d d = wood.points[i] - wood.points[k];
+  return d.norm() > wood.spacing ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
+}
+
 /// Shortcuts across the gaps the neighbour graph leaves inside a component: the 10 nearest neighbours of a point on a
 /// densely scanned surface all lie on that surface, so two surfaces a few spacings apart (a branch's base and the
 /// leader's tip it leaves, where leaves hid the junction) are not linked; when the two are joined elsewhere (the
 /// branch's far end touching another branch's twigs), the shortest paths reach the branch from its tip and the
-/// skeleton runs down it backwards, a branch of the wrong order at an angle over 90 degrees. At every local maximum
-/// of the geodesic distance (a chain's far end), a point within ShortcutReach spacings whose path plus the gap is
-/// ShortcutSaving spacings shorter is linked to it. Returns whether any link was added.
+/// skeleton runs down it backwards, a branch of the wrong order at an angle over 90 degrees. At every chain end (a
+/// local maximum of the geodesic distance), a point within ShortcutReach spacings whose path plus the gap is
+/// ShortcutSaving spacings shorter is linked to it. A wider gap, up to FacingReach spacings (a stretch of a branch
+/// whose wood was hidden by leaves or labelled leaf), is bridged the same way only between two chain ends whose
+/// paths arrive facing each other: the branch's part beyond the gap, reached backwards from elsewhere, ends at the
+/// gap pointing back at the part before it, which ends there pointing on; a chain end beside another branch is not
+/// joined to it. Returns whether any link was added.
 bool AddShortcuts(const Wood& wood, const ParallelFor& parallel, Graph& graph)
 {
   const std::size_t n = wood.points.size();
   const double reach = ShortcutReach * wood.spacing, saving = ShortcutSaving * wood.spacing;
-  const PointGrid grid(wood.points, reach);
-  std::vector<std::pair<int, double>> link(n, { -1, 0.0 });
-  parallel(n, [&](std::size_t begin, std::size_t end) {
-    std::vector<int> near;
-    for (std::size_t i = begin; i < end; ++i)
+  const double facingReach = FacingReach * wood.spacing;
+  std::vector<unsigned char> end(n, 0);
+  std::vector<Eigen::Vector3d> arrival(n, Eigen::Vector3d::Zero());
+  parallel(n, [&](std::size_t begin, std::size_t stop) {
+    for (std::size_t i = begin; i < stop; ++i)
+      if ((end[i] = ChainEnd(wood, graph, i)))
+        arrival[i] = ArrivalDirection(wood, static_cast<int>(i));
+  });
+  std::vector<int> ends;
+  std::vector<Eigen::Vector3d> endPoints;
+  for (std::size_t i = 0; i < n; ++i)
+    if (end[i])
     {
-      const double g = wood.geodesic[i];
-      bool top = std::isfinite(g);
-      for (int e = graph.offset[i]; e < graph.offset[i + 1] && top; ++e)
-        top = wood.geodesic[graph.target[e]] <= g;
-      if (!top)
-        continue;
-      near.clear();
-      grid.Within(wood.points[i], reach, near);
-      double best = g - saving;
-      for (int j : near)
-      {
-        const double d = (wood.points[j] - wood.points[i]).norm();
+      ends.push_back(static_cast<int>(i));
+      endPoints.push_back(wood.points[i]);
+    }
+  if (ends.empty())
+    return false;
+  const PointGrid grid(wood.points, reach), endGrid(endPoints, facingReach);
+  std::vector<std::pair<int, double>> link(n, { -1, 0.0 });
+  parallel(ends.size(), [&](std::size_t begin, std::size_t stop) {
+    std::vector<int> near;
+    for (std::size_t k = begin; k < stop; ++k)
+    {
+      const int i = ends[k];
+      double best = wood.geodesic[i] - saving;
+      const auto consider = [&](int j, bool facingOnly) {
+        const Eigen::Vector3d gap = wood.points[j] - wood.points[i];
+        const double d = gap.norm();
+        if (facingOnly &&
+          (d <= reach || gap.dot(arrival[i]) < FacingCosine * d || -gap.dot(arrival[j]) < FacingCosine * d))
+          return;
         if (wood.geodesic[j] + d < best)
         {
           best = wood.geodesic[j] + d;
           link[i] = { j, d };
         }
-      }
+      };
+      near.clear();
+      grid.Within(wood.points[i], reach, near);
+      for (int j : near)
+        consider(j, false);
+      near.clear();
+      endGrid.Within(wood.points[i], facingReach, near);
+      for (int e : near)
+        consider(ends[e], true);
     }
   });
   if (std::none_of(link.begin(), link.end(), [](const auto& l) { return l.first >= 0; }))

@@ -652,6 +652,44 @@ TEST(TreeFit, ABranchJoinedAtItsTipIsStillFittedFromItsBase)
   EXPECT_EQ(found, 1);
 }
 
+TEST(TreeFit, ALateralWithAHiddenStretchIsOneBranchFromItsBase)
+{
+  // A lateral leaves the trunk at 45 degrees; 16 cm of it, from 0.6 to 0.76 m, has no points (leaves in front of it,
+  // or its wood labelled leaf), and its tip touches the tip of a branch from higher up. Beyond the gap (16 spacings,
+  // more than the 4 a shortcut bridges anywhere) the shortest paths reached the lateral through the other branch and
+  // ran down it backwards to the gap: the lateral ended after 0.6 m and its outer part was a branch of the next
+  // order at over 90 degrees. The two chain ends face each other across the gap, so it is bridged: one first-order
+  // branch at 45 degrees reaching well past the gap (its last 0.3 m, where the other branch's tip touches it, parts
+  // off as a child at about 12 degrees).
+  const Eigen::Vector3d base(0, 0, 1.0), axis = Tilted(45.0, 0.0), tip = base + 1.5 * axis;
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, { 0, 0, 2.5 }, 0.05 }, { base, tip, 0.03 },
+    { { 0, 0, 2.0 }, tip, 0.02 } };
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector3d& p : Scan(tree, 0.01, 0.0005))
+  {
+    const double t = (p - base).dot(axis);
+    if (!(t > 0.6 && t < 0.76 && (p - base - t * axis).norm() < 0.04))
+      points.push_back(p);
+  }
+  const TreeFitResult r = FitTree(points, {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  int found = 0;
+  for (const TreeBranchRow& b : r.branches)
+  {
+    if (b.order > 0)
+    {
+      EXPECT_LT(b.angle, 90.0) << "branch " << b.id << " at height " << b.height;
+    }
+    if (b.height > 0.9 && b.height < 1.2 && b.order == 1)
+    {
+      ++found;
+      EXPECT_NEAR(b.angle, 45.0, 8.0);
+      EXPECT_GT(b.length, 1.0) << "the lateral ends at its gap (0.6 to 0.76)";
+    }
+  }
+  EXPECT_EQ(found, 1);
+}
+
 /// A stem of seven 0.3-long pieces that follows the pipe model (radius 5 mm times the square root of the twigs above
 /// it) with six twigs of 5 mm, 0.6 long, one at the top of each of its first six pieces; the stem first.
 std::vector<TrueCylinder> TwigTree()
