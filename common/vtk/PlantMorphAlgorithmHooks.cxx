@@ -7,12 +7,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <mutex>
 #include <vector>
-#include <cstdint>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #include <sys/mman.h>

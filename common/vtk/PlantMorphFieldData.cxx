@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "PlantMorphFieldData.h"
+#include "PlantMorphAlgorithmHooks.h" // SMPFor
 
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
-#include "vtkIdTypeArray.h"
 #include "vtkNew.h"
-#include "vtkSMPTools.h"
 #include "vtkStringArray.h"
 #include "vtkTypeInt32Array.h"
 #include "vtkTypeInt64Array.h"
@@ -29,10 +28,11 @@ vtkSmartPointer<vtkCellArray> VertexCellsOf(vtkIdType count)
   connectivity.resize(static_cast<std::size_t>(count));
   Id* off = offsets.data();
   Id* conn = connectivity.data();
-  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
-      off[i] = conn[i] = static_cast<Id>(i);
-  });
+  // SMPFor, not vtkSMPTools::For: ParaView starts vtkSMPTools on its Sequential backend, and the readers and filters
+  // that call this are not all inside a threaded scope.
+  ForEachIndex(
+    SMPFor(), static_cast<std::size_t>(count), [&](std::size_t i) { off[i] = conn[i] = static_cast<Id>(i); },
+    std::size_t(1) << 16);
   off[count] = static_cast<Id>(count);
   auto verts = vtkSmartPointer<vtkCellArray>::New();
   verts->SetData(AdoptArray<IdArray>(offsets, 1, nullptr), AdoptArray<IdArray>(connectivity, 1, nullptr));

@@ -6,7 +6,6 @@
 #include "PlantSegmentation.h"
 
 #include "PlantMorphFieldData.h" // VertexCells
-#include "vtkCellArray.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkInformation.h"

@@ -5,7 +5,6 @@
 #include "PlantMorphLayer.h"
 
 #include "PlantMorphFieldData.h" // VertexCells
-#include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"

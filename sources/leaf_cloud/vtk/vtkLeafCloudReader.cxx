@@ -6,7 +6,6 @@
 #include "PlantMorphLayer.h"
 
 #include "PlantMorphFieldData.h" // VertexCells
-#include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
