@@ -312,6 +312,31 @@ TEST(LeafShape, PetioleLeavingACordateBaseIsMeasuredFromTheSinus)
   ExpectShape(scan, Tilted(), Expected());
 }
 
+/// Calls visit(x, y) for every point of the lattice x = (i + phase) * stepX, y = j * stepY on the flat blade, triangle
+/// by triangle, each point in one triangle only (half-open barycentric ranges: ties on an edge go to one side).
+void ForEachLatticePoint(
+  const LeafGeometry& leaf, double stepX, double phase, double stepY, const std::function<void(double, double)>& visit)
+{
+  const auto& P = leaf.blade.points;
+  for (const auto& t : leaf.blade.triangles)
+  {
+    const Eigen::Vector2d a = P[t[0]], b = P[t[1]], c = P[t[2]];
+    const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    if (!(std::abs(det) > 0.0))
+      continue;
+    const Eigen::Vector2d lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+    for (double x = (std::ceil(lo.x() / stepX - phase) + phase) * stepX; x < hi.x(); x += stepX)
+      for (double y = std::ceil(lo.y() / stepY) * stepY; y < hi.y(); y += stepY)
+      {
+        const Eigen::Vector2d r = Eigen::Vector2d(x, y) - a;
+        const double u = (r.x() * (c - a).y() - r.y() * (c - a).x()) / det;
+        const double v = ((b - a).x() * r.y() - (b - a).y() * r.x()) / det;
+        if (u >= 0.0 && v >= 0.0 && u + v < 1.0)
+          visit(x, y);
+      }
+  }
+}
+
 /// The flat blade sampled on a square grid of step `step` (a scanner's regular lines, which follow a narrow tip out
 /// to its end where random samples thin out), noise `sigma` along Z, then a straight petiole from the base along
 /// `stalk` in a strip `across` samples wide at the same step; everything moved by `pose`.
@@ -322,27 +347,10 @@ Synthetic GridScan(const LeafGeometry& leaf, double step, double sigma, double p
   std::normal_distribution<double> gauss(0.0, 1.0);
   const auto& P = leaf.blade.points;
   Synthetic scan;
-  for (const auto& t : leaf.blade.triangles)
-  {
-    const Eigen::Vector2d a = P[t[0]], b = P[t[1]], c = P[t[2]];
-    const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-    if (!(std::abs(det) > 0.0))
-      continue;
-    const Eigen::Vector2d lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
-    for (double x = std::ceil(lo.x() / step) * step; x < hi.x(); x += step)
-      for (double y = std::ceil(lo.y() / step) * step; y < hi.y(); y += step)
-      {
-        // Inside, with ties on an edge going to one triangle only (half-open barycentric ranges).
-        const Eigen::Vector2d r = Eigen::Vector2d(x, y) - a;
-        const double u = (r.x() * (c - a).y() - r.y() * (c - a).x()) / det;
-        const double v = ((b - a).x() * r.y() - (b - a).y() * r.x()) / det;
-        if (u >= 0.0 && v >= 0.0 && u + v < 1.0)
-        {
-          scan.points.push_back(pose * Eigen::Vector3d(x, y, sigma * gauss(random)));
-          scan.petiole.push_back(0);
-        }
-      }
-  }
+  ForEachLatticePoint(leaf, step, 0.0, step, [&](double x, double y) {
+    scan.points.push_back(pose * Eigen::Vector3d(x, y, sigma * gauss(random)));
+    scan.petiole.push_back(0);
+  });
   for (double s = 0.5 * step; s <= petiole; s += step)
     for (int j = 0; j < across; ++j)
     {
@@ -654,26 +662,10 @@ std::vector<Eigen::Vector3d> LineScans(
 {
   std::mt19937_64 random(7);
   std::normal_distribution<double> gauss(0.0, 1.0);
-  const auto& P = leaf.blade.points;
   std::vector<Eigen::Vector3d> points;
   for (double phase : phases)
-    for (const auto& t : leaf.blade.triangles)
-    {
-      const Eigen::Vector2d a = P[t[0]], b = P[t[1]], c = P[t[2]];
-      const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-      if (!(std::abs(det) > 0.0))
-        continue;
-      const Eigen::Vector2d lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
-      for (double x = (std::ceil(lo.x() / step - phase) + phase) * step; x < hi.x(); x += step)
-        for (double y = std::ceil(lo.y() / across) * across; y < hi.y(); y += across)
-        {
-          const Eigen::Vector2d r = Eigen::Vector2d(x, y) - a;
-          const double u = (r.x() * (c - a).y() - r.y() * (c - a).x()) / det;
-          const double v = ((b - a).x() * r.y() - (b - a).y() * r.x()) / det;
-          if (u >= 0.0 && v >= 0.0 && u + v < 1.0)
-            points.emplace_back(x, y, sigma * gauss(random));
-        }
-    }
+    ForEachLatticePoint(
+      leaf, step, phase, across, [&](double x, double y) { points.emplace_back(x, y, sigma * gauss(random)); });
   return points;
 }
 
