@@ -36,4 +36,23 @@ FittedPlane FitPlane(const std::vector<Eigen::Vector3d>& points)
   return plane;
 }
 
+bool FitCircle(const std::vector<Eigen::Vector2d>& points, Eigen::Vector3d& circle)
+{
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector2d& p : points)
+  {
+    const double x = p.x(), y = p.y();
+    const Eigen::Vector3d row(x, y, 1.0);
+    ata += row * row.transpose();
+    atb -= row * (x * x + y * y);
+  }
+  const Eigen::Vector3d s = ata.ldlt().solve(atb);
+  const double a = -s[0] / 2, b = -s[1] / 2, r2 = a * a + b * b - s[2];
+  if (!s.allFinite() || !(r2 > 0.0))
+    return false;
+  circle = Eigen::Vector3d(a, b, std::sqrt(r2));
+  return true;
+}
+
 } // namespace plantmorph

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The least-squares plane of a point set: what a leaf's mesher and the venation filter use to find the plane a
-// curved or tilted blade lies in. Plain C++17 (Eigen), no VTK.
+// curved or tilted blade lies in; and the algebraic circle through points in a plane, which the tree fit and the
+// segmentation fit across a stem. Plain C++17 (Eigen), no VTK.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,5 +25,10 @@ struct FittedPlane
 /// The plane through the points' centroid whose normal is the eigenvector of their covariance with the smallest
 /// eigenvalue (least squares of the distances to the plane). At least one point.
 FittedPlane FitPlane(const std::vector<Eigen::Vector3d>& points);
+
+/// Kasa's algebraic circle fit of points in a plane (x^2 + y^2 + D x + E y + F = 0, linear least squares):
+/// circle = (centre x, centre y, radius). False when the solution is not finite or gives no positive squared radius;
+/// points that determine no circle (on a line) may still give one of any size: callers judge the fit by its residuals.
+bool FitCircle(const std::vector<Eigen::Vector2d>& points, Eigen::Vector3d& circle);
 
 } // namespace plantmorph

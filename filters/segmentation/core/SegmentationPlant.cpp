@@ -6,6 +6,7 @@
 #include "PointGrid.h"
 
 #include <plantmorph/MathConstants.h>
+#include <plantmorph/PlaneFit.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -444,24 +445,15 @@ constexpr double ThickWoodSlice = 8.0;
 /// Points kept on a thick cylinder's surface lie within this many times the range noise of it (or a spacing).
 constexpr double ThickWoodBand = 3.0;
 
-/// A circle through points given in a plane (u, v): centre and radius by the algebraic fit (Kasa: u^2 + v^2 =
-/// 2 a u + 2 b v + c, linear); false when the points determine none.
+/// A circle through points given in a plane (u, v): centre and radius by the algebraic fit (FitCircle); false when
+/// the points determine none.
 bool FitCircle(const std::vector<Eigen::Vector2d>& q, Eigen::Vector2d& centre, double& radius)
 {
-  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d atb = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector2d& x : q)
-  {
-    const Eigen::Vector3d row(2.0 * x[0], 2.0 * x[1], 1.0);
-    ata += row * row.transpose();
-    atb += row * x.squaredNorm();
-  }
-  const Eigen::Vector3d abc = ata.ldlt().solve(atb);
-  centre = abc.head<2>();
-  const double squared = abc[2] + centre.squaredNorm();
-  if (!std::isfinite(squared) || squared <= 0.0)
+  Eigen::Vector3d circle;
+  if (!plantmorph::FitCircle(q, circle))
     return false;
-  radius = std::sqrt(squared);
+  centre = circle.head<2>();
+  radius = circle[2];
   return true;
 }
 

@@ -2,6 +2,8 @@
 // Step 4 of the tree fit (TreeFit.h): robust cylinders along the skeleton's segments.
 #include "TreeFitInternal.h"
 
+#include <plantmorph/PlaneFit.h>
+
 #include <plantmorph/statistics/Median.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -26,21 +28,10 @@ void Frame(const Eigen::Vector3d& axis, Eigen::Vector3d& u, Eigen::Vector3d& v)
 bool CircleFit(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
   const Eigen::Vector3d& v, Eigen::Vector3d& circle)
 {
-  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d atb = Eigen::Vector3d::Zero();
-  for (const auto& p : q)
-  {
-    const double x = (p - c).dot(u), y = (p - c).dot(v);
-    const Eigen::Vector3d row(x, y, 1.0);
-    ata += row * row.transpose();
-    atb -= row * (x * x + y * y);
-  }
-  const Eigen::Vector3d s = ata.ldlt().solve(atb);
-  const double a = -s[0] / 2, b = -s[1] / 2, r2 = a * a + b * b - s[2];
-  if (!s.allFinite() || !(r2 > 0.0))
-    return false;
-  circle = Eigen::Vector3d(a, b, std::sqrt(r2));
-  return true;
+  std::vector<Eigen::Vector2d> plane(q.size());
+  for (std::size_t i = 0; i < q.size(); ++i)
+    plane[i] = Eigen::Vector2d((q[i] - c).dot(u), (q[i] - c).dot(v));
+  return FitCircle(plane, circle);
 }
 
 namespace

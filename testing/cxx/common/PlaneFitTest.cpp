@@ -60,4 +60,20 @@ TEST(PlaneFit, NormalTurnedUpAndDeviationOfABump)
   EXPECT_GT(plane.maxDeviation, 0.5); // the bump stands out of the plane the other 27 points pull flat
   EXPECT_LT(plane.maxDeviation, 0.7);
 }
+// Points on a quarter of a circle give its centre and radius back: the algebraic fit is exact on exact points.
+TEST(PlaneFit, CircleFromAQuarterArc)
+{
+  std::vector<Eigen::Vector2d> arc;
+  for (int k = 0; k <= 20; ++k)
+  {
+    const double angle = 0.3 + 0.5 * std::acos(-1.0) * k / 20.0;
+    arc.emplace_back(2.0 + 3.0 * std::cos(angle), -1.0 + 3.0 * std::sin(angle));
+  }
+  Eigen::Vector3d circle;
+  ASSERT_TRUE(FitCircle(arc, circle));
+  EXPECT_NEAR(circle.x(), 2.0, 1e-9);
+  EXPECT_NEAR(circle.y(), -1.0, 1e-9);
+  EXPECT_NEAR(circle.z(), 3.0, 1e-9);
+}
+
 } // namespace plantmorph
