@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -33,6 +34,43 @@ struct Cubes
   std::vector<Cell> cells;
   std::vector<int> offsets, members;
 
+  /// Sorts (cube, id) pairs, all different, into the one order: by a radix sort on the cube's offsets from the
+  /// lowest (lexicographic when packed axis after axis) with the id below them when they fit in 32 bits, else by
+  /// comparisons.
+  static void SortCubes(const ParallelFor& parallel, std::vector<std::pair<Cell, int>>& keyed)
+  {
+    if (keyed.empty())
+      return;
+    Cell lo = keyed.front().first, hi = lo;
+    for (const auto& item : keyed)
+      for (int a = 0; a < 3; ++a)
+      {
+        lo[a] = std::min(lo[a], item.first[a]);
+        hi[a] = std::max(hi[a], item.first[a]);
+      }
+    int bits[3] = { 0, 0, 0 };
+    for (int a = 0; a < 3; ++a)
+      while (bits[a] < 40 && (std::uint64_t(hi[a] - lo[a]) >> bits[a]) != 0)
+        ++bits[a];
+    const int total = bits[0] + bits[1] + bits[2];
+    if (total > 32)
+    {
+      SortInParallel(parallel, keyed, std::less<std::pair<Cell, int>>());
+      return;
+    }
+    std::vector<std::uint64_t> packed(keyed.size());
+    ForEachIndex(parallel, keyed.size(), [&](std::size_t i) {
+      const Cell& c = keyed[i].first;
+      const std::uint64_t cube = (std::uint64_t(c[0] - lo[0]) << (bits[1] + bits[2])) |
+        (std::uint64_t(c[1] - lo[1]) << bits[2]) | std::uint64_t(c[2] - lo[2]);
+      packed[i] = cube << 32 | static_cast<std::uint32_t>(keyed[i].second);
+    });
+    SortKeysInParallel(parallel, packed, 32, 32 + total);
+    std::vector<std::pair<Cell, int>> sorted(keyed.size());
+    ForEachIndex(parallel, keyed.size(), [&](std::size_t i) { sorted[i] = keyed[packed[i] & 0xffffffffu]; });
+    keyed.swap(sorted);
+  }
+
   Cubes(const std::vector<Eigen::Vector3d>& points, double side, const ParallelFor& parallel)
   {
     std::vector<std::pair<Cell, int>> keyed(points.size());
@@ -42,8 +80,7 @@ struct Cubes
                      static_cast<std::int64_t>(std::floor(points[i].z() / side)) },
         static_cast<int>(i) };
     });
-    // (cube, id) pairs are all different: any sort gives the one order.
-    SortInParallel(parallel, keyed, std::less<std::pair<Cell, int>>());
+    SortCubes(parallel, keyed);
     this->members.resize(keyed.size());
     for (std::size_t i = 0; i < keyed.size(); ++i)
     {

@@ -34,12 +34,32 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell, co
   for (int a = 0; a < 3; ++a)
     this->Extent[a] = static_cast<int>(std::floor((hi[a] - lo[a]) / this->Cell)) + 1;
   std::vector<std::pair<Key, int>> keyed(points.size());
-  ForEachIndex(parallel, points.size(), [&](std::size_t i) {
-    const Eigen::Vector3i c = this->CellOf(points[i]);
-    keyed[i] = { this->KeyOf(c[0], c[1], c[2]), static_cast<int>(i) };
-  });
-  // (key, id) pairs are all different: any sort gives the one order.
-  SortInParallel(parallel, keyed, std::less<std::pair<Key, int>>());
+  const Key lastKey = this->KeyOf(this->Extent[0] - 1, this->Extent[1] - 1, this->Extent[2] - 1);
+  int keyBits = 0;
+  while (keyBits < 63 && (Key{ 1 } << keyBits) <= lastKey)
+    ++keyBits;
+  if (keyBits <= 32)
+  {
+    // Key above, index below: the radix sort on the key's bits gives the (key, index) order in linear time.
+    std::vector<std::uint64_t> packed(points.size());
+    ForEachIndex(parallel, points.size(), [&](std::size_t i) {
+      const Eigen::Vector3i c = this->CellOf(points[i]);
+      packed[i] = static_cast<std::uint64_t>(this->KeyOf(c[0], c[1], c[2])) << 32 | i;
+    });
+    SortKeysInParallel(parallel, packed, 32, 32 + keyBits);
+    ForEachIndex(parallel, points.size(), [&](std::size_t i) {
+      keyed[i] = { static_cast<Key>(packed[i] >> 32), static_cast<int>(packed[i] & 0xffffffffu) };
+    });
+  }
+  else
+  {
+    ForEachIndex(parallel, points.size(), [&](std::size_t i) {
+      const Eigen::Vector3i c = this->CellOf(points[i]);
+      keyed[i] = { this->KeyOf(c[0], c[1], c[2]), static_cast<int>(i) };
+    });
+    // (key, id) pairs are all different: any sort gives the one order.
+    SortInParallel(parallel, keyed, std::less<std::pair<Key, int>>());
+  }
   this->Order.resize(keyed.size());
   this->Sorted.resize(keyed.size());
   ForEachIndex(parallel, keyed.size(), [&](std::size_t i) {
@@ -193,15 +213,16 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
         {
           if (l < 0 || l >= this->Extent[2])
             continue;
-          const std::pair<int, int>* range = this->Range(i, j, l);
-          if (!range)
-            continue;
+          // The box test first: it is a few operations, the cell's lookup a hashed memory access.
           if (r > 0)
           {
             const double box = boxDistance2(i, j, l);
             if (box > reach2 || (static_cast<int>(best.size()) == k && box > best.front().first))
               continue;
           }
+          const std::pair<int, int>* range = this->Range(i, j, l);
+          if (!range)
+            continue;
           for (int o = range->first; o < range->second; ++o)
           {
             const int id = this->Order[o];

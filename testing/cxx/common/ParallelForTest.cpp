@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The parallel-loop hook's helpers (common/include/plantmorph/ParallelFor.h): SortInParallel gives std::sort's
-// order on threads, whatever the number of pieces and however the pieces are handed out.
+// order on threads, whatever the number of pieces and however the pieces are handed out; SortKeysInParallel is
+// std::stable_sort by the chosen bits.
 #include <plantmorph/ParallelFor.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <random>
 #include <thread>
@@ -51,6 +53,35 @@ TEST(ParallelFor, SortInParallelIsStdSort)
     SortInParallel(SerialFor, serial, std::less<std::pair<int, std::size_t>>());
     EXPECT_EQ(serial, expected);
   }
+}
+
+TEST(ParallelFor, SortKeysInParallelIsStableSortByTheBits)
+{
+  // Random 64-bit keys (every bit set at random, so the bits outside [low, high) must not move anything), sorted
+  // by bit ranges that start and end inside a pass's 11 bits and across several passes, on threads and serially.
+  std::mt19937_64 random(7);
+  for (std::size_t n : { std::size_t{ 0 }, std::size_t{ 1 }, std::size_t{ 1000 }, std::size_t{ 300007 } })
+  {
+    std::vector<std::uint64_t> keys(n);
+    for (std::uint64_t& key : keys)
+      key = random();
+    for (const auto& [low, high] : { std::pair<int, int>{ 0, 64 }, { 32, 40 }, { 32, 56 }, { 5, 7 }, { 13, 50 } })
+    {
+      const std::uint64_t mask = high - low == 64 ? ~std::uint64_t(0) : ((std::uint64_t(1) << (high - low)) - 1);
+      std::vector<std::uint64_t> expected = keys;
+      std::stable_sort(expected.begin(), expected.end(),
+        [&](std::uint64_t a, std::uint64_t b) { return ((a >> low) & mask) < ((b >> low) & mask); });
+      std::vector<std::uint64_t> threaded = keys, serial = keys;
+      SortKeysInParallel(ThreadPerTask(), threaded, low, high);
+      SortKeysInParallel(SerialFor, serial, low, high);
+      EXPECT_EQ(threaded, expected) << n << " keys, bits " << low << " to " << high;
+      EXPECT_EQ(serial, expected) << n << " keys, bits " << low << " to " << high;
+    }
+  }
+  // Keys that share their digits in a pass (nothing to move there) still come out sorted.
+  std::vector<std::uint64_t> keys = { 5ull << 40 | 3, 5ull << 40 | 1, 4ull << 40 | 2 };
+  SortKeysInParallel(SerialFor, keys, 0, 64);
+  EXPECT_EQ(keys, (std::vector<std::uint64_t>{ 4ull << 40 | 2, 5ull << 40 | 1, 5ull << 40 | 3 }));
 }
 
 } // namespace
