@@ -263,8 +263,10 @@ void ScanUnsampled(const std::vector<Eigen::Vector3d>& points, const std::vector
     const Eigen::Vector3d q = f.frame.Local(points[i]);
     Eigen::Vector2d ts = f.sections.Intrinsic(q);
     Project(f.surface, q, spacing, ts);
-    const Eigen::Vector3d d = q - f.surface(ts.x(), ts.y());
-    result.fitDistance[i] = d.dot(f.surface.Normal(ts.x(), ts.y()));
+    Eigen::Vector3d x, normal;
+    f.surface.PointAndNormal(ts.x(), ts.y(), x, normal);
+    const Eigen::Vector3d d = q - x;
+    result.fitDistance[i] = d.dot(normal);
     result.intrinsic[i] = { ts.x(), ts.y() - f.outline.base };
     result.inlier[i] = d.norm() <= limit ? 1 : 0;
   });
@@ -280,8 +282,10 @@ void ScanArrays(const std::vector<Eigen::Vector3d>& points, const Fitted& f, dou
   {
     const int i = f.kept[k];
     const Eigen::Vector2d& ts = f.ts[k];
-    const Eigen::Vector3d d = f.local[k] - f.surface(ts.x(), ts.y());
-    result.fitDistance[i] = d.dot(f.surface.Normal(ts.x(), ts.y()));
+    Eigen::Vector3d x, normal;
+    f.surface.PointAndNormal(ts.x(), ts.y(), x, normal);
+    const Eigen::Vector3d d = f.local[k] - x;
+    result.fitDistance[i] = d.dot(normal);
     result.intrinsic[i] = { ts.x(), ts.y() - f.outline.base };
     result.inlier[i] = f.residual[k] <= limit ? 1 : 0;
     if (result.inlier[i])

@@ -257,11 +257,18 @@ void TensorSurface::Evaluate(double t, double s, Eigen::Vector3d& x, Eigen::Vect
 
 Eigen::Vector3d TensorSurface::Normal(double t, double s) const
 {
+  Eigen::Vector3d x, normal;
+  this->PointAndNormal(t, s, x, normal);
+  return normal;
+}
+
+void TensorSurface::PointAndNormal(double t, double s, Eigen::Vector3d& x, Eigen::Vector3d& normal) const
+{
   Eigen::Vector3d dt, ds;
-  this->Derivatives(t, s, dt, ds);
+  this->Evaluate(t, s, x, dt, ds);
   const Eigen::Vector3d n = dt.cross(ds);
   const double norm = n.norm();
-  return norm > 0.0 ? Eigen::Vector3d(n / norm) : Eigen::Vector3d::UnitZ();
+  normal = norm > 0.0 ? Eigen::Vector3d(n / norm) : Eigen::Vector3d::UnitZ();
 }
 
 } // namespace plantmorph

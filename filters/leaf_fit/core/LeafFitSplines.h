@@ -62,6 +62,8 @@ public:
   void Evaluate(double t, double s, Eigen::Vector3d& x, Eigen::Vector3d& dt, Eigen::Vector3d& ds) const;
   /// Unit normal dS/dt x dS/ds (the upper side of a blade laid out with t to the right and s up).
   Eigen::Vector3d Normal(double t, double s) const;
+  /// S and the unit normal at (t, s) from one evaluation of the bases (the same numbers as operator() and Normal).
+  void PointAndNormal(double t, double s, Eigen::Vector3d& x, Eigen::Vector3d& normal) const;
 
 private:
   Eigen::Vector2d T{ 0.0, 1.0 }, S{ 0.0, 1.0 };
