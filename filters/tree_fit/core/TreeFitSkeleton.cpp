@@ -308,7 +308,7 @@ bool IsSheet(const Wood& wood, const Node& node, const std::vector<unsigned char
 /// are no sheets (72 spacings of a tube, longer than a leaf's strips run) is wood however many sheets hang from it:
 /// a branch reached across its hidden stretch through a leaf labelled wood leaves its fork as a sheet, and the
 /// leaves on it can outweigh it (mono-58 behind the segmentation: a lateral's outer 2.7 m with its twigs, 48 % of
-/// its subtree's points, went with 30,000 leaf points, or stayed, on a few dozen labels elsewhere). The sheets
+/// its subtree's points, went back with the 30,000 points of the leaf sheets on it, or stayed, on a few dozen labels elsewhere). The sheets
 /// hanging from it are judged at their own forks.
 void ReturnLeafSheets(
   const Wood& wood, std::vector<Node>& nodes, std::vector<int>& nodeOf, std::vector<unsigned char>& fitted)
