@@ -20,8 +20,12 @@ Truth and how it is compared (benchmarks/README.md, "tree_fit_accuracy"):
     PlantSegmentationFilter with WoodArray its Organ ("segmented": what a user without labels runs). Height is then
     compared with the top of the tree, leaves included (foresters' height), WoodHeight with the wood's.
 
+  * --physical: leaves of a broadleaf's size (0.15 m, 267 a twig: the 1-m leaves' area, so the crown keeps its leaf
+    area index, printed per tree) scanned from stations one tree height away, as a terrestrial scan of one tree is
+    set up; without it the leaves are the source's default, 1 m long on trees of 7-19 m: the stress case.
+
     pvpython tree_fit_accuracy.py --plugin build/lib/paraview-5.11/plugins/PlantMorph/PlantMorph.so [--quick]
-                                  [--leaves] [--json out.json] [--top-probe]
+                                  [--leaves | --physical] [--json out.json] [--top-probe] [--cache DIR]
 """
 import argparse
 import json
@@ -30,6 +34,8 @@ import os
 import time
 
 import numpy
+
+PHYSICAL_LEAF_LENGTH = 0.15  # m: a broadleaf's leaf (beech 5-10 cm, oak 7-14, lime 6-12, maple 8-15, plane 12-25)
 
 parser = argparse.ArgumentParser()
 parser.add_argument("--plugin", required=True)
@@ -42,9 +48,22 @@ parser.add_argument("--trees", default=None, help="comma-separated names: only t
 parser.add_argument("--top-probe", action="store_true", help="no fits: per tree, the highest return of scans of "
                     "its top by the benchmark's stations, a finer step, more stations, farther ones and a raised one "
                     "(why the scans' tops lie below the tree's; with --leaves)")
+parser.add_argument("--leaf-length", type=float, default=None, help="with --leaves: LeafScale, the leaves' length in "
+                    "metres (default the source's, 1 m: the stress case)")
+parser.add_argument("--leaf-count", type=int, default=None, help="with --leaves: LeafCount, leaves per twig (default "
+                    "the source's, 6)")
+parser.add_argument("--stations", choices=["benchmark", "forester"], default="benchmark", help="benchmark: four "
+                    "stations 1.2 H away (at least 8 m); forester: four stations H away, as a terrestrial scan of one "
+                    "tree is set up (beams 1.2 cm apart at the tree in both)")
+parser.add_argument("--physical", action="store_true", help="leaves of a broadleaf's size: --leaves --leaf-length "
+                    "0.15 --leaf-count 267 (the 1-m leaves' area per twig) --stations forester")
 parser.add_argument("--cache", default=None, help="folder: each scan (and its segmentation) is written there once "
                     "and read back on later runs, so that two versions of the fit see the same points")
 arguments = parser.parse_args()
+if arguments.physical:
+    arguments.leaves, arguments.stations = True, "forester"
+    arguments.leaf_length = arguments.leaf_length or PHYSICAL_LEAF_LENGTH
+    arguments.leaf_count = arguments.leaf_count or round(6 * (1.0 / arguments.leaf_length) ** 2)
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
@@ -231,17 +250,29 @@ def match_first_order(truth, fitted):
 
 
 def scan(tree, truth):
+    """Four stations around the tree, 1.5 above its base, looking at its middle: 1.2 H away (at least 8 m; the
+    benchmark's), or H away (--stations forester: a terrestrial scan of one tree, the stations about a tree height
+    out so that the scanner sees from the base to the top); beams about 1.2 cm apart at the tree in both."""
     height = truth["tree_height"]
-    distance = max(8.0, 1.2 * height)
+    distance = max(8.0, 1.2 * height) if arguments.stations == "benchmark" else height
     centre = [0.0, truth["low"] + 0.5 * height, 0.0]
     positions = []
     for k in range(4):
         a = 2 * math.pi * (k + 0.125) / 4
         positions += [distance * math.cos(a), truth["low"] + 1.5, distance * math.sin(a)]
     field = 2 * math.degrees(math.atan(0.6 * height / distance)) + 10
+    horizontal = vertical = field
+    if arguments.stations == "forester":  # near stations: the crown's near side and top need a wider field
+        bounds = tree.GetDataInformation().GetBounds()
+        crown = max(abs(v) for v in (bounds[0], bounds[1], bounds[4], bounds[5]))
+        near = max(distance - crown, 0.3 * distance)
+        horizontal = min(170.0, 2 * math.degrees(math.atan((crown + 0.5) / near)) + 4)
+        look = math.atan2(centre[1] - truth["low"] - 1.5, distance)
+        corners = [math.atan2(y - 1.5, x) for y in (0.0, height) for x in (near, distance + crown)]
+        vertical = min(170.0, 2 * math.degrees(max(abs(c - look) for c in corners)) + 6)
     step = math.degrees(0.012 / distance)  # about 1.2 cm between beams at the tree
     return VirtualScanner(Input=tree, ScannerType="Terrestrial", Positions=positions, LookAt=centre, Up=[0, 1, 0],
-                          HorizontalFieldOfView=field, VerticalFieldOfView=field, AngularStep=step,
+                          HorizontalFieldOfView=horizontal, VerticalFieldOfView=vertical, AngularStep=step,
                           RangeNoise=arguments.noise, Seed=1, MaximumBeams=4e8)
 
 
@@ -278,6 +309,40 @@ def top_probe(name, surface, truth):
     Delete(probe)
 
 
+def hull_area(xy):
+    """Area of the convex hull of 2-D points (monotone chain)."""
+    pts = sorted(set(map(tuple, numpy.round(xy, 4))))
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    h = lower[:-1] + upper[:-1]
+    return 0.5 * abs(sum(h[i][0] * h[(i + 1) % len(h)][1] - h[(i + 1) % len(h)][0] * h[i][1] for i in range(len(h))))
+
+
+def leaf_area_index(tree):
+    """The crown's LAI: the leaves' one-sided area over the area of the tree's outline seen from above (the convex
+    hull of its wood and leaves projected on the ground)."""
+    leaves = servermanager.Fetch(tree, idx=2)
+    triangles = vtkTriangleFilter()
+    triangles.SetInputData(leaves)
+    mass = vtkMassProperties()
+    mass.SetInputConnection(triangles.GetOutputPort())
+    mass.Update()
+    points = numpy.vstack([vtk_to_numpy(leaves.GetPoints().GetData()),
+                           vtk_to_numpy(servermanager.Fetch(tree, idx=0).GetPoints().GetData())])
+    ground = numpy.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # the plane normal to UP (+Y)
+    return mass.GetSurfaceArea() / hull_area(points @ ground.T)
+
+
 def build_tree(properties):
     """TreeFromSketchSource from the template properties, or from strokes (key _strokes) in Strokes mode."""
     properties = dict(properties)
@@ -285,6 +350,10 @@ def build_tree(properties):
     if strokes is not None:
         lines = [PolyLineSource(Points=points) for points in strokes]
         properties["Strokes"] = AppendGeometry(Input=lines)  # the trunk first
+    if arguments.leaves and arguments.leaf_length is not None:
+        properties["LeafScale"] = arguments.leaf_length
+    if arguments.leaves and arguments.leaf_count is not None:
+        properties["LeafCount"] = arguments.leaf_count
     return TreeFromSketchSource(Preset="Custom", Leaves=1 if arguments.leaves else 0, Sides=32,
                                 Joints="Seated tubes", **properties)
 
@@ -371,6 +440,9 @@ for name, properties in TREES:
         surface = AppendGeometry(Input=[tree, OutputPort(tree, 2)])
         top = max(tree.GetDataInformation().GetBounds()[3], OutputPort(tree, 2).GetDataInformation().GetBounds()[3])
         truth["tree_height"] = top - truth["low"]
+        truth["lai"] = leaf_area_index(tree)
+        print(f"{name:12s} leaves {arguments.leaf_length or 1.0:.2f} m x {arguments.leaf_count or 6} per twig: crown "
+              f"LAI {truth['lai']:.2f} (one-sided leaf area over the crown's projected area)", flush=True)
     else:
         truth["tree_height"] = truth["height"]
     if arguments.top_probe:
@@ -399,6 +471,7 @@ for name, properties in TREES:
             print(f"  segmentation {time.perf_counter() - start:.2f} s wall, {time.process_time() - cpu:.2f} s CPU",
                   flush=True)
         rows.append(evaluate(name, variant, fit, truth, cloud))
+        rows[-1]["lai"] = truth.get("lai")
         Delete(fit)
     if arguments.leaves and segmentation is not None:
         Delete(segmentation)

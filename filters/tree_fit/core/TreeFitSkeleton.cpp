@@ -27,7 +27,8 @@ constexpr int ParallelBins = 4;          // bins two chains that both go on must
 constexpr double SheetFlatness = 0.2;    // a node's smallest principal deviation under this share of its middle one...
 constexpr double SheetWidth = 1.0;       // ...which is at least this many spacings: a flat sheet (a leaf's strip)
 constexpr int SheetMinPoints = 10;       // points a node needs to be called a sheet
-constexpr double SheetShare = 0.5;       // share of a side chain's points in sheets that makes it leaves, not wood
+constexpr double SheetShare = 0.5;       // share of a side chain's points in sheets that makes it leaves, not wood...
+constexpr int TubeBins = 12;             // ...unless it holds a run of this many bins of tube (no sheet) nodes: wood
 
 int FindRoot(std::vector<int>& up, int a)
 {
@@ -303,7 +304,12 @@ bool IsSheet(const Wood& wood, const Node& node, const std::vector<unsigned char
 /// beside the twigs): at every fork, a child that leaves it as a flat sheet (IsSheet) and whose subtree has at least
 /// SheetShare of its points in sheets is returned to the leaves with everything it carries: its points get no node and are no wood. Without
 /// this each such sheet becomes a twig of its own, whose pipe-model radius adds volume and whose growth length
-/// widens the model radii of the branches carrying it.
+/// widens the model radii of the branches carrying it. A side chain that holds a run of TubeBins bins of nodes that
+/// are no sheets (72 spacings of a tube, longer than a leaf's strips run) is wood however many sheets hang from it:
+/// a branch reached across its hidden stretch through a leaf labelled wood leaves its fork as a sheet, and the
+/// leaves on it can outweigh it (mono-58 behind the segmentation: a lateral's outer 2.7 m with its twigs, 48 % of
+/// its subtree's points, went back with the 30,000 points of the leaf sheets on it, or stayed, on a few dozen labels elsewhere). The sheets
+/// hanging from it are judged at their own forks.
 void ReturnLeafSheets(
   const Wood& wood, std::vector<Node>& nodes, std::vector<int>& nodeOf, std::vector<unsigned char>& fitted)
 {
@@ -322,11 +328,21 @@ void ReturnLeafSheets(
       c = nodes[c].children.front();
     return flat[c] != 0;
   };
+  // Per node the run of tube nodes ending at it (bins; nodes too small to tell go on a run without adding to it),
+  // then per subtree the longest run in it.
+  std::vector<int> run(nodes.size(), 0);
+  for (std::size_t k = 0; k < nodes.size(); ++k) // parents first: lower bins, lower ids
+  {
+    const int up = nodes[k].parent >= 0 ? run[nodes[k].parent] : 0;
+    const bool small = nodes[k].points.size() < static_cast<std::size_t>(SheetMinPoints);
+    run[k] = flat[k] ? 0 : (small ? up : up + 1);
+  }
   for (std::size_t k = nodes.size(); k-- > 1;) // children have higher bins, hence higher ids
     if (nodes[k].parent >= 0)
     {
       sheet[nodes[k].parent] += sheet[k];
       all[nodes[k].parent] += all[k];
+      run[nodes[k].parent] = std::max(run[nodes[k].parent], run[k]);
     }
   for (std::size_t k = 0; k < nodes.size(); ++k) // parents first; removed nodes have no children left
   {
@@ -335,7 +351,7 @@ void ReturnLeafSheets(
     std::vector<int> keep;
     for (int c : nodes[k].children)
     {
-      if (!(sheet[c] >= SheetShare * all[c]) || !leavesAsSheet(c))
+      if (!(sheet[c] >= SheetShare * all[c]) || run[c] >= TubeBins || !leavesAsSheet(c))
       {
         keep.push_back(c);
         continue;

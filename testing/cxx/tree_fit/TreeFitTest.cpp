@@ -787,6 +787,62 @@ TEST(TreeFit, LeafSheetsLabelledWoodAreNoBranches)
   EXPECT_GT(woodKept, woodPoints * 9 / 10);
 }
 
+TEST(TreeFit, ABranchReachedThroughALeafLabelledWoodStaysWoodUnderItsLeaves)
+{
+  // A lateral (2 m at 45 degrees, 2 cm thick) whose wood from 0.5 to 0.8 m is not in the scan (leaves in front of
+  // it, or labelled leaf): too wide a gap to bridge (30 spacings). A leaf labelled wood, a flat blade from the trunk
+  // to the lateral beyond the gap, is the only path to the lateral's outer part, which carries twelve more such
+  // blades. The outer part leaves the trunk's level sets as a sheet and its subtree is more than half sheets: before,
+  // the whole of it (1.2 m of wood) went back to the leaves with the blades. It holds a tube of over 12 bins (72
+  // spacings): it is wood; the blades hanging from it still go back to the leaves at their own forks.
+  const Eigen::Vector3d base(0, 0, 1.0), axis = Tilted(45.0, 0.0);
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, { 0, 0, 2.8 }, 0.05 }, { base, base + 2.0 * axis, 0.02 } };
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> outer; // ids of the lateral's points beyond the gap
+  for (const Eigen::Vector3d& p : Scan(tree, 0.01, 0.0005))
+  {
+    const double t = (p - base).dot(axis);
+    const bool onLateral = (p - base - t * axis).norm() < 0.03 && t > 0.0;
+    if (onLateral && t > 0.5 && t < 0.8)
+      continue;
+    if (onLateral && t >= 0.8)
+      outer.push_back(static_cast<int>(points.size()));
+    points.push_back(p);
+  }
+  const std::size_t wood = points.size();
+  const Eigen::Vector3d contact = base + 0.9 * axis;
+  const auto bridge = Sheet(Eigen::Vector3d(0.05, 0, contact.z()), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
+    contact.x() - 0.065, 0.08, 0.01, 0.0005, 21);
+  points.insert(points.end(), bridge.begin(), bridge.end());
+  for (int k = 0; k < 12; ++k)
+  {
+    const double side = k % 2 == 0 ? 1.0 : -1.0;
+    const Eigen::Vector3d out(0, side, -0.3), at = base + (1.05 + 0.075 * k) * axis + 0.02 * out.normalized();
+    const auto blade = Sheet(at, out, out.cross(axis), 0.25, 0.12, 0.01, 0.0005, 31 + static_cast<std::uint64_t>(k));
+    points.insert(points.end(), blade.begin(), blade.end());
+  }
+  const std::size_t sheets = points.size() - wood;
+  ASSERT_GT(sheets, outer.size() + bridge.size()) << "the outer part's subtree must be mostly sheets";
+  const TreeFitResult r = FitTree(points, std::vector<int>(points.size(), 1), TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  std::size_t outerKept = 0, bladeWood = 0;
+  for (int i : outer)
+    outerKept += r.wood[static_cast<std::size_t>(i)];
+  for (std::size_t i = wood + bridge.size(); i < points.size(); ++i)
+    bladeWood += r.wood[i];
+  EXPECT_GT(outerKept, outer.size() * 9 / 10) << "the lateral's outer part went back to the leaves";
+  EXPECT_LT(bladeWood, (points.size() - wood - bridge.size()) / 3); // those in the twig's level sets stay with it
+  double carried = 0; // the length of the cylinders along the outer part (1.1 m beyond the blade's contact)
+  for (const TreeCylinder& c : r.cylinders)
+  {
+    const Eigen::Vector3d middle = 0.5 * (c.start + c.end);
+    const double t = (middle - base).dot(axis);
+    if (t > 0.9 && t < 2.0 && (middle - base - t * axis).norm() < 0.05)
+      carried += c.length;
+  }
+  EXPECT_GT(carried, 0.8);
+}
+
 TEST(TreeFit, PipeModelSharesTheParentsAreaAmongEqualChildren)
 {
   // A measured stem forks into two equal thin children: their modelled radii follow the stem's growth-length model
