@@ -40,9 +40,12 @@
 //     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at
 //     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base
 //     nearest along the region. A part under a quarter of the plant's median part (a leaf's tip or rim cut off by
-//     a fold or crease) that touches other leaf parts joins the one it shares the most links with, smallest first;
-//     then a larger part joins the touching part it shares the most links with among those continuing its sheet
-//     (planes within NormalAngle, both together off their common plane by under r): a leaf cut in two by a crease.
+//     a fold or crease) that touches other leaf parts joins the one it shares the most links with among those it is
+//     a piece of (their seam not under 0.8 of each one's extent along it, or it lies within r of that part's plane,
+//     or the two continue one sheet), smallest first; one that is a piece of none is a leaf seen small beside
+//     another and gets no instance (leaf, LeafId -1); then a larger part joins the touching part it shares the most
+//     links with among those continuing its sheet (planes within NormalAngle, both together off their common plane
+//     by under r): a leaf cut in two by a crease.
 //     Parts that do not touch join when they lie in one plane (planes within half of NormalAngle, both off their
 //     common plane by under r / 4) within 4r of each other, nearest first: a leaf seen in pieces through a gap in
 //     the scan (the shadow of a leaf or twig in front of it). Then a part whose normals form two groups more than

@@ -185,6 +185,45 @@ bool SeamIsShort(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gr
 }
 } // namespace
 
+bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
+  const std::vector<int>& partOf, int a, int b, const std::vector<int>& idsA, const std::vector<int>& idsB)
+{
+  std::vector<int> seam;
+  const auto linkedTo = [&](int j, int other) {
+    for (std::size_t e = graph.offsets[static_cast<std::size_t>(j)]; e < graph.offsets[static_cast<std::size_t>(j) + 1];
+         ++e)
+    {
+      const auto q = static_cast<std::size_t>(graph.neighbours[e]);
+      if (q < partOf.size() && partOf[q] == other)
+        return true;
+    }
+    return false;
+  };
+  for (int j : idsA)
+    if (linkedTo(j, b))
+      seam.push_back(j);
+  for (int j : idsB)
+    if (linkedTo(j, a))
+      seam.push_back(j);
+  if (seam.size() < SeamPoints)
+    return true; // a touch at a point or two: no crease runs there
+  Eigen::Vector3d mean;
+  const Eigen::Vector3d line = MainAxis(Scatter(points, seam, mean));
+  std::vector<double> along;
+  for (int j : seam)
+    along.push_back((points[static_cast<std::size_t>(j)] - mean).dot(line));
+  const double seamSpan = Span(along);
+  for (const std::vector<int>* ids : { &idsA, &idsB })
+  {
+    along.clear();
+    for (int j : *ids)
+      along.push_back((points[static_cast<std::size_t>(j)] - mean).dot(line));
+    if (!(seamSpan < SeamFraction * Span(along)))
+      return false;
+  }
+  return true;
+}
+
 std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts)
 {

@@ -949,10 +949,35 @@ bool OneSheet(const PartMoments& a, const PartMoments& b, double cosine, double 
   return std::abs(na.dot(nb)) >= cosine && spread < thickness;
 }
 
+/// Whether the points of part `piece` lie in the best plane of part `leaf`: their root mean square distance off it
+/// under `thickness` (from the moments alone; a narrow piece's own plane is ill-defined about its length).
+bool InPlaneOf(const PartMoments& piece, const PartMoments& leaf, double thickness)
+{
+  double spread = 0.0;
+  const Eigen::Vector3d n = leaf.Normal(spread);
+  const double offset = (piece.mean - leaf.mean).dot(n);
+  return offset * offset + n.dot(piece.scatter * n) / piece.count < thickness * thickness;
+}
+
+/// Whether a small part `k` may join the touching part `part` as a piece of it: the crease or gap that cut it off
+/// runs across it (the seam between them not short, ShortSeamBetween), or it lies in that part's plane, or the two
+/// continue one sheet. A part that touches another over a short seam at an angle is a leaf of its own, seen small.
+bool PieceOf(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const std::vector<int>& partOf,
+  const std::vector<std::vector<int>>& parts, const std::vector<PartMoments>& moments, std::size_t k, int part,
+  double cosine, double thickness)
+{
+  const auto p = static_cast<std::size_t>(part);
+  return InPlaneOf(moments[k], moments[p], thickness) || OneSheet(moments[k], moments[p], cosine, thickness) ||
+    !ShortSeamBetween(points, graph, partOf, static_cast<int>(k), part, parts[k], parts[p]);
+}
+
 /// Pieces of one leaf join it. A leaf part touching other leaf parts over the link graph joins the one it shares the
 /// most links with, smallest part first (so a chain of pieces gathers into its leaf), in two passes:
 ///  - parts much smaller than the plant's typical leaf (under `fraction` of the median part of at least
-///    MinimumLeafPoints points: a tip or rim cut off by a fold or crease) join whatever part they touch most;
+///    MinimumLeafPoints points: a tip or rim cut off by a fold or crease) join the part they touch most among those
+///    they are a piece of (PieceOf). One that touches parts but is a piece of none is a leaf seen small beside
+///    another (its base hidden or in another part): it joins nothing and gets no instance (its points stay leaf,
+///    LeafId -1), since alone it is mostly a fragment of a leaf that the instances do not match;
 ///  - then larger parts join only a touching part that continues the same sheet (OneSheet): a leaf cut in two by a
 ///    crease, a vein, a line of missing points or a turn of the normals, whose halves are each as large as a leaf.
 /// Parts touching no other part (a leaf seen in parts behind another) stay apart.
@@ -1002,8 +1027,15 @@ void JoinPieces(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
       int best = -1; // the most links; ties to the lowest part (deterministic)
       for (const auto& [part, count] : links)
         if ((best < 0 || count > links[best]) &&
-          (pass == 0 || OneSheet(moments[k], moments[static_cast<std::size_t>(part)], cosine, thickness)))
+          (pass == 0 ? PieceOf(points, graph, partOf, parts, moments, k, part, cosine, thickness)
+                     : OneSheet(moments[k], moments[static_cast<std::size_t>(part)], cosine, thickness)))
           best = part;
+      if (best < 0 && pass == 0 && !links.empty()) // a small leaf beside others: no instance
+      {
+        for (int j : parts[k])
+          partOf[static_cast<std::size_t>(j)] = -1;
+        parts[k].clear();
+      }
       if (best < 0)
         continue;
       std::vector<int>& into = parts[static_cast<std::size_t>(best)];

@@ -87,6 +87,14 @@ inline constexpr double SeamFraction = 0.8;
 std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts);
 
+/// Whether two touching parts `a` and `b` (their points idsA and idsB; partOf maps a point to its part, -1 or short
+/// of the point elsewhere) meet over a short seam: the points of either linked to the other, along their own line,
+/// shorter than SeamFraction of each part's extent along that line (or fewer than three such points). A crease
+/// that cut a piece off its leaf runs across the piece from margin to margin; a leaf touching another meets it
+/// over part of its margin.
+bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
+  const std::vector<int>& partOf, int a, int b, const std::vector<int>& idsA, const std::vector<int>& idsB);
+
 /// The whole segmentation of one plant; "" or the reason it cannot be segmented.
 std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const SegmentationParameters& p,
   const ParallelFor& parallel, PlantLabels& labels);
