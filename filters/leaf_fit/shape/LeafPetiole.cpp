@@ -3,6 +3,7 @@
 #include "LeafShape.h"
 #include "PointGrid.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -267,6 +268,8 @@ struct StalkAxis
   Eigen::Vector3d origin = Eigen::Vector3d::Zero(), towardsBlade = Eigen::Vector3d::Zero();
   double half = 0.0; ///< the stalk's half-width about the axis
   double gap = 0.0;  ///< the largest gap between the stalk's own samples along the axis (a line scan's lines)
+  /// From the line through the bins' centroids to the stalk's own axis (zero when its cross-section draws no arc).
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
 };
 
 /// The largest gap between consecutive values of `along` (sorted here).
@@ -277,6 +280,55 @@ double LargestGap(std::vector<double>& along)
   for (std::size_t k = 1; k < along.size(); ++k)
     gap = std::max(gap, along[k] - along[k - 1]);
   return gap;
+}
+
+/// A scanner sees one side of a stalk: its points' centroids lie on that side, up to its radius off its axis
+/// towards the scanner, so the line through them meets the blade's plane that offset over the tangent of the stalk's
+/// angle to the blade out on the stalk. The stalk's cross-section (`lateral`: each point's offset from its bin's
+/// centroid, perpendicular to `u`) gives the offset to the axis: across it (its widest direction) the seen side
+/// spans the stalk's diameter whatever the view (the radius: half its 2-98 % extent); in depth, a parabola through
+/// the section gives the crest (the depth in the middle), and the ends bend back towards the axis, which lies a
+/// radius behind the crest. Zero when the radius is more than twice the section's half-width about the centroids'
+/// line plus a spacing (not a stalk's section) or the axis would lie more than a radius from that line.
+Eigen::Vector3d AxisOffset(
+  const std::vector<Eigen::Vector3d>& lateral, const Eigen::Vector3d& u, double half, double spacing)
+{
+  if (lateral.size() < 10)
+    return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d e1 = u.unitOrthogonal(), e2 = u.cross(e1);
+  std::vector<Eigen::Vector2d> flat;
+  for (const auto& r : lateral)
+    flat.emplace_back(r.dot(e1), r.dot(e2));
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& q : flat)
+    mean += q;
+  mean /= static_cast<double>(flat.size());
+  Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
+  for (const auto& q : flat)
+    C += (q - mean) * (q - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(C);
+  const Eigen::Vector2d ed = eig.eigenvectors().col(0), ea = eig.eigenvectors().col(1);
+  std::vector<double> across;
+  Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d B = Eigen::Vector2d::Zero();
+  for (const auto& q : flat)
+  {
+    const double x = (q - mean).dot(ea), y = (q - mean).dot(ed);
+    across.push_back(x);
+    const Eigen::Vector2d f(1.0, x * x);
+    A += f * f.transpose();
+    B += f * y;
+  }
+  const Eigen::Vector2d c = A.ldlt().solve(B);
+  std::sort(across.begin(), across.end());
+  const std::size_t lo = static_cast<std::size_t>(0.02 * static_cast<double>(across.size() - 1));
+  const std::size_t hi = static_cast<std::size_t>(0.98 * static_cast<double>(across.size() - 1));
+  const double R = 0.5 * (across[hi] - across[lo]);
+  const double depth = c.x() + (c.y() > 0.0 ? R : -R);
+  const Eigen::Vector2d centre = mean + 0.5 * (across[hi] + across[lo]) * ea + depth * ed;
+  if (!c.allFinite() || !(R > 0.0 && R <= 2.0 * half + spacing) || !(centre.norm() <= R))
+    return Eigen::Vector3d::Zero();
+  return centre.x() * e1 + centre.y() * e2;
 }
 
 StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail, const Bins& b, std::size_t start,
@@ -306,12 +358,21 @@ StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& t
     return (r - r.dot(u) * u).norm();
   };
   std::vector<double> own, along;
+  std::vector<Eigen::Vector3d> across; // the stalk's cross-section: its first 20 bins about their centroids
   for (std::size_t k = 0; k < trail.ids.size(); ++k)
+  {
+    const std::size_t bin = std::min(b.count.size() - 1, static_cast<std::size_t>(trail.distance[k] / b.width));
+    if (bin >= k1 && bin < k1 + 20)
+    {
+      const Eigen::Vector3d r = points[trail.ids[k]] - b.centre[bin];
+      across.push_back(r - r.dot(u) * u);
+    }
     if (trail.distance[k] >= from + b.width && trail.distance[k] < from + 6.0 * b.width)
     {
       own.push_back(lateral(points[trail.ids[k]]));
       along.push_back((points[trail.ids[k]] - origin).dot(u));
     }
+  }
   double half = 0.0;
   if (!own.empty())
   {
@@ -340,7 +401,7 @@ StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& t
       ++count;
     }
   petiole.junction /= static_cast<double>(std::max<std::size_t>(1, count));
-  return { !own.empty(), origin, u, half, LargestGap(along) };
+  return { !own.empty(), origin, u, half, LargestGap(along), AxisOffset(across, u, half, spacing) };
 }
 
 /// Where the line through `centre` along the unit vector `u` (the stalk's axis) meets the plane of the points within
@@ -471,12 +532,30 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
   }
 }
 
+/// A junction the walk left where the stalk's seen side meets the blade (no plane of lobes met around the walk's
+/// end) moves to where the stalk's own axis (the line through `q`, on the centroids' line, moved by the offset of
+/// AxisOffset) meets the blade's plane (the points within `radius` farther than `narrow` from it), when that lies
+/// ahead of it, within `radius`.
+void ToStalkAxis(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, const StalkAxis& axis,
+  const Eigen::Vector3d& q, double radius, double narrow, Petiole& petiole)
+{
+  if (!(axis.offset.norm() > 0.0) || petiole.meetsPlane)
+    return;
+  std::vector<int> near;
+  const std::optional<double> meets =
+    AxisMeetsPlane(points, grid, q + axis.offset, axis.towardsBlade, radius, narrow, 20, petiole, near);
+  if (!meets || !(*meets > 0.0 && *meets < radius))
+    return;
+  petiole.junction = q + axis.offset + *meets * axis.towardsBlade;
+  petiole.meetsPlane = true;
+}
+
 /// A stalk that leaves the blade's plane ends where its axis meets that plane. On a blade whose base narrows to a
 /// cusp (a cuneate base, the ginkgo's) the cusp is as narrow as the stalk and lies on in line with it, so the trail
 /// and the walk along it run on into the blade; the cusp lies in the blade's plane, the stalk below or above it.
 /// The blade's plane: its points (not the stalk's, farther from the axis than the stalk's width) within 12 spacings
-/// of the junction. When the axis meets it behind the junction (towards the stalk's far end), the junction moves
-/// back there and the points beyond it go back to the blade.
+/// of the junction. When the centroids' line meets it more than 2 spacings behind the junction (towards the stalk's
+/// far end), the junction moves back there and the points beyond it go back to the blade; otherwise ToStalkAxis.
 void BackToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
   const StalkAxis& axis, Petiole& petiole)
 {
@@ -491,7 +570,10 @@ void BackToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& gr
     return;
   const double lambda = *meets;
   if (!(lambda < -2.0 * spacing && lambda > -radius))
+  {
+    ToStalkAxis(points, grid, axis, q, radius, narrow, petiole);
     return;
+  }
   for (std::size_t j = 0; j < points.size(); ++j)
     if (petiole.member[j] && (points[j] - q).dot(u) > lambda)
       petiole.member[j] = 0;
@@ -587,13 +669,26 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
   BackToPlane(points, grid, spacing, axis, petiole);
   // The centre line: the junction, the centroids of the stalk's bins after the first that lie beyond the junction
   // along the stalk's axis (a junction moved back to the blade's plane leaves bins of the cusp behind it), and its
-  // farthest point.
+  // farthest point. A bin's centroid lies on the side of the stalk its few points were seen from, which changes
+  // from bin to bin (a line scan crosses the stalk in lines; two scans see two sides): it wanders across the stalk
+  // by up to its half-width, and a line through every bin zigzags, longer than the stalk. Centroids are kept at
+  // least two stalk widths (4 half-widths) apart along the trail.
   const std::size_t far =
     static_cast<std::size_t>(std::max_element(best->distance.begin(), best->distance.end()) - best->distance.begin());
+  const double halfWidth = axis.valid ? axis.half : 2.0 * bestBins.Spread(start);
+  const double step = std::max(bestBins.width, 4.0 * halfWidth);
+  double last = from;
   petiole.line.push_back(petiole.junction);
   for (std::size_t k = start + 1; k < bestBins.centre.size(); ++k)
-    if (bestBins.count[k] > 0 && !(axis.valid && (bestBins.centre[k] - petiole.junction).dot(axis.towardsBlade) > 0.0))
+  {
+    const double at = (static_cast<double>(k) + 0.5) * bestBins.width;
+    if (bestBins.count[k] > 0 && at >= last + step &&
+      !(axis.valid && (bestBins.centre[k] - petiole.junction).dot(axis.towardsBlade) > 0.0))
+    {
       petiole.line.push_back(bestBins.centre[k]);
+      last = at;
+    }
+  }
   petiole.line.push_back(points[best->ids[far]]);
   for (std::size_t k = 1; k < petiole.line.size(); ++k)
     petiole.length += (petiole.line[k] - petiole.line[k - 1]).norm();

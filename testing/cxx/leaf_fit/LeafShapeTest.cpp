@@ -403,6 +403,49 @@ TEST(LeafShape, CuspBaseAboveAStalkIsMeasuredFromTheJunction)
   ExpectShape(scan, pose, Expected());
 }
 
+/// The elliptic blade 100 long on a grid of 0.6 % of its length (noise 0.3 % of it), and a stalk: a tube of radius
+/// `radius` (of the length), 30 % as long, leaving the base 30 degrees below the blade, crossed by lines one step
+/// apart along it; `arc(line, j)` is the angle (degrees, 0 at +X, 90 on top) of the line's j-th of `count` samples.
+Synthetic TubeScan(double radius, int count, const std::function<double(int, int)>& arc, const Eigen::Isometry3d& pose)
+{
+  const LeafGeometry leaf = Blade(0, 100.0);
+  const double length = GridScan(leaf, 1.0, 0.0, 0.0, Straight(30.0), 0, pose).length;
+  const double step = 0.006 * length, petiole = 0.3 * length;
+  Synthetic scan = GridScan(leaf, step, 0.003 * length, 0.0, Straight(30.0), 0, pose);
+  const auto axis = Straight(30.0);
+  const Eigen::Vector3d d = (axis(1.0) - axis(0.0)).normalized(), side = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d up = side.cross(d).normalized();
+  if (up.z() < 0.0)
+    up = -up;
+  int line = 0;
+  for (double s = 0.5 * step; s <= petiole; s += step, ++line)
+    for (int j = 0; j < count; ++j)
+    {
+      const double a = arc(line, j) * 3.14159265358979323846 / 180.0;
+      scan.points.push_back(pose * (axis(s) + radius * length * (std::cos(a) * side + std::sin(a) * up)));
+      scan.petiole.push_back(1);
+    }
+  scan.petioleLength = petiole;
+  return scan;
+}
+
+TEST(LeafShape, StalkSeenFromAlternatingSidesIsMeasuredAlongItsAxis)
+{
+  // A line scan crosses a stalk (a tube of radius 1 % of the length) in lines, and each line sees the side facing
+  // its pass: here the lines alternate between the tube's two upper quarters, as two passes tilted to either side
+  // leave them. The centroid of each stretch of the trail lies on one side or the other, so a line through every
+  // stretch zigzags across the stalk (PetioleLength +9.9 % before); measured along centroids two stalk widths
+  // apart, it is the stalk's length (+0.7 %).
+  const Eigen::Isometry3d pose = Tilted();
+  const Synthetic scan = TubeScan(
+    0.01, 3, [](int line, int j) { return line % 2 == 0 ? 45.0 * j : 180.0 - 45.0 * j; }, pose);
+  const fit::Petiole found = fit::FindPetiole(scan.points, MedianSpacing(scan.points));
+  ASSERT_TRUE(found.found);
+  EXPECT_LT((found.junction - pose * Eigen::Vector3d::Zero()).norm(), 0.02 * scan.length)
+    << "junction " << (pose.inverse() * found.junction).transpose();
+  EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength);
+}
+
 /// The scan without the points for which `cut(x, y)` holds (in the blade's plane, before the pose), then posed.
 Synthetic Without(Synthetic scan, const std::function<bool(double, double)>& cut, const Eigen::Isometry3d& pose)
 {
