@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <sstream>
 
@@ -281,8 +282,15 @@ std::string FitOutline(
   std::vector<double> s(ts.size());
   for (std::size_t i = 0; i < ts.size(); ++i)
     s[i] = ts[i].y();
-  std::sort(s.begin(), s.end());
   const std::size_t K = std::clamp<std::size_t>(ts.size() / 100, 10, 40);
+  if (s.size() < 2 * K)
+    std::sort(s.begin(), s.end());
+  else
+  {
+    // Only the K lowest and K highest, in order.
+    std::partial_sort(s.begin(), s.begin() + K, s.end());
+    std::partial_sort(s.rbegin(), s.rbegin() + K, s.rend() - K, std::greater<double>());
+  }
   std::vector<double> low(s.begin(), s.begin() + K), high(s.rbegin(), s.rbegin() + K);
   for (double& v : high)
     v = -v;

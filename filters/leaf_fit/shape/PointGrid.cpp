@@ -165,6 +165,7 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
   std::vector<std::pair<double, int>> best;
   if (k <= 0 || this->Sorted.empty())
     return best;
+  best.reserve(static_cast<std::size_t>(std::min(k, 64)));
   const Eigen::Vector3i c = this->CellOf(q);
   // q may lie outside the grid (its cell clamped): the shells' reach then starts that far behind. Inside its cell,
   // q is `inner` from the cell's nearest wall: every point beyond shell r is farther than r cells plus that.
@@ -217,7 +218,7 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
           if (r > 0)
           {
             const double box = boxDistance2(i, j, l);
-            if (box > reach2 || (static_cast<int>(best.size()) == k && box > best.front().first))
+            if (box > reach2 || (static_cast<int>(best.size()) == k && box > best.back().first))
               continue;
           }
           const std::pair<int, int>* range = this->Range(i, j, l);
@@ -231,17 +232,16 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
             const double d2 = (this->Sorted[o] - q).squaredNorm();
             if (d2 > reach2)
               continue;
+            // `best` ascending by (distance, id): a new one moves in from the back, past those it beats.
+            const std::pair<double, int> candidate(d2, id);
             if (static_cast<int>(best.size()) < k)
-            {
-              best.emplace_back(d2, id);
-              std::push_heap(best.begin(), best.end());
-            }
-            else if (std::make_pair(d2, id) < best.front())
-            {
-              std::pop_heap(best.begin(), best.end());
-              best.back() = { d2, id };
-              std::push_heap(best.begin(), best.end());
-            }
+              best.push_back(candidate);
+            else if (candidate < best.back())
+              best.back() = candidate;
+            else
+              continue;
+            for (std::size_t m = best.size() - 1; m > 0 && best[m] < best[m - 1]; --m)
+              std::swap(best[m], best[m - 1]);
           }
         }
       }
@@ -250,10 +250,9 @@ std::vector<std::pair<double, int>> PointGrid::Nearest(const Eigen::Vector3d& q,
     const double covered = r * this->Cell + inner - outside;
     if (covered >= reach)
       break;
-    if (static_cast<int>(best.size()) == k && covered > 0.0 && best.front().first <= covered * covered)
+    if (static_cast<int>(best.size()) == k && covered > 0.0 && best.back().first <= covered * covered)
       break;
   }
-  std::sort_heap(best.begin(), best.end());
   return best;
 }
 
