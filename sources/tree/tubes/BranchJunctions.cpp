@@ -242,8 +242,8 @@ void CollectPoints(
   const std::size_t last = p.arc.size() - 1;
   // The parent's stations inside (lo, hi): arc lengths ascend, so from the first past lo (not a walk over the
   // whole parent for each of its junctions).
-  const auto first = last > 1 ? std::upper_bound(p.arc.begin() + 1, p.arc.begin() + static_cast<long>(last), J.lo)
-                              : p.arc.end();
+  const auto first =
+    last > 1 ? std::upper_bound(p.arc.begin() + 1, p.arc.begin() + static_cast<long>(last), J.lo) : p.arc.end();
   for (auto k = static_cast<std::size_t>(first - p.arc.begin()); k < last && p.arc[k] < J.hi; ++k)
   {
     if (!p.Redundant(k))
