@@ -19,11 +19,13 @@ class PointGrid
 {
 public:
   /// Indexes a copy of `points` in cubes of side `cell` (> 0), stored cell by cell so that a query reads
-  /// contiguous memory (on 10^6 points, scattered reads made the queries memory-bound). The keys, their sort and
-  /// the copy run through `parallel`; the grid is the same whatever it is.
+  /// contiguous memory (on 10^6 points, scattered reads made the queries memory-bound). The keys, their sort (a
+  /// linear radix sort of key << 32 | index where the keys fit in 32 bits, else by comparisons) and the copy run
+  /// through `parallel`; the grid is the same whatever it is.
   PointGrid(const std::vector<Eigen::Vector3d>& points, double cell, const ParallelFor& parallel = SerialFor);
 
-  /// The k nearest points to q (excluding index `skip`, if >= 0) as (squared distance, index), nearest first.
+  /// The k nearest points to q (excluding index `skip`, if >= 0) as (squared distance, index), nearest first (ties
+  /// by index).
   /// Only points within `reach` are looked for: fewer than k come back when fewer lie that close (the search cost
   /// grows with the cube of the distance searched, so far outliers must not search the whole grid).
   std::vector<std::pair<double, int>> Nearest(
