@@ -143,6 +143,27 @@ double Span(std::vector<double>& values)
   return at(1.0 - SpanQuantile) - at(SpanQuantile);
 }
 
+/// Whether the `seam` points' extent along their own line is under SeamFraction of each side's extent along it.
+bool SeamShorterThanSides(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& seam,
+  const std::vector<int>& sideA, const std::vector<int>& sideB)
+{
+  Eigen::Vector3d mean;
+  const Eigen::Vector3d line = MainAxis(Scatter(points, seam, mean));
+  std::vector<double> along;
+  for (int j : seam)
+    along.push_back((points[static_cast<std::size_t>(j)] - mean).dot(line));
+  const double seamSpan = Span(along);
+  for (const std::vector<int>* ids : { &sideA, &sideB })
+  {
+    along.clear();
+    for (int j : *ids)
+      along.push_back((points[static_cast<std::size_t>(j)] - mean).dot(line));
+    if (!(seamSpan < SeamFraction * Span(along)))
+      return false;
+  }
+  return true;
+}
+
 /// Whether the seam between the two sides (their points linked to the other side) is short: its extent along its
 /// own line under SeamFraction of each side's extent along that line. A crease of one blade (a fold along the
 /// midrib, a roll across the width, a bend along the length, a folded tip) runs from margin to margin of at least
@@ -166,22 +187,11 @@ bool SeamIsShort(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gr
   }
   if (seam.size() < SeamPoints)
     return false;
-  Eigen::Vector3d mean;
-  const Eigen::Vector3d line = MainAxis(Scatter(points, seam, mean));
-  std::vector<double> along;
-  for (int j : seam)
-    along.push_back((points[static_cast<std::size_t>(j)] - mean).dot(line));
-  const double seamSpan = Span(along);
-  for (int s = 0; s < 2; ++s)
-  {
-    along.clear();
-    for (std::size_t k = 0; k < ids.size(); ++k)
-      if (side[k] == s)
-        along.push_back((points[static_cast<std::size_t>(ids[k])] - mean).dot(line));
-    if (!(seamSpan < SeamFraction * Span(along)))
-      return false;
-  }
-  return true;
+  std::vector<int> sides[2];
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    if (side[k] == 0 || side[k] == 1)
+      sides[side[k]].push_back(ids[k]);
+  return SeamShorterThanSides(points, seam, sides[0], sides[1]);
 }
 } // namespace
 
@@ -207,21 +217,7 @@ bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGrap
       seam.push_back(j);
   if (seam.size() < SeamPoints)
     return true; // a touch at a point or two: no crease runs there
-  Eigen::Vector3d mean;
-  const Eigen::Vector3d line = MainAxis(Scatter(points, seam, mean));
-  std::vector<double> along;
-  for (int j : seam)
-    along.push_back((points[static_cast<std::size_t>(j)] - mean).dot(line));
-  const double seamSpan = Span(along);
-  for (const std::vector<int>* ids : { &idsA, &idsB })
-  {
-    along.clear();
-    for (int j : *ids)
-      along.push_back((points[static_cast<std::size_t>(j)] - mean).dot(line));
-    if (!(seamSpan < SeamFraction * Span(along)))
-      return false;
-  }
-  return true;
+  return SeamShorterThanSides(points, seam, idsA, idsB);
 }
 
 std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
