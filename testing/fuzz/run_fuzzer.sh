@@ -25,5 +25,6 @@ if [ ! -x "$fuzzer" ]; then
 fi
 mkdir -p "$work"
 # libFuzzer writes new inputs into the FIRST corpus directory: the work directory must come before the seeds.
-exec "$fuzzer" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 \
+# -error_exitcode=1: libFuzzer's own default for a crash is 77, which ctest would report as a skip.
+exec "$fuzzer" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 -error_exitcode=1 \
   -artifact_prefix="$(dirname "$work")/$(basename "$fuzzer")-" "$@" "$work" "${seeds[@]}"
