@@ -82,7 +82,8 @@ extern const char* const kLasStandardNames[15];
 
 /// The description the writer gives an extra-bytes dimension written in place of a standard attribute of the same
 /// name whose values do not fit it (a double Intensity): the reader then gives it the name and drops the standard
-/// attribute (left zero); an extra dimension named like a standard attribute without it is read as Name_extra.
+/// attribute (left zero); an extra dimension named like a standard attribute without it, or like an earlier extra
+/// one, is read as Name_extra (Name_extra2, ... when that name is taken), so every array read has its own name.
 extern const char* const kLasInPlaceOf;
 
 /// The header fields kept with a cloud (read from a file; the writer takes them when it can).

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace plantmorph
@@ -441,38 +443,15 @@ LasField Merged(std::vector<LasField>& fields, std::size_t i, std::size_t run, s
   return merged;
 }
 
-/// An extra dimension named like a standard attribute takes its name when its description says it stands in for it
-/// (kLasInPlaceOf: PlantMorph's writer, which leaves the standard attribute zero), else it is renamed Name_extra; the
-/// rule reads the header alone, never the values, so every piece of a file names its arrays alike. Then runs of
-/// extra dimensions Name_X, Name_Y, Name_Z or Name_0, Name_1, ... of one type become one field Name of several
-/// components (the writer's split).
+/// Runs of extra dimensions Name_X, Name_Y, Name_Z or Name_0, Name_1, ... of one type become one field Name of
+/// several components (the writer's split). Then an extra field named like a standard attribute takes its name when
+/// its description says it stands in for it (kLasInPlaceOf: PlantMorph's writer, which leaves the standard attribute
+/// zero), else it is renamed Name_extra (Name_extra2, ... when that is taken too), and so is an extra field named
+/// like an earlier one: every array has its own name. The rule reads the header alone, never the values, so every
+/// piece of a file names its arrays alike.
 void SettleNames(LasCloud& cloud)
 {
   std::vector<LasField>& fields = cloud.fields;
-  for (LasField& extra : fields)
-  {
-    if (!extra.extra)
-    {
-      continue;
-    }
-    for (std::size_t s = 0; s < fields.size(); ++s)
-    {
-      if (!fields[s].extra && fields[s].name == extra.name)
-      {
-        if (extra.description.rfind(kLasInPlaceOf, 0) == 0)
-        {
-          fields[s].name.clear(); // dropped below
-        }
-        else
-        {
-          extra.name += "_extra";
-        }
-        break;
-      }
-    }
-  }
-  fields.erase(
-    std::remove_if(fields.begin(), fields.end(), [](const LasField& f) { return f.name.empty(); }), fields.end());
   // One pass (a run merged moves on past it), so a file of thousands of such dimensions stays linear.
   std::vector<LasField> settled;
   settled.reserve(fields.size());
@@ -488,6 +467,52 @@ void SettleNames(LasCloud& cloud)
     i += run;
   }
   fields = std::move(settled);
+  std::map<std::string, std::size_t> standard; // name -> index of the standard field
+  for (std::size_t s = 0; s < fields.size(); ++s)
+  {
+    if (!fields[s].extra)
+    {
+      standard.emplace(fields[s].name, s);
+    }
+  }
+  std::set<std::string> taken;
+  for (const LasField& field : fields)
+  {
+    taken.insert(field.name);
+  }
+  std::map<std::string, int> renamed; // name -> the last suffix number given to it
+  std::set<std::string> seen;
+  for (LasField& extra : fields)
+  {
+    if (!extra.extra)
+    {
+      continue;
+    }
+    const auto same = standard.find(extra.name);
+    const bool inPlace = extra.description.rfind(kLasInPlaceOf, 0) == 0;
+    if (same != standard.end() && inPlace && !fields[same->second].name.empty())
+    {
+      fields[same->second].name.clear(); // dropped below
+      seen.insert(extra.name);
+      continue;
+    }
+    if (same == standard.end() && seen.insert(extra.name).second)
+    {
+      continue;
+    }
+    const std::string base = extra.name + "_extra";
+    int& k = renamed[base];
+    std::string name;
+    do
+    {
+      name = ++k == 1 ? base : base + std::to_string(k);
+    } while (taken.count(name) != 0);
+    taken.insert(name);
+    seen.insert(name);
+    extra.name = name;
+  }
+  fields.erase(
+    std::remove_if(fields.begin(), fields.end(), [](const LasField& f) { return f.name.empty(); }), fields.end());
 }
 
 /// Reads `points` records from record `first` on.

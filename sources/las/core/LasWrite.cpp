@@ -7,6 +7,7 @@
 #include <cstring>
 #include <ctime>
 #include <limits>
+#include <set>
 
 namespace plantmorph
 {
@@ -89,6 +90,7 @@ std::string Place(const LasCloud& cloud, int format, std::vector<Placement>& pla
 {
   const std::size_t n = cloud.Size();
   recordLength = LasPointRecordLength(format);
+  std::set<const las::StandardSlot*> used;
   for (const LasField& field : cloud.fields)
   {
     if (field.components < 1 || field.values.size() != n * static_cast<std::size_t>(field.components))
@@ -97,8 +99,10 @@ std::string Place(const LasCloud& cloud, int format, std::vector<Placement>& pla
         std::to_string(n) + " points of " + std::to_string(field.components) + " components";
     }
     const las::StandardSlot* slot = SlotNamed(format, field.name);
-    if (slot && FitsSlot(field, *slot, n))
+    // A second field of the same name (a cloud's arrays need not be unique) goes to the extra bytes.
+    if (slot && used.count(slot) == 0 && FitsSlot(field, *slot, n))
     {
+      used.insert(slot);
       Placement p;
       p.field = &field;
       p.slot = slot;
@@ -116,9 +120,13 @@ std::string Place(const LasCloud& cloud, int format, std::vector<Placement>& pla
         ? field.type
         : LasType::Double;
       p.name = ComponentName(field, c);
-      p.inPlaceOf = slot != nullptr && field.components == 1;
+      p.inPlaceOf = slot != nullptr && field.components == 1 && used.count(slot) == 0;
       recordLength += LasTypeSize(p.type);
       placements.push_back(p);
+    }
+    if (slot && field.components == 1)
+    {
+      used.insert(slot); // written in place of the standard attribute, which stays zero
     }
   }
   if (recordLength > 65535)

@@ -623,6 +623,59 @@ TEST(LasFile, AnExtraDimensionTakesAStandardNameOnlyWhenItSaysSo)
   EXPECT_FALSE(back.Find("Intensity")->extra);
 }
 
+TEST(LasFile, EveryArrayReadHasItsOwnName)
+{
+  // A cloud may hold two arrays of one name (the standard RGB and an extra RGB of three components; an extra Tag
+  // twice, beside a Tag_extra). The writer puts the first RGB in the standard attribute and the second in extra bytes
+  // (RGB_X, RGB_Y, RGB_Z); read back, every array has a name of its own and its own values.
+  LasCloud cloud = TestCloud(7, 20, 11);
+  ASSERT_NE(cloud.Find("RGB"), nullptr);
+  const std::vector<double> rgb = cloud.Find("RGB")->values;
+  LasField second = Field("RGB", LasType::Double, 3);
+  LasField tag = Field("Tag", LasType::Int32);
+  LasField tagExtra = Field("Tag_extra", LasType::Int32);
+  for (std::size_t i = 0; i < 20; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      second.values.push_back(0.5 * static_cast<double>(i) + c);
+    }
+    tag.values.push_back(static_cast<double>(i));
+    tagExtra.values.push_back(-static_cast<double>(i));
+  }
+  LasField tag2 = tag;
+  for (double& v : tag2.values)
+  {
+    v += 100;
+  }
+  for (LasField* f : { &second, &tag, &tag2, &tagExtra })
+  {
+    f->extra = true;
+    cloud.fields.push_back(*f);
+  }
+  const std::string bytes = Write(cloud, plantmorph::LasWriteOptions());
+  LasCloud back;
+  ASSERT_EQ(Read(bytes, back), "");
+  for (std::size_t a = 0; a < back.fields.size(); ++a)
+  {
+    for (std::size_t b = a + 1; b < back.fields.size(); ++b)
+    {
+      EXPECT_NE(back.fields[a].name, back.fields[b].name);
+    }
+  }
+  ASSERT_NE(back.Find("RGB"), nullptr);
+  EXPECT_FALSE(back.Find("RGB")->extra);
+  EXPECT_EQ(back.Find("RGB")->values, rgb);
+  ASSERT_NE(back.Find("RGB_extra"), nullptr);
+  EXPECT_EQ(back.Find("RGB_extra")->values, second.values);
+  ASSERT_NE(back.Find("Tag"), nullptr);
+  EXPECT_EQ(back.Find("Tag")->values, tag.values);
+  ASSERT_NE(back.Find("Tag_extra2"), nullptr);
+  EXPECT_EQ(back.Find("Tag_extra2")->values, tag2.values);
+  ASSERT_NE(back.Find("Tag_extra"), nullptr);
+  EXPECT_EQ(back.Find("Tag_extra")->values, tagExtra.values);
+}
+
 TEST(LasFile, PiecesInOrderAreTheWholeFile)
 {
   const std::string bytes = Write(TestCloud(8, 1001, 12), plantmorph::LasWriteOptions());
