@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "PointSurfaceDistance.h"
 
+#include <plantmorph/RadixSort.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -210,13 +212,11 @@ inline double EricsonDistance2(const double ap[3], const double ab[3], const dou
   return Dot(d, d);
 }
 
-/// The keys of QueryMany's visiting order: 30-bit Morton code << 32 | input index, sorted by an LSD radix sort on
-/// the code's three 10-bit digits (stable: equal codes stay in input order). Every pass runs on the ParallelFor's
-/// threads over fixed blocks of the points (each block's digit counts, then each block scattering its keys in
-/// order from its own offsets), so the order is the serial sort's whatever the threads.
+/// The keys of QueryMany's visiting order: 30-bit Morton code << 32 | input index, sorted by the code
+/// (SortKeysInParallel: a radix sort over fixed blocks, stable, so equal codes stay in input order and the order is
+/// the serial sort's whatever the threads).
 UnsetVector<std::uint64_t> MortonOrder(const double* points, std::size_t count, const ParallelFor& parallelFor)
 {
-  constexpr std::size_t Digits = 1024;
   const std::size_t blockSize = std::max<std::size_t>(std::size_t(1) << 14, (count + 63) / 64);
   const std::size_t blocks = (count + blockSize - 1) / blockSize;
   // Runs f(block, first, last) for every block, the blocks spread over the ParallelFor's ranges.
@@ -283,38 +283,7 @@ UnsetVector<std::uint64_t> MortonOrder(const double* points, std::size_t count, 
       order[i] = code << 32 | static_cast<std::uint64_t>(i);
     }
   });
-  UnsetVector<std::uint64_t> buffer(count);
-  std::vector<std::size_t> offsets(blocks * Digits);
-  for (int shift = 32; shift < 62; shift += 10)
-  {
-    forBlocks([&](std::size_t b, std::size_t first, std::size_t last) {
-      std::size_t* counts = offsets.data() + b * Digits;
-      std::fill(counts, counts + Digits, std::size_t(0));
-      for (std::size_t i = first; i < last; ++i)
-      {
-        ++counts[(order[i] >> shift) & (Digits - 1)];
-      }
-    });
-    std::size_t sum = 0; // digit by digit, block by block: where each block's keys of each digit start
-    for (std::size_t d = 0; d < Digits; ++d)
-    {
-      for (std::size_t b = 0; b < blocks; ++b)
-      {
-        const std::size_t n = offsets[b * Digits + d];
-        offsets[b * Digits + d] = sum;
-        sum += n;
-      }
-    }
-    forBlocks([&](std::size_t b, std::size_t first, std::size_t last) {
-      std::size_t* next = offsets.data() + b * Digits;
-      for (std::size_t i = first; i < last; ++i)
-      {
-        const std::uint64_t key = order[i];
-        buffer[next[(key >> shift) & (Digits - 1)]++] = key;
-      }
-    });
-    order.swap(buffer);
-  }
+  SortKeysInParallel(parallelFor, order, 32, 62);
   return order;
 }
 
