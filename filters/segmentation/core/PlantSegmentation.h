@@ -41,8 +41,9 @@
 //     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base
 //     nearest along the region. A part under a quarter of the plant's median part (a leaf's tip or rim cut off by
 //     a fold or crease) that touches other leaf parts joins the one it shares the most links with among those it is
-//     a piece of (their seam not under 0.8 of each one's extent along it, or it lies within r of that part's plane,
-//     or the two continue one sheet), smallest first; one that is a piece of none is a leaf seen small beside
+//     a piece of (their seam not under 0.8 of each one's extent along it and the two, unfolded about the seam's
+//     line, leaving no notches where it ends; or it lies within r of that part's plane, or the two continue one
+//     sheet), smallest first; one that is a piece of none is a leaf seen small beside
 //     another and gets no instance (leaf, LeafId -1); then a larger part joins the touching part it shares the most
 //     links with among those continuing its sheet (planes within NormalAngle, both together off their common plane
 //     by under r): a leaf cut in two by a crease.
@@ -50,8 +51,11 @@
 //     common plane by under r / 4) within 4r of each other, nearest first: a leaf seen in pieces through a gap in
 //     the scan (the shadow of a leaf or twig in front of it). Then a part whose normals form two groups more than
 //     NormalAngle apart, meeting over a seam shorter than 0.8 of each group's extent along it, is two leaves whose
-//     margins touch: cut there (a crease of one blade runs from margin to margin of at least one side), and the
-//     joins above run again (a side may be a piece of a third leaf).
+//     margins touch: cut there (a crease of one blade runs from margin to margin of at least one side). So is one
+//     whose groups, unfolded about the seam's line into one plane, leave notches where the seam ends (their convex
+//     hulls under 0.95 of the hull of both: a blade folded or curled along any line unfolds into its own outline;
+//     two leaves' outlines meet at an angle), whatever the seam's length. The joins above then run again (a side
+//     may be a piece of a third leaf).
 //     Each leaf part of at least MinimumLeafPoints points is then a leaf; LeafId numbers
 //     them over all plants in the order of their lowest point index (deterministic). Smaller leaf regions stay leaf
 //     points with LeafId -1. Each leaf's base is its point nearest the wood along the link graph; the branch it

@@ -143,8 +143,74 @@ double Span(std::vector<double>& values)
   return at(1.0 - SpanQuantile) - at(SpanQuantile);
 }
 
-/// Whether the `seam` points' extent along their own line is under SeamFraction of each side's extent along it.
-bool SeamShorterThanSides(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& seam,
+/// Twice the signed area of the triangle o, a, b (positive when counter-clockwise).
+double Cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b)
+{
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+/// The area of the convex hull of `q` (reordered; Andrew's monotone chain).
+double HullArea(std::vector<Eigen::Vector2d>& q)
+{
+  if (q.size() < 3)
+    return 0.0;
+  std::sort(q.begin(), q.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  std::vector<Eigen::Vector2d> hull(2 * q.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < q.size(); ++i) // lower chain
+  {
+    while (k >= 2 && Cross(hull[k - 2], hull[k - 1], q[i]) <= 0.0)
+      --k;
+    hull[k++] = q[i];
+  }
+  for (std::size_t i = q.size() - 1, lower = k + 1; i-- > 0;) // upper chain
+  {
+    while (k >= lower && Cross(hull[k - 2], hull[k - 1], q[i]) <= 0.0)
+      --k;
+    hull[k++] = q[i];
+  }
+  double area = 0.0;
+  for (std::size_t i = 0; i + 1 < k; ++i)
+    area += hull[i].x() * hull[i + 1].y() - hull[i + 1].x() * hull[i].y();
+  return 0.5 * std::abs(area);
+}
+
+/// Whether the two sides, unfolded about the seam's line into one plane (a point at (its position along the line,
+/// its distance from the line), one side's distances negated), leave notches where the seam ends: the sum of the
+/// sides' convex hulls' areas under NotchedHullFraction of the hull of both. A blade folded or curled along any line
+/// unfolds into its own outline, whose halves' hulls fill the whole's; two leaves meet at an angle where the seam
+/// ends, each outline turning away from the other's.
+bool SidesLeaveNotches(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& mean,
+  const Eigen::Vector3d& line, const std::vector<int>& seam, const std::vector<int>& sideA,
+  const std::vector<int>& sideB)
+{
+  const auto unfold = [&](int j, double sign) {
+    const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
+    const double u = d.dot(line);
+    return Eigen::Vector2d(u, sign * (d - u * line).norm());
+  };
+  std::vector<Eigen::Vector2d> both, one;
+  double sum = 0.0;
+  for (const std::vector<int>* ids : { &sideA, &sideB })
+  {
+    const double sign = ids == &sideA ? -1.0 : 1.0;
+    one.clear();
+    for (int j : *ids)
+      one.push_back(unfold(j, sign));
+    both.insert(both.end(), one.begin(), one.end());
+    for (int j : seam) // the seam's line in both: the sides' hulls would leave the band along it out
+      one.emplace_back(unfold(j, 0.0));
+    sum += HullArea(one);
+  }
+  const double whole = HullArea(both);
+  return whole > 0.0 && sum < NotchedHullFraction * whole;
+}
+
+/// Whether the `seam` between two sides says they are two leaves: its extent along its own line under SeamFraction
+/// of each side's extent along it, or the sides unfolded about that line leave notches (SidesLeaveNotches).
+bool SeamSaysTwoLeaves(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& seam,
   const std::vector<int>& sideA, const std::vector<int>& sideB)
 {
   Eigen::Vector3d mean;
@@ -153,15 +219,15 @@ bool SeamShorterThanSides(const std::vector<Eigen::Vector3d>& points, const std:
   for (int j : seam)
     along.push_back((points[static_cast<std::size_t>(j)] - mean).dot(line));
   const double seamSpan = Span(along);
+  bool shorter = true;
   for (const std::vector<int>* ids : { &sideA, &sideB })
   {
     along.clear();
     for (int j : *ids)
       along.push_back((points[static_cast<std::size_t>(j)] - mean).dot(line));
-    if (!(seamSpan < SeamFraction * Span(along)))
-      return false;
+    shorter = shorter && seamSpan < SeamFraction * Span(along);
   }
-  return true;
+  return shorter || SidesLeaveNotches(points, mean, line, seam, sideA, sideB);
 }
 
 /// Whether the seam between the two sides (their points linked to the other side) is short: its extent along its
@@ -191,7 +257,7 @@ bool SeamIsShort(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gr
   for (std::size_t k = 0; k < ids.size(); ++k)
     if (side[k] == 0 || side[k] == 1)
       sides[side[k]].push_back(ids[k]);
-  return SeamShorterThanSides(points, seam, sides[0], sides[1]);
+  return SeamSaysTwoLeaves(points, seam, sides[0], sides[1]);
 }
 } // namespace
 
@@ -217,7 +283,7 @@ bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGrap
       seam.push_back(j);
   if (seam.size() < SeamPoints)
     return true; // a touch at a point or two: no crease runs there
-  return SeamShorterThanSides(points, seam, idsA, idsB);
+  return SeamSaysTwoLeaves(points, seam, idsA, idsB);
 }
 
 std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,

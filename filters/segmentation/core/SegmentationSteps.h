@@ -79,19 +79,30 @@ std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const Point
 /// (their margins touching) give 0.04-0.76 for both.
 inline constexpr double SeamFraction = 0.8;
 
+/// Two sides unfolded about their seam's line (each point at its position along the line and its distance from it,
+/// one side's distances negated) whose convex hulls' areas sum to under this fraction of the hull of both are two
+/// leaves, whatever the seam's length: their outlines meet at an angle where the seam ends and leave notches. A
+/// blade folded, rolled or curled along any line unfolds into its own outline: 0.99-1.00 for the synthetic folded,
+/// rolled, curled and tip-folded blades; 0.84-0.96 for the 22 pairs of leaves at an angle merged into one instance
+/// on the simulated tree and shrub (flat blades about 45 degrees apart, in 11 of them meeting along the whole edge
+/// of the smaller one, the seam 0.84-1.16 of its extent).
+inline constexpr double NotchedHullFraction = 0.95;
+
 /// Two touching leaves grown into one leaf part (their normals turn by more than NormalAngle across a smooth
 /// contact): each part of at least 2 `smallest` points whose normals form two groups with axes more than
 /// NormalAngle apart (`cosine`), each group made one linked piece, is cut between them when each side has at least
 /// `smallest` points and their seam (the points linked to the other side) is shorter than SeamFraction of each
-/// side's extent along it; each side is looked at again. Returns the cuts made.
+/// side's extent along it, or the sides unfolded about the seam leave notches (NotchedHullFraction); each side is
+/// looked at again. Returns the cuts made.
 std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts);
 
 /// Whether two touching parts `a` and `b` (their points idsA and idsB; partOf maps a point to its part, -1 or short
 /// of the point elsewhere) meet over a short seam: the points of either linked to the other, along their own line,
-/// shorter than SeamFraction of each part's extent along that line (or fewer than three such points). A crease
-/// that cut a piece off its leaf runs across the piece from margin to margin; a leaf touching another meets it
-/// over part of its margin.
+/// shorter than SeamFraction of each part's extent along that line (or fewer than three such points), or the two
+/// unfolded about that line leave notches where it ends (NotchedHullFraction). A crease that cut a piece off its
+/// leaf runs across the piece from margin to margin and unfolds into the leaf's outline; a leaf touching another
+/// meets it over part of its margin, or at an angle where the seam ends.
 bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
   const std::vector<int>& partOf, int a, int b, const std::vector<int>& idsA, const std::vector<int>& idsB);
 

@@ -589,6 +589,82 @@ TEST(PlantSegmentation, AFoldedRolledOrCurledBladeIsNotCutAtItsCrease)
     }
 }
 
+/// The stem of SyntheticPlant with blade 0 (AddFlatBlade) leaving it horizontally along +x at height 0.45, its side
+/// beyond y = 0.045 hidden, and on that line, from 0.07 to 0.23 along the blade, the straight edge of blade 1: the
+/// visible half of an elliptic blade 0.16 along the line and 0.24 across it (its other half hidden behind blade 0),
+/// turned off blade 0 by `degrees` into a V. Blade 1's whole edge is the seam.
+Truth TwoLeavesInAV(double degrees, double noise)
+{
+  Truth t = SyntheticPlant(0);
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(), z = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d base(0.05, 0.0, 0.45);
+  const double edge = 0.045, h = 0.005, length = 0.16, width = 0.24, a = degrees * Pi / 180.0;
+  Truth blade;
+  AddFlatBlade(blade, base, x, y, 0, noise);
+  for (std::size_t i = 0; i < blade.points.size(); ++i)
+    if ((blade.points[i] - base).dot(y) <= edge)
+    {
+      t.points.push_back(blade.points[i]);
+      t.organ.push_back(blade.organ[i]);
+      t.leaf.push_back(blade.leaf[i]);
+    }
+  std::mt19937 random(53);
+  std::normal_distribution<double> gauss(0.0, noise);
+  const Eigen::Vector3d off = std::cos(a) * y + std::sin(a) * z; // on from blade 0, turned up by a
+  for (double s = 0.0; s <= length + 1e-12; s += h)
+    for (double w = h / 2; w <= width / 2; w += h)
+    {
+      const double u = (s - length / 2) / (length / 2), v = w / (width / 2);
+      if (u * u + v * v > 1.0)
+        continue;
+      t.points.push_back(
+        base + (0.07 + s) * x + edge * y + w * off + Eigen::Vector3d(gauss(random), gauss(random), gauss(random)));
+      t.organ.push_back(plantmorph::OrganLeaf);
+      t.leaf.push_back(1);
+    }
+  return t;
+}
+
+TEST(PlantSegmentation, TwoLeavesInAVAlongAllOfOnesEdgeAreTwoABladeFoldedAlongAChordIsOne)
+{
+  // Blade 1 meets blade 0 along its whole visible edge, 45 or 60 degrees off it: the seam is as long as blade 1
+  // along it, as a crease spans a side of one folded blade, so the seam's length cut nothing (one instance, each
+  // leaf at IoU 0.5 or under). Unfolded about the seam's line into one plane, the two outlines meet at an angle
+  // where the seam ends, leaving notches in the hull of both (the hulls of the sides about 0.93 of it): two leaves.
+  // A blade folded along an oblique chord (a corner of it turned up by the same angle) unfolds into its own
+  // outline and stays one leaf.
+  for (const double degrees : { 35.0, 45.0 })
+    for (const double noise : { 0.0002, 0.001 })
+    {
+      SCOPED_TRACE(std::to_string(degrees) + " degrees, noise " + std::to_string(noise));
+      const Truth t = TwoLeavesInAV(degrees, noise);
+      const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+      ASSERT_EQ(r.error, "");
+      EXPECT_EQ(r.leaves.size(), 2u);
+      for (double iou : InstanceIoU(t, r, 2))
+        EXPECT_GT(iou, 0.9);
+      // blade 0 whole, its tip end beyond the oblique chord from (0.10, 0.0707) to (0.26, -0.051), margin to
+      // margin (about a third of the blade), folded up about that chord
+      Truth one = SyntheticPlant(0);
+      const Eigen::Vector3d base(0.05, 0.0, 0.45), z = Eigen::Vector3d::UnitZ();
+      AddFlatBlade(one, base, Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), 0, noise);
+      const Eigen::Vector3d from = base + Eigen::Vector3d(0.10, 0.0707, 0.0);
+      const Eigen::Vector3d line = Eigen::Vector3d(0.16, -0.1217, 0.0).normalized(), out = z.cross(line);
+      const double a = degrees * Pi / 180.0;
+      for (std::size_t i = 0; i < one.points.size(); ++i)
+      {
+        const double d = (one.points[i] - from).dot(out), u = (one.points[i] - from).dot(line);
+        if (one.leaf[i] == 0 && d > 0.0)
+          one.points[i] =
+            from + u * line + d * std::cos(a) * out + d * std::sin(a) * z + (one.points[i] - from).dot(z) * z;
+      }
+      const plantmorph::SegmentationResult folded = plantmorph::SegmentPlants(one.points, {}, {});
+      ASSERT_EQ(folded.error, "");
+      EXPECT_EQ(folded.leaves.size(), 1u);
+      EXPECT_GT(InstanceIoU(one, folded, 1)[0], 0.9);
+    }
+}
+
 /// Adds to `t` a flat round blade of diameter `size` (sampled at 0.005) as leaf `leaf`: its tip at `tip`, its
 /// midrib coming from the unit `along`, its width along the unit `across`.
 void AddRoundBladeEndingAt(Truth& t, const Eigen::Vector3d& tip, const Eigen::Vector3d& along,
