@@ -88,29 +88,41 @@ void FitModel(const std::vector<TreeCylinder>& cylinders, double& a, double& b)
   }
 }
 
-/// The direction from the start of cylinder `k` to a point `distance` further along the tree, at every fork taking the
-/// child whose end lies nearest the direction `reference` (the parent's, coming in): over a long stretch the lean of
-/// the junction cylinders averages out, and a junction leaning towards a lateral does not lead the chord into it.
-/// With `throughForks` false it stops at the next fork; `travelled` is the length it went.
-Eigen::Vector3d FarDirection(const std::vector<TreeCylinder>& cylinders, const std::vector<std::vector<int>>& children,
-  int k, double distance, const Eigen::Vector3d& reference, bool throughForks, double& travelled)
+/// Of the paths from `origin` through cylinder `at` (`along` the length before it), each followed through every fork
+/// up to `distance` or a tip, the end whose direction from `origin` lies nearest `reference` (`best`: its cosine).
+void NearestPathEnd(const std::vector<TreeCylinder>& cylinders, const std::vector<std::vector<int>>& children,
+  const Eigen::Vector3d& origin, int at, double along, double distance, const Eigen::Vector3d& reference,
+  Eigen::Vector3d& end, double& best)
 {
-  const Eigen::Vector3d origin = cylinders[k].start;
-  int at = k;
-  travelled = cylinders[k].length;
-  for (double& along = travelled; along < distance && !children[at].empty();)
+  along += cylinders[at].length;
+  if (along < distance && !children[at].empty())
   {
-    if (!throughForks && children[at].size() > 1)
-      break;
-    int best = children[at].front();
     for (int c : children[at])
-      if ((cylinders[c].end - origin).normalized().dot(reference) >
-        (cylinders[best].end - origin).normalized().dot(reference))
-        best = c;
-    at = best;
-    along += cylinders[at].length;
+      NearestPathEnd(cylinders, children, origin, c, along, distance, reference, end, best);
+    return;
   }
   const Eigen::Vector3d d = cylinders[at].end - origin;
+  const double cosine = d.norm() > 0 ? d.normalized().dot(reference) : -2.0;
+  if (cosine > best)
+  {
+    best = cosine;
+    end = cylinders[at].end;
+  }
+}
+
+/// The direction from the start of cylinder `k` to a point `distance` further along the tree, through its forks
+/// along the path whose end lies nearest the direction `reference` (the parent's, coming in): over a long stretch the
+/// lean of the junction cylinders averages out, and a junction leaning towards a lateral does not lead the chord into
+/// it. Paths are judged by where they end, not by their first cylinder: a twig that starts along the branch and runs
+/// back down beside it (a strip of the branch reached from its far end) ends behind the fork.
+Eigen::Vector3d FarDirection(const std::vector<TreeCylinder>& cylinders, const std::vector<std::vector<int>>& children,
+  int k, double distance, const Eigen::Vector3d& reference)
+{
+  const Eigen::Vector3d origin = cylinders[k].start;
+  Eigen::Vector3d end = cylinders[k].end;
+  double best = -3.0;
+  NearestPathEnd(cylinders, children, origin, k, 0.0, distance, reference, end, best);
+  const Eigen::Vector3d d = end - origin;
   return d.norm() > 0 ? d.normalized() : Eigen::Vector3d(cylinders[k].end - cylinders[k].start).normalized();
 }
 
@@ -254,7 +266,6 @@ std::vector<int> ContinuingChildren(
     for (int k : children[p])
       heaviest = std::max(heaviest, carried[k]);
     const auto angle = [&](const Eigen::Vector3d& d) { return degrees(d, dp); };
-    double travelled = 0;
     if (children[p].size() == 1)
     {
       // A kink: the chain turns sharply here, and more than at the next link (a bend seen from a reach before it
@@ -263,8 +274,7 @@ std::vector<int> ContinuingChildren(
       continuing[p] = k;
       const double here = turn(static_cast<int>(p), k);
       if (here > KinkAngle && history(static_cast<int>(p)) >= IncomingReaches * reach &&
-        angle(FarDirection(cylinders, children, k, KinkReaches * reach, dp, true, travelled)) >
-          std::min(KinkAngle, KinkKept * here) &&
+        angle(FarDirection(cylinders, children, k, KinkReaches * reach, dp)) > std::min(KinkAngle, KinkKept * here) &&
         !(children[k].size() == 1 && turn(k, children[k].front()) > here))
         continuing[p] = -1;
       continue;
@@ -279,7 +289,7 @@ std::vector<int> ContinuingChildren(
     double heaviestAligned = 0;
     for (int k : children[p])
     {
-      const double a = angle(FarDirection(cylinders, children, k, 2.0 * reach, dp, true, travelled));
+      const double a = angle(FarDirection(cylinders, children, k, 2.0 * reach, dp));
       if (a <= KinkAngle || young)
       {
         angles.emplace_back(a, k);

@@ -514,6 +514,39 @@ TEST(TreeFit, AnUnmeasuredBranchEndsNoWiderThanItsMeasuredChildren)
   std::cout << "unmeasured lateral: volume " << volume << ", true " << M_PI * 0.03 * 0.03 * length << "\n";
 }
 
+TEST(TreeFit, AStemGoesOnPastATwigRunningBackDownBesideIt)
+{
+  // The branch step alone, on cylinders as the fit leaves them (all measured, 10 cm long): a stem 1.5 m tall and
+  // 10 cm thick, a lateral leaving it at 50 degrees, and a cylinder later the stem forks again into its own
+  // continuation, which wiggles 15 degrees before it goes on straight up, and a twig that starts straight up and
+  // turns back down beside the stem for 30 cm (a strip of the stem reached from its far end, as leaves make them).
+  // The stem's direction past the first fork, two reaches (80 cm) long, was followed through the second into the
+  // child whose first cylinder lies nearest its direction, the twig, whose end lies below the fork: the stem turned
+  // back there and ended, its upper half a first-order branch. The paths are judged by where they end: the stem goes
+  // on, one branch to its top.
+  TreeFitResult result;
+  const auto add = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& direction, double length, double radius,
+                     int parent) { return AddMeasuredCylinder(result, start, direction, length, radius, parent); };
+  int stem = -1;
+  for (int k = 0; k < 15; ++k)
+    stem = add(Eigen::Vector3d(0, 0, 0.1 * k), Eigen::Vector3d::UnitZ(), 0.1, 0.1, stem);
+  const int base = stem;
+  int lateral = stem;
+  for (int k = 0; k < 10; ++k)
+    lateral = add(result.cylinders[lateral].end, Tilted(50.0, 0.0), 0.1, 0.06, lateral);
+  const int fork = add(result.cylinders[stem].end, Eigen::Vector3d::UnitZ(), 0.1, 0.1, stem);
+  stem = add(result.cylinders[fork].end, Tilted(15.0, M_PI), 0.1, 0.1, fork);
+  for (int k = 0; k < 10; ++k)
+    stem = add(result.cylinders[stem].end, Eigen::Vector3d::UnitZ(), 0.1, 0.1, stem);
+  const int twig = add(result.cylinders[fork].end, Eigen::Vector3d::UnitZ(), 0.1, 0.02, fork);
+  add(result.cylinders[twig].end, Tilted(175.0, M_PI / 2), 0.3, 0.02, twig);
+  ASSERT_EQ(treefit::ModelRadii(0.006, result), "");
+  EXPECT_EQ(result.cylinders[stem].branch, result.cylinders[base].branch) << "the stem ends at the twig's fork";
+  EXPECT_EQ(result.cylinders[stem].order, 0);
+  EXPECT_EQ(result.cylinders[lateral].order, 1);
+  EXPECT_EQ(result.cylinders[twig].order, 1);
+}
+
 TEST(TreeFit, AWhorlSplitInTwoStepsGivesBranchesOfOneOrder)
 {
   // The branch step alone, on cylinders as the fit leaves them where three branches leave one point at 55 degrees (a
