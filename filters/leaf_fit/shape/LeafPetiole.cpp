@@ -270,6 +270,12 @@ struct StalkAxis
   double gap = 0.0;  ///< the largest gap between the stalk's own samples along the axis (a line scan's lines)
   /// From the line through the bins' centroids to the stalk's own axis (zero when its cross-section draws no arc).
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  /// The line through the points of the stalk's first 20 bins (their centroid, their principal direction towards
+  /// the blade): two centroids 6 spacings apart give a direction that a bin's wandering centroid tilts by up to 15
+  /// degrees, a line through every point of 30 spacings of stalk by a tenth of that.
+  bool fitted = false;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero(), direction = Eigen::Vector3d::Zero();
+  Eigen::Vector3d lineOffset = Eigen::Vector3d::Zero(); ///< from that line to the stalk's axis
 };
 
 /// The largest gap between consecutive values of `along` (sorted here).
@@ -291,7 +297,7 @@ double LargestGap(std::vector<double>& along)
 /// radius behind the crest. Zero when the radius is more than twice the section's half-width about the centroids'
 /// line plus a spacing (not a stalk's section) or the axis would lie more than a radius from that line.
 Eigen::Vector3d AxisOffset(
-  const std::vector<Eigen::Vector3d>& lateral, const Eigen::Vector3d& u, double half, double spacing)
+  const std::vector<Eigen::Vector3d>& lateral, const Eigen::Vector3d& u, double half, double spacing, bool arc = false)
 {
   if (lateral.size() < 10)
     return Eigen::Vector3d::Zero();
@@ -324,11 +330,41 @@ Eigen::Vector3d AxisOffset(
   const std::size_t lo = static_cast<std::size_t>(0.02 * static_cast<double>(across.size() - 1));
   const std::size_t hi = static_cast<std::size_t>(0.98 * static_cast<double>(across.size() - 1));
   const double R = 0.5 * (across[hi] - across[lo]);
+  // A flat section (a strip seen from one side, a ribbon) bends by its noise alone: the parabola's sagitta over the
+  // section (an arc of the front half of a circle bends by about R) must reach a quarter of the radius, or the
+  // section's own centre line is the axis.
+  if (arc && !(std::abs(c.y()) * R * R >= 0.25 * R))
+    return Eigen::Vector3d::Zero();
   const double depth = c.x() + (c.y() > 0.0 ? R : -R);
   const Eigen::Vector2d centre = mean + 0.5 * (across[hi] + across[lo]) * ea + depth * ed;
   if (!c.allFinite() || !(R > 0.0 && R <= 2.0 * half + spacing) || !(centre.norm() <= R))
     return Eigen::Vector3d::Zero();
   return centre.x() * e1 + centre.y() * e2;
+}
+
+/// The line through `section` (the stalk's points): their centroid and principal direction, pointing along `u`.
+/// Not fitted when they are fewer than 10 or not elongated (their spread along the line at most 3 times across it).
+void FitStalkLine(const std::vector<Eigen::Vector3d>& section, const std::vector<Eigen::Vector3d>& across,
+  const Eigen::Vector3d& u, double spacing, StalkAxis& axis)
+{
+  if (section.size() < 10)
+    return;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : section)
+    mean += p;
+  mean /= static_cast<double>(section.size());
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (const auto& p : section)
+    C += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+  if (!(eig.eigenvalues()[2] > 9.0 * eig.eigenvalues()[1]))
+    return;
+  Eigen::Vector3d w = eig.eigenvectors().col(2);
+  axis.fitted = true;
+  axis.centroid = mean;
+  axis.direction = w.dot(u) < 0.0 ? Eigen::Vector3d(-w) : w;
+  const Eigen::Vector3d offset = AxisOffset(across, u, axis.half, spacing, true);
+  axis.lineOffset = offset - offset.dot(axis.direction) * axis.direction;
 }
 
 StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail, const Bins& b, std::size_t start,
@@ -358,7 +394,8 @@ StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& t
     return (r - r.dot(u) * u).norm();
   };
   std::vector<double> own, along;
-  std::vector<Eigen::Vector3d> across; // the stalk's cross-section: its first 20 bins about their centroids
+  std::vector<Eigen::Vector3d> across;  // the stalk's cross-section: its first 20 bins about their centroids
+  std::vector<Eigen::Vector3d> section; // those points themselves
   for (std::size_t k = 0; k < trail.ids.size(); ++k)
   {
     const std::size_t bin = std::min(b.count.size() - 1, static_cast<std::size_t>(trail.distance[k] / b.width));
@@ -366,6 +403,7 @@ StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& t
     {
       const Eigen::Vector3d r = points[trail.ids[k]] - b.centre[bin];
       across.push_back(r - r.dot(u) * u);
+      section.push_back(points[trail.ids[k]]);
     }
     if (trail.distance[k] >= from + b.width && trail.distance[k] < from + 6.0 * b.width)
     {
@@ -401,7 +439,9 @@ StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& t
       ++count;
     }
   petiole.junction /= static_cast<double>(std::max<std::size_t>(1, count));
-  return { !own.empty(), origin, u, half, LargestGap(along), AxisOffset(across, u, half, spacing) };
+  StalkAxis axis{ !own.empty(), origin, u, half, LargestGap(along), AxisOffset(across, u, half, spacing) };
+  FitStalkLine(section, across, u, spacing, axis);
+  return axis;
 }
 
 /// Where the line through `centre` along the unit vector `u` (the stalk's axis) meets the plane of the points within
@@ -550,12 +590,45 @@ void ToStalkAxis(const std::vector<Eigen::Vector3d>& points, const PointGrid& gr
   petiole.meetsPlane = true;
 }
 
+/// Where the stalk's own axis meets the blade's plane: the line fitted through the stalk's points (FitStalkLine),
+/// moved onto the axis by AxisOffset (only a section that bends like a tube's: a flat strip's centre line is its
+/// axis). The junction moves there, back towards the stalk's far end (the cusp the walk ran into) or ahead (the seen
+/// side met the plane first, not on a plane of lobes); within 2 spacings behind it stays (the plane's and the axis's
+/// scatter). False when there is no such axis or no plane within 12 spacings.
+bool ToFittedAxis(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
+  const StalkAxis& axis, Petiole& petiole)
+{
+  if (!axis.fitted || !(axis.lineOffset.norm() > 0.0))
+    return false;
+  const Eigen::Vector3d& w = axis.direction;
+  const Eigen::Vector3d a = axis.centroid + axis.lineOffset;
+  const Eigen::Vector3d q = a + (petiole.junction - a).dot(w) * w;
+  const double narrow = axis.half + 0.75 * spacing, radius = 12.0 * spacing;
+  std::vector<int> near;
+  const std::optional<double> meets = AxisMeetsPlane(points, grid, q, w, radius, narrow, 20, petiole, near);
+  if (!meets || !(std::abs(*meets) < radius))
+    return false;
+  const double lambda = *meets;
+  if (lambda > -2.0 * spacing && (lambda <= 0.0 || petiole.meetsPlane))
+    return true;
+  if (lambda < 0.0)
+    for (std::size_t j = 0; j < points.size(); ++j)
+      if (petiole.member[j] && (points[j] - q).dot(w) > lambda)
+        petiole.member[j] = 0;
+  petiole.junction = q + lambda * w;
+  petiole.meetsPlane = true;
+  return true;
+}
+
 /// A stalk that leaves the blade's plane ends where its axis meets that plane. On a blade whose base narrows to a
 /// cusp (a cuneate base, the ginkgo's) the cusp is as narrow as the stalk and lies on in line with it, so the trail
 /// and the walk along it run on into the blade; the cusp lies in the blade's plane, the stalk below or above it.
 /// The blade's plane: its points (not the stalk's, farther from the axis than the stalk's width) within 12 spacings
 /// of the junction. When the centroids' line meets it more than 2 spacings behind the junction (towards the stalk's
 /// far end), the junction moves back there and the points beyond it go back to the blade; otherwise ToStalkAxis.
+/// That line lies on the stalk's seen side and its direction, through two bins' centroids, tilts with their
+/// wandering (two passes seeing two sides: 14 degrees from the blade's plane for a stalk at 30), so when it meets
+/// the plane behind the junction or not at all, the fitted axis decides (ToFittedAxis) where it can.
 void BackToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
   const StalkAxis& axis, Petiole& petiole)
 {
@@ -566,6 +639,8 @@ void BackToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& gr
   const double narrow = axis.half + 0.75 * spacing, radius = 12.0 * spacing;
   std::vector<int> near;
   const std::optional<double> meets = AxisMeetsPlane(points, grid, q, u, radius, narrow, 20, petiole, near);
+  if ((!meets || (*meets<-2.0 * spacing&& * meets> - radius)) && ToFittedAxis(points, grid, spacing, axis, petiole))
+    return;
   if (!meets)
     return;
   const double lambda = *meets;

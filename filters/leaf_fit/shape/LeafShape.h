@@ -9,7 +9,8 @@
 // petiole when it keeps its width (measured across the trail, in bins of distance from the blade) over at least 6
 // spacings, is narrow, and does not narrow away from the blade like a wedge (a winged petiole may taper first); the
 // longest such part is the petiole. Its junction is its first points at the blade, or where the stalk's axis (from its
-// cross-section: a scanner sees one side of it) meets the blade's plane; its length is measured along the trail's
+// cross-section: a scanner sees one side of it; its direction through its points where two of its stretches'
+// centroids tilt it) meets the blade's plane; its length is measured along the trail's
 // centre line (bins' centroids two stalk widths apart).
 //
 // Axis: the blade's points, seen in their best plane, mirrored across a line through the base: the line whose
