@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "PointSurfaceDistance.h"
 
-#include <plantmorph/RadixSort.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
