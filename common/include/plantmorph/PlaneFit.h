@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The least-squares plane of a point set: what a leaf's mesher and the venation filter use to find the plane a
 // curved or tilted blade lies in; and the algebraic circle through points in a plane, which the tree fit and the
-// segmentation fit across a stem. Plain C++17 (Eigen), no VTK.
+// segmentation fit across a stem; the area of a convex hull in a plane (a crown's projection, a leaf's outline).
+// Plain C++17 (Eigen), no VTK.
 #pragma once
 
 #include <Eigen/Core>
@@ -20,6 +21,9 @@ struct FittedPlane
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); ///< unit, the direction of least spread, turned towards +Z
   Eigen::Vector3d major = Eigen::Vector3d::UnitX();  ///< unit, the direction of largest spread (its sign arbitrary)
   double maxDeviation = 0.0;                         ///< the largest |distance| of a point from the plane
+  /// The covariance's eigenvalues, ascending: the sums of the points' squared offsets from the centroid along the
+  /// normal, the middle direction and `major` (a line's points: the last far above the middle one).
+  Eigen::Vector3d moments = Eigen::Vector3d::Zero();
 };
 
 /// The plane through the points' centroid whose normal is the eigenvector of their covariance with the smallest
@@ -30,5 +34,8 @@ FittedPlane FitPlane(const std::vector<Eigen::Vector3d>& points);
 /// circle = (centre x, centre y, radius). False when the solution is not finite or gives no positive squared radius;
 /// points that determine no circle (on a line) may still give one of any size: callers judge the fit by its residuals.
 bool FitCircle(const std::vector<Eigen::Vector2d>& points, Eigen::Vector3d& circle);
+
+/// The area of the convex hull of points in a plane (Andrew's monotone chain); 0 for fewer than three points.
+double ConvexHullArea(std::vector<Eigen::Vector2d> points);
 
 } // namespace plantmorph

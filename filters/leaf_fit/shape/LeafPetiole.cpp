@@ -3,6 +3,8 @@
 #include "LeafShape.h"
 #include "PointGrid.h"
 
+#include <plantmorph/PlaneFit.h>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
@@ -349,20 +351,12 @@ void FitStalkLine(const std::vector<Eigen::Vector3d>& section, const std::vector
 {
   if (section.size() < 10)
     return;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& p : section)
-    mean += p;
-  mean /= static_cast<double>(section.size());
-  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-  for (const auto& p : section)
-    C += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
-  if (!(eig.eigenvalues()[2] > 9.0 * eig.eigenvalues()[1]))
+  const FittedPlane fit = FitPlane(section);
+  if (!(fit.moments[2] > 9.0 * fit.moments[1]))
     return;
-  Eigen::Vector3d w = eig.eigenvectors().col(2);
   axis.fitted = true;
-  axis.centroid = mean;
-  axis.direction = w.dot(u) < 0.0 ? Eigen::Vector3d(-w) : w;
+  axis.centroid = fit.centroid;
+  axis.direction = fit.major.dot(u) < 0.0 ? Eigen::Vector3d(-fit.major) : fit.major;
   const Eigen::Vector3d offset = AxisOffset(across, u, axis.half, spacing, true);
   axis.lineOffset = offset - offset.dot(axis.direction) * axis.direction;
 }

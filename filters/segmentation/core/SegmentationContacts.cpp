@@ -3,11 +3,14 @@
 // docs/methods/segmentation.md gives the numbers): cut at that seam.
 #include "SegmentationSteps.h"
 
+#include <plantmorph/PlaneFit.h>
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <utility>
 
 namespace plantmorph
 {
@@ -143,40 +146,6 @@ double Span(std::vector<double>& values)
   return at(1.0 - SpanQuantile) - at(SpanQuantile);
 }
 
-/// Twice the signed area of the triangle o, a, b (positive when counter-clockwise).
-double Cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b)
-{
-  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-}
-
-/// The area of the convex hull of `q` (reordered; Andrew's monotone chain).
-double HullArea(std::vector<Eigen::Vector2d>& q)
-{
-  if (q.size() < 3)
-    return 0.0;
-  std::sort(q.begin(), q.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  std::vector<Eigen::Vector2d> hull(2 * q.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < q.size(); ++i) // lower chain
-  {
-    while (k >= 2 && Cross(hull[k - 2], hull[k - 1], q[i]) <= 0.0)
-      --k;
-    hull[k++] = q[i];
-  }
-  for (std::size_t i = q.size() - 1, lower = k + 1; i-- > 0;) // upper chain
-  {
-    while (k >= lower && Cross(hull[k - 2], hull[k - 1], q[i]) <= 0.0)
-      --k;
-    hull[k++] = q[i];
-  }
-  double area = 0.0;
-  for (std::size_t i = 0; i + 1 < k; ++i)
-    area += hull[i].x() * hull[i + 1].y() - hull[i + 1].x() * hull[i].y();
-  return 0.5 * std::abs(area);
-}
-
 /// Whether the two sides, unfolded about the seam's line into one plane (a point at (its position along the line,
 /// its distance from the line), one side's distances negated), leave notches where the seam ends: the sum of the
 /// sides' convex hulls' areas under NotchedHullFraction of the hull of both. A blade folded or curled along any line
@@ -202,9 +171,9 @@ bool SidesLeaveNotches(const std::vector<Eigen::Vector3d>& points, const Eigen::
     both.insert(both.end(), one.begin(), one.end());
     for (int j : seam) // the seam's line in both: the sides' hulls would leave the band along it out
       one.emplace_back(unfold(j, 0.0));
-    sum += HullArea(one);
+    sum += ConvexHullArea(one);
   }
-  const double whole = HullArea(both);
+  const double whole = ConvexHullArea(std::move(both));
   return whole > 0.0 && sum < NotchedHullFraction * whole;
 }
 

@@ -4,6 +4,8 @@
 #include "PointGrid.h"
 #include "TreeFitInternal.h"
 
+#include <plantmorph/PlaneFit.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -23,36 +25,6 @@ void Horizontal(const Eigen::Vector3d& up, Eigen::Vector3d& e1, Eigen::Vector3d&
     x = Eigen::Vector3d::UnitY() - Eigen::Vector3d::UnitY().dot(up) * up;
   e1 = x.normalized();
   e2 = up.cross(e1);
-}
-
-/// Area of the 2-D convex hull (Andrew's monotone chain).
-double HullArea(std::vector<Eigen::Vector2d> p)
-{
-  if (p.size() < 3)
-    return 0.0;
-  std::sort(p.begin(), p.end(),
-    [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y(); });
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
-  };
-  std::vector<Eigen::Vector2d> hull(2 * p.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-  {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 0)
-      --k;
-    hull[k++] = p[i];
-  }
-  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i)
-  {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], p[i - 1]) <= 0)
-      --k;
-    hull[k++] = p[i - 1];
-  }
-  double area = 0;
-  for (std::size_t i = 0; i + 1 < k; ++i)
-    area += hull[i].x() * hull[i + 1].y() - hull[i + 1].x() * hull[i].y();
-  return 0.5 * std::abs(area);
 }
 
 /// The direction of a branch's base: the chord from its start over the first third of its length (at least its first
@@ -268,7 +240,7 @@ void ComputeTraits(const std::vector<Eigen::Vector3d>& points, const std::vector
   std::vector<Eigen::Vector2d> plan;
   for (const auto& p : wood.points)
     plan.emplace_back(p.dot(e1), p.dot(e2));
-  t.crownProjectedArea = HullArea(plan);
+  t.crownProjectedArea = ConvexHullArea(plan);
   t.points = static_cast<double>(points.size());
   t.woodPoints = static_cast<double>(wood.points.size());
   t.spacing = wood.spacing;

@@ -76,4 +76,24 @@ TEST(PlaneFit, CircleFromAQuarterArc)
   EXPECT_NEAR(circle.z(), 3.0, 1e-9);
 }
 
+TEST(PlaneFit, ConvexHullAreaOfAPolygonWithPointsInside)
+{
+  // A regular hexagon of circumradius 2 (area 3 sqrt(3) / 2 * 4), its vertices shuffled among points inside and on
+  // its edges, one vertex repeated: the hull is the hexagon. Points on a line and fewer than three have no area.
+  std::vector<Eigen::Vector2d> points;
+  for (int k = 0; k < 6; ++k)
+  {
+    const double a = k * 3.14159265358979323846 / 3.0;
+    const Eigen::Vector2d v(2.0 * std::cos(a), 2.0 * std::sin(a));
+    points.push_back(0.5 * v);
+    points.push_back(v);
+    points.push_back(0.25 * v + Eigen::Vector2d(0.1, -0.05));
+  }
+  points.push_back(points[1]);
+  points.push_back(0.5 * (points[1] + points[4])); // the middle of an edge
+  EXPECT_NEAR(ConvexHullArea(points), 6.0 * std::sqrt(3.0), 1e-12);
+  EXPECT_EQ(ConvexHullArea({ Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), Eigen::Vector2d(3, 3) }), 0.0);
+  EXPECT_EQ(ConvexHullArea({ Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1) }), 0.0);
+}
+
 } // namespace plantmorph

@@ -627,7 +627,7 @@ Truth TwoLeavesInAV(double degrees, double noise)
 
 TEST(PlantSegmentation, TwoLeavesInAVAlongAllOfOnesEdgeAreTwoABladeFoldedAlongAChordIsOne)
 {
-  // Blade 1 meets blade 0 along its whole visible edge, 45 or 60 degrees off it: the seam is as long as blade 1
+  // Blade 1 meets blade 0 along its whole visible edge, 35 or 45 degrees off it: the seam is as long as blade 1
   // along it, as a crease spans a side of one folded blade, so the seam's length cut nothing (one instance, each
   // leaf at IoU 0.5 or under). Unfolded about the seam's line into one plane, the two outlines meet at an angle
   // where the seam ends, leaving notches in the hull of both (the hulls of the sides about 0.93 of it): two leaves.
