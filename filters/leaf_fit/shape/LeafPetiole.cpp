@@ -633,7 +633,8 @@ void BackToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& gr
   const double narrow = axis.half + 0.75 * spacing, radius = 12.0 * spacing;
   std::vector<int> near;
   const std::optional<double> meets = AxisMeetsPlane(points, grid, q, u, radius, narrow, 20, petiole, near);
-  if ((!meets || (*meets<-2.0 * spacing&& * meets> - radius)) && ToFittedAxis(points, grid, spacing, axis, petiole))
+  const bool behind = meets && *meets > -radius && *meets < -2.0 * spacing; // met behind the junction
+  if ((!meets || behind) && ToFittedAxis(points, grid, spacing, axis, petiole))
     return;
   if (!meets)
     return;
