@@ -348,15 +348,20 @@ bool BaseRunsToJunction(const std::vector<Eigen::Vector2d>& ts, double junction,
 }
 
 /// The midvein's base end `baseS` where the loop crosses t = 0 at `crossing`; true when it is a tip. Within
-/// `shallow` of the smooth margins' tip s0, that tip. A base narrower than the closing's discs (a cusp) that runs on
-/// along the midvein below the crossing down to a petiole's junction, where the stalk's axis meets the blade's
+/// `shallow` of the smooth margins' tip s0, that tip, but no more than a spacing past a petiole's junction where
+/// the stalk's axis meets the blade's plane: a scanner sees the stalk's top, which lies within a radius of the
+/// blade's plane for 1 / sin(angle) radii back along the midvein, so the blade's lowest samples are partly the
+/// stalk's, they do not thin out like a free tip's, and the tip extrapolated from them lies out on the stalk (the
+/// junction itself is placed to about a radius either way: it bounds the tip, it does not replace it). A base
+/// narrower than the closing's discs (a cusp) that runs on along the midvein below the crossing down to a petiole's junction, where the stalk's axis meets the blade's
 /// plane, is a tip at that junction. Else a sinus (SinusBottom).
 bool BaseEnd(const std::vector<Eigen::Vector2d>& ts, const Outline& outline, double crossing, double shallow,
   double spacing, double& baseS)
 {
   if (std::abs(crossing - outline.s0) < shallow)
   {
-    baseS = outline.s0;
+    const double bound = outline.junction - spacing;
+    baseS = outline.junctionMeetsPlane && bound > outline.s0 ? bound : outline.s0;
     return true;
   }
   if (outline.junctionMeetsPlane && BaseRunsToJunction(ts, outline.junction, crossing, spacing))

@@ -95,7 +95,8 @@ struct Contour
 /// the gap to the margin: measured against the smooth margins where it runs along them, else the level at which
 /// the contour encloses the area the points sample), so lobes, sinuses and a cordate base are kept and not bridged. Sets
 /// outline.base and outline.apex: the crossings of the midvein (t = 0) that bound it, a tip's end from the smooth
-/// outline's extrapolated s0 or s1 (the last points never reach a tip), a sinus's from outline.junction when that
+/// outline's extrapolated s0 or s1 (the last points never reach a tip; a base tip no more than a spacing past a
+/// petiole's junction that meets the blade's plane), a sinus's from outline.junction when that
 /// lies a little above the crossing (the discs round its bottom off). `snap`: where the loop runs along the
 /// smooth margins (from a spacing outside to three inside), their points are taken. The grid's distance transforms
 /// run through `parallel`, row by row and column by column (the contour does not depend on the threads).

@@ -757,4 +757,42 @@ TEST(LeafShape, LobedBladeScannedTwiceAlongTheSameLinesKeepsItsArea)
   }
 }
 
+TEST(LeafShape, BladeEndsWithinASpacingOfTheStalksJunction)
+{
+  // In intrinsic coordinates (t across, s along the midvein; spacing 1), an elliptic blade 100 long and 44 wide on
+  // a scanner's grid, its base at s = 0, and a stalk of radius 1 leaving it 30 degrees below its plane. The
+  // stalk's top (the side a scanner sees) lies within a radius of the blade's plane for 1 / tan 30 radii past the
+  // junction, 1 / sin 30 = 2 radii back along the midvein: its samples there (two a line, at t = +-0.5) are taken
+  // as the blade's. The lowest samples then do not thin out like a free tip's, and the tip extrapolated from them
+  // lay 2.0 spacings beyond the junction (Length +2 %); the blade ends within a spacing of it. Without a junction
+  // the tip is extrapolated beyond the lowest samples as before.
+  std::vector<Eigen::Vector2d> ts;
+  for (double s = 0.5; s < 100.0; s += 1.0)
+  {
+    const double half = 22.0 * std::sqrt(1.0 - (s - 50.0) * (s - 50.0) / 2500.0);
+    for (double t = std::floor(-half) + 0.5; t <= half; t += 1.0)
+      if (std::abs(t) <= half)
+        ts.emplace_back(t, s);
+  }
+  for (double s = -0.5; s > -2.0; s -= 1.0)
+    for (double t : { -0.5, 0.5 })
+      ts.emplace_back(t, s);
+  for (const bool stalk : { false, true })
+  {
+    fit::Outline outline;
+    ASSERT_EQ(fit::FitOutline(ts, LeafFitParameters(), 1.0, outline), "");
+    if (stalk)
+    {
+      outline.junction = 0.0;
+      outline.junctionMeetsPlane = true;
+    }
+    ASSERT_FALSE(fit::TraceContour(ts, 1.0, true, outline).right.empty());
+    if (stalk)
+      EXPECT_GE(outline.base, -1.0 - 1e-9) << "the blade's tip extrapolated past the junction";
+    else
+      EXPECT_LT(outline.base, -1.5) << "without a junction the tip lies beyond the lowest samples";
+    EXPECT_NEAR(outline.apex, 100.0, 1.0);
+  }
+}
+
 } // namespace plantmorph
