@@ -353,8 +353,8 @@ bool BaseRunsToJunction(const std::vector<Eigen::Vector2d>& ts, double junction,
 /// blade's plane for 1 / sin(angle) radii back along the midvein, so the blade's lowest samples are partly the
 /// stalk's, they do not thin out like a free tip's, and the tip extrapolated from them lies out on the stalk (the
 /// junction itself is placed to about a radius either way: it bounds the tip, it does not replace it). A base
-/// narrower than the closing's discs (a cusp) that runs on along the midvein below the crossing down to a petiole's junction, where the stalk's axis meets the blade's
-/// plane, is a tip at that junction. Else a sinus (SinusBottom).
+/// narrower than the closing's discs (a cusp) that runs on along the midvein below the crossing down to a petiole's
+/// junction, where the stalk's axis meets the blade's plane, is a tip at that junction. Else a sinus (SinusBottom).
 bool BaseEnd(const std::vector<Eigen::Vector2d>& ts, const Outline& outline, double crossing, double shallow,
   double spacing, double& baseS)
 {
