@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // TreeFit (filters/tree_fit/core): synthetic scans of trees made of exact cylinders, whose truth is known: a
 // cylinder's radius and volume, a Y fork's branches and angle, twigs too thin to measure getting pipe-model radii
-// instead of inflated fits, the height up to the sparse last points of a tip, deterministic threaded results, and the
-// bad inputs (noise, a plane, a line, too few points, NaN) refused with a clear message.
+// instead of inflated fits, leaves labelled wood going back to the leaves, the height up to the sparse last points of
+// a tip, deterministic threaded results, and the bad inputs (noise, a plane, a line, too few points, NaN) refused
+// with a clear message.
 #include "TreeFit.h"
 #include "TreeFitInternal.h"
 
