@@ -162,6 +162,11 @@ TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::v
       result = TreeFitResult();
       result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder);
     }
+    if (result.error.empty() && treefit::ReturnOffSurfaceChains(wood, result, woodCylinder, skeleton))
+    {
+      result = TreeFitResult();
+      result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder);
+    }
     if (result.error.empty())
       ReturnToLeaves(skeleton.nodeOf, wood, woodCylinder, candidates);
   }

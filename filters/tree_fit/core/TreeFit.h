@@ -28,7 +28,9 @@
 //     a GL^b (GL: growth length, the length of the cylinder and everything it carries), a and b fitted to the
 //     measured cylinders in log space (b = 1/2, area proportional to what is carried, when they do not determine
 //     it), times the branch's own level (the geometric mean of its measured/model ratios): twigs are never fitted
-//     from a handful of noisy points, so they are not inflated.
+//     from a handful of noisy points, so they are not inflated. A chain's tip run of unmeasured cylinders whose
+//     points lie, most of them, more than 3 noise deviations off both the modelled surface and the ring they make
+//     about the axis is leaves labelled wood: it goes back to the leaves and the cylinders are fitted again.
 //  6. Branches: the trunk starts at the base; at every fork it goes on into the child most aligned with it and
 //     carrying most among those turning under 25 degrees (two codominant children turning alike end it), and it ends
 //     where it would turn sharply (more than 25 degrees: a lateral at a leader's thin tip is a branch), but a straight

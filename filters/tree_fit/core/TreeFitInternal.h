@@ -64,6 +64,11 @@ struct Skeleton
 /// Step 3 on the cleaned wood.
 Skeleton BuildSkeleton(const Wood& wood);
 
+/// Removes the subtree under `node` (itself included): each of its points goes to node `to` (-1: none, the leaves)
+/// unfitted, and its nodes are marked removed. The caller drops `node` from its parent's children.
+void CutSubtree(
+  std::vector<Node>& nodes, int node, int to, std::vector<int>& nodeOf, std::vector<unsigned char>& fitted);
+
 /// The nodes' centroids (of their fitted points) and the segments, from the node tree as it stands.
 void Segments(const Wood& wood, Skeleton& s);
 
@@ -106,6 +111,14 @@ inline double SegmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a
 /// side. The lighter first, each joins those cylinders' nodes (its points and the chains hanging from it); the
 /// segments are made again. Whether any chain was merged (then the cylinders are to be fitted again).
 bool MergeInsideChains(const Wood& wood, const TreeFitResult& fit, Skeleton& s);
+
+/// Chains that are leaves, not wood (a segmentation labels leaf points packed round the twigs wood): the run of
+/// cylinders up to a chain's tip (the whole chain, with every chain hanging from it) none of which is measured and
+/// each of which has under half of its fitted points within 3 noise deviations of its modelled surface and under half
+/// within as much of the ring its points make about its axis goes back to the leaves: its points get no node. The
+/// segments are made again. Whether any chain went (then the cylinders are to be fitted again).
+bool ReturnOffSurfaceChains(
+  const Wood& wood, const TreeFitResult& fit, const std::vector<int>& woodCylinder, Skeleton& s);
 
 /// Step 5-6 on the fitted cylinders (fitRMS holding each fit's robust residual scale): the noise, which radii are
 /// measured, the growth-length model for the others, branches and orders; "" or why no radius is measured.

@@ -254,6 +254,8 @@ void Subtree(const std::vector<Node>& nodes, int node, std::vector<int>& out)
   }
 }
 
+} // namespace
+
 /// Removes the subtree under `node` (itself included): each of its points goes to node `to` (-1: none) unfitted, and
 /// its nodes are marked removed. The caller drops `node` from its parent's children.
 void CutSubtree(
@@ -276,6 +278,8 @@ void CutSubtree(
   }
 }
 
+namespace
+{
 /// Whether a node's points lie in a flat sheet wider than a twig's section (a leaf, or a strip of one): the smallest
 /// principal deviation under SheetFlatness of the middle one, which is at least SheetWidth spacings. A twig's level
 /// set is a short tube (its two smaller deviations about equal, or an arc's when one side is scanned, at least 0.3

@@ -9,7 +9,9 @@
  * those scaled units (volumes in their cube, areas in their square, angles in degrees). WoodArray (optional) names a
  * point array telling wood from leaves: PlantMorph's Organ (VirtualScanner's truth, PlantSegmentationFilter: 0 wood)
  * marks wood by 0, any other array by a nonzero value (WoodValues overrides): only wood is fitted, and the leaves
- * count for the tree's Height (its top, leaves included; WoodHeight is the wood's).
+ * count for the tree's Height (its top, leaves included; WoodHeight is the wood's). Points labelled wood that the
+ * fit finds to be leaves (flat sheets hanging from a fork, clumps round a twig lying on no surface) get Wood 0 on
+ * the Scan port and no cylinder.
  * Each tree is fitted by plantmorph::FitTree (filters/tree_fit/core/TreeFit.h), its loops threaded with vtkSMPTools.
  *
  * Output port 0, **Cylinders**: one line cell per cylinder (start to end), or with Tubes a capped tube of TubeSides
