@@ -92,7 +92,8 @@ bool ReturnOffSurfaceChains(
   for (std::size_t g = 0; g < segments; ++g)
   {
     const auto& chain = s.segments[g];
-    const bool whole = leaves[g] && !leaves[s.segmentParent[g]];
+    const int parent = s.segmentParent[g]; // -1 for a chain that starts a skeleton of its own
+    const bool whole = leaves[g] && parent >= 0 && !leaves[parent];
     const bool end = !leaves[g] && tail[g] < chain.size() && childrenLeaves[g];
     const int first = whole ? chain.front() : end ? chain[tail[g]] : -1;
     if (first < 0 || s.nodes[first].parent < 0) // nothing to return, or already returned with its parent's tip
