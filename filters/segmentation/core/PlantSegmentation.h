@@ -25,8 +25,11 @@
 //     point's normal within NormalAngle of its piece's seed (no drift from leaf to leaf), and its pieces are judged
 //     in turn. A flat strip (coherent, no cylinder, judged wood only for being narrower than 2r or long) is leaf
 //     when the points within three links around it lie in its plane (under r / 10 off it) or there are none: a
-//     tube's facet has the next facets turning away around it. Alone, such a strip gets no LeafId. Points of
-//     regions too small to judge take
+//     tube's facet has the next facets turning away around it. A flat strip whose surroundings are not flat is
+//     still leaf when no wood lies within r / 2 of it (once its region has taken the small regions around it) and
+//     its own normals turn about its length by under an rms 6 degrees: a leaf seen narrow among other leaves, which
+//     make its surroundings uneven; a twig's strip lies beside the twig's other strips or turns with its surface.
+//     Alone, such a strip gets no LeafId. Points of regions too small to judge take
 //     the organ of the nearest judged region (breadth-first over the radius graph), linear ones are wood.
 //     A thick cylinder keeps its whole surface: the judged wood is fitted, in slices of 8r along each wood region's
 //     axis, with circles of radius at least r (refitted to all the wood of the slice near them), and the leaf points

@@ -453,6 +453,67 @@ TEST(PlantSegmentation, AFlatStripApartIsLeafATwigsFacetsAreWood)
   EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
 }
 
+TEST(PlantSegmentation, ANarrowLeafAmongLeavesIsLeafABareTwigsFacetsStayWood)
+{
+  // The plant of seven leaves, with beside it, away from the stem, a brush of leaves: a leaf seen in a few rows (a
+  // flat strip 0.2 long and 0.025 wide, narrower than the features' neighbourhood 2r = 0.04) whose long edge touches
+  // two blades crossing its plane at 60 degrees, one on each side. Its surroundings are those blades, off its plane:
+  // not flat, so it was wood, as a facet of a branch is. No wood lies near it and it is flat: leaf. Beside it, a bare
+  // twig of six flat sides (circumradius 0.025: each side a strip 0.025 wide and 0.4 long, its normals turning across
+  // the edges as the features smooth them) and the same twig seen from one side (three sides), both linked to
+  // nothing: each side is a strip whose surroundings turn away and which lies beside the twig's other sides: wood.
+  const int leaves = 7;
+  const double h = 0.005, noise = 0.0002;
+  Truth t = SyntheticPlant(leaves);
+  std::mt19937 random(5);
+  std::normal_distribution<double> gauss(0.0, noise);
+  const auto add = [&](const Eigen::Vector3d& p, int organ, int leaf) {
+    t.points.push_back(p + Eigen::Vector3d(gauss(random), gauss(random), gauss(random)));
+    t.organ.push_back(organ);
+    t.leaf.push_back(leaf);
+  };
+  const std::size_t strip = t.points.size();
+  const Eigen::Vector3d corner(0.6, 0.0, 0.3); // the strip: x from 0.6 on, z up, in the plane y = 0
+  for (double s = 0.0; s <= 0.2 + 1e-12; s += h)
+    for (double w = 0.0; w <= 0.025 + 1e-12; w += h)
+      add(corner + Eigen::Vector3d(w, 0.0, s), plantmorph::OrganLeaf, leaves);
+  const std::size_t blades = t.points.size();
+  for (int side : { -1, 1 }) // each blade leaves the strip's far edge (x = 0.625 + h) at 60 degrees to its plane
+  {
+    const Eigen::Vector3d out(std::cos(Pi / 3), side * std::sin(Pi / 3), 0.0);
+    for (double s = -0.02; s <= 0.22 + 1e-12; s += h)
+      for (double w = 0.0; w <= 0.12 + 1e-12; w += h)
+        add(corner + Eigen::Vector3d(0.025 + h, 0.0, s) + w * out, plantmorph::OrganLeaf, leaves + (side + 1) / 2 + 1);
+  }
+  const std::size_t twigs = t.points.size();
+  const int sides = 6;
+  const double circumradius = 0.025;
+  const double turn = 2.0 * Pi / sides, edge = 2.0 * circumradius * std::sin(turn / 2);
+  const int across = static_cast<int>(std::round(edge / h));
+  for (int twig = 0; twig < 2; ++twig)
+    for (int k = 0; k < (twig == 0 ? sides : sides / 2); ++k)
+    {
+      const Eigen::Vector3d a(circumradius * std::cos(k * turn), circumradius * std::sin(k * turn), 0.0);
+      const Eigen::Vector3d b(circumradius * std::cos((k + 1) * turn), circumradius * std::sin((k + 1) * turn), 0.0);
+      for (double z = 0.0; z <= 0.4 + 1e-12; z += h)
+        for (int w = 0; w < across; ++w)
+          add(Eigen::Vector3d(-0.6, twig == 0 ? 0.0 : 0.3, 0.2 + z) + a + (b - a) * (w + 0.5) / across,
+            plantmorph::OrganWood, -1);
+    }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  std::size_t stripLeaf = 0, bladesLeaf = 0, twigWood = 0;
+  for (std::size_t i = strip; i < blades; ++i)
+    stripLeaf += r.organ[i] == plantmorph::OrganLeaf;
+  for (std::size_t i = blades; i < twigs; ++i)
+    bladesLeaf += r.organ[i] == plantmorph::OrganLeaf;
+  for (std::size_t i = twigs; i < t.points.size(); ++i)
+    twigWood += r.organ[i] == plantmorph::OrganWood;
+  EXPECT_GT(static_cast<double>(stripLeaf), 0.9 * static_cast<double>(blades - strip));
+  EXPECT_GT(static_cast<double>(bladesLeaf), 0.95 * static_cast<double>(twigs - blades));
+  EXPECT_GT(static_cast<double>(twigWood), 0.95 * static_cast<double>(t.points.size() - twigs));
+}
+
 TEST(PlantSegmentation, TwoLeavesFromOneSpotAreTwoInstancesAFoldedOrCurledLeafIsOne)
 {
   // Two flat blades leaving a stem at one spot (one azimuth, one height), their planes 40, 60 or 90 degrees apart:
