@@ -1209,21 +1209,6 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
     std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
 }
 
-/// The fewest points a side of a cut leaf part may have: MinimumLeafPoints, or PieceFraction of the median part of
-/// at least that many when larger (a piece smaller than that is a tip or rim of a leaf, JoinPieces).
-std::size_t SmallestLeaf(const std::vector<std::vector<int>>& parts, int minimumLeafPoints)
-{
-  std::vector<std::size_t> sizes;
-  for (const std::vector<int>& ids : parts)
-    if (ids.size() >= static_cast<std::size_t>(minimumLeafPoints))
-      sizes.push_back(ids.size());
-  const auto least = static_cast<std::size_t>(minimumLeafPoints);
-  if (sizes.empty())
-    return least;
-  std::nth_element(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2), sizes.end());
-  return std::max(least, static_cast<std::size_t>(PieceFraction * static_cast<double>(sizes[sizes.size() / 2])));
-}
-
 /// The leaf instances: leaf regions of at least MinimumLeafPoints points, numbered by their lowest point index.
 void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   const std::vector<int>& region, const std::vector<RegionVerdict>& verdicts, double spacing, double radius,
@@ -1265,8 +1250,10 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
       leaves.push_back(std::move(part));
   JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
   JoinAcrossGaps(points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
-  if (CutAtShortSeams(
-        points, f, graph, std::cos(p.normalAngle * Pi / 180.0), SmallestLeaf(leaves, p.minimumLeafPoints), leaves) > 0)
+  // a side of a cut needs only a leaf's fewest points: the seam, not its size, tells a crease from a contact, and a
+  // small side is judged again by the joins (a piece joins its leaf; a small leaf beside another gets no instance)
+  if (CutAtShortSeams(points, f, graph, std::cos(p.normalAngle * Pi / 180.0),
+        static_cast<std::size_t>(p.minimumLeafPoints), leaves) > 0)
   {
     // a cut side may be a piece of a third leaf whose rest lies in another part: the joins again
     JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);

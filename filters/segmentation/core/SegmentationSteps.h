@@ -89,11 +89,11 @@ inline constexpr double SeamFraction = 0.8;
 inline constexpr double NotchedHullFraction = 0.95;
 
 /// Two touching leaves grown into one leaf part (their normals turn by more than NormalAngle across a smooth
-/// contact): each part of at least 2 `smallest` points whose normals form two groups with axes more than
-/// NormalAngle apart (`cosine`), each group made one linked piece, is cut between them when each side has at least
-/// `smallest` points and their seam (the points linked to the other side) is shorter than SeamFraction of each
-/// side's extent along it, or the sides unfolded about the seam leave notches (NotchedHullFraction); each side is
-/// looked at again. Returns the cuts made.
+/// contact): each part of at least 2 `smallest` points (a leaf's fewest, MinimumLeafPoints) whose normals form two
+/// groups with axes more than NormalAngle apart (`cosine`), each group made one linked piece, is cut between them
+/// when each side has at least `smallest` points and their seam (the points linked to the other side) is shorter
+/// than SeamFraction of each side's extent along it, or the sides unfolded about the seam leave notches
+/// (NotchedHullFraction); each side is looked at again. Returns the cuts made.
 std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts);
 
