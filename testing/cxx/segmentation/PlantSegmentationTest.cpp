@@ -350,6 +350,49 @@ TEST(PlantSegmentation, ALeafSeenInTwoPiecesAcrossAGapIsOneInstanceAParallelLeaf
     EXPECT_GT(iou, 0.9);
 }
 
+TEST(PlantSegmentation, ALeafCutByAWideShadowAtLowNoiseIsOneInstanceALeafBeyondItsTipIsNot)
+{
+  // The plant of seven leaves at low noise (r is FeatureScale spacings, 0.02), the first with a band across its
+  // middle left unscanned 0.1 wide (five radii: the shadow of a leaf in front, as wide as the leaf, not as the
+  // spacing): its two pieces lie in one plane farther apart than the 4r of a gap (it gave two instances). Together
+  // they span no more than a leaf: they join. A second leaf in the same plane beyond the first one's tip, as far
+  // from it as the shadow is wide (a whole leaf: together they span more than two), stays apart.
+  const int leaves = 7;
+  Truth t = SyntheticPlant(leaves);
+  const double rise = 40.0 * Pi / 180.0, band = 0.1, length = 0.3;
+  const Eigen::Vector3d out(1.0, 0.0, 0.0), up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * up;
+  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, 0.15);
+  Truth cut;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+  {
+    const double s = (t.points[i] - base).dot(along);
+    if (t.leaf[i] == 0 && s > 0.1 && s < 0.1 + band)
+      continue;
+    cut.points.push_back(t.points[i]);
+    cut.organ.push_back(t.organ[i]);
+    cut.leaf.push_back(t.leaf[i]);
+  }
+  const plantmorph::SegmentationResult r1 = plantmorph::SegmentPlants(cut.points, {}, {});
+  ASSERT_EQ(r1.error, "");
+  EXPECT_EQ(r1.leaves.size(), static_cast<std::size_t>(leaves));
+  for (double iou : InstanceIoU(cut, r1, leaves))
+    EXPECT_GT(iou, 0.9);
+  // the leaf beyond: a copy of the first whole leaf moved along its own axis by its length and the band
+  for (std::size_t i = 0, n = t.points.size(); i < n; ++i)
+    if (t.leaf[i] == 0)
+    {
+      cut.points.push_back(t.points[i] + (length + band) * along);
+      cut.organ.push_back(plantmorph::OrganLeaf);
+      cut.leaf.push_back(leaves);
+    }
+  const plantmorph::SegmentationResult r2 = plantmorph::SegmentPlants(cut.points, {}, {});
+  ASSERT_EQ(r2.error, "");
+  EXPECT_EQ(r2.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  for (double iou : InstanceIoU(cut, r2, leaves + 1))
+    EXPECT_GT(iou, 0.9);
+}
+
 TEST(PlantSegmentation, ScatteredPointsOfALeafEdgeOnAreLeafThoseBesideTheStemAreWood)
 {
   // The plant of seven leaves and two sparse patches, each sampled every three spacings (farther apart than the
