@@ -645,6 +645,42 @@ Contour ContourFromLoop(const std::vector<Eigen::Vector2d>& loop, const std::vec
   return contour;
 }
 
+/// The smooth margins kept within a spacing of `loop` (the region the points draw), for a blade whose loop gives no
+/// contour (its crossings of t = 0 do not bound one midvein, or a side crosses t = 0: a strip of points along the
+/// midrib beside t = 0 below a bare base, the sugar beet of 30 August's): each margin at s goes no farther out than
+/// the loop's outermost point at s and a spacing, and no farther in than t = 0. Where the loop does not reach (the
+/// tips beyond the last points) the smooth margins are kept. Empty when the loop is.
+Contour ClippedMargins(const std::vector<Eigen::Vector2d>& loop, const Outline& outline, double spacing)
+{
+  Contour contour;
+  if (loop.size() < 3 || !(outline.s1 > outline.s0))
+    return contour;
+  const int steps = std::max(2, static_cast<int>(std::ceil((outline.s1 - outline.s0) / (0.25 * spacing))));
+  contour.right.push_back({ 0.0, outline.s0 });
+  contour.left.push_back({ 0.0, outline.s0 });
+  for (int k = 1; k < steps; ++k)
+  {
+    const double s = outline.s0 + (outline.s1 - outline.s0) * k / steps;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t i = 0; i < loop.size(); ++i)
+    {
+      const Eigen::Vector2d& p = loop[i];
+      const Eigen::Vector2d& q = loop[(i + 1) % loop.size()];
+      if ((p.y() > s) != (q.y() > s))
+      {
+        const double t = p.x() + (q.x() - p.x()) * (s - p.y()) / (q.y() - p.y());
+        lo = std::min(lo, t);
+        hi = std::max(hi, t);
+      }
+    }
+    const bool reached = hi >= lo;
+    contour.right.push_back({ reached ? std::clamp(hi + spacing, 0.0, outline.Right(s)) : outline.Right(s), s });
+    contour.left.push_back({ reached ? std::clamp(lo - spacing, outline.Left(s), 0.0) : outline.Left(s), s });
+  }
+  contour.right.push_back({ 0.0, outline.s1 });
+  contour.left.push_back({ 0.0, outline.s1 });
+  return contour;
+}
 } // namespace
 
 Contour TraceContour(
@@ -776,6 +812,10 @@ Contour TraceContour(
     contour = matched;
     outline = again;
   }
+  // No contour from the loop: the smooth margins, but not beyond the loop (they would spread the blade over
+  // ground no point samples: 214 of the sugar beet's triangles, up to 8 spacings from the scan).
+  if (contour.right.empty())
+    contour = ClippedMargins(loop, given, spacing);
   return contour;
 }
 

@@ -84,7 +84,8 @@ std::string FitOutline(
   const std::vector<Eigen::Vector2d>& ts, const LeafFitParameters& options, double spacing, Outline& outline);
 
 /// The outline as the points draw it, in (t, s): the right margin (t > 0) and the left one (t < 0), each from the
-/// base (0, base) to the apex (0, apex). Empty when the points' boundary is not one such loop.
+/// base (0, base) to the apex (0, apex). Where the points' boundary is not one such loop, the smooth margins kept
+/// within a spacing of it (`features` false); empty only when the points draw no loop.
 struct Contour
 {
   std::vector<Eigen::Vector2d> right, left;

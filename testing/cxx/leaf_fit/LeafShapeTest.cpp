@@ -796,3 +796,83 @@ TEST(LeafShape, BladeEndsWithinASpacingOfTheStalksJunction)
 }
 
 } // namespace plantmorph
+
+namespace plantmorph
+{
+
+namespace
+{
+
+/// The farthest a point of the region the blade is meshed in (the contour, or the smooth margins when there is
+/// none) lies from the nearest of `ts`, sampled every half spacing (spacing 1).
+double FarthestFromThePoints(const std::vector<Eigen::Vector2d>& ts, const fit::Contour& contour, const fit::Outline& o)
+{
+  std::vector<Eigen::Vector2d> polygon;
+  if (contour.right.empty())
+  {
+    for (double s = o.s0; s <= o.s1; s += 0.25)
+      polygon.push_back({ o.Right(s), s });
+    for (double s = o.s1; s >= o.s0; s -= 0.25)
+      polygon.push_back({ o.Left(s), s });
+  }
+  else
+  {
+    polygon.assign(contour.right.begin(), contour.right.end());
+    polygon.insert(polygon.end(), contour.left.rbegin(), contour.left.rend());
+  }
+  auto inside = [&](const Eigen::Vector2d& p) {
+    bool in = false;
+    for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++)
+      if ((polygon[i].y() > p.y()) != (polygon[j].y() > p.y()) &&
+        p.x() < polygon[i].x() +
+            (polygon[j].x() - polygon[i].x()) * (p.y() - polygon[i].y()) / (polygon[j].y() - polygon[i].y()))
+        in = !in;
+    return in;
+  };
+  double farthest = 0.0;
+  for (double s = o.s0; s <= o.s1; s += 0.5)
+    for (double t = -40.0; t <= 40.0; t += 0.5)
+      if (inside({ t, s }))
+      {
+        double nearest = 1e300;
+        for (const auto& q : ts)
+          nearest = std::min(nearest, (q - Eigen::Vector2d(t, s)).squaredNorm());
+        farthest = std::max(farthest, std::sqrt(nearest));
+      }
+  return farthest;
+}
+
+} // namespace
+
+TEST(LeafShape, BladeStaysOnThePointsWhereTheirLoopGivesNoContour)
+{
+  // In intrinsic coordinates (spacing 1): a blade 70 long and 44 wide from s = 30 to 100 on a grid, below it a bare
+  // base: a strip of points 3 wide along the midrib that wanders off t = 0 (t from 0.5 to 2.5 up to s = 15, from
+  // 3.5 to 5.5 above), and single points 8 apart along the two margins of a wedge (t = +-0.7 s), which the smooth
+  // margins follow (a sugar beet's base scanned along its midrib and its margins only). The loop the points draw
+  // crosses t = 0 where the strip leaves it, so it gives no contour; the smooth margins' wedge then spread the
+  // blade over ground no point samples, 7.8 spacings from the nearest. The blade keeps to the loop: no part of it
+  // farther from a point than the discs' 2.5 spacings, the gap to the margin (under a spacing on a grid) and the
+  // spacing the margins may pass the loop (3.5 here).
+  std::vector<Eigen::Vector2d> ts;
+  for (double s = 30.5; s < 100.0; s += 1.0)
+  {
+    const double half = 22.0 * std::sqrt(1.0 - (s - 30.0) * (s - 30.0) / 4900.0);
+    for (double t = std::floor(-half) + 0.5; t <= half; t += 1.0)
+      ts.emplace_back(t, s);
+  }
+  for (double s = 0.5; s < 30.0; s += 1.0)
+    for (double t : { 0.5, 1.5, 2.5 })
+      ts.emplace_back(s < 15.0 ? t : t + 3.0, s);
+  for (double s = 4.0; s < 30.0; s += 8.0)
+    for (double side : { -1.0, 1.0 })
+      ts.emplace_back(side * 0.7 * s, s);
+  fit::Outline outline;
+  ASSERT_EQ(fit::FitOutline(ts, LeafFitParameters(), 1.0, outline), "");
+  const fit::Outline smooth = outline;
+  const fit::Contour contour = fit::TraceContour(ts, 1.0, true, outline);
+  EXPECT_LT(FarthestFromThePoints(ts, contour, outline), 4.5) << "the blade spreads beyond the points' loop";
+  EXPECT_GT(FarthestFromThePoints(ts, fit::Contour(), smooth), 4.5) << "the smooth margins do not test the case";
+}
+
+} // namespace plantmorph
