@@ -50,6 +50,11 @@
 //     another and gets no instance (leaf, LeafId -1); then a larger part joins the touching part it shares the most
 //     links with among those continuing its sheet (planes within NormalAngle, both together off their common plane
 //     by under r): a leaf cut in two by a crease.
+//     A leaf's rows seen at a grazing angle (farther apart than the links: each row its own one-row strip, or cut
+//     off from every region) join a leaf part: parts with no leaf shape (under MinimumLeafPoints, or only flat strips
+//     and cut-off points) join a part within 2r lying in one plane with it (off it by under r / 4) that the
+//     features' normals of both agree with (within about half of NormalAngle), spanning no more than a leaf
+//     together; rows that reach no leaf part get no instance.
 //     Parts that do not touch join when they lie in one plane (planes within half of NormalAngle, both off their
 //     common plane by under r / 4) within 4r of each other, nearest first, or farther apart when together they span
 //     no more than a leaf (the 90th percentile of the flat parts' spans, plus r / 4): a leaf seen in pieces through

@@ -1185,6 +1185,141 @@ double LeafLength(const std::vector<Eigen::Vector3d>& points, const std::vector<
   return spans[static_cast<std::size_t>(at)];
 }
 
+/// The leaf points cut off from every region (IsolatedPiecesByTheirSurroundings: their whole component of the link
+/// graph has under JudgedRegionPoints points), one part per component, appended to `parts`: a leaf seen edge on in
+/// scattered points or short rows, which GatherRows may join to the rest of its leaf.
+void IsolatedLeafPieces(const LinkGraph& graph, const std::vector<int>& region, const std::vector<int>& organ,
+  std::vector<std::vector<int>>& parts)
+{
+  const std::size_t n = region.size();
+  std::vector<char> seen(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (seen[i] || region[i] >= 0 || organ[i] != OrganLeaf)
+      continue;
+    std::vector<int> piece{ static_cast<int>(i) };
+    seen[i] = 1;
+    for (std::size_t at = 0; at < piece.size(); ++at)
+    {
+      const auto q = static_cast<std::size_t>(piece[at]);
+      for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+      {
+        const auto j = static_cast<std::size_t>(graph.neighbours[e]);
+        if (!seen[j] && region[j] < 0 && organ[j] == OrganLeaf)
+        {
+          seen[j] = 1;
+          piece.push_back(static_cast<int>(j));
+        }
+      }
+    }
+    std::sort(piece.begin(), piece.end());
+    parts.push_back(std::move(piece));
+  }
+}
+
+/// Whether a part gets no leaf instance: under `minimumLeafPoints` points, or made only of flat strips (narrower than
+/// 2r or a long strip) and points cut off from every region (region -1): no leaf shape to fit. Such points join a
+/// leaf when they are its rows (GatherRows); alone they stay leaf without LeafId.
+bool NoLeafShape(const std::vector<int>& region, const std::vector<RegionVerdict>& verdicts,
+  const std::vector<int>& ids, int minimumLeafPoints)
+{
+  return ids.size() < static_cast<std::size_t>(minimumLeafPoints) || std::all_of(ids.begin(), ids.end(), [&](int j) {
+    const int r = region[static_cast<std::size_t>(j)];
+    return r < 0 || verdicts[static_cast<std::size_t>(r)].flatStrip;
+  });
+}
+
+/// Rows of a leaf seen at a grazing angle: the scan's rows on it lie farther apart than the links, so each row grows
+/// into its own region (a strip one row wide: leaf, no instance) or is cut off from every region, and the leaf's
+/// instance holds only the piece seen densely, or the leaf none. The features, whose radius r spans several rows, see
+/// one surface: their normals are the leaf's. Parts with no leaf shape (NoLeafShape) join a part within 2r (the
+/// features' outer neighbourhood) when the two lie in one plane that the features' normals of both agree with (mean
+/// squared cosine to it at least `cosine` squared: two parallel rows, or two segments that meet, always lie in some
+/// plane; the normals tell whether it is the leaf's), the points of both off it by under `thickness`, and together
+/// they span no more than a leaf (LeafLength, as in JoinAcrossGaps). Nearest first, each join checked again on the
+/// parts already joined; rows join rows or one leaf part, never two leaf parts through rows between them. Rows that
+/// reach no leaf part keep no instance (NoLeafShape): made instances when as wide as a leaf, such groups matched a
+/// leaf in 25 of 36 cases on the simulated tree from two positions at 0.1 % noise (the scan's precision 0.89).
+void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const std::vector<int>& region,
+  const std::vector<RegionVerdict>& verdicts, const SegmentationParameters& p, double cosine, double thickness,
+  std::vector<std::vector<int>>& parts)
+{
+  const double reach = 2.0 * f.radius;
+  std::vector<std::size_t> rows, big;
+  std::vector<char> whole(parts.size(), 0); // a part with a leaf's shape (or one that has joined such a part)
+  std::vector<PartMoments> moments(parts.size());
+  std::vector<Eigen::Matrix3d> normals(parts.size(), Eigen::Matrix3d::Zero()); // sums of n n^T
+  std::vector<Eigen::Vector3d> low(parts.size()), high(parts.size());
+  for (std::size_t k = 0; k < parts.size(); ++k)
+  {
+    if (parts[k].empty())
+      continue;
+    moments[k].count = static_cast<double>(parts[k].size());
+    moments[k].scatter = Scatter(points, parts[k], moments[k].mean);
+    whole[k] = !NoLeafShape(region, verdicts, parts[k], p.minimumLeafPoints);
+    (whole[k] ? big : rows).push_back(k);
+    low[k] = high[k] = points[static_cast<std::size_t>(parts[k].front())];
+    for (int j : parts[k])
+    {
+      const Eigen::Vector3d& n = f.normal[static_cast<std::size_t>(j)];
+      normals[k] += n * n.transpose();
+      low[k] = low[k].cwiseMin(points[static_cast<std::size_t>(j)]);
+      high[k] = high[k].cwiseMax(points[static_cast<std::size_t>(j)]);
+    }
+  }
+  const double leafLength = LeafLength(points, parts, big, moments, thickness) + thickness;
+  const auto together = [&](std::size_t a, std::size_t b) {
+    const PartMoments m = moments[a].Merged(moments[b]);
+    double spread = 0.0;
+    const Eigen::Vector3d n = m.Normal(spread);
+    if (spread >= thickness || n.dot((normals[a] + normals[b]) * n) < cosine * cosine * m.count)
+      return false;
+    std::vector<int> both = parts[a];
+    both.insert(both.end(), parts[b].begin(), parts[b].end());
+    return SpanAlong(points, both, m) <= leafLength;
+  };
+  std::vector<std::size_t> order = rows; // swept along x: the pairs whose boxes come within reach
+  order.insert(order.end(), big.begin(), big.end());
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return low[a].x() < low[b].x(); });
+  std::vector<std::tuple<double, std::size_t, std::size_t>> pairs; // (gap, a, b): a row and a row or a leaf
+  for (std::size_t x = 0; x < order.size(); ++x)
+    for (std::size_t y = x + 1; y < order.size() && low[order[y]].x() <= high[order[x]].x() + reach; ++y)
+    {
+      const std::size_t a = order[x], b = order[y];
+      if ((whole[a] && whole[b]) || (low[a].array() - reach > high[b].array()).any() ||
+        (low[b].array() - reach > high[a].array()).any())
+        continue;
+      if (const double gap = GapBetween(points, parts[a], parts[b], reach); gap < reach && together(a, b))
+        pairs.emplace_back(gap, a, b);
+    }
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<std::size_t> root(parts.size());
+  for (std::size_t k = 0; k < root.size(); ++k)
+    root[k] = k;
+  const auto find = [&root](std::size_t k) {
+    while (root[k] != k)
+      k = root[k] = root[root[k]];
+    return k;
+  };
+  for (const auto& [gap, a, b] : pairs)
+  {
+    const std::size_t ra = find(a), rb = find(b);
+    // rows join each other or one leaf; two leaves never join through rows between them
+    if (ra == rb || (whole[ra] && whole[rb]) || !together(ra, rb))
+      continue;
+    const std::size_t into = std::min(ra, rb), from = std::max(ra, rb);
+    root[from] = into;
+    whole[into] = whole[into] || whole[from];
+    moments[into] = moments[into].Merged(moments[from]);
+    normals[into] += normals[from];
+    parts[into].insert(parts[into].end(), parts[from].begin(), parts[from].end());
+    std::sort(parts[into].begin(), parts[into].end());
+    parts[from].clear();
+  }
+  parts.erase(
+    std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
+}
+
 /// Pieces of one leaf that do not touch: a leaf seen in pieces behind another leaf or a branch, cut by a line of
 /// missing points wider than the links. Two leaf parts (each of at least MinimumLeafPoints points) join when they
 /// lie in one plane (planes within GapAngleFraction NormalAngle, both off their common plane by under GapThickness
@@ -1306,6 +1441,9 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
     for (std::vector<int>& part : SplitAtBases(points, graph, ids, hops, 4.0 * radius, owner))
       leaves.push_back(std::move(part));
   JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
+  IsolatedLeafPieces(graph, region, labels.organ, leaves);
+  GatherRows(points, f, region, verdicts, p, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0),
+    GapThickness * radius, leaves);
   JoinAcrossGaps(points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
   // a side of a cut needs only a leaf's fewest points: the seam, not its size, tells a crease from a contact, and a
   // small side is judged again by the joins (a piece joins its leaf; a small leaf beside another gets no instance)
@@ -1320,11 +1458,9 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   std::sort(leaves.begin(), leaves.end());
   for (const std::vector<int>& ids : leaves)
   {
-    // a part made only of flat strips (narrower than 2r or a long strip) has no leaf shape to fit: leaf, no LeafId
-    if (ids.size() < static_cast<std::size_t>(p.minimumLeafPoints) || std::all_of(ids.begin(), ids.end(), [&](int j) {
-          const int r = region[static_cast<std::size_t>(j)];
-          return r >= 0 && verdicts[static_cast<std::size_t>(r)].flatStrip;
-        }))
+    // a part made only of flat strips (narrower than 2r or a long strip) and cut-off points has no leaf shape to
+    // fit: leaf, no LeafId
+    if (NoLeafShape(region, verdicts, ids, p.minimumLeafPoints))
       continue;
     SegmentedLeaf leaf;
     leaf.leafId = static_cast<int>(labels.leaves.size());

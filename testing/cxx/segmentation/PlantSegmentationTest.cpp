@@ -393,6 +393,69 @@ TEST(PlantSegmentation, ALeafCutByAWideShadowAtLowNoiseIsOneInstanceALeafBeyondI
     EXPECT_GT(iou, 0.9);
 }
 
+TEST(PlantSegmentation, ALeafSeenInRowsBeyondItsBaseIsOneInstanceABladeTouchingItAtAnAngleIsNot)
+{
+  // The plant of seven leaves, the first scanned densely only up to 0.06 of its 0.3 from the base and beyond that at
+  // a grazing angle: in rows across its width every 3 spacings along its length (farther apart than the links, 2.5
+  // spacings; within 2r, 8), each row's points a spacing apart and a fifth of a spacing either side of its line (a
+  // scan's row on a leaf is no exact line). Each row grows into its own region, a strip one row wide, or is too
+  // short for one: the leaf's instance held the base alone (IoU about 0.35). The features, whose radius spans three
+  // rows, see one surface: the rows join the base, one instance. A second blade in rows alone touches the first
+  // along its margin at 30 degrees (the rows turned 150 degrees about the margin's tangent at mid-length): a row of
+  // each meets at the contact, two segments in some plane, but the features' normals there are the blades', across
+  // that plane. It stays out of the first leaf's instance (IoU still above 0.9) and, rows alone with no leaf part to
+  // join, gets no instance of its own.
+  const int leaves = 7;
+  const double h = 0.005, length = 0.3, width = 0.15, rise = 40.0 * Pi / 180.0, rowStep = 3.0 * h, dense = 0.06;
+  const Eigen::Vector3d out = Eigen::Vector3d::UnitX(), across = Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, 0.15);
+  Truth plant = SyntheticPlant(leaves);
+  Truth one;
+  for (std::size_t i = 0; i < plant.points.size(); ++i)
+    if (plant.leaf[i] != 0 || (plant.points[i] - base).dot(along) < dense)
+    {
+      one.points.push_back(plant.points[i]);
+      one.organ.push_back(plant.organ[i]);
+      one.leaf.push_back(plant.leaf[i]);
+    }
+  std::vector<Eigen::Vector3d> rows;
+  for (double s = dense + rowStep; s <= length; s += rowStep)
+    for (double w = -width / 2, side = 0.2 * h; w <= width / 2; w += h, side = -side)
+    {
+      const double u = (s - length / 2) / (length / 2), v = w / (width / 2);
+      if (u * u + v * v <= 1.0)
+        rows.push_back(base + (s + side) * along + w * across);
+    }
+  for (const Eigen::Vector3d& q : rows)
+  {
+    one.points.push_back(q);
+    one.organ.push_back(plantmorph::OrganLeaf);
+    one.leaf.push_back(0);
+  }
+  const plantmorph::SegmentationResult r1 = plantmorph::SegmentPlants(one.points, {}, {});
+  ASSERT_EQ(r1.error, "");
+  EXPECT_EQ(r1.leaves.size(), static_cast<std::size_t>(leaves));
+  for (double iou : InstanceIoU(one, r1, leaves))
+    EXPECT_GT(iou, 0.9);
+  // the second blade: the rows turned 150 degrees about the first blade's margin tangent at mid-length
+  const Eigen::Vector3d pivot = base + 0.5 * length * along + 0.5 * width * across;
+  const Eigen::AngleAxisd turn(150.0 * Pi / 180.0, along);
+  Truth two = one;
+  for (const Eigen::Vector3d& q : rows)
+  {
+    two.points.push_back(pivot + turn * (q - pivot) + 2.0 * h * across);
+    two.organ.push_back(plantmorph::OrganLeaf);
+    two.leaf.push_back(leaves);
+  }
+  const plantmorph::SegmentationResult r2 = plantmorph::SegmentPlants(two.points, {}, {});
+  ASSERT_EQ(r2.error, "");
+  EXPECT_EQ(r2.leaves.size(), static_cast<std::size_t>(leaves));
+  const std::vector<double> iou = InstanceIoU(two, r2, leaves + 1);
+  for (int l = 0; l < leaves; ++l)
+    EXPECT_GT(iou[static_cast<std::size_t>(l)], 0.9);
+}
+
 TEST(PlantSegmentation, ScatteredPointsOfALeafEdgeOnAreLeafThoseBesideTheStemAreWood)
 {
   // The plant of seven leaves and two sparse patches, each sampled every three spacings (farther apart than the
