@@ -314,13 +314,56 @@ bool MidveinEnds(
   return true;
 }
 
-/// The midvein's base at a sinus, where the loop crosses t = 0 at `crossing`. The closing's discs round the sinus's
-/// bottom off, so the loop crosses below it (by about the discs' radius times 1 / sin of the walls' angle to the
-/// midvein, less one): a petiole's junction above that crossing, by less than a notch's depth (`shallow`), is the
-/// bottom, where the stalk meets the blade.
-double SinusBottom(const Outline& outline, double crossing, double shallow)
+/// The bottom of a notch in the outline on the midvein (a basal sinus: `inwards` +1) whose loop crosses t = 0 at
+/// `crossing`. The closing's discs (radius r, 2.5 spacings) round a narrow notch's bottom off, so the loop crosses
+/// the midvein beyond it, by about r (1 / sin of the walls' angle to the midvein - 1) and the gap to the margin
+/// (about 2.8 spacings at the cucumber's sinus, whose walls leave it 31 degrees off the midvein). The points reach
+/// into the notch: its bottom is where they close across the midvein, the deepest place where a point on each side
+/// of t = 0 lie within 2 steps of each other along s and no farther apart across it than 2.5 steps (the step: the
+/// points' mean spacing inside the blade beyond the notch, at least the spacing; a gap the closing bridges), the
+/// pair's depth that of its upper point; below the bottom the notch's walls are farther apart. Looked for from the
+/// crossing to a notch's depth `shallow` and r beyond it; the crossing when no pair closes there or fewer than 8
+/// points lie inside.
+double NotchBottom(
+  const std::vector<Eigen::Vector2d>& ts, double crossing, double inwards, double shallow, double spacing)
 {
-  return outline.junction > crossing && outline.junction < crossing + shallow ? outline.junction : crossing;
+  // The points' mean spacing inside the blade beyond the notch's reach (a strip 5 spacings wide along the midvein,
+  // 10 long): one pass's lines give the spacing, two passes' interleaved lines and random samples a larger one.
+  const double reach = shallow + 2.5 * spacing, strip = 2.5 * spacing;
+  std::size_t inside = 0;
+  for (const auto& p : ts)
+  {
+    const double depth = inwards * (p.y() - crossing);
+    inside += depth >= reach && depth < reach + 4.0 * strip && std::abs(p.x()) < strip ? 1 : 0;
+  }
+  if (inside < 8)
+    return crossing;
+  const double step = std::max(spacing, std::sqrt(8.0 * strip * strip / static_cast<double>(inside)));
+  const double across = 2.5 * step;
+  std::vector<Eigen::Vector2d> band; // (t, depth inwards from the crossing) near t = 0 above the crossing
+  for (const auto& p : ts)
+  {
+    const double depth = inwards * (p.y() - crossing);
+    if (depth > -step && depth < reach && std::abs(p.x()) < across)
+      band.push_back({ p.x(), depth });
+  }
+  double bottom = std::numeric_limits<double>::infinity();
+  for (const auto& a : band)
+    for (const auto& b : band)
+      if (a.x() < 0.0 && b.x() >= 0.0 && std::abs(a.y() - b.y()) < 2.0 * step && b.x() - a.x() <= across)
+        bottom = std::min(bottom, std::max(a.y(), b.y()));
+  return std::isfinite(bottom) ? crossing + inwards * std::max(bottom, 0.0) : crossing;
+}
+
+/// The midvein's base at a sinus, where the loop crosses t = 0 at `crossing`: a petiole's junction above that
+/// crossing, by less than a notch's depth (`shallow`), is the bottom, where the stalk meets the blade; else where
+/// the points close across the midvein (NotchBottom).
+double SinusBottom(
+  const std::vector<Eigen::Vector2d>& ts, const Outline& outline, double crossing, double shallow, double spacing)
+{
+  if (outline.junction > crossing && outline.junction < crossing + shallow)
+    return outline.junction;
+  return NotchBottom(ts, crossing, 1.0, shallow, spacing);
 }
 
 /// Whether the blade's points run on along the midvein from the loop's crossing at `crossing` down to a petiole's
@@ -369,7 +412,7 @@ bool BaseEnd(const std::vector<Eigen::Vector2d>& ts, const Outline& outline, dou
     baseS = outline.junction;
     return true;
   }
-  baseS = SinusBottom(outline, crossing, shallow);
+  baseS = SinusBottom(ts, outline, crossing, shallow, spacing);
   return false;
 }
 
