@@ -18,6 +18,7 @@
 #include <numeric>
 #include <set>
 #include <tuple>
+#include <utility>
 
 namespace plantmorph
 {
@@ -1229,6 +1230,37 @@ bool NoLeafShape(const std::vector<int>& region, const std::vector<RegionVerdict
   });
 }
 
+/// Leaf parts joined pairwise (union-find): a joined pair's root is its lower index, which takes the other's points
+/// (kept sorted); the other is left empty, for the caller to drop once every join is done.
+struct PartRoots
+{
+  std::vector<std::size_t> root;
+
+  explicit PartRoots(std::size_t n)
+    : root(n)
+  {
+    std::iota(root.begin(), root.end(), std::size_t{ 0 });
+  }
+
+  std::size_t Find(std::size_t k)
+  {
+    while (root[k] != k)
+      k = root[k] = root[root[k]];
+    return k;
+  }
+
+  /// Joins the parts of roots a and b; returns (the root kept, the root emptied).
+  std::pair<std::size_t, std::size_t> Join(std::size_t a, std::size_t b, std::vector<std::vector<int>>& parts)
+  {
+    const std::size_t into = std::min(a, b), from = std::max(a, b);
+    root[from] = into;
+    parts[into].insert(parts[into].end(), parts[from].begin(), parts[from].end());
+    std::sort(parts[into].begin(), parts[into].end());
+    parts[from].clear();
+    return { into, from };
+  }
+};
+
 /// Rows of a leaf seen at a grazing angle: the scan's rows on it lie farther apart than the links, so each row grows
 /// into its own region (a strip one row wide: leaf, no instance) or is cut off from every region, and the leaf's
 /// instance holds only the piece seen densely, or the leaf none. The features, whose radius r spans several rows, see
@@ -1293,28 +1325,17 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
         pairs.emplace_back(gap, a, b);
     }
   std::sort(pairs.begin(), pairs.end());
-  std::vector<std::size_t> root(parts.size());
-  for (std::size_t k = 0; k < root.size(); ++k)
-    root[k] = k;
-  const auto find = [&root](std::size_t k) {
-    while (root[k] != k)
-      k = root[k] = root[root[k]];
-    return k;
-  };
+  PartRoots roots(parts.size());
   for (const auto& [gap, a, b] : pairs)
   {
-    const std::size_t ra = find(a), rb = find(b);
+    const std::size_t ra = roots.Find(a), rb = roots.Find(b);
     // rows join each other or one leaf; two leaves never join through rows between them
     if (ra == rb || (whole[ra] && whole[rb]) || !together(ra, rb))
       continue;
-    const std::size_t into = std::min(ra, rb), from = std::max(ra, rb);
-    root[from] = into;
+    const auto [into, from] = roots.Join(ra, rb, parts);
     whole[into] = whole[into] || whole[from];
     moments[into] = moments[into].Merged(moments[from]);
     normals[into] += normals[from];
-    parts[into].insert(parts[into].end(), parts[from].begin(), parts[from].end());
-    std::sort(parts[into].begin(), parts[into].end());
-    parts[from].clear();
   }
   parts.erase(
     std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
@@ -1376,26 +1397,15 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
         pairs.emplace_back(1, span, a, b);
     }
   std::sort(pairs.begin(), pairs.end());
-  std::vector<std::size_t> root(parts.size());
-  for (std::size_t k = 0; k < root.size(); ++k)
-    root[k] = k;
-  const auto find = [&root](std::size_t k) {
-    while (root[k] != k)
-      k = root[k] = root[root[k]];
-    return k;
-  };
+  PartRoots roots(parts.size());
   for (const auto& [far, gap, a, b] : pairs)
   {
-    const std::size_t ra = find(a), rb = find(b);
+    const std::size_t ra = roots.Find(a), rb = roots.Find(b);
     if (ra == rb || !OneSheet(moments[ra], moments[rb], cosine, thickness) ||
       (far == 1 && jointSpan(ra, rb) > leafLength))
       continue;
-    const std::size_t into = std::min(ra, rb), from = std::max(ra, rb);
-    root[from] = into;
+    const auto [into, from] = roots.Join(ra, rb, parts);
     moments[into] = moments[into].Merged(moments[from]);
-    parts[into].insert(parts[into].end(), parts[from].begin(), parts[from].end());
-    std::sort(parts[into].begin(), parts[into].end());
-    parts[from].clear();
   }
   parts.erase(
     std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
