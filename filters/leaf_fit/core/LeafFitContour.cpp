@@ -314,8 +314,7 @@ bool MidveinEnds(
   return true;
 }
 
-/// The bottom of a notch in the outline on the midvein (a basal sinus: `inwards` +1) whose loop crosses t = 0 at
-/// `crossing`. The closing's discs (radius r, 2.5 spacings) round a narrow notch's bottom off, so the loop crosses
+/// The bottom of a basal sinus, a notch in the outline on the midvein whose loop crosses t = 0 at `crossing`. The closing's discs (radius r, 2.5 spacings) round a narrow notch's bottom off, so the loop crosses
 /// the midvein beyond it, by about r (1 / sin of the walls' angle to the midvein - 1) and the gap to the margin
 /// (about 2.8 spacings at the cucumber's sinus, whose walls leave it 31 degrees off the midvein). The points reach
 /// into the notch: its bottom is where they close across the midvein, the deepest place where a point on each side
@@ -324,8 +323,7 @@ bool MidveinEnds(
 /// pair's depth that of its upper point; below the bottom the notch's walls are farther apart. Looked for from the
 /// crossing to a notch's depth `shallow` and r beyond it; the crossing when no pair closes there or fewer than 8
 /// points lie inside.
-double NotchBottom(
-  const std::vector<Eigen::Vector2d>& ts, double crossing, double inwards, double shallow, double spacing)
+double NotchBottom(const std::vector<Eigen::Vector2d>& ts, double crossing, double shallow, double spacing)
 {
   // The points' mean spacing inside the blade beyond the notch's reach (a strip 5 spacings wide along the midvein,
   // 10 long): one pass's lines give the spacing, two passes' interleaved lines and random samples a larger one.
@@ -333,7 +331,7 @@ double NotchBottom(
   std::size_t inside = 0;
   for (const auto& p : ts)
   {
-    const double depth = inwards * (p.y() - crossing);
+    const double depth = p.y() - crossing;
     inside += depth >= reach && depth < reach + 4.0 * strip && std::abs(p.x()) < strip ? 1 : 0;
   }
   if (inside < 8)
@@ -343,7 +341,7 @@ double NotchBottom(
   std::vector<Eigen::Vector2d> band; // (t, depth inwards from the crossing) near t = 0 above the crossing
   for (const auto& p : ts)
   {
-    const double depth = inwards * (p.y() - crossing);
+    const double depth = p.y() - crossing;
     if (depth > -step && depth < reach && std::abs(p.x()) < across)
       band.push_back({ p.x(), depth });
   }
@@ -352,7 +350,7 @@ double NotchBottom(
     for (const auto& b : band)
       if (a.x() < 0.0 && b.x() >= 0.0 && std::abs(a.y() - b.y()) < 2.0 * step && b.x() - a.x() <= across)
         bottom = std::min(bottom, std::max(a.y(), b.y()));
-  return std::isfinite(bottom) ? crossing + inwards * std::max(bottom, 0.0) : crossing;
+  return std::isfinite(bottom) ? crossing + std::max(bottom, 0.0) : crossing;
 }
 
 /// The midvein's base at a sinus, where the loop crosses t = 0 at `crossing`: a petiole's junction above that
@@ -363,7 +361,7 @@ double SinusBottom(
 {
   if (outline.junction > crossing && outline.junction < crossing + shallow)
     return outline.junction;
-  return NotchBottom(ts, crossing, 1.0, shallow, spacing);
+  return NotchBottom(ts, crossing, shallow, spacing);
 }
 
 /// Whether the blade's points run on along the midvein from the loop's crossing at `crossing` down to a petiole's
