@@ -1166,6 +1166,15 @@ double SpanAlong(const std::vector<Eigen::Vector3d>& points, const std::vector<i
 /// range noise, which move a span's two ends).
 constexpr double LeafSpanQuantile = 0.9;
 
+/// The extent of parts a and b together along the main axis of their merged moments `both`.
+double JointSpan(const std::vector<Eigen::Vector3d>& points, const std::vector<std::vector<int>>& parts, std::size_t a,
+  std::size_t b, const PartMoments& both)
+{
+  std::vector<int> ids = parts[a];
+  ids.insert(ids.end(), parts[b].begin(), parts[b].end());
+  return SpanAlong(points, ids, both);
+}
+
 /// A leaf's length on this plant: LeafSpanQuantile of the spans of the flat parts among `big` (off their plane by
 /// under `thickness`); 0 when none is flat.
 double LeafLength(const std::vector<Eigen::Vector3d>& points, const std::vector<std::vector<int>>& parts,
@@ -1306,9 +1315,7 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
     const Eigen::Vector3d n = m.Normal(spread);
     if (spread >= thickness || n.dot((normals[a] + normals[b]) * n) < cosine * cosine * m.count)
       return false;
-    std::vector<int> both = parts[a];
-    both.insert(both.end(), parts[b].begin(), parts[b].end());
-    return SpanAlong(points, both, m) <= leafLength;
+    return JointSpan(points, parts, a, b, m) <= leafLength;
   };
   std::vector<std::size_t> order = rows; // swept along x: the pairs whose boxes come within reach
   order.insert(order.end(), big.begin(), big.end());
@@ -1377,9 +1384,7 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
   const double leafLength = LeafLength(points, parts, big, moments, thickness) + thickness;
   const double search = std::max(reach, leafLength);
   const auto jointSpan = [&](std::size_t a, std::size_t b) {
-    std::vector<int> both = parts[a];
-    both.insert(both.end(), parts[b].begin(), parts[b].end());
-    return SpanAlong(points, both, moments[a].Merged(moments[b]));
+    return JointSpan(points, parts, a, b, moments[a].Merged(moments[b]));
   };
   // (0 near / 1 far, gap or joint span, a, b), a < b
   std::vector<std::tuple<int, double, std::size_t, std::size_t>> pairs;
