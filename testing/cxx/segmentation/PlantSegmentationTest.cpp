@@ -104,6 +104,33 @@ std::vector<double> InstanceIoU(const Truth& t, const plantmorph::SegmentationRe
   return best;
 }
 
+/// `t` without the first leaf's points whose distance s from `base` along `along` lies in (from, from + width): a
+/// band across that leaf left unscanned.
+Truth WithoutBand(const Truth& t, const Eigen::Vector3d& base, const Eigen::Vector3d& along, double from, double width)
+{
+  Truth cut;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+  {
+    const double s = (t.points[i] - base).dot(along);
+    if (t.leaf[i] == 0 && s > from && s < from + width)
+      continue;
+    cut.points.push_back(t.points[i]);
+    cut.organ.push_back(t.organ[i]);
+    cut.leaf.push_back(t.leaf[i]);
+  }
+  return cut;
+}
+
+/// Segments `t` with the defaults: no error, `leaves` instances, and each true leaf found at IoU above 0.9.
+void ExpectEveryLeafFound(const Truth& t, int leaves)
+{
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
+  for (double iou : InstanceIoU(t, r, leaves))
+    EXPECT_GT(iou, 0.9);
+}
+
 /// The shape of one blade (AddBlade), each angle in radians: `fold`, the opening angle between the two halves
 /// meeting at the midrib (a V; 0 or pi: flat); `roll`, the turn of the normals across the width, spread evenly (a gutter); `bend`,
 /// their turn along the length, spread evenly (a curl from base to tip).
@@ -320,21 +347,8 @@ TEST(PlantSegmentation, ALeafSeenInTwoPiecesAcrossAGapIsOneInstanceAParallelLeaf
   const Eigen::Vector3d out(1.0, 0.0, 0.0), up = Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * up, across = up.cross(out);
   const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, 0.15), normal = along.cross(across);
-  Truth cut;
-  for (std::size_t i = 0; i < t.points.size(); ++i)
-  {
-    const double s = (t.points[i] - base).dot(along);
-    if (t.leaf[i] == 0 && s > 0.12 && s < 0.12 + 6.0 * h)
-      continue;
-    cut.points.push_back(t.points[i]);
-    cut.organ.push_back(t.organ[i]);
-    cut.leaf.push_back(t.leaf[i]);
-  }
-  const plantmorph::SegmentationResult r1 = plantmorph::SegmentPlants(cut.points, {}, {});
-  ASSERT_EQ(r1.error, "");
-  EXPECT_EQ(r1.leaves.size(), static_cast<std::size_t>(leaves));
-  for (double iou : InstanceIoU(cut, r1, leaves))
-    EXPECT_GT(iou, 0.9);
+  Truth cut = WithoutBand(t, base, along, 0.12, 6.0 * h);
+  ExpectEveryLeafFound(cut, leaves);
   // the parallel leaf: a copy of the first leaf's outer piece, two radii off its plane
   for (std::size_t i = 0, n = cut.points.size(); i < n; ++i)
     if (cut.leaf[i] == 0 && (cut.points[i] - base).dot(along) > 0.12)
@@ -343,11 +357,7 @@ TEST(PlantSegmentation, ALeafSeenInTwoPiecesAcrossAGapIsOneInstanceAParallelLeaf
       cut.organ.push_back(plantmorph::OrganLeaf);
       cut.leaf.push_back(leaves);
     }
-  const plantmorph::SegmentationResult r2 = plantmorph::SegmentPlants(cut.points, {}, {});
-  ASSERT_EQ(r2.error, "");
-  EXPECT_EQ(r2.leaves.size(), static_cast<std::size_t>(leaves + 1));
-  for (double iou : InstanceIoU(cut, r2, leaves + 1))
-    EXPECT_GT(iou, 0.9);
+  ExpectEveryLeafFound(cut, leaves + 1);
 }
 
 TEST(PlantSegmentation, ALeafCutByAWideShadowAtLowNoiseIsOneInstanceALeafBeyondItsTipIsNot)
@@ -363,21 +373,8 @@ TEST(PlantSegmentation, ALeafCutByAWideShadowAtLowNoiseIsOneInstanceALeafBeyondI
   const Eigen::Vector3d out(1.0, 0.0, 0.0), up = Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * up;
   const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, 0.15);
-  Truth cut;
-  for (std::size_t i = 0; i < t.points.size(); ++i)
-  {
-    const double s = (t.points[i] - base).dot(along);
-    if (t.leaf[i] == 0 && s > 0.1 && s < 0.1 + band)
-      continue;
-    cut.points.push_back(t.points[i]);
-    cut.organ.push_back(t.organ[i]);
-    cut.leaf.push_back(t.leaf[i]);
-  }
-  const plantmorph::SegmentationResult r1 = plantmorph::SegmentPlants(cut.points, {}, {});
-  ASSERT_EQ(r1.error, "");
-  EXPECT_EQ(r1.leaves.size(), static_cast<std::size_t>(leaves));
-  for (double iou : InstanceIoU(cut, r1, leaves))
-    EXPECT_GT(iou, 0.9);
+  Truth cut = WithoutBand(t, base, along, 0.1, band);
+  ExpectEveryLeafFound(cut, leaves);
   // the leaf beyond: a copy of the first whole leaf moved along its own axis by its length and the band
   for (std::size_t i = 0, n = t.points.size(); i < n; ++i)
     if (t.leaf[i] == 0)
@@ -386,11 +383,7 @@ TEST(PlantSegmentation, ALeafCutByAWideShadowAtLowNoiseIsOneInstanceALeafBeyondI
       cut.organ.push_back(plantmorph::OrganLeaf);
       cut.leaf.push_back(leaves);
     }
-  const plantmorph::SegmentationResult r2 = plantmorph::SegmentPlants(cut.points, {}, {});
-  ASSERT_EQ(r2.error, "");
-  EXPECT_EQ(r2.leaves.size(), static_cast<std::size_t>(leaves + 1));
-  for (double iou : InstanceIoU(cut, r2, leaves + 1))
-    EXPECT_GT(iou, 0.9);
+  ExpectEveryLeafFound(cut, leaves + 1);
 }
 
 TEST(PlantSegmentation, ALeafSeenInRowsBeyondItsBaseIsOneInstanceABladeTouchingItAtAnAngleIsNot)
