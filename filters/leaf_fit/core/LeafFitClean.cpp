@@ -3,12 +3,12 @@
 #include "LeafFitInternal.h"
 #include "PointGrid.h"
 
+#include <plantmorph/graph/DisjointSets.h>
 #include <plantmorph/statistics/Median.h>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <optional>
 #include <sstream>
 
@@ -31,13 +31,6 @@ Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> Principal(
     C += (p - centroid) * (p - centroid).transpose();
   C /= static_cast<double>(points.size());
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C);
-}
-
-int Find(std::vector<int>& parent, int i)
-{
-  while (parent[i] != i)
-    i = parent[i] = parent[parent[i]];
-  return i;
 }
 } // namespace
 
@@ -108,8 +101,7 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
     keep[i] = meanDistance[i] <= limit ? 1 : 0;
   // Connected parts of the graph of k nearest neighbours closer than three median distances: keep the largest and
   // every part of at least 5 % of it (a scan with a gap across it is still one leaf).
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets<int> parts(static_cast<std::size_t>(n));
   const double radius = 3.0 * median;
   for (int i = 0; i < n; ++i)
   {
@@ -119,11 +111,7 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
     {
       const auto& nb = neighbours[static_cast<std::size_t>(i) * k + j];
       if (nb.second >= 0 && keep[nb.second] && nb.first <= radius)
-      {
-        const int a = Find(parent, i), b = Find(parent, nb.second);
-        if (a != b)
-          parent[std::max(a, b)] = std::min(a, b);
-      }
+        parts.Join(i, nb.second);
     }
   }
   // On a line scan a point's k nearest neighbours all lie on its own line: the lines are joined where points lie
@@ -138,22 +126,18 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
         grid.Within(points[i], across, near);
         for (int j : near)
           if (keep[j])
-          {
-            const int a = Find(parent, i), b = Find(parent, j);
-            if (a != b)
-              parent[std::max(a, b)] = std::min(a, b);
-          }
+            parts.Join(i, j);
       }
   }
   std::vector<int> size(n, 0);
   for (int i = 0; i < n; ++i)
     if (keep[i])
-      ++size[Find(parent, i)];
+      ++size[parts.Find(i)];
   const int largest = *std::max_element(size.begin(), size.end());
   std::vector<double> kept;
   for (int i = 0; i < n; ++i)
   {
-    if (keep[i] && size[Find(parent, i)] * 20 < largest)
+    if (keep[i] && size[parts.Find(i)] * 20 < largest)
       keep[i] = 0;
     if (keep[i])
       kept.push_back(nearest[i]);

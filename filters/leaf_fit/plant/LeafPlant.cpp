@@ -3,6 +3,8 @@
 #include "LeafPlant.h"
 #include "PointGrid.h"
 
+#include <plantmorph/graph/DisjointSets.h>
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -16,16 +18,6 @@ namespace plantmorph
 {
 namespace
 {
-int Find(std::vector<int>& parent, int i)
-{
-  while (parent[i] != i)
-  {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
-
 /// Cubes of side radius / sqrt(3): the points of one cube are within `radius` of each other. The occupied cubes in
 /// lexicographic order of their (i, j, k); a cube's points are members[offsets[c], offsets[c + 1]).
 struct Cubes
@@ -134,8 +126,7 @@ std::vector<int> CubeParts(
   const std::vector<Eigen::Vector3d>& points, const Cubes& cubes, double radius, const ParallelFor& parallel)
 {
   const int m = static_cast<int>(cubes.cells.size());
-  std::vector<int> parent(m);
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets<int> parts(static_cast<std::size_t>(m));
   const double r2 = radius * radius;
   const std::vector<Cubes::Cell> offsets = JoinOffsets();
   const int blocks = std::clamp(m / 512, 1, 64);
@@ -166,9 +157,9 @@ std::vector<int> CubeParts(
             later[block].emplace_back(a, b);
             continue;
           }
-          const int ra = Find(parent, a), rb = Find(parent, b);
+          const int ra = parts.Find(a), rb = parts.Find(b);
           if (ra != rb && Near(points, cubes, a, b, r2))
-            parent[std::max(ra, rb)] = std::min(ra, rb);
+            parts.JoinRoots(ra, rb);
         }
       }
     }
@@ -176,14 +167,15 @@ std::vector<int> CubeParts(
   for (const auto& pairs : later)
     for (const auto& [a, b] : pairs)
     {
-      const int ra = Find(parent, a), rb = Find(parent, b);
+      const int ra = parts.Find(a), rb = parts.Find(b);
       if (ra != rb && Near(points, cubes, a, b, r2))
-        parent[std::max(ra, rb)] = std::min(ra, rb);
+        parts.JoinRoots(ra, rb);
     }
   // Every parent precedes its cube: in cube order, a cube's root is its parent's.
+  std::vector<int>& parent = parts.Links();
   for (int c = 0; c < m; ++c)
     parent[c] = parent[parent[c]];
-  return parent;
+  return std::move(parent);
 }
 } // namespace
 

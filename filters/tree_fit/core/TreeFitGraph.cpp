@@ -4,6 +4,7 @@
 #include "PointGrid.h"
 #include "TreeFitInternal.h"
 
+#include <plantmorph/graph/DisjointSets.h>
 #include <plantmorph/statistics/Median.h>
 #include <Eigen/Eigenvalues>
 
@@ -11,7 +12,6 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <numeric>
 #include <queue>
 #include <sstream>
 #include <tuple>
@@ -54,29 +54,6 @@ std::vector<double> MeanNeighbourDistance(
   });
   return mean;
 }
-
-struct UnionFind
-{
-  std::vector<int> up;
-  explicit UnionFind(std::size_t n)
-    : up(n)
-  {
-    std::iota(up.begin(), up.end(), 0);
-  }
-  int Find(int a)
-  {
-    while (up[a] != a)
-      a = up[a] = up[up[a]];
-    return a;
-  }
-  void Join(int a, int b)
-  {
-    a = Find(a);
-    b = Find(b);
-    if (a != b)
-      up[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 /// Not a line, not a plane: the smallest principal extent must be a fair share of the middle one.
 std::string CheckShape(const std::vector<Eigen::Vector3d>& points, double spacing)
@@ -204,7 +181,7 @@ std::vector<unsigned char> JoinComponents(const std::vector<Eigen::Vector3d>& po
   double spacing, const ParallelFor& parallel, Graph& graph)
 {
   const std::size_t n = points.size();
-  UnionFind sets(n);
+  DisjointSets<int> sets(n);
   for (std::size_t i = 0; i < n; ++i)
     for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
       sets.Join(static_cast<int>(i), graph.target[e]);
@@ -285,15 +262,13 @@ std::vector<unsigned char> JoinComponents(const std::vector<Eigen::Vector3d>& po
   for (const auto& f : found)
     bridges.insert(bridges.end(), f.begin(), f.end());
   std::sort(bridges.begin(), bridges.end());
-  UnionFind joined(n);
+  DisjointSets<int> joined(n);
   std::vector<std::vector<std::pair<int, double>>> extra(n);
   bool any = false;
   for (const auto& [d, i, j] : bridges)
   {
-    const int a = joined.Find(root[i]), b = joined.Find(root[j]);
-    if (a == b)
+    if (!joined.Join(root[i], root[j]))
       continue;
-    joined.Join(a, b);
     extra[i].emplace_back(j, d);
     extra[j].emplace_back(i, d);
     any = true;

@@ -3,13 +3,14 @@
 // node tree, pruning of short side chains, segments.
 #include "TreeFitInternal.h"
 
+#include <plantmorph/graph/DisjointSets.h>
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
-#include <numeric>
 
 namespace plantmorph
 {
@@ -30,13 +31,6 @@ constexpr int SheetMinPoints = 10;       // points a node needs to be called a s
 constexpr double SheetShare = 0.5;       // share of a side chain's points in sheets that makes it leaves, not wood...
 constexpr int TubeBins = 12;             // ...unless it holds a run of this many bins of tube (no sheet) nodes: wood
 
-int FindRoot(std::vector<int>& up, int a)
-{
-  while (up[a] != a)
-    a = up[a] = up[up[a]];
-  return a;
-}
-
 /// The nodes: connected components (graph edges inside a bin) of every bin, numbered by (bin, lowest point id); all
 /// of bin 0 is one node, the base.
 std::vector<Node> BinComponents(const Wood& wood, double width, std::vector<int>& nodeOf)
@@ -45,32 +39,27 @@ std::vector<Node> BinComponents(const Wood& wood, double width, std::vector<int>
   std::vector<int> bin(n);
   for (std::size_t i = 0; i < n; ++i)
     bin[i] = static_cast<int>(std::floor(wood.geodesic[i] / width));
-  std::vector<int> up(n);
-  std::iota(up.begin(), up.end(), 0);
+  DisjointSets<int> sets(n);
   for (std::size_t i = 0; i < n; ++i)
     for (int e = wood.graph.offset[i]; e < wood.graph.offset[i + 1]; ++e)
     {
       const int j = wood.graph.target[e];
       if (bin[j] == bin[i] || (bin[i] == 0 && bin[j] == 0))
-      {
-        const int a = FindRoot(up, static_cast<int>(i)), b = FindRoot(up, j);
-        if (a != b)
-          up[std::max(a, b)] = std::min(a, b);
-      }
+        sets.Join(static_cast<int>(i), j);
     }
   int base = -1;
   for (std::size_t i = 0; i < n; ++i)
     if (bin[i] == 0)
     {
-      const int r = FindRoot(up, static_cast<int>(i));
+      const int r = sets.Find(static_cast<int>(i));
       if (base < 0)
         base = r;
       else
-        up[std::max(r, base)] = std::min(r, base), base = std::min(r, base);
+        sets.JoinRoots(r, base), base = std::min(r, base);
     }
   std::map<std::pair<int, int>, int> key; // (bin, root) -> node; roots are lowest ids, so the order is (bin, id)
   for (std::size_t i = 0; i < n; ++i)
-    key.emplace(std::make_pair(bin[i], FindRoot(up, static_cast<int>(i))), 0);
+    key.emplace(std::make_pair(bin[i], sets.Find(static_cast<int>(i))), 0);
   std::vector<Node> nodes;
   for (auto& [k, id] : key)
   {
@@ -81,7 +70,7 @@ std::vector<Node> BinComponents(const Wood& wood, double width, std::vector<int>
   nodeOf.assign(n, -1);
   for (std::size_t i = 0; i < n; ++i)
   {
-    nodeOf[i] = key[{ bin[i], FindRoot(up, static_cast<int>(i)) }];
+    nodeOf[i] = key[{ bin[i], sets.Find(static_cast<int>(i)) }];
     nodes[nodeOf[i]].points.push_back(static_cast<int>(i));
   }
   return nodes;

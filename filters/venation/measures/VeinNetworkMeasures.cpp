@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "VeinNetworkMeasures.h"
 
+#include <plantmorph/graph/DisjointSets.h>
+
 #include "VeinGraph.h"
 
 #include <algorithm>
@@ -18,16 +20,6 @@ struct Segment
   int a, b, order;
   double length, width;
 };
-
-int Root(std::vector<int>& parent, int x)
-{
-  while (parent[x] != x)
-  {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
-}
 
 double DistanceToPolygon(const Eigen::Vector2d& x, const std::vector<Eigen::Vector2d>& polygon)
 {
@@ -152,16 +144,10 @@ std::string MeasureVeinNetwork(const VenationResult& veins, double bladeArea,
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(
     order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return segments[x].length < segments[y].length; });
-  std::vector<int> parent(veins.nodes.size());
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets<int> trees(veins.nodes.size());
   for (std::size_t k : order)
-  {
-    const int ra = Root(parent, segments[k].a), rb = Root(parent, segments[k].b);
-    if (ra == rb)
-      continue;
-    parent[ra] = rb;
-    m.spanningLength += segments[k].length;
-  }
+    if (trees.Join(segments[k].a, segments[k].b))
+      m.spanningLength += segments[k].length;
   m.loopiness = m.totalLength > 0.0 ? m.spanningLength / m.totalLength : 1.0;
   MeasureAreoles(veins, segments, m);
   return {};
