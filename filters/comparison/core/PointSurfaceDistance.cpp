@@ -653,11 +653,19 @@ void PointSurfaceDistance::CollapseToWideNodes(const ParallelFor& parallelFor)
     }
   }
   this->Packs.resize(packLeaf.size());
+  if (this->Surface)
+  {
+    this->PackLaneOf.resize(this->PrimitiveIds.size());
+  }
   parallelFor(packLeaf.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
     {
       const Node& leaf = this->Nodes[packLeaf[i]];
       this->Packs[i] = this->MakePack(leaf.start, leaf.count);
+      for (std::uint32_t j = 0; j < leaf.count; ++j)
+      {
+        this->PackLaneOf[this->PrimitiveIds[leaf.start + j]] = static_cast<std::uint32_t>(4 * i + j);
+      }
     }
   });
   this->Nodes = UnsetVector<Node>();
@@ -680,6 +688,7 @@ PointSurfaceDistance::TrianglePack PointSurfaceDistance::MakePack(std::uint32_t 
       pack.ac[k][j] = tri.ac[k];
       pack.n[k][j] = tri.n[k];
     }
+    pack.id[j] = this->PrimitiveIds[i];
     if (!this->Regular[i])
     {
       pack.irregular |= 1u << j;
@@ -774,6 +783,9 @@ std::string PointSurfaceDistance::BuildSurface(const double* points, std::size_t
   this->BuildSlabs(nodeRange, parallelFor);
   nodeRange = std::vector<std::uint32_t>();
   this->CollapseToWideNodes(parallelFor);
+  this->Triangles = UnsetVector<Triangle>(); // the packs hold them now
+  this->Regular = std::vector<std::uint8_t>();
+  this->LeafOf = std::vector<std::uint32_t>();
 
   // Pseudo-normals, from the corners around each vertex (a counting sort of the 3 * triangleCount corners by
   // vertex, in corner order, so every sum below adds its terms in triangle order whatever the threads).
@@ -914,15 +926,43 @@ std::string PointSurfaceDistance::BuildCloud(
 //------------------------------------------------------------------------------
 inline double PointSurfaceDistance::PrimitiveDistance2(std::size_t leafIndex, const double p[3]) const
 {
+  const double* q = this->CloudPoints.data() + 3 * leafIndex;
+  const double d[3] = { p[0] - q[0], p[1] - q[1], p[2] - q[2] };
+  return Dot(d, d);
+}
+
+//------------------------------------------------------------------------------
+inline PointSurfaceDistance::Triangle PointSurfaceDistance::LaneTriangle(const TrianglePack& pack, std::uint32_t lane)
+{
+  Triangle tri;
+  for (int k = 0; k < 3; ++k)
+  {
+    tri.a[k] = pack.a[k][lane];
+    tri.ab[k] = pack.ab[k][lane];
+    tri.ac[k] = pack.ac[k][lane];
+    tri.n[k] = pack.n[k][lane];
+  }
+  return tri;
+}
+
+//------------------------------------------------------------------------------
+inline double PointSurfaceDistance::LaneDistance2(const TrianglePack& pack, std::uint32_t lane, const double p[3])
+{
+  const Triangle tri = LaneTriangle(pack, lane);
+  const double ap[3] = { p[0] - tri.a[0], p[1] - tri.a[1], p[2] - tri.a[2] };
+  return (pack.irregular >> lane & 1u) ? EricsonDistance2(ap, tri.ab, tri.ac)
+                                       : RegularDistance2(ap, tri.ab, tri.ac, tri.n);
+}
+
+//------------------------------------------------------------------------------
+inline double PointSurfaceDistance::HintDistance2(std::size_t hint, const double p[3]) const
+{
   if (!this->Surface)
   {
-    const double* q = this->CloudPoints.data() + 3 * leafIndex;
-    const double d[3] = { p[0] - q[0], p[1] - q[1], p[2] - q[2] };
-    return Dot(d, d);
+    return this->PrimitiveDistance2(this->LeafOf[hint], p);
   }
-  const Triangle& tri = this->Triangles[leafIndex];
-  const double ap[3] = { p[0] - tri.a[0], p[1] - tri.a[1], p[2] - tri.a[2] };
-  return this->Regular[leafIndex] ? RegularDistance2(ap, tri.ab, tri.ac, tri.n) : EricsonDistance2(ap, tri.ab, tri.ac);
+  const std::uint32_t at = this->PackLaneOf[hint];
+  return LaneDistance2(this->Packs[at / 4], at % 4, p);
 }
 
 //------------------------------------------------------------------------------
@@ -963,7 +1003,8 @@ DistanceQueryResult PointSurfaceDistance::Query(const double p[3], std::int64_t 
 }
 
 //------------------------------------------------------------------------------
-DistanceQueryResult PointSurfaceDistance::QueryResult(const double p[3], double best2, std::size_t bestLeaf) const
+DistanceQueryResult PointSurfaceDistance::QueryResult(
+  const double p[3], double best2, std::size_t bestLeaf, std::size_t bestPack) const
 {
   DistanceQueryResult result;
   if (bestLeaf == std::numeric_limits<std::size_t>::max())
@@ -976,10 +1017,9 @@ DistanceQueryResult PointSurfaceDistance::QueryResult(const double p[3], double 
     }
     return result;
   }
-  const std::size_t original = this->PrimitiveIds[bestLeaf];
-  result.primitive = static_cast<std::int64_t>(original);
   if (!this->Surface)
   {
+    result.primitive = static_cast<std::int64_t>(this->PrimitiveIds[bestLeaf]);
     const double* q = this->CloudPoints.data() + 3 * bestLeaf;
     for (int k = 0; k < 3; ++k)
     {
@@ -988,7 +1028,11 @@ DistanceQueryResult PointSurfaceDistance::QueryResult(const double p[3], double 
     result.distance = result.signedDistance = std::sqrt(best2);
     return result;
   }
-  const Triangle& tri = this->Triangles[bestLeaf];
+  const TrianglePack& pack = this->Packs[bestPack];
+  const std::uint32_t lane = static_cast<std::uint32_t>(bestLeaf - pack.first);
+  const std::size_t original = pack.id[lane];
+  result.primitive = static_cast<std::int64_t>(original);
+  const Triangle tri = LaneTriangle(pack, lane);
   const double ap[3] = { p[0] - tri.a[0], p[1] - tri.a[1], p[2] - tri.a[2] };
   double v = 0.0;
   double w = 0.0;
@@ -1122,10 +1166,11 @@ void PointSurfaceDistance::QueryMany(const double* points, std::size_t count, do
 //------------------------------------------------------------------------------
 void PointSurfaceDistance::GetTriangleNormal(std::int64_t triangle, double normal[3]) const
 {
-  const Triangle& tri = this->Triangles[this->LeafOf[static_cast<std::size_t>(triangle)]];
-  normal[0] = tri.n[0];
-  normal[1] = tri.n[1];
-  normal[2] = tri.n[2];
+  const std::uint32_t at = this->PackLaneOf[static_cast<std::size_t>(triangle)];
+  for (int k = 0; k < 3; ++k)
+  {
+    normal[k] = this->Packs[at / 4].n[k][at % 4];
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -1134,8 +1179,9 @@ std::size_t PointSurfaceDistance::MemoryBytes() const
   return this->WideNodes.size() * sizeof(WideNode) + this->PrimitiveIds.capacity() * sizeof(std::uint32_t) +
     this->LeafOf.capacity() * sizeof(std::uint32_t) + this->Triangles.capacity() * sizeof(Triangle) +
     this->Regular.capacity() + this->Packs.capacity() * sizeof(TrianglePack) +
-    this->CloudPoints.capacity() * sizeof(double) + this->TriangleVertices.capacity() * sizeof(std::int64_t) +
-    this->EdgeNormals.capacity() * sizeof(double) + this->VertexNormals.capacity() * sizeof(double);
+    this->PackLaneOf.capacity() * sizeof(std::uint32_t) + this->CloudPoints.capacity() * sizeof(double) +
+    this->TriangleVertices.capacity() * sizeof(std::int64_t) + this->EdgeNormals.capacity() * sizeof(double) +
+    this->VertexNormals.capacity() * sizeof(double);
 }
 
 } // namespace plantmorph

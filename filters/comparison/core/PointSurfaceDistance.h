@@ -43,8 +43,9 @@
 // in parallel (the same tree as a serial build). Queries walk a 4-wide tree collapsed from it (each wide node holds
 // the bounds of a binary node's four grandchildren side by side, stored depth first), so one step computes four
 // children's bounds at once with SSE2 (two lanes an instruction; x86-64 always has it; other processors use the same
-// formulas one lane at a time) over half as many levels. Triangles are copied into leaf order with their vertex,
-// edge vectors and unit normal so a query touches contiguous memory. A query descends nearest child first with an
+// formulas one lane at a time) over half as many levels. A leaf's triangles are held once, as the lanes of its pack
+// (vertex, edge vectors, unit normal and original index), so the winner's closest point and sign are computed from
+// memory the leaf pass has just read, and a query touches contiguous memory. A query descends nearest child first with an
 // explicit stack and prunes children (and, in leaves, triangle planes) no nearer than the best distance so far.
 //
 // Slab bounds (surface mode). Besides its box, every lane of a wide node holds a "coin", a flat cylinder around its
@@ -256,6 +257,7 @@ private:
     double n[3][4];
     std::uint32_t first;     ///< the leaf's first triangle, in leaf order
     std::uint32_t irregular; ///< bit j: triangle j is degenerate (its distance is Ericson's, computed on its own)
+    std::uint32_t id[4];     ///< lane j's original triangle index (in the alignment's room: the size is unchanged)
   };
 
   std::string BuildTree(const UnsetVector<double>& lo, const UnsetVector<double>& hi,
@@ -269,8 +271,11 @@ private:
   // from the nearest primitive it found.
   DistanceQueryResult SearchSse2(const double p[3], std::int64_t hint) const;
   DistanceQueryResult SearchAvx(const double p[3], std::int64_t hint) const;
-  DistanceQueryResult QueryResult(const double p[3], double best2, std::size_t bestLeaf) const;
-  double PrimitiveDistance2(std::size_t leafIndex, const double p[3]) const;
+  DistanceQueryResult QueryResult(const double p[3], double best2, std::size_t bestLeaf, std::size_t bestPack) const;
+  double PrimitiveDistance2(std::size_t leafIndex, const double p[3]) const; ///< cloud mode
+  double HintDistance2(std::size_t hint, const double p[3]) const;
+  static Triangle LaneTriangle(const TrianglePack& pack, std::uint32_t lane);
+  static double LaneDistance2(const TrianglePack& pack, std::uint32_t lane, const double p[3]);
 
   bool Surface = false;
   bool SlabBounds = true;
@@ -278,11 +283,14 @@ private:
   UnsetVector<Node> Nodes;                 ///< binary tree, during the build only
   UnsetVector<WideNode> WideNodes;         ///< the tree the queries walk; root 0 (room beyond it untouched)
   std::vector<std::uint32_t> PrimitiveIds; ///< leaf order -> original triangle or point index
-  std::vector<std::uint32_t> LeafOf;       ///< original index -> leaf order
-  UnsetVector<Triangle> Triangles;         ///< surface mode, leaf order
-  std::vector<std::uint8_t> Regular;       ///< surface mode, leaf order: 1 unless degenerate (see TrianglePack)
-  UnsetVector<TrianglePack> Packs;         ///< surface mode, one per leaf
-  std::vector<double> CloudPoints;         ///< cloud mode, leaf order, x,y,z
+  std::vector<std::uint32_t> LeafOf;       ///< cloud mode: original index -> leaf order
+  UnsetVector<Triangle> Triangles;         ///< surface mode, leaf order, during the build only
+  std::vector<std::uint8_t> Regular;       ///< the same: 1 unless degenerate (see TrianglePack)
+  // Surface mode: the queries read the triangles from the packs only, so the winner's lane is in the cache the leaf
+  // pass has just filled.
+  UnsetVector<TrianglePack> Packs;       ///< one per leaf
+  UnsetVector<std::uint32_t> PackLaneOf; ///< original triangle -> 4 * pack + lane (packs < 2^30: >= 2 triangles each)
+  std::vector<double> CloudPoints;       ///< cloud mode, leaf order, x,y,z
   // Signed distance data (surface mode, by original triangle index): vertex ids, edge pseudo-normals; vertex
   // pseudo-normals by point index.
   UnsetVector<std::int64_t> TriangleVertices;
