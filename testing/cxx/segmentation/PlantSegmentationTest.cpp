@@ -449,14 +449,67 @@ TEST(PlantSegmentation, ALeafSeenInRowsBeyondItsBaseIsOneInstanceABladeTouchingI
     EXPECT_GT(iou[static_cast<std::size_t>(l)], 0.9);
 }
 
+TEST(PlantSegmentation, ALeafSeenOnlyInRowsIsAnInstanceANarrowBandOfRowsIsNot)
+{
+  // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15, away from the others by more than 4r) scanned
+  // whole at a grazing angle: rows across its width every 3 spacings (farther apart than the links), each row's
+  // points a spacing apart and a fifth of a spacing either side of its line. No part of it has a leaf's shape (each
+  // row a strip one row wide), so its rows had no leaf part to join and the leaf no instance. As wide as a leaf
+  // (over 2r across its rows), its normals in its plane and no other leaf within 4r: one instance of its own. The
+  // same rows cut to a band 1.5r wide (a strip, as a twig's facets seen as leaf are) get none.
+  const int leaves = 8;
+  const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0, rowStep = 3.0 * h, r = 4.0 * h;
+  const double azimuth = 7 * 137.5 * Pi / 180.0, z = 0.75;
+  const Eigen::Vector3d out(std::cos(azimuth), std::sin(azimuth), 0.0);
+  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(out);
+  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, z);
+  const Truth plant = SyntheticPlant(leaves);
+  const auto withRows = [&](double width) {
+    Truth t;
+    for (std::size_t i = 0; i < plant.points.size(); ++i)
+      if (plant.leaf[i] != leaves - 1)
+      {
+        t.points.push_back(plant.points[i]);
+        t.organ.push_back(plant.organ[i]);
+        t.leaf.push_back(plant.leaf[i]);
+      }
+    for (double s = rowStep; s <= length; s += rowStep)
+      for (double w = -width / 2, side = 0.2 * h; w <= width / 2; w += h, side = -side)
+      {
+        const double u = (s - length / 2) / (length / 2), v = w / 0.075;
+        if (u * u + v * v <= 1.0)
+        {
+          t.points.push_back(base + (s + side) * along + w * across);
+          t.organ.push_back(plantmorph::OrganLeaf);
+          t.leaf.push_back(leaves - 1);
+        }
+      }
+    return t;
+  };
+  const Truth whole = withRows(0.15);
+  const plantmorph::SegmentationResult r1 = plantmorph::SegmentPlants(whole.points, {}, {});
+  ASSERT_EQ(r1.error, "");
+  EXPECT_EQ(r1.leaves.size(), static_cast<std::size_t>(leaves));
+  for (double iou : InstanceIoU(whole, r1, leaves))
+    EXPECT_GT(iou, 0.9);
+  const Truth band = withRows(1.5 * r);
+  const plantmorph::SegmentationResult r2 = plantmorph::SegmentPlants(band.points, {}, {});
+  ASSERT_EQ(r2.error, "");
+  EXPECT_EQ(r2.leaves.size(), static_cast<std::size_t>(leaves - 1));
+  const std::vector<double> iou = InstanceIoU(band, r2, leaves);
+  for (int l = 0; l + 1 < leaves; ++l)
+    EXPECT_GT(iou[static_cast<std::size_t>(l)], 0.9);
+}
+
 TEST(PlantSegmentation, ScatteredPointsOfALeafEdgeOnAreLeafThoseBesideTheStemAreWood)
 {
   // The plant of seven leaves and two sparse patches, each sampled every three spacings (farther apart than the
   // links: each point is linked to none), as a scanner hits a surface at a grazing angle: a leaf turned edge on,
   // away from everything (an ellipse 0.2 by 0.1, 0.3 out from the stem), and a band of the stem's own flank (30
   // degrees of it, 0.1 high, in place of its dense points). Both were wood (cut off from every judged region). The
-  // leaf's points have nothing else within the features' radius: leaf. The flank's points lie beside the stem's
-  // judged points: wood.
+  // leaf's points have nothing else within the features' radius: leaf, and as wide as a leaf, in one plane, with no
+  // other leaf near, the leaf's own instance. The flank's points lie beside the stem's judged points: wood.
   const int leaves = 7;
   const double h = 0.005, radius = 0.05;
   Truth plant = SyntheticPlant(leaves);
@@ -495,12 +548,15 @@ TEST(PlantSegmentation, ScatteredPointsOfALeafEdgeOnAreLeafThoseBesideTheStemAre
   ASSERT_EQ(r.error, "");
   std::size_t leafHere = 0, woodThere = 0;
   for (std::size_t i = first; i < flank; ++i)
-    leafHere += r.organ[i] == plantmorph::OrganLeaf && r.leafId[i] < 0;
+    leafHere += r.organ[i] == plantmorph::OrganLeaf && r.leafId[i] >= 0 && r.leafId[i] == r.leafId[first];
   for (std::size_t i = flank; i < t.points.size(); ++i)
     woodThere += r.organ[i] == plantmorph::OrganWood;
   EXPECT_EQ(leafHere, flank - first);
   EXPECT_EQ(woodThere, t.points.size() - flank);
-  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  const std::vector<double> iou = InstanceIoU(t, r, leaves + 1);
+  for (double x : iou)
+    EXPECT_GT(x, 0.9);
 }
 
 TEST(PlantSegmentation, AFlatStripApartIsLeafATwigsFacetsAreWood)
