@@ -4,6 +4,7 @@
 #include "PointGrid.h"
 
 #include <plantmorph/PlaneFit.h>
+#include <plantmorph/graph/DisjointSets.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -29,13 +30,6 @@ struct Trail
   std::vector<int> contact;     // positions in ids of the points touching the blade
   double extent = 0.0;
 };
-
-int Find(std::vector<int>& parent, int i)
-{
-  while (parent[i] != i)
-    i = parent[i] = parent[parent[i]];
-  return i;
-}
 
 /// The sheet's spacing from its density (the nearest-neighbour distance is half of it on randomly placed samples,
 /// all of it on a scanner's grid): the median distance r to the 8th neighbour holds 8 points in pi r^2.
@@ -124,8 +118,7 @@ std::vector<Trail> Trails(const std::vector<Eigen::Vector3d>& points, const Poin
   const std::vector<unsigned char>& blade, double link)
 {
   const int n = static_cast<int>(points.size());
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets<int> parts(static_cast<std::size_t>(n));
   std::vector<unsigned char> touches(n, 0);
   std::vector<int> near;
   for (int i = 0; i < n; ++i)
@@ -137,18 +130,14 @@ std::vector<Trail> Trails(const std::vector<Eigen::Vector3d>& points, const Poin
       if (blade[j])
         touches[i] = 1;
       else if (j != i)
-      {
-        const int a = Find(parent, i), b = Find(parent, j);
-        if (a != b)
-          parent[std::max(a, b)] = std::min(a, b);
-      }
+        parts.Join(i, j);
   }
   std::vector<int> slot(n, -1);
   std::vector<Trail> trails;
   for (int i = 0; i < n; ++i)
     if (!blade[i])
     {
-      const int root = Find(parent, i);
+      const int root = parts.Find(i);
       if (slot[root] < 0)
       {
         slot[root] = static_cast<int>(trails.size());

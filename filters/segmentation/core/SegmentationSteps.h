@@ -31,6 +31,30 @@ struct LinkGraph
   std::vector<int> neighbours;
 };
 
+/// The connected component of `seed` in the link graph among the points `member(j)` accepts, in the order a
+/// breadth-first walk reaches them (the seed first, whether or not `member` accepts it). Every point reached is marked
+/// in `seen`, the seed too; a marked point is not entered again.
+template <class Member>
+void LinkComponent(
+  const LinkGraph& graph, std::size_t seed, Member&& member, std::vector<char>& seen, std::vector<int>& component)
+{
+  component.assign(1, static_cast<int>(seed));
+  seen[seed] = 1;
+  for (std::size_t k = 0; k < component.size(); ++k)
+  {
+    const auto q = static_cast<std::size_t>(component[k]);
+    for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
+    {
+      const auto j = static_cast<std::size_t>(graph.neighbours[e]);
+      if (!seen[j] && member(j))
+      {
+        seen[j] = 1;
+        component.push_back(static_cast<int>(j));
+      }
+    }
+  }
+}
+
 /// One plant's labels: per point organ, leaf (index in `leaves`, -1 off them) and confidence.
 struct PlantLabels
 {
