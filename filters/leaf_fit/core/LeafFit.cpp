@@ -412,16 +412,18 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   if (!error.empty())
     return error;
   // The petiole is set apart: the blade alone is fitted, and every blade trait is the blade's.
-  std::vector<int> cleaned; // input ids
-  std::vector<Eigen::Vector3d> cleanPoints;
+  std::vector<int> cleaned, removed; // input ids
+  std::vector<Eigen::Vector3d> cleanPoints, strays;
   for (std::size_t i = 0; i < fitted.size(); ++i)
-    if (keep[i])
-    {
-      cleaned.push_back(thinned ? sampleIds[i] : static_cast<int>(i));
-      cleanPoints.push_back(fitted[i]);
-    }
-  const fit::Petiole petiole = fit::FindPetiole(cleanPoints, spacing, parallel);
+  {
+    (keep[i] ? cleaned : removed).push_back(thinned ? sampleIds[i] : static_cast<int>(i));
+    (keep[i] ? cleanPoints : strays).push_back(fitted[i]);
+  }
+  const fit::Petiole petiole = fit::FindPetiole(cleanPoints, spacing, parallel, strays);
   result.petiole.assign(points.size(), 0);
+  for (std::size_t k = 0; k < removed.size(); ++k)
+    if (petiole.looseMember[k])
+      result.petiole[removed[k]] = 1;
   Fitted f;
   std::vector<Eigen::Vector3d> kept;
   for (std::size_t k = 0; k < cleaned.size(); ++k)

@@ -640,6 +640,72 @@ void BackToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& gr
   petiole.meetsPlane = true;
 }
 
+/// A stalk seen in pieces: a line scan leaves gaps along a stalk wider than the trail's link where something shadows
+/// it or its lines cross it at a grazing angle, and the pieces beyond are left out of the trail (or dropped by the
+/// cleaning as strays), so the stalk ends short. From the trail's far end the line through its last 20 spacings
+/// (their centroid and principal direction, away from the blade) is followed: the nearest point ahead (or less than a
+/// spacing behind the end: a line's other samples) that is not the blade's, lies within the stalk's width of the
+/// line (its half-width plus 0.75 spacings) and no more than 12 spacings past the end joins the stalk, and the end
+/// moves to it; a piece with points beside the line beyond that width (within 2 spacings more) or of the blade is no
+/// stalk, and the walk stops. Returns the new far end, or none.
+std::optional<Eigen::Vector3d> JoinStalkPieces(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid,
+  const std::vector<unsigned char>& blade, const Trail& trail, double spacing, double half, Petiole& petiole)
+{
+  std::vector<Eigen::Vector3d> last;
+  for (std::size_t k = 0; k < trail.ids.size(); ++k)
+    if (petiole.member[trail.ids[k]] && trail.distance[k] >= trail.extent - 20.0 * spacing)
+      last.push_back(points[trail.ids[k]]);
+  if (last.size() < 5)
+    return std::nullopt;
+  const FittedPlane fit = FitPlane(last);
+  if (!(fit.moments[2] > 9.0 * fit.moments[1]))
+    return std::nullopt;
+  const std::size_t far =
+    static_cast<std::size_t>(std::max_element(trail.distance.begin(), trail.distance.end()) - trail.distance.begin());
+  Eigen::Vector3d end = points[trail.ids[far]];
+  const Eigen::Vector3d w = (end - fit.centroid).dot(fit.major) < 0.0 ? Eigen::Vector3d(-fit.major) : fit.major;
+  const double narrow = half + 0.75 * spacing, look = half + 2.0 * spacing, reach = 12.0 * spacing;
+  std::optional<Eigen::Vector3d> joined;
+  std::vector<int> near;
+  for (int guard = 0; guard < 100000; ++guard)
+  {
+    const double at = (end - fit.centroid).dot(w);
+    grid.Within(end + 0.5 * reach * w, std::hypot(0.5 * reach, look), near);
+    int next = -1;
+    double nextAlong = 1e300;
+    for (int j : near)
+    {
+      const Eigen::Vector3d r = points[j] - fit.centroid;
+      const double along = r.dot(w), lateral = (r - along * w).norm();
+      if (petiole.member[j] || along <= at - spacing || along > at + reach || lateral > narrow || blade[j])
+        continue;
+      if (along < nextAlong)
+      {
+        next = j;
+        nextAlong = along;
+      }
+    }
+    if (next < 0)
+      break;
+    // The piece beside that point: none of its points off the line beyond the stalk's width.
+    grid.Within(points[next], 4.0 * spacing, near);
+    for (int j : near)
+    {
+      const Eigen::Vector3d r = points[j] - fit.centroid;
+      const double along = r.dot(w), lateral = (r - along * w).norm();
+      if (along > at && (blade[j] || (lateral > narrow && lateral <= look)))
+        return joined;
+    }
+    petiole.member[next] = 1;
+    if (nextAlong > at)
+    {
+      end = points[next];
+      joined = end;
+    }
+  }
+  return joined;
+}
+
 /// True when the trail is a stalk: at least 6 spacings of stalk bins, thin (their spread at most 2.5 spacings, what
 /// a strip the ball cannot fit in has, or a tenth of the blade's width: a stalk scanned from the side is sparser
 /// than the blade, so wider in spacings; a sparsely sampled patch of blade is wider still), and not narrowing like
@@ -671,10 +737,12 @@ bool IsStalk(const Bins& bins, double spacing, double bladeWidth)
 }
 } // namespace
 
-Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, const ParallelFor& parallel)
+Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, const ParallelFor& parallel,
+  const std::vector<Eigen::Vector3d>& loose)
 {
   Petiole petiole;
   petiole.member.assign(points.size(), 0);
+  petiole.looseMember.assign(loose.size(), 0);
   if (points.size() < 20 || !(spacing > 0.0))
     return petiole;
   spacing = std::max(spacing, DensitySpacing(points));
@@ -748,7 +816,27 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
       last = at;
     }
   }
+  const double half = axis.valid ? axis.half : halfWidth;
+  std::optional<Eigen::Vector3d> beyond;
+  if (loose.empty())
+    beyond = JoinStalkPieces(points, grid, blade, *best, spacing, half, petiole);
+  else
+  {
+    // The cleaning's strays may be the stalk's far pieces: they are looked at with the rest.
+    std::vector<Eigen::Vector3d> all = points;
+    all.insert(all.end(), loose.begin(), loose.end());
+    std::vector<unsigned char> allBlade = blade;
+    allBlade.resize(all.size(), 0);
+    Petiole joined;
+    joined.member = petiole.member;
+    joined.member.resize(all.size(), 0);
+    beyond = JoinStalkPieces(all, PointGrid(all, radius), allBlade, *best, spacing, half, joined);
+    std::copy(joined.member.begin(), joined.member.begin() + points.size(), petiole.member.begin());
+    petiole.looseMember.assign(joined.member.begin() + points.size(), joined.member.end());
+  }
   petiole.line.push_back(points[best->ids[far]]);
+  if (beyond)
+    petiole.line.push_back(*beyond);
   for (std::size_t k = 1; k < petiole.line.size(); ++k)
     petiole.length += (petiole.line[k] - petiole.line[k - 1]).norm();
   return petiole;

@@ -11,7 +11,8 @@
 // longest such part is the petiole. Its junction is its first points at the blade, or where the stalk's axis (from its
 // cross-section: a scanner sees one side of it; its direction through its points where two of its stretches'
 // centroids tilt it) meets the blade's plane; its length is measured along the trail's
-// centre line (bins' centroids two stalk widths apart).
+// centre line (bins' centroids two stalk widths apart), on across gaps to the pieces of the stalk beyond them that
+// lie on the line of its last stretch within its width.
 //
 // Axis: the blade's points, seen in their best plane, mirrored across a line through the base: the line whose
 // mirror image leaves the blade least (the fewest mirrored points off it) is the midvein axis (a symmetric blade of
@@ -42,12 +43,14 @@ struct Petiole
   /// The junction is where the stalk's axis meets the blade's plane (a stalk leaving the blade at 15 degrees or
   /// more), not only where the thin trail ends.
   bool meetsPlane = false;
+  std::vector<unsigned char> looseMember; ///< per point of FindPetiole's `loose`: 1 for the petiole's points
 };
 
 /// Finds the petiole of a leaf's points (outliers already removed; `spacing` their median nearest-neighbour
-/// distance). `found` is false when no thin trail leaves the blade.
-Petiole FindPetiole(
-  const std::vector<Eigen::Vector3d>& points, double spacing, const ParallelFor& parallel = SerialFor);
+/// distance). `found` is false when no thin trail leaves the blade. `loose`: the points the cleaning removed as
+/// strays; those that continue the stalk's line beyond a gap join it (`looseMember`).
+Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, const ParallelFor& parallel = SerialFor,
+  const std::vector<Eigen::Vector3d>& loose = {});
 
 /// The unit direction, in the blade's best plane (unit normal `normal`), of the line through `through` across
 /// which the blade's points are most nearly mirror images of each other. `hint`: the direction to prefer among

@@ -19,6 +19,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -483,6 +484,57 @@ TEST(LeafShape, StalkBelowACuspSeenFromTwoSidesEndsWhereItsFittedAxisMeetsTheBla
     EXPECT_LT((found.junction - pose * Eigen::Vector3d::Zero()).norm(), 0.01 * scan.length)
       << "preset " << preset << " junction " << (pose.inverse() * found.junction).transpose();
     EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength) << "preset " << preset;
+  }
+}
+
+TEST(LeafShape, StalkSeenInPiecesBeyondAShadowIsMeasuredToItsEnd)
+{
+  // A line scan leaves gaps along a stalk where the blade shadows it: here the lines over 8 spacings of it (twice
+  // the trail's link) are missing from 60 % of its length on, and its last two lines are strays the cleaning
+  // removed (given apart, as `loose`). The trail ends at the gap (PetioleLength -40 % before); the pieces beyond
+  // lie on the stalk's line within its radius and join it. A piece beside that line (3 radii off it) does not.
+  const Eigen::Isometry3d pose = Tilted();
+  const Synthetic full = TubeScan(
+    0.01, 3, [](int, int j) { return 45.0 + 45.0 * j; }, pose);
+  const auto axis = Straight(30.0);
+  const double step = 0.006 * full.length, gapFrom = 0.6 * full.petioleLength, gapTo = gapFrom + 8.0 * step;
+  const double lastLines = full.petioleLength - 2.0 * step;
+  for (const bool beside : { false, true })
+  {
+    std::vector<Eigen::Vector3d> points, loose;
+    std::vector<std::size_t> far; // ids of the pieces beyond the gap in `points`
+    const Eigen::Vector3d off = beside
+      ? Eigen::Vector3d(pose.linear() * (0.03 * full.length * Eigen::Vector3d::UnitX()))
+      : Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < full.points.size(); ++i)
+    {
+      const Eigen::Vector3d local = pose.inverse() * full.points[i];
+      const double along = full.petiole[i] ? (local - axis(0.0)).dot((axis(1.0) - axis(0.0)).normalized()) : -1.0;
+      if (along >= gapFrom && along < gapTo)
+        continue;
+      if (along >= lastLines)
+        loose.push_back(full.points[i] + off);
+      else
+      {
+        if (along >= gapTo)
+          far.push_back(points.size());
+        points.push_back(full.points[i] + (along >= gapTo ? off : Eigen::Vector3d::Zero()));
+      }
+    }
+    const fit::Petiole found = fit::FindPetiole(points, MedianSpacing(points), SerialFor, loose);
+    ASSERT_TRUE(found.found);
+    ASSERT_EQ(found.looseMember.size(), loose.size());
+    const auto joined = std::count_if(far.begin(), far.end(), [&](std::size_t id) { return found.member[id] == 1; });
+    const auto joinedLoose = std::count(found.looseMember.begin(), found.looseMember.end(), 1);
+    if (beside)
+    {
+      EXPECT_EQ(joined + joinedLoose, 0) << "a piece 3 radii off the stalk's line joined it";
+      EXPECT_LT(found.length, 0.7 * full.petioleLength);
+      continue;
+    }
+    EXPECT_EQ(joined, static_cast<std::ptrdiff_t>(far.size()));
+    EXPECT_EQ(joinedLoose, static_cast<std::ptrdiff_t>(loose.size()));
+    EXPECT_NEAR(found.length, full.petioleLength, 0.05 * full.petioleLength);
   }
 }
 
