@@ -470,6 +470,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     {
       f.outline.junction = junction.y();
       f.outline.junctionMeetsPlane = petiole.meetsPlane;
+      f.outline.stalkHalfWidth = petiole.halfWidth;
     }
   }
   // The blade's outline as its points draw it (lobes and sinuses kept); where that loop does not mesh (a sinus

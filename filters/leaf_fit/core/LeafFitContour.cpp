@@ -388,12 +388,32 @@ bool BaseRunsToJunction(const std::vector<Eigen::Vector2d>& ts, double junction,
   return true;
 }
 
+/// How far across (t) the blade's samples within a spacing of its lowest (along s) spread.
+double LowestSamplesSpan(const std::vector<Eigen::Vector2d>& ts, double spacing)
+{
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const auto& p : ts)
+    lowest = std::min(lowest, p.y());
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& p : ts)
+    if (p.y() < lowest + spacing)
+    {
+      lo = std::min(lo, p.x());
+      hi = std::max(hi, p.x());
+    }
+  return hi > lo ? hi - lo : 0.0;
+}
+
 /// The midvein's base end `baseS` where the loop crosses t = 0 at `crossing`; true when it is a tip. Within
 /// `shallow` of the smooth margins' tip s0, that tip, but no more than a spacing past a petiole's junction where
 /// the stalk's axis meets the blade's plane: a scanner sees the stalk's top, which lies within a radius of the
 /// blade's plane for 1 / sin(angle) radii back along the midvein, so the blade's lowest samples are partly the
 /// stalk's, they do not thin out like a free tip's, and the tip extrapolated from them lies out on the stalk (the
-/// junction itself is placed to about a radius either way: it bounds the tip, it does not replace it). A base
+/// junction itself is placed to about a radius either way: it bounds the tip, it does not replace it). Where that tip
+/// lies inside the blade from the junction and the blade's samples within a spacing of its lowest spread across
+/// wider than the stalk (its width and a spacing), the base is the junction: a blade that wide does not narrow to a free tip between its lowest
+/// line and the stalk, and a scanner's lines hold their samples at one s, so they do not thin out like a free tip's
+/// and the tip extrapolated from them lies short of where the blade meets the stalk. A base
 /// narrower than the closing's discs (a cusp) that runs on along the midvein below the crossing down to a petiole's
 /// junction, where the stalk's axis meets the blade's plane, is a tip at that junction. Else a sinus (SinusBottom).
 bool BaseEnd(const std::vector<Eigen::Vector2d>& ts, const Outline& outline, double crossing, double shallow,
@@ -403,6 +423,8 @@ bool BaseEnd(const std::vector<Eigen::Vector2d>& ts, const Outline& outline, dou
   {
     const double bound = outline.junction - spacing;
     baseS = outline.junctionMeetsPlane && bound > outline.s0 ? bound : outline.s0;
+    if (outline.junction < baseS && LowestSamplesSpan(ts, spacing) > 2.0 * outline.stalkHalfWidth + spacing)
+      baseS = outline.junction;
     return true;
   }
   if (outline.junctionMeetsPlane && BaseRunsToJunction(ts, outline.junction, crossing, spacing))

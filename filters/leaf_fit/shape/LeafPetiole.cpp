@@ -817,6 +817,7 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
     }
   }
   const double half = axis.valid ? axis.half : halfWidth;
+  petiole.halfWidth = half;
   std::optional<Eigen::Vector3d> beyond;
   if (loose.empty())
     beyond = JoinStalkPieces(points, grid, blade, *best, spacing, half, petiole);

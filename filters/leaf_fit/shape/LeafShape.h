@@ -43,6 +43,7 @@ struct Petiole
   /// The junction is where the stalk's axis meets the blade's plane (a stalk leaving the blade at 15 degrees or
   /// more), not only where the thin trail ends.
   bool meetsPlane = false;
+  double halfWidth = 0.0;                 ///< the stalk's half-width about its axis (zero when it has no axis)
   std::vector<unsigned char> looseMember; ///< per point of FindPetiole's `loose`: 1 for the petiole's points
 };
 

@@ -861,6 +861,49 @@ TEST(LeafShape, BladeEndsWithinASpacingOfTheStalksJunction)
   }
 }
 
+TEST(LeafShape, BladeWiderThanItsStalkAtItsLowestLineEndsAtTheJunction)
+{
+  // In intrinsic coordinates (spacing 1), an elliptic blade 100 long and 44 wide, its base at s = 0 where a stalk
+  // of half-width 1 meets it, scanned in lines across it 1.8 apart along s, points a spacing apart along them; the
+  // first line falls on the stalk at s = -0.2 (taken into the stalk, not the blade), the next on the blade at
+  // s = 1.6, already 12 wide. Lines hold their samples at one s, so the lowest do not thin out like a free tip's:
+  // the tip extrapolated from them lay 1.4 spacings inside the blade (on the benchmark's curled watermelon
+  // scanned obliquely 1.4 % of the length, its junction within 0.3 % of the true base). A blade wider than the stalk
+  // there (more than its width and a spacing) does not narrow to a free tip between its lowest line and the
+  // stalk: it ends at the junction. Where its lowest samples are no wider than the stalk (the stalk's own top, or a
+  // narrow base) or no junction lies below the tip, the tip is extrapolated as before.
+  auto blade = [](double narrowTo) {
+    std::vector<Eigen::Vector2d> ts;
+    for (double s = 1.6; s < 100.0; s += 1.8)
+    {
+      const double ellipse = 22.0 * std::sqrt(1.0 - (s - 50.0) * (s - 50.0) / 2500.0);
+      const double half = s < narrowTo ? std::min(1.0, ellipse) : ellipse;
+      for (double t = std::floor(-half) + 0.5; t <= half; t += 1.0)
+        if (std::abs(t) <= half)
+          ts.emplace_back(t, s);
+    }
+    return ts;
+  };
+  auto base = [](const std::vector<Eigen::Vector2d>& ts, double junction, double half) {
+    fit::Outline outline;
+    EXPECT_EQ(fit::FitOutline(ts, LeafFitParameters(), 1.0, outline), "");
+    outline.junction = junction;
+    outline.stalkHalfWidth = half;
+    EXPECT_FALSE(fit::TraceContour(ts, 1.0, true, outline).right.empty());
+    return outline.base;
+  };
+  const std::vector<Eigen::Vector2d> wide = blade(0.0);
+  const double free = base(wide, std::nan(""), 1.0);
+  EXPECT_GT(free, 0.5) << "without a junction the tip is extrapolated beyond the lowest line";
+  EXPECT_NEAR(base(wide, 0.0, 1.0), 0.0, 1e-9) << "the wide blade ends at the junction";
+  EXPECT_EQ(base(wide, 0.0, 6.0), free) << "a stalk as wide as the blade's lowest line";
+  EXPECT_EQ(base(wide, 2.0, 1.0), free) << "a junction above the extrapolated tip";
+  // A base whose two lowest lines are no wider than the stalk (its top seen in two columns, or a narrow base): the
+  // junction does not end it.
+  const std::vector<Eigen::Vector2d> narrow = blade(4.0);
+  EXPECT_EQ(base(narrow, 0.0, 1.0), base(narrow, std::nan(""), 1.0)) << "a base as narrow as the stalk";
+}
+
 } // namespace plantmorph
 
 namespace plantmorph
