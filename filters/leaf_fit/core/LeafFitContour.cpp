@@ -411,11 +411,12 @@ double LowestSamplesSpan(const std::vector<Eigen::Vector2d>& ts, double spacing)
 /// stalk's, they do not thin out like a free tip's, and the tip extrapolated from them lies out on the stalk (the
 /// junction itself is placed to about a radius either way: it bounds the tip, it does not replace it). Where that tip
 /// lies inside the blade from the junction and the blade's samples within a spacing of its lowest spread across
-/// wider than the stalk (its width and a spacing), the base is the junction: a blade that wide does not narrow to a free tip between its lowest
-/// line and the stalk, and a scanner's lines hold their samples at one s, so they do not thin out like a free tip's
-/// and the tip extrapolated from them lies short of where the blade meets the stalk. A base
-/// narrower than the closing's discs (a cusp) that runs on along the midvein below the crossing down to a petiole's
-/// junction, where the stalk's axis meets the blade's plane, is a tip at that junction. Else a sinus (SinusBottom).
+/// wider than the stalk (its width and a spacing), the base is the junction: a blade that wide does not narrow to a
+/// free tip between its lowest line and the stalk, and a scanner's lines hold their samples at one s, so they do not
+/// thin out like a free tip's and the tip extrapolated from them lies short of where the blade meets the stalk. A
+/// base narrower than the closing's discs (a cusp) that runs on along the midvein below the crossing down to a
+/// petiole's junction, where the stalk's axis meets the blade's plane, is a tip at that junction. Else a sinus
+/// (SinusBottom).
 bool BaseEnd(const std::vector<Eigen::Vector2d>& ts, const Outline& outline, double crossing, double shallow,
   double spacing, double& baseS)
 {
