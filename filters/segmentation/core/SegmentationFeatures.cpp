@@ -143,6 +143,7 @@ void ComputeFeatures(const std::vector<Eigen::Vector3d>& points, double spacing,
   const BallMoments near(points, r / 8.0, r), wide(points, r / 2.0, 2.0 * r);
   const std::size_t m = near.Cells().CellCount();
   std::vector<Eigen::Vector3d> normal(m, Eigen::Vector3d::UnitX());
+  std::vector<Eigen::Vector3d> direction(m, Eigen::Vector3d::Zero());
   std::vector<float> spread(m, 0.0f), variation(m, 1.0f), wideSpread(wide.Cells().CellCount(), 0.0f);
   parallel(m, [&](std::size_t begin, std::size_t end) {
     CellGrid::Block block;
@@ -157,6 +158,7 @@ void ComputeFeatures(const std::vector<Eigen::Vector3d>& points, double spacing,
       solver.computeDirect(covariance); // closed form: a tenth of the iterative solver's cost
       const Eigen::Vector3d l = solver.eigenvalues().cwiseMax(0.0);
       normal[c] = solver.eigenvectors().col(0);
+      direction[c] = solver.eigenvectors().col(2);
       spread[c] = Spread(l, r);
       const double sum = l.sum();
       variation[c] = sum > 0.0 ? static_cast<float>(l[0] / sum) : 1.0f;
@@ -180,12 +182,16 @@ void ComputeFeatures(const std::vector<Eigen::Vector3d>& points, double spacing,
   f.normal.resize(n);
   f.spread.resize(n);
   f.variation.resize(n);
+  f.direction.resize(n);
+  f.nearSpread.resize(n);
   for (std::size_t i = 0; i < n; ++i)
   {
     const auto c = static_cast<std::size_t>(near.Cells().CellOfPoint(i));
     f.normal[i] = normal[c];
     f.spread[i] = std::max(spread[c], wideSpread[static_cast<std::size_t>(wide.Cells().CellOfPoint(i))]);
     f.variation[i] = variation[c];
+    f.direction[i] = direction[c];
+    f.nearSpread[i] = spread[c];
   }
   LinkPoints(points, p.linkScale * spacing, parallel, graph);
 }

@@ -1224,13 +1224,37 @@ struct PartRoots
   }
 };
 
+/// The plane of a group of rows (moments `m`, the sum `evidence` of its points' SurfaceEvidence) and the spread of
+/// its points off it (root mean square): the best plane of the moments, unless the points lie on a line (their
+/// spread across its main axis under `thickness`: one row, or two points), which every plane through the line fits.
+/// Then it is the plane through the line that the features agree with most: the row directions measured around the
+/// points (a point of the next row seen from this one, the line crossing the rows, spans the leaf's plane with them).
+Eigen::Vector3d PlaneOfRows(const PartMoments& m, const Eigen::Matrix3d& evidence, double thickness, double& spread)
+{
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(m.scatter / m.count);
+  const Eigen::Vector3d l = solver.eigenvalues().cwiseMax(0.0);
+  if (std::sqrt(l[1]) >= thickness)
+  {
+    spread = std::sqrt(l[0]);
+    return solver.eigenvectors().col(0);
+  }
+  const Eigen::Vector3d line = solver.eigenvectors().col(2);
+  const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - line * line.transpose();
+  const Eigen::Vector3d n =
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(across * evidence * across).eigenvectors().col(2);
+  spread = std::sqrt(std::max(0.0, n.dot(m.scatter * n) / m.count));
+  return n;
+}
+
 /// Rows of a leaf seen at a grazing angle: the scan's rows on it lie farther apart than the links, so each row grows
 /// into its own region (a strip one row wide: leaf, no instance) or is cut off from every region, and the leaf's
 /// instance holds only the piece seen densely, or the leaf none. The features, whose radius r spans several rows, see
 /// one surface: their normals are the leaf's. Parts with no leaf shape (NoLeafShape) join a part within 2r (the
-/// features' outer neighbourhood) when the two lie in one plane that the features' normals of both agree with (mean
-/// squared cosine to it at least `cosine` squared: two parallel rows, or two segments that meet, always lie in some
-/// plane; the normals tell whether it is the leaf's), the points of both off it by under `thickness`, and together
+/// features' outer neighbourhood) when the two lie in one plane that the features of both agree with (mean squared
+/// cosine of the normals to it, or of the sine of a row's direction where the neighbourhood is a line and has no
+/// normal, SurfaceEvidence, at least `cosine` squared: two parallel rows, or two segments that meet, always lie in
+/// some plane; the features tell whether it is the leaf's; PlaneOfRows), the points of both off it by under
+/// `thickness`, and together
 /// they span no more than a leaf (LeafLength, as in JoinAcrossGaps). Nearest first, each join checked again on the
 /// parts already joined; rows join rows or one leaf part, never two leaf parts through rows between them. Rows that
 /// reach no leaf part are judged afterwards as a leaf seen only in rows (LeavesSeenInRows).
@@ -1242,7 +1266,8 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   std::vector<std::size_t> rows, big;
   std::vector<char> whole(parts.size(), 0); // a part with a leaf's shape (or one that has joined such a part)
   std::vector<PartMoments> moments(parts.size());
-  std::vector<Eigen::Matrix3d> normals(parts.size(), Eigen::Matrix3d::Zero()); // sums of n n^T
+  std::vector<Eigen::Matrix3d> normals(parts.size(), Eigen::Matrix3d::Zero()); // sums of SurfaceEvidence
+  std::vector<double> measured(parts.size(), 0.0);                             // the points measured
   std::vector<Eigen::Vector3d> low(parts.size()), high(parts.size());
   for (std::size_t k = 0; k < parts.size(); ++k)
   {
@@ -1255,8 +1280,9 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
     low[k] = high[k] = points[static_cast<std::size_t>(parts[k].front())];
     for (int j : parts[k])
     {
-      const Eigen::Vector3d& n = f.normal[static_cast<std::size_t>(j)];
-      normals[k] += n * n.transpose();
+      double weight = 0.0;
+      normals[k] += SurfaceEvidence(f, static_cast<std::size_t>(j), weight);
+      measured[k] += weight;
       low[k] = low[k].cwiseMin(points[static_cast<std::size_t>(j)]);
       high[k] = high[k].cwiseMax(points[static_cast<std::size_t>(j)]);
     }
@@ -1265,8 +1291,9 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   const auto together = [&](std::size_t a, std::size_t b) {
     const PartMoments m = moments[a].Merged(moments[b]);
     double spread = 0.0;
-    const Eigen::Vector3d n = m.Normal(spread);
-    if (spread >= thickness || n.dot((normals[a] + normals[b]) * n) < cosine * cosine * m.count)
+    const Eigen::Vector3d n = PlaneOfRows(m, normals[a] + normals[b], thickness, spread);
+    const double count = measured[a] + measured[b];
+    if (spread >= thickness || count == 0.0 || n.dot((normals[a] + normals[b]) * n) < cosine * cosine * count)
       return false;
     return JointSpan(points, parts, a, b, m) <= leafLength;
   };
@@ -1296,6 +1323,7 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
     whole[into] = whole[into] || whole[from];
     moments[into] = moments[into].Merged(moments[from]);
     normals[into] += normals[from];
+    measured[into] += measured[from];
   }
   parts.erase(
     std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
@@ -1370,22 +1398,23 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
 }
 
 /// Whether the row group `ids` (moments `m`) is as wide across its rows as a leaf region must be (2r, the features'
-/// neighbourhood) and the features' normals agree with its plane (mean squared cosine at least `cosine` squared):
+/// neighbourhood) and the features agree with its plane (SurfaceEvidence: mean at least `cosine` squared):
 /// narrower, or with normals across its plane, it is a twig's facets or a strip of wood seen as leaf.
 bool RowsAsWideAsALeaf(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const std::vector<int>& ids,
   const PartMoments& m, double cosine)
 {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(m.scatter / m.count);
   const Eigen::Vector3d n = solver.eigenvectors().col(0), across = solver.eigenvectors().col(1);
-  double low = std::numeric_limits<double>::infinity(), high = -low, agree = 0.0;
+  double low = std::numeric_limits<double>::infinity(), high = -low, agree = 0.0, count = 0.0;
   for (int j : ids)
   {
     low = std::min(low, (points[static_cast<std::size_t>(j)] - m.mean).dot(across));
     high = std::max(high, (points[static_cast<std::size_t>(j)] - m.mean).dot(across));
-    const double c = f.normal[static_cast<std::size_t>(j)].dot(n);
-    agree += c * c;
+    double weight = 0.0;
+    agree += n.dot(SurfaceEvidence(f, static_cast<std::size_t>(j), weight) * n);
+    count += weight;
   }
-  return high - low >= 2.0 * f.radius && agree >= cosine * cosine * m.count;
+  return high - low >= 2.0 * f.radius && count > 0.0 && agree >= cosine * cosine * count;
 }
 
 /// A leaf seen only in rows (and cut-off pieces): the scanner meets it at a grazing angle and no part of it has a

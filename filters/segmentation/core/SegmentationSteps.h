@@ -17,11 +17,13 @@ namespace segmentation
 /// Per point of one plant: the covariance features at the two scales.
 struct PointFeatures
 {
-  std::vector<Eigen::Vector3d> normal; ///< unit, at scale r
-  std::vector<float> spread;           ///< width across the main axis over the radius, at r and 2r: the larger
-  std::vector<float> variation;        ///< l3 / (l1 + l2 + l3) at r: 0 on a plane
-  double radius = 0.0;                 ///< r: FeatureScale spacings, or wider on a noisy cloud
-  double noise = 0.0;                  ///< the range noise measured (NoiseLevel)
+  std::vector<Eigen::Vector3d> normal;    ///< unit, at scale r
+  std::vector<float> spread;              ///< width across the main axis over the radius, at r and 2r: the larger
+  std::vector<float> variation;           ///< l3 / (l1 + l2 + l3) at r: 0 on a plane
+  std::vector<Eigen::Vector3d> direction; ///< unit main axis at scale r; zero with under 3 points (nothing measured)
+  std::vector<float> nearSpread;          ///< width across the main axis over the radius, at r alone
+  double radius = 0.0;                    ///< r: FeatureScale spacings, or wider on a noisy cloud
+  double noise = 0.0;                     ///< the range noise measured (NoiseLevel)
 };
 
 /// The radius graph: each point's neighbours closer than LinkScale * s, in ascending index (CSR).
@@ -79,6 +81,29 @@ inline bool IsLinear(const PointFeatures& f, std::size_t i)
   return f.spread[i] < 0.2f;
 }
 
+/// A neighbourhood of radius r narrower than this fraction of r across its main axis is a line (IsLinear's bound, at
+/// r alone): one scan row of a surface seen at a grazing angle, its next rows beyond r. Its smallest eigenvector is
+/// any direction across the row, so its normal is not measured; its main axis (the row's direction) is, and the
+/// surface's plane contains it.
+inline constexpr float LineSpread = 0.2f;
+/// What the features measured of the surface at point i, as a matrix whose quadratic form n^T M n says how well a
+/// plane of unit normal n agrees with it (1 at best, 0 at worst): n_i n_i^T for a measured normal (a neighbourhood
+/// spread across its main axis); I - d_i d_i^T for a neighbourhood that is a line of direction d_i (the plane
+/// contains the line: this is the best agreement over the normals such a neighbourhood allows); zero, with
+/// `weight` 0, when the neighbourhood holds under 3 points. `weight` is 1 otherwise.
+inline Eigen::Matrix3d SurfaceEvidence(const PointFeatures& f, std::size_t i, double& weight)
+{
+  const Eigen::Vector3d& d = f.direction[i];
+  if (d.squaredNorm() == 0.0)
+  {
+    weight = 0.0;
+    return Eigen::Matrix3d::Zero();
+  }
+  weight = 1.0;
+  if (f.nearSpread[i] < LineSpread)
+    return Eigen::Matrix3d::Identity() - d * d.transpose();
+  return f.normal[i] * f.normal[i].transpose();
+}
 /// The mean of points[ids] (into `mean`, ids not empty) and their scatter matrix about it (the sum of the outer
 /// products; divided by the count it is their covariance). Every point is used, unlike the sampled per-point features.
 Eigen::Matrix3d Scatter(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, Eigen::Vector3d& mean);

@@ -502,6 +502,54 @@ TEST(PlantSegmentation, ALeafSeenOnlyInRowsIsAnInstanceANarrowBandOfRowsIsNot)
     EXPECT_GT(iou[static_cast<std::size_t>(l)], 0.9);
 }
 
+TEST(PlantSegmentation, ALeafSeenInRowsFartherApartThanTheFeaturesRadiusIsAnInstance)
+{
+  // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15, farther than 4r from the others) scanned at a
+  // grazing angle in scattered points: rows across its width every 5 spacings (1.25 r: beyond the features' radius),
+  // the points of a row 3 spacings apart (beyond the links), each moved by the plant's noise. Each point is cut off
+  // alone, and its features' neighbourhood (radius r) holds its own row only: a line, whose smallest eigenvector is
+  // any direction across the row, so the normals are not the leaf's and the normals' test kept the points apart
+  // (the leaf had no instance). The line's direction is measured: every row's lies in the leaf's plane, so its
+  // points gather into one group, as wide as a leaf and alone: the leaf's own instance.
+  const int leaves = 8;
+  const double h = 0.005, length = 0.3, width = 0.15, rise = 40.0 * Pi / 180.0, rowStep = 5.0 * h;
+  const double azimuth = 7 * 137.5 * Pi / 180.0, z = 0.75;
+  const Eigen::Vector3d out(std::cos(azimuth), std::sin(azimuth), 0.0);
+  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(out);
+  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, z);
+  const Truth plant = SyntheticPlant(leaves);
+  Truth t;
+  for (std::size_t i = 0; i < plant.points.size(); ++i)
+    if (plant.leaf[i] != leaves - 1)
+    {
+      t.points.push_back(plant.points[i]);
+      t.organ.push_back(plant.organ[i]);
+      t.leaf.push_back(plant.leaf[i]);
+    }
+  std::mt19937 random(11);
+  std::normal_distribution<double> gauss(0.0, 0.0002); // SyntheticPlant's noise
+  const std::size_t first = t.points.size();
+  for (double s = rowStep; s < length; s += rowStep)
+    for (double w = -width / 2; w <= width / 2; w += 3.0 * h)
+    {
+      const double u = (s - length / 2) / (length / 2), v = w / (width / 2);
+      if (u * u + v * v <= 1.0)
+      {
+        t.points.push_back(
+          base + s * along + w * across + Eigen::Vector3d(gauss(random), gauss(random), gauss(random)));
+        t.organ.push_back(plantmorph::OrganLeaf);
+        t.leaf.push_back(leaves - 1);
+      }
+    }
+  ASSERT_GT(t.points.size() - first, 80u);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
+  for (double iou : InstanceIoU(t, r, leaves))
+    EXPECT_GT(iou, 0.9);
+}
+
 TEST(PlantSegmentation, ScatteredPointsOfALeafEdgeOnAreLeafThoseBesideTheStemAreWood)
 {
   // The plant of seven leaves and two sparse patches, each sampled every three spacings (farther apart than the
