@@ -12,6 +12,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -1417,6 +1418,117 @@ bool RowsAsWideAsALeaf(const std::vector<Eigen::Vector3d>& points, const PointFe
   return high - low >= 2.0 * f.radius && count > 0.0 && agree >= cosine * cosine * count;
 }
 
+/// Rows of one leaf seen at a grazing angle lie evenly spaced: neighbouring rows' gaps within this factor of their
+/// median either way. A shadow or a missing piece of the leaf leaves a gap about twice as wide; the rows of two
+/// leaves scanned from different angles lie at different spacings.
+constexpr double RowGapRatio = 1.5;
+/// ... and the group's outline closes: the outermost row at each end is at most this fraction of the longest row's
+/// length, as a leaf's rows shorten towards its ends (an ellipse's outermost of four rows: 0.68 of the longest);
+/// half a leaf cut across its rows keeps a full row at the cut.
+constexpr double RowEndFraction = 0.7;
+
+/// The rows of a group (its points `ids` joined from the pieces `pieceOf` names: strips one row wide, cut-off
+/// pieces) along the direction `along` in its plane (normal `n`): per row its position across the rows and its
+/// extent along them, sorted across. Pieces whose positions across lie within `merge` (half a link: rows closer than
+/// the links are one region) are one row.
+std::vector<std::array<double, 3>> RowsAcross(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids,
+  const std::vector<int>& pieceOf, const Eigen::Vector3d& centre, const Eigen::Vector3d& along,
+  const Eigen::Vector3d& n, double merge)
+{
+  const Eigen::Vector3d across = n.cross(along).normalized();
+  std::map<int, std::array<double, 4>> pieces; // piece -> (sum across, count, low along, high along)
+  for (int j : ids)
+  {
+    const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - centre;
+    const double a = d.dot(along);
+    auto [it, fresh] = pieces.try_emplace(pieceOf[static_cast<std::size_t>(j)], std::array<double, 4>{ 0, 0, a, a });
+    it->second[0] += d.dot(across);
+    it->second[1] += 1.0;
+    it->second[2] = std::min(it->second[2], a);
+    it->second[3] = std::max(it->second[3], a);
+  }
+  std::vector<std::array<double, 3>> byAcross; // (across, low, high)
+  for (const auto& [piece, q] : pieces)
+    byAcross.push_back({ q[0] / q[1], q[2], q[3] });
+  std::sort(byAcross.begin(), byAcross.end());
+  std::vector<std::array<double, 3>> rows;
+  for (const auto& q : byAcross)
+    if (!rows.empty() && q[0] - rows.back()[0] < merge)
+    {
+      rows.back()[1] = std::min(rows.back()[1], q[1]);
+      rows.back()[2] = std::max(rows.back()[2], q[2]);
+    }
+    else
+      rows.push_back(q);
+  return rows;
+}
+
+/// Whether a row group (its points `ids`, moments `m`) is consistent with one leaf seen in rows: spread at least r
+/// across its main axis (root mean square: a leaf's width; the pieces such groups held on the simulated trees were
+/// narrow strips along their leaf), its rows nearly parallel (the row directions the features measured where a
+/// neighbourhood is a line, or the pieces' own axes where the rows lie within r of each other: mean squared cosine
+/// to their main direction at least `cosine` squared), at least three of them, evenly spaced (RowGapRatio) and
+/// shortening towards both ends of the group (RowEndFraction).
+bool RowsOfOneLeaf(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const std::vector<int>& ids,
+  const std::vector<int>& pieceOf, const PartMoments& m, double cosine, double merge)
+{
+  double spread = 0.0;
+  const Eigen::Vector3d n = m.Normal(spread);
+  if (Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m.scatter / m.count).eigenvalues()[1] < f.radius * f.radius)
+    return false;
+  const Eigen::Matrix3d inPlane = Eigen::Matrix3d::Identity() - n * n.transpose();
+  std::vector<std::pair<Eigen::Vector3d, double>> directions; // (row direction, weight)
+  for (int j : ids)
+    if (const auto i = static_cast<std::size_t>(j); f.direction[i].squaredNorm() > 0.0 && f.nearSpread[i] < LineSpread)
+      directions.emplace_back(f.direction[i], 1.0);
+  if (directions.size() < 3)
+  {
+    directions.clear();
+    std::map<int, std::vector<int>> pieces;
+    for (int j : ids)
+      pieces[pieceOf[static_cast<std::size_t>(j)]].push_back(j);
+    for (const auto& [piece, members] : pieces)
+    {
+      if (members.size() < 3)
+        continue;
+      Eigen::Vector3d mean;
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, members, mean));
+      if (solver.eigenvalues()[1] < LineSpread * LineSpread * solver.eigenvalues()[2])
+        directions.emplace_back(solver.eigenvectors().col(2), static_cast<double>(members.size()));
+    }
+  }
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  double weights = 0.0;
+  for (const auto& [d, w] : directions)
+  {
+    sum += w * d * d.transpose();
+    weights += w;
+  }
+  if (weights == 0.0)
+    return false;
+  const Eigen::Vector3d along =
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(inPlane * sum * inPlane).eigenvectors().col(2);
+  if (along.dot(sum * along) < cosine * cosine * weights)
+    return false;
+  const std::vector<std::array<double, 3>> rows = RowsAcross(points, ids, pieceOf, m.mean, along, n, merge);
+  if (rows.size() < 3)
+    return false;
+  std::vector<double> gaps, lengths;
+  for (std::size_t k = 0; k < rows.size(); ++k)
+  {
+    lengths.push_back(rows[k][2] - rows[k][1]);
+    if (k > 0)
+      gaps.push_back(rows[k][0] - rows[k - 1][0]);
+  }
+  std::vector<double> sorted = gaps;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  const auto [fewest, most] = std::minmax_element(gaps.begin(), gaps.end());
+  const double longest = *std::max_element(lengths.begin(), lengths.end());
+  return *most <= RowGapRatio * median && *fewest * RowGapRatio >= median &&
+    lengths.front() <= RowEndFraction * longest && lengths.back() <= RowEndFraction * longest;
+}
+
 /// A leaf seen only in rows (and cut-off pieces): the scanner meets it at a grazing angle and no part of it has a
 /// leaf's shape, so GatherRows' group of its rows reaches no leaf part. Such a group (NoLeafShape, at least
 /// `minimumLeafPoints` points) is a leaf instance of its own when it is as wide as a leaf (RowsAsWideAsALeaf), no
@@ -1424,11 +1536,14 @@ bool RowsAsWideAsALeaf(const std::vector<Eigen::Vector3d>& points, const PointFe
 /// instance lies within 2r of it in its plane (off it by under `thickness`). Beside another leaf the rows are mostly
 /// a piece of a leaf cut by that leaf's shadow or contact (on the 18 simulated scans, 32 of 136 such groups within
 /// 4r of a leaf instance held under half of their leaf, 3 of 45 farther away); with more rows of its plane beside it
-/// that did not join it, it is part of a leaf whose rest lies in pieces. Returns, per part of `leaves`, whether it
-/// is such a leaf.
+/// that did not join it, it is part of a leaf whose rest lies in pieces. A group as wide as a leaf whose rows are one
+/// leaf's (RowsOfOneLeaf; `pieceOf` names each point's part before GatherRows, its row; `merge` is half a link) is
+/// an instance wherever it lies.
+/// Returns, per part of `leaves`, whether it is such a leaf.
 std::vector<char> LeavesSeenInRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
   const std::vector<int>& region, const std::vector<RegionVerdict>& verdicts, const std::vector<int>& organ,
-  int minimumLeafPoints, double cosine, double thickness, const std::vector<std::vector<int>>& leaves)
+  const std::vector<int>& pieceOf, int minimumLeafPoints, double cosine, double thickness, double merge,
+  const std::vector<std::vector<int>>& leaves)
 {
   std::vector<char> rows(leaves.size(), 0), inShaped(points.size(), 0);
   std::vector<Eigen::Vector3d> shaped; // the points of the parts with a leaf's shape
@@ -1463,10 +1578,16 @@ std::vector<char> LeavesSeenInRows(const std::vector<Eigen::Vector3d>& points, c
     PartMoments m;
     m.count = static_cast<double>(leaves[k].size());
     m.scatter = Scatter(points, leaves[k], m.mean);
-    rows[k] = RowsAsWideAsALeaf(points, f, leaves[k], m, cosine) &&
-      (!grid || std::none_of(leaves[k].begin(), leaves[k].end(), [&](int j) {
-        return !grid->Nearest(points[static_cast<std::size_t>(j)], 1, -1, reach).empty();
-      }));
+    if (!RowsAsWideAsALeaf(points, f, leaves[k], m, cosine))
+    {
+      rows[k] = 0;
+      continue;
+    }
+    if (RowsOfOneLeaf(points, f, leaves[k], pieceOf, m, cosine, merge))
+      continue; // its rows are one leaf's: an instance wherever it lies
+    rows[k] = !grid || std::none_of(leaves[k].begin(), leaves[k].end(), [&](int j) {
+      return !grid->Nearest(points[static_cast<std::size_t>(j)], 1, -1, reach).empty();
+    });
     if (!rows[k] || !looseGrid)
       continue;
     // more of its rows beside it (in its plane, within 2r) that did not join: half a leaf, the rest in pieces
@@ -1534,6 +1655,10 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
       leaves.push_back(std::move(part));
   JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
   IsolatedLeafPieces(graph, region, labels.organ, leaves);
+  std::vector<int> pieceOf(n, -1); // the part each leaf point was in before the rows gather: its row
+  for (std::size_t k = 0; k < leaves.size(); ++k)
+    for (int j : leaves[k])
+      pieceOf[static_cast<std::size_t>(j)] = static_cast<int>(k);
   GatherRows(points, f, region, verdicts, p, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0),
     GapThickness * radius, leaves);
   JoinAcrossGaps(points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
@@ -1548,8 +1673,9 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
       points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
   }
   std::sort(leaves.begin(), leaves.end());
-  const std::vector<char> seenInRows = LeavesSeenInRows(points, f, region, verdicts, labels.organ, p.minimumLeafPoints,
-    std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), GapThickness * radius, leaves);
+  const std::vector<char> seenInRows = LeavesSeenInRows(points, f, region, verdicts, labels.organ, pieceOf,
+    p.minimumLeafPoints, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), GapThickness * radius,
+    0.5 * p.linkScale * spacing, leaves);
   for (std::size_t li = 0; li < leaves.size(); ++li)
   {
     const std::vector<int>& ids = leaves[li];

@@ -502,6 +502,83 @@ TEST(PlantSegmentation, ALeafSeenOnlyInRowsIsAnInstanceANarrowBandOfRowsIsNot)
     EXPECT_GT(iou[static_cast<std::size_t>(l)], 0.9);
 }
 
+TEST(PlantSegmentation, ALeafInEvenRowsBesideALeafIsAnInstanceHalfALeafOrTwoLeavesInRowsAreNot)
+{
+  // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15) scanned whole at a grazing angle in rows across its
+  // width every 3 spacings (farther apart than the links), with a dense blade (leaf 8, 0.2 by 0.1) 0.05 above its
+  // middle (2.5r: within 4r, beyond the features' reach). Rows beside a leaf instance are as often a piece of a leaf
+  // cut by its shadow, so the rows got no instance; these are parallel, evenly spaced and shorten towards both ends
+  // of the group, as one leaf's rows do: one instance of their own. Beside the same blade, the rows of the leaf's
+  // first half only (cut at full width: the outline does not close) and the rows of two leaves end to end in one
+  // plane, each 0.15 long, one seen every 3 spacings and the other every 5 (gaps of two spacings), get none.
+  const int leaves = 8;
+  const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0;
+  const double azimuth = 7 * 137.5 * Pi / 180.0, z = 0.75;
+  const Eigen::Vector3d out(std::cos(azimuth), std::sin(azimuth), 0.0);
+  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(out);
+  Eigen::Vector3d up = along.cross(across).normalized();
+  if (up.z() < 0.0)
+    up = -up;
+  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, z);
+  const Truth plant = SyntheticPlant(leaves);
+  // rows across an ellipse of the given length (width half of it) from `from` along the leaf, every `step`
+  const auto addRows = [&](Truth& t, double from, double ellipse, double upTo, double step, int leaf) {
+    for (double s = step; s <= upTo; s += step)
+      for (double w = -ellipse / 4, side = 0.2 * h; w <= ellipse / 4; w += h, side = -side)
+      {
+        const double u = (s - ellipse / 2) / (ellipse / 2), v = w / (ellipse / 4);
+        if (u * u + v * v <= 1.0)
+        {
+          t.points.push_back(base + (from + s + side) * along + w * across);
+          t.organ.push_back(plantmorph::OrganLeaf);
+          t.leaf.push_back(leaf);
+        }
+      }
+  };
+  const auto withBlade = [&]() {
+    Truth t;
+    for (std::size_t i = 0; i < plant.points.size(); ++i)
+      if (plant.leaf[i] != leaves - 1)
+      {
+        t.points.push_back(plant.points[i]);
+        t.organ.push_back(plant.organ[i]);
+        t.leaf.push_back(plant.leaf[i]);
+      }
+    for (double s = -0.1; s <= 0.1; s += h)
+      for (double w = -0.05; w <= 0.05; w += h)
+        if ((s / 0.1) * (s / 0.1) + (w / 0.05) * (w / 0.05) <= 1.0)
+        {
+          t.points.push_back(base + (length / 2 + s) * along + w * across + 0.05 * up);
+          t.organ.push_back(plantmorph::OrganLeaf);
+          t.leaf.push_back(leaves);
+        }
+    return t;
+  };
+  Truth whole = withBlade();
+  addRows(whole, 0.0, length, length, 3.0 * h, leaves - 1);
+  const plantmorph::SegmentationResult r1 = plantmorph::SegmentPlants(whole.points, {}, {});
+  ASSERT_EQ(r1.error, "");
+  EXPECT_EQ(r1.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  for (double iou : InstanceIoU(whole, r1, leaves + 1))
+    EXPECT_GT(iou, 0.9);
+  Truth half = withBlade();
+  addRows(half, 0.0, length, length / 2, 3.0 * h, leaves - 1);
+  Truth two = withBlade();
+  addRows(two, 0.0, length / 2, length / 2, 3.0 * h, leaves - 1);
+  addRows(two, length / 2, length / 2, length / 2, 5.0 * h, leaves + 1);
+  for (const Truth* t : { &half, &two })
+  {
+    const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t->points, {}, {});
+    ASSERT_EQ(r.error, "");
+    EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
+    const std::vector<double> iou = InstanceIoU(*t, r, leaves + 2);
+    for (int l = 0; l <= leaves; ++l)
+      EXPECT_GT(iou[static_cast<std::size_t>(l)], l == leaves - 1 ? -1.0 : 0.9);
+    EXPECT_LT(iou[static_cast<std::size_t>(leaves - 1)], 0.5);
+  }
+}
+
 TEST(PlantSegmentation, ALeafSeenInRowsFartherApartThanTheFeaturesRadiusIsAnInstance)
 {
   // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15, farther than 4r from the others) scanned at a
