@@ -104,6 +104,20 @@ std::vector<double> InstanceIoU(const Truth& t, const plantmorph::SegmentationRe
   return best;
 }
 
+/// The plant `t` without its leaf `leaf` (stem and other leaves kept), for a test that adds that leaf as a scan sees it.
+Truth WithoutLeaf(const Truth& t, int leaf)
+{
+  Truth out;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+    if (t.leaf[i] != leaf)
+    {
+      out.points.push_back(t.points[i]);
+      out.organ.push_back(t.organ[i]);
+      out.leaf.push_back(t.leaf[i]);
+    }
+  return out;
+}
+
 /// `t` without the first leaf's points whose distance s from `base` along `along` lies in (from, from + width): a
 /// band across that leaf left unscanned.
 Truth WithoutBand(const Truth& t, const Eigen::Vector3d& base, const Eigen::Vector3d& along, double from, double width)
@@ -466,14 +480,7 @@ TEST(PlantSegmentation, ALeafSeenOnlyInRowsIsAnInstanceANarrowBandOfRowsIsNot)
   const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, z);
   const Truth plant = SyntheticPlant(leaves);
   const auto withRows = [&](double width) {
-    Truth t;
-    for (std::size_t i = 0; i < plant.points.size(); ++i)
-      if (plant.leaf[i] != leaves - 1)
-      {
-        t.points.push_back(plant.points[i]);
-        t.organ.push_back(plant.organ[i]);
-        t.leaf.push_back(plant.leaf[i]);
-      }
+    Truth t = WithoutLeaf(plant, leaves - 1);
     for (double s = rowStep; s <= length; s += rowStep)
       for (double w = -width / 2, side = 0.2 * h; w <= width / 2; w += h, side = -side)
       {
@@ -537,14 +544,7 @@ TEST(PlantSegmentation, ALeafInEvenRowsBesideALeafIsAnInstanceHalfALeafOrTwoLeav
       }
   };
   const auto withBlade = [&]() {
-    Truth t;
-    for (std::size_t i = 0; i < plant.points.size(); ++i)
-      if (plant.leaf[i] != leaves - 1)
-      {
-        t.points.push_back(plant.points[i]);
-        t.organ.push_back(plant.organ[i]);
-        t.leaf.push_back(plant.leaf[i]);
-      }
+    Truth t = WithoutLeaf(plant, leaves - 1);
     for (double s = -0.1; s <= 0.1; s += h)
       for (double w = -0.05; w <= 0.05; w += h)
         if ((s / 0.1) * (s / 0.1) + (w / 0.05) * (w / 0.05) <= 1.0)
@@ -596,14 +596,7 @@ TEST(PlantSegmentation, ALeafSeenInRowsFartherApartThanTheFeaturesRadiusIsAnInst
   const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(out);
   const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, z);
   const Truth plant = SyntheticPlant(leaves);
-  Truth t;
-  for (std::size_t i = 0; i < plant.points.size(); ++i)
-    if (plant.leaf[i] != leaves - 1)
-    {
-      t.points.push_back(plant.points[i]);
-      t.organ.push_back(plant.organ[i]);
-      t.leaf.push_back(plant.leaf[i]);
-    }
+  Truth t = WithoutLeaf(plant, leaves - 1);
   std::mt19937 random(11);
   std::normal_distribution<double> gauss(0.0, 0.0002); // SyntheticPlant's noise
   const std::size_t first = t.points.size();
