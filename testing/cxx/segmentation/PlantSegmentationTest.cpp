@@ -104,6 +104,23 @@ std::vector<double> InstanceIoU(const Truth& t, const plantmorph::SegmentationRe
   return best;
 }
 
+/// The frame of SyntheticPlant's eighth leaf (index 7, the one the row tests scan apart), rising at `rise` from the
+/// stem at height 0.75: its direction out from the stem, along and across the blade, and its base on the stem.
+struct LeafFrame
+{
+  Eigen::Vector3d out, along, across, base;
+};
+LeafFrame EighthLeafFrame(double rise)
+{
+  const double azimuth = 7 * 137.5 * Pi / 180.0, z = 0.75;
+  LeafFrame f;
+  f.out = Eigen::Vector3d(std::cos(azimuth), std::sin(azimuth), 0.0);
+  f.along = std::cos(rise) * f.out + std::sin(rise) * Eigen::Vector3d::UnitZ();
+  f.across = Eigen::Vector3d::UnitZ().cross(f.out);
+  f.base = 0.05 * f.out + Eigen::Vector3d(0.0, 0.0, z);
+  return f;
+}
+
 /// The plant `t` without its leaf `leaf` (stem and other leaves kept), for a test that adds that leaf as a scan sees it.
 Truth WithoutLeaf(const Truth& t, int leaf)
 {
@@ -473,11 +490,8 @@ TEST(PlantSegmentation, ALeafSeenOnlyInRowsIsAnInstanceANarrowBandOfRowsIsNot)
   // same rows cut to a band 1.5r wide (a strip, as a twig's facets seen as leaf are) get none.
   const int leaves = 8;
   const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0, rowStep = 3.0 * h, r = 4.0 * h;
-  const double azimuth = 7 * 137.5 * Pi / 180.0, z = 0.75;
-  const Eigen::Vector3d out(std::cos(azimuth), std::sin(azimuth), 0.0);
-  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(out);
-  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, z);
+  const LeafFrame frame = EighthLeafFrame(rise);
+  const Eigen::Vector3d along = frame.along, across = frame.across, base = frame.base;
   const Truth plant = SyntheticPlant(leaves);
   const auto withRows = [&](double width) {
     Truth t = WithoutLeaf(plant, leaves - 1);
@@ -520,14 +534,11 @@ TEST(PlantSegmentation, ALeafInEvenRowsBesideALeafIsAnInstanceHalfALeafOrTwoLeav
   // plane, each 0.15 long, one seen every 3 spacings and the other every 5 (gaps of two spacings), get none.
   const int leaves = 8;
   const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0;
-  const double azimuth = 7 * 137.5 * Pi / 180.0, z = 0.75;
-  const Eigen::Vector3d out(std::cos(azimuth), std::sin(azimuth), 0.0);
-  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(out);
+  const LeafFrame frame = EighthLeafFrame(rise);
+  const Eigen::Vector3d along = frame.along, across = frame.across, base = frame.base;
   Eigen::Vector3d up = along.cross(across).normalized();
   if (up.z() < 0.0)
     up = -up;
-  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, z);
   const Truth plant = SyntheticPlant(leaves);
   // rows across an ellipse of the given length (width half of it) from `from` along the leaf, every `step`
   const auto addRows = [&](Truth& t, double from, double ellipse, double upTo, double step, int leaf) {
@@ -590,11 +601,8 @@ TEST(PlantSegmentation, ALeafSeenInRowsFartherApartThanTheFeaturesRadiusIsAnInst
   // points gather into one group, as wide as a leaf and alone: the leaf's own instance.
   const int leaves = 8;
   const double h = 0.005, length = 0.3, width = 0.15, rise = 40.0 * Pi / 180.0, rowStep = 5.0 * h;
-  const double azimuth = 7 * 137.5 * Pi / 180.0, z = 0.75;
-  const Eigen::Vector3d out(std::cos(azimuth), std::sin(azimuth), 0.0);
-  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(out);
-  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, z);
+  const LeafFrame frame = EighthLeafFrame(rise);
+  const Eigen::Vector3d along = frame.along, across = frame.across, base = frame.base;
   const Truth plant = SyntheticPlant(leaves);
   Truth t = WithoutLeaf(plant, leaves - 1);
   std::mt19937 random(11);
