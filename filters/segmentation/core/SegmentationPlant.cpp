@@ -1472,15 +1472,15 @@ std::vector<std::array<double, 3>> RowsAcross(const std::vector<Eigen::Vector3d>
 bool RowsOfOneLeaf(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const std::vector<int>& ids,
   const std::vector<int>& pieceOf, const PartMoments& m, double cosine, double merge)
 {
-  double spread = 0.0;
-  const Eigen::Vector3d n = m.Normal(spread);
-  if (Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m.scatter / m.count).eigenvalues()[1] < f.radius * f.radius)
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> moments(m.scatter / m.count);
+  if (moments.eigenvalues()[1] < f.radius * f.radius)
     return false;
+  const Eigen::Vector3d n = moments.eigenvectors().col(0);
   const Eigen::Matrix3d inPlane = Eigen::Matrix3d::Identity() - n * n.transpose();
   std::vector<std::pair<Eigen::Vector3d, double>> directions; // (row direction, weight)
   for (int j : ids)
-    if (const auto i = static_cast<std::size_t>(j); f.direction[i].squaredNorm() > 0.0 && f.nearSpread[i] < LineSpread)
-      directions.emplace_back(f.direction[i], 1.0);
+    if (IsRow(f, static_cast<std::size_t>(j)))
+      directions.emplace_back(f.direction[static_cast<std::size_t>(j)], 1.0);
   if (directions.size() < 3)
   {
     directions.clear();
@@ -1620,6 +1620,7 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   const SegmentationParameters& p, PlantLabels& labels)
 {
   const std::size_t n = points.size();
+  const double gapCosine = std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0);
   std::vector<std::vector<int>> members;
   std::vector<int> instance(n, -1), leafOfRegion;
   for (std::size_t i = 0; i < n; ++i)
@@ -1659,9 +1660,8 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   for (std::size_t k = 0; k < leaves.size(); ++k)
     for (int j : leaves[k])
       pieceOf[static_cast<std::size_t>(j)] = static_cast<int>(k);
-  GatherRows(points, f, region, verdicts, p, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0),
-    GapThickness * radius, leaves);
-  JoinAcrossGaps(points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
+  GatherRows(points, f, region, verdicts, p, gapCosine, GapThickness * radius, leaves);
+  JoinAcrossGaps(points, radius, gapCosine, p.minimumLeafPoints, leaves);
   // a side of a cut needs only a leaf's fewest points: the seam, not its size, tells a crease from a contact, and a
   // small side is judged again by the joins (a piece joins its leaf; a small leaf beside another gets no instance)
   if (CutAtShortSeams(points, f, graph, std::cos(p.normalAngle * Pi / 180.0),
@@ -1669,13 +1669,11 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   {
     // a cut side may be a piece of a third leaf whose rest lies in another part: the joins again
     JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
-    JoinAcrossGaps(
-      points, radius, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), p.minimumLeafPoints, leaves);
+    JoinAcrossGaps(points, radius, gapCosine, p.minimumLeafPoints, leaves);
   }
   std::sort(leaves.begin(), leaves.end());
   const std::vector<char> seenInRows = LeavesSeenInRows(points, f, region, verdicts, labels.organ, pieceOf,
-    p.minimumLeafPoints, std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0), GapThickness * radius,
-    0.5 * p.linkScale * spacing, leaves);
+    p.minimumLeafPoints, gapCosine, GapThickness * radius, 0.5 * p.linkScale * spacing, leaves);
   for (std::size_t li = 0; li < leaves.size(); ++li)
   {
     const std::vector<int>& ids = leaves[li];

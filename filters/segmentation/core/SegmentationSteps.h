@@ -74,18 +74,26 @@ double NoiseLevel(const std::vector<Eigen::Vector3d>& points, double r, const Pa
 void ComputeFeatures(const std::vector<Eigen::Vector3d>& points, double spacing, const SegmentationParameters& p,
   const ParallelFor& parallel, PointFeatures& features, LinkGraph& graph);
 
+/// A neighbourhood narrower than this fraction of its radius across its main axis is a line: at both scales, a
+/// point too thin to carry a sheet (IsLinear); at r alone, one scan row of a surface seen at a grazing angle (IsRow).
+inline constexpr float LineSpread = 0.2f;
+
 /// A point too thin to carry a sheet: its neighbourhood narrow at both scales (a twig or petiole thinner than
 /// about 0.4 r; a leaf's margin, a half disk, spreads 0.26).
 inline bool IsLinear(const PointFeatures& f, std::size_t i)
 {
-  return f.spread[i] < 0.2f;
+  return f.spread[i] < LineSpread;
 }
 
-/// A neighbourhood of radius r narrower than this fraction of r across its main axis is a line (IsLinear's bound, at
-/// r alone): one scan row of a surface seen at a grazing angle, its next rows beyond r. Its smallest eigenvector is
-/// any direction across the row, so its normal is not measured; its main axis (the row's direction) is, and the
-/// surface's plane contains it.
-inline constexpr float LineSpread = 0.2f;
+/// A point whose neighbourhood of radius r is a line (LineSpread at r alone, at least 3 points measured): one scan
+/// row of a surface seen at a grazing angle, its next rows beyond r. Its smallest eigenvector is any direction across
+/// the row, so its normal is not measured; its main axis (the row's direction) is, and the surface's plane contains
+/// it.
+inline bool IsRow(const PointFeatures& f, std::size_t i)
+{
+  return f.direction[i].squaredNorm() > 0.0 && f.nearSpread[i] < LineSpread;
+}
+
 /// What the features measured of the surface at point i, as a matrix whose quadratic form n^T M n says how well a
 /// plane of unit normal n agrees with it (1 at best, 0 at worst): n_i n_i^T for a measured normal (a neighbourhood
 /// spread across its main axis); I - d_i d_i^T for a neighbourhood that is a line of direction d_i (the plane
@@ -100,7 +108,7 @@ inline Eigen::Matrix3d SurfaceEvidence(const PointFeatures& f, std::size_t i, do
     return Eigen::Matrix3d::Zero();
   }
   weight = 1.0;
-  if (f.nearSpread[i] < LineSpread)
+  if (IsRow(f, i))
     return Eigen::Matrix3d::Identity() - d * d.transpose();
   return f.normal[i] * f.normal[i].transpose();
 }
