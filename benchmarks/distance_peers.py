@@ -18,10 +18,10 @@ A peer that is not installed is skipped with a message (`apt-get install python3
 difference from our distances is printed for each (CloudCompare stores float distances).
 """
 import argparse
-import json
 import os
 import shutil
 import subprocess
+import sys
 import time
 
 import numpy
@@ -34,6 +34,8 @@ parser.add_argument("--repeat", type=int, default=3, help="warm calls after the 
 arguments = parser.parse_args()
 os.makedirs(arguments.work, exist_ok=True)
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from open3d_peer import run_open3d  # noqa: E402
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
 from vtkmodules.util.numpy_support import vtk_to_numpy, numpy_to_vtk  # noqa: E402
@@ -101,12 +103,8 @@ print(json.dumps({"times": times, "cpu": cpu}))
 inputs = os.path.join(arguments.work, "inputs.npz")
 numpy.savez(inputs, vertices=vertices, triangles=triangles, cloud=cloud)
 o3d_output = os.path.join(arguments.work, "open3d_distance.npy")
-run = subprocess.run(["/usr/bin/python3", "-c", OPEN3D, inputs, str(arguments.repeat), o3d_output],
-                     capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=""))
-if run.returncode != 0:
-    print("Open3D: not run (%s); apt-get install python3-open3d" % run.stderr.strip().splitlines()[-1:])
-else:
-    reply = json.loads(run.stdout.strip().splitlines()[-1])
+reply = run_open3d(OPEN3D, inputs, arguments.repeat, o3d_output)
+if reply is not None:
     o3d_times = reply["times"]
     report("Open3D", o3d_times[0], numpy.mean(o3d_times[1:]), reply["cpu"])
     print("  largest |Open3D - ours|: %.3g (Open3D computes in float)" % numpy.abs(numpy.load(o3d_output) - ours).max())

@@ -131,21 +131,19 @@ for k in range(repeat + 1):
 print(json.dumps({"times": times, "cpu": cpu, "matrix": numpy.asarray(fit.transformation).tolist(),
                   "fitness": fit.fitness}))
 """
-import json  # noqa: E402
 import os  # noqa: E402
-import subprocess  # noqa: E402
+import sys  # noqa: E402
 import tempfile  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from open3d_peer import run_open3d  # noqa: E402
 
 with tempfile.TemporaryDirectory() as work:
     inputs = os.path.join(work, "inputs.npz")
     numpy.savez(inputs, vertices=vertices, moved=moved,
                 triangles=vtk_to_numpy(blade.GetPolys().GetConnectivityArray()).reshape(-1, 3).astype(numpy.int32))
-    run = subprocess.run(["/usr/bin/python3", "-c", OPEN3D, inputs, repr(length), str(arguments.repeat)],
-                         capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=""))
-if run.returncode != 0:
-    print("open3d: not run (%s); apt-get install python3-open3d" % run.stderr.strip().splitlines()[-1:])
-else:
-    reply = json.loads(run.stdout.strip().splitlines()[-1])
+    reply = run_open3d(OPEN3D, inputs, repr(length), arguments.repeat, label="open3d")
+if reply is not None:
     o3d_times = reply["times"]
     transformation = numpy.array(reply["matrix"])
     angle, offset = motion_error(transformation)

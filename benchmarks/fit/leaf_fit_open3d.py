@@ -20,9 +20,8 @@ Peak resident memory of each process is printed beside its times. Open3D is skip
     pvpython benchmarks/fit/leaf_fit_open3d.py --plugin build/.../PlantMorph.so [--points 1000000] [--repeat 1] [--depth 8]
 """
 import argparse
-import json
 import os
-import subprocess
+import sys
 import tempfile
 import time
 
@@ -35,6 +34,8 @@ parser.add_argument("--repeat", type=int, default=1)
 parser.add_argument("--depth", type=int, default=8)
 arguments = parser.parse_args()
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from open3d_peer import run_open3d  # noqa: E402
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
@@ -120,12 +121,8 @@ print(json.dumps({"times": times, "cpu": cpu, "area": mesh.get_surface_area(), "
 with tempfile.TemporaryDirectory() as work:
     inputs = os.path.join(work, "points.npy")
     numpy.save(inputs, cloud_points)
-    run = subprocess.run(["/usr/bin/python3", "-c", OPEN3D, inputs, repr(length), str(arguments.repeat),
-                          str(arguments.depth)], capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=""))
-if run.returncode != 0:
-    print("open3d: not run (%s); apt-get install python3-open3d" % run.stderr.strip().splitlines()[-1:])
-else:
-    reply = json.loads(run.stdout.strip().splitlines()[-1])
+    reply = run_open3d(OPEN3D, inputs, repr(length), arguments.repeat, arguments.depth, label="open3d")
+if reply is not None:
     o3d_times, o3d_cpu = reply["times"], reply["cpu"]
     print("open3d : first %.3f s, warm %.3f s (CPU %.3f / %.3f s), Poisson depth %d, mesh area %.3f cm^2 (closed "
           "round the cloud: about twice the blade's), peak %.0f MB" % (o3d_times[0], numpy.mean(o3d_times[1:]),
