@@ -420,7 +420,7 @@ double LowestSamplesSpan(const std::vector<Eigen::Vector2d>& ts, double spacing)
 bool BaseEnd(const std::vector<Eigen::Vector2d>& ts, const Outline& outline, double crossing, double shallow,
   double spacing, double& baseS)
 {
-  if (std::abs(crossing - outline.s0) < shallow)
+  if (std::abs(crossing - outline.roundS0) < shallow)
   {
     const double bound = outline.junction - spacing;
     baseS = outline.junctionMeetsPlane && bound > outline.s0 ? bound : outline.s0;

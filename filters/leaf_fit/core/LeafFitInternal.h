@@ -67,6 +67,9 @@ struct Outline
 {
   double s0 = 0.0, s1 = 1.0;     ///< the smooth margins' ends (the blade's lowest and highest s)
   double base = 0.0, apex = 1.0; ///< the midvein's ends (a cordate blade's base is at its sinus, above s0)
+  /// Where s0 would be if the base were rounded (a cusp's tip lies farther beyond its lowest samples): whether the
+  /// base is a tip or a notch is judged against it.
+  double roundS0 = 0.0;
   /// s of the petiole's junction with the blade when the petiole gives the base (NaN otherwise): at a sinus, where
   /// the loop the points draw rounds the bottom off, the midvein starts there.
   double junction = std::numeric_limits<double>::quiet_NaN();

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <functional>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace plantmorph
@@ -250,13 +251,13 @@ namespace
 /// sample, at most `reach` beyond it). Samples uniform by area near a tip whose area grows as d^q are a Poisson
 /// process in u = d^q, so u_i (the i-th nearest, i = 1..K) has expectation i u_1's: the tip solves
 /// sum_i (v_i - tip)^q = K (K + 1) / 2 (v_0 - tip)^q (bisection). q = 1.5, the parabolic (rounded) tip, between
-/// blunt (1) and acute (2) tips: K is 10-40, too few samples to tell q from the data. Chosen on synthetic leaves of
+/// blunt (1) and acute (2) tips, unless the width profile above the tip says it is a cusp (TipExponent): K is 10-40,
+/// too few samples to tell q from the nearest samples alone. 1.5 was chosen on synthetic leaves of
 /// all three models (500 to 12000 points): a least-squares fit of q with v_i = tip + c i^(1/q) put an acute apex up
 /// to four spacings beyond the last sample (1.4 % of the length on the leaf bent at both ends), and the maximum
 /// likelihood tip with a free q came out up to 4 % short on 500-1000 points; this is within 1 % from 1000 points.
-double TipBeyond(const std::vector<double>& v, double reach)
+double TipBeyond(const std::vector<double>& v, double reach, double q)
 {
-  const double q = 1.5;
   const double K = static_cast<double>(v.size());
   auto excess = [&](double tip) {
     double sum = 0.0;
@@ -273,6 +274,86 @@ double TipBeyond(const std::vector<double>& v, double reach)
     (excess(mid) > 0.0 ? hi : lo) = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+/// The exponent q of the blade's area near its lowest tip (the area within d of the tip grows as d^q), from the
+/// half-widths of the samples (t, s) `spacing` apart over the 48 spacings above the lowest: the outermost sample on
+/// either side of each slice 4 spacings thick (at least 8 samples; moved out by its expected gap, as the margins'
+/// stations are), fitted by a (s - tip)^p for p from 0.5 to 2.5 (least squares). A base whose width grows linearly
+/// (a wedge) or slower (a rounded base) keeps q = 1.5; one whose width grows faster (the margins curving in to the
+/// midvein: a cusp, narrower near its tip than a scanner's step between points) takes q = 1.5 p, 3 for a cusp whose
+/// width grows as d^2, the Poisson tip of such a shape. The 10-40 nearest samples alone cannot tell q.
+double TipExponent(const std::vector<Eigen::Vector2d>& ts, double spacing)
+{
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const auto& p : ts)
+    lowest = std::min(lowest, p.y());
+  struct Bin
+  {
+    double lo = 0.0, hi = 0.0, sLo = 0.0, sHi = 0.0;
+    int count = 0;
+  };
+  const double thick = 4.0 * spacing;
+  std::vector<Bin> bin(12);
+  for (const auto& p : ts)
+  {
+    const std::size_t k = static_cast<std::size_t>((p.y() - lowest) / thick);
+    if (k >= bin.size())
+      continue;
+    Bin& b = bin[k];
+    if (b.count++ == 0 || p.x() > b.hi)
+    {
+      b.hi = p.x();
+      b.sHi = p.y();
+    }
+    if (b.count == 1 || p.x() < b.lo)
+    {
+      b.lo = p.x();
+      b.sLo = p.y();
+    }
+  }
+  std::vector<Eigen::Vector2d> half; // (s, half-width)
+  for (const Bin& b : bin)
+  {
+    if (b.count < 8)
+      continue;
+    const double gap = (b.hi - b.lo) / b.count;
+    if (b.hi > 0.0)
+      half.push_back({ b.sHi, b.hi + gap });
+    if (b.lo < 0.0)
+      half.push_back({ b.sLo, gap - b.lo });
+  }
+  if (half.size() < 6)
+    return 1.5;
+  double best = 1.0, bestError = std::numeric_limits<double>::infinity();
+  for (int step = 0; step <= 40; ++step)
+  {
+    // h^(1/p) = alpha (s - tip), fitted by least squares; the error in h.
+    const double p = 0.5 + 0.05 * step;
+    double n = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+    for (const auto& h : half)
+    {
+      const double y = std::pow(h.y(), 1.0 / p);
+      n += 1.0;
+      sx += h.x();
+      sy += y;
+      sxx += h.x() * h.x();
+      sxy += h.x() * y;
+    }
+    const double alpha = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    if (!(alpha > 0.0))
+      continue;
+    const double tip = (sx - sy / alpha) / n;
+    double error = 0.0;
+    for (const auto& h : half)
+      error += std::pow(h.y() - std::pow(alpha * std::max(h.x() - tip, 0.0), p), 2);
+    if (error < bestError)
+    {
+      bestError = error;
+      best = p;
+    }
+  }
+  return std::clamp(1.5 * best, 1.5, 3.0);
 }
 } // namespace
 
@@ -294,8 +375,9 @@ std::string FitOutline(
   std::vector<double> low(s.begin(), s.begin() + K), high(s.rbegin(), s.rbegin() + K);
   for (double& v : high)
     v = -v;
-  outline.s0 = TipBeyond(low, 4.0 * spacing);
-  outline.s1 = -TipBeyond(high, 4.0 * spacing);
+  outline.s0 = TipBeyond(low, 4.0 * spacing, TipExponent(ts, spacing));
+  outline.roundS0 = TipBeyond(low, 4.0 * spacing, 1.5);
+  outline.s1 = -TipBeyond(high, 4.0 * spacing, 1.5);
   if (!(outline.s1 - outline.s0 > 4.0 * spacing))
     return "no leaf shape: the leaf is not longer than a few point spacings";
   // The outermost sample of each slice two point spacings thick, moved out by its expected gap to the margin: the
