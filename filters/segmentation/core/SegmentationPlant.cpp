@@ -115,6 +115,29 @@ NormalSpread SpreadOfNormals(const PointFeatures& f, const std::vector<int>& ids
 /// the midrib; 1 for two exact planes). On the 18 simulated scans of the accuracy benchmark every region with the
 /// axis and spread of a cylinder has a kurtosis of 1.53 or more (a tube's facets, smoothed, 1.5 to 1.8 and more).
 constexpr double CylinderAxisCosine = 0.9, CylinderNormalSpread = 0.15, CylinderKurtosis = 1.45;
+/// A narrower arc is a tube's piece too when its normals turn about its length by more than the features' error
+/// (mean squared sine above TubeNormalSpread: an rms turn of 10 degrees) and its points lie on a circle across its
+/// length of radius at most TubeRadius r (OnThinTube).
+constexpr double TubeRadius = 2.0, TubeNormalSpread = 0.03;
+
+/// Whether points[ids] (mean `mean`, covariance eigenvectors `axes`, the last the long axis) lie on a circle across
+/// their long axis (the algebraic circle fit of the points projected on the plane across it) of radius at most
+/// TubeRadius r: a twig or branch of radius up to 2r seen from one side or between two shadows, whose normals,
+/// smoothed over the features' radius, turn too little for a cylinder's spread (an arc under 80 degrees); a leaf
+/// rolled across its width to that radius (8 spacings at the default scale) is a tube too.
+bool OnThinTube(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, const Eigen::Vector3d& mean,
+  const Eigen::Matrix3d& axes, double radius)
+{
+  std::vector<Eigen::Vector2d> q;
+  q.reserve(ids.size());
+  for (int j : ids)
+  {
+    const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - mean;
+    q.emplace_back(d.dot(axes.col(0)), d.dot(axes.col(1)));
+  }
+  Eigen::Vector3d circle;
+  return plantmorph::FitCircle(q, circle) && circle[2] <= TubeRadius * radius;
+}
 
 std::vector<RegionVerdict> JudgeRegions(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
   const std::vector<int>& region, int count, const SegmentationParameters& p, bool allowMixed)
@@ -145,8 +168,10 @@ std::vector<RegionVerdict> JudgeRegions(const std::vector<Eigen::Vector3d>& poin
     v.judged = true;
     const double width = 2.0 * std::sqrt(3.0 * l[1]); // a uniform rectangle's width from its variance
     const NormalSpread spread = SpreadOfNormals(f, ids, solver.eigenvectors().col(2));
-    const bool cylinder = spread.axisAlongLength >= CylinderAxisCosine && spread.middle >= CylinderNormalSpread &&
-      spread.kurtosis >= CylinderKurtosis;
+    const bool turning = spread.axisAlongLength >= CylinderAxisCosine && spread.kurtosis >= CylinderKurtosis;
+    const bool cylinder = turning &&
+      (spread.middle >= CylinderNormalSpread ||
+        (spread.middle >= TubeNormalSpread && OnThinTube(points, ids, mean, solver.eigenvectors(), f.radius)));
     v.leaf = !cylinder && coherence > p.sheetCoherence && elongation < p.maximumLeafElongation && width >= minimumWidth;
     v.strip = !v.leaf && !cylinder && coherence > p.sheetCoherence;
     v.mixed = allowMixed && !cylinder && coherence <= p.sheetCoherence && elongation < p.maximumLeafElongation &&

@@ -795,6 +795,61 @@ TEST(PlantSegmentation, ANarrowLeafAmongLeavesIsLeafABareTwigsFacetsStayWood)
   EXPECT_GT(static_cast<double>(twigWood), 0.95 * static_cast<double>(t.points.size() - twigs));
 }
 
+TEST(PlantSegmentation, ANarrowArcOfAThinBranchIsWoodAGentlyRolledLeafIsLeaf)
+{
+  // The plant of seven leaves, with beside it, linked to nothing, a branch of radius 0.035 (1.75 r; r = 4 spacings
+  // = 0.02) seen from one side over an arc of 75 degrees (the rest in its own shadow), 0.4 long: 0.043 wide, wider
+  // than the features' neighbourhood (2r), its normals turning by less than a cylinder's spread (an arc under 80
+  // degrees) and agreeing with its plane well enough for a sheet. It was a leaf. Its normals turn about its length
+  // and its points lie on a circle of radius under 2r across it: a thin tube's arc, wood. A blade rolled across its
+  // width to a radius of 0.2 (10 r) over the same arc stays a leaf, with its instance.
+  const int leaves = 7;
+  const double h = 0.005, noise = 0.0002;
+  Truth t = SyntheticPlant(leaves);
+  std::mt19937 random(11);
+  std::normal_distribution<double> gauss(0.0, noise);
+  const auto add = [&](const Eigen::Vector3d& p, int organ, int leaf) {
+    t.points.push_back(p + Eigen::Vector3d(gauss(random), gauss(random), gauss(random)));
+    t.organ.push_back(organ);
+    t.leaf.push_back(leaf);
+  };
+  const double arc = 75.0 * Pi / 180.0;
+  const std::size_t branch = t.points.size();
+  const double radius = 0.035;
+  const int around = static_cast<int>(std::round(arc * radius / h));
+  for (double z = 0.0; z <= 0.4 + 1e-12; z += h)
+    for (int a = 0; a <= around; ++a)
+    {
+      const double angle = -0.5 * arc + arc * a / around;
+      add(
+        Eigen::Vector3d(-0.6 + radius * std::cos(angle), radius * std::sin(angle), 0.2 + z), plantmorph::OrganWood, -1);
+    }
+  const std::size_t rolled = t.points.size();
+  const double roll = 0.2, width = roll * arc; // the blade: 0.26 wide across its roll, 0.3 long
+  for (double z = 0.0; z <= 0.3 + 1e-12; z += h)
+    for (double w = 0.0; w <= width + 1e-12; w += h)
+    {
+      const double angle = -0.5 * arc + w / roll;
+      add(
+        Eigen::Vector3d(0.6 + roll * std::cos(angle), roll * std::sin(angle), 0.2 + z), plantmorph::OrganLeaf, leaves);
+    }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  std::size_t branchWood = 0, rolledLeaf = 0;
+  std::set<int> rolledIds;
+  for (std::size_t i = branch; i < rolled; ++i)
+    branchWood += r.organ[i] == plantmorph::OrganWood;
+  for (std::size_t i = rolled; i < t.points.size(); ++i)
+  {
+    rolledLeaf += r.organ[i] == plantmorph::OrganLeaf;
+    rolledIds.insert(r.leafId[i]);
+  }
+  EXPECT_GT(static_cast<double>(branchWood), 0.95 * static_cast<double>(rolled - branch));
+  EXPECT_GT(static_cast<double>(rolledLeaf), 0.95 * static_cast<double>(t.points.size() - rolled));
+  EXPECT_EQ(rolledIds.size(), 1u);
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
+}
+
 TEST(PlantSegmentation, TwoLeavesFromOneSpotAreTwoInstancesAFoldedOrCurledLeafIsOne)
 {
   // Two flat blades leaving a stem at one spot (one azimuth, one height), their planes 40, 60 or 90 degrees apart:
