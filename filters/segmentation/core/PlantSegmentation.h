@@ -66,7 +66,9 @@
 //     hulls under 0.95 of the hull of both: a blade folded or curled along any line unfolds into its own outline;
 //     two leaves' outlines meet at an angle), whatever the seam's length. The joins above then run again (a side
 //     may be a piece of a third leaf).
-//     Each leaf part of at least MinimumLeafPoints points is then a leaf; LeafId numbers
+//     Each leaf part of at least MinimumLeafPoints points is then a leaf, unless it is the wood's surface grown into
+//     a sheet: bent off its plane by over r / 4 (root mean square) with over 0.6 of its points within 2r of the wood
+//     (leaf, LeafId -1); LeafId numbers
 //     them over all plants in the order of their lowest point index (deterministic). Smaller leaf regions stay leaf
 //     points with LeafId -1. Each leaf's base is its point nearest the wood along the link graph; the branch it
 //     grows on is the wood segment (a wood region, or a connected piece of thin wood, numbered per plant) of that

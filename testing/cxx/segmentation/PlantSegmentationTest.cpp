@@ -590,6 +590,50 @@ TEST(PlantSegmentation, ALeafInEvenRowsBesideALeafIsAnInstanceHalfALeafOrTwoLeav
   }
 }
 
+TEST(PlantSegmentation, ALeafInWaveringRowsBesideALeafIsAnInstance)
+{
+  // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15) scanned whole at a grazing angle, with a dense
+  // blade (leaf 8) 0.05 above its middle (within 4r), as in ALeafInEvenRowsBesideALeafIsAnInstance...: rows across
+  // its width every 4.5 spacings, the points of a row 3 spacings apart (beyond the links: each point is cut off
+  // alone), and every third row wavering across its line, its points 0.7 spacings to either side in turn. Such a row
+  // counts twice, its two lines 1.4 spacings apart: a gap far under the median, which is no sign of a piece (a
+  // shadow or a missing piece leaves a gap wider than the median, and none is). One instance of its own (none
+  // before, when the narrowest gap had to be within 1.5 times the median too).
+  const int leaves = 8;
+  const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0;
+  const LeafFrame frame = EighthLeafFrame(rise);
+  const Eigen::Vector3d along = frame.along, across = frame.across, base = frame.base;
+  Eigen::Vector3d up = along.cross(across).normalized();
+  if (up.z() < 0.0)
+    up = -up;
+  Truth t = WithoutLeaf(SyntheticPlant(leaves), leaves - 1);
+  for (double s = -0.1; s <= 0.1; s += h)
+    for (double w = -0.05; w <= 0.05; w += h)
+      if ((s / 0.1) * (s / 0.1) + (w / 0.05) * (w / 0.05) <= 1.0)
+      {
+        t.points.push_back(base + (length / 2 + s) * along + w * across + 0.05 * up);
+        t.organ.push_back(plantmorph::OrganLeaf);
+        t.leaf.push_back(leaves);
+      }
+  int row = 0;
+  for (double s = 4.5 * h; s <= length; s += 4.5 * h, ++row)
+    for (double w = -length / 4, side = 0.7 * h; w <= length / 4; w += 3.0 * h, side = -side)
+    {
+      const double u = (s - length / 2) / (length / 2), v = w / (length / 4);
+      if (u * u + v * v <= 1.0)
+      {
+        t.points.push_back(base + (s + (row % 3 == 1 ? side : 0.0)) * along + w * across);
+        t.organ.push_back(plantmorph::OrganLeaf);
+        t.leaf.push_back(leaves - 1);
+      }
+    }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  for (double iou : InstanceIoU(t, r, leaves + 1))
+    EXPECT_GT(iou, 0.9);
+}
+
 TEST(PlantSegmentation, ALeafSeenInRowsFartherApartThanTheFeaturesRadiusIsAnInstance)
 {
   // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15, farther than 4r from the others) scanned at a
