@@ -139,6 +139,35 @@ void ReturnToLeaves(
     std::remove_if(candidates.begin(), candidates.end(), [&](int i) { return leaf[i] != 0; }), candidates.end());
 }
 
+/// Step 7 where the scan has leaf points (label 0): the wood points labelled wood that the fit could not connect to
+/// the tree (further from it than the gaps it bridges: the leaves hide the twigs between) draw the twigs grown from
+/// the cylinders as step 4 left them (`fitted`); step 5 runs again on both for the branches. Without leaf points
+/// (a bare scan, or no labels) nothing changes.
+std::string GrowTwigs(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel,
+  const treefit::Wood& wood, const std::vector<TreeCylinder>& fitted, TreeFitResult& result)
+{
+  if (std::find(woodLabel.begin(), woodLabel.end(), 0) == woodLabel.end())
+    return {};
+  std::vector<unsigned char> used(woodLabel.size(), 0);
+  for (int i : wood.input)
+    used[i] = 1;
+  std::vector<Eigen::Vector3d> apart;
+  for (std::size_t i = 0; i < woodLabel.size(); ++i)
+    if (woodLabel[i] != 0 && !used[i])
+      apart.push_back(points[i]);
+  std::vector<TreeCylinder> cylinders = fitted;
+  const double spacing = wood.spacing;
+  if (apart.empty() || treefit::GrowHiddenTwigs(apart, spacing, result.cylinders, cylinders) == 0)
+    return {};
+  TreeFitResult grown;
+  grown.cylinders = std::move(cylinders);
+  const std::string error = treefit::ModelRadii(spacing, grown);
+  result.cylinders = std::move(grown.cylinders);
+  result.branches = std::move(grown.branches);
+  result.traits.noise = grown.traits.noise;
+  return error;
+}
+
 /// The fit on the points in their canonical order (FitTree sorts them first).
 TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel,
   const TreeFitParameters& options, const ParallelFor& parallel)
@@ -152,24 +181,27 @@ TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::v
   if (result.error.empty())
     result.error = treefit::CleanAndConnect(points, candidates, options, parallel, wood);
   std::vector<int> woodCylinder;
+  std::vector<TreeCylinder> fitted; // the last fit's cylinders before step 5
   if (result.error.empty())
   {
     treefit::Skeleton skeleton = treefit::BuildSkeleton(wood);
-    result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder);
+    result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder, &fitted);
     for (int pass = 0; pass < MergePasses && result.error.empty() && treefit::MergeInsideChains(wood, result, skeleton);
          ++pass)
     {
       result = TreeFitResult();
-      result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder);
+      result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder, &fitted);
     }
     if (result.error.empty() && treefit::ReturnOffSurfaceChains(wood, result, woodCylinder, skeleton))
     {
       result = TreeFitResult();
-      result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder);
+      result.error = treefit::FitCylinders(wood, skeleton, options, parallel, result, woodCylinder, &fitted);
     }
     if (result.error.empty())
       ReturnToLeaves(skeleton.nodeOf, wood, woodCylinder, candidates);
   }
+  if (result.error.empty())
+    result.error = GrowTwigs(points, woodLabel, wood, fitted, result);
   if (result.error.empty())
     result.error = PointValues(points, wood, woodCylinder, result);
   if (!result.error.empty())

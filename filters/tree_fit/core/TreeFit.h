@@ -39,6 +39,12 @@
 //     of order parent + 1. Junctions: a cylinder near a fork wider than its branch's taper before it holds the
 //     child's first points, not the branch: its radius follows the taper between the measured cylinders either side.
 //     Traits and the branch table follow.
+//  7. Hidden twigs (only when the scan has points labelled leaf): wood labelled wood that step 2 could not connect to
+//     the tree (the leaves hide the twigs between) is gathered in clusters 8 s wide; those further than 16 s from
+//     every fitted surface draw the nearest chain tip they lie ahead of, or grown twig end, within 60 s, which grows
+//     6 s towards them (space colonization) until each is within 16 s of a twig end; grown twigs of under three
+//     steps are dropped. The grown cylinders have no points (Support 0, not measured); step 5 runs again on all
+//     cylinders, so that they get the pipe model's radii and the wood below them carries them.
 // The fit does not depend on the order of the points (they are sorted first) nor on the thread count.
 // Deterministic: no random numbers; the parallel loops write per index only.
 #pragma once

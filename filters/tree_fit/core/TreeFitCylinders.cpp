@@ -302,7 +302,7 @@ std::vector<Piece> CutSegments(const Wood& wood, const Skeleton& s, const Eigen:
 } // namespace
 
 std::string FitCylinders(const Wood& wood, const Skeleton& s, const TreeFitParameters& options,
-  const ParallelFor& parallel, TreeFitResult& result, std::vector<int>& woodCylinder)
+  const ParallelFor& parallel, TreeFitResult& result, std::vector<int>& woodCylinder, std::vector<TreeCylinder>* fitted)
 {
   const std::vector<Piece> pieces = CutSegments(wood, s, options.up);
   std::vector<CylinderFit> fits(pieces.size());
@@ -378,6 +378,8 @@ std::string FitCylinders(const Wood& wood, const Skeleton& s, const TreeFitParam
   for (std::size_t i = 0; i < wood.points.size(); ++i)
     if (s.nodeOf[i] >= 0)
       woodCylinder[i] = nodeCylinder[s.nodeOf[i]];
+  if (fitted != nullptr)
+    *fitted = result.cylinders;
   return ModelRadii(wood.spacing, result);
 }
 

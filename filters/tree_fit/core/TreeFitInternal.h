@@ -94,9 +94,19 @@ CylinderFit FitCylinder(
   const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& axis0, double spacing, double maxTilt = 35.0);
 
 /// Steps 4-6 (everything but the traits): cylinders, branches and the points' cylinder; "" or why no radius could
-/// be measured anywhere.
+/// be measured anywhere. `fitted` (when given): the cylinders as step 4 leaves them, before step 5.
 std::string FitCylinders(const Wood& wood, const Skeleton& skeleton, const TreeFitParameters& options,
-  const ParallelFor& parallel, TreeFitResult& result, std::vector<int>& woodCylinder);
+  const ParallelFor& parallel, TreeFitResult& result, std::vector<int>& woodCylinder,
+  std::vector<TreeCylinder>* fitted = nullptr);
+
+/// Step 7: twigs hidden in leaves. Clusters of `apart` (the points labelled wood that the fit could not connect to the
+/// tree) further than a few spacings from every surface of the `modelled` cylinders draw the nearest chain tip ahead
+/// of them or grown twig end within reach, which grows towards them in steps (space colonization) until every
+/// cluster is reached or none is in reach; grown twigs of under three steps are dropped. The grown cylinders (no
+/// points, no fitted radius: step 5 gives them the pipe model's) are appended to `cylinders`, the same cylinders as
+/// step 4 left them; returns how many.
+int GrowHiddenTwigs(const std::vector<Eigen::Vector3d>& apart, double spacing,
+  const std::vector<TreeCylinder>& modelled, std::vector<TreeCylinder>& cylinders);
 
 /// The distance from x to the segment [a, b] (a point when a = b).
 inline double SegmentDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& a, const Eigen::Vector3d& b)

@@ -16,8 +16,9 @@
  *
  * Output port 0, **Cylinders**: one line cell per cylinder (start to end), or with Tubes a capped tube of TubeSides
  * sides, cell arrays `Radius`, `Length`, `CylinderId`, `ParentId` (cylinder), `BranchId`, `BranchOrder`,
- * `SegmentId`, `TreeId`, `FitRMS`, `Support` (points per unit length), `Measured` (1: radius from the fit, 0: from the
- * taper and pipe model), `GrowthLength`, `StartX`, `StartY`, `StartZ`, `EndX`, `EndY`, `EndZ`: ParaView's CSV writer on this port gives
+ * `SegmentId`, `TreeId`, `FitRMS`, `Support` (points per unit length; 0: a twig hidden in leaves, grown towards wood
+ * apart from the tree, SegmentId -1), `Measured` (1: radius from the fit, 0: from the taper and pipe model),
+ * `GrowthLength`, `StartX`, `StartY`, `StartZ`, `EndX`, `EndY`, `EndZ`: ParaView's CSV writer on this port gives
  * the table QSM tools exchange. Port 1, **Skeleton**: one polyline per branch, base to tip, point arrays `BranchId`,
  * `BranchOrder`, `ParentId`, `Radius`, `TreeId`, cell arrays `BranchId`, `ParentId`, `Depth` (= order), `TreeId`: the
  * skeleton TreeFromSketchSource takes. Port 2, **Trees**: a vtkTable, one row per tree (TreeId, Status, then
