@@ -28,6 +28,20 @@ struct Truth
   std::vector<int> organ, leaf; // leaf: -1 on the stem
 };
 
+/// Adds a point to a Truth with its organ and leaf, moved by Gaussian noise along every axis.
+struct NoisyAdder
+{
+  Truth& t;
+  std::mt19937 random;
+  std::normal_distribution<double> gauss;
+  void operator()(const Eigen::Vector3d& p, int organ, int leaf)
+  {
+    t.points.push_back(p + Eigen::Vector3d(gauss(random), gauss(random), gauss(random)));
+    t.organ.push_back(organ);
+    t.leaf.push_back(leaf);
+  }
+};
+
 /// A stem of radius `radius` and height `height` along z, sampled all around at spacing h, with `leaves` elliptic
 /// leaves (length 0.3, width 0.15) rising at 40 degrees from its surface, 137.5 degrees apart; Gaussian noise of
 /// sigma `noise` along every axis.
@@ -790,13 +804,7 @@ TEST(PlantSegmentation, ANarrowLeafAmongLeavesIsLeafABareTwigsFacetsStayWood)
   const int leaves = 7;
   const double h = 0.005, noise = 0.0002;
   Truth t = SyntheticPlant(leaves);
-  std::mt19937 random(5);
-  std::normal_distribution<double> gauss(0.0, noise);
-  const auto add = [&](const Eigen::Vector3d& p, int organ, int leaf) {
-    t.points.push_back(p + Eigen::Vector3d(gauss(random), gauss(random), gauss(random)));
-    t.organ.push_back(organ);
-    t.leaf.push_back(leaf);
-  };
+  NoisyAdder add{ t, std::mt19937(5), std::normal_distribution<double>(0.0, noise) };
   const std::size_t strip = t.points.size();
   const Eigen::Vector3d corner(0.6, 0.0, 0.3); // the strip: x from 0.6 on, z up, in the plane y = 0
   for (double s = 0.0; s <= 0.2 + 1e-12; s += h)
@@ -850,13 +858,7 @@ TEST(PlantSegmentation, ANarrowArcOfAThinBranchIsWoodAGentlyRolledLeafIsLeaf)
   const int leaves = 7;
   const double h = 0.005, noise = 0.0002;
   Truth t = SyntheticPlant(leaves);
-  std::mt19937 random(11);
-  std::normal_distribution<double> gauss(0.0, noise);
-  const auto add = [&](const Eigen::Vector3d& p, int organ, int leaf) {
-    t.points.push_back(p + Eigen::Vector3d(gauss(random), gauss(random), gauss(random)));
-    t.organ.push_back(organ);
-    t.leaf.push_back(leaf);
-  };
+  NoisyAdder add{ t, std::mt19937(11), std::normal_distribution<double>(0.0, noise) };
   const double arc = 75.0 * Pi / 180.0;
   const std::size_t branch = t.points.size();
   const double radius = 0.035;

@@ -951,6 +951,21 @@ std::vector<Eigen::Vector3d> LeafBrush(const TrueCylinder& twig, double from, st
   return points;
 }
 
+/// Appends a brush of leaves (LeafBrush, from 0.4 of each twig's length) to `points` round each twig of the twig tree
+/// (its cylinders from the 8th on) and returns the wood label: 1 on the points there before, 0 on the leaves.
+std::vector<int> WithTwigsBrushes(const std::vector<TrueCylinder>& tree, std::vector<Eigen::Vector3d>& points)
+{
+  const std::size_t woodPoints = points.size();
+  for (std::size_t k = 7; k < tree.size(); ++k)
+  {
+    const auto brush = LeafBrush(tree[k], 0.4, 40 + k);
+    points.insert(points.end(), brush.begin(), brush.end());
+  }
+  std::vector<int> label(points.size(), 0);
+  std::fill(label.begin(), label.begin() + static_cast<std::ptrdiff_t>(woodPoints), 1);
+  return label;
+}
+
 TEST(TreeFit, TwigsCutOffBehindTheirLeavesAreGrownBack)
 {
   // The twig tree of TwigsTooThinToMeasureGetPipeModelRadii, each twig (0.6 long) carrying a brush of leaves along its
@@ -974,13 +989,7 @@ TEST(TreeFit, TwigsCutOffBehindTheirLeavesAreGrownBack)
       points.push_back(p);
   }
   const std::size_t woodPoints = points.size();
-  for (std::size_t k = 7; k < tree.size(); ++k)
-  {
-    const auto brush = LeafBrush(tree[k], 0.4, 40 + k);
-    points.insert(points.end(), brush.begin(), brush.end());
-  }
-  std::vector<int> label(points.size(), 0);
-  std::fill(label.begin(), label.begin() + static_cast<std::ptrdiff_t>(woodPoints), 1);
+  const std::vector<int> label = WithTwigsBrushes(tree, points);
   double twigVolume = 0;
   for (std::size_t k = 7; k < tree.size(); ++k)
     twigVolume += Volume(tree[k]);
@@ -1021,13 +1030,7 @@ TEST(TreeFit, LeavesOnMeasuredTwigsGrowNothing)
   const std::vector<TrueCylinder> tree = TwigTree();
   std::vector<Eigen::Vector3d> points = Scan(tree, 0.008, 0.001);
   const std::size_t woodPoints = points.size();
-  for (std::size_t k = 7; k < tree.size(); ++k)
-  {
-    const auto brush = LeafBrush(tree[k], 0.4, 40 + k);
-    points.insert(points.end(), brush.begin(), brush.end());
-  }
-  std::vector<int> label(points.size(), 0);
-  std::fill(label.begin(), label.begin() + static_cast<std::ptrdiff_t>(woodPoints), 1);
+  const std::vector<int> label = WithTwigsBrushes(tree, points);
   const std::vector<Eigen::Vector3d> wood(points.begin(), points.begin() + static_cast<std::ptrdiff_t>(woodPoints));
   const TreeFitResult bare = FitTree(wood, {}, TreeFitParameters());
   const TreeFitResult r = FitTree(points, label, TreeFitParameters());
