@@ -123,6 +123,7 @@ std::vector<double> InstanceIoU(const Truth& t, const plantmorph::SegmentationRe
 struct LeafFrame
 {
   Eigen::Vector3d out, along, across, base;
+  Eigen::Vector3d up; // the blade's normal, upward
 };
 LeafFrame EighthLeafFrame(double rise)
 {
@@ -132,7 +133,24 @@ LeafFrame EighthLeafFrame(double rise)
   f.along = std::cos(rise) * f.out + std::sin(rise) * Eigen::Vector3d::UnitZ();
   f.across = Eigen::Vector3d::UnitZ().cross(f.out);
   f.base = 0.05 * f.out + Eigen::Vector3d(0.0, 0.0, z);
+  f.up = f.along.cross(f.across).normalized();
+  if (f.up.z() < 0.0)
+    f.up = -f.up;
   return f;
+}
+
+/// A dense elliptic blade (0.2 by 0.1, sampled h apart) 0.05 above the middle of the eighth leaf's plane (`frame`,
+/// that leaf `length` long), as leaf `id`.
+void AddBladeAboveEighthLeaf(Truth& t, const LeafFrame& frame, int id, double length, double h)
+{
+  for (double s = -0.1; s <= 0.1; s += h)
+    for (double w = -0.05; w <= 0.05; w += h)
+      if ((s / 0.1) * (s / 0.1) + (w / 0.05) * (w / 0.05) <= 1.0)
+      {
+        t.points.push_back(frame.base + (length / 2 + s) * frame.along + w * frame.across + 0.05 * frame.up);
+        t.organ.push_back(plantmorph::OrganLeaf);
+        t.leaf.push_back(id);
+      }
 }
 
 /// The plant `t` without its leaf `leaf` (stem and other leaves kept), for a test that adds that leaf as a scan sees it.
@@ -550,9 +568,6 @@ TEST(PlantSegmentation, ALeafInEvenRowsBesideALeafIsAnInstanceHalfALeafOrTwoLeav
   const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0;
   const LeafFrame frame = EighthLeafFrame(rise);
   const Eigen::Vector3d along = frame.along, across = frame.across, base = frame.base;
-  Eigen::Vector3d up = along.cross(across).normalized();
-  if (up.z() < 0.0)
-    up = -up;
   const Truth plant = SyntheticPlant(leaves);
   // rows across an ellipse of the given length (width half of it) from `from` along the leaf, every `step`
   const auto addRows = [&](Truth& t, double from, double ellipse, double upTo, double step, int leaf) {
@@ -570,14 +585,7 @@ TEST(PlantSegmentation, ALeafInEvenRowsBesideALeafIsAnInstanceHalfALeafOrTwoLeav
   };
   const auto withBlade = [&]() {
     Truth t = WithoutLeaf(plant, leaves - 1);
-    for (double s = -0.1; s <= 0.1; s += h)
-      for (double w = -0.05; w <= 0.05; w += h)
-        if ((s / 0.1) * (s / 0.1) + (w / 0.05) * (w / 0.05) <= 1.0)
-        {
-          t.points.push_back(base + (length / 2 + s) * along + w * across + 0.05 * up);
-          t.organ.push_back(plantmorph::OrganLeaf);
-          t.leaf.push_back(leaves);
-        }
+    AddBladeAboveEighthLeaf(t, frame, leaves, length, h);
     return t;
   };
   Truth whole = withBlade();
@@ -617,18 +625,8 @@ TEST(PlantSegmentation, ALeafInWaveringRowsBesideALeafIsAnInstance)
   const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0;
   const LeafFrame frame = EighthLeafFrame(rise);
   const Eigen::Vector3d along = frame.along, across = frame.across, base = frame.base;
-  Eigen::Vector3d up = along.cross(across).normalized();
-  if (up.z() < 0.0)
-    up = -up;
   Truth t = WithoutLeaf(SyntheticPlant(leaves), leaves - 1);
-  for (double s = -0.1; s <= 0.1; s += h)
-    for (double w = -0.05; w <= 0.05; w += h)
-      if ((s / 0.1) * (s / 0.1) + (w / 0.05) * (w / 0.05) <= 1.0)
-      {
-        t.points.push_back(base + (length / 2 + s) * along + w * across + 0.05 * up);
-        t.organ.push_back(plantmorph::OrganLeaf);
-        t.leaf.push_back(leaves);
-      }
+  AddBladeAboveEighthLeaf(t, frame, leaves, length, h);
   int row = 0;
   for (double s = 4.5 * h; s <= length; s += 4.5 * h, ++row)
     for (double w = -length / 4, side = 0.7 * h; w <= length / 4; w += 3.0 * h, side = -side)
