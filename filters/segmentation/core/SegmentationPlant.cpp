@@ -239,6 +239,15 @@ struct PartMoments
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
 
+  /// The moments of points[ids].
+  static PartMoments Of(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
+  {
+    PartMoments m;
+    m.count = static_cast<double>(ids.size());
+    m.scatter = Scatter(points, ids, m.mean);
+    return m;
+  }
+
   PartMoments Merged(const PartMoments& o) const
   {
     PartMoments m;
@@ -360,12 +369,8 @@ int JoinFoldedStrips(const std::vector<Eigen::Vector3d>& points, const PointFeat
     moved(b);
     std::vector<int> pair = members[a];
     pair.insert(pair.end(), members[b].begin(), members[b].end());
-    PartMoments halves[2], both;
-    halves[0].count = static_cast<double>(members[a].size());
-    halves[0].scatter = Scatter(points, members[a], halves[0].mean);
-    halves[1].count = static_cast<double>(members[b].size());
-    halves[1].scatter = Scatter(points, members[b], halves[1].mean);
-    both = halves[0].Merged(halves[1]);
+    const PartMoments halves[2] = { PartMoments::Of(points, members[a]), PartMoments::Of(points, members[b]) };
+    const PartMoments both = halves[0].Merged(halves[1]);
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(both.scatter / both.count);
     const Eigen::Vector3d l = solver.eigenvalues().cwiseMax(0.0);
     const NormalSpread spread = SpreadOfNormals(f, pair, solver.eigenvectors().col(2));
@@ -421,9 +426,7 @@ std::size_t FlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& points, cons
   {
     if (!verdicts[r].strip)
       continue;
-    PartMoments m;
-    m.count = static_cast<double>(members[r].size());
-    m.scatter = Scatter(points, members[r], m.mean);
+    const PartMoments m = PartMoments::Of(points, members[r]);
     if (!StripIsFlatSheet(points, graph, members[r], m, radius, mark))
       continue;
     verdicts[r].strip = false;
@@ -1065,8 +1068,7 @@ void JoinPieces(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
   {
     for (int j : parts[k])
       partOf[static_cast<std::size_t>(j)] = static_cast<int>(k);
-    moments[k].count = static_cast<double>(parts[k].size());
-    moments[k].scatter = Scatter(points, parts[k], moments[k].mean);
+    moments[k] = PartMoments::Of(points, parts[k]);
   }
   std::vector<std::size_t> order(parts.size());
   for (std::size_t k = 0; k < order.size(); ++k)
@@ -1299,8 +1301,7 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   {
     if (parts[k].empty())
       continue;
-    moments[k].count = static_cast<double>(parts[k].size());
-    moments[k].scatter = Scatter(points, parts[k], moments[k].mean);
+    moments[k] = PartMoments::Of(points, parts[k]);
     whole[k] = !NoLeafShape(region, verdicts, parts[k], p.minimumLeafPoints);
     (whole[k] ? big : rows).push_back(k);
     low[k] = high[k] = points[static_cast<std::size_t>(parts[k].front())];
@@ -1379,8 +1380,7 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
     if (parts[k].size() < static_cast<std::size_t>(minimumLeafPoints))
       continue;
     big.push_back(k);
-    moments[k].count = static_cast<double>(parts[k].size());
-    moments[k].scatter = Scatter(points, parts[k], moments[k].mean);
+    moments[k] = PartMoments::Of(points, parts[k]);
     low[k] = high[k] = points[static_cast<std::size_t>(parts[k].front())];
     for (int j : parts[k])
     {
@@ -1603,9 +1603,7 @@ std::vector<char> LeavesSeenInRows(const std::vector<Eigen::Vector3d>& points, c
   {
     if (!rows[k])
       continue;
-    PartMoments m;
-    m.count = static_cast<double>(leaves[k].size());
-    m.scatter = Scatter(points, leaves[k], m.mean);
+    const PartMoments m = PartMoments::Of(points, leaves[k]);
     if (!RowsAsWideAsALeaf(points, f, leaves[k], m, cosine))
     {
       rows[k] = 0;
@@ -1657,9 +1655,7 @@ constexpr double WoodSheetReach = 2.0;
 bool WoodSurfaceSheet(
   const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, const PointGrid& woodGrid, double radius)
 {
-  PartMoments m;
-  m.count = static_cast<double>(ids.size());
-  m.scatter = Scatter(points, ids, m.mean);
+  const PartMoments m = PartMoments::Of(points, ids);
   double spread = 0.0;
   m.Normal(spread);
   if (spread <= WoodSheetBend * radius)
