@@ -115,8 +115,9 @@ int GrowHiddenTwigs(const std::vector<Eigen::Vector3d>& apart, double spacing,
   std::vector<int> nearest(attractors.size(), -1);
   std::vector<double> distance(attractors.size(), influence);
   std::vector<unsigned char> alive(attractors.size(), 1);
-  std::vector<Eigen::Vector3d> grewTowards;  // per node, the direction it grew in last (a node drawn the same way twice
-                                             // by attractors no step brings nearer grows no second twig there)
+  // per node, the direction it grew in last (a node drawn the same way twice by attractors no step brings nearer grows
+  // no second twig there)
+  std::vector<Eigen::Vector3d> grewTowards(node.size(), Eigen::Vector3d::Zero());
   const auto offer = [&](std::size_t from) { // nodes from `from` on: the attractors' nearest within reach
     for (std::size_t a = 0; a < attractors.size(); ++a)
       for (std::size_t n = from; alive[a] && n < node.size(); ++n)
@@ -142,8 +143,6 @@ int GrowHiddenTwigs(const std::vector<Eigen::Vector3d>& apart, double spacing,
       if (pull[n].norm() < 1e-6)
         continue;
       const Eigen::Vector3d towards = pull[n].normalized();
-      if (grewTowards.size() < node.size())
-        grewTowards.resize(node.size(), Eigen::Vector3d::Zero());
       if (towards.dot(grewTowards[n]) > SameDirection)
         continue;
       grewTowards[n] = towards;
@@ -158,6 +157,7 @@ int GrowHiddenTwigs(const std::vector<Eigen::Vector3d>& apart, double spacing,
       cylinders.push_back(c);
       node.push_back(c.end);
       ahead.push_back(Eigen::Vector3d::Zero());
+      grewTowards.push_back(Eigen::Vector3d::Zero());
       nodeCylinder.push_back(static_cast<int>(cylinders.size()) - 1);
     }
     if (node.size() == before)
