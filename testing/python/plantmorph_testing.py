@@ -144,6 +144,28 @@ def moved_copies(source, count, array, first_id, step):
     return parts
 
 
+def scan_around(virtual_scanner, plant, count, angular_step, range_noise, seed, maximum_range=None):
+    """A scan of `plant` (a paraview.simple proxy, Y up) by `virtual_scanner` (the plugin's VirtualScanner, as
+    load_plugin put it in the test's namespace) from `count` positions evenly round it (the first at 0.3 radians),
+    each a plant size (its bounds' largest extent) from its centre and 0.3 of that above, looking at the centre with
+    an 80-degree field of view; `maximum_range` in plant sizes (the scanner's default when None)."""
+    import math
+    from paraview import servermanager
+    plant.UpdatePipeline()
+    b = servermanager.Fetch(plant).GetBounds()
+    centre = [(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2]
+    size = max(b[1] - b[0], b[3] - b[2], b[5] - b[4])
+    positions = []
+    for k in range(count):
+        angle = 2 * math.pi * k / count + 0.3
+        positions += [centre[0] + size * math.cos(angle), centre[1] + 0.3 * size, centre[2] + size * math.sin(angle)]
+    scanner = virtual_scanner(Input=plant, Positions=positions, LookAt=centre, Up=[0, 1, 0], HorizontalFieldOfView=80,
+                              VerticalFieldOfView=80, AngularStep=angular_step, RangeNoise=range_noise, Seed=seed)
+    if maximum_range is not None:
+        scanner.MaximumRange = maximum_range * size
+    return scanner
+
+
 def sorted_point_rows(data, arrays):
     """Every point of `data` as a row (x, y, z, then the one-component point `arrays`), the rows sorted: an MPI
     run's outputs appended over the ranks do not keep the serial order."""

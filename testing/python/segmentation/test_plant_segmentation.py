@@ -8,9 +8,7 @@ error naming the problem and empty outputs on all three ports.
 
     pvpython test_plant_segmentation.py --plugin PlantMorph.so --work DIR
 """
-import math
-
-from plantmorph_testing import Checks, Messages, load_plugin, parse_arguments
+from plantmorph_testing import Checks, Messages, load_plugin, parse_arguments, scan_around
 
 arguments = parse_arguments([("--pvpython", dict(default=None))])
 
@@ -28,18 +26,9 @@ def outputs(proxy):
     return [servermanager.Fetch(proxy, idx=port) for port in range(3)]
 
 
-def scanned(tree_proxy, leaves=True):
-    parts = [OutputPort(tree_proxy, 0)] + ([OutputPort(tree_proxy, 2)] if leaves else [])
-    plant = AppendGeometry(Input=parts)
-    plant.UpdatePipeline()
-    b = servermanager.Fetch(plant).GetBounds()
-    centre = [(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2]
-    size = max(b[1] - b[0], b[3] - b[2], b[5] - b[4])
-    positions = []
-    for angle in (0.3, 0.3 + math.pi):
-        positions += [centre[0] + size * math.cos(angle), centre[1] + 0.3 * size, centre[2] + size * math.sin(angle)]
-    return VirtualScanner(Input=plant, Positions=positions, LookAt=centre, Up=[0, 1, 0], HorizontalFieldOfView=80,
-                          VerticalFieldOfView=80, AngularStep=0.15, RangeNoise=0.0015, Seed=2)
+def scanned(tree_proxy):
+    plant = AppendGeometry(Input=[OutputPort(tree_proxy, 0), OutputPort(tree_proxy, 2)])
+    return scan_around(VirtualScanner, plant, 2, 0.15, 0.0015, 2)
 
 
 # The menu and the defaults.

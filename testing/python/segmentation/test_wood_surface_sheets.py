@@ -7,9 +7,7 @@ truth), and the nine leaves are still found.
 
     pvpython test_wood_surface_sheets.py --plugin PlantMorph.so --work DIR
 """
-import math
-
-from plantmorph_testing import Checks, load_plugin, parse_arguments
+from plantmorph_testing import Checks, load_plugin, parse_arguments, scan_around
 
 arguments = parse_arguments([("--pvpython", dict(default=None))])
 
@@ -25,17 +23,7 @@ tree = TreeFromSketchSource(Preset=0, TreeType=0, Depth=1, ChildCount=3, Ratio=0
                             LeafCount=3, LeafScale=1.5, LeafAngle=50.0, Sides=12)
 tree.Leaf = OutputPort(LeafOutlineSource(), 0)
 plant = AppendGeometry(Input=[OutputPort(tree, 0), OutputPort(tree, 2)])
-plant.UpdatePipeline()
-b = servermanager.Fetch(plant).GetBounds()
-centre = [(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2]
-size = max(b[1] - b[0], b[3] - b[2], b[5] - b[4])
-positions = []
-for k in range(4):
-    angle = 2 * math.pi * k / 4 + 0.3
-    positions += [centre[0] + size * math.cos(angle), centre[1] + 0.3 * size, centre[2] + size * math.sin(angle)]
-scan = VirtualScanner(Input=plant, Positions=positions, LookAt=centre, Up=[0, 1, 0], HorizontalFieldOfView=80,
-                      VerticalFieldOfView=80, AngularStep=0.12, RangeNoise=0.001 * 1.5, Seed=1,
-                      MaximumRange=5 * size)
+scan = scan_around(VirtualScanner, plant, 4, 0.12, 0.001 * 1.5, 1, maximum_range=5)
 segmentation = PlantSegmentationFilter(Input=scan, UpAxis="Y")
 segmentation.UpdatePipeline()
 labels = servermanager.Fetch(segmentation).GetPointData()
