@@ -497,7 +497,10 @@ void MeetBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid
 /// junction moves to the last such slice. A gap ends the stalk too (beyond it, on the axis, lies the end of a
 /// wedge-shaped blade), but only one wider than the gaps between the stalk's own samples along its axis: a line
 /// scan crosses a stalk in lines that may lie more than a slice apart, and an empty slice between two of them is
-/// still the stalk (the walk stopped there, up to 5 spacings short of the blade, whose ball covered the rest).
+/// still the stalk (the walk stopped there, up to 5 spacings short of the blade, whose ball covered the rest). A slice
+/// wider than the stalk right after such empty slices ends the stalk at that slice's near side: the stalk ran on
+/// through the gap (the junction left at the last slice with points lay 2.2 radii out on the benchmark's flat
+/// watermelon seen from above).
 void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
   const StalkAxis& axis, Petiole& petiole)
 {
@@ -538,7 +541,16 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
     }
     if (wide || slice.empty())
     {
+      const Eigen::Vector3d last = petiole.junction;
       MeetBlade(points, grid, spacing, axis, position - empty * spacing * u, petiole);
+      // Wider than the stalk right after empty slices taken as the gaps between its lines: the stalk runs through
+      // them to this slice, so the junction is at its near side (on the line of the stalk's last points), not back
+      // at the last slice with points (up to `skippable` spacings out on the stalk).
+      if (wide && empty > 0 && !petiole.meetsPlane)
+      {
+        const Eigen::Vector3d r = last - position;
+        petiole.junction = position + (r - r.dot(u) * u);
+      }
       break;
     }
     empty = 0;

@@ -538,6 +538,40 @@ TEST(LeafShape, StalkSeenInPiecesBeyondAShadowIsMeasuredToItsEnd)
   }
 }
 
+TEST(LeafShape, StalkSeenInSparseLinesEndsAtTheBladeNotAtItsLastLine)
+{
+  // A line scan may cross a stalk in lines two or three spacings apart along it (seen at a slant), two samples
+  // across each: the walk towards the blade takes the empty slices between them as the stalk, up to the blade's
+  // first row, which is wider than the stalk. The blade here is a rectangle sampled on a grid of one spacing, its
+  // base straight across at y = 0, the stalk in its plane along -Y (so no plane meets its axis and the walk alone
+  // places the junction), its lines at every phase. The junction lay at the stalk's last line, up to 2.1 spacings out
+  // on it (PetioleLength -6.7 % with lines 3 apart); it is now within a spacing of the base.
+  const Eigen::Isometry3d pose = Tilted();
+  for (const int every : { 1, 2, 3 })
+    for (const double phase : { 0.1, 0.4, 0.7 })
+    {
+      std::mt19937_64 random(7);
+      std::normal_distribution<double> gauss(0.0, 1.0);
+      std::vector<Eigen::Vector3d> points;
+      for (double x = -20.0; x <= 20.0; x += 1.0)
+        for (double y = 0.5; y <= 60.0; y += 1.0)
+          points.push_back(pose * Eigen::Vector3d(x, y, 0.1 * gauss(random)));
+      double farthest = 0.0;
+      for (double y = -phase * every; y >= -30.0; y -= every)
+      {
+        for (const double x : { -0.5, 0.5 })
+          points.push_back(pose * Eigen::Vector3d(x, y, 0.1 * gauss(random)));
+        farthest = -y;
+      }
+      const fit::Petiole found = fit::FindPetiole(points, MedianSpacing(points));
+      ASSERT_TRUE(found.found) << "lines " << every << " apart, phase " << phase;
+      const Eigen::Vector3d junction = pose.inverse() * found.junction;
+      EXPECT_LT(junction.norm(), 1.0) << "lines " << every << " apart, phase " << phase << ": junction "
+                                      << junction.transpose();
+      EXPECT_NEAR(found.length, farthest, 0.05 * farthest) << "lines " << every << " apart, phase " << phase;
+    }
+}
+
 /// The scan without the points for which `cut(x, y)` holds (in the blade's plane, before the pose), then posed.
 Synthetic Without(Synthetic scan, const std::function<bool(double, double)>& cut, const Eigen::Isometry3d& pose)
 {
