@@ -646,6 +646,44 @@ TEST(PlantSegmentation, ALeafInWaveringRowsBesideALeafIsAnInstance)
     EXPECT_GT(iou, 0.9);
 }
 
+TEST(PlantSegmentation, ALeafInRowsCrossedByAShadowBesideALeafIsAnInstance)
+{
+  // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15) scanned whole at a grazing angle in rows every 3
+  // spacings, with a dense blade (leaf 8) 0.05 above its middle (within 4r), as in ALeafInEvenRowsBesideALeaf...;
+  // one row across the middle is missing (the shadow of a twig in front), a gap of 6 spacings, twice the others
+  // (within the rows' reach, 2r, so the rows still gather into one group). The rows on either side of the gap lie at
+  // one spacing and the outline closes at both ends: one leaf, one instance of its own (none before, when no gap
+  // could be wider than 1.5 times the median).
+  const int leaves = 8;
+  const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0, rowStep = 3.0 * h;
+  const LeafFrame frame = EighthLeafFrame(rise);
+  const Eigen::Vector3d along = frame.along, across = frame.across, base = frame.base;
+  Truth t = WithoutLeaf(SyntheticPlant(leaves), leaves - 1);
+  AddBladeAboveEighthLeaf(t, frame, leaves, length, h);
+  const int rows = static_cast<int>(length / rowStep);
+  for (int row = 1; row <= rows; ++row)
+  {
+    if (row == rows / 2)
+      continue; // the shadow
+    const double s = row * rowStep;
+    for (double w = -length / 4, side = 0.2 * h; w <= length / 4; w += h, side = -side)
+    {
+      const double u = (s - length / 2) / (length / 2), v = w / (length / 4);
+      if (u * u + v * v <= 1.0)
+      {
+        t.points.push_back(base + (s + side) * along + w * across);
+        t.organ.push_back(plantmorph::OrganLeaf);
+        t.leaf.push_back(leaves - 1);
+      }
+    }
+  }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  for (double iou : InstanceIoU(t, r, leaves + 1))
+    EXPECT_GT(iou, 0.9);
+}
+
 TEST(PlantSegmentation, ALeafSeenInRowsFartherApartThanTheFeaturesRadiusIsAnInstance)
 {
   // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15, farther than 4r from the others) scanned at a
