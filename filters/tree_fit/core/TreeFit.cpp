@@ -161,7 +161,7 @@ std::string GrowTwigs(const std::vector<Eigen::Vector3d>& points, const std::vec
     return {};
   TreeFitResult grown;
   grown.cylinders = std::move(cylinders);
-  const std::string error = treefit::ModelRadii(spacing, grown);
+  const std::string error = treefit::ModelRadii(spacing, grown, true);
   result.cylinders = std::move(grown.cylinders);
   result.branches = std::move(grown.branches);
   result.traits.noise = grown.traits.noise;
@@ -180,6 +180,7 @@ TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::v
   treefit::Wood wood;
   if (result.error.empty())
     result.error = treefit::CleanAndConnect(points, candidates, options, parallel, wood);
+  wood.leafLabelled = std::find(woodLabel.begin(), woodLabel.end(), 0) != woodLabel.end();
   std::vector<int> woodCylinder;
   std::vector<TreeCylinder> fitted; // the last fit's cylinders before step 5
   if (result.error.empty())

@@ -24,11 +24,13 @@
 //     line through its segment's centroids and the fit lying closer to the points is kept.
 //  5. Radii: a fit is "measured" only where the points support it (enough points, an arc of the circle seen of at
 //     least 150 degrees and at least 5 s long, radius above 3 noise deviations, residuals below half the radius, and
-//     within a factor 2 of the model below). Every other cylinder gets its radius from the pipe model: radius =
-//     a GL^b (GL: growth length, the length of the cylinder and everything it carries), a and b fitted to the
-//     measured cylinders in log space (b = 1/2, area proportional to what is carried, when they do not determine
-//     it), times the branch's own level (the geometric mean of its measured/model ratios): twigs are never fitted
-//     from a handful of noisy points, so they are not inflated. A chain's tip run of unmeasured cylinders whose
+//     within a factor 2 of the model below; in a scan with points labelled leaf, not wider than the model with a
+//     residual scale above 2 noise deviations and 5 % of the radius: a ring of leaf points labelled wood round a
+//     twig, fitted all round, unless the cylinder is a fork's). Every other cylinder gets its radius from the pipe
+//     model: radius = a GL^b (GL: growth length, the length of the cylinder and everything it carries), a and b
+//     fitted to the measured cylinders in log space (b = 1/2, area proportional to what is carried, when they do not
+//     determine it), times the branch's own level (the geometric mean of its measured/model ratios): twigs are never
+//     fitted from a handful of noisy points, so they are not inflated. A chain's tip run of unmeasured cylinders whose
 //     points lie, most of them, more than 3 noise deviations off both the modelled surface and the ring they make
 //     about the axis is leaves labelled wood: it goes back to the leaves and the cylinders are fitted again.
 //  6. Branches: the trunk starts at the base; at every fork it goes on into the child most aligned with it and

@@ -380,7 +380,7 @@ std::string FitCylinders(const Wood& wood, const Skeleton& s, const TreeFitParam
       woodCylinder[i] = nodeCylinder[s.nodeOf[i]];
   if (fitted != nullptr)
     *fitted = result.cylinders;
-  return ModelRadii(wood.spacing, result);
+  return ModelRadii(wood.spacing, result, wood.leafLabelled);
 }
 
 } // namespace treefit

@@ -33,6 +33,7 @@ struct Wood
   Graph graph;
   std::vector<double> geodesic;
   std::vector<int> previous;
+  bool leafLabelled = false; ///< the scan has points labelled leaf: wood labels that may hold leaves
 };
 
 /// Median over the points of the mean distance to their 6 nearest neighbours.
@@ -132,7 +133,8 @@ bool ReturnOffSurfaceChains(
 
 /// Step 5-6 on the fitted cylinders (fitRMS holding each fit's robust residual scale): the noise, which radii are
 /// measured, the growth-length model for the others, branches and orders; "" or why no radius is measured.
-std::string ModelRadii(double spacing, TreeFitResult& result);
+/// `leafLabelled`: the scan has points labelled leaf, so fits round leaf points labelled wood are not trusted.
+std::string ModelRadii(double spacing, TreeFitResult& result, bool leafLabelled = false);
 
 /// The trait table and the branch rows' angles, heights and volumes from the cylinders; the height reaches the sparse
 /// last points of a tip above the cleaned wood (`candidates`: the points that may be wood, ids into `points`).

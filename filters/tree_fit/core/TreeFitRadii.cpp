@@ -19,7 +19,11 @@ constexpr double MinCoverage = 150.0;   // degrees
 constexpr double MinArcSpacings = 5.0;  // the arc seen, in spacings
 constexpr double MinRadiusNoise = 3.0;  // noise deviations
 constexpr double MaxScaleRadius = 0.35; // residual scale / radius
-constexpr double ModelFactor = 2.0;     // a measured radius this far from the model is not trusted...
+// In a scan with points labelled leaf, a fit wider than its model whose residual scale is above LeafScaleNoise noise
+// deviations and LeafScaleRadius of its radius is a ring of leaf points labelled wood round a twig, not the twig.
+constexpr double LeafScaleNoise = 2.0;
+constexpr double LeafScaleRadius = 0.05;
+constexpr double ModelFactor = 2.0; // a measured radius this far from the model is not trusted...
 constexpr double StrongCoverage = 240.0, StrongRadiusNoise = 10.0; // ...unless the fit is this good
 constexpr int MinStrongPoints = 50;
 constexpr double ContinueShare = 0.25;  // of the heaviest child's carried volume
@@ -591,7 +595,7 @@ void CapUnmeasuredEnds(TreeFitResult& result)
 }
 } // namespace
 
-std::string ModelRadii(double spacing, TreeFitResult& result)
+std::string ModelRadii(double spacing, TreeFitResult& result, bool leafLabelled)
 {
   auto& cylinders = result.cylinders;
   const std::size_t n = cylinders.size();
@@ -621,21 +625,30 @@ std::string ModelRadii(double spacing, TreeFitResult& result)
     if (cylinders[k].parent >= 0)
       cylinders[cylinders[k].parent].growthLength += cylinders[k].growthLength;
   }
+  std::vector<int> childCount(n, 0);
+  for (const auto& c : cylinders)
+    if (c.parent >= 0)
+      ++childCount[c.parent];
   double a = 0, b = 0.5;
   for (int round = 0; round < 3; ++round)
   {
     if (std::none_of(cylinders.begin(), cylinders.end(), [](const TreeCylinder& c) { return c.measured; }))
       return "no part of the cloud has points enough to measure a radius: too sparse, too noisy, or not a tree";
     FitModel(cylinders, a, b);
-    for (auto& c : cylinders)
+    for (std::size_t k = 0; k < n; ++k)
     {
+      TreeCylinder& c = cylinders[k];
       if (!c.measured)
         continue;
       const double model = std::exp(a + b * std::log(c.growthLength));
       const double ratio = c.fittedRadius / model;
       const bool strong =
         c.coverage >= StrongCoverage && c.points >= MinStrongPoints && c.fittedRadius >= StrongRadiusNoise * noise;
-      if (!strong && (ratio > ModelFactor || ratio < 1.0 / ModelFactor))
+      // leaves all round a twig: the circle is theirs (the wood a minority inside it), fitted all round but with its
+      // points as far off it as leaves lie; a fork's cylinder holds the child's first points, so it is not judged
+      const bool leafRing = leafLabelled && childCount[k] <= 1 && ratio > 1.0 &&
+        c.fitRMS > std::max(LeafScaleNoise * noise, LeafScaleRadius * c.fittedRadius);
+      if (leafRing || (!strong && (ratio > ModelFactor || ratio < 1.0 / ModelFactor)))
         c.measured = false;
     }
   }
