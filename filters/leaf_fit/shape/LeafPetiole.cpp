@@ -490,6 +490,20 @@ void MeetBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid
   petiole.meetsPlane = true;
 }
 
+/// The stalk run through the gaps between its lines to a slice wider than it (from `position`, one spacing along
+/// `u`) ends at the slice's near side, on the line of its last points (`last`). The slice's points within the stalk's
+/// width of the axis (`slice`) are its top, seen by the line that crosses it where it meets the blade: they join the
+/// petiole (left with the blade, they were its lowest samples, and the base's tip extrapolated from them lay out on
+/// the stalk).
+void EndInWideSlice(const std::vector<int>& slice, const Eigen::Vector3d& position, const Eigen::Vector3d& u,
+  const Eigen::Vector3d& last, Petiole& petiole)
+{
+  for (int j : slice)
+    petiole.member[j] = 1;
+  const Eigen::Vector3d r = last - position;
+  petiole.junction = position + (r - r.dot(u) * u);
+}
+
 /// The opening's ball covers the stalk's first few spacings beside the blade (and, below a cordate base, the stalk
 /// between the basal lobes): from the junction found so far, the stalk is followed along its axis towards the blade
 /// in slices one spacing thick while each slice's points within 2 spacings of the axis all lie within the stalk's
@@ -500,7 +514,7 @@ void MeetBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid
 /// still the stalk (the walk stopped there, up to 5 spacings short of the blade, whose ball covered the rest). A slice
 /// wider than the stalk right after such empty slices ends the stalk at that slice's near side: the stalk ran on
 /// through the gap (the junction left at the last slice with points lay 2.2 radii out on the benchmark's flat
-/// watermelon seen from above).
+/// watermelon seen from above), and that slice's points within the stalk's width are its top (EndInWideSlice).
 void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
   const StalkAxis& axis, Petiole& petiole)
 {
@@ -547,10 +561,7 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
       // them to this slice, so the junction is at its near side (on the line of the stalk's last points), not back
       // at the last slice with points (up to `skippable` spacings out on the stalk).
       if (wide && empty > 0 && !petiole.meetsPlane)
-      {
-        const Eigen::Vector3d r = last - position;
-        petiole.junction = position + (r - r.dot(u) * u);
-      }
+        EndInWideSlice(slice, position, u, last, petiole);
       break;
     }
     empty = 0;

@@ -572,6 +572,40 @@ TEST(LeafShape, StalkSeenInSparseLinesEndsAtTheBladeNotAtItsLastLine)
     }
 }
 
+TEST(LeafShape, StalkTopInTheSliceThatEndsTheWalkIsTheStalks)
+{
+  // The blade of StalkSeenInSparseLinesEndsAtTheBladeNotAtItsLastLine (a grid of one spacing, its first row at
+  // y = 0.5) and a stalk parallel to it whose top is seen 0.8 spacings above its plane, in lines 2 spacings apart,
+  // two samples across each, the last line at every phase up to 2 spacings from that row. The walk towards the blade
+  // takes the empty slice between two lines as the stalk and ends at the slice that holds the blade's first row,
+  // wider than the stalk. Where the stalk's last line lies in that slice too (0.1 and 0.3 spacings from the row), its
+  // samples were left with the blade (its lowest samples, from which the base's tip is extrapolated: the benchmark's
+  // flat watermelon from above, Length +1.55 %); they are the stalk's. The junction stays within a spacing of the
+  // base.
+  const Eigen::Isometry3d pose = Tilted();
+  for (double phase = 0.05; phase < 1.0; phase += 0.1)
+  {
+    std::mt19937_64 random(11);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    std::vector<Eigen::Vector3d> points;
+    for (double x = -20.0; x <= 20.0; x += 1.0)
+      for (double y = 0.5; y <= 60.0; y += 1.0)
+        points.push_back(pose * Eigen::Vector3d(x, y, 0.1 * gauss(random)));
+    const std::size_t firstStalk = points.size();
+    for (double y = 0.5 - 2.0 * phase; y >= -30.0; y -= 2.0)
+      for (const double x : { -0.5, 0.5 })
+        points.push_back(pose * Eigen::Vector3d(x, y, 0.8 + 0.1 * gauss(random)));
+    const fit::Petiole found = fit::FindPetiole(points, MedianSpacing(points));
+    ASSERT_TRUE(found.found) << "phase " << phase;
+    for (std::size_t i = firstStalk; i < points.size(); ++i)
+      EXPECT_EQ(found.member[i], 1) << "phase " << phase << ": the stalk's sample at "
+                                    << (pose.inverse() * points[i]).transpose() << " left with the blade";
+    const Eigen::Vector3d junction = pose.inverse() * found.junction;
+    EXPECT_LT(Eigen::Vector2d(junction.x(), junction.y()).norm(), 1.0)
+      << "phase " << phase << ": junction " << junction.transpose();
+  }
+}
+
 /// The scan without the points for which `cut(x, y)` holds (in the blade's plane, before the pose), then posed.
 Synthetic Without(Synthetic scan, const std::function<bool(double, double)>& cut, const Eigen::Isometry3d& pose)
 {
