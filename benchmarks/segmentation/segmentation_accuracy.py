@@ -244,12 +244,13 @@ def fitted_rows(cloud, labels="LeafId", lowest=0):
 def fit_scores(fits, s, true_area, label):
     """Areas of the fitted rows against the truth: the matched leaves' errors, the plant's sum, the failures."""
     fitted = [r for r in fits if int(r[2]) != 2]
-    errors = []
+    errors, seen = [], []
     for leaf_id, area, status, message in fitted:
         tid = s["match"].get(int(leaf_id))
         if tid is not None:
             truth = true_area[tid]
             errors.append((area - truth) / truth)
+            seen.append(s["seen"][tid] / truth)
             fit_csv.append("%s,%d,%d,%d,%d,%.6g,%.6g,%.5f,%d,%.6g,%.4f,%s" % (
                 label, leaf_id, tid, s["found_points"][int(leaf_id)], s["sizes"][tid], area, truth, errors[-1],
                 int(status), s["true_fits"].get(tid, float("nan")), s["seen"][tid] / truth, message.replace(",", ";")))
@@ -265,6 +266,7 @@ def fit_scores(fits, s, true_area, label):
                 fit_median=float(numpy.median(errors)) if len(errors) else float("nan"), fit_rows=len(fits),
                 fit_ok=len(fitted), fit_warned=sum(1 for r in fitted if int(r[2]) == 1),
                 fit_failed=len(fits) - len(fitted), fit_reasons=reasons, fit_errors=errors, alone_errors=alone,
+                fit_seen=numpy.array(seen),
                 alone_median=float(numpy.median(alone)) if len(alone) else float("nan"),
                 fit_plant=sum(r[1] for r in fitted), true_plant=float(true_area.sum()), true_big=big_area)
 
@@ -362,8 +364,16 @@ if arguments.fit and rows:
           % (len(pooled), 100 * numpy.median(pooled) if len(pooled) else float("nan"),
              numpy.count_nonzero(pooled <= 0.03), 100 * numpy.count_nonzero(pooled <= 0.03) / max(1, len(pooled)),
              sum(1 for s in rows if abs(s["fit_plant"] / s["true_plant"] - 1) <= 0.03), len(rows),
-             sum(1 for s in rows if abs(s["fit_plant"] / s["true_big"] - 1) <= 0.03), total("fit_rows"),
-             total("fit_rows") - total("fit_failed"), total("fit_warned"), total("fit_failed")))
+             sum(1 for s in rows if abs(s["fit_plant"] / s["true_big"] - 1) <= 0.03),
+             total("fit_rows") - total("fit_failed"), total("fit_rows"), total("fit_warned"), total("fit_failed")))
+    print("Plant leaf area summed over the scans: fitted %.2f against %.2f of every leaf (%+.1f %%), %.2f of the leaves "
+          "of >= 100 points (%+.1f %%)" % (total("fit_plant"), total("true_plant"),
+                                           100 * (total("fit_plant") / total("true_plant") - 1), total("true_big"),
+                                           100 * (total("fit_plant") / total("true_big") - 1)))
+    whole = pooled[numpy.concatenate([s["fit_seen"] for s in rows]) >= 0.99]
+    print("Of them seen whole (0.99 of the blade or more near its scanned points): %d, median |area error| %.2f %%, "
+          "%.1f %% within 3 %%" % (len(whole), 100 * numpy.median(whole) if len(whole) else float("nan"),
+                                   100 * numpy.count_nonzero(whole <= 0.03) / max(1, len(whole))))
     alone = numpy.concatenate([s["alone_errors"] for s in rows])
     print("The fit alone on the true labels of the same leaves: median |area error| %.2f %%, %.1f %% within 3 %%"
           % (100 * numpy.median(alone) if len(alone) else float("nan"),
