@@ -22,7 +22,12 @@ other defaults, as examples/main_segment_plant.py), and a second table gives the
 true leaf's area is the sum of its blade cells (Organ 1) on the simulated plant, rebuilt from its parameters. Per
 scan: the matched leaves (IoU > 0.5) fitted (Status 0 or 1) and their median |area error| and fraction within 3 %;
 the plant's leaf area (the fitted areas of every fitted row, matched or not) against the true area of every leaf
-and of the leaves with at least 100 scanned points; the rows not fitted (Status 2) and their reasons.
+and of the leaves with at least 100 scanned points; the rows not fitted (Status 2) and their reasons. Beside them,
+to tell the segmentation's share from the fit's and the scan's: the same true leaves fitted on their true labels
+(each true blade's scanned points alone), and pooled, the matched leaves seen whole (0.99 of the blade's area or more
+within 2-4 % of a leaf's length of the leaf's own scanned points; a leaf seen in part fits small). `--fit-csv FILE`
+writes one line per matched leaf (the found and true LeafId, points, areas, the area on the true labels, the share
+seen, Status and Message).
 """
 import argparse
 import math
@@ -271,7 +276,8 @@ def fit_scores(fits, s, true_area, label):
                 fit_plant=sum(r[1] for r in fitted), true_plant=float(true_area.sum()), true_big=big_area)
 
 
-fit_csv = ["scan,LeafId,TrueLeafId,Points,TruePoints,FittedArea,TrueArea,Error,Status,AreaOnTrueLabels,SeenFraction,Message"]
+fit_csv = ["scan,LeafId,TrueLeafId,Points,TruePoints,FittedArea,TrueArea,Error,Status,AreaOnTrueLabels,SeenFraction,"
+           "Message"]
 rows = []
 for name in arguments.plants.split(","):
     step = PLANTS[name][3]
@@ -346,7 +352,8 @@ if arguments.fit and rows:
           "median error, true labels | fit CPU (s) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for s in rows:
-        print("| %s | %d | %g | %d | %.1f %% | %d (%.0f %%) | %d / %d (%d) | %.2f / %.2f / %.2f | %+.1f %% / %+.1f %% | "
+        print("| %s | %d | %g | %d | %.1f %% | %d (%.0f %%) | %d / %d (%d) | %.2f / %.2f / %.2f | "
+              "%+.1f %% / %+.1f %% | "
               "%.1f %% | %.1f |" % (s["plant"], s["positions"], s["noise"], s["fit_matched"], 100 * s["fit_median"],
                           s["fit_within"], 100 * s["fit_within"] / max(1, s["fit_matched"]), s["fit_ok"],
                           s["fit_rows"], s["fit_warned"], s["fit_plant"], s["true_plant"], s["true_big"],
@@ -366,8 +373,8 @@ if arguments.fit and rows:
              sum(1 for s in rows if abs(s["fit_plant"] / s["true_plant"] - 1) <= 0.03), len(rows),
              sum(1 for s in rows if abs(s["fit_plant"] / s["true_big"] - 1) <= 0.03),
              total("fit_rows") - total("fit_failed"), total("fit_rows"), total("fit_warned"), total("fit_failed")))
-    print("Plant leaf area summed over the scans: fitted %.2f against %.2f of every leaf (%+.1f %%), %.2f of the leaves "
-          "of >= 100 points (%+.1f %%)" % (total("fit_plant"), total("true_plant"),
+    print("Plant leaf area summed over the scans: fitted %.2f against %.2f of every leaf (%+.1f %%), %.2f of the "
+          "leaves of >= 100 points (%+.1f %%)" % (total("fit_plant"), total("true_plant"),
                                            100 * (total("fit_plant") / total("true_plant") - 1), total("true_big"),
                                            100 * (total("fit_plant") / total("true_big") - 1)))
     whole = pooled[numpy.concatenate([s["fit_seen"] for s in rows]) >= 0.99]
