@@ -4,7 +4,7 @@ Organ on every cell), scanned by VirtualScanner from 1, 2 and 4 positions with r
 leaf's length, segmented with the filter's defaults, scored point by point against the labels each beam carried.
 
     pvpython benchmarks/segmentation/segmentation_accuracy.py [--plugin build/.../PlantMorph.so] [--quick]
-        [--plants herb,shrub,tree] [--positions 1,2,4] [--noise 0.001,0.01] [--scans DIR]
+        [--plants herb,shrub,tree] [--positions 1,2,4] [--noise 0.001,0.01] [--scans DIR] [--fit]
 
 The plant kind *petioled* (not in the default set) is the shrub whose blades each sit on a petiole: a tube of
 radius 1.2 % of the blade's length, 30 % of it long, leaving the blade's base 30 degrees below the blade in line with
@@ -16,6 +16,18 @@ the true leaves with at least 100 scanned points; precision over every predicted
 found leaves, the merged true leaves (unmatched although one instance holds over half of them) and the fragments
 (unmatched instances mostly of one leaf, holding no quarter of another), and the segmentation's wall and CPU time (the
 process's, all threads). Prints a Markdown table (benchmarks/README.md keeps it).
+
+With `--fit`, each scan's leaf points (LeafId >= 0) also go to LeafFitFilter (LeafIdArray LeafId, UpAxis Y, its
+other defaults, as examples/main_segment_plant.py), and a second table gives the leaf areas against the truth: each
+true leaf's area is the sum of its blade cells (Organ 1) on the simulated plant, rebuilt from its parameters. Per
+scan: the matched leaves (IoU > 0.5) fitted (Status 0 or 1) and their median |area error| and fraction within 3 %;
+the plant's leaf area (the fitted areas of every fitted row, matched or not) against the true area of every leaf
+and of the leaves with at least 100 scanned points; the rows not fitted (Status 2) and their reasons. Beside them,
+to tell the segmentation's share from the fit's and the scan's: the same true leaves fitted on their true labels
+(each true blade's scanned points alone), and pooled, the matched leaves seen whole (0.99 of the blade's area or more
+within 2-4 % of a leaf's length of the leaf's own scanned points; a leaf seen in part fits small). `--fit-csv FILE`
+writes one line per matched leaf (the found and true LeafId, points, areas, the area on the true labels, the share
+seen, Status and Message).
 """
 import argparse
 import math
@@ -30,6 +42,8 @@ parser.add_argument("--plants", default="herb,shrub,tree")
 parser.add_argument("--positions", default="1,2,4")
 parser.add_argument("--noise", default="0.001,0.01", help="range noise as fractions of the leaf length")
 parser.add_argument("--quick", action="store_true", help="coarser scans (a smoke run)")
+parser.add_argument("--fit", action="store_true", help="also fit each found leaf (LeafFitFilter) and score its area")
+parser.add_argument("--fit-csv", default="", help="with --fit: a CSV file for every fitted row matched to a true leaf")
 parser.add_argument("--scans", default="",
                     help="a folder for the scans: each is read from it when there, else scanned and written to it, so "
                          "two versions of the filter are compared on the same points without scanning again")
@@ -143,7 +157,7 @@ def scores(true_organ, true_leaf, organ, leaf):
     big = set(true_ids[true_counts >= 100].tolist())
     sizes = dict(zip(true_ids.tolist(), true_counts.tolist()))
     pred_ids = numpy.unique(leaf[leaf >= 0])
-    matched_pred, matched_true, fragments, holder = 0, set(), 0, {}
+    matched_pred, matched_true, fragments, holder, match = 0, set(), 0, {}, {}
     for pid in pred_ids:
         mine = leaf == pid
         overlap_ids, overlaps = numpy.unique(true_leaf[mine & (true_leaf >= 0)], return_counts=True)
@@ -157,6 +171,7 @@ def scores(true_organ, true_leaf, organ, leaf):
         if inter / (numpy.count_nonzero(mine) + sizes[tid] - inter) > 0.5:
             matched_pred += 1
             matched_true.add(tid)
+            match[int(pid)] = tid
         elif 2 * inter > numpy.count_nonzero(mine) and all(
                 4 * o < sizes[t] for t, o in zip(overlap_ids.tolist(), overlaps.tolist()) if t != tid):
             fragments += 1  # mostly one leaf's points and no quarter of another leaf: a piece of a leaf
@@ -168,9 +183,101 @@ def scores(true_organ, true_leaf, organ, leaf):
     # a true leaf missed although one instance holds over half of it: merged with another leaf or with wood
     result["merged"] = sum(1 for t in big - matched_true if t in holder)
     result["fragments"] = fragments
+    result["match"], result["big"], result["sizes"] = match, big, sizes
     return result
 
 
+def true_leaf_areas(name):
+    """Each true leaf's blade area (its Organ 1 cells summed per LeafId) on the simulated plant."""
+    if name not in surfaces:
+        plant = plant_surface(name, PLANTS[name][0])
+        surfaces[name] = (plant, servermanager.Fetch(plant))
+    sizes = CellSize(Input=surfaces[name][0], ComputeVertexCount=0, ComputeLength=0, ComputeArea=1, ComputeVolume=0,
+                     ComputeSum=0)
+    cells = servermanager.Fetch(sizes).GetCellData()
+    area, organ, leaf = (vtk_to_numpy(cells.GetArray(a)) for a in ("Area", "Organ", "LeafId"))
+    Delete(sizes)
+    blade = (organ == 1) & (leaf >= 0)
+    areas[name] = numpy.bincount(leaf[blade].astype(numpy.int64), weights=area[blade])
+    centres = CellCenters(Input=surfaces[name][0])
+    centre = vtk_to_numpy(servermanager.Fetch(centres).GetPoints().GetData())
+    Delete(centres)
+    cell_areas[name] = centre[blade], area[blade], leaf[blade].astype(numpy.int64)
+    return areas[name]
+
+
+def voxel_keys(points, leaf, size):
+    """One integer per (leaf, voxel of `size`) of each point."""
+    cell = numpy.floor(points / size).astype(numpy.int64) + (1 << 20)
+    return ((leaf * (1 << 21) + cell[:, 0]) * (1 << 21) + cell[:, 1]) * (1 << 21) + cell[:, 2]
+
+
+def seen_areas(name, points, leaf, size):
+    """Each true leaf's area seen: its blade cells with a point of that leaf within about `size` (their voxel or a
+    neighbour of it), summed; a leaf seen in part has less."""
+    centre, area, cell_leaf = cell_areas[name]
+    keys = numpy.unique(voxel_keys(points[leaf >= 0], leaf[leaf >= 0], size))
+    seen = numpy.zeros(len(centre), bool)
+    for offset in ((i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)):
+        probe = voxel_keys(centre + size * numpy.array(offset), cell_leaf, size)
+        at = numpy.minimum(numpy.searchsorted(keys, probe), len(keys) - 1)
+        seen |= keys[at] == probe
+    return numpy.bincount(cell_leaf[seen], weights=area[seen], minlength=len(areas[name]))
+
+
+areas, cell_areas = {}, {}  # name: each true leaf's area; each cell's blade area and LeafId (-1 off the blades)
+
+
+def fitted_rows(cloud, labels="LeafId", lowest=0):
+    """LeafFitFilter on the points whose `labels` is at least `lowest` (the found leaves': LeafId >= 0; the true
+    blades': the scan's Organ 1): (LeafId, Area, Status, Message) per Traits row, and the CPU time."""
+    leaf_points = Threshold(Input=cloud, Scalars=["POINTS", labels])
+    # set after the proxy exists: on an input already updated, its domain resets the range to the data's (-1 too)
+    leaf_points.LowerThreshold, leaf_points.UpperThreshold = lowest, 1 if labels == "Organ" else 1e9
+    fit = LeafFitFilter(Input=leaf_points, LeafIdArray="LeafId", UpAxis="Y")
+    cpu_start = time.process_time()
+    fit.UpdatePipeline()
+    cpu = time.process_time() - cpu_start
+    traits = servermanager.Fetch(fit, idx=2)
+    column = lambda c: [traits.GetColumnByName(c).GetValue(k) for k in range(traits.GetNumberOfRows())]  # noqa: E731
+    rows = list(zip(*(column(c) for c in ("LeafId", "Area", "Status", "Message")))) if traits.GetNumberOfRows() else []
+    Delete(fit)
+    Delete(leaf_points)
+    return rows, cpu
+
+
+def fit_scores(fits, s, true_area, label):
+    """Areas of the fitted rows against the truth: the matched leaves' errors, the plant's sum, the failures."""
+    fitted = [r for r in fits if int(r[2]) != 2]
+    errors, seen = [], []
+    for leaf_id, area, status, message in fitted:
+        tid = s["match"].get(int(leaf_id))
+        if tid is not None:
+            truth = true_area[tid]
+            errors.append((area - truth) / truth)
+            seen.append(s["seen"][tid] / truth)
+            fit_csv.append("%s,%d,%d,%d,%d,%.6g,%.6g,%.5f,%d,%.6g,%.4f,%s" % (
+                label, leaf_id, tid, s["found_points"][int(leaf_id)], s["sizes"][tid], area, truth, errors[-1],
+                int(status), s["true_fits"].get(tid, float("nan")), s["seen"][tid] / truth, message.replace(",", ";")))
+    errors = numpy.abs(numpy.array(errors))
+    # the fit alone on the true labels, over the same true leaves: the error the segmentation did not add
+    alone = numpy.array([abs(s["true_fits"][t] / true_area[t] - 1) for t in s["match"].values() if t in s["true_fits"]])
+    reasons = {}
+    for r in fits:
+        if int(r[2]) == 2:
+            reasons[r[3]] = reasons.get(r[3], 0) + 1
+    big_area = sum(true_area[t] for t in s["big"])
+    return dict(fit_matched=len(errors), fit_within=int(numpy.count_nonzero(errors <= 0.03)),
+                fit_median=float(numpy.median(errors)) if len(errors) else float("nan"), fit_rows=len(fits),
+                fit_ok=len(fitted), fit_warned=sum(1 for r in fitted if int(r[2]) == 1),
+                fit_failed=len(fits) - len(fitted), fit_reasons=reasons, fit_errors=errors, alone_errors=alone,
+                fit_seen=numpy.array(seen),
+                alone_median=float(numpy.median(alone)) if len(alone) else float("nan"),
+                fit_plant=sum(r[1] for r in fitted), true_plant=float(true_area.sum()), true_big=big_area)
+
+
+fit_csv = ["scan,LeafId,TrueLeafId,Points,TruePoints,FittedArea,TrueArea,Error,Status,AreaOnTrueLabels,SeenFraction,"
+           "Message"]
 rows = []
 for name in arguments.plants.split(","):
     step = PLANTS[name][3]
@@ -191,11 +298,25 @@ for name in arguments.plants.split(","):
             get = lambda array: vtk_to_numpy(pd.GetArray(array))  # noqa: E731
             # The scanner's labels (the hit cells') were passed through; the filter's own replace them by name, so
             # read the truth from the scan itself.
-            truth = servermanager.Fetch(scanner).GetPointData()
+            scanned = servermanager.Fetch(scanner)
+            truth = scanned.GetPointData()
             s = scores(vtk_to_numpy(truth.GetArray("Organ")), vtk_to_numpy(truth.GetArray("LeafId")), get("Organ"),
                        get("LeafId"))
             s.update(plant=name, positions=positions, noise=noise, points=cloud.GetNumberOfPoints(), seconds=seconds,
                      cpu=cpu)
+            if arguments.fit:
+                found_ids, found_counts = numpy.unique(get("LeafId"), return_counts=True)
+                s["found_points"] = dict(zip(found_ids.tolist(), found_counts.tolist()))
+                fits, s["fit_cpu"] = fitted_rows(segmentation)
+                true_fits, _ = fitted_rows(scanner, "Organ", 1)  # the fit alone: each true blade's scanned points
+                s["true_fits"] = {int(r[0]): r[1] for r in true_fits if int(r[2]) != 2}
+                true_area = areas[name] if name in areas else true_leaf_areas(name)
+                # seen: blade within 2-4 % of a leaf's length (1-5 point spacings) of the leaf's scanned points
+                blade_leaf = numpy.where(vtk_to_numpy(truth.GetArray("Organ")) == 1,
+                                         vtk_to_numpy(truth.GetArray("LeafId")), -1).astype(numpy.int64)
+                s["seen"] = seen_areas(name, vtk_to_numpy(scanned.GetPoints().GetData()), blade_leaf,
+                                       0.02 * PLANTS[name][1])
+                s.update(fit_scores(fits, s, true_area, "%s %d %g" % (name, positions, noise)))
             rows.append(s)
             print("%(plant)s positions %(positions)d noise %(noise)g: %(points)d points, leaf IoU %(leaf_iou).3f, "
                   "wood IoU %(wood_iou).3f, petiole IoU %(petiole_iou).3f "
@@ -222,3 +343,50 @@ if rows:
              total("found_leaves"), total("matched_true") / max(1, total("true_leaves")), total("matched_true"),
              total("true_leaves"), total("leaf_iou") / len(rows), total("wood_iou") / len(rows), total("merged"),
              total("fragments"), total("cpu")))
+
+if arguments.fit and rows:
+    print("\nLeaf areas after LeafFitFilter (the matched leaves fitted: median |area error| and the share within 3 %; "
+          "the plant: the fitted rows' areas summed against every true leaf and the leaves of >= 100 points):\n")
+    print("| plant | positions | noise | matched leaves fitted | median area error | within 3 % | rows fitted / all "
+          "(warned) | plant area: fitted / true all / true >= 100 points | error against all / >= 100 points | "
+          "median error, true labels | fit CPU (s) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for s in rows:
+        print("| %s | %d | %g | %d | %.1f %% | %d (%.0f %%) | %d / %d (%d) | %.2f / %.2f / %.2f | "
+              "%+.1f %% / %+.1f %% | "
+              "%.1f %% | %.1f |" % (s["plant"], s["positions"], s["noise"], s["fit_matched"], 100 * s["fit_median"],
+                          s["fit_within"], 100 * s["fit_within"] / max(1, s["fit_matched"]), s["fit_ok"],
+                          s["fit_rows"], s["fit_warned"], s["fit_plant"], s["true_plant"], s["true_big"],
+                          100 * (s["fit_plant"] / s["true_plant"] - 1), 100 * (s["fit_plant"] / s["true_big"] - 1),
+                          100 * s["alone_median"], s["fit_cpu"]))
+    pooled = numpy.concatenate([s["fit_errors"] for s in rows])
+    reasons = {}
+    for s in rows:
+        for reason, count in s["fit_reasons"].items():
+            reasons[reason] = reasons.get(reason, 0) + count
+    total = lambda key: sum(s[key] for s in rows)  # noqa: E731
+    print("\nPooled: %d matched leaves fitted, median |area error| %.2f %%, %d (%.1f %%) within 3 %%; plant leaf area "
+          "per scan within 3 %% of every leaf's on %d of %d scans, of the leaves of >= 100 points on %d; %d of %d rows "
+          "fitted (%d warned), %d not fitted"
+          % (len(pooled), 100 * numpy.median(pooled) if len(pooled) else float("nan"),
+             numpy.count_nonzero(pooled <= 0.03), 100 * numpy.count_nonzero(pooled <= 0.03) / max(1, len(pooled)),
+             sum(1 for s in rows if abs(s["fit_plant"] / s["true_plant"] - 1) <= 0.03), len(rows),
+             sum(1 for s in rows if abs(s["fit_plant"] / s["true_big"] - 1) <= 0.03),
+             total("fit_rows") - total("fit_failed"), total("fit_rows"), total("fit_warned"), total("fit_failed")))
+    print("Plant leaf area summed over the scans: fitted %.2f against %.2f of every leaf (%+.1f %%), %.2f of the "
+          "leaves of >= 100 points (%+.1f %%)" % (total("fit_plant"), total("true_plant"),
+                                           100 * (total("fit_plant") / total("true_plant") - 1), total("true_big"),
+                                           100 * (total("fit_plant") / total("true_big") - 1)))
+    whole = pooled[numpy.concatenate([s["fit_seen"] for s in rows]) >= 0.99]
+    print("Of them seen whole (0.99 of the blade or more near its scanned points): %d, median |area error| %.2f %%, "
+          "%.1f %% within 3 %%" % (len(whole), 100 * numpy.median(whole) if len(whole) else float("nan"),
+                                   100 * numpy.count_nonzero(whole <= 0.03) / max(1, len(whole))))
+    alone = numpy.concatenate([s["alone_errors"] for s in rows])
+    print("The fit alone on the true labels of the same leaves: median |area error| %.2f %%, %.1f %% within 3 %%"
+          % (100 * numpy.median(alone) if len(alone) else float("nan"),
+             100 * numpy.count_nonzero(alone <= 0.03) / max(1, len(alone))))
+    for reason, count in sorted(reasons.items(), key=lambda item: -item[1]):
+        print("  not fitted, %d rows: %s" % (count, reason))
+    if arguments.fit_csv:
+        with open(arguments.fit_csv, "w") as f:
+            f.write("\n".join(fit_csv) + "\n")
