@@ -32,6 +32,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <initializer_list>
 #include <map>
@@ -431,15 +432,20 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, LeafInput& in
   return {};
 }
 
-/// Collective: the ranks agree on every leaf id; each local leaf's points are keyed by the index of its id.
+/// Collective: the ranks agree on every leaf id; each local leaf's points are keyed by the index of its id. A
+/// negative id is a point on no leaf (PlantSegmentationFilter's LeafId -1: wood, petioles, leaf points it could give
+/// to no leaf): it is fitted with no leaf and keeps its id on the Scan port.
 void IndexLeaves(vtkMultiProcessController* controller, LeafInput& in)
 {
-  std::vector<std::int64_t> distinct = in.ids;
+  std::vector<std::int64_t> distinct;
+  std::copy_if(in.ids.begin(), in.ids.end(), std::back_inserter(distinct), [](std::int64_t id) { return id >= 0; });
   std::sort(distinct.begin(), distinct.end());
   distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
   in.leafIds = plantmorph::fittable::UnionOfIds(controller, distinct);
   for (std::size_t i = 0; i < in.ids.size(); ++i)
   {
+    if (in.ids[i] < 0)
+      continue;
     const auto at = std::lower_bound(in.leafIds.begin(), in.leafIds.end(), in.ids[i]) - in.leafIds.begin();
     in.members[static_cast<vtkTypeInt64>(at)].push_back(static_cast<vtkIdType>(i));
   }
@@ -571,7 +577,9 @@ void vtkLeafFitFilter::Execute(plantmorph::Run& run)
   const plantmorph::OwnerExchange exchange(controller, in.members);
   run.StopIfAnyRankFailed(exchange.AnyRank(!error.empty()), error);
   if (exchange.Ids().empty()) // no points on any rank (every rank finds it alike): empty outputs
-    run.Fail("Input: the point cloud has no points (LeafFitFilter fits the points of one or more scanned leaves)");
+    run.Fail(exchange.AnyRank(!in.ids.empty())
+        ? "LeafIdArray: no point has a LeafId of 0 or more (a negative LeafId is a point on no leaf)"
+        : "Input: the point cloud has no points (LeafFitFilter fits the points of one or more scanned leaves)");
   const std::vector<std::size_t> owned = exchange.Owned();
   const OwnedFits fits = FitOwned(SendPoints(exchange, in), Options(this), in.separate);
   WarnSeparation(in, fits, run);

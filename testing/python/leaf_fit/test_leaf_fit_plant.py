@@ -7,6 +7,8 @@
   floating-point LeafId array is an error naming the array and the value, with empty outputs.
 - One leaf that cannot be fitted (10 points) gets a row with Status 2 and the reason, a warning, and the other
   leaves' rows are what they are alone.
+- Negative ids are points on no leaf: no row, the other leaves as alone, the Scan port keeps them (FitDistance NaN);
+  an input whose ids are all negative is an error with empty outputs.
 - The Plant table: three leaves tilted by known angles give the inclination classes and the beta distribution the
   method of moments gives on the Traits' own Inclination column (computed here independently).
 - Units: LengthUnit mm, cm with Scale 0.1; PlantMorph.ColumnUnits in field data.
@@ -158,6 +160,31 @@ checks.check(said.said("leaf 5", "too few points", kind="warning") and not said.
              "a warning names the bad leaf, no error (%s %s)" % (said.warnings, said.errors))
 checks.check(rows(with_bad, 4)[0]["LeafCount"] == 2 and rows(with_bad, 4)[0]["FailedLeaves"] == 1,
              "Plant: two leaves fitted, one failed")
+
+# Negative ids are points on no leaf (PlantSegmentationFilter's LeafId -1): a stick of points between the blades
+# with id -1 (and one with -7) is fitted with no leaf, the two leaves as alone; the Scan port keeps every point.
+stick = numpy.c_[numpy.linspace(2.5, 4.5, 400), numpy.zeros(400), numpy.zeros(400)] + random.normal(0, 0.01, (400, 3))
+off_ids = numpy.r_[ids, numpy.full(399, -1), -7]
+off = LeafFitFilter(Input=source(numpy.r_[both, stick], off_ids, numpy.int64), LeafIdArray="Leaf")
+said = run(off)
+traits = rows(off)
+checks.check([r["LeafId"] for r in traits] == [0, 2 ** 32] and not said.errors
+             and all(abs(r["Area"] - a["Area"]) < 1e-9 for r, a in zip(traits, alone)),
+             "negative ids: no row, the two leaves as alone (%s, %s)" % ([r["LeafId"] for r in traits], said.errors))
+scan = fetch(off, 3)
+scan_ids = vtk_to_numpy(scan.GetPointData().GetArray("LeafId"))
+distance = vtk_to_numpy(scan.GetPointData().GetArray("FitDistance"))
+checks.check(numpy.array_equal(scan_ids, off_ids) and bool(numpy.all(numpy.isnan(distance[len(both):])))
+             and bool(numpy.all(numpy.isfinite(distance[:len(both)]))),
+             "Scan: every point, its id kept, FitDistance NaN on no leaf")
+checks.check(rows(off, 4)[0]["LeafCount"] == 2, "Plant: two leaves")
+Delete(off)
+none = LeafFitFilter(Input=source(stick, numpy.full(400, -1), numpy.int64), LeafIdArray="Leaf")
+said = run(none)
+checks.check(said.said("LeafIdArray", "no point has a LeafId of 0 or more", kind="error")
+             and fetch(none, 2).GetNumberOfRows() == 0 and fetch(none, 3).GetNumberOfPoints() == 0,
+             "every id negative: an error, empty outputs (%s)" % said.errors)
+Delete(none)
 Delete(with_bad)
 
 # A plant of three leaves tilted by 15, 35 and 65 degrees: the inclination distribution.
