@@ -195,6 +195,18 @@ Eigen::Isometry3d Tilted()
   return pose;
 }
 
+/// A rectangular blade 40 by 60 spacings sampled on a grid of one spacing, its first row at y = 0.5 and its base
+/// straight across below it, noise 0.1 spacings off its plane, placed by `pose`.
+std::vector<Eigen::Vector3d> GridBlade(const Eigen::Isometry3d& pose, std::mt19937_64& random)
+{
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<Eigen::Vector3d> points;
+  for (double x = -20.0; x <= 20.0; x += 1.0)
+    for (double y = 0.5; y <= 60.0; y += 1.0)
+      points.push_back(pose * Eigen::Vector3d(x, y, 0.1 * gauss(random)));
+  return points;
+}
+
 TEST(LeafShape, PetioleInThePlaneIsFoundAndLeftOutOfTheBlade)
 {
   // In the blade's plane and in line with the midvein, the blade's narrow end and the stalk's first samples cannot
@@ -551,11 +563,8 @@ TEST(LeafShape, StalkSeenInSparseLinesEndsAtTheBladeNotAtItsLastLine)
     for (const double phase : { 0.1, 0.4, 0.7 })
     {
       std::mt19937_64 random(7);
+      std::vector<Eigen::Vector3d> points = GridBlade(pose, random);
       std::normal_distribution<double> gauss(0.0, 1.0);
-      std::vector<Eigen::Vector3d> points;
-      for (double x = -20.0; x <= 20.0; x += 1.0)
-        for (double y = 0.5; y <= 60.0; y += 1.0)
-          points.push_back(pose * Eigen::Vector3d(x, y, 0.1 * gauss(random)));
       double farthest = 0.0;
       for (double y = -phase * every; y >= -30.0; y -= every)
       {
@@ -586,11 +595,8 @@ TEST(LeafShape, StalkTopInTheSliceThatEndsTheWalkIsTheStalks)
   for (double phase = 0.05; phase < 1.0; phase += 0.1)
   {
     std::mt19937_64 random(11);
+    std::vector<Eigen::Vector3d> points = GridBlade(pose, random);
     std::normal_distribution<double> gauss(0.0, 1.0);
-    std::vector<Eigen::Vector3d> points;
-    for (double x = -20.0; x <= 20.0; x += 1.0)
-      for (double y = 0.5; y <= 60.0; y += 1.0)
-        points.push_back(pose * Eigen::Vector3d(x, y, 0.1 * gauss(random)));
     const std::size_t firstStalk = points.size();
     for (double y = 0.5 - 2.0 * phase; y >= -30.0; y -= 2.0)
       for (const double x : { -0.5, 0.5 })
