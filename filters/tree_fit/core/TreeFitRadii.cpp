@@ -625,10 +625,7 @@ std::string ModelRadii(double spacing, TreeFitResult& result, bool leafLabelled)
     if (cylinders[k].parent >= 0)
       cylinders[cylinders[k].parent].growthLength += cylinders[k].growthLength;
   }
-  std::vector<int> childCount(n, 0);
-  for (const auto& c : cylinders)
-    if (c.parent >= 0)
-      ++childCount[c.parent];
+  const std::vector<std::vector<int>> children = ChildLists(cylinders);
   double a = 0, b = 0.5;
   for (int round = 0; round < 3; ++round)
   {
@@ -646,7 +643,7 @@ std::string ModelRadii(double spacing, TreeFitResult& result, bool leafLabelled)
         c.coverage >= StrongCoverage && c.points >= MinStrongPoints && c.fittedRadius >= StrongRadiusNoise * noise;
       // leaves all round a twig: the circle is theirs (the wood a minority inside it), fitted all round but with its
       // points as far off it as leaves lie; a fork's cylinder holds the child's first points, so it is not judged
-      const bool leafRing = leafLabelled && childCount[k] <= 1 && ratio > 1.0 &&
+      const bool leafRing = leafLabelled && children[k].size() <= 1 && ratio > 1.0 &&
         c.fitRMS > std::max(LeafScaleNoise * noise, LeafScaleRadius * c.fittedRadius);
       if (leafRing || (!strong && (ratio > ModelFactor || ratio < 1.0 / ModelFactor)))
         c.measured = false;
