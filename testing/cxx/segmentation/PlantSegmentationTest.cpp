@@ -153,6 +153,31 @@ void AddBladeAboveEighthLeaf(Truth& t, const LeafFrame& frame, int id, double le
       }
 }
 
+/// Rows across an ellipse `ellipse` long (its width half of that) in the eighth leaf's plane (`frame`), starting
+/// `from` along the leaf, every `step` up to `upTo`, each row's points h apart across and alternately 0.2 h before
+/// and after its line, as leaf `leaf`: a leaf seen at a grazing angle. Row number `skip` (from 1) is left out, the
+/// shadow of something in front (0: none).
+void AddRowsOnEighthLeaf(Truth& t, const LeafFrame& frame, double h, double from, double ellipse, double upTo,
+  double step, int leaf, int skip = 0)
+{
+  int row = 0;
+  for (double s = step; s <= upTo; s += step)
+  {
+    if (++row == skip)
+      continue;
+    for (double w = -ellipse / 4, side = 0.2 * h; w <= ellipse / 4; w += h, side = -side)
+    {
+      const double u = (s - ellipse / 2) / (ellipse / 2), v = w / (ellipse / 4);
+      if (u * u + v * v <= 1.0)
+      {
+        t.points.push_back(frame.base + (from + s + side) * frame.along + w * frame.across);
+        t.organ.push_back(plantmorph::OrganLeaf);
+        t.leaf.push_back(leaf);
+      }
+    }
+  }
+}
+
 /// The plant `t` without its leaf `leaf` (stem and other leaves kept), for a test that adds that leaf as a scan sees it.
 Truth WithoutLeaf(const Truth& t, int leaf)
 {
@@ -567,39 +592,24 @@ TEST(PlantSegmentation, ALeafInEvenRowsBesideALeafIsAnInstanceHalfALeafOrTwoLeav
   const int leaves = 8;
   const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0;
   const LeafFrame frame = EighthLeafFrame(rise);
-  const Eigen::Vector3d along = frame.along, across = frame.across, base = frame.base;
   const Truth plant = SyntheticPlant(leaves);
-  // rows across an ellipse of the given length (width half of it) from `from` along the leaf, every `step`
-  const auto addRows = [&](Truth& t, double from, double ellipse, double upTo, double step, int leaf) {
-    for (double s = step; s <= upTo; s += step)
-      for (double w = -ellipse / 4, side = 0.2 * h; w <= ellipse / 4; w += h, side = -side)
-      {
-        const double u = (s - ellipse / 2) / (ellipse / 2), v = w / (ellipse / 4);
-        if (u * u + v * v <= 1.0)
-        {
-          t.points.push_back(base + (from + s + side) * along + w * across);
-          t.organ.push_back(plantmorph::OrganLeaf);
-          t.leaf.push_back(leaf);
-        }
-      }
-  };
   const auto withBlade = [&]() {
     Truth t = WithoutLeaf(plant, leaves - 1);
     AddBladeAboveEighthLeaf(t, frame, leaves, length, h);
     return t;
   };
   Truth whole = withBlade();
-  addRows(whole, 0.0, length, length, 3.0 * h, leaves - 1);
+  AddRowsOnEighthLeaf(whole, frame, h, 0.0, length, length, 3.0 * h, leaves - 1);
   const plantmorph::SegmentationResult r1 = plantmorph::SegmentPlants(whole.points, {}, {});
   ASSERT_EQ(r1.error, "");
   EXPECT_EQ(r1.leaves.size(), static_cast<std::size_t>(leaves + 1));
   for (double iou : InstanceIoU(whole, r1, leaves + 1))
     EXPECT_GT(iou, 0.9);
   Truth half = withBlade();
-  addRows(half, 0.0, length, length / 2, 3.0 * h, leaves - 1);
+  AddRowsOnEighthLeaf(half, frame, h, 0.0, length, length / 2, 3.0 * h, leaves - 1);
   Truth two = withBlade();
-  addRows(two, 0.0, length / 2, length / 2, 3.0 * h, leaves - 1);
-  addRows(two, length / 2, length / 2, length / 2, 5.0 * h, leaves + 1);
+  AddRowsOnEighthLeaf(two, frame, h, 0.0, length / 2, length / 2, 3.0 * h, leaves - 1);
+  AddRowsOnEighthLeaf(two, frame, h, length / 2, length / 2, length / 2, 5.0 * h, leaves + 1);
   for (const Truth* t : { &half, &two })
   {
     const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t->points, {}, {});
@@ -657,26 +667,9 @@ TEST(PlantSegmentation, ALeafInRowsCrossedByAShadowBesideALeafIsAnInstance)
   const int leaves = 8;
   const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0, rowStep = 3.0 * h;
   const LeafFrame frame = EighthLeafFrame(rise);
-  const Eigen::Vector3d along = frame.along, across = frame.across, base = frame.base;
   Truth t = WithoutLeaf(SyntheticPlant(leaves), leaves - 1);
   AddBladeAboveEighthLeaf(t, frame, leaves, length, h);
-  const int rows = static_cast<int>(length / rowStep);
-  for (int row = 1; row <= rows; ++row)
-  {
-    if (row == rows / 2)
-      continue; // the shadow
-    const double s = row * rowStep;
-    for (double w = -length / 4, side = 0.2 * h; w <= length / 4; w += h, side = -side)
-    {
-      const double u = (s - length / 2) / (length / 2), v = w / (length / 4);
-      if (u * u + v * v <= 1.0)
-      {
-        t.points.push_back(base + (s + side) * along + w * across);
-        t.organ.push_back(plantmorph::OrganLeaf);
-        t.leaf.push_back(leaves - 1);
-      }
-    }
-  }
+  AddRowsOnEighthLeaf(t, frame, h, 0.0, length, length, rowStep, leaves - 1, static_cast<int>(length / rowStep) / 2);
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
   EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
