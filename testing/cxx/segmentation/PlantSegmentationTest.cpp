@@ -715,6 +715,50 @@ TEST(PlantSegmentation, ALeafSeenInRowsFartherApartThanTheFeaturesRadiusIsAnInst
     EXPECT_GT(iou, 0.9);
 }
 
+TEST(PlantSegmentation, ALeafInRowsWithShortLinesAtItsMarginBesideALeafIsAnInstance)
+{
+  // The top leaf (leaf 7, 0.3 by 0.15) of the plant of eight leaves scanned at a grazing angle in scattered points,
+  // as in ALeafSeenInRowsFartherApartThanTheFeaturesRadius...: rows across its width every 5 spacings (beyond the
+  // features' radius r), the points of a row 3 spacings apart, each a line to the features with its row's direction;
+  // with a dense blade (leaf 8) 0.05 above its middle (within 4r), so the rows are an instance only when they are one
+  // leaf's. At its margin, beyond r from the rows' ends, four short lines of three points one spacing apart run along
+  // the leaf: each point's neighbourhood is a line too, but its direction is no row's (a row's end, a margin seen
+  // in three points). Twelve such directions against about a hundred along the rows: the mean of the squared
+  // cosines fell under the test's and the leaf had no instance; what most directions say (their median) is the rows'.
+  const int leaves = 8;
+  const double h = 0.005, length = 0.3, width = 0.15, rise = 40.0 * Pi / 180.0, rowStep = 5.0 * h;
+  const LeafFrame frame = EighthLeafFrame(rise);
+  const Eigen::Vector3d along = frame.along, across = frame.across, base = frame.base;
+  Truth t = WithoutLeaf(SyntheticPlant(leaves), leaves - 1);
+  AddBladeAboveEighthLeaf(t, frame, leaves, length, h);
+  std::mt19937 random(11);
+  std::normal_distribution<double> gauss(0.0, 0.0002); // SyntheticPlant's noise
+  const auto add = [&](double s, double w) {
+    t.points.push_back(base + s * along + w * across + Eigen::Vector3d(gauss(random), gauss(random), gauss(random)));
+    t.organ.push_back(plantmorph::OrganLeaf);
+    t.leaf.push_back(leaves - 1);
+  };
+  for (double s = rowStep; s < length; s += rowStep)
+    for (double w = -width / 2; w <= width / 2; w += 3.0 * h)
+    {
+      const double u = (s - length / 2) / (length / 2), v = w / (width / 2);
+      if (u * u + v * v <= 1.0)
+        add(s, w);
+    }
+  for (const double s : { length / 3, 2 * length / 3 })
+    for (const double side : { -1.0, 1.0 })
+    {
+      const double u = (s - length / 2) / (length / 2), edge = width / 2 * std::sqrt(1.0 - u * u);
+      for (int k = -1; k <= 1; ++k)
+        add(s + (k + 0.5) * h, side * (edge + 5.0 * h)); // 1.25 r beyond the rows' ends
+    }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  for (double iou : InstanceIoU(t, r, leaves + 1))
+    EXPECT_GT(iou, 0.9);
+}
+
 TEST(PlantSegmentation, ScatteredPointsOfALeafEdgeOnAreLeafThoseBesideTheStemAreWood)
 {
   // The plant of seven leaves and two sparse patches, each sampled every three spacings (farther apart than the
