@@ -541,10 +541,6 @@ std::size_t LoneFlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& points, 
 /// around 95 % of them over 45 % wood, around three quarters of them all wood); around half of those truly leaf under
 /// a third is wood.
 constexpr double StripAmongLeavesWood = 0.4;
-/// A strip among leaves has normals that turn about its length by under this (the middle eigenvalue of their second
-/// moments, an rms turn of about 8 degrees): on the 18 scans three quarters of the strips left wood that are truly leaf
-/// turn by under 0.015, half of those truly wood by over 0.021.
-constexpr double StripAmongLeavesNormalSpread = 0.02;
 /// A strip among leaves was judged on at least this fraction of the points it holds (its own, grown points; the rest
 /// reached by the breadth-first spread from it): a small strip that took many unjudged points around it says little
 /// of them.
@@ -552,11 +548,11 @@ constexpr double StripAmongLeavesOwnFraction = 0.25;
 
 /// Strips (flat, coherent, no cylinder, wood only for being narrower than 2r or long) left wood by the other strip
 /// rules are leaf when the points within StripRingLinks links around them are mostly leaf (under
-/// StripAmongLeavesWood wood), their own points' normals hardly turn about their length
-/// (StripAmongLeavesNormalSpread) and those own points are at least StripAmongLeavesOwnFraction of their points. A
-/// strip of the wood's surface lies beside the tube's other strips, wood; a leaf's strip in a brush of leaves, or at
-/// its base within reach of its twig, lies among leaf points. Judged on the organs as the earlier rules left them, all
-/// at once. Returns the points made leaf.
+/// StripAmongLeavesWood wood), their own points' normals turn about their length by under the features' error
+/// (TubeNormalSpread, an rms turn of 10 degrees: more is a tube's arc, as in JudgeRegions) and those own points are at
+/// least StripAmongLeavesOwnFraction of their points. A strip of the wood's surface lies beside the tube's other
+/// strips, wood; a leaf's strip in a brush of leaves, or at its base within reach of its twig, lies among leaf points.
+/// Judged on the organs as the earlier rules left them, all at once. Returns the points made leaf.
 std::size_t StripsAmongLeavesAreLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
   const LinkGraph& graph, const std::vector<char>& judged, std::vector<RegionVerdict>& verdicts,
   const std::vector<int>& region, std::vector<int>& organ)
@@ -583,7 +579,7 @@ std::size_t StripsAmongLeavesAreLeaves(const std::vector<Eigen::Vector3d>& point
       continue;
     Eigen::Vector3d mean;
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, own[r], mean));
-    if (SpreadOfNormals(f, own[r], solver.eigenvectors().col(2)).middle < StripAmongLeavesNormalSpread)
+    if (SpreadOfNormals(f, own[r], solver.eigenvectors().col(2)).middle < TubeNormalSpread)
       among.push_back(r);
   }
   std::size_t count = 0;
