@@ -920,6 +920,60 @@ TEST(PlantSegmentation, ANarrowLeafAmongLeavesIsLeafABareTwigsFacetsStayWood)
   EXPECT_GT(static_cast<double>(twigWood), 0.95 * static_cast<double>(t.points.size() - twigs));
 }
 
+TEST(PlantSegmentation, ANarrowLeafAmongLeavesBesideATwigIsLeaf)
+{
+  // The brush of the test above (a leaf seen in a few rows: a flat strip 0.2 long and 0.025 wide, narrower than the
+  // features' neighbourhood 2r = 0.04, whose long edge two blades leave at 60 degrees to its plane) now sits on a bare
+  // twig of six flat sides (circumradius 0.025) running across the strip's plane under its lower end, its top 0.008
+  // below the strip (under r / 2 = 0.01). The wood within r / 2 and the blades off its plane kept the strip wood. The
+  // points around it are mostly the blades' (leaf) and its normals do not turn about its length: leaf. The twig's
+  // sides, each a strip beside the other sides, stay wood.
+  const int leaves = 7;
+  const double h = 0.005, noise = 0.0002;
+  Truth t = SyntheticPlant(leaves);
+  NoisyAdder add{ t, std::mt19937(5), std::normal_distribution<double>(0.0, noise) };
+  const std::size_t strip = t.points.size();
+  const Eigen::Vector3d corner(0.6, 0.0, 0.3); // the strip: x from 0.6 on, z up, in the plane y = 0
+  for (double s = 0.0; s <= 0.2 + 1e-12; s += h)
+    for (double w = 0.0; w <= 0.025 + 1e-12; w += h)
+      add(corner + Eigen::Vector3d(w, 0.0, s), plantmorph::OrganLeaf, leaves);
+  const std::size_t blades = t.points.size();
+  for (int side : { -1, 1 }) // each blade leaves the strip's far edge (x = 0.625 + h) at 60 degrees to its plane
+  {
+    const Eigen::Vector3d out(std::cos(Pi / 3), side * std::sin(Pi / 3), 0.0);
+    for (double s = 0.0; s <= 0.22 + 1e-12; s += h)
+      for (double w = 0.0; w <= 0.12 + 1e-12; w += h)
+        add(corner + Eigen::Vector3d(0.025 + h, 0.0, s) + w * out, plantmorph::OrganLeaf, leaves + (side + 1) / 2 + 1);
+  }
+  const std::size_t twig = t.points.size();
+  const int sides = 6;
+  const double circumradius = 0.025;
+  const double turn = 2.0 * Pi / sides, edge = 2.0 * circumradius * std::sin(turn / 2);
+  const int across = static_cast<int>(std::round(edge / h));
+  const Eigen::Vector3d axis(0.6125, 0.0, 0.3 - 0.008 - circumradius); // a vertex on top, along y
+  for (int k = 0; k < sides; ++k)
+  {
+    const double a0 = Pi / 2 + k * turn, a1 = a0 + turn;
+    const Eigen::Vector3d a(circumradius * std::cos(a0), 0.0, circumradius * std::sin(a0));
+    const Eigen::Vector3d b(circumradius * std::cos(a1), 0.0, circumradius * std::sin(a1));
+    for (double y = -0.2; y <= 0.2 + 1e-12; y += h)
+      for (int w = 0; w < across; ++w)
+        add(axis + Eigen::Vector3d(0.0, y, 0.0) + a + (b - a) * (w + 0.5) / across, plantmorph::OrganWood, -1);
+  }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  std::size_t stripLeaf = 0, bladesLeaf = 0, twigWood = 0;
+  for (std::size_t i = strip; i < blades; ++i)
+    stripLeaf += r.organ[i] == plantmorph::OrganLeaf;
+  for (std::size_t i = blades; i < twig; ++i)
+    bladesLeaf += r.organ[i] == plantmorph::OrganLeaf;
+  for (std::size_t i = twig; i < t.points.size(); ++i)
+    twigWood += r.organ[i] == plantmorph::OrganWood;
+  EXPECT_GT(static_cast<double>(stripLeaf), 0.9 * static_cast<double>(blades - strip));
+  EXPECT_GT(static_cast<double>(bladesLeaf), 0.95 * static_cast<double>(twig - blades));
+  EXPECT_GT(static_cast<double>(twigWood), 0.95 * static_cast<double>(t.points.size() - twig));
+}
+
 TEST(PlantSegmentation, ANarrowArcOfAThinBranchIsWoodAGentlyRolledLeafIsLeaf)
 {
   // The plant of seven leaves, with beside it, linked to nothing, a branch of radius 0.035 (1.75 r; r = 4 spacings
