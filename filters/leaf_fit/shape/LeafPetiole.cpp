@@ -504,6 +504,21 @@ void EndInWideSlice(const std::vector<int>& slice, const Eigen::Vector3d& positi
   petiole.junction = position + (r - r.dot(u) * u);
 }
 
+/// Whether a point `r` from the centroids' line, beyond the stalk's width from it, is still the stalk's: that line
+/// lies on the seen side, up to a radius off the axis (AxisOffset), and the stalk's far side (seen from a second
+/// scanner position, or its inside through a cut end) and its flanks lie farther than the seen side's width from
+/// it. Such a point lies within that width (`narrow`) of the stalk's own axis, less half the offset (the offset's
+/// own uncertainty, from a parabola through a few points: a blade's point beside the stalk is not taken for it).
+bool OnFarSide(const StalkAxis& axis, const Eigen::Vector3d& r, double narrow)
+{
+  const double offset = axis.offset.norm();
+  if (!(offset > 0.0))
+    return false;
+  const Eigen::Vector3d& u = axis.towardsBlade;
+  const Eigen::Vector3d fromAxis = r - axis.offset;
+  return (fromAxis - fromAxis.dot(u) * u).norm() <= narrow - 0.5 * offset;
+}
+
 /// The opening's ball covers the stalk's first few spacings beside the blade (and, below a cordate base, the stalk
 /// between the basal lobes): from the junction found so far, the stalk is followed along its axis towards the blade
 /// in slices one spacing thick while each slice's points within 2 spacings of the axis all lie within the stalk's
@@ -514,7 +529,9 @@ void EndInWideSlice(const std::vector<int>& slice, const Eigen::Vector3d& positi
 /// still the stalk (the walk stopped there, up to 5 spacings short of the blade, whose ball covered the rest). A slice
 /// wider than the stalk right after such empty slices ends the stalk at that slice's near side: the stalk ran on
 /// through the gap (the junction left at the last slice with points lay 2.2 radii out on the benchmark's flat
-/// watermelon seen from above), and that slice's points within the stalk's width are its top (EndInWideSlice).
+/// watermelon seen from above), and that slice's points within the stalk's width are its top (EndInWideSlice). The
+/// stalk's far side and flanks are not wider than it (OnFarSide): they join the petiole with their slice, which is
+/// judged centred on the axis without them (they lie off the seen side's centre line).
 void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
   const StalkAxis& axis, Petiole& petiole)
 {
@@ -523,7 +540,7 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
   const Eigen::Vector3d& u = axis.towardsBlade;
   const double narrow = axis.half + 0.75 * spacing, look = axis.half + 2.0 * spacing;
   Eigen::Vector3d position = petiole.junction;
-  std::vector<int> near, slice;
+  std::vector<int> near, slice, farSide;
   const int skippable = static_cast<int>(std::floor(axis.gap / spacing)); // empty slices a stalk's gap spans
   int empty = 0;
   for (int step = 0; step < 10000; ++step)
@@ -531,6 +548,7 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
     const Eigen::Vector3d centre = position + 0.5 * spacing * u;
     grid.Within(centre, std::hypot(look, 0.5 * spacing), near);
     slice.clear();
+    farSide.clear();
     bool wide = false;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (int j : near)
@@ -539,7 +557,9 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
       const double along = r.dot(u), lateral = (r - along * u).norm();
       if (std::abs(along) > 0.5 * spacing || lateral > look)
         continue;
-      if (lateral > narrow)
+      if (lateral > narrow && OnFarSide(axis, r, narrow))
+        farSide.push_back(j); // the stalk's, but not where its seen side's slice is centred
+      else if (lateral > narrow)
         wide = true;
       else
       {
@@ -572,6 +592,8 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
     if ((r - r.dot(u) * u).norm() > spacing)
       break;
     for (int j : slice)
+      petiole.member[j] = 1;
+    for (int j : farSide)
       petiole.member[j] = 1;
     petiole.junction = mean;
     position += spacing * u;
