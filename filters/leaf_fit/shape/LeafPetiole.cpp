@@ -251,8 +251,8 @@ std::size_t FirstStalkBin(const Bins& b, double spacing)
 
 /// The stalk's end at the blade. Near the blade the left-out part may still hold the blade's last samples (a
 /// rounded end the ball did not quite reach): they lie farther from the stalk's axis than its own points do (its
-/// half-width: the 80th percentile of the distances to the axis of the points of its next bins); those, and every
-/// point nearer the blade than the farthest of them, go back to the blade.
+/// half-width: the 80th percentile of the distances to the axis of the points of its next bins), and not on its far
+/// side or flank (OnFarSide); those, and every point nearer the blade than the farthest of them, go back to the blade.
 struct StalkAxis
 {
   bool valid = false;
@@ -350,6 +350,20 @@ void FitStalkLine(const std::vector<Eigen::Vector3d>& section, const std::vector
   axis.lineOffset = offset - offset.dot(axis.direction) * axis.direction;
 }
 
+/// Whether a point `r` from the centroids' line (along `u`), beyond the stalk's width from it, is still the stalk's:
+/// that line lies on the seen side, up to a radius off the axis (`offset`, from AxisOffset), and the stalk's far side
+/// (seen from a second scanner position, or its inside through a cut end) and its flanks lie farther than the seen
+/// side's width from it. Such a point lies within that width (`narrow`) of the stalk's own axis, less half the
+/// offset (the offset's own uncertainty, from a parabola through a few points: a blade's point beside the stalk is
+/// not taken for it).
+bool OnFarSide(const Eigen::Vector3d& offset, const Eigen::Vector3d& u, const Eigen::Vector3d& r, double narrow)
+{
+  if (!(offset.norm() > 0.0))
+    return false;
+  const Eigen::Vector3d fromAxis = r - offset;
+  return (fromAxis - fromAxis.dot(u) * u).norm() <= narrow - 0.5 * offset.norm();
+}
+
 StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail, const Bins& b, std::size_t start,
   double spacing, Petiole& petiole)
 {
@@ -401,11 +415,17 @@ StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& t
     std::nth_element(own.begin(), own.begin() + q, own.end());
     half = own[q];
   }
-  // The blade reaches as far from it as its farthest sample wider than the stalk: everything nearer is blade.
+  // The blade reaches as far from it as its farthest sample wider than the stalk (not the stalk's far side or
+  // flank, OnFarSide): everything nearer is blade.
+  const Eigen::Vector3d offset = AxisOffset(across, u, half, spacing);
   double cut = -1.0;
   for (std::size_t k = 0; k < trail.ids.size(); ++k)
-    if (petiole.member[trail.ids[k]] && trail.distance[k] < near && lateral(points[trail.ids[k]]) > half + spacing)
+  {
+    const Eigen::Vector3d& p = points[trail.ids[k]];
+    if (petiole.member[trail.ids[k]] && trail.distance[k] < near && lateral(p) > half + spacing &&
+      !OnFarSide(offset, u, p - origin, half + spacing))
       cut = std::max(cut, trail.distance[k]);
+  }
   for (std::size_t k = 0; k < trail.ids.size(); ++k)
     if (trail.distance[k] < near && trail.distance[k] <= cut)
       petiole.member[trail.ids[k]] = 0;
@@ -422,7 +442,7 @@ StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& t
       ++count;
     }
   petiole.junction /= static_cast<double>(std::max<std::size_t>(1, count));
-  StalkAxis axis{ !own.empty(), origin, u, half, LargestGap(along), AxisOffset(across, u, half, spacing) };
+  StalkAxis axis{ !own.empty(), origin, u, half, LargestGap(along), offset };
   FitStalkLine(section, across, u, spacing, axis);
   return axis;
 }
@@ -514,7 +534,9 @@ void EndInWideSlice(const std::vector<int>& slice, const Eigen::Vector3d& positi
 /// still the stalk (the walk stopped there, up to 5 spacings short of the blade, whose ball covered the rest). A slice
 /// wider than the stalk right after such empty slices ends the stalk at that slice's near side: the stalk ran on
 /// through the gap (the junction left at the last slice with points lay 2.2 radii out on the benchmark's flat
-/// watermelon seen from above), and that slice's points within the stalk's width are its top (EndInWideSlice).
+/// watermelon seen from above), and that slice's points within the stalk's width are its top (EndInWideSlice). The
+/// stalk's far side and flanks are not wider than it (OnFarSide): they join the petiole with their slice, which is
+/// judged centred on the axis without them (they lie off the seen side's centre line).
 void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
   const StalkAxis& axis, Petiole& petiole)
 {
@@ -523,7 +545,7 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
   const Eigen::Vector3d& u = axis.towardsBlade;
   const double narrow = axis.half + 0.75 * spacing, look = axis.half + 2.0 * spacing;
   Eigen::Vector3d position = petiole.junction;
-  std::vector<int> near, slice;
+  std::vector<int> near, slice, farSide;
   const int skippable = static_cast<int>(std::floor(axis.gap / spacing)); // empty slices a stalk's gap spans
   int empty = 0;
   for (int step = 0; step < 10000; ++step)
@@ -531,6 +553,7 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
     const Eigen::Vector3d centre = position + 0.5 * spacing * u;
     grid.Within(centre, std::hypot(look, 0.5 * spacing), near);
     slice.clear();
+    farSide.clear();
     bool wide = false;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (int j : near)
@@ -539,7 +562,9 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
       const double along = r.dot(u), lateral = (r - along * u).norm();
       if (std::abs(along) > 0.5 * spacing || lateral > look)
         continue;
-      if (lateral > narrow)
+      if (lateral > narrow && OnFarSide(axis.offset, u, r, narrow))
+        farSide.push_back(j); // the stalk's, but not where its seen side's slice is centred
+      else if (lateral > narrow)
         wide = true;
       else
       {
@@ -572,6 +597,8 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
     if ((r - r.dot(u) * u).norm() > spacing)
       break;
     for (int j : slice)
+      petiole.member[j] = 1;
+    for (int j : farSide)
       petiole.member[j] = 1;
     petiole.junction = mean;
     position += spacing * u;
