@@ -481,6 +481,39 @@ constexpr double LoneStripNormalSpread = 0.01;
 /// A lone strip has no wood within this fraction of the features' radius r of its points.
 constexpr double LoneStripReach = 0.5;
 
+/// The points of each strip region (`members`) and those of them grown into it in step 3 (`own`, the points judged;
+/// the rest were reached by the breadth-first spread), indexed by region.
+void StripMembers(const std::vector<char>& judged, const std::vector<RegionVerdict>& verdicts,
+  const std::vector<int>& region, std::vector<std::vector<int>>& members, std::vector<std::vector<int>>& own)
+{
+  members.assign(verdicts.size(), {});
+  own.assign(verdicts.size(), {});
+  for (std::size_t i = 0; i < region.size(); ++i)
+    if (region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].strip)
+    {
+      members[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
+      if (judged[i])
+        own[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
+    }
+}
+
+/// The strip regions `chosen` become flat leaf regions, their points leaf. Returns the points made leaf.
+std::size_t StripsMadeLeaf(const std::vector<std::size_t>& chosen, const std::vector<std::vector<int>>& members,
+  std::vector<RegionVerdict>& verdicts, std::vector<int>& organ)
+{
+  std::size_t count = 0;
+  for (std::size_t r : chosen)
+  {
+    verdicts[r].strip = false;
+    verdicts[r].leaf = true;
+    verdicts[r].flatStrip = true;
+    for (int j : members[r])
+      organ[static_cast<std::size_t>(j)] = OrganLeaf;
+    count += members[r].size();
+  }
+  return count;
+}
+
 /// Strips (flat, coherent, no cylinder, wood only for being narrower than 2r or long) that no flat surroundings made
 /// leaf are leaf when no wood lies within LoneStripReach r of them and the normals of their own points (those grown,
 /// not spread into them) do not turn about their length (LoneStripNormalSpread). Wood is a tube: its strips lie
@@ -492,14 +525,8 @@ std::size_t LoneFlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& points, 
   std::vector<int>& organ)
 {
   const std::size_t n = region.size();
-  std::vector<std::vector<int>> members(verdicts.size()), own(verdicts.size());
-  for (std::size_t i = 0; i < n; ++i)
-    if (region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].strip)
-    {
-      members[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
-      if (judged[i])
-        own[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
-    }
+  std::vector<std::vector<int>> members, own;
+  StripMembers(judged, verdicts, region, members, own);
   const double reach = LoneStripReach * f.radius;
   std::vector<unsigned char> wood(n, 0);
   for (std::size_t i = 0; i < n; ++i)
@@ -523,17 +550,7 @@ std::size_t LoneFlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& points, 
     if (alone)
       lone.push_back(r);
   }
-  std::size_t count = 0;
-  for (std::size_t r : lone)
-  {
-    verdicts[r].strip = false;
-    verdicts[r].leaf = true;
-    verdicts[r].flatStrip = true;
-    for (int j : members[r])
-      organ[static_cast<std::size_t>(j)] = OrganLeaf;
-    count += members[r].size();
-  }
-  return count;
+  return StripsMadeLeaf(lone, members, verdicts, organ);
 }
 
 /// A strip among leaves has under this fraction of wood among the points within StripRingLinks links around it. On the
@@ -557,14 +574,8 @@ std::size_t StripsAmongLeavesAreLeaves(const std::vector<Eigen::Vector3d>& point
   const LinkGraph& graph, const std::vector<char>& judged, std::vector<RegionVerdict>& verdicts,
   const std::vector<int>& region, std::vector<int>& organ)
 {
-  std::vector<std::vector<int>> members(verdicts.size()), own(verdicts.size());
-  for (std::size_t i = 0; i < region.size(); ++i)
-    if (region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].strip)
-    {
-      members[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
-      if (judged[i])
-        own[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
-    }
+  std::vector<std::vector<int>> members, own;
+  StripMembers(judged, verdicts, region, members, own);
   std::vector<int> mark(points.size(), -1);
   std::vector<std::size_t> among;
   for (std::size_t r = 0; r < verdicts.size(); ++r)
@@ -582,17 +593,7 @@ std::size_t StripsAmongLeavesAreLeaves(const std::vector<Eigen::Vector3d>& point
     if (SpreadOfNormals(f, own[r], solver.eigenvectors().col(2)).middle < TubeNormalSpread)
       among.push_back(r);
   }
-  std::size_t count = 0;
-  for (std::size_t r : among)
-  {
-    verdicts[r].strip = false;
-    verdicts[r].leaf = true;
-    verdicts[r].flatStrip = true;
-    for (int j : members[r])
-      organ[static_cast<std::size_t>(j)] = OrganLeaf;
-    count += members[r].size();
-  }
-  return count;
+  return StripsMadeLeaf(among, members, verdicts, organ);
 }
 
 /// A thick cylinder's pieces of wood are fitted over lengths of ThickWoodSlice r along their region's axis.
