@@ -231,7 +231,8 @@ bool SeamIsShort(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gr
 } // namespace
 
 bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
-  const std::vector<int>& partOf, int a, int b, const std::vector<int>& idsA, const std::vector<int>& idsB)
+  const std::vector<int>& partOf, int a, int b, const std::vector<int>& idsA, const std::vector<int>& idsB,
+  bool touchSaysTwo)
 {
   std::vector<int> seam;
   const auto linkedTo = [&](int j, int other) {
@@ -251,7 +252,7 @@ bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGrap
     if (linkedTo(j, a))
       seam.push_back(j);
   if (seam.size() < SeamPoints)
-    return true; // a touch at a point or two: no crease runs there
+    return touchSaysTwo; // a touch at a point or two: no crease runs there
   return SeamSaysTwoLeaves(points, seam, idsA, idsB);
 }
 

@@ -1105,7 +1105,9 @@ bool PieceOf(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
 ///    another (its base hidden or in another part): it joins nothing and gets no instance (its points stay leaf,
 ///    LeafId -1), since alone it is mostly a fragment of a leaf that the instances do not match;
 ///  - then larger parts join only a touching part that continues the same sheet (OneSheet): a leaf cut in two by a
-///    crease, a vein, a line of missing points or a turn of the normals, whose halves are each as large as a leaf.
+///    crease, a vein, a line of missing points or a turn of the normals, whose halves are each as large as a leaf,
+///    unless their seam says two leaves (ShortSeamBetween: two leaves 12-23 degrees apart, cut at their seam, are
+///    one sheet within NormalAngle and were joined again).
 /// Parts touching no other part (a leaf seen in parts behind another) stay apart.
 void JoinPieces(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, double fraction,
   int minimumLeafPoints, double cosine, double thickness, std::vector<std::vector<int>>& parts)
@@ -1153,7 +1155,9 @@ void JoinPieces(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
       for (const auto& [part, count] : links)
         if ((best < 0 || count > links[best]) &&
           (pass == 0 ? PieceOf(points, graph, partOf, parts, moments, k, part, cosine, thickness)
-                     : OneSheet(moments[k], moments[static_cast<std::size_t>(part)], cosine, thickness)))
+                     : OneSheet(moments[k], moments[static_cast<std::size_t>(part)], cosine, thickness) &&
+                !ShortSeamBetween(points, graph, partOf, static_cast<int>(k), part, parts[k],
+                  parts[static_cast<std::size_t>(part)], false)))
           best = part;
       if (best < 0 && pass == 0 && !links.empty()) // a small leaf beside others: no instance
       {
@@ -1844,8 +1848,9 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   JoinAcrossGaps(points, radius, gapCosine, p.minimumLeafPoints, leaves);
   // a side of a cut needs only a leaf's fewest points: the seam, not its size, tells a crease from a contact, and a
   // small side is judged again by the joins (a piece joins its leaf; a small leaf beside another gets no instance)
-  if (CutAtShortSeams(points, f, graph, std::cos(p.normalAngle * Pi / 180.0),
-        static_cast<std::size_t>(p.minimumLeafPoints), leaves) > 0)
+  // two normal groups over half of NormalAngle apart (the features' normals are good to about 10 degrees) are looked
+  // at: leaves touching at 12-23 degrees were left merged at the full NormalAngle
+  if (CutAtShortSeams(points, f, graph, gapCosine, static_cast<std::size_t>(p.minimumLeafPoints), leaves) > 0)
   {
     // a cut side may be a piece of a third leaf whose rest lies in another part: the joins again
     JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);

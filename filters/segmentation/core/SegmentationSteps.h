@@ -145,23 +145,25 @@ inline constexpr double SeamFraction = 0.8;
 /// of the smaller one, the seam 0.84-1.16 of its extent).
 inline constexpr double NotchedHullFraction = 0.95;
 
-/// Two touching leaves grown into one leaf part (their normals turn by more than NormalAngle across a smooth
-/// contact): each part of at least 2 `smallest` points (a leaf's fewest, MinimumLeafPoints) whose normals form two
-/// groups with axes more than NormalAngle apart (`cosine`), each group made one linked piece, is cut between them
-/// when each side has at least `smallest` points and their seam (the points linked to the other side) is shorter
-/// than SeamFraction of each side's extent along it, or the sides unfolded about the seam leave notches
-/// (NotchedHullFraction); each side is looked at again. Returns the cuts made.
+/// Two touching leaves grown into one leaf part (their normals turn smoothly across the contact): each part of at
+/// least 2 `smallest` points (a leaf's fewest, MinimumLeafPoints) whose normals form two groups with axes further
+/// apart than `cosine` (half of NormalAngle), each group made one linked piece, is cut between them when each side
+/// has at least `smallest` points and their seam (the points linked to the other side) is shorter than SeamFraction
+/// of each side's extent along it, or the sides unfolded about the seam leave notches (NotchedHullFraction); each
+/// side is looked at again. Returns the cuts made.
 std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts);
 
 /// Whether two touching parts `a` and `b` (their points idsA and idsB; partOf maps a point to its part, -1 or short
 /// of the point elsewhere) meet over a short seam: the points of either linked to the other, along their own line,
-/// shorter than SeamFraction of each part's extent along that line (or fewer than three such points), or the two
+/// shorter than SeamFraction of each part's extent along that line (or fewer than three such points, unless
+/// `touchSaysTwo` is false: a line of missing points between two pieces of one sheet leaves no seam), or the two
 /// unfolded about that line leave notches where it ends (NotchedHullFraction). A crease that cut a piece off its
 /// leaf runs across the piece from margin to margin and unfolds into the leaf's outline; a leaf touching another
 /// meets it over part of its margin, or at an angle where the seam ends.
 bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
-  const std::vector<int>& partOf, int a, int b, const std::vector<int>& idsA, const std::vector<int>& idsB);
+  const std::vector<int>& partOf, int a, int b, const std::vector<int>& idsA, const std::vector<int>& idsB,
+  bool touchSaysTwo = true);
 
 /// The whole segmentation of one plant; "" or the reason it cannot be segmented.
 std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const SegmentationParameters& p,

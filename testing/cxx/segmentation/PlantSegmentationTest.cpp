@@ -1114,6 +1114,25 @@ TEST(PlantSegmentation, TwoBladesTouchingTipToMarginAreTwoInstances)
     }
 }
 
+TEST(PlantSegmentation, TwoBladesTouchingTipToMarginAtASmallAngleAreTwoInstances)
+{
+  // TipOnAMargin's blades 15 to 20 degrees apart: within NormalAngle, so the cut at a seam did not look at them and
+  // the two grew into one instance (each leaf matched at IoU about 0.5). The features' normals are good to about 10
+  // degrees, so two normal groups over half of NormalAngle apart that meet at a spot are two leaves, and the joins
+  // after the cut do not put two parts of one sheet back together across a seam that says two leaves.
+  for (const double degrees : { 15.0, 20.0 })
+    for (const double noise : { 0.0002, 0.001 })
+    {
+      SCOPED_TRACE(std::to_string(degrees) + " degrees, noise " + std::to_string(noise));
+      const Truth t = TipOnAMargin(degrees, noise);
+      const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+      ASSERT_EQ(r.error, "");
+      EXPECT_EQ(r.leaves.size(), 2u);
+      for (double iou : InstanceIoU(t, r, 2))
+        EXPECT_GT(iou, 0.95);
+    }
+}
+
 TEST(PlantSegmentation, ASmallBladeTouchingTipToMarginIsCutOutOfItsNeighbour)
 {
   // TipOnAMargin with blade 1 0.16 long (about 400 points, under a third of blade 0's 1,400): both grow into one
