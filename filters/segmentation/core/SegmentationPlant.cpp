@@ -1574,6 +1574,13 @@ bool OneSpacing(std::vector<double> gaps)
   return std::max(a, b) <= RowGapRatio * std::min(a, b);
 }
 
+/// Whether points whose scatter has the ascending `eigenvalues` are a line by their shape: their second spread under
+/// LineSpread of their first.
+bool LineShaped(const Eigen::Vector3d& eigenvalues)
+{
+  return eigenvalues[1] < LineSpread * LineSpread * eigenvalues[2];
+}
+
 /// The row directions the features measured at the points of `ids` whose neighbourhood is a line (IsRow), each of
 /// weight 1, where the group's own points within r of the point are a line by their own shape too (the second
 /// spread under LineSpread of the first, as a part's axis must be): IsRow asks a width under LineSpread r, which three
@@ -1595,15 +1602,8 @@ std::vector<std::pair<Eigen::Vector3d, double>> RowDirections(
     grid.Within(own[k], f.radius, near);
     if (near.size() < 3)
       continue;
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (int q : near)
-      mean += own[static_cast<std::size_t>(q)];
-    mean /= static_cast<double>(near.size());
-    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-    for (int q : near)
-      scatter += (own[static_cast<std::size_t>(q)] - mean) * (own[static_cast<std::size_t>(q)] - mean).transpose();
-    const Eigen::Vector3d l = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues();
-    if (l[1] < LineSpread * LineSpread * l[2])
+    Eigen::Vector3d mean;
+    if (LineShaped(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(Scatter(own, near, mean)).eigenvalues()))
       directions.emplace_back(f.direction[i], 1.0);
   }
   return directions;
@@ -1659,7 +1659,7 @@ bool RowsOfOneLeaf(const std::vector<Eigen::Vector3d>& points, const PointFeatur
         continue;
       Eigen::Vector3d mean;
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, members, mean));
-      if (solver.eigenvalues()[1] < LineSpread * LineSpread * solver.eigenvalues()[2])
+      if (LineShaped(solver.eigenvalues()))
         directions.emplace_back(solver.eigenvectors().col(2), static_cast<double>(members.size()));
     }
   }
