@@ -32,9 +32,9 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
-#include <iterator>
 #include <cmath>
 #include <initializer_list>
+#include <iterator>
 #include <map>
 #include <numeric>
 #include <sstream>
