@@ -90,9 +90,19 @@ def line_scan(scene, points, t, e_length, e_width, normal, tilt, L):
     start = centre + (s.min() - 0.45 * length) * e_length + height * normal
     stop = centre + (s.max() + 0.1 * length) * e_length + height * normal
     fan = 2.0 * math.degrees(math.atan(0.7 * width / height))
+    # The fan reaches the whole scene, the petiole's far end too: 0.7 of the width about the centroid did not where
+    # the scene reaches farther on one side (the ginkgo seen obliquely, along its midvein: the stalk's last 28 %
+    # was outside the fan). Widened by whole steps on either side to the farthest point plus the tube's radius and
+    # a step, so the beams it had keep their directions (the range noise is drawn anew).
+    step = math.degrees(spacing / height)
+    depth = (centre + height * normal - points) @ normal
+    reach = float(numpy.degrees(numpy.abs(numpy.arctan2(w, depth))).max()) + math.degrees(0.01 * L / height) + step
+    rows = math.floor(fan / step + 1e-9)  # the fan's beams less one
+    if reach > 0.5 * rows * step:
+        fan = (rows + 2 * math.ceil((reach - 0.5 * rows * step) / step) + 0.5) * step
     return VirtualScanner(Input=scene, ScannerType="Line", LineMotion="Path",
                           Positions=list(start) + list(stop), LookAt=list(0.5 * (start + stop) - height * normal),
-                          Up=list(e_width), VerticalFieldOfView=fan, AngularStep=math.degrees(spacing / height),
+                          Up=list(e_width), VerticalFieldOfView=fan, AngularStep=step,
                           LineSpacing=spacing, RangeNoise=arguments.noise * L, Seed=3 if tilt >= 0.0 else 4)
 
 
