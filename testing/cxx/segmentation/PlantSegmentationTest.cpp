@@ -652,6 +652,35 @@ TEST(PlantSegmentation, ALeafInEvenRowsBesideALeafIsAnInstanceHalfALeafOrTwoLeav
   }
 }
 
+TEST(PlantSegmentation, ANarrowLeafSeenWithoutRowsBesideALeafIsAnInstance)
+{
+  // The plant of eight leaves, the top one (leaf 7) a narrow blade seen densely: an ellipse 0.2 long and 0.045 wide
+  // sampled a spacing apart, with a dense blade (leaf 8) 0.05 above its middle (2.5r: within 4r). Its width from its
+  // variance is under 2r, so its region is a flat strip with no leaf shape of its own, and it is judged as a leaf
+  // seen in rows; but no row is seen in it (its neighbourhoods are planes, and the blade is no line by its shape:
+  // under 5 times as long as wide), so the rows' tests had nothing to measure and, beside the blade, it had no
+  // instance (on the simulated trees such groups within 4r of a leaf held 16 whole leaves and 3 pieces). Across 2r
+  // or more and flat, with no rows to say it is a piece: one instance of its own.
+  const int leaves = 8;
+  const double h = 0.005, length = 0.2, half = 0.0225, rise = 40.0 * Pi / 180.0;
+  const LeafFrame frame = EighthLeafFrame(rise);
+  Truth t = WithoutLeaf(SyntheticPlant(leaves), leaves - 1);
+  AddBladeAboveEighthLeaf(t, frame, leaves, 0.3, h);
+  NoisyAdder add{ t, std::mt19937(13), std::normal_distribution<double>(0.0, 0.0002) };
+  for (double s = 0.0; s <= length + 1e-12; s += h)
+    for (double w = -half; w <= half + 1e-12; w += h)
+    {
+      const double u = (s - length / 2) / (length / 2), v = w / half;
+      if (u * u + v * v <= 1.0)
+        add(frame.base + (0.05 + s) * frame.along + w * frame.across, plantmorph::OrganLeaf, leaves - 1);
+    }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  for (double iou : InstanceIoU(t, r, leaves + 1))
+    EXPECT_GT(iou, 0.9);
+}
+
 TEST(PlantSegmentation, ALeafInWaveringRowsBesideALeafIsAnInstance)
 {
   // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15) scanned whole at a grazing angle, with a dense
