@@ -32,7 +32,8 @@
 //     A strip left wood is leaf still when the points within three links around it are under 40 % wood and its own
 //     normals turn about its length by under an rms 10 degrees (the features' error) (its own points at least a quarter of its points): a
 //     leaf's strip at its base beside its twig, among leaf points. Alone, such a strip gets no LeafId. Points of regions too small to judge take
-//     the organ of the nearest judged region (breadth-first over the radius graph), linear ones are wood.
+//     the organ of the nearest judged region (breadth-first over the radius graph; a leaf region's only within 2r of
+//     the judged point its spread started from: beyond lies the twig the leaf sits on), linear ones are wood.
 //     A thick cylinder keeps its whole surface: the judged wood is fitted, in slices of 8r along each wood region's
 //     axis, with circles of radius at least r (refitted to all the wood of the slice near them), and the leaf points
 //     on such a circle (within 3 times the range noise or a spacing, their normals within NormalAngle of its radius)

@@ -437,18 +437,28 @@ std::size_t FlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& points, cons
   return leaves;
 }
 
+/// A leaf region's spread reaches its unjudged points within this many features' radii r of the judged point the
+/// spread started from: the features see r around a point, so a point reached over more than 2r of unjudged points
+/// (a twig's surface beyond the leaf's base, its normals turning through creases and small regions) is no part of
+/// the leaf's sheet.
+constexpr double LeafSpreadReach = 2.0;
+
 /// Breadth-first from the judged points over the unjudged, non-linear ones: each takes the region (and so the
-/// organ) of the judged point it is reached from first. Sources in index order: deterministic.
-void SpreadRegions(const PointFeatures& f, const LinkGraph& graph, const std::vector<RegionVerdict>& verdicts,
-  std::vector<int>& region, std::vector<char>& judged)
+/// organ) of the judged point it is reached from first, a leaf region's within LeafSpreadReach r of that point.
+/// Sources in index order: deterministic.
+void SpreadRegions(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
+  const std::vector<RegionVerdict>& verdicts, std::vector<int>& region, std::vector<char>& judged)
 {
   const std::size_t n = region.size();
+  const double reach = LeafSpreadReach * f.radius;
   judged.assign(n, 0);
+  std::vector<int> source(n, -1);
   std::deque<int> queue;
   for (std::size_t i = 0; i < n; ++i)
     if (region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].judged)
     {
       judged[i] = 1;
+      source[i] = static_cast<int>(i);
       queue.push_back(static_cast<int>(i));
     }
   std::vector<char> reached(judged);
@@ -456,20 +466,22 @@ void SpreadRegions(const PointFeatures& f, const LinkGraph& graph, const std::ve
   {
     const auto q = static_cast<std::size_t>(queue.front());
     queue.pop_front();
+    const auto from = static_cast<std::size_t>(source[q]);
+    const bool leaf = verdicts[static_cast<std::size_t>(region[q])].leaf;
     for (std::size_t e = graph.offsets[q]; e < graph.offsets[q + 1]; ++e)
     {
       const auto j = static_cast<std::size_t>(graph.neighbours[e]);
-      if (!reached[j] && !IsLinear(f, j))
-      {
-        reached[j] = 1;
-        region[j] = region[q];
-        queue.push_back(static_cast<int>(j));
-      }
+      if (reached[j] || IsLinear(f, j) || (leaf && (points[j] - points[from]).norm() > reach))
+        continue;
+      reached[j] = 1;
+      region[j] = region[q];
+      source[j] = source[q];
+      queue.push_back(static_cast<int>(j));
     }
   }
   for (std::size_t i = 0; i < n; ++i)
     if (!reached[i])
-      region[i] = -1; // linear points and points cut off from every judged region
+      region[i] = -1; // linear points, points cut off from every judged region or beyond a leaf region's reach
 }
 
 /// A flat strip's normals turn about its length by under this: the middle eigenvalue of their second moments (the
@@ -1955,7 +1967,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   JoinFoldedStrips(points, f, graph, p, verdicts, region);
   FlatStripsAreLeaves(points, graph, f.radius, verdicts, region);
   std::vector<char> judged;
-  SpreadRegions(f, graph, verdicts, region, judged);
+  SpreadRegions(points, f, graph, verdicts, region, judged);
   labels.organ.assign(n, OrganWood);
   labels.leaf.assign(n, -1);
   labels.confidence.assign(n, 0.5);

@@ -1003,6 +1003,45 @@ TEST(PlantSegmentation, ANarrowLeafAmongLeavesBesideATwigIsLeaf)
   EXPECT_GT(static_cast<double>(twigWood), 0.95 * static_cast<double>(t.points.size() - twig));
 }
 
+TEST(PlantSegmentation, ATwigBeyondALeafsBaseIsWood)
+{
+  // Beside the plant of seven leaves, linked to nothing, a twig of radius 0.015 (0.75 r; r = 4 spacings = 0.02) and
+  // 0.3 long carries one blade at its end. Seen obliquely, the twig is sampled at twice the plant's spacing: a point
+  // has few neighbours within the links (2.5 spacings), so its surface falls into regions under 12 points, which
+  // took the region they were reached from first over the links: the blade's, along the whole twig. A leaf region
+  // reaches its unjudged points within 2r of the judged point its spread started from: the twig beyond that is wood,
+  // the blade stays one leaf.
+  const int leaves = 7;
+  const double noise = 0.0002, h = 0.005, length = 0.3, radius = 3 * h, step = 2 * h;
+  Truth t = SyntheticPlant(leaves);
+  NoisyAdder add{ t, std::mt19937(13), std::normal_distribution<double>(0.0, noise) };
+  const std::size_t twig = t.points.size();
+  const Eigen::Vector3d start(-0.9, 0.0, 0.3);
+  const int around = static_cast<int>(std::round(2.0 * Pi * radius / step));
+  for (int k = 0; k * step <= length; ++k)
+    for (int a = 0; a < around; ++a)
+    {
+      const double angle = 2.0 * Pi * (a + 0.5 * (k % 2)) / around;
+      add(start + Eigen::Vector3d(k * step, radius * std::cos(angle), radius * std::sin(angle)), plantmorph::OrganWood,
+        -1);
+    }
+  const std::size_t blade = t.points.size();
+  AddBlade(t, start + Eigen::Vector3d(length - step, 0.0, radius), 30.0 * Pi / 180.0, {}, leaves, noise);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  std::size_t far = 0, farWood = 0; // the twig farther than 2r from the blade's base
+  for (std::size_t i = twig; i < blade; ++i)
+    if (t.points[i].x() < start.x() + length - 2 * 0.02)
+    {
+      ++far;
+      farWood += r.organ[i] == plantmorph::OrganWood;
+    }
+  EXPECT_GT(static_cast<double>(farWood), 0.95 * static_cast<double>(far));
+  EXPECT_GT(static_cast<double>(CountOrgan(r, blade, t.points.size(), plantmorph::OrganLeaf)),
+    0.95 * static_cast<double>(t.points.size() - blade));
+  EXPECT_GT(InstanceIoU(t, r, leaves + 1).back(), 0.9);
+}
+
 TEST(PlantSegmentation, ANarrowArcOfAThinBranchIsWoodAGentlyRolledLeafIsLeaf)
 {
   // The plant of seven leaves, with beside it, linked to nothing, a branch of radius 0.035 (1.75 r; r = 4 spacings
