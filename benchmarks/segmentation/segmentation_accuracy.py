@@ -25,9 +25,11 @@ the plant's leaf area (the fitted areas of every fitted row, matched or not) aga
 and of the leaves with at least 100 scanned points; the rows not fitted (Status 2) and their reasons. Beside them,
 to tell the segmentation's share from the fit's and the scan's: the same true leaves fitted on their true labels
 (each true blade's scanned points alone), and pooled, the matched leaves seen whole (0.99 of the blade's area or more
-within 2-4 % of a leaf's length of the leaf's own scanned points; a leaf seen in part fits small). `--fit-csv FILE`
-writes one line per matched leaf (the found and true LeafId, points, areas, the area on the true labels, the share
-seen, Status and Message).
+within 2-4 % of a leaf's length of the leaf's own scanned points; a leaf seen in part fits small). A third table
+sets the Traits' EstimatedArea (a leaf seen in part estimated from the plant's leaves seen whole) beside Area: the
+matched leaves' median error, the share within 3 % and the plant's sum. `--fit-csv FILE` writes one line per matched
+leaf (the found and true LeafId, points, areas, the area on the true labels, the share seen, EstimatedArea and
+AreaRule, Status and Message).
 """
 import argparse
 import math
@@ -230,7 +232,8 @@ areas, cell_areas = {}, {}  # name: each true leaf's area; each cell's blade are
 
 def fitted_rows(cloud, labels="LeafId", lowest=0):
     """LeafFitFilter on the points whose `labels` is at least `lowest` (the found leaves': LeafId >= 0; the true
-    blades': the scan's Organ 1): (LeafId, Area, Status, Message) per Traits row, and the CPU time."""
+    blades': the scan's Organ 1): (LeafId, Area, Status, Message, EstimatedArea, AreaRule) per Traits row (a plugin
+    without EstimatedArea: Area and NaN), and the CPU time."""
     leaf_points = Threshold(Input=cloud, Scalars=["POINTS", labels])
     # set after the proxy exists: on an input already updated, its domain resets the range to the data's (-1 too)
     leaf_points.LowerThreshold, leaf_points.UpperThreshold = lowest, 1 if labels == "Organ" else 1e9
@@ -240,7 +243,11 @@ def fitted_rows(cloud, labels="LeafId", lowest=0):
     cpu = time.process_time() - cpu_start
     traits = servermanager.Fetch(fit, idx=2)
     column = lambda c: [traits.GetColumnByName(c).GetValue(k) for k in range(traits.GetNumberOfRows())]  # noqa: E731
-    rows = list(zip(*(column(c) for c in ("LeafId", "Area", "Status", "Message")))) if traits.GetNumberOfRows() else []
+    names = ["LeafId", "Area", "Status", "Message"]
+    names += ["EstimatedArea", "AreaRule"] if traits.GetColumnByName("EstimatedArea") else ["Area", "Area"]
+    rows = list(zip(*(column(c) for c in names))) if traits.GetNumberOfRows() else []
+    if names[-1] == "Area":
+        rows = [r[:5] + (float("nan"),) for r in rows]
     Delete(fit)
     Delete(leaf_points)
     return rows, cpu
@@ -249,17 +256,19 @@ def fitted_rows(cloud, labels="LeafId", lowest=0):
 def fit_scores(fits, s, true_area, label):
     """Areas of the fitted rows against the truth: the matched leaves' errors, the plant's sum, the failures."""
     fitted = [r for r in fits if int(r[2]) != 2]
-    errors, seen = [], []
-    for leaf_id, area, status, message in fitted:
+    errors, seen, estimated = [], [], []
+    for leaf_id, area, status, message, estimate, rule in fitted:
         tid = s["match"].get(int(leaf_id))
         if tid is not None:
             truth = true_area[tid]
             errors.append((area - truth) / truth)
+            estimated.append((estimate - truth) / truth)
             seen.append(s["seen"][tid] / truth)
-            fit_csv.append("%s,%d,%d,%d,%d,%.6g,%.6g,%.5f,%d,%.6g,%.4f,%s" % (
+            fit_csv.append("%s,%d,%d,%d,%d,%.6g,%.6g,%.5f,%d,%.6g,%.4f,%.6g,%g,%s" % (
                 label, leaf_id, tid, s["found_points"][int(leaf_id)], s["sizes"][tid], area, truth, errors[-1],
-                int(status), s["true_fits"].get(tid, float("nan")), s["seen"][tid] / truth, message.replace(",", ";")))
-    errors = numpy.abs(numpy.array(errors))
+                int(status), s["true_fits"].get(tid, float("nan")), s["seen"][tid] / truth, estimate, rule,
+                message.replace(",", ";")))
+    errors, estimated = numpy.abs(numpy.array(errors)), numpy.abs(numpy.array(estimated))
     # the fit alone on the true labels, over the same true leaves: the error the segmentation did not add
     alone = numpy.array([abs(s["true_fits"][t] / true_area[t] - 1) for t in s["match"].values() if t in s["true_fits"]])
     reasons = {}
@@ -271,13 +280,16 @@ def fit_scores(fits, s, true_area, label):
                 fit_median=float(numpy.median(errors)) if len(errors) else float("nan"), fit_rows=len(fits),
                 fit_ok=len(fitted), fit_warned=sum(1 for r in fitted if int(r[2]) == 1),
                 fit_failed=len(fits) - len(fitted), fit_reasons=reasons, fit_errors=errors, alone_errors=alone,
-                fit_seen=numpy.array(seen),
+                fit_seen=numpy.array(seen), est_errors=estimated,
+                est_within=int(numpy.count_nonzero(estimated <= 0.03)),
+                est_median=float(numpy.median(estimated)) if len(estimated) else float("nan"),
+                est_plant=sum(r[4] for r in fitted),
                 alone_median=float(numpy.median(alone)) if len(alone) else float("nan"),
                 fit_plant=sum(r[1] for r in fitted), true_plant=float(true_area.sum()), true_big=big_area)
 
 
 fit_csv = ["scan,LeafId,TrueLeafId,Points,TruePoints,FittedArea,TrueArea,Error,Status,AreaOnTrueLabels,SeenFraction,"
-           "Message"]
+           "EstimatedArea,AreaRule,Message"]
 rows = []
 for name in arguments.plants.split(","):
     step = PLANTS[name][3]
@@ -381,6 +393,36 @@ if arguments.fit and rows:
     print("Of them seen whole (0.99 of the blade or more near its scanned points): %d, median |area error| %.2f %%, "
           "%.1f %% within 3 %%" % (len(whole), 100 * numpy.median(whole) if len(whole) else float("nan"),
                                    100 * numpy.count_nonzero(whole <= 0.03) / max(1, len(whole))))
+    estimated_whole = numpy.concatenate([s["est_errors"] for s in rows])[
+        numpy.concatenate([s["fit_seen"] for s in rows]) >= 0.99]
+    print("EstimatedArea of the same: median |area error| %.2f %%, %.1f %% within 3 %%; %d of them more than 1 %% "
+          "further from the truth than Area" % (
+              100 * numpy.median(estimated_whole) if len(estimated_whole) else float("nan"),
+              100 * numpy.count_nonzero(estimated_whole <= 0.03) / max(1, len(estimated_whole)),
+              numpy.count_nonzero(estimated_whole > whole + 0.01)))
+    print("\nEstimatedArea (a leaf seen in part from the plant's leaves seen whole) beside Area:\n")
+    print("| plant | positions | noise | median area error: fitted / estimated | within 3 %: fitted / estimated | "
+          "plant area: fitted / estimated / true all | error against all: fitted / estimated | against >= 100 "
+          "points: fitted / estimated |")
+    print("|---|---|---|---|---|---|---|---|")
+    for s in rows:
+        print("| %s | %d | %g | %.1f %% / %.1f %% | %d / %d | %.2f / %.2f / %.2f | %+.1f %% / %+.1f %% | "
+              "%+.1f %% / %+.1f %% |" % (
+                  s["plant"], s["positions"], s["noise"], 100 * s["fit_median"], 100 * s["est_median"],
+                  s["fit_within"], s["est_within"], s["fit_plant"], s["est_plant"], s["true_plant"],
+                  100 * (s["fit_plant"] / s["true_plant"] - 1), 100 * (s["est_plant"] / s["true_plant"] - 1),
+                  100 * (s["fit_plant"] / s["true_big"] - 1), 100 * (s["est_plant"] / s["true_big"] - 1)))
+    estimated = numpy.concatenate([s["est_errors"] for s in rows])
+    print("\nPooled, estimated: median |area error| %.2f %% (fitted %.2f %%), %d (%.1f %%) within 3 %% (fitted %d); "
+          "plant leaf area summed %.2f (fitted %.2f) against %.2f of every leaf (%+.1f %%, fitted %+.1f %%), of the "
+          "leaves of >= 100 points %+.1f %% (fitted %+.1f %%); per scan within 3 %% of every leaf's on %d of %d" % (
+              100 * numpy.median(estimated) if len(estimated) else float("nan"),
+              100 * numpy.median(pooled) if len(pooled) else float("nan"), numpy.count_nonzero(estimated <= 0.03),
+              100 * numpy.count_nonzero(estimated <= 0.03) / max(1, len(estimated)),
+              numpy.count_nonzero(pooled <= 0.03), total("est_plant"), total("fit_plant"), total("true_plant"),
+              100 * (total("est_plant") / total("true_plant") - 1), 100 * (total("fit_plant") / total("true_plant") - 1),
+              100 * (total("est_plant") / total("true_big") - 1), 100 * (total("fit_plant") / total("true_big") - 1),
+              sum(1 for s in rows if abs(s["est_plant"] / s["true_plant"] - 1) <= 0.03), len(rows)))
     alone = numpy.concatenate([s["alone_errors"] for s in rows])
     print("The fit alone on the true labels of the same leaves: median |area error| %.2f %%, %.1f %% within 3 %%"
           % (100 * numpy.median(alone) if len(alone) else float("nan"),

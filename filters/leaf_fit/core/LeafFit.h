@@ -108,6 +108,8 @@ struct LeafTraits
 /// Names of the traits, in the order TraitValues() lists them (the Traits table's columns after LeafId).
 std::vector<std::string> TraitNames();
 std::vector<double> TraitValues(const LeafTraits& traits);
+/// The traits of a row of TraitValues() (a default LeafTraits when `values` is not such a row).
+LeafTraits TraitsFromValues(const std::vector<double>& values);
 
 struct LeafFitResult
 {

@@ -202,4 +202,20 @@ std::vector<double> TraitValues(const LeafTraits& t)
     static_cast<double>(t.baseFrom), t.petioleLength };
 }
 
+LeafTraits TraitsFromValues(const std::vector<double>& v)
+{
+  LeafTraits t;
+  if (v.size() != TraitNames().size())
+    return t;
+  double* fields[] = { &t.length, &t.width, &t.projectedLength, &t.projectedWidth, &t.area, &t.projectedArea,
+    &t.horizontalArea, &t.perimeter, &t.aspectRatio, &t.bending, &t.rolling, &t.rollingCurvature, &t.inclination,
+    &t.azimuth, &t.midveinInclination, &t.points, &t.inliers, &t.fitRMS, &t.fitP95, &t.fitMax, &t.coverage, &t.spacing,
+    nullptr, &t.petioleLength };
+  for (std::size_t k = 0; k < v.size(); ++k)
+    if (fields[k])
+      *fields[k] = v[k];
+  t.baseFrom = std::isfinite(v[22]) ? static_cast<int>(v[22]) : 0;
+  return t;
+}
+
 } // namespace plantmorph

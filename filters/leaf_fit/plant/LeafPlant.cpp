@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Leaf ids, separate blades, the plant's summary and the columns' units (LeafPlant.h).
 #include "LeafPlant.h"
+#include "LeafAreaEstimate.h"
 #include "PointGrid.h"
 
 #include <plantmorph/graph/DisjointSets.h>
@@ -323,7 +324,7 @@ PlantSummary SummarizePlant(const std::vector<LeafTraits>& traits, const std::ve
   if (plant.leaves == 0)
   {
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    plant.meanArea = plant.meanInclination = nan;
+    plant.meanArea = plant.meanInclination = plant.totalEstimatedArea = nan;
     return plant;
   }
   plant.meanArea = plant.totalArea / plant.leaves;
@@ -334,6 +335,11 @@ PlantSummary SummarizePlant(const std::vector<LeafTraits>& traits, const std::ve
     plant.inclinationFraction[k] += 1.0 / plant.leaves;
   }
   plant.beta = FitBetaDistribution(angles);
+  const LeafAreaEstimates estimates = EstimateLeafAreas(traits, fitted);
+  for (std::size_t i = 0; i < traits.size(); ++i)
+    if (!(i < fitted.size() && !fitted[i]))
+      plant.totalEstimatedArea += estimates.area[i];
+  plant.wholeLeaves = estimates.shape.valid ? estimates.shape.wholeLeaves : 0;
   return plant;
 }
 
@@ -343,6 +349,8 @@ std::vector<std::string> PlantColumnNames()
     "MeanLeafInclination", "InclinationBetaMu", "InclinationBetaNu" };
   for (int k = 0; k < InclinationClasses; ++k)
     names.push_back("Inclination" + std::to_string(10 * k) + "_" + std::to_string(10 * k + 10));
+  names.push_back("TotalEstimatedLeafArea");
+  names.push_back("WholeLeaves");
   return names;
 }
 
@@ -354,6 +362,8 @@ std::vector<double> PlantColumnValues(const PlantSummary& plant)
     plant.beta.valid ? plant.beta.nu : nan };
   for (int k = 0; k < InclinationClasses; ++k)
     values.push_back(k < static_cast<int>(plant.inclinationFraction.size()) ? plant.inclinationFraction[k] : nan);
+  values.push_back(plant.totalEstimatedArea);
+  values.push_back(static_cast<double>(plant.wholeLeaves));
   return values;
 }
 
@@ -365,6 +375,7 @@ std::string ColumnUnit(const std::string& column, const std::string& lengthUnit)
     { "Length", 0 }, { "Width", 0 }, { "ProjectedLength", 0 }, { "ProjectedWidth", 0 }, { "Perimeter", 0 },
     { "FitRMS", 0 }, { "FitP95", 0 }, { "FitMax", 0 }, { "Spacing", 0 }, { "PetioleLength", 0 }, { "Area", 1 },
     { "ProjectedArea", 1 }, { "HorizontalArea", 1 }, { "TotalLeafArea", 1 }, { "MeanLeafArea", 1 },
+    { "EstimatedArea", 1 }, { "TotalEstimatedLeafArea", 1 }, { "AreaRule", 6 }, { "WholeLeaves", 5 },
     { "RollingCurvature", 2 }, { "Bending", 3 }, { "Rolling", 3 }, { "Inclination", 3 }, { "Azimuth", 3 },
     { "MidveinInclination", 3 }, { "MeanLeafInclination", 3 }, { "AspectRatio", 4 }, { "Coverage", 4 },
     { "InclinationBetaMu", 4 }, { "InclinationBetaNu", 4 }, { "Points", 5 }, { "Inliers", 5 }, { "LeafCount", 5 },

@@ -99,9 +99,13 @@ struct PlantSummary
   double meanInclination = 0;
   std::vector<double> inclinationFraction; ///< fraction of fitted leaves per 10-degree class (90 in the last)
   BetaFit beta;
+  /// Sum of the fitted leaves' EstimatedArea (LeafAreaEstimate.h: a leaf seen in part from the plant's shape)
+  double totalEstimatedArea = 0;
+  int wholeLeaves = 0; ///< the leaves seen whole the plant's shape was taken from (0: fewer than MinWholeLeaves)
 };
 
-/// The plant's summary from its leaves' traits; `fitted[i]` false for leaves that were not fitted.
+/// The plant's summary from its leaves' traits; `fitted[i]` false for leaves that were not fitted. The estimated
+/// areas need each leaf's Area, ProjectedLength, ProjectedWidth and Coverage.
 PlantSummary SummarizePlant(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted);
 
 /// The plant table's column names and values, in the same order ("LeafCount", ...).

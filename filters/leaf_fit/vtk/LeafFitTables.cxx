@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "LeafFitTables.h"
 
+#include "LeafAreaEstimate.h"
 #include "LeafFit.h"
 #include "LeafPlant.h"
 
@@ -63,6 +64,37 @@ void GatherOnFirst(vtkMultiProcessController* c, std::vector<T>& send, std::vect
   static thread_local T dummy{};
   c->GatherV(send.empty() ? &dummy : send.data(), received.empty() ? &dummy : received.data(), mine, lengths.data(),
     offsets.data(), 0);
+}
+
+/// Each row's traits, and whether it was fitted.
+std::vector<LeafTraits> RowTraits(const std::vector<Row>& rows, std::vector<bool>& fitted)
+{
+  std::vector<LeafTraits> traits(rows.size());
+  fitted.assign(rows.size(), false);
+  for (std::size_t r = 0; r < rows.size(); ++r)
+  {
+    fitted[r] = rows[r].status != static_cast<int>(LeafStatus::Failed);
+    traits[r] = TraitsFromValues(rows[r].values);
+  }
+  return traits;
+}
+
+/// The Traits table's EstimatedArea and AreaRule (LeafAreaEstimate.h), after its other columns.
+void AddEstimatedAreas(const std::vector<Row>& rows, vtkTable* traits)
+{
+  std::vector<bool> fitted;
+  const LeafAreaEstimates estimates = EstimateLeafAreas(RowTraits(rows, fitted), fitted);
+  vtkNew<vtkDoubleArray> area, rule;
+  area->SetName("EstimatedArea");
+  rule->SetName("AreaRule");
+  for (std::size_t r = 0; r < rows.size(); ++r)
+  {
+    area->InsertNextValue(estimates.area[r]);
+    rule->InsertNextValue(
+      estimates.rule[r] < 0 ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(estimates.rule[r]));
+  }
+  traits->AddColumn(area);
+  traits->AddColumn(rule);
 }
 } // namespace
 
@@ -163,6 +195,7 @@ void FillTraitsTable(const std::vector<Row>& rows, const std::string& lengthUnit
   traits->AddColumn(status);
   traits->AddColumn(message);
   traits->AddColumn(unit);
+  AddEstimatedAreas(rows, traits);
   units->SetName("PlantMorph.ColumnUnits");
   for (vtkIdType c = 0; c < traits->GetNumberOfColumns(); ++c)
     units->InsertNextValue(ColumnUnit(traits->GetColumnName(c), lengthUnit));
@@ -171,19 +204,8 @@ void FillTraitsTable(const std::vector<Row>& rows, const std::string& lengthUnit
 
 void FillPlantTable(const std::vector<Row>& rows, const std::string& lengthUnit, vtkTable* plant)
 {
-  const std::vector<std::string> names = TraitNames();
-  const auto index = [&](const char* name) {
-    return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
-  };
-  const std::size_t area = index("Area"), inclination = index("Inclination");
-  std::vector<LeafTraits> traits(rows.size());
-  std::vector<bool> fitted(rows.size());
-  for (std::size_t r = 0; r < rows.size(); ++r)
-  {
-    fitted[r] = rows[r].status != static_cast<int>(LeafStatus::Failed);
-    traits[r].area = rows[r].values[area];
-    traits[r].inclination = rows[r].values[inclination];
-  }
+  std::vector<bool> fitted;
+  const std::vector<LeafTraits> traits = RowTraits(rows, fitted);
   const PlantSummary summary = SummarizePlant(traits, fitted);
   const std::vector<std::string> columns = PlantColumnNames();
   const std::vector<double> values = PlantColumnValues(summary);

@@ -12,6 +12,8 @@
 - The Plant table: three leaves tilted by known angles give the inclination classes and the beta distribution the
   method of moments gives on the Traits' own Inclination column (computed here independently).
 - Units: LengthUnit mm, cm with Scale 0.1; PlantMorph.ColumnUnits in field data.
+- EstimatedArea: two leaves give no plant shape, so each keeps its Area (AreaRule 3) and the Plant's
+  TotalEstimatedLeafArea is TotalLeafArea (WholeLeaves 0).
 - LeafIdArray is a menu of the input's point arrays (None first); SurfaceSmoothing below 0.1 is refused.
 - One leaf scanned by VirtualScanner along lines (its points much closer along a line than the lines are) is one
   leaf, not one per group of lines.
@@ -106,6 +108,11 @@ checks.check(len(plant) == 1 and plant[0]["LeafCount"] == 2 and plant[0]["Failed
 checks.check(abs(plant[0]["TotalLeafArea"] - sum(r["Area"] for r in traits)) < 1e-9
              and abs(plant[0]["MeanLeafArea"] - 0.5 * plant[0]["TotalLeafArea"]) < 1e-9, "Plant: total and mean area")
 checks.check(traits[0]["LengthUnit"] == "mm" and plant[0]["LengthUnit"] == "mm", "LengthUnit mm by default")
+# Two leaves give no plant shape (3 leaves seen whole are needed): each EstimatedArea is its Area, AreaRule 3.
+checks.check(all(r["EstimatedArea"] == r["Area"] and r["AreaRule"] == 3 for r in traits)
+             and plant[0]["TotalEstimatedLeafArea"] == plant[0]["TotalLeafArea"] and plant[0]["WholeLeaves"] == 0,
+             "EstimatedArea: Area itself without a plant shape (%s)"
+             % [(r["EstimatedArea"], r["AreaRule"]) for r in traits])
 units = fetch(fit, 2).GetFieldData().GetAbstractArray("PlantMorph.ColumnUnits")
 table = fetch(fit, 2)
 unit_of = {table.GetColumnName(c): units.GetValue(c) for c in range(table.GetNumberOfColumns())}

@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "LeafAreaEstimate.h"
+
+#include "LeafPlant.h" // MinCoverage
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace plantmorph
+{
+namespace
+{
+double Median(std::vector<double> values)
+{
+  const std::size_t half = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + half, values.end());
+  const double upper = values[half];
+  if (values.size() % 2 == 1)
+    return upper;
+  return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + half));
+}
+
+/// 1.4826 x the median absolute deviation of `values` about `centre`, no less than MinShapeSpread.
+double Spread(const std::vector<double>& values, double centre)
+{
+  std::vector<double> deviation(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    deviation[i] = std::abs(values[i] - centre);
+  return std::max(1.4826 * Median(deviation), MinShapeSpread);
+}
+
+/// A fitted leaf's log ratio (long over short extent) and log fill (Area over the long extent squared); false when
+/// its extents or area do not give them.
+bool LeafShape(const LeafTraits& t, double& logRatio, double& logFill)
+{
+  const double high = std::max(t.projectedLength, t.projectedWidth);
+  const double low = std::min(t.projectedLength, t.projectedWidth);
+  if (!(low > 0.0) || !std::isfinite(high) || !(t.area > 0.0) || !std::isfinite(t.area))
+    return false;
+  logRatio = std::log(high / low);
+  logFill = std::log(t.area / (high * high));
+  return true;
+}
+
+/// The plant's shape from the leaves `usable` (their log ratios and fills in `ratio`, `fill`); `whole` gets the
+/// leaves it was taken from.
+PlantShape ShapeOfWholeLeaves(const std::vector<double>& ratio, const std::vector<double>& fill,
+  const std::vector<bool>& usable, std::vector<bool>& whole)
+{
+  PlantShape shape;
+  whole = usable;
+  double centreRatio = 0.0, centreFill = 0.0;
+  for (int round = 0; round < 5; ++round)
+  {
+    std::vector<double> r, f;
+    for (std::size_t i = 0; i < ratio.size(); ++i)
+      if (whole[i])
+      {
+        r.push_back(ratio[i]);
+        f.push_back(fill[i]);
+      }
+    if (static_cast<int>(r.size()) < MinWholeLeaves)
+      return shape;
+    centreRatio = Median(r);
+    centreFill = Median(f);
+    const double spreadRatio = Spread(r, centreRatio), spreadFill = Spread(f, centreFill);
+    for (std::size_t i = 0; i < ratio.size(); ++i)
+      whole[i] = usable[i] && std::abs(ratio[i] - centreRatio) <= SpreadsOfWhole * spreadRatio &&
+        std::abs(fill[i] - centreFill) <= SpreadsOfWhole * spreadFill;
+  }
+  shape.lowRatio = std::numeric_limits<double>::infinity();
+  shape.highRatio = -shape.lowRatio;
+  for (std::size_t i = 0; i < ratio.size(); ++i)
+    if (whole[i])
+    {
+      ++shape.wholeLeaves;
+      shape.lowRatio = std::min(shape.lowRatio, std::exp(ratio[i]));
+      shape.highRatio = std::max(shape.highRatio, std::exp(ratio[i]));
+    }
+  shape.valid = shape.wholeLeaves >= MinWholeLeaves;
+  shape.ratio = std::exp(centreRatio);
+  shape.fill = std::exp(centreFill);
+  return shape;
+}
+} // namespace
+
+LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted)
+{
+  const std::size_t n = traits.size();
+  LeafAreaEstimates out;
+  out.area.assign(n, std::numeric_limits<double>::quiet_NaN());
+  out.rule.assign(n, -1);
+  std::vector<double> ratio(n, 0.0), fill(n, 0.0);
+  std::vector<bool> usable(n, false);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (i < fitted.size() && !fitted[i])
+      continue;
+    out.area[i] = traits[i].area;
+    usable[i] = LeafShape(traits[i], ratio[i], fill[i]) && traits[i].coverage >= MinCoverage;
+  }
+  out.shape = ShapeOfWholeLeaves(ratio, fill, usable, out.whole);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (i < fitted.size() && !fitted[i])
+      continue;
+    out.rule[i] = static_cast<int>(out.shape.valid ? AreaRule::Fitted : AreaRule::NoPlantShape);
+    double r = 0.0, f = 0.0;
+    if (!out.shape.valid || out.whole[i] || !LeafShape(traits[i], r, f))
+      continue;
+    const double high = std::max(traits[i].projectedLength, traits[i].projectedWidth);
+    const double low = std::min(traits[i].projectedLength, traits[i].projectedWidth);
+    const double ratioHere = high / low;
+    double longExtent = high;
+    if (ratioHere < out.shape.lowRatio) // rounder than every whole leaf: its long extent is short
+    {
+      longExtent = out.shape.ratio * low;
+      out.rule[i] = static_cast<int>(AreaRule::LongFromShort);
+    }
+    else if (ratioHere > out.shape.highRatio) // narrower: its short extent is short, the long one is whole
+      out.rule[i] = static_cast<int>(AreaRule::ShortFromLong);
+    else
+      continue;
+    out.area[i] = std::max(traits[i].area, out.shape.fill * longExtent * longExtent);
+  }
+  return out;
+}
+
+} // namespace plantmorph

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The area of a leaf seen in part, estimated from the plant's leaves seen whole (docs/methods/leaf-fit.md, "Trait
+// reference": EstimatedArea and AreaRule). Plain C++17, no VTK.
+//
+// The assumption: the leaves of one plant share a shape, so the ratio of a blade's long extent to its short one
+// (ProjectedLength and ProjectedWidth, whichever is longer) and its fill (Area over the long extent squared) are the
+// plant's, whatever the leaf's size. Plant scientists estimate a partly hidden leaf so (area ~ c Length Width, with c
+// and the ratio from the whole leaves).
+//
+// - The plant's shape: from the fitted leaves with Coverage at least MinCoverage, the median of the log ratio and of
+//   the log fill, and the leaves within SpreadsOfWhole robust spreads of both (1.4826 x the median absolute
+//   deviation, no less than MinShapeSpread) are the whole leaves, five rounds from all of them. With fewer than
+//   MinWholeLeaves whole leaves there is no shape: every leaf keeps its Area (AreaRule 3). Three spreads, not two:
+//   at two, leaves seen whole with a ratio a little off (a projected extent is measured across the blade's plane's
+//   major axis, which a blade wider than long turns) fell outside and were changed.
+// - A leaf is cut when its ratio lies outside the whole leaves' range (their largest deviation from the median ratio,
+//   the ratio's own spread among whole leaves): rounder than every whole leaf, its long extent is short (a hidden
+//   tip or base: the long extent from the short one, AreaRule 1); narrower, its short extent is short (a hidden
+//   side: AreaRule 2). Its estimate is the fill times the long extent squared, never less than its own Area.
+// - Every other leaf, the whole ones among them, keeps its Area (AreaRule 0): a leaf seen whole is not changed.
+// - A leaf hidden on both sides alike (a scaled-down copy of the shape) is not told from a small leaf: it keeps its
+//   Area.
+#pragma once
+
+#include "LeafFit.h"
+
+#include <vector>
+
+namespace plantmorph
+{
+
+/// How a leaf's EstimatedArea was made (the Traits column AreaRule).
+enum class AreaRule
+{
+  Fitted = 0,        ///< its own Area: its shape is the plant's (seen whole, or cut where the shape cannot tell)
+  LongFromShort = 1, ///< rounder than the plant's leaves: its long extent from its short one (a tip or base hidden)
+  ShortFromLong = 2, ///< narrower than the plant's leaves: its short extent from its long one (a side hidden)
+  NoPlantShape = 3   ///< its own Area: fewer than MinWholeLeaves leaves seen whole give no plant shape
+};
+
+/// Leaves seen whole needed for the plant's shape.
+inline constexpr int MinWholeLeaves = 3;
+/// Robust spreads (1.4826 x the median absolute deviation) about the plant's median within which a leaf is whole.
+inline constexpr double SpreadsOfWhole = 3.0;
+/// The least spread of the log ratio and log fill taken for the whole leaves: a projected extent is measured to
+/// about a point spacing, and a leaf has some fifty spacings across or more, so 2 % is the measurement's own spread.
+inline constexpr double MinShapeSpread = 0.02;
+
+/// The plant's shape from its leaves seen whole.
+struct PlantShape
+{
+  int wholeLeaves = 0;                ///< leaves taken as seen whole
+  double ratio = 0;                   ///< median long over short extent of the whole leaves
+  double fill = 0;                    ///< median Area over the long extent squared of the whole leaves
+  double lowRatio = 0, highRatio = 0; ///< the whole leaves' range of the ratio
+  bool valid = false;                 ///< at least MinWholeLeaves whole leaves
+};
+
+struct LeafAreaEstimates
+{
+  PlantShape shape;
+  std::vector<double> area; ///< every leaf's EstimatedArea (NaN when not fitted)
+  std::vector<int> rule;    ///< every leaf's AreaRule (-1 when not fitted)
+  std::vector<bool> whole;  ///< the leaves the shape was taken from
+};
+
+/// The estimated areas of a plant's leaves (rules above); `fitted[i]` false for leaves that were not fitted.
+LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted);
+
+} // namespace plantmorph
