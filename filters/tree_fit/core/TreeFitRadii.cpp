@@ -26,10 +26,11 @@ constexpr double LeafScaleRadius = 0.05;
 constexpr double ModelFactor = 2.0; // a measured radius this far from the model is not trusted...
 constexpr double StrongCoverage = 240.0, StrongRadiusNoise = 10.0; // ...unless the fit is this good
 constexpr int MinStrongPoints = 50;
-constexpr double ContinueShare = 0.25;  // of the heaviest child's carried volume
-constexpr double CodominantShare = 0.5; // of the heaviest child's carried volume
-constexpr double ForkMargin = 10.0;     // degrees: codominant children turning less apart than this end the branch
-constexpr double BulgeFactor = 1.05;    // a measured cylinder this much wider than its parent is a junction
+constexpr double ContinueShare = 0.25;    // of the heaviest child's carried volume
+constexpr double CodominantShare = 0.5;   // of the heaviest child's carried volume
+constexpr double ForkMargin = 10.0;       // degrees: codominant children turning less apart than this end the branch
+constexpr double BulgeFactor = 1.05;      // a measured cylinder this much wider than its parent is a junction
+constexpr double BulgeRunDiameters = 4.0; // a run of junctions longer than this (its widest diameters) is a branch
 constexpr double KinkAngle = 25.0;
 constexpr double IncomingReaches = 2.5; // a branch's incoming direction is its own past this length (reaches)
 constexpr double KinkReaches = 4.0;     // a kink still turns this far on (reaches): a junction's wiggle does not...
@@ -406,14 +407,20 @@ void SeatBranches(TreeFitResult& result)
 /// Junctions: where a child branch leaves, its first points fall in the parent's level sets, and the cylinder fitted
 /// there is wider than the branch and leans towards the child (a bulge). A measured cylinder that is its parent's only
 /// child and wider than it by more than BulgeFactor (and two noise deviations) is such a junction: its radius is not
-/// measured (the model gives it, never wider than its parent) and it goes on along its parent's axis.
+/// measured (the model gives it, never wider than its parent) and it goes on along its parent's axis. A junction's
+/// bulge spans the stem's cylinders holding the child's first points, a few of its own diameters; a run of them
+/// longer than BulgeRunDiameters of its widest is a branch wider than the stem's tip it goes on from (a lateral
+/// leaving a leader's tip), not a junction: each of its cylinders from there aims from the one before at its own
+/// fitted end (when the axis line lies more than its fitted radius from that), or the run, each in line with the
+/// tip, leaves the bending branch's points and takes the trunk along into it.
 void FlattenBulges(double noise, std::vector<TreeCylinder>& cylinders)
 {
   std::vector<int> childCount(cylinders.size(), 0);
   for (const auto& c : cylinders)
     if (c.parent >= 0)
       ++childCount[c.parent];
-  std::vector<double> width(cylinders.size(), std::numeric_limits<double>::quiet_NaN()); // measured or carried on
+  std::vector<double> width(cylinders.size(), std::numeric_limits<double>::quiet_NaN());  // measured or carried on
+  std::vector<double> runLength(cylinders.size(), 0.0), runRadius(cylinders.size(), 0.0); // the run of junctions
   for (std::size_t k = 0; k < cylinders.size(); ++k)
   {
     TreeCylinder& c = cylinders[k];
@@ -426,8 +433,13 @@ void FlattenBulges(double noise, std::vector<TreeCylinder>& cylinders)
       continue;
     c.measured = false;
     width[k] = width[p];
+    runLength[k] = runLength[p] + c.length;
+    runRadius[k] = std::max(runRadius[p], c.fittedRadius);
+    const Eigen::Vector3d fittedEnd = c.end;
     c.start = cylinders[p].end;
     c.end = c.start + c.length * Onward(cylinders[p], c);
+    if (runLength[k] > 2.0 * BulgeRunDiameters * runRadius[k] && (c.end - fittedEnd).norm() > c.fittedRadius)
+      c.end = c.start + c.length * (fittedEnd - c.start).normalized();
   }
 }
 /// FlattenBulges along the branches, once they are known, with the branch's own taper: near a fork (within two

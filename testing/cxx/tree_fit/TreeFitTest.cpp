@@ -638,6 +638,35 @@ TEST(TreeFit, ALateralAtTheLeadersTipIsABranch)
   EXPECT_NEAR(r.branches[1].angle, 35.0, 6.0);
 }
 
+TEST(TreeFit, ALateralWiderThanTheLeadersTipKeepsItsOwnLine)
+{
+  // The branch step alone, on cylinders as the fit leaves them (all measured, 15 cm long): a leader tapering from 6 cm
+  // to a 1.2 cm tip, and a lateral of 3 cm leaving the tip as the chain's only child, bending from 17 to 35 degrees
+  // off the vertical (a stroke-drawn crown's top). Each of the lateral's cylinders is wider than the tip, so each is
+  // taken for a junction's bulge and placed along the one before: a straight line in line with the tip, ending
+  // 0.19 m off the lateral's last fitted end, and the trunk went on along it into the lateral. A junction's bulge
+  // spans a few of its own diameters; a run of them reaching further aims at its points: the lateral keeps its line
+  // and is a first-order branch, the trunk ends at the tip.
+  TreeFitResult result;
+  int at = -1;
+  for (int k = 0; k < 10; ++k)
+    at = AddMeasuredCylinder(
+      result, Eigen::Vector3d(0, 0, 0.15 * k), Eigen::Vector3d::UnitZ(), 0.15, 0.06 - 0.0053 * k, at);
+  const int tip = at;
+  std::vector<Eigen::Vector3d> fittedEnds;
+  for (int k = 0; k < 8; ++k)
+  {
+    at =
+      AddMeasuredCylinder(result, result.cylinders[at].end, Tilted(17.0 + 2.5 * k, 0.0), 0.15, 0.03 - 0.0006 * k, at);
+    fittedEnds.push_back(result.cylinders[at].end);
+  }
+  ASSERT_EQ(treefit::ModelRadii(0.006, result), "");
+  EXPECT_NE(result.cylinders[at].branch, result.cylinders[tip].branch);
+  EXPECT_EQ(result.cylinders[at].order, 1);
+  EXPECT_EQ(result.branches[result.cylinders[tip].branch].cylinders.back(), tip);
+  EXPECT_LT((result.cylinders[at].end - fittedEnds.back()).norm(), 0.06); // two of its radii
+}
+
 TEST(TreeFit, ALateralAtTheLeadersTipIsABranchWhateverItsTwigs)
 {
   // The same lateral leaving the leader's tip at 35 degrees, now with a twig leaving it half a metre on that turns
