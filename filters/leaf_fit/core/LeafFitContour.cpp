@@ -634,11 +634,12 @@ Contour ContourFromLoop(const std::vector<Eigen::Vector2d>& loop, const std::vec
   // A tip (not a notch) extends beyond the last points by more than the gap, and the loop rounds it off: near a
   // tip (within 6 spacings) the smooth margins, whose tips are extrapolated from the last points (TipBeyond), are
   // taken instead. A notch or sinus counts only when deeper than MinNotchDepth of the blade's extent (and 4
-  // spacings): shallower ones are the tip's own margin.
+  // spacings): shallower ones are the tip's own margin, unless the loop rises on both sides of the apex's crossing
+  // to two lobes (ApexIsTip: the ginkgo's notch, 3 spacings deep on a line scan, below an s1 the noise moves).
   const double shallow = std::max(4.0 * spacing, MinNotchDepth * extent);
   double baseS = outline.s0;
   const bool baseTip = BaseEnd(ts, outline, base.first, shallow, spacing, baseS);
-  const bool apexTip = std::abs(apex.first - outline.s1) < shallow;
+  const bool apexTip = ApexIsTip(loop, apex, outline.s1, extent, spacing);
   const double apexS = apexTip ? outline.s1 : apex.first;
   // (A shallow notch's walls are left out with the tip: the cut reaches 2 spacings below its bottom.)
   const double baseCut = baseTip ? baseS + std::max(6.0 * spacing, base.first - baseS + 2.0 * spacing) : -1e300;
@@ -745,7 +746,40 @@ Contour ClippedMargins(const std::vector<Eigen::Vector2d>& loop, const Outline& 
   contour.left.push_back({ 0.0, outline.s1 });
   return contour;
 }
+/// How far the loop rises above its apex crossing `apex` (s, index of the edge's first point on the
+/// counter-clockwise loop): from the crossing along the loop to the right and to the left, the highest s reached
+/// before the loop falls `fall` below the crossing or crosses t = 0; the lower of the two sides' heights.
+double ApexNotchRise(const std::vector<Eigen::Vector2d>& loop, const std::pair<double, std::size_t>& apex, double fall)
+{
+  const std::size_t n = loop.size();
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int side = 0; side < 2; ++side)
+  {
+    const bool right = side == 0;
+    std::size_t i = right ? apex.second : (apex.second + 1) % n;
+    double highest = apex.first;
+    for (std::size_t k = 0; k < n / 2; ++k)
+    {
+      const Eigen::Vector2d& p = loop[i];
+      if ((p.x() > 0.0) != right || p.y() < apex.first - fall)
+        break;
+      highest = std::max(highest, p.y());
+      i = right ? (i + n - 1) % n : (i + 1) % n;
+    }
+    lowest = std::min(lowest, highest - apex.first);
+  }
+  return lowest;
+}
 } // namespace
+
+bool ApexIsTip(const std::vector<Eigen::Vector2d>& loop, const std::pair<double, std::size_t>& apex, double s1,
+  double extent, double spacing)
+{
+  const double shallow = std::max(4.0 * spacing, MinNotchDepth * extent);
+  if (!(std::abs(apex.first - s1) < shallow))
+    return false;
+  return !(ApexNotchRise(loop, apex, shallow) > std::max(MinNotchDepth * extent, 2.0 * spacing));
+}
 
 Contour TraceContour(
   const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline, const ParallelFor& parallel)

@@ -109,6 +109,16 @@ struct Contour
 Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline,
   const ParallelFor& parallel = SerialFor);
 
+/// Whether a loop's apex crossing of the midvein (`apex`: s, index of the crossing edge's first point on the
+/// counter-clockwise loop in (t, s)) is a tip, not a notch or sinus: within the larger of 4 spacings and
+/// MinNotchDepth of the blade's extent below the smooth margins' tip s1, unless the loop rises on both sides of the
+/// crossing, each above it by more than MinNotchDepth of the extent and 2 spacings before falling that far below it
+/// (two lobes about a notch: a tip falls away on both sides). The depth below s1 alone depends on how far s1 is
+/// extrapolated past the lobes, which the scan's noise moves by a spacing (the ginkgo's notch is 2.7 % of its
+/// length, 3 spacings at the benchmark's scans).
+bool ApexIsTip(const std::vector<Eigen::Vector2d>& loop, const std::pair<double, std::size_t>& apex, double s1,
+  double extent, double spacing);
+
 /// Fills result.traits from the finished blade (points, triangles, margins, Support, FitDistance, Inlier) and the
 /// surface (in the local frame whose axes, in world coordinates, are the columns of `axes`).
 void ComputeTraits(const TensorSurface& surface, const Outline& outline, const LeafFitParameters& options,

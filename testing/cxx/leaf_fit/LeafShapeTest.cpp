@@ -416,6 +416,66 @@ TEST(LeafShape, CuspBaseAboveAStalkIsMeasuredFromTheJunction)
   ExpectShape(scan, pose, Expected());
 }
 
+/// A counter-clockwise loop in (t, s) of a blade 100 long, 60 wide, sampled every 0.25 along its margin: the
+/// half-width at s is `half(s)` for s in [0, 100]; `top(t)` the apex's margin across the blade (s at t).
+std::vector<Eigen::Vector2d> BladeLoop(const std::function<double(double)>& top)
+{
+  std::vector<Eigen::Vector2d> loop;
+  const double w = 30.0;
+  for (double t = -w; t < w; t += 0.25) // the lower margin, left to right
+    loop.push_back({ t, -std::sqrt(std::max(0.0, 1.0 - t * t / (w * w))) * 20.0 });
+  for (double t = w; t > -w; t -= 0.25) // the apex's margin, right to left
+    loop.push_back({ t, top(t) });
+  return loop;
+}
+
+/// The loop's crossing of t = 0 at the apex (s, index of the edge's first point).
+std::pair<double, std::size_t> ApexCrossing(const std::vector<Eigen::Vector2d>& loop)
+{
+  std::pair<double, std::size_t> apex(-1e300, 0);
+  for (std::size_t i = 0; i < loop.size(); ++i)
+  {
+    const Eigen::Vector2d& p = loop[i];
+    const Eigen::Vector2d& q = loop[(i + 1) % loop.size()];
+    if ((p.x() > 0.0) != (q.x() > 0.0))
+    {
+      const double s = p.y() + (q.y() - p.y()) * p.x() / (p.x() - q.x());
+      if (s > apex.first)
+        apex = { s, i };
+    }
+  }
+  return apex;
+}
+
+TEST(LeafShape, ApicalNotchShallowerThanFourSpacingsIsNoTip)
+{
+  // A fan 100 long whose apex is a notch 2.7 % of its length deep between two rounded lobes (the ginkgo's), spacing
+  // 0.9 % of the length (the benchmark's line scans): 4 spacings reach 3.6 %, deeper than the notch, and the smooth
+  // margins' tip s1 extrapolated just above the lobes' tops leaves the crossing within 4 spacings of it. The loop
+  // rises on both sides of the crossing to the lobes: a notch, not a tip (the midvein ran to a lobe's top).
+  const double spacing = 0.9, length = 100.0;
+  auto fan = [](double t) { return 77.3 + 2.7 * std::min(1.0, std::abs(t) / 6.0) - 0.004 * t * t; };
+  const std::vector<Eigen::Vector2d> notch = BladeLoop(fan);
+  const auto apex = ApexCrossing(notch);
+  ASSERT_NEAR(apex.first, 77.3, 0.01);
+  EXPECT_FALSE(fit::ApexIsTip(notch, apex, 80.5, length, spacing));
+  // Tips are tips, however far s1 lies past them within 4 spacings: an acute one, a rounded one, one with a dip of
+  // half a spacing at t = 0 (the loop's own wander), a terminal lobe whose lateral lobes reach higher than its tip
+  // farther out (a pin oak's), and a notch shallower than 2 % of the length.
+  const std::vector<std::function<double(double)>> tips = {
+    [](double t) { return 80.0 - std::abs(t); },
+    [](double t) { return 80.0 - 0.02 * t * t; },
+    [](double t) { return 80.0 - 0.02 * t * t - 0.45 * std::max(0.0, 1.0 - std::abs(t)); },
+    [](double t) { return std::abs(t) < 10.0 ? 80.0 - std::abs(t) : 70.0 + 1.5 * (std::abs(t) - 10.0); },
+    [](double t) { return 78.5 + 1.5 * std::min(1.0, std::abs(t) / 6.0) - 0.004 * t * t; },
+  };
+  for (std::size_t k = 0; k < tips.size(); ++k)
+  {
+    const std::vector<Eigen::Vector2d> tip = BladeLoop(tips[k]);
+    EXPECT_TRUE(fit::ApexIsTip(tip, ApexCrossing(tip), ApexCrossing(tip).first + 3.0, length, spacing)) << "tip " << k;
+  }
+}
+
 TEST(LeafShape, CordateBaseOnAScannersGridIsMeasuredFromTheSinusBottom)
 {
   // The cucumber without a petiole on a scanner's grid (0.8 % of the length, about 10^4 points, noise 0.3 %): the
