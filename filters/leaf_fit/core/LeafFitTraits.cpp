@@ -6,6 +6,7 @@
 #include <plantmorph/PlaneFit.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace plantmorph
@@ -194,27 +195,39 @@ std::vector<std::string> TraitNames()
     "PetioleLength" };
 }
 
+namespace
+{
+/// The members of a LeafTraits in TraitNames() order, for TraitValues and TraitsFromValues alike; BaseFrom, the one
+/// integer, is the null entry.
+std::array<double*, 24> TraitFields(LeafTraits& t)
+{
+  return { &t.length, &t.width, &t.projectedLength, &t.projectedWidth, &t.area, &t.projectedArea, &t.horizontalArea,
+    &t.perimeter, &t.aspectRatio, &t.bending, &t.rolling, &t.rollingCurvature, &t.inclination, &t.azimuth,
+    &t.midveinInclination, &t.points, &t.inliers, &t.fitRMS, &t.fitP95, &t.fitMax, &t.coverage, &t.spacing, nullptr,
+    &t.petioleLength };
+}
+} // namespace
+
 std::vector<double> TraitValues(const LeafTraits& t)
 {
-  return { t.length, t.width, t.projectedLength, t.projectedWidth, t.area, t.projectedArea, t.horizontalArea,
-    t.perimeter, t.aspectRatio, t.bending, t.rolling, t.rollingCurvature, t.inclination, t.azimuth,
-    t.midveinInclination, t.points, t.inliers, t.fitRMS, t.fitP95, t.fitMax, t.coverage, t.spacing,
-    static_cast<double>(t.baseFrom), t.petioleLength };
+  LeafTraits copy = t;
+  std::vector<double> values;
+  for (const double* field : TraitFields(copy))
+    values.push_back(field ? *field : static_cast<double>(t.baseFrom));
+  return values;
 }
 
 LeafTraits TraitsFromValues(const std::vector<double>& v)
 {
   LeafTraits t;
-  if (v.size() != TraitNames().size())
+  const std::array<double*, 24> fields = TraitFields(t);
+  if (v.size() != fields.size())
     return t;
-  double* fields[] = { &t.length, &t.width, &t.projectedLength, &t.projectedWidth, &t.area, &t.projectedArea,
-    &t.horizontalArea, &t.perimeter, &t.aspectRatio, &t.bending, &t.rolling, &t.rollingCurvature, &t.inclination,
-    &t.azimuth, &t.midveinInclination, &t.points, &t.inliers, &t.fitRMS, &t.fitP95, &t.fitMax, &t.coverage, &t.spacing,
-    nullptr, &t.petioleLength };
   for (std::size_t k = 0; k < v.size(); ++k)
     if (fields[k])
       *fields[k] = v[k];
-  t.baseFrom = std::isfinite(v[22]) ? static_cast<int>(v[22]) : 0;
+    else
+      t.baseFrom = std::isfinite(v[k]) ? static_cast<int>(v[k]) : 0;
   return t;
 }
 
