@@ -1674,16 +1674,17 @@ std::vector<std::pair<Eigen::Vector3d, double>> RowsSeen(const std::vector<Eigen
 /// narrow strips along their leaf), its rows nearly parallel (the row directions the features measured where a
 /// neighbourhood is a line, RowDirections, or the pieces' own axes where under three are: the median of their
 /// squared cosines to their main direction at least `cosine` squared, MedianSquaredCosine), at least three of them,
-/// at one spacing (OneSpacing) and shortening towards both ends of the group (RowEndFraction).
+/// at one spacing (OneSpacing) and shortening towards both ends of the group (RowEndFraction). `directions`: the
+/// group's RowsSeen.
 bool RowsOfOneLeaf(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const std::vector<int>& ids,
-  const std::vector<int>& pieceOf, const PartMoments& m, double cosine, double merge)
+  const std::vector<int>& pieceOf, const std::vector<std::pair<Eigen::Vector3d, double>>& directions,
+  const PartMoments& m, double cosine, double merge)
 {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> moments(m.scatter / m.count);
   if (moments.eigenvalues()[1] < f.radius * f.radius)
     return false;
   const Eigen::Vector3d n = moments.eigenvectors().col(0);
   const Eigen::Matrix3d inPlane = Eigen::Matrix3d::Identity() - n * n.transpose();
-  const std::vector<std::pair<Eigen::Vector3d, double>> directions = RowsSeen(points, f, ids, pieceOf);
   Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
   double weights = 0.0;
   for (const auto& [d, w] : directions)
@@ -1767,8 +1768,8 @@ std::vector<char> LeavesSeenInRows(const std::vector<Eigen::Vector3d>& points, c
       rows[k] = 0;
       continue;
     }
-    if (RowsSeen(points, f, leaves[k], pieceOf).empty() ||
-      RowsOfOneLeaf(points, f, leaves[k], pieceOf, m, cosine, merge))
+    const std::vector<std::pair<Eigen::Vector3d, double>> directions = RowsSeen(points, f, leaves[k], pieceOf);
+    if (directions.empty() || RowsOfOneLeaf(points, f, leaves[k], pieceOf, directions, m, cosine, merge))
       continue; // no rows seen (a narrow sheet), or its rows are one leaf's: an instance wherever it lies
     rows[k] = !grid || std::none_of(leaves[k].begin(), leaves[k].end(), [&](int j) {
       return !grid->Nearest(points[static_cast<std::size_t>(j)], 1, -1, reach).empty();
