@@ -85,6 +85,21 @@ PlantShape ShapeOfWholeLeaves(const std::vector<double>& ratio, const std::vecto
 }
 } // namespace
 
+double UnassignedLeafArea(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted, double points)
+{
+  if (!(points > 0.0))
+    return 0.0;
+  double area = 0.0, count = 0.0;
+  for (std::size_t i = 0; i < traits.size(); ++i)
+    if (!(i < fitted.size() && !fitted[i]) && traits[i].points > 0.0 && traits[i].area > 0.0 &&
+      std::isfinite(traits[i].area))
+    {
+      area += traits[i].area;
+      count += traits[i].points;
+    }
+  return count > 0.0 ? points * area / count : std::numeric_limits<double>::quiet_NaN();
+}
+
 LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted)
 {
   const std::size_t n = traits.size();

@@ -20,6 +20,12 @@
 // - Every other leaf, the whole ones among them, keeps its Area (AreaRule 0): a leaf seen whole is not changed.
 // - A leaf hidden on both sides alike (a scaled-down copy of the shape) is not told from a small leaf: it keeps its
 //   Area.
+//
+// The leaf points on no leaf (a segmentation's leaf points it gave no LeafId: pieces of leaves seen in small parts,
+// edges of leaves it cut off) are leaf surface the fitted leaves leave out. Their area is taken at the fitted leaves'
+// own density: their count times the fitted leaves' summed Area over their summed Points (UnassignedLeafArea). The
+// assumption: the scanner saw them as densely as it saw the plant's fitted leaves, on average. It gives the area the
+// points cover, not the leaves' hidden rest.
 #pragma once
 
 #include "LeafFit.h"
@@ -63,6 +69,11 @@ struct LeafAreaEstimates
   std::vector<int> rule;    ///< every leaf's AreaRule (-1 when not fitted)
   std::vector<bool> whole;  ///< the leaves the shape was taken from
 };
+
+/// The leaf area of `points` leaf points on no fitted leaf, at the fitted leaves' own points per area: `points` x the
+/// sum of Area over the sum of Points of the fitted leaves (`fitted[i]` false for leaves that were not fitted). 0 when
+/// `points` is 0; NaN when no fitted leaf has points and area.
+double UnassignedLeafArea(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted, double points);
 
 /// The estimated areas of a plant's leaves (rules above); `fitted[i]` false for leaves that were not fitted.
 LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted);

@@ -305,9 +305,11 @@ double BetaDensity(const BetaFit& beta, double degrees)
   return std::exp((beta.nu - 1.0) * std::log(t) + (beta.mu - 1.0) * std::log1p(-t) - logB) / 90.0;
 }
 
-PlantSummary SummarizePlant(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted)
+PlantSummary SummarizePlant(
+  const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted, double unassignedLeafPoints)
 {
   PlantSummary plant;
+  plant.unassignedLeafPoints = unassignedLeafPoints;
   plant.inclinationFraction.assign(InclinationClasses, 0.0);
   std::vector<double> angles;
   for (std::size_t i = 0; i < traits.size(); ++i)
@@ -325,6 +327,7 @@ PlantSummary SummarizePlant(const std::vector<LeafTraits>& traits, const std::ve
   {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     plant.meanArea = plant.meanInclination = plant.totalEstimatedArea = nan;
+    plant.unassignedLeafArea = unassignedLeafPoints > 0.0 ? nan : 0.0;
     return plant;
   }
   plant.meanArea = plant.totalArea / plant.leaves;
@@ -340,6 +343,9 @@ PlantSummary SummarizePlant(const std::vector<LeafTraits>& traits, const std::ve
     if (!(i < fitted.size() && !fitted[i]))
       plant.totalEstimatedArea += estimates.area[i];
   plant.wholeLeaves = estimates.shape.valid ? estimates.shape.wholeLeaves : 0;
+  plant.unassignedLeafArea = UnassignedLeafArea(traits, fitted, unassignedLeafPoints);
+  if (std::isfinite(plant.unassignedLeafArea))
+    plant.totalEstimatedArea += plant.unassignedLeafArea;
   return plant;
 }
 
@@ -351,6 +357,8 @@ std::vector<std::string> PlantColumnNames()
     names.push_back("Inclination" + std::to_string(10 * k) + "_" + std::to_string(10 * k + 10));
   names.push_back("TotalEstimatedLeafArea");
   names.push_back("WholeLeaves");
+  names.push_back("UnassignedLeafPoints");
+  names.push_back("UnassignedLeafArea");
   return names;
 }
 
@@ -364,6 +372,8 @@ std::vector<double> PlantColumnValues(const PlantSummary& plant)
     values.push_back(k < static_cast<int>(plant.inclinationFraction.size()) ? plant.inclinationFraction[k] : nan);
   values.push_back(plant.totalEstimatedArea);
   values.push_back(static_cast<double>(plant.wholeLeaves));
+  values.push_back(plant.unassignedLeafPoints);
+  values.push_back(plant.unassignedLeafArea);
   return values;
 }
 
@@ -376,10 +386,11 @@ std::string ColumnUnit(const std::string& column, const std::string& lengthUnit)
     { "FitRMS", 0 }, { "FitP95", 0 }, { "FitMax", 0 }, { "Spacing", 0 }, { "PetioleLength", 0 }, { "Area", 1 },
     { "ProjectedArea", 1 }, { "HorizontalArea", 1 }, { "TotalLeafArea", 1 }, { "MeanLeafArea", 1 },
     { "EstimatedArea", 1 }, { "TotalEstimatedLeafArea", 1 }, { "AreaRule", 6 }, { "WholeLeaves", 5 },
-    { "RollingCurvature", 2 }, { "Bending", 3 }, { "Rolling", 3 }, { "Inclination", 3 }, { "Azimuth", 3 },
-    { "MidveinInclination", 3 }, { "MeanLeafInclination", 3 }, { "AspectRatio", 4 }, { "Coverage", 4 },
-    { "InclinationBetaMu", 4 }, { "InclinationBetaNu", 4 }, { "Points", 5 }, { "Inliers", 5 }, { "LeafCount", 5 },
-    { "FailedLeaves", 5 }, { "LeafId", 6 }, { "BaseFrom", 6 }, { "Status", 6 }, { "Message", 7 }, { "LengthUnit", 7 }
+    { "UnassignedLeafPoints", 5 }, { "UnassignedLeafArea", 1 }, { "RollingCurvature", 2 }, { "Bending", 3 },
+    { "Rolling", 3 }, { "Inclination", 3 }, { "Azimuth", 3 }, { "MidveinInclination", 3 }, { "MeanLeafInclination", 3 },
+    { "AspectRatio", 4 }, { "Coverage", 4 }, { "InclinationBetaMu", 4 }, { "InclinationBetaNu", 4 }, { "Points", 5 },
+    { "Inliers", 5 }, { "LeafCount", 5 }, { "FailedLeaves", 5 }, { "LeafId", 6 }, { "BaseFrom", 6 }, { "Status", 6 },
+    { "Message", 7 }, { "LengthUnit", 7 }
   };
   const auto it = kinds.find(column);
   if (it == kinds.end())

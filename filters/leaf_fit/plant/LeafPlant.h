@@ -102,11 +102,16 @@ struct PlantSummary
   /// Sum of the fitted leaves' EstimatedArea (LeafAreaEstimate.h: a leaf seen in part from the plant's shape)
   double totalEstimatedArea = 0;
   int wholeLeaves = 0; ///< the leaves seen whole the plant's shape was taken from (0: fewer than MinWholeLeaves)
+  double unassignedLeafPoints = 0; ///< leaf points on no leaf (a negative LeafId and Organ 1)
+  /// Their area at the fitted leaves' points per area (LeafAreaEstimate.h), part of totalEstimatedArea
+  double unassignedLeafArea = 0;
 };
 
 /// The plant's summary from its leaves' traits; `fitted[i]` false for leaves that were not fitted. The estimated
-/// areas need each leaf's Area, ProjectedLength, ProjectedWidth and Coverage.
-PlantSummary SummarizePlant(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted);
+/// areas need each leaf's Area, ProjectedLength, ProjectedWidth, Coverage and Points; `unassignedLeafPoints` leaf
+/// points on no leaf add their area to the estimated total.
+PlantSummary SummarizePlant(
+  const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted, double unassignedLeafPoints = 0.0);
 
 /// The plant table's column names and values, in the same order ("LeafCount", ...).
 std::vector<std::string> PlantColumnNames();

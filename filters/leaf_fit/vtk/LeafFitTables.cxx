@@ -202,11 +202,21 @@ void FillTraitsTable(const std::vector<Row>& rows, const std::string& lengthUnit
   traits->GetFieldData()->AddArray(units);
 }
 
-void FillPlantTable(const std::vector<Row>& rows, const std::string& lengthUnit, vtkTable* plant)
+double SumOverRanks(vtkMultiProcessController* controller, double value)
+{
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+    return value;
+  double sum = 0.0;
+  controller->AllReduce(&value, &sum, 1, vtkCommunicator::SUM_OP);
+  return sum;
+}
+
+void FillPlantTable(
+  const std::vector<Row>& rows, const std::string& lengthUnit, double unassignedLeafPoints, vtkTable* plant)
 {
   std::vector<bool> fitted;
   const std::vector<LeafTraits> traits = RowTraits(rows, fitted);
-  const PlantSummary summary = SummarizePlant(traits, fitted);
+  const PlantSummary summary = SummarizePlant(traits, fitted, unassignedLeafPoints);
   const std::vector<std::string> columns = PlantColumnNames();
   const std::vector<double> values = PlantColumnValues(summary);
   vtkNew<vtkStringArray> units, unit;

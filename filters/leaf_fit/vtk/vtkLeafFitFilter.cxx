@@ -311,6 +311,7 @@ struct LeafInput
   bool separate = false; ///< no LeafIdArray: the points are cut into their separate blades
   std::vector<std::int64_t> leafIds;
   plantmorph::LocalGroups members;
+  double unassignedLeafPoints = 0; ///< points with a negative id that the input's Organ array calls leaf (1)
 
   /// The LeafId a fitted piece gets: its blade's number when separating, else its leaf's id.
   std::int64_t OutputId(std::size_t leaf, int piece) const { return this->separate ? piece : this->leafIds[leaf]; }
@@ -395,6 +396,20 @@ std::string CheckProperties(vtkLeafFitFilter* self)
   return error;
 }
 
+/// The points on no leaf (a negative id) that are leaf: Organ 1 in the input's point array named Organ (PlantMorph's
+/// organ label, PlantSegmentationFilter's output); none without that array (a point on no leaf may be wood).
+double CountUnassignedLeafPoints(vtkPointSet* input, const std::vector<std::int64_t>& ids)
+{
+  vtkDataArray* organ = input->GetPointData()->GetArray("Organ");
+  if (!organ || organ->GetNumberOfComponents() != 1)
+    return 0.0;
+  double count = 0.0;
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    if (ids[i] < 0 && organ->GetComponent(static_cast<vtkIdType>(i), 0) == 1.0)
+      count += 1.0;
+  return count;
+}
+
 /// The local piece's points (scaled) and each point's leaf id; an error message for bad properties, a missing
 /// LeafIdArray or ids that are not integers (nothing is checked on an empty piece).
 std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, LeafInput& in)
@@ -421,6 +436,7 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, LeafInput& in
   }
   if (!ids)
     in.ids.assign(static_cast<std::size_t>(n), 0);
+  in.unassignedLeafPoints = CountUnassignedLeafPoints(input, in.ids);
   in.points.resize(n);
   const double scale = self->GetScale();
   vtkDataArray* coordinates = input->GetPoints()->GetData();
@@ -550,10 +566,11 @@ void WriteFits(const LeafInput& in, const std::vector<std::size_t>& owned, const
   record.Add("LengthUnit", lengthUnit);
   record.WriteTo(blade);
   const std::vector<plantmorph::fittable::Row> all = plantmorph::fittable::GatherRows(run.Controller(), rows);
+  const double unassigned = plantmorph::fittable::SumOverRanks(run.Controller(), in.unassignedLeafPoints);
   if (run.Rank() != 0)
     return;
   plantmorph::fittable::FillTraitsTable(all, lengthUnit, run.Output<vtkTable>(2));
-  plantmorph::fittable::FillPlantTable(all, lengthUnit, run.Output<vtkTable>(4));
+  plantmorph::fittable::FillPlantTable(all, lengthUnit, unassigned, run.Output<vtkTable>(4));
 }
 } // namespace
 

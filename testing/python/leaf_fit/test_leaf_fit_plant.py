@@ -14,6 +14,9 @@
 - Units: LengthUnit mm, cm with Scale 0.1; PlantMorph.ColumnUnits in field data.
 - EstimatedArea: two leaves give no plant shape, so each keeps its Area (AreaRule 3) and the Plant's
   TotalEstimatedLeafArea is TotalLeafArea (WholeLeaves 0).
+- Leaf points on no leaf (LeafId -1, Organ 1): half an ellipse's points counted (UnassignedLeafPoints) and their area
+  at the fitted leaves' points per area (UnassignedLeafArea, the half's within 5 %) added to TotalEstimatedLeafArea;
+  without an Organ array, or with Organ 0 (wood), nothing is counted.
 - LeafIdArray is a menu of the input's point arrays (None first); SurfaceSmoothing below 0.1 is refused.
 - One leaf scanned by VirtualScanner along lines (its points much closer along a line than the lines are) is one
   leaf, not one per group of lines.
@@ -51,15 +54,16 @@ def ellipse(centre, tilt=0.0, a=2.0, b=5.0, h=0.1):
     return numpy.c_[p[:, 0], c * p[:, 1] - s * z, s * p[:, 1] + c * z] + numpy.asarray(centre)
 
 
-def source(points, ids=None, dtype=None):
+def source(points, ids=None, dtype=None, organ=None):
     data = vtkPolyData()
     vtk_points = vtkPoints()
     vtk_points.SetData(numpy_to_vtk(numpy.ascontiguousarray(points), deep=1))
     data.SetPoints(vtk_points)
-    if ids is not None:
-        array = numpy_to_vtk(numpy.ascontiguousarray(ids, dtype=dtype), deep=1)
-        array.SetName("Leaf")
-        data.GetPointData().AddArray(array)
+    for name, values, kind in (("Leaf", ids, dtype), ("Organ", organ, numpy.int32)):
+        if values is not None:
+            array = numpy_to_vtk(numpy.ascontiguousarray(values, dtype=kind), deep=1)
+            array.SetName(name)
+            data.GetPointData().AddArray(array)
     producer = TrivialProducer()
     producer.GetClientSideObject().SetOutput(data)
     return producer
@@ -184,8 +188,30 @@ distance = vtk_to_numpy(scan.GetPointData().GetArray("FitDistance"))
 checks.check(numpy.array_equal(scan_ids, off_ids) and bool(numpy.all(numpy.isnan(distance[len(both):])))
              and bool(numpy.all(numpy.isfinite(distance[:len(both)]))),
              "Scan: every point, its id kept, FitDistance NaN on no leaf")
-checks.check(rows(off, 4)[0]["LeafCount"] == 2, "Plant: two leaves")
+checks.check(rows(off, 4)[0]["LeafCount"] == 2 and rows(off, 4)[0]["UnassignedLeafPoints"] == 0
+             and rows(off, 4)[0]["UnassignedLeafArea"] == 0, "Plant: two leaves; no Organ array, no point on no leaf "
+             "counted as leaf (it may be wood)")
 Delete(off)
+# With PlantMorph's Organ array: the stick is wood (Organ 0), and half of a third ellipse (2 x 5, on the same grid)
+# is leaf points with LeafId -1 (Organ 1), a leaf the segmentation gave no LeafId. Their area at the two fitted
+# leaves' points per area is the half ellipse's (5 pi) within the grid's jitter, and the estimated total holds it.
+half = ellipse((0.0, 0.0, 20.0))
+half = half[half[:, 0] <= 0.0]
+organ = numpy.r_[numpy.ones(len(both)), numpy.zeros(len(stick)), numpy.ones(len(half))]
+with_organ = LeafFitFilter(Input=source(numpy.r_[both, stick, half], numpy.r_[off_ids, numpy.full(len(half), -1)],
+                                        numpy.int64, organ), LeafIdArray="Leaf")
+plant = rows(with_organ, 4)[0]
+traits = rows(with_organ)
+density = sum(r["Points"] for r in traits) / plant["TotalLeafArea"]
+checks.check(plant["UnassignedLeafPoints"] == len(half)
+             and abs(plant["UnassignedLeafArea"] - len(half) / density) < 1e-9 * plant["UnassignedLeafArea"]
+             and abs(plant["UnassignedLeafArea"] / (5.0 * math.pi) - 1.0) < 0.05
+             and abs(plant["TotalEstimatedLeafArea"] - sum(r["EstimatedArea"] for r in traits)
+                     - plant["UnassignedLeafArea"]) < 1e-9 * plant["TotalEstimatedLeafArea"]
+             and [r["LeafId"] for r in traits] == [0, 2 ** 32],
+             "Organ 1 on no leaf: UnassignedLeafPoints %d of %d, UnassignedLeafArea %.3f against 5 pi, in the "
+             "estimated total" % (plant["UnassignedLeafPoints"], len(half), plant["UnassignedLeafArea"]))
+Delete(with_organ)
 none = LeafFitFilter(Input=source(stick, numpy.full(400, -1), numpy.int64), LeafIdArray="Leaf")
 said = run(none)
 checks.check(said.said("LeafIdArray", "no point has a LeafId of 0 or more", kind="error")
