@@ -17,8 +17,8 @@ found leaves, the merged true leaves (unmatched although one instance holds over
 (unmatched instances mostly of one leaf, holding no quarter of another), and the segmentation's wall and CPU time (the
 process's, all threads). Prints a Markdown table (benchmarks/README.md keeps it).
 
-With `--fit`, each scan's leaf points (LeafId >= 0) also go to LeafFitFilter (LeafIdArray LeafId, UpAxis Y, its
-other defaults, as examples/main_segment_plant.py), and a second table gives the leaf areas against the truth: each
+With `--fit`, each scan's leaf points (LeafId >= 0; the cloud goes whole, LeafId -1 is on no leaf) also go to
+LeafFitFilter (LeafIdArray LeafId, UpAxis Y, its other defaults, as examples/main_segment_plant.py), and a second table gives the leaf areas against the truth: each
 true leaf's area is the sum of its blade cells (Organ 1) on the simulated plant, rebuilt from its parameters. Per
 scan: the matched leaves (IoU > 0.5) fitted (Status 0 or 1) and their median |area error| and fraction within 3 %;
 the plant's leaf area (the fitted areas of every fitted row, matched or not) against the true area of every leaf
@@ -27,7 +27,9 @@ to tell the segmentation's share from the fit's and the scan's: the same true le
 (each true blade's scanned points alone), and pooled, the matched leaves seen whole (0.99 of the blade's area or more
 within 2-4 % of a leaf's length of the leaf's own scanned points; a leaf seen in part fits small). A third table
 sets the Traits' EstimatedArea (a leaf seen in part estimated from the plant's leaves seen whole) beside Area: the
-matched leaves' median error, the share within 3 % and the plant's sum. `--fit-csv FILE` writes one line per matched
+matched leaves' median error, the share within 3 % and the plant's sum; a fourth adds the Plant table's
+UnassignedLeafArea (the segmentation's leaf points it gave no leaf, LeafId -1 and Organ 1: LeafFitFilter gets the
+whole segmented cloud and counts them) to that sum. `--fit-csv FILE` writes one line per matched
 leaf (the found and true LeafId, points, areas, the area on the true labels, the share seen, EstimatedArea and
 AreaRule, Status and Message).
 """
@@ -233,14 +235,21 @@ areas, cell_areas = {}, {}  # name: each true leaf's area; each cell's blade are
 def fitted_rows(cloud, labels="LeafId", lowest=0):
     """LeafFitFilter on the points whose `labels` is at least `lowest` (the found leaves': LeafId >= 0; the true
     blades': the scan's Organ 1): (LeafId, Area, Status, Message, EstimatedArea, AreaRule) per Traits row (a plugin
-    without EstimatedArea: Area and NaN), and the CPU time."""
-    leaf_points = Threshold(Input=cloud, Scalars=["POINTS", labels])
-    # set after the proxy exists: on an input already updated, its domain resets the range to the data's (-1 too)
-    leaf_points.LowerThreshold, leaf_points.UpperThreshold = lowest, 1 if labels == "Organ" else 1e9
-    fit = LeafFitFilter(Input=leaf_points, LeafIdArray="LeafId", UpAxis="Y")
+    without EstimatedArea: Area and NaN), the CPU time and the Plant table's UnassignedLeafArea (0 without it). The
+    found leaves' fit gets the whole segmented cloud: its points of LeafId -1 are on no leaf, and those of them with
+    Organ 1 (leaf points the segmentation gave no leaf) are the Plant table's UnassignedLeafPoints."""
+    leaf_points = None
+    if labels != "LeafId":
+        leaf_points = Threshold(Input=cloud, Scalars=["POINTS", labels])
+        # set after the proxy exists: on an input already updated, its domain resets the range to the data's
+        leaf_points.LowerThreshold, leaf_points.UpperThreshold = lowest, 1
+    fit = LeafFitFilter(Input=leaf_points or cloud, LeafIdArray="LeafId", UpAxis="Y")
     cpu_start = time.process_time()
     fit.UpdatePipeline()
     cpu = time.process_time() - cpu_start
+    plant = servermanager.Fetch(fit, idx=4)
+    unassigned = plant.GetColumnByName("UnassignedLeafArea")
+    unassigned = unassigned.GetValue(0) if unassigned else 0.0
     traits = servermanager.Fetch(fit, idx=2)
     column = lambda c: [traits.GetColumnByName(c).GetValue(k) for k in range(traits.GetNumberOfRows())]  # noqa: E731
     names = ["LeafId", "Area", "Status", "Message"]
@@ -249,8 +258,9 @@ def fitted_rows(cloud, labels="LeafId", lowest=0):
     if names[-1] == "Area":
         rows = [r[:5] + (float("nan"),) for r in rows]
     Delete(fit)
-    Delete(leaf_points)
-    return rows, cpu
+    if leaf_points:
+        Delete(leaf_points)
+    return rows, cpu, unassigned
 
 
 def fit_scores(fits, s, true_area, label):
@@ -319,8 +329,8 @@ for name in arguments.plants.split(","):
             if arguments.fit:
                 found_ids, found_counts = numpy.unique(get("LeafId"), return_counts=True)
                 s["found_points"] = dict(zip(found_ids.tolist(), found_counts.tolist()))
-                fits, s["fit_cpu"] = fitted_rows(segmentation)
-                true_fits, _ = fitted_rows(scanner, "Organ", 1)  # the fit alone: each true blade's scanned points
+                fits, s["fit_cpu"], s["unassigned_area"] = fitted_rows(segmentation)
+                true_fits, _, _ = fitted_rows(scanner, "Organ", 1)  # the fit alone: each true blade's scanned points
                 s["true_fits"] = {int(r[0]): r[1] for r in true_fits if int(r[2]) != 2}
                 true_area = areas[name] if name in areas else true_leaf_areas(name)
                 # seen: blade within 2-4 % of a leaf's length (1-5 point spacings) of the leaf's scanned points
@@ -423,6 +433,28 @@ if arguments.fit and rows:
               100 * (total("est_plant") / total("true_plant") - 1), 100 * (total("fit_plant") / total("true_plant") - 1),
               100 * (total("est_plant") / total("true_big") - 1), 100 * (total("fit_plant") / total("true_big") - 1),
               sum(1 for s in rows if abs(s["est_plant"] / s["true_plant"] - 1) <= 0.03), len(rows)))
+    print("\nThe Plant table's UnassignedLeafArea (the leaf points on no leaf, at the fitted leaves' points per area) "
+          "added to the estimated area:\n")
+    print("| plant | positions | noise | unassigned leaf area | plant area: estimated / with unassigned / true all | "
+          "error against all: estimated / with unassigned | against >= 100 points: estimated / with unassigned |")
+    print("|---|---|---|---|---|---|---|")
+    for s in rows:
+        total_area = s["est_plant"] + s["unassigned_area"]
+        print("| %s | %d | %g | %.3f | %.2f / %.2f / %.2f | %+.1f %% / %+.1f %% | %+.1f %% / %+.1f %% |" % (
+            s["plant"], s["positions"], s["noise"], s["unassigned_area"], s["est_plant"], total_area,
+            s["true_plant"], 100 * (s["est_plant"] / s["true_plant"] - 1), 100 * (total_area / s["true_plant"] - 1),
+            100 * (s["est_plant"] / s["true_big"] - 1), 100 * (total_area / s["true_big"] - 1)))
+    with_unassigned = total("est_plant") + total("unassigned_area")
+    print("\nPooled, with unassigned: plant leaf area summed %.2f (estimated %.2f) against %.2f of every leaf "
+          "(%+.1f %%, estimated %+.1f %%), of the leaves of >= 100 points %+.1f %% (estimated %+.1f %%); per scan "
+          "within 3 %% of every leaf's on %d of %d, nearer the truth than estimated on %d" % (
+              with_unassigned, total("est_plant"), total("true_plant"),
+              100 * (with_unassigned / total("true_plant") - 1),
+              100 * (total("est_plant") / total("true_plant") - 1), 100 * (with_unassigned / total("true_big") - 1),
+              100 * (total("est_plant") / total("true_big") - 1),
+              sum(1 for s in rows if abs((s["est_plant"] + s["unassigned_area"]) / s["true_plant"] - 1) <= 0.03),
+              len(rows), sum(1 for s in rows if abs(s["est_plant"] + s["unassigned_area"] - s["true_plant"])
+                             < abs(s["est_plant"] - s["true_plant"]))))
     alone = numpy.concatenate([s["alone_errors"] for s in rows])
     print("The fit alone on the true labels of the same leaves: median |area error| %.2f %%, %.1f %% within 3 %%"
           % (100 * numpy.median(alone) if len(alone) else float("nan"),
