@@ -8,8 +8,9 @@ checked against the truth the scanner carried.
    point knows the organ and leaf it hit (kept as TrueOrgan and TrueLeafId).
 3. PlantSegmentationFilter with its defaults (UpAxis Y: the plant grows along +y) gives every point Organ and LeafId
    and tables per leaf and per plant.
-4. The leaf points (LeafId >= 0) go to LeafFitFilter with LeafIdArray = LeafId: one fitted blade and one row of
-   traits per leaf.
+4. The segmented cloud goes whole to LeafFitFilter with LeafIdArray = LeafId: one fitted blade and one row of
+   traits per leaf (points with LeafId -1 are on no leaf and are not fitted); its Plant table sums the leaf area,
+   counting the leaf points the segmentation left on no leaf (UnassignedLeafArea).
 
 Prints, per found leaf, the true leaf it matches, its points, the segmentation's first area, LeafFitFilter's Area
 and the true leaf's area (segment_plant.csv), then the plant's row. segment_plant.png shows the cloud coloured by
@@ -52,9 +53,7 @@ true_organ = Calculator(registrationName="TrueOrgan", Input=scan, ResultArrayNam
 truth = Calculator(registrationName="TrueLeafId", Input=true_organ, ResultArrayName="TrueLeafId",
                    ResultArrayType="Int", Function="LeafId")
 segmentation = PlantSegmentationFilter(registrationName="Segmentation", Input=truth, UpAxis="Y")
-leaf_points = Threshold(registrationName="LeafPoints", Input=OutputPort(segmentation, 0), Scalars=["POINTS", "LeafId"],
-                        LowerThreshold=0, UpperThreshold=1e9)
-fit = LeafFitFilter(registrationName="Fit", Input=leaf_points, LeafIdArray="LeafId", UpAxis="Y")
+fit = LeafFitFilter(registrationName="Fit", Input=OutputPort(segmentation, 0), LeafIdArray="LeafId", UpAxis="Y")
 fit.UpdatePipeline()
 
 cloud = servermanager.Fetch(segmentation, idx=0)
@@ -90,6 +89,12 @@ with open(os.path.join(arguments.output, "segment_plant.csv"), "w") as f:
 plants = servermanager.Fetch(segmentation, idx=2)
 print("plant: %s" % ", ".join("%s %s" % (plants.GetColumnName(c), plants.GetValue(0, c))
                               for c in range(plants.GetNumberOfColumns())))
+leaf_plant = servermanager.Fetch(fit, idx=4)
+if leaf_plant.GetNumberOfRows():
+    print("leaf area: fitted %.4g, estimated with leaves seen in part and unassigned leaf points %.4g (of which %.4g "
+          "unassigned), true %.4g" % (leaf_plant.GetValueByName(0, "TotalLeafArea").ToDouble(),
+                                       leaf_plant.GetValueByName(0, "TotalEstimatedLeafArea").ToDouble(),
+                                       leaf_plant.GetValueByName(0, "UnassignedLeafArea").ToDouble(), true_area.sum()))
 for name, code in (("leaf", 1), ("wood", 0)):
     union = numpy.count_nonzero((organ == code) | (true_organ_values == code))
     print("%s IoU %.3f" % (name, numpy.count_nonzero((organ == code) & (true_organ_values == code)) / union))
