@@ -1519,16 +1519,13 @@ bool RowsAsWideAsALeaf(const std::vector<Eigen::Vector3d>& points, const PointFe
   return high - low >= 2.0 * f.radius && count > 0.0 && agree >= cosine * cosine * count;
 }
 
-/// Rows of one leaf seen at a grazing angle lie at one spacing: the median gap between neighbouring rows on either
-/// side of the widest gap within this factor of each other: the rows of two leaves end to end in one plane, scanned
-/// from different angles, would lie at different spacings, the widest gap between the two (no synthetic case shows
-/// this: the two leaves of ALeafInEvenRows... are refused by the width test). A wide gap alone is no sign of a
-/// piece: a shadow or a missing row crosses a whole leaf too (ALeafInRowsCrossedByAShadow...; on the 18 simulated
-/// scans, the row groups within 4r of a leaf instance refused only for a gap wider than 1.5 times the median were 16
-/// whole leaves and no piece: the pieces fail the width or the closing test). Nor is a narrow one: a row of points
-/// cut off alone that wavers across its line counts twice, its two lines under a link apart (ALeafInWaveringRows...).
-constexpr double RowGapRatio = 1.5;
-/// ... and the group's outline closes: the outermost row at each end is at most this fraction of the longest row's
+/// A group's rows are not asked to lie at one spacing. The rows' spacing on a leaf is the scanner's step over the
+/// sine of the angle it meets the leaf at, which turns across a leaf; where two positions see a part of the leaf
+/// their rows interleave there and not beyond; and single points cut off between rows count as rows. On the 18
+/// simulated scans, the groups refused only for the median gap on the two sides of the widest differing by over 1.5
+/// times were 11 whole leaves and 2 pieces. Two leaves end to end, which that test was for, cannot lie in one group
+/// as large as a leaf: GatherRows joins no more than a leaf's length, and a narrower band fails the width test.
+/// The group's outline closes: the outermost row at each end is at most this fraction of the longest row's
 /// length, as a leaf's rows shorten towards its ends (an ellipse's outermost of four rows: 0.68 of the longest);
 /// half a leaf cut across its rows keeps a full row at the cut.
 constexpr double RowEndFraction = 0.7;
@@ -1567,23 +1564,6 @@ std::vector<std::array<double, 3>> RowsAcross(const std::vector<Eigen::Vector3d>
     else
       rows.push_back(q);
   return rows;
-}
-
-/// Whether neighbouring rows' `gaps` lie at one spacing: the median gap before the widest and the median after it
-/// within RowGapRatio of each other (true when either side has no gap).
-bool OneSpacing(std::vector<double> gaps)
-{
-  const auto widest = std::max_element(gaps.begin(), gaps.end());
-  std::vector<double> after(widest + 1, gaps.end());
-  gaps.erase(widest, gaps.end());
-  if (gaps.empty() || after.empty())
-    return true;
-  const auto median = [](std::vector<double>& v) {
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
-  const double a = median(gaps), b = median(after);
-  return std::max(a, b) <= RowGapRatio * std::min(a, b);
 }
 
 /// Whether points whose scatter has the ascending `eigenvalues` are a line by their shape: their second spread under
@@ -1674,8 +1654,8 @@ std::vector<std::pair<Eigen::Vector3d, double>> RowsSeen(const std::vector<Eigen
 /// narrow strips along their leaf), its rows nearly parallel (the row directions the features measured where a
 /// neighbourhood is a line, RowDirections, or the pieces' own axes where under three are: the median of their
 /// squared cosines to their main direction at least `cosine` squared, MedianSquaredCosine), at least three of them,
-/// at one spacing (OneSpacing) and shortening towards both ends of the group (RowEndFraction). `directions`: the
-/// group's RowsSeen.
+/// shortening towards both ends of the group (RowEndFraction), at whatever spacing (see RowEndFraction).
+/// `directions`: the group's RowsSeen.
 bool RowsOfOneLeaf(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const std::vector<int>& ids,
   const std::vector<int>& pieceOf, const std::vector<std::pair<Eigen::Vector3d, double>>& directions,
   const PartMoments& m, double cosine, double merge)
@@ -1701,15 +1681,11 @@ bool RowsOfOneLeaf(const std::vector<Eigen::Vector3d>& points, const PointFeatur
   const std::vector<std::array<double, 3>> rows = RowsAcross(points, ids, pieceOf, m.mean, along, n, merge);
   if (rows.size() < 3)
     return false;
-  std::vector<double> gaps, lengths;
-  for (std::size_t k = 0; k < rows.size(); ++k)
-  {
-    lengths.push_back(rows[k][2] - rows[k][1]);
-    if (k > 0)
-      gaps.push_back(rows[k][0] - rows[k - 1][0]);
-  }
+  std::vector<double> lengths;
+  for (const std::array<double, 3>& row : rows)
+    lengths.push_back(row[2] - row[1]);
   const double longest = *std::max_element(lengths.begin(), lengths.end());
-  return OneSpacing(gaps) && lengths.front() <= RowEndFraction * longest && lengths.back() <= RowEndFraction * longest;
+  return lengths.front() <= RowEndFraction * longest && lengths.back() <= RowEndFraction * longest;
 }
 
 /// A leaf seen only in rows (and cut-off pieces): the scanner meets it at a grazing angle and no part of it has a

@@ -736,6 +736,42 @@ TEST(PlantSegmentation, ALeafInRowsCrossedByAShadowBesideALeafIsAnInstance)
     EXPECT_GT(iou, 0.9);
 }
 
+TEST(PlantSegmentation, ALeafInRowsFromTwoPositionsOverHalfOfItBesideALeafIsAnInstance)
+{
+  // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15) scanned whole at a grazing angle from one position,
+  // in rows every 6 spacings (1.5r), and its first half from a second position too, whose rows fall midway between
+  // the first's: 3 spacings apart over that half, 6 beyond it. A dense blade (leaf 8) lies 0.05 above its middle
+  // (within 4r), as in ALeafInEvenRowsBesideALeafIsAnInstance... The rows are parallel and the outline closes at
+  // both ends: one leaf, one instance of its own (none before, when the median gaps on the two sides of the widest
+  // had to be within 1.5 times of each other: here they are 2 times).
+  const int leaves = 8;
+  const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0, step = 6.0 * h;
+  const LeafFrame frame = EighthLeafFrame(rise);
+  Truth t = WithoutLeaf(SyntheticPlant(leaves), leaves - 1);
+  AddBladeAboveEighthLeaf(t, frame, leaves, length, h);
+  const auto addRow = [&](double s) {
+    for (double w = -length / 4, side = 0.2 * h; w <= length / 4; w += h, side = -side)
+    {
+      const double u = (s - length / 2) / (length / 2), v = w / (length / 4);
+      if (u * u + v * v <= 1.0)
+      {
+        t.points.push_back(frame.base + (s + side) * frame.along + w * frame.across);
+        t.organ.push_back(plantmorph::OrganLeaf);
+        t.leaf.push_back(leaves - 1);
+      }
+    }
+  };
+  for (double s = step; s <= length; s += step)
+    addRow(s); // the first position, over the whole leaf
+  for (double s = step / 2; s <= length / 2; s += step)
+    addRow(s); // the second, over its first half
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  for (double iou : InstanceIoU(t, r, leaves + 1))
+    EXPECT_GT(iou, 0.9);
+}
+
 TEST(PlantSegmentation, ALeafSeenInRowsFartherApartThanTheFeaturesRadiusIsAnInstance)
 {
   // The plant of eight leaves, the top one (leaf 7, 0.3 by 0.15, farther than 4r from the others) scanned at a
