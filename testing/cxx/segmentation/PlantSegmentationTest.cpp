@@ -1012,8 +1012,8 @@ TEST(PlantSegmentation, AThinBranchAmongLargeLeavesStaysWood)
   // parent, a bare twig of six flat sides (circumradius 0.025) across it, 0.008 below (wood within r / 2 of it, so no
   // lone strip). The points within three links of the strip are mostly the blades': among leaves, as a leaf's strip
   // in a brush of leaves is (ANarrowLeafAmongLeavesBesideATwigIsLeaf, 0.2 long, stays leaf), and it was all leaf; but
-  // it is longer than 12 r and a sheet several points across, not one row: a branch's side, wood. The blades stay
-  // leaf, the twig wood.
+  // it is longer than 12 r, a sheet several points across (not one row) and narrower than 2r: a branch's side, wood.
+  // The blades stay leaf, the twig wood.
   const int leaves = 7;
   const double h = 0.005, noise = 0.0002, bend = 0.05;
   Truth t = SyntheticPlant(leaves);
