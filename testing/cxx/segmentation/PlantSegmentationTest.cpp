@@ -1039,6 +1039,67 @@ TEST(PlantSegmentation, ANarrowLeafAmongLeavesBesideATwigIsLeaf)
   EXPECT_GT(static_cast<double>(twigWood), 0.95 * static_cast<double>(t.points.size() - twig));
 }
 
+TEST(PlantSegmentation, AThinBranchAmongLargeLeavesStaysWood)
+{
+  // Beside the plant of seven leaves, a thin branch seen from one side: an arc of its surface (radius 0.05, 0.025
+  // wide, narrower than the features' neighbourhood 2r = 0.04) 0.4 long (20 r), its normals turning about its length
+  // by less than a tube's (not judged a cylinder: a strip), whose long edges two large blades (0.2 wide, in parallel
+  // planes) leave at 60 degrees to its plane, one on each side, along its whole length; its lower end rests on its
+  // parent, a bare twig of six flat sides (circumradius 0.025) across it, 0.008 below (wood within r / 2 of it, so no
+  // lone strip). The points within three links of the strip are mostly the blades': among leaves, as a leaf's strip
+  // in a brush of leaves is (ANarrowLeafAmongLeavesBesideATwigIsLeaf, 0.2 long, stays leaf), and it was all leaf; but
+  // it is longer than 12 r, a sheet several points across (not one row) and narrower than 2r: a branch's side, wood.
+  // The blades stay leaf, the twig wood.
+  const int leaves = 7;
+  const double h = 0.005, noise = 0.0002, bend = 0.05;
+  Truth t = SyntheticPlant(leaves);
+  NoisyAdder add{ t, std::mt19937(5), std::normal_distribution<double>(0.0, noise) };
+  const Eigen::Vector3d corner(0.6, 0.0, 0.3);
+  const std::size_t branch = t.points.size();
+  const double halfWidth = 0.0125;
+  for (double s = 0.0; s <= 0.4 + 1e-12; s += h)
+    for (double w = -halfWidth; w <= halfWidth + 1e-12; w += h)
+    {
+      const double a = w / bend; // the arc's angle about the branch's axis, which lies `bend` behind the strip
+      add(corner + Eigen::Vector3d(halfWidth + bend * std::sin(a), bend * (1.0 - std::cos(a)), s),
+        plantmorph::OrganWood, -1);
+    }
+  const std::size_t blades = t.points.size();
+  for (int side : { -1, 1 })
+  {
+    const double edge = side * halfWidth;
+    const Eigen::Vector3d from = corner +
+      Eigen::Vector3d(halfWidth + bend * std::sin(edge / bend) + side * h, bend * (1.0 - std::cos(edge / bend)), 0.0);
+    const Eigen::Vector3d out(side * std::cos(Pi / 3), side * std::sin(Pi / 3), 0.0); // parallel planes
+    for (double s = 0.0; s <= 0.42 + 1e-12; s += h)
+      for (double w = 0.0; w <= 0.2 + 1e-12; w += h)
+        add(from + Eigen::Vector3d(0.0, 0.0, s) + w * out, plantmorph::OrganLeaf, leaves + (side + 1) / 2 + 1);
+  }
+  const std::size_t twig = t.points.size();
+  const int sides = 6;
+  const double circumradius = 0.025;
+  const double turn = 2.0 * Pi / sides, edge = 2.0 * circumradius * std::sin(turn / 2);
+  const int across = static_cast<int>(std::round(edge / h));
+  const Eigen::Vector3d axis = corner + Eigen::Vector3d(halfWidth, 0.0, -0.008 - circumradius); // along y
+  for (int k = 0; k < sides; ++k)
+  {
+    const double a0 = Pi / 2 + k * turn, a1 = a0 + turn;
+    const Eigen::Vector3d a(circumradius * std::cos(a0), 0.0, circumradius * std::sin(a0));
+    const Eigen::Vector3d b(circumradius * std::cos(a1), 0.0, circumradius * std::sin(a1));
+    for (double y = -0.2; y <= 0.2 + 1e-12; y += h)
+      for (int w = 0; w < across; ++w)
+        add(axis + Eigen::Vector3d(0.0, y, 0.0) + a + (b - a) * (w + 0.5) / across, plantmorph::OrganWood, -1);
+  }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  const std::size_t branchWood = CountOrgan(r, branch, blades, plantmorph::OrganWood);
+  const std::size_t bladesLeaf = CountOrgan(r, blades, twig, plantmorph::OrganLeaf);
+  const std::size_t twigWood = CountOrgan(r, twig, t.points.size(), plantmorph::OrganWood);
+  EXPECT_GT(static_cast<double>(branchWood), 0.9 * static_cast<double>(blades - branch));
+  EXPECT_GT(static_cast<double>(bladesLeaf), 0.95 * static_cast<double>(twig - blades));
+  EXPECT_GT(static_cast<double>(twigWood), 0.95 * static_cast<double>(t.points.size() - twig));
+}
+
 TEST(PlantSegmentation, ATwigBeyondALeafsBaseIsWood)
 {
   // Beside the plant of seven leaves, linked to nothing, a twig of radius 0.015 (0.75 r; r = 4 spacings = 0.02) and
