@@ -500,6 +500,51 @@ void FlattenBranchBulges(double noise, TreeFitResult& result)
   }
 }
 
+/// A stem never thickens towards its tip. Where laterals leave it, their first points fall in its level sets and the
+/// cylinders fitted there hold them beside the stem's own; when each such fit is only a little wider than the one
+/// before, none is a bulge against its neighbour (FlattenBulges) nor against a taper that the run itself raises
+/// (FlattenBranchBulges), and the stem creeps wider over metres. Along each branch, a measured cylinder wider than
+/// the narrowest measured one below it (by two noise deviations), where a measured one further up is narrower than
+/// that again (the stem comes back down: a bump, not a thicker stem), is a junction when it is wider than the taper
+/// between those two by TaperMargin and two noise deviations: its radius is not measured (InterpolateTaper gives
+/// it). A stem tapering in steps (a capped segment per fork) never rises, so it is not judged.
+void FlattenTaperBumps(double noise, TreeFitResult& result)
+{
+  auto& cylinders = result.cylinders;
+  for (const TreeBranchRow& branch : result.branches)
+  {
+    const auto& ids = branch.cylinders;
+    std::vector<double> middle(ids.size());
+    double along = 0;
+    for (std::size_t j = 0; j < ids.size(); along += cylinders[ids[j]].length, ++j)
+      middle[j] = along + 0.5 * cylinders[ids[j]].length;
+    std::size_t below = ids.size(); // the narrowest measured cylinder below, not a junction
+    for (std::size_t j = 0; j < ids.size(); ++j)
+    {
+      TreeCylinder& c = cylinders[ids[j]];
+      if (!c.measured)
+        continue;
+      if (below == ids.size() || c.fittedRadius <= cylinders[ids[below]].fittedRadius)
+      {
+        below = j;
+        continue;
+      }
+      const double low = cylinders[ids[below]].fittedRadius;
+      if (c.fittedRadius <= low + 2.0 * noise)
+        continue;
+      std::size_t above = j + 1;
+      while (above < ids.size() && !(cylinders[ids[above]].measured && cylinders[ids[above]].fittedRadius < low))
+        ++above;
+      if (above == ids.size())
+        continue;
+      const double t = (middle[j] - middle[below]) / (middle[above] - middle[below]);
+      const double expected = (1 - t) * low + t * cylinders[ids[above]].fittedRadius;
+      if (c.fittedRadius > TaperMargin * expected + 2.0 * noise)
+        c.measured = false;
+    }
+  }
+}
+
 /// Along each branch, a run of cylinders whose radius is not measured, between two that are, follows the taper
 /// between them (linear in the length along the branch): a junction or an occluded stretch of a stem.
 void InterpolateTaper(TreeFitResult& result)
@@ -669,6 +714,7 @@ std::string ModelRadii(double spacing, TreeFitResult& result, bool leafLabelled)
   }
   AssignBranches(result, first);
   FlattenBranchBulges(noise, result);
+  FlattenTaperBumps(noise, result);
   // Each branch's level: the geometric mean of its measured / model ratios, else its parent branch's.
   std::vector<double> level(result.branches.size(), 1.0);
   for (const auto& branch : result.branches)
