@@ -63,6 +63,25 @@ std::size_t AddBrush(NoisyAdder& add, int leaves, double h, double bladesFrom)
   return blades;
 }
 
+/// A bare twig of six flat sides (circumradius 0.025), its axis through `axis` along y from -0.2 to 0.2, a vertex on
+/// top, sampled at spacing h: its points are wood.
+void AddSixSidedTwigAlongY(NoisyAdder& add, const Eigen::Vector3d& axis, double h)
+{
+  const int sides = 6;
+  const double circumradius = 0.025;
+  const double turn = 2.0 * Pi / sides, edge = 2.0 * circumradius * std::sin(turn / 2);
+  const int across = static_cast<int>(std::round(edge / h));
+  for (int k = 0; k < sides; ++k)
+  {
+    const double a0 = Pi / 2 + k * turn, a1 = a0 + turn;
+    const Eigen::Vector3d a(circumradius * std::cos(a0), 0.0, circumradius * std::sin(a0));
+    const Eigen::Vector3d b(circumradius * std::cos(a1), 0.0, circumradius * std::sin(a1));
+    for (double y = -0.2; y <= 0.2 + 1e-12; y += h)
+      for (int w = 0; w < across; ++w)
+        add(axis + Eigen::Vector3d(0.0, y, 0.0) + a + (b - a) * (w + 0.5) / across, plantmorph::OrganWood, -1);
+  }
+}
+
 /// How many of the points [from, to) the segmentation gave `organ`.
 std::size_t CountOrgan(const plantmorph::SegmentationResult& r, std::size_t from, std::size_t to, int organ)
 {
@@ -1015,20 +1034,7 @@ TEST(PlantSegmentation, ANarrowLeafAmongLeavesBesideATwigIsLeaf)
   const std::size_t strip = t.points.size();
   const std::size_t blades = AddBrush(add, leaves, h, 0.0);
   const std::size_t twig = t.points.size();
-  const int sides = 6;
-  const double circumradius = 0.025;
-  const double turn = 2.0 * Pi / sides, edge = 2.0 * circumradius * std::sin(turn / 2);
-  const int across = static_cast<int>(std::round(edge / h));
-  const Eigen::Vector3d axis(0.6125, 0.0, 0.3 - 0.008 - circumradius); // a vertex on top, along y
-  for (int k = 0; k < sides; ++k)
-  {
-    const double a0 = Pi / 2 + k * turn, a1 = a0 + turn;
-    const Eigen::Vector3d a(circumradius * std::cos(a0), 0.0, circumradius * std::sin(a0));
-    const Eigen::Vector3d b(circumradius * std::cos(a1), 0.0, circumradius * std::sin(a1));
-    for (double y = -0.2; y <= 0.2 + 1e-12; y += h)
-      for (int w = 0; w < across; ++w)
-        add(axis + Eigen::Vector3d(0.0, y, 0.0) + a + (b - a) * (w + 0.5) / across, plantmorph::OrganWood, -1);
-  }
+  AddSixSidedTwigAlongY(add, Eigen::Vector3d(0.6125, 0.0, 0.3 - 0.008 - 0.025), h);
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
   const std::size_t stripLeaf = CountOrgan(r, strip, blades, plantmorph::OrganLeaf);
@@ -1076,20 +1082,7 @@ TEST(PlantSegmentation, AThinBranchAmongLargeLeavesStaysWood)
         add(from + Eigen::Vector3d(0.0, 0.0, s) + w * out, plantmorph::OrganLeaf, leaves + (side + 1) / 2 + 1);
   }
   const std::size_t twig = t.points.size();
-  const int sides = 6;
-  const double circumradius = 0.025;
-  const double turn = 2.0 * Pi / sides, edge = 2.0 * circumradius * std::sin(turn / 2);
-  const int across = static_cast<int>(std::round(edge / h));
-  const Eigen::Vector3d axis = corner + Eigen::Vector3d(halfWidth, 0.0, -0.008 - circumradius); // along y
-  for (int k = 0; k < sides; ++k)
-  {
-    const double a0 = Pi / 2 + k * turn, a1 = a0 + turn;
-    const Eigen::Vector3d a(circumradius * std::cos(a0), 0.0, circumradius * std::sin(a0));
-    const Eigen::Vector3d b(circumradius * std::cos(a1), 0.0, circumradius * std::sin(a1));
-    for (double y = -0.2; y <= 0.2 + 1e-12; y += h)
-      for (int w = 0; w < across; ++w)
-        add(axis + Eigen::Vector3d(0.0, y, 0.0) + a + (b - a) * (w + 0.5) / across, plantmorph::OrganWood, -1);
-  }
+  AddSixSidedTwigAlongY(add, corner + Eigen::Vector3d(halfWidth, 0.0, -0.008 - 0.025), h);
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
   const std::size_t branchWood = CountOrgan(r, branch, blades, plantmorph::OrganWood);
