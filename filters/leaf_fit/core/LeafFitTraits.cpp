@@ -199,33 +199,31 @@ namespace
 {
 /// The members of a LeafTraits in TraitNames() order, for TraitValues and TraitsFromValues alike; BaseFrom, the one
 /// integer, is the null entry.
-std::array<double*, 24> TraitFields(LeafTraits& t)
-{
-  return { &t.length, &t.width, &t.projectedLength, &t.projectedWidth, &t.area, &t.projectedArea, &t.horizontalArea,
-    &t.perimeter, &t.aspectRatio, &t.bending, &t.rolling, &t.rollingCurvature, &t.inclination, &t.azimuth,
-    &t.midveinInclination, &t.points, &t.inliers, &t.fitRMS, &t.fitP95, &t.fitMax, &t.coverage, &t.spacing, nullptr,
-    &t.petioleLength };
-}
+constexpr std::array<double LeafTraits::*, 24> TraitFields = { &LeafTraits::length, &LeafTraits::width,
+  &LeafTraits::projectedLength, &LeafTraits::projectedWidth, &LeafTraits::area, &LeafTraits::projectedArea,
+  &LeafTraits::horizontalArea, &LeafTraits::perimeter, &LeafTraits::aspectRatio, &LeafTraits::bending,
+  &LeafTraits::rolling, &LeafTraits::rollingCurvature, &LeafTraits::inclination, &LeafTraits::azimuth,
+  &LeafTraits::midveinInclination, &LeafTraits::points, &LeafTraits::inliers, &LeafTraits::fitRMS, &LeafTraits::fitP95,
+  &LeafTraits::fitMax, &LeafTraits::coverage, &LeafTraits::spacing, nullptr, &LeafTraits::petioleLength };
 } // namespace
 
 std::vector<double> TraitValues(const LeafTraits& t)
 {
-  LeafTraits copy = t;
   std::vector<double> values;
-  for (const double* field : TraitFields(copy))
-    values.push_back(field ? *field : static_cast<double>(t.baseFrom));
+  values.reserve(TraitFields.size());
+  for (double LeafTraits::*field : TraitFields)
+    values.push_back(field ? t.*field : static_cast<double>(t.baseFrom));
   return values;
 }
 
 LeafTraits TraitsFromValues(const std::vector<double>& v)
 {
   LeafTraits t;
-  const std::array<double*, 24> fields = TraitFields(t);
-  if (v.size() != fields.size())
+  if (v.size() != TraitFields.size())
     return t;
   for (std::size_t k = 0; k < v.size(); ++k)
-    if (fields[k])
-      *fields[k] = v[k];
+    if (TraitFields[k])
+      t.*TraitFields[k] = v[k];
     else
       t.baseFrom = std::isfinite(v[k]) ? static_cast<int>(v[k]) : 0;
   return t;
