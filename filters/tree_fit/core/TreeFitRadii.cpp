@@ -500,6 +500,19 @@ void FlattenBranchBulges(double noise, TreeFitResult& result)
   }
 }
 
+/// The length along a branch (its cylinders `ids`, base first) to each cylinder's middle.
+std::vector<double> MiddlesAlong(const std::vector<TreeCylinder>& cylinders, const std::vector<int>& ids)
+{
+  std::vector<double> middle(ids.size(), 0.0);
+  double along = 0;
+  for (std::size_t j = 0; j < ids.size(); ++j)
+  {
+    middle[j] = along + 0.5 * cylinders[ids[j]].length;
+    along += cylinders[ids[j]].length;
+  }
+  return middle;
+}
+
 /// A stem never thickens towards its tip. Where laterals leave it, their first points fall in its level sets and the
 /// cylinders fitted there hold them beside the stem's own; when each such fit is only a little wider than the one
 /// before, none is a bulge against its neighbour (FlattenBulges) nor against a taper that the run itself raises
@@ -514,10 +527,7 @@ void FlattenTaperBumps(double noise, TreeFitResult& result)
   for (const TreeBranchRow& branch : result.branches)
   {
     const auto& ids = branch.cylinders;
-    std::vector<double> middle(ids.size());
-    double along = 0;
-    for (std::size_t j = 0; j < ids.size(); along += cylinders[ids[j]].length, ++j)
-      middle[j] = along + 0.5 * cylinders[ids[j]].length;
+    const std::vector<double> middle = MiddlesAlong(cylinders, ids);
     std::size_t below = ids.size(); // the narrowest measured cylinder below, not a junction
     for (std::size_t j = 0; j < ids.size(); ++j)
     {
@@ -553,13 +563,7 @@ void InterpolateTaper(TreeFitResult& result)
   for (const TreeBranchRow& branch : result.branches)
   {
     const auto& ids = branch.cylinders;
-    std::vector<double> middle(ids.size(), 0.0); // length along the branch to each cylinder's middle
-    double along = 0;
-    for (std::size_t j = 0; j < ids.size(); ++j)
-    {
-      middle[j] = along + 0.5 * cylinders[ids[j]].length;
-      along += cylinders[ids[j]].length;
-    }
+    const std::vector<double> middle = MiddlesAlong(cylinders, ids);
     for (std::size_t j = 0, last = ids.size(); j < ids.size(); ++j)
     {
       if (!cylinders[ids[j]].measured)
