@@ -202,29 +202,32 @@ void AddBladeAboveEighthLeaf(Truth& t, const LeafFrame& frame, int id, double le
       }
 }
 
-/// Rows across an ellipse `ellipse` long (its width half of that) in the eighth leaf's plane (`frame`), starting
-/// `from` along the leaf, every `step` up to `upTo`, each row's points h apart across and alternately 0.2 h before
-/// and after its line, as leaf `leaf`: a leaf seen at a grazing angle. Row number `skip` (from 1) is left out, the
-/// shadow of something in front (0: none).
+/// One row across an ellipse `ellipse` long (its width half of that) in the eighth leaf's plane (`frame`), `s` along
+/// the ellipse, placed `from` further along the leaf, its points h apart across and alternately 0.2 h before and
+/// after its line, as leaf `leaf`.
+void AddRowOnEighthLeaf(Truth& t, const LeafFrame& frame, double h, double from, double ellipse, double s, int leaf)
+{
+  for (double w = -ellipse / 4, side = 0.2 * h; w <= ellipse / 4; w += h, side = -side)
+  {
+    const double u = (s - ellipse / 2) / (ellipse / 2), v = w / (ellipse / 4);
+    if (u * u + v * v <= 1.0)
+    {
+      t.points.push_back(frame.base + (from + s + side) * frame.along + w * frame.across);
+      t.organ.push_back(plantmorph::OrganLeaf);
+      t.leaf.push_back(leaf);
+    }
+  }
+}
+
+/// Rows (AddRowOnEighthLeaf) every `step` up to `upTo`: a leaf seen at a grazing angle. Row number `skip` (from 1) is
+/// left out, the shadow of something in front (0: none).
 void AddRowsOnEighthLeaf(Truth& t, const LeafFrame& frame, double h, double from, double ellipse, double upTo,
   double step, int leaf, int skip = 0)
 {
   int row = 0;
   for (double s = step; s <= upTo; s += step)
-  {
-    if (++row == skip)
-      continue;
-    for (double w = -ellipse / 4, side = 0.2 * h; w <= ellipse / 4; w += h, side = -side)
-    {
-      const double u = (s - ellipse / 2) / (ellipse / 2), v = w / (ellipse / 4);
-      if (u * u + v * v <= 1.0)
-      {
-        t.points.push_back(frame.base + (from + s + side) * frame.along + w * frame.across);
-        t.organ.push_back(plantmorph::OrganLeaf);
-        t.leaf.push_back(leaf);
-      }
-    }
-  }
+    if (++row != skip)
+      AddRowOnEighthLeaf(t, frame, h, from, ellipse, s, leaf);
 }
 
 /// The plant `t` without its leaf `leaf` (stem and other leaves kept), for a test that adds that leaf as a scan sees it.
@@ -768,22 +771,10 @@ TEST(PlantSegmentation, ALeafInRowsFromTwoPositionsOverHalfOfItBesideALeafIsAnIn
   const LeafFrame frame = EighthLeafFrame(rise);
   Truth t = WithoutLeaf(SyntheticPlant(leaves), leaves - 1);
   AddBladeAboveEighthLeaf(t, frame, leaves, length, h);
-  const auto addRow = [&](double s) {
-    for (double w = -length / 4, side = 0.2 * h; w <= length / 4; w += h, side = -side)
-    {
-      const double u = (s - length / 2) / (length / 2), v = w / (length / 4);
-      if (u * u + v * v <= 1.0)
-      {
-        t.points.push_back(frame.base + (s + side) * frame.along + w * frame.across);
-        t.organ.push_back(plantmorph::OrganLeaf);
-        t.leaf.push_back(leaves - 1);
-      }
-    }
-  };
   for (double s = step; s <= length; s += step)
-    addRow(s); // the first position, over the whole leaf
+    AddRowOnEighthLeaf(t, frame, h, 0.0, length, s, leaves - 1); // the first position, over the whole leaf
   for (double s = step / 2; s <= length / 2; s += step)
-    addRow(s); // the second, over its first half
+    AddRowOnEighthLeaf(t, frame, h, 0.0, length, s, leaves - 1); // the second, over its first half
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
   EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
