@@ -25,6 +25,7 @@
 
 #include <new>
 #include <sstream>
+#include <vector>
 
 namespace plantmorph
 {
@@ -339,6 +340,22 @@ bool AnyRank(vtkMultiProcessController* controller, bool failed)
     controller->AllReduce(&mine, &any, 1, vtkCommunicator::MAX_OP);
   }
   return any != 0;
+}
+
+double SumOverRanks(vtkMultiProcessController* controller, double value)
+{
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+  {
+    return value;
+  }
+  std::vector<double> values(static_cast<std::size_t>(controller->GetNumberOfProcesses()));
+  controller->AllGather(&value, values.data(), 1);
+  double sum = 0.0;
+  for (double v : values)
+  {
+    sum += v;
+  }
+  return sum;
 }
 
 bool Run::AnyRank(bool failed) const

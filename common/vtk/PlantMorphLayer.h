@@ -64,6 +64,11 @@ PLANTMORPHVTKCOMMON_EXPORT const char* PolicyName(MPIPolicy policy);
 /// cloud comparison's exchange all ask through this.
 PLANTMORPHVTKCOMMON_EXPORT bool AnyRank(vtkMultiProcessController* controller, bool failed);
 
+/// Collective over `controller`'s ranks: the sum of every rank's `value`, added in rank order so that every rank and
+/// every run get the same bits (exact for counts below 2^53, whatever the number of ranks); `value` itself when
+/// `controller` is null or has one rank.
+PLANTMORPHVTKCOMMON_EXPORT double SumOverRanks(vtkMultiProcessController* controller, double value);
+
 /// What a run throws to stop: caught by RunRequestData, which reports `what()` (unless empty) and empties every
 /// output. `everyRank`: every rank finds the same failure (a property, a replicated input), so only the first
 /// rank reports it; otherwise the rank that found it does.

@@ -3,6 +3,7 @@
 
 #include "PlantMorphWholeInput.h"
 #include "PlantMorphLayer.h" // AnyRank
+#include <plantmorph/DataContract.h>
 
 #include "vtkAbstractArray.h"
 #include "vtkCellArray.h"
@@ -57,7 +58,7 @@ std::string IdentifyLeaves(vtkPolyData* piece, std::vector<LeafIdType>& leafOf)
 {
   const vtkIdType n = piece->GetNumberOfPoints();
   leafOf.assign(static_cast<std::size_t>(n), NoLeaf);
-  if (vtkDataArray* ids = piece->GetPointData()->GetArray("LeafId"))
+  if (vtkDataArray* ids = piece->GetPointData()->GetArray(plantmorph::arrays::LeafId))
   {
     if (ids->GetNumberOfComponents() != 1)
       return "Input: the point array LeafId must have one component";
@@ -65,7 +66,7 @@ std::string IdentifyLeaves(vtkPolyData* piece, std::vector<LeafIdType>& leafOf)
       leafOf[static_cast<std::size_t>(i)] = LeafIdValue(ids, i);
     return {};
   }
-  vtkDataArray* cellIds = piece->GetCellData()->GetArray("LeafId");
+  vtkDataArray* cellIds = piece->GetCellData()->GetArray(plantmorph::arrays::LeafId);
   if (cellIds && cellIds->GetNumberOfComponents() != 1)
     return "Input: the cell array LeafId must have one component";
   // Rule 2 (first cell wins) or rule 3 (union-find over the cells' points).
@@ -274,7 +275,9 @@ LeafPlan::LeafPlan(vtkPolyData* piece)
   vtkSmartPointer<vtkPolyData> owned = vtkPolyData::SafeDownCast(detail::WithoutGhostCells(piece));
   // Rule 3 needs whole blades: gather on rank 0 when several ranks hold points and one has no LeafId array.
   const bool holds = owned && owned->GetNumberOfPoints() > 0;
-  const bool byArray = holds && (owned->GetPointData()->GetArray("LeafId") || owned->GetCellData()->GetArray("LeafId"));
+  const bool byArray = holds &&
+    (owned->GetPointData()->GetArray(plantmorph::arrays::LeafId) ||
+      owned->GetCellData()->GetArray(plantmorph::arrays::LeafId));
   const int mine[2] = { holds ? 1 : 0, holds && !byArray ? 1 : 0 };
   int all[2] = { mine[0], mine[1] };
   if (this->Controller)
@@ -423,7 +426,7 @@ bool LeafIdsOfPoints(vtkPolyData* data, std::vector<LeafIdType>& leafOf)
 {
   const vtkIdType n = data ? data->GetNumberOfPoints() : 0;
   leafOf.assign(static_cast<std::size_t>(n), NoLeaf);
-  vtkDataArray* ids = n > 0 ? data->GetPointData()->GetArray("LeafId") : nullptr;
+  vtkDataArray* ids = n > 0 ? data->GetPointData()->GetArray(plantmorph::arrays::LeafId) : nullptr;
   if (n > 0 && (!ids || ids->GetNumberOfComponents() != 1))
     return false;
   for (vtkIdType i = 0; i < n; ++i)
@@ -451,7 +454,7 @@ vtkSmartPointer<vtkDataArray> LeafIdArray(LeafIdType leaf, vtkIdType count, bool
     intIds->FillValue(static_cast<int>(leaf));
     ids = intIds;
   }
-  ids->SetName("LeafId");
+  ids->SetName(plantmorph::arrays::LeafId);
   return ids;
 }
 } // namespace
@@ -459,7 +462,7 @@ vtkSmartPointer<vtkDataArray> LeafIdArray(LeafIdType leaf, vtkIdType count, bool
 void MarkLeaf(vtkDataSet* data, LeafIdType leaf, bool wide)
 {
   const auto add = [leaf, wide](vtkDataSetAttributes* attributes, vtkIdType count) {
-    if (!attributes->GetArray("LeafId"))
+    if (!attributes->GetArray(plantmorph::arrays::LeafId))
       attributes->AddArray(LeafIdArray(leaf, count, wide));
   };
   add(data->GetPointData(), data->GetNumberOfPoints());

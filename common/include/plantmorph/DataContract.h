@@ -15,6 +15,8 @@ inline constexpr const char* Region = "Region";   ///< points and cells, int: se
 inline constexpr const char* Normals = "Normals"; ///< points, float x3, active normals
 inline constexpr const char* VeinOrder = "VeinOrder";
 inline constexpr const char* VeinWidth = "VeinWidth";
+inline constexpr const char* LeafId = "LeafId"; ///< points and cells, int: one id per leaf over a plant, -1 on no leaf
+inline constexpr const char* Organ = "Organ";   ///< points and cells, int: see Organ below
 } // namespace arrays
 
 /// Values of the `Region` array.
@@ -26,6 +28,15 @@ enum Region : int
   RegionTertiaryVein = 3, ///< tertiary vein or free-ending veinlet
   RegionMargin = 4,
   RegionPetiole = 5
+};
+
+/// Values of the `Organ` array: TreeFromSketchSource's truth, carried by VirtualScanner to every point it scans, and
+/// PlantSegmentationFilter's label; LeafFitFilter counts the leaf points on no leaf by it, TreeFitFilter reads wood.
+enum Organ : int
+{
+  OrganWood = 0,
+  OrganLeaf = 1,
+  OrganPetiole = 2
 };
 
 } // namespace plantmorph

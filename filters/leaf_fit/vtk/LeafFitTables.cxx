@@ -4,6 +4,7 @@
 #include "LeafAreaEstimate.h"
 #include "LeafFit.h"
 #include "LeafPlant.h"
+#include <plantmorph/DataContract.h>
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -170,7 +171,7 @@ void FillTraitsTable(const std::vector<Row>& rows, const std::string& lengthUnit
 {
   const std::vector<std::string> names = TraitNames();
   vtkNew<vtkTypeInt64Array> leafId;
-  leafId->SetName("LeafId");
+  leafId->SetName(plantmorph::arrays::LeafId);
   traits->AddColumn(leafId);
   for (const std::string& name : names)
   {
@@ -200,15 +201,6 @@ void FillTraitsTable(const std::vector<Row>& rows, const std::string& lengthUnit
   for (vtkIdType c = 0; c < traits->GetNumberOfColumns(); ++c)
     units->InsertNextValue(ColumnUnit(traits->GetColumnName(c), lengthUnit));
   traits->GetFieldData()->AddArray(units);
-}
-
-double SumOverRanks(vtkMultiProcessController* controller, double value)
-{
-  if (!controller || controller->GetNumberOfProcesses() < 2)
-    return value;
-  double sum = 0.0;
-  controller->AllReduce(&value, &sum, 1, vtkCommunicator::SUM_OP);
-  return sum;
 }
 
 void FillPlantTable(

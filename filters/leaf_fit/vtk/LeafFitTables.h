@@ -47,9 +47,6 @@ std::vector<Row> GatherRows(vtkMultiProcessController* controller, const std::ve
 /// Fills the Traits table (port 2) with `rows`; `lengthUnit` the output length unit ("" unknown).
 void FillTraitsTable(const std::vector<Row>& rows, const std::string& lengthUnit, vtkTable* traits);
 
-/// Collective: the sum of every rank's `value`.
-double SumOverRanks(vtkMultiProcessController* controller, double value);
-
 /// Fills the Plant table (port 4): one row summarising `rows` and `unassignedLeafPoints` leaf points on no leaf.
 void FillPlantTable(
   const std::vector<Row>& rows, const std::string& lengthUnit, double unassignedLeafPoints, vtkTable* plant);

@@ -64,10 +64,12 @@ void AppendPetiole(const plantmorph::LeafFitResult& r, std::int64_t leafId, vtkP
   {
     lines->InsertCellPoint(outlinePoints->InsertNextPoint(p.data()));
     outline->GetPointData()->GetArray(plantmorph::arrays::LeafUV)->InsertNextTuple2(0.0, 0.0);
-    vtkTypeInt64Array::SafeDownCast(outline->GetPointData()->GetArray("LeafId"))->InsertNextValue(leafId);
+    vtkTypeInt64Array::SafeDownCast(outline->GetPointData()->GetArray(plantmorph::arrays::LeafId))
+      ->InsertNextValue(leafId);
   }
   outline->GetCellData()->GetArray(plantmorph::arrays::Region)->InsertNextTuple1(plantmorph::RegionPetiole);
-  vtkTypeInt64Array::SafeDownCast(outline->GetCellData()->GetArray("LeafId"))->InsertNextValue(leafId);
+  vtkTypeInt64Array::SafeDownCast(outline->GetCellData()->GetArray(plantmorph::arrays::LeafId))
+    ->InsertNextValue(leafId);
 }
 
 /// The blade and outline of one leaf appended to the outputs.
@@ -77,7 +79,7 @@ void AppendLeaf(const plantmorph::LeafFitResult& r, std::int64_t leafId, vtkPoin
   const vtkIdType offset = points->GetNumberOfPoints();
   auto get = [](vtkPolyData* pd, const char* name) { return pd->GetPointData()->GetArray(name); };
   auto addId = [leafId](vtkFieldData* data) {
-    vtkTypeInt64Array::SafeDownCast(data->GetArray("LeafId"))->InsertNextValue(leafId);
+    vtkTypeInt64Array::SafeDownCast(data->GetArray(plantmorph::arrays::LeafId))->InsertNextValue(leafId);
   };
   for (std::size_t i = 0; i < r.points.size(); ++i)
   {
@@ -292,14 +294,14 @@ void PrepareOutputs(vtkPolyData* blade, vtkPolyData* outline)
   blade->GetPointData()->SetTCoords(NewArray<vtkFloatArray>(plantmorph::arrays::TCoords, 2));
   blade->GetPointData()->AddArray(NewArray<vtkIntArray>(plantmorph::arrays::Region, 1));
   blade->GetPointData()->SetNormals(NewArray<vtkFloatArray>(plantmorph::arrays::Normals, 3));
-  blade->GetPointData()->AddArray(NewArray<vtkTypeInt64Array>("LeafId", 1));
+  blade->GetPointData()->AddArray(NewArray<vtkTypeInt64Array>(plantmorph::arrays::LeafId, 1));
   blade->GetPointData()->AddArray(NewArray<vtkDoubleArray>("Support", 1));
   blade->GetCellData()->AddArray(NewArray<vtkIntArray>(plantmorph::arrays::Region, 1));
-  blade->GetCellData()->AddArray(NewArray<vtkTypeInt64Array>("LeafId", 1));
+  blade->GetCellData()->AddArray(NewArray<vtkTypeInt64Array>(plantmorph::arrays::LeafId, 1));
   outline->GetPointData()->AddArray(NewArray<vtkDoubleArray>(plantmorph::arrays::LeafUV, 2));
-  outline->GetPointData()->AddArray(NewArray<vtkTypeInt64Array>("LeafId", 1));
+  outline->GetPointData()->AddArray(NewArray<vtkTypeInt64Array>(plantmorph::arrays::LeafId, 1));
   outline->GetCellData()->AddArray(NewArray<vtkIntArray>(plantmorph::arrays::Region, 1));
-  outline->GetCellData()->AddArray(NewArray<vtkTypeInt64Array>("LeafId", 1));
+  outline->GetCellData()->AddArray(NewArray<vtkTypeInt64Array>(plantmorph::arrays::LeafId, 1));
 }
 
 /// The leaves of the local piece: scaled points, each point's leaf id (64 bits; 0 without LeafIdArray) and, once
@@ -326,7 +328,7 @@ void FillScan(vtkPointSet* input, const LeafInput& in, const std::vector<double>
   auto distance = NewArray<vtkDoubleArray>("FitDistance", 1);
   auto inlier = NewArray<vtkUnsignedCharArray>("Inlier", 1);
   auto region = NewArray<vtkIntArray>(plantmorph::arrays::Region, 1);
-  auto leafId = NewArray<vtkTypeInt64Array>("LeafId", 1);
+  auto leafId = NewArray<vtkTypeInt64Array>(plantmorph::arrays::LeafId, 1);
   coordinates->SetNumberOfTuples(n);
   for (vtkDataArray* array : std::initializer_list<vtkDataArray*>{ distance, inlier, region, leafId })
     array->SetNumberOfTuples(n);
@@ -400,12 +402,12 @@ std::string CheckProperties(vtkLeafFitFilter* self)
 /// organ label, PlantSegmentationFilter's output); none without that array (a point on no leaf may be wood).
 double CountUnassignedLeafPoints(vtkPointSet* input, const std::vector<std::int64_t>& ids)
 {
-  vtkDataArray* organ = input->GetPointData()->GetArray("Organ");
+  vtkDataArray* organ = input->GetPointData()->GetArray(plantmorph::arrays::Organ);
   if (!organ || organ->GetNumberOfComponents() != 1)
     return 0.0;
   double count = 0.0;
   for (std::size_t i = 0; i < ids.size(); ++i)
-    if (ids[i] < 0 && organ->GetComponent(static_cast<vtkIdType>(i), 0) == 1.0)
+    if (ids[i] < 0 && organ->GetComponent(static_cast<vtkIdType>(i), 0) == plantmorph::OrganLeaf)
       count += 1.0;
   return count;
 }
@@ -566,7 +568,7 @@ void WriteFits(const LeafInput& in, const std::vector<std::size_t>& owned, const
   record.Add("LengthUnit", lengthUnit);
   record.WriteTo(blade);
   const std::vector<plantmorph::fittable::Row> all = plantmorph::fittable::GatherRows(run.Controller(), rows);
-  const double unassigned = plantmorph::fittable::SumOverRanks(run.Controller(), in.unassignedLeafPoints);
+  const double unassigned = plantmorph::SumOverRanks(run.Controller(), in.unassignedLeafPoints);
   if (run.Rank() != 0)
     return;
   plantmorph::fittable::FillTraitsTable(all, lengthUnit, run.Output<vtkTable>(2));

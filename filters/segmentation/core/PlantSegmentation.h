@@ -92,6 +92,7 @@
 // Everything is deterministic: the same cloud gives the same labels whatever the threads.
 #pragma once
 
+#include <plantmorph/DataContract.h>
 #include <plantmorph/ParallelFor.h>
 
 #include <Eigen/Core>
@@ -101,14 +102,6 @@
 
 namespace plantmorph
 {
-
-/// Organ codes of the `Organ` array (the same as TreeFromSketchSource's truth).
-enum Organ : int
-{
-  OrganWood = 0,
-  OrganLeaf = 1,
-  OrganPetiole = 2
-};
 
 struct SegmentationParameters
 {

@@ -161,8 +161,8 @@ void WritePoints(vtkPointSet* input, const LocalInput& in, const plantmorph::Own
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(n);
-  auto organ = NewArray<vtkIntArray>("Organ", 1, n);
-  auto leaf = NewArray<vtkIntArray>("LeafId", 1, n);
+  auto organ = NewArray<vtkIntArray>(plantmorph::arrays::Organ, 1, n);
+  auto leaf = NewArray<vtkIntArray>(plantmorph::arrays::LeafId, 1, n);
   auto confidence = NewArray<vtkDoubleArray>("SegmentationConfidence", 1, n);
   for (vtkIdType i = 0; i < n; ++i)
   {
@@ -178,7 +178,7 @@ void WritePoints(vtkPointSet* input, const LocalInput& in, const plantmorph::Own
   out->GetPointData()->AddArray(organ);
   out->GetPointData()->AddArray(leaf);
   out->GetPointData()->AddArray(confidence);
-  out->GetPointData()->SetActiveScalars("Organ");
+  out->GetPointData()->SetActiveScalars(plantmorph::arrays::Organ);
 }
 
 /// Port 1: one row per leaf.

@@ -7,6 +7,7 @@
 #include "PlantMorphOwnerExchange.h"
 #include "TreeFitExchange.h"
 #include "TreeFitOutputs.h"
+#include <plantmorph/DataContract.h>
 
 #include <plantmorph/RangeError.h>
 
@@ -122,7 +123,7 @@ std::string ReadTrees(vtkTreeFitFilter* self, vtkPointSet* input, LocalInput& in
     return error;
   // Which value is wood: PlantMorph's Organ label (scanner truth, segmentation) marks wood by 0, a wood flag by 1.
   const int mode = self->GetWoodValues();
-  const bool zeroIsWood = mode == 2 || (mode == 0 && std::string(self->GetWoodArray()) == "Organ");
+  const bool zeroIsWood = mode == 2 || (mode == 0 && std::string(self->GetWoodArray()) == plantmorph::arrays::Organ);
   in.points.resize(static_cast<std::size_t>(n));
   for (vtkIdType i = 0; i < n; ++i)
   {

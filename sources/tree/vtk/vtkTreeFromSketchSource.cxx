@@ -192,8 +192,10 @@ std::string ValidateLeafInput(vtkPolyData* leafInput, const plantmorph::Tree& tr
   return {};
 }
 
-/// The Organ codes of the outputs' `Organ` arrays (the truth a scan of the tree carries to its points).
-constexpr int OrganWood = 0, OrganLeaf = 1, OrganPetiole = 2;
+/// The outputs' `Organ` codes (the truth a scan of the tree carries to its points): the data contract's.
+using plantmorph::OrganLeaf;
+using plantmorph::OrganPetiole;
+using plantmorph::OrganWood;
 
 /// `Organ` = organ and `LeafId` = leafId on every point and cell of `out` (the wood: 0 and -1), so that the wood
 /// and the leaves appended keep both arrays (AppendGeometry keeps the arrays all its inputs have).
@@ -203,7 +205,8 @@ void AddConstantOrganArrays(vtkPolyData* out, int organ, int leafId)
   vtkDataSetAttributes* data[2] = { out->GetPointData(), out->GetCellData() };
   for (int k = 0; k < 2; ++k)
   {
-    auto organs = IntArray("Organ", counts[k]), leaves = IntArray("LeafId", counts[k]);
+    auto organs = IntArray(plantmorph::arrays::Organ, counts[k]),
+         leaves = IntArray(plantmorph::arrays::LeafId, counts[k]);
     Fill(organs, organ);
     Fill(leaves, leafId);
     data[k]->AddArray(organs);
@@ -432,10 +435,10 @@ void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, const plantmor
   out.normals->SetName(plantmorph::arrays::Normals);
   out.normals->SetNumberOfComponents(3);
   out.branchId->SetName("BranchId");
-  out.cellLeafId->SetName("LeafId");
-  out.cellOrgan->SetName("Organ");
-  out.pointLeafId->SetName("LeafId");
-  out.pointOrgan->SetName("Organ");
+  out.cellLeafId->SetName(plantmorph::arrays::LeafId);
+  out.cellOrgan->SetName(plantmorph::arrays::Organ);
+  out.pointLeafId->SetName(plantmorph::arrays::LeafId);
+  out.pointOrgan->SetName(plantmorph::arrays::Organ);
   const double scale = leafInput ? s.leafScale / leafLength : s.leafScale;
   for (const plantmorph::TreeLeaf& leaf : leaves)
   {
