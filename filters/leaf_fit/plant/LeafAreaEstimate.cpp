@@ -83,6 +83,31 @@ PlantShape ShapeOfWholeLeaves(const std::vector<double>& ratio, const std::vecto
   shape.fill = std::exp(centreFill);
   return shape;
 }
+
+/// The robust spread (1.4826 x the median absolute deviation, not floored) of the log Area of the leaves `whole`.
+double AreaSpread(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole)
+{
+  std::vector<double> logArea;
+  for (std::size_t i = 0; i < whole.size(); ++i)
+    if (whole[i])
+      logArea.push_back(std::log(traits[i].area));
+  if (logArea.empty())
+    return std::numeric_limits<double>::infinity();
+  const double centre = Median(logArea);
+  for (double& a : logArea)
+    a = std::abs(a - centre);
+  return 1.4826 * Median(logArea);
+}
+
+/// The median Area of the leaves `whole` whose long extent is at least `longExtent` (0 when there is none).
+double WholeAreaAtLeast(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, double longExtent)
+{
+  std::vector<double> areas;
+  for (std::size_t i = 0; i < whole.size(); ++i)
+    if (whole[i] && std::max(traits[i].projectedLength, traits[i].projectedWidth) >= longExtent)
+      areas.push_back(traits[i].area);
+  return areas.empty() ? 0.0 : Median(areas);
+}
 } // namespace
 
 double UnassignedLeafArea(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted, double points)
@@ -116,6 +141,11 @@ LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const
     usable[i] = LeafShape(traits[i], ratio[i], fill[i]) && traits[i].coverage >= MinCoverage;
   }
   out.shape = ShapeOfWholeLeaves(ratio, fill, usable, out.whole);
+  if (out.shape.valid)
+  {
+    out.shape.areaSpread = AreaSpread(traits, out.whole);
+    out.shape.oneSize = out.shape.areaSpread <= OneSizeSpread;
+  }
   for (std::size_t i = 0; i < n; ++i)
   {
     if (i < fitted.size() && !fitted[i])
@@ -138,6 +168,12 @@ LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const
     else
       continue;
     out.area[i] = std::max(traits[i].area, out.shape.fill * longExtent * longExtent);
+    const double plantSize = out.shape.oneSize ? WholeAreaAtLeast(traits, out.whole, longExtent) : 0.0;
+    if (plantSize > out.area[i])
+    {
+      out.area[i] = plantSize;
+      out.rule[i] = static_cast<int>(AreaRule::PlantSize);
+    }
   }
   return out;
 }

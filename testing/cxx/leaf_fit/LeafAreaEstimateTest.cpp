@@ -92,6 +92,69 @@ TEST(LeafAreaEstimate, CutEllipsesOfThePlantsShapeGetTheirWholeArea)
   EXPECT_LT(traits[8].area / whole[8], 0.5);
 }
 
+/// The traits LeafAreaEstimate reads of the corner x <= u a, y <= v b of an ellipse (semi-axes a along X, b along Y):
+/// a leaf cut on two sides, both extents short. Integrated on a grid of a 400th of the axes (area within 0.5 %).
+LeafTraits CornerOfEllipse(double a, double b, double u, double v)
+{
+  LeafTraits t;
+  t.coverage = 1.0;
+  const int n = 400;
+  const double hx = 2.0 * a / n, hy = 2.0 * b / n;
+  double lowX = a, highX = -a, lowY = b, highY = -b;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+    {
+      const double x = -a + (i + 0.5) * hx, y = -b + (j + 0.5) * hy;
+      if (x * x / (a * a) + y * y / (b * b) > 1.0 || x > u * a || y > v * b)
+        continue;
+      t.area += hx * hy;
+      lowX = std::min(lowX, x), highX = std::max(highX, x), lowY = std::min(lowY, y), highY = std::max(highY, y);
+    }
+  t.projectedLength = highX - lowX;
+  t.projectedWidth = highY - lowY;
+  return t;
+}
+
+TEST(LeafAreaEstimate, ACutLeafOfAPlantOfOneLeafSizeIsThatSize)
+{
+  // Six whole leaves of one size (within 1 %, as fitted areas are) and length over width 1.5; a corner of one cut
+  // across the tip and along the midvein (both extents short: the shape alone gives it a quarter of the whole) and
+  // one cut along a side only. Both are taken to be of the plant's size.
+  const double a = 2.0, b = a / 1.5, whole = Pi * a * b;
+  std::vector<LeafTraits> traits;
+  for (double stretch : { 1.0, 1.005, 0.995, 1.01, 0.99, 1.0 })
+    traits.push_back(CutEllipse(a * stretch, b * stretch, 1, 1));
+  traits.push_back(CornerOfEllipse(a, b, -0.2, 0.0));
+  traits.push_back(CutEllipse(a, b, 1, -0.2));
+  const LeafAreaEstimates out = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  ASSERT_TRUE(out.shape.valid);
+  EXPECT_EQ(out.shape.wholeLeaves, 6);
+  EXPECT_TRUE(out.shape.oneSize);
+  EXPECT_LT(out.shape.areaSpread, 0.03);
+  EXPECT_LT(traits[6].area / whole, 0.2);
+  for (std::size_t i = 6; i < 8; ++i)
+  {
+    EXPECT_EQ(out.rule[i], static_cast<int>(AreaRule::PlantSize)) << i;
+    EXPECT_NEAR(out.area[i] / whole, 1.0, 0.03) << i;
+  }
+  for (std::size_t i = 0; i < 6; ++i)
+    EXPECT_EQ(out.area[i], traits[i].area) << i;
+
+  // The same cut leaves on a plant whose whole leaves differ in size (0.7 to 1.4 times): the size of a cut leaf is
+  // not known from them, and the corner keeps the shape's estimate (more than its Area, well under the whole).
+  std::vector<LeafTraits> varied;
+  for (double scale : { 0.7, 0.85, 1.0, 1.2, 1.4, 1.1 })
+    varied.push_back(CutEllipse(a * scale, b * scale, 1, 1));
+  varied.push_back(traits[6]);
+  const LeafAreaEstimates shapeOnly = EstimateLeafAreas(varied, std::vector<bool>(varied.size(), true));
+  ASSERT_TRUE(shapeOnly.shape.valid);
+  EXPECT_FALSE(shapeOnly.shape.oneSize);
+  EXPECT_GT(shapeOnly.shape.areaSpread, 0.3);
+  EXPECT_EQ(shapeOnly.rule[6], static_cast<int>(AreaRule::LongFromShort));
+  EXPECT_GT(shapeOnly.area[6], traits[6].area);
+  EXPECT_LT(shapeOnly.area[6] / whole, 0.3);
+}
+
 TEST(LeafAreaEstimate, WithoutThreeWholeLeavesEveryLeafKeepsItsArea)
 {
   // Two whole leaves and one with a side hidden.
