@@ -121,7 +121,9 @@ def run(name, properties, curled, view, petiole):
         axis /= numpy.linalg.norm(axis)  # on a curled blade the base's direction is not in the mean plane: |axis| < 1
         end = t["base"] + petiole_length * axis
         line = Line(Point1=list(t["base"]), Point2=list(end), Resolution=20)
-        tube = Tube(Input=line, Radius=0.01 * L, NumberofSides=12, Capping=0)
+        # Capped: a petiole is a solid, so no scanner sees into it. An open tube let the line scanner look through
+        # its cut end at the base and see its inner wall below the axis, points no real stalk shows.
+        tube = Tube(Input=line, Radius=0.01 * L, NumberofSides=12, Capping=1)
         scene = AppendGeometry(Input=[Triangulate(Input=ExtractSurface(Input=leaf)), Triangulate(Input=tube)])
     points = t["points"]
     centre = points.mean(axis=0)
