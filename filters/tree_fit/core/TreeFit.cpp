@@ -203,6 +203,8 @@ TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::v
   }
   if (result.error.empty())
     result.error = GrowTwigs(points, woodLabel, wood, fitted, result);
+  if (result.error.empty() && wood.leafLabelled)
+    treefit::NarrowLeafFilledCylinders(points, woodLabel, wood.spacing, result);
   if (result.error.empty())
     result.error = PointValues(points, wood, woodCylinder, result);
   if (!result.error.empty())

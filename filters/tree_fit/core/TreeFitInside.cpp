@@ -1,10 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Step 4 of the tree fit (TreeFit.h), checked on its cylinders: a chain of the skeleton whose points lie in another
 // branch's cylinders is that branch's wood (strips of one stem's surface that leaves or a segmentation left apart),
-// and its points join that branch.
+// and its points join that branch. After step 7, the same for the points labelled leaf: no point lies inside wood, so a
+// modelled cylinder whose solid is full of leaf points is narrower than the model made it.
 #include "TreeFitInternal.h"
 
+#include <plantmorph/statistics/Median.h>
+
 #include <algorithm>
+#include <map>
+#include <tuple>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -19,6 +24,11 @@ constexpr double InsideRadii = 0.5; // a point this share of a cylinder's radius
 constexpr double InsideSpacings = 2.0; // ...or this many point spacings (thin cylinders, noise)
 constexpr double InsideShare = 0.8;    // share of a chain's points on or in other branches' cylinders: it is theirs
 constexpr double AlongAngle = 20.0;    // degrees: a chain's cylinder inside another runs along it, either way
+
+constexpr double GridSpacings = 16.0; // cells of the grid the leaf points are looked up in
+constexpr double InsideNoise = 3.0;   // noise deviations: a point this far inside a cylinder's surface is in its solid
+constexpr std::size_t MinLeafInside = 3; // leaf points in a solid, outnumbering its (and its surface's) wood points...
+constexpr double LeafOverWood = 4.0;     // ...this many times over: no such solid (a twig's own points lie in it too)
 
 constexpr int MinCirclePoints = 12;     // a circle fitted through this many points...
 constexpr double MaxCircleScale = 0.35; // ...within this share of its radius (residual scale) is the wood's extent
@@ -193,6 +203,55 @@ bool MergeInsideChains(const Wood& wood, const TreeFitResult& fit, Skeleton& s)
   if (merged)
     Segments(wood, s);
   return merged;
+}
+
+void NarrowLeafFilledCylinders(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel, double spacing, TreeFitResult& result)
+{
+  const double noise = result.traits.noise, cell = std::max(GridSpacings * spacing, 1e-9);
+  if (woodLabel.size() != points.size() || !(noise > 0.0))
+    return;
+  using Key = std::tuple<long, long, long>;
+  const auto key = [&](const Eigen::Vector3d& x) {
+    return Key(std::lround(std::floor(x.x() / cell)), std::lround(std::floor(x.y() / cell)),
+      std::lround(std::floor(x.z() / cell)));
+  };
+  std::map<Key, std::vector<int>> grid;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    grid[key(points[i])].push_back(static_cast<int>(i));
+  for (TreeCylinder& c : result.cylinders)
+  {
+    if (c.measured || c.segment < 0 || c.length <= 0.0 || c.radius <= InsideNoise * noise)
+      continue;
+    const Eigen::Vector3d axis = (c.end - c.start) / c.length;
+    const double reach = c.radius + InsideNoise * noise;
+    const Eigen::Vector3d lo = c.start.cwiseMin(c.end).array() - reach, hi = c.start.cwiseMax(c.end).array() + reach;
+    const Key a = key(lo), b = key(hi);
+    std::vector<double> leaf;
+    std::size_t wood = 0;
+    for (long x = std::get<0>(a); x <= std::get<0>(b); ++x)
+      for (long y = std::get<1>(a); y <= std::get<1>(b); ++y)
+        for (long z = std::get<2>(a); z <= std::get<2>(b); ++z)
+        {
+          const auto found = grid.find(Key(x, y, z));
+          if (found == grid.end())
+            continue;
+          for (int i : found->second)
+          {
+            const Eigen::Vector3d d = points[i] - c.start;
+            const double t = d.dot(axis), r = (d - t * axis).norm();
+            if (t <= 0.0 || t >= c.length || r >= c.radius + InsideNoise * noise)
+              continue;
+            if (woodLabel[i] != 0)
+              ++wood;
+            else if (r < c.radius - InsideNoise * noise)
+              leaf.push_back(r);
+          }
+        }
+    if (leaf.size() < MinLeafInside || static_cast<double>(leaf.size()) <= LeafOverWood * static_cast<double>(wood))
+      continue;
+    c.radius = std::max(Median(leaf), InsideNoise * noise);
+  }
 }
 
 } // namespace treefit

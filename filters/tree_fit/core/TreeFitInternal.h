@@ -131,6 +131,13 @@ bool MergeInsideChains(const Wood& wood, const TreeFitResult& fit, Skeleton& s);
 bool ReturnOffSurfaceChains(
   const Wood& wood, const TreeFitResult& fit, const std::vector<int>& woodCylinder, Skeleton& s);
 
+/// An unmeasured cylinder's solid (more than 3 noise deviations inside its modelled surface) holds no scan point, since
+/// wood is opaque: where it holds points labelled leaf (`woodLabel` 0), at least three and more than four times as
+/// many as it and its surface (within 3 noise deviations) hold points labelled wood, the model made it too wide, and
+/// its radius becomes the median distance of those leaf points from its axis (at least 3 noise deviations).
+void NarrowLeafFilledCylinders(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel, double spacing, TreeFitResult& result);
+
 /// Step 5-6 on the fitted cylinders (fitRMS holding each fit's robust residual scale): the noise, which radii are
 /// measured, the growth-length model for the others, branches and orders; "" or why no radius is measured.
 /// `leafLabelled`: the scan has points labelled leaf, so fits round leaf points labelled wood are not trusted.

@@ -1165,6 +1165,54 @@ TEST(TreeFit, LeafPointsLabelledWoodRoundATwigDoNotWidenIt)
   }
 }
 
+/// The volume of the cylinders of order 1 and more.
+double BranchCylinderVolume(const TreeFitResult& r)
+{
+  double volume = 0;
+  for (const TreeCylinder& c : r.cylinders)
+    if (c.order > 0)
+      volume += M_PI * c.radius * c.radius * c.length;
+  return volume;
+}
+
+TEST(TreeFit, LeavesInsideAModelledTwigNarrowIt)
+{
+  // A stem of 4 cm, 2 m tall and measured all along, with a twig of 5 mm leaving it at 1 m at 45 degrees, 0.8 m long
+  // and too thin to measure at 8 mm spacing; round the twig 400 blades of 4 by 2 cm, labelled leaf, their centres
+  // 1-3.5 cm from its axis, as a broadleaf's leaves crowd a twig. The stem does not taper, so the growth-length model
+  // gives the twig several times its radius (the wood alone, fitted without labels, shows it). But wood is opaque:
+  // the leaf points inside that solid outnumber the twig's own points there several times over, so the twig is no
+  // wider than the leaves inside it allow.
+  const Eigen::Vector3d base(0, 0, 1.0), axis = Tilted(45.0, 0.0);
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, { 0, 0, 2.0 }, 0.04 }, { base, base + 0.8 * axis, 0.005 } };
+  std::vector<Eigen::Vector3d> points = Scan(tree, 0.008, 0.001);
+  const std::vector<Eigen::Vector3d> wood = points;
+  const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
+  RandomStream random(29);
+  for (int k = 0; k < 400; ++k)
+  {
+    const double t = random.Uniform(0.1, 0.8), phi = random.Uniform(0.0, 2.0 * M_PI), rho = random.Uniform(0.01, 0.035);
+    const Eigen::Vector3d centre = base + t * axis + rho * (std::cos(phi) * u + std::sin(phi) * v);
+    Eigen::Vector3d a(random.Normal(0.0, 1.0), random.Normal(0.0, 1.0), random.Normal(0.0, 1.0));
+    Eigen::Vector3d b(random.Normal(0.0, 1.0), random.Normal(0.0, 1.0), random.Normal(0.0, 1.0));
+    a.normalize();
+    const auto leaf = Sheet(centre - 0.02 * a, a, b - b.dot(a) * a, 0.04, 0.02, 0.008, 0.001, 300 + k);
+    points.insert(points.end(), leaf.begin(), leaf.end());
+  }
+  std::vector<int> label(points.size(), 0);
+  std::fill(label.begin(), label.begin() + static_cast<std::ptrdiff_t>(wood.size()), 1);
+  const TreeFitResult bare = FitTree(wood, {}, TreeFitParameters());
+  const TreeFitResult r = FitTree(points, label, TreeFitParameters());
+  ASSERT_EQ(bare.error, "");
+  ASSERT_EQ(r.error, "");
+  const double truth = Volume(tree[1]), modelled = BranchCylinderVolume(bare), narrowed = BranchCylinderVolume(r);
+  std::cout << "twig: true volume " << truth << ", the wood alone " << modelled << ", with its leaves " << narrowed
+            << "\n";
+  ASSERT_GT(modelled, 4.0 * truth) << "the model no longer inflates the twig: the test shows nothing";
+  EXPECT_LT(narrowed, 0.5 * modelled);
+  EXPECT_NEAR(r.traits.trunkVolume, bare.traits.trunkVolume, 0.01 * bare.traits.trunkVolume);
+}
+
 TEST(TreeFit, PipeModelSharesTheParentsAreaAmongEqualChildren)
 {
   // A measured stem forks into two equal thin children: their modelled radii follow the stem's growth-length model
