@@ -23,6 +23,9 @@ constexpr double MaxScaleRadius = 0.35; // residual scale / radius
 // deviations and LeafScaleRadius of its radius is a ring of leaf points labelled wood round a twig, not the twig.
 constexpr double LeafScaleNoise = 2.0;
 constexpr double LeafScaleRadius = 0.05;
+// In such a scan, a stem's fit whose residual scale is above LeafScaleNoise noise deviations and whose axis turns more
+// than LeanAngle from the stem's last clean fit below it holds a lateral's first points beside the stem's.
+constexpr double LeanAngle = 6.0;   // degrees
 constexpr double ModelFactor = 2.0; // a measured radius this far from the model is not trusted...
 constexpr double StrongCoverage = 240.0, StrongRadiusNoise = 10.0; // ...unless the fit is this good
 constexpr int MinStrongPoints = 50;
@@ -555,6 +558,41 @@ void FlattenTaperBumps(double noise, TreeFitResult& result)
   }
 }
 
+/// Behind leaves a stem's own points are few where laterals leave it, and a cylinder fitted there holds the laterals'
+/// first points beside the stem's: it leans towards them, lies wider than the stem and its points lie far off its
+/// surface; a clean fit of the stem (residual scale within LeafScaleNoise noise deviations) follows the stem's line.
+/// Along each stem (a branch without parent), a measured cylinder whose residual scale is above LeafScaleNoise noise
+/// deviations and whose axis turns more than LeanAngle from the last clean fit below it is not measured (the taper
+/// between the measured fits either side gives its radius, InterpolateTaper) and goes on from the cylinder below along
+/// that fit's axis.
+void FlattenLeaningFits(double noise, TreeFitResult& result)
+{
+  auto& cylinders = result.cylinders;
+  const double cosLean = std::cos(LeanAngle * M_PI / 180.0);
+  for (const TreeBranchRow& branch : result.branches)
+  {
+    if (branch.parent >= 0)
+      continue;
+    Eigen::Vector3d clean = Eigen::Vector3d::Zero(); // the axis of the last clean fit below
+    for (int k : branch.cylinders)
+    {
+      TreeCylinder& c = cylinders[k];
+      const Eigen::Vector3d axis = c.end - c.start;
+      if (!c.measured || axis.norm() <= 0)
+        continue;
+      if (c.fitRMS <= LeafScaleNoise * noise)
+        clean = axis.normalized();
+      else if (clean.norm() > 0 && axis.normalized().dot(clean) < cosLean)
+      {
+        c.measured = false;
+        if (c.parent >= 0 && cylinders[c.parent].branch == c.branch)
+          c.start = cylinders[c.parent].end;
+        c.end = c.start + c.length * clean;
+      }
+    }
+  }
+}
+
 /// Along each branch, a run of cylinders whose radius is not measured, between two that are, follows the taper
 /// between them (linear in the length along the branch): a junction or an occluded stretch of a stem.
 void InterpolateTaper(TreeFitResult& result)
@@ -719,6 +757,8 @@ std::string ModelRadii(double spacing, TreeFitResult& result, bool leafLabelled)
   AssignBranches(result, first);
   FlattenBranchBulges(noise, result);
   FlattenTaperBumps(noise, result);
+  if (leafLabelled)
+    FlattenLeaningFits(noise, result);
   // Each branch's level: the geometric mean of its measured / model ratios, else its parent branch's.
   std::vector<double> level(result.branches.size(), 1.0);
   for (const auto& branch : result.branches)
