@@ -166,6 +166,27 @@ def scan_around(virtual_scanner, plant, count, angular_step, range_noise, seed, 
     return scanner
 
 
+def leaf_instances_against_truth(labels, truth):
+    """PlantSegmentationFilter's leaf instances (`labels`: its output's point data) against a VirtualScanner scan's
+    truth (`truth`: the scan's point data, Organ and LeafId): the instance ids found, those holding mostly points
+    that are not leaf, and how many instances match a true leaf at point IoU above 0.5."""
+    import numpy
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    leaf = vtk_to_numpy(labels.GetArray("LeafId"))
+    true_organ = vtk_to_numpy(truth.GetArray("Organ"))
+    true_leaf = numpy.where(true_organ == 1, vtk_to_numpy(truth.GetArray("LeafId")), -1)
+    found = sorted(set(leaf[leaf >= 0].tolist()))
+    wood_instances = [k for k in found
+                      if 2 * numpy.count_nonzero((leaf == k) & (true_organ != 1)) > numpy.count_nonzero(leaf == k)]
+    matched = 0
+    for k in found:
+        ids, counts = numpy.unique(true_leaf[leaf == k], return_counts=True)
+        best = counts.argmax()
+        union = numpy.count_nonzero(leaf == k) + numpy.count_nonzero(true_leaf == ids[best]) - counts[best]
+        matched += int(ids[best] >= 0 and counts[best] / union > 0.5)
+    return found, wood_instances, matched
+
+
 def sorted_point_rows(data, arrays):
     """Every point of `data` as a row (x, y, z, then the one-component point `arrays`), the rows sorted: an MPI
     run's outputs appended over the ranks do not keep the serial order."""

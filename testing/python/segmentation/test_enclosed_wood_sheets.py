@@ -9,14 +9,12 @@ one with wood on 3 of 12 directions), and each of the 189 leaves matched before 
 
     pvpython test_enclosed_wood_sheets.py --plugin PlantMorph.so --work DIR
 """
-from plantmorph_testing import Checks, load_plugin, parse_arguments, scan_around
+from plantmorph_testing import Checks, leaf_instances_against_truth, load_plugin, parse_arguments, scan_around
 
 arguments = parse_arguments([("--pvpython", dict(default=None))])
 
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
-from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
-import numpy  # noqa: E402
 
 load_plugin(arguments.plugin, globals())
 checks = Checks()
@@ -28,21 +26,9 @@ plant = AppendGeometry(Input=[OutputPort(tree, 0), OutputPort(tree, 2)])
 scan = scan_around(VirtualScanner, plant, 1, 0.05, 0.001, 1, maximum_range=5)
 segmentation = PlantSegmentationFilter(Input=scan, UpAxis="Y")
 segmentation.UpdatePipeline()
-labels = servermanager.Fetch(segmentation).GetPointData()
-truth = servermanager.Fetch(scan).GetPointData()
-leaf = vtk_to_numpy(labels.GetArray("LeafId"))
-true_organ = vtk_to_numpy(truth.GetArray("Organ"))
-true_leaf = numpy.where(true_organ == 1, vtk_to_numpy(truth.GetArray("LeafId")), -1)
-found = sorted(set(leaf[leaf >= 0].tolist()))
-wood_instances = [k for k in found
-                  if 2 * numpy.count_nonzero((leaf == k) & (true_organ != 1)) > numpy.count_nonzero(leaf == k)]
+found, wood_instances, matched = leaf_instances_against_truth(servermanager.Fetch(segmentation).GetPointData(),
+                                                             servermanager.Fetch(scan).GetPointData())
 checks.check(len(wood_instances) <= 3,
              "at most 3 leaf instances mostly wood (%d of %d are; 5 before)" % (len(wood_instances), len(found)))
-matched = 0
-for k in found:
-    ids, counts = numpy.unique(true_leaf[leaf == k], return_counts=True)
-    best = counts.argmax()
-    union = numpy.count_nonzero(leaf == k) + numpy.count_nonzero(true_leaf == ids[best]) - counts[best]
-    matched += ids[best] >= 0 and counts[best] / union > 0.5
 checks.check(matched >= 189, "the 189 leaves matched at IoU > 0.5 still matched (%d)" % matched)
 checks.finish()
