@@ -28,7 +28,10 @@ constexpr double AlongAngle = 20.0;    // degrees: a chain's cylinder inside ano
 constexpr double GridSpacings = 16.0; // cells of the grid the leaf points are looked up in
 constexpr double InsideNoise = 3.0;   // noise deviations: a point this far inside a cylinder's surface is in its solid
 constexpr std::size_t MinLeafInside = 3; // leaf points in a solid, outnumbering its (and its surface's) wood points...
-constexpr double LeafOverWood = 4.0;     // ...this many times over: no such solid (a twig's own points lie in it too)
+// ...this many times over (a twig's own points lie in a solid the model made too wide). Chosen on the tree fit
+// benchmark's `--physical` scans: at 1 the exact-label fits lost 0.2 points of branch volume (benchmarks/README.md,
+// "where mono-small's excess lies").
+constexpr double LeafOverWood = 4.0;
 
 constexpr int MinCirclePoints = 12;     // a circle fitted through this many points...
 constexpr double MaxCircleScale = 0.35; // ...within this share of its radius (residual scale) is the wood's extent
