@@ -167,6 +167,17 @@ std::vector<double> InstanceIoU(const Truth& t, const plantmorph::SegmentationRe
   return best;
 }
 
+/// Segments `t` with the default parameters and expects one instance per true leaf (`leaves` of them), each matching
+/// its leaf at IoU over 0.9.
+void ExpectOneInstancePerLeaf(const Truth& t, int leaves)
+{
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
+  for (double iou : InstanceIoU(t, r, leaves))
+    EXPECT_GT(iou, 0.9);
+}
+
 /// The frame of SyntheticPlant's eighth leaf (index 7, the one the row tests scan apart), rising at `rise` from the
 /// stem at height 0.75: its direction out from the stem, along and across the blade, and its base on the stem.
 struct LeafFrame
@@ -264,11 +275,7 @@ Truth WithoutBand(const Truth& t, const Eigen::Vector3d& base, const Eigen::Vect
 /// Segments `t` with the defaults: no error, `leaves` instances, and each true leaf found at IoU above 0.9.
 void ExpectEveryLeafFound(const Truth& t, int leaves)
 {
-  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
-  ASSERT_EQ(r.error, "");
-  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
-  for (double iou : InstanceIoU(t, r, leaves))
-    EXPECT_GT(iou, 0.9);
+  ExpectOneInstancePerLeaf(t, leaves);
 }
 
 /// The shape of one blade (AddBlade), each angle in radians: `fold`, the opening angle between the two halves
@@ -696,11 +703,7 @@ TEST(PlantSegmentation, ANarrowLeafSeenWithoutRowsBesideALeafIsAnInstance)
       if (u * u + v * v <= 1.0)
         add(frame.base + (0.05 + s) * frame.along + w * frame.across, plantmorph::OrganLeaf, leaves - 1);
     }
-  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
-  ASSERT_EQ(r.error, "");
-  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
-  for (double iou : InstanceIoU(t, r, leaves + 1))
-    EXPECT_GT(iou, 0.9);
+  ExpectOneInstancePerLeaf(t, leaves + 1);
 }
 
 TEST(PlantSegmentation, ALeafInWaveringRowsBesideALeafIsAnInstance)
@@ -730,11 +733,7 @@ TEST(PlantSegmentation, ALeafInWaveringRowsBesideALeafIsAnInstance)
         t.leaf.push_back(leaves - 1);
       }
     }
-  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
-  ASSERT_EQ(r.error, "");
-  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
-  for (double iou : InstanceIoU(t, r, leaves + 1))
-    EXPECT_GT(iou, 0.9);
+  ExpectOneInstancePerLeaf(t, leaves + 1);
 }
 
 TEST(PlantSegmentation, ALeafInRowsCrossedByAShadowBesideALeafIsAnInstance)
@@ -751,11 +750,7 @@ TEST(PlantSegmentation, ALeafInRowsCrossedByAShadowBesideALeafIsAnInstance)
   Truth t = WithoutLeaf(SyntheticPlant(leaves), leaves - 1);
   AddBladeAboveEighthLeaf(t, frame, leaves, length, h);
   AddRowsOnEighthLeaf(t, frame, h, 0.0, length, length, rowStep, leaves - 1, static_cast<int>(length / rowStep) / 2);
-  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
-  ASSERT_EQ(r.error, "");
-  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
-  for (double iou : InstanceIoU(t, r, leaves + 1))
-    EXPECT_GT(iou, 0.9);
+  ExpectOneInstancePerLeaf(t, leaves + 1);
 }
 
 TEST(PlantSegmentation, ALeafInRowsFromTwoPositionsOverHalfOfItBesideALeafIsAnInstance)
@@ -775,11 +770,7 @@ TEST(PlantSegmentation, ALeafInRowsFromTwoPositionsOverHalfOfItBesideALeafIsAnIn
     AddRowOnEighthLeaf(t, frame, h, 0.0, length, s, leaves - 1); // the first position, over the whole leaf
   for (double s = step / 2; s <= length / 2; s += step)
     AddRowOnEighthLeaf(t, frame, h, 0.0, length, s, leaves - 1); // the second, over its first half
-  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
-  ASSERT_EQ(r.error, "");
-  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
-  for (double iou : InstanceIoU(t, r, leaves + 1))
-    EXPECT_GT(iou, 0.9);
+  ExpectOneInstancePerLeaf(t, leaves + 1);
 }
 
 TEST(PlantSegmentation, ALeafSeenInRowsFartherApartThanTheFeaturesRadiusIsAnInstance)
@@ -813,11 +804,7 @@ TEST(PlantSegmentation, ALeafSeenInRowsFartherApartThanTheFeaturesRadiusIsAnInst
       }
     }
   ASSERT_GT(t.points.size() - first, 80u);
-  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
-  ASSERT_EQ(r.error, "");
-  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
-  for (double iou : InstanceIoU(t, r, leaves))
-    EXPECT_GT(iou, 0.9);
+  ExpectOneInstancePerLeaf(t, leaves);
 }
 
 TEST(PlantSegmentation, ALeafInRowsWithShortLinesAtItsMarginBesideALeafIsAnInstance)
@@ -857,11 +844,7 @@ TEST(PlantSegmentation, ALeafInRowsWithShortLinesAtItsMarginBesideALeafIsAnInsta
       for (int k = -1; k <= 1; ++k)
         add(s + (k + 0.5) * h, side * (edge + 5.0 * h)); // 1.25 r beyond the rows' ends
     }
-  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
-  ASSERT_EQ(r.error, "");
-  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
-  for (double iou : InstanceIoU(t, r, leaves + 1))
-    EXPECT_GT(iou, 0.9);
+  ExpectOneInstancePerLeaf(t, leaves + 1);
 }
 
 TEST(PlantSegmentation, ScatteredPointsOfALeafEdgeOnAreLeafThoseBesideTheStemAreWood)
