@@ -21,13 +21,13 @@ double Median(std::vector<double> values)
   return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + half));
 }
 
-/// 1.4826 x the median absolute deviation of `values` about `centre`, no less than MinShapeSpread.
-double Spread(const std::vector<double>& values, double centre)
+/// The robust spread of `values` about `centre`: 1.4826 x their median absolute deviation from it.
+double RobustSpread(const std::vector<double>& values, double centre)
 {
   std::vector<double> deviation(values.size());
   for (std::size_t i = 0; i < values.size(); ++i)
     deviation[i] = std::abs(values[i] - centre);
-  return std::max(1.4826 * Median(deviation), MinShapeSpread);
+  return 1.4826 * Median(deviation);
 }
 
 /// A fitted leaf's log ratio (long over short extent) and log fill (Area over the long extent squared); false when
@@ -64,7 +64,8 @@ PlantShape ShapeOfWholeLeaves(const std::vector<double>& ratio, const std::vecto
       return shape;
     centreRatio = Median(r);
     centreFill = Median(f);
-    const double spreadRatio = Spread(r, centreRatio), spreadFill = Spread(f, centreFill);
+    const double spreadRatio = std::max(RobustSpread(r, centreRatio), MinShapeSpread);
+    const double spreadFill = std::max(RobustSpread(f, centreFill), MinShapeSpread);
     for (std::size_t i = 0; i < ratio.size(); ++i)
       whole[i] = usable[i] && std::abs(ratio[i] - centreRatio) <= SpreadsOfWhole * spreadRatio &&
         std::abs(fill[i] - centreFill) <= SpreadsOfWhole * spreadFill;
@@ -84,7 +85,7 @@ PlantShape ShapeOfWholeLeaves(const std::vector<double>& ratio, const std::vecto
   return shape;
 }
 
-/// The robust spread (1.4826 x the median absolute deviation, not floored) of the log Area of the leaves `whole`.
+/// The robust spread (RobustSpread about their median, not floored) of the log Area of the leaves `whole`.
 double AreaSpread(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole)
 {
   std::vector<double> logArea;
@@ -93,10 +94,7 @@ double AreaSpread(const std::vector<LeafTraits>& traits, const std::vector<bool>
       logArea.push_back(std::log(traits[i].area));
   if (logArea.empty())
     return std::numeric_limits<double>::infinity();
-  const double centre = Median(logArea);
-  for (double& a : logArea)
-    a = std::abs(a - centre);
-  return 1.4826 * Median(logArea);
+  return RobustSpread(logArea, Median(logArea));
 }
 
 /// The median Area of the leaves `whole` whose long extent is at least `longExtent` (0 when there is none).
