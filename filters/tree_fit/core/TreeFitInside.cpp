@@ -5,11 +5,11 @@
 // modelled cylinder whose solid is full of leaf points is narrower than the model made it.
 #include "TreeFitInternal.h"
 
+#include "PointGrid.h"
+
 #include <plantmorph/statistics/Median.h>
 
 #include <algorithm>
-#include <map>
-#include <tuple>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -25,7 +25,7 @@ constexpr double InsideSpacings = 2.0; // ...or this many point spacings (thin c
 constexpr double InsideShare = 0.8;    // share of a chain's points on or in other branches' cylinders: it is theirs
 constexpr double AlongAngle = 20.0;    // degrees: a chain's cylinder inside another runs along it, either way
 
-constexpr double GridSpacings = 16.0; // cells of the grid the leaf points are looked up in
+constexpr double GridSpacings = 16.0; // cells of the grid the points are looked up in
 constexpr double InsideNoise = 3.0;   // noise deviations: a point this far inside a cylinder's surface is in its solid
 constexpr std::size_t MinLeafInside = 3; // leaf points in a solid, outnumbering its (and its surface's) wood points...
 // ...this many times over (a twig's own points lie in a solid the model made too wide). Chosen on the tree fit
@@ -211,46 +211,32 @@ bool MergeInsideChains(const Wood& wood, const TreeFitResult& fit, Skeleton& s)
 void NarrowLeafFilledCylinders(
   const std::vector<Eigen::Vector3d>& points, const std::vector<int>& woodLabel, double spacing, TreeFitResult& result)
 {
-  const double noise = result.traits.noise, cell = std::max(GridSpacings * spacing, 1e-9);
+  const double noise = result.traits.noise;
   if (woodLabel.size() != points.size() || !(noise > 0.0))
     return;
-  using Key = std::tuple<long, long, long>;
-  const auto key = [&](const Eigen::Vector3d& x) {
-    return Key(std::lround(std::floor(x.x() / cell)), std::lround(std::floor(x.y() / cell)),
-      std::lround(std::floor(x.z() / cell)));
-  };
-  std::map<Key, std::vector<int>> grid;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    grid[key(points[i])].push_back(static_cast<int>(i));
+  const PointGrid grid(points, std::max(GridSpacings * spacing, 1e-9));
+  std::vector<int> near;
   for (TreeCylinder& c : result.cylinders)
   {
     if (c.measured || c.segment < 0 || c.length <= 0.0 || c.radius <= InsideNoise * noise)
       continue;
     const Eigen::Vector3d axis = (c.end - c.start) / c.length;
     const double reach = c.radius + InsideNoise * noise;
-    const Eigen::Vector3d lo = c.start.cwiseMin(c.end).array() - reach, hi = c.start.cwiseMax(c.end).array() + reach;
-    const Key a = key(lo), b = key(hi);
+    // Every point of the solid and its surface lies within half the length and the reach of the axis' middle.
+    grid.Within(c.start + 0.5 * c.length * axis, 0.5 * c.length + reach, near);
     std::vector<double> leaf;
     std::size_t wood = 0;
-    for (long x = std::get<0>(a); x <= std::get<0>(b); ++x)
-      for (long y = std::get<1>(a); y <= std::get<1>(b); ++y)
-        for (long z = std::get<2>(a); z <= std::get<2>(b); ++z)
-        {
-          const auto found = grid.find(Key(x, y, z));
-          if (found == grid.end())
-            continue;
-          for (int i : found->second)
-          {
-            const Eigen::Vector3d d = points[i] - c.start;
-            const double t = d.dot(axis), r = (d - t * axis).norm();
-            if (t <= 0.0 || t >= c.length || r >= c.radius + InsideNoise * noise)
-              continue;
-            if (woodLabel[i] != 0)
-              ++wood;
-            else if (r < c.radius - InsideNoise * noise)
-              leaf.push_back(r);
-          }
-        }
+    for (int i : near)
+    {
+      const Eigen::Vector3d d = points[i] - c.start;
+      const double t = d.dot(axis), r = (d - t * axis).norm();
+      if (t <= 0.0 || t >= c.length || r >= reach)
+        continue;
+      if (woodLabel[i] != 0)
+        ++wood;
+      else if (r < c.radius - InsideNoise * noise)
+        leaf.push_back(r);
+    }
     if (leaf.size() < MinLeafInside || static_cast<double>(leaf.size()) <= LeafOverWood * static_cast<double>(wood))
       continue;
     c.radius = std::max(Median(leaf), InsideNoise * noise);
