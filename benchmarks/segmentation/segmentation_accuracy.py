@@ -18,20 +18,20 @@ found leaves, the merged true leaves (unmatched although one instance holds over
 process's, all threads). Prints a Markdown table (benchmarks/README.md keeps it).
 
 With `--fit`, each scan's leaf points (LeafId >= 0; the cloud goes whole, LeafId -1 is on no leaf) also go to
-LeafFitFilter (LeafIdArray LeafId, UpAxis Y, its other defaults, as examples/main_segment_plant.py), and a second table gives the leaf areas against the truth: each
-true leaf's area is the sum of its blade cells (Organ 1) on the simulated plant, rebuilt from its parameters. Per
-scan: the matched leaves (IoU > 0.5) fitted (Status 0 or 1) and their median |area error| and fraction within 3 %;
-the plant's leaf area (the fitted areas of every fitted row, matched or not) against the true area of every leaf
-and of the leaves with at least 100 scanned points; the rows not fitted (Status 2) and their reasons. Beside them,
-to tell the segmentation's share from the fit's and the scan's: the same true leaves fitted on their true labels
-(each true blade's scanned points alone), and pooled, the matched leaves seen whole (0.99 of the blade's area or more
-within 2-4 % of a leaf's length of the leaf's own scanned points; a leaf seen in part fits small). A third table
-sets the Traits' EstimatedArea (a leaf seen in part estimated from the plant's leaves seen whole) beside Area: the
-matched leaves' median error, the share within 3 % and the plant's sum; a fourth adds the Plant table's
-UnassignedLeafArea (the segmentation's leaf points it gave no leaf, LeafId -1 and Organ 1: LeafFitFilter gets the
-whole segmented cloud and counts them) to that sum. `--fit-csv FILE` writes one line per matched
-leaf (the found and true LeafId, points, areas, the area on the true labels, the share seen, EstimatedArea and
-AreaRule, Status and Message).
+LeafFitFilter (LeafIdArray LeafId, UpAxis Y, its other defaults, as examples/main_segment_plant.py), and a second
+table gives the leaf areas against the truth: each true leaf's area is the sum of its blade cells (Organ 1) on the
+simulated plant, rebuilt from its parameters. Per scan: the matched leaves (IoU > 0.5) fitted (Status 0 or 1) and
+their median |area error| and fraction within 3 %; the plant's leaf area (the fitted areas of every fitted row,
+matched or not) against the true area of every leaf and of the leaves with at least 100 scanned points; the rows not
+fitted (Status 2) and their reasons. Beside them, to tell the segmentation's share from the fit's and the scan's:
+the same true leaves fitted on their true labels (each true blade's scanned points alone), and pooled, the matched
+leaves seen whole (0.99 of the blade's area or more within 2-4 % of a leaf's length of the leaf's own scanned
+points; a leaf seen in part fits small). A third table sets the Traits' EstimatedArea (a leaf seen in part estimated
+from the plant's leaves seen whole) beside Area: the matched leaves' median error, the share within 3 % and the
+plant's sum; a fourth adds the Plant table's UnassignedLeafArea (the segmentation's leaf points it gave no leaf,
+LeafId -1 and Organ 1: LeafFitFilter gets the whole segmented cloud and counts them) to that sum. `--fit-csv FILE`
+writes one line per matched leaf (the found and true LeafId, points, areas, the area on the true labels, the share
+seen, EstimatedArea and AreaRule, Status and Message).
 """
 import argparse
 import math
@@ -232,17 +232,18 @@ def seen_areas(name, points, leaf, size):
 areas, cell_areas = {}, {}  # name: each true leaf's area; each cell's blade area and LeafId (-1 off the blades)
 
 
-def fitted_rows(cloud, labels="LeafId", lowest=0):
-    """LeafFitFilter on the points whose `labels` is at least `lowest` (the found leaves': LeafId >= 0; the true
-    blades': the scan's Organ 1): (LeafId, Area, Status, Message, EstimatedArea, AreaRule) per Traits row (a plugin
-    without EstimatedArea: Area and NaN), the CPU time and the Plant table's UnassignedLeafArea (0 without it). The
-    found leaves' fit gets the whole segmented cloud: its points of LeafId -1 are on no leaf, and those of them with
-    Organ 1 (leaf points the segmentation gave no leaf) are the Plant table's UnassignedLeafPoints."""
+def fitted_rows(cloud, true_blades=False):
+    """LeafFitFilter on `cloud` by its LeafId (the found leaves', LeafId >= 0), or with `true_blades` on the scan's
+    points of Organ 1 alone (the true blades'): (LeafId, Area, Status, Message, EstimatedArea, AreaRule) per Traits
+    row (a plugin without EstimatedArea: Area and NaN), the CPU time and the Plant table's UnassignedLeafArea (0
+    without it). The found leaves' fit gets the whole segmented cloud: its points of LeafId -1 are on no leaf, and
+    those of them with Organ 1 (leaf points the segmentation gave no leaf) are the Plant table's
+    UnassignedLeafPoints."""
     leaf_points = None
-    if labels != "LeafId":
-        leaf_points = Threshold(Input=cloud, Scalars=["POINTS", labels])
+    if true_blades:
+        leaf_points = Threshold(Input=cloud, Scalars=["POINTS", "Organ"])
         # set after the proxy exists: on an input already updated, its domain resets the range to the data's
-        leaf_points.LowerThreshold, leaf_points.UpperThreshold = lowest, 1
+        leaf_points.LowerThreshold, leaf_points.UpperThreshold = 1, 1
     fit = LeafFitFilter(Input=leaf_points or cloud, LeafIdArray="LeafId", UpAxis="Y")
     cpu_start = time.process_time()
     fit.UpdatePipeline()
@@ -330,7 +331,8 @@ for name in arguments.plants.split(","):
                 found_ids, found_counts = numpy.unique(get("LeafId"), return_counts=True)
                 s["found_points"] = dict(zip(found_ids.tolist(), found_counts.tolist()))
                 fits, s["fit_cpu"], s["unassigned_area"] = fitted_rows(segmentation)
-                true_fits, _, _ = fitted_rows(scanner, "Organ", 1)  # the fit alone: each true blade's scanned points
+                # the fit alone: each true blade's scanned points
+                true_fits, _, _ = fitted_rows(scanner, true_blades=True)
                 s["true_fits"] = {int(r[0]): r[1] for r in true_fits if int(r[2]) != 2}
                 true_area = areas[name] if name in areas else true_leaf_areas(name)
                 # seen: blade within 2-4 % of a leaf's length (1-5 point spacings) of the leaf's scanned points
