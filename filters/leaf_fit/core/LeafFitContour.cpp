@@ -353,6 +353,52 @@ double NotchBottom(const std::vector<Eigen::Vector2d>& ts, double crossing, doub
   return std::isfinite(bottom) ? crossing + std::max(bottom, 0.0) : crossing;
 }
 
+/// How far the loop rises above its apex crossing `apex` (s, index of the edge's first point on the
+/// counter-clockwise loop): from the crossing along the loop to the right and to the left, the highest s reached
+/// before the loop falls `fall` below the crossing or crosses t = 0; the lower of the two sides' heights.
+double ApexNotchRise(const std::vector<Eigen::Vector2d>& loop, const std::pair<double, std::size_t>& apex, double fall)
+{
+  const std::size_t n = loop.size();
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int side = 0; side < 2; ++side)
+  {
+    const bool right = side == 0;
+    std::size_t i = right ? apex.second : (apex.second + 1) % n;
+    double highest = apex.first;
+    for (std::size_t k = 0; k < n / 2; ++k)
+    {
+      const Eigen::Vector2d& p = loop[i];
+      if ((p.x() > 0.0) != right || p.y() < apex.first - fall)
+        break;
+      highest = std::max(highest, p.y());
+      i = right ? (i + n - 1) % n : (i + 1) % n;
+    }
+    lowest = std::min(lowest, highest - apex.first);
+  }
+  return lowest;
+}
+
+/// The midvein's apex end where the loop crosses t = 0 at `apex` and the apex is no tip. Where the loop rises on
+/// both sides of the crossing to two lobes (each above it by more than MinNotchDepth of the blade's extent and 2
+/// spacings: a notch), the notch's bottom is where the points close across the midvein (NotchBottom mirrored along
+/// s), moved out by `gap`, the distance from the outermost points to the margin by which the loop is grown; never
+/// beyond the crossing. The loop's crossing itself follows the one or two points that the scan's range noise throws
+/// into the notch (a scanner's beams are not square to the blade, so noise along them moves points along s), and the
+/// closing's discs join them to the blade: up to a spacing beyond the bottom (the ginkgo from two positions); a pair
+/// on either side of the midvein is the blade's. Elsewhere (the loop falls away on a side: a tip whose end lies off
+/// the midvein, below the smooth margins' tip) the crossing.
+double ApexEnd(const std::vector<Eigen::Vector2d>& loop, const std::vector<Eigen::Vector2d>& ts,
+  const std::pair<double, std::size_t>& apex, double extent, double shallow, double spacing, double gap)
+{
+  if (!(ApexNotchRise(loop, apex, shallow) > std::max(MinNotchDepth * extent, 2.0 * spacing)))
+    return apex.first;
+  std::vector<Eigen::Vector2d> mirrored(ts.size());
+  for (std::size_t i = 0; i < ts.size(); ++i)
+    mirrored[i] = { ts[i].x(), -ts[i].y() };
+  const double bottom = -NotchBottom(mirrored, -apex.first, shallow, spacing);
+  return bottom < apex.first ? std::min(apex.first, bottom + gap) : apex.first;
+}
+
 /// The midvein's base at a sinus, where the loop crosses t = 0 at `crossing`: a petiole's junction above that
 /// crossing, by less than a notch's depth (`shallow`), is the bottom, where the stalk meets the blade; else where
 /// the points close across the midvein (NotchBottom).
@@ -618,7 +664,7 @@ double ContourArea(const Contour& contour)
 /// apex's on either side, snapped to the smooth margins where it follows them (`snap`, `band`), the smooth margins'
 /// tips near a tip. Empty when the loop describes no blade; sets outline.base and outline.apex otherwise.
 Contour ContourFromLoop(const std::vector<Eigen::Vector2d>& loop, const std::vector<Eigen::Vector2d>& ts,
-  double spacing, double band, bool snap, const SmoothSides& sides, Outline& outline)
+  double spacing, double gap, double band, bool snap, const SmoothSides& sides, Outline& outline)
 {
   // The midvein's ends: crossings of t = 0 by the loop (MidveinEnds).
   const std::size_t n = loop.size();
@@ -640,7 +686,7 @@ Contour ContourFromLoop(const std::vector<Eigen::Vector2d>& loop, const std::vec
   double baseS = outline.s0;
   const bool baseTip = BaseEnd(ts, outline, base.first, shallow, spacing, baseS);
   const bool apexTip = ApexIsTip(loop, apex, outline.s1, extent, spacing);
-  const double apexS = apexTip ? outline.s1 : apex.first;
+  const double apexS = apexTip ? outline.s1 : ApexEnd(loop, ts, apex, extent, shallow, spacing, gap);
   // (A shallow notch's walls are left out with the tip: the cut reaches 2 spacings below its bottom.)
   const double baseCut = baseTip ? baseS + std::max(6.0 * spacing, base.first - baseS + 2.0 * spacing) : -1e300;
   const double apexCut =
@@ -745,30 +791,6 @@ Contour ClippedMargins(const std::vector<Eigen::Vector2d>& loop, const Outline& 
   contour.right.push_back({ 0.0, outline.s1 });
   contour.left.push_back({ 0.0, outline.s1 });
   return contour;
-}
-/// How far the loop rises above its apex crossing `apex` (s, index of the edge's first point on the
-/// counter-clockwise loop): from the crossing along the loop to the right and to the left, the highest s reached
-/// before the loop falls `fall` below the crossing or crosses t = 0; the lower of the two sides' heights.
-double ApexNotchRise(const std::vector<Eigen::Vector2d>& loop, const std::pair<double, std::size_t>& apex, double fall)
-{
-  const std::size_t n = loop.size();
-  double lowest = std::numeric_limits<double>::infinity();
-  for (int side = 0; side < 2; ++side)
-  {
-    const bool right = side == 0;
-    std::size_t i = right ? apex.second : (apex.second + 1) % n;
-    double highest = apex.first;
-    for (std::size_t k = 0; k < n / 2; ++k)
-    {
-      const Eigen::Vector2d& p = loop[i];
-      if ((p.x() > 0.0) != right || p.y() < apex.first - fall)
-        break;
-      highest = std::max(highest, p.y());
-      i = right ? (i + n - 1) % n : (i + 1) % n;
-    }
-    lowest = std::min(lowest, highest - apex.first);
-  }
-  return lowest;
 }
 } // namespace
 
@@ -884,7 +906,7 @@ Contour TraceContour(
     loop = outer(r - gap);
   if (loop.empty())
     return contour;
-  contour = ContourFromLoop(loop, ts, spacing, band, snap, sides, outline);
+  contour = ContourFromLoop(loop, ts, spacing, gap, band, snap, sides, outline);
   // The loop's area changes by about its perimeter times a change of level (less where tips or snapped runs
   // replace it: the measured change is used for the second step).
   double slope = Perimeter(loop), level = gap;
@@ -898,7 +920,7 @@ Contour TraceContour(
     const std::vector<Eigen::Vector2d> moved = outer(r - next);
     Outline again = given;
     const Contour matched =
-      moved.empty() || next == level ? Contour() : ContourFromLoop(moved, ts, spacing, band, snap, sides, again);
+      moved.empty() || next == level ? Contour() : ContourFromLoop(moved, ts, spacing, next, band, snap, sides, again);
     // The move must leave the midvein's ends where they were, within the move and a spacing: a notch between lobes
     // at an end (a palmate blade's base) deepens or fills far faster than the level moves, and the counted area
     // is no measure of where the midvein ends.

@@ -102,7 +102,9 @@ struct Contour
 /// outline.base and outline.apex: the crossings of the midvein (t = 0) that bound it, a tip's end from the smooth
 /// outline's extrapolated s0 or s1 (the last points never reach a tip; a base tip no more than a spacing past a
 /// petiole's junction that meets the blade's plane), a sinus's from outline.junction when that
-/// lies a little above the crossing (the discs round its bottom off), else where the points close across t = 0.
+/// lies a little above the crossing (the discs round its bottom off), else where the points close across t = 0, as
+/// an apical notch's between two lobes (moved out by the loop's gap to the margin: the scan's noise throws points
+/// into the notch, which the loop joins to the blade).
 /// `snap`: where the loop runs along the smooth margins (from a spacing outside to three inside), their points are
 /// taken. The grid's distance transforms run through `parallel`, row by row and column by column (the contour does
 /// not depend on the threads).

@@ -476,6 +476,34 @@ TEST(LeafShape, ApicalNotchShallowerThanFourSpacingsIsNoTip)
   }
 }
 
+TEST(LeafShape, ApicalNotchEndsWhereThePointsCloseAcrossTheMidvein)
+{
+  // In intrinsic coordinates, a fan 100 long whose apex is a notch (its bottom at s = 100, on the midvein) between
+  // two rounded lobes 2.7 beyond it (the ginkgo's), scanned in lines across it at spacings of 0.6 to 1.2 % of the
+  // length, four phases each, with range noise of a third of a spacing along s (a scanner's beams are not square to
+  // the blade: the benchmark's 0.3 % of the length on lines 0.9 % apart). The noise throws one or two points into
+  // the notch, and the loop the points draw (the closing's discs) joins them to the blade: its crossing of the
+  // midvein lay up to 1.2 spacings beyond the bottom. The midvein ends where the points close across it, moved out by
+  // the loop's gap to the margin: within 0.6 of a spacing of the bottom at every spacing and phase.
+  const double length = 100.0;
+  auto top = [](double t) { return 100.0 + 4.0 * std::min(1.0, std::abs(t) / 8.0) - 0.004 * t * t; };
+  for (const double spacing : { 0.6, 0.9, 1.2 })
+    for (int phase = 0; phase < 4; ++phase)
+    {
+      std::mt19937_64 random(17 + phase);
+      std::normal_distribution<double> gauss(0.0, 1.0);
+      std::vector<Eigen::Vector2d> ts;
+      for (double s = 0.25 * phase * spacing; s < length + 3.0; s += spacing)
+        for (double t = -45.0 + 0.3 * phase * spacing; t < 45.0; t += spacing)
+          if (std::abs(t) <= 3.0 + 0.35 * s && s <= top(t))
+            ts.emplace_back(t, s + spacing / 3.0 * gauss(random));
+      fit::Outline outline;
+      ASSERT_EQ(fit::FitOutline(ts, LeafFitParameters(), spacing, outline), "");
+      ASSERT_FALSE(fit::TraceContour(ts, spacing, true, outline).right.empty());
+      EXPECT_NEAR(outline.apex, length, 0.6 * spacing) << "spacing " << spacing << ", phase " << phase;
+    }
+}
+
 TEST(LeafShape, CordateBaseOnAScannersGridIsMeasuredFromTheSinusBottom)
 {
   // The cucumber without a petiole on a scanner's grid (0.8 % of the length, about 10^4 points, noise 0.3 %): the
