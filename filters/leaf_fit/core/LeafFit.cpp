@@ -93,7 +93,7 @@ std::string FitSurface(const LeafFitParameters& options, double spacing, const P
         return "no leaf shape: the surface could not be fitted";
       ForEachIndex(parallel, f.ts.size(),
         [&](std::size_t i) { residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm(); });
-      f.sigma = 1.4826 * Median(residual, 0.0);
+      f.sigma = RobustScale(residual, 0.0, 0.0);
       const double k = 2.0 * std::max(f.sigma, 1e-6 * spacing);
       for (std::size_t i = 0; i < f.ts.size(); ++i)
         w[i] = residual[i] <= k ? 1.0 : k / residual[i];

@@ -91,10 +91,7 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
   // median, and at a sharp tip, whose neighbours all lie in a narrow wedge, up to sqrt(pi / half-angle) times it:
   // they must stay, or the outline shrinks. Points off the surface closer than that go in the surface's robust fit.
   const double median = Median(meanDistance, 0.0);
-  std::vector<double> deviation(n);
-  for (int i = 0; i < n; ++i)
-    deviation[i] = std::abs(meanDistance[i] - median);
-  const double sigma = 1.4826 * Median(deviation, 0.0);
+  const double sigma = RobustScale(meanDistance, median, 0.0);
   const double limit = std::min(std::max(median + outlierSigma * sigma, 5.0 * median), 0.9 * reach);
   keep.assign(n, 0);
   for (int i = 0; i < n; ++i)

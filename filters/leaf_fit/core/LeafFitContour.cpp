@@ -3,6 +3,7 @@
 #include "LeafFitInternal.h"
 #include "PointGrid.h"
 #include "plantmorph/MathConstants.h"
+#include "plantmorph/statistics/Median.h"
 
 #include <algorithm>
 #include <cmath>
@@ -892,8 +893,7 @@ Contour TraceContour(
     for (double d : gaps)
       if (std::abs(d - median) < 1.5 * spacing)
         deviation.push_back(std::abs(d - median));
-    std::nth_element(deviation.begin(), deviation.begin() + deviation.size() / 2, deviation.end());
-    band = std::clamp(2.5 * 1.4826 * deviation[deviation.size() / 2], spacing, 3.0 * spacing);
+    band = std::clamp(2.5 * MadToDeviation * Median(deviation), spacing, 3.0 * spacing);
     followed = 2 * deviation.size() >= middle;
   }
   double target = std::numeric_limits<double>::quiet_NaN();

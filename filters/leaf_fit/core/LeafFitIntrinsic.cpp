@@ -2,6 +2,7 @@
 // FitLeaf's intrinsic coordinates (cross-sections and midvein) and outline.
 #include "LeafFitInternal.h"
 
+#include <plantmorph/statistics/Median.h>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -85,7 +86,7 @@ SliceFit FitSlice(const std::vector<Eigen::Vector2d>& xz, double Y)
     std::vector<double> residual(x.size());
     for (std::size_t i = 0; i < x.size(); ++i)
       residual[i] = std::abs(z[i] - coef[0] - coef[1] * x[i] - coef[2] * x[i] * x[i]);
-    const double sigma = 1.4826 * Quantile(residual, 0.5) + 1e-300;
+    const double sigma = RobustScale(residual) + 1e-300;
     for (std::size_t i = 0; i < x.size(); ++i)
       w[i] = residual[i] <= 2.0 * sigma ? 1.0 : 2.0 * sigma / residual[i];
   }
@@ -185,7 +186,7 @@ bool CrossSections::FitCentre(int intervals, const std::vector<double>& Y, const
   }
   for (int iteration = 0; iteration < 4; ++iteration)
   {
-    const double limit = std::max(3.0 * 1.4826 * Quantile(residual, 0.5), spacing);
+    const double limit = std::max(3.0 * MadToDeviation * Median(residual), spacing);
     for (std::size_t k = 0; k < n; ++k)
       weight[k] = residual[k] <= limit ? w[k] : w[k] * limit / residual[k];
     if (!this->Centre.Fit(this->Y0, this->Y1, intervals, Y, centre, weight, {}, lambda))

@@ -71,10 +71,7 @@ Eigen::Matrix<double, 5, 1> Refine(const std::vector<Eigen::Vector3d>& q, const 
   for (int iteration = 0; iteration < 30; ++iteration)
   {
     Residuals(q, c, u, v, axis0, x, res);
-    std::vector<double> absolute(static_cast<std::size_t>(res.size()));
-    for (Eigen::Index i = 0; i < res.size(); ++i)
-      absolute[static_cast<std::size_t>(i)] = std::abs(res[i]);
-    const double sigma = std::max(1.4826 * Median(absolute), floor);
+    const double sigma = std::max(RobustScale(std::vector<double>(res.data(), res.data() + res.size())), floor);
     const double k = (redescending ? 4.685 : 1.345) * sigma;
     Eigen::VectorXd w(res.size());
     for (Eigen::Index i = 0; i < res.size(); ++i)
@@ -167,11 +164,8 @@ CylinderFit FitCylinder(
   fit.radius = x[4];
   Eigen::VectorXd res;
   Residuals(q, c, u, v, axis0, x, res);
-  std::vector<double> absolute(static_cast<std::size_t>(res.size()));
-  for (Eigen::Index i = 0; i < res.size(); ++i)
-    absolute[static_cast<std::size_t>(i)] = std::abs(res[i]);
   fit.rms = std::sqrt(res.squaredNorm() / static_cast<double>(res.size()));
-  fit.scale = 1.4826 * Median(absolute);
+  fit.scale = RobustScale(std::vector<double>(res.data(), res.data() + res.size()));
   // Coverage: 10-degree sectors around the axis holding an inlier.
   Eigen::Vector3d fu, fv;
   Frame(fit.axis, fu, fv);

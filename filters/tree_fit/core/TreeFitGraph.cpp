@@ -475,10 +475,7 @@ std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& all, const std::
     if (std::isfinite(m) && m > 0.0)
       logs.push_back(std::log(m));
   const double centre = Median(logs);
-  std::vector<double> deviation;
-  for (double l : logs)
-    deviation.push_back(std::abs(l - centre));
-  const double mad = std::max(1.4826 * Median(deviation), 0.05);
+  const double mad = std::max(RobustScale(logs, centre), 0.05);
   std::vector<int> inliers;
   for (std::size_t i = 0; i < points.size(); ++i)
     if (std::isfinite(mean[i]) && mean[i] > 0.0 && std::log(mean[i]) <= centre + options.outlierSigma * mad)

@@ -90,7 +90,7 @@ void FitModel(const std::vector<TreeCylinder>& cylinders, double& a, double& b)
     std::vector<double> absolute;
     for (std::size_t i = 0; i < x.size(); ++i)
       absolute.push_back(std::abs(y[i] - a - b * x[i]));
-    const double k = 1.345 * std::max(1.4826 * Median(absolute), 0.05);
+    const double k = 1.345 * std::max(RobustScale(absolute), 0.05);
     for (std::size_t i = 0; i < x.size(); ++i)
       weight[i] = w[i] * std::min(1.0, k / std::max(absolute[i], 1e-12));
   }

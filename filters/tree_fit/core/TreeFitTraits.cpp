@@ -48,7 +48,11 @@ Eigen::Vector3d BaseDirection(const std::vector<TreeCylinder>& cylinders, const 
 
 /// The parent's direction coming into a fork: the chord over its cylinders between half and two reaches (four of its
 /// radii) back from cylinder `at`. The cylinders at the fork itself hold the start of the child too and lean towards
-/// it; a fork at a branch's end has no "after".
+/// it; a fork at a branch's end has no "after". Where a cylinder of that stretch is not measured, its place is a
+/// rule's, not its points' (behind leaves a stem's fits where laterals leave it lean towards them, and the rules that
+/// take their radii place some on the stem's line and leave others where they were fitted, so the chord zigzags with
+/// them): the direction is then the sum of the axes of the parent branch's measured cylinders nearest below the
+/// stretch's near end, over as long a length (the chord when the branch has none there).
 Eigen::Vector3d ParentDirection(const std::vector<TreeCylinder>& cylinders, int at)
 {
   const double reach = 4.0 * cylinders[at].radius;
@@ -56,8 +60,26 @@ Eigen::Vector3d ParentDirection(const std::vector<TreeCylinder>& cylinders, int 
   for (double along = cylinders[at].length; cylinders[near].parent >= 0 && along < 0.5 * reach;)
     along += cylinders[near = cylinders[near].parent].length;
   int far = near;
+  bool measured = cylinders[near].measured;
   for (double along = 0; cylinders[far].parent >= 0 && along < 1.5 * reach;)
+  {
     along += cylinders[far = cylinders[far].parent].length;
+    measured = measured && cylinders[far].measured;
+  }
+  if (!measured)
+  {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double along = 0;
+    for (int q = near; q >= 0 && cylinders[q].branch == cylinders[at].branch && along < 1.5 * reach;
+         q = cylinders[q].parent)
+      if (cylinders[q].measured)
+      {
+        sum += cylinders[q].end - cylinders[q].start;
+        along += cylinders[q].length;
+      }
+    if (sum.norm() > 0)
+      return sum.normalized();
+  }
   const Eigen::Vector3d d = cylinders[near].end - cylinders[far].start;
   return d.norm() > 0 ? d.normalized() : (cylinders[at].end - cylinders[at].start).normalized();
 }

@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // PlaneFit: a tilted, noisy-free planar point set gives its own plane exactly (normal up to rounding, zero
-// deviation); a bumped set reports the bump as its largest deviation; the normal always points to +Z.
+// deviation); a bumped set reports the bump as its largest deviation; the normal always points to +Z. Median and
+// RobustScale (statistics/Median.h), the fitters' robust scale: the median of odd and even counts; the robust scale of
+// a symmetric set in closed form, about any centre and with either sign of a residual; and of a normal sample (its
+// exact quantiles) the normal's deviation.
 #include <plantmorph/PlaneFit.h>
+#include <plantmorph/statistics/Median.h>
 
 #include <Eigen/Geometry>
 
@@ -23,6 +27,17 @@ std::vector<Eigen::Vector3d> TiltedGrid(
     for (int j = 0; j < 4; ++j)
       points.push_back(origin + i * u + j * v);
   return points;
+}
+/// The standard normal quantile of `p` (0 < p < 1), by bisection on the distribution function.
+double NormalQuantile(double p)
+{
+  double low = -10.0, high = 10.0;
+  for (int i = 0; i < 200; ++i)
+  {
+    const double middle = 0.5 * (low + high);
+    (0.5 * std::erfc(-middle / std::sqrt(2.0)) < p ? low : high) = middle;
+  }
+  return 0.5 * (low + high);
 }
 } // namespace
 
@@ -94,6 +109,43 @@ TEST(PlaneFit, ConvexHullAreaOfAPolygonWithPointsInside)
   EXPECT_NEAR(ConvexHullArea(points), 6.0 * std::sqrt(3.0), 1e-12);
   EXPECT_EQ(ConvexHullArea({ Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), Eigen::Vector2d(3, 3) }), 0.0);
   EXPECT_EQ(ConvexHullArea({ Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1) }), 0.0);
+}
+
+TEST(Median, OddCountGivesTheMiddleEvenCountTheUpperMiddle)
+{
+  EXPECT_DOUBLE_EQ(Median({ 5.0, -1.0, 3.0 }), 3.0);
+  EXPECT_DOUBLE_EQ(Median({ 4.0, 1.0, 3.0, 2.0 }), 3.0);
+  EXPECT_TRUE(std::isnan(Median({})));
+  EXPECT_DOUBLE_EQ(Median({}, 7.0), 7.0);
+}
+
+TEST(RobustScale, SymmetricSetInClosedForm)
+{
+  // Deviations 0, 1, 1, 3, 3 about the centre: median absolute deviation 1.
+  const double centre = 2.5;
+  const std::vector<double> values = { centre - 3.0, centre - 1.0, centre, centre + 1.0, centre + 3.0 };
+  EXPECT_NEAR(RobustScale(values, centre), 1.4826, 1e-12);
+  EXPECT_NEAR(MadToDeviation, 1.0 / NormalQuantile(0.75), 1e-4); // the normal's consistency factor
+  // Residuals about 0: their signs do not matter, only their magnitudes.
+  EXPECT_DOUBLE_EQ(RobustScale({ -2.0, 0.5, 2.0, -0.5, 4.0 }), MadToDeviation * 2.0);
+  EXPECT_DOUBLE_EQ(RobustScale({ 2.0, 0.5, 2.0, 0.5, 4.0 }), MadToDeviation * 2.0);
+  // One wild value among many does not move it.
+  EXPECT_DOUBLE_EQ(RobustScale({ -1.0, 1.0, -1.0, 1.0, 1e6 }), MadToDeviation);
+  EXPECT_TRUE(std::isnan(RobustScale({})));
+  EXPECT_DOUBLE_EQ(RobustScale({}, 0.0, 0.0), 0.0);
+}
+
+TEST(RobustScale, NormalSampleGivesItsDeviation)
+{
+  // The exact quantiles of a normal of mean 10 and deviation 0.3: the median absolute deviation is 0.3 x
+  // Phi^-1(3/4), so the robust scale is 0.3 to the precision of the factor (and of the sample's size).
+  const int n = 20001;
+  const double mean = 10.0, deviation = 0.3;
+  std::vector<double> sample;
+  for (int i = 0; i < n; ++i)
+    sample.push_back(mean + deviation * NormalQuantile((i + 0.5) / n));
+  EXPECT_NEAR(RobustScale(sample, Median(sample)), deviation, 1e-4);
+  EXPECT_NEAR(RobustScale(sample, mean), deviation, 1e-4);
 }
 
 } // namespace plantmorph

@@ -770,6 +770,52 @@ TEST(TreeFit, StemFitsLeaningIntoLateralsBehindLeavesAreNotMeasured)
   }
 }
 
+TEST(TreeFit, ALateralsAngleIsJudgedOnTheStemsMeasuredFitsBelowIt)
+{
+  // The radius step and the branch table, in a scan with points labelled leaf: a vertical stem of twenty 0.3-m
+  // cylinders, a cone from 0.16 m to nothing at 6 m, six laterals at 35 degrees leaving it from its ninth to its
+  // fourteenth cylinder. Each fit there leans 20 degrees towards the lateral leaving its end, 8 noise deviations off
+  // it: the measured ones go on along the stem's line, but those already not measured (too little of them seen)
+  // stay where they were fitted, so the stem zigzags 10 cm from lateral to lateral, and the chord over four of its
+  // radii back from a fork (the parent's direction there) leaned with it: three laterals came out at 43-45 degrees.
+  // Their angles are judged against the stem's measured fits below the fork: 35 degrees each.
+  TreeFitResult result;
+  const auto truth = [](int k) { return 0.16 * (1.0 - (0.3 * k + 0.15) / 6.0); };
+  int at = -1;
+  for (int k = 0; k < 20; ++k)
+  {
+    const bool junction = k >= 8 && k <= 13;
+    const Eigen::Vector3d start = at < 0 ? Eigen::Vector3d::Zero() : result.cylinders[at].end;
+    at = AddMeasuredCylinder(
+      result, start, junction ? Tilted(20.0, 1.0 * k) : Eigen::Vector3d::UnitZ(), 0.3, truth(k), at);
+    if (junction)
+    {
+      result.cylinders[at].fitRMS = 0.004;
+      if (k % 2 == 1)
+        result.cylinders[at].coverage = 100.0;
+    }
+  }
+  for (int k = 8; k <= 13; ++k)
+  {
+    int lateral = k;
+    for (int i = 0; i < 3; ++i)
+      lateral = AddMeasuredCylinder(result, result.cylinders[lateral].end, Tilted(35.0, 1.0 * k), 0.3, 0.02, lateral);
+  }
+  ASSERT_EQ(treefit::ModelRadii(0.006, result, true), "");
+  treefit::Wood wood;
+  wood.points = { Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, 6.0) };
+  wood.spacing = 0.006;
+  treefit::ComputeTraits(wood.points, { 0, 1 }, wood, TreeFitParameters(), result);
+  int laterals = 0;
+  for (const TreeBranchRow& b : result.branches)
+    if (b.order == 1)
+    {
+      ++laterals;
+      EXPECT_NEAR(b.angle, 35.0, 1.0) << "lateral at height " << b.height;
+    }
+  EXPECT_EQ(laterals, 6);
+}
+
 TEST(TreeFit, ALateralAtTheLeadersTipIsABranchWhateverItsTwigs)
 {
   // The same lateral leaving the leader's tip at 35 degrees, now with a twig leaving it half a metre on that turns
