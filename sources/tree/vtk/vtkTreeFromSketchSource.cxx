@@ -426,7 +426,8 @@ void AppendLeafCells(const plantmorph::TreeLeaf& leaf, vtkPolyData* leafInput, v
 
 /// Port 2: the leaves, copies of the Leaf input (or textured quads without one) at each leaf's place, each its
 /// TreeLeaf::length long.
-void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, vtkPolyData* leafInput, double leafLength, double leafMinY, vtkPolyData* leavesOut)
+void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, vtkPolyData* leafInput, double leafLength,
+  double leafMinY, vtkPolyData* leavesOut)
 {
   LeafArrays out;
   out.points->SetDataTypeToDouble();

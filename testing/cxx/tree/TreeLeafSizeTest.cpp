@@ -194,8 +194,8 @@ TEST(TreeLeafSize, BadSizesNameTheProperty)
   EXPECT_TRUE(tree.branches.empty() && tree.leaves.empty());
   s.leafTipScale = 1.0;
   s.leafScaleSpread = -0.1;
-  EXPECT_NE(BuildTree(s, {}, tree).find("LeafScaleSpread = -0.1 is outside the accepted range [0, 1]"),
-    std::string::npos);
+  EXPECT_NE(
+    BuildTree(s, {}, tree).find("LeafScaleSpread = -0.1 is outside the accepted range [0, 1]"), std::string::npos);
   s.leafScaleSpread = std::nan("");
   EXPECT_NE(BuildTree(s, {}, tree).find("LeafScaleSpread"), std::string::npos);
 }
