@@ -10,6 +10,13 @@ The plant kind *petioled* (not in the default set) is the shrub whose blades eac
 radius 1.2 % of the blade's length, 30 % of it long, leaving the blade's base 30 degrees below the blade in line with
 its midrib (cells Region 5, so the tree gives them Organ 2). `--plants petioled` scores it.
 
+Plants of other species and leaf sizes (not in the default set either; `--plants
+shrub-entire,shrub-lobed,shrub-watermelon,shrub-sizes`): the shrub with the LeafOutlineSource blade of preset Entire
+(elliptic), of preset Lobed (five lobes), of the Space curve model's Watermelon (palmate, five sub-lobed lobes), and
+the shrub of the default blade whose leaves taper to half their length at the twig's tip (LeafTipScale 0.5) and
+spread at random (LeafScaleSpread 0.15, Seed 1). The other species' blades are scaled to the default blade's area
+(LeafScale 1.448, 1.281 and 0.852); the scans' noise is that of the shrub.
+
 Scores per run: leaf IoU and wood IoU (points), petiole IoU (Organ 2; on a plant without petioles, the points called
 petiole, every one an error), leaf instance precision and recall matched at IoU 0.5 (recall over
 the true leaves with at least 100 scanned points; precision over every predicted leaf), the points, the true and
@@ -76,6 +83,20 @@ PLANTS = {
     "petioled": (dict(Preset=0, TreeType=0, Depth=2, ChildCount=4, Ratio=0.7, Length=6.0, Radius=0.15, LeafCount=4,
                       LeafScale=1.26, Sides=12), 1.0, 1.5, 0.08),
 }
+# Plants of other species and of leaf sizes that vary (not in the default set): the shrub with the blade of another
+# LeafOutlineSource preset, or with the default blade at sizes that taper towards the twigs' tips and spread at random.
+# Each blade's LeafScale gives it the default blade's area (0.734 at length 1), so the plants differ in the blades'
+# shape, not in how much of the shrub they cover; the scans' noise stays that of the shrub (of length 1).
+SHRUB = PLANTS["shrub"]
+SPECIES_BLADES = {  # name: (LeafOutlineSource properties, the blade's area over its length squared)
+    "shrub-entire": (dict(Preset="Entire"), 0.3501),  # entire, elliptic, 0.61 as wide as long
+    "shrub-lobed": (dict(Preset="Lobed"), 0.4471),  # five lobes (paper 000 Fig. 1)
+    "shrub-watermelon": (dict(Model="Space curve", SpaceCurvePreset="Watermelon (5 lobes, sub-lobed)"), 1.0106),
+}
+for kind, (blade, fill) in SPECIES_BLADES.items():
+    PLANTS[kind] = (dict(SHRUB[0], LeafScale=round(math.sqrt(0.7339 / fill), 3)),) + SHRUB[1:]
+# leaf j of a twig's four LeafTipScale 0.5 at the tip, and a log-normal spread of 0.15 (Seed 1)
+PLANTS["shrub-sizes"] = (dict(SHRUB[0], LeafTipScale=0.5, LeafScaleSpread=0.15, Seed=1),) + SHRUB[1:]
 PETIOLE_LENGTH, PETIOLE_RADIUS, PETIOLE_DROP = 0.3, 0.012, 30.0  # of the blade's length; degrees below the blade
 
 
@@ -101,7 +122,7 @@ def leaf_with_petiole():
 
 def plant_surface(name, properties):
     # the default blade (with a petiole for the petioled plant), instanced at every leaf
-    blade = leaf_with_petiole() if name == "petioled" else LeafOutlineSource()
+    blade = leaf_with_petiole() if name == "petioled" else LeafOutlineSource(**SPECIES_BLADES.get(name, ({},))[0])
     tree = TreeFromSketchSource(**properties)
     tree.Leaf = OutputPort(blade, 0)
     plant = AppendGeometry(Input=[OutputPort(tree, 0), OutputPort(tree, 2)])

@@ -3,6 +3,7 @@
 
 #include <plantmorph/BezierCurve.h>
 #include <plantmorph/MathConstants.h>
+#include <plantmorph/RandomStream.h>
 #include <plantmorph/RotationMinimizingFrames.h>
 
 #include <Eigen/Geometry>
@@ -18,6 +19,23 @@ const std::vector<Eigen::Vector2d>& WillowControlPoints()
   static const std::vector<Eigen::Vector2d> points = { Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.1, -0.05),
     Eigen::Vector2d(0.1, -0.4), Eigen::Vector2d(0.1, -0.8) };
   return points;
+}
+
+namespace
+{
+/// The leaf sizes' streams: (Seed, LeafSizeStream + leaf id), apart from the strokes' ties.
+constexpr std::uint64_t LeafSizeStream = 0x4C45414653495A45ull;
+} // namespace
+
+double LeafLength(const TreeParameters& s, double t, int leafId)
+{
+  double length = s.leafScale * (1.0 + t * (s.leafTipScale - 1.0));
+  if (s.leafScaleSpread > 0.0)
+  {
+    RandomStream random(s.seed, LeafSizeStream + static_cast<std::uint64_t>(leafId));
+    length *= std::exp(s.leafScaleSpread * random.Normal());
+  }
+  return length;
 }
 
 std::string PlaceLeaves(const TreeParameters& s, Tree& tree)
@@ -85,6 +103,8 @@ std::string PlaceLeaves(const TreeParameters& s, Tree& tree)
       leaf.branchId = b.id;
       leaf.id = static_cast<int>(tree.leaves.size());
       leaf.axes = frame * RotationY(rotation) * RotationZ(s.leafAngle);
+      const bool atTip = s.leafType == LeafType::Sympodial || s.leafRatio == 0.0;
+      leaf.length = LeafLength(s, atTip ? 1.0 : static_cast<double>(j) / s.leafCount, leaf.id);
       leaf.origin =
         point + radius * (frame * Eigen::Vector3d(-std::cos(rotation * Degree), 0.0, std::sin(rotation * Degree)));
       tree.leaves.push_back(leaf);

@@ -83,6 +83,10 @@ std::string TreeParameters::Validate() const
     return RangeError("LeafScale", this->leafScale, "(0, 1e5]");
   if (!InRange(this->leafAngle, 0.0, 180.0))
     return RangeError("LeafAngle", this->leafAngle, "[0, 180]");
+  if (!InRange(this->leafTipScale, 0.0, 10.0, true))
+    return RangeError("LeafTipScale", this->leafTipScale, "(0, 10]");
+  if (!InRange(this->leafScaleSpread, 0.0, 1.0))
+    return RangeError("LeafScaleSpread", this->leafScaleSpread, "[0, 1]");
   if (this->mergeParent < -1)
     return RangeError("MergeParentBranch", this->mergeParent, "[-1, 2147483647] (-1: a second trunk)");
   if (!InRange(this->mergeU, 0.0, 1.0))

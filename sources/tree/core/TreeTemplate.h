@@ -104,7 +104,9 @@ struct TreeParameters
   int leafCount = 6;
   double leafRatio = 0.6;
   double leafScale = 1.0;
-  double leafAngle = 45.0; ///< degrees between a leaf's midrib and its twig
+  double leafAngle = 45.0;      ///< degrees between a leaf's midrib and its twig
+  double leafTipScale = 1.0;    ///< a leaf's length at the twig's tip over LeafScale (linear along the leafy stretch)
+  double leafScaleSpread = 0.0; ///< standard deviation of the natural log of a leaf's length (0: no spread)
 
   std::uint64_t seed = 0;
 
@@ -161,6 +163,7 @@ struct TreeLeaf
   int id = 0; ///< LeafId: the leaf's index in Tree::leaves (unique over the tree, the same for the same seed)
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();   ///< the leaf's base on its twig's surface
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity(); ///< columns: across the blade, along the midrib, normal (unit)
+  double length = 1.0; ///< the blade's length along its midrib (LeafLength in TreeLeaves.h)
 };
 
 /// What happened to one stroke (TreeStrokes.h).

@@ -424,9 +424,10 @@ void AppendLeafCells(const plantmorph::TreeLeaf& leaf, vtkPolyData* leafInput, v
   }
 }
 
-/// Port 2: the leaves, copies of the Leaf input (or textured quads without one) at each leaf's place.
-void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, const plantmorph::TreeParameters& s,
-  vtkPolyData* leafInput, double leafLength, double leafMinY, vtkPolyData* leavesOut)
+/// Port 2: the leaves, copies of the Leaf input (or textured quads without one) at each leaf's place, each its
+/// TreeLeaf::length long.
+void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, vtkPolyData* leafInput, double leafLength,
+  double leafMinY, vtkPolyData* leavesOut)
 {
   LeafArrays out;
   out.points->SetDataTypeToDouble();
@@ -439,9 +440,9 @@ void WriteLeaves(const std::vector<plantmorph::TreeLeaf>& leaves, const plantmor
   out.cellOrgan->SetName(plantmorph::arrays::Organ);
   out.pointLeafId->SetName(plantmorph::arrays::LeafId);
   out.pointOrgan->SetName(plantmorph::arrays::Organ);
-  const double scale = leafInput ? s.leafScale / leafLength : s.leafScale;
   for (const plantmorph::TreeLeaf& leaf : leaves)
   {
+    const double scale = leafInput ? leaf.length / leafLength : leaf.length;
     if (leafInput)
     {
       AppendInputLeaf(leaf, leafInput, scale, leafLength, leafMinY, out);
@@ -772,6 +773,8 @@ std::string vtkTreeFromSketchSource::ReadProperties(plantmorph::TreeParameters& 
   s.leafRatio = this->LeafRatio;
   s.leafScale = this->LeafScale;
   s.leafAngle = this->LeafAngle;
+  s.leafTipScale = this->LeafTipScale;
+  s.leafScaleSpread = this->LeafScaleSpread;
   s.seed = static_cast<std::uint64_t>(static_cast<std::int64_t>(this->Seed));
   s.mergeParent = this->MergeParentBranch;
   s.mergeU = this->MergeU;
@@ -903,7 +906,7 @@ void WriteOutputs(vtkAlgorithm* self, plantmorph::Run& run, const plantmorph::Tr
   const std::vector<plantmorph::TreeLeaf> leaves = LeavesOf(tree, piece.count > 1 ? &surfaces.selected : nullptr);
   if (s.leaves && !leaves.empty())
   {
-    WriteLeaves(leaves, s, leafInput.data, leafInput.length, leafInput.minY, run.Output<vtkPolyData>(2));
+    WriteLeaves(leaves, leafInput.data, leafInput.length, leafInput.minY, run.Output<vtkPolyData>(2));
   }
   run.WriteToEveryOutput(parameters);
 }

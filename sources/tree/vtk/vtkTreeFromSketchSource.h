@@ -15,8 +15,10 @@
  * arrays `TCoords` (active; v along the branch 0..1, u around it mirrored 0..1..0 so there is no seam) and `Normals`
  * (active). Port 1, **Skeleton**: one polyline per branch, base to tip, point array `Radius` (double) for
  * ParaView's Tube filter, cell arrays `BranchId`, `ParentId`, `Depth`. Port 2, **Leaves**: one textured quad per
- * leaf (`LeafScale` a side, TCoords 0..1) or, when the Leaf input is connected, one copy of the leaf geometry per
- * leaf (its TCoords carried, scaled so its length along +Y is LeafScale), cell array `BranchId` of the twig.
+ * leaf (its length a side, TCoords 0..1) or, when the Leaf input is connected, one copy of the leaf geometry per
+ * leaf (its TCoords carried, scaled so its length along +Y is the leaf's length), cell array `BranchId` of the twig.
+ * A leaf's length is LeafScale, tapered towards the twig's tip by LeafTipScale and spread by LeafScaleSpread
+ * (sources/tree/core/TreeLeaves.h).
  * The truth a scan of the tree carries to its points (VirtualScanner): `LeafId` on the cells and points of the
  * leaves (each leaf its own, unique over the tree and the same for the same properties and Seed: the leaf's index
  * in the tree's order; -1 on the branches) and `Organ` on the cells and points of both (0 wood, 1 leaf blade, 2
@@ -207,8 +209,15 @@ public:
   /// Angle between a leaf's midrib and its twig, degrees, [0, 180]. Default 45.
   vtkSetMacro(LeafAngle, double);
   vtkGetMacro(LeafAngle, double);
+  /// A leaf's length at the twig's tip as a fraction of LeafScale, linear along the leafy stretch from LeafScale at
+  /// its start (young leaves near the tip are smaller), (0, 10]. Default 1 (every leaf LeafScale).
+  vtkSetMacro(LeafTipScale, double);
+  vtkGetMacro(LeafTipScale, double);
+  /// Standard deviation of the natural log of a leaf's length (log-normal sizes drawn from Seed), [0, 1]. Default 0.
+  vtkSetMacro(LeafScaleSpread, double);
+  vtkGetMacro(LeafScaleSpread, double);
 
-  /// The one seed of all randomness (ties in the nearest-parent search). Default 0.
+  /// The one seed of all randomness (ties in the nearest-parent search, leaf sizes). Default 0.
   vtkSetMacro(Seed, int);
   vtkGetMacro(Seed, int);
 
@@ -311,6 +320,8 @@ protected:
   double LeafRatio = 0.6;
   double LeafScale = 1.0;
   double LeafAngle = 45.0;
+  double LeafTipScale = 1.0;
+  double LeafScaleSpread = 0.0;
   int Seed = 0;
   int MergeParentBranch = 0;
   double MergeU = 0.5;

@@ -2,10 +2,10 @@
 """pvpython: TreeFromSketchSource as users run it. The proxy is in the PlantMorph menu with its documented defaults;
 Table 1's presets give the closed-form branch counts with the contract arrays; strokes drawn as Poly Line sources
 and appended in order become lifted branches that project back onto them; a CSV stroke file gives the same tree;
-a LeafOutlineSource blade is instanced at every leaf; bad values give empty outputs; a second tree's skeleton on
-the MergeTree input is merged with ids after this tree's own (a surface there is refused); and a tree with deleted
-branches, overrides and a merged tree, saved as a state file, loads in a fresh pvpython with the same properties,
-BranchIds and bit-identical outputs.
+a LeafOutlineSource blade is instanced at every leaf; leaf sizes taper and spread as set, the same for the same
+Seed; bad values give empty outputs; a second tree's skeleton on the MergeTree input is merged with ids after this
+tree's own (a surface there is refused); and a tree with deleted branches, overrides, leaf sizes and a merged tree,
+saved as a state file, loads in a fresh pvpython with the same properties, BranchIds and bit-identical outputs.
 
     pvpython test_tree_from_sketch.py --plugin PlantMorph.so --work DIR
 """
@@ -27,7 +27,7 @@ load_plugin(arguments.plugin, globals())
 state = os.path.join(arguments.work, "tree_from_sketch.pvsm")
 expected_file = os.path.join(arguments.work, "tree_from_sketch_state_expected.json")
 EDIT_PROPERTIES = ("Preset", "Depth", "DeletedBranches", "BranchOverrides", "Seed", "LeafType", "MergeParentBranch",
-                   "MergeU", "MergeAngle", "MergeRotation", "MergeScale")
+                   "MergeU", "MergeAngle", "MergeRotation", "MergeScale", "LeafTipScale", "LeafScaleSpread")
 
 
 def fetch(proxy, port=0):
@@ -160,6 +160,32 @@ checks.check(strips_data.GetNumberOfStrips() > 0 and strips_data.GetNumberOfPoly
 Delete(leafy_strips)
 Delete(strips)
 
+# Leaf sizes: quads (no Leaf input) whose side is each leaf's length, the taper's exactly without a spread; with a
+# spread of 0.2 the logs of the lengths over the taper's spread by about 0.2, the same for the same Seed.
+SetActiveSource(None)
+sized = TreeFromSketchSource(registrationName="Sized", Preset="Table 1 middle: sympodial 1/3", LeafCount=4,
+                             LeafScale=0.8, LeafTipScale=0.5)
+quads = fetch(sized, 2)
+corners = vtk_to_numpy(quads.GetPoints().GetData()).reshape(-1, 4, 3)
+sides = numpy.linalg.norm(corners[:, 1] - corners[:, 0], axis=1)
+leaf_ids = vtk_to_numpy(quads.GetCellData().GetArray("LeafId"))
+taper = 0.8 * (1 + ((leaf_ids % 4 + 1) / 4.0) * (0.5 - 1))
+checks.check(len(sides) == 729 * 4 and numpy.allclose(sides, taper, rtol=1e-6, atol=0),
+             "LeafTipScale 0.5: leaf j of 4 is 0.8 (1 - j / 8) long, %.4g to %.4g" % (sides.min(), sides.max()))
+sized.LeafScaleSpread, sized.Seed = 0.2, 11
+corners = vtk_to_numpy(fetch(sized, 2).GetPoints().GetData()).reshape(-1, 4, 3)
+spread = numpy.log(numpy.linalg.norm(corners[:, 1] - corners[:, 0], axis=1) / taper)
+sized_print = fingerprint(fetch(sized, 2))
+checks.check(abs(spread.std(ddof=1) - 0.2) < 4 * 0.2 / numpy.sqrt(2 * len(spread)) and abs(spread.mean()) <
+             4 * 0.2 / numpy.sqrt(len(spread)), "LeafScaleSpread 0.2: the log lengths' mean %.4f, deviation %.4f"
+             % (spread.mean(), spread.std(ddof=1)))
+sized.Seed = 12
+other_print = fingerprint(fetch(sized, 2))
+sized.Seed = 11
+checks.check(fingerprint(fetch(sized, 2)) == sized_print and other_print != sized_print,
+             "the same Seed gives the same leaf sizes, another Seed others")
+Delete(sized)
+
 # Bad values: empty outputs.
 SetActiveSource(None)
 bad = TreeFromSketchSource(registrationName="Bad", Preset="Custom", Length=-1.0)
@@ -197,7 +223,8 @@ Delete(not_a_tree)
 # pvpython, with the same BranchIds.
 SetActiveSource(None)
 edited = TreeFromSketchSource(registrationName="EditedTree", Preset="Table 1 middle: sympodial 1/3", Depth=4,
-                              DeletedBranches=[2, 700, 1093 + 1], Seed=5, LeafType="Willow",
+                              DeletedBranches=[2, 700, 1093 + 1], Seed=5, LeafType="Willow", LeafTipScale=0.6,
+                              LeafScaleSpread=0.2,
                               MergeTree=OutputPort(second, 1), MergeParentBranch=1, MergeU=0.6, MergeAngle=50.0,
                               MergeRotation=30.0, MergeScale=0.3,
                               BranchOverrides=[1, 3.5, -1000, -1000, 70.0, -1000,
