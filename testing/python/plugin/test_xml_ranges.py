@@ -95,6 +95,8 @@ CONTEXT = {
     ("TreeFromSketchSource", "LeafRatio"): {"Leaves": 1},
     ("TreeFromSketchSource", "LeafScale"): {"Leaves": 1},
     ("TreeFromSketchSource", "LeafAngle"): {"Leaves": 1},
+    ("TreeFromSketchSource", "LeafTipScale"): {"Leaves": 1},
+    ("TreeFromSketchSource", "LeafScaleSpread"): {"Leaves": 1},
     # Each curvature family's own parameters are read only under that family (CurvatureFunction / TorsionFunction
     # 2 piecewise power, 3 piecewise exponential, 4 notched apex).
     **{("LeafOutlineSource", family + name): {family + "Function": function}
@@ -180,6 +182,7 @@ GUI_HINTS = {
     ("TreeFromSketchSource", "StrokeSubtreeDepth", "max"): CLASS_WIDER,
     ("TreeFromSketchSource", "LeafCount", "max"): CLASS_WIDER,
     ("TreeFromSketchSource", "LeafScale"): CLASS_WIDER,
+    ("TreeFromSketchSource", "LeafTipScale"): CLASS_WIDER + " ((0, 10])",
     ("TreeFromSketchSource", "Seed"): "any integer seeds the generator",
     ("TreeFromSketchSource", "MergeRotation"): "an angle in degrees, any value turns",
     ("TreeFromSketchSource", "MergeScale"): CLASS_WIDER,
