@@ -182,7 +182,7 @@ bool CrossSections::FitCentre(int intervals, const std::vector<double>& Y, const
   for (std::size_t k = 0; k < n; ++k)
   {
     const std::size_t from = k < 2 ? 0 : k - 2, to = std::min(n, k + 3);
-    residual[k] = std::abs(centre[k] - Quantile(std::vector<double>(centre.begin() + from, centre.begin() + to), 0.5));
+    residual[k] = std::abs(centre[k] - Median(std::vector<double>(centre.begin() + from, centre.begin() + to)));
   }
   for (int iteration = 0; iteration < 4; ++iteration)
   {
