@@ -21,13 +21,19 @@ double Median(std::vector<double> values)
   return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + half));
 }
 
-/// The robust spread of `values` about `centre`: 1.4826 x their median absolute deviation from it.
-double RobustSpread(const std::vector<double>& values, double centre)
+/// The median absolute deviation of `values` from `centre`.
+double MedianDeviation(const std::vector<double>& values, double centre)
 {
   std::vector<double> deviation(values.size());
   for (std::size_t i = 0; i < values.size(); ++i)
     deviation[i] = std::abs(values[i] - centre);
-  return 1.4826 * Median(deviation);
+  return Median(deviation);
+}
+
+/// The robust spread of `values` about `centre`: 1.4826 x their median absolute deviation from it.
+double RobustSpread(const std::vector<double>& values, double centre)
+{
+  return 1.4826 * MedianDeviation(values, centre);
 }
 
 /// A fitted leaf's log ratio (long over short extent) and log fill (Area over the long extent squared); false when
@@ -85,24 +91,36 @@ PlantShape ShapeOfWholeLeaves(const std::vector<double>& ratio, const std::vecto
   return shape;
 }
 
-/// The robust spread (RobustSpread about their median, not floored) of the log Area of the leaves `whole`.
-double AreaSpread(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole)
+/// The plant's size from the log Area of the leaves `whole`: the median of their larger half and its robust spread
+/// about it, scaled to the spread of the whole leaves' log Area under a normal spread (LargerHalfSpreadScale).
+/// Pieces of blades taken whole by their shape are smaller than the blade and fall in the smaller half.
+void SizeOfWholeLeaves(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, PlantShape& shape)
 {
   std::vector<double> logArea;
   for (std::size_t i = 0; i < whole.size(); ++i)
     if (whole[i])
       logArea.push_back(std::log(traits[i].area));
   if (logArea.empty())
-    return std::numeric_limits<double>::infinity();
-  return RobustSpread(logArea, Median(logArea));
+  {
+    shape.areaSpread = std::numeric_limits<double>::infinity();
+    return;
+  }
+  std::sort(logArea.begin(), logArea.end());
+  const std::vector<double> larger(logArea.begin() + static_cast<std::ptrdiff_t>(logArea.size() / 2), logArea.end());
+  shape.logSize = Median(larger);
+  shape.areaSpread = LargerHalfSpreadScale * MedianDeviation(larger, shape.logSize);
 }
 
-/// The median Area of the leaves `whole` whose long extent is at least `longExtent` (0 when there is none).
-double WholeAreaAtLeast(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, double longExtent)
+/// The median Area of the leaves `whole` of the plant's size (log Area at least SpreadsOfWhole spreads under the
+/// larger half's median) whose long extent is at least `longExtent` (0 when there is none).
+double WholeAreaAtLeast(
+  const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, const PlantShape& shape, double longExtent)
 {
+  const double least = shape.logSize - SpreadsOfWhole * std::max(shape.areaSpread, MinShapeSpread);
   std::vector<double> areas;
   for (std::size_t i = 0; i < whole.size(); ++i)
-    if (whole[i] && std::max(traits[i].projectedLength, traits[i].projectedWidth) >= longExtent)
+    if (whole[i] && std::log(traits[i].area) >= least &&
+      std::max(traits[i].projectedLength, traits[i].projectedWidth) >= longExtent)
       areas.push_back(traits[i].area);
   return areas.empty() ? 0.0 : Median(areas);
 }
@@ -141,7 +159,7 @@ LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const
   out.shape = ShapeOfWholeLeaves(ratio, fill, usable, out.whole);
   if (out.shape.valid)
   {
-    out.shape.areaSpread = AreaSpread(traits, out.whole);
+    SizeOfWholeLeaves(traits, out.whole, out.shape);
     out.shape.oneSize = out.shape.areaSpread <= OneSizeSpread;
   }
   for (std::size_t i = 0; i < n; ++i)
@@ -166,7 +184,7 @@ LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const
     else
       continue;
     out.area[i] = std::max(traits[i].area, out.shape.fill * longExtent * longExtent);
-    const double plantSize = out.shape.oneSize ? WholeAreaAtLeast(traits, out.whole, longExtent) : 0.0;
+    const double plantSize = out.shape.oneSize ? WholeAreaAtLeast(traits, out.whole, out.shape, longExtent) : 0.0;
     if (plantSize > out.area[i])
     {
       out.area[i] = plantSize;

@@ -20,13 +20,22 @@
 // - Every other leaf, the whole ones among them, keeps its Area (AreaRule 0): a leaf seen whole is not changed.
 // - A leaf hidden on both sides alike (a scaled-down copy of the shape) is not told from a small leaf: it keeps its
 //   Area.
-// - The plant's size: when its whole leaves are of one size (the robust spread of their log Area at most
-//   OneSizeSpread), a cut leaf (rule 1 or 2) is taken to be of that size too: its estimate is the median Area of the
-//   whole leaves whose long extent is at least its own (estimated) one, when that is more (AreaRule 4). The
-//   assumption: which leaf the scanner sees whole does not depend on its size, so a cut leaf of a plant of one leaf
-//   size is that size. It completes a leaf cut on two sides (a corner seen: both extents short), which the shape
-//   alone leaves short. A plant whose whole leaves differ in size keeps the shape's estimate: a cut leaf's size is
-//   then not known from the others.
+// - The plant's size: when its whole leaves are of one size, a cut leaf (rule 1 or 2) is taken to be of that size
+//   too: its estimate is the median Area of the whole leaves of the plant's size whose long extent is at least its
+//   own (estimated) one, when that is more (AreaRule 4). The assumption: which leaf the scanner sees whole does not
+//   depend on its size, so a cut leaf of a plant of one leaf size is that size. It completes a leaf cut on two sides
+//   (a corner seen: both extents short), which the shape alone leaves short. A plant whose whole leaves differ in
+//   size keeps the shape's estimate: a cut leaf's size is then not known from the others.
+// - One size is judged on the larger half of the whole leaves' log Area: its robust spread about its own median,
+//   scaled to the spread of the whole sample under a normal spread (LargerHalfSpreadScale), at most OneSizeSpread.
+//   The larger half, because the leaves taken whole by their shape include pieces of blades whose parts keep the
+//   blade's ratio and fill (a lobe of a lobed or palmate blade, a blade hidden on both sides alike): such a piece is
+//   smaller than its blade, so it falls in the smaller half and leaves the larger one to the blades seen whole.
+//   Leaves that differ in size spread the larger half as they spread the whole sample. When pieces are more than
+//   half of the leaves taken whole, the larger half holds some of them, spreads, and the plant is not taken for one
+//   of one size (the safe side: the shape's estimates). The plant's size leaves are the whole leaves whose log Area
+//   is at least SpreadsOfWhole spreads (no less than MinShapeSpread) under the larger half's median: the pieces stay
+//   out of the size too.
 //
 // The leaf points on no leaf (a segmentation's leaf points it gave no LeafId: pieces of leaves seen in small parts,
 // edges of leaves it cut off) are leaf surface the fitted leaves leave out. Their area is taken at the fitted leaves'
@@ -49,7 +58,7 @@ enum class AreaRule
   LongFromShort = 1, ///< rounder than the plant's leaves: its long extent from its short one (a tip or base hidden)
   ShortFromLong = 2, ///< narrower than the plant's leaves: its short extent from its long one (a side hidden)
   NoPlantShape = 3,  ///< its own Area: fewer than MinWholeLeaves leaves seen whole give no plant shape
-  PlantSize = 4      ///< cut (rule 1 or 2) on a plant of one leaf size: the whole leaves' median Area (see above)
+  PlantSize = 4      ///< cut (rule 1 or 2) on a plant of one leaf size: the size leaves' median Area (see above)
 };
 
 /// Leaves seen whole needed for the plant's shape.
@@ -59,11 +68,15 @@ inline constexpr double SpreadsOfWhole = 3.0;
 /// The least spread of the log ratio and log fill taken for the whole leaves: a projected extent is measured to
 /// about a point spacing, and a leaf has some fifty spacings across or more, so 2 % is the measurement's own spread.
 inline constexpr double MinShapeSpread = 0.02;
-/// The largest robust spread of the whole leaves' log Area for which the plant's leaves are of one size. The fitted
-/// Area of a leaf seen whole is within 1.5 % of the truth (median) and 6 % at worst on the benchmark's plants, so
-/// leaves of one size spread by a few percent; 0.1 (10 % of area, 5 % of length) is above that and below the spread
-/// of a plant whose leaves differ in length by a quarter or more (log area spread 0.3 and up).
+/// The largest spread of the whole leaves' log Area (from their larger half, below) for which the plant's leaves are
+/// of one size. The fitted Area of a leaf seen whole is within 1.5 % of the truth (median) and 6 % at worst on the
+/// benchmark's plants, so leaves of one size spread by a few percent; 0.1 (10 % of area, 5 % of length) is above that
+/// and below the spread of a plant whose leaves differ in length by a quarter or more (log area spread 0.3 and up).
 inline constexpr double OneSizeSpread = 0.1;
+/// The spread of a sample from the median absolute deviation of its larger half about that half's median: for a
+/// normal spread sigma that deviation is 0.3991 sigma (the 75th percentile 0.6745 sigma, and the half-width m with
+/// Phi(0.6745 + m) - Phi(0.6745 - m) = 1/4), so sigma = 2.5057 times it.
+inline constexpr double LargerHalfSpreadScale = 2.5057;
 
 /// The plant's shape from its leaves seen whole.
 struct PlantShape
@@ -72,7 +85,8 @@ struct PlantShape
   double ratio = 0;                   ///< median long over short extent of the whole leaves
   double fill = 0;                    ///< median Area over the long extent squared of the whole leaves
   double lowRatio = 0, highRatio = 0; ///< the whole leaves' range of the ratio
-  double areaSpread = 0;              ///< robust spread of the whole leaves' log Area
+  double areaSpread = 0;              ///< spread of the whole leaves' log Area, from their larger half
+  double logSize = 0;                 ///< median log Area of the larger half of the whole leaves
   bool valid = false;                 ///< at least MinWholeLeaves whole leaves
   bool oneSize = false;               ///< valid, and areaSpread at most OneSizeSpread
 };

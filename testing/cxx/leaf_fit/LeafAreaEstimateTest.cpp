@@ -155,6 +155,54 @@ TEST(LeafAreaEstimate, ACutLeafOfAPlantOfOneLeafSizeIsThatSize)
   EXPECT_LT(shapeOnly.area[6] / whole, 0.3);
 }
 
+TEST(LeafAreaEstimate, PiecesTakenWholeByTheirShapeLeaveAPlantOfOneSizeOneSize)
+{
+  // A plant of one lobed blade size: six blades seen whole (within 1 %, as fitted areas are) and seven pieces of
+  // blades that keep the blade's ratio and fill (a lobe of a lobed blade, a blade hidden on both sides alike: a
+  // smaller copy of the shape, 0.3-0.85 of its length), so the shape takes them as whole too; they are more than half
+  // of the leaves it takes whole. A corner of a blade (both extents short) is cut and is of the plant's size.
+  const double a = 2.0, b = a / 1.5, whole = Pi * a * b;
+  std::vector<LeafTraits> traits;
+  for (double stretch : { 1.0, 1.005, 0.995, 1.01, 0.99, 1.0 })
+    traits.push_back(CutEllipse(a * stretch, b * stretch, 1, 1));
+  for (double piece : { 0.3, 0.5, 0.6, 0.7, 0.75, 0.8, 0.85 })
+    traits.push_back(CutEllipse(a * piece, b * piece, 1, 1));
+  traits.push_back(CornerOfEllipse(a, b, -0.2, 0.0));
+  const std::size_t corner = traits.size() - 1;
+  const LeafAreaEstimates out = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  ASSERT_TRUE(out.shape.valid);
+  EXPECT_EQ(out.shape.wholeLeaves, 13);
+  // The larger half holds the six blades and the largest piece: its spread is the blades' (1 %), the size theirs.
+  EXPECT_TRUE(out.shape.oneSize);
+  EXPECT_LT(out.shape.areaSpread, 0.05);
+  EXPECT_NEAR(std::exp(out.shape.logSize) / whole, 1.0, 0.02);
+  EXPECT_EQ(out.rule[corner], static_cast<int>(AreaRule::PlantSize));
+  // The plant's size from the blades alone: the pieces (the largest 0.72 of a blade's area) stay out of it.
+  EXPECT_NEAR(out.area[corner] / whole, 1.0, 0.02);
+  for (std::size_t i = 0; i < corner; ++i)
+    EXPECT_EQ(out.area[i], traits[i].area) << i;
+
+  // Leaves that differ in size (0.55 to 1.4 times a length) spread the larger half as they spread the whole sample,
+  // with or without the same pieces: the plant is not taken for one of one size and the corner keeps the shape's
+  // estimate.
+  for (const bool withPieces : { false, true })
+  {
+    std::vector<LeafTraits> varied;
+    for (double scale : { 0.55, 0.7, 0.85, 1.0, 1.1, 1.2, 1.4 })
+      varied.push_back(CutEllipse(a * scale, b * scale, 1, 1));
+    if (withPieces)
+      for (double piece : { 0.3, 0.4, 0.5 })
+        varied.push_back(CutEllipse(a * piece, b * piece, 1, 1));
+    varied.push_back(traits[corner]);
+    const LeafAreaEstimates shapeOnly = EstimateLeafAreas(varied, std::vector<bool>(varied.size(), true));
+    ASSERT_TRUE(shapeOnly.shape.valid) << withPieces;
+    EXPECT_FALSE(shapeOnly.shape.oneSize) << withPieces;
+    EXPECT_GT(shapeOnly.shape.areaSpread, 0.3) << withPieces;
+    EXPECT_EQ(shapeOnly.rule.back(), static_cast<int>(AreaRule::LongFromShort)) << withPieces;
+    EXPECT_LT(shapeOnly.area.back() / whole, 0.3) << withPieces;
+  }
+}
+
 TEST(LeafAreaEstimate, WithoutThreeWholeLeavesEveryLeafKeepsItsArea)
 {
   // Two whole leaves and one with a side hidden.
