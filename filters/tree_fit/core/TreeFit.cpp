@@ -178,8 +178,12 @@ TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::v
   if (result.error.empty())
     result.error = CheckInput(points, woodLabel, candidates);
   treefit::Wood wood;
+  std::vector<int> others; // the points labelled leaf
+  for (std::size_t i = 0; i < woodLabel.size(); ++i)
+    if (woodLabel[i] == 0)
+      others.push_back(static_cast<int>(i));
   if (result.error.empty())
-    result.error = treefit::CleanAndConnect(points, candidates, options, parallel, wood);
+    result.error = treefit::CleanAndConnect(points, candidates, others, options, parallel, wood);
   wood.leafLabelled = std::find(woodLabel.begin(), woodLabel.end(), 0) != woodLabel.end();
   std::vector<int> woodCylinder;
   std::vector<TreeCylinder> fitted; // the last fit's cylinders before step 5

@@ -7,7 +7,10 @@
 // distance to their 6 nearest neighbours; nothing is in absolute units):
 //  1. Check: enough points, finite coordinates, a cloud that is neither a line nor a plane.
 //  2. Clean: points whose mean neighbour distance is an outlier on a log scale (density falls with the distance to
-//     the scanner, multiplicatively) are dropped; the neighbour graph (10 nearest within 8 s) is split into
+//     the scanner, multiplicatively) are dropped, unless they lie on a sparse line: a branch scanned from far, whose
+//     sparse points (points labelled leaf among them, each point's spacing taken among every point) lie within 8 of
+//     their own spacings along a line (spread across it at most 0.3 of that along it), the line's spacing changing as
+//     slowly as the range does, over at least 12 spacings; the neighbour graph (10 nearest within 8 s) is split into
 //     connected components, and components are joined to the one holding the base across gaps up to 25 s (the
 //     occlusion gaps of a scan); what stays apart is not wood of this tree. Inside a component, a gap of up to 4 s at
 //     a chain's far end is bridged where the shortest path round it is 50 s longer (a junction hidden by leaves).

@@ -32,6 +32,10 @@ constexpr double ShortcutSaving = 50.0;  // ...is bridged when the shortest path
 constexpr double FacingReach = GapReach; // spacings: a wider gap between two chain ends facing each other...
 constexpr double FacingCosine = 0.7071;  // ...within 45 degrees each (their directions over FlowLength spacings)
 constexpr double FlowLength = 10.0;      // spacings
+constexpr double LineReach = 8.0;        // a sparse point's own spacings: the ball its line is judged in...
+constexpr int LinePoints = 8;            // ...holding at least this many sparse points...
+constexpr double LineSpread = 0.3;       // ...across its main direction at most this share of the spread along it
+constexpr double LineLength = 12.0;      // own spacings: a sparse line at least this long is a far branch
 
 /// Mean distance of every point to its k nearest neighbours (infinite when it has none).
 std::vector<double> MeanNeighbourDistance(
@@ -447,6 +451,92 @@ bool AddShortcuts(const Wood& wood, const ParallelFor& parallel, Graph& graph)
   graph = WithLinks(graph, extra);
   return true;
 }
+
+/// The sparse points (`pool`, each with its mean neighbour distance `spread`) that make far branches:
+/// a branch scanned from farther than the rest (a scanner's spacing grows with range) is sparser than the cloud's
+/// outlier threshold along its whole length, but its points lie along a line, the density of that line changing only
+/// as slowly as the range does; a stray return lies among no such line, leaves lie in sheets turned every way. A
+/// point is on a line when the pool's points within LineReach of its own spacings (at least LinePoints of them) spread
+/// across their main direction at most LineSpread of their spread along it, and its log spacing lies within
+/// `sigma` robust deviations (`mad`) of their median. Points on a line linked within that reach are one line; a line
+/// at least LineLength of its points' median spacings long is kept whole. Returns per pool point whether it is kept.
+std::vector<unsigned char> SparseLines(const std::vector<Eigen::Vector3d>& pool, const std::vector<double>& spread,
+  double sigma, double mad, const ParallelFor& parallel)
+{
+  const std::size_t n = pool.size();
+  std::vector<unsigned char> keep(n, 0);
+  if (n < static_cast<std::size_t>(LinePoints))
+    return keep;
+  std::vector<double> reach(n);
+  for (std::size_t i = 0; i < n; ++i)
+    reach[i] = LineReach * spread[i];
+  const PointGrid grid(pool, LineReach * Median(spread));
+  std::vector<unsigned char> line(n, 0);
+  std::vector<std::vector<int>> near(n);
+  parallel(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      std::vector<int>& ball = near[i];
+      grid.Within(pool[i], reach[i], ball);
+      if (ball.size() < static_cast<std::size_t>(LinePoints))
+        continue;
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      std::vector<double> logs;
+      for (int j : ball)
+      {
+        mean += pool[j];
+        logs.push_back(std::log(spread[j]));
+      }
+      mean /= static_cast<double>(ball.size());
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (int j : ball)
+        cov += (pool[j] - mean) * (pool[j] - mean).transpose();
+      const Eigen::Vector3d l = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues().cwiseMax(0.0);
+      line[i] = std::sqrt(l[1]) <= LineSpread * std::sqrt(l[2]) &&
+          std::abs(std::log(spread[i]) - Median(std::move(logs))) <= sigma * mad
+        ? 1
+        : 0;
+    }
+  });
+  DisjointSets<int> sets(n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (line[i])
+      for (int j : near[i])
+        if (line[j])
+          sets.Join(static_cast<int>(i), j);
+  // Per line: its points, its extent along its main direction against its median spacing.
+  std::vector<std::vector<int>> members(n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (line[i])
+      members[sets.Find(static_cast<int>(i))].push_back(static_cast<int>(i));
+  for (const std::vector<int>& m : members)
+  {
+    if (m.size() < static_cast<std::size_t>(LinePoints))
+      continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    std::vector<double> spacings;
+    for (int i : m)
+    {
+      mean += pool[i];
+      spacings.push_back(spread[i]);
+    }
+    mean /= static_cast<double>(m.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (int i : m)
+      cov += (pool[i] - mean) * (pool[i] - mean).transpose();
+    const Eigen::Vector3d axis = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(2);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int i : m)
+    {
+      lo = std::min(lo, (pool[i] - mean).dot(axis));
+      hi = std::max(hi, (pool[i] - mean).dot(axis));
+    }
+    if (hi - lo >= LineLength * Median(std::move(spacings)))
+      for (int i : m)
+        keep[i] = 1;
+  }
+  return keep;
+}
 } // namespace
 
 double PointSpacing(const std::vector<Eigen::Vector3d>& points, const ParallelFor& parallel)
@@ -455,8 +545,8 @@ double PointSpacing(const std::vector<Eigen::Vector3d>& points, const ParallelFo
   return Median(MeanNeighbourDistance(points, grid, SpacingNeighbours, parallel));
 }
 
-std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& all, const std::vector<int>& candidates,
-  const TreeFitParameters& options, const ParallelFor& parallel, Wood& wood)
+std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& all, std::vector<int>& candidates,
+  const std::vector<int>& others, const TreeFitParameters& options, const ParallelFor& parallel, Wood& wood)
 {
   std::vector<Eigen::Vector3d> points;
   points.reserve(candidates.size());
@@ -476,13 +566,53 @@ std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& all, const std::
       logs.push_back(std::log(m));
   const double centre = Median(logs);
   const double mad = std::max(RobustScale(logs, centre), 0.05);
+  const double threshold = centre + options.outlierSigma * mad;
   std::vector<int> inliers;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (std::isfinite(mean[i]) && mean[i] > 0.0 && std::log(mean[i]) <= centre + options.outlierSigma * mad)
-      inliers.push_back(static_cast<int>(i));
   std::vector<Eigen::Vector3d> clean;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (std::isfinite(mean[i]) && mean[i] > 0.0 && std::log(mean[i]) <= threshold)
+      inliers.push_back(static_cast<int>(i));
+  std::vector<int> source; // per clean point: its id in `all`
   for (int i : inliers)
+  {
     clean.push_back(points[i]);
+    source.push_back(candidates[static_cast<std::size_t>(i)]);
+  }
+  // The sparse lines (far branches) among the outliers and among the `others` as sparse, each point's spacing taken
+  // among every point (as the scanner left them: a far branch the labels share between wood and leaf is one line):
+  // kept, the others' as candidates too.
+  std::vector<Eigen::Vector3d> every = points;
+  for (int i : others)
+    every.push_back(all[i]);
+  std::vector<double> everyMean = mean;
+  if (!others.empty())
+  {
+    const PointGrid everyGrid(every, PointGrid::CellFor(every, 4.0));
+    everyMean = MeanNeighbourDistance(every, everyGrid, SpacingNeighbours, parallel);
+  }
+  std::vector<int> pool; // ids into every
+  std::vector<Eigen::Vector3d> poolPoints;
+  std::vector<double> poolSpread;
+  for (std::size_t i = 0; i < every.size(); ++i)
+  {
+    const double m = i < points.size() ? mean[i] : everyMean[i];
+    if (std::isfinite(m) && m > 0.0 && std::log(m) > threshold && std::isfinite(everyMean[i]) && everyMean[i] > 0.0)
+    {
+      pool.push_back(static_cast<int>(i));
+      poolPoints.push_back(every[i]);
+      poolSpread.push_back(everyMean[i]);
+    }
+  }
+  const std::vector<unsigned char> far = SparseLines(poolPoints, poolSpread, options.outlierSigma, mad, parallel);
+  std::vector<unsigned char> other(clean.size(), 0); // per clean point: one of the others
+  for (std::size_t k = 0; k < pool.size(); ++k)
+    if (far[k])
+    {
+      const auto p = static_cast<std::size_t>(pool[k]);
+      clean.push_back(poolPoints[k]);
+      source.push_back(p < points.size() ? candidates[p] : others[p - points.size()]);
+      other.push_back(p < points.size() ? 0 : 1);
+    }
   Graph graph = NeighbourGraph(clean, spacing, parallel);
   const std::vector<unsigned char> in = JoinComponents(clean, options.up, spacing, parallel, graph);
   std::vector<int> kept, index(clean.size(), -1);
@@ -503,8 +633,11 @@ std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& all, const std::
   for (int k : kept)
   {
     wood.points.push_back(clean[k]);
-    wood.input.push_back(candidates[inliers[k]]);
+    wood.input.push_back(source[k]);
+    if (other[k])
+      candidates.push_back(source[k]);
   }
+  std::sort(candidates.begin(), candidates.end());
   Geodesic(wood.points, wood.graph, options.up, 6.0 * spacing, wood.geodesic, wood.previous);
   if (AddShortcuts(wood, parallel, wood.graph))
     Geodesic(wood.points, wood.graph, options.up, 6.0 * spacing, wood.geodesic, wood.previous);

@@ -39,9 +39,11 @@ struct Wood
 /// Median over the points of the mean distance to their 6 nearest neighbours.
 double PointSpacing(const std::vector<Eigen::Vector3d>& points, const ParallelFor& parallel);
 
-/// Steps 1-2 and the geodesic distances of step 3: "" or why the cloud is no tree.
-std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& candidates,
-  const TreeFitParameters& options, const ParallelFor& parallel, Wood& wood);
+/// Steps 1-2 and the geodesic distances of step 3 on the `candidates` (ids into `points`): "" or why the cloud is no
+/// tree. `others` (ids into `points`, the points labelled leaf; empty without labels): those of them on a sparse line
+/// (a far branch the labels call leaf) joined to the tree are wood too, and are added to `candidates`.
+std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& points, std::vector<int>& candidates,
+  const std::vector<int>& others, const TreeFitParameters& options, const ParallelFor& parallel, Wood& wood);
 
 /// A level-set node: the points (ids into Wood::points) of one connected component of one bin.
 struct Node

@@ -82,7 +82,8 @@ public:
   vtkSetMacro(TubeSides, int);
   vtkGetMacro(TubeSides, int);
 
-  /// Robust deviations of a point's (log) mean neighbour distance beyond which it is an outlier, [1, 100]. Default 3.
+  /// Robust deviations of a point's (log) mean neighbour distance beyond which it is an outlier (dropped unless it lies
+  /// on a sparse line of such points: a branch scanned from far), [1, 100]. Default 3.
   vtkSetMacro(OutlierSigma, double);
   vtkGetMacro(OutlierSigma, double);
   /// Height above the lowest point where DBH is measured, in output units, (0, 1e6]. Default 1.3.
