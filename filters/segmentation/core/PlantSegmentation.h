@@ -18,7 +18,8 @@
 //     length over width below MaximumLeafElongation), is wider than the features' neighbourhood (2r) and is no
 //     piece of a cylinder (normals sharing an axis along the region's length within 25 degrees and turning around
 //     it by an arc of about 80 degrees or more, spread over the arc: not in two groups, as a blade folded along its
-//     midrib into a V has them); the rest is wood. Two strips near each other that together are such a V, as wide
+//     midrib into a V has them, and filling it: no empty arc of NormalAngle between groups, as blades fanned around
+//     a twig leave); the rest is wood. Two strips near each other that together are such a V, as wide
 //     as a leaf, with the points around them in one half's plane or the other's, are the halves of a blade folded by
 //     more than about 60 degrees (the crease between them stops the growing): one leaf region. A region that is no sheet (incoherent) yet wide,
 //     not a strip and no cylinder is several leaves grown into one: it is grown again inside itself with every
