@@ -520,11 +520,11 @@ std::vector<double> MiddlesAlong(const std::vector<TreeCylinder>& cylinders, con
 /// cylinders fitted there hold them beside the stem's own; when each such fit is only a little wider than the one
 /// before, none is a bulge against its neighbour (FlattenBulges) nor against a taper that the run itself raises
 /// (FlattenBranchBulges), and the stem creeps wider over metres. Along each branch, a measured cylinder wider than
-/// the narrowest measured one below it (by two noise deviations), where a measured one further up is narrower than
-/// that again (the stem comes back down: a bump, not a thicker stem), is a junction when it is wider than the taper
-/// between those two by TaperMargin and two noise deviations: its radius is not measured (InterpolateTaper gives
-/// it). A stem tapering in steps (a capped segment per fork) never rises, so it is not judged.
-void FlattenTaperBumps(double noise, TreeFitResult& result)
+/// the narrowest measured one below it (by `margin` noise deviations), where a measured one further up is narrower
+/// than that again (the stem comes back down: a bump, not a thicker stem), is a junction when it is wider than the
+/// taper between those two by TaperMargin and two noise deviations: its radius is not measured (InterpolateTaper
+/// gives it). A stem tapering in steps (a capped segment per fork) never rises, so it is not judged.
+void FlattenTaperBumps(double noise, double margin, TreeFitResult& result)
 {
   auto& cylinders = result.cylinders;
   for (const TreeBranchRow& branch : result.branches)
@@ -543,7 +543,7 @@ void FlattenTaperBumps(double noise, TreeFitResult& result)
         continue;
       }
       const double low = cylinders[ids[below]].fittedRadius;
-      if (c.fittedRadius <= low + 2.0 * noise)
+      if (c.fittedRadius <= low + margin * noise)
         continue;
       std::size_t above = j + 1;
       while (above < ids.size() && !(cylinders[ids[above]].measured && cylinders[ids[above]].fittedRadius < low))
@@ -756,9 +756,16 @@ std::string ModelRadii(double spacing, TreeFitResult& result, bool leafLabelled)
   }
   AssignBranches(result, first);
   FlattenBranchBulges(noise, result);
-  FlattenTaperBumps(noise, result);
+  FlattenTaperBumps(noise, 2.0, result);
   if (leafLabelled)
+  {
     FlattenLeaningFits(noise, result);
+    // The leaning fits set the taper the first pass judged against: a clean fit on the laterals' surface between them
+    // (on the stem's line, as wide as the stem below and wider than the true stem) was judged against fits as wide
+    // as itself, or not at all within two noise deviations of the narrowest below. On the fits left, every measured
+    // fit wider than the narrowest below it is judged (the threshold over the taper unchanged).
+    FlattenTaperBumps(noise, 0.0, result);
+  }
   // Each branch's level: the geometric mean of its measured / model ratios, else its parent branch's.
   std::vector<double> level(result.branches.size(), 1.0);
   for (const auto& branch : result.branches)
