@@ -493,94 +493,11 @@ double Perimeter(const std::vector<Eigen::Vector2d>& loop)
   return length;
 }
 
-/// Each point's distance from the mean of the loop's points within `window` of it along the loop (its own course):
-/// the loop's raggedness, whatever its lobes and sinuses at scales well beyond the window.
-std::vector<double> Raggedness(const std::vector<Eigen::Vector2d>& loop, double window)
-{
-  const std::size_t n = loop.size();
-  std::vector<double> arc(n + 1, 0.0), deviation(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i)
-    arc[i + 1] = arc[i] + (loop[(i + 1) % n] - loop[i]).norm();
-  const double perimeter = arc[n];
-  if (!(perimeter > 2.0 * window))
-    return deviation;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    Eigen::Vector2d sum = loop[i];
-    double count = 1.0;
-    for (int direction = -1; direction <= 1; direction += 2)
-      for (std::size_t k = 1; k < n; ++k)
-      {
-        const std::size_t j = direction > 0 ? (i + k) % n : (i + n - k) % n;
-        double along = std::abs(arc[j] - arc[i]);
-        along = std::min(along, perimeter - along);
-        if (along > window)
-          break;
-        sum += loop[j];
-        count += 1.0;
-      }
-    deviation[i] = (loop[i] - sum / count).norm();
-  }
-  return deviation;
-}
-
-/// How much sparser than `spacing` the points (t, s) lie about each point (at least 1): the median, over its 16
-/// nearest points, of their own spacing (the larger of the distance to the nearest point and half the distance to
-/// the nearest one across that direction, more than 60 degrees off it: on a scanner's lines, the lines' distance;
-/// `spacing` is measured the same way over the whole blade), over `spacing`. A blade seen from several positions
-/// is sampled densely where the views overlap or face it and several times more sparsely where one view sees it
-/// obliquely or from afar; the scales that the closing, the gap and the density kernel take from `spacing` are
-/// that much wider there.
-std::vector<double> LocalScale(const std::vector<Eigen::Vector2d>& ts, double spacing, const ParallelFor& parallel)
-{
-  std::vector<Eigen::Vector3d> flat(ts.size());
-  for (std::size_t i = 0; i < ts.size(); ++i)
-    flat[i] = { ts[i].x(), ts[i].y(), 0.0 };
-  const PointGrid grid(flat, PointGrid::CellFor(flat, 4.0), parallel);
-  std::vector<double> own(ts.size(), spacing), scale(ts.size(), 1.0);
-  ForEachIndex(
-    parallel, ts.size(),
-    [&](std::size_t i) {
-      // 48 neighbours reach the next line of a line scan whose points are up to about 20 times closer along a line.
-      const auto nb = grid.Nearest(flat[i], 48, static_cast<int>(i));
-      Eigen::Vector3d u = Eigen::Vector3d::Zero();
-      double nearest = 0.0, across = 0.0;
-      for (const auto& [d2, j] : nb)
-      {
-        if (!(d2 > 0.0))
-          continue;
-        const Eigen::Vector3d d = flat[j] - flat[i];
-        if (u.isZero())
-        {
-          u = d.normalized();
-          nearest = std::sqrt(d2);
-        }
-        else if (std::abs(u.dot(d.normalized())) < 0.5)
-        {
-          across = std::sqrt(d2);
-          break;
-        }
-      }
-      own[i] = std::max(nearest, 0.5 * across);
-    },
-    64);
-  ForEachIndex(
-    parallel, ts.size(),
-    [&](std::size_t i) {
-      std::vector<double> near;
-      for (const auto& nb : grid.Nearest(flat[i], 16))
-        near.push_back(own[nb.second]);
-      scale[i] = std::max(1.0, Median(std::move(near), spacing) / spacing);
-    },
-    64);
-  return scale;
-}
-
 /// The gap between the closing's boundary (level r of F, through the outermost points) and the margin, from the
 /// points' count: the level r - gap whose loop (`outer`) encloses `target`, the area the points sample. Each point
 /// stands for 1 / density of the blade at its place, plus the holes the loop bridges (cells deeper than the
 /// kernel's reach with no point within 2 spacings). The density is measured with a Gaussian kernel (sigma 2
-/// spacings times the point's LocalScale, cut at 4 sigma) about the points whose kernel lies inside the points' region (F >= r + 4 sigma): on a
+/// spacings, cut at 4 sigma) about the points whose kernel lies inside the points' region (F >= r + 4 sigma): on a
 /// scanner's regular lines the kernel's sum over the points is its integral times the density whatever the lines'
 /// phase, where a count inside a region whose edge follows the lines is not (that edge lies on a line or between
 /// two all along: the count was off by up to 3 % from one edge to the next on a line scan of the pin oak; sigma 1 and
@@ -594,9 +511,9 @@ std::vector<double> LocalScale(const std::vector<Eigen::Vector2d>& ts, double sp
 /// sinuses) and any spread of the points (one pass or several). NaN (and `target` NaN) when fewer than 50 points lie
 /// that deep.
 template <typename Outer>
-double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<double>& scale,
-  const std::vector<double>& F, const std::vector<double>& toPoint, int nx, int ny, const Eigen::Vector2d& origin,
-  double cell, double r, double spacing, const std::vector<Eigen::Vector2d>& loop, const Outer& outer, double& target)
+double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<double>& F,
+  const std::vector<double>& toPoint, int nx, int ny, const Eigen::Vector2d& origin, double cell, double r,
+  double spacing, const std::vector<Eigen::Vector2d>& loop, const Outer& outer, double& target)
 {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   target = nan;
@@ -616,11 +533,10 @@ double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<doub
     for (std::size_t k = 0; k < ts.size(); ++k)
       order[next[index(ts[k])]++] = k;
   }
-  const double reach = 8.0 * spacing; // in F's units (lengths over the local scale)
-  auto kernel = [&](const Eigen::Vector2d& p, double local) {
-    const double sigma = 2.0 * spacing * local, far = 4.0 * sigma;
-    const int cells = static_cast<int>(std::ceil(far / cell));
-    const double norm = 2.0 * Pi * sigma * sigma * (1.0 - std::exp(-8.0));
+  const double sigma = 2.0 * spacing, reach = 4.0 * sigma;
+  const int cells = static_cast<int>(std::ceil(reach / cell));
+  const double norm = 2.0 * Pi * sigma * sigma * (1.0 - std::exp(-8.0));
+  auto kernel = [&](const Eigen::Vector2d& p) {
     const int i0 = static_cast<int>(std::lround((p.x() - origin.x()) / cell));
     const int j0 = static_cast<int>(std::lround((p.y() - origin.y()) / cell));
     double sum = 0.0;
@@ -631,7 +547,7 @@ double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<doub
         for (std::size_t k = first[c]; k < first[c + 1]; ++k)
         {
           const double d2 = (ts[order[k]] - p).squaredNorm();
-          if (d2 < far * far)
+          if (d2 < reach * reach)
             sum += std::exp(-0.5 * d2 / (sigma * sigma));
         }
       }
@@ -646,11 +562,11 @@ double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<doub
   };
   std::vector<double> tileSum(static_cast<std::size_t>(tx) * ty, 0.0), tileCount(tileSum.size(), 0.0);
   double deepCount = 0.0;
-  for (std::size_t n = 0; n < ts.size(); ++n)
-    if (const Eigen::Vector2d& p = ts[n]; F[index(p)] >= r + reach)
+  for (const auto& p : ts)
+    if (F[index(p)] >= r + reach)
     {
       const Eigen::Vector2i k = tileOf(p);
-      tileSum[k.x() + tx * k.y()] += kernel(p, scale[n]);
+      tileSum[k.x() + tx * k.y()] += kernel(p);
       tileCount[k.x() + tx * k.y()] += 1.0;
       deepCount += 1.0;
     }
@@ -905,16 +821,12 @@ Contour TraceContour(
   // The points' region: the union of discs of radius r about the points, its holes filled (bridged), closed
   // (eroded back by r: concave notches wider than about 2 r stay open) and grown by the expected gap between the
   // outermost points and the margin.
-  // Where the points lie sparser than `spacing` (LocalScale), every length below is that much longer there: the
-  // discs' radius, the gap, the density kernel (each measured in F, the distance over the local scale).
   const double r = 2.5 * spacing;
-  const std::vector<double> scale = LocalScale(ts, spacing, parallel);
-  const double widest = *std::max_element(scale.begin(), scale.end());
   const Eigen::Vector2d span = hi - lo;
   const double cell = std::max(0.5 * spacing, std::sqrt(span.x() * span.y() / 4e6));
-  const Eigen::Vector2d origin = lo - Eigen::Vector2d::Constant(r * widest + 3.0 * cell);
-  const int nx = static_cast<int>((span.x() + 2.0 * r * widest) / cell) + 7;
-  const int ny = static_cast<int>((span.y() + 2.0 * r * widest) / cell) + 7;
+  const Eigen::Vector2d origin = lo - Eigen::Vector2d::Constant(r + 3.0 * cell);
+  const int nx = static_cast<int>((span.x() + 2.0 * r) / cell) + 7;
+  const int ny = static_cast<int>((span.y() + 2.0 * r) / cell) + 7;
   std::vector<unsigned char> hit(static_cast<std::size_t>(nx) * ny, 0);
   for (const auto& p : ts)
   {
@@ -922,33 +834,13 @@ Contour TraceContour(
     const int j = static_cast<int>(std::lround((p.y() - origin.y()) / cell));
     hit[std::clamp(i, 0, nx - 1) + nx * std::clamp(j, 0, ny - 1)] = 1;
   }
-  // toPoint: the least distance to a point over its scale (in cells); local: that point's scale.
-  std::vector<double> toPoint = DistanceTo(hit, nx, ny, parallel), local(hit.size(), 1.0);
-  for (std::size_t n = 0; n < ts.size(); ++n)
-  {
-    if (!(scale[n] > 1.0))
-      continue;
-    const double x = (ts[n].x() - origin.x()) / cell, y = (ts[n].y() - origin.y()) / cell;
-    const int reach = static_cast<int>(std::ceil((r / cell + 2.0) * scale[n]));
-    const int i0 = static_cast<int>(std::lround(x)), j0 = static_cast<int>(std::lround(y));
-    for (int j = std::max(0, j0 - reach); j <= std::min(ny - 1, j0 + reach); ++j)
-      for (int i = std::max(0, i0 - reach); i <= std::min(nx - 1, i0 + reach); ++i)
-      {
-        const std::size_t c = static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * j;
-        const double d = std::hypot(i - x, j - y) / scale[n];
-        if (d < toPoint[c])
-        {
-          toPoint[c] = d;
-          local[c] = scale[n];
-        }
-      }
-  }
+  std::vector<double> toPoint = DistanceTo(hit, nx, ny, parallel);
   std::vector<unsigned char> inside(hit.size()), outside(hit.size());
   ForEachIndex(parallel, hit.size(), [&](std::size_t c) { inside[c] = toPoint[c] * cell <= r ? 1 : 0; });
   FillHoles(inside, nx, ny);
   ForEachIndex(parallel, hit.size(), [&](std::size_t c) { outside[c] = inside[c] ? 0 : 1; });
   std::vector<double> F = DistanceTo(outside, nx, ny, parallel);
-  ForEachIndex(parallel, F.size(), [&](std::size_t c) { F[c] *= cell / local[c]; });
+  ForEachIndex(parallel, F.size(), [&](std::size_t c) { F[c] *= cell; });
   // The largest loop at a level (counter-clockwise, smoothed), empty when there is none.
   auto outer = [&](double level) {
     std::vector<std::vector<Eigen::Vector2d>> loops = LevelLoops(F, nx, ny, level, origin, cell);
@@ -994,28 +886,19 @@ Contour TraceContour(
     std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
     const double median = gaps[gaps.size() / 2];
     gap = std::clamp(median, 0.0, 3.0 * spacing);
-    // Whether the loop runs along the smooth margins: its points within 1.5 spacings of the median.
-    std::size_t near = 0;
+    // How far the loop wanders about the smooth margin (robust deviation): random points leave deeper dents
+    // between them than a scanner's regular grid does.
+    // Only the loop's points within 1.5 spacings of the median count (a lobed blade's sinuses are no wandering).
+    std::vector<double> deviation;
     for (double d : gaps)
-      near += std::abs(d - median) < 1.5 * spacing ? 1 : 0;
-    followed = 2 * near >= middle;
-    // How ragged the loop is (robust deviation about its own course, the mean of its points within 2 r along it,
-    // from 10 to 90 % of the length): random points leave deeper dents between them than a scanner's regular grid
-    // does. Measured about the smooth margins instead, it took in every lobe and sinus they cut across (3 spacings,
-    // the most, on a shallowly lobed blade, so that lobes and sinuses up to 6 spacings out were snapped away).
-    std::vector<double> deviation = Raggedness(loop, 2.0 * r);
-    std::vector<double> middleDeviation;
-    for (std::size_t i = 0; i < loop.size(); ++i)
-    {
-      const double xi = (loop[i].y() - outline.s0) / L;
-      if (xi > 0.1 && xi < 0.9)
-        middleDeviation.push_back(deviation[i]);
-    }
-    band = std::clamp(2.5 * MadToDeviation * Median(middleDeviation, 0.0), spacing, 3.0 * spacing);
+      if (std::abs(d - median) < 1.5 * spacing)
+        deviation.push_back(std::abs(d - median));
+    band = std::clamp(2.5 * MadToDeviation * Median(deviation), spacing, 3.0 * spacing);
+    followed = 2 * deviation.size() >= middle;
   }
   double target = std::numeric_limits<double>::quiet_NaN();
   const double counted =
-    followed ? target : CountedGap(ts, scale, F, toPoint, nx, ny, origin, cell, r, spacing, loop, outer, target);
+    followed ? target : CountedGap(ts, F, toPoint, nx, ny, origin, cell, r, spacing, loop, outer, target);
   const bool count = std::isfinite(counted);
   if (count)
     gap = std::clamp(counted, 0.0, 3.0 * spacing);

@@ -96,8 +96,7 @@ struct Contour
   bool features = false; ///< the loop departs from the smooth margins somewhere (a sinus, a notch, a lobe)
 };
 
-/// The boundary of the points (t, s) (the closing of discs of 2.5 spacings about them, wider where the points lie
-/// sparser than `spacing` (by their own spacing's ratio to it), holes filled, moved out by
+/// The boundary of the points (t, s) (the closing of discs of 2.5 spacings about them, holes filled, moved out by
 /// the gap to the margin: measured against the smooth margins where it runs along them, else the level at which
 /// the contour encloses the area the points sample), so lobes, sinuses and a cordate base are kept and not bridged. Sets
 /// outline.base and outline.apex: the crossings of the midvein (t = 0) that bound it, a tip's end from the smooth
