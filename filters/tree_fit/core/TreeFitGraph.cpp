@@ -452,6 +452,26 @@ bool AddShortcuts(const Wood& wood, const ParallelFor& parallel, Graph& graph)
   return true;
 }
 
+/// The mean of the points `ids` of `points` and the eigen-decomposition of their scatter about it.
+struct PointAxes
+{
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+};
+
+PointAxes AxesOf(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
+{
+  PointAxes axes;
+  for (int j : ids)
+    axes.mean += points[j];
+  axes.mean /= static_cast<double>(ids.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (int j : ids)
+    scatter += (points[j] - axes.mean) * (points[j] - axes.mean).transpose();
+  axes.solver.compute(scatter);
+  return axes;
+}
+
 /// The sparse points (`pool`, each with its mean neighbour distance `spread`) that make far branches:
 /// a branch scanned from farther than the rest (a scanner's spacing grows with range) is sparser than the cloud's
 /// outlier threshold along its whole length, but its points lie along a line, the density of that line changing only
@@ -480,18 +500,10 @@ std::vector<unsigned char> SparseLines(const std::vector<Eigen::Vector3d>& pool,
       grid.Within(pool[i], reach[i], ball);
       if (ball.size() < static_cast<std::size_t>(LinePoints))
         continue;
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       std::vector<double> logs;
       for (int j : ball)
-      {
-        mean += pool[j];
         logs.push_back(std::log(spread[j]));
-      }
-      mean /= static_cast<double>(ball.size());
-      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-      for (int j : ball)
-        cov += (pool[j] - mean) * (pool[j] - mean).transpose();
-      const Eigen::Vector3d l = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues().cwiseMax(0.0);
+      const Eigen::Vector3d l = AxesOf(pool, ball).solver.eigenvalues().cwiseMax(0.0);
       line[i] = std::sqrt(l[1]) <= LineSpread * std::sqrt(l[2]) &&
           std::abs(std::log(spread[i]) - Median(std::move(logs))) <= sigma * mad
         ? 1
@@ -513,18 +525,12 @@ std::vector<unsigned char> SparseLines(const std::vector<Eigen::Vector3d>& pool,
   {
     if (m.size() < static_cast<std::size_t>(LinePoints))
       continue;
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     std::vector<double> spacings;
     for (int i : m)
-    {
-      mean += pool[i];
       spacings.push_back(spread[i]);
-    }
-    mean /= static_cast<double>(m.size());
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (int i : m)
-      cov += (pool[i] - mean) * (pool[i] - mean).transpose();
-    const Eigen::Vector3d axis = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(2);
+    const PointAxes axes = AxesOf(pool, m);
+    const Eigen::Vector3d& mean = axes.mean;
+    const Eigen::Vector3d axis = axes.solver.eigenvectors().col(2);
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (int i : m)
     {
