@@ -184,7 +184,7 @@ TreeFitResult FitSorted(const std::vector<Eigen::Vector3d>& points, const std::v
       others.push_back(static_cast<int>(i));
   if (result.error.empty())
     result.error = treefit::CleanAndConnect(points, candidates, others, options, parallel, wood);
-  wood.leafLabelled = std::find(woodLabel.begin(), woodLabel.end(), 0) != woodLabel.end();
+  wood.leafLabelled = !others.empty();
   std::vector<int> woodCylinder;
   std::vector<TreeCylinder> fitted; // the last fit's cylinders before step 5
   if (result.error.empty())
