@@ -69,7 +69,9 @@
 //     whose groups, unfolded about the seam's line into one plane, leave notches where the seam ends (their convex
 //     hulls under 0.95 of the hull of both: a blade folded or curled along any line unfolds into its own outline;
 //     two leaves' outlines meet at an angle), whatever the seam's length. The joins above then run again (a side
-//     may be a piece of a third leaf).
+//     may be a piece of a third leaf). Last, the parts that do not touch are joined once more with each part's plane
+//     taken without its points r or more off it when those are at most a twentieth of it (a neighbour's margin or a
+//     twig's side taken in at a contact, which lifts one leaf's pieces off their common plane).
 //     Each leaf part of at least MinimumLeafPoints points is then a leaf, unless it is the wood's surface grown into
 //     a sheet: bent off its plane by over r / 4 (root mean square) with over 0.6 of its points within 2r of the wood
 //     (leaf, LeafId -1); LeafId numbers

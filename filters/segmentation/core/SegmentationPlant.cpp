@@ -1510,6 +1510,35 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
     std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
 }
 
+/// A leaf part may carry a few points of what it touches, grown into it at a contact (a neighbouring blade's margin or
+/// its twig's side, off its plane by up to several r): the plane test of two pieces across a gap may leave out up to
+/// this share of each part's points, those off the part's own plane by r or more (CoreMoments).
+constexpr double ForeignShare = 0.05;
+
+/// The moments of the points of a part (`ids`, moments `all`) within `apart` of its plane, the plane refitted to them
+/// twice: its own sheet without the few points of a neighbour it carries. `all` when more than ForeignShare of its
+/// points lie that far off (the part is no flat sheet: it keeps its spread).
+PartMoments CoreMoments(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, const PartMoments& all, double apart)
+{
+  PartMoments m = all;
+  std::vector<int> kept;
+  for (int round = 0; round < 2; ++round)
+  {
+    double spread = 0.0;
+    const Eigen::Vector3d n = m.Normal(spread);
+    kept.clear();
+    for (int j : ids)
+      if (std::abs((points[static_cast<std::size_t>(j)] - m.mean).dot(n)) < apart)
+        kept.push_back(j);
+    if (kept.size() < 3 ||
+      static_cast<double>(ids.size() - kept.size()) > ForeignShare * static_cast<double>(ids.size()))
+      return all;
+    m = PartMoments::Of(points, kept);
+  }
+  return m;
+}
+
 /// Pieces of one leaf that do not touch: a leaf seen in pieces behind another leaf or a branch, cut by a line of
 /// missing points wider than the links. Two leaf parts (each of at least MinimumLeafPoints points) join when they
 /// lie in one plane (planes within GapAngleFraction NormalAngle, both off their common plane by under GapThickness
@@ -1521,13 +1550,15 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
 /// the plane test and no pair of two leaves does: leaves that lie side by side are tilted against each other or
 /// offset off one plane. Farther apart, on the tree from two positions at 0.1 % noise, 16 pairs of pieces of one
 /// leaf lie in one plane 4.3 to 12.4 r apart spanning 0.79-1.33 together (the leaves' own spans: up to 1.35), and
-/// 11 pairs of two leaves in one plane span 1.54 or more.
+/// 11 pairs of two leaves in one plane span 1.54 or more. `withoutForeign`: each part's plane is measured without the
+/// few points of a neighbour it may carry (CoreMoments).
 void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, double cosine, int minimumLeafPoints,
-  std::vector<std::vector<int>>& parts)
+  std::vector<std::vector<int>>& parts, bool withoutForeign = false)
 {
   const double reach = GapRadii * radius, thickness = GapThickness * radius;
   std::vector<std::size_t> big;
   std::vector<PartMoments> moments(parts.size());
+  std::vector<PartMoments> core(parts.size()); // the moments the plane test uses
   std::vector<Eigen::Vector3d> low(parts.size()), high(parts.size());
   for (std::size_t k = 0; k < parts.size(); ++k)
   {
@@ -1535,6 +1566,7 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
       continue;
     big.push_back(k);
     moments[k] = PartMoments::Of(points, parts[k]);
+    core[k] = withoutForeign ? CoreMoments(points, parts[k], moments[k], radius) : moments[k];
     low[k] = high[k] = points[static_cast<std::size_t>(parts[k].front())];
     for (int j : parts[k])
     {
@@ -1554,7 +1586,7 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
     {
       const std::size_t a = big[x], b = big[y];
       if ((low[a].array() - search > high[b].array()).any() || (low[b].array() - search > high[a].array()).any() ||
-        !OneSheet(moments[a], moments[b], cosine, thickness))
+        !OneSheet(core[a], core[b], cosine, thickness))
         continue;
       const double gap = GapBetween(points, parts[a], parts[b], reach);
       if (gap < reach)
@@ -1567,11 +1599,11 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
   for (const auto& [far, gap, a, b] : pairs)
   {
     const std::size_t ra = roots.Find(a), rb = roots.Find(b);
-    if (ra == rb || !OneSheet(moments[ra], moments[rb], cosine, thickness) ||
-      (far == 1 && jointSpan(ra, rb) > leafLength))
+    if (ra == rb || !OneSheet(core[ra], core[rb], cosine, thickness) || (far == 1 && jointSpan(ra, rb) > leafLength))
       continue;
     const auto [into, from] = roots.Join(ra, rb, parts);
     moments[into] = moments[into].Merged(moments[from]);
+    core[into] = core[into].Merged(core[from]);
   }
   parts.erase(
     std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
@@ -1981,6 +2013,9 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
     JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
     JoinAcrossGaps(points, radius, gapCosine, p.minimumLeafPoints, leaves);
   }
+  // last, pieces whose planes agree once the few points of a neighbour one of them carries are left out: after the
+  // cuts and the pieces' joins, which judge a part's size against the plant's median part
+  JoinAcrossGaps(points, radius, gapCosine, p.minimumLeafPoints, leaves, true);
   std::sort(leaves.begin(), leaves.end());
   const std::vector<char> seenInRows = LeavesSeenInRows(points, f, region, verdicts, labels.organ, pieceOf,
     p.minimumLeafPoints, gapCosine, GapThickness * radius, 0.5 * p.linkScale * spacing, leaves);
