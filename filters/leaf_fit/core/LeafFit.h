@@ -5,7 +5,9 @@
 // The method, per leaf:
 //  1. Check: enough points, finite coordinates, not a line, not a blob (the cloud must be a sheet).
 //  2. Clean: statistical outlier removal on the k nearest neighbours (mean neighbour distance beyond the median by
-//     more than OutlierSigma robust deviations), then the largest connected component of a radius graph.
+//     more than OutlierSigma robust deviations), then the largest connected component of a radius graph, with the
+//     components of at least 5 % of it and the sheets beside it (a gap no wider than their own extent: a lobe seen
+//     beyond a shadow across its neck).
 //  3. Petiole and frame (shape/LeafShape.h): a thin trail of points leaving the blade is the petiole; it is set
 //     apart (PetioleLength, Region 5 on the scan) and the blade alone is fitted. The base is the blade point nearest
 //     BasePoint when one is given, else the petiole's junction with the blade; the midvein axis is the line through

@@ -30,7 +30,8 @@ struct Frame
 /// Checks the raw points: count, finite coordinates, not a line, not a blob. Empty string: usable.
 std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points);
 
-/// Statistical outlier removal and the largest connected parts; keep[i] = 1 for kept points. Sets `spacing` (the
+/// Statistical outlier removal and the largest connected parts (and the sheets beside the largest, a gap no wider than
+/// their own extent from it); keep[i] = 1 for kept points. Sets `spacing` (the
 /// median nearest-neighbour distance of the kept points).
 /// The neighbour searches run through `parallel`.
 std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlierSigma,

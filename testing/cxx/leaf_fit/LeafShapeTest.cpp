@@ -1025,6 +1025,44 @@ TEST(LeafShape, LobedBladeScannedTwiceAlongTheSameLinesKeepsItsArea)
   }
 }
 
+TEST(LeafShape, LobeSeenBeyondAShadowAcrossItsNeckIsKept)
+{
+  // The lobed blade (preset Lobed, 100 long) at a plant scan's density (8000 points, 0.4 apart) and 0.1 noise, with a
+  // shadow 3 wide (7 spacings) across the neck of its right basal lobe, from below the base's right side to beyond
+  // the sinus above the lobe, as an occluding twig casts it on a leaf of a scanned plant: the lobe's points (under
+  // 5 % of the blade's) are a part of their own, a gap narrower than the lobe from the blade. They are the blade's:
+  // every one an inlier, and the blade's area is the area the points sample (the band in the shadow left out, within
+  // 1.5 % of the blade's area: the notch the loop draws into the shadow).
+  const LeafGeometry leaf = Blade(8, 100.0);
+  const double step = std::sqrt(BladeArea(leaf) / 8000.0);
+  Synthetic whole;
+  whole.points = LineScans(leaf, step, 1.2 * step, { 0.0 }, 0.1);
+  const Eigen::Vector2d a(8.0, 2.0), b(30.0, 31.0), along = (b - a).normalized();
+  std::vector<Eigen::Vector3d> points;
+  std::vector<unsigned char> lobe;
+  for (const Eigen::Vector3d& p : whole.points)
+  {
+    const Eigen::Vector2d q = p.head<2>() - a;
+    const double beyond = along.x() * q.y() - along.y() * q.x(); // < 0: right of the line, towards the lobe
+    const double at = std::clamp(q.dot(along), 0.0, (b - a).norm());
+    if ((q - at * along).norm() < 1.5)
+      continue;
+    points.push_back(Tilted() * p);
+    lobe.push_back(beyond < 0.0 && p.y() < b.y() ? 1 : 0);
+  }
+  const double lobeCount = static_cast<double>(std::count(lobe.begin(), lobe.end(), 1));
+  ASSERT_GT(lobeCount, 0.01 * points.size());
+  ASSERT_LT(lobeCount, 0.05 * points.size());
+  const LeafFitResult fit = FitLeaf(points, LeafFitParameters());
+  ASSERT_EQ(fit.error, "");
+  int lobeInliers = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    lobeInliers += lobe[i] && fit.inlier[i] ? 1 : 0;
+  EXPECT_EQ(lobeInliers, static_cast<int>(lobeCount));
+  const double area = BladeArea(leaf), seen = area * points.size() / whole.points.size();
+  EXPECT_NEAR(fit.traits.area, seen, 0.015 * area) << "blade " << area << ", seen " << seen;
+}
+
 TEST(LeafShape, BladeEndsWithinASpacingOfTheStalksJunction)
 {
   // In intrinsic coordinates (t across, s along the midvein; spacing 1), an elliptic blade 100 long and 44 wide on
