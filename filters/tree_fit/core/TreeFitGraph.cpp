@@ -587,15 +587,19 @@ std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& all, std::vector
   // The sparse lines (far branches) among the outliers and among the `others` as sparse, each point's spacing taken
   // among every point (as the scanner left them: a far branch the labels share between wood and leaf is one line):
   // kept, the others' as candidates too.
-  std::vector<Eigen::Vector3d> every = points;
-  for (int i : others)
-    every.push_back(all[i]);
-  std::vector<double> everyMean = mean;
+  // Without others (a scan without labels) every point is a candidate: no copy of them.
+  std::vector<Eigen::Vector3d> withOthers;
+  std::vector<double> withOthersMean;
   if (!others.empty())
   {
-    const PointGrid everyGrid(every, PointGrid::CellFor(every, 4.0));
-    everyMean = MeanNeighbourDistance(every, everyGrid, SpacingNeighbours, parallel);
+    withOthers = points;
+    for (int i : others)
+      withOthers.push_back(all[i]);
+    const PointGrid everyGrid(withOthers, PointGrid::CellFor(withOthers, 4.0));
+    withOthersMean = MeanNeighbourDistance(withOthers, everyGrid, SpacingNeighbours, parallel);
   }
+  const std::vector<Eigen::Vector3d>& every = others.empty() ? points : withOthers;
+  const std::vector<double>& everyMean = others.empty() ? mean : withOthersMean;
   std::vector<int> pool; // ids into every
   std::vector<Eigen::Vector3d> poolPoints;
   std::vector<double> poolSpread;
