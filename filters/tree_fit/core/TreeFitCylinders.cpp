@@ -47,6 +47,12 @@ constexpr int PathNodes = 9; // centroids the skeleton's direction through a pie
 constexpr double SecondStart = 3.0;
 constexpr double BetterScale = 0.5;
 constexpr double FarScale = 0.1; // share of its radius beyond which a fit's residual scale says it is off its points
+// The refinement has converged when a step moves the axis and radius by less than StepLength of the residual floor
+// (a twentieth of a spacing) and turns the axis by less than StepTurn radians: far below what the points resolve.
+// Reweighting moves the minimum a little at every iteration, so a relative step of 1e-10 alone was seldom reached:
+// two fits in three ran to the iteration limit or to eight failed damping attempts.
+constexpr double StepLength = 1e-3;
+constexpr double StepTurn = 1e-6;
 
 /// Residuals (distance to the axis minus radius) for parameters (a, b, alpha, beta, r) about (c, u, v, axis0).
 void Residuals(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
@@ -139,7 +145,9 @@ Eigen::Matrix<double, 5, 1> Refine(const std::vector<Eigen::Vector3d>& q, const 
         x += step;
         lambda = std::max(lambda / 4, 1e-9);
         improved = true;
-        if (step.norm() < 1e-10 * (1.0 + x.norm()))
+        const bool small = std::abs(step[0]) + std::abs(step[1]) + std::abs(step[4]) < StepLength * floor &&
+          std::abs(step[2]) + std::abs(step[3]) < StepTurn;
+        if (small || step.norm() < 1e-10 * (1.0 + x.norm()))
           return x;
       }
       else
