@@ -47,6 +47,12 @@ constexpr int PathNodes = 9; // centroids the skeleton's direction through a pie
 constexpr double SecondStart = 3.0;
 constexpr double BetterScale = 0.5;
 constexpr double FarScale = 0.1; // share of its radius beyond which a fit's residual scale says it is off its points
+// The refinement has converged when a step moves the axis and radius by less than StepLength of the residual floor
+// (a twentieth of a spacing) and turns the axis by less than StepTurn radians: far below what the points resolve.
+// Reweighting moves the minimum a little at every iteration, so a relative step of 1e-10 alone was seldom reached:
+// two fits in three ran to the iteration limit or to eight failed damping attempts.
+constexpr double StepLength = 1e-3;
+constexpr double StepTurn = 1e-6;
 
 /// Residuals (distance to the axis minus radius) for parameters (a, b, alpha, beta, r) about (c, u, v, axis0).
 void Residuals(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
@@ -59,46 +65,75 @@ void Residuals(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c, 
     res[static_cast<Eigen::Index>(i)] = (q[i] - p).cross(d).norm() - x[4];
 }
 
+/// The residuals' derivatives by (a, b, alpha, beta, r) at x, in closed form. With w = q - p, e its part across the
+/// axis d and e^ = e / |e|: d|e|/da = -e^.u, d|e|/db = -e^.v; d = n / |n| with n = axis0 + alpha u + beta v gives
+/// d|e|/dalpha = -(w.d)(e^.u) / |n| and d|e|/dbeta = -(w.d)(e^.v) / |n|; the radius enters as -1.
+Eigen::Matrix<double, 5, 1> ResidualGradient(const Eigen::Vector3d& q, const Eigen::Vector3d& p,
+  const Eigen::Vector3d& d, double nNorm, const Eigen::Vector3d& u, const Eigen::Vector3d& v)
+{
+  const Eigen::Vector3d w = q - p;
+  const double along = w.dot(d);
+  const Eigen::Vector3d e = w - along * d;
+  const double rho = e.norm();
+  Eigen::Matrix<double, 5, 1> g;
+  if (!(rho > 0.0)) // a point on the axis: the distance has no direction there; it moves the radius alone
+  {
+    g << 0.0, 0.0, 0.0, 0.0, -1.0;
+    return g;
+  }
+  const double eu = e.dot(u) / rho, ev = e.dot(v) / rho;
+  g << -eu, -ev, -along * eu / nNorm, -along * ev / nNorm, -1.0;
+  return g;
+}
+
 /// Robustly weighted Gauss-Newton (Levenberg-Marquardt) on the 5 (or, with fixed direction, 3) parameters: Huber
 /// weights, or with `redescending` Tukey's biweight (points far off the surface, such as a child branch's start in a
-/// junction piece, get no weight at all; started from the Huber fit).
+/// junction piece, get no weight at all; started from the Huber fit). The normal equations are summed point by point
+/// from the closed-form derivatives (ResidualGradient), with no matrix of one row per point.
 Eigen::Matrix<double, 5, 1> Refine(const std::vector<Eigen::Vector3d>& q, const Eigen::Vector3d& c,
   const Eigen::Vector3d& u, const Eigen::Vector3d& v, const Eigen::Vector3d& axis0, Eigen::Matrix<double, 5, 1> x,
   bool fixDirection, double floor, bool redescending = false)
 {
-  Eigen::VectorXd res, trial;
+  Eigen::VectorXd res, trial, w;
+  std::vector<double> scratch;
   double lambda = 1e-3;
   for (int iteration = 0; iteration < 30; ++iteration)
   {
     Residuals(q, c, u, v, axis0, x, res);
-    const double sigma = std::max(RobustScale(std::vector<double>(res.data(), res.data() + res.size())), floor);
+    scratch.assign(res.data(), res.data() + res.size());
+    const double sigma = std::max(RobustScale(scratch), floor);
     const double k = (redescending ? 4.685 : 1.345) * sigma;
-    Eigen::VectorXd w(res.size());
+    w.resize(res.size());
     for (Eigen::Index i = 0; i < res.size(); ++i)
     {
       const double t = std::abs(res[i]) / k;
       w[i] = redescending ? (t < 1.0 ? (1 - t * t) * (1 - t * t) : 0.0) : (t <= 1.0 ? 1.0 : 1.0 / t);
     }
-    Eigen::MatrixXd jac(res.size(), 5);
-    const double h = 1e-7 * std::max(1.0, std::abs(x[4]));
-    for (int p = 0; p < 5; ++p)
+    const Eigen::Vector3d p = c + x[0] * u + x[1] * v;
+    const Eigen::Vector3d n = axis0 + x[2] * u + x[3] * v;
+    const double nNorm = n.norm();
+    const Eigen::Vector3d d = n / nNorm;
+    Eigen::Matrix<double, 5, 5> a = Eigen::Matrix<double, 5, 5>::Zero();
+    Eigen::Matrix<double, 5, 1> g = Eigen::Matrix<double, 5, 1>::Zero();
+    double cost = 0.0;
+    for (std::size_t i = 0; i < q.size(); ++i)
     {
-      Eigen::Matrix<double, 5, 1> xp = x;
-      xp[p] += p == 2 || p == 3 ? 1e-7 : h;
-      Residuals(q, c, u, v, axis0, xp, trial);
-      jac.col(p) = (trial - res) / (xp[p] - x[p]);
+      const auto index = static_cast<Eigen::Index>(i);
+      if (w[index] == 0.0)
+        continue;
+      Eigen::Matrix<double, 5, 1> j = ResidualGradient(q[i], p, d, nNorm, u, v);
+      if (fixDirection)
+        j[2] = j[3] = 0.0;
+      a.noalias() += (w[index] * j) * j.transpose();
+      g += w[index] * res[index] * j;
+      cost += w[index] * res[index] * res[index];
     }
-    if (fixDirection)
-      jac.col(2).setZero(), jac.col(3).setZero();
-    Eigen::Matrix<double, 5, 5> a = jac.transpose() * w.asDiagonal() * jac;
-    const Eigen::Matrix<double, 5, 1> g = jac.transpose() * w.asDiagonal() * res;
-    const double cost = res.dot(w.asDiagonal() * res);
     bool improved = false;
     for (int attempt = 0; attempt < 8 && !improved; ++attempt)
     {
       Eigen::Matrix<double, 5, 5> damped = a;
-      for (int p = 0; p < 5; ++p)
-        damped(p, p) += lambda * (a(p, p) + 1e-12);
+      for (int m = 0; m < 5; ++m)
+        damped(m, m) += lambda * (a(m, m) + 1e-12);
       if (fixDirection)
         damped(2, 2) = damped(3, 3) = 1.0;
       const Eigen::Matrix<double, 5, 1> step = damped.ldlt().solve(-g);
@@ -110,7 +145,9 @@ Eigen::Matrix<double, 5, 1> Refine(const std::vector<Eigen::Vector3d>& q, const 
         x += step;
         lambda = std::max(lambda / 4, 1e-9);
         improved = true;
-        if (step.norm() < 1e-10 * (1.0 + x.norm()))
+        const bool small = std::abs(step[0]) + std::abs(step[1]) + std::abs(step[4]) < StepLength * floor &&
+          std::abs(step[2]) + std::abs(step[3]) < StepTurn;
+        if (small || step.norm() < 1e-10 * (1.0 + x.norm()))
           return x;
       }
       else

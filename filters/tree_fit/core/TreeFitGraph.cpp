@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -93,47 +94,53 @@ Graph NeighbourGraph(const std::vector<Eigen::Vector3d>& points, double spacing,
   PointGrid grid(points, 4.0 * spacing);
   const std::vector<int>& order = grid.SortedIds();
   std::vector<int> nearId(n * K, -1);
-  std::vector<double> nearDistance(n * K, 0.0);
   parallel(n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t o = begin; o < end; ++o)
     {
       const auto i = static_cast<std::size_t>(order[o]);
       const auto near = grid.Nearest(points[i], GraphNeighbours, static_cast<int>(i), GraphReach * spacing);
       for (std::size_t t = 0; t < near.size(); ++t)
-      {
         nearId[i * K + t] = near[t].second;
-        nearDistance[i * K + t] = std::sqrt(near[t].first);
-      }
     }
   });
-  // Both directions of every link, row by row: (neighbour, distance).
+  // Both directions of every link, row by row, counted and scattered in parallel: a row's links arrive in any order,
+  // and are sorted below, so the graph does not depend on the threads.
+  std::vector<std::atomic<int>> fill(n);
+  for (auto& f : fill)
+    f.store(0, std::memory_order_relaxed);
+  parallel(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      for (std::size_t t = i * K; t < i * K + K && nearId[t] >= 0; ++t)
+      {
+        fill[i].fetch_add(1, std::memory_order_relaxed);
+        fill[static_cast<std::size_t>(nearId[t])].fetch_add(1, std::memory_order_relaxed);
+      }
+  });
   std::vector<int> offset(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t t = i * K; t < i * K + K && nearId[t] >= 0; ++t)
-    {
-      ++offset[i + 1];
-      ++offset[static_cast<std::size_t>(nearId[t]) + 1];
-    }
-  for (std::size_t i = 0; i < n; ++i)
-    offset[i + 1] += offset[i];
-  std::vector<std::pair<int, double>> links(static_cast<std::size_t>(offset[n]));
-  std::vector<int> fill(offset.begin(), offset.end() - 1);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t t = i * K; t < i * K + K && nearId[t] >= 0; ++t)
-    {
-      const int j = nearId[t];
-      links[static_cast<std::size_t>(fill[i]++)] = { j, nearDistance[t] };
-      links[static_cast<std::size_t>(fill[j]++)] = { static_cast<int>(i), nearDistance[t] };
-    }
-  // Each row sorted, a neighbour kept once (both directions give the same distance).
+  {
+    offset[i + 1] = offset[i] + fill[i].load(std::memory_order_relaxed);
+    fill[i].store(offset[i], std::memory_order_relaxed);
+  }
+  std::vector<int> links(static_cast<std::size_t>(offset[n]));
+  parallel(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      for (std::size_t t = i * K; t < i * K + K && nearId[t] >= 0; ++t)
+      {
+        const int j = nearId[t];
+        links[static_cast<std::size_t>(fill[i].fetch_add(1, std::memory_order_relaxed))] = j;
+        links[static_cast<std::size_t>(fill[static_cast<std::size_t>(j)].fetch_add(1, std::memory_order_relaxed))] =
+          static_cast<int>(i);
+      }
+  });
+  // Each row sorted, a neighbour kept once; its length the points' distance (as the search measured it).
   std::vector<int> size(n, 0);
   parallel(n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
     {
       const auto first = links.begin() + offset[i], last = links.begin() + offset[i + 1];
       std::sort(first, last);
-      size[i] = static_cast<int>(
-        std::unique(first, last, [](const auto& x, const auto& y) { return x.first == y.first; }) - first);
+      size[i] = static_cast<int>(std::unique(first, last) - first);
     }
   });
   Graph graph;
@@ -146,33 +153,40 @@ Graph NeighbourGraph(const std::vector<Eigen::Vector3d>& points, double spacing,
     for (std::size_t i = begin; i < end; ++i)
       for (int e = 0; e < size[i]; ++e)
       {
-        const auto& [j, d] = links[static_cast<std::size_t>(offset[i] + e)];
+        const int j = links[static_cast<std::size_t>(offset[i] + e)];
         graph.target[static_cast<std::size_t>(graph.offset[i] + e)] = j;
-        graph.weight[static_cast<std::size_t>(graph.offset[i] + e)] = d;
+        graph.weight[static_cast<std::size_t>(graph.offset[i] + e)] =
+          std::sqrt((points[static_cast<std::size_t>(j)] - points[i]).squaredNorm());
       }
   });
   return graph;
 }
 
-/// The graph with extra links (per point: (neighbour, length), both directions listed), each row's own links first.
+/// The graph with extra links (per point: (neighbour, length), both directions listed), each row's own links first;
+/// the rows placed first, then filled (no growing arrays).
 Graph WithLinks(const Graph& graph, const std::vector<std::vector<std::pair<int, double>>>& extra)
 {
   const std::size_t n = extra.size();
   Graph linked;
   linked.offset.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i)
+    linked.offset[i + 1] =
+      linked.offset[i] + (graph.offset[i + 1] - graph.offset[i]) + static_cast<int>(extra[i].size());
+  linked.target.resize(static_cast<std::size_t>(linked.offset[n]));
+  linked.weight.resize(linked.target.size());
+  for (std::size_t i = 0; i < n; ++i)
   {
-    for (int e = graph.offset[i]; e < graph.offset[i + 1]; ++e)
-    {
-      linked.target.push_back(graph.target[e]);
-      linked.weight.push_back(graph.weight[e]);
-    }
+    auto e = static_cast<std::size_t>(linked.offset[i]);
+    std::copy(graph.target.begin() + graph.offset[i], graph.target.begin() + graph.offset[i + 1],
+      linked.target.begin() + static_cast<std::ptrdiff_t>(e));
+    std::copy(graph.weight.begin() + graph.offset[i], graph.weight.begin() + graph.offset[i + 1],
+      linked.weight.begin() + static_cast<std::ptrdiff_t>(e));
+    e += static_cast<std::size_t>(graph.offset[i + 1] - graph.offset[i]);
     for (const auto& [j, d] : extra[i])
     {
-      linked.target.push_back(j);
-      linked.weight.push_back(d);
+      linked.target[e] = j;
+      linked.weight[e++] = d;
     }
-    linked.offset[i + 1] = static_cast<int>(linked.target.size());
   }
   return linked;
 }
