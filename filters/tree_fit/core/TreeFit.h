@@ -12,7 +12,9 @@
 //     their own spacings along a line (spread across it at most 0.3 of that along it), the line's spacing changing as
 //     slowly as the range does, over at least 12 spacings; the neighbour graph (10 nearest within 8 s) is split into
 //     connected components, and components are joined to the one holding the base across gaps up to 25 s (the
-//     occlusion gaps of a scan); what stays apart is not wood of this tree. Inside a component, a gap of up to 4 s at
+//     occlusion gaps of a scan), and a part apart across a longer hidden stretch (up to 60 s and the part's own length)
+//     where its end is a tube whose axis points back at the tree within 45 degrees; what stays apart is not wood of
+//     this tree. Inside a component, a gap of up to 4 s at
 //     a chain's far end is bridged where the shortest path round it is 50 s longer (a junction hidden by leaves).
 //  3. Skeleton: geodesic (Dijkstra) distance from the base (the lowest bin width of points), points binned by it into
 //     level sets of width 6 s; the connected components of each bin are nodes; each node's parent is the node its

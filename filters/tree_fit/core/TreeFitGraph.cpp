@@ -291,6 +291,18 @@ std::vector<unsigned char> JoinComponents(const std::vector<Eigen::Vector3d>& po
     extra[j].emplace_back(i, d);
     any = true;
   }
+  // Parts still apart whose own axis points back at the tree across a longer hidden stretch.
+  std::vector<int> group(n, -1);
+  for (std::size_t i = 0; i < n; ++i)
+    if (size[root[i]] >= MinComponent)
+      group[i] = joined.Find(root[i]);
+  for (const auto& [d, i, j] : BridgesAlongAxes(points, group, joined.Find(base), spacing))
+  {
+    joined.Join(root[i], root[j]);
+    extra[i].emplace_back(j, d);
+    extra[j].emplace_back(i, d);
+    any = true;
+  }
   std::vector<unsigned char> in(n, 0);
   const int baseSet = joined.Find(base);
   for (std::size_t i = 0; i < n; ++i)

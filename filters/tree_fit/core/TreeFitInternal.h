@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace plantmorph
@@ -44,6 +45,16 @@ double PointSpacing(const std::vector<Eigen::Vector3d>& points, const ParallelFo
 /// (a far branch the labels call leaf) joined to the tree are wood too, and are added to `candidates`.
 std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& points, std::vector<int>& candidates,
   const std::vector<int>& others, const TreeFitParameters& options, const ParallelFor& parallel, Wood& wood);
+
+/// Step 2's joining across a stretch of a branch hidden longer than the gaps the neighbour graph bridges (leaves in
+/// front of it, or its base scanned too sparsely to be kept): `group` per point (-1: none), `base` the group holding
+/// the base. A group apart whose points within twice its gap of the tree make a tube (at least 12 spacings long, its
+/// spread across under half its spread along) that ends at its point nearest the tree (in its outer quarter, or within
+/// its width of its end) and whose axis, out of the group there, reaches a tree point within 45 degrees, no farther
+/// than 60 spacings nor than the tube is long, is joined to the nearest such point; shortest first, each pass against
+/// the tree as it stands. The bridges (length, point, point).
+std::vector<std::tuple<double, int, int>> BridgesAlongAxes(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<int>& group, int base, double spacing);
 
 /// A level-set node: the points (ids into Wood::points) of one connected component of one bin.
 struct Node

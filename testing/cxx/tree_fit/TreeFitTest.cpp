@@ -90,6 +90,12 @@ int AddMeasuredCylinder(TreeFitResult& result, const Eigen::Vector3d& start, con
   return static_cast<int>(result.cylinders.size()) - 1;
 }
 
+/// The distance from x to the axis of c.
+double SegmentDistanceTo(const Eigen::Vector3d& x, const TrueCylinder& c)
+{
+  return treefit::SegmentDistance(x, c.start, c.end);
+}
+
 /// The unit direction `degrees` off the vertical, turned by `side` radians about it.
 Eigen::Vector3d Tilted(double degrees, double side)
 {
@@ -949,6 +955,45 @@ TEST(TreeFit, ALateralWithAHiddenStretchIsOneBranchFromItsBase)
     }
   }
   EXPECT_EQ(found, 1);
+}
+
+TEST(TreeFit, ALateralWhoseBaseIsHiddenOverALongGapIsJoinedAlongItsAxis)
+{
+  // A lateral leaves the trunk at 45 degrees and its first 0.55 m has no points (leaves in front of it): the part seen
+  // is 0.34 m (34 spacings) from the trunk, more than the 25 spacings the neighbour graph's components are joined
+  // across, so it was left apart: no first-order branch, its wood lost. Its own axis points back at the trunk, so it
+  // is joined there and fitted from its points. A straight stick as far from the trunk and parallel to it (the trunk
+  // lies off its ends' axis) stays apart.
+  const Eigen::Vector3d base(0, 0, 1.0), axis = Tilted(45.0, 0.0), tip = base + 1.5 * axis;
+  const TrueCylinder stick{ { -0.38, 0, 0.8 }, { -0.38, 0, 1.6 }, 0.02 };
+  const std::vector<TrueCylinder> tree{ { { 0, 0, 0 }, { 0, 0, 2.5 }, 0.05 }, { base, tip, 0.03 } };
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector3d& p : Scan(tree, 0.01, 0.0005))
+  {
+    const double t = (p - base).dot(axis);
+    if (!(t < 0.55 && (p - base - t * axis).norm() < 0.04))
+      points.push_back(p);
+  }
+  for (const Eigen::Vector3d& p : Scan({ stick }, 0.01, 0.0005, 11))
+    points.push_back(p);
+  const TreeFitResult r = FitTree(points, {}, TreeFitParameters());
+  ASSERT_EQ(r.error, "");
+  int found = 0;
+  for (const TreeBranchRow& b : r.branches)
+    if (b.order == 1)
+    {
+      ++found;
+      EXPECT_NEAR(b.angle, 45.0, 8.0);
+      EXPECT_GT(b.length, 0.9) << "the part seen is 0.95 m";
+    }
+  EXPECT_EQ(found, 1);
+  // The lateral outside the trunk: its hidden stretch's radius is the model's, not measured.
+  const double lateral = Volume(tree[1]) * (1.5 - 0.05 * std::sqrt(2.0)) / 1.5;
+  EXPECT_GT(r.traits.branchVolume, 0.6 * lateral);
+  EXPECT_LT(r.traits.branchVolume, 1.2 * lateral);
+  std::cout << "lateral: true volume " << lateral << ", fitted " << r.traits.branchVolume << "\n";
+  for (const TreeCylinder& c : r.cylinders)
+    EXPECT_GT(SegmentDistanceTo(0.5 * (c.start + c.end), stick), 0.1) << "a cylinder on the stick";
 }
 
 /// A stem of seven 0.3-long pieces that follows the pipe model (radius 5 mm times the square root of the twigs above
