@@ -482,6 +482,25 @@ TEST(PlantSegmentation, ALeafCutInTwoAlongOneSheetIsOneInstance)
     EXPECT_GT(iou, 0.9);
 }
 
+/// The synthetic plant's first leaf (its frame: base, along its midvein, across it, its normal) cut across by an
+/// unscanned band six spacings wide in its middle (the shadow of a twig in front of it).
+struct FirstLeafCut
+{
+  static constexpr double h = 0.005, r = 4.0 * h;
+  Eigen::Vector3d along, across, base, normal;
+  Truth cut;
+  explicit FirstLeafCut(int leaves)
+  {
+    const double rise = 40.0 * Pi / 180.0;
+    const Eigen::Vector3d out(1.0, 0.0, 0.0), up = Eigen::Vector3d::UnitZ();
+    along = std::cos(rise) * out + std::sin(rise) * up;
+    across = up.cross(out);
+    base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, 0.15);
+    normal = along.cross(across);
+    cut = WithoutBand(SyntheticPlant(leaves), base, along, 0.12, 6.0 * h);
+  }
+};
+
 TEST(PlantSegmentation, ALeafSeenInTwoPiecesAcrossAGapIsOneInstanceAParallelLeafIsNot)
 {
   // The plant of seven leaves, the first with a band across it left unscanned (six spacings wide, its middle: the
@@ -489,12 +508,10 @@ TEST(PlantSegmentation, ALeafSeenInTwoPiecesAcrossAGapIsOneInstanceAParallelLeaf
   // instances, the leaf matched at IoU 0.5 or under). Both lie in one plane within a few radii of each other: they
   // join. A second leaf parallel to the second one, two radii above it (not in its plane), stays apart.
   const int leaves = 7;
-  Truth t = SyntheticPlant(leaves);
-  const double rise = 40.0 * Pi / 180.0, h = 0.005, r = 4.0 * h;
-  const Eigen::Vector3d out(1.0, 0.0, 0.0), up = Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * up, across = up.cross(out);
-  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, 0.15), normal = along.cross(across);
-  Truth cut = WithoutBand(t, base, along, 0.12, 6.0 * h);
+  FirstLeafCut first(leaves);
+  const double r = FirstLeafCut::r;
+  const Eigen::Vector3d along = first.along, base = first.base, normal = first.normal;
+  Truth& cut = first.cut;
   ExpectEveryLeafFound(cut, leaves);
   // the parallel leaf: a copy of the first leaf's outer piece, two radii off its plane
   for (std::size_t i = 0, n = cut.points.size(); i < n; ++i)
@@ -517,12 +534,10 @@ TEST(PlantSegmentation, ALeafInTwoPiecesOneCarryingAFewPointsOffItsPlaneIsOneIns
   // 0.57); left out (a part's points a radius or more off its own plane, at most a twentieth of them), the pieces lie
   // in one plane: one instance.
   const int leaves = 7;
-  Truth t = SyntheticPlant(leaves);
-  const double rise = 40.0 * Pi / 180.0, h = 0.005, r = 4.0 * h;
-  const Eigen::Vector3d out(1.0, 0.0, 0.0), up = Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * up, across = up.cross(out);
-  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, 0.15), normal = along.cross(across);
-  Truth cut = WithoutBand(t, base, along, 0.12, 6.0 * h);
+  FirstLeafCut first(leaves);
+  const double r = FirstLeafCut::r;
+  const Eigen::Vector3d along = first.along, across = first.across, base = first.base, normal = first.normal;
+  Truth& cut = first.cut;
   const Eigen::Vector3d foot = base + 0.07 * along + 0.03 * across;
   const int stub = 24;
   for (int k = 1; k <= stub; ++k)
