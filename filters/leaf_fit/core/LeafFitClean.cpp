@@ -3,6 +3,7 @@
 #include "LeafFitInternal.h"
 #include "PointGrid.h"
 
+#include <plantmorph/PlaneFit.h>
 #include <plantmorph/graph/DisjointSets.h>
 #include <plantmorph/statistics/Median.h>
 #include <Eigen/Eigenvalues>
@@ -63,18 +64,15 @@ std::vector<unsigned char> PartsBesideTheBlade(const std::vector<Eigen::Vector3d
     const std::vector<int>& part = members[root];
     if (part.empty())
       continue;
-    Eigen::Vector3d low = points[part.front()], high = low, mean = Eigen::Vector3d::Zero();
+    std::vector<Eigen::Vector3d> sheet;
+    Eigen::Vector3d low = points[part.front()], high = low;
     for (int i : part)
     {
       low = low.cwiseMin(points[i]);
       high = high.cwiseMax(points[i]);
-      mean += points[i];
+      sheet.push_back(points[i]);
     }
-    mean /= static_cast<double>(part.size());
-    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-    for (int i : part)
-      C += (points[i] - mean) * (points[i] - mean).transpose();
-    const Eigen::Vector3d spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues().cwiseMax(0.0);
+    const Eigen::Vector3d spread = FitPlane(sheet).moments.cwiseMax(0.0);
     if (!(spread[0] <= 0.0625 * spread[2]))
       continue;
     const double extent = (high - low).norm();

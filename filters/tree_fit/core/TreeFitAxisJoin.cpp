@@ -70,20 +70,14 @@ std::tuple<double, int, int> AxisBridge(const std::vector<Eigen::Vector3d>& poin
   const Eigen::Vector3d& p = points[from];
   const double radius = std::max(2.0 * gap, AxisLength * spacing);
   std::vector<int> stretch;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (int i : members)
     if ((points[i] - p).norm() <= radius)
-    {
       stretch.push_back(i);
-      mean += points[i];
-    }
   if (stretch.size() < 3)
     return none;
-  mean /= static_cast<double>(stretch.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (int i : stretch)
-    scatter += (points[i] - mean) * (points[i] - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+  const PointAxes axes = AxesOf(points, stretch);
+  const Eigen::Vector3d& mean = axes.mean;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>& solver = axes.solver;
   const Eigen::Vector3d l = solver.eigenvalues().cwiseMax(0.0);
   if (std::sqrt(l[1]) > AxisSpread * std::sqrt(l[2]))
     return none;

@@ -478,26 +478,6 @@ bool AddShortcuts(const Wood& wood, const ParallelFor& parallel, Graph& graph)
   return true;
 }
 
-/// The mean of the points `ids` of `points` and the eigen-decomposition of their scatter about it.
-struct PointAxes
-{
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-};
-
-PointAxes AxesOf(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
-{
-  PointAxes axes;
-  for (int j : ids)
-    axes.mean += points[j];
-  axes.mean /= static_cast<double>(ids.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (int j : ids)
-    scatter += (points[j] - axes.mean) * (points[j] - axes.mean).transpose();
-  axes.solver.compute(scatter);
-  return axes;
-}
-
 /// The sparse points (`pool`, each with its mean neighbour distance `spread`) that make far branches:
 /// a branch scanned from farther than the rest (a scanner's spacing grows with range) is sparser than the cloud's
 /// outlier threshold along its whole length, but its points lie along a line, the density of that line changing only
@@ -570,6 +550,19 @@ std::vector<unsigned char> SparseLines(const std::vector<Eigen::Vector3d>& pool,
   return keep;
 }
 } // namespace
+
+PointAxes AxesOf(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
+{
+  PointAxes axes;
+  for (int j : ids)
+    axes.mean += points[j];
+  axes.mean /= static_cast<double>(ids.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (int j : ids)
+    scatter += (points[j] - axes.mean) * (points[j] - axes.mean).transpose();
+  axes.solver.compute(scatter);
+  return axes;
+}
 
 double PointSpacing(const std::vector<Eigen::Vector3d>& points, const ParallelFor& parallel)
 {

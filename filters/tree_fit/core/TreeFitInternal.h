@@ -5,6 +5,7 @@
 #include "TreeFit.h"
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -45,6 +46,14 @@ double PointSpacing(const std::vector<Eigen::Vector3d>& points, const ParallelFo
 /// (a far branch the labels call leaf) joined to the tree are wood too, and are added to `candidates`.
 std::string CleanAndConnect(const std::vector<Eigen::Vector3d>& points, std::vector<int>& candidates,
   const std::vector<int>& others, const TreeFitParameters& options, const ParallelFor& parallel, Wood& wood);
+
+/// The mean of the points `ids` of `points` and the eigen-decomposition of their scatter about it.
+struct PointAxes
+{
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+};
+PointAxes AxesOf(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids);
 
 /// Step 2's joining across a stretch of a branch hidden longer than the gaps the neighbour graph bridges (leaves in
 /// front of it, or its base scanned too sparsely to be kept): `group` per point (-1: none), `base` the group holding
