@@ -43,11 +43,6 @@
 //     Points whose whole component of the radius graph has fewer than 12 points (a surface at a grazing angle, its
 //     rows farther apart than the links) take the organ most other points within r around them have, leaf when
 //     there are none (a leaf turned edge on; a branch is scanned along its length in a line of linked points).
-//     Last, thin stems stay wood (a stem of radius at most 2 s plus 3 times the range noise, seen as a line by the
-//     features except beside a blade, whose region it grew into): from each wood point linked to a leaf point, while
-//     the wood within r is a thin run (spanning 0.4 of 2r, within half that radius of its axis), the leaf points linked
-//     to it near the axis become wood and the run goes on, unless the points beside the line lie on both sides of it
-//     (a blade continuing the stem) or are a sheet the run lies in (within 2 times the noise of its plane: a margin).
 //  4. Leaf instances. Small wood pieces (fewer than MinimumLeafPoints points) touching one leaf region only are
 //     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at
 //     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base

@@ -2118,7 +2118,6 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   ThickWoodKeepsItsSurface(points, f, verdicts, region, p, std::max(ThickWoodBand * f.noise, spacing), labels.organ);
   AbsorbWoodFragments(graph, verdicts, p, region, labels.organ);
   IsolatedPiecesByTheirSurroundings(points, graph, f.radius, labels.organ, labels.confidence);
-  ThinStemsStayWood(points, f, graph, spacing, p.sheetCoherence, labels.organ, region, labels.confidence);
   SegmentedPlant& plant = labels.plant;
   plant.points = static_cast<long long>(n);
   plant.spacing = spacing;

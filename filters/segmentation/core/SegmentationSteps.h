@@ -165,17 +165,6 @@ bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGrap
   const std::vector<int>& partOf, int a, int b, const std::vector<int>& idsA, const std::vector<int>& idsB,
   bool touchSaysTwo = true);
 
-/// Thin stems stay wood: a stem only a few spacings across (radius at most 2 spacings plus 3 times the range noise)
-/// where leaves hang off it or lie along it is a line to the features except beside a blade, whose region its points
-/// grew into. From each wood point linked to a leaf point, while the wood within r of it is such a thin run
-/// (spanning at least 0.4 of the ball's diameter along its axis, its root mean square distance from the axis at most
-/// half that radius), the leaf points linked to it within twice that distance of the axis become wood (region -1,
-/// confidence 0.5) and the run goes on from them; not where the points beside the line lie on both sides of it (a
-/// blade continuing the stem in line) or are a sheet the run lies in (a blade's margin). Returns the points made wood.
-std::size_t ThinStemsStayWood(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
-  const LinkGraph& graph, double spacing, double sheetCoherence, std::vector<int>& organ, std::vector<int>& region,
-  std::vector<double>& confidence);
-
 /// The whole segmentation of one plant; "" or the reason it cannot be segmented.
 std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const SegmentationParameters& p,
   const ParallelFor& parallel, PlantLabels& labels);

@@ -1765,48 +1765,6 @@ TEST(PlantSegmentation, ATwigTipCarryingOneLeafStaysWood)
   EXPECT_GT(OrganIoU(t, r, plantmorph::OrganWood), 0.95);
 }
 
-TEST(PlantSegmentation, AThinStemAtTheScansResolutionCarryingBladesStaysWood)
-{
-  // Beside the plant of seven leaves, linked to nothing, a stem 0.9 long of radius 1.2 spacings seen from above (3
-  // points across, as a scan at its resolution sees a twig; r = 4 spacings: a line wherever no blade is near)
-  // carries two flat blades 0.25 long and 0.12 wide along its middle, one on each side, one after the other, each
-  // with its long edge one spacing off the stem's surface (as a blade attached at its base lies along its twig): one
-  // in the stem's horizontal plane, one tilted 30 degrees below it. Beside a blade the stem's points see the blade
-  // within r and grow into its region: 332 of its 543 points were leaf, in the blades' instances (IoU 0.88). A run of
-  // points far longer than wide, a few spacings across, going on from the bare stem, standing off the blade's plane:
-  // wood. The blades stay leaf, one instance each.
-  const int leaves = 7;
-  const double noise = 0.0002, h = 0.005, radius = 1.2 * h, length = 0.25, width = 0.12;
-  Truth t = SyntheticPlant(leaves);
-  const std::size_t stem = t.points.size();
-  const Eigen::Vector3d start(-1.4, 0.0, 0.3), along = Eigen::Vector3d::UnitX();
-  NoisyAdder add{ t, std::mt19937(29), std::normal_distribution<double>(0.0, noise) };
-  for (double s = 0.0; s <= 0.9 + 1e-12; s += h) // the side seen from above: three points across
-    for (double angle : { Pi / 3, Pi / 2, 2 * Pi / 3 })
-      add(
-        start + s * along + radius * Eigen::Vector3d(0.0, std::cos(angle), std::sin(angle)), plantmorph::OrganWood, -1);
-  const std::size_t blades = t.points.size();
-  for (int side : { 0, 1 })
-  {
-    const double tilt = side == 0 ? 0.0 : -30.0 * Pi / 180.0;
-    const Eigen::Vector3d out = (side == 0 ? 1.0 : -1.0) * Eigen::Vector3d(0.0, std::cos(tilt), std::sin(tilt));
-    const Eigen::Vector3d from = start + (0.15 + side * (length + 4 * h)) * along + (radius + h) * out;
-    for (double s = 0.0; s <= length + 1e-12; s += h)
-      for (double w = 0.0; w <= width + 1e-12; w += h)
-        add(from + s * along + w * out, plantmorph::OrganLeaf, leaves + side);
-  }
-  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
-  ASSERT_EQ(r.error, "");
-  EXPECT_GT(
-    static_cast<double>(CountOrgan(r, stem, blades, plantmorph::OrganWood)), 0.9 * static_cast<double>(blades - stem));
-  EXPECT_GT(static_cast<double>(CountOrgan(r, blades, t.points.size(), plantmorph::OrganLeaf)),
-    0.95 * static_cast<double>(t.points.size() - blades));
-  const std::vector<double> iou = InstanceIoU(t, r, leaves + 2);
-  EXPECT_GT(iou[leaves], 0.9);
-  EXPECT_GT(iou[leaves + 1], 0.9);
-  EXPECT_GT(OrganIoU(t, r, plantmorph::OrganWood), 0.9);
-}
-
 TEST(PlantSegmentation, SameLabelsWhateverTheThreads)
 {
   const Truth t = SyntheticPlant(5);
