@@ -15,7 +15,9 @@ shrub-entire,shrub-lobed,shrub-watermelon,shrub-sizes`): the shrub with the Leaf
 (elliptic), of preset Lobed (five lobes), of the Space curve model's Watermelon (palmate, five sub-lobed lobes), and
 the shrub of the default blade whose leaves taper to half their length at the twig's tip (LeafTipScale 0.5) and
 spread at random (LeafScaleSpread 0.15, Seed 1). The other species' blades are scaled to the default blade's area
-(LeafScale 1.448, 1.281 and 0.852); the scans' noise is that of the shrub.
+(LeafScale 1.448, 1.281 and 0.852); the scans' noise is that of the shrub. The kind *sympodial* (`--plants
+sympodial`) is a sympodial tree (TreeType 1, Depth 3, ChildCount 3, the shrub's other properties) about 20 long with
+Entire blades of length 1: its thinnest twigs are only 2-3 point spacings across.
 
 Scores per run: leaf IoU and wood IoU (points), petiole IoU (Organ 2; on a plant without petioles, the points called
 petiole, every one an error), leaf instance precision and recall matched at IoU 0.5 (recall over
@@ -97,6 +99,11 @@ for kind, (blade, fill) in SPECIES_BLADES.items():
     PLANTS[kind] = (dict(SHRUB[0], LeafScale=round(math.sqrt(0.7339 / fill), 3)),) + SHRUB[1:]
 # leaf j of a twig's four LeafTipScale 0.5 at the tip, and a log-normal spread of 0.15 (Seed 1)
 PLANTS["shrub-sizes"] = (dict(SHRUB[0], LeafTipScale=0.5, LeafScaleSpread=0.15, Seed=1),) + SHRUB[1:]
+# A sympodial tree about 20 long (not in the default set): its thinnest leafy twigs, of radius 0.02-0.03 (2-3 point spacings
+# across at the shrub's angular step) carrying blades of preset Entire of length 1 (LeafScale 1: the blade, not its
+# area, matches the default blade's).
+PLANTS["sympodial"] = (dict(SHRUB[0], TreeType=1, Depth=3, ChildCount=3),) + SHRUB[1:]
+SPECIES_BLADES["sympodial"] = (dict(Preset="Entire"), 0.3501)
 PETIOLE_LENGTH, PETIOLE_RADIUS, PETIOLE_DROP = 0.3, 0.012, 30.0  # of the blade's length; degrees below the blade
 
 
