@@ -496,20 +496,28 @@ double Perimeter(const std::vector<Eigen::Vector2d>& loop)
 /// The gap between the closing's boundary (level r of F, through the outermost points) and the margin, from the
 /// points' count: the level r - gap whose loop (`outer`) encloses `target`, the area the points sample. Each point
 /// stands for 1 / density of the blade at its place, plus the holes the loop bridges (cells deeper than the
-/// kernel's reach with no point within 2 spacings). The density is measured with a Gaussian kernel (sigma 2
-/// spacings, cut at 4 sigma) about the points whose kernel lies inside the points' region (F >= r + 4 sigma): on a
-/// scanner's regular lines the kernel's sum over the points is its integral times the density whatever the lines'
-/// phase, where a count inside a region whose edge follows the lines is not (that edge lies on a line or between
-/// two all along: the count was off by up to 3 % from one edge to the next on a line scan of the pin oak; sigma 1 and
-/// 1.5 spacings were off by 5.8 and 1.2 % from two passes, whose spacing, the nearest neighbour's, is about half the
-/// distance between the lines).
-/// A point takes the mean density of those points in the tiles of 4 spacings around its own (the window widened
-/// until it holds 20 of them, each the mean over about 50 points): a scan's density varies smoothly, with the range,
-/// the view's angle to the blade and where one pass's field ends; a window of 8 spacings and 50 of them reached
-/// farther inside and read a margin rolled away from the scanner as dense as the blade (the curled pin oak
-/// obliquely, -1.05 % against -0.82 %). Unlike a gap measured against the smooth margins this follows any margin (lobes,
-/// sinuses) and any spread of the points (one pass or several). NaN (and `target` NaN) when fewer than 50 points lie
-/// that deep.
+/// kernel's reach farther than 2 `scale` from every point). The scales come from the density as well as from the
+/// spacing: `side`, the side of the area a point stands for (the loop's area over the count), is the same for a
+/// lattice and for random points of the same density, where the nearest-neighbour spacing of random points is about
+/// half of it and their gaps about twice a lattice's in spacings; `scale` is the larger of side and spacing (a line
+/// scan's spacing, half the distance between its lines, can exceed its side).
+/// The density is a Gaussian kernel's sum (sigma the larger of side and 2 spacings, cut at 4 sigma) taken at places
+/// a sigma apart whose kernel lies inside the points' region (F >= r + 4 sigma), not at the points: a sum at a point
+/// holds the point itself (1 / (2 pi sigma^2)), which a lattice's sum needs (its sum is the kernel's integral times
+/// the density wherever it is taken, at a point or between: sigma is at least the distance between a line scan's
+/// lines) and random points' does not (their sum at a point is that plus the point; 15 % of the density at sigma 2
+/// spacings, and holes counted where random points leave gaps of 2 spacings: the lobed blade sampled at random came
+/// out 9 % short). A count inside a region whose edge follows a scanner's lines would not do: that edge lies on a
+/// line or between two all along (3 % from one edge to the next on a line scan of the pin oak).
+/// A point takes the mean density of the tiles of 4 scales around its own (the window, 3 tiles wide at least, widened
+/// until it holds 20 of the deep points): a scan's density varies smoothly, with the range, the view's angle to the
+/// blade and where one pass's field ends; a window of 8 spacings and 50 points reached farther inside and read a
+/// margin rolled away from the scanner as dense as the blade (the curled pin oak obliquely, -1.05 % against
+/// -0.82 %). The window never shrinks to a tile's own: a tile whose own count stopped the widening would set its
+/// density from its own points, and the tiles holding more points than their share would count them at a
+/// smaller area each (-1.3 % on random points). Unlike a gap measured against the smooth margins this follows any
+/// margin (lobes, sinuses) and any spread of the points (one pass or several, a lattice or random). NaN (and `target`
+/// NaN) when fewer than 50 points lie that deep.
 template <typename Outer>
 double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<double>& F,
   const std::vector<double>& toPoint, int nx, int ny, const Eigen::Vector2d& origin, double cell, double r,
@@ -522,28 +530,37 @@ double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<doub
     const int j = std::clamp(static_cast<int>(std::lround((p.y() - origin.y()) / cell)), 0, ny - 1);
     return static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * j;
   };
-  // The points by cell (counting sort), for the kernel's sums.
-  std::vector<std::size_t> first(F.size() + 1, 0), order(ts.size());
+  // The side of the area a point stands for, which means the same whatever the points' pattern.
+  const double side =
+    std::sqrt(std::max(SignedArea(loop), 0.0) / static_cast<double>(std::max<std::size_t>(ts.size(), 1)));
+  if (!(side > 0.0))
+    return nan;
+  const double scale = std::max(side, spacing);
+  const double sigma = std::max(side, 2.0 * spacing), reach = 4.0 * sigma;
+  // The points by buckets a sigma wide (counting sort), for the kernel's sums.
+  const int bx = static_cast<int>(nx * cell / sigma) + 1, by = static_cast<int>(ny * cell / sigma) + 1;
+  auto bucket = [&](const Eigen::Vector2d& p) {
+    return static_cast<std::size_t>(std::clamp(static_cast<int>((p.x() - origin.x()) / sigma), 0, bx - 1)) +
+      static_cast<std::size_t>(bx) * std::clamp(static_cast<int>((p.y() - origin.y()) / sigma), 0, by - 1);
+  };
+  std::vector<std::size_t> first(static_cast<std::size_t>(bx) * by + 1, 0), order(ts.size());
   for (const auto& p : ts)
-    ++first[index(p) + 1];
-  for (std::size_t c = 0; c < F.size(); ++c)
+    ++first[bucket(p) + 1];
+  for (std::size_t c = 0; c + 1 < first.size(); ++c)
     first[c + 1] += first[c];
   {
     std::vector<std::size_t> next(first.begin(), first.end() - 1);
     for (std::size_t k = 0; k < ts.size(); ++k)
-      order[next[index(ts[k])]++] = k;
+      order[next[bucket(ts[k])]++] = k;
   }
-  const double sigma = 2.0 * spacing, reach = 4.0 * sigma;
-  const int cells = static_cast<int>(std::ceil(reach / cell));
   const double norm = 2.0 * Pi * sigma * sigma * (1.0 - std::exp(-8.0));
   auto kernel = [&](const Eigen::Vector2d& p) {
-    const int i0 = static_cast<int>(std::lround((p.x() - origin.x()) / cell));
-    const int j0 = static_cast<int>(std::lround((p.y() - origin.y()) / cell));
+    const int i0 = static_cast<int>(bucket(p) % bx), j0 = static_cast<int>(bucket(p) / bx);
     double sum = 0.0;
-    for (int j = std::max(0, j0 - cells); j <= std::min(ny - 1, j0 + cells); ++j)
-      for (int i = std::max(0, i0 - cells); i <= std::min(nx - 1, i0 + cells); ++i)
+    for (int j = std::max(0, j0 - 4); j <= std::min(by - 1, j0 + 4); ++j)
+      for (int i = std::max(0, i0 - 4); i <= std::min(bx - 1, i0 + 4); ++i)
       {
-        const std::size_t c = static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * j;
+        const std::size_t c = static_cast<std::size_t>(i) + static_cast<std::size_t>(bx) * j;
         for (std::size_t k = first[c]; k < first[c + 1]; ++k)
         {
           const double d2 = (ts[order[k]] - p).squaredNorm();
@@ -553,49 +570,65 @@ double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<doub
       }
     return sum / norm;
   };
-  // The deep points' densities, summed by tiles.
-  const double tile = 4.0 * spacing;
+  const double tile = 4.0 * scale;
   const int tx = static_cast<int>(nx * cell / tile) + 1, ty = static_cast<int>(ny * cell / tile) + 1;
   auto tileOf = [&](const Eigen::Vector2d& p) {
     return Eigen::Vector2i(std::clamp(static_cast<int>((p.x() - origin.x()) / tile), 0, tx - 1),
       std::clamp(static_cast<int>((p.y() - origin.y()) / tile), 0, ty - 1));
   };
-  std::vector<double> tileSum(static_cast<std::size_t>(tx) * ty, 0.0), tileCount(tileSum.size(), 0.0);
+  std::vector<double> tileSum(static_cast<std::size_t>(tx) * ty, 0.0), tileCount(tileSum.size(), 0.0),
+    tileProbes(tileSum.size(), 0.0);
   double deepCount = 0.0;
   for (const auto& p : ts)
     if (F[index(p)] >= r + reach)
     {
       const Eigen::Vector2i k = tileOf(p);
-      tileSum[k.x() + tx * k.y()] += kernel(p);
       tileCount[k.x() + tx * k.y()] += 1.0;
       deepCount += 1.0;
     }
   if (deepCount < 50.0)
     return nan;
+  // A hole: a cell farther than 2 scales from every point (random points leave such an empty disc with
+  // probability e^(-4 pi), a lattice none).
+  const double hole = 2.0 * scale;
+  // The kernel's sums at places a sigma apart, by tiles (holes left out).
+  const int stride = std::max(1, static_cast<int>(std::lround(sigma / cell)));
+  for (int j = 0; j < ny; j += stride)
+    for (int i = 0; i < nx; i += stride)
+    {
+      const std::size_t c = static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * j;
+      if (!(F[c] >= r + reach) || toPoint[c] * cell > hole)
+        continue;
+      const Eigen::Vector2d at = origin + cell * Eigen::Vector2d(i, j);
+      const Eigen::Vector2i k = tileOf(at);
+      tileSum[k.x() + tx * k.y()] += kernel(at);
+      tileProbes[k.x() + tx * k.y()] += 1.0;
+    }
   // The area one point stands for in each tile (NaN: not yet computed).
   std::vector<double> perPoint(tileSum.size(), nan);
   auto share = [&](const Eigen::Vector2i& k) {
     double& a = perPoint[k.x() + tx * k.y()];
-    double n = 0.0, sum = 0.0;
-    for (int w = 0; std::isnan(a) && w <= std::max(tx, ty) && n < 20.0; ++w)
+    double n = 0.0, probes = 0.0, sum = 0.0;
+    for (int w = 1; std::isnan(a) && w <= std::max(tx, ty) && (n < 20.0 || !(sum > 0.0)); ++w)
     {
-      n = sum = 0.0;
+      n = probes = sum = 0.0;
       for (int j = std::max(0, k.y() - w); j <= std::min(ty - 1, k.y() + w); ++j)
         for (int i = std::max(0, k.x() - w); i <= std::min(tx - 1, k.x() + w); ++i)
         {
           n += tileCount[i + tx * j];
+          probes += tileProbes[i + tx * j];
           sum += tileSum[i + tx * j];
         }
     }
     if (std::isnan(a))
-      a = sum > 0.0 ? n / sum : 0.0;
+      a = sum > 0.0 ? probes / sum : 0.0;
     return a;
   };
   target = 0.0;
   for (const auto& p : ts)
     target += share(tileOf(p));
   for (std::size_t c = 0; c < F.size(); ++c)
-    if (F[c] >= r + reach && toPoint[c] * cell > 2.0 * spacing)
+    if (F[c] >= r + reach && toPoint[c] * cell > hole)
       target += cell * cell;
   if (!(target > 0.0))
   {
