@@ -67,6 +67,12 @@ LeafGeometry Blade(int preset, double length)
   else if (preset == 8)
     error =
       BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Lobed, length), settings, leaf);
+  else if (preset == 11)
+  {
+    SpaceCurveMeshParameters curveSettings;
+    curveSettings.resolution = settings.resolution;
+    error = BuildSpaceCurveLeaf(MakeSpaceCurvePreset(SpaceCurvePreset::Watermelon, length), curveSettings, leaf);
+  }
   else if (preset == 9 || preset == 10)
   {
     SpaceCurveMeshParameters curveSettings;
@@ -1087,6 +1093,33 @@ TEST(LeafShape, LobeSeenBeyondAShadowAcrossItsNeckIsKept)
   EXPECT_EQ(lobeInliers, static_cast<int>(lobeCount));
   const double area = BladeArea(leaf), seen = area * points.size() / whole.points.size();
   EXPECT_NEAR(fit.traits.area, seen, 0.015 * area) << "blade " << area << ", seen " << seen;
+}
+
+TEST(LeafShape, PalmateBladeSeenDenserWhereTwoViewsOverlapKeepsItsArea)
+{
+  // The watermelon's blade (palmate, five sub-lobed lobes; 100 long) at a plant scan's density: one view's lines
+  // across it (about 8000 points, 1.2 times as far apart along the lines as the lines are), and a second view's on
+  // the same lines, halfway between the first's points, over bands 6 of the lines' spacings wide and 12 apart, as
+  // the part of a leaf that two views of a plant both see, broken by the twigs' shadows. The second view's points add
+  // no area: the fit must give the area of the first view's alone, within 1 %. A point stands for one over the
+  // density of its window, the kernel's mean over places spread evenly across the window (not over the points, which
+  // the dense bands' outnumber: their mean density left the blade 5.8 % short of the first view's fit; the mean of
+  // one over the density at the points, 1.7 % short; the places' mean, 0.3 % over).
+  const LeafGeometry leaf = Blade(11, 100.0);
+  const double area = BladeArea(leaf), across = std::sqrt(area / 8000.0 / 1.2);
+  std::vector<Eigen::Vector3d> one = LineScans(leaf, across, 1.2 * across, { 0.0 }, 0.1), both = one;
+  for (const Eigen::Vector3d& p : LineScans(leaf, across, 1.2 * across, { 0.5 }, 0.1))
+    if (std::fmod(p.x() + 1000.0 * across, 12.0 * across) < 6.0 * across)
+      both.push_back(p);
+  for (auto* points : { &one, &both })
+    for (Eigen::Vector3d& p : *points)
+      p = Tilted() * p;
+  const LeafFitResult alone = FitLeaf(one, LeafFitParameters()), fit = FitLeaf(both, LeafFitParameters());
+  ASSERT_EQ(alone.error, "");
+  ASSERT_EQ(fit.error, "");
+  EXPECT_NEAR(alone.traits.area, area, 0.01 * area);
+  EXPECT_NEAR(fit.traits.area, alone.traits.area, 0.01 * alone.traits.area)
+    << "points " << both.size() << " and " << one.size() << ", blade " << area;
 }
 
 TEST(LeafShape, BladeEndsWithinASpacingOfTheStalksJunction)
