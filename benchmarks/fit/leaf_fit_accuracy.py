@@ -6,7 +6,9 @@
                                                  [--shape flat|curled] [--view above|oblique|two ...]
                                                  [--petiole yes|no]
 
-Every leaf is a LeafOutlineSource preset (its own size), flat or curled and bent (LeafCurlFilter, 30 degrees along
+Every leaf is a LeafOutlineSource preset (its own size: the B-spline elliptic, cucumber and pin oak, the ginkgo,
+the space-curve watermelon, and paper 000's entire, serrate, lobed, acuminate-apex, cordate-base and
+emarginate-apex blades), flat or curled and bent (LeafCurlFilter, 30 degrees along
 and 30 across), with or without a petiole (a tube of radius 1 % of the blade's length, 30 % as long, leaving the
 base 30 degrees below the blade's plane in line with the midvein), scanned by VirtualScanner's line scanner passing
 over the leaf along its length, looking straight down ("above"), tilted 35 degrees about the leaf's length
@@ -44,7 +46,11 @@ LoadPlugin(os.path.abspath(arguments.plugin), remote=False, ns=globals())
 
 PRESETS = [("elliptic", dict(Model=2, BSplinePreset=1)), ("ginkgo", dict(Model=0, Preset=1)),
            ("cucumber", dict(Model=2, BSplinePreset=2)), ("pin oak", dict(Model=2, BSplinePreset=3)),
-           ("watermelon", dict(Model=1, SpaceCurvePreset=9))]
+           ("watermelon", dict(Model=1, SpaceCurvePreset=9)),
+           # paper 000's deformed-rectangle margins and base/apex shapes
+           ("entire", dict(Model=0, Preset=2)), ("serrate", dict(Model=0, Preset=3)), ("lobed", dict(Model=0, Preset=4)),
+           ("acuminate", dict(Model=0, Preset=7)), ("cordate", dict(Model=0, Preset=8)),
+           ("emarginate", dict(Model=0, Preset=9))]
 
 
 def truth(blade):
