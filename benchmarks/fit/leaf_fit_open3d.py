@@ -36,6 +36,7 @@ arguments = parser.parse_args()
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from open3d_peer import run_open3d  # noqa: E402
+from speed_runs import peak_mb  # noqa: E402
 from paraview.simple import *  # noqa: E402,F401,F403
 from paraview import servermanager  # noqa: E402
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
@@ -44,12 +45,6 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData  # noqa: E402
 from vtkmodules.vtkFiltersCore import vtkTriangleFilter  # noqa: E402
 
 LoadPlugin(arguments.plugin, remote=False, ns=globals())
-
-
-def peak_megabytes():
-    """This process's peak resident memory (VmHWM: the process's own, not a parent's before exec)."""
-    with open("/proc/self/status") as status:
-        return [int(line.split()[1]) for line in status if line.startswith("VmHWM")][0] / 1024.0
 
 
 # The blade, its true area and a uniform sample of it.
@@ -92,7 +87,7 @@ for k in range(arguments.repeat + 1):
     calling.append(time.thread_time() - start_thread)
 traits = servermanager.Fetch(fit, idx=2)
 area = traits.GetColumnByName("Area").GetValue(0)
-ours_peak = peak_megabytes()
+ours_peak = peak_mb()
 print("points %d, blade length %.3f cm, true area %.3f cm^2" % (arguments.points, length, true_area))
 print("ours   : first %.3f s, warm %.3f s (CPU %.3f / %.3f s, the calling thread's %.3f / %.3f s), Area %.3f cm^2 "
       "(%+.2f %%), peak %.0f MB (the whole pvpython process, the cloud's making included)"

@@ -17,11 +17,9 @@ import argparse
 import json
 import math
 import os
-import resource
 import shutil
 import subprocess
 import sys
-import time
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--plugin", required=True)
@@ -29,18 +27,11 @@ parser.add_argument("--sizes", default="100000,300000,1000000", help="comma-sepa
 parser.add_argument("--child", type=int, default=None, help=argparse.SUPPRESS)
 arguments = parser.parse_args()
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from speed_runs import first_and_warm, peak_mb, vtk_first_and_warm  # noqa: E402
+
 REFERENCE_POINTS = 831495  # mono-large's points at beams 1.2 cm apart (the accuracy benchmark's scan)
 REFERENCE_STEP = 0.012
-
-
-def peak_mb():
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-
-
-def timed(update):
-    start, cpu = time.perf_counter(), time.process_time()
-    update()
-    return time.perf_counter() - start, time.process_time() - cpu
 
 
 def child(target):
@@ -68,18 +59,13 @@ def child(target):
     scanner.UpdatePipeline()
     cloud = servermanager.Fetch(scanner)
     row = dict(points=cloud.GetNumberOfPoints(), beam_cm=100 * spacing, peak_before_mb=peak_mb())
-    for run in ("first", "warm"):
-        fit = TreeFitFilter(Input=scanner, UpAxis="Y")
-        row[f"fit_{run}_wall"], row[f"fit_{run}_cpu"] = timed(fit.UpdatePipeline)
+
+    def check(fit, row):
         table = servermanager.Fetch(fit, idx=2)
         row["fit_ok"] = table.GetNumberOfRows() == 1 and table.GetValueByName(0, "TotalVolume").ToDouble() > 0
-        Delete(fit)
-        row[f"peak_after_{run}_mb"] = peak_mb()
-    for run in ("first", "warm"):
-        peer = vtkStatisticalOutlierRemoval()
-        peer.SetInputData(cloud)
-        peer.SetSampleSize(10)
-        row[f"peer_{run}_wall"], row[f"peer_{run}_cpu"] = timed(peer.Update)
+
+    first_and_warm(row, "fit", lambda: TreeFitFilter(Input=scanner, UpAxis="Y"), check, Delete)
+    vtk_first_and_warm(row, "peer", vtkStatisticalOutlierRemoval, cloud)
     print("ROW " + json.dumps(row), flush=True)
 
 

@@ -27,7 +27,6 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -35,6 +34,10 @@ parser.add_argument("--plugin", required=True)
 parser.add_argument("--sizes", default="100000,300000,1000000", help="comma-separated target point counts")
 parser.add_argument("--child", nargs="+", default=None, help=argparse.SUPPRESS)
 arguments = parser.parse_args()
+
+sys.path.insert(0, os.path.dirname(HERE))
+from open3d_peer import run_open3d  # noqa: E402
+from speed_runs import first_and_warm, peak_mb, vtk_first_and_warm  # noqa: E402
 
 # The accuracy benchmark's tree (benchmarks/segmentation/segmentation_accuracy.py, PLANTS["tree"]) and its scan from
 # four positions: 1,445,953 points at beams 0.05 degrees apart.
@@ -60,18 +63,6 @@ for run in ("first", "warm"):
 row["clusters"] = int(labels.max()) + 1
 print(json.dumps(row))
 """
-
-
-def peak_mb():
-    """This process's peak resident memory (VmHWM)."""
-    with open("/proc/self/status") as status:
-        return [int(line.split()[1]) for line in status if line.startswith("VmHWM")][0] / 1024.0
-
-
-def timed(update):
-    start, cpu = time.perf_counter(), time.process_time()
-    update()
-    return time.perf_counter() - start, time.process_time() - cpu
 
 
 def scanned_tree(simple, plugin, step):
@@ -109,26 +100,20 @@ def child(path, step, size):
     from paraview import simple, servermanager
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkFiltersPoints import vtkPCANormalEstimation
-    sys.path.insert(0, os.path.dirname(HERE))
-    from open3d_peer import run_open3d
     simple.LoadPlugin(arguments.plugin)
     plugin = vars(simple)
     scanner = simple.XMLPolyDataReader(FileName=[path])
     scanner.UpdatePipeline()
     cloud = servermanager.Fetch(scanner)
     row = dict(points=cloud.GetNumberOfPoints(), peak_before_mb=peak_mb())
-    for run in ("first", "warm"):
-        segmentation = plugin["PlantSegmentationFilter"](Input=scanner, UpAxis=1)
-        row[f"seg_{run}_wall"], row[f"seg_{run}_cpu"] = timed(segmentation.UpdatePipeline)
+
+    def check(segmentation, row):
         plant = servermanager.Fetch(segmentation, idx=2)
         row["leaves"] = plant.GetValueByName(0, "LeafCount").ToInt() if plant.GetNumberOfRows() == 1 else -1
-        simple.Delete(segmentation)
-        row[f"peak_after_{run}_mb"] = peak_mb()
-    for run in ("first", "warm"):
-        peer = vtkPCANormalEstimation()
-        peer.SetInputData(cloud)
-        peer.SetSampleSize(10)
-        row[f"vtk_{run}_wall"], row[f"vtk_{run}_cpu"] = timed(peer.Update)
+
+    first_and_warm(row, "seg", lambda: plugin["PlantSegmentationFilter"](Input=scanner, UpAxis=1), check,
+                   simple.Delete)
+    vtk_first_and_warm(row, "vtk", vtkPCANormalEstimation, cloud)
     import numpy
     points = path + ".npy"
     numpy.save(points, vtk_to_numpy(cloud.GetPoints().GetData()).astype(numpy.float64))
