@@ -555,7 +555,8 @@ double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<doub
   }
   const double norm = 2.0 * Pi * sigma * sigma * (1.0 - std::exp(-8.0));
   auto kernel = [&](const Eigen::Vector2d& p) {
-    const int i0 = static_cast<int>(bucket(p) % bx), j0 = static_cast<int>(bucket(p) / bx);
+    const std::size_t b = bucket(p);
+    const int i0 = static_cast<int>(b % bx), j0 = static_cast<int>(b / bx);
     double sum = 0.0;
     for (int j = std::max(0, j0 - 4); j <= std::min(by - 1, j0 + 4); ++j)
       for (int i = std::max(0, i0 - 4); i <= std::min(bx - 1, i0 + 4); ++i)
