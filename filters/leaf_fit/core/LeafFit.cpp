@@ -419,7 +419,13 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     (keep[i] ? cleaned : removed).push_back(thinned ? sampleIds[i] : static_cast<int>(i));
     (keep[i] ? cleanPoints : strays).push_back(fitted[i]);
   }
-  const fit::Petiole petiole = fit::FindPetiole(cleanPoints, spacing, parallel, strays);
+  fit::Petiole petiole = fit::FindPetiole(cleanPoints, spacing, parallel, strays);
+  if (fit::StalkIsTheBladesTip(cleanPoints, petiole, spacing))
+  {
+    petiole = fit::Petiole();
+    petiole.member.assign(cleanPoints.size(), 0);
+    petiole.looseMember.assign(strays.size(), 0);
+  }
   result.petiole.assign(points.size(), 0);
   for (std::size_t k = 0; k < removed.size(); ++k)
     if (petiole.looseMember[k])

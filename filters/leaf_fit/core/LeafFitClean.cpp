@@ -279,9 +279,28 @@ Eigen::Vector3d AreaCentroid(const std::vector<Eigen::Vector3d>& points, const E
   return weight > 0.0 ? Eigen::Vector3d(sum / weight) : centroid;
 }
 
+/// Whether a blade's one narrow end is its base (else its apex), from the widths of its slices counted from that
+/// end (`width`, 20 slices of the blade's `length`; `widest` the largest). A stalk keeps its width along its length:
+/// the two end slices within 1.5 point spacings or half the wider's width of each other. A fan (the blade wider than
+/// long, as a ginkgo's) narrows to its base. A blade ending square at the other end (its last slice at least 0.6 of
+/// the widest: a truncate or notched apex) has its apex there. Else the narrow end's sides decide: drawn out
+/// (acuminate), curving in so that its width a tenth of the length from the end is under 0.35 of its width at a
+/// fifth (straight sides give 0.5, sides as a parabola 0.25), it is a tip, as drip tips are; straight or bulging (a
+/// cuneate wedge), a base.
+bool NarrowEndIsBase(const std::vector<double>& width, double widest, double length, double spacing)
+{
+  const std::size_t n = width.size();
+  if (std::abs(width[1] - width[0]) <= std::max(1.5 * spacing, 0.5 * std::max(width[0], width[1])))
+    return true;
+  if (widest >= length || width[n - 1] >= 0.6 * widest)
+    return true;
+  return !(width[1] < 0.35 * width[3]);
+}
+
 /// Without a base or apex given or found: true when the base is at the +Y end of the axis Y (through the centre,
 /// X across it): an end that is a terminal lobe (a palmately or pinnately lobed blade's; the longer one) is the apex;
-/// else an end that is a narrow stalk is the base; else a blade widest at one end (a fan) has its apex there; else
+/// else one narrow end decides as NarrowEndIsBase says (a stalk or a wedge is the base, a drawn-out tip the apex);
+/// else a blade widest at one end (a fan) has its apex there; else
 /// the base is the end nearer the widest cross-section (ovate leaves are wider towards the base). `undecided`: none
 /// of these tells the ends apart (the blade's width is centred along the axis within 2 point spacings, as on an
 /// elliptic blade, the same at both ends), so the answer is a guess.
@@ -315,12 +334,17 @@ bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector
   const int lobeLow = TerminalLobe(width, widest, false), lobeHigh = TerminalLobe(width, widest, true);
   if (lobeLow != lobeHigh)
     return lobeLow > lobeHigh;
-  // A stalk: the two end slices (10 % of the length) both narrower than a tenth of the widest (an acute apex of
-  // a broad leaf widens faster than that).
-  const bool stalkLow = width[0] < 0.06 * widest && width[1] < 0.1 * widest;
-  const bool stalkHigh = width[slices - 1] < 0.06 * widest && width[slices - 2] < 0.1 * widest;
-  if (stalkLow != stalkHigh)
-    return stalkHigh;
+  // One narrow end (the two end slices narrower than 0.06 and 0.1 of the widest: an acute apex of a broad leaf
+  // widens faster than that) tells the ends apart by its shape and the other end's.
+  const bool narrowLow = width[0] < 0.06 * widest && width[1] < 0.1 * widest;
+  const bool narrowHigh = width[slices - 1] < 0.06 * widest && width[slices - 2] < 0.1 * widest;
+  if (narrowLow != narrowHigh)
+  {
+    std::vector<double> fromNarrow = width;
+    if (narrowHigh)
+      std::reverse(fromNarrow.begin(), fromNarrow.end());
+    return NarrowEndIsBase(fromNarrow, widest, hi - lo, spacing) == narrowHigh;
+  }
   // A blade widest at one end (the last 15 % of its length: a fan, a truncate or notched apex) has its apex there and
   // narrows to its base.
   const int widestSlice = static_cast<int>(std::max_element(width.begin(), width.end()) - width.begin());
@@ -342,6 +366,43 @@ bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector
   return sum > 0.0 && moment > 0.0;
 }
 } // namespace
+
+bool StalkIsTheBladesTip(const std::vector<Eigen::Vector3d>& points, const Petiole& petiole, double spacing)
+{
+  if (!petiole.found || points.size() < 20)
+    return false;
+  Eigen::Vector3d centroid;
+  const Eigen::Vector3d normal = Principal(points, centroid).eigenvectors().col(0);
+  Eigen::Vector3d Y = petiole.junction - centroid;
+  Y -= Y.dot(normal) * normal;
+  if (!(Y.norm() > spacing))
+    return false;
+  Y.normalize();
+  const Eigen::Vector3d X = normal.cross(Y);
+  const int slices = 20;
+  double lo = 1e300, hi = -1e300;
+  for (const auto& p : points)
+  {
+    lo = std::min(lo, (p - centroid).dot(Y));
+    hi = std::max(hi, (p - centroid).dot(Y));
+  }
+  if (!(hi > lo) || petiole.length >= 0.15 * (hi - lo))
+    return false;
+  // Widths of the slices, counted from the stalk's end (+Y).
+  std::vector<double> minA(slices, 1e300), maxA(slices, -1e300), width(slices, 0.0);
+  for (const auto& p : points)
+  {
+    const int k =
+      slices - 1 - std::clamp(static_cast<int>(((p - centroid).dot(Y) - lo) / (hi - lo) * slices), 0, slices - 1);
+    minA[k] = std::min(minA[k], (p - centroid).dot(X));
+    maxA[k] = std::max(maxA[k], (p - centroid).dot(X));
+  }
+  for (int k = 0; k < slices; ++k)
+    width[k] = maxA[k] >= minA[k] ? maxA[k] - minA[k] : 0.0;
+  const double widest = *std::max_element(width.begin(), width.end());
+  const bool narrow = width[0] < 0.06 * widest && width[1] < 0.1 * widest;
+  return narrow && !NarrowEndIsBase(width, widest, hi - lo, spacing);
+}
 
 Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
   const Petiole& petiole, int& baseFrom, const ParallelFor& parallel)

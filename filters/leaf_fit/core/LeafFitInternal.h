@@ -37,6 +37,13 @@ std::string ValidateCloud(const std::vector<Eigen::Vector3d>& points);
 std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlierSigma,
   std::vector<unsigned char>& keep, double& spacing, const ParallelFor& parallel = SerialFor);
 
+/// Whether a short stalk found on a leaf's points (`points`, the stalk's among them) is the blade's own drawn-out
+/// tip: a trail a point or two wide looks the same whether it is a stalk or the last part of an acuminate apex at the
+/// scan's resolution. The stalk is the tip when it is shorter than 0.15 of the leaf's extent along the line from the
+/// centroid to its junction and the leaf's narrow end there is drawn out, as BaseAtPlusY's narrow-end test says of
+/// an apex (not a fan's base, not opposite a square end, not of constant width).
+bool StalkIsTheBladesTip(const std::vector<Eigen::Vector3d>& points, const Petiole& petiole, double spacing);
+
 /// The frame of the blade's points (base and axis chosen as LeafFit.h says; `petiole` found on them and the
 /// petiole's points); baseFrom 0 shape, 1 base point, 2 petiole, 3 a guess (the shape is the same at both ends).
 /// Its searches run through `parallel` (the frame does not depend on the threads).

@@ -802,6 +802,30 @@ TEST(LeafShape, FanWithoutPetioleOrHintsIsFittedAlongItsMidvein)
   ExpectShape(scan, Tilted(), e);
 }
 
+TEST(LeafShape, AcuminateTipWithoutPetioleIsTheApex)
+{
+  // Paper 000's rounded base and acuminate apex, no petiole and no hints. The drawn-out tip narrows to a point over
+  // a fifth of the blade: narrow at one end like a stalk, but a stalk keeps its width along its length and the tip's
+  // width grows from its point. Densely sampled, its last part is a trail a point or two wide, as a stalk's. The base
+  // is the rounded end, whatever the density and the pose.
+  for (const int count : { 3000, 10000, 30000 })
+    for (const bool tilted : { false, true })
+    {
+      const Eigen::Isometry3d pose = tilted ? Tilted() : Eigen::Isometry3d::Identity();
+      const Synthetic scan = Scan(Blade(7, 100.0), count, 0.1, 0.0, Straight(0.0), 0, pose, 3 + count);
+      const LeafFitResult fit = FitLeaf(scan.points, LeafFitParameters());
+      ASSERT_EQ(fit.error, "");
+      const Eigen::Vector3d base = fit.points[fit.midvein.front()];
+      EXPECT_LT((base - pose * Eigen::Vector3d::Zero()).norm(), 0.02 * scan.length)
+        << count << " points, tilted " << tilted << ": base " << base.transpose() << " from " << fit.traits.baseFrom
+        << " petiole " << fit.traits.petioleLength;
+      const Eigen::Vector3d along = (fit.points[fit.midvein[fit.midvein.size() / 5]] - base).normalized();
+      EXPECT_GT(along.dot(pose.linear() * Eigen::Vector3d::UnitY()), std::cos(3.0 * 3.14159265358979323846 / 180.0))
+        << count << " points, tilted " << tilted;
+      EXPECT_EQ(fit.traits.petioleLength, 0.0) << count << " points, tilted " << tilted; // the tip is no stalk
+    }
+}
+
 TEST(LeafShape, BladeSampledDenserOnOneSideKeepsItsMidveinAxis)
 {
   // A scanner seeing a blade obliquely samples its near side more densely than its far side. An elliptic blade
