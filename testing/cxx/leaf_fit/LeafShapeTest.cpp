@@ -826,6 +826,25 @@ TEST(LeafShape, AcuminateTipWithoutPetioleIsTheApex)
     }
 }
 
+TEST(LeafShape, NearlySymmetricObovateBladeSaysItsBaseIsAGuess)
+{
+  // Paper 002's Fig. 1 blade, no petiole and no hints: a cuneate base and an acute apex, its area centre 1.8 % of its
+  // length towards the apex. Obovate blades are as common as ovate ones, so the wider half does not tell its base:
+  // the base found is right, or the fit says it is a guess (BaseFrom 3), never a silent half turn.
+  for (const int count : { 8000, 30000 })
+    for (const bool tilted : { false, true })
+    {
+      const Eigen::Isometry3d pose = tilted ? Tilted() : Eigen::Isometry3d::Identity();
+      const Synthetic scan = Scan(Blade(9, 100.0), count, 0.1, 0.0, Straight(0.0), 0, pose, 7 + count);
+      const LeafFitResult fit = FitLeaf(scan.points, LeafFitParameters());
+      ASSERT_EQ(fit.error, "");
+      const Eigen::Vector3d base = fit.points[fit.midvein.front()];
+      const bool right = (base - pose * Eigen::Vector3d::Zero()).norm() < 0.02 * scan.length;
+      EXPECT_TRUE(right || fit.traits.baseFrom == 3)
+        << count << " points, tilted " << tilted << ": base " << base.transpose() << " from " << fit.traits.baseFrom;
+    }
+}
+
 TEST(LeafShape, BladeSampledDenserOnOneSideKeepsItsMidveinAxis)
 {
   // A scanner seeing a blade obliquely samples its near side more densely than its far side. An elliptic blade
