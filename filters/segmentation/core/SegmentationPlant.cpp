@@ -2110,7 +2110,8 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   if (n < static_cast<std::size_t>(MinimumPlantPoints))
     return "the cloud has " + std::to_string(n) + " points; a plant needs at least " +
       std::to_string(MinimumPlantPoints);
-  const double spacing = MedianSpacing(points);
+  // the grid and the sampled searches threaded: the same spacing on any number of threads
+  const double spacing = MedianSpacing(points, PointGrid(points, PointGrid::CellFor(points, 4.0), parallel), parallel);
   if (!(spacing > 0.0))
     return "the points all coincide: no spacing to derive the neighbourhoods from";
   PointFeatures f;
