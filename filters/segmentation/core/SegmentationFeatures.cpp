@@ -83,17 +83,16 @@ double NoiseLevel(const std::vector<Eigen::Vector3d>& points, double r, const Pa
 namespace
 {
 /// The radius graph: each point's neighbours closer than `link`, in ascending index, from a grid of cells of side
-/// `link` (two passes: the counts, then the lists, each point's own).
+/// `link`.
 void LinkPoints(const std::vector<Eigen::Vector3d>& points, double link, const ParallelFor& parallel, LinkGraph& graph)
 {
   const std::size_t n = points.size();
-  const CellGrid grid(points, link);
+  const CellGrid grid(points, link, parallel);
   const std::vector<int>& order = grid.Ordered();
   std::vector<Eigen::Vector3d> sorted(n); // the points in cell order: a block's points are nine contiguous runs
-  for (std::size_t k = 0; k < n; ++k)
-    sorted[k] = points[static_cast<std::size_t>(order[k])];
+  ForEachIndex(parallel, n, [&](std::size_t k) { sorted[k] = points[static_cast<std::size_t>(order[k])]; });
   const double link2 = link * link;
-  // Pass 1 counts, pass 2 writes; both visit the points in cell order (a cell's points share one block).
+  // The points are visited in cell order (a cell's points share one block).
   const auto visit = [&](std::size_t k, CellGrid::Block& block, auto&& take) {
     grid.BlockAround(sorted[k], block);
     for (int run = 0; run < block.runs; ++run)
@@ -140,7 +139,7 @@ void ComputeFeatures(const std::vector<Eigen::Vector3d>& points, double spacing,
   // of side r / 8 for the balls of radius r (at the default scale a cell holds a point or two: the ball is nearly
   // exact, the normals and creases sharp; r / 4 merged two touching leaves of the pipeline test's herb), cells of
   // side r / 2 for the balls of 2r (only the spread across the main axis is read at that scale).
-  const BallMoments near(points, r / 8.0, r), wide(points, r / 2.0, 2.0 * r);
+  const BallMoments near(points, r / 8.0, r, parallel), wide(points, r / 2.0, 2.0 * r, parallel);
   const std::size_t m = near.Cells().CellCount();
   std::vector<Eigen::Vector3d> normal(m, Eigen::Vector3d::UnitX());
   std::vector<Eigen::Vector3d> direction(m, Eigen::Vector3d::Zero());
