@@ -100,25 +100,39 @@ void LinkPoints(const std::vector<Eigen::Vector3d>& points, double link, const P
         if (j != k && (sorted[j] - sorted[k]).squaredNorm() <= link2)
           take(order[j]);
   };
+  // One pass: each fixed block of the cell order lists its points' neighbours on its own, then the lists are copied
+  // into place (sorted) once the offsets are known; the blocks do not depend on the thread count.
+  constexpr std::size_t Block = 4096;
+  const std::size_t blocks = (n + Block - 1) / Block;
+  std::vector<std::vector<int>> found(blocks);
   std::vector<std::size_t> count(n, 0);
-  parallel(n, [&](std::size_t begin, std::size_t end) {
+  parallel(blocks, [&](std::size_t first, std::size_t last) {
     CellGrid::Block block;
-    for (std::size_t k = begin; k < end; ++k)
-      visit(k, block, [&](int) { ++count[static_cast<std::size_t>(order[k])]; });
+    for (std::size_t b = first; b < last; ++b)
+      for (std::size_t k = b * Block; k < std::min(n, (b + 1) * Block); ++k)
+      {
+        const std::size_t before = found[b].size();
+        visit(k, block, [&](int j) { found[b].push_back(j); });
+        count[static_cast<std::size_t>(order[k])] = found[b].size() - before;
+      }
   });
   graph.offsets.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i)
     graph.offsets[i + 1] = graph.offsets[i] + count[i];
   graph.neighbours.resize(graph.offsets[n]);
-  parallel(n, [&](std::size_t begin, std::size_t end) {
-    CellGrid::Block block;
-    for (std::size_t k = begin; k < end; ++k)
+  parallel(blocks, [&](std::size_t first, std::size_t last) {
+    for (std::size_t b = first; b < last; ++b)
     {
-      const auto i = static_cast<std::size_t>(order[k]);
-      std::size_t at = graph.offsets[i];
-      visit(k, block, [&](int j) { graph.neighbours[at++] = j; });
-      std::sort(graph.neighbours.begin() + static_cast<std::ptrdiff_t>(graph.offsets[i]),
-        graph.neighbours.begin() + static_cast<std::ptrdiff_t>(at));
+      const int* from = found[b].data();
+      for (std::size_t k = b * Block; k < std::min(n, (b + 1) * Block); ++k)
+      {
+        const auto i = static_cast<std::size_t>(order[k]);
+        const auto to = graph.neighbours.begin() + static_cast<std::ptrdiff_t>(graph.offsets[i]);
+        std::copy(from, from + count[i], to);
+        std::sort(to, to + static_cast<std::ptrdiff_t>(count[i]));
+        from += count[i];
+      }
+      std::vector<int>().swap(found[b]);
     }
   });
 }
