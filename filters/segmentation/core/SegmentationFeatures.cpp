@@ -12,6 +12,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <deque>
 #include <numeric>
 
@@ -209,15 +211,24 @@ void ComputeFeatures(const std::vector<Eigen::Vector3d>& points, double spacing,
   LinkPoints(points, p.linkScale * spacing, parallel, graph);
 }
 
-int GrowRegions(
-  const PointFeatures& f, const LinkGraph& graph, const SegmentationParameters& p, std::vector<int>& region)
+int GrowRegions(const PointFeatures& f, const LinkGraph& graph, const SegmentationParameters& p,
+  const ParallelFor& parallel, std::vector<int>& region)
 {
   const std::size_t n = f.normal.size();
   const double cosine = std::cos(p.normalAngle * Pi / 180.0);
+  // The points by ascending variation, ties by index (a stable sort): a radix sort of the variation's bits, made
+  // to order as the values do, above the index.
+  std::vector<std::uint64_t> keys(n);
+  ForEachIndex(parallel, n, [&](std::size_t i) {
+    const float v = f.variation[i] + 0.0f; // -0 is +0
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &v, sizeof bits);
+    bits = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
+    keys[i] = static_cast<std::uint64_t>(bits) << 32 | i;
+  });
+  SortKeysInParallel(parallel, keys, 32, 64);
   std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-    [&](int a, int b) { return f.variation[static_cast<std::size_t>(a)] < f.variation[static_cast<std::size_t>(b)]; });
+  ForEachIndex(parallel, n, [&](std::size_t k) { order[k] = static_cast<int>(keys[k] & 0xffffffffu); });
   // Points on a crease (two leaves crossing, a leaf's fold, a branch's junction) join a region but do not grow it:
   // their surface variation is above the plant's median (flat leaf interiors, noise) by CreaseVariation.
   std::vector<float> sorted(f.variation);

@@ -2118,7 +2118,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   LinkGraph graph;
   ComputeFeatures(points, spacing, p, parallel, f, graph);
   std::vector<int> region;
-  int count = GrowRegions(f, graph, p, region);
+  int count = GrowRegions(f, graph, p, parallel, region);
   std::vector<RegionVerdict> verdicts = JudgeRegions(points, f, region, count, p, true);
   if (std::any_of(verdicts.begin(), verdicts.end(), [](const RegionVerdict& v) { return v.mixed; }))
   {

@@ -117,8 +117,8 @@ inline Eigen::Matrix3d SurfaceEvidence(const PointFeatures& f, std::size_t i, do
 Eigen::Matrix3d Scatter(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, Eigen::Vector3d& mean);
 
 /// Region growing of smooth sheets: each point's region (-1: linear points, never grown); returns the count.
-int GrowRegions(
-  const PointFeatures& features, const LinkGraph& graph, const SegmentationParameters& p, std::vector<int>& region);
+int GrowRegions(const PointFeatures& features, const LinkGraph& graph, const SegmentationParameters& p,
+  const ParallelFor& parallel, std::vector<int>& region);
 
 /// Petioles (step 5 of PlantSegmentation.h; docs/methods/segmentation.md gives every threshold): each connected
 /// piece of thin wood (the wood within t = FeatureScale s around each point, leaf points left out, a tube of radius
