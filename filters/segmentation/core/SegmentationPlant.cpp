@@ -1984,7 +1984,7 @@ bool WoodSurfaceSheet(const std::vector<Eigen::Vector3d>& points, const std::vec
 /// The leaf instances: leaf regions of at least MinimumLeafPoints points, numbered by their lowest point index.
 void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   const std::vector<int>& region, const std::vector<RegionVerdict>& verdicts, double spacing, double radius,
-  const SegmentationParameters& p, PlantLabels& labels)
+  const SegmentationParameters& p, const ParallelFor& parallel, PlantLabels& labels)
 {
   const std::size_t n = points.size();
   const double gapCosine = std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0);
@@ -2033,7 +2033,7 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   // small side is judged again by the joins (a piece joins its leaf; a small leaf beside another gets no instance)
   // two normal groups over half of NormalAngle apart (the features' normals are good to about 10 degrees) are looked
   // at: leaves touching at 12-23 degrees were left merged at the full NormalAngle
-  if (CutAtShortSeams(points, f, graph, gapCosine, static_cast<std::size_t>(p.minimumLeafPoints), leaves) > 0)
+  if (CutAtShortSeams(points, f, graph, gapCosine, static_cast<std::size_t>(p.minimumLeafPoints), parallel, leaves) > 0)
   {
     // a cut side may be a piece of a third leaf whose rest lies in another part: the joins again
     JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
@@ -2158,7 +2158,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   const std::string flat = RefuseFlat(points, f.radius);
   if (!flat.empty())
     return flat;
-  MakeLeaves(points, f, graph, region, verdicts, spacing, f.radius, p, labels);
+  MakeLeaves(points, f, graph, region, verdicts, spacing, f.radius, p, parallel, labels);
   if (FindPetioles(points, f, graph, spacing, p, parallel, labels) > 0)
   {
     plant.woodPoints = plant.leafPoints = 0;
