@@ -256,28 +256,62 @@ bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGrap
   return SeamSaysTwoLeaves(points, seam, idsA, idsB);
 }
 
-std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
-  double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts)
+namespace
 {
+/// Whether the part `ids` is cut in two, and then its sides (per entry of ids, in `side`). `local` is scratch: -1 for
+/// every point in and out.
+bool CutInTwo(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph, double cosine,
+  std::size_t smallest, const std::vector<int>& ids, std::vector<int>& local, std::vector<int>& side)
+{
+  Eigen::Vector3d axes[2];
+  if (ids.size() < 2 * smallest || !TwoNormalGroups(f.normal, ids, side, axes) ||
+    std::abs(axes[0].dot(axes[1])) >= cosine)
+    return false;
+  for (std::size_t m = 0; m < ids.size(); ++m)
+    local[static_cast<std::size_t>(ids[m])] = static_cast<int>(m);
+  ConnectSides(graph, ids, local, side);
+  const auto first = static_cast<std::size_t>(std::count(side.begin(), side.end(), 0));
+  const bool cut = first >= smallest && ids.size() - first >= smallest && SeamIsShort(points, graph, ids, local, side);
+  for (int j : ids)
+    local[static_cast<std::size_t>(j)] = -1;
+  return cut;
+}
+} // namespace
+
+std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
+  double cosine, std::size_t smallest, const ParallelFor& parallel, std::vector<std::vector<int>>& parts)
+{
+  // The parts as given are judged each on its own, side by side (few are cut); the sides of a cut are appended and
+  // judged in turn, in the same order as one pass over the parts would.
+  const std::size_t given = parts.size();
+  std::vector<char> judged(given, 0);
+  std::vector<std::vector<int>> sides(given);
+  parallel(given, [&](std::size_t begin, std::size_t end) {
+    std::vector<int> local(points.size(), -1), side;
+    for (std::size_t k = begin; k < end; ++k)
+      if (CutInTwo(points, f, graph, cosine, smallest, parts[k], local, side))
+      {
+        judged[k] = 1;
+        sides[k] = side;
+      }
+  });
   std::vector<int> local(points.size(), -1), side;
   std::size_t cuts = 0;
-  for (std::size_t k = 0; k < parts.size(); ++k) // the sides of a cut are appended and looked at in turn
+  for (std::size_t k = 0; k < parts.size(); ++k)
   {
     const std::vector<int>& ids = parts[k];
-    Eigen::Vector3d axes[2];
-    if (ids.size() < 2 * smallest || !TwoNormalGroups(f.normal, ids, side, axes) ||
-      std::abs(axes[0].dot(axes[1])) >= cosine)
-      continue;
-    for (std::size_t m = 0; m < ids.size(); ++m)
-      local[static_cast<std::size_t>(ids[m])] = static_cast<int>(m);
-    ConnectSides(graph, ids, local, side);
-    const auto first = static_cast<std::size_t>(std::count(side.begin(), side.end(), 0));
-    const bool cut =
-      first >= smallest && ids.size() - first >= smallest && SeamIsShort(points, graph, ids, local, side);
-    for (int j : ids)
-      local[static_cast<std::size_t>(j)] = -1;
+    bool cut = false;
+    if (k < given && sides[k].size() == ids.size() && judged[k] == 1)
+    {
+      cut = true;
+      side.swap(sides[k]);
+    }
+    else if (k >= given || judged[k] == 2)
+      cut = CutInTwo(points, f, graph, cosine, smallest, ids, local, side);
     if (!cut)
       continue;
+    if (k < given)
+      judged[k] = 2; // its first side is judged again, here
     std::vector<int> halves[2];
     for (std::size_t m = 0; m < ids.size(); ++m)
       halves[side[m]].push_back(ids[m]);

@@ -12,6 +12,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <deque>
 #include <numeric>
 
@@ -83,17 +85,16 @@ double NoiseLevel(const std::vector<Eigen::Vector3d>& points, double r, const Pa
 namespace
 {
 /// The radius graph: each point's neighbours closer than `link`, in ascending index, from a grid of cells of side
-/// `link` (two passes: the counts, then the lists, each point's own).
+/// `link`.
 void LinkPoints(const std::vector<Eigen::Vector3d>& points, double link, const ParallelFor& parallel, LinkGraph& graph)
 {
   const std::size_t n = points.size();
-  const CellGrid grid(points, link);
+  const CellGrid grid(points, link, parallel);
   const std::vector<int>& order = grid.Ordered();
   std::vector<Eigen::Vector3d> sorted(n); // the points in cell order: a block's points are nine contiguous runs
-  for (std::size_t k = 0; k < n; ++k)
-    sorted[k] = points[static_cast<std::size_t>(order[k])];
+  ForEachIndex(parallel, n, [&](std::size_t k) { sorted[k] = points[static_cast<std::size_t>(order[k])]; });
   const double link2 = link * link;
-  // Pass 1 counts, pass 2 writes; both visit the points in cell order (a cell's points share one block).
+  // The points are visited in cell order (a cell's points share one block).
   const auto visit = [&](std::size_t k, CellGrid::Block& block, auto&& take) {
     grid.BlockAround(sorted[k], block);
     for (int run = 0; run < block.runs; ++run)
@@ -101,25 +102,39 @@ void LinkPoints(const std::vector<Eigen::Vector3d>& points, double link, const P
         if (j != k && (sorted[j] - sorted[k]).squaredNorm() <= link2)
           take(order[j]);
   };
+  // One pass: each fixed block of the cell order lists its points' neighbours on its own, then the lists are copied
+  // into place (sorted) once the offsets are known; the blocks do not depend on the thread count.
+  constexpr std::size_t Block = 4096;
+  const std::size_t blocks = (n + Block - 1) / Block;
+  std::vector<std::vector<int>> found(blocks);
   std::vector<std::size_t> count(n, 0);
-  parallel(n, [&](std::size_t begin, std::size_t end) {
+  parallel(blocks, [&](std::size_t first, std::size_t last) {
     CellGrid::Block block;
-    for (std::size_t k = begin; k < end; ++k)
-      visit(k, block, [&](int) { ++count[static_cast<std::size_t>(order[k])]; });
+    for (std::size_t b = first; b < last; ++b)
+      for (std::size_t k = b * Block; k < std::min(n, (b + 1) * Block); ++k)
+      {
+        const std::size_t before = found[b].size();
+        visit(k, block, [&](int j) { found[b].push_back(j); });
+        count[static_cast<std::size_t>(order[k])] = found[b].size() - before;
+      }
   });
   graph.offsets.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i)
     graph.offsets[i + 1] = graph.offsets[i] + count[i];
   graph.neighbours.resize(graph.offsets[n]);
-  parallel(n, [&](std::size_t begin, std::size_t end) {
-    CellGrid::Block block;
-    for (std::size_t k = begin; k < end; ++k)
+  parallel(blocks, [&](std::size_t first, std::size_t last) {
+    for (std::size_t b = first; b < last; ++b)
     {
-      const auto i = static_cast<std::size_t>(order[k]);
-      std::size_t at = graph.offsets[i];
-      visit(k, block, [&](int j) { graph.neighbours[at++] = j; });
-      std::sort(graph.neighbours.begin() + static_cast<std::ptrdiff_t>(graph.offsets[i]),
-        graph.neighbours.begin() + static_cast<std::ptrdiff_t>(at));
+      const int* from = found[b].data();
+      for (std::size_t k = b * Block; k < std::min(n, (b + 1) * Block); ++k)
+      {
+        const auto i = static_cast<std::size_t>(order[k]);
+        const auto to = graph.neighbours.begin() + static_cast<std::ptrdiff_t>(graph.offsets[i]);
+        std::copy(from, from + count[i], to);
+        std::sort(to, to + static_cast<std::ptrdiff_t>(count[i]));
+        from += count[i];
+      }
+      std::vector<int>().swap(found[b]);
     }
   });
 }
@@ -140,7 +155,7 @@ void ComputeFeatures(const std::vector<Eigen::Vector3d>& points, double spacing,
   // of side r / 8 for the balls of radius r (at the default scale a cell holds a point or two: the ball is nearly
   // exact, the normals and creases sharp; r / 4 merged two touching leaves of the pipeline test's herb), cells of
   // side r / 2 for the balls of 2r (only the spread across the main axis is read at that scale).
-  const BallMoments near(points, r / 8.0, r), wide(points, r / 2.0, 2.0 * r);
+  const BallMoments near(points, r / 8.0, r, parallel), wide(points, r / 2.0, 2.0 * r, parallel);
   const std::size_t m = near.Cells().CellCount();
   std::vector<Eigen::Vector3d> normal(m, Eigen::Vector3d::UnitX());
   std::vector<Eigen::Vector3d> direction(m, Eigen::Vector3d::Zero());
@@ -196,15 +211,24 @@ void ComputeFeatures(const std::vector<Eigen::Vector3d>& points, double spacing,
   LinkPoints(points, p.linkScale * spacing, parallel, graph);
 }
 
-int GrowRegions(
-  const PointFeatures& f, const LinkGraph& graph, const SegmentationParameters& p, std::vector<int>& region)
+int GrowRegions(const PointFeatures& f, const LinkGraph& graph, const SegmentationParameters& p,
+  const ParallelFor& parallel, std::vector<int>& region)
 {
   const std::size_t n = f.normal.size();
   const double cosine = std::cos(p.normalAngle * Pi / 180.0);
+  // The points by ascending variation, ties by index (a stable sort): a radix sort of the variation's bits, made
+  // to order as the values do, above the index.
+  std::vector<std::uint64_t> keys(n);
+  ForEachIndex(parallel, n, [&](std::size_t i) {
+    const float v = f.variation[i] + 0.0f; // -0 is +0
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &v, sizeof bits);
+    bits = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
+    keys[i] = static_cast<std::uint64_t>(bits) << 32 | i;
+  });
+  SortKeysInParallel(parallel, keys, 32, 64);
   std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-    [&](int a, int b) { return f.variation[static_cast<std::size_t>(a)] < f.variation[static_cast<std::size_t>(b)]; });
+  ForEachIndex(parallel, n, [&](std::size_t k) { order[k] = static_cast<int>(keys[k] & 0xffffffffu); });
   // Points on a crease (two leaves crossing, a leaf's fold, a branch's junction) join a region but do not grow it:
   // their surface variation is above the plant's median (flat leaf interiors, noise) by CreaseVariation.
   std::vector<float> sorted(f.variation);

@@ -14,7 +14,19 @@ namespace
 constexpr double MaximumCells = double((1 << 21) - 4);
 } // namespace
 
-CellGrid::CellGrid(const std::vector<Eigen::Vector3d>& points, double cell)
+namespace
+{
+/// The bits needed to hold `value`.
+int BitsFor(std::uint64_t value)
+{
+  int bits = 0;
+  while (bits < 64 && (std::uint64_t(1) << bits) <= value)
+    ++bits;
+  return bits;
+}
+} // namespace
+
+CellGrid::CellGrid(const std::vector<Eigen::Vector3d>& points, double cell, const ParallelFor& parallel)
 {
   Eigen::Vector3d low = Eigen::Vector3d::Constant(0.0), high = low;
   if (!points.empty())
@@ -31,24 +43,60 @@ CellGrid::CellGrid(const std::vector<Eigen::Vector3d>& points, double cell)
     this->Side = 1.0;
   this->Origin = low - Eigen::Vector3d::Constant(this->Side); // a margin cell: the blocks never go below 0
   const std::size_t n = points.size();
-  std::vector<std::pair<std::uint64_t, int>> keyed(n);
-  for (std::size_t i = 0; i < n; ++i)
+  std::vector<Eigen::Array3i> cells(n);
+  ForEachIndex(parallel, n, [&](std::size_t i) { cells[i] = this->CellOf(points[i]); });
+  Eigen::Array3i first = Eigen::Array3i::Zero(), last = first;
+  if (n > 0)
   {
-    const Eigen::Array3i c = this->CellOf(points[i]);
-    keyed[i] = { Key(c[0], c[1], c[2]), static_cast<int>(i) };
+    first = last = cells.front();
+    for (const Eigen::Array3i& c : cells)
+    {
+      first = first.min(c);
+      last = last.max(c);
+    }
   }
-  std::sort(keyed.begin(), keyed.end());
+  // The cells numbered within the cloud's box, in the keys' order (i, then j, then k), above the point's index: the
+  // radix sort of these gives the (key, index) order in linear time.
+  const int bitsJ = BitsFor(static_cast<std::uint64_t>(last[1] - first[1]));
+  const int bitsK = BitsFor(static_cast<std::uint64_t>(last[2] - first[2]));
+  const int cellBits = BitsFor(static_cast<std::uint64_t>(last[0] - first[0])) + bitsJ + bitsK;
+  const int indexBits = BitsFor(n);
   this->Order.resize(n);
+  if (cellBits + indexBits <= 64)
+  {
+    std::vector<std::uint64_t> packed(n);
+    ForEachIndex(parallel, n, [&](std::size_t i) {
+      const Eigen::Array3i c = cells[i] - first;
+      const std::uint64_t number = (static_cast<std::uint64_t>(c[0]) << (bitsJ + bitsK)) |
+        (static_cast<std::uint64_t>(c[1]) << bitsK) | static_cast<std::uint64_t>(c[2]);
+      packed[i] = indexBits < 64 ? (number << indexBits) | i : i;
+    });
+    SortKeysInParallel(parallel, packed, indexBits, indexBits + cellBits);
+    const std::uint64_t mask = indexBits < 64 ? (std::uint64_t(1) << indexBits) - 1 : ~std::uint64_t(0);
+    ForEachIndex(parallel, n, [&](std::size_t k) { this->Order[k] = static_cast<int>(packed[k] & mask); });
+  }
+  else
+  {
+    std::vector<std::pair<std::uint64_t, int>> keyed(n);
+    ForEachIndex(parallel, n, [&](std::size_t i) {
+      keyed[i] = { Key(cells[i][0], cells[i][1], cells[i][2]), static_cast<int>(i) };
+    });
+    SortInParallel(parallel, keyed, std::less<std::pair<std::uint64_t, int>>());
+    ForEachIndex(parallel, n, [&](std::size_t k) { this->Order[k] = keyed[k].second; });
+  }
   this->PointCell.resize(n);
+  std::uint64_t previous = 0;
   for (std::size_t k = 0; k < n; ++k)
   {
-    if (k == 0 || keyed[k].first != keyed[k - 1].first)
+    const Eigen::Array3i& c = cells[static_cast<std::size_t>(this->Order[k])];
+    const std::uint64_t key = Key(c[0], c[1], c[2]);
+    if (k == 0 || key != previous)
     {
-      this->Keys.push_back(keyed[k].first);
+      this->Keys.push_back(key);
       this->Start.push_back(static_cast<int>(k));
+      previous = key;
     }
-    this->Order[k] = keyed[k].second;
-    this->PointCell[static_cast<std::size_t>(keyed[k].second)] = static_cast<int>(this->Keys.size() - 1);
+    this->PointCell[static_cast<std::size_t>(this->Order[k])] = static_cast<int>(this->Keys.size() - 1);
   }
   this->Start.push_back(static_cast<int>(n));
 }
@@ -61,29 +109,29 @@ Eigen::Array3i CellGrid::CellOf(const Eigen::Vector3d& q) const
 
 namespace
 {
-std::vector<Eigen::Vector3d> CellMeans(const std::vector<Eigen::Vector3d>& points, const CellGrid& grid)
+std::vector<Eigen::Vector3d> CellMeans(
+  const std::vector<Eigen::Vector3d>& points, const CellGrid& grid, const ParallelFor& parallel)
 {
   std::vector<Eigen::Vector3d> means(grid.CellCount());
-  for (std::size_t c = 0; c < means.size(); ++c)
-  {
+  ForEachIndex(parallel, means.size(), [&](std::size_t c) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     for (const int* j = grid.Begin(c); j != grid.End(c); ++j)
       sum += points[static_cast<std::size_t>(*j)];
     means[c] = sum / static_cast<double>(grid.End(c) - grid.Begin(c));
-  }
+  });
   return means;
 }
 } // namespace
 
-BallMoments::BallMoments(const std::vector<Eigen::Vector3d>& points, double cell, double radius)
+BallMoments::BallMoments(
+  const std::vector<Eigen::Vector3d>& points, double cell, double radius, const ParallelFor& parallel)
   : Radius(radius)
-  , Grid(points, cell)
-  , Mean(CellMeans(points, Grid))
-  , MeanGrid(Mean, radius)
+  , Grid(points, cell, parallel)
+  , Mean(CellMeans(points, Grid, parallel))
+  , MeanGrid(Mean, radius, parallel)
 {
   this->Packed.resize(this->Mean.size());
-  for (std::size_t k = 0; k < this->Packed.size(); ++k)
-  {
+  ForEachIndex(parallel, this->Packed.size(), [&](std::size_t k) {
     const auto c = static_cast<std::size_t>(this->MeanGrid.Ordered()[k]);
     Moment& m = this->Packed[k];
     m.count = static_cast<double>(this->Grid.End(c) - this->Grid.Begin(c));
@@ -96,7 +144,7 @@ BallMoments::BallMoments(const std::vector<Eigen::Vector3d>& points, double cell
     }
     const double upper[6] = { s(0, 0), s(0, 1), s(0, 2), s(1, 1), s(1, 2), s(2, 2) };
     std::copy(upper, upper + 6, m.scatter);
-  }
+  });
 }
 
 Eigen::Matrix3d BallMoments::Covariance(const Eigen::Vector3d& q, double& count, CellGrid::Block& block) const

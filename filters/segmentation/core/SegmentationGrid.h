@@ -5,6 +5,8 @@
 // method; plain C++17 (Eigen), deterministic (every sum runs in key order).
 #pragma once
 
+#include <plantmorph/ParallelFor.h>
+
 #include <Eigen/Core>
 
 #include <algorithm>
@@ -17,11 +19,13 @@ namespace segmentation
 {
 
 /// Points bucketed in cubes of side `cell` (widened when the cloud spans more than 2^21 cells on an axis), stored
-/// cell by cell in ascending key.
+/// cell by cell in ascending key, then ascending index. The keys and their sort (a linear radix sort of the cells
+/// numbered within the cloud's box, above the index, when both fit in 64 bits) run through `parallel`; the grid is
+/// the same on any number of threads.
 class CellGrid
 {
 public:
-  CellGrid(const std::vector<Eigen::Vector3d>& points, double cell);
+  CellGrid(const std::vector<Eigen::Vector3d>& points, double cell, const ParallelFor& parallel = SerialFor);
 
   std::size_t CellCount() const { return this->Keys.size(); }
   double Cell() const { return this->Side; }
@@ -92,7 +96,9 @@ private:
 class BallMoments
 {
 public:
-  BallMoments(const std::vector<Eigen::Vector3d>& points, double cell, double radius);
+  /// The grids and the cells' moments built through `parallel` (the same on any number of threads).
+  BallMoments(
+    const std::vector<Eigen::Vector3d>& points, double cell, double radius, const ParallelFor& parallel = SerialFor);
 
   /// The covariance about their mean of the points whose cell's mean is within the radius of q; their number in
   /// `count` (0: a zero matrix).

@@ -1278,26 +1278,50 @@ constexpr double GapRadii = 4.0;
 constexpr double GapAngleFraction = 0.5;
 constexpr double GapThickness = 0.25;
 
-/// The smallest distance between a point of `a` and one of `b` when under `reach`, else infinity.
-double GapBetween(
-  const std::vector<Eigen::Vector3d>& points, const std::vector<int>& a, const std::vector<int>& b, double reach)
+/// The smallest distance between a point of one part and one of another when under `reach`, else infinity, for
+/// parts that do not change while they are asked: the larger part of a pair is indexed in a grid of side `reach`, each
+/// part's grid built the first time it is needed and kept (a big leaf is paired with every row and piece near it, and
+/// indexing it again for each pair cost more than the searches).
+class PartGaps
 {
-  const std::vector<int>& query = a.size() < b.size() ? a : b;
-  const std::vector<int>& indexed = a.size() < b.size() ? b : a;
-  std::vector<Eigen::Vector3d> cloud;
-  cloud.reserve(indexed.size());
-  for (int j : indexed)
-    cloud.push_back(points[static_cast<std::size_t>(j)]);
-  const PointGrid grid(cloud, reach);
-  double best = std::numeric_limits<double>::infinity();
-  for (int j : query)
+public:
+  PartGaps(const std::vector<Eigen::Vector3d>& points, const std::vector<std::vector<int>>& parts, double reach)
+    : Points(points)
+    , Parts(parts)
+    , Reach(reach)
+    , Grids(parts.size())
   {
-    const auto nearest = grid.Nearest(points[static_cast<std::size_t>(j)], 1, -1, std::min(best, reach));
-    if (!nearest.empty())
-      best = std::min(best, std::sqrt(nearest[0].first));
   }
-  return best;
-}
+
+  double Between(std::size_t a, std::size_t b)
+  {
+    const std::size_t query = this->Parts[a].size() < this->Parts[b].size() ? a : b;
+    const std::size_t indexed = query == a ? b : a;
+    if (!this->Grids[indexed])
+    {
+      std::vector<Eigen::Vector3d> cloud;
+      cloud.reserve(this->Parts[indexed].size());
+      for (int j : this->Parts[indexed])
+        cloud.push_back(this->Points[static_cast<std::size_t>(j)]);
+      this->Grids[indexed] = std::make_unique<PointGrid>(cloud, this->Reach);
+    }
+    const PointGrid& grid = *this->Grids[indexed];
+    double best = std::numeric_limits<double>::infinity();
+    for (int j : this->Parts[query])
+    {
+      const auto nearest = grid.Nearest(this->Points[static_cast<std::size_t>(j)], 1, -1, std::min(best, this->Reach));
+      if (!nearest.empty())
+        best = std::min(best, std::sqrt(nearest[0].first));
+    }
+    return best;
+  }
+
+private:
+  const std::vector<Eigen::Vector3d>& Points;
+  const std::vector<std::vector<int>>& Parts;
+  double Reach;
+  std::vector<std::unique_ptr<PointGrid>> Grids;
+};
 
 /// The extent of points[ids] along the main axis of their moments `m` (the largest spread).
 double SpanAlong(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, const PartMoments& m)
@@ -1482,6 +1506,7 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   order.insert(order.end(), big.begin(), big.end());
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return low[a].x() < low[b].x(); });
   std::vector<std::tuple<double, std::size_t, std::size_t>> pairs; // (gap, a, b): a row and a row or a leaf
+  PartGaps gaps(points, parts, reach);
   for (std::size_t x = 0; x < order.size(); ++x)
     for (std::size_t y = x + 1; y < order.size() && low[order[y]].x() <= high[order[x]].x() + reach; ++y)
     {
@@ -1489,7 +1514,7 @@ void GatherRows(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
       if ((whole[a] && whole[b]) || (low[a].array() - reach > high[b].array()).any() ||
         (low[b].array() - reach > high[a].array()).any())
         continue;
-      if (const double gap = GapBetween(points, parts[a], parts[b], reach); gap < reach && together(a, b))
+      if (const double gap = gaps.Between(a, b); gap < reach && together(a, b))
         pairs.emplace_back(gap, a, b);
     }
   std::sort(pairs.begin(), pairs.end());
@@ -1581,6 +1606,7 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
   };
   // (0 near / 1 far, gap or joint span, a, b), a < b
   std::vector<std::tuple<int, double, std::size_t, std::size_t>> pairs;
+  PartGaps gaps(points, parts, reach);
   for (std::size_t x = 0; x < big.size(); ++x)
     for (std::size_t y = x + 1; y < big.size(); ++y)
     {
@@ -1588,7 +1614,7 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
       if ((low[a].array() - search > high[b].array()).any() || (low[b].array() - search > high[a].array()).any() ||
         !OneSheet(core[a], core[b], cosine, thickness))
         continue;
-      const double gap = GapBetween(points, parts[a], parts[b], reach);
+      const double gap = gaps.Between(a, b);
       if (gap < reach)
         pairs.emplace_back(0, gap, a, b);
       else if (const double span = jointSpan(a, b); span <= leafLength)
@@ -1958,7 +1984,7 @@ bool WoodSurfaceSheet(const std::vector<Eigen::Vector3d>& points, const std::vec
 /// The leaf instances: leaf regions of at least MinimumLeafPoints points, numbered by their lowest point index.
 void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   const std::vector<int>& region, const std::vector<RegionVerdict>& verdicts, double spacing, double radius,
-  const SegmentationParameters& p, PlantLabels& labels)
+  const SegmentationParameters& p, const ParallelFor& parallel, PlantLabels& labels)
 {
   const std::size_t n = points.size();
   const double gapCosine = std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0);
@@ -2007,7 +2033,7 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   // small side is judged again by the joins (a piece joins its leaf; a small leaf beside another gets no instance)
   // two normal groups over half of NormalAngle apart (the features' normals are good to about 10 degrees) are looked
   // at: leaves touching at 12-23 degrees were left merged at the full NormalAngle
-  if (CutAtShortSeams(points, f, graph, gapCosine, static_cast<std::size_t>(p.minimumLeafPoints), leaves) > 0)
+  if (CutAtShortSeams(points, f, graph, gapCosine, static_cast<std::size_t>(p.minimumLeafPoints), parallel, leaves) > 0)
   {
     // a cut side may be a piece of a third leaf whose rest lies in another part: the joins again
     JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
@@ -2084,14 +2110,15 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   if (n < static_cast<std::size_t>(MinimumPlantPoints))
     return "the cloud has " + std::to_string(n) + " points; a plant needs at least " +
       std::to_string(MinimumPlantPoints);
-  const double spacing = MedianSpacing(points);
+  // the grid and the sampled searches threaded: the same spacing on any number of threads
+  const double spacing = MedianSpacing(points, PointGrid(points, PointGrid::CellFor(points, 4.0), parallel), parallel);
   if (!(spacing > 0.0))
     return "the points all coincide: no spacing to derive the neighbourhoods from";
   PointFeatures f;
   LinkGraph graph;
   ComputeFeatures(points, spacing, p, parallel, f, graph);
   std::vector<int> region;
-  int count = GrowRegions(f, graph, p, region);
+  int count = GrowRegions(f, graph, p, parallel, region);
   std::vector<RegionVerdict> verdicts = JudgeRegions(points, f, region, count, p, true);
   if (std::any_of(verdicts.begin(), verdicts.end(), [](const RegionVerdict& v) { return v.mixed; }))
   {
@@ -2131,7 +2158,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   const std::string flat = RefuseFlat(points, f.radius);
   if (!flat.empty())
     return flat;
-  MakeLeaves(points, f, graph, region, verdicts, spacing, f.radius, p, labels);
+  MakeLeaves(points, f, graph, region, verdicts, spacing, f.radius, p, parallel, labels);
   if (FindPetioles(points, f, graph, spacing, p, parallel, labels) > 0)
   {
     plant.woodPoints = plant.leafPoints = 0;

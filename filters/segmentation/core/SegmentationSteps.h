@@ -117,8 +117,8 @@ inline Eigen::Matrix3d SurfaceEvidence(const PointFeatures& f, std::size_t i, do
 Eigen::Matrix3d Scatter(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, Eigen::Vector3d& mean);
 
 /// Region growing of smooth sheets: each point's region (-1: linear points, never grown); returns the count.
-int GrowRegions(
-  const PointFeatures& features, const LinkGraph& graph, const SegmentationParameters& p, std::vector<int>& region);
+int GrowRegions(const PointFeatures& features, const LinkGraph& graph, const SegmentationParameters& p,
+  const ParallelFor& parallel, std::vector<int>& region);
 
 /// Petioles (step 5 of PlantSegmentation.h; docs/methods/segmentation.md gives every threshold): each connected
 /// piece of thin wood (the wood within t = FeatureScale s around each point, leaf points left out, a tube of radius
@@ -150,9 +150,10 @@ inline constexpr double NotchedHullFraction = 0.95;
 /// apart than `cosine` (half of NormalAngle), each group made one linked piece, is cut between them when each side
 /// has at least `smallest` points and their seam (the points linked to the other side) is shorter than SeamFraction
 /// of each side's extent along it, or the sides unfolded about the seam leave notches (NotchedHullFraction); each
-/// side is looked at again. Returns the cuts made.
+/// side is looked at again. The parts are judged on `parallel`; the cuts are the same on any number of threads.
+/// Returns the cuts made.
 std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
-  double cosine, std::size_t smallest, std::vector<std::vector<int>>& parts);
+  double cosine, std::size_t smallest, const ParallelFor& parallel, std::vector<std::vector<int>>& parts);
 
 /// Whether two touching parts `a` and `b` (their points idsA and idsB; partOf maps a point to its part, -1 or short
 /// of the point elsewhere) meet over a short seam: the points of either linked to the other, along their own line,

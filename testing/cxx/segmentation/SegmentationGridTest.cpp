@@ -6,8 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <functional>
 #include <random>
 #include <set>
+#include <tuple>
 
 namespace
 {
@@ -81,5 +84,70 @@ TEST(SegmentationGrid, BallCovarianceFromMomentsIsTheExactOne)
       EXPECT_EQ(count, static_cast<double>(inside.size()));
       EXPECT_LT((got - expected).norm(), 1e-12) << "point " << i;
     }
+  }
+}
+
+namespace
+{
+/// A ParallelFor that hands out ranges of three indices, last range first: any dependence on how the range is cut
+/// or in which order the pieces run shows.
+void ReversedSmallRanges(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body)
+{
+  for (std::size_t end = count; end > 0;)
+  {
+    const std::size_t begin = end > 3 ? end - 3 : 0;
+    body(begin, end);
+    end = begin;
+  }
+}
+
+/// The grid's cells and order against brute force: the points ordered by their cell (i, then j, then k, each
+/// floor((p - low) / side)), ties by index, every cell's points together.
+void ExpectCellOrder(const std::vector<Eigen::Vector3d>& points, const plantmorph::segmentation::CellGrid& grid)
+{
+  Eigen::Vector3d low = points.front();
+  for (const Eigen::Vector3d& p : points)
+    low = low.cwiseMin(p);
+  std::vector<std::tuple<long long, long long, long long, int>> expected;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const Eigen::Vector3d c = ((points[i] - low) / grid.Cell()).array().floor();
+    expected.emplace_back(
+      static_cast<long long>(c.x()), static_cast<long long>(c.y()), static_cast<long long>(c.z()), static_cast<int>(i));
+  }
+  std::sort(expected.begin(), expected.end());
+  ASSERT_EQ(grid.Ordered().size(), points.size());
+  std::size_t cells = 0;
+  for (std::size_t k = 0; k < expected.size(); ++k)
+  {
+    ASSERT_EQ(grid.Ordered()[k], std::get<3>(expected[k])) << "position " << k;
+    const bool newCell = k == 0 ||
+      std::make_tuple(std::get<0>(expected[k]), std::get<1>(expected[k]), std::get<2>(expected[k])) !=
+        std::make_tuple(std::get<0>(expected[k - 1]), std::get<1>(expected[k - 1]), std::get<2>(expected[k - 1]));
+    cells += newCell ? 1 : 0;
+    const auto c = static_cast<std::size_t>(grid.CellOfPoint(static_cast<std::size_t>(grid.Ordered()[k])));
+    ASSERT_EQ(c, cells - 1) << "position " << k;
+    ASSERT_TRUE(grid.Begin(c) <= grid.Ordered().data() + k && grid.Ordered().data() + k < grid.End(c));
+  }
+  EXPECT_EQ(grid.CellCount(), cells);
+}
+} // namespace
+
+TEST(SegmentationGrid, ThreadedGridIsTheSerialOneInCellThenIndexOrder)
+{
+  // Cells of a small side (the cells numbered in the cloud's box fit 64 bits with the index: the radix sort) and a
+  // cloud spread over the whole key range (2^21 cells an axis: the sort by comparisons).
+  std::vector<Eigen::Vector3d> wide = RandomCloud(300, 7);
+  wide[0] = Eigen::Vector3d(-1e7, -1e7, -1e7);
+  wide[1] = Eigen::Vector3d(1e7, 1e7, 1e7);
+  for (const auto& [points, side] : { std::make_pair(RandomCloud(5000, 11), 0.01), std::make_pair(wide, 1e-9) })
+  {
+    const plantmorph::segmentation::CellGrid serial(points, side);
+    const plantmorph::segmentation::CellGrid threaded(points, side, ReversedSmallRanges);
+    ExpectCellOrder(points, threaded);
+    EXPECT_EQ(threaded.Ordered(), serial.Ordered());
+    EXPECT_EQ(threaded.CellCount(), serial.CellCount());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      ASSERT_EQ(threaded.CellOfPoint(i), serial.CellOfPoint(i));
   }
 }
