@@ -606,6 +606,85 @@ std::size_t LoneFlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& points, 
   return StripsMadeLeaf(lone, members, verdicts, organ);
 }
 
+/// A flat strip's wood neighbours lie in its plane when within this many range noises of it (at least half a
+/// spacing): the features' radius r is widened to 12 noises on a noisy scan, so this is a quarter of r there.
+constexpr double CoplanarStripOffPlane = 3.0;
+/// Such a strip is at least as wide (a uniform rectangle's width from its variance) as the features' radius r and
+/// as their neighbourhood before the widening for noise (2 FeatureScale spacings): at low noise 2r, so the rule
+/// only takes strips narrower than 2r because r was widened (a twig's facet seen flat is narrower than the twig).
+constexpr double CoplanarStripWidth = 1.0;
+/// The strip's points that touch other wood lie in one spot: their extent along both of the strip's axes is at
+/// most this many r (a leaf held at its base by its twig; a twig's strip touches its other facets along its length).
+constexpr double CoplanarStripContact = 1.0;
+
+/// Strips left wood by LoneFlatStripsAreLeaves whose own points' normals do not turn (LoneStripNormalSpread), as
+/// wide as CoplanarStripWidth on their own points and no long strip (MaximumLeafElongation), are leaf when the wood
+/// within LoneStripReach r of them is, but for one spot (CoplanarStripContact), such strips, thin lines (IsLinear)
+/// or points cut off from every region, all in their plane (CoplanarStripOffPlane noises). A small or edge-on leaf
+/// on a noisy scan, narrower than the widened 2r, is two or three such strips with its margin's lines and cut-off
+/// points beside them, and its twig at its base; a twig's flat strips lie beside its other facets, turned off their
+/// plane, along their whole length. Judged all at once. Returns the points made leaf.
+std::size_t CoplanarFlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
+  double spacing, const SegmentationParameters& p, const std::vector<char>& judged,
+  std::vector<RegionVerdict>& verdicts, const std::vector<int>& region, std::vector<int>& organ)
+{
+  std::vector<std::vector<int>> members, own;
+  StripMembers(judged, verdicts, region, members, own);
+  std::vector<char> flat(points.size(), 0);
+  std::vector<std::size_t> candidates;
+  for (std::size_t r = 0; r < verdicts.size(); ++r)
+  {
+    if (!verdicts[r].strip || own[r].size() < JudgedRegionPoints)
+      continue;
+    Eigen::Vector3d mean;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, own[r], mean));
+    if (SpreadOfNormals(f, own[r], solver.eigenvectors().col(2)).middle >= LoneStripNormalSpread)
+      continue;
+    candidates.push_back(r);
+    for (int j : members[r])
+      flat[static_cast<std::size_t>(j)] = 1;
+  }
+  const double reach = LoneStripReach * f.radius;
+  const double offPlane = std::max(CoplanarStripOffPlane * f.noise, 0.5 * spacing);
+  const double minimumWidth = std::max(CoplanarStripWidth * f.radius, 2.0 * p.featureScale * spacing);
+  const PointGrid grid(points, reach);
+  std::vector<std::size_t> chosen;
+  std::vector<int> near;
+  for (std::size_t r : candidates)
+  {
+    // Its size as JudgeRegions saw it (its own points): no long strip, and wide enough.
+    Eigen::Vector3d mean;
+    const Eigen::Vector3d l =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(Scatter(points, own[r], mean) / static_cast<double>(own[r].size()))
+        .eigenvalues()
+        .cwiseMax(0.0);
+    if (2.0 * std::sqrt(3.0 * l[1]) < minimumWidth || !(std::sqrt(l[2]) < p.maximumLeafElongation * std::sqrt(l[1])))
+      continue;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(
+      Scatter(points, members[r], mean) / static_cast<double>(members[r].size()));
+    const Eigen::Vector3d normal = solver.eigenvectors().col(0);
+    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), high = -low;
+    for (int m : members[r])
+    {
+      grid.Within(points[static_cast<std::size_t>(m)], reach, near);
+      const bool touches = std::any_of(near.begin(), near.end(), [&](int j) {
+        const auto q = static_cast<std::size_t>(j);
+        return organ[q] == OrganWood && region[q] != static_cast<int>(r) &&
+          ((!flat[q] && !IsLinear(f, q) && region[q] >= 0) || std::abs((points[q] - mean).dot(normal)) > offPlane);
+      });
+      if (!touches)
+        continue;
+      const Eigen::Vector3d d = points[static_cast<std::size_t>(m)] - mean;
+      const Eigen::Vector2d at(d.dot(solver.eigenvectors().col(1)), d.dot(solver.eigenvectors().col(2)));
+      low = low.cwiseMin(at);
+      high = high.cwiseMax(at);
+    }
+    if (!(low[0] <= high[0]) || (high - low).maxCoeff() <= CoplanarStripContact * f.radius)
+      chosen.push_back(r);
+  }
+  return StripsMadeLeaf(chosen, members, verdicts, organ);
+}
+
 /// A strip among leaves has under this fraction of wood among the points within StripRingLinks links around it. On the
 /// 18 simulated scans of the accuracy benchmark the strips left wood that are truly wood lie beside wood (the points
 /// around 95 % of them over 45 % wood, around three quarters of them all wood); around half of those truly leaf under
@@ -2141,6 +2220,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
     labels.confidence[i] = judged[i] ? v.confidence : 0.5 * v.confidence;
   }
   LoneFlatStripsAreLeaves(points, f, judged, verdicts, region, labels.organ);
+  CoplanarFlatStripsAreLeaves(points, f, spacing, p, judged, verdicts, region, labels.organ);
   StripsAmongLeavesAreLeaves(points, f, graph, judged, spacing, verdicts, region, labels.organ);
   ThickWoodKeepsItsSurface(points, f, verdicts, region, p, std::max(ThickWoodBand * f.noise, spacing), labels.organ);
   AbsorbWoodFragments(graph, verdicts, p, region, labels.organ);

@@ -1061,6 +1061,31 @@ TEST(PlantSegmentation, ANarrowLeafAmongLeavesBesideATwigIsLeaf)
   EXPECT_GT(static_cast<double>(twigWood), 0.95 * static_cast<double>(t.points.size() - twig));
 }
 
+TEST(PlantSegmentation, ASmallLeafOnATwigOnANoisyScanIsLeaf)
+{
+  // The five-leaf plant at range noise 0.003 (the features' radius r widened to 12 times the noise, about 0.036),
+  // with beside it a small flat leaf 0.05 wide and 0.12 long: narrower than 2r, wider than r and than 2 FeatureScale
+  // spacings (0.04), so a flat strip judged wood for its width. A twig seen as one line of points leaves its base at
+  // 45 degrees to its plane; the leaf's margin leaves a few points cut off from every region. The twig within r / 2
+  // and its line off the leaf's plane around it kept the strip wood, as a strip of a branch is. It touches wood off
+  // its plane at one spot only (its base), its other wood neighbours are its own cut-off points in its plane: leaf.
+  Truth t = SyntheticPlant(5, 0.005, 0.003);
+  const double h = 0.005;
+  NoisyAdder add{ t, std::mt19937(11), std::normal_distribution<double>(0.0, 0.003) };
+  const double tilt = 45.0 * Pi / 180.0;
+  for (double s = 0.3; s >= -1e-12; s -= h)
+    add(Eigen::Vector3d(-0.6, 0.3 - s * std::sin(tilt), 0.5 - s * std::cos(tilt)), plantmorph::OrganWood, -1);
+  const std::size_t leaf = t.points.size();
+  for (double s = h; s <= 0.12 + 1e-12; s += h)
+    for (double w = -0.025; w <= 0.025 + 1e-12; w += h)
+      add(Eigen::Vector3d(-0.6 + w, 0.3, 0.5 + s), plantmorph::OrganLeaf, 5);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  const std::size_t leafLeaf = CountOrgan(r, leaf, t.points.size(), plantmorph::OrganLeaf);
+  EXPECT_GT(static_cast<double>(leafLeaf), 0.9 * static_cast<double>(t.points.size() - leaf));
+  EXPECT_GT(OrganIoU(t, r, plantmorph::OrganLeaf), 0.9);
+}
+
 TEST(PlantSegmentation, AThinBranchAmongLargeLeavesStaysWood)
 {
   // Beside the plant of seven leaves, a thin branch seen from one side: an arc of its surface (radius 0.05, 0.025
