@@ -593,6 +593,24 @@ TEST(LeafShape, StalkBelowACuspSeenFromTwoSidesEndsWhereItsFittedAxisMeetsTheBla
   }
 }
 
+TEST(LeafShape, StalkSeenAllRoundAsDenselyAsTheBladeIsNotTakenForBlade)
+{
+  // Two scans from either side see a stalk (a tube of radius 1 % of the length, 1.7 spacings) over most of its
+  // circumference, as densely as the blade: a ball of the opening on it holds as many points as a ball inside the
+  // blade, and the count alone took the stalk for blade (no petiole; a curled blade was then turned end to end,
+  // its petiole counted in its Length). The ball's points on the stalk spread along it more than across, and are
+  // round across it, not flat like a narrow strip of blade: no blade's.
+  const Eigen::Isometry3d pose = Tilted();
+  const Synthetic scan = TubeScan(
+    0, 0.006, 0.01, 8, [](int, int j) { return -40.0 + 37.0 * j; }, pose);
+  const fit::Petiole found = fit::FindPetiole(scan.points, MedianSpacing(scan.points));
+  ASSERT_TRUE(found.found);
+  EXPECT_LT((found.junction - pose * Eigen::Vector3d::Zero()).norm(), 0.02 * scan.length)
+    << "junction " << (pose.inverse() * found.junction).transpose();
+  EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength);
+  ExpectShape(scan, pose, Expected());
+}
+
 TEST(LeafShape, StalkSeenInPiecesBeyondAShadowIsMeasuredToItsEnd)
 {
   // A line scan leaves gaps along a stalk where the blade shadows it: here the lines over 8 spacings of it (twice
