@@ -476,6 +476,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     {
       f.outline.junction = junction.y();
       f.outline.junctionMeetsPlane = petiole.meetsPlane;
+      f.outline.junctionAcrossGap = petiole.acrossGap;
       f.outline.stalkHalfWidth = petiole.halfWidth;
     }
   }

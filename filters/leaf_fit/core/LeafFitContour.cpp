@@ -471,11 +471,13 @@ bool BaseEnd(const std::vector<Eigen::Vector2d>& ts, const Outline& outline, dou
   {
     const double bound = outline.junction - spacing;
     baseS = outline.junctionMeetsPlane && bound > outline.s0 ? bound : outline.s0;
-    if (outline.junction < baseS && LowestSamplesSpan(ts, spacing) > 2.0 * outline.stalkHalfWidth + spacing)
+    if (outline.junction < baseS &&
+      (outline.junctionAcrossGap || LowestSamplesSpan(ts, spacing) > 2.0 * outline.stalkHalfWidth + spacing))
       baseS = outline.junction;
     return true;
   }
-  if (outline.junctionMeetsPlane && BaseRunsToJunction(ts, outline.junction, crossing, spacing))
+  if ((outline.junctionMeetsPlane && BaseRunsToJunction(ts, outline.junction, crossing, spacing)) ||
+    (outline.junctionAcrossGap && outline.junction < crossing))
   {
     baseS = outline.junction;
     return true;
@@ -762,8 +764,11 @@ Contour ContourFromLoop(const std::vector<Eigen::Vector2d>& loop, const std::vec
     const int steps = std::max(2, static_cast<int>(std::ceil(std::abs(to - from) / (0.25 * spacing))));
     for (int k = 1; k < steps; ++k)
     {
+      // A base below the smooth margins' tip (down to a stalk's junction across a gap) is reached in a straight
+      // line from where they have width: along t = 0 the two sides would meet and the outline would fold.
       const double y = from + (to - from) * k / steps;
-      side.push_back({ right ? outline.Right(y) : outline.Left(y), y });
+      if (y > outline.s0)
+        side.push_back({ right ? outline.Right(y) : outline.Left(y), y });
     }
   };
   for (int side = 0; side < 2; ++side)

@@ -84,6 +84,9 @@ struct Outline
   /// Whether that junction is where the stalk's axis meets the blade's plane (a stalk leaving the blade at an angle),
   /// not only where the thin trail of points ends.
   bool junctionMeetsPlane = false;
+  /// Whether the stalk begins a gap away from the blade's samples (Petiole::acrossGap): the blade runs on, unseen,
+  /// down to the junction.
+  bool junctionAcrossGap = false;
   double stalkHalfWidth = 0.0;   ///< that petiole's half-width about its axis
   PenalizedSpline1D right, left; // g for the right margin (> 0) and for minus the left margin (> 0)
   double Phi(double s) const;

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numeric>
 #include <optional>
 #include <queue>
@@ -29,6 +30,7 @@ struct Trail
   std::vector<double> distance; // graph distance from the blade, per id
   std::vector<int> contact;     // positions in ids of the points touching the blade
   double extent = 0.0;
+  bool acrossGap = false; // it touches the blade across a gap (AcrossAGap)
 };
 
 /// The sheet's spacing from its density (the nearest-neighbour distance is half of it on randomly placed samples,
@@ -49,9 +51,31 @@ double DensitySpacing(const std::vector<Eigen::Vector3d>& points)
   return r8[r8.size() / 2] * std::sqrt(3.14159265358979323846 / 8.0);
 }
 
+/// Whether the points `ids` (a ball's) lie on a stalk seen from more than one side, not on the sheet: they spread
+/// along it over the ball's chord and across it over its diameter only (their second principal variance under half
+/// their first: a tube of radius rho seen all round gives 1.5 rho^2 / (r^2 - rho^2), half at rho = r / 2), and they
+/// are round, not flat (their least variance over a fifth of the second: a half tube, seen from one side, gives
+/// 0.19, more of it more; a narrow strip of the sheet, a lobe, 12 sigma^2 / w^2 for range noise sigma, under a fifth
+/// while it is wider than 8 sigma). Two scans seeing a stalk from either side sample it as densely as the sheet, and
+/// the count alone took it for blade.
+bool OnAStalk(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
+{
+  if (ids.size() < 3)
+    return false;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int j : ids)
+    mean += points[j];
+  mean /= static_cast<double>(ids.size());
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (int j : ids)
+    C += (points[j] - mean) * (points[j] - mean).transpose();
+  const Eigen::Vector3d variance = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues();
+  return variance[1] < 0.5 * variance[2] && variance[0] > 0.2 * variance[1];
+}
+
 /// Which points the blade's opening covers: a point whose ball of radius `radius` holds at least 70 % of what a
-/// ball inside the sheet holds (the 90th percentile of the counts) is a centre; every point within `radius` of a
-/// centre is blade.
+/// ball inside the sheet holds (the 90th percentile of the counts) and does not lie on a stalk (OnAStalk) is a
+/// centre; every point within `radius` of a centre is blade.
 std::vector<unsigned char> Opening(
   const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double radius, const ParallelFor& parallel)
 {
@@ -65,8 +89,14 @@ std::vector<unsigned char> Opening(
   std::nth_element(sorted.begin(), sorted.begin() + q, sorted.end());
   const double full = sorted[q];
   std::vector<unsigned char> centre(n, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    centre[i] = count[i] >= 0.7 * full ? 1 : 0;
+  ForEachIndex(parallel, n, [&](std::size_t k) {
+    const int i = ids[k];
+    if (!(count[i] >= 0.7 * full))
+      return;
+    std::vector<int> near;
+    grid.Within(points[i], radius, near);
+    centre[i] = OnAStalk(points, near) ? 0 : 1;
+  });
   // A point is blade when a centre lies within `radius` of it: itself, or the first centre its search meets.
   std::vector<unsigned char> blade(n, 0);
   ForEachIndex(parallel, n, [&](std::size_t k) {
@@ -112,10 +142,35 @@ void Distances(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid
   trail.extent = *std::max_element(trail.distance.begin(), trail.distance.end());
 }
 
-/// The connected thin parts (neighbours closer than `link`) that touch the blade, each with its points' graph
-/// distances from the blade.
+/// A thin part that does not touch the blade may still leave it: a base narrowing gradually into the stalk (an
+/// acuminate base) is narrower than the scan's lines are apart over its last stretch, which the scan misses, so the
+/// stalk begins a gap away from the blade's lowest samples. A part whose points come within `gap` of the blade's
+/// touches it at its points nearest the blade (within a spacing of the nearest).
+void AcrossAGap(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid,
+  const std::vector<unsigned char>& blade, double gap, double spacing, Trail& trail)
+{
+  std::vector<double> nearest(trail.ids.size(), std::numeric_limits<double>::infinity());
+  std::vector<int> near;
+  for (std::size_t k = 0; k < trail.ids.size(); ++k)
+  {
+    grid.Within(points[trail.ids[k]], gap, near);
+    for (int j : near)
+      if (blade[j])
+        nearest[k] = std::min(nearest[k], (points[j] - points[trail.ids[k]]).norm());
+  }
+  const double closest = *std::min_element(nearest.begin(), nearest.end());
+  if (!(closest <= gap))
+    return;
+  for (std::size_t k = 0; k < trail.ids.size(); ++k)
+    if (nearest[k] <= closest + spacing)
+      trail.contact.push_back(static_cast<int>(k));
+  trail.acrossGap = true;
+}
+
+/// The connected thin parts (neighbours closer than `link`) that touch the blade (or leave it across a gap up to
+/// `gap`, AcrossAGap; `spacing` the points'), each with its points' graph distances from the blade.
 std::vector<Trail> Trails(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid,
-  const std::vector<unsigned char>& blade, double link)
+  const std::vector<unsigned char>& blade, double link, double gap, double spacing)
 {
   const int n = static_cast<int>(points.size());
   DisjointSets<int> parts(static_cast<std::size_t>(n));
@@ -155,6 +210,8 @@ std::vector<Trail> Trails(const std::vector<Eigen::Vector3d>& points, const Poin
       if (touches[trail.ids[k]])
         trail.contact.push_back(static_cast<int>(k));
     }
+    if (trail.contact.empty() && trail.ids.size() >= 5)
+      AcrossAGap(points, grid, blade, gap, spacing, trail);
     if (trail.contact.empty())
       continue;
     Distances(points, grid, blade, position, link, trail);
@@ -816,7 +873,10 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
       C += (points[i] - mean) * (points[i] - mean).transpose();
   const double bladeWidth =
     4.0 * std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C / bladeCount).eigenvalues()[1]));
-  const std::vector<Trail> trails = Trails(points, grid, blade, link);
+  // A stalk leaving the blade across the unseen end of its base lies up to 20 spacings from the blade's samples (12
+  // to 16 on an acuminate base scanned at about 10^4 points); a stray piece that far out is still tested as a stalk.
+  const double gap = 20.0 * spacing;
+  const std::vector<Trail> trails = Trails(points, grid, blade, link, gap, spacing);
   const Trail* best = nullptr;
   Bins bestBins;
   for (const Trail& trail : trails)
@@ -838,6 +898,7 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
   if (best->extent - from < 5.0 * spacing)
     return petiole;
   petiole.found = true;
+  petiole.acrossGap = best->acrossGap;
   for (std::size_t k = 0; k < best->ids.size(); ++k)
     if (best->distance[k] >= from)
       petiole.member[best->ids[k]] = 1;

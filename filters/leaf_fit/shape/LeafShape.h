@@ -3,12 +3,14 @@
 // blade's midvein axis from its base and its symmetry. Plain C++17 (Eigen), no VTK.
 //
 // Petiole: the blade is what a ball of a few point spacings rolled inside the cloud covers (a morphological opening:
-// the points whose ball holds most of the points a ball inside the sheet holds, and every point within such a ball).
+// the points whose ball holds most of the points a ball inside the sheet holds, not spread along a line and round
+// across it like a stalk seen from two sides, and every point within such a ball).
 // What the opening leaves out are thin parts: a petiole (a trail one to a few points wide, or sparser and wider
 // where a stalk is seen from the side), acute tips and teeth (wedges). A left-out part touching the blade is a
 // petiole when it keeps its width (measured across the trail, in bins of distance from the blade) over at least 6
 // spacings, is narrow, and does not narrow away from the blade like a wedge (a winged petiole may taper first); the
-// longest such part is the petiole. Its junction is its first points at the blade, or where the stalk's axis (from its
+// longest such part is the petiole. A part within 20 spacings of the blade touches it across that gap (the unseen
+// end of a base narrowing into the stalk, narrower than the scan's lines are apart): the blade runs on to it. Its junction is its first points at the blade, or where the stalk's axis (from its
 // cross-section: a scanner sees one side of it; its direction through its points where two of its stretches'
 // centroids tilt it) meets the blade's plane; its length is measured along the trail's
 // centre line (bins' centroids two stalk widths apart), on across gaps to the pieces of the stalk beyond them that
@@ -43,6 +45,9 @@ struct Petiole
   /// The junction is where the stalk's axis meets the blade's plane (a stalk leaving the blade at 15 degrees or
   /// more), not only where the thin trail ends.
   bool meetsPlane = false;
+  /// The stalk begins a gap away from the blade's samples (a base narrowing into it, narrower than the scan's lines
+  /// are apart over its last stretch, which the scan misses): the blade runs on, unseen, to the junction.
+  bool acrossGap = false;
   double halfWidth = 0.0;                 ///< the stalk's half-width about its axis (zero when it has no axis)
   std::vector<unsigned char> looseMember; ///< per point of FindPetiole's `loose`: 1 for the petiole's points
 };

@@ -67,6 +67,9 @@ LeafGeometry Blade(int preset, double length)
   else if (preset == 8)
     error =
       BuildDeformedRectangleLeaf(MakeDeformedRectanglePreset(DeformedRectanglePreset::Lobed, length), settings, leaf);
+  else if (preset == 12)
+    error = BuildDeformedRectangleLeaf(
+      MakeDeformedRectanglePreset(DeformedRectanglePreset::AcuminateBaseEmarginateApex, length), settings, leaf);
   else if (preset == 11)
   {
     SpaceCurveMeshParameters curveSettings;
@@ -358,15 +361,16 @@ void ForEachLatticePoint(
 
 /// The flat blade sampled on a square grid of step `step` (a scanner's regular lines, which follow a narrow tip out
 /// to its end where random samples thin out), noise `sigma` along Z, then a straight petiole from the base along
-/// `stalk` in a strip `across` samples wide at the same step; everything moved by `pose`.
+/// `stalk` in a strip `across` samples wide at the same step; everything moved by `pose`. The grid's columns lie at
+/// x = (i + phase) * step (phase 0.5: none along the midvein).
 Synthetic GridScan(const LeafGeometry& leaf, double step, double sigma, double petiole,
-  const std::function<Eigen::Vector3d(double)>& stalk, int across, const Eigen::Isometry3d& pose)
+  const std::function<Eigen::Vector3d(double)>& stalk, int across, const Eigen::Isometry3d& pose, double phase = 0.0)
 {
   std::mt19937_64 random(5);
   std::normal_distribution<double> gauss(0.0, 1.0);
   const auto& P = leaf.blade.points;
   Synthetic scan;
-  ForEachLatticePoint(leaf, step, 0.0, step, [&](double x, double y) {
+  ForEachLatticePoint(leaf, step, phase, step, [&](double x, double y) {
     scan.points.push_back(pose * Eigen::Vector3d(x, y, sigma * gauss(random)));
     scan.petiole.push_back(0);
   });
@@ -526,14 +530,15 @@ TEST(LeafShape, CordateBaseOnAScannersGridIsMeasuredFromTheSinusBottom)
 
 /// Blade `preset` 100 long on a grid of `grid` of its length (noise 0.3 % of it), and a stalk: a tube of radius
 /// `radius` (of the length), 30 % as long, leaving the base 30 degrees below the blade, crossed by lines one step
-/// apart along it; `arc(line, j)` is the angle (degrees, 0 at +X, 90 on top) of the line's j-th of `count` samples.
+/// apart along it; `arc(line, j)` is the angle (degrees, 0 at +X, 90 on top) of the line's j-th of `count` samples;
+/// `phase` the grid's (GridScan).
 Synthetic TubeScan(int preset, double grid, double radius, int count, const std::function<double(int, int)>& arc,
-  const Eigen::Isometry3d& pose)
+  const Eigen::Isometry3d& pose, double phase = 0.0)
 {
   const LeafGeometry leaf = Blade(preset, 100.0);
   const double length = GridScan(leaf, 1.0, 0.0, 0.0, Straight(30.0), 0, pose).length;
   const double step = grid * length, petiole = 0.3 * length;
-  Synthetic scan = GridScan(leaf, step, 0.003 * length, 0.0, Straight(30.0), 0, pose);
+  Synthetic scan = GridScan(leaf, step, 0.003 * length, 0.0, Straight(30.0), 0, pose, phase);
   const auto axis = Straight(30.0);
   const Eigen::Vector3d d = (axis(1.0) - axis(0.0)).normalized(), side = Eigen::Vector3d::UnitX();
   Eigen::Vector3d up = side.cross(d).normalized();
@@ -591,6 +596,44 @@ TEST(LeafShape, StalkBelowACuspSeenFromTwoSidesEndsWhereItsFittedAxisMeetsTheBla
       << "preset " << preset << " junction " << (pose.inverse() * found.junction).transpose();
     EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength) << "preset " << preset;
   }
+}
+
+TEST(LeafShape, StalkBeyondTheUnseenEndOfAnAcuminateBaseIsFound)
+{
+  // An acuminate base narrows gradually into the stalk: over its last few percent of the length it is narrower than
+  // a scanner's lines are apart, and lines that do not run along the midvein (here half a step off it) miss it, so
+  // the stalk (a tube of radius 1 % of the length, seen from above) begins a gap of several spacings away from the
+  // blade's lowest samples, touching no part of the blade. It is the petiole all the same, and the blade runs on,
+  // unseen, down to it: the base is at the junction (it was not found: the base lay 7-12 % of the length up the
+  // blade and the Length was as much short).
+  const Eigen::Isometry3d pose = Tilted();
+  const Synthetic scan = TubeScan(
+    12, 0.007, 0.01, 3, [](int, int j) { return 45.0 + 45.0 * j; }, pose, 0.5);
+  const fit::Petiole found = fit::FindPetiole(scan.points, MedianSpacing(scan.points));
+  ASSERT_TRUE(found.found);
+  EXPECT_TRUE(found.acrossGap);
+  EXPECT_LT((found.junction - pose * Eigen::Vector3d::Zero()).norm(), 0.02 * scan.length)
+    << "junction " << (pose.inverse() * found.junction).transpose();
+  EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength);
+  ExpectShape(scan, pose, Expected());
+}
+
+TEST(LeafShape, StalkSeenAllRoundAsDenselyAsTheBladeIsNotTakenForBlade)
+{
+  // Two scans from either side see a stalk (a tube of radius 1 % of the length, 1.7 spacings) over most of its
+  // circumference, as densely as the blade: a ball of the opening on it holds as many points as a ball inside the
+  // blade, and the count alone took the stalk for blade (no petiole; a curled blade was then turned end to end,
+  // its petiole counted in its Length). The ball's points on the stalk spread along it more than across, and are
+  // round across it, not flat like a narrow strip of blade: no blade's.
+  const Eigen::Isometry3d pose = Tilted();
+  const Synthetic scan = TubeScan(
+    0, 0.006, 0.01, 8, [](int, int j) { return -40.0 + 37.0 * j; }, pose);
+  const fit::Petiole found = fit::FindPetiole(scan.points, MedianSpacing(scan.points));
+  ASSERT_TRUE(found.found);
+  EXPECT_LT((found.junction - pose * Eigen::Vector3d::Zero()).norm(), 0.02 * scan.length)
+    << "junction " << (pose.inverse() * found.junction).transpose();
+  EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength);
+  ExpectShape(scan, pose, Expected());
 }
 
 TEST(LeafShape, StalkSeenInPiecesBeyondAShadowIsMeasuredToItsEnd)
