@@ -389,6 +389,29 @@ void RebuildableModel(const LeafFitParameters& options, const Fitted& f, LeafFit
     std::to_string(options.modelControlPoints) + " or fewer control points (" + first + ")";
 }
 
+/// Whether a petiole found leaves the blade at its given base `basePoint`: its junction lies nearer the base than
+/// the blade's centroid does. A thin trail at the blade's other end is its drawn-out (acuminate) tip, a point or
+/// two across and as straight as a stalk, and stays in the blade (its Length ran to where the trail began).
+bool StalkAtTheBase(
+  const std::vector<Eigen::Vector3d>& points, const fit::Petiole& petiole, const Eigen::Vector3d& basePoint)
+{
+  if (!petiole.found || points.empty())
+    return true;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& p : points)
+    centroid += p;
+  centroid /= static_cast<double>(points.size());
+  return (petiole.junction - basePoint).norm() < (centroid - basePoint).norm();
+}
+
+fit::Petiole NoPetiole(std::size_t points, std::size_t loose)
+{
+  fit::Petiole none;
+  none.member.assign(points, 0);
+  none.looseMember.assign(loose, 0);
+  return none;
+}
+
 std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options,
   const ParallelFor& parallel, LeafFitResult& result)
 {
@@ -420,12 +443,11 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     (keep[i] ? cleanPoints : strays).push_back(fitted[i]);
   }
   fit::Petiole petiole = fit::FindPetiole(cleanPoints, spacing, parallel, strays);
-  if (fit::StalkIsTheBladesTip(cleanPoints, petiole, spacing))
-  {
-    petiole = fit::Petiole();
-    petiole.member.assign(cleanPoints.size(), 0);
-    petiole.looseMember.assign(strays.size(), 0);
-  }
+  // A thin trail at the blade's far end from a given base, or without a base given a short one at an end that reads
+  // as a drawn-out tip, is the blade's tip, not a petiole.
+  if (options.basePoint ? !StalkAtTheBase(cleanPoints, petiole, *options.basePoint)
+                        : fit::StalkIsTheBladesTip(cleanPoints, petiole, spacing))
+    petiole = NoPetiole(cleanPoints.size(), strays.size());
   result.petiole.assign(points.size(), 0);
   for (std::size_t k = 0; k < removed.size(); ++k)
     if (petiole.looseMember[k])

@@ -435,6 +435,35 @@ bool BaseRunsToJunction(const std::vector<Eigen::Vector2d>& ts, double junction,
   return true;
 }
 
+/// Whether the blade ends in a drawn-out (acuminate) tip a point or two across along the midvein, from `from` on:
+/// at least 4 points beyond `from`, all within `r` of t = 0 (at most the closing's discs' radius: a rounded or acute
+/// apex is wider there; a notch's lobes lie farther out), leaving no gap along s wider than 2 r (random samples
+/// along a tip a fraction of a spacing across lie up to 4 spacings apart; a stray point beyond the apex leaves a
+/// wider gap). `end`: its last sample and the mean gap between its last samples (up to 10): the tip's samples lie
+/// one behind the other and do not thin out as a blade's area does, so the tip extrapolated from the highest
+/// samples by the area's growth (the smooth margins' s1) lay up to 4 spacings beyond it.
+bool DrawnOutApex(const std::vector<Eigen::Vector2d>& ts, double from, double r, double& end)
+{
+  std::vector<double> along;
+  for (const auto& p : ts)
+    if (p.y() > from)
+    {
+      if (!(std::abs(p.x()) < r))
+        return false;
+      along.push_back(p.y());
+    }
+  if (along.size() < 4)
+    return false;
+  along.push_back(from);
+  std::sort(along.begin(), along.end());
+  for (std::size_t k = 1; k < along.size(); ++k)
+    if (along[k] - along[k - 1] > 2.0 * r)
+      return false;
+  const std::size_t gaps = std::min<std::size_t>(10, along.size() - 2);
+  end = along.back() + (along.back() - along[along.size() - 1 - gaps]) / static_cast<double>(gaps);
+  return true;
+}
+
 /// How far across (t) the blade's samples within a spacing of its lowest (along s) spread.
 double LowestSamplesSpan(const std::vector<Eigen::Vector2d>& ts, double spacing)
 {
@@ -722,8 +751,15 @@ Contour ContourFromLoop(const std::vector<Eigen::Vector2d>& loop, const std::vec
   const double shallow = std::max(4.0 * spacing, MinNotchDepth * extent);
   double baseS = outline.s0;
   const bool baseTip = BaseEnd(ts, outline, base.first, shallow, spacing, baseS);
-  const bool apexTip = ApexIsTip(loop, apex, outline.s1, extent, spacing);
-  const double apexS = apexTip ? outline.s1 : ApexEnd(loop, ts, apex, extent, shallow, spacing, gap);
+  // A drawn-out tip (DrawnOutApex) ends a mean gap beyond its last sample, wherever the loop crosses the midvein
+  // (it does not follow a run of points one across). Where the loop's crossing is a tip already, only a run one
+  // point across (within a spacing of t = 0) is one: an acute apex's samples thin out as its area does.
+  double drawnEnd = 0.0;
+  const bool nearTip = ApexIsTip(loop, apex, outline.s1, extent, spacing);
+  const bool drawnOut = DrawnOutApex(ts, apex.first - 5.0 * spacing, (nearTip ? 1.0 : 2.5) * spacing, drawnEnd);
+  const bool apexTip = drawnOut || nearTip;
+  const double apexS = drawnOut ? std::min(outline.s1, drawnEnd)
+                                : (apexTip ? outline.s1 : ApexEnd(loop, ts, apex, extent, shallow, spacing, gap));
   // (A shallow notch's walls are left out with the tip: the cut reaches 2 spacings below its bottom.)
   const double baseCut = baseTip ? baseS + std::max(6.0 * spacing, base.first - baseS + 2.0 * spacing) : -1e300;
   const double apexCut =
