@@ -567,6 +567,24 @@ std::size_t StripsMadeLeaf(const std::vector<std::size_t>& chosen, const std::ve
   return count;
 }
 
+/// The strip regions with enough points of their own (JudgedRegionPoints) whose own points' normals do not turn
+/// about the strip's length (LoneStripNormalSpread): flat strips, in region order.
+std::vector<std::size_t> FlatStrips(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
+  const std::vector<RegionVerdict>& verdicts, const std::vector<std::vector<int>>& own)
+{
+  std::vector<std::size_t> flat;
+  for (std::size_t r = 0; r < verdicts.size(); ++r)
+  {
+    if (!verdicts[r].strip || own[r].size() < JudgedRegionPoints)
+      continue;
+    Eigen::Vector3d mean;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, own[r], mean));
+    if (!(SpreadOfNormals(f, own[r], solver.eigenvectors().col(2)).middle >= LoneStripNormalSpread))
+      flat.push_back(r);
+  }
+  return flat;
+}
+
 /// Strips (flat, coherent, no cylinder, wood only for being narrower than 2r or long) that no flat surroundings made
 /// leaf are leaf when no wood lies within LoneStripReach r of them and the normals of their own points (those grown,
 /// not spread into them) do not turn about their length (LoneStripNormalSpread). Wood is a tube: its strips lie
@@ -586,14 +604,8 @@ std::size_t LoneFlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& points, 
     wood[i] = organ[i] == OrganWood ? 1 : 0;
   const PointGrid grid(points, reach);
   std::vector<std::size_t> lone;
-  for (std::size_t r = 0; r < verdicts.size(); ++r)
+  for (std::size_t r : FlatStrips(points, f, verdicts, own))
   {
-    if (!verdicts[r].strip || own[r].size() < JudgedRegionPoints)
-      continue;
-    Eigen::Vector3d mean;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, own[r], mean));
-    if (SpreadOfNormals(f, own[r], solver.eigenvectors().col(2)).middle >= LoneStripNormalSpread)
-      continue;
     for (int j : members[r])
       wood[static_cast<std::size_t>(j)] = 0;
     const bool alone = std::none_of(members[r].begin(), members[r].end(),
@@ -631,16 +643,9 @@ std::size_t CoplanarFlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& poin
   std::vector<std::vector<int>> members, own;
   StripMembers(judged, verdicts, region, members, own);
   std::vector<char> flat(points.size(), 0);
-  std::vector<std::size_t> candidates;
-  for (std::size_t r = 0; r < verdicts.size(); ++r)
+  const std::vector<std::size_t> candidates = FlatStrips(points, f, verdicts, own);
+  for (std::size_t r : candidates)
   {
-    if (!verdicts[r].strip || own[r].size() < JudgedRegionPoints)
-      continue;
-    Eigen::Vector3d mean;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, own[r], mean));
-    if (SpreadOfNormals(f, own[r], solver.eigenvectors().col(2)).middle >= LoneStripNormalSpread)
-      continue;
-    candidates.push_back(r);
     for (int j : members[r])
       flat[static_cast<std::size_t>(j)] = 1;
   }
