@@ -279,6 +279,47 @@ Eigen::Vector3d AreaCentroid(const std::vector<Eigen::Vector3d>& points, const E
   return weight > 0.0 ? Eigen::Vector3d(sum / weight) : centroid;
 }
 
+/// The widths across `X` of 20 slices of the points along `Y` (taken about `centre`), from the lowest along Y to the
+/// highest; `lo` and `hi` the points' extent along Y (0 included). The base and apex rules read the blade's shape
+/// from them. All zero when the points have no extent along Y.
+std::vector<double> SliceWidths(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& centre,
+  const Eigen::Vector3d& Y, const Eigen::Vector3d& X, double& lo, double& hi)
+{
+  const int slices = 20;
+  std::vector<double> along(points.size()), across(points.size());
+  lo = 0.0;
+  hi = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    along[i] = (points[i] - centre).dot(Y);
+    across[i] = (points[i] - centre).dot(X);
+    lo = std::min(lo, along[i]);
+    hi = std::max(hi, along[i]);
+  }
+  std::vector<double> width(slices, 0.0);
+  if (!(hi > lo))
+    return width;
+  std::vector<double> minA(slices, 1e300), maxA(slices, -1e300);
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const int k = std::clamp(static_cast<int>((along[i] - lo) / (hi - lo) * slices), 0, slices - 1);
+    minA[k] = std::min(minA[k], across[i]);
+    maxA[k] = std::max(maxA[k], across[i]);
+  }
+  for (int k = 0; k < slices; ++k)
+    width[k] = maxA[k] >= minA[k] ? maxA[k] - minA[k] : 0.0;
+  return width;
+}
+
+/// Whether the slices' first end (or with `last` their last end) is narrow: its two end slices narrower than 0.06
+/// and 0.1 of the widest (an acute apex of a broad leaf widens faster than that).
+bool NarrowEnd(const std::vector<double>& width, double widest, bool last)
+{
+  const std::size_t n = width.size();
+  return last ? width[n - 1] < 0.06 * widest && width[n - 2] < 0.1 * widest
+              : width[0] < 0.06 * widest && width[1] < 0.1 * widest;
+}
+
 /// Whether a blade's one narrow end is its base (else its apex), from the widths of its slices counted from that
 /// end (`width`, 20 slices of the blade's `length`; `widest` the largest). A stalk keeps its width along its length:
 /// the two end slices within 1.5 point spacings or half the wider's width of each other. A fan (the blade wider than
@@ -308,36 +349,17 @@ bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector
   const Eigen::Vector3d& X, double spacing, bool& undecided)
 {
   undecided = false;
-  std::vector<double> along(points.size()), across(points.size());
+  // Widths of 20 slices; the narrow-end tests look at the end slices, the ovate test at the widest slice.
   double lo = 0.0, hi = 0.0;
-  for (std::size_t i = 0; i < points.size(); ++i)
-  {
-    along[i] = (points[i] - centroid).dot(Y);
-    across[i] = (points[i] - centroid).dot(X);
-    lo = std::min(lo, along[i]);
-    hi = std::max(hi, along[i]);
-  }
-  // Widths of 20 slices; the petiole test looks at the end slices, the ovate test at the widest slice.
-  const int slices = 20;
-  std::vector<double> minA(slices, 1e300), maxA(slices, -1e300);
-  for (std::size_t i = 0; i < points.size(); ++i)
-  {
-    const int k = std::clamp(static_cast<int>((along[i] - lo) / (hi - lo) * slices), 0, slices - 1);
-    minA[k] = std::min(minA[k], across[i]);
-    maxA[k] = std::max(maxA[k], across[i]);
-  }
-  std::vector<double> width(slices, 0.0);
-  for (int k = 0; k < slices; ++k)
-    width[k] = maxA[k] >= minA[k] ? maxA[k] - minA[k] : 0.0;
+  const std::vector<double> width = SliceWidths(points, centroid, Y, X, lo, hi);
+  const int slices = static_cast<int>(width.size());
   const double widest = *std::max_element(width.begin(), width.end());
   // The longer terminal lobe is the apex (a curled or obliquely seen palmate base can look like a short one).
   const int lobeLow = TerminalLobe(width, widest, false), lobeHigh = TerminalLobe(width, widest, true);
   if (lobeLow != lobeHigh)
     return lobeLow > lobeHigh;
-  // One narrow end (the two end slices narrower than 0.06 and 0.1 of the widest: an acute apex of a broad leaf
-  // widens faster than that) tells the ends apart by its shape and the other end's.
-  const bool narrowLow = width[0] < 0.06 * widest && width[1] < 0.1 * widest;
-  const bool narrowHigh = width[slices - 1] < 0.06 * widest && width[slices - 2] < 0.1 * widest;
+  // One narrow end tells the ends apart by its shape and the other end's.
+  const bool narrowLow = NarrowEnd(width, widest, false), narrowHigh = NarrowEnd(width, widest, true);
   if (narrowLow != narrowHigh)
   {
     std::vector<double> fromNarrow = width;
@@ -382,30 +404,14 @@ bool StalkIsTheBladesTip(const std::vector<Eigen::Vector3d>& points, const Petio
   if (!(Y.norm() > spacing))
     return false;
   Y.normalize();
-  const Eigen::Vector3d X = normal.cross(Y);
-  const int slices = 20;
-  double lo = 1e300, hi = -1e300;
-  for (const auto& p : points)
-  {
-    lo = std::min(lo, (p - centroid).dot(Y));
-    hi = std::max(hi, (p - centroid).dot(Y));
-  }
+  // Widths of the slices, counted from the stalk's end (+Y).
+  double lo = 0.0, hi = 0.0;
+  std::vector<double> width = SliceWidths(points, centroid, Y, normal.cross(Y), lo, hi);
   if (!(hi > lo) || petiole.length >= 0.15 * (hi - lo))
     return false;
-  // Widths of the slices, counted from the stalk's end (+Y).
-  std::vector<double> minA(slices, 1e300), maxA(slices, -1e300), width(slices, 0.0);
-  for (const auto& p : points)
-  {
-    const int k =
-      slices - 1 - std::clamp(static_cast<int>(((p - centroid).dot(Y) - lo) / (hi - lo) * slices), 0, slices - 1);
-    minA[k] = std::min(minA[k], (p - centroid).dot(X));
-    maxA[k] = std::max(maxA[k], (p - centroid).dot(X));
-  }
-  for (int k = 0; k < slices; ++k)
-    width[k] = maxA[k] >= minA[k] ? maxA[k] - minA[k] : 0.0;
+  std::reverse(width.begin(), width.end());
   const double widest = *std::max_element(width.begin(), width.end());
-  const bool narrow = width[0] < 0.06 * widest && width[1] < 0.1 * widest;
-  return narrow && !NarrowEndIsBase(width, widest, hi - lo, spacing);
+  return NarrowEnd(width, widest, false) && !NarrowEndIsBase(width, widest, hi - lo, spacing);
 }
 
 Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
