@@ -23,6 +23,7 @@
 #include <cmath>
 #include <functional>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace plantmorph
@@ -621,6 +622,17 @@ Synthetic TubeScan(double radius, int count, const std::function<double(int, int
   return TubeScan(0, 0.006, radius, count, arc, pose);
 }
 
+/// Finds the petiole of `scan` (moved by `pose`) into `found` and checks it: found, its junction within `tolerance`
+/// of the length from the true base, its length within 5 % of the true one. Call through ASSERT_NO_FATAL_FAILURE.
+void ExpectStalkFound(const Synthetic& scan, const Eigen::Isometry3d& pose, double tolerance, fit::Petiole& found)
+{
+  found = fit::FindPetiole(scan.points, MedianSpacing(scan.points));
+  ASSERT_TRUE(found.found);
+  EXPECT_LT((found.junction - pose * Eigen::Vector3d::Zero()).norm(), tolerance * scan.length)
+    << "junction " << (pose.inverse() * found.junction).transpose();
+  EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength);
+}
+
 TEST(LeafShape, StalkSeenFromAlternatingSidesIsMeasuredAlongItsAxis)
 {
   // A line scan crosses a stalk (a tube of radius 1 % of the length) in lines, and each line sees the side facing
@@ -631,11 +643,8 @@ TEST(LeafShape, StalkSeenFromAlternatingSidesIsMeasuredAlongItsAxis)
   const Eigen::Isometry3d pose = Tilted();
   const Synthetic scan = TubeScan(
     0.01, 3, [](int line, int j) { return line % 2 == 0 ? 45.0 * j : 180.0 - 45.0 * j; }, pose);
-  const fit::Petiole found = fit::FindPetiole(scan.points, MedianSpacing(scan.points));
-  ASSERT_TRUE(found.found);
-  EXPECT_LT((found.junction - pose * Eigen::Vector3d::Zero()).norm(), 0.02 * scan.length)
-    << "junction " << (pose.inverse() * found.junction).transpose();
-  EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength);
+  fit::Petiole found;
+  ASSERT_NO_FATAL_FAILURE(ExpectStalkFound(scan, pose, 0.02, found));
 }
 
 TEST(LeafShape, StalkBelowACuspSeenFromTwoSidesEndsWhereItsFittedAxisMeetsTheBlade)
@@ -650,11 +659,9 @@ TEST(LeafShape, StalkBelowACuspSeenFromTwoSidesEndsWhereItsFittedAxisMeetsTheBla
   {
     const Synthetic scan = TubeScan(
       preset, 0.009, 0.01, 3, [](int line, int j) { return line % 2 == 0 ? 10.0 + 35.0 * j : 170.0 - 35.0 * j; }, pose);
-    const fit::Petiole found = fit::FindPetiole(scan.points, MedianSpacing(scan.points));
-    ASSERT_TRUE(found.found);
-    EXPECT_LT((found.junction - pose * Eigen::Vector3d::Zero()).norm(), 0.01 * scan.length)
-      << "preset " << preset << " junction " << (pose.inverse() * found.junction).transpose();
-    EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength) << "preset " << preset;
+    SCOPED_TRACE("preset " + std::to_string(preset));
+    fit::Petiole found;
+    ASSERT_NO_FATAL_FAILURE(ExpectStalkFound(scan, pose, 0.01, found));
   }
 }
 
@@ -669,12 +676,9 @@ TEST(LeafShape, StalkBeyondTheUnseenEndOfAnAcuminateBaseIsFound)
   const Eigen::Isometry3d pose = Tilted();
   const Synthetic scan = TubeScan(
     12, 0.007, 0.01, 3, [](int, int j) { return 45.0 + 45.0 * j; }, pose, 0.5);
-  const fit::Petiole found = fit::FindPetiole(scan.points, MedianSpacing(scan.points));
-  ASSERT_TRUE(found.found);
+  fit::Petiole found;
+  ASSERT_NO_FATAL_FAILURE(ExpectStalkFound(scan, pose, 0.02, found));
   EXPECT_TRUE(found.acrossGap);
-  EXPECT_LT((found.junction - pose * Eigen::Vector3d::Zero()).norm(), 0.02 * scan.length)
-    << "junction " << (pose.inverse() * found.junction).transpose();
-  EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength);
   ExpectShape(scan, pose, Expected());
 }
 
@@ -688,11 +692,8 @@ TEST(LeafShape, StalkSeenAllRoundAsDenselyAsTheBladeIsNotTakenForBlade)
   const Eigen::Isometry3d pose = Tilted();
   const Synthetic scan = TubeScan(
     0, 0.006, 0.01, 8, [](int, int j) { return -40.0 + 37.0 * j; }, pose);
-  const fit::Petiole found = fit::FindPetiole(scan.points, MedianSpacing(scan.points));
-  ASSERT_TRUE(found.found);
-  EXPECT_LT((found.junction - pose * Eigen::Vector3d::Zero()).norm(), 0.02 * scan.length)
-    << "junction " << (pose.inverse() * found.junction).transpose();
-  EXPECT_NEAR(found.length, scan.petioleLength, 0.05 * scan.petioleLength);
+  fit::Petiole found;
+  ASSERT_NO_FATAL_FAILURE(ExpectStalkFound(scan, pose, 0.02, found));
   ExpectShape(scan, pose, Expected());
 }
 
