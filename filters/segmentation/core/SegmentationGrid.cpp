@@ -12,10 +12,7 @@ namespace
 {
 /// Cells per axis a key holds (21 bits), less the one-cell margin on each side that the 3 x 3 x 3 blocks read.
 constexpr double MaximumCells = double((1 << 21) - 4);
-} // namespace
 
-namespace
-{
 /// The bits needed to hold `value`.
 int BitsFor(std::uint64_t value)
 {
