@@ -283,15 +283,23 @@ std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const Po
 {
   // The parts as given are judged each on its own, side by side (few are cut); the sides of a cut are appended and
   // judged in turn, in the same order as one pass over the parts would.
+  // Per given part: whole, cut in the parallel pass (its sides in `sides`), or cut and replaced by its first side,
+  // which is judged again here.
+  enum Judged : char
+  {
+    Whole,
+    CutAhead,
+    JudgeAgain
+  };
   const std::size_t given = parts.size();
-  std::vector<char> judged(given, 0);
+  std::vector<Judged> judged(given, Whole);
   std::vector<std::vector<int>> sides(given);
   parallel(given, [&](std::size_t begin, std::size_t end) {
     std::vector<int> local(points.size(), -1), side;
     for (std::size_t k = begin; k < end; ++k)
       if (CutInTwo(points, f, graph, cosine, smallest, parts[k], local, side))
       {
-        judged[k] = 1;
+        judged[k] = CutAhead;
         sides[k] = side;
       }
   });
@@ -301,17 +309,17 @@ std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const Po
   {
     const std::vector<int>& ids = parts[k];
     bool cut = false;
-    if (k < given && sides[k].size() == ids.size() && judged[k] == 1)
+    if (k < given && judged[k] == CutAhead)
     {
       cut = true;
       side.swap(sides[k]);
     }
-    else if (k >= given || judged[k] == 2)
+    else if (k >= given || judged[k] == JudgeAgain)
       cut = CutInTwo(points, f, graph, cosine, smallest, ids, local, side);
     if (!cut)
       continue;
     if (k < given)
-      judged[k] = 2; // its first side is judged again, here
+      judged[k] = JudgeAgain;
     std::vector<int> halves[2];
     for (std::size_t m = 0; m < ids.size(); ++m)
       halves[side[m]].push_back(ids[m]);
