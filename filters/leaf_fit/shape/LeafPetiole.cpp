@@ -57,9 +57,11 @@ double DensitySpacing(const std::vector<Eigen::Vector3d>& points)
 /// are round, not flat (their least variance over a fifth of the second: a half tube, seen from one side, gives
 /// 0.19, more of it more; a narrow strip of the sheet, a lobe, 12 sigma^2 / w^2 for range noise sigma, under a fifth
 /// while it is wider than 8 sigma). Two scans seeing a stalk from either side sample it as densely as the sheet, and
-/// the count alone took it for blade.
-bool OnAStalk(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
+/// the count alone took it for blade. `round`, when given: whether the points are round (the second test alone).
+bool OnAStalk(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, bool* round = nullptr)
 {
+  if (round)
+    *round = false;
   if (ids.size() < 3)
     return false;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -70,12 +72,16 @@ bool OnAStalk(const std::vector<Eigen::Vector3d>& points, const std::vector<int>
   for (int j : ids)
     C += (points[j] - mean) * (points[j] - mean).transpose();
   const Eigen::Vector3d variance = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues();
-  return variance[1] < 0.5 * variance[2] && variance[0] > 0.2 * variance[1];
+  const bool isRound = variance[0] > 0.2 * variance[1];
+  if (round)
+    *round = isRound;
+  return variance[1] < 0.5 * variance[2] && isRound;
 }
 
 /// Which points the blade's opening covers: a point whose ball of radius `radius` holds at least 70 % of what a
-/// ball inside the sheet holds (the 90th percentile of the counts) and does not lie on a stalk (OnAStalk) is a
-/// centre; every point within `radius` of a centre is blade.
+/// ball inside the sheet holds (the 90th percentile of the counts) and does not lie on a stalk (OnAStalk, in its
+/// ball or, when its ball's points are round, in a ball twice as large: a stalk more than half the ball's radius
+/// thick fills the ball as much across as along) is a centre; every point within `radius` of a centre is blade.
 std::vector<unsigned char> Opening(
   const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double radius, const ParallelFor& parallel)
 {
@@ -95,7 +101,18 @@ std::vector<unsigned char> Opening(
       return;
     std::vector<int> near;
     grid.Within(points[i], radius, near);
-    centre[i] = OnAStalk(points, near) ? 0 : 1;
+    bool round = false;
+    if (OnAStalk(points, near, &round))
+      return;
+    // Round but not elongated: a stalk thicker than half the ball's radius fills the ball across as well as along;
+    // twice as far out it is elongated again.
+    if (round)
+    {
+      grid.Within(points[i], 2.0 * radius, near);
+      if (OnAStalk(points, near))
+        return;
+    }
+    centre[i] = 1;
   });
   // A point is blade when a centre lies within `radius` of it: itself, or the first centre its search meets.
   std::vector<unsigned char> blade(n, 0);

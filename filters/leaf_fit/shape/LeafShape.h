@@ -4,7 +4,8 @@
 //
 // Petiole: the blade is what a ball of a few point spacings rolled inside the cloud covers (a morphological opening:
 // the points whose ball holds most of the points a ball inside the sheet holds, not spread along a line and round
-// across it like a stalk seen from two sides, and every point within such a ball).
+// across it like a stalk seen from two sides, in that ball or, for a stalk thicker than half its radius, in one twice
+// as large; and every point within such a ball).
 // What the opening leaves out are thin parts: a petiole (a trail one to a few points wide, or sparser and wider
 // where a stalk is seen from the side), acute tips and teeth (wedges). A left-out part touching the blade is a
 // petiole when it keeps its width (measured across the trail, in bins of distance from the blade) over at least 6

@@ -689,12 +689,19 @@ TEST(LeafShape, StalkSeenAllRoundAsDenselyAsTheBladeIsNotTakenForBlade)
   // blade, and the count alone took the stalk for blade (no petiole; a curled blade was then turned end to end,
   // its petiole counted in its Length). The ball's points on the stalk spread along it more than across, and are
   // round across it, not flat like a narrow strip of blade: no blade's.
+  // On a finer scan (the same stalk 2.5 spacings in radius, over half the ball's) the ball's points fill the stalk
+  // across as well as along it: twice as far out they are elongated again (no petiole before, the blade turned).
   const Eigen::Isometry3d pose = Tilted();
-  const Synthetic scan = TubeScan(
-    0, 0.006, 0.01, 8, [](int, int j) { return -40.0 + 37.0 * j; }, pose);
-  fit::Petiole found;
-  ASSERT_NO_FATAL_FAILURE(ExpectStalkFound(scan, pose, 0.02, found));
-  ExpectShape(scan, pose, Expected());
+  for (const double grid : { 0.006, 0.004 })
+  {
+    SCOPED_TRACE("grid " + std::to_string(grid));
+    const int count = static_cast<int>(std::lround(0.048 / grid));
+    const Synthetic scan = TubeScan(
+      0, grid, 0.01, count, [count](int, int j) { return -40.0 + 296.0 / count * j; }, pose);
+    fit::Petiole found;
+    ASSERT_NO_FATAL_FAILURE(ExpectStalkFound(scan, pose, 0.02, found));
+    ExpectShape(scan, pose, Expected());
+  }
 }
 
 TEST(LeafShape, StalkSeenInPiecesBeyondAShadowIsMeasuredToItsEnd)
