@@ -312,7 +312,11 @@ Bins CentreLine(const std::vector<Eigen::Vector3d>& points, const Trail& trail, 
 /// The first bin of the stalk: the stalk keeps its width (its bins' spread; the median over the outer half of the
 /// trail's bins), while the blade's end the opening left out beside it (a margin, an acute or cuneate base) is
 /// wider. From the blade outwards, the first bin no wider than 1.5 times the stalk's spread plus half a spacing.
-/// (Counts would not do: a stalk scanned from the side thins out along its length.)
+/// (Counts alone would not do: a stalk scanned from the side thins out along its length.) A blade's end may also be
+/// narrower than the stalk: an attenuate base tapering to a point where a thicker stalk leaves it is a trail of the
+/// blade's last samples, a point or two across. Two bins or more (3 spacings) from there (or from the next bin, the
+/// blade's edge) that are empty or both narrower than the stalk and holding under 0.6 of its bins' median count, one
+/// of them at least sampled, are the blade's; the stalk begins after them, where at least 6 spacings of it are left.
 std::size_t FirstStalkBin(const Bins& b, double spacing)
 {
   const std::size_t n = b.count.size();
@@ -320,6 +324,24 @@ std::size_t FirstStalkBin(const Bins& b, double spacing)
   std::size_t start = 0;
   while (start + 1 < n && (!b.Measured(start) || b.spread[start] > 1.5 * stalk + 0.5 * spacing))
     ++start;
+  // The blade's last samples before a thicker stalk: sparser and narrower than the stalk.
+  std::vector<int> counts;
+  for (std::size_t k = n / 2; k < n; ++k)
+    if (b.count[k] > 0)
+      counts.push_back(b.count[k]);
+  if (counts.empty())
+    return start;
+  std::nth_element(counts.begin(), counts.begin() + counts.size() / 2, counts.end());
+  const double full = counts[counts.size() / 2];
+  // The first bin may be the blade's edge, as many points as the stalk's.
+  const auto thin = [&](std::size_t k) { return b.count[k] == 0 || (b.count[k] < 0.6 * full && b.spread[k] < stalk); };
+  std::size_t k = thin(start) ? start : start + 1;
+  const std::size_t first = k;
+  bool sampled = false; // a gap alone (a line scan's) is not the blade's
+  for (; k < n && thin(k); ++k)
+    sampled = sampled || b.count[k] > 0;
+  if (sampled && k >= first + 2 && k < n && static_cast<double>(n - k) * b.width >= 6.0 * spacing)
+    return k;
   return start;
 }
 

@@ -704,6 +704,25 @@ TEST(LeafShape, StalkSeenAllRoundAsDenselyAsTheBladeIsNotTakenForBlade)
   }
 }
 
+TEST(LeafShape, AttenuateBaseThinnerThanItsStalkIsTheBlades)
+{
+  // An attenuate base narrows to a point where a thicker stalk (a tube of radius 1 % of the length, seen all round
+  // by two passes) leaves it: over its last few percent it is a trail of the blade's samples a point or two across,
+  // narrower than the stalk and sparser, in line with it. The stalk starts where the trail thickens to the stalk's
+  // width and count, not where the blade is wider than the stalk (the junction lay 9 % of the length up the blade,
+  // PetioleLength +30 %, on the curled emarginate blade scanned from two positions).
+  const Eigen::Isometry3d pose = Tilted();
+  for (const double grid : { 0.0045, 0.006 })
+  {
+    SCOPED_TRACE("grid " + std::to_string(grid));
+    const int count = static_cast<int>(std::lround(0.048 / grid));
+    const Synthetic scan = TubeScan(
+      12, grid, 0.01, count, [count](int, int j) { return -40.0 + 296.0 / count * j; }, pose);
+    fit::Petiole found;
+    ASSERT_NO_FATAL_FAILURE(ExpectStalkFound(scan, pose, 0.02, found));
+  }
+}
+
 TEST(LeafShape, StalkSeenInPiecesBeyondAShadowIsMeasuredToItsEnd)
 {
   // A line scan leaves gaps along a stalk where the blade shadows it: here the lines over 8 spacings of it (twice
