@@ -549,6 +549,8 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   result.traits.points = static_cast<double>(points.size());
   fit::ComputeTraits(f.surface, f.outline, options, f.frame.axes, result);
   result.petioleLine = petiole.line;
+  result.sheetShare = petiole.sheetShare;
+  result.petioleLookedFor = !(petiole.sheetShare < fit::MinSheetShareForPetiole);
   result.traits.petioleLength = petiole.length;
   return {};
 }

@@ -143,6 +143,11 @@ struct LeafFitResult
   int modelControlPoints = 0;
   /// Empty when the flat model rebuilds in LeafOutlineSource; else why it does not (the model is still given).
   std::string modelWarning;
+  /// The share of the cleaned points in the blade's sheet (fit::Petiole::sheetShare): low where the scan samples the
+  /// blade unevenly (its lines far apart over part of it), where thin parts and the outline are uncertain.
+  double sheetShare = 1.0;
+  /// False when the sheet's share was too low to tell a petiole from sparse blade (none was looked for).
+  bool petioleLookedFor = true;
   LeafTraits traits;
 };
 

@@ -52,6 +52,17 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
   if (fit.traits.baseFrom == 3)
     warnings.push_back("base and apex are a guess (BaseFrom 3): the blade is the same at both ends, so Azimuth, "
                        "MidveinInclination and LeafUV's v may be turned end to end (give BasePoint or ApexPoint)");
+  if (fit.sheetShare < MinSheetShare)
+  {
+    std::ostringstream message;
+    message.precision(2);
+    message << "the scan samples the blade unevenly: only " << 100.0 * fit.sheetShare
+            << " % of the points lie where a ball of 4 point spacings holds most of what one inside the blade holds"
+            << " (the scanner's lines far apart over part of it, as at a grazing angle?), so Length and Area may be"
+            << " short where the points are sparse"
+            << (!fit.petioleLookedFor ? ", and no petiole was looked for (give BasePoint)" : "");
+    warnings.push_back(message.str());
+  }
   if (fit.traits.coverage < MinCoverage)
   {
     double support = 0.0;

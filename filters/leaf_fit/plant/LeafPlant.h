@@ -59,11 +59,16 @@ enum class LeafStatus
 /// (soybean leaflets 15 and 36), 0.924 (sugar beet 29 August); below it 0.879 (4 September, a flap spread over the
 /// petiole), 0.813 (30 August, the petiole taken for the apex), 0.854 (soybean leaflet 1).
 inline constexpr double MinCoverage = 0.9;
+/// The least share of the points in the blade's sheet (LeafFitResult::sheetShare) a fit is trusted with: 0.96 or
+/// more on the accuracy benchmark's scans; 0.61 and 0.74 on two of the shipped soybean leaflets, 0.35-0.77 on
+/// simulated leaves scanned at a grazing angle (Length 12-27 % short).
+inline constexpr double MinSheetShare = 0.85;
 /// Relative difference of areas beyond which the flat model is said not to be the fitted blade.
 inline constexpr double MaxModelAreaError = 0.02;
 
 /// The warnings of a successful fit, one sentence each: the model's own (modelWarning), a base that is a guess
-/// (BaseFrom 3: the blade is the same at both ends), low Coverage, and the flat
+/// (BaseFrom 3: the blade is the same at both ends), a scan that samples the blade unevenly (sheetShare under
+/// MinSheetShare), low Coverage, and the flat
 /// Model C leaf (flatMidvein, flatLeftMargin, flatRightMargin rebuilt by LeafOutlineSource's B-spline leaf at
 /// `resolution`) whose area differs from the fitted blade's (the Area trait) by more than MaxModelAreaError.
 std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolution);

@@ -898,8 +898,12 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
   const PointGrid grid(points, radius);
   const std::vector<unsigned char> blade = Opening(points, grid, radius, parallel);
   const std::size_t bladeCount = static_cast<std::size_t>(std::count(blade.begin(), blade.end(), 1));
-  if (bladeCount < points.size() / 2)
-    return petiole; // no blade the ball fits in (a narrow leaf): nothing to tell a petiole from
+  petiole.sheetShare = static_cast<double>(bladeCount) / static_cast<double>(points.size());
+  // Too little blade the ball fits in (a narrow leaf, or a scan whose lines lie far apart over much of the blade,
+  // as at a grazing angle): thin parts cannot be told from sparse blade (a line of a grazing scan crossing the blade
+  // near its tip was taken for a stalk, the blade cut there, Length -26 %).
+  if (petiole.sheetShare < MinSheetShareForPetiole)
+    return petiole;
   // The blade's width: four standard deviations across it (an ellipse's width).
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < points.size(); ++i)
