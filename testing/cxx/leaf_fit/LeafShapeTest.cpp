@@ -748,6 +748,15 @@ TEST(LeafShape, StalkBeyondTheUnseenEndOfAnAcuminateBaseIsFound)
   ExpectShape(scan, pose, Expected());
 }
 
+/// TubeScan's stalk (radius 1 % of the length) seen all round, as two passes from either side see it: samples over
+/// 296 degrees of its circumference, as far apart as the blade's (`grid` of the length).
+Synthetic TubeSeenAllRound(int preset, double grid, const Eigen::Isometry3d& pose)
+{
+  const int count = static_cast<int>(std::lround(0.048 / grid));
+  return TubeScan(
+    preset, grid, 0.01, count, [count](int, int j) { return -40.0 + 296.0 / count * j; }, pose);
+}
+
 TEST(LeafShape, StalkSeenAllRoundAsDenselyAsTheBladeIsNotTakenForBlade)
 {
   // Two scans from either side see a stalk (a tube of radius 1 % of the length, 1.7 spacings) over most of its
@@ -761,9 +770,7 @@ TEST(LeafShape, StalkSeenAllRoundAsDenselyAsTheBladeIsNotTakenForBlade)
   for (const double grid : { 0.006, 0.004 })
   {
     SCOPED_TRACE("grid " + std::to_string(grid));
-    const int count = static_cast<int>(std::lround(0.048 / grid));
-    const Synthetic scan = TubeScan(
-      0, grid, 0.01, count, [count](int, int j) { return -40.0 + 296.0 / count * j; }, pose);
+    const Synthetic scan = TubeSeenAllRound(0, grid, pose);
     fit::Petiole found;
     ASSERT_NO_FATAL_FAILURE(ExpectStalkFound(scan, pose, 0.02, found));
     ExpectShape(scan, pose, Expected());
@@ -781,9 +788,7 @@ TEST(LeafShape, AttenuateBaseThinnerThanItsStalkIsTheBlades)
   for (const double grid : { 0.0045, 0.006 })
   {
     SCOPED_TRACE("grid " + std::to_string(grid));
-    const int count = static_cast<int>(std::lround(0.048 / grid));
-    const Synthetic scan = TubeScan(
-      12, grid, 0.01, count, [count](int, int j) { return -40.0 + 296.0 / count * j; }, pose);
+    const Synthetic scan = TubeSeenAllRound(12, grid, pose);
     fit::Petiole found;
     ASSERT_NO_FATAL_FAILURE(ExpectStalkFound(scan, pose, 0.02, found));
   }
