@@ -57,7 +57,10 @@ double DensitySpacing(const std::vector<Eigen::Vector3d>& points)
 /// are round, not flat (their least variance over a fifth of the second: a half tube, seen from one side, gives
 /// 0.19, more of it more; a narrow strip of the sheet, a lobe, 12 sigma^2 / w^2 for range noise sigma, under a fifth
 /// while it is wider than 8 sigma). Two scans seeing a stalk from either side sample it as densely as the sheet, and
-/// the count alone took it for blade. `round`, when given: whether the points are round (the second test alone).
+/// the count alone took it for blade. `round`, when given: whether the points might be a thick stalk's, worth the
+/// test in a larger ball (least variance over a tenth of the second: a ball centred on the surface of a stalk of
+/// radius 0.7 r holds only an arc of its section, flatter than a fifth; a lobe's strip stays under a tenth while
+/// it is wider than 11 sigma).
 bool OnAStalk(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, bool* round = nullptr)
 {
   if (round)
@@ -74,13 +77,13 @@ bool OnAStalk(const std::vector<Eigen::Vector3d>& points, const std::vector<int>
   const Eigen::Vector3d variance = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues();
   const bool isRound = variance[0] > 0.2 * variance[1];
   if (round)
-    *round = isRound;
+    *round = variance[0] > 0.1 * variance[1];
   return variance[1] < 0.5 * variance[2] && isRound;
 }
 
 /// Which points the blade's opening covers: a point whose ball of radius `radius` holds at least 70 % of what a
 /// ball inside the sheet holds (the 90th percentile of the counts) and does not lie on a stalk (OnAStalk, in its
-/// ball or, when its ball's points are round, in a ball twice as large: a stalk more than half the ball's radius
+/// ball or, when its ball's points are rounder than a sheet's (`round`), in a ball twice as large: a stalk more than half the ball's radius
 /// thick fills the ball as much across as along) is a centre; every point within `radius` of a centre is blade.
 std::vector<unsigned char> Opening(
   const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double radius, const ParallelFor& parallel)

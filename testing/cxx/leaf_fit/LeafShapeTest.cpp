@@ -777,6 +777,21 @@ TEST(LeafShape, StalkSeenAllRoundAsDenselyAsTheBladeIsNotTakenForBlade)
   }
 }
 
+TEST(LeafShape, StalkThickerThanTheBallUnderACordateBaseIsFound)
+{
+  // The cordate blade and the cucumber on a fine scanner's grid (0.36 % of the length), with a stalk of radius 1 %
+  // (2.8 spacings, 0.7 of the opening's ball) seen all round: a ball centred on the stalk's surface holds an arc of
+  // its section, neither a sheet nor round enough to be tried in the larger ball. The stalk was taken for blade,
+  // no petiole was found and the blade was turned end to end (its base at the apex); tried twice as far out, it is
+  // a stalk.
+  const Eigen::Isometry3d pose = Tilted();
+  for (const int preset : { 6, 4 })
+  {
+    SCOPED_TRACE("preset " + std::to_string(preset));
+    ExpectShape(TubeSeenAllRound(preset, 0.0036, pose), pose, Expected());
+  }
+}
+
 TEST(LeafShape, AttenuateBaseThinnerThanItsStalkIsTheBlades)
 {
   // An attenuate base narrows to a point where a thicker stalk (a tube of radius 1 % of the length, seen all round
