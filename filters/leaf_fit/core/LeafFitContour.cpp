@@ -400,13 +400,38 @@ double ApexEnd(const std::vector<Eigen::Vector2d>& loop, const std::vector<Eigen
   return bottom < apex.first ? std::min(apex.first, bottom + gap) : apex.first;
 }
 
+/// Whether the blade's points between the loop's crossing of the midvein at `crossing` and a petiole's junction above
+/// it (where the stalk's axis meets the blade's plane) are, near the midvein, the stalk's: the stalk's first
+/// spacings, seen in the blade's plane below a sinus (within the opening's ball of the blade, so counted as blade),
+/// close the points across the midvein below the sinus's bottom. They lie within the stalk's width of t = 0
+/// (`halfWidth` plus a spacing) from the crossing up to the first point farther out (up to 3 spacings more: the
+/// blade at the sinus's bottom, or lobes overlapping), which lies within 4 spacings (the ball's radius) of the
+/// junction.
+bool OnlyTheStalkBelowJunction(
+  const std::vector<Eigen::Vector2d>& ts, double crossing, double junction, double halfWidth, double spacing)
+{
+  const double narrow = halfWidth + spacing, look = narrow + 3.0 * spacing;
+  double wideAt = junction;
+  for (const auto& p : ts)
+    if (p.y() > crossing && p.y() < junction && std::abs(p.x()) >= narrow && std::abs(p.x()) < look)
+      wideAt = std::min(wideAt, p.y());
+  if (junction - wideAt > 4.0 * spacing)
+    return false;
+  return std::any_of(ts.begin(), ts.end(),
+    [&](const Eigen::Vector2d& p) { return p.y() > crossing && p.y() < wideAt && std::abs(p.x()) < narrow; });
+}
+
 /// The midvein's base at a sinus, where the loop crosses t = 0 at `crossing`: a petiole's junction above that
-/// crossing, by less than a notch's depth (`shallow`), is the bottom, where the stalk meets the blade; else where
-/// the points close across the midvein (NotchBottom).
+/// crossing, by less than a notch's depth (`shallow`), is the bottom, where the stalk meets the blade; so is a
+/// junction where the stalk's axis meets the blade's plane farther above it when only the stalk lies across the
+/// midvein in between (OnlyTheStalkBelowJunction); else where the points close across the midvein (NotchBottom).
 double SinusBottom(
   const std::vector<Eigen::Vector2d>& ts, const Outline& outline, double crossing, double shallow, double spacing)
 {
   if (outline.junction > crossing && outline.junction < crossing + shallow)
+    return outline.junction;
+  if (outline.junctionMeetsPlane && outline.junction > crossing &&
+    OnlyTheStalkBelowJunction(ts, crossing, outline.junction, outline.stalkHalfWidth, spacing))
     return outline.junction;
   return NotchBottom(ts, crossing, shallow, spacing);
 }

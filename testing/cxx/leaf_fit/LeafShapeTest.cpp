@@ -1419,6 +1419,43 @@ TEST(LeafShape, BladeEndsWithinASpacingOfTheStalksJunction)
   }
 }
 
+TEST(LeafShape, SinusClosedByTheStalksFirstSpacingsEndsAtTheJunction)
+{
+  // In intrinsic coordinates (spacing 1), a cordate blade on a grid: its sinus a V with its bottom at s = 0, the
+  // basal lobes reaching 11.5 below it. A stalk leaves the bottom below the blade's plane; its first spacings, within
+  // the opening's ball of the blade, are counted as blade: a strip 3 wide down to s = -6.5. The points close across
+  // the midvein down there, and the sinus's bottom was taken at the strip's end (the cordate blade on a flat leaf
+  // with a petiole scanned from two positions: base 2.4 % of the length off, Length +2.3 %). Where the stalk's
+  // axis meets the blade's plane above that, and only the stalk's width lies across the midvein between, the
+  // bottom is the junction (0.8 %, -0.9 %). A blade whose sinus really reaches below the junction keeps its
+  // bottom; without the junction's plane, so does the strip.
+  auto bottom = [](double sinus, bool stalk, bool meets) {
+    std::vector<Eigen::Vector2d> ts;
+    for (double s = sinus - 11.5; s < 100.0; s += 1.0)
+    {
+      const double half = 28.0 * std::sqrt(std::max(0.0, 1.0 - (s - 40.0) * (s - 40.0) / (60.0 * 60.0)));
+      for (double t = -std::floor(half); t <= half; t += 1.0)
+        if (s >= sinus - std::abs(t))
+          ts.emplace_back(t, s);
+    }
+    for (double s = -0.5; stalk && s > -7.0; s -= 1.0)
+      for (double t : { -1.0, 0.0, 1.0 })
+        if (s < -std::abs(t))
+          ts.emplace_back(t, s);
+    fit::Outline outline;
+    EXPECT_EQ(fit::FitOutline(ts, LeafFitParameters(), 1.0, outline), "");
+    outline.junction = 0.0;
+    outline.junctionMeetsPlane = meets;
+    outline.stalkHalfWidth = 1.0;
+    EXPECT_FALSE(fit::TraceContour(ts, 1.0, true, outline).right.empty());
+    EXPECT_NEAR(outline.apex, 100.0, 1.0);
+    return outline.base;
+  };
+  EXPECT_NEAR(bottom(0.0, true, true), 0.0, 1e-9) << "the stalk's strip below the junction";
+  EXPECT_NEAR(bottom(0.0, true, false), -6.5, 1.0) << "no junction in the blade's plane: the strip is blade";
+  EXPECT_NEAR(bottom(-6.5, false, true), -6.5, 1.0) << "the blade's own sinus below the junction";
+}
+
 TEST(LeafShape, BladeWiderThanItsStalkAtItsLowestLineEndsAtTheJunction)
 {
   // In intrinsic coordinates (spacing 1), an elliptic blade 100 long and 44 wide, its base at s = 0 where a stalk
