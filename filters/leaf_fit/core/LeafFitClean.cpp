@@ -322,7 +322,11 @@ bool NarrowEnd(const std::vector<double>& width, double widest, bool last)
 
 /// Whether a blade's one narrow end is its base (else its apex), from the widths of its slices counted from that
 /// end (`width`, 20 slices of the blade's `length`; `widest` the largest). A stalk keeps its width along its length:
-/// the two end slices within 1.5 point spacings or half the wider's width of each other. A fan (the blade wider than
+/// the two end slices within 1.5 point spacings or half the wider's width of each other, and the third slice too (a
+/// stalk over two slices long) or over three times the second's width (the blade's base beyond a shorter one): a
+/// drawn-out tip a point or two across in its last slices widens steadily, about twice over each slice (the
+/// acuminate preset's 0.015, 0.04, 0.085 of the widest), which a coarse scan cannot tell from a stalk's width by
+/// the first two alone. A fan (the blade wider than
 /// long, as a ginkgo's) narrows to its base. A blade ending square at the other end (its last slice at least 0.6 of
 /// the widest: a truncate or notched apex) has its apex there. Else the narrow end's sides decide: drawn out
 /// (acuminate), curving in so that its width a tenth of the length from the end is under 0.35 of its width at a
@@ -331,8 +335,14 @@ bool NarrowEnd(const std::vector<double>& width, double widest, bool last)
 bool NarrowEndIsBase(const std::vector<double>& width, double widest, double length, double spacing)
 {
   const std::size_t n = width.size();
-  if (std::abs(width[1] - width[0]) <= std::max(1.5 * spacing, 0.5 * std::max(width[0], width[1])))
-    return true;
+  auto same = [&](double a, double b) { return std::abs(b - a) <= std::max(1.5 * spacing, 0.5 * std::max(a, b)); };
+  if (same(width[0], width[1]))
+  {
+    std::size_t k = 2;
+    while (k + 3 < n && same(width[0], width[k]))
+      ++k;
+    return !(k + 3 < n && width[k + 1] < 0.35 * width[k + 3]);
+  }
   if (widest >= length || width[n - 1] >= 0.6 * widest)
     return true;
   return !(width[1] < 0.35 * width[3]);

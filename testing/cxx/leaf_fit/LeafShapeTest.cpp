@@ -553,6 +553,27 @@ TEST(LeafShape, AcuminateApexSampledAtRandomIsFollowedToItsLastPoints)
   ExpectShape(scan, pose, e);
 }
 
+TEST(LeafShape, DrawnOutTipSeenAsATrailIsTheApexNotAStalk)
+{
+  // A scanner's column along the midvein follows the acuminate tip a point across over its last 12-15 % of the
+  // length: the petiole search finds a trail there, and the end's first two slices keep its width (0 and 0.001 of
+  // the widest), so the end was read as a stalk and the blade turned end to end (base at the tip, the tip taken
+  // for a petiole, Length -10 to -13 %). Beyond a stalk the blade's base widens at once; beyond this trail it goes
+  // on narrowing as a drawn-out tip (its width 2 slices on under 0.35 of its width 4 slices on): the trail is the
+  // tip, and the fit follows it to its end (no base given).
+  const Eigen::Isometry3d pose = Tilted();
+  const LeafGeometry leaf = Blade(7, 100.0);
+  const double length = GridScan(leaf, 1.0, 0.0, 0.0, Straight(0.0), 0, pose).length;
+  for (const double step : { 0.006, 0.008 })
+  {
+    SCOPED_TRACE("step " + std::to_string(step));
+    const Synthetic scan = GridScan(leaf, step * length, 0.003 * length, 0.0, Straight(0.0), 0, pose);
+    Expected e;
+    e.lengthTolerance = 0.02;
+    ExpectShape(scan, pose, e);
+  }
+}
+
 /// A counter-clockwise loop in (t, s) of a blade 100 long, 60 wide, sampled every 0.25 along its margin: the
 /// half-width at s is `half(s)` for s in [0, 100]; `top(t)` the apex's margin across the blade (s at t).
 std::vector<Eigen::Vector2d> BladeLoop(const std::function<double(double)>& top)
