@@ -166,7 +166,7 @@ def run(name, properties, curled, view, petiole):
                       direction_error=math.degrees(math.acos(max(-1.0, min(1.0, float(direction @ t["direction"]))))),
                       base_error=100.0 * float(numpy.linalg.norm(mid[0] - t["base"])) / L,
                       petiole_length=row.get("PetioleLength", float("nan")), base_from=row.get("BaseFrom"),
-                      status=row.get("Status"),
+                      status=row.get("Status"), message=table.GetValueByName(0, "Message").ToString(),
                       fit_rms=row["FitRMS"] / L * 100.0,
                       junction_error=(100.0 * float(numpy.linalg.norm(stalk[0][0] - t["base"])) / L if stalk
                                       else float("nan")))

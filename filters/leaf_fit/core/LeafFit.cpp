@@ -551,6 +551,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   result.petioleLine = petiole.line;
   result.sheetShare = petiole.sheetShare;
   result.petioleLookedFor = !(petiole.sheetShare < fit::MinSheetShareForPetiole);
+  result.apexTrail = fit::ApexTrail(onSurface, outlineSpacing);
   result.traits.petioleLength = petiole.length;
   return {};
 }

@@ -148,6 +148,13 @@ struct LeafFitResult
   double sheetShare = 1.0;
   /// False when the sheet's share was too low to tell a petiole from sparse blade (none was looked for).
   bool petioleLookedFor = true;
+  /// How far the blade's last samples at the apex run on as a trail a point across, within the outline's spacing
+  /// (Traits' coverage spacing) of the midvein (fit::ApexTrail): a drawn-out tip narrower than the scan's spacing,
+  /// which may go on unseen beyond them. 0 when the apex is wider than that to its end.
+  double apexTrail = 0.0;
+  /// True when the blade's apex is a drawn-out tip whose last samples are a trail a point or two across: narrower
+  /// than the scan's spacing there, it may run on unseen beyond them (Length short by that much).
+  bool apexBeyondSamples = false;
   LeafTraits traits;
 };
 

@@ -904,6 +904,34 @@ bool ApexIsTip(const std::vector<Eigen::Vector2d>& loop, const std::pair<double,
   return !(ApexNotchRise(loop, apex, shallow) > std::max(MinNotchDepth * extent, 2.0 * spacing));
 }
 
+double ApexTrail(const std::vector<Eigen::Vector2d>& ts, double spacing)
+{
+  if (ts.empty() || !(spacing > 0.0))
+    return 0.0;
+  std::vector<Eigen::Vector2d> top(ts);
+  std::sort(top.begin(), top.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.y() > b.y(); });
+  // Down from the highest sample, slice by slice a spacing thick: the trail goes on while each slice's samples lie
+  // within 1.5 spacings of one another across (a point or two) and no gap along it is wider than 8 spacings.
+  const double highest = top.front().y();
+  double end = highest, lo = top.front().x(), hi = lo, sliceTop = highest;
+  for (const auto& p : top)
+  {
+    if (sliceTop - p.y() > spacing)
+    {
+      if (end - p.y() > 8.0 * spacing)
+        break;
+      sliceTop = p.y();
+      lo = hi = p.x();
+    }
+    lo = std::min(lo, p.x());
+    hi = std::max(hi, p.x());
+    if (!(hi - lo < 1.5 * spacing))
+      break;
+    end = p.y();
+  }
+  return highest - end;
+}
+
 Contour TraceContour(
   const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline, const ParallelFor& parallel)
 {

@@ -132,6 +132,12 @@ Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, boo
 bool ApexIsTip(const std::vector<Eigen::Vector2d>& loop, const std::pair<double, std::size_t>& apex, double s1,
   double extent, double spacing);
 
+/// How far the blade's highest samples run on as a trail a point or two across (slices a spacing thick whose
+/// samples lie within 1.5 spacings of one another across), down from the highest sample: a drawn-out tip narrower
+/// than the scan's spacing, whose end may lie beyond its last samples. The trail may leave gaps of up to 8 spacings
+/// (random samples along a tip a quarter of a spacing across lie about 4 apart); 0 when the highest slice is wider.
+double ApexTrail(const std::vector<Eigen::Vector2d>& ts, double spacing);
+
 /// Fills result.traits from the finished blade (points, triangles, margins, Support, FitDistance, Inlier) and the
 /// surface (in the local frame whose axes, in world coordinates, are the columns of `axes`).
 void ComputeTraits(const TensorSurface& surface, const Outline& outline, const LeafFitParameters& options,

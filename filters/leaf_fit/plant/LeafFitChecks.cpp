@@ -63,6 +63,16 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
             << (fit.petioleLookedFor || fit.traits.baseFrom == 1 ? "" : " (give BasePoint)");
     warnings.push_back(message.str());
   }
+  if (fit.apexTrail > MaxApexTrail * fit.traits.coverageSpacing)
+  {
+    std::ostringstream message;
+    message.precision(3);
+    message << "the apex is drawn out: its last " << fit.apexTrail << " (" << fit.apexTrail / fit.traits.coverageSpacing
+            << " spacings) are a trail of points one across, a tip narrower than the scan's spacing ("
+            << fit.traits.coverageSpacing << "), which may run on unseen beyond them: Length may be short (a denser"
+            << " scan of the tip measures it)";
+    warnings.push_back(message.str());
+  }
   if (fit.traits.coverage < MinCoverage)
   {
     double support = 0.0;

@@ -63,12 +63,20 @@ inline constexpr double MinCoverage = 0.9;
 /// more on the accuracy benchmark's scans; 0.61 and 0.74 on two of the shipped soybean leaflets, 0.35-0.77 on
 /// simulated leaves scanned at a grazing angle (Length 12-27 % short).
 inline constexpr double MinSheetShare = 0.85;
+
+/// The longest trail of samples a point or two across at the apex (LeafFitResult::apexTrail), in the outline's
+/// spacings, a fit is trusted with: an acute apex of half-angle theta is under 1.5 spacings across over its last
+/// 0.75 / tan(theta) spacings (1.8 at the ovate envelope's 23 degrees), random samples thin out along it and add up to
+/// about 4 (6.2 at most over 144 random scans of eleven blades without a drawn-out tip); the acuminate preset's tip
+/// gives 5-18 on the accuracy benchmark's scans, 8-36 at random.
+inline constexpr double MaxApexTrail = 6.5;
 /// Relative difference of areas beyond which the flat model is said not to be the fitted blade.
 inline constexpr double MaxModelAreaError = 0.02;
 
 /// The warnings of a successful fit, one sentence each: the model's own (modelWarning), a base that is a guess
 /// (BaseFrom 3: the blade is the same at both ends), a scan that samples the blade unevenly (sheetShare under
-/// MinSheetShare), low Coverage, and the flat
+/// MinSheetShare), an apex drawn out beyond what the scan resolves (apexTrail over MaxApexTrail spacings), low
+/// Coverage, and the flat
 /// Model C leaf (flatMidvein, flatLeftMargin, flatRightMargin rebuilt by LeafOutlineSource's B-spline leaf at
 /// `resolution`) whose area differs from the fitted blade's (the Area trait) by more than MaxModelAreaError.
 std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolution);
