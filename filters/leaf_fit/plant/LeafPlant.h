@@ -67,7 +67,7 @@ inline constexpr double MinSheetShare = 0.85;
 /// The longest trail of samples a point or two across at the apex (LeafFitResult::apexTrail), in the outline's
 /// spacings, a fit is trusted with: an acute apex of half-angle theta is under 1.5 spacings across over its last
 /// 0.75 / tan(theta) spacings (1.8 at the ovate envelope's 23 degrees), random samples thin out along it and add up to
-/// about 4 (6.2 at most over 144 random scans of eleven blades without a drawn-out tip); the acuminate preset's tip
+/// about 4 (6.2 at most over 144 random scans of twelve blades without a drawn-out tip); the acuminate preset's tip
 /// gives 5-18 on the accuracy benchmark's scans, 8-36 at random.
 inline constexpr double MaxApexTrail = 6.5;
 /// Relative difference of areas beyond which the flat model is said not to be the fitted blade.
