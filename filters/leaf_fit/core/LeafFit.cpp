@@ -552,6 +552,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   result.sheetShare = petiole.sheetShare;
   result.petioleLookedFor = !(petiole.sheetShare < fit::MinSheetShareForPetiole);
   result.apexTrail = fit::ApexTrail(onSurface, outlineSpacing);
+  result.petioleHalfWidth = petiole.found ? petiole.halfWidth : 0.0;
   result.traits.petioleLength = petiole.length;
   return {};
 }

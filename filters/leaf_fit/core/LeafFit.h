@@ -152,6 +152,8 @@ struct LeafFitResult
   /// (Traits' coverage spacing) of the midvein (fit::ApexTrail): a drawn-out tip narrower than the scan's spacing,
   /// which may go on unseen beyond them. 0 when the apex is wider than that to its end.
   double apexTrail = 0.0;
+  /// The petiole's half-width about its axis (fit::Petiole::halfWidth; 0 without a petiole).
+  double petioleHalfWidth = 0.0;
   /// True when the blade's apex is a drawn-out tip whose last samples are a trail a point or two across: narrower
   /// than the scan's spacing there, it may run on unseen beyond them (Length short by that much).
   bool apexBeyondSamples = false;

@@ -73,6 +73,17 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
             << " scan of the tip measures it)";
     warnings.push_back(message.str());
   }
+  if (fit.traits.baseFrom == 2 && fit.traits.petioleLength < MinPetioleShare * fit.traits.length &&
+    fit.petioleHalfWidth < MaxNarrowPetiole * fit.traits.spacing)
+  {
+    std::ostringstream message;
+    message.precision(3);
+    message << "the petiole found is short (PetioleLength " << fit.traits.petioleLength << ", "
+            << 100.0 * fit.traits.petioleLength / fit.traits.length
+            << " % of Length) and a point or two across, as the blade's own attenuate base is: if the leaf has no"
+            << " petiole there, Length is short by it (give BasePoint at the blade's end)";
+    warnings.push_back(message.str());
+  }
   if (fit.traits.coverage < MinCoverage)
   {
     double support = 0.0;
