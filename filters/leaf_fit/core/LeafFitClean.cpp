@@ -326,7 +326,8 @@ bool NarrowEnd(const std::vector<double>& width, double widest, bool last)
 /// stalk over two slices long) or over three times the second's width (the blade's base beyond a shorter one): a
 /// drawn-out tip a point or two across in its last slices widens steadily, about twice over each slice (the
 /// acuminate preset's 0.015, 0.04, 0.085 of the widest), which a coarse scan cannot tell from a stalk's width by
-/// the first two alone. A fan (the blade wider than
+/// the first two alone, unless the other end is square (below: an attenuate base narrows beyond its stalk as a
+/// parabola, as a tip does, opposite a notched apex). A fan (the blade wider than
 /// long, as a ginkgo's) narrows to its base. A blade ending square at the other end (its last slice at least 0.6 of
 /// the widest: a truncate or notched apex) has its apex there. Else the narrow end's sides decide: drawn out
 /// (acuminate), curving in so that its width a tenth of the length from the end is under 0.35 of its width at a
@@ -341,7 +342,7 @@ bool NarrowEndIsBase(const std::vector<double>& width, double widest, double len
     std::size_t k = 2;
     while (k + 3 < n && same(width[0], width[k]))
       ++k;
-    return !(k + 3 < n && width[k + 1] < 0.35 * width[k + 3]);
+    return !(k + 3 < n && width[k + 1] < 0.35 * width[k + 3]) || width[n - 1] >= 0.6 * widest;
   }
   if (widest >= length || width[n - 1] >= 0.6 * widest)
     return true;

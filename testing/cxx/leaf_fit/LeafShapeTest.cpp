@@ -259,6 +259,26 @@ TEST(LeafShape, ShortNarrowPetioleSaysItMayBeTheBladesAttenuateBase)
   }
 }
 
+TEST(LeafShape, StalkUnderAnAttenuateBaseOppositeANotchedApexIsThePetiole)
+{
+  // A stalk two points across under a base that narrows as a parabola: beyond the stalk the blade is drawn out as a
+  // drip tip is, but the other end is notched and square, so it is the apex and the stalk the petiole (the end with
+  // the stalk was once taken for the apex: the base at the notch, Length 7 % short).
+  const Eigen::Isometry3d pose = Tilted();
+  const LeafGeometry leaf = Blade(12, 100.0);
+  for (const unsigned seed : { 3u, 4u })
+  {
+    const Synthetic scan = Scan(leaf, 8000, 0.1, 8.0, Straight(30.0), 2, pose, seed);
+    const LeafFitResult fit = FitLeaf(scan.points, LeafFitParameters());
+    ASSERT_EQ(fit.error, "");
+    EXPECT_EQ(fit.traits.baseFrom, 2) << "seed " << seed;
+    EXPECT_NEAR(fit.traits.petioleLength, 8.0, 0.05 * 8.0) << "seed " << seed;
+    EXPECT_NEAR(fit.traits.length, scan.length, 0.015 * scan.length) << "seed " << seed;
+    const Eigen::Vector3d base = pose.inverse() * fit.points[fit.midvein.front()];
+    EXPECT_LT(base.head<2>().norm(), 0.02 * scan.length) << "seed " << seed;
+  }
+}
+
 TEST(LeafShape, CurvedPetioleAtAnAngleToTheMidvein)
 {
   // An arc of radius 30 turning from -Y towards +X and down: 45 long.
