@@ -1023,6 +1023,18 @@ Contour TraceContour(
         deviation.push_back(std::abs(d - median));
     band = std::clamp(2.5 * MadToDeviation * Median(deviation), spacing, 3.0 * spacing);
     followed = 2 * deviation.size() >= middle;
+    // A scanner's regular grid (MinGridSpacingToSide) whose outline wanders no farther than a spacing from the smooth
+    // margins: its count gives the area, and its outline is kept where it is. The smooth margins' stations put the
+    // margin about a quarter of a spacing beyond the count's, and snapping moved the outline there (the accuracy
+    // benchmark's 48 such cases -0.72 to +1.15 % in Area, mean +0.43 %; by the count -0.83 to +0.20 %, mean -0.15 %).
+    // An outline that wanders farther (a real scan's ragged edge, random points' dents, teeth, two passes' lines
+    // interleaved) keeps the smooth margins and their gap.
+    const double side = std::sqrt(std::max(SignedArea(loop), 0.0) / static_cast<double>(ts.size()));
+    if (followed && band <= spacing && spacing >= MinGridSpacingToSide * side)
+    {
+      followed = false;
+      snap = false;
+    }
   }
   double target = std::numeric_limits<double>::quiet_NaN();
   const double counted =
