@@ -1027,8 +1027,8 @@ Contour TraceContour(
     // margins: its count gives the area, and its outline is kept where it is. The smooth margins' stations put the
     // margin about a quarter of a spacing beyond the count's, and snapping moved the outline there (the accuracy
     // benchmark's 48 such cases -0.72 to +1.15 % in Area, mean +0.43 %; by the count -0.83 to +0.20 %, mean -0.15 %).
-    // An outline that wanders farther (a real scan's ragged edge, random points' dents, teeth, two passes' lines
-    // interleaved) keeps the smooth margins and their gap.
+    // An outline that wanders farther (a real scan's ragged edge, random points' dents, teeth) keeps the smooth
+    // margins and their gap, as do random points (the count is biased on them).
     const double side = std::sqrt(std::max(SignedArea(loop), 0.0) / static_cast<double>(ts.size()));
     if (followed && band <= spacing && spacing >= MinGridSpacingToSide * side)
     {
