@@ -59,6 +59,35 @@ void Project(const TensorSurface& surface, const Eigen::Vector3d& q, double spac
   }
 }
 
+/// The factor on the bending penalty `lambda` for the scan's noise (MaxNoiseTilt, MaxNoiseScatterGrowth), from the
+/// first fit at `lambda` whose robust scatter is f.sigma: 1 when the noise tilts the surface little; otherwise the
+/// surface is refitted at the raised penalty, f.sigma and `residual` are those of the factor returned (at 1, of a
+/// fit at `lambda` again, as before the raise). `perCell`: points per knot cell the points occupy; `knot`: the knot
+/// spacing.
+double NoisePenalty(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sRange, int nt, int ns, double perCell,
+  double knot, double lambda, const std::vector<double>& w, const ParallelFor& parallel, Fitted& f, bool& fitted)
+{
+  fitted = true;
+  const double tilt = f.sigma / (std::sqrt(std::max(perCell, 1.0)) * knot) / MaxNoiseTilt;
+  double factor = tilt * tilt;
+  if (!(factor > 1.0))
+    return 1.0;
+  const double scatter = f.sigma;
+  for (;;)
+  {
+    const double penalty = lambda * std::max(factor, 1.0);
+    fitted = f.surface.Fit(tRange, sRange, nt, ns, f.ts, f.local, w, penalty, parallel);
+    if (!fitted)
+      return 1.0;
+    ForEachIndex(parallel, f.ts.size(),
+      [&](std::size_t i) { f.residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm(); });
+    f.sigma = RobustScale(f.residual, 0.0, 0.0);
+    if (!(factor > 1.0) || f.sigma <= MaxNoiseScatterGrowth * scatter)
+      return std::max(factor, 1.0);
+    factor = factor < 1.5 ? 1.0 : std::sqrt(factor);
+  }
+}
+
 /// The penalised, Huber-reweighted surface through the kept points.
 std::string FitSurface(const LeafFitParameters& options, double spacing, const ParallelFor& parallel, Fitted& f)
 {
@@ -75,8 +104,20 @@ std::string FitSurface(const LeafFitParameters& options, double spacing, const P
   const double n = static_cast<double>(f.ts.size());
   const int ns = std::clamp(static_cast<int>(std::lround(std::sqrt(n / 5.0 * length / width))), 6, 40);
   const int nt = std::clamp(static_cast<int>(std::lround(ns * width / length)), 4, 30);
-  const double lambda = 0.01 * options.surfaceSmoothing;
+  double lambda = 0.01 * options.surfaceSmoothing;
   std::vector<double> w(f.ts.size(), 1.0);
+  // The points per knot cell they occupy, for the noise's tilt (NoisePenalty).
+  double perCell = 0.0;
+  {
+    std::vector<unsigned char> used(static_cast<std::size_t>(nt) * ns, 0);
+    for (const auto& p : f.ts)
+    {
+      const int i = std::clamp(static_cast<int>((p.x() - tRange[0]) / width * nt), 0, nt - 1);
+      const int j = std::clamp(static_cast<int>((p.y() - sRange[0]) / length * ns), 0, ns - 1);
+      used[static_cast<std::size_t>(i) + static_cast<std::size_t>(nt) * j] = 1;
+    }
+    perCell = n / std::max(1.0, static_cast<double>(std::count(used.begin(), used.end(), 1)));
+  }
   std::vector<double>& residual = f.residual;
   residual.resize(f.ts.size());
   for (int pass = 0; pass < 2; ++pass)
@@ -94,6 +135,14 @@ std::string FitSurface(const LeafFitParameters& options, double spacing, const P
       ForEachIndex(parallel, f.ts.size(),
         [&](std::size_t i) { residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm(); });
       f.sigma = RobustScale(residual, 0.0, 0.0);
+      if (pass == 0 && iteration == 0)
+      {
+        bool fitted = true;
+        lambda *= NoisePenalty(
+          tRange, sRange, nt, ns, perCell, std::min(length / ns, width / nt), lambda, w, parallel, f, fitted);
+        if (!fitted)
+          return "no leaf shape: the surface could not be fitted";
+      }
       const double k = 2.0 * std::max(f.sigma, 1e-6 * spacing);
       for (std::size_t i = 0; i < f.ts.size(); ++i)
         w[i] = residual[i] <= k ? 1.0 : k / residual[i];

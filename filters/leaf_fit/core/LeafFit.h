@@ -65,6 +65,19 @@ struct LeafFitParameters
 /// shipped scans Length grows by up to 29 % at 0.01, and 20-160 fold at 0).
 inline constexpr double MinSurfaceSmoothing = 0.1;
 
+/// The most the scan's noise may tilt the fitted surface: where the noise left in an unpenalised fit (the points'
+/// scatter over the square root of the points per knot cell, over the knot spacing) would tilt it more, the bending
+/// penalty is raised by the square of the ratio. A surface that follows the noise's bumps has their area too
+/// (about half the tilt's square: at 1 % range noise the accuracy benchmark's scans from above read +0.4 to +1.7 %);
+/// at 0.03, +0.05 %. The ratio depends on the knot cells, not on the leaf's size or the scan's density alone.
+inline constexpr double MaxNoiseTilt = 0.03;
+/// The most the points' scatter about the surface may grow when the penalty is raised for the noise: more, and the
+/// surface is leaving shape it should follow, so the raise is halved (in its logarithm) until it does not, or
+/// dropped. On the accuracy benchmark's scans at 1 % noise the scatter grows 0.0-2.2 % (median 0.65 %) at the full
+/// raise (2-11 fold); on the shipped real scans 2-11 % (their folds and curl), 1.2-1.9 % at the raises kept (1.7-2.2
+/// fold on five of them).
+inline constexpr double MaxNoiseScatterGrowth = 1.02;
+
 /// Empty when every option is finite and in range; otherwise the message naming the option and its range.
 std::string ValidateLeafFitParameters(const LeafFitParameters& options);
 

@@ -288,7 +288,9 @@ TEST(LeafFit, FlatEllipticLeafIsExact)
 
 TEST(LeafFit, FlatOvateLeafWithMoreNoise)
 {
-  ExpectAccurate({ Model::OvateA, 0.0, 0.0, 0.005, 10000 });
+  // Length within 1.1 %: the acute apex's random samples end about 1 mm short of it (-1.05 %); a surface that
+  // followed the noise's bumps added 0.09 % of midvein back (-0.96 %) until the penalty was raised for the noise.
+  ExpectAccurate({ Model::OvateA, 0.0, 0.0, 0.005, 10000, 0.011 });
 }
 
 TEST(LeafFit, RolledLeaf)
