@@ -59,9 +59,17 @@ void Project(const TensorSurface& surface, const Eigen::Vector3d& q, double spac
   }
 }
 
+/// Every point's distance to the surface (f.residual) and their robust scale (returned).
+double Scatter(const ParallelFor& parallel, Fitted& f)
+{
+  ForEachIndex(parallel, f.ts.size(),
+    [&](std::size_t i) { f.residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm(); });
+  return RobustScale(f.residual, 0.0, 0.0);
+}
+
 /// The factor on the bending penalty `lambda` for the scan's noise (MaxNoiseTilt, MaxNoiseScatterGrowth), from the
 /// first fit at `lambda` whose robust scatter is f.sigma: 1 when the noise tilts the surface little; otherwise the
-/// surface is refitted at the raised penalty, f.sigma and `residual` are those of the factor returned (at 1, of a
+/// surface is refitted at the raised penalty, f.sigma and f.residual are those of the factor returned (at 1, of a
 /// fit at `lambda` again, as before the raise). `perCell`: points per knot cell the points occupy; `knot`: the knot
 /// spacing.
 double NoisePenalty(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sRange, int nt, int ns, double perCell,
@@ -79,9 +87,7 @@ double NoisePenalty(const Eigen::Vector2d& tRange, const Eigen::Vector2d& sRange
     fitted = f.surface.Fit(tRange, sRange, nt, ns, f.ts, f.local, w, penalty, parallel);
     if (!fitted)
       return 1.0;
-    ForEachIndex(parallel, f.ts.size(),
-      [&](std::size_t i) { f.residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm(); });
-    f.sigma = RobustScale(f.residual, 0.0, 0.0);
+    f.sigma = Scatter(parallel, f);
     if (!(factor > 1.0) || f.sigma <= MaxNoiseScatterGrowth * scatter)
       return std::max(factor, 1.0);
     factor = factor < 1.5 ? 1.0 : std::sqrt(factor);
@@ -132,9 +138,7 @@ std::string FitSurface(const LeafFitParameters& options, double spacing, const P
     {
       if (!f.surface.Fit(tRange, sRange, nt, ns, f.ts, f.local, w, lambda, parallel))
         return "no leaf shape: the surface could not be fitted";
-      ForEachIndex(parallel, f.ts.size(),
-        [&](std::size_t i) { residual[i] = (f.local[i] - f.surface(f.ts[i].x(), f.ts[i].y())).norm(); });
-      f.sigma = RobustScale(residual, 0.0, 0.0);
+      f.sigma = Scatter(parallel, f);
       if (pass == 0 && iteration == 0)
       {
         bool fitted = true;

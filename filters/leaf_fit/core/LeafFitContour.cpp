@@ -559,31 +559,13 @@ double Perimeter(const std::vector<Eigen::Vector2d>& loop)
   return length;
 }
 
-/// The gap between the closing's boundary (level r of F, through the outermost points) and the margin, from the
-/// points' count: the level r - gap whose loop (`outer`) encloses `target`, the area the points sample. Each point
-/// stands for 1 / density of the blade at its place, plus the holes the loop bridges (cells deeper than the
-/// kernel's reach farther than 2 `scale` from every point). The scales come from the density as well as from the
-/// spacing: `side`, the side of the area a point stands for (the loop's area over the count), is the same for a
-/// lattice and for random points of the same density, where the nearest-neighbour spacing of random points is about
-/// half of it and their gaps about twice a lattice's in spacings; `scale` is the larger of side and spacing (a line
-/// scan's spacing, half the distance between its lines, can exceed its side).
-/// The density is a Gaussian kernel's sum (sigma the larger of side and 2 spacings, cut at 4 sigma) taken at places
-/// a sigma apart whose kernel lies inside the points' region (F >= r + 4 sigma), not at the points: a sum at a point
-/// holds the point itself (1 / (2 pi sigma^2)), which a lattice's sum needs (its sum is the kernel's integral times
-/// the density wherever it is taken, at a point or between: sigma is at least the distance between a line scan's
-/// lines) and random points' does not (their sum at a point is that plus the point; 15 % of the density at sigma 2
-/// spacings, and holes counted where random points leave gaps of 2 spacings: the lobed blade sampled at random came
-/// out 9 % short). A count inside a region whose edge follows a scanner's lines would not do: that edge lies on a
-/// line or between two all along (3 % from one edge to the next on a line scan of the pin oak).
-/// A point takes the mean density of the tiles of 4 scales around its own (the window, 3 tiles wide at least, widened
-/// until it holds 20 of the deep points): a scan's density varies smoothly, with the range, the view's angle to the
-/// blade and where one pass's field ends; a window of 8 spacings and 50 points reached farther inside and read a
-/// margin rolled away from the scanner as dense as the blade (the curled pin oak obliquely, -1.05 % against
-/// -0.82 %). The window never shrinks to a tile's own: a tile whose own count stopped the widening would set its
-/// density from its own points, and the tiles holding more points than their share would count them at a
-/// smaller area each (-1.3 % on random points). Unlike a gap measured against the smooth margins this follows any
-/// margin (lobes, sinuses) and any spread of the points (one pass or several, a lattice or random). NaN (and `target`
-/// NaN) when fewer than 50 points lie that deep.
+/// The side of the area a point stands for: the square root of the loop's area over the points' count (the same
+/// for a lattice and for random points of the same density).
+double PointSide(const std::vector<Eigen::Vector2d>& loop, std::size_t count)
+{
+  return std::sqrt(std::max(SignedArea(loop), 0.0) / static_cast<double>(std::max<std::size_t>(count, 1)));
+}
+
 /// The points sorted into square buckets `width` wide from `origin` over `nx` by `ny` of them (a counting sort):
 /// bucket c holds the points order[first[c]] .. order[first[c + 1] - 1]. Near(p, k, visit) visits the points of the
 /// buckets within k of p's.
@@ -629,6 +611,31 @@ struct Buckets
   }
 };
 
+/// The gap between the closing's boundary (level r of F, through the outermost points) and the margin, from the
+/// points' count: the level r - gap whose loop (`outer`) encloses `target`, the area the points sample. Each point
+/// stands for 1 / density of the blade at its place, plus the holes the loop bridges (cells deeper than the
+/// kernel's reach farther than 2 `scale` from every point). The scales come from the density as well as from the
+/// spacing: `side`, the side of the area a point stands for (the loop's area over the count), is the same for a
+/// lattice and for random points of the same density, where the nearest-neighbour spacing of random points is about
+/// half of it and their gaps about twice a lattice's in spacings; `scale` is the larger of side and spacing (a line
+/// scan's spacing, half the distance between its lines, can exceed its side).
+/// The density is a Gaussian kernel's sum (sigma the larger of side and 2 spacings, cut at 4 sigma) taken at places
+/// a sigma apart whose kernel lies inside the points' region (F >= r + 4 sigma), not at the points: a sum at a point
+/// holds the point itself (1 / (2 pi sigma^2)), which a lattice's sum needs (its sum is the kernel's integral times
+/// the density wherever it is taken, at a point or between: sigma is at least the distance between a line scan's
+/// lines) and random points' does not (their sum at a point is that plus the point; 15 % of the density at sigma 2
+/// spacings, and holes counted where random points leave gaps of 2 spacings: the lobed blade sampled at random came
+/// out 9 % short). A count inside a region whose edge follows a scanner's lines would not do: that edge lies on a
+/// line or between two all along (3 % from one edge to the next on a line scan of the pin oak).
+/// A point takes the mean density of the tiles of 4 scales around its own (the window, 3 tiles wide at least, widened
+/// until it holds 20 of the deep points): a scan's density varies smoothly, with the range, the view's angle to the
+/// blade and where one pass's field ends; a window of 8 spacings and 50 points reached farther inside and read a
+/// margin rolled away from the scanner as dense as the blade (the curled pin oak obliquely, -1.05 % against
+/// -0.82 %). The window never shrinks to a tile's own: a tile whose own count stopped the widening would set its
+/// density from its own points, and the tiles holding more points than their share would count them at a
+/// smaller area each (-1.3 % on random points). Unlike a gap measured against the smooth margins this follows any
+/// margin (lobes, sinuses) and any spread of the points (one pass or several, a lattice or random). NaN (and `target`
+/// NaN) when fewer than 50 points lie that deep.
 template <typename Outer>
 double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<double>& F,
   const std::vector<double>& toPoint, int nx, int ny, const Eigen::Vector2d& origin, double cell, double r,
@@ -642,8 +649,7 @@ double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<doub
     return static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * j;
   };
   // The side of the area a point stands for, which means the same whatever the points' pattern.
-  const double side =
-    std::sqrt(std::max(SignedArea(loop), 0.0) / static_cast<double>(std::max<std::size_t>(ts.size(), 1)));
+  const double side = PointSide(loop, ts.size());
   if (!(side > 0.0))
     return nan;
   const double scale = std::max(side, spacing);
@@ -1099,7 +1105,7 @@ Contour TraceContour(
     // -0.83 to +1.46 % in Area at 0.3 % noise, 44 of 132 within 1 % at 1 % noise; by the count -0.83 to +0.35 %, and
     // 96 of 132 (the rest mostly the fitted surface's own bumps). Random points keep the smooth margins and their
     // gap: the count is biased on them.
-    const double side = std::sqrt(std::max(SignedArea(loop), 0.0) / static_cast<double>(ts.size()));
+    const double side = PointSide(loop, ts.size());
     int windows = 0;
     const double variance = NumberVarianceRatio(ts, F, nx, ny, origin, cell, r, 2.5 * side, windows);
     regular = followed && windows >= MinGridWindows && variance >= 0.0 && variance <= MaxGridNumberVariance;
