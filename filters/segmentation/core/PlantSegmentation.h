@@ -88,6 +88,9 @@
 //     that wood's axis at its end (the thin tip of a twig), reaches no farther from it than the leaf contact
 //     (nothing beyond the leaf) and is 3t to one leaf length long; its tube
 //     is followed on past both ends into the blade and the stem, where the features saw their surface beside it.
+//     A piece that is no petiole as a whole (a twig's thin end carrying several leaves on petioles) is cut at the
+//     forks of its level-set skeleton: a branch leading to one leaf alone, of a petiole's size, leaving the side of
+//     its stem (not going on in the line of the thin or thicker wood it leaves) is that leaf's petiole.
 //     Petiole points have LeafId -1; the leaf's base moves to the blade's; PetioleLength is their extent along
 //     their main axis.
 //  6. Confidence in [0, 1]: how far the region's coherence is from the leaf/wood threshold, for judged regions;

@@ -1790,6 +1790,66 @@ TEST(PlantSegmentation, ATwigTipCarryingOneLeafStaysWood)
   EXPECT_GT(OrganIoU(t, r, plantmorph::OrganWood), 0.95);
 }
 
+TEST(PlantSegmentation, PetiolesLeavingAThinTwigAreCutAtTheirForks)
+{
+  // A thin twig (radius 1.2 h) leaving the stem along +x for 0.5 carries two leaves on petioles (radius h, 0.12 long,
+  // 17 degrees above the horizontal, each blade going on along its petiole) that leave its sides at 0.1 and 0.25, and
+  // a third blade at its end, in its line. The twig's thin wood and the
+  // petioles are one piece touching three leaves, no petiole as a whole (before the forks were cut: no Organ 2).
+  // Cut at its skeleton's forks, each side branch leads to one leaf and leaves the twig's line: a petiole; the
+  // twig's end goes on in line to the third blade and stays wood.
+  Truth t = SyntheticPlant(0);
+  const double noise = 0.0002, h = 0.005, thin = 1.2 * h, reach = 0.5, length = 0.12;
+  const Eigen::Vector3d along = Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d start(0.05 - thin, 0.0, 0.5);
+  const std::size_t twig = t.points.size();
+  AddTube(t, start, along, reach, thin, plantmorph::OrganWood, noise);
+  const std::size_t twigEnd = t.points.size();
+  int leaf = 0;
+  for (const double side : { 1.0, -1.0 })
+  {
+    const Eigen::Vector3d foot = start + (side > 0 ? 0.1 : 0.25) * along;
+    const Eigen::Vector3d out = Eigen::Vector3d(0.0, side, 0.3).normalized();
+    AddTube(t, foot + thin * out, out, length, h, plantmorph::OrganPetiole, noise);
+    Truth blade; // a blade along +x from the origin, turned to go on along the petiole (along +y or -y)
+    AddBlade(blade, Eigen::Vector3d::Zero(), 30.0 * Pi / 180.0, {}, leaf++, noise);
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(side * Pi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    for (std::size_t i = 0; i < blade.points.size(); ++i)
+    {
+      t.points.push_back(foot + (thin + length + h) * out + turn * blade.points[i]);
+      t.organ.push_back(blade.organ[i]);
+      t.leaf.push_back(blade.leaf[i]);
+    }
+  }
+  AddBlade(t, start + (reach + h) * along, 30.0 * Pi / 180.0, {}, leaf, noise);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.leaves.size(), 3u);
+  for (double iou : InstanceIoU(t, r, 3))
+    EXPECT_GT(iou, 0.9);
+  EXPECT_GT(OrganIoU(t, r, plantmorph::OrganPetiole), 0.6);
+  std::size_t twigPetiole = 0;
+  for (std::size_t i = 0; i < twigEnd; ++i)
+  {
+    if (i < twig) // the stem
+    {
+      EXPECT_NE(r.organ[i], plantmorph::OrganPetiole) << i;
+    }
+    twigPetiole += i >= twig && r.organ[i] == plantmorph::OrganPetiole ? 1 : 0;
+  }
+  EXPECT_LE(twigPetiole, (twigEnd - twig) / 20) << "of the twig's " << twigEnd - twig << " points";
+  // the two side leaves have a petiole about as long as theirs, the blade at the twig's end none
+  std::size_t withPetiole = 0;
+  for (const auto& l : r.leaves)
+    if (l.petioleLength > 0.0)
+    {
+      ++withPetiole;
+      EXPECT_GT(l.petioleLength, 0.6 * length);
+      EXPECT_LT(l.petioleLength, 1.3 * length);
+    }
+  EXPECT_EQ(withPetiole, 2u);
+}
+
 TEST(PlantSegmentation, SameLabelsWhateverTheThreads)
 {
   const Truth t = SyntheticPlant(5);
