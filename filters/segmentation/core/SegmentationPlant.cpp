@@ -1235,6 +1235,9 @@ std::vector<std::vector<int>> SplitAtBases(const std::vector<Eigen::Vector3d>& p
 
 /// A leaf part under this fraction of the plant's median leaf part is a piece of a leaf (JoinPieces).
 constexpr double PieceFraction = 0.25;
+/// A small part spread over at least this fraction of the plant's typical leaf part, along and across, is a leaf
+/// seen sparsely, not a piece (SpreadLikeALeaf).
+constexpr double LeafSpreadFraction = 1.0 / 3.0;
 
 /// Whether two touching leaf parts continue one sheet: their planes within `cosine` of each other (NormalAngle) and
 /// the points of both together off their common plane by under `thickness` (the features' radius). On the
@@ -1269,6 +1272,54 @@ bool PieceOf(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
   const auto p = static_cast<std::size_t>(part);
   return InPlaneOf(moments[k], moments[p], thickness) || OneSheet(moments[k], moments[p], cosine, thickness) ||
     !ShortSeamBetween(points, graph, partOf, static_cast<int>(k), part, parts[k], parts[p]);
+}
+
+/// A part's spread in its plane: the root mean square of its points along its main axis and across it.
+Eigen::Vector2d InPlaneSpread(const PartMoments& m)
+{
+  const Eigen::Vector3d l =
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m.scatter / m.count, Eigen::EigenvaluesOnly).eigenvalues();
+  return { std::sqrt(std::max(0.0, l[2])), std::sqrt(std::max(0.0, l[1])) };
+}
+
+/// The plant's typical leaf part's spread in its plane (InPlaneSpread): the medians, along and across, over the flat
+/// parts (off their plane by under `thickness`) of at least `small` points; zero when there is none.
+Eigen::Vector2d TypicalSpread(
+  const std::vector<std::vector<int>>& parts, const std::vector<PartMoments>& moments, double small, double thickness)
+{
+  std::vector<double> along, across;
+  for (std::size_t k = 0; k < parts.size(); ++k)
+  {
+    double spread = 0.0;
+    if (static_cast<double>(parts[k].size()) < small || parts[k].empty())
+      continue;
+    moments[k].Normal(spread);
+    if (spread >= thickness)
+      continue;
+    const Eigen::Vector2d s = InPlaneSpread(moments[k]);
+    along.push_back(s[0]);
+    across.push_back(s[1]);
+  }
+  if (along.empty())
+    return Eigen::Vector2d::Zero();
+  const auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  return { median(along), median(across) };
+}
+
+/// A part with few points may still be a whole leaf: seen at a grazing angle, a leaf's points are fewer, not its
+/// size. Flat (off its plane by under `thickness`) and spread in its plane over at least LeafSpreadFraction of the
+/// plant's typical part (`typical`, TypicalSpread) along and across, it is no tip or rim cut off by a crease (those
+/// are small in extent or narrow).
+bool SpreadLikeALeaf(const PartMoments& m, const Eigen::Vector2d& typical, double thickness)
+{
+  double spread = 0.0;
+  m.Normal(spread);
+  const Eigen::Vector2d s = InPlaneSpread(m);
+  return typical[0] > 0.0 && spread < thickness && s[0] >= LeafSpreadFraction * typical[0] &&
+    s[1] >= LeafSpreadFraction * typical[1];
 }
 
 /// Pieces of one leaf join it. A leaf part touching other leaf parts over the link graph joins the one it shares the
@@ -1311,6 +1362,7 @@ void JoinPieces(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
     order[k] = k;
   std::stable_sort(
     order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return parts[a].size() < parts[b].size(); });
+  const Eigen::Vector2d typical = TypicalSpread(parts, moments, small, thickness);
   for (int pass = 0; pass < 2; ++pass)
     for (std::size_t k : order)
     {
@@ -1333,8 +1385,8 @@ void JoinPieces(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
                 !ShortSeamBetween(points, graph, partOf, static_cast<int>(k), part, parts[k],
                   parts[static_cast<std::size_t>(part)], false)))
           best = part;
-      if (best < 0 && pass == 0 && !links.empty()) // a small leaf beside others: no instance
-      {
+      if (best < 0 && pass == 0 && !links.empty() && !SpreadLikeALeaf(moments[k], typical, thickness))
+      { // a small leaf beside others: no instance
         for (int j : parts[k])
           partOf[static_cast<std::size_t>(j)] = -1;
         parts[k].clear();
