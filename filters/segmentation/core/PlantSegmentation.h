@@ -51,7 +51,9 @@
 //     a piece of (their seam not under 0.8 of each one's extent along it and the two, unfolded about the seam's
 //     line, leaving no notches where it ends; or it lies within r of that part's plane, or the two continue one
 //     sheet), smallest first; one that is a piece of none is a leaf seen small beside
-//     another and gets no instance (leaf, LeafId -1); then a larger part joins the touching part it shares the most
+//     another and gets no instance (leaf, LeafId -1), unless it is flat and spreads over a third of the plant's
+//     typical part along and across (a leaf seen sparsely, at a grazing angle, or a young leaf: it keeps its part;
+//     so does a part of flat strips only where the noise widened r); then a larger part joins the touching part it shares the most
 //     links with among those continuing its sheet (planes within NormalAngle, both together off their common plane
 //     by under r): a leaf cut in two by a crease.
 //     A leaf's rows seen at a grazing angle (farther apart than the links: each row its own one-row strip, or cut

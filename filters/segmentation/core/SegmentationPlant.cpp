@@ -2048,6 +2048,32 @@ std::vector<char> LeavesSeenInRows(const std::vector<Eigen::Vector3d>& points, c
   return rows;
 }
 
+/// Per part of `leaves`, whether it is made of flat strips only (NoLeafShape, with at least the fewest points of a
+/// leaf) and yet spreads over a leaf: flat (off its plane by under r) and over at least LeafSpreadFraction of the
+/// plant's typical part with a leaf's shape, along and across (SpreadLikeALeaf). On noisy scans, where the features'
+/// radius r widens with the noise, a small leaf or one seen edge on is cut into strips narrower than 2r, each of which
+/// is no leaf by its width; together they are one.
+std::vector<char> StripsSpreadLikeALeaf(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& region,
+  const std::vector<RegionVerdict>& verdicts, const SegmentationParameters& p, double radius,
+  const std::vector<std::vector<int>>& leaves)
+{
+  std::vector<char> strips(leaves.size(), 0);
+  std::vector<std::vector<int>> shaped;
+  std::vector<PartMoments> moments;
+  for (std::size_t k = 0; k < leaves.size(); ++k)
+    if (!NoLeafShape(region, verdicts, leaves[k], p.minimumLeafPoints))
+    {
+      shaped.push_back(leaves[k]);
+      moments.push_back(PartMoments::Of(points, leaves[k]));
+    }
+    else
+      strips[k] = leaves[k].size() >= static_cast<std::size_t>(p.minimumLeafPoints);
+  const Eigen::Vector2d typical = TypicalSpread(shaped, moments, 0.0, radius);
+  for (std::size_t k = 0; k < leaves.size(); ++k)
+    strips[k] = strips[k] && SpreadLikeALeaf(PartMoments::Of(points, leaves[k]), typical, radius);
+  return strips;
+}
+
 /// A leaf part bent off its plane by more than this fraction of r (root mean square) ...
 constexpr double WoodSheetBend = 0.25;
 /// ... with more than this share of its points within WoodSheetReach r of the wood lies along the wood.
@@ -2181,12 +2207,17 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   std::sort(leaves.begin(), leaves.end());
   const std::vector<char> seenInRows = LeavesSeenInRows(points, f, region, verdicts, labels.organ, pieceOf,
     p.minimumLeafPoints, gapCosine, GapThickness * radius, 0.5 * p.linkScale * spacing, leaves);
+  // only where the noise widened the features' radius past FeatureScale spacings: there strips narrower than 2r are
+  // cut out of small leaves and leaves seen edge on
+  const std::vector<char> spreadLikeALeaf = radius > p.featureScale * spacing * (1.0 + 1e-9)
+    ? StripsSpreadLikeALeaf(points, region, verdicts, p, radius, leaves)
+    : std::vector<char>(leaves.size(), 0);
   for (std::size_t li = 0; li < leaves.size(); ++li)
   {
     const std::vector<int>& ids = leaves[li];
     // a part made only of flat strips (narrower than 2r or a long strip) and cut-off points has no leaf shape to
-    // fit: leaf, no LeafId, unless it is a leaf seen only in rows
-    if (!seenInRows[li] && NoLeafShape(region, verdicts, ids, p.minimumLeafPoints))
+    // fit: leaf, no LeafId, unless it is a leaf seen only in rows, or its strips spread over a leaf
+    if (!seenInRows[li] && !spreadLikeALeaf[li] && NoLeafShape(region, verdicts, ids, p.minimumLeafPoints))
       continue;
     if (!wood.empty() && WoodSurfaceSheet(points, ids, wood, woodGrid, radius, f.noise))
       continue; // the wood's surface seen as a sheet: leaf, no LeafId
