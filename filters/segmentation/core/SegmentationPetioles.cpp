@@ -549,19 +549,20 @@ bool ContinuesTheWood(
   return static_cast<double>(behind) < 0.02 * static_cast<double>(thick.size()) && off[off.size() * 9 / 10] < radius;
 }
 
-/// How many of the points `ids` have a neighbour over the links that `take` accepts.
-std::size_t LinkedTo(const LinkGraph& graph, const std::vector<int>& ids, const std::function<bool(std::size_t)>& take)
+/// The points of `ids` (in their order) that have a neighbour over the links that `take` accepts.
+std::vector<int> LinkedTo(
+  const LinkGraph& graph, const std::vector<int>& ids, const std::function<bool(std::size_t)>& take)
 {
-  std::size_t count = 0;
+  std::vector<int> linked;
   for (int i : ids)
     for (std::size_t e = graph.offsets[static_cast<std::size_t>(i)]; e < graph.offsets[static_cast<std::size_t>(i) + 1];
          ++e)
       if (take(static_cast<std::size_t>(graph.neighbours[e])))
       {
-        ++count;
+        linked.push_back(i);
         break;
       }
-  return count;
+  return linked;
 }
 
 /// Per leaf instance, whether one of its points is linked to the wood: a leaf cut off from it by a gap in the scan
@@ -806,21 +807,6 @@ bool ForksThere(const std::vector<SkeletonNode>& nodes, int v, double radius)
   return false;
 }
 
-/// The points of `ids` linked to leaf instance `leaf`.
-std::vector<int> OnLeaf(const LinkGraph& links, const PlantLabels& labels, const std::vector<int>& ids, int leaf)
-{
-  std::vector<int> on;
-  for (int q : ids)
-    for (std::size_t e = links.offsets[static_cast<std::size_t>(q)]; e < links.offsets[static_cast<std::size_t>(q) + 1];
-         ++e)
-      if (labels.leaf[static_cast<std::size_t>(links.neighbours[e])] == leaf)
-      {
-        on.push_back(q);
-        break;
-      }
-  return on;
-}
-
 /// What a petiole is judged and marked with.
 struct PetioleScene
 {
@@ -997,7 +983,7 @@ std::size_t SplitPiece(const PetioleScene& scene, const ThinPiece& piece, std::v
         mark[static_cast<std::size_t>(j)] = 0;
       std::vector<int> all = ids;
       all.insert(all.end(), stalk.begin(), stalk.end());
-      const std::vector<int> onLeaf = OnLeaf(scene.links, labels, ids, leaf);
+      const std::vector<int> onLeaf = LinkedTo(scene.links, ids, [&](std::size_t j) { return labels.leaf[j] == leaf; });
       if (PetioleSized(scene, labels, all, onLeaf, leaf) && !InLineWithTheWood(scene, all, start, foot, tube, mark))
         petiole(all, onLeaf, leaf);
     }
@@ -1013,7 +999,7 @@ std::size_t SplitPiece(const PetioleScene& scene, const ThinPiece& piece, std::v
       !Apart(scene.points, nodes, me, scene.radius))
       continue; // not the fork's first node, or no fork
     const std::vector<int> ids = Subtree(nodes, me, 0.0);
-    const std::vector<int> onLeaf = OnLeaf(scene.links, labels, ids, n.leaf);
+    const std::vector<int> onLeaf = LinkedTo(scene.links, ids, [&](std::size_t j) { return labels.leaf[j] == n.leaf; });
     if (PetioleSized(scene, labels, ids, onLeaf, n.leaf) && !ContinuesItsParent(scene.points, nodes, me, scene.radius))
       petiole(ids, onLeaf, n.leaf);
   }
@@ -1060,7 +1046,8 @@ std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const Point
     if (piece.leaf < 0)
       continue; // a bare twig
     if (piece.severalLeaves || piece.thick.empty() || Reach(points, piece.thick) > ContactRadii * radius ||
-      static_cast<double>(LinkedTo(graph, piece.ids, thick)) >= ContactShare * static_cast<double>(piece.ids.size()) ||
+      static_cast<double>(LinkedTo(graph, piece.ids, thick).size()) >=
+        ContactShare * static_cast<double>(piece.ids.size()) ||
       !PetioleSized(scene, labels, piece.ids, piece.onLeaf, piece.leaf))
     {
       // a twig carrying several leaves, thin wood meeting no thicker wood, at several places or all along: its
