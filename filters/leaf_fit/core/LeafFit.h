@@ -110,6 +110,16 @@ inline constexpr double MaxGridNumberVariance = 0.7;
 /// (about 600 points) random points' ratio stays above 0.77 (156 samples of 13 presets, 2,000-30,000 points).
 inline constexpr int MinGridWindows = 100;
 
+/// Why a leaf's base is a guess (Traits' BaseFrom 3): no BasePoint, ApexPoint or petiole, and the outline either
+/// is the same at both ends (an ellipse) or differs only in which half is wider, which is the base of an ovate blade
+/// and the apex of an obovate one (the wider half is taken as the base).
+enum class BaseGuess
+{
+  None,
+  SameAtBothEnds,
+  WiderHalf
+};
+
 struct LeafTraits
 {
   double length = 0, width = 0, projectedLength = 0, projectedWidth = 0;
@@ -125,7 +135,7 @@ struct LeafTraits
   double coverage = 0;                       ///< fraction of blade area whose Support is below twice the point spacing
   double spacing = 0;                        ///< median nearest-neighbour distance of the inliers
   /// 0: the shape, 1: BasePoint, 2: the petiole's junction, 3: a guess (no base point, apex point or petiole, and
-  /// the blade is the same at both ends: which end is the base cannot be told; CheckFittedLeaf warns)
+  /// the outline does not tell which end is the base: LeafFitResult::baseGuess says why; CheckFittedLeaf warns)
   int baseFrom = 0;
   double petioleLength = 0; ///< arc length of the petiole's centre line (0: no petiole found)
   /// The spacing Coverage is measured in: the larger of `spacing` and half the spacing across a line scan's lines
@@ -174,6 +184,8 @@ struct LeafFitResult
   double sheetShare = 1.0;
   /// False when the sheet's share was too low to tell a petiole from sparse blade (none was looked for).
   bool petioleLookedFor = true;
+  /// Why the base is a guess (Traits' baseFrom 3), else None.
+  BaseGuess baseGuess = BaseGuess::None;
   /// How far the blade's last samples at the apex run on as a trail a point across, within the outline's spacing
   /// (Traits' coverage spacing) of the midvein (fit::ApexTrail): a drawn-out tip narrower than the scan's spacing,
   /// which may go on unseen beyond them. 0 when the apex is wider than that to its end.

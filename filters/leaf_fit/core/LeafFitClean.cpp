@@ -353,13 +353,14 @@ bool NarrowEndIsBase(const std::vector<double>& width, double widest, double len
 /// X across it): an end that is a terminal lobe (a palmately or pinnately lobed blade's; the longer one) is the apex;
 /// else one narrow end decides as NarrowEndIsBase says (a stalk or a wedge is the base, a drawn-out tip the apex);
 /// else a blade widest at one end (a fan) has its apex there; else
-/// the base is the end nearer the widest cross-section (ovate leaves are wider towards the base). `undecided`: none
-/// of these tells the ends apart (the blade's width is centred along the axis within 2 point spacings, as on an
-/// elliptic blade, the same at both ends), so the answer is a guess.
+/// the base is the end nearer the widest cross-section (ovate leaves are wider towards the base). `guess`: the
+/// answer is a guess, as BaseGuess says why: none of these rules tells the ends apart (the blade's width is centred
+/// along the axis, as on an elliptic blade, the same at both ends), or only the wider half did, which is the base of
+/// an ovate blade and the apex of an obovate one (paper 002's Fig. 2 blade, a deltoid poplar's turned round).
 bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& centroid, const Eigen::Vector3d& Y,
-  const Eigen::Vector3d& X, double spacing, bool& undecided)
+  const Eigen::Vector3d& X, double spacing, BaseGuess& guess)
 {
-  undecided = false;
+  guess = BaseGuess::None;
   // Widths of 20 slices; the narrow-end tests look at the end slices, the ovate test at the widest slice.
   double lo = 0.0, hi = 0.0;
   const std::vector<double> width = SliceWidths(points, centroid, Y, X, lo, hi);
@@ -398,8 +399,11 @@ bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector
   // 2.5 % of the length: obovate blades are as common as ovate ones, and one whose area lies that near its middle
   // (paper 002's Fig. 1, 5 and 6 blades: 1.0-1.8 %, their base the narrower end) is as often one as the other; the
   // ovate blades here lie 3.6-9.4 % off.
+  // Beyond that the wider half is the base of an ovate blade, the apex of an obovate one: the outline alone cannot
+  // say which, so the answer is still a guess (the ovate one).
   const double offset = sum > 0.0 ? std::abs(moment / sum) * (hi - lo) / slices : 0.0;
-  undecided = !(sum > 0.0) || offset < std::max(2.0 * spacing, 0.025 * (hi - lo));
+  guess = !(sum > 0.0) || offset < std::max(2.0 * spacing, 0.025 * (hi - lo)) ? BaseGuess::SameAtBothEnds
+                                                                              : BaseGuess::WiderHalf;
   return sum > 0.0 && moment > 0.0;
 }
 } // namespace
@@ -426,7 +430,7 @@ bool StalkIsTheBladesTip(const std::vector<Eigen::Vector3d>& points, const Petio
 }
 
 Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
-  const Petiole& petiole, int& baseFrom, const ParallelFor& parallel)
+  const Petiole& petiole, int& baseFrom, BaseGuess& guess, const ParallelFor& parallel)
 {
   Eigen::Vector3d centroid;
   const auto eig = Principal(points, centroid);
@@ -437,6 +441,7 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   // symmetry through what is known (never the principal axes alone: a fan is wider than long).
   std::optional<Eigen::Vector3d> base, apex;
   baseFrom = 0;
+  guess = BaseGuess::None;
   if (options.basePoint)
   {
     base = Nearest(points, *options.basePoint);
@@ -460,10 +465,9 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   {
     const Eigen::Vector3d middle = points.size() > 8 ? AreaCentroid(points, normal, centroid, parallel) : centroid;
     Y = SymmetryAxis(points, middle, normal, principal, spacing, parallel);
-    bool undecided = false;
-    if (BaseAtPlusY(points, middle, Y, normal.cross(Y).normalized(), spacing, undecided))
+    if (BaseAtPlusY(points, middle, Y, normal.cross(Y).normalized(), spacing, guess))
       Y = -Y;
-    if (undecided)
+    if (guess != BaseGuess::None)
       baseFrom = 3;
   }
   Eigen::Vector3d Z = normal - normal.dot(Y) * Y;

@@ -49,7 +49,11 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
   std::vector<std::string> warnings;
   if (!fit.modelWarning.empty())
     warnings.push_back(fit.modelWarning);
-  if (fit.traits.baseFrom == 3)
+  if (fit.traits.baseFrom == 3 && fit.baseGuess == BaseGuess::WiderHalf)
+    warnings.push_back("base and apex are a guess (BaseFrom 3): the base was taken at the blade's wider half, as on "
+                       "an ovate leaf, so on an obovate leaf Azimuth, MidveinInclination and LeafUV's v are turned "
+                       "end to end (give BasePoint or ApexPoint)");
+  else if (fit.traits.baseFrom == 3)
     warnings.push_back("base and apex are a guess (BaseFrom 3): the blade is the same at both ends, so Azimuth, "
                        "MidveinInclination and LeafUV's v may be turned end to end (give BasePoint or ApexPoint)");
   if (fit.sheetShare < MinSheetShare)

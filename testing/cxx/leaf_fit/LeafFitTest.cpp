@@ -445,13 +445,20 @@ TEST(LeafFit, RollingAndBendingHaveTheirSigns)
   EXPECT_NEAR(fit.traits.bending, 120.0, 10.0);
 }
 
-TEST(LeafFit, OvateLeafFindsItsBase)
+TEST(LeafFit, OvateLeafTakesItsWiderHalfAsItsBaseAndSaysSo)
 {
+  // Without a petiole or a hint only the wider half tells the ends of an ovate blade apart, and an obovate blade
+  // is the same outline turned round: the base is taken at the wider half, and the fit says that is a guess.
   const TrueLeaf truth = MakeLeaf(Model::OvateA, 100.0, 0.0, 0.0);
   const LeafFitResult fit = FitLeaf(Scan(truth, 8000, 0.1, 0), LeafFitParameters());
   ASSERT_EQ(fit.error, "");
-  EXPECT_EQ(fit.traits.baseFrom, 0);
   EXPECT_LT((fit.points[fit.midvein.front()] - truth.points[truth.midvein.front()]).norm(), 3.0);
+  EXPECT_EQ(fit.traits.baseFrom, 3);
+  EXPECT_EQ(fit.baseGuess, BaseGuess::WiderHalf);
+  const std::vector<std::string> warnings = CheckFittedLeaf(fit, LeafFitParameters().resolution);
+  EXPECT_EQ(std::count_if(warnings.begin(), warnings.end(),
+              [](const std::string& w) { return w.find("wider half") != std::string::npos; }),
+    1);
 }
 
 TEST(LeafFit, ModelCControlPointsRebuildTheLeaf)
