@@ -236,6 +236,22 @@ TEST(LeafShape, PetioleOnePointWideLeavingTheBladeDownwards)
   ExpectShape(scan, pose, Expected());
 }
 
+TEST(LeafShape, NoisyStalkUnderACordateBaseEndsWhereItsAxisMeetsTheBlade)
+{
+  // A stalk 30 % of the blade's length, 2 or 3 points across, leaving a cordate base 30 degrees below the blade,
+  // noise 1 % of the length (about 2 spacings). The stalk's points scatter wider than its width, so the walk along it
+  // stops short of the blade, where the points around are its own and no sheet: the junction was left out on the
+  // stalk (PetioleLength -16 %, base 2.1-2.7 % of the length out, Length +2.0-2.7 %). The blade's plane ahead, where
+  // the axis meets it, is the junction.
+  for (const int across : { 2, 3 })
+    for (const bool tilted : { false, true })
+    {
+      const Eigen::Isometry3d pose = tilted ? Tilted() : Eigen::Isometry3d::Identity();
+      const Synthetic scan = Scan(Blade(6, 100.0), 10000, 1.0, 30.0, Straight(30.0), across, pose);
+      ExpectShape(scan, pose, Expected());
+    }
+}
+
 TEST(LeafShape, ShortNarrowPetioleSaysItMayBeTheBladesAttenuateBase)
 {
   // A base that narrows into a trail a point or two across looks like a thin stalk: the curled emarginate preset
