@@ -802,7 +802,8 @@ constexpr double MinNoiseForAhead = 0.4;
 /// walk stops at the first slice that looks wider), with no plane met around its junction (the blade lies beyond
 /// the 12 spacings around it, so the points there are the stalk's and a few of the blade's, no sheet): the plane of
 /// the points around the axis 12 spacings ahead (the stalk's fitted line where there is one; without the points
-/// within twice the stalk's width of it) is looked for, and where the axis meets it, 2 to 24 spacings ahead, the
+/// within twice the stalk's width of it; beside a rounded base those are half a disc, too short across for a sheet
+/// at that noise, and then 24 spacings ahead) is looked for, and where the axis meets it, 2 to 24 spacings ahead, the
 /// junction moves, when the blade's scatter about that plane is at least MinNoiseForAhead of the stalk's
 /// half-width. The stalk's points on the way join the petiole.
 void AheadToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, double spacing,
@@ -817,11 +818,17 @@ void AheadToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& g
   const double narrow = axis.half + 0.75 * spacing, radius = 12.0 * spacing;
   std::vector<int> near;
   std::pair<Eigen::Vector3d, double> plane;
-  const std::optional<double> meets =
-    AxisMeetsPlane(points, grid, q + radius * w, w, radius, 2.0 * narrow, 20, petiole, near, &plane);
+  double ahead = radius;
+  std::optional<double> meets =
+    AxisMeetsPlane(points, grid, q + ahead * w, w, radius, 2.0 * narrow, 20, petiole, near, &plane);
+  if (!meets)
+  {
+    ahead = 2.0 * radius;
+    meets = AxisMeetsPlane(points, grid, q + ahead * w, w, radius, 2.0 * narrow, 20, petiole, near, &plane);
+  }
   if (!meets)
     return;
-  const double lambda = radius + *meets;
+  const double lambda = ahead + *meets;
   if (!(lambda > 2.0 * spacing && lambda < 2.0 * radius) || plane.second < MinNoiseForAhead * axis.half)
     return;
 
