@@ -78,14 +78,15 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
     warnings.push_back(message.str());
   }
   if (fit.traits.baseFrom == 2 && fit.traits.petioleLength < MinPetioleShare * fit.traits.length &&
-    fit.petioleHalfWidth < MaxNarrowPetiole * fit.traits.spacing)
+    fit.petioleHalfWidth < MaxNarrowPetiole * fit.traits.spacing + 2.0 * fit.traits.fitRMS)
   {
     std::ostringstream message;
     message.precision(3);
     message << "the petiole found is short (PetioleLength " << fit.traits.petioleLength << ", "
             << 100.0 * fit.traits.petioleLength / fit.traits.length
-            << " % of Length) and a point or two across, as the blade's own attenuate base is: if the leaf has no"
-            << " petiole there, Length is short by it (give BasePoint at the blade's end)";
+            << " % of Length) and a point or two across, as the blade's own attenuate base or drawn-out tip is: if"
+            << " the leaf has no petiole there, Length is short by it, or the base was put at the apex (give"
+            << " BasePoint at the blade's base, or ApexPoint)";
     warnings.push_back(message.str());
   }
   if (fit.traits.coverage < MinCoverage)

@@ -70,12 +70,14 @@ inline constexpr double MinSheetShare = 0.85;
 /// about 4 (6.2 at most over 144 random scans of twelve blades without a drawn-out tip); the acuminate preset's tip
 /// gives 5-18 on the accuracy benchmark's scans, 8-36 at random.
 inline constexpr double MaxApexTrail = 6.5;
-/// A petiole shorter than this share of the blade's Length and narrower than MaxNarrowPetiole point spacings (its
-/// half-width) may be the blade's own attenuate base: a base that narrows into a trail a point or two across looks
-/// like a thin stalk (the curled emarginate preset from two positions, without a petiole: 0.053 of Length, half-width
-/// 1.3 spacings, base 7 % of the length up the blade). The accuracy benchmark's petioles are 0.27-0.33 of Length,
-/// the shipped sugar beets' 0.53-0.91.
-inline constexpr double MinPetioleShare = 0.1;
+/// A petiole shorter than this share of the blade's Length and narrower than MaxNarrowPetiole point spacings plus
+/// twice FitRMS (its half-width; the scan's noise widens a trail) may be the blade's own attenuate base or drawn-out
+/// tip: a base or tip that narrows into a trail a point or two across looks like a thin stalk. The curled emarginate
+/// preset from two positions, without a petiole: 0.053 of Length, half-width 1.3 spacings, base 7 % of the length up
+/// the blade. At 1 % range noise the acuminate preset without a petiole: its tip taken for a stalk 0.09-0.18 of
+/// Length, half-width 2.1-3.1 spacings with FitRMS 1.4-1.6, the base put at the tip. The accuracy benchmark's
+/// petioles are 0.27-0.33 of Length, the shipped sugar beets' 0.53-0.91.
+inline constexpr double MinPetioleShare = 0.2;
 inline constexpr double MaxNarrowPetiole = 2.0;
 /// Relative difference of areas beyond which the flat model is said not to be the fitted blade.
 inline constexpr double MaxModelAreaError = 0.02;
@@ -83,7 +85,7 @@ inline constexpr double MaxModelAreaError = 0.02;
 /// The warnings of a successful fit, one sentence each: the model's own (modelWarning), a base that is a guess
 /// (BaseFrom 3: the blade is the same at both ends, or only its wider half tells them apart), a scan that samples the blade unevenly (sheetShare under
 /// MinSheetShare), an apex drawn out beyond what the scan resolves (apexTrail over MaxApexTrail spacings), a short
-/// narrow petiole that may be the blade's attenuate base (MinPetioleShare, MaxNarrowPetiole), low Coverage, and the
+/// narrow petiole that may be the blade's attenuate base or tip (MinPetioleShare, MaxNarrowPetiole), low Coverage, and the
 /// flat
 /// Model C leaf (flatMidvein, flatLeftMargin, flatRightMargin rebuilt by LeafOutlineSource's B-spline leaf at
 /// `resolution`) whose area differs from the fitted blade's (the Area trait) by more than MaxModelAreaError.

@@ -261,8 +261,8 @@ TEST(LeafShape, ShortNarrowPetioleSaysItMayBeTheBladesAttenuateBase)
 {
   // A base that narrows into a trail a point or two across looks like a thin stalk: the curled emarginate preset
   // scanned from two positions, without a petiole, had its last 5 % taken for one (base 7 % of the length up the
-  // blade, Length 7 % short), and said nothing. A petiole under a tenth of Length and under 2 spacings in half-width
-  // is said to be possibly the blade's own: a stalk two points across and 6 % as long as the attenuate-based blade,
+  // blade, Length 7 % short), and said nothing. A short petiole (LeafPlant.h: MinPetioleShare) under 2 spacings in
+  // half-width is said to be possibly the blade's own: a stalk two points across and 6 % as long as the attenuate-based blade,
   // found and measured, warns; the same stalk 30 % as long does not.
   const Eigen::Isometry3d pose = Tilted();
   const LeafGeometry leaf = Blade(12, 100.0);
@@ -278,6 +278,30 @@ TEST(LeafShape, ShortNarrowPetioleSaysItMayBeTheBladesAttenuateBase)
       [](const std::string& w) { return w.find("attenuate base") != std::string::npos; });
     EXPECT_EQ(said, petiole < 10.0) << "petiole " << petiole;
   }
+}
+
+TEST(LeafShape, ShortStalkAsNarrowAsTheNoiseSaysItMayBeTheBladesOwn)
+{
+  // At 1 % range noise the acuminate preset without a petiole had its drawn-out tip taken for a stalk 0.09-0.18 of
+  // Length, 2.1-3.1 spacings in half-width (the noise widens it), and its base put at the tip, silently. A stalk
+  // under 0.2 of Length whose half-width is under 2 spacings plus twice FitRMS is said to be possibly the blade's
+  // own: here a stalk 12 % as long, 5 points across, noise about a spacing (half-width 2.3 spacings, FitRMS 1.2:
+  // not said before, under 0.1 of Length and 2 spacings). The same stalk on a scan with little noise (half-width 3.2
+  // spacings, FitRMS 0.3) is wider than a trail, and a stalk 30 % as long is a petiole: neither is said.
+  const Eigen::Isometry3d pose = Tilted();
+  const LeafGeometry leaf = Blade(0, 100.0);
+  auto said = [&](double petiole, double sigma) {
+    const Synthetic scan = Scan(leaf, 8000, sigma, petiole, Straight(30.0), 5, pose);
+    const LeafFitResult fit = FitLeaf(scan.points, LeafFitParameters());
+    EXPECT_EQ(fit.error, "");
+    EXPECT_EQ(fit.traits.baseFrom, 2) << "petiole " << petiole << ", noise " << sigma;
+    const std::vector<std::string> warnings = CheckFittedLeaf(fit, LeafFitParameters().resolution);
+    return std::any_of(warnings.begin(), warnings.end(),
+      [](const std::string& w) { return w.find("drawn-out tip") != std::string::npos; });
+  };
+  EXPECT_TRUE(said(12.0, 0.66));
+  EXPECT_FALSE(said(12.0, 0.1));
+  EXPECT_FALSE(said(30.0, 0.66));
 }
 
 TEST(LeafShape, StalkUnderAnAttenuateBaseOppositeANotchedApexIsThePetiole)
