@@ -818,17 +818,14 @@ void AheadToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& g
   const double narrow = axis.half + 0.75 * spacing, radius = 12.0 * spacing;
   std::vector<int> near;
   std::pair<Eigen::Vector3d, double> plane;
-  double ahead = radius;
-  std::optional<double> meets =
-    AxisMeetsPlane(points, grid, q + ahead * w, w, radius, 2.0 * narrow, 20, petiole, near, &plane);
-  if (!meets)
-  {
-    ahead = 2.0 * radius;
-    meets = AxisMeetsPlane(points, grid, q + ahead * w, w, radius, 2.0 * narrow, 20, petiole, near, &plane);
-  }
-  if (!meets)
-    return;
-  const double lambda = ahead + *meets;
+  double lambda = std::numeric_limits<double>::quiet_NaN(); // no plane met: nothing moves
+  for (const double ahead : { radius, 2.0 * radius })
+    if (const auto meets =
+          AxisMeetsPlane(points, grid, q + ahead * w, w, radius, 2.0 * narrow, 20, petiole, near, &plane))
+    {
+      lambda = ahead + *meets;
+      break;
+    }
   if (!(lambda > 2.0 * spacing && lambda < 2.0 * radius) || plane.second < MinNoiseForAhead * axis.half)
     return;
 
