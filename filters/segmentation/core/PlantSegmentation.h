@@ -53,8 +53,8 @@
 //     sheet), smallest first; one that is a piece of none is a leaf seen small beside
 //     another and gets no instance (leaf, LeafId -1), unless it is flat and spreads over a third of the plant's
 //     typical part along and across (a leaf seen sparsely, at a grazing angle, or a young leaf: it keeps its part;
-//     so does a part of flat strips only where the noise widened r); then a larger part joins the touching part it shares the most
-//     links with among those continuing its sheet (planes within NormalAngle, both together off their common plane
+//     so does a part of flat strips only where the noise widened r); then a larger part joins the touching part it
+//     shares the most links with among those continuing its sheet (planes within NormalAngle, both together off their common plane
 //     by under r): a leaf cut in two by a crease.
 //     A leaf's rows seen at a grazing angle (farther apart than the links: each row its own one-row strip, or cut
 //     off from every region) join a leaf part: parts with no leaf shape (under MinimumLeafPoints, or only flat strips

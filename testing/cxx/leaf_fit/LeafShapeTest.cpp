@@ -262,8 +262,8 @@ TEST(LeafShape, ShortNarrowPetioleSaysItMayBeTheBladesAttenuateBase)
   // A base that narrows into a trail a point or two across looks like a thin stalk: the curled emarginate preset
   // scanned from two positions, without a petiole, had its last 5 % taken for one (base 7 % of the length up the
   // blade, Length 7 % short), and said nothing. A short petiole (LeafPlant.h: MinPetioleShare) under 2 spacings in
-  // half-width is said to be possibly the blade's own: a stalk two points across and 6 % as long as the attenuate-based blade,
-  // found and measured, warns; the same stalk 30 % as long does not.
+  // half-width is said to be possibly the blade's own: a stalk two points across and 6 % as long as the
+  // attenuate-based blade, found and measured, warns; the same stalk 30 % as long does not.
   const Eigen::Isometry3d pose = Tilted();
   const LeafGeometry leaf = Blade(12, 100.0);
   for (const double petiole : { 6.0, 30.0 })
