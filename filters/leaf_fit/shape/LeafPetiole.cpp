@@ -366,7 +366,21 @@ struct StalkAxis
   bool fitted = false;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero(), direction = Eigen::Vector3d::Zero();
   Eigen::Vector3d lineOffset = Eigen::Vector3d::Zero(); ///< from that line to the stalk's axis
+  /// The points' RMS scatter about the parabola that gave `lineOffset`, over the section's half-extent (AxisOffset).
+  double arcScatter = 0.0;
 };
+
+/// The scan's noise, as the blade's points' scatter about their plane beside the junction, over the stalk's
+/// half-width, from which a walk along the stalk may have stopped at a noisy point rather than at the blade: on the
+/// accuracy benchmark's scans at 1 % range noise 0.47-0.83 where it stopped short, on the shipped sugar-beet scans
+/// 0.18-0.32 (their walks stop where the lamina begins along the petiole, which is the junction). At that noise a
+/// stalk's cross-section draws no arc the noise has not bent (NoArcInTheNoise).
+constexpr double MinNoiseForAhead = 0.4;
+
+/// A stalk's cross-section whose points scatter about their parabola by at least this share of its half-extent
+/// (AxisOffset's R) is more noise than arc: on the accuracy benchmark's stalks 0.26-0.41 at 0.3 % range noise (the
+/// arc bent the right way but on one of 60), 0.41-0.51 at 1 % where the arc was bent the wrong way.
+constexpr double MaxArcScatter = 0.4;
 
 /// The largest gap between consecutive values of `along` (sorted here).
 double LargestGap(std::vector<double>& along)
@@ -385,9 +399,10 @@ double LargestGap(std::vector<double>& along)
 /// spans the stalk's diameter whatever the view (the radius: half its 2-98 % extent); in depth, a parabola through
 /// the section gives the crest (the depth in the middle), and the ends bend back towards the axis, which lies a
 /// radius behind the crest. Zero when the radius is more than twice the section's half-width about the centroids'
-/// line plus a spacing (not a stalk's section) or the axis would lie more than a radius from that line.
-Eigen::Vector3d AxisOffset(
-  const std::vector<Eigen::Vector3d>& lateral, const Eigen::Vector3d& u, double half, double spacing, bool arc = false)
+/// line plus a spacing (not a stalk's section) or the axis would lie more than a radius from that line. `scatter`,
+/// when given: the points' RMS offset in depth from the parabola, over R.
+Eigen::Vector3d AxisOffset(const std::vector<Eigen::Vector3d>& lateral, const Eigen::Vector3d& u, double half,
+  double spacing, bool arc = false, double* scatter = nullptr)
 {
   if (lateral.size() < 10)
     return Eigen::Vector3d::Zero();
@@ -425,6 +440,16 @@ Eigen::Vector3d AxisOffset(
   // section's own centre line is the axis.
   if (arc && !(std::abs(c.y()) * R * R >= 0.25 * R))
     return Eigen::Vector3d::Zero();
+  if (scatter)
+  {
+    double squares = 0.0;
+    for (const auto& q : flat)
+    {
+      const double x = (q - mean).dot(ea), y = (q - mean).dot(ed);
+      squares += (y - c.x() - c.y() * x * x) * (y - c.x() - c.y() * x * x);
+    }
+    *scatter = std::sqrt(squares / static_cast<double>(flat.size())) / R;
+  }
   const double depth = c.x() + (c.y() > 0.0 ? R : -R);
   const Eigen::Vector2d centre = mean + 0.5 * (across[hi] + across[lo]) * ea + depth * ed;
   if (!c.allFinite() || !(R > 0.0 && R <= 2.0 * half + spacing) || !(centre.norm() <= R))
@@ -445,7 +470,7 @@ void FitStalkLine(const std::vector<Eigen::Vector3d>& section, const std::vector
   axis.fitted = true;
   axis.centroid = fit.centroid;
   axis.direction = fit.major.dot(u) < 0.0 ? Eigen::Vector3d(-fit.major) : fit.major;
-  const Eigen::Vector3d offset = AxisOffset(across, u, axis.half, spacing, true);
+  const Eigen::Vector3d offset = AxisOffset(across, u, axis.half, spacing, true, &axis.arcScatter);
   axis.lineOffset = offset - offset.dot(axis.direction) * axis.direction;
 }
 
@@ -792,11 +817,33 @@ void BackToPlane(const std::vector<Eigen::Vector3d>& points, const PointGrid& gr
   petiole.meetsPlane = true;
 }
 
-/// The scan's noise, as the blade's points' scatter about their plane beside the junction, over the stalk's
-/// half-width, from which a walk along the stalk may have stopped at a noisy point rather than at the blade: on the
-/// accuracy benchmark's scans at 1 % range noise 0.47-0.83 where it stopped short, on the shipped sugar-beet scans
-/// 0.18-0.32 (their walks stop where the lamina begins along the petiole, which is the junction).
-constexpr double MinNoiseForAhead = 0.4;
+/// A stalk seen through range noise about as large as its radius: where the noise moves each point along its beam,
+/// a section's extreme points across the stalk are those the noise moved outwards, and on a beam seen obliquely
+/// (two scanner positions either side of the stalk) outwards is also towards the scanner, so the section's ends
+/// rise and the parabola through it bends the wrong way: the axis put a radius in front of the seen side, not
+/// behind it (on the accuracy benchmark's stalks at 1 % noise from two positions, every arc that passed AxisOffset's
+/// test bent so). The line then stays on the seen points' centroid, within a radius of the axis on its right side,
+/// when both the blade's scatter about its plane within 12 spacings of the junction is at least MinNoiseForAhead of
+/// the stalk's half-width and the section's own scatter about its parabola at least MaxArcScatter of its
+/// half-extent (either alone is met by sections bent the right way at 0.3 % noise: a blade curving beside its base,
+/// a section seen sparsely).
+void NoArcInTheNoise(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid,
+  const std::vector<unsigned char>& blade, double spacing, const Petiole& petiole, StalkAxis& axis)
+{
+  if (!(axis.lineOffset.norm() > 0.0) || axis.arcScatter < MaxArcScatter)
+    return;
+  std::vector<int> near;
+  grid.Within(petiole.junction, 12.0 * spacing, near);
+  std::vector<Eigen::Vector3d> around;
+  for (int j : near)
+    if (blade[j] && !petiole.member[j])
+      around.push_back(points[j]);
+  if (around.size() < 20)
+    return;
+  const FittedPlane plane = FitPlane(around);
+  if (std::sqrt(plane.moments[0] / static_cast<double>(around.size())) >= MinNoiseForAhead * axis.half)
+    axis.lineOffset = Eigen::Vector3d::Zero();
+}
 
 /// A stalk whose walk stopped short of the blade (on a noisy scan its points scatter wider than its width, and the
 /// walk stops at the first slice that looks wider), with no plane met around its junction (the blade lies beyond
@@ -1006,7 +1053,8 @@ Petiole FindPetiole(const std::vector<Eigen::Vector3d>& points, double spacing, 
   for (std::size_t k = 0; k < best->ids.size(); ++k)
     if (best->distance[k] >= from)
       petiole.member[best->ids[k]] = 1;
-  const StalkAxis axis = JunctionEnd(points, *best, bestBins, start, spacing, petiole);
+  StalkAxis axis = JunctionEnd(points, *best, bestBins, start, spacing, petiole);
+  NoArcInTheNoise(points, grid, blade, spacing, petiole, axis);
   FollowStalkToBlade(points, grid, spacing, axis, petiole);
   BackToPlane(points, grid, spacing, axis, petiole);
   AheadToPlane(points, grid, spacing, axis, petiole);

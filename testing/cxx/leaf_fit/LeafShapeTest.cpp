@@ -400,6 +400,79 @@ double BladeArea(const LeafGeometry& leaf)
   return area;
 }
 
+/// Adds to `scan` a stalk `length` long leaving the blade's base along `stalk`, a tube `radius` round, as scanners
+/// looking along `views` (unit vectors, from each scanner into the scene) see it: its surface sampled at `spacing`
+/// where it faces each scanner, every point moved along its beam by range noise `sigma`.
+void AddSeenTube(Synthetic& scan, double length, double radius, double spacing, double sigma,
+  const std::function<Eigen::Vector3d(double)>& stalk, const std::vector<Eigen::Vector3d>& views, unsigned seed)
+{
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const Eigen::Vector3d d = (stalk(1.0) - stalk(0.0)).normalized();
+  const Eigen::Vector3d e1 = d.cross(Eigen::Vector3d::UnitX()).normalized(), e2 = d.cross(e1);
+  const int count = static_cast<int>(2.0 * 3.14159265358979323846 * radius * length / (spacing * spacing));
+  for (const Eigen::Vector3d& view : views)
+    for (int i = 0; i < count; ++i)
+    {
+      const double s = length * uniform(random), angle = 2.0 * 3.14159265358979323846 * uniform(random);
+      const Eigen::Vector3d n = std::cos(angle) * e1 + std::sin(angle) * e2;
+      if (n.dot(view) >= 0.0)
+        continue; // facing away from this scanner
+      scan.points.push_back(stalk(s) + radius * n + sigma * gauss(random) * view);
+      scan.petiole.push_back(1);
+    }
+  scan.petioleLength = length;
+}
+
+TEST(LeafShape, NoisyStalkSeenFromTwoSidesKeepsItsAxisBehindItsSeenSide)
+{
+  // Two scanners looking down at 35 degrees either side of the midvein see a stalk 1 % of the blade's length in
+  // radius, with range noise of the same size. A section's extreme points across the stalk are those the noise moved
+  // outwards, which on an oblique beam is also upwards: the section's ends rise, the parabola through it bent the
+  // wrong way, and the stalk's axis was put a radius above its seen side, not below. That line met the blade's plane
+  // short of the junction, on the stalk (the accuracy benchmark's flat elliptic and cordate blades from two positions:
+  // PetioleLength -12 %, Length +4 to +5 %). Where the noise is that large the line stays on the seen points.
+  const std::vector<Eigen::Vector3d> views = { Eigen::Vector3d(std::sin(0.61), 0.0, -std::cos(0.61)),
+    Eigen::Vector3d(-std::sin(0.61), 0.0, -std::cos(0.61)) };
+  int cordateWithin = 0, otherWithin = 0; // PetioleLength within 5 %
+  for (const int preset : { 6, 0 })
+    for (const unsigned seed : { 3u, 4u, 5u, 6u, 7u, 8u })
+    {
+      const LeafGeometry leaf = Blade(preset, 100.0);
+      // Each scanner's blade: 6,000 points, moved along its beams.
+      Synthetic scan;
+      std::mt19937_64 random(seed + 10);
+      std::normal_distribution<double> gauss(0.0, 1.0);
+      for (std::size_t v = 0; v < views.size(); ++v)
+      {
+        const Synthetic seen = Scan(leaf, 6000, 0.0, 0.0, Straight(30.0), 1, Eigen::Isometry3d::Identity(), seed + v);
+        for (const Eigen::Vector3d& p : seen.points)
+        {
+          scan.points.push_back(p + gauss(random) * views[v]);
+          scan.petiole.push_back(0);
+        }
+        scan.length = seen.length;
+      }
+      const double spacing = std::sqrt(BladeArea(leaf) / 6000.0);
+      AddSeenTube(scan, 30.0, 1.0, spacing, 1.0, Straight(30.0), views, seed);
+      const LeafFitResult fit = FitLeaf(scan.points, LeafFitParameters());
+      ASSERT_EQ(fit.error, "");
+      const bool within = std::abs(fit.traits.petioleLength - 30.0) <= 0.05 * 30.0;
+      const double base = fit.points[fit.midvein.front()].norm() / scan.length;
+      SCOPED_TRACE("preset " + std::to_string(preset) + ", seed " + std::to_string(seed));
+      EXPECT_LT(base, 0.05);
+      EXPECT_NEAR(fit.traits.petioleLength, 30.0, 0.12 * 30.0);
+      if (within)
+        ++(preset == 6 ? cordateWithin : otherWithin);
+    }
+  // On the cordate blade with seed 8 the arc was bent the wrong way (PetioleLength -10.6 %, base 4.7 % of the length
+  // out on the stalk, Length +4.8 %: now -1.9 %, 1.5 %, +1.7 %). The elliptic blade's rounded base leaves the walk
+  // short on two seeds either way (-10 % and -7 %).
+  EXPECT_EQ(cordateWithin, 6);
+  EXPECT_GE(otherWithin, 4);
+}
+
 TEST(LeafShape, CordateBladeIsMeasuredFromItsSinusWithItsLobes)
 {
   // The cucumber's basal lobes reach below its base (the sinus, at the origin): Length runs from the sinus, and the
