@@ -186,6 +186,9 @@ struct LeafFitResult
   bool petioleLookedFor = true;
   /// Why the base is a guess (Traits' baseFrom 3), else None.
   BaseGuess baseGuess = BaseGuess::None;
+  /// True when the base and apex were told apart by the blade's shape alone: no BasePoint, ApexPoint or petiole, and
+  /// not a guess (Traits' baseFrom 0 without ApexPoint).
+  bool orientedByShape = false;
   /// How far the blade's last samples at the apex run on as a trail a point across, within the outline's spacing
   /// (Traits' coverage spacing) of the midvein (fit::ApexTrail): a drawn-out tip narrower than the scan's spacing,
   /// which may go on unseen beyond them. 0 when the apex is wider than that to its end.

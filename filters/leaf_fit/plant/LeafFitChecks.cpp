@@ -75,6 +75,12 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
             << " spacings) are a trail of points one across, a tip narrower than the scan's spacing ("
             << fit.traits.coverageSpacing << "), which may run on unseen beyond them: Length may be short (a denser"
             << " scan of the tip measures it)";
+    // Told from the base by the shape alone, the trail may as well be a thin petiole the fit did not find (a stalk
+    // a point across and a few spacings long): the leaf is then turned end to end.
+    if (fit.orientedByShape)
+      message << "; the base and apex were told apart by the blade's shape alone, and a thin petiole the fit did not"
+              << " find is such a trail too: if the petiole is there, the base and apex are turned end to end (give"
+              << " BasePoint or ApexPoint)";
     warnings.push_back(message.str());
   }
   if (fit.traits.baseFrom == 2 && fit.traits.petioleLength < MinPetioleShare * fit.traits.length &&

@@ -280,6 +280,34 @@ TEST(LeafShape, ShortNarrowPetioleSaysItMayBeTheBladesAttenuateBase)
   }
 }
 
+TEST(LeafShape, TrailAtAnApexToldByShapeSaysItMayBeAPetiole)
+{
+  // A stalk one point across and 12 % of the length, sampled at 2,000 points (about 6 spacings), is too short for
+  // the petiole finder: the blade's shape then tells base from apex, and the stalk, a trail a point across, was taken
+  // for a drawn-out apex. The apex warning said Length may be short, not that the leaf may be turned end to end.
+  // It now says so when the base and apex were told apart by the shape alone; with BasePoint it does not.
+  for (const int preset : { 11, 3 })
+  {
+    const Synthetic scan = Scan(Blade(preset, 100.0), 2000, 0.2, 12.0, Straight(20.0), 1, Tilted(), 3);
+    auto turned = [&](const LeafFitParameters& options) {
+      const LeafFitResult fit = FitLeaf(scan.points, options);
+      EXPECT_EQ(fit.error, "");
+      const std::vector<std::string> warnings = CheckFittedLeaf(fit, options.resolution);
+      return std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+        return w.find("the apex is drawn out") != std::string::npos && w.find("turned end to end") != std::string::npos;
+      });
+    };
+    const LeafFitResult fit = FitLeaf(scan.points, LeafFitParameters());
+    ASSERT_EQ(fit.error, "");
+    ASSERT_EQ(fit.traits.baseFrom, 0) << "preset " << preset;
+    ASSERT_GT(fit.apexTrail, 0.0) << "preset " << preset;
+    EXPECT_TRUE(turned(LeafFitParameters())) << "preset " << preset;
+    LeafFitParameters given;
+    given.basePoint = Tilted() * Eigen::Vector3d::Zero();
+    EXPECT_FALSE(turned(given)) << "preset " << preset;
+  }
+}
+
 TEST(LeafShape, ShortStalkAsNarrowAsTheNoiseSaysItMayBeTheBladesOwn)
 {
   // At 1 % range noise the acuminate preset without a petiole had its drawn-out tip taken for a stalk 0.09-0.18 of
