@@ -379,7 +379,7 @@ constexpr double MinNoiseForAhead = 0.4;
 
 /// A stalk's cross-section whose points scatter about their parabola by at least this share of its half-extent
 /// (AxisOffset's R) is more noise than arc: on the accuracy benchmark's stalks 0.26-0.41 at 0.3 % range noise (the
-/// arc bent the right way but on one of 60), 0.41-0.51 at 1 % where the arc was bent the wrong way.
+/// arc bent the right way on 58 of 60), 0.41-0.51 at 1 % where the arc was bent the wrong way.
 constexpr double MaxArcScatter = 0.4;
 
 /// The largest gap between consecutive values of `along` (sorted here).
