@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <utility>
 
 namespace plantmorph
@@ -260,8 +261,23 @@ namespace
 {
 /// Whether the part `ids` is cut in two, and then its sides (per entry of ids, in `side`). `local` is scratch: -1 for
 /// every point in and out.
+/// The extent of points[ids] along their main axis (from the lowest to the highest, as the leaf length is measured).
+double ExtentAlongMainAxis(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
+{
+  Eigen::Vector3d mean;
+  const Eigen::Vector3d axis = MainAxis(Scatter(points, ids, mean));
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (int j : ids)
+  {
+    const double t = (points[static_cast<std::size_t>(j)] - mean).dot(axis);
+    low = std::min(low, t);
+    high = std::max(high, t);
+  }
+  return high - low;
+}
+
 bool CutInTwo(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph, double cosine,
-  std::size_t smallest, const std::vector<int>& ids, std::vector<int>& local, std::vector<int>& side)
+  std::size_t smallest, double longest, const std::vector<int>& ids, std::vector<int>& local, std::vector<int>& side)
 {
   Eigen::Vector3d axes[2];
   if (ids.size() < 2 * smallest || !TwoNormalGroups(f.normal, ids, side, axes) ||
@@ -271,7 +287,8 @@ bool CutInTwo(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f
     local[static_cast<std::size_t>(ids[m])] = static_cast<int>(m);
   ConnectSides(graph, ids, local, side);
   const auto first = static_cast<std::size_t>(std::count(side.begin(), side.end(), 0));
-  const bool cut = first >= smallest && ids.size() - first >= smallest && SeamIsShort(points, graph, ids, local, side);
+  const bool cut = first >= smallest && ids.size() - first >= smallest &&
+    ((longest > 0.0 && ExtentAlongMainAxis(points, ids) > longest) || SeamIsShort(points, graph, ids, local, side));
   for (int j : ids)
     local[static_cast<std::size_t>(j)] = -1;
   return cut;
@@ -279,7 +296,8 @@ bool CutInTwo(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f
 } // namespace
 
 std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
-  double cosine, std::size_t smallest, const ParallelFor& parallel, std::vector<std::vector<int>>& parts)
+  double cosine, std::size_t smallest, double longest, const ParallelFor& parallel,
+  std::vector<std::vector<int>>& parts)
 {
   // The parts as given are judged each on its own, side by side (few are cut); the sides of a cut are appended and
   // judged in turn, in the same order as one pass over the parts would.
@@ -297,7 +315,7 @@ std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const Po
   parallel(given, [&](std::size_t begin, std::size_t end) {
     std::vector<int> local(points.size(), -1), side;
     for (std::size_t k = begin; k < end; ++k)
-      if (CutInTwo(points, f, graph, cosine, smallest, parts[k], local, side))
+      if (CutInTwo(points, f, graph, cosine, smallest, longest, parts[k], local, side))
       {
         judged[k] = CutAhead;
         sides[k] = side;
@@ -315,7 +333,7 @@ std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const Po
       side.swap(sides[k]);
     }
     else if (k >= given || judged[k] == JudgeAgain)
-      cut = CutInTwo(points, f, graph, cosine, smallest, ids, local, side);
+      cut = CutInTwo(points, f, graph, cosine, smallest, longest, ids, local, side);
     if (!cut)
       continue;
     if (k < given)

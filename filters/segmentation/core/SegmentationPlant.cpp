@@ -1479,6 +1479,10 @@ double SpanAlong(const std::vector<Eigen::Vector3d>& points, const std::vector<i
 /// not flat), the longest leaves but a few, plus `thickness` (a quarter of r: at least a spacing and three times the
 /// range noise, which move a span's two ends).
 constexpr double LeafSpanQuantile = 0.9;
+/// The longest leaf on a plant, over its leaf length (the quantile above): pieces of one leaf never span more, even
+/// on a plant of leaves of several sizes; two whole leaves in one plane that had joined there spanned 1.6-1.9 leaf
+/// lengths on the simulated tree.
+constexpr double NearSpanFactor = 1.25;
 
 /// The extent of parts a and b together along the main axis of their merged moments `both`.
 double JointSpan(const std::vector<Eigen::Vector3d>& points, const std::vector<std::vector<int>>& parts, std::size_t a,
@@ -1507,6 +1511,23 @@ double LeafLength(const std::vector<Eigen::Vector3d>& points, const std::vector<
   const auto at = static_cast<std::ptrdiff_t>(LeafSpanQuantile * static_cast<double>(spans.size() - 1));
   std::nth_element(spans.begin(), spans.begin() + at, spans.end());
   return spans[static_cast<std::size_t>(at)];
+}
+
+/// The longest a part of one leaf can be on this plant: NearSpanFactor times the plant's leaf length (LeafLength
+/// over the parts of at least `minimumLeafPoints`, plus `thickness`); 0 when no part is flat.
+double LongestLeaf(const std::vector<Eigen::Vector3d>& points, const std::vector<std::vector<int>>& parts,
+  int minimumLeafPoints, double thickness)
+{
+  std::vector<std::size_t> big;
+  std::vector<PartMoments> moments(parts.size());
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    if (parts[k].size() >= static_cast<std::size_t>(minimumLeafPoints))
+    {
+      big.push_back(k);
+      moments[k] = PartMoments::Of(points, parts[k]);
+    }
+  const double length = LeafLength(points, parts, big, moments, thickness);
+  return length > 0.0 ? NearSpanFactor * (length + thickness) : 0.0;
 }
 
 /// The leaf points cut off from every region (IsolatedPiecesByTheirSurroundings: their whole component of the link
@@ -1711,8 +1732,11 @@ PartMoments CoreMoments(
 /// the plane test and no pair of two leaves does: leaves that lie side by side are tilted against each other or
 /// offset off one plane. Farther apart, on the tree from two positions at 0.1 % noise, 16 pairs of pieces of one
 /// leaf lie in one plane 4.3 to 12.4 r apart spanning 0.79-1.33 together (the leaves' own spans: up to 1.35), and
-/// 11 pairs of two leaves in one plane span 1.54 or more. `withoutForeign`: each part's plane is measured without the
-/// few points of a neighbour it may carry (CoreMoments).
+/// 11 pairs of two leaves in one plane span 1.54 or more. Pairs within GapRadii r span no more than the longest
+/// leaf either (NearSpanFactor times the leaf length): two whole leaves in one plane, touching or a few spacings
+/// apart (opposite leaves of one node, or a leaf and the next one along its twig), joined there and spanned 2.2-2.5
+/// on the tree from four positions at 1 % noise. `withoutForeign`: each part's plane is measured without the few
+/// points of a neighbour it may carry (CoreMoments).
 void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, double cosine, int minimumLeafPoints,
   std::vector<std::vector<int>>& parts, bool withoutForeign = false)
 {
@@ -1737,6 +1761,7 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
   }
   const double leafLength = LeafLength(points, parts, big, moments, thickness) + thickness;
   const double search = std::max(reach, leafLength);
+  const double nearLength = leafLength > thickness ? NearSpanFactor * leafLength : 0.0;
   const auto jointSpan = [&](std::size_t a, std::size_t b) {
     return JointSpan(points, parts, a, b, moments[a].Merged(moments[b]));
   };
@@ -1752,7 +1777,10 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
         continue;
       const double gap = gaps.Between(a, b);
       if (gap < reach)
-        pairs.emplace_back(0, gap, a, b);
+      {
+        if (nearLength <= 0.0 || jointSpan(a, b) <= nearLength)
+          pairs.emplace_back(0, gap, a, b);
+      }
       else if (const double span = jointSpan(a, b); span <= leafLength)
         pairs.emplace_back(1, span, a, b);
     }
@@ -1761,7 +1789,10 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
   for (const auto& [far, gap, a, b] : pairs)
   {
     const std::size_t ra = roots.Find(a), rb = roots.Find(b);
-    if (ra == rb || !OneSheet(core[ra], core[rb], cosine, thickness) || (far == 1 && jointSpan(ra, rb) > leafLength))
+    const double longest = far == 1 ? leafLength
+      : nearLength > 0.0            ? nearLength
+                                    : std::numeric_limits<double>::infinity();
+    if (ra == rb || !OneSheet(core[ra], core[rb], cosine, thickness) || jointSpan(ra, rb) > longest)
       continue;
     const auto [into, from] = roots.Join(ra, rb, parts);
     moments[into] = moments[into].Merged(moments[from]);
@@ -2194,8 +2225,10 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   // a side of a cut needs only a leaf's fewest points: the seam, not its size, tells a crease from a contact, and a
   // small side is judged again by the joins (a piece joins its leaf; a small leaf beside another gets no instance)
   // two normal groups over half of NormalAngle apart (the features' normals are good to about 10 degrees) are looked
-  // at: leaves touching at 12-23 degrees were left merged at the full NormalAngle
-  if (CutAtShortSeams(points, f, graph, gapCosine, static_cast<std::size_t>(p.minimumLeafPoints), parallel, leaves) > 0)
+  // at: leaves touching at 12-23 degrees were left merged at the full NormalAngle; a part longer than the longest
+  // leaf is several leaves, cut whatever its seam
+  if (CutAtShortSeams(points, f, graph, gapCosine, static_cast<std::size_t>(p.minimumLeafPoints),
+        LongestLeaf(points, leaves, p.minimumLeafPoints, GapThickness * radius), parallel, leaves) > 0)
   {
     // a cut side may be a piece of a third leaf whose rest lies in another part: the joins again
     JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);

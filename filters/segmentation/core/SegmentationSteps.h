@@ -150,10 +150,13 @@ inline constexpr double NotchedHullFraction = 0.95;
 /// apart than `cosine` (half of NormalAngle), each group made one linked piece, is cut between them when each side
 /// has at least `smallest` points and their seam (the points linked to the other side) is shorter than SeamFraction
 /// of each side's extent along it, or the sides unfolded about the seam leave notches (NotchedHullFraction); each
-/// side is looked at again. The parts are judged on `parallel`; the cuts are the same on any number of threads.
-/// Returns the cuts made.
+/// side is looked at again. A part longer than `longest` along its main axis (more than any leaf of the plant; 0:
+/// no such bound) is cut between its two normal groups whatever its seam: several leaves meeting at a node, or
+/// along their margins, whose sides meet over a long seam. The parts are judged on `parallel`; the cuts are the
+/// same on any number of threads. Returns the cuts made.
 std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
-  double cosine, std::size_t smallest, const ParallelFor& parallel, std::vector<std::vector<int>>& parts);
+  double cosine, std::size_t smallest, double longest, const ParallelFor& parallel,
+  std::vector<std::vector<int>>& parts);
 
 /// Whether two touching parts `a` and `b` (their points idsA and idsB; partOf maps a point to its part, -1 or short
 /// of the point elsewhere) meet over a short seam: the points of either linked to the other, along their own line,

@@ -4,7 +4,8 @@
 // one instance per leaf, the same labels whatever the threads and whatever the unit (thresholds follow the spacing),
 // several plants, and bad input.
 #include "PlantSegmentation.h"
-#include "PointGrid.h" // MedianSpacing
+#include "PointGrid.h"         // MedianSpacing
+#include "SegmentationSteps.h" // CutAtShortSeams
 
 #include <gtest/gtest.h>
 
@@ -14,6 +15,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <thread>
@@ -276,6 +278,18 @@ Truth WithoutBand(const Truth& t, const Eigen::Vector3d& base, const Eigen::Vect
 void ExpectEveryLeafFound(const Truth& t, int leaves)
 {
   ExpectOneInstancePerLeaf(t, leaves);
+}
+
+/// Adds to `to` a copy of leaf `leaf` of `from`, moved by `shift`, as leaf `copy`.
+void AddMovedCopyOfLeaf(Truth& to, const Truth& from, int leaf, const Eigen::Vector3d& shift, int copy)
+{
+  for (std::size_t i = 0; i < from.points.size(); ++i)
+    if (from.leaf[i] == leaf)
+    {
+      to.points.push_back(from.points[i] + shift);
+      to.organ.push_back(plantmorph::OrganLeaf);
+      to.leaf.push_back(copy);
+    }
 }
 
 /// The shape of one blade (AddBlade), each angle in radians: `fold`, the opening angle between the two halves
@@ -565,14 +579,70 @@ TEST(PlantSegmentation, ALeafCutByAWideShadowAtLowNoiseIsOneInstanceALeafBeyondI
   Truth cut = WithoutBand(t, base, along, 0.1, band);
   ExpectEveryLeafFound(cut, leaves);
   // the leaf beyond: a copy of the first whole leaf moved along its own axis by its length and the band
-  for (std::size_t i = 0, n = t.points.size(); i < n; ++i)
-    if (t.leaf[i] == 0)
-    {
-      cut.points.push_back(t.points[i] + (length + band) * along);
-      cut.organ.push_back(plantmorph::OrganLeaf);
-      cut.leaf.push_back(leaves);
-    }
+  AddMovedCopyOfLeaf(cut, t, 0, (length + band) * along, leaves);
   ExpectEveryLeafFound(cut, leaves + 1);
+}
+
+TEST(PlantSegmentation, TwoLeavesInOnePlaneEndToEndWithinAGapsReachAreTwoInstances)
+{
+  // The plant of seven leaves at low noise (r 0.02), and a copy of its first leaf in the same plane beyond its tip,
+  // 2r away: nearer than the 4r within which pieces of one leaf cut apart by a shadow join whatever their span.
+  // Together they span 0.64, over twice a leaf: they joined into one instance (the two leaves at IoU about 0.5).
+  // Pieces of one leaf span no more than the longest leaf (1.25 times the plant's leaf length): two instances.
+  const int leaves = 7;
+  Truth t = SyntheticPlant(leaves);
+  const double rise = 40.0 * Pi / 180.0, gap = 0.04, length = 0.3;
+  const Eigen::Vector3d along = std::cos(rise) * Eigen::Vector3d::UnitX() + std::sin(rise) * Eigen::Vector3d::UnitZ();
+  const Truth whole = t;
+  AddMovedCopyOfLeaf(t, whole, 0, (length + gap) * along, leaves);
+  ExpectEveryLeafFound(t, leaves + 1);
+}
+
+TEST(PlantSegmentation, APartLongerThanAnyLeafIsCutBetweenItsNormalGroupsWhateverItsSeam)
+{
+  // One part holding a blade folded along its midrib into a V (its halves' normals 45 degrees apart): its seam,
+  // the crease, runs its whole length, and unfolded it is its own outline, so the seam says one leaf and it is not
+  // cut. The same part when the plant's leaves are shorter than it (several leaves grown into one part, which meet
+  // over a long seam where they share a node) is cut between the two halves, each side one half.
+  Truth t;
+  BladeShape folded;
+  folded.fold = Pi - 45.0 * Pi / 180.0;
+  AddBlade(t, Eigen::Vector3d::Zero(), 0.0, folded, 0, 0.0002);
+  const plantmorph::SegmentationParameters p;
+  plantmorph::segmentation::PointFeatures f;
+  plantmorph::segmentation::LinkGraph graph;
+  plantmorph::segmentation::ComputeFeatures(
+    t.points, plantmorph::MedianSpacing(t.points), p, plantmorph::SerialFor, f, graph);
+  std::vector<int> all(t.points.size());
+  for (std::size_t i = 0; i < all.size(); ++i)
+    all[i] = static_cast<int>(i);
+  const double cosine = std::cos(0.5 * p.normalAngle * Pi / 180.0), length = 0.3;
+  for (const double longest : { 0.0, 1.25 * length, 0.8 * length })
+  {
+    SCOPED_TRACE(longest);
+    std::vector<std::vector<int>> parts{ all };
+    const std::size_t cuts = plantmorph::segmentation::CutAtShortSeams(
+      t.points, f, graph, cosine, static_cast<std::size_t>(p.minimumLeafPoints), longest, plantmorph::SerialFor, parts);
+    if (longest == 0.0 || longest > length)
+    {
+      EXPECT_EQ(cuts, 0u);
+      continue;
+    }
+    ASSERT_GE(parts.size(), 2u);
+    // the two largest sides hold nearly all the blade, each on one side of the midrib (the halves lie at y < 0 and
+    // y > 0, the width along y); the halves, as long as the part, may lose a few points of the crease in turn
+    std::sort(parts.begin(), parts.end(),
+      [](const std::vector<int>& a, const std::vector<int>& b) { return a.size() > b.size(); });
+    EXPECT_GT(static_cast<double>(parts[0].size() + parts[1].size()), 0.9 * static_cast<double>(all.size()));
+    for (const std::vector<int>& side : { parts[0], parts[1] })
+    {
+      std::size_t left = 0;
+      for (int j : side)
+        left += t.points[static_cast<std::size_t>(j)].y() < 0.0 ? 1 : 0;
+      const double share = static_cast<double>(left) / static_cast<double>(side.size());
+      EXPECT_TRUE(share > 0.9 || share < 0.1) << share << " of " << side.size() << " points left of the midrib";
+    }
+  }
 }
 
 TEST(PlantSegmentation, ALeafSeenInRowsBeyondItsBaseIsOneInstanceABladeTouchingItAtAnAngleIsNot)
