@@ -187,6 +187,24 @@ def leaf_instances_against_truth(labels, truth):
     return found, wood_instances, matched
 
 
+def benchmark_tree_instances(names, positions, range_noise):
+    """The tree of the segmentation accuracy benchmark (125 twigs, 500 blades 1.0 long, tubes of 12 sides) scanned
+    from `positions` positions at `range_noise` (the benchmark's scan, point for point) and segmented by
+    PlantSegmentationFilter (UpAxis Y): leaf_instances_against_truth of its labels. `names`: the test's namespace,
+    where load_plugin put the plugin's proxies."""
+    from paraview import servermanager
+    from paraview.simple import AppendGeometry, OutputPort
+    tree = names["TreeFromSketchSource"](Preset=0, TreeType=0, Depth=3, ChildCount=5, Ratio=0.7, Length=10.0,
+                                         Radius=0.3, LeafCount=4, LeafScale=1.0, Sides=12)
+    tree.Leaf = OutputPort(names["LeafOutlineSource"](), 0)
+    plant = AppendGeometry(Input=[OutputPort(tree, 0), OutputPort(tree, 2)])
+    scan = scan_around(names["VirtualScanner"], plant, positions, 0.05, range_noise, 1, maximum_range=5)
+    segmentation = names["PlantSegmentationFilter"](Input=scan, UpAxis="Y")
+    segmentation.UpdatePipeline()
+    return leaf_instances_against_truth(servermanager.Fetch(segmentation).GetPointData(),
+                                        servermanager.Fetch(scan).GetPointData())
+
+
 def sorted_point_rows(data, arrays):
     """Every point of `data` as a row (x, y, z, then the one-component point `arrays`), the rows sorted: an MPI
     run's outputs appended over the ranks do not keep the serial order."""

@@ -1333,9 +1333,11 @@ bool SpreadLikeALeaf(const PartMoments& m, const Eigen::Vector2d& typical, doubl
 ///    crease, a vein, a line of missing points or a turn of the normals, whose halves are each as large as a leaf,
 ///    unless their seam says two leaves (ShortSeamBetween: two leaves 12-23 degrees apart, cut at their seam, are
 ///    one sheet within NormalAngle and were joined again).
-/// Parts touching no other part (a leaf seen in parts behind another) stay apart.
+/// Parts touching no other part (a leaf seen in parts behind another) stay apart. The small parts that are a piece
+/// of none are moved to `setAside` (SetAsideJoinAcrossGaps may still join them to their leaf across a gap).
 void JoinPieces(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, double fraction,
-  int minimumLeafPoints, double cosine, double thickness, std::vector<std::vector<int>>& parts)
+  int minimumLeafPoints, double cosine, double thickness, std::vector<std::vector<int>>& parts,
+  std::vector<std::vector<int>>& setAside)
 {
   std::vector<std::size_t> sizes;
   for (const std::vector<int>& ids : parts)
@@ -1389,6 +1391,7 @@ void JoinPieces(const std::vector<Eigen::Vector3d>& points, const LinkGraph& gra
       { // a small leaf beside others: no instance
         for (int j : parts[k])
           partOf[static_cast<std::size_t>(j)] = -1;
+        setAside.push_back(std::move(parts[k]));
         parts[k].clear();
       }
       if (best < 0)
@@ -1800,6 +1803,30 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
   }
   parts.erase(
     std::remove_if(parts.begin(), parts.end(), [](const std::vector<int>& x) { return x.empty(); }), parts.end());
+}
+
+/// JoinAcrossGaps over `parts` and the small parts JoinPieces set aside (a small leaf beside others, a piece of none
+/// of the parts it touches): one that joins a part across a gap is a piece of that part's leaf, cut off from it by a
+/// crease or a contact with another leaf and linked to that other leaf only, or not at all; the others stay out of
+/// every part (leaf, no LeafId), as do set-aside parts joined only to each other. `setAside` is emptied.
+void SetAsideJoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, double cosine,
+  int minimumLeafPoints, std::vector<std::vector<int>>& parts, std::vector<std::vector<int>>& setAside)
+{
+  std::set<int> aside;
+  for (std::vector<int>& ids : setAside)
+  {
+    aside.insert(ids.begin(), ids.end());
+    parts.push_back(std::move(ids));
+  }
+  setAside.clear();
+  JoinAcrossGaps(points, radius, cosine, minimumLeafPoints, parts);
+  if (aside.empty())
+    return;
+  parts.erase(std::remove_if(parts.begin(), parts.end(),
+                [&](const std::vector<int>& ids) {
+                  return std::all_of(ids.begin(), ids.end(), [&](int j) { return aside.count(j) > 0; });
+                }),
+    parts.end());
 }
 
 /// Whether the row group `ids` (moments `m`) is as wide across its rows as a leaf region must be (2r, the features'
@@ -2214,14 +2241,16 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   for (const std::vector<int>& ids : members)
     for (std::vector<int>& part : SplitAtBases(points, graph, ids, hops, 4.0 * radius, owner))
       leaves.push_back(std::move(part));
-  JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
+  std::vector<std::vector<int>> setAside; // small leaves beside others (JoinPieces), unless joined across a gap
+  JoinPieces(
+    points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves, setAside);
   IsolatedLeafPieces(graph, region, labels.organ, leaves);
   std::vector<int> pieceOf(n, -1); // the part each leaf point was in before the rows gather: its row
   for (std::size_t k = 0; k < leaves.size(); ++k)
     for (int j : leaves[k])
       pieceOf[static_cast<std::size_t>(j)] = static_cast<int>(k);
   GatherRows(points, f, region, verdicts, p, gapCosine, GapThickness * radius, leaves);
-  JoinAcrossGaps(points, radius, gapCosine, p.minimumLeafPoints, leaves);
+  SetAsideJoinAcrossGaps(points, radius, gapCosine, p.minimumLeafPoints, leaves, setAside);
   // a side of a cut needs only a leaf's fewest points: the seam, not its size, tells a crease from a contact, and a
   // small side is judged again by the joins (a piece joins its leaf; a small leaf beside another gets no instance)
   // two normal groups over half of NormalAngle apart (the features' normals are good to about 10 degrees) are looked
@@ -2231,8 +2260,9 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
         LongestLeaf(points, leaves, p.minimumLeafPoints, GapThickness * radius), parallel, leaves) > 0)
   {
     // a cut side may be a piece of a third leaf whose rest lies in another part: the joins again
-    JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves);
-    JoinAcrossGaps(points, radius, gapCosine, p.minimumLeafPoints, leaves);
+    JoinPieces(points, graph, PieceFraction, p.minimumLeafPoints, std::cos(p.normalAngle * Pi / 180.0), radius, leaves,
+      setAside);
+    SetAsideJoinAcrossGaps(points, radius, gapCosine, p.minimumLeafPoints, leaves, setAside);
   }
   // last, pieces whose planes agree once the few points of a neighbour one of them carries are left out: after the
   // cuts and the pieces' joins, which judge a part's size against the plant's median part

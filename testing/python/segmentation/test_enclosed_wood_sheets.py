@@ -9,25 +9,16 @@ one with wood on 3 of 12 directions), and each of the 189 leaves matched before 
 
     pvpython test_enclosed_wood_sheets.py --plugin PlantMorph.so --work DIR
 """
-from plantmorph_testing import Checks, leaf_instances_against_truth, load_plugin, parse_arguments, scan_around
+from plantmorph_testing import Checks, benchmark_tree_instances, load_plugin, parse_arguments
 
 arguments = parse_arguments([("--pvpython", dict(default=None))])
 
 from paraview.simple import *  # noqa: E402,F401,F403
-from paraview import servermanager  # noqa: E402
 
 load_plugin(arguments.plugin, globals())
 checks = Checks()
 
-tree = TreeFromSketchSource(Preset=0, TreeType=0, Depth=3, ChildCount=5, Ratio=0.7, Length=10.0, Radius=0.3,
-                            LeafCount=4, LeafScale=1.0, Sides=12)
-tree.Leaf = OutputPort(LeafOutlineSource(), 0)
-plant = AppendGeometry(Input=[OutputPort(tree, 0), OutputPort(tree, 2)])
-scan = scan_around(VirtualScanner, plant, 1, 0.05, 0.001, 1, maximum_range=5)
-segmentation = PlantSegmentationFilter(Input=scan, UpAxis="Y")
-segmentation.UpdatePipeline()
-found, wood_instances, matched = leaf_instances_against_truth(servermanager.Fetch(segmentation).GetPointData(),
-                                                             servermanager.Fetch(scan).GetPointData())
+found, wood_instances, matched = benchmark_tree_instances(globals(), 1, 0.001)
 checks.check(len(wood_instances) <= 3,
              "at most 3 leaf instances mostly wood (%d of %d are; 5 before)" % (len(wood_instances), len(found)))
 checks.check(matched >= 189, "the 189 leaves matched at IoU > 0.5 still matched (%d)" % matched)
