@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <limits>
 #include <utility>
 
 namespace plantmorph
@@ -259,23 +258,17 @@ bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGrap
 
 namespace
 {
-/// Whether the part `ids` is cut in two, and then its sides (per entry of ids, in `side`). `local` is scratch: -1 for
-/// every point in and out.
-/// The extent of points[ids] along their main axis (from the lowest to the highest, as the leaf length is measured).
+/// The extent of points[ids] along their main axis (ExtentAlong: from the lowest to the highest, as the leaf length
+/// is measured).
 double ExtentAlongMainAxis(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
 {
   Eigen::Vector3d mean;
   const Eigen::Vector3d axis = MainAxis(Scatter(points, ids, mean));
-  double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (int j : ids)
-  {
-    const double t = (points[static_cast<std::size_t>(j)] - mean).dot(axis);
-    low = std::min(low, t);
-    high = std::max(high, t);
-  }
-  return high - low;
+  return ExtentAlong(points, ids, mean, axis);
 }
 
+/// Whether the part `ids` is cut in two, and then its sides (per entry of ids, in `side`). `local` is scratch: -1 for
+/// every point in and out. A part longer than `longest` (when above 0) is cut whatever its seam.
 bool CutInTwo(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph, double cosine,
   std::size_t smallest, double longest, const std::vector<int>& ids, std::vector<int>& local, std::vector<int>& side)
 {

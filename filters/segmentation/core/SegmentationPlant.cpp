@@ -42,6 +42,19 @@ Eigen::Matrix3d Scatter(const std::vector<Eigen::Vector3d>& points, const std::v
   return c;
 }
 
+double ExtentAlong(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, const Eigen::Vector3d& mean,
+  const Eigen::Vector3d& axis)
+{
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (int j : ids)
+  {
+    const double t = (points[static_cast<std::size_t>(j)] - mean).dot(axis);
+    low = std::min(low, t);
+    high = std::max(high, t);
+  }
+  return high - low;
+}
+
 namespace
 {
 /// Regions with fewer points are not judged on their own shape.
@@ -1465,16 +1478,8 @@ private:
 /// The extent of points[ids] along the main axis of their moments `m` (the largest spread).
 double SpanAlong(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, const PartMoments& m)
 {
-  const Eigen::Vector3d axis =
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m.scatter / m.count).eigenvectors().col(2);
-  double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (int j : ids)
-  {
-    const double t = (points[static_cast<std::size_t>(j)] - m.mean).dot(axis);
-    low = std::min(low, t);
-    high = std::max(high, t);
-  }
-  return high - low;
+  return ExtentAlong(
+    points, ids, m.mean, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m.scatter / m.count).eigenvectors().col(2));
 }
 
 /// The pieces of one leaf together span no more than a leaf: this quantile of the spans of the flat parts (off
@@ -1516,8 +1521,14 @@ double LeafLength(const std::vector<Eigen::Vector3d>& points, const std::vector<
   return spans[static_cast<std::size_t>(at)];
 }
 
-/// The longest a part of one leaf can be on this plant: NearSpanFactor times the plant's leaf length (LeafLength
-/// over the parts of at least `minimumLeafPoints`, plus `thickness`); 0 when no part is flat.
+/// The longest a part of one leaf can be, from the plant's LeafLength `length` (0 when no part is flat: then no
+/// bound, infinity): NearSpanFactor times the length plus `thickness`.
+double LongestLeafSpan(double length, double thickness)
+{
+  return length > 0.0 ? NearSpanFactor * (length + thickness) : std::numeric_limits<double>::infinity();
+}
+
+/// LongestLeafSpan over the parts of at least `minimumLeafPoints`; 0 when no part is flat (no bound).
 double LongestLeaf(const std::vector<Eigen::Vector3d>& points, const std::vector<std::vector<int>>& parts,
   int minimumLeafPoints, double thickness)
 {
@@ -1530,7 +1541,7 @@ double LongestLeaf(const std::vector<Eigen::Vector3d>& points, const std::vector
       moments[k] = PartMoments::Of(points, parts[k]);
     }
   const double length = LeafLength(points, parts, big, moments, thickness);
-  return length > 0.0 ? NearSpanFactor * (length + thickness) : 0.0;
+  return length > 0.0 ? LongestLeafSpan(length, thickness) : 0.0;
 }
 
 /// The leaf points cut off from every region (IsolatedPiecesByTheirSurroundings: their whole component of the link
@@ -1762,9 +1773,9 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
       high[k] = high[k].cwiseMax(points[static_cast<std::size_t>(j)]);
     }
   }
-  const double leafLength = LeafLength(points, parts, big, moments, thickness) + thickness;
+  const double length = LeafLength(points, parts, big, moments, thickness);
+  const double leafLength = length + thickness, nearLength = LongestLeafSpan(length, thickness);
   const double search = std::max(reach, leafLength);
-  const double nearLength = leafLength > thickness ? NearSpanFactor * leafLength : 0.0;
   const auto jointSpan = [&](std::size_t a, std::size_t b) {
     return JointSpan(points, parts, a, b, moments[a].Merged(moments[b]));
   };
@@ -1781,7 +1792,7 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
       const double gap = gaps.Between(a, b);
       if (gap < reach)
       {
-        if (nearLength <= 0.0 || jointSpan(a, b) <= nearLength)
+        if (jointSpan(a, b) <= nearLength)
           pairs.emplace_back(0, gap, a, b);
       }
       else if (const double span = jointSpan(a, b); span <= leafLength)
@@ -1792,10 +1803,8 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
   for (const auto& [far, gap, a, b] : pairs)
   {
     const std::size_t ra = roots.Find(a), rb = roots.Find(b);
-    const double longest = far == 1 ? leafLength
-      : nearLength > 0.0            ? nearLength
-                                    : std::numeric_limits<double>::infinity();
-    if (ra == rb || !OneSheet(core[ra], core[rb], cosine, thickness) || jointSpan(ra, rb) > longest)
+    if (ra == rb || !OneSheet(core[ra], core[rb], cosine, thickness) ||
+      jointSpan(ra, rb) > (far == 1 ? leafLength : nearLength))
       continue;
     const auto [into, from] = roots.Join(ra, rb, parts);
     moments[into] = moments[into].Merged(moments[from]);
@@ -1812,19 +1821,23 @@ void JoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, d
 void SetAsideJoinAcrossGaps(const std::vector<Eigen::Vector3d>& points, double radius, double cosine,
   int minimumLeafPoints, std::vector<std::vector<int>>& parts, std::vector<std::vector<int>>& setAside)
 {
-  std::set<int> aside;
+  if (setAside.empty())
+  {
+    JoinAcrossGaps(points, radius, cosine, minimumLeafPoints, parts);
+    return;
+  }
+  std::vector<char> aside(points.size(), 0);
   for (std::vector<int>& ids : setAside)
   {
-    aside.insert(ids.begin(), ids.end());
+    for (int j : ids)
+      aside[static_cast<std::size_t>(j)] = 1;
     parts.push_back(std::move(ids));
   }
   setAside.clear();
   JoinAcrossGaps(points, radius, cosine, minimumLeafPoints, parts);
-  if (aside.empty())
-    return;
   parts.erase(std::remove_if(parts.begin(), parts.end(),
                 [&](const std::vector<int>& ids) {
-                  return std::all_of(ids.begin(), ids.end(), [&](int j) { return aside.count(j) > 0; });
+                  return std::all_of(ids.begin(), ids.end(), [&](int j) { return aside[static_cast<std::size_t>(j)]; });
                 }),
     parts.end());
 }

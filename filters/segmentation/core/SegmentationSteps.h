@@ -116,6 +116,10 @@ inline Eigen::Matrix3d SurfaceEvidence(const PointFeatures& f, std::size_t i, do
 /// products; divided by the count it is their covariance). Every point is used, unlike the sampled per-point features.
 Eigen::Matrix3d Scatter(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, Eigen::Vector3d& mean);
 
+/// The extent of points[ids] along the unit `axis` through `mean`: from the lowest to the highest.
+double ExtentAlong(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, const Eigen::Vector3d& mean,
+  const Eigen::Vector3d& axis);
+
 /// Region growing of smooth sheets: each point's region (-1: linear points, never grown); returns the count.
 int GrowRegions(const PointFeatures& features, const LinkGraph& graph, const SegmentationParameters& p,
   const ParallelFor& parallel, std::vector<int>& region);
