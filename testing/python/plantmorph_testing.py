@@ -187,11 +187,21 @@ def leaf_instances_against_truth(labels, truth):
     return found, wood_instances, matched
 
 
+def organ_iou(labels, truth, organ):
+    """The point IoU of `organ` (0 wood, 1 leaf) between PlantSegmentationFilter's labels and a scan's truth (the two
+    outputs' point data, as leaf_instances_against_truth)."""
+    import numpy
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    found = vtk_to_numpy(labels.GetArray("Organ")) == organ
+    true = vtk_to_numpy(truth.GetArray("Organ")) == organ
+    return numpy.count_nonzero(found & true) / max(1, numpy.count_nonzero(found | true))
+
+
 def benchmark_tree_instances(names, positions, range_noise):
     """The tree of the segmentation accuracy benchmark (125 twigs, 500 blades 1.0 long, tubes of 12 sides) scanned
     from `positions` positions at `range_noise` (the benchmark's scan, point for point) and segmented by
-    PlantSegmentationFilter (UpAxis Y): leaf_instances_against_truth of its labels. `names`: the test's namespace,
-    where load_plugin put the plugin's proxies."""
+    PlantSegmentationFilter (UpAxis Y): leaf_instances_against_truth of its labels, then the wood's and the leaves'
+    point IoU (organ_iou, a tuple). `names`: the test's namespace, where load_plugin put the plugin's proxies."""
     from paraview import servermanager
     from paraview.simple import AppendGeometry, OutputPort
     tree = names["TreeFromSketchSource"](Preset=0, TreeType=0, Depth=3, ChildCount=5, Ratio=0.7, Length=10.0,
@@ -201,8 +211,9 @@ def benchmark_tree_instances(names, positions, range_noise):
     scan = scan_around(names["VirtualScanner"], plant, positions, 0.05, range_noise, 1, maximum_range=5)
     segmentation = names["PlantSegmentationFilter"](Input=scan, UpAxis="Y")
     segmentation.UpdatePipeline()
-    return leaf_instances_against_truth(servermanager.Fetch(segmentation).GetPointData(),
-                                        servermanager.Fetch(scan).GetPointData())
+    labels, truth = servermanager.Fetch(segmentation).GetPointData(), servermanager.Fetch(scan).GetPointData()
+    found, wood_instances, matched = leaf_instances_against_truth(labels, truth)
+    return found, wood_instances, matched, (organ_iou(labels, truth, 0), organ_iou(labels, truth, 1))
 
 
 def sorted_point_rows(data, arrays):

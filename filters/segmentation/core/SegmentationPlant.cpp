@@ -1112,6 +1112,148 @@ void AbsorbWoodFragments(const LinkGraph& graph, const std::vector<RegionVerdict
   }
 }
 
+/// A wood piece lies in the planes of the leaves it touches when the root mean square of its points' distances to the
+/// nearest of their local planes, each over that plane's own spread (the leaf's points near the piece off it), is at
+/// most this: no farther off the leaves than the leaves' own points.
+constexpr double ContactPlaneSpread = 1.0;
+
+/// The local planes, around the piece `ids`, of the leaf regions it touches: each region's points within 2r of the
+/// piece's bounding sphere (at least JudgedRegionPoints of them), their best plane and spread off it.
+struct LocalPlane
+{
+  int region = -1;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double spread = 0.0;
+};
+
+std::vector<LocalPlane> LocalPlanesAround(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids,
+  const std::set<int>& touched, const std::vector<std::vector<int>>& members, double radius)
+{
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int j : ids)
+    centre += points[static_cast<std::size_t>(j)];
+  centre /= static_cast<double>(ids.size());
+  double reach = 0.0;
+  for (int j : ids)
+    reach = std::max(reach, (points[static_cast<std::size_t>(j)] - centre).norm());
+  reach += 2.0 * radius;
+  std::vector<LocalPlane> planes;
+  std::vector<int> local;
+  for (int t : touched)
+  {
+    local.clear();
+    for (int j : members[static_cast<std::size_t>(t)])
+      if ((points[static_cast<std::size_t>(j)] - centre).squaredNorm() <= reach * reach)
+        local.push_back(j);
+    if (local.size() < JudgedRegionPoints)
+      continue;
+    const PartMoments m = PartMoments::Of(points, local);
+    LocalPlane plane;
+    plane.region = t;
+    plane.mean = m.mean;
+    plane.normal = m.Normal(plane.spread);
+    plane.spread = std::max(plane.spread, 1e-6 * radius); // exact synthetic planes
+    planes.push_back(plane);
+  }
+  return planes;
+}
+
+/// Wood pieces at the contact of leaves are leaf: where two leaves touch or cross, the noisy normals of the contact
+/// break it into regions too small to tell from a twig's facets, and their spread carries wood over the contact. A
+/// piece of wood (connected wood points) touching two leaf regions or more and no other wood, whose points lie in
+/// those regions' local planes (ContactPlaneSpread), is leaf. A twig is round, off the leaves' planes by its radius.
+/// The points stay out of every region, so the joins and cuts of the leaf parts see the leaves as before; returned
+/// with the region whose plane is nearest to each, they join that region's instance once the instances are made
+/// (ContactPointsOfParts). Judged over all pieces first, then applied (no piece's verdict depends on another's).
+std::vector<std::pair<int, int>> ContactPiecesAreLeaves(const std::vector<Eigen::Vector3d>& points,
+  const LinkGraph& graph, double radius, const std::vector<RegionVerdict>& verdicts, const std::vector<int>& region,
+  std::vector<int>& organ)
+{
+  const std::size_t n = organ.size();
+  std::vector<std::vector<int>> members(verdicts.size());
+  for (std::size_t i = 0; i < n; ++i)
+    if (organ[i] == OrganLeaf && region[i] >= 0 && verdicts[static_cast<std::size_t>(region[i])].leaf)
+      members[static_cast<std::size_t>(region[i])].push_back(static_cast<int>(i));
+  std::vector<char> seen(n, 0);
+  std::vector<int> piece;
+  std::vector<std::pair<int, int>> joins; // (point, region)
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (organ[seed] != OrganWood || seen[seed])
+      continue;
+    LinkComponent(
+      graph, seed, [&](std::size_t j) { return organ[j] == OrganWood; }, seen, piece);
+    std::set<int> touched;
+    for (int q : piece)
+      for (std::size_t e = graph.offsets[static_cast<std::size_t>(q)];
+           e < graph.offsets[static_cast<std::size_t>(q) + 1]; ++e)
+      {
+        const auto j = static_cast<std::size_t>(graph.neighbours[e]);
+        if (organ[j] != OrganWood && region[j] >= 0 && verdicts[static_cast<std::size_t>(region[j])].leaf)
+          touched.insert(region[j]);
+      }
+    if (touched.size() < 2)
+      continue;
+    const std::vector<LocalPlane> planes = LocalPlanesAround(points, piece, touched, members, radius);
+    if (planes.empty())
+      continue;
+    const double bound = ContactPlaneSpread * ContactPlaneSpread * static_cast<double>(piece.size());
+    double sum = 0.0;
+    std::vector<int> nearest(piece.size(), -1);
+    for (std::size_t k = 0; k < piece.size() && sum <= bound; ++k)
+    {
+      const Eigen::Vector3d& x = points[static_cast<std::size_t>(piece[k])];
+      double best = std::numeric_limits<double>::infinity(), relative = 0.0;
+      for (const LocalPlane& plane : planes)
+      {
+        const double d = std::abs((x - plane.mean).dot(plane.normal));
+        if (d < best)
+        {
+          best = d;
+          relative = d / plane.spread;
+          nearest[k] = plane.region;
+        }
+      }
+      sum += relative * relative;
+    }
+    if (sum > bound)
+      continue;
+    for (std::size_t k = 0; k < piece.size(); ++k)
+      joins.emplace_back(piece[k], nearest[k]);
+  }
+  for (const auto& join : joins)
+    organ[static_cast<std::size_t>(join.first)] = OrganLeaf;
+  return joins;
+}
+
+/// The contact points (ContactPiecesAreLeaves: point, region) of each leaf part: a point joins the part holding the
+/// most points of its region (none when no part holds any: the region was left without an instance).
+std::vector<std::vector<int>> ContactPointsOfParts(const std::vector<std::vector<int>>& parts,
+  const std::vector<int>& region, const std::vector<std::pair<int, int>>& contacts)
+{
+  std::map<int, std::map<std::size_t, std::size_t>> count; // region -> part -> points
+  for (const auto& contact : contacts)
+    count[contact.second];
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    for (int j : parts[k])
+    {
+      const auto it = count.find(region[static_cast<std::size_t>(j)]);
+      if (it != count.end())
+        ++it->second[k];
+    }
+  std::vector<std::vector<int>> extra(parts.size());
+  for (const auto& contact : contacts)
+  {
+    const std::map<std::size_t, std::size_t>& holders = count[contact.second];
+    const auto best = std::max_element(holders.begin(), holders.end(),
+      [](const auto& a, const auto& b) { return a.second < b.second || (a.second == b.second && a.first > b.first); });
+    if (best != holders.end())
+      extra[best->first].push_back(contact.first);
+  }
+  return extra;
+}
+
 /// Wood segments: each judged wood region its own, then the connected components of the other wood points.
 std::vector<int> WoodSegments(const LinkGraph& graph, const std::vector<int>& organ, const std::vector<int>& region)
 {
@@ -2217,7 +2359,8 @@ bool WoodSurfaceSheet(const std::vector<Eigen::Vector3d>& points, const std::vec
 /// The leaf instances: leaf regions of at least MinimumLeafPoints points, numbered by their lowest point index.
 void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   const std::vector<int>& region, const std::vector<RegionVerdict>& verdicts, double spacing, double radius,
-  const SegmentationParameters& p, const ParallelFor& parallel, PlantLabels& labels)
+  const SegmentationParameters& p, const ParallelFor& parallel, const std::vector<std::pair<int, int>>& contacts,
+  PlantLabels& labels)
 {
   const std::size_t n = points.size();
   const double gapCosine = std::cos(GapAngleFraction * p.normalAngle * Pi / 180.0);
@@ -2288,15 +2431,17 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   const std::vector<char> spreadLikeALeaf = radius > p.featureScale * spacing * (1.0 + 1e-9)
     ? StripsSpreadLikeALeaf(points, region, verdicts, p, radius, leaves)
     : std::vector<char>(leaves.size(), 0);
+  std::vector<std::vector<int>> contactPoints = ContactPointsOfParts(leaves, region, contacts);
   for (std::size_t li = 0; li < leaves.size(); ++li)
   {
-    const std::vector<int>& ids = leaves[li];
+    std::vector<int>& ids = leaves[li];
     // a part made only of flat strips (narrower than 2r or a long strip) and cut-off points has no leaf shape to
     // fit: leaf, no LeafId, unless it is a leaf seen only in rows, or its strips spread over a leaf
     if (!seenInRows[li] && !spreadLikeALeaf[li] && NoLeafShape(region, verdicts, ids, p.minimumLeafPoints))
       continue;
     if (!wood.empty() && WoodSurfaceSheet(points, ids, wood, woodGrid, radius, f.noise))
       continue; // the wood's surface seen as a sheet: leaf, no LeafId
+    ids.insert(ids.end(), contactPoints[li].begin(), contactPoints[li].end());
     SegmentedLeaf leaf;
     leaf.leafId = static_cast<int>(labels.leaves.size());
     leaf.points = static_cast<long long>(ids.size());
@@ -2388,6 +2533,10 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   StripsAmongLeavesAreLeaves(points, f, graph, judged, spacing, verdicts, region, labels.organ);
   ThickWoodKeepsItsSurface(points, f, verdicts, region, p, std::max(ThickWoodBand * f.noise, spacing), labels.organ);
   AbsorbWoodFragments(graph, verdicts, p, region, labels.organ);
+  const std::vector<std::pair<int, int>> contacts =
+    ContactPiecesAreLeaves(points, graph, f.radius, verdicts, region, labels.organ);
+  for (const auto& contact : contacts)
+    labels.confidence[static_cast<std::size_t>(contact.first)] = 0.5; // judged wood, made leaf by its surroundings
   IsolatedPiecesByTheirSurroundings(points, graph, f.radius, labels.organ, labels.confidence);
   SegmentedPlant& plant = labels.plant;
   plant.points = static_cast<long long>(n);
@@ -2402,7 +2551,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   const std::string flat = RefuseFlat(points, f.radius);
   if (!flat.empty())
     return flat;
-  MakeLeaves(points, f, graph, region, verdicts, spacing, f.radius, p, parallel, labels);
+  MakeLeaves(points, f, graph, region, verdicts, spacing, f.radius, p, parallel, contacts, labels);
   if (FindPetioles(points, f, graph, spacing, p, parallel, labels) > 0)
   {
     plant.woodPoints = plant.leafPoints = 0;
