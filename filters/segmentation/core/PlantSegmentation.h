@@ -44,7 +44,10 @@
 //     rows farther apart than the links) take the organ most other points within r around them have, leaf when
 //     there are none (a leaf turned edge on; a branch is scanned along its length in a line of linked points).
 //  4. Leaf instances. Small wood pieces (fewer than MinimumLeafPoints points) touching one leaf region only are
-//     that leaf's thin margins and tips: they join it. A leaf region that meets the wood (within two links) at
+//     that leaf's thin margins and tips: they join it. A wood piece touching two leaf regions or more and nothing
+//     else, its points no farther off those regions' local planes than their own points, is the leaves' contact
+//     (noisy normals there break it into regions too small to judge as sheets): leaf, its points joining the
+//     instance of the region whose plane is nearest once the instances are made. A leaf region that meets the wood (within two links) at
 //     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base
 //     nearest along the region. A part under a quarter of the plant's median part (a leaf's tip or rim cut off by
 //     a fold or crease) that touches other leaf parts joins the one it shares the most links with among those it is
