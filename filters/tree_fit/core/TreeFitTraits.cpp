@@ -206,6 +206,35 @@ std::pair<double, double> Tops(const std::vector<Eigen::Vector3d>& points, const
     return { woodTop, woodTop };
   return { woodTop, LeafTop(points, wood, up, woodTop) };
 }
+
+/// The trunk's diameter at `height` above `low`: the radii of the trunk's cylinders (`trunk`, order 0) whose middles
+/// lie either side of that height, interpolated linearly in height; below the lowest middle or above the highest,
+/// the cylinder spanning the height (NaN when none does). A trunk's cylinder spans several level sets (17 spacings on
+/// a smooth trunk), so the one spanning breast height has its middle up to half its length off it: on a trunk
+/// tapering by 2 cm of radius per metre, 8 cm off moved DBH by 1.7 % when the cylinders' placement moved with labels
+/// changed 2 m higher (tree_fit_accuracy, stroke-small behind the segmentation: 0.191 -> 0.188 m, the truth 0.191).
+double TrunkDiameterAt(const std::vector<TreeCylinder>& cylinders, const std::vector<int>& trunk,
+  const Eigen::Vector3d& up, double low, double height)
+{
+  std::vector<std::pair<double, double>> middles; // (height of the middle, radius)
+  double spanning = std::numeric_limits<double>::quiet_NaN();
+  for (int k : trunk)
+  {
+    const TreeCylinder& c = cylinders[static_cast<std::size_t>(k)];
+    const double h0 = c.start.dot(up) - low, h1 = c.end.dot(up) - low;
+    middles.emplace_back(0.5 * (h0 + h1), c.radius);
+    if (std::isnan(spanning) && std::min(h0, h1) <= height && std::max(h0, h1) >= height)
+      spanning = 2.0 * c.radius;
+  }
+  std::sort(middles.begin(), middles.end());
+  for (std::size_t k = 1; k < middles.size(); ++k)
+    if (middles[k - 1].first <= height && height <= middles[k].first && middles[k].first > middles[k - 1].first)
+    {
+      const double w = (height - middles[k - 1].first) / (middles[k].first - middles[k - 1].first);
+      return 2.0 * ((1.0 - w) * middles[k - 1].second + w * middles[k].second);
+    }
+  return spanning;
+}
 } // namespace
 
 void ComputeTraits(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& candidates, const Wood& wood,
@@ -236,13 +265,8 @@ void ComputeTraits(const std::vector<Eigen::Vector3d>& points, const std::vector
     {
       t.trunkVolume += branch.volume;
       t.trunkLength += branch.length;
-      for (int k : branch.cylinders)
-      {
-        const TreeCylinder& c = result.cylinders[k];
-        const double h0 = c.start.dot(up) - low, h1 = c.end.dot(up) - low;
-        if (std::isnan(t.dbh) && std::min(h0, h1) <= options.breastHeight && std::max(h0, h1) >= options.breastHeight)
-          t.dbh = 2.0 * c.radius;
-      }
+      if (std::isnan(t.dbh))
+        t.dbh = TrunkDiameterAt(result.cylinders, branch.cylinders, up, low, options.breastHeight);
       continue;
     }
     t.branchVolume += branch.volume;

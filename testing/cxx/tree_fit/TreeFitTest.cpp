@@ -131,6 +131,30 @@ TEST(TreeFit, CylinderGivesItsRadiusAndVolume)
   EXPECT_LT(std::sqrt(sum / count), 0.003);
 }
 
+TEST(TreeFit, DBHIsTheTrunksDiameterAtBreastHeightNotTheNearestCylinders)
+{
+  // A trunk tapering by 6 cm of radius per metre (0.25 at the base; 60 stacked true cylinders 5 cm long), scanned
+  // 2 cm apart: the fitted cylinders are 34 cm long, so the one spanning breast height has its middle up to 17 cm
+  // off it, 1 cm of radius on this taper (DBH +1.3 to +5.6 % at breast heights 1.22 to 1.34, -5.1 % at 1.38, when
+  // it was that cylinder's). DBH is the diameter at breast height itself, interpolated between the cylinders either
+  // side: within 0.75 % wherever breast height falls among them.
+  std::vector<TrueCylinder> trunk;
+  const auto radius = [](double z) { return 0.25 - 0.06 * z; };
+  for (int k = 0; k < 60; ++k)
+    trunk.push_back({ { 0, 0, 0.05 * k }, { 0, 0, 0.05 * (k + 1) }, radius(0.05 * (k + 0.5)) });
+  const std::vector<Eigen::Vector3d> points = Scan(trunk, 0.02, 0.0005);
+  for (const double breast : { 1.22, 1.26, 1.30, 1.34, 1.38 })
+  {
+    SCOPED_TRACE("breast height " + std::to_string(breast));
+    TreeFitParameters options;
+    options.breastHeight = breast;
+    const TreeFitResult r = FitTree(points, {}, options);
+    ASSERT_EQ(r.error, "");
+    const double truth = 2.0 * radius(breast);
+    EXPECT_NEAR(r.traits.dbh, truth, 0.0075 * truth);
+  }
+}
+
 TEST(TreeFit, AStemWhoseLevelSetsSplitSideBySideIsOneBranch)
 {
   // A stem occluded along two sides over half a metre (two strips of 50 degrees without points, as between scanner
