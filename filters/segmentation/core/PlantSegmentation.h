@@ -47,13 +47,13 @@
 //     that leaf's thin margins and tips: they join it. A wood piece touching two leaf regions or more and nothing
 //     else, its points no farther off those regions' local planes than their own points, is the leaves' contact
 //     (noisy normals there break it into regions too small to judge as sheets): leaf, its points joining the
-//     instance of the region whose plane is nearest once the instances are made. A leaf region that meets the wood (within two links) at
-//     places more than 4r apart is several leaves touching: it is split between those bases, each point to the base
-//     nearest along the region. A part under a quarter of the plant's median part (a leaf's tip or rim cut off by
-//     a fold or crease) that touches other leaf parts joins the one it shares the most links with among those it is
-//     a piece of (their seam not under 0.8 of each one's extent along it and the two, unfolded about the seam's
-//     line, leaving no notches where it ends; or it lies within r of that part's plane, or the two continue one
-//     sheet), smallest first; one that is a piece of none is a leaf seen small beside
+//     instance of the region whose plane is nearest once the instances are made. A leaf region that meets the wood
+//     (within two links) at places more than 4r apart is several leaves touching: it is split between those bases,
+//     each point to the base nearest along the region. A part under a quarter of the plant's median part (a leaf's
+//     tip or rim cut off by a fold or crease) that touches other leaf parts joins the one it shares the most links
+//     with among those it is a piece of (their seam not under 0.8 of each one's extent along it and the two,
+//     unfolded about the seam's line, leaving no notches where it ends; or it lies within r of that part's plane,
+//     or the two continue one sheet), smallest first; one that is a piece of none is a leaf seen small beside
 //     another and gets no instance (leaf, LeafId -1), unless it is flat and spreads over a third of the plant's
 //     typical part along and across (a leaf seen sparsely, at a grazing angle, or a young leaf: it keeps its part;
 //     so does a part of flat strips only where the noise widened r); then a larger part joins the touching part it

@@ -1081,6 +1081,19 @@ void DistanceFromWood(
   }
 }
 
+/// The regions of the points that are not wood linked to the wood piece `ids` (-1: a point in no region).
+std::set<int> RegionsAround(
+  const LinkGraph& graph, const std::vector<int>& ids, const std::vector<int>& region, const std::vector<int>& organ)
+{
+  std::set<int> touched;
+  for (int q : ids)
+    for (std::size_t e = graph.offsets[static_cast<std::size_t>(q)]; e < graph.offsets[static_cast<std::size_t>(q) + 1];
+         ++e)
+      if (organ[static_cast<std::size_t>(graph.neighbours[e])] != OrganWood)
+        touched.insert(region[static_cast<std::size_t>(graph.neighbours[e])]);
+  return touched;
+}
+
 /// Small wood pieces (connected wood points fewer than MinimumLeafPoints) touching one leaf region and no other
 /// region are that leaf's margins, tips or folds (linear at the features' scale): they join the leaf.
 void AbsorbWoodFragments(const LinkGraph& graph, const std::vector<RegionVerdict>& verdicts,
@@ -1095,12 +1108,7 @@ void AbsorbWoodFragments(const LinkGraph& graph, const std::vector<RegionVerdict
       continue;
     LinkComponent(
       graph, seed, [&](std::size_t j) { return organ[j] == OrganWood; }, seen, piece);
-    std::set<int> touched; // the regions next to the piece (-1: a wood point of a judged wood region)
-    for (int q : piece)
-      for (std::size_t e = graph.offsets[static_cast<std::size_t>(q)];
-           e < graph.offsets[static_cast<std::size_t>(q) + 1]; ++e)
-        if (organ[static_cast<std::size_t>(graph.neighbours[e])] != OrganWood)
-          touched.insert(region[static_cast<std::size_t>(graph.neighbours[e])]);
+    const std::set<int> touched = RegionsAround(graph, piece, region, organ);
     if (piece.size() >= static_cast<std::size_t>(p.minimumLeafPoints) || touched.size() != 1 || *touched.begin() < 0 ||
       !verdicts[static_cast<std::size_t>(*touched.begin())].leaf)
       continue;
@@ -1184,15 +1192,9 @@ std::vector<std::pair<int, int>> ContactPiecesAreLeaves(const std::vector<Eigen:
       continue;
     LinkComponent(
       graph, seed, [&](std::size_t j) { return organ[j] == OrganWood; }, seen, piece);
-    std::set<int> touched;
-    for (int q : piece)
-      for (std::size_t e = graph.offsets[static_cast<std::size_t>(q)];
-           e < graph.offsets[static_cast<std::size_t>(q) + 1]; ++e)
-      {
-        const auto j = static_cast<std::size_t>(graph.neighbours[e]);
-        if (organ[j] != OrganWood && region[j] >= 0 && verdicts[static_cast<std::size_t>(region[j])].leaf)
-          touched.insert(region[j]);
-      }
+    std::set<int> touched = RegionsAround(graph, piece, region, organ);
+    for (auto it = touched.begin(); it != touched.end();)
+      it = *it >= 0 && verdicts[static_cast<std::size_t>(*it)].leaf ? std::next(it) : touched.erase(it);
     if (touched.size() < 2)
       continue;
     const std::vector<LocalPlane> planes = LocalPlanesAround(points, piece, touched, members, radius);
@@ -1242,15 +1244,16 @@ std::vector<std::vector<int>> ContactPointsOfParts(const std::vector<std::vector
       if (it != count.end())
         ++it->second[k];
     }
+  std::map<int, std::size_t> holder; // region -> the part holding most of it (the first of equals)
+  for (const auto& [r, holders] : count)
+    if (!holders.empty())
+      holder[r] = std::max_element(holders.begin(), holders.end(), [](const auto& a, const auto& b) {
+        return a.second < b.second || (a.second == b.second && a.first > b.first);
+      })->first;
   std::vector<std::vector<int>> extra(parts.size());
   for (const auto& contact : contacts)
-  {
-    const std::map<std::size_t, std::size_t>& holders = count[contact.second];
-    const auto best = std::max_element(holders.begin(), holders.end(),
-      [](const auto& a, const auto& b) { return a.second < b.second || (a.second == b.second && a.first > b.first); });
-    if (best != holders.end())
-      extra[best->first].push_back(contact.first);
-  }
+    if (const auto it = holder.find(contact.second); it != holder.end())
+      extra[it->second].push_back(contact.first);
   return extra;
 }
 
