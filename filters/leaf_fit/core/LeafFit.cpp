@@ -518,7 +518,8 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   if (kept.size() < static_cast<std::size_t>(MinLeafPoints))
     return "too few blade points beside the petiole: " + std::to_string(kept.size()) + " (a leaf needs at least " +
       std::to_string(MinLeafPoints) + ")";
-  f.frame = fit::LeafFrame(kept, options, spacing, petiole, result.traits.baseFrom, result.baseGuess, parallel);
+  f.frame = fit::LeafFrame(
+    kept, options, spacing, petiole, result.traits.baseFrom, result.baseGuess, result.baseAtStalkWidth, parallel);
   result.orientedByShape = result.traits.baseFrom == 0 && !options.apexPoint;
   for (const auto& p : kept)
     f.local.push_back(f.frame.Local(p));

@@ -189,6 +189,10 @@ struct LeafFitResult
   /// True when the base and apex were told apart by the blade's shape alone: no BasePoint, ApexPoint or petiole, and
   /// not a guess (Traits' baseFrom 0 without ApexPoint).
   bool orientedByShape = false;
+  /// True when the shape put the base at the blade's one narrow end because its end slices keep one width, as a
+  /// stalk's do, and no petiole was found there: a stalk the petiole search missed (a point across, or short), or a
+  /// drawn-out tip whose first slices the noise or a coarse scan widened to the same width (then turned end to end).
+  bool baseAtStalkWidth = false;
   /// How far the blade's last samples at the apex run on as a trail a point across, within the outline's spacing
   /// (Traits' coverage spacing) of the midvein (fit::ApexTrail): a drawn-out tip narrower than the scan's spacing,
   /// which may go on unseen beyond them. 0 when the apex is wider than that to its end.

@@ -320,6 +320,13 @@ bool NarrowEnd(const std::vector<double>& width, double widest, bool last)
               : width[0] < 0.06 * widest && width[1] < 0.1 * widest;
 }
 
+/// Whether two slices' widths are the same to the scan: within 1.5 point spacings or half the wider's width of each
+/// other (a stalk's constant width, or a drawn-out tip's first slices seen coarsely or through noise).
+bool SameWidth(double a, double b, double spacing)
+{
+  return std::abs(b - a) <= std::max(1.5 * spacing, 0.5 * std::max(a, b));
+}
+
 /// Whether a blade's one narrow end is its base (else its apex), from the widths of its slices counted from that
 /// end (`width`, 20 slices of the blade's `length`; `widest` the largest). A stalk keeps its width along its length:
 /// the two end slices within 1.5 point spacings or half the wider's width of each other, and the third slice too (a
@@ -336,7 +343,7 @@ bool NarrowEnd(const std::vector<double>& width, double widest, bool last)
 bool NarrowEndIsBase(const std::vector<double>& width, double widest, double length, double spacing)
 {
   const std::size_t n = width.size();
-  auto same = [&](double a, double b) { return std::abs(b - a) <= std::max(1.5 * spacing, 0.5 * std::max(a, b)); };
+  auto same = [&](double a, double b) { return SameWidth(a, b, spacing); };
   if (same(width[0], width[1]))
   {
     std::size_t k = 2;
@@ -357,10 +364,13 @@ bool NarrowEndIsBase(const std::vector<double>& width, double widest, double len
 /// answer is a guess, as BaseGuess says why: none of these rules tells the ends apart (the blade's width is centred
 /// along the axis, as on an elliptic blade, the same at both ends), or only the wider half did, which is the base of
 /// an ovate blade and the apex of an obovate one (paper 002's Fig. 2 blade, a deltoid poplar's turned round).
+/// `stalkWidth`: the base was put at the one narrow end for its end slices' constant width alone, as a stalk's (the
+/// other end not square), which a drawn-out tip seen through noise or sparse points can have too.
 bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& centroid, const Eigen::Vector3d& Y,
-  const Eigen::Vector3d& X, double spacing, BaseGuess& guess)
+  const Eigen::Vector3d& X, double spacing, BaseGuess& guess, bool& stalkWidth)
 {
   guess = BaseGuess::None;
+  stalkWidth = false;
   // Widths of 20 slices; the narrow-end tests look at the end slices, the ovate test at the widest slice.
   double lo = 0.0, hi = 0.0;
   const std::vector<double> width = SliceWidths(points, centroid, Y, X, lo, hi);
@@ -377,7 +387,9 @@ bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector
     std::vector<double> fromNarrow = width;
     if (narrowHigh)
       std::reverse(fromNarrow.begin(), fromNarrow.end());
-    return NarrowEndIsBase(fromNarrow, widest, hi - lo, spacing) == narrowHigh;
+    const bool base = NarrowEndIsBase(fromNarrow, widest, hi - lo, spacing);
+    stalkWidth = base && SameWidth(fromNarrow[0], fromNarrow[1], spacing) && fromNarrow.back() < 0.6 * widest;
+    return base == narrowHigh;
   }
   // A blade widest at one end (the last 15 % of its length: a fan, a truncate or notched apex) has its apex there and
   // narrows to its base.
@@ -430,7 +442,7 @@ bool StalkIsTheBladesTip(const std::vector<Eigen::Vector3d>& points, const Petio
 }
 
 Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
-  const Petiole& petiole, int& baseFrom, BaseGuess& guess, const ParallelFor& parallel)
+  const Petiole& petiole, int& baseFrom, BaseGuess& guess, bool& stalkWidth, const ParallelFor& parallel)
 {
   Eigen::Vector3d centroid;
   const auto eig = Principal(points, centroid);
@@ -442,6 +454,7 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   std::optional<Eigen::Vector3d> base, apex;
   baseFrom = 0;
   guess = BaseGuess::None;
+  stalkWidth = false;
   if (options.basePoint)
   {
     base = Nearest(points, *options.basePoint);
@@ -465,7 +478,7 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   {
     const Eigen::Vector3d middle = points.size() > 8 ? AreaCentroid(points, normal, centroid, parallel) : centroid;
     Y = SymmetryAxis(points, middle, normal, principal, spacing, parallel);
-    if (BaseAtPlusY(points, middle, Y, normal.cross(Y).normalized(), spacing, guess))
+    if (BaseAtPlusY(points, middle, Y, normal.cross(Y).normalized(), spacing, guess, stalkWidth))
       Y = -Y;
     if (guess != BaseGuess::None)
       baseFrom = 3;

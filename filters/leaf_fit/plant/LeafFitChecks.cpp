@@ -83,6 +83,12 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
               << " BasePoint or ApexPoint)";
     warnings.push_back(message.str());
   }
+  // The base told from the shape by a narrow end's constant width alone: a stalk's, but no petiole was found there.
+  if (fit.orientedByShape && fit.baseAtStalkWidth)
+    warnings.push_back("the base was put at the blade's narrow end because its last slices keep one width, as a "
+                       "stalk's do, but no petiole was found there: if it is a stalk, PetioleLength is 0 and Length "
+                       "includes it; if it is a drawn-out tip (widened by the noise or a coarse scan), the base and "
+                       "apex are turned end to end (give BasePoint or ApexPoint)");
   if (fit.traits.baseFrom == 2 && fit.traits.petioleLength < MinPetioleShare * fit.traits.length &&
     fit.petioleHalfWidth < MaxNarrowPetiole * fit.traits.spacing + 2.0 * fit.traits.fitRMS)
   {

@@ -85,8 +85,9 @@ inline constexpr double MaxModelAreaError = 0.02;
 /// The warnings of a successful fit, one sentence each: the model's own (modelWarning), a base that is a guess
 /// (BaseFrom 3: the blade is the same at both ends, or only its wider half tells them apart), a scan that samples
 /// the blade unevenly (sheetShare under MinSheetShare), an apex drawn out beyond what the scan resolves (apexTrail
-/// over MaxApexTrail spacings), a short narrow petiole that may be the blade's attenuate base or tip
-/// (MinPetioleShare, MaxNarrowPetiole), low Coverage, and the flat
+/// over MaxApexTrail spacings), a base put at a narrow end of constant width where no petiole was found
+/// (baseAtStalkWidth: a missed stalk or a widened tip), a short narrow petiole that may be the blade's attenuate base
+/// or tip (MinPetioleShare, MaxNarrowPetiole), low Coverage, and the flat
 /// Model C leaf (flatMidvein, flatLeftMargin, flatRightMargin rebuilt by LeafOutlineSource's B-spline leaf at
 /// `resolution`) whose area differs from the fitted blade's (the Area trait) by more than MaxModelAreaError.
 std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolution);
