@@ -149,7 +149,7 @@ Synthetic Scan(const LeafGeometry& leaf, int count, double sigma, double petiole
 /// A straight petiole from the base, leaving it at `angle` degrees below the blade's plane, pointing along -Y.
 std::function<Eigen::Vector3d(double)> Straight(double angle)
 {
-  const double a = angle * 3.14159265358979323846 / 180.0;
+  const double a = angle * Pi / 180.0;
   return [a](double s) { return Eigen::Vector3d(0.0, -s * std::cos(a), -s * std::sin(a)); };
 }
 
@@ -172,8 +172,8 @@ void ExpectShape(const Synthetic& scan, const Eigen::Isometry3d& pose, const Exp
     << "base " << base.transpose();
   // The midvein's direction: from the base to the point a fifth along it (the blade may curve further on).
   const Eigen::Vector3d along = (fit.points[fit.midvein[fit.midvein.size() / 5]] - base).normalized();
-  const double degrees = std::acos(std::clamp(along.dot(pose.linear() * Eigen::Vector3d::UnitY()), -1.0, 1.0)) * 180.0 /
-    3.14159265358979323846;
+  const double degrees =
+    std::acos(std::clamp(along.dot(pose.linear() * Eigen::Vector3d::UnitY()), -1.0, 1.0)) * 180.0 / Pi;
   EXPECT_LT(degrees, e.degrees);
   EXPECT_NEAR(fit.traits.length, scan.length, e.lengthTolerance * scan.length);
   if (scan.petioleLength > 0.0)
@@ -1051,7 +1051,7 @@ Synthetic TubeScan(int preset, double grid, double radius, int count, const std:
   for (double s = 0.5 * step; s <= petiole; s += step, ++line)
     for (int j = 0; j < count; ++j)
     {
-      const double a = arc(line, j) * 3.14159265358979323846 / 180.0;
+      const double a = arc(line, j) * Pi / 180.0;
       scan.points.push_back(pose * (axis(s) + radius * length * (std::cos(a) * side + std::sin(a) * up)));
       scan.petiole.push_back(1);
     }
@@ -1412,7 +1412,7 @@ TEST(LeafShape, AcuminateTipWithoutPetioleIsTheApex)
         << count << " points, tilted " << tilted << ": base " << base.transpose() << " from " << fit.traits.baseFrom
         << " petiole " << fit.traits.petioleLength;
       const Eigen::Vector3d along = (fit.points[fit.midvein[fit.midvein.size() / 5]] - base).normalized();
-      EXPECT_GT(along.dot(pose.linear() * Eigen::Vector3d::UnitY()), std::cos(3.0 * 3.14159265358979323846 / 180.0))
+      EXPECT_GT(along.dot(pose.linear() * Eigen::Vector3d::UnitY()), std::cos(3.0 * Pi / 180.0))
         << count << " points, tilted " << tilted;
       EXPECT_EQ(fit.traits.petioleLength, 0.0) << count << " points, tilted " << tilted; // the tip is no stalk
     }
@@ -1460,7 +1460,7 @@ TEST(LeafShape, BladeSampledDenserOnOneSideKeepsItsMidveinAxis)
   ASSERT_EQ(fit.error, "");
   const Eigen::Vector3d base = fit.points[fit.midvein.front()], apex = fit.points[fit.midvein.back()];
   const Eigen::Vector3d along = Tilted().linear() * Eigen::Vector3d::UnitY();
-  EXPECT_GT(std::abs((apex - base).normalized().dot(along)), std::cos(3.0 * 3.14159265358979323846 / 180.0));
+  EXPECT_GT(std::abs((apex - base).normalized().dot(along)), std::cos(3.0 * Pi / 180.0));
   EXPECT_NEAR(fit.traits.length, scan.length, 0.01 * scan.length);
   const double toBase = (base - Tilted() * Eigen::Vector3d::Zero()).norm(),
                toApex = (base - Tilted() * Eigen::Vector3d(0.0, 100.0, 0.0)).norm();
@@ -1476,7 +1476,7 @@ TEST(LeafShape, SymmetryAxisOfAFanThroughItsBase)
     points.emplace_back(p.x(), p.y(), 0.0);
   const Eigen::Vector3d axis =
     fit::SymmetryAxis(points, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d(1.0, 0.2, 0.0), 0.5);
-  EXPECT_GT(std::abs(axis.y()), std::cos(2.0 * 3.14159265358979323846 / 180.0));
+  EXPECT_GT(std::abs(axis.y()), std::cos(2.0 * Pi / 180.0));
 }
 
 TEST(LeafShape, ApexPointTurnsASymmetricBladeAround)
