@@ -1836,6 +1836,49 @@ TEST(LeafShape, SinusClosedByTheStalksFirstSpacingsEndsAtTheJunction)
   EXPECT_NEAR(bottom(-6.5, false, true), -6.5, 1.0) << "the blade's own sinus below the junction";
 }
 
+TEST(LeafShape, JunctionBelowASinusCrossingKeepsTheBasalLobes)
+{
+  // In intrinsic coordinates (spacing 1), a cordate blade on a grid: its sinus a notch 10 wide with its bottom at
+  // s = 0, the basal lobes beside it reaching 11.5 below, and a stalk's junction 1.5 below the bottom, where the
+  // stalk's axis meets the blade's plane (placed to about a radius). The loop crosses the midvein a spacing or so
+  // above the junction, too close for a gap between them, and no point lies within 4 of the midvein there: the base
+  // was read as a cusp running down to the junction and both lobes were cut off (the curled cucumber from two
+  // positions at 0.1 % noise: Area -6.8 %). The lobes reaching below the junction on both sides make it a sinus:
+  // the contour keeps them and encloses the points' area.
+  std::vector<Eigen::Vector2d> ts;
+  for (double s = -11.5; s < 100.0; s += 1.0)
+  {
+    const double half = 28.0 * std::sqrt(std::max(0.0, 1.0 - (s - 40.0) * (s - 40.0) / (60.0 * 60.0)));
+    for (double t = -std::floor(half); t <= half; t += 1.0)
+      if (s >= 0.0 || std::abs(t) >= 5.0)
+        ts.emplace_back(t, s);
+  }
+  fit::Outline outline;
+  ASSERT_EQ(fit::FitOutline(ts, LeafFitParameters(), 1.0, outline), "");
+  outline.junction = -1.5;
+  outline.junctionMeetsPlane = true;
+  outline.stalkHalfWidth = 1.0;
+  const fit::Contour contour = fit::TraceContour(ts, 1.0, true, outline);
+  ASSERT_FALSE(contour.right.empty());
+  double lowest = 1e300;
+  for (const auto* side : { &contour.right, &contour.left })
+    for (const auto& p : *side)
+      lowest = std::min(lowest, p.y());
+  EXPECT_LT(lowest, -9.0) << "the basal lobes were cut off";
+  // Each grid point stands for one unit of area.
+  std::vector<Eigen::Vector2d> polygon(contour.right.begin(), contour.right.end());
+  polygon.insert(polygon.end(), contour.left.rbegin(), contour.left.rend());
+  double twice = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+  {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  EXPECT_NEAR(0.5 * std::abs(twice), static_cast<double>(ts.size()), 0.02 * static_cast<double>(ts.size()));
+  EXPECT_GT(outline.base, -2.5) << "the base below the sinus's bottom";
+}
+
 TEST(LeafShape, BladeWiderThanItsStalkAtItsLowestLineEndsAtTheJunction)
 {
   // In intrinsic coordinates (spacing 1), an elliptic blade 100 long and 44 wide, its base at s = 0 where a stalk
