@@ -320,13 +320,6 @@ bool NarrowEnd(const std::vector<double>& width, double widest, bool last)
               : width[0] < 0.06 * widest && width[1] < 0.1 * widest;
 }
 
-/// Whether two slices' widths are the same to the scan: within 1.5 point spacings or half the wider's width of each
-/// other (a stalk's constant width, or a drawn-out tip's first slices seen coarsely or through noise).
-bool SameWidth(double a, double b, double spacing)
-{
-  return std::abs(b - a) <= std::max(1.5 * spacing, 0.5 * std::max(a, b));
-}
-
 /// Whether a blade's one narrow end is its base (else its apex), from the widths of its slices counted from that
 /// end (`width`, 20 slices of the blade's `length`; `widest` the largest). A stalk keeps its width along its length:
 /// the two end slices within 1.5 point spacings or half the wider's width of each other, and the third slice too (a
@@ -339,17 +332,24 @@ bool SameWidth(double a, double b, double spacing)
 /// the widest: a truncate or notched apex) has its apex there. Else the narrow end's sides decide: drawn out
 /// (acuminate), curving in so that its width a tenth of the length from the end is under 0.35 of its width at a
 /// fifth (straight sides give 0.5, sides as a parabola 0.25), it is a tip, as drip tips are; straight or bulging (a
-/// cuneate wedge), a base.
-bool NarrowEndIsBase(const std::vector<double>& width, double widest, double length, double spacing)
+/// cuneate wedge), a base. `byWidth`, when given: true when the base was read from the end's constant width alone
+/// (a stalk's, or a drawn-out tip's first slices widened by noise or a coarse scan), the other end not square.
+bool NarrowEndIsBase(
+  const std::vector<double>& width, double widest, double length, double spacing, bool* byWidth = nullptr)
 {
   const std::size_t n = width.size();
-  auto same = [&](double a, double b) { return SameWidth(a, b, spacing); };
+  if (byWidth)
+    *byWidth = false;
+  auto same = [&](double a, double b) { return std::abs(b - a) <= std::max(1.5 * spacing, 0.5 * std::max(a, b)); };
   if (same(width[0], width[1]))
   {
     std::size_t k = 2;
     while (k + 3 < n && same(width[0], width[k]))
       ++k;
-    return !(k + 3 < n && width[k + 1] < 0.35 * width[k + 3]) || width[n - 1] >= 0.6 * widest;
+    const bool stalk = !(k + 3 < n && width[k + 1] < 0.35 * width[k + 3]), square = width[n - 1] >= 0.6 * widest;
+    if (byWidth)
+      *byWidth = stalk && !square;
+    return stalk || square;
   }
   if (widest >= length || width[n - 1] >= 0.6 * widest)
     return true;
@@ -387,9 +387,7 @@ bool BaseAtPlusY(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector
     std::vector<double> fromNarrow = width;
     if (narrowHigh)
       std::reverse(fromNarrow.begin(), fromNarrow.end());
-    const bool base = NarrowEndIsBase(fromNarrow, widest, hi - lo, spacing);
-    stalkWidth = base && SameWidth(fromNarrow[0], fromNarrow[1], spacing) && fromNarrow.back() < 0.6 * widest;
-    return base == narrowHigh;
+    return NarrowEndIsBase(fromNarrow, widest, hi - lo, spacing, &stalkWidth) == narrowHigh;
   }
   // A blade widest at one end (the last 15 % of its length: a fan, a truncate or notched apex) has its apex there and
   // narrows to its base.

@@ -459,22 +459,21 @@ bool BaseRunsToJunction(const std::vector<Eigen::Vector2d>& ts, double junction,
   if (!(junction < crossing))
     return false;
   bool lobeRight = false, lobeLeft = false;
+  std::vector<double> along;
   for (const auto& p : ts)
     if (p.y() < junction - 3.0 * spacing)
     {
       lobeRight = lobeRight || p.x() > 2.0 * spacing;
       lobeLeft = lobeLeft || p.x() < -2.0 * spacing;
     }
-  if (lobeRight && lobeLeft)
-    return false;
-  std::vector<double> along;
-  for (const auto& p : ts)
-    if (p.y() > junction - spacing && p.y() < crossing && std::abs(p.x()) < 4.0 * spacing)
+    else if (p.y() > junction - spacing && p.y() < crossing && std::abs(p.x()) < 4.0 * spacing)
     {
       if (std::abs(p.x()) >= 2.0 * spacing)
         return false; // wider than a strip along the midvein (lobes overlapping below a sinus)
       along.push_back(p.y());
     }
+  if (lobeRight && lobeLeft)
+    return false;
   along.push_back(junction);
   along.push_back(crossing);
   std::sort(along.begin(), along.end());

@@ -11,6 +11,7 @@
 #include "PointGrid.h"
 
 #include "BSplineLeaf.h"
+#include "BladeMesher.h"
 #include "DeformedRectangleLeaf.h"
 #include "DeformedRectanglePresets.h"
 #include "SpaceCurveLeaf.h"
@@ -25,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -1868,14 +1870,10 @@ TEST(LeafShape, JunctionBelowASinusCrossingKeepsTheBasalLobes)
   // Each grid point stands for one unit of area.
   std::vector<Eigen::Vector2d> polygon(contour.right.begin(), contour.right.end());
   polygon.insert(polygon.end(), contour.left.rbegin(), contour.left.rend());
-  double twice = 0.0;
-  for (std::size_t i = 0; i < polygon.size(); ++i)
-  {
-    const Eigen::Vector2d& a = polygon[i];
-    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
-    twice += a.x() * b.y() - a.y() * b.x();
-  }
-  EXPECT_NEAR(0.5 * std::abs(twice), static_cast<double>(ts.size()), 0.02 * static_cast<double>(ts.size()));
+  std::vector<int> loop(polygon.size());
+  std::iota(loop.begin(), loop.end(), 0);
+  EXPECT_NEAR(
+    std::abs(PolygonArea(polygon, loop)), static_cast<double>(ts.size()), 0.02 * static_cast<double>(ts.size()));
   EXPECT_GT(outline.base, -2.5) << "the base below the sinus's bottom";
 }
 
