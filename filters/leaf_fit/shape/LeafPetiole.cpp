@@ -477,15 +477,17 @@ void FitStalkLine(const std::vector<Eigen::Vector3d>& section, const std::vector
 /// Whether a point `r` from the centroids' line (along `u`), beyond the stalk's width from it, is still the stalk's:
 /// that line lies on the seen side, up to a radius off the axis (`offset`, from AxisOffset), and the stalk's far side
 /// (seen from a second scanner position, or its inside through a cut end) and its flanks lie farther than the seen
-/// side's width from it. Such a point lies within that width (`narrow`) of the stalk's own axis, less half the
-/// offset (the offset's own uncertainty, from a parabola through a few points: a blade's point beside the stalk is
-/// not taken for it).
+/// side's width from it. Such a point lies within that width (`narrow`) of the stalk's own axis, less a quarter of
+/// the offset (the offset's own uncertainty, from a parabola through a few points: a blade's point beside the stalk
+/// is not taken for it). Less half the offset, a dense scan's flank points (a stalk 2.5 spacings thick seen from two
+/// sides, down to its axis) lay beyond it, as the spacing's share of `narrow` is small there, and ended the walk
+/// towards the blade 4 radii out on the stalk.
 bool OnFarSide(const Eigen::Vector3d& offset, const Eigen::Vector3d& u, const Eigen::Vector3d& r, double narrow)
 {
   if (!(offset.norm() > 0.0))
     return false;
   const Eigen::Vector3d fromAxis = r - offset;
-  return (fromAxis - fromAxis.dot(u) * u).norm() <= narrow - 0.5 * offset.norm();
+  return (fromAxis - fromAxis.dot(u) * u).norm() <= narrow - 0.25 * offset.norm();
 }
 
 StalkAxis JunctionEnd(const std::vector<Eigen::Vector3d>& points, const Trail& trail, const Bins& b, std::size_t start,
