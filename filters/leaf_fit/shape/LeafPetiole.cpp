@@ -737,7 +737,9 @@ void FollowStalkToBlade(const std::vector<Eigen::Vector3d>& points, const PointG
 /// A junction the walk left where the stalk's seen side meets the blade (no plane of lobes met around the walk's
 /// end) moves to where the stalk's own axis (the line through `q`, on the centroids' line, moved by the offset of
 /// AxisOffset) meets the blade's plane (the points within `radius` farther than `narrow` from it), when that lies
-/// ahead of it, within `radius`.
+/// ahead of it, within `radius`. BackToPlane calls it only where no fitted axis is read (ToFittedAxis: a section
+/// that does not bend like a tube's, or no plane met on that axis): the centroids' line wanders with its two
+/// centroids.
 void ToStalkAxis(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, const StalkAxis& axis,
   const Eigen::Vector3d& q, double radius, double narrow, Petiole& petiole)
 {
