@@ -1408,9 +1408,10 @@ TEST(LeafShape, StalkSeenFromAboveMeetsTheBladeOnItsFittedAxis)
 
 TEST(LeafShape, StalksFlanksSeenFromTwoSidesAreTheStalks)
 {
-  // The grid blade and a stalk of radius 2.5 spacings seen from two sides (StalkSeenInPasses), each pass's rays
-  // 1.25 spacings apart: each sees a flank down to its axis and below, 2.5 spacings out to the side (the benchmark's
-  // acuminate blade from two positions at 0.1 % noise, a stalk 2.5 spacings thick). The seen side's offset from the
+  // The grid blade and a stalk of radius 3 spacings seen from two sides (StalkSeenInPasses), each pass's rays 1.4
+  // spacings apart (the two passes together about as dense as the blade): each sees a flank down to its axis and
+  // below, a radius out to the side (the benchmark's acuminate blade from two positions at 0.1 % noise, its stalk's
+  // radius 2.5 spacings). The seen side's offset from the
   // axis is most of a radius; a flank point lay beyond the stalk's width, less half that offset, of its own axis,
   // ended the walk towards the blade 4 radii out on the stalk (PetioleLength -12 %, base 4.3 % of the length off).
   // The flanks are the stalk's: the junction lies within the stalk's radius of the base at every phase.
