@@ -59,6 +59,9 @@ namespace
 {
 /// Regions with fewer points are not judged on their own shape.
 constexpr std::size_t JudgedRegionPoints = 12;
+/// A piece's thickness (its smallest principal spread) under this share of its width (the middle one) is flat
+/// (FlatPiecesAwayFromWood): a tube's arc is this flat only over about 40 degrees.
+constexpr double FlatPieceThickness = 0.1;
 
 /// What a region is, from its points' covariance and normals.
 struct RegionVerdict
@@ -2494,6 +2497,65 @@ std::string RefuseFlat(const std::vector<Eigen::Vector3d>& points, double radius
 }
 } // namespace
 
+std::size_t FlatPiecesAwayFromWood(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, double radius,
+  std::vector<int>& organ, std::vector<double>& confidence)
+{
+  const std::size_t n = organ.size();
+  std::vector<char> seen(n, 0);
+  std::vector<int> piece;
+  std::vector<std::vector<int>> flat;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (seen[i] || organ[i] != OrganWood)
+      continue;
+    LinkComponent(
+      graph, i, [](std::size_t) { return true; }, seen, piece);
+    if (piece.size() < JudgedRegionPoints ||
+      std::any_of(piece.begin(), piece.end(), [&](int j) { return organ[static_cast<std::size_t>(j)] != OrganWood; }))
+      continue;
+    Eigen::Vector3d mean;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(Scatter(points, piece, mean));
+    const Eigen::Vector3d spread = solver.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+    if (spread[0] < FlatPieceThickness * spread[1])
+      flat.push_back(piece);
+  }
+  if (flat.empty())
+    return 0;
+  // the wood points alone, in a grid (a tenth to a fifth of the cloud)
+  std::vector<Eigen::Vector3d> wood;
+  std::vector<std::size_t> woodIndex;
+  for (std::size_t i = 0; i < n; ++i)
+    if (organ[i] == OrganWood)
+    {
+      wood.push_back(points[i]);
+      woodIndex.push_back(i);
+    }
+  const PointGrid grid(wood, radius);
+  std::vector<int> owner(n, -1), near;
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < flat.size(); ++k)
+  {
+    for (int j : flat[k])
+      owner[static_cast<std::size_t>(j)] = static_cast<int>(k);
+    bool away = true;
+    for (std::size_t a = 0; a < flat[k].size() && away; ++a)
+    {
+      grid.Within(points[static_cast<std::size_t>(flat[k][a])], radius, near);
+      away = std::all_of(near.begin(), near.end(),
+        [&](int q) { return owner[woodIndex[static_cast<std::size_t>(q)]] == static_cast<int>(k); });
+    }
+    if (!away)
+      continue;
+    for (int j : flat[k])
+    {
+      organ[static_cast<std::size_t>(j)] = OrganLeaf;
+      confidence[static_cast<std::size_t>(j)] = 0.25;
+    }
+    count += flat[k].size();
+  }
+  return count;
+}
+
 std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const SegmentationParameters& p,
   const ParallelFor& parallel, PlantLabels& labels)
 {
@@ -2541,6 +2603,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   for (const auto& contact : contacts)
     labels.confidence[static_cast<std::size_t>(contact.first)] = 0.5; // judged wood, made leaf by its surroundings
   IsolatedPiecesByTheirSurroundings(points, graph, f.radius, labels.organ, labels.confidence);
+  FlatPiecesAwayFromWood(points, graph, f.radius, labels.organ, labels.confidence);
   SegmentedPlant& plant = labels.plant;
   plant.points = static_cast<long long>(n);
   plant.spacing = spacing;

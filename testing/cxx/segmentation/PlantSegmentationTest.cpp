@@ -5,7 +5,7 @@
 // several plants, and bad input.
 #include "PlantSegmentation.h"
 #include "PointGrid.h"         // MedianSpacing
-#include "SegmentationSteps.h" // CutAtShortSeams
+#include "SegmentationSteps.h" // CutAtShortSeams, FlatPiecesAwayFromWood
 
 #include <gtest/gtest.h>
 
@@ -2163,4 +2163,56 @@ TEST(PlantSegmentation, TheContactOfTwoNoisyBladesIsLeaf)
       EXPECT_EQ(woodAsLeaf, 0u);
       EXPECT_GT(OrganIoU(t, r, plantmorph::OrganWood), 0.99);
     }
+}
+
+TEST(PlantSegmentation, AFlatPieceCalledWoodFarFromAllWoodIsLeaf)
+{
+  // Points a spacing apart (the link 2.5 spacings, the features' radius 4), all called wood: a twig (a half tube of
+  // radius 2 along x, seen from above), a flat patch 10 by 6 spacings 20 above it, a flat patch of the same size
+  // 3 spacings beside the twig's flank (not linked to it, but within the features' radius), a half tube of radius 3
+  // and 12 long far from the rest (a branch's piece: not flat), and a flat patch of 3 by 3 far away (too small to
+  // judge). Only the far flat patch is a leaf's piece.
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> organ;
+  auto patch = [&](const Eigen::Vector3d& corner, int nx, int ny) {
+    const std::size_t first = points.size();
+    for (int i = 0; i < nx; ++i)
+      for (int j = 0; j < ny; ++j)
+        points.push_back(corner + Eigen::Vector3d(i, j, 0.0));
+    return std::make_pair(first, points.size());
+  };
+  auto halfTube = [&](const Eigen::Vector3d& start, double radius, int length) {
+    const std::size_t first = points.size();
+    const int around = static_cast<int>(std::ceil(Pi * radius));
+    for (int k = 0; k < length; ++k)
+      for (int a = 0; a <= around; ++a)
+      {
+        const double angle = Pi * a / around;
+        points.push_back(start + Eigen::Vector3d(k, radius * std::cos(angle), radius * std::sin(angle)));
+      }
+    return std::make_pair(first, points.size());
+  };
+  const auto twig = halfTube(Eigen::Vector3d::Zero(), 2.0, 60);
+  const auto far = patch(Eigen::Vector3d(20.0, -3.0, 20.0), 10, 6);
+  const auto beside = patch(Eigen::Vector3d(20.0, 5.0, 0.0), 10, 6);
+  const auto branch = halfTube(Eigen::Vector3d(0.0, 40.0, 0.0), 3.0, 12);
+  const auto small = patch(Eigen::Vector3d(40.0, -40.0, 10.0), 3, 3);
+  organ.assign(points.size(), plantmorph::OrganWood);
+  std::vector<double> confidence(points.size(), 0.5);
+  const plantmorph::SegmentationParameters p;
+  plantmorph::segmentation::PointFeatures f;
+  plantmorph::segmentation::LinkGraph graph;
+  plantmorph::segmentation::ComputeFeatures(points, 1.0, p, plantmorph::SerialFor, f, graph);
+  const std::size_t made = plantmorph::segmentation::FlatPiecesAwayFromWood(points, graph, 4.0, organ, confidence);
+  EXPECT_EQ(made, far.second - far.first);
+  auto organs = [&](std::pair<std::size_t, std::size_t> range) {
+    std::set<int> seen;
+    for (std::size_t i = range.first; i < range.second; ++i)
+      seen.insert(organ[i]);
+    return seen;
+  };
+  EXPECT_EQ(organs(far), std::set<int>{ plantmorph::OrganLeaf });
+  EXPECT_DOUBLE_EQ(confidence[far.first], 0.25);
+  for (const auto& range : { twig, beside, branch, small })
+    EXPECT_EQ(organs(range), std::set<int>{ plantmorph::OrganWood }) << "points " << range.first << "-" << range.second;
 }
