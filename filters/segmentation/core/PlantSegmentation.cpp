@@ -8,6 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
+#include <cstdint>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -59,6 +62,76 @@ std::string GroupPlants(
   }
   return {};
 }
+
+/// The centroids of `points[ids]` per cube of side `cell` (cubes in key order), and each id's cube in that list.
+std::vector<Eigen::Vector3d> CubeCentroids(const std::vector<Eigen::Vector3d>& points,
+  const std::vector<std::size_t>& ids, double cell, std::vector<int>& cubeOf)
+{
+  std::map<std::array<std::int64_t, 3>, std::pair<Eigen::Vector3d, int>> cubes;
+  std::vector<std::array<std::int64_t, 3>> keys(ids.size());
+  for (std::size_t k = 0; k < ids.size(); ++k)
+  {
+    const Eigen::Vector3d& p = points[ids[k]];
+    for (int c = 0; c < 3; ++c)
+      keys[k][c] = static_cast<std::int64_t>(std::floor(p[c] / cell));
+    auto& cube = cubes.try_emplace(keys[k], Eigen::Vector3d::Zero(), 0).first->second;
+    cube.first += p;
+    ++cube.second;
+  }
+  std::vector<Eigen::Vector3d> centroids;
+  for (auto& [key, cube] : cubes)
+  {
+    centroids.push_back(cube.first / cube.second);
+    cube.second = static_cast<int>(centroids.size()) - 1; // from here on: the cube's index
+  }
+  cubeOf.resize(ids.size());
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    cubeOf[k] = cubes.at(keys[k]).second;
+  return centroids;
+}
+
+/// Each point's distance to its plant's nearest wood point (0 on the wood, Organ 0): exact within `near`; beyond it
+/// the distance of the centroid of the point's cube of side `near` to the nearest centroid of the wood's cubes (off
+/// by at most a few `near`: what tells a leaf's base end from its apex end is the difference between a twig's
+/// touch and a leaf's length), never under `near`.
+std::vector<double> WoodDistances(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<int>& organ, double near, const ParallelFor& parallel)
+{
+  std::vector<std::size_t> woodIds;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (organ[i] == OrganWood)
+      woodIds.push_back(i);
+  std::vector<double> distance(points.size(), std::numeric_limits<double>::quiet_NaN());
+  if (woodIds.empty() || !(near > 0.0))
+    return distance;
+  std::vector<Eigen::Vector3d> wood(woodIds.size());
+  for (std::size_t k = 0; k < woodIds.size(); ++k)
+    wood[k] = points[woodIds[k]];
+  const PointGrid grid(wood, near, parallel);
+  ForEachIndex(parallel, points.size(), [&](std::size_t i) {
+    if (organ[i] == OrganWood)
+    {
+      distance[i] = 0.0;
+      return;
+    }
+    const auto nearest = grid.Nearest(points[i], 1, -1, near);
+    distance[i] = nearest.empty() ? -1.0 : std::sqrt(nearest.front().first); // -1: farther than `near`
+  });
+  std::vector<std::size_t> far;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (distance[i] < 0.0)
+      far.push_back(i);
+  std::vector<int> farCube, woodCube;
+  const std::vector<Eigen::Vector3d> farCentres = CubeCentroids(points, far, near, farCube);
+  const std::vector<Eigen::Vector3d> woodCentres = CubeCentroids(points, woodIds, near, woodCube);
+  const PointGrid coarse(woodCentres, WoodDistanceCoarseCell * near, parallel);
+  std::vector<double> cubeDistance(farCentres.size());
+  ForEachIndex(parallel, farCentres.size(),
+    [&](std::size_t c) { cubeDistance[c] = std::sqrt(coarse.Nearest(farCentres[c], 1).front().first); });
+  for (std::size_t k = 0; k < far.size(); ++k)
+    distance[far[k]] = std::max(near, cubeDistance[static_cast<std::size_t>(farCube[k])]);
+  return distance;
+}
 } // namespace
 
 SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& plantOf,
@@ -76,6 +149,7 @@ SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, con
   result.organ.assign(points.size(), OrganWood);
   result.leafId.assign(points.size(), -1);
   result.confidence.assign(points.size(), 0.0);
+  result.woodDistance.assign(points.size(), 0.0);
   int nextLeaf = 0;
   for (const auto& [plantId, ids] : plants)
   {
@@ -90,9 +164,12 @@ SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, con
       failed.error = (plants.size() > 1 ? "plant " + std::to_string(plantId) + ": " : std::string()) + error;
       return failed;
     }
+    const std::vector<double> woodDistance =
+      WoodDistances(own, labels.organ, WoodDistanceReach * parameters.featureScale * labels.plant.spacing, parallel);
     for (std::size_t k = 0; k < ids.size(); ++k)
     {
       const auto i = static_cast<std::size_t>(ids[k]);
+      result.woodDistance[i] = woodDistance[k];
       result.organ[i] = labels.organ[k];
       result.leafId[i] = labels.leaf[k] >= 0 ? nextLeaf + labels.leaf[k] : -1;
       result.confidence[i] = labels.confidence[k];

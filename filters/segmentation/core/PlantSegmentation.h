@@ -100,6 +100,11 @@
 //     their main axis.
 //  6. Confidence in [0, 1]: how far the region's coherence is from the leaf/wood threshold, for judged regions;
 //     half that for points that took their organ from a neighbour.
+//  7. WoodDistance: each point's distance to the plant's nearest wood point (exact within 2 features' radii, then
+//     between cubes of that side). A leaf's
+//     base touches its twig and its apex is usually free, so LeafFitFilter turns a leaf whose midvein's apex end
+//     lies clearly nearer the wood than its base end (its shape alone cannot tell an obovate blade from an ovate
+//     one turned round, and a leaf seen in part often has no shape to tell from).
 // Everything is deterministic: the same cloud gives the same labels whatever the threads.
 #pragma once
 
@@ -159,6 +164,9 @@ struct SegmentationResult
   std::vector<int> organ;         ///< per point, Organ
   std::vector<int> leafId;        ///< per point, -1 off the leaves
   std::vector<double> confidence; ///< per point, [0, 1]
+  /// per point, the distance to its plant's nearest wood point (0 on the wood): exact within WoodDistanceReach
+  /// features' radii, beyond that between cubes of that side (never under it)
+  std::vector<double> woodDistance;
   std::vector<SegmentedLeaf> leaves;
   std::vector<SegmentedPlant> plants;
   std::string error; ///< non-empty: nothing else is filled
@@ -173,5 +181,11 @@ SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, con
   const SegmentationParameters& parameters, const ParallelFor& parallel = SerialFor);
 
 inline constexpr int MinimumPlantPoints = 20;
+/// WoodDistance is exact up to this many features' radii (FeatureScale spacings): a leaf's base touches its twig,
+/// within a few spacings. Beyond, it is measured between the centroids of cubes of that side (of the point's and of
+/// the wood's), searched in a grid of WoodDistanceCoarseCell times that side: off by about a cube, which does not
+/// change which end of a leaf is the nearer.
+inline constexpr double WoodDistanceReach = 2.0;
+inline constexpr double WoodDistanceCoarseCell = 4.0;
 
 } // namespace plantmorph

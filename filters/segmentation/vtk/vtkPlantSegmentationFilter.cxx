@@ -29,9 +29,9 @@ namespace
 /// Each plant (each PlantIdArray value) is segmented whole on one owner rank (common/vtk/PlantMorphOwnerExchange.h);
 /// the Points output stays where its points are, the Leaves and Plants tables are gathered on rank 0.
 constexpr plantmorph::MPIPolicy Policy = plantmorph::MPIPolicy::LeafPerRank;
-/// Values per point sent to the owners (x, y, z) and back (organ, leaf index in its plant, confidence); per plant
-/// gathered on rank 0: its row (PlantValues), then LeafValues per leaf.
-constexpr int SendWidth = 3, ReturnWidth = 3, PlantValues = 9, LeafValues = 11;
+/// Values per point sent to the owners (x, y, z) and back (organ, leaf index in its plant, confidence, wood
+/// distance); per plant gathered on rank 0: its row (PlantValues), then LeafValues per leaf.
+constexpr int SendWidth = 3, ReturnWidth = 4, PlantValues = 9, LeafValues = 11;
 
 template <typename T>
 vtkSmartPointer<T> NewArray(const char* name, int components, vtkIdType tuples)
@@ -98,7 +98,8 @@ std::string SegmentOwned(const plantmorph::OwnerExchange& exchange, const std::v
       return (exchange.Ids().size() > 1 ? "plant " + std::to_string(id) + ": " : std::string()) + r.error;
     values.emplace_back();
     for (std::size_t i = 0; i < points.size(); ++i)
-      values.back().insert(values.back().end(), { double(r.organ[i]), double(r.leafId[i]), r.confidence[i] });
+      values.back().insert(
+        values.back().end(), { double(r.organ[i]), double(r.leafId[i]), r.confidence[i], r.woodDistance[i] });
     const plantmorph::SegmentedPlant& plant = r.plants.front();
     blocks.push_back(
       { double(id), double(plant.leafCount), double(plant.points), double(plant.woodPoints), double(plant.leafPoints),
@@ -164,6 +165,7 @@ void WritePoints(vtkPointSet* input, const LocalInput& in, const plantmorph::Own
   auto organ = NewArray<vtkIntArray>(plantmorph::arrays::Organ, 1, n);
   auto leaf = NewArray<vtkIntArray>(plantmorph::arrays::LeafId, 1, n);
   auto confidence = NewArray<vtkDoubleArray>("SegmentationConfidence", 1, n);
+  auto woodDistance = NewArray<vtkDoubleArray>(plantmorph::arrays::WoodDistance, 1, n);
   for (vtkIdType i = 0; i < n; ++i)
   {
     points->SetPoint(i, &in.xyz[static_cast<std::size_t>(SendWidth * i)]);
@@ -171,6 +173,7 @@ void WritePoints(vtkPointSet* input, const LocalInput& in, const plantmorph::Own
     organ->SetValue(i, static_cast<int>(v[0]));
     leaf->SetValue(i, v[1] >= 0.0 ? static_cast<int>(first[in.plantOf[static_cast<std::size_t>(i)]] + v[1]) : -1);
     confidence->SetValue(i, v[2]);
+    woodDistance->SetValue(i, v[3]);
   }
   out->SetPoints(points);
   out->SetVerts(plantmorph::VertexCells(n));
@@ -178,6 +181,7 @@ void WritePoints(vtkPointSet* input, const LocalInput& in, const plantmorph::Own
   out->GetPointData()->AddArray(organ);
   out->GetPointData()->AddArray(leaf);
   out->GetPointData()->AddArray(confidence);
+  out->GetPointData()->AddArray(woodDistance);
   out->GetPointData()->SetActiveScalars(plantmorph::arrays::Organ);
 }
 

@@ -19,6 +19,8 @@
 #include <atomic>
 #include <functional>
 #include <thread>
+#include <limits>
+#include <tuple>
 
 namespace
 {
@@ -2215,4 +2217,59 @@ TEST(PlantSegmentation, AFlatPieceCalledWoodFarFromAllWoodIsLeaf)
   EXPECT_DOUBLE_EQ(confidence[far.first], 0.25);
   for (const auto& range : { twig, beside, branch, small })
     EXPECT_EQ(organs(range), std::set<int>{ plantmorph::OrganWood }) << "points " << range.first << "-" << range.second;
+}
+
+TEST(PlantSegmentation, WoodDistanceIsTheDistanceToTheNearestWoodPoint)
+{
+  // Brute force over the points the filter called wood: 0 on the wood; exact within the reach (2 features' radii);
+  // beyond it never under the reach and off by at most the two cubes' diagonals (the point's cube's centroid and the
+  // wood's, each within a cube's diagonal of its points). A leaf's base, on the stem, is nearer the wood than its
+  // tip by nearly the leaf's length (what LeafFitFilter orients the leaf by).
+  const Truth t = SyntheticPlant(8);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.woodDistance.size(), t.points.size());
+  const double reach = plantmorph::WoodDistanceReach * 4.0 * r.plants.front().spacing;
+  std::vector<Eigen::Vector3d> wood;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+    if (r.organ[i] == plantmorph::OrganWood)
+      wood.push_back(t.points[i]);
+  ASSERT_FALSE(wood.empty());
+  int exact = 0, far = 0;
+  for (std::size_t i = 0; i < t.points.size(); i += 7)
+  {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& w : wood)
+      nearest = std::min(nearest, (t.points[i] - w).norm());
+    if (r.organ[i] == plantmorph::OrganWood)
+      EXPECT_EQ(r.woodDistance[i], 0.0) << "point " << i;
+    else if (nearest <= reach)
+    {
+      EXPECT_NEAR(r.woodDistance[i], nearest, 1e-12) << "point " << i;
+      ++exact;
+    }
+    else
+    {
+      EXPECT_GE(r.woodDistance[i], reach) << "point " << i;
+      EXPECT_NEAR(r.woodDistance[i], std::max(reach, nearest), 2.0 * std::sqrt(3.0) * reach) << "point " << i;
+      ++far;
+    }
+  }
+  EXPECT_GT(exact, 50);
+  EXPECT_GT(far, 50);
+  // Per leaf: its points nearest and farthest from the stem axis (its base and its tip)
+  for (int leaf = 0; leaf < 8; ++leaf)
+  {
+    double baseDistance = 0.0, tipDistance = 0.0, nearAxis = 1e9, farAxis = -1.0;
+    for (std::size_t i = 0; i < t.points.size(); ++i)
+      if (t.leaf[i] == leaf)
+      {
+        const double axis = t.points[i].head<2>().norm();
+        if (axis < nearAxis)
+          std::tie(nearAxis, baseDistance) = std::make_pair(axis, r.woodDistance[i]);
+        if (axis > farAxis)
+          std::tie(farAxis, tipDistance) = std::make_pair(axis, r.woodDistance[i]);
+      }
+    EXPECT_GT(tipDistance - baseDistance, 0.2) << "leaf " << leaf; // the leaves are 0.3 long
+  }
 }
