@@ -40,7 +40,10 @@ from the plant's leaves seen whole) beside Area: the matched leaves' median erro
 plant's sum; a fourth adds the Plant table's UnassignedLeafArea (the segmentation's leaf points it gave no leaf,
 LeafId -1 and Organ 1: LeafFitFilter gets the whole segmented cloud and counts them) to that sum. `--fit-csv FILE`
 writes one line per matched leaf (the found and true LeafId, points, areas, the area on the true labels, the share
-seen, EstimatedArea and AreaRule, Status and Message).
+seen, EstimatedArea and AreaRule, Status and Message). With `--fit` it also counts the matched leaves whose fitted
+base (the Outline's midvein end, LeafUV (0, 0)) lies more than a quarter of the leaf's length from the true base (the
+blade's points of the smallest TCoords v): turned end to end, or based at a cut edge; `--orient-by-wood 0` fits
+without the wood's help (LeafFitFilter's OrientByWood) to compare.
 """
 import argparse
 import math
@@ -56,6 +59,8 @@ parser.add_argument("--positions", default="1,2,4")
 parser.add_argument("--noise", default="0.001,0.01", help="range noise as fractions of the leaf length")
 parser.add_argument("--quick", action="store_true", help="coarser scans (a smoke run)")
 parser.add_argument("--fit", action="store_true", help="also fit each found leaf (LeafFitFilter) and score its area")
+parser.add_argument("--orient-by-wood", type=int, default=1, help="with --fit: LeafFitFilter's OrientByWood (0 to "
+                    "compare: each leaf's base from its shape alone)")
 parser.add_argument("--fit-csv", default="", help="with --fit: a CSV file for every fitted row matched to a true leaf")
 parser.add_argument("--scans", default="",
                     help="a folder for the scans: each is read from it when there, else scanned and written to it, so "
@@ -258,6 +263,29 @@ def seen_areas(name, points, leaf, size):
 
 
 areas, cell_areas = {}, {}  # name: each true leaf's area; each cell's blade area and LeafId (-1 off the blades)
+bases = {}  # name: per true leaf, its base and its length (None: the plant's leaves carry no TCoords)
+
+
+def true_leaf_bases(name):
+    """Each true leaf's base (its blade points of the smallest TCoords v: the blade's base, where LeafOutlineSource
+    puts v = 0) and its length (to the points of the largest v), from the simulated plant."""
+    if name not in surfaces:
+        plant = plant_surface(name, PLANTS[name][0])
+        surfaces[name] = (plant, servermanager.Fetch(plant))
+    data = surfaces[name][1].GetPointData()
+    if data.GetArray("TCoords") is None:
+        bases[name] = None
+        return None
+    points = vtk_to_numpy(surfaces[name][1].GetPoints().GetData())
+    v = vtk_to_numpy(data.GetArray("TCoords"))[:, 1]
+    leaf, organ = vtk_to_numpy(data.GetArray("LeafId")), vtk_to_numpy(data.GetArray("Organ"))
+    bases[name] = {}
+    for k in numpy.unique(leaf[(organ == 1) & (leaf >= 0)]):
+        mine = (leaf == k) & (organ == 1)
+        low = points[mine][v[mine] <= v[mine].min() + 1e-9].mean(axis=0)
+        high = points[mine][v[mine] >= v[mine].max() - 1e-9].mean(axis=0)
+        bases[name][int(k)] = (low, float(numpy.linalg.norm(high - low)))
+    return bases[name]
 
 
 def fitted_rows(cloud, true_blades=False):
@@ -273,9 +301,21 @@ def fitted_rows(cloud, true_blades=False):
         # set after the proxy exists: on an input already updated, its domain resets the range to the data's
         leaf_points.LowerThreshold, leaf_points.UpperThreshold = 1, 1
     fit = LeafFitFilter(Input=leaf_points or cloud, LeafIdArray="LeafId", UpAxis="Y")
+    if fit.GetProperty("OrientByWood") is not None:
+        fit.OrientByWood = arguments.orient_by_wood
     cpu_start = time.process_time()
     fit.UpdatePipeline()
     cpu = time.process_time() - cpu_start
+    outline = servermanager.Fetch(fit, idx=1)
+    fitted_bases = {}  # LeafId: the midvein's base (LeafUV (0, 0) on the Outline)
+    if outline.GetNumberOfPoints():
+        uv = vtk_to_numpy(outline.GetPointData().GetArray("LeafUV"))
+        ids = vtk_to_numpy(outline.GetPointData().GetArray("LeafId"))
+        xyz = vtk_to_numpy(outline.GetPoints().GetData())
+        order = numpy.abs(uv).sum(axis=1)
+        for k in numpy.unique(ids):
+            mine = numpy.where(ids == k)[0]
+            fitted_bases[int(k)] = xyz[mine[numpy.argmin(order[mine])]]
     plant = servermanager.Fetch(fit, idx=4)
     unassigned = plant.GetColumnByName("UnassignedLeafArea")
     unassigned = unassigned.GetValue(0) if unassigned else 0.0
@@ -289,7 +329,7 @@ def fitted_rows(cloud, true_blades=False):
     Delete(fit)
     if leaf_points:
         Delete(leaf_points)
-    return rows, cpu, unassigned
+    return rows, cpu, unassigned, fitted_bases
 
 
 def fit_scores(fits, s, true_area, label):
@@ -358,9 +398,15 @@ for name in arguments.plants.split(","):
             if arguments.fit:
                 found_ids, found_counts = numpy.unique(get("LeafId"), return_counts=True)
                 s["found_points"] = dict(zip(found_ids.tolist(), found_counts.tolist()))
-                fits, s["fit_cpu"], s["unassigned_area"] = fitted_rows(segmentation)
+                fits, s["fit_cpu"], s["unassigned_area"], fitted_bases = fitted_rows(segmentation)
+                # turned: a matched leaf whose fitted base lies over a quarter of its length from its true base
+                truth_bases = bases[name] if name in bases else true_leaf_bases(name)
+                if truth_bases is not None:
+                    off = [numpy.linalg.norm(fitted_bases[k] - truth_bases[t][0]) / truth_bases[t][1]
+                           for k, t in s["match"].items() if k in fitted_bases and t in truth_bases]
+                    s["based"], s["turned"] = len(off), sum(1 for d in off if d > 0.25)
                 # the fit alone: each true blade's scanned points
-                true_fits, _, _ = fitted_rows(scanner, true_blades=True)
+                true_fits, _, _, _ = fitted_rows(scanner, true_blades=True)
                 s["true_fits"] = {int(r[0]): r[1] for r in true_fits if int(r[2]) != 2}
                 true_area = areas[name] if name in areas else true_leaf_areas(name)
                 # seen: blade within 2-4 % of a leaf's length (1-5 point spacings) of the leaf's scanned points
@@ -485,6 +531,13 @@ if arguments.fit and rows:
               sum(1 for s in rows if abs((s["est_plant"] + s["unassigned_area"]) / s["true_plant"] - 1) <= 0.03),
               len(rows), sum(1 for s in rows if abs(s["est_plant"] + s["unassigned_area"] - s["true_plant"])
                              < abs(s["est_plant"] - s["true_plant"]))))
+    based = [s for s in rows if "based" in s]
+    if based:
+        print("\nBase and apex (OrientByWood %d): matched leaves whose fitted base lies over a quarter of the leaf's "
+              "length from its true base, per scan: %s; pooled %d of %d"
+              % (arguments.orient_by_wood, ", ".join("%s %d %g: %d of %d" % (s["plant"], s["positions"], s["noise"],
+                                                                             s["turned"], s["based"]) for s in based),
+                 sum(s["turned"] for s in based), sum(s["based"] for s in based)))
     alone = numpy.concatenate([s["alone_errors"] for s in rows])
     print("The fit alone on the true labels of the same leaves: median |area error| %.2f %%, %.1f %% within 3 %%"
           % (100 * numpy.median(alone) if len(alone) else float("nan"),

@@ -135,7 +135,8 @@ struct LeafTraits
   double coverage = 0;                       ///< fraction of blade area whose Support is below twice the point spacing
   double spacing = 0;                        ///< median nearest-neighbour distance of the inliers
   /// 0: the shape, 1: BasePoint, 2: the petiole's junction, 3: a guess (no base point, apex point or petiole, and
-  /// the outline does not tell which end is the base: LeafFitResult::baseGuess says why; CheckFittedLeaf warns)
+  /// the outline does not tell which end is the base: LeafFitResult::baseGuess says why; CheckFittedLeaf warns),
+  /// 4: the end nearer the plant's wood (OrientByWood, LeafPlant.h, on PlantSegmentationFilter's WoodDistance)
   int baseFrom = 0;
   double petioleLength = 0; ///< arc length of the petiole's centre line (0: no petiole found)
   /// The spacing Coverage is measured in: the larger of `spacing` and half the spacing across a line scan's lines

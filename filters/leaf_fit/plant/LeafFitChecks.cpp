@@ -64,7 +64,9 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
             << " % of the points lie where a ball of 4 point spacings holds most of what one inside the blade holds"
             << " (the scanner's lines far apart over part of it, as at a grazing angle?), so Length and Area may be"
             << " short where the points are sparse" << (fit.petioleLookedFor ? "" : ", and no petiole was looked for")
-            << (fit.petioleLookedFor || fit.traits.baseFrom == 1 ? "" : " (give BasePoint)");
+            << (fit.petioleLookedFor || fit.traits.baseFrom == 1 || fit.traits.baseFrom == BaseFromWood
+                   ? ""
+                   : " (give BasePoint)");
     warnings.push_back(message.str());
   }
   if (fit.apexTrail > MaxApexTrail * fit.traits.coverageSpacing)

@@ -208,6 +208,14 @@ std::vector<std::size_t> CanonicalOrder(
   return order;
 }
 
+/// The points of the leaves a rank owns, and their wood distances (LeafInput::woodDistance; a leaf with none known
+/// has an empty vector).
+struct OwnedLeaves
+{
+  std::vector<std::vector<Eigen::Vector3d>> points;
+  std::vector<std::vector<double>> woodDistance;
+};
+
 /// One leaf fitted on this rank: a leaf of the exchange (`group`, an index into the owned leaves) or, without
 /// LeafIdArray, one of the separate blades its points form (`piece`).
 struct Piece
@@ -228,51 +236,16 @@ struct OwnedFits
   std::vector<plantmorph::LeafSeparation> separations; // per owned leaf when separating
 };
 
-/// Fits the leaves this rank owns (threaded over leaves), each on its points in canonical order; with `separate`
-/// (no LeafIdArray) each leaf's points are first cut into their separate blades, each fitted as a leaf.
-OwnedFits FitOwned(
-  const std::vector<std::vector<Eigen::Vector3d>>& leaves, const plantmorph::LeafFitParameters& options, bool separate)
+/// Per owned leaf, FitDistance, Inlier, Region and piece of every point, in the order its points came: the fits'
+/// points are in canonical order (`orders`), cut into pieces (`pieceOf`), a leaf's first piece at `firstPiece`.
+void FillScanValues(const std::vector<std::vector<std::size_t>>& orders, const std::vector<std::vector<int>>& pieceOf,
+  const std::vector<std::size_t>& firstPiece, OwnedFits& owned)
 {
-  OwnedFits owned;
-  std::vector<std::vector<std::size_t>> orders(leaves.size());
-  std::vector<std::vector<int>> pieceOf(leaves.size());
-  std::vector<std::vector<Eigen::Vector3d>> sorted;
-  const plantmorph::ParallelFor smp = plantmorph::SMPFor(1); // one leaf per task: leaves differ in size
-  for (std::size_t k = 0; k < leaves.size(); ++k)
+  std::vector<std::size_t> next(owned.pieces.size(), 0);
+  owned.values.assign(orders.size(), {});
+  for (std::size_t k = 0; k < orders.size(); ++k)
   {
-    orders[k] = CanonicalOrder(leaves[k], smp);
-    std::vector<Eigen::Vector3d> points(orders[k].size());
-    plantmorph::ForEachIndex(smp, points.size(), [&](std::size_t j) { points[j] = leaves[k][orders[k][j]]; });
-    owned.separations.push_back(separate ? plantmorph::SeparateLeaves(points, smp) : plantmorph::LeafSeparation());
-    plantmorph::LeafSeparation& cut = owned.separations.back();
-    if (!separate)
-      cut.leafOf.assign(points.size(), 0);
-    const std::size_t first = sorted.size();
-    sorted.resize(first + std::max(cut.count, 1));
-    for (int p = 0; p < std::max(cut.count, 1); ++p)
-      owned.pieces.push_back({ k, p, 0, {}, {} });
-    if (cut.count <= 1)           // one blade: its points as they are
-      sorted[first].swap(points); // (leaves `points` empty)
-    for (std::size_t j = 0; j < points.size(); ++j)
-      sorted[first + cut.leafOf[j]].push_back(points[j]);
-    pieceOf[k] = cut.leafOf;
-  }
-  std::vector<plantmorph::LeafFitResult> results = plantmorph::FitLeaves(sorted, options, smp);
-  std::vector<std::size_t> firstPiece(leaves.size(), 0), next(sorted.size(), 0);
-  for (std::size_t q = 0; q < results.size(); ++q)
-  {
-    Piece& piece = owned.pieces[q];
-    if (piece.piece == 0)
-      firstPiece[piece.group] = q;
-    piece.points = sorted[q].size();
-    piece.fit = std::move(results[q]);
-    if (piece.fit.error.empty())
-      piece.warnings = plantmorph::CheckFittedLeaf(piece.fit, options.resolution);
-  }
-  owned.values.assign(leaves.size(), {});
-  for (std::size_t k = 0; k < leaves.size(); ++k)
-  {
-    owned.values[k].assign(ScanValues * leaves[k].size(), 0.0);
+    owned.values[k].assign(ScanValues * orders[k].size(), 0.0);
     for (std::size_t j = 0; j < orders[k].size(); ++j)
     {
       const std::size_t q = firstPiece[k] + static_cast<std::size_t>(pieceOf[k][j]);
@@ -285,6 +258,57 @@ OwnedFits FitOwned(
       v[3] = pieceOf[k][j];
     }
   }
+}
+
+/// Fits the leaves this rank owns (threaded over leaves), each on its points in canonical order; with `separate`
+/// (no LeafIdArray) each leaf's points are first cut into their separate blades, each fitted as a leaf. Leaves with
+/// wood distances are then turned to put their base at the end nearer the wood (plantmorph::OrientByWood).
+OwnedFits FitOwned(const OwnedLeaves& own, const plantmorph::LeafFitParameters& options, bool separate)
+{
+  const std::vector<std::vector<Eigen::Vector3d>>& leaves = own.points;
+  OwnedFits owned;
+  std::vector<std::vector<std::size_t>> orders(leaves.size());
+  std::vector<std::vector<int>> pieceOf(leaves.size());
+  std::vector<std::vector<Eigen::Vector3d>> sorted;
+  std::vector<std::vector<double>> sortedWood;
+  const plantmorph::ParallelFor smp = plantmorph::SMPFor(1); // one leaf per task: leaves differ in size
+  for (std::size_t k = 0; k < leaves.size(); ++k)
+  {
+    orders[k] = CanonicalOrder(leaves[k], smp);
+    std::vector<Eigen::Vector3d> points(orders[k].size());
+    plantmorph::ForEachIndex(smp, points.size(), [&](std::size_t j) { points[j] = leaves[k][orders[k][j]]; });
+    owned.separations.push_back(separate ? plantmorph::SeparateLeaves(points, smp) : plantmorph::LeafSeparation());
+    plantmorph::LeafSeparation& cut = owned.separations.back();
+    if (!separate)
+      cut.leafOf.assign(points.size(), 0);
+    const std::size_t first = sorted.size();
+    sorted.resize(first + std::max(cut.count, 1));
+    sortedWood.resize(sorted.size());
+    if (!own.woodDistance[k].empty())
+      for (std::size_t j = 0; j < orders[k].size(); ++j)
+        sortedWood[first + static_cast<std::size_t>(cut.leafOf[j])].push_back(own.woodDistance[k][orders[k][j]]);
+    for (int p = 0; p < std::max(cut.count, 1); ++p)
+      owned.pieces.push_back({ k, p, 0, {}, {} });
+    if (cut.count <= 1)           // one blade: its points as they are
+      sorted[first].swap(points); // (leaves `points` empty)
+    for (std::size_t j = 0; j < points.size(); ++j)
+      sorted[first + cut.leafOf[j]].push_back(points[j]);
+    pieceOf[k] = cut.leafOf;
+  }
+  std::vector<plantmorph::LeafFitResult> results = plantmorph::FitLeaves(sorted, options, smp);
+  plantmorph::OrientByWood(sorted, sortedWood, options, results, smp);
+  std::vector<std::size_t> firstPiece(leaves.size(), 0);
+  for (std::size_t q = 0; q < results.size(); ++q)
+  {
+    Piece& piece = owned.pieces[q];
+    if (piece.piece == 0)
+      firstPiece[piece.group] = q;
+    piece.points = sorted[q].size();
+    piece.fit = std::move(results[q]);
+    if (piece.fit.error.empty())
+      piece.warnings = plantmorph::CheckFittedLeaf(piece.fit, options.resolution);
+  }
+  FillScanValues(orders, pieceOf, firstPiece, owned);
   return owned;
 }
 
@@ -314,6 +338,8 @@ struct LeafInput
   std::vector<std::int64_t> leafIds;
   plantmorph::LocalGroups members;
   double unassignedLeafPoints = 0; ///< points with a negative id that the input's Organ array calls leaf (1)
+  /// per point, the input's WoodDistance (PlantSegmentationFilter's) when OrientByWood is on; else empty
+  std::vector<double> woodDistance;
 
   /// The LeafId a fitted piece gets: its blade's number when separating, else its leaf's id.
   std::int64_t OutputId(std::size_t leaf, int piece) const { return this->separate ? piece : this->leafIds[leaf]; }
@@ -412,6 +438,20 @@ double CountUnassignedLeafPoints(vtkPointSet* input, const std::vector<std::int6
   return count;
 }
 
+/// Per point, the input's WoodDistance point array (PlantSegmentationFilter's, scaled as the points), NaN where it
+/// has none or OrientByWood is off.
+std::vector<double> ReadWoodDistance(vtkLeafFitFilter* self, vtkPointSet* input)
+{
+  const vtkIdType n = input->GetNumberOfPoints();
+  std::vector<double> distance(static_cast<std::size_t>(n), std::numeric_limits<double>::quiet_NaN());
+  vtkDataArray* array =
+    self->GetOrientByWood() ? input->GetPointData()->GetArray(plantmorph::arrays::WoodDistance) : nullptr;
+  if (array && array->GetNumberOfComponents() == 1)
+    for (vtkIdType i = 0; i < n; ++i)
+      distance[static_cast<std::size_t>(i)] = self->GetScale() * array->GetComponent(i, 0);
+  return distance;
+}
+
 /// The local piece's points (scaled) and each point's leaf id; an error message for bad properties, a missing
 /// LeafIdArray or ids that are not integers (nothing is checked on an empty piece).
 std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, LeafInput& in)
@@ -439,6 +479,7 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, LeafInput& in
   if (!ids)
     in.ids.assign(static_cast<std::size_t>(n), 0);
   in.unassignedLeafPoints = CountUnassignedLeafPoints(input, in.ids);
+  in.woodDistance = ReadWoodDistance(self, input);
   in.points.resize(n);
   const double scale = self->GetScale();
   vtkDataArray* coordinates = input->GetPoints()->GetData();
@@ -470,19 +511,32 @@ void IndexLeaves(vtkMultiProcessController* controller, LeafInput& in)
 }
 
 /// Collective: the points of every leaf this rank owns (Owned() order), each the concatenation over ranks, in rank
-/// order, of that rank's points of the leaf in its input order.
-std::vector<std::vector<Eigen::Vector3d>> SendPoints(const plantmorph::OwnerExchange& exchange, const LeafInput& in)
+/// order, of that rank's points of the leaf in its input order, with their wood distances.
+OwnedLeaves SendPoints(const plantmorph::OwnerExchange& exchange, const LeafInput& in)
 {
-  std::vector<double> flat(3 * in.points.size());
+  constexpr int Width = 4; // x, y, z, wood distance
+  std::vector<double> flat(Width * in.points.size());
   for (std::size_t i = 0; i < in.points.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      flat[3 * i + c] = in.points[i][c];
-  std::vector<std::vector<Eigen::Vector3d>> leaves;
-  for (const std::vector<double>& values : exchange.SendValues(in.members, flat, 3))
   {
-    leaves.emplace_back(values.size() / 3);
-    for (std::size_t j = 0; j < leaves.back().size(); ++j)
-      leaves.back()[j] = { values[3 * j], values[3 * j + 1], values[3 * j + 2] };
+    for (int c = 0; c < 3; ++c)
+      flat[Width * i + c] = in.points[i][c];
+    flat[Width * i + 3] = in.woodDistance[i];
+  }
+  OwnedLeaves leaves;
+  for (const std::vector<double>& values : exchange.SendValues(in.members, flat, Width))
+  {
+    const std::size_t n = values.size() / Width;
+    leaves.points.emplace_back(n);
+    leaves.woodDistance.emplace_back(n);
+    bool known = false;
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      leaves.points.back()[j] = { values[Width * j], values[Width * j + 1], values[Width * j + 2] };
+      leaves.woodDistance.back()[j] = values[Width * j + 3];
+      known = known || std::isfinite(values[Width * j + 3]);
+    }
+    if (!known)
+      leaves.woodDistance.back().clear();
   }
   return leaves;
 }
@@ -628,6 +682,7 @@ void vtkLeafFitFilter::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "UpAxis: " << this->UpAxis << "\n"
      << indent << "UseBasePoint: " << this->UseBasePoint << "\n"
      << indent << "UseApexPoint: " << this->UseApexPoint << "\n"
+     << indent << "OrientByWood: " << this->OrientByWood << "\n"
      << indent << "SurfaceSmoothing: " << this->SurfaceSmoothing << "\n"
      << indent << "OutlineSmoothing: " << this->OutlineSmoothing << "\n"
      << indent << "OutlineControlPoints: " << this->OutlineControlPoints << "\n"

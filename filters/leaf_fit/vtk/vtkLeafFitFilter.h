@@ -94,6 +94,13 @@ public:
   /// As BasePointElementCount, for ApexPoint.
   vtkSetMacro(ApexPointElementCount, int);
   vtkGetMacro(ApexPointElementCount, int);
+  /// On (default): where the input has a point array WoodDistance (PlantSegmentationFilter writes it: each point's
+  /// distance to its plant's wood), a leaf whose midvein's apex end lies nearer the wood than its base end (by over
+  /// 5 % of its Length) is
+  /// fitted again with its base there, and a guessed base the wood confirms stands (BaseFrom 4). Not with
+  /// UseBasePoint or UseApexPoint.
+  vtkSetMacro(OrientByWood, int);
+  vtkGetMacro(OrientByWood, int);
 
   ///@{
   /// Fit controls (plantmorph::LeafFitParameters): SurfaceSmoothing, OutlineSmoothing, OutlineControlPoints,
@@ -131,6 +138,7 @@ protected:
   int UseApexPoint = 0;
   double ApexPoint[3] = { 0.0, 0.0, 0.0 };
   int ApexPointElementCount = -1;
+  int OrientByWood = 1;
   double SurfaceSmoothing = 1.0;
   double OutlineSmoothing = 1.0;
   int OutlineControlPoints = 16;

@@ -1534,6 +1534,69 @@ TEST(LeafShape, ObovateBladeSaysItsBaseIsAGuess)
       }
 }
 
+/// Each point's distance to the segment from a to b (a twig).
+std::vector<double> DistancesToSegment(
+  const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+{
+  std::vector<double> distance;
+  for (const Eigen::Vector3d& p : points)
+  {
+    const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    distance.push_back((p - a - t * (b - a)).norm());
+  }
+  return distance;
+}
+
+TEST(LeafShape, ALeafsBaseIsTheEndNearerItsWood)
+{
+  // Paper 002's Fig. 2 blade, obovate (its wider half is the apex's), no petiole: the shape alone cannot tell its
+  // base (BaseFrom 3, at the wider half). A twig across the blade's plane 2 % of its length beyond one end: that
+  // end becomes the base (BaseFrom 4), turning the first fit where it put the base at the other end. A twig along the
+  // blade's side, as near both ends, tells nothing: the fit stays as it was. Not with BasePoint.
+  for (const bool tilted : { false, true })
+  {
+    const Eigen::Isometry3d pose = tilted ? Tilted() : Eigen::Isometry3d::Identity();
+    const Synthetic scan = Scan(Blade(10, 100.0), 8000, 0.1, 0.0, Straight(0.0), 0, pose, 11);
+    const Eigen::Vector3d base = pose * Eigen::Vector3d::Zero(), apex = pose * Eigen::Vector3d(0.0, scan.length, 0.0);
+    const Eigen::Vector3d normal = pose.linear() * Eigen::Vector3d::UnitZ();
+    const std::vector<std::vector<Eigen::Vector3d>> leaves{ scan.points };
+    int turned = 0;
+    for (const bool atBase : { true, false })
+    {
+      const Eigen::Vector3d end = atBase ? base : apex, out = (end - (base + apex) / 2.0).normalized();
+      const Eigen::Vector3d twig = end + 2.0 * out;
+      std::vector<LeafFitResult> fits = FitLeaves(leaves, LeafFitParameters());
+      ASSERT_EQ(fits[0].error, "");
+      const int before = fits[0].traits.baseFrom;
+      turned +=
+        OrientByWood(leaves, { DistancesToSegment(scan.points, twig - 30.0 * normal, twig + 30.0 * normal) }, {}, fits);
+      const Eigen::Vector3d fitted = fits[0].points[fits[0].midvein.front()];
+      EXPECT_LT((fitted - end).norm(), 0.03 * scan.length)
+        << "tilted " << tilted << ", twig at the " << (atBase ? "base" : "apex") << ": base " << fitted.transpose()
+        << " (BaseFrom " << before << " -> " << fits[0].traits.baseFrom << ")";
+      EXPECT_TRUE(fits[0].traits.baseFrom == BaseFromWood || (before == 0 && fits[0].traits.baseFrom == 0));
+      EXPECT_TRUE(CheckFittedLeaf(fits[0], 60).empty() || fits[0].traits.baseFrom != 3);
+    }
+    EXPECT_EQ(turned, 1) << "tilted " << tilted; // the first fit had one end: one of the two twigs turns it
+    // A twig along the side: the same distance from both ends
+    std::vector<LeafFitResult> fits = FitLeaves(leaves, LeafFitParameters());
+    const LeafFitResult first = fits[0];
+    const Eigen::Vector3d side = pose.linear() * Eigen::Vector3d(60.0, 0.0, 0.0);
+    EXPECT_EQ(OrientByWood(leaves, { DistancesToSegment(scan.points, base + side, apex + side) }, {}, fits), 0);
+    EXPECT_EQ(fits[0].traits.baseFrom, first.traits.baseFrom);
+    EXPECT_EQ(fits[0].points[fits[0].midvein.front()], first.points[first.midvein.front()]);
+    // With BasePoint the user's base stands
+    LeafFitParameters hinted;
+    hinted.basePoint = apex;
+    fits = FitLeaves(leaves, hinted);
+    const Eigen::Vector3d twig = base - 2.0 * (apex - base).normalized();
+    EXPECT_EQ(OrientByWood(
+                leaves, { DistancesToSegment(scan.points, twig - 30.0 * normal, twig + 30.0 * normal) }, hinted, fits),
+      0);
+    EXPECT_EQ(fits[0].traits.baseFrom, 1);
+  }
+}
+
 TEST(LeafShape, BladeSampledDenserOnOneSideKeepsItsMidveinAxis)
 {
   // A scanner seeing a blade obliquely samples its near side more densely than its far side. An elliptic blade

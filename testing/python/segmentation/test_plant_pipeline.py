@@ -60,6 +60,29 @@ errors = numpy.array(errors)
 # leaf of this herb is 7 % off since the fit sets the petiole apart and takes the midvein from the blade's symmetry).
 checks.check(bool(numpy.all(errors < 0.10)) and numpy.median(errors) < 0.03,
              "fitted areas within 10 %%, median %.1f %% (%s)" % (100 * numpy.median(errors), (100 * errors).round(1)))
+# Each leaf's base: the fit's midvein base (LeafUV (0, 0) on the Outline) against the blade's own (its points of the
+# smallest TCoords v on the tree's leaves). The wood (WoodDistance) turns the leaves whose shape put the base at the
+# apex: without it (OrientByWood 0) two of the nine fitted bases lie at the far end.
+outline = servermanager.Fetch(fit, idx=1)
+outline_uv = vtk_to_numpy(outline.GetPointData().GetArray("LeafUV"))
+outline_id = vtk_to_numpy(outline.GetPointData().GetArray("LeafId"))
+outline_xyz = vtk_to_numpy(outline.GetPoints().GetData())
+leaf_uv = vtk_to_numpy(leaves.GetPointData().GetArray("TCoords"))[:, 1]
+leaf_id = vtk_to_numpy(leaves.GetPointData().GetArray("LeafId"))
+turned = []
+for k in range(leaves_table.GetNumberOfRows()):
+    ids, counts = numpy.unique(true_leaf[found == k], return_counts=True)
+    best = int(ids[counts.argmax()])
+    mine = numpy.where(outline_id == k)[0]
+    if best < 0 or len(mine) == 0:
+        continue
+    fitted_base = outline_xyz[mine[numpy.argmin(numpy.abs(outline_uv[mine]).sum(axis=1))]]
+    blade = leaf_id == best
+    true_base = points[blade][leaf_uv[blade] <= leaf_uv[blade].min() + 1e-9].mean(axis=0)
+    true_apex = points[blade][leaf_uv[blade] >= leaf_uv[blade].max() - 1e-9].mean(axis=0)
+    if numpy.linalg.norm(fitted_base - true_base) > 0.25 * numpy.linalg.norm(true_apex - true_base):
+        turned.append(k)
+checks.check(len(turned) <= 1, "every fitted base but one at the leaf's true base (turned: %s)" % turned)
 total_fitted = sum(v for v in fitted.values() if numpy.isfinite(v))
 total_true = float(true_area[true_area > 0].sum())
 checks.check(abs(total_fitted - total_true) < 0.03 * total_true,
