@@ -28,8 +28,7 @@ WoodEnd EndNearerTheWood(
   if (!fit.error.empty() || fit.midvein.size() < 2 || woodDistance.size() != points.size())
     return WoodEnd::Unknown;
   const double reach = WoodEndReach * fit.traits.length;
-  const double base =
-    WoodNear(fit.points[static_cast<std::size_t>(fit.midvein.front())], points, woodDistance, reach);
+  const double base = WoodNear(fit.points[static_cast<std::size_t>(fit.midvein.front())], points, woodDistance, reach);
   const double apex = WoodNear(fit.points[static_cast<std::size_t>(fit.midvein.back())], points, woodDistance, reach);
   if (!std::isfinite(base) || !std::isfinite(apex))
     return WoodEnd::Unknown;
