@@ -46,16 +46,15 @@ int OrientByWood(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
 {
   if (options.basePoint || options.apexPoint || woodDistance.size() != leaves.size())
     return 0;
-  std::vector<WoodEnd> end(fits.size(), WoodEnd::Unknown);
   std::vector<std::size_t> turn;
   for (std::size_t k = 0; k < fits.size(); ++k)
   {
     if (!fits[k].error.empty() || fits[k].traits.baseFrom == 1)
       continue;
-    end[k] = EndNearerTheWood(fits[k], leaves[k], woodDistance[k]);
-    if (end[k] == WoodEnd::Apex)
+    const WoodEnd end = EndNearerTheWood(fits[k], leaves[k], woodDistance[k]);
+    if (end == WoodEnd::Apex)
       turn.push_back(k);
-    else if (end[k] == WoodEnd::Base && fits[k].traits.baseFrom == 3)
+    else if (end == WoodEnd::Base && fits[k].traits.baseFrom == 3)
     {
       fits[k].traits.baseFrom = BaseFromWood; // the guess is the wood's end
       fits[k].baseGuess = BaseGuess::None;

@@ -338,7 +338,7 @@ struct LeafInput
   std::vector<std::int64_t> leafIds;
   plantmorph::LocalGroups members;
   double unassignedLeafPoints = 0; ///< points with a negative id that the input's Organ array calls leaf (1)
-  /// per point, the input's WoodDistance (PlantSegmentationFilter's) when OrientByWood is on; else empty
+  /// per point, the input's WoodDistance (PlantSegmentationFilter's) when OrientByWood is on; else NaN
   std::vector<double> woodDistance;
 
   /// The LeafId a fitted piece gets: its blade's number when separating, else its leaf's id.

@@ -63,9 +63,10 @@ std::string GroupPlants(
   return {};
 }
 
-/// The centroids of `points[ids]` per cube of side `cell` (cubes in key order), and each id's cube in that list.
+/// The centroids of `points[ids]` per cube of side `cell` (cubes in key order), and (when `cubeOf` is given) each
+/// id's cube in that list.
 std::vector<Eigen::Vector3d> CubeCentroids(const std::vector<Eigen::Vector3d>& points,
-  const std::vector<std::size_t>& ids, double cell, std::vector<int>& cubeOf)
+  const std::vector<std::size_t>& ids, double cell, std::vector<int>* cubeOf = nullptr)
 {
   std::map<std::array<std::int64_t, 3>, std::pair<Eigen::Vector3d, int>> cubes;
   std::vector<std::array<std::int64_t, 3>> keys(ids.size());
@@ -84,9 +85,12 @@ std::vector<Eigen::Vector3d> CubeCentroids(const std::vector<Eigen::Vector3d>& p
     centroids.push_back(cube.first / cube.second);
     cube.second = static_cast<int>(centroids.size()) - 1; // from here on: the cube's index
   }
-  cubeOf.resize(ids.size());
-  for (std::size_t k = 0; k < ids.size(); ++k)
-    cubeOf[k] = cubes.at(keys[k]).second;
+  if (cubeOf)
+  {
+    cubeOf->resize(ids.size());
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      (*cubeOf)[k] = cubes.at(keys[k]).second;
+  }
   return centroids;
 }
 
@@ -121,9 +125,9 @@ std::vector<double> WoodDistances(
   for (std::size_t i = 0; i < points.size(); ++i)
     if (distance[i] < 0.0)
       far.push_back(i);
-  std::vector<int> farCube, woodCube;
-  const std::vector<Eigen::Vector3d> farCentres = CubeCentroids(points, far, near, farCube);
-  const std::vector<Eigen::Vector3d> woodCentres = CubeCentroids(points, woodIds, near, woodCube);
+  std::vector<int> farCube;
+  const std::vector<Eigen::Vector3d> farCentres = CubeCentroids(points, far, near, &farCube);
+  const std::vector<Eigen::Vector3d> woodCentres = CubeCentroids(points, woodIds, near);
   const PointGrid coarse(woodCentres, WoodDistanceCoarseCell * near, parallel);
   std::vector<double> cubeDistance(farCentres.size());
   ForEachIndex(parallel, farCentres.size(),

@@ -101,10 +101,10 @@
 //  6. Confidence in [0, 1]: how far the region's coherence is from the leaf/wood threshold, for judged regions;
 //     half that for points that took their organ from a neighbour.
 //  7. WoodDistance: each point's distance to the plant's nearest wood point (exact within 2 features' radii, then
-//     between cubes of that side). A leaf's
-//     base touches its twig and its apex is usually free, so LeafFitFilter turns a leaf whose midvein's apex end
-//     lies clearly nearer the wood than its base end (its shape alone cannot tell an obovate blade from an ovate
-//     one turned round, and a leaf seen in part often has no shape to tell from).
+//     between cubes of that side). A leaf's base touches its twig and its apex is usually free, so LeafFitFilter
+//     turns a leaf whose midvein's apex end lies clearly nearer the wood than its base end (its shape alone cannot
+//     tell an obovate blade from an ovate one turned round, and a leaf seen in part often has no shape to tell
+//     from).
 // Everything is deterministic: the same cloud gives the same labels whatever the threads.
 #pragma once
 
