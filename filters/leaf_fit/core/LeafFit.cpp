@@ -520,7 +520,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
       std::to_string(MinLeafPoints) + ")";
   f.frame = fit::LeafFrame(
     kept, options, spacing, petiole, result.traits.baseFrom, result.baseGuess, result.baseAtStalkWidth, parallel);
-  result.orientedByShape = result.traits.baseFrom == 0 && !options.apexPoint;
+  result.orientedByShape = result.traits.baseFrom == BaseFromShape && !options.apexPoint;
   for (const auto& p : kept)
     f.local.push_back(f.frame.Local(p));
   error = f.sections.Build(f.local, spacing);
@@ -546,7 +546,7 @@ std::string Fit(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   error = fit::FitOutline(onSurface, options, outlineSpacing, f.outline);
   if (!error.empty())
     return error;
-  if (petiole.found && result.traits.baseFrom == 2)
+  if (petiole.found && result.traits.baseFrom == BaseFromPetiole)
   {
     const Eigen::Vector2d junction = f.sections.Intrinsic(f.frame.Local(petiole.junction));
     if (std::abs(junction.x()) < 2.0 * outlineSpacing)

@@ -120,6 +120,10 @@ enum class BaseGuess
   WiderHalf
 };
 
+/// Where a leaf's base came from (LeafTraits::baseFrom, the Traits column BaseFrom): its shape, BasePoint, the
+/// petiole's junction, a guess (LeafFitResult::baseGuess says why), the end nearer the plant's wood (OrientByWood).
+inline constexpr int BaseFromShape = 0, BaseFromPoint = 1, BaseFromPetiole = 2, BaseFromGuess = 3, BaseFromWood = 4;
+
 struct LeafTraits
 {
   double length = 0, width = 0, projectedLength = 0, projectedWidth = 0;
@@ -137,7 +141,7 @@ struct LeafTraits
   /// 0: the shape, 1: BasePoint, 2: the petiole's junction, 3: a guess (no base point, apex point or petiole, and
   /// the outline does not tell which end is the base: LeafFitResult::baseGuess says why; CheckFittedLeaf warns),
   /// 4: the end nearer the plant's wood (OrientByWood, LeafPlant.h, on PlantSegmentationFilter's WoodDistance)
-  int baseFrom = 0;
+  int baseFrom = BaseFromShape;
   double petioleLength = 0; ///< arc length of the petiole's centre line (0: no petiole found)
   /// The spacing Coverage is measured in: the larger of `spacing` and half the spacing across a line scan's lines
   /// (CrossSpacing), the gaps a scan leaves on the blade (not a column of the table).

@@ -450,18 +450,18 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
   // The base: given, or the petiole's junction; the apex side: given. The axis: to the apex, or the blade's axis of
   // symmetry through what is known (never the principal axes alone: a fan is wider than long).
   std::optional<Eigen::Vector3d> base, apex;
-  baseFrom = 0;
+  baseFrom = BaseFromShape;
   guess = BaseGuess::None;
   stalkWidth = false;
   if (options.basePoint)
   {
     base = Nearest(points, *options.basePoint);
-    baseFrom = 1;
+    baseFrom = BaseFromPoint;
   }
   else if (petiole.found)
   {
     base = petiole.junction;
-    baseFrom = 2;
+    baseFrom = BaseFromPetiole;
   }
   if (options.apexPoint)
     apex = Nearest(points, *options.apexPoint);
@@ -479,7 +479,7 @@ Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParamet
     if (BaseAtPlusY(points, middle, Y, normal.cross(Y).normalized(), spacing, guess, stalkWidth))
       Y = -Y;
     if (guess != BaseGuess::None)
-      baseFrom = 3;
+      baseFrom = BaseFromGuess;
   }
   Eigen::Vector3d Z = normal - normal.dot(Y) * Y;
   Z.normalize();

@@ -45,8 +45,9 @@ std::string CleanCloud(const std::vector<Eigen::Vector3d>& points, double outlie
 bool StalkIsTheBladesTip(const std::vector<Eigen::Vector3d>& points, const Petiole& petiole, double spacing);
 
 /// The frame of the blade's points (base and axis chosen as LeafFit.h says; `petiole` found on them and the
-/// petiole's points); baseFrom 0 shape, 1 base point, 2 petiole, 3 a guess, `guess` saying why (else None);
-/// `stalkWidth` true when the shape put the base at a narrow end for its constant width alone (LeafFitResult).
+/// petiole's points); baseFrom one of BaseFromShape, BaseFromPoint, BaseFromPetiole, BaseFromGuess (LeafFit.h),
+/// `guess` saying why a guess (else None); `stalkWidth` true when the shape put the base at a narrow end for its
+/// constant width alone (LeafFitResult).
 /// Its searches run through `parallel` (the frame does not depend on the threads).
 Frame LeafFrame(const std::vector<Eigen::Vector3d>& points, const LeafFitParameters& options, double spacing,
   const Petiole& petiole, int& baseFrom, BaseGuess& guess, bool& stalkWidth, const ParallelFor& parallel = SerialFor);

@@ -49,11 +49,11 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
   std::vector<std::string> warnings;
   if (!fit.modelWarning.empty())
     warnings.push_back(fit.modelWarning);
-  if (fit.traits.baseFrom == 3 && fit.baseGuess == BaseGuess::WiderHalf)
+  if (fit.traits.baseFrom == BaseFromGuess && fit.baseGuess == BaseGuess::WiderHalf)
     warnings.push_back("base and apex are a guess (BaseFrom 3): the base was taken at the blade's wider half, as on "
                        "an ovate leaf, so on an obovate leaf Azimuth, MidveinInclination and LeafUV's v are turned "
                        "end to end (give BasePoint or ApexPoint)");
-  else if (fit.traits.baseFrom == 3)
+  else if (fit.traits.baseFrom == BaseFromGuess)
     warnings.push_back("base and apex are a guess (BaseFrom 3): the blade is the same at both ends, so Azimuth, "
                        "MidveinInclination and LeafUV's v may be turned end to end (give BasePoint or ApexPoint)");
   if (fit.sheetShare < MinSheetShare)
@@ -64,7 +64,7 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
             << " % of the points lie where a ball of 4 point spacings holds most of what one inside the blade holds"
             << " (the scanner's lines far apart over part of it, as at a grazing angle?), so Length and Area may be"
             << " short where the points are sparse" << (fit.petioleLookedFor ? "" : ", and no petiole was looked for")
-            << (fit.petioleLookedFor || fit.traits.baseFrom == 1 || fit.traits.baseFrom == BaseFromWood
+            << (fit.petioleLookedFor || fit.traits.baseFrom == BaseFromPoint || fit.traits.baseFrom == BaseFromWood
                    ? ""
                    : " (give BasePoint)");
     warnings.push_back(message.str());
@@ -91,7 +91,7 @@ std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolutio
                        "stalk's do, but no petiole was found there: if it is a stalk, PetioleLength is 0 and Length "
                        "includes it; if it is a drawn-out tip (widened by the noise or a coarse scan), the base and "
                        "apex are turned end to end (give BasePoint or ApexPoint)");
-  if (fit.traits.baseFrom == 2 && fit.traits.petioleLength < MinPetioleShare * fit.traits.length &&
+  if (fit.traits.baseFrom == BaseFromPetiole && fit.traits.petioleLength < MinPetioleShare * fit.traits.length &&
     fit.petioleHalfWidth < MaxNarrowPetiole * fit.traits.spacing + 2.0 * fit.traits.fitRMS)
   {
     std::ostringstream message;

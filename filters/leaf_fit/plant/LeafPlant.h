@@ -92,8 +92,6 @@ inline constexpr double MaxModelAreaError = 0.02;
 /// `resolution`) whose area differs from the fitted blade's (the Area trait) by more than MaxModelAreaError.
 std::vector<std::string> CheckFittedLeaf(const LeafFitResult& fit, int resolution);
 
-/// BaseFrom of a leaf whose base the plant's wood placed (OrientByWood).
-inline constexpr int BaseFromWood = 4;
 /// The ends of a leaf are compared over its points within this fraction of its Length of each end...
 inline constexpr double WoodEndReach = 0.15;
 /// ...and one is the nearer the wood when its points come nearer it than the other's by this fraction of Length

@@ -49,12 +49,12 @@ int OrientByWood(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
   std::vector<std::size_t> turn;
   for (std::size_t k = 0; k < fits.size(); ++k)
   {
-    if (!fits[k].error.empty() || fits[k].traits.baseFrom == 1)
+    if (!fits[k].error.empty() || fits[k].traits.baseFrom == BaseFromPoint)
       continue;
     const WoodEnd end = EndNearerTheWood(fits[k], leaves[k], woodDistance[k]);
     if (end == WoodEnd::Apex)
       turn.push_back(k);
-    else if (end == WoodEnd::Base && fits[k].traits.baseFrom == 3)
+    else if (end == WoodEnd::Base && fits[k].traits.baseFrom == BaseFromGuess)
     {
       fits[k].traits.baseFrom = BaseFromWood; // the guess is the wood's end
       fits[k].baseGuess = BaseGuess::None;
