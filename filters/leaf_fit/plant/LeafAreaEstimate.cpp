@@ -111,9 +111,9 @@ void SizeOfWholeLeaves(const std::vector<LeafTraits>& traits, const std::vector<
   shape.areaSpread = LargerHalfSpreadScale * MedianDeviation(larger, shape.logSize);
 }
 
-/// The median Area of the leaves `whole` of the plant's size (log Area at least SpreadsOfWhole spreads under the
-/// larger half's median) whose long extent is at least `longExtent` (0 when there is none).
-double WholeAreaAtLeast(
+/// The Areas of the leaves `whole` of the plant's size (log Area at least SpreadsOfWhole spreads under the larger
+/// half's median) whose long extent is at least `longExtent`.
+std::vector<double> SizeLeafAreas(
   const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, const PlantShape& shape, double longExtent)
 {
   const double least = shape.logSize - SpreadsOfWhole * std::max(shape.areaSpread, MinShapeSpread);
@@ -122,7 +122,24 @@ double WholeAreaAtLeast(
     if (whole[i] && std::log(traits[i].area) >= least &&
       std::max(traits[i].projectedLength, traits[i].projectedWidth) >= longExtent)
       areas.push_back(traits[i].area);
-  return areas.empty() ? 0.0 : Median(areas);
+  return areas;
+}
+
+/// A cut leaf's estimate on a plant of one size (AreaRule 4, or `area` unchanged): the median Area of the size
+/// leaves whose long extent is at least `longExtent` when that is more than `area`; the median Area of all the size
+/// leaves when `area` is more than the largest of them (a cut leaf's shape estimate past every leaf of the plant's
+/// one size: a leaf seen nearly whole whose ratio fell just outside the whole leaves' range, its long extent
+/// stretched by the ratio), but never less than the leaf's own Area `own`.
+double PlantSizeArea(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, const PlantShape& shape,
+  double longExtent, double own, double area)
+{
+  const std::vector<double> atLeast = SizeLeafAreas(traits, whole, shape, longExtent);
+  if (!atLeast.empty() && Median(atLeast) > area)
+    return Median(atLeast);
+  const std::vector<double> all = SizeLeafAreas(traits, whole, shape, 0.0);
+  if (!all.empty() && area > *std::max_element(all.begin(), all.end()))
+    return std::max(own, Median(all));
+  return area;
 }
 } // namespace
 
@@ -184,8 +201,10 @@ LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const
     else
       continue;
     out.area[i] = std::max(traits[i].area, out.shape.fill * longExtent * longExtent);
-    const double plantSize = out.shape.oneSize ? WholeAreaAtLeast(traits, out.whole, out.shape, longExtent) : 0.0;
-    if (plantSize > out.area[i])
+    const double plantSize = out.shape.oneSize
+      ? PlantSizeArea(traits, out.whole, out.shape, longExtent, traits[i].area, out.area[i])
+      : out.area[i];
+    if (plantSize != out.area[i])
     {
       out.area[i] = plantSize;
       out.rule[i] = static_cast<int>(AreaRule::PlantSize);

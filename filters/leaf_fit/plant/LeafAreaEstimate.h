@@ -22,7 +22,10 @@
 //   Area.
 // - The plant's size: when its whole leaves are of one size, a cut leaf (rule 1 or 2) is taken to be of that size
 //   too: its estimate is the median Area of the whole leaves of the plant's size whose long extent is at least its
-//   own (estimated) one, when that is more (AreaRule 4). The assumption: which leaf the scanner sees whole does not
+//   own (estimated) one, when that is more (AreaRule 4). An estimate past the largest of those leaves comes down to
+//   their median (AreaRule 4, never under the leaf's own Area): a leaf seen nearly whole whose ratio falls just
+//   outside the whole leaves' narrow range (a plant of nine leaves) had its long extent stretched by the plant's
+//   ratio to 20 % over the plant's size. The assumption: which leaf the scanner sees whole does not
 //   depend on its size, so a cut leaf of a plant of one leaf size is that size. It completes a leaf cut on two sides
 //   (a corner seen: both extents short), which the shape alone leaves short. A plant whose whole leaves differ in
 //   size keeps the shape's estimate: a cut leaf's size is then not known from the others.

@@ -155,6 +155,41 @@ TEST(LeafAreaEstimate, ACutLeafOfAPlantOfOneLeafSizeIsThatSize)
   EXPECT_LT(shapeOnly.area[6] / whole, 0.3);
 }
 
+TEST(LeafAreaEstimate, AnEstimatePastEveryLeafOfAPlantOfOneSizeIsThatSize)
+{
+  // Six whole leaves of one size and length over width 1.5 (within 1 %), and one seen whole whose width was measured
+  // 10 % wide (its ratio rounder than every whole leaf's): the shape stretches its long extent from that width to
+  // 21 % over the whole leaves' area. On a plant of one size the estimate stays the plant's size.
+  const double a = 2.0, b = a / 1.5, whole = Pi * a * b;
+  std::vector<LeafTraits> traits;
+  for (double stretch : { 1.0, 1.005, 0.995, 1.01, 0.99, 1.0 })
+    traits.push_back(CutEllipse(a * stretch, b * stretch, 1, 1));
+  LeafTraits wide = CutEllipse(a, b, 1, 1);
+  wide.projectedWidth *= 1.1;
+  traits.push_back(wide);
+  const LeafAreaEstimates out = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  ASSERT_TRUE(out.shape.valid);
+  ASSERT_TRUE(out.shape.oneSize);
+  EXPECT_GT(out.shape.lowRatio, 1.5 / 1.1); // the wide leaf is rounder than every whole leaf
+  EXPECT_EQ(out.rule[6], static_cast<int>(AreaRule::PlantSize));
+  EXPECT_NEAR(out.area[6] / whole, 1.0, 0.01);
+  // Its own Area more than every whole leaf's: never less than that.
+  traits[6].area = 1.05 * whole;
+  const LeafAreaEstimates large = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  EXPECT_EQ(large.area[6], traits[6].area);
+
+  // On a plant whose whole leaves differ in size the plant's size is not known: the shape's estimate stands.
+  std::vector<LeafTraits> varied;
+  for (double scale : { 0.7, 0.85, 1.0, 1.2, 1.4, 1.1 })
+    varied.push_back(CutEllipse(a * scale, b * scale, 1, 1));
+  varied.push_back(wide);
+  const LeafAreaEstimates shapeOnly = EstimateLeafAreas(varied, std::vector<bool>(varied.size(), true));
+  ASSERT_TRUE(shapeOnly.shape.valid);
+  ASSERT_FALSE(shapeOnly.shape.oneSize);
+  EXPECT_EQ(shapeOnly.rule[6], static_cast<int>(AreaRule::LongFromShort));
+  EXPECT_NEAR(shapeOnly.area[6] / whole, 1.1 * 1.1, 0.03);
+}
+
 TEST(LeafAreaEstimate, PiecesTakenWholeByTheirShapeLeaveAPlantOfOneSizeOneSize)
 {
   // A plant of one lobed blade size: six blades seen whole (within 1 %, as fitted areas are) and seven pieces of
