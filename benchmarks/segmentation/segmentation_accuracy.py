@@ -25,6 +25,9 @@ the true leaves with at least 100 scanned points; precision over every predicted
 found leaves, the merged true leaves (unmatched although one instance holds over half of them) and the fragments
 (unmatched instances mostly of one leaf, holding no quarter of another), and the segmentation's wall and CPU time (the
 process's, all threads). Prints a Markdown table (benchmarks/README.md keeps it).
+Then the leaves table's Base against the truth: over the matched leaves whose base was scanned (a scanned blade point
+within 5 % of the leaf's length of its true base, the blade's points of the smallest TCoords v), how many have their
+Base within 5 % and within 25 % of the length of the true base.
 
 With `--fit`, each scan's leaf points (LeafId >= 0; the cloud goes whole, LeafId -1 is on no leaf) also go to
 LeafFitFilter (LeafIdArray LeafId, UpAxis Y, its other defaults, as examples/main_segment_plant.py), and a second
@@ -288,6 +291,28 @@ def true_leaf_bases(name):
     return bases[name]
 
 
+def table_bases(segmentation, match, truth_bases, scanned, truth):
+    """The leaves table's Base against each matched leaf's true base, over the leaves whose base was scanned (a scanned
+    blade point of the leaf within 5 % of its length of the true base): how many, and how many of their Base within 5
+    % and within 25 % of the length of the true base."""
+    table = servermanager.Fetch(segmentation, idx=1)
+    ids, base = vtk_to_numpy(table.GetColumnByName("LeafId")), vtk_to_numpy(table.GetColumnByName("Base"))
+    points = vtk_to_numpy(scanned.GetPoints().GetData())
+    leaf, organ = vtk_to_numpy(truth.GetArray("LeafId")), vtk_to_numpy(truth.GetArray("Organ"))
+    seen = near = close = 0
+    for row, k in enumerate(ids.tolist()):
+        t = match.get(int(k))
+        if t is None or t not in truth_bases:
+            continue
+        low, length = truth_bases[t]
+        mine = points[(leaf == t) & (organ == 1)]
+        if len(mine) == 0 or numpy.linalg.norm(mine - low, axis=1).min() > 0.05 * length:
+            continue
+        off = numpy.linalg.norm(base[row] - low) / length
+        seen, near, close = seen + 1, near + int(off <= 0.05), close + int(off <= 0.25)
+    return seen, near, close
+
+
 def fitted_rows(cloud, true_blades=False):
     """LeafFitFilter on `cloud` by its LeafId (the found leaves', LeafId >= 0), or with `true_blades` on the scan's
     points of Organ 1 alone (the true blades'): (LeafId, Area, Status, Message, EstimatedArea, AreaRule) per Traits
@@ -395,12 +420,14 @@ for name in arguments.plants.split(","):
                        get("LeafId"))
             s.update(plant=name, positions=positions, noise=noise, points=cloud.GetNumberOfPoints(), seconds=seconds,
                      cpu=cpu)
+            truth_bases = bases[name] if name in bases else true_leaf_bases(name)
+            s["base_seen"], s["base_near"], s["base_close"] = (
+                table_bases(segmentation, s["match"], truth_bases, scanned, truth) if truth_bases else (0, 0, 0))
             if arguments.fit:
                 found_ids, found_counts = numpy.unique(get("LeafId"), return_counts=True)
                 s["found_points"] = dict(zip(found_ids.tolist(), found_counts.tolist()))
                 fits, s["fit_cpu"], s["unassigned_area"], fitted_bases = fitted_rows(segmentation)
                 # turned: a matched leaf whose fitted base lies over a quarter of its length from its true base
-                truth_bases = bases[name] if name in bases else true_leaf_bases(name)
                 if truth_bases is not None:
                     off = [numpy.linalg.norm(fitted_bases[k] - truth_bases[t][0]) / truth_bases[t][1]
                            for k, t in s["match"].items() if k in fitted_bases and t in truth_bases]
@@ -441,6 +468,13 @@ if rows:
              total("found_leaves"), total("matched_true") / max(1, total("true_leaves")), total("matched_true"),
              total("true_leaves"), total("leaf_iou") / len(rows), total("wood_iou") / len(rows), total("merged"),
              total("fragments"), total("cpu")))
+    print("\nThe leaves table's Base, over the matched leaves whose base was scanned (a blade point within 5 %% of the "
+          "length of the true base; plants whose leaves carry TCoords): %d leaves, Base within 5 %% of the length of "
+          "the true base %d (%.2f), within 25 %% %d (%.2f); per scan: %s"
+          % (total("base_seen"), total("base_near"), total("base_near") / max(1, total("base_seen")),
+             total("base_close"), total("base_close") / max(1, total("base_seen")),
+             ", ".join("%s %d %g: %d / %d / %d" % (s["plant"], s["positions"], s["noise"], s["base_near"],
+                                                   s["base_close"], s["base_seen"]) for s in rows)))
 
 if arguments.fit and rows:
     print("\nLeaf areas after LeafFitFilter (the matched leaves fitted: median |area error| and the share within 3 %; "

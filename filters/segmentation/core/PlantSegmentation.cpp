@@ -136,6 +136,55 @@ std::vector<double> WoodDistances(
     distance[far[k]] = std::max(near, cubeDistance[static_cast<std::size_t>(farCube[k])]);
   return distance;
 }
+
+/// Each leaf's base (the leaves table's Base, with its Branch and BaseGap from the wood point nearest it): the leaf's
+/// point of the least WoodDistance - BaseCentreWeight x its distance from the leaf's centre, the point nearest the
+/// wood among those far from the middle of the leaf. A leaf grows from its twig at one end, but its margin can touch
+/// other wood, or lie nearer the twig beyond its base than its base does. Leaves whose petiole was found keep the
+/// petiole's junction; a plant without wood keeps the bases of the link graph.
+void PlaceLeafBases(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance,
+  segmentation::PlantLabels& labels)
+{
+  const std::size_t leaves = labels.leaves.size();
+  std::vector<int> best(leaves, -1);
+  std::vector<double> score(leaves, std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const int l = labels.leaf[i];
+    if (l < 0 || !(woodDistance[i] >= 0.0))
+      continue;
+    const auto li = static_cast<std::size_t>(l);
+    const double here = woodDistance[i] - BaseCentreWeight * (points[i] - labels.leaves[li].centre).norm();
+    if (here < score[li])
+    {
+      score[li] = here;
+      best[li] = static_cast<int>(i);
+    }
+  }
+  std::vector<Eigen::Vector3d> wood;
+  std::vector<int> woodIds;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (labels.organ[i] == OrganWood)
+    {
+      wood.push_back(points[i]);
+      woodIds.push_back(static_cast<int>(i));
+    }
+  if (wood.empty())
+    return;
+  const PointGrid grid(wood, PointGrid::CellFor(wood, 4.0));
+  for (std::size_t li = 0; li < leaves; ++li)
+  {
+    SegmentedLeaf& leaf = labels.leaves[li];
+    if (best[li] < 0 || leaf.petioleLength > 0.0)
+      continue;
+    leaf.base = points[static_cast<std::size_t>(best[li])];
+    const auto nearest = grid.Nearest(leaf.base, 1);
+    const auto woodPoint = static_cast<std::size_t>(woodIds[static_cast<std::size_t>(nearest.front().second)]);
+    leaf.baseGap = std::sqrt(nearest.front().first);
+    if (woodPoint < labels.woodSegment.size())
+      leaf.branch = labels.woodSegment[woodPoint];
+  }
+}
 } // namespace
 
 SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& plantOf,
@@ -170,6 +219,7 @@ SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, con
     }
     const std::vector<double> woodDistance =
       WoodDistances(own, labels.organ, WoodDistanceReach * parameters.featureScale * labels.plant.spacing, parallel);
+    PlaceLeafBases(own, woodDistance, labels);
     for (std::size_t k = 0; k < ids.size(); ++k)
     {
       const auto i = static_cast<std::size_t>(ids[k]);

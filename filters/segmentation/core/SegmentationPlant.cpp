@@ -2475,6 +2475,7 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
     }
     labels.leaves.push_back(leaf);
   }
+  labels.woodSegment = segment;
 }
 /// A flat surface is no plant: a board, a wall, the ground alone, scanned in lines (closer along a line than
 /// across, so that at the features' scale the lines look like twigs and the strips between them like leaves). ""

@@ -63,6 +63,7 @@ struct PlantLabels
   std::vector<int> organ, leaf;
   std::vector<double> confidence;
   std::vector<SegmentedLeaf> leaves; ///< leafId: the index in this plant
+  std::vector<int> woodSegment;      ///< per point, the wood segment (Branch) of a wood point, -1 elsewhere
   SegmentedPlant plant;
 };
 

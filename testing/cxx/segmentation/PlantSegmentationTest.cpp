@@ -426,6 +426,45 @@ TEST(PlantSegmentation, StemAndLeavesAreFoundWithOneInstancePerLeaf)
   }
 }
 
+TEST(PlantSegmentation, ALeafsBaseIsAtItsEndOnTheWoodNotWhereAnotherTwigTouchesItsMargin)
+{
+  // A stem, one leaf (0.3 by 0.15, rising at 40 degrees from the stem at height 0.15, its points listed from the tip)
+  // and a thin upright twig from elsewhere touching the leaf's margin halfway along. Both the base and that margin
+  // touch wood; the base is the touch at the leaf's end.
+  const double h = 0.005, length = 0.3, width = 0.15, rise = 40.0 * Pi / 180.0, radius = 0.05;
+  Truth t = SyntheticPlant(0, h);
+  const Eigen::Vector3d along(std::cos(rise), 0.0, std::sin(rise)), across = Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d base(radius, 0.0, 0.15);
+  for (double s = length; s >= 0.0; s -= h)
+    for (double w = -width / 2; w <= width / 2; w += h)
+    {
+      const double u = (s - length / 2) / (length / 2), v = w / (width / 2);
+      if (u * u + v * v <= 1.0)
+      {
+        t.points.push_back(base + s * along + w * across);
+        t.organ.push_back(plantmorph::OrganLeaf);
+        t.leaf.push_back(0);
+      }
+    }
+  const double twig = 0.008;
+  const Eigen::Vector3d side = base + length / 2 * along + (width / 2 + twig + h) * across;
+  const int around = static_cast<int>(std::round(2.0 * Pi * twig / h));
+  for (double z = side.z() - 0.15; z <= side.z() + 0.15; z += h)
+    for (int a = 0; a < around; ++a)
+    {
+      const double angle = 2.0 * Pi * a / around;
+      t.points.push_back(Eigen::Vector3d(side.x() + twig * std::cos(angle), side.y() + twig * std::sin(angle), z));
+      t.organ.push_back(plantmorph::OrganWood);
+      t.leaf.push_back(-1);
+    }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.leaves.size(), 1u);
+  EXPECT_GT(InstanceIoU(t, r, 1)[0], 0.95);
+  EXPECT_LT((r.leaves[0].base - base).norm(), 0.1 * length);
+  EXPECT_LT(r.leaves[0].baseGap, 3.0 * h);
+}
+
 TEST(PlantSegmentation, ALeafCurvedAlongItsLengthIsLeafNotWood)
 {
   // A stem and one blade (0.3 wide) leaving it and bending down along its length through 160 degrees (an arc of
