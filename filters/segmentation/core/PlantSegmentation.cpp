@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 
 namespace plantmorph
@@ -94,24 +95,40 @@ std::vector<Eigen::Vector3d> CubeCentroids(const std::vector<Eigen::Vector3d>& p
   return centroids;
 }
 
+/// A plant's wood points (Organ 0): their indices, and a grid of them in cubes of side `cell` (none when the plant
+/// has no wood or `cell` is not positive). WoodDistances and PlaceLeafBases search the same grid.
+struct PlantWood
+{
+  std::vector<std::size_t> ids;
+  std::optional<PointGrid> grid;
+};
+PlantWood WoodOf(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<int>& organ, double cell, const ParallelFor& parallel)
+{
+  PlantWood wood;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (organ[i] == OrganWood)
+      wood.ids.push_back(i);
+  if (wood.ids.empty() || !(cell > 0.0))
+    return wood;
+  std::vector<Eigen::Vector3d> at(wood.ids.size());
+  for (std::size_t k = 0; k < wood.ids.size(); ++k)
+    at[k] = points[wood.ids[k]];
+  wood.grid.emplace(at, cell, parallel);
+  return wood;
+}
+
 /// Each point's distance to its plant's nearest wood point (0 on the wood, Organ 0): exact within `near`; beyond it
 /// the distance of the centroid of the point's cube of side `near` to the nearest centroid of the wood's cubes (off
 /// by at most a few `near`: what tells a leaf's base end from its apex end is the difference between a twig's
-/// touch and a leaf's length), never under `near`.
-std::vector<double> WoodDistances(
-  const std::vector<Eigen::Vector3d>& points, const std::vector<int>& organ, double near, const ParallelFor& parallel)
+/// touch and a leaf's length), never under `near`. `wood` is the plant's (WoodOf), its grid in cubes of side `near`.
+std::vector<double> WoodDistances(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& organ,
+  const PlantWood& wood, double near, const ParallelFor& parallel)
 {
-  std::vector<std::size_t> woodIds;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (organ[i] == OrganWood)
-      woodIds.push_back(i);
   std::vector<double> distance(points.size(), std::numeric_limits<double>::quiet_NaN());
-  if (woodIds.empty() || !(near > 0.0))
+  if (!wood.grid)
     return distance;
-  std::vector<Eigen::Vector3d> wood(woodIds.size());
-  for (std::size_t k = 0; k < woodIds.size(); ++k)
-    wood[k] = points[woodIds[k]];
-  const PointGrid grid(wood, near, parallel);
+  const PointGrid& grid = *wood.grid;
   ForEachIndex(parallel, points.size(), [&](std::size_t i) {
     if (organ[i] == OrganWood)
     {
@@ -127,7 +144,7 @@ std::vector<double> WoodDistances(
       far.push_back(i);
   std::vector<int> farCube;
   const std::vector<Eigen::Vector3d> farCentres = CubeCentroids(points, far, near, &farCube);
-  const std::vector<Eigen::Vector3d> woodCentres = CubeCentroids(points, woodIds, near);
+  const std::vector<Eigen::Vector3d> woodCentres = CubeCentroids(points, wood.ids, near);
   const PointGrid coarse(woodCentres, WoodDistanceCoarseCell * near, parallel);
   std::vector<double> cubeDistance(farCentres.size());
   ForEachIndex(parallel, farCentres.size(),
@@ -141,9 +158,9 @@ std::vector<double> WoodDistances(
 /// point of the least WoodDistance - BaseCentreWeight x its distance from the leaf's centre, the point nearest the
 /// wood among those far from the middle of the leaf. A leaf grows from its twig at one end, but its margin can touch
 /// other wood, or lie nearer the twig beyond its base than its base does. Leaves whose petiole was found keep the
-/// petiole's junction; a plant without wood keeps the bases of the link graph.
+/// petiole's junction; a plant without wood keeps the bases of the link graph. `wood` is the plant's (WoodOf).
 void PlaceLeafBases(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance,
-  segmentation::PlantLabels& labels)
+  const PlantWood& wood, segmentation::PlantLabels& labels)
 {
   const std::size_t leaves = labels.leaves.size();
   std::vector<int> best(leaves, -1);
@@ -161,25 +178,16 @@ void PlaceLeafBases(const std::vector<Eigen::Vector3d>& points, const std::vecto
       best[li] = static_cast<int>(i);
     }
   }
-  std::vector<Eigen::Vector3d> wood;
-  std::vector<int> woodIds;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (labels.organ[i] == OrganWood)
-    {
-      wood.push_back(points[i]);
-      woodIds.push_back(static_cast<int>(i));
-    }
-  if (wood.empty())
+  if (!wood.grid)
     return;
-  const PointGrid grid(wood, PointGrid::CellFor(wood, 4.0));
   for (std::size_t li = 0; li < leaves; ++li)
   {
     SegmentedLeaf& leaf = labels.leaves[li];
     if (best[li] < 0 || leaf.petioleLength > 0.0)
       continue;
     leaf.base = points[static_cast<std::size_t>(best[li])];
-    const auto nearest = grid.Nearest(leaf.base, 1);
-    const auto woodPoint = static_cast<std::size_t>(woodIds[static_cast<std::size_t>(nearest.front().second)]);
+    const auto nearest = wood.grid->Nearest(leaf.base, 1);
+    const std::size_t woodPoint = wood.ids[static_cast<std::size_t>(nearest.front().second)];
     leaf.baseGap = std::sqrt(nearest.front().first);
     if (woodPoint < labels.woodSegment.size())
       leaf.branch = labels.woodSegment[woodPoint];
@@ -217,9 +225,10 @@ SegmentationResult SegmentPlants(const std::vector<Eigen::Vector3d>& points, con
       failed.error = (plants.size() > 1 ? "plant " + std::to_string(plantId) + ": " : std::string()) + error;
       return failed;
     }
-    const std::vector<double> woodDistance =
-      WoodDistances(own, labels.organ, WoodDistanceReach * parameters.featureScale * labels.plant.spacing, parallel);
-    PlaceLeafBases(own, woodDistance, labels);
+    const double near = WoodDistanceReach * parameters.featureScale * labels.plant.spacing;
+    const PlantWood wood = WoodOf(own, labels.organ, near, parallel);
+    const std::vector<double> woodDistance = WoodDistances(own, labels.organ, wood, near, parallel);
+    PlaceLeafBases(own, woodDistance, wood, labels);
     for (std::size_t k = 0; k < ids.size(); ++k)
     {
       const auto i = static_cast<std::size_t>(ids[k]);

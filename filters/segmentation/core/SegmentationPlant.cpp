@@ -2388,7 +2388,7 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   }
   std::vector<int> hops, source;
   DistanceFromWood(graph, labels.organ, hops, source);
-  const std::vector<int> segment = WoodSegments(graph, labels.organ, region);
+  std::vector<int> segment = WoodSegments(graph, labels.organ, region);
   std::vector<Eigen::Vector3d> wood;
   std::vector<int> woodIds;
   for (std::size_t i = 0; i < n; ++i)
@@ -2475,7 +2475,7 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
     }
     labels.leaves.push_back(leaf);
   }
-  labels.woodSegment = segment;
+  labels.woodSegment = std::move(segment);
 }
 /// A flat surface is no plant: a board, a wall, the ground alone, scanned in lines (closer along a line than
 /// across, so that at the features' scale the lines look like twigs and the strips between them like leaves). ""
