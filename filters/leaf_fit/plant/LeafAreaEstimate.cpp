@@ -134,8 +134,9 @@ double PlantSizeArea(const std::vector<LeafTraits>& traits, const std::vector<bo
   double longExtent, double own, double area)
 {
   const std::vector<double> atLeast = SizeLeafAreas(traits, whole, shape, longExtent);
-  if (!atLeast.empty() && Median(atLeast) > area)
-    return Median(atLeast);
+  const double atLeastMedian = atLeast.empty() ? 0.0 : Median(atLeast);
+  if (atLeastMedian > area)
+    return atLeastMedian;
   const std::vector<double> all = SizeLeafAreas(traits, whole, shape, 0.0);
   if (!all.empty() && area > *std::max_element(all.begin(), all.end()))
     return std::max(own, Median(all));
