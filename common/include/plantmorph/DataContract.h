@@ -17,8 +17,8 @@ inline constexpr const char* VeinOrder = "VeinOrder";
 inline constexpr const char* VeinWidth = "VeinWidth";
 inline constexpr const char* LeafId = "LeafId"; ///< points and cells, int: one id per leaf over a plant, -1 on no leaf
 inline constexpr const char* Organ = "Organ";   ///< points and cells, int: see Organ below
-/// points, double: the distance to the plant's nearest wood point (PlantSegmentationFilter; exact near the wood,
-/// between cubes farther); LeafFitFilter puts a leaf's base at the end of its midvein nearer the wood
+/// points, double: the distance to the plant's nearest wood or petiole point (PlantSegmentationFilter; exact near
+/// them, between cubes farther); LeafFitFilter puts a leaf's base where the leaf meets the wood
 inline constexpr const char* WoodDistance = "WoodDistance";
 } // namespace arrays
 

@@ -96,11 +96,12 @@ std::vector<Eigen::Vector3d> CubeCentroids(const std::vector<Eigen::Vector3d>& p
 }
 
 /// A plant's wood points (Organ 0): their indices, and a grid of them in cubes of side `cell` (none when the plant
-/// has no wood or `cell` is not positive). WoodDistances and PlaceLeafBases search the same grid.
+/// has no wood or `cell` is not positive); the same of its petioles' points (Organ 2). WoodDistances and
+/// PlaceLeafBases search the same grids.
 struct PlantWood
 {
-  std::vector<std::size_t> ids;
-  std::optional<PointGrid> grid;
+  std::vector<std::size_t> ids, petiole;
+  std::optional<PointGrid> grid, petioleGrid;
 };
 PlantWood WoodOf(
   const std::vector<Eigen::Vector3d>& points, const std::vector<int>& organ, double cell, const ParallelFor& parallel)
@@ -109,34 +110,49 @@ PlantWood WoodOf(
   for (std::size_t i = 0; i < points.size(); ++i)
     if (organ[i] == OrganWood)
       wood.ids.push_back(i);
+    else if (organ[i] == OrganPetiole)
+      wood.petiole.push_back(i);
   if (wood.ids.empty() || !(cell > 0.0))
     return wood;
-  std::vector<Eigen::Vector3d> at(wood.ids.size());
-  for (std::size_t k = 0; k < wood.ids.size(); ++k)
-    at[k] = points[wood.ids[k]];
-  wood.grid.emplace(at, cell, parallel);
+  const auto gridOf = [&](const std::vector<std::size_t>& ids) {
+    std::vector<Eigen::Vector3d> at(ids.size());
+    for (std::size_t k = 0; k < ids.size(); ++k)
+      at[k] = points[ids[k]];
+    return PointGrid(at, cell, parallel);
+  };
+  wood.grid.emplace(gridOf(wood.ids));
+  if (!wood.petiole.empty())
+    wood.petioleGrid.emplace(gridOf(wood.petiole));
   return wood;
 }
 
-/// Each point's distance to its plant's nearest wood point (0 on the wood, Organ 0): exact within `near`; beyond it
-/// the distance of the centroid of the point's cube of side `near` to the nearest centroid of the wood's cubes (off
+/// Each point's distance to what its plant's leaves grow from, the nearest wood or petiole point (0 on them, Organ
+/// 0 and 2; a blade on a petiole meets the petiole, not the twig): exact within `near`; beyond it the distance of
+/// the centroid of the point's cube of side `near` to the nearest centroid of the wood's and petioles' cubes (off
 /// by at most a few `near`: what tells a leaf's base end from its apex end is the difference between a twig's
-/// touch and a leaf's length), never under `near`. `wood` is the plant's (WoodOf), its grid in cubes of side `near`.
+/// touch and a leaf's length), never under `near`. `wood` is the plant's (WoodOf), its grids in cubes of side
+/// `near`. NaN everywhere on a plant without wood.
 std::vector<double> WoodDistances(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& organ,
   const PlantWood& wood, double near, const ParallelFor& parallel)
 {
   std::vector<double> distance(points.size(), std::numeric_limits<double>::quiet_NaN());
   if (!wood.grid)
     return distance;
-  const PointGrid& grid = *wood.grid;
   ForEachIndex(parallel, points.size(), [&](std::size_t i) {
-    if (organ[i] == OrganWood)
+    if (organ[i] == OrganWood || organ[i] == OrganPetiole)
     {
       distance[i] = 0.0;
       return;
     }
-    const auto nearest = grid.Nearest(points[i], 1, -1, near);
-    distance[i] = nearest.empty() ? -1.0 : std::sqrt(nearest.front().first); // -1: farther than `near`
+    double least = std::numeric_limits<double>::infinity();
+    for (const std::optional<PointGrid>* grid : { &wood.grid, &wood.petioleGrid })
+      if (*grid)
+      {
+        const auto nearest = (*grid)->Nearest(points[i], 1, -1, near);
+        if (!nearest.empty())
+          least = std::min(least, nearest.front().first);
+      }
+    distance[i] = std::isfinite(least) ? std::sqrt(least) : -1.0; // -1: farther than `near`
   });
   std::vector<std::size_t> far;
   for (std::size_t i = 0; i < points.size(); ++i)
@@ -144,7 +160,9 @@ std::vector<double> WoodDistances(const std::vector<Eigen::Vector3d>& points, co
       far.push_back(i);
   std::vector<int> farCube;
   const std::vector<Eigen::Vector3d> farCentres = CubeCentroids(points, far, near, &farCube);
-  const std::vector<Eigen::Vector3d> woodCentres = CubeCentroids(points, wood.ids, near);
+  std::vector<std::size_t> attach = wood.ids;
+  attach.insert(attach.end(), wood.petiole.begin(), wood.petiole.end());
+  const std::vector<Eigen::Vector3d> woodCentres = CubeCentroids(points, attach, near);
   const PointGrid coarse(woodCentres, WoodDistanceCoarseCell * near, parallel);
   std::vector<double> cubeDistance(farCentres.size());
   ForEachIndex(parallel, farCentres.size(),

@@ -100,8 +100,8 @@
 //     their main axis.
 //  6. Confidence in [0, 1]: how far the region's coherence is from the leaf/wood threshold, for judged regions;
 //     half that for points that took their organ from a neighbour.
-//  7. WoodDistance: each point's distance to the plant's nearest wood point (exact within 2 features' radii, then
-//     between cubes of that side). A leaf's base touches its twig and its apex is usually free, so LeafFitFilter
+//  7. WoodDistance: each point's distance to the plant's nearest wood or petiole point (exact within 2 features'
+//     radii, then between cubes of that side; a blade on a petiole meets the petiole, not the twig). A leaf's base touches its twig and its apex is usually free, so LeafFitFilter
 //     turns a leaf whose midvein's apex end lies clearly nearer the wood than its base end (its shape alone cannot
 //     tell an obovate blade from an ovate one turned round, and a leaf seen in part often has no shape to tell
 //     from). A leaf without a petiole then gets its base at its point of the least WoodDistance - BaseCentreWeight x
@@ -166,7 +166,7 @@ struct SegmentationResult
   std::vector<int> organ;         ///< per point, Organ
   std::vector<int> leafId;        ///< per point, -1 off the leaves
   std::vector<double> confidence; ///< per point, [0, 1]
-  /// per point, the distance to its plant's nearest wood point (0 on the wood): exact within WoodDistanceReach
+  /// per point, the distance to its plant's nearest wood or petiole point (0 on them): exact within WoodDistanceReach
   /// features' radii, beyond that between cubes of that side (never under it)
   std::vector<double> woodDistance;
   std::vector<SegmentedLeaf> leaves;

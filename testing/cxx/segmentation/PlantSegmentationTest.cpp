@@ -1908,6 +1908,54 @@ TEST(PlantSegmentation, APetioleIsOrganTwoABareTwigAndALeafOnTheStemHaveNone)
   EXPECT_EQ(onStem.petioleLength, 0.0);
 }
 
+TEST(PlantSegmentation, ABladeOnAPetioleIsAtWoodDistanceZeroWhereItMeetsThePetiole)
+{
+  // A blade on a petiole 0.12 long (the scene of APetioleIsOrganTwo...): the blade meets its petiole, not the stem,
+  // so its base is where its WoodDistance is least, as for a blade sitting on the stem. Its points nearest the
+  // petiole lie within a few spacings of it (brute force over the points called petiole), not the petiole's length
+  // from the nearest wood; its far end lies about its length away.
+  Truth t = SyntheticPlant(0);
+  const double noise = 0.0002, thin = 0.0075, length = 0.12, h = 0.005;
+  const Eigen::Vector3d slope = Eigen::Vector3d(1.0, 0.0, 1.0).normalized();
+  const Eigen::Vector3d petioleStart(0.05 - thin, 0.0, 0.55);
+  AddTube(t, petioleStart, slope, length, thin, plantmorph::OrganPetiole, noise);
+  const std::size_t blade = t.points.size();
+  AddBlade(t, petioleStart + (length + thin) * slope, 30.0 * Pi / 180.0, {}, 0, noise);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.leaves.size(), 1u);
+  ASSERT_GT(r.leaves[0].petioleLength, 0.6 * length);
+  std::vector<Eigen::Vector3d> petiole, wood;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+    if (r.organ[i] == plantmorph::OrganPetiole)
+      petiole.push_back(t.points[i]);
+    else if (r.organ[i] == plantmorph::OrganWood)
+      wood.push_back(t.points[i]);
+  ASSERT_FALSE(petiole.empty());
+  const auto nearestOf = [](const std::vector<Eigen::Vector3d>& set, const Eigen::Vector3d& p) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& q : set)
+      nearest = std::min(nearest, (p - q).norm());
+    return nearest;
+  };
+  double least = std::numeric_limits<double>::infinity(), most = 0.0, leastToWood = 0.0;
+  for (std::size_t i = blade; i < t.points.size(); ++i)
+  {
+    if (r.leafId[i] < 0)
+      continue;
+    if (r.woodDistance[i] < least)
+    {
+      least = r.woodDistance[i];
+      leastToWood = nearestOf(wood, t.points[i]);
+      EXPECT_NEAR(least, std::min(nearestOf(petiole, t.points[i]), leastToWood), 1e-12);
+    }
+    most = std::max(most, r.woodDistance[i]);
+  }
+  EXPECT_LT(least, 3.0 * h);             // the blade touches its petiole
+  EXPECT_GT(leastToWood, 0.5 * length);  // the stem is the petiole's length away
+  EXPECT_GT(most, least + 0.5 * length); // the blade's far end
+}
+
 TEST(PlantSegmentation, APetioleBrokenByScanGapsIsOneFromTheBladeToTheStem)
 {
   // The petiole of APetioleIsOrganTwoABareTwigAndALeafOnTheStemHaveNone (a tube of radius 1.5 h leaving the stem at
@@ -2260,7 +2308,7 @@ TEST(PlantSegmentation, AFlatPieceCalledWoodFarFromAllWoodIsLeaf)
 
 TEST(PlantSegmentation, WoodDistanceIsTheDistanceToTheNearestWoodPoint)
 {
-  // Brute force over the points the filter called wood: 0 on the wood; exact within the reach (2 features' radii);
+  // Brute force over the points the filter called wood or petiole: 0 on them; exact within the reach (2 features' radii);
   // beyond it never under the reach and off by at most the two cubes' diagonals (the point's cube's centroid and the
   // wood's, each within a cube's diagonal of its points). A leaf's base, on the stem, is nearer the wood than its
   // tip by nearly the leaf's length (what LeafFitFilter orients the leaf by).
@@ -2271,7 +2319,7 @@ TEST(PlantSegmentation, WoodDistanceIsTheDistanceToTheNearestWoodPoint)
   const double reach = plantmorph::WoodDistanceReach * 4.0 * r.plants.front().spacing;
   std::vector<Eigen::Vector3d> wood;
   for (std::size_t i = 0; i < t.points.size(); ++i)
-    if (r.organ[i] == plantmorph::OrganWood)
+    if (r.organ[i] == plantmorph::OrganWood || r.organ[i] == plantmorph::OrganPetiole)
       wood.push_back(t.points[i]);
   ASSERT_FALSE(wood.empty());
   int exact = 0, far = 0;
@@ -2280,7 +2328,7 @@ TEST(PlantSegmentation, WoodDistanceIsTheDistanceToTheNearestWoodPoint)
     double nearest = std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3d& w : wood)
       nearest = std::min(nearest, (t.points[i] - w).norm());
-    if (r.organ[i] == plantmorph::OrganWood)
+    if (r.organ[i] == plantmorph::OrganWood || r.organ[i] == plantmorph::OrganPetiole)
       EXPECT_EQ(r.woodDistance[i], 0.0) << "point " << i;
     else if (nearest <= reach)
     {
