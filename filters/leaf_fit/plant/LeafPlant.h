@@ -98,6 +98,14 @@ inline constexpr double WoodEndReach = 0.15;
 /// (swept on 18 scans of six plants: any difference turned the fewest leaves wrongly, 0.05 one more on 9 of them
 /// and none fewer; 0.2 and a ratio of the distances of 0.5 to 0.8 many more).
 inline constexpr double WoodEndMargin = 0.05;
+/// A base the shape only guessed, or a petiole's junction, is put at the leaf's point of the least WoodDistance minus
+/// this times its distance from the leaf's centroid: near the wood, at an end of the leaf (PlantSegmentationFilter's
+/// leaves table puts its Base there too)...
+inline constexpr double WoodBaseCentreWeight = 0.5;
+/// ...unless the wood tells the midvein's ends apart and that point lies within this fraction of Length of one of
+/// them (swept on the herb, shrub and petioled shrub, 18 scans: 0.15, 0.25 and 0.4 left 251, 249 and 250 of 734
+/// leaves based over a quarter of their length off).
+inline constexpr double WoodBaseEndReach = 0.25;
 
 enum class WoodEnd
 {
@@ -111,12 +119,23 @@ enum class WoodEnd
 WoodEnd EndNearerTheWood(
   const LeafFitResult& fit, const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance);
 
-/// A leaf grows from its twig: its base touches the wood, its apex is usually free. For each fit whose base the
-/// shape, the petiole search or a guess chose (BaseFrom 0, 2, 3; not with BasePoint or ApexPoint in `options`):
-/// where its apex end lies nearer the wood (EndNearerTheWood), the leaf is fitted again with its base at that end
-/// (as BasePoint would put it); where the wood confirms a guessed base, the guess stands. Both get BaseFrom
-/// BaseFromWood. `woodDistance` has one vector per leaf (empty: that leaf is left as it is); a refit that fails
-/// leaves the first fit. Returns how many leaves were turned.
+/// The index of the leaf's point of the least `woodDistance` minus WoodBaseCentreWeight times its distance from the
+/// points' centroid (NaN distances skipped): the point near the wood at an end of the leaf, where a leaf meets its
+/// twig or petiole. Nothing when no point has a distance.
+std::optional<std::size_t> WoodBasePoint(
+  const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance);
+
+/// A leaf grows from its twig or its petiole: its base touches the wood, its apex is usually free. For each fit
+/// whose base the shape, the petiole search or a guess chose (BaseFrom 0, 2, 3; not with BasePoint or ApexPoint in
+/// `options`):
+/// - a base that is a guess or a petiole's junction (BaseFrom 3, 2) moves to the WoodBasePoint, fitted again with
+///   its base there (as BasePoint would put it: the midvein then follows the blade's symmetry from that base, so a
+///   fan fitted across its width finds its length), unless the wood tells the midvein's ends apart
+///   (EndNearerTheWood) and that point lies within WoodBaseEndReach of its Length of one of them;
+/// - else, where the apex end lies nearer the wood, the leaf is fitted again with its base at that end; where the
+///   wood confirms a guessed base, the guess stands.
+/// All of them get BaseFrom BaseFromWood. `woodDistance` has one vector per leaf (empty: that leaf is left as it
+/// is); a refit that fails leaves the first fit. Returns how many leaves were fitted again.
 int OrientByWood(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
   const std::vector<std::vector<double>>& woodDistance, const LeafFitParameters& options,
   std::vector<LeafFitResult>& fits, const ParallelFor& parallel = SerialFor);

@@ -95,9 +95,10 @@ public:
   vtkSetMacro(ApexPointElementCount, int);
   vtkGetMacro(ApexPointElementCount, int);
   /// On (default): where the input has a point array WoodDistance (PlantSegmentationFilter writes it: each point's
-  /// distance to its plant's wood), a leaf whose midvein's apex end lies nearer the wood than its base end (by over
-  /// 5 % of its Length) is fitted again with its base there, and a guessed base the wood confirms stands (BaseFrom
-  /// 4). Not with UseBasePoint or UseApexPoint.
+  /// distance to its plant's wood or petioles), a guessed base or a petiole's junction moves to where the leaf meets
+  /// the wood (plantmorph::OrientByWood), a leaf whose midvein's apex end lies nearer the wood than its base end (by
+  /// over 5 % of its Length) is fitted again with its base there, and a guessed base the wood confirms stands
+  /// (BaseFrom 4). Not with UseBasePoint or UseApexPoint.
   vtkSetMacro(OrientByWood, int);
   vtkGetMacro(OrientByWood, int);
 

@@ -1578,8 +1578,11 @@ TEST(LeafShape, ALeafsBaseIsTheEndNearerItsWood)
       EXPECT_TRUE(CheckFittedLeaf(fits[0], 60).empty() || fits[0].traits.baseFrom != 3);
     }
     EXPECT_EQ(turned, 1) << "tilted " << tilted; // the first fit had one end: one of the two twigs turns it
-    // A twig along the side: the same distance from both ends
+    // A twig along the side: the same distance from both ends. A base from the shape stays as it was. (A guessed
+    // base would move to the side nearest the twig: a leaf lying along a twig it does not grow from is where the
+    // wood's base point misleads; AGuessedBaseMovesToWhereTheLeafMeetsItsWood.)
     std::vector<LeafFitResult> fits = FitLeaves(leaves, LeafFitParameters());
+    fits[0].traits.baseFrom = BaseFromShape;
     const LeafFitResult first = fits[0];
     const Eigen::Vector3d side = pose.linear() * Eigen::Vector3d(60.0, 0.0, 0.0);
     EXPECT_EQ(OrientByWood(leaves, { DistancesToSegment(scan.points, base + side, apex + side) }, {}, fits), 0);
@@ -1594,6 +1597,46 @@ TEST(LeafShape, ALeafsBaseIsTheEndNearerItsWood)
                 leaves, { DistancesToSegment(scan.points, twig - 30.0 * normal, twig + 30.0 * normal) }, hinted, fits),
       0);
     EXPECT_EQ(fits[0].traits.baseFrom, 1);
+  }
+}
+
+TEST(LeafShape, AGuessedBaseMovesToWhereTheLeafMeetsItsWood)
+{
+  // An elliptic blade (100 long, 45 wide) whose first fit ran across it, from one side margin to the other (as a
+  // fan seen in part is fitted across its width), with that base a guess (BaseFrom 3). Its twig lies 2 % of its
+  // length beyond its true base: both ends of the fitted midvein are as far from it, so the ends tell nothing, but
+  // the leaf's point near the wood at an end of the leaf (WoodBasePoint) is the true base. The leaf is fitted again
+  // from there (BaseFrom 4): its Length is its length, its base the true base. A base from the blade's shape
+  // (BaseFrom 0) is not moved so.
+  const Synthetic scan = Scan(Blade(0, 100.0), 8000, 0.1, 0.0, Straight(0.0), 0, Eigen::Isometry3d::Identity(), 11);
+  const std::vector<std::vector<Eigen::Vector3d>> leaves{ scan.points };
+  const Eigen::Vector3d base = Eigen::Vector3d::Zero(), twig = base - Eigen::Vector3d(0.0, 2.0, 0.0);
+  const std::vector<std::vector<double>> wood{ DistancesToSegment(
+    scan.points, twig - Eigen::Vector3d(0.0, 0.0, 30.0), twig + Eigen::Vector3d(0.0, 0.0, 30.0)) };
+  const std::optional<std::size_t> at = WoodBasePoint(scan.points, wood[0]);
+  ASSERT_TRUE(at.has_value());
+  EXPECT_LT((scan.points[*at] - base).norm(), 0.03 * scan.length) << scan.points[*at].transpose();
+  LeafFitParameters across;
+  across.basePoint = Eigen::Vector3d(-30.0, 50.0, 0.0); // beyond a side margin, halfway along the blade
+  across.apexPoint = Eigen::Vector3d(30.0, 50.0, 0.0);
+  for (const int from : { BaseFromGuess, BaseFromShape })
+  {
+    std::vector<LeafFitResult> fits = FitLeaves(leaves, across);
+    ASSERT_EQ(fits[0].error, "");
+    ASSERT_LT(fits[0].traits.length, 0.6 * scan.length); // across the blade
+    fits[0].traits.baseFrom = from;
+    EXPECT_NE(EndNearerTheWood(fits[0], scan.points, wood[0]), WoodEnd::Apex); // the ends do not turn it
+    const int again = OrientByWood(leaves, wood, LeafFitParameters(), fits);
+    if (from == BaseFromShape)
+    {
+      EXPECT_EQ(again, 0);
+      EXPECT_LT(fits[0].traits.length, 0.6 * scan.length);
+      continue;
+    }
+    EXPECT_EQ(again, 1);
+    EXPECT_EQ(fits[0].traits.baseFrom, BaseFromWood);
+    EXPECT_NEAR(fits[0].traits.length, scan.length, 0.02 * scan.length);
+    EXPECT_LT((fits[0].points[fits[0].midvein.front()] - base).norm(), 0.03 * scan.length);
   }
 }
 
