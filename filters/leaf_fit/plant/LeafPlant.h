@@ -18,6 +18,8 @@
 
 #include "LeafFit.h"
 
+#include <plantmorph/DataContract.h>
+
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -98,13 +100,10 @@ inline constexpr double WoodEndReach = 0.15;
 /// (swept on 18 scans of six plants: any difference turned the fewest leaves wrongly, 0.05 one more on 9 of them
 /// and none fewer; 0.2 and a ratio of the distances of 0.5 to 0.8 many more).
 inline constexpr double WoodEndMargin = 0.05;
-/// A base the shape only guessed, or a petiole's junction, is put at the leaf's point of the least WoodDistance minus
-/// this times its distance from the leaf's centroid: near the wood, at an end of the leaf (PlantSegmentationFilter's
-/// leaves table puts its Base there too)...
-inline constexpr double WoodBaseCentreWeight = 0.5;
-/// ...unless the wood tells the midvein's ends apart and that point lies within this fraction of Length of one of
-/// them (swept on the herb, shrub and petioled shrub, 18 scans: 0.15, 0.25 and 0.4 left 251, 249 and 250 of 734
-/// leaves based over a quarter of their length off).
+/// A base the shape only guessed, or a petiole's junction, is put where the leaf meets its wood (WoodBasePoint,
+/// LeafBaseCentreWeight) unless the wood tells the midvein's ends apart and that point lies within this fraction of
+/// Length of one of them (swept on the herb, shrub and petioled shrub, 18 scans: 0.15, 0.25 and 0.4 left 251, 249
+/// and 250 of 734 leaves based over a quarter of their length off).
 inline constexpr double WoodBaseEndReach = 0.25;
 
 enum class WoodEnd
@@ -119,7 +118,7 @@ enum class WoodEnd
 WoodEnd EndNearerTheWood(
   const LeafFitResult& fit, const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance);
 
-/// The index of the leaf's point of the least `woodDistance` minus WoodBaseCentreWeight times its distance from the
+/// The index of the leaf's point of the least `woodDistance` minus LeafBaseCentreWeight times its distance from the
 /// points' centroid (NaN distances skipped): the point near the wood at an end of the leaf, where a leaf meets its
 /// twig or petiole. Nothing when no point has a distance.
 std::optional<std::size_t> WoodBasePoint(

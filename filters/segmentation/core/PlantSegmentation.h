@@ -101,12 +101,13 @@
 //  6. Confidence in [0, 1]: how far the region's coherence is from the leaf/wood threshold, for judged regions;
 //     half that for points that took their organ from a neighbour.
 //  7. WoodDistance: each point's distance to the plant's nearest wood or petiole point (exact within 2 features'
-//     radii, then between cubes of that side; a blade on a petiole meets the petiole, not the twig). A leaf's base touches its twig and its apex is usually free, so LeafFitFilter
-//     turns a leaf whose midvein's apex end lies clearly nearer the wood than its base end (its shape alone cannot
-//     tell an obovate blade from an ovate one turned round, and a leaf seen in part often has no shape to tell
-//     from). A leaf without a petiole then gets its base at its point of the least WoodDistance - BaseCentreWeight x
-//     its distance from the leaf's centre (near the wood, at an end of the leaf: the point fewest links from the
-//     wood is often a margin touching other wood), its Branch and BaseGap from the wood point nearest that base.
+//     radii, then between cubes of that side; a blade on a petiole meets the petiole, not the twig). A leaf's base
+//     touches its twig and its apex is usually free, so LeafFitFilter turns a leaf whose midvein's apex end lies
+//     clearly nearer the wood than its base end (its shape alone cannot tell an obovate blade from an ovate one
+//     turned round, and a leaf seen in part often has no shape to tell from). A leaf without a petiole then gets its
+//     base at its point of the least WoodDistance - LeafBaseCentreWeight x its distance from the leaf's centre
+//     (near the wood, at an end of the leaf: the point fewest links from the wood is often a margin touching other
+//     wood), its Branch and BaseGap from the wood point nearest that base.
 // Everything is deterministic: the same cloud gives the same labels whatever the threads.
 #pragma once
 
@@ -143,7 +144,7 @@ struct SegmentedLeaf
   int plantId = 0;
   long long points = 0;
   double area = 0.0;                              ///< first estimate: occupied cells in the leaf's principal plane
-  Eigen::Vector3d base = Eigen::Vector3d::Zero(); ///< near the wood at an end of the leaf (BaseCentreWeight)
+  Eigen::Vector3d base = Eigen::Vector3d::Zero(); ///< near the wood at an end of the leaf (LeafBaseCentreWeight)
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   int branch = -1;            ///< the wood segment of the wood point nearest the base (-1: the plant has no wood)
   double baseGap = 0.0;       ///< distance from the base to that wood point
@@ -189,10 +190,5 @@ inline constexpr int MinimumPlantPoints = 20;
 /// change which end of a leaf is the nearer.
 inline constexpr double WoodDistanceReach = 2.0;
 inline constexpr double WoodDistanceCoarseCell = 4.0;
-/// A leaf's base is its point of the least WoodDistance - BaseCentreWeight x its distance from the leaf's centre: near
-/// the wood and at an end of the leaf. On the benchmark's herb and five shrubs, of the 1,208 leaves whose base was
-/// scanned, the base within 5 % of the leaf's length of the true one on 633 (the point fewest links from the wood:
-/// 498; on a prototype the point nearest the wood alone did worse than that, weights 0.25 and 1 about as well).
-inline constexpr double BaseCentreWeight = 0.5;
 
 } // namespace plantmorph
