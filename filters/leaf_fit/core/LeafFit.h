@@ -140,7 +140,8 @@ struct LeafTraits
   double spacing = 0;                        ///< median nearest-neighbour distance of the inliers
   /// 0: the shape, 1: BasePoint, 2: the petiole's junction, 3: a guess (no base point, apex point or petiole, and
   /// the outline does not tell which end is the base: LeafFitResult::baseGuess says why; CheckFittedLeaf warns),
-  /// 4: from the plant's wood, the end nearer it or where the leaf meets it (OrientByWood, LeafPlant.h, on PlantSegmentationFilter's WoodDistance)
+  /// 4: from the plant's wood, the end nearer it or where the leaf meets it (OrientByWood, LeafPlant.h, on
+  /// PlantSegmentationFilter's WoodDistance)
   int baseFrom = BaseFromShape;
   double petioleLength = 0; ///< arc length of the petiole's centre line (0: no petiole found)
   /// The spacing Coverage is measured in: the larger of `spacing` and half the spacing across a line scan's lines

@@ -2308,10 +2308,10 @@ TEST(PlantSegmentation, AFlatPieceCalledWoodFarFromAllWoodIsLeaf)
 
 TEST(PlantSegmentation, WoodDistanceIsTheDistanceToTheNearestWoodPoint)
 {
-  // Brute force over the points the filter called wood or petiole: 0 on them; exact within the reach (2 features' radii);
-  // beyond it never under the reach and off by at most the two cubes' diagonals (the point's cube's centroid and the
-  // wood's, each within a cube's diagonal of its points). A leaf's base, on the stem, is nearer the wood than its
-  // tip by nearly the leaf's length (what LeafFitFilter orients the leaf by).
+  // Brute force over the points the filter called wood or petiole: 0 on them; exact within the reach (2 features'
+  // radii); beyond it never under the reach and off by at most the two cubes' diagonals (the point's cube's centroid
+  // and the wood's, each within a cube's diagonal of its points). A leaf's base, on the stem, is nearer the wood than
+  // its tip by nearly the leaf's length (what LeafFitFilter orients the leaf by).
   const Truth t = SyntheticPlant(8);
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
