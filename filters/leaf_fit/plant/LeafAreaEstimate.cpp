@@ -111,12 +111,19 @@ void SizeOfWholeLeaves(const std::vector<LeafTraits>& traits, const std::vector<
   shape.areaSpread = LargerHalfSpreadScale * MedianDeviation(larger, shape.logSize);
 }
 
+/// The least log Area of a leaf of the plant's size: SpreadsOfWhole spreads (no less than MinShapeSpread) under the
+/// larger half's median.
+double SizeFloor(const PlantShape& shape)
+{
+  return shape.logSize - SpreadsOfWhole * std::max(shape.areaSpread, MinShapeSpread);
+}
+
 /// The Areas of the leaves `whole` of the plant's size (log Area at least SpreadsOfWhole spreads under the larger
 /// half's median) whose long extent is at least `longExtent`.
 std::vector<double> SizeLeafAreas(
   const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, const PlantShape& shape, double longExtent)
 {
-  const double least = shape.logSize - SpreadsOfWhole * std::max(shape.areaSpread, MinShapeSpread);
+  const double least = SizeFloor(shape);
   std::vector<double> areas;
   for (std::size_t i = 0; i < whole.size(); ++i)
     if (whole[i] && std::log(traits[i].area) >= least &&
@@ -142,6 +149,61 @@ double PlantSizeArea(const std::vector<LeafTraits>& traits, const std::vector<bo
     return std::max(own, Median(all));
   return area;
 }
+
+/// A leaf not seen whole (`out.whole[i]` false) whose ratio lies outside the whole leaves' range: AreaRule 1 or 2
+/// and the shape's estimate, or AreaRule 4 on a plant of one size (PlantSizeArea). Inside the range it keeps its Area.
+void EstimateCutLeaf(const std::vector<LeafTraits>& traits, LeafAreaEstimates& out, std::size_t i)
+{
+  const double high = std::max(traits[i].projectedLength, traits[i].projectedWidth);
+  const double low = std::min(traits[i].projectedLength, traits[i].projectedWidth);
+  const double ratioHere = high / low;
+  double longExtent = high;
+  if (ratioHere < out.shape.lowRatio) // rounder than every whole leaf: its long extent is short
+  {
+    longExtent = out.shape.ratio * low;
+    out.rule[i] = static_cast<int>(AreaRule::LongFromShort);
+  }
+  else if (ratioHere > out.shape.highRatio) // narrower: its short extent is short, the long one is whole
+    out.rule[i] = static_cast<int>(AreaRule::ShortFromLong);
+  else
+    return;
+  out.area[i] = std::max(traits[i].area, out.shape.fill * longExtent * longExtent);
+  const double plantSize = out.shape.oneSize
+    ? PlantSizeArea(traits, out.whole, out.shape, longExtent, traits[i].area, out.area[i])
+    : out.area[i];
+  if (plantSize != out.area[i])
+  {
+    out.area[i] = plantSize;
+    out.rule[i] = static_cast<int>(AreaRule::PlantSize);
+  }
+}
+
+/// The plant's size leaves (SizeLeafAreas) and the leaves taken whole under them: their counts and the size leaves'
+/// median Area.
+void CountSizeLeaves(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, PlantShape& shape)
+{
+  const std::vector<double> size = SizeLeafAreas(traits, whole, shape, 0.0);
+  shape.sizeLeaves = static_cast<int>(size.size());
+  shape.sizeArea = size.empty() ? 0.0 : Median(size);
+  shape.smallerLeaves = 0;
+  for (std::size_t i = 0; i < whole.size(); ++i)
+    if (whole[i] && std::log(traits[i].area) < SizeFloor(shape))
+      ++shape.smallerLeaves;
+}
+
+/// A leaf of the plant's shape (AreaRule 0) on a plant of one size whose Area is under the plant's size leaves (log
+/// Area more than SpreadsOfWhole spreads under the larger half's median), when the leaves taken whole under the size
+/// are fewer than the size leaves: a piece of a leaf of that size, given the size leaves' median Area (AreaRule 5).
+void EstimatePiece(const std::vector<LeafTraits>& traits, LeafAreaEstimates& out, std::size_t i)
+{
+  const PlantShape& shape = out.shape;
+  if (shape.smallerLeaves >= shape.sizeLeaves || !(std::log(traits[i].area) < SizeFloor(shape)) ||
+    !(shape.sizeArea > traits[i].area))
+    return;
+  out.area[i] = shape.sizeArea;
+  out.rule[i] = static_cast<int>(AreaRule::Piece);
+}
+
 } // namespace
 
 double UnassignedLeafArea(const std::vector<LeafTraits>& traits, const std::vector<bool>& fitted, double points)
@@ -179,6 +241,7 @@ LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const
   {
     SizeOfWholeLeaves(traits, out.whole, out.shape);
     out.shape.oneSize = out.shape.areaSpread <= OneSizeSpread;
+    CountSizeLeaves(traits, out.whole, out.shape);
   }
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -186,30 +249,12 @@ LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const
       continue;
     out.rule[i] = static_cast<int>(out.shape.valid ? AreaRule::Fitted : AreaRule::NoPlantShape);
     double r = 0.0, f = 0.0;
-    if (!out.shape.valid || out.whole[i] || !LeafShape(traits[i], r, f))
+    if (!out.shape.valid || !LeafShape(traits[i], r, f))
       continue;
-    const double high = std::max(traits[i].projectedLength, traits[i].projectedWidth);
-    const double low = std::min(traits[i].projectedLength, traits[i].projectedWidth);
-    const double ratioHere = high / low;
-    double longExtent = high;
-    if (ratioHere < out.shape.lowRatio) // rounder than every whole leaf: its long extent is short
-    {
-      longExtent = out.shape.ratio * low;
-      out.rule[i] = static_cast<int>(AreaRule::LongFromShort);
-    }
-    else if (ratioHere > out.shape.highRatio) // narrower: its short extent is short, the long one is whole
-      out.rule[i] = static_cast<int>(AreaRule::ShortFromLong);
-    else
-      continue;
-    out.area[i] = std::max(traits[i].area, out.shape.fill * longExtent * longExtent);
-    const double plantSize = out.shape.oneSize
-      ? PlantSizeArea(traits, out.whole, out.shape, longExtent, traits[i].area, out.area[i])
-      : out.area[i];
-    if (plantSize != out.area[i])
-    {
-      out.area[i] = plantSize;
-      out.rule[i] = static_cast<int>(AreaRule::PlantSize);
-    }
+    if (!out.whole[i])
+      EstimateCutLeaf(traits, out, i);
+    if (out.rule[i] == static_cast<int>(AreaRule::Fitted) && out.shape.oneSize)
+      EstimatePiece(traits, out, i);
   }
   return out;
 }

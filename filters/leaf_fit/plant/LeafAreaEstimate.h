@@ -18,8 +18,8 @@
 //   tip or base: the long extent from the short one, AreaRule 1); narrower, its short extent is short (a hidden
 //   side: AreaRule 2). Its estimate is the fill times the long extent squared, never less than its own Area.
 // - Every other leaf, the whole ones among them, keeps its Area (AreaRule 0): a leaf seen whole is not changed.
-// - A leaf hidden on both sides alike (a scaled-down copy of the shape) is not told from a small leaf: it keeps its
-//   Area.
+// - A leaf hidden on both sides alike (a scaled-down copy of the shape) is not told from a small leaf by its shape: it
+//   keeps its Area, unless the plant is of one size (below).
 // - The plant's size: when its whole leaves are of one size, a cut leaf (rule 1 or 2) is taken to be of that size
 //   too: its estimate is the median Area of the whole leaves of the plant's size whose long extent is at least its
 //   own (estimated) one, when that is more (AreaRule 4). An estimate past the largest of those leaves comes down to
@@ -39,6 +39,15 @@
 //   of one size (the safe side: the shape's estimates). The plant's size leaves are the whole leaves whose log Area
 //   is at least SpreadsOfWhole spreads (no less than MinShapeSpread) under the larger half's median: the pieces stay
 //   out of the size too.
+// - Pieces: on a plant of one size, a leaf of the plant's shape (AreaRule 0: seen whole by its shape, or its ratio in
+//   the whole leaves' range) whose Area is under the size leaves' (log Area more than SpreadsOfWhole spreads under
+//   the larger half's median) is a piece of a leaf of that size: its estimate is the size leaves' median Area
+//   (AreaRule 5). The same assumption as AreaRule 4's, applied to the pieces that keep the blade's ratio and fill,
+//   which the shape cannot tell from a leaf seen whole and the size can. Pieces are the exception: when the leaves
+//   taken whole under the size are as many as the size leaves or more, they are taken for leaves of another size
+//   (young leaves) and every leaf keeps its Area. Where it fails: a plant of one leaf size with a few smaller leaves
+//   seen whole (young leaves at the shoot's tip, fewer than the leaves of the plant's size): those are raised to the
+//   plant's size. AreaRule 5 tells them apart in the table; Area keeps what was measured.
 //
 // The leaf points on no leaf (a segmentation's leaf points it gave no LeafId: pieces of leaves seen in small parts,
 // edges of leaves it cut off) are leaf surface the fitted leaves leave out. Their area is taken at the fitted leaves'
@@ -61,7 +70,8 @@ enum class AreaRule
   LongFromShort = 1, ///< rounder than the plant's leaves: its long extent from its short one (a tip or base hidden)
   ShortFromLong = 2, ///< narrower than the plant's leaves: its short extent from its long one (a side hidden)
   NoPlantShape = 3,  ///< its own Area: fewer than MinWholeLeaves leaves seen whole give no plant shape
-  PlantSize = 4      ///< cut (rule 1 or 2) on a plant of one leaf size: the size leaves' median Area (see above)
+  PlantSize = 4,     ///< cut (rule 1 or 2) on a plant of one leaf size: the size leaves' median Area (see above)
+  Piece = 5          ///< the plant's shape but under the plant's one leaf size: a piece, the size leaves' median Area
 };
 
 /// Leaves seen whole needed for the plant's shape.
@@ -90,6 +100,9 @@ struct PlantShape
   double lowRatio = 0, highRatio = 0; ///< the whole leaves' range of the ratio
   double areaSpread = 0;              ///< spread of the whole leaves' log Area, from their larger half
   double logSize = 0;                 ///< median log Area of the larger half of the whole leaves
+  int sizeLeaves = 0;                 ///< whole leaves of the plant's size (log Area at least its floor, below)
+  int smallerLeaves = 0;              ///< whole leaves under the plant's size
+  double sizeArea = 0;                ///< median Area of the size leaves
   bool valid = false;                 ///< at least MinWholeLeaves whole leaves
   bool oneSize = false;               ///< valid, and areaSpread at most OneSizeSpread
 };

@@ -190,7 +190,7 @@ TEST(LeafAreaEstimate, AnEstimatePastEveryLeafOfAPlantOfOneSizeIsThatSize)
   EXPECT_NEAR(shapeOnly.area[6] / whole, 1.1 * 1.1, 0.03);
 }
 
-TEST(LeafAreaEstimate, PiecesTakenWholeByTheirShapeLeaveAPlantOfOneSizeOneSize)
+TEST(LeafAreaEstimate, PiecesTakenWholeByTheirShapeLeaveAPlantOfOneSizeOneSizeAndGetItsSize)
 {
   // A plant of one lobed blade size: six blades seen whole (within 1 %, as fitted areas are) and seven pieces of
   // blades that keep the blade's ratio and fill (a lobe of a lobed blade, a blade hidden on both sides alike: a
@@ -214,8 +214,39 @@ TEST(LeafAreaEstimate, PiecesTakenWholeByTheirShapeLeaveAPlantOfOneSizeOneSize)
   EXPECT_EQ(out.rule[corner], static_cast<int>(AreaRule::PlantSize));
   // The plant's size from the blades alone: the pieces (the largest 0.72 of a blade's area) stay out of it.
   EXPECT_NEAR(out.area[corner] / whole, 1.0, 0.02);
+  // The pieces under the plant's size are more than its size leaves: they are taken for leaves of another size and
+  // every leaf keeps its Area.
+  EXPECT_EQ(out.shape.sizeLeaves, 6);
+  EXPECT_EQ(out.shape.smallerLeaves, 7);
   for (std::size_t i = 0; i < corner; ++i)
+  {
     EXPECT_EQ(out.area[i], traits[i].area) << i;
+    EXPECT_EQ(out.rule[i], static_cast<int>(AreaRule::Fitted)) << i;
+  }
+
+  // Three of the pieces (0.3, 0.6, 0.8 of the length), fewer than the blades: each is a piece of a blade of the
+  // plant's size and gets the blades' median Area (AreaRule 5); the blades keep theirs.
+  std::vector<LeafTraits> fewer(traits.begin(), traits.begin() + 6);
+  for (double piece : { 0.3, 0.6, 0.8 })
+    fewer.push_back(CutEllipse(a * piece, b * piece, 1, 1));
+  const LeafAreaEstimates pieces = EstimateLeafAreas(fewer, std::vector<bool>(fewer.size(), true));
+  ASSERT_TRUE(pieces.shape.oneSize);
+  EXPECT_EQ(pieces.shape.sizeLeaves, 6);
+  EXPECT_EQ(pieces.shape.smallerLeaves, 3);
+  for (std::size_t i = 0; i < fewer.size(); ++i)
+  {
+    const bool piece = i >= 6;
+    EXPECT_EQ(pieces.rule[i], static_cast<int>(piece ? AreaRule::Piece : AreaRule::Fitted)) << i;
+    if (piece)
+      EXPECT_NEAR(pieces.area[i] / whole, 1.0, 0.01) << i;
+    else
+      EXPECT_EQ(pieces.area[i], fewer[i].area) << i;
+  }
+  // A leaf just under the blades (0.97 of the length, 6 % of area: within the floor) is of the plant's size.
+  fewer.push_back(CutEllipse(0.97 * a, 0.97 * b, 1, 1));
+  const LeafAreaEstimates near = EstimateLeafAreas(fewer, std::vector<bool>(fewer.size(), true));
+  EXPECT_EQ(near.rule.back(), static_cast<int>(AreaRule::Fitted));
+  EXPECT_EQ(near.area.back(), fewer.back().area);
 
   // Leaves that differ in size (0.55 to 1.4 times a length) spread the larger half as they spread the whole sample,
   // with or without the same pieces: the plant is not taken for one of one size and the corner keeps the shape's
@@ -235,6 +266,31 @@ TEST(LeafAreaEstimate, PiecesTakenWholeByTheirShapeLeaveAPlantOfOneSizeOneSize)
     EXPECT_GT(shapeOnly.shape.areaSpread, 0.3) << withPieces;
     EXPECT_EQ(shapeOnly.rule.back(), static_cast<int>(AreaRule::LongFromShort)) << withPieces;
     EXPECT_LT(shapeOnly.area.back() / whole, 0.3) << withPieces;
+    // No plant size, no pieces: every leaf of the plant's shape keeps its Area.
+    for (std::size_t i = 0; i + 1 < varied.size(); ++i)
+    {
+      EXPECT_EQ(shapeOnly.rule[i], static_cast<int>(AreaRule::Fitted)) << withPieces << " " << i;
+      EXPECT_EQ(shapeOnly.area[i], varied[i].area) << withPieces << " " << i;
+    }
+  }
+
+  // Two leaf sizes seen whole, as many small leaves (0.6 of the length) as large ones: the larger half is the large
+  // leaves, so the plant is taken for one of their size, but the small leaves are as many as they: a second leaf
+  // size (young leaves), not pieces, and every leaf keeps its Area.
+  std::vector<LeafTraits> twoSizes;
+  for (double stretch : { 1.0, 1.005, 0.995, 1.01, 0.99 })
+  {
+    twoSizes.push_back(CutEllipse(a * stretch, b * stretch, 1, 1));
+    twoSizes.push_back(CutEllipse(0.6 * a * stretch, 0.6 * b * stretch, 1, 1));
+  }
+  const LeafAreaEstimates two = EstimateLeafAreas(twoSizes, std::vector<bool>(twoSizes.size(), true));
+  ASSERT_TRUE(two.shape.valid);
+  EXPECT_EQ(two.shape.sizeLeaves, 5);
+  EXPECT_EQ(two.shape.smallerLeaves, 5);
+  for (std::size_t i = 0; i < twoSizes.size(); ++i)
+  {
+    EXPECT_EQ(two.rule[i], static_cast<int>(AreaRule::Fitted)) << i;
+    EXPECT_EQ(two.area[i], twoSizes[i].area) << i;
   }
 }
 
