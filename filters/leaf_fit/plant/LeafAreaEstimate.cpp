@@ -36,12 +36,24 @@ double RobustSpread(const std::vector<double>& values, double centre)
   return 1.4826 * MedianDeviation(values, centre);
 }
 
+/// A leaf's long extent: the longer of its Length and Width (arc lengths on the blade, along the midvein and across).
+double LongExtent(const LeafTraits& t)
+{
+  return std::max(t.length, t.width);
+}
+
+/// A leaf's short extent: the shorter of its Length and Width.
+double ShortExtent(const LeafTraits& t)
+{
+  return std::min(t.length, t.width);
+}
+
 /// A fitted leaf's log ratio (long over short extent) and log fill (Area over the long extent squared); false when
 /// its extents or area do not give them.
 bool LeafShape(const LeafTraits& t, double& logRatio, double& logFill)
 {
-  const double high = std::max(t.projectedLength, t.projectedWidth);
-  const double low = std::min(t.projectedLength, t.projectedWidth);
+  const double high = LongExtent(t);
+  const double low = ShortExtent(t);
   if (!(low > 0.0) || !std::isfinite(high) || !(t.area > 0.0) || !std::isfinite(t.area))
     return false;
   logRatio = std::log(high / low);
@@ -126,8 +138,7 @@ std::vector<double> SizeLeafAreas(
   const double least = SizeFloor(shape);
   std::vector<double> areas;
   for (std::size_t i = 0; i < whole.size(); ++i)
-    if (whole[i] && std::log(traits[i].area) >= least &&
-      std::max(traits[i].projectedLength, traits[i].projectedWidth) >= longExtent)
+    if (whole[i] && std::log(traits[i].area) >= least && LongExtent(traits[i]) >= longExtent)
       areas.push_back(traits[i].area);
   return areas;
 }
@@ -154,8 +165,8 @@ double PlantSizeArea(const std::vector<LeafTraits>& traits, const std::vector<bo
 /// and the shape's estimate, or AreaRule 4 on a plant of one size (PlantSizeArea). Inside the range it keeps its Area.
 void EstimateCutLeaf(const std::vector<LeafTraits>& traits, LeafAreaEstimates& out, std::size_t i)
 {
-  const double high = std::max(traits[i].projectedLength, traits[i].projectedWidth);
-  const double low = std::min(traits[i].projectedLength, traits[i].projectedWidth);
+  const double high = LongExtent(traits[i]);
+  const double low = ShortExtent(traits[i]);
   const double ratioHere = high / low;
   double longExtent = high;
   if (ratioHere < out.shape.lowRatio) // rounder than every whole leaf: its long extent is short

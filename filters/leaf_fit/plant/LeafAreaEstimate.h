@@ -3,16 +3,20 @@
 // reference": EstimatedArea and AreaRule). Plain C++17, no VTK.
 //
 // The assumption: the leaves of one plant share a shape, so the ratio of a blade's long extent to its short one
-// (ProjectedLength and ProjectedWidth, whichever is longer) and its fill (Area over the long extent squared) are the
-// plant's, whatever the leaf's size. Plant scientists estimate a partly hidden leaf so (area ~ c Length Width, with c
-// and the ratio from the whole leaves).
+// (Length and Width, whichever is longer) and its fill (Area over the long extent squared) are the plant's, whatever
+// the leaf's size. Plant scientists estimate a partly hidden leaf so (area ~ c Length Width, with c and the ratio
+// from the whole leaves). Length and Width are arc lengths on the blade, along the midvein and across it: a leaf's
+// own, whatever its curl and whichever way it faces. The projected extents (ProjectedLength and ProjectedWidth,
+// along the major axis of the blade's plane) were used before: a rolled leaf projects narrower, and the major axis
+// of a blade nearly as wide as long (a fan, a palmate or lobed blade) turns anywhere, so leaves seen whole were
+// called cut (benchmarks/README.md, "the leaf's own Length and Width").
 //
 // - The plant's shape: from the fitted leaves with Coverage at least MinCoverage, the median of the log ratio and of
 //   the log fill, and the leaves within SpreadsOfWhole robust spreads of both (1.4826 x the median absolute
 //   deviation, no less than MinShapeSpread) are the whole leaves, five rounds from all of them. With fewer than
 //   MinWholeLeaves whole leaves there is no shape: every leaf keeps its Area (AreaRule 3). Three spreads, not two:
-//   at two, leaves seen whole with a ratio a little off (a projected extent is measured across the blade's plane's
-//   major axis, which a blade wider than long turns) fell outside and were changed.
+//   at two, leaves seen whole with a ratio a little off (measured then on the projected extents, above) fell
+//   outside and were changed.
 // - A leaf is cut when its ratio lies outside the whole leaves' range (their largest deviation from the median ratio,
 //   the ratio's own spread among whole leaves): rounder than every whole leaf, its long extent is short (a hidden
 //   tip or base: the long extent from the short one, AreaRule 1); narrower, its short extent is short (a hidden
@@ -78,8 +82,8 @@ enum class AreaRule
 inline constexpr int MinWholeLeaves = 3;
 /// Robust spreads (1.4826 x the median absolute deviation) about the plant's median within which a leaf is whole.
 inline constexpr double SpreadsOfWhole = 3.0;
-/// The least spread of the log ratio and log fill taken for the whole leaves: a projected extent is measured to
-/// about a point spacing, and a leaf has some fifty spacings across or more, so 2 % is the measurement's own spread.
+/// The least spread of the log ratio and log fill taken for the whole leaves: an extent is measured to about a point
+/// spacing, and a leaf has some fifty spacings across or more, so 2 % is the measurement's own spread.
 inline constexpr double MinShapeSpread = 0.02;
 /// The largest spread of the whole leaves' log Area (from their larger half, below) for which the plant's leaves are
 /// of one size. The fitted Area of a leaf seen whole is within 1.5 % of the truth (median) and 6 % at worst on the

@@ -46,7 +46,18 @@ LeafTraits CutEllipse(double a, double b, double u, double v)
     t.projectedWidth = b * (1.0 + v);
     t.area = EllipsePartArea(b, a, v);
   }
+  t.length = t.projectedLength; // a flat leaf: its arc lengths are its extents
+  t.width = t.projectedWidth;
   return t;
+}
+
+/// Six whole ellipse leaves of one size (semi-axes a, b), their sizes within 1 %, as fitted areas are.
+std::vector<LeafTraits> SixWholeLeaves(double a, double b)
+{
+  std::vector<LeafTraits> traits;
+  for (double stretch : { 1.0, 1.005, 0.995, 1.01, 0.99, 1.0 })
+    traits.push_back(CutEllipse(a * stretch, b * stretch, 1, 1));
+  return traits;
 }
 
 TEST(LeafAreaEstimate, CutEllipsesOfThePlantsShapeGetTheirWholeArea)
@@ -110,8 +121,8 @@ LeafTraits CornerOfEllipse(double a, double b, double u, double v)
       t.area += hx * hy;
       lowX = std::min(lowX, x), highX = std::max(highX, x), lowY = std::min(lowY, y), highY = std::max(highY, y);
     }
-  t.projectedLength = highX - lowX;
-  t.projectedWidth = highY - lowY;
+  t.projectedLength = t.length = highX - lowX;
+  t.projectedWidth = t.width = highY - lowY;
   return t;
 }
 
@@ -121,9 +132,7 @@ TEST(LeafAreaEstimate, ACutLeafOfAPlantOfOneLeafSizeIsThatSize)
   // across the tip and along the midvein (both extents short: the shape alone gives it a quarter of the whole) and
   // one cut along a side only. Both are taken to be of the plant's size.
   const double a = 2.0, b = a / 1.5, whole = Pi * a * b;
-  std::vector<LeafTraits> traits;
-  for (double stretch : { 1.0, 1.005, 0.995, 1.01, 0.99, 1.0 })
-    traits.push_back(CutEllipse(a * stretch, b * stretch, 1, 1));
+  std::vector<LeafTraits> traits = SixWholeLeaves(a, b);
   traits.push_back(CornerOfEllipse(a, b, -0.2, 0.0));
   traits.push_back(CutEllipse(a, b, 1, -0.2));
   const LeafAreaEstimates out = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
@@ -161,11 +170,9 @@ TEST(LeafAreaEstimate, AnEstimatePastEveryLeafOfAPlantOfOneSizeIsThatSize)
   // 10 % wide (its ratio rounder than every whole leaf's): the shape stretches its long extent from that width to
   // 21 % over the whole leaves' area. On a plant of one size the estimate stays the plant's size.
   const double a = 2.0, b = a / 1.5, whole = Pi * a * b;
-  std::vector<LeafTraits> traits;
-  for (double stretch : { 1.0, 1.005, 0.995, 1.01, 0.99, 1.0 })
-    traits.push_back(CutEllipse(a * stretch, b * stretch, 1, 1));
+  std::vector<LeafTraits> traits = SixWholeLeaves(a, b);
   LeafTraits wide = CutEllipse(a, b, 1, 1);
-  wide.projectedWidth *= 1.1;
+  wide.width *= 1.1;
   traits.push_back(wide);
   const LeafAreaEstimates out = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
   ASSERT_TRUE(out.shape.valid);
@@ -197,9 +204,7 @@ TEST(LeafAreaEstimate, PiecesTakenWholeByTheirShapeLeaveAPlantOfOneSizeOneSizeAn
   // smaller copy of the shape, 0.3-0.85 of its length), so the shape takes them as whole too; they are more than half
   // of the leaves it takes whole. A corner of a blade (both extents short) is cut and is of the plant's size.
   const double a = 2.0, b = a / 1.5, whole = Pi * a * b;
-  std::vector<LeafTraits> traits;
-  for (double stretch : { 1.0, 1.005, 0.995, 1.01, 0.99, 1.0 })
-    traits.push_back(CutEllipse(a * stretch, b * stretch, 1, 1));
+  std::vector<LeafTraits> traits = SixWholeLeaves(a, b);
   for (double piece : { 0.3, 0.5, 0.6, 0.7, 0.75, 0.8, 0.85 })
     traits.push_back(CutEllipse(a * piece, b * piece, 1, 1));
   traits.push_back(CornerOfEllipse(a, b, -0.2, 0.0));
@@ -291,6 +296,29 @@ TEST(LeafAreaEstimate, PiecesTakenWholeByTheirShapeLeaveAPlantOfOneSizeOneSizeAn
   {
     EXPECT_EQ(two.rule[i], static_cast<int>(AreaRule::Fitted)) << i;
     EXPECT_EQ(two.area[i], twoSizes[i].area) << i;
+  }
+}
+
+TEST(LeafAreaEstimate, ACurledOrTurnedLeafSeenWholeIsWhole)
+{
+  // The shape is read from the arc lengths on the blade (Length, Width), not from the projected extents: a leaf
+  // rolled about its midvein projects 30 % narrower, and a round blade's plane's major axis can turn anywhere (its
+  // projected extents then measured across a diagonal), but seen whole it keeps its Area.
+  const double a = 2.0, b = a / 1.5;
+  std::vector<LeafTraits> traits = SixWholeLeaves(a, b);
+  LeafTraits curled = CutEllipse(a, b, 1, 1);
+  curled.projectedWidth *= 0.7;
+  traits.push_back(curled);
+  LeafTraits turned = CutEllipse(a, b, 1, 1);
+  turned.projectedLength = turned.projectedWidth = 0.5 * (turned.length + turned.width);
+  traits.push_back(turned);
+  const LeafAreaEstimates out = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  ASSERT_TRUE(out.shape.valid);
+  EXPECT_EQ(out.shape.wholeLeaves, 8);
+  for (std::size_t i = 0; i < traits.size(); ++i)
+  {
+    EXPECT_EQ(out.rule[i], static_cast<int>(AreaRule::Fitted)) << i;
+    EXPECT_EQ(out.area[i], traits[i].area) << i;
   }
 }
 
