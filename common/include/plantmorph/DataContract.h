@@ -51,4 +51,11 @@ enum Organ : int
 /// about as well).
 inline constexpr double LeafBaseCentreWeight = 0.5;
 
+/// The score of a leaf's point as where the leaf meets its wood (the least is the base): its WoodDistance minus
+/// LeafBaseCentreWeight times its distance from the leaf's centroid. One rule for both filters.
+inline double LeafBaseScore(double woodDistance, double distanceFromCentre)
+{
+  return woodDistance - LeafBaseCentreWeight * distanceFromCentre;
+}
+
 } // namespace plantmorph

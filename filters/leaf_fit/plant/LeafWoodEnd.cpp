@@ -36,7 +36,7 @@ std::optional<std::size_t> WoodBasePoint(
   double least = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < points.size(); ++i)
   {
-    const double here = woodDistance[i] - LeafBaseCentreWeight * (points[i] - centre).norm();
+    const double here = LeafBaseScore(woodDistance[i], (points[i] - centre).norm());
     if (std::isfinite(here) && here < least)
     {
       least = here;

@@ -173,8 +173,8 @@ std::vector<double> WoodDistances(const std::vector<Eigen::Vector3d>& points, co
 }
 
 /// Each leaf's base (the leaves table's Base, with its Branch and BaseGap from the wood point nearest it): the leaf's
-/// point of the least WoodDistance - LeafBaseCentreWeight x its distance from the leaf's centre, the point nearest the
-/// wood among those far from the middle of the leaf. A leaf grows from its twig at one end, but its margin can touch
+/// point of the least LeafBaseScore (WoodDistance - LeafBaseCentreWeight x its distance from the leaf's centre), the
+/// point nearest the wood among those far from the middle of the leaf. A leaf grows from its twig at one end, but its margin can touch
 /// other wood, or lie nearer the twig beyond its base than its base does. Leaves whose petiole was found keep the
 /// petiole's junction; a plant without wood keeps the bases of the link graph. `wood` is the plant's (WoodOf).
 void PlaceLeafBases(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance,
@@ -189,7 +189,7 @@ void PlaceLeafBases(const std::vector<Eigen::Vector3d>& points, const std::vecto
     if (l < 0 || !(woodDistance[i] >= 0.0))
       continue;
     const auto li = static_cast<std::size_t>(l);
-    const double here = woodDistance[i] - LeafBaseCentreWeight * (points[i] - labels.leaves[li].centre).norm();
+    const double here = LeafBaseScore(woodDistance[i], (points[i] - labels.leaves[li].centre).norm());
     if (here < score[li])
     {
       score[li] = here;
