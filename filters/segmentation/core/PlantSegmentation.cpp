@@ -174,9 +174,10 @@ std::vector<double> WoodDistances(const std::vector<Eigen::Vector3d>& points, co
 
 /// Each leaf's base (the leaves table's Base, with its Branch and BaseGap from the wood point nearest it): the leaf's
 /// point of the least LeafBaseScore (WoodDistance - LeafBaseCentreWeight x its distance from the leaf's centre), the
-/// point nearest the wood among those far from the middle of the leaf. A leaf grows from its twig at one end, but its margin can touch
-/// other wood, or lie nearer the twig beyond its base than its base does. Leaves whose petiole was found keep the
-/// petiole's junction; a plant without wood keeps the bases of the link graph. `wood` is the plant's (WoodOf).
+/// point nearest the wood among those far from the middle of the leaf. A leaf grows from its twig at one end, but its
+/// margin can touch other wood, or lie nearer the twig beyond its base than its base does. Leaves whose petiole was
+/// found keep the petiole's junction; a plant without wood keeps the bases of the link graph. `wood` is the plant's
+/// (WoodOf).
 void PlaceLeafBases(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance,
   const PlantWood& wood, segmentation::PlantLabels& labels)
 {
