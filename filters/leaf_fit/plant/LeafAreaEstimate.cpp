@@ -155,9 +155,8 @@ double PlantSizeArea(const std::vector<LeafTraits>& traits, const std::vector<bo
   const double atLeastMedian = atLeast.empty() ? 0.0 : Median(atLeast);
   if (atLeastMedian > area)
     return atLeastMedian;
-  const std::vector<double> all = SizeLeafAreas(traits, whole, shape, 0.0);
-  if (!all.empty() && area > *std::max_element(all.begin(), all.end()))
-    return std::max(own, Median(all));
+  if (shape.sizeLeaves > 0 && area > shape.sizeLargestArea)
+    return std::max(own, shape.sizeArea);
   return area;
 }
 
@@ -189,16 +188,18 @@ void EstimateCutLeaf(const std::vector<LeafTraits>& traits, LeafAreaEstimates& o
   }
 }
 
-/// The plant's size leaves (SizeLeafAreas) and the leaves taken whole under them: their counts and the size leaves'
-/// median Area.
+/// The plant's size leaves (SizeLeafAreas) and the leaves taken whole under them: their counts, and the size leaves'
+/// median and largest Area. Once per plant: PlantSizeArea and EstimatePiece read them for every cut leaf or piece.
 void CountSizeLeaves(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, PlantShape& shape)
 {
   const std::vector<double> size = SizeLeafAreas(traits, whole, shape, 0.0);
   shape.sizeLeaves = static_cast<int>(size.size());
   shape.sizeArea = size.empty() ? 0.0 : Median(size);
+  shape.sizeLargestArea = size.empty() ? 0.0 : *std::max_element(size.begin(), size.end());
+  const double least = SizeFloor(shape);
   shape.smallerLeaves = 0;
   for (std::size_t i = 0; i < whole.size(); ++i)
-    if (whole[i] && std::log(traits[i].area) < SizeFloor(shape))
+    if (whole[i] && std::log(traits[i].area) < least)
       ++shape.smallerLeaves;
 }
 

@@ -107,6 +107,7 @@ struct PlantShape
   int sizeLeaves = 0;                 ///< whole leaves of the plant's size (log Area at least its floor, below)
   int smallerLeaves = 0;              ///< whole leaves under the plant's size
   double sizeArea = 0;                ///< median Area of the size leaves
+  double sizeLargestArea = 0;         ///< largest Area of the size leaves
   bool valid = false;                 ///< at least MinWholeLeaves whole leaves
   bool oneSize = false;               ///< valid, and areaSpread at most OneSizeSpread
 };
