@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <numeric>
 #include <random>
 #include <string>
@@ -1958,6 +1959,78 @@ TEST(LeafShape, PalmateBladeSeenDenserWhereTwoViewsOverlapKeepsItsArea)
   EXPECT_NEAR(alone.traits.area, area, 0.01 * area);
   EXPECT_NEAR(fit.traits.area, alone.traits.area, 0.01 * alone.traits.area)
     << "points " << both.size() << " and " << one.size() << ", blade " << area;
+}
+
+/// The blade's margin: its triangles' edges used once, as segments in the blade's plane.
+std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> Margin(const LeafGeometry& leaf)
+{
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& t : leaf.blade.triangles)
+    for (int k = 0; k < 3; ++k)
+      ++uses[std::minmax(static_cast<int>(t[k]), static_cast<int>(t[(k + 1) % 3]))];
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> margin;
+  for (const auto& [edge, count] : uses)
+    if (count == 1)
+      margin.emplace_back(leaf.blade.points[edge.first], leaf.blade.points[edge.second]);
+  return margin;
+}
+
+/// The distance from p to the nearest of the margin's segments.
+double MarginDistance(const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& margin, const Eigen::Vector2d& p)
+{
+  double best = 1e300;
+  for (const auto& [a, b] : margin)
+  {
+    const double along = std::clamp((p - a).dot(b - a) / std::max((b - a).squaredNorm(), 1e-300), 0.0, 1.0);
+    best = std::min(best, (a + along * (b - a) - p).norm());
+  }
+  return best;
+}
+
+TEST(LeafShape, BladeSeenByOneViewOnlyNearItsMarginKeepsItsArea)
+{
+  // A plant scanned from several sides: the neighbouring leaves hide a leaf's margins from some of the views, so its
+  // points thin out towards the margin. The lobed blade, the pin oak and the watermelon (100 long; lobes keep the
+  // loop off the smooth margins, so the area comes from the points' count) at a plant scan's density: one view's
+  // lines across the whole blade (about 8000 points), a second view's on the same lines, halfway between the
+  // first's points, wherever the blade lies deeper than `band` (3 to 8) inside its margin. The second view's points
+  // add no area. With the density read only 4 sigma deep (about 7 here) the thinner band was counted at the inside's
+  // density: the blades came out 2-15 % smaller than the first view's alone (mean 5.6 %, the pin oak -15.4 % with the
+  // band 3 wide). Read from 2 sigma deep, they come out 0-8 % smaller (mean 3.4 %): better, not yet right (a density
+  // that changes within a window of 3 tiles is averaged over it).
+  double sum = 0.0;
+  int cases = 0;
+  for (int preset : { 8, 2, 11 })
+  {
+    const LeafGeometry leaf = Blade(preset, 100.0);
+    const double area = BladeArea(leaf), across = std::sqrt(area / 8000.0 / 1.2);
+    std::vector<Eigen::Vector3d> one = LineScans(leaf, across, 1.2 * across, { 0.0 }, 0.1);
+    const std::vector<Eigen::Vector3d> second = LineScans(leaf, across, 1.2 * across, { 0.5 }, 0.1);
+    const auto margin = Margin(leaf);
+    std::vector<double> depth;
+    for (const Eigen::Vector3d& p : second)
+      depth.push_back(MarginDistance(margin, p.head<2>()));
+    for (Eigen::Vector3d& p : one)
+      p = Tilted() * p;
+    const LeafFitResult alone = FitLeaf(one, LeafFitParameters());
+    ASSERT_EQ(alone.error, "");
+    EXPECT_NEAR(alone.traits.area, area, 0.01 * area) << "preset " << preset;
+    for (double band : { 3.0, 4.0, 6.0, 8.0 })
+    {
+      std::vector<Eigen::Vector3d> both = one;
+      for (std::size_t k = 0; k < second.size(); ++k)
+        if (depth[k] > band)
+          both.push_back(Tilted() * second[k]);
+      const LeafFitResult fit = FitLeaf(both, LeafFitParameters());
+      ASSERT_EQ(fit.error, "");
+      const double error = std::abs(fit.traits.area / alone.traits.area - 1.0);
+      EXPECT_LT(error, 0.08) << "preset " << preset << ", band " << band << ": " << fit.traits.area << " against "
+                             << alone.traits.area;
+      sum += error;
+      ++cases;
+    }
+  }
+  EXPECT_LT(sum / cases, 0.04) << "the mean error over the " << cases << " cases";
 }
 
 TEST(LeafShape, BladeEndsWithinASpacingOfTheStalksJunction)
