@@ -26,7 +26,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <map>
 #include <numeric>
 #include <random>
 #include <string>
@@ -1961,17 +1960,13 @@ TEST(LeafShape, PalmateBladeSeenDenserWhereTwoViewsOverlapKeepsItsArea)
     << "points " << both.size() << " and " << one.size() << ", blade " << area;
 }
 
-/// The blade's margin: its triangles' edges used once, as segments in the blade's plane.
+/// The blade's margin as segments in the blade's plane: its right side from base to apex, then its left side.
 std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> Margin(const LeafGeometry& leaf)
 {
-  std::map<std::pair<int, int>, int> uses;
-  for (const auto& t : leaf.blade.triangles)
-    for (int k = 0; k < 3; ++k)
-      ++uses[std::minmax(static_cast<int>(t[k]), static_cast<int>(t[(k + 1) % 3]))];
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> margin;
-  for (const auto& [edge, count] : uses)
-    if (count == 1)
-      margin.emplace_back(leaf.blade.points[edge.first], leaf.blade.points[edge.second]);
+  for (const std::vector<int>* side : { &leaf.rightMargin, &leaf.leftMargin })
+    for (std::size_t k = 0; k + 1 < side->size(); ++k)
+      margin.emplace_back(leaf.blade.points[(*side)[k]], leaf.blade.points[(*side)[k + 1]]);
   return margin;
 }
 
