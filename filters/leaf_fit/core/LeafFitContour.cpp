@@ -708,12 +708,12 @@ double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<doub
   // A hole: a cell farther than 2 scales from every point (random points leave such an empty disc with
   // probability e^(-4 pi), a lattice none).
   const double hole = 2.0 * scale;
-  // The kernel's sums at places a sigma apart inside the loop through the outermost points (holes left out), each
-  // with its tile and its depth below that loop.
+  // The kernel's sums at places a sigma apart inside the loop through the outermost points (holes left out), by
+  // tiles (they do not depend on where the margin lies), and each place's tile and depth below that loop.
   struct Place
   {
     std::size_t tile;
-    double sum, depth;
+    double depth;
   };
   std::vector<Place> places;
   const int stride = std::max(1, static_cast<int>(std::lround(sigma / cell)));
@@ -725,22 +725,20 @@ double CountedGap(const std::vector<Eigen::Vector2d>& ts, const std::vector<doub
         continue;
       const Eigen::Vector2d at = origin + cell * Eigen::Vector2d(i, j);
       const Eigen::Vector2i k = tileOf(at);
-      places.push_back({ static_cast<std::size_t>(k.x() + tx * k.y()), kernel(at), F[c] - r });
+      places.push_back({ static_cast<std::size_t>(k.x() + tx * k.y()), F[c] - r });
+      tileSum[places.back().tile] += kernel(at);
     }
   double holes = 0.0;
   for (std::size_t c = 0; c < F.size(); ++c)
     if (F[c] >= r + reach && toPoint[c] * cell > hole)
       holes += cell * cell;
   // The area the points sample with the margin `gap` beyond the loop: a place's kernel reaches past the margin, so
-  // its sum is divided by the share of the kernel inside (a half plane's, the margin straight within a few sigma).
+  // its sum is divided by the share of the kernel inside (a half plane's, the margin straight within a few sigma),
+  // summed by tiles as the kernel's sums are.
   auto counted = [&](double gap) {
-    std::fill(tileSum.begin(), tileSum.end(), 0.0);
     std::fill(tileProbes.begin(), tileProbes.end(), 0.0);
     for (const Place& place : places)
-    {
-      tileSum[place.tile] += place.sum;
       tileProbes[place.tile] += 0.5 * std::erfc(-(place.depth + gap) / (std::sqrt(2.0) * sigma));
-    }
     // The area one point stands for in each tile (NaN: not yet computed).
     std::vector<double> perPoint(tileSum.size(), nan);
     auto share = [&](const Eigen::Vector2i& k) {
