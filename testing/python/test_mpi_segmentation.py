@@ -9,7 +9,10 @@ hold all their points, which are sent there and whose labels come back. On 1, 2 
 - Leaves and Plants (gathered on rank 0, once) are the serial tables bit for bit: one Plants row per plant in
   ascending id, LeafIds numbered per plant and on over the plants in that order;
 - Points stays where its points are (every point once over the ranks) and every point's Organ, LeafId and
-  SegmentationConfidence equal the serial run's (compared as a sorted set of rows); every rank holds some of them.
+  SegmentationConfidence equal the serial run's (compared as a sorted set of rows); every rank holds some of them;
+- LeafFitFilter on the segmented points (LeafIdArray LeafId, the whole-plant pipeline) gives the serial Traits table
+  bit for bit: each leaf is fitted on its owner rank, and the plants' axis shape that checks a leaf's base by its
+  wood (every rank's leaves' Width over Length, gathered) is the same on any number of ranks.
 Run once serially with --write-reference (pvpython), then as `mpirun -np N pvbatch test_mpi_segmentation.py ...
 --ranks N`.
 """
@@ -39,7 +42,9 @@ scan = VirtualScanner(Input=plant, Positions=positions, LookAt=[0, 2.5, 0], Up=[
                       VerticalFieldOfView=80, AngularStep=0.25, RangeNoise=0.0015, Seed=2)
 stand = AppendDatasets(Input=moved_copies(scan, 3, "Plant", 10, 8.0))
 segmentation = PlantSegmentationFilter(Input=stand, PlantIdArray="Plant", UpAxis="Y")
+fit = LeafFitFilter(Input=segmentation, LeafIdArray="LeafId", UpAxis="Y")
 TABLES = {"leaves": 1, "plants": 2}
+FIT_TABLES = {"traits": 2}
 POINT_ARRAYS = ["Plant", "Organ", "LeafId", "SegmentationConfidence"]
 
 
@@ -51,6 +56,8 @@ reference_file = os.path.join(arguments.work, "mpi_segmentation_reference.npz")
 if arguments.write_reference:
     reference = {name: numpy.array(fingerprint(servermanager.Fetch(segmentation, idx=port)))
                  for name, port in TABLES.items()}
+    reference.update({name: numpy.array(fingerprint(servermanager.Fetch(fit, idx=port)))
+                      for name, port in FIT_TABLES.items()})
     reference["points"] = point_rows(servermanager.Fetch(segmentation, idx=0))
     plants = servermanager.Fetch(segmentation, idx=2)
     counts = vtk_to_numpy(plants.GetColumnByName("LeafCount")) if plants.GetNumberOfRows() else []
@@ -65,6 +72,9 @@ reference = load_reference(reference_file)
 for name, port in TABLES.items():
     checks.check(fingerprint(servermanager.Fetch(segmentation, idx=port)) == str(reference[name]),
                  "%s on %d ranks: bit-identical to the serial table" % (name, ranks))
+for name, port in FIT_TABLES.items():
+    checks.check(fingerprint(servermanager.Fetch(fit, idx=port)) == str(reference[name]),
+                 "LeafFitFilter's %s on %d ranks: bit-identical to the serial table" % (name, ranks))
 plants = servermanager.Fetch(segmentation, idx=2)
 checks.check(plants.GetNumberOfRows() == 3 and list(vtk_to_numpy(plants.GetColumnByName("PlantId"))) == [10, 11, 12],
              "one Plants row per plant, in PlantId order")

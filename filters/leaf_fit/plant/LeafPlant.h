@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -124,6 +125,30 @@ WoodEnd EndNearerTheWood(
 std::optional<std::size_t> WoodBasePoint(
   const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance);
 
+/// The leaves of one plant share a shape (LeafAreaEstimate.h), and with it the ratio of Width to Length along their
+/// midvein: a fan is wider than long, an elliptic blade longer than wide. The log of Width over Length of each fit
+/// whose orientation two things agree on: its shape found its base (BaseFrom 0) and the wood tells its base end
+/// (EndNearerTheWood gives Base). These are the values the plant's axis shape (PlantAxisShape) is the median of,
+/// gathered over every leaf of the plant (over the ranks that own them). The shape alone is not enough: from one
+/// position with noise 1 % of the leaf's length, most fans whose base the shape found were fitted across their width
+/// (the median ratio 0.72 on the benchmark's shrub, whose fans are 1.43 as wide as long); with the wood agreeing, 1.17.
+std::vector<double> AxisShapes(const std::vector<LeafFitResult>& fits,
+  const std::vector<std::vector<Eigen::Vector3d>>& leaves, const std::vector<std::vector<double>>& woodDistance);
+/// Leaves whose orientation the shape and the wood agree on needed for the plant's axis shape.
+inline constexpr int MinAxisShapeLeaves = 3;
+/// The plant's log Width over Length: the median of `shapes` (every leaf's AxisShapes; the middle two's mean for an
+/// even count, so the order the values come in does not matter). Nothing under MinAxisShapeLeaves values, nor when
+/// the leaves are about as wide as long (the median's size under WoodShapeMargin): a leaf fitted across its width
+/// then has about the same ratio, and the ratio cannot tell the axis.
+std::optional<double> PlantAxisShape(std::vector<double> shapes);
+/// A refit from the wood's base point (below) is dropped when its log Width over Length lies farther from the
+/// plant's than the first fit's by more than this: 0.2, a ratio 22 % further off. A fan fitted across its width has
+/// the ratio turned over (log 1.43 against log 0.70 on the benchmark's default blade, 0.72 apart), while the ratio of
+/// leaves of one plant fitted along their midvein spreads by a few percent. Swept on the shrub and the shrub of many
+/// leaf sizes from one and four positions (115 leaves a wood base point moved): 0.1, 0.2 and 0.3 dropped 25, 21 and
+/// 19 moves, of which 3, 1 and 1 had put the base within a quarter of the leaf's length of the true base.
+inline constexpr double WoodShapeMargin = 0.2;
+
 /// A leaf grows from its twig or its petiole: its base touches the wood, its apex is usually free. For each fit
 /// whose base the shape, the petiole search or a guess chose (BaseFrom 0, 2, 3; not with BasePoint or ApexPoint in
 /// `options`):
@@ -133,11 +158,16 @@ std::optional<std::size_t> WoodBasePoint(
 ///   (EndNearerTheWood) and that point lies within WoodBaseEndReach of its Length of one of them;
 /// - else, where the apex end lies nearer the wood, the leaf is fitted again with its base at that end; where the
 ///   wood confirms a guessed base, the guess stands.
+/// With the plant's axis shape (`plantAxisShape`, PlantAxisShape), a move to the WoodBasePoint whose refit has a
+/// Width over Length farther from the plant's than the first fit's (by more than WoodShapeMargin in log) is dropped:
+/// the wood's base point was a twig the leaf lies against at its side (a fan's corner by a twig turned the fan
+/// across), so the first fit's axis stands and only its ends are compared by the wood, as for a base from the shape.
 /// All of them get BaseFrom BaseFromWood. `woodDistance` has one vector per leaf (empty: that leaf is left as it
 /// is); a refit that fails leaves the first fit. Returns how many leaves were fitted again.
 int OrientByWood(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
   const std::vector<std::vector<double>>& woodDistance, const LeafFitParameters& options,
-  std::vector<LeafFitResult>& fits, const ParallelFor& parallel = SerialFor);
+  std::vector<LeafFitResult>& fits, const ParallelFor& parallel = SerialFor,
+  std::optional<double> plantAxisShape = std::nullopt);
 
 /// The area of the flat Model C leaf of `fit` as LeafOutlineSource rebuilds it (NaN when it does not rebuild).
 double FlatModelArea(const LeafFitResult& fit, int resolution);

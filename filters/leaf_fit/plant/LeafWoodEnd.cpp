@@ -64,27 +64,49 @@ WoodEnd EndNearerTheWood(
   return WoodEnd::Unknown;
 }
 
+std::vector<double> AxisShapes(const std::vector<LeafFitResult>& fits,
+  const std::vector<std::vector<Eigen::Vector3d>>& leaves, const std::vector<std::vector<double>>& woodDistance)
+{
+  std::vector<double> shapes;
+  if (woodDistance.size() != leaves.size() || fits.size() != leaves.size())
+    return shapes;
+  for (std::size_t k = 0; k < fits.size(); ++k)
+  {
+    const LeafFitResult& fit = fits[k];
+    if (fit.error.empty() && fit.traits.baseFrom == BaseFromShape && fit.traits.length > 0 && fit.traits.width > 0 &&
+      EndNearerTheWood(fit, leaves[k], woodDistance[k]) == WoodEnd::Base)
+      shapes.push_back(std::log(fit.traits.width / fit.traits.length));
+  }
+  return shapes;
+}
+
+std::optional<double> PlantAxisShape(std::vector<double> shapes)
+{
+  if (static_cast<int>(shapes.size()) < MinAxisShapeLeaves)
+    return std::nullopt;
+  std::sort(shapes.begin(), shapes.end());
+  const std::size_t half = shapes.size() / 2;
+  const double median = shapes.size() % 2 ? shapes[half] : 0.5 * (shapes[half - 1] + shapes[half]);
+  if (std::abs(median) < WoodShapeMargin)
+    return std::nullopt;
+  return median;
+}
+
 namespace
 {
-/// Where a leaf is fitted again from, by its wood (OrientByWood): a base the shape guessed, or put at a petiole's
-/// junction, moves to the leaf's point near the wood at an end of the leaf (WoodBasePoint), unless the wood tells the
-/// midvein's ends apart and that point lies by one of them; else an apex end nearer the wood than the base end
-/// becomes the base. Nothing when the fit stands; a guessed base the wood's end confirms is then marked so.
-std::optional<Eigen::Vector3d> BaseByWood(
+/// Where a leaf is fitted again from, by its wood, and whether that is the wood's base point (WoodBasePoint).
+struct WoodBase
+{
+  std::optional<Eigen::Vector3d> at;
+  bool woodPoint = false;
+};
+
+/// The midvein's end the wood says is the base: its apex end when that lies nearer the wood (fitted again from
+/// there); a guessed base the base end confirms is marked so. Nothing when the fit stands.
+std::optional<Eigen::Vector3d> EndByWood(
   LeafFitResult& fit, const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance)
 {
   const WoodEnd end = EndNearerTheWood(fit, points, woodDistance);
-  if (fit.traits.baseFrom == BaseFromGuess || fit.traits.baseFrom == BaseFromPetiole)
-  {
-    const std::optional<std::size_t> wood = WoodBasePoint(points, woodDistance);
-    const auto byAnEnd = [&](const Eigen::Vector3d& at) {
-      const double reach = WoodBaseEndReach * fit.traits.length;
-      return (fit.points[static_cast<std::size_t>(fit.midvein.front())] - at).norm() <= reach ||
-        (fit.points[static_cast<std::size_t>(fit.midvein.back())] - at).norm() <= reach;
-    };
-    if (wood && (end == WoodEnd::Unknown || !byAnEnd(points[*wood])))
-      return points[*wood];
-  }
   if (end == WoodEnd::Apex)
     return fit.points[static_cast<std::size_t>(fit.midvein.back())];
   if (end == WoodEnd::Base && fit.traits.baseFrom == BaseFromGuess)
@@ -94,35 +116,99 @@ std::optional<Eigen::Vector3d> BaseByWood(
   }
   return std::nullopt;
 }
-} // namespace
 
-int OrientByWood(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
-  const std::vector<std::vector<double>>& woodDistance, const LeafFitParameters& options,
-  std::vector<LeafFitResult>& fits, const ParallelFor& parallel)
+/// Where a leaf is fitted again from, by its wood (OrientByWood): a base the shape guessed, or put at a petiole's
+/// junction, moves to the leaf's point near the wood at an end of the leaf (WoodBasePoint), unless the wood tells the
+/// midvein's ends apart and that point lies by one of them; else the ends decide (EndByWood).
+WoodBase BaseByWood(
+  LeafFitResult& fit, const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance)
 {
-  if (options.basePoint || options.apexPoint || woodDistance.size() != leaves.size())
-    return 0;
-  std::vector<std::size_t> turn;
-  std::vector<Eigen::Vector3d> turnBase;
-  for (std::size_t k = 0; k < fits.size(); ++k)
+  if (fit.traits.baseFrom == BaseFromGuess || fit.traits.baseFrom == BaseFromPetiole)
   {
-    if (!fits[k].error.empty() || fits[k].traits.baseFrom == BaseFromPoint)
-      continue;
-    if (const std::optional<Eigen::Vector3d> base = BaseByWood(fits[k], leaves[k], woodDistance[k]))
-    {
-      turn.push_back(k);
-      turnBase.push_back(*base);
-    }
+    const std::optional<std::size_t> wood = WoodBasePoint(points, woodDistance);
+    const auto byAnEnd = [&](const Eigen::Vector3d& at) {
+      const double reach = WoodBaseEndReach * fit.traits.length;
+      return (fit.points[static_cast<std::size_t>(fit.midvein.front())] - at).norm() <= reach ||
+        (fit.points[static_cast<std::size_t>(fit.midvein.back())] - at).norm() <= reach;
+    };
+    if (wood && (EndNearerTheWood(fit, points, woodDistance) == WoodEnd::Unknown || !byAnEnd(points[*wood])))
+      return { points[*wood], true };
   }
+  return { EndByWood(fit, points, woodDistance), false };
+}
+
+/// Whether `again`'s Width over Length lies farther from the plant's (log `plant`) than `first`'s, by more than
+/// WoodShapeMargin.
+bool LeavesThePlantsShape(const LeafFitResult& again, const LeafFitResult& first, double plant)
+{
+  const auto off = [plant](const LeafFitResult& fit) {
+    return std::abs(std::log(fit.traits.width / fit.traits.length) - plant);
+  };
+  return again.traits.length > 0 && again.traits.width > 0 && first.traits.length > 0 && first.traits.width > 0 &&
+    off(again) > off(first) + WoodShapeMargin;
+}
+
+/// Each of `turn` fitted again from its base in `from` (as BasePoint puts it), in parallel.
+std::vector<LeafFitResult> FitAgain(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
+  const std::vector<std::size_t>& turn, const std::vector<Eigen::Vector3d>& from, const LeafFitParameters& options,
+  const ParallelFor& parallel)
+{
   std::vector<LeafFitResult> again(turn.size());
   parallel(turn.size(), [&](std::size_t begin, std::size_t stop) {
     for (std::size_t j = begin; j < stop; ++j)
     {
       LeafFitParameters turned = options;
-      turned.basePoint = turnBase[j];
+      turned.basePoint = from[j];
       again[j] = FitLeaf(leaves[turn[j]], turned);
     }
   });
+  return again;
+}
+} // namespace
+
+int OrientByWood(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
+  const std::vector<std::vector<double>>& woodDistance, const LeafFitParameters& options,
+  std::vector<LeafFitResult>& fits, const ParallelFor& parallel, std::optional<double> plantAxisShape)
+{
+  if (options.basePoint || options.apexPoint || woodDistance.size() != leaves.size())
+    return 0;
+  std::vector<std::size_t> turn;
+  std::vector<Eigen::Vector3d> turnBase;
+  std::vector<bool> woodPoint;
+  for (std::size_t k = 0; k < fits.size(); ++k)
+  {
+    if (!fits[k].error.empty() || fits[k].traits.baseFrom == BaseFromPoint)
+      continue;
+    const WoodBase base = BaseByWood(fits[k], leaves[k], woodDistance[k]);
+    if (base.at)
+    {
+      turn.push_back(k);
+      turnBase.push_back(*base.at);
+      woodPoint.push_back(base.woodPoint);
+    }
+  }
+  std::vector<LeafFitResult> again = FitAgain(leaves, turn, turnBase, options, parallel);
+  // A move to the wood's base point that turns the leaf away from the plant's shape is dropped: the first fit's
+  // axis stands, and its ends are compared by the wood (fitted again from its apex end when that is the nearer).
+  std::vector<std::size_t> second;
+  std::vector<Eigen::Vector3d> secondBase;
+  for (std::size_t j = 0; j < turn.size(); ++j)
+    if (plantAxisShape && woodPoint[j] && again[j].error.empty() &&
+      LeavesThePlantsShape(again[j], fits[turn[j]], *plantAxisShape))
+    {
+      again[j].error = "the plant's shape"; // not taken
+      if (const std::optional<Eigen::Vector3d> end = EndByWood(fits[turn[j]], leaves[turn[j]], woodDistance[turn[j]]))
+      {
+        second.push_back(turn[j]);
+        secondBase.push_back(*end);
+      }
+    }
+  std::vector<LeafFitResult> ends = FitAgain(leaves, second, secondBase, options, parallel);
+  for (std::size_t j = 0; j < second.size(); ++j)
+  {
+    turn.push_back(second[j]);
+    again.push_back(std::move(ends[j]));
+  }
   int turnedCount = 0;
   for (std::size_t j = 0; j < turn.size(); ++j)
     if (again[j].error.empty()) // else the first fit stays

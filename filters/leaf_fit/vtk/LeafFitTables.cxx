@@ -109,24 +109,41 @@ std::string ReadLeafIds(vtkDataArray* array, const std::string& name, std::vecto
   }
 }
 
-std::vector<std::int64_t> UnionOfIds(vtkMultiProcessController* controller, const std::vector<std::int64_t>& local)
+namespace
 {
-  if (!controller || controller->GetNumberOfProcesses() < 2)
-    return local;
-  std::vector<vtkTypeInt64> send(local.begin(), local.end()), all;
+/// Collective AllGatherV of every rank's `send` (type T), in rank order.
+template <typename T>
+std::vector<T> AllGatherValues(vtkMultiProcessController* controller, std::vector<T> send)
+{
   std::vector<vtkIdType> lengths(static_cast<std::size_t>(controller->GetNumberOfProcesses()), 0);
   std::vector<vtkIdType> offsets(lengths.size(), 0);
   vtkIdType mine = static_cast<vtkIdType>(send.size());
   controller->AllGather(&mine, lengths.data(), 1);
   for (std::size_t q = 1; q < lengths.size(); ++q)
     offsets[q] = offsets[q - 1] + lengths[q - 1];
-  all.assign(static_cast<std::size_t>(offsets.back() + lengths.back()), 0);
-  vtkTypeInt64 dummy = 0;
+  std::vector<T> all(static_cast<std::size_t>(offsets.back() + lengths.back()), T());
+  T dummy = T();
   controller->AllGatherV(
     send.empty() ? &dummy : send.data(), all.empty() ? &dummy : all.data(), mine, lengths.data(), offsets.data());
+  return all;
+}
+} // namespace
+
+std::vector<std::int64_t> UnionOfIds(vtkMultiProcessController* controller, const std::vector<std::int64_t>& local)
+{
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+    return local;
+  std::vector<vtkTypeInt64> all = AllGatherValues(controller, std::vector<vtkTypeInt64>(local.begin(), local.end()));
   std::sort(all.begin(), all.end());
   all.erase(std::unique(all.begin(), all.end()), all.end());
   return std::vector<std::int64_t>(all.begin(), all.end());
+}
+
+std::vector<double> ValuesOfAllRanks(vtkMultiProcessController* controller, const std::vector<double>& local)
+{
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+    return local;
+  return AllGatherValues(controller, local);
 }
 
 std::vector<Row> GatherRows(vtkMultiProcessController* controller, const std::vector<Row>& rows)

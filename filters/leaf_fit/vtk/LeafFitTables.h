@@ -32,6 +32,9 @@ std::string ReadLeafIds(vtkDataArray* array, const std::string& name, std::vecto
 /// Collective: the sorted union over the ranks of the sorted, distinct `local` ids.
 std::vector<std::int64_t> UnionOfIds(vtkMultiProcessController* controller, const std::vector<std::int64_t>& local);
 
+/// Collective: every rank's `local` values, in rank order (callers use what does not depend on the order).
+std::vector<double> ValuesOfAllRanks(vtkMultiProcessController* controller, const std::vector<double>& local);
+
 /// One Traits row: the leaf's id, status, trait values (TraitNames() order; NaN when not fitted) and message.
 struct Row
 {

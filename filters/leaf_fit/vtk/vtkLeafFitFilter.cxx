@@ -262,8 +262,10 @@ void FillScanValues(const std::vector<std::vector<std::size_t>>& orders, const s
 
 /// Fits the leaves this rank owns (threaded over leaves), each on its points in canonical order; with `separate`
 /// (no LeafIdArray) each leaf's points are first cut into their separate blades, each fitted as a leaf. Leaves with
-/// wood distances are then turned to put their base at the end nearer the wood (plantmorph::OrientByWood).
-OwnedFits FitOwned(const OwnedLeaves& own, const plantmorph::LeafFitParameters& options, bool separate)
+/// wood distances are then turned to put their base at the end nearer the wood (plantmorph::OrientByWood), with the
+/// axis shape of every rank's leaves (collective: every rank calls it).
+OwnedFits FitOwned(vtkMultiProcessController* controller, const OwnedLeaves& own,
+  const plantmorph::LeafFitParameters& options, bool separate)
 {
   const std::vector<std::vector<Eigen::Vector3d>>& leaves = own.points;
   OwnedFits owned;
@@ -296,7 +298,9 @@ OwnedFits FitOwned(const OwnedLeaves& own, const plantmorph::LeafFitParameters& 
     pieceOf[k] = cut.leafOf;
   }
   std::vector<plantmorph::LeafFitResult> results = plantmorph::FitLeaves(sorted, options, smp);
-  plantmorph::OrientByWood(sorted, sortedWood, options, results, smp);
+  const std::optional<double> shape = plantmorph::PlantAxisShape(
+    plantmorph::fittable::ValuesOfAllRanks(controller, plantmorph::AxisShapes(results, sorted, sortedWood)));
+  plantmorph::OrientByWood(sorted, sortedWood, options, results, smp, shape);
   std::vector<std::size_t> firstPiece(leaves.size(), 0);
   for (std::size_t q = 0; q < results.size(); ++q)
   {
@@ -654,7 +658,7 @@ void vtkLeafFitFilter::Execute(plantmorph::Run& run)
         ? "LeafIdArray: no point has a LeafId of 0 or more (a negative LeafId is a point on no leaf)"
         : "Input: the point cloud has no points (LeafFitFilter fits the points of one or more scanned leaves)");
   const std::vector<std::size_t> owned = exchange.Owned();
-  const OwnedFits fits = FitOwned(SendPoints(exchange, in), Options(this), in.separate);
+  const OwnedFits fits = FitOwned(controller, SendPoints(exchange, in), Options(this), in.separate);
   WarnSeparation(in, fits, run);
   std::string errors;
   const std::vector<plantmorph::fittable::Row> rows = PieceRows(in, owned, fits, run, errors);

@@ -98,7 +98,9 @@ public:
   /// distance to its plant's wood or petioles), a guessed base or a petiole's junction moves to where the leaf meets
   /// the wood (plantmorph::OrientByWood), a leaf whose midvein's apex end lies nearer the wood than its base end (by
   /// over 5 % of its Length) is fitted again with its base there, and a guessed base the wood confirms stands
-  /// (BaseFrom 4). Not with UseBasePoint or UseApexPoint.
+  /// (BaseFrom 4). A move to where the leaf meets the wood that turns the leaf's Width over Length away from the
+  /// plant's (the input's leaves whose shape and wood agree on their base) is dropped: the leaf lies against a twig it
+  /// does not grow from. Not with UseBasePoint or UseApexPoint.
   vtkSetMacro(OrientByWood, int);
   vtkGetMacro(OrientByWood, int);
 

@@ -1640,6 +1640,103 @@ TEST(LeafShape, AGuessedBaseMovesToWhereTheLeafMeetsItsWood)
   }
 }
 
+TEST(LeafShape, AWoodBasePointThatTurnsALeafFromItsPlantsShapeIsDropped)
+{
+  // An elliptic blade (100 long, 45 wide) fitted along its length, its base a guess (the blade is the same at both
+  // ends), lies against a twig it does not grow from: the twig stands across the blade's plane 2 beyond the middle of
+  // its side margin. Both ends are as far from it, so the ends tell nothing, and the leaf's point near the wood
+  // (WoodBasePoint) is on that side: alone, the leaf is fitted again from there, across its width (Length about 45).
+  // On a plant whose leaves are longer than wide (their Width over Length 0.45, the blade's own) that refit is
+  // dropped: its ratio (about 2) is the plant's turned over. The first fit's axis stands, and so does its guess.
+  const Synthetic scan = Scan(Blade(0, 100.0), 8000, 0.1, 0.0, Straight(0.0), 0, Eigen::Isometry3d::Identity(), 11);
+  const std::vector<std::vector<Eigen::Vector3d>> leaves{ scan.points };
+  double right = 0; // the side margin's x at mid-length
+  for (const Eigen::Vector3d& p : scan.points)
+    if (std::abs(p.y() - 0.5 * scan.length) < 2.0)
+      right = std::max(right, p.x());
+  const Eigen::Vector3d twig(right + 2.0, 0.5 * scan.length, 0.0);
+  const std::vector<std::vector<double>> wood{ DistancesToSegment(
+    scan.points, twig - Eigen::Vector3d(0.0, 0.0, 30.0), twig + Eigen::Vector3d(0.0, 0.0, 30.0)) };
+  const std::optional<std::size_t> at = WoodBasePoint(scan.points, wood[0]);
+  ASSERT_TRUE(at.has_value());
+  ASSERT_LT((scan.points[*at] - twig).norm(), 0.1 * scan.length) << scan.points[*at].transpose();
+  const std::optional<double> plant = PlantAxisShape({ std::log(0.44), std::log(0.45), std::log(0.47) });
+  ASSERT_TRUE(plant.has_value());
+  EXPECT_NEAR(*plant, std::log(0.45), 1e-12);
+  for (const bool withPlant : { false, true })
+  {
+    std::vector<LeafFitResult> fits = FitLeaves(leaves, LeafFitParameters());
+    ASSERT_EQ(fits[0].error, "");
+    ASSERT_NEAR(fits[0].traits.length, scan.length, 0.03 * scan.length); // along the blade
+    fits[0].traits.baseFrom = BaseFromGuess;
+    const LeafFitResult first = fits[0];
+    const int again =
+      OrientByWood(leaves, wood, LeafFitParameters(), fits, SerialFor, withPlant ? plant : std::nullopt);
+    if (!withPlant)
+    {
+      EXPECT_EQ(again, 1);
+      EXPECT_LT(fits[0].traits.length, 0.6 * scan.length); // across: the misleading twig alone decides
+      continue;
+    }
+    EXPECT_EQ(again, 0);
+    EXPECT_EQ(fits[0].traits.baseFrom, BaseFromGuess);
+    EXPECT_EQ(fits[0].traits.length, first.traits.length);
+    EXPECT_EQ(fits[0].points[fits[0].midvein.front()], first.points[first.midvein.front()]);
+  }
+  // The plant's shape does not hold back a move that brings the leaf to it: the same blade fitted across, its twig
+  // beyond its true base (AGuessedBaseMovesToWhereTheLeafMeetsItsWood), is fitted along its length.
+  const Eigen::Vector3d baseTwig(0.0, -2.0, 0.0);
+  const std::vector<std::vector<double>> baseWood{ DistancesToSegment(
+    scan.points, baseTwig - Eigen::Vector3d(0.0, 0.0, 30.0), baseTwig + Eigen::Vector3d(0.0, 0.0, 30.0)) };
+  LeafFitParameters across;
+  across.basePoint = Eigen::Vector3d(-30.0, 50.0, 0.0);
+  across.apexPoint = Eigen::Vector3d(30.0, 50.0, 0.0);
+  std::vector<LeafFitResult> fits = FitLeaves(leaves, across);
+  ASSERT_EQ(fits[0].error, "");
+  fits[0].traits.baseFrom = BaseFromGuess;
+  EXPECT_EQ(OrientByWood(leaves, baseWood, LeafFitParameters(), fits, SerialFor, plant), 1);
+  EXPECT_NEAR(fits[0].traits.length, scan.length, 0.02 * scan.length);
+  EXPECT_LT(fits[0].points[fits[0].midvein.front()].norm(), 0.03 * scan.length);
+}
+
+TEST(LeafShape, ThePlantsAxisShapeIsTheMedianOfTheLeavesWhoseShapeAndWoodAgree)
+{
+  // A leaf counts (its log Width over Length) when its shape found its base (BaseFrom 0) and the wood tells that end:
+  // the elliptic blade (100 long, 45 wide) with a twig beyond its base counts; with the twig beyond its apex, or its
+  // base a guess, or not fitted, it does not.
+  const Synthetic scan = Scan(Blade(0, 100.0), 8000, 0.1, 0.0, Straight(0.0), 0, Eigen::Isometry3d::Identity(), 11);
+  const std::vector<LeafFitResult> fitted = FitLeaves({ scan.points }, LeafFitParameters());
+  ASSERT_EQ(fitted[0].error, "");
+  const Eigen::Vector3d base = fitted[0].points[fitted[0].midvein.front()];
+  const Eigen::Vector3d apex = fitted[0].points[fitted[0].midvein.back()];
+  const auto twigBeyond = [&](const Eigen::Vector3d& end, const Eigen::Vector3d& other) {
+    const Eigen::Vector3d at = end + 2.0 * (end - other).normalized();
+    return DistancesToSegment(scan.points, at - Eigen::Vector3d(0.0, 0.0, 30.0), at + Eigen::Vector3d(0.0, 0.0, 30.0));
+  };
+  std::vector<LeafFitResult> fits(4, fitted[0]);
+  fits[2].traits.baseFrom = BaseFromGuess;
+  fits[3].error = "too few points";
+  for (std::size_t k : { 0, 1, 3 })
+    fits[k].traits.baseFrom = BaseFromShape;
+  const std::vector<std::vector<Eigen::Vector3d>> leaves(4, scan.points);
+  const std::vector<std::vector<double>> wood{ twigBeyond(base, apex), twigBeyond(apex, base), twigBeyond(base, apex),
+    twigBeyond(base, apex) };
+  const std::vector<double> shapes = AxisShapes(fits, leaves, wood);
+  ASSERT_EQ(shapes.size(), 1u);
+  EXPECT_NEAR(shapes[0], std::log(fitted[0].traits.width / fitted[0].traits.length), 1e-12);
+  EXPECT_NEAR(shapes[0], std::log(0.45), 0.05);
+  // The median does not depend on the order (the middle two's mean for an even count); none under
+  // MinAxisShapeLeaves values, and none for leaves about as wide as long (the ratio then cannot tell the axis).
+  EXPECT_NEAR(*PlantAxisShape({ std::log(0.4), std::log(0.5), std::log(0.45) }), std::log(0.45), 1e-12);
+  EXPECT_FALSE(PlantAxisShape({ std::log(0.4), std::log(0.5) }).has_value());
+  const std::vector<double> four{ std::log(0.5), std::log(0.3), std::log(0.4), std::log(0.6) };
+  const std::vector<double> reversed(four.rbegin(), four.rend());
+  EXPECT_NEAR(*PlantAxisShape(four), 0.5 * (std::log(0.4) + std::log(0.5)), 1e-12);
+  EXPECT_EQ(*PlantAxisShape(four), *PlantAxisShape(reversed));
+  EXPECT_FALSE(PlantAxisShape({ std::log(0.9), std::log(1.1), std::log(1.05) }).has_value());
+  EXPECT_TRUE(PlantAxisShape({ std::log(1.4), std::log(1.5), std::log(1.45) }).has_value());
+}
+
 TEST(LeafShape, BladeSampledDenserOnOneSideKeepsItsMidveinAxis)
 {
   // A scanner seeing a blade obliquely samples its near side more densely than its far side. An elliptic blade
