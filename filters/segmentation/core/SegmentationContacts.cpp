@@ -3,6 +3,8 @@
 // docs/methods/segmentation.md gives the numbers): cut at that seam.
 #include "SegmentationSteps.h"
 
+#include "PointGrid.h"
+
 #include <plantmorph/PlaneFit.h>
 
 #include <Eigen/Eigenvalues>
@@ -340,6 +342,129 @@ std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const Po
     --k; // the first side may hold a third leaf
   }
   return cuts;
+}
+
+namespace
+{
+/// The distance of `q` from the plane through the points of `part` (per point, -1 elsewhere) among `near`; -1 when
+/// fewer than BorderPlanePoints of them are that part's.
+double DistanceToPartPlane(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& partOf,
+  const std::vector<int>& near, int part, const Eigen::Vector3d& q)
+{
+  std::vector<Eigen::Vector3d> own;
+  for (int j : near)
+    if (partOf[static_cast<std::size_t>(j)] == part)
+      own.push_back(points[static_cast<std::size_t>(j)]);
+  if (static_cast<int>(own.size()) < BorderPlanePoints)
+    return -1.0;
+  if (own.size() > BorderPlaneSample) // every k-th: the plane of a few hundred points is as good, and far cheaper
+  {
+    const std::size_t stride = (own.size() + BorderPlaneSample - 1) / BorderPlaneSample;
+    std::size_t kept = 0;
+    for (std::size_t j = 0; j < own.size(); j += stride)
+      own[kept++] = own[j];
+    own.resize(kept);
+  }
+  const FittedPlane plane = FitPlane(own);
+  return std::abs((q - plane.centroid).dot(plane.normal));
+}
+} // namespace
+
+namespace
+{
+/// One pass of BorderPointsToNearerPlane on `grid` (over `points`); the points moved.
+std::size_t BorderPass(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const PointGrid& grid,
+  double reach, double margin, const std::vector<char>& kept, const ParallelFor& parallel,
+  std::vector<std::vector<int>>& parts)
+{
+  std::vector<int> partOf(points.size(), -1);
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    if (kept[k])
+      for (int j : parts[k])
+        partOf[static_cast<std::size_t>(j)] = static_cast<int>(k);
+  std::vector<int> border;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (std::size_t e = graph.offsets[i]; partOf[i] >= 0 && e < graph.offsets[i + 1]; ++e)
+    {
+      const int other = partOf[static_cast<std::size_t>(graph.neighbours[e])];
+      if (other >= 0 && other != partOf[i])
+      {
+        border.push_back(static_cast<int>(i));
+        break;
+      }
+    }
+  std::vector<int> to(border.size(), -1);
+  parallel(border.size(), [&](std::size_t begin, std::size_t end) {
+    std::vector<int> near, candidates;
+    for (std::size_t b = begin; b < end; ++b)
+    {
+      const auto i = static_cast<std::size_t>(border[b]);
+      candidates.clear();
+      for (std::size_t e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e)
+      {
+        const int other = partOf[static_cast<std::size_t>(graph.neighbours[e])];
+        if (other >= 0 && other != partOf[i])
+          candidates.push_back(other);
+      }
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      grid.Within(points[i], reach, near);
+      const double own = DistanceToPartPlane(points, partOf, near, partOf[i], points[i]);
+      if (own < 0.0)
+        continue;
+      double best = own - margin;
+      for (int other : candidates)
+      {
+        const double d = DistanceToPartPlane(points, partOf, near, other, points[i]);
+        if (d >= 0.0 && d < best)
+        {
+          best = d;
+          to[b] = other;
+        }
+      }
+    }
+  });
+  std::vector<char> left(points.size(), 0);
+  std::size_t moved = 0;
+  for (std::size_t b = 0; b < border.size(); ++b)
+    if (to[b] >= 0)
+    {
+      left[static_cast<std::size_t>(border[b])] = 1;
+      parts[static_cast<std::size_t>(to[b])].push_back(border[b]);
+      ++moved;
+    }
+  if (moved > 0)
+    for (std::size_t k = 0; k < parts.size(); ++k)
+    {
+      std::vector<int>& ids = parts[k];
+      ids.erase(std::remove_if(ids.begin(), ids.end(),
+                  [&](int j) {
+                    const auto u = static_cast<std::size_t>(j);
+                    return left[u] && partOf[u] == static_cast<int>(k);
+                  }),
+        ids.end());
+      std::sort(ids.begin(), ids.end());
+    }
+  return moved;
+}
+} // namespace
+
+std::size_t BorderPointsToNearerPlane(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, double reach,
+  double margin, const std::vector<char>& kept, int passes, const ParallelFor& parallel,
+  std::vector<std::vector<int>>& parts)
+{
+  if (std::count(kept.begin(), kept.end(), 1) < 2)
+    return 0;
+  const PointGrid grid(points, PointGrid::CellFor(points, 4.0), parallel);
+  std::size_t moved = 0;
+  for (int pass = 0; pass < passes; ++pass)
+  {
+    const std::size_t now = BorderPass(points, graph, grid, reach, margin, kept, parallel, parts);
+    moved += now;
+    if (now == 0)
+      break;
+  }
+  return moved;
 }
 
 } // namespace segmentation

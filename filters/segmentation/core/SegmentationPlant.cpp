@@ -2438,15 +2438,21 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
     ? StripsSpreadLikeALeaf(points, region, verdicts, p, radius, leaves)
     : std::vector<char>(leaves.size(), 0);
   std::vector<std::vector<int>> contactPoints = ContactPointsOfParts(leaves, region, contacts);
+  std::vector<char> kept(leaves.size(), 0);
+  for (std::size_t li = 0; li < leaves.size(); ++li)
+    // a part made only of flat strips (narrower than 2r or a long strip) and cut-off points has no leaf shape to
+    // fit: leaf, no LeafId, unless it is a leaf seen only in rows, or its strips spread over a leaf; nor the wood's
+    // surface seen as a sheet
+    kept[li] =
+      (seenInRows[li] || spreadLikeALeaf[li] || !NoLeafShape(region, verdicts, leaves[li], p.minimumLeafPoints)) &&
+      (wood.empty() || !WoodSurfaceSheet(points, leaves[li], wood, woodGrid, radius, f.noise));
+  BorderPointsToNearerPlane(
+    points, graph, 2.0 * radius, BorderPlaneMargin * spacing, kept, BorderPasses, parallel, leaves);
   for (std::size_t li = 0; li < leaves.size(); ++li)
   {
     std::vector<int>& ids = leaves[li];
-    // a part made only of flat strips (narrower than 2r or a long strip) and cut-off points has no leaf shape to
-    // fit: leaf, no LeafId, unless it is a leaf seen only in rows, or its strips spread over a leaf
-    if (!seenInRows[li] && !spreadLikeALeaf[li] && NoLeafShape(region, verdicts, ids, p.minimumLeafPoints))
+    if (!kept[li])
       continue;
-    if (!wood.empty() && WoodSurfaceSheet(points, ids, wood, woodGrid, radius, f.noise))
-      continue; // the wood's surface seen as a sheet: leaf, no LeafId
     ids.insert(ids.end(), contactPoints[li].begin(), contactPoints[li].end());
     SegmentedLeaf leaf;
     leaf.leafId = static_cast<int>(labels.leaves.size());
