@@ -99,14 +99,13 @@ struct WoodBase
 {
   std::optional<Eigen::Vector3d> at;
   bool woodPoint = false;
+  WoodEnd end = WoodEnd::Unknown; ///< EndNearerTheWood of the fit
 };
 
-/// The midvein's end the wood says is the base: its apex end when that lies nearer the wood (fitted again from
-/// there); a guessed base the base end confirms is marked so. Nothing when the fit stands.
-std::optional<Eigen::Vector3d> EndByWood(
-  LeafFitResult& fit, const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance)
+/// The midvein's end the wood says is the base (`end`, EndNearerTheWood of `fit`): its apex end when that lies nearer
+/// the wood (fitted again from there); a guessed base the base end confirms is marked so. Nothing when the fit stands.
+std::optional<Eigen::Vector3d> EndByWood(LeafFitResult& fit, WoodEnd end)
 {
-  const WoodEnd end = EndNearerTheWood(fit, points, woodDistance);
   if (end == WoodEnd::Apex)
     return fit.points[static_cast<std::size_t>(fit.midvein.back())];
   if (end == WoodEnd::Base && fit.traits.baseFrom == BaseFromGuess)
@@ -123,6 +122,7 @@ std::optional<Eigen::Vector3d> EndByWood(
 WoodBase BaseByWood(
   LeafFitResult& fit, const std::vector<Eigen::Vector3d>& points, const std::vector<double>& woodDistance)
 {
+  const WoodEnd end = EndNearerTheWood(fit, points, woodDistance);
   if (fit.traits.baseFrom == BaseFromGuess || fit.traits.baseFrom == BaseFromPetiole)
   {
     const std::optional<std::size_t> wood = WoodBasePoint(points, woodDistance);
@@ -131,10 +131,10 @@ WoodBase BaseByWood(
       return (fit.points[static_cast<std::size_t>(fit.midvein.front())] - at).norm() <= reach ||
         (fit.points[static_cast<std::size_t>(fit.midvein.back())] - at).norm() <= reach;
     };
-    if (wood && (EndNearerTheWood(fit, points, woodDistance) == WoodEnd::Unknown || !byAnEnd(points[*wood])))
-      return { points[*wood], true };
+    if (wood && (end == WoodEnd::Unknown || !byAnEnd(points[*wood])))
+      return { points[*wood], true, end };
   }
-  return { EndByWood(fit, points, woodDistance), false };
+  return { EndByWood(fit, end), false, end };
 }
 
 /// Whether `again`'s Width over Length lies farther from the plant's (log `plant`) than `first`'s, by more than
@@ -174,7 +174,7 @@ int OrientByWood(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
     return 0;
   std::vector<std::size_t> turn;
   std::vector<Eigen::Vector3d> turnBase;
-  std::vector<bool> woodPoint;
+  std::vector<WoodBase> moves;
   for (std::size_t k = 0; k < fits.size(); ++k)
   {
     if (!fits[k].error.empty() || fits[k].traits.baseFrom == BaseFromPoint)
@@ -184,20 +184,21 @@ int OrientByWood(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
     {
       turn.push_back(k);
       turnBase.push_back(*base.at);
-      woodPoint.push_back(base.woodPoint);
+      moves.push_back(base);
     }
   }
   std::vector<LeafFitResult> again = FitAgain(leaves, turn, turnBase, options, parallel);
+  std::vector<char> taken(turn.size(), 1);
   // A move to the wood's base point that turns the leaf away from the plant's shape is dropped: the first fit's
   // axis stands, and its ends are compared by the wood (fitted again from its apex end when that is the nearer).
   std::vector<std::size_t> second;
   std::vector<Eigen::Vector3d> secondBase;
   for (std::size_t j = 0; j < turn.size(); ++j)
-    if (plantAxisShape && woodPoint[j] && again[j].error.empty() &&
+    if (plantAxisShape && moves[j].woodPoint && again[j].error.empty() &&
       LeavesThePlantsShape(again[j], fits[turn[j]], *plantAxisShape))
     {
-      again[j].error = "the plant's shape"; // not taken
-      if (const std::optional<Eigen::Vector3d> end = EndByWood(fits[turn[j]], leaves[turn[j]], woodDistance[turn[j]]))
+      taken[j] = 0;
+      if (const std::optional<Eigen::Vector3d> end = EndByWood(fits[turn[j]], moves[j].end))
       {
         second.push_back(turn[j]);
         secondBase.push_back(*end);
@@ -208,10 +209,11 @@ int OrientByWood(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
   {
     turn.push_back(second[j]);
     again.push_back(std::move(ends[j]));
+    taken.push_back(1);
   }
   int turnedCount = 0;
   for (std::size_t j = 0; j < turn.size(); ++j)
-    if (again[j].error.empty()) // else the first fit stays
+    if (taken[j] && again[j].error.empty()) // else the first fit stays
     {
       fits[turn[j]] = std::move(again[j]);
       fits[turn[j]].traits.baseFrom = BaseFromWood;

@@ -368,10 +368,7 @@ double DistanceToPartPlane(const std::vector<Eigen::Vector3d>& points, const std
   const FittedPlane plane = FitPlane(own);
   return std::abs((q - plane.centroid).dot(plane.normal));
 }
-} // namespace
 
-namespace
-{
 /// One pass of BorderPointsToNearerPlane on `grid` (over `points`); the points moved.
 std::size_t BorderPass(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const PointGrid& grid,
   double reach, double margin, const std::vector<char>& kept, const ParallelFor& parallel,
