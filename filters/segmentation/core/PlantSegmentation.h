@@ -79,7 +79,10 @@
 //     twig's side taken in at a contact, which lifts one leaf's pieces off their common plane).
 //     Each leaf part of at least MinimumLeafPoints points is then a leaf, unless it is the wood's surface grown into
 //     a sheet: bent off its plane by over r / 4 (root mean square) with over 0.6 of its points within 2r of the wood
-//     (leaf, LeafId -1); LeafId numbers
+//     (leaf, LeafId -1). A leaf point linked to another leaf goes to the leaf whose plane it lies nearest; then a
+//     twig lying in a leaf's plane along its margin, taken into the leaf, goes back to the wood: from the wood within
+//     r of the leaf, the twig's line is walked through the leaf while its band's points stand off the blade's plane
+//     as a twig's surface does, with the blade on one side of it (SegmentationTwigs.cpp). LeafId numbers
 //     them over all plants in the order of their lowest point index (deterministic). Smaller leaf regions stay leaf
 //     points with LeafId -1. Each leaf's base is first its point nearest the wood along the link graph (step 7 moves
 //     it); the branch it grows on is the wood segment (a wood region, or a connected piece of thin wood, numbered per

@@ -2449,11 +2449,15 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   BorderPointsToNearerPlane(
     points, graph, 2.0 * radius, BorderPlaneMargin * spacing, kept, BorderPasses, parallel, leaves);
   for (std::size_t li = 0; li < leaves.size(); ++li)
+    if (kept[li])
+      leaves[li].insert(leaves[li].end(), contactPoints[li].begin(), contactPoints[li].end());
+  // a contact piece may be the twig itself, lying between two leaves
+  TwigsAlongLeafEdges(points, wood, woodGrid, kept, radius, spacing, parallel, leaves, labels.organ, labels.confidence);
+  for (std::size_t li = 0; li < leaves.size(); ++li)
   {
     std::vector<int>& ids = leaves[li];
-    if (!kept[li])
+    if (!kept[li] || ids.empty())
       continue;
-    ids.insert(ids.end(), contactPoints[li].begin(), contactPoints[li].end());
     SegmentedLeaf leaf;
     leaf.leafId = static_cast<int>(labels.leaves.size());
     leaf.points = static_cast<long long>(ids.size());
@@ -2625,14 +2629,13 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
   if (!flat.empty())
     return flat;
   MakeLeaves(points, f, graph, region, verdicts, spacing, f.radius, p, parallel, contacts, labels);
-  if (FindPetioles(points, f, graph, spacing, p, parallel, labels) > 0)
-  {
-    plant.woodPoints = plant.leafPoints = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      (labels.organ[i] == OrganWood      ? plant.woodPoints
-          : labels.organ[i] == OrganLeaf ? plant.leafPoints
-                                         : plant.petiolePoints) += 1;
-  }
+  FindPetioles(points, f, graph, spacing, p, parallel, labels);
+  // counted again: the leaf instances give twigs along their edges back to the wood, the petioles take thin wood
+  plant.woodPoints = plant.leafPoints = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    (labels.organ[i] == OrganWood      ? plant.woodPoints
+        : labels.organ[i] == OrganLeaf ? plant.leafPoints
+                                       : plant.petiolePoints) += 1;
   plant.leafCount = static_cast<int>(labels.leaves.size());
   double low = std::numeric_limits<double>::infinity(), high = -low;
   for (std::size_t i = 0; i < n; ++i)

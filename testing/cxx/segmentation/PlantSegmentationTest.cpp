@@ -2417,3 +2417,87 @@ TEST(PlantSegmentation, BorderPointsGoToTheLeafWhosePlaneTheyLieIn)
     }
   }
 }
+
+namespace
+{
+/// A blade (a grid of spacing 1 in z = 0, x in [0, 40], y in [0, 30], a little off the plane) with a twig of radius
+/// 1.5 along x, its axis at (y, z) = (twigY, twigZ), its upper half scanned in rings 1 apart from x = -30 to 70.
+/// The twig's points beside the blade (x in [0, 40]) are in the blade's part when `twigInPart`, else hidden; with
+/// `tip` the twig ends at x = 0.
+struct TwigScene
+{
+  std::vector<Eigen::Vector3d> points, wood;
+  std::vector<int> organ;
+  std::vector<std::vector<int>> parts = std::vector<std::vector<int>>(1);
+  std::size_t blade = 0, twigInPart = 0;
+};
+
+TwigScene MakeTwigScene(double twigY, double twigZ, bool twigInPart, bool tip)
+{
+  TwigScene s;
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 30; ++j)
+    {
+      s.points.emplace_back(i, j, 0.05 * std::sin(17.3 * i + 3.1 * j));
+      s.organ.push_back(plantmorph::OrganLeaf);
+      s.parts[0].push_back(static_cast<int>(s.points.size()) - 1);
+    }
+  s.blade = s.points.size();
+  for (int i = -30; i <= (tip ? -1 : 70); ++i)
+    for (int a = 0; a <= 6; ++a)
+    {
+      const double angle = Pi * a / 6.0;
+      const Eigen::Vector3d q(i, twigY + 1.5 * std::cos(angle), twigZ + 1.5 * std::sin(angle));
+      const bool beside = i >= 0 && i <= 40;
+      if (beside && !twigInPart)
+        continue;
+      s.points.push_back(q);
+      s.organ.push_back(beside ? plantmorph::OrganLeaf : plantmorph::OrganWood);
+      if (beside)
+      {
+        s.parts[0].push_back(static_cast<int>(s.points.size()) - 1);
+        ++s.twigInPart;
+      }
+      else
+      {
+        s.wood.push_back(q);
+      }
+    }
+  return s;
+}
+} // namespace
+
+TEST(PlantSegmentation, ATwigAlongALeafsEdgeGoesBackToTheWood)
+{
+  // The twig beside the blade's edge, in its plane, a gap of one spacing between them, its 287 points beside the
+  // blade taken into the blade's part: they all become wood, and no point of the blade does. A leaf lying across a
+  // twig (the twig under the blade's middle, touching it, hidden there) and a leaf at a twig's tip (the twig's line
+  // along the blade's midline) keep every point: the blade's own points lie in its plane, on both sides of the line.
+  struct Case
+  {
+    double y, z;
+    bool inPart, tip;
+    std::size_t moved;
+  };
+  for (const Case c :
+    { Case{ -2.5, 0.0, true, false, 287 }, Case{ 15.0, -1.55, false, false, 0 }, Case{ 15.0, -1.55, false, true, 0 } })
+  {
+    TwigScene s = MakeTwigScene(c.y, c.z, c.inPart, c.tip);
+    const plantmorph::PointGrid woodGrid(s.wood, plantmorph::PointGrid::CellFor(s.wood, 4.0));
+    std::vector<double> confidence(s.points.size(), 1.0);
+    const std::size_t moved = plantmorph::segmentation::TwigsAlongLeafEdges(
+      s.points, s.wood, woodGrid, { 1 }, 4.0, 1.0, plantmorph::SerialFor, s.parts, s.organ, confidence);
+    const std::string where = "twig at y " + std::to_string(c.y) + (c.tip ? ", ending at the blade" : "");
+    EXPECT_EQ(moved, c.moved) << where;
+    EXPECT_EQ(s.parts[0].size(), s.blade + s.twigInPart - moved) << where;
+    for (std::size_t i = 0; i < s.points.size(); ++i)
+    {
+      const int expected = i < s.blade ? plantmorph::OrganLeaf : plantmorph::OrganWood;
+      EXPECT_EQ(s.organ[i], expected) << "point " << i << ", " << where;
+      if (i >= s.blade)
+      {
+        EXPECT_EQ(confidence[i], 1.0 - 0.5 * (s.points[i].x() >= 0.0 && s.points[i].x() <= 40.0)) << "point " << i;
+      }
+    }
+  }
+}
