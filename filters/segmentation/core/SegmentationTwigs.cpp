@@ -155,10 +155,10 @@ void WalkTwigLine(const std::vector<Eigen::Vector3d>& points, const std::vector<
   const Eigen::Vector3d& start, double radius, double spacing, std::vector<char>& taken)
 {
   const BandSplit split = SplitAtBand(points, ids, line);
-  if (split.band.size() < TwigWindowPoints)
-    return;
   const double window = std::max(0.5 * radius, TwigWindowSpacings * spacing);
   const double from = (start - line.point).dot(line.axis);
+  if (split.band.size() < TwigWindowPoints || !(window > 0.0) || !std::isfinite(from))
+    return;
   for (const double direction : { 1.0, -1.0 })
     for (double edge = from;; edge += direction * window)
     {
