@@ -97,7 +97,7 @@ BandSplit SplitAtBand(const std::vector<Eigen::Vector3d>& points, const std::vec
   return split;
 }
 
-/// Whether the band's points [first, last), a window from t = lo on, are a twig's surface beside the blade: they
+/// Whether the band's points [first, last), the window t in [lo, hi), are a twig's surface beside the blade: they
 /// stand off the plane of the blade's points around them (within 2r and 1.5 bands of their centre, at least
 /// TwigPlanePoints) by more (root mean square) than TwigOffPlane times the blade's own points do, and by more than
 /// TwigBump of the band's width (the twig's radius: a twig's surface rises off the plane through its axis); the blade
@@ -105,7 +105,7 @@ BandSplit SplitAtBand(const std::vector<Eigen::Vector3d>& points, const std::vec
 /// edge, not a leaf lying across a twig); and the window's points lie around the line, not on one side of it (a row
 /// of the blade's own edge within the band).
 bool TwigWindow(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids, const TwigLine& line,
-  const BandSplit& split, std::size_t first, std::size_t last, double lo, double radius, double spacing)
+  const BandSplit& split, std::size_t first, std::size_t last, double lo, double hi, double radius, double spacing)
 {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (std::size_t w = first; w < last; ++w)
@@ -126,7 +126,6 @@ bool TwigWindow(const std::vector<Eigen::Vector3d>& points, const std::vector<in
   if (across.norm() < 1e-6)
     return false; // the twig runs across the blade's plane
   across.normalize();
-  const double hi = lo + std::max(0.5 * radius, TwigWindowSpacings * spacing);
   std::size_t sideA = 0, sideB = 0;
   for (const Eigen::Vector3d& q : blade)
   {
@@ -167,7 +166,7 @@ void WalkTwigLine(const std::vector<Eigen::Vector3d>& points, const std::vector<
       const auto last = std::lower_bound(first, split.band.end(), std::make_pair(lo + window, -1));
       if (last - first < static_cast<std::ptrdiff_t>(TwigWindowPoints) ||
         !TwigWindow(points, ids, line, split, static_cast<std::size_t>(first - split.band.begin()),
-          static_cast<std::size_t>(last - split.band.begin()), lo, radius, spacing))
+          static_cast<std::size_t>(last - split.band.begin()), lo, lo + window, radius, spacing))
         break;
       for (auto w = first; w != last; ++w)
         taken[static_cast<std::size_t>(w->second)] = 1;
