@@ -144,6 +144,28 @@ def moved_copies(source, count, array, first_id, step):
     return parts
 
 
+def nine_leaf_herb(leaf_outline_source, tree_from_sketch_source):
+    """A simulated herb of nine LeafOutlineSource blades of one size on a TreeFromSketchSource stem (the plugin's
+    proxies, as load_plugin put them in the test's namespace): (the tree, its wood and leaves appended)."""
+    from paraview.simple import AppendGeometry, OutputPort
+    blade = leaf_outline_source()
+    tree = tree_from_sketch_source(Preset="Custom", Depth=1, ChildCount=3, Ratio=0.6, Length=4.0, Radius=0.08,
+                                   LeafCount=3, LeafScale=1.5, LeafAngle=50.0, Sides=12)
+    tree.Leaf = OutputPort(blade, 0)
+    return tree, AppendGeometry(Input=[OutputPort(tree, 0), OutputPort(tree, 2)])
+
+
+def true_leaf_areas(leaves):
+    """Per LeafId, the area of TreeFromSketchSource's leaf output `leaves` (a fetched vtkPolyData of triangles)."""
+    import numpy
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    points = vtk_to_numpy(leaves.GetPoints().GetData())
+    cells = vtk_to_numpy(leaves.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    a, b, c = points[cells[:, 0]], points[cells[:, 1]], points[cells[:, 2]]
+    return numpy.bincount(vtk_to_numpy(leaves.GetCellData().GetArray("LeafId")),
+                          weights=0.5 * numpy.linalg.norm(numpy.cross(b - a, c - a), axis=1))
+
+
 def scan_around(virtual_scanner, plant, count, angular_step, range_noise, seed, maximum_range=None):
     """A scan of `plant` (a paraview.simple proxy, Y up) by `virtual_scanner` (the plugin's VirtualScanner, as
     load_plugin put it in the test's namespace) from `count` positions evenly round it (the first at 0.3 radians),

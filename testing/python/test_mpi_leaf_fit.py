@@ -3,7 +3,9 @@
 
 The shipped scans appended with a LeafId (read by pieces, each rank its byte range of each file), once as they come and once split
 over the ranks by D3 (each leaf's points then start on several ranks). On 1, 2 and 4 ranks:
-- the Traits table (gathered on rank 0, once) equals the serial one bit for bit, in LeafId order;
+- the Traits table (gathered on rank 0, once) equals the serial one bit for bit, in LeafId order, HiddenMargin
+  among it (each scan given the Range and ScanPosition of a scanner 1 m above it: the scanner's position and depth
+  map are made from every rank's points);
 - every leaf's blade lies on one rank only, the leaves are spread over min(ranks, leaves) ranks, and each blade is
   the serial blade bit for bit (points, normals, support);
 - Scan stays where its points are (rank 0 for the unsplit input, several ranks for the split one) and every point's
@@ -34,6 +36,11 @@ parts = []
 for leaf_id, scan in zip(LEAF_IDS, SCANS):
     parts.append(Calculator(Input=LeafCloudReader(FileName=scan), ResultArrayName="LeafId", Function="%d" % leaf_id,
                             ResultArrayType="Int"))
+# Each scan as if seen from a scanner 1 m above (its Range, ScanPosition 0): HiddenMargin is then measured, from the
+# scanner's position and depth map made of every rank's points.
+for k, part in enumerate(parts):
+    seen = Calculator(Input=part, ResultArrayName="Range", Function="mag(coords - 1000*kHat)")
+    parts[k] = Calculator(Input=seen, ResultArrayName="ScanPosition", Function="0", ResultArrayType="Int")
 appended = AppendDatasets(Input=parts)
 FITS = {"whole": LeafFitFilter(Input=appended, LeafIdArray="LeafId"),
         "split": LeafFitFilter(Input=D3(Input=appended, BoundaryMode="Assign cells uniquely"), LeafIdArray="LeafId")}
@@ -47,6 +54,14 @@ BLADES = LeafFitFilter(Input=D3(Input=AppendDatasets(Input=moved), BoundaryMode=
 
 def array(data, name):
     return vtk_to_numpy(data.GetPointData().GetArray(name))
+
+
+def same(a, b):
+    """Bit for bit, NaN equal to NaN (HiddenMargin is NaN where no scanner saw the leaf)."""
+    if a is None or b is None:
+        return False
+    a, b = numpy.asarray(a), numpy.asarray(b)
+    return numpy.array_equal(a, b, equal_nan=a.dtype.kind == "f" and b.dtype.kind == "f")
 
 
 def column_values(column):
@@ -99,9 +114,11 @@ for name, fit in FITS.items():
     expected = {k[len("traits_"):]: reference[k] for k in reference.files if k.startswith("traits_")}
     checks.check(list(traits["LeafId"]) == LEAF_IDS, "%s: one row per leaf in LeafId order: %s" % (
         name, list(traits["LeafId"])))
-    checks.check(set(traits) == set(expected) and all(numpy.array_equal(traits[k], v) for k, v in expected.items()),
+    checks.check(bool(numpy.all(numpy.isfinite(traits["HiddenMargin"]))), "%s: HiddenMargin measured on every leaf: %s"
+                 % (name, traits["HiddenMargin"]))
+    checks.check(set(traits) == set(expected) and all(same(traits[k], v) for k, v in expected.items()),
                  "%s: the Traits table on %d ranks is the serial one bit for bit (differing: %s)" % (
-                     name, ranks, [k for k, v in expected.items() if not numpy.array_equal(traits.get(k), v)]))
+                     name, ranks, [k for k, v in expected.items() if not same(traits.get(k), v)]))
     checks.check(OutputPort(fit, 2).GetDataInformation().GetNumberOfRows() == len(LEAF_IDS),
                  "%s: the table's rows once over all ranks" % name)
     per_leaf = blades(fit)
@@ -130,9 +147,9 @@ traits = table_columns(servermanager.Fetch(BLADES, idx=2))
 expected = {k[len("blades_traits_"):]: reference[k] for k in reference.files if k.startswith("blades_traits_")}
 checks.check(list(traits["LeafId"]) == list(range(len(SCANS))), "blades: one row per scan, LeafId 0 to %d: %s" % (
     len(SCANS) - 1, list(traits["LeafId"])))
-checks.check(set(traits) == set(expected) and all(numpy.array_equal(traits[k], v) for k, v in expected.items()),
+checks.check(set(traits) == set(expected) and all(same(traits[k], v) for k, v in expected.items()),
              "blades: the Traits table on %d ranks is the serial one bit for bit (differing: %s)" % (
-                 ranks, [k for k, v in expected.items() if not numpy.array_equal(traits.get(k), v)]))
+                 ranks, [k for k, v in expected.items() if not same(traits.get(k), v)]))
 checks.check(numpy.array_equal(scan_rows(BLADES)[0], reference["blades_scan"]),
              "blades: every scan point's LeafId, FitDistance and Inlier as in the serial run")
 checks.finish()

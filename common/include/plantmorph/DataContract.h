@@ -20,6 +20,10 @@ inline constexpr const char* Organ = "Organ";   ///< points and cells, int: see 
 /// points, double: the distance to the plant's nearest wood or petiole point (PlantSegmentationFilter; exact near
 /// them, between cubes farther); LeafFitFilter puts a leaf's base where the leaf meets the wood
 inline constexpr const char* WoodDistance = "WoodDistance";
+/// points, double: the distance a scanner measured to the point (VirtualScanner; a terrestrial scan's range)
+inline constexpr const char* Range = "Range";
+/// points, int: which scanner position saw the point, 0, 1, ... (VirtualScanner)
+inline constexpr const char* ScanPosition = "ScanPosition";
 } // namespace arrays
 
 /// Values of the `Region` array.

@@ -40,6 +40,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -144,6 +145,10 @@ struct LeafTraits
   /// PlantSegmentationFilter's WoodDistance)
   int baseFrom = BaseFromShape;
   double petioleLength = 0; ///< arc length of the petiole's centre line (0: no petiole found)
+  /// The share of the blade's margin past which the scanner's view was blocked by something nearer to it, from every
+  /// scanner that saw the leaf (ScannerView.h, filters/leaf_fit/plant): the leaf may go on there, hidden. NaN when
+  /// the scanners' positions are not known (the input has no Range and ScanPosition point arrays).
+  double hiddenMargin = std::numeric_limits<double>::quiet_NaN();
   /// The spacing Coverage is measured in: the larger of `spacing` and half the spacing across a line scan's lines
   /// (CrossSpacing), the gaps a scan leaves on the blade (not a column of the table).
   double coverageSpacing = 0;

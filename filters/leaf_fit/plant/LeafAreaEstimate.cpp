@@ -121,6 +121,10 @@ void SizeOfWholeLeaves(const std::vector<LeafTraits>& traits, const std::vector<
   const std::vector<double> larger(logArea.begin() + static_cast<std::ptrdiff_t>(logArea.size() / 2), logArea.end());
   shape.logSize = Median(larger);
   shape.areaSpread = LargerHalfSpreadScale * MedianDeviation(larger, shape.logSize);
+  // Leaves seen whole by the view hold no pieces: a larger half of a few leaves of near sizes must not hide the
+  // spread of the others (a plant of three leaf sizes seen from one position, its largest leaves alike).
+  if (shape.fromView)
+    shape.areaSpread = std::max(shape.areaSpread, RobustSpread(logArea, Median(logArea)));
 }
 
 /// The least log Area of a leaf of the plant's size: SpreadsOfWhole spreads (no less than MinShapeSpread) under the
@@ -240,15 +244,22 @@ LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const
   out.area.assign(n, std::numeric_limits<double>::quiet_NaN());
   out.rule.assign(n, -1);
   std::vector<double> ratio(n, 0.0), fill(n, 0.0);
-  std::vector<bool> usable(n, false);
+  std::vector<bool> usable(n, false), seenFree(n, false);
   for (std::size_t i = 0; i < n; ++i)
   {
     if (i < fitted.size() && !fitted[i])
       continue;
     out.area[i] = traits[i].area;
     usable[i] = LeafShape(traits[i], ratio[i], fill[i]) && traits[i].coverage >= MinCoverage;
+    seenFree[i] = usable[i] && !(traits[i].hiddenMargin > MaxHiddenMarginOfWhole); // NaN (no view): not judged
   }
-  out.shape = ShapeOfWholeLeaves(ratio, fill, usable, out.whole);
+  // The leaves whose margin the scanners saw free; with fewer than MinWholeLeaves of them the view does not say
+  // which leaves are whole, and the shape is taken from every usable leaf, as without it.
+  out.shape = ShapeOfWholeLeaves(ratio, fill, seenFree, out.whole);
+  out.shape.fromView = out.shape.valid &&
+    std::any_of(traits.begin(), traits.end(), [](const LeafTraits& t) { return std::isfinite(t.hiddenMargin); });
+  if (!out.shape.valid && seenFree != usable)
+    out.shape = ShapeOfWholeLeaves(ratio, fill, usable, out.whole);
   if (out.shape.valid)
   {
     SizeOfWholeLeaves(traits, out.whole, out.shape);

@@ -3,6 +3,7 @@
 #include "PlantMorphAlgorithmHooks.h"
 
 #include "LeafFit.h"
+#include "LeafFitScannerView.h"
 #include "LeafFitTables.h"
 #include "PlantMorphOwnerExchange.h"
 #include "LeafPlant.h"
@@ -214,6 +215,7 @@ struct OwnedLeaves
 {
   std::vector<std::vector<Eigen::Vector3d>> points;
   std::vector<std::vector<double>> woodDistance;
+  std::vector<std::vector<int>> scanner; ///< per point, its ScanPosition (-1 unknown)
 };
 
 /// One leaf fitted on this rank: a leaf of the exchange (`group`, an index into the owned leaves) or, without
@@ -344,6 +346,8 @@ struct LeafInput
   double unassignedLeafPoints = 0; ///< points with a negative id that the input's Organ array calls leaf (1)
   /// per point, the input's WoodDistance (PlantSegmentationFilter's) when OrientByWood is on; else NaN
   std::vector<double> woodDistance;
+  /// per point, its scanner and range (the input's ScanPosition and Range; empty without them)
+  plantmorph::fittable::ScanRanges scan;
 
   /// The LeafId a fitted piece gets: its blade's number when separating, else its leaf's id.
   std::int64_t OutputId(std::size_t leaf, int piece) const { return this->separate ? piece : this->leafIds[leaf]; }
@@ -484,6 +488,7 @@ std::string ReadLeaves(vtkLeafFitFilter* self, vtkPointSet* input, LeafInput& in
     in.ids.assign(static_cast<std::size_t>(n), 0);
   in.unassignedLeafPoints = CountUnassignedLeafPoints(input, in.ids);
   in.woodDistance = ReadWoodDistance(self, input);
+  in.scan = plantmorph::fittable::ReadScanRanges(input, self->GetScale());
   in.points.resize(n);
   const double scale = self->GetScale();
   vtkDataArray* coordinates = input->GetPoints()->GetData();
@@ -518,13 +523,14 @@ void IndexLeaves(vtkMultiProcessController* controller, LeafInput& in)
 /// order, of that rank's points of the leaf in its input order, with their wood distances.
 OwnedLeaves SendPoints(const plantmorph::OwnerExchange& exchange, const LeafInput& in)
 {
-  constexpr int Width = 4; // x, y, z, wood distance
+  constexpr int Width = 5; // x, y, z, wood distance, scanner
   std::vector<double> flat(Width * in.points.size());
   for (std::size_t i = 0; i < in.points.size(); ++i)
   {
     for (int c = 0; c < 3; ++c)
       flat[Width * i + c] = in.points[i][c];
     flat[Width * i + 3] = in.woodDistance[i];
+    flat[Width * i + 4] = in.scan.scanner.empty() ? -1.0 : in.scan.scanner[i];
   }
   OwnedLeaves leaves;
   for (const std::vector<double>& values : exchange.SendValues(in.members, flat, Width))
@@ -532,11 +538,13 @@ OwnedLeaves SendPoints(const plantmorph::OwnerExchange& exchange, const LeafInpu
     const std::size_t n = values.size() / Width;
     leaves.points.emplace_back(n);
     leaves.woodDistance.emplace_back(n);
+    leaves.scanner.emplace_back(n);
     bool known = false;
     for (std::size_t j = 0; j < n; ++j)
     {
       leaves.points.back()[j] = { values[Width * j], values[Width * j + 1], values[Width * j + 2] };
       leaves.woodDistance.back()[j] = values[Width * j + 3];
+      leaves.scanner.back()[j] = static_cast<int>(values[Width * j + 4]);
       known = known || std::isfinite(values[Width * j + 3]);
     }
     if (!known)
@@ -584,6 +592,39 @@ std::vector<plantmorph::fittable::Row> PieceRows(const LeafInput& in, const std:
     rows.push_back(row);
   }
   return rows;
+}
+
+/// Collective: each fitted leaf's HiddenMargin (LeafFitScannerView.h), from the scanners that gave its points; what
+/// could not be done said as a warning on rank 0 (it is the same on every rank).
+void JudgeViews(const plantmorph::Run& run, vtkMultiProcessController* controller, const LeafInput& in,
+  const std::vector<std::size_t>& owned, const OwnedLeaves& leaves, const Eigen::Vector3d& up, OwnedFits& fits)
+{
+  std::vector<plantmorph::fittable::LeafView> views;
+  for (Piece& piece : fits.pieces)
+  {
+    plantmorph::fittable::LeafView view;
+    view.fit = &piece.fit;
+    view.leaf = in.separate ? -1 : static_cast<std::int64_t>(owned[piece.group]);
+    for (const int s : leaves.scanner[piece.group])
+      if (s >= 0)
+      {
+        if (view.pointsFrom.size() <= static_cast<std::size_t>(s))
+          view.pointsFrom.resize(static_cast<std::size_t>(s) + 1, 0.0);
+        view.pointsFrom[static_cast<std::size_t>(s)] += 1.0;
+      }
+    views.push_back(std::move(view));
+  }
+  plantmorph::fittable::ScanRanges scan = in.scan;
+  if (!in.separate && !scan.scanner.empty()) // without LeafIdArray the blades are not known before the fit
+  {
+    scan.leaf.assign(in.points.size(), -1);
+    for (const auto& [leaf, members] : in.members)
+      for (const vtkIdType i : members)
+        scan.leaf[static_cast<std::size_t>(i)] = leaf;
+  }
+  const std::string warning = plantmorph::fittable::SetHiddenMargins(controller, in.points, scan, up, views);
+  if (!warning.empty() && run.Rank() == 0)
+    run.WarnHere(warning);
 }
 
 /// Says, as a warning, how the points were cut into separate blades (without LeafIdArray).
@@ -658,7 +699,9 @@ void vtkLeafFitFilter::Execute(plantmorph::Run& run)
         ? "LeafIdArray: no point has a LeafId of 0 or more (a negative LeafId is a point on no leaf)"
         : "Input: the point cloud has no points (LeafFitFilter fits the points of one or more scanned leaves)");
   const std::vector<std::size_t> owned = exchange.Owned();
-  const OwnedFits fits = FitOwned(controller, SendPoints(exchange, in), Options(this), in.separate);
+  const OwnedLeaves leaves = SendPoints(exchange, in);
+  OwnedFits fits = FitOwned(controller, leaves, Options(this), in.separate);
+  JudgeViews(run, controller, in, owned, leaves, Options(this).up, fits);
   WarnSeparation(in, fits, run);
   std::string errors;
   const std::vector<plantmorph::fittable::Row> rows = PieceRows(in, owned, fits, run, errors);

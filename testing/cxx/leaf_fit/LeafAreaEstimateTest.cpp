@@ -299,6 +299,82 @@ TEST(LeafAreaEstimate, PiecesTakenWholeByTheirShapeLeaveAPlantOfOneSizeOneSizeAn
   }
 }
 
+TEST(LeafAreaEstimate, PiecesWhoseMarginTheScannerSawHiddenAreNotTakenWholeAndGetThePlantsSize)
+{
+  // The plant of the test above: six blades seen whole and seven smaller copies of the shape, which the shape alone
+  // takes for leaves of another size (they are more than the blades). With the scanners' view known, the copies'
+  // margins are hidden over 0.6 of them and the blades' over 0.05: the shape is the blades', and every copy is a
+  // piece of a blade of the plant's one size.
+  const double a = 2.0, b = a / 1.5, whole = Pi * a * b;
+  std::vector<LeafTraits> traits = SixWholeLeaves(a, b);
+  for (LeafTraits& blade : traits)
+    blade.hiddenMargin = 0.05;
+  for (double piece : { 0.3, 0.5, 0.6, 0.7, 0.75, 0.8, 0.85 })
+  {
+    traits.push_back(CutEllipse(a * piece, b * piece, 1, 1));
+    traits.back().hiddenMargin = 0.6;
+  }
+  const LeafAreaEstimates out = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  ASSERT_TRUE(out.shape.valid);
+  EXPECT_EQ(out.shape.wholeLeaves, 6);
+  EXPECT_TRUE(out.shape.oneSize);
+  EXPECT_EQ(out.shape.smallerLeaves, 0);
+  for (std::size_t i = 0; i < traits.size(); ++i)
+    if (i < 6)
+    {
+      EXPECT_EQ(out.rule[i], static_cast<int>(AreaRule::Fitted)) << i;
+      EXPECT_EQ(out.area[i], traits[i].area) << i;
+    }
+    else
+    {
+      EXPECT_EQ(out.rule[i], static_cast<int>(AreaRule::Piece)) << i;
+      EXPECT_NEAR(out.area[i] / whole, 1.0, 0.01) << i;
+    }
+  // A margin hidden up to MaxHiddenMarginOfWhole still counts as seen whole; past it, not.
+  for (std::size_t i = 6; i < traits.size(); ++i)
+    traits[i].hiddenMargin = MaxHiddenMarginOfWhole;
+  EXPECT_EQ(EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true)).shape.wholeLeaves, 13);
+}
+
+TEST(LeafAreaEstimate, LeavesSeenWholeByTheViewOfSeveralSizesAreNotTakenForOneSize)
+{
+  // A plant of three leaf sizes (0.5, 0.75 and 1 of a length) seen from one position: its whole leaves by the view
+  // are four of each size, its five largest alike. Their larger half is of one size; all of them are not, and the
+  // plant is not taken for one of one size. A leaf narrower than the plant's shape is cut along a side and keeps its
+  // long extent (AreaRule 2, not raised to a size); a corner of a leaf (its view blocked) gets the shape's estimate.
+  const double a = 2.0, b = a / 1.5;
+  std::vector<LeafTraits> traits;
+  for (double size : { 0.5, 0.75, 1.0 })
+    for (double stretch : { 1.0, 1.005, 0.995, 1.01 })
+    {
+      traits.push_back(CutEllipse(a * size * stretch, b * size * stretch, 1, 1));
+      traits.back().hiddenMargin = 0.1;
+    }
+  traits.push_back(CutEllipse(a, 0.6 * b, 1, 1)); // a side cut off by the segmentation: its margin seen free
+  traits.back().hiddenMargin = 0.05;
+  const std::size_t odd = traits.size() - 1;
+  traits.push_back(CornerOfEllipse(a, b, -0.2, 0.0));
+  traits.back().hiddenMargin = 0.7;
+  const std::size_t corner = traits.size() - 1;
+  const LeafAreaEstimates out = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  ASSERT_TRUE(out.shape.valid);
+  EXPECT_TRUE(out.shape.fromView);
+  EXPECT_FALSE(out.shape.oneSize);
+  EXPECT_GT(out.shape.areaSpread, 0.3);
+  EXPECT_EQ(out.rule[odd], static_cast<int>(AreaRule::ShortFromLong));
+  EXPECT_NEAR(out.area[odd] / (Pi * a * b), 1.0, 0.03);
+  EXPECT_EQ(out.rule[corner], static_cast<int>(AreaRule::LongFromShort));
+  EXPECT_GT(out.area[corner], traits[corner].area);
+  // Without the view the same leaves are judged by their shape alone, and the spread of the larger half (kept for
+  // the pieces the shape takes whole) calls the plant one of one size: the odd leaf is cut and raised to that size.
+  for (LeafTraits& t : traits)
+    t.hiddenMargin = std::numeric_limits<double>::quiet_NaN();
+  const LeafAreaEstimates shapeOnly = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  EXPECT_FALSE(shapeOnly.shape.fromView);
+  EXPECT_TRUE(shapeOnly.shape.oneSize);
+  EXPECT_EQ(shapeOnly.rule[odd], static_cast<int>(AreaRule::PlantSize));
+}
+
 TEST(LeafAreaEstimate, ACurledOrTurnedLeafSeenWholeIsWhole)
 {
   // The shape is read from the arc lengths on the blade (Length, Width), not from the projected extents: a leaf
@@ -354,7 +430,12 @@ TEST(LeafAreaEstimate, TraitsReadBackFromATraitsRowAreTheTraits)
   EXPECT_EQ(TraitValues(back), values);
   EXPECT_EQ(back.projectedWidth, values[3]);
   EXPECT_EQ(back.coverage, values[20]);
-  EXPECT_EQ(TraitValues(TraitsFromValues({ 1.0, 2.0 })), TraitValues(LeafTraits())); // not a row: default traits
+  EXPECT_EQ(back.hiddenMargin, values[24]);
+  // Not a row: default traits (HiddenMargin NaN, not known, in both).
+  const std::vector<double> fallback = TraitValues(TraitsFromValues({ 1.0, 2.0 })), plain = TraitValues(LeafTraits());
+  ASSERT_EQ(fallback.size(), plain.size());
+  for (std::size_t k = 0; k < plain.size(); ++k)
+    EXPECT_TRUE(fallback[k] == plain[k] || (std::isnan(fallback[k]) && std::isnan(plain[k]))) << k;
 }
 
 /// Points on a flat ellipse (semi-axes a along X, b along Y) on a jittered grid of step h, kept where x <= u a and

@@ -7,7 +7,7 @@ true leaf (the truth the scan carried), and the fitted areas of the leaves match
 
     pvpython test_plant_pipeline.py --plugin PlantMorph.so --work DIR
 """
-from plantmorph_testing import Checks, load_plugin, parse_arguments, scan_around
+from plantmorph_testing import Checks, load_plugin, nine_leaf_herb, parse_arguments, scan_around, true_leaf_areas
 
 arguments = parse_arguments([("--pvpython", dict(default=None))])
 
@@ -19,11 +19,7 @@ import numpy  # noqa: E402
 load_plugin(arguments.plugin, globals())
 checks = Checks()
 
-blade = LeafOutlineSource()
-tree = TreeFromSketchSource(Preset="Custom", Depth=1, ChildCount=3, Ratio=0.6, Length=4.0, Radius=0.08, LeafCount=3,
-                            LeafScale=1.5, LeafAngle=50.0, Sides=12)
-tree.Leaf = OutputPort(blade, 0)
-plant = AppendGeometry(Input=[OutputPort(tree, 0), OutputPort(tree, 2)])
+tree, plant = nine_leaf_herb(LeafOutlineSource, TreeFromSketchSource)
 scan = scan_around(VirtualScanner, plant, 4, 0.12, 0.0015, 1, maximum_range=5)
 truth = Calculator(Input=scan, ResultArrayName="TrueLeafId", ResultArrayType="Int", Function="LeafId")
 segmentation = PlantSegmentationFilter(Input=truth, UpAxis="Y")
@@ -39,10 +35,7 @@ found = vtk_to_numpy(cloud.GetPointData().GetArray("LeafId"))
 true_leaf = vtk_to_numpy(cloud.GetPointData().GetArray("TrueLeafId"))
 leaves = servermanager.Fetch(tree, idx=2)
 points = vtk_to_numpy(leaves.GetPoints().GetData())
-cells = vtk_to_numpy(leaves.GetPolys().GetConnectivityArray()).reshape(-1, 3)
-a, b3, c = points[cells[:, 0]], points[cells[:, 1]], points[cells[:, 2]]
-true_area = numpy.bincount(vtk_to_numpy(leaves.GetCellData().GetArray("LeafId")),
-                           weights=0.5 * numpy.linalg.norm(numpy.cross(b3 - a, c - a), axis=1))
+true_area = true_leaf_areas(leaves)
 fitted = dict(zip(vtk_to_numpy(traits.GetColumnByName("LeafId")).tolist(),
                   vtk_to_numpy(traits.GetColumnByName("Area")).tolist())) if traits.GetNumberOfRows() else {}
 errors, matched = [], set()
