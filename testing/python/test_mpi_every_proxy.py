@@ -202,6 +202,9 @@ checks.check(set(measured) == set(reference["split_comparison"]) and all(
     "a cloud split over %d ranks gives the serial statistics: %s" % (ranks, {
         k: (measured.get(k), v) for k, v in reference["split_comparison"].items() if measured.get(k) != v}))
 measured = statistics(servermanager.Fetch(split_fit, idx=2))
-checks.check(measured == reference["split_fit"], "a scan split over %d ranks gives the serial traits bit for bit: %s" % (
-    ranks, {k: (measured.get(k), v) for k, v in reference["split_fit"].items() if measured.get(k) != v}))
+# NaN is NaN: HiddenMargin (one flat leaf seen from one place gives no scanner position) is NaN in both runs.
+differing = {k: (measured.get(k), v) for k, v in reference["split_fit"].items()
+             if not (measured.get(k) == v or (k in measured and math.isnan(measured[k]) and math.isnan(v)))}
+checks.check(set(measured) == set(reference["split_fit"]) and not differing,
+             "a scan split over %d ranks gives the serial traits bit for bit: %s" % (ranks, differing))
 checks.finish()

@@ -198,9 +198,11 @@ std::string SetHiddenMargins(vtkMultiProcessController* controller, const std::v
     1);
   if (unsolved.empty())
     return {};
-  return "Range and ScanPosition: the ranges of the points of ScanPosition " + unsolved +
-    " are no distances from one place (a moving scanner, or a Range of another meaning), so no scanner position "
-    "was solved for them and HiddenMargin leaves them out (NaN where no other position saw the leaf)";
+  return "Range and ScanPosition: no scanner position was solved from the ranges of the points of ScanPosition " +
+    unsolved +
+    " (their ranges are no distances from one place, as a moving scanner's or a Range of another meaning, or the "
+    "points lie on one plane, which two places see alike), so HiddenMargin leaves them out (NaN where no other "
+    "position saw the leaf)";
 }
 
 } // namespace fittable

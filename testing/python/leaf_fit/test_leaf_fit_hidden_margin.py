@@ -70,6 +70,7 @@ bent_traits = servermanager.Fetch(bent_fit, idx=2)
 checks.check(bent_traits.GetNumberOfRows() == len(ids) and
              bool(numpy.all(numpy.isnan(column(bent_traits, "HiddenMargin")))),
              "a Range that is no distance from one place: HiddenMargin NaN on every row")
-checks.check(any("Range and ScanPosition" in w and "no distances from one place" in w for w in said.warnings),
+checks.check(any("Range and ScanPosition: no scanner position" in w and "no distances from one place" in w
+                 for w in said.warnings),
              "a warning says the ranges gave no scanner position: %s" % [w[:80] for w in said.warnings][:3])
 checks.finish()
