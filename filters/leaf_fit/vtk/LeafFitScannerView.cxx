@@ -92,9 +92,10 @@ std::vector<double> DepthCells(
     for (std::size_t s = 0; s < leaf.pointsFrom.size() && s < positions.size(); ++s)
       if (positions[s] && leaf.pointsFrom[s] >= MinPointsForSpacing && leaf.pointsFrom[s] >= ScannerSawShare * total)
       {
+        // A share f of the leaf's points: that scanner's own points are f times as dense, 1 / sqrt(f) as far apart.
         local.push_back(static_cast<double>(s));
         local.push_back(
-          leaf.fit->traits.spacing * std::sqrt(leaf.pointsFrom[s] / total) / (centre - *positions[s]).norm());
+          leaf.fit->traits.spacing / std::sqrt(leaf.pointsFrom[s] / total) / (centre - *positions[s]).norm());
       }
   }
   const std::vector<double> all = ValuesOfAllRanks(controller, local);
