@@ -166,17 +166,22 @@ double DepthMap::NearestAround(const Eigen::Vector3d& point, std::int64_t own) c
   return least;
 }
 
+Eigen::Vector3d BladeCentre(const LeafFitResult& fit)
+{
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : fit.points)
+    centre += p / static_cast<double>(fit.points.size());
+  return centre;
+}
+
 namespace
 {
 /// The probes past one margin polyline (ids into the blade's points, base to apex): MarginProbeSpacings spacings out
-/// from each inner vertex, in the tangent plane, away from the blade's centre (one side for the whole margin).
-std::vector<Eigen::Vector3d> MarginProbes(const LeafFitResult& fit, const std::vector<int>& margin, double spacing)
+/// from each inner vertex, in the tangent plane, away from the blade's `centre` (one side for the whole margin).
+std::vector<Eigen::Vector3d> MarginProbes(
+  const LeafFitResult& fit, const std::vector<int>& margin, const Eigen::Vector3d& centre, double spacing)
 {
   std::vector<Eigen::Vector3d> probes, outward;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : fit.points)
-    centre += p;
-  centre /= static_cast<double>(std::max<std::size_t>(fit.points.size(), 1));
   int away = 0;
   for (std::size_t i = 1; i + 1 < margin.size(); ++i)
   {
@@ -203,8 +208,9 @@ double HiddenMargin(
   if (sawIt.empty() || !(spacing > 0.0) || fit.normals.size() != fit.points.size())
     return nan;
   std::size_t probes = 0, hidden = 0;
+  const Eigen::Vector3d centre = BladeCentre(fit);
   for (const std::vector<int>* margin : { &fit.leftMargin, &fit.rightMargin })
-    for (const Eigen::Vector3d& probe : MarginProbes(fit, *margin, spacing))
+    for (const Eigen::Vector3d& probe : MarginProbes(fit, *margin, centre, spacing))
     {
       ++probes;
       const bool blocked = std::all_of(sawIt.begin(), sawIt.end(), [&](const DepthMap* view) {

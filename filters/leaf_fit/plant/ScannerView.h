@@ -120,6 +120,9 @@ struct DepthMap
   double NearestAround(const Eigen::Vector3d& point, std::int64_t own) const;
 };
 
+/// The centre of the fitted blade: the mean of its mesh points (zero for a blade of none).
+Eigen::Vector3d BladeCentre(const LeafFitResult& fit);
+
 /// The share of the fitted blade's margin past which every scanner of `sawIt` had its view blocked by a point not on
 /// leaf `own` (the header's probes, `spacing` the leaf's point spacing); NaN when `sawIt` is empty or the fit has no
 /// margin.

@@ -5,6 +5,7 @@
 #include "ScannerView.h"
 
 #include <plantmorph/DataContract.h>
+#include <plantmorph/statistics/Median.h>
 
 #include "PlantMorphAlgorithmHooks.h" // SMPFor
 
@@ -66,11 +67,13 @@ Positions SolvePositions(
   return positions;
 }
 
-double Median(std::vector<double> values)
+/// The points the leaf holds from all scanners together.
+double PointsOf(const LeafView& leaf)
 {
-  const std::size_t half = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(half), values.end());
-  return values[half];
+  double total = 0.0;
+  for (const double n : leaf.pointsFrom)
+    total += n;
+  return total;
 }
 
 /// Collective: each scanner's depth cell (DepthCellSpacings times its angular spacing: the median over the fitted
@@ -81,14 +84,10 @@ std::vector<double> DepthCells(
   std::vector<double> local; // (scanner, angular spacing) pairs
   for (const LeafView& leaf : leaves)
   {
-    double total = 0.0;
-    for (const double n : leaf.pointsFrom)
-      total += n;
     if (!leaf.fit || !leaf.fit->error.empty() || !(leaf.fit->traits.spacing > 0.0) || leaf.fit->points.empty())
       continue;
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& p : leaf.fit->points)
-      centre += p / static_cast<double>(leaf.fit->points.size());
+    const double total = PointsOf(leaf);
+    const Eigen::Vector3d centre = BladeCentre(*leaf.fit);
     for (std::size_t s = 0; s < leaf.pointsFrom.size() && s < positions.size(); ++s)
       if (positions[s] && leaf.pointsFrom[s] >= MinPointsForSpacing && leaf.pointsFrom[s] >= ScannerSawShare * total)
       {
@@ -187,9 +186,7 @@ std::string SetHiddenMargins(vtkMultiProcessController* controller, const std::v
       LeafView& leaf = leaves[k];
       if (!leaf.fit || !leaf.fit->error.empty())
         return;
-      double total = 0.0;
-      for (const double n : leaf.pointsFrom)
-        total += n;
+      const double total = PointsOf(leaf);
       std::vector<const DepthMap*> sawIt;
       for (std::size_t s = 0; s < leaf.pointsFrom.size() && s < maps.size(); ++s)
         if (maps[s].cells.Valid() && leaf.pointsFrom[s] > 0.0 && leaf.pointsFrom[s] >= ScannerSawShare * total)

@@ -596,7 +596,7 @@ std::vector<plantmorph::fittable::Row> PieceRows(const LeafInput& in, const std:
 
 /// Collective: each fitted leaf's HiddenMargin (LeafFitScannerView.h), from the scanners that gave its points; what
 /// could not be done said as a warning on rank 0 (it is the same on every rank).
-void JudgeViews(const plantmorph::Run& run, vtkMultiProcessController* controller, const LeafInput& in,
+void JudgeViews(const plantmorph::Run& run, vtkMultiProcessController* controller, LeafInput& in,
   const std::vector<std::size_t>& owned, const OwnedLeaves& leaves, const Eigen::Vector3d& up, OwnedFits& fits)
 {
   std::vector<plantmorph::fittable::LeafView> views;
@@ -614,15 +614,14 @@ void JudgeViews(const plantmorph::Run& run, vtkMultiProcessController* controlle
       }
     views.push_back(std::move(view));
   }
-  plantmorph::fittable::ScanRanges scan = in.scan;
-  if (!in.separate && !scan.scanner.empty()) // without LeafIdArray the blades are not known before the fit
+  if (!in.separate && !in.scan.scanner.empty()) // without LeafIdArray the blades are not known before the fit
   {
-    scan.leaf.assign(in.points.size(), -1);
+    in.scan.leaf.assign(in.points.size(), -1);
     for (const auto& [leaf, members] : in.members)
       for (const vtkIdType i : members)
-        scan.leaf[static_cast<std::size_t>(i)] = leaf;
+        in.scan.leaf[static_cast<std::size_t>(i)] = leaf;
   }
-  const std::string warning = plantmorph::fittable::SetHiddenMargins(controller, in.points, scan, up, views);
+  const std::string warning = plantmorph::fittable::SetHiddenMargins(controller, in.points, in.scan, up, views);
   if (!warning.empty() && run.Rank() == 0)
     run.WarnHere(warning);
 }
