@@ -43,10 +43,10 @@ from the plant's leaves seen whole) beside Area: the matched leaves' median erro
 plant's sum; a fourth adds the Plant table's UnassignedLeafArea (the segmentation's leaf points it gave no leaf,
 LeafId -1 and Organ 1: LeafFitFilter gets the whole segmented cloud and counts them) to that sum. `--fit-csv FILE`
 writes one line per matched leaf (the found and true LeafId, points, areas, the area on the true labels, the share
-seen, EstimatedArea and AreaRule, Status and Message). With `--fit` it also counts the matched leaves whose fitted
-base (the Outline's midvein end, LeafUV (0, 0)) lies more than a quarter of the leaf's length from the true base (the
-blade's points of the smallest TCoords v): turned end to end, or based at a cut edge; `--orient-by-wood 0` fits
-without the wood's help (LeafFitFilter's OrientByWood) to compare.
+seen, EstimatedArea and AreaRule, HiddenMargin, ExtentsSeen, Length and Width, Status and Message). With `--fit` it
+also counts the matched leaves whose fitted base (the Outline's midvein end, LeafUV (0, 0)) lies more than a quarter
+of the leaf's length from the true base (the blade's points of the smallest TCoords v): turned end to end, or based
+at a cut edge; `--orient-by-wood 0` fits without the wood's help (LeafFitFilter's OrientByWood) to compare.
 """
 import argparse
 import math
@@ -315,8 +315,9 @@ def table_bases(segmentation, match, truth_bases, scanned, truth):
 
 def fitted_rows(cloud, true_blades=False):
     """LeafFitFilter on `cloud` by its LeafId (the found leaves', LeafId >= 0), or with `true_blades` on the scan's
-    points of Organ 1 alone (the true blades'): (LeafId, Area, Status, Message, EstimatedArea, AreaRule) per Traits
-    row (a plugin without EstimatedArea: Area and NaN), the CPU time and the Plant table's UnassignedLeafArea (0
+    points of Organ 1 alone (the true blades'): (LeafId, Area, Status, Message, EstimatedArea, AreaRule, HiddenMargin,
+    ExtentsSeen, Length, Width) per Traits row (a plugin without EstimatedArea: Area and NaN; without the view's
+    columns, NaN), the CPU time and the Plant table's UnassignedLeafArea (0
     without it). The found leaves' fit gets the whole segmented cloud: its points of LeafId -1 are on no leaf, and
     those of them with Organ 1 (leaf points the segmentation gave no leaf) are the Plant table's
     UnassignedLeafPoints."""
@@ -351,6 +352,10 @@ def fitted_rows(cloud, true_blades=False):
     rows = list(zip(*(column(c) for c in names))) if traits.GetNumberOfRows() else []
     if names[-1] == "Area":
         rows = [r[:5] + (float("nan"),) for r in rows]
+    # the view's columns and the extents, for the CSV (NaN from a build without them)
+    view = [column(c) if traits.GetColumnByName(c) else [float("nan")] * len(rows)
+            for c in ("HiddenMargin", "ExtentsSeen", "Length", "Width")]
+    rows = [r + tuple(v[k] for v in view) for k, r in enumerate(rows)]
     Delete(fit)
     if leaf_points:
         Delete(leaf_points)
@@ -361,17 +366,17 @@ def fit_scores(fits, s, true_area, label):
     """Areas of the fitted rows against the truth: the matched leaves' errors, the plant's sum, the failures."""
     fitted = [r for r in fits if int(r[2]) != 2]
     errors, seen, estimated = [], [], []
-    for leaf_id, area, status, message, estimate, rule in fitted:
+    for leaf_id, area, status, message, estimate, rule, hidden, extents, length, width in fitted:
         tid = s["match"].get(int(leaf_id))
         if tid is not None:
             truth = true_area[tid]
             errors.append((area - truth) / truth)
             estimated.append((estimate - truth) / truth)
             seen.append(s["seen"][tid] / truth)
-            fit_csv.append("%s,%d,%d,%d,%d,%.6g,%.6g,%.5f,%d,%.6g,%.4f,%.6g,%g,%s" % (
+            fit_csv.append("%s,%d,%d,%d,%d,%.6g,%.6g,%.5f,%d,%.6g,%.4f,%.6g,%g,%.4g,%g,%.6g,%.6g,%s" % (
                 label, leaf_id, tid, s["found_points"][int(leaf_id)], s["sizes"][tid], area, truth, errors[-1],
-                int(status), s["true_fits"].get(tid, float("nan")), s["seen"][tid] / truth, estimate, rule,
-                message.replace(",", ";")))
+                int(status), s["true_fits"].get(tid, float("nan")), s["seen"][tid] / truth, estimate, rule, hidden,
+                extents, length, width, message.replace(",", ";")))
     errors, estimated = numpy.abs(numpy.array(errors)), numpy.abs(numpy.array(estimated))
     # the fit alone on the true labels, over the same true leaves: the error the segmentation did not add
     alone = numpy.array([abs(s["true_fits"][t] / true_area[t] - 1) for t in s["match"].values() if t in s["true_fits"]])
@@ -393,7 +398,7 @@ def fit_scores(fits, s, true_area, label):
 
 
 fit_csv = ["scan,LeafId,TrueLeafId,Points,TruePoints,FittedArea,TrueArea,Error,Status,AreaOnTrueLabels,SeenFraction,"
-           "EstimatedArea,AreaRule,Message"]
+           "EstimatedArea,AreaRule,HiddenMargin,ExtentsSeen,Length,Width,Message"]
 rows = []
 for name in arguments.plants.split(","):
     step = PLANTS[name][3]

@@ -149,6 +149,9 @@ struct LeafTraits
   /// scanner that saw the leaf (ScannerView.h, filters/leaf_fit/plant): the leaf may go on there, hidden. NaN when
   /// the scanners' positions are not known (the input has no Range and ScanPosition point arrays).
   double hiddenMargin = std::numeric_limits<double>::quiet_NaN();
+  /// Which extents the scanners saw whole (ScannerView.h): 1 the Length (the margin about both ends of the midvein
+  /// seen free), 2 the Width (about the widest point of both sides), 3 both, 0 neither; NaN with hiddenMargin.
+  double extentsSeen = std::numeric_limits<double>::quiet_NaN();
   /// The spacing Coverage is measured in: the larger of `spacing` and half the spacing across a line scan's lines
   /// (CrossSpacing), the gaps a scan leaves on the blade (not a column of the table).
   double coverageSpacing = 0;

@@ -192,20 +192,20 @@ std::vector<std::string> TraitNames()
   return { "Length", "Width", "ProjectedLength", "ProjectedWidth", "Area", "ProjectedArea", "HorizontalArea",
     "Perimeter", "AspectRatio", "Bending", "Rolling", "RollingCurvature", "Inclination", "Azimuth",
     "MidveinInclination", "Points", "Inliers", "FitRMS", "FitP95", "FitMax", "Coverage", "Spacing", "BaseFrom",
-    "PetioleLength", "HiddenMargin" };
+    "PetioleLength", "HiddenMargin", "ExtentsSeen" };
 }
 
 namespace
 {
 /// The members of a LeafTraits in TraitNames() order, for TraitValues and TraitsFromValues alike; BaseFrom, the one
 /// integer, is the null entry.
-constexpr std::array<double LeafTraits::*, 25> TraitFields = { &LeafTraits::length, &LeafTraits::width,
+constexpr std::array<double LeafTraits::*, 26> TraitFields = { &LeafTraits::length, &LeafTraits::width,
   &LeafTraits::projectedLength, &LeafTraits::projectedWidth, &LeafTraits::area, &LeafTraits::projectedArea,
   &LeafTraits::horizontalArea, &LeafTraits::perimeter, &LeafTraits::aspectRatio, &LeafTraits::bending,
   &LeafTraits::rolling, &LeafTraits::rollingCurvature, &LeafTraits::inclination, &LeafTraits::azimuth,
   &LeafTraits::midveinInclination, &LeafTraits::points, &LeafTraits::inliers, &LeafTraits::fitRMS, &LeafTraits::fitP95,
   &LeafTraits::fitMax, &LeafTraits::coverage, &LeafTraits::spacing, nullptr, &LeafTraits::petioleLength,
-  &LeafTraits::hiddenMargin };
+  &LeafTraits::hiddenMargin, &LeafTraits::extentsSeen };
 } // namespace
 
 std::vector<double> TraitValues(const LeafTraits& t)

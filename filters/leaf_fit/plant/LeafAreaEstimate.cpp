@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "LeafAreaEstimate.h"
 
-#include "LeafPlant.h" // MinCoverage
+#include "LeafPlant.h"   // MinCoverage
+#include "ScannerView.h" // LengthSeen, WidthSeen
 
 #include <algorithm>
 #include <cmath>
@@ -164,6 +165,20 @@ double PlantSizeArea(const std::vector<LeafTraits>& traits, const std::vector<bo
   return area;
 }
 
+/// On a plant of one size, a cut leaf's estimate `out.area[i]` (long extent `longExtent`) to the plant's size when
+/// PlantSizeArea says so (AreaRule 4).
+void ToPlantSize(const std::vector<LeafTraits>& traits, LeafAreaEstimates& out, std::size_t i, double longExtent)
+{
+  const double plantSize = out.shape.oneSize
+    ? PlantSizeArea(traits, out.whole, out.shape, longExtent, traits[i].area, out.area[i])
+    : out.area[i];
+  if (plantSize != out.area[i])
+  {
+    out.area[i] = plantSize;
+    out.rule[i] = static_cast<int>(AreaRule::PlantSize);
+  }
+}
+
 /// A leaf not seen whole (`out.whole[i]` false) whose ratio lies outside the whole leaves' range: AreaRule 1 or 2
 /// and the shape's estimate, or AreaRule 4 on a plant of one size (PlantSizeArea). Inside the range it keeps its Area.
 void EstimateCutLeaf(const std::vector<LeafTraits>& traits, LeafAreaEstimates& out, std::size_t i)
@@ -182,14 +197,48 @@ void EstimateCutLeaf(const std::vector<LeafTraits>& traits, LeafAreaEstimates& o
   else
     return;
   out.area[i] = std::max(traits[i].area, out.shape.fill * longExtent * longExtent);
-  const double plantSize = out.shape.oneSize
-    ? PlantSizeArea(traits, out.whole, out.shape, longExtent, traits[i].area, out.area[i])
-    : out.area[i];
-  if (plantSize != out.area[i])
-  {
-    out.area[i] = plantSize;
-    out.rule[i] = static_cast<int>(AreaRule::PlantSize);
-  }
+  ToPlantSize(traits, out, i, longExtent);
+}
+
+/// A leaf whose margin was hidden past more than MaxHiddenMarginOfWhole of it, one of whose extents the scanners saw
+/// whole (ExtentsSeen): its area from the extents seen and the plant's Length over Width and fill of Length x Width
+/// (AreaRule 6, never less than its Area; on a plant of one size, ToPlantSize). False, the leaf unchanged, when the
+/// view did not see an extent whole or the plant's whole leaves do not agree on which way their Length runs.
+bool EstimateFromSeenExtents(const std::vector<LeafTraits>& traits, LeafAreaEstimates& out, std::size_t i)
+{
+  const LeafTraits& t = traits[i];
+  if (!out.shape.extentsAgree || !(t.hiddenMargin > MaxHiddenMarginOfWhole) || !std::isfinite(t.extentsSeen))
+    return false;
+  const int seen = static_cast<int>(t.extentsSeen);
+  const bool length = (seen & LengthSeen) != 0 && t.length > 0.0;
+  const bool width = (seen & WidthSeen) != 0 && t.width > 0.0;
+  if (!length && !width)
+    return false;
+  const double l = length ? t.length : out.shape.lengthOverWidth * t.width;
+  const double w = width ? t.width : t.length / out.shape.lengthOverWidth;
+  out.area[i] = std::max(t.area, out.shape.fillOfExtents * l * w);
+  out.rule[i] = static_cast<int>(AreaRule::FromSeenExtents);
+  ToPlantSize(traits, out, i, std::max(l, w));
+  return true;
+}
+
+/// The plant's Length over Width and fill of Length x Width, from the whole leaves, when the view says which leaves
+/// are whole (PlantShape::fromView) and their log Length over Width spreads by at most MaxAxisSpread.
+void ExtentsOfWholeLeaves(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, PlantShape& shape)
+{
+  std::vector<double> ratio, fill;
+  for (std::size_t i = 0; i < whole.size(); ++i)
+    if (whole[i] && traits[i].length > 0.0 && traits[i].width > 0.0)
+    {
+      ratio.push_back(std::log(traits[i].length / traits[i].width));
+      fill.push_back(std::log(traits[i].area / (traits[i].length * traits[i].width)));
+    }
+  if (!shape.fromView || static_cast<int>(ratio.size()) < MinWholeLeaves)
+    return;
+  const double centre = Median(ratio);
+  shape.lengthOverWidth = std::exp(centre);
+  shape.fillOfExtents = std::exp(Median(fill));
+  shape.extentsAgree = RobustSpread(ratio, centre) <= MaxAxisSpread;
 }
 
 /// The plant's size leaves (SizeLeafAreas) and the leaves taken whole under them: their counts, and the size leaves'
@@ -265,6 +314,7 @@ LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const
     SizeOfWholeLeaves(traits, out.whole, out.shape);
     out.shape.oneSize = out.shape.areaSpread <= OneSizeSpread;
     CountSizeLeaves(traits, out.whole, out.shape);
+    ExtentsOfWholeLeaves(traits, out.whole, out.shape);
   }
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -274,7 +324,7 @@ LeafAreaEstimates EstimateLeafAreas(const std::vector<LeafTraits>& traits, const
     double r = 0.0, f = 0.0;
     if (!out.shape.valid || !LeafShape(traits[i], r, f))
       continue;
-    if (!out.whole[i])
+    if (!out.whole[i] && !EstimateFromSeenExtents(traits, out, i))
       EstimateCutLeaf(traits, out, i);
     if (out.rule[i] == static_cast<int>(AreaRule::Fitted) && out.shape.oneSize)
       EstimatePiece(traits, out, i);

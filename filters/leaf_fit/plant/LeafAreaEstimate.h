@@ -74,12 +74,13 @@ namespace plantmorph
 /// How a leaf's EstimatedArea was made (the Traits column AreaRule).
 enum class AreaRule
 {
-  Fitted = 0,        ///< its own Area: its shape is the plant's (seen whole, or cut where the shape cannot tell)
-  LongFromShort = 1, ///< rounder than the plant's leaves: its long extent from its short one (a tip or base hidden)
-  ShortFromLong = 2, ///< narrower than the plant's leaves: its short extent from its long one (a side hidden)
-  NoPlantShape = 3,  ///< its own Area: fewer than MinWholeLeaves leaves seen whole give no plant shape
-  PlantSize = 4,     ///< cut (rule 1 or 2) on a plant of one leaf size: the size leaves' median Area (see above)
-  Piece = 5          ///< the plant's shape but under the plant's one leaf size: a piece, the size leaves' median Area
+  Fitted = 0,         ///< its own Area: its shape is the plant's (seen whole, or cut where the shape cannot tell)
+  LongFromShort = 1,  ///< rounder than the plant's leaves: its long extent from its short one (a tip or base hidden)
+  ShortFromLong = 2,  ///< narrower than the plant's leaves: its short extent from its long one (a side hidden)
+  NoPlantShape = 3,   ///< its own Area: fewer than MinWholeLeaves leaves seen whole give no plant shape
+  PlantSize = 4,      ///< cut (rule 1, 2 or 6) on a plant of one leaf size: the size leaves' median Area (see above)
+  Piece = 5,          ///< the plant's shape but under the plant's one leaf size: a piece, the size leaves' median Area
+  FromSeenExtents = 6 ///< its margin hidden in part: from the extents the scanners saw whole (ExtentsSeen)
 };
 
 /// Leaves seen whole needed for the plant's shape.
@@ -89,6 +90,10 @@ inline constexpr int MinWholeLeaves = 3;
 /// scanned from one, two and four positions, 86-91 % of the leaves with at most 0.2 hidden were seen whole (at least
 /// 97 % of their true area), 0-2 % of those with over 0.4; between, about half.
 inline constexpr double MaxHiddenMarginOfWhole = 0.25;
+/// The largest robust spread of the log Length over Width of the leaves seen whole for AreaRule 6: above it the
+/// plant's leaves do not agree on which way their Length runs (a fan or round blade whose midvein the fit may lay
+/// either way), and a leaf's seen Length says nothing of its Width.
+inline constexpr double MaxAxisSpread = 0.1;
 /// Robust spreads (1.4826 x the median absolute deviation) about the plant's median within which a leaf is whole.
 inline constexpr double SpreadsOfWhole = 3.0;
 /// The least spread of the log ratio and log fill taken for the whole leaves: an extent is measured to about a point
@@ -123,6 +128,9 @@ struct PlantShape
   /// among them, so the spread of their log Area is the larger of their larger half's and that of all of them (a
   /// robust spread: a few leaves the segmentation cut do not widen it).
   bool fromView = false;
+  double lengthOverWidth = 0; ///< median Length over Width of the whole leaves (with fromView)
+  double fillOfExtents = 0;   ///< median Area over Length x Width of the whole leaves (with fromView)
+  bool extentsAgree = false;  ///< fromView, and the whole leaves' log Length over Width spread at most MaxAxisSpread
 };
 
 struct LeafAreaEstimates

@@ -390,7 +390,7 @@ std::string ColumnUnit(const std::string& column, const std::string& lengthUnit)
     { "Rolling", 3 }, { "Inclination", 3 }, { "Azimuth", 3 }, { "MidveinInclination", 3 }, { "MeanLeafInclination", 3 },
     { "AspectRatio", 4 }, { "Coverage", 4 }, { "HiddenMargin", 4 }, { "InclinationBetaMu", 4 },
     { "InclinationBetaNu", 4 }, { "Points", 5 }, { "Inliers", 5 }, { "LeafCount", 5 }, { "FailedLeaves", 5 },
-    { "LeafId", 6 }, { "BaseFrom", 6 }, { "Status", 6 }, { "Message", 7 }, { "LengthUnit", 7 }
+    { "LeafId", 6 }, { "BaseFrom", 6 }, { "ExtentsSeen", 6 }, { "Status", 6 }, { "Message", 7 }, { "LengthUnit", 7 }
   };
   const auto it = kinds.find(column);
   if (it == kinds.end())

@@ -176,12 +176,20 @@ Eigen::Vector3d BladeCentre(const LeafFitResult& fit)
 
 namespace
 {
+/// A probe past a margin vertex: the vertex (an id into the blade's points) and where the probe lies.
+struct Probe
+{
+  int vertex = 0;
+  Eigen::Vector3d at = Eigen::Vector3d::Zero();
+};
+
 /// The probes past one margin polyline (ids into the blade's points, base to apex): MarginProbeSpacings spacings out
 /// from each inner vertex, in the tangent plane, away from the blade's `centre` (one side for the whole margin).
-std::vector<Eigen::Vector3d> MarginProbes(
+std::vector<Probe> MarginProbes(
   const LeafFitResult& fit, const std::vector<int>& margin, const Eigen::Vector3d& centre, double spacing)
 {
-  std::vector<Eigen::Vector3d> probes, outward;
+  std::vector<Probe> probes;
+  std::vector<Eigen::Vector3d> outward;
   int away = 0;
   for (std::size_t i = 1; i + 1 < margin.size(); ++i)
   {
@@ -191,34 +199,90 @@ std::vector<Eigen::Vector3d> MarginProbes(
       continue;
     out.normalize();
     away += out.dot(fit.points[margin[i]] - centre) >= 0.0 ? 1 : -1;
-    probes.push_back(fit.points[margin[i]]);
+    probes.push_back({ margin[i], fit.points[margin[i]] });
     outward.push_back(out);
   }
   const double step = (away >= 0 ? 1.0 : -1.0) * MarginProbeSpacings * spacing;
   for (std::size_t k = 0; k < probes.size(); ++k)
-    probes[k] += step * outward[k];
+    probes[k].at += step * outward[k];
   return probes;
 }
+
+/// Probes seen and hidden in one window of the margin.
+struct Window
+{
+  int probes = 0, hidden = 0;
+  void Add(bool blocked)
+  {
+    ++this->probes;
+    this->hidden += blocked ? 1 : 0;
+  }
+  bool Seen() const { return this->probes > 0 && this->hidden <= MaxHiddenOfSeenWindow * this->probes; }
+};
+
+/// Where along the midvein (the flat layout's y) the blade's margin `margin` lies farthest from it (|x|).
+double WidestAt(const LeafFitResult& fit, const std::vector<int>& margin)
+{
+  double widest = -1.0, at = 0.0;
+  for (const int v : margin)
+    if (std::abs(fit.flat[v].x()) > widest)
+    {
+      widest = std::abs(fit.flat[v].x());
+      at = fit.flat[v].y();
+    }
+  return at;
+}
 } // namespace
+
+MarginView ViewOfMargin(
+  const LeafFitResult& fit, double spacing, const std::vector<const DepthMap*>& sawIt, std::int64_t own)
+{
+  MarginView view;
+  if (sawIt.empty() || !(spacing > 0.0) || fit.normals.size() != fit.points.size())
+    return view;
+  // The extents need the blade laid flat (FitLeaf gives it): the windows are along its midvein.
+  const bool laidFlat = fit.flat.size() == fit.points.size() && !fit.midvein.empty();
+  const double base = laidFlat ? fit.flat[fit.midvein.front()].y() : 0.0;
+  const double apex = laidFlat ? fit.flat[fit.midvein.back()].y() : 0.0;
+  const double window = ExtentWindowShare * std::abs(apex - base);
+  std::size_t probes = 0, hidden = 0;
+  Window baseEnd, apexEnd, sides[2];
+  const Eigen::Vector3d centre = BladeCentre(fit);
+  const std::vector<int>* margins[2] = { &fit.leftMargin, &fit.rightMargin };
+  for (int side = 0; side < 2; ++side)
+  {
+    const double widest = laidFlat ? WidestAt(fit, *margins[side]) : 0.0;
+    for (const Probe& probe : MarginProbes(fit, *margins[side], centre, spacing))
+    {
+      const bool blocked = std::all_of(sawIt.begin(), sawIt.end(), [&](const DepthMap* map) {
+        return map->NearestAround(probe.at, own) < (probe.at - map->position).norm() - BlockerSpacings * spacing;
+      });
+      ++probes;
+      hidden += blocked ? 1 : 0;
+      if (!laidFlat)
+        continue;
+      const double y = fit.flat[probe.vertex].y();
+      if (std::abs(y - base) <= window)
+        baseEnd.Add(blocked);
+      if (std::abs(y - apex) <= window)
+        apexEnd.Add(blocked);
+      if (std::abs(y - widest) <= window)
+        sides[side].Add(blocked);
+    }
+  }
+  if (probes == 0)
+    return view;
+  view.hidden = static_cast<double>(hidden) / static_cast<double>(probes);
+  if (laidFlat)
+    view.extentsSeen =
+      (baseEnd.Seen() && apexEnd.Seen() ? LengthSeen : 0) + (sides[0].Seen() && sides[1].Seen() ? WidthSeen : 0);
+  return view;
+}
 
 double HiddenMargin(
   const LeafFitResult& fit, double spacing, const std::vector<const DepthMap*>& sawIt, std::int64_t own)
 {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  if (sawIt.empty() || !(spacing > 0.0) || fit.normals.size() != fit.points.size())
-    return nan;
-  std::size_t probes = 0, hidden = 0;
-  const Eigen::Vector3d centre = BladeCentre(fit);
-  for (const std::vector<int>* margin : { &fit.leftMargin, &fit.rightMargin })
-    for (const Eigen::Vector3d& probe : MarginProbes(fit, *margin, centre, spacing))
-    {
-      ++probes;
-      const bool blocked = std::all_of(sawIt.begin(), sawIt.end(), [&](const DepthMap* view) {
-        return view->NearestAround(probe, own) < (probe - view->position).norm() - BlockerSpacings * spacing;
-      });
-      hidden += blocked ? 1 : 0;
-    }
-  return probes == 0 ? nan : static_cast<double>(hidden) / static_cast<double>(probes);
+  return ViewOfMargin(fit, spacing, sawIt, own).hidden;
 }
 
 } // namespace plantmorph

@@ -33,6 +33,7 @@
 #include <Eigen/Dense>
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -123,9 +124,34 @@ struct DepthMap
 /// The centre of the fitted blade: the mean of its mesh points (zero for a blade of none).
 Eigen::Vector3d BladeCentre(const LeafFitResult& fit);
 
+/// The share of a window's probes (about an end of the midvein, or about the widest cross-section on one side) that
+/// may be hidden for the margin there to count as seen: as for a whole leaf (MaxHiddenMarginOfWhole).
+inline constexpr double MaxHiddenOfSeenWindow = 0.25;
+/// A window's half-size along the midvein, as a share of the blade's length laid flat.
+inline constexpr double ExtentWindowShare = 0.1;
+
+/// Which of a blade's extents the scanners saw whole (the Traits column ExtentsSeen): its Length when the margin
+/// about both ends of the midvein (the blade's points within ExtentWindowShare of its flat length of the base and of
+/// the apex) was seen free, its Width when the margin about the widest point of each side was (the points of that
+/// margin within ExtentWindowShare of the length of it along the midvein). Seen free: at most MaxHiddenOfSeenWindow
+/// of the window's probes hidden, and at least one probe.
+inline constexpr int LengthSeen = 1, WidthSeen = 2;
+
+/// Where past a fitted blade's margin the view was blocked.
+struct MarginView
+{
+  double hidden = std::numeric_limits<double>::quiet_NaN(); ///< HiddenMargin
+  /// LengthSeen + WidthSeen; NaN with `hidden`, or when the fit has no flat layout and midvein
+  double extentsSeen = std::numeric_limits<double>::quiet_NaN();
+};
+
 /// The share of the fitted blade's margin past which every scanner of `sawIt` had its view blocked by a point not on
-/// leaf `own` (the header's probes, `spacing` the leaf's point spacing); NaN when `sawIt` is empty or the fit has no
-/// margin.
+/// leaf `own` (the header's probes, `spacing` the leaf's point spacing), and which extents the probes show whole;
+/// NaN when `sawIt` is empty or the fit has no margin.
+MarginView ViewOfMargin(
+  const LeafFitResult& fit, double spacing, const std::vector<const DepthMap*>& sawIt, std::int64_t own);
+
+/// ViewOfMargin's share hidden.
 double HiddenMargin(
   const LeafFitResult& fit, double spacing, const std::vector<const DepthMap*>& sawIt, std::int64_t own);
 

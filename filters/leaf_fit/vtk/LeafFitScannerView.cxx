@@ -191,7 +191,9 @@ std::string SetHiddenMargins(vtkMultiProcessController* controller, const std::v
       for (std::size_t s = 0; s < leaf.pointsFrom.size() && s < maps.size(); ++s)
         if (maps[s].cells.Valid() && leaf.pointsFrom[s] > 0.0 && leaf.pointsFrom[s] >= ScannerSawShare * total)
           sawIt.push_back(&maps[s]);
-      leaf.fit->traits.hiddenMargin = HiddenMargin(*leaf.fit, leaf.fit->traits.spacing, sawIt, leaf.leaf);
+      const MarginView view = ViewOfMargin(*leaf.fit, leaf.fit->traits.spacing, sawIt, leaf.leaf);
+      leaf.fit->traits.hiddenMargin = view.hidden;
+      leaf.fit->traits.extentsSeen = view.extentsSeen;
     },
     1);
   if (unsolved.empty())

@@ -6,6 +6,7 @@
 #include "LeafAreaEstimate.h"
 #include "LeafFit.h"
 #include "LeafPlant.h"
+#include "ScannerView.h"
 
 #include <plantmorph/MathConstants.h>
 
@@ -373,6 +374,64 @@ TEST(LeafAreaEstimate, LeavesSeenWholeByTheViewOfSeveralSizesAreNotTakenForOneSi
   EXPECT_FALSE(shapeOnly.shape.fromView);
   EXPECT_TRUE(shapeOnly.shape.oneSize);
   EXPECT_EQ(shapeOnly.rule[odd], static_cast<int>(AreaRule::PlantSize));
+}
+
+TEST(LeafAreaEstimate, ALeafHiddenInPartGetsItsAreaFromTheExtentTheScannerSawWhole)
+{
+  // A plant of three leaf sizes whose whole leaves' Length over Width spreads by +-10 % (as fitted leaves do), so
+  // the whole leaves' range of the ratio is wide: a leaf whose tip is hidden at 0.85 of its semi-axis (0.966 of its
+  // area) is still inside it, and by its shape keeps its Area. The view says its Width was seen whole: from it and
+  // the plant's Length over Width its Length, and so its area (AreaRule 6). A leaf with a side hidden likewise,
+  // from its Length.
+  const double a = 2.0, b = a / 1.5;
+  std::vector<LeafTraits> traits;
+  const std::vector<double> stretch = { 0.9, 0.95, 1.0, 1.05, 1.1 };
+  for (double size : { 0.5, 0.75, 1.0 })
+    for (double s : stretch)
+    {
+      traits.push_back(CutEllipse(a * size, b * size * s, 1, 1));
+      traits.back().hiddenMargin = 0.1;
+      traits.back().extentsSeen = LengthSeen + WidthSeen;
+    }
+  const std::size_t tip = traits.size(), side = tip + 1, free = tip + 2;
+  traits.push_back(CutEllipse(0.8 * a, 0.8 * b, 0.85, 1));
+  traits.back().hiddenMargin = 0.3;
+  traits.back().extentsSeen = WidthSeen;
+  traits.push_back(CutEllipse(0.8 * a, 0.8 * b, 1, 0.85));
+  traits.back().hiddenMargin = 0.3;
+  traits.back().extentsSeen = LengthSeen;
+  traits.push_back(CutEllipse(0.8 * a, 0.8 * b, 0.85, 1)); // its margin seen free: whole, or cut by the segmentation
+  traits.back().hiddenMargin = 0.2;
+  traits.back().extentsSeen = WidthSeen;
+  const double truth = Pi * 0.64 * a * b;
+  const LeafAreaEstimates out = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  ASSERT_TRUE(out.shape.valid);
+  EXPECT_FALSE(out.shape.oneSize);
+  EXPECT_TRUE(out.shape.extentsAgree);
+  EXPECT_NEAR(out.shape.lengthOverWidth, 1.5, 1e-9);
+  EXPECT_NEAR(out.shape.fillOfExtents, Pi / 4.0, 1e-9);
+  EXPECT_LT(traits[tip].area / truth, 0.97);
+  for (const std::size_t i : { tip, side })
+  {
+    EXPECT_EQ(out.rule[i], static_cast<int>(AreaRule::FromSeenExtents)) << i;
+    EXPECT_NEAR(out.area[i] / truth, 1.0, 1e-9) << i;
+  }
+  EXPECT_EQ(out.rule[free], static_cast<int>(AreaRule::Fitted));
+  EXPECT_EQ(out.area[free], traits[free].area);
+  // By its shape alone (no extent seen) the tip-cut leaf is inside the whole leaves' range and keeps its Area.
+  traits[tip].extentsSeen = 0;
+  const LeafAreaEstimates unseen = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  EXPECT_EQ(unseen.rule[tip], static_cast<int>(AreaRule::Fitted));
+  EXPECT_EQ(unseen.area[tip], traits[tip].area);
+  // Whole leaves whose Length runs one way on some and the other way on others (a blade nearly as wide as long whose
+  // midvein the fit may lay either way) say nothing of a leaf's other extent: no AreaRule 6.
+  for (std::size_t i = 0; i < tip; i += 2)
+    std::swap(traits[i].length, traits[i].width);
+  traits[tip].extentsSeen = WidthSeen;
+  const LeafAreaEstimates crossed = EstimateLeafAreas(traits, std::vector<bool>(traits.size(), true));
+  EXPECT_FALSE(crossed.shape.extentsAgree);
+  EXPECT_NE(crossed.rule[tip], static_cast<int>(AreaRule::FromSeenExtents));
+  EXPECT_NE(crossed.rule[side], static_cast<int>(AreaRule::FromSeenExtents));
 }
 
 TEST(LeafAreaEstimate, ACurledOrTurnedLeafSeenWholeIsWhole)

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // ScannerView (filters/leaf_fit/plant/): a scanner's position solved from its points' ranges, its depth map's
 // direction cells, and the share of a blade's margin past which the view was blocked, on a flat square blade seen
-// from above with a plate in front of one side, behind it, or nowhere (the share in closed form: 0, 1/2 or 0).
+// from above with a plate in front of one side, behind it, or nowhere (the share in closed form: 0, 1/2 or 0), and
+// which of a lens-shaped blade's extents the view shows whole with a plate over its apex, its side or both.
 #include "LeafAreaEstimate.h"
 #include "ScannerView.h"
 
@@ -42,6 +43,26 @@ LeafFitResult SquareBlade(double step)
     fit.leftMargin.push_back(j);
     fit.rightMargin.push_back((n - 1) * n + j);
   }
+  return fit;
+}
+
+/// A fitted lens-shaped blade as FitLeaf gives it, laid flat as it lies: at z = 0, normals +Z, its midvein along
+/// x = 0 from the base y = -1 to the apex y = 1, its margins x = -+0.5 (1 - y^2), `step` apart along y; widest at
+/// y = 0.
+LeafFitResult LensBlade(double step)
+{
+  LeafFitResult fit;
+  const int n = static_cast<int>(std::lround(2.0 / step)) + 1;
+  for (int side = -1; side <= 1; ++side)
+    for (int j = 0; j < n; ++j)
+    {
+      const double y = -1.0 + j * step;
+      fit.points.emplace_back(side * 0.5 * (1.0 - y * y), y, 0.0);
+      fit.normals.emplace_back(0.0, 0.0, 1.0);
+      fit.flat.emplace_back(fit.points.back().x(), y + 1.0);
+      std::vector<int>& line = side < 0 ? fit.leftMargin : side == 0 ? fit.midvein : fit.rightMargin;
+      line.push_back(static_cast<int>(fit.points.size()) - 1);
+    }
   return fit;
 }
 
@@ -151,6 +172,44 @@ TEST(ScannerView, TheMarginPastWhichAPlateInFrontHidesTheViewIsHidden)
   // No scanner, or no margin: not known.
   EXPECT_TRUE(std::isnan(HiddenMargin(fit, step, {}, 0)));
   EXPECT_TRUE(std::isnan(HiddenMargin(LeafFitResult(), step, { &free }, 0)));
+}
+
+TEST(ScannerView, AnExtentIsSeenWholeWhereTheMarginAboutItsTwoEndsIsSeenFree)
+{
+  // A lens blade seen from 10 units above, with a plate 1 unit above it (on another leaf) over a part of it: the
+  // Length is seen whole when the margin about the base and the apex is free, the Width when the margin about the
+  // widest point of both sides is.
+  const double step = 0.02;
+  const Eigen::Vector3d scanner(0.0, 0.0, 10.0);
+  const LeafFitResult fit = LensBlade(step);
+  const std::vector<Eigen::Vector3d> blade = Plate(-0.5, 0.5, -1.0, 1.0, 0.0, step);
+  const auto withPlate = [&](double x0, double x1, double y0, double y1) {
+    std::vector<Eigen::Vector3d> points = blade;
+    std::vector<std::int64_t> leaves(points.size(), 0);
+    if (x1 > x0)
+    {
+      const std::vector<Eigen::Vector3d> plate = Plate(x0, x1, y0, y1, 1.0, step);
+      points.insert(points.end(), plate.begin(), plate.end());
+      leaves.resize(points.size(), 1);
+    }
+    return MapOf(points, leaves, scanner, DepthCellSpacings * step / 10.0);
+  };
+  const auto seen = [&](const DepthMap& map) { return ViewOfMargin(fit, step, { &map }, 0).extentsSeen; };
+  // Seen from 10 units, the plate's edges lie on the blade's plane at 10/9 of their own x and y.
+  const DepthMap free = withPlate(0, 0, 0, 0);
+  EXPECT_EQ(seen(free), LengthSeen + WidthSeen);
+  EXPECT_EQ(ViewOfMargin(fit, step, { &free }, 0).hidden, 0.0);
+  // Over the apex end (y from 0.67 on the blade): the Width is still seen whole, the Length not.
+  EXPECT_EQ(seen(withPlate(-1.0, 1.0, 0.6, 1.5)), WidthSeen);
+  // Over the right side's widest part (x from 0.33, |y| under 0.56): the Length is seen whole, the Width not.
+  EXPECT_EQ(seen(withPlate(0.3, 1.0, -0.5, 0.5)), LengthSeen);
+  // Over the apex and both sides' widest parts: neither.
+  EXPECT_EQ(seen(withPlate(-1.0, 1.0, -0.5, 1.5)), 0.0);
+  // A fit without its flat layout and midvein: the share hidden, but no extents.
+  const MarginView square = ViewOfMargin(SquareBlade(step), step, { &free }, 0);
+  EXPECT_EQ(square.hidden, 0.0);
+  EXPECT_TRUE(std::isnan(square.extentsSeen));
+  EXPECT_TRUE(std::isnan(ViewOfMargin(fit, step, {}, 0).extentsSeen));
 }
 
 } // namespace plantmorph

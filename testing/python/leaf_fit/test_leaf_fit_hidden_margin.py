@@ -8,9 +8,12 @@ its leaves fitted on the scan's own LeafId (the truth, so what is measured is th
   true blade's; those hidden over 0.4 of their margin were seen in part: Area under 0.9 of the true blade's.
 - EstimatedArea, with the plant's shape and size taken from the leaves seen free, gives every leaf within 10 % of its
   true area and their median within 3 %.
-- The same scan without its Range array: HiddenMargin is NaN on every row (not known). With a Range that is no
-  distance from one place (the range plus half the x coordinate): NaN on every row, and a warning naming Range and
-  ScanPosition.
+- ExtentsSeen is a code 0-3; 3 (Length and Width seen whole) on every leaf whose margin was seen free all round, and
+  0 only on leaves whose margin was hidden somewhere; EstimatedArea by AreaRule 6 (from an extent seen whole) is never
+  under Area.
+- The same scan without its Range array: HiddenMargin and ExtentsSeen are NaN on every row (not known). With a
+  Range that is no distance from one place (the range plus half the x coordinate): NaN on every row, and a warning
+  naming Range and ScanPosition.
 
     pvpython test_leaf_fit_hidden_margin.py --plugin PlantMorph.so --work DIR
 """
@@ -52,6 +55,17 @@ checks.check(bool(numpy.all(numpy.abs(area[free] - 1) < 0.05)),
              "the leaves seen free were seen whole: Area / true %s" % area[free].round(3))
 checks.check(bool(numpy.all(area[blocked] < 0.9)), "the leaves hidden were seen in part: Area / true %s" %
              area[blocked].round(3))
+# ExtentsSeen: which of Length and Width the margin about both their ends shows whole. A margin seen free all round
+# shows both; a leaf with neither seen was hidden somewhere. A leaf seen whole (free) with its Length seen has its
+# true Length: its Area is its whole area.
+extents = column(traits, "ExtentsSeen")
+checks.check(bool(numpy.all(numpy.isin(extents, [0, 1, 2, 3]))), "ExtentsSeen a code 0-3: %s" % extents)
+checks.check(bool(numpy.all(extents[hidden == 0] == 3)) and bool(numpy.all(hidden[extents == 0] > 0)),
+             "a margin seen free all round shows both extents, and a leaf showing neither was hidden: %s / %s" % (
+                 hidden.round(2), extents))
+rule = column(traits, "AreaRule")
+checks.check(bool(numpy.all(estimated[rule == 6] >= area[rule == 6])),
+             "AreaRule 6 (from the extents seen) never under Area")
 errors = numpy.abs(estimated - 1)
 checks.check(bool(numpy.all(errors < 0.10)) and numpy.median(errors) < 0.03,
              "EstimatedArea within 10 %%, median %.2f %% (%s)" % (100 * numpy.median(errors), (100 * errors).round(1)))
@@ -59,8 +73,9 @@ checks.check(bool(numpy.all(errors < 0.10)) and numpy.median(errors) < 0.03,
 # Without Range the scanner's position is not known.
 no_range = PassArrays(Input=scan, PointDataArrays=["LeafId", "Organ", "ScanPosition"])
 blind = servermanager.Fetch(LeafFitFilter(Input=no_range, LeafIdArray="LeafId", UpAxis="Y"), idx=2)
-checks.check(blind.GetNumberOfRows() == len(ids) and bool(numpy.all(numpy.isnan(column(blind, "HiddenMargin")))),
-             "without Range: HiddenMargin NaN on every row")
+checks.check(blind.GetNumberOfRows() == len(ids) and bool(numpy.all(numpy.isnan(column(blind, "HiddenMargin")))) and
+             bool(numpy.all(numpy.isnan(column(blind, "ExtentsSeen")))),
+             "without Range: HiddenMargin and ExtentsSeen NaN on every row")
 # A Range of another meaning: no position, and the filter says so.
 bent = Calculator(Input=scan, ResultArrayName="Range", Function="Range + 0.5 * coordsX")
 bent_fit = LeafFitFilter(Input=bent, LeafIdArray="LeafId", UpAxis="Y")
