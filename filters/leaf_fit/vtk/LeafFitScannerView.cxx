@@ -164,6 +164,34 @@ ScanRanges ReadScanRanges(vtkPointSet* input, double scale)
   return scan;
 }
 
+namespace
+{
+/// The unsolved scanner positions a warning names; the rest are counted.
+constexpr std::size_t MaxNamedPositions = 10;
+
+/// The positions not solved, by number: the first MaxNamedPositions of them and how many more (a line scanner's
+/// every line is a position of its own, in a plane: hundreds of them); empty when every position was solved.
+std::string UnsolvedPositions(const Positions& positions)
+{
+  std::string unsolved;
+  std::size_t named = 0, more = 0;
+  for (std::size_t s = 0; s < positions.size(); ++s)
+    if (!positions[s])
+    {
+      if (named == MaxNamedPositions)
+      {
+        ++more;
+        continue;
+      }
+      unsolved += (unsolved.empty() ? "" : ", ") + std::to_string(s);
+      ++named;
+    }
+  if (more > 0)
+    unsolved += " and " + std::to_string(more) + " more";
+  return unsolved;
+}
+} // namespace
+
 std::string SetHiddenMargins(vtkMultiProcessController* controller, const std::vector<Eigen::Vector3d>& points,
   const ScanRanges& scan, const Eigen::Vector3d& up, std::vector<LeafView>& leaves)
 {
@@ -174,10 +202,7 @@ std::string SetHiddenMargins(vtkMultiProcessController* controller, const std::v
   if (count <= 0)
     return {}; // alike on every rank
   const Positions positions = SolvePositions(controller, points, here, count);
-  std::string unsolved;
-  for (std::size_t s = 0; s < positions.size(); ++s)
-    if (!positions[s])
-      unsolved += (unsolved.empty() ? "" : ", ") + std::to_string(s);
+  const std::string unsolved = UnsolvedPositions(positions);
   const std::vector<double> cells = DepthCells(controller, leaves, positions);
   const std::vector<DepthMap> maps = DepthMaps(controller, points, here, positions, cells, up);
   ForEachIndex(

@@ -13,7 +13,7 @@ its leaves fitted on the scan's own LeafId (the truth, so what is measured is th
   under Area.
 - The same scan without its Range array: HiddenMargin and ExtentsSeen are NaN on every row (not known). With a
   Range that is no distance from one place (the range plus half the x coordinate): NaN on every row, and a warning
-  naming Range and ScanPosition.
+  naming Range and ScanPosition; with 25 such positions it names ten and counts the other 15.
 
     pvpython test_leaf_fit_hidden_margin.py --plugin PlantMorph.so --work DIR
 """
@@ -88,4 +88,13 @@ checks.check(bent_traits.GetNumberOfRows() == len(ids) and
 checks.check(any("Range and ScanPosition: no scanner position" in w and "no distances from one place" in w
                  for w in said.warnings),
              "a warning says the ranges gave no scanner position: %s" % [w[:80] for w in said.warnings][:3])
+# Many positions that give none (as a line scanner's lines, each in a plane): the warning names ten and counts the
+# rest, not hundreds of numbers.
+many = PythonCalculator(Input=bent, ArrayName="ScanPosition", Expression="numpy.arange(len(Range)) % 25")
+many_fit = LeafFitFilter(Input=many, LeafIdArray="LeafId", UpAxis="Y")
+with Messages(many_fit) as said:
+    many_fit.UpdatePipeline()
+named = [w for w in said.warnings if "no scanner position was solved" in w]
+checks.check(len(named) == 1 and "ScanPosition 0, 1, 2, 3, 4, 5, 6, 7, 8, 9 and 15 more" in named[0],
+             "25 unsolved positions: ten named, the rest counted: %s" % [w[:160] for w in named])
 checks.finish()
