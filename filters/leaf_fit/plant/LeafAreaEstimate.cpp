@@ -226,6 +226,8 @@ bool EstimateFromSeenExtents(const std::vector<LeafTraits>& traits, LeafAreaEsti
 /// are whole (PlantShape::fromView) and their log Length over Width spreads by at most MaxAxisSpread.
 void ExtentsOfWholeLeaves(const std::vector<LeafTraits>& traits, const std::vector<bool>& whole, PlantShape& shape)
 {
+  if (!shape.fromView)
+    return;
   std::vector<double> ratio, fill;
   for (std::size_t i = 0; i < whole.size(); ++i)
     if (whole[i] && traits[i].length > 0.0 && traits[i].width > 0.0)
@@ -233,7 +235,7 @@ void ExtentsOfWholeLeaves(const std::vector<LeafTraits>& traits, const std::vect
       ratio.push_back(std::log(traits[i].length / traits[i].width));
       fill.push_back(std::log(traits[i].area / (traits[i].length * traits[i].width)));
     }
-  if (!shape.fromView || static_cast<int>(ratio.size()) < MinWholeLeaves)
+  if (static_cast<int>(ratio.size()) < MinWholeLeaves)
     return;
   const double centre = Median(ratio);
   shape.lengthOverWidth = std::exp(centre);
