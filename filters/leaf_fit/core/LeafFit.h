@@ -111,6 +111,30 @@ inline constexpr double MaxGridNumberVariance = 0.7;
 /// (about 600 points) random points' ratio stays above 0.77 (156 samples of 13 presets, 2,000-30,000 points).
 inline constexpr int MinGridWindows = 100;
 
+/// A blade's sparsely sampled parts (a scanner's lines far apart where it saw the blade at a grazing angle, or from
+/// one position of several) are joined point to point before the outline is traced, so that the closing's discs of
+/// 2.5 spacings do not drop them (see FindSparseParts). A point is in such a part when the fifth nearest of its
+/// nearest neighbours in eight sectors of 45 degrees (its gap) lies farther than MinSparseGap times the blade's
+/// median gap or the spacing (a lattice's lie at 1 and 1.4 steps, a line scan's across its lines at about the lines'
+/// distance), within MaxSparseGap spacings, and its near neighbours lie along one line at most (not over a half
+/// plane, as at a margin, a sinus or the edge of a hole); it is joined to its sector neighbours within 1.5 gaps.
+inline constexpr double MinSparseGap = 2.0;
+inline constexpr double MaxSparseGap = 10.0;
+/// The fewest points a sparse part joins (fewer: a stray group beside the blade, which is not joined).
+inline constexpr std::size_t MinSparsePoints = 30;
+/// The least width of a sparse part across its longest extent, in its gaps (a narrower group is a trail: a twig's or
+/// stalk's points left with the leaf, which would draw the blade out along it; one at a shrub leaf's base measured
+/// 2.4, a blade's half sampled on a lattice 5 or 6 spacings apart 3.5 and 3.0).
+inline constexpr double MinSparseWidth = 2.75;
+/// How far beyond a sparse part's outermost points its margin is taken, as a share of their gap: the margin lies
+/// about half a step beyond the last samples, and the gap is a lattice's diagonal step (1.4 steps) or about a line
+/// scan's step across its lines.
+inline constexpr double SparseMarginShare = 0.4;
+/// The share of the blade's area its sparse parts may add to the closing of its points' discs for a regular grid's
+/// count still to give the area (TraceContour): a few spread points near a tip or in a base's wedge change it
+/// little, while a count over a large sparse part would give its points the area the dense part's stand for.
+inline constexpr double MinSparseShare = 0.02;
+
 /// Why a leaf's base is a guess (Traits' BaseFrom 3): no BasePoint, ApexPoint or petiole, and the outline either
 /// is the same at both ends (an ellipse) or differs only in which half is wider, which is the base of an ovate blade
 /// and the apex of an obovate one (the wider half is taken as the base).

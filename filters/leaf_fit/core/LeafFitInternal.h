@@ -9,8 +9,11 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
+#include <cstddef>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace plantmorph
@@ -25,6 +28,51 @@ struct Frame
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity(); ///< columns X, Y, Z
   Eigen::Vector3d Local(const Eigen::Vector3d& p) const { return this->axes.transpose() * (p - this->origin); }
   Eigen::Vector3d World(const Eigen::Vector3d& q) const { return this->origin + this->axes * q; }
+};
+
+/// The points sorted into square buckets `width` wide from `origin` over `nx` by `ny` of them (a counting sort):
+/// bucket c holds the points order[first[c]] .. order[first[c + 1] - 1]. Near(p, k, visit) visits the points of the
+/// buckets within k of p's.
+struct Buckets
+{
+  Eigen::Vector2d origin;
+  double width;
+  int nx, ny;
+  std::vector<std::size_t> first, order;
+  Buckets(const std::vector<Eigen::Vector2d>& ts, const Eigen::Vector2d& from, double w, double spanX, double spanY)
+    : origin(from)
+    , width(w)
+    , nx(static_cast<int>(spanX / w) + 1)
+    , ny(static_cast<int>(spanY / w) + 1)
+    , first(static_cast<std::size_t>(nx) * ny + 1, 0)
+    , order(ts.size())
+  {
+    for (const auto& p : ts)
+      ++first[Of(p) + 1];
+    for (std::size_t c = 0; c + 1 < first.size(); ++c)
+      first[c + 1] += first[c];
+    std::vector<std::size_t> next(first.begin(), first.end() - 1);
+    for (std::size_t k = 0; k < ts.size(); ++k)
+      order[next[Of(ts[k])]++] = k;
+  }
+  std::size_t Of(const Eigen::Vector2d& p) const
+  {
+    return static_cast<std::size_t>(std::clamp(static_cast<int>((p.x() - origin.x()) / width), 0, nx - 1)) +
+      static_cast<std::size_t>(nx) * std::clamp(static_cast<int>((p.y() - origin.y()) / width), 0, ny - 1);
+  }
+  template <typename Visit>
+  void Near(const Eigen::Vector2d& p, int k, const Visit& visit) const
+  {
+    const std::size_t b = Of(p);
+    const int i0 = static_cast<int>(b % nx), j0 = static_cast<int>(b / nx);
+    for (int j = std::max(0, j0 - k); j <= std::min(ny - 1, j0 + k); ++j)
+      for (int i = std::max(0, i0 - k); i <= std::min(nx - 1, i0 + k); ++i)
+      {
+        const std::size_t c = static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * j;
+        for (std::size_t m = first[c]; m < first[c + 1]; ++m)
+          visit(order[m]);
+      }
+  }
 };
 
 /// Checks the raw points: count, finite coordinates, not a line, not a blob. Empty string: usable.
@@ -123,6 +171,22 @@ struct Contour
 /// not depend on the threads).
 Contour TraceContour(const std::vector<Eigen::Vector2d>& ts, double spacing, bool snap, Outline& outline,
   const ParallelFor& parallel = SerialFor);
+
+/// A blade's sparsely sampled parts in (t, s) (MinSparseGap, MaxSparseGap, MinSparsePoints): the segments that join
+/// their points, and how far beyond each of their points the margin may lie.
+struct SparseParts
+{
+  std::vector<std::pair<std::size_t, std::size_t>> bridges; ///< indices into ts, each pair once, in a fixed order
+  std::vector<std::pair<std::size_t, double>> reaches;      ///< a sparse point and SparseMarginShare of its gap
+};
+
+/// The blade's sparse parts: each point whose gap is sparse joined to its nearest neighbour in each of eight sectors
+/// of 45 degrees within 1.5 times its gap, where that neighbour is sparse too, and the groups so joined of at least
+/// MinSparsePoints and MinSparseWidth gaps across. Dense parts, margins, sinuses and points off the blade get none
+/// (their near neighbours fill a half plane, or more than half their sectors are empty), nor do a stray group or a
+/// trail beside the blade. Searches through `parallel`; the result does not depend on the threads.
+SparseParts FindSparseParts(
+  const std::vector<Eigen::Vector2d>& ts, double spacing, const ParallelFor& parallel = SerialFor);
 
 /// Whether a loop's apex crossing of the midvein (`apex`: s, index of the crossing edge's first point on the
 /// counter-clockwise loop in (t, s)) is a tip, not a notch or sinus: within the larger of 4 spacings and

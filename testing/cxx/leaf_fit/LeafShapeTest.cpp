@@ -2423,3 +2423,85 @@ TEST(LeafShape, CuspBaseScannedInLinesIsExtrapolatedAsACusp)
   EXPECT_LT(std::abs(offset / count), 1.0) << "the cusp's base (mean over the lines' positions)";
 }
 } // namespace plantmorph
+
+namespace plantmorph
+{
+namespace
+{
+/// The area inside a contour: the right margin from base to apex, then the left one back.
+double AreaInside(const fit::Contour& contour)
+{
+  std::vector<Eigen::Vector2d> loop(contour.right.begin(), contour.right.end());
+  loop.insert(loop.end(), contour.left.rbegin(), contour.left.rend());
+  double twice = 0.0;
+  for (std::size_t i = 0; i < loop.size(); ++i)
+  {
+    const Eigen::Vector2d& a = loop[i];
+    const Eigen::Vector2d& b = loop[(i + 1) % loop.size()];
+    twice += a.x() * b.y() - b.x() * a.y();
+  }
+  return 0.5 * std::abs(twice);
+}
+
+/// An elliptic blade in intrinsic coordinates (spacing 1): 100 long, 56 wide, on a unit lattice, except where
+/// t > `from`, which a lattice `sparse` apart samples (a scanner's lines far apart at a grazing angle).
+std::vector<Eigen::Vector2d> PartlySparseEllipse(double from, double sparse)
+{
+  std::vector<Eigen::Vector2d> ts;
+  auto inside = [](double t, double s) { return (t / 28.0) * (t / 28.0) + (s - 50.0) * (s - 50.0) / 2500.0 < 1.0; };
+  for (double s = 0.3; s < 100.0; s += 1.0)
+    for (double t = -27.6; t < from; t += 1.0)
+      if (inside(t, s))
+        ts.emplace_back(t, s);
+  for (double s = 0.3; s < 100.0; s += sparse)
+    for (double t = from + 0.4 + sparse / 2.0; t < 28.0; t += sparse)
+      if (inside(t, s))
+        ts.emplace_back(t, s);
+  return ts;
+}
+
+double TracedArea(const std::vector<Eigen::Vector2d>& ts)
+{
+  fit::Outline outline;
+  if (!fit::FitOutline(ts, LeafFitParameters(), 1.0, outline).empty())
+    return 0.0;
+  return AreaInside(fit::TraceContour(ts, 1.0, true, outline));
+}
+} // namespace
+
+TEST(LeafShape, ASparselySampledPartOfTheBladeIsKept)
+{
+  // The right half of the blade sampled on a lattice 5 or 6 spacings apart (a scanner's lines at a grazing angle):
+  // the closing's discs of 2.5 spacings do not reach across, and much of that half was left out (the contour 14 and
+  // 46 % short of the ellipse's area). Its points are joined, and its margin taken 0.4 of its gap beyond them (3.5
+  // and 2.8 % short: the contour cuts the chords between its outermost points).
+  const double truth = Pi * 28.0 * 50.0;
+  for (double sparse : { 5.0, 6.0 })
+  {
+    const std::vector<Eigen::Vector2d> ts = PartlySparseEllipse(0.0, sparse);
+    EXPECT_FALSE(fit::FindSparseParts(ts, 1.0).bridges.empty());
+    EXPECT_NEAR(TracedArea(ts) / truth, 1.0, 0.04) << "lines " << sparse << " apart";
+  }
+  // Evenly sampled, the blade has no sparse part, at any lattice's spacing (the median gap sets the scale).
+  EXPECT_TRUE(fit::FindSparseParts(PartlySparseEllipse(30.0, 1.0), 1.0).bridges.empty());
+  std::vector<Eigen::Vector2d> coarse = PartlySparseEllipse(30.0, 1.0);
+  for (auto& p : coarse)
+    p *= 4.0;
+  EXPECT_TRUE(fit::FindSparseParts(coarse, 1.0).bridges.empty());
+}
+
+TEST(LeafShape, AStrayGroupOfPointsBesideTheBladeIsNotJoinedToIt)
+{
+  // A blade sampled evenly, and beside its right flank, 2 to 3 spacings off, two rows of 6 points 5 apart (a piece
+  // of a neighbouring leaf): the group is sparse, but too small to be a part of the blade, and the contour is the
+  // blade's alone.
+  const std::vector<Eigen::Vector2d> blade = PartlySparseEllipse(30.0, 1.0);
+  std::vector<Eigen::Vector2d> ts = blade;
+  for (int row = 0; row < 2; ++row)
+    for (int k = 0; k < 6; ++k)
+      ts.emplace_back(30.5 + 5.0 * row, 25.0 + 5.0 * k);
+  EXPECT_TRUE(fit::FindSparseParts(ts, 1.0).bridges.empty());
+  EXPECT_NEAR(TracedArea(ts) / TracedArea(blade), 1.0, 0.01);
+}
+
+} // namespace plantmorph
