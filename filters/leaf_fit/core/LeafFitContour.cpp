@@ -1007,14 +1007,10 @@ namespace
 {
 /// The distance (in cells) to the nearest point's cell or the nearest cell of a segment that joins the points of a
 /// sparsely sampled part, less (near such a part's points) the margin's reach beyond them (FindSparseParts), so
-/// that discs of radius r about the cells at distance 0 reach that much farther there; `toPoint` itself when there
-/// is no sparse part.
+/// that discs of radius r about the cells at distance 0 reach that much farther there.
 std::vector<double> SparseDistance(std::vector<unsigned char> hit, int nx, int ny, const Eigen::Vector2d& origin,
-  double cell, double r, const std::vector<Eigen::Vector2d>& ts, const SparseParts& parts,
-  const std::vector<double>& toPoint, const ParallelFor& parallel)
+  double cell, double r, const std::vector<Eigen::Vector2d>& ts, const SparseParts& parts, const ParallelFor& parallel)
 {
-  if (parts.bridges.empty())
-    return toPoint;
   auto index = [&](const Eigen::Vector2d& at) {
     const int i = std::clamp(static_cast<int>(std::lround(at.x())), 0, nx - 1);
     const int j = std::clamp(static_cast<int>(std::lround(at.y())), 0, ny - 1);
@@ -1116,9 +1112,8 @@ Contour TraceContour(
   if (!parts.bridges.empty())
   {
     const double before = SignedArea(outer(r));
-    pointsOnly =
-      Closed(SparseDistance(hit, nx, ny, origin, cell, r, ts, parts, toPoint, parallel), nx, ny, cell, r, parallel);
-    std::swap(F, pointsOnly);
+    pointsOnly = std::move(F);
+    F = Closed(SparseDistance(hit, nx, ny, origin, cell, r, ts, parts, parallel), nx, ny, cell, r, parallel);
     added = before > 0.0 ? SignedArea(outer(r)) / before - 1.0 : 1.0;
   }
   // The closing's boundary runs through the outermost points; the margin lies beyond them by a gap that depends on
