@@ -4,6 +4,7 @@
 #include "LeafPlant.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -20,6 +21,20 @@ double WoodNear(const Eigen::Vector3d& end, const std::vector<Eigen::Vector3d>& 
     if (std::isfinite(woodDistance[i]) && (points[i] - end).squaredNorm() <= reach * reach)
       nearest = std::min(nearest, woodDistance[i]);
   return nearest;
+}
+
+/// The blade's two ends across its midvein: its points of the least and the greatest flat `t` (Width's ends).
+std::array<Eigen::Vector3d, 2> WidthEnds(const LeafFitResult& fit)
+{
+  std::size_t low = 0, high = 0;
+  for (std::size_t i = 1; i < fit.flat.size(); ++i)
+  {
+    if (fit.flat[i].x() < fit.flat[low].x())
+      low = i;
+    if (fit.flat[i].x() > fit.flat[high].x())
+      high = i;
+  }
+  return { fit.points[low], fit.points[high] };
 }
 } // namespace
 
@@ -64,6 +79,29 @@ WoodEnd EndNearerTheWood(
   return WoodEnd::Unknown;
 }
 
+WoodAxis AxisNearerTheWood(const LeafFitResult& fit, const std::vector<Eigen::Vector3d>& points,
+  const std::vector<double>& woodDistance, Eigen::Vector3d* widthEnd)
+{
+  if (!fit.error.empty() || fit.midvein.size() < 2 || fit.flat.size() != fit.points.size() || fit.points.empty() ||
+    woodDistance.size() != points.size() || !(fit.traits.length > 0.0) || !(fit.traits.width > 0.0))
+    return WoodAxis::Unknown;
+  const double reach = WoodEndReach * std::min(fit.traits.length, fit.traits.width);
+  const auto near = [&](const Eigen::Vector3d& end) { return WoodNear(end, points, woodDistance, reach); };
+  const std::array<Eigen::Vector3d, 2> sides = WidthEnds(fit);
+  const double along = std::min(near(fit.points[static_cast<std::size_t>(fit.midvein.front())]),
+    near(fit.points[static_cast<std::size_t>(fit.midvein.back())]));
+  const double side0 = near(sides[0]), side1 = near(sides[1]);
+  const double across = std::min(side0, side1);
+  if (widthEnd)
+    *widthEnd = side0 <= side1 ? sides[0] : sides[1];
+  const double margin = WoodEndMargin * std::max(fit.traits.length, fit.traits.width);
+  if (along + margin < across)
+    return WoodAxis::Along;
+  if (across + margin < along)
+    return WoodAxis::Across;
+  return WoodAxis::Unknown;
+}
+
 std::vector<double> AxisShapes(const std::vector<LeafFitResult>& fits,
   const std::vector<std::vector<Eigen::Vector3d>>& leaves, const std::vector<std::vector<double>>& woodDistance)
 {
@@ -73,9 +111,11 @@ std::vector<double> AxisShapes(const std::vector<LeafFitResult>& fits,
   for (std::size_t k = 0; k < fits.size(); ++k)
   {
     const LeafFitResult& fit = fits[k];
-    if (fit.error.empty() && fit.traits.baseFrom == BaseFromShape && fit.traits.length > 0 && fit.traits.width > 0 &&
-      EndNearerTheWood(fit, leaves[k], woodDistance[k]) == WoodEnd::Base)
-      shapes.push_back(std::log(fit.traits.width / fit.traits.length));
+    if (fit.traits.baseFrom == BaseFromPoint)
+      continue;
+    const WoodAxis axis = AxisNearerTheWood(fit, leaves[k], woodDistance[k]);
+    if (axis != WoodAxis::Unknown) // across: the leaf's own Width over Length is the fit's turned over
+      shapes.push_back((axis == WoodAxis::Along ? 1.0 : -1.0) * std::log(fit.traits.width / fit.traits.length));
   }
   return shapes;
 }
@@ -137,15 +177,20 @@ WoodBase BaseByWood(
   return { EndByWood(fit, end), false, end };
 }
 
+/// How far a fit's log Width over Length lies from the plant's (log `plant`), and from it turned over (the fit's
+/// Length taken as its Width).
+double OffThePlant(const LeafFitResult& fit, double plant, bool turned = false)
+{
+  const double ratio = std::log(fit.traits.width / fit.traits.length);
+  return std::abs((turned ? -ratio : ratio) - plant);
+}
+
 /// Whether `again`'s Width over Length lies farther from the plant's (log `plant`) than `first`'s, by more than
 /// WoodShapeMargin.
 bool LeavesThePlantsShape(const LeafFitResult& again, const LeafFitResult& first, double plant)
 {
-  const auto off = [plant](const LeafFitResult& fit) {
-    return std::abs(std::log(fit.traits.width / fit.traits.length) - plant);
-  };
   return again.traits.length > 0 && again.traits.width > 0 && first.traits.length > 0 && first.traits.width > 0 &&
-    off(again) > off(first) + WoodShapeMargin;
+    OffThePlant(again, plant) > OffThePlant(first, plant) + WoodShapeMargin;
 }
 
 /// Each of `turn` fitted again from its base in `from` (as BasePoint puts it), in parallel.
@@ -163,6 +208,41 @@ std::vector<LeafFitResult> FitAgain(const std::vector<std::vector<Eigen::Vector3
     }
   });
   return again;
+}
+
+/// Leaves fitted across their width (OrientByWood in LeafPlant.h): each fitted again from the end of its width
+/// nearer the wood, kept when that brings its Width over Length nearer the plant's by WoodShapeMargin and its
+/// Coverage falls by no more than MaxTurnCoverageLoss.
+int FitAlongThePlantsAxis(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
+  const std::vector<std::vector<double>>& woodDistance, const LeafFitParameters& options,
+  std::vector<LeafFitResult>& fits, const ParallelFor& parallel, double plant)
+{
+  std::vector<std::size_t> turn;
+  std::vector<Eigen::Vector3d> from;
+  for (std::size_t k = 0; k < fits.size(); ++k)
+  {
+    const LeafFitResult& fit = fits[k];
+    Eigen::Vector3d end;
+    if (fit.error.empty() && fit.traits.baseFrom != BaseFromPoint && fit.traits.length > 0.0 &&
+      fit.traits.width > 0.0 && OffThePlant(fit, plant, true) + WoodShapeMargin < OffThePlant(fit, plant) &&
+      AxisNearerTheWood(fit, leaves[k], woodDistance[k], &end) == WoodAxis::Across)
+    {
+      turn.push_back(k);
+      from.push_back(end);
+    }
+  }
+  std::vector<LeafFitResult> again = FitAgain(leaves, turn, from, options, parallel);
+  int count = 0;
+  for (std::size_t j = 0; j < turn.size(); ++j)
+    if (again[j].error.empty() && again[j].traits.length > 0.0 && again[j].traits.width > 0.0 &&
+      OffThePlant(again[j], plant) + WoodShapeMargin < OffThePlant(fits[turn[j]], plant) &&
+      again[j].traits.coverage + MaxTurnCoverageLoss >= fits[turn[j]].traits.coverage)
+    {
+      fits[turn[j]] = std::move(again[j]);
+      fits[turn[j]].traits.baseFrom = BaseFromWood;
+      ++count;
+    }
+  return count;
 }
 } // namespace
 
@@ -219,6 +299,8 @@ int OrientByWood(const std::vector<std::vector<Eigen::Vector3d>>& leaves,
       fits[turn[j]].traits.baseFrom = BaseFromWood;
       ++turnedCount;
     }
+  if (plantAxisShape)
+    turnedCount += FitAlongThePlantsAxis(leaves, woodDistance, options, fits, parallel, *plantAxisShape);
   return turnedCount;
 }
 

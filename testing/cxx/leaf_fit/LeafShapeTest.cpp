@@ -1699,32 +1699,101 @@ TEST(LeafShape, AWoodBasePointThatTurnsALeafFromItsPlantsShapeIsDropped)
   EXPECT_LT(fits[0].points[fits[0].midvein.front()].norm(), 0.03 * scan.length);
 }
 
-TEST(LeafShape, ThePlantsAxisShapeIsTheMedianOfTheLeavesWhoseShapeAndWoodAgree)
+TEST(LeafShape, ALeafFittedAcrossItsWidthIsFittedAlongThePlantsAxis)
 {
-  // A leaf counts (its log Width over Length) when its shape found its base (BaseFrom 0) and the wood tells that end:
-  // the elliptic blade (100 long, 45 wide) with a twig beyond its base counts; with the twig beyond its apex, or its
-  // base a guess, or not fitted, it does not.
+  // The elliptic blade (100 long, 45 wide) fitted across its width, from one side margin to the other, its base from
+  // the shape (so the wood's base point does not move it) and its twig 2 beyond its true base: an end of the fitted
+  // Width. Its ends are as far from the twig, so they tell nothing. On a plant whose leaves are 0.45 as wide as long
+  // the fit's ratio (about 2.2) is the plant's turned over and the wood lies by an end of its Width: it is fitted
+  // again from there, along its length (BaseFrom 4). Without the plant's shape, or with the twig by the middle of a
+  // long side (the fitted midvein's base end: the wood says the leaf grows from there), it stays across.
+  const Synthetic scan = Scan(Blade(0, 100.0), 8000, 0.1, 0.0, Straight(0.0), 0, Eigen::Isometry3d::Identity(), 11);
+  const std::vector<std::vector<Eigen::Vector3d>> leaves{ scan.points };
+  const auto twigAt = [&](const Eigen::Vector3d& at) {
+    return std::vector<std::vector<double>>{ DistancesToSegment(
+      scan.points, at - Eigen::Vector3d(0.0, 0.0, 30.0), at + Eigen::Vector3d(0.0, 0.0, 30.0)) };
+  };
+  LeafFitParameters across;
+  across.basePoint = Eigen::Vector3d(-30.0, 50.0, 0.0);
+  across.apexPoint = Eigen::Vector3d(30.0, 50.0, 0.0);
+  const std::optional<double> plant = PlantAxisShape({ std::log(0.44), std::log(0.45), std::log(0.47) });
+  ASSERT_TRUE(plant.has_value());
+  for (int variant = 0; variant < 3; ++variant)
+  {
+    std::vector<LeafFitResult> fits = FitLeaves(leaves, across);
+    ASSERT_EQ(fits[0].error, "");
+    ASSERT_LT(fits[0].traits.length, 0.6 * scan.length);
+    fits[0].traits.baseFrom = BaseFromShape;
+    const bool side = variant == 2;
+    const auto wood = twigAt(side ? Eigen::Vector3d(-25.0, 50.0, 0.0) : Eigen::Vector3d(0.0, -2.0, 0.0));
+    const int again =
+      OrientByWood(leaves, wood, LeafFitParameters(), fits, SerialFor, variant > 0 ? plant : std::nullopt);
+    if (variant != 1)
+    {
+      EXPECT_EQ(again, 0) << variant;
+      EXPECT_LT(fits[0].traits.length, 0.6 * scan.length) << variant;
+      continue;
+    }
+    EXPECT_EQ(again, 1);
+    EXPECT_EQ(fits[0].traits.baseFrom, BaseFromWood);
+    EXPECT_NEAR(fits[0].traits.length, scan.length, 0.02 * scan.length);
+    EXPECT_LT(fits[0].points[fits[0].midvein.front()].norm(), 0.03 * scan.length);
+  }
+}
+
+TEST(LeafShape, ThePlantsAxisShapeIsTheMedianOfTheLeavesWhoseAxisTheWoodTells)
+{
+  // A leaf counts (its log Width over Length) when an end of its midvein lies nearer the wood than the ends of its
+  // Width: the elliptic blade (100 long, 45 wide) with a twig beyond its base or its apex counts, whatever its base
+  // was found from, as it was fitted; fitted across its width with the twig beyond its true base (an end of the
+  // fitted Width), it counts turned over, the blade's own ratio. A leaf not fitted, or one whose base the user gave,
+  // does not count. A twig by the middle of its long side (an end of its Width) misleads: the leaf reads as grown
+  // from its side and counts turned over; the median over the plant's leaves outvotes a few such.
   const Synthetic scan = Scan(Blade(0, 100.0), 8000, 0.1, 0.0, Straight(0.0), 0, Eigen::Isometry3d::Identity(), 11);
   const std::vector<LeafFitResult> fitted = FitLeaves({ scan.points }, LeafFitParameters());
   ASSERT_EQ(fitted[0].error, "");
   const Eigen::Vector3d base = fitted[0].points[fitted[0].midvein.front()];
   const Eigen::Vector3d apex = fitted[0].points[fitted[0].midvein.back()];
-  const auto twigBeyond = [&](const Eigen::Vector3d& end, const Eigen::Vector3d& other) {
-    const Eigen::Vector3d at = end + 2.0 * (end - other).normalized();
+  const auto twigAt = [&](const Eigen::Vector3d& at) {
     return DistancesToSegment(scan.points, at - Eigen::Vector3d(0.0, 0.0, 30.0), at + Eigen::Vector3d(0.0, 0.0, 30.0));
   };
-  std::vector<LeafFitResult> fits(4, fitted[0]);
+  const auto twigBeyond = [&](const Eigen::Vector3d& end, const Eigen::Vector3d& other) {
+    return twigAt(end + 2.0 * (end - other).normalized());
+  };
+  LeafFitParameters acrossFit;
+  acrossFit.basePoint = Eigen::Vector3d(-30.0, 50.0, 0.0);
+  acrossFit.apexPoint = Eigen::Vector3d(30.0, 50.0, 0.0);
+  const LeafFitResult across = FitLeaves({ scan.points }, acrossFit)[0];
+  ASSERT_EQ(across.error, "");
+  ASSERT_LT(across.traits.length, 0.6 * scan.length);
+  std::vector<LeafFitResult> fits(7, fitted[0]);
+  fits[0].traits.baseFrom = BaseFromShape;
+  fits[1].traits.baseFrom = BaseFromShape;
   fits[2].traits.baseFrom = BaseFromGuess;
   fits[3].error = "too few points";
-  for (std::size_t k : { 0, 1, 3 })
-    fits[k].traits.baseFrom = BaseFromShape;
-  const std::vector<std::vector<Eigen::Vector3d>> leaves(4, scan.points);
+  fits[4].traits.baseFrom = BaseFromPoint;
+  fits[5] = across;
+  fits[5].traits.baseFrom = BaseFromGuess;
+  double right = 0; // the side margin's x at mid-length
+  for (const Eigen::Vector3d& p : scan.points)
+    if (std::abs(p.y() - 0.5 * scan.length) < 2.0)
+      right = std::max(right, p.x());
+  const std::vector<std::vector<Eigen::Vector3d>> leaves(7, scan.points);
   const std::vector<std::vector<double>> wood{ twigBeyond(base, apex), twigBeyond(apex, base), twigBeyond(base, apex),
-    twigBeyond(base, apex) };
+    twigBeyond(base, apex), twigBeyond(base, apex), twigAt(Eigen::Vector3d(0.0, -2.0, 0.0)),
+    twigAt(Eigen::Vector3d(right + 2.0, 0.5 * scan.length, 0.0)) };
+  EXPECT_EQ(AxisNearerTheWood(fits[0], scan.points, wood[0]), WoodAxis::Along);
+  EXPECT_EQ(AxisNearerTheWood(fits[5], scan.points, wood[5]), WoodAxis::Across);
+  EXPECT_EQ(AxisNearerTheWood(fits[6], scan.points, wood[6]), WoodAxis::Across);
   const std::vector<double> shapes = AxisShapes(fits, leaves, wood);
-  ASSERT_EQ(shapes.size(), 1u);
-  EXPECT_NEAR(shapes[0], std::log(fitted[0].traits.width / fitted[0].traits.length), 1e-12);
+  ASSERT_EQ(shapes.size(), 5u);
+  for (std::size_t k = 0; k < 3; ++k)
+    EXPECT_NEAR(shapes[k], std::log(fitted[0].traits.width / fitted[0].traits.length), 1e-12);
   EXPECT_NEAR(shapes[0], std::log(0.45), 0.05);
+  EXPECT_NEAR(shapes[3], -std::log(across.traits.width / across.traits.length), 1e-12);
+  EXPECT_NEAR(shapes[3], std::log(0.45), 0.1);
+  EXPECT_NEAR(shapes[4], -shapes[0], 1e-12);
+  EXPECT_NEAR(*PlantAxisShape(shapes), std::log(0.45), 0.1);
   // The median does not depend on the order (the middle two's mean for an even count); none under
   // MinAxisShapeLeaves values, and none for leaves about as wide as long (the ratio then cannot tell the axis).
   EXPECT_NEAR(*PlantAxisShape({ std::log(0.4), std::log(0.5), std::log(0.45) }), std::log(0.45), 1e-12);
