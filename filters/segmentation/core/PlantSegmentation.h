@@ -79,7 +79,10 @@
 //     twig's side taken in at a contact, which lifts one leaf's pieces off their common plane).
 //     Each leaf part of at least MinimumLeafPoints points is then a leaf, unless it is the wood's surface grown into
 //     a sheet: bent off its plane by over r / 4 (root mean square) with over 0.6 of its points within 2r of the wood
-//     (leaf, LeafId -1). A leaf point linked to another leaf goes to the leaf whose plane it lies nearest; then a
+//     (leaf, LeafId -1). A leaf point linked to another leaf goes to the leaf whose plane it lies nearest; a leaf
+//     point of no leaf, or of a leaf whose plane it lies off, goes to a leaf within about 2r whose plane it lies on
+//     (within 3 times the noise, at least half a spacing, and nearer than its own leaf's by as much: a strip of a
+//     leaf's margin or its rows seen at a grazing angle, cut off from it, given to a neighbour); then a
 //     twig lying in a leaf's plane along its margin, taken into the leaf, goes back to the wood: from the wood within
 //     r of the leaf, the twig's line is walked through the leaf while its band's points stand off the blade's plane
 //     as a twig's surface does, with the blade on one side of it (SegmentationTwigs.cpp). LeafId numbers

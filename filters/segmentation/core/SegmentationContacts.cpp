@@ -4,6 +4,7 @@
 #include "SegmentationSteps.h"
 
 #include "PointGrid.h"
+#include "SegmentationGrid.h"
 
 #include <plantmorph/PlaneFit.h>
 
@@ -460,6 +461,233 @@ std::size_t BorderPointsToNearerPlane(const std::vector<Eigen::Vector3d>& points
     moved += now;
     if (now == 0)
       break;
+  }
+  return moved;
+}
+
+namespace
+{
+/// A leaf point held by no kept part (LeafPointsOntoTheirPlane's label).
+constexpr int FreeLeafPoint = -2;
+/// A part's plane in a block counts where its points there spread across their main direction by at least this
+/// fraction of a cell (root mean square): a row alone lies in any plane through it; two rows a link apart (2.5
+/// spacings, in cells of twice the features' radius of 4 spacings: a root mean square of 0.16 cells) give one.
+constexpr double PlaneSpread = 0.15;
+
+/// A part's plane through its points in a block of cells.
+struct BlockPlane
+{
+  int part = -1;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::UnitZ();
+};
+
+/// Per cell of `grid`, the label its points share, or MixedCell.
+constexpr int MixedCell = -3;
+
+/// What LeafPointsOntoTheirPlane's passes look at: the points (`sub`, positions in `points`), their labels (a kept
+/// part, or FreeLeafPoint), per cell the label its points share (or MixedCell), the moments of each kept part's
+/// points in it (ascending part), and whether a point of it moved in the pass before.
+struct PlaneScene
+{
+  const std::vector<Eigen::Vector3d>& points;
+  const std::vector<int>& sub;
+  const CellGrid& grid;
+  std::vector<int> label, cellLabel;
+  std::vector<std::vector<std::pair<int, PartMoments>>> moments;
+  std::vector<char> changed;
+
+  const Eigen::Vector3d& At(int s) const { return points[static_cast<std::size_t>(sub[static_cast<std::size_t>(s)])]; }
+
+  /// Cell c's label (cellLabel) and its parts' moments (moments), from its points' labels.
+  void Summarise(std::size_t c)
+  {
+    const int first = label[static_cast<std::size_t>(*grid.Begin(c))];
+    cellLabel[c] = first;
+    std::vector<std::pair<int, PartMoments>>& parts = moments[c];
+    parts.clear();
+    std::vector<int> ids;
+    for (const int* it = grid.Begin(c); it != grid.End(c); ++it)
+    {
+      const int own = label[static_cast<std::size_t>(*it)];
+      cellLabel[c] = own == first ? cellLabel[c] : MixedCell;
+      if (own >= 0 && std::none_of(parts.begin(), parts.end(), [&](const auto& m) { return m.first == own; }))
+        parts.emplace_back(own, PartMoments());
+    }
+    std::sort(parts.begin(), parts.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (auto& [part, m] : parts)
+    {
+      ids.clear();
+      for (const int* it = grid.Begin(c); it != grid.End(c); ++it)
+        if (label[static_cast<std::size_t>(*it)] == part)
+          ids.push_back(sub[static_cast<std::size_t>(*it)]);
+      m = PartMoments::Of(points, ids);
+    }
+  }
+};
+
+/// The planes of the kept parts with at least BorderPlanePoints points in the cells `cells`, from their moments, in
+/// ascending part; only those whose points spread across their main direction by at least `width` (root mean
+/// square).
+std::vector<BlockPlane> PlanesInBlock(const PlaneScene& scene, const std::vector<std::size_t>& cells, double width)
+{
+  std::vector<std::pair<int, PartMoments>> sums;
+  for (std::size_t c : cells)
+    for (const auto& [part, m] : scene.moments[c])
+    {
+      const auto it = std::find_if(sums.begin(), sums.end(), [&](const auto& x) { return x.first == part; });
+      if (it == sums.end())
+        sums.emplace_back(part, m);
+      else
+        it->second = it->second.Merged(m);
+    }
+  std::sort(sums.begin(), sums.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<BlockPlane> planes;
+  for (const auto& [part, m] : sums)
+  {
+    if (m.count < BorderPlanePoints)
+      continue;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(m.scatter / m.count);
+    // a plane only where the points spread across their main direction (a row alone lies in any plane through it)
+    if (solver.eigenvalues()[1] >= width * width)
+      planes.push_back({ part, m.mean, solver.eigenvectors().col(0) });
+  }
+  return planes;
+}
+
+/// Whether cell c's block is worth a look: it holds more than one label, and (after the first pass) a point of it
+/// moved in the pass before. Read a cell at a time (up to 27, into `cells`), not a point at a time.
+bool BlockToJudge(
+  const PlaneScene& scene, std::size_t c, int pass, const CellGrid::Block& block, std::vector<std::size_t>& cells)
+{
+  const int first = scene.cellLabel[c];
+  bool mixed = first == MixedCell, changed = pass == 0;
+  const int* order = scene.grid.Ordered().data();
+  cells.clear();
+  for (int r = 0; r < block.runs; ++r)
+    for (std::size_t o = block.begin[r]; o < block.end[r];)
+    {
+      const auto cell = static_cast<std::size_t>(scene.grid.CellOfPoint(static_cast<std::size_t>(order[o])));
+      mixed = mixed || scene.cellLabel[cell] != first;
+      changed = changed || scene.changed[cell];
+      cells.push_back(cell);
+      o = static_cast<std::size_t>(scene.grid.End(cell) - order);
+    }
+  return mixed && changed;
+}
+
+/// The moves (position in sub, part) of cell c's points by LeafPointsOntoTheirPlane's rule, into `moves`.
+void MovesInCell(
+  const PlaneScene& scene, std::size_t c, int pass, double margin, std::vector<std::pair<int, int>>& moves)
+{
+  const std::vector<int>& label = scene.label;
+  CellGrid::Block block;
+  scene.grid.BlockAround(scene.At(*scene.grid.Begin(c)), block);
+  std::vector<std::size_t> cells;
+  if (!BlockToJudge(scene, c, pass, block, cells))
+    return;
+  const std::vector<BlockPlane> planes = PlanesInBlock(scene, cells, PlaneSpread * scene.grid.Cell());
+  const auto distance = [&](const BlockPlane& plane, const Eigen::Vector3d& q) {
+    return std::abs((q - plane.centroid).dot(plane.normal));
+  };
+  for (const int* it = scene.grid.Begin(c); it != scene.grid.End(c); ++it)
+  {
+    const int own = label[static_cast<std::size_t>(*it)];
+    const Eigen::Vector3d& q = scene.At(*it);
+    double limit = margin; // on the plane within the margin
+    if (own >= 0)
+    {
+      const auto mine =
+        std::find_if(planes.begin(), planes.end(), [&](const BlockPlane& plane) { return plane.part == own; });
+      if (mine == planes.end())
+        continue;
+      limit = std::min(limit, distance(*mine, q) - margin); // and nearer it than its own part's by the margin
+    }
+    int to = -1;
+    for (const BlockPlane& plane : planes)
+      if (const double d = distance(plane, q); plane.part != own && d < limit)
+      {
+        limit = d;
+        to = plane.part;
+      }
+    if (to >= 0)
+      moves.emplace_back(*it, to);
+  }
+}
+} // namespace
+
+std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& organ,
+  double cell, double margin, const std::vector<char>& kept, int passes, const ParallelFor& parallel,
+  std::vector<std::vector<int>>& parts)
+{
+  if (std::count(kept.begin(), kept.end(), 1) < 1)
+    return 0;
+  std::vector<int> holder(points.size(), -1); // the part (kept or not) holding each point
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    for (int j : parts[k])
+      holder[static_cast<std::size_t>(j)] = static_cast<int>(k);
+  std::vector<int> sub; // the points looked at: the kept parts' and the other leaf points
+  std::vector<Eigen::Vector3d> at;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (organ[i] == OrganLeaf || (holder[i] >= 0 && kept[static_cast<std::size_t>(holder[i])]))
+    {
+      sub.push_back(static_cast<int>(i));
+      at.push_back(points[i]);
+    }
+  const CellGrid grid(at, cell, parallel);
+  PlaneScene scene{ points, sub, grid, std::vector<int>(sub.size()), std::vector<int>(grid.CellCount()),
+    std::vector<std::vector<std::pair<int, PartMoments>>>(grid.CellCount()), std::vector<char>(grid.CellCount(), 0) };
+  std::vector<char> moving(points.size(), 0);
+  std::size_t moved = 0;
+  for (int pass = 0; pass < passes; ++pass)
+  {
+    for (std::size_t s = 0; s < sub.size(); ++s)
+    {
+      const int k = holder[static_cast<std::size_t>(sub[s])];
+      scene.label[s] = k >= 0 && kept[static_cast<std::size_t>(k)] ? k : FreeLeafPoint;
+    }
+    parallel(grid.CellCount(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t c = begin; c < end; ++c)
+        if (pass == 0 || scene.changed[c]) // a point keeps its cell: only the cells it moved in change
+          scene.Summarise(c);
+    });
+    std::vector<std::vector<std::pair<int, int>>> movesOf(grid.CellCount());
+    parallel(grid.CellCount(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t c = begin; c < end; ++c)
+        MovesInCell(scene, c, pass, margin, movesOf[c]);
+    });
+    std::fill(moving.begin(), moving.end(), 0);
+    std::fill(scene.changed.begin(), scene.changed.end(), 0);
+    std::vector<char> touched(parts.size(), 0); // the parts a point left or joined
+    std::size_t now = 0;
+    for (std::size_t c = 0; c < movesOf.size(); ++c)
+      for (const auto& [s, to] : movesOf[c])
+      {
+        const auto i = static_cast<std::size_t>(sub[static_cast<std::size_t>(s)]);
+        moving[i] = 1;
+        scene.changed[c] = 1;
+        if (holder[i] >= 0)
+          touched[static_cast<std::size_t>(holder[i])] = 1;
+        touched[static_cast<std::size_t>(to)] = 1;
+        parts[static_cast<std::size_t>(to)].push_back(static_cast<int>(i));
+        holder[i] = to;
+        ++now;
+      }
+    if (now == 0)
+      break;
+    for (std::size_t k = 0; k < parts.size(); ++k)
+    {
+      if (!touched[k])
+        continue;
+      std::vector<int>& ids = parts[k];
+      ids.erase(std::remove_if(ids.begin(), ids.end(),
+                  [&](int j) {
+                    const auto u = static_cast<std::size_t>(j);
+                    return moving[u] && holder[u] != static_cast<int>(k);
+                  }),
+        ids.end());
+      std::sort(ids.begin(), ids.end());
+    }
+    moved += now;
   }
   return moved;
 }

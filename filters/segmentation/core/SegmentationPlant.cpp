@@ -288,41 +288,6 @@ int SplitMixedRegions(const PointFeatures& f, const LinkGraph& graph, const Segm
   return count;
 }
 
-/// The moments of a leaf part's points (count, mean, scatter about the mean), merged in constant time when two
-/// parts join: its best plane and its spread off it.
-struct PartMoments
-{
-  double count = 0.0;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-
-  /// The moments of points[ids].
-  static PartMoments Of(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& ids)
-  {
-    PartMoments m;
-    m.count = static_cast<double>(ids.size());
-    m.scatter = Scatter(points, ids, m.mean);
-    return m;
-  }
-
-  PartMoments Merged(const PartMoments& o) const
-  {
-    PartMoments m;
-    m.count = count + o.count;
-    const Eigen::Vector3d d = o.mean - mean;
-    m.mean = mean + d * (o.count / m.count);
-    m.scatter = scatter + o.scatter + d * d.transpose() * (count * o.count / m.count);
-    return m;
-  }
-  /// The normal of the best plane (unit) and the spread off it (the root mean square distance).
-  Eigen::Vector3d Normal(double& spread) const
-  {
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter / count);
-    spread = std::sqrt(std::max(0.0, solver.eigenvalues()[0]));
-    return solver.eigenvectors().col(0);
-  }
-};
-
 /// Links around a strip within which its surroundings are looked at (StripIsFlatSheet): 3 links of LinkScale (2.5)
 /// spacings reach about 2r at the default FeatureScale, across a twig's next facets.
 constexpr int StripRingLinks = 3;
@@ -2451,6 +2416,8 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
   for (std::size_t li = 0; li < leaves.size(); ++li)
     if (kept[li])
       leaves[li].insert(leaves[li].end(), contactPoints[li].begin(), contactPoints[li].end());
+  LeafPointsOntoTheirPlane(points, labels.organ, 2.0 * radius,
+    std::max(BorderPlaneMargin * spacing, PlaneNoiseMargin * f.noise), kept, BorderPasses, parallel, leaves);
   // a contact piece may be the twig itself, lying between two leaves
   TwigsAlongLeafEdges(points, wood, woodGrid, kept, radius, spacing, parallel, leaves, labels.organ, labels.confidence);
   for (std::size_t li = 0; li < leaves.size(); ++li)

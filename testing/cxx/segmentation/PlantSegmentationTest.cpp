@@ -2418,6 +2418,71 @@ TEST(PlantSegmentation, BorderPointsGoToTheLeafWhosePlaneTheyLieIn)
   }
 }
 
+TEST(PlantSegmentation, LeafPointsApartFromTheirInstanceGoToTheLeafWhosePlaneTheyLieIn)
+{
+  // Leaf A, a grid of spacing 1 in z = 0 (x, y in [0, 20]), seen beyond x = 20 only in rows 3 apart (x = 23, 26, 29:
+  // farther apart than the links), which the joins gave to leaf B, a grid lying over them 3 above (x in [22, 42]).
+  // The rows lie in A's plane and off B's: they go back to A over the passes, though no point of A is linked to them.
+  // A row of A beyond its other edge (x = -3) in no part joins A; a point 5 above it and a wood point in it stay where
+  // they are, and no point of A or B moves. With B in A's plane (x from 31 to 51), only the free row moves: no plane
+  // is nearer the rows.
+  for (const bool over : { true, false })
+    for (const int threads : { 1, 2 })
+    {
+      std::vector<Eigen::Vector3d> points;
+      std::vector<std::vector<int>> parts(2);
+      std::vector<int> truth, organ;
+      const auto add = [&](const Eigen::Vector3d& q, int leaf, int part, int organOf) {
+        points.push_back(q);
+        truth.push_back(leaf);
+        organ.push_back(organOf);
+        if (part >= 0)
+          parts[static_cast<std::size_t>(part)].push_back(static_cast<int>(points.size()) - 1);
+      };
+      for (int j = 0; j <= 20; ++j)
+      {
+        for (int i = 0; i <= 20; ++i)
+          add(Eigen::Vector3d(i, j, 0.0), 0, 0, plantmorph::OrganLeaf);
+        for (const double x : { 23.0, 26.0, 29.0 })
+          add(Eigen::Vector3d(x, j, 0.0), 0, 1, plantmorph::OrganLeaf);
+        add(Eigen::Vector3d(-3.0, j, 0.0), 0, -1, plantmorph::OrganLeaf);
+        for (int u = 0; u <= 20; ++u)
+          add(
+            over ? Eigen::Vector3d(22.0 + u, j, 3.0) : Eigen::Vector3d(31.0 + u, j, 0.0), 1, 1, plantmorph::OrganLeaf);
+      }
+      add(Eigen::Vector3d(-3.0, 10.5, 5.0), -1, -1, plantmorph::OrganLeaf);
+      add(Eigen::Vector3d(-3.0, 9.5, 0.0), -1, -1, plantmorph::OrganWood);
+      const std::size_t moved = plantmorph::segmentation::LeafPointsOntoTheirPlane(
+        points, organ, 8.0, 0.5, { 1, 1 }, plantmorph::segmentation::BorderPasses, Threads(threads), parts);
+      std::vector<int> partOf(points.size(), -1);
+      for (int k = 0; k < 2; ++k)
+        for (int j : parts[static_cast<std::size_t>(k)])
+        {
+          EXPECT_EQ(partOf[static_cast<std::size_t>(j)], -1) << "point " << j << " in two parts";
+          partOf[static_cast<std::size_t>(j)] = k;
+        }
+      int wrong = 0, free = 0;
+      for (std::size_t i = 0; i < points.size(); ++i)
+      {
+        free += partOf[i] < 0;
+        wrong += truth[i] >= 0 && partOf[i] != truth[i];
+      }
+      EXPECT_EQ(free, 2) << "over " << over; // the point above A and the wood point
+      EXPECT_EQ(partOf[points.size() - 1], -1);
+      EXPECT_EQ(partOf[points.size() - 2], -1);
+      if (over)
+      {
+        EXPECT_EQ(moved, 4u * 21u) << "threads " << threads;
+        EXPECT_EQ(wrong, 0);
+      }
+      else
+      {
+        EXPECT_EQ(moved, 21u) << "threads " << threads; // only the free row joins A, by A's plane and B's alike
+        EXPECT_EQ(wrong, 3 * 21);
+      }
+    }
+}
+
 namespace
 {
 /// A blade (a grid of spacing 1 in z = 0, x in [0, 40], y in [0, 30], a little off the plane) with a twig of radius
