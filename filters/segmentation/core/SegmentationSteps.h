@@ -259,9 +259,9 @@ std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points,
   double cell, double margin, const std::vector<char>& kept, int passes, const ParallelFor& parallel,
   std::vector<std::vector<int>>& parts);
 /// LeafPointsOntoTheirPlane's margin: this many times the noise measured (NoiseLevel), at least BorderPlaneMargin
-/// spacings. At 1 % noise half a spacing moved as many points of a leaf to a wrong leaf as to their own (on the
-/// 4-position scan of the shrub, 924 moved, 312 to their leaf): a point's distance to its own plane varies by the
-/// noise.
+/// spacings. At 1 % noise half a spacing moved more points to a wrong leaf than to their own (the shrub of varied
+/// sizes from four positions: of 924 moved, 312 to their own leaf, 473 to another): a point's distance to its own
+/// plane varies by the noise.
 inline constexpr double PlaneNoiseMargin = 3.0;
 
 /// A twig lying along a leaf's edge in the leaf's plane is taken into the leaf's instance where it is thinner than
