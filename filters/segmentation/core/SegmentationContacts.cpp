@@ -619,7 +619,7 @@ std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points,
   double cell, double margin, const std::vector<char>& kept, int passes, const ParallelFor& parallel,
   std::vector<std::vector<int>>& parts)
 {
-  if (std::count(kept.begin(), kept.end(), 1) < 1)
+  if (std::none_of(kept.begin(), kept.end(), [](char k) { return k != 0; }))
     return 0;
   std::vector<int> holder(points.size(), -1); // the part (kept or not) holding each point
   for (std::size_t k = 0; k < parts.size(); ++k)
@@ -636,15 +636,15 @@ std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points,
   const CellGrid grid(at, cell, parallel);
   PlaneScene scene{ points, sub, grid, std::vector<int>(sub.size()), std::vector<int>(grid.CellCount()),
     std::vector<std::vector<std::pair<int, PartMoments>>>(grid.CellCount()), std::vector<char>(grid.CellCount(), 0) };
+  for (std::size_t s = 0; s < sub.size(); ++s)
+  {
+    const int k = holder[static_cast<std::size_t>(sub[s])];
+    scene.label[s] = k >= 0 && kept[static_cast<std::size_t>(k)] ? k : FreeLeafPoint;
+  }
   std::vector<char> moving(points.size(), 0);
   std::size_t moved = 0;
   for (int pass = 0; pass < passes; ++pass)
   {
-    for (std::size_t s = 0; s < sub.size(); ++s)
-    {
-      const int k = holder[static_cast<std::size_t>(sub[s])];
-      scene.label[s] = k >= 0 && kept[static_cast<std::size_t>(k)] ? k : FreeLeafPoint;
-    }
     parallel(grid.CellCount(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t c = begin; c < end; ++c)
         if (pass == 0 || scene.changed[c]) // a point keeps its cell: only the cells it moved in change
@@ -670,6 +670,7 @@ std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points,
         touched[static_cast<std::size_t>(to)] = 1;
         parts[static_cast<std::size_t>(to)].push_back(static_cast<int>(i));
         holder[i] = to;
+        scene.label[static_cast<std::size_t>(s)] = to; // a kept part: planes are only the kept parts'
         ++now;
       }
     if (now == 0)
