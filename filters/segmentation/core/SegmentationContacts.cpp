@@ -347,126 +347,6 @@ std::size_t CutAtShortSeams(const std::vector<Eigen::Vector3d>& points, const Po
 
 namespace
 {
-/// The distance of `q` from the plane through the points of `part` (per point, -1 elsewhere) among `near`; -1 when
-/// fewer than BorderPlanePoints of them are that part's.
-double DistanceToPartPlane(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& partOf,
-  const std::vector<int>& near, int part, const Eigen::Vector3d& q)
-{
-  std::vector<Eigen::Vector3d> own;
-  for (int j : near)
-    if (partOf[static_cast<std::size_t>(j)] == part)
-      own.push_back(points[static_cast<std::size_t>(j)]);
-  if (static_cast<int>(own.size()) < BorderPlanePoints)
-    return -1.0;
-  if (own.size() > BorderPlaneSample) // every k-th: the plane of a few hundred points is as good, and far cheaper
-  {
-    const std::size_t stride = (own.size() + BorderPlaneSample - 1) / BorderPlaneSample;
-    std::size_t kept = 0;
-    for (std::size_t j = 0; j < own.size(); j += stride)
-      own[kept++] = own[j];
-    own.resize(kept);
-  }
-  const FittedPlane plane = FitPlane(own);
-  return std::abs((q - plane.centroid).dot(plane.normal));
-}
-
-/// One pass of BorderPointsToNearerPlane on `grid` (over `points`); the points moved.
-std::size_t BorderPass(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, const PointGrid& grid,
-  double reach, double margin, const std::vector<char>& kept, const ParallelFor& parallel,
-  std::vector<std::vector<int>>& parts)
-{
-  std::vector<int> partOf(points.size(), -1);
-  for (std::size_t k = 0; k < parts.size(); ++k)
-    if (kept[k])
-      for (int j : parts[k])
-        partOf[static_cast<std::size_t>(j)] = static_cast<int>(k);
-  std::vector<int> border;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    for (std::size_t e = graph.offsets[i]; partOf[i] >= 0 && e < graph.offsets[i + 1]; ++e)
-    {
-      const int other = partOf[static_cast<std::size_t>(graph.neighbours[e])];
-      if (other >= 0 && other != partOf[i])
-      {
-        border.push_back(static_cast<int>(i));
-        break;
-      }
-    }
-  std::vector<int> to(border.size(), -1);
-  parallel(border.size(), [&](std::size_t begin, std::size_t end) {
-    std::vector<int> near, candidates;
-    for (std::size_t b = begin; b < end; ++b)
-    {
-      const auto i = static_cast<std::size_t>(border[b]);
-      candidates.clear();
-      for (std::size_t e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e)
-      {
-        const int other = partOf[static_cast<std::size_t>(graph.neighbours[e])];
-        if (other >= 0 && other != partOf[i])
-          candidates.push_back(other);
-      }
-      std::sort(candidates.begin(), candidates.end());
-      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-      grid.Within(points[i], reach, near);
-      const double own = DistanceToPartPlane(points, partOf, near, partOf[i], points[i]);
-      if (own < 0.0)
-        continue;
-      double best = own - margin;
-      for (int other : candidates)
-      {
-        const double d = DistanceToPartPlane(points, partOf, near, other, points[i]);
-        if (d >= 0.0 && d < best)
-        {
-          best = d;
-          to[b] = other;
-        }
-      }
-    }
-  });
-  std::vector<char> left(points.size(), 0);
-  std::size_t moved = 0;
-  for (std::size_t b = 0; b < border.size(); ++b)
-    if (to[b] >= 0)
-    {
-      left[static_cast<std::size_t>(border[b])] = 1;
-      parts[static_cast<std::size_t>(to[b])].push_back(border[b]);
-      ++moved;
-    }
-  if (moved > 0)
-    for (std::size_t k = 0; k < parts.size(); ++k)
-    {
-      std::vector<int>& ids = parts[k];
-      ids.erase(std::remove_if(ids.begin(), ids.end(),
-                  [&](int j) {
-                    const auto u = static_cast<std::size_t>(j);
-                    return left[u] && partOf[u] == static_cast<int>(k);
-                  }),
-        ids.end());
-      std::sort(ids.begin(), ids.end());
-    }
-  return moved;
-}
-} // namespace
-
-std::size_t BorderPointsToNearerPlane(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, double reach,
-  double margin, const std::vector<char>& kept, int passes, const ParallelFor& parallel,
-  std::vector<std::vector<int>>& parts)
-{
-  if (std::count(kept.begin(), kept.end(), 1) < 2)
-    return 0;
-  const PointGrid grid(points, PointGrid::CellFor(points, 4.0), parallel);
-  std::size_t moved = 0;
-  for (int pass = 0; pass < passes; ++pass)
-  {
-    const std::size_t now = BorderPass(points, graph, grid, reach, margin, kept, parallel, parts);
-    moved += now;
-    if (now == 0)
-      break;
-  }
-  return moved;
-}
-
-namespace
-{
 /// A leaf point held by no kept part (LeafPointsOntoTheirPlane's label).
 constexpr int FreeLeafPoint = -2;
 /// A part's plane in a block counts where its points there spread across their main direction by at least this
@@ -492,11 +372,26 @@ struct PlaneScene
   const std::vector<Eigen::Vector3d>& points;
   const std::vector<int>& sub;
   const CellGrid& grid;
-  std::vector<int> label, cellLabel;
+  const LinkGraph& graph;
+  std::vector<int> label, cellLabel, position; // position: each point's in sub, -1 when not looked at
   std::vector<std::vector<std::pair<int, PartMoments>>> moments;
   std::vector<char> changed;
 
   const Eigen::Vector3d& At(int s) const { return points[static_cast<std::size_t>(sub[static_cast<std::size_t>(s)])]; }
+
+  /// Whether point s of a kept part is linked to a point of another kept part (on the border between them).
+  bool OnBorder(int s) const
+  {
+    const int own = label[static_cast<std::size_t>(s)];
+    const auto i = static_cast<std::size_t>(sub[static_cast<std::size_t>(s)]);
+    for (std::size_t e = graph.offsets[i]; own >= 0 && e < graph.offsets[i + 1]; ++e)
+    {
+      const int at = position[static_cast<std::size_t>(graph.neighbours[e])];
+      if (at >= 0 && label[static_cast<std::size_t>(at)] >= 0 && label[static_cast<std::size_t>(at)] != own)
+        return true;
+    }
+    return false;
+  }
 
   /// Cell c's label (cellLabel) and its parts' moments (moments), from its points' labels.
   void Summarise(std::size_t c)
@@ -525,7 +420,7 @@ struct PlaneScene
   }
 };
 
-/// The planes of the kept parts with at least BorderPlanePoints points in the cells `cells`, from their moments, in
+/// The planes of the kept parts with at least PlanePoints points in the cells `cells`, from their moments, in
 /// ascending part; only those whose points spread across their main direction by at least `width` (root mean
 /// square).
 std::vector<BlockPlane> PlanesInBlock(const PlaneScene& scene, const std::vector<std::size_t>& cells, double width)
@@ -544,7 +439,7 @@ std::vector<BlockPlane> PlanesInBlock(const PlaneScene& scene, const std::vector
   std::vector<BlockPlane> planes;
   for (const auto& [part, m] : sums)
   {
-    if (m.count < BorderPlanePoints)
+    if (m.count < PlanePoints)
       continue;
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(m.scatter / m.count);
     // a plane only where the points spread across their main direction (a row alone lies in any plane through it)
@@ -577,7 +472,7 @@ bool BlockToJudge(
 
 /// The moves (position in sub, part) of cell c's points by LeafPointsOntoTheirPlane's rule, into `moves`.
 void MovesInCell(
-  const PlaneScene& scene, std::size_t c, int pass, double margin, std::vector<std::pair<int, int>>& moves)
+  const PlaneScene& scene, std::size_t c, int pass, const PlaneMoves& rule, std::vector<std::pair<int, int>>& moves)
 {
   const std::vector<int>& label = scene.label;
   CellGrid::Block block;
@@ -593,14 +488,16 @@ void MovesInCell(
   {
     const int own = label[static_cast<std::size_t>(*it)];
     const Eigen::Vector3d& q = scene.At(*it);
-    double limit = margin; // on the plane within the margin
+    double limit = rule.margin; // on the plane within the margin
     if (own >= 0)
     {
       const auto mine =
         std::find_if(planes.begin(), planes.end(), [&](const BlockPlane& plane) { return plane.part == own; });
       if (mine == planes.end())
         continue;
-      limit = std::min(limit, distance(*mine, q) - margin); // and nearer it than its own part's by the margin
+      // nearer it than its own part's by the margin; on the border, by the border's margin alone
+      limit = scene.OnBorder(*it) ? distance(*mine, q) - rule.borderMargin
+                                  : std::min(limit, distance(*mine, q) - rule.margin);
     }
     int to = -1;
     for (const BlockPlane& plane : planes)
@@ -615,8 +512,8 @@ void MovesInCell(
 }
 } // namespace
 
-std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& organ,
-  double cell, double margin, const std::vector<char>& kept, int passes, const ParallelFor& parallel,
+std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
+  const std::vector<int>& organ, const PlaneMoves& rule, const std::vector<char>& kept, const ParallelFor& parallel,
   std::vector<std::vector<int>>& parts)
 {
   if (std::none_of(kept.begin(), kept.end(), [](char k) { return k != 0; }))
@@ -633,17 +530,19 @@ std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points,
       sub.push_back(static_cast<int>(i));
       at.push_back(points[i]);
     }
-  const CellGrid grid(at, cell, parallel);
-  PlaneScene scene{ points, sub, grid, std::vector<int>(sub.size()), std::vector<int>(grid.CellCount()),
-    std::vector<std::vector<std::pair<int, PartMoments>>>(grid.CellCount()), std::vector<char>(grid.CellCount(), 0) };
+  const CellGrid grid(at, rule.cell, parallel);
+  PlaneScene scene{ points, sub, grid, graph, std::vector<int>(sub.size()), std::vector<int>(grid.CellCount()),
+    std::vector<int>(points.size(), -1), std::vector<std::vector<std::pair<int, PartMoments>>>(grid.CellCount()),
+    std::vector<char>(grid.CellCount(), 0) };
   for (std::size_t s = 0; s < sub.size(); ++s)
   {
     const int k = holder[static_cast<std::size_t>(sub[s])];
     scene.label[s] = k >= 0 && kept[static_cast<std::size_t>(k)] ? k : FreeLeafPoint;
+    scene.position[static_cast<std::size_t>(sub[s])] = static_cast<int>(s);
   }
   std::vector<char> moving(points.size(), 0);
   std::size_t moved = 0;
-  for (int pass = 0; pass < passes; ++pass)
+  for (int pass = 0; pass < rule.passes; ++pass)
   {
     parallel(grid.CellCount(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t c = begin; c < end; ++c)
@@ -653,7 +552,7 @@ std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points,
     std::vector<std::vector<std::pair<int, int>>> movesOf(grid.CellCount());
     parallel(grid.CellCount(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t c = begin; c < end; ++c)
-        MovesInCell(scene, c, pass, margin, movesOf[c]);
+        MovesInCell(scene, c, pass, rule, movesOf[c]);
     });
     std::fill(moving.begin(), moving.end(), 0);
     std::fill(scene.changed.begin(), scene.changed.end(), 0);

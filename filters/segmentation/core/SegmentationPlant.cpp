@@ -2411,13 +2411,14 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
     kept[li] =
       (seenInRows[li] || spreadLikeALeaf[li] || !NoLeafShape(region, verdicts, leaves[li], p.minimumLeafPoints)) &&
       (wood.empty() || !WoodSurfaceSheet(points, leaves[li], wood, woodGrid, radius, f.noise));
-  BorderPointsToNearerPlane(
-    points, graph, 2.0 * radius, BorderPlaneMargin * spacing, kept, BorderPasses, parallel, leaves);
   for (std::size_t li = 0; li < leaves.size(); ++li)
     if (kept[li])
       leaves[li].insert(leaves[li].end(), contactPoints[li].begin(), contactPoints[li].end());
-  LeafPointsOntoTheirPlane(points, labels.organ, 2.0 * radius,
-    std::max(BorderPlaneMargin * spacing, PlaneNoiseMargin * f.noise), kept, BorderPasses, parallel, leaves);
+  PlaneMoves planeMoves;
+  planeMoves.cell = 2.0 * radius;
+  planeMoves.borderMargin = PlaneMargin * spacing;
+  planeMoves.margin = std::max(planeMoves.borderMargin, PlaneNoiseMargin * f.noise);
+  LeafPointsOntoTheirPlane(points, graph, labels.organ, planeMoves, kept, parallel, leaves);
   // a contact piece may be the twig itself, lying between two leaves
   TwigsAlongLeafEdges(points, wood, woodGrid, kept, radius, spacing, parallel, leaves, labels.organ, labels.confidence);
   for (std::size_t li = 0; li < leaves.size(); ++li)

@@ -223,45 +223,41 @@ bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGrap
 std::size_t FlatPiecesAwayFromWood(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, double radius,
   std::vector<int>& organ, std::vector<double>& confidence);
 
-/// Where two leaf instances touch, the segmentation's border between them is drawn by the order its regions grew and
-/// joined in, not by the leaves' surfaces: a margin row or two of one leaf goes to its neighbour, and the leaf's fitted
-/// area loses that strip (a row of a leaf 1 long, 0.007 apart, is about 3 % of its area). Each point of a kept part
-/// (`kept`) linked to a point of another kept part goes to the part, among its own and those it is linked to, whose
-/// plane through that part's points within `reach` of it (at least BorderPlanePoints of them) it lies nearest, when
-/// nearer than to its own part's plane by more than `margin`. Each of up to `passes` passes decides on the parts as
-/// they are (a move does not change another's plane in that pass), threaded on `parallel`, the same on any number
-/// of threads; a moved point's neighbours may border the other part in the next. Returns the points moved.
-std::size_t BorderPointsToNearerPlane(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, double reach,
-  double margin, const std::vector<char>& kept, int passes, const ParallelFor& parallel,
-  std::vector<std::vector<int>>& parts);
-/// The fewest of a part's points within reach of a border point that give its plane there.
-inline constexpr int BorderPlanePoints = 10;
-/// At most about this many of them (every k-th, in the grid's order) fit the plane: at 1 % noise the reach (2r, r
-/// widened to 12 times the noise) holds some 1,600 points of a leaf.
-inline constexpr std::size_t BorderPlaneSample = 200;
-/// A border point moves when nearer another part's plane than its own part's by more than this many point spacings.
-inline constexpr double BorderPlaneMargin = 0.5;
-/// Passes of BorderPointsToNearerPlane: a moved point's neighbours may border the other leaf in the next.
-inline constexpr int BorderPasses = 3;
+/// How LeafPointsOntoTheirPlane moves points: cells of side `cell` (twice the features' radius), the `margin` a point
+/// must lie within of a plane and nearer it than its own part's, `borderMargin` for a point linked to another part,
+/// and up to `passes` passes.
+struct PlaneMoves
+{
+  double cell = 0.0, margin = 0.0, borderMargin = 0.0;
+  int passes = 3;
+};
 
-/// Leaf points apart from their leaf's instance: a strip of its margin, or rows of it seen at a grazing angle, that
-/// the regions' growing and joins gave to a neighbouring leaf they are not linked to, or to no leaf. They lie in their
+/// Leaf points in the wrong instance, or in none, go to the leaf whose plane they lie in. Where two instances touch,
+/// the border between them is drawn by the order the regions grew and joined in, not by the leaves' surfaces: a margin
+/// row or two of one leaf goes to its neighbour, and the leaf's fitted area loses that strip (a row of a leaf 1 long,
+/// 0.007 apart, is about 3 % of its area). A strip of a leaf's margin, or rows of it seen at a grazing angle (farther
+/// apart than the links), may go to a neighbouring leaf it is not linked to, or to no leaf. Such points lie in their
 /// own leaf's plane and off the neighbour's by about their distance from it (on the 4-position scan of the shrub of
 /// varied leaf sizes, 0.0005 off the one and 0.008-0.03 off the other), so the plane tells them apart where the
-/// nearest points do not. Points in cells of side `cell` (twice the features' radius, BorderPointsToNearerPlane's
-/// reach); in each cell's 3 x 3 x 3 block, the plane of each kept part (`kept`) with at least BorderPlanePoints points
-/// there, spread across their main direction (not a row alone). A point of a kept part goes to the
-/// part whose plane it lies on within `margin` and nearer than its own part's by more than `margin`; a leaf point
-/// (`organ`) in no kept part, to the part whose plane it lies nearest within `margin`. Each of up to `passes` passes
-/// decides on the parts as they are, threaded on `parallel` (the same on any number of threads). Returns the points
-/// moved.
-std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& organ,
-  double cell, double margin, const std::vector<char>& kept, int passes, const ParallelFor& parallel,
+/// nearest points do not. The points in cells of side `rule.cell`; in each cell's 3 x 3 x 3 block, the plane of each
+/// kept part (`kept`) with at least PlanePoints points there, spread across their main direction (not a row alone).
+/// A point of a kept part linked (`graph`) to a point of another kept part goes to the part whose plane it lies
+/// nearest, when nearer than its own part's by more than `rule.borderMargin`; any other point of a kept part, to the
+/// part whose plane it lies on within `rule.margin` and nearer than its own part's by more than `rule.margin`; a leaf
+/// point (`organ`) in no kept part, to the part whose plane it lies nearest within `rule.margin`. Each of up to
+/// `rule.passes` passes decides on the parts as they are (a move does not change another's plane in that pass),
+/// threaded on `parallel`, the same on any number of threads; a row moved lets the next row reach the border in the
+/// next pass. Two leaves side by side in one plane keep their border: no plane is nearer. Returns the points moved.
+std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
+  const std::vector<int>& organ, const PlaneMoves& rule, const std::vector<char>& kept, const ParallelFor& parallel,
   std::vector<std::vector<int>>& parts);
-/// LeafPointsOntoTheirPlane's margin: this many times the noise measured (NoiseLevel), at least BorderPlaneMargin
-/// spacings. At 1 % noise half a spacing moved more points to a wrong leaf than to their own (the shrub of varied
-/// sizes from four positions: of 924 moved, 312 to their own leaf, 473 to another): a point's distance to its own
-/// plane varies by the noise.
+/// The fewest of a part's points in a block that give its plane there.
+inline constexpr int PlanePoints = 10;
+/// LeafPointsOntoTheirPlane's border margin, in point spacings; its other margin is this or
+inline constexpr double PlaneMargin = 0.5;
+/// this many times the noise measured (NoiseLevel), the larger. Away from the border, at 1 % noise half a spacing
+/// moved more points to a wrong leaf than to their own (the shrub of varied sizes from four positions: of 924 moved,
+/// 312 to their own leaf, 473 to another): a point's distance to its own plane varies by the noise.
 inline constexpr double PlaneNoiseMargin = 3.0;
 
 /// A twig lying along a leaf's edge in the leaf's plane is taken into the leaf's instance where it is thinner than

@@ -2361,61 +2361,80 @@ TEST(PlantSegmentation, WoodDistanceIsTheDistanceToTheNearestWoodPoint)
   }
 }
 
+namespace
+{
+/// LeafPointsOntoTheirPlane's rule at spacing 1 and no noise: cells of 8 (twice the features' radius of 4), margins
+/// of half a spacing.
+plantmorph::segmentation::PlaneMoves PlaneRule()
+{
+  plantmorph::segmentation::PlaneMoves rule;
+  rule.cell = 8.0;
+  rule.margin = rule.borderMargin = 0.5;
+  return rule;
+}
+} // namespace
+
 TEST(PlantSegmentation, BorderPointsGoToTheLeafWhosePlaneTheyLieIn)
 {
   // Two leaves meeting at a crease of 60 degrees (an open book, grids of spacing 1, 21 x 21 points each): leaf A in
   // z = 0, leaf B rising from its edge at x = 20. The first two rows of B were given to A (a border drawn by the order
   // the regions grew in). They lie in B's plane, up to 1.7 off A's: they go back to B over the passes; no point of A
-  // moves. Two leaves side by side in one plane, the border off by two rows, keep it: no plane is nearer.
+  // moves. Two leaves side by side in one plane, the border off by two rows, keep it: no plane is nearer. The same
+  // with the margin away from the border at 3 (three times a noise of a spacing): the border's rows move by the
+  // border's margin of half a spacing (the first row lies 0.87 off A's plane).
   const double angle = Pi / 3.0;
   for (const bool crease : { true, false })
-  {
-    std::vector<Eigen::Vector3d> points;
-    std::vector<std::vector<int>> parts(2);
-    std::vector<int> truth;
-    for (int i = 0; i <= 20; ++i)
-      for (int j = 0; j <= 20; ++j)
+    for (const double margin : { 0.5, 3.0 })
+    {
+      std::vector<Eigen::Vector3d> points;
+      std::vector<std::vector<int>> parts(2);
+      std::vector<int> truth;
+      for (int i = 0; i <= 20; ++i)
+        for (int j = 0; j <= 20; ++j)
+        {
+          points.emplace_back(i, j, 0.0);
+          truth.push_back(0);
+          parts[0].push_back(static_cast<int>(points.size()) - 1);
+        }
+      for (int u = 1; u <= 21; ++u)
+        for (int j = 0; j <= 20; ++j)
+        {
+          points.push_back(crease ? Eigen::Vector3d(20.0 + u * std::cos(angle), j, u * std::sin(angle))
+                                  : Eigen::Vector3d(20.0 + u, j, 0.0));
+          truth.push_back(1);
+          parts[u <= 2 ? 0 : 1].push_back(static_cast<int>(points.size()) - 1);
+        }
+      const plantmorph::SegmentationParameters p;
+      plantmorph::segmentation::PointFeatures f;
+      plantmorph::segmentation::LinkGraph graph;
+      plantmorph::segmentation::ComputeFeatures(points, 1.0, p, plantmorph::SerialFor, f, graph);
+      const std::vector<int> organ(points.size(), plantmorph::OrganLeaf);
+      plantmorph::segmentation::PlaneMoves rule = PlaneRule();
+      rule.margin = margin;
+      const std::size_t moved = plantmorph::segmentation::LeafPointsOntoTheirPlane(
+        points, graph, organ, rule, { 1, 1 }, Threads(margin > 1.0 ? 2 : 1), parts);
+      std::vector<int> partOf(points.size(), -1);
+      for (int k = 0; k < 2; ++k)
+        for (int j : parts[static_cast<std::size_t>(k)])
+          partOf[static_cast<std::size_t>(j)] = k;
+      int wrong = 0, unassigned = 0;
+      for (std::size_t i = 0; i < points.size(); ++i)
       {
-        points.emplace_back(i, j, 0.0);
-        truth.push_back(0);
-        parts[0].push_back(static_cast<int>(points.size()) - 1);
+        unassigned += partOf[i] < 0;
+        wrong += partOf[i] >= 0 && partOf[i] != truth[i];
       }
-    for (int u = 1; u <= 21; ++u)
-      for (int j = 0; j <= 20; ++j)
+      EXPECT_EQ(unassigned, 0) << "crease " << crease;
+      if (crease)
       {
-        points.push_back(crease ? Eigen::Vector3d(20.0 + u * std::cos(angle), j, u * std::sin(angle))
-                                : Eigen::Vector3d(20.0 + u, j, 0.0));
-        truth.push_back(1);
-        parts[u <= 2 ? 0 : 1].push_back(static_cast<int>(points.size()) - 1);
+        EXPECT_EQ(moved, 42u) << "margin " << margin;
+        EXPECT_EQ(wrong, 0);
       }
-    const plantmorph::SegmentationParameters p;
-    plantmorph::segmentation::PointFeatures f;
-    plantmorph::segmentation::LinkGraph graph;
-    plantmorph::segmentation::ComputeFeatures(points, 1.0, p, plantmorph::SerialFor, f, graph);
-    const std::size_t moved = plantmorph::segmentation::BorderPointsToNearerPlane(
-      points, graph, 8.0, 0.5, { 1, 1 }, plantmorph::segmentation::BorderPasses, plantmorph::SerialFor, parts);
-    std::vector<int> partOf(points.size(), -1);
-    for (int k = 0; k < 2; ++k)
-      for (int j : parts[static_cast<std::size_t>(k)])
-        partOf[static_cast<std::size_t>(j)] = k;
-    int wrong = 0, unassigned = 0;
-    for (std::size_t i = 0; i < points.size(); ++i)
-    {
-      unassigned += partOf[i] < 0;
-      wrong += partOf[i] >= 0 && partOf[i] != truth[i];
+      else
+      {
+        EXPECT_EQ(moved, 0u);
+        EXPECT_EQ(wrong, 42);
+      }
     }
-    EXPECT_EQ(unassigned, 0) << "crease " << crease;
-    if (crease)
-    {
-      EXPECT_EQ(moved, 42u);
-      EXPECT_EQ(wrong, 0);
-    }
-    else
-    {
-      EXPECT_EQ(moved, 0u);
-      EXPECT_EQ(wrong, 42);
-    }
-  }
 }
 
 TEST(PlantSegmentation, LeafPointsApartFromTheirInstanceGoToTheLeafWhosePlaneTheyLieIn)
@@ -2452,8 +2471,12 @@ TEST(PlantSegmentation, LeafPointsApartFromTheirInstanceGoToTheLeafWhosePlaneThe
       }
       add(Eigen::Vector3d(-3.0, 10.5, 5.0), -1, -1, plantmorph::OrganLeaf);
       add(Eigen::Vector3d(-3.0, 9.5, 0.0), -1, -1, plantmorph::OrganWood);
+      const plantmorph::SegmentationParameters p;
+      plantmorph::segmentation::PointFeatures f;
+      plantmorph::segmentation::LinkGraph graph;
+      plantmorph::segmentation::ComputeFeatures(points, 1.0, p, plantmorph::SerialFor, f, graph);
       const std::size_t moved = plantmorph::segmentation::LeafPointsOntoTheirPlane(
-        points, organ, 8.0, 0.5, { 1, 1 }, plantmorph::segmentation::BorderPasses, Threads(threads), parts);
+        points, graph, organ, PlaneRule(), { 1, 1 }, Threads(threads), parts);
       std::vector<int> partOf(points.size(), -1);
       for (int k = 0; k < 2; ++k)
         for (int j : parts[static_cast<std::size_t>(k)])
