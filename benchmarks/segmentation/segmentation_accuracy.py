@@ -46,7 +46,9 @@ writes one line per matched leaf (the found and true LeafId, points, areas, the 
 seen, EstimatedArea and AreaRule, HiddenMargin, ExtentsSeen, Length and Width, Status and Message). With `--fit` it
 also counts the matched leaves whose fitted base (the Outline's midvein end, LeafUV (0, 0)) lies more than a quarter
 of the leaf's length from the true base (the blade's points of the smallest TCoords v): turned end to end, or based
-at a cut edge; `--orient-by-wood 0` fits without the wood's help (LeafFitFilter's OrientByWood) to compare.
+at a cut edge; and, over the matched leaves whose base was scanned, those whose fitted base lies within 5 % and
+within 25 % of the length of the true base (as for the leaves table's Base); `--orient-by-wood 0` fits without the
+wood's help (LeafFitFilter's OrientByWood) to compare.
 """
 import argparse
 import math
@@ -291,23 +293,32 @@ def true_leaf_bases(name):
     return bases[name]
 
 
-def table_bases(segmentation, match, truth_bases, scanned, truth):
-    """The leaves table's Base against each matched leaf's true base, over the leaves whose base was scanned (a scanned
-    blade point of the leaf within 5 % of its length of the true base): how many, and how many of their Base within 5
-    % and within 25 % of the length of the true base."""
-    table = servermanager.Fetch(segmentation, idx=1)
-    ids, base = vtk_to_numpy(table.GetColumnByName("LeafId")), vtk_to_numpy(table.GetColumnByName("Base"))
+def bases_scanned(truth_bases, scanned, truth):
+    """The true leaves whose base was scanned: a scanned blade point of the leaf within 5 % of its length of the true
+    base."""
     points = vtk_to_numpy(scanned.GetPoints().GetData())
     leaf, organ = vtk_to_numpy(truth.GetArray("LeafId")), vtk_to_numpy(truth.GetArray("Organ"))
+    blade = organ == 1
+    seen = set()
+    for t in numpy.unique(leaf[blade & (leaf >= 0)]).tolist():
+        if t in truth_bases:
+            low, length = truth_bases[t]
+            if numpy.linalg.norm(points[blade & (leaf == t)] - low, axis=1).min() <= 0.05 * length:
+                seen.add(t)
+    return seen
+
+
+def table_bases(segmentation, match, truth_bases, seen_bases):
+    """The leaves table's Base against each matched leaf's true base, over the leaves whose base was scanned
+    (`seen_bases`): how many, and how many of their Base within 5 % and within 25 % of the length of the true base."""
+    table = servermanager.Fetch(segmentation, idx=1)
+    ids, base = vtk_to_numpy(table.GetColumnByName("LeafId")), vtk_to_numpy(table.GetColumnByName("Base"))
     seen = near = close = 0
     for row, k in enumerate(ids.tolist()):
         t = match.get(int(k))
-        if t is None or t not in truth_bases:
+        if t is None or t not in seen_bases:
             continue
         low, length = truth_bases[t]
-        mine = points[(leaf == t) & (organ == 1)]
-        if len(mine) == 0 or numpy.linalg.norm(mine - low, axis=1).min() > 0.05 * length:
-            continue
         off = numpy.linalg.norm(base[row] - low) / length
         seen, near, close = seen + 1, near + int(off <= 0.05), close + int(off <= 0.25)
     return seen, near, close
@@ -426,8 +437,9 @@ for name in arguments.plants.split(","):
             s.update(plant=name, positions=positions, noise=noise, points=cloud.GetNumberOfPoints(), seconds=seconds,
                      cpu=cpu)
             truth_bases = bases[name] if name in bases else true_leaf_bases(name)
+            seen_bases = bases_scanned(truth_bases, scanned, truth) if truth_bases else set()
             s["base_seen"], s["base_near"], s["base_close"] = (
-                table_bases(segmentation, s["match"], truth_bases, scanned, truth) if truth_bases else (0, 0, 0))
+                table_bases(segmentation, s["match"], truth_bases, seen_bases) if truth_bases else (0, 0, 0))
             if arguments.fit:
                 found_ids, found_counts = numpy.unique(get("LeafId"), return_counts=True)
                 s["found_points"] = dict(zip(found_ids.tolist(), found_counts.tolist()))
@@ -437,6 +449,10 @@ for name in arguments.plants.split(","):
                     off = [numpy.linalg.norm(fitted_bases[k] - truth_bases[t][0]) / truth_bases[t][1]
                            for k, t in s["match"].items() if k in fitted_bases and t in truth_bases]
                     s["based"], s["turned"] = len(off), sum(1 for d in off if d > 0.25)
+                    # the same over the leaves whose base was scanned, and those within 5 % of the length
+                    off = [numpy.linalg.norm(fitted_bases[k] - truth_bases[t][0]) / truth_bases[t][1]
+                           for k, t in s["match"].items() if k in fitted_bases and t in seen_bases]
+                    s["fit_base_seen"] = (len(off), sum(1 for d in off if d <= 0.05), sum(1 for d in off if d <= 0.25))
                 # the fit alone: each true blade's scanned points
                 true_fits, _, _, _ = fitted_rows(scanner, true_blades=True)
                 s["true_fits"] = {int(r[0]): r[1] for r in true_fits if int(r[2]) != 2}
@@ -577,6 +593,12 @@ if arguments.fit and rows:
               % (arguments.orient_by_wood, ", ".join("%s %d %g: %d of %d" % (s["plant"], s["positions"], s["noise"],
                                                                              s["turned"], s["based"]) for s in based),
                  sum(s["turned"] for s in based), sum(s["based"] for s in based)))
+        print("The fitted base over the matched leaves whose base was scanned (as for the leaves table's Base above): "
+              "within 5 %% / 25 %% of the length of the true base, per scan: %s; pooled %d / %d of %d"
+              % (", ".join("%s %d %g: %d / %d of %d" % (s["plant"], s["positions"], s["noise"], s["fit_base_seen"][1],
+                                                       s["fit_base_seen"][2], s["fit_base_seen"][0]) for s in based),
+                 sum(s["fit_base_seen"][1] for s in based), sum(s["fit_base_seen"][2] for s in based),
+                 sum(s["fit_base_seen"][0] for s in based)))
     alone = numpy.concatenate([s["alone_errors"] for s in rows])
     print("The fit alone on the true labels of the same leaves: median |area error| %.2f %%, %.1f %% within 3 %%"
           % (100 * numpy.median(alone) if len(alone) else float("nan"),

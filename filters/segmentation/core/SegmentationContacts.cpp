@@ -379,18 +379,19 @@ struct PlaneScene
 
   const Eigen::Vector3d& At(int s) const { return points[static_cast<std::size_t>(sub[static_cast<std::size_t>(s)])]; }
 
-  /// Whether point s of a kept part is linked to a point of another kept part (on the border between them).
-  bool OnBorder(int s) const
+  /// The other kept parts point s of a kept part is linked to, into `linked` (empty: not on a border).
+  void LinkedParts(int s, std::vector<int>& linked) const
   {
+    linked.clear();
     const int own = label[static_cast<std::size_t>(s)];
     const auto i = static_cast<std::size_t>(sub[static_cast<std::size_t>(s)]);
     for (std::size_t e = graph.offsets[i]; own >= 0 && e < graph.offsets[i + 1]; ++e)
     {
       const int at = position[static_cast<std::size_t>(graph.neighbours[e])];
-      if (at >= 0 && label[static_cast<std::size_t>(at)] >= 0 && label[static_cast<std::size_t>(at)] != own)
-        return true;
+      const int other = at >= 0 ? label[static_cast<std::size_t>(at)] : -1;
+      if (other >= 0 && other != own && std::find(linked.begin(), linked.end(), other) == linked.end())
+        linked.push_back(other);
     }
-    return false;
   }
 
   /// Cell c's label (cellLabel) and its parts' moments (moments), from its points' labels.
@@ -484,8 +485,10 @@ void MovesInCell(
   const auto distance = [&](const BlockPlane& plane, const Eigen::Vector3d& q) {
     return std::abs((q - plane.centroid).dot(plane.normal));
   };
+  std::vector<int> linked;
   for (const int* it = scene.grid.Begin(c); it != scene.grid.End(c); ++it)
   {
+    linked.clear();
     const int own = label[static_cast<std::size_t>(*it)];
     const Eigen::Vector3d& q = scene.At(*it);
     double limit = rule.margin; // on the plane within the margin
@@ -495,13 +498,15 @@ void MovesInCell(
         std::find_if(planes.begin(), planes.end(), [&](const BlockPlane& plane) { return plane.part == own; });
       if (mine == planes.end())
         continue;
-      // nearer it than its own part's by the margin; on the border, by the border's margin alone
-      limit = scene.OnBorder(*it) ? distance(*mine, q) - rule.borderMargin
-                                  : std::min(limit, distance(*mine, q) - rule.margin);
+      // nearer it than its own part's by the margin; on the border, to a part it is linked to, by the border's margin
+      scene.LinkedParts(*it, linked);
+      limit =
+        linked.empty() ? std::min(limit, distance(*mine, q) - rule.margin) : distance(*mine, q) - rule.borderMargin;
     }
     int to = -1;
     for (const BlockPlane& plane : planes)
-      if (const double d = distance(plane, q); plane.part != own && d < limit)
+      if (const double d = distance(plane, q); plane.part != own && d < limit &&
+          (linked.empty() || std::find(linked.begin(), linked.end(), plane.part) != linked.end()))
       {
         limit = d;
         to = plane.part;

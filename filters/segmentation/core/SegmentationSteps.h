@@ -238,16 +238,16 @@ struct PlaneMoves
 /// 0.007 apart, is about 3 % of its area). A strip of a leaf's margin, or rows of it seen at a grazing angle (farther
 /// apart than the links), may go to a neighbouring leaf it is not linked to, or to no leaf. Such points lie in their
 /// own leaf's plane and off the neighbour's by about their distance from it (on the 4-position scan of the shrub of
-/// varied leaf sizes, 0.0005 off the one and 0.008-0.03 off the other), so the plane tells them apart where the
-/// nearest points do not. The points in cells of side `rule.cell`; in each cell's 3 x 3 x 3 block, the plane of each
-/// kept part (`kept`) with at least PlanePoints points there, spread across their main direction (not a row alone).
-/// A point of a kept part linked (`graph`) to a point of another kept part goes to the part whose plane it lies
-/// nearest, when nearer than its own part's by more than `rule.borderMargin`; any other point of a kept part, to the
-/// part whose plane it lies on within `rule.margin` and nearer than its own part's by more than `rule.margin`; a leaf
-/// point (`organ`) in no kept part, to the part whose plane it lies nearest within `rule.margin`. Each of up to
-/// `rule.passes` passes decides on the parts as they are (a move does not change another's plane in that pass),
-/// threaded on `parallel`, the same on any number of threads; a row moved lets the next row reach the border in the
-/// next pass. Two leaves side by side in one plane keep their border: no plane is nearer. Returns the points moved.
+/// varied leaf sizes, 0.0005 off the one and 0.008-0.03 off the other), so the plane tells them apart where the nearest
+/// points do not. The points in cells of side `rule.cell`; in each cell's 3 x 3 x 3 block, the plane of each kept part
+/// (`kept`) with at least PlanePoints points there, spread across their main direction (not a row alone). A point of a
+/// kept part linked (`graph`) to a point of another kept part goes to the part, among those it is linked to, whose
+/// plane it lies nearest, when nearer than its own part's by more than `rule.borderMargin`; any other point of a kept
+/// part, to the part whose plane it lies on within `rule.margin` and nearer than its own part's by more than
+/// `rule.margin`; a leaf point (`organ`) in no kept part, to the part whose plane it lies nearest within `rule.margin`.
+/// Each of up to `rule.passes` passes decides on the parts as they are (a move does not change another's plane in that
+/// pass), threaded on `parallel`, the same on any number of threads; a row moved lets the next row reach the border in
+/// the next pass. Two leaves side by side in one plane keep their border: no plane is nearer. Returns the points moved.
 std::size_t LeafPointsOntoTheirPlane(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
   const std::vector<int>& organ, const PlaneMoves& rule, const std::vector<char>& kept, const ParallelFor& parallel,
   std::vector<std::vector<int>>& parts);
