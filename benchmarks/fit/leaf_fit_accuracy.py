@@ -62,7 +62,8 @@ def truth(blade):
     mid = numpy.where((region == 1) & (numpy.abs(uv[:, 0]) < 1e-9))[0]  # the midvein (not a lobe's primary)
     mid = mid[numpy.argsort(uv[mid, 1])]
     line = points[mid]
-    length = float(numpy.linalg.norm(numpy.diff(line, axis=0), axis=1).sum())
+    arc = numpy.concatenate([[0.0], numpy.cumsum(numpy.linalg.norm(numpy.diff(line, axis=0), axis=1))])
+    length = float(arc[-1])
     tri = vtk_to_numpy(blade.GetPolys().GetConnectivityArray()).reshape(-1, 3)
     a, b, c = points[tri[:, 0]], points[tri[:, 1]], points[tri[:, 2]]
     area = float(0.5 * numpy.linalg.norm(numpy.cross(b - a, c - a), axis=1).sum())
@@ -71,7 +72,6 @@ def truth(blade):
     normals = numpy.cross(b - a, c - a)
     normal = normals.sum(axis=0)
     normal /= numpy.linalg.norm(normal)
-    arc = numpy.concatenate([[0.0], numpy.cumsum(numpy.linalg.norm(numpy.diff(line, axis=0), axis=1))])
     return dict(points=points, length=length, area=area, base=line[0], direction=direction, normal=normal,
                 v=uv[:, 1], midvein_v=uv[mid, 1], midvein_arc=arc, midvein_line=line)
 

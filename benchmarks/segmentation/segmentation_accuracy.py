@@ -446,13 +446,13 @@ for name in arguments.plants.split(","):
                 fits, s["fit_cpu"], s["unassigned_area"], fitted_bases = fitted_rows(segmentation)
                 # turned: a matched leaf whose fitted base lies over a quarter of its length from its true base
                 if truth_bases is not None:
-                    off = [numpy.linalg.norm(fitted_bases[k] - truth_bases[t][0]) / truth_bases[t][1]
-                           for k, t in s["match"].items() if k in fitted_bases and t in truth_bases]
-                    s["based"], s["turned"] = len(off), sum(1 for d in off if d > 0.25)
+                    off = {t: numpy.linalg.norm(fitted_bases[k] - truth_bases[t][0]) / truth_bases[t][1]
+                           for k, t in s["match"].items() if k in fitted_bases and t in truth_bases}
+                    s["based"], s["turned"] = len(off), sum(1 for d in off.values() if d > 0.25)
                     # the same over the leaves whose base was scanned, and those within 5 % of the length
-                    off = [numpy.linalg.norm(fitted_bases[k] - truth_bases[t][0]) / truth_bases[t][1]
-                           for k, t in s["match"].items() if k in fitted_bases and t in seen_bases]
-                    s["fit_base_seen"] = (len(off), sum(1 for d in off if d <= 0.05), sum(1 for d in off if d <= 0.25))
+                    seen = [d for t, d in off.items() if t in seen_bases]
+                    s["fit_base_seen"] = (len(seen), sum(1 for d in seen if d <= 0.05),
+                                          sum(1 for d in seen if d <= 0.25))
                 # the fit alone: each true blade's scanned points
                 true_fits, _, _, _ = fitted_rows(scanner, true_blades=True)
                 s["true_fits"] = {int(r[0]): r[1] for r in true_fits if int(r[2]) != 2}

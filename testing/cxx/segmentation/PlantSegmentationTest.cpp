@@ -363,6 +363,16 @@ void AddTube(Truth& t, const Eigen::Vector3d& from, const Eigen::Vector3d& direc
     }
 }
 
+/// The link graph of `points` at a point spacing of 1 (ComputeFeatures' links of LinkScale spacings).
+plantmorph::segmentation::LinkGraph LinkGraphAtUnitSpacing(const std::vector<Eigen::Vector3d>& points)
+{
+  const plantmorph::SegmentationParameters p;
+  plantmorph::segmentation::PointFeatures f;
+  plantmorph::segmentation::LinkGraph graph;
+  plantmorph::segmentation::ComputeFeatures(points, 1.0, p, plantmorph::SerialFor, f, graph);
+  return graph;
+}
+
 /// A ParallelFor on `threads` std::threads, cutting the range in many small chunks.
 plantmorph::ParallelFor Threads(int threads)
 {
@@ -2288,11 +2298,8 @@ TEST(PlantSegmentation, AFlatPieceCalledWoodFarFromAllWoodIsLeaf)
   const auto small = patch(Eigen::Vector3d(40.0, -40.0, 10.0), 3, 3);
   organ.assign(points.size(), plantmorph::OrganWood);
   std::vector<double> confidence(points.size(), 0.5);
-  const plantmorph::SegmentationParameters p;
-  plantmorph::segmentation::PointFeatures f;
-  plantmorph::segmentation::LinkGraph graph;
-  plantmorph::segmentation::ComputeFeatures(points, 1.0, p, plantmorph::SerialFor, f, graph);
-  const std::size_t made = plantmorph::segmentation::FlatPiecesAwayFromWood(points, graph, 4.0, organ, confidence);
+  const std::size_t made =
+    plantmorph::segmentation::FlatPiecesAwayFromWood(points, LinkGraphAtUnitSpacing(points), 4.0, organ, confidence);
   EXPECT_EQ(made, far.second - far.first);
   auto organs = [&](std::pair<std::size_t, std::size_t> range) {
     std::set<int> seen;
@@ -2404,10 +2411,7 @@ TEST(PlantSegmentation, BorderPointsGoToTheLeafWhosePlaneTheyLieIn)
           truth.push_back(1);
           parts[u <= 2 ? 0 : 1].push_back(static_cast<int>(points.size()) - 1);
         }
-      const plantmorph::SegmentationParameters p;
-      plantmorph::segmentation::PointFeatures f;
-      plantmorph::segmentation::LinkGraph graph;
-      plantmorph::segmentation::ComputeFeatures(points, 1.0, p, plantmorph::SerialFor, f, graph);
+      const plantmorph::segmentation::LinkGraph graph = LinkGraphAtUnitSpacing(points);
       const std::vector<int> organ(points.size(), plantmorph::OrganLeaf);
       plantmorph::segmentation::PlaneMoves rule = PlaneRule();
       rule.margin = margin;
@@ -2471,12 +2475,8 @@ TEST(PlantSegmentation, LeafPointsApartFromTheirInstanceGoToTheLeafWhosePlaneThe
       }
       add(Eigen::Vector3d(-3.0, 10.5, 5.0), -1, -1, plantmorph::OrganLeaf);
       add(Eigen::Vector3d(-3.0, 9.5, 0.0), -1, -1, plantmorph::OrganWood);
-      const plantmorph::SegmentationParameters p;
-      plantmorph::segmentation::PointFeatures f;
-      plantmorph::segmentation::LinkGraph graph;
-      plantmorph::segmentation::ComputeFeatures(points, 1.0, p, plantmorph::SerialFor, f, graph);
       const std::size_t moved = plantmorph::segmentation::LeafPointsOntoTheirPlane(
-        points, graph, organ, PlaneRule(), { 1, 1 }, Threads(threads), parts);
+        points, LinkGraphAtUnitSpacing(points), organ, PlaneRule(), { 1, 1 }, Threads(threads), parts);
       std::vector<int> partOf(points.size(), -1);
       for (int k = 0; k < 2; ++k)
         for (int j : parts[static_cast<std::size_t>(k)])
