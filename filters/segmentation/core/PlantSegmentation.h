@@ -64,8 +64,8 @@
 //     and cut-off points) join a part within 2r lying in one plane with it (off it by under r / 4) that the
 //     features' normals of both agree with (within about half of NormalAngle), spanning no more than a leaf
 //     together; rows that reach no leaf part are an instance of their own when as wide as a leaf and apart from
-//     other leaves, or when their rows are one leaf's: shortening towards both ends, or towards one end only (a leaf
-//     cut across by a shadow) if the group spreads over a third of the plant's typical part along and across.
+//     other leaves, or when their rows are one leaf's: parallel, shortening towards both ends, or towards one end
+//     only (a leaf cut across by a shadow or another leaf).
 //     Parts that do not touch join when they lie in one plane (planes within half of NormalAngle, both off their
 //     common plane by under r / 4) within 4r of each other, nearest first, or farther apart when together they span
 //     no more than a leaf (the 90th percentile of the flat parts' spans, plus r / 4): a leaf seen in pieces through

@@ -1981,9 +1981,9 @@ bool RowsAsWideAsALeaf(const std::vector<Eigen::Vector3d>& points, const PointFe
 /// simulated scans, the groups refused only for the median gap on the two sides of the widest differing by over 1.5
 /// times were 11 whole leaves and 2 pieces. Two leaves end to end, which that test was for, cannot lie in one group
 /// as large as a leaf: GatherRows joins no more than a leaf's length, and a narrower band fails the width test.
-/// The group's outline closes: the outermost row at each end is at most this fraction of the longest row's
-/// length, as a leaf's rows shorten towards its ends (an ellipse's outermost of four rows: 0.68 of the longest);
-/// half a leaf cut across its rows keeps a full row at the cut.
+/// The group's outline closes: the outermost row at an end is at most this fraction of the longest row's length, as
+/// a leaf's rows shorten towards its ends (an ellipse's outermost of four rows: 0.68 of the longest); half a leaf
+/// cut across its rows keeps a full row at the cut, and closes at its other end.
 constexpr double RowEndFraction = 0.7;
 
 /// The rows of a group (its points `ids` joined from the pieces `pieceOf` names: strips one row wide, cut-off
@@ -2105,29 +2105,21 @@ std::vector<std::pair<Eigen::Vector3d, double>> RowsSeen(const std::vector<Eigen
   return directions;
 }
 
-/// What a row group's outline says of it (RowsOfOneLeaf): not one leaf's rows, one leaf's rows closing at both ends,
-/// or closing at one end only (a leaf cut across its rows by a shadow or another leaf, or half a leaf).
-enum class RowOutline
-{
-  None,
-  Closed,
-  CutAtOneEnd
-};
-
 /// Whether a row group (its points `ids`, moments `m`) is consistent with one leaf seen in rows: spread at least r
 /// across its main axis (root mean square: a leaf's width; the pieces such groups held on the simulated trees were
 /// narrow strips along their leaf), its rows nearly parallel (the row directions the features measured where a
 /// neighbourhood is a line, RowDirections, or the pieces' own axes where under three are: the median of their
 /// squared cosines to their main direction at least `cosine` squared, MedianSquaredCosine), at least three of them,
-/// shortening towards both ends of the group (RowEndFraction), at whatever spacing (see RowEndFraction): Closed; or
-/// towards one end only: CutAtOneEnd. `directions`: the group's RowsSeen.
-RowOutline RowsOfOneLeaf(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f,
-  const std::vector<int>& ids, const std::vector<int>& pieceOf,
-  const std::vector<std::pair<Eigen::Vector3d, double>>& directions, const PartMoments& m, double cosine, double merge)
+/// shortening towards an end of the group (RowEndFraction), at whatever spacing (see RowEndFraction): both ends, or
+/// one only where the leaf is cut across its rows by another leaf's shadow or contact, or half of it is seen.
+/// `directions`: the group's RowsSeen.
+bool RowsOfOneLeaf(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const std::vector<int>& ids,
+  const std::vector<int>& pieceOf, const std::vector<std::pair<Eigen::Vector3d, double>>& directions,
+  const PartMoments& m, double cosine, double merge)
 {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> moments(m.scatter / m.count);
   if (moments.eigenvalues()[1] < f.radius * f.radius)
-    return RowOutline::None;
+    return false;
   const Eigen::Vector3d n = moments.eigenvectors().col(0);
   const Eigen::Matrix3d inPlane = Eigen::Matrix3d::Identity() - n * n.transpose();
   Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
@@ -2138,22 +2130,19 @@ RowOutline RowsOfOneLeaf(const std::vector<Eigen::Vector3d>& points, const Point
     weights += w;
   }
   if (weights == 0.0)
-    return RowOutline::None;
+    return false;
   const Eigen::Vector3d along =
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(inPlane * sum * inPlane).eigenvectors().col(2);
   if (MedianSquaredCosine(directions, along) < cosine * cosine)
-    return RowOutline::None;
+    return false;
   const std::vector<std::array<double, 3>> rows = RowsAcross(points, ids, pieceOf, m.mean, along, n, merge);
   if (rows.size() < 3)
-    return RowOutline::None;
+    return false;
   std::vector<double> lengths;
   for (const std::array<double, 3>& row : rows)
     lengths.push_back(row[2] - row[1]);
   const double longest = *std::max_element(lengths.begin(), lengths.end());
-  const bool front = lengths.front() <= RowEndFraction * longest, back = lengths.back() <= RowEndFraction * longest;
-  if (front && back)
-    return RowOutline::Closed;
-  return front || back ? RowOutline::CutAtOneEnd : RowOutline::None;
+  return lengths.front() <= RowEndFraction * longest || lengths.back() <= RowEndFraction * longest;
 }
 
 /// A leaf seen only in rows (and cut-off pieces): the scanner meets it at a grazing angle and no part of it has a
@@ -2164,8 +2153,7 @@ RowOutline RowsOfOneLeaf(const std::vector<Eigen::Vector3d>& points, const Point
 /// a piece of a leaf cut by that leaf's shadow or contact (on the 18 simulated scans, 32 of 136 such groups within
 /// 4r of a leaf instance held under half of their leaf, 3 of 45 farther away); with more rows of its plane beside it
 /// that did not join it, it is part of a leaf whose rest lies in pieces. A group as wide as a leaf whose rows are one
-/// leaf's (RowsOfOneLeaf; `pieceOf` names each point's part before GatherRows, its row; `merge` is half a link:
-/// closing at both ends, or at one end only when the group spreads like the plant's leaves, SpreadLikeALeaf) is
+/// leaf's (RowsOfOneLeaf; `pieceOf` names each point's part before GatherRows, its row; `merge` is half a link) is
 /// an instance wherever it lies, and so is a group in which no row is seen (RowsSeen gives none: its neighbourhoods
 /// are planes and its parts flat strips, narrower than 2r by their variance, no line by their shape), which the
 /// rows' tests cannot judge: a leaf seen whole as a narrow sheet far more often than a piece (on the six simulated
@@ -2179,20 +2167,14 @@ std::vector<char> LeavesSeenInRows(const std::vector<Eigen::Vector3d>& points, c
 {
   std::vector<char> rows(leaves.size(), 0), inShaped(points.size(), 0);
   std::vector<Eigen::Vector3d> shaped; // the points of the parts with a leaf's shape
-  std::vector<std::vector<int>> shapedParts;
-  std::vector<PartMoments> shapedMoments;
   for (std::size_t k = 0; k < leaves.size(); ++k)
   {
     if (!NoLeafShape(region, verdicts, leaves[k], minimumLeafPoints))
-    {
       for (int j : leaves[k])
       {
         shaped.push_back(points[static_cast<std::size_t>(j)]);
         inShaped[static_cast<std::size_t>(j)] = 1;
       }
-      shapedParts.push_back(leaves[k]);
-      shapedMoments.push_back(PartMoments::Of(points, leaves[k]));
-    }
     else if (leaves[k].size() >= static_cast<std::size_t>(minimumLeafPoints))
       rows[k] = 1;
   }
@@ -2204,7 +2186,6 @@ std::vector<char> LeavesSeenInRows(const std::vector<Eigen::Vector3d>& points, c
       loose.push_back(points[i]);
       looseIds.push_back(static_cast<int>(i));
     }
-  const Eigen::Vector2d typical = TypicalSpread(shapedParts, shapedMoments, 0.0, f.radius);
   const double reach = GapRadii * f.radius;
   const std::unique_ptr<PointGrid> grid = shaped.empty() ? nullptr : std::make_unique<PointGrid>(shaped, reach);
   const std::unique_ptr<PointGrid> looseGrid =
@@ -2221,12 +2202,8 @@ std::vector<char> LeavesSeenInRows(const std::vector<Eigen::Vector3d>& points, c
       continue;
     }
     const std::vector<std::pair<Eigen::Vector3d, double>> directions = RowsSeen(points, f, leaves[k], pieceOf);
-    if (directions.empty())
-      continue; // no rows seen (a narrow sheet): an instance wherever it lies
-    // its rows are one leaf's, or one leaf's cut across at one end that spreads like the plant's leaves: the same
-    const RowOutline outline = RowsOfOneLeaf(points, f, leaves[k], pieceOf, directions, m, cosine, merge);
-    if (outline == RowOutline::Closed || (outline == RowOutline::CutAtOneEnd && SpreadLikeALeaf(m, typical, f.radius)))
-      continue;
+    if (directions.empty() || RowsOfOneLeaf(points, f, leaves[k], pieceOf, directions, m, cosine, merge))
+      continue; // no rows seen (a narrow sheet), or its rows are one leaf's: an instance wherever it lies
     rows[k] = !grid || std::none_of(leaves[k].begin(), leaves[k].end(), [&](int j) {
       return !grid->Nearest(points[static_cast<std::size_t>(j)], 1, -1, reach).empty();
     });

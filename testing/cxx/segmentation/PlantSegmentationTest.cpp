@@ -707,8 +707,8 @@ TEST(PlantSegmentation, ALeafSeenInRowsBeyondItsBaseIsOneInstanceABladeTouchingI
   // along its margin at 30 degrees (the rows turned 150 degrees about the margin's tangent at mid-length): a row of
   // each meets at the contact, two segments in some plane, but the features' normals there are the blades', across
   // that plane. It stays out of the first leaf's instance (IoU still above 0.9); rows alone beside a leaf, cut
-  // across at its base end (its rows begin 0.075 from its base, at nearly full width) and closing at its tip, and
-  // spread like the plant's leaves, it is an instance of its own.
+  // across at its base end (its rows begin 0.075 from its base, at nearly full width) and closing at its tip, it is
+  // an instance of its own.
   const int leaves = 7;
   const double h = 0.005, length = 0.3, width = 0.15, rise = 40.0 * Pi / 180.0, rowStep = 3.0 * h, dense = 0.06;
   const Eigen::Vector3d out = Eigen::Vector3d::UnitX(), across = Eigen::Vector3d::UnitY();
@@ -809,9 +809,8 @@ TEST(PlantSegmentation, ALeafInEvenRowsBesideALeafIsAnInstanceSoIsItsHalfTwoLeav
   // middle (2.5r: within 4r, beyond the features' reach). Rows beside a leaf instance are as often a piece of a leaf
   // cut by its shadow, so the rows got no instance; these are parallel, evenly spaced and shorten towards both ends
   // of the group, as one leaf's rows do: one instance of their own. Beside the same blade, the rows of the leaf's
-  // first half only (cut at full width: the outline closes at one end, the rows lengthen to the cut) spread over more
-  // than a third of the plant's typical leaf along and across: an instance too, as a leaf cut across by another
-  // leaf's shadow is. The rows of two leaves end to end in one plane, each 0.15 long, one seen every 3 spacings and
+  // first half only (cut at full width: the outline closes at one end, the rows lengthen to the cut) are an instance
+  // too, as a leaf cut across by another leaf's shadow is. The rows of two leaves end to end in one plane, each 0.15 long, one seen every 3 spacings and
   // the other every 5 (gaps of two spacings), are not one leaf's rows and lie beside the blade: no instance.
   const int leaves = 8;
   const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0;
