@@ -810,8 +810,9 @@ TEST(PlantSegmentation, ALeafInEvenRowsBesideALeafIsAnInstanceSoIsItsHalfTwoLeav
   // cut by its shadow, so the rows got no instance; these are parallel, evenly spaced and shorten towards both ends
   // of the group, as one leaf's rows do: one instance of their own. Beside the same blade, the rows of the leaf's
   // first half only (cut at full width: the outline closes at one end, the rows lengthen to the cut) are an instance
-  // too, as a leaf cut across by another leaf's shadow is. The rows of two leaves end to end in one plane, each 0.15 long, one seen every 3 spacings and
-  // the other every 5 (gaps of two spacings), are not one leaf's rows and lie beside the blade: no instance.
+  // too, as a leaf cut across by another leaf's shadow is. The rows of two leaves end to end in one plane, each 0.15
+  // long, one seen every 3 spacings and the other every 5 (gaps of two spacings), are not one leaf's rows and lie
+  // beside the blade: no instance.
   const int leaves = 8;
   const double h = 0.005, length = 0.3, rise = 40.0 * Pi / 180.0;
   const LeafFrame frame = EighthLeafFrame(rise);
