@@ -4,6 +4,7 @@
 // cylinders of a skeleton (each branch's first cylinder the child of its parent's segment ending nearest to it), and
 // the QSM reader's probe of the first lines.
 #include "FormatFixtures.h"
+#include "TemporaryPath.h"
 #include "VtkErrorCatcher.h"
 #include "vtkMtgReader.h"
 #include "vtkMtgWriter.h"
@@ -35,7 +36,7 @@ using plantmorph::testing::ErrorCatcher;
 
 std::string WriteFile(const std::string& name, const std::string& text)
 {
-  const std::string path = (std::filesystem::temp_directory_path() / ("plantmorph_formats_" + name)).string();
+  const std::string path = plantmorph::testing::TemporaryPath("plantmorph_formats", name);
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }

@@ -5,6 +5,7 @@
 #include "vtkPlantMorphLASReader.h"
 #include "vtkPlantMorphLASWriter.h"
 
+#include "TemporaryPath.h"
 #include "VtkErrorCatcher.h"
 
 #include "vtkFieldData.h"
@@ -50,7 +51,7 @@ vtkNew<vtkPolyData> LabelledCloud()
 
 std::string TemporaryPath(const std::string& name)
 {
-  return (std::filesystem::temp_directory_path() / ("plantmorph_las_vtk_" + name)).string();
+  return plantmorph::testing::TemporaryPath("plantmorph_las_vtk", name);
 }
 } // namespace
 

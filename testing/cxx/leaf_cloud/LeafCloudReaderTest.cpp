@@ -2,6 +2,7 @@
 // The VTK layer of Leaf Cloud Reader over its VTK-free parser (sources/leaf_cloud/core/PointCloudText): the soybean
 // layout's arrays, progress up to 1, and the hostile files (one line of 2*10^6 columns, binary junk) refused with an
 // error naming FileName and the line, and empty outputs.
+#include "TemporaryPath.h"
 #include "VtkErrorCatcher.h"
 #include "vtkLeafCloudReader.h"
 
@@ -28,7 +29,7 @@ using plantmorph::testing::ErrorCatcher;
 
 std::string WriteFile(const std::string& name, const std::string& text)
 {
-  const std::string path = (std::filesystem::temp_directory_path() / ("plantmorph_leafcloud_" + name)).string();
+  const std::string path = plantmorph::testing::TemporaryPath("plantmorph_leafcloud", name);
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }
@@ -288,6 +289,7 @@ TEST(LeafCloudReader, PiecesHoldTheWholeFileInOrder)
     }
     EXPECT_EQ(normals, std::vector<double>(static_cast<std::size_t>(n), 1.0));
   }
+  std::filesystem::remove(path);
 }
 
 } // namespace

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // vtkTreeFromSketchSource (docs/methods/tree-from-sketch.md): outputs and arrays, closed manifold branch surface,
 // strokes from the input port and a CSV file, leaf instances, one piece under MPI, determinism, errors, empty outputs.
+#include "TemporaryPath.h"
 #include "VtkErrorCatcher.h"
 #include "vtkTreeFromSketchSource.h"
 
@@ -169,7 +170,7 @@ TEST(TreeFromSketchSource, StrokesFromThePortAndFromACsvFileGiveTheSameTree)
   EXPECT_GT(bounds[5] - bounds[4], 0.1);
   EXPECT_EQ(Output(source, 0)->GetCellData()->GetArray("BranchId")->GetRange()[1], 2.0);
 
-  const std::string path = testing::TempDir() + "tree_strokes.csv";
+  const std::string path = plantmorph::testing::TemporaryPath("plantmorph_tree", "tree_strokes.csv");
   {
     std::ofstream csv(path);
     csv << "stroke_id,x,y\n";
@@ -462,7 +463,7 @@ TEST(TreeFromSketchSource, WeldedBranchesAreOneClosedManifoldPerTreeAndSeatedTub
 
 TEST(TreeFromSketchSource, StrokeErrorsOfAFileNameTheFileAndTheLine)
 {
-  const std::string file = testing::TempDir() + "zero_stroke.csv";
+  const std::string file = plantmorph::testing::TemporaryPath("plantmorph_tree", "zero_stroke.csv");
   std::ofstream(file) << "stroke_id,x,y\n1,0,0\n1,0,10\n2,0,5\n2,0,5\n";
   vtkNew<vtkTreeFromSketchSource> source;
   vtkNew<ErrorCatcher> catcher;
@@ -497,7 +498,7 @@ TEST(TreeFromSketchSource, LongAndCutStrokeFilesBuildTreesOrFailCleanly)
     { "bow.svg", head + "<path d=\"M 0,100 C 40,66 40,33 0,0\"/></svg>" } };
   for (const auto& [name, text] : files)
   {
-    const std::string file = testing::TempDir() + name;
+    const std::string file = plantmorph::testing::TemporaryPath("plantmorph_tree", name);
     std::ofstream(file) << text;
     vtkNew<vtkTreeFromSketchSource> source;
     vtkNew<ErrorCatcher> catcher;
