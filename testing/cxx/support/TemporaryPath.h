@@ -13,10 +13,8 @@
 
 #ifdef _WIN32
 #include <process.h>
-#define PLANTMORPH_TEST_PID _getpid
 #else
 #include <unistd.h>
-#define PLANTMORPH_TEST_PID getpid
 #endif
 
 namespace plantmorph::testing
@@ -25,7 +23,12 @@ namespace plantmorph::testing
 /// `<temp>/<prefix>_<pid>_<suite>.<test>_<name>`; `name` may hold a folder that does not exist.
 inline std::string TemporaryPath(const std::string& prefix, const std::string& name)
 {
-  std::string tag = prefix + "_" + std::to_string(PLANTMORPH_TEST_PID()) + "_";
+#ifdef _WIN32
+  const int pid = _getpid();
+#else
+  const int pid = static_cast<int>(getpid());
+#endif
+  std::string tag = prefix + "_" + std::to_string(pid) + "_";
   if (const auto* test = ::testing::UnitTest::GetInstance()->current_test_info())
     tag += std::string(test->test_suite_name()) + "." + test->name() + "_";
   return (std::filesystem::temp_directory_path() / (tag + name)).string();
