@@ -169,8 +169,10 @@ int GrowRegions(const PointFeatures& features, const LinkGraph& graph, const Seg
 /// under t / 2; connected over the links and, across the gaps a scan leaves, along the tube's axis within 2t) that
 /// touches one leaf instance only beside its base, meets thicker wood at one place (not a fork of twigs, not the
 /// end of a twig it continues), leads to that leaf only and is 3t to one leaf length long becomes Organ 2, with the leaf's and the
-/// thicker wood's points inside its tube past its two ends. Petiole points leave their leaf (LeafId -1, the leaf's
-/// Points and base updated); the leaf's PetioleLength is the petiole's extent. Returns the points made petiole.
+/// thicker wood's points inside its tube past its two ends; so does such a piece that meets no other wood (its stem
+/// unseen) when it carries the blade's midrib on (leaves the blade within 40 degrees of it). Petiole points leave
+/// their leaf (LeafId -1, the leaf's Points and base updated); the leaf's PetioleLength is the petiole's extent.
+/// Returns the points made petiole.
 std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   double spacing, const SegmentationParameters& p, const ParallelFor& parallel, PlantLabels& labels);
 

@@ -11,7 +11,8 @@
  * threads).
  *
  * Output port 0, **Points**: the input points as vertices with their point data and `Organ` (0 wood, 1 leaf, 2
- * petiole: thin wood from one leaf's base to thicker wood),
+ * petiole: thin wood from one leaf's base to thicker wood, or carrying the blade's midrib on where the scan did not
+ * see the stem it leaves),
  * `LeafId` (-1 off the leaves and on leaf fragments smaller than MinimumLeafPoints) and `SegmentationConfidence`
  * ([0, 1]). Port 1, **Leaves**: a vtkTable, one row per leaf: LeafId, PlantId, Points, Area (a first estimate from
  * the points, in input units squared), Base (x, y, z: the leaf's point nearest the wood), Centre, Branch (the wood

@@ -2015,6 +2015,60 @@ TEST(PlantSegmentation, APetioleBrokenByScanGapsIsOneFromTheBladeToTheStem)
   EXPECT_LT(r.leaves[0].petioleLength, length + 4 * h);
 }
 
+TEST(PlantSegmentation, APetioleWhoseFootTheScanMissedCarriesItsBladesMidribOn)
+{
+  // A petiole as in APetioleIsOrganTwoABareTwigAndALeafOnTheStemHaveNone (radius 1.5 h, leaving the stem at 45
+  // degrees, its blade rising at 30 degrees: 15 degrees off the petiole's line), 0.16 long, its first 0.06 unseen, more
+  // than the 2 FeatureScale spacings a gap is bridged across: a thin piece that touches its blade and no other wood.
+  // It carries the blade's midrib on from the base, so it is the leaf's petiole. The control: a thin twig as long and
+  // as thick whose foot is unseen too, ending at another blade's base but leaving it at 60 degrees from its midrib
+  // (a twig at the tip carrying a leaf turned off it, as LeafAngle turns leaves), stays wood.
+  Truth t = SyntheticPlant(0);
+  const double noise = 0.0002, thin = 0.0075, length = 0.16, unseen = 0.06;
+  const Eigen::Vector3d slope = Eigen::Vector3d(1.0, 0.0, 1.0).normalized();
+  const Eigen::Vector3d petioleStart(0.05 - thin, 0.0, 0.55);
+  const std::size_t petiole = t.points.size();
+  AddTube(t, petioleStart + unseen * slope, slope, length - unseen, thin, plantmorph::OrganPetiole, noise);
+  AddBlade(t, petioleStart + (length + thin) * slope, 30.0 * Pi / 180.0, {}, 0, noise);
+  const Eigen::Vector3d otherBase(0.3, 0.0, 0.2);
+  const std::size_t twig = t.points.size();
+  AddTube(t, otherBase - (length - unseen + thin) * Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), length - unseen,
+    thin, plantmorph::OrganWood, noise);
+  const std::size_t otherBlade = t.points.size();
+  AddBlade(t, otherBase, 30.0 * Pi / 180.0, {}, 1, noise);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  ASSERT_EQ(r.leaves.size(), 2u);
+  for (double iou : InstanceIoU(t, r, 2))
+    EXPECT_GT(iou, 0.9);
+  std::size_t found = 0, inPetiole = 0, twigPetiole = 0;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+  {
+    if (i < petiole) // the stem
+    {
+      EXPECT_NE(r.organ[i], plantmorph::OrganPetiole) << i;
+    }
+    else if (t.organ[i] == plantmorph::OrganPetiole)
+    {
+      ++inPetiole;
+      found += r.organ[i] == plantmorph::OrganPetiole ? 1 : 0;
+    }
+    else if (i >= twig && i < otherBlade)
+    {
+      twigPetiole += r.organ[i] == plantmorph::OrganPetiole ? 1 : 0;
+    }
+  }
+  EXPECT_GT(inPetiole, 100u);
+  EXPECT_GT(static_cast<double>(found), 0.8 * static_cast<double>(inPetiole));
+  EXPECT_EQ(twigPetiole, 0u);
+  EXPECT_GT(OrganIoU(t, r, plantmorph::OrganPetiole), 0.7);
+  const auto& withPetiole = r.leaves[0].base.z() > 0.4 ? r.leaves[0] : r.leaves[1];
+  const auto& onTwig = r.leaves[0].base.z() > 0.4 ? r.leaves[1] : r.leaves[0];
+  EXPECT_GT(withPetiole.petioleLength, 0.7 * (length - unseen));
+  EXPECT_LT(withPetiole.petioleLength, 1.3 * (length - unseen));
+  EXPECT_EQ(onTwig.petioleLength, 0.0);
+}
+
 TEST(PlantSegmentation, ATwigTipCarryingOneLeafStaysWood)
 {
   // A twig (radius 3 h, thicker than a petiole) leaving the stem at 45 degrees for 0.15, then its tapering tip
