@@ -27,7 +27,9 @@ found leaves, the merged true leaves (unmatched although one instance holds over
 process's, all threads). Prints a Markdown table (benchmarks/README.md keeps it).
 Then the leaves table's Base against the truth: over the matched leaves whose base was scanned (a scanned blade point
 within 5 % of the leaf's length of its true base, the blade's points of the smallest TCoords v), how many have their
-Base within 5 % and within 25 % of the length of the true base.
+Base within 5 % and within 25 % of the length of the true base. On plants with petioles, the leaves table's
+PetioleLength against each matched leaf's true petiole (the extent of its Organ 2 points along their main axis): how
+many leaves got one, and how many of those within 5 % and within 20 % of the truth.
 
 With `--fit`, each scan's leaf points (LeafId >= 0; the cloud goes whole, LeafId -1 is on no leaf) also go to
 LeafFitFilter (LeafIdArray LeafId, UpAxis Y, its other defaults, as examples/main_segment_plant.py), and a second
@@ -269,6 +271,7 @@ def seen_areas(name, points, leaf, size):
 
 areas, cell_areas = {}, {}  # name: each true leaf's area; each cell's blade area and LeafId (-1 off the blades)
 bases = {}  # name: per true leaf, its base and its length (None: the plant's leaves carry no TCoords)
+petioles = {}  # name: per true leaf, its petiole's length (empty: the plant's leaves have none)
 
 
 def true_leaf_bases(name):
@@ -322,6 +325,40 @@ def table_bases(segmentation, match, truth_bases, seen_bases):
         off = numpy.linalg.norm(base[row] - low) / length
         seen, near, close = seen + 1, near + int(off <= 0.05), close + int(off <= 0.25)
     return seen, near, close
+
+
+def true_petiole_lengths(name):
+    """Each true leaf's petiole length (the extent of its petiole points, Organ 2, along their main axis), from the
+    simulated plant; empty for a plant without petioles."""
+    if name not in surfaces:
+        plant = plant_surface(name, PLANTS[name][0])
+        surfaces[name] = (plant, servermanager.Fetch(plant))
+    data = surfaces[name][1].GetPointData()
+    points = vtk_to_numpy(surfaces[name][1].GetPoints().GetData())
+    leaf, organ = vtk_to_numpy(data.GetArray("LeafId")), vtk_to_numpy(data.GetArray("Organ"))
+    lengths = {}
+    for k in numpy.unique(leaf[(organ == 2) & (leaf >= 0)]):
+        mine = points[(leaf == k) & (organ == 2)]
+        centred = mine - mine.mean(axis=0)
+        axis = numpy.linalg.svd(centred, full_matrices=False)[2][0]
+        lengths[int(k)] = float(numpy.ptp(centred @ axis))
+    petioles[name] = lengths
+    return lengths
+
+
+def table_petioles(segmentation, match, true_lengths):
+    """The leaves table's PetioleLength against the true petiole's length, over the matched leaves: how many have a
+    petiole (PetioleLength > 0), and of those how many within 5 % and within 20 % of the true length."""
+    table = servermanager.Fetch(segmentation, idx=1)
+    ids, length = vtk_to_numpy(table.GetColumnByName("LeafId")), vtk_to_numpy(table.GetColumnByName("PetioleLength"))
+    found = near = close = 0
+    for row, k in enumerate(ids.tolist()):
+        t = match.get(int(k))
+        if t is None or t not in true_lengths or length[row] <= 0.0:
+            continue
+        off = abs(length[row] - true_lengths[t]) / true_lengths[t]
+        found, near, close = found + 1, near + int(off <= 0.05), close + int(off <= 0.2)
+    return found, near, close
 
 
 def fitted_rows(cloud, true_blades=False):
@@ -440,6 +477,10 @@ for name in arguments.plants.split(","):
             seen_bases = bases_scanned(truth_bases, scanned, truth) if truth_bases else set()
             s["base_seen"], s["base_near"], s["base_close"] = (
                 table_bases(segmentation, s["match"], truth_bases, seen_bases) if truth_bases else (0, 0, 0))
+            true_petioles = petioles[name] if name in petioles else true_petiole_lengths(name)
+            s["petiole_leaves"] = len(true_petioles)
+            s["petiole_found"], s["petiole_near"], s["petiole_close"] = (
+                table_petioles(segmentation, s["match"], true_petioles) if true_petioles else (0, 0, 0))
             if arguments.fit:
                 found_ids, found_counts = numpy.unique(get("LeafId"), return_counts=True)
                 s["found_points"] = dict(zip(found_ids.tolist(), found_counts.tolist()))
@@ -496,6 +537,13 @@ if rows:
              total("base_close"), total("base_close") / max(1, total("base_seen")),
              ", ".join("%s %d %g: %d / %d / %d" % (s["plant"], s["positions"], s["noise"], s["base_near"],
                                                    s["base_close"], s["base_seen"]) for s in rows)))
+    with_petioles = [s for s in rows if s["petiole_leaves"]]
+    if with_petioles:
+        print("\nThe leaves table's PetioleLength, over the matched leaves of plants with petioles: leaves given a "
+              "petiole / true leaves, and of those within 5 %% and 20 %% of the true petiole's length; per scan: %s"
+              % ", ".join("%s %d %g: %d of %d, %d / %d" % (s["plant"], s["positions"], s["noise"], s["petiole_found"],
+                                                           s["petiole_leaves"], s["petiole_near"], s["petiole_close"])
+                          for s in with_petioles))
 
 if arguments.fit and rows:
     print("\nLeaf areas after LeafFitFilter (the matched leaves fitted: median |area error| and the share within 3 %; "

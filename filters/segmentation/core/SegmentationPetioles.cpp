@@ -70,6 +70,9 @@ constexpr double InLineDegrees = 45.0;
 /// line with the midrib); the 38 such pieces of twigs at 20-144 degrees, 32 of them over 45 (its leaves turn 45
 /// degrees off their twigs).
 constexpr double MidribLineDegrees = 40.0;
+/// A tube ends at its contacts with a blade when at most this share of its points within 2r of them lie past them
+/// (TubeEndsThere).
+constexpr double EndShare = 0.1;
 /// A petiole's branches start at the skeleton's root up to this many r from the thicker wood: the thin wood's
 /// features see the stem within r of it, the root's band is r / 2 wide, and a link or a gap link lies between.
 constexpr double StalkReachRadii = 3.0;
@@ -1038,6 +1041,165 @@ std::size_t SplitPiece(const PetioleScene& scene, const ThinPiece& piece, std::v
   }
   return made;
 }
+/// Whether the tube `tube` (its axis pointing out of the wood `wood`, into the blade) ends at its contacts with the
+/// blade `onLeaf` (its centre their mean): of the wood points inside it (within its radius of its axis) from r / 2
+/// to 2r off the centre, the contacts left out, at most EndShare lie ahead (towards the blade). A petiole ends at
+/// its blade's base; a twig carrying a leaf on its side goes on past the leaf's base on both sides.
+bool TubeEndsThere(
+  const PetioleScene& scene, const TubeEnd& tube, const std::vector<int>& wood, std::vector<int> onLeaf)
+{
+  std::sort(onLeaf.begin(), onLeaf.end());
+  std::size_t ahead = 0, behind = 0;
+  for (int j : wood)
+  {
+    const Eigen::Vector3d d = scene.points[static_cast<std::size_t>(j)] - tube.centre;
+    const double along = d.dot(tube.axis);
+    if (std::abs(along) < 0.5 * scene.radius || std::abs(along) > 2.0 * scene.radius ||
+      (d - along * tube.axis).norm() > tube.radius || std::binary_search(onLeaf.begin(), onLeaf.end(), j))
+      continue;
+    (along > 0.0 ? ahead : behind) += 1;
+  }
+  return behind > 0 && static_cast<double>(ahead) <= EndShare * static_cast<double>(behind);
+}
+
+/// The points of a piece (`member`) inside the tube `tube` (within `width` of its axis) that its contacts `from`
+/// reach over the links, walked along it up to `reach`, and where the tube meets other wood: the least distance
+/// along the axis, past the first r, of a walked point linked to a piece point more than twice `width` off the axis
+/// (the stem the tube leaves; infinity when it meets none). The walked points past that junction by more than `width`
+/// are left out.
+struct TubeWalk
+{
+  std::vector<int> ids;
+  double junction = std::numeric_limits<double>::infinity();
+};
+
+TubeWalk WalkTube(const PetioleScene& scene, const TubeEnd& tube, const std::vector<int>& from, double width,
+  double reach, const std::vector<int>& member, std::vector<char>& mark)
+{
+  TubeWalk walk;
+  std::deque<int> queue;
+  for (int j : from)
+    if (!mark[static_cast<std::size_t>(j)])
+    {
+      mark[static_cast<std::size_t>(j)] = 1;
+      walk.ids.push_back(j);
+      queue.push_back(j);
+    }
+  const auto place = [&](std::size_t j, double& along) {
+    const Eigen::Vector3d d = scene.points[j] - tube.centre;
+    along = d.dot(tube.axis);
+    return (d - along * tube.axis).norm();
+  };
+  while (!queue.empty())
+  {
+    const auto q = static_cast<std::size_t>(queue.front());
+    queue.pop_front();
+    double alongQ = 0.0;
+    place(q, alongQ);
+    for (std::size_t e = scene.links.offsets[q]; e < scene.links.offsets[q + 1]; ++e)
+    {
+      const auto j = static_cast<std::size_t>(scene.links.neighbours[e]);
+      if (member[j] != 1 || mark[j])
+        continue;
+      double along = 0.0;
+      const double off = place(j, along);
+      if (off > 2.0 * width && alongQ > scene.radius)
+        walk.junction = std::min(walk.junction, alongQ);
+      if (off > width || along < -width || along > reach)
+        continue;
+      mark[j] = 1;
+      walk.ids.push_back(static_cast<int>(j));
+      queue.push_back(static_cast<int>(j));
+    }
+  }
+  for (int j : walk.ids)
+    mark[static_cast<std::size_t>(j)] = 0;
+  std::vector<int> kept;
+  for (int j : walk.ids)
+  {
+    double along = 0.0;
+    place(static_cast<std::size_t>(j), along);
+    if (along <= walk.junction + width)
+      kept.push_back(j);
+  }
+  walk.ids = kept;
+  return walk;
+}
+
+/// Whether the wood a walked tube met (`walk`, `width` its walk's width) is a stem it leaves: the piece's points
+/// `wood` within 2r of the junction and more than twice `width` off the tube's axis are no tube going on within
+/// InLineDegrees of its axis (a twig bending on, which its points leave too, is). A stem crossing the tube, the
+/// surface of a thicker one (no axis), or a few points (under 6) beside the tube's foot are.
+bool MeetsAStem(
+  const PetioleScene& scene, const TubeEnd& tube, const TubeWalk& walk, double width, const std::vector<int>& wood)
+{
+  const Eigen::Vector3d at = tube.centre + walk.junction * tube.axis;
+  std::vector<Eigen::Vector3d> off;
+  std::vector<int> ids;
+  for (int j : wood)
+  {
+    const Eigen::Vector3d d = scene.points[static_cast<std::size_t>(j)] - tube.centre;
+    const double along = d.dot(tube.axis);
+    if ((scene.points[static_cast<std::size_t>(j)] - at).norm() < 2.0 * scene.radius &&
+      (d - along * tube.axis).norm() > 2.0 * width)
+    {
+      ids.push_back(static_cast<int>(off.size()));
+      off.push_back(scene.points[static_cast<std::size_t>(j)]);
+    }
+  }
+  const LocalTube stem = FitLocalTube(off, ids);
+  return off.size() < 6 || !stem.hasAxis || std::abs(stem.axis.dot(tube.axis)) < std::cos(InLineDegrees * Pi / 180.0);
+}
+
+/// The petioles SplitPiece did not find in a piece of thin wood that is no petiole as a whole, each from its leaf
+/// (one without a petiole yet): the tube the piece's wood within 2r of its contacts with the leaf lies in
+/// (FitTubeEnd), when it ends there (TubeEndsThere), walked away from the blade (WalkTube, within its radius or
+/// r / 2 of its axis, no farther than the leaf is long). It is the leaf's petiole when the walk met its stem, has a
+/// petiole's size and place (PetioleSized) and leaves the blade in line with its midrib (LeavesInLineWithTheMidrib).
+/// A twig's thin end carrying several leaves on petioles is one piece, and where a petiole runs beside the twig
+/// before it leaves it, its skeleton has no fork to cut at.
+std::size_t PetiolesFromTheirLeaves(const PetioleScene& scene, const ThinPiece& piece, std::vector<char>& seen,
+  std::vector<char>& mark, std::vector<int>& member, PlantLabels& labels)
+{
+  std::vector<int> leaves;
+  for (int i : piece.ids)
+    for (std::size_t e = scene.links.offsets[static_cast<std::size_t>(i)];
+         e < scene.links.offsets[static_cast<std::size_t>(i) + 1]; ++e)
+    {
+      const int leaf = labels.leaf[static_cast<std::size_t>(scene.links.neighbours[e])];
+      if (leaf >= 0 && std::find(leaves.begin(), leaves.end(), leaf) == leaves.end())
+        leaves.push_back(leaf);
+    }
+  std::sort(leaves.begin(), leaves.end());
+  std::size_t made = 0;
+  for (int leaf : leaves)
+  {
+    if (labels.leaves[static_cast<std::size_t>(leaf)].petioleLength > 0.0)
+      continue;
+    std::vector<int> wood;
+    for (int j : piece.ids)
+      if (labels.organ[static_cast<std::size_t>(j)] == OrganWood)
+      {
+        wood.push_back(j);
+        member[static_cast<std::size_t>(j)] = 1;
+      }
+    const std::vector<int> onLeaf = LinkedTo(scene.links, wood, [&](std::size_t j) { return labels.leaf[j] == leaf; });
+    const TubeEnd tube = onLeaf.empty() ? TubeEnd{} : FitTubeEnd(scene.points, wood, onLeaf, 2.0 * scene.radius);
+    TubeEnd away = tube;
+    away.axis = -tube.axis;
+    const double reach = PetioleLengthLeaves * scene.leaves[static_cast<std::size_t>(leaf)].length;
+    const double width = std::max(tube.radius, ThinRadiusFraction * scene.radius);
+    TubeWalk walk;
+    if (tube.valid && TubeEndsThere(scene, tube, wood, onLeaf))
+      walk = WalkTube(scene, away, onLeaf, width, reach, member, mark);
+    for (int j : wood)
+      member[static_cast<std::size_t>(j)] = -1;
+    if (std::isfinite(walk.junction) && MeetsAStem(scene, away, walk, width, wood) &&
+      PetioleSized(scene, labels, walk.ids, onLeaf, leaf) && LeavesInLineWithTheMidrib(scene, walk.ids, onLeaf, leaf))
+      made += MarkPetiole(scene, walk.ids, onLeaf, {}, leaf, seen, labels);
+  }
+  return made;
+}
 } // namespace
 
 std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
@@ -1093,6 +1255,7 @@ std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const Point
       // a twig carrying several leaves, thin wood meeting no thicker wood, at several places or all along: its
       // branches may be petioles
       made += SplitPiece(scene, piece, seen, mark, local, labels);
+      made += PetiolesFromTheirLeaves(scene, piece, seen, mark, local, labels);
       continue;
     }
     // it leads to that leaf only: from the thicker wood, nothing lies beyond the leaf contact (a twig going on
@@ -1113,6 +1276,7 @@ std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const Point
     if (!thicker || farthest > leafHops + slack || ContinuesTheWood(wood, grid, thin, footEnd, radius))
     {
       made += SplitPiece(scene, piece, seen, mark, local, labels);
+      made += PetiolesFromTheirLeaves(scene, piece, seen, mark, local, labels);
       continue; // also the thin tip of a twig carrying a leaf at its end
     }
     // the tube goes on past both ends, where the features saw the stem's or the blade's surface beside it

@@ -170,7 +170,9 @@ int GrowRegions(const PointFeatures& features, const LinkGraph& graph, const Seg
 /// touches one leaf instance only beside its base, meets thicker wood at one place (not a fork of twigs, not the
 /// end of a twig it continues), leads to that leaf only and is 3t to one leaf length long becomes Organ 2, with the leaf's and the
 /// thicker wood's points inside its tube past its two ends; so does such a piece that meets no other wood (its stem
-/// unseen) when it carries the blade's midrib on (leaves the blade within 40 degrees of it). Petiole points leave
+/// unseen) when it carries the blade's midrib on (leaves the blade within 40 degrees of it), and, in a piece that is
+/// no petiole as a whole, the tube that ends at a leaf's base walked from the blade to where it meets its stem, when
+/// it carries the midrib on. Petiole points leave
 /// their leaf (LeafId -1, the leaf's Points and base updated); the leaf's PetioleLength is the petiole's extent.
 /// Returns the points made petiole.
 std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,

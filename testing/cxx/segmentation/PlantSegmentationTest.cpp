@@ -2094,6 +2094,83 @@ TEST(PlantSegmentation, ATwigTipCarryingOneLeafStaysWood)
   EXPECT_GT(OrganIoU(t, r, plantmorph::OrganWood), 0.95);
 }
 
+/// A thin twig (radius 1.2 h) leaving the stem along +x for 0.5, and two blades on its sides at 0.1 and 0.35 from
+/// its start, on petioles (radius h, `petiole` long) leaving it `degrees` off its line in the horizontal plane, each
+/// blade going on along its petiole and rising 20 degrees; without petioles (`petiole` 0) the blades sit on the
+/// twig's sides, turned off it by `degrees`. Returns the index of the twig's first point; petiole points are Organ 2.
+std::size_t AddTwigWithTwoSideLeaves(Truth& t, double degrees, double petiole)
+{
+  const double noise = 0.0002, h = 0.005, thin = 1.2 * h, reach = 0.5;
+  const Eigen::Vector3d start(0.05 - thin, 0.0, 0.5);
+  const std::size_t twig = t.points.size();
+  AddTube(t, start, Eigen::Vector3d::UnitX(), reach, thin, plantmorph::OrganWood, noise);
+  int leaf = 0;
+  for (const double side : { 1.0, -1.0 })
+  {
+    const Eigen::Vector3d foot = start + (side > 0 ? 0.1 : 0.35) * Eigen::Vector3d::UnitX();
+    const double turn = side * degrees * Pi / 180.0;
+    const Eigen::Vector3d out(std::cos(turn), std::sin(turn), 0.0);
+    const Eigen::Vector3d sideways = side * Eigen::Vector3d::UnitY();
+    if (petiole > 0.0)
+      AddTube(t, foot + thin * sideways, out, petiole, h, plantmorph::OrganPetiole, noise);
+    Truth blade; // a blade along +x from the origin, turned to go on along `out`
+    AddBlade(blade, Eigen::Vector3d::Zero(), 20.0 * Pi / 180.0, {}, leaf++, noise);
+    const Eigen::Matrix3d rotation = Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Vector3d base = foot + thin * sideways + (petiole > 0.0 ? (petiole + h) * out : h * sideways);
+    for (std::size_t i = 0; i < blade.points.size(); ++i)
+    {
+      t.points.push_back(base + rotation * blade.points[i]);
+      t.organ.push_back(blade.organ[i]);
+      t.leaf.push_back(blade.leaf[i]);
+    }
+  }
+  return twig;
+}
+
+TEST(PlantSegmentation, PetiolesInOnePieceWithTheirTwigAreWalkedFromTheirBlades)
+{
+  // Two petioles 0.15 long leaving a thin twig 45 degrees off its line (AddTwigWithTwoSideLeaves): the twig's thin
+  // wood and the petioles are one piece touching both blades, and the cut at its skeleton's forks finds neither
+  // (no Organ 2 without the walk). From each blade the petiole's tube ends at the blade, carries its midrib on and
+  // meets the twig at one place: walked from the blade to there, it is the leaf's petiole. The control: the same
+  // blades sitting on the twig's sides without petioles, turned 45 degrees off it: the tubes from their contacts run
+  // along the twig or off it and meet no junction, and no point is a petiole.
+  for (const double petiole : { 0.15, 0.0 })
+  {
+    Truth t = SyntheticPlant(0);
+    const std::size_t twig = AddTwigWithTwoSideLeaves(t, 45.0, petiole);
+    const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+    ASSERT_EQ(r.error, "");
+    // the blades were seen (the control's, sitting on the twig, with leaf IoU 0.86)
+    EXPECT_GT(OrganIoU(t, r, plantmorph::OrganLeaf), 0.8) << petiole;
+    std::size_t called = 0, wrong = 0;
+    for (std::size_t i = 0; i < t.points.size(); ++i)
+    {
+      called += r.organ[i] == plantmorph::OrganPetiole ? 1 : 0;
+      wrong += r.organ[i] == plantmorph::OrganPetiole && t.organ[i] != plantmorph::OrganPetiole ? 1 : 0;
+      if (i < twig) // the stem
+      {
+        EXPECT_NE(r.organ[i], plantmorph::OrganPetiole) << i;
+      }
+    }
+    if (petiole == 0.0)
+    {
+      EXPECT_EQ(called, 0u);
+      continue;
+    }
+    ASSERT_EQ(r.leaves.size(), 2u);
+    for (double iou : InstanceIoU(t, r, 2))
+      EXPECT_GT(iou, 0.9);
+    EXPECT_GT(OrganIoU(t, r, plantmorph::OrganPetiole), 0.7);
+    EXPECT_LE(wrong, called / 10);
+    for (const auto& l : r.leaves)
+    {
+      EXPECT_GT(l.petioleLength, 0.7 * petiole);
+      EXPECT_LT(l.petioleLength, 1.3 * petiole);
+    }
+  }
+}
+
 TEST(PlantSegmentation, PetiolesLeavingAThinTwigAreCutAtTheirForks)
 {
   // A thin twig (radius 1.2 h) leaving the stem along +x for 0.5 carries two leaves on petioles (radius h, 0.12 long,
