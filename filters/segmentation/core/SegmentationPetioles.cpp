@@ -1153,7 +1153,8 @@ bool MeetsAStem(
 
 /// The petioles SplitPiece did not find in a piece of thin wood that is no petiole as a whole, each from its leaf
 /// (one without a petiole yet): the tube the piece's wood within 2r of its contacts with the leaf lies in
-/// (FitTubeEnd), when it ends there (TubeEndsThere), walked away from the blade (WalkTube, within its radius or
+/// (FitTubeEnd), when the contacts lie within ContactRadii r of their mean (a twig along the blade's edge touches it
+/// all along) and the tube ends there (TubeEndsThere), walked away from the blade (WalkTube, within its radius or
 /// r / 2 of its axis, no farther than the leaf is long). It is the leaf's petiole when the walk met its stem, has a
 /// petiole's size and place (PetioleSized) and leaves the blade in line with its midrib (LeavesInLineWithTheMidrib).
 /// A twig's thin end carrying several leaves on petioles is one piece, and where a petiole runs beside the twig
@@ -1190,7 +1191,8 @@ std::size_t PetiolesFromTheirLeaves(const PetioleScene& scene, const ThinPiece& 
     const double reach = PetioleLengthLeaves * scene.leaves[static_cast<std::size_t>(leaf)].length;
     const double width = std::max(tube.radius, ThinRadiusFraction * scene.radius);
     TubeWalk walk;
-    if (tube.valid && TubeEndsThere(scene, tube, wood, onLeaf))
+    if (tube.valid && Reach(scene.points, onLeaf) <= ContactRadii * scene.radius &&
+      TubeEndsThere(scene, tube, wood, onLeaf))
       walk = WalkTube(scene, away, onLeaf, width, reach, member, mark);
     for (int j : wood)
       member[static_cast<std::size_t>(j)] = -1;
