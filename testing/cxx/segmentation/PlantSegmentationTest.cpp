@@ -1869,6 +1869,26 @@ TEST(PlantSegmentation, ABladeFoldedAlongItsMidribIsOneLeafOnItsPetiole)
   }
 }
 
+/// The petiole scene shared by the petiole tests: on SyntheticPlant's stem, a petiole (a tube of radius 1.5 h, Organ
+/// 2) leaving the stem's surface at 45 degrees in the xz plane, `length` long with its first `unseen` not scanned,
+/// and a flat blade rising 30 degrees at its end (leaf 0), noise 0.0002. Returns the petiole's line and the index of
+/// the blade's first point.
+struct StemPetiole
+{
+  Eigen::Vector3d start, direction;
+  std::size_t blade = 0;
+};
+
+StemPetiole AddStemPetiole(Truth& t, double length, double unseen = 0.0)
+{
+  const double noise = 0.0002, thin = 0.0075;
+  StemPetiole p{ Eigen::Vector3d(0.05 - thin, 0.0, 0.55), Eigen::Vector3d(1.0, 0.0, 1.0).normalized() };
+  AddTube(t, p.start + unseen * p.direction, p.direction, length - unseen, thin, plantmorph::OrganPetiole, noise);
+  p.blade = t.points.size();
+  AddBlade(t, p.start + (length + thin) * p.direction, 30.0 * Pi / 180.0, {}, 0, noise);
+  return p;
+}
+
 TEST(PlantSegmentation, APetioleIsOrganTwoABareTwigAndALeafOnTheStemHaveNone)
 {
   // A stem (radius 0.05, spacing h = 0.005) with: a petiole, a tube of radius 1.5 h leaving the stem at 45 degrees
@@ -1878,10 +1898,7 @@ TEST(PlantSegmentation, APetioleIsOrganTwoABareTwigAndALeafOnTheStemHaveNone)
   // the stem has no thin wood at its base: no petiole points around it.
   Truth t = SyntheticPlant(0);
   const double noise = 0.0002, thin = 0.0075, length = 0.12;
-  const Eigen::Vector3d slope = Eigen::Vector3d(1.0, 0.0, 1.0).normalized();
-  const Eigen::Vector3d petioleStart(0.05 - thin, 0.0, 0.55);
-  AddTube(t, petioleStart, slope, length, thin, plantmorph::OrganPetiole, noise);
-  AddBlade(t, petioleStart + (length + thin) * slope, 30.0 * Pi / 180.0, {}, 0, noise);
+  AddStemPetiole(t, length);
   const std::size_t twig = t.points.size();
   AddTube(t, Eigen::Vector3d(-0.05 + thin, 0.0, 0.45), Eigen::Vector3d(-1.0, 0.0, 1.0).normalized(), length, thin,
     plantmorph::OrganWood, noise);
@@ -1929,12 +1946,8 @@ TEST(PlantSegmentation, ABladeOnAPetioleIsAtWoodDistanceZeroWhereItMeetsThePetio
   // petiole lie within a few spacings of it (brute force over the points called petiole), not the petiole's length
   // from the nearest wood; its far end lies about its length away.
   Truth t = SyntheticPlant(0);
-  const double noise = 0.0002, thin = 0.0075, length = 0.12, h = 0.005;
-  const Eigen::Vector3d slope = Eigen::Vector3d(1.0, 0.0, 1.0).normalized();
-  const Eigen::Vector3d petioleStart(0.05 - thin, 0.0, 0.55);
-  AddTube(t, petioleStart, slope, length, thin, plantmorph::OrganPetiole, noise);
-  const std::size_t blade = t.points.size();
-  AddBlade(t, petioleStart + (length + thin) * slope, 30.0 * Pi / 180.0, {}, 0, noise);
+  const double length = 0.12, h = 0.005;
+  const std::size_t blade = AddStemPetiole(t, length).blade;
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
   ASSERT_EQ(r.leaves.size(), 1u);
@@ -1978,17 +1991,14 @@ TEST(PlantSegmentation, APetioleBrokenByScanGapsIsOneFromTheBladeToTheStem)
   // each touches the stem, the blade or nothing, and none was a petiole. Pieces in line across gaps of up to 2
   // FeatureScale spacings are joined, and the blade reached across the gap within 45 degrees of the tube's axis.
   Truth t = SyntheticPlant(0);
-  const double noise = 0.0002, thin = 0.0075, length = 0.15, h = 0.005;
-  const Eigen::Vector3d slope = Eigen::Vector3d(1.0, 0.0, 1.0).normalized();
-  const Eigen::Vector3d petioleStart(0.05 - thin, 0.0, 0.55);
+  const double length = 0.15, h = 0.005;
   const std::size_t first = t.points.size();
-  AddTube(t, petioleStart, slope, length, thin, plantmorph::OrganPetiole, noise);
-  AddBlade(t, petioleStart + (length + thin) * slope, 30.0 * Pi / 180.0, {}, 0, noise);
+  const StemPetiole petiole = AddStemPetiole(t, length);
   Truth scanned;
   std::size_t removed = 0;
   for (std::size_t i = 0; i < t.points.size(); ++i)
   {
-    const double along = (t.points[i] - petioleStart).dot(slope);
+    const double along = (t.points[i] - petiole.start).dot(petiole.direction);
     const bool gap = along > 0.05 && along < 0.05 + 5 * h;
     const bool gap2 = along > 0.1 && along < 0.1 + 5 * h;
     const bool shadow = along > length - 4 * h;
@@ -2025,11 +2035,8 @@ TEST(PlantSegmentation, APetioleWhoseFootTheScanMissedCarriesItsBladesMidribOn)
   // (a twig at the tip carrying a leaf turned off it, as LeafAngle turns leaves), stays wood.
   Truth t = SyntheticPlant(0);
   const double noise = 0.0002, thin = 0.0075, length = 0.16, unseen = 0.06;
-  const Eigen::Vector3d slope = Eigen::Vector3d(1.0, 0.0, 1.0).normalized();
-  const Eigen::Vector3d petioleStart(0.05 - thin, 0.0, 0.55);
   const std::size_t petiole = t.points.size();
-  AddTube(t, petioleStart + unseen * slope, slope, length - unseen, thin, plantmorph::OrganPetiole, noise);
-  AddBlade(t, petioleStart + (length + thin) * slope, 30.0 * Pi / 180.0, {}, 0, noise);
+  AddStemPetiole(t, length, unseen);
   const Eigen::Vector3d otherBase(0.3, 0.0, 0.2);
   const std::size_t twig = t.points.size();
   AddTube(t, otherBase - (length - unseen + thin) * Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), length - unseen,
