@@ -1233,6 +1233,11 @@ std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const Point
   std::vector<int> hops(n, -1), local(n, -1);
   const auto thick = [&](std::size_t j) { return labels.organ[j] == OrganWood && !thin[j]; };
   const PetioleScene scene{ points, links, wood, grid, thin, leaves, onWood, radius, 2.0 * std::max(radius, f.radius) };
+  // a piece that is no petiole as a whole: cut at its skeleton's forks, then its leaves' petioles walked from them
+  const auto split = [&](const ThinPiece& piece) {
+    const std::size_t cut = SplitPiece(scene, piece, seen, mark, local, labels);
+    return cut + PetiolesFromTheirLeaves(scene, piece, seen, mark, local, labels);
+  };
   std::size_t made = 0;
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -1256,8 +1261,7 @@ std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const Point
     {
       // a twig carrying several leaves, thin wood meeting no thicker wood, at several places or all along: its
       // branches may be petioles
-      made += SplitPiece(scene, piece, seen, mark, local, labels);
-      made += PetiolesFromTheirLeaves(scene, piece, seen, mark, local, labels);
+      made += split(piece);
       continue;
     }
     // it leads to that leaf only: from the thicker wood, nothing lies beyond the leaf contact (a twig going on
@@ -1277,8 +1281,7 @@ std::size_t FindPetioles(const std::vector<Eigen::Vector3d>& points, const Point
     const TubeEnd footEnd = FitTubeEnd(points, piece.ids, piece.thick, 2.0 * radius);
     if (!thicker || farthest > leafHops + slack || ContinuesTheWood(wood, grid, thin, footEnd, radius))
     {
-      made += SplitPiece(scene, piece, seen, mark, local, labels);
-      made += PetiolesFromTheirLeaves(scene, piece, seen, mark, local, labels);
+      made += split(piece);
       continue; // also the thin tip of a twig carrying a leaf at its end
     }
     // the tube goes on past both ends, where the features saw the stem's or the blade's surface beside it
