@@ -68,8 +68,9 @@
 //     only (a leaf cut across by a shadow or another leaf).
 //     Parts that do not touch join when they lie in one plane (planes within half of NormalAngle, both off their
 //     common plane by under r / 4) within 4r of each other, nearest first, or farther apart when together they span
-//     no more than a leaf (the 90th percentile of the flat parts' spans, plus r / 4): a leaf seen in pieces through
-//     a gap in the scan (the shadow of a leaf or twig in front of it, as wide as what casts it). Then a part whose
+//     no more than a leaf (the 90th percentile of the flat parts' spans, plus r / 4, plus r for what a piece took in
+//     at a contact beyond the leaf's end): a leaf seen in pieces through a gap in the scan (the shadow of a leaf or
+//     twig in front of it, as wide as what casts it). Then a part whose
 //     normals form two groups more than NormalAngle apart, meeting over a seam shorter than 0.8 of each group's
 //     extent along it, is two leaves whose margins touch: cut there, each side holding at least MinimumLeafPoints
 //     (a crease of one blade runs from margin to margin of at least one side, whatever the side's size). So is one

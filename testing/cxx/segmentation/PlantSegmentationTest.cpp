@@ -634,6 +634,30 @@ TEST(PlantSegmentation, ALeafCutByAWideShadowAtLowNoiseIsOneInstanceALeafBeyondI
   ExpectEveryLeafFound(cut, leaves + 1);
 }
 
+TEST(PlantSegmentation, ALeafCutByAWideShadowCarryingATwigsSideBeyondItsTipIsOneInstance)
+{
+  // As above, the first leaf's pieces five radii apart, and a twig's flat side touching its tip in its plane (three
+  // lines of wood points, 0.75 r long beyond the tip): the outer piece's region takes it in, so the two pieces
+  // together span 0.015 more than the leaf (0.315; the plant's leaf length is 0.3, and a quarter of r is allowed for
+  // the noise): they gave two instances. A piece may carry what it took in at a contact up to r beyond the leaf:
+  // one instance.
+  const int leaves = 7;
+  Truth t = SyntheticPlant(leaves);
+  const double rise = 40.0 * Pi / 180.0, band = 0.1, length = 0.3, h = 0.005, r = 4.0 * h;
+  const Eigen::Vector3d out(1.0, 0.0, 0.0), up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d along = std::cos(rise) * out + std::sin(rise) * up, across = up.cross(out);
+  const Eigen::Vector3d base = 0.05 * out + Eigen::Vector3d(0.0, 0.0, 0.15);
+  Truth cut = WithoutBand(t, base, along, 0.1, band);
+  for (double s = length + h; s <= length + 0.75 * r + 1e-9; s += h)
+    for (int w = -1; w <= 1; ++w)
+    {
+      cut.points.push_back(base + s * along + w * h * across);
+      cut.organ.push_back(plantmorph::OrganWood);
+      cut.leaf.push_back(-1);
+    }
+  ExpectEveryLeafFound(cut, leaves);
+}
+
 TEST(PlantSegmentation, TwoLeavesInOnePlaneEndToEndWithinAGapsReachAreTwoInstances)
 {
   // The plant of seven leaves at low noise (r 0.02), and a copy of its first leaf in the same plane beyond its tip,
