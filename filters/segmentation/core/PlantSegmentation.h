@@ -43,6 +43,9 @@
 //     Points whose whole component of the radius graph has fewer than 12 points (a surface at a grazing angle, its
 //     rows farther apart than the links) take the organ most other points within r around them have, leaf when
 //     there are none (a leaf turned edge on; a branch is scanned along its length in a line of linked points).
+//     A whole component of the links, all wood, flat (under a tenth of its width thick) and farther than r from other
+//     wood is leaf; so is a piece of the wood alone 3r or more from other wood, compact (under 4 widths long) and flat
+//     within the range noise (under 2.5 noises off its plane): a leaf's piece judged wood on a noisy scan.
 //  4. Leaf instances. Small wood pieces (fewer than MinimumLeafPoints points) touching one leaf region only are
 //     that leaf's thin margins and tips: they join it. A wood piece touching two leaf regions or more and nothing
 //     else, its points no farther off those regions' local planes than their own points, is the leaves' contact

@@ -2544,6 +2544,70 @@ std::size_t FlatPiecesAwayFromWood(const std::vector<Eigen::Vector3d>& points, c
   return count;
 }
 
+/// A noisy flat piece (NoisyFlatPiecesAwayFromWood) lies this many features' radii r or more from all other wood ...
+constexpr double NoisyPieceApart = 3.0;
+/// ... is no longer than this many widths (its largest principal spread over the middle one) ...
+constexpr double NoisyPieceElongation = 4.0;
+/// ... and spreads off its plane by under this many of the range noise measured (NoiseLevel: the lower quartile of
+/// the plane-fit residuals, about 0.6 of the range noise's standard deviation on the benchmark's scans).
+constexpr double NoisyPieceThickness = 2.5;
+
+std::size_t NoisyFlatPiecesAwayFromWood(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph,
+  double radius, double noise, std::vector<int>& organ, std::vector<double>& confidence)
+{
+  const double apart = NoisyPieceApart * radius;
+  const std::size_t n = organ.size();
+  std::vector<unsigned char> wood(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    wood[i] = organ[i] == OrganWood ? 1 : 0;
+  std::vector<char> seen(n, 0);
+  std::vector<int> piece;
+  std::vector<std::vector<int>> candidates;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (seen[i] || !wood[i])
+      continue;
+    LinkComponent(
+      graph, i, [&](std::size_t j) { return wood[j] != 0; }, seen, piece);
+    if (piece.size() < JudgedRegionPoints)
+      continue;
+    Eigen::Vector3d mean;
+    const Eigen::Vector3d spread =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(Scatter(points, piece, mean) / static_cast<double>(piece.size()))
+        .eigenvalues()
+        .cwiseMax(0.0)
+        .cwiseSqrt();
+    if (spread[2] < NoisyPieceElongation * spread[1] && spread[0] < NoisyPieceThickness * noise)
+      candidates.push_back(piece);
+  }
+  if (candidates.empty())
+    return 0;
+  // judged all at once, against the wood as it stands
+  const PointGrid grid(points, apart);
+  std::vector<const std::vector<int>*> away;
+  for (const std::vector<int>& ids : candidates)
+  {
+    for (int j : ids)
+      wood[static_cast<std::size_t>(j)] = 0;
+    if (std::none_of(ids.begin(), ids.end(),
+          [&](int j) { return grid.AnyWithin(points[static_cast<std::size_t>(j)], apart, wood); }))
+      away.push_back(&ids);
+    for (int j : ids)
+      wood[static_cast<std::size_t>(j)] = 1;
+  }
+  std::size_t count = 0;
+  for (const std::vector<int>* ids : away)
+  {
+    for (int j : *ids)
+    {
+      organ[static_cast<std::size_t>(j)] = OrganLeaf;
+      confidence[static_cast<std::size_t>(j)] = 0.25;
+    }
+    count += ids->size();
+  }
+  return count;
+}
+
 std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const SegmentationParameters& p,
   const ParallelFor& parallel, PlantLabels& labels)
 {
@@ -2592,6 +2656,7 @@ std::string SegmentPlant(const std::vector<Eigen::Vector3d>& points, const Segme
     labels.confidence[static_cast<std::size_t>(contact.first)] = 0.5; // judged wood, made leaf by its surroundings
   IsolatedPiecesByTheirSurroundings(points, graph, f.radius, labels.organ, labels.confidence);
   FlatPiecesAwayFromWood(points, graph, f.radius, labels.organ, labels.confidence);
+  NoisyFlatPiecesAwayFromWood(points, graph, f.radius, f.noise, labels.organ, labels.confidence);
   SegmentedPlant& plant = labels.plant;
   plant.points = static_cast<long long>(n);
   plant.spacing = spacing;

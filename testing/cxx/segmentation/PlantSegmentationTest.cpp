@@ -5,7 +5,7 @@
 // several plants, and bad input.
 #include "PlantSegmentation.h"
 #include "PointGrid.h"         // MedianSpacing
-#include "SegmentationSteps.h" // CutAtShortSeams, FlatPiecesAwayFromWood
+#include "SegmentationSteps.h" // CutAtShortSeams, FlatPiecesAwayFromWood, NoisyFlatPiecesAwayFromWood
 
 #include <gtest/gtest.h>
 
@@ -2478,6 +2478,71 @@ TEST(PlantSegmentation, AFlatPieceCalledWoodFarFromAllWoodIsLeaf)
   EXPECT_DOUBLE_EQ(confidence[far.first], 0.25);
   for (const auto& range : { twig, beside, branch, small })
     EXPECT_EQ(organs(range), std::set<int>{ plantmorph::OrganWood }) << "points " << range.first << "-" << range.second;
+}
+
+TEST(PlantSegmentation, ANoisyCompactPieceCalledWoodFarFromAllWoodIsLeaf)
+{
+  // Points a spacing apart (the link 2.5 spacings, the features' radius 4), the range noise measured 0.6 spacings,
+  // the noisy pieces scattered off their plane by a spacing (as the range noise scatters a leaf on a scan of 1 %
+  // noise): a twig (a half tube of radius 2 along x, wood); a noisy patch 10 by 6 spacings, called wood, 20 above the
+  // twig and linked to a leaf patch beside it (a leaf's piece the regions' judging called wood: too thick for a
+  // tenth of its width, and no whole component of the links, so FlatPiecesAwayFromWood leaves it); the same noisy
+  // patch 3 spacings beside the twig's flank (within 3 radii of it); a noisy strip 30 by 2 far away (long: a twig's
+  // piece); and a half tube of radius 6 and 8 long far away (compact, but thicker than the noise: a thick branch's
+  // piece). Only the first noisy patch is a leaf's piece.
+  std::vector<Eigen::Vector3d> points;
+  std::mt19937 random(3);
+  std::normal_distribution<double> scatter(0.0, 1.0);
+  auto patch = [&](const Eigen::Vector3d& corner, int nx, int ny, double noise) {
+    const std::size_t first = points.size();
+    for (int i = 0; i < nx; ++i)
+      for (int j = 0; j < ny; ++j)
+        points.push_back(corner + Eigen::Vector3d(i, j, noise * scatter(random)));
+    return std::make_pair(first, points.size());
+  };
+  auto halfTube = [&](const Eigen::Vector3d& start, double radius, int length) {
+    const std::size_t first = points.size();
+    const int around = static_cast<int>(std::ceil(Pi * radius));
+    for (int k = 0; k < length; ++k)
+      for (int a = 0; a <= around; ++a)
+      {
+        const double angle = Pi * a / around;
+        points.push_back(start + Eigen::Vector3d(k, radius * std::cos(angle), radius * std::sin(angle)));
+      }
+    return std::make_pair(first, points.size());
+  };
+  const auto twig = halfTube(Eigen::Vector3d::Zero(), 2.0, 60);
+  const auto piece = patch(Eigen::Vector3d(20.0, -3.0, 20.0), 10, 6, 1.0);
+  const auto leaf = patch(Eigen::Vector3d(20.0, 3.0, 20.0), 10, 8, 1.0);
+  const auto beside = patch(Eigen::Vector3d(20.0, 5.0, 0.0), 10, 6, 1.0);
+  const auto strip = patch(Eigen::Vector3d(-20.0, 40.0, 10.0), 30, 2, 1.0);
+  const auto branch = halfTube(Eigen::Vector3d(30.0, 60.0, 0.0), 6.0, 8);
+  std::vector<int> organ(points.size(), plantmorph::OrganWood);
+  for (std::size_t i = leaf.first; i < leaf.second; ++i)
+    organ[i] = plantmorph::OrganLeaf;
+  std::vector<double> confidence(points.size(), 0.5);
+  const double radius = 4.0, noise = 0.6;
+  const plantmorph::segmentation::LinkGraph graph = LinkGraphAtUnitSpacing(points);
+  std::vector<int> before = organ;
+  EXPECT_EQ(plantmorph::segmentation::FlatPiecesAwayFromWood(points, graph, radius, before, confidence), 0u);
+  const std::size_t made =
+    plantmorph::segmentation::NoisyFlatPiecesAwayFromWood(points, graph, radius, noise, organ, confidence);
+  EXPECT_EQ(made, piece.second - piece.first);
+  auto organs = [&](std::pair<std::size_t, std::size_t> range) {
+    std::set<int> seen;
+    for (std::size_t i = range.first; i < range.second; ++i)
+      seen.insert(organ[i]);
+    return seen;
+  };
+  EXPECT_EQ(organs(piece), std::set<int>{ plantmorph::OrganLeaf });
+  EXPECT_DOUBLE_EQ(confidence[piece.first], 0.25);
+  for (const auto& range : { twig, beside, strip, branch })
+    EXPECT_EQ(organs(range), std::set<int>{ plantmorph::OrganWood }) << "points " << range.first << "-" << range.second;
+  // the same scene on a scan of low noise (measured 0.06): the pieces scattered by a spacing are not flat within it
+  organ.assign(points.size(), plantmorph::OrganWood);
+  for (std::size_t i = leaf.first; i < leaf.second; ++i)
+    organ[i] = plantmorph::OrganLeaf;
+  EXPECT_EQ(plantmorph::segmentation::NoisyFlatPiecesAwayFromWood(points, graph, radius, 0.06, organ, confidence), 0u);
 }
 
 TEST(PlantSegmentation, WoodDistanceIsTheDistanceToTheNearestWoodPoint)
