@@ -2431,6 +2431,34 @@ TEST(PlantSegmentation, TheContactOfTwoNoisyBladesIsLeaf)
     }
 }
 
+namespace
+{
+/// Appends a half tube along x from `start`, points a spacing apart (unit spacing), its arc above y (z >= 0): a twig
+/// or branch seen from one side. Returns the range of the points appended.
+std::pair<std::size_t, std::size_t> AddHalfTube(
+  std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& start, double radius, int length)
+{
+  const std::size_t first = points.size();
+  const int around = static_cast<int>(std::ceil(Pi * radius));
+  for (int k = 0; k < length; ++k)
+    for (int a = 0; a <= around; ++a)
+    {
+      const double angle = Pi * a / around;
+      points.push_back(start + Eigen::Vector3d(k, radius * std::cos(angle), radius * std::sin(angle)));
+    }
+  return std::make_pair(first, points.size());
+}
+
+/// The organs of the points in `range`.
+std::set<int> OrgansIn(const std::vector<int>& organ, std::pair<std::size_t, std::size_t> range)
+{
+  std::set<int> seen;
+  for (std::size_t i = range.first; i < range.second; ++i)
+    seen.insert(organ[i]);
+  return seen;
+}
+} // namespace
+
 TEST(PlantSegmentation, AFlatPieceCalledWoodFarFromAllWoodIsLeaf)
 {
   // Points a spacing apart (the link 2.5 spacings, the features' radius 4), all called wood: a twig (a half tube of
@@ -2447,37 +2475,21 @@ TEST(PlantSegmentation, AFlatPieceCalledWoodFarFromAllWoodIsLeaf)
         points.push_back(corner + Eigen::Vector3d(i, j, 0.0));
     return std::make_pair(first, points.size());
   };
-  auto halfTube = [&](const Eigen::Vector3d& start, double radius, int length) {
-    const std::size_t first = points.size();
-    const int around = static_cast<int>(std::ceil(Pi * radius));
-    for (int k = 0; k < length; ++k)
-      for (int a = 0; a <= around; ++a)
-      {
-        const double angle = Pi * a / around;
-        points.push_back(start + Eigen::Vector3d(k, radius * std::cos(angle), radius * std::sin(angle)));
-      }
-    return std::make_pair(first, points.size());
-  };
-  const auto twig = halfTube(Eigen::Vector3d::Zero(), 2.0, 60);
+  const auto twig = AddHalfTube(points, Eigen::Vector3d::Zero(), 2.0, 60);
   const auto far = patch(Eigen::Vector3d(20.0, -3.0, 20.0), 10, 6);
   const auto beside = patch(Eigen::Vector3d(20.0, 5.0, 0.0), 10, 6);
-  const auto branch = halfTube(Eigen::Vector3d(0.0, 40.0, 0.0), 3.0, 12);
+  const auto branch = AddHalfTube(points, Eigen::Vector3d(0.0, 40.0, 0.0), 3.0, 12);
   const auto small = patch(Eigen::Vector3d(40.0, -40.0, 10.0), 3, 3);
   organ.assign(points.size(), plantmorph::OrganWood);
   std::vector<double> confidence(points.size(), 0.5);
   const std::size_t made =
     plantmorph::segmentation::FlatPiecesAwayFromWood(points, LinkGraphAtUnitSpacing(points), 4.0, organ, confidence);
   EXPECT_EQ(made, far.second - far.first);
-  auto organs = [&](std::pair<std::size_t, std::size_t> range) {
-    std::set<int> seen;
-    for (std::size_t i = range.first; i < range.second; ++i)
-      seen.insert(organ[i]);
-    return seen;
-  };
-  EXPECT_EQ(organs(far), std::set<int>{ plantmorph::OrganLeaf });
+  EXPECT_EQ(OrgansIn(organ, far), std::set<int>{ plantmorph::OrganLeaf });
   EXPECT_DOUBLE_EQ(confidence[far.first], 0.25);
   for (const auto& range : { twig, beside, branch, small })
-    EXPECT_EQ(organs(range), std::set<int>{ plantmorph::OrganWood }) << "points " << range.first << "-" << range.second;
+    EXPECT_EQ(OrgansIn(organ, range), std::set<int>{ plantmorph::OrganWood })
+      << "points " << range.first << "-" << range.second;
 }
 
 TEST(PlantSegmentation, ANoisyCompactPieceCalledWoodFarFromAllWoodIsLeaf)
@@ -2500,23 +2512,12 @@ TEST(PlantSegmentation, ANoisyCompactPieceCalledWoodFarFromAllWoodIsLeaf)
         points.push_back(corner + Eigen::Vector3d(i, j, noise * scatter(random)));
     return std::make_pair(first, points.size());
   };
-  auto halfTube = [&](const Eigen::Vector3d& start, double radius, int length) {
-    const std::size_t first = points.size();
-    const int around = static_cast<int>(std::ceil(Pi * radius));
-    for (int k = 0; k < length; ++k)
-      for (int a = 0; a <= around; ++a)
-      {
-        const double angle = Pi * a / around;
-        points.push_back(start + Eigen::Vector3d(k, radius * std::cos(angle), radius * std::sin(angle)));
-      }
-    return std::make_pair(first, points.size());
-  };
-  const auto twig = halfTube(Eigen::Vector3d::Zero(), 2.0, 60);
+  const auto twig = AddHalfTube(points, Eigen::Vector3d::Zero(), 2.0, 60);
   const auto piece = patch(Eigen::Vector3d(20.0, -3.0, 20.0), 10, 6, 1.0);
   const auto leaf = patch(Eigen::Vector3d(20.0, 3.0, 20.0), 10, 8, 1.0);
   const auto beside = patch(Eigen::Vector3d(20.0, 5.0, 0.0), 10, 6, 1.0);
   const auto strip = patch(Eigen::Vector3d(-20.0, 40.0, 10.0), 30, 2, 1.0);
-  const auto branch = halfTube(Eigen::Vector3d(30.0, 60.0, 0.0), 6.0, 8);
+  const auto branch = AddHalfTube(points, Eigen::Vector3d(30.0, 60.0, 0.0), 6.0, 8);
   std::vector<int> organ(points.size(), plantmorph::OrganWood);
   for (std::size_t i = leaf.first; i < leaf.second; ++i)
     organ[i] = plantmorph::OrganLeaf;
@@ -2528,16 +2529,11 @@ TEST(PlantSegmentation, ANoisyCompactPieceCalledWoodFarFromAllWoodIsLeaf)
   const std::size_t made =
     plantmorph::segmentation::NoisyFlatPiecesAwayFromWood(points, graph, radius, noise, organ, confidence);
   EXPECT_EQ(made, piece.second - piece.first);
-  auto organs = [&](std::pair<std::size_t, std::size_t> range) {
-    std::set<int> seen;
-    for (std::size_t i = range.first; i < range.second; ++i)
-      seen.insert(organ[i]);
-    return seen;
-  };
-  EXPECT_EQ(organs(piece), std::set<int>{ plantmorph::OrganLeaf });
+  EXPECT_EQ(OrgansIn(organ, piece), std::set<int>{ plantmorph::OrganLeaf });
   EXPECT_DOUBLE_EQ(confidence[piece.first], 0.25);
   for (const auto& range : { twig, beside, strip, branch })
-    EXPECT_EQ(organs(range), std::set<int>{ plantmorph::OrganWood }) << "points " << range.first << "-" << range.second;
+    EXPECT_EQ(OrgansIn(organ, range), std::set<int>{ plantmorph::OrganWood })
+      << "points " << range.first << "-" << range.second;
   // the same scene on a scan of low noise (measured 0.06): the pieces scattered by a spacing are not flat within it
   organ.assign(points.size(), plantmorph::OrganWood);
   for (std::size_t i = leaf.first; i < leaf.second; ++i)
