@@ -566,6 +566,21 @@ std::vector<std::size_t> FlatStrips(const std::vector<Eigen::Vector3d>& points, 
   return flat;
 }
 
+/// Whether no other wood point (`wood`, a flag per point, set on the piece's own points `ids`) lies within `reach` of
+/// a point of the piece; `grid` indexes every point, in cells of at least `reach`. The piece's flags are cleared for
+/// the query and set again.
+bool ApartFromOtherWood(const std::vector<Eigen::Vector3d>& points, const PointGrid& grid, const std::vector<int>& ids,
+  double reach, std::vector<unsigned char>& wood)
+{
+  for (int j : ids)
+    wood[static_cast<std::size_t>(j)] = 0;
+  const bool apart = std::none_of(
+    ids.begin(), ids.end(), [&](int j) { return grid.AnyWithin(points[static_cast<std::size_t>(j)], reach, wood); });
+  for (int j : ids)
+    wood[static_cast<std::size_t>(j)] = 1;
+  return apart;
+}
+
 /// Strips (flat, coherent, no cylinder, wood only for being narrower than 2r or long) that no flat surroundings made
 /// leaf are leaf when no wood lies within LoneStripReach r of them and the normals of their own points (those grown,
 /// not spread into them) do not turn about their length (LoneStripNormalSpread). Wood is a tube: its strips lie
@@ -587,13 +602,7 @@ std::size_t LoneFlatStripsAreLeaves(const std::vector<Eigen::Vector3d>& points, 
   std::vector<std::size_t> lone;
   for (std::size_t r : FlatStrips(points, f, verdicts, own))
   {
-    for (int j : members[r])
-      wood[static_cast<std::size_t>(j)] = 0;
-    const bool alone = std::none_of(members[r].begin(), members[r].end(),
-      [&](int j) { return grid.AnyWithin(points[static_cast<std::size_t>(j)], reach, wood); });
-    for (int j : members[r])
-      wood[static_cast<std::size_t>(j)] = 1;
-    if (alone)
+    if (ApartFromOtherWood(points, grid, members[r], reach, wood))
       lone.push_back(r);
   }
   return StripsMadeLeaf(lone, members, verdicts, organ);
@@ -2586,15 +2595,8 @@ std::size_t NoisyFlatPiecesAwayFromWood(const std::vector<Eigen::Vector3d>& poin
   const PointGrid grid(points, apart);
   std::vector<const std::vector<int>*> away;
   for (const std::vector<int>& ids : candidates)
-  {
-    for (int j : ids)
-      wood[static_cast<std::size_t>(j)] = 0;
-    if (std::none_of(ids.begin(), ids.end(),
-          [&](int j) { return grid.AnyWithin(points[static_cast<std::size_t>(j)], apart, wood); }))
+    if (ApartFromOtherWood(points, grid, ids, apart, wood))
       away.push_back(&ids);
-    for (int j : ids)
-      wood[static_cast<std::size_t>(j)] = 1;
-  }
   std::size_t count = 0;
   for (const std::vector<int>* ids : away)
   {
