@@ -218,14 +218,15 @@ bool ShortSeamBetween(const std::vector<Eigen::Vector3d>& points, const LinkGrap
   bool touchSaysTwo = true);
 
 /// A whole component of the link graph called wood, of at least JudgedRegionPoints points, that is flat (its
-/// smallest principal spread under FlatPieceThickness of the middle one) and lies farther than the features' radius
+/// smallest principal spread under FlatPieceThickness of the middle one; not two twigs' sides forking in one plane:
+/// none curved across at r by 3 range noises `noise`, CurvedAcross) and lies farther than the features' radius
 /// r from every other wood point is a leaf's, or a piece of one, that the regions' judging called a strip: a branch
 /// is a tube, flat only where the scan sees a narrow arc of a thick one, and the rest of that branch lies within r.
 /// Over the 42 stored scans of the segmentation benchmark (six plants) such pieces held 2,925 leaf points and no wood
 /// point (within 3 spacings of other wood instead of 4: 10 wood points more; not flat, mostly wood). Returns the
 /// points made leaf.
 std::size_t FlatPiecesAwayFromWood(const std::vector<Eigen::Vector3d>& points, const LinkGraph& graph, double radius,
-  std::vector<int>& organ, std::vector<double>& confidence);
+  double noise, std::vector<int>& organ, std::vector<double>& confidence);
 
 /// A piece of wood (a component of the links among the wood points, of at least JudgedRegionPoints points) that lies
 /// NoisyPieceApart (3) features' radii r or more from all other wood, is compact (its length under

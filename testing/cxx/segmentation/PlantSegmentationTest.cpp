@@ -1371,6 +1371,44 @@ TEST(PlantSegmentation, ANarrowArcOfAThinBranchIsWoodAGentlyRolledLeafIsLeaf)
   EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
 }
 
+TEST(PlantSegmentation, AForkOfTwoThinTwigsSeenFromOneSideIsWood)
+{
+  // The plant of seven leaves, with beside it, linked to nothing, a fork of two twigs of radius 0.015 (0.75 r; r = 4
+  // spacings = 0.02) in one vertical plane, 0.35 long and 90 degrees apart, each seen over the arc of 90 degrees
+  // facing +y (0.021 wide, 0.0044 deep). Thinner than r, their normals smoothed over r all face the scanner: the
+  // fork's sides grew into coherent regions with the shape of leaves, and all of the fork was leaf, one more
+  // instance. About each point the side's own points within r lie off their plane by several noises (the arc's
+  // sag): curved across, wood. The plant's leaves stay leaves, one instance each.
+  const int leaves = 7;
+  const double h = 0.005, noise = 0.0002, radius = 0.015, length = 0.35, arc = Pi / 2;
+  Truth t = SyntheticPlant(leaves);
+  NoisyAdder add{ t, std::mt19937(17), std::normal_distribution<double>(0.0, noise) };
+  const std::size_t fork = t.points.size();
+  const Eigen::Vector3d apex(-0.7, 0.0, 0.2);
+  const int around = static_cast<int>(std::round(arc * radius / h));
+  for (int side : { -1, 1 })
+  {
+    const Eigen::Vector3d along(side * std::sin(Pi / 4), 0.0, std::cos(Pi / 4));
+    const Eigen::Vector3d across = along.cross(Eigen::Vector3d::UnitY());
+    for (double s = 0.0; s <= length + 1e-12; s += h)
+      for (int a = 0; a <= around; ++a)
+      {
+        const double angle = Pi / 2 - arc / 2 + arc * a / around; // the arc facing +y
+        add(apex + s * along + radius * (std::cos(angle) * across + std::sin(angle) * Eigen::Vector3d::UnitY()),
+          plantmorph::OrganWood, -1);
+      }
+  }
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_GT(static_cast<double>(CountOrgan(r, fork, t.points.size(), plantmorph::OrganWood)),
+    0.95 * static_cast<double>(t.points.size() - fork));
+  EXPECT_GT(static_cast<double>(CountOrgan(r, 0, fork, plantmorph::OrganLeaf)),
+    0.95 *
+      static_cast<double>(
+        std::count(t.organ.begin(), t.organ.begin() + static_cast<std::ptrdiff_t>(fork), plantmorph::OrganLeaf)));
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
+}
+
 TEST(PlantSegmentation, TwoLeavesFromOneSpotAreTwoInstancesAFoldedOrCurledLeafIsOne)
 {
   // Two flat blades leaving a stem at one spot (one azimuth, one height), their planes 40, 60 or 90 degrees apart:
@@ -2464,8 +2502,10 @@ TEST(PlantSegmentation, AFlatPieceCalledWoodFarFromAllWoodIsLeaf)
   // Points a spacing apart (the link 2.5 spacings, the features' radius 4), all called wood: a twig (a half tube of
   // radius 2 along x, seen from above), a flat patch 10 by 6 spacings 20 above it, a flat patch of the same size
   // 3 spacings beside the twig's flank (not linked to it, but within the features' radius), a half tube of radius 3
-  // and 12 long far from the rest (a branch's piece: not flat), and a flat patch of 3 by 3 far away (too small to
-  // judge). Only the far flat patch is a leaf's piece.
+  // and 12 long far from the rest (a branch's piece: not flat), a flat patch of 3 by 3 far away (too small to
+  // judge), and far from the rest two twigs' sides (arcs of 90 degrees of radius 3, 30 long) forking at 90 degrees
+  // in one plane (flat as a whole, its thickness under a tenth of its width, but curved across at r). Only the far
+  // flat patch is a leaf's piece.
   std::vector<Eigen::Vector3d> points;
   std::vector<int> organ;
   auto patch = [&](const Eigen::Vector3d& corner, int nx, int ny) {
@@ -2480,14 +2520,27 @@ TEST(PlantSegmentation, AFlatPieceCalledWoodFarFromAllWoodIsLeaf)
   const auto beside = patch(Eigen::Vector3d(20.0, 5.0, 0.0), 10, 6);
   const auto branch = AddHalfTube(points, Eigen::Vector3d(0.0, 40.0, 0.0), 3.0, 12);
   const auto small = patch(Eigen::Vector3d(40.0, -40.0, 10.0), 3, 3);
+  const std::size_t forkFirst = points.size(); // two twigs' sides (arcs of 90 degrees) forking in the plane z = 0
+  for (int side : { -1, 1 })
+  {
+    const Eigen::Vector3d along(std::cos(Pi / 4), side * std::sin(Pi / 4), 0.0), across(-along.y(), along.x(), 0.0);
+    for (int k = 0; k < 30; ++k)
+      for (int a = 0; a <= 5; ++a)
+      {
+        const double angle = Pi / 4 + Pi / 2 * a / 5;
+        points.push_back(Eigen::Vector3d(-60.0, 0.0, 0.0) + k * along +
+          3.0 * (std::cos(angle) * across + (std::sin(angle) - 1.0) * Eigen::Vector3d::UnitZ()));
+      }
+  }
+  const auto fork = std::make_pair(forkFirst, points.size());
   organ.assign(points.size(), plantmorph::OrganWood);
   std::vector<double> confidence(points.size(), 0.5);
-  const std::size_t made =
-    plantmorph::segmentation::FlatPiecesAwayFromWood(points, LinkGraphAtUnitSpacing(points), 4.0, organ, confidence);
+  const std::size_t made = plantmorph::segmentation::FlatPiecesAwayFromWood(
+    points, LinkGraphAtUnitSpacing(points), 4.0, 0.0, organ, confidence);
   EXPECT_EQ(made, far.second - far.first);
   EXPECT_EQ(OrgansIn(organ, far), std::set<int>{ plantmorph::OrganLeaf });
   EXPECT_DOUBLE_EQ(confidence[far.first], 0.25);
-  for (const auto& range : { twig, beside, branch, small })
+  for (const auto& range : { twig, beside, branch, small, fork })
     EXPECT_EQ(OrgansIn(organ, range), std::set<int>{ plantmorph::OrganWood })
       << "points " << range.first << "-" << range.second;
 }
@@ -2525,7 +2578,7 @@ TEST(PlantSegmentation, ANoisyCompactPieceCalledWoodFarFromAllWoodIsLeaf)
   const double radius = 4.0, noise = 0.6;
   const plantmorph::segmentation::LinkGraph graph = LinkGraphAtUnitSpacing(points);
   std::vector<int> before = organ;
-  EXPECT_EQ(plantmorph::segmentation::FlatPiecesAwayFromWood(points, graph, radius, before, confidence), 0u);
+  EXPECT_EQ(plantmorph::segmentation::FlatPiecesAwayFromWood(points, graph, radius, noise, before, confidence), 0u);
   const std::size_t made =
     plantmorph::segmentation::NoisyFlatPiecesAwayFromWood(points, graph, radius, noise, organ, confidence);
   EXPECT_EQ(made, piece.second - piece.first);
