@@ -24,7 +24,10 @@
 //     more than about 60 degrees (the crease between them stops the growing): one leaf region. A region that is no sheet (incoherent) yet wide,
 //     not a strip and no cylinder is several leaves grown into one: it is grown again inside itself with every
 //     point's normal within NormalAngle of its piece's seed (no drift from leaf to leaf), and its pieces are judged
-//     in turn. A flat strip (coherent, no cylinder, judged wood only for being narrower than 2r or long) is leaf
+//     in turn. A coherent region curved across at r (over three quarters of its points, its own points within r lie
+//     3 noises or more off their plane: the sides of twigs thinner than r, whose smoothed normals face the scanner)
+//     is wood, a leaf-shaped one after it is grown again as above. A flat strip (coherent, no cylinder, judged wood
+//     only for being narrower than 2r or long) is leaf
 //     when the points within three links around it lie in its plane (under r / 10 off it) or there are none: a
 //     tube's facet has the next facets turning away around it. A flat strip whose surroundings are not flat is
 //     still leaf when no wood lies within r / 2 of it (once its region has taken the small regions around it) and
@@ -85,7 +88,8 @@
 //     twig's side taken in at a contact, which lifts one leaf's pieces off their common plane).
 //     Each leaf part of at least MinimumLeafPoints points is then a leaf, unless it is the wood's surface grown into
 //     a sheet: bent off its plane by over r / 4 (root mean square) with over 0.6 of its points within 2r of the wood
-//     (leaf, LeafId -1). A leaf point linked to another leaf goes to the leaf whose plane it lies nearest; a leaf
+//     (leaf, LeafId -1), or curved across at r as above (a twig's side cut out of a blade's region: wood). A leaf
+//     point linked to another leaf goes to the leaf whose plane it lies nearest; a leaf
 //     point of no leaf, or of a leaf whose plane it lies off, goes to a leaf within about 2r whose plane it lies on
 //     (within 3 times the noise, at least half a spacing, and nearer than its own leaf's by as much: a strip of a
 //     leaf's margin or its rows seen at a grazing angle, cut off from it, given to a neighbour); then a

@@ -2481,6 +2481,13 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
       (seenInRows[li] || spreadLikeALeaf[li] || !NoLeafShape(region, verdicts, leaves[li], p.minimumLeafPoints)) &&
       (wood.empty() || !WoodSurfaceSheet(points, leaves[li], wood, woodGrid, radius, f.noise));
   for (std::size_t li = 0; li < leaves.size(); ++li)
+    if (kept[li] && CurvedAcross(points, leaves[li], radius, f.noise)) // a twig's side cut out of a leaf's region
+    {
+      kept[li] = 0;
+      for (int j : leaves[li])
+        labels.organ[static_cast<std::size_t>(j)] = OrganWood;
+    }
+  for (std::size_t li = 0; li < leaves.size(); ++li)
     if (kept[li])
       leaves[li].insert(leaves[li].end(), contactPoints[li].begin(), contactPoints[li].end());
   PlaneMoves planeMoves;

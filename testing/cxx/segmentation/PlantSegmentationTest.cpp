@@ -1409,6 +1409,56 @@ TEST(PlantSegmentation, AForkOfTwoThinTwigsSeenFromOneSideIsWood)
   EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
 }
 
+TEST(PlantSegmentation, AThinTwigsSideCutOutOfALeafsRegionIsWood)
+{
+  // Beside the plant of seven leaves, a flat blade 0.25 by 0.15 in the plane y = 0 with a stem at each end: at one
+  // end a bare stem beside it, at the other a twig of radius 0.015 (0.75 r; r = 4 spacings = 0.02) seen over the arc
+  // of 90 degrees facing +y, running along the blade's lower edge and 0.6 beyond it to its own stem. Thinner than r,
+  // the twig's side has the blade's normal and grows into the blade's region; the region is cut between its two
+  // bases, and the twig's part was a leaf instance of its own. About its points its own points within r lie off their
+  // plane by the arc's sag: curved across, wood. The blade stays one leaf; no instance is mostly twig.
+  const int leaves = 7;
+  const double h = 0.005, noise = 0.0002, radius = 0.015, arc = Pi / 2, beyond = 0.6;
+  Truth t = SyntheticPlant(leaves);
+  NoisyAdder add{ t, std::mt19937(19), std::normal_distribution<double>(0.0, noise) };
+  const Eigen::Vector3d corner(-0.9, 0.0, 0.2);
+  const std::size_t blade = t.points.size();
+  for (double x = 0.0; x <= 0.25 + 1e-12; x += h)
+    for (double z = 0.0; z <= 0.15 + 1e-12; z += h)
+      add(corner + Eigen::Vector3d(x, 0.0, z), plantmorph::OrganLeaf, leaves);
+  const std::size_t twig = t.points.size();
+  const int around = static_cast<int>(std::round(arc * radius / h));
+  for (double x = -beyond; x <= 0.25 + 1e-12; x += h)
+    for (int a = 0; a <= around; ++a)
+    {
+      const double angle = Pi / 2 - arc / 2 + arc * a / around; // the arc facing +y, its top at the blade's edge
+      add(corner + Eigen::Vector3d(x, 0.0, -radius) +
+          radius * Eigen::Vector3d(0.0, std::sin(angle) - 1.0, std::cos(angle)),
+        plantmorph::OrganWood, -1);
+    }
+  const std::size_t stems = t.points.size();
+  AddTube(t, corner + Eigen::Vector3d(-beyond - 0.03, 0.0, -0.3), Eigen::Vector3d::UnitZ(), 0.6, 0.03,
+    plantmorph::OrganWood, noise);
+  AddTube(
+    t, corner + Eigen::Vector3d(0.28, 0.0, -0.3), Eigen::Vector3d::UnitZ(), 0.6, 0.03, plantmorph::OrganWood, noise);
+  const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
+  EXPECT_GT(
+    static_cast<double>(CountOrgan(r, blade, twig, plantmorph::OrganLeaf)), 0.95 * static_cast<double>(twig - blade));
+  EXPECT_GT(
+    static_cast<double>(CountOrgan(r, twig, stems, plantmorph::OrganWood)), 0.4 * static_cast<double>(stems - twig));
+  std::map<int, std::pair<int, int>> twigAndAll; // per instance: its twig points, all its points
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+    if (r.leafId[i] >= 0)
+    {
+      twigAndAll[r.leafId[i]].first += i >= twig && i < stems;
+      ++twigAndAll[r.leafId[i]].second;
+    }
+  for (const auto& [id, counts] : twigAndAll)
+    EXPECT_LT(2 * counts.first, counts.second) << "instance " << id;
+}
+
 TEST(PlantSegmentation, TwoLeavesFromOneSpotAreTwoInstancesAFoldedOrCurledLeafIsOne)
 {
   // Two flat blades leaving a stem at one spot (one azimuth, one height), their planes 40, 60 or 90 degrees apart:
