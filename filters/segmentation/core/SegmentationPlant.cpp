@@ -68,10 +68,11 @@ constexpr double FlatPieceThickness = 0.1;
 /// 1.0 noise, at most 1.8 on any leaf), or by a curl whose radius is well above r. The side of a twig thinner than r,
 /// seen from one side, is curved across within r: two such sides forking in one plane grow into one flat-looking
 /// region as wide as a leaf (on those scans 3.5 to 9.4 noises off the plane on the 0.1 % noise scans; at 1 % noise
-/// the widened r makes the twigs flat: 1.3 to 1.9). CurvedAcross: the median over about CurvatureSamples of a
-/// piece's points, of those whose ball holds CurvatureNeighbours of its points spread over a patch (their middle
+/// the widened r makes the twigs flat: 1.3 to 1.9). CurvedAcross: the lower quartile over about CurvatureSamples of
+/// a piece's points, of those whose ball holds CurvatureNeighbours of its points spread over a patch (their middle
 /// principal spread at least CurvatureSheetWidth r: not a row of a sparse scan, whose off-plane spread is the rows'),
-/// at least CurvedNoises noises and CurvedFloor r (a curl of radius 4r; on a scan without noise).
+/// at least CurvedNoises noises and CurvedFloor r (a curl of radius 4r; on a scan without noise). The lower quartile,
+/// not the median: a region of small leaves meeting at angles (a brush at a twig's end) is thick at its creases only.
 constexpr std::size_t CurvatureSamples = 150, CurvatureNeighbours = 8;
 constexpr double CurvatureSheetWidth = 0.25, CurvedNoises = 3.0, CurvedFloor = 1.0 / 32.0;
 
