@@ -2397,6 +2397,36 @@ bool WoodSurfaceSheet(const std::vector<Eigen::Vector3d>& points, const std::vec
     (spread > enclosedBend && SectorsWithWoodAround(points, ids, m, n, wood, woodGrid, radius) >= EnclosedSheetSectors);
 }
 
+/// Each kept part (`kept`) takes its contact points (ContactPointsOfParts): a contact piece is a region judged wood
+/// whose points became leaf, so a part of its own may hold them already (a region curved across, judged wood, whose
+/// points ContactPiecesAreLeaves made leaf): they leave that part, so that no point is in two parts.
+void AddContactPoints(const std::vector<std::vector<int>>& contactPoints, const std::vector<char>& kept, std::size_t n,
+  std::vector<std::vector<int>>& parts)
+{
+  std::vector<int> partOf(n, -1);
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    for (int j : parts[k])
+      partOf[static_cast<std::size_t>(j)] = static_cast<int>(k);
+  std::vector<char> left(parts.size(), 0);
+  for (std::size_t li = 0; li < parts.size(); ++li)
+    if (kept[li])
+      for (int j : contactPoints[li])
+      {
+        int& holder = partOf[static_cast<std::size_t>(j)];
+        if (holder == static_cast<int>(li))
+          continue;
+        if (holder >= 0)
+          left[static_cast<std::size_t>(holder)] = 1;
+        holder = static_cast<int>(li);
+        parts[li].push_back(j);
+      }
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    if (left[k])
+      parts[k].erase(std::remove_if(parts[k].begin(), parts[k].end(),
+                       [&](int j) { return partOf[static_cast<std::size_t>(j)] != static_cast<int>(k); }),
+        parts[k].end());
+}
+
 /// The leaf instances: leaf regions of at least MinimumLeafPoints points, numbered by their lowest point index.
 void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures& f, const LinkGraph& graph,
   const std::vector<int>& region, const std::vector<RegionVerdict>& verdicts, double spacing, double radius,
@@ -2488,9 +2518,7 @@ void MakeLeaves(const std::vector<Eigen::Vector3d>& points, const PointFeatures&
       for (int j : leaves[li])
         labels.organ[static_cast<std::size_t>(j)] = OrganWood;
     }
-  for (std::size_t li = 0; li < leaves.size(); ++li)
-    if (kept[li])
-      leaves[li].insert(leaves[li].end(), contactPoints[li].begin(), contactPoints[li].end());
+  AddContactPoints(contactPoints, kept, n, leaves);
   PlaneMoves planeMoves;
   planeMoves.cell = 2.0 * radius;
   planeMoves.borderMargin = PlaneMargin * spacing;
