@@ -86,6 +86,17 @@ void AddSixSidedTwigAlongY(NoisyAdder& add, const Eigen::Vector3d& axis, double 
   }
 }
 
+/// Each leaf's Points is the number of points carrying its LeafId (no point held by two leaves).
+void ExpectPointsAreTheLeafIdCounts(const plantmorph::SegmentationResult& r)
+{
+  std::map<int, long long> count;
+  for (int id : r.leafId)
+    if (id >= 0)
+      ++count[id];
+  for (const plantmorph::SegmentedLeaf& leaf : r.leaves)
+    EXPECT_EQ(leaf.points, count[leaf.leafId]) << "leaf " << leaf.leafId;
+}
+
 /// How many of the points [from, to) the segmentation gave `organ`.
 std::size_t CountOrgan(const plantmorph::SegmentationResult& r, std::size_t from, std::size_t to, int organ)
 {
@@ -408,6 +419,7 @@ TEST(PlantSegmentation, StemAndLeavesAreFoundWithOneInstancePerLeaf)
   const Truth t = SyntheticPlant(leaves);
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
+  ExpectPointsAreTheLeafIdCounts(r);
   EXPECT_GT(OrganIoU(t, r, plantmorph::OrganLeaf), 0.97);
   EXPECT_GT(OrganIoU(t, r, plantmorph::OrganWood), 0.95);
   ASSERT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves));
@@ -1275,6 +1287,7 @@ TEST(PlantSegmentation, AThinBranchAmongLargeLeavesStaysWood)
   AddSixSidedTwigAlongY(add, corner + Eigen::Vector3d(halfWidth, 0.0, -0.008 - 0.025), h);
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
+  ExpectPointsAreTheLeafIdCounts(r);
   const std::size_t branchWood = CountOrgan(r, branch, blades, plantmorph::OrganWood);
   const std::size_t bladesLeaf = CountOrgan(r, blades, twig, plantmorph::OrganLeaf);
   const std::size_t twigWood = CountOrgan(r, twig, t.points.size(), plantmorph::OrganWood);
@@ -1309,6 +1322,7 @@ TEST(PlantSegmentation, ATwigBeyondALeafsBaseIsWood)
   AddBlade(t, start + Eigen::Vector3d(length - step, 0.0, radius), 30.0 * Pi / 180.0, {}, leaves, noise);
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
+  ExpectPointsAreTheLeafIdCounts(r);
   std::size_t far = 0, farWood = 0; // the twig farther than 2r from the blade's base
   for (std::size_t i = twig; i < blade; ++i)
     if (t.points[i].x() < start.x() + length - 2 * 0.02)
@@ -1400,6 +1414,7 @@ TEST(PlantSegmentation, AForkOfTwoThinTwigsSeenFromOneSideIsWood)
   }
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
+  ExpectPointsAreTheLeafIdCounts(r);
   EXPECT_GT(static_cast<double>(CountOrgan(r, fork, t.points.size(), plantmorph::OrganWood)),
     0.95 * static_cast<double>(t.points.size() - fork));
   EXPECT_GT(static_cast<double>(CountOrgan(r, 0, fork, plantmorph::OrganLeaf)),
@@ -1443,6 +1458,7 @@ TEST(PlantSegmentation, AThinTwigsSideCutOutOfALeafsRegionIsWood)
     t, corner + Eigen::Vector3d(0.28, 0.0, -0.3), Eigen::Vector3d::UnitZ(), 0.6, 0.03, plantmorph::OrganWood, noise);
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
+  ExpectPointsAreTheLeafIdCounts(r);
   EXPECT_EQ(r.leaves.size(), static_cast<std::size_t>(leaves + 1));
   EXPECT_GT(
     static_cast<double>(CountOrgan(r, blade, twig, plantmorph::OrganLeaf)), 0.95 * static_cast<double>(twig - blade));
