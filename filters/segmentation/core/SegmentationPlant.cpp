@@ -229,13 +229,9 @@ bool CurvedAcross(const std::vector<Eigen::Vector3d>& points, const std::vector<
     grid.Within(own[k], radius, near);
     if (near.size() < CurvatureNeighbours)
       continue;
-    Eigen::Vector3d mean;
-    const Eigen::Vector3d l =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(Scatter(own, near, mean) / static_cast<double>(near.size()))
-        .eigenvalues()
-        .cwiseMax(0.0);
-    if (std::sqrt(l[1]) >= CurvatureSheetWidth * radius) // a patch of sheet, not a row or a line of points
-      thickness.push_back(std::sqrt(l[0]));
+    const Eigen::Vector3d spread = PartMoments::Of(own, near).Spreads();
+    if (spread[1] >= CurvatureSheetWidth * radius) // a patch of sheet, not a row or a line of points
+      thickness.push_back(spread[0]);
   }
   if (thickness.empty() || 2 * thickness.size() < samples)
     return false;
@@ -2667,12 +2663,7 @@ std::size_t NoisyFlatPiecesAwayFromWood(const std::vector<Eigen::Vector3d>& poin
       graph, i, [&](std::size_t j) { return wood[j] != 0; }, seen, piece);
     if (piece.size() < JudgedRegionPoints)
       continue;
-    Eigen::Vector3d mean;
-    const Eigen::Vector3d spread =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(Scatter(points, piece, mean) / static_cast<double>(piece.size()))
-        .eigenvalues()
-        .cwiseMax(0.0)
-        .cwiseSqrt();
+    const Eigen::Vector3d spread = PartMoments::Of(points, piece).Spreads();
     if (spread[2] < NoisyPieceElongation * spread[1] && spread[0] < NoisyPieceThickness * noise)
       candidates.push_back(piece);
   }

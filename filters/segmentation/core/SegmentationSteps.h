@@ -147,6 +147,12 @@ struct PartMoments
     m.scatter = scatter + o.scatter + d * d.transpose() * (count * o.count / m.count);
     return m;
   }
+  /// The principal spreads (standard deviations along the covariance's eigenvectors), smallest first: the spread
+  /// off the best plane, across the long axis in it, along it.
+  Eigen::Vector3d Spreads() const
+  {
+    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter / count).eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  }
   /// The normal of the best plane (unit) and the spread off it (the root mean square distance).
   Eigen::Vector3d Normal(double& spread) const
   {
