@@ -97,6 +97,22 @@ void ExpectPointsAreTheLeafIdCounts(const plantmorph::SegmentationResult& r)
     EXPECT_EQ(leaf.points, count[leaf.leafId]) << "leaf " << leaf.leafId;
 }
 
+/// A twig's side seen from +y: the arc of `arc` radians facing +y of a tube of radius `radius` whose axis runs from
+/// `from` along the unit `along` (across +y) for `length`, sampled at spacing h along it and around it; wood.
+void AddArcFacingY(NoisyAdder& add, const Eigen::Vector3d& from, const Eigen::Vector3d& along, double length,
+  double radius, double arc, double h)
+{
+  const Eigen::Vector3d across = along.cross(Eigen::Vector3d::UnitY());
+  const int around = static_cast<int>(std::round(arc * radius / h));
+  for (double s = 0.0; s <= length + 1e-12; s += h)
+    for (int a = 0; a <= around; ++a)
+    {
+      const double angle = Pi / 2 - arc / 2 + arc * a / around;
+      add(from + s * along + radius * (std::cos(angle) * across + std::sin(angle) * Eigen::Vector3d::UnitY()),
+        plantmorph::OrganWood, -1);
+    }
+}
+
 /// How many of the points [from, to) the segmentation gave `organ`.
 std::size_t CountOrgan(const plantmorph::SegmentationResult& r, std::size_t from, std::size_t to, int organ)
 {
@@ -1399,19 +1415,8 @@ TEST(PlantSegmentation, AForkOfTwoThinTwigsSeenFromOneSideIsWood)
   NoisyAdder add{ t, std::mt19937(17), std::normal_distribution<double>(0.0, noise) };
   const std::size_t fork = t.points.size();
   const Eigen::Vector3d apex(-0.7, 0.0, 0.2);
-  const int around = static_cast<int>(std::round(arc * radius / h));
   for (int side : { -1, 1 })
-  {
-    const Eigen::Vector3d along(side * std::sin(Pi / 4), 0.0, std::cos(Pi / 4));
-    const Eigen::Vector3d across = along.cross(Eigen::Vector3d::UnitY());
-    for (double s = 0.0; s <= length + 1e-12; s += h)
-      for (int a = 0; a <= around; ++a)
-      {
-        const double angle = Pi / 2 - arc / 2 + arc * a / around; // the arc facing +y
-        add(apex + s * along + radius * (std::cos(angle) * across + std::sin(angle) * Eigen::Vector3d::UnitY()),
-          plantmorph::OrganWood, -1);
-      }
-  }
+    AddArcFacingY(add, apex, Eigen::Vector3d(side * std::sin(Pi / 4), 0.0, std::cos(Pi / 4)), length, radius, arc, h);
   const plantmorph::SegmentationResult r = plantmorph::SegmentPlants(t.points, {}, {});
   ASSERT_EQ(r.error, "");
   ExpectPointsAreTheLeafIdCounts(r);
@@ -1442,15 +1447,9 @@ TEST(PlantSegmentation, AThinTwigsSideCutOutOfALeafsRegionIsWood)
     for (double z = 0.0; z <= 0.15 + 1e-12; z += h)
       add(corner + Eigen::Vector3d(x, 0.0, z), plantmorph::OrganLeaf, leaves);
   const std::size_t twig = t.points.size();
-  const int around = static_cast<int>(std::round(arc * radius / h));
-  for (double x = -beyond; x <= 0.25 + 1e-12; x += h)
-    for (int a = 0; a <= around; ++a)
-    {
-      const double angle = Pi / 2 - arc / 2 + arc * a / around; // the arc facing +y, its top at the blade's edge
-      add(corner + Eigen::Vector3d(x, 0.0, -radius) +
-          radius * Eigen::Vector3d(0.0, std::sin(angle) - 1.0, std::cos(angle)),
-        plantmorph::OrganWood, -1);
-    }
+  // the arc facing +y, its top at the blade's edge
+  AddArcFacingY(
+    add, corner + Eigen::Vector3d(-beyond, -radius, -radius), Eigen::Vector3d::UnitX(), 0.25 + beyond, radius, arc, h);
   const std::size_t stems = t.points.size();
   AddTube(t, corner + Eigen::Vector3d(-beyond - 0.03, 0.0, -0.3), Eigen::Vector3d::UnitZ(), 0.6, 0.03,
     plantmorph::OrganWood, noise);
